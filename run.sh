@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# One entry point for a fresh machine: sets up .venv on first use, then runs the job.
+#   bash run.sh paper [--out DIR]   reproduce the paper's analyses (figures + summary)
+#   bash run.sh test  [pytest args] run the test suite
+#   bash run.sh bench               run the benchmarks (median of repeated runs)
+#   bash run.sh mechcont ARGS...    any CLI command
+set -euo pipefail
+cd "$(dirname "$0")"
+PY=${PYTHON:-python3}
+if [ ! -x .venv/bin/python ]; then
+  "$PY" -m venv .venv
+fi
+stamp=.venv/.mechcont-installed
+if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
+  .venv/bin/python -m pip install --quiet --upgrade pip
+  .venv/bin/python -m pip install --quiet -e ".[test]"
+  touch "$stamp"
+fi
+cmd=${1:-test}; shift || true
+export MPLBACKEND=Agg
+case "$cmd" in
+  test) exec .venv/bin/python -m pytest -q "$@" ;;
+  paper) exec .venv/bin/mechcont paper "$@" ;;
+  bench) exec .venv/bin/python benchmarks/run.py "$@" ;;
+  mechcont) exec .venv/bin/mechcont "$@" ;;
+  *) echo "run.sh: unknown command '$cmd' (use: paper, test, bench, mechcont)" >&2; exit 2 ;;
+esac

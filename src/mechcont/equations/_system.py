@@ -1,0 +1,221 @@
+"""A named system of algebraic equations G(x) = 0 with exact derivatives.
+
+Every quantity of a model — configuration states, internal forces, loads, geometry — is
+one *named variable*. The system does not decide which of them are unknown: that choice
+(the "lens") is made later by :class:`mechcont.continuation.Problem`, so any state can be
+held and any parameter freed without touching the equations.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from ..errors import InputError
+from ._codegen import compile_dense, compile_sparse, derivative_entries, to_engine
+
+__all__ = ["Variable", "EquationSystem"]
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One named quantity of a model.
+
+    Parameters
+    ----------
+    name:
+        Identifier used everywhere (CLI, tables, API), e.g. ``"theta1"``.
+    kind:
+        ``"state"`` (solved for by default) or ``"parameter"`` (held by default).
+    value:
+        Default value for a parameter, initial guess for a state (SI units, radians).
+    unit:
+        SI unit string for display, e.g. ``"N"``, ``"m"``, ``"rad"``.
+    scale:
+        Typical magnitude, used to weight the arclength so that newtons and radians
+        are comparable. Must be positive.
+    description:
+        A short human-readable meaning.
+    """
+
+    name: str
+    kind: str = "state"
+    value: float = 0.0
+    unit: str = ""
+    scale: float = 1.0
+    description: str = ""
+
+    def __post_init__(self):
+        if not self.name.isidentifier():
+            raise InputError(self.name, "variable names must be identifiers (letters, digits, underscore)")
+        if self.kind not in ("state", "parameter"):
+            raise InputError(self.name, f"kind must be 'state' or 'parameter', not {self.kind!r}")
+        if not (self.scale > 0 and math.isfinite(self.scale)):
+            raise InputError(self.name, f"scale must be a positive number, not {self.scale!r}")
+
+    @property
+    def symbol(self) -> sp.Symbol:
+        """The SymPy symbol of this variable (real)."""
+        return sp.Symbol(self.name, real=True)
+
+
+@dataclass
+class EquationSystem:
+    """Equations ``G(x) = 0`` over named variables, compiled with exact derivatives.
+
+    Parameters
+    ----------
+    name:
+        Model name.
+    variables:
+        All variables, states and parameters. States are the default unknowns; their
+        number must equal the number of equations.
+    equations:
+        SymPy expressions in the variables' symbols (``Variable.symbol``).
+    equation_names:
+        Optional label per equation (for readable output).
+    mechanics:
+        Optional :class:`~mechcont.equations.MechanicalModel` describing the physical
+        mechanism (coordinates, constraints, forces, masses) behind the equations; it
+        gives physical stability and the dynamic model.
+    description:
+        Free text shown by ``mechcont models``.
+
+    Attributes
+    ----------
+    names:
+        Tuple of all variable names; numeric vectors ``x`` are ordered like this.
+    """
+
+    name: str
+    variables: Sequence[Variable]
+    equations: Sequence[sp.Expr]
+    equation_names: Sequence[str] | None = None
+    mechanics: object | None = None
+    description: str = ""
+    _compiled: bool = field(default=False, init=False, repr=False)
+
+    def __post_init__(self):
+        self.variables = tuple(self.variables)
+        self.equations = tuple(sp.sympify(e) for e in self.equations)
+        self.names = tuple(v.name for v in self.variables)
+        if len(set(self.names)) != len(self.names):
+            dup = sorted({n for n in self.names if self.names.count(n) > 1})
+            raise InputError(dup[0], "variable defined more than once")
+        self._index = {n: i for i, n in enumerate(self.names)}
+        self.symbols = tuple(v.symbol for v in self.variables)
+        known = set(self.symbols)
+        for i, e in enumerate(self.equations):
+            unknown = {s for s in e.free_symbols if s not in known}
+            if unknown:
+                raise InputError(str(sorted(map(str, unknown))[0]), f"used in equation {i} but not declared as a variable")
+        if self.equation_names is None:
+            self.equation_names = tuple(f"G{i}" for i in range(len(self.equations)))
+        self.equation_names = tuple(self.equation_names)
+        n_states = len(self.state_names)
+        if n_states != len(self.equations):
+            raise InputError(
+                self.name,
+                f"{len(self.equations)} equations but {n_states} states; declare exactly one state per equation",
+            )
+
+    # -- naming ------------------------------------------------------------------------
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """Names of the default unknowns."""
+        return tuple(v.name for v in self.variables if v.kind == "state")
+
+    @property
+    def parameter_names(self) -> tuple[str, ...]:
+        """Names of the default held quantities."""
+        return tuple(v.name for v in self.variables if v.kind == "parameter")
+
+    def index(self, name: str) -> int:
+        """Position of ``name`` in :attr:`names`; :class:`InputError` if unknown."""
+        try:
+            return self._index[name]
+        except KeyError:
+            raise InputError(name, f"unknown variable of model '{self.name}'; valid names: {', '.join(self.names)}") from None
+
+    def variable(self, name: str) -> Variable:
+        """The :class:`Variable` called ``name``."""
+        return self.variables[self.index(name)]
+
+    def defaults(self) -> np.ndarray:
+        """Vector of default values / initial guesses, ordered like :attr:`names`."""
+        return np.array([v.value for v in self.variables], dtype=float)
+
+    def vector(self, values: Mapping[str, float] | None = None, base: np.ndarray | None = None) -> np.ndarray:
+        """A full value vector: ``base`` (or the defaults) with ``values`` overriding by name."""
+        x = self.defaults() if base is None else np.array(base, dtype=float)
+        for k, v in (values or {}).items():
+            x[self.index(k)] = float(v)
+        return x
+
+    def as_dict(self, x: Iterable[float]) -> dict[str, float]:
+        """Map a full value vector to ``{name: value}``."""
+        return {n: float(v) for n, v in zip(self.names, x)}
+
+    def scales(self) -> np.ndarray:
+        """Typical magnitude of every variable, ordered like :attr:`names`."""
+        return np.array([v.scale for v in self.variables])
+
+    # -- compiled numerics ------------------------------------------------------------
+    def compile(self) -> "EquationSystem":
+        """Generate the numeric residual, Jacobian and second-derivative functions (once)."""
+        if self._compiled:
+            return self
+        syms = to_engine(list(self.symbols))
+        eqs = to_engine(list(self.equations))
+        n_eq, n = len(eqs), len(syms)
+        self._residual = compile_dense(syms, eqs)
+        jac_entries = derivative_entries(eqs, syms)
+        self._jacobian = compile_sparse(syms, jac_entries, (n_eq, n))
+        hess_idx, hess_expr = [], []
+        for (i, j), d in jac_entries:
+            for (_, k), d2 in derivative_entries([d], syms):
+                hess_idx.append((i, j, k))
+                hess_expr.append(d2)
+        self._hess_values = compile_dense(syms, hess_expr) if hess_expr else (lambda x: np.zeros(0))
+        h = np.array(hess_idx, dtype=int).reshape(-1, 3)
+        self._hess_i, self._hess_j, self._hess_k = h[:, 0], h[:, 1], h[:, 2]
+        self._hess_ik = self._hess_i * n + self._hess_k
+        self._compiled = True
+        return self
+
+    def residual(self, x: np.ndarray) -> np.ndarray:
+        """G(x): one residual per equation (units of each equation), ``x`` in :attr:`names` order."""
+        self.compile()
+        return self._residual(x)
+
+    def jacobian(self, x: np.ndarray) -> np.ndarray:
+        """dG/dx with respect to *all* variables: array (n_equations, n_variables)."""
+        self.compile()
+        return self._jacobian(x)
+
+    def jacobian_derivative(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """d/dx (J(x) v): the second derivative of G contracted with ``v`` over all variables.
+
+        ``v`` is a full-length vector (zeros for names it does not involve). Returns an
+        array (n_equations, n_variables) whose column k is sum_j d2G/dx_j dx_k v_j.
+        Used for fold and cusp conditions.
+        """
+        self.compile()
+        n_eq, n = len(self.equations), len(self.names)
+        vals = self._hess_values(x)
+        w = vals * np.asarray(v)[self._hess_j]
+        return np.bincount(self._hess_ik, weights=w, minlength=n_eq * n).reshape(n_eq, n)
+
+    # -- display ----------------------------------------------------------------------
+    def pretty(self) -> str:
+        """The equations as readable text, one per line, labelled."""
+        return "\n".join(f"{name}: {sp.sstr(e)} = 0" for name, e in zip(self.equation_names, self.equations))
+
+    def latex(self) -> str:
+        """The equations as a LaTeX ``align`` environment."""
+        rows = [f"{sp.latex(e)} &= 0 && \\text{{({name})}}" for name, e in zip(self.equation_names, self.equations)]
+        return "\\begin{align}\n" + " \\\\\n".join(rows) + "\n\\end{align}"

@@ -1,0 +1,37 @@
+"""Exceptions raised by mechcont.
+
+Every error message is one line that names the offending field and says what would be
+valid, so the CLI can print it as is and exit with status 2.
+"""
+
+from __future__ import annotations
+
+__all__ = ["MechcontError", "InputError", "ConvergenceError"]
+
+
+class MechcontError(Exception):
+    """Base class of all mechcont errors."""
+
+
+class InputError(MechcontError, ValueError):
+    """Bad user input: an unknown name, an impossible value, inconsistent choices.
+
+    Parameters
+    ----------
+    field:
+        The name of the offending item (variable, option, file key).
+    message:
+        What is wrong and what would be valid.
+    """
+
+    def __init__(self, field: str, message: str):
+        self.field = field
+        super().__init__(f"{field}: {message}")
+
+
+class ConvergenceError(MechcontError):
+    """A solve that did not converge; ``partial`` holds what was computed up to there."""
+
+    def __init__(self, message: str, partial=None):
+        self.partial = partial
+        super().__init__(message)
