@@ -1,6 +1,7 @@
 """Equations: named algebraic systems with exact derivatives, and their mechanics."""
 
 from ._mechanics import MechanicalModel, StabilityResult, velocity_symbol
+from ._scene import Scene
 from ._system import EquationSystem, Variable
 
-__all__ = ["EquationSystem", "Variable", "MechanicalModel", "StabilityResult", "velocity_symbol"]
+__all__ = ["EquationSystem", "Variable", "MechanicalModel", "StabilityResult", "velocity_symbol", "Scene"]

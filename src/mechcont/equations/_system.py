@@ -84,6 +84,9 @@ class EquationSystem:
         gives physical stability and the dynamic model.
     description:
         Free text shown by ``mechcont models``.
+    scene:
+        Optional callable ``scene(x) -> Scene`` giving drawing primitives at a full
+        variable vector ``x`` (see :class:`mechcont.equations.Scene`).
 
     Attributes
     ----------
@@ -97,6 +100,7 @@ class EquationSystem:
     equation_names: Sequence[str] | None = None
     mechanics: object | None = None
     description: str = ""
+    scene: object | None = None
     _compiled: bool = field(default=False, init=False, repr=False)
 
     def __post_init__(self):

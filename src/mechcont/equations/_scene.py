@@ -1,0 +1,49 @@
+"""What a drawing of a mechanism at one configuration shows, independent of how it is drawn.
+
+Models (hand-formulated or generated) provide ``scene(x) -> Scene`` for a full variable
+vector ``x``; :mod:`mechcont.outputs.drawing` turns scenes into pictures and animations.
+All coordinates are in metres in the plane of the mechanism; forces in newtons.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["Scene"]
+
+
+@dataclass
+class Scene:
+    """Drawing primitives of one configuration.
+
+    Attributes
+    ----------
+    bars:
+        ``(name, points)``: a rigid body drawn as a polyline through ``points`` (k x 2).
+    pins:
+        Positions (2,) of revolute joints between bodies.
+    grounds:
+        Positions (2,) of revolute joints to the ground.
+    sliders:
+        ``(position, direction)``: a point sliding along a ground line of unit direction.
+    springs:
+        ``(name, start, end)``: a spring between two points.
+    forces:
+        ``(name, point, vector)``: an applied force (N) at a point.
+    """
+
+    bars: list[tuple[str, np.ndarray]] = field(default_factory=list)
+    pins: list[np.ndarray] = field(default_factory=list)
+    grounds: list[np.ndarray] = field(default_factory=list)
+    sliders: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
+    springs: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
+    forces: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
+
+    def extent(self) -> tuple[float, float, float, float]:
+        """Bounding box ``(xmin, xmax, ymin, ymax)`` of every primitive (m)."""
+        pts = [p for _, b in self.bars for p in np.atleast_2d(b)] + list(self.pins) + list(self.grounds)
+        pts += [p for p, _ in self.sliders] + [p for _, a, b in self.springs for p in (a, b)]
+        arr = np.array(pts, dtype=float).reshape(-1, 2)
+        return float(arr[:, 0].min()), float(arr[:, 0].max()), float(arr[:, 1].min()), float(arr[:, 1].max())
