@@ -54,7 +54,12 @@ def derivative_entries(exprs: Sequence, args: Sequence) -> list[tuple[tuple[int,
 
 
 def _lambdify(args, exprs):
-    return se.Lambdify(list(args), list(exprs), backend=_backend(), cse=True)
+    # SymEngine's CSE names its temporaries x0, x1, ...: rename the arguments first so a
+    # model variable called "x1" cannot collide with them.
+    safe = [se.Symbol(f"mcarg_{i}") for i in range(len(args))]
+    mapping = dict(zip(args, safe))
+    exprs = [se.sympify(e).xreplace(mapping) for e in exprs]
+    return se.Lambdify(safe, exprs, backend=_backend(), cse=True)
 
 
 def compile_dense(args: Sequence, exprs: Sequence):

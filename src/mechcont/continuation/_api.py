@@ -1,0 +1,197 @@
+"""The public continuation functions: equilibria in one parameter, folds in two."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+
+import numpy as np
+
+from ..equations import EquationSystem
+from ..errors import ConvergenceError, InputError
+from ._branch import Branch, SpecialPoint
+from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent
+from ._folds import FoldProblem, fold_quantities, refine_fold
+from ._options import ContinuationOptions
+from ._palc import run_direction
+from ._problem import EquilibriumProblem, choose_unknowns
+
+__all__ = ["continuation", "continue_folds", "locate_fold"]
+
+
+class _Equilibria(EquilibriumProblem):
+    def refine_fold(self, state):
+        try:
+            x, v = refine_fold(self.system, state.x, self.names[:-1], self.names[-1])
+        except ConvergenceError:
+            return None
+        return self.u_of(x), {"null_vector": v, "refined": True}
+
+
+def _start_vector(system: EquationSystem, start) -> np.ndarray:
+    if isinstance(start, SpecialPoint):
+        return np.array(start.x, float)
+    if isinstance(start, Mapping):
+        return system.vector(start)
+    x = np.asarray(start, dtype=float)
+    if x.shape != (len(system.names),):
+        raise InputError("start", f"must be a full vector of {len(system.names)} values (ordered like system.names)")
+    return x
+
+
+def _bound_events(system: EquationSystem, options: ContinuationOptions) -> list[Event]:
+    evs = []
+    for name, (lo, hi) in options.bounds.items():
+        i = system.index(name)
+        for b in (lo, hi):
+            if np.isfinite(b):
+                evs.append(BoundEvent(name, i, float(b)))
+    return evs
+
+
+def _check_start(system, problem, u0, options, start_x):
+    r = problem.residual(u0)
+    if not np.all(np.isfinite(r)) or np.max(np.abs(r)) > 1e3 * options.residual_tol:
+        raise InputError("start", f"is not a solution (max residual {np.max(np.abs(r)):.3g}); "
+                                  "solve it first with find_equilibrium")
+    for name, (lo, hi) in options.bounds.items():
+        v = start_x[system.index(name)]
+        if not lo <= v <= hi:
+            raise InputError(name, f"start value {v:.6g} lies outside its bounds {lo:g}:{hi:g}")
+
+
+def _run(problem, system, u0, options, events, direction, vary, unknowns, tangent0=None) -> Branch:
+    if direction not in (-1, 0, 1):
+        raise InputError("direction", f"must be -1, 0 (both) or +1, got {direction!r}")
+    dirs = [direction] if direction else [-1, 1]
+    parts = {d: run_direction(problem, u0, d, options, events, tangent0=tangent0) for d in dirs}
+    rows, stab, labels, infos, s = [], [], [], [], []
+    if -1 in parts:
+        p = parts[-1]
+        rng = range(len(p.states) - 1, 0 if 1 in parts else -1, -1)
+        for i in rng:
+            rows.append(p.states[i]); stab.append(p.stability[i]); labels.append(p.labels[i])
+            infos.append(p.info[i]); s.append(-p.arclength[i])
+    if 1 in parts:
+        p = parts[1]
+        for i in range(len(p.states)):
+            rows.append(p.states[i]); stab.append(p.stability[i]); labels.append(p.labels[i])
+            infos.append(p.info[i]); s.append(p.arclength[i])
+    values = np.array([st.x for st in rows])
+    special = []
+    for i, (lab, st, inf) in enumerate(zip(labels, rows, infos)):
+        if lab:
+            special.append(SpecialPoint(lab, i, st.x.copy(), system.names, st.tangent.copy(),
+                                        {**inf, "unknowns": tuple(unknowns), "vary": vary}))
+    statuses = [parts[d].status for d in dirs]
+    status = "completed" if all(x == "completed" for x in statuses) else next(x for x in statuses if x != "completed")
+    message = "; ".join(f"{'+' if d > 0 else '-'}: {parts[d].message}" for d in dirs if parts[d].message)
+    return Branch(system.names, values, s, stab, labels, special, vary, unknowns, status, message, system.name)
+
+
+def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
+                 options: ContinuationOptions | None = None, direction: int = 0,
+                 events: Sequence[Event] = ()) -> Branch:
+    """Continue equilibria of ``system`` in the variable ``vary``.
+
+    Parameters
+    ----------
+    system:
+        The equation system (compiled on first use).
+    start:
+        A converged point: full vector (ordered like ``system.names``), ``{name: value}``
+        or a :class:`SpecialPoint`. Use :func:`find_equilibrium` to get one.
+    vary:
+        The continuation parameter: any variable, a parameter (``"F"``) or a state
+        (``"theta1"``, which is then prescribed).
+    hold:
+        States held at their start values (e.g. ``["theta4"]``).
+    free:
+        Parameters solved for (e.g. ``["F"]``); with ``hold`` they keep the system square.
+    options:
+        :class:`ContinuationOptions` (steps, bounds, tolerances).
+    direction:
+        ``0`` both directions, ``+1``/``-1`` only increasing/decreasing ``vary`` at the start.
+    events:
+        Extra :class:`~mechcont.continuation.Event` objects (e.g. ``ValueEvent("theta4", 0)``).
+
+    Returns
+    -------
+    Branch
+        Points with stability (from the mechanics), ``LP``/``BP`` located to the
+        tolerances, ``EP`` at the ends. The branch is returned even when a direction
+        fails; ``branch.status``/``branch.message`` then say where and why.
+    """
+    options = options or ContinuationOptions()
+    system.compile()
+    x0 = _start_vector(system, start)
+    unknowns = choose_unknowns(system, hold=hold, free=free, exclude=[vary])
+    problem = _Equilibria(system, x0, vary, unknowns, scales=options.scales, stability=options.stability)
+    u0 = problem.u_of(x0)
+    _check_start(system, problem, u0, options, x0)
+    evs: list[Event] = []
+    if options.detect_folds:
+        evs.append(FoldEvent())
+    if options.detect_branch_points:
+        evs.append(BranchPointEvent())
+    evs += list(events) + _bound_events(system, options)
+    return _run(problem, system, u0, options, evs, direction, vary, unknowns)
+
+
+def locate_fold(system: EquationSystem, point, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = ()):
+    """Polish an approximate fold in ``vary`` to machine precision.
+
+    ``point`` is a full vector, dict or :class:`SpecialPoint` near a fold. Returns
+    ``(x, v, a)``: the full vector at the fold, the null vector (over the unknown states)
+    and the normalised quadratic coefficient (its sign tells which side the branch bends).
+    """
+    x0 = _start_vector(system, point)
+    states = (point.info.get("unknowns") if isinstance(point, SpecialPoint) else None) or choose_unknowns(
+        system, hold=hold, free=free, exclude=[vary])
+    x, v = refine_fold(system, x0, states, vary)
+    idx = np.array([system.index(n) for n in states])
+    _, _, a = fold_quantities(system, x, idx, v)
+    return x, v, a
+
+
+def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: Iterable[str] = (),
+                   free_extra: Iterable[str] = (), options: ContinuationOptions | None = None,
+                   direction: int = 0) -> Branch:
+    """Continue a fold of equilibria in two parameters: the fold curve, with cusps (``CP``).
+
+    Parameters
+    ----------
+    system:
+        The equation system.
+    fold:
+        A fold: a :class:`SpecialPoint` labelled ``LP`` (its lens is reused), or a full
+        vector/dict near a fold.
+    vary:
+        The parameter in which ``fold`` is a fold (``p1``, e.g. ``"F"``).
+    free:
+        The second parameter (``p2``, e.g. ``"LU"``), whose direction ``direction`` sets.
+    hold, free_extra:
+        The lens of the equilibrium branch when ``fold`` is not a SpecialPoint.
+    options:
+        Steps and bounds (bounds on ``p2`` usually end the curve).
+
+    Returns
+    -------
+    Branch
+        One row per fold-curve point (full variable vectors; stability not evaluated:
+        a fold is neutral by definition), ``CP`` at cusps, ``EP`` at the ends.
+    """
+    options = options or ContinuationOptions()
+    system.compile()
+    system.index(free)
+    states = (fold.info.get("unknowns") if isinstance(fold, SpecialPoint) else None) or choose_unknowns(
+        system, hold=hold, free=free_extra, exclude=[vary])
+    states = [s for s in states if s != free]
+    if len(states) != len(system.equations):
+        raise InputError(free, "is one of the unknowns of the branch; choose a parameter that was held")
+    x, v = refine_fold(system, _start_vector(system, fold), states, vary)
+    problem = FoldProblem(system, x, vary, free, states, v0=v, scales=options.scales)
+    from dataclasses import replace
+
+    opts = replace(options, stability=False)
+    evs = problem.test_functions() + _bound_events(system, options)
+    return _run(problem, system, problem.u0, opts, evs, direction, free, (*states, vary))

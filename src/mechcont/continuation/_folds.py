@@ -1,0 +1,187 @@
+"""Folds: exact location and two-parameter continuation (standard augmented system).
+
+A fold (limit point) of equilibria in parameter ``p1`` satisfies, with ``G_s`` the
+Jacobian with respect to the unknown states ``s``,
+
+    G(s, p1, p2) = 0,    G_s v = 0,    c^T v = 1,
+
+(``2n + 1`` equations). With ``p2`` held this is square in ``(s, p1, v)`` and Newton
+polishes a fold found by a sign change to machine precision. With ``p2`` free, it is
+one more continuation problem for the same pseudo-arclength engine, whose solutions are
+the fold curve in the ``(p1, p2)`` plane. Its Jacobian needs second derivatives of
+``G``, contracted with ``v``: exact, from the system's generated Hessian.
+
+A cusp (``CP``) is where the fold's quadratic coefficient ``a = w^T G_ss[v, v]``
+changes sign (``w``: left null vector); the two folds of a hysteresis loop meet and
+disappear there.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+import numpy as np
+
+from ..equations import EquationSystem
+from ..errors import InputError
+from ._events import Event
+from ._newton import newton_square
+from ._problem import ContinuationProblem, choose_unknowns
+
+__all__ = ["FoldProblem", "CuspEvent", "fold_quantities", "refine_fold"]
+
+
+def _null_vectors(Js: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    u, _, vt = np.linalg.svd(Js)
+    return vt[-1], u[:, -1]
+
+
+def fold_quantities(system: EquationSystem, x: np.ndarray, state_idx: np.ndarray, v: np.ndarray | None = None):
+    """Right/left null vectors and the normalised quadratic coefficient at a fold.
+
+    Returns ``(v, w, a)`` where ``v`` spans ker G_s, ``w`` ker G_s^T (normalised by
+    ``v^T w = 1`` so its orientation follows ``v`` continuously) and
+    ``a = w^T G_ss[v, v] / (|w| |v|^2)``.
+    """
+    J = system.jacobian(x)
+    Js = J[:, state_idx]
+    if v is None:
+        v, _ = _null_vectors(Js)
+    n = len(v)
+    A = np.zeros((n + 1, n + 1))
+    A[:n, :n] = Js.T
+    A[:n, n] = v
+    A[n, :n] = v
+    rhs = np.zeros(n + 1)
+    rhs[n] = 1.0
+    w = np.linalg.solve(A, rhs)[:n]
+    vf = np.zeros(len(x))
+    vf[state_idx] = v
+    Gvv = system.jacobian_derivative(x, vf)[:, state_idx] @ v
+    a = float(w @ Gvv) / (np.linalg.norm(w) * (v @ v))
+    return v, w, a
+
+
+def _fold_system(system, base, idx_vars, state_pos, c):
+    """Residual and Jacobian of the fold system in unknowns U = (vars..., v).
+
+    ``idx_vars``: full indices of the variable unknowns (states then parameters);
+    ``state_pos``: positions within ``idx_vars`` of the states whose Jacobian must be
+    singular.
+    """
+    nv = len(idx_vars)
+    n = len(state_pos)
+    state_idx = idx_vars[state_pos]
+
+    def full(U):
+        x = base.copy()
+        x[idx_vars] = U[:nv]
+        return x
+
+    def residual(U):
+        x = full(U)
+        v = U[nv:]
+        J = system.jacobian(x)
+        return np.concatenate([system.residual(x), J[:, state_idx] @ v, [c @ v - 1.0]])
+
+    def jacobian(U):
+        x = full(U)
+        v = U[nv:]
+        vf = np.zeros(len(x))
+        vf[state_idx] = v
+        J = system.jacobian(x)
+        H = system.jacobian_derivative(x, vf)
+        out = np.zeros((2 * n + 1, nv + n))
+        out[:n, :nv] = J[:, idx_vars]
+        out[n:2 * n, :nv] = H[:, idx_vars]
+        out[n:2 * n, nv:] = J[:, state_idx]
+        out[2 * n, nv:] = c
+        return out
+
+    return full, residual, jacobian
+
+
+def refine_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], param: str, tol: float = 1e-13):
+    """Polish an approximate fold in ``param`` with Newton on the square fold system.
+
+    Returns ``(x, v)``: the full vector at the fold and the normalised null vector.
+    Raises :class:`~mechcont.errors.ConvergenceError` if Newton fails.
+    """
+    states = list(states)
+    idx_vars = np.array([system.index(n) for n in [*states, param]])
+    state_pos = np.arange(len(states))
+    Js = system.jacobian(x)[:, idx_vars[state_pos]]
+    v0, _ = _null_vectors(Js)
+    full, res, jac = _fold_system(system, np.array(x, float), idx_vars, state_pos, v0)
+    U0 = np.concatenate([np.asarray(x, float)[idx_vars], v0])
+    scale = np.concatenate([system.scales()[idx_vars], np.ones(len(v0))])
+    U, _ = newton_square(res, jac, U0, tol=tol, residual_tol=1e-11, max_iter=20, scale=scale)
+    return full(U), U[len(idx_vars):]
+
+
+class CuspEvent(Event):
+    """Cusp (``CP``) on a fold curve: the quadratic coefficient of the fold changes sign."""
+
+    label = "CP"
+
+    def value(self, problem, state):
+        return problem.quadratic_coefficient(state.u)
+
+
+class FoldProblem(ContinuationProblem):
+    """The fold curve of ``system`` in parameters ``(p1, p2)`` as a continuation problem.
+
+    Unknowns ``u = (states..., p1, p2, v...)``; the continuation parameter (whose
+    direction is chosen) is ``p2``.
+    """
+
+    def __init__(self, system: EquationSystem, x_fold: np.ndarray, p1: str, p2: str, states: Iterable[str],
+                 v0: np.ndarray | None = None, scales=None):
+        self.system = system.compile()
+        states = list(states)
+        for p in (p1, p2):
+            if p in states:
+                raise InputError(p, "is solved for; the two fold parameters must not be unknowns")
+        if p1 == p2:
+            raise InputError(p2, "the second parameter must differ from the fold's parameter")
+        self.states = states
+        self.p1, self.p2 = p1, p2
+        self.idx_vars = np.array([system.index(n) for n in [*states, p1, p2]])
+        self.state_idx = self.idx_vars[: len(states)]
+        x_fold = np.asarray(x_fold, float)
+        if v0 is None:
+            v0, _ = _null_vectors(system.jacobian(x_fold)[:, self.state_idx])
+        v0 = np.asarray(v0, float) / np.linalg.norm(v0)
+        self.c = v0
+        self.base = x_fold.copy()
+        self._full, self._res, self._jac = _fold_system(system, self.base, self.idx_vars, np.arange(len(states)), v0)
+        self.u0 = np.concatenate([x_fold[self.idx_vars], v0])
+        self.names = (*states, p1, p2, *[f"v_{s}" for s in states])
+        self.param_index = len(states) + 1
+        sc = system.scales()
+        for n, v in (scales or {}).items():
+            sc[system.index(n)] = v
+        self.scale = np.concatenate([sc[self.idx_vars], np.ones(len(states))])
+        self.idx = self.idx_vars  # for messages
+
+    def residual(self, u):
+        return self._res(u)
+
+    def jacobian(self, u):
+        return self._jac(u)
+
+    def full(self, u):
+        return self._full(u)
+
+    def quadratic_coefficient(self, u) -> float:
+        """Normalised ``a = w^T G_ss[v, v]`` at the fold-curve point ``u``."""
+        nv = len(self.idx_vars)
+        return fold_quantities(self.system, self._full(u), self.state_idx, u[nv:])[2]
+
+    def test_functions(self):
+        return [CuspEvent()]
+
+
+def fold_states(system: EquationSystem, vary: str, hold=(), free=()) -> list[str]:
+    """Unknown state names of a fold in ``vary`` (the lens of the equilibrium branch)."""
+    return choose_unknowns(system, hold=hold, free=free, exclude=[vary])

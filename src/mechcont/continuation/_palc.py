@@ -1,0 +1,257 @@
+"""Pseudo-arclength continuation: the stepper and the driver.
+
+The stepper works on any :class:`~._problem.ContinuationProblem` (equilibria, fold
+curves); the driver runs it in one direction and collects points and special points.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ._events import Event, PointState
+from ._options import ContinuationOptions
+
+__all__ = ["PseudoArclength", "DirectionResult", "run_direction"]
+
+
+class PseudoArclength:
+    r"""Pseudo-arclength predictor–corrector on a scaled problem.
+
+    Let ``G: R^(n+1) -> R^n`` and ``z = u / D`` the unknowns divided by their typical
+    magnitudes ``D`` (so that a newton and a radian weigh alike); ``G_z = G_u D``.
+    From a point ``z0`` with unit tangent ``t0`` (``G_z(z0) t0 = 0``, ``|t0| = 1``):
+
+    * **predictor**: ``z_p = z0 + ds t0``;
+    * **corrector**: Newton on the bordered system
+
+      .. math::  G(z) = 0, \qquad t_0^T (z - z_p) = 0,
+
+      i.e. iterations ``[G_z; t0^T] dz = -[G; t0^T (z - z_p)]``. The hyperplane through
+      the predictor orthogonal to ``t0`` cuts the branch transversally even at a fold,
+      where Newton in the parameter alone would fail;
+    * **new tangent**: solve ``[G_z(z1); t0^T] t = e_(n+1)`` and normalise; bordering
+      with the previous tangent keeps the orientation (``t0^T t1 > 0``) continuous through
+      folds.
+
+    A step is rejected and ``ds`` shrunk when Newton needs more than ``max_newton``
+    iterations, when a correction does not contract by ``max_contraction`` (slow
+    convergence is the sign of a corrector drifting to another branch), or when the
+    tangent turns by more than ``max_angle``. That is how the stepper avoids jumping
+    silently between close branches or across a sharp fold.
+    """
+
+    def __init__(self, problem, options: ContinuationOptions):
+        self.problem = problem
+        self.options = options
+        self.D = np.asarray(problem.scale, dtype=float)
+        self.n = len(self.D) - 1
+
+    # -- evaluation in scaled coordinates -----------------------------------------------
+    def G(self, z):
+        return self.problem.residual(z * self.D)
+
+    def Gz(self, z):
+        return self.problem.jacobian(z * self.D) * self.D
+
+    def state(self, z, tangent, jac=None) -> PointState:
+        u = z * self.D
+        return PointState(z=z, u=u, tangent=tangent, jac=self.Gz(z) if jac is None else jac, x=self.problem.full(u))
+
+    # -- tangent --------------------------------------------------------------------
+    def initial_tangent(self, z, direction: int) -> np.ndarray:
+        """Null vector of G_z at ``z`` oriented so the parameter increases (direction=+1)."""
+        _, _, vt = np.linalg.svd(self.Gz(z))
+        t = vt[-1]
+        p = self.problem.param_index
+        ref = t[p] if abs(t[p]) > 1e-12 else t[np.argmax(np.abs(t))]
+        return t * (direction * np.sign(ref) or 1.0)
+
+    def tangent(self, z, border, jac=None) -> np.ndarray:
+        jac = self.Gz(z) if jac is None else jac
+        A = np.vstack([jac, border])
+        rhs = np.zeros(self.n + 1)
+        rhs[-1] = 1.0
+        t = np.linalg.solve(A, rhs)
+        t /= np.linalg.norm(t)
+        return t if t @ border > 0 else -t
+
+    # -- corrector --------------------------------------------------------------------
+    def correct(self, z_pred, t0, z_start=None):
+        """Newton on [G(z); t0.(z - z_pred)] = 0 from ``z_start`` (default ``z_pred``).
+
+        Returns ``(z, jac, iterations)`` or ``(None, reason, iterations)``.
+        """
+        o = self.options
+        z = np.array(z_pred if z_start is None else z_start, dtype=float)
+        prev = math.inf
+        for it in range(1, o.max_newton + 1):
+            r = self.G(z)
+            jac = self.Gz(z)
+            if not (np.all(np.isfinite(r)) and np.all(np.isfinite(jac))):
+                return None, "residual not finite (outside the model's domain)", it
+            A = np.vstack([jac, t0])
+            b = np.append(-r, -(t0 @ (z - z_pred)))
+            try:
+                dz = np.linalg.solve(A, b)
+            except np.linalg.LinAlgError:
+                return None, "singular bordered Jacobian", it
+            z = z + dz
+            step = np.max(np.abs(dz))
+            if step < o.newton_tol:
+                r = self.G(z)
+                if np.all(np.isfinite(r)) and np.max(np.abs(r)) < o.residual_tol:
+                    return z, self.Gz(z), it
+            if step > o.max_contraction * prev and step > 1e3 * o.newton_tol:
+                return None, "corrector converging too slowly", it
+            prev = step
+        return None, f"corrector needed more than {o.max_newton} iterations", o.max_newton
+
+    def point_at(self, z0, t0, sigma):
+        """The branch point on the hyperplane at distance ``sigma`` along ``t0`` from ``z0``."""
+        z, jac, _ = self.correct(z0 + sigma * t0, t0)
+        if z is None:
+            raise RuntimeError(jac)
+        return self.state(z, self.tangent(z, t0, jac), jac)
+
+
+@dataclass
+class DirectionResult:
+    """Points of one continuation direction (start point first)."""
+
+    states: list = field(default_factory=list)
+    stability: list = field(default_factory=list)
+    labels: list = field(default_factory=list)
+    info: list = field(default_factory=list)
+    arclength: list = field(default_factory=list)
+    status: str = "completed"
+    message: str = ""
+
+
+def _describe(problem, x) -> str:
+    names = getattr(problem, "names", ())
+    idx = getattr(problem, "idx", None)
+    if idx is None:
+        return ""
+    shown = [f"{n}={x[i]:.6g}" for n, i in list(zip(names, idx))[-3:]]
+    return " at " + ", ".join(shown)
+
+
+def run_direction(problem, u0: np.ndarray, direction: int, options: ContinuationOptions, events: list[Event],
+                  tangent0: np.ndarray | None = None, progress=None) -> DirectionResult:
+    """Continue from ``u0`` (a converged point) in one direction.
+
+    ``direction`` +1 follows increasing continuation parameter initially, -1 decreasing.
+    Returns a :class:`DirectionResult`; it always holds what was computed, with
+    ``status``/``message`` saying why it ended.
+    """
+    eng = PseudoArclength(problem, options)
+    z = np.asarray(u0, float) / eng.D
+    t = eng.initial_tangent(z, direction) if tangent0 is None else direction * np.asarray(tangent0, float)
+    cur = eng.state(z, t)
+    res = DirectionResult()
+
+    def record(st: PointState, label="", info=None, s=0.0):
+        res.states.append(st)
+        res.stability.append(problem.stability(st.u) if options.stability else -1)
+        res.labels.append(label)
+        res.info.append(info or {})
+        res.arclength.append(s)
+
+    record(cur)
+    values = [ev.value(problem, cur) for ev in events]
+    ds = options.ds
+    s = 0.0
+    for _ in range(options.max_steps):
+        while True:
+            z1, jac, iters = eng.correct(cur.z + ds * cur.tangent, cur.tangent)
+            if z1 is not None:
+                try:
+                    t1 = eng.tangent(z1, cur.tangent, jac)
+                except np.linalg.LinAlgError:
+                    reason = "singular tangent system"
+                else:
+                    angle = math.acos(min(1.0, max(-1.0, float(t1 @ cur.tangent))))
+                    if angle <= options.max_angle:
+                        break
+                    reason = f"tangent turned by {math.degrees(angle):.1f} deg"
+            else:
+                reason = jac
+            ds *= options.shrink
+            if ds < options.dsmin:
+                res.status = "step size underflow"
+                res.message = (f"step size fell below dsmin={options.dsmin:g}{_describe(problem, cur.x)}: {reason}; "
+                               "the branch may end here (singular point) or need a smaller dsmin")
+                res.labels[-1] = res.labels[-1] or "EP"
+                res.info[-1] = {**res.info[-1], "reason": res.message}
+                return res
+        new = eng.state(z1, t1, jac)
+        step = float(np.linalg.norm(z1 - cur.z))
+        new_values = [ev.value(problem, new) for ev in events]
+        hits = []
+        for ev, v0, v1 in zip(events, values, new_values):
+            if v0 == 0 or v1 == 0 or (v0 > 0) == (v1 > 0):
+                continue
+            hits.append((ev, _locate(eng, problem, cur, ds, ev, v0, v1)))
+        hits.sort(key=lambda h: h[1][0])
+        stop = False
+        for ev, (sigma, st, info) in hits:
+            refined = ev.refine(problem, st) if st is not None else None
+            if refined is not None:
+                u_ref, extra = refined
+                st = eng.state(u_ref / eng.D, st.tangent)
+                info = {**info, **extra}
+            if st is None:
+                continue
+            record(st, ev.label, info, s + sigma)
+            if ev.stop:
+                stop = True
+                break
+        if stop:
+            res.status = "completed"
+            res.message = f"reached bound of {res.info[-1].get('bound_of', '')}".strip()
+            return res
+        s += step
+        record(new, s=s)
+        cur, values = new, new_values
+        if progress is not None:
+            progress(1)
+        if iters <= 2:
+            ds = min(ds * options.grow, options.dsmax)
+        elif iters >= 5:
+            ds = max(ds * options.shrink, options.dsmin)
+    res.labels[-1] = res.labels[-1] or "EP"
+    res.info[-1] = {**res.info[-1], "reason": "max_steps"}
+    res.status = "completed"
+    res.message = f"stopped after max_steps={options.max_steps}"
+    return res
+
+
+def _locate(eng: PseudoArclength, problem, cur: PointState, ds: float, ev: Event, v0: float, v1: float):
+    """Zero of ``ev`` between ``cur`` (sigma=0) and the accepted step (sigma=ds)."""
+    cache = {}
+
+    def f(sigma):
+        st = eng.point_at(cur.z, cur.tangent, sigma)
+        cache[sigma] = st
+        return ev.value(problem, st)
+
+    try:
+        sigma = brentq(f, 0.0, ds, xtol=1e-14 * max(1.0, ds), rtol=8.9e-16, maxiter=100)
+        st = cache.get(sigma) or eng.point_at(cur.z, cur.tangent, sigma)
+        info = {"located": True}
+    except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
+        return ds, None, {"located": False, "error": str(exc)}
+    if isinstance(ev, _bound_type()):
+        info["bound_of"] = ev.name
+        info["bound"] = ev.bound
+    return sigma, st, info
+
+
+def _bound_type():
+    from ._events import BoundEvent
+
+    return BoundEvent

@@ -1,0 +1,140 @@
+"""Problems handed to the continuation engine: which names are unknown, and how to evaluate.
+
+An :class:`EquilibriumProblem` is an :class:`~mechcont.equations.EquationSystem` seen
+through a *lens*: a list of unknown names (as many as there are equations) plus the one
+continuation parameter. Everything else is held at the values of a base point. Changing
+the lens ("hold theta4, free F") never touches the equations.
+
+The engine only needs the small :class:`ContinuationProblem` interface, so the
+two-parameter fold problem (:mod:`._folds`) is handed to the very same engine.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+
+import numpy as np
+
+from ..equations import EquationSystem
+from ..errors import InputError
+
+__all__ = ["ContinuationProblem", "EquilibriumProblem", "choose_unknowns"]
+
+
+class ContinuationProblem:
+    """Interface of a problem G(u) = 0, u in R^(n+1), for the continuation engine.
+
+    Attributes
+    ----------
+    names:
+        Name of each component of ``u`` (the last one need not be the parameter).
+    param_index:
+        Index in ``u`` of the continuation parameter (folds are its turning points).
+    scale:
+        Typical magnitude of each component of ``u``.
+    """
+
+    names: tuple[str, ...]
+    param_index: int
+    scale: np.ndarray
+
+    def residual(self, u: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def jacobian(self, u: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def full(self, u: np.ndarray) -> np.ndarray:
+        """The full variable vector recorded in the branch at ``u``."""
+        raise NotImplementedError  # pragma: no cover - interface
+
+    def stability(self, u: np.ndarray) -> int:
+        """Number of unstable directions at ``u`` (-1 when unknown)."""
+        return -1
+
+    def test_functions(self) -> list:
+        """Extra events particular to this problem (e.g. cusp detection)."""
+        return []
+
+
+def choose_unknowns(system: EquationSystem, hold: Iterable[str] = (), free: Iterable[str] = (),
+                    exclude: Iterable[str] = ()) -> list[str]:
+    """The unknown names of a square solve: states not held, plus freed names.
+
+    Raises :class:`InputError` when a name is unknown, or when the count does not equal
+    the number of equations (saying how many to hold or free).
+    """
+    hold, free, exclude = list(hold), list(free), list(exclude)
+    for n in (*hold, *free, *exclude):
+        system.index(n)
+    for n in hold:
+        if n in free:
+            raise InputError(n, "cannot be both held and freed")
+    unknowns = [n for n in system.state_names if n not in hold and n not in exclude]
+    for n in free:
+        if n in exclude:
+            raise InputError(n, "is the continuation parameter; it cannot also be freed")
+        if n not in unknowns:
+            unknowns.append(n)
+    n_eq = len(system.equations)
+    if len(unknowns) != n_eq:
+        diff = len(unknowns) - n_eq
+        what = f"hold {diff} more state(s)" if diff > 0 else f"free {-diff} more parameter(s)"
+        raise InputError(
+            "free" if diff < 0 else "hold",
+            f"{len(unknowns)} unknowns ({', '.join(unknowns)}) for {n_eq} equations: {what}",
+        )
+    return unknowns
+
+
+class EquilibriumProblem(ContinuationProblem):
+    """Equilibria of ``system`` in the continuation parameter ``vary``.
+
+    Parameters
+    ----------
+    system:
+        The compiled equation system.
+    base:
+        Full variable vector supplying the held values.
+    vary:
+        Name of the continuation parameter (any variable, state or parameter).
+    unknowns:
+        Names solved for (one per equation), not including ``vary``.
+    scales:
+        Optional ``{name: typical magnitude}`` overrides.
+    """
+
+    def __init__(self, system: EquationSystem, base: np.ndarray, vary: str, unknowns: Sequence[str],
+                 scales: Mapping[str, float] | None = None, stability: bool = True):
+        self.system = system.compile()
+        self.base = np.array(base, dtype=float)
+        if vary in unknowns:
+            raise InputError(vary, "the continuation parameter must not be among the unknowns")
+        self.names = (*unknowns, vary)
+        self.idx = np.array([system.index(n) for n in self.names])
+        self.param_index = len(self.names) - 1
+        sc = system.scales()
+        for n, v in (scales or {}).items():
+            sc[system.index(n)] = v
+        self.scale = sc[self.idx]
+        self._stability = stability and system.mechanics is not None
+
+    def u_of(self, x: np.ndarray) -> np.ndarray:
+        """Restrict a full vector to this problem's unknowns + parameter."""
+        return np.asarray(x, float)[self.idx]
+
+    def full(self, u: np.ndarray) -> np.ndarray:
+        x = self.base.copy()
+        x[self.idx] = u
+        return x
+
+    def residual(self, u):
+        return self.system.residual(self.full(u))
+
+    def jacobian(self, u):
+        return self.system.jacobian(self.full(u))[:, self.idx]
+
+    def stability(self, u) -> int:
+        if not self._stability:
+            return -1
+        return self.system.mechanics.stability(self.full(u)).n_unstable
