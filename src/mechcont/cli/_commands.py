@@ -1,1 +1,2 @@
 """Imports every command module so that each registers itself on the group."""
+from . import draw  # noqa: F401  (mechcont draw, mechcont animate)

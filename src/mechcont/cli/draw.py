@@ -1,0 +1,131 @@
+"""``mechcont draw`` and ``mechcont animate``: pictures of a mechanism at a solution or along a branch."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+from ..errors import InputError
+from ._app import cli
+
+_ANIMATE_DEFAULT = ("F", "theta1")
+
+
+def _model(name: str):
+    """The built-in model ``name``, with its drawing attached."""
+    from ..models import build_overcentre
+
+    builders = {"overcentre": build_overcentre}
+    if name not in builders:
+        raise InputError("model", f"unknown model '{name}'; valid: {', '.join(sorted(builders))}")
+    system = builders[name]()
+    if system.scene is None and name == "overcentre":
+        from ..models.overcentre_scene import overcentre_scene
+
+        system.scene = overcentre_scene(system)
+    return system
+
+
+def _assignments(items, field: str) -> dict[str, float]:
+    out = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        try:
+            if not sep or not name.strip():
+                raise ValueError
+            out[name.strip()] = float(value)
+        except ValueError:
+            raise InputError(field, f"'{item}' is not NAME=VALUE with a number (SI units, radians)") from None
+    return out
+
+
+def _names(text: str | None, field: str) -> tuple[str, ...]:
+    if text is None:
+        return ()
+    names = tuple(n.strip() for n in text.split(",") if n.strip())
+    if not names:
+        raise InputError(field, "give comma-separated variable names, e.g. F,theta1")
+    return names
+
+
+def _out(path: str, valid) -> Path:
+    out = Path(path)
+    if out.suffix.lower() not in valid:
+        raise InputError("out", f"unknown file type '{out.suffix or out.name}'; valid: {', '.join(valid)}")
+    return out
+
+
+@cli.command("draw")
+@click.argument("model")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Set a parameter (SI units, radians).")
+@click.option("--start", "starts", multiple=True, metavar="NAME=VALUE",
+              help="Hold a state at a value while solving (use with --free).")
+@click.option("--free", "frees", multiple=True, metavar="NAME", help="A parameter solved for instead (e.g. F).")
+@click.option("--point", metavar="BRANCH.csv:ROW",
+              help="Draw row ROW (0-based, or a label such as LP1) of a branch CSV instead of solving.")
+@click.option("--annotate", metavar="NAMES", help="Comma-separated variables to print on the figure.")
+@click.option("--no-forces", is_flag=True, help="Do not draw the applied forces.")
+@click.option("--out", required=True, metavar="FILE", help="Output .png, .svg or .pdf.")
+def draw_command(model, sets, starts, frees, point, annotate, no_forces, out):
+    """Draw MODEL at one equilibrium (solved from --set/--start/--free) or at a branch point."""
+    from ..outputs.drawing import IMAGE_SUFFIXES, branch_frames, draw
+
+    path = _out(out, IMAGE_SUFFIXES)
+    system = _model(model)
+    names = _names(annotate, "annotate")
+    stable, label = None, ""
+    if point is not None:
+        if sets or starts or frees:
+            raise InputError("point", "a branch point fixes every value; do not combine it with --set/--start/--free")
+        csv_path, sep, row = point.rpartition(":")
+        if not sep or not csv_path or not row:
+            raise InputError("point", f"'{point}' is not BRANCH.csv:ROW")
+        frames = branch_frames(system, csv_path)
+        i = frames.row(row)
+        x, stable, label = frames.values[i], frames.stable[i], frames.labels[i]
+    else:
+        from ..continuation import find_equilibrium
+
+        x = find_equilibrium(system, values=_assignments(sets, "set"), hold=_assignments(starts, "start"),
+                             free=list(frees))
+        if system.mechanics is not None:
+            stable = bool(system.mechanics.stability(x).stable)
+    draw(system, x, path, annotate=names or tuple(n for n in _ANIMATE_DEFAULT if n in system.names),
+         stable=stable, label=label, show_forces=not no_forces)
+    click.echo(str(path))
+
+
+@cli.command("animate")
+@click.argument("model")
+@click.option("--branch", "branch_csv", required=True, metavar="BRANCH.csv", help="Branch written by mechcont continue.")
+@click.option("--out", required=True, metavar="FILE", help="Output .gif (or .mp4 when ffmpeg is installed).")
+@click.option("--fps", type=float, default=20.0, show_default=True, help="Frames per second.")
+@click.option("--every", type=int, default=1, show_default=True, help="Use every N-th branch point.")
+@click.option("--annotate", metavar="NAMES", help="Comma-separated variables printed on each frame [F,theta1].")
+@click.option("--diagram", metavar="X,Y", help="Add a panel with the branch in the plane of two variables.")
+@click.option("--no-forces", is_flag=True, help="Do not draw the applied forces.")
+@click.option("--quiet", is_flag=True, help="No progress bar.")
+def animate_command(model, branch_csv, out, fps, every, annotate, diagram, no_forces, quiet):
+    """Animate MODEL along a branch CSV (columns: variables, s, stability, label)."""
+    from ..outputs.drawing import ANIMATION_SUFFIXES, animate, branch_frames
+
+    path = _out(out, ANIMATION_SUFFIXES)
+    system = _model(model)
+    names = _names(annotate, "annotate") or tuple(n for n in _ANIMATE_DEFAULT if n in system.names)
+    pair = _names(diagram, "diagram") or None
+    if pair is not None and len(pair) != 2:
+        raise InputError("diagram", f"give exactly two variable names X,Y, not '{diagram}'")
+    frames = branch_frames(system, branch_csv)
+    if every < 1:
+        raise InputError("every", f"must be an integer >= 1, not {every}")
+    total = len(range(0, len(frames.values), every))
+    if quiet or not sys.stderr.isatty():
+        n = animate(system, frames, path, fps=fps, every=every, annotate=names, diagram=pair,
+                    show_forces=not no_forces)
+    else:
+        with click.progressbar(length=total, label="frames", file=sys.stderr) as bar:
+            n = animate(system, frames, path, fps=fps, every=every, annotate=names, diagram=pair,
+                        show_forces=not no_forces, on_frame=lambda: bar.update(1))
+    click.echo(f"{path} ({n} frames)")

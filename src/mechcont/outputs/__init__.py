@@ -1,0 +1,18 @@
+"""Outputs: drawings, plots and tables. Submodules import matplotlib lazily."""
+
+from __future__ import annotations
+
+import importlib
+
+_LAZY = {
+    "draw_scene": "drawing", "draw": "drawing", "animate": "drawing",
+}
+
+__all__ = sorted(_LAZY)
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'mechcont.outputs' has no attribute {name!r}")
+    return getattr(importlib.import_module(f".{module}", __name__), name)

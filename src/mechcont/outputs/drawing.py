@@ -1,0 +1,612 @@
+"""Pictures and animations of mechanisms from their :class:`~mechcont.equations.Scene`.
+
+A model provides ``system.scene(x) -> Scene`` (coordinates in metres, forces in newtons);
+this module draws it: bars as thick polylines, pins as small circles, ground pins with a
+hatched ground symbol, sliders as a block on a hatched rail, springs as zig-zag coils,
+forces as arrows labelled in newtons. :func:`draw` saves one configuration (PNG, SVG, PDF),
+:func:`animate` runs along a continuation branch (GIF, or MP4 when ffmpeg is installed).
+
+Sizes of the symbols (pins, ground, coil width) are a fixed fraction of the view so that
+every frame of an animation looks alike; force arrows are ``force_scale`` metres per newton.
+Files are written to a temporary name and moved into place, so a failure leaves nothing.
+Matplotlib is imported lazily and only the non-interactive Agg canvas is used.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..equations import Scene
+from ..errors import InputError
+
+__all__ = ["draw_scene", "draw", "animate", "BranchFrames", "branch_frames", "IMAGE_SUFFIXES", "ANIMATION_SUFFIXES"]
+
+IMAGE_SUFFIXES = (".png", ".svg", ".pdf")
+ANIMATION_SUFFIXES = (".gif", ".mp4")
+
+_SYMBOL = 0.03       # symbol size h as a fraction of the larger side of the view
+_PAD = 0.12          # view margin as a fraction of the scene size
+_ARROW = 0.3         # default longest force arrow as a fraction of the scene size
+_DEFAULT_ANNOTATE = ("F", "theta1")
+_COILS = 6           # zig-zag coils per spring, whatever its length
+_LABEL_BOX = dict(boxstyle="square,pad=0.1", facecolor="white", edgecolor="none", alpha=0.75)
+_BAR_COLOURS = ("#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#17becf", "#7f7f7f", "#bcbd22", "#e377c2")
+
+
+# -- geometry of a view --------------------------------------------------------------------
+
+def _size(bounds: tuple[float, float, float, float]) -> float:
+    xmin, xmax, ymin, ymax = bounds
+    s = max(xmax - xmin, ymax - ymin)
+    return s if s > 1e-12 else 1.0
+
+
+def _union(boxes: Iterable[tuple[float, float, float, float]]) -> tuple[float, float, float, float]:
+    b = np.array(list(boxes), dtype=float)
+    return float(b[:, 0].min()), float(b[:, 1].max()), float(b[:, 2].min()), float(b[:, 3].max())
+
+
+def _max_force(scene: Scene) -> float:
+    return max((float(np.hypot(*np.asarray(v, float))) for _, _, v in scene.forces), default=0.0)
+
+
+def _default_force_scale(scenes: Sequence[Scene]) -> float:
+    """Metres per newton so that the largest force of all ``scenes`` is ``_ARROW`` of their size."""
+    fmax = max((_max_force(s) for s in scenes), default=0.0)
+    size = _size(_union(s.extent() for s in scenes))
+    return _ARROW * size / fmax if fmax > 0 else 0.0
+
+
+def _bounds(scene: Scene, force_scale: float, show_forces: bool) -> tuple[float, float, float, float]:
+    """Box around every primitive and, if shown, every force arrow with room for its label."""
+    xmin, xmax, ymin, ymax = scene.extent()
+    if show_forces:
+        h = _SYMBOL * _size((xmin, xmax, ymin, ymax))
+        for _, p, v in scene.forces:
+            p, v = np.asarray(p, float), np.asarray(v, float) * force_scale
+            n = np.hypot(*v)
+            tip = p + v + (3 * h * v / n if n > 0 else np.array([0.0, 2 * h]))
+            xmin, xmax = min(xmin, tip[0]), max(xmax, tip[0])
+            ymin, ymax = min(ymin, tip[1]), max(ymax, tip[1])
+    return xmin, xmax, ymin, ymax
+
+
+def _limits(bounds: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    pad = _PAD * _size(bounds)
+    xmin, xmax, ymin, ymax = bounds
+    return xmin - pad, xmax + pad, ymin - pad, ymax + pad
+
+
+# -- primitives ----------------------------------------------------------------------------
+
+def _zigzag(a: np.ndarray, b: np.ndarray, width: float) -> np.ndarray:
+    """Polyline of a spring from ``a`` to ``b``: straight leads, ``_COILS`` coils of ``width``."""
+    d = b - a
+    length = float(np.hypot(*d))
+    if length < 1e-12:
+        return np.array([a, b])
+    t = d / length
+    nrm = np.array([-t[1], t[0]])
+    s = np.linspace(0.2, 0.8, 2 * _COILS + 1)
+    offsets = np.zeros_like(s)
+    offsets[1:-1:2], offsets[2:-1:2] = width, -width
+    coil = a + np.outer(s * length, t) + np.outer(offsets, nrm)
+    return np.vstack([a, coil, b])
+
+
+def _hatched_strip(ax, start: np.ndarray, end: np.ndarray, normal: np.ndarray, depth: float, zorder: float):
+    from matplotlib.patches import Polygon
+
+    quad = np.array([start, end, end + depth * normal, start + depth * normal])
+    ax.add_patch(Polygon(quad, closed=True, fill=False, hatch="////", edgecolor="0.35", linewidth=0, zorder=zorder))
+    ax.plot([start[0], end[0]], [start[1], end[1]], color="0.2", linewidth=1.2, zorder=zorder)
+
+
+def _draw_ground(ax, p: np.ndarray, h: float):
+    from matplotlib.patches import Polygon
+
+    tri = np.array([p, p + [-1.2 * h, -2 * h], p + [1.2 * h, -2 * h]])
+    ax.add_patch(Polygon(tri, closed=True, facecolor="0.85", edgecolor="0.2", linewidth=1.0, zorder=2))
+    _hatched_strip(ax, p + [-2 * h, -2 * h], p + [2 * h, -2 * h], np.array([0.0, -1.0]), 0.9 * h, 2)
+
+
+def _rail_span(p: np.ndarray, u: np.ndarray, limits) -> tuple[np.ndarray, np.ndarray]:
+    """The part of the line ``p + t u`` inside the view ``limits`` (clipped, never empty)."""
+    xmin, xmax, ymin, ymax = limits
+    lo, hi = -np.inf, np.inf
+    for k, (a, b) in enumerate(((xmin, xmax), (ymin, ymax))):
+        if abs(u[k]) > 1e-12:
+            t1, t2 = (a - p[k]) / u[k], (b - p[k]) / u[k]
+            lo, hi = max(lo, min(t1, t2)), min(hi, max(t1, t2))
+    if not (np.isfinite(lo) and np.isfinite(hi)) or hi <= lo:
+        lo, hi = -1.0, 1.0
+    return p + lo * u, p + hi * u
+
+
+def _draw_slider(ax, p: np.ndarray, direction: np.ndarray, h: float, limits):
+    from matplotlib.patches import Polygon
+
+    u = np.asarray(direction, float)
+    u = u / np.hypot(*u) if np.hypot(*u) > 0 else np.array([1.0, 0.0])
+    nrm = np.array([u[1], -u[0]])          # right of the direction: "below" a rail along +x
+    a, b = _rail_span(p, u, limits)
+    _hatched_strip(ax, a + 0.6 * h * nrm, b + 0.6 * h * nrm, nrm, 0.9 * h, 1)
+    hw, hh = 1.6 * h, 0.6 * h
+    block = np.array([p - hw * u - hh * nrm, p + hw * u - hh * nrm, p + hw * u + hh * nrm, p - hw * u + hh * nrm])
+    ax.add_patch(Polygon(block, closed=True, facecolor="0.75", edgecolor="0.2", linewidth=1.0, zorder=3))
+
+
+def _draw_pin(ax, p: np.ndarray, h: float):
+    from matplotlib.patches import Circle
+
+    ax.add_patch(Circle(p, 0.45 * h, facecolor="white", edgecolor="black", linewidth=1.2, zorder=6))
+
+
+def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: float):
+    mag = float(np.hypot(*v))
+    text = f"{name} = {mag:.3g} N"
+    if mag == 0 or scale == 0:
+        ax.text(p[0], p[1] + 1.5 * h, text, ha="center", va="bottom", fontsize=8, color="#d62728", zorder=8,
+                bbox=_LABEL_BOX)
+        return
+    tip = p + v * scale
+    ax.annotate("", xy=tip, xytext=p, zorder=7,
+                arrowprops=dict(arrowstyle="-|>", color="#d62728", linewidth=1.8, mutation_scale=14,
+                                shrinkA=0, shrinkB=0))
+    u = v / mag
+    at = tip + 0.8 * h * u
+    if abs(u[1]) >= abs(u[0]):
+        ha, va = "center", ("bottom" if u[1] > 0 else "top")
+    else:
+        ha, va = ("left" if u[0] > 0 else "right"), "center"
+    ax.text(at[0], at[1], text, ha=ha, va=va, fontsize=8, color="#d62728", zorder=8, bbox=_LABEL_BOX)
+
+
+def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: bool = True,
+               force_scale: float | None = None, limits: tuple[float, float, float, float] | None = None):
+    """Draw one :class:`Scene` on matplotlib axes.
+
+    Parameters
+    ----------
+    scene:
+        The primitives, coordinates in metres, forces in newtons.
+    ax:
+        Axes to draw on; a new figure (Agg canvas) is made when omitted.
+    title:
+        Optional axes title.
+    show_forces:
+        Draw the applied forces as arrows labelled with their magnitude (N).
+    force_scale:
+        Arrow length per force, m/N; by default the largest force is drawn 0.3 times the
+        size of the mechanism.
+    limits:
+        Fixed view ``(xmin, xmax, ymin, ymax)`` (m); by default the scene with a margin.
+        Symbol sizes are a fixed fraction of the view.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes, with equal aspect and metres on both axes.
+    """
+    if ax is None:
+        from matplotlib.figure import Figure
+
+        ax = Figure(figsize=(6, 4.5)).add_subplot()
+    scale = _default_force_scale([scene]) if force_scale is None else float(force_scale)
+    if not (math.isfinite(scale) and scale >= 0):
+        raise InputError("force_scale", f"must be a non-negative number of m/N, not {force_scale!r}")
+    if limits is None:
+        limits = _limits(_bounds(scene, scale, show_forces))
+    h = _SYMBOL * max(limits[1] - limits[0], limits[3] - limits[2])
+
+    for p, direction in scene.sliders:
+        _draw_slider(ax, np.asarray(p, float), direction, h, limits)
+    for p in scene.grounds:
+        _draw_ground(ax, np.asarray(p, float), h)
+    for name, a, b in scene.springs:
+        line = _zigzag(np.asarray(a, float), np.asarray(b, float), 0.7 * h)
+        ax.plot(line[:, 0], line[:, 1], color="#ff7f0e", linewidth=1.3, zorder=4, label=name)
+    for i, (name, pts) in enumerate(scene.bars):
+        pts = np.atleast_2d(np.asarray(pts, float))
+        ax.plot(pts[:, 0], pts[:, 1], color=_BAR_COLOURS[i % len(_BAR_COLOURS)], linewidth=6,
+                solid_capstyle="round", solid_joinstyle="round", zorder=5, label=name)
+    for p in [*scene.pins, *scene.grounds, *(q for q, _ in scene.sliders)]:
+        _draw_pin(ax, np.asarray(p, float), h)
+    if show_forces:
+        for name, p, v in scene.forces:
+            _draw_force(ax, name, np.asarray(p, float), np.asarray(v, float), scale, h)
+
+    ax.set_xlim(limits[0], limits[1])
+    ax.set_ylim(limits[2], limits[3])
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    if title:
+        ax.set_title(title)
+    return ax
+
+
+# -- files ---------------------------------------------------------------------------------
+
+def _check_out(path: str | os.PathLike, valid: Sequence[str]) -> Path:
+    path = Path(path)
+    if path.suffix.lower() not in valid:
+        raise InputError("out", f"unknown file type '{path.suffix or path.name}'; valid: {', '.join(valid)}")
+    if not path.parent.is_dir():
+        raise InputError("out", f"directory '{path.parent}' does not exist")
+    return path
+
+
+def _atomic_write(path: Path, write: Callable[[str], None]) -> None:
+    """Call ``write(tmp)`` on a temporary file next to ``path``, then move it into place."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}-", suffix=path.suffix, dir=path.parent)
+    os.close(fd)
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def _check_x(system, x) -> np.ndarray:
+    x = np.asarray(x, dtype=float)
+    if x.shape != (len(system.names),):
+        raise InputError("x", f"expected {len(system.names)} values ordered like the names of '{system.name}', "
+                              f"got shape {x.shape}")
+    if not np.all(np.isfinite(x)):
+        bad = [n for n, v in zip(system.names, x) if not math.isfinite(v)]
+        raise InputError(bad[0], "value is not finite")
+    return x
+
+
+def _scene_of(system) -> Callable[[np.ndarray], Scene]:
+    if getattr(system, "scene", None) is None:
+        raise InputError("model", f"'{system.name}' has no drawing (its EquationSystem has no scene)")
+    return system.scene
+
+
+def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str) -> str:
+    """Text lines: each annotated variable (angles in degrees), stability and label."""
+    lines = []
+    for name in annotate:
+        var, val = system.variable(name), float(x[system.index(name)])
+        if var.unit == "rad":
+            lines.append(f"{name} = {math.degrees(val):.2f}°")
+        else:
+            lines.append(f"{name} = {val:.4g} {var.unit}".rstrip())
+    status = {True: "stable", False: "unstable"}.get(None if stable is None else bool(stable), "")
+    tail = " ".join(s for s in (status, label) if s)
+    if tail:
+        lines.append(tail)
+    return "\n".join(lines)
+
+
+def _put_note(ax, text: str, stable) -> None:
+    if not text:
+        return
+    colour = {True: "#e5f5e0", False: "#fde0dd"}.get(None if stable is None else bool(stable), "white")
+    ax.text(0.02, 0.98, text, transform=ax.transAxes, ha="left", va="top", fontsize=8, zorder=10,
+            bbox=dict(boxstyle="round,pad=0.3", facecolor=colour, edgecolor="0.6", alpha=0.9))
+
+
+def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: str | None = None,
+         show_forces: bool = True, force_scale: float | None = None, annotate: Sequence[str] = (),
+         stable: bool | None = None, label: str = "", figsize: tuple[float, float] = (6, 4.5), dpi: int = 120):
+    """Draw ``system`` at the full variable vector ``x`` and optionally save it.
+
+    Parameters
+    ----------
+    system:
+        An :class:`~mechcont.equations.EquationSystem` with a ``scene``.
+    x:
+        Full variable vector ordered like ``system.names`` (SI units, radians).
+    path:
+        Output file; its suffix picks the format: ``.png``, ``.svg`` or ``.pdf``.
+    ax, title, show_forces, force_scale:
+        As for :func:`draw_scene`.
+    annotate:
+        Variable names whose values are printed in a corner (angles in degrees).
+    stable, label:
+        Stability of the point and its special-point label (``"LP"`` ...), printed too.
+    figsize, dpi:
+        Figure size (inches) and resolution of a raster file.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Raises
+    ------
+    InputError
+        No scene for the model, a wrong-length or non-finite ``x``, an unknown annotated
+        name, or an unknown file suffix.
+    """
+    out = _check_out(path, IMAGE_SUFFIXES) if path is not None else None
+    scene_fn = _scene_of(system)
+    x = _check_x(system, x)
+    for name in annotate:
+        system.index(name)
+    if ax is None:
+        from matplotlib.figure import Figure
+
+        ax = Figure(figsize=figsize, layout="constrained").add_subplot()
+    draw_scene(scene_fn(x), ax, title=title or system.name, show_forces=show_forces, force_scale=force_scale)
+    _put_note(ax, _note(system, x, annotate, stable, label), stable)
+    if out is not None:
+        _atomic_write(out, lambda tmp: ax.figure.savefig(tmp, format=out.suffix[1:].lower(), dpi=dpi))
+    return ax
+
+
+# -- branches and animation ----------------------------------------------------------------
+
+@dataclass(frozen=True)
+class BranchFrames:
+    """Points of a branch ready to draw.
+
+    Attributes
+    ----------
+    values:
+        Array (N, n_names), rows are full variable vectors ordered like ``system.names``.
+    stable:
+        Per row ``True`` (stable), ``False`` (unstable) or ``None`` (not known).
+    labels:
+        Special-point label per row (``"LP"``, ``"BP"``, ... or ``""``).
+    """
+
+    values: np.ndarray
+    stable: tuple[bool | None, ...]
+    labels: tuple[str, ...]
+
+    def row(self, spec: str | int) -> int:
+        """Row index from an integer (0-based, negative from the end) or a label like ``"LP2"``.
+
+        ``"LP2"`` is the second row labelled ``LP`` (``"LP"`` alone: the first); an
+        :class:`InputError` names what is valid.
+        """
+        n = len(self.values)
+        text = str(spec).strip()
+        try:
+            i = int(text)
+        except ValueError:
+            kind = text.rstrip("0123456789")
+            count = int(text[len(kind):] or 1)
+            hits = [j for j, lab in enumerate(self.labels) if lab == kind]
+            if not kind or count < 1 or count > len(hits):
+                have = sorted({lab for lab in self.labels if lab})
+                raise InputError("point", f"no row '{text}'; give a row number 0..{n - 1} or a label "
+                                          f"({', '.join(have) or 'this branch has none'}) with its number") from None
+            return hits[count - 1]
+        if not -n <= i < n:
+            raise InputError("point", f"row {i} out of range; the branch has {n} rows (0..{n - 1})")
+        return i % n
+
+
+_STABILITY_WORDS = {"stable": True, "unstable": False, "": None}
+
+
+def _read_csv(system, path: Path) -> BranchFrames:
+    try:
+        with open(path, newline="") as fh:
+            rows = list(csv.DictReader(fh))
+    except (OSError, UnicodeDecodeError, csv.Error) as exc:
+        raise InputError("branch", f"cannot read '{path}': {getattr(exc, 'strerror', None) or exc}") from None
+    if not rows:
+        raise InputError("branch", f"'{path}' has no rows")
+    missing = [n for n in system.names if n not in rows[0]]
+    if missing:
+        raise InputError("branch", f"'{path}' lacks the column(s) {', '.join(missing)} of model '{system.name}'")
+    values = np.empty((len(rows), len(system.names)))
+    for r, row in enumerate(rows):
+        for c, name in enumerate(system.names):
+            try:
+                values[r, c] = float(row[name])
+            except (TypeError, ValueError):
+                raise InputError("branch", f"'{path}' line {r + 2}, column {name}: not a number: {row[name]!r}") from None
+    stable = []
+    for r, row in enumerate(rows):
+        word = (row.get("stability") or "").strip().lower()
+        if word not in _STABILITY_WORDS:
+            raise InputError("branch", f"'{path}' line {r + 2}, column stability: {word!r} is not stable or unstable")
+        stable.append(_STABILITY_WORDS[word])
+    labels = tuple((row.get("label") or "").strip() for row in rows)
+    return BranchFrames(values, tuple(stable), labels)
+
+
+def branch_frames(system, source) -> BranchFrames:
+    """The rows of a branch to draw, from any of the forms a branch comes in.
+
+    Parameters
+    ----------
+    system:
+        The model the branch belongs to.
+    source:
+        A :class:`BranchFrames`, a continuation ``Branch`` (``.values``, ``.labels``, ``.n_unstable`` with -1 for
+        not evaluated), a path to a branch CSV (one column per variable name, optional
+        ``stability`` with ``stable``/``unstable``/empty and ``label``; other columns such
+        as ``s`` are ignored), or an array of rows ordered like ``system.names``.
+
+    Returns
+    -------
+    BranchFrames
+
+    Raises
+    ------
+    InputError
+        Unreadable file, missing columns, wrong row length, non-finite values.
+    """
+    if isinstance(source, BranchFrames):
+        frames = source
+    elif isinstance(source, (str, os.PathLike)):
+        frames = _read_csv(system, Path(source))
+    elif hasattr(source, "values") and not isinstance(source, np.ndarray):
+        names = getattr(source, "names", None)
+        if names is not None and tuple(names) != tuple(system.names):
+            raise InputError("branch", f"its variables are not those of model '{system.name}'")
+        values = np.asarray(source.values, dtype=float)
+        nu = getattr(source, "n_unstable", None)
+        stable = (None,) * len(values) if nu is None else tuple(None if k < 0 else bool(k == 0) for k in nu)
+        labels = getattr(source, "labels", None)
+        frames = BranchFrames(values, stable, tuple(labels) if labels is not None else ("",) * len(values))
+    else:
+        values = np.asarray(source, dtype=float)
+        n = len(values) if values.ndim else 0
+        frames = BranchFrames(values, (None,) * n, ("",) * n)
+    v = frames.values
+    if v.ndim != 2 or v.shape[1] != len(system.names):
+        raise InputError("branch", f"rows must hold the {len(system.names)} variables of '{system.name}', "
+                                   f"got shape {v.shape}")
+    if len(v) == 0:
+        raise InputError("branch", "the branch has no points")
+    if not np.all(np.isfinite(v)):
+        raise InputError("branch", f"row {int(np.where(~np.isfinite(v).all(axis=1))[0][0])} has a non-finite value")
+    if len(frames.stable) != len(v) or len(frames.labels) != len(v):
+        raise InputError("branch", "stability and labels must have one entry per row")
+    return frames
+
+
+def _writer(out: Path, fps: float):
+    from matplotlib import animation
+
+    if out.suffix.lower() == ".gif":
+        return animation.PillowWriter(fps=fps)
+    if shutil.which("ffmpeg") is None or not animation.writers.is_available("ffmpeg"):
+        raise InputError("out", "writing .mp4 needs ffmpeg, which is not installed; write a .gif instead")
+    return animation.FFMpegWriter(fps=fps)
+
+
+def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
+    """Branch projected on ``names`` (x, y): stable solid, unstable dashed, labels marked."""
+    (xn, yn) = names
+    xs, ys = (frames.values[:, system.index(n)] for n in names)
+    conv = [math.degrees(1) if system.variable(n).unit == "rad" else 1.0 for n in names]
+    xs, ys = xs * conv[0], ys * conv[1]
+    flags = np.array([np.nan if f is None else float(f) for f in frames.stable])
+    if np.isnan(flags).all():
+        ax.plot(xs, ys, "-", color="0.2", linewidth=1.2)
+    for flag, style, width, name in ((1.0, "-", 1.4, "stable"), (0.0, "--", 1.2, "unstable"),
+                                     (np.nan, ":", 1.0, "not evaluated")):
+        mask = np.isnan(flags) if np.isnan(flag) else flags == flag
+        if mask.any() and not np.isnan(flags).all():
+            # keep the neighbouring point so the pieces join up
+            show = mask | np.r_[mask[1:], False]
+            ax.plot(np.where(show, xs, np.nan), np.where(show, ys, np.nan), style, color="0.2",
+                    linewidth=width, label=name)
+    if not np.isnan(flags).all():
+        ax.legend(fontsize=7, loc="best")
+    for i, lab in enumerate(frames.labels):
+        if lab:
+            ax.plot(xs[i], ys[i], "k.", markersize=5)
+            ax.annotate(lab, (xs[i], ys[i]), textcoords="offset points", xytext=(3, 3), fontsize=7)
+    units = ["deg" if system.variable(n).unit == "rad" else system.variable(n).unit for n in names]
+    ax.set_xlabel(f"{xn} ({units[0]})" if units[0] else xn)
+    ax.set_ylabel(f"{yn} ({units[1]})" if units[1] else yn)
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    (marker,) = ax.plot([], [], "o", color="#d62728", markersize=7, zorder=5)
+    return marker, xs, ys
+
+
+def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int = 1,
+            annotate: Sequence[str] = _DEFAULT_ANNOTATE, *, title: str | None = None, show_forces: bool = True,
+            diagram: tuple[str, str] | None = None, figsize: tuple[float, float] | None = None,
+            dpi: int = 80, on_frame: Callable[[], None] | None = None) -> int:
+    """Animate ``system`` along a branch and write a GIF or MP4.
+
+    Every ``every``-th row is one frame (the first row always is). All frames share one
+    view (covering every frame) and one force scale (m/N), so motion and load changes are
+    comparable. Each frame prints the ``annotate`` variables (angles in degrees), the
+    stability and the special-point label of its row.
+
+    Parameters
+    ----------
+    system:
+        An :class:`~mechcont.equations.EquationSystem` with a ``scene``.
+    branch:
+        Anything :func:`branch_frames` accepts (Branch, CSV path, array of rows).
+    path:
+        Output ``.gif`` (Pillow) or ``.mp4`` (needs ffmpeg).
+    fps:
+        Frames per second (> 0).
+    every:
+        Use every N-th row (integer >= 1).
+    annotate:
+        Variable names printed on each frame; of the default ``("F", "theta1")`` only the
+        names the model has are used.
+    title, show_forces:
+        As for :func:`draw_scene`.
+    diagram:
+        Optional pair of variable names ``(x, y)``: a second panel shows the branch in that
+        plane with a marker at the current point.
+    figsize, dpi:
+        Figure size in inches and resolution.
+    on_frame:
+        Called with no argument after each frame is written (progress bars).
+
+    Returns
+    -------
+    int
+        The number of frames written.
+
+    Raises
+    ------
+    InputError
+        Unknown suffix, MP4 without ffmpeg, no scene, bad ``fps``/``every``, an unknown
+        name, or a branch that does not fit the model.
+    """
+    out = _check_out(path, ANIMATION_SUFFIXES)
+    scene_fn = _scene_of(system)
+    if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
+        raise InputError("fps", f"must be a positive number, not {fps!r}")
+    if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
+        raise InputError("every", f"must be an integer >= 1, not {every!r}")
+    if tuple(annotate) == _DEFAULT_ANNOTATE:
+        annotate = tuple(n for n in annotate if n in system.names)
+    for name in (*annotate, *(diagram or ())):
+        system.index(name)
+    if diagram is not None and len(diagram) != 2:
+        raise InputError("diagram", "give exactly two variable names (x, y)")
+    writer = _writer(out, fps)
+    frames = branch_frames(system, branch)
+    rows = range(0, len(frames.values), int(every))
+    scenes = [scene_fn(frames.values[i]) for i in rows]
+    scale = _default_force_scale(scenes)
+    limits = _limits(_union(_bounds(s, scale, show_forces) for s in scenes))
+
+    from matplotlib.figure import Figure
+
+    if figsize is None:
+        figsize = (9, 4) if diagram else (5.5, 4.5)
+    fig = Figure(figsize=figsize, layout="constrained")
+    if diagram:
+        ax, dax = fig.subplots(1, 2)
+        marker, dx, dy = _diagram(dax, system, frames, tuple(diagram))
+    else:
+        ax = fig.add_subplot()
+
+    def write(tmp: str) -> None:
+        with writer.saving(fig, tmp, dpi):
+            for i, scene in zip(rows, scenes):
+                ax.clear()
+                stable = frames.stable[i]
+                draw_scene(scene, ax, title=title or system.name, show_forces=show_forces,
+                           force_scale=scale, limits=limits)
+                _put_note(ax, _note(system, frames.values[i], annotate, stable, frames.labels[i]), stable)
+                if diagram:
+                    marker.set_data([dx[i]], [dy[i]])
+                writer.grab_frame()
+                if on_frame is not None:
+                    on_frame()
+
+    _atomic_write(out, write)
+    return len(scenes)
