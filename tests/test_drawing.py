@@ -310,3 +310,44 @@ def test_cli_draw_solves_an_equilibrium(tmp_path, run):
     F = symmetric_force(0.3, 1.5, 1.0, 1.0, 9.81, 127.0, 0.4)
     assert f"F = {F:.4g} N".encode() in out.read_bytes()
     assert "17.19°".encode() in out.read_bytes()
+
+
+# -- with the continuation engine ----------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def real_branch(overcentre):
+    cont = pytest.importorskip("mechcont.continuation")
+    x0 = cont.find_equilibrium(overcentre, values={"LU": 0.4}, hold={"theta1": 0.3}, free=["F"])
+    return cont.continuation(overcentre, x0, vary="F",
+                             options=cont.ContinuationOptions(max_steps=200, bounds={"F": (-100, 100)}))
+
+
+def test_animate_a_continued_branch(tmp_path, overcentre, real_branch):
+    every = 25
+    n = animate(overcentre, real_branch, tmp_path / "b.gif", every=every, figsize=(3, 2.5), dpi=40)
+    assert n == math.ceil(len(real_branch) / every)
+    with Image.open(tmp_path / "b.gif") as im:
+        assert im.n_frames == n
+    fr = branch_frames(overcentre, real_branch)
+    assert fr.labels.count("LP") == 2 and fr.numbered_labels.count("LP2") == 1
+
+
+def test_cli_draws_the_folds_of_a_continued_branch(tmp_path, run, overcentre, real_branch):
+    """`--point branch.csv:LP1` draws the fold; its F is the closed-form fold force."""
+    from mechcont.models.overcentre import symmetric_folds
+
+    csv_path = real_branch.to_csv(tmp_path / "branch.csv")
+    folds = {f"F = {F:.4g} N" for _, F in symmetric_folds(1.5, 1.0, 1.0, 9.81, 127.0, 0.4)}
+    shown = set()
+    for label in ("LP1", "LP2"):
+        out = tmp_path / f"{label}.svg"
+        r = run("draw", "overcentre", "--point", f"{csv_path}:{label}", "--out", out)
+        assert r.exit_code == 0, r.output
+        text = out.read_text()
+        assert label in text
+        shown |= {f for f in folds if f in text}
+    assert shown == folds
+    r = run("animate", "overcentre", "--branch", csv_path, "--out", tmp_path / "a.gif", "--every", "30")
+    assert r.exit_code == 0, r.output
+    with Image.open(tmp_path / "a.gif") as im:
+        assert im.n_frames == math.ceil(len(real_branch) / 30)

@@ -84,7 +84,7 @@ def draw_command(model, sets, starts, frees, point, annotate, no_forces, out):
             raise InputError("point", f"'{point}' is not BRANCH.csv:ROW")
         frames = branch_frames(system, csv_path)
         i = frames.row(row)
-        x, stable, label = frames.values[i], frames.stable[i], frames.labels[i]
+        x, stable, label = frames.values[i], frames.stable[i], frames.numbered_labels[i]
     else:
         from ..continuation import find_equilibrium
 

@@ -369,6 +369,11 @@ class BranchFrames:
     stable: tuple[bool | None, ...]
     labels: tuple[str, ...]
 
+    @property
+    def numbered_labels(self) -> list[str]:
+        """Labels numbered per kind in branch order (``LP1``, ``LP2``), as ``row`` accepts them."""
+        return _numbered(self.labels)
+
     def row(self, spec: str | int) -> int:
         """Row index from an integer (0-based, negative from the end) or a label like ``"LP2"``.
 
@@ -391,6 +396,18 @@ class BranchFrames:
         if not -n <= i < n:
             raise InputError("point", f"row {i} out of range; the branch has {n} rows (0..{n - 1})")
         return i % n
+
+
+def _numbered(labels: Sequence[str]) -> list[str]:
+    """``["LP", "", "LP"]`` -> ``["LP1", "", "LP2"]``: the names ``branch["LP2"]`` and ``--point`` use."""
+    seen: dict[str, int] = {}
+    out = []
+    for lab in labels:
+        if lab:
+            seen[lab] = seen.get(lab, 0) + 1
+            lab = f"{lab}{seen[lab]}"
+        out.append(lab)
+    return out
 
 
 _STABILITY_WORDS = {"stable": True, "unstable": False, "": None}
@@ -505,7 +522,7 @@ def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
                     linewidth=width, label=name)
     if not np.isnan(flags).all():
         ax.legend(fontsize=7, loc="best")
-    for i, lab in enumerate(frames.labels):
+    for i, lab in enumerate(_numbered(frames.labels)):
         if lab:
             ax.plot(xs[i], ys[i], "k.", markersize=5)
             ax.annotate(lab, (xs[i], ys[i]), textcoords="offset points", xytext=(3, 3), fontsize=7)
@@ -581,6 +598,7 @@ def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int
     rows = range(0, len(frames.values), int(every))
     scenes = [scene_fn(frames.values[i]) for i in rows]
     scale = _default_force_scale(scenes)
+    labels = _numbered(frames.labels)
     limits = _limits(_union(_bounds(s, scale, show_forces) for s in scenes))
 
     from matplotlib.figure import Figure
@@ -594,16 +612,24 @@ def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int
     else:
         ax = fig.add_subplot()
 
+    def render(k: int) -> None:
+        i = rows[k]
+        ax.clear()
+        draw_scene(scenes[k], ax, title=title or system.name, show_forces=show_forces, force_scale=scale,
+                   limits=limits)
+        _put_note(ax, _note(system, frames.values[i], annotate, frames.stable[i], labels[i]), frames.stable[i])
+        if diagram:
+            marker.set_data([dx[i]], [dy[i]])
+
+    # Lay the figure out once (the view is fixed, so every frame has the same layout).
+    render(0)
+    fig.draw_without_rendering()
+    fig.set_layout_engine("none")
+
     def write(tmp: str) -> None:
         with writer.saving(fig, tmp, dpi):
-            for i, scene in zip(rows, scenes):
-                ax.clear()
-                stable = frames.stable[i]
-                draw_scene(scene, ax, title=title or system.name, show_forces=show_forces,
-                           force_scale=scale, limits=limits)
-                _put_note(ax, _note(system, frames.values[i], annotate, stable, frames.labels[i]), stable)
-                if diagram:
-                    marker.set_data([dx[i]], [dy[i]])
+            for k in range(len(scenes)):
+                render(k)
                 writer.grab_frame()
                 if on_frame is not None:
                     on_frame()
