@@ -5,7 +5,8 @@ from __future__ import annotations
 import importlib
 
 _LAZY = {
-    "draw_scene": "drawing", "draw": "drawing", "animate": "drawing",
+    "draw_scene": "drawing", "draw": "drawing", "animate": "drawing", "branch_frames": "drawing",
+    "BranchFrames": "drawing",
 }
 
 __all__ = sorted(_LAZY)

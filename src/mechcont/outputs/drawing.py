@@ -19,7 +19,7 @@ import math
 import os
 import shutil
 import tempfile
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -107,7 +107,9 @@ def _hatched_strip(ax, start: np.ndarray, end: np.ndarray, normal: np.ndarray, d
     from matplotlib.patches import Polygon
 
     quad = np.array([start, end, end + depth * normal, start + depth * normal])
-    ax.add_patch(Polygon(quad, closed=True, fill=False, hatch="////", edgecolor="0.35", linewidth=0, zorder=zorder))
+    angle = math.degrees(math.atan2(end[1] - start[1], end[0] - start[0])) % 180
+    hatch = "\\\\\\\\" if 20 < angle < 70 else "////"     # strokes never parallel to the strip
+    ax.add_patch(Polygon(quad, closed=True, fill=False, hatch=hatch, edgecolor="0.35", linewidth=0, zorder=zorder))
     ax.plot([start[0], end[0]], [start[1], end[1]], color="0.2", linewidth=1.2, zorder=zorder)
 
 
