@@ -1,0 +1,53 @@
+"""Describe any planar mechanism; its static equations are generated, not hand-derived.
+
+Describe bodies, points, joints, springs, dampers and loads (as objects or in a TOML file),
+then :meth:`Mechanism.build` generates the equilibrium system with the joint reactions as
+named unknowns (the paper's inter-link forces), exact Jacobians, the mechanics for
+stability and dynamics, and a drawing scene::
+
+    from mechcont.mechanism import load
+    system = load("overcentre", LU=0.4)          # shipped description, or a path to a .toml
+    system = load_description("my.toml").build_reduced(k=200.0)
+
+:func:`assemble` gives a first equilibrium from approximate positions and held states.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..equations import EquationSystem
+from ._assembly import DofReport, assemble, close_constraints, dof_report
+from ._description import (
+    Body, CustomLoad, Damper, Drag, Gravity, Mechanism, Moment, Parameter, PointForce, Polar, Prismatic, Revolute,
+    Slider, Spring, Weld, coordinate_names,
+)
+from ._file import builtin_descriptions, find_description, load_description, parse_description
+
+__all__ = [
+    "load", "load_description", "parse_description", "builtin_descriptions", "find_description",
+    "Mechanism", "Parameter", "Polar", "Body", "Revolute", "Slider", "Prismatic", "Weld", "Spring", "Damper",
+    "Gravity", "PointForce", "Moment", "Drag", "CustomLoad", "coordinate_names",
+    "assemble", "dof_report", "DofReport", "close_constraints",
+]
+
+
+def load(name_or_path: str | Path, *, reduced: bool = False, **overrides: float) -> EquationSystem:
+    """Load a description (a ``.toml`` path or a shipped stem) and build its equations.
+
+    Parameters
+    ----------
+    name_or_path:
+        Path to a description file, or the stem of a shipped one (:func:`builtin_descriptions`).
+    reduced:
+        Build the reduced form (tree coordinates and their reactions eliminated).
+    **overrides:
+        Parameter values (SI) replacing the file's defaults.
+
+    Returns
+    -------
+    EquationSystem
+        Compiled, with ``mechanics``, ``scene``, ``potential_energy`` and ``dof`` attached.
+    """
+    mech = load_description(name_or_path)
+    return mech.build_reduced(**overrides) if reduced else mech.build(**overrides)

@@ -1,0 +1,196 @@
+"""Assembly: a consistent configuration, its degrees of freedom, and the internal forces.
+
+* :func:`close_constraints` — Gauss-Newton with minimum-norm steps on ``Phi(q) = 0`` over
+  the coordinates that are not held, starting from approximate positions (so the result is
+  the consistent configuration nearest the guess, in the least-squares sense).
+* :func:`dof_report` — degrees of freedom ``n_q - rank(Phi_q)`` and the redundant
+  constraints, found by QR with column pivoting of ``Phi_q^T`` and grouped by joint.
+* :func:`assemble` — the whole first point of a continuation: close the loops with some
+  states held, then solve the equilibrium rows for the joint reactions and any freed loads
+  (linear in the reactions: the paper's ``F = A^-1 B``), then polish with Newton.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+
+from ..equations import EquationSystem
+from ..errors import ConvergenceError, InputError
+
+__all__ = ["close_constraints", "dof_report", "DofReport", "assemble"]
+
+
+def close_constraints(phi, phi_q, x: np.ndarray, q_index: np.ndarray, free: np.ndarray, *,
+                      tol: float = 1e-12, max_iter: int = 60) -> tuple[np.ndarray, bool]:
+    """Minimise ``|Phi|`` over the coordinates ``free`` (positions in ``q_index``) from ``x``.
+
+    Parameters
+    ----------
+    phi, phi_q:
+        Callables of the full vector: constraint residuals and their coordinate Jacobian.
+    x:
+        Full variable vector (start; held coordinates keep their values).
+    q_index:
+        Position in ``x`` of each coordinate (columns of ``phi_q``).
+    free:
+        Boolean mask over the coordinates: which ones may move.
+    tol:
+        Target ``max |Phi|`` (m for position constraints).
+
+    Returns
+    -------
+    (x, converged):
+        The improved vector and whether ``max |Phi| <= tol`` was reached (otherwise ``x`` is
+        the best least-squares point found: the loops cannot close).
+    """
+    x = np.array(x, dtype=float)
+    cols = np.flatnonzero(free)
+    idx = q_index[cols]
+    r = phi(x)
+    for _ in range(max_iter):
+        if r.size == 0 or np.max(np.abs(r)) <= tol:
+            return x, True
+        A = phi_q(x)[:, cols]
+        step, *_ = np.linalg.lstsq(A, -r, rcond=1e-12)
+        norm0, t = np.linalg.norm(r), 1.0
+        while t > 1e-6:
+            trial = x.copy()
+            trial[idx] += t * step
+            r_new = phi(trial)
+            if np.all(np.isfinite(r_new)) and np.linalg.norm(r_new) < norm0:
+                break
+            t *= 0.5
+        else:
+            return x, False  # no descent: a least-squares minimum with |Phi| > 0
+        x, r = trial, r_new
+        if np.linalg.norm(t * step) <= 1e-15 * (1 + np.linalg.norm(x[idx])):
+            break
+    return x, bool(r.size == 0 or np.max(np.abs(r)) <= tol)
+
+
+@dataclass(frozen=True)
+class DofReport:
+    """Degrees of freedom at a configuration.
+
+    Attributes
+    ----------
+    dof:
+        ``n_q - rank(Phi_q)``.
+    rank:
+        Numerical rank of the constraint Jacobian.
+    redundant:
+        Groups of joints whose constraints are linearly dependent, one group per redundant
+        constraint (the dependent row's joint first).
+    """
+
+    dof: int
+    rank: int
+    redundant: tuple[tuple[str, ...], ...]
+
+    @property
+    def redundant_joints(self) -> tuple[str, ...]:
+        """Every joint involved in a redundancy, in order of first appearance."""
+        out: list[str] = []
+        for group in self.redundant:
+            out.extend(j for j in group if j not in out)
+        return tuple(out)
+
+
+def dof_report(phi_q: np.ndarray, row_joints: Sequence[str], rtol: float = 1e-9) -> DofReport:
+    """Degrees of freedom and redundant constraints of a constraint Jacobian.
+
+    QR with column pivoting of ``Phi_q^T`` orders the constraints by independence; rows
+    beyond the rank are redundant, and the independent rows that combine into each one
+    (coefficients above ``1e-8``) name the joints involved.
+    """
+    phi_q = np.atleast_2d(np.asarray(phi_q, dtype=float))
+    n_c, n_q = phi_q.shape
+    if n_c == 0:
+        return DofReport(n_q, 0, ())
+    _, R, piv = sla.qr(phi_q.T, mode="economic", pivoting=True)
+    diag = np.abs(np.diag(R))
+    rank = int(np.sum(diag > rtol * max(diag[0], 1e-300))) if diag.size else 0
+    independent = piv[:rank]
+    groups = []
+    for row in piv[rank:]:
+        coef, *_ = np.linalg.lstsq(phi_q[independent].T, phi_q[row], rcond=None)
+        scale = max(np.abs(coef).max(initial=0.0), 1e-300)
+        involved = [row_joints[row]]
+        for c, i in zip(coef, independent):
+            if abs(c) > 1e-8 * max(scale, 1.0) and row_joints[i] not in involved:
+                involved.append(row_joints[i])
+        groups.append(tuple(involved))
+    return DofReport(n_q - rank, rank, tuple(groups))
+
+
+def assemble(system: EquationSystem, values: Mapping[str, float] | None = None,
+             hold: Mapping[str, float] | None = None, free: Iterable[str] = (), guess: np.ndarray | None = None,
+             *, tol: float = 1e-10, max_iter: int = 30) -> np.ndarray:
+    """An equilibrium of a generated mechanism system from approximate positions.
+
+    Parameters
+    ----------
+    system:
+        A system with ``mechanics`` (e.g. from :meth:`Mechanism.build`).
+    values:
+        Parameter (or state) values to set first, by name (SI).
+    hold:
+        States held at given values, e.g. ``{"theta1": 0.3}`` (one per degree of freedom).
+    free:
+        Parameters solved for instead, e.g. ``["F"]`` (as many as held states).
+    guess:
+        Full starting vector (default: the system's default values).
+    tol:
+        Convergence tolerance on the scaled residual.
+
+    Returns
+    -------
+    numpy.ndarray
+        Full variable vector (ordered like ``system.names``) satisfying all equations.
+
+    Raises
+    ------
+    InputError
+        Unknown names, or a count of unknowns different from the number of equations.
+    ConvergenceError
+        The loops cannot close at the held values, or Newton did not converge.
+    """
+    hold, free = dict(hold or {}), list(free)
+    x = system.vector(values, base=guess)
+    x = system.vector(hold, base=x)
+    states = [n for n in system.state_names if n not in hold]
+    for n in free:
+        system.index(n)
+    unknowns = states + [n for n in free if n not in states]
+    if len(unknowns) != len(system.equations):
+        raise InputError("free", f"{len(system.equations)} equations but {len(unknowns)} unknowns; hold as many "
+                                 f"states as you free parameters (held {len(hold)}, freed {len(free)})")
+    mech = system.mechanics
+    q_index = mech.q_index
+    free_q = np.array([system.names[i] not in hold for i in q_index])
+    x, ok = close_constraints(mech.phi, mech.phi_q, x, q_index, free_q)
+    if not ok:
+        raise ConvergenceError(f"the constraints cannot be satisfied with {hold or 'the given values'} "
+                               f"(max |Phi| = {np.max(np.abs(mech.phi(x))):.3g})", partial=x)
+    u_idx = np.array([system.index(n) for n in unknowns])
+    scale = system.scales()[u_idx]
+    # Newton on every unknown: the coordinates are already consistent, so the first
+    # steps are the linear solve for the reactions (and freed loads), F = A^-1 B.
+    for _ in range(max_iter):
+        r = system.residual(x)
+        J = system.jacobian(x)[:, u_idx] * scale
+        try:
+            step = np.linalg.solve(J, -r)
+        except np.linalg.LinAlgError:
+            step, *_ = np.linalg.lstsq(J, -r, rcond=None)
+        x[u_idx] += step * scale
+        if np.max(np.abs(step)) <= tol:
+            break
+    r = system.residual(x)
+    if not np.all(np.isfinite(r)) or np.max(np.abs(r)) > 1e-8 * max(1.0, np.max(np.abs(system.scales()))):
+        raise ConvergenceError(f"assembly did not converge (max residual {np.max(np.abs(r)):.3g})", partial=x)
+    return x

@@ -1,0 +1,530 @@
+"""A planar mechanism described as objects: bodies, points, joints, springs, dampers, loads.
+
+Conventions (SI units, radians):
+
+* Every body has a frame; its coordinates are ``x<b>, y<b>, theta<b>`` when the body
+  name ``b`` is all digits (``"1"`` gives ``x1, y1, theta1`` as in the paper) and
+  ``x_<b>, y_<b>, theta_<b>`` otherwise: the position of the frame origin and the angle of
+  the frame's x-axis from the global +x axis.
+* A *bar* is a body with a ``length``: its frame origin is the bar's centre, the points
+  ``a = (-length/2, 0)`` and ``b = (length/2, 0)`` are its ends, its centre of gravity is
+  the origin and its default inertia is ``mass*length^2/12``.
+* Points are given in body coordinates, either Cartesian ``(x, y)`` or polar
+  ``Polar(r, angle)`` (the paper's psi offsets: a point at distance ``r`` from the frame
+  origin at ``angle`` from the body axis). Every body has the points ``origin`` and ``cg``.
+* A point reference is ``"<body>.<point>"``, or ``"ground.<point>"`` for a ground point.
+* Every number may be an expression string in the parameter names (``"L1/2"``); custom
+  loads may also use the coordinates.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from ..errors import InputError
+from ._expr import Value, symbol, to_expr
+
+__all__ = [
+    "Parameter", "Polar", "Body", "Revolute", "Slider", "Prismatic", "Weld", "Spring", "Damper",
+    "Gravity", "PointForce", "Moment", "Drag", "CustomLoad", "Mechanism", "coordinate_names",
+]
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A named parameter: default value (SI), unit, meaning and typical magnitude.
+
+    ``scale`` (optional, positive) weights the parameter in the continuation arclength;
+    by default it is inferred from the unit and the mechanism's size.
+    """
+
+    name: str
+    value: float
+    unit: str = ""
+    description: str = ""
+    scale: float | None = None
+
+
+@dataclass(frozen=True)
+class Polar:
+    """A point at distance ``r`` (m) from the body frame origin, at ``angle`` (rad) from the body axis."""
+
+    r: Value
+    angle: Value
+
+
+PointSpec = tuple[Value, Value] | Polar
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid planar body.
+
+    Parameters
+    ----------
+    name:
+        Identifier (letters, digits, underscore; may be all digits).
+    mass:
+        Mass (kg), positive.
+    length:
+        For a bar: its length (m), positive; adds the end points ``a`` and ``b``.
+    inertia:
+        Moment of inertia about the centre of gravity (kg m^2), positive; default
+        ``mass*length^2/12`` for a bar (required for other bodies).
+    cg:
+        Centre of gravity in body coordinates (m); default the frame origin.
+    points:
+        Named points in body coordinates: ``(x, y)`` or :class:`Polar`.
+    initial:
+        Approximate configuration for assembly: any of ``x``, ``y``, ``theta``
+        (numbers or expressions in the parameters).
+    """
+
+    name: str
+    mass: Value
+    length: Value | None = None
+    inertia: Value | None = None
+    cg: tuple[Value, Value] = (0, 0)
+    points: Mapping[str, PointSpec] = field(default_factory=dict)
+    initial: Mapping[str, Value] = field(default_factory=dict)
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class Revolute:
+    """A pin: point ``a`` coincides with point ``b``. Reactions ``R_<name>_x, R_<name>_y``:
+    the force (N) that the body of ``a`` exerts on the body of ``b``."""
+
+    name: str
+    a: str
+    b: str
+
+
+@dataclass(frozen=True)
+class Slider:
+    """Point ``b`` slides along the line through point ``a`` at ``angle`` (rad) in ``a``'s
+    frame (the global frame for a ground point); rotation stays free (pin in a slot).
+    Reaction ``R_<name>``: the force (N) on ``b``'s body along the line's left normal."""
+
+    name: str
+    a: str
+    b: str
+    angle: Value = 0
+
+
+@dataclass(frozen=True)
+class Prismatic:
+    """A slider that also locks the relative rotation: ``theta_b - theta_a = relative_angle``.
+    Reactions ``R_<name>`` (normal force, N) and ``T_<name>`` (moment on ``b``, N m)."""
+
+    name: str
+    a: str
+    b: str
+    angle: Value = 0
+    relative_angle: Value = 0
+
+
+@dataclass(frozen=True)
+class Weld:
+    """Points ``a`` and ``b`` coincide and ``theta_b - theta_a = angle`` (a fixed angle offset).
+    Reactions ``R_<name>_x, R_<name>_y`` (N) and ``T_<name>`` (N m) on ``b``'s body."""
+
+    name: str
+    a: str
+    b: str
+    angle: Value = 0
+
+
+@dataclass(frozen=True)
+class Spring:
+    """A linear spring between points ``a`` and ``b``: tension ``preload + k (l - free_length)``
+    (N), potential ``preload*l + k/2 (l - free_length)^2`` (J). ``k`` > 0 (N/m),
+    ``free_length`` > 0 (m)."""
+
+    name: str
+    a: str
+    b: str
+    k: Value
+    free_length: Value
+    preload: Value = 0
+
+
+@dataclass(frozen=True)
+class Damper:
+    """A linear damper between points ``a`` and ``b``: tension ``c dl/dt`` (N), ``c`` >= 0 (N s/m).
+    Only the dynamic model feels it (zero at rest)."""
+
+    name: str
+    a: str
+    b: str
+    c: Value
+
+
+@dataclass(frozen=True)
+class Gravity:
+    """Uniform gravity of magnitude ``g`` (m/s^2) pointing at ``angle`` (rad; default -y)."""
+
+    g: Value = "g"
+    angle: Value = -sp.pi / 2
+
+
+@dataclass(frozen=True)
+class PointForce:
+    """A force of fixed global direction at a point: ``magnitude * direction/|direction|`` (N).
+
+    ``direction`` is a 2-vector or an angle (rad). ``magnitude`` is typically a parameter
+    name (``"F"``) so that the continuation can free it as an unknown.
+    """
+
+    name: str
+    at: str
+    magnitude: Value
+    direction: tuple[Value, Value] | Value = (0, 1)
+
+
+@dataclass(frozen=True)
+class Moment:
+    """A pure moment (N m, counter-clockwise positive) on a body."""
+
+    name: str
+    body: str
+    magnitude: Value
+
+
+@dataclass(frozen=True)
+class Drag:
+    """Aerodynamic drag on the segment from point ``start`` to point ``end`` of ``body``.
+
+    Cross-flow model of the paper's eq. 12: with the air velocity ``U (cos alpha, sin alpha)``
+    (m/s, rad), the segment of length ``L`` and unit normal ``n`` (left of start->end), the
+    normal flow ``u_n = U sin(alpha - theta_axis)`` gives the force
+    ``1/2 rho C_D d L u_n |u_n| n`` (N) at the segment's midpoint; its moment about ``start``
+    is the paper's ``D = 1/4 rho (U cos(alpha - theta + pi/2))^2 d L^2 C_D`` with the sign of
+    ``u_n``. ``|u_n|`` is smoothed as ``sqrt(u_n^2 + (1e-6 m/s)^2)`` so the Jacobian exists
+    at ``U = 0`` (force change < 1e-11 N).
+    """
+
+    name: str
+    body: str
+    rho: Value = "rho"
+    U: Value = "U"
+    alpha: Value = "alpha"
+    d: Value = "d"
+    CD: Value = "C_D"
+    start: str = "a"
+    end: str = "b"
+
+
+@dataclass(frozen=True)
+class CustomLoad:
+    """A user-defined load: force ``(fx, fy)`` (N, global axes) at point ``at`` and a moment
+    (N m) on that point's body; expressions may use parameters and coordinates."""
+
+    name: str
+    at: str
+    fx: Value = 0
+    fy: Value = 0
+    moment: Value = 0
+
+
+Joint = Revolute | Slider | Prismatic | Weld
+Load = PointForce | Moment | Drag | CustomLoad
+
+
+def coordinate_names(body: str) -> tuple[str, str, str]:
+    """The names of a body's coordinates: ``x1, y1, theta1`` for ``"1"``, ``x_b, y_b, theta_b`` for ``"b"``."""
+    if body.isdigit():
+        return f"x{body}", f"y{body}", f"theta{body}"
+    return f"x_{body}", f"y_{body}", f"theta_{body}"
+
+
+def _check_name(name: str, field: str) -> None:
+    if not isinstance(name, str) or not (name.isidentifier() or name.isdigit()):
+        raise InputError(field, f"name {name!r} must be an identifier (letters, digits, underscore)")
+
+
+@dataclass
+class Mechanism:
+    """A planar mechanism: everything needed to generate its equations.
+
+    Parameters
+    ----------
+    name:
+        Model name.
+    parameters:
+        Named parameters with defaults (SI) and units.
+    bodies:
+        The moving rigid bodies.
+    joints:
+        Revolute, slider, prismatic and weld joints.
+    ground:
+        Named ground points ``{name: (x, y)}`` (m).
+    springs, dampers, loads:
+        Force elements.
+    gravity:
+        Uniform gravity, or None.
+    dof:
+        The intended number of degrees of freedom; assembly reports any other count.
+    hold:
+        Coordinates held during the first assembly, ``{name: value}`` (expressions allowed).
+    description:
+        Free text.
+
+    Raises
+    ------
+    InputError
+        Bad names, duplicate names, unknown body/point/parameter references, bodies not
+        connected to the ground through joints. Values are checked by :meth:`build`.
+    """
+
+    name: str
+    parameters: Sequence[Parameter]
+    bodies: Sequence[Body]
+    joints: Sequence[Joint]
+    ground: Mapping[str, tuple[Value, Value]] = field(default_factory=dict)
+    springs: Sequence[Spring] = ()
+    dampers: Sequence[Damper] = ()
+    loads: Sequence[Load] = ()
+    gravity: Gravity | None = None
+    dof: int = 1
+    hold: Mapping[str, Value] = field(default_factory=dict)
+    description: str = ""
+    source: object | None = field(default=None, repr=False)
+
+    def __post_init__(self):
+        self.parameters = tuple(self.parameters)
+        self.bodies = tuple(self.bodies)
+        self.joints = tuple(self.joints)
+        self.springs, self.dampers, self.loads = tuple(self.springs), tuple(self.dampers), tuple(self.loads)
+        self.ground = dict(self.ground)
+        self.hold = dict(self.hold)
+        self._validate()
+
+    # -- validation -----------------------------------------------------------------
+    def _validate(self) -> None:
+        if not isinstance(self.dof, int) or isinstance(self.dof, bool) or self.dof < 0:
+            raise InputError("mechanism.dof", f"must be a non-negative integer, got {self.dof!r}")
+        self.param_symbols: dict[str, sp.Symbol] = {}
+        for p in self.parameters:
+            f = f"parameters.{p.name}"
+            if not isinstance(p.name, str) or not p.name.isidentifier():
+                raise InputError(f, "parameter names must be identifiers")
+            if p.name in self.param_symbols:
+                raise InputError(f, "parameter defined more than once")
+            if isinstance(p.value, bool) or not isinstance(p.value, (int, float)):
+                raise InputError(f, f"value must be a number, got {p.value!r}")
+            if p.scale is not None and not (isinstance(p.scale, (int, float)) and p.scale > 0):
+                raise InputError(f, f"scale must be a positive number, got {p.scale!r}")
+            self.param_symbols[p.name] = symbol(p.name)
+        if not self.bodies:
+            raise InputError("bodies", "a mechanism needs at least one body")
+        self.body_map: dict[str, Body] = {}
+        coords: dict[str, str] = {}
+        for b in self.bodies:
+            _check_name(b.name, f"bodies.{b.name}")
+            if b.name == "ground":
+                raise InputError("bodies.ground", "'ground' is reserved for the ground points")
+            if b.name in self.body_map:
+                raise InputError(f"bodies.{b.name}", "body defined more than once")
+            self.body_map[b.name] = b
+            for c in coordinate_names(b.name):
+                if c in self.param_symbols:
+                    raise InputError(f"parameters.{c}", f"clashes with a coordinate of body '{b.name}'")
+                coords[c] = b.name
+        self.coordinate_symbols = {c: symbol(c) for c in coords}
+        for name in self.ground:
+            _check_name(name, f"ground.{name}")
+        seen: dict[str, str] = {}
+        groups = [("joints", self.joints), ("springs", self.springs), ("dampers", self.dampers),
+                  ("loads", self.loads)]
+        for group, items in groups:
+            for it in items:
+                _check_name(it.name, f"{group}.{it.name}")
+                if it.name in seen:
+                    raise InputError(f"{group}.{it.name}", f"name already used in {seen[it.name]}")
+                seen[it.name] = group
+        # parse every value once: unknown parameters are reported now, with the key path
+        self._exprs: dict[str, sp.Expr] = {}
+        for p, v in self._values():
+            self._exprs[p] = self.expr(v, p)
+        for j in self.joints:
+            self.point_ref(j.a, f"joints.{j.name}.a")
+            self.point_ref(j.b, f"joints.{j.name}.b")
+            if self._body_of(j.a) == self._body_of(j.b):
+                raise InputError(f"joints.{j.name}", "joins a body to itself")
+        for s in (*self.springs, *self.dampers):
+            group = "springs" if isinstance(s, Spring) else "dampers"
+            self.point_ref(s.a, f"{group}.{s.name}.a")
+            self.point_ref(s.b, f"{group}.{s.name}.b")
+        for ld in self.loads:
+            f = f"loads.{ld.name}"
+            if isinstance(ld, (PointForce, CustomLoad)):
+                self.point_ref(ld.at, f + ".at")
+                if ld.at.startswith("ground."):
+                    raise InputError(f + ".at", "a load on the ground does nothing; apply it to a body point")
+            elif isinstance(ld, (Moment, Drag)):
+                if ld.body not in self.body_map:
+                    raise InputError(f + ".body", f"unknown body '{ld.body}'; bodies: {', '.join(self.body_map)}")
+                if isinstance(ld, Drag):
+                    self.point_ref(f"{ld.body}.{ld.start}", f + ".start")
+                    self.point_ref(f"{ld.body}.{ld.end}", f + ".end")
+            else:
+                raise InputError(f, f"unknown load type {type(ld).__name__}")
+        for name in self.hold:
+            if name not in self.coordinate_symbols:
+                raise InputError(f"assembly.hold.{name}",
+                                 f"not a coordinate; coordinates: {', '.join(self.coordinate_symbols)}")
+        self._check_connected()
+
+    def _values(self):
+        """Every (key path, raw value) of the description that is a number or expression."""
+        for b in self.bodies:
+            f = f"bodies.{b.name}"
+            yield f + ".mass", b.mass
+            if b.length is not None:
+                yield f + ".length", b.length
+            if b.inertia is not None:
+                yield f + ".inertia", b.inertia
+            yield f + ".cg.x", b.cg[0]
+            yield f + ".cg.y", b.cg[1]
+            for pn, ps in b.points.items():
+                _check_name(pn, f"{f}.points.{pn}")
+                if isinstance(ps, Polar):
+                    yield f"{f}.points.{pn}.r", ps.r
+                    yield f"{f}.points.{pn}.angle", ps.angle
+                else:
+                    if not isinstance(ps, (tuple, list)) or len(ps) != 2:
+                        raise InputError(f"{f}.points.{pn}", "a point is [x, y] or {r = ..., angle = ...}")
+                    yield f"{f}.points.{pn}.x", ps[0]
+                    yield f"{f}.points.{pn}.y", ps[1]
+            for k, v in b.initial.items():
+                if k not in ("x", "y", "theta"):
+                    raise InputError(f"{f}.initial.{k}", "initial values are x, y, theta")
+                yield f"{f}.initial.{k}", v
+            if b.inertia is None and b.length is None:
+                raise InputError(f + ".inertia", "a body without a length needs an inertia (kg m^2)")
+        for gname, gp in self.ground.items():
+            if not isinstance(gp, (tuple, list)) or len(gp) != 2:
+                raise InputError(f"ground.{gname}", "a ground point is [x, y]")
+            yield f"ground.{gname}.x", gp[0]
+            yield f"ground.{gname}.y", gp[1]
+        for j in self.joints:
+            for attr in ("angle", "relative_angle"):
+                if hasattr(j, attr):
+                    yield f"joints.{j.name}.{attr}", getattr(j, attr)
+        for s in self.springs:
+            yield f"springs.{s.name}.k", s.k
+            yield f"springs.{s.name}.free_length", s.free_length
+            yield f"springs.{s.name}.preload", s.preload
+        for d in self.dampers:
+            yield f"dampers.{d.name}.c", d.c
+        if self.gravity is not None:
+            yield "gravity.g", self.gravity.g
+            yield "gravity.angle", self.gravity.angle
+        for ld in self.loads:
+            f = f"loads.{ld.name}"
+            if isinstance(ld, PointForce):
+                yield f + ".magnitude", ld.magnitude
+                if isinstance(ld.direction, (tuple, list)):
+                    if len(ld.direction) != 2:
+                        raise InputError(f + ".direction", "a direction is [x, y] or an angle (rad)")
+                    yield f + ".direction.x", ld.direction[0]
+                    yield f + ".direction.y", ld.direction[1]
+                else:
+                    yield f + ".direction", ld.direction
+            elif isinstance(ld, Moment):
+                yield f + ".magnitude", ld.magnitude
+            elif isinstance(ld, Drag):
+                for attr in ("rho", "U", "alpha", "d", "CD"):
+                    yield f"{f}.{attr}", getattr(ld, attr)
+            elif isinstance(ld, CustomLoad):
+                for attr in ("fx", "fy", "moment"):
+                    yield f"{f}.{attr}", getattr(ld, attr)
+        for k, v in self.hold.items():
+            yield f"assembly.hold.{k}", v
+
+    def expr(self, value: Value, field: str) -> sp.Expr:
+        """Parse ``value`` over the parameters (and, for custom loads, the coordinates)."""
+        if isinstance(value, sp.Basic):
+            return value
+        known = dict(self.param_symbols)
+        if field.startswith("loads.") and field.rsplit(".", 1)[-1] in ("fx", "fy", "moment"):
+            known.update(self.coordinate_symbols)
+        return to_expr(value, field, known)
+
+    def value(self, field: str) -> sp.Expr:
+        """The parsed expression of the value at key path ``field``."""
+        return self._exprs[field]
+
+    def _body_of(self, ref: str) -> str:
+        return ref.split(".", 1)[0]
+
+    def point_ref(self, ref: str, field: str) -> tuple[str, str]:
+        """Split and check a point reference ``"<body>.<point>"`` / ``"ground.<point>"``."""
+        if not isinstance(ref, str) or ref.count(".") != 1:
+            raise InputError(field, f"a point reference is '<body>.<point>' or 'ground.<point>', got {ref!r}")
+        body, point = ref.split(".")
+        if body == "ground":
+            if point not in self.ground:
+                valid = ", ".join(self.ground) or "none declared"
+                raise InputError(field, f"unknown ground point '{point}'; ground points: {valid}")
+            return body, point
+        if body not in self.body_map:
+            raise InputError(field, f"unknown body '{body}'; bodies: {', '.join(self.body_map)}")
+        valid = self.point_names(body)
+        if point not in valid:
+            raise InputError(field, f"unknown point '{point}' of body '{body}'; points: {', '.join(valid)}")
+        return body, point
+
+    def point_names(self, body: str) -> list[str]:
+        """All point names of ``body`` (``a``, ``b`` for bars, declared points, ``cg``, ``origin``)."""
+        b = self.body_map[body]
+        names = ["a", "b"] if b.length is not None else []
+        return names + [p for p in b.points if p not in names] + ["cg", "origin"]
+
+    def _check_connected(self) -> None:
+        adj: dict[str, set[str]] = {b: set() for b in self.body_map}
+        adj["ground"] = set()
+        for j in self.joints:
+            ba, bb = self._body_of(j.a), self._body_of(j.b)
+            adj[ba].add(bb)
+            adj[bb].add(ba)
+        for name, nbrs in adj.items():
+            if name != "ground" and not nbrs:
+                raise InputError(f"bodies.{name}", "is attached to nothing: no joint connects it to another body or the ground")
+        reached, todo = {"ground"}, ["ground"]
+        while todo:
+            for nb in adj[todo.pop()]:
+                if nb not in reached:
+                    reached.add(nb)
+                    todo.append(nb)
+        loose = [b for b in self.body_map if b not in reached]
+        if loose:
+            raise InputError(f"bodies.{loose[0]}", "is not connected to the ground through joints (it would float freely)")
+
+    # -- generation -----------------------------------------------------------------
+    def build(self, **overrides: float):
+        """Generate the full static system: coordinates, joint reactions and every equation.
+
+        Keyword arguments override parameter defaults (SI). Returns a compiled
+        :class:`~mechcont.equations.EquationSystem` (with ``mechanics``, ``scene`` and
+        ``potential_energy``) whose state values are an assembled configuration.
+        Raises :class:`InputError` for impossible values, loops that cannot close and a
+        wrong number of degrees of freedom.
+        """
+        return self._generate(overrides, reduced=False)
+
+    def build_reduced(self, **overrides: float):
+        """Generate the reduced static system (see :mod:`mechcont.mechanism._reduce`)."""
+        return self._generate(overrides, reduced=True)
+
+    def _generate(self, overrides: dict, reduced: bool):
+        from ._file import locate_error
+        from ._generate import generate
+        try:
+            return generate(self, overrides, reduced=reduced)
+        except InputError as exc:
+            raise locate_error(self.source, exc) from None

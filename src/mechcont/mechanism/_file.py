@@ -1,0 +1,288 @@
+"""Mechanism description files (TOML), validated, with errors that give line and key.
+
+Layout (every number may be an expression string in the parameter names)::
+
+    [mechanism]            name, description, dof (intended degrees of freedom, default 1)
+    [parameters]           NAME = value  or  NAME = {value, unit, description, scale}
+    [ground]               NAME = [x, y]
+    [bodies.NAME]          mass, length (bar), inertia, cg = [x, y], description,
+                           points = {P = [x, y] or {r, angle}}, initial = {x, y, theta}
+    [joints.NAME]          type = "revolute" | "slider" | "prismatic" | "weld", a, b,
+                           angle (slider line / weld offset), relative_angle (prismatic)
+    [springs.NAME]         a, b, k, free_length, preload
+    [dampers.NAME]         a, b, c
+    [gravity]              g, angle (default -pi/2)
+    [loads.NAME]           type = "force": at, magnitude, direction ([x, y] or angle)
+                           type = "moment": body, magnitude
+                           type = "drag": body, rho, U, alpha, d, CD, start, end
+                           type = "custom": at, fx, fy, moment (may use coordinates)
+    [assembly]             hold = {COORDINATE = value}
+
+Point references are ``"<body>.<point>"`` or ``"ground.<point>"``.
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from collections.abc import Mapping
+from pathlib import Path
+
+from ..errors import InputError
+from ._description import (
+    Body, CustomLoad, Damper, Drag, Gravity, Mechanism, Moment, Parameter, PointForce, Polar, Prismatic, Revolute,
+    Slider, Spring, Weld,
+)
+
+__all__ = ["load_description", "parse_description", "builtin_descriptions", "find_description", "locate_error"]
+
+DATA_DIR = Path(__file__).resolve().parent.parent / "data"
+
+_JOINTS = {"revolute": (Revolute, {"a", "b"}), "slider": (Slider, {"a", "b", "angle"}),
+           "prismatic": (Prismatic, {"a", "b", "angle", "relative_angle"}), "weld": (Weld, {"a", "b", "angle"})}
+_LOADS = {"force": (PointForce, {"at", "magnitude", "direction"}), "moment": (Moment, {"body", "magnitude"}),
+          "drag": (Drag, {"body", "rho", "U", "alpha", "d", "CD", "start", "end"}),
+          "custom": (CustomLoad, {"at", "fx", "fy", "moment"})}
+_SECTIONS = {"mechanism", "parameters", "ground", "bodies", "joints", "springs", "dampers", "gravity", "loads",
+             "assembly"}
+
+
+def builtin_descriptions() -> list[str]:
+    """Stems of the description files shipped in ``mechcont/data`` (e.g. ``"overcentre"``)."""
+    return sorted(p.stem for p in DATA_DIR.glob("*.toml"))
+
+
+def find_description(name_or_path: str | Path) -> Path | None:
+    """The description file meant by ``name_or_path``: an existing ``.toml`` path, or the stem
+    (with or without ``.toml``) of a shipped description; None when neither."""
+    p = Path(name_or_path)
+    if p.suffix == ".toml" and p.is_file():
+        return p
+    stem = p.name[:-5] if p.name.endswith(".toml") else p.name
+    shipped = DATA_DIR / f"{stem}.toml"
+    return shipped if str(p.parent) in (".", "") and shipped.is_file() else None
+
+
+def load_description(name_or_path: str | Path) -> Mechanism:
+    """Read and validate a mechanism description file (or a shipped one by stem).
+
+    Returns a :class:`Mechanism`; call ``.build(**overrides)`` for its equations.
+    Raises :class:`InputError` (``file:line: key: what is wrong``) for a missing file,
+    malformed TOML, unknown keys, wrong types and unknown references.
+    """
+    path = find_description(name_or_path)
+    if path is None:
+        valid = ", ".join(builtin_descriptions())
+        raise InputError(str(name_or_path), f"no such description file (.toml) or shipped description ({valid})")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(str(path), f"cannot read the file ({exc.__class__.__name__})") from None
+    return parse_description(text, path.name)
+
+
+def parse_description(text: str, filename: str = "<string>") -> Mechanism:
+    """Parse description ``text`` (TOML); ``filename`` is used in error messages."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        msg = str(exc)
+        m = re.search(r"line (\d+)", msg)
+        line = int(m.group(1)) if m else None
+        key = _key_at(text, line) if line else "?"
+        raise InputError(f"{filename}:{line}: {key}", f"malformed TOML: {re.sub(r' [(]at .*[)]$', '', msg)}") from None
+    try:
+        mech = _mechanism(data, filename)
+    except InputError as exc:
+        raise locate_error((filename, text), exc) from None
+    mech.source = (filename, text)
+    return mech
+
+
+def locate_error(source, exc: InputError) -> InputError:
+    """Re-issue ``exc`` (whose field is a key path) with the file name and line of that key."""
+    if source is None or not isinstance(exc, InputError):
+        return exc
+    filename, text = source
+    message = str(exc)[len(exc.field) + 2:]
+    line = _line_of(text, exc.field.split("."))
+    where = f"{filename}:{line}" if line else filename
+    return InputError(f"{where}: {exc.field}", message)
+
+
+# -- building objects from the parsed tables ---------------------------------------------------
+def _table(data: Mapping, key: str, field: str) -> Mapping:
+    v = data.get(key, {})
+    if not isinstance(v, Mapping):
+        raise InputError(field, f"must be a table ([{field}]), got {type(v).__name__}")
+    return v
+
+
+def _only(tab: Mapping, allowed: set[str], field: str) -> None:
+    for k in tab:
+        if k not in allowed:
+            raise InputError(f"{field}.{k}", f"unknown key; valid keys: {', '.join(sorted(allowed))}")
+
+
+def _require(tab: Mapping, keys: list[str], field: str) -> None:
+    for k in keys:
+        if k not in tab:
+            raise InputError(f"{field}.{k}", "is required")
+
+
+def _text(v, field: str) -> str:
+    if not isinstance(v, str):
+        raise InputError(field, f"must be a string, got {v!r}")
+    return v
+
+
+def _pair(v, field: str):
+    if not isinstance(v, list) or len(v) != 2:
+        raise InputError(field, f"must be a pair [x, y], got {v!r}")
+    return tuple(v)
+
+
+def _mechanism(data: Mapping, filename: str) -> Mechanism:
+    _only(data, _SECTIONS, "")
+    head = _table(data, "mechanism", "mechanism")
+    _only(head, {"name", "description", "dof"}, "mechanism")
+    name = _text(head.get("name", Path(filename).stem.replace("-", "_")), "mechanism.name")
+    params = []
+    for pname, spec in _table(data, "parameters", "parameters").items():
+        f = f"parameters.{pname}"
+        if isinstance(spec, Mapping):
+            _only(spec, {"value", "unit", "description", "scale"}, f)
+            _require(spec, ["value"], f)
+            val = spec["value"]
+            unit, desc, scale = spec.get("unit", ""), spec.get("description", ""), spec.get("scale")
+            _text(unit, f + ".unit")
+            _text(desc, f + ".description")
+        else:
+            val, unit, desc, scale = spec, "", "", None
+        if isinstance(val, bool) or not isinstance(val, (int, float)):
+            raise InputError(f + ".value" if isinstance(spec, Mapping) else f, f"must be a number, got {val!r}")
+        params.append(Parameter(pname, float(val), unit, desc, scale))
+    ground = {k: _pair(v, f"ground.{k}") for k, v in _table(data, "ground", "ground").items()}
+    bodies = []
+    for bname, spec in _table(data, "bodies", "bodies").items():
+        f = f"bodies.{bname}"
+        if not isinstance(spec, Mapping):
+            raise InputError(f, "must be a table [bodies.NAME]")
+        _only(spec, {"mass", "length", "inertia", "cg", "points", "initial", "description"}, f)
+        _require(spec, ["mass"], f)
+        points = {}
+        for pn, ps in _table(spec, "points", f + ".points").items():
+            if isinstance(ps, Mapping):
+                _only(ps, {"r", "angle"}, f"{f}.points.{pn}")
+                _require(ps, ["r", "angle"], f"{f}.points.{pn}")
+                points[pn] = Polar(ps["r"], ps["angle"])
+            else:
+                points[pn] = _pair(ps, f"{f}.points.{pn}")
+        initial = _table(spec, "initial", f + ".initial")
+        bodies.append(Body(bname, spec["mass"], spec.get("length"), spec.get("inertia"),
+                           _pair(spec.get("cg", [0, 0]), f + ".cg"), points, dict(initial),
+                           _text(spec.get("description", ""), f + ".description")))
+    joints = []
+    for jname, spec in _table(data, "joints", "joints").items():
+        f = f"joints.{jname}"
+        if not isinstance(spec, Mapping):
+            raise InputError(f, "must be a table [joints.NAME]")
+        kind = spec.get("type")
+        if kind not in _JOINTS:
+            raise InputError(f + ".type", f"must be one of {', '.join(_JOINTS)}, got {kind!r}")
+        cls, keys = _JOINTS[kind]
+        _only(spec, keys | {"type"}, f)
+        _require(spec, ["a", "b"], f)
+        joints.append(cls(jname, **{k: v for k, v in spec.items() if k != "type"}))
+    springs = []
+    for sname, spec in _table(data, "springs", "springs").items():
+        f = f"springs.{sname}"
+        _only(spec, {"a", "b", "k", "free_length", "preload"}, f)
+        _require(spec, ["a", "b", "k", "free_length"], f)
+        springs.append(Spring(sname, **spec))
+    dampers = []
+    for dname, spec in _table(data, "dampers", "dampers").items():
+        f = f"dampers.{dname}"
+        _only(spec, {"a", "b", "c"}, f)
+        _require(spec, ["a", "b", "c"], f)
+        dampers.append(Damper(dname, **spec))
+    gravity = None
+    if "gravity" in data:
+        gtab = _table(data, "gravity", "gravity")
+        _only(gtab, {"g", "angle"}, "gravity")
+        gravity = Gravity(**gtab)
+    loads = []
+    for lname, spec in _table(data, "loads", "loads").items():
+        f = f"loads.{lname}"
+        if not isinstance(spec, Mapping):
+            raise InputError(f, "must be a table [loads.NAME]")
+        kind = spec.get("type")
+        if kind not in _LOADS:
+            raise InputError(f + ".type", f"must be one of {', '.join(_LOADS)}, got {kind!r}")
+        cls, keys = _LOADS[kind]
+        _only(spec, keys | {"type"}, f)
+        required = {"force": ["at", "magnitude"], "moment": ["body", "magnitude"], "drag": ["body"],
+                    "custom": ["at"]}[kind]
+        _require(spec, required, f)
+        kw = {k: v for k, v in spec.items() if k != "type"}
+        if "direction" in kw and isinstance(kw["direction"], list):
+            kw["direction"] = _pair(kw["direction"], f + ".direction")
+        loads.append(cls(lname, **kw))
+    assembly = _table(data, "assembly", "assembly")
+    _only(assembly, {"hold"}, "assembly")
+    hold = dict(_table(assembly, "hold", "assembly.hold"))
+    dof = head.get("dof", 1)
+    return Mechanism(name, params, bodies, joints, ground, springs, dampers, loads, gravity, dof, hold,
+                     _text(head.get("description", ""), "mechanism.description"))
+
+
+# -- locating keys in the text ----------------------------------------------------------------
+def _split_key(key: str) -> list[str]:
+    parts = re.findall(r'"[^"]*"|\'[^\']*\'|[^.\s]+', key)
+    return [p.strip("\"'") for p in parts]
+
+
+def _line_of(text: str, path: list[str]) -> int | None:
+    """1-based line of the key ``path`` (e.g. ``["bodies", "1", "mass"]``), best effort."""
+    path = [p for p in path if p]
+    best_line, best_depth = None, -1
+    header: list[str] = []
+    header_counts: dict[tuple, int] = {}
+    for no, raw in enumerate(text.splitlines(), start=1):
+        line = raw.split("#", 1)[0].strip()
+        m = re.match(r"^\[\[?([^\]]+)\]\]?$", line)
+        if m:
+            header = _split_key(m.group(1))
+            header_counts[tuple(header)] = header_counts.get(tuple(header), 0) + 1
+            if header == path[:len(header)] and len(header) > best_depth:
+                best_line, best_depth = no, len(header)
+            continue
+        m = re.match(r"^([^=]+?)\s*=", line)
+        if not m:
+            continue
+        full = header + _split_key(m.group(1))
+        depth = 0
+        while depth < min(len(full), len(path)) and full[depth] == path[depth]:
+            depth += 1
+        if depth == len(full) and depth > best_depth:
+            best_line, best_depth = no, depth
+        # inline tables: the rest of the path appears on this line (points = {spring = [...]})
+        if depth == len(full) and depth < len(path) and all(p in raw for p in path[depth:]):
+            best_line, best_depth = no, len(path)
+    return best_line
+
+
+def _key_at(text: str, line: int) -> str:
+    """The table and key written on 1-based ``line`` of ``text`` (for syntax errors)."""
+    header = ""
+    lines = text.splitlines()
+    for raw in lines[:line]:
+        s = raw.split("#", 1)[0].strip()
+        m = re.match(r"^\[\[?([^\]]+)\]\]?$", s)
+        if m:
+            header = m.group(1).strip()
+    if 0 < line <= len(lines):
+        m = re.match(r"^\s*([^=\[]+?)\s*=", lines[line - 1])
+        if m:
+            return f"{header}.{m.group(1).strip()}" if header else m.group(1).strip()
+    return header or "(top level)"

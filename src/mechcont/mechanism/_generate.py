@@ -1,0 +1,228 @@
+"""Generate the static equilibrium system of a described mechanism.
+
+Unknowns: the body coordinates ``q`` and one reaction per scalar constraint (``lambda``,
+named ``R_<joint>_x``, ``R_<joint>_y``, ``R_<joint>`` or ``T_<joint>``). Equations:
+
+    Q(q, p) - Phi_q(q, p)^T lambda = 0     (one row per coordinate: Fx_<b>, Fy_<b>, M_<b>)
+    Phi(q, p) = 0                           (one row per constraint: <joint>_x, ...)
+
+with ``Q = -dV/dq + Q_nc`` at rest (see :mod:`._forces`). For a body whose frame origin is
+its centre of gravity the rows are exactly the force and moment balance of that body with
+the inter-link forces as unknowns, as in the paper. The reduced form is described in
+:mod:`._reduce`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+import numpy as np
+import sympy as sp
+
+from ..equations import EquationSystem, MechanicalModel, Variable, velocity_symbol
+from ..errors import InputError
+from ._assembly import close_constraints, dof_report
+from ._description import Mechanism, PointForce, Revolute, Weld
+from ._expr import symbol
+from ._forces import loads
+from ._kinematics import ConstraintRow, Kinematics
+from ._reduce import reduce_form
+from ._scene import scene_function
+from ._values import check_values, evaluate, parameter_values
+
+__all__ = ["generate"]
+
+_ROW_NAME = {"x": "Fx", "y": "Fy", "theta": "M"}
+
+
+def _row_name(coord: str) -> str:
+    for prefix in ("theta", "x", "y"):
+        if coord.startswith(prefix):
+            return f"{_ROW_NAME[prefix]}_{coord[len(prefix):].lstrip('_')}"
+    return f"Q_{coord}"  # pragma: no cover - coordinates always start with x, y or theta
+
+
+def _scales(mech: Mechanism, values: dict[str, float]) -> tuple[float, float]:
+    """Typical length (m) and force (N) of the mechanism at ``values``."""
+    lengths = [abs(evaluate(mech.value(f"bodies.{b.name}.length"), values, "")) for b in mech.bodies
+               if b.length is not None]
+    lengths += [abs(evaluate(mech.value(f"springs.{s.name}.free_length"), values, "")) for s in mech.springs]
+    Lc = max([v for v in lengths if v > 0], default=1.0)
+    forces = []
+    if mech.gravity is not None:
+        g = abs(evaluate(mech.value("gravity.g"), values, ""))
+        forces.append(g * sum(evaluate(mech.value(f"bodies.{b.name}.mass"), values, "") for b in mech.bodies))
+    forces += [abs(evaluate(mech.value(f"springs.{s.name}.k"), values, "")) * Lc for s in mech.springs]
+    forces += [abs(evaluate(mech.value(f"loads.{ld.name}.magnitude"), values, "")) for ld in mech.loads
+               if isinstance(ld, PointForce)]
+    return Lc, max(forces + [1e-3])
+
+
+def _parameter_scale(p, value: float, Lc: float, Fc: float) -> float:
+    if p.scale is not None:
+        return float(p.scale)
+    unit = p.unit.replace("*", " ").replace(".", " ").strip()
+    by_unit = {"m": Lc, "N": Fc, "N m": Fc * Lc, "rad": 1.0}
+    if unit in by_unit:
+        return by_unit[unit]
+    return abs(value) if value != 0 and math.isfinite(value) else 1.0
+
+
+def _initial_guess(mech: Mechanism, kin: Kinematics, values: dict[str, float]) -> dict[str, float]:
+    """Approximate coordinates: the given initial values, bodies placed along pin chains."""
+    num = {symbol(k): v for k, v in values.items()}
+    guess: dict[str, float] = {}
+    placed = {"ground"}
+    for b in mech.bodies:
+        xs, ys, ts = (str(s) for s in kin.body_q[b.name])
+        f = f"bodies.{b.name}.initial"
+        for key, name in (("x", xs), ("y", ys), ("theta", ts)):
+            guess[name] = evaluate(mech.value(f"{f}.{key}"), values, f"{f}.{key}") if key in b.initial else 0.0
+        if "x" in b.initial and "y" in b.initial:
+            placed.add(b.name)
+    for k in mech.hold:
+        guess[k] = evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}")
+    changed = True
+    while changed:
+        changed = False
+        for j in mech.joints:
+            if not isinstance(j, (Revolute, Weld)):
+                continue
+            ba, bb = j.a.split(".")[0], j.b.split(".")[0]
+            if (ba in placed) == (bb in placed):
+                continue
+            known, new = (j.a, j.b) if ba in placed else (j.b, j.a)
+            body = new.split(".")[0]
+            x, y, th = kin.body_q[body]
+            at = {**num, **{symbol(k): v for k, v in guess.items()}}
+            P = [float(c) for c in kin.point(known).xreplace(at)]
+            local = [float(c) for c in kin.point(new).xreplace({**at, x: 0, y: 0})]
+            guess[str(x)], guess[str(y)] = P[0] - local[0], P[1] - local[1]
+            placed.add(body)
+            changed = True
+    return guess
+
+
+def _loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray) -> InputError:
+    """Name the loop that cannot close and by how much (sum of the joint gaps around it)."""
+    gaps: dict[str, float] = {}
+    for row, r in zip(rows, phi):
+        gaps[row.joint] = math.hypot(gaps.get(row.joint, 0.0), r)
+    worst = max(gaps, key=gaps.get)
+    joint = next(j for j in mech.joints if j.name == worst)
+    start, goal = joint.a.split(".")[0], joint.b.split(".")[0]
+    edges = [(j.name, j.a.split(".")[0], j.b.split(".")[0]) for j in mech.joints if j.name != worst]
+    prev: dict[str, tuple[str, str] | None] = {start: None}
+    todo = deque([start])
+    while todo:
+        node = todo.popleft()
+        for name, a, b in edges:
+            for u, v in ((a, b), (b, a)):
+                if u == node and v not in prev:
+                    prev[v] = (node, name)
+                    todo.append(v)
+    held = f" with held {', '.join(f'{k} = {v}' for k, v in mech.hold.items())}" if mech.hold else ""
+    if goal not in prev:
+        return InputError(f"joints.{worst}", f"cannot be satisfied{held}: gap {gaps[worst]:.4g} m")
+    bodies, joints, node = [goal], [worst], goal
+    while prev[node] is not None:
+        node, name = prev[node]
+        bodies.append(node)
+        joints.append(name)
+    gap = sum(gaps.get(j, 0.0) for j in joints)
+    loop = " - ".join([*reversed(bodies), goal])
+    return InputError(f"joints.{worst}",
+                      f"the loop {loop} (joints {', '.join(reversed(joints))}) cannot close with the given "
+                      f"lengths{held}: it misses by {gap:.4g} m at best")
+
+
+def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
+    """Build the (full or reduced) static system of ``mech``; see :meth:`Mechanism.build`."""
+    values = parameter_values(mech, overrides)
+    check_values(mech, values)
+    kin = Kinematics(mech)
+    rows = kin.constraints()
+    ld = loads(kin)
+    M = kin.mass_matrix()
+    if reduced:
+        coords, rows, forces, mass, subs = reduce_form(kin, rows, ld.V, ld.Q_nc, M)
+        V = ld.V.xreplace(subs)
+        for k in mech.hold:
+            if k not in coords:
+                raise InputError(f"assembly.hold.{k}", "is eliminated in the reduced form; hold a kept coordinate "
+                                                       f"({', '.join(coords)})")
+    else:
+        coords, mass, subs, V = list(kin.coords), M, {}, ld.V
+        forces = [-sp.diff(ld.V, qi) + qnc for qi, qnc in zip(kin.q, ld.Q_nc)]
+    q = [symbol(c) for c in coords]
+    at_rest = {velocity_symbol(c): 0 for c in coords}
+    lam = [symbol(r.reaction) for r in rows]
+    equilibrium = []
+    for qi, Qi in zip(q, forces):
+        e = Qi.xreplace(at_rest)
+        for row, lk in zip(rows, lam):
+            d = sp.diff(row.expr, qi)
+            if d != 0:
+                e -= d * lk
+        equilibrium.append(e)
+    Lc, Fc = _scales(mech, values)
+    names = [*coords, *(r.reaction for r in rows), *(p.name for p in mech.parameters)]
+    clash = {n for n in names if names.count(n) > 1}
+    if clash:
+        raise InputError(f"parameters.{sorted(clash)[0]}", "clashes with a generated coordinate or reaction name")
+    model = MechanicalModel(names, coords, [r.expr for r in rows], forces, mass)
+    # -- first assembly: consistent coordinates near the initial guess ------------------
+    guess = _initial_guess(mech, kin, values)
+    x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * len(rows) + [values[p.name] for p in mech.parameters])
+    free_q = np.array([c not in mech.hold for c in coords])
+    x, ok = close_constraints(model.phi, model.phi_q, x, model.q_index, free_q)
+    if not ok:
+        raise _loop_error(mech, rows, model.phi(x))
+    report = dof_report(model.phi_q(x), [r.joint for r in rows])
+    if report.redundant or report.dof != mech.dof:
+        red = report.redundant_joints
+        why = f"; redundant constraints among joints {', '.join(red)}" if red else ""
+        raise InputError("mechanism.dof", f"the assembled mechanism has {report.dof} degree(s) of freedom, intended "
+                                          f"{mech.dof}{why}")
+    nq = len(coords)
+    x[nq:nq + len(rows)] = model.multipliers(x)
+    variables = []
+    for c, v in zip(coords, x):
+        angle = c.startswith("theta")
+        variables.append(Variable(c, "state", float(v), "rad" if angle else "m", 1.0 if angle else Lc,
+                                  f"{'angle' if angle else c[0] + ' position'} of body frame"))
+    for r, v in zip(rows, x[nq:]):
+        variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc,
+                                  f"reaction of joint {r.joint} (on its second body)"))
+    for p in mech.parameters:
+        val = values[p.name]
+        variables.append(Variable(p.name, "parameter", val, p.unit, _parameter_scale(p, val, Lc, Fc), p.description))
+    system = EquationSystem(
+        name=mech.name + ("_reduced" if reduced else ""),
+        variables=variables,
+        equations=[*equilibrium, *(r.expr for r in rows)],
+        equation_names=[*(_row_name(c) for c in coords), *(r.equation for r in rows)],
+        mechanics=model,
+        description=mech.description or f"generated from the description of {mech.name}",
+    )
+    system.scene = scene_function(kin, ld.arrows, system.symbols, subs)
+    system.potential_energy = V
+    system.mechanism = mech
+    system.dof = report
+    system.reaction_names = tuple(r.reaction for r in rows)
+    system.coordinates_of = _coordinates_of(kin, system, subs)
+    return system.compile()
+
+
+def _coordinates_of(kin: Kinematics, system: EquationSystem, subs: dict):
+    """``f(x) -> {coordinate: value}`` for every body coordinate, eliminated ones included."""
+    from ..equations._codegen import compile_dense
+    exprs = [subs.get(s, s) for s in kin.q]
+    fn = compile_dense(list(system.symbols), exprs)
+
+    def coordinates_of(x: np.ndarray) -> dict[str, float]:
+        """All body coordinates (m, rad) at the full variable vector ``x``."""
+        return dict(zip(kin.coords, (float(v) for v in fn(np.asarray(x, dtype=float)))))
+
+    return coordinates_of

@@ -1,0 +1,129 @@
+"""Symbolic kinematics of a described mechanism: coordinates, points, constraints, masses.
+
+Body ``b`` has coordinates ``q_b = (x_b, y_b, theta_b)``; a point with body coordinates
+``p`` is at ``(x_b, y_b) + R(theta_b) p``. Constraints are written as "side a minus side b"
+so that the multiplier of a joint is the force the body of ``a`` exerts on the body of
+``b`` (see the joint classes).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ._description import Body, Mechanism, Polar, Prismatic, Revolute, Slider, Weld, coordinate_names
+from ._expr import symbol
+
+__all__ = ["Kinematics", "ConstraintRow"]
+
+
+@dataclass(frozen=True)
+class ConstraintRow:
+    """One scalar constraint: its joint, equation name, reaction name, unit, expression."""
+
+    joint: str
+    equation: str
+    reaction: str
+    unit: str
+    expr: sp.Expr
+
+
+def _rot(theta: sp.Expr, p: sp.Matrix) -> sp.Matrix:
+    c, s = sp.cos(theta), sp.sin(theta)
+    return sp.Matrix([c * p[0] - s * p[1], s * p[0] + c * p[1]])
+
+
+class Kinematics:
+    """Symbols and symbolic geometry of ``mech`` (built once per :meth:`Mechanism.build`)."""
+
+    def __init__(self, mech: Mechanism):
+        self.mech = mech
+        self.coords: list[str] = []
+        self.body_q: dict[str, tuple[sp.Symbol, sp.Symbol, sp.Symbol]] = {}
+        for b in mech.bodies:
+            names = coordinate_names(b.name)
+            self.coords.extend(names)
+            self.body_q[b.name] = tuple(symbol(n) for n in names)
+        self.q = [symbol(n) for n in self.coords]
+
+    # -- points --------------------------------------------------------------------
+    def local_point(self, body: str, point: str) -> sp.Matrix:
+        """Body coordinates (m) of ``point`` on ``body``."""
+        m, b = self.mech, self.mech.body_map[body]
+        f = f"bodies.{body}"
+        if point == "origin":
+            return sp.Matrix([0, 0])
+        if point == "cg":
+            return sp.Matrix([m.value(f + ".cg.x"), m.value(f + ".cg.y")])
+        if point in b.points:
+            spec = b.points[point]
+            if isinstance(spec, Polar):
+                r, a = m.value(f"{f}.points.{point}.r"), m.value(f"{f}.points.{point}.angle")
+                return sp.Matrix([r * sp.cos(a), r * sp.sin(a)])
+            return sp.Matrix([m.value(f"{f}.points.{point}.x"), m.value(f"{f}.points.{point}.y")])
+        half = m.value(f + ".length") / 2
+        return sp.Matrix([-half if point == "a" else half, 0])
+
+    def point(self, ref: str) -> sp.Matrix:
+        """Global position (m) of the point reference ``"<body>.<point>"`` / ``"ground.<p>"``."""
+        body, point = ref.split(".")
+        if body == "ground":
+            return sp.Matrix([self.mech.value(f"ground.{point}.x"), self.mech.value(f"ground.{point}.y")])
+        x, y, th = self.body_q[body]
+        return sp.Matrix([x, y]) + _rot(th, self.local_point(body, point))
+
+    def angle(self, ref: str) -> sp.Expr:
+        """Orientation (rad) of the frame that the point reference belongs to (0 for ground)."""
+        body = ref.split(".")[0]
+        return sp.S.Zero if body == "ground" else self.body_q[body][2]
+
+    def cg(self, body: str) -> sp.Matrix:
+        """Global position of the centre of gravity of ``body``."""
+        return self.point(f"{body}.cg")
+
+    # -- constraints ---------------------------------------------------------------
+    def constraints(self) -> list[ConstraintRow]:
+        """Every scalar constraint, joint by joint, in declaration order."""
+        rows: list[ConstraintRow] = []
+        for j in self.mech.joints:
+            n = j.name
+            pa, pb = self.point(j.a), self.point(j.b)
+            if isinstance(j, (Revolute, Weld)):
+                d = pa - pb
+                rows.append(ConstraintRow(n, f"{n}_x", f"R_{n}_x", "N", d[0]))
+                rows.append(ConstraintRow(n, f"{n}_y", f"R_{n}_y", "N", d[1]))
+            if isinstance(j, (Slider, Prismatic)):
+                phi = self.angle(j.a) + self.mech.value(f"joints.{n}.angle")
+                normal = sp.Matrix([-sp.sin(phi), sp.cos(phi)])
+                rows.append(ConstraintRow(n, f"{n}_n", f"R_{n}", "N", normal.dot(pa - pb)))
+            if isinstance(j, (Prismatic, Weld)):
+                key = "relative_angle" if isinstance(j, Prismatic) else "angle"
+                rel = self.mech.value(f"joints.{n}.{key}")
+                rows.append(ConstraintRow(n, f"{n}_angle", f"T_{n}", "N m", self.angle(j.a) + rel - self.angle(j.b)))
+        return rows
+
+    # -- inertia -------------------------------------------------------------------
+    def mass_matrix(self) -> sp.Matrix:
+        """Mass matrix (kg, kg m, kg m^2) from the kinetic energy of every body about its CG."""
+        n = len(self.q)
+        M = sp.zeros(n, n)
+        for i, b in enumerate(self.mech.bodies):
+            m, inertia = self.body_mass(b), self.body_inertia(b)
+            c = self.local_point(b.name, "cg")
+            rc = _rot(self.body_q[b.name][2], c)
+            block = sp.Matrix([[m, 0, -m * rc[1]], [0, m, m * rc[0]],
+                               [-m * rc[1], m * rc[0], inertia + m * (c[0] ** 2 + c[1] ** 2)]])
+            M[3 * i:3 * i + 3, 3 * i:3 * i + 3] = block
+        return M
+
+    def body_mass(self, b: Body) -> sp.Expr:
+        """Mass (kg) of body ``b``."""
+        return self.mech.value(f"bodies.{b.name}.mass")
+
+    def body_inertia(self, b: Body) -> sp.Expr:
+        """Moment of inertia about the CG (kg m^2): given, or ``m L^2/12`` for a bar."""
+        f = f"bodies.{b.name}"
+        if b.inertia is not None:
+            return self.mech.value(f + ".inertia")
+        return self.body_mass(b) * self.mech.value(f + ".length") ** 2 / 12

@@ -1,0 +1,80 @@
+"""Drawing primitives of a generated mechanism at any full variable vector."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import sympy as sp
+
+from ..equations import Scene
+from ..equations._codegen import compile_dense
+from ._description import Prismatic, Revolute, Slider, Weld
+from ._kinematics import Kinematics
+
+__all__ = ["scene_function"]
+
+
+def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
+                   subs: dict | None = None) -> Callable[[np.ndarray], Scene]:
+    """Compile ``scene(x) -> Scene`` for a system whose variables have ``symbols``.
+
+    ``subs`` maps eliminated coordinates to expressions in the system's variables (reduced
+    form). Bodies are drawn as polylines ``a -> b`` (bars; each point off the bar axis adds
+    a triangle ``a -> p -> b``) or through their declared points (other bodies).
+    """
+    mech, subs = kin.mech, subs or {}
+    items: list[tuple[str, str, object]] = []  # (kind, name, extra)
+    exprs: list[sp.Expr] = []
+
+    def add(kind: str, name: str, pts: list[sp.Matrix], extra=None) -> None:
+        items.append((kind, name, (len(pts), extra)))
+        for p in pts:
+            exprs.extend([p[0], p[1]])
+
+    for b in mech.bodies:
+        pt = lambda p, _b=b.name: kin.point(f"{_b}.{p}")  # noqa: E731
+        if b.length is not None:
+            add("bar", b.name, [pt("a"), pt("b")])
+            for pn in b.points:
+                if pn not in ("a", "b") and kin.local_point(b.name, pn)[1] != 0:
+                    add("bar", b.name, [pt("a"), pt(pn), pt("b")])
+        else:
+            names = list(b.points) or ["origin"]
+            add("bar", b.name, [pt(n) for n in names] + ([pt(names[0])] if len(names) > 2 else []))
+    for j in mech.joints:
+        ground = "ground" in (j.a.split(".")[0], j.b.split(".")[0])
+        if isinstance(j, (Revolute, Weld)):
+            add("ground" if ground else "pin", j.name, [kin.point(j.b)])
+        elif isinstance(j, (Slider, Prismatic)):
+            phi = kin.angle(j.a) + mech.value(f"joints.{j.name}.angle")
+            add("slider", j.name, [kin.point(j.b), sp.Matrix([sp.cos(phi), sp.sin(phi)])])
+    for s in mech.springs:
+        add("spring", s.name, [kin.point(s.a), kin.point(s.b)])
+    for name, P, F in arrows:
+        add("force", name, [P, F])
+    exprs = [sp.sympify(e).xreplace(subs) for e in exprs]
+    fn = compile_dense(list(symbols), exprs)
+
+    def scene(x: np.ndarray) -> Scene:
+        """Drawing primitives at the full variable vector ``x`` (m, N)."""
+        flat = np.asarray(fn(np.asarray(x, dtype=float)), dtype=float).reshape(-1, 2)
+        out, i = Scene(), 0
+        for kind, name, (n, _) in items:
+            pts = flat[i:i + n]
+            i += n
+            if kind == "bar":
+                out.bars.append((name, pts.copy()))
+            elif kind == "pin":
+                out.pins.append(pts[0].copy())
+            elif kind == "ground":
+                out.grounds.append(pts[0].copy())
+            elif kind == "slider":
+                out.sliders.append((pts[0].copy(), pts[1].copy()))
+            elif kind == "spring":
+                out.springs.append((name, pts[0].copy(), pts[1].copy()))
+            else:
+                out.forces.append((name, pts[0].copy(), pts[1].copy()))
+        return out
+
+    return scene

@@ -1,0 +1,77 @@
+"""Parameter values of a build and the physical checks of a description's numbers."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import sympy as sp
+
+from ..errors import InputError
+from ._description import Drag, Mechanism, PointForce
+
+__all__ = ["parameter_values", "check_values", "evaluate"]
+
+
+def parameter_values(mech: Mechanism, overrides: Mapping[str, float]) -> dict[str, float]:
+    """Default parameter values with ``overrides`` applied; unknown names are an InputError."""
+    values = {p.name: float(p.value) for p in mech.parameters}
+    for k, v in overrides.items():
+        if k not in values:
+            raise InputError(k, f"not a parameter of '{mech.name}'; parameters: {', '.join(values) or 'none'}")
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise InputError(k, f"must be a finite number, got {v!r}")
+        values[k] = float(v)
+    return values
+
+
+def evaluate(expr: sp.Expr, values: Mapping[str, float], field: str) -> float:
+    """Numeric value of a parameter-only expression; InputError if it is not finite."""
+    subs = {s: values[s.name] for s in expr.free_symbols if s.name in values}
+    try:
+        out = float(expr.xreplace(subs))
+    except TypeError:
+        raise InputError(field, f"{expr} depends on more than the parameters") from None
+    if not math.isfinite(out):
+        raise InputError(field, f"evaluates to {out} with the given parameters")
+    return out
+
+
+def check_values(mech: Mechanism, values: Mapping[str, float]) -> None:
+    """Reject physically impossible values (at the parameter ``values``).
+
+    Lengths, masses, inertias, spring stiffnesses, free lengths and drag diameters must be
+    positive; damping, air density and drag coefficient non-negative; a force direction
+    non-zero. Raises :class:`InputError` naming the key path and the value.
+    """
+    def need(field: str, positive: bool, what: str) -> None:
+        v = evaluate(mech.value(field), values, field)
+        if (v <= 0) if positive else (v < 0):
+            sign = "positive" if positive else "non-negative"
+            raise InputError(field, f"{what} must be {sign}, got {v:g}")
+
+    for b in mech.bodies:
+        f = f"bodies.{b.name}"
+        need(f + ".mass", True, "mass (kg)")
+        if b.length is not None:
+            need(f + ".length", True, "length (m)")
+        if b.inertia is not None:
+            need(f + ".inertia", True, "inertia (kg m^2)")
+    for s in mech.springs:
+        need(f"springs.{s.name}.k", True, "stiffness (N/m)")
+        need(f"springs.{s.name}.free_length", True, "free length (m)")
+    for d in mech.dampers:
+        need(f"dampers.{d.name}.c", False, "damping (N s/m)")
+    for ld in mech.loads:
+        f = f"loads.{ld.name}"
+        if isinstance(ld, Drag):
+            need(f + ".rho", False, "air density (kg/m^3)")
+            need(f + ".d", True, "diameter (m)")
+            need(f + ".CD", False, "drag coefficient")
+            if ld.start == ld.end:
+                raise InputError(f + ".end", "the drag segment needs two different points")
+        if isinstance(ld, PointForce) and isinstance(ld.direction, (tuple, list)):
+            ux = evaluate(mech.value(f + ".direction.x"), values, f + ".direction")
+            uy = evaluate(mech.value(f + ".direction.y"), values, f + ".direction")
+            if ux == 0 and uy == 0:
+                raise InputError(f + ".direction", "direction must not be the zero vector")
