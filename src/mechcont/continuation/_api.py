@@ -42,9 +42,9 @@ def _bound_events(system: EquationSystem, options: ContinuationOptions) -> list[
     evs = []
     for name, (lo, hi) in options.bounds.items():
         i = system.index(name)
-        for b in (lo, hi):
+        for b, side in ((lo, 1), (hi, -1)):
             if np.isfinite(b):
-                evs.append(BoundEvent(name, i, float(b)))
+                evs.append(BoundEvent(name, i, float(b), side))
     return evs
 
 
@@ -73,6 +73,9 @@ def _run(problem, system, u0, options, events, direction, vary, unknowns, tangen
             infos.append(p.info[i]); s.append(-p.arclength[i])
     if 1 in parts:
         p = parts[1]
+        if -1 in parts and parts[-1].labels[0] and not p.labels[0]:
+            # the start's own label (e.g. EP: started on a bound) was found going backwards
+            p.labels[0], p.info[0] = parts[-1].labels[0], parts[-1].info[0]
         for i in range(len(p.states)):
             rows.append(p.states[i]); stab.append(p.stability[i]); labels.append(p.labels[i])
             infos.append(p.info[i]); s.append(p.arclength[i])
@@ -149,13 +152,13 @@ def locate_fold(system: EquationSystem, point, vary: str, *, hold: Iterable[str]
         system, hold=hold, free=free, exclude=[vary])
     x, v = refine_fold(system, x0, states, vary)
     idx = np.array([system.index(n) for n in states])
-    _, _, a = fold_quantities(system, x, idx, v)
+    _, _, a = fold_quantities(system, x, idx, system.index(vary), v)
     return x, v, a
 
 
 def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: Iterable[str] = (),
                    free_extra: Iterable[str] = (), options: ContinuationOptions | None = None,
-                   direction: int = 0) -> Branch:
+                   direction: int = 0, stop_at_cusp: bool = False) -> Branch:
     """Continue a fold of equilibria in two parameters: the fold curve, with cusps (``CP``).
 
     Parameters
@@ -173,6 +176,10 @@ def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: 
         The lens of the equilibrium branch when ``fold`` is not a SpecialPoint.
     options:
         Steps and bounds (bounds on ``p2`` usually end the curve).
+    direction:
+        ``0`` both ways, ``+1``/``-1``: increasing/decreasing ``free`` at the start.
+    stop_at_cusp:
+        End the curve at the first cusp instead of continuing onto the other fold.
 
     Returns
     -------
@@ -194,4 +201,8 @@ def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: 
 
     opts = replace(options, stability=False)
     evs = problem.test_functions() + _bound_events(system, options)
+    if stop_at_cusp:
+        for ev in evs:
+            if ev.label == "CP":
+                ev.stop = True
     return _run(problem, system, problem.u0, opts, evs, direction, free, (*states, vary))

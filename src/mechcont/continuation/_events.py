@@ -73,16 +73,20 @@ class BranchPointEvent(Event):
 
 
 class BoundEvent(Event):
-    """End point (``EP``): the full variable ``index`` crosses ``bound``; stops the branch."""
+    """End point (``EP``): the full variable ``index`` crosses ``bound``; stops the branch.
+
+    ``side`` is +1 for a lower bound, -1 for an upper bound, so the value is positive
+    inside the allowed interval.
+    """
 
     label = "EP"
     stop = True
 
-    def __init__(self, name: str, index: int, bound: float):
-        self.name, self.index, self.bound = name, index, bound
+    def __init__(self, name: str, index: int, bound: float, side: int = 1):
+        self.name, self.index, self.bound, self.side = name, index, bound, side
 
     def value(self, problem, state):
-        return float(state.x[self.index] - self.bound)
+        return float(self.side * (state.x[self.index] - self.bound))
 
 
 class ValueEvent(Event):

@@ -3,7 +3,7 @@
 A fold (limit point) of equilibria in parameter ``p1`` satisfies, with ``G_s`` the
 Jacobian with respect to the unknown states ``s``,
 
-    G(s, p1, p2) = 0,    G_s v = 0,    c^T v = 1,
+    G(s, p1, p2) = 0,    G_s v = 0,    (v^T v - 1) / 2 = 0,
 
 (``2n + 1`` equations). With ``p2`` held this is square in ``(s, p1, v)`` and Newton
 polishes a fold found by a sign change to machine precision. With ``p2`` free, it is
@@ -36,34 +36,36 @@ def _null_vectors(Js: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return vt[-1], u[:, -1]
 
 
-def fold_quantities(system: EquationSystem, x: np.ndarray, state_idx: np.ndarray, v: np.ndarray | None = None):
+def fold_quantities(system: EquationSystem, x: np.ndarray, state_idx: np.ndarray, param_index: int,
+                    v: np.ndarray | None = None):
     """Right/left null vectors and the normalised quadratic coefficient at a fold.
 
-    Returns ``(v, w, a)`` where ``v`` spans ker G_s, ``w`` ker G_s^T (normalised by
-    ``v^T w = 1`` so its orientation follows ``v`` continuously) and
-    ``a = w^T G_ss[v, v] / (|w| |v|^2)``.
+    Returns ``(v, w, a)``: ``v`` spans ker G_s, ``w`` spans ker G_s^T, oriented so that
+    ``w^T dG/dp1 > 0`` (non-zero at a fold: that is its transversality condition), and
+    ``a = w^T G_ss[v, v] / |v|^2`` with ``|w| = 1``. With this orientation the sign of
+    ``a`` says on which side of the fold in ``p1`` the two branches lie, and it changes
+    sign exactly at a cusp.
     """
     J = system.jacobian(x)
     Js = J[:, state_idx]
+    vs, w = _null_vectors(Js)
     if v is None:
-        v, _ = _null_vectors(Js)
-    n = len(v)
-    A = np.zeros((n + 1, n + 1))
-    A[:n, :n] = Js.T
-    A[:n, n] = v
-    A[n, :n] = v
-    rhs = np.zeros(n + 1)
-    rhs[n] = 1.0
-    w = np.linalg.solve(A, rhs)[:n]
+        v = vs
+    if w @ J[:, param_index] < 0:
+        w = -w
     vf = np.zeros(len(x))
     vf[state_idx] = v
     Gvv = system.jacobian_derivative(x, vf)[:, state_idx] @ v
-    a = float(w @ Gvv) / (np.linalg.norm(w) * (v @ v))
+    a = float(w @ Gvv) / (v @ v)
     return v, w, a
 
 
 def _fold_system(system, base, idx_vars, state_pos, c):
     """Residual and Jacobian of the fold system in unknowns U = (vars..., v).
+
+    The null vector is normalised by |v| = 1 rather than by a fixed border c^T v = 1:
+    along a long fold curve the null vector turns, and a fixed border would let |v|
+    grow without bound (eating the arclength). ``c`` is kept for the interface.
 
     ``idx_vars``: full indices of the variable unknowns (states then parameters);
     ``state_pos``: positions within ``idx_vars`` of the states whose Jacobian must be
@@ -82,7 +84,7 @@ def _fold_system(system, base, idx_vars, state_pos, c):
         x = full(U)
         v = U[nv:]
         J = system.jacobian(x)
-        return np.concatenate([system.residual(x), J[:, state_idx] @ v, [c @ v - 1.0]])
+        return np.concatenate([system.residual(x), J[:, state_idx] @ v, [0.5 * (v @ v - 1.0)]])
 
     def jacobian(U):
         x = full(U)
@@ -95,7 +97,7 @@ def _fold_system(system, base, idx_vars, state_pos, c):
         out[:n, :nv] = J[:, idx_vars]
         out[n:2 * n, :nv] = H[:, idx_vars]
         out[n:2 * n, nv:] = J[:, state_idx]
-        out[2 * n, nv:] = c
+        out[2 * n, nv:] = v
         return out
 
     return full, residual, jacobian
@@ -176,7 +178,7 @@ class FoldProblem(ContinuationProblem):
     def quadratic_coefficient(self, u) -> float:
         """Normalised ``a = w^T G_ss[v, v]`` at the fold-curve point ``u``."""
         nv = len(self.idx_vars)
-        return fold_quantities(self.system, self._full(u), self.state_idx, u[nv:])[2]
+        return fold_quantities(self.system, self._full(u), self.state_idx, self.idx_vars[-2], u[nv:])[2]
 
     def test_functions(self):
         return [CuspEvent()]

@@ -10,6 +10,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.linalg.lapack import dgesv as _dgesv
 from scipy.optimize import brentq
 
 from ._events import Event, PointState
@@ -57,6 +58,11 @@ class PseudoArclength:
     def Gz(self, z):
         return self.problem.jacobian(z * self.D) * self.D
 
+    def evaluate(self, z):
+        """Residual and scaled Jacobian at ``z`` in one model evaluation."""
+        r, J = self.problem.evaluate(z * self.D)
+        return r, J * self.D
+
     def state(self, z, tangent, jac=None) -> PointState:
         u = z * self.D
         return PointState(z=z, u=u, tangent=tangent, jac=self.Gz(z) if jac is None else jac, x=self.problem.full(u))
@@ -72,10 +78,14 @@ class PseudoArclength:
 
     def tangent(self, z, border, jac=None) -> np.ndarray:
         jac = self.Gz(z) if jac is None else jac
-        A = np.vstack([jac, border])
+        A = np.empty((self.n + 1, self.n + 1))
+        A[:-1] = jac
+        A[-1] = border
         rhs = np.zeros(self.n + 1)
         rhs[-1] = 1.0
-        t = np.linalg.solve(A, rhs)
+        _, _, t, info = _dgesv(A, rhs)
+        if info != 0:
+            raise np.linalg.LinAlgError("singular tangent system")
         t /= np.linalg.norm(t)
         return t if t @ border > 0 else -t
 
@@ -87,24 +97,26 @@ class PseudoArclength:
         """
         o = self.options
         z = np.array(z_pred if z_start is None else z_start, dtype=float)
-        prev = math.inf
-        for it in range(1, o.max_newton + 1):
-            r = self.G(z)
-            jac = self.Gz(z)
-            if not (np.all(np.isfinite(r)) and np.all(np.isfinite(jac))):
+        A = np.empty((self.n + 1, self.n + 1))
+        A[-1] = t0
+        b = np.empty(self.n + 1)
+        prev = step = math.inf
+        for it in range(1, o.max_newton + 2):
+            r, jac = self.evaluate(z)
+            if not (math.isfinite(r.sum()) and math.isfinite(jac.sum())):
                 return None, "residual not finite (outside the model's domain)", it
-            A = np.vstack([jac, t0])
-            b = np.append(-r, -(t0 @ (z - z_pred)))
-            try:
-                dz = np.linalg.solve(A, b)
-            except np.linalg.LinAlgError:
+            if step < o.newton_tol and np.abs(r).max() < o.residual_tol:
+                return z, jac, it - 1
+            if it > o.max_newton:
+                break
+            A[:-1] = jac
+            b[:-1] = -r
+            b[-1] = -(t0 @ (z - z_pred))
+            _, _, dz, info = _dgesv(A, b)
+            if info != 0:
                 return None, "singular bordered Jacobian", it
             z = z + dz
-            step = np.max(np.abs(dz))
-            if step < o.newton_tol:
-                r = self.G(z)
-                if np.all(np.isfinite(r)) and np.max(np.abs(r)) < o.residual_tol:
-                    return z, self.Gz(z), it
+            step = np.abs(dz).max()
             if step > o.max_contraction * prev and step > 1e3 * o.newton_tol:
                 return None, "corrector converging too slowly", it
             prev = step
@@ -191,6 +203,12 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
         new = eng.state(z1, t1, jac)
         step = float(np.linalg.norm(z1 - cur.z))
         new_values = [ev.value(problem, new) for ev in events]
+        leaving = [ev for ev, v0, v1 in zip(events, values, new_values) if ev.stop and v0 == 0 and v1 < 0]
+        if leaving:  # started exactly on a bound and this direction leaves the interval
+            res.labels[-1] = leaving[0].label
+            res.info[-1] = {**res.info[-1], "bound_of": getattr(leaving[0], "name", "")}
+            res.message = f"start lies on the bound of {getattr(leaving[0], 'name', leaving[0].label)}"
+            return res
         hits = []
         for ev, v0, v1 in zip(events, values, new_values):
             if v0 == 0 or v1 == 0 or (v0 > 0) == (v1 > 0):
@@ -212,16 +230,17 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
                 break
         if stop:
             res.status = "completed"
-            res.message = f"reached bound of {res.info[-1].get('bound_of', '')}".strip()
+            what = res.info[-1].get("bound_of")
+            res.message = f"reached bound of {what}" if what else f"stopped at {res.labels[-1]}"
             return res
         s += step
         record(new, s=s)
         cur, values = new, new_values
         if progress is not None:
             progress(1)
-        if iters <= 2:
+        if iters <= 3:
             ds = min(ds * options.grow, options.dsmax)
-        elif iters >= 5:
+        elif iters >= 6:
             ds = max(ds * options.shrink, options.dsmin)
     res.labels[-1] = res.labels[-1] or "EP"
     res.info[-1] = {**res.info[-1], "reason": "max_steps"}
@@ -231,7 +250,25 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
 
 
 def _locate(eng: PseudoArclength, problem, cur: PointState, ds: float, ev: Event, v0: float, v1: float):
-    """Zero of ``ev`` between ``cur`` (sigma=0) and the accepted step (sigma=ds)."""
+    """Zero of ``ev`` between ``cur`` (sigma=0) and the accepted step (sigma=ds).
+
+    Returns ``(sigma, state, info)``; ``state`` is None when location failed.
+    """
+    from ._events import BoundEvent
+
+    info = {"located": True}
+    if isinstance(ev, BoundEvent):
+        info.update(bound_of=ev.name, bound=ev.bound)
+        st = _solve_on_bound(eng, problem, cur, ds, ev, v0, v1)
+        if st is not None:
+            return float(cur.tangent @ (st.z - cur.z)), st, info
+    elif type(ev).refine is not Event.refine:
+        # events polished afterwards (folds): a secant guess is close enough for the polish
+        sigma = ds * v0 / (v0 - v1)
+        try:
+            return sigma, eng.point_at(cur.z, cur.tangent, sigma), info
+        except (RuntimeError, np.linalg.LinAlgError):
+            pass
     cache = {}
 
     def f(sigma):
@@ -242,16 +279,35 @@ def _locate(eng: PseudoArclength, problem, cur: PointState, ds: float, ev: Event
     try:
         sigma = brentq(f, 0.0, ds, xtol=1e-14 * max(1.0, ds), rtol=8.9e-16, maxiter=100)
         st = cache.get(sigma) or eng.point_at(cur.z, cur.tangent, sigma)
-        info = {"located": True}
     except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
         return ds, None, {"located": False, "error": str(exc)}
-    if isinstance(ev, _bound_type()):
-        info["bound_of"] = ev.name
-        info["bound"] = ev.bound
     return sigma, st, info
 
 
-def _bound_type():
-    from ._events import BoundEvent
-
-    return BoundEvent
+def _solve_on_bound(eng: PseudoArclength, problem, cur: PointState, ds, ev, v0, v1):
+    """The branch point where a bounded unknown equals its bound: Newton on [G; x_k - b]."""
+    idx = getattr(problem, "idx", None)
+    if idx is None or ev.index not in idx:
+        return None
+    k = int(np.flatnonzero(idx == ev.index)[0])
+    z = cur.z + (ds * v0 / (v0 - v1)) * cur.tangent
+    target = ev.bound / eng.D[k]
+    A = np.zeros((eng.n + 1, eng.n + 1))
+    A[-1, k] = 1.0
+    b = np.empty(eng.n + 1)
+    for _ in range(eng.options.max_newton + 2):
+        r, jac = eng.evaluate(z)
+        if not math.isfinite(r.sum()):
+            return None
+        b[:-1] = -r
+        b[-1] = target - z[k]
+        if np.abs(r).max() < eng.options.residual_tol and abs(b[-1]) < 1e-15 * max(1.0, abs(target)):
+            return eng.state(z, eng.tangent(z, cur.tangent, jac), jac)
+        A[:-1] = jac
+        _, _, dz, info = _dgesv(A, b)
+        if info != 0:
+            return None
+        z = z + dz
+        if np.abs(dz).max() < eng.options.newton_tol:
+            z[k] = target
+    return None

@@ -48,6 +48,10 @@ class ContinuationProblem:
         """The full variable vector recorded in the branch at ``u``."""
         raise NotImplementedError  # pragma: no cover - interface
 
+    def evaluate(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Residual and Jacobian at ``u`` together (override when sharing work pays)."""
+        return self.residual(u), self.jacobian(u)
+
     def stability(self, u: np.ndarray) -> int:
         """Number of unstable directions at ``u`` (-1 when unknown)."""
         return -1
@@ -133,6 +137,10 @@ class EquilibriumProblem(ContinuationProblem):
 
     def jacobian(self, u):
         return self.system.jacobian(self.full(u))[:, self.idx]
+
+    def evaluate(self, u):
+        x = self.full(u)
+        return self.system.residual(x), self.system.jacobian(x)[:, self.idx]
 
     def stability(self, u) -> int:
         if not self._stability:

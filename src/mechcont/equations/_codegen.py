@@ -62,6 +62,25 @@ def _lambdify(args, exprs):
     return se.Lambdify(safe, exprs, backend=_backend(), cse=True)
 
 
+def _evaluator(args, exprs, shape):
+    fn = _lambdify(args, exprs)
+    n_args, n_out = len(args), len(exprs)
+    if hasattr(fn, "unsafe_real"):
+        # unsafe_real skips SymEngine's argument checks (4x cheaper per call); the length
+        # check here is what makes it safe.
+        def evaluate(x) -> np.ndarray:
+            x = np.ascontiguousarray(x, dtype=float)
+            if x.shape != (n_args,):
+                raise ValueError(f"expected {n_args} values, got shape {x.shape}")
+            out = np.empty(n_out)
+            fn.unsafe_real(x, out)
+            return out.reshape(shape)
+    else:  # pragma: no cover - older SymEngine
+        def evaluate(x) -> np.ndarray:
+            return np.asarray(fn(np.asarray(x, dtype=float)), dtype=float).reshape(shape)
+    return evaluate
+
+
 def compile_dense(args: Sequence, exprs: Sequence):
     """Compile expressions into ``f(x) -> ndarray`` with one entry per expression.
 
@@ -71,42 +90,23 @@ def compile_dense(args: Sequence, exprs: Sequence):
     exprs = to_engine(list(exprs))
     if not exprs:
         return lambda x: np.zeros(0)
-    fn = _lambdify(args, exprs)
-
-    def evaluate(x) -> np.ndarray:
-        return fn(np.asarray(x, dtype=float))
-
-    return evaluate
+    return _evaluator(args, exprs, (len(exprs),))
 
 
 def compile_sparse(args: Sequence, entries: Sequence[tuple[tuple[int, ...], object]], shape: tuple[int, ...]):
-    """Compile the non-zero entries of a sparse array into ``f(x) -> ndarray`` of ``shape``.
+    """Compile the non-zero entries of an array into ``f(x) -> ndarray`` of ``shape``.
 
-    ``entries`` is a list of ``(index_tuple, expression)``; entries that are constant are
-    filled once. Returns a callable producing a fresh dense array per call.
+    ``entries`` is a list of ``(index_tuple, expression)``; other entries are zero.
+    Returns a callable producing a fresh dense array per call.
     """
     args = to_engine(list(args))
-    const = np.zeros(shape)
-    var_idx: list[tuple[int, ...]] = []
-    var_expr = []
+    size = int(np.prod(shape))
+    if size == 0:
+        return lambda x: np.zeros(shape)
+    dense = [se.Integer(0)] * size
     for idx, e in entries:
-        e = se.sympify(e)
-        if e.free_symbols:
-            var_idx.append(idx)
-            var_expr.append(e)
-        else:
-            const[idx] = float(e)
-    if not var_expr:
-        return lambda x: const.copy()
-    flat = np.ravel_multi_index(tuple(np.array(var_idx).T), shape)
-    fn = _lambdify(args, var_expr)
-
-    def evaluate(x) -> np.ndarray:
-        out = const.copy()
-        out.flat[flat] = fn(np.asarray(x, dtype=float))
-        return out
-
-    return evaluate
+        dense[int(np.ravel_multi_index(idx, shape))] = se.sympify(e)
+    return _evaluator(args, dense, shape)
 
 
 def sympy_symbols(names: Sequence[str]) -> list[sp.Symbol]:

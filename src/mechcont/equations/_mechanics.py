@@ -20,7 +20,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
 import sympy as sp
 
 from ..errors import InputError
@@ -159,11 +158,25 @@ class MechanicalModel:
         """Mass matrix M(q), shape (n_q, n_q) (kg, kg m^2)."""
         return self._M(self._args(x))
 
+    def _decompose(self, x, rtol: float = 1e-10):
+        """SVD of Phi_q: (U, singular values, V^T, rank) — shared by multipliers and Z."""
+        A = self.phi_q(x)
+        if A.shape[0] == 0:
+            return None, np.zeros(0), np.eye(A.shape[1]), 0
+        U, sv, Vt = np.linalg.svd(A)
+        rank = int(np.sum(sv > rtol * max(sv[0], 1e-300))) if len(sv) else 0
+        return U, sv, Vt, rank
+
     def multipliers(self, x) -> np.ndarray:
-        """Constraint reactions lambda solving Phi_q^T lambda = Q in the least-squares sense."""
-        A = self.phi_q(x).T
-        lam, *_ = np.linalg.lstsq(A, self.applied_forces(x), rcond=None)
-        return lam
+        """Constraint reactions lambda solving Phi_q^T lambda = Q in the least-squares sense.
+
+        With redundant constraints the minimum-norm solution is returned.
+        """
+        U, sv, Vt, r = self._decompose(x)
+        if U is None:
+            return np.zeros(0)
+        Q = self.applied_forces(x)
+        return U[:, :r] @ ((Vt[:r] @ Q) / sv[:r])
 
     def tangent_stiffness(self, x, multipliers=None) -> np.ndarray:
         """K = -dQ/dq + sum_k lambda_k Hess(Phi_k) at rest, shape (n_q, n_q)."""
@@ -173,7 +186,8 @@ class MechanicalModel:
 
     def allowed_motions(self, x, rtol: float = 1e-10) -> np.ndarray:
         """Orthonormal basis Z of the null space of Phi_q: the motions the joints allow."""
-        return sla.null_space(self.phi_q(x), rcond=rtol)
+        _, _, Vt, r = self._decompose(x, rtol)
+        return Vt[r:].T
 
     def stability(self, x, rtol: float = 1e-9) -> StabilityResult:
         """Physical stability of the equilibrium at ``x`` (a full variable vector).
@@ -184,14 +198,21 @@ class MechanicalModel:
         ``(Z^T M Z)^-1 Kr`` (small oscillations ``s^2 = -mu``) are used: a direction is
         unstable when ``mu`` has a negative real part or is complex (flutter).
         Eigenvalues within ``rtol`` of the largest magnitude count as zero (neutral).
+        The count is independent of the units of ``q`` (Sylvester's law of inertia).
         """
-        Z = self.allowed_motions(x)
+        U, sv, Vt, r = self._decompose(x)
+        Z = Vt[r:].T
         if Z.shape[1] == 0:
             return StabilityResult(0, np.zeros(0), True)
-        Kr = Z.T @ self.tangent_stiffness(x) @ Z
+        a = self._args(x)
+        lam = np.zeros(0) if U is None else U[:, :r] @ ((Vt[:r] @ self._Q(a)) / sv[:r])
+        K = -self._dQdq(a)
+        if len(lam):
+            K = K + np.tensordot(lam, self._phi_hess(a), axes=1)
+        Kr = Z.T @ K @ Z
         scale = max(np.abs(Kr).max(), 1e-300)
-        if np.allclose(Kr, Kr.T, rtol=1e-9, atol=1e-12 * scale):
-            ev = np.linalg.eigvalsh(0.5 * (Kr + Kr.T))
+        if np.abs(Kr - Kr.T).max() <= 1e-9 * scale:
+            ev = np.linalg.eigvalsh(0.5 * (Kr + Kr.T)) if len(Kr) > 1 else Kr[0]
             return StabilityResult(int(np.sum(ev < -rtol * scale)), ev, True)
         Mr = Z.T @ self.mass(x) @ Z
         mu = np.linalg.eigvals(np.linalg.solve(Mr, Kr))

@@ -1,0 +1,116 @@
+"""Events during a simulation: a named quantity crossing a value, or any callable."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..errors import InputError
+
+__all__ = ["Crossing", "EventTracker"]
+
+
+@dataclass(frozen=True)
+class Crossing:
+    """The event "column ``name`` passes through ``value``".
+
+    Parameters
+    ----------
+    name:
+        A variable name of the model (e.g. ``"theta1"``), or ``"<coordinate>_dot"``.
+    value:
+        The level (units of that variable).
+    direction:
+        +1: only upward crossings; -1: only downward; 0: both.
+    terminal:
+        Stop the simulation at the first such crossing.
+    """
+
+    name: str
+    value: float = 0.0
+    direction: int = 0
+    terminal: bool = False
+
+    def __post_init__(self):
+        if self.direction not in (-1, 0, 1):
+            raise InputError("direction", "must be -1, 0 or +1")
+
+
+class EventTracker:
+    """Evaluates events at each accepted step and locates sign changes on the dense output.
+
+    Each event is a :class:`Crossing` or a callable ``g(t, x, qdot) -> float`` (``x`` the full
+    variable vector) with optional attributes ``terminal`` and ``direction`` like SciPy's.
+    """
+
+    def __init__(self, events, system, coordinates):
+        self._fns, self.terminal, self.direction = [], [], []
+        nq = len(coordinates)
+        for ev in events or ():
+            if isinstance(ev, Crossing):
+                if ev.name in system.names:
+                    i = system.index(ev.name)
+                    fn = (lambda t, x, qd, i=i, v=ev.value: x[i] - v)
+                elif ev.name.endswith("_dot") and ev.name[:-4] in coordinates:
+                    j = list(coordinates).index(ev.name[:-4])
+                    fn = (lambda t, x, qd, j=j, v=ev.value: qd[j] - v)
+                else:
+                    raise InputError(ev.name, "event quantity is not a variable or <coordinate>_dot of the model")
+                self._fns.append(fn)
+                self.terminal.append(ev.terminal)
+                self.direction.append(ev.direction)
+            elif callable(ev):
+                self._fns.append(ev)
+                self.terminal.append(bool(getattr(ev, "terminal", False)))
+                self.direction.append(int(np.sign(getattr(ev, "direction", 0))))
+            else:
+                raise InputError("events", "each event must be a Crossing or a callable g(t, x, qdot)")
+        self.nq = nq
+        self.n_names = len(system.names)
+        self.t_events = [[] for _ in self._fns]
+        self.x_events = [[] for _ in self._fns]
+        self._last = None
+
+    def __bool__(self):
+        return bool(self._fns)
+
+    def _values(self, dyn, t, y):
+        x = dyn.full(t, y[: self.nq])
+        qd = y[self.nq:]
+        return np.array([fn(t, x, qd) for fn in self._fns], float)
+
+    def start(self, dyn, t, y) -> None:
+        """Record the event values at the initial state."""
+        if self._fns:
+            self._last = self._values(dyn, t, y)
+
+    def step(self, dyn, t_old, t_new, y_new, sol) -> float | None:
+        """Check the step ``[t_old, t_new]``; returns the terminal time if one fired, else None."""
+        if not self._fns:
+            return None
+        g_new = self._values(dyn, t_new, y_new)
+        g_old, self._last = self._last, g_new
+        t_stop = None
+        for k, (a, b) in enumerate(zip(g_old, g_new)):
+            up, down = a < 0 <= b, a > 0 >= b
+            if not ((up and self.direction[k] >= 0) or (down and self.direction[k] <= 0)):
+                continue
+            if b == 0:
+                te = t_new
+            else:
+                def g(tt, k=k):
+                    return self._values(dyn, tt, sol(tt))[k]
+                te = brentq(g, t_old, t_new, xtol=1e-12 * max(1.0, abs(t_new)))
+            self.t_events[k].append(te)
+            self.x_events[k].append(dyn.full(te, sol(te)[: self.nq]))
+            if self.terminal[k]:
+                t_stop = te if t_stop is None else min(t_stop, te)
+        return t_stop
+
+    def results(self):
+        """``(t_events, x_events)``: lists of arrays, one per event."""
+        n = len(self._fns)
+        return ([np.array(self.t_events[k]) for k in range(n)],
+                [np.array(self.x_events[k], float).reshape(-1, self.n_names) for k in range(n)])

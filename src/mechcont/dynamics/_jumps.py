@@ -1,0 +1,112 @@
+"""Automatic detection of jumps in a recorded sweep.
+
+A jump is a sudden change of the watched quantity ``w`` while a load ramps slowly. On a
+stable branch ``w`` moves at the quasi-static rate ``(dw/dp) (dp/dt)``; when the branch
+ends at a fold the mechanism leaves it dynamically, at a rate set by its own inertia and
+stiffness, not by the sweep. So a jump starts where ``|dw/dt|`` first exceeds a threshold
+well above the quasi-static rate. The default threshold is ``factor`` times the average
+rate ``span(w) / duration`` of the segment (``span`` over the whole sweep), so a smooth
+response never qualifies; above-threshold intervals separated by short pauses (overshoot
+and ringing after the jump) are merged, and a jump must change ``w`` by at least
+``min_change`` of its span. With ``through=value`` the jump is instead timed where ``w``
+passes through ``value`` (e.g. a lock-link angle passing 180 degrees).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["JumpWindow", "find_jump_windows"]
+
+
+@dataclass(frozen=True)
+class JumpWindow:
+    """Times of one detected jump (s): detection time, start and end of the fast motion."""
+
+    time: float
+    t_start: float
+    t_end: float
+    i_start: int
+    i_end: int
+
+
+def _cross_time(t, f, i):
+    """Time where f (linear between samples i and i+1) crosses zero."""
+    a, b = f[i], f[i + 1]
+    if b == a:
+        return float(t[i + 1])
+    return float(t[i] + (t[i + 1] - t[i]) * a / (a - b))
+
+
+def _fast_intervals(rate: np.ndarray, thr: float) -> list[tuple[int, int]]:
+    """Index intervals [i, j] where |rate| > thr, merging those split by short pauses."""
+    above = np.abs(rate) > thr
+    if not above.any():
+        return []
+    d = np.diff(above.astype(int))
+    starts = list(np.flatnonzero(d == 1) + 1)
+    ends = list(np.flatnonzero(d == -1))
+    if above[0]:
+        starts.insert(0, 0)
+    if above[-1]:
+        ends.append(len(rate) - 1)
+    return list(zip(starts, ends))
+
+
+def find_jump_windows(t: np.ndarray, w: np.ndarray, wdot: np.ndarray, lo: int, hi: int, *, span: float,
+                      threshold: float | None = None, factor: float = 10.0, min_change: float = 0.05,
+                      through: float | None = None) -> tuple[list[JumpWindow], float]:
+    """Jumps of ``w`` among the samples ``lo..hi`` (inclusive) of one sweep segment.
+
+    Parameters
+    ----------
+    t, w, wdot:
+        Sample times (s), watched values and their time derivatives (units/s).
+    lo, hi:
+        Sample index range of the segment.
+    span:
+        Range of ``w`` over the whole sweep (its units); sets the quasi-static rate scale.
+    threshold:
+        Rate above which the motion counts as a jump (units of ``w`` per s); default
+        ``factor * span / segment duration``.
+    min_change:
+        Smallest change of ``w`` across a jump, as a fraction of ``span``.
+    through:
+        If given, a jump is timed where ``w`` crosses this value.
+
+    Returns
+    -------
+    (list of JumpWindow, threshold used)
+    """
+    tt, ww, rr = t[lo:hi + 1], w[lo:hi + 1], wdot[lo:hi + 1]
+    duration = float(tt[-1] - tt[0]) if len(tt) > 1 else 0.0
+    if duration <= 0 or span <= 0:
+        return [], float("inf") if threshold is None else threshold
+    thr = factor * span / duration if threshold is None else float(threshold)
+    merged: list[list[int]] = []
+    for i, j in _fast_intervals(rr, thr):
+        if merged:
+            pi, pj = merged[-1]
+            if tt[i] - tt[pj] <= tt[pj] - tt[pi]:  # a pause shorter than the motion so far: same jump
+                merged[-1][1] = j
+                continue
+        merged.append([i, j])
+    out: list[JumpWindow] = []
+    for i, j in merged:
+        if abs(ww[j] - ww[i]) < min_change * span and through is None:
+            continue
+        if through is None:
+            ts = _cross_time(tt, np.abs(rr) - thr, i - 1) if i > 0 else float(tt[i])
+            out.append(JumpWindow(ts, ts, float(tt[j]), lo + max(i - 1, 0), lo + j))
+    if through is not None:
+        f = ww - through
+        idx = np.flatnonzero(np.sign(f[:-1]) * np.sign(f[1:]) < 0)
+        for k in idx:
+            tc = _cross_time(tt, f, k)
+            enclosing = [(i, j) for i, j in merged if i <= k + 1 and k <= j]
+            i, j = enclosing[0] if enclosing else (k, k + 1)
+            ts = _cross_time(tt, np.abs(rr) - thr, i - 1) if enclosing and i > 0 else float(tt[i])
+            out.append(JumpWindow(tc, ts, float(tt[j]), lo + max(i - 1, 0), lo + j))
+    return out, thr

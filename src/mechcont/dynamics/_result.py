@@ -1,0 +1,109 @@
+"""The result of a time simulation: named columns like a continuation branch."""
+
+from __future__ import annotations
+
+import csv
+import enum
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["SimulationStatus", "SimulationResult"]
+
+
+class SimulationStatus(enum.Enum):
+    """How a simulation ended (``.value`` is the readable message)."""
+
+    FINISHED = "The end of the time span was reached."
+    EVENT = "A terminal event occurred."
+    FAILED = "The integrator failed (step size became too small); try a looser rtol or a smaller max_step."
+
+
+@dataclass
+class SimulationResult:
+    """A time history of a mechanism, with the same column names as a continuation branch.
+
+    Attributes
+    ----------
+    t:
+        Times (s), shape (N,).
+    values:
+        Full variable vectors (N x len(names)): coordinates from the simulation, parameters
+        at their (possibly time-varying) values.
+    qdot:
+        Coordinate velocities (N x n_q), columns named ``<coordinate>_dot``.
+    names, coordinates:
+        Column names of ``values`` and the coordinate names (order of ``qdot``).
+    status:
+        A :class:`SimulationStatus`; ``message`` repeats it as text.
+    constraint_drift:
+        ``max |Phi|`` over the saved points (units of the constraints, m for the overcentre).
+    velocity_drift:
+        ``max |Phi_q qdot|`` over the saved points (m/s).
+    t_events, x_events:
+        Per event: the times (s) and full variable vectors where it occurred.
+    nfev:
+        Number of right-hand side evaluations.
+    """
+
+    t: np.ndarray
+    values: np.ndarray
+    qdot: np.ndarray
+    names: tuple[str, ...]
+    coordinates: tuple[str, ...]
+    status: SimulationStatus
+    constraint_drift: float
+    velocity_drift: float
+    t_events: list[np.ndarray] = field(default_factory=list)
+    x_events: list[np.ndarray] = field(default_factory=list)
+    nfev: int = 0
+
+    @property
+    def success(self) -> bool:
+        """True unless the integrator failed."""
+        return self.status is not SimulationStatus.FAILED
+
+    @property
+    def message(self) -> str:
+        """Readable termination reason."""
+        return self.status.value
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """All column names: ``names`` then the velocity columns ``<coordinate>_dot``."""
+        return self.names + tuple(f"{c}_dot" for c in self.coordinates)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """Column ``name`` (a variable, ``<coordinate>_dot`` or ``t``) as an array."""
+        if name == "t":
+            return self.t
+        if name in self.names:
+            return self.values[:, self.names.index(name)]
+        if name.endswith("_dot") and name[:-4] in self.coordinates:
+            return self.qdot[:, self.coordinates.index(name[:-4])]
+        raise InputError(name, f"not a column; valid: t, {', '.join(self.columns)}")
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def at(self, i: int) -> dict[str, float]:
+        """Row ``i`` as ``{column: value}``."""
+        row = {"t": float(self.t[i])}
+        row.update({n: float(v) for n, v in zip(self.names, self.values[i])})
+        row.update({f"{c}_dot": float(v) for c, v in zip(self.coordinates, self.qdot[i])})
+        return row
+
+    def to_csv(self, path: str | Path) -> None:
+        """Write every row (t, variables, velocities) as CSV with a header line."""
+        path = Path(path)
+        tmp = path.with_name(path.name + ".part")
+        with open(tmp, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(("t", *self.columns))
+            for i in range(len(self.t)):
+                w.writerow([repr(float(self.t[i])), *map(lambda v: repr(float(v)), self.values[i]),
+                            *map(lambda v: repr(float(v)), self.qdot[i])])
+        tmp.replace(path)

@@ -1,0 +1,279 @@
+"""Quasi-static sweeps: the engineers' brute-force way to find jumps and downlock loads.
+
+A sweep ramps parameters (loads) slowly through a sequence of segments — for instance the
+applied force down and then up again — while the mechanism is simulated in time, records
+the response, and reports every jump of a watched quantity with the load at which it
+happened. Slow sweeps follow the stable branches of continuation; each jump happens just
+after a fold, by a margin that shrinks as the sweep slows.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ._events import Crossing
+from ._jumps import find_jump_windows
+from ._result import SimulationResult
+from ._simulate import initial_vector, simulate
+
+__all__ = ["Ramp", "Jump", "SweepResult", "sweep", "parse_ramps"]
+
+
+@dataclass(frozen=True)
+class Ramp:
+    """One sweep segment: parameter ``name`` goes linearly from ``start`` to ``stop``.
+
+    ``rate`` is the speed of the ramp, positive, in units of the parameter per second.
+    """
+
+    name: str
+    start: float
+    stop: float
+    rate: float
+
+    def __post_init__(self):
+        if not (math.isfinite(self.start) and math.isfinite(self.stop)):
+            raise InputError("ramp", f"{self.name}: start and stop must be finite numbers")
+        if not (math.isfinite(self.rate) and self.rate > 0):
+            raise InputError("ramp", f"{self.name}: rate must be a positive number (units per second)")
+        if self.start == self.stop:
+            raise InputError("ramp", f"{self.name}: start and stop must differ")
+
+    @property
+    def duration(self) -> float:
+        """Time the segment takes (s)."""
+        return abs(self.stop - self.start) / self.rate
+
+    @property
+    def direction(self) -> int:
+        """+1 for an increasing ramp, -1 for a decreasing one."""
+        return 1 if self.stop > self.start else -1
+
+
+@dataclass(frozen=True)
+class Jump:
+    """A jump found in a sweep.
+
+    Attributes
+    ----------
+    parameter, value:
+        The ramped parameter and its value when the jump was detected (the jump load).
+    time:
+        Detection time (s).
+    segment, direction:
+        Index of the sweep segment and its ramp direction (+1 up, -1 down).
+    before, after:
+        Coordinates ``{name: value}`` at the start and at the end of the fast motion.
+    t_start, t_end:
+        Start and end of the fast motion (s).
+    """
+
+    parameter: str
+    value: float
+    time: float
+    segment: int
+    direction: int
+    before: dict
+    after: dict
+    t_start: float
+    t_end: float
+
+
+@dataclass
+class SweepResult:
+    """A recorded sweep: the time history, its segments and the jumps found.
+
+    ``result["theta1"]`` etc. give columns as in :class:`SimulationResult`;
+    :meth:`curve` gives one segment as (parameter, watched) arrays for plotting over a branch.
+    """
+
+    simulation: SimulationResult
+    ramps: tuple[Ramp, ...]
+    segment_times: np.ndarray
+    watch: str
+    jumps: list[Jump]
+    threshold: list[float]
+
+    @property
+    def t(self) -> np.ndarray:
+        """Sample times (s)."""
+        return self.simulation.t
+
+    @property
+    def values(self) -> np.ndarray:
+        """Full variable vectors per sample (N x len(names))."""
+        return self.simulation.values
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Column names of :attr:`values`."""
+        return self.simulation.names
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.simulation[name]
+
+    def segment_mask(self, i: int) -> np.ndarray:
+        """Boolean mask of the samples in segment ``i``."""
+        t0, t1 = self.segment_times[i]
+        return (self.t >= t0) & (self.t <= t1)
+
+    def curve(self, i: int) -> tuple[np.ndarray, np.ndarray]:
+        """Segment ``i`` as (ramped parameter values, watched values)."""
+        m = self.segment_mask(i)
+        return self[self.ramps[i].name][m], self[self.watch][m]
+
+    def to_csv(self, path: str | Path) -> None:
+        """Write the time history (t, variables, velocities) as CSV."""
+        self.simulation.to_csv(path)
+
+
+def parse_ramps(ramp) -> tuple[Ramp, ...]:
+    """Normalise a ramp description to a tuple of :class:`Ramp`.
+
+    Accepts a :class:`Ramp`, a sequence of ``Ramp`` or ``(name, from, to, rate)`` tuples, or a
+    mapping ``{name: (from, to, rate)}`` / ``{name: [(from, to, rate), ...]}`` (segments in
+    order).
+    """
+    out: list[Ramp] = []
+    if isinstance(ramp, Ramp):
+        return (ramp,)
+    if isinstance(ramp, Mapping):
+        for name, spec in ramp.items():
+            segs = spec if (len(spec) and isinstance(spec[0], (tuple, list))) else [spec]
+            for seg in segs:
+                if len(seg) != 3:
+                    raise InputError("ramp", f"{name}: give (from, to, rate)")
+                out.append(Ramp(name, float(seg[0]), float(seg[1]), float(seg[2])))
+    elif isinstance(ramp, Sequence):
+        for seg in ramp:
+            if isinstance(seg, Ramp):
+                out.append(seg)
+            elif len(seg) == 4:
+                out.append(Ramp(str(seg[0]), float(seg[1]), float(seg[2]), float(seg[3])))
+            else:
+                raise InputError("ramp", "give Ramp objects or (name, from, to, rate) tuples")
+    if not out:
+        raise InputError("ramp", "at least one segment (name, from, to, rate) is needed")
+    return tuple(out)
+
+
+def _schedule(ramps: Sequence[Ramp], settle: float):
+    """Segment time windows and a piecewise-linear load function per ramped parameter."""
+    times, t = [], settle
+    for r in ramps:
+        times.append((t, t + r.duration))
+        t += r.duration
+    loads: dict[str, Callable[[float], float]] = {}
+    for name in dict.fromkeys(r.name for r in ramps):
+        segs = tuple((a, b, r.start, r.stop) for (a, b), r in zip(times, ramps) if r.name == name)
+        loads[name] = _piecewise(segs)
+    return np.array(times, float).reshape(-1, 2), loads
+
+
+def _piecewise(segs):
+    """Load function: linear within each segment, held between and after them."""
+    def value(t: float) -> float:
+        v = segs[0][2]
+        for a, b, v0, v1 in segs:
+            if t < a:
+                return v
+            if t <= b:
+                return v0 + (t - a) * (v1 - v0) / (b - a)
+            v = v1
+        return v
+    return value
+
+
+def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float = 0.0,
+          through: float | None = None, rate_threshold: float | None = None, stop_on_jump: bool = False,
+          method: str = "RK45", rtol: float = 1e-6, atol: float = 1e-8, max_step: float | None = None,
+          baumgarte: tuple[float, float] | None = (10.0, 10.0),
+          progress: Callable[[float], None] | None = None) -> SweepResult:
+    """Ramp parameters slowly, simulate the mechanism, and detect the jumps of ``watch``.
+
+    Parameters
+    ----------
+    system:
+        A model with ``mechanics`` (e.g. ``build_overcentre(LU=0.4, c=...)``).
+    x0:
+        Assembled start (full vector or ``{name: value}``); ideally an equilibrium at the
+        first ramp's start load, otherwise use ``settle`` to let it come to rest.
+    ramp:
+        Segments, see :func:`parse_ramps`: e.g. ``{"F": [(60, -90, 2), (-90, 110, 2)]}``
+        ramps F down from 60 N to -90 N and back up to 110 N at 2 N/s. Each ramped
+        parameter holds its first start value before its first segment and its last value
+        after its last one.
+    watch:
+        Coordinate whose jumps are detected (e.g. ``"theta1"``).
+    damping:
+        Mass-proportional (Rayleigh) damping, 1/s (see :func:`simulate`); model dampers
+        such as the overcentre's ``c`` are set through its parameters.
+    settle:
+        Seconds at the initial loads before the first segment (not searched for jumps).
+    through:
+        Time jumps where ``watch`` passes through this value instead of by rate alone.
+    rate_threshold:
+        Rate of ``watch`` (units/s) above which motion counts as a jump; default 10 times
+        ``span / segment duration`` (see :mod:`._jumps`).
+    stop_on_jump:
+        Stop the simulation the first time ``watch`` passes ``through`` (requires it).
+    method, rtol, atol, baumgarte:
+        Passed to :func:`simulate`.
+    max_step:
+        Largest time step (s); default 1/400 of the shortest segment, so each segment is
+        resolved by at least 400 samples.
+    progress:
+        Called with the simulated time after each step.
+
+    Returns
+    -------
+    SweepResult
+        The record, its segments and the detected :class:`Jump` list (jump loads).
+    """
+    ramps = parse_ramps(ramp)
+    for r in ramps:
+        system.index(r.name)
+    coords = [system.names[i] for i in system.mechanics.q_index] if system.mechanics is not None else []
+    if watch not in coords:
+        raise InputError("watch", f"must be a coordinate of the model; valid: {', '.join(coords)}")
+    if not (math.isfinite(settle) and settle >= 0):
+        raise InputError("settle", "must be a non-negative number of seconds")
+    if stop_on_jump and through is None:
+        raise InputError("stop_on_jump", "needs a `through` value to stop at")
+    x = initial_vector(system, x0)
+    seg_times, loads = _schedule(ramps, settle)
+    t_end = float(seg_times[-1, 1])
+    if max_step is None:
+        max_step = min(r.duration for r in ramps) / 400.0
+    events = [Crossing(watch, through, 0, True)] if stop_on_jump else None
+    sim = simulate(system, x, (0.0, t_end), loads=loads, method=method, rtol=rtol, atol=atol,
+                   baumgarte=baumgarte, damping=damping, max_step=max_step, events=events, progress=progress)
+    t, w, wdot = sim.t, sim[watch], sim[f"{watch}_dot"]
+    in_sweep = t >= settle
+    span = float(np.ptp(w[in_sweep])) if in_sweep.any() else 0.0
+    jumps, thresholds = [], []
+    for k, ((a, b), r) in enumerate(zip(seg_times, ramps)):
+        idx = np.flatnonzero((t >= a) & (t <= b))
+        if idx.size < 2:
+            thresholds.append(float("nan"))
+            continue
+        windows, thr = find_jump_windows(t, w, wdot, int(idx[0]), int(idx[-1]), span=span,
+                                         threshold=rate_threshold, through=through)
+        thresholds.append(thr)
+        for win in windows:
+            jumps.append(Jump(
+                parameter=r.name, value=loads[r.name](win.time), time=win.time, segment=k,
+                direction=r.direction, before=_coords_at(sim, win.i_start), after=_coords_at(sim, win.i_end),
+                t_start=win.t_start, t_end=win.t_end))
+    return SweepResult(simulation=sim, ramps=ramps, segment_times=seg_times, watch=watch, jumps=jumps,
+                       threshold=thresholds)
+
+
+def _coords_at(sim: SimulationResult, i: int) -> dict:
+    return {c: float(sim[c][i]) for c in sim.coordinates}
