@@ -236,6 +236,18 @@ def test_animate_errors(tmp_path, overcentre):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.csv"]
 
 
+def test_failure_while_writing_leaves_nothing(tmp_path, overcentre):
+    def fail_on_second_frame(count=[]):
+        count.append(1)
+        if len(count) == 2:
+            raise RuntimeError("interrupted")
+
+    with pytest.raises(RuntimeError, match="interrupted"):
+        animate(overcentre, symmetric_rows(overcentre, [0.1, 0.2, 0.3]), tmp_path / "a.gif", figsize=(2, 2), dpi=30,
+                on_frame=fail_on_second_frame)
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_mp4_without_ffmpeg_suggests_gif(tmp_path, overcentre, monkeypatch):
     import shutil
 
