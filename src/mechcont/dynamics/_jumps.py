@@ -102,7 +102,7 @@ def find_jump_windows(t: np.ndarray, w: np.ndarray, wdot: np.ndarray, lo: int, h
             out.append(JumpWindow(ts, ts, float(tt[j]), lo + max(i - 1, 0), lo + j))
     if through is not None:
         f = ww - through
-        idx = np.flatnonzero(np.sign(f[:-1]) * np.sign(f[1:]) < 0)
+        idx = np.flatnonzero(((f[:-1] > 0) & (f[1:] <= 0)) | ((f[:-1] < 0) & (f[1:] >= 0)))
         for k in idx:
             tc = _cross_time(tt, f, k)
             enclosing = [(i, j) for i, j in merged if i <= k + 1 and k <= j]
