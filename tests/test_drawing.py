@@ -363,3 +363,16 @@ def test_cli_draws_the_folds_of_a_continued_branch(tmp_path, run, overcentre, re
     assert r.exit_code == 0, r.output
     with Image.open(tmp_path / "a.gif") as im:
         assert im.n_frames == math.ceil(len(real_branch) / 30)
+
+
+def test_cli_draws_a_mechanism_description_file(tmp_path, run):
+    """A generated mechanism (description file) draws too; its equilibrium force matches the closed form."""
+    mechanism = pytest.importorskip("mechcont.mechanism")
+    path = mechanism.find_description("overcentre")
+    if path is None:
+        pytest.skip("no shipped overcentre description")
+    out = tmp_path / "gen.svg"
+    r = run("draw", path, "--set", "LU=0.4", "--start", "theta1=0.3", "--free", "F", "--out", out)
+    assert r.exit_code == 0, r.output
+    F = symmetric_force(0.3, 1.5, 1.0, 1.0, 9.81, 127.0, 0.4)
+    assert f"F = {F:.4g} N".encode() in out.read_bytes()

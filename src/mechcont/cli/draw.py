@@ -14,18 +14,23 @@ _ANIMATE_DEFAULT = ("F", "theta1")
 
 
 def _model(name: str):
-    """The built-in model ``name``, with its drawing attached."""
+    """The built-in model ``name`` with its drawing attached, else a description file (or shipped stem)."""
     from ..models import build_overcentre
 
     builders = {"overcentre": build_overcentre}
-    if name not in builders:
-        raise InputError("model", f"unknown model '{name}'; valid: {', '.join(sorted(builders))}")
-    system = builders[name]()
-    if system.scene is None and name == "overcentre":
-        from ..models.overcentre_scene import overcentre_scene
+    if name in builders:
+        system = builders[name]()
+        if system.scene is None:
+            from ..models.overcentre_scene import overcentre_scene
 
-        system.scene = overcentre_scene(system)
-    return system
+            system.scene = overcentre_scene(system)
+        return system
+    from ..mechanism import find_description, load
+
+    if find_description(name) is None:
+        raise InputError("model", f"unknown model '{name}'; valid: {', '.join(sorted(builders))} "
+                                  f"or a mechanism description file (.toml)")
+    return load(name)
 
 
 def _assignments(items, field: str) -> dict[str, float]:
@@ -69,7 +74,11 @@ def _out(path: str, valid) -> Path:
 @click.option("--no-forces", is_flag=True, help="Do not draw the applied forces.")
 @click.option("--out", required=True, metavar="FILE", help="Output .png, .svg or .pdf.")
 def draw_command(model, sets, starts, frees, point, annotate, no_forces, out):
-    """Draw MODEL at one equilibrium (solved from --set/--start/--free) or at a branch point."""
+    """Draw MODEL (a built-in name or a description .toml) at one equilibrium or at a branch point.
+
+    The equilibrium is solved at the --set values with the --start states held and the
+    --free parameters solved for (e.g. --start theta1=0.3 --free F).
+    """
     from ..outputs.drawing import IMAGE_SUFFIXES, branch_frames, draw
 
     path = _out(out, IMAGE_SUFFIXES)
