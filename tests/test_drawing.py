@@ -340,6 +340,9 @@ def test_animate_a_continued_branch(tmp_path, overcentre, real_branch):
     assert n == math.ceil(len(real_branch) / every)
     with Image.open(tmp_path / "b.gif") as im:
         assert im.n_frames == n
+    out = tmp_path / "lp.svg"
+    draw(overcentre, real_branch["LP1"], out, annotate=("F",), **SMALL)
+    assert b"LP" in out.read_bytes() and f"F = {real_branch['LP1'].x[overcentre.index('F')]:.4g} N".encode() in out.read_bytes()
     fr = branch_frames(overcentre, real_branch)
     assert fr.labels.count("LP") == 2 and fr.numbered_labels.count("LP2") == 1
 

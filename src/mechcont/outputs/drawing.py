@@ -313,7 +313,8 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
     system:
         An :class:`~mechcont.equations.EquationSystem` with a ``scene``.
     x:
-        Full variable vector ordered like ``system.names`` (SI units, radians).
+        Full variable vector ordered like ``system.names`` (SI units, radians), or a
+        special point of a branch (``branch["LP1"]``: its ``.x``; its label is shown).
     path:
         Output file; its suffix picks the format: ``.png``, ``.svg`` or ``.pdf``.
     ax, title, show_forces, force_scale:
@@ -337,6 +338,9 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
     """
     out = _check_out(path, IMAGE_SUFFIXES) if path is not None else None
     scene_fn = _scene_of(system)
+    if hasattr(x, "x") and hasattr(x, "label"):
+        label = label or str(x.label)
+        x = x.x
     x = _check_x(system, x)
     for name in annotate:
         system.index(name)
