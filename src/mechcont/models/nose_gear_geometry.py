@@ -208,15 +208,18 @@ def downlocked_pose(p: Mapping[str, float], theta4: float = 0.0) -> dict[str, fl
     from scipy.optimize import brentq
 
     def gap(t3):
-        _, K = _knee(p, t3)
+        try:
+            _, K = _knee(p, t3)
+        except InputError:
+            return float("nan")
         J = K + p["L4"] * _e(theta4)
         P5 = -p["L35"] * _e(t3 - p["psi2"])
         return float(np.hypot(*(P5 - J)) - p["L5"])
 
     ts = DOWNLOCK_THETA3 + np.linspace(-0.3, 0.05, 351)
     vals = [gap(t) for t in ts]
-    roots = [brentq(gap, ts[i], ts[i + 1], xtol=1e-15, rtol=4e-16)
-             for i in range(len(ts) - 1) if np.sign(vals[i]) != np.sign(vals[i + 1])]
+    roots = [brentq(gap, ts[i], ts[i + 1], xtol=1e-15, rtol=1e-15)
+             for i in range(len(ts) - 1) if vals[i] * vals[i + 1] < 0 or vals[i] == 0]
     if not roots:
         raise InputError("theta4", f"no assembled nose-gear pose with theta4 = {theta4:g} rad near the downlocked pose")
     t3 = min(roots, key=lambda t: abs(t - DOWNLOCK_THETA3))

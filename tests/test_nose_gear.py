@@ -1,0 +1,155 @@
+"""The paper-style 25-equation nose gear: assembly, exact derivatives, balance, closed forms."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mechcont.errors import InputError
+from mechcont.models.nose_gear import COORDINATES, FORCES, build_nose_gear, overcentre_angle
+from mechcont.models.nose_gear_geometry import (
+    aligned_downlock_force,
+    aligned_lock_lug,
+    defaults,
+    downlocked_pose,
+    pose,
+)
+
+
+@pytest.fixture(scope="module")
+def gear():
+    return build_nose_gear()
+
+
+def _solve(gear, **values):
+    """Equilibrium with theta4 held at 0 and F free (scipy-free: plain Newton on the 25 equations)."""
+    from mechcont.continuation import find_equilibrium
+
+    return find_equilibrium(gear, values=values, hold={"theta4": 0.0}, free=["F"], guess=gear.downlocked)
+
+
+def test_counts_match_the_paper(gear):
+    assert len(gear.equations) == 25
+    assert len(gear.state_names) == 25
+    assert set(gear.state_names) == set(COORDINATES) | set(FORCES)
+    assert len(gear.mechanics.constraints) == 14
+
+
+def test_downlocked_pose_is_level_and_aligned(gear):
+    v = gear.as_dict(gear.downlocked)
+    assert v["theta4"] == 0.0
+    assert abs(v["theta5"]) < 1e-12
+    assert abs(overcentre_angle(v["theta4"], v["theta5"]) - np.pi) < 1e-12
+    assert np.max(np.abs(gear.residual(gear.downlocked))) < 1e-9
+
+
+def test_closed_form_pose_satisfies_the_constraints(gear):
+    p = defaults()
+    for t3 in (1.2, 1.3, 1.38):
+        for side in (-1, 1):
+            q = pose(p, t3, lock_side=side)
+            x = gear.vector(q)
+            assert np.max(np.abs(gear.mechanics.phi(x))) < 1e-12
+
+
+def test_downlock_force_matches_virtual_work_closed_form(gear):
+    """The 25-equation solution and the dead-centre virtual-work formula are independent derivations."""
+    F = gear.as_dict(gear.downlocked)["F"]
+    assert F == pytest.approx(aligned_downlock_force(defaults()), rel=1e-12)
+    # the weight of the lock links alone, with no spring
+    assert gear.as_dict(_solve(gear, k=0.0))["F"] == pytest.approx((2.5 + 2.0) * 9.81 / 2, rel=1e-12)
+
+
+def test_jacobian_matches_finite_differences(gear):
+    rng = np.random.default_rng(1)
+    x = gear.downlocked + 0.05 * rng.standard_normal(len(gear.names)) * gear.scales()
+    J = gear.jacobian(x)
+    h = 1e-6 * gear.scales()
+    fd = np.empty_like(J)
+    for j in range(len(x)):
+        e = np.zeros_like(x)
+        e[j] = h[j]
+        fd[:, j] = (gear.residual(x + e) - gear.residual(x - e)) / (2 * h[j])
+    scale = np.maximum(1.0, np.abs(J))
+    assert np.max(np.abs(J - fd) / scale) < 1e-6
+
+
+def test_inter_link_forces_are_the_multipliers_of_the_energy_model(gear):
+    """Phi_q^T lambda = Q with lambda built from the R states: free-body rows vs sympy energy."""
+    g = gear
+    for U, l_sp1 in ((0.0, 0.1), (80.0, -0.05)):
+        x = _solve(gear, U=U, l_sp1=l_sp1)
+        v = g.as_dict(x)
+        R = {n: np.array([v[f"{n}x"], v[f"{n}y"]]) for n in ("R12", "R14", "R23", "R45", "R53")}
+        mech = g.mechanics
+        RA = R["R12"] + R["R14"] + np.array([0, v["m1"] * v["g"]])
+        # constraint order: A, knee12, lug23, pivotO, knee14, joint45, lug53 (see the module)
+        Q = mech.applied_forces(x)
+        lam_A = -RA
+        # O: residual of the bar-3 force balance gives the ground reaction; solve it from Q
+        rest = np.concatenate([lam_A, R["R12"], R["R23"], [0, 0], R["R14"], R["R45"], R["R53"]])
+        A = mech.phi_q(x).T
+        lam_O = np.linalg.lstsq(A[:, 6:8], Q - A @ rest, rcond=None)[0]
+        rest[6:8] = lam_O
+        assert np.max(np.abs(A @ rest - Q)) < 1e-8 * max(1.0, np.max(np.abs(Q)))
+
+
+def test_static_balance_by_virtual_work(gear):
+    x = gear.downlocked
+    Z = gear.mechanics.allowed_motions(x)
+    assert Z.shape[1] == 1
+    assert abs(float(Z[:, 0] @ gear.mechanics.applied_forces(x))) < 1e-9
+
+
+def test_dead_centre_makes_drag_and_gear_weight_irrelevant(gear):
+    F0 = gear.as_dict(gear.downlocked)["F"]
+    for kw in ({"U": 100.0}, {"m3": 200.0, "m1": 30.0}):
+        assert gear.as_dict(_solve(gear, **kw))["F"] == pytest.approx(F0, abs=1e-9)
+
+
+def test_misaligned_lug_lets_drag_in(gear):
+    L35, psi2 = aligned_lock_lug(defaults(), offset=0.002)
+    v0 = gear.as_dict(_solve(gear, L35=L35, psi2=psi2))
+    v1 = gear.as_dict(_solve(gear, L35=L35, psi2=psi2, U=100.0))
+    assert abs(overcentre_angle(v0["theta4"], v0["theta5"]) - np.pi) > 1e-4
+    assert abs(v1["F"] - v0["F"]) > 0.1
+
+
+def test_stability_is_physical_and_matches_energy(gear):
+    """Reduced stiffness equals V'' along the one allowed motion (finite differences of V on the manifold)."""
+    x = gear.downlocked
+    st = gear.mechanics.stability(x)
+    assert st.conservative and st.n_unstable == 0
+    # V along the mechanism's motion parametrised by theta4 (closed-form assembly)
+    import sympy as sp
+
+    V = sp.lambdify([sp.Symbol(n, real=True) for n in gear.names], gear.potential_energy)
+    p = gear.as_dict(x)
+
+    def energy(t4):
+        q = downlocked_pose(p, t4)
+        return V(*gear.vector(q, base=x))
+
+    h = 1e-4
+    d2V = (energy(h) - 2 * energy(0.0) + energy(-h)) / h**2
+    Z = gear.mechanics.allowed_motions(x)[:, 0]
+    i4 = COORDINATES.index("theta4")
+    z = Z / Z[i4]  # motion per unit theta4
+    K = gear.mechanics.tangent_stiffness(x)
+    assert float(z @ K @ z) == pytest.approx(d2V, rel=1e-4)
+
+
+def test_scene_draws_five_bars(gear):
+    sc = gear.scene(gear.downlocked)
+    assert len(sc.bars) == 5 and len(sc.grounds) == 2 and len(sc.springs) == 1
+    xmin, xmax, ymin, ymax = sc.extent()
+    assert ymin < -1.9 and xmin <= -1.4 + 1e-12
+
+
+def test_bad_parameter_names_and_values():
+    with pytest.raises(InputError, match="l_sp3"):
+        build_nose_gear(l_sp3=0.1)
+    with pytest.raises(InputError, match="k"):
+        defaults(k=float("nan"))
+    with pytest.raises(InputError, match="theta4"):
+        downlocked_pose(defaults(), 2.5)
