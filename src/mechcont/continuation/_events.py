@@ -38,6 +38,9 @@ class Event:
 
     label = "EV"
     stop = False
+    #: True when the test function is continuous along a branch, so a sign change without
+    #: a zero between the two points reveals a jump to another branch.
+    continuous = False
 
     def value(self, problem, state: PointState) -> float:  # pragma: no cover - interface
         raise NotImplementedError
@@ -64,6 +67,7 @@ class BranchPointEvent(Event):
     """Branch point (``BP``): det [dG/dz; tangent^T] changes sign (it does not at folds)."""
 
     label = "BP"
+    continuous = True
 
     def value(self, problem, state):
         A = np.vstack([state.jac, state.tangent])

@@ -61,7 +61,7 @@ class ContinuationOptions:
     newton_tol: float = 1e-10
     residual_tol: float = 1e-10
     max_newton: int = 8
-    max_contraction: float = 0.5
+    max_contraction: float = 0.3
     max_angle: float = 0.35
     grow: float = 1.5
     shrink: float = 0.5

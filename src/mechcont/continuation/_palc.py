@@ -210,10 +210,26 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
             res.message = f"start lies on the bound of {getattr(leaving[0], 'name', leaving[0].label)}"
             return res
         hits = []
+        jumped = None
         for ev, v0, v1 in zip(events, values, new_values):
             if v0 == 0 or v1 == 0 or (v0 > 0) == (v1 > 0):
                 continue
-            hits.append((ev, _locate(eng, problem, cur, ds, ev, v0, v1)))
+            hit = _locate(eng, problem, cur, ds, ev, v0, v1)
+            if ev.continuous and (hit[1] is None or abs(ev.value(problem, hit[1])) > 1e-6 * max(abs(v0), abs(v1))):
+                # the test function jumps instead of crossing zero: the corrector landed on
+                # another branch. Retry with a step short of the discontinuity.
+                jumped = hit[0]
+                break
+            hits.append((ev, hit))
+        if jumped is not None:
+            ds = max(0.5 * jumped, options.shrink * options.dsmin)
+            if ds < options.dsmin:
+                res.status = "step size underflow"
+                res.message = (f"branches too close to separate{_describe(problem, cur.x)}: a test function jumps "
+                               "within dsmin; reduce dsmin")
+                res.labels[-1] = res.labels[-1] or "EP"
+                return res
+            continue
         hits.sort(key=lambda h: h[1][0])
         stop = False
         for ev, (sigma, st, info) in hits:
