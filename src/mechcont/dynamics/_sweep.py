@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import InputError
 from ._events import Crossing
 from ._jumps import find_jump_windows
-from ._result import SimulationResult
+from ._result import SimulationResult, SimulationStatus
 from ._simulate import initial_vector, simulate
 
 __all__ = ["Ramp", "Jump", "SweepResult", "sweep", "parse_ramps"]
@@ -248,12 +248,23 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
         raise InputError("stop_on_jump", "needs a `through` value to stop at")
     x = initial_vector(system, x0)
     seg_times, loads = _schedule(ramps, settle)
-    t_end = float(seg_times[-1, 1])
     if max_step is None:
         max_step = min(r.duration for r in ramps) / 400.0
     events = [Crossing(watch, through, 0, True)] if stop_on_jump else None
-    sim = simulate(system, x, (0.0, t_end), loads=loads, method=method, rtol=rtol, atol=atol,
-                   baumgarte=baumgarte, damping=damping, max_step=max_step, events=events, progress=progress)
+    # one integration per phase (settle, then each segment), so that the samples include
+    # every segment boundary and no step straddles a kink of the load
+    phases = ([(0.0, settle)] if settle > 0 else []) + [tuple(ab) for ab in seg_times]
+    parts: list[SimulationResult] = []
+    qd = None
+    for a, b in phases:
+        part = simulate(system, x, (a, b), qdot0=qd, loads=loads, method=method, rtol=rtol, atol=atol,
+                        baumgarte=baumgarte, damping=damping, max_step=max_step, events=events,
+                        progress=progress)
+        parts.append(part)
+        x, qd = part.values[-1], part.qdot[-1]
+        if part.status is not SimulationStatus.FINISHED:
+            break
+    sim = _concatenate(parts)
     t, w, wdot = sim.t, sim[watch], sim[f"{watch}_dot"]
     in_sweep = t >= settle
     span = float(np.ptp(w[in_sweep])) if in_sweep.any() else 0.0
@@ -273,6 +284,23 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
                 t_start=win.t_start, t_end=win.t_end))
     return SweepResult(simulation=sim, ramps=ramps, segment_times=seg_times, watch=watch, jumps=jumps,
                        threshold=thresholds)
+
+
+def _concatenate(parts: list[SimulationResult]) -> SimulationResult:
+    """One result from consecutive phases (the first sample of each later phase is dropped)."""
+    first = parts[0]
+    keep = [slice(None)] + [slice(1, None)] * (len(parts) - 1)
+    n_ev = len(first.t_events)
+    return SimulationResult(
+        t=np.concatenate([p.t[k] for p, k in zip(parts, keep)]),
+        values=np.concatenate([p.values[k] for p, k in zip(parts, keep)]),
+        qdot=np.concatenate([p.qdot[k] for p, k in zip(parts, keep)]),
+        names=first.names, coordinates=first.coordinates, status=parts[-1].status,
+        constraint_drift=max(p.constraint_drift for p in parts),
+        velocity_drift=max(p.velocity_drift for p in parts),
+        t_events=[np.concatenate([p.t_events[i] for p in parts]) for i in range(n_ev)],
+        x_events=[np.concatenate([p.x_events[i] for p in parts]) for i in range(n_ev)],
+        nfev=sum(p.nfev for p in parts))
 
 
 def _coords_at(sim: SimulationResult, i: int) -> dict:
