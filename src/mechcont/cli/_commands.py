@@ -1,2 +1,3 @@
 """Imports every command module so that each registers itself on the group."""
 from . import draw  # noqa: F401  (mechcont draw, mechcont animate)
+from . import equations  # noqa: F401  (mechcont equations)
