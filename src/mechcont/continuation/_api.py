@@ -88,7 +88,8 @@ def _run(problem, system, u0, options, events, direction, vary, unknowns, tangen
     statuses = [parts[d].status for d in dirs]
     status = "completed" if all(x == "completed" for x in statuses) else next(x for x in statuses if x != "completed")
     message = "; ".join(f"{'+' if d > 0 else '-'}: {parts[d].message}" for d in dirs if parts[d].message)
-    return Branch(system.names, values, s, stab, labels, special, vary, unknowns, status, message, system.name)
+    return Branch(system.names, values, s, stab, labels, special, vary, unknowns, status, message, system.name,
+                  units={v.name: v.unit for v in system.variables})
 
 
 def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),

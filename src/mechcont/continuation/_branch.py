@@ -73,13 +73,15 @@ class Branch:
         (``branch["LP1"]``, ``branch["LP2"]``).
     vary, unknowns:
         The continuation parameter and the names solved for.
+    units:
+        ``{name: SI unit}`` for display.
     status, message:
         ``"completed"`` (hit a bound or max steps) or a failure reason with an
         explanation, per direction joined by ``"; "``.
     """
 
     def __init__(self, names, values, s, n_unstable, labels, special_points, vary, unknowns,
-                 status="completed", message="", model=""):
+                 status="completed", message="", model="", units=None):
         self.names = tuple(names)
         self.values = np.asarray(values, dtype=float).reshape(-1, len(self.names))
         self.s = np.asarray(s, dtype=float)
@@ -91,6 +93,7 @@ class Branch:
         self.status = status
         self.message = message
         self.model = model
+        self.units = dict(units or {})
         self._col = {n: i for i, n in enumerate(self.names)}
 
     # -- access ----------------------------------------------------------------------

@@ -126,6 +126,9 @@ def build_overcentre(**overrides: float) -> EquationSystem:
         description="Overcentre mechanism, paper eq. 6 (6 states, one equilibrium row)",
     )
     system.potential_energy = V
+    from .overcentre_scene import overcentre_scene
+
+    system.scene = overcentre_scene(system)
     return system.compile()
 
 

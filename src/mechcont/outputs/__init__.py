@@ -7,6 +7,7 @@ import importlib
 _LAZY = {
     "draw_scene": "drawing", "draw": "drawing", "animate": "drawing", "branch_frames": "drawing",
     "BranchFrames": "drawing",
+    "plot_branch": "plotting", "plot_surface": "plotting", "new_figure": "plotting", "save_figure": "plotting",
 }
 
 __all__ = sorted(_LAZY)
