@@ -104,6 +104,28 @@ def _initial_guess(mech: Mechanism, kin: Kinematics, values: dict[str, float]) -
     return guess
 
 
+def _least_squares(model: MechanicalModel, x: np.ndarray, free_q: np.ndarray) -> np.ndarray:
+    """The configuration minimising |Phi|^2 near ``x`` (to measure by how much loops miss)."""
+    from scipy.optimize import least_squares
+    idx = model.q_index[free_q]
+    cols = np.flatnonzero(free_q)
+
+    def fun(u):
+        y = x.copy()
+        y[idx] = u
+        return model.phi(y)
+
+    def jac(u):
+        y = x.copy()
+        y[idx] = u
+        return model.phi_q(y)[:, cols]
+
+    sol = least_squares(fun, x[idx], jac=jac, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=2000)
+    y = x.copy()
+    y[idx] = sol.x
+    return y
+
+
 def _loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray) -> InputError:
     """Name the loop that cannot close and by how much (sum of the joint gaps around it)."""
     gaps: dict[str, float] = {}
@@ -125,15 +147,19 @@ def _loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray) -> 
     held = f" with held {', '.join(f'{k} = {v}' for k, v in mech.hold.items())}" if mech.hold else ""
     if goal not in prev:
         return InputError(f"joints.{worst}", f"cannot be satisfied{held}: gap {gaps[worst]:.4g} m")
-    bodies, joints, node = [goal], [worst], goal
+    bodies, joints, node = [goal], [], goal
     while prev[node] is not None:
         node, name = prev[node]
         bodies.append(node)
         joints.append(name)
+    bodies, joints = bodies[::-1], [*joints[::-1], worst]  # start ... goal, then back to start by `worst`
+    if "ground" in bodies:  # read the loop from the ground
+        i = bodies.index("ground")
+        bodies, joints = bodies[i:] + bodies[:i], joints[i:] + joints[:i]
     gap = sum(gaps.get(j, 0.0) for j in joints)
-    loop = " - ".join([*reversed(bodies), goal])
+    loop = " - ".join([*bodies, bodies[0]])
     return InputError(f"joints.{worst}",
-                      f"the loop {loop} (joints {', '.join(reversed(joints))}) cannot close with the given "
+                      f"the loop {loop} (joints {', '.join(joints)}) cannot close with the given "
                       f"lengths{held}: it misses by {gap:.4g} m at best")
 
 
@@ -178,7 +204,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
     free_q = np.array([c not in mech.hold for c in coords])
     x, ok = close_constraints(model.phi, model.phi_q, x, model.q_index, free_q)
     if not ok:
-        raise _loop_error(mech, rows, model.phi(x))
+        raise _loop_error(mech, rows, model.phi(_least_squares(model, x, free_q)))
     report = dof_report(model.phi_q(x), [r.joint for r in rows])
     if report.redundant or report.dof != mech.dof:
         red = report.redundant_joints
