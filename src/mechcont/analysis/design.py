@@ -1,0 +1,257 @@
+"""Design answers from the downlock analysis: where the gear locks unaided, and how far the folds are.
+
+Questions an engineer asks, answered by continuation on the downlock condition (lock links
+held aligned, the force ``F`` solved for; see :mod:`mechcont.analysis.downlock`):
+
+* "For which (l_sp1, LU) is the downlock force positive?" — the gear then locks with no
+  help. The boundary ``F = 0`` is itself continued (F held at 0, LU freed, l_sp1 varied).
+* "What is the margin to the fold?" — folds of the downlock force with respect to the
+  design parameter (extrema of F(l_sp1), the paper's Figure 11 limit points) bound the
+  region where moving the attachment has the counter-intuitive effect; the margin is the
+  distance of the design value to the nearest one, and the fold locus in the second
+  parameter ends at a cusp.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..continuation import Branch, ContinuationOptions, continuation, continue_folds
+from ..equations import EquationSystem
+from ..errors import ConvergenceError, InputError
+from .downlock import downlock, downlock_condition, downlock_point
+
+__all__ = ["FoldLocus", "DesignRow", "DesignRegion", "fold_locus", "design_region"]
+
+
+@dataclass
+class FoldLocus:
+    """Folds of the downlock force with respect to a design parameter.
+
+    Attributes
+    ----------
+    branch:
+        Continuation in the force with the design parameter solved for (lock links held);
+        its ``LP`` points are the extrema of F(design).
+    curve:
+        The fold curve continued in the second parameter (``None`` when the branch has no
+        fold); ``CP`` marks cusps.
+    """
+
+    branch: Branch
+    curve: Branch | None
+
+    @property
+    def cusps(self) -> list:
+        """Cusp points (``CP``) of the fold curve."""
+        return [] if self.curve is None else self.curve.special("CP")
+
+
+@dataclass(frozen=True)
+class DesignRow:
+    """One level of the second parameter in the design table (SI units)."""
+
+    level: float
+    force_at_design: float
+    locking_intervals: tuple[tuple[float, float], ...]
+    folds: tuple[float, ...]
+    margin_to_fold: float  # distance of the design value to the nearest fold (nan if none)
+
+
+@dataclass
+class DesignRegion:
+    """Downlock force over a plane of two design parameters, the F = 0 boundary and the folds.
+
+    Attributes
+    ----------
+    x_name, y_name:
+        The design parameters (e.g. ``"l_sp1"``, ``"LU"``).
+    x, y:
+        Grid vectors; ``force[i, j]`` is the downlock force (N) at ``(x[j], y[i])``.
+    boundary:
+        Branch along ``F = 0`` (``None`` if it does not cross the plane).
+    folds:
+        :class:`FoldLocus` (``None`` if no fold in the plane).
+    rows:
+        :class:`DesignRow` per level of ``y``.
+    design:
+        The design point ``(x0, y0)``.
+    """
+
+    x_name: str
+    y_name: str
+    x: np.ndarray
+    y: np.ndarray
+    force: np.ndarray
+    boundary: Branch | None
+    folds: FoldLocus | None
+    rows: list[DesignRow] = field(default_factory=list)
+    design: tuple[float, float] = (np.nan, np.nan)
+
+    def table(self) -> list[dict]:
+        """The design table as records (one per level), numbers in SI units."""
+        out = []
+        for r in self.rows:
+            out.append({
+                self.y_name: r.level, f"F_at_{self.x_name}={self.design[0]:g}": r.force_at_design,
+                f"{self.x_name}_where_F>0": "; ".join(f"{a:.4g}..{b:.4g}" for a, b in r.locking_intervals) or "none",
+                f"folds_in_{self.x_name}": "; ".join(f"{f:.4g}" for f in r.folds) or "none",
+                "margin_to_fold": r.margin_to_fold,
+            })
+        return out
+
+
+def _options(bounds, scale_span):
+    return ContinuationOptions(ds=0.02, dsmin=1e-9, dsmax=max(0.02, min(0.5, scale_span)), bounds=bounds)
+
+
+def fold_locus(system: EquationSystem, design: str, second: str, bounds: Mapping[str, tuple[float, float]], *,
+               values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
+               force: str | None = None, force_bounds: tuple[float, float] = (-1e4, 1e4)) -> FoldLocus:
+    """Extrema of the downlock force in ``design`` (folds) and their locus in ``second``.
+
+    Parameters
+    ----------
+    system:
+        The model.
+    design:
+        Parameter solved for along the force branch (e.g. ``"l_sp1"``).
+    second:
+        Parameter in which the folds are continued (e.g. ``"LU"``).
+    bounds:
+        ``{name: (low, high)}`` for ``design`` and ``second`` (the curve ends at them).
+    values, hold, force:
+        Start parameter values and the downlock condition (see :func:`downlock`).
+    force_bounds:
+        Range of the force (N) along the branch.
+
+    Returns
+    -------
+    FoldLocus
+        The force branch and the fold curve (None when there is no fold).
+    """
+    h, f = downlock_condition(system, hold, force)
+    for n in (design, second):
+        system.variable(n)
+        if n not in bounds:
+            raise InputError("bounds", f"give a range for {n}")
+    x0 = downlock_point(system, values, hold=h, force=f)
+    opts = _options({design: bounds[design], f: force_bounds}, 0.5)
+    br = continuation(system, x0, f, hold=list(h), free=[design], options=opts)
+    lps = br.special("LP")
+    if not lps:
+        return FoldLocus(br, None)
+    curve_opts = _options({design: bounds[design], second: bounds[second], f: force_bounds}, 0.2)
+    curve = continue_folds(system, lps[0], vary=f, free=second, options=curve_opts)
+    return FoldLocus(br, curve)
+
+
+def _intervals(x, F):
+    """Intervals of x where F > 0 (linear interpolation of the crossings)."""
+    pos = F > 0
+    out, start = [], (x[0] if pos[0] else None)
+    for i in range(1, len(x)):
+        if pos[i] != pos[i - 1]:
+            xc = x[i - 1] - F[i - 1] * (x[i] - x[i - 1]) / (F[i] - F[i - 1])
+            if pos[i]:
+                start = xc
+            else:
+                out.append((float(start), float(xc)))
+                start = None
+    if start is not None:
+        out.append((float(start), float(x[-1])))
+    return tuple(out)
+
+
+def design_region(system: EquationSystem, x_name: str = "l_sp1", y_name: str = "LU", *,
+                  x_bounds: tuple[float, float], y_levels: Sequence[float],
+                  values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
+                  force: str | None = None, n_x: int = 121) -> DesignRegion:
+    """Downlock force over the (x, y) design plane, the F = 0 boundary, folds and margins.
+
+    Parameters
+    ----------
+    system:
+        The model.
+    x_name, y_name:
+        Design parameters: ``x`` is continued for each level of ``y``.
+    x_bounds:
+        Range of ``x`` (SI).
+    y_levels:
+        Levels of ``y`` (SI), at least two, increasing.
+    values, hold, force:
+        Other parameter values and the downlock condition.
+    n_x:
+        Number of grid points in ``x`` for the force map.
+
+    Returns
+    -------
+    DesignRegion
+        Force map, boundary branch, fold locus and one :class:`DesignRow` per level.
+    """
+    h, f = downlock_condition(system, hold, force)
+    y_levels = np.asarray(sorted(float(v) for v in y_levels))
+    if len(y_levels) < 2:
+        raise InputError(y_name, "give at least two levels")
+    lo, hi = map(float, x_bounds)
+    if not lo < hi:
+        raise InputError(x_name, f"empty range {lo:g}:{hi:g}")
+    values = dict(values or {})
+    x0 = float(values.get(x_name, system.variable(x_name).value))
+    x0 = min(max(x0, lo), hi)
+    grid = np.linspace(lo, hi, n_x)
+    force_map = np.full((len(y_levels), n_x), np.nan)
+    rows = []
+    for i, yv in enumerate(y_levels):
+        vals = {**values, y_name: float(yv), x_name: x0}
+        br = downlock(system, x_name, {x_name: (lo, hi)}, values=vals, hold=h, force=f)
+        order = np.argsort(br[x_name])
+        xs, Fs = br[x_name][order], br[f][order]
+        force_map[i] = np.interp(grid, xs, Fs)
+        # extrema of F(x): folds of the force branch with x solved for
+        try:
+            fl = continuation(system, downlock_point(system, vals, hold=h, force=f), f, hold=list(h), free=[x_name],
+                              options=_options({x_name: (lo, hi), f: (-1e6, 1e6)}, 0.5))
+            folds = tuple(sorted(p[x_name] for p in fl.special("LP")))
+        except ConvergenceError:
+            folds = ()
+        F0 = float(np.interp(x0, xs, Fs))
+        margin = min((abs(x0 - v) for v in folds), default=float("nan"))
+        rows.append(DesignRow(float(yv), F0, _intervals(xs, Fs), folds, margin))
+    boundary = _zero_force_boundary(system, x_name, y_name, (lo, hi), (y_levels[0], y_levels[-1]), grid, y_levels,
+                                    force_map, values, h, f)
+    y_mid = float(values.get(y_name, system.variable(y_name).value))
+    try:
+        folds = fold_locus(system, x_name, y_name, {x_name: (lo, hi), y_name: (y_levels[0], y_levels[-1])},
+                           values={**values, y_name: y_mid}, hold=h, force=f)
+    except ConvergenceError:
+        folds = None
+    return DesignRegion(x_name, y_name, grid, y_levels, force_map, boundary, folds, rows, (x0, y_mid))
+
+
+def _zero_force_boundary(system, x_name, y_name, xb, yb, grid, levels, fmap, values, h, f):
+    """Continue the curve F = 0 in the (x, y) plane from a sign change of the force map."""
+    for i in range(len(levels)):
+        row = fmap[i]
+        idx = np.nonzero(np.sign(row[:-1]) * np.sign(row[1:]) < 0)[0]
+        if len(idx):
+            j = idx[0]
+            xs = grid[j] - row[j] * (grid[j + 1] - grid[j]) / (row[j + 1] - row[j])
+            vals = {**values, y_name: float(levels[i]), x_name: float(xs), f: 0.0}
+            base = getattr(system, "downlocked", None)
+            guess = system.vector(vals, base=base) if base is not None else None
+            from ..continuation import find_equilibrium
+
+            try:
+                x0 = find_equilibrium(system, values={k: v for k, v in vals.items() if k != y_name}, hold=h,
+                                      free=[y_name], guess=system.vector(vals, base=guess))
+                return continuation(system, x0, x_name, hold=list(h), free=[y_name],
+                                    options=_options({x_name: xb, y_name: yb}, 0.5))
+            except ConvergenceError:
+                return None
+    return None
+
+
