@@ -163,6 +163,7 @@ def test_draw_errors_leave_nothing(tmp_path, overcentre):
     with pytest.raises(InputError, match=r"out: unknown file type '\.jpg'; valid: \.png, \.svg, \.pdf"):
         draw(overcentre, x, tmp_path / "fig.jpg")
     bare = build_overcentre()
+    bare.scene = None
     with pytest.raises(InputError, match="model: 'overcentre' has no drawing"):
         draw(bare, x, tmp_path / "fig.png")
     with pytest.raises(InputError, match="x: expected 17 values"):
@@ -227,8 +228,10 @@ def test_animate_errors(tmp_path, overcentre):
         animate(overcentre, rows, tmp_path / "a.gif", fps=0)
     with pytest.raises(InputError, match="branch: rows must hold the 17 variables"):
         animate(overcentre, rows[:, :5], tmp_path / "a.gif")
+    bare = build_overcentre()
+    bare.scene = None
     with pytest.raises(InputError, match="has no drawing"):
-        animate(build_overcentre(), rows, tmp_path / "a.gif")
+        animate(bare, rows, tmp_path / "a.gif")
     bad = tmp_path / "bad.csv"
     bad.write_text("x1,y1\n0,0\n")
     with pytest.raises(InputError, match="lacks the column"):

@@ -9,50 +9,23 @@ import click
 
 from ..errors import InputError
 from ._app import cli
+from ._parse import assignments, names
 
 _ANIMATE_DEFAULT = ("F", "theta1")
 
 
 def _model(name: str):
-    """The built-in model ``name`` with its drawing attached, else a description file (or shipped stem)."""
-    from ..models import build_overcentre
+    from ..models import load_model
 
-    builders = {"overcentre": build_overcentre}
-    if name in builders:
-        system = builders[name]()
-        if system.scene is None:
-            from ..models.overcentre_scene import overcentre_scene
-
-            system.scene = overcentre_scene(system)
-        return system
-    from ..mechanism import find_description, load
-
-    if find_description(name) is None:
-        raise InputError("model", f"unknown model '{name}'; valid: {', '.join(sorted(builders))} "
-                                  f"or a mechanism description file (.toml)")
-    return load(name)
+    return load_model(name)
 
 
 def _assignments(items, field: str) -> dict[str, float]:
-    out = {}
-    for item in items:
-        name, sep, value = item.partition("=")
-        try:
-            if not sep or not name.strip():
-                raise ValueError
-            out[name.strip()] = float(value)
-        except ValueError:
-            raise InputError(field, f"'{item}' is not NAME=VALUE with a number (SI units, radians)") from None
-    return out
+    return assignments(items, field)
 
 
 def _names(text: str | None, field: str) -> tuple[str, ...]:
-    if text is None:
-        return ()
-    names = tuple(n.strip() for n in text.split(",") if n.strip())
-    if not names:
-        raise InputError(field, "give comma-separated variable names, e.g. F,theta1")
-    return names
+    return names(text, field)
 
 
 def _out(path: str, valid) -> Path:

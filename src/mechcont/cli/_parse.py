@@ -1,0 +1,60 @@
+"""Parsing of the CLI's NAME=VALUE and NAME=LO:HI arguments into checked values."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+from ..errors import InputError
+
+__all__ = ["assignments", "bounds", "names", "number"]
+
+
+def number(text: str, field: str) -> float:
+    """``text`` as a finite float, else InputError naming ``field``."""
+    try:
+        v = float(text)
+    except (TypeError, ValueError):
+        raise InputError(field, f"'{text}' is not a number (SI units, radians)") from None
+    if not math.isfinite(v):
+        raise InputError(field, f"'{text}' is not a finite number")
+    return v
+
+
+def assignments(items: Iterable[str], option: str) -> dict[str, float]:
+    """``["k=127", "LU=0.4"]`` -> ``{"k": 127.0, "LU": 0.4}``; errors name the option and item."""
+    out: dict[str, float] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise InputError(f"--{option}", f"'{item}' is not NAME=VALUE")
+        out[name] = number(value.strip(), f"--{option} {name}")
+    return out
+
+
+def bounds(items: Iterable[str]) -> dict[str, tuple[float, float]]:
+    """``["F=-100:100"]`` -> ``{"F": (-100.0, 100.0)}``; an empty side means unbounded."""
+    out: dict[str, tuple[float, float]] = {}
+    for item in items:
+        name, sep, rng = item.partition("=")
+        name = name.strip()
+        lo, colon, hi = rng.partition(":")
+        if not sep or not name or not colon:
+            raise InputError("--bounds", f"'{item}' is not NAME=LO:HI")
+        low = -math.inf if lo.strip() == "" else number(lo.strip(), f"--bounds {name}")
+        high = math.inf if hi.strip() == "" else number(hi.strip(), f"--bounds {name}")
+        if not low < high:
+            raise InputError(f"--bounds {name}", f"empty or inverted interval {lo}:{hi}; need LO < HI")
+        out[name] = (low, high)
+    return out
+
+
+def names(text: str | None, option: str) -> tuple[str, ...]:
+    """Comma-separated names -> tuple (empty tuple for None)."""
+    if text is None:
+        return ()
+    out = tuple(n.strip() for n in text.split(",") if n.strip())
+    if not out:
+        raise InputError(f"--{option}", "give comma-separated variable names, e.g. F,theta1")
+    return out
