@@ -1,0 +1,49 @@
+"""``mechcont sweep`` from the command line."""
+
+import csv
+
+import pytest
+from click.testing import CliRunner
+
+from mechcont.cli._app import _register, cli
+from mechcont.models.overcentre import symmetric_folds
+
+
+@pytest.fixture(scope="module")
+def runner():
+    _register()
+    return CliRunner()
+
+
+def test_sweep_reports_jumps_and_writes_outputs(runner, tmp_path):
+    out, fig = tmp_path / "sweep.csv", tmp_path / "sweep.png"
+    res = runner.invoke(cli, ["sweep", "overcentre", "--set", "LU=0.4", "--set", "c=50", "--start", "theta1=1.2",
+                              "--ramp", "F=-65:-90:1", "--ramp", "F=-90:110:4", "--watch", "theta1",
+                              "--out", str(out), "--plot", str(fig), "--quiet"])
+    assert res.exit_code == 0, res.output
+    lines = [ln for ln in res.output.splitlines() if ln.startswith("jump")]
+    assert len(lines) == 2
+    (_, F_up), (_, F_low) = symmetric_folds(1.5, 1.0, 1.0, 9.81, 127.0, 0.4)
+    f1 = float(lines[0].split("F = ")[1].split()[0])
+    f2 = float(lines[1].split("F = ")[1].split()[0])
+    assert F_low - 8 < f1 < F_low and F_up < f2 < F_up + 15
+    with open(out) as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0][:4] == ["t", "x1", "y1", "theta1"] and len(rows) > 100
+    assert fig.stat().st_size > 1000
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--ramp", "F=1:2", "--watch", "theta1"], "--ramp"),
+    (["--ramp", "F=1:2:0", "--watch", "theta1"], "ramp"),
+    (["--ramp", "F=1:2:1", "--watch", "F"], "watch"),
+    (["--ramp", "F=1:2:1", "--watch", "theta1", "--set", "LU=x"], "--set LU"),
+    (["--ramp", "F=1:2:1", "--watch", "theta1", "--out", "a.txt"], "--out"),
+    (["--ramp", "L1=1:2:1", "--watch", "theta1"], "L1"),
+])
+def test_bad_input_is_one_line_and_exit_2(runner, tmp_path, args, message):
+    res = runner.invoke(cli, ["sweep", "overcentre", *args, "--quiet"])
+    assert res.exit_code == 2
+    err = res.output.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"error: {message}")
+    assert list(tmp_path.iterdir()) == []
