@@ -101,11 +101,10 @@ def _drag(kin: Kinematics, ld: Drag):
     rho, U, alpha, d, CD = (mech.value(f"{f}.{a}") for a in ("rho", "U", "alpha", "d", "CD"))
     A, B = kin.point(f"{ld.body}.{ld.start}"), kin.point(f"{ld.body}.{ld.end}")
     pa, pb = kin.local_point(ld.body, ld.start), kin.local_point(ld.body, ld.end)
-    L = sp.sqrt((pb[0] - pa[0]) ** 2 + (pb[1] - pa[1]) ** 2)
-    axis = (B - A) / L
-    normal = sp.Matrix([-axis[1], axis[0]])
-    u_n = U * (sp.cos(alpha) * normal[0] + sp.sin(alpha) * normal[1])
-    magnitude = rho * CD * d * L / 2 * u_n * sp.sqrt(u_n ** 2 + DRAG_SMOOTHING ** 2)
-    force = magnitude * normal
+    L2 = (pb[0] - pa[0]) ** 2 + (pb[1] - pa[1]) ** 2  # squared segment length (no sqrt: stays smooth)
+    perp = sp.Matrix([-(B - A)[1], (B - A)[0]])  # L times the unit normal n
+    s = U * (sp.cos(alpha) * perp[0] + sp.sin(alpha) * perp[1])  # L u_n
+    # 1/2 rho C_D d L u_n |u_n| n  with |u_n| -> sqrt(u_n^2 + eps^2), written without L itself
+    force = rho * CD * d / 2 * s * sp.sqrt(s ** 2 + DRAG_SMOOTHING ** 2 * L2) / L2 * perp
     P = (A + B) / 2
     return _virtual_work(kin, P, force, sp.S.Zero, 0), P, force
