@@ -2,3 +2,5 @@
 from . import draw  # noqa: F401  (mechcont draw, mechcont animate)
 from . import equations  # noqa: F401  (mechcont equations)
 from . import sweep  # noqa: F401  (mechcont sweep)
+from . import downlock  # noqa: F401  (mechcont downlock)
+from . import design  # noqa: F401  (mechcont design)

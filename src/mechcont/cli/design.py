@@ -1,0 +1,118 @@
+"""``mechcont design``: where the downlock force is positive, the F = 0 boundary, folds and margins."""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+import tempfile
+
+import click
+
+from ..errors import InputError
+from ._app import cli
+from ._parse import assignments, bounds as parse_bounds
+from .downlock import PLOT_SUFFIXES, checked_path, model_and_condition, save_figure
+
+
+def _markdown(records: list[dict]) -> str:
+    keys = list(records[0])
+    lines = ["| " + " | ".join(keys) + " |", "|" + "|".join("---" for _ in keys) + "|"]
+    for r in records:
+        lines.append("| " + " | ".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in r.values()) + " |")
+    return "\n".join(lines)
+
+
+def _write_table(records, path):
+    buf = io.StringIO()
+    if path.suffix.lower() == ".csv":
+        w = csv.DictWriter(buf, fieldnames=list(records[0]), lineterminator="\n")
+        w.writeheader()
+        w.writerows(records)
+    else:
+        buf.write(_markdown(records) + "\n")
+    fd, tmp = tempfile.mkstemp(suffix=path.suffix, dir=str(path.resolve().parent))
+    with os.fdopen(fd, "w", encoding="utf-8") as f:
+        f.write(buf.getvalue())
+    os.replace(tmp, path)
+
+
+def plot_region(region, ax, *, force_name: str = "F"):
+    """Draw a :class:`~mechcont.analysis.design.DesignRegion` on a matplotlib axis."""
+    import numpy as np
+
+    X, Y = np.meshgrid(region.x, region.y)
+    lim = np.nanmax(np.abs(region.force))
+    cs = ax.contourf(X, Y, region.force, levels=21, cmap="RdBu", vmin=-lim, vmax=lim)
+    ax.figure.colorbar(cs, ax=ax, label=f"downlock force {force_name} (N)")
+    if region.boundary is not None:
+        b = region.boundary
+        ax.plot(b[region.x_name], b[region.y_name], "k-", lw=2, label=f"{force_name} = 0 (continued)")
+    if region.folds is not None and region.folds.curve is not None:
+        c = region.folds.curve
+        ax.plot(c[region.x_name], c[region.y_name], color="darkorange", lw=2, label="folds (extrema of F)")
+        for p in region.folds.cusps:
+            ax.plot(p[region.x_name], p[region.y_name], "o", color="darkorange", ms=7)
+            ax.annotate("CP", (p[region.x_name], p[region.y_name]), textcoords="offset points", xytext=(5, -12))
+    ax.plot(*region.design, "k*", ms=11, label="design point")
+    ax.set_xlim(region.x[0], region.x[-1])
+    ax.set_ylim(region.y[0], region.y[-1])
+    ax.set_xlabel(region.x_name)
+    ax.set_ylabel(region.y_name)
+    ax.legend(loc="best", fontsize=8)
+
+
+@cli.command("design")
+@click.argument("model")
+@click.option("--x", "x_name", default="l_sp1", show_default=True, metavar="NAME", help="Design parameter continued.")
+@click.option("--y", "y_name", default="LU", show_default=True, metavar="NAME", help="Second design parameter (levels).")
+@click.option("--bounds", "bounds_", multiple=True, required=True, metavar="NAME=LO:HI",
+              help="Ranges of both design parameters (finite).")
+@click.option("--levels", default=11, show_default=True, type=int, help="Number of levels of the second parameter.")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Set a parameter (SI units, radians).")
+@click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE", help="Downlock condition (default: the model's).")
+@click.option("--force", default=None, metavar="NAME", help="The downlock force (default: the model's, F).")
+@click.option("--out", default=None, metavar="FILE", help="Write the table as .csv or .md.")
+@click.option("--plot", default=None, metavar="FILE", help="Region plot (.png, .svg, .pdf).")
+def design_command(model, x_name, y_name, bounds_, levels, sets, holds, force, out, plot):
+    """Where MODEL's downlock force is positive over (--x, --y), the margin to the folds, as a table and a plot."""
+    import numpy as np
+
+    from ..analysis.design import design_region
+
+    out_path = checked_path(out, (".csv", ".md"), "out")
+    plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
+    if levels < 2 or levels > 200:
+        raise InputError("--levels", f"must be between 2 and 200, got {levels}")
+    values = assignments(sets, "set")
+    bnds = parse_bounds(bounds_)
+    for n in (x_name, y_name):
+        if n not in bnds or not all(np.isfinite(bnds[n])):
+            raise InputError("--bounds", f"give a finite range for {n}, e.g. {n}=LO:HI")
+    if x_name == y_name:
+        raise InputError("--y", "must differ from --x")
+    system, h, f = model_and_condition(model, holds, force)
+    for n in (*values, x_name, y_name):
+        system.variable(n)
+    region = design_region(system, x_name, y_name, x_bounds=bnds[x_name],
+                           y_levels=np.linspace(*bnds[y_name], levels), values=values, hold=h, force=f)
+    records = region.table()
+    click.echo(_markdown(records))
+    if region.folds is not None:
+        for p in region.folds.cusps:
+            click.echo(f"cusp: {y_name} = {p[y_name]:.6g}, {x_name} = {p[x_name]:.6g}, {f} = {p[f]:.6g} N")
+    if out_path is not None:
+        _write_table(records, out_path)
+        click.echo(f"wrote {out_path}")
+    if plot_path is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(6.5, 4.5))
+        plot_region(region, ax, force_name=f)
+        ax.set_title(f"{system.name}: where the gear locks unaided ({f} > 0)")
+        save_figure(fig, plot_path)
+        plt.close(fig)
+        click.echo(f"wrote {plot_path}")

@@ -1,0 +1,107 @@
+"""``mechcont downlock``: the downlock force as a function of any design parameter."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import click
+
+from ..errors import InputError
+from ._app import cli
+from ._parse import assignments, bounds as parse_bounds
+
+PLOT_SUFFIXES = (".png", ".svg", ".pdf")
+TABLE_SUFFIXES = (".csv", ".json")
+
+
+def checked_path(path: str | None, valid: tuple[str, ...], option: str) -> Path | None:
+    """``path`` as a Path with one of the ``valid`` suffixes in an existing folder, else InputError."""
+    if path is None:
+        return None
+    p = Path(path)
+    if p.suffix.lower() not in valid:
+        raise InputError(f"--{option}", f"unknown file type '{p.suffix or p.name}'; valid: {', '.join(valid)}")
+    if not p.resolve().parent.is_dir():
+        raise InputError(f"--{option}", f"folder '{p.parent}' does not exist")
+    return p
+
+
+def save_figure(fig, path: Path) -> None:
+    """Save a matplotlib figure atomically (a temporary file renamed into place)."""
+    fd, tmp = tempfile.mkstemp(suffix=path.suffix, dir=str(path.resolve().parent))
+    os.close(fd)
+    try:
+        fig.savefig(tmp, dpi=120, bbox_inches="tight")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def model_and_condition(model: str, holds, force: str | None):
+    """Load MODEL and resolve its downlock condition (``--hold``/``--force`` or the model's own)."""
+    from ..analysis.downlock import downlock_condition
+    from ..models import load_model
+
+    system = load_model(model)
+    hold = assignments(holds, "hold") or None
+    h, f = downlock_condition(system, hold, force)
+    return system, h, f
+
+
+@cli.command("downlock")
+@click.argument("model")
+@click.option("--vary", required=True, metavar="NAME", help="Design parameter to continue in (e.g. U, k, LU, l_sp1).")
+@click.option("--bounds", "bounds_", multiple=True, metavar="NAME=LO:HI",
+              help="Range of a variable; required for --vary.")
+@click.option("--free", "frees", multiple=True, metavar="NAME", help="A further parameter solved for.")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Set a parameter (SI units, radians).")
+@click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE",
+              help="Downlock condition: held lock-link state (default: the model's, theta4=0 for nose_gear).")
+@click.option("--force", default=None, metavar="NAME", help="The downlock force solved for (default: the model's, F).")
+@click.option("--out", default=None, metavar="FILE", help="Write the branch as .csv or .json.")
+@click.option("--plot", default=None, metavar="FILE", help="Plot the downlock force (.png, .svg, .pdf).")
+def downlock_command(model, vary, bounds_, frees, sets, holds, force, out, plot):
+    """Downlock force of MODEL (built-in name or description .toml) as a function of --vary.
+
+    The lock links are held aligned (e.g. theta4 = 0, overcentre angle 180 deg), the force
+    is solved for, and the --vary parameter is continued within its --bounds. A positive
+    force means the gear locks with no help.
+    """
+    from ..analysis.downlock import downlock
+
+    out_path = checked_path(out, TABLE_SUFFIXES, "out")
+    plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
+    values = assignments(sets, "set")
+    bnds = parse_bounds(bounds_)
+    system, h, f = model_and_condition(model, holds, force)
+    for n in values:
+        system.variable(n)
+    branch = downlock(system, vary, bnds, free=frees, values=values, hold=h, force=f)
+    xs, Fs = branch[vary], branch[f]
+    unit_x = system.variable(vary).unit
+    click.echo(f"downlock force {f} (N) vs {vary} ({unit_x}), {', '.join(f'{k}={v:g}' for k, v in h.items())} held: "
+               f"{len(branch)} points, {f} from {Fs.min():.6g} to {Fs.max():.6g} N; status {branch.status}")
+    step = max(1, len(branch) // 10)
+    for i in list(range(0, len(branch), step)) + ([len(branch) - 1] if (len(branch) - 1) % step else []):
+        click.echo(f"  {vary} = {xs[i]:12.6g}   {f} = {Fs[i]:12.6g}   {branch.stability_labels()[i]} {branch.labels[i]}")
+    if out_path is not None:
+        (branch.to_json if out_path.suffix.lower() == ".json" else branch.to_csv)(out_path)
+        click.echo(f"wrote {out_path}")
+    if plot_path is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(5.5, 4))
+        ax.plot(xs, Fs, "k-")
+        ax.axhline(0.0, color="0.6", lw=0.8)
+        ax.set_xlabel(f"{vary} ({unit_x})")
+        ax.set_ylabel(f"downlock force {f} (N)")
+        ax.set_title(f"{system.name}: downlock force vs {vary}")
+        save_figure(fig, plot_path)
+        plt.close(fig)
+        click.echo(f"wrote {plot_path}")
