@@ -10,12 +10,26 @@ from ..errors import MechcontError
 
 
 class _Group(click.Group):
-    def invoke(self, ctx):
+    """Every failure the user can fix is one line on stderr and exit status 2."""
+
+    def main(self, args=None, prog_name=None, standalone_mode=True, **extra):
+        if not standalone_mode:
+            return super().main(args, prog_name, standalone_mode=False, **extra)
         try:
-            return super().invoke(ctx)
-        except MechcontError as exc:  # bad input or failed solve: one line, exit 2, no traceback
+            rv = super().main(args, prog_name, standalone_mode=False, **extra)
+        except click.exceptions.Exit as exc:
+            sys.exit(exc.exit_code)
+        except click.exceptions.Abort:
+            click.echo("error: aborted", err=True)
+            sys.exit(1)
+        except click.UsageError as exc:
+            where = f"{exc.ctx.command_path} --help" if exc.ctx else "mechcont --help"
+            click.echo(f"error: {exc.format_message()} (see '{where}')", err=True)
+            sys.exit(2)
+        except MechcontError as exc:
             click.echo(f"error: {exc}", err=True)
-            ctx.exit(2)
+            sys.exit(2)
+        sys.exit(rv if isinstance(rv, int) else 0)
 
 
 @click.group(cls=_Group)
@@ -34,20 +48,6 @@ def _register():
 
 
 def main(argv=None):
-    """Entry point of the ``mechcont`` console script: bad input -> one line, exit 2."""
+    """Entry point of the ``mechcont`` console script."""
     _register()
-    try:
-        rv = cli.main(args=argv, prog_name="mechcont", standalone_mode=False)
-    except click.exceptions.Exit as exc:
-        sys.exit(exc.exit_code)
-    except click.exceptions.Abort:
-        click.echo("error: aborted", err=True)
-        sys.exit(1)
-    except click.UsageError as exc:
-        click.echo(f"error: {exc.format_message()} (see 'mechcont {exc.ctx.command.name if exc.ctx else ''} --help')"
-                   .replace("mechcont mechcont", "mechcont").replace(" ' --help'", " --help'"), err=True)
-        sys.exit(2)
-    except MechcontError as exc:
-        click.echo(f"error: {exc}", err=True)
-        sys.exit(2)
-    sys.exit(rv if isinstance(rv, int) else 0)
+    cli.main(args=argv, prog_name="mechcont")

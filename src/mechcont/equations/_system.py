@@ -168,6 +168,21 @@ class EquationSystem:
         """Typical magnitude of every variable, ordered like :attr:`names`."""
         return np.array([v.scale for v in self.variables])
 
+    def with_values(self, values: Mapping[str, float]) -> "EquationSystem":
+        """A copy with new default values, sharing the compiled functions (no rebuild).
+
+        Only defaults change; the equations are the same, so this is how a model is
+        re-parametrised cheaply. Unknown names raise :class:`InputError`.
+        """
+        import copy
+        from dataclasses import replace
+
+        for k in values:
+            self.index(k)
+        new = copy.copy(self)
+        new.variables = tuple(replace(v, value=float(values[v.name])) if v.name in values else v for v in self.variables)
+        return new
+
     # -- compiled numerics ------------------------------------------------------------
     def compile(self) -> "EquationSystem":
         """Generate the numeric residual, Jacobian and second-derivative functions (once)."""

@@ -1,0 +1,119 @@
+"""Shared steps of the continuation commands: options, model, start point, outputs."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+from ..errors import InputError
+from ._parse import assignments, bounds
+
+__all__ = ["continuation_options", "solve_start", "write_branch", "special_table", "common_options"]
+
+
+def common_options(f=None, *, free: bool = True):
+    """Options shared by `continue` and `folds` (``free=False``: no --free, folds use it for P2)."""
+    if f is None:
+        return lambda g: common_options(g, free=free)
+    opts = [
+        click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Parameter value (SI units, rad)."),
+        click.option("--start", "starts", multiple=True, metavar="NAME=VALUE",
+                     help="State held at a value to find the first solution (the --vary name is free then)."),
+        click.option("--hold", "holds", multiple=True, metavar="NAME", help="State held during continuation."),
+        *([click.option("--free", "frees", multiple=True, metavar="NAME",
+                        help="Parameter solved for (keeps it square).")] if free else []),
+        click.option("--bounds", "bnds", multiple=True, metavar="NAME=LO:HI", help="Stop where NAME leaves [LO, HI]."),
+        click.option("--ds", type=float, default=None, help="Initial step (scaled arclength)."),
+        click.option("--dsmax", type=float, default=None, help="Largest step (scaled arclength)."),
+        click.option("--max-steps", type=int, default=None, help="Most steps in each direction."),
+        click.option("--quiet", is_flag=True, help="Print nothing but errors."),
+    ]
+    for o in reversed(opts):
+        f = o(f)
+    return f
+
+
+def continuation_options(bnds, ds, dsmax, max_steps):
+    """ContinuationOptions from the CLI values (validated there)."""
+    from ..continuation import ContinuationOptions
+
+    kw = {"bounds": bounds(bnds)}
+    if dsmax is not None:
+        kw["dsmax"] = dsmax
+    if ds is not None:
+        kw["ds"] = ds
+        kw.setdefault("dsmax", max(ds, ContinuationOptions.dsmax))
+    elif dsmax is not None:
+        kw["ds"] = min(ContinuationOptions.ds, dsmax)
+    if max_steps is not None:
+        kw["max_steps"] = max_steps
+    return ContinuationOptions(**kw)
+
+
+def solve_start(system, sets, starts, vary, frees, holds):
+    """The first equilibrium: ``--start`` states held, ``vary`` (and ``--free``) solved for."""
+    from ..continuation import find_equilibrium
+
+    values = assignments(sets, "set")
+    held = assignments(starts, "start")
+    for name in [*values, *held, vary, *frees, *holds]:
+        system.index(name)
+    if vary in held:
+        raise InputError("--start", f"{vary} is the continuation parameter; hold another state")
+    free = [n for n in [vary, *frees] if system.variable(n).kind == "parameter" and n not in held]
+    free = free if held else [n for n in frees if n != vary]
+    for n in holds:
+        held.setdefault(n, float(system.vector(values)[system.index(n)]))
+    return find_equilibrium(system, values=values, hold=held, free=free)
+
+
+def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quiet: bool, extra=()):
+    """Write the branch table (CSV or JSON by suffix) and the plot, checking paths first."""
+    from ..outputs.plotting import FIGURE_SUFFIXES, new_figure, plot_branch, save_figure
+
+    if out and Path(out).suffix.lower() not in (".csv", ".json"):
+        raise InputError("--out", f"unknown table type '{Path(out).suffix}'; use .csv or .json")
+    if plot and Path(plot).suffix.lower() not in FIGURE_SUFFIXES:
+        raise InputError("--plot", f"unknown figure type '{Path(plot).suffix}'; use one of {', '.join(FIGURE_SUFFIXES)}")
+    for name in (x, y):
+        branch.column(name)
+    for path in (out, plot):
+        if path and not Path(path).resolve().parent.exists():
+            raise InputError(path, f"folder {Path(path).resolve().parent} does not exist")
+    if out:
+        (branch.to_json if out.lower().endswith(".json") else branch.to_csv)(out)
+    if plot:
+        fig, ax = new_figure()
+        plot_branch(branch, x, y, ax=ax)
+        ax.set_title(f"{branch.model}: {y} vs {x}")
+        save_figure(fig, plot)
+    if not quiet:
+        click.echo(special_table(branch, [x, y, *extra]))
+        if branch.message:
+            click.echo(f"ends: {branch.message}")
+        for path in (out, plot):
+            if path:
+                click.echo(f"wrote {path}")
+    if not branch.success:
+        click.echo(f"warning: {branch.message}", err=True)
+
+
+def special_table(branch, cols=None) -> str:
+    """A plain-text table of the special points of a branch (columns ``cols``)."""
+    cols = list(dict.fromkeys(cols or [branch.vary, *branch.unknowns[:3]]))
+    head = f"{'label':<6}" + "".join(f"{c:>16}" for c in cols) + f"{'stability':>11}"
+    lines = [f"{branch.model}: {len(branch)} points in {branch.vary}", head]
+    counts: dict[str, int] = {}
+    st = branch.stability_labels()
+    for p in branch.special_points:
+        counts[p.label] = counts.get(p.label, 0) + 1
+        vals = "".join(f"{p.values[c]:>16.10g}" for c in cols)
+        lines.append(f"{p.label + str(counts[p.label]):<6}{vals}{st[p.index] or '-':>11}")
+    return "\n".join(lines)
+
+
+def echo_err(msg: str) -> None:
+    click.echo(msg, err=True)
+    sys.stderr.flush()

@@ -1,0 +1,55 @@
+"""``mechcont folds``: locate a fold in one parameter and continue it in a second."""
+
+from __future__ import annotations
+
+import click
+
+from ..errors import InputError
+from ._app import cli
+from ._run import common_options, continuation_options, solve_start, write_branch
+
+
+@cli.command("folds")
+@click.argument("model")
+@common_options(free=False)
+@click.option("--vary", required=True, metavar="P1", help="Parameter in which the fold is a turning point.")
+@click.option("--free", "second", required=True, metavar="P2", help="Second parameter, continued along the fold curve.")
+@click.option("--solve-for", "frees2", multiple=True, metavar="NAME",
+              help="Further parameters solved for on the branch (with --hold).")
+@click.option("--fold", "which", default=1, show_default=True, help="Which LP of the first branch (1, 2, ...).")
+@click.option("--out", default=None, help="Fold-curve table: .csv or .json.")
+@click.option("--plot", default=None, help="Figure: .png, .svg or .pdf (P1 against P2).")
+def folds_command(model, sets, starts, holds, bnds, ds, dsmax, max_steps, quiet, vary, second, frees2, which,
+                  out, plot):
+    """Locate fold number --fold of the branch in --vary, then continue it in --free.
+
+    Example: mechcont folds overcentre --set LU=0.4 --start theta1=0.3 --vary F --free LU
+    --bounds LU=0.1:2 --out folds.csv
+    """
+    from ..continuation import ContinuationOptions, continuation, continue_folds
+    from ..models import load_model
+
+    frees = tuple(frees2)
+    options = continuation_options(bnds, ds, dsmax, max_steps)
+    system = load_model(model)
+    system.index(second)
+    x0 = solve_start(system, sets, starts, vary, frees, holds)
+    first = continuation(system, x0, vary, hold=holds, free=frees,
+                         options=ContinuationOptions(**{**_opts(options), "bounds": {k: v for k, v in options.bounds.items()
+                                                                                     if k != second}}))
+    lps = first.special("LP")
+    if not lps:
+        raise InputError("--vary", f"the branch in {vary} has no fold within the bounds; change --set or --bounds")
+    if not 1 <= which <= len(lps):
+        raise InputError("--fold", f"the branch has {len(lps)} fold(s); choose 1..{len(lps)}")
+    curve = continue_folds(system, lps[which - 1], vary, second, options=options)
+    from ._parse import assignments
+
+    shown = [n for n in assignments(starts, "start") if n != vary]
+    write_branch(curve, out, plot, second, vary, quiet, extra=shown)
+
+
+def _opts(o):
+    from dataclasses import fields
+
+    return {f.name: getattr(o, f.name) for f in fields(o)}

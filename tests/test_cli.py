@@ -1,0 +1,96 @@
+"""The command line: continue, folds, models; bad input -> one line on stderr, exit 2, nothing written."""
+
+import csv
+
+import pytest
+from click.testing import CliRunner
+
+from mechcont.cli._app import _register, cli
+from mechcont.models.overcentre import symmetric_folds
+
+
+@pytest.fixture(scope="module")
+def run():
+    _register()
+    runner = CliRunner()
+    return lambda *args: runner.invoke(cli, [str(a) for a in args])
+
+
+def one_line_error(result, *words):
+    assert result.exit_code == 2, result.output
+    lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("error: "), result.stderr
+    assert "Traceback" not in result.output
+    for w in words:
+        assert w in lines[0], lines[0]
+
+
+def test_continue_writes_csv_with_labels_and_stability(tmp_path, run):
+    out, fig = tmp_path / "b.csv", tmp_path / "b.png"
+    r = run("continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F",
+            "--bounds", "theta1=-1.2:1.2", "--out", out, "--plot", fig)
+    assert r.exit_code == 0, r.output
+    rows = list(csv.DictReader(out.open()))
+    assert {"theta1", "F", "s", "stability", "label"} <= set(rows[0])
+    assert {r["stability"] for r in rows} == {"stable", "unstable"}
+    lps = sorted((float(r["theta1"]), float(r["F"])) for r in rows if r["label"] == "LP")
+    for (th, F), (th0, F0) in zip(lps, symmetric_folds(1.5, 1, 1, 9.81, 127, 0.4)):
+        assert th == pytest.approx(th0, rel=1e-10) and F == pytest.approx(F0, rel=1e-10)
+    assert [r["label"] for r in rows].count("EP") == 2
+    assert fig.read_bytes().startswith(b"\x89PNG")
+    assert "LP1" in r.output
+
+
+def test_continue_json(tmp_path, run):
+    import json
+
+    out = tmp_path / "b.json"
+    r = run("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--bounds", "theta1=-1:1", "--out", out,
+            "--quiet")
+    assert r.exit_code == 0 and r.output == ""
+    doc = json.loads(out.read_text())
+    assert doc["vary"] == "F" and len(doc["columns"]["F"]) == len(doc["labels"])
+
+
+def test_folds_command_finds_the_cusp(tmp_path, run):
+    out = tmp_path / "f.csv"
+    r = run("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
+            "--bounds", "LU=0.1:2", "--out", out)
+    assert r.exit_code == 0, r.output
+    rows = list(csv.DictReader(out.open()))
+    (cp,) = [r for r in rows if r["label"] == "CP"]
+    assert float(cp["LU"]) == pytest.approx(1.5, rel=1e-9)
+
+
+def test_models_lists_parameters(run):
+    r = run("models", "overcentre")
+    assert r.exit_code == 0
+    assert "LU" in r.output and "unstrained spring length" in r.output
+
+
+@pytest.mark.parametrize("args, words", [
+    (("continue", "overcentre", "--set", "LU=abc", "--start", "theta1=0.3", "--vary", "F"), ("LU", "not a number")),
+    (("continue", "overcentre", "--set", "LU", "--start", "theta1=0.3", "--vary", "F"), ("--set", "NAME=VALUE")),
+    (("continue", "overcentre", "--start", "theta1=0.3", "--vary", "Q"), ("Q", "unknown variable")),
+    (("continue", "overcentre", "--set", "ZZ=1", "--start", "theta1=0.3", "--vary", "F"), ("ZZ", "unknown variable")),
+    (("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--bounds", "F=3:1"), ("inverted",)),
+    (("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--bounds", "F=2:2"), ("inverted",)),
+    (("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--bounds", "F"), ("NAME=LO:HI",)),
+    (("continue", "overcentre", "--start", "theta1=7", "--set", "L2=0.5", "--vary", "F"), ("did not converge",)),
+    (("continue", "overcentre", "--start", "theta1=0.3"), ("--vary",)),
+    (("continue", "nomodel", "--vary", "F"), ("unknown model",)),
+    (("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--ds", "-1"), ("ds",)),
+    (("folds", "overcentre", "--set", "LU=2", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
+      "--bounds", "theta1=-1:1"), ("no fold",)),
+])
+def test_bad_input_one_line_exit_2(tmp_path, run, args, words):
+    out = tmp_path / "x.csv"
+    one_line_error(run(*args, "--out", out), *words)
+    assert not out.exists()
+
+
+def test_bad_output_suffix_writes_nothing(tmp_path, run):
+    r = run("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--bounds", "theta1=-1:1",
+            "--out", tmp_path / "b.csv", "--plot", tmp_path / "b.bmp")
+    one_line_error(r, "--plot", ".png")
+    assert list(tmp_path.iterdir()) == []
