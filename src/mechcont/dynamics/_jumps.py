@@ -57,7 +57,7 @@ def _fast_intervals(rate: np.ndarray, thr: float) -> list[tuple[int, int]]:
 
 def find_jump_windows(t: np.ndarray, w: np.ndarray, wdot: np.ndarray, lo: int, hi: int, *, span: float,
                       threshold: float | None = None, factor: float = 10.0, min_change: float = 0.05,
-                      through: float | None = None) -> tuple[list[JumpWindow], float]:
+                      crossings=None) -> tuple[list[JumpWindow], float]:
     """Jumps of ``w`` among the samples ``lo..hi`` (inclusive) of one sweep segment.
 
     Parameters
@@ -73,8 +73,9 @@ def find_jump_windows(t: np.ndarray, w: np.ndarray, wdot: np.ndarray, lo: int, h
         ``factor * span / segment duration``.
     min_change:
         Smallest change of ``w`` across a jump, as a fraction of ``span``.
-    through:
-        If given, a jump is timed where ``w`` crosses this value.
+    crossings:
+        If given, the times (s) where ``w`` passed a chosen value (located by the
+        integrator's event detection): one jump per crossing, timed there.
 
     Returns
     -------
@@ -95,18 +96,20 @@ def find_jump_windows(t: np.ndarray, w: np.ndarray, wdot: np.ndarray, lo: int, h
         merged.append([i, j])
     out: list[JumpWindow] = []
     for i, j in merged:
-        if abs(ww[j] - ww[i]) < min_change * span and through is None:
+        if crossings is not None:
+            break
+        if abs(ww[j] - ww[i]) < min_change * span:
             continue
-        if through is None:
-            ts = _cross_time(tt, np.abs(rr) - thr, i - 1) if i > 0 else float(tt[i])
-            out.append(JumpWindow(ts, ts, float(tt[j]), lo + max(i - 1, 0), lo + j))
-    if through is not None:
-        f = ww - through
-        idx = np.flatnonzero(((f[:-1] > 0) & (f[1:] <= 0)) | ((f[:-1] < 0) & (f[1:] >= 0)))
-        for k in idx:
-            tc = _cross_time(tt, f, k)
+        ts = _cross_time(tt, np.abs(rr) - thr, i - 1) if i > 0 else float(tt[i])
+        out.append(JumpWindow(ts, ts, float(tt[j]), lo + max(i - 1, 0), lo + j))
+    if crossings is not None:
+        for tc in crossings:
+            if not tt[0] <= tc <= tt[-1]:
+                continue
+            k = int(min(max(np.searchsorted(tt, tc) - 1, 0), len(tt) - 2))  # sample step holding tc
             enclosing = [(i, j) for i, j in merged if i <= k + 1 and k <= j]
             i, j = enclosing[0] if enclosing else (k, k + 1)
             ts = _cross_time(tt, np.abs(rr) - thr, i - 1) if enclosing and i > 0 else float(tt[i])
-            out.append(JumpWindow(tc, ts, float(tt[j]), lo + max(i - 1, 0), lo + j))
+            out.append(JumpWindow(float(tc), min(ts, float(tc)), max(float(tt[j]), float(tc)),
+                                  lo + max(i - 1, 0), lo + j))
     return out, thr

@@ -250,7 +250,7 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
     seg_times, loads = _schedule(ramps, settle)
     if max_step is None:
         max_step = min(r.duration for r in ramps) / 400.0
-    events = [Crossing(watch, through, 0, True)] if stop_on_jump else None
+    events = [Crossing(watch, through, 0, stop_on_jump)] if through is not None else None
     # one integration per phase (settle, then each segment), so that the samples include
     # every segment boundary and no step straddles a kink of the load
     phases = ([(0.0, settle)] if settle > 0 else []) + [tuple(ab) for ab in seg_times]
@@ -268,6 +268,7 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
     t, w, wdot = sim.t, sim[watch], sim[f"{watch}_dot"]
     in_sweep = t >= settle
     span = float(np.ptp(w[in_sweep])) if in_sweep.any() else 0.0
+    crossings = sim.t_events[0] if through is not None else None
     jumps, thresholds = [], []
     for k, ((a, b), r) in enumerate(zip(seg_times, ramps)):
         idx = np.flatnonzero((t >= a) & (t <= b))
@@ -275,7 +276,7 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
             thresholds.append(float("nan"))
             continue
         windows, thr = find_jump_windows(t, w, wdot, int(idx[0]), int(idx[-1]), span=span,
-                                         threshold=rate_threshold, through=through)
+                                         threshold=rate_threshold, crossings=crossings)
         thresholds.append(thr)
         for win in windows:
             jumps.append(Jump(
