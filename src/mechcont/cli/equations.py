@@ -6,35 +6,20 @@ import click
 
 from ..errors import InputError
 from ._app import cli
+from ._parse import assignments
 
 
 def _system(model: str, reduced: bool, overrides: dict[str, float]):
-    """A built-in hand model by name, else a description file (path or shipped stem)."""
-    from ..mechanism import builtin_descriptions, find_description, load
-    from ..models import build_overcentre
+    """A built-in model or description (see ``load_model``); ``reduced`` needs a description."""
+    from ..mechanism import find_description, load
+    from ..models._registry import BUILTIN_MODELS, load_model
 
-    hand = {"overcentre": build_overcentre}
-    if model in hand:
-        if reduced:
-            raise InputError("--reduced", f"'{model}' is a hand-formulated model; --reduced needs a description file")
-        return hand[model](**overrides)
-    if find_description(model) is None:
-        raise InputError("model", f"unknown model '{model}'; valid: {', '.join(sorted(hand))}, a shipped "
-                                  f"description ({', '.join(builtin_descriptions())}) or a path to a .toml file")
-    return load(model, reduced=reduced, **overrides)
-
-
-def _assignments(items) -> dict[str, float]:
-    out = {}
-    for item in items:
-        name, sep, value = item.partition("=")
-        try:
-            if not sep or not name.strip():
-                raise ValueError
-            out[name.strip()] = float(value)
-        except ValueError:
-            raise InputError("--set", f"'{item}' is not NAME=VALUE with a number (SI units, radians)") from None
-    return out
+    if not reduced:
+        return load_model(model, **overrides)
+    if model in BUILTIN_MODELS or find_description(model) is None:
+        raise InputError("--reduced", f"'{model}' is not a mechanism description file; --reduced needs one "
+                                      "(e.g. overcentre.toml, fourbar)")
+    return load(model, reduced=True, **overrides)
 
 
 @cli.command("equations")
@@ -46,7 +31,7 @@ def _assignments(items) -> dict[str, float]:
 def equations_command(model: str, latex: bool, reduced: bool, settings: tuple[str, ...]):
     """Print the equations G(x) = 0 of MODEL: a built-in model name (overcentre), a shipped
     description stem (e.g. fourbar) or a mechanism description file (.toml)."""
-    system = _system(model, reduced, _assignments(settings))
+    system = _system(model, reduced, assignments(settings, "set"))
     if latex:
         click.echo(system.latex())
         return
