@@ -63,7 +63,7 @@ def run(out_dir: Path, quiet: bool = True) -> list[str]:
     t0 = time.perf_counter()
     b04 = _branch(s04, x04)
     t_cont = time.perf_counter() - t0
-    (th_u, F_up), (th_l, F_low) = symmetric_folds(L, M1, M2, G, K, 0.4)
+    (_, F_up), (_, F_low) = symmetric_folds(L, M1, M2, G, K, 0.4)
     lp = sorted(p["F"] for p in b04.special("LP"))
     fig, ax = new_figure()
     _panel(ax, s04, b04, r04, "LU = 0.4 m: sweep at 1 N/s (black) over continuation (grey)")
@@ -87,7 +87,7 @@ def run(out_dir: Path, quiet: bool = True) -> list[str]:
     b2 = _branch(s2, x2)
     order = np.argsort(b2["F"])
     lag = float(np.max(np.abs(r2["theta1"] - np.interp(r2["F"], b2["F"][order], b2["theta1"][order]))))
-    fig, axes = new_figure(figsize=(10.0, 4.2))
+    fig, _ = new_figure(figsize=(10.0, 4.2))
     fig.clear()
     ax_b, ax_c = fig.subplots(1, 2)
     _panel(ax_b, s2, b2, r2, "(b) LU = 2 m")
