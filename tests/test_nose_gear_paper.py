@@ -1,0 +1,119 @@
+"""The nose-gear figures of the paper (Figs. 7-11): trends asserted against fits and closed forms."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import minimize_scalar
+
+from mechcont.models.nose_gear import overcentre_angle
+from mechcont.models.nose_gear_geometry import aligned_downlock_force, defaults, downlocked_pose
+from mechcont.paper.nose_gear import compute, fit_residual, run, summary
+
+
+@pytest.fixture(scope="module")
+def res():
+    return compute()
+
+
+def test_fig7_no_fold_stable_and_time_simulation_follows(res):
+    b = res.fig7_branch
+    oc = overcentre_angle(b["theta4"], b["theta5"])
+    order = np.argsort(b["F"])
+    assert np.all(np.diff(oc[order]) > 0)  # monotone: no fold, no hysteresis with no spring
+    assert not b.special("LP") and np.all(b.stable)
+    # at 180 deg the force equals half the lock links' weight (dead centre, closed form)
+    F180 = np.interp(np.pi, oc[order], b["F"][order])
+    assert F180 == pytest.approx((2.5 + 2.0) * 9.81 / 2, abs=1e-3)
+    # stated tolerance: the 20 N/s sweep stays within 0.5 deg of the stable branch
+    assert res.fig7_max_angle_gap < np.radians(0.5)
+
+
+def test_downlock_force_matches_slow_time_simulation(res):
+    """Continuation vs a 2 N/s ramp of F through theta4 = 0: stated tolerance 0.05 N (0.07 %)."""
+    assert res.sweep_downlock_force == pytest.approx(res.downlock_force, abs=0.05)
+    assert res.downlock_force == pytest.approx(aligned_downlock_force(defaults()), rel=1e-12)
+
+
+def test_fig8_quadratic_in_airspeed_only_off_the_dead_centre(res):
+    a, m = res.fig8_aligned, res.fig8_misrigged
+    assert np.ptp(a["F"]) < 1e-9  # aligned: a dead centre, drag does no virtual work
+    assert fit_residual(m["U"], m["F"], 2) < 1e-9  # exactly quadratic ...
+    assert fit_residual(m["U"], m["F"], 1) > 1e-2  # ... and not a line
+    c = np.polyfit(m["U"], m["F"], 2)
+    assert abs(c[1]) < 1e-9 * abs(c[0]) * 100  # F = a + c U^2 (drag ~ U^2)
+    dF = m["F"][np.argmax(m["U"])] - m["F"][np.argmin(m["U"])]
+    assert -5.0 < dF < 0.0  # small decrease, as in the paper
+
+
+def test_fig9_linear_in_LU_and_k_with_closed_form_slopes(res):
+    lu, kk = res.fig9_LU, res.fig9_k
+    assert fit_residual(lu["LU"], lu["F"], 1) < 1e-10
+    assert fit_residual(kk["k"], kk["F"], 1) < 1e-10
+    p = defaults()
+    slope_LU = (aligned_downlock_force({**p, "LU": 1.31}) - aligned_downlock_force({**p, "LU": 1.29})) / 0.02
+    slope_k = (aligned_downlock_force({**p, "k": 21000.0}) - aligned_downlock_force({**p, "k": 19000.0})) / 2000.0
+    assert np.polyfit(lu["LU"], lu["F"], 1)[0] == pytest.approx(slope_LU, rel=1e-8)
+    assert np.polyfit(kk["k"], kk["F"], 1)[0] == pytest.approx(slope_k, rel=1e-8)
+    assert slope_LU < 0 < slope_k
+
+
+def _phi(l, p, q):
+    """Closed form: F(l_sp1) has an extremum where LU = s^3 / (s^2 + (L4/2 - l_sp1) dx) (dead centre)."""
+    K = np.array([q["x4"], q["y4"]]) - 0.5 * p["L4"] * np.array([1.0, 0.0])
+    S4 = K + np.array([0.5 * p["L4"] - l, 0.0])
+    S3 = -p["l_sp2"] * np.array([np.cos(q["theta3"] + p["psi3"]), np.sin(q["theta3"] + p["psi3"])])
+    dx, dy = S3 - S4
+    s2 = dx * dx + dy * dy
+    return s2**1.5 / (s2 + (0.5 * p["L4"] - l) * dx)
+
+
+def test_fig10_two_extrema_where_the_closed_form_puts_them(res):
+    b = res.fig10
+    order = np.argsort(b["l_sp1"])
+    F = b["F"][order]
+    interior = np.sign(np.diff(F))
+    assert np.count_nonzero(np.diff(interior)) == 2  # a local minimum and a local maximum
+    p, q = defaults(), downlocked_pose(defaults())
+    for lp in res.fig11_force_branch.special("LP"):
+        assert _phi(lp["l_sp1"], p, q) == pytest.approx(1.3, abs=1e-9)
+
+
+def test_fig11_cusp_where_the_closed_form_puts_it(res):
+    cps = res.fig11_fold_curve.special("CP")
+    assert len(cps) == 1
+    p, q = defaults(), downlocked_pose(defaults())
+    best = minimize_scalar(lambda l: _phi(l, p, q), bounds=(-0.175, 0.175), method="bounded",
+                           options={"xatol": 1e-10})
+    assert cps[0]["LU"] == pytest.approx(best.fun, abs=1e-7)
+    assert cps[0]["l_sp1"] == pytest.approx(best.x, abs=1e-4)
+    # folds only above the cusp
+    assert res.fig11_fold_curve["LU"].min() >= cps[0]["LU"] - 1e-9
+    below = [br for br, v in zip(res.fig11_surface, res.fig11_levels) if v < cps[0]["LU"] - 1e-3]
+    above = [br for br, v in zip(res.fig11_surface, res.fig11_levels) if cps[0]["LU"] + 1e-3 < v < 1.31]
+    assert below and above
+    for br in below:
+        assert np.all(np.diff(br["F"][np.argsort(br["l_sp1"])]) < 0)  # monotone: no extremum
+    for br in above:
+        assert np.count_nonzero(np.diff(np.sign(np.diff(br["F"][np.argsort(br["l_sp1"])])))) == 2
+
+
+def test_design_region_boundary_is_zero_force(res):
+    r = res.region
+    assert r.boundary is not None and len(r.boundary) > 5
+    assert np.max(np.abs(r.boundary["F"])) < 1e-12
+    row = min(r.rows, key=lambda q: abs(q.level - 1.3))
+    assert len(row.folds) == 2 and row.margin_to_fold == pytest.approx(min(abs(0.1 - f) for f in row.folds))
+
+
+def test_run_writes_figures_and_summary(tmp_path, res, monkeypatch):
+    import mechcont.paper.nose_gear as ng
+
+    monkeypatch.setattr(ng, "compute", lambda: res)
+    lines = run(tmp_path, quiet=True)
+    for k in (7, 8, 9, 10, 11):
+        assert (tmp_path / f"nose_gear_fig{k}.png").stat().st_size > 1000
+    assert (tmp_path / "nose_gear_design.png").is_file()
+    text = "\n".join(lines)
+    assert "Fig. 8" in text and "Reappears" in text and "cusp" in text
+    assert summary(res)[0].startswith("## Nose")
