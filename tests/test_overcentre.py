@@ -137,3 +137,16 @@ def test_fold_system_jacobian_agrees_with_finite_differences():
     h = 1e-6
     fd = np.array([(prob.residual(u + h * e) - prob.residual(u - h * e)) / (2 * h) for e in np.eye(len(u))]).T
     assert np.allclose(J, fd, rtol=1e-6, atol=1e-6 * np.abs(J).max())
+
+
+def test_reduced_generated_form_locates_the_same_folds():
+    # three unknowns in mixed units (rad, rad, N): the fold's null vector must come from the
+    # scaled Jacobian, else a small singular value of another direction is picked
+    from mechcont.mechanism import assemble, load
+
+    s = load("overcentre", reduced=True, LU=0.4)
+    x0 = assemble(s, hold={"theta1": 0.3}, free=["F"])
+    b = continuation(s, x0, "F", options=ContinuationOptions(bounds={"theta1": (-1.2, 1.2)}))
+    got = sorted((p["theta1"], p["F"]) for p in b.special("LP"))
+    for (th, F), (th0, F0) in zip(got, symmetric_folds(P["L"], P["m1"], P["m2"], P["g"], P["k"], 0.4)):
+        assert th == pytest.approx(th0, rel=1e-8) and F == pytest.approx(F0, rel=1e-8)

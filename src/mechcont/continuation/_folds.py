@@ -31,9 +31,20 @@ from ._problem import ContinuationProblem, choose_unknowns
 __all__ = ["FoldProblem", "CuspEvent", "fold_quantities", "refine_fold"]
 
 
-def _null_vectors(Js: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    u, _, vt = np.linalg.svd(Js)
-    return vt[-1], u[:, -1]
+def _null_vectors(Js: np.ndarray, scale: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Right and left singular vectors of the smallest singular value of ``Js``.
+
+    With ``scale`` (typical magnitudes of the states) the SVD is taken of ``Js D``: in
+    mixed units (m, rad, N) the unscaled matrix can have several small singular values
+    and the smallest need not belong to the fold. The right vector is returned unscaled,
+    normalised to unit length.
+    """
+    if scale is None:
+        u, _, vt = np.linalg.svd(Js)
+        return vt[-1], u[:, -1]
+    u, _, vt = np.linalg.svd(Js * scale)
+    v = vt[-1] * scale
+    return v / np.linalg.norm(v), u[:, -1]
 
 
 def fold_quantities(system: EquationSystem, x: np.ndarray, state_idx: np.ndarray, param_index: int,
@@ -113,7 +124,7 @@ def refine_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
     idx_vars = np.array([system.index(n) for n in [*states, param]])
     state_pos = np.arange(len(states))
     Js = system.jacobian(x)[:, idx_vars[state_pos]]
-    v0, _ = _null_vectors(Js)
+    v0, _ = _null_vectors(Js, system.scales()[idx_vars[state_pos]])
     full, res, jac = _fold_system(system, np.array(x, float), idx_vars, state_pos, v0)
     U0 = np.concatenate([np.asarray(x, float)[idx_vars], v0])
     scale = np.concatenate([system.scales()[idx_vars], np.ones(len(v0))])
@@ -152,7 +163,7 @@ class FoldProblem(ContinuationProblem):
         self.state_idx = self.idx_vars[: len(states)]
         x_fold = np.asarray(x_fold, float)
         if v0 is None:
-            v0, _ = _null_vectors(system.jacobian(x_fold)[:, self.state_idx])
+            v0, _ = _null_vectors(system.jacobian(x_fold)[:, self.state_idx], system.scales()[self.state_idx])
         v0 = np.asarray(v0, float) / np.linalg.norm(v0)
         self.c = v0
         self.base = x_fold.copy()

@@ -236,5 +236,8 @@ class EquationSystem:
 
     def latex(self) -> str:
         """The equations as a LaTeX ``align`` environment."""
-        rows = [f"{sp.latex(e)} &= 0 && \\text{{({name})}}" for name, e in zip(self.equation_names, self.equations)]
+        def label(name: str) -> str:
+            return name.replace("_", "\\_")  # underscores are special in LaTeX text mode
+
+        rows = [f"{sp.latex(e)} &= 0 && \\text{{({label(name)})}}" for name, e in zip(self.equation_names, self.equations)]
         return "\\begin{align}\n" + " \\\\\n".join(rows) + "\n\\end{align}"
