@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 import tempfile
 from pathlib import Path
@@ -40,12 +41,19 @@ def save_figure(fig, path: Path) -> None:
             os.remove(tmp)
 
 
+@functools.lru_cache(maxsize=4)
+def _load(model: str):
+    # compiled once per process: the analyses never modify a system
+    from ..models import load_model
+
+    return load_model(model)
+
+
 def model_and_condition(model: str, holds, force: str | None):
     """Load MODEL and resolve its downlock condition (``--hold``/``--force`` or the model's own)."""
     from ..analysis.downlock import downlock_condition
-    from ..models import load_model
 
-    system = load_model(model)
+    system = _load(model)
     hold = assignments(holds, "hold") or None
     h, f = downlock_condition(system, hold, force)
     return system, h, f
