@@ -61,6 +61,14 @@ theta4 = 0 is then independent of every load on bars 1–3 (drag, gear weight) a
 nonlinear in ``l_sp1`` (see :func:`aligned_downlock_force`). The drag effect the paper
 reports (1.5 N over 0–100 m/s) needs the lock links to be slightly *misaligned* when
 theta4 = 0; :func:`aligned_lock_lug` takes an offset for that study.
+
+Results with this geometry (``mechcont paper``, tested in ``tests/test_nose_gear_paper.py``):
+downlock force 71.99 N at the defaults; airspeed: no effect when aligned, -2.3 N at
+100 m/s (quadratic) with the lock-link lug 0.5 mm short; slopes -4239 N per m of LU and
+2.50 N per kN/m of k; at LU = 1.3 m F(l_sp1) has a minimum of -16.1 N at l_sp1 = -0.104 m
+and a maximum of 72.1 N at 0.096 m; the folds of F w.r.t. l_sp1 exist only above the cusp
+at LU = 1.2885 m (the extrema need a nearly slack spring: LU = s^3 / (s^2 + (L4/2 - l_sp1)
+dx) with s the spring length and dx its horizontal extent, minimal at the cusp).
 """
 
 from __future__ import annotations
