@@ -91,27 +91,32 @@ def _fold_system(system, base, idx_vars, state_pos, c):
         x[idx_vars] = U[:nv]
         return x
 
-    def residual(U):
+    def evaluate(U):
         x = full(U)
         v = U[nv:]
-        J = system.jacobian(x)
-        return np.concatenate([system.residual(x), J[:, state_idx] @ v, [0.5 * (v @ v - 1.0)]])
-
-    def jacobian(U):
-        x = full(U)
-        v = U[nv:]
+        r, J = system.residual_and_jacobian(x)
+        Js = J[:, state_idx]
+        res = np.concatenate([r, Js @ v, [0.5 * (v @ v - 1.0)]])
         vf = np.zeros(len(x))
         vf[state_idx] = v
-        J = system.jacobian(x)
         H = system.jacobian_derivative(x, vf)
         out = np.zeros((2 * n + 1, nv + n))
         out[:n, :nv] = J[:, idx_vars]
         out[n:2 * n, :nv] = H[:, idx_vars]
-        out[n:2 * n, nv:] = J[:, state_idx]
+        out[n:2 * n, nv:] = Js
         out[2 * n, nv:] = v
-        return out
+        return res, out
 
-    return full, residual, jacobian
+    def residual(U):
+        x = full(U)
+        v = U[nv:]
+        r, J = system.residual_and_jacobian(x)
+        return np.concatenate([r, J[:, state_idx] @ v, [0.5 * (v @ v - 1.0)]])
+
+    def jacobian(U):
+        return evaluate(U)[1]
+
+    return full, residual, jacobian, evaluate
 
 
 def refine_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], param: str, tol: float = 1e-13):
@@ -125,7 +130,7 @@ def refine_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
     state_pos = np.arange(len(states))
     Js = system.jacobian(x)[:, idx_vars[state_pos]]
     v0, _ = _null_vectors(Js, system.scales()[idx_vars[state_pos]])
-    full, res, jac = _fold_system(system, np.array(x, float), idx_vars, state_pos, v0)
+    full, res, jac, _ = _fold_system(system, np.array(x, float), idx_vars, state_pos, v0)
     U0 = np.concatenate([np.asarray(x, float)[idx_vars], v0])
     scale = np.concatenate([system.scales()[idx_vars], np.ones(len(v0))])
     U, _ = newton_square(res, jac, U0, tol=tol, residual_tol=1e-11, max_iter=20, scale=scale)
@@ -167,7 +172,7 @@ class FoldProblem(ContinuationProblem):
         v0 = np.asarray(v0, float) / np.linalg.norm(v0)
         self.c = v0
         self.base = x_fold.copy()
-        self._full, self._res, self._jac = _fold_system(system, self.base, self.idx_vars, np.arange(len(states)), v0)
+        self._full, self._res, self._jac, self._eval = _fold_system(system, self.base, self.idx_vars, np.arange(len(states)), v0)
         self.u0 = np.concatenate([x_fold[self.idx_vars], v0])
         self.names = (*states, p1, p2, *[f"v_{s}" for s in states])
         self.param_index = len(states) + 1
@@ -182,6 +187,9 @@ class FoldProblem(ContinuationProblem):
 
     def jacobian(self, u):
         return self._jac(u)
+
+    def evaluate(self, u):
+        return self._eval(u)
 
     def full(self, u):
         return self._full(u)

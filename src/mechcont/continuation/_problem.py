@@ -139,8 +139,8 @@ class EquilibriumProblem(ContinuationProblem):
         return self.system.jacobian(self.full(u))[:, self.idx]
 
     def evaluate(self, u):
-        x = self.full(u)
-        return self.system.residual(x), self.system.jacobian(x)[:, self.idx]
+        r, J = self.system.residual_and_jacobian(self.full(u))
+        return r, J[:, self.idx]
 
     def stability(self, u) -> int:
         if not self._stability:

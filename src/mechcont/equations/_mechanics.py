@@ -126,6 +126,20 @@ class MechanicalModel:
         self._Q = compile_dense(args, forces_e)
         self._dQdq = compile_sparse(args, derivative_entries(forces_e, qs_e), (nq, nq))
         self._dQdqd = compile_sparse(args, derivative_entries(forces_e, qd_e), (nq, nq))
+        # everything stability needs at rest, in one compiled call
+        statics = [0] * (nc * nq + nq + nq * nq + nc * nq * nq)
+        for (k, i), d in phi_q:
+            statics[k * nq + i] = d
+        o = nc * nq
+        for i, f in enumerate(forces_e):
+            statics[o + i] = f
+        o += nq
+        for (i, j), d in derivative_entries(forces_e, qs_e):
+            statics[o + i * nq + j] = d
+        o += nq * nq
+        for (k, i, j), d2 in hess:
+            statics[o + (k * nq + i) * nq + j] = d2
+        self._statics = compile_dense(args, statics)
         M = self.mass_matrix
         self._M = compile_sparse(args, [((i, j), M[i, j]) for i in range(nq) for j in range(nq) if M[i, j] != 0], (nq, nq))
 
@@ -200,19 +214,26 @@ class MechanicalModel:
         Eigenvalues within ``rtol`` of the largest magnitude count as zero (neutral).
         The count is independent of the units of ``q`` (Sylvester's law of inertia).
         """
-        U, sv, Vt, r = self._decompose(x)
+        nq, nc = len(self.coordinates), len(self.constraints)
+        out = self._statics(self._args(x))
+        A = out[: nc * nq].reshape(nc, nq)
+        Q = out[nc * nq: nc * nq + nq]
+        o = nc * nq + nq
+        K = -out[o: o + nq * nq].reshape(nq, nq)
+        if nc:
+            U, sv, Vt = np.linalg.svd(A)
+            r = int(np.sum(sv > 1e-10 * max(sv[0], 1e-300)))
+            lam = U[:, :r] @ ((Vt[:r] @ Q) / sv[:r])
+            K = K + (lam @ out[o + nq * nq:].reshape(nc, nq * nq)).reshape(nq, nq)
+        else:
+            Vt, r = np.eye(nq), 0
         Z = Vt[r:].T
         if Z.shape[1] == 0:
             return StabilityResult(0, np.zeros(0), True)
-        a = self._args(x)
-        lam = np.zeros(0) if U is None else U[:, :r] @ ((Vt[:r] @ self._Q(a)) / sv[:r])
-        K = -self._dQdq(a)
-        if len(lam):
-            K = K + np.tensordot(lam, self._phi_hess(a), axes=1)
         Kr = Z.T @ K @ Z
         scale = max(np.abs(Kr).max(), 1e-300)
         if np.abs(Kr - Kr.T).max() <= 1e-9 * scale:
-            ev = np.linalg.eigvalsh(0.5 * (Kr + Kr.T)) if len(Kr) > 1 else Kr[0]
+            ev = np.linalg.eigvalsh(0.5 * (Kr + Kr.T)) if len(Kr) > 1 else Kr[0].copy()
             return StabilityResult(int(np.sum(ev < -rtol * scale)), ev, True)
         Mr = Z.T @ self.mass(x) @ Z
         mu = np.linalg.eigvals(np.linalg.solve(Mr, Kr))

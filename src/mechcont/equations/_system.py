@@ -191,9 +191,13 @@ class EquationSystem:
         syms = to_engine(list(self.symbols))
         eqs = to_engine(list(self.equations))
         n_eq, n = len(eqs), len(syms)
-        self._residual = compile_dense(syms, eqs)
         jac_entries = derivative_entries(eqs, syms)
-        self._jacobian = compile_sparse(syms, jac_entries, (n_eq, n))
+        # residual and Jacobian in one compiled function: they share sub-expressions and
+        # the engine always needs both (one call instead of two per Newton iteration)
+        dense = [0] * (n_eq * n)
+        for (i, j), d in jac_entries:
+            dense[i * n + j] = d
+        self._res_jac = compile_dense(syms, [*eqs, *dense])
         hess_idx, hess_expr = [], []
         for (i, j), d in jac_entries:
             for (_, k), d2 in derivative_entries([d], syms):
@@ -208,13 +212,19 @@ class EquationSystem:
 
     def residual(self, x: np.ndarray) -> np.ndarray:
         """G(x): one residual per equation (units of each equation), ``x`` in :attr:`names` order."""
-        self.compile()
-        return self._residual(x)
+        return self.residual_and_jacobian(x)[0]
 
     def jacobian(self, x: np.ndarray) -> np.ndarray:
         """dG/dx with respect to *all* variables: array (n_equations, n_variables)."""
-        self.compile()
-        return self._jacobian(x)
+        return self.residual_and_jacobian(x)[1]
+
+    def residual_and_jacobian(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(G(x), dG/dx)`` from one evaluation (see :meth:`residual`, :meth:`jacobian`)."""
+        if not self._compiled:
+            self.compile()
+        out = self._res_jac(x)
+        n_eq = len(self.equations)
+        return out[:n_eq], out[n_eq:].reshape(n_eq, len(self.names))
 
     def jacobian_derivative(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
         """d/dx (J(x) v): the second derivative of G contracted with ``v`` over all variables.
