@@ -13,7 +13,11 @@ from ..errors import InputError
 from ._app import cli
 
 #: Sections in order: module in mechcont.paper, title.
-SECTIONS = [("overcentre", "overcentre continuation (Figs. 3b, 4, 5)")]
+SECTIONS = [
+    ("overcentre", "overcentre continuation (Figs. 3b, 4, 5)"),
+    ("dynamics", "overcentre time simulation vs continuation (Figs. 3a, 4b,c)"),
+    ("nose_gear", "nose landing gear downlock analysis (Figs. 7-11)"),
+]
 
 
 @cli.command("paper")
