@@ -153,3 +153,35 @@ def test_bad_parameter_names_and_values():
         defaults(k=float("nan"))
     with pytest.raises(InputError, match="theta4"):
         downlocked_pose(defaults(), 2.5)
+
+
+def test_drag_enters_the_tangent_stiffness(gear):
+    """With drag (a moment depending on theta3) the reduced stiffness is -d(generalised force)/d(theta4)
+    along the mechanism's motion, by finite differences of Q . dq/dtheta4 on closed-form poses."""
+    L35, psi2 = aligned_lock_lug(defaults(), offset=-0.03)  # far from the dead centre: drag matters
+    vals = {"L35": L35, "psi2": psi2, "U": 100.0}
+    x = _solve(gear, **vals)
+    p = gear.as_dict(x)
+    mech = gear.mechanics
+    iq = [gear.index(n) for n in COORDINATES]
+
+    def q_of(t4):
+        return np.array([downlocked_pose(p, t4)[n] for n in COORDINATES])
+
+    def generalised_force(t4, h=1e-6):
+        y = x.copy()
+        y[iq] = q_of(t4)
+        dq = (q_of(t4 + h) - q_of(t4 - h)) / (2 * h)
+        return float(mech.applied_forces(y) @ dq)
+
+    assert abs(generalised_force(0.0)) < 1e-6  # equilibrium by virtual work, drag included
+    h = 1e-4
+    k_fd = -(generalised_force(h) - generalised_force(-h)) / (2 * h)
+    Z = mech.allowed_motions(x)[:, 0]
+    z = Z / Z[COORDINATES.index("theta4")]
+    k_model = float(z @ mech.tangent_stiffness(x) @ z)
+    assert k_model == pytest.approx(k_fd, rel=1e-5)
+    # the drag's own derivative is a visible part of it: dropping it would fail the check above
+    i3 = COORDINATES.index("theta3")
+    d_drag = -mech._dQdq(mech._args(x))[i3, i3] + mech._dQdq(mech._args(gear.vector({"U": 0.0}, base=x)))[i3, i3]
+    assert abs(d_drag * z[i3] ** 2) > 10 * 1e-5 * abs(k_model)  # 10x the tolerance of the check above
