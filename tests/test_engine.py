@@ -134,3 +134,23 @@ def test_lens_errors_name_the_problem():
         find_equilibrium(s, hold={"x": 0.5})
     x = find_equilibrium(s, hold={"x": 0.5}, free=["p"], guess={"p": 0.5})
     assert x[1] ** 2 == pytest.approx(0.75)
+
+
+@pytest.mark.parametrize("kind", ["pitchfork", "transcritical"])
+def test_branch_switching_at_bp(kind):
+    from mechcont.continuation import switch_branch
+
+    if kind == "pitchfork":  # x (x^2 - p): new branch x^2 = p
+        s = make(kind, [lambda v: v["x"] * (v["x"] ** 2 - v["p"])], {"x": 0.0}, {"p": -1.0})
+        on_new = lambda x, p: x ** 2 - p  # noqa: E731
+    else:  # x (x - p): new branch x = p
+        s = make(kind, [lambda v: v["x"] * (v["x"] - v["p"])], {"x": 0.0}, {"p": -1.0})
+        on_new = lambda x, p: x - p  # noqa: E731
+    opts = ContinuationOptions(max_steps=200, stability=False, bounds={"p": (-1, 1), "x": (-1.5, 1.5)})
+    b = continuation(s, s.vector({"x": 0.0, "p": -1.0}), "p", direction=1, options=opts)
+    (bp,) = b.special("BP")
+    nb = switch_branch(s, bp, options=opts)
+    assert len(nb) > 10
+    assert np.max(np.abs(on_new(nb["x"], nb["p"]))) < 1e-9
+    assert (nb["x"] > 0.1).any() and (nb["x"] < -0.1).any()  # both directions followed
+    assert nb.labels[int(np.argmin(np.abs(nb.s)))] == "BP"

@@ -1,7 +1,7 @@
 """Continuation: problems (lenses on an equation system), the pseudo-arclength engine,
 events (LP, BP, CP, EP, user) and branch results."""
 
-from ._api import continuation, continue_folds, locate_fold
+from ._api import continuation, continue_folds, locate_fold, switch_branch
 from ._branch import Branch, SpecialPoint
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, PointState, ValueEvent
 from ._folds import CuspEvent, FoldProblem
@@ -10,7 +10,7 @@ from ._options import ContinuationOptions
 from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns
 
 __all__ = [
-    "continuation", "continue_folds", "locate_fold", "find_equilibrium", "ContinuationOptions", "Branch",
+    "continuation", "continue_folds", "switch_branch", "locate_fold", "find_equilibrium", "ContinuationOptions", "Branch",
     "SpecialPoint", "Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "ValueEvent", "CuspEvent",
     "PointState", "ContinuationProblem", "EquilibriumProblem", "FoldProblem", "choose_unknowns",
 ]

@@ -15,7 +15,7 @@ from ._options import ContinuationOptions
 from ._palc import run_direction
 from ._problem import EquilibriumProblem, choose_unknowns
 
-__all__ = ["continuation", "continue_folds", "locate_fold"]
+__all__ = ["continuation", "continue_folds", "locate_fold", "switch_branch"]
 
 
 class _Equilibria(EquilibriumProblem):
@@ -207,3 +207,74 @@ def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: 
             if ev.label == "CP":
                 ev.stop = True
     return _run(problem, system, problem.u0, opts, evs, direction, free, (*states, vary))
+
+
+def switch_branch(system: EquationSystem, bp: SpecialPoint, *, options: ContinuationOptions | None = None,
+                  direction: int = 0, events: Sequence[Event] = ()) -> Branch:
+    """Continue the other branch through a branch point (``BP``) of a computed branch.
+
+    At a simple branch point the Jacobian ``G_z`` (n x n+1) has a two-dimensional null
+    space ``{phi1 = old tangent, phi2}`` and a left null vector ``w``. Tangents of the
+    branches through the point are ``a phi1 + b phi2`` with ``(a, b)`` roots of the
+    algebraic branching equation ``w^T G_zz[a phi1 + b phi2, a phi1 + b phi2] = 0``.
+    ``(1, 0)`` is one root (the old branch), so the coefficient of ``a^2`` vanishes and the
+    other root is ``(a, b) = (c22, -2 c12)`` with ``c_ij = w^T G_zz[phi_i, phi_j]``. From
+    there the ordinary pseudo-arclength engine takes over, in both directions unless
+    ``direction`` says.
+
+    Parameters
+    ----------
+    system:
+        The equation system of the branch.
+    bp:
+        A special point labelled ``BP`` (from :func:`continuation`, which records its lens
+        and tangent).
+    options, direction, events:
+        As for :func:`continuation` (use the same ``scales`` as for the first branch).
+
+    Returns
+    -------
+    Branch
+        The new branch; the start row is labelled ``BP``.
+    """
+    if not isinstance(bp, SpecialPoint) or bp.label != "BP" or bp.tangent is None:
+        raise InputError("bp", "give a special point labelled BP from a continuation branch")
+    options = options or ContinuationOptions()
+    vary, unknowns = bp.info["vary"], list(bp.info["unknowns"])
+    problem = _Equilibria(system, bp.x, vary, unknowns, scales=options.scales, stability=options.stability)
+    u0 = problem.u_of(bp.x)
+    D = problem.scale
+    Gz = problem.jacobian(u0) * D
+    U, _, vt = np.linalg.svd(Gz)
+    null = vt[-2:].T  # two smallest right singular vectors span the null space at a simple BP
+    c = null.T @ bp.tangent
+    phi1 = bp.tangent / np.linalg.norm(bp.tangent)
+    phi2 = null @ np.array([-c[1], c[0]])
+    phi2 /= np.linalg.norm(phi2)
+    w = U[:, -1]
+    x = problem.full(u0)
+
+    def second(a, b):  # w^T G_zz[a, b] in scaled variables
+        va = np.zeros(len(x))
+        va[problem.idx] = D * a
+        return float(w @ (system.jacobian_derivative(x, va)[:, problem.idx] * D) @ b)
+
+    c12, c22 = second(phi1, phi2), second(phi2, phi2)
+    if abs(c12) + abs(c22) == 0:
+        raise InputError("bp", "degenerate branch point (second derivatives vanish); the new direction is unknown")
+    t_new = c22 * phi1 - 2 * c12 * phi2
+    t_new /= np.linalg.norm(t_new)
+    evs: list[Event] = []
+    if options.detect_folds:
+        evs.append(FoldEvent())
+    if options.detect_branch_points:
+        evs.append(BranchPointEvent())
+    evs += list(events) + _bound_events(system, options)
+    branch = _run(problem, system, u0, options, evs, direction, vary, unknowns, tangent0=t_new)
+    i0 = int(np.argmin(np.abs(branch.s)))
+    if not branch.labels[i0]:
+        branch.labels[i0] = "BP"
+        branch.special_points.append(SpecialPoint("BP", i0, branch.values[i0].copy(), system.names, t_new,
+                                                  {"unknowns": tuple(unknowns), "vary": vary, "switched": True}))
+        branch.special_points.sort(key=lambda p: p.index)
+    return branch

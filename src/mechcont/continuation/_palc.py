@@ -233,6 +233,8 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
         hits.sort(key=lambda h: h[1][0])
         stop = False
         for ev, (sigma, st, info) in hits:
+            if len(res.states) == 1 and sigma <= 1e-6 * ds:
+                continue  # the start itself is the special point (e.g. leaving a BP)
             refined = ev.refine(problem, st) if st is not None else None
             if refined is not None:
                 u_ref, extra = refined
