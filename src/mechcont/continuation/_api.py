@@ -48,6 +48,15 @@ def _bound_events(system: EquationSystem, options: ContinuationOptions) -> list[
     return evs
 
 
+def _equilibrium_events(system, options: ContinuationOptions, events) -> list[Event]:
+    evs: list[Event] = []
+    if options.detect_folds:
+        evs.append(FoldEvent())
+    if options.detect_branch_points:
+        evs.append(BranchPointEvent())
+    return evs + list(events) + _bound_events(system, options)
+
+
 def _check_start(system, problem, u0, options, start_x):
     r = problem.residual(u0)
     if not np.all(np.isfinite(r)) or np.max(np.abs(r)) > 1e3 * options.residual_tol:
@@ -132,12 +141,7 @@ def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str
     problem = _Equilibria(system, x0, vary, unknowns, scales=options.scales, stability=options.stability)
     u0 = problem.u_of(x0)
     _check_start(system, problem, u0, options, x0)
-    evs: list[Event] = []
-    if options.detect_folds:
-        evs.append(FoldEvent())
-    if options.detect_branch_points:
-        evs.append(BranchPointEvent())
-    evs += list(events) + _bound_events(system, options)
+    evs = _equilibrium_events(system, options, events)
     return _run(problem, system, u0, options, evs, direction, vary, unknowns)
 
 
@@ -264,12 +268,7 @@ def switch_branch(system: EquationSystem, bp: SpecialPoint, *, options: Continua
         raise InputError("bp", "degenerate branch point (second derivatives vanish); the new direction is unknown")
     t_new = c22 * phi1 - 2 * c12 * phi2
     t_new /= np.linalg.norm(t_new)
-    evs: list[Event] = []
-    if options.detect_folds:
-        evs.append(FoldEvent())
-    if options.detect_branch_points:
-        evs.append(BranchPointEvent())
-    evs += list(events) + _bound_events(system, options)
+    evs = _equilibrium_events(system, options, events)
     branch = _run(problem, system, u0, options, evs, direction, vary, unknowns, tangent0=t_new)
     i0 = int(np.argmin(np.abs(branch.s)))
     if not branch.labels[i0]:

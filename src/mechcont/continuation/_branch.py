@@ -5,12 +5,12 @@ from __future__ import annotations
 import csv
 import json
 import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .._io import atomic_write
 from ..errors import InputError
 
 __all__ = ["Branch", "SpecialPoint"]
@@ -190,17 +190,9 @@ class Branch:
 
 
 def _atomic_write(path, writer) -> Path:
-    """Write through a temporary file in the same folder, so nothing half-written is left."""
-    path = Path(path)
-    if not path.parent.exists():
-        raise InputError(str(path), f"folder {path.parent} does not exist")
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", newline="") as f:
+    """Write text through ``writer(file)`` without leaving a partial file on failure."""
+    def write(tmp):
+        with open(tmp, "w", newline="") as f:
             writer(f)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+
+    return atomic_write(path, write)

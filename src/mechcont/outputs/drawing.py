@@ -18,7 +18,6 @@ import csv
 import math
 import os
 import shutil
-import tempfile
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..equations import Scene
+from .._io import atomic_write
 from ..errors import InputError
 
 __all__ = ["draw_scene", "draw", "animate", "BranchFrames", "branch_frames", "IMAGE_SUFFIXES", "ANIMATION_SUFFIXES"]
@@ -251,15 +251,7 @@ def _check_out(path: str | os.PathLike, valid: Sequence[str]) -> Path:
 
 def _atomic_write(path: Path, write: Callable[[str], None]) -> None:
     """Call ``write(tmp)`` on a temporary file next to ``path``, then move it into place."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}-", suffix=path.suffix, dir=path.parent)
-    os.close(fd)
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    atomic_write(path, write)
 
 
 def _check_x(system, x) -> np.ndarray:

@@ -9,12 +9,12 @@ lazily and only through :class:`matplotlib.figure.Figure`, so everything runs he
 from __future__ import annotations
 
 import os
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
+from .._io import atomic_write
 from ..errors import InputError
 
 __all__ = ["plot_branch", "plot_surface", "new_figure", "save_figure", "axis_values", "FIGURE_SUFFIXES"]
@@ -159,15 +159,4 @@ def save_figure(fig, path: str | os.PathLike, dpi: int = 150) -> Path:
     suffix = path.suffix.lower()
     if suffix not in FIGURE_SUFFIXES:
         raise InputError(str(path), f"unknown figure type '{suffix}'; use one of {', '.join(FIGURE_SUFFIXES)}")
-    if not path.parent.exists():
-        raise InputError(str(path), f"folder {path.parent} does not exist")
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=suffix)
-    os.close(fd)
-    try:
-        fig.savefig(tmp, dpi=dpi, format=suffix[1:])
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+    return atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=suffix[1:]))
