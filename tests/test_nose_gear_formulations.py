@@ -25,20 +25,6 @@ def generated():
     return load("nose_gear")
 
 
-@pytest.fixture(scope="module")
-def generated_scaled(generated):
-    """The generated equations with its equilibrium rows per kN, as the paper-style model writes them.
-
-    Same equations (each row divided by a constant), so the same solutions; needed only because
-    the fold refinement solves to an absolute residual of 1e-11, out of reach for rows in newtons.
-    """
-    n_eq = len(generated.equations)
-    eqs = [e / 1000 if i < n_eq - 14 else e for i, e in enumerate(generated.equations)]
-    assert all(n.startswith(("Fx_", "Fy_", "M_")) for n in generated.equation_names[: n_eq - 14])
-    return EquationSystem("nose_gear_generated_kN", generated.variables, eqs, generated.equation_names,
-                          generated.mechanics).compile()
-
-
 def _coords(system, x):
     return np.array([x[system.index(n)] for n in (*COORDINATES, "F", "l_sp1", "LU")])
 
@@ -94,21 +80,21 @@ def _force_branch(system, hold=None):
                                                                                   "F": (-1000, 1000)}))
 
 
-def test_folds_agree(paper, generated_scaled):
+def test_folds_agree(paper, generated):
     a = _force_branch(paper).special("LP")
-    b = _force_branch(generated_scaled, HOLD).special("LP")
+    b = _force_branch(generated, HOLD).special("LP")
     assert len(a) == len(b) == 2
     for p, q in zip(sorted(a, key=lambda p: p["l_sp1"]), sorted(b, key=lambda p: p["l_sp1"])):
         xp, _, _ = locate_fold(paper, p, "F")
-        xq, _, _ = locate_fold(generated_scaled, q, "F")
+        xq, _, _ = locate_fold(generated, q, "F")
         for n in ("F", "l_sp1", "theta3"):
-            assert abs(xp[paper.index(n)] - xq[generated_scaled.index(n)]) < TOL
+            assert abs(xp[paper.index(n)] - xq[generated.index(n)]) < TOL
 
 
-def test_fold_curves_and_cusp_agree(paper, generated_scaled):
+def test_fold_curves_and_cusp_agree(paper, generated):
     opts = ContinuationOptions(ds=0.01, dsmax=0.05, bounds={"l_sp1": (-0.175, 0.175), "LU": (1.25, 1.35)})
     ca = continue_folds(paper, _force_branch(paper)["LP1"], vary="F", free="LU", options=opts)
-    cb = continue_folds(generated_scaled, _force_branch(generated_scaled, HOLD)["LP1"], vary="F", free="LU",
+    cb = continue_folds(generated, _force_branch(generated, HOLD)["LP1"], vary="F", free="LU",
                         options=opts)
     cpa, cpb = ca.special("CP"), cb.special("CP")
     assert len(cpa) == len(cpb) == 1
@@ -120,7 +106,7 @@ def test_fold_curves_and_cusp_agree(paper, generated_scaled):
         LU, l = row[paper.index("LU")], row[paper.index("l_sp1")]
         if abs(l) > 0.175 - h:
             continue
-        F = [downlock_point(generated_scaled, {"LU": LU, "l_sp1": l + d}, hold=HOLD)[generated_scaled.index("F")]
+        F = [downlock_point(generated, {"LU": LU, "l_sp1": l + d}, hold=HOLD)[generated.index("F")]
              for d in (-h, 0.0, h)]
         assert abs(F[1] - row[paper.index("F")]) < TOL
         slope = (F[2] - F[0]) / (2 * h)

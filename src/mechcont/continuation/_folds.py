@@ -119,7 +119,7 @@ def _fold_system(system, base, idx_vars, state_pos, c):
     return full, residual, jacobian, evaluate
 
 
-def refine_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], param: str, tol: float = 1e-13):
+def refine_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], param: str, tol: float = 1e-11):
     """Polish an approximate fold in ``param`` with Newton on the square fold system.
 
     Returns ``(x, v)``: the full vector at the fold and the normalised null vector.
@@ -133,7 +133,7 @@ def refine_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
     full, res, jac, _ = _fold_system(system, np.array(x, float), idx_vars, state_pos, v0)
     U0 = np.concatenate([np.asarray(x, float)[idx_vars], v0])
     scale = np.concatenate([system.scales()[idx_vars], np.ones(len(v0))])
-    U, _ = newton_square(res, jac, U0, tol=tol, residual_tol=1e-11, max_iter=20, scale=scale)
+    U, _ = newton_square(res, jac, U0, tol=tol, residual_tol=1e-10, max_iter=20, scale=scale)
     return full(U), U[len(idx_vars):]
 
 

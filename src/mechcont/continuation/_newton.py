@@ -18,7 +18,10 @@ def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol:
     """Damped Newton for a square system ``fun(u) = 0``.
 
     The full Newton step is tried first and halved while it does not reduce the residual
-    norm (a backtracking line search), so a rough guess still converges.
+    norm (a backtracking line search), so a rough guess still converges. Converged when
+    the scaled step is below ``tol`` and every residual is below ``residual_tol`` times
+    the size of its row's terms (``max(1, max_j |J_ij scale_j|)``): an equilibrium row in
+    kilonewtons cannot be met to 1e-10 N in floating point.
 
     Returns ``(u, iterations)``. Raises :class:`ConvergenceError` (with ``partial`` = the
     last iterate) if the Jacobian is singular or ``max_iter`` is reached.
@@ -26,31 +29,35 @@ def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol:
     u = np.array(u0, dtype=float)
     scale = np.ones_like(u) if scale is None else scale
     r = fun(u)
-    norm = np.linalg.norm(r)
     for it in range(1, max_iter + 1):
         J = jac(u)
+        # rows measured against the size of their terms: the merit function and the
+        # convergence test then treat equations in N, N m and m alike
+        row = np.maximum(1.0, np.abs(J * scale).max(axis=1))
+        norm = np.linalg.norm(r / row)
         try:
             du = np.linalg.solve(J, -r)
         except np.linalg.LinAlgError:
             du = None
-        if du is None or not np.all(np.isfinite(du)) or np.linalg.cond(J) > 1e14:
+        if du is None or not np.all(np.isfinite(du)) or np.linalg.cond(J * scale / row[:, None]) > 1e14:
             raise ConvergenceError(
-                f"singular Jacobian at iteration {it} (residual {norm:.3g}): the held/freed choice does not "
-                "fix the configuration here; hold a different state or free a different parameter", partial=u)
+                f"singular Jacobian at iteration {it} (residual {np.linalg.norm(r):.3g}): the held/freed choice does "
+                "not fix the configuration here; hold a different state or free a different parameter", partial=u)
         lam = 1.0
         while True:
             trial = u + lam * du
             r_trial = fun(trial)
-            n_trial = np.linalg.norm(r_trial)
+            n_trial = np.linalg.norm(r_trial / row)
             if np.isfinite(n_trial) and (n_trial < norm or lam < 1 / 64 or n_trial < residual_tol):
                 break
             lam *= 0.5
-        u, r, norm = trial, r_trial, n_trial
-        if np.max(np.abs(lam * du / scale)) < tol and np.max(np.abs(r)) < residual_tol:
+        u, r = trial, r_trial
+        if np.max(np.abs(lam * du / scale)) < tol and np.max(np.abs(r) / row) < residual_tol:
             return u, it
     worst = int(np.argmax(np.abs(r)))
     raise ConvergenceError(
-        f"Newton did not converge in {max_iter} iterations: residual {norm:.3g}, largest in equation {worst}; "
+        f"Newton did not converge in {max_iter} iterations: residual {np.linalg.norm(r):.3g}, largest in equation "
+        f"{worst}; "
         "try a closer guess or a different held value", partial=u)
 
 

@@ -34,7 +34,9 @@ class ContinuationOptions:
     newton_tol:
         Newton converged when the scaled correction's max-norm is below this ...
     residual_tol:
-        ... and the residual's max-norm (equation units) is below this.
+        ... and each residual is below this times the size of its row's terms
+        (``max(1, max_j |dG_i/dz_j|)`` in scaled variables), so rows in any unit are
+        held to the same relative accuracy.
     max_newton:
         Corrector iterations before the step is rejected and halved.
     max_contraction:

@@ -105,7 +105,8 @@ class PseudoArclength:
             r, jac = self.evaluate(z)
             if not (math.isfinite(r.sum()) and math.isfinite(jac.sum())):
                 return None, "residual not finite (outside the model's domain)", it
-            if step < o.newton_tol and np.abs(r).max() < o.residual_tol:
+            # residual relative to the size of each row's terms (see newton_square)
+            if step < o.newton_tol and (np.abs(r) / np.maximum(1.0, np.abs(jac).max(axis=1))).max() < o.residual_tol:
                 return z, jac, it - 1
             if it > o.max_newton:
                 break
@@ -319,7 +320,8 @@ def _solve_on_bound(eng: PseudoArclength, problem, cur: PointState, ds, ev, v0, 
             return None
         b[:-1] = -r
         b[-1] = target - z[k]
-        if np.abs(r).max() < eng.options.residual_tol and abs(b[-1]) < 1e-15 * max(1.0, abs(target)):
+        rel = np.abs(r) / np.maximum(1.0, np.abs(jac).max(axis=1))
+        if rel.max() < eng.options.residual_tol and abs(b[-1]) < 1e-15 * max(1.0, abs(target)):
             return eng.state(z, eng.tangent(z, cur.tangent, jac), jac)
         A[:-1] = jac
         _, _, dz, info = _dgesv(A, b)

@@ -40,6 +40,28 @@ def to_engine(exprs):
     return se.sympify(exprs)
 
 
+def _diff(e, a):
+    """d e / d a, with |u|' = sign(u) u' and sign' = 0 (SymEngine leaves both unevaluated).
+
+    Absolute values appear where a length is computed from parameters (sqrt(L^2) of a
+    real L); away from zero these are the exact derivatives.
+    """
+    d = e.diff(a)
+    derivs = d.atoms(se.Derivative)
+    if derivs:
+        subs = {}
+        for D in derivs:
+            f, var = D.args[0], D.args[1]
+            if isinstance(f, se.Abs):
+                subs[D] = se.sign(f.args[0]) * _diff(f.args[0], var)
+            elif isinstance(f, type(se.sign(se.Symbol("u")))):
+                subs[D] = se.Integer(0)
+            else:
+                raise ValueError(f"cannot differentiate {f} exactly")
+        d = d.xreplace(subs)
+    return d
+
+
 def derivative_entries(exprs: Sequence, args: Sequence) -> list[tuple[tuple[int, int], object]]:
     """Non-zero entries ``((i, j), d expr_i / d arg_j)`` of the Jacobian of ``exprs``."""
     out = []
@@ -47,7 +69,7 @@ def derivative_entries(exprs: Sequence, args: Sequence) -> list[tuple[tuple[int,
         fs = e.free_symbols
         for j, a in enumerate(args):
             if a in fs:
-                d = e.diff(a)
+                d = _diff(e, a)
                 if d != 0:
                     out.append(((i, j), d))
     return out
