@@ -185,3 +185,16 @@ def test_drag_enters_the_tangent_stiffness(gear):
     i3 = COORDINATES.index("theta3")
     d_drag = -mech._dQdq(mech._args(x))[i3, i3] + mech._dQdq(mech._args(gear.vector({"U": 0.0}, base=x)))[i3, i3]
     assert abs(d_drag * z[i3] ** 2) > 10 * 1e-5 * abs(k_model)  # 10x the tolerance of the check above
+
+
+def test_equilibrium_rows_are_in_newtons(gear):
+    """Plain SI, no row scaling: 1 N more of F changes bar 4's vertical force row by 1 N and
+    its moment row by 1 N times the arm L4/2 (m) from the centre to J."""
+    x = gear.downlocked
+    J = gear.jacobian(x)
+    rows = {n: i for i, n in enumerate(gear.equation_names)}
+    iF = gear.index("F")
+    v = gear.as_dict(x)
+    assert J[rows["force4_y"], iF] == pytest.approx(1.0, rel=1e-14)
+    assert J[rows["force4_x"], iF] == 0.0
+    assert J[rows["moment4"], iF] == pytest.approx(v["L4"] / 2 * np.cos(v["theta4"]), rel=1e-14)

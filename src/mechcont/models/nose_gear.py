@@ -15,11 +15,11 @@ knee 1–4, joint 4–5, lug 5–3) and 11 equilibrium rows: moment of bar 1 abo
 moment of bar 2, moment of bar 3 about O, force and moment of bars 4 and 5 (moments of bars
 2, 4, 5 about their centres). The ground reactions at A and O are eliminated by taking the
 moments of bars 1 and 3 about those pins, and the joint equilibria by writing one force per
-joint and its reaction on the other bar: 37 -> 25, exactly the paper's count. The
-equilibrium rows are written per kilonewton (divided by :data:`ROW_SCALE`), the forces
-themselves in newtons. ``F`` acts
-on bar 4 at J. Directions: bar 1 points from A to K, bar 2 from K to P2, bar 3 from the axle
-to O (theta3 ~ 80 deg when down), bar 4 from K to J, bar 5 from J to P5.
+joint and its reaction on the other bar: 37 -> 25, exactly the paper's count. Plain SI
+throughout: geometric rows in m, force rows in N, moment rows in N m, forces in N (the
+solvers judge each residual against the size of its row's terms, so no row is rescaled).
+``F`` acts on bar 4 at J. Directions: bar 1 points from A to K, bar 2 from K to P2, bar 3
+from the axle to O (theta3 ~ 80 deg when down), bar 4 from K to J, bar 5 from J to P5.
 
 What the paper's text leaves garbled, and what is used instead
 ---------------------------------------------------------------
@@ -62,12 +62,7 @@ import sympy as sp
 from ..equations import EquationSystem, MechanicalModel, Scene, Variable, velocity_symbol
 from .nose_gear_geometry import PARAMETERS, defaults, downlocked_pose
 
-__all__ = ["build_nose_gear", "overcentre_angle", "COORDINATES", "FORCES", "ROW_SCALE"]
-
-#: The 11 equilibrium rows are divided by this reference (N, N m) so that their residuals are
-#: of the size of the geometric rows (m): well-scaled fold systems (solved to absolute
-#: tolerances) and comparable residual norms. The unknown forces stay in newtons.
-ROW_SCALE = 1000.0
+__all__ = ["build_nose_gear", "overcentre_angle", "COORDINATES", "FORCES"]
 
 COORDINATES = tuple(f"{c}{i}" for i in range(1, 6) for c in ("x", "y", "theta"))
 FORCES = ("R12x", "R12y", "R14x", "R14y", "R23x", "R23y", "R45x", "R45y", "R53x", "R53y")
@@ -238,7 +233,7 @@ def build_nose_gear(**overrides: float) -> EquationSystem:
     system = EquationSystem(
         name="nose_gear",
         variables=variables,
-        equations=[*geometry, *(row / ROW_SCALE for row in equilibrium)],
+        equations=[*geometry, *equilibrium],
         equation_names=[*g_labels, *e_labels],
         mechanics=mech,
         description="Planar nose landing gear, paper Section III-A: 15 coordinates + 10 inter-link forces, 25 equations",
