@@ -53,9 +53,11 @@ class PseudoArclength:
 
     # -- evaluation in scaled coordinates -----------------------------------------------
     def G(self, z):
+        """Residual at the scaled point ``z``."""
         return self.problem.residual(z * self.D)
 
     def Gz(self, z):
+        """Jacobian with respect to the scaled unknowns, dG/dz = dG/du D."""
         return self.problem.jacobian(z * self.D) * self.D
 
     def evaluate(self, z):
@@ -64,6 +66,7 @@ class PseudoArclength:
         return r, J * self.D
 
     def state(self, z, tangent, jac=None) -> PointState:
+        """The :class:`PointState` events see at ``z`` with unit ``tangent``."""
         u = z * self.D
         return PointState(z=z, u=u, tangent=tangent, jac=self.Gz(z) if jac is None else jac, x=self.problem.full(u))
 
@@ -77,6 +80,7 @@ class PseudoArclength:
         return t * (direction * np.sign(ref) or 1.0)
 
     def tangent(self, z, border, jac=None) -> np.ndarray:
+        """Unit tangent at ``z`` from [G_z; border^T] t = e_(n+1), oriented along ``border``."""
         jac = self.Gz(z) if jac is None else jac
         A = np.empty((self.n + 1, self.n + 1))
         A[:-1] = jac

@@ -39,9 +39,11 @@ class ContinuationProblem:
     scale: np.ndarray
 
     def residual(self, u: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
+        """G(u): n residuals (units of each equation) at the n+1 unknowns ``u``."""
         raise NotImplementedError
 
     def jacobian(self, u: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
+        """dG/du: array (n, n+1), exact."""
         raise NotImplementedError
 
     def full(self, u: np.ndarray) -> np.ndarray:
