@@ -123,9 +123,18 @@ def test_structure_has_zero_dof():
 def test_redundant_joints_are_named():
     text = OVERCENTRE + '\n[joints.pin_again]\ntype = "revolute"\na = "ground.O"\nb = "1.a"\n'
     msg = error(text)
-    assert "redundant constraints among joints" in msg
+    assert "2 redundant constraint(s) among joints" in msg  # both rows of the pin
     assert "pin_again" in msg and re.search(r"\bpin\b", msg)
-    assert "has 1 degree(s) of freedom" in msg
+    assert "the intended 1 degree(s) of freedom" in msg
+
+
+def test_structure_with_extra_pin_names_the_redundant_joints():
+    """Fourbar plus a pin of the coupler to the ground: 10 constraints of rank 9 on 9 coordinates."""
+    text = FOURBAR.replace("S = [", "P = [0.4792338013778868, 0.43031053566678595]\nS = [")
+    text += '\n[joints.extra]\ntype = "revolute"\na = "ground.P"\nb = "coupler.origin"\n'
+    msg = error(text)
+    assert "has 0 degree(s) of freedom, intended 1 (rank 9 of 10 constraints on 9 coordinates)" in msg
+    assert "1 redundant constraint(s) among joints extra," in msg
 
 
 def test_malformed_toml_gives_line_and_key():

@@ -4,7 +4,7 @@
   the coordinates that are not held, starting from approximate positions (so the result is
   the consistent configuration nearest the guess, in the least-squares sense).
 * :func:`dof_report` — degrees of freedom ``n_q - rank(Phi_q)`` and the redundant
-  constraints, found by QR with column pivoting of ``Phi_q^T`` and grouped by joint.
+  constraints (rows that add no rank to the rows declared before them), grouped by joint.
 * :func:`assemble` — the whole first point of a continuation: close the loops with some
   states held, then solve the equilibrium rows for the joint reactions and any freed loads
   (linear in the reactions: the paper's ``F = A^-1 B``), then polish with Newton.
@@ -16,7 +16,6 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
 
 from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
@@ -84,12 +83,18 @@ class DofReport:
         Numerical rank of the constraint Jacobian.
     redundant:
         Groups of joints whose constraints are linearly dependent, one group per redundant
-        constraint (the dependent row's joint first).
+        constraint (the dependent row's joint first, then the joints of the independent rows
+        it is a combination of: together they are statically indeterminate).
+    dependent:
+        Indices of the dependent (redundant) constraint rows, one per group: walking the
+        rows in declaration order, a row is dependent when it adds nothing to the rank of
+        the rows before it (so the later-declared joint is the one reported as redundant).
     """
 
     dof: int
     rank: int
     redundant: tuple[tuple[str, ...], ...]
+    dependent: tuple[int, ...] = ()
 
     @property
     def redundant_joints(self) -> tuple[str, ...]:
@@ -103,28 +108,53 @@ class DofReport:
 def dof_report(phi_q: np.ndarray, row_joints: Sequence[str], rtol: float = 1e-9) -> DofReport:
     """Degrees of freedom and redundant constraints of a constraint Jacobian.
 
-    QR with column pivoting of ``Phi_q^T`` orders the constraints by independence; rows
-    beyond the rank are redundant, and the independent rows that combine into each one
-    (coefficients above ``1e-8``) name the joints involved.
+    Parameters
+    ----------
+    phi_q:
+        Constraint Jacobian ``Phi_q`` (n_c x n_q) at an assembled configuration.
+    row_joints:
+        The joint of each row (names used in the report).
+    rtol:
+        Singular values below ``rtol`` times the largest count as zero.
+
+    Returns
+    -------
+    DofReport
+        ``dof = n_q - rank``; each row that is a linear combination of the rows declared
+        before it is a redundant constraint, reported with the joints of the rows that
+        combine into it (coefficients above ``1e-8`` of the largest).
     """
     phi_q = np.atleast_2d(np.asarray(phi_q, dtype=float))
     n_c, n_q = phi_q.shape
     if n_c == 0:
         return DofReport(n_q, 0, ())
-    _, R, piv = sla.qr(phi_q.T, mode="economic", pivoting=True)
-    diag = np.abs(np.diag(R))
-    rank = int(np.sum(diag > rtol * max(diag[0], 1e-300))) if diag.size else 0
-    independent = piv[:rank]
+    # row scaling: a row in metres and a row in radians weigh alike
+    norms = np.linalg.norm(phi_q, axis=1)
+    A = phi_q / np.where(norms > 0, norms, 1.0)[:, None]
+    sv = np.linalg.svd(A, compute_uv=False)
+    tol = rtol * max(sv[0] if sv.size else 0.0, 1e-300)
+    rank = int(np.sum(sv > tol))
+    independent: list[int] = []
+    dependent: list[int] = []
+    for row in range(n_c):
+        if norms[row] == 0:
+            dependent.append(row)
+            continue
+        trial = np.linalg.svd(A[independent + [row]], compute_uv=False)
+        if trial.size == len(independent) + 1 and trial[-1] > tol:
+            independent.append(row)
+        else:
+            dependent.append(row)
     groups = []
-    for row in piv[rank:]:
-        coef, *_ = np.linalg.lstsq(phi_q[independent].T, phi_q[row], rcond=None)
+    for row in dependent:
+        coef, *_ = np.linalg.lstsq(A[independent].T, A[row], rcond=None) if independent else (np.zeros(0),)
         scale = max(np.abs(coef).max(initial=0.0), 1e-300)
         involved = [row_joints[row]]
         for c, i in zip(coef, independent):
             if abs(c) > 1e-8 * max(scale, 1.0) and row_joints[i] not in involved:
                 involved.append(row_joints[i])
         groups.append(tuple(involved))
-    return DofReport(n_q - rank, rank, tuple(groups))
+    return DofReport(n_q - rank, rank, tuple(groups), tuple(dependent))
 
 
 def assemble(system: EquationSystem, values: Mapping[str, float] | None = None,

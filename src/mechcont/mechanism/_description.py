@@ -268,6 +268,16 @@ class Mechanism:
         Uniform gravity, or None.
     dof:
         The intended number of degrees of freedom; assembly reports any other count.
+    redundant:
+        What to do with an over-constrained mechanism (redundant constraints, e.g. a
+        parallelogram with a third parallel link): ``"error"`` (default) refuses it with a
+        one-line message naming the joints involved; ``"drop"`` removes each dependent
+        constraint row (the later-declared one) so the system is square again, lists the
+        dropped rows in ``system.dropped_constraints`` and their residual in
+        ``system.dropped_residual(x)``. The reactions of the joints involved are then one
+        particular solution of a statically indeterminate problem (the dropped rows carry
+        none), and the dropped rows stay satisfied only while the geometry keeps them
+        consistent (check ``dropped_residual`` after continuing in a geometric parameter).
     hold:
         Coordinates held during the first assembly, ``{name: value}`` (expressions allowed).
     description:
@@ -293,6 +303,7 @@ class Mechanism:
     hold: Mapping[str, Value] = field(default_factory=dict)
     description: str = ""
     source: object | None = field(default=None, repr=False)
+    redundant: str = "error"
 
     def __post_init__(self):
         self.parameters = tuple(self.parameters)
@@ -307,6 +318,8 @@ class Mechanism:
     def _validate(self) -> None:
         if not isinstance(self.dof, int) or isinstance(self.dof, bool) or self.dof < 0:
             raise InputError("mechanism.dof", f"must be a non-negative integer, got {self.dof!r}")
+        if self.redundant not in ("error", "drop"):
+            raise InputError("mechanism.redundant", f"must be 'error' or 'drop', got {self.redundant!r}")
         self.param_symbols: dict[str, sp.Symbol] = {}
         for p in self.parameters:
             f = f"parameters.{p.name}"

@@ -2,7 +2,8 @@
 
 Layout (every number may be an expression string in the parameter names)::
 
-    [mechanism]            name, description, dof (intended degrees of freedom, default 1)
+    [mechanism]            name, description, dof (intended degrees of freedom, default 1),
+                           redundant = "error" (default) | "drop" (over-constrained mechanisms)
     [parameters]           NAME = value  or  NAME = {value, unit, description, scale}
     [ground]               NAME = [x, y]
     [bodies.NAME]          mass, length (bar), inertia, cg = [x, y], description,
@@ -145,7 +146,7 @@ def _pair(v, field: str):
 def _mechanism(data: Mapping, filename: str) -> Mechanism:
     _only(data, _SECTIONS, "")
     head = _table(data, "mechanism", "mechanism")
-    _only(head, {"name", "description", "dof"}, "mechanism")
+    _only(head, {"name", "description", "dof", "redundant"}, "mechanism")
     name = _text(head.get("name", Path(filename).stem.replace("-", "_")), "mechanism.name")
     params = []
     for pname, spec in _table(data, "parameters", "parameters").items():
@@ -233,7 +234,8 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
     hold = dict(_table(assembly, "hold", "assembly.hold"))
     dof = head.get("dof", 1)
     return Mechanism(name, params, bodies, joints, ground, springs, dampers, loads, gravity, dof, hold,
-                     _text(head.get("description", ""), "mechanism.description"))
+                     _text(head.get("description", ""), "mechanism.description"),
+                     redundant=head.get("redundant", "error"))
 
 
 # -- locating keys in the text ----------------------------------------------------------------

@@ -181,23 +181,8 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
     else:
         coords, mass, subs, V = list(kin.coords), M, {}, ld.V
         forces = [-sp.diff(ld.V, qi) + qnc for qi, qnc in zip(kin.q, ld.Q_nc)]
-    q = [symbol(c) for c in coords]
-    at_rest = {velocity_symbol(c): 0 for c in coords}
-    lam = [symbol(r.reaction) for r in rows]
-    equilibrium = []
-    for qi, Qi in zip(q, forces):
-        e = Qi.xreplace(at_rest)
-        for row, lk in zip(rows, lam):
-            d = sp.diff(row.expr, qi)
-            if d != 0:
-                e -= d * lk
-        equilibrium.append(e)
     Lc, Fc = _scales(mech, values)
-    names = [*coords, *(r.reaction for r in rows), *(p.name for p in mech.parameters)]
-    clash = {n for n in names if names.count(n) > 1}
-    if clash:
-        raise InputError(f"parameters.{sorted(clash)[0]}", "clashes with a generated coordinate or reaction name")
-    model = MechanicalModel(names, coords, [r.expr for r in rows], forces, mass)
+    equilibrium, model = _equilibrium(mech, coords, rows, forces, mass)
     # -- first assembly: consistent coordinates near the initial guess ------------------
     guess = _initial_guess(mech, kin, values)
     x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * len(rows) + [values[p.name] for p in mech.parameters])
@@ -206,11 +191,21 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
     if not ok:
         raise _loop_error(mech, rows, model.phi(_least_squares(model, x, free_q)))
     report = dof_report(model.phi_q(x), [r.joint for r in rows])
-    if report.redundant or report.dof != mech.dof:
+    if report.dof != mech.dof:
         red = report.redundant_joints
-        why = f"; redundant constraints among joints {', '.join(red)}" if red else ""
+        why = (f"; {len(report.dependent)} redundant constraint(s) among joints {', '.join(red)}" if red else "")
         raise InputError("mechanism.dof", f"the assembled mechanism has {report.dof} degree(s) of freedom, intended "
-                                          f"{mech.dof}{why}")
+                                          f"{mech.dof} (rank {report.rank} of {len(rows)} constraints on "
+                                          f"{len(coords)} coordinates){why}")
+    dropped: list[ConstraintRow] = []
+    if report.redundant:
+        if mech.redundant != "drop":
+            raise _redundancy_error(mech, rows, report)
+        dropped = [rows[i] for i in report.dependent]
+        keep = [i for i in range(len(rows)) if i not in set(report.dependent)]
+        x = np.concatenate([x[:len(coords)], np.zeros(len(keep)), x[len(coords) + len(rows):]])
+        rows = [rows[i] for i in keep]
+        equilibrium, model = _equilibrium(mech, coords, rows, forces, mass)
     nq = len(coords)
     x[nq:nq + len(rows)] = model.multipliers(x)
     variables = []
@@ -230,7 +225,8 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
         equations=[*equilibrium, *(r.expr for r in rows)],
         equation_names=[*(_row_name(c) for c in coords), *(r.equation for r in rows)],
         mechanics=model,
-        description=mech.description or f"generated from the description of {mech.name}",
+        description=(mech.description or f"generated from the description of {mech.name}")
+        + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
     )
     system.scene = scene_function(kin, ld.arrows, system.symbols, subs)
     system.potential_energy = V
@@ -238,7 +234,57 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
     system.dof = report
     system.reaction_names = tuple(r.reaction for r in rows)
     system.coordinates_of = _coordinates_of(kin, system, subs)
+    system.dropped_constraints = tuple(r.equation for r in dropped)
+    system.dropped_residual = _dropped_residual(system, dropped)
     return system.compile()
+
+
+def _equilibrium(mech: Mechanism, coords: list[str], rows: list[ConstraintRow], forces: list[sp.Expr],
+                 mass: sp.Matrix) -> tuple[list[sp.Expr], MechanicalModel]:
+    """Equilibrium rows ``Q - Phi_q^T lambda`` (at rest) and the compiled mechanical model."""
+    q = [symbol(c) for c in coords]
+    at_rest = {velocity_symbol(c): 0 for c in coords}
+    lam = [symbol(r.reaction) for r in rows]
+    equilibrium = []
+    for qi, Qi in zip(q, forces):
+        e = Qi.xreplace(at_rest)
+        for row, lk in zip(rows, lam):
+            d = sp.diff(row.expr, qi)
+            if d != 0:
+                e -= d * lk
+        equilibrium.append(e)
+    names = [*coords, *(r.reaction for r in rows), *(p.name for p in mech.parameters)]
+    clash = {n for n in names if names.count(n) > 1}
+    if clash:
+        raise InputError(f"parameters.{sorted(clash)[0]}", "clashes with a generated coordinate or reaction name")
+    return equilibrium, MechanicalModel(names, coords, [r.expr for r in rows], forces, mass)
+
+
+def _redundancy_error(mech: Mechanism, rows: list[ConstraintRow], report) -> InputError:
+    """One line: how many constraints are redundant, which joints, and what to do."""
+    n = len(report.dependent)
+    groups = "; ".join(f"{rows[i].equation} is implied by joints {', '.join(g[1:]) or '(none)'}"
+                       for i, g in zip(report.dependent, report.redundant))
+    return InputError("mechanism.redundant",
+                      f"over-constrained: {n} redundant constraint(s) among joints "
+                      f"{', '.join(report.redundant_joints)} ({groups}); the mechanism has the intended {report.dof} "
+                      f"degree(s) of freedom but those joints' reactions are statically indeterminate: "
+                      f"relax one joint (e.g. a slider instead of a pin) or set redundant = \"drop\" under "
+                      f"[mechanism] to drop the dependent rows")
+
+
+def _dropped_residual(system: EquationSystem, dropped: list[ConstraintRow]):
+    """``f(x) -> max |Phi_dropped(x)|`` (m or rad): 0 while the dropped rows stay implied."""
+    from ..equations._codegen import compile_dense
+    fn = compile_dense(list(system.symbols), [r.expr for r in dropped]) if dropped else None
+
+    def dropped_residual(x: np.ndarray) -> float:
+        """Largest residual of the dropped redundant constraint rows at ``x`` (0.0 if none dropped)."""
+        if fn is None:
+            return 0.0
+        return float(np.max(np.abs(fn(np.asarray(x, dtype=float)))))
+
+    return dropped_residual
 
 
 def _coordinates_of(kin: Kinematics, system: EquationSystem, subs: dict):
