@@ -132,6 +132,63 @@ def _equilibria(F):
     return [brentq(lambda t: symmetric_force(t, L, M1, M2, G, K, 0.4) - F, th[i], th[i + 1]) for i in idx]
 
 
+# -- the same for a generated mechanism: the four-bar description (spring, gravity) -----------
+@pytest.fixture(scope="module")
+def fourbar_at_rest():
+    """The four-bar of fourbar.toml at T = 0: its potential over a full crank turn, and the
+    equilibria continuation predicts there (branch in T round the crank turn, events at T = 0)."""
+    from mechcont.continuation import ContinuationOptions, ValueEvent, continuation
+    from mechcont.models import load_model
+
+    s = load_model("fourbar.toml")
+    V = sp.lambdify([v.symbol for v in s.variables], s.potential_energy)
+    ic = s.index("theta_crank")
+    grid = np.linspace(0.0, 2 * math.pi, 721)
+    x, pot = s.vector({}), []
+    for th in grid:  # closed-loop assembly at each crank angle (one DOF): V(theta_crank)
+        x = x.copy()
+        x[ic] = th
+        x = assemble(s, x, hold=["theta_crank"])
+        pot.append(V(*x))
+    x0 = find_equilibrium(s, values={"T": 0.0}, guess=s.as_dict(assemble(s, {"theta_crank": 2.4}, hold=["theta_crank"])))
+    b = continuation(s, x0, "T", events=[ValueEvent("T", 0.0)],
+                     options=ContinuationOptions(bounds={"T": (-50.0, 50.0), "theta_crank": (0.0, 2 * math.pi)}))
+    i0 = int(np.argmin(np.linalg.norm(b.values - x0, axis=1)))  # the start (T = 0) is a row, not an event
+    assert np.allclose(b.values[i0], x0)
+    at_rest = [(b.values[i0], bool(b.stable[i0]))] + [(p.x, bool(b.stable[p.index])) for p in b.special("UZ")]
+    return s, grid, np.array(pot), [(float(xe[ic]), st) for xe, st in at_rest]
+
+
+def test_fourbar_continuation_equilibria_are_the_extrema_of_the_potential(fourbar_at_rest):
+    _, grid, pot, eq = fourbar_at_rest
+    inner = np.arange(1, len(grid) - 1)
+    minima = grid[inner[(pot[inner] < pot[inner - 1]) & (pot[inner] <= pot[inner + 1])]]
+    maxima = grid[inner[(pot[inner] > pot[inner - 1]) & (pot[inner] >= pot[inner + 1])]]
+    assert len(minima) == 2 and len(maxima) == 2  # bistable: two wells, two barriers
+    assert len(eq) == 4
+    assert sorted(th for th, st in eq if st) == pytest.approx(sorted(minima), abs=0.01)  # grid step 0.0087 rad
+    assert sorted(th for th, st in eq if not st) == pytest.approx(sorted(maxima), abs=0.01)
+
+
+@pytest.mark.parametrize("theta_release, damping", [(1.2, 20.0), (4.2, 20.0), (5.9, 20.0), (4.6, 5.0)])
+def test_released_fourbar_settles_on_a_stable_equilibrium_of_the_continuation(fourbar_at_rest, theta_release,
+                                                                              damping):
+    s, grid, pot, eq = fourbar_at_rest
+    x0 = assemble(s, {"theta_crank": theta_release}, hold=["theta_crank"])
+    r = simulate(s, x0, (0.0, 15.0), damping=damping, rtol=1e-8, atol=1e-10)
+    assert r.success and r.constraint_drift < 1e-8
+    assert np.max(np.abs(r.qdot[-1])) < 1e-6  # at rest
+    th_end = r["theta_crank"][-1] % (2 * math.pi)
+    stable = [th for th, st in eq if st]
+    assert min(abs(th_end - th) for th in stable) < 1e-6
+    # the basin: walking downhill on V from the release angle ends at the same minimum
+    i = int(np.argmin(np.abs(grid - theta_release)))
+    step = -1 if pot[i - 1] < pot[i] else 1
+    while pot[(i + step) % len(grid)] < pot[i]:
+        i = (i + step) % len(grid)
+    assert th_end == pytest.approx(grid[i], abs=0.01)
+
+
 # -- loads, events, results ------------------------------------------------------------------
 def test_time_varying_load_is_applied_and_recorded(oc04_damped):
     x0 = start(oc04_damped, 1.3)
