@@ -53,7 +53,7 @@ def test_design_prints_table_and_writes_files(tmp_path, run):
     assert r.exit_code == 0, r.output
     assert "cusp: LU = 1.288" in r.output
     rows = list(csv.DictReader(out.open()))
-    assert [float(x["LU"]) for x in rows] == [1.28, 1.3, 1.32]
+    assert [float(x["LU (m)"]) for x in rows] == [1.28, 1.3, 1.32]
     assert fig.stat().st_size > 1000
 
 

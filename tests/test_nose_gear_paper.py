@@ -106,6 +106,33 @@ def test_design_region_boundary_is_zero_force(res):
     assert len(row.folds) == 2 and row.margin_to_fold == pytest.approx(min(abs(0.1 - f) for f in row.folds))
 
 
+def test_design_table_against_the_closed_form(res):
+    """Each row: the force and its slope at the design point, the F = 0 crossings and the margin
+    to them, against the dead-centre closed form (independent of the continuation)."""
+    r = res.region
+    p = defaults()
+    crossings_seen = 0
+    for row in r.rows:
+        def F(l, lu=row.level):
+            return aligned_downlock_force({**p, "LU": lu, "l_sp1": l})
+
+        assert row.force_at_design == pytest.approx(F(0.1), abs=1e-9)
+        h = 1e-4
+        assert row.slope_at_design == pytest.approx((F(0.1 + h) - F(0.1 - h)) / (2 * h), rel=1e-5)
+        ends = [e for iv in row.locking_intervals for e in iv if -0.175 < e < 0.175]
+        for e in ends:
+            assert abs(F(e)) < 1e-8
+        crossings_seen += len(ends)
+        if ends:
+            assert row.margin_to_zero == pytest.approx(min(abs(0.1 - e) for e in ends), abs=1e-15)
+        else:
+            assert np.isnan(row.margin_to_zero)
+    assert crossings_seen >= 3
+    table = r.table()
+    assert list(table[0])[:2] == ["LU (m)", "F at l_sp1=0.1 m (N)"]
+    assert any(v == "none" for rec in table for v in rec.values())
+
+
 def test_run_writes_figures_and_summary(tmp_path, res, monkeypatch):
     import mechcont.paper.nose_gear as ng
 

@@ -52,13 +52,33 @@ class FoldLocus:
 
 @dataclass(frozen=True)
 class DesignRow:
-    """One level of the second parameter in the design table (SI units)."""
+    """One level of the second parameter in the design table (SI units).
+
+    Attributes
+    ----------
+    level:
+        Value of the second parameter (its unit, e.g. m for ``LU``).
+    force_at_design:
+        Downlock force (N) at the design value of the first parameter.
+    slope_at_design:
+        dF/dx (N per unit of x) there: how sensitive the lock is to the design parameter.
+    locking_intervals:
+        Intervals of x where F > 0 (the gear locks unaided).
+    folds:
+        Values of x where F(x) has an extremum (folds of the force branch).
+    margin_to_fold:
+        Distance (unit of x) from the design value to the nearest fold; nan if none.
+    margin_to_zero:
+        Distance (unit of x) from the design value to the nearest F = 0 crossing; nan if none.
+    """
 
     level: float
     force_at_design: float
     locking_intervals: tuple[tuple[float, float], ...]
     folds: tuple[float, ...]
-    margin_to_fold: float  # distance of the design value to the nearest fold (nan if none)
+    margin_to_fold: float
+    margin_to_zero: float = float("nan")
+    slope_at_design: float = float("nan")
 
 
 @dataclass
@@ -90,16 +110,35 @@ class DesignRegion:
     folds: FoldLocus | None
     rows: list[DesignRow] = field(default_factory=list)
     design: tuple[float, float] = (np.nan, np.nan)
+    units: tuple[str, str, str] = ("", "", "N")  # of x, y and the force
 
     def table(self) -> list[dict]:
-        """The design table as records (one per level), numbers in SI units."""
+        """The design table as records (one per level), numbers in SI units named in the headings.
+
+        Columns: the level of y; the force at the design x and its slope dF/dx; the x
+        intervals where F > 0 (locks unaided); the folds (extrema of F in x); the distances
+        from the design x to the nearest fold and to the nearest F = 0 crossing ("none"
+        when there is none in the range).
+        """
+        ux, uy, uf = (f" ({u})" if u else "" for u in self.units)
+        x = self.x_name
+        x0 = f"{self.design[0]:g} {self.units[0]}".strip()
+        slope_unit = f" ({self.units[2]}/{self.units[0]})" if self.units[0] else ""
+
+        def dist(v):
+            return "none" if not np.isfinite(v) else float(v)
+
         out = []
         for r in self.rows:
             out.append({
-                self.y_name: r.level, f"F_at_{self.x_name}={self.design[0]:g}": r.force_at_design,
-                f"{self.x_name}_where_F>0": "; ".join(f"{a:.4g}..{b:.4g}" for a, b in r.locking_intervals) or "none",
-                f"folds_in_{self.x_name}": "; ".join(f"{f:.4g}" for f in r.folds) or "none",
-                "margin_to_fold": r.margin_to_fold,
+                f"{self.y_name}{uy}": r.level,
+                f"F at {x}={x0}{uf}": r.force_at_design,
+                f"dF/d{x} at {x}={x0}{slope_unit}": r.slope_at_design,
+                f"{x} where F>0 (locks unaided){ux}": "; ".join(f"{a:.4g}..{b:.4g}" for a, b in r.locking_intervals)
+                or "none",
+                f"folds (extrema of F) at {x}{ux}": "; ".join(f"{f:.4g}" for f in r.folds) or "none",
+                f"margin to fold{ux}": dist(r.margin_to_fold),
+                f"margin to F=0{ux}": dist(r.margin_to_zero),
             })
         return out
 
@@ -147,6 +186,37 @@ def fold_locus(system: EquationSystem, design: str, second: str, bounds: Mapping
     curve_opts = _options({design: bounds[design], second: bounds[second], f: force_bounds}, 0.2)
     curve = continue_folds(system, lps[0], vary=f, free=second, options=curve_opts)
     return FoldLocus(br, curve)
+
+
+def _slope(system, vals, x_name, x0, xb, h, f):
+    """dF/dx (N per unit of x) at x0 by a central difference of two downlock solves (step 1e-6 x scale)."""
+    step = 1e-6 * system.variable(x_name).scale
+    a, b = max(x0 - step, xb[0]), min(x0 + step, xb[1])
+    try:
+        Fa, Fb = (downlock_point(system, {**vals, x_name: v}, hold=h, force=f)[system.index(f)] for v in (a, b))
+    except ConvergenceError:
+        return float("nan")
+    return float((Fb - Fa) / (b - a))
+
+
+def _refined(system, intervals, vals, x_name, xb, h, f):
+    """The interior ends of ``intervals`` (F = 0 crossings) solved exactly: F held at 0, x freed."""
+    from ..continuation import find_equilibrium
+
+    base = getattr(system, "downlocked", None)
+
+    def crossing(xc):
+        if not xb[0] < xc < xb[1]:
+            return xc
+        v = {**vals, x_name: xc, f: 0.0}
+        try:
+            x = find_equilibrium(system, values={k: w for k, w in v.items() if k != x_name}, hold=h, free=[x_name],
+                                 guess=system.vector(v, base=base) if base is not None else v)
+        except ConvergenceError:
+            return xc
+        return float(x[system.index(x_name)])
+
+    return tuple((crossing(a), crossing(b)) for a, b in intervals)
 
 
 def _intervals(x, F):
@@ -218,9 +288,16 @@ def design_region(system: EquationSystem, x_name: str = "l_sp1", y_name: str = "
             folds = tuple(sorted(p[x_name] for p in fl.special("LP")))
         except ConvergenceError:
             folds = ()
-        F0 = float(np.interp(x0, xs, Fs))
+        try:
+            F0 = float(downlock_point(system, {**vals}, hold=h, force=f)[system.index(f)])
+        except ConvergenceError:
+            F0 = float(np.interp(x0, xs, Fs))
+        slope = _slope(system, vals, x_name, x0, (lo, hi), h, f)
         margin = min((abs(x0 - v) for v in folds), default=float("nan"))
-        rows.append(DesignRow(float(yv), F0, _intervals(xs, Fs), folds, margin))
+        intervals = _refined(system, _intervals(xs, Fs), vals, x_name, (lo, hi), h, f)
+        crossings = [e for iv in intervals for e in iv if lo < e < hi]
+        to_zero = min((abs(x0 - c) for c in crossings), default=float("nan"))
+        rows.append(DesignRow(float(yv), F0, intervals, folds, margin, to_zero, slope))
     boundary = _zero_force_boundary(system, x_name, y_name, (lo, hi), (y_levels[0], y_levels[-1]), grid, y_levels,
                                     force_map, values, h, f)
     y_mid = float(values.get(y_name, system.variable(y_name).value))
@@ -229,7 +306,8 @@ def design_region(system: EquationSystem, x_name: str = "l_sp1", y_name: str = "
                            values={**values, y_name: y_mid}, hold=h, force=f)
     except ConvergenceError:
         folds = None
-    return DesignRegion(x_name, y_name, grid, y_levels, force_map, boundary, folds, rows, (x0, y_mid))
+    units = (system.variable(x_name).unit, system.variable(y_name).unit, system.variable(f).unit or "N")
+    return DesignRegion(x_name, y_name, grid, y_levels, force_map, boundary, folds, rows, (x0, y_mid), units)
 
 
 def _zero_force_boundary(system, x_name, y_name, xb, yb, grid, levels, fmap, values, h, f):
