@@ -29,8 +29,20 @@ def test_sweep_reports_jumps_and_writes_outputs(runner, tmp_path):
     assert F_low - 8 < f1 < F_low and F_up < f2 < F_up + 15
     with open(out) as fh:
         rows = list(csv.reader(fh))
-    assert rows[0][:4] == ["t", "x1", "y1", "theta1"] and len(rows) > 100
+    header = rows[0]
+    assert header[:4] == ["t", "x1", "y1", "theta1"] and len(rows) > 100
+    assert header[-1] == "label" and "theta1_dot" in header and "F" in header
+    # the JUMP rows are the last samples before each snap, at the reported loads
+    jump_rows = [r for r in rows[1:] if r[-1] == "JUMP"]
+    assert len(jump_rows) == 2
+    for row, f in zip(jump_rows, (f1, f2)):
+        assert float(row[header.index("F")]) == pytest.approx(f, abs=0.05)
     assert fig.stat().st_size > 1000
+    # the CSV reads back as a branch of the model: draw the mechanism as it lets go
+    drawing = tmp_path / "jump.png"
+    res = runner.invoke(cli, ["draw", "overcentre", "--point", f"{out}:JUMP1", "--out", str(drawing)])
+    assert res.exit_code == 0, res.output
+    assert drawing.stat().st_size > 1000
 
 
 @pytest.mark.parametrize("args, message", [
@@ -40,9 +52,14 @@ def test_sweep_reports_jumps_and_writes_outputs(runner, tmp_path):
     (["--ramp", "F=1:2:1", "--watch", "theta1", "--set", "LU=x"], "--set LU"),
     (["--ramp", "F=1:2:1", "--watch", "theta1", "--out", "a.txt"], "--out"),
     (["--ramp", "L1=1:2:1", "--watch", "theta1"], "L1"),
+    (["--ramp", "F=1:2:1", "--watch", "theta1", "--through", "nan"], "through"),
+    (["--ramp", "F=1:2:1", "--watch", "theta1", "--start", "x1=5"], "--start"),
+    (["--ramp", "F=1:2:1", "--watch", "theta1", "--start", "F=5"], "F"),
+    (["--ramp", "F=1:2:1", "--watch", "theta1", "--damping", "-1"], "damping"),
 ])
 def test_bad_input_is_one_line_and_exit_2(runner, tmp_path, args, message):
-    res = runner.invoke(cli, ["sweep", "overcentre", *args, "--quiet"])
+    res = runner.invoke(cli, ["sweep", "overcentre", *args, "--quiet", "--out", str(tmp_path / "s.csv")]
+                        if "--out" not in args else ["sweep", "overcentre", *args, "--quiet"])
     assert res.exit_code == 2
     err = res.output.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"error: {message}")

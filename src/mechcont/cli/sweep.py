@@ -76,7 +76,12 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
         values.setdefault(r.name, r.start)
     if system.mechanics is None:
         raise InputError("model", f"'{model}' has no mechanics (masses, forces): it cannot be simulated")
-    x0 = assemble(system, values, hold=[n for n in start if n in system.names])
+    try:
+        x0 = assemble(system, values, hold=[n for n in start if n in system.names])
+    except InputError as exc:
+        if exc.field != "x0":
+            raise
+        raise InputError("--start", str(exc).split(": ", 1)[1]) from None
     if equilibrium:
         from ..continuation import find_equilibrium
 

@@ -5,10 +5,12 @@ from __future__ import annotations
 import csv
 import enum
 from dataclasses import dataclass, field
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
+from .._io import atomic_write
 from ..errors import InputError
 
 __all__ = ["SimulationStatus", "SimulationResult"]
@@ -96,14 +98,20 @@ class SimulationResult:
         row.update({f"{c}_dot": float(v) for c, v in zip(self.coordinates, self.qdot[i])})
         return row
 
-    def to_csv(self, path: str | Path) -> None:
-        """Write every row (t, variables, velocities) as CSV with a header line."""
-        path = Path(path)
-        tmp = path.with_name(path.name + ".part")
-        with open(tmp, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(("t", *self.columns))
-            for i in range(len(self.t)):
-                w.writerow([repr(float(self.t[i])), *map(lambda v: repr(float(v)), self.values[i]),
-                            *map(lambda v: repr(float(v)), self.qdot[i])])
-        tmp.replace(path)
+    def to_csv(self, path: str | Path, labels: Sequence[str] | None = None) -> Path:
+        """Write every row as CSV: ``t``, one column per variable (named as in a continuation
+        branch, so ``mechcont draw/animate`` read it), the velocities ``<coordinate>_dot``, and,
+        if ``labels`` (one string per row) is given, a ``label`` column. Written atomically;
+        returns the path."""
+        if labels is not None and len(labels) != len(self.t):
+            raise InputError("labels", f"needs one label per row ({len(self.t)})")
+
+        def write(tmp):
+            with open(tmp, "w", newline="") as fh:
+                w = csv.writer(fh, lineterminator="\n")
+                w.writerow(("t", *self.columns, *(("label",) if labels is not None else ())))
+                for i in range(len(self.t)):
+                    w.writerow([repr(float(self.t[i])), *(repr(float(v)) for v in self.values[i]),
+                                *(repr(float(v)) for v in self.qdot[i]), *((labels[i],) if labels is not None else ())])
+
+        return atomic_write(path, write)

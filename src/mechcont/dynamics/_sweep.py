@@ -128,9 +128,16 @@ class SweepResult:
         m = self.segment_mask(i)
         return self[self.ramps[i].name][m], self[self.watch][m]
 
-    def to_csv(self, path: str | Path) -> None:
-        """Write the time history (t, variables, velocities) as CSV."""
-        self.simulation.to_csv(path)
+    def to_csv(self, path: str | Path) -> Path:
+        """Write the time history as CSV: ``t``, the variables, the velocities and a ``label``
+        column marking ``JUMP`` on the last sample before each jump's fast motion (so
+        ``mechcont draw MODEL --point sweep.csv:JUMP1`` draws the mechanism as it lets go).
+        Returns the path."""
+        labels = [""] * len(self.t)
+        for j in self.jumps:
+            i = max(int(np.searchsorted(self.t, j.t_start, side="right")) - 1, 0)
+            labels[i] = "JUMP"
+        return self.simulation.to_csv(path, labels)
 
 
 def parse_ramps(ramp) -> tuple[Ramp, ...]:
@@ -244,6 +251,8 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
         raise InputError("watch", f"must be a coordinate of the model; valid: {', '.join(coords)}")
     if not (math.isfinite(settle) and settle >= 0):
         raise InputError("settle", "must be a non-negative number of seconds")
+    if through is not None and not math.isfinite(through):
+        raise InputError("through", "must be a finite value of the watched coordinate")
     if stop_on_jump and through is None:
         raise InputError("stop_on_jump", "needs a `through` value to stop at")
     x = initial_vector(system, x0)
