@@ -53,13 +53,27 @@ def test_random_fourbars_assemble_and_continue(params):
     mech = system.mechanics
     for row in branch.values:
         assert np.max(np.abs(mech.phi(row))) <= 1e-10
+    # T(theta) = V'(theta) is periodic over the crank turn, so it has a maximum and a minimum:
+    # at least two folds, and both stable and unstable stretches (the test cannot pass vacuously)
+    labels = list(branch.labels)
+    assert labels.count("LP") >= 2
+    assert any(branch.stable) and not all(branch.stable)
     # stability changes exactly across folds: between two regular points it changes iff an odd
     # number of folds lies between them (one DOF: each fold is where V'' changes sign)
     last, folds_between = None, 0
-    for stable, label in zip(branch.stable, branch.labels):
+    for stable, label in zip(branch.stable, labels):
         if label == "LP":
             folds_between += 1
             continue
         if last is not None:
             assert (stable != last) == (folds_between % 2 == 1)
         last, folds_between = stable, 0
+    # and independently of the stability test: stable exactly where dT/dtheta > 0 (V'' > 0),
+    # read off the branch itself by central differences away from the folds
+    T = branch["T"]
+    for i in range(1, len(T) - 1):
+        if "LP" in labels[i - 1:i + 2]:
+            continue
+        slope = (T[i + 1] - T[i - 1]) / (theta[i + 1] - theta[i - 1])
+        if abs(slope) > 1e-3:
+            assert branch.stable[i] == (slope > 0)
