@@ -7,7 +7,7 @@ import pytest
 from scipy.optimize import minimize_scalar
 
 from mechcont.models.nose_gear import overcentre_angle
-from mechcont.models.nose_gear_geometry import aligned_downlock_force, defaults, downlocked_pose
+from mechcont.models.nose_gear_geometry import aligned_downlock_force, defaults, downlocked_pose, fold_depth_bound
 from mechcont.paper.nose_gear import compute, fit_residual, run, summary
 
 
@@ -144,3 +144,22 @@ def test_run_writes_figures_and_summary(tmp_path, res, monkeypatch):
     text = "\n".join(lines)
     assert "Fig. 8" in text and "Reappears" in text and "cusp" in text
     assert summary(res)[0].startswith("## Nose")
+
+
+def test_fold_band_lies_within_the_bound(res):
+    """Every computed fold has |s - LU| <= (a |dx| / s) / (1 - |r|), r = a dx / s^2, a = L4/2 - l_sp1:
+    the band's distance from the spring length is bounded by the lock link, which is why it is narrow here."""
+    p, q = defaults(), downlocked_pose(defaults())
+    K = np.array([q["x4"], q["y4"]]) - 0.5 * p["L4"] * np.array([1.0, 0.0])
+    S3 = -p["l_sp2"] * np.array([np.cos(q["theta3"] + p["psi3"]), np.sin(q["theta3"] + p["psi3"])])
+    fc = res.fig11_fold_curve
+    for l, LU in zip(fc["l_sp1"], fc["LU"]):
+        a = 0.5 * p["L4"] - l
+        dx, dy = S3[0] - (K[0] + a), S3[1] - K[1]
+        s_ = np.hypot(dx, dy)
+        r = abs(a * dx) / s_**2
+        assert abs(s_ - LU) <= abs(a * dx) / s_ / (1 - r) + 1e-12
+        assert abs(s_ - LU) <= fold_depth_bound(p)[0] + 1e-12
+    bound, s_min = fold_depth_bound(p)
+    assert fc.special("CP")[0]["LU"] >= s_min - bound
+    assert 0.0 < bound < p["L4"]

@@ -69,6 +69,21 @@ downlock force 71.99 N at the defaults; airspeed: no effect when aligned, -2.3 N
 and a maximum of 72.1 N at 0.096 m; the folds of F w.r.t. l_sp1 exist only above the cusp
 at LU = 1.2885 m (the extrema need a nearly slack spring: LU = s^3 / (s^2 + (L4/2 - l_sp1)
 dx) with s the spring length and dx its horizontal extent, minimal at the cusp).
+
+Why the fold band is narrow (and cannot reach the paper's 0.8 m here)
+----------------------------------------------------------------------
+With ``a = L4/2 - l_sp1`` (attachment from the knee) and ``r = a dx / s^2`` the fold
+condition gives ``|s - LU| = s |r| / |1 + r| <= (a |dx| / s) / (1 - |r|)``, and
+``a |dx| / s <= L4 cos(phi)``, phi the spring's angle from horizontal
+(:func:`fold_depth_bound`): folds exist only for LU within about one lock-link length of
+the spring length. The paper's spring is in tension at LU = 1.3 m
+(s > 1.3 m), so folds down to LU = 0.8 m need a >= 0.5 m with a nearly horizontal spring: lock
+links longer than 0.5 m, i.e. not this gear. A search over the spring lug (l_sp2 <= 1.9 m,
+lug at most 0.25 m off the strut axis, spring >= 1.31 m long) widens the band at best to
+LU = 1.25..1.43 m (l_sp2 = 1.64 m, psi3 = +0.15 rad, a 0.245 m bracket; checked with the
+model's fold continuation) — five times wider, but then the fold LU is monotone along the
+lock link: one fold per LU and the cusp beyond the link's end (l_sp1 < -L4/2), i.e. the
+paper's cusp and two-extrema picture is lost. The documented geometry above is kept.
 """
 
 from __future__ import annotations
@@ -81,7 +96,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["PARAMETERS", "defaults", "aligned_lock_lug", "pose", "downlocked_pose", "aligned_downlock_force",
-           "DOWNLOCK_THETA3"]
+           "fold_depth_bound", "DOWNLOCK_THETA3"]
 
 #: Main-fitting angle at which the default geometry is downlocked (rad): 10 deg forward rake.
 DOWNLOCK_THETA3 = math.radians(80.0)
@@ -260,3 +275,22 @@ def aligned_downlock_force(p: Mapping[str, float]) -> float:
     s = float(np.hypot(*dvec))
     T = p["k"] * (s - p["LU"])
     return (p["m4"] + p["m5"]) * p["g"] / 2 - T * dvec[1] / s * (0.5 - p["l_sp1"] / p["L4"])
+
+
+def fold_depth_bound(p: Mapping[str, float], n: int = 401) -> tuple[float, float]:
+    """``(bound [m], s_min [m])``: how far from the spring length folds of F(l_sp1) can lie.
+
+    At the dead centre a fold at attachment ``a = L4/2 - l_sp1`` (m from the knee) has
+    ``|s - LU| = s |r| / |1 + r| <= (a |dx| / s) / (1 - |r|)`` with ``r = a dx / s^2`` (s the
+    spring length, dx its horizontal extent). Returns the largest right-hand side over the
+    lock link (``-L4/2 <= l_sp1 <= L4/2``; needs ``|r| < 1``) and the smallest spring length
+    there: folds need ``LU >= s_min - bound``.
+    """
+    q = downlocked_pose(p, 0.0)
+    K = np.array([q["x4"], q["y4"]]) - 0.5 * p["L4"] * _e(0.0)
+    S3 = -p["l_sp2"] * _e(q["theta3"] + p["psi3"])
+    a = np.linspace(0.0, p["L4"], n)
+    dx = S3[0] - (K[0] + a)
+    sl = np.hypot(dx, S3[1] - K[1])
+    r = np.abs(a * dx) / sl**2
+    return float(np.max(np.abs(a * dx) / sl / (1.0 - r))), float(np.min(sl))

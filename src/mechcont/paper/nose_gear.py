@@ -342,19 +342,32 @@ def summary(res: NoseGearResults) -> list[str]:
     fc = res.fig11_fold_curve
     cps = fc.special("CP") if fc is not None else []
     if cps:
+        from ..models.nose_gear_geometry import fold_depth_bound
+
+        p = res.system.as_dict(res.system.downlocked)
+        bound, s_min = fold_depth_bound(p)
+        L4 = p["L4"]
         c = cps[0]
         lines.append(f"- Fig. 11 (paper: folds only above LU = 0.8 m, meeting at a cusp): folds exist only above the cusp "
                      f"at LU = {c['LU']:.4f} m (l_sp1 = {c['l_sp1']:.4f} m, F = {c['F']:.2f} N). **Reappears**, in a "
                      f"narrower band: within the lock link (|l_sp1| < 0.175 m) they span LU = {c['LU']:.4f}..{fc['LU'].max():.4f} m, "
-                     "because they need a nearly slack spring and ours hangs nearly parallel to F.")
+                     "not from 0.8 m. **The band's position does not reappear**, and cannot with lock links of this "
+                     f"size: a fold needs |s - LU| <= (a|dx|/s) / (1 - a|dx|/s^2), a = L4/2 - l_sp1 (s, dx the spring's "
+                     f"length and horizontal extent): at most {bound * 1e3:.1f} mm here (spring {s_min:.3f} m long, nearly "
+                     f"vertical), and about L4 = {L4:.2f} m for any spring; with the spring in tension at LU = 1.3 m (as in the paper) folds "
+                     "at 0.8 m need lock links longer than 0.5 m and a horizontal spring. The best realistic spring "
+                     "lug (at most 0.25 m off the strut) widens the band only to LU = 1.25..1.43 m and moves the cusp "
+                     "off the lock link (see `mechcont.models.nose_gear_geometry`), so the geometry is kept.")
     else:
         lines.append("- Fig. 11: no cusp found in the range (**does not reappear**).")
     r = res.region
     row = min(r.rows, key=lambda q: abs(q.level - 1.3))
     lines.append(f"- Design: at LU = {row.level:.2f} m the gear locks unaided (F > 0) for l_sp1 in "
                  + (", ".join(f"{a_:.3f}..{b_:.3f}" for a_, b_ in row.locking_intervals) or "none")
-                 + f" m; the design point l_sp1 = {r.design[0]:.2f} m is {row.margin_to_fold * 1e3:.1f} mm from a fold "
-                 f"(F = {row.force_at_design:.1f} N).")
+                 + f" m; the design point l_sp1 = {r.design[0]:.2f} m (F = {row.force_at_design:.1f} N, "
+                 f"dF/dl_sp1 = {row.slope_at_design:.0f} N/m) is {row.margin_to_fold * 1e3:.1f} mm from a fold"
+                 + (f" and {row.margin_to_zero * 1e3:.1f} mm from losing the unaided lock (F = 0)."
+                    if np.isfinite(row.margin_to_zero) else "; F stays positive over the whole lock link."))
     tot = sum(res.timings.values())
     lines.append(f"- Time: {tot:.2f} s for all nose-gear analyses ("
                  + ", ".join(f"{k} {v:.2f} s" for k, v in res.timings.items()) + ").")
