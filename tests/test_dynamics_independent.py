@@ -11,7 +11,6 @@ and a time-varying apex force, so that every term of the model is exercised.
 """
 
 import math
-import warnings
 
 import numpy as np
 import pytest
@@ -20,6 +19,7 @@ import sympy.physics.mechanics as me
 from scipy.integrate import solve_ivp
 
 from mechcont.dynamics import assemble, simulate
+from mechcont.dynamics._exudyn import exudyn_overcentre
 from mechcont.models import build_overcentre
 
 P = dict(L1=1.2, L2=1.5, m1=1.0, m2=0.8, g=9.81, k=127.0, LU=0.4, m=0.1, n=0.2, F=0.0, c=3.0)
@@ -82,62 +82,9 @@ def test_matches_kanes_method_in_the_minimal_coordinate(mechcont_run):
 
 
 def exudyn_theta1(h):
-    exu = pytest.importorskip("exudyn", reason="Exudyn (pip install exudyn) is not installed: "
-                                                "independent multibody check skipped")
-    from exudyn.itemInterface import (Force, LoadMassProportional, MarkerBodyMass, MarkerBodyPosition,
-                                      MarkerBodyRigid, NodeRigidBody2D, ObjectConnectorSpringDamper, ObjectGround,
-                                      ObjectJointPrismatic2D, ObjectRigidBody2D, RevoluteJoint2D, SensorNode)
-    L1, L2 = P["L1"], P["L2"]
-    th2 = theta2_of(TH0)
-    e1, e2 = np.array([math.cos(TH0), math.sin(TH0)]), np.array([math.cos(th2), math.sin(th2)])
-    sc = exu.SystemContainer()
-    mbs = sc.AddSystem()
-    ground = mbs.AddObject(ObjectGround())
-    nodes, bodies = [], []
-    for cg, th, mass, length in ((L1 / 2 * e1, TH0, P["m1"], L1), (L1 * e1 - L2 / 2 * e2, th2, P["m2"], L2)):
-        nd = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[cg[0], cg[1], th], initialVelocities=[0, 0, 0]))
-        nodes.append(nd)
-        bodies.append(mbs.AddObject(ObjectRigidBody2D(nodeNumber=nd, mass=mass, inertia=mass * length**2 / 12)))
-    b1, b2 = bodies
-
-    def rigid(body, x):
-        return mbs.AddMarker(MarkerBodyRigid(bodyNumber=body, localPosition=[x, 0, 0]))
-
-    def point(body, x):
-        return mbs.AddMarker(MarkerBodyPosition(bodyNumber=body, localPosition=[x, 0, 0]))
-
-    origin = rigid(ground, 0.0)
-    mbs.AddObject(RevoluteJoint2D(markerNumbers=[origin, rigid(b1, -L1 / 2)]))
-    mbs.AddObject(RevoluteJoint2D(markerNumbers=[rigid(b1, L1 / 2), rigid(b2, L2 / 2)]))
-    # slider: (p_origin - p_end) . n_ground = 0 with n = +y, rotation free
-    mbs.AddObject(ObjectJointPrismatic2D(markerNumbers=[rigid(b2, -L2 / 2), origin], axisMarker0=[1, 0, 0],
-                                         normalMarker1=[0, 1, 0], constrainRotation=False))
-    mbs.AddObject(ObjectConnectorSpringDamper(markerNumbers=[point(b1, P["m"]), point(b2, P["n"])],
-                                              stiffness=P["k"], damping=P["c"], referenceLength=P["LU"]))
-    for b in bodies:
-        mbs.AddLoad(LoadMassProportional(markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=b)),
-                                         loadVector=[0, -P["g"], 0]))
-    mbs.AddLoad(Force(markerNumber=point(b1, L1 / 2), loadVector=[0, F0, 0],
-                      loadVectorUserFunction=lambda mbs_, t, load: [0, F0 + F_RATE * t, 0]))
-    sensor = mbs.AddSensor(SensorNode(nodeNumber=nodes[0], storeInternal=True,
-                                      outputVariableType=exu.OutputVariableType.Coordinates))
-    mbs.Assemble()
-    settings = exu.SimulationSettings()
-    settings.timeIntegration.numberOfSteps = int(round(T_END / h))
-    settings.timeIntegration.endTime = T_END
-    settings.timeIntegration.generalizedAlpha.spectralRadius = 1.0  # trapezoidal rule, no numerical damping
-    settings.timeIntegration.newton.relativeTolerance = 1e-12
-    settings.timeIntegration.newton.absoluteTolerance = 1e-12
-    settings.timeIntegration.verboseMode = 0
-    settings.solution.file.write = False
-    settings.solution.sensors.writePeriod = h
-    settings.show.statistics = False
-    settings.show.computationTime = False
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)
-        exu.SolveDynamic(mbs, settings)
-    data = mbs.GetSensorStoredData(sensor)
-    return data[:, 0], TH0 + data[:, 3]  # node coordinates are displacements from the reference
+    pytest.importorskip("exudyn", reason="Exudyn (pip install exudyn) is not installed: "
+                                         "independent multibody check skipped")
+    return exudyn_overcentre(P, TH0, lambda t: F0 + F_RATE * t, T_END, h)
 
 
 def test_matches_exudyn_multibody_model(mechcont_run):

@@ -19,3 +19,13 @@ def test_paper_dynamics_section(tmp_path):
     assert "LU = 2 m: 0 jumps" in text
     slope = float(re.search(r"rate\^([0-9.]+) \(slow", text).group(1))
     assert slope == pytest.approx(2 / 3, abs=0.08)
+    # Fig. 3 from two dynamic models, as in the paper: the Exudyn loop snaps through at the same loads
+    from mechcont.dynamics._exudyn import exudyn_available
+
+    pairs = re.findall(r"(-?[0-9.]+) N \(Udwadia–Kalaba: (-?[0-9.]+) N\)", text)
+    if exudyn_available():
+        assert len(pairs) == 2 and "snap-throughs" not in text
+        for exu, uk in pairs:
+            assert float(exu) == pytest.approx(float(uk), abs=0.05)  # N, 10 ms trapezoidal steps
+    else:
+        assert pairs == [] and "Exudyn is not installed" in text
