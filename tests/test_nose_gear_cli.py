@@ -69,6 +69,9 @@ def test_design_prints_table_and_writes_files(tmp_path, run):
     (("--vary", "U", "--bounds", "U=0:100", "--hold", "F=0"), ("F", "only states")),
     (("--vary", "U", "--bounds", "U=0:100", "--force", "theta1"), ("theta1", "must be a parameter")),
     (("--vary", "U", "--bounds", "U=0:100", "--set", "F=3"), ("F", "fixed by the downlock condition")),
+    (("--vary", "U", "--bounds", "U=0:100", "--set", "L4=-0.3"), ("L4", "positive")),
+    (("--vary", "U", "--bounds", "U=0:100", "--set", "m4=-1"), ("m4", "not be negative")),
+    (("--vary", "U", "--bounds", "U=0:100", "--set", "L1=0.1"), ("L1", "cannot assemble")),
 ])
 def test_downlock_bad_input(tmp_path, run, args, words):
     out = tmp_path / "never.csv"

@@ -29,7 +29,8 @@ def _coords(system, x):
     return np.array([x[system.index(n)] for n in (*COORDINATES, "F", "l_sp1", "LU")])
 
 
-@pytest.mark.parametrize("values", [{}, {"U": 80.0, "l_sp1": -0.12}, {"LU": 1.27, "k": 5000.0}])
+@pytest.mark.parametrize("values", [{}, {"U": 80.0, "l_sp1": -0.12}, {"LU": 1.27, "k": 5000.0},
+                                    {"Ax": -1.35}, {"L4": 0.4, "U": 50.0}])
 def test_downlocked_points_agree(paper, generated, values):
     a = downlock_point(paper, values)
     b = downlock_point(generated, values, hold=HOLD)

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..continuation import Branch, ContinuationOptions, continuation, find_equilibrium
 from ..equations import EquationSystem
-from ..errors import InputError
+from ..errors import ConvergenceError, InputError
 
 __all__ = ["downlock", "downlock_point", "downlock_condition"]
 
@@ -62,14 +62,29 @@ def downlock_point(system: EquationSystem, values: Mapping[str, float] | None = 
     -------
     numpy.ndarray
         Full variable vector; ``x[system.index(force)]`` is the downlock force (N).
+
+    Models may carry ``check_values(values)`` (raises :class:`InputError` for values out of
+    range) and ``assemble_downlocked(values, hold)`` (a closed-form guess); both are used.
     """
     h, f = downlock_condition(system, hold, force)
     values = dict(values or {})
     for n in values:
         if n in h or n == f:
             raise InputError(n, "is fixed by the downlock condition; it cannot be set")
+    check = getattr(system, "check_values", None)
+    if callable(check):  # the model's own valid ranges (e.g. positive lengths)
+        check(values)
+    assemble = getattr(system, "assemble_downlocked", None)
     base = getattr(system, "downlocked", None)
     guess = system.vector(values, base=base) if base is not None else None
+    if callable(assemble):  # closed-form assembly at these values: a guess that survives geometry changes
+        try:
+            guess = assemble(values, h)
+        except InputError as exc:  # no closed-form pose nearby: Newton from the default pose decides
+            try:
+                return find_equilibrium(system, values=values, hold=h, free=[f, *free], guess=guess)
+            except ConvergenceError:
+                raise exc from None
     return find_equilibrium(system, values=values, hold=h, free=[f, *free], guess=guess)
 
 

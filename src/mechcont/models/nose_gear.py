@@ -60,6 +60,7 @@ import numpy as np
 import sympy as sp
 
 from ..equations import EquationSystem, MechanicalModel, Scene, Variable, velocity_symbol
+from ..errors import InputError
 from .nose_gear_geometry import PARAMETERS, defaults, downlocked_pose
 
 __all__ = ["build_nose_gear", "overcentre_angle", "COORDINATES", "FORCES"]
@@ -203,6 +204,50 @@ def _scene_function(system):
     return scene
 
 
+#: Parameters that must be positive (lengths, m) and non-negative (masses, stiffness, damping, air data).
+_POSITIVE = ("L1", "L2", "L3", "L4", "L5", "L32", "L35", "l_sp2", "LU", "d")
+_NON_NEGATIVE = ("m1", "m2", "m3", "m4", "m5", "k", "c", "c3", "rho", "CD", "g")
+_GEOMETRY = ("Ax", "Ay", "L1", "L2", "L3", "L4", "L5", "L32", "psi1", "L35", "psi2")
+
+
+def check_values(values) -> None:
+    """Raise :class:`InputError` naming the first parameter of ``values`` (SI) outside its valid range.
+
+    Lengths (m) must be positive; masses (kg), stiffness (N/m), damping, air density, drag
+    coefficient and gravity non-negative; every value finite.
+    """
+    for n, v in values.items():
+        v = float(v)
+        if not math.isfinite(v):
+            raise InputError(n, f"must be a finite number, got {v!r}")
+        if n in _POSITIVE and not v > 0:
+            raise InputError(n, f"must be positive (m), got {v:g}")
+        if n in _NON_NEGATIVE and v < 0:
+            raise InputError(n, f"must not be negative, got {v:g}")
+
+
+def _assembler(system):
+    def assemble_downlocked(values, hold=None) -> np.ndarray:
+        """Full vector at ``values`` (SI) with the lock links at the held theta4, assembled in closed form.
+
+        A guess for Newton (the inter-link forces and F are those of the default pose).
+        Raises :class:`InputError` when the gear cannot close at these values.
+        """
+        base = system.vector(dict(values), base=system.downlocked)
+        p = {n: float(base[system.index(n)]) for n in PARAMETERS}
+        t4 = float((hold or {}).get("theta4", 0.0))
+        try:
+            q = downlocked_pose(p, t4)
+        except InputError as exc:
+            changed = [n for n in values if n in _GEOMETRY] or ["theta4"]
+            raise InputError(changed[0], f"the gear cannot assemble with theta4 = {t4:g} rad at "
+                             f"{', '.join(f'{n}={values[n]:g}' for n in changed if n in values) or 'these values'}: "
+                             f"{exc}") from None
+        return system.vector(q, base=base)
+
+    return assemble_downlocked
+
+
 def build_nose_gear(**overrides: float) -> EquationSystem:
     """The paper's 25-equation nose landing gear, with mechanics and a scene attached.
 
@@ -211,8 +256,9 @@ def build_nose_gear(**overrides: float) -> EquationSystem:
     are re-derived for aligned lock links unless given). State defaults are the assembled
     downlocked pose (theta4 = 0) with its inter-link forces at ``F`` = the downlock force.
 
-    The returned system carries ``downlock_hold = {"theta4": <downlocked theta4>}`` and
-    ``downlock_force = "F"`` for :func:`mechcont.analysis.downlock.downlock`.
+    The returned system carries ``downlock_hold = {"theta4": <downlocked theta4>}``,
+    ``downlock_force = "F"``, ``check_values`` (valid ranges) and ``assemble_downlocked``
+    (closed-form guess) for :func:`mechcont.analysis.downlock.downlock`.
     """
     p = defaults(**overrides)
     q = downlocked_pose(p, 0.0)
@@ -256,4 +302,6 @@ def build_nose_gear(**overrides: float) -> EquationSystem:
         Variable(v.name, v.kind, float(x[i]) if (v.kind == "state") else v.value, v.unit, v.scale, v.description)
         for i, v in enumerate(system.variables))
     system.downlocked = x
+    system.check_values = check_values
+    system.assemble_downlocked = _assembler(system)
     return system

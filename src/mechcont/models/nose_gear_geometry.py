@@ -239,7 +239,7 @@ def downlocked_pose(p: Mapping[str, float], theta4: float = 0.0) -> dict[str, fl
         P5 = -p["L35"] * _e(t3 - p["psi2"])
         return float(np.hypot(*(P5 - J)) - p["L5"])
 
-    ts = DOWNLOCK_THETA3 + np.linspace(-0.3, 0.05, 351)
+    ts = DOWNLOCK_THETA3 + np.linspace(-0.5, 0.5, 1001)
     vals = [gap(t) for t in ts]
     roots = [brentq(gap, ts[i], ts[i + 1], xtol=1e-15, rtol=1e-15)
              for i in range(len(ts) - 1) if vals[i] * vals[i + 1] < 0 or vals[i] == 0]
