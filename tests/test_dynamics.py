@@ -1,6 +1,7 @@
 """Time simulation (Udwadia–Kalaba): constraints, energy, equilibria, events, bad input."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -243,6 +244,17 @@ def test_bad_input_names_the_field(oc04, kwargs, field):
     t_span = args.pop("t_span")
     with pytest.raises(InputError, match=f"^{field}"):
         simulate(oc04, start(oc04, 1.0), t_span, **args)
+
+
+def test_failed_integration_says_where_and_returns_what_it_computed(oc04):
+    # a load that stops being a number at t = 0.5 s: the integrator cannot go past it
+    x0 = start(oc04, 1.0)
+    r = simulate(oc04, x0, (0.0, 2.0), loads={"F": lambda t: math.nan if t > 0.5 else 0.0})
+    assert not r.success
+    m = re.search(r"Stopped at t = ([0-9.e+-]+) s \(RK45: ", r.message)
+    assert m and float(m.group(1)) == pytest.approx(0.5, abs=1e-9)
+    assert r.t[-1] == pytest.approx(0.5, abs=1e-9) and len(r) > 10  # the part before the failure is kept
+    assert np.all(np.isfinite(r.values)) and np.all(r["F"] == 0.0)
 
 
 def test_unassembled_start_is_refused(oc04):

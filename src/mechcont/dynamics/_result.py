@@ -49,6 +49,8 @@ class SimulationResult:
         Per event: the times (s) and full variable vectors where it occurred.
     nfev:
         Number of right-hand side evaluations.
+    detail:
+        Where and why the integrator stopped, when it failed (time and the solver's message).
     """
 
     t: np.ndarray
@@ -62,6 +64,7 @@ class SimulationResult:
     t_events: list[np.ndarray] = field(default_factory=list)
     x_events: list[np.ndarray] = field(default_factory=list)
     nfev: int = 0
+    detail: str = ""
 
     @property
     def success(self) -> bool:
@@ -70,8 +73,8 @@ class SimulationResult:
 
     @property
     def message(self) -> str:
-        """Readable termination reason."""
-        return self.status.value
+        """Readable termination reason (with where and why, if the integrator failed)."""
+        return f"{self.status.value} {self.detail}" if self.detail else self.status.value
 
     @property
     def columns(self) -> tuple[str, ...]:

@@ -172,12 +172,13 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             raise InputError("t_eval", "must be increasing times within t_span")
     ts, ys = ([t0], [y0]) if t_eval is None or (t_eval.size and t_eval[0] == t0) else ([], [])
     k_eval = 1 if ts and t_eval is not None else 0
-    status = SimulationStatus.FINISHED
+    status, detail = SimulationStatus.FINISHED, ""
     while True:
         t_old = solver.t
-        solver.step()
+        why = solver.step()
         if solver.status == "failed":
             status = SimulationStatus.FAILED
+            detail = f"Stopped at t = {solver.t:.6g} s ({method}: {why})."
             break
         if projection:  # back onto Phi = 0, Phi_q qdot = 0; restart the FSAL derivative there
             qp, qdp = dyn.project(solver.t, solver.y[:nq], solver.y[nq:])
@@ -208,10 +209,11 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             break
         if solver.status == "finished":
             break
-    return _assemble_result(system, dyn, coords, np.array(ts), np.array(ys).reshape(-1, 2 * nq), status, tracker)
+    return _assemble_result(system, dyn, coords, np.array(ts), np.array(ys).reshape(-1, 2 * nq), status, tracker,
+                            detail)
 
 
-def _assemble_result(system, dyn, coords, t, y, status, tracker) -> SimulationResult:
+def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="") -> SimulationResult:
     nq = dyn.nq
     values = np.array([dyn.full(ti, yi[:nq]) for ti, yi in zip(t, y)]).reshape(-1, len(system.names))
     qdot = y[:, nq:]
@@ -222,4 +224,4 @@ def _assemble_result(system, dyn, coords, t, y, status, tracker) -> SimulationRe
     t_events, x_events = tracker.results()
     return SimulationResult(t=t, values=values, qdot=qdot, names=tuple(system.names), coordinates=coords,
                             status=status, constraint_drift=drift, velocity_drift=vdrift,
-                            t_events=t_events, x_events=x_events, nfev=dyn.nfev)
+                            t_events=t_events, x_events=x_events, nfev=dyn.nfev, detail=detail)

@@ -185,13 +185,22 @@ class ConstrainedDynamics:
         return Q
 
     def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        """Constrained accelerations at time ``t`` (the fundamental equation, stabilised)."""
+        """Constrained accelerations at time ``t`` (the fundamental equation, stabilised).
+
+        All ``nan`` when the state, a load or the forces are not finite: the integrator then
+        rejects the step, shrinks it and reports where it failed.
+        """
         x = self.full(t, q)
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(qd))):
+            return np.full(self.nq, np.nan)
         A = self.mech.phi_q(x)
         b = self.mech.gamma(x, qd)
         if self.alpha or self.beta:
             b = b - 2.0 * self.alpha * (A @ qd) - self.beta**2 * self.mech.phi(x)
-        return fundamental_equation(self.mass_inv_sqrt(x), self.forces(x, qd), A, b)
+        Q = self.forces(x, qd)
+        if not (np.all(np.isfinite(Q)) and np.all(np.isfinite(A)) and np.all(np.isfinite(b))):
+            return np.full(self.nq, np.nan)
+        return fundamental_equation(self.mass_inv_sqrt(x), Q, A, b)
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         """Right-hand side ``(qdot, qddot)`` of the first-order system."""
