@@ -94,3 +94,15 @@ def test_bad_output_suffix_writes_nothing(tmp_path, run):
             "--out", tmp_path / "b.csv", "--plot", tmp_path / "b.bmp")
     one_line_error(r, "--plot", ".png")
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("args, words", [
+    (("continue", "fourbar.toml", "--set", "a=-0.3", "--start", "theta_crank=1.0", "--vary", "T"),
+     ("bodies.crank.length", "positive")),
+    (("downlock", "nose_gear.toml", "--hold", "theta4=0", "--vary", "U", "--bounds", "U=0:100", "--set", "m4=-1"),
+     ("mass", "positive")),
+])
+def test_impossible_values_of_a_described_mechanism_are_refused(tmp_path, run, args, words):
+    out = tmp_path / "x.csv"
+    one_line_error(run(*args, "--out", out), *words)
+    assert not out.exists()

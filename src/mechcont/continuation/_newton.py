@@ -88,8 +88,8 @@ def find_equilibrium(system: EquationSystem, values: Mapping[str, float] | None 
     Raises
     ------
     InputError
-        Unknown names, non-finite values, or a count of unknowns different from the
-        number of equations.
+        Unknown names, non-finite or physically impossible values (the model's
+        ``check_values``), or a count of unknowns different from the number of equations.
     ConvergenceError
         Newton failed; ``partial`` holds the last full vector.
     """
@@ -105,6 +105,8 @@ def find_equilibrium(system: EquationSystem, values: Mapping[str, float] | None 
     else:
         x = system.vector({**(guess or {}), **(values or {})})
     x = system.vector(hold, base=x)
+    if system.check_values is not None:
+        system.check_values({n: x[system.index(n)] for n in system.parameter_names})
     unknowns = choose_unknowns(system, hold=hold, free=free)
     idx = np.array([system.index(n) for n in unknowns])
 

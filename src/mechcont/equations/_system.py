@@ -87,6 +87,10 @@ class EquationSystem:
     scene:
         Optional callable ``scene(x) -> Scene`` giving drawing primitives at a full
         variable vector ``x`` (see :class:`mechcont.equations.Scene`).
+    check_values:
+        Optional callable ``check_values({name: value})`` raising
+        :class:`~mechcont.errors.InputError` for physically impossible parameter values
+        (a negative mass, a zero length); solves call it on the values they are given.
 
     Attributes
     ----------
@@ -101,6 +105,7 @@ class EquationSystem:
     mechanics: object | None = None
     description: str = ""
     scene: object | None = None
+    check_values: object | None = None
     _compiled: bool = field(default=False, init=False, repr=False)
 
     def __post_init__(self):

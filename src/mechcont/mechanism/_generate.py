@@ -231,6 +231,8 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
     system.scene = scene_function(kin, ld.arrows, system.symbols, subs)
     system.potential_energy = V
     system.mechanism = mech
+    system.check_values = lambda values, _mech=mech: check_values(
+        _mech, {p.name: float(values.get(p.name, p.value)) for p in _mech.parameters}, solve=True)
     system.dof = report
     system.reaction_names = tuple(r.reaction for r in rows)
     system.coordinates_of = _coordinates_of(kin, system, subs)

@@ -37,12 +37,15 @@ def evaluate(expr: sp.Expr, values: Mapping[str, float], field: str) -> float:
     return out
 
 
-def check_values(mech: Mechanism, values: Mapping[str, float]) -> None:
+def check_values(mech: Mechanism, values: Mapping[str, float], *, solve: bool = False) -> None:
     """Reject physically impossible values (at the parameter ``values``).
 
     Lengths, masses, inertias, spring stiffnesses, free lengths and drag diameters must be
     positive; damping, air density and drag coefficient non-negative; a force direction
-    non-zero. Raises :class:`InputError` naming the key path and the value.
+    non-zero. With ``solve=True`` (values given for one analysis, not the file's
+    defaults) a spring stiffness of zero is allowed: it disconnects the spring, as in the
+    paper's Fig. 7 ("no spring load"). Raises :class:`InputError` naming the key path
+    and the value.
     """
     def need(field: str, positive: bool, what: str) -> None:
         v = evaluate(mech.value(field), values, field)
@@ -58,7 +61,7 @@ def check_values(mech: Mechanism, values: Mapping[str, float]) -> None:
         if b.inertia is not None:
             need(f + ".inertia", True, "inertia (kg m^2)")
     for s in mech.springs:
-        need(f"springs.{s.name}.k", True, "stiffness (N/m)")
+        need(f"springs.{s.name}.k", not solve, "stiffness (N/m)")
         need(f"springs.{s.name}.free_length", True, "free length (m)")
     for d in mech.dampers:
         need(f"dampers.{d.name}.c", False, "damping (N s/m)")

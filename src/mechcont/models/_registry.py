@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
 from pathlib import Path
 
@@ -9,6 +10,8 @@ from ..equations import EquationSystem
 from ..errors import InputError
 
 __all__ = ["BUILTIN_MODELS", "load_model", "model_names"]
+
+_BUILT: dict[tuple, EquationSystem] = {}
 
 
 def _overcentre(**kw):
@@ -58,6 +61,12 @@ def load_model(name: str | Path, **overrides: float) -> EquationSystem:
         return BUILTIN_MODELS[key][0](**overrides)
     from ..mechanism import find_description, load
 
-    if find_description(key) is None:
+    path = find_description(key)
+    if path is None:
         raise InputError("model", f"unknown model '{key}'; valid: {', '.join(model_names())} or a path to a .toml file")
-    return load(key, **overrides)
+    # generating and compiling equations costs ~0.5 s: keep one build per file version and
+    # parameter set in this process, and hand out shallow copies (shared compiled code)
+    stamp = (str(Path(path).resolve()), Path(path).stat().st_mtime_ns, tuple(sorted(overrides.items())))
+    if stamp not in _BUILT:
+        _BUILT[stamp] = load(key, **overrides)
+    return copy.copy(_BUILT[stamp])
