@@ -8,6 +8,7 @@ inside ``cases()``, before timing). Usage: ``python benchmarks/run.py [-k SUBSTR
 from __future__ import annotations
 
 import argparse
+import gc
 import importlib.util
 import statistics
 import sys
@@ -37,10 +38,15 @@ def main(argv=None) -> int:
             n = max(repeats, args.min_repeats)
             fn()  # warm-up (compilation caches)
             times = []
-            for _ in range(n):
-                t0 = time.perf_counter()
-                fn()
-                times.append(time.perf_counter() - t0)
+            gc.collect()
+            gc.disable()  # as timeit does: a collection triggered by earlier cases is not this case's cost
+            try:
+                for _ in range(n):
+                    t0 = time.perf_counter()
+                    fn()
+                    times.append(time.perf_counter() - t0)
+            finally:
+                gc.enable()
             rows.append((path.stem[6:], name, n, statistics.median(times), min(times)))
             print(f"  {name}: {statistics.median(times) * 1e3:.2f} ms", file=sys.stderr)
     w = max((len(r[1]) for r in rows), default=4)
