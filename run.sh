@@ -3,6 +3,7 @@
 #   bash run.sh paper [--out DIR]   reproduce the paper's analyses (figures + summary)
 #   bash run.sh test  [pytest args] run the test suite
 #   bash run.sh bench               run the benchmarks (median of repeated runs)
+#   bash run.sh lint                ruff on the sources, tests and benchmarks
 #   bash run.sh mechcont ARGS...    any CLI command
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -22,6 +23,7 @@ case "$cmd" in
   test) exec .venv/bin/python -m pytest -q "$@" ;;
   paper) exec .venv/bin/mechcont paper "$@" ;;
   bench) exec .venv/bin/python benchmarks/run.py "$@" ;;
+  lint) exec .venv/bin/ruff check src tests benchmarks "$@" ;;
   mechcont) exec .venv/bin/mechcont "$@" ;;
-  *) echo "run.sh: unknown command '$cmd' (use: paper, test, bench, mechcont)" >&2; exit 2 ;;
+  *) echo "run.sh: unknown command '$cmd' (use: paper, test, bench, lint, mechcont)" >&2; exit 2 ;;
 esac

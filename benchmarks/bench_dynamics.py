@@ -147,7 +147,7 @@ def comparison_table(rates=RATES, sweep_repeats: int = 3, continuation_repeats: 
             "all past the fold | time / continuation |", "|---|---|---|---|---|"]
     by_rate = {}
     for rate in rates:
-        t_sw, f_sw = _median_time(lambda: downlock_by_sweeps(sw_system, starts, rate), sweep_repeats)
+        t_sw, f_sw = _median_time(lambda rate=rate: downlock_by_sweeps(sw_system, starts, rate), sweep_repeats)
         by_rate[rate] = (t_sw, f_sw)
         err = np.abs(f_sw - ref)
         rows.append(f"| sweeps, F ramped at {rate:g} N/s | {t_sw:.3g} | {np.max(err):.3g} | "

@@ -240,7 +240,9 @@ def test_animate_errors(tmp_path, overcentre):
 
 
 def test_failure_while_writing_leaves_nothing(tmp_path, overcentre):
-    def fail_on_second_frame(count=[]):
+    count = []
+
+    def fail_on_second_frame():
         count.append(1)
         if len(count) == 2:
             raise RuntimeError("interrupted")

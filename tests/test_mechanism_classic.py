@@ -190,7 +190,8 @@ def slider_x(phi, p=SC):
 def slider_V0(phi, p=SC):
     """Potential (J) without the force P: weights (rod CG at half the crank-pin height) + spring."""
     y_pin = p["r"] * math.sin(phi)
-    return p["g"] * (p["m_crank"] * y_pin / 2 + p["m_rod"] * y_pin / 2) + p["k"] / 2 * (abs(p["xs"] - slider_x(phi, p)) - p["L0"]) ** 2
+    spring = abs(p["xs"] - slider_x(phi, p)) - p["L0"]
+    return p["g"] * (p["m_crank"] * y_pin / 2 + p["m_rod"] * y_pin / 2) + p["k"] / 2 * spring ** 2
 
 
 @pytest.mark.parametrize("reduced", [False, True])

@@ -7,8 +7,23 @@ import numpy as np
 import pytest
 
 from mechcont.mechanism import (
-    Body, CustomLoad, Damper, Drag, Gravity, Mechanism, Moment, Parameter, PointForce, Polar, Prismatic, Revolute,
-    Spring, Weld, assemble, builtin_descriptions, load,
+    Body,
+    CustomLoad,
+    Damper,
+    Drag,
+    Gravity,
+    Mechanism,
+    Moment,
+    Parameter,
+    PointForce,
+    Polar,
+    Prismatic,
+    Revolute,
+    Spring,
+    Weld,
+    assemble,
+    builtin_descriptions,
+    load,
 )
 
 

@@ -7,7 +7,6 @@ import pytest
 
 from mechcont.analysis.downlock import downlock, downlock_point
 from mechcont.continuation import ContinuationOptions, continuation, continue_folds, locate_fold
-from mechcont.equations import EquationSystem
 from mechcont.mechanism import load
 from mechcont.models.nose_gear import COORDINATES, build_nose_gear
 

@@ -1,8 +1,12 @@
 """Imports every command module so that each registers itself on the group."""
-from . import draw  # noqa: F401  (mechcont draw, mechcont animate)
-from . import equations  # noqa: F401  (mechcont equations)
-from . import sweep  # noqa: F401  (mechcont sweep)
-from . import downlock  # noqa: F401  (mechcont downlock)
-from . import design  # noqa: F401  (mechcont design)
-from . import models, continue_, folds  # noqa: F401,E401  (mechcont models, continue, folds)
-from . import paper  # noqa: F401  (mechcont paper)
+from . import (  # noqa: F401,E401  (mechcont models, continue, folds)
+    continue_,
+    design,  # noqa: F401  (mechcont design)
+    downlock,  # noqa: F401  (mechcont downlock)
+    draw,  # noqa: F401  (mechcont draw, mechcont animate)
+    equations,  # noqa: F401  (mechcont equations)
+    folds,
+    models,
+    paper,  # noqa: F401  (mechcont paper)
+    sweep,  # noqa: F401  (mechcont sweep)
+)

@@ -11,7 +11,8 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, bounds as parse_bounds
+from ._parse import assignments
+from ._parse import bounds as parse_bounds
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
 TABLE_SUFFIXES = (".csv", ".json")

@@ -74,20 +74,24 @@ def _run(problem, system, u0, options, events, direction, vary, unknowns, tangen
     dirs = [direction] if direction else [-1, 1]
     parts = {d: run_direction(problem, u0, d, options, events, tangent0=tangent0) for d in dirs}
     rows, stab, labels, infos, s = [], [], [], [], []
-    if -1 in parts:
+
+    def take(p, indices, sign):
+        for i in indices:
+            rows.append(p.states[i])
+            stab.append(p.stability[i])
+            labels.append(p.labels[i])
+            infos.append(p.info[i])
+            s.append(sign * p.arclength[i])
+
+    if -1 in parts:  # backwards part reversed, so the branch runs in arclength order
         p = parts[-1]
-        rng = range(len(p.states) - 1, 0 if 1 in parts else -1, -1)
-        for i in rng:
-            rows.append(p.states[i]); stab.append(p.stability[i]); labels.append(p.labels[i])
-            infos.append(p.info[i]); s.append(-p.arclength[i])
+        take(p, range(len(p.states) - 1, 0 if 1 in parts else -1, -1), -1)
     if 1 in parts:
         p = parts[1]
         if -1 in parts and parts[-1].labels[0] and not p.labels[0]:
             # the start's own label (e.g. EP: started on a bound) was found going backwards
             p.labels[0], p.info[0] = parts[-1].labels[0], parts[-1].info[0]
-        for i in range(len(p.states)):
-            rows.append(p.states[i]); stab.append(p.stability[i]); labels.append(p.labels[i])
-            infos.append(p.info[i]); s.append(p.arclength[i])
+        take(p, range(len(p.states)), 1)
     values = np.array([st.x for st in rows])
     special = []
     for i, (lab, st, inf) in enumerate(zip(labels, rows, infos)):

@@ -13,4 +13,5 @@ from ._sweep import Jump, Ramp, SweepResult, parse_ramps, sweep
 from ._udwadia_kalaba import ConstrainedDynamics, fundamental_equation
 
 __all__ = ["simulate", "assemble", "sweep", "parse_ramps", "Ramp", "Jump", "SweepResult", "SimulationResult",
-           "SimulationStatus", "Crossing", "ConstrainedDynamics", "fundamental_equation", "jump_gaps", "JumpGap", "gap_versus_rate", "RateGap", "plot_sweep"]
+           "SimulationStatus", "Crossing", "ConstrainedDynamics", "fundamental_equation", "jump_gaps", "JumpGap",
+           "gap_versus_rate", "RateGap", "plot_sweep"]

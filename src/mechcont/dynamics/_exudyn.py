@@ -56,10 +56,20 @@ def exudyn_overcentre(params: Mapping[str, float], theta1_0: float, force: Calla
     """
     try:
         import exudyn as exu
-        from exudyn.itemInterface import (Force, LoadMassProportional, MarkerBodyMass, MarkerBodyPosition,
-                                          MarkerBodyRigid, NodeRigidBody2D, ObjectConnectorSpringDamper,
-                                          ObjectGround, ObjectJointPrismatic2D, ObjectRigidBody2D, RevoluteJoint2D,
-                                          SensorNode)
+        from exudyn.itemInterface import (
+            Force,
+            LoadMassProportional,
+            MarkerBodyMass,
+            MarkerBodyPosition,
+            MarkerBodyRigid,
+            NodeRigidBody2D,
+            ObjectConnectorSpringDamper,
+            ObjectGround,
+            ObjectJointPrismatic2D,
+            ObjectRigidBody2D,
+            RevoluteJoint2D,
+            SensorNode,
+        )
     except ImportError:
         raise ImportError("Exudyn is not installed (pip install exudyn, or mechcont's test extra)") from None
     missing = [k for k in _NEEDED if k not in params]

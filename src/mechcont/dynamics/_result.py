@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import csv
 import enum
-from dataclasses import dataclass, field
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np

@@ -6,7 +6,7 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
-from scipy.integrate import DOP853, LSODA, RK23, RK45, BDF, Radau
+from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 
 from ..errors import InputError
 from ._events import EventTracker

@@ -16,7 +16,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import InputError
-from ._codegen import compile_dense, compile_sparse, derivative_entries, to_engine
+from ._codegen import compile_dense, derivative_entries, to_engine
 
 __all__ = ["Variable", "EquationSystem"]
 
@@ -173,7 +173,7 @@ class EquationSystem:
         """Typical magnitude of every variable, ordered like :attr:`names`."""
         return np.array([v.scale for v in self.variables])
 
-    def with_values(self, values: Mapping[str, float]) -> "EquationSystem":
+    def with_values(self, values: Mapping[str, float]) -> EquationSystem:
         """A copy with new default values, sharing the compiled functions (no rebuild).
 
         Only defaults change; the equations are the same, so this is how a model is
@@ -189,7 +189,7 @@ class EquationSystem:
         return new
 
     # -- compiled numerics ------------------------------------------------------------
-    def compile(self) -> "EquationSystem":
+    def compile(self) -> EquationSystem:
         """Generate the numeric residual, Jacobian and second-derivative functions (once)."""
         if self._compiled:
             return self

@@ -19,8 +19,22 @@ from pathlib import Path
 from ..equations import EquationSystem
 from ._assembly import DofReport, assemble, close_constraints, dof_report
 from ._description import (
-    Body, CustomLoad, Damper, Drag, Gravity, Mechanism, Moment, Parameter, PointForce, Polar, Prismatic, Revolute,
-    Slider, Spring, Weld, coordinate_names,
+    Body,
+    CustomLoad,
+    Damper,
+    Drag,
+    Gravity,
+    Mechanism,
+    Moment,
+    Parameter,
+    PointForce,
+    Polar,
+    Prismatic,
+    Revolute,
+    Slider,
+    Spring,
+    Weld,
+    coordinate_names,
 )
 from ._file import builtin_descriptions, find_description, load_description, parse_description
 

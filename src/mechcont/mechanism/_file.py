@@ -31,8 +31,21 @@ from pathlib import Path
 
 from ..errors import InputError
 from ._description import (
-    Body, CustomLoad, Damper, Drag, Gravity, Mechanism, Moment, Parameter, PointForce, Polar, Prismatic, Revolute,
-    Slider, Spring, Weld,
+    Body,
+    CustomLoad,
+    Damper,
+    Drag,
+    Gravity,
+    Mechanism,
+    Moment,
+    Parameter,
+    PointForce,
+    Polar,
+    Prismatic,
+    Revolute,
+    Slider,
+    Spring,
+    Weld,
 )
 
 __all__ = ["load_description", "parse_description", "builtin_descriptions", "find_description", "locate_error"]

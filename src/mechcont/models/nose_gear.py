@@ -265,7 +265,8 @@ def build_nose_gear(**overrides: float) -> EquationSystem:
     variables = []
     for n in COORDINATES:
         kind_unit = "rad" if n.startswith("theta") else "m"
-        variables.append(Variable(n, "state", q[n], kind_unit, 1.0, f"bar {n[-1]} {'angle from +x' if n.startswith('theta') else 'centre of gravity, ' + n[0]}"))
+        what = "angle from +x" if n.startswith("theta") else "centre of gravity, " + n[0]
+        variables.append(Variable(n, "state", q[n], kind_unit, 1.0, f"bar {n[-1]} {what}"))
     for n in FORCES:
         variables.append(Variable(n, "state", 0.0, "N", 1000.0, f"force of bar {n[1]} on bar {n[2]}, {n[3]} component"))
     for n, (_, unit, scale, desc) in PARAMETERS.items():

@@ -10,7 +10,7 @@ _LAZY = {
     "plot_branch": "plotting", "plot_surface": "plotting", "new_figure": "plotting", "save_figure": "plotting",
 }
 
-__all__ = sorted(_LAZY)
+__all__ = list(_LAZY)  # noqa: PLE0605 - the lazily exported names
 
 
 def __getattr__(name: str):

@@ -24,8 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..equations import Scene
 from .._io import atomic_write
+from ..equations import Scene
 from ..errors import InputError
 
 __all__ = ["draw_scene", "draw", "animate", "BranchFrames", "branch_frames", "IMAGE_SUFFIXES", "ANIMATION_SUFFIXES"]

@@ -123,8 +123,9 @@ def plot_surface(branches: Sequence, x: str, y: str, z: str, folds=None, ax=None
 
     ``branches`` are one-parameter branches computed at successive values of a second
     parameter; each is drawn as a thin line and the family as a translucent surface
-    (members resampled by normalised arclength, so each should span the same range). ``folds`` (a fold-curve branch) is drawn thick in dark grey;
-    ``highlight`` (one branch) in colour. Returns the 3-D axes.
+    (members resampled by normalised arclength, so each should span the same range).
+    ``folds`` (a fold-curve branch) is drawn thick in dark grey; ``highlight`` (one
+    branch) in colour. Returns the 3-D axes.
     """
     if ax is None:
         _, ax = new_figure(figsize=(7, 5.5), projection="3d")

@@ -250,7 +250,7 @@ def _plot_all(res, out_dir: Path) -> list[Path]:
     # Fig 11: 3-D + three projections
     fig = plt.figure(figsize=(10, 8))
     ax3 = fig.add_subplot(2, 2, 1, projection="3d")
-    L, LU_, Fm = [], [], []
+    LU_, Fm = [], []
     grid = np.linspace(*L_SP1_RANGE, 60)
     for br in res.fig11_surface:
         o = np.argsort(br["l_sp1"])
@@ -336,7 +336,7 @@ def summary(res: NoseGearResults) -> list[str]:
                  f"(k, slope {np.polyfit(kk['k'], kk['F'], 1)[0] * 1e3:.2f} N per kN/m). **Reappears** — exactly: "
                  "with theta4 held the configuration is fixed and F is affine in every load.")
     lps = res.fig11_force_branch.special("LP")
-    lines.append(f"- Fig. 10 (paper: nonlinear with a local extremum): F(l_sp1) at LU = 1.3 m has "
+    lines.append("- Fig. 10 (paper: nonlinear with a local extremum): F(l_sp1) at LU = 1.3 m has "
                  + ", ".join(f"an extremum F = {p['F']:.2f} N at l_sp1 = {p['l_sp1']:.4f} m" for p in lps)
                  + f"; F ranges {res.fig10['F'].min():.1f}..{res.fig10['F'].max():.1f} N. **Reappears**.")
     fc = res.fig11_fold_curve
@@ -350,11 +350,13 @@ def summary(res: NoseGearResults) -> list[str]:
         c = cps[0]
         lines.append(f"- Fig. 11 (paper: folds only above LU = 0.8 m, meeting at a cusp): folds exist only above the cusp "
                      f"at LU = {c['LU']:.4f} m (l_sp1 = {c['l_sp1']:.4f} m, F = {c['F']:.2f} N). **Reappears**, in a "
-                     f"narrower band: within the lock link (|l_sp1| < 0.175 m) they span LU = {c['LU']:.4f}..{fc['LU'].max():.4f} m, "
+                     "narrower band: within the lock link (|l_sp1| < 0.175 m) they span "
+                     f"LU = {c['LU']:.4f}..{fc['LU'].max():.4f} m, "
                      "not from 0.8 m. **The band's position does not reappear**, and cannot with lock links of this "
                      f"size: a fold needs |s - LU| <= (a|dx|/s) / (1 - a|dx|/s^2), a = L4/2 - l_sp1 (s, dx the spring's "
                      f"length and horizontal extent): at most {bound * 1e3:.1f} mm here (spring {s_min:.3f} m long, nearly "
-                     f"vertical), and about L4 = {L4:.2f} m for any spring; with the spring in tension at LU = 1.3 m (as in the paper) folds "
+                     f"vertical), and about L4 = {L4:.2f} m for any spring; with the spring in tension at LU = 1.3 m "
+                     "(as in the paper) folds "
                      "at 0.8 m need lock links longer than 0.5 m and a horizontal spring. The best realistic spring "
                      "lug (at most 0.25 m off the strut) widens the band only to LU = 1.25..1.43 m and moves the cusp "
                      "off the lock link (see `mechcont.models.nose_gear_geometry`), so the geometry is kept.")
