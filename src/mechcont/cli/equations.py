@@ -28,7 +28,8 @@ def _system(model: str, reduced: bool, overrides: dict[str, float]):
 @click.option("--reduced", is_flag=True, help="The reduced form (description files only): tree coordinates "
                                                "and their reactions eliminated.")
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
-def equations_command(model: str, latex: bool, reduced: bool, settings: tuple[str, ...]):
+@click.option("--shared", is_flag=True, help="Name repeated sub-expressions (w0, w1, ...) and list them first.")
+def equations_command(model: str, latex: bool, reduced: bool, settings: tuple[str, ...], shared: bool):
     """Print the equations G(x) = 0 of MODEL: a built-in model name (overcentre), a shipped
     description stem (e.g. fourbar) or a mechanism description file (.toml)."""
     system = _system(model, reduced, assignments(settings, "set"))
@@ -46,4 +47,4 @@ def equations_command(model: str, latex: bool, reduced: bool, settings: tuple[st
     for name in system.parameter_names:
         v = system.variable(name)
         click.echo(f"#   {name} = {v.value:g} {v.unit}  {v.description}".rstrip())
-    click.echo(system.pretty())
+    click.echo(system.pretty(shared=shared))

@@ -245,9 +245,20 @@ class EquationSystem:
         return np.bincount(self._hess_ik, weights=w, minlength=n_eq * n).reshape(n_eq, n)
 
     # -- display ----------------------------------------------------------------------
-    def pretty(self) -> str:
-        """The equations as readable text, one per line, labelled."""
-        return "\n".join(f"{name}: {sp.sstr(e)} = 0" for name, e in zip(self.equation_names, self.equations))
+    def pretty(self, shared: bool = False) -> str:
+        """The equations as readable text, one per line, labelled.
+
+        With ``shared=True`` sub-expressions used more than once (a spring's length, its
+        direction) are named ``w0, w1, ...`` and listed first, as a hand derivation would.
+        """
+        eqs = list(self.equations)
+        lines = []
+        if shared:
+            names = sp.numbered_symbols("w")
+            reps, eqs = sp.cse(eqs, symbols=names, optimizations="basic")
+            lines = [f"{s} = {sp.sstr(e)}" for s, e in reps]
+        lines += [f"{name}: {sp.sstr(e)} = 0" for name, e in zip(self.equation_names, eqs)]
+        return "\n".join(lines)
 
     def latex(self) -> str:
         """The equations as a LaTeX ``align`` environment."""
