@@ -384,3 +384,134 @@ def test_cli_draws_a_mechanism_description_file(tmp_path, run):
     assert r.exit_code == 0, r.output
     F = symmetric_force(0.3, 1.5, 1.0, 1.0, 9.81, 127.0, 0.4)
     assert f"F = {F:.4g} N".encode() in out.read_bytes()
+
+
+# -- moments, spring anchors, annotated frames ------------------------------------------------
+
+def _moment_arc(ax, name):
+    (line,) = [ln for ln in ax.lines if ln.get_gid() == f"moment:{name}"]
+    return line.get_xydata()
+
+
+@pytest.mark.parametrize("value", [7.0, -3.0])
+def test_moment_is_a_curved_arrow_whose_sense_follows_the_sign(value):
+    p = np.array([0.4, 0.2])
+    sc = Scene(bars=[("bar", np.array([[0.0, 0.0], [1.0, 0.5]]))], moments=[("M", p, value)])
+    ax = draw_scene(sc)
+    arc = _moment_arc(ax, "M")
+    rel = arc - p
+    r = np.hypot(rel[:, 0], rel[:, 1])
+    assert np.ptp(r) < 1e-9 * r[0] and r[0] > 0                  # a circular arc around the point
+    turn = np.sum(rel[:-1, 0] * rel[1:, 1] - rel[:-1, 1] * rel[1:, 0])
+    assert np.sign(turn) == np.sign(value)                         # counter-clockwise iff positive
+    (head,) = [t for t in ax.texts if hasattr(t, "xyann") and t.arrow_patch is not None]
+    tip, tail = np.asarray(head.xy) - p, np.asarray(head.xyann) - p
+    assert np.sign(tail[0] * tip[1] - tail[1] * tip[0]) == np.sign(value)   # arrowhead turns the same way
+    assert np.hypot(*tip) == pytest.approx(r[0])
+    assert f"M = {abs(value):.3g} N m" in [t.get_text() for t in ax.texts]
+    xmin, xmax = ax.get_xlim()
+    ymin, ymax = ax.get_ylim()
+    assert xmin < p[0] - r[0] and xmax > p[0] + r[0] and ymin < p[1] - r[0] and ymax > p[1] + r[0]
+
+
+def test_zero_moment_is_only_labelled_and_no_forces_hides_moments():
+    sc = Scene(bars=[("bar", np.array([[0.0, 0.0], [1.0, 0.5]]))], moments=[("M", np.zeros(2), 0.0)])
+    ax = draw_scene(sc)
+    assert not [ln for ln in ax.lines if ln.get_gid() == "moment:M"] and "M = 0 N m" in [t.get_text() for t in ax.texts]
+    sc.moments = [("M", np.zeros(2), 4.0)]
+    ax = draw_scene(sc, show_forces=False)
+    assert not [ln for ln in ax.lines if ln.get_gid() == "moment:M"] and not ax.texts
+
+
+def _symbols(ax, gid):
+    return [p for p in ax.patches if p.get_gid() == gid]
+
+
+def test_anchor_symbol_is_small_and_faces_away_from_its_spring():
+    anchor = np.array([0.0, 1.0])
+    sc = Scene(bars=[("bar", np.array([[0.0, 0.0], [1.0, 0.0]]))], grounds=[np.zeros(2)], anchors=[anchor],
+               springs=[("k", anchor, np.array([0.5, 0.0]))])
+    ax = draw_scene(sc)
+    (ground,), (anc,) = _symbols(ax, "ground"), _symbols(ax, "anchor")
+    tri = anc.get_xy()[:3]
+    assert np.allclose(tri[0], anchor)
+    away = tri[1:].mean(axis=0) - anchor
+    assert np.dot(away, np.array([0.5, 0.0]) - anchor) < 0        # the hatching is behind the anchor
+    size = lambda patch: np.ptp(patch.get_xy(), axis=0).max()      # noqa: E731
+    assert size(anc) < size(ground)
+
+
+def test_fourbar_drawing_has_the_moment_and_the_spring_anchor(tmp_path):
+    from mechcont.mechanism import assemble, load
+
+    system = load("fourbar")
+    x = assemble(system, hold={"theta_crank": 1.0}, free=["T"])
+    ax = draw(system, x, tmp_path / "fb.png", **SMALL)
+    assert len(_symbols(ax, "ground")) == 2 and len(_symbols(ax, "anchor")) == 1
+    arc = _moment_arc(ax, "T")
+    assert np.allclose(np.mean(arc, axis=0)[0], 0.0, atol=0.05 * np.ptp(arc[:, 0]))  # around the pin A = (0, 0)
+    assert f"T = {abs(x[system.index('T')]):.3g} N m" in [t.get_text() for t in ax.texts]
+
+
+@pytest.fixture(scope="module")
+def fourbar_branch():
+    from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium
+    from mechcont.mechanism import load
+
+    system = load("fourbar")
+    x0 = find_equilibrium(system, hold={"theta_crank": 1.0}, free=["T"])
+    branch = continuation(system, x0, "T", options=ContinuationOptions(bounds={"theta_crank": (0.0, 6.2)}))
+    assert branch.labels.count("LP") >= 2
+    return system, branch
+
+
+def test_frame_of_a_fourbar_branch_prints_the_continuation_parameter(tmp_path, fourbar_branch):
+    system, branch = fourbar_branch
+    lp = branch["LP1"]
+    out = tmp_path / "lp.svg"
+    draw(system, lp, out, annotate=("T", "theta_crank"), stable=True, **SMALL)
+    svg = out.read_text()
+    T, theta = lp.x[system.index("T")], lp.x[system.index("theta_crank")]
+    assert f"T = {T:.4g} N m" in svg and f"theta_crank = {math.degrees(theta):.2f}°" in svg
+    assert "stable LP" in svg
+
+
+def test_animation_frames_print_vary_units_stability_and_label(tmp_path, fourbar_branch, monkeypatch):
+    """Every frame's note: the branch's vary (N m), the annotated angle (degrees), stability, label."""
+    import mechcont.outputs.drawing as drawing
+
+    system, branch = fourbar_branch
+    notes = []
+    real = drawing._put_note
+    monkeypatch.setattr(drawing, "_put_note", lambda ax, text, *a: (notes.append(text), real(ax, text, *a)))
+    csv_path = branch.to_csv(tmp_path / "fb.csv")
+    frames = branch_frames(system, csv_path)
+    assert frames.vary == "T" and branch_frames(system, branch).vary == "T"   # CSV: the one changing parameter
+    n = animate(system, csv_path, tmp_path / "fb.gif", every=1, figsize=(3, 2.5), dpi=30)
+    notes = notes[1:]                  # the first render lays the figure out before writing
+    assert n == len(branch) == len(notes)
+    st = branch.stability_labels()
+    labels = frames.numbered_labels
+    for i, text in enumerate(notes):
+        lines = text.splitlines()
+        T, theta = branch.values[i, system.index("T")], branch.values[i, system.index("theta_crank")]
+        assert lines[0] == f"T = {T:.4g} N m"
+        assert lines[1] == f"theta_crank = {round(math.degrees(theta), 2) + 0.0:.2f}°"
+        assert lines[2] == " ".join(w for w in (st[i], labels[i]) if w)
+
+
+def test_vary_on_the_cli(tmp_path, run, fourbar_branch):
+    system, branch = fourbar_branch
+    csv_path = branch.to_csv(tmp_path / "fb.csv")
+    r = run("animate", "fourbar", "--branch", csv_path, "--out", tmp_path / "a.gif", "--every", "40",
+            "--vary", "theta_crank")
+    assert r.exit_code == 0, r.output
+    r = run("draw", "fourbar", "--point", f"{csv_path}:LP2", "--out", tmp_path / "p.svg")
+    assert r.exit_code == 0, r.output
+    lp2 = branch["LP2"].x
+    assert f"T = {lp2[system.index('T')]:.4g} N m" in (tmp_path / "p.svg").read_text()
+    one_line_error(run("animate", "fourbar", "--branch", csv_path, "--out", tmp_path / "b.gif", "--vary", "nope"),
+                   "nope")
+    one_line_error(run("draw", "fourbar", "--start", "theta_crank=1", "--free", "T", "--vary", "T",
+                       "--out", tmp_path / "c.png"), "vary")
+    assert not (tmp_path / "b.gif").exists() and not (tmp_path / "c.png").exists()

@@ -11,8 +11,6 @@ from ..errors import InputError
 from ._app import cli
 from ._parse import assignments, names
 
-_ANIMATE_DEFAULT = ("F", "theta1")
-
 
 def _model(name: str):
     from ..models import load_model
@@ -43,20 +41,28 @@ def _out(path: str, valid) -> Path:
 @click.option("--free", "frees", multiple=True, metavar="NAME", help="A parameter solved for instead (e.g. F).")
 @click.option("--point", metavar="BRANCH.csv:ROW",
               help="Draw row ROW (0-based, or a label such as LP1) of a branch CSV instead of solving.")
-@click.option("--annotate", metavar="NAMES", help="Comma-separated variables to print on the figure.")
-@click.option("--no-forces", is_flag=True, help="Do not draw the applied forces.")
+@click.option("--annotate", metavar="NAMES",
+              help="Comma-separated variables to print on the figure [F,theta1 or the first angle].")
+@click.option("--vary", metavar="NAME",
+              help="With --point: the branch's continuation parameter, printed first "
+                   "[the one parameter that changes along the branch].")
+@click.option("--no-forces", is_flag=True, help="Do not draw the applied forces and moments.")
 @click.option("--out", required=True, metavar="FILE", help="Output .png, .svg or .pdf.")
-def draw_command(model, sets, starts, frees, point, annotate, no_forces, out):
+def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, out):
     """Draw MODEL (a built-in name or a description .toml) at one equilibrium or at a branch point.
 
     The equilibrium is solved at the --set values with the --start states held and the
     --free parameters solved for (e.g. --start theta1=0.3 --free F).
     """
-    from ..outputs.drawing import IMAGE_SUFFIXES, branch_frames, draw
+    from ..outputs.drawing import IMAGE_SUFFIXES, branch_frames, default_annotate, draw
 
     path = _out(out, IMAGE_SUFFIXES)
     system = _model(model)
-    names = _names(annotate, "annotate")
+    names = _names(annotate, "annotate") or default_annotate(system)
+    if vary is not None:
+        if point is None:
+            raise InputError("vary", "names the continuation parameter of a branch; use it with --point")
+        system.index(vary)
     stable, label = None, ""
     if point is not None:
         if sets or starts or frees:
@@ -67,6 +73,8 @@ def draw_command(model, sets, starts, frees, point, annotate, no_forces, out):
         frames = branch_frames(system, csv_path)
         i = frames.row(row)
         x, stable, label = frames.values[i], frames.stable[i], frames.numbered_labels[i]
+        lead = vary or frames.vary
+        names = tuple(dict.fromkeys([*([lead] if lead else []), *names]))
     else:
         from ..continuation import find_equilibrium
 
@@ -74,8 +82,7 @@ def draw_command(model, sets, starts, frees, point, annotate, no_forces, out):
                              free=list(frees))
         if system.mechanics is not None:
             stable = bool(system.mechanics.stability(x).stable)
-    draw(system, x, path, annotate=names or tuple(n for n in _ANIMATE_DEFAULT if n in system.names),
-         stable=stable, label=label, show_forces=not no_forces)
+    draw(system, x, path, annotate=names, stable=stable, label=label, show_forces=not no_forces)
     click.echo(str(path))
 
 
@@ -85,17 +92,27 @@ def draw_command(model, sets, starts, frees, point, annotate, no_forces, out):
 @click.option("--out", required=True, metavar="FILE", help="Output .gif (or .mp4 when ffmpeg is installed).")
 @click.option("--fps", type=float, default=20.0, show_default=True, help="Frames per second.")
 @click.option("--every", type=int, default=1, show_default=True, help="Use every N-th branch point.")
-@click.option("--annotate", metavar="NAMES", help="Comma-separated variables printed on each frame [F,theta1].")
+@click.option("--annotate", metavar="NAMES",
+              help="Comma-separated variables printed on each frame [F,theta1 or the first angle].")
+@click.option("--vary", metavar="NAME",
+              help="The branch's continuation parameter, printed first on each frame "
+                   "[the one parameter that changes along the branch].")
 @click.option("--diagram", metavar="X,Y", help="Add a panel with the branch in the plane of two variables.")
-@click.option("--no-forces", is_flag=True, help="Do not draw the applied forces.")
+@click.option("--no-forces", is_flag=True, help="Do not draw the applied forces and moments.")
 @click.option("--quiet", is_flag=True, help="No progress bar.")
-def animate_command(model, branch_csv, out, fps, every, annotate, diagram, no_forces, quiet):
-    """Animate MODEL along a branch CSV (columns: variables, s, stability, label)."""
-    from ..outputs.drawing import ANIMATION_SUFFIXES, animate, branch_frames
+def animate_command(model, branch_csv, out, fps, every, annotate, vary, diagram, no_forces, quiet):
+    """Animate MODEL along a branch CSV (columns: variables, s, stability, label).
+
+    Each frame prints the continuation parameter (--vary), the --annotate variables (angles
+    in degrees), stable/unstable and the special-point label.
+    """
+    from ..outputs.drawing import ANIMATION_SUFFIXES, animate, branch_frames, default_annotate
 
     path = _out(out, ANIMATION_SUFFIXES)
     system = _model(model)
-    names = _names(annotate, "annotate") or tuple(n for n in _ANIMATE_DEFAULT if n in system.names)
+    names = _names(annotate, "annotate") or default_annotate(system)
+    if vary is not None:
+        system.index(vary)
     pair = _names(diagram, "diagram") or None
     if pair is not None and len(pair) != 2:
         raise InputError("diagram", f"give exactly two variable names X,Y, not '{diagram}'")
@@ -104,10 +121,10 @@ def animate_command(model, branch_csv, out, fps, every, annotate, diagram, no_fo
         raise InputError("every", f"must be an integer >= 1, not {every}")
     total = len(range(0, len(frames.values), every))
     if quiet or not sys.stderr.isatty():
-        n = animate(system, frames, path, fps=fps, every=every, annotate=names, diagram=pair,
+        n = animate(system, frames, path, fps=fps, every=every, annotate=names, vary=vary, diagram=pair,
                     show_forces=not no_forces)
     else:
         with click.progressbar(length=total, label="frames", file=sys.stderr) as bar:
-            n = animate(system, frames, path, fps=fps, every=every, annotate=names, diagram=pair,
+            n = animate(system, frames, path, fps=fps, every=every, annotate=names, vary=vary, diagram=pair,
                         show_forces=not no_forces, on_frame=lambda: bar.update(1))
     click.echo(f"{path} ({n} frames)")

@@ -2,7 +2,8 @@
 
 Models (hand-formulated or generated) provide ``scene(x) -> Scene`` for a full variable
 vector ``x``; :mod:`mechcont.outputs.drawing` turns scenes into pictures and animations.
-All coordinates are in metres in the plane of the mechanism; forces in newtons.
+All coordinates are in metres in the plane of the mechanism; forces in newtons; moments in
+newton metres, counter-clockwise positive.
 """
 
 from __future__ import annotations
@@ -32,6 +33,13 @@ class Scene:
         ``(name, start, end)``: a spring between two points.
     forces:
         ``(name, point, vector)``: an applied force (N) at a point.
+    moments:
+        ``(name, point, value)``: an applied moment (N m, counter-clockwise positive) drawn
+        around ``point`` (for a moment on a body pinned to the ground: that pin).
+    anchors:
+        Ground points (2,) that springs or dampers are attached to (no joint there).
+    dampers:
+        ``(name, start, end)``: a damper between two points.
     """
 
     bars: list[tuple[str, np.ndarray]] = field(default_factory=list)
@@ -40,10 +48,15 @@ class Scene:
     sliders: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
     springs: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
     forces: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
+    moments: list[tuple[str, np.ndarray, float]] = field(default_factory=list)
+    anchors: list[np.ndarray] = field(default_factory=list)
+    dampers: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
 
     def extent(self) -> tuple[float, float, float, float]:
         """Bounding box ``(xmin, xmax, ymin, ymax)`` of every primitive (m)."""
         pts = [p for _, b in self.bars for p in np.atleast_2d(b)] + list(self.pins) + list(self.grounds)
         pts += [p for p, _ in self.sliders] + [p for _, a, b in self.springs for p in (a, b)]
+        pts += [p for _, a, b in self.dampers for p in (a, b)] + list(self.anchors)
+        pts += [p for _, p, _ in self.forces] + [p for _, p, _ in self.moments]
         arr = np.array(pts, dtype=float).reshape(-1, 2)
         return float(arr[:, 0].min()), float(arr[:, 0].max()), float(arr[:, 1].min()), float(arr[:, 1].max())

@@ -9,7 +9,7 @@ import sympy as sp
 
 from ..equations import Scene
 from ..equations._codegen import compile_dense
-from ._description import Prismatic, Revolute, Slider, Weld
+from ._description import CustomLoad, Moment, Prismatic, Revolute, Slider, Weld
 from ._kinematics import Kinematics
 
 __all__ = ["scene_function"]
@@ -21,7 +21,10 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
 
     ``subs`` maps eliminated coordinates to expressions in the system's variables (reduced
     form). Bodies are drawn as polylines ``a -> b`` (bars; each point off the bar axis adds
-    a triangle ``a -> p -> b``) or through their declared points (other bodies).
+    a triangle ``a -> p -> b``) or through their declared points (other bodies). A
+    :class:`Moment` on a body is drawn around the body's pin to the ground if it has one,
+    else around the body's origin; a :class:`CustomLoad` with a moment around its point.
+    Ground points that springs or dampers attach to (and no pin or weld does) are anchors.
     """
     mech, subs = kin.mech, subs or {}
     items: list[tuple[str, str, object]] = []  # (kind, name, extra)
@@ -49,10 +52,33 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
         elif isinstance(j, (Slider, Prismatic)):
             phi = kin.angle(j.a) + mech.value(f"joints.{j.name}.angle")
             add("slider", j.name, [kin.point(j.b), sp.Matrix([sp.cos(phi), sp.sin(phi)])])
+    pinned: dict[str, str] = {}        # body -> its first point pinned or welded to the ground
+    ground_joints: set[str] = set()
+    for j in mech.joints:
+        if isinstance(j, (Revolute, Weld)):
+            for here, there in ((j.a, j.b), (j.b, j.a)):
+                if here.split(".")[0] == "ground":
+                    ground_joints.add(here)
+                    pinned.setdefault(there.split(".")[0], there)
+    anchors: list[str] = []
     for s in mech.springs:
         add("spring", s.name, [kin.point(s.a), kin.point(s.b)])
+    for d in mech.dampers:
+        add("damper", d.name, [kin.point(d.a), kin.point(d.b)])
+    for ref in (r for e in (*mech.springs, *mech.dampers) for r in (e.a, e.b)):
+        if ref.split(".")[0] == "ground" and ref not in ground_joints and ref not in anchors:
+            anchors.append(ref)
+            add("anchor", ref, [kin.point(ref)])
     for name, P, F in arrows:
         add("force", name, [P, F])
+    for ld in mech.loads:
+        if isinstance(ld, Moment):
+            at = pinned.get(ld.body, f"{ld.body}.origin")
+            add("moment", ld.name, [kin.point(at), sp.Matrix([mech.value(f"loads.{ld.name}.magnitude"), 0])])
+        elif isinstance(ld, CustomLoad):
+            M = sp.sympify(mech.value(f"loads.{ld.name}.moment"))
+            if M != 0:
+                add("moment", ld.name, [kin.point(ld.at), sp.Matrix([M, 0])])
     exprs = [sp.sympify(e).xreplace(subs) for e in exprs]
     fn = compile_dense(list(symbols), exprs)
 
@@ -73,6 +99,12 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
                 out.sliders.append((pts[0].copy(), pts[1].copy()))
             elif kind == "spring":
                 out.springs.append((name, pts[0].copy(), pts[1].copy()))
+            elif kind == "damper":
+                out.dampers.append((name, pts[0].copy(), pts[1].copy()))
+            elif kind == "anchor":
+                out.anchors.append(pts[0].copy())
+            elif kind == "moment":
+                out.moments.append((name, pts[0].copy(), float(pts[1][0])))
             else:
                 out.forces.append((name, pts[0].copy(), pts[1].copy()))
         return out

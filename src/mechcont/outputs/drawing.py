@@ -2,8 +2,10 @@
 
 A model provides ``system.scene(x) -> Scene`` (coordinates in metres, forces in newtons);
 this module draws it: bars as thick polylines, pins as small circles, ground pins with a
-hatched ground symbol, sliders as a block on a hatched rail, springs as zig-zag coils,
-forces as arrows labelled in newtons. :func:`draw` saves one configuration (PNG, SVG, PDF),
+hatched ground symbol (a smaller one, facing away, where only springs or dampers are
+anchored), sliders as a block on a hatched rail, springs as zig-zag coils, dampers as
+dashpots, forces as arrows labelled in newtons and moments as curved arrows around their
+point (counter-clockwise for a positive value) labelled in newton metres. :func:`draw` saves one configuration (PNG, SVG, PDF),
 :func:`animate` runs along a continuation branch (GIF, or MP4 when ffmpeg is installed).
 
 Sizes of the symbols (pins, ground, coil width) are a fixed fraction of the view so that
@@ -19,7 +21,7 @@ import math
 import os
 import shutil
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -28,7 +30,8 @@ from .._io import atomic_write
 from ..equations import Scene
 from ..errors import InputError
 
-__all__ = ["draw_scene", "draw", "animate", "BranchFrames", "branch_frames", "IMAGE_SUFFIXES", "ANIMATION_SUFFIXES"]
+__all__ = ["draw_scene", "draw", "animate", "BranchFrames", "branch_frames", "default_annotate", "IMAGE_SUFFIXES",
+           "ANIMATION_SUFFIXES"]
 
 IMAGE_SUFFIXES = (".png", ".svg", ".pdf")
 ANIMATION_SUFFIXES = (".gif", ".mp4")
@@ -55,6 +58,10 @@ def _union(boxes: Iterable[tuple[float, float, float, float]]) -> tuple[float, f
     return float(b[:, 0].min()), float(b[:, 1].max()), float(b[:, 2].min()), float(b[:, 3].max())
 
 
+def _moment_radius(h: float) -> float:
+    return 2.2 * h
+
+
 def _max_force(scene: Scene) -> float:
     return max((float(np.hypot(*np.asarray(v, float))) for _, _, v in scene.forces), default=0.0)
 
@@ -77,6 +84,10 @@ def _bounds(scene: Scene, force_scale: float, show_forces: bool) -> tuple[float,
             tip = p + v + (3 * h * v / n if n > 0 else np.array([0.0, 2 * h]))
             xmin, xmax = min(xmin, tip[0]), max(xmax, tip[0])
             ymin, ymax = min(ymin, tip[1]), max(ymax, tip[1])
+        r = _moment_radius(h) + 2 * h
+        for _, p, _ in scene.moments:
+            xmin, xmax = min(xmin, p[0] - r), max(xmax, p[0] + r)
+            ymin, ymax = min(ymin, p[1] - r), max(ymax, p[1] + r)
     return xmin, xmax, ymin, ymax
 
 
@@ -113,12 +124,32 @@ def _hatched_strip(ax, start: np.ndarray, end: np.ndarray, normal: np.ndarray, d
     ax.plot([start[0], end[0]], [start[1], end[1]], color="0.2", linewidth=1.2, zorder=zorder)
 
 
-def _draw_ground(ax, p: np.ndarray, h: float):
+def _draw_ground(ax, p: np.ndarray, h: float, down=(0.0, -1.0), gid: str | None = None):
+    """Triangle on a hatched strip below ``p``; "below" is the unit vector ``down``."""
     from matplotlib.patches import Polygon
 
-    tri = np.array([p, p + [-1.2 * h, -2 * h], p + [1.2 * h, -2 * h]])
-    ax.add_patch(Polygon(tri, closed=True, facecolor="0.85", edgecolor="0.2", linewidth=1.0, zorder=2))
-    _hatched_strip(ax, p + [-2 * h, -2 * h], p + [2 * h, -2 * h], np.array([0.0, -1.0]), 0.9 * h, 2)
+    d = np.asarray(down, float)
+    e = np.array([-d[1], d[0]])                      # across the strip
+
+    def at(u: float, v: float) -> np.ndarray:        # u across, v below p (units of h)
+        return p + h * (u * e + v * d)
+
+    tri = np.array([p, at(-1.2, 2), at(1.2, 2)])
+    ax.add_patch(Polygon(tri, closed=True, facecolor="0.85", edgecolor="0.2", linewidth=1.0, zorder=2, gid=gid))
+    _hatched_strip(ax, at(-2, 2), at(2, 2), d, 0.9 * h, 2)
+
+
+def _anchor_down(p: np.ndarray, scene: Scene) -> np.ndarray:
+    """Unit vector pointing away from the springs and dampers attached at ``p`` (default -y)."""
+    pull = np.zeros(2)
+    for _, a, b in (*scene.springs, *scene.dampers):
+        a, b = np.asarray(a, float), np.asarray(b, float)
+        for here, there in ((a, b), (b, a)):
+            v = there - here
+            if np.allclose(here, p, atol=1e-12) and np.hypot(*v) > 1e-12:
+                pull += v / np.hypot(*v)
+    n = np.hypot(*pull)
+    return -pull / n if n > 1e-9 else np.array([0.0, -1.0])
 
 
 def _rail_span(p: np.ndarray, u: np.ndarray, limits) -> tuple[np.ndarray, np.ndarray]:
@@ -151,6 +182,45 @@ def _draw_pin(ax, p: np.ndarray, h: float):
     from matplotlib.patches import Circle
 
     ax.add_patch(Circle(p, 0.45 * h, facecolor="white", edgecolor="black", linewidth=1.2, zorder=6))
+
+
+def _draw_damper(ax, name: str, a: np.ndarray, b: np.ndarray, width: float):
+    """Dashpot from ``a`` to ``b``: a cylinder open towards ``b`` and a piston on a rod."""
+    d = b - a
+    length = float(np.hypot(*d))
+    if length < 1e-12:
+        return
+    t = d / length
+    nrm = np.array([-t[1], t[0]])
+
+    def at(s: float, w: float) -> np.ndarray:
+        return a + s * length * t + w * width * nrm
+
+    kw = dict(color="#8c564b", linewidth=1.3, zorder=4)
+    cyl = np.array([at(0.6, 1), at(0.3, 1), at(0.3, -1), at(0.6, -1)])
+    ax.plot(*np.array([a, at(0.3, 0)]).T, label=name, **kw)
+    ax.plot(*cyl.T, **kw)
+    ax.plot(*np.array([at(0.5, 0.75), at(0.5, -0.75)]).T, **kw)
+    ax.plot(*np.array([at(0.5, 0), b]).T, **kw)
+
+
+def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float):
+    """Curved arrow of 270 degrees around ``p`` (open below): counter-clockwise if ``value`` > 0; label |value| in N m."""
+    text = f"{name} = {abs(value):.3g} N m"
+    r = _moment_radius(h)
+    colour = "#d62728"
+    if value != 0:
+        phi = np.radians(np.linspace(-45.0, 225.0, 61))    # open at the bottom, where a ground symbol is
+        if value < 0:
+            phi = phi[::-1]
+        arc = p + r * np.column_stack([np.cos(phi), np.sin(phi)])
+        ax.plot(arc[:-3, 0], arc[:-3, 1], color=colour, linewidth=1.6, zorder=7, gid=f"moment:{name}",
+                solid_capstyle="butt")
+        ax.annotate("", xy=arc[-1], xytext=arc[-4], zorder=7,
+                    arrowprops=dict(arrowstyle="-|>", color=colour, linewidth=1.6, mutation_scale=12,
+                                    shrinkA=0, shrinkB=0))
+    at = p + 1.25 * r * np.array([math.cos(math.pi / 4), math.sin(math.pi / 4)])
+    ax.text(at[0], at[1], text, ha="left", va="bottom", fontsize=8, color=colour, zorder=8, bbox=_LABEL_BOX)
 
 
 def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: float):
@@ -186,7 +256,9 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
     title:
         Optional axes title.
     show_forces:
-        Draw the applied forces as arrows labelled with their magnitude (N).
+        Draw the applied forces as arrows labelled with their magnitude (N) and the applied
+        moments as curved arrows (counter-clockwise for a positive value) labelled with
+        their magnitude (N m).
     force_scale:
         Arrow length per force, m/N; by default the largest force is drawn 0.3 times the
         size of the mechanism.
@@ -213,19 +285,28 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
     for p, direction in scene.sliders:
         _draw_slider(ax, np.asarray(p, float), direction, h, limits)
     for p in scene.grounds:
-        _draw_ground(ax, np.asarray(p, float), h)
+        _draw_ground(ax, np.asarray(p, float), h, gid="ground")
+    for p in scene.anchors:
+        p = np.asarray(p, float)
+        _draw_ground(ax, p, 0.7 * h, down=_anchor_down(p, scene), gid="anchor")
     for name, a, b in scene.springs:
         line = _zigzag(np.asarray(a, float), np.asarray(b, float), 0.7 * h)
         ax.plot(line[:, 0], line[:, 1], color="#ff7f0e", linewidth=1.3, zorder=4, label=name)
+    for name, a, b in scene.dampers:
+        _draw_damper(ax, name, np.asarray(a, float), np.asarray(b, float), 0.6 * h)
     for i, (name, pts) in enumerate(scene.bars):
         pts = np.atleast_2d(np.asarray(pts, float))
         ax.plot(pts[:, 0], pts[:, 1], color=_BAR_COLOURS[i % len(_BAR_COLOURS)], linewidth=6,
                 solid_capstyle="round", solid_joinstyle="round", zorder=5, label=name)
     for p in [*scene.pins, *scene.grounds, *(q for q, _ in scene.sliders)]:
         _draw_pin(ax, np.asarray(p, float), h)
+    for p in scene.anchors:
+        _draw_pin(ax, np.asarray(p, float), 0.7 * h)
     if show_forces:
         for name, p, v in scene.forces:
             _draw_force(ax, name, np.asarray(p, float), np.asarray(v, float), scale, h)
+        for name, p, value in scene.moments:
+            _draw_moment(ax, name, np.asarray(p, float), float(value), h)
 
     ax.set_xlim(limits[0], limits[1])
     ax.set_ylim(limits[2], limits[3])
@@ -271,13 +352,28 @@ def _scene_of(system) -> Callable[[np.ndarray], Scene]:
     return system.scene
 
 
+def default_annotate(system) -> tuple[str, ...]:
+    """Variables printed on a drawing when none are asked for: ``F`` and ``theta1`` where the
+    model has them, else its first angle state (e.g. ``theta_crank``), else nothing."""
+    names = tuple(n for n in _DEFAULT_ANNOTATE if n in system.names)
+    if names:
+        return names
+    angles = [v.name for v in system.variables if v.kind == "state" and v.unit == "rad"]
+    return tuple(angles[:1])
+
+
+def _with_vary(vary: str | None, annotate: Sequence[str]) -> tuple[str, ...]:
+    """``annotate`` with the continuation parameter ``vary`` first (once)."""
+    return tuple(dict.fromkeys([*([vary] if vary else []), *annotate]))
+
+
 def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str) -> str:
     """Text lines: each annotated variable (angles in degrees), stability and label."""
     lines = []
     for name in annotate:
         var, val = system.variable(name), float(x[system.index(name)])
         if var.unit == "rad":
-            lines.append(f"{name} = {math.degrees(val):.2f}°")
+            lines.append(f"{name} = {round(math.degrees(val), 2) + 0.0:.2f}°")   # no "-0.00°"
         else:
             lines.append(f"{name} = {val:.4g} {var.unit}".rstrip())
     status = {True: "stable", False: "unstable"}.get(None if stable is None else bool(stable), "")
@@ -287,11 +383,40 @@ def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str) ->
     return "\n".join(lines)
 
 
-def _put_note(ax, text: str, stable) -> None:
+_CORNERS = ((0.02, 0.98, "left", "top"), (0.98, 0.98, "right", "top"),
+            (0.02, 0.02, "left", "bottom"), (0.98, 0.02, "right", "bottom"))
+
+
+def _scene_samples(scene: Scene) -> np.ndarray:
+    """Points (k x 2, m) along every drawn line and at every symbol of ``scene``."""
+    t = np.linspace(0.0, 1.0, 11)[:, None]
+    lines = [np.atleast_2d(np.asarray(b, float)) for _, b in scene.bars]
+    lines += [np.array([a, b], float) for _, a, b in (*scene.springs, *scene.dampers)]
+    pts = [a + t * (b - a) for line in lines for a, b in zip(line[:-1], line[1:])]
+    pts += [np.atleast_2d(np.asarray(p, float)) for p in (*scene.pins, *scene.grounds, *scene.anchors)]
+    pts += [np.atleast_2d(np.asarray(p, float)) for _, p, _ in (*scene.moments, *scene.forces)]
+    return np.vstack(pts) if pts else np.zeros((0, 2))
+
+
+def _note_corner(scenes: Sequence[Scene], limits) -> tuple[float, float, str, str]:
+    """The corner of the view (axes fraction, alignment) that the fewest drawn points fall into.
+
+    A corner box is 40 % of the width by 30 % of the height; ties go to top-left, then
+    top-right, bottom-left, bottom-right.
+    """
+    xmin, xmax, ymin, ymax = limits
+    pts = np.vstack([_scene_samples(s) for s in scenes])
+    u, v = (pts[:, 0] - xmin) / (xmax - xmin), (pts[:, 1] - ymin) / (ymax - ymin)
+    counts = [int(np.sum((np.abs(u - cx) < 0.4) & (np.abs(v - cy) < 0.3))) for cx, cy, _, _ in _CORNERS]
+    return _CORNERS[int(np.argmin(counts))]
+
+
+def _put_note(ax, text: str, stable, corner=_CORNERS[0]) -> None:
     if not text:
         return
     colour = {True: "#e5f5e0", False: "#fde0dd"}.get(None if stable is None else bool(stable), "white")
-    ax.text(0.02, 0.98, text, transform=ax.transAxes, ha="left", va="top", fontsize=8, zorder=10,
+    x, y, ha, va = corner
+    ax.text(x, y, text, transform=ax.transAxes, ha=ha, va=va, fontsize=8, zorder=10,
             bbox=dict(boxstyle="round,pad=0.3", facecolor=colour, edgecolor="0.6", alpha=0.9))
 
 
@@ -340,8 +465,10 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
         from matplotlib.figure import Figure
 
         ax = Figure(figsize=figsize, layout="constrained").add_subplot()
-    draw_scene(scene_fn(x), ax, title=title or system.name, show_forces=show_forces, force_scale=force_scale)
-    _put_note(ax, _note(system, x, annotate, stable, label), stable)
+    scene = scene_fn(x)
+    draw_scene(scene, ax, title=title or system.name, show_forces=show_forces, force_scale=force_scale)
+    corner = _note_corner([scene], (*ax.get_xlim(), *ax.get_ylim()))
+    _put_note(ax, _note(system, x, annotate, stable, label), stable, corner)
     if out is not None:
         _atomic_write(out, lambda tmp: ax.figure.savefig(tmp, format=out.suffix[1:].lower(), dpi=dpi))
     return ax
@@ -361,11 +488,16 @@ class BranchFrames:
         Per row ``True`` (stable), ``False`` (unstable) or ``None`` (not known).
     labels:
         Special-point label per row (``"LP"``, ``"BP"``, ... or ``""``).
+    vary:
+        The continuation parameter, printed first on every frame: the ``Branch``'s
+        ``vary``, or for a table without it the one parameter that changes along the rows
+        (``None`` when that is not unique).
     """
 
     values: np.ndarray
     stable: tuple[bool | None, ...]
     labels: tuple[str, ...]
+    vary: str | None = None
 
     @property
     def numbered_labels(self) -> list[str]:
@@ -439,6 +571,16 @@ def _read_csv(system, path: Path) -> BranchFrames:
     return BranchFrames(values, tuple(stable), labels)
 
 
+def _changing_parameter(system, values: np.ndarray) -> str | None:
+    """The only parameter whose column is not constant along ``values``, else ``None``."""
+    changing = []
+    for i, v in enumerate(system.variables):
+        col = values[:, i]
+        if v.kind == "parameter" and np.ptp(col) > 1e-12 * max(1.0, float(np.max(np.abs(col)))):
+            changing.append(v.name)
+    return changing[0] if len(changing) == 1 else None
+
+
 def branch_frames(system, source) -> BranchFrames:
     """The rows of a branch to draw, from any of the forms a branch comes in.
 
@@ -455,6 +597,7 @@ def branch_frames(system, source) -> BranchFrames:
     Returns
     -------
     BranchFrames
+        With ``vary`` from the ``Branch``, or else the one parameter that changes along the rows.
 
     Raises
     ------
@@ -473,7 +616,9 @@ def branch_frames(system, source) -> BranchFrames:
         nu = getattr(source, "n_unstable", None)
         stable = (None,) * len(values) if nu is None else tuple(None if k < 0 else bool(k == 0) for k in nu)
         labels = getattr(source, "labels", None)
-        frames = BranchFrames(values, stable, tuple(labels) if labels is not None else ("",) * len(values))
+        vary = getattr(source, "vary", None)
+        frames = BranchFrames(values, stable, tuple(labels) if labels is not None else ("",) * len(values),
+                              vary if vary in system.names else None)
     else:
         values = np.asarray(source, dtype=float)
         n = len(values) if values.ndim else 0
@@ -488,6 +633,10 @@ def branch_frames(system, source) -> BranchFrames:
         raise InputError("branch", f"row {int(np.where(~np.isfinite(v).all(axis=1))[0][0])} has a non-finite value")
     if len(frames.stable) != len(v) or len(frames.labels) != len(v):
         raise InputError("branch", "stability and labels must have one entry per row")
+    if frames.vary is not None and frames.vary not in system.names:
+        raise InputError("vary", f"'{frames.vary}' is not a variable of '{system.name}'")
+    if frames.vary is None:
+        frames = replace(frames, vary=_changing_parameter(system, v))
     return frames
 
 
@@ -533,15 +682,17 @@ def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
 
 
 def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int = 1,
-            annotate: Sequence[str] = _DEFAULT_ANNOTATE, *, title: str | None = None, show_forces: bool = True,
+            annotate: Sequence[str] = _DEFAULT_ANNOTATE, *, vary: str | None = None, title: str | None = None,
+            show_forces: bool = True,
             diagram: tuple[str, str] | None = None, figsize: tuple[float, float] | None = None,
             dpi: int = 80, on_frame: Callable[[], None] | None = None) -> int:
     """Animate ``system`` along a branch and write a GIF or MP4.
 
     Every ``every``-th row is one frame (the first row always is). All frames share one
     view (covering every frame) and one force scale (m/N), so motion and load changes are
-    comparable. Each frame prints the ``annotate`` variables (angles in degrees), the
-    stability and the special-point label of its row.
+    comparable. Each frame prints the continuation parameter, then the ``annotate``
+    variables (with units; angles in degrees), the stability and the special-point label
+    of its row.
 
     Parameters
     ----------
@@ -556,8 +707,10 @@ def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int
     every:
         Use every N-th row (integer >= 1).
     annotate:
-        Variable names printed on each frame; of the default ``("F", "theta1")`` only the
-        names the model has are used.
+        Variable names printed on each frame; the default is :func:`default_annotate`.
+    vary:
+        The continuation parameter, printed first; by default the branch's (see
+        :attr:`BranchFrames.vary`). Without one, the first ``annotate`` name leads.
     title, show_forces:
         As for :func:`draw_scene`.
     diagram:
@@ -586,18 +739,20 @@ def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int
     if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
         raise InputError("every", f"must be an integer >= 1, not {every!r}")
     if tuple(annotate) == _DEFAULT_ANNOTATE:
-        annotate = tuple(n for n in annotate if n in system.names)
-    for name in (*annotate, *(diagram or ())):
+        annotate = default_annotate(system)
+    for name in (*annotate, *(diagram or ()), *([vary] if vary is not None else [])):
         system.index(name)
     if diagram is not None and len(diagram) != 2:
         raise InputError("diagram", "give exactly two variable names (x, y)")
     writer = _writer(out, fps)
     frames = branch_frames(system, branch)
+    annotate = _with_vary(vary or frames.vary, annotate)
     rows = range(0, len(frames.values), int(every))
     scenes = [scene_fn(frames.values[i]) for i in rows]
     scale = _default_force_scale(scenes)
     labels = _numbered(frames.labels)
     limits = _limits(_union(_bounds(s, scale, show_forces) for s in scenes))
+    corner = _note_corner(scenes, limits)
 
     from matplotlib.figure import Figure
 
@@ -615,7 +770,8 @@ def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int
         ax.clear()
         draw_scene(scenes[k], ax, title=title or system.name, show_forces=show_forces, force_scale=scale,
                    limits=limits)
-        _put_note(ax, _note(system, frames.values[i], annotate, frames.stable[i], labels[i]), frames.stable[i])
+        _put_note(ax, _note(system, frames.values[i], annotate, frames.stable[i], labels[i]), frames.stable[i],
+                  corner)
         if diagram:
             marker.set_data([dx[i]], [dy[i]])
 
