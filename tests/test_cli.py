@@ -106,3 +106,17 @@ def test_impossible_values_of_a_described_mechanism_are_refused(tmp_path, run, a
     out = tmp_path / "x.csv"
     one_line_error(run(*args, "--out", out), *words)
     assert not out.exists()
+
+
+def test_branch_csv_records_the_continuation_parameter(tmp_path, run):
+    # vary a state (theta1) and solve for a parameter (F): the CSV must say which was continued
+    out = tmp_path / "b.csv"
+    r = run("continue", "overcentre", "--set", "LU=0.4", "--vary", "theta1", "--free", "F",
+            "--bounds", "theta1=-1:1", "--out", out)
+    assert r.exit_code == 0, r.output
+    rows = list(csv.DictReader(out.open()))
+    assert {row["vary"] for row in rows} == {"theta1"}
+    from mechcont.models import load_model
+    from mechcont.outputs.drawing import branch_frames
+
+    assert branch_frames(load_model("overcentre"), out).vary == "theta1"

@@ -60,12 +60,18 @@ def solve_start(system, sets, starts, vary, frees, holds):
     held = assignments(starts, "start")
     for name in [*values, *held, vary, *frees, *holds]:
         system.index(name)
-    if vary in held:
-        raise InputError("--start", f"{vary} is the continuation parameter; hold another state")
-    free = [n for n in [vary, *frees] if system.variable(n).kind == "parameter" and n not in held]
-    free = free if held else [n for n in frees if n != vary]
+    base = system.vector(values)
     for n in holds:
-        held.setdefault(n, float(system.vector(values)[system.index(n)]))
+        held.setdefault(n, float(base[system.index(n)]))
+    if system.variable(vary).kind == "state":
+        # a state as the parameter: it is prescribed, at its --start value or its default
+        held.setdefault(vary, float(base[system.index(vary)]))
+        free = [n for n in frees if n != vary]
+    else:
+        if vary in held:
+            raise InputError("--start", f"{vary} is the continuation parameter; hold a state instead")
+        # a held --start state frees the parameter to be varied for the first solve
+        free = [*([vary] if starts else []), *(n for n in frees if n != vary)]
     return find_equilibrium(system, values=values, hold=held, free=free)
 
 

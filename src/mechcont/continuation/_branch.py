@@ -148,11 +148,11 @@ class Branch:
         return ["" if n < 0 else ("stable" if n == 0 else "unstable") for n in self.n_unstable]
 
     def to_records(self) -> list[dict]:
-        """One dict per point: every variable, ``s``, ``stability``, ``n_unstable``, ``label``."""
+        """One dict per point: every variable, ``s``, ``stability``, ``n_unstable``, ``label``, ``vary``."""
         st = self.stability_labels()
         return [
             {**{n: float(v) for n, v in zip(self.names, row)}, "s": float(s), "stability": st[i],
-             "n_unstable": int(self.n_unstable[i]), "label": self.labels[i]}
+             "n_unstable": int(self.n_unstable[i]), "label": self.labels[i], "vary": self.vary}
             for i, (row, s) in enumerate(zip(self.values, self.s))
         ]
 
@@ -163,9 +163,11 @@ class Branch:
         return pd.DataFrame.from_records(self.to_records())
 
     def to_csv(self, path: str | os.PathLike) -> Path:
-        """Write the table as CSV (one column per variable, s, stability, n_unstable, label)."""
+        """Write the table as CSV: one column per variable, then ``s`` (scaled arclength),
+        ``stability``, ``n_unstable``, ``label`` and ``vary`` (the continuation parameter's
+        name, repeated so every row is self-describing)."""
         recs = self.to_records()
-        header = [*self.names, "s", "stability", "n_unstable", "label"]
+        header = [*self.names, "s", "stability", "n_unstable", "label", "vary"]
 
         def write(f):
             w = csv.DictWriter(f, fieldnames=header, lineterminator="\n")

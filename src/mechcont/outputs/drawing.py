@@ -568,7 +568,10 @@ def _read_csv(system, path: Path) -> BranchFrames:
             raise InputError("branch", f"'{path}' line {r + 2}, column stability: {word!r} is not stable or unstable")
         stable.append(_STABILITY_WORDS[word])
     labels = tuple((row.get("label") or "").strip() for row in rows)
-    return BranchFrames(values, tuple(stable), labels)
+    vary = (rows[0].get("vary") or "").strip() or None  # written by Branch.to_csv
+    if vary is not None and vary not in system.names:
+        raise InputError("branch", f"'{path}' column vary: '{vary}' is not a variable of '{system.name}'")
+    return BranchFrames(values, tuple(stable), labels, vary)
 
 
 def _changing_parameter(system, values: np.ndarray) -> str | None:
