@@ -3,26 +3,14 @@
 import csv
 
 import pytest
-from click.testing import CliRunner
+from cli_helpers import make_runner, one_line_error
 
-from mechcont.cli._app import _register, cli
 from mechcont.models.overcentre import symmetric_folds
 
 
 @pytest.fixture(scope="module")
 def run():
-    _register()
-    runner = CliRunner()
-    return lambda *args: runner.invoke(cli, [str(a) for a in args])
-
-
-def one_line_error(result, *words):
-    assert result.exit_code == 2, result.output
-    lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
-    assert len(lines) == 1 and lines[0].startswith("error: "), result.stderr
-    assert "Traceback" not in result.output
-    for w in words:
-        assert w in lines[0], lines[0]
+    return make_runner()
 
 
 def test_continue_writes_csv_with_labels_and_stability(tmp_path, run):

@@ -11,10 +11,9 @@ matplotlib.use("Agg")
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
-from click.testing import CliRunner  # noqa: E402
+from cli_helpers import make_runner, one_line_error  # noqa: E402
 from PIL import Image  # noqa: E402
 
-from mechcont.cli._app import _register, cli  # noqa: E402
 from mechcont.equations import Scene  # noqa: E402
 from mechcont.errors import InputError  # noqa: E402
 from mechcont.models import build_overcentre  # noqa: E402
@@ -266,9 +265,7 @@ def test_mp4_without_ffmpeg_suggests_gif(tmp_path, overcentre, monkeypatch):
 
 @pytest.fixture(scope="module")
 def run():
-    _register()
-    runner = CliRunner()
-    return lambda *args: runner.invoke(cli, list(map(str, args)))
+    return make_runner()
 
 
 @pytest.fixture
@@ -280,12 +277,6 @@ def branch_csv(tmp_path, overcentre):
     return path
 
 
-def one_line_error(result, *words):
-    assert result.exit_code == 2, result.output
-    lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
-    assert len(lines) == 1 and lines[0].startswith("error: ") and "Traceback" not in result.output
-    for w in words:
-        assert w in lines[0]
 
 
 def test_cli_draw_point_and_animate(tmp_path, run, branch_csv):

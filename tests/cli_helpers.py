@@ -1,0 +1,22 @@
+"""Shared by the CLI tests: invoking mechcont and checking its one-line errors."""
+
+from click.testing import CliRunner
+
+from mechcont.cli._app import _register, cli
+
+
+def make_runner():
+    """``run(*args)`` -> click Result of ``mechcont args...`` (arguments str()-ed)."""
+    _register()
+    runner = CliRunner()
+    return lambda *args: runner.invoke(cli, [str(a) for a in args])
+
+
+def one_line_error(result, *words):
+    """Exit status 2, exactly one line on stderr starting 'error: ', containing ``words``, no traceback."""
+    assert result.exit_code == 2, result.output
+    lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("error: "), result.stderr
+    assert "Traceback" not in result.output
+    for w in words:
+        assert w in lines[0], lines[0]
