@@ -103,6 +103,20 @@ class MechanicalModel:
             if bad:
                 raise InputError(str(sorted(map(str, bad))[0]), "used in the mechanical model but not a variable")
         self._syms, self._qs, self._qd = syms, qs, qd
+
+    _COMPILED = ("_phi", "_phi_q", "_phi_hess", "_gamma", "_Q", "_dQdq", "_dQdqd", "_statics", "_M")
+
+    def __getattr__(self, name):
+        # only reached for missing attributes: the compiled functions, built on first use
+        if name in MechanicalModel._COMPILED:
+            self._compile()
+            return self.__dict__[name]
+        raise AttributeError(name)
+
+    def _compile(self) -> None:
+        """Differentiate and compile Phi, Phi_q, its Hessians, gamma, Q, dQ/dq, dQ/dqdot, M."""
+        syms, qs, qd = self._syms, self._qs, self._qd
+        nq = len(self.coordinates)
         # symbolic work in the engine (see _codegen): fast exact derivatives
         args = to_engine(syms + qd)
         qs_e, qd_e = to_engine(qs), to_engine(qd)

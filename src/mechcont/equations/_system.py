@@ -106,7 +106,8 @@ class EquationSystem:
     description: str = ""
     scene: object | None = None
     check_values: object | None = None
-    _compiled: bool = field(default=False, init=False, repr=False)
+    # compiled code, filled on first use and shared by copies (with_values, load_model)
+    _code: dict = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self):
         self.variables = tuple(self.variables)
@@ -190,8 +191,12 @@ class EquationSystem:
 
     # -- compiled numerics ------------------------------------------------------------
     def compile(self) -> EquationSystem:
-        """Generate the numeric residual, Jacobian and second-derivative functions (once)."""
-        if self._compiled:
+        """Generate the numeric residual, Jacobian and second-derivative functions (once).
+
+        Called on first numeric use; the result is shared by shallow copies, so a model
+        re-parametrised with :meth:`with_values` is never compiled twice.
+        """
+        if self._code:
             return self
         syms = to_engine(list(self.symbols))
         eqs = to_engine(list(self.equations))
@@ -202,17 +207,19 @@ class EquationSystem:
         dense = [0] * (n_eq * n)
         for (i, j), d in jac_entries:
             dense[i * n + j] = d
-        self._res_jac = compile_dense(syms, [*eqs, *dense])
+        res_jac = compile_dense(syms, [*eqs, *dense])
         hess_idx, hess_expr = [], []
         for (i, j), d in jac_entries:
             for (_, k), d2 in derivative_entries([d], syms):
                 hess_idx.append((i, j, k))
                 hess_expr.append(d2)
-        self._hess_values = compile_dense(syms, hess_expr) if hess_expr else (lambda x: np.zeros(0))
         h = np.array(hess_idx, dtype=int).reshape(-1, 3)
-        self._hess_i, self._hess_j, self._hess_k = h[:, 0], h[:, 1], h[:, 2]
-        self._hess_ik = self._hess_i * n + self._hess_k
-        self._compiled = True
+        self._code.update(
+            res_jac=res_jac,
+            hess_values=compile_dense(syms, hess_expr) if hess_expr else (lambda x: np.zeros(0)),
+            hess_j=h[:, 1],
+            hess_ik=h[:, 0] * n + h[:, 2],
+        )
         return self
 
     def residual(self, x: np.ndarray) -> np.ndarray:
@@ -225,9 +232,8 @@ class EquationSystem:
 
     def residual_and_jacobian(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(G(x), dG/dx)`` from one evaluation (see :meth:`residual`, :meth:`jacobian`)."""
-        if not self._compiled:
-            self.compile()
-        out = self._res_jac(x)
+        code = self._code or self.compile()._code
+        out = code["res_jac"](x)
         n_eq = len(self.equations)
         return out[:n_eq], out[n_eq:].reshape(n_eq, len(self.names))
 
@@ -238,11 +244,10 @@ class EquationSystem:
         array (n_equations, n_variables) whose column k is sum_j d2G/dx_j dx_k v_j.
         Used for fold and cusp conditions.
         """
-        self.compile()
+        code = self._code or self.compile()._code
         n_eq, n = len(self.equations), len(self.names)
-        vals = self._hess_values(x)
-        w = vals * np.asarray(v)[self._hess_j]
-        return np.bincount(self._hess_ik, weights=w, minlength=n_eq * n).reshape(n_eq, n)
+        w = code["hess_values"](x) * np.asarray(v)[code["hess_j"]]
+        return np.bincount(code["hess_ik"], weights=w, minlength=n_eq * n).reshape(n_eq, n)
 
     # -- display ----------------------------------------------------------------------
     def pretty(self, shared: bool = False) -> str:

@@ -238,7 +238,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
     system.coordinates_of = _coordinates_of(kin, system, subs)
     system.dropped_constraints = tuple(r.equation for r in dropped)
     system.dropped_residual = _dropped_residual(system, dropped)
-    return system.compile()
+    return system  # compiled on first numeric use
 
 
 def _equilibrium(mech: Mechanism, coords: list[str], rows: list[ConstraintRow], forces: list[sp.Expr],

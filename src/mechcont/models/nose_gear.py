@@ -285,7 +285,6 @@ def build_nose_gear(**overrides: float) -> EquationSystem:
         mechanics=mech,
         description="Planar nose landing gear, paper Section III-A: 15 coordinates + 10 inter-link forces, 25 equations",
     )
-    system.compile()
     system.potential_energy = V
     system.downlock_hold = {"theta4": 0.0}
     system.downlock_force = "F"
