@@ -105,6 +105,6 @@ def test_branch_csv_records_the_continuation_parameter(tmp_path, run):
     rows = list(csv.DictReader(out.open()))
     assert {row["vary"] for row in rows} == {"theta1"}
     from mechcont.models import load_model
-    from mechcont.outputs.drawing import branch_frames
+    from mechcont.outputs.animation import branch_frames
 
     assert branch_frames(load_model("overcentre"), out).vary == "theta1"

@@ -19,7 +19,8 @@ from mechcont.errors import InputError  # noqa: E402
 from mechcont.models import build_overcentre  # noqa: E402
 from mechcont.models.overcentre import symmetric_force, symmetric_stable  # noqa: E402
 from mechcont.models.overcentre_scene import overcentre_scene  # noqa: E402
-from mechcont.outputs.drawing import BranchFrames, animate, branch_frames, draw, draw_scene  # noqa: E402
+from mechcont.outputs.animation import BranchFrames, animate, branch_frames  # noqa: E402
+from mechcont.outputs.drawing import draw, draw_scene  # noqa: E402
 
 SMALL = dict(figsize=(3, 2.5), dpi=50)
 

@@ -54,7 +54,8 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, o
     The equilibrium is solved at the --set values with the --start states held and the
     --free parameters solved for (e.g. --start theta1=0.3 --free F).
     """
-    from ..outputs.drawing import IMAGE_SUFFIXES, branch_frames, default_annotate, draw
+    from ..outputs.animation import branch_frames
+    from ..outputs.drawing import IMAGE_SUFFIXES, default_annotate, draw
 
     path = _out(out, IMAGE_SUFFIXES)
     system = _model(model)
@@ -106,7 +107,8 @@ def animate_command(model, branch_csv, out, fps, every, annotate, vary, diagram,
     Each frame prints the continuation parameter (--vary), the --annotate variables (angles
     in degrees), stable/unstable and the special-point label.
     """
-    from ..outputs.drawing import ANIMATION_SUFFIXES, animate, branch_frames, default_annotate
+    from ..outputs.animation import ANIMATION_SUFFIXES, animate, branch_frames
+    from ..outputs.drawing import default_annotate
 
     path = _out(out, ANIMATION_SUFFIXES)
     system = _model(model)

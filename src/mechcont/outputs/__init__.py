@@ -5,8 +5,8 @@ from __future__ import annotations
 import importlib
 
 _LAZY = {
-    "draw_scene": "drawing", "draw": "drawing", "animate": "drawing", "branch_frames": "drawing",
-    "BranchFrames": "drawing",
+    "draw_scene": "drawing", "draw": "drawing", "animate": "animation", "branch_frames": "animation",
+    "BranchFrames": "animation",
     "plot_branch": "plotting", "plot_surface": "plotting", "new_figure": "plotting", "save_figure": "plotting",
 }
 

@@ -1,0 +1,347 @@
+"""Animations of mechanisms along a continuation branch (GIF, or MP4 with ffmpeg).
+
+The rows of a branch (a :class:`~mechcont.continuation.Branch`, its CSV table or plain
+rows of full variable vectors) become :class:`BranchFrames`; :func:`animate` draws each
+with :mod:`mechcont.outputs.drawing` in one fixed view, annotated with the continuation
+parameter (with units, degrees for angles), chosen variables, stability and label, and
+optionally beside the bifurcation diagram with the current point marked.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import shutil
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from . import drawing as _d
+
+__all__ = ["animate", "BranchFrames", "branch_frames", "ANIMATION_SUFFIXES"]
+
+ANIMATION_SUFFIXES = (".gif", ".mp4")
+
+
+
+@dataclass(frozen=True)
+class BranchFrames:
+    """Points of a branch ready to _d.draw.
+
+    Attributes
+    ----------
+    values:
+        Array (N, n_names), rows are full variable vectors ordered like ``system.names``.
+    stable:
+        Per row ``True`` (stable), ``False`` (unstable) or ``None`` (not known).
+    labels:
+        Special-point label per row (``"LP"``, ``"BP"``, ... or ``""``).
+    vary:
+        The continuation parameter, printed first on every frame: the ``Branch``'s
+        ``vary``, or for a table without it the one parameter that changes along the rows
+        (``None`` when that is not unique).
+    """
+
+    values: np.ndarray
+    stable: tuple[bool | None, ...]
+    labels: tuple[str, ...]
+    vary: str | None = None
+
+    @property
+    def numbered_labels(self) -> list[str]:
+        """Labels numbered per kind in branch order (``LP1``, ``LP2``), as ``row`` accepts them."""
+        return _numbered(self.labels)
+
+    def row(self, spec: str | int) -> int:
+        """Row index from an integer (0-based, negative from the end) or a label like ``"LP2"``.
+
+        ``"LP2"`` is the second row labelled ``LP`` (``"LP"`` alone: the first); an
+        :class:`InputError` names what is valid.
+        """
+        n = len(self.values)
+        text = str(spec).strip()
+        try:
+            i = int(text)
+        except ValueError:
+            kind = text.rstrip("0123456789")
+            count = int(text[len(kind):] or 1)
+            hits = [j for j, lab in enumerate(self.labels) if lab == kind]
+            if not kind or count < 1 or count > len(hits):
+                have = sorted({lab for lab in self.labels if lab})
+                raise InputError("point", f"no row '{text}'; give a row number 0..{n - 1} or a label "
+                                          f"({', '.join(have) or 'this branch has none'}) with its number") from None
+            return hits[count - 1]
+        if not -n <= i < n:
+            raise InputError("point", f"row {i} out of range; the branch has {n} rows (0..{n - 1})")
+        return i % n
+
+
+def _numbered(labels: Sequence[str]) -> list[str]:
+    """``["LP", "", "LP"]`` -> ``["LP1", "", "LP2"]``: the names ``branch["LP2"]`` and ``--point`` use."""
+    seen: dict[str, int] = {}
+    out = []
+    for lab in labels:
+        if lab:
+            seen[lab] = seen.get(lab, 0) + 1
+            lab = f"{lab}{seen[lab]}"
+        out.append(lab)
+    return out
+
+
+_STABILITY_WORDS = {"stable": True, "unstable": False, "": None}
+
+
+def _read_csv(system, path: Path) -> BranchFrames:
+    try:
+        with open(path, newline="") as fh:
+            rows = list(csv.DictReader(fh))
+    except (OSError, UnicodeDecodeError, csv.Error) as exc:
+        raise InputError("branch", f"cannot read '{path}': {getattr(exc, 'strerror', None) or exc}") from None
+    if not rows:
+        raise InputError("branch", f"'{path}' has no rows")
+    missing = [n for n in system.names if n not in rows[0]]
+    if missing:
+        raise InputError("branch", f"'{path}' lacks the column(s) {', '.join(missing)} of model '{system.name}'")
+    values = np.empty((len(rows), len(system.names)))
+    for r, row in enumerate(rows):
+        for c, name in enumerate(system.names):
+            try:
+                values[r, c] = float(row[name])
+            except (TypeError, ValueError):
+                raise InputError("branch", f"'{path}' line {r + 2}, column {name}: not a number: {row[name]!r}") from None
+    stable = []
+    for r, row in enumerate(rows):
+        word = (row.get("stability") or "").strip().lower()
+        if word not in _STABILITY_WORDS:
+            raise InputError("branch", f"'{path}' line {r + 2}, column stability: {word!r} is not stable or unstable")
+        stable.append(_STABILITY_WORDS[word])
+    labels = tuple((row.get("label") or "").strip() for row in rows)
+    vary = (rows[0].get("vary") or "").strip() or None  # written by Branch.to_csv
+    if vary is not None and vary not in system.names:
+        raise InputError("branch", f"'{path}' column vary: '{vary}' is not a variable of '{system.name}'")
+    return BranchFrames(values, tuple(stable), labels, vary)
+
+
+def _changing_parameter(system, values: np.ndarray) -> str | None:
+    """The only parameter whose column is not constant along ``values``, else ``None``."""
+    changing = []
+    for i, v in enumerate(system.variables):
+        col = values[:, i]
+        if v.kind == "parameter" and np.ptp(col) > 1e-12 * max(1.0, float(np.max(np.abs(col)))):
+            changing.append(v.name)
+    return changing[0] if len(changing) == 1 else None
+
+
+def branch_frames(system, source) -> BranchFrames:
+    """The rows of a branch to _d.draw, from any of the forms a branch comes in.
+
+    Parameters
+    ----------
+    system:
+        The model the branch belongs to.
+    source:
+        A :class:`BranchFrames`, a continuation ``Branch`` (``.values``, ``.labels``, ``.n_unstable`` with -1 for
+        not evaluated), a path to a branch CSV (one column per variable name, optional
+        ``stability`` with ``stable``/``unstable``/empty and ``label``; other columns such
+        as ``s`` are ignored), or an array of rows ordered like ``system.names``.
+
+    Returns
+    -------
+    BranchFrames
+        With ``vary`` from the ``Branch``, or else the one parameter that changes along the rows.
+
+    Raises
+    ------
+    InputError
+        Unreadable file, missing columns, wrong row length, non-finite values.
+    """
+    if isinstance(source, BranchFrames):
+        frames = source
+    elif isinstance(source, (str, os.PathLike)):
+        frames = _read_csv(system, Path(source))
+    elif hasattr(source, "values") and not isinstance(source, np.ndarray):
+        names = getattr(source, "names", None)
+        if names is not None and tuple(names) != tuple(system.names):
+            raise InputError("branch", f"its variables are not those of model '{system.name}'")
+        values = np.asarray(source.values, dtype=float)
+        nu = getattr(source, "n_unstable", None)
+        stable = (None,) * len(values) if nu is None else tuple(None if k < 0 else bool(k == 0) for k in nu)
+        labels = getattr(source, "labels", None)
+        vary = getattr(source, "vary", None)
+        frames = BranchFrames(values, stable, tuple(labels) if labels is not None else ("",) * len(values),
+                              vary if vary in system.names else None)
+    else:
+        values = np.asarray(source, dtype=float)
+        n = len(values) if values.ndim else 0
+        frames = BranchFrames(values, (None,) * n, ("",) * n)
+    v = frames.values
+    if v.ndim != 2 or v.shape[1] != len(system.names):
+        raise InputError("branch", f"rows must hold the {len(system.names)} variables of '{system.name}', "
+                                   f"got shape {v.shape}")
+    if len(v) == 0:
+        raise InputError("branch", "the branch has no points")
+    if not np.all(np.isfinite(v)):
+        raise InputError("branch", f"row {int(np.where(~np.isfinite(v).all(axis=1))[0][0])} has a non-finite value")
+    if len(frames.stable) != len(v) or len(frames.labels) != len(v):
+        raise InputError("branch", "stability and labels must have one entry per row")
+    if frames.vary is not None and frames.vary not in system.names:
+        raise InputError("vary", f"'{frames.vary}' is not a variable of '{system.name}'")
+    if frames.vary is None:
+        frames = replace(frames, vary=_changing_parameter(system, v))
+    return frames
+
+
+def _writer(out: Path, fps: float):
+    from matplotlib import animation
+
+    if out.suffix.lower() == ".gif":
+        return animation.PillowWriter(fps=fps)
+    if shutil.which("ffmpeg") is None or not animation.writers.is_available("ffmpeg"):
+        raise InputError("out", "writing .mp4 needs ffmpeg, which is not installed; write a .gif instead")
+    return animation.FFMpegWriter(fps=fps)
+
+
+def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
+    """Branch projected on ``names`` (x, y): stable solid, unstable dashed, labels marked."""
+    (xn, yn) = names
+    xs, ys = (frames.values[:, system.index(n)] for n in names)
+    conv = [math.degrees(1) if system.variable(n).unit == "rad" else 1.0 for n in names]
+    xs, ys = xs * conv[0], ys * conv[1]
+    flags = np.array([np.nan if f is None else float(f) for f in frames.stable])
+    if np.isnan(flags).all():
+        ax.plot(xs, ys, "-", color="0.2", linewidth=1.2)
+    for flag, style, width, name in ((1.0, "-", 1.4, "stable"), (0.0, "--", 1.2, "unstable"),
+                                     (np.nan, ":", 1.0, "not evaluated")):
+        mask = np.isnan(flags) if np.isnan(flag) else flags == flag
+        if mask.any() and not np.isnan(flags).all():
+            # keep the neighbouring point so the pieces join up
+            show = mask | np.r_[mask[1:], False]
+            ax.plot(np.where(show, xs, np.nan), np.where(show, ys, np.nan), style, color="0.2",
+                    linewidth=width, label=name)
+    if not np.isnan(flags).all():
+        ax.legend(fontsize=7, loc="best")
+    for i, lab in enumerate(_numbered(frames.labels)):
+        if lab:
+            ax.plot(xs[i], ys[i], "k.", markersize=5)
+            ax.annotate(lab, (xs[i], ys[i]), textcoords="offset points", xytext=(3, 3), fontsize=7)
+    units = ["deg" if system.variable(n).unit == "rad" else system.variable(n).unit for n in names]
+    ax.set_xlabel(f"{xn} ({units[0]})" if units[0] else xn)
+    ax.set_ylabel(f"{yn} ({units[1]})" if units[1] else yn)
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    (marker,) = ax.plot([], [], "o", color="#d62728", markersize=7, zorder=5)
+    return marker, xs, ys
+
+
+def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int = 1,
+            annotate: Sequence[str] = _d._DEFAULT_ANNOTATE, *, vary: str | None = None, title: str | None = None,
+            show_forces: bool = True,
+            diagram: tuple[str, str] | None = None, figsize: tuple[float, float] | None = None,
+            dpi: int = 80, on_frame: Callable[[], None] | None = None) -> int:
+    """Animate ``system`` along a branch and write a GIF or MP4.
+
+    Every ``every``-th row is one frame (the first row always is). All frames share one
+    view (covering every frame) and one force scale (m/N), so motion and load changes are
+    comparable. Each frame prints the continuation parameter, then the ``annotate``
+    variables (with units; angles in degrees), the stability and the special-point label
+    of its row.
+
+    Parameters
+    ----------
+    system:
+        An :class:`~mechcont.equations.EquationSystem` with a ``scene``.
+    branch:
+        Anything :func:`branch_frames` accepts (Branch, CSV path, array of rows).
+    path:
+        Output ``.gif`` (Pillow) or ``.mp4`` (needs ffmpeg).
+    fps:
+        Frames per second (> 0).
+    every:
+        Use every N-th row (integer >= 1).
+    annotate:
+        Variable names printed on each frame; the default is :func:`_d.default_annotate`.
+    vary:
+        The continuation parameter, printed first; by default the branch's (see
+        :attr:`BranchFrames.vary`). Without one, the first ``annotate`` name leads.
+    title, show_forces:
+        As for :func:`_d.draw_scene`.
+    diagram:
+        Optional pair of variable names ``(x, y)``: a second panel shows the branch in that
+        plane with a marker at the current point.
+    figsize, dpi:
+        Figure size in inches and resolution.
+    on_frame:
+        Called with no argument after each frame is written (progress bars).
+
+    Returns
+    -------
+    int
+        The number of frames written.
+
+    Raises
+    ------
+    InputError
+        Unknown suffix, MP4 without ffmpeg, no scene, bad ``fps``/``every``, an unknown
+        name, or a branch that does not fit the model.
+    """
+    out = _d._check_out(path, ANIMATION_SUFFIXES)
+    scene_fn = _d._scene_of(system)
+    if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
+        raise InputError("fps", f"must be a positive number, not {fps!r}")
+    if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
+        raise InputError("every", f"must be an integer >= 1, not {every!r}")
+    if tuple(annotate) == _d._DEFAULT_ANNOTATE:
+        annotate = _d.default_annotate(system)
+    for name in (*annotate, *(diagram or ()), *([vary] if vary is not None else [])):
+        system.index(name)
+    if diagram is not None and len(diagram) != 2:
+        raise InputError("diagram", "give exactly two variable names (x, y)")
+    writer = _writer(out, fps)
+    frames = branch_frames(system, branch)
+    annotate = _d._with_vary(vary or frames.vary, annotate)
+    rows = range(0, len(frames.values), int(every))
+    scenes = [scene_fn(frames.values[i]) for i in rows]
+    scale = _d._default_force_scale(scenes)
+    labels = _numbered(frames.labels)
+    limits = _d._limits(_d._union(_d._bounds(s, scale, show_forces) for s in scenes))
+    corner = _d._note_corner(scenes, limits)
+
+    from matplotlib.figure import Figure
+
+    if figsize is None:
+        figsize = (9, 4) if diagram else (5.5, 4.5)
+    fig = Figure(figsize=figsize, layout="constrained")
+    if diagram:
+        ax, dax = fig.subplots(1, 2)
+        marker, dx, dy = _diagram(dax, system, frames, tuple(diagram))
+    else:
+        ax = fig.add_subplot()
+
+    def render(k: int) -> None:
+        i = rows[k]
+        ax.clear()
+        _d.draw_scene(scenes[k], ax, title=title or system.name, show_forces=show_forces, force_scale=scale,
+                   limits=limits)
+        _d._put_note(ax, _d._note(system, frames.values[i], annotate, frames.stable[i], labels[i]), frames.stable[i],
+                  corner)
+        if diagram:
+            marker.set_data([dx[i]], [dy[i]])
+
+    # Lay the figure out once (the view is fixed, so every frame has the same layout).
+    render(0)
+    fig.draw_without_rendering()
+    fig.set_layout_engine("none")
+
+    def write(tmp: str) -> None:
+        with writer.saving(fig, tmp, dpi):
+            for k in range(len(scenes)):
+                render(k)
+                writer.grab_frame()
+                if on_frame is not None:
+                    on_frame()
+
+    _d._atomic_write(out, write)
+    return len(scenes)
