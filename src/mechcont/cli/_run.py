@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import click
@@ -118,8 +117,3 @@ def special_table(branch, cols=None) -> str:
         vals = "".join(f"{p.values[c]:>16.10g}" for c in cols)
         lines.append(f"{p.label + str(counts[p.label]):<6}{vals}{st[p.index] or '-':>11}")
     return "\n".join(lines)
-
-
-def echo_err(msg: str) -> None:
-    click.echo(msg, err=True)
-    sys.stderr.flush()

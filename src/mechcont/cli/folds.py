@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import click
 
 from ..errors import InputError
@@ -26,7 +28,7 @@ def folds_command(model, sets, starts, holds, bnds, ds, dsmax, max_steps, quiet,
     Example: mechcont folds overcentre --set LU=0.4 --start theta1=0.3 --vary F --free LU
     --bounds LU=0.1:2 --out folds.csv
     """
-    from ..continuation import ContinuationOptions, continuation, continue_folds
+    from ..continuation import continuation, continue_folds
     from ..models import load_model
 
     frees = tuple(frees2)
@@ -35,8 +37,7 @@ def folds_command(model, sets, starts, holds, bnds, ds, dsmax, max_steps, quiet,
     system.index(second)
     x0 = solve_start(system, sets, starts, vary, frees, holds)
     first = continuation(system, x0, vary, hold=holds, free=frees,
-                         options=ContinuationOptions(**{**_opts(options), "bounds": {k: v for k, v in options.bounds.items()
-                                                                                     if k != second}}))
+                         options=replace(options, bounds={k: v for k, v in options.bounds.items() if k != second}))
     lps = first.special("LP")
     if not lps:
         raise InputError("--vary", f"the branch in {vary} has no fold within the bounds; change --set or --bounds")
@@ -47,9 +48,3 @@ def folds_command(model, sets, starts, holds, bnds, ds, dsmax, max_steps, quiet,
 
     shown = [n for n in assignments(starts, "start") if n != vary]
     write_branch(curve, out, plot, second, vary, quiet, extra=shown)
-
-
-def _opts(o):
-    from dataclasses import fields
-
-    return {f.name: getattr(o, f.name) for f in fields(o)}

@@ -138,6 +138,18 @@ def _only(tab: Mapping, allowed: set[str], field: str) -> None:
             raise InputError(f"{field}.{k}", f"unknown key; valid keys: {', '.join(sorted(allowed))}")
 
 
+def _typed(spec, field: str, table: str, registry: Mapping) -> tuple[str, type]:
+    """Check a ``[table.NAME]`` entry with a ``type`` from ``registry`` and only its keys."""
+    if not isinstance(spec, Mapping):
+        raise InputError(field, f"must be a table [{table}.NAME]")
+    kind = spec.get("type")
+    if kind not in registry:
+        raise InputError(field + ".type", f"must be one of {', '.join(registry)}, got {kind!r}")
+    cls, keys = registry[kind]
+    _only(spec, keys | {"type"}, field)
+    return kind, cls
+
+
 def _require(tab: Mapping, keys: list[str], field: str) -> None:
     for k in keys:
         if k not in tab:
@@ -199,13 +211,7 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
     joints = []
     for jname, spec in _table(data, "joints", "joints").items():
         f = f"joints.{jname}"
-        if not isinstance(spec, Mapping):
-            raise InputError(f, "must be a table [joints.NAME]")
-        kind = spec.get("type")
-        if kind not in _JOINTS:
-            raise InputError(f + ".type", f"must be one of {', '.join(_JOINTS)}, got {kind!r}")
-        cls, keys = _JOINTS[kind]
-        _only(spec, keys | {"type"}, f)
+        kind, cls = _typed(spec, f, "joints", _JOINTS)
         _require(spec, ["a", "b"], f)
         joints.append(cls(jname, **{k: v for k, v in spec.items() if k != "type"}))
     springs = []
@@ -228,13 +234,7 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
     loads = []
     for lname, spec in _table(data, "loads", "loads").items():
         f = f"loads.{lname}"
-        if not isinstance(spec, Mapping):
-            raise InputError(f, "must be a table [loads.NAME]")
-        kind = spec.get("type")
-        if kind not in _LOADS:
-            raise InputError(f + ".type", f"must be one of {', '.join(_LOADS)}, got {kind!r}")
-        cls, keys = _LOADS[kind]
-        _only(spec, keys | {"type"}, f)
+        kind, cls = _typed(spec, f, "loads", _LOADS)
         required = {"force": ["at", "magnitude"], "moment": ["body", "magnitude"], "drag": ["body"],
                     "custom": ["at"]}[kind]
         _require(spec, required, f)

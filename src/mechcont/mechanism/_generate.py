@@ -23,10 +23,10 @@ import sympy as sp
 from ..equations import EquationSystem, MechanicalModel, Variable, velocity_symbol
 from ..errors import InputError
 from ._assembly import close_constraints, dof_report
-from ._description import Mechanism, PointForce, Revolute, Weld
+from ._description import Mechanism, PointForce
 from ._expr import symbol
 from ._forces import loads
-from ._kinematics import ConstraintRow, Kinematics
+from ._kinematics import ConstraintRow, Kinematics, pin_chain
 from ._reduce import reduce_form
 from ._scene import scene_function
 from ._values import check_values, evaluate, parameter_values
@@ -83,24 +83,12 @@ def _initial_guess(mech: Mechanism, kin: Kinematics, values: dict[str, float]) -
             placed.add(b.name)
     for k in mech.hold:
         guess[k] = evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}")
-    changed = True
-    while changed:
-        changed = False
-        for j in mech.joints:
-            if not isinstance(j, (Revolute, Weld)):
-                continue
-            ba, bb = j.a.split(".")[0], j.b.split(".")[0]
-            if (ba in placed) == (bb in placed):
-                continue
-            known, new = (j.a, j.b) if ba in placed else (j.b, j.a)
-            body = new.split(".")[0]
-            x, y, th = kin.body_q[body]
-            at = {**num, **{symbol(k): v for k, v in guess.items()}}
-            P = [float(c) for c in kin.point(known).xreplace(at)]
-            local = [float(c) for c in kin.point(new).xreplace({**at, x: 0, y: 0})]
-            guess[str(x)], guess[str(y)] = P[0] - local[0], P[1] - local[1]
-            placed.add(body)
-            changed = True
+    for _, known, new, body in pin_chain(mech, placed):
+        x, y, _ = kin.body_q[body]
+        at = {**num, **{symbol(k): v for k, v in guess.items()}}
+        P = [float(c) for c in kin.point(known).xreplace(at)]
+        local = [float(c) for c in kin.point(new).xreplace({**at, x: 0, y: 0})]
+        guess[str(x)], guess[str(y)] = P[0] - local[0], P[1] - local[1]
     return guess
 
 

@@ -127,3 +127,28 @@ class Kinematics:
         if b.inertia is not None:
             return self.mech.value(f + ".inertia")
         return self.body_mass(b) * self.mech.value(f + ".length") ** 2 / 12
+
+
+def pin_chain(mech: Mechanism, placed: set[str]):
+    """Walk pins and welds outward from the ``placed`` bodies (``"ground"`` included).
+
+    Yields ``(joint, known_ref, new_ref, new_body)`` for each joint that places a new body
+    from one already placed, in declaration order, repeating until nothing changes. The
+    joints yielded form a spanning tree; ``placed`` itself is not modified.
+    """
+    placed = set(placed)
+    changed = True
+    while changed:
+        changed = False
+        for j in mech.joints:
+            if not isinstance(j, (Revolute, Weld)):
+                continue
+            ba, bb = j.a.split(".")[0], j.b.split(".")[0]
+            if (ba in placed) == (bb in placed):
+                continue
+            known, new = (j.a, j.b) if ba in placed else (j.b, j.a)
+            body = new.split(".")[0]
+            yield j, known, new, body
+            placed.add(body)
+            changed = True
+

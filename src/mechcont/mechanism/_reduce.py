@@ -23,8 +23,8 @@ from __future__ import annotations
 import sympy as sp
 
 from ..equations import velocity_symbol
-from ._description import Revolute, Weld
-from ._kinematics import ConstraintRow, Kinematics
+from ._description import Weld
+from ._kinematics import ConstraintRow, Kinematics, pin_chain
 
 __all__ = ["tree_elimination", "reduce_form"]
 
@@ -37,30 +37,18 @@ def tree_elimination(kin: Kinematics) -> tuple[dict[sp.Symbol, sp.Expr], set[str
     """
     mech = kin.mech
     subs: dict[sp.Symbol, sp.Expr] = {}
-    placed, tree = {"ground"}, set()
-    changed = True
-    while changed:
-        changed = False
-        for j in mech.joints:
-            if j.name in tree or not isinstance(j, (Revolute, Weld)):
-                continue
-            ba, bb = j.a.split(".")[0], j.b.split(".")[0]
-            if (ba in placed) == (bb in placed):
-                continue
-            known, new = (j.a, j.b) if ba in placed else (j.b, j.a)
-            body = new.split(".")[0]
-            x, y, th = kin.body_q[body]
-            if isinstance(j, Weld):
-                rel = mech.value(f"joints.{j.name}.angle")
-                th_known = kin.angle(known).xreplace(subs)
-                subs[th] = th_known + rel if new == j.b else th_known - rel
-            p_known = kin.point(known).xreplace(subs)
-            p_new_local = kin.point(new).xreplace({x: 0, y: 0}).xreplace(subs)
-            subs[x] = p_known[0] - p_new_local[0]
-            subs[y] = p_known[1] - p_new_local[1]
-            placed.add(body)
-            tree.add(j.name)
-            changed = True
+    tree = set()
+    for j, known, new, body in pin_chain(mech, {"ground"}):
+        x, y, th = kin.body_q[body]
+        if isinstance(j, Weld):
+            rel = mech.value(f"joints.{j.name}.angle")
+            th_known = kin.angle(known).xreplace(subs)
+            subs[th] = th_known + rel if new == j.b else th_known - rel
+        p_known = kin.point(known).xreplace(subs)
+        p_new_local = kin.point(new).xreplace({x: 0, y: 0}).xreplace(subs)
+        subs[x] = p_known[0] - p_new_local[0]
+        subs[y] = p_known[1] - p_new_local[1]
+        tree.add(j.name)
     return subs, tree
 
 
