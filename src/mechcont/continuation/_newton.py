@@ -10,7 +10,18 @@ from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 from ._problem import choose_unknowns
 
-__all__ = ["find_equilibrium", "newton_square"]
+__all__ = ["find_equilibrium", "newton_square", "residual_met"]
+
+
+def residual_met(r: np.ndarray, J: np.ndarray, u: np.ndarray, tol: float) -> bool:
+    """True when every residual is below ``tol``, or at its floating-point floor.
+
+    The floor of row ``i`` is ``100 eps sum_j |J_ij u_j|``: an equilibrium row whose terms
+    are tens of kilonewton-metres cannot be met to ``tol`` = 1e-10 in double precision,
+    while a constraint row in metres still must be. ``J`` and ``u`` may both be scaled.
+    """
+    floor = 100 * np.finfo(float).eps * np.abs(J * u).sum(axis=1)
+    return bool(np.all(np.abs(r) <= np.maximum(tol, floor)))
 
 
 def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol: float = 1e-10,
@@ -18,10 +29,10 @@ def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol:
     """Damped Newton for a square system ``fun(u) = 0``.
 
     The full Newton step is tried first and halved while it does not reduce the residual
-    norm (a backtracking line search), so a rough guess still converges. Converged when
-    the scaled step is below ``tol`` and every residual is below ``residual_tol`` times
-    the size of its row's terms (``max(1, max_j |J_ij scale_j|)``): an equilibrium row in
-    kilonewtons cannot be met to 1e-10 N in floating point.
+    norm (a backtracking line search), so a rough guess still converges. The merit
+    function divides each row by the size of its terms (``max(1, max_j |J_ij scale_j|)``)
+    so the line search weighs equations in N, N m and m alike. Converged when the scaled
+    step is below ``tol`` and the residuals pass :func:`residual_met`.
 
     Returns ``(u, iterations)``. Raises :class:`ConvergenceError` (with ``partial`` = the
     last iterate) if the Jacobian is singular or ``max_iter`` is reached.
@@ -52,7 +63,7 @@ def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol:
                 break
             lam *= 0.5
         u, r = trial, r_trial
-        if np.max(np.abs(lam * du / scale)) < tol and np.max(np.abs(r) / row) < residual_tol:
+        if np.max(np.abs(lam * du / scale)) < tol and residual_met(r, J, u, residual_tol):
             return u, it
     worst = int(np.argmax(np.abs(r)))
     raise ConvergenceError(

@@ -34,9 +34,8 @@ class ContinuationOptions:
     newton_tol:
         Newton converged when the scaled correction's max-norm is below this ...
     residual_tol:
-        ... and each residual is below this times the size of its row's terms
-        (``max(1, max_j |dG_i/dz_j|)`` in scaled variables), so rows in any unit are
-        held to the same relative accuracy.
+        ... and each residual is below this (equation units), or at its floating-point
+        floor where the row's terms are too large for that (see ``residual_met``).
     max_newton:
         Corrector iterations before the step is rejected and halved.
     max_contraction:

@@ -14,6 +14,7 @@ from scipy.linalg.lapack import dgesv as _dgesv
 from scipy.optimize import brentq
 
 from ._events import Event, PointState
+from ._newton import residual_met
 from ._options import ContinuationOptions
 
 __all__ = ["PseudoArclength", "DirectionResult", "run_direction"]
@@ -109,8 +110,7 @@ class PseudoArclength:
             r, jac = self.evaluate(z)
             if not (math.isfinite(r.sum()) and math.isfinite(jac.sum())):
                 return None, "residual not finite (outside the model's domain)", it
-            # residual relative to the size of each row's terms (see newton_square)
-            if step < o.newton_tol and (np.abs(r) / np.maximum(1.0, np.abs(jac).max(axis=1))).max() < o.residual_tol:
+            if step < o.newton_tol and residual_met(r, jac, z, o.residual_tol):
                 return z, jac, it - 1
             if it > o.max_newton:
                 break
@@ -225,7 +225,23 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
                 # another branch. Retry with a step short of the discontinuity.
                 jumped = hit[0]
                 break
-            hits.append((ev, hit))
+            hits.append((ev, _refined(eng, problem, cur, ev, hit)))
+        if jumped is None:
+            # An event crossed twice within the step (two close folds, or a bound the
+            # branch leaves and re-enters) shows no sign change between the step's ends,
+            # but does at a point located inside the step: look there too.
+            for ev, v0 in zip(events, values):
+                own = [h[1][0] for h in hits if h[0] is ev]
+                if v0 == 0:
+                    continue
+                for other, (sigma, st, _) in sorted(hits, key=lambda h: h[1][0]):
+                    if other is ev or (own and sigma >= min(own)):
+                        continue
+                    v_mid = ev.value(problem, st) if st is not None else v0
+                    if v_mid != 0 and (v_mid > 0) != (v0 > 0) and sigma > 0:
+                        hit = _locate(eng, problem, cur, sigma, ev, v0, v_mid)
+                        hits.append((ev, _refined(eng, problem, cur, ev, hit)))
+                        break
         if jumped is not None:
             ds = max(0.5 * jumped, options.shrink * options.dsmin)
             if ds < options.dsmin:
@@ -240,11 +256,6 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
         for ev, (sigma, st, info) in hits:
             if len(res.states) == 1 and sigma <= 1e-6 * ds:
                 continue  # the start itself is the special point (e.g. leaving a BP)
-            refined = ev.refine(problem, st) if st is not None else None
-            if refined is not None:
-                u_ref, extra = refined
-                st = eng.state(u_ref / eng.D, st.tangent)
-                info = {**info, **extra}
             if st is None:
                 continue
             record(st, ev.label, info, s + sigma)
@@ -270,6 +281,21 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
     res.status = "completed"
     res.message = f"stopped after max_steps={options.max_steps}"
     return res
+
+
+def _refined(eng: PseudoArclength, problem, cur: PointState, ev: Event, hit):
+    """``hit`` after the event's own polish (folds), with its step position recomputed.
+
+    The polish can move a point well along the step when the located guess was rough, so
+    ordering the step's events (a bound before a fold beyond it) must use the final point.
+    """
+    sigma, st, info = hit
+    refined = ev.refine(problem, st) if st is not None else None
+    if refined is None:
+        return hit
+    u_ref, extra = refined
+    st = eng.state(u_ref / eng.D, st.tangent)
+    return float(cur.tangent @ (st.z - cur.z)), st, {**info, **extra}
 
 
 def _locate(eng: PseudoArclength, problem, cur: PointState, ds: float, ev: Event, v0: float, v1: float):
@@ -324,8 +350,7 @@ def _solve_on_bound(eng: PseudoArclength, problem, cur: PointState, ds, ev, v0, 
             return None
         b[:-1] = -r
         b[-1] = target - z[k]
-        rel = np.abs(r) / np.maximum(1.0, np.abs(jac).max(axis=1))
-        if rel.max() < eng.options.residual_tol and abs(b[-1]) < 1e-15 * max(1.0, abs(target)):
+        if residual_met(r, jac, z, eng.options.residual_tol) and abs(b[-1]) < 1e-15 * max(1.0, abs(target)):
             return eng.state(z, eng.tangent(z, cur.tangent, jac), jac)
         A[:-1] = jac
         _, _, dz, info = _dgesv(A, b)
