@@ -4,7 +4,7 @@ continued branch through a full crank turn, and change stability only at folds."
 import math
 
 import numpy as np
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
 from mechcont.continuation import ContinuationOptions, continuation
@@ -38,6 +38,9 @@ def _grashof(p):
 
 @settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(crank_rockers())
+# found by a fresh-clone run: two folds 0.05 rad apart, nearly flat T, straddling the bound
+@example({"a": 0.2313345943894139, "b": 1.0658329364739505, "c": 0.640625, "d": 0.916015625, "m_crank": 1.09375,
+          "m_coupler": 2.0, "m_rocker": 1.5, "k": 369.0, "L0": 0.537109375, "sx": 0.009765625, "sy": 0.91796875})
 def test_random_fourbars_assemble_and_continue(params):
     assume(_grashof(params))
     system = load("fourbar", **params)  # assembly from the description's approximate angles
