@@ -507,3 +507,22 @@ def test_vary_on_the_cli(tmp_path, run, fourbar_branch):
     one_line_error(run("draw", "fourbar", "--start", "theta_crank=1", "--free", "T", "--vary", "T",
                        "--out", tmp_path / "c.png"), "vary")
     assert not (tmp_path / "b.gif").exists() and not (tmp_path / "c.png").exists()
+
+
+def test_labels_name_every_body_at_its_centre_and_every_named_point():
+    """labels=True: each body's name at its centre; every ground and body point labelled, coincident ones together."""
+    from mechcont.mechanism import load
+
+    s = load("fourbar")
+    x = s.defaults()
+    ax = draw(s, x, labels=True, **SMALL)
+    texts = {t.get_gid(): t for t in ax.texts if t.get_gid()}
+    co = s.coordinates_of(x)
+    for body in ("crank", "coupler", "rocker"):
+        t = texts[f"body:{body}"]
+        assert t.get_text() == body
+        assert t.get_position() == pytest.approx((co[f"x_{body}"], co[f"y_{body}"]), abs=1e-9)  # the bar's centre
+    labels = [t.get_text() for g, t in texts.items() if g.startswith("point:")]
+    assert sorted(labels) == sorted(["crank.a, ground.A", "crank.b, coupler.a", "coupler.b, rocker.b",
+                                     "rocker.a, ground.D", "ground.S"])
+    assert not [t for t in draw(s, x, **SMALL).texts if (t.get_gid() or "").startswith(("body:", "point:"))]

@@ -40,6 +40,9 @@ class Scene:
         Ground points (2,) that springs or dampers are attached to (no joint there).
     dampers:
         ``(name, start, end)``: a damper between two points.
+    points:
+        ``(name, position)``: named points, for labels only (e.g. ``"crank.b"``,
+        ``"ground.A"``); not part of :meth:`extent`.
     """
 
     bars: list[tuple[str, np.ndarray]] = field(default_factory=list)
@@ -51,6 +54,7 @@ class Scene:
     moments: list[tuple[str, np.ndarray, float]] = field(default_factory=list)
     anchors: list[np.ndarray] = field(default_factory=list)
     dampers: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
+    points: list[tuple[str, np.ndarray]] = field(default_factory=list)
 
     def extent(self) -> tuple[float, float, float, float]:
         """Bounding box ``(xmin, xmax, ymin, ymax)`` of every primitive (m)."""

@@ -25,6 +25,9 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
     :class:`Moment` on a body is drawn around the body's pin to the ground if it has one,
     else around the body's origin; a :class:`CustomLoad` with a moment around its point.
     Ground points that springs or dampers attach to (and no pin or weld does) are anchors.
+    ``Scene.points`` names, for labels, every ground point and every named body point: the
+    ends ``a``/``b`` and declared points of a bar (and its ``cg`` when off the centre), the
+    declared points, ``origin`` and ``cg`` of any other body (``cg`` when off the origin).
     """
     mech, subs = kin.mech, subs or {}
     items: list[tuple[str, str, object]] = []  # (kind, name, extra)
@@ -79,6 +82,15 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
             M = sp.sympify(mech.value(f"loads.{ld.name}.moment"))
             if M != 0:
                 add("moment", ld.name, [kin.point(ld.at), sp.Matrix([M, 0])])
+    for b in mech.bodies:
+        names = mech.point_names(b.name)
+        off_origin = any(c != 0 for c in kin.local_point(b.name, "cg"))
+        for pn in names:
+            if (pn == "origin" and b.length is not None) or (pn == "cg" and not off_origin):
+                continue
+            add("point", f"{b.name}.{pn}", [kin.point(f"{b.name}.{pn}")])
+    for gname in mech.ground:
+        add("point", f"ground.{gname}", [kin.point(f"ground.{gname}")])
     exprs = [sp.sympify(e).xreplace(subs) for e in exprs]
     fn = compile_dense(list(symbols), exprs)
 
@@ -105,6 +117,8 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
                 out.anchors.append(pts[0].copy())
             elif kind == "moment":
                 out.moments.append((name, pts[0].copy(), float(pts[1][0])))
+            elif kind == "point":
+                out.points.append((name, pts[0].copy()))
             else:
                 out.forces.append((name, pts[0].copy(), pts[1].copy()))
         return out

@@ -238,8 +238,47 @@ def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: fl
     ax.text(at[0], at[1], text, ha=ha, va=va, fontsize=8, color="#d62728", zorder=8, bbox=_LABEL_BOX)
 
 
+def _draw_labels(ax, scene: Scene, h: float, limits) -> None:
+    """Name every body at its centre and every named point of ``scene.points`` beside a dot.
+
+    A body's centre is the mean of the distinct points of its first polyline (a bar's
+    midpoint). Points closer than a thousandth of the view share one label (``"crank.b,
+    coupler.a"``), placed away from the middle of the view.
+    """
+    seen: set[str] = set()
+    for i, (name, pts) in enumerate(scene.bars):
+        if name in seen:
+            continue
+        seen.add(name)
+        pts = np.unique(np.atleast_2d(np.asarray(pts, float)), axis=0)
+        c = pts.mean(axis=0)
+        ax.text(c[0], c[1], name, ha="center", va="center", fontsize=9, fontweight="bold",
+                color=_BAR_COLOURS[i % len(_BAR_COLOURS)], zorder=9, bbox=_LABEL_BOX, gid=f"body:{name}")
+    size = max(limits[1] - limits[0], limits[3] - limits[2])
+    middle = np.array([(limits[0] + limits[1]) / 2, (limits[2] + limits[3]) / 2])
+    groups: list[tuple[np.ndarray, list[str]]] = []
+    for name, p in scene.points:
+        p = np.asarray(p, float)
+        for q, names in groups:
+            if np.hypot(*(p - q)) <= 1e-3 * size:
+                names.append(name)
+                break
+        else:
+            groups.append((p, [name]))
+    for p, names in groups:
+        ax.plot(p[0], p[1], "o", color="black", markersize=2.5, zorder=7)
+        away = p - middle
+        n = np.hypot(*away)
+        u = away / n if n > 1e-9 * size else np.array([0.7071, 0.7071])
+        at = p + 1.2 * h * u
+        ax.text(at[0], at[1], ", ".join(names), ha="left" if u[0] >= 0 else "right",
+                va="bottom" if u[1] >= 0 else "top", fontsize=7, color="0.15", zorder=9, bbox=_LABEL_BOX,
+                gid=f"point:{names[0]}")
+
+
 def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: bool = True,
-               force_scale: float | None = None, limits: tuple[float, float, float, float] | None = None):
+               force_scale: float | None = None, limits: tuple[float, float, float, float] | None = None,
+               labels: bool = False):
     """Draw one :class:`Scene` on matplotlib axes.
 
     Parameters
@@ -260,6 +299,9 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
     limits:
         Fixed view ``(xmin, xmax, ymin, ymax)`` (m); by default the scene with a margin.
         Symbol sizes are a fixed fraction of the view.
+    labels:
+        Name every body at its centre and label every named point of ``scene.points``
+        (coincident points share one label).
 
     Returns
     -------
@@ -302,6 +344,8 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
             _draw_force(ax, name, np.asarray(p, float), np.asarray(v, float), scale, h)
         for name, p, value in scene.moments:
             _draw_moment(ax, name, np.asarray(p, float), float(value), h)
+    if labels:
+        _draw_labels(ax, scene, h, limits)
 
     ax.set_xlim(limits[0], limits[1])
     ax.set_ylim(limits[2], limits[3])
@@ -417,7 +461,8 @@ def _put_note(ax, text: str, stable, corner=_CORNERS[0]) -> None:
 
 def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: str | None = None,
          show_forces: bool = True, force_scale: float | None = None, annotate: Sequence[str] = (),
-         stable: bool | None = None, label: str = "", figsize: tuple[float, float] = (6, 4.5), dpi: int = 120):
+         stable: bool | None = None, label: str = "", figsize: tuple[float, float] = (6, 4.5), dpi: int = 120,
+         labels: bool = False):
     """Draw ``system`` at the full variable vector ``x`` and optionally save it.
 
     Parameters
@@ -437,6 +482,8 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
         Stability of the point and its special-point label (``"LP"`` ...), printed too.
     figsize, dpi:
         Figure size (inches) and resolution of a raster file.
+    labels:
+        Name every body and every named point (see :func:`draw_scene`).
 
     Returns
     -------
@@ -461,7 +508,8 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
 
         ax = Figure(figsize=figsize, layout="constrained").add_subplot()
     scene = scene_fn(x)
-    draw_scene(scene, ax, title=title or system.name, show_forces=show_forces, force_scale=force_scale)
+    draw_scene(scene, ax, title=title or system.name, show_forces=show_forces, force_scale=force_scale,
+               labels=labels)
     corner = _note_corner([scene], (*ax.get_xlim(), *ax.get_ylim()))
     _put_note(ax, _note(system, x, annotate, stable, label), stable, corner)
     if out is not None:
