@@ -103,6 +103,7 @@ def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quie
                 click.echo(f"wrote {path}")
     if not branch.success:
         click.echo(f"warning: {branch.message}", err=True)
+    warn_approximate(branch)
 
 
 def special_table(branch, cols=None) -> str:
@@ -115,5 +116,17 @@ def special_table(branch, cols=None) -> str:
     for p in branch.special_points:
         counts[p.label] = counts.get(p.label, 0) + 1
         vals = "".join(f"{p.values[c]:>16.10g}" for c in cols)
-        lines.append(f"{p.label + str(counts[p.label]):<6}{vals}{st[p.index] or '-':>11}")
+        tag = p.label + str(counts[p.label]) + ("" if p.located else "?")
+        lines.append(f"{tag:<6}{vals}{st[p.index] or '-':>11}")
     return "\n".join(lines)
+
+
+def warn_approximate(branch) -> None:
+    """One stderr line per special point that was detected but not located."""
+    counts: dict[str, int] = {}
+    for p in branch.special_points:
+        counts[p.label] = counts.get(p.label, 0) + 1
+        if not p.located:
+            why = p.info.get("reason", "not located")
+            click.echo(f"warning: {p.label}{counts[p.label]} at {branch.vary}={p.values[branch.vary]:.10g} is approximate "
+                       f"({why}); its row is labelled {p.tag}", err=True)

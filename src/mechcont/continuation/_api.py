@@ -10,7 +10,7 @@ from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 from ._branch import Branch, SpecialPoint
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent
-from ._folds import FoldProblem, fold_quantities, refine_fold
+from ._folds import FoldProblem, fold_quantities, polish_fold, refine_fold
 from ._options import ContinuationOptions
 from ._palc import run_direction
 from ._problem import EquilibriumProblem, choose_unknowns
@@ -20,11 +20,12 @@ __all__ = ["continuation", "continue_folds", "locate_fold", "switch_branch"]
 
 class _Equilibria(EquilibriumProblem):
     def refine_fold(self, state):
+        """The fold polished to machine precision, or the located guess marked approximate."""
         try:
-            x, v = refine_fold(self.system, state.x, self.names[:-1], self.names[-1])
-        except ConvergenceError:
-            return None
-        return self.u_of(x), {"null_vector": v, "refined": True}
+            fp = polish_fold(self.system, state.x, self.names[:-1], self.names[-1])
+        except ConvergenceError as exc:
+            return state.u, {"status": "approximate", "reason": str(exc)}
+        return self.u_of(fp.x), {"null_vector": fp.v, "status": "located", **fp.precision()}
 
 
 def _start_vector(system: EquationSystem, start) -> np.ndarray:

@@ -34,7 +34,10 @@ class SpecialPoint:
     tangent:
         Unit tangent of the branch at the point in the problem's scaled unknowns (when known).
     info:
-        Extra data: e.g. ``"null_vector"`` at a fold, the event value, an end reason.
+        Extra data: e.g. ``"null_vector"`` at a fold, ``"status"``, the precision of a
+        located fold (``"residual"``: largest equation residual relative to its terms;
+        ``"singular_value"``: smallest singular value of the equilibrated state Jacobian
+        over the norm of the whole equilibrated Jacobian), an end reason.
     """
 
     label: str
@@ -51,6 +54,23 @@ class SpecialPoint:
 
     def __getitem__(self, name: str) -> float:
         return self.values[name]
+
+    @property
+    def status(self) -> str:
+        """``"located"`` (solved to the tolerances: a fold polished on the augmented system,
+        an event's zero found by root finding) or ``"approximate"`` (detected by a sign
+        change but not located; ``info["reason"]`` says why)."""
+        return self.info.get("status", "located")
+
+    @property
+    def located(self) -> bool:
+        """True when :attr:`status` is ``"located"``."""
+        return self.status == "located"
+
+    @property
+    def tag(self) -> str:
+        """The label as written in tables: ``"LP"``, or ``"LP?"`` when only approximate."""
+        return self.label if self.located else self.label + "?"
 
 
 class Branch:
@@ -147,12 +167,29 @@ class Branch:
         """``"stable"``/``"unstable"`` per point (``""`` where not evaluated)."""
         return ["" if n < 0 else ("stable" if n == 0 else "unstable") for n in self.n_unstable]
 
+    @property
+    def approximate(self) -> list[SpecialPoint]:
+        """Special points detected but not located (written ``LP?`` etc. in tables)."""
+        return [p for p in self.special_points if not p.located]
+
+    def row_labels(self) -> list[str]:
+        """Label per row as written in tables: ``"LP"``, ``"LP?"`` (approximate) or ``""``."""
+        out = list(self.labels)
+        for p in self.special_points:
+            if not p.located and 0 <= p.index < len(out):
+                out[p.index] = p.tag
+        return out
+
     def to_records(self) -> list[dict]:
-        """One dict per point: every variable, ``s``, ``stability``, ``n_unstable``, ``label``, ``vary``."""
+        """One dict per point: every variable, ``s``, ``stability``, ``n_unstable``, ``label``, ``vary``.
+
+        ``label`` carries a ``?`` for a special point that is only approximate.
+        """
         st = self.stability_labels()
+        labels = self.row_labels()
         return [
             {**{n: float(v) for n, v in zip(self.names, row)}, "s": float(s), "stability": st[i],
-             "n_unstable": int(self.n_unstable[i]), "label": self.labels[i], "vary": self.vary}
+             "n_unstable": int(self.n_unstable[i]), "label": labels[i], "vary": self.vary}
             for i, (row, s) in enumerate(zip(self.values, self.s))
         ]
 
@@ -183,8 +220,8 @@ class Branch:
             "model": self.model, "vary": self.vary, "unknowns": list(self.unknowns), "status": self.status,
             "message": self.message, "columns": {n: self.column(n).tolist() for n in self.names},
             "s": self.s.tolist(), "n_unstable": self.n_unstable.tolist(), "stability": self.stability_labels(),
-            "labels": self.labels,
-            "special_points": [{"label": p.label, "index": p.index, "values": p.values,
+            "labels": self.row_labels(),
+            "special_points": [{"label": p.label, "index": p.index, "values": p.values, "status": p.status,
                                 **{k: v for k, v in p.info.items() if isinstance(v, (int, float, str))}}
                                for p in self.special_points],
         }

@@ -19,47 +19,69 @@ disappear there.
 from __future__ import annotations
 
 from collections.abc import Iterable
+from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg.lapack import dgetrf as _dgetrf
+from scipy.linalg.lapack import dgetrs as _dgetrs
 
 from ..equations import EquationSystem
-from ..errors import InputError
+from ..errors import ConvergenceError, InputError
 from ._events import Event
-from ._newton import newton_square
+from ._newton import residual_met
 from ._problem import ContinuationProblem, choose_unknowns
+from ._scaling import equilibrate
 
-__all__ = ["FoldProblem", "CuspEvent", "fold_quantities", "refine_fold"]
+__all__ = ["FoldProblem", "FoldPoint", "CuspEvent", "fold_quantities", "fold_scaling", "polish_fold", "refine_fold"]
 
 
-def _null_vectors(Js: np.ndarray, scale: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Right and left singular vectors of the smallest singular value of ``Js``.
+def _reference_columns(system: EquationSystem, idx: np.ndarray) -> np.ndarray:
+    """Mask of the columns ``idx`` measured in radians (the reference of :func:`equilibrate`)."""
+    return np.array([system.variables[i].unit == "rad" for i in idx], dtype=bool)
 
-    With ``scale`` (typical magnitudes of the states) the SVD is taken of ``Js D``: in
-    mixed units (m, rad, N) the unscaled matrix can have several small singular values
-    and the smallest need not belong to the fold. The right vector is returned unscaled,
-    normalised to unit length.
+
+def fold_scaling(system: EquationSystem, x: np.ndarray, idx_vars: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Row scales of the equations and column scales of the unknowns ``idx_vars`` at ``x``.
+
+    Read off the Jacobian (see :func:`equilibrate`), so they do not depend on the units the
+    user chose nor on ``scale`` hints: the fold polish and the fold curve use them.
     """
-    if scale is None:
-        u, _, vt = np.linalg.svd(Js)
-        return vt[-1], u[:, -1]
-    u, _, vt = np.linalg.svd(Js * scale)
-    v = vt[-1] * scale
-    return v / np.linalg.norm(v), u[:, -1]
+    J = system.jacobian(x)[:, idx_vars]
+    return equilibrate(J, _reference_columns(system, idx_vars))
+
+
+def _null_vectors(Js: np.ndarray, row: np.ndarray | None = None,
+                  col: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Right and left null vectors (smallest singular value) of ``Js``, found on ``R Js C``.
+
+    In mixed units (m, rad, N beside a kN/m spring) the unscaled matrix can have several
+    small singular values and the smallest need not belong to the fold; on the equilibrated
+    matrix it does. Returned in the unscaled variables and equations, each of unit length.
+    """
+    row = np.ones(Js.shape[0]) if row is None else row
+    col = np.ones(Js.shape[1]) if col is None else col
+    u, _, vt = np.linalg.svd(Js * row[:, None] * col)
+    v = vt[-1] * col
+    w = u[:, -1] * row
+    return v / np.linalg.norm(v), w / np.linalg.norm(w)
 
 
 def fold_quantities(system: EquationSystem, x: np.ndarray, state_idx: np.ndarray, param_index: int,
-                    v: np.ndarray | None = None):
+                    v: np.ndarray | None = None, scaling: tuple[np.ndarray, np.ndarray] | None = None):
     """Right/left null vectors and the normalised quadratic coefficient at a fold.
 
     Returns ``(v, w, a)``: ``v`` spans ker G_s, ``w`` spans ker G_s^T, oriented so that
     ``w^T dG/dp1 > 0`` (non-zero at a fold: that is its transversality condition), and
     ``a = w^T G_ss[v, v] / |v|^2`` with ``|w| = 1``. With this orientation the sign of
     ``a`` says on which side of the fold in ``p1`` the two branches lie, and it changes
-    sign exactly at a cusp.
+    sign exactly at a cusp. The null vectors come from the equilibrated Jacobian, so they
+    do not depend on units.
     """
     J = system.jacobian(x)
     Js = J[:, state_idx]
-    vs, w = _null_vectors(Js)
+    # scaling = (row, col) of the states: reuse known scales (a fold curve's, fixed at its start)
+    row, col = equilibrate(Js, _reference_columns(system, state_idx)) if scaling is None else scaling
+    vs, w = _null_vectors(Js, row, col)
     if v is None:
         v = vs
     if w @ J[:, param_index] < 0:
@@ -71,20 +93,23 @@ def fold_quantities(system: EquationSystem, x: np.ndarray, state_idx: np.ndarray
     return v, w, a
 
 
-def _fold_system(system, base, idx_vars, state_pos, c):
-    """Residual and Jacobian of the fold system in unknowns U = (vars..., v).
+def _fold_system(system, base, idx_vars, state_pos, col_states):
+    """Residual and Jacobian of the fold system in unknowns ``U = (vars..., v_hat)``.
 
-    The null vector is normalised by |v| = 1 rather than by a fixed border c^T v = 1:
-    along a long fold curve the null vector turns, and a fixed border would let |v|
-    grow without bound (eating the arclength). ``c`` is kept for the interface.
+    The null vector is carried in equilibrated coordinates, ``v = col_states * v_hat``,
+    normalised by ``|v_hat| = 1``: in SI units a null vector mixes radians and newtons and
+    ``|v| = 1`` would make it all reaction components (an ill-conditioned system whose
+    Newton iteration stalls). A fixed border ``c^T v = 1`` is not used either: along a long
+    fold curve the null vector turns and ``|v|`` would grow without bound.
 
     ``idx_vars``: full indices of the variable unknowns (states then parameters);
     ``state_pos``: positions within ``idx_vars`` of the states whose Jacobian must be
-    singular.
+    singular; ``col_states``: the column scales of those states.
     """
     nv = len(idx_vars)
     n = len(state_pos)
     state_idx = idx_vars[state_pos]
+    col = np.asarray(col_states, dtype=float)
 
     def full(U):
         x = base.copy()
@@ -93,25 +118,25 @@ def _fold_system(system, base, idx_vars, state_pos, c):
 
     def evaluate(U):
         x = full(U)
-        v = U[nv:]
+        vh = U[nv:]
         r, J = system.residual_and_jacobian(x)
-        Js = J[:, state_idx]
-        res = np.concatenate([r, Js @ v, [0.5 * (v @ v - 1.0)]])
+        Jv = J[:, state_idx] * col
+        res = np.concatenate([r, Jv @ vh, [0.5 * (vh @ vh - 1.0)]])
         vf = np.zeros(len(x))
-        vf[state_idx] = v
+        vf[state_idx] = col * vh
         H = system.jacobian_derivative(x, vf)
         out = np.zeros((2 * n + 1, nv + n))
         out[:n, :nv] = J[:, idx_vars]
         out[n:2 * n, :nv] = H[:, idx_vars]
-        out[n:2 * n, nv:] = Js
-        out[2 * n, nv:] = v
+        out[n:2 * n, nv:] = Jv
+        out[2 * n, nv:] = vh
         return res, out
 
     def residual(U):
         x = full(U)
-        v = U[nv:]
+        vh = U[nv:]
         r, J = system.residual_and_jacobian(x)
-        return np.concatenate([r, J[:, state_idx] @ v, [0.5 * (v @ v - 1.0)]])
+        return np.concatenate([r, (J[:, state_idx] * col) @ vh, [0.5 * (vh @ vh - 1.0)]])
 
     def jacobian(U):
         return evaluate(U)[1]
@@ -119,22 +144,121 @@ def _fold_system(system, base, idx_vars, state_pos, c):
     return full, residual, jacobian, evaluate
 
 
-def refine_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], param: str, tol: float = 1e-11):
-    """Polish an approximate fold in ``param`` with Newton on the square fold system.
+@dataclass
+class FoldPoint:
+    """A fold polished by :func:`polish_fold`.
 
-    Returns ``(x, v)``: the full vector at the fold and the normalised null vector.
-    Raises :class:`~mechcont.errors.ConvergenceError` if Newton fails.
+    Attributes
+    ----------
+    x:
+        Full variable vector at the fold (SI units).
+    v:
+        Null vector over the unknown states (unscaled, unit length).
+    v_hat:
+        The same in equilibrated coordinates (``v ∝ col * v_hat``, ``|v_hat| = 1``).
+    col:
+        Column scales of the unknowns (states then parameter), from :func:`fold_scaling`.
+    residual:
+        Largest equation residual relative to the size of its terms (dimensionless).
+    singular_value:
+        Smallest singular value of the equilibrated state Jacobian over the norm of the
+        whole equilibrated Jacobian (dimensionless; 0 at an exact fold).
+    iterations:
+        Newton iterations used.
+    """
+
+    x: np.ndarray
+    v: np.ndarray
+    v_hat: np.ndarray
+    col: np.ndarray
+    residual: float
+    singular_value: float
+    iterations: int
+
+    def precision(self) -> dict:
+        """``{"residual": ..., "singular_value": ...}`` for a special point's info."""
+        return {"residual": self.residual, "singular_value": self.singular_value}
+
+
+def _relative_residual(r: np.ndarray, J: np.ndarray, u: np.ndarray) -> float:
+    terms = np.abs(J * u).sum(axis=1)
+    return float(np.max(np.abs(r) / np.maximum(terms, np.finfo(float).tiny), initial=0.0))
+
+
+def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], param: str, tol: float = 1e-11,
+                max_iter: int = 30, residual_tol: float = 1e-10) -> FoldPoint:
+    """Locate a fold in ``param`` near ``x`` to machine precision, whatever the units.
+
+    Newton on the standard augmented system ``G = 0, G_s C v_hat = 0, |v_hat| = 1`` in
+    equilibrated variables: unknowns divided by the column scales ``C`` and equations
+    multiplied by the row scales ``R`` of :func:`fold_scaling`. Newton's iterates are
+    invariant under a change of variables, so with scales read off the Jacobian the result
+    does not depend on the units or on ``scale`` hints; only the stopping test is measured
+    in those scales (step below ``tol``, residuals below ``residual_tol`` or their
+    floating-point floor). A backtracking line search on the equilibrated residual keeps
+    a rough start (a secant guess) from overshooting.
+
+    Returns a :class:`FoldPoint`. Raises :class:`~mechcont.errors.ConvergenceError`
+    (``partial``: the last full vector) when Newton fails.
     """
     states = list(states)
+    x = np.array(x, dtype=float)
     idx_vars = np.array([system.index(n) for n in [*states, param]])
-    state_pos = np.arange(len(states))
-    Js = system.jacobian(x)[:, idx_vars[state_pos]]
-    v0, _ = _null_vectors(Js, system.scales()[idx_vars[state_pos]])
-    full, res, jac, _ = _fold_system(system, np.array(x, float), idx_vars, state_pos, v0)
-    U0 = np.concatenate([np.asarray(x, float)[idx_vars], v0])
-    scale = np.concatenate([system.scales()[idx_vars], np.ones(len(v0))])
-    U, _ = newton_square(res, jac, U0, tol=tol, residual_tol=1e-10, max_iter=20, scale=scale)
-    return full(U), U[len(idx_vars):]
+    n = len(states)
+    row, col = fold_scaling(system, x, idx_vars)
+    Js = system.jacobian(x)[:, idx_vars[:n]]
+    _, _, vt = np.linalg.svd(Js * row[:, None] * col[:n])
+    vh0 = vt[-1]
+    full, _, _, evaluate = _fold_system(system, x, idx_vars, np.arange(n), col[:n])
+    U = np.concatenate([x[idx_vars], vh0])
+    rows = np.concatenate([row, row, [1.0]])
+    cols = np.concatenate([col, np.ones(n)])
+    F, JF = evaluate(U)
+    for it in range(1, max_iter + 1):
+        A = JF * rows[:, None] * cols
+        lu, piv, info = _dgetrf(A)
+        dU = _dgetrs(lu, piv, -rows * F)[0] if info == 0 else None
+        if dU is None or not np.all(np.isfinite(dU)):
+            raise ConvergenceError(f"fold polish: singular fold system at iteration {it} (the fold may be degenerate "
+                                   "or a branch point)", partial=full(U))
+        # Deuflhard's natural monotonicity test: the simplified Newton correction at the
+        # trial point must be shorter than the Newton step. Unlike the residual norm it is
+        # affine invariant, and it accepts a long step along the null direction that a
+        # residual already at its noise floor would wrongly reject.
+        size, lam = np.linalg.norm(dU), 1.0
+        while True:
+            trial = U + lam * cols * dU
+            F_t, JF_t = evaluate(trial)
+            bar = _dgetrs(lu, piv, -rows * F_t)[0]
+            if (np.all(np.isfinite(bar)) and np.linalg.norm(bar) <= (1 - lam / 4) * size) or lam < 1 / 64:
+                break
+            lam *= 0.5
+        U, F, JF = trial, F_t, JF_t
+        step = float(np.max(np.abs(lam * dU)))
+        r_eq, J_eq = F[:len(row)], JF[:len(row), :len(idx_vars)]
+        null_rows = F[len(row):2 * len(row)]
+        J_null = JF[len(row):2 * len(row)]
+        if (step < tol and residual_met(r_eq, J_eq, U[:len(idx_vars)], residual_tol)
+                and residual_met(row * null_rows, J_null * row[:, None], U * cols, residual_tol)):
+            xf = full(U)
+            Jf = system.jacobian(xf)[:, idx_vars] * row[:, None] * col
+            # relative to the whole equilibrated Jacobian (G_p is non-zero at a fold)
+            smallest = np.linalg.svd(Jf[:, :n], compute_uv=False)[-1] / np.linalg.norm(Jf)
+            v = col[:n] * U[len(idx_vars):]
+            return FoldPoint(xf, v / np.linalg.norm(v), U[len(idx_vars):].copy(), col,
+                             _relative_residual(r_eq, J_eq, U[:len(idx_vars)]), float(smallest), it)
+    raise ConvergenceError(f"fold polish did not converge in {max_iter} iterations (equilibrated residual "
+                           f"{np.linalg.norm(rows * F):.3g})", partial=full(U))
+
+
+def refine_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], param: str, tol: float = 1e-11):
+    """Polish an approximate fold in ``param``: ``(x, v)`` of :func:`polish_fold`.
+
+    Returns the full vector at the fold and the normalised null vector over the states.
+    Raises :class:`~mechcont.errors.ConvergenceError` if Newton fails.
+    """
+    fp = polish_fold(system, x, states, param, tol=tol)
+    return fp.x, fp.v
 
 
 class CuspEvent(Event):
@@ -149,8 +273,9 @@ class CuspEvent(Event):
 class FoldProblem(ContinuationProblem):
     """The fold curve of ``system`` in parameters ``(p1, p2)`` as a continuation problem.
 
-    Unknowns ``u = (states..., p1, p2, v...)``; the continuation parameter (whose
-    direction is chosen) is ``p2``.
+    Unknowns ``u = (states..., p1, p2, v_hat...)`` with the null vector in equilibrated
+    coordinates (``v = col * v_hat``, ``col`` read off the Jacobian at the start fold, see
+    :func:`_fold_system`); the continuation parameter (whose direction is chosen) is ``p2``.
     """
 
     def __init__(self, system: EquationSystem, x_fold: np.ndarray, p1: str, p2: str, states: Iterable[str],
@@ -167,13 +292,17 @@ class FoldProblem(ContinuationProblem):
         self.idx_vars = np.array([system.index(n) for n in [*states, p1, p2]])
         self.state_idx = self.idx_vars[: len(states)]
         x_fold = np.asarray(x_fold, float)
+        n = len(states)
+        row, col = fold_scaling(system, x_fold, self.idx_vars)
+        self.row, self.col = row, col[:n]
         if v0 is None:
-            v0, _ = _null_vectors(system.jacobian(x_fold)[:, self.state_idx], system.scales()[self.state_idx])
-        v0 = np.asarray(v0, float) / np.linalg.norm(v0)
-        self.c = v0
+            v0, _ = _null_vectors(system.jacobian(x_fold)[:, self.state_idx], row, self.col)
+        vh0 = np.asarray(v0, float) / self.col
+        vh0 /= np.linalg.norm(vh0)
         self.base = x_fold.copy()
-        self._full, self._res, self._jac, self._eval = _fold_system(system, self.base, self.idx_vars, np.arange(len(states)), v0)
-        self.u0 = np.concatenate([x_fold[self.idx_vars], v0])
+        self._full, self._res, self._jac, self._eval = _fold_system(system, self.base, self.idx_vars, np.arange(n),
+                                                                    self.col)
+        self.u0 = np.concatenate([x_fold[self.idx_vars], vh0])
         self.names = (*states, p1, p2, *[f"v_{s}" for s in states])
         self.param_index = len(states) + 1
         sc = system.scales()
@@ -197,7 +326,8 @@ class FoldProblem(ContinuationProblem):
     def quadratic_coefficient(self, u) -> float:
         """Normalised ``a = w^T G_ss[v, v]`` at the fold-curve point ``u``."""
         nv = len(self.idx_vars)
-        return fold_quantities(self.system, self._full(u), self.state_idx, self.idx_vars[-2], u[nv:])[2]
+        return fold_quantities(self.system, self._full(u), self.state_idx, self.idx_vars[-2], self.col * u[nv:],
+                               scaling=(self.row, self.col))[2]
 
     def test_functions(self):
         return [CuspEvent()]

@@ -305,7 +305,7 @@ def _locate(eng: PseudoArclength, problem, cur: PointState, ds: float, ev: Event
     """
     from ._events import BoundEvent
 
-    info = {"located": True}
+    info = {"status": "located"}
     if isinstance(ev, BoundEvent):
         info.update(bound_of=ev.name, bound=ev.bound)
         st = _solve_on_bound(eng, problem, cur, ds, ev, v0, v1)
@@ -315,7 +315,7 @@ def _locate(eng: PseudoArclength, problem, cur: PointState, ds: float, ev: Event
         # events polished afterwards (folds): a secant guess is close enough for the polish
         sigma = ds * v0 / (v0 - v1)
         try:
-            return sigma, eng.point_at(cur.z, cur.tangent, sigma), info
+            return sigma, eng.point_at(cur.z, cur.tangent, sigma), {"status": "approximate"}
         except (RuntimeError, np.linalg.LinAlgError):
             pass
     cache = {}
@@ -329,7 +329,13 @@ def _locate(eng: PseudoArclength, problem, cur: PointState, ds: float, ev: Event
         sigma = brentq(f, 0.0, ds, xtol=1e-14 * max(1.0, ds), rtol=8.9e-16, maxiter=100)
         st = cache.get(sigma) or eng.point_at(cur.z, cur.tangent, sigma)
     except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
-        return ds, None, {"located": False, "error": str(exc)}
+        # not located: keep the event, at the secant estimate, marked as approximate
+        sigma = ds * v0 / (v0 - v1)
+        try:
+            st = eng.point_at(cur.z, cur.tangent, sigma)
+        except (RuntimeError, np.linalg.LinAlgError):
+            return ds, None, {"status": "approximate", "reason": str(exc)}
+        return sigma, st, {"status": "approximate", "reason": f"not located: {exc}"}
     return sigma, st, info
 
 

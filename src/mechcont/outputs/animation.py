@@ -67,11 +67,12 @@ class BranchFrames:
         try:
             i = int(text)
         except ValueError:
+            text = text.rstrip("?")  # LP1? (an approximate fold) is LP1
             kind = text.rstrip("0123456789")
             count = int(text[len(kind):] or 1)
-            hits = [j for j, lab in enumerate(self.labels) if lab == kind]
+            hits = [j for j, lab in enumerate(self.labels) if lab.rstrip("?") == kind]
             if not kind or count < 1 or count > len(hits):
-                have = sorted({lab for lab in self.labels if lab})
+                have = sorted({lab.rstrip("?") for lab in self.labels if lab})
                 raise InputError("point", f"no row '{text}'; give a row number 0..{n - 1} or a label "
                                           f"({', '.join(have) or 'this branch has none'}) with its number") from None
             return hits[count - 1]
@@ -81,13 +82,17 @@ class BranchFrames:
 
 
 def _numbered(labels: Sequence[str]) -> list[str]:
-    """``["LP", "", "LP"]`` -> ``["LP1", "", "LP2"]``: the names ``branch["LP2"]`` and ``--point`` use."""
+    """``["LP", "", "LP?"]`` -> ``["LP1", "", "LP2?"]``: the names ``branch["LP2"]`` and ``--point`` use.
+
+    A ``?`` (a special point only approximately located) keeps its place in the numbering.
+    """
     seen: dict[str, int] = {}
     out = []
     for lab in labels:
         if lab:
-            seen[lab] = seen.get(lab, 0) + 1
-            lab = f"{lab}{seen[lab]}"
+            kind, mark = lab.rstrip("?"), "?" if lab.endswith("?") else ""
+            seen[kind] = seen.get(kind, 0) + 1
+            lab = f"{kind}{seen[kind]}{mark}"
         out.append(lab)
     return out
 
