@@ -1,5 +1,6 @@
 """Imports every command module so that each registers itself on the group."""
 from . import (  # noqa: F401,E401  (mechcont models, continue, folds)
+    check,  # noqa: F401  (mechcont check)
     continue_,
     design,  # noqa: F401  (mechcont design)
     downlock,  # noqa: F401  (mechcont downlock)

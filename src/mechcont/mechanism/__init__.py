@@ -9,7 +9,8 @@ stability and dynamics, and a drawing scene::
     system = load("overcentre", LU=0.4)          # shipped description, or a path to a .toml
     system = load_description("my.toml").build_reduced(k=200.0)
 
-:func:`assemble` gives a first equilibrium from approximate positions and held states.
+:func:`assemble` gives a first equilibrium from approximate positions and held states;
+:func:`check_report` says what was made of a description (``mechcont check``).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from pathlib import Path
 
 from ..equations import EquationSystem
 from ._assembly import DofReport, assemble, close_constraints, dof_report
+from ._check import CheckReport, check_report
 from ._description import (
     Body,
     CustomLoad,
@@ -42,7 +44,7 @@ __all__ = [
     "load", "load_description", "parse_description", "builtin_descriptions", "find_description",
     "Mechanism", "Parameter", "Polar", "Body", "Revolute", "Slider", "Prismatic", "Weld", "Spring", "Damper",
     "Gravity", "PointForce", "Moment", "Drag", "CustomLoad", "coordinate_names",
-    "assemble", "dof_report", "DofReport", "close_constraints",
+    "assemble", "dof_report", "DofReport", "close_constraints", "check_report", "CheckReport",
 ]
 
 

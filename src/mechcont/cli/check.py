@@ -1,0 +1,77 @@
+"""``mechcont check``: what mechcont made of a mechanism description, and whether it is sound."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import click
+
+from ..errors import InputError
+from ._app import cli
+from ._parse import assignments
+
+
+def _plot_path(text: str) -> Path:
+    """The --plot file, checked before any work: a known image suffix in a writable folder."""
+    from ..outputs.drawing import IMAGE_SUFFIXES
+
+    path = Path(text)
+    if path.suffix.lower() not in IMAGE_SUFFIXES:
+        raise InputError("--plot", f"unknown file type '{path.suffix or path.name}'; valid: {', '.join(IMAGE_SUFFIXES)}")
+    parent = path.parent
+    if not parent.exists():
+        raise InputError("--plot", f"folder '{parent}' does not exist")
+    if not parent.is_dir():
+        raise InputError("--plot", f"'{parent}' is not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError("--plot", f"folder '{parent}' is not writable")
+    if path.is_dir():
+        raise InputError("--plot", f"'{path}' is a folder, not a file")
+    return path
+
+
+@cli.command("check")
+@click.argument("model")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units, radians).")
+@click.option("--reduced", is_flag=True, help="Check the reduced form (tree coordinates and their reactions "
+                                               "eliminated).")
+@click.option("--plot", default=None, metavar="FILE",
+              help="Write a drawing of the assembled configuration with every body and point named "
+                   "(.png, .svg or .pdf).")
+@click.option("--quiet", is_flag=True, help="Print nothing but errors and findings (on stderr).")
+@click.pass_context
+def check_command(ctx, model, sets, reduced, plot, quiet):
+    """Check the mechanism description MODEL (a .toml file, or the stem of a shipped one:
+    overcentre means overcentre.toml, not the hand-formulated model).
+
+    Prints the degrees of freedom from the rank of the constraint Jacobian (and the intended
+    count), the system's size, redundant constraints and their joints, the loop-closure
+    residual of every joint at the assembled configuration, the parameters, the states at
+    the assembled configuration and at the equilibrium Newton reaches from it (angles in
+    degrees), that equilibrium's stability and the continuation's variable scales.
+
+    Exit status: 0 when all is well; 1 when there are findings (a degree-of-freedom count
+    other than the declared dof, redundant constraints refused by redundant = "error", an
+    open joint), listed at the end of the report (with --quiet: one line 'finding: ...' each
+    on stderr); 2 for input the model cannot be built from (one line on stderr), e.g. a loop
+    that cannot close.
+    """
+    from ..mechanism import check_report
+
+    overrides = assignments(sets, "set")
+    path = _plot_path(plot) if plot is not None else None
+    report = check_report(model, reduced=reduced, **overrides)
+    if path is not None:
+        from ..outputs.drawing import draw
+
+        draw(report.system, report.x, path, labels=True, title=f"{report.name}: assembled configuration")
+    if not quiet:
+        click.echo(report.to_text())
+        if path is not None:
+            click.echo(f"drawing: {path}")
+    elif report.findings:
+        for finding in report.findings:
+            click.echo(f"finding: {finding}", err=True)
+    if report.findings:
+        ctx.exit(1)

@@ -1,0 +1,357 @@
+"""A diagnostic report on a mechanism description: what mechcont made of it, and whether it is sound.
+
+:func:`check_report` builds the description as every command does, then gathers what an
+engineer checks before trusting a model: the degrees of freedom from the rank of the
+constraint Jacobian against the intended count, the sizes of the system, redundant
+constraints, the loop-closure residual of every joint at the assembled configuration, the
+variable scales of the continuation, the parameters, the states at the assembled
+configuration and at the equilibrium Newton reaches from there, and that equilibrium's
+physical stability.
+
+Two defects that make :meth:`Mechanism.build` refuse a file are reported as *findings*
+instead, with the rest of the report still gathered: a degree-of-freedom count different
+from the intended one (the report is built with the counted one), and an over-constrained
+mechanism with ``redundant = "error"`` (built with ``redundant = "drop"``). Any other error
+(unreadable file, unknown name, a loop that cannot close) is raised as usual.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from ..errors import ConvergenceError, InputError
+from ._assembly import assemble
+from ._description import Mechanism
+from ._file import find_description, load_description
+
+__all__ = ["check_report", "CheckReport", "Quantity", "State"]
+
+#: Largest loop-closure or dropped-row residual (m or rad) that counts as closed.
+CLOSURE_TOL = 1e-9
+
+
+class Quantity(NamedTuple):
+    """A named value (SI units, radians) with its unit and meaning."""
+
+    name: str
+    value: float
+    unit: str = ""
+    description: str = ""
+
+
+class State(NamedTuple):
+    """A state at the assembled configuration and at the equilibrium (None if none was found)."""
+
+    name: str
+    assembled: float
+    equilibrium: float | None
+    unit: str = ""
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class CheckReport:
+    """What :func:`check_report` found. All values SI, angles in radians.
+
+    Attributes
+    ----------
+    name, source, description:
+        The mechanism's name, where it came from (file path) and its description.
+    reduced:
+        Whether the reduced form was checked.
+    dof, intended_dof, rank:
+        Degrees of freedom counted from the rank of ``Phi_q`` at the assembled
+        configuration, the ``dof`` the description declares, and that rank.
+    n_coordinates, n_constraints, n_equations, n_unknowns, n_parameters:
+        Sizes of the generated system (``n_unknowns``: its states, coordinates and reactions).
+    redundant:
+        One entry per redundant constraint row: ``(row, joints)``, the dropped row and the
+        joints whose rows it is a combination of.
+    dropped_residual:
+        ``max |Phi|`` of the dropped rows at the assembled configuration (m or rad); None
+        when none were dropped.
+    closure:
+        ``max |Phi|`` of each joint's rows at the assembled configuration: its position
+        rows (``m``) and, for welds and prismatic joints, its angle row (``rad``) separately.
+    eliminated_joints:
+        Reduced form: joints closed exactly by the tree elimination (no rows left).
+    imbalance:
+        The largest force or moment residual of the equilibrium rows at the assembled
+        configuration, ``Quantity(row, value, unit)``; set to zero when it is within
+        rounding (then the assembled configuration is the equilibrium).
+    equilibrium_note:
+        How the equilibrium was found, or why none was.
+    stability:
+        :class:`~mechcont.equations.StabilityResult` at the equilibrium, or None.
+    scales, parameters, states:
+        Every variable's continuation scale; the parameters; the states.
+    findings:
+        Problems, one line each; empty when all is well (:attr:`ok`).
+    system, x, x_equilibrium:
+        The built system, the assembled full vector and the equilibrium's (or None).
+    """
+
+    name: str
+    source: str
+    description: str
+    reduced: bool
+    dof: int
+    intended_dof: int
+    rank: int
+    n_coordinates: int
+    n_constraints: int
+    n_equations: int
+    n_unknowns: int
+    n_parameters: int
+    redundant: tuple[tuple[str, tuple[str, ...]], ...]
+    dropped_residual: float | None
+    closure: tuple[Quantity, ...]
+    eliminated_joints: tuple[str, ...]
+    imbalance: Quantity
+    equilibrium_note: str
+    stability: object | None
+    scales: tuple[Quantity, ...]
+    parameters: tuple[Quantity, ...]
+    states: tuple[State, ...]
+    findings: tuple[str, ...]
+    system: object = field(repr=False, compare=False)
+    x: np.ndarray = field(repr=False, compare=False)
+    x_equilibrium: np.ndarray | None = field(repr=False, compare=False)
+
+    @property
+    def ok(self) -> bool:
+        """True when there are no findings."""
+        return not self.findings
+
+    @property
+    def held(self) -> tuple[Quantity, ...]:
+        """The coordinates held at assembly (``[assembly] hold``), at their assembled values."""
+        hold = getattr(self.system.mechanism, "hold", {})
+        return tuple(Quantity(n, float(self.x[self.system.index(n)]), self.system.variable(n).unit) for n in hold)
+
+    @property
+    def assembled_is_equilibrium(self) -> bool:
+        """True when the assembled configuration is itself in equilibrium."""
+        return self.x_equilibrium is not None and self.imbalance.value == 0.0
+
+    def to_text(self) -> str:
+        """The report as plain text (angles of states and parameters in degrees)."""
+        out = [f"mechanism {self.name}" + (" (reduced form)" if self.reduced else "") + f": {self.source}"]
+        if self.description:
+            out.append(f"  {self.description}")
+        out.append("")
+        dof_ok = "as intended" if self.dof == self.intended_dof else f"INTENDED {self.intended_dof}"
+        out.append(f"degrees of freedom: {self.dof} ({dof_ok}): {self.n_coordinates} coordinates - rank "
+                   f"{self.rank} of the constraint Jacobian")
+        out.append(f"size: {self.n_coordinates} coordinates, {self.n_constraints} constraint rows, "
+                   f"{self.n_equations} equations in {self.n_unknowns} unknowns (coordinates and reactions), "
+                   f"{self.n_parameters} parameters")
+        if self.redundant:
+            out.append(f"redundant constraints: {len(self.redundant)} row(s) dropped")
+            for row, joints in self.redundant:
+                out.append(f"  {row}: implied by joints {', '.join(joints[1:]) or '(none)'} "
+                           f"(statically indeterminate: {', '.join(joints)})")
+            out.append(f"  dropped-row residual at the assembled configuration: {_g(self.dropped_residual)}")
+        else:
+            out.append("redundant constraints: none")
+        out.append("")
+        held = ", ".join(f"{q.name} = {_show(q.value, q.unit)}" for q in self.held) or "nothing"
+        out.append(f"loop closure at the assembled configuration (held: {held}), max |Phi| per joint:")
+        width = max((len(q.name) for q in self.closure), default=0)
+        for q in self.closure:
+            out.append(f"  {q.name:<{width}}  {_g(q.value)} {q.unit}")
+        if self.eliminated_joints:
+            out.append(f"  closed exactly by the reduced form: {', '.join(self.eliminated_joints)}")
+        out.append("")
+        imb = self.imbalance
+        if self.assembled_is_equilibrium:
+            out.append("equilibrium: the assembled configuration is one")
+        else:
+            out.append(f"equilibrium: the assembled configuration is not one at these parameter values "
+                       f"(largest imbalance {_g(imb.value)} {imb.unit} in {imb.name})")
+        out.append(f"  {self.equilibrium_note}")
+        st = self.stability
+        if st is None:
+            out.append("stability: not assessed (no equilibrium)")
+        else:
+            ev = ", ".join(_g(float(np.real(e))) if abs(np.imag(e)) == 0 else f"{complex(e):.4g}"
+                           for e in np.atleast_1d(st.eigenvalues))
+            kind = "reduced tangent stiffness" if st.conservative else "omega^2 of the reduced system (1/s^2)"
+            status = "stable" if st.stable else f"UNSTABLE in {st.n_unstable} direction(s)"
+            out.append(f"stability at the equilibrium: {status} (eigenvalues of the {kind}: {ev or 'none'})")
+        out.append("")
+        out.append("parameters:")
+        out += _table([(p.name, _show(p.value, p.unit), p.description) for p in self.parameters])
+        out.append("")
+        eq = self.x_equilibrium is not None
+        out.append("states:" + ("  assembled | equilibrium" if eq else "  assembled"))
+        rows = []
+        for s in self.states:
+            cells = [s.name, _show(s.assembled, s.unit)]
+            if eq:
+                cells.append(_show(s.equilibrium, s.unit))
+            rows.append((*cells, s.description))
+        out += _table(rows)
+        out.append("")
+        out.append("continuation scales (SI, as system.scales()):")
+        out += _table([(q.name, f"{_g(q.value)} {q.unit}".rstrip()) for q in self.scales])
+        out.append("")
+        if self.findings:
+            out.append(f"findings: {len(self.findings)}")
+            out += [f"  - {f}" for f in self.findings]
+        else:
+            out.append("findings: none")
+        return "\n".join(out)
+
+
+def _g(v: float | None) -> str:
+    return "-" if v is None else f"{v:.4g}"
+
+
+def _show(v: float | None, unit: str) -> str:
+    """A value for display: radians as degrees, others with their unit."""
+    if v is None:
+        return "-"
+    if unit == "rad":
+        return f"{round(math.degrees(v), 4) + 0.0:.4f} deg"   # no "-0.0000"
+    return f"{v:.6g} {unit}".rstrip()
+
+
+def _table(rows) -> list[str]:
+    rows = [tuple(str(c) for c in r) for r in rows]
+    if not rows:
+        return ["  (none)"]
+    n = max(len(r) for r in rows)
+    widths = [max(len(r[i]) for r in rows if i < len(r)) for i in range(n - 1)]
+    return ["  " + "  ".join([*(c.ljust(w) for c, w in zip(r[:-1], widths)), r[-1]]).rstrip() for r in rows]
+
+
+# -- gathering ---------------------------------------------------------------------------------
+_DOF = re.compile(r"has (\d+) degree\(s\) of freedom, intended")
+
+
+def _build(mech: Mechanism, reduced: bool, overrides: Mapping[str, float]):
+    """Build ``mech``; a wrong dof count or a refused redundancy becomes a finding and a rebuild."""
+    findings: list[str] = []
+    for _ in range(3):
+        try:
+            build = mech.build_reduced if reduced else mech.build
+            return build(**overrides), findings, mech
+        except InputError as exc:
+            field_ = exc.field.rsplit(": ", 1)[-1]
+            m = _DOF.search(str(exc))
+            if field_ == "mechanism.dof" and m and int(m.group(1)) != mech.dof:
+                findings.append(str(exc))
+                mech = dataclasses.replace(mech, dof=int(m.group(1)))
+            elif field_ == "mechanism.redundant" and mech.redundant == "error":
+                findings.append(str(exc))
+                mech = dataclasses.replace(mech, redundant="drop")
+            else:
+                raise
+    raise AssertionError("unreachable: at most one rebuild per kind")  # pragma: no cover
+
+
+def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
+                 **overrides: float) -> CheckReport:
+    """Build a mechanism description and report what was made of it.
+
+    Parameters
+    ----------
+    mech_or_path:
+        A :class:`Mechanism`, a description file path or the stem of a shipped one.
+    reduced:
+        Check the reduced form instead of the full one.
+    **overrides:
+        Parameter values (SI) replacing the description's defaults.
+
+    Returns
+    -------
+    CheckReport
+        With :attr:`CheckReport.findings` listing a degree-of-freedom count other than
+        the intended one, an over-constrained mechanism refused by ``redundant = "error"``,
+        and any joint or dropped row left open by more than ``CLOSURE_TOL``.
+
+    Raises
+    ------
+    InputError
+        Any other reason the description cannot be read or built (e.g. a loop that
+        cannot close), as :meth:`Mechanism.build` raises it.
+    """
+    if isinstance(mech_or_path, Mechanism):
+        mech = mech_or_path
+        source = mech.source[0] if isinstance(mech.source, tuple) else "(Python object)"
+    else:
+        mech = load_description(mech_or_path)
+        source = str(find_description(mech_or_path))
+    intended = mech.dof
+    system, findings, _ = _build(mech, reduced, overrides)
+    x = system.defaults()
+    model = system.mechanics
+    nq, nc = len(model.coordinates), len(model.constraints)
+    report = system.dof
+
+    # loop closure per joint: equation names <joint>_x, _y, _n (m) and <joint>_angle (rad)
+    phi = np.abs(model.phi(x)) if nc else np.zeros(0)
+    gaps: dict[tuple[str, str], float] = {}
+    for eq, r in zip(system.equation_names[nq:], phi):
+        joint, kind = eq.rsplit("_", 1)
+        unit = "rad" if kind == "angle" else "m"
+        gaps[(joint, unit)] = max(gaps.get((joint, unit), 0.0), float(r))
+    closure = tuple(Quantity(j, v, u) for (j, u), v in gaps.items())
+    kept = {j for j, _ in gaps}
+    dropped_joints = {eq.rsplit("_", 1)[0] for eq in system.dropped_constraints}
+    eliminated = tuple(j.name for j in mech.joints if j.name not in kept and j.name not in dropped_joints)
+    for q in closure:
+        if not q.value <= CLOSURE_TOL:
+            findings.append(f"joint {q.name} is open by {q.value:.3g} {q.unit} at the assembled configuration")
+    dropped = system.dropped_residual(x) if system.dropped_constraints else None
+    if dropped is not None and not dropped <= CLOSURE_TOL:
+        findings.append(f"the dropped redundant rows are violated by {dropped:.3g} at the assembled configuration")
+    redundant = tuple((row, tuple(group)) for row, group in zip(system.dropped_constraints, report.redundant))
+
+    # equilibrium: the assembled configuration's imbalance, then Newton on every state from it
+    res = system.residual(x)[:nq]
+    worst = int(np.argmax(np.abs(res))) if nq else 0
+    coord = model.coordinates[worst] if nq else ""
+    imbalance = Quantity(system.equation_names[worst] if nq else "", float(np.abs(res[worst])) if nq else 0.0,
+                         "N m" if coord.startswith("theta") else "N")
+    reaction_scale = max([system.variable(n).scale for n in getattr(system, "reaction_names", ())] + [1.0])
+    xe, stability = None, None
+    if imbalance.value <= 1e-9 * reaction_scale:
+        imbalance = imbalance._replace(value=0.0)
+        xe, note = x.copy(), "reactions solved at the assembled configuration"
+    else:
+        try:
+            xe = assemble(system, guess=x)
+            scale = system.scales()
+            i = max(model.q_index, key=lambda k: abs(xe[k] - x[k]) / scale[k])
+            v = system.variables[i]
+            note = (f"an equilibrium at these parameter values, found by Newton from the assembled configuration "
+                    f"with every coordinate free (largest move: {v.name} by {_show(float(xe[i] - x[i]), v.unit)})")
+        except (ConvergenceError, InputError) as exc:
+            note = f"Newton from the assembled configuration with every coordinate free found no equilibrium ({exc})"
+    if xe is not None:
+        stability = model.stability(xe)
+
+    variables = system.variables
+    states = tuple(State(v.name, float(x[i]), None if xe is None else float(xe[i]), v.unit, v.description)
+                   for i, v in enumerate(variables) if v.kind == "state")
+    params = tuple(Quantity(v.name, float(x[i]), v.unit, v.description) for i, v in enumerate(variables)
+                   if v.kind == "parameter")
+    scales = tuple(Quantity(n, float(s), v.unit) for n, s, v in zip(system.names, system.scales(), variables))
+    return CheckReport(
+        name=mech.name, source=source, description=mech.description, reduced=reduced, dof=report.dof,
+        intended_dof=intended, rank=report.rank, n_coordinates=nq, n_constraints=nc,
+        n_equations=len(system.equations), n_unknowns=len(system.state_names),
+        n_parameters=len(system.parameter_names), redundant=redundant, dropped_residual=dropped,
+        closure=closure, eliminated_joints=eliminated, imbalance=imbalance, equilibrium_note=note,
+        stability=stability, scales=scales, parameters=params, states=states, findings=tuple(findings),
+        system=system, x=x, x_equilibrium=xe)
