@@ -3,7 +3,7 @@ events (LP, BP, CP, EP, user) and branch results."""
 
 from ._api import continuation, continue_folds, locate_fold, switch_branch
 from ._branch import Branch, SpecialPoint
-from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, PointState, ValueEvent
+from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent, PointState, ValueEvent
 from ._folds import CuspEvent, FoldProblem
 from ._newton import find_equilibrium
 from ._options import ContinuationOptions
@@ -11,6 +11,6 @@ from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns
 
 __all__ = [
     "continuation", "continue_folds", "switch_branch", "locate_fold", "find_equilibrium", "ContinuationOptions", "Branch",
-    "SpecialPoint", "Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "ValueEvent", "CuspEvent",
+    "SpecialPoint", "Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "CuspEvent",
     "PointState", "ContinuationProblem", "EquilibriumProblem", "FoldProblem", "choose_unknowns",
 ]

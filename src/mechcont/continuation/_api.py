@@ -9,7 +9,7 @@ import numpy as np
 from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 from ._branch import Branch, SpecialPoint
-from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent
+from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent
 from ._folds import FoldProblem, fold_quantities, polish_fold, refine_fold
 from ._options import ContinuationOptions
 from ._palc import run_direction
@@ -49,16 +49,23 @@ def _bound_events(system: EquationSystem, options: ContinuationOptions) -> list[
     return evs
 
 
-def _equilibrium_events(system, options: ContinuationOptions, events) -> list[Event]:
+def _limit_events(system: EquationSystem, moving: Iterable[str]) -> list[Event]:
+    """``EP`` at the edge of every physical range that the ``moving`` parameters change."""
+    params = [n for n in moving if system.variable(n).kind == "parameter"]
+    return [LimitEvent(system, i) for i in system.limits_of(params)]
+
+
+def _equilibrium_events(system, options: ContinuationOptions, events, moving: Iterable[str] = ()) -> list[Event]:
     evs: list[Event] = []
     if options.detect_folds:
         evs.append(FoldEvent())
     if options.detect_branch_points:
         evs.append(BranchPointEvent())
-    return evs + list(events) + _bound_events(system, options)
+    return evs + list(events) + _bound_events(system, options) + _limit_events(system, moving)
 
 
 def _check_start(system, problem, u0, options, start_x):
+    system.check_limits(start_x)
     r = problem.residual(u0)
     if not np.all(np.isfinite(r)) or np.max(np.abs(r)) > 1e3 * options.residual_tol:
         raise InputError("start", f"is not a solution (max residual {np.max(np.abs(r)):.3g}); "
@@ -146,7 +153,7 @@ def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str
     problem = _Equilibria(system, x0, vary, unknowns, scales=options.scales, stability=options.stability)
     u0 = problem.u_of(x0)
     _check_start(system, problem, u0, options, x0)
-    evs = _equilibrium_events(system, options, events)
+    evs = _equilibrium_events(system, options, events, moving=(*unknowns, vary))
     return _run(problem, system, u0, options, evs, direction, vary, unknowns)
 
 
@@ -210,7 +217,8 @@ def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: 
     from dataclasses import replace
 
     opts = replace(options, stability=False)
-    evs = problem.test_functions() + _bound_events(system, options)
+    system.check_limits(x)
+    evs = problem.test_functions() + _bound_events(system, options) + _limit_events(system, (*states, vary, free))
     if stop_at_cusp:
         for ev in evs:
             if ev.label == "CP":
@@ -273,7 +281,7 @@ def switch_branch(system: EquationSystem, bp: SpecialPoint, *, options: Continua
         raise InputError("bp", "degenerate branch point (second derivatives vanish); the new direction is unknown")
     t_new = c22 * phi1 - 2 * c12 * phi2
     t_new /= np.linalg.norm(t_new)
-    evs = _equilibrium_events(system, options, events)
+    evs = _equilibrium_events(system, options, events, moving=(*unknowns, vary))
     branch = _run(problem, system, u0, options, evs, direction, vary, unknowns, tangent0=t_new)
     i0 = int(np.argmin(np.abs(branch.s)))
     if not branch.labels[i0]:

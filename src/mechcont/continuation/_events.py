@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "ValueEvent", "PointState"]
+__all__ = ["Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "PointState"]
 
 
 @dataclass
@@ -48,6 +48,10 @@ class Event:
     def refine(self, problem, state: PointState):
         """Optionally improve a located point; returns ``(u, info)`` or ``None``."""
         return None
+
+    def point_info(self) -> dict:
+        """Extra information recorded with the special point (e.g. why a branch ended)."""
+        return {}
 
 
 class FoldEvent(Event):
@@ -91,6 +95,30 @@ class BoundEvent(Event):
 
     def value(self, problem, state):
         return float(self.side * (state.x[self.index] - self.bound))
+
+
+class LimitEvent(Event):
+    """End point (``EP``) at the edge of a physical range: ``system.limits[index]`` reaches 0.
+
+    A length, mass or stiffness that the continuation parameter (or a freed parameter)
+    drives to zero ends the branch there, located exactly, instead of continuing into
+    values no mechanism can have.
+    """
+
+    label = "EP"
+    stop = True
+
+    def __init__(self, system, index: int):
+        self.system, self.index = system, index
+        self.limit = system.limits[index]
+        self.name = self.limit.name
+
+    def value(self, problem, state):
+        return float(self.system.limit_values(state.x)[self.index])
+
+    def point_info(self) -> dict:
+        what = self.limit.description or self.name
+        return {"limit": self.name, "reason": f"physical limit: {self.name} ({what}) reaches 0"}
 
 
 class ValueEvent(Event):

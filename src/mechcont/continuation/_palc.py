@@ -211,7 +211,7 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
         leaving = [ev for ev, v0, v1 in zip(events, values, new_values) if ev.stop and v0 == 0 and v1 < 0]
         if leaving:  # started exactly on a bound and this direction leaves the interval
             res.labels[-1] = leaving[0].label
-            res.info[-1] = {**res.info[-1], "bound_of": getattr(leaving[0], "name", "")}
+            res.info[-1] = {**res.info[-1], "bound_of": getattr(leaving[0], "name", ""), **leaving[0].point_info()}
             res.message = f"start lies on the bound of {getattr(leaving[0], 'name', leaving[0].label)}"
             return res
         hits = []
@@ -258,14 +258,15 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
                 continue  # the start itself is the special point (e.g. leaving a BP)
             if st is None:
                 continue
-            record(st, ev.label, info, s + sigma)
+            record(st, ev.label, {**info, **ev.point_info()}, s + sigma)
             if ev.stop:
                 stop = True
                 break
         if stop:
             res.status = "completed"
-            what = res.info[-1].get("bound_of")
-            res.message = f"reached bound of {what}" if what else f"stopped at {res.labels[-1]}"
+            what, why = res.info[-1].get("bound_of"), res.info[-1].get("reason")
+            res.message = f"reached bound of {what}" if what else (f"stopped at the {why}" if why else
+                                                                    f"stopped at {res.labels[-1]}")
             return res
         s += step
         record(new, s=s)

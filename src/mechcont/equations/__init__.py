@@ -2,6 +2,6 @@
 
 from ._mechanics import MechanicalModel, StabilityResult, velocity_symbol
 from ._scene import Scene
-from ._system import EquationSystem, Variable
+from ._system import EquationSystem, Limit, Variable
 
-__all__ = ["EquationSystem", "Variable", "MechanicalModel", "StabilityResult", "velocity_symbol", "Scene"]
+__all__ = ["EquationSystem", "Variable", "Limit", "MechanicalModel", "StabilityResult", "velocity_symbol", "Scene"]

@@ -18,7 +18,7 @@ import sympy as sp
 from ..errors import InputError
 from ._codegen import compile_dense, derivative_entries, to_engine
 
-__all__ = ["Variable", "EquationSystem"]
+__all__ = ["Variable", "Limit", "EquationSystem"]
 
 
 @dataclass(frozen=True)
@@ -63,6 +63,38 @@ class Variable:
         return sp.Symbol(self.name, real=True)
 
 
+@dataclass(frozen=True)
+class Limit:
+    """A physical range of a model: ``expr > 0`` (``strict``) or ``expr >= 0``.
+
+    ``expr`` is a SymPy expression in the variables' symbols (usually parameters only: a
+    length, a mass, a stiffness, written as the description gives them). Solves refuse
+    values outside every limit, and continuation ends at the edge (``EP``) of a limit that
+    the continued or freed parameters move.
+
+    Parameters
+    ----------
+    name:
+        Where the quantity comes from, e.g. ``"bodies.1.length"`` or ``"L1"``.
+    expr:
+        The quantity, in SI units.
+    strict:
+        True when the quantity must be positive, False when zero is allowed.
+    description:
+        What it is, with its unit, e.g. ``"length (m)"``.
+    """
+
+    name: str
+    expr: sp.Expr
+    strict: bool = True
+    description: str = ""
+
+    def message(self, value: float) -> str:
+        """The one-line reason a value violates (or reaches the edge of) this limit."""
+        what = self.description or "value"
+        return f"{what} must be {'positive' if self.strict else 'non-negative'}, got {value:g}"
+
+
 @dataclass
 class EquationSystem:
     """Equations ``G(x) = 0`` over named variables, compiled with exact derivatives.
@@ -91,6 +123,9 @@ class EquationSystem:
         Optional callable ``check_values({name: value})`` raising
         :class:`~mechcont.errors.InputError` for physically impossible parameter values
         (a negative mass, a zero length); solves call it on the values they are given.
+    limits:
+        :class:`Limit` objects: physical ranges (lengths, masses, stiffnesses) that solves
+        check and continuation stops at (``EP``).
 
     Attributes
     ----------
@@ -106,12 +141,14 @@ class EquationSystem:
     description: str = ""
     scene: object | None = None
     check_values: object | None = None
+    limits: Sequence[Limit] = ()
     # compiled code, filled on first use and shared by copies (with_values, load_model)
     _code: dict = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self):
         self.variables = tuple(self.variables)
         self.equations = tuple(sp.sympify(e) for e in self.equations)
+        self.limits = tuple(self.limits)
         self.names = tuple(v.name for v in self.variables)
         if len(set(self.names)) != len(self.names):
             dup = sorted({n for n in self.names if self.names.count(n) > 1})
@@ -221,6 +258,26 @@ class EquationSystem:
             hess_ik=h[:, 0] * n + h[:, 2],
         )
         return self
+
+    def limit_values(self, x: np.ndarray) -> np.ndarray:
+        """Value of every :attr:`limits` quantity at the full vector ``x`` (SI units)."""
+        if not self.limits:
+            return np.zeros(0)
+        fn = self._code.get("limits")
+        if fn is None:
+            fn = self._code["limits"] = compile_dense(self.symbols, [lim.expr for lim in self.limits])
+        return np.asarray(fn(np.asarray(x, dtype=float)), dtype=float).reshape(-1)
+
+    def check_limits(self, x: np.ndarray) -> None:
+        """Raise :class:`InputError` naming the first limit that ``x`` violates."""
+        for lim, v in zip(self.limits, self.limit_values(x)):
+            if not math.isfinite(v) or (v <= 0 if lim.strict else v < 0):
+                raise InputError(lim.name, lim.message(v))
+
+    def limits_of(self, names: Iterable[str]) -> list[int]:
+        """Indices of the limits whose quantity depends on any of ``names``."""
+        syms = {self.variable(n).symbol for n in names}
+        return [i for i, lim in enumerate(self.limits) if lim.expr.free_symbols & syms]
 
     def residual(self, x: np.ndarray) -> np.ndarray:
         """G(x): one residual per equation (units of each equation), ``x`` in :attr:`names` order."""

@@ -29,7 +29,7 @@ from ._forces import loads
 from ._kinematics import ConstraintRow, Kinematics, pin_chain
 from ._reduce import reduce_form
 from ._scene import scene_function
-from ._values import check_values, evaluate, parameter_values
+from ._values import check_values, evaluate, parameter_values, physical_limits
 
 __all__ = ["generate"]
 
@@ -215,6 +215,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
         mechanics=model,
         description=(mech.description or f"generated from the description of {mech.name}")
         + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
+        limits=physical_limits(mech, solve=True),
     )
     system.scene = scene_function(kin, ld.arrows, system.symbols, subs)
     system.potential_energy = V

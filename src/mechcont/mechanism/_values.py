@@ -7,10 +7,11 @@ from collections.abc import Mapping
 
 import sympy as sp
 
+from ..equations import Limit
 from ..errors import InputError
 from ._description import Drag, Mechanism, PointForce
 
-__all__ = ["parameter_values", "check_values", "evaluate"]
+__all__ = ["parameter_values", "check_values", "physical_limits", "evaluate"]
 
 
 def parameter_values(mech: Mechanism, overrides: Mapping[str, float]) -> dict[str, float]:
@@ -37,21 +38,18 @@ def evaluate(expr: sp.Expr, values: Mapping[str, float], field: str) -> float:
     return out
 
 
-def check_values(mech: Mechanism, values: Mapping[str, float], *, solve: bool = False) -> None:
-    """Reject physically impossible values (at the parameter ``values``).
+def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
+    """The physical ranges of a description's quantities, as :class:`~mechcont.equations.Limit`.
 
-    Lengths, masses, inertias, spring stiffnesses, free lengths and drag diameters must be
-    positive; damping, air density and drag coefficient non-negative; a force direction
-    non-zero. With ``solve=True`` (values given for one analysis, not the file's
-    defaults) a spring stiffness of zero is allowed: it disconnects the spring, as in the
-    paper's Fig. 7 ("no spring load"). Raises :class:`InputError` naming the key path
-    and the value.
+    Lengths, masses, inertias, free lengths and drag diameters must be positive; damping,
+    air density and drag coefficient non-negative; spring stiffness positive in the file
+    (``solve=False``) and non-negative for an analysis (zero disconnects the spring, as in
+    the paper's Fig. 7, "no spring load"). Each limit is named by its key path.
     """
+    out: list[Limit] = []
+
     def need(field: str, positive: bool, what: str) -> None:
-        v = evaluate(mech.value(field), values, field)
-        if (v <= 0) if positive else (v < 0):
-            sign = "positive" if positive else "non-negative"
-            raise InputError(field, f"{what} must be {sign}, got {v:g}")
+        out.append(Limit(field, mech.value(field), positive, what))
 
     for b in mech.bodies:
         f = f"bodies.{b.name}"
@@ -66,13 +64,30 @@ def check_values(mech: Mechanism, values: Mapping[str, float], *, solve: bool = 
     for d in mech.dampers:
         need(f"dampers.{d.name}.c", False, "damping (N s/m)")
     for ld in mech.loads:
-        f = f"loads.{ld.name}"
         if isinstance(ld, Drag):
+            f = f"loads.{ld.name}"
             need(f + ".rho", False, "air density (kg/m^3)")
             need(f + ".d", True, "diameter (m)")
             need(f + ".CD", False, "drag coefficient")
-            if ld.start == ld.end:
-                raise InputError(f + ".end", "the drag segment needs two different points")
+    return out
+
+
+def check_values(mech: Mechanism, values: Mapping[str, float], *, solve: bool = False) -> None:
+    """Reject physically impossible values (at the parameter ``values``).
+
+    Every :func:`physical_limits` quantity must lie in its range, a drag segment needs two
+    points and a force direction must be non-zero. With ``solve=True`` (values given for one
+    analysis, not the file's defaults) a spring stiffness of zero is allowed. Raises
+    :class:`InputError` naming the key path and the value.
+    """
+    for lim in physical_limits(mech, solve=solve):
+        v = evaluate(lim.expr, values, lim.name)
+        if (v <= 0) if lim.strict else (v < 0):
+            raise InputError(lim.name, lim.message(v))
+    for ld in mech.loads:
+        f = f"loads.{ld.name}"
+        if isinstance(ld, Drag) and ld.start == ld.end:
+            raise InputError(f + ".end", "the drag segment needs two different points")
         if isinstance(ld, PointForce) and isinstance(ld.direction, (tuple, list)):
             ux = evaluate(mech.value(f + ".direction.x"), values, f + ".direction")
             uy = evaluate(mech.value(f + ".direction.y"), values, f + ".direction")

@@ -59,7 +59,7 @@ import math
 import numpy as np
 import sympy as sp
 
-from ..equations import EquationSystem, MechanicalModel, Scene, Variable, velocity_symbol
+from ..equations import EquationSystem, Limit, MechanicalModel, Scene, Variable, velocity_symbol
 from ..errors import InputError
 from .nose_gear_geometry import PARAMETERS, defaults, downlocked_pose
 
@@ -260,6 +260,7 @@ def build_nose_gear(**overrides: float) -> EquationSystem:
     ``downlock_force = "F"``, ``check_values`` (valid ranges) and ``assemble_downlocked``
     (closed-form guess) for :func:`mechcont.analysis.downlock.downlock`.
     """
+    check_values(overrides)
     p = defaults(**overrides)
     q = downlocked_pose(p, 0.0)
     variables = []
@@ -284,6 +285,8 @@ def build_nose_gear(**overrides: float) -> EquationSystem:
         equation_names=[*g_labels, *e_labels],
         mechanics=mech,
         description="Planar nose landing gear, paper Section III-A: 15 coordinates + 10 inter-link forces, 25 equations",
+        limits=[Limit(n, s[n], n in _POSITIVE, f"{PARAMETERS[n][3]} ({PARAMETERS[n][1]})")
+                for n in (*_POSITIVE, *_NON_NEGATIVE) if n in s],
     )
     system.potential_energy = V
     system.downlock_hold = {"theta4": 0.0}

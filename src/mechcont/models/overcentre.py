@@ -37,7 +37,7 @@ import math
 import numpy as np
 import sympy as sp
 
-from ..equations import EquationSystem, MechanicalModel, Variable, velocity_symbol
+from ..equations import EquationSystem, Limit, MechanicalModel, Variable, velocity_symbol
 
 __all__ = ["build_overcentre", "symmetric_force", "symmetric_folds", "symmetric_cusp", "symmetric_stable",
            "DEFAULTS"]
@@ -98,6 +98,7 @@ def build_overcentre(**overrides: float) -> EquationSystem:
     from dataclasses import replace
 
     new.variables = tuple(replace(v, scale=fresh[v.name].scale) for v in new.variables)
+    new.check_limits(new.defaults())
     return new
 
 
@@ -141,6 +142,10 @@ def _build(p: dict) -> EquationSystem:
         equation_names=["pin1_x", "pin1_y", "apex_x", "apex_y", "slider_y", "equilibrium"],
         mechanics=mech,
         description="Overcentre mechanism, paper eq. 6 (6 states, one equilibrium row)",
+        limits=[Limit("L1", L1, True, "length of bar 1 (m)"), Limit("L2", L2, True, "length of bar 2 (m)"),
+                Limit("m1", m1, True, "mass of bar 1 (kg)"), Limit("m2", m2, True, "mass of bar 2 (kg)"),
+                Limit("k", k, False, "spring stiffness (N/m)"), Limit("LU", LU, True, "unstrained spring length (m)"),
+                Limit("c", c, False, "damping (N s/m)")],
     )
     system.potential_energy = V
     from .overcentre_scene import overcentre_scene
