@@ -37,9 +37,12 @@ class Scene:
         ``(name, point, value)``: an applied moment (N m, counter-clockwise positive) drawn
         around ``point`` (for a moment on a body pinned to the ground: that pin).
     anchors:
-        Ground points (2,) that springs or dampers are attached to (no joint there).
+        Ground points (2,) that springs, dampers or actuators are attached to (no joint there).
     dampers:
         ``(name, start, end)``: a damper between two points.
+    actuators:
+        ``(name, start, end, tension)``: an actuator between two points and its load (N,
+        positive in tension: pulling its ends together).
     points:
         ``(name, position)``: named points, for labels only (e.g. ``"crank.b"``,
         ``"ground.A"``); not part of :meth:`extent`.
@@ -55,12 +58,14 @@ class Scene:
     anchors: list[np.ndarray] = field(default_factory=list)
     dampers: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
     points: list[tuple[str, np.ndarray]] = field(default_factory=list)
+    actuators: list[tuple[str, np.ndarray, np.ndarray, float]] = field(default_factory=list)
 
     def extent(self) -> tuple[float, float, float, float]:
         """Bounding box ``(xmin, xmax, ymin, ymax)`` of every primitive (m)."""
         pts = [p for _, b in self.bars for p in np.atleast_2d(b)] + list(self.pins) + list(self.grounds)
         pts += [p for p, _ in self.sliders] + [p for _, a, b in self.springs for p in (a, b)]
         pts += [p for _, a, b in self.dampers for p in (a, b)] + list(self.anchors)
+        pts += [p for _, a, b, _ in self.actuators for p in (a, b)]
         pts += [p for _, p, _ in self.forces] + [p for _, p, _ in self.moments]
         arr = np.array(pts, dtype=float).reshape(-1, 2)
         return float(arr[:, 0].min()), float(arr[:, 0].max()), float(arr[:, 1].min()), float(arr[:, 1].max())

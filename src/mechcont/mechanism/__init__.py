@@ -18,8 +18,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..equations import EquationSystem
+from ._actuators import Actuator
 from ._assembly import DofReport, assemble, close_constraints, dof_report
 from ._check import CheckReport, check_report
+from ._conditions import Condition, DownlockSpec
 from ._description import (
     Body,
     CustomLoad,
@@ -43,7 +45,8 @@ from ._file import builtin_descriptions, find_description, load_description, par
 __all__ = [
     "load", "load_description", "parse_description", "builtin_descriptions", "find_description",
     "Mechanism", "Parameter", "Polar", "Body", "Revolute", "Slider", "Prismatic", "Weld", "Spring", "Damper",
-    "Gravity", "PointForce", "Moment", "Drag", "CustomLoad", "coordinate_names",
+    "Gravity", "PointForce", "Moment", "Drag", "CustomLoad", "Actuator", "Condition", "DownlockSpec",
+    "coordinate_names",
     "assemble", "dof_report", "DofReport", "close_constraints", "check_report", "CheckReport",
 ]
 

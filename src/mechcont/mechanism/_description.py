@@ -25,6 +25,8 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..errors import InputError
+from ._actuators import Actuator, check_actuators
+from ._conditions import Condition, DownlockSpec, check_conditions
 from ._expr import Value, symbol, to_expr
 
 __all__ = [
@@ -304,6 +306,9 @@ class Mechanism:
     description: str = ""
     source: object | None = field(default=None, repr=False)
     redundant: str = "error"
+    conditions: Sequence[Condition] = ()
+    actuators: Sequence[Actuator] = ()
+    downlock: DownlockSpec | None = None
 
     def __post_init__(self):
         self.parameters = tuple(self.parameters)
@@ -312,6 +317,7 @@ class Mechanism:
         self.springs, self.dampers, self.loads = tuple(self.springs), tuple(self.dampers), tuple(self.loads)
         self.ground = dict(self.ground)
         self.hold = dict(self.hold)
+        self.conditions, self.actuators = tuple(self.conditions), tuple(self.actuators)
         self._validate()
 
     # -- validation -----------------------------------------------------------------
@@ -352,7 +358,7 @@ class Mechanism:
             _check_name(name, f"ground.{name}")
         seen: dict[str, str] = {}
         groups = [("joints", self.joints), ("springs", self.springs), ("dampers", self.dampers),
-                  ("loads", self.loads)]
+                  ("loads", self.loads), ("actuators", self.actuators), ("conditions", self.conditions)]
         for group, items in groups:
             for it in items:
                 _check_name(it.name, f"{group}.{it.name}")
@@ -386,6 +392,8 @@ class Mechanism:
                     self.point_ref(f"{ld.body}.{ld.end}", f + ".end")
             else:
                 raise InputError(f, f"unknown load type {type(ld).__name__}")
+        check_actuators(self)
+        check_conditions(self)
         for name in self.hold:
             if name not in self.coordinate_symbols:
                 raise InputError(f"assembly.hold.{name}",
@@ -458,13 +466,23 @@ class Mechanism:
                     yield f"{f}.{attr}", getattr(ld, attr)
         for k, v in self.hold.items():
             yield f"assembly.hold.{k}", v
+        for act in self.actuators:
+            for key in ("force", "length"):
+                if getattr(act, key) is not None:
+                    yield f"actuators.{act.name}.{key}", getattr(act, key)
+        for c in self.conditions:
+            if c.kind == "expression" and c.expr is not None:
+                yield f"conditions.{c.name}.expr", c.expr
+            if c.target is not None:
+                yield f"conditions.{c.name}.target", c.target
 
     def expr(self, value: Value, field: str) -> sp.Expr:
-        """Parse ``value`` over the parameters (and, for custom loads, the coordinates)."""
+        """Parse ``value`` over the parameters (and, for custom loads and conditions, the coordinates)."""
         if isinstance(value, sp.Basic):
             return value
         known = dict(self.param_symbols)
-        if field.startswith("loads.") and field.rsplit(".", 1)[-1] in ("fx", "fy", "moment"):
+        if (field.startswith("loads.") and field.rsplit(".", 1)[-1] in ("fx", "fy", "moment")) or (
+                field.startswith("conditions.") and field.endswith(".expr")):
             known.update(self.coordinate_symbols)
         return to_expr(value, field, known)
 

@@ -18,6 +18,18 @@ Layout (every number may be an expression string in the parameter names)::
                            type = "drag": body, rho, U, alpha, d, CD, start, end
                            type = "custom": at, fx, fy, moment (may use coordinates)
     [assembly]             hold = {COORDINATE = value}
+    [actuators.NAME]       a, b, and either force (tension N, + pulls a and b together: a number
+                           or an expression in the parameters) or length (m; a constraint whose
+                           reaction T_NAME is the tension), description
+    [conditions]           NAME = "expression in coordinates and parameters"  or
+                           NAME = {type = "expression", expr, unit, target, description}
+                                | {type = "collinear", points = [P1, P2, P3], target, description}
+                                | {type = "distance", points = [P, Q], target, description}
+                                | {type = "angle", bodies = [b1, b2], target, description}
+                           (each adds the state NAME and the row cond_NAME: c(q, p) - NAME = 0;
+                           see mechcont.mechanism._conditions for the sign conventions)
+    [mechanism] downlock = {condition = NAME, force = PARAMETER}: the condition held (at its
+                           target) and the force solved for by ``mechcont downlock``/``design``
 
 Point references are ``"<body>.<point>"`` or ``"ground.<point>"``.
 """
@@ -30,6 +42,8 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from ..errors import InputError
+from ._actuators import ACTUATOR_KEYS, actuators_from_table
+from ._conditions import conditions_from_table, downlock_from_table
 from ._description import (
     Body,
     CustomLoad,
@@ -58,12 +72,14 @@ _LOADS = {"force": (PointForce, {"at", "magnitude", "direction"}), "moment": (Mo
           "drag": (Drag, {"body", "rho", "U", "alpha", "d", "CD", "start", "end"}),
           "custom": (CustomLoad, {"at", "fx", "fy", "moment"})}
 _SECTIONS = {"mechanism", "parameters", "ground", "bodies", "joints", "springs", "dampers", "gravity", "loads",
-             "assembly"}
+             "assembly", "actuators", "conditions"}
 #: The keys accepted in each table other than ``[joints.NAME]``/``[loads.NAME]`` (whose keys,
 #: per ``type``, are in ``_JOINTS``/``_LOADS``), by key path; ``NAME`` stands for a user's name.
 #: The parser checks against these sets and docs/mechanism-format.md is tested against them.
 KEYS: dict[str, frozenset[str]] = {
-    "mechanism": frozenset({"name", "description", "dof", "redundant"}),
+    "mechanism": frozenset({"name", "description", "dof", "redundant", "downlock"}),
+    "mechanism.downlock": frozenset({"condition", "force"}),
+    "actuators.NAME": ACTUATOR_KEYS,
     "parameters.NAME": frozenset({"value", "unit", "description", "scale"}),
     "bodies.NAME": frozenset({"mass", "length", "inertia", "cg", "points", "initial", "description"}),
     "bodies.NAME.points.NAME": frozenset({"r", "angle"}),
@@ -259,9 +275,13 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
     _only(assembly, KEYS["assembly"], "assembly")
     hold = dict(_table(assembly, "hold", "assembly.hold"))
     dof = head.get("dof", 1)
+    actuators = actuators_from_table(_table(data, "actuators", "actuators"))
+    conditions = conditions_from_table(_table(data, "conditions", "conditions"))
+    downlock = downlock_from_table(head["downlock"]) if "downlock" in head else None
     return Mechanism(name, params, bodies, joints, ground, springs, dampers, loads, gravity, dof, hold,
                      _text(head.get("description", ""), "mechanism.description"),
-                     redundant=head.get("redundant", "error"))
+                     redundant=head.get("redundant", "error"), conditions=conditions, actuators=actuators,
+                     downlock=downlock)
 
 
 # -- locating keys in the text ----------------------------------------------------------------

@@ -1,7 +1,7 @@
 """Symbolic applied loads of a described mechanism: potential energy and other forces.
 
-Conservative loads (gravity, springs, fixed-direction point forces and pure moments whose
-magnitudes are parameters) enter through the potential ``V``; the generalised forces are
+Conservative loads (gravity, springs, force-mode actuators, fixed-direction point forces and
+pure moments whose magnitudes are parameters) enter through the potential ``V``; the generalised forces are
 ``Q = -dV/dq + Q_nc`` where ``Q_nc`` collects drag, custom loads (virtual work
 ``f . dP/dq + M dtheta/dq``) and dampers (``-c dl/dt dl/dq``, using the velocity symbols).
 """
@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..equations import velocity_symbol
+from ._actuators import actuator_potential
 from ._description import CustomLoad, Drag, Moment, PointForce
 from ._kinematics import Kinematics
 
@@ -60,6 +61,7 @@ def loads(kin: Kinematics) -> Loads:
         k, l0, pre = mech.value(f + ".k"), mech.value(f + ".free_length"), mech.value(f + ".preload")
         length = _length(kin, s.a, s.b)
         V += pre * length + k / 2 * (length - l0) ** 2
+    V += actuator_potential(kin)
     qd = [velocity_symbol(n) for n in kin.coords]
     for d in mech.dampers:
         c = mech.value(f"dampers.{d.name}.c")

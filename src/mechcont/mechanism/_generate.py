@@ -5,8 +5,11 @@ named ``R_<joint>_x``, ``R_<joint>_y``, ``R_<joint>`` or ``T_<joint>``). Equatio
 
     Q(q, p) - Phi_q(q, p)^T lambda = 0     (one row per coordinate: Fx_<b>, Fy_<b>, M_<b>)
     Phi(q, p) = 0                           (one row per constraint: <joint>_x, ...)
+    c(q, p) - NAME = 0                      (one row per condition: cond_<NAME>, state NAME)
 
-with ``Q = -dV/dq + Q_nc`` at rest (see :mod:`._forces`). For a body whose frame origin is
+with ``Q = -dV/dq + Q_nc`` at rest (see :mod:`._forces`). Length-mode actuators are
+constraint rows (reaction ``T_<actuator>``, see :mod:`._actuators`); condition rows are
+outputs that the mechanics never see (see :mod:`._conditions`). For a body whose frame origin is
 its centre of gravity the rows are exactly the force and moment balance of that body with
 the inter-link forces as unknowns, as in the paper. The reduced form is described in
 :mod:`._reduce`.
@@ -23,6 +26,7 @@ import sympy as sp
 from ..equations import EquationSystem, MechanicalModel, Variable, velocity_symbol
 from ..errors import InputError
 from ._assembly import close_constraints, dof_report
+from ._conditions import condition_description, condition_rows, condition_scale, condition_targets
 from ._description import Mechanism, PointForce
 from ._expr import symbol
 from ._forces import loads
@@ -120,6 +124,12 @@ def _loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray) -> 
     for row, r in zip(rows, phi):
         gaps[row.joint] = math.hypot(gaps.get(row.joint, 0.0), r)
     worst = max(gaps, key=gaps.get)
+    actuators = {n: g for n, g in gaps.items() if g > 1e-9 and any(a.name == n for a in mech.actuators)}
+    if actuators:  # a length-mode actuator that cannot reach its length: name it, not a joint
+        held = f" with held {', '.join(f'{k} = {v}' for k, v in mech.hold.items())}" if mech.hold else ""
+        return InputError(f"actuators.{max(actuators, key=actuators.get)}.length",
+                          f"cannot be met{held}: the loop through the actuator misses by {sum(gaps.values()):.4g} m "
+                          f"at best")
     joint = next(j for j in mech.joints if j.name == worst)
     start, goal = joint.a.split(".")[0], joint.b.split(".")[0]
     edges = [(j.name, j.a.split(".")[0], j.b.split(".")[0]) for j in mech.joints if j.name != worst]
@@ -170,10 +180,13 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
         coords, mass, subs, V = list(kin.coords), M, {}, ld.V
         forces = [-sp.diff(ld.V, qi) + qnc for qi, qnc in zip(kin.q, ld.Q_nc)]
     Lc, Fc = _scales(mech, values)
-    equilibrium, model = _equilibrium(mech, coords, rows, forces, mass)
+    conditions = condition_rows(kin, subs)
+    cnames = [c.name for c, _ in conditions]
+    equilibrium, model = _equilibrium(mech, coords, rows, forces, mass, cnames)
     # -- first assembly: consistent coordinates near the initial guess ------------------
     guess = _initial_guess(mech, kin, values)
-    x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * len(rows) + [values[p.name] for p in mech.parameters])
+    x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * (len(rows) + len(cnames))
+                 + [values[p.name] for p in mech.parameters])
     free_q = np.array([c not in mech.hold for c in coords])
     x, ok = close_constraints(model.phi, model.phi_q, x, model.q_index, free_q)
     if not ok:
@@ -182,6 +195,8 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
     if report.dof != mech.dof:
         red = report.redundant_joints
         why = (f"; {len(report.dependent)} redundant constraint(s) among joints {', '.join(red)}" if red else "")
+        if any(a.length is not None for a in mech.actuators):
+            why += "; each actuator given a length locks one degree of freedom"
         raise InputError("mechanism.dof", f"the assembled mechanism has {report.dof} degree(s) of freedom, intended "
                                           f"{mech.dof} (rank {report.rank} of {len(rows)} constraints on "
                                           f"{len(coords)} coordinates){why}")
@@ -193,9 +208,14 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
         keep = [i for i in range(len(rows)) if i not in set(report.dependent)]
         x = np.concatenate([x[:len(coords)], np.zeros(len(keep)), x[len(coords) + len(rows):]])
         rows = [rows[i] for i in keep]
-        equilibrium, model = _equilibrium(mech, coords, rows, forces, mass)
+        equilibrium, model = _equilibrium(mech, coords, rows, forces, mass, cnames)
     nq = len(coords)
     x[nq:nq + len(rows)] = model.multipliers(x)
+    if conditions:  # each condition's value at the assembled configuration
+        from ..equations._codegen import compile_dense
+
+        at = compile_dense([symbol(n) for n in model.names], [e for _, e in conditions])
+        x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(at(x), dtype=float).reshape(-1)
     variables = []
     for c, v in zip(coords, x):
         angle = c.startswith("theta")
@@ -203,15 +223,20 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
                                   f"{'angle' if angle else c[0] + ' position'} of body frame"))
     for r, v in zip(rows, x[nq:]):
         variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc,
+                                  f"tension of actuator {r.joint} (+ pulls its ends together)"
+                                  if r.equation == f"{r.joint}_length" else
                                   f"reaction of joint {r.joint} (on its second body)"))
+    for (c, _), v in zip(conditions, x[nq + len(rows):]):
+        variables.append(Variable(c.name, "state", float(v), c.value_unit, condition_scale(c, Lc, Fc),
+                                  condition_description(c)))
     for p in mech.parameters:
         val = values[p.name]
         variables.append(Variable(p.name, "parameter", val, p.unit, _parameter_scale(p, val, Lc, Fc), p.description))
     system = EquationSystem(
         name=mech.name + ("_reduced" if reduced else ""),
         variables=variables,
-        equations=[*equilibrium, *(r.expr for r in rows)],
-        equation_names=[*(_row_name(c) for c in coords), *(r.equation for r in rows)],
+        equations=[*equilibrium, *(r.expr for r in rows), *(e - symbol(c.name) for c, e in conditions)],
+        equation_names=[*(_row_name(c) for c in coords), *(r.equation for r in rows), *(f"cond_{n}" for n in cnames)],
         mechanics=model,
         description=(mech.description or f"generated from the description of {mech.name}")
         + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
@@ -227,12 +252,19 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
     system.coordinates_of = _coordinates_of(kin, system, subs)
     system.dropped_constraints = tuple(r.equation for r in dropped)
     system.dropped_residual = _dropped_residual(system, dropped)
+    system.conditions = condition_targets(mech, values)
+    if mech.downlock is not None:
+        system.downlock_hold = {mech.downlock.condition: system.conditions[mech.downlock.condition]}
+        system.downlock_force = mech.downlock.force
     return system  # compiled on first numeric use
 
 
 def _equilibrium(mech: Mechanism, coords: list[str], rows: list[ConstraintRow], forces: list[sp.Expr],
-                 mass: sp.Matrix) -> tuple[list[sp.Expr], MechanicalModel]:
-    """Equilibrium rows ``Q - Phi_q^T lambda`` (at rest) and the compiled mechanical model."""
+                 mass: sp.Matrix, conditions: list[str] = ()) -> tuple[list[sp.Expr], MechanicalModel]:
+    """Equilibrium rows ``Q - Phi_q^T lambda`` (at rest) and the compiled mechanical model.
+
+    ``conditions`` are the names of the condition states (variables after the reactions;
+    not coordinates of the mechanics)."""
     q = [symbol(c) for c in coords]
     at_rest = {velocity_symbol(c): 0 for c in coords}
     lam = [symbol(r.reaction) for r in rows]
@@ -244,10 +276,12 @@ def _equilibrium(mech: Mechanism, coords: list[str], rows: list[ConstraintRow], 
             if d != 0:
                 e -= d * lk
         equilibrium.append(e)
-    names = [*coords, *(r.reaction for r in rows), *(p.name for p in mech.parameters)]
+    names = [*coords, *(r.reaction for r in rows), *conditions, *(p.name for p in mech.parameters)]
     clash = {n for n in names if names.count(n) > 1}
     if clash:
-        raise InputError(f"parameters.{sorted(clash)[0]}", "clashes with a generated coordinate or reaction name")
+        first = sorted(clash)[0]
+        where = "conditions" if first in conditions else "parameters"
+        raise InputError(f"{where}.{first}", "clashes with a generated coordinate or reaction name")
     return equilibrium, MechanicalModel(names, coords, [r.expr for r in rows], forces, mass)
 
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from ._actuators import actuator_rows
 from ._description import Body, Mechanism, Polar, Prismatic, Revolute, Slider, Weld, coordinate_names
 from ._expr import symbol
 
@@ -84,7 +85,7 @@ class Kinematics:
 
     # -- constraints ---------------------------------------------------------------
     def constraints(self) -> list[ConstraintRow]:
-        """Every scalar constraint, joint by joint, in declaration order."""
+        """Every scalar constraint, joint by joint in declaration order, then the length-mode actuators."""
         rows: list[ConstraintRow] = []
         for j in self.mech.joints:
             n = j.name
@@ -101,7 +102,7 @@ class Kinematics:
                 key = "relative_angle" if isinstance(j, Prismatic) else "angle"
                 rel = self.mech.value(f"joints.{n}.{key}")
                 rows.append(ConstraintRow(n, f"{n}_angle", f"T_{n}", "N m", self.angle(j.a) + rel - self.angle(j.b)))
-        return rows
+        return rows + actuator_rows(self)
 
     # -- inertia -------------------------------------------------------------------
     def mass_matrix(self) -> sp.Matrix:

@@ -9,6 +9,7 @@ import sympy as sp
 
 from ..equations import Scene
 from ..equations._codegen import compile_dense
+from ._actuators import actuator_load
 from ._description import CustomLoad, Moment, Prismatic, Revolute, Slider, Weld
 from ._kinematics import Kinematics
 
@@ -24,7 +25,8 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
     a triangle ``a -> p -> b``) or through their declared points (other bodies). A
     :class:`Moment` on a body is drawn around the body's pin to the ground if it has one,
     else around the body's origin; a :class:`CustomLoad` with a moment around its point.
-    Ground points that springs or dampers attach to (and no pin or weld does) are anchors.
+    Ground points that springs, dampers or actuators attach to (and no pin or weld does) are
+    anchors. Actuators carry their tension (N): the force parameter, or the reaction ``T_<name>``.
     ``Scene.points`` names, for labels, every ground point and every named body point: the
     ends ``a``/``b`` and declared points of a bar (and its ``cg`` when off the centre), the
     declared points, ``origin`` and ``cg`` of any other body (``cg`` when off the origin).
@@ -68,7 +70,9 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
         add("spring", s.name, [kin.point(s.a), kin.point(s.b)])
     for d in mech.dampers:
         add("damper", d.name, [kin.point(d.a), kin.point(d.b)])
-    for ref in (r for e in (*mech.springs, *mech.dampers) for r in (e.a, e.b)):
+    for act in mech.actuators:  # ends, then (tension N, 0)
+        add("actuator", act.name, [kin.point(act.a), kin.point(act.b), sp.Matrix([actuator_load(mech, act), 0])])
+    for ref in (r for e in (*mech.springs, *mech.dampers, *mech.actuators) for r in (e.a, e.b)):
         if ref.split(".")[0] == "ground" and ref not in ground_joints and ref not in anchors:
             anchors.append(ref)
             add("anchor", ref, [kin.point(ref)])
@@ -115,6 +119,8 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
                 out.dampers.append((name, pts[0].copy(), pts[1].copy()))
             elif kind == "anchor":
                 out.anchors.append(pts[0].copy())
+            elif kind == "actuator":
+                out.actuators.append((name, pts[0].copy(), pts[1].copy(), float(pts[2][0])))
             elif kind == "moment":
                 out.moments.append((name, pts[0].copy(), float(pts[1][0])))
             elif kind == "point":

@@ -41,7 +41,8 @@ def evaluate(expr: sp.Expr, values: Mapping[str, float], field: str) -> float:
 def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
     """The physical ranges of a description's quantities, as :class:`~mechcont.equations.Limit`.
 
-    Lengths, masses, inertias, free lengths and drag diameters must be positive; damping,
+    Lengths (bodies, length-mode actuators), masses, inertias, free lengths and drag diameters
+    must be positive; damping,
     air density and drag coefficient non-negative; spring stiffness positive in the file
     (``solve=False``) and non-negative for an analysis (zero disconnects the spring, as in
     the paper's Fig. 7, "no spring load"). Each limit is named by its key path.
@@ -69,6 +70,9 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
             need(f + ".rho", False, "air density (kg/m^3)")
             need(f + ".d", True, "diameter (m)")
             need(f + ".CD", False, "drag coefficient")
+    for act in mech.actuators:
+        if act.length is not None:
+            need(f"actuators.{act.name}.length", True, "actuator length (m)")
     return out
 
 

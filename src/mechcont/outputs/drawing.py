@@ -4,7 +4,8 @@ A model provides ``system.scene(x) -> Scene`` (coordinates in metres, forces in 
 this module draws it: bars as thick polylines, pins as small circles, ground pins with a
 hatched ground symbol (a smaller one, facing away, where only springs or dampers are
 anchored), sliders as a block on a hatched rail, springs as zig-zag coils, dampers as
-dashpots, forces as arrows labelled in newtons and moments as curved arrows around their
+dashpots, actuators as a cylinder and rod labelled with their load (N, tension or
+compression), forces as arrows labelled in newtons and moments as curved arrows around their
 point (counter-clockwise for a positive value) labelled in newton metres. :func:`draw` saves one configuration (PNG, SVG, PDF),
 animations along a branch are in :mod:`mechcont.outputs.animation`.
 
@@ -135,9 +136,9 @@ def _draw_ground(ax, p: np.ndarray, h: float, down=(0.0, -1.0), gid: str | None 
 
 
 def _anchor_down(p: np.ndarray, scene: Scene) -> np.ndarray:
-    """Unit vector pointing away from the springs and dampers attached at ``p`` (default -y)."""
+    """Unit vector pointing away from the springs, dampers and actuators attached at ``p`` (default -y)."""
     pull = np.zeros(2)
-    for _, a, b in (*scene.springs, *scene.dampers):
+    for _, a, b in (*scene.springs, *scene.dampers, *((n, a, b) for n, a, b, _ in scene.actuators)):
         a, b = np.asarray(a, float), np.asarray(b, float)
         for here, there in ((a, b), (b, a)):
             v = there - here
@@ -197,6 +198,31 @@ def _draw_damper(ax, name: str, a: np.ndarray, b: np.ndarray, width: float):
     ax.plot(*cyl.T, **kw)
     ax.plot(*np.array([at(0.5, 0.75), at(0.5, -0.75)]).T, **kw)
     ax.plot(*np.array([at(0.5, 0), b]).T, **kw)
+
+
+def _draw_actuator(ax, name: str, a: np.ndarray, b: np.ndarray, tension: float, width: float, label: bool):
+    """Actuator from ``a`` to ``b``: a closed cylinder from ``a`` and a thinner rod to ``b``,
+    labelled with its load in N (tension: pulls its ends together; compression: pushes)."""
+    from matplotlib.patches import Polygon
+
+    d = b - a
+    length = float(np.hypot(*d))
+    if length < 1e-12:
+        return
+    t = d / length
+    nrm = np.array([-t[1], t[0]])
+    colour = "#6a3d9a"
+    barrel = [a + w * width * nrm + s * length * t for s, w in ((0, 1), (0.55, 1), (0.55, -1), (0, -1))]
+    ax.add_patch(Polygon(np.array(barrel), closed=True, facecolor="#cab2d6", edgecolor=colour, linewidth=1.3,
+                         zorder=4, gid=f"actuator:{name}", label=name))
+    ax.plot(*np.array([a + 0.45 * length * t, b]).T, color=colour, linewidth=2.4, solid_capstyle="butt", zorder=3.9)
+    for end in (a, b):
+        _draw_pin(ax, end, width)
+    if label:
+        sense = "tension" if tension > 0 else ("compression" if tension < 0 else "unloaded")
+        at = a + 0.3 * length * t + 2.2 * width * nrm
+        ax.text(at[0], at[1], f"{name} = {abs(tension):.3g} N {sense}", ha="center", va="center", fontsize=8,
+                color=colour, zorder=8, bbox=_LABEL_BOX)
 
 
 def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float):
@@ -331,6 +357,9 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
         ax.plot(line[:, 0], line[:, 1], color="#ff7f0e", linewidth=1.3, zorder=4, label=name)
     for name, a, b in scene.dampers:
         _draw_damper(ax, name, np.asarray(a, float), np.asarray(b, float), 0.6 * h)
+    for name, a, b, tension in scene.actuators:
+        _draw_actuator(ax, name, np.asarray(a, float), np.asarray(b, float), float(tension), 0.8 * h,
+                       show_forces)
     for i, (name, pts) in enumerate(scene.bars):
         pts = np.atleast_2d(np.asarray(pts, float))
         ax.plot(pts[:, 0], pts[:, 1], color=_BAR_COLOURS[i % len(_BAR_COLOURS)], linewidth=6,
@@ -431,6 +460,7 @@ def _scene_samples(scene: Scene) -> np.ndarray:
     t = np.linspace(0.0, 1.0, 11)[:, None]
     lines = [np.atleast_2d(np.asarray(b, float)) for _, b in scene.bars]
     lines += [np.array([a, b], float) for _, a, b in (*scene.springs, *scene.dampers)]
+    lines += [np.array([a, b], float) for _, a, b, _ in scene.actuators]
     pts = [a + t * (b - a) for line in lines for a, b in zip(line[:-1], line[1:])]
     pts += [np.atleast_2d(np.asarray(p, float)) for p in (*scene.pins, *scene.grounds, *scene.anchors)]
     pts += [np.atleast_2d(np.asarray(p, float)) for _, p, _ in (*scene.moments, *scene.forces)]
