@@ -51,7 +51,8 @@ def test_shipped_descriptions_check_clean(name):
     assert r.dof == TRUE_DOF[name] == declared == r.intended_dof == gruebler(mech)
     assert r.ok and r.findings == () and r.redundant == () and r.dropped_residual is None
     assert r.n_coordinates == 3 * len(mech.bodies) and r.n_coordinates - r.rank == r.dof
-    assert r.n_equations == r.n_unknowns == r.n_coordinates + r.n_constraints
+    n_conditions = sum(e.startswith("cond_") for e in r.system.equation_names)
+    assert r.n_equations == r.n_unknowns == r.n_coordinates + r.n_constraints + n_conditions
     assert {q.name for q in r.closure} == {j.name for j in mech.joints}
     assert max(q.value for q in r.closure) < 1e-12
     np.testing.assert_allclose(r.system.mechanics.phi(r.x), 0, atol=1e-12)

@@ -71,7 +71,8 @@ class CheckReport:
         Degrees of freedom counted from the rank of ``Phi_q`` at the assembled
         configuration, the ``dof`` the description declares, and that rank.
     n_coordinates, n_constraints, n_equations, n_unknowns, n_parameters:
-        Sizes of the generated system (``n_unknowns``: its states, coordinates and reactions).
+        Sizes of the generated system (``n_unknowns``: its states: coordinates, reactions
+        and any condition values).
     redundant:
         One entry per redundant constraint row: ``(row, joints)``, the dropped row and the
         joints whose rows it is a combination of.
@@ -152,7 +153,7 @@ class CheckReport:
         out.append(f"degrees of freedom: {self.dof} ({dof_ok}): {self.n_coordinates} coordinates - rank "
                    f"{self.rank} of the constraint Jacobian")
         out.append(f"size: {self.n_coordinates} coordinates, {self.n_constraints} constraint rows, "
-                   f"{self.n_equations} equations in {self.n_unknowns} unknowns (coordinates and reactions), "
+                   f"{self.n_equations} equations in {self.n_unknowns} unknowns (the states), "
                    f"{self.n_parameters} parameters")
         if self.redundant:
             out.append(f"redundant constraints: {len(self.redundant)} row(s) dropped")
@@ -331,11 +332,14 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     else:
         try:
             xe = assemble(system, guess=x)
-            scale = system.scales()
-            i = max(model.q_index, key=lambda k: abs(xe[k] - x[k]) / scale[k])
+            scale, move = system.scales(), xe - x
+            for k in model.q_index:   # an angle that went once around has not moved
+                if system.variables[k].unit == "rad":
+                    move[k] = math.remainder(move[k], 2 * math.pi)
+            i = max(model.q_index, key=lambda k: abs(move[k]) / scale[k])
             v = system.variables[i]
             note = (f"an equilibrium at these parameter values, found by Newton from the assembled configuration "
-                    f"with every coordinate free (largest move: {v.name} by {_show(float(xe[i] - x[i]), v.unit)})")
+                    f"with every coordinate free (largest move: {v.name} by {_show(float(move[i]), v.unit)})")
         except (ConvergenceError, InputError) as exc:
             note = f"Newton from the assembled configuration with every coordinate free found no equilibrium ({exc})"
     if xe is not None:
