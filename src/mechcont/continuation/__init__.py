@@ -5,12 +5,15 @@ from ._api import continuation, continue_folds, locate_fold, switch_branch
 from ._branch import Branch, SpecialPoint
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent, PointState, ValueEvent
 from ._folds import CuspEvent, FoldProblem
+from ._linalg import DenseLU, LinearSolver, MinimumNorm
 from ._newton import find_equilibrium
 from ._options import ContinuationOptions
+from ._palc import BranchSteps, Termination
 from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns
 
 __all__ = [
     "continuation", "continue_folds", "switch_branch", "locate_fold", "find_equilibrium", "ContinuationOptions", "Branch",
     "SpecialPoint", "Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "CuspEvent",
     "PointState", "ContinuationProblem", "EquilibriumProblem", "FoldProblem", "choose_unknowns",
+    "Termination", "BranchSteps", "LinearSolver", "DenseLU", "MinimumNorm",
 ]

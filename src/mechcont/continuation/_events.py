@@ -3,16 +3,19 @@
 Every event is a small object with a ``label``, a ``stop`` flag and ``value(state)``;
 built-in folds (``LP``), branch points (``BP``) and bounds (``EP``) use the same
 interface as user events such as "the lock links are aligned" (:class:`ValueEvent`).
-The engine evaluates each event at every accepted point and, on a sign change, locates
-the zero along the step (Brent's method on the step length, correcting every trial
-point back onto the branch).
+The engine evaluates each event at every accepted point and, on a sign change, asks the
+event to locate its zero along the step (:meth:`Event.locate`: by default Brent's method
+on the step length, correcting every trial point back onto the branch; bounds solve for
+the bound directly; folds take a secant guess that their polish then makes exact).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 __all__ = ["Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "PointState"]
 
@@ -37,6 +40,8 @@ class Event:
     """Base class: ``value(problem, state)`` changes sign at the event."""
 
     label = "EV"
+    #: the variable or quantity the event watches (bounds, limits, value events), if any
+    name = ""
     stop = False
     #: True when the test function is continuous along a branch, so a sign change without
     #: a zero between the two points reveals a jump to another branch.
@@ -53,6 +58,39 @@ class Event:
         """Extra information recorded with the special point (e.g. why a branch ended)."""
         return {}
 
+    def locate(self, stepper, problem, cur: PointState, ds: float, v0: float, v1: float):
+        """The zero of :meth:`value` between ``cur`` (sigma = 0) and the accepted step (sigma = ``ds``).
+
+        ``stepper`` is the :class:`~mechcont.continuation._palc.PseudoArclength` that took
+        the step; ``v0``/``v1`` are the values at both ends (of opposite signs). Returns
+        ``(sigma, state, info)`` with ``info["status"]`` ``"located"`` (Brent's method on
+        sigma, each trial point corrected onto the branch) or ``"approximate"`` (the secant
+        estimate, when root finding fails); ``state`` is None when not even that converges.
+        """
+        cache = {}
+
+        def f(sigma):
+            st = stepper.point_at(cur.z, cur.tangent, sigma)
+            cache[sigma] = st
+            return self.value(problem, st)
+
+        try:
+            sigma = brentq(f, 0.0, ds, xtol=1e-14 * max(1.0, ds), rtol=8.9e-16, maxiter=100)
+            st = cache.get(sigma) or stepper.point_at(cur.z, cur.tangent, sigma)
+        except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
+            return _secant(stepper, cur, ds, v0, v1, f"not located: {exc}")
+        return sigma, st, {"status": "located"}
+
+
+def _secant(stepper, cur: PointState, ds: float, v0: float, v1: float, reason: str | None = None):
+    """The point at the secant estimate of a zero, marked approximate (``None`` if it fails)."""
+    sigma = ds * v0 / (v0 - v1)
+    info = {"status": "approximate", **({"reason": reason} if reason else {})}
+    try:
+        return sigma, stepper.point_at(cur.z, cur.tangent, sigma), info
+    except (RuntimeError, np.linalg.LinAlgError):
+        return ds, None, info
+
 
 class FoldEvent(Event):
     """Limit point (fold, ``LP``): the continuation parameter's tangent component vanishes."""
@@ -63,8 +101,12 @@ class FoldEvent(Event):
         return float(state.tangent[problem.param_index])
 
     def refine(self, problem, state):
-        refine = getattr(problem, "refine_fold", None)
-        return refine(state) if refine is not None else None
+        return problem.refine_fold(state)
+
+    def locate(self, stepper, problem, cur, ds, v0, v1):
+        """A secant guess: close enough for the fold polish (:meth:`refine`) that follows."""
+        hit = _secant(stepper, cur, ds, v0, v1)
+        return hit if hit[1] is not None else super().locate(stepper, problem, cur, ds, v0, v1)
 
 
 class BranchPointEvent(Event):
@@ -95,6 +137,49 @@ class BoundEvent(Event):
 
     def value(self, problem, state):
         return float(self.side * (state.x[self.index] - self.bound))
+
+    def point_info(self) -> dict:
+        return {"bound_of": self.name, "bound": self.bound}
+
+    def locate(self, stepper, problem, cur, ds, v0, v1):
+        """Newton on ``[G; x_k - bound] = 0`` when the bounded name is an unknown, else Brent."""
+        st = self._solve_on_bound(stepper, problem, cur, ds, v0, v1)
+        if st is not None:
+            return float(cur.tangent @ (st.z - cur.z)), st, {"status": "located"}
+        return super().locate(stepper, problem, cur, ds, v0, v1)
+
+    def _solve_on_bound(self, stepper, problem, cur, ds, v0, v1):
+        idx = problem.idx
+        if idx is None or self.index not in idx:
+            return None
+        from ._newton import residual_met
+
+        k = int(np.flatnonzero(idx == self.index)[0])
+        z = cur.z + (ds * v0 / (v0 - v1)) * cur.tangent
+        target = self.bound / stepper.D[k]
+        A = np.zeros((stepper.n + 1, stepper.n + 1))
+        A[-1, k] = 1.0
+        b = np.empty(stepper.n + 1)
+        options = stepper.options
+        for _ in range(options.max_newton + 2):
+            r, jac = stepper.evaluate(z)
+            if not math.isfinite(r.sum()):
+                return None
+            b[:-1] = -r
+            b[-1] = target - z[k]
+            if residual_met(r, jac, z, options.residual_tol) and abs(b[-1]) < 1e-15 * max(1.0, abs(target)):
+                try:
+                    return stepper.state(z, stepper.tangent(z, cur.tangent, jac), jac)
+                except np.linalg.LinAlgError:
+                    return None
+            A[:-1] = jac
+            dz = options.linear_solver.solve(A, b)
+            if dz is None:
+                return None
+            z = z + dz
+            if np.abs(dz).max() < options.newton_tol:
+                z[k] = target
+        return None
 
 
 class LimitEvent(Event):

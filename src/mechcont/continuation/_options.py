@@ -7,6 +7,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from ..errors import InputError
+from ._linalg import DenseLU, LinearSolver
 
 __all__ = ["ContinuationOptions"]
 
@@ -52,6 +53,9 @@ class ContinuationOptions:
         Evaluate physical stability at every point (needs the model's mechanics).
     scales:
         ``{name: typical magnitude}`` overriding the model's scales.
+    linear_solver:
+        Solver of the bordered systems (:class:`~mechcont.continuation.DenseLU` by default;
+        :class:`~mechcont.continuation.MinimumNorm` tolerates dependent rows).
     """
 
     ds: float = 0.02
@@ -70,6 +74,7 @@ class ContinuationOptions:
     detect_branch_points: bool = True
     stability: bool = True
     scales: Mapping[str, float] = field(default_factory=dict)
+    linear_solver: LinearSolver = field(default_factory=DenseLU)
 
     def __post_init__(self):
         def positive(name, value):
@@ -101,3 +106,5 @@ class ContinuationOptions:
                 raise InputError(name, f"empty or inverted bounds {lo}:{hi}; need low < high")
         for name, v in self.scales.items():
             positive(f"scales[{name}]", v)
+        if not isinstance(self.linear_solver, LinearSolver):
+            raise InputError("linear_solver", f"must have a solve(A, b) method, got {self.linear_solver!r}")

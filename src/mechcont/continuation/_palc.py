@@ -1,23 +1,44 @@
-"""Pseudo-arclength continuation: the stepper and the driver.
+"""Pseudo-arclength continuation: the stepper, its step-size control, and a thin driver.
 
-The stepper works on any :class:`~._problem.ContinuationProblem` (equilibria, fold
-curves); the driver runs it in one direction and collects points and special points.
+:class:`PseudoArclength` holds the maths (predictor, corrector, tangent) on any
+:class:`~._problem.ContinuationProblem` (equilibria, fold curves). :class:`BranchSteps`
+is an iterator over the points of one direction: each ``next()`` takes one accepted step,
+locates the events inside it, and yields the points to record. :func:`run_direction` is
+the driver that collects them. Why a direction ended is a :class:`Termination`.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field
+from enum import Enum
 
 import numpy as np
-from scipy.linalg.lapack import dgesv as _dgesv
-from scipy.optimize import brentq
 
 from ._events import Event, PointState
 from ._newton import residual_met
 from ._options import ContinuationOptions
 
-__all__ = ["PseudoArclength", "DirectionResult", "run_direction"]
+__all__ = ["PseudoArclength", "StepSizeController", "Termination", "BranchSteps", "RecordedPoint",
+           "DirectionResult", "run_direction"]
+
+
+class Termination(Enum):
+    """Why one direction of a branch ended; ``status`` is what :class:`Branch` reports."""
+
+    BOUND = "reached a bound"
+    STOP_EVENT = "stopped at an event"
+    START_ON_BOUND = "the start lies on a bound and this direction leaves it"
+    MAX_STEPS = "took max_steps steps"
+    STEP_UNDERFLOW = "step size fell below dsmin"
+    BRANCHES_TOO_CLOSE = "branches too close to separate"
+
+    @property
+    def status(self) -> str:
+        """``"completed"`` for a normal end, ``"step size underflow"`` for a failure."""
+        failed = (Termination.STEP_UNDERFLOW, Termination.BRANCHES_TOO_CLOSE)
+        return "step size underflow" if self in failed else "completed"
 
 
 class PseudoArclength:
@@ -43,12 +64,14 @@ class PseudoArclength:
     iterations, when a correction does not contract by ``max_contraction`` (slow
     convergence is the sign of a corrector drifting to another branch), or when the
     tangent turns by more than ``max_angle``. That is how the stepper avoids jumping
-    silently between close branches or across a sharp fold.
+    silently between close branches or across a sharp fold. The bordered systems are
+    solved by ``options.linear_solver``.
     """
 
     def __init__(self, problem, options: ContinuationOptions):
         self.problem = problem
         self.options = options
+        self.solver = options.linear_solver
         self.D = np.asarray(problem.scale, dtype=float)
         self.n = len(self.D) - 1
 
@@ -88,8 +111,8 @@ class PseudoArclength:
         A[-1] = border
         rhs = np.zeros(self.n + 1)
         rhs[-1] = 1.0
-        _, _, t, info = _dgesv(A, rhs)
-        if info != 0:
+        t = self.solver.solve(A, rhs)
+        if t is None:
             raise np.linalg.LinAlgError("singular tangent system")
         t /= np.linalg.norm(t)
         return t if t @ border > 0 else -t
@@ -117,8 +140,8 @@ class PseudoArclength:
             A[:-1] = jac
             b[:-1] = -r
             b[-1] = -(t0 @ (z - z_pred))
-            _, _, dz, info = _dgesv(A, b)
-            if info != 0:
+            dz = self.solver.solve(A, b)
+            if dz is None:
                 return None, "singular bordered Jacobian", it
             z = z + dz
             step = np.abs(dz).max()
@@ -135,55 +158,120 @@ class PseudoArclength:
         return self.state(z, self.tangent(z, t0, jac), jac)
 
 
-@dataclass
-class DirectionResult:
-    """Points of one continuation direction (start point first)."""
+class StepSizeController:
+    """AUTO-style step control: grow after an easy step, shrink after a hard or rejected one.
 
-    states: list = field(default_factory=list)
-    stability: list = field(default_factory=list)
-    labels: list = field(default_factory=list)
-    info: list = field(default_factory=list)
-    arclength: list = field(default_factory=list)
-    status: str = "completed"
-    message: str = ""
+    ``ds`` starts at ``options.ds``; a step whose corrector took at most 3 iterations
+    multiplies it by ``grow`` (up to ``dsmax``), one that took 6 or more by ``shrink``
+    (down to ``dsmin``); a rejected step multiplies it by ``shrink`` and :meth:`reject`
+    returns False once it falls below ``dsmin``.
+    """
+
+    def __init__(self, options: ContinuationOptions):
+        self.options = options
+        self.ds = options.ds
+
+    def reject(self) -> bool:
+        """Shrink after a rejected step; False when the step fell below ``dsmin``."""
+        self.ds *= self.options.shrink
+        return self.ds >= self.options.dsmin
+
+    def retry_short_of(self, sigma: float) -> bool:
+        """Retry with half the distance to a discontinuity at ``sigma``; False below ``dsmin``."""
+        o = self.options
+        self.ds = max(0.5 * sigma, o.shrink * o.dsmin)
+        return self.ds >= o.dsmin
+
+    def accept(self, iterations: int) -> None:
+        """Adapt after an accepted step whose corrector took ``iterations``."""
+        o = self.options
+        if iterations <= 3:
+            self.ds = min(self.ds * o.grow, o.dsmax)
+        elif iterations >= 6:
+            self.ds = max(self.ds * o.shrink, o.dsmin)
+
+
+@dataclass
+class RecordedPoint:
+    """A point of a branch as the iterator yields it: state, label, info, arclength."""
+
+    state: PointState
+    label: str = ""
+    info: dict = field(default_factory=dict)
+    s: float = 0.0
 
 
 def _describe(problem, x) -> str:
-    names = getattr(problem, "names", ())
-    idx = getattr(problem, "idx", None)
+    names, idx = problem.names, problem.idx
     if idx is None:
         return ""
     shown = [f"{n}={x[i]:.6g}" for n, i in list(zip(names, idx))[-3:]]
     return " at " + ", ".join(shown)
 
 
-def run_direction(problem, u0: np.ndarray, direction: int, options: ContinuationOptions, events: list[Event],
-                  tangent0: np.ndarray | None = None, progress=None) -> DirectionResult:
-    """Continue from ``u0`` (a converged point) in one direction.
+def _runaway(problem, first: PointState, last: PointState) -> str:
+    """A hint naming the unknown that grew most (in its scales) when max_steps ran out."""
+    names = problem.names
+    scale = np.asarray(problem.scale, dtype=float)
+    if len(names) != len(scale):
+        return ""
+    growth = np.abs(last.u - first.u) / scale
+    k = int(np.argmax(growth))
+    if growth[k] < 10:
+        return ""
+    return (f"; {names[k]} went from {first.u[k]:.6g} to {last.u[k]:.6g} and may grow without bound: "
+            f"give bounds (--bounds {names[k]}=LO:HI, or ContinuationOptions(bounds=...))")
 
-    ``direction`` +1 follows increasing continuation parameter initially, -1 decreasing.
-    Returns a :class:`DirectionResult`; it always holds what was computed, with
-    ``status``/``message`` saying why it ended.
+
+class BranchSteps(Iterator[RecordedPoint]):
+    """The points of one continuation direction, one accepted step at a time.
+
+    Iterating yields :class:`RecordedPoint` objects: the start point first, then for each
+    accepted step the special points located inside it (in arclength order) and the step's
+    end point. When the direction ends, :attr:`termination` says why, :attr:`message`
+    explains it, and :attr:`end_label` / :attr:`end_info` are what the last yielded point
+    should be labelled with (``EP`` at ``max_steps`` or a step-size underflow).
     """
-    eng = PseudoArclength(problem, options)
-    z = np.asarray(u0, float) / eng.D
-    t = eng.initial_tangent(z, direction) if tangent0 is None else direction * np.asarray(tangent0, float)
-    cur = eng.state(z, t)
-    res = DirectionResult()
 
-    def record(st: PointState, label="", info=None, s=0.0):
-        res.states.append(st)
-        res.stability.append(problem.stability(st.u) if options.stability else -1)
-        res.labels.append(label)
-        res.info.append(info or {})
-        res.arclength.append(s)
+    def __init__(self, problem, u0: np.ndarray, direction: int, options: ContinuationOptions, events: list[Event],
+                 tangent0: np.ndarray | None = None):
+        self.problem, self.options, self.events = problem, options, list(events)
+        self.stepper = PseudoArclength(problem, options)
+        self.control = StepSizeController(options)
+        z = np.asarray(u0, float) / self.stepper.D
+        t = self.stepper.initial_tangent(z, direction) if tangent0 is None else direction * np.asarray(tangent0, float)
+        self.current = self.stepper.state(z, t)
+        self.first = self.current
+        self.values = [ev.value(problem, self.current) for ev in self.events]
+        self.s = 0.0
+        self.steps = 0
+        self.termination: Termination | None = None
+        self.message = ""
+        self.end_label = ""
+        self.end_info: dict = {}
+        self._queue: list[RecordedPoint] = [RecordedPoint(self.current)]
 
-    record(cur)
-    values = [ev.value(problem, cur) for ev in events]
-    ds = options.ds
-    s = 0.0
-    for _ in range(options.max_steps):
+    def __next__(self) -> RecordedPoint:
+        while not self._queue:
+            if self.termination is not None:
+                raise StopIteration
+            self._step()
+        return self._queue.pop(0)
+
+    # -- one accepted step ------------------------------------------------------------
+    def _end(self, how: Termination, message: str, label: str = "", info: dict | None = None) -> None:
+        self.termination, self.message = how, message
+        self.end_label, self.end_info = label, info or {}
+
+    def _step(self) -> None:
+        if self.steps >= self.options.max_steps:
+            self._end(Termination.MAX_STEPS,
+                      f"stopped after max_steps={self.options.max_steps}{_runaway(self.problem, self.first, self.current)}",
+                      "EP", {"reason": "max_steps"})
+            return
+        eng, cur, problem = self.stepper, self.current, self.problem
         while True:
+            ds = self.control.ds
             z1, jac, iters = eng.correct(cur.z + ds * cur.tangent, cur.tangent)
             if z1 is not None:
                 try:
@@ -192,96 +280,86 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
                     reason = "singular tangent system"
                 else:
                     angle = math.acos(min(1.0, max(-1.0, float(t1 @ cur.tangent))))
-                    if angle <= options.max_angle:
+                    if angle <= self.options.max_angle:
                         break
                     reason = f"tangent turned by {math.degrees(angle):.1f} deg"
             else:
                 reason = jac
-            ds *= options.shrink
-            if ds < options.dsmin:
-                res.status = "step size underflow"
-                res.message = (f"step size fell below dsmin={options.dsmin:g}{_describe(problem, cur.x)}: {reason}; "
-                               "the branch may end here (singular point) or need a smaller dsmin")
-                res.labels[-1] = res.labels[-1] or "EP"
-                res.info[-1] = {**res.info[-1], "reason": res.message}
-                return res
+            if not self.control.reject():
+                msg = (f"step size fell below dsmin={self.options.dsmin:g}{_describe(problem, cur.x)}: {reason}; "
+                       "the branch may end here (singular point) or need a smaller dsmin")
+                self._end(Termination.STEP_UNDERFLOW, msg, "EP", {"reason": msg})
+                return
         new = eng.state(z1, t1, jac)
         step = float(np.linalg.norm(z1 - cur.z))
-        new_values = [ev.value(problem, new) for ev in events]
-        leaving = [ev for ev, v0, v1 in zip(events, values, new_values) if ev.stop and v0 == 0 and v1 < 0]
+        new_values = [ev.value(problem, new) for ev in self.events]
+        leaving = [ev for ev, v0, v1 in zip(self.events, self.values, new_values) if ev.stop and v0 == 0 and v1 < 0]
         if leaving:  # started exactly on a bound and this direction leaves the interval
-            res.labels[-1] = leaving[0].label
-            res.info[-1] = {**res.info[-1], "bound_of": getattr(leaving[0], "name", ""), **leaving[0].point_info()}
-            res.message = f"start lies on the bound of {getattr(leaving[0], 'name', leaving[0].label)}"
-            return res
-        hits = []
-        jumped = None
-        for ev, v0, v1 in zip(events, values, new_values):
-            if v0 == 0 or v1 == 0 or (v0 > 0) == (v1 > 0):
-                continue
-            hit = _locate(eng, problem, cur, ds, ev, v0, v1)
-            if ev.continuous and (hit[1] is None or abs(ev.value(problem, hit[1])) > 1e-6 * max(abs(v0), abs(v1))):
-                # the test function jumps instead of crossing zero: the corrector landed on
-                # another branch. Retry with a step short of the discontinuity.
-                jumped = hit[0]
-                break
-            hits.append((ev, _refined(eng, problem, cur, ev, hit)))
-        if jumped is None:
-            # An event crossed twice within the step (two close folds, or a bound the
-            # branch leaves and re-enters) shows no sign change between the step's ends,
-            # but does at a point located inside the step: look there too.
-            for ev, v0 in zip(events, values):
-                own = [h[1][0] for h in hits if h[0] is ev]
-                if v0 == 0:
-                    continue
-                for other, (sigma, st, _) in sorted(hits, key=lambda h: h[1][0]):
-                    if other is ev or (own and sigma >= min(own)):
-                        continue
-                    v_mid = ev.value(problem, st) if st is not None else v0
-                    if v_mid != 0 and (v_mid > 0) != (v0 > 0) and sigma > 0:
-                        hit = _locate(eng, problem, cur, sigma, ev, v0, v_mid)
-                        hits.append((ev, _refined(eng, problem, cur, ev, hit)))
-                        break
+            ev = leaving[0]
+            self._end(Termination.START_ON_BOUND, f"start lies on the bound of {ev.name or ev.label}",
+                      ev.label, {"bound_of": ev.name, **ev.point_info()})
+            return
+        hits, jumped = self._events_in_step(cur, ds, new_values)
         if jumped is not None:
-            ds = max(0.5 * jumped, options.shrink * options.dsmin)
-            if ds < options.dsmin:
-                res.status = "step size underflow"
-                res.message = (f"branches too close to separate{_describe(problem, cur.x)}: a test function jumps "
-                               "within dsmin; reduce dsmin")
-                res.labels[-1] = res.labels[-1] or "EP"
-                return res
-            continue
+            if not self.control.retry_short_of(jumped):
+                self._end(Termination.BRANCHES_TOO_CLOSE,
+                          f"branches too close to separate{_describe(problem, cur.x)}: a test function jumps "
+                          "within dsmin; reduce dsmin", "EP")
+            return
         hits.sort(key=lambda h: h[1][0])
-        stop = False
         for ev, (sigma, st, info) in hits:
-            if len(res.states) == 1 and sigma <= 1e-6 * ds:
+            if self.steps == 0 and sigma <= 1e-6 * ds:
                 continue  # the start itself is the special point (e.g. leaving a BP)
             if st is None:
                 continue
-            record(st, ev.label, {**info, **ev.point_info()}, s + sigma)
+            self._queue.append(RecordedPoint(st, ev.label, {**info, **ev.point_info()}, self.s + sigma))
             if ev.stop:
-                stop = True
-                break
-        if stop:
-            res.status = "completed"
-            what, why = res.info[-1].get("bound_of"), res.info[-1].get("reason")
-            res.message = f"reached bound of {what}" if what else (f"stopped at the {why}" if why else
-                                                                    f"stopped at {res.labels[-1]}")
-            return res
-        s += step
-        record(new, s=s)
-        cur, values = new, new_values
-        if progress is not None:
-            progress(1)
-        if iters <= 3:
-            ds = min(ds * options.grow, options.dsmax)
-        elif iters >= 6:
-            ds = max(ds * options.shrink, options.dsmin)
-    res.labels[-1] = res.labels[-1] or "EP"
-    res.info[-1] = {**res.info[-1], "reason": "max_steps"}
-    res.status = "completed"
-    res.message = f"stopped after max_steps={options.max_steps}"
-    return res
+                what, why = self._queue[-1].info.get("bound_of"), self._queue[-1].info.get("reason")
+                msg = (f"reached bound of {what}" if what else
+                       f"stopped at the {why}" if why else f"stopped at {ev.label}")
+                self._end(Termination.BOUND if what else Termination.STOP_EVENT, msg)
+                return
+        self.s += step
+        self._queue.append(RecordedPoint(new, s=self.s))
+        self.current, self.values = new, new_values
+        self.steps += 1
+        self.control.accept(iters)
+
+    def _events_in_step(self, cur: PointState, ds: float, new_values: list[float]):
+        """Events whose sign changes within the step, located and polished.
+
+        Returns ``(hits, jumped)``: ``hits`` a list of ``(event, (sigma, state, info))``;
+        ``jumped`` the step position of a continuous test function's jump (the corrector
+        landed on another branch), else None.
+        """
+        eng, problem = self.stepper, self.problem
+        hits = []
+        for ev, v0, v1 in zip(self.events, self.values, new_values):
+            if v0 == 0 or v1 == 0 or (v0 > 0) == (v1 > 0):
+                continue
+            hit = ev.locate(eng, problem, cur, ds, v0, v1)
+            if ev.continuous and (hit[1] is None or hit[2].get("status") != "located"
+                                  or abs(ev.value(problem, hit[1])) > 1e-6 * max(abs(v0), abs(v1))):
+                # the test function jumps instead of crossing zero: the corrector landed on
+                # another branch. Retry with a step short of the discontinuity.
+                return hits, hit[0]
+            hits.append((ev, _refined(eng, problem, cur, ev, hit)))
+        # An event crossed twice within the step (two close folds, or a bound the branch
+        # leaves and re-enters) shows no sign change between the step's ends, but does at
+        # a point located inside the step: look there too.
+        for ev, v0 in zip(self.events, self.values):
+            own = [h[1][0] for h in hits if h[0] is ev]
+            if v0 == 0:
+                continue
+            for other, (sigma, st, _) in sorted(hits, key=lambda h: h[1][0]):
+                if other is ev or (own and sigma >= min(own)):
+                    continue
+                v_mid = ev.value(problem, st) if st is not None else v0
+                if v_mid != 0 and (v_mid > 0) != (v0 > 0) and sigma > 0:
+                    hit = ev.locate(eng, problem, cur, sigma, v0, v_mid)
+                    hits.append((ev, _refined(eng, problem, cur, ev, hit)))
+                    break
+        return hits, None
 
 
 def _refined(eng: PseudoArclength, problem, cur: PointState, ev: Event, hit):
@@ -299,71 +377,44 @@ def _refined(eng: PseudoArclength, problem, cur: PointState, ev: Event, hit):
     return float(cur.tangent @ (st.z - cur.z)), st, {**info, **extra}
 
 
-def _locate(eng: PseudoArclength, problem, cur: PointState, ds: float, ev: Event, v0: float, v1: float):
-    """Zero of ``ev`` between ``cur`` (sigma=0) and the accepted step (sigma=ds).
+@dataclass
+class DirectionResult:
+    """Points of one continuation direction (start point first)."""
 
-    Returns ``(sigma, state, info)``; ``state`` is None when location failed.
+    states: list = field(default_factory=list)
+    stability: list = field(default_factory=list)
+    labels: list = field(default_factory=list)
+    info: list = field(default_factory=list)
+    arclength: list = field(default_factory=list)
+    status: str = "completed"
+    message: str = ""
+    termination: Termination | None = None
+
+
+def run_direction(problem, u0: np.ndarray, direction: int, options: ContinuationOptions, events: list[Event],
+                  tangent0: np.ndarray | None = None, progress=None) -> DirectionResult:
+    """Continue from ``u0`` (a converged point) in one direction: the driver of :class:`BranchSteps`.
+
+    ``direction`` +1 follows increasing continuation parameter initially, -1 decreasing.
+    ``progress(k)`` is called with 1 after every accepted step. Returns a
+    :class:`DirectionResult`; it always holds what was computed, with ``status`` /
+    ``message`` / ``termination`` saying why it ended.
     """
-    from ._events import BoundEvent
-
-    info = {"status": "located"}
-    if isinstance(ev, BoundEvent):
-        info.update(bound_of=ev.name, bound=ev.bound)
-        st = _solve_on_bound(eng, problem, cur, ds, ev, v0, v1)
-        if st is not None:
-            return float(cur.tangent @ (st.z - cur.z)), st, info
-    elif type(ev).refine is not Event.refine:
-        # events polished afterwards (folds): a secant guess is close enough for the polish
-        sigma = ds * v0 / (v0 - v1)
-        try:
-            return sigma, eng.point_at(cur.z, cur.tangent, sigma), {"status": "approximate"}
-        except (RuntimeError, np.linalg.LinAlgError):
-            pass
-    cache = {}
-
-    def f(sigma):
-        st = eng.point_at(cur.z, cur.tangent, sigma)
-        cache[sigma] = st
-        return ev.value(problem, st)
-
-    try:
-        sigma = brentq(f, 0.0, ds, xtol=1e-14 * max(1.0, ds), rtol=8.9e-16, maxiter=100)
-        st = cache.get(sigma) or eng.point_at(cur.z, cur.tangent, sigma)
-    except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
-        # not located: keep the event, at the secant estimate, marked as approximate
-        sigma = ds * v0 / (v0 - v1)
-        try:
-            st = eng.point_at(cur.z, cur.tangent, sigma)
-        except (RuntimeError, np.linalg.LinAlgError):
-            return ds, None, {"status": "approximate", "reason": str(exc)}
-        return sigma, st, {"status": "approximate", "reason": f"not located: {exc}"}
-    return sigma, st, info
-
-
-def _solve_on_bound(eng: PseudoArclength, problem, cur: PointState, ds, ev, v0, v1):
-    """The branch point where a bounded unknown equals its bound: Newton on [G; x_k - b]."""
-    idx = getattr(problem, "idx", None)
-    if idx is None or ev.index not in idx:
-        return None
-    k = int(np.flatnonzero(idx == ev.index)[0])
-    z = cur.z + (ds * v0 / (v0 - v1)) * cur.tangent
-    target = ev.bound / eng.D[k]
-    A = np.zeros((eng.n + 1, eng.n + 1))
-    A[-1, k] = 1.0
-    b = np.empty(eng.n + 1)
-    for _ in range(eng.options.max_newton + 2):
-        r, jac = eng.evaluate(z)
-        if not math.isfinite(r.sum()):
-            return None
-        b[:-1] = -r
-        b[-1] = target - z[k]
-        if residual_met(r, jac, z, eng.options.residual_tol) and abs(b[-1]) < 1e-15 * max(1.0, abs(target)):
-            return eng.state(z, eng.tangent(z, cur.tangent, jac), jac)
-        A[:-1] = jac
-        _, _, dz, info = _dgesv(A, b)
-        if info != 0:
-            return None
-        z = z + dz
-        if np.abs(dz).max() < eng.options.newton_tol:
-            z[k] = target
-    return None
+    steps = BranchSteps(problem, u0, direction, options, events, tangent0)
+    res = DirectionResult()
+    for point in steps:
+        res.states.append(point.state)
+        res.stability.append(problem.stability(point.state.u) if options.stability else -1)
+        res.labels.append(point.label)
+        res.info.append(point.info)
+        res.arclength.append(point.s)
+        if progress is not None and not point.label and point.s > 0:
+            progress(1)
+    res.termination = steps.termination
+    res.status = steps.termination.status
+    res.message = steps.message
+    if steps.end_label:
+        res.labels[-1] = res.labels[-1] or steps.end_label
+    if steps.end_info:
+        res.info[-1] = {**res.info[-1], **steps.end_info}
+    return res

@@ -12,6 +12,7 @@ two-parameter fold problem (:mod:`._folds`) is handed to the very same engine.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
+from typing import Protocol
 
 import numpy as np
 
@@ -21,8 +22,12 @@ from ..errors import InputError
 __all__ = ["ContinuationProblem", "EquilibriumProblem", "choose_unknowns"]
 
 
-class ContinuationProblem:
-    """Interface of a problem G(u) = 0, u in R^(n+1), for the continuation engine.
+class ContinuationProblem(Protocol):
+    """What the continuation engine needs of a problem G(u) = 0, u in R^(n+1).
+
+    A typed protocol: equilibria (:class:`EquilibriumProblem`) and fold curves
+    (:class:`~._folds.FoldProblem`) implement it and are handed to the same engine.
+    Subclasses inherit the defaults below.
 
     Attributes
     ----------
@@ -32,11 +37,15 @@ class ContinuationProblem:
         Index in ``u`` of the continuation parameter (folds are its turning points).
     scale:
         Typical magnitude of each component of ``u``.
+    idx:
+        Index in the full variable vector of each leading component of ``u`` (bounds on
+        those are solved for directly), or None.
     """
 
     names: tuple[str, ...]
     param_index: int
     scale: np.ndarray
+    idx: np.ndarray | None = None
 
     def residual(self, u: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
         """G(u): n residuals (units of each equation) at the n+1 unknowns ``u``."""
@@ -61,6 +70,11 @@ class ContinuationProblem:
     def test_functions(self) -> list:
         """Extra events particular to this problem (e.g. cusp detection)."""
         return []
+
+    def refine_fold(self, state) -> tuple[np.ndarray, dict] | None:
+        """Polish a fold found at ``state``: ``(u, info)`` with ``info["status"]``, or None
+        when the problem has no fold polish (the located guess then stays approximate)."""
+        return None
 
 
 def choose_unknowns(system: EquationSystem, hold: Iterable[str] = (), free: Iterable[str] = (),

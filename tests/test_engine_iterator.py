@@ -1,0 +1,69 @@
+"""The engine's pieces: the step iterator, termination reasons with hints, pluggable solvers."""
+
+import numpy as np
+import pytest
+
+from mechcont.continuation import (
+    BranchSteps,
+    ContinuationOptions,
+    DenseLU,
+    MinimumNorm,
+    Termination,
+    continuation,
+    find_equilibrium,
+)
+from mechcont.continuation._api import _Equilibria, _equilibrium_events
+from mechcont.continuation._problem import choose_unknowns
+from mechcont.errors import InputError
+from mechcont.models import build_overcentre
+from mechcont.models.overcentre import symmetric_folds
+
+FOLDS = sorted(F for _, F in symmetric_folds(1.5, 1.0, 1.0, 9.81, 127.0, 0.4))
+
+
+@pytest.fixture(scope="module")
+def start():
+    s = build_overcentre(LU=0.4)
+    return s, find_equilibrium(s, hold={"theta1": 0.3}, free=["F"])
+
+
+def test_iterator_yields_the_start_then_each_step(start):
+    s, x0 = start
+    opts = ContinuationOptions(bounds={"theta1": (-1.2, 1.2)})
+    problem = _Equilibria(s, x0, "F", choose_unknowns(s, exclude=["F"]))
+    steps = BranchSteps(problem, problem.u_of(x0), +1, opts, _equilibrium_events(s, opts, []))
+    points = list(steps)
+    assert points[0].s == 0 and np.allclose(points[0].state.x, x0, rtol=1e-15, atol=0)
+    assert np.all(np.diff([p.s for p in points]) >= 0)
+    assert steps.termination is Termination.BOUND and steps.termination.status == "completed"
+    assert points[-1].label == "EP" and points[-1].info["bound_of"] == "theta1"
+    # the same points as the driver records
+    b = continuation(s, x0, "F", direction=1, options=opts)
+    assert len(b) == len(points)
+    assert np.array_equal(b.values, np.array([p.state.x for p in points]))
+
+
+def test_runaway_branch_names_the_growing_variable(start):
+    s, x0 = start
+    b = continuation(s, x0, "F", direction=-1, options=ContinuationOptions(max_steps=60, dsmax=1.0))
+    assert b.status == "completed" and "max_steps=60" in b.message
+    assert "may grow without bound" in b.message and "--bounds" in b.message
+    assert b.special("EP")[0].info["reason"] == "max_steps"
+
+
+def test_step_underflow_is_a_failure_with_a_reason():
+    assert Termination.STEP_UNDERFLOW.status == "step size underflow"
+    assert Termination.BRANCHES_TOO_CLOSE.status == "step size underflow"
+    assert {t.status for t in (Termination.BOUND, Termination.MAX_STEPS, Termination.STOP_EVENT)} == {"completed"}
+
+
+@pytest.mark.parametrize("solver", [DenseLU(), MinimumNorm()])
+def test_linear_solvers_give_the_same_folds(start, solver):
+    s, x0 = start
+    b = continuation(s, x0, "F", options=ContinuationOptions(bounds={"theta1": (-1.2, 1.2)}, linear_solver=solver))
+    assert sorted(p["F"] for p in b.special("LP")) == pytest.approx(FOLDS, rel=1e-10)
+
+
+def test_a_solver_without_solve_is_refused():
+    with pytest.raises(InputError, match="linear_solver"):
+        ContinuationOptions(linear_solver=object())
