@@ -67,3 +67,11 @@ def test_linear_solvers_give_the_same_folds(start, solver):
 def test_a_solver_without_solve_is_refused():
     with pytest.raises(InputError, match="linear_solver"):
         ContinuationOptions(linear_solver=object())
+
+
+def test_progress_is_called_once_per_accepted_step(start):
+    s, x0 = start
+    calls = []
+    b = continuation(s, x0, "F", options=ContinuationOptions(bounds={"theta1": (-1.2, 1.2)}), progress=calls.append)
+    accepted = sum(1 for lab, si in zip(b.labels, b.s) if not lab and si != 0)
+    assert calls == [1] * accepted and accepted > 10

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -76,11 +76,11 @@ def _check_start(system, problem, u0, options, start_x):
             raise InputError(name, f"start value {v:.6g} lies outside its bounds {lo:g}:{hi:g}")
 
 
-def _run(problem, system, u0, options, events, direction, vary, unknowns, tangent0=None) -> Branch:
+def _run(problem, system, u0, options, events, direction, vary, unknowns, tangent0=None, progress=None) -> Branch:
     if direction not in (-1, 0, 1):
         raise InputError("direction", f"must be -1, 0 (both) or +1, got {direction!r}")
     dirs = [direction] if direction else [-1, 1]
-    parts = {d: run_direction(problem, u0, d, options, events, tangent0=tangent0) for d in dirs}
+    parts = {d: run_direction(problem, u0, d, options, events, tangent0=tangent0, progress=progress) for d in dirs}
     rows, stab, labels, infos, s = [], [], [], [], []
 
     def take(p, indices, sign):
@@ -115,7 +115,7 @@ def _run(problem, system, u0, options, events, direction, vary, unknowns, tangen
 
 def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
                  options: ContinuationOptions | None = None, direction: int = 0,
-                 events: Sequence[Event] = ()) -> Branch:
+                 events: Sequence[Event] = (), progress: Callable[[int], None] | None = None) -> Branch:
     """Continue equilibria of ``system`` in the variable ``vary``.
 
     Parameters
@@ -138,6 +138,8 @@ def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str
         ``0`` both directions, ``+1``/``-1`` only increasing/decreasing ``vary`` at the start.
     events:
         Extra :class:`~mechcont.continuation.Event` objects (e.g. ``ValueEvent("theta4", 0)``).
+    progress:
+        Called with ``1`` after every accepted step (e.g. a progress bar's ``update``).
 
     Returns
     -------
@@ -154,7 +156,7 @@ def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str
     u0 = problem.u_of(x0)
     _check_start(system, problem, u0, options, x0)
     evs = _equilibrium_events(system, options, events, moving=(*unknowns, vary))
-    return _run(problem, system, u0, options, evs, direction, vary, unknowns)
+    return _run(problem, system, u0, options, evs, direction, vary, unknowns, progress=progress)
 
 
 def locate_fold(system: EquationSystem, point, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = ()):
