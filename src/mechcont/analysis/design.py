@@ -10,6 +10,9 @@ held aligned, the force ``F`` solved for; see :mod:`mechcont.analysis.downlock`)
   region where moving the attachment has the counter-intuitive effect; the margin is the
   distance of the design value to the nearest one, and the fold locus in the second
   parameter ends at a cusp.
+
+Every run the answers rest on is checked: one that failed or stopped short of its bounds
+is named, with where and why, in :attr:`DesignRegion.warnings`.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ import numpy as np
 from ..continuation import Branch, ContinuationOptions, continuation, continue_folds
 from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
+from ._runs import early_stops
 from .downlock import downlock, downlock_condition, downlock_point
 
 __all__ = ["FoldLocus", "DesignRow", "DesignRegion", "fold_locus", "design_region"]
@@ -43,6 +47,7 @@ class FoldLocus:
 
     branch: Branch
     curve: Branch | None
+    warnings: list[str] = field(default_factory=list)
 
     @property
     def cusps(self) -> list:
@@ -70,6 +75,7 @@ class DesignRow:
         Distance (unit of x) from the design value to the nearest fold; nan if none.
     margin_to_zero:
         Distance (unit of x) from the design value to the nearest F = 0 crossing; nan if none.
+        Unsigned: see :attr:`locks_unaided` and :attr:`lock_margin`.
     """
 
     level: float
@@ -79,6 +85,18 @@ class DesignRow:
     margin_to_fold: float
     margin_to_zero: float = float("nan")
     slope_at_design: float = float("nan")
+
+    @property
+    def locks_unaided(self) -> bool:
+        """True when the downlock force at the design value is positive (the gear locks with no help)."""
+        return bool(self.force_at_design > 0)
+
+    @property
+    def lock_margin(self) -> float:
+        """:attr:`margin_to_zero` signed: positive when the design locks unaided (by that much of x
+        before it stops doing so), negative when it does not (that much of x to go); nan when F does
+        not change sign in the range."""
+        return self.margin_to_zero if self.locks_unaided else -self.margin_to_zero
 
 
 @dataclass
@@ -111,14 +129,16 @@ class DesignRegion:
     rows: list[DesignRow] = field(default_factory=list)
     design: tuple[float, float] = (np.nan, np.nan)
     units: tuple[str, str, str] = ("", "", "N")  # of x, y and the force
+    warnings: list[str] = field(default_factory=list)  # runs that stopped short: where and why
 
     def table(self) -> list[dict]:
         """The design table as records (one per level), numbers in SI units named in the headings.
 
-        Columns: the level of y; the force at the design x and its slope dF/dx; the x
-        intervals where F > 0 (locks unaided); the folds (extrema of F in x); the distances
-        from the design x to the nearest fold and to the nearest F = 0 crossing ("none"
-        when there is none in the range).
+        Columns: the level of y; the force at the design x and its slope dF/dx; whether the
+        design locks unaided (F > 0 there: "yes"/"no"); the x intervals where F > 0; the folds
+        (extrema of F in x); the distance from the design x to the nearest fold; the signed
+        margin to the nearest F = 0 crossing (positive: locks unaided with that margin,
+        negative: does not, by that much). "none" when there is none in the range.
         """
         ux, uy, uf = (f" ({u})" if u else "" for u in self.units)
         x = self.x_name
@@ -134,22 +154,25 @@ class DesignRegion:
                 f"{self.y_name}{uy}": r.level,
                 f"F at {x}={x0}{uf}": r.force_at_design,
                 f"dF/d{x} at {x}={x0}{slope_unit}": r.slope_at_design,
+                f"locks unaided at {x}={x0}": "yes" if r.locks_unaided else "no",
                 f"{x} where F>0 (locks unaided){ux}": "; ".join(f"{a:.4g}..{b:.4g}" for a, b in r.locking_intervals)
                 or "none",
                 f"folds (extrema of F) at {x}{ux}": "; ".join(f"{f:.4g}" for f in r.folds) or "none",
                 f"margin to fold{ux}": dist(r.margin_to_fold),
-                f"margin to F=0{ux}": dist(r.margin_to_zero),
+                f"lock margin to F=0 (+ locks, - does not){ux}": dist(r.lock_margin),
             })
         return out
 
 
-def _options(bounds, scale_span):
-    return ContinuationOptions(ds=0.02, dsmin=1e-9, dsmax=max(0.02, min(0.5, scale_span)), bounds=bounds)
+def _options(bounds, scale_span, max_steps=2000):
+    return ContinuationOptions(ds=0.02, dsmin=1e-9, dsmax=max(0.02, min(0.5, scale_span)), bounds=bounds,
+                               max_steps=max_steps)
 
 
 def fold_locus(system: EquationSystem, design: str, second: str, bounds: Mapping[str, tuple[float, float]], *,
                values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
-               force: str | None = None, force_bounds: tuple[float, float] = (-1e4, 1e4)) -> FoldLocus:
+               force: str | None = None, force_bounds: tuple[float, float] = (-1e4, 1e4),
+               condition: str | None = None, max_steps: int = 2000) -> FoldLocus:
     """Extrema of the downlock force in ``design`` (folds) and their locus in ``second``.
 
     Parameters
@@ -162,30 +185,34 @@ def fold_locus(system: EquationSystem, design: str, second: str, bounds: Mapping
         Parameter in which the folds are continued (e.g. ``"LU"``).
     bounds:
         ``{name: (low, high)}`` for ``design`` and ``second`` (the curve ends at them).
-    values, hold, force:
+    values, hold, force, condition:
         Start parameter values and the downlock condition (see :func:`downlock`).
     force_bounds:
         Range of the force (N) along the branch.
+    max_steps:
+        Most continuation steps each way, for both runs.
 
     Returns
     -------
     FoldLocus
         The force branch and the fold curve (None when there is no fold).
     """
-    h, f = downlock_condition(system, hold, force)
+    h, f = downlock_condition(system, hold, force, condition=condition)
     for n in (design, second):
         system.variable(n)
         if n not in bounds:
             raise InputError("bounds", f"give a range for {n}")
     x0 = downlock_point(system, values, hold=h, force=f)
-    opts = _options({design: bounds[design], f: force_bounds}, 0.5)
+    opts = _options({design: bounds[design], f: force_bounds}, 0.5, max_steps)
     br = continuation(system, x0, f, hold=list(h), free=[design], options=opts)
+    warnings = early_stops(br, f"force branch in {f} ({design} solved for)", show=(design,))
     lps = br.special("LP")
     if not lps:
-        return FoldLocus(br, None)
-    curve_opts = _options({design: bounds[design], second: bounds[second], f: force_bounds}, 0.2)
+        return FoldLocus(br, None, warnings)
+    curve_opts = _options({design: bounds[design], second: bounds[second], f: force_bounds}, 0.2, max_steps)
     curve = continue_folds(system, lps[0], vary=f, free=second, options=curve_opts)
-    return FoldLocus(br, curve)
+    warnings += early_stops(curve, f"fold curve in {second}", show=(design, f))
+    return FoldLocus(br, curve, warnings)
 
 
 def _slope(system, vals, x_name, x0, xb, h, f):
@@ -239,7 +266,8 @@ def _intervals(x, F):
 def design_region(system: EquationSystem, x_name: str = "l_sp1", y_name: str = "LU", *,
                   x_bounds: tuple[float, float], y_levels: Sequence[float],
                   values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
-                  force: str | None = None, n_x: int = 121) -> DesignRegion:
+                  force: str | None = None, n_x: int = 121, condition: str | None = None,
+                  max_steps: int = 2000) -> DesignRegion:
     """Downlock force over the (x, y) design plane, the F = 0 boundary, folds and margins.
 
     Parameters
@@ -252,17 +280,20 @@ def design_region(system: EquationSystem, x_name: str = "l_sp1", y_name: str = "
         Range of ``x`` (SI).
     y_levels:
         Levels of ``y`` (SI), at least two, increasing.
-    values, hold, force:
-        Other parameter values and the downlock condition.
+    values, hold, force, condition:
+        Other parameter values and the downlock condition (see :func:`downlock_condition`).
     n_x:
         Number of grid points in ``x`` for the force map.
+    max_steps:
+        Most continuation steps each way, for every run.
 
     Returns
     -------
     DesignRegion
-        Force map, boundary branch, fold locus and one :class:`DesignRow` per level.
+        Force map, boundary branch, fold locus, one :class:`DesignRow` per level, and the
+        warnings of every run that stopped short of its bounds.
     """
-    h, f = downlock_condition(system, hold, force)
+    h, f = downlock_condition(system, hold, force, condition=condition)
     y_levels = np.asarray(sorted(float(v) for v in y_levels))
     if len(y_levels) < 2:
         raise InputError(y_name, "give at least two levels")
@@ -274,20 +305,25 @@ def design_region(system: EquationSystem, x_name: str = "l_sp1", y_name: str = "
     x0 = min(max(x0, lo), hi)
     grid = np.linspace(lo, hi, n_x)
     force_map = np.full((len(y_levels), n_x), np.nan)
-    rows = []
+    rows, warnings = [], []
     for i, yv in enumerate(y_levels):
         vals = {**values, y_name: float(yv), x_name: x0}
-        br = downlock(system, x_name, {x_name: (lo, hi)}, values=vals, hold=h, force=f)
+        br = downlock(system, x_name, {x_name: (lo, hi)}, values=vals, hold=h, force=f, unlock=False,
+                      max_steps=max_steps)
+        warnings += [f"{y_name} = {yv:g}: {w}" for w in br.warnings]
         order = np.argsort(br[x_name])
         xs, Fs = br[x_name][order], br[f][order]
         force_map[i] = np.interp(grid, xs, Fs)
         # extrema of F(x): folds of the force branch with x solved for
         try:
             fl = continuation(system, downlock_point(system, vals, hold=h, force=f), f, hold=list(h), free=[x_name],
-                              options=_options({x_name: (lo, hi), f: (-1e6, 1e6)}, 0.5))
+                              options=_options({x_name: (lo, hi), f: (-1e6, 1e6)}, 0.5, max_steps))
             folds = tuple(sorted(p[x_name] for p in fl.special("LP")))
-        except ConvergenceError:
+            warnings += [f"{y_name} = {yv:g}: {w}" for w in early_stops(fl, f"force branch in {f} ({x_name} solved "
+                                                                            f"for, to find the folds)", show=(x_name,))]
+        except ConvergenceError as exc:
             folds = ()
+            warnings.append(f"{y_name} = {yv:g}: the folds of {f} in {x_name} are unknown: {exc}")
         try:
             F0 = float(downlock_point(system, {**vals}, hold=h, force=f)[system.index(f)])
         except ConvergenceError:
@@ -298,20 +334,31 @@ def design_region(system: EquationSystem, x_name: str = "l_sp1", y_name: str = "
         crossings = [e for iv in intervals for e in iv if lo < e < hi]
         to_zero = min((abs(x0 - c) for c in crossings), default=float("nan"))
         rows.append(DesignRow(float(yv), F0, intervals, folds, margin, to_zero, slope))
-    boundary = _zero_force_boundary(system, x_name, y_name, (lo, hi), (y_levels[0], y_levels[-1]), grid, y_levels,
-                                    force_map, values, h, f)
+    boundary, why = _zero_force_boundary(system, x_name, y_name, (lo, hi), (y_levels[0], y_levels[-1]), grid,
+                                         y_levels, force_map, values, h, f, max_steps)
+    warnings += why
     y_mid = float(values.get(y_name, system.variable(y_name).value))
     try:
         folds = fold_locus(system, x_name, y_name, {x_name: (lo, hi), y_name: (y_levels[0], y_levels[-1])},
-                           values={**values, y_name: y_mid}, hold=h, force=f)
-    except ConvergenceError:
+                           values={**values, y_name: y_mid}, hold=h, force=f, max_steps=max_steps)
+        warnings += folds.warnings
+    except (ConvergenceError, InputError) as exc:
         folds = None
+        warnings.append(f"the fold locus from {y_name} = {y_mid:g} is unknown: {exc}")
     units = (system.variable(x_name).unit, system.variable(y_name).unit, system.variable(f).unit or "N")
-    return DesignRegion(x_name, y_name, grid, y_levels, force_map, boundary, folds, rows, (x0, y_mid), units)
+    return DesignRegion(x_name, y_name, grid, y_levels, force_map, boundary, folds, rows, (x0, y_mid), units,
+                        warnings)
 
 
-def _zero_force_boundary(system, x_name, y_name, xb, yb, grid, levels, fmap, values, h, f):
-    """Continue the curve F = 0 in the (x, y) plane from a sign change of the force map."""
+def _zero_force_boundary(system, x_name, y_name, xb, yb, grid, levels, fmap, values, h, f, max_steps=2000):
+    """Continue the curve F = 0 in the (x, y) plane from a sign change of the force map.
+
+    The start is solved on the level where the map changes sign (y held there, x solved
+    for), so it lies inside the y range whatever the spacing of the levels. Returns
+    ``(branch or None, warnings)``.
+    """
+    from ..continuation import find_equilibrium
+
     for i in range(len(levels)):
         row = fmap[i]
         idx = np.nonzero(np.sign(row[:-1]) * np.sign(row[1:]) < 0)[0]
@@ -321,15 +368,15 @@ def _zero_force_boundary(system, x_name, y_name, xb, yb, grid, levels, fmap, val
             vals = {**values, y_name: float(levels[i]), x_name: float(xs), f: 0.0}
             base = getattr(system, "downlocked", None)
             guess = system.vector(vals, base=base) if base is not None else None
-            from ..continuation import find_equilibrium
-
             try:
-                x0 = find_equilibrium(system, values={k: v for k, v in vals.items() if k != y_name}, hold=h,
-                                      free=[y_name], guess=system.vector(vals, base=guess))
-                return continuation(system, x0, x_name, hold=list(h), free=[y_name],
-                                    options=_options({x_name: xb, y_name: yb}, 0.5))
-            except ConvergenceError:
-                return None
-    return None
+                x0 = find_equilibrium(system, values={k: v for k, v in vals.items() if k != x_name}, hold=h,
+                                      free=[x_name], guess=system.vector(vals, base=guess))
+                br = continuation(system, x0, x_name, hold=list(h), free=[y_name],
+                                  options=_options({x_name: xb, y_name: yb}, 0.5, max_steps))
+            except (ConvergenceError, InputError) as exc:
+                return None, [f"the {f} = 0 boundary from {y_name} = {levels[i]:g}, {x_name} = {xs:.6g} is unknown: "
+                              f"{exc}"]
+            return br, early_stops(br, f"{f} = 0 boundary in {x_name} ({y_name} solved for)", show=(y_name,))
+    return None, []
 
 

@@ -6,6 +6,12 @@ Holding that state and solving for ``F`` turns every parameter — airspeed, spr
 unstrained length, attachment positions — into a continuation parameter: one run gives
 the downlock force as a function of it, where the traditional approach needs one slow
 time simulation per value. ``F > 0`` (the unlock direction) means the gear locks unaided.
+
+The condition is any held state: the nose gear's ``theta4 = 0``, or a condition declared in
+a mechanism description (``[conditions]``, held at its ``target``; ``[mechanism] downlock =
+{condition, force}`` makes it the default). The result also carries the unlock folds of the
+downlocked point at the start (:mod:`mechcont.analysis.unlock`) and names every run that
+stopped short of its bounds (:attr:`DownlockBranch.warnings`).
 """
 
 from __future__ import annotations
@@ -17,22 +23,75 @@ import numpy as np
 from ..continuation import Branch, ContinuationOptions, continuation, find_equilibrium
 from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
+from ._runs import early_stops
+from .unlock import UnlockFolds, unlock_folds
 
-__all__ = ["downlock", "downlock_point", "downlock_condition"]
+__all__ = ["downlock", "downlock_point", "downlock_condition", "DownlockBranch"]
+
+
+class DownlockBranch(Branch):
+    """A downlock branch (a :class:`~mechcont.continuation.Branch`) and what it rests on.
+
+    Attributes (besides the branch's own)
+    -------------------------------------
+    downlock_force:
+        Name of the force solved for (N); ``branch[downlock_force]`` is the downlock force.
+    condition:
+        The held states ``{name: value}`` (e.g. ``{"aligned": 0.0}``).
+    unlock:
+        :class:`~mechcont.analysis.unlock.UnlockFolds` of the downlocked point at the start
+        (the folds bounding the locked state, the unlock force); None when not computed.
+    warnings:
+        One line per run that stopped short (a failed direction, ``max_steps`` before the
+        bounds, a release run without a fold): where and why.
+    """
+
+    downlock_force: str
+    condition: dict
+    unlock: UnlockFolds | None
+    warnings: list
+
+    @classmethod
+    def of(cls, branch: Branch, force: str, condition: Mapping[str, float], unlock: UnlockFolds | None,
+           warnings: list[str]) -> DownlockBranch:
+        """``branch`` (every attribute kept) with the downlock's force, condition, unlock folds and warnings."""
+        out = cls.__new__(cls)
+        out.__dict__.update(branch.__dict__)
+        out.downlock_force, out.condition = force, dict(condition)
+        out.unlock, out.warnings = unlock, list(warnings)
+        return out
 
 
 def downlock_condition(system: EquationSystem, hold: Mapping[str, float] | None = None,
-                       force: str | None = None) -> tuple[dict[str, float], str]:
+                       force: str | None = None, *, condition: str | None = None) -> tuple[dict[str, float], str]:
     """The held states and the freed force of the downlock condition of ``system``.
 
-    Uses ``hold``/``force`` when given, else the model's ``downlock_hold`` /
-    ``downlock_force`` attributes (the built-in nose gear: ``{"theta4": 0.0}``, ``"F"``).
-    Raises :class:`InputError` when neither names the condition or a name is unknown.
+    Uses ``hold`` (``{state: value}``) or ``condition`` (a declared condition's name, held at
+    its target) when given, else the model's ``downlock_hold`` / ``downlock_force`` attributes
+    (the built-in nose gear: ``{"theta4": 0.0}``, ``"F"``; a description: its ``[mechanism]
+    downlock``). ``force`` defaults to the model's, else ``"F"``. Raises :class:`InputError`
+    when nothing names the condition, a name is unknown, or both ``hold`` and ``condition``
+    are given.
     """
-    h = dict(hold) if hold is not None else getattr(system, "downlock_hold", None)
+    if condition is not None:
+        if hold:
+            raise InputError("condition", "give either a condition or held states (hold), not both")
+        declared = getattr(system, "conditions", None) or {}
+        if condition not in declared:
+            valid = ", ".join(declared) or "none declared (add a [conditions] table to the description)"
+            raise InputError("condition", f"unknown condition {condition!r} of model '{system.name}'; conditions: "
+                                          f"{valid}")
+        if declared[condition] is None:
+            raise InputError("condition", f"condition {condition!r} has no target; give target = VALUE under "
+                                          f"[conditions] or hold it at a value ({condition}=VALUE)")
+        hold = {condition: declared[condition]}
+    h = dict(hold) if hold else getattr(system, "downlock_hold", None)
     if not h:
-        raise InputError("hold", f"model '{system.name}' defines no downlock condition; "
-                                 "give the held lock-link state, e.g. theta4=0")
+        declared = ", ".join(getattr(system, "conditions", None) or {})
+        hint = f"; declared conditions: {declared}" if declared else ""
+        raise InputError("hold", f"model '{system.name}' defines no downlock condition; give the held lock-link state "
+                                 f"(e.g. theta4=0) or a declared condition, or declare [mechanism] downlock = "
+                                 f"{{condition = ..., force = ...}}{hint}")
     f = force if force is not None else getattr(system, "downlock_force", "F")
     for n in h:
         if system.variable(n).kind != "state":
@@ -44,7 +103,7 @@ def downlock_condition(system: EquationSystem, hold: Mapping[str, float] | None 
 
 def downlock_point(system: EquationSystem, values: Mapping[str, float] | None = None, *,
                    hold: Mapping[str, float] | None = None, force: str | None = None,
-                   free: Iterable[str] = ()) -> np.ndarray:
+                   free: Iterable[str] = (), condition: str | None = None) -> np.ndarray:
     """One downlocked equilibrium: the held lock-link state, the force solved for.
 
     Parameters
@@ -53,7 +112,7 @@ def downlock_point(system: EquationSystem, values: Mapping[str, float] | None = 
         The model (e.g. :func:`mechcont.models.nose_gear.build_nose_gear`).
     values:
         Parameter values (SI) overriding the defaults.
-    hold, force:
+    hold, force, condition:
         The downlock condition (defaults: the model's, see :func:`downlock_condition`).
     free:
         Further parameters solved for (each needs one more held state).
@@ -65,8 +124,9 @@ def downlock_point(system: EquationSystem, values: Mapping[str, float] | None = 
 
     Models may carry ``check_values(values)`` (raises :class:`InputError` for values out of
     range) and ``assemble_downlocked(values, hold)`` (a closed-form guess); both are used.
+    Without the latter, Newton starts from the model's default (assembled) configuration.
     """
-    h, f = downlock_condition(system, hold, force)
+    h, f = downlock_condition(system, hold, force, condition=condition)
     values = dict(values or {})
     for n in values:
         if n in h or n == f:
@@ -91,7 +151,8 @@ def downlock_point(system: EquationSystem, values: Mapping[str, float] | None = 
 def downlock(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None, *,
              free: Iterable[str] = (), values: Mapping[str, float] | None = None,
              hold: Mapping[str, float] | None = None, force: str | None = None,
-             options: ContinuationOptions | None = None, direction: int = 0) -> Branch:
+             options: ContinuationOptions | None = None, direction: int = 0, condition: str | None = None,
+             unlock: bool = True, max_steps: int | None = None) -> DownlockBranch:
     """The downlock force as a function of the parameter ``vary``, by continuation.
 
     Parameters
@@ -108,18 +169,25 @@ def downlock(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float
         Further parameters solved for (each needs a further held state in ``hold``).
     values:
         Parameter values (SI) at the start, overriding the defaults.
-    hold, force:
+    hold, force, condition:
         The downlock condition (defaults: the model's, see :func:`downlock_condition`).
     options:
         Step control; ``bounds`` given here are merged into it.
     direction:
         ``0`` both ways from the start value, ``+1``/``-1`` one way.
+    unlock:
+        Also find the unlock folds of the downlocked point at the start (one more
+        continuation run, in the force with the condition released).
+    max_steps:
+        Most continuation steps each way (default: the options', else 2000).
 
     Returns
     -------
-    Branch
-        Columns of every variable along the branch (``branch[force]`` is the downlock
-        force, N); stability from the mechanics; ``LP`` where ``vary`` turns back.
+    DownlockBranch
+        A :class:`~mechcont.continuation.Branch`: columns of every variable along the branch
+        (``branch[force]`` is the downlock force, N); stability from the mechanics; ``LP``
+        where ``vary`` turns back. Also ``unlock`` (the unlock folds at the start) and
+        ``warnings`` (runs that stopped short of their bounds: where and why).
 
     Raises
     ------
@@ -127,7 +195,7 @@ def downlock(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float
         Unknown names, ``vary`` without bounds or equal to the force or a held state, a
         start value outside its bounds.
     """
-    h, f = downlock_condition(system, hold, force)
+    h, f = downlock_condition(system, hold, force, condition=condition)
     system.variable(vary)
     if vary == f:
         raise InputError("vary", f"'{vary}' is the downlock force, which is solved for; vary a design parameter")
@@ -152,11 +220,17 @@ def downlock(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float
         span = hi - lo if np.isfinite(hi - lo) else 1.0
         scale = system.variable(vary).scale
         options = ContinuationOptions(ds=min(0.02, 0.5 * span / scale), dsmin=1e-9,
-                                      dsmax=max(0.02, min(0.5, 0.1 * span / scale)), bounds=all_bounds)
+                                      dsmax=max(0.02, min(0.5, 0.1 * span / scale)), bounds=all_bounds,
+                                      **({"max_steps": max_steps} if max_steps else {}))
     else:
         from dataclasses import replace
 
-        options = replace(options, bounds=all_bounds)
+        options = replace(options, bounds=all_bounds, **({"max_steps": max_steps} if max_steps else {}))
     branch = continuation(system, x0, vary, hold=list(h), free=[f, *free], options=options, direction=direction)
-    branch.downlock_force = f
-    return branch
+    held = ", ".join(f"{k} = {v:g}" for k, v in h.items())
+    warnings = early_stops(branch, f"downlock branch in {vary} ({held})", show=(f,))
+    found = None
+    if unlock:
+        found = unlock_folds(system, x0, f, released=list(h))
+        warnings += [f"unlock folds at {vary} = {start:g}: {n}" for n in found.warnings]
+    return DownlockBranch.of(branch, f, h, found, warnings)

@@ -13,7 +13,7 @@ from ..errors import InputError
 from ._app import cli
 from ._parse import assignments
 from ._parse import bounds as parse_bounds
-from .downlock import PLOT_SUFFIXES, checked_path, model_and_condition, save_figure
+from .downlock import PLOT_SUFFIXES, checked_path, model_and_condition, save_figure, warn
 
 
 def _markdown(records: list[dict]) -> str:
@@ -79,11 +79,19 @@ def plot_region(region, ax, *, force_name: str = "F"):
 @click.option("--levels", default=11, show_default=True, type=int, help="Number of levels of the second parameter.")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Set a parameter (SI units, radians).")
 @click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE", help="Downlock condition (default: the model's).")
+@click.option("--condition", default=None, metavar="NAME",
+              help="Downlock condition: a condition declared under [conditions], held at its target.")
 @click.option("--force", default=None, metavar="NAME", help="The downlock force (default: the model's, F).")
+@click.option("--max-steps", type=int, default=2000, show_default=True, help="Most continuation steps each way.")
 @click.option("--out", default=None, metavar="FILE", help="Write the table as .csv or .md.")
 @click.option("--plot", default=None, metavar="FILE", help="Region plot (.png, .svg, .pdf).")
-def design_command(model, x_name, y_name, bounds_, levels, sets, holds, force, out, plot):
-    """Where MODEL's downlock force is positive over (--x, --y), the margin to the folds, as a table and a plot."""
+def design_command(model, x_name, y_name, bounds_, levels, sets, holds, condition, force, max_steps, out, plot):
+    """Where MODEL's downlock force is positive over (--x, --y), the margin to the folds, as a table and a plot.
+
+    The lock margin is signed: positive when the design locks unaided (by that much of --x
+    before it stops), negative when it does not. Runs that stop short of their bounds are
+    named on stderr.
+    """
     import numpy as np
 
     from ..analysis.design import design_region
@@ -92,6 +100,8 @@ def design_command(model, x_name, y_name, bounds_, levels, sets, holds, force, o
     plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
     if levels < 2 or levels > 200:
         raise InputError("--levels", f"must be between 2 and 200, got {levels}")
+    if max_steps < 1:
+        raise InputError("--max-steps", f"must be a positive integer, got {max_steps}")
     values = assignments(sets, "set")
     bnds = parse_bounds(bounds_)
     for n in (x_name, y_name):
@@ -99,13 +109,15 @@ def design_command(model, x_name, y_name, bounds_, levels, sets, holds, force, o
             raise InputError("--bounds", f"give a finite range for {n}, e.g. {n}=LO:HI")
     if x_name == y_name:
         raise InputError("--y", "must differ from --x")
-    system, h, f = model_and_condition(model, holds, force)
+    system, h, f = model_and_condition(model, holds, force, condition)
     for n in (*values, x_name, y_name):
         system.variable(n)
     region = design_region(system, x_name, y_name, x_bounds=bnds[x_name],
-                           y_levels=np.linspace(*bnds[y_name], levels), values=values, hold=h, force=f)
+                           y_levels=np.linspace(*bnds[y_name], levels), values=values, hold=h, force=f,
+                           max_steps=max_steps)
     records = region.table()
     click.echo(_markdown(records))
+    warn(region.warnings)
     if region.folds is not None:
         for p in region.folds.cusps:
             click.echo(f"cusp: {y_name} = {p[y_name]:.6g}, {x_name} = {p[x_name]:.6g}, {f} = {p[f]:.6g} N")

@@ -50,14 +50,25 @@ def _load(model: str):
     return load_model(model)
 
 
-def model_and_condition(model: str, holds, force: str | None):
-    """Load MODEL and resolve its downlock condition (``--hold``/``--force`` or the model's own)."""
+def model_and_condition(model: str, holds, force: str | None, condition: str | None = None):
+    """Load MODEL and resolve its downlock condition (``--hold``/``--condition``/``--force`` or the model's own)."""
     from ..analysis.downlock import downlock_condition
 
     system = _load(model)
     hold = assignments(holds, "hold") or None
-    h, f = downlock_condition(system, hold, force)
+    try:
+        h, f = downlock_condition(system, hold, force, condition=condition)
+    except InputError as exc:
+        if exc.field == "condition":  # name the option the user typed
+            raise InputError("--condition", str(exc)[len(exc.field) + 2:]) from None
+        raise
     return system, h, f
+
+
+def warn(lines) -> None:
+    """Each line on stderr as ``warning: ...`` (runs that stopped short: where and why)."""
+    for line in lines:
+        click.echo(f"warning: {line}", err=True)
 
 
 @cli.command("downlock")
@@ -69,15 +80,21 @@ def model_and_condition(model: str, holds, force: str | None):
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Set a parameter (SI units, radians).")
 @click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE",
               help="Downlock condition: held lock-link state (default: the model's, theta4=0 for nose_gear).")
+@click.option("--condition", default=None, metavar="NAME",
+              help="Downlock condition: a condition declared under [conditions], held at its target.")
 @click.option("--force", default=None, metavar="NAME", help="The downlock force solved for (default: the model's, F).")
+@click.option("--max-steps", type=int, default=None, help="Most continuation steps each way (default 2000).")
 @click.option("--out", default=None, metavar="FILE", help="Write the branch as .csv or .json.")
 @click.option("--plot", default=None, metavar="FILE", help="Plot the downlock force (.png, .svg, .pdf).")
-def downlock_command(model, vary, bounds_, frees, sets, holds, force, out, plot):
+def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force, max_steps, out, plot):
     """Downlock force of MODEL (built-in name or description .toml) as a function of --vary.
 
-    The lock links are held aligned (e.g. theta4 = 0, overcentre angle 180 deg), the force
-    is solved for, and the --vary parameter is continued within its --bounds. A positive
-    force means the gear locks with no help.
+    The lock links are held aligned (e.g. theta4 = 0, overcentre angle 180 deg, or the
+    description's [mechanism] downlock condition), the force is solved for, and the --vary
+    parameter is continued within its --bounds. A positive force means the gear locks with
+    no help. Also printed: the unlock folds of the downlocked point at the start value
+    (released, continued in the force), written per point as unlock_<FORCE> columns.
+    Runs that stop short of their bounds are named on stderr.
     """
     from ..analysis.downlock import downlock
 
@@ -85,17 +102,31 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, force, out, plot)
     plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
     values = assignments(sets, "set")
     bnds = parse_bounds(bounds_)
-    system, h, f = model_and_condition(model, holds, force)
+    system, h, f = model_and_condition(model, holds, force, condition)
     for n in values:
         system.variable(n)
-    branch = downlock(system, vary, bnds, free=frees, values=values, hold=h, force=f)
+    from ..analysis.unlock import with_unlock_columns
+
+    if max_steps is not None and max_steps < 1:
+        raise InputError("--max-steps", f"must be a positive integer, got {max_steps}")
+    branch = downlock(system, vary, bnds, free=frees, values=values, hold=h, force=f, max_steps=max_steps)
+    branch = with_unlock_columns(system, branch, f, released=list(h))
     xs, Fs = branch[vary], branch[f]
     unit_x = system.variable(vary).unit
-    click.echo(f"downlock force {f} (N) vs {vary} ({unit_x}), {', '.join(f'{k}={v:g}' for k, v in h.items())} held: "
+    held = ", ".join(f"{k}={v:g}" for k, v in h.items())
+    unlock_col = f"unlock_{f}" if f"unlock_{f}" in branch.names else None
+    click.echo(f"downlock force {f} (N) vs {vary} ({unit_x}), {held} held: "
                f"{len(branch)} points, {f} from {Fs.min():.6g} to {Fs.max():.6g} N; status {branch.status}")
     step = max(1, len(branch) // 10)
     for i in list(range(0, len(branch), step)) + ([len(branch) - 1] if (len(branch) - 1) % step else []):
-        click.echo(f"  {vary} = {xs[i]:12.6g}   {f} = {Fs[i]:12.6g}   {branch.stability_labels()[i]} {branch.labels[i]}")
+        extra = f"   unlock {branch[unlock_col][i]:12.6g}" if unlock_col else ""
+        click.echo(f"  {vary} = {xs[i]:12.6g}   {f} = {Fs[i]:12.6g}{extra}   {branch.stability_labels()[i]} "
+                   f"{branch.labels[i]}")
+    start = values.get(vary, system.variable(vary).value)
+    click.echo(f"at {vary} = {start:g}: {branch.unlock.summary(held)}")
+    for note in branch.unlock.notes:
+        click.echo(f"  {note}")
+    warn(branch.warnings)
     if out_path is not None:
         (branch.to_json if out_path.suffix.lower() == ".json" else branch.to_csv)(out_path)
         click.echo(f"wrote {out_path}")
@@ -106,10 +137,13 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, force, out, plot)
         import matplotlib.pyplot as plt
 
         fig, ax = plt.subplots(figsize=(5.5, 4))
-        ax.plot(xs, Fs, "k-")
+        ax.plot(xs, Fs, "k-", label=f"downlock force ({held})")
+        if unlock_col:
+            ax.plot(xs, branch[unlock_col], "--", color="tab:red", label=f"unlock fold ({f} increasing)")
+            ax.legend(loc="best", fontsize=8)
         ax.axhline(0.0, color="0.6", lw=0.8)
         ax.set_xlabel(f"{vary} ({unit_x})")
-        ax.set_ylabel(f"downlock force {f} (N)")
+        ax.set_ylabel(f"{f} (N)" if unlock_col else f"downlock force {f} (N)")
         ax.set_title(f"{system.name}: downlock force vs {vary}")
         save_figure(fig, plot_path)
         plt.close(fig)

@@ -115,23 +115,23 @@ def _fig8(res):
     from ..models.nose_gear_geometry import aligned_lock_lug, defaults
 
     sy = res.system
-    res.fig8_aligned = downlock(sy, "U", {"U": (0.0, 100.0)})
+    res.fig8_aligned = downlock(sy, "U", {"U": (0.0, 100.0)}, unlock=False)  # the paper's figures need no unlock folds
     L35, psi2 = aligned_lock_lug(defaults(), offset=MISRIG)
     res.fig8_misrig_values = {"L35": L35, "psi2": psi2}
-    res.fig8_misrigged = downlock(sy, "U", {"U": (0.0, 100.0)}, values=res.fig8_misrig_values)
+    res.fig8_misrigged = downlock(sy, "U", {"U": (0.0, 100.0)}, values=res.fig8_misrig_values, unlock=False)
 
 
 def _fig9(res):
     from ..analysis.downlock import downlock
 
-    res.fig9_LU = downlock(res.system, "LU", {"LU": (1.2, 1.4)})
-    res.fig9_k = downlock(res.system, "k", {"k": (0.0, 40000.0)})
+    res.fig9_LU = downlock(res.system, "LU", {"LU": (1.2, 1.4)}, unlock=False)
+    res.fig9_k = downlock(res.system, "k", {"k": (0.0, 40000.0)}, unlock=False)
 
 
 def _fig10(res):
     from ..analysis.downlock import downlock
 
-    res.fig10 = downlock(res.system, "l_sp1", {"l_sp1": L_SP1_RANGE})
+    res.fig10 = downlock(res.system, "l_sp1", {"l_sp1": L_SP1_RANGE}, unlock=False)
 
 
 def _fig11(res):
@@ -142,7 +142,7 @@ def _fig11(res):
     fl = fold_locus(sy, "l_sp1", "LU", {"l_sp1": L_SP1_RANGE, "LU": LU_RANGE})
     res.fig11_force_branch, res.fig11_fold_curve = fl.branch, fl.curve
     res.fig11_levels = np.round(np.linspace(LU_RANGE[0], LU_RANGE[1], 21), 10)
-    res.fig11_surface = [downlock(sy, "l_sp1", {"l_sp1": L_SP1_RANGE}, values={"LU": float(v)})
+    res.fig11_surface = [downlock(sy, "l_sp1", {"l_sp1": L_SP1_RANGE}, values={"LU": float(v)}, unlock=False)
                          for v in res.fig11_levels]
 
 

@@ -1,0 +1,196 @@
+"""The unlock folds: from a downlocked point, release the condition and continue in the force.
+
+At the downlocked point the lock condition is held and the force ``F`` solved for. Released
+(the held states free again, ``F`` the continuation parameter), the same equilibrium lies on
+the branch of the mechanism under the force alone. Along it the locked state is the segment
+through the downlocked point between the nearest folds (``LP``) on either side: beyond a fold
+the lock cannot carry the force and the mechanism snaps. Those folds are the *unlock loads*:
+``below`` is reached by decreasing ``F``, ``above`` by increasing it. Following the paper
+(positive ``F`` acts in the unlock direction), :attr:`UnlockFolds.unlock_force` is ``above``.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..continuation import Branch, ContinuationOptions, FoldEvent, SpecialPoint, continuation
+from ..equations import EquationSystem
+from ..errors import ConvergenceError, InputError
+from ._runs import early_stops
+
+__all__ = ["UnlockFolds", "unlock_folds", "unlock_force_along", "with_unlock_columns"]
+
+
+@dataclass
+class UnlockFolds:
+    """The folds that bound the locked state through a downlocked point.
+
+    Attributes
+    ----------
+    force:
+        Name of the force (N) continued.
+    downlock_force:
+        Its value at the downlocked point (N).
+    stable:
+        Whether the downlocked point itself is physically stable (a lock); None if unknown.
+    below, above:
+        The bounding fold reached by decreasing / increasing the force (a located ``LP``),
+        or None when there is none before the run ended (see :attr:`notes`).
+    branch:
+        The release run: continuation in the force from the downlocked point, both ways,
+        each direction stopped at its first fold.
+    notes:
+        Why a side has no fold (none within the release run's bounds), or that a fold is
+        only approximate (one line each).
+    warnings:
+        Release runs that failed or stopped short of their bounds: where and why.
+    """
+
+    force: str
+    downlock_force: float
+    stable: bool | None
+    below: SpecialPoint | None
+    above: SpecialPoint | None
+    branch: Branch | None
+    notes: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def unlock_force(self) -> float:
+        """The force (N) at the fold reached by increasing it (the paper's unlock direction); nan if none."""
+        return float(self.above[self.force]) if self.above is not None else float("nan")
+
+    @property
+    def locked_range(self) -> tuple[float, float]:
+        """``(F_below, F_above)`` (N): the forces the locked state carries (-inf/inf where no fold)."""
+        lo = float(self.below[self.force]) if self.below is not None else -np.inf
+        hi = float(self.above[self.force]) if self.above is not None else np.inf
+        return lo, hi
+
+    def summary(self, condition: str = "") -> str:
+        """One line: the downlocked point, its stability, and the bounding folds (the unlock force)."""
+        f = self.force
+        held = f"{condition}, " if condition else ""
+        state = {True: "stable", False: "UNSTABLE: not a lock", None: "stability unknown"}[self.stable]
+        side = []
+        if self.above is not None:
+            side.append(f"{f} = {self.unlock_force:.6g} N increasing (the unlock force)")
+        if self.below is not None:
+            side.append(f"{f} = {self.locked_range[0]:.6g} N decreasing")
+        found = "; ".join(side) or "none within the release run (see below)"
+        return f"unlock folds of the downlocked point ({held}{f} = {self.downlock_force:.6g} N, {state}): {found}"
+
+
+#: The release run ends where the force has moved by this many of its scales (N), or a
+#: released state by RELEASE_STATE_SPAN of its scales (e.g. 2 rad), if no fold comes first.
+RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN = 50.0, 2.0
+
+
+def _release_options(system: EquationSystem, x: np.ndarray, released, force: str, max_steps: int,
+                     bounds: Mapping[str, tuple[float, float]] | None) -> ContinuationOptions:
+    """Steps and bounds of the release run (see :data:`RELEASE_FORCE_SPAN`); ``bounds`` take precedence."""
+    b = dict(bounds or {})
+    for n, span in ((force, RELEASE_FORCE_SPAN), *((n, RELEASE_STATE_SPAN) for n in released)):
+        v, sc = x[system.index(n)], system.variable(n).scale
+        b.setdefault(n, (v - span * sc, v + span * sc))
+    return ContinuationOptions(ds=0.02, dsmax=0.5, max_steps=max_steps, bounds=b, detect_folds=False)
+
+
+def unlock_folds(system: EquationSystem, x: np.ndarray, force: str, released=(), *, max_steps: int = 400,
+                 bounds: Mapping[str, tuple[float, float]] | None = None) -> UnlockFolds:
+    """The folds bounding the locked state through the downlocked point ``x``.
+
+    Parameters
+    ----------
+    system:
+        The model.
+    x:
+        A downlocked equilibrium (full vector; e.g. from :func:`~mechcont.analysis.downlock_point`).
+    force:
+        The force (a parameter, N) that the downlock solved for; it is continued.
+    released:
+        The states the downlock held (they are free again); listed only to bound the run:
+        each may move by two of its scales (e.g. 2 rad) before the run ends.
+    max_steps:
+        Most continuation steps each way.
+    bounds:
+        ``{name: (low, high)}`` bounds of the release run; by default the force may move by
+        :data:`RELEASE_FORCE_SPAN` of its scales and each released state by
+        :data:`RELEASE_STATE_SPAN` of its scales.
+
+    Returns
+    -------
+    UnlockFolds
+        Never raises for a run that fails: the failure is in :attr:`UnlockFolds.warnings`.
+    """
+    F0 = float(x[system.index(force)])
+    stable = None
+    if system.mechanics is not None:
+        stable = bool(system.mechanics.stability(x).stable)
+    fold = FoldEvent()
+    fold.stop = True  # the first fold each way bounds the locked segment
+    try:
+        branch = continuation(system, x, force, options=_release_options(system, x, released, force, max_steps, bounds),
+                              events=[fold])
+    except (ConvergenceError, InputError) as exc:
+        return UnlockFolds(force, F0, stable, None, None, None, warnings=[f"release run in {force} failed: {exc}"])
+    below = above = None
+    for p in branch.special("LP"):
+        if p[force] < F0 and (below is None or p[force] > below[force]):
+            below = p
+        elif p[force] > F0 and (above is None or p[force] < above[force]):
+            above = p
+    warnings = early_stops(branch, f"release run in {force}", show=(*released,))
+    notes = []
+    ends = branch[force][[0, -1]] if len(branch) else np.array([F0, F0])
+    for side, p, end in (("decreasing", below, ends.min()), ("increasing", above, ends.max())):
+        if p is None:
+            notes.append(f"no fold {side} {force} from {F0:.6g} N to {end:.6g} N (where the release run ended)")
+        elif not p.located:
+            notes.append(f"the fold {side} {force} is approximate: {p.info.get('reason', 'not located')}")
+    return UnlockFolds(force, F0, stable, below, above, branch, notes, warnings)
+
+
+def unlock_force_along(system: EquationSystem, branch: Branch, force: str, released=(), *,
+                       max_steps: int = 400) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """The unlock folds (N) at every point of a downlock ``branch``, each from its own release run.
+
+    Every row of a downlock branch is a downlocked point; :func:`unlock_folds` is run from
+    each (``released``: the held states). Returns ``(above, below, warnings)``: the force at
+    the fold reached by increasing / decreasing it (nan where there is none), and one line
+    per release run that stopped short of its bounds.
+    """
+    above, below = np.full(len(branch), np.nan), np.full(len(branch), np.nan)
+    warnings: list[str] = []
+    for i, x in enumerate(branch.values):
+        u = unlock_folds(system, x, force, released, max_steps=max_steps)
+        lo, hi = u.locked_range
+        above[i] = hi if np.isfinite(hi) else np.nan
+        below[i] = lo if np.isfinite(lo) else np.nan
+        warnings += [f"{branch.vary} = {x[system.index(branch.vary)]:.6g}: {w}" for w in u.warnings]
+    return above, below, warnings
+
+
+def with_unlock_columns(system: EquationSystem, branch: Branch, force: str, released=()) -> Branch:
+    """A copy of ``branch`` with the unlock folds (N) of every point as extra columns.
+
+    ``unlock_<F>``: the fold reached by increasing the force (the paper's unlock direction);
+    ``unlock_<F>_decreasing``: the one reached by decreasing it; a column only when some
+    point has that fold (see :func:`unlock_force_along`). A branch with a ``warnings`` list
+    (a :class:`~mechcont.analysis.downlock.DownlockBranch`) gets the release runs' warnings.
+    """
+    above, below, warnings = unlock_force_along(system, branch, force, released)
+    extra = {name: col for name, col in ((f"unlock_{force}", above), (f"unlock_{force}_decreasing", below))
+             if np.isfinite(col).any()}
+    out = copy.copy(branch)  # same type, the downlock's own attributes kept
+    if extra:
+        Branch.__init__(out, (*branch.names, *extra), np.column_stack([branch.values, *extra.values()]), branch.s,
+                        branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
+                        branch.status, branch.message, branch.model, {**branch.units, **dict.fromkeys(extra, "N")})
+    if isinstance(getattr(branch, "warnings", None), list):
+        out.warnings = [*branch.warnings, *(f"unlock folds along the branch: {w}" for w in warnings)]
+    return out
