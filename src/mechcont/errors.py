@@ -6,7 +6,7 @@ valid, so the CLI can print it as is and exit with status 2.
 
 from __future__ import annotations
 
-__all__ = ["MechcontError", "InputError", "ConvergenceError"]
+__all__ = ["MechcontError", "InputError", "ConvergenceError", "one_line"]
 
 
 class MechcontError(Exception):
@@ -25,8 +25,16 @@ class InputError(MechcontError, ValueError):
     """
 
     def __init__(self, field: str, message: str):
-        self.field = field
-        super().__init__(f"{field}: {message}")
+        self.field = one_line(str(field))
+        super().__init__(f"{self.field}: {one_line(str(message))}")
+
+
+def one_line(text: str) -> str:
+    """``text`` with line breaks and other control characters escaped (``\\n``), so that an
+    error naming a user's odd key or value still prints as one line."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 class ConvergenceError(MechcontError):

@@ -100,7 +100,7 @@ def fundamental_equation(M_inv_sqrt: np.ndarray, Q: np.ndarray, A: np.ndarray, b
 def _symbols_of(exprs) -> set[str]:
     out: set[str] = set()
     for e in exprs:
-        out |= {str(s) for s in sp.sympify(e).free_symbols}
+        out |= {str(s) for s in sp.sympify(e, strict=True).free_symbols}
     return out
 
 

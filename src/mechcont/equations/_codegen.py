@@ -44,7 +44,10 @@ def _diff(e, a):
     """d e / d a, with |u|' = sign(u) u' and sign' = 0 (SymEngine leaves both unevaluated).
 
     Absolute values appear where a length is computed from parameters (sqrt(L^2) of a
-    real L); away from zero these are the exact derivatives.
+    real L); away from zero these are the exact derivatives. ``Max(u1, u2, ...)`` (and
+    ``Min``) of a description's expressions differentiates to the derivative of the argument
+    that is largest (smallest) there, as a ``Piecewise``; at a tie, of the first such argument
+    (a one-sided derivative: the kink itself has none).
     """
     d = e.diff(a)
     derivs = d.atoms(se.Derivative)
@@ -56,10 +59,21 @@ def _diff(e, a):
                 subs[D] = se.sign(f.args[0]) * _diff(f.args[0], var)
             elif isinstance(f, type(se.sign(se.Symbol("u")))):
                 subs[D] = se.Integer(0)
+            elif isinstance(f, (se.Max, se.Min)):
+                subs[D] = _extremum_derivative(f, var)
             else:
                 raise ValueError(f"cannot differentiate {f} exactly")
         d = d.xreplace(subs)
     return d
+
+
+def _extremum_derivative(f, var):
+    """d Max(u_i)/d var (or Min): u_k' where u_k is the first argument attaining the extremum."""
+    better = se.Ge if isinstance(f, se.Max) else se.Le
+    args = list(f.args)
+    pieces = [(_diff(u, var), se.And(*(better(u, w) for j, w in enumerate(args) if j != i)))
+              for i, u in enumerate(args[:-1])]
+    return se.Piecewise(*pieces, (_diff(args[-1], var), True))
 
 
 def derivative_entries(exprs: Sequence, args: Sequence) -> list[tuple[tuple[int, int], object]]:

@@ -87,8 +87,8 @@ class MechanicalModel:
             raise InputError(missing[0], "coordinate is not a variable of the system")
         self.q_index = np.array([self.names.index(c) for c in self.coordinates])
         nq = len(self.coordinates)
-        self.constraints = [sp.sympify(c) for c in constraints]
-        self.forces = [sp.sympify(f) for f in forces]
+        self.constraints = [sp.sympify(c, strict=True) for c in constraints]
+        self.forces = [sp.sympify(f, strict=True) for f in forces]
         self.mass_matrix = sp.Matrix(mass_matrix)
         if len(self.forces) != nq:
             raise InputError("forces", f"need one generalised force per coordinate ({nq}), got {len(self.forces)}")

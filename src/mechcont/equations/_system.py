@@ -147,7 +147,7 @@ class EquationSystem:
 
     def __post_init__(self):
         self.variables = tuple(self.variables)
-        self.equations = tuple(sp.sympify(e) for e in self.equations)
+        self.equations = tuple(sp.sympify(e, strict=True) for e in self.equations)
         self.limits = tuple(self.limits)
         self.names = tuple(v.name for v in self.variables)
         if len(set(self.names)) != len(self.names):

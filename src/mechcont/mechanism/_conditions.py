@@ -210,7 +210,7 @@ def downlock_from_table(spec, field: str = "mechanism.downlock") -> DownlockSpec
 # -- generation ---------------------------------------------------------------------------
 def condition_rows(kin, subs: Mapping) -> list[tuple[Condition, sp.Expr]]:
     """``(condition, c(q, p))`` for every condition, eliminated coordinates substituted (``subs``)."""
-    return [(c, sp.sympify(condition_expr(kin, c)).xreplace(dict(subs))) for c in kin.mech.conditions]
+    return [(c, sp.sympify(condition_expr(kin, c), strict=True).xreplace(dict(subs))) for c in kin.mech.conditions]
 
 
 def condition_scale(cond: Condition, Lc: float, Fc: float) -> float:

@@ -19,6 +19,7 @@ Conventions (SI units, radians):
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
@@ -27,7 +28,7 @@ import sympy as sp
 from ..errors import InputError
 from ._actuators import Actuator, check_actuators
 from ._conditions import Condition, DownlockSpec, check_conditions
-from ._expr import Value, symbol, to_expr
+from ._expr import FUNCTIONS, Value, symbol, to_expr
 
 __all__ = [
     "Parameter", "Polar", "Body", "Revolute", "Slider", "Prismatic", "Weld", "Spring", "Damper",
@@ -243,9 +244,38 @@ def coordinate_names(body: str) -> tuple[str, str, str]:
     return f"x_{body}", f"y_{body}", f"theta_{body}"
 
 
-def _check_name(name: str, field: str) -> None:
-    if not isinstance(name, str) or not (name.isidentifier() or name.isdigit()):
-        raise InputError(field, f"name {name!r} must be an identifier (letters, digits, underscore)")
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*|[0-9]+")
+_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+#: Columns of every branch table (see ``Branch.to_csv``): no variable may take these names.
+BRANCH_COLUMNS = ("s", "stability", "n_unstable", "label", "vary")
+#: Points every body has (``a``, ``b`` also for bars): they cannot be declared.
+BUILTIN_POINTS = ("origin", "cg")
+BAR_POINTS = ("a", "b")
+
+
+def _check_name(name: str, field: str, *, digits: bool = True) -> None:
+    """``name`` must be ASCII letters, digits and underscores not starting with a digit, or
+    (``digits``) all ASCII digits. Non-ASCII names are refused: Python and SymPy would treat
+    look-alikes differently (NFKC turns ``ｋ`` into ``k``), so two names could collide."""
+    pattern = _NAME if digits else _IDENTIFIER
+    if not isinstance(name, str) or not pattern.fullmatch(name):
+        shown = repr(name) if isinstance(name, str) else type(name).__name__
+        what = "ASCII letters, digits and underscores, not starting with a digit" + (" (or all digits)" if digits
+                                                                                     else "")
+        raise InputError(field, f"name {shown} must be an identifier ({what})")
+
+
+def _check_variable_name(name: str, field: str, what: str) -> None:
+    """A parameter or condition name: also a variable of the system and a branch-table column."""
+    if name in BRANCH_COLUMNS:
+        raise InputError(field, f"'{name}' is reserved: every branch table has a column of that name "
+                                f"({', '.join(BRANCH_COLUMNS)}); rename the {what}")
+    if name.endswith("_dot"):
+        raise InputError(field, f"names ending in '_dot' are reserved for the velocities of the time simulation "
+                                f"(theta1_dot); rename the {what}")
+    if name in FUNCTIONS:
+        kind = "constant" if name == "pi" else "function"
+        raise InputError(field, f"'{name}' is the expression {kind} {name}; rename the {what}")
 
 
 @dataclass
@@ -329,8 +359,8 @@ class Mechanism:
         self.param_symbols: dict[str, sp.Symbol] = {}
         for p in self.parameters:
             f = f"parameters.{p.name}"
-            if not isinstance(p.name, str) or not p.name.isidentifier():
-                raise InputError(f, "parameter names must be identifiers")
+            _check_name(p.name, f, digits=False)
+            _check_variable_name(p.name, f, "parameter")
             if p.name in self.param_symbols:
                 raise InputError(f, "parameter defined more than once")
             if isinstance(p.value, bool) or not isinstance(p.value, (int, float)):
@@ -362,6 +392,8 @@ class Mechanism:
         for group, items in groups:
             for it in items:
                 _check_name(it.name, f"{group}.{it.name}")
+                if group == "conditions":
+                    _check_variable_name(it.name, f"{group}.{it.name}", "condition")
                 if it.name in seen:
                     raise InputError(f"{group}.{it.name}", f"name already used in {seen[it.name]}")
                 seen[it.name] = group
@@ -413,6 +445,11 @@ class Mechanism:
             yield f + ".cg.y", b.cg[1]
             for pn, ps in b.points.items():
                 _check_name(pn, f"{f}.points.{pn}")
+                if pn in BUILTIN_POINTS or (pn in BAR_POINTS and b.length is not None):
+                    meaning = {"a": "the bar's end at -length/2", "b": "the bar's end at +length/2",
+                               "origin": "the body's frame origin", "cg": "the centre of gravity (key cg)"}[pn]
+                    raise InputError(f"{f}.points.{pn}", f"'{pn}' is a built-in point ({meaning}); "
+                                                         "name the declared point differently")
                 if isinstance(ps, Polar):
                     yield f"{f}.points.{pn}.r", ps.r
                     yield f"{f}.points.{pn}.angle", ps.angle

@@ -2,22 +2,35 @@
 
 Every geometric or physical value of a description (a length, a mass, a point coordinate,
 a load magnitude) may be a number or a string such as ``"L1/2"`` or ``"k*cos(psi1)"``.
-Strings are parsed by SymPy over an explicit whitelist of functions, so a misspelt name is
-reported as an unknown reference instead of silently becoming a new symbol.
+
+A description file is data: its strings are never evaluated as code. An expression is
+parsed by Python's own parser into a syntax tree (``ast.parse(text, mode="eval")``, which
+only builds the tree) and that tree is translated node by node into SymPy objects over a
+whitelist: numbers (integers and decimals), the declared names, ``pi``, the operators
+``+ - * / **`` (``^`` also means power), unary ``+``/``-``, parentheses and calls of the
+functions of :data:`FUNCTIONS` with positional arguments. Anything else (attributes,
+subscripts, strings, lambdas, comprehensions, comparisons, keyword arguments, ...) is
+refused with a one-line :class:`~mechcont.errors.InputError`, as are non-ASCII text (Python
+would silently NFKC-normalise look-alike letters such as ``ｋ`` into ``k``), texts longer
+than :data:`MAX_LENGTH` characters, more than :data:`MAX_NODES` syntax nodes or nesting
+deeper than :data:`MAX_DEPTH`, exponents larger than :data:`MAX_EXPONENT` in magnitude and
+numbers beyond the floating-point range (so ``10**10**10`` is refused at once instead of
+being computed).
 """
 
 from __future__ import annotations
 
+import ast
 import math
+import sys
 from collections.abc import Mapping
 
+import mpmath
 import sympy as sp
-from sympy.core.function import AppliedUndef
-from sympy.parsing.sympy_parser import convert_xor, parse_expr, standard_transformations
 
 from ..errors import InputError
 
-__all__ = ["Value", "to_expr", "symbol", "FUNCTIONS"]
+__all__ = ["Value", "to_expr", "float_value", "symbol", "FUNCTIONS", "MAX_LENGTH", "MAX_NODES", "MAX_DEPTH", "MAX_EXPONENT"]
 
 Value = float | int | str
 
@@ -27,14 +40,59 @@ FUNCTIONS = {
     "atan2": sp.atan2, "sinh": sp.sinh, "cosh": sp.cosh, "tanh": sp.tanh, "sqrt": sp.sqrt, "exp": sp.exp,
     "log": sp.log, "pi": sp.pi, "Min": sp.Min, "Max": sp.Max,
 }
-_PARSER_GLOBALS = {"Integer": sp.Integer, "Float": sp.Float, "Rational": sp.Rational, "Symbol": sp.Symbol,
-                   "Function": sp.Function, **FUNCTIONS}
-_TRANSFORMS = standard_transformations + (convert_xor,)
+#: The names of FUNCTIONS that are constants, not functions.
+_CONSTANTS = {"pi"}
+#: Number of positional arguments of each function: (fewest, most); None means any number.
+#: ``log(x, b)`` is the logarithm to base ``b``; ``Min`` and ``Max`` take one or more.
+_ARITY: dict[str, tuple[int, int | None]] = {
+    **{f: (1, 1) for f in FUNCTIONS if f not in _CONSTANTS}, "atan2": (2, 2), "log": (1, 2),
+    "Min": (1, None), "Max": (1, None),
+}
+
+#: Longest expression text (characters).
+MAX_LENGTH = 2000
+#: Most syntax-tree nodes (numbers, names, operators, calls) in one expression.
+MAX_NODES = 500
+#: Deepest nesting of operators and calls (``-(-(-x))`` is 3 deep, ``a+b+c`` 2).
+MAX_DEPTH = 250
+#: Largest magnitude of a numeric exponent (``L1**64`` is fine, ``2**65`` is refused).
+MAX_EXPONENT = 64
+_FLOAT_MAX = sys.float_info.max
+_LOG10_FLOAT_MAX = math.log10(_FLOAT_MAX)
+
+_RANGE = f"numbers must lie within +-{_FLOAT_MAX:.4g}"
+_OPERATORS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**"}
+_VALID = ("numbers, declared names, pi, + - * / ** ^, parentheses and the functions "
+          + ", ".join(f for f in FUNCTIONS if f not in _CONSTANTS))
+#: What the refused syntax is called in error messages (by AST node class name).
+_REFUSED = {
+    "Attribute": "attribute access ('.')", "Subscript": "subscripts ('[...]')", "Slice": "slices",
+    "Lambda": "lambda", "Compare": "comparisons", "BoolOp": "'and'/'or'", "IfExp": "'if ... else'",
+    "NamedExpr": "':=' assignments", "Starred": "'*' unpacking", "JoinedStr": "f-strings",
+    "FormattedValue": "f-strings", "Tuple": "tuples (',')", "List": "lists ('[...]')", "Set": "sets ('{...}')",
+    "Dict": "dicts ('{...}')", "ListComp": "comprehensions", "SetComp": "comprehensions",
+    "DictComp": "comprehensions", "GeneratorExp": "generator expressions", "Await": "'await'",
+    "Yield": "'yield'", "YieldFrom": "'yield'",
+}
 
 
 def symbol(name: str) -> sp.Symbol:
     """The real SymPy symbol of a named quantity (the same as ``Variable(name).symbol``)."""
     return sp.Symbol(name, real=True)
+
+
+def _show(value: str, limit: int = 60) -> str:
+    """``repr`` of an expression for a message, shortened to about ``limit`` characters."""
+    return repr(value if len(value) <= limit else value[:limit] + "...")
+
+
+class _Refused(Exception):
+    """Raised inside the translator; ``to_expr`` turns it into an InputError:
+    ``<what> in <expression>; <hint>``."""
+
+    def __init__(self, what: str, hint: str = f"valid: {_VALID}"):
+        super().__init__(what)
+        self.what, self.hint = what, hint
 
 
 def to_expr(value: Value, field: str, known: Mapping[str, sp.Symbol]) -> sp.Expr:
@@ -44,7 +102,7 @@ def to_expr(value: Value, field: str, known: Mapping[str, sp.Symbol]) -> sp.Expr
     ----------
     value:
         A finite number, or a string in the names of ``known`` and the functions of
-        :data:`FUNCTIONS` (``^`` means power).
+        :data:`FUNCTIONS` (``^`` means power). The string is parsed, never evaluated as code.
     field:
         Where the value comes from (e.g. ``"bodies.crank.length"``), used in errors.
     known:
@@ -53,38 +111,245 @@ def to_expr(value: Value, field: str, known: Mapping[str, sp.Symbol]) -> sp.Expr
     Returns
     -------
     sympy.Expr
+        Integers become ``Integer``, decimals ``Float`` (with the precision of their digits),
+        ``1/2`` the ``Rational`` 1/2, as SymPy's own arithmetic makes them.
 
     Raises
     ------
     InputError
-        Not a number or string, unparsable, non-finite, or using an unknown name.
+        Not a number or string, unparsable, refused syntax, too long or too deep,
+        non-finite, or using an unknown name or function.
     """
     if isinstance(value, bool):
         raise InputError(field, f"expected a number or an expression string, got {value!r}")
-    if isinstance(value, (int, float)):
+    if isinstance(value, int):
+        _check_int(value, field)
+        return sp.Integer(value)
+    if isinstance(value, float):
         if not math.isfinite(value):
             raise InputError(field, f"must be finite, got {value!r}")
-        return sp.Integer(value) if isinstance(value, int) else sp.Float(value)
+        return sp.Float(value)
     if not isinstance(value, str):
         raise InputError(field, f"expected a number or an expression string, got {type(value).__name__}")
+    if len(value) > MAX_LENGTH:
+        raise InputError(field, f"expression is {len(value)} characters long; at most {MAX_LENGTH} are allowed")
+    if not value.isascii():
+        ch = next(c for c in value if not c.isascii())
+        raise InputError(field, f"non-ASCII character {ch!r} (U+{ord(ch):04X}) in expression {_show(value)}; "
+                                "write names, numbers and operators in ASCII")
     text = value.strip()
-    if not text or "__" in text or "lambda" in text or ";" in text:
-        raise InputError(field, f"not a valid expression: {value!r}")
-    local = dict(known)
+    if not text:
+        raise InputError(field, f"not a valid expression: {value!r}; write a number or an expression string")
+    text = text.replace("^", "**")  # as SymPy's convert_xor: ^ is power, with its precedence
     try:
-        expr = parse_expr(text, local_dict=local, global_dict=dict(_PARSER_GLOBALS), transformations=_TRANSFORMS)
-    except Exception as exc:  # SyntaxError, TokenError, TypeError from SymPy's parser
-        raise InputError(field, f"cannot parse expression {value!r} ({type(exc).__name__})") from None
-    if not isinstance(expr, sp.Expr):
-        raise InputError(field, f"not a scalar expression: {value!r}")
-    undefined = expr.atoms(AppliedUndef)
-    if undefined:
-        fn = sorted(str(f.func) for f in undefined)[0]
-        raise InputError(field, f"unknown function '{fn}' in {value!r}; allowed: {', '.join(sorted(FUNCTIONS))}")
-    allowed = set(known.values())
-    unknown = sorted(str(s) for s in expr.free_symbols if s not in allowed)
-    if unknown:
-        raise InputError(field, f"unknown name '{unknown[0]}' in {value!r}; declare it under [parameters]")
+        tree = ast.parse(text, mode="eval")
+    except SyntaxError as exc:
+        why = " ".join(str(exc.msg).split())
+        raise InputError(field, f"cannot parse expression {_show(value)} ({why}); valid: {_VALID}") from None
+    except (RecursionError, MemoryError, ValueError):
+        raise InputError(field, f"cannot parse expression {_show(value)} (nested too deeply)") from None
+    _check_size(tree, value, field)
+    try:
+        expr = _Translator(text, known, FUNCTIONS).node(tree.body, 0)
+    except _Refused as exc:
+        raise InputError(field, f"{exc.what} in {_show(value)}; {exc.hint}") from None
+    except _UnknownName as exc:
+        raise InputError(field, f"unknown name '{exc}' in {_show(value)}; declare it under [parameters]") from None
+    except _UnknownFunction as exc:
+        raise InputError(field, f"unknown function '{exc}' in {_show(value)}; "
+                                f"allowed: {', '.join(sorted(FUNCTIONS))}") from None
     if expr.has(sp.zoo, sp.oo, -sp.oo, sp.nan, sp.I):
-        raise InputError(field, f"expression is not a finite real value: {value!r}")
+        raise InputError(field, f"expression is not a finite real value: {_show(value)}")
     return expr
+
+
+def _check_int(value: int, field: str) -> None:
+    if abs(value) > _FLOAT_MAX:
+        raise InputError(field, f"the number {str(value)[:20]}... ({len(str(abs(value)))} digits) is beyond the "
+                                f"floating-point range; numbers must lie within +-{_FLOAT_MAX:.4g}")
+
+
+def _check_size(tree: ast.AST, value: str, field: str) -> None:
+    """Refuse trees with more than MAX_NODES nodes or deeper than MAX_DEPTH (iteratively)."""
+    if sum(isinstance(n, ast.expr) for n in ast.walk(tree)) > MAX_NODES:
+        raise InputError(field, f"expression {_show(value)} is too large (more than {MAX_NODES} terms); "
+                                "split it over parameters")
+    stack = [(tree.body, 1)]
+    while stack:
+        node, depth = stack.pop()
+        if depth > MAX_DEPTH:
+            raise InputError(field, f"expression {_show(value)} is nested more than {MAX_DEPTH} levels deep")
+        stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node) if isinstance(child, ast.expr))
+
+
+class _UnknownName(Exception):
+    pass
+
+
+class _UnknownFunction(Exception):
+    pass
+
+
+class _Translator:
+    """Turns a whitelisted expression tree into SymPy objects, refusing everything else."""
+
+    def __init__(self, text: str, known: Mapping[str, sp.Symbol], functions: Mapping):
+        self.text, self.known, self.functions = text, known, functions
+
+    def node(self, node: ast.AST, depth: int) -> sp.Expr:
+        kind = type(node).__name__
+        method = getattr(self, f"_{kind}", None)
+        if method is None:
+            what = _REFUSED.get(kind, kind)
+            raise _Refused(f"{what} not allowed")
+        if depth > MAX_DEPTH:  # also checked beforehand; a guard for the recursion
+            raise _Refused(f"nested more than {MAX_DEPTH} levels deep", "simplify it")
+        return method(node, depth + 1)
+
+    def _Constant(self, node: ast.Constant, depth: int) -> sp.Expr:
+        v = node.value
+        if isinstance(v, bool) or v is None or v is Ellipsis:
+            raise _Refused(f"{v!r} not allowed")
+        if isinstance(v, int):
+            if abs(v) > _FLOAT_MAX:
+                raise _Refused(f"the number {str(v)[:20]}... is beyond the floating-point range", _RANGE)
+            return sp.Integer(v)
+        if isinstance(v, float):
+            digits = (ast.get_source_segment(self.text, node) or repr(v)).replace("_", "")
+            if not math.isfinite(v):
+                raise _Refused(f"the number {digits} is beyond the floating-point range", _RANGE)
+            return sp.Float(digits)  # the decimal digits as written, as SymPy's parser made them
+        if isinstance(v, complex):
+            raise _Refused("complex numbers ('j') not allowed", "values are real")
+        if isinstance(v, (str, bytes)):
+            raise _Refused("strings (quotes) not allowed")
+        raise _Refused(f"{type(v).__name__} not allowed")  # pragma: no cover
+
+    def _Name(self, node: ast.Name, depth: int) -> sp.Expr:
+        name = node.id
+        if name in self.known:
+            return self.known[name]
+        if name in _CONSTANTS:
+            return self.functions[name]
+        if name in self.functions:
+            raise _Refused(f"'{name}' is a function", f"call it as {name}(...)")
+        raise _UnknownName(name)
+
+    def _UnaryOp(self, node: ast.UnaryOp, depth: int) -> sp.Expr:
+        operand = self.node(node.operand, depth)
+        if isinstance(node.op, ast.USub):
+            return -operand
+        if isinstance(node.op, ast.UAdd):
+            return +operand
+        op = {ast.Not: "'not'", ast.Invert: "'~'"}.get(type(node.op), type(node.op).__name__)
+        raise _Refused(f"the operator {op} not allowed")
+
+    def _BinOp(self, node: ast.BinOp, depth: int) -> sp.Expr:
+        sym = _OPERATORS.get(type(node.op))
+        if sym is None:
+            op = {ast.FloorDiv: "//", ast.Mod: "%", ast.MatMult: "@", ast.LShift: "<<", ast.RShift: ">>",
+                  ast.BitOr: "|", ast.BitAnd: "&", ast.BitXor: "^"}.get(type(node.op), type(node.op).__name__)
+            raise _Refused(f"the operator '{op}' not allowed")
+        a = self.node(node.left, depth)
+        b = self.node(node.right, depth)
+        if sym == "**":
+            _check_power(a, b)
+            out = a ** b
+        else:
+            out = {"+": a.__add__, "-": a.__sub__, "*": a.__mul__, "/": a.__truediv__}[sym](b)
+        return _in_range(out)
+
+    def _Call(self, node: ast.Call, depth: int) -> sp.Expr:
+        if not isinstance(node.func, ast.Name):
+            what = _REFUSED.get(type(node.func).__name__, "this call")
+            raise _Refused(f"{what} not allowed", f"only the functions {', '.join(_ARITY)} may be called")
+        name = node.func.id
+        if name not in self.functions or name in _CONSTANTS:
+            raise _UnknownFunction(name)
+        if node.keywords:
+            raise _Refused(f"keyword arguments of {name}(...) not allowed", "pass positional arguments")
+        if any(isinstance(a, ast.Starred) for a in node.args):
+            raise _Refused(f"'*' unpacking in {name}(...) not allowed", "pass positional arguments")
+        lo, hi = _ARITY[name]
+        n = len(node.args)
+        if n < lo or (hi is not None and n > hi):
+            want = f"{lo}" if lo == hi else (f"{lo} or {hi}" if hi is not None else f"at least {lo}")
+            raise _Refused(f"{name}(...) given {n} argument(s)", f"{name} takes {want}")
+        args = [self.node(a, depth) for a in node.args]
+        return _in_range(self.functions[name](*args))
+
+
+def _check_power(base: sp.Expr, exponent: sp.Expr) -> None:
+    """Refuse powers whose exponent is a large number or whose numeric value would overflow."""
+    if not exponent.is_Number:
+        return
+    if abs(exponent) > MAX_EXPONENT:
+        raise _Refused(f"the exponent {exponent} is too large", f"exponents are at most {MAX_EXPONENT} in magnitude")
+    if base.is_Number and base != 0 and exponent != 0:
+        if float(exponent) * _log10_abs(base) > _LOG10_FLOAT_MAX:
+            raise _Refused(f"a power ({_short(base)})**{exponent} beyond the floating-point range", _RANGE)
+
+
+def _short(x: sp.Expr) -> str:
+    text = str(x)
+    return text if len(text) <= 20 else f"{text[:12]}...({len(text)} characters)"
+
+
+def _log10_abs(x: sp.Number) -> float:
+    """log10 |x| of a non-zero SymPy number, without overflow or underflow."""
+    if x.is_Rational:
+        return math.log10(abs(x.p)) - math.log10(x.q)
+    return float(mpmath.log10(abs(mpmath.mpf(x._mpf_))))
+
+
+def _in_range(expr: sp.Expr) -> sp.Expr:
+    """``expr``, unless it is a number beyond the floating-point range."""
+    if expr.is_Number and expr.is_finite and abs(expr) > _FLOAT_MAX:
+        raise _Refused("a number beyond the floating-point range", _RANGE)
+    return expr
+
+
+#: Float versions of the functions SymPy may leave in a parsed expression.
+_MATH = {
+    sp.sin: math.sin, sp.cos: math.cos, sp.tan: math.tan, sp.asin: math.asin, sp.acos: math.acos,
+    sp.atan: math.atan, sp.atan2: math.atan2, sp.sinh: math.sinh, sp.cosh: math.cosh, sp.tanh: math.tanh,
+    sp.exp: math.exp, sp.Abs: abs, sp.Min: min, sp.Max: max,
+    sp.sign: lambda u: math.copysign(1.0, u) if u else 0.0,
+    sp.log: lambda u, *b: math.log(u) / (math.log(b[0]) if b else 1.0),
+}
+
+
+def float_value(expr: sp.Expr, values: Mapping[sp.Symbol, float]) -> float:
+    """The value of ``expr`` in double-precision arithmetic, bottom-up, at the symbol ``values``.
+
+    Overflow gives ``inf`` and a domain error (``sqrt(-1)``, ``acos(2)``) ``nan``, at once:
+    unlike SymPy's arbitrary-precision evaluation, which may take hours on
+    ``exp(exp(exp(100)))``, this never computes a number beyond the floating-point range.
+    Raises TypeError if a free symbol has no value.
+    """
+    if expr.is_Symbol:
+        if expr not in values:
+            raise TypeError(f"no value for {expr}")
+        return float(values[expr])
+    if expr.is_Number or expr.is_NumberSymbol:
+        return float(expr)
+    args = [float_value(a, values) for a in expr.args]
+    if not all(math.isfinite(a) for a in args):
+        return math.nan if any(math.isnan(a) for a in args) else math.inf
+    try:
+        if expr.is_Add:
+            return math.fsum(args)
+        if expr.is_Mul:
+            return math.prod(args)
+        if expr.is_Pow:
+            return math.pow(*args)
+        fn = _MATH.get(expr.func)
+        if fn is not None:
+            return float(fn(*args))
+        # any other function SymPy produced (cot, acot, ...): evaluated at float arguments
+        out = complex(expr.func(*(sp.Float(a) for a in args)))
+        return out.real if out.imag == 0 else math.nan
+    except OverflowError:
+        return math.inf
+    except (ValueError, ZeroDivisionError, TypeError):
+        return math.nan

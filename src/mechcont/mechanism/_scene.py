@@ -83,7 +83,7 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
             at = pinned.get(ld.body, f"{ld.body}.origin")
             add("moment", ld.name, [kin.point(at), sp.Matrix([mech.value(f"loads.{ld.name}.magnitude"), 0])])
         elif isinstance(ld, CustomLoad):
-            M = sp.sympify(mech.value(f"loads.{ld.name}.moment"))
+            M = sp.sympify(mech.value(f"loads.{ld.name}.moment"), strict=True)
             if M != 0:
                 add("moment", ld.name, [kin.point(ld.at), sp.Matrix([M, 0])])
     for b in mech.bodies:
@@ -95,7 +95,7 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
             add("point", f"{b.name}.{pn}", [kin.point(f"{b.name}.{pn}")])
     for gname in mech.ground:
         add("point", f"ground.{gname}", [kin.point(f"ground.{gname}")])
-    exprs = [sp.sympify(e).xreplace(subs) for e in exprs]
+    exprs = [sp.sympify(e, strict=True).xreplace(subs) for e in exprs]
     fn = compile_dense(list(symbols), exprs)
 
     def scene(x: np.ndarray) -> Scene:

@@ -10,8 +10,9 @@ import sympy as sp
 from ..equations import Limit
 from ..errors import InputError
 from ._description import Drag, Mechanism, PointForce
+from ._expr import float_value
 
-__all__ = ["parameter_values", "check_values", "physical_limits", "evaluate"]
+__all__ = ["parameter_values", "check_values", "check_finite", "physical_limits", "evaluate"]
 
 
 def parameter_values(mech: Mechanism, overrides: Mapping[str, float]) -> dict[str, float]:
@@ -27,15 +28,41 @@ def parameter_values(mech: Mechanism, overrides: Mapping[str, float]) -> dict[st
 
 
 def evaluate(expr: sp.Expr, values: Mapping[str, float], field: str) -> float:
-    """Numeric value of a parameter-only expression; InputError if it is not finite."""
+    """Numeric value of a parameter-only expression; InputError if it is not finite and real.
+
+    The value is first computed in floating point (:func:`float_value`: an overflow such as
+    ``exp(exp(exp(L)))`` is refused at once instead of being computed to arbitrary
+    precision), then, when finite, by SymPy as before (correctly rounded).
+    """
     subs = {s: values[s.name] for s in expr.free_symbols if s.name in values}
+    if len(subs) < len(expr.free_symbols):
+        raise InputError(field, f"{expr} depends on more than the parameters")
+    _finite(expr, float_value(expr, subs), field)
     try:
         out = float(expr.xreplace(subs))
     except TypeError:
-        raise InputError(field, f"{expr} depends on more than the parameters") from None
+        raise InputError(field, f"{expr} is not a real number with the given parameters") from None
     if not math.isfinite(out):
         raise InputError(field, f"evaluates to {out} with the given parameters")
     return out
+
+
+def _finite(expr: sp.Expr, quick: float, field: str) -> None:
+    """InputError unless the floating-point value ``quick`` of ``expr`` is finite."""
+    if math.isnan(quick):
+        raise InputError(field, f"{expr} is not a real number with the given parameters (a division by zero, the "
+                                "square root or logarithm of a negative number, asin or acos beyond +-1?)")
+    if not math.isfinite(quick):
+        raise InputError(field, f"{expr} overflows the floating-point range with the given parameters")
+
+
+def check_finite(mech: Mechanism, values: Mapping[str, float]) -> None:
+    """Every value of the description in the parameters alone must be a finite real number at
+    ``values`` (floating-point evaluation: quick, and never an arbitrary-precision blow-up)."""
+    num = {symbol: values[symbol.name] for symbol in mech.param_symbols.values() if symbol.name in values}
+    for field, expr in mech._exprs.items():
+        if expr.free_symbols <= num.keys():
+            _finite(expr, float_value(expr, num), field)
 
 
 def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
@@ -84,6 +111,7 @@ def check_values(mech: Mechanism, values: Mapping[str, float], *, solve: bool = 
     analysis, not the file's defaults) a spring stiffness of zero is allowed. Raises
     :class:`InputError` naming the key path and the value.
     """
+    check_finite(mech, values)
     for lim in physical_limits(mech, solve=solve):
         v = evaluate(lim.expr, values, lim.name)
         if (v <= 0) if lim.strict else (v < 0):
