@@ -260,9 +260,9 @@ def _check_name(name: str, field: str, *, digits: bool = True) -> None:
     pattern = _NAME if digits else _IDENTIFIER
     if not isinstance(name, str) or not pattern.fullmatch(name):
         shown = repr(name) if isinstance(name, str) else type(name).__name__
-        what = "ASCII letters, digits and underscores, not starting with a digit" + (" (or all digits)" if digits
+        what = "ASCII letters, digits and underscores, not starting with a digit" + (", or all digits" if digits
                                                                                      else "")
-        raise InputError(field, f"name {shown} must be an identifier ({what})")
+        raise InputError(field, f"name {shown} must be an identifier: {what}")
 
 
 def _check_variable_name(name: str, field: str, what: str) -> None:

@@ -37,6 +37,7 @@ Point references are ``"<body>.<point>"`` or ``"ground.<point>"``.
 from __future__ import annotations
 
 import re
+import sys
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -128,6 +129,9 @@ def parse_description(text: str, filename: str = "<string>") -> Mechanism:
     """Parse description ``text`` (TOML); ``filename`` is used in error messages."""
     try:
         data = tomllib.loads(text)
+    except (RecursionError, MemoryError):
+        raise InputError(filename, "nested too deeply (arrays or inline tables inside each other); "
+                                   "a description needs at most a few levels") from None
     except tomllib.TOMLDecodeError as exc:
         msg = str(exc)
         m = re.search(r"line (\d+)", msg)
@@ -164,7 +168,23 @@ def _table(data: Mapping, key: str, field: str) -> Mapping:
 def _only(tab: Mapping, allowed: set[str] | frozenset[str], field: str) -> None:
     for k in tab:
         if k not in allowed:
-            raise InputError(f"{field}.{k}", f"unknown key; valid keys: {', '.join(sorted(allowed))}")
+            raise InputError(f"{field}.{k}" if field else k, f"unknown key; valid keys: {', '.join(sorted(allowed))}")
+
+
+def _entries(data: Mapping, section: str) -> list[tuple[str, Mapping]]:
+    """The ``[section.NAME]`` entries of ``section``, each checked to be a table."""
+    out = []
+    for name, spec in _table(data, section, section).items():
+        if not isinstance(spec, Mapping):
+            raise InputError(f"{section}.{name}", f"must be a table [{section}.{name}] of keys, "
+                                                  f"got {type(spec).__name__} {_short(spec)}")
+        out.append((name, spec))
+    return out
+
+
+def _short(v) -> str:
+    text = repr(v)
+    return text if len(text) <= 40 else text[:37] + "..."
 
 
 def _typed(spec, field: str, table: str, registry: Mapping) -> tuple[str, type]:
@@ -172,7 +192,7 @@ def _typed(spec, field: str, table: str, registry: Mapping) -> tuple[str, type]:
     if not isinstance(spec, Mapping):
         raise InputError(field, f"must be a table [{table}.NAME]")
     kind = spec.get("type")
-    if kind not in registry:
+    if not isinstance(kind, str) or kind not in registry:
         raise InputError(field + ".type", f"must be one of {', '.join(registry)}, got {kind!r}")
     cls, keys = registry[kind]
     _only(spec, keys | {"type"}, field)
@@ -214,15 +234,19 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
             _text(desc, f + ".description")
         else:
             val, unit, desc, scale = spec, "", "", None
+        where = f + ".value" if isinstance(spec, Mapping) else f
         if isinstance(val, bool) or not isinstance(val, (int, float)):
-            raise InputError(f + ".value" if isinstance(spec, Mapping) else f, f"must be a number, got {val!r}")
+            raise InputError(where, f"must be a number, got {_short(val)}")
+        if not (abs(val) <= sys.float_info.max):  # inf, nan, or an integer beyond the float range
+            raise InputError(where, f"must be a finite number within +-{sys.float_info.max:.4g}, got {_short(val)}")
+        if scale is not None and (isinstance(scale, bool) or not isinstance(scale, (int, float))
+                                  or not 0 < scale <= sys.float_info.max):
+            raise InputError(f + ".scale", f"must be a finite positive number, got {_short(scale)}")
         params.append(Parameter(pname, float(val), unit, desc, scale))
     ground = {k: _pair(v, f"ground.{k}") for k, v in _table(data, "ground", "ground").items()}
     bodies = []
-    for bname, spec in _table(data, "bodies", "bodies").items():
+    for bname, spec in _entries(data, "bodies"):
         f = f"bodies.{bname}"
-        if not isinstance(spec, Mapping):
-            raise InputError(f, "must be a table [bodies.NAME]")
         _only(spec, KEYS["bodies.NAME"], f)
         _require(spec, ["mass"], f)
         points = {}
@@ -238,19 +262,19 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
                            _pair(spec.get("cg", [0, 0]), f + ".cg"), points, dict(initial),
                            _text(spec.get("description", ""), f + ".description")))
     joints = []
-    for jname, spec in _table(data, "joints", "joints").items():
+    for jname, spec in _entries(data, "joints"):
         f = f"joints.{jname}"
         kind, cls = _typed(spec, f, "joints", _JOINTS)
         _require(spec, ["a", "b"], f)
         joints.append(cls(jname, **{k: v for k, v in spec.items() if k != "type"}))
     springs = []
-    for sname, spec in _table(data, "springs", "springs").items():
+    for sname, spec in _entries(data, "springs"):
         f = f"springs.{sname}"
         _only(spec, KEYS["springs.NAME"], f)
         _require(spec, ["a", "b", "k", "free_length"], f)
         springs.append(Spring(sname, **spec))
     dampers = []
-    for dname, spec in _table(data, "dampers", "dampers").items():
+    for dname, spec in _entries(data, "dampers"):
         f = f"dampers.{dname}"
         _only(spec, KEYS["dampers.NAME"], f)
         _require(spec, ["a", "b", "c"], f)
@@ -261,7 +285,7 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
         _only(gtab, KEYS["gravity"], "gravity")
         gravity = Gravity(**gtab)
     loads = []
-    for lname, spec in _table(data, "loads", "loads").items():
+    for lname, spec in _entries(data, "loads"):
         f = f"loads.{lname}"
         kind, cls = _typed(spec, f, "loads", _LOADS)
         required = {"force": ["at", "magnitude"], "moment": ["body", "magnitude"], "drag": ["body"],

@@ -27,8 +27,8 @@ from ..equations import EquationSystem, MechanicalModel, Variable, velocity_symb
 from ..errors import InputError
 from ._assembly import close_constraints, dof_report
 from ._conditions import condition_description, condition_rows, condition_scale, condition_targets
-from ._description import Mechanism, PointForce
-from ._expr import symbol
+from ._description import CustomLoad, Mechanism, PointForce
+from ._expr import float_value, symbol
 from ._forces import loads
 from ._kinematics import ConstraintRow, Kinematics, pin_chain
 from ._reduce import reduce_form
@@ -216,6 +216,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
 
         at = compile_dense([symbol(n) for n in model.names], [e for _, e in conditions])
         x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(at(x), dtype=float).reshape(-1)
+    _check_assembled(mech, kin, model, x, subs, Lc, coords, rows, cnames)
     variables = []
     for c, v in zip(coords, x):
         angle = c.startswith("theta")
@@ -257,6 +258,49 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
         system.downlock_hold = {mech.downlock.condition: system.conditions[mech.downlock.condition]}
         system.downlock_force = mech.downlock.force
     return system  # compiled on first numeric use
+
+
+def _check_assembled(mech: Mechanism, kin: Kinematics, model: MechanicalModel, x: np.ndarray, subs: dict,
+                     Lc: float, coords: list[str], rows: list[ConstraintRow], cnames: list[str]) -> None:
+    """InputError naming what makes the assembled configuration degenerate: a spring, damper or
+    actuator whose ends coincide (its direction, and so its force, is undefined), or a load,
+    reaction or condition that is not finite there."""
+    at = {symbol(n): float(v) for n, v in zip(model.names, x)}
+
+    def number(expr) -> float:
+        return float_value(sp.sympify(expr, strict=True).xreplace(subs), at)
+
+    where = "; move an end point or assemble elsewhere (bodies' initial, [assembly] hold)"
+    for group, items in (("springs", mech.springs), ("dampers", mech.dampers), ("actuators", mech.actuators)):
+        for el in items:
+            d = kin.point(el.b) - kin.point(el.a)
+            gap = math.hypot(number(d[0]), number(d[1]))
+            if not gap > 1e-9 * Lc:
+                raise InputError(f"{group}.{el.name}", f"its ends {el.a} and {el.b} coincide at the assembled "
+                                                       f"configuration (distance {gap:.3g} m): the direction of its "
+                                                       f"force is undefined there{where}")
+    for ld in mech.loads:
+        if isinstance(ld, CustomLoad):
+            for key in ("fx", "fy", "moment"):
+                v = number(mech.value(f"loads.{ld.name}.{key}"))
+                if not math.isfinite(v):
+                    raise InputError(f"loads.{ld.name}.{key}", f"is {v} at the assembled configuration (a division "
+                                                               f"by zero there?){where}")
+    nq, nr = len(coords), len(rows)
+    for c, v in zip(cnames, x[nq + nr:nq + nr + len(cnames)]):
+        if not math.isfinite(v):
+            raise InputError(f"conditions.{c}", f"is {v} at the assembled configuration (a division by zero or an "
+                                                f"angle between coincident points there?){where}")
+    Q = model.applied_forces(x)
+    lam = x[nq:nq + nr]
+    bad = [c for c, v in zip(coords, Q) if not math.isfinite(v)]
+    what = "applied forces"
+    if not bad and not np.all(np.isfinite(lam)):
+        bad, what = [r.reaction for r, v in zip(rows, lam) if not math.isfinite(v)], "joint reactions"
+    if bad:
+        raise InputError("assembly", f"the {what} are not finite at the assembled configuration ({', '.join(bad[:4])}"
+                                     f"{', ...' if len(bad) > 4 else ''}): the geometry there is degenerate (two "
+                                     f"points that carry a force coincide, or a load divides by zero){where}")
 
 
 def _equilibrium(mech: Mechanism, coords: list[str], rows: list[ConstraintRow], forces: list[sp.Expr],
