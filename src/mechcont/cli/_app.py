@@ -1,12 +1,34 @@
-"""The click group and the error handling shared by every command."""
+"""The click group and the error handling shared by every command.
+
+Every failure the user can fix is one line ``error: ...`` on stderr and exit status 2;
+Ctrl-C is ``error: interrupted`` (130) and SIGTERM ``error: terminated`` (143), never a
+traceback, and both unwind the stack so that no temporary output file is left behind.
+"""
 
 from __future__ import annotations
 
+import errno
+import os
+import signal
 import sys
 
 import click
 
-from ..errors import MechcontError
+from ..errors import MechcontError, one_line
+
+
+class Terminated(BaseException):
+    """Raised by the SIGTERM handler of the ``mechcont`` command: unwinds like Ctrl-C
+    (``finally`` blocks and :func:`mechcont._io.atomic_write` clean up)."""
+
+
+def _terminate(signum, frame):
+    raise Terminated()
+
+
+def _fail(message: str, status: int):
+    click.echo(f"error: {one_line(message)}", err=True)
+    sys.exit(status)
 
 
 class _Group(click.Group):
@@ -19,16 +41,27 @@ class _Group(click.Group):
             rv = super().main(args, prog_name, standalone_mode=False, **extra)
         except click.exceptions.Exit as exc:
             sys.exit(exc.exit_code)
-        except click.exceptions.Abort:
-            click.echo("error: aborted", err=True)
-            sys.exit(1)
+        except click.exceptions.Abort as exc:
+            if isinstance(exc.__cause__, KeyboardInterrupt):  # click turns Ctrl-C into Abort
+                _fail("interrupted", 130)
+            _fail("aborted", 1)
+        except KeyboardInterrupt:
+            _fail("interrupted", 130)
+        except Terminated:
+            _fail("terminated", 128 + signal.SIGTERM)
         except click.UsageError as exc:
             where = f"{exc.ctx.command_path} --help" if exc.ctx else "mechcont --help"
-            click.echo(f"error: {exc.format_message()} (see '{where}')", err=True)
-            sys.exit(2)
+            _fail(f"{exc.format_message()} (see '{where}')", 2)
         except MechcontError as exc:
-            click.echo(f"error: {exc}", err=True)
-            sys.exit(2)
+            _fail(str(exc), 2)
+        except BrokenPipeError:
+            # the reader of our output went away (mechcont models | head): stop quietly
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            sys.exit(1)
+        except OSError as exc:
+            # the file system refused (disk full, permissions changed during the run, ...)
+            what = f"'{exc.filename}'" if exc.filename else "a file"
+            _fail(f"cannot write or read {what}: {exc.strerror or errno.errorcode.get(exc.errno, exc)}", 2)
         sys.exit(rv if isinstance(rv, int) else 0)
 
 
@@ -48,6 +81,10 @@ def _register():
 
 
 def main(argv=None):
-    """Entry point of the ``mechcont`` console script."""
+    """Entry point of the ``mechcont`` console script (SIGTERM unwinds as :class:`Terminated`)."""
     _register()
-    cli.main(args=argv, prog_name="mechcont")
+    previous = signal.signal(signal.SIGTERM, _terminate)
+    try:
+        cli.main(args=argv, prog_name="mechcont")
+    finally:
+        signal.signal(signal.SIGTERM, previous)

@@ -2,14 +2,24 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
 
 from ..errors import InputError
 from ._parse import assignments, bounds
 
-__all__ = ["continuation_options", "solve_start", "write_branch", "special_table", "common_options"]
+__all__ = ["continuation_options", "solve_start", "write_branch", "special_table", "common_options", "check_outputs"]
+
+#: Branch tables are written as CSV or JSON (by suffix).
+TABLE_SUFFIXES = (".csv", ".json")
+
+
+def check_outputs(out: str | None, plot: str | None) -> None:
+    """Check the --out table and --plot figure paths before any work (suffix, folder, writable)."""
+    from .._io import check_output_path
+    from ..outputs.plotting import FIGURE_SUFFIXES
+
+    check_output_path(out, "--out", TABLE_SUFFIXES)
+    check_output_path(plot, "--plot", FIGURE_SUFFIXES)
 
 
 def common_options(f=None, *, free: bool = True):
@@ -76,17 +86,11 @@ def solve_start(system, sets, starts, vary, frees, holds):
 
 def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quiet: bool, extra=()):
     """Write the branch table (CSV or JSON by suffix) and the plot, checking paths first."""
-    from ..outputs.plotting import FIGURE_SUFFIXES, new_figure, plot_branch, save_figure
+    from ..outputs.plotting import new_figure, plot_branch, save_figure
 
-    if out and Path(out).suffix.lower() not in (".csv", ".json"):
-        raise InputError("--out", f"unknown table type '{Path(out).suffix}'; use .csv or .json")
-    if plot and Path(plot).suffix.lower() not in FIGURE_SUFFIXES:
-        raise InputError("--plot", f"unknown figure type '{Path(plot).suffix}'; use one of {', '.join(FIGURE_SUFFIXES)}")
+    check_outputs(out, plot)  # again: the folder may have changed during the run
     for name in (x, y):
         branch.column(name)
-    for path in (out, plot):
-        if path and not Path(path).resolve().parent.exists():
-            raise InputError(path, f"folder {Path(path).resolve().parent} does not exist")
     if out:
         (branch.to_json if out.lower().endswith(".json") else branch.to_csv)(out)
     if plot:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from ._app import cli
-from ._run import common_options, continuation_options, solve_start, write_branch
+from ._run import check_outputs, common_options, continuation_options, solve_start, write_branch
 
 
 @cli.command("continue")
@@ -26,6 +26,7 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     from ..models import load_model
     from ._parse import assignments
 
+    check_outputs(out, plot)
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_model(model)
     x0 = solve_start(system, sets, starts, vary, frees, holds)

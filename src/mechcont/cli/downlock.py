@@ -9,6 +9,7 @@ from pathlib import Path
 
 import click
 
+from .._io import check_output_path
 from ..errors import InputError
 from ._app import cli
 from ._parse import assignments
@@ -25,9 +26,7 @@ def checked_path(path: str | None, valid: tuple[str, ...], option: str) -> Path 
     p = Path(path)
     if p.suffix.lower() not in valid:
         raise InputError(f"--{option}", f"unknown file type '{p.suffix or p.name}'; valid: {', '.join(valid)}")
-    if not p.resolve().parent.is_dir():
-        raise InputError(f"--{option}", f"folder '{p.parent}' does not exist")
-    return p
+    return check_output_path(p, f"--{option}")  # folder exists, is a folder, is writable; p not a folder
 
 
 def save_figure(fig, path: Path) -> None:

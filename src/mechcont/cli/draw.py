@@ -27,10 +27,10 @@ def _names(text: str | None, field: str) -> tuple[str, ...]:
 
 
 def _out(path: str, valid) -> Path:
-    out = Path(path)
-    if out.suffix.lower() not in valid:
-        raise InputError("out", f"unknown file type '{out.suffix or out.name}'; valid: {', '.join(valid)}")
-    return out
+    """The --out file, checked before any work (suffix, folder, writable)."""
+    from .._io import check_output_path
+
+    return check_output_path(path, "--out", valid)
 
 
 @cli.command("draw")
@@ -107,10 +107,13 @@ def animate_command(model, branch_csv, out, fps, every, annotate, vary, diagram,
     Each frame prints the continuation parameter (--vary), the --annotate variables (angles
     in degrees), stable/unstable and the special-point label.
     """
-    from ..outputs.animation import ANIMATION_SUFFIXES, animate, branch_frames
+    from ..outputs.animation import ANIMATION_SUFFIXES, animate, branch_frames, check_fps
     from ..outputs.drawing import default_annotate
 
     path = _out(out, ANIMATION_SUFFIXES)
+    check_fps(fps)
+    if every < 1:
+        raise InputError("every", f"must be an integer >= 1, not {every}")
     system = _model(model)
     names = _names(annotate, "annotate") or default_annotate(system)
     if vary is not None:

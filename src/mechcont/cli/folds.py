@@ -8,7 +8,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._run import common_options, continuation_options, solve_start, write_branch
+from ._run import check_outputs, common_options, continuation_options, solve_start, write_branch
 
 
 @cli.command("folds")
@@ -31,6 +31,7 @@ def folds_command(model, sets, starts, holds, bnds, ds, dsmax, max_steps, quiet,
     from ..continuation import continuation, continue_folds
     from ..models import load_model
 
+    check_outputs(out, plot)
     frees = tuple(frees2)
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_model(model)

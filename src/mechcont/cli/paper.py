@@ -5,7 +5,6 @@ from __future__ import annotations
 import importlib
 import sys
 import time
-from pathlib import Path
 
 import click
 
@@ -31,9 +30,9 @@ def paper_command(out_dir, only, quiet):
     for n in chosen:
         if n not in names:
             raise InputError("--only", f"unknown section '{n}'; valid: {', '.join(names)}")
-    out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise InputError("--out", f"{out} exists and is not a folder")
+    from .._io import atomic_write, check_output_folder
+
+    out = check_output_folder(out_dir, "--out")
     out.mkdir(parents=True, exist_ok=True)
     verbose = not quiet and sys.stderr.isatty()
     lines = ["# mechcont: the paper's analyses reproduced", "",
@@ -48,9 +47,10 @@ def paper_command(out_dir, only, quiet):
         section = importlib.import_module(f"mechcont.paper.{name}")
         lines += section.run(out, quiet)
         lines += ["", f"_(section computed in {time.perf_counter() - t0:.2f} s)_", ""]
-    summary = out / "summary.md"
-    tmp = summary.with_suffix(".md.tmp")
-    tmp.write_text("\n".join(lines) + "\n")
-    tmp.replace(summary)
+    def write(tmp: str) -> None:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write("\n".join(lines) + "\n")
+
+    summary = atomic_write(out / "summary.md", write)
     if not quiet:
         click.echo(f"wrote {summary} and {len(list(out.glob('*.png')))} figures in {out}")

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 import click
 
@@ -26,17 +25,6 @@ def _ramps(items) -> list[tuple[str, float, float, float]]:
     if not out:
         raise InputError("--ramp", "give at least one NAME=FROM:TO:RATE")
     return out
-
-
-def _check_out(path: str | None, suffixes: tuple[str, ...], option: str) -> Path | None:
-    if path is None:
-        return None
-    p = Path(path)
-    if p.suffix.lower() not in suffixes:
-        raise InputError(option, f"'{path}' must end in {' or '.join(suffixes)}")
-    if not p.parent.exists():
-        raise InputError(option, f"folder {p.parent} does not exist")
-    return p
 
 
 @cli.command("sweep")
@@ -63,11 +51,13 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     Example: mechcont sweep overcentre --set LU=0.4 --set c=50 --start theta1=1.2
     --ramp F=-65:-90:0.5 --ramp F=-90:110:2 --watch theta1
     """
+    from .._io import check_output_path
     from ..dynamics import assemble, parse_ramps, sweep
     from ..models import load_model
+    from ..outputs.plotting import FIGURE_SUFFIXES
 
-    out_path = _check_out(out, (".csv",), "--out")
-    plot_path = _check_out(plot, (".png", ".svg", ".pdf"), "--plot")
+    out_path = check_output_path(out, "--out", (".csv",))
+    plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     segs = parse_ramps(_ramps(ramps))
     system = load_model(model, **assignments(settings, "set"))
     start = assignments(starts, "start")

@@ -25,6 +25,12 @@ from ._simulate import initial_vector, simulate
 __all__ = ["Ramp", "Jump", "SweepResult", "sweep", "parse_ramps"]
 
 
+#: Longest time (s) a sweep may simulate (about 11.6 days of slowly ramped loads).
+MAX_SWEEP_SECONDS = 1e6
+#: Most integration steps a sweep may need (its length over the largest time step).
+MAX_SWEEP_STEPS = 1e6
+
+
 @dataclass(frozen=True)
 class Ramp:
     """One sweep segment: parameter ``name`` goes linearly from ``start`` to ``stop``.
@@ -44,6 +50,10 @@ class Ramp:
             raise InputError("ramp", f"{self.name}: rate must be a positive number (units per second)")
         if self.start == self.stop:
             raise InputError("ramp", f"{self.name}: start and stop must differ")
+        if self.duration > MAX_SWEEP_SECONDS:
+            raise InputError("ramp", f"{self.name}: at {self.rate:g} per second the segment {self.start:g} -> "
+                                     f"{self.stop:g} lasts {self.duration:.3g} s; at most {MAX_SWEEP_SECONDS:g} s "
+                                     f"may be simulated: raise the rate")
 
     @property
     def duration(self) -> float:
@@ -249,8 +259,8 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
     coords = [system.names[i] for i in system.mechanics.q_index] if system.mechanics is not None else []
     if watch not in coords:
         raise InputError("watch", f"must be a coordinate of the model; valid: {', '.join(coords)}")
-    if not (math.isfinite(settle) and settle >= 0):
-        raise InputError("settle", "must be a non-negative number of seconds")
+    if not (math.isfinite(settle) and 0 <= settle <= MAX_SWEEP_SECONDS):
+        raise InputError("settle", f"must be a number of seconds between 0 and {MAX_SWEEP_SECONDS:g}")
     if through is not None and not math.isfinite(through):
         raise InputError("through", "must be a finite value of the watched coordinate")
     if stop_on_jump and through is None:
@@ -259,6 +269,16 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
     seg_times, loads = _schedule(ramps, settle)
     if max_step is None:
         max_step = min(r.duration for r in ramps) / 400.0
+    total = settle + sum(r.duration for r in ramps)
+    if total > MAX_SWEEP_SECONDS or (max_step > 0 and total / max_step > MAX_SWEEP_STEPS):
+        raise InputError("ramp", f"the sweep lasts {total:.3g} s at time steps of at most {max_step:.3g} s (1/400 of "
+                                 f"the shortest segment): {total / max_step:.3g} steps, more than "
+                                 f"{MAX_SWEEP_STEPS:g}; make the segments' durations comparable (rates) or shorter")
+    if isinstance(damping, (int, float)) and math.isfinite(damping) and total * damping / 3 > MAX_SWEEP_STEPS:
+        # an explicit Runge-Kutta step stays below about 3/damping (s) for stability
+        raise InputError("damping", f"{damping:g} 1/s over {total:.3g} s needs about {total * damping / 3:.3g} "
+                                    f"integration steps, more than {MAX_SWEEP_STEPS:g}; lower the damping or the "
+                                    f"sweep's duration")
     events = [Crossing(watch, through, 0, stop_on_jump)] if through is not None else None
     # one integration per phase (settle, then each segment), so that the samples include
     # every segment boundary and no step straddles a kink of the load

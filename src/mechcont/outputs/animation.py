@@ -22,7 +22,7 @@ import numpy as np
 from ..errors import InputError
 from . import drawing as _d
 
-__all__ = ["animate", "BranchFrames", "branch_frames", "ANIMATION_SUFFIXES"]
+__all__ = ["animate", "BranchFrames", "branch_frames", "check_fps", "ANIMATION_SUFFIXES", "FPS_RANGE"]
 
 ANIMATION_SUFFIXES = (".gif", ".mp4")
 
@@ -64,6 +64,9 @@ class BranchFrames:
         """
         n = len(self.values)
         text = str(spec).strip()
+        if len(text) > 32:  # no branch has rows or labels numbered beyond 32 digits
+            raise InputError("point", f"no row '{text[:20]}...'; give a row number 0..{n - 1} or a label with its "
+                                      "number (e.g. LP1)")
         try:
             i = int(text)
         except ValueError:
@@ -200,6 +203,22 @@ def branch_frames(system, source) -> BranchFrames:
     return frames
 
 
+#: Frame rates that make sense (frames per second): a GIF stores each frame's duration in
+#: hundredths of a second (at most 655.35 s), and players show at most 100 frames a second.
+FPS_RANGE = (0.01, 100.0)
+
+
+def check_fps(fps) -> float:
+    """``fps`` as a float within :data:`FPS_RANGE`, else :class:`InputError`."""
+    lo, hi = FPS_RANGE
+    if isinstance(fps, bool) or not isinstance(fps, (int, float)) or not math.isfinite(fps) or fps <= 0:
+        raise InputError("fps", f"must be a positive number, not {fps!r}")
+    if not lo <= fps <= hi:
+        raise InputError("fps", f"{fps:g} frames per second is outside {lo:g}..{hi:g} (a frame lasts at most "
+                                f"{1 / lo:g} s and at least {1 / hi:g} s)")
+    return float(fps)
+
+
 def _writer(out: Path, fps: float):
     from matplotlib import animation
 
@@ -294,8 +313,7 @@ def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int
     """
     out = _d._check_out(path, ANIMATION_SUFFIXES)
     scene_fn = _d._scene_of(system)
-    if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
-        raise InputError("fps", f"must be a positive number, not {fps!r}")
+    check_fps(fps)
     if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
         raise InputError("every", f"must be an integer >= 1, not {every!r}")
     if tuple(annotate) == _d._DEFAULT_ANNOTATE:
