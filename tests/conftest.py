@@ -1,10 +1,19 @@
+import atexit
 import os
+import shutil
+import tempfile
 
 import matplotlib
 import pytest
 
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")
+# compiled code is cached in a throw-away directory for the session (and the subprocesses
+# tests start), never in the user's cache (~/.cache/mechcont)
+if "MECHCONT_CACHE_DIR" not in os.environ:
+    _cache = tempfile.mkdtemp(prefix="mechcont-test-cache-")
+    os.environ["MECHCONT_CACHE_DIR"] = _cache
+    atexit.register(shutil.rmtree, _cache, ignore_errors=True)
 
 
 @pytest.fixture(scope="session")

@@ -20,10 +20,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import symengine as se
 import sympy as sp
 
 from ..errors import InputError
-from ._codegen import compile_dense, compile_sparse, derivative_entries, to_engine
+from . import _cache, _codegen
+from ._codegen import compile_scattered, compile_values, derivative_entries, engine_arguments, is_smooth
 
 __all__ = ["MechanicalModel", "StabilityResult", "velocity_symbol"]
 
@@ -31,6 +33,84 @@ __all__ = ["MechanicalModel", "StabilityResult", "velocity_symbol"]
 def velocity_symbol(name: str) -> sp.Symbol:
     """The symbol standing for the time derivative of coordinate ``name`` (``name_dot``)."""
     return sp.Symbol(f"{name}_dot", real=True)
+
+
+def _flat(entries, shape: tuple[int, ...]) -> np.ndarray:
+    """Flat (C-order) positions in an array of ``shape`` of the indices of ``(index, expr)`` entries."""
+    if not entries:
+        return np.zeros(0, dtype=np.intp)
+    return np.ravel_multi_index(np.array([i for i, _ in entries], dtype=np.intp).T, shape).astype(np.intp)
+
+
+class _StaticsLayout:
+    """Where the values of the compiled statics function go: Phi_q, Q, dQ/dq, Hess(Phi_k).
+
+    Small models (at most ``DENSE_MAX`` entries in all) compute every entry, zeros
+    included, in the order Phi_q, Q, dQ/dq, Hess(Phi) (C order each): the blocks are views
+    and the curvature term one small product. Larger ones compute only the non-zero entries
+    (of Phi_q, then Q, dQ/dq, the Hessians): they are scattered with index arrays and the
+    Hessians contracted with the multipliers by ``bincount``; no Python loop over positions.
+    """
+
+    def __init__(self, nc: int, nq: int, a_pos, dq_pos, hess_k, hess_ij, dense: bool):
+        self.nc, self.nq, self.dense = nc, nq, dense
+        self.a_pos, self.dq_pos = np.asarray(a_pos, np.intp), np.asarray(dq_pos, np.intp)
+        self.hess_k, self.hess_ij = np.asarray(hess_k, np.intp), np.asarray(hess_ij, np.intp)
+        if dense:
+            na, nd, nh = nc * nq, nq * nq, nc * nq * nq
+        else:
+            na, nd, nh = len(self.a_pos), len(self.dq_pos), len(self.hess_k)
+        self.a_slice = slice(0, na)
+        self.q_slice = slice(na, na + nq)
+        self.dq_slice = slice(na + nq, na + nq + nd)
+        self.hess_slice = slice(na + nq + nd, na + nq + nd + nh)
+        self.size = na + nq + nd + nh
+
+    def positions(self) -> np.ndarray:
+        """Flat positions, in the dense layout, of the entries in the order they are listed."""
+        o = self.nc * self.nq + self.nq
+        hess = self.hess_k * (self.nq * self.nq) + self.hess_ij
+        return np.concatenate([self.a_pos, self.nc * self.nq + np.arange(self.nq, dtype=np.intp), o + self.dq_pos,
+                               o + self.nq * self.nq + hess]).astype(np.intp)
+
+    def constraint_jacobian(self, vals: np.ndarray) -> np.ndarray:
+        """Phi_q (n_c x n_q) from the statics values."""
+        if self.dense:
+            return vals[self.a_slice].reshape(self.nc, self.nq)
+        A = np.zeros(self.nc * self.nq)
+        A[self.a_pos] = vals[self.a_slice]
+        return A.reshape(self.nc, self.nq)
+
+    def stiffness(self, vals: np.ndarray, lam: np.ndarray | None) -> np.ndarray:
+        """K = -dQ/dq + sum_k lam_k Hess(Phi_k) (n_q x n_q) from the statics values."""
+        nq = self.nq
+        if self.dense:
+            K = -vals[self.dq_slice].reshape(nq, nq)
+            if lam is not None and self.nc:
+                K = K + (np.asarray(lam, dtype=float) @ vals[self.hess_slice].reshape(self.nc, nq * nq)).reshape(nq, nq)
+            return K
+        K = np.zeros(nq * nq)
+        K[self.dq_pos] = -vals[self.dq_slice]
+        if lam is not None and len(self.hess_k):
+            K += np.bincount(self.hess_ij, weights=np.asarray(lam, dtype=float)[self.hess_k] * vals[self.hess_slice],
+                             minlength=nq * nq)
+        return K.reshape(nq, nq)
+
+
+class _Part:
+    """``f(x) -> ndarray``: a slice of another compiled function's values, scattered into ``shape``
+    (or, with ``pos`` None, the slice itself reshaped)."""
+
+    def __init__(self, source, part: slice, pos: np.ndarray | None, shape: tuple[int, ...]):
+        self.source, self.part, self.shape = source, part, tuple(shape)
+        self.pos = None if pos is None else np.asarray(pos, np.intp)
+
+    def __call__(self, x) -> np.ndarray:
+        if self.pos is None:
+            return self.source(x)[self.part].reshape(self.shape)
+        out = np.zeros(int(np.prod(self.shape, dtype=np.int64)))
+        out[self.pos] = self.source(x)[self.part]
+        return out.reshape(self.shape)
 
 
 @dataclass(frozen=True)
@@ -104,58 +184,133 @@ class MechanicalModel:
                 raise InputError(str(sorted(map(str, bad))[0]), "used in the mechanical model but not a variable")
         self._syms, self._qs, self._qd = syms, qs, qd
 
-    _COMPILED = ("_phi", "_phi_q", "_phi_hess", "_gamma", "_Q", "_dQdq", "_dQdqd", "_statics", "_M")
+    # Compiled functions, in three groups each compiled (or loaded from the disk cache) on
+    # first use of one of its members: assembly needs only the kinematics, stability the
+    # statics, time simulation the dynamics.
+    _GROUPS = {"_phi": "kinematics", "_phi_q": "kinematics", "_Q": "kinematics",
+               "_statics": "statics", "_statics_layout": "statics", "_dQdq": "statics", "_phi_hess": "statics",
+               "_gamma": "dynamics", "_dQdqd": "dynamics", "_M": "dynamics"}
+    _COMPILED = tuple(_GROUPS)
 
     def __getattr__(self, name):
         # only reached for missing attributes: the compiled functions, built on first use
-        if name in MechanicalModel._COMPILED:
-            self._compile()
-            return self.__dict__[name]
-        raise AttributeError(name)
+        group = MechanicalModel._GROUPS.get(name)
+        if group is None:
+            raise AttributeError(name)
+        self._compile_group(group)
+        return self.__dict__[name]
 
     def _compile(self) -> None:
-        """Differentiate and compile Phi, Phi_q, its Hessians, gamma, Q, dQ/dq, dQ/dqdot, M."""
-        syms, qs, qd = self._syms, self._qs, self._qd
-        nq = len(self.coordinates)
-        # symbolic work in the engine (see _codegen): fast exact derivatives
-        args = to_engine(syms + qd)
-        qs_e, qd_e = to_engine(qs), to_engine(qd)
-        cons = to_engine(self.constraints)
-        forces_e = to_engine(self.forces)
-        nc = len(cons)
-        phi_q = derivative_entries(cons, qs_e)
-        self._phi = compile_dense(args, cons)
-        self._phi_q = compile_sparse(args, phi_q, (nc, nq))
-        # Hessians of the constraints, for the curvature term sum_k lambda_k Hess(Phi_k)
-        hess = [((k, i, j), d2) for (k, i), d in phi_q for (_, j), d2 in derivative_entries([d], qs_e)]
-        self._phi_hess = compile_sparse(args, hess, (nc, nq, nq))
-        # gamma = -(d/dq (Phi_q qdot)) qdot: right-hand side of Phi_q qddot = gamma
-        rows = [0] * nc
+        """Compile (or load) every group: Phi, Phi_q, Q; the statics; gamma, dQ/dqdot, M."""
+        for group in ("kinematics", "statics", "dynamics"):
+            self._compile_group(group)
+
+    def _compile_group(self, group: str) -> None:
+        if any(n in self.__dict__ for n, g in MechanicalModel._GROUPS.items() if g == group):
+            return
+        names = [n for n, g in MechanicalModel._GROUPS.items() if g == group]
+
+        def valid(obj) -> bool:
+            return isinstance(obj, dict) and set(obj) == set(names)
+
+        code = _cache.cached(["mechanics", group, self._content_digest()], lambda: self._build_group(group), valid)
+        self.__dict__.update(code)
+
+    def _content_digest(self) -> str:
+        """Hash of the compiled form (for the disk cache): positional arguments, SymEngine expressions."""
+        digest = self.__dict__.get("_digest")
+        if digest is None:
+            import hashlib
+
+            s = self._symbolic()
+            h = hashlib.sha256()
+            parts = [f"{len(s['args'])} {len(self.coordinates)}", " ".join(map(str, self.q_index)),
+                     *(_cache.expr_text(e) for e in s["cons"]), "forces",
+                     *(_cache.expr_text(e) for e in s["forces"]), "mass",
+                     *(f"{k}:{_cache.expr_text(e)}" for k, e in zip(*self._mass_entries()))]
+            for p in parts:
+                b = p.encode()
+                h.update(len(b).to_bytes(8, "little") + b)
+            digest = self.__dict__["_digest"] = h.hexdigest()
+        return digest
+
+    def _mass_entries(self) -> tuple[list, list]:
+        """Indices and SymEngine expressions (positional arguments) of the non-zero entries of M."""
+        s = self._symbolic()
+        if "mass" not in s:
+            M = self.mass_matrix.todok()
+            keys = sorted(k for k, v in M.items() if v != 0)
+            s["mass"] = (keys, engine_arguments(self._syms + self._qd, [M[k] for k in keys])[1])
+        return s["mass"]
+
+    def _symbolic(self) -> dict:
+        """The SymEngine forms shared by the groups (positional arguments, Phi_q entries), once."""
+        sym = self.__dict__.get("_engine")
+        if sym is None:
+            nq, ns, nc = len(self.coordinates), len(self._syms), len(self.constraints)
+            args, exprs = engine_arguments(self._syms + self._qd, [*self.constraints, *self.forces])
+            qs = [args[i] for i in self.q_index]
+            cons, forces = exprs[:nc], exprs[nc:]
+            sym = self.__dict__["_engine"] = {"args": args, "qs": qs, "qd": args[ns:ns + nq], "cons": cons,
+                                              "forces": forces}
+        return sym
+
+    def _phi_q_entries(self) -> tuple[list, list[bool]]:
+        """Non-zero entries of Phi_q (SymEngine) and which constraints differentiate in closed form."""
+        s = self._symbolic()
+        if "phi_q" not in s:
+            smooth = [is_smooth(c) for c in s["cons"]]
+            s["phi_q"] = (derivative_entries(s["cons"], s["qs"], smooth), smooth)
+        return s["phi_q"]
+
+    def _build_group(self, group: str) -> dict:
+        """Differentiate (exactly, in SymEngine) and compile one group; see :meth:`_compile_group`."""
+        s = self._symbolic()
+        args, qs, qd, cons, forces = (s[k] for k in ("args", "qs", "qd", "cons", "forces"))
+        phi_q, smooth = self._phi_q_entries()
+        nq, nc = len(self.coordinates), len(cons)
+        if group == "kinematics":
+            return {"_phi": compile_values(args, cons), "_Q": compile_values(args, forces),
+                    "_phi_q": compile_scattered(args, _flat(phi_q, (nc, nq)), [d for _, d in phi_q], (nc, nq))}
+        if group == "statics":
+            # Hessians of the constraints, for the curvature term sum_k lambda_k Hess(Phi_k)
+            hess = [((k, i, j), d2) for (k, i), d in phi_q for (_, j), d2 in derivative_entries([d], qs, smooth[k])]
+            dqdq = derivative_entries(forces, qs)
+            # everything stability needs at rest in one compiled call: the non-zero entries of
+            # Phi_q, then Q, the non-zero entries of dQ/dq and of the constraint Hessians
+            exprs = [*(d for _, d in phi_q), *forces, *(d for _, d in dqdq), *(d for _, d in hess)]
+            h = np.array([k for k, _ in hess], dtype=np.intp).reshape(-1, 3)
+            a_pos, dq_pos, hess_ij = _flat(phi_q, (nc, nq)), _flat(dqdq, (nq, nq)), h[:, 1] * nq + h[:, 2]
+            dense = nc * nq + nq + nq * nq + nc * nq * nq <= _codegen.DENSE_MAX
+            layout = _StaticsLayout(nc, nq, a_pos, dq_pos, h[:, 0], hess_ij, dense)
+            if dense:
+                statics = compile_scattered(args, layout.positions(), exprs, (layout.size,))
+                parts = {"_dQdq": _Part(statics, layout.dq_slice, None, (nq, nq)),
+                         "_phi_hess": _Part(statics, layout.hess_slice, None, (nc, nq, nq))}
+            else:
+                statics = compile_values(args, exprs)
+                parts = {"_dQdq": _Part(statics, layout.dq_slice, dq_pos, (nq, nq)),
+                         "_phi_hess": _Part(statics, layout.hess_slice, _flat(hess, (nc, nq, nq)), (nc, nq, nq))}
+            return {"_statics": statics, "_statics_layout": layout, **parts}
+        # dynamics. gamma = -(d/dq (Phi_q qdot)) qdot: right-hand side of Phi_q qddot = gamma
+        rows = [se.Integer(0)] * nc
         for (k, i), d in phi_q:
-            rows[k] = rows[k] + d * qd_e[i]
-        gamma = [0] * nc
-        for (k, j), d in derivative_entries(rows, qs_e):
-            gamma[k] = gamma[k] - d * qd_e[j]
-        self._gamma = compile_dense(args, gamma)
-        self._Q = compile_dense(args, forces_e)
-        self._dQdq = compile_sparse(args, derivative_entries(forces_e, qs_e), (nq, nq))
-        self._dQdqd = compile_sparse(args, derivative_entries(forces_e, qd_e), (nq, nq))
-        # everything stability needs at rest, in one compiled call
-        statics = [0] * (nc * nq + nq + nq * nq + nc * nq * nq)
-        for (k, i), d in phi_q:
-            statics[k * nq + i] = d
-        o = nc * nq
-        for i, f in enumerate(forces_e):
-            statics[o + i] = f
-        o += nq
-        for (i, j), d in derivative_entries(forces_e, qs_e):
-            statics[o + i * nq + j] = d
-        o += nq * nq
-        for (k, i, j), d2 in hess:
-            statics[o + (k * nq + i) * nq + j] = d2
-        self._statics = compile_dense(args, statics)
-        M = self.mass_matrix
-        self._M = compile_sparse(args, [((i, j), M[i, j]) for i in range(nq) for j in range(nq) if M[i, j] != 0], (nq, nq))
+            rows[k] = rows[k] + d * qd[i]
+        gamma = [se.Integer(0)] * nc
+        for (k, j), d in derivative_entries(rows, qs, smooth):
+            gamma[k] = gamma[k] - d * qd[j]
+        dqd = derivative_entries(forces, qd)
+        keys, m_exprs = self._mass_entries()
+        return {"_gamma": compile_values(args, gamma),
+                "_dQdqd": compile_scattered(args, _flat(dqd, (nq, nq)), [d for _, d in dqd], (nq, nq)),
+                "_M": compile_scattered(args, _flat([(k, None) for k in keys], (nq, nq)), m_exprs, (nq, nq))}
+
+    def __getstate__(self):
+        """Picklable state: the symbolic model and every compiled group built so far."""
+        return {k: v for k, v in self.__dict__.items() if k != "_engine"}
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
 
     # -- numeric evaluation (x: full variable vector, qdot: coordinate velocities) ---------
     def _args(self, x, qdot=None):
@@ -208,9 +363,8 @@ class MechanicalModel:
 
     def tangent_stiffness(self, x, multipliers=None) -> np.ndarray:
         """K = -dQ/dq + sum_k lambda_k Hess(Phi_k) at rest, shape (n_q, n_q)."""
-        a = self._args(x)
         lam = self.multipliers(x) if multipliers is None else np.asarray(multipliers)
-        return -self._dQdq(a) + np.tensordot(lam, self._phi_hess(a), axes=1)
+        return self._statics_layout.stiffness(self._statics(self._args(x)), lam)
 
     def allowed_motions(self, x, rtol: float = 1e-10) -> np.ndarray:
         """Orthonormal basis Z of the null space of Phi_q: the motions the joints allow."""
@@ -229,17 +383,15 @@ class MechanicalModel:
         The count is independent of the units of ``q`` (Sylvester's law of inertia).
         """
         nq, nc = len(self.coordinates), len(self.constraints)
+        layout = self._statics_layout
         out = self._statics(self._args(x))
-        A = out[: nc * nq].reshape(nc, nq)
-        Q = out[nc * nq: nc * nq + nq]
-        o = nc * nq + nq
-        K = -out[o: o + nq * nq].reshape(nq, nq)
         if nc:
-            U, sv, Vt = np.linalg.svd(A)
+            U, sv, Vt = np.linalg.svd(layout.constraint_jacobian(out))
             r = int(np.sum(sv > 1e-10 * max(sv[0], 1e-300)))
-            lam = U[:, :r] @ ((Vt[:r] @ Q) / sv[:r])
-            K = K + (lam @ out[o + nq * nq:].reshape(nc, nq * nq)).reshape(nq, nq)
+            lam = U[:, :r] @ ((Vt[:r] @ out[layout.q_slice]) / sv[:r])
+            K = layout.stiffness(out, lam)
         else:
+            K = layout.stiffness(out, None)
             Vt, r = np.eye(nq), 0
         Z = Vt[r:].T
         if Z.shape[1] == 0:
