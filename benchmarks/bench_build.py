@@ -21,9 +21,11 @@ build time against unknowns) <= 2.
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import math
 import os
+import shutil
 import sys
 import tempfile
 import time
@@ -183,6 +185,7 @@ def cases():
 
     nose = load_description("nose_gear")
     cache = tempfile.mkdtemp(prefix="mechcont-bench-cache-")
+    atexit.register(shutil.rmtree, cache, ignore_errors=True)
 
     def cold(fn):
         def run():

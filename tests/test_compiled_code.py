@@ -259,12 +259,13 @@ def test_cache_keys_follow_the_content(monkeypatch, tmp_path):
 
 
 def test_corrupt_or_foreign_entries_are_recompiled(monkeypatch, tmp_path):
-    monkeypatch.setenv("MECHCONT_CACHE_DIR", str(tmp_path))
+    monkeypatch.setenv("MECHCONT_CACHE_DIR", str(tmp_path / "cache"))
     monkeypatch.delenv("MECHCONT_NO_CACHE", raising=False)
     x = np.array([1.5, 2.0])
     expected = _tiny().residual_and_jacobian(x)
     files = sorted(tmp_path.rglob("*.pkl"))
     assert files and not list(tmp_path.rglob(".tmp-*"))
+    assert (tmp_path / "cache").stat().st_mode & 0o077 == 0  # private to the user
     good = files[0].read_bytes()
     foreign = pickle.dumps(("another key", {"res_jac": None}))
     for bad in (b"", good[: len(good) // 2], good[:-1] + bytes([good[-1] ^ 1]), b"not a cache entry",
