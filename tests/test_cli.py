@@ -1,10 +1,9 @@
 """The command line: continue, folds, models; bad input -> one line on stderr, exit 2, nothing written."""
 
-import csv
-
 import pytest
 from cli_helpers import make_runner, one_line_error
 
+from mechcont.continuation import read_branch_table
 from mechcont.models.overcentre import symmetric_folds
 
 
@@ -18,9 +17,13 @@ def test_continue_writes_csv_with_labels_and_stability(tmp_path, run):
     r = run("continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F",
             "--bounds", "theta1=-1.2:1.2", "--out", out, "--plot", fig)
     assert r.exit_code == 0, r.output
-    rows = list(csv.DictReader(out.open()))
+    rows, units = read_branch_table(out)
     assert {"theta1", "F", "s", "stability", "label"} <= set(rows[0])
-    assert {r["stability"] for r in rows} == {"stable", "unstable"}
+    assert units["theta1"] == "rad" and units["F"] == "N" and "s" not in units
+    assert out.read_text().startswith("x1 [m],y1 [m],theta1 [rad],")
+    # a fold is neutral: its row says "fold", every other row stable or unstable
+    assert {r["stability"] for r in rows if r["label"] != "LP"} == {"stable", "unstable"}
+    assert [r["stability"] for r in rows if r["label"] == "LP"] == ["fold", "fold"]
     lps = sorted((float(r["theta1"]), float(r["F"])) for r in rows if r["label"] == "LP")
     for (th, F), (th0, F0) in zip(lps, symmetric_folds(1.5, 1, 1, 9.81, 127, 0.4)):
         assert th == pytest.approx(th0, rel=1e-10) and F == pytest.approx(F0, rel=1e-10)
@@ -45,7 +48,7 @@ def test_folds_command_finds_the_cusp(tmp_path, run):
     r = run("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
             "--bounds", "LU=0.1:2", "--out", out)
     assert r.exit_code == 0, r.output
-    rows = list(csv.DictReader(out.open()))
+    rows = read_branch_table(out)[0]
     (cp,) = [r for r in rows if r["label"] == "CP"]
     assert float(cp["LU"]) == pytest.approx(1.5, rel=1e-9)
 
@@ -102,7 +105,7 @@ def test_branch_csv_records_the_continuation_parameter(tmp_path, run):
     r = run("continue", "overcentre", "--set", "LU=0.4", "--vary", "theta1", "--free", "F",
             "--bounds", "theta1=-1:1", "--out", out)
     assert r.exit_code == 0, r.output
-    rows = list(csv.DictReader(out.open()))
+    rows = read_branch_table(out)[0]
     assert {row["vary"] for row in rows} == {"theta1"}
     from mechcont.models import load_model
     from mechcont.outputs.animation import branch_frames

@@ -3,7 +3,6 @@ stop short are named on stderr; ``design --levels 2``; the signed lock margin.""
 
 from __future__ import annotations
 
-import csv
 import json
 
 import numpy as np
@@ -12,6 +11,7 @@ from cli_helpers import make_runner, one_line_error
 from scipy.optimize import brentq
 
 from mechcont.analysis import downlock
+from mechcont.continuation import read_branch_table
 from mechcont.models import load_model
 from mechcont.models.nose_gear_geometry import aligned_downlock_force, defaults
 
@@ -27,7 +27,7 @@ def test_downlock_on_a_description_needs_no_flags_and_reports_the_unlock_force(t
     assert r.exit_code == 0, r.output
     assert "aligned=0 held" in r.output and "(the unlock force)" in r.output
     assert r.stderr == ""
-    rows = list(csv.DictReader(out.open()))
+    rows = read_branch_table(out)[0]
     system = load_model("lockstay.toml")
     api = downlock(system, "k", {"k": (10000.0, 30000.0)})
     assert [float(x["k"]) for x in rows] == pytest.approx(list(api["k"]), rel=1e-12)
@@ -76,7 +76,7 @@ def test_design_with_two_levels_and_a_signed_lock_margin(tmp_path, run):
             "--out", out)
     assert r.exit_code == 0, r.output
     assert r.stderr == ""
-    rows = list(csv.DictReader(out.open()))
+    rows = read_branch_table(out)[0]
     assert [float(x["LU (m)"]) for x in rows] == [1.25, 1.35]
     margin = "lock margin to F=0 (+ locks, - does not) (m)"
     unaided = "locks unaided at l_sp1=0.1 m"

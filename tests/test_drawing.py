@@ -465,7 +465,7 @@ def test_frame_of_a_fourbar_branch_prints_the_continuation_parameter(tmp_path, f
     svg = out.read_text()
     T, theta = lp.x[system.index("T")], lp.x[system.index("theta_crank")]
     assert f"T = {T:.4g} N m" in svg and f"theta_crank = {math.degrees(theta):.2f}°" in svg
-    assert "stable LP" in svg
+    assert "fold LP" in svg and "stable LP" not in svg  # a fold is neutral, whatever stable= says
 
 
 def test_animation_frames_print_vary_units_stability_and_label(tmp_path, fourbar_branch, monkeypatch):

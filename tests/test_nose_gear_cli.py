@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import csv
-
 import pytest
 from cli_helpers import make_runner, one_line_error
 
+from mechcont.continuation import read_branch_table
 from mechcont.models.nose_gear_geometry import aligned_downlock_force, defaults
 
 
@@ -20,7 +19,7 @@ def test_downlock_writes_branch_with_closed_form_forces(tmp_path, run):
     r = run("downlock", "nose_gear", "--vary", "k", "--bounds", "k=0:40000", "--set", "l_sp1=-0.05",
             "--out", out, "--plot", fig)
     assert r.exit_code == 0, r.output
-    rows = list(csv.DictReader(out.open()))
+    rows = read_branch_table(out)[0]
     assert len(rows) > 5 and fig.stat().st_size > 1000
     for row in rows[::4]:
         p = defaults(k=float(row["k"]), l_sp1=-0.05)
@@ -40,7 +39,7 @@ def test_design_prints_table_and_writes_files(tmp_path, run):
             "--out", out, "--plot", fig)
     assert r.exit_code == 0, r.output
     assert "cusp: LU = 1.288" in r.output
-    rows = list(csv.DictReader(out.open()))
+    rows = read_branch_table(out)[0]
     assert [float(x["LU (m)"]) for x in rows] == [1.28, 1.3, 1.32]
     assert fig.stat().st_size > 1000
 

@@ -2,7 +2,7 @@
 events (LP, BP, CP, EP, user) and branch results."""
 
 from ._api import continuation, continue_folds, locate_fold, switch_branch
-from ._branch import Branch, SpecialPoint
+from ._branch import Branch, SpecialPoint, read_branch_table
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent, PointState, ValueEvent
 from ._folds import CuspEvent, FoldProblem
 from ._linalg import DenseLU, LinearSolver, MinimumNorm
@@ -15,5 +15,5 @@ __all__ = [
     "continuation", "continue_folds", "switch_branch", "locate_fold", "find_equilibrium", "ContinuationOptions", "Branch",
     "SpecialPoint", "Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "CuspEvent",
     "PointState", "ContinuationProblem", "EquilibriumProblem", "FoldProblem", "choose_unknowns",
-    "Termination", "BranchSteps", "LinearSolver", "DenseLU", "MinimumNorm",
+    "Termination", "BranchSteps", "LinearSolver", "DenseLU", "MinimumNorm", "read_branch_table",
 ]

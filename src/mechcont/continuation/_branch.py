@@ -13,7 +13,7 @@ import numpy as np
 from .._io import atomic_write
 from ..errors import InputError
 
-__all__ = ["Branch", "SpecialPoint"]
+__all__ = ["Branch", "SpecialPoint", "unit_header", "read_csv_header", "read_branch_table"]
 
 
 @dataclass
@@ -90,11 +90,17 @@ class Branch:
         Special-point label per row, or ``""``.
     special_points:
         The labelled :class:`SpecialPoint` objects, in branch order, numbered per label
-        (``branch["LP1"]``, ``branch["LP2"]``).
+        (``branch["LP1"]``, ``branch["LP2"]``). The numbering runs along the arclength from
+        the first row (AUTO's convention of numbering labels along the branch), and every
+        output uses it: the CSV row order, JSON ``special_points[].name``, plots, CLI
+        tables, ``--fold N`` and ``--point file.csv:LP2``. The first row is the end reached
+        by *decreasing* the continuation parameter from the start point, so two runs from
+        the same start with the same bounds number their points alike.
     vary, unknowns:
         The continuation parameter and the names solved for.
     units:
-        ``{name: SI unit}`` for display.
+        ``{name: SI unit}`` (angles ``rad``); written into the CSV headers (``F [N]``), the
+        JSON ``units`` map and :meth:`to_frame`'s ``attrs``.
     status, message:
         ``"completed"`` (hit a bound or max steps) or a failure reason with an
         explanation, per direction joined by ``"; "``.
@@ -115,6 +121,7 @@ class Branch:
         self.model = model
         self.units = dict(units or {})
         self._col = {n: i for i, n in enumerate(self.names)}
+        self.special_points.sort(key=lambda p: p.index)  # arclength order: the numbering's order
 
     # -- access ----------------------------------------------------------------------
     def __len__(self) -> int:
@@ -141,6 +148,24 @@ class Branch:
         """All special points with this label, in branch order."""
         return [p for p in self.special_points if p.label == label]
 
+    def point_names(self) -> list[str]:
+        """The name of each of :attr:`special_points` (``"LP1"``, ``"CP1"``, ``"EP2"``...), in order.
+
+        Numbered per label along the branch, as ``branch["LP2"]`` finds them; an approximate
+        point keeps its place in the numbering (its tag ``LP2?`` adds the ``?``).
+        """
+        counts: dict[str, int] = {}
+        out = []
+        for p in self.special_points:
+            counts[p.label] = counts.get(p.label, 0) + 1
+            out.append(f"{p.label}{counts[p.label]}")
+        return out
+
+    def unit(self, name: str) -> str:
+        """SI unit of column ``name`` (``""`` when dimensionless or unknown)."""
+        self.column(name)
+        return self.units.get(name, "")
+
     def __getitem__(self, key: str):
         """``branch["theta1"]`` -> column; ``branch["LP1"]`` -> first fold (SpecialPoint)."""
         if key in self._col:
@@ -164,8 +189,14 @@ class Branch:
 
     # -- export ----------------------------------------------------------------------
     def stability_labels(self) -> list[str]:
-        """``"stable"``/``"unstable"`` per point (``""`` where not evaluated)."""
-        return ["" if n < 0 else ("stable" if n == 0 else "unstable") for n in self.n_unstable]
+        """``"stable"``/``"unstable"`` per point, ``"fold"`` at a fold (``LP``) and ``""`` where not evaluated.
+
+        A fold is neutral: one direction has zero stiffness there, so the count of unstable
+        directions computed at it (``n_unstable``) is that of whichever side rounding puts
+        it on. Its row says ``fold`` instead of either word.
+        """
+        return ["fold" if lab == "LP" else "" if n < 0 else ("stable" if n == 0 else "unstable")
+                for n, lab in zip(self.n_unstable, self.labels)]
 
     @property
     def approximate(self) -> list[SpecialPoint]:
@@ -194,23 +225,42 @@ class Branch:
         ]
 
     def to_frame(self):
-        """The table as a pandas DataFrame (requires pandas)."""
-        import pandas as pd  # optional dependency
+        """The table as a pandas DataFrame (``pip install mechcont[tables]``).
 
-        return pd.DataFrame.from_records(self.to_records())
+        Columns as in :meth:`to_records` (plain names, SI values, angles in rad);
+        ``frame.attrs`` holds ``units`` (``{column: unit}``), ``vary``, ``model`` and
+        ``special_points`` (``{"LP1": row, ...}``).
+        """
+        try:
+            import pandas as pd  # optional dependency
+        except ImportError:
+            raise InputError("to_frame", "needs pandas: pip install 'mechcont[tables]'") from None
+        frame = pd.DataFrame.from_records(self.to_records())
+        frame.attrs.update(units={n: self.units.get(n, "") for n in self.names}, vary=self.vary, model=self.model,
+                           special_points={n: p.index for n, p in zip(self.point_names(), self.special_points)})
+        return frame
+
+    def csv_header(self) -> list[str]:
+        """The CSV column headers: ``name [unit]`` for every variable with a unit (``F [N]``,
+        ``theta1 [rad]``), the bare name otherwise, then ``s``, ``stability``, ``n_unstable``,
+        ``label``, ``vary``."""
+        return [unit_header(n, self.units.get(n, "")) for n in self.names] + list(_EXTRA_COLUMNS)
 
     def to_csv(self, path: str | os.PathLike) -> Path:
-        """Write the table as CSV: one column per variable, then ``s`` (scaled arclength),
-        ``stability``, ``n_unstable``, ``label`` and ``vary`` (the continuation parameter's
-        name, repeated so every row is self-describing)."""
+        """Write the table as CSV: one column per variable with its unit in the header
+        (``F [N]``, ``theta1 [rad]``: values in SI units, angles in radians), then ``s``
+        (scaled arclength, dimensionless), ``stability`` (``stable``/``unstable``/``fold``),
+        ``n_unstable``, ``label`` (``LP``, ``LP?``...; numbered by row order: the second
+        ``LP`` row is ``LP2``) and ``vary`` (the continuation parameter's name, repeated so
+        every row is self-describing). :func:`read_csv_header` maps the headers back."""
         recs = self.to_records()
-        header = [*self.names, "s", "stability", "n_unstable", "label", "vary"]
+        keys = [*self.names, *_EXTRA_COLUMNS]
 
         def write(f):
-            w = csv.DictWriter(f, fieldnames=header, lineterminator="\n")
-            w.writeheader()
+            w = csv.writer(f, lineterminator="\n")
+            w.writerow(self.csv_header())
             for r in recs:
-                w.writerow({k: (repr(v) if isinstance(v, float) else v) for k, v in r.items()})
+                w.writerow([repr(r[k]) if isinstance(r[k], float) else r[k] for k in keys])
 
         return _atomic_write(path, write)
 
@@ -220,12 +270,44 @@ class Branch:
             "model": self.model, "vary": self.vary, "unknowns": list(self.unknowns), "status": self.status,
             "message": self.message, "columns": {n: self.column(n).tolist() for n in self.names},
             "s": self.s.tolist(), "n_unstable": self.n_unstable.tolist(), "stability": self.stability_labels(),
-            "labels": self.row_labels(),
-            "special_points": [{"label": p.label, "index": p.index, "values": p.values, "status": p.status,
+            "labels": self.row_labels(), "units": {n: self.units.get(n, "") for n in self.names},
+            "special_points": [{"name": name, "label": p.label, "index": p.index, "values": p.values,
+                                "status": p.status,
                                 **{k: v for k, v in p.info.items() if isinstance(v, (int, float, str))}}
-                               for p in self.special_points],
+                               for name, p in zip(self.point_names(), self.special_points)],
         }
         return _atomic_write(path, lambda f: json.dump(doc, f, indent=1))
+
+
+_EXTRA_COLUMNS = ("s", "stability", "n_unstable", "label", "vary")
+
+
+def unit_header(name: str, unit: str) -> str:
+    """A CSV column header: ``"F [N]"``, or ``"label"`` for a column without a unit."""
+    return f"{name} [{unit}]" if unit else name
+
+
+def read_csv_header(header: str) -> tuple[str, str]:
+    """``"F [N]"`` -> ``("F", "N")``; ``"F"`` (a table written before units) -> ``("F", "")``."""
+    text = header.strip()
+    if text.endswith("]") and " [" in text:
+        name, _, unit = text[:-1].rpartition(" [")
+        return name.strip(), unit.strip()
+    return text, ""
+
+
+def read_branch_table(path: str | os.PathLike) -> tuple[list[dict[str, str]], dict[str, str]]:
+    """Read a branch (or sweep) CSV: rows as ``{name: text}`` keyed by plain names, and ``{name: unit}``.
+
+    Headers ``F [N]`` give name ``F`` and unit ``N``; tables written before units (bare
+    names) read the same, with no units.
+    """
+    with open(path, newline="") as fh:
+        reader = csv.reader(fh)
+        header = next(reader, [])
+        pairs = [read_csv_header(h) for h in header]
+        rows = [dict(zip((n for n, _ in pairs), row)) for row in reader]
+    return rows, {n: u for n, u in pairs if u}
 
 
 def _atomic_write(path, writer) -> Path:

@@ -100,35 +100,66 @@ def _numbered(labels: Sequence[str]) -> list[str]:
     return out
 
 
-_STABILITY_WORDS = {"stable": True, "unstable": False, "": None}
+#: Words of the ``stability`` column: a fold (``LP`` row) is neutral, neither stable nor unstable.
+_STABILITY_WORDS = {"stable": True, "unstable": False, "fold": None, "": None}
+
+
+def _columns(path: Path, header: list[str], system) -> dict[str, tuple[str, float]]:
+    """``{name: (header, factor to SI)}`` from headers ``name [unit]`` (or bare names, as
+    tables were written before units). A unit must be the model's; an angle may be in ``deg``."""
+    from ..continuation._branch import read_csv_header
+
+    out: dict[str, tuple[str, float]] = {}
+    for h in header:
+        name, unit = read_csv_header(h or "")
+        factor = 1.0
+        if unit and name in system.names:
+            want = system.variable(name).unit
+            if unit == "deg" and want == "rad":
+                factor = math.pi / 180.0
+            elif unit != want:
+                raise InputError("branch", f"'{path}' column '{h}': the unit of {name} in model '{system.name}' is "
+                                           f"'{want or 'none'}', not '{unit}'")
+        out.setdefault(name, (h, factor))
+    return out
 
 
 def _read_csv(system, path: Path) -> BranchFrames:
     try:
         with open(path, newline="") as fh:
-            rows = list(csv.DictReader(fh))
+            reader = csv.DictReader(fh)
+            rows = list(reader)
+            header = list(reader.fieldnames or [])
     except (OSError, UnicodeDecodeError, csv.Error) as exc:
         raise InputError("branch", f"cannot read '{path}': {getattr(exc, 'strerror', None) or exc}") from None
     if not rows:
         raise InputError("branch", f"'{path}' has no rows")
-    missing = [n for n in system.names if n not in rows[0]]
+    cols = _columns(path, header, system)
+    missing = [n for n in system.names if n not in cols]
     if missing:
         raise InputError("branch", f"'{path}' lacks the column(s) {', '.join(missing)} of model '{system.name}'")
     values = np.empty((len(rows), len(system.names)))
     for r, row in enumerate(rows):
         for c, name in enumerate(system.names):
+            key, factor = cols[name]
             try:
-                values[r, c] = float(row[name])
+                values[r, c] = float(row[key]) * factor
             except (TypeError, ValueError):
-                raise InputError("branch", f"'{path}' line {r + 2}, column {name}: not a number: {row[name]!r}") from None
+                raise InputError("branch", f"'{path}' line {r + 2}, column {key}: not a number: {row[key]!r}") from None
+
+    def cell(row, name):
+        key = cols.get(name, (name, 1.0))[0]
+        return (row.get(key) or "").strip()
+
     stable = []
     for r, row in enumerate(rows):
-        word = (row.get("stability") or "").strip().lower()
+        word = cell(row, "stability").lower()
         if word not in _STABILITY_WORDS:
-            raise InputError("branch", f"'{path}' line {r + 2}, column stability: {word!r} is not stable or unstable")
+            raise InputError("branch", f"'{path}' line {r + 2}, column stability: {word!r} is not stable, unstable "
+                                       "or fold")
         stable.append(_STABILITY_WORDS[word])
-    labels = tuple((row.get("label") or "").strip() for row in rows)
-    vary = (rows[0].get("vary") or "").strip() or None  # written by Branch.to_csv
+    labels = tuple(cell(row, "label") for row in rows)
+    vary = cell(rows[0], "vary") or None  # written by Branch.to_csv
     if vary is not None and vary not in system.names:
         raise InputError("branch", f"'{path}' column vary: '{vary}' is not a variable of '{system.name}'")
     return BranchFrames(values, tuple(stable), labels, vary)

@@ -445,6 +445,8 @@ def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str) ->
         else:
             lines.append(f"{name} = {val:.4g} {var.unit}".rstrip())
     status = {True: "stable", False: "unstable"}.get(None if stable is None else bool(stable), "")
+    if label.rstrip("0123456789?") == "LP":
+        status = "fold"  # neutral: neither stable nor unstable (see Branch.stability_labels)
     tail = " ".join(s for s in (status, label) if s)
     if tail:
         lines.append(tail)
