@@ -11,11 +11,20 @@ from mechcont.paper import dynamics
 def test_paper_dynamics_section(tmp_path):
     lines = dynamics.run(tmp_path, quiet=True)
     text = "\n".join(lines)
-    for name in ("dynamics_fig3_sweep_vs_continuation.png", "dynamics_fig4bc.png", "dynamics_gap_vs_rate.png"):
+    for name in ("dynamics_fig3_sweep_vs_continuation.png", "dynamics_gap_vs_rate.png"):
         assert (tmp_path / name).stat().st_size > 1000
         assert f"({name})" in text
+    # Fig. 4b,c (the sweeps on their branches) belong to the overcentre section; this one points there
+    assert "fig4b_overcentre_LU2.png" in text and not (tmp_path / "dynamics_fig4bc.png").exists()
     rows = [ln for ln in lines if ln.startswith("| 1 (") or ln.startswith("| 2 (")]
     assert len(rows) == 2 and all(r.rstrip().endswith("| yes |") for r in rows)
+    # each jump names its fold as the branch (and every figure) numbers it
+    from mechcont.paper.overcentre import branch
+
+    b = branch(0.4)
+    for row in rows:
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        assert b[cells[2]]["F"] == pytest.approx(float(cells[3]), abs=1e-4)
     assert "LU = 2 m: 0 jumps" in text
     slope = float(re.search(r"rate\^([0-9.]+) \(slow", text).group(1))
     assert slope == pytest.approx(2 / 3, abs=0.08)

@@ -41,3 +41,33 @@ def test_unknown_section_is_an_error(tmp_path):
     r = CliRunner().invoke(cli, ["paper", "--out", str(tmp_path / "p"), "--only", "nope"])
     assert r.exit_code == 2 and "unknown section" in r.stderr
     assert not (tmp_path / "p").exists()
+
+
+def test_summary_is_the_same_on_every_run(paper_dir, tmp_path):
+    """summary.md holds results only: a second run (caches cleared, so everything is recomputed) gives the same
+    bytes; run times go to timings.txt; no Python True/False in the prose."""
+    from mechcont.paper import overcentre
+
+    text = (paper_dir / "summary.md").read_text()
+    assert "computed in" not in text and " took " not in text
+    assert not re.search(r"\b(True|False|None|nan)\b", text)
+    assert (paper_dir / "timings.txt").read_text().startswith("run times")
+    for f in (overcentre.system, overcentre._start, overcentre.branch):
+        f.cache_clear()
+    overcentre._SWEEPS.clear()
+    _register()
+    r = CliRunner().invoke(cli, ["paper", "--out", str(tmp_path), "--only", "overcentre", "--quiet"])
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "summary.md").read_bytes() == (paper_dir / "summary.md").read_bytes()
+
+
+def test_fig3b_shows_the_bistability_at_20_newtons(paper_dir):
+    """The branch spans the whole force range: at the paper's F = 20 N two stable equilibria and an unstable one."""
+    from mechcont.paper.overcentre import F_RANGE, _equilibria_at, branch
+
+    b = branch(0.4)
+    assert b["F"].min() == pytest.approx(F_RANGE[0]) and b["F"].max() == pytest.approx(F_RANGE[1])
+    eq = _equilibria_at(b, 20.0)
+    assert [st for _, st in sorted(eq)] == [True, False, True]
+    text = (paper_dir / "summary.md").read_text()
+    assert "At F = 20 N the equilibria are theta1 = -73.6 deg (stable), -4.2 deg (unstable), 75.4 deg (stable)" in text

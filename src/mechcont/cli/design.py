@@ -39,35 +39,12 @@ def _write_table(records, path):
 
 
 def plot_region(region, ax, *, force_name: str = "F"):
-    """Draw a :class:`~mechcont.analysis.design.DesignRegion` on a matplotlib axis.
+    """Draw a :class:`~mechcont.analysis.design.DesignRegion` (see
+    :func:`mechcont.outputs.plotting.plot_design_region`: force contours, F = 0 boundary, folds,
+    the design point with its force and signed lock margin)."""
+    from ..outputs.plotting import plot_design_region
 
-    Filled contours of the downlock force (N, blue where it is positive: locks unaided), the
-    continued F = 0 boundary (black), the fold locus with its cusps (orange) and the design point.
-    """
-    import numpy as np
-
-    X, Y = np.meshgrid(region.x, region.y)
-    lim = np.nanmax(np.abs(region.force))
-    # blue: F > 0, the gear locks unaided; red: it needs help
-    cs = ax.contourf(X, Y, region.force, levels=np.linspace(-lim, lim, 21), cmap="RdBu")  # 0 is a level
-    ax.figure.colorbar(cs, ax=ax, label=f"downlock force {force_name} (N); > 0: locks unaided")
-    if region.boundary is not None:
-        b = region.boundary
-        ax.plot(b[region.x_name], b[region.y_name], "k-", lw=2, label=f"{force_name} = 0 (continued)")
-    if region.folds is not None and region.folds.curve is not None:
-        c = region.folds.curve
-        ax.plot(c[region.x_name], c[region.y_name], color="darkorange", lw=2,
-                label=f"folds: extrema of {force_name} in {region.x_name}")
-        for p in region.folds.cusps:
-            ax.plot(p[region.x_name], p[region.y_name], "o", color="darkorange", ms=7)
-            ax.annotate("CP", (p[region.x_name], p[region.y_name]), textcoords="offset points", xytext=(5, -12))
-    ax.plot(*region.design, "k*", ms=11, label="design point")
-    ax.set_xlim(region.x[0], region.x[-1])
-    ax.set_ylim(region.y[0], region.y[-1])
-    ux, uy = region.units[0], region.units[1]
-    ax.set_xlabel(f"{region.x_name} ({ux})" if ux else region.x_name)
-    ax.set_ylabel(f"{region.y_name} ({uy})" if uy else region.y_name)
-    ax.legend(loc="best", fontsize=8)
+    plot_design_region(region, ax, force_name=force_name)
 
 
 @cli.command("design")

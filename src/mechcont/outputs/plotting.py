@@ -17,12 +17,15 @@ import numpy as np
 from .._io import atomic_write
 from ..errors import InputError
 
-__all__ = ["plot_branch", "plot_surface", "new_figure", "save_figure", "axis_values", "FIGURE_SUFFIXES"]
+__all__ = ["plot_branch", "plot_surface", "new_figure", "save_figure", "axis_values", "axis_label", "curve",
+           "label_point", "nice_levels", "plot_design_region", "FIGURE_SUFFIXES"]
 
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 _MARKERS = {"LP": ("o", "tab:red"), "BP": ("s", "tab:purple"), "CP": ("D", "tab:green"),
             "EP": ("x", "0.4"), "UZ": ("^", "tab:orange")}
 _ANGLE_HINTS = ("theta", "psi", "alpha", "angle")
+#: Samples per continuation step of a drawn curve (a cubic through the computed points).
+PER_STEP = 8
 
 
 def _is_angle(branch, name: str) -> bool:
@@ -32,14 +35,78 @@ def _is_angle(branch, name: str) -> bool:
     return name.startswith(_ANGLE_HINTS)
 
 
+def axis_label(name: str, unit: str) -> str:
+    """``"F (N)"``; an angle (``rad``) is labelled in degrees, ``"theta1 (deg)"``; no unit: the name."""
+    if unit == "rad":
+        return f"{name} (deg)"
+    return f"{name} ({unit})" if unit else name
+
+
 def axis_values(branch, name: str) -> tuple[np.ndarray, str]:
     """Values of ``name`` along ``branch`` for display (degrees for angles) and an axis label."""
     v = branch.column(name)
     units = getattr(branch, "units", None) or {}
     if _is_angle(branch, name):
-        return np.degrees(v), f"{name} (deg)"
-    unit = units.get(name, "")
-    return v, f"{name} ({unit})" if unit else name
+        return np.degrees(v), axis_label(name, "rad")
+    return v, axis_label(name, units.get(name, ""))
+
+
+def _dense_s(s: np.ndarray, per_step: int) -> np.ndarray:
+    """``per_step`` samples in every interval of ``s``, the computed points among them."""
+    t = np.linspace(0.0, 1.0, per_step, endpoint=False)
+    inner = (s[:-1, None] + np.diff(s)[:, None] * t[None, :]).ravel()
+    return np.append(inner, s[-1])
+
+
+def curve(branch, *names: str, per_step: int = PER_STEP) -> tuple[np.ndarray, ...]:
+    """Columns ``names`` of ``branch`` as smooth curves for drawing (display units: angles in degrees).
+
+    The continuation's own points are kept and joined by a cubic spline in the branch's
+    arclength ``s`` (``per_step`` samples per step), so a branch computed with long steps
+    is drawn as the smooth curve it is, never as a coarse polyline. Returns one array per
+    name, then the arclength of each sample.
+    """
+    cols = np.column_stack([axis_values(branch, n)[0] for n in names]) if names else np.zeros((len(branch), 0))
+    s = np.asarray(branch.s, float)
+    if len(s) < 3 or per_step < 2 or not np.all(np.diff(s) > 0):
+        return (*cols.T, s)
+    from scipy.interpolate import CubicSpline
+
+    sd = _dense_s(s, per_step)
+    dense = CubicSpline(s, cols, axis=0)(sd)
+    dense[::per_step] = cols  # the computed points exactly
+    return (*dense.T, sd)
+
+
+def _interval_states(branch) -> np.ndarray:
+    """Stability per interval between rows: 0 stable, 1 unstable, 2 not evaluated.
+
+    Where the two ends differ the change is at a special point (a fold): the interval takes
+    the state of its other end, so a fold row (neutral, either count) never decides.
+    """
+    nu = np.asarray(branch.n_unstable)
+    st = np.where(nu < 0, 2, np.where(nu == 0, 0, 1))
+    labels = list(getattr(branch, "labels", [""] * len(st)))
+    out = np.empty(max(len(st) - 1, 0), dtype=int)
+    for i in range(len(out)):
+        a, b = st[i], st[i + 1]
+        out[i] = a if a == b else (b if labels[i] else a)
+    return out
+
+
+def label_point(ax, x: float, y: float, text: str, box: tuple[float, float, float, float], color="k",
+                fontsize: float = 8, background: bool = False) -> None:
+    """Write ``text`` beside the point (x, y) on the side facing the middle of ``box``
+    (``xmin, xmax, ymin, ymax`` of what is drawn), so that it stays inside the axes;
+    ``background`` puts it on a white box (over contours or lines)."""
+    xmin, xmax, ymin, ymax = box
+    fx = (x - xmin) / (xmax - xmin) if xmax > xmin else 0.5
+    fy = (y - ymin) / (ymax - ymin) if ymax > ymin else 0.5
+    dx, ha = (-6, "right") if fx > 0.75 else (6, "left")
+    dy, va = (-6, "top") if fy > 0.8 else (6, "bottom")
+    ax.annotate(text, (x, y), textcoords="offset points", xytext=(dx, dy), ha=ha, va=va, fontsize=fontsize,
+                color=color, bbox=dict(boxstyle="round,pad=0.2", facecolor="white", edgecolor="none", alpha=0.8)
+                if background else None)
 
 
 def new_figure(figsize=(6.0, 4.5), projection: str | None = None):
@@ -51,20 +118,24 @@ def new_figure(figsize=(6.0, 4.5), projection: str | None = None):
     return fig, ax
 
 
-def _runs(mask: np.ndarray):
-    """Index ranges [i, j] (inclusive, overlapping by one point) where ``mask`` is constant."""
-    if len(mask) == 0:
+def _interval_runs(states: np.ndarray):
+    """``(i, j, state)``: rows i..j joined by intervals of one state (consecutive runs share a row)."""
+    if len(states) == 0:
+        yield 0, 0, 2
         return
     start = 0
-    for i in range(1, len(mask)):
-        if mask[i] != mask[start]:
-            yield start, i, mask[start]
-            start = i
-    yield start, len(mask) - 1, mask[start]
+    for k in range(1, len(states) + 1):
+        if k == len(states) or states[k] != states[start]:
+            yield start, k, states[start]
+            start = k
+
+
+_STATE_WORDS = {0: "stable", 1: "unstable", 2: None}
 
 
 def plot_branch(branch, x: str, y: str, ax=None, *, color="k", label: str | None = None,
-                special: bool = True, z: str | None = None, lw: float = 1.6):
+                special: bool = True, z: str | None = None, lw: float = 1.6, stability_legend: bool = False,
+                endpoints: bool = True):
     """Draw ``y`` against ``x`` (and ``z`` on 3-D axes) along a branch.
 
     Parameters
@@ -75,8 +146,20 @@ def plot_branch(branch, x: str, y: str, ax=None, *, color="k", label: str | None
         Variable names for the axes (any column). Angles are shown in degrees.
     ax:
         Matplotlib axes; a new figure is made when ``None``.
+    label:
+        Legend entry of the branch (on its first drawn piece).
     special:
-        Mark and label special points (``LP1``, ``CP1``, ...; end points are only marked).
+        Mark and label special points (``LP1``, ``CP1``, ...: :meth:`Branch.point_names`,
+        the numbering of every output; end points are only marked).
+    stability_legend:
+        One legend entry per style actually drawn: ``"<label>, stable"`` (solid) and
+        ``"<label>, unstable"`` (dashed).
+    endpoints:
+        Mark the end points (``EP``).
+
+    The curve is the continuation's points joined by a cubic in arclength
+    (:func:`curve`); stable parts solid, unstable dashed, fold curves (stability not
+    evaluated) solid.
 
     Returns
     -------
@@ -84,32 +167,47 @@ def plot_branch(branch, x: str, y: str, ax=None, *, color="k", label: str | None
     """
     if ax is None:
         _, ax = new_figure(projection="3d" if z else None)
-    xs, xl = axis_values(branch, x)
-    ys, yl = axis_values(branch, y)
-    zs, zl = axis_values(branch, z) if z else (None, None)
-    stab = branch.n_unstable
-    state = np.where(stab < 0, 2, np.where(stab == 0, 0, 1))
+    names = (x, y, z) if z else (x, y)
+    *cols, sd = curve(branch, *names)
+    _, xl = axis_values(branch, x)
+    _, yl = axis_values(branch, y)
+    zl = axis_values(branch, z)[1] if z else None
+    states = _interval_states(branch)
+    s = np.asarray(branch.s, float)
     styles = {0: "-", 1: "--", 2: "-"}  # fold curves (stability not evaluated) solid
+    seen: set[int] = set()
     first = True
-    for i, j, st in _runs(state):
-        sl = slice(i, j + 1)
-        args = (xs[sl], ys[sl]) if z is None else (xs[sl], ys[sl], zs[sl])
-        ax.plot(*args, styles[int(st)], color=color, lw=lw, label=label if first else None)
+    dense = len(sd) != len(s)
+    per = (len(sd) - 1) // max(len(s) - 1, 1) if dense else 1
+    for i, j, st in _interval_runs(states):
+        a, b = i * per, j * per + 1  # rows i..j
+        seg = [c[a:b] for c in cols]
+        st = int(st)
+        if stability_legend and st in (0, 1) and st not in seen:
+            lab = f"{label}, {_STATE_WORDS[st]}" if label else _STATE_WORDS[st]
+        elif not stability_legend and first:
+            lab = label
+        else:
+            lab = None
+        seen.add(st)
+        ax.plot(*seg, styles[st], color=color, lw=lw, label=lab)
         first = False
     if special:
-        counts: dict[str, int] = {}
-        for p in branch.special_points:
-            counts[p.label] = counts.get(p.label, 0) + 1
+        xs, ys = axis_values(branch, x)[0], axis_values(branch, y)[0]
+        zs = axis_values(branch, z)[0] if z else None
+        box = (float(np.min(cols[0])), float(np.max(cols[0])), float(np.min(cols[1])), float(np.max(cols[1])))
+        for name, p in zip(branch.point_names(), branch.special_points):
+            if p.label == "EP" and not endpoints:
+                continue
             marker, mc = _MARKERS.get(p.label, ("*", "tab:blue"))
             pos = (xs[p.index], ys[p.index]) if z is None else (xs[p.index], ys[p.index], zs[p.index])
             ax.plot(*[[c] for c in pos], marker, color=mc, ms=6, mew=1.5, mfc="none" if p.label != "EP" else mc)
             if p.label != "EP":
-                name = f"{p.label}{counts[p.label]}"
+                text = name if p.located else name + "?"
                 if z is None:
-                    ax.annotate(name, (xs[p.index], ys[p.index]), textcoords="offset points", xytext=(5, 5),
-                                fontsize=8, color=mc)
+                    label_point(ax, pos[0], pos[1], text, box, color=mc)
                 else:
-                    ax.text(*pos, f" {name}", fontsize=8, color=mc)
+                    ax.text(*pos, f" {text}", fontsize=8, color=mc)
     ax.set_xlabel(xl)
     ax.set_ylabel(yl)
     if z:
@@ -118,40 +216,118 @@ def plot_branch(branch, x: str, y: str, ax=None, *, color="k", label: str | None
     return ax
 
 
-def plot_surface(branches: Sequence, x: str, y: str, z: str, folds=None, ax=None, *, highlight=None):
+#: Face colours of a surface of equilibria: stable sheets grey, unstable sheets light red.
+SHEET_COLOURS = {0: (0.72, 0.72, 0.72), 1: (0.93, 0.55, 0.50), 2: (0.72, 0.72, 0.72)}
+
+
+def _sheet_samples(b, names, samples: int):
+    """Member ``b`` resampled at ``samples`` points of its normalised arclength: (3, samples) values
+    (display units) and the stability state (0/1/2) of each sample."""
+    *cols, sd = curve(b, *names)
+    t = (sd - sd[0]) / max(sd[-1] - sd[0], 1e-300)
+    u = np.linspace(0.0, 1.0, samples)
+    vals = np.array([np.interp(u, t, c) for c in cols])
+    s = np.asarray(b.s, float)
+    ts = (s - s[0]) / max(s[-1] - s[0], 1e-300)
+    states = _interval_states(b)
+    k = np.clip(np.searchsorted(ts, u, side="right") - 1, 0, max(len(states) - 1, 0))
+    return vals, (states[k] if len(states) else np.full(samples, 2))
+
+
+def plot_surface(branches: Sequence, x: str, y: str, z: str, folds=None, ax=None, *, highlight=None,
+                 stability: bool = True, samples: int = 240, alpha: float = 0.8, member_lines: bool = False):
     """A surface of equilibria from a family of branches, with the fold curve on it.
 
     ``branches`` are one-parameter branches computed at successive values of a second
-    parameter; each is drawn as a thin line and the family as a translucent surface
-    (members resampled by normalised arclength, so each should span the same range).
-    ``folds`` (a fold-curve branch) is drawn thick in dark grey; ``highlight`` (one
-    branch) in colour. Returns the 3-D axes.
+    parameter, each spanning the same range (e.g. the same bounds on the continuation
+    parameter); the family is drawn as a surface (members resampled by normalised
+    arclength), stable sheets grey and unstable sheets light red when ``stability``
+    (:data:`SHEET_COLOURS`). ``folds`` (a fold-curve branch) is drawn thick in dark grey;
+    ``highlight`` (one branch) in colour; ``member_lines`` draws every member thinly.
+    Returns the 3-D axes.
     """
     if ax is None:
         _, ax = new_figure(figsize=(7, 5.5), projection="3d")
-    grid = []
+    grid, states = [], []
     for b in branches:
-        xs, xl = axis_values(b, x)
-        ys, yl = axis_values(b, y)
-        zs, zl = axis_values(b, z)
-        ax.plot(xs, ys, zs, color="0.55", lw=0.6)
-        # resample by normalised arclength so neighbouring members form a mesh even where
-        # the surface folds over the (x, y) plane
-        t = (b.s - b.s[0]) / max(b.s[-1] - b.s[0], 1e-300)
-        u = np.linspace(0.0, 1.0, 80)
-        grid.append([np.interp(u, t, xs), np.interp(u, t, ys), np.interp(u, t, zs)])
+        vals, st = _sheet_samples(b, (x, y, z), samples)
+        grid.append(vals)
+        states.append(st)
+        if member_lines:
+            ax.plot(*vals, color="0.55", lw=0.5)
     if len(grid) >= 2:
         G = np.array(grid)  # (members, 3, samples)
-        ax.plot_surface(G[:, 0], G[:, 1], G[:, 2], color="0.75", alpha=0.35, linewidth=0, shade=True)
+        # a face is unstable when at least two of its four corners are
+        U = (np.array(states) == 1).astype(int) if stability else np.zeros((len(grid), samples), int)
+        face = (U[:-1, :-1] + U[1:, :-1] + U[:-1, 1:] + U[1:, 1:]) >= 2
+        rgba = np.empty((*U.shape, 4))
+        rgba[...] = (*SHEET_COLOURS[0], alpha)
+        rgba[:-1, :-1][face] = (*SHEET_COLOURS[1], alpha)
+        ax.computed_zorder = False  # curves are drawn over the surface, in the order given
+        ax.plot_surface(G[:, 0], G[:, 1], G[:, 2], facecolors=rgba, linewidth=0, edgecolor="none", shade=False,
+                        rstride=1, cstride=1, antialiased=True, zorder=1)
     if folds is not None:
-        plot_branch(folds, x, y, ax=ax, z=z, color="0.15", lw=2.5)
+        plot_branch(folds, x, y, ax=ax, z=z, color="0.1", lw=2.5)
     if highlight is not None:
         plot_branch(highlight, x, y, ax=ax, z=z, color="tab:blue", lw=2.0, special=False)
     if branches:
-        ax.set_xlabel(xl)
-        ax.set_ylabel(yl)
-        ax.set_zlabel(zl)
+        ax.set_xlabel(axis_values(branches[0], x)[1])
+        ax.set_ylabel(axis_values(branches[0], y)[1])
+        ax.set_zlabel(axis_values(branches[0], z)[1])
     return ax
+
+
+def nice_levels(limit: float, n: int = 10) -> tuple[np.ndarray, np.ndarray]:
+    """Contour levels symmetric about 0 on round numbers covering ``[-limit, limit]``, and the
+    (fewer) round ticks to label them: e.g. levels every 100 N, ticks every 200 N."""
+    from matplotlib.ticker import MaxNLocator
+
+    limit = float(limit) if np.isfinite(limit) and limit > 0 else 1.0
+    ticks = MaxNLocator(nbins=n // 2, steps=[1, 2, 2.5, 5, 10], symmetric=True).tick_values(-limit, limit)
+    half = (ticks[1] - ticks[0]) / 2
+    top = half * np.ceil(limit / half - 1e-9)
+    levels = np.arange(-top, top + half / 2, half)
+    return levels, ticks[(ticks >= -top - 1e-9) & (ticks <= top + 1e-9)]
+
+
+def plot_design_region(region, ax, *, force_name: str = "F"):
+    """Draw a :class:`~mechcont.analysis.design.DesignRegion` on a matplotlib axis.
+
+    Filled contours of the downlock force (N, blue where it is positive: locks unaided) on
+    round levels, the continued F = 0 boundary (black), the fold locus with its cusps
+    (orange) and the design point (star, with its force and signed lock margin). Curves are
+    the continuation's points joined smoothly (:func:`curve`).
+    """
+    X, Y = np.meshgrid(region.x, region.y)
+    lim = np.nanmax(np.abs(region.force))
+    levels, ticks = nice_levels(lim)
+    # blue: F > 0, the gear locks unaided; red: it needs help
+    cs = ax.contourf(X, Y, region.force, levels=levels, cmap="RdBu")  # 0 is a level
+    unit = region.units[2] or "N"
+    ax.figure.colorbar(cs, ax=ax, ticks=ticks, label=f"downlock force {force_name} ({unit}); > 0: locks unaided")
+    xn, yn = region.x_name, region.y_name
+    box = (float(region.x[0]), float(region.x[-1]), float(region.y[0]), float(region.y[-1]))
+    if region.boundary is not None:
+        bx, by, _ = curve(region.boundary, xn, yn)
+        ax.plot(bx, by, "k-", lw=2, label=f"{force_name} = 0 (continued)")
+    if region.folds is not None and region.folds.curve is not None:
+        cx, cy, _ = curve(region.folds.curve, xn, yn)
+        ax.plot(cx, cy, color="darkorange", lw=2, label=f"folds: extrema of {force_name} in {xn}")
+        for p in region.folds.cusps:
+            ax.plot(p[xn], p[yn], "o", color="darkorange", ms=7)
+            label_point(ax, p[xn], p[yn], "CP", box, color="k")
+    ax.plot(*region.design, "k*", ms=12, label="design point")
+    row = min(region.rows, key=lambda r: abs(r.level - region.design[1])) if region.rows else None
+    if row is not None and abs(row.level - region.design[1]) <= 1e-9 * max(1.0, abs(row.level)):
+        ux = region.units[0]
+        margin = "" if not np.isfinite(row.lock_margin) else f"\nlock margin {row.lock_margin:+.3g} {ux}".rstrip()
+        label_point(ax, region.design[0], region.design[1], f"{force_name} = {row.force_at_design:.3g} {unit}{margin}",
+                    box, color="k", background=True)
+    ax.set_xlim(region.x[0], region.x[-1])
+    ax.set_ylim(region.y[0], region.y[-1])
+    ax.set_xlabel(f"{xn} ({region.units[0]})" if region.units[0] else xn)  # values as stored (SI)
+    ax.set_ylabel(f"{yn} ({region.units[1]})" if region.units[1] else yn)
+    ax.legend(loc="best", fontsize=8)
 
 
 def save_figure(fig, path: str | os.PathLike, dpi: int = 150) -> Path:

@@ -152,81 +152,114 @@ def _design(res):
     res.region = design_region(res.system, x_bounds=L_SP1_RANGE, y_levels=np.linspace(*LU_RANGE, 11))
 
 
-def compute(system=None, *, dynamic: bool = True) -> NoseGearResults:
+_STEPS = ("fig7", "fig7_dynamic", "downlock_sweep", "fig8", "fig9", "fig10", "fig11", "design")
+
+
+def compute(system=None, *, dynamic: bool = True, on_step=None) -> NoseGearResults:
     """Run every nose-gear analysis (Figs. 7–11, design region); timings in ``res.timings`` (s).
 
     ``system`` defaults to :func:`~mechcont.models.nose_gear.build_nose_gear` (); with
     ``dynamic=False`` the time simulations (Fig. 7 overlay, downlock sweep) are skipped.
+    ``on_step()`` is called after each analysis (progress bars).
     """
     from ..models.nose_gear import build_nose_gear
 
     res = NoseGearResults(system=None)
     res.system = _timed(res, "build", lambda: system or build_nose_gear())
     res.downlock_force = float(res.system.as_dict(res.system.downlocked)["F"])
-    _timed(res, "fig7", lambda: _fig7(res))
-    if dynamic:
-        _timed(res, "fig7_dynamic", lambda: _fig7_dynamic(res))
-        _timed(res, "downlock_sweep", lambda: _downlock_sweep(res))
-    _timed(res, "fig8", lambda: _fig8(res))
-    _timed(res, "fig9", lambda: _fig9(res))
-    _timed(res, "fig10", lambda: _fig10(res))
-    _timed(res, "fig11", lambda: _fig11(res))
-    _timed(res, "design", lambda: _design(res))
+    steps = {"fig7": _fig7, "fig7_dynamic": _fig7_dynamic, "downlock_sweep": _downlock_sweep, "fig8": _fig8,
+             "fig9": _fig9, "fig10": _fig10, "fig11": _fig11, "design": _design}
+    for name in _STEPS:
+        if dynamic or name not in ("fig7_dynamic", "downlock_sweep"):
+            _timed(res, name, lambda f=steps[name]: f(res))
+        if on_step is not None:
+            on_step()
     return res
 
 
 # -- figures ---------------------------------------------------------------------------------
 def _save(fig, path):
-    from ..cli.downlock import save_figure
+    from ..outputs.plotting import save_figure
 
     save_figure(fig, path)
 
 
-def _plot_all(res, out_dir: Path) -> list[Path]:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+def _oc_curve(branch_or_sweep, dense: bool = True):
+    """(F, overcentre angle in deg) along a branch (smooth, with per-sample stability) or a sweep."""
     from ..models.nose_gear import overcentre_angle
+    from ..outputs.plotting import curve
+
+    if not dense:
+        return branch_or_sweep["F"], np.degrees(overcentre_angle(branch_or_sweep["theta4"], branch_or_sweep["theta5"]))
+    F, t4, t5, _ = curve(branch_or_sweep, "F", "theta4", "theta5")
+    return F, np.degrees(overcentre_angle(np.radians(t4), np.radians(t5)))
+
+
+def _line(ax, branch, x, y, *args, **kw):
+    """``y`` against ``x`` along ``branch`` as a smooth curve through the continuation's points."""
+    from ..outputs.plotting import curve
+
+    xs, ys, _ = curve(branch, x, y)
+    return ax.plot(xs, ys, *args, **kw)
+
+
+def _plot_all(res, out_dir: Path) -> list[Path]:
+    from matplotlib.figure import Figure
+
+    from ..outputs.plotting import axis_label, label_point, plot_design_region
+
+    def unit(name):
+        return res.system.variable(name).unit
+
+    def lab(name, what=""):
+        return f"{what} {axis_label(name, unit(name))}".strip()
 
     paths = []
-    deg = np.degrees
-    # Fig 7
-    fig, ax = plt.subplots(figsize=(5.5, 4))
+    # Fig 7: continuation (black) over the slow time simulation (light grey), as in the paper
+    fig = Figure(figsize=(5.8, 4.2), layout="constrained")
+    ax = fig.add_subplot()
     if res.fig7_sweep is not None:
-        sw = res.fig7_sweep
-        ax.plot(sw["F"], deg(overcentre_angle(sw["theta4"], sw["theta5"])), color="0.75", lw=4,
+        ax.plot(*_oc_curve(res.fig7_sweep, dense=False), color="0.75", lw=4,
                 label=f"time simulation (F ramped at {FIG7_RATE:g} N/s)")
     b = res.fig7_branch
-    oc = deg(overcentre_angle(b["theta4"], b["theta5"]))
-    ax.plot(np.where(b.stable, b["F"], np.nan), np.where(b.stable, oc, np.nan), "k-", label="continuation (stable)")
-    ax.plot(np.where(~b.stable, b["F"], np.nan), np.where(~b.stable, oc, np.nan), "k--", label="unstable")
+    F, oc = _oc_curve(b)
+    from ..outputs.plotting import _interval_states
+
+    states = np.repeat(_interval_states(b), (len(F) - 1) // max(len(b) - 1, 1))
+    for state, style, word in ((0, "-", "stable"), (1, "--", "unstable")):
+        if np.any(states == state):
+            mask = np.append(states == state, states[-1] == state)
+            ax.plot(np.where(mask, F, np.nan), np.where(mask, oc, np.nan), "k" + style, label=f"continuation ({word})")
     ax.axhline(180.0, color="0.5", lw=0.6)
     ax.set_xlabel("applied force F (N)")
     ax.set_ylabel("overcentre angle (deg)")
     ax.set_title("Fig. 7: no spring, no airflow")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left")
     paths.append(out_dir / "nose_gear_fig7.png")
     _save(fig, paths[-1])
-    plt.close(fig)
     # Fig 8
-    fig, ax = plt.subplots(figsize=(5.5, 4))
-    for br, lab in ((res.fig8_aligned, "aligned at theta4 = 0 (default rig)"),
-                    (res.fig8_misrigged, f"lug {abs(MISRIG) * 1e3:.1f} mm short of aligned")):
-        ax.plot(br["U"], br["F"] - br["F"][np.argmin(br["U"])], label=lab)
-    ax.set_xlabel("airspeed U (m/s)")
+    fig = Figure(figsize=(5.8, 4.2), layout="constrained")
+    ax = fig.add_subplot()
+    from ..outputs.plotting import curve
+
+    for br, text in ((res.fig8_aligned, "aligned at theta4 = 0 (default rig)"),
+                     (res.fig8_misrigged, f"lug {abs(MISRIG) * 1e3:.1f} mm short of aligned")):
+        U, Fb, _ = curve(br, "U", "F")
+        ax.plot(U, Fb - br["F"][np.argmin(br["U"])], label=text)
+    ax.set_xlabel(lab("U", "airspeed"))
     ax.set_ylabel("change of downlock force F (N)")
     ax.set_title("Fig. 8: effect of airflow")
     ax.legend(fontsize=8)
     paths.append(out_dir / "nose_gear_fig8.png")
     _save(fig, paths[-1])
-    plt.close(fig)
     # Fig 9
-    fig, axs = plt.subplots(1, 2, figsize=(9, 3.8))
-    axs[0].plot(res.fig9_LU["LU"], res.fig9_LU["F"], "k-")
-    axs[0].set_xlabel("unstrained spring length LU (m)")
-    axs[1].plot(res.fig9_k["k"] / 1e3, res.fig9_k["F"], "k-")
+    fig = Figure(figsize=(9, 3.8), layout="constrained")
+    axs = fig.subplots(1, 2)
+    _line(axs[0], res.fig9_LU, "LU", "F", "k-")
+    axs[0].set_xlabel(lab("LU", "unstrained spring length"))
+    kk = res.fig9_k
+    kx, kF, _ = curve(kk, "k", "F")
+    axs[1].plot(kx / 1e3, kF, "k-")
     axs[1].set_xlabel("spring stiffness k (kN/m)")
     for a in axs:
         a.set_ylabel("downlock force F (N)")
@@ -234,69 +267,85 @@ def _plot_all(res, out_dir: Path) -> list[Path]:
     fig.suptitle("Fig. 9: spring properties")
     paths.append(out_dir / "nose_gear_fig9.png")
     _save(fig, paths[-1])
-    plt.close(fig)
     # Fig 10
-    fig, ax = plt.subplots(figsize=(5.5, 4))
-    ax.plot(res.fig10["l_sp1"], res.fig10["F"], "k-")
+    fig = Figure(figsize=(5.8, 4.2), layout="constrained")
+    ax = fig.add_subplot()
+    _line(ax, res.fig10, "l_sp1", "F", "k-")
+    box = (*L_SP1_RANGE, float(res.fig10["F"].min()), float(res.fig10["F"].max()))
     for p in res.fig11_force_branch.special("LP"):
         ax.plot(p["l_sp1"], p["F"], "o", color="darkorange")
+        label_point(ax, p["l_sp1"], p["F"], f"extremum {p['F']:.1f} N", box, color="darkorange")
     ax.axhline(0, color="0.6", lw=0.6)
     ax.set_xlabel("spring attachment l_sp1 (m, + towards the knee)")
     ax.set_ylabel("downlock force F (N)")
     ax.set_title("Fig. 10: spring attachment (LU = 1.3 m)")
     paths.append(out_dir / "nose_gear_fig10.png")
     _save(fig, paths[-1])
-    plt.close(fig)
     # Fig 11: 3-D + three projections
-    fig = plt.figure(figsize=(10, 8))
+    fig = Figure(figsize=(10, 8), layout="constrained")
     ax3 = fig.add_subplot(2, 2, 1, projection="3d")
     LU_, Fm = [], []
     grid = np.linspace(*L_SP1_RANGE, 60)
     for br in res.fig11_surface:
-        o = np.argsort(br["l_sp1"])
-        Fm.append(np.interp(grid, br["l_sp1"][o], br["F"][o]))
+        xs, Fs, _ = curve(br, "l_sp1", "F")
+        o = np.argsort(xs)
+        Fm.append(np.interp(grid, xs[o], Fs[o]))
         LU_.append(br["LU"][0])
     G, Y = np.meshgrid(grid, LU_)
-    ax3.plot_surface(G, Y, np.array(Fm), color="0.8", alpha=0.5, linewidth=0)
+    ax3.computed_zorder = False
+    ax3.plot_surface(G, Y, np.array(Fm), color="0.8", alpha=0.6, linewidth=0, zorder=1)
     hi = res.fig10
     fc = res.fig11_fold_curve
-    ax3.plot(hi["l_sp1"], hi["LU"], hi["F"], "k-", lw=2)
+    hx, hy, hz, _ = curve(hi, "l_sp1", "LU", "F")
+    ax3.plot(hx, hy, hz, "k-", lw=2, zorder=3)
     if fc is not None:
-        ax3.plot(fc["l_sp1"], fc["LU"], fc["F"], color="darkorange", lw=2)
-    ax3.set_xlabel("l_sp1 (m)")
-    ax3.set_ylabel("LU (m)")
-    ax3.set_zlabel("F (N)")
-    ax3.set_title("(a) surface, LU = 1.3 m curve, fold locus")
+        fx, fy, fz, _ = curve(fc, "l_sp1", "LU", "F")
+        ax3.plot(fx, fy, fz, color="0.3", lw=2.5, zorder=4)
+    ax3.set_xlabel(lab("l_sp1"))
+    ax3.set_ylabel(lab("LU"))
+    ax3.set_zlabel(lab("F"))
+    ax3.set_title("(a) surface of equilibria, LU = 1.3 m curve, fold locus", fontsize=10)
     projections = [("l_sp1", "F", "(b) F vs l_sp1"), ("LU", "F", "(c) F vs LU"), ("l_sp1", "LU", "(d) LU vs l_sp1")]
     for k, (xn, yn, title) in enumerate(projections):
         ax = fig.add_subplot(2, 2, k + 2)
         if (xn, yn) == ("l_sp1", "F"):
-            for br in res.fig11_surface:
-                ax.plot(br["l_sp1"], br["F"], color="0.8", lw=0.8)
-        ax.plot(hi[xn], hi[yn], "k-", lw=2, label="LU = 1.3 m")
+            for j, br in enumerate(res.fig11_surface):
+                _line(ax, br, "l_sp1", "F", color="0.82", lw=0.8,
+                      label=f"LU = {LU_RANGE[0]:g}..{LU_RANGE[1]:g} m (surface)" if j == 0 else None)
+        _line(ax, hi, xn, yn, "k-", lw=2, label="LU = 1.3 m")
+        xs_all, ys_all = [hi[xn]], [hi[yn]]
         if fc is not None:
-            ax.plot(fc[xn], fc[yn], color="darkorange", lw=2, label="fold locus")
+            _line(ax, fc, xn, yn, color="0.3", lw=2.5, label="fold locus")
+            xs_all.append(fc[xn])
+            ys_all.append(fc[yn])
+        if (xn, yn) == ("l_sp1", "F"):
+            xs_all += [br["l_sp1"] for br in res.fig11_surface]
+            ys_all += [br["F"] for br in res.fig11_surface]
+        xa, ya = np.concatenate(xs_all), np.concatenate(ys_all)
+        box = (float(xa.min()), float(xa.max()), float(ya.min()), float(ya.max()))
+        if fc is not None:
             for p in fc.special("CP"):
-                ax.plot(p[xn], p[yn], "o", color="darkorange")
-                ax.annotate("CP", (p[xn], p[yn]), textcoords="offset points", xytext=(5, 5))
-        ax.set_xlabel(xn)
-        ax.set_ylabel(yn)
-        ax.set_title(title)
-        ax.legend(fontsize=7)
-    fig.suptitle("Fig. 11: limit points of F w.r.t. l_sp1, continued in LU")
-    fig.tight_layout()
+                ax.plot(p[xn], p[yn], "o", color="tab:green")
+                if (xn, yn) == ("LU", "F"):  # at the top-left corner, where both fold branches leave to the right
+                    ax.set_ylim(None, box[3] + 0.12 * (box[3] - box[2]))
+                    ax.annotate("CP (cusp)", (p[xn], p[yn]), textcoords="offset points", xytext=(8, 4),
+                                fontsize=8, color="tab:green")
+                else:
+                    label_point(ax, p[xn], p[yn], "CP (cusp)", box, color="tab:green")
+        ax.set_xlabel(lab(xn))
+        ax.set_ylabel(lab(yn))
+        ax.set_title(title, fontsize=10)
+        ax.legend(fontsize=7, loc="lower left" if (xn, yn) != ("l_sp1", "LU") else "upper center")
+    fig.suptitle("Fig. 11: limit points of F with respect to l_sp1, continued in LU")
     paths.append(out_dir / "nose_gear_fig11.png")
     _save(fig, paths[-1])
-    plt.close(fig)
     # design region
-    from ..cli.design import plot_region
-
-    fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    plot_region(res.region, ax)
+    fig = Figure(figsize=(6.8, 4.6), layout="constrained")
+    ax = fig.add_subplot()
+    plot_design_region(res.region, ax)
     ax.set_title("Design: where the gear locks unaided (F > 0)")
     paths.append(out_dir / "nose_gear_design.png")
     _save(fig, paths[-1])
-    plt.close(fig)
     return paths
 
 
@@ -318,20 +367,23 @@ def summary(res: NoseGearResults) -> list[str]:
                      f"{np.degrees(res.fig7_max_angle_gap):.3f} deg, as the paper's ADAMS check did.")
     lines.append(f"- Downlock force at the defaults (LU = 1.3 m, k = 20 kN/m, l_sp1 = 0.1 m, U = 0): "
                  f"{res.downlock_force:.4f} N from continuation"
-                 + (f"; a slow ramp ({DOWNLOCK_RATE:g} N/s) crosses theta4 = 0 at {res.sweep_downlock_force:.4f} N."
-                    if np.isfinite(res.sweep_downlock_force) else "."))
+                 + (f"; a slow ramp ({DOWNLOCK_RATE:g} N/s down from 150 N) crosses theta4 = 0 at "
+                    f"{res.sweep_downlock_force:.4f} N, {res.downlock_force - res.sweep_downlock_force:.4f} N later: "
+                    "a ramped mechanism lags its equilibrium." if np.isfinite(res.sweep_downlock_force) else "."))
     a, m = res.fig8_aligned, res.fig8_misrigged
     da = float(a["F"][np.argmax(a["U"])] - a["F"][np.argmin(a["U"])])
     dm = float(m["F"][np.argmax(m["U"])] - m["F"][np.argmin(m["U"])])
     lines.append(f"- Fig. 8 (paper: small quadratic decrease, 1.5 N over 0–100 m/s): with the lock links exactly "
                  f"aligned at theta4 = 0 the gear is at a dead centre and airspeed has no effect "
                  f"(change {da:.1e} N). With the lock-link lug {abs(MISRIG) * 1e3:.1f} mm short of aligned the effect "
-                 f"reappears: {dm:+.2f} N at 100 m/s, quadratic (fit residual "
-                 f"{fit_residual(m['U'], m['F'], 2):.1e} vs {fit_residual(m['U'], m['F'], 1):.1e} for a line). "
+                 f"reappears: {dm:+.2f} N at 100 m/s, quadratic (RMS residual of a least-squares "
+                 f"parabola {fit_residual(m['U'], m['F'], 2):.1e} of the range of F, against "
+                 f"{fit_residual(m['U'], m['F'], 1):.1e} for a line). "
                  "**Reappears only with a rigging offset**: the paper's small effect suggests its links were not exactly "
                  "aligned at theta4 = 0.")
     lu, kk = res.fig9_LU, res.fig9_k
-    lines.append(f"- Fig. 9 (paper: linear in LU and in k): linear, fit residuals {fit_residual(lu['LU'], lu['F'], 1):.1e} "
+    lines.append(f"- Fig. 9 (paper: linear in LU and in k): linear, RMS residuals of a least-squares line "
+                 f"{fit_residual(lu['LU'], lu['F'], 1):.1e} of the range of F "
                  f"(LU, slope {np.polyfit(lu['LU'], lu['F'], 1)[0]:.0f} N/m) and {fit_residual(kk['k'], kk['F'], 1):.1e} "
                  f"(k, slope {np.polyfit(kk['k'], kk['F'], 1)[0] * 1e3:.2f} N per kN/m). **Reappears** — exactly: "
                  "with theta4 held the configuration is fixed and F is affine in every load.")
@@ -370,18 +422,27 @@ def summary(res: NoseGearResults) -> list[str]:
                  f"dF/dl_sp1 = {row.slope_at_design:.0f} N/m) is {row.margin_to_fold * 1e3:.1f} mm from a fold"
                  + (f" and {row.margin_to_zero * 1e3:.1f} mm from losing the unaided lock (F = 0)."
                     if np.isfinite(row.margin_to_zero) else "; F stays positive over the whole lock link."))
-    tot = sum(res.timings.values())
-    lines.append(f"- Time: {tot:.2f} s for all nose-gear analyses ("
-                 + ", ".join(f"{k} {v:.2f} s" for k, v in res.timings.items()) + ").")
+    lines += ["", "![Fig. 7](nose_gear_fig7.png) ![Fig. 10](nose_gear_fig10.png)", "",
+              "![Fig. 11](nose_gear_fig11.png)", "", "![Design](nose_gear_design.png)", "",
+              "Fig. 8 and 9: `nose_gear_fig8.png`, `nose_gear_fig9.png`.", ""]
     return lines
 
 
-def run(out_dir: Path, quiet: bool = True) -> list[str]:
-    """Compute Figs. 7–11 and the design region, write PNGs into ``out_dir``, return the summary lines."""
+def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[str]:
+    """Compute Figs. 7–11 and the design region, write PNGs into ``out_dir``, return the summary lines.
+
+    Run times (s) of each analysis go into ``timings`` (never into the summary, which is the
+    same on every run).
+    """
+    from .._progress import Progress
+
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    res = compute()
-    t0 = time.perf_counter()
-    _plot_all(res, out_dir)
-    res.timings["plots"] = time.perf_counter() - t0
+    with Progress("[nose_gear] analyses", total=len(_STEPS) + 1, unit="steps", quiet=quiet) as bar:
+        res = compute(on_step=bar.update) if bar.enabled else compute()
+        t0 = time.perf_counter()
+        _plot_all(res, out_dir)
+        res.timings["plots"] = time.perf_counter() - t0
+    if timings is not None:
+        timings.update({f"nose_gear: {k}": v for k, v in res.timings.items()})
     return summary(res)
