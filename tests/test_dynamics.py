@@ -223,8 +223,8 @@ def test_csv_has_named_columns(tmp_path, oc04):
     path = tmp_path / "sim.csv"
     r.to_csv(path)
     lines = path.read_text().splitlines()
-    assert lines[0].split(",")[:4] == ["t", "x1", "y1", "theta1"]
-    assert lines[0].endswith("theta2_dot")
+    assert lines[0].split(",")[:4] == ["t [s]", "x1 [m]", "y1 [m]", "theta1 [rad]"]
+    assert lines[0].endswith("theta2_dot [rad/s]")
     assert len(lines) == len(r) + 1
 
 

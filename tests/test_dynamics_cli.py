@@ -30,13 +30,13 @@ def test_sweep_reports_jumps_and_writes_outputs(runner, tmp_path):
     with open(out) as fh:
         rows = list(csv.reader(fh))
     header = rows[0]
-    assert header[:4] == ["t", "x1", "y1", "theta1"] and len(rows) > 100
-    assert header[-1] == "label" and "theta1_dot" in header and "F" in header
+    assert header[:4] == ["t [s]", "x1 [m]", "y1 [m]", "theta1 [rad]"] and len(rows) > 100
+    assert header[-1] == "label" and "theta1_dot [rad/s]" in header and "F [N]" in header
     # the JUMP rows are the last samples before each snap, at the reported loads
     jump_rows = [r for r in rows[1:] if r[-1] == "JUMP"]
     assert len(jump_rows) == 2
     for row, f in zip(jump_rows, (f1, f2)):
-        assert float(row[header.index("F")]) == pytest.approx(f, abs=0.05)
+        assert float(row[header.index("F [N]")]) == pytest.approx(f, abs=0.05)
     assert fig.stat().st_size > 1000
     # the CSV reads back as a branch of the model: draw the mechanism as it lets go
     drawing = tmp_path / "jump.png"

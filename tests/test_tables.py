@@ -109,3 +109,56 @@ def test_frame_has_units(branch):
     assert frame.attrs["special_points"] == {"EP1": 0, "LP1": branch["LP1"].index, "LP2": branch["LP2"].index,
                                              "EP2": len(branch) - 1}
     assert frame["stability"][branch["LP1"].index] == "fold"
+
+
+def test_a_written_branch_reads_back(tmp_path, branch):
+    from mechcont.continuation import Branch
+
+    b = Branch.read_csv(branch.to_csv(tmp_path / "b.csv"))
+    np.testing.assert_array_equal(b.values, branch.values)
+    np.testing.assert_array_equal(b.s, branch.s)
+    assert b.names == branch.names and b.vary == "F" and b.units == {n: u for n, u in branch.units.items() if u}
+    assert b.point_names() == branch.point_names() and b["LP2"]["F"] == branch["LP2"]["F"]
+    assert b.stability_labels() == branch.stability_labels()
+
+
+def test_one_numbering_in_every_output(tmp_path):
+    """LP2 is the same fold in the CLI table, the CSV rows, the JSON, the plot labels and `folds --fold 2`;
+    the table shows angles in degrees with the unit in the heading."""
+    from cli_helpers import make_runner
+
+    from mechcont.continuation import Branch
+    from mechcont.outputs.plotting import new_figure, plot_branch
+
+    run = make_runner()
+    args = ("overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--bounds", "theta1=-1.2:1.2")
+    r = run("continue", *args, "--out", tmp_path / "b.csv")
+    assert r.exit_code == 0, r.output
+    assert run("continue", *args, "--out", tmp_path / "b.json", "--quiet").exit_code == 0
+    head, *rows = [ln.split() for ln in r.output.splitlines()[1:5]]
+    assert head == ["point", "F", "(N)", "theta1", "(deg)", "stability"]
+    table = {row[0]: (float(row[1]), float(row[2]), row[3]) for row in rows}
+    b = Branch.read_csv(tmp_path / "b.csv")
+    doc = json.loads((tmp_path / "b.json").read_text())
+    from_json = {p["name"]: p["values"] for p in doc["special_points"]}
+    lp_rows = [i for i, lab in enumerate(b.labels) if lab == "LP"]
+    for k, name in enumerate(("LP1", "LP2")):
+        F, th = b[name]["F"], b[name]["theta1"]
+        assert b[name].index == lp_rows[k]
+        assert table[name] == (pytest.approx(F, rel=1e-9), pytest.approx(math.degrees(th), rel=1e-9), "fold")
+        assert from_json[name]["F"] == F
+    _, ax = new_figure()
+    plot_branch(b, "F", "theta1", ax=ax)
+    labels = {t.get_text(): t.xy for t in ax.texts}
+    assert set(labels) == {"LP1", "LP2"}
+    for name in ("LP1", "LP2"):
+        assert labels[name] == pytest.approx((b[name]["F"], math.degrees(b[name]["theta1"])))
+    # `folds --fold 2` continues that same LP2 (the curve starts there, at LU = 0.4 m)
+    r = run("folds", *args[:-2], "--free", "LU", "--bounds", "LU=0.1:2", "--fold", "2", "--out", tmp_path / "f.csv")
+    assert r.exit_code == 0, r.output
+    assert "continuing LP2 (--fold 2)" in r.output
+    curve = Branch.read_csv(tmp_path / "f.csv")
+    i0 = int(np.argmin(np.abs(curve.s)))
+    assert curve["F"][i0] == pytest.approx(b["LP2"]["F"], rel=1e-9) and curve["LU"][i0] == pytest.approx(0.4)
+    bad = run("folds", *args[:-2], "--free", "LU", "--bounds", "LU=0.1:2", "--fold", "3")
+    assert bad.exit_code == 2 and "LP1 at F = " in bad.stderr and "LP2 at F = " in bad.stderr

@@ -7,7 +7,8 @@ import click
 from ..errors import InputError
 from ._parse import assignments, bounds
 
-__all__ = ["continuation_options", "solve_start", "write_branch", "special_table", "common_options", "check_outputs"]
+__all__ = ["continuation_options", "solve_start", "write_branch", "special_table", "common_options", "check_outputs",
+           "run_continuation"]
 
 #: Branch tables are written as CSV or JSON (by suffix).
 TABLE_SUFFIXES = (".csv", ".json")
@@ -84,6 +85,14 @@ def solve_start(system, sets, starts, vary, frees, holds):
     return find_equilibrium(system, values=values, hold=held, free=free)
 
 
+def run_continuation(fn, *args, quiet: bool = False, label: str = "continuation", **kwargs):
+    """``fn(*args, progress=..., **kwargs)`` with a progress line (accepted steps) on a terminal."""
+    from .._progress import Progress
+
+    with Progress(label, unit="steps", quiet=quiet) as bar:
+        return fn(*args, progress=bar if bar.enabled else None, **kwargs)
+
+
 def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quiet: bool, extra=()):
     """Write the branch table (CSV or JSON by suffix) and the plot, checking paths first."""
     from ..outputs.plotting import new_figure, plot_branch, save_figure
@@ -110,27 +119,45 @@ def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quie
     warn_approximate(branch)
 
 
+def display(branch, name: str, value: float) -> float:
+    """A value as shown in tables: angles (``rad``) in degrees, everything else in SI."""
+    import math
+
+    return math.degrees(value) if branch.units.get(name) == "rad" else value
+
+
+def heading(branch, name: str) -> str:
+    """A column heading with its display unit: ``F (N)``, ``theta1 (deg)``, ``s``."""
+    from ..outputs.plotting import axis_label
+
+    return axis_label(name, branch.units.get(name, ""))
+
+
 def special_table(branch, cols=None) -> str:
-    """A plain-text table of the special points of a branch (columns ``cols``)."""
+    """A plain-text table of the special points of a branch (columns ``cols``).
+
+    Points are named as everywhere else (:meth:`Branch.point_names`, numbered along the
+    branch; ``LP2?`` when only approximate); angles are shown in degrees, every heading
+    carries its unit, and a fold's stability is ``fold``.
+    """
     cols = list(dict.fromkeys(cols or [branch.vary, *branch.unknowns[:3]]))
-    head = f"{'label':<6}" + "".join(f"{c:>16}" for c in cols) + f"{'stability':>11}"
+    width = max(16, *(len(heading(branch, c)) + 2 for c in cols))
+    head = f"{'point':<7}" + "".join(f"{heading(branch, c):>{width}}" for c in cols) + f"{'stability':>11}"
     lines = [f"{branch.model}: {len(branch)} points in {branch.vary}", head]
-    counts: dict[str, int] = {}
     st = branch.stability_labels()
-    for p in branch.special_points:
-        counts[p.label] = counts.get(p.label, 0) + 1
-        vals = "".join(f"{p.values[c]:>16.10g}" for c in cols)
-        tag = p.label + str(counts[p.label]) + ("" if p.located else "?")
-        lines.append(f"{tag:<6}{vals}{st[p.index] or '-':>11}")
+    for name, p in zip(branch.point_names(), branch.special_points):
+        vals = "".join(f" {display(branch, c, p.values[c]):>{width - 1}.10g}" for c in cols)
+        tag = name + ("" if p.located else "?")
+        lines.append(f"{tag:<7}{vals}{st[p.index] or '-':>11}")
     return "\n".join(lines)
 
 
 def warn_approximate(branch) -> None:
     """One stderr line per special point that was detected but not located."""
-    counts: dict[str, int] = {}
-    for p in branch.special_points:
-        counts[p.label] = counts.get(p.label, 0) + 1
+    for name, p in zip(branch.point_names(), branch.special_points):
         if not p.located:
             why = p.info.get("reason", "not located")
-            click.echo(f"warning: {p.label}{counts[p.label]} at {branch.vary}={p.values[branch.vary]:.10g} is approximate "
-                       f"({why}); its row is labelled {p.tag}", err=True)
+            v = branch.vary
+            unit = "deg" if branch.units.get(v) == "rad" else branch.units.get(v, "")
+            click.echo(f"warning: {name} at {v} = {display(branch, v, p.values[v]):.10g} {unit} is approximate "
+                       f"({why}); its row is labelled {p.tag}".replace("  ", " "), err=True)

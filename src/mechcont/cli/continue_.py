@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from ._app import cli
-from ._run import check_outputs, common_options, continuation_options, solve_start, write_branch
+from ._run import check_outputs, common_options, continuation_options, run_continuation, solve_start, write_branch
 
 
 @cli.command("continue")
@@ -30,6 +30,6 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_model(model)
     x0 = solve_start(system, sets, starts, vary, frees, holds)
-    branch = continuation(system, x0, vary, hold=holds, free=frees, options=options)
+    branch = run_continuation(continuation, system, x0, vary, hold=holds, free=frees, options=options, quiet=quiet)
     first_state = next(iter(assignments(starts, "start")), None) or branch.unknowns[0]
     write_branch(branch, out, plot, xname or vary, yname or first_state, quiet)

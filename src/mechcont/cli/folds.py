@@ -8,7 +8,17 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._run import check_outputs, common_options, continuation_options, solve_start, write_branch
+from ._parse import assignments
+from ._run import (
+    check_outputs,
+    common_options,
+    continuation_options,
+    display,
+    run_continuation,
+    solve_start,
+    special_table,
+    write_branch,
+)
 
 
 @cli.command("folds")
@@ -18,7 +28,8 @@ from ._run import check_outputs, common_options, continuation_options, solve_sta
 @click.option("--free", "second", required=True, metavar="P2", help="Second parameter, continued along the fold curve.")
 @click.option("--solve-for", "frees2", multiple=True, metavar="NAME",
               help="Further parameters solved for on the branch (with --hold).")
-@click.option("--fold", "which", default=1, show_default=True, help="Which LP of the first branch (1, 2, ...).")
+@click.option("--fold", "which", default=1, show_default=True,
+              help="Which fold of the first branch: N for LPN, numbered along the branch as `continue` prints them.")
 @click.option("--out", default=None, help="Fold-curve table: .csv or .json.")
 @click.option("--plot", default=None, help="Figure: .png, .svg or .pdf (P1 against P2).")
 def folds_command(model, sets, starts, holds, bnds, ds, dsmax, max_steps, quiet, vary, second, frees2, which,
@@ -37,15 +48,19 @@ def folds_command(model, sets, starts, holds, bnds, ds, dsmax, max_steps, quiet,
     system = load_model(model)
     system.index(second)
     x0 = solve_start(system, sets, starts, vary, frees, holds)
-    first = continuation(system, x0, vary, hold=holds, free=frees,
-                         options=replace(options, bounds={k: v for k, v in options.bounds.items() if k != second}))
+    first = run_continuation(continuation, system, x0, vary, hold=holds, free=frees, quiet=quiet,
+                             options=replace(options, bounds={k: v for k, v in options.bounds.items() if k != second}))
     lps = first.special("LP")
     if not lps:
         raise InputError("--vary", f"the branch in {vary} has no fold within the bounds; change --set or --bounds")
+    folds = [(n, p) for n, p in zip(first.point_names(), first.special_points) if p.label == "LP"]
+    listed = ", ".join(f"{n} at {vary} = {display(first, vary, p[vary]):.6g}" for n, p in folds)
     if not 1 <= which <= len(lps):
-        raise InputError("--fold", f"the branch has {len(lps)} fold(s); choose 1..{len(lps)}")
-    curve = continue_folds(system, lps[which - 1], vary, second, options=options)
-    from ._parse import assignments
-
+        raise InputError("--fold", f"the branch has {len(lps)} fold(s) ({listed}); choose 1..{len(lps)}")
+    if not quiet:  # the folds of the first branch, numbered as `continue` numbers them: what --fold picks from
+        click.echo(special_table(first, [vary, *[n for n in assignments(starts, "start") if n != vary]]))
+        click.echo(f"continuing {folds[which - 1][0]} (--fold {which}) in {second}\n")
+    curve = run_continuation(continue_folds, system, lps[which - 1], vary, second, options=options, quiet=quiet,
+                             label="fold curve")
     shown = [n for n in assignments(starts, "start") if n != vary]
     write_branch(curve, out, plot, second, vary, quiet, extra=shown)

@@ -177,7 +177,8 @@ def locate_fold(system: EquationSystem, point, vary: str, *, hold: Iterable[str]
 
 def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: Iterable[str] = (),
                    free_extra: Iterable[str] = (), options: ContinuationOptions | None = None,
-                   direction: int = 0, stop_at_cusp: bool = False) -> Branch:
+                   direction: int = 0, stop_at_cusp: bool = False,
+                   progress: Callable[[int], None] | None = None) -> Branch:
     """Continue a fold of equilibria in two parameters: the fold curve, with cusps (``CP``).
 
     Parameters
@@ -199,6 +200,8 @@ def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: 
         ``0`` both ways, ``+1``/``-1``: increasing/decreasing ``free`` at the start.
     stop_at_cusp:
         End the curve at the first cusp instead of continuing onto the other fold.
+    progress:
+        Called with ``1`` after every accepted step (e.g. a progress bar's ``update``).
 
     Returns
     -------
@@ -225,7 +228,7 @@ def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: 
         for ev in evs:
             if ev.label == "CP":
                 ev.stop = True
-    return _run(problem, system, problem.u0, opts, evs, direction, free, (*states, vary))
+    return _run(problem, system, problem.u0, opts, evs, direction, free, (*states, vary), progress=progress)
 
 
 def switch_branch(system: EquationSystem, bp: SpecialPoint, *, options: ContinuationOptions | None = None,

@@ -264,6 +264,44 @@ class Branch:
 
         return _atomic_write(path, write)
 
+    @classmethod
+    def read_csv(cls, path: str | os.PathLike, *, model: str = "") -> Branch:
+        """A branch from a table written by :meth:`to_csv` (or an older one without units).
+
+        Variables are the columns other than ``s``, ``stability``, ``n_unstable``, ``label``
+        and ``vary``; units come from the headers. Special points are rebuilt from the
+        ``label`` column (``LP?`` is an approximate ``LP``), numbered as when written.
+        Without ``n_unstable`` the ``stability`` words give 0/1 (-1 where unknown); without
+        ``s``, the chord length of the rows stands in for the arclength. Raises
+        :class:`InputError` for an unreadable or malformed table.
+        """
+        try:
+            rows, units = read_branch_table(path)
+        except (OSError, UnicodeDecodeError, csv.Error) as exc:
+            raise InputError("branch", f"cannot read '{path}': {getattr(exc, 'strerror', None) or exc}") from None
+        if not rows:
+            raise InputError("branch", f"'{path}' has no rows")
+        names = [n for n in rows[0] if n not in _EXTRA_COLUMNS]
+        try:
+            values = np.array([[float(r[n]) for n in names] for r in rows])
+        except (TypeError, ValueError) as exc:
+            raise InputError("branch", f"'{path}': not a number ({exc})") from None
+        if "s" in rows[0]:
+            s = np.array([float(r["s"]) for r in rows])
+        else:
+            s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(values, axis=0), axis=1))])
+        words = {"stable": 0, "unstable": 1}
+        nu = [int(r["n_unstable"]) if r.get("n_unstable", "").strip() else words.get(r.get("stability", ""), -1)
+              for r in rows]
+        tags = [(r.get("label") or "").strip() for r in rows]
+        labels = [t.rstrip("?") for t in tags]
+        special = [SpecialPoint(lab, i, values[i].copy(), tuple(names),
+                                info={} if not tags[i].endswith("?") else {"status": "approximate",
+                                                                             "reason": "marked approximate in the table"})
+                   for i, lab in enumerate(labels) if lab]
+        vary = (rows[0].get("vary") or "").strip()
+        return cls(names, values, s, nu, labels, special, vary, (), model=model, units=units)
+
     def to_json(self, path: str | os.PathLike) -> Path:
         """Write the branch as JSON: metadata, columns, special points."""
         doc = {

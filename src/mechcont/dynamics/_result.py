@@ -51,6 +51,8 @@ class SimulationResult:
         Number of right-hand side evaluations.
     detail:
         Where and why the integrator stopped, when it failed (time and the solver's message).
+    units:
+        ``{name: SI unit}`` of the variables (written into the CSV headers).
     """
 
     t: np.ndarray
@@ -65,6 +67,16 @@ class SimulationResult:
     x_events: list[np.ndarray] = field(default_factory=list)
     nfev: int = 0
     detail: str = ""
+    units: dict = field(default_factory=dict)
+
+    def unit(self, column: str) -> str:
+        """SI unit of a column (``t``: s; ``<coordinate>_dot``: its unit per second; ``""`` if none)."""
+        if column == "t":
+            return "s"
+        if column.endswith("_dot") and column[:-4] in self.coordinates:
+            u = self.units.get(column[:-4], "")
+            return f"{u}/s" if u else "1/s"
+        return self.units.get(column, "")
 
     @property
     def success(self) -> bool:
@@ -104,15 +116,19 @@ class SimulationResult:
     def to_csv(self, path: str | Path, labels: Sequence[str] | None = None) -> Path:
         """Write every row as CSV: ``t``, one column per variable (named as in a continuation
         branch, so ``mechcont draw/animate`` read it), the velocities ``<coordinate>_dot``, and,
-        if ``labels`` (one string per row) is given, a ``label`` column. Written atomically;
-        returns the path."""
+        if ``labels`` (one string per row) is given, a ``label`` column. Headers carry the
+        units as branch tables do (``t [s]``, ``F [N]``, ``theta1_dot [rad/s]``). Written
+        atomically; returns the path."""
+        from ..continuation._branch import unit_header
+
         if labels is not None and len(labels) != len(self.t):
             raise InputError("labels", f"needs one label per row ({len(self.t)})")
 
         def write(tmp):
             with open(tmp, "w", newline="") as fh:
                 w = csv.writer(fh, lineterminator="\n")
-                w.writerow(("t", *self.columns, *(("label",) if labels is not None else ())))
+                w.writerow([unit_header(c, self.unit(c)) for c in ("t", *self.columns)]
+                           + (["label"] if labels is not None else []))
                 for i in range(len(self.t)):
                     w.writerow([repr(float(self.t[i])), *(repr(float(v)) for v in self.values[i]),
                                 *(repr(float(v)) for v in self.qdot[i]), *((labels[i],) if labels is not None else ())])

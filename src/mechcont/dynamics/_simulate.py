@@ -224,4 +224,5 @@ def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="") -> S
     t_events, x_events = tracker.results()
     return SimulationResult(t=t, values=values, qdot=qdot, names=tuple(system.names), coordinates=coords,
                             status=status, constraint_drift=drift, velocity_drift=vdrift,
-                            t_events=t_events, x_events=x_events, nfev=dyn.nfev, detail=detail)
+                            t_events=t_events, x_events=x_events, nfev=dyn.nfev, detail=detail,
+                            units={v.name: v.unit for v in system.variables})

@@ -330,7 +330,7 @@ def _concatenate(parts: list[SimulationResult]) -> SimulationResult:
         velocity_drift=max(p.velocity_drift for p in parts),
         t_events=[np.concatenate([p.t_events[i] for p in parts]) for i in range(n_ev)],
         x_events=[np.concatenate([p.x_events[i] for p in parts]) for i in range(n_ev)],
-        nfev=sum(p.nfev for p in parts), detail=parts[-1].detail)
+        nfev=sum(p.nfev for p in parts), detail=parts[-1].detail, units=first.units)
 
 
 def _coords_at(sim: SimulationResult, i: int) -> dict:
