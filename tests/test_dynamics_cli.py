@@ -64,3 +64,30 @@ def test_bad_input_is_one_line_and_exit_2(runner, tmp_path, args, message):
     err = res.output.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"error: {message}")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_sweep_over_a_continuation_branch(tmp_path):
+    """--branch draws the branch under the sweep and prints each jump's gap to the fold it follows."""
+    from cli_helpers import make_runner, one_line_error
+
+    run = make_runner()
+    b = tmp_path / "b.csv"
+    r = run("continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=1.2", "--vary", "F", "--bounds", "F=-90:110",
+            "--bounds", "theta1=-1.5:1.5", "--out", b, "--quiet")
+    assert r.exit_code == 0, r.output
+    fig = tmp_path / "s.png"
+    r = run("sweep", "overcentre", "--set", "LU=0.4", "--set", "c=50", "--start", "theta1=1.2", "--ramp", "F=-65:-90:1",
+            "--watch", "theta1", "--branch", b, "--plot", fig, "--quiet")
+    assert r.exit_code == 0, r.output
+    (line,) = [ln for ln in r.output.splitlines() if ln.startswith("jump")]
+    (_, F_up), (_, F_low) = symmetric_folds(1.5, 1.0, 1.0, 9.81, 127.0, 0.4)
+    jump = float(line.split("F = ")[1].split()[0])
+    assert f"N past LP2 (F = {F_low:.6g} N)" in line and "deg" in line
+    gap = float(line.split("; ")[-1].split()[0])
+    assert gap == pytest.approx(F_low - jump, abs=1e-3) and gap > 0
+    assert fig.stat().st_size > 1000
+    curve = tmp_path / "f.csv"
+    assert run("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
+               "--bounds", "LU=0.3:0.5", "--out", curve, "--quiet").exit_code == 0
+    one_line_error(run("sweep", "overcentre", "--start", "theta1=1.2", "--ramp", "F=-65:-90:1", "--watch", "theta1",
+                       "--branch", curve), "branch in LU")

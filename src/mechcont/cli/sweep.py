@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import sys
-
 import click
 
 from ..errors import InputError
@@ -27,6 +25,45 @@ def _ramps(items) -> list[tuple[str, float, float, float]]:
     return out
 
 
+def _shown(system, name: str, value: float) -> tuple[float, str]:
+    """A value and its unit as printed: angles in degrees."""
+    import math
+
+    unit = system.variable(name).unit
+    return (math.degrees(value), "deg") if unit == "rad" else (value, unit)
+
+
+def _read_branch(path, system, parameter: str, watch: str):
+    """The --branch table: a branch of this model continued in the ramped ``parameter``."""
+    from ..continuation import Branch
+
+    branch = Branch.read_csv(path, model=system.name)
+    missing = [n for n in system.names if n not in branch.names]
+    if missing:
+        raise InputError("--branch", f"'{path}' lacks the column(s) {', '.join(missing[:5])} of model '{system.name}'")
+    if branch.vary and branch.vary != parameter:
+        raise InputError("--branch", f"'{path}' is a branch in {branch.vary}, but the sweep ramps {parameter}; "
+                                     f"continue in {parameter} (mechcont continue ... --vary {parameter})")
+    return branch
+
+
+def _gaps(result, branch) -> list[str]:
+    """Per jump: "; 4.8 N past LP2 (F = -75.58 N)", the gap to the fold it follows (empty without a branch)."""
+    if branch is None or not branch.special("LP") or not result.jumps:
+        return []
+    from ..dynamics import jump_gaps
+
+    name = result.ramps[0].name
+    folds = [(n, p[name]) for n, p in zip(branch.point_names(), branch.special_points) if p.label == "LP"]
+    unit = branch.units.get(name, "")
+    out = []
+    for g in jump_gaps(result, [v for _, v in folds]):
+        fold = next(n for n, v in folds if v == g.fold_value)
+        where = "past" if g.past else "BEFORE (not a fold of this sweep?)"
+        out.append(f"; {abs(g.gap):.4g} {unit} {where} {fold} ({name} = {g.fold_value:.6g} {unit})".replace("  ", " "))
+    return out
+
+
 @cli.command("sweep")
 @click.argument("model")
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
@@ -43,13 +80,20 @@ def _ramps(items) -> list[tuple[str, float, float, float]]:
 @click.option("--rtol", default=1e-6, show_default=True, help="Integrator relative tolerance.")
 @click.option("--out", default=None, metavar="FILE.csv", help="Write the time history as CSV.")
 @click.option("--plot", default=None, metavar="FILE.png", help="Plot WATCH against the ramped parameter.")
+@click.option("--branch", "branch_csv", default=None, metavar="BRANCH.csv",
+              help="A continuation branch in the ramped parameter (mechcont continue --out): drawn under the sweep, "
+                   "and each jump is paired with the fold it follows (the gap printed).")
 @click.option("--quiet", is_flag=True, help="No progress bar.")
 def sweep_command(model, settings, starts, ramps, watch, damping, settle, equilibrium, through, rtol, out, plot,
-                  quiet):
+                  branch_csv, quiet):
     """Ramp loads of MODEL slowly in a time simulation and report where WATCH jumps.
 
     Example: mechcont sweep overcentre --set LU=0.4 --set c=50 --start theta1=1.2
     --ramp F=-65:-90:0.5 --ramp F=-90:110:2 --watch theta1
+
+    With --branch (the same model continued in the ramped parameter) the plot shows the
+    branch under the sweep, stable solid and unstable dashed, and each jump is printed
+    with its gap to the fold it follows: the time simulation's delay past the fold.
     """
     from .._io import check_output_path
     from ..dynamics import assemble, parse_ramps, sweep
@@ -60,6 +104,7 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     segs = parse_ramps(_ramps(ramps))
     system = load_model(model, **assignments(settings, "set"))
+    branch = _read_branch(branch_csv, system, segs[0].name, watch) if branch_csv is not None else None
     start = assignments(starts, "start")
     values = dict(start)
     for r in segs:  # each ramped parameter begins at its first segment's start value
@@ -77,20 +122,11 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
 
         x0 = find_equilibrium(system, values={n: x0[system.index(n)] for n in system.parameter_names}, guess=x0)
     total = settle + sum(r.duration for r in segs)
-    if quiet or not sys.stderr.isatty():
-        result = sweep(system, x0, segs, watch=watch, damping=damping, settle=settle, through=through, rtol=rtol)
-    else:
-        with click.progressbar(length=1000, label="sweep", file=sys.stderr) as bar:
-            state = {"done": 0}
+    from .._progress import Progress
 
-            def progress(t):
-                k = min(1000, int(1000 * t / total))
-                if k > state["done"]:
-                    bar.update(k - state["done"])
-                    state["done"] = k
-
-            result = sweep(system, x0, segs, watch=watch, damping=damping, settle=settle, through=through,
-                           rtol=rtol, progress=progress)
+    with Progress("sweep", total=total, unit="s simulated", quiet=quiet) as bar:
+        result = sweep(system, x0, segs, watch=watch, damping=damping, settle=settle, through=through, rtol=rtol,
+                       progress=bar.set if bar.enabled else None)
     sim = result.simulation
     click.echo(f"# {system.name}: {len(segs)} segment(s), {total:g} s simulated, {len(sim)} samples, "
                f"{sim.nfev} evaluations; max constraint drift {sim.constraint_drift:.2e}")
@@ -98,10 +134,16 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
         click.echo(f"# warning: {sim.message}")
     if not result.jumps:
         click.echo(f"no jump of {watch} detected")
+    gaps = _gaps(result, branch)
     for i, j in enumerate(result.jumps, 1):
         word = "increasing" if j.direction > 0 else "decreasing"
-        click.echo(f"jump {i}: {j.parameter} = {j.value:.6g} ({word}, segment {j.segment + 1}) at t = {j.time:.4g} s; "
-                   f"{watch} {j.before[watch]:.6g} -> {j.after[watch]:.6g}")
+        a, b = _shown(system, watch, j.before[watch]), _shown(system, watch, j.after[watch])
+        click.echo(f"jump {i}: {j.parameter} = {j.value:.6g} {system.variable(j.parameter).unit} ({word}, segment "
+                   f"{j.segment + 1}) at t = {j.time:.4g} s; {watch} {a[0]:.6g} -> {b[0]:.6g} {a[1]}".rstrip()
+                   + (gaps[i - 1] if gaps else ""))
+    if branch is not None and not branch.special("LP"):
+        click.echo(f"the branch has no fold in {segs[0].name}: no jump is expected" + (
+            "" if not result.jumps else f", yet {len(result.jumps)} were found (check --set against the branch)"))
     if out_path is not None:
         result.to_csv(out_path)
         click.echo(f"wrote {out_path}")
@@ -109,7 +151,15 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
         from ..dynamics import plot_sweep
         from ..outputs.plotting import new_figure, save_figure
 
-        fig, ax = new_figure()
+        fig, ax = new_figure(figsize=(6.4, 4.8))
+        if branch is not None:
+            from ..outputs.plotting import plot_branch
+
+            plot_branch(branch, segs[0].name, watch, ax=ax, color="0.65", lw=3.0, label="continuation",
+                        stability_legend=True, endpoints=False)
         plot_sweep(result, ax, degrees=system.variable(watch).unit == "rad")
+        ax.set_title(f"{system.name}: {watch} against {segs[0].name}, time simulation"
+                     + (" on the continuation branch" if branch is not None else ""), fontsize=10)
+        ax.legend(fontsize=8, loc="best")
         save_figure(fig, plot_path)
         click.echo(f"wrote {plot_path}")

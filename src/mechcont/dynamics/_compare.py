@@ -77,17 +77,22 @@ def gap_versus_rate(system, x0, parameter: str, start: float, stop: float, rates
 
 
 def plot_sweep(result: SweepResult, ax=None, *, color: str = "k", label: str | None = "time simulation",
-               arrows: bool = True, degrees: bool = False):
+               arrows: bool = True, degrees: bool | None = None):
     """Draw a sweep as (ramped parameter, watched coordinate) curves, jumps as arrows.
 
-    Intended over continuation branches (grey) as in the paper's Figures 3 and 4
-    (:func:`mechcont.outputs.plotting.plot_branch` shows angles in degrees: pass
-    ``degrees=True`` for an angle). Returns the matplotlib axes.
+    Intended over continuation branches (grey) as in the paper's Figures 3 and 4. Axes are
+    labelled with their units; an angle (unit ``rad``) is shown in degrees, as
+    :func:`mechcont.outputs.plotting.plot_branch` shows it (``degrees`` forces either way).
+    Returns the matplotlib axes.
     """
     if ax is None:
         from ..outputs.plotting import new_figure
 
         _, ax = new_figure()
+    sim = result.simulation
+    unit = sim.unit(result.watch) if hasattr(sim, "unit") else ""
+    if degrees is None:
+        degrees = unit == "rad"
     k = 180.0 / np.pi if degrees else 1.0
     for i in range(len(result.ramps)):
         p, w = result.curve(i)
@@ -97,6 +102,8 @@ def plot_sweep(result: SweepResult, ax=None, *, color: str = "k", label: str | N
             b, a = j.before[result.watch], j.after[result.watch]
             ax.annotate("", xy=(j.value, k * a), xytext=(j.value, k * b),
                         arrowprops=dict(arrowstyle="->", color=color, lw=0.8))
-    ax.set_xlabel(result.ramps[0].name)
-    ax.set_ylabel(f"{result.watch} (deg)" if degrees else result.watch)
+    name = result.ramps[0].name
+    xunit = sim.unit(name) if hasattr(sim, "unit") else ""
+    ax.set_xlabel(f"{name} ({xunit})" if xunit else name)  # drawn as stored (SI)
+    ax.set_ylabel(f"{result.watch} (deg)" if degrees else f"{result.watch} ({unit})" if unit else result.watch)
     return ax
