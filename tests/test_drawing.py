@@ -186,9 +186,14 @@ def test_animate_gif_frame_count_and_fixed_view(tmp_path, overcentre):
     ticks = []
     n = animate(overcentre, frames, out, fps=5, every=2, diagram=("F", "theta1"), figsize=(4, 2), dpi=40,
                 on_frame=lambda: ticks.append(1))
-    assert n == 4 and len(ticks) == 4
+    assert n == 5 and len(ticks) == 5  # rows 0, 2, 4, 6 and the fold at row 3, which --every must not drop
     with Image.open(out) as im:
-        assert im.n_frames == 4
+        assert im.n_frames == 5
+        durations = []
+        for k in range(im.n_frames):
+            im.seek(k)
+            durations.append(im.info["duration"])
+    assert durations == [800, 200, 800, 200, 800]  # 1/5 s a frame; the special points held 0.6 s longer
     assert [p.name for p in tmp_path.iterdir()] == ["a.gif"]
 
 
@@ -288,7 +293,7 @@ def test_cli_draw_point_and_animate(tmp_path, run, branch_csv):
             "--fps", "4", "--diagram", "F,theta1")
     assert r.exit_code == 0, r.output
     with Image.open(tmp_path / "a.gif") as im:
-        assert im.n_frames == 3
+        assert im.n_frames == 4  # rows 0, 2, 4 and the end point at row 5
 
 
 def test_cli_bad_input_exit_2_and_nothing_written(tmp_path, run, branch_csv):
@@ -334,7 +339,8 @@ def real_branch(overcentre):
 def test_animate_a_continued_branch(tmp_path, overcentre, real_branch):
     every = 25
     n = animate(overcentre, real_branch, tmp_path / "b.gif", every=every, figsize=(3, 2.5), dpi=40)
-    assert n == math.ceil(len(real_branch) / every)
+    special = {p.index for p in real_branch.special_points}
+    assert n == len(set(range(0, len(real_branch), every)) | special) > math.ceil(len(real_branch) / every)
     with Image.open(tmp_path / "b.gif") as im:
         assert im.n_frames == n
     out = tmp_path / "lp.svg"
@@ -361,8 +367,9 @@ def test_cli_draws_the_folds_of_a_continued_branch(tmp_path, run, overcentre, re
     assert shown == folds
     r = run("animate", "overcentre", "--branch", csv_path, "--out", tmp_path / "a.gif", "--every", "30")
     assert r.exit_code == 0, r.output
-    with Image.open(tmp_path / "a.gif") as im:
-        assert im.n_frames == math.ceil(len(real_branch) / 30)
+    with Image.open(tmp_path / "a.gif") as im:  # every 30th row and every special point
+        special = {p.index for p in real_branch.special_points}
+        assert im.n_frames == len(set(range(0, len(real_branch), 30)) | special)
 
 
 def test_cli_draws_a_mechanism_description_file(tmp_path, run):

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import click
@@ -90,46 +89,57 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, o
 @cli.command("animate")
 @click.argument("model")
 @click.option("--branch", "branch_csv", required=True, metavar="BRANCH.csv", help="Branch written by mechcont continue.")
-@click.option("--out", required=True, metavar="FILE", help="Output .gif (or .mp4 when ffmpeg is installed).")
-@click.option("--fps", type=float, default=20.0, show_default=True, help="Frames per second.")
-@click.option("--every", type=int, default=1, show_default=True, help="Use every N-th branch point.")
+@click.option("--out", required=True, metavar="FILE",
+              help="Output .gif, .html (a page with play controls) or .mp4 (when ffmpeg is installed).")
+@click.option("--fps", type=float, default=None,
+              help="Frames per second [chosen so that the animation lasts at least 6 s, at most 15 fps].")
+@click.option("--every", type=int, default=1, show_default=True,
+              help="Use every N-th branch point (special points such as folds are always used).")
+@click.option("--hold", type=float, default=0.6, show_default=True, help="Extra seconds on each special point.")
 @click.option("--annotate", metavar="NAMES",
               help="Comma-separated variables printed on each frame [F,theta1 or the first angle].")
 @click.option("--vary", metavar="NAME",
               help="The branch's continuation parameter, printed first on each frame "
                    "[the one parameter that changes along the branch].")
-@click.option("--diagram", metavar="X,Y", help="Add a panel with the branch in the plane of two variables.")
+@click.option("--diagram", metavar="X,Y",
+              help="The panel beside the mechanism: the branch in the plane of two variables, with the current point "
+                   "[the continuation parameter and the first annotated state]; 'none' for no panel.")
 @click.option("--no-forces", is_flag=True, help="Do not draw the applied forces and moments.")
 @click.option("--quiet", is_flag=True, help="No progress bar.")
-def animate_command(model, branch_csv, out, fps, every, annotate, vary, diagram, no_forces, quiet):
+def animate_command(model, branch_csv, out, fps, every, hold, annotate, vary, diagram, no_forces, quiet):
     """Animate MODEL along a branch CSV (columns: variables, s, stability, label).
 
     Each frame prints the continuation parameter (--vary), the --annotate variables (angles
-    in degrees), stable/unstable and the special-point label.
+    in degrees), stable/unstable/fold and the special-point label; every special point is a
+    frame and is held --hold seconds. Beside the mechanism the branch is drawn with the
+    current point marked.
     """
-    from ..outputs.animation import ANIMATION_SUFFIXES, animate, branch_frames, check_fps
+    from .._progress import Progress
+    from ..outputs.animation import ANIMATION_SUFFIXES, animate, branch_frames, check_fps, frame_rows
     from ..outputs.drawing import default_annotate
 
     path = _out(out, ANIMATION_SUFFIXES)
-    check_fps(fps)
+    if fps is not None:
+        check_fps(fps)
     if every < 1:
         raise InputError("every", f"must be an integer >= 1, not {every}")
     system = _model(model)
     names = _names(annotate, "annotate") or default_annotate(system)
     if vary is not None:
         system.index(vary)
-    pair = _names(diagram, "diagram") or None
-    if pair is not None and len(pair) != 2:
-        raise InputError("diagram", f"give exactly two variable names X,Y, not '{diagram}'")
     frames = branch_frames(system, branch_csv)
-    if every < 1:
-        raise InputError("every", f"must be an integer >= 1, not {every}")
-    total = len(range(0, len(frames.values), every))
-    if quiet or not sys.stderr.isatty():
-        n = animate(system, frames, path, fps=fps, every=every, annotate=names, vary=vary, diagram=pair,
-                    show_forces=not no_forces)
+    if diagram is not None and diagram.strip().lower() == "none":
+        pair = None
     else:
-        with click.progressbar(length=total, label="frames", file=sys.stderr) as bar:
-            n = animate(system, frames, path, fps=fps, every=every, annotate=names, vary=vary, diagram=pair,
-                        show_forces=not no_forces, on_frame=lambda: bar.update(1))
+        pair = _names(diagram, "diagram") or None
+        if pair is None:  # the continuation parameter against the first annotated state
+            x = vary or frames.vary
+            y = next((n for n in names if n != x and system.variable(n).kind == "state"), None)
+            pair = (x, y) if x and y else None
+        if pair is not None and len(pair) != 2:
+            raise InputError("diagram", f"give exactly two variable names X,Y (or none), not '{diagram}'")
+    total = len(frame_rows(frames, every))
+    with Progress("animation", total=total, unit="frames", quiet=quiet) as bar:
+        n = animate(system, frames, path, fps=fps, every=every, annotate=names, vary=vary, diagram=pair,
+                    show_forces=not no_forces, hold=hold, on_frame=bar.update if bar.enabled else None)
     click.echo(f"{path} ({n} frames)")

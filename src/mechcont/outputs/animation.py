@@ -10,6 +10,7 @@ optionally beside the bifurcation diagram with the current point marked.
 from __future__ import annotations
 
 import csv
+import functools
 import math
 import os
 import shutil
@@ -22,9 +23,10 @@ import numpy as np
 from ..errors import InputError
 from . import drawing as _d
 
-__all__ = ["animate", "BranchFrames", "branch_frames", "check_fps", "ANIMATION_SUFFIXES", "FPS_RANGE"]
+__all__ = ["animate", "BranchFrames", "branch_frames", "check_fps", "frame_rows", "default_fps",
+           "ANIMATION_SUFFIXES", "FPS_RANGE", "MIN_DURATION", "MAX_FPS", "HOLD"]
 
-ANIMATION_SUFFIXES = (".gif", ".mp4")
+ANIMATION_SUFFIXES = (".gif", ".mp4", ".html")
 
 
 
@@ -250,14 +252,80 @@ def check_fps(fps) -> float:
     return float(fps)
 
 
+#: Defaults chosen for a human watching: at least this long (s) ...
+MIN_DURATION = 6.0
+#: ... at most this many frames a second (when ``fps`` is not given) ...
+MAX_FPS = 15.0
+#: ... and each special point held this long (s) on top of its frame.
+HOLD = 0.6
+
+
+def frame_rows(frames: BranchFrames, every: int = 1) -> list[int]:
+    """Rows drawn as frames: every ``every``-th row, the last row, and every special point (``LP``,
+    ``EP``...), whatever ``every`` is."""
+    n = len(frames.values)
+    special = {i for i, lab in enumerate(frames.labels) if lab}
+    return sorted(set(range(0, n, int(every))) | {n - 1} | special)
+
+
+def default_fps(n_frames: int) -> float:
+    """Frames per second so that ``n_frames`` last at least :data:`MIN_DURATION` (at most :data:`MAX_FPS`)."""
+    return float(min(MAX_FPS, max(n_frames / MIN_DURATION, 0.5)))
+
+
 def _writer(out: Path, fps: float):
     from matplotlib import animation
 
-    if out.suffix.lower() == ".gif":
-        return animation.PillowWriter(fps=fps)
+    suffix = out.suffix.lower()
+    if suffix == ".gif":
+        return _GifWriter(fps=fps)
+    if suffix in (".html", ".htm"):
+        return animation.HTMLWriter(fps=fps, embed_frames=True, embed_limit=200)
     if shutil.which("ffmpeg") is None or not animation.writers.is_available("ffmpeg"):
-        raise InputError("out", "writing .mp4 needs ffmpeg, which is not installed; write a .gif instead")
+        raise InputError("out", "writing .mp4 needs ffmpeg, which is not installed; write a .gif (or .html) instead")
     return animation.FFMpegWriter(fps=fps)
+
+
+@functools.cache
+def _gif_writer_class():
+    from matplotlib import animation
+
+    class GifWriter(animation.PillowWriter):
+        """Pillow GIF writer with a duration per frame (special points are held longer)."""
+
+        def setup(self, fig, outfile, dpi=None):
+            super().setup(fig, outfile, dpi=dpi)
+            self._durations: list[int] = []
+
+        def grab_frame(self, hold: float = 0.0, **savefig_kwargs):
+            super().grab_frame(**savefig_kwargs)
+            self._durations.append(int(round(1000.0 / self.fps + 1000.0 * hold)))
+
+        def finish(self):
+            self._frames[0].save(self.outfile, save_all=True, append_images=self._frames[1:],
+                                 duration=self._durations, loop=0)
+
+    return GifWriter
+
+
+def _GifWriter(fps: float):
+    return _gif_writer_class()(fps=fps)
+
+
+def _diagram_states(frames: BranchFrames) -> np.ndarray:
+    """Per interval between rows: 1.0 stable, 0.0 unstable, nan not evaluated. A special point's own
+    stability never decides (a fold is neutral): the interval takes its other end's."""
+    flags = np.array([np.nan if f is None else float(f) for f in frames.stable])
+    out = np.empty(max(len(flags) - 1, 0))
+    for i in range(len(out)):
+        a, b = flags[i], flags[i + 1]
+        if frames.labels[i] and not np.isnan(b):
+            out[i] = b
+        elif frames.labels[i + 1] and not np.isnan(a):
+            out[i] = a
+        else:
+            out[i] = a if (a == b or np.isnan(b)) else b if np.isnan(a) else a
+    return out
 
 
 def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
@@ -266,43 +334,60 @@ def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
     xs, ys = (frames.values[:, system.index(n)] for n in names)
     conv = [math.degrees(1) if system.variable(n).unit == "rad" else 1.0 for n in names]
     xs, ys = xs * conv[0], ys * conv[1]
-    flags = np.array([np.nan if f is None else float(f) for f in frames.stable])
-    if np.isnan(flags).all():
+    states = _diagram_states(frames)
+    if len(states) == 0 or np.isnan(states).all():
         ax.plot(xs, ys, "-", color="0.2", linewidth=1.2)
-    for flag, style, width, name in ((1.0, "-", 1.4, "stable"), (0.0, "--", 1.2, "unstable"),
-                                     (np.nan, ":", 1.0, "not evaluated")):
-        mask = np.isnan(flags) if np.isnan(flag) else flags == flag
-        if mask.any() and not np.isnan(flags).all():
-            # keep the neighbouring point so the pieces join up
-            show = mask | np.r_[mask[1:], False]
-            ax.plot(np.where(show, xs, np.nan), np.where(show, ys, np.nan), style, color="0.2",
-                    linewidth=width, label=name)
-    if not np.isnan(flags).all():
-        ax.legend(fontsize=7, loc="best")
+    else:
+        for flag, style, width, name in ((1.0, "-", 1.4, "stable"), (0.0, "--", 1.2, "unstable"),
+                                         (np.nan, ":", 1.0, "not evaluated")):
+            mask = np.isnan(states) if np.isnan(flag) else states == flag
+            if mask.any():
+                show = np.r_[mask, False] | np.r_[False, mask]  # both ends of each interval
+                ax.plot(np.where(show, xs, np.nan), np.where(show, ys, np.nan), style, color="0.2",
+                        linewidth=width, label=name)
+        ax.legend(fontsize=8, loc="best")
     for i, lab in enumerate(_numbered(frames.labels)):
         if lab:
             ax.plot(xs[i], ys[i], "k.", markersize=5)
-            ax.annotate(lab, (xs[i], ys[i]), textcoords="offset points", xytext=(3, 3), fontsize=7)
+            ax.annotate(lab, (xs[i], ys[i]), textcoords="offset points", xytext=(3, 3), fontsize=8)
     units = ["deg" if system.variable(n).unit == "rad" else system.variable(n).unit for n in names]
     ax.set_xlabel(f"{xn} ({units[0]})" if units[0] else xn)
     ax.set_ylabel(f"{yn} ({units[1]})" if units[1] else yn)
     ax.grid(True, linewidth=0.3, alpha=0.5)
-    (marker,) = ax.plot([], [], "o", color="#d62728", markersize=7, zorder=5)
+    (marker,) = ax.plot([], [], "o", color="#d62728", markersize=8, zorder=5)
     return marker, xs, ys
 
 
-def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int = 1,
+def _slider_spans(scenes, h: float):
+    """Per slider, its guide over the whole travel of the animation (the same in every frame)."""
+    if not scenes or not scenes[0].sliders:
+        return None
+    spans = []
+    for k, (p0, direction) in enumerate(scenes[0].sliders):
+        p0 = np.asarray(p0, float)
+        u = np.asarray(direction, float)
+        u = u / np.hypot(*u) if np.hypot(*u) > 0 else np.array([1.0, 0.0])
+        t = [float((np.asarray(s.sliders[k][0], float) - p0) @ u) for s in scenes if len(s.sliders) > k]
+        spans.append(_d.slider_span(p0, u, h, (min(t), max(t))))
+    return spans
+
+
+def animate(system, branch, path: str | os.PathLike, fps: float | None = None, every: int = 1,
             annotate: Sequence[str] = _d._DEFAULT_ANNOTATE, *, vary: str | None = None, title: str | None = None,
             show_forces: bool = True,
             diagram: tuple[str, str] | None = None, figsize: tuple[float, float] | None = None,
-            dpi: int = 80, on_frame: Callable[[], None] | None = None) -> int:
-    """Animate ``system`` along a branch and write a GIF or MP4.
+            dpi: int = 100, on_frame: Callable[[], None] | None = None, hold: float = HOLD) -> int:
+    """Animate ``system`` along a branch and write a GIF, an MP4 or an HTML page.
 
-    Every ``every``-th row is one frame (the first row always is). All frames share one
-    view (covering every frame) and one force scale (m/N), so motion and load changes are
-    comparable. Each frame prints the continuation parameter, then the ``annotate``
-    variables (with units; angles in degrees), the stability and the special-point label
-    of its row.
+    Frames are every ``every``-th row of the branch plus, always, every special point
+    (``LP``, ``EP``, ...) and the last row; each special point is held ``hold`` seconds
+    longer. By default the frame rate makes the animation last at least
+    :data:`MIN_DURATION` seconds (:func:`default_fps`). All frames share one view and one
+    force scale (m/N), so motion and load changes are comparable; a slider's guide spans
+    its whole travel and ground symbols are drawn only where the mechanism is grounded.
+    Each frame prints the continuation parameter, then the ``annotate`` variables (with
+    units; angles in degrees), the stability (``fold`` at a fold) and the special-point
+    label of its row; forces printed there are drawn without a label on the mechanism.
 
     Parameters
     ----------
@@ -311,11 +396,12 @@ def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int
     branch:
         Anything :func:`branch_frames` accepts (Branch, CSV path, array of rows).
     path:
-        Output ``.gif`` (Pillow) or ``.mp4`` (needs ffmpeg).
+        Output ``.gif`` (Pillow), ``.mp4`` (needs ffmpeg) or ``.html`` (a page with the frames
+        embedded and play controls, for notebooks and browsers).
     fps:
-        Frames per second (> 0).
+        Frames per second (> 0); default: :func:`default_fps` of the number of frames.
     every:
-        Use every N-th row (integer >= 1).
+        Use every N-th row (integer >= 1); special points are always used.
     annotate:
         Variable names printed on each frame; the default is :func:`_d.default_annotate`.
     vary:
@@ -327,14 +413,17 @@ def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int
         Optional pair of variable names ``(x, y)``: a second panel shows the branch in that
         plane with a marker at the current point.
     figsize, dpi:
-        Figure size in inches and resolution.
+        Figure size in inches and resolution (default: at least 8 in wide at 100 dpi, so at
+        least 800 pixels; the mechanism's panel as wide as its view needs).
     on_frame:
         Called with no argument after each frame is written (progress bars).
+    hold:
+        Extra seconds each special point stays on screen.
 
     Returns
     -------
     int
-        The number of frames written.
+        The number of frames drawn (one per row used).
 
     Raises
     ------
@@ -344,32 +433,41 @@ def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int
     """
     out = _d._check_out(path, ANIMATION_SUFFIXES)
     scene_fn = _d._scene_of(system)
-    check_fps(fps)
+    if fps is not None:
+        check_fps(fps)
     if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
         raise InputError("every", f"must be an integer >= 1, not {every!r}")
+    if not (isinstance(hold, (int, float)) and math.isfinite(hold) and 0 <= hold <= 60):
+        raise InputError("hold", f"must be a number of seconds between 0 and 60, not {hold!r}")
     if tuple(annotate) == _d._DEFAULT_ANNOTATE:
         annotate = _d.default_annotate(system)
     for name in (*annotate, *(diagram or ()), *([vary] if vary is not None else [])):
         system.index(name)
     if diagram is not None and len(diagram) != 2:
         raise InputError("diagram", "give exactly two variable names (x, y)")
-    writer = _writer(out, fps)
     frames = branch_frames(system, branch)
+    rows = frame_rows(frames, every)
+    fps = default_fps(len(rows)) if fps is None else float(fps)
+    writer = _writer(out, fps)
     annotate = _d._with_vary(vary or frames.vary, annotate)
-    rows = range(0, len(frames.values), int(every))
     scenes = [scene_fn(frames.values[i]) for i in rows]
     scale = _d._default_force_scale(scenes)
     labels = _numbered(frames.labels)
     limits = _d._limits(_d._union(_d._bounds(s, scale, show_forces) for s in scenes))
+    h = _d._SYMBOL * max(limits[1] - limits[0], limits[3] - limits[2])
+    spans = _slider_spans(scenes, h)
     corner = _d._note_corner(scenes, limits)
 
     from matplotlib.figure import Figure
 
+    # the mechanism's panel as wide as its view needs at this height, the diagram's 6 in: >= 8 in (800 px) in all
+    aspect = (limits[1] - limits[0]) / max(limits[3] - limits[2], 1e-12)
+    mech_w = min(max(aspect * 4.8 + 1.0, 3.0), 12.0)
     if figsize is None:
-        figsize = (9, 4) if diagram else (5.5, 4.5)
+        figsize = (max(mech_w + 6.2, 8.0), 5.6) if diagram else (max(aspect * 5.2 + 1.0, 8.0), 6.0)
     fig = Figure(figsize=figsize, layout="constrained")
     if diagram:
-        ax, dax = fig.subplots(1, 2)
+        ax, dax = fig.subplots(1, 2, width_ratios=(mech_w, 6.0))
         marker, dx, dy = _diagram(dax, system, frames, tuple(diagram))
     else:
         ax = fig.add_subplot()
@@ -378,9 +476,9 @@ def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int
         i = rows[k]
         ax.clear()
         _d.draw_scene(scenes[k], ax, title=title or system.name, show_forces=show_forces, force_scale=scale,
-                   limits=limits)
+                      limits=limits, slider_spans=spans, quiet_loads=annotate)
         _d._put_note(ax, _d._note(system, frames.values[i], annotate, frames.stable[i], labels[i]), frames.stable[i],
-                  corner)
+                     corner)
         if diagram:
             marker.set_data([dx[i]], [dy[i]])
 
@@ -388,12 +486,19 @@ def animate(system, branch, path: str | os.PathLike, fps: float = 20, every: int
     render(0)
     fig.draw_without_rendering()
     fig.set_layout_engine("none")
+    repeats = int(round(hold * fps))
+    gif = isinstance(writer, _gif_writer_class())
 
     def write(tmp: str) -> None:
         with writer.saving(fig, tmp, dpi):
             for k in range(len(scenes)):
                 render(k)
-                writer.grab_frame()
+                held = bool(labels[rows[k]])
+                if gif:  # a GIF holds a frame by its duration
+                    writer.grab_frame(hold=hold if held else 0.0)
+                else:  # MP4 and HTML have one frame rate: the frame is repeated
+                    for _ in range(1 + (repeats if held else 0)):
+                        writer.grab_frame()
                 if on_frame is not None:
                     on_frame()
 

@@ -3,7 +3,8 @@
 A model provides ``system.scene(x) -> Scene`` (coordinates in metres, forces in newtons);
 this module draws it: bars as thick polylines, pins as small circles, ground pins with a
 hatched ground symbol (a smaller one, facing away, where only springs or dampers are
-anchored), sliders as a block on a hatched rail, springs as zig-zag coils, dampers as
+anchored), sliders as a block in a short slot fixed to the ground at its ends (drawn
+locally, never as a band across the view), springs as zig-zag coils, dampers as
 dashpots, actuators as a cylinder and rod labelled with their load (N, tension or
 compression), forces as arrows labelled in newtons and moments as curved arrows around their
 point (counter-clockwise for a positive value) labelled in newton metres. :func:`draw` saves one configuration (PNG, SVG, PDF),
@@ -148,28 +149,32 @@ def _anchor_down(p: np.ndarray, scene: Scene) -> np.ndarray:
     return -pull / n if n > 1e-9 else np.array([0.0, -1.0])
 
 
-def _rail_span(p: np.ndarray, u: np.ndarray, limits) -> tuple[np.ndarray, np.ndarray]:
-    """The part of the line ``p + t u`` inside the view ``limits`` (clipped, never empty)."""
-    xmin, xmax, ymin, ymax = limits
-    lo, hi = -np.inf, np.inf
-    for k, (a, b) in enumerate(((xmin, xmax), (ymin, ymax))):
-        if abs(u[k]) > 1e-12:
-            t1, t2 = (a - p[k]) / u[k], (b - p[k]) / u[k]
-            lo, hi = max(lo, min(t1, t2)), min(hi, max(t1, t2))
-    if not (np.isfinite(lo) and np.isfinite(hi)) or hi <= lo:
-        lo, hi = -1.0, 1.0
-    return p + lo * u, p + hi * u
+def _unit(direction) -> np.ndarray:
+    u = np.asarray(direction, float)
+    return u / np.hypot(*u) if np.hypot(*u) > 0 else np.array([1.0, 0.0])
 
 
-def _draw_slider(ax, p: np.ndarray, direction: np.ndarray, h: float, limits):
+def slider_span(p: np.ndarray, direction, h: float, travel: tuple[float, float] = (0.0, 0.0)):
+    """Ends of a slider's guide: ``travel`` (min, max distance along the guide from ``p``) and 4 h more each way."""
+    u = _unit(direction)
+    return p + (travel[0] - 4.0 * h) * u, p + (travel[1] + 4.0 * h) * u
+
+
+def _draw_slider(ax, p: np.ndarray, direction: np.ndarray, h: float, span=None):
+    """A block in a slot: two guide lines along ``span`` (default a short one around ``p``), fixed to
+    the ground by a hatched cap at each end. Drawn locally, so bars elsewhere never cross it."""
     from matplotlib.patches import Polygon
 
-    u = np.asarray(direction, float)
-    u = u / np.hypot(*u) if np.hypot(*u) > 0 else np.array([1.0, 0.0])
+    u = _unit(direction)
     nrm = np.array([u[1], -u[0]])          # right of the direction: "below" a rail along +x
-    a, b = _rail_span(p, u, limits)
-    _hatched_strip(ax, a + 0.6 * h * nrm, b + 0.6 * h * nrm, nrm, 0.9 * h, 1)
+    a, b = slider_span(p, u, h) if span is None else (np.asarray(span[0], float), np.asarray(span[1], float))
     hw, hh = 1.6 * h, 0.6 * h
+    w = hh + 0.25 * h                       # half width of the slot
+    for side in (-1.0, 1.0):
+        ax.plot([a[0] + side * w * nrm[0], b[0] + side * w * nrm[0]], [a[1] + side * w * nrm[1], b[1] + side * w * nrm[1]],
+                color="0.55", linewidth=0.8, zorder=1, gid="slider-guide")
+    for end, out in ((a, -u), (b, u)):      # ground caps, hatched away from the slot
+        _hatched_strip(ax, end - (w + 0.4 * h) * nrm, end + (w + 0.4 * h) * nrm, out, 0.8 * h, 1)
     block = np.array([p - hw * u - hh * nrm, p + hw * u - hh * nrm, p + hw * u + hh * nrm, p - hw * u + hh * nrm])
     ax.add_patch(Polygon(block, closed=True, facecolor="0.75", edgecolor="0.2", linewidth=1.0, zorder=3))
 
@@ -225,7 +230,7 @@ def _draw_actuator(ax, name: str, a: np.ndarray, b: np.ndarray, tension: float, 
                 color=colour, zorder=8, bbox=_LABEL_BOX)
 
 
-def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float):
+def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float, label: bool = True):
     """Curved arrow of 270 degrees around ``p`` (open below): counter-clockwise if ``value`` > 0; label |value| in N m."""
     text = f"{name} = {abs(value):.3g} N m"
     r = _moment_radius(h)
@@ -240,13 +245,17 @@ def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float):
         ax.annotate("", xy=arc[-1], xytext=arc[-4], zorder=7,
                     arrowprops=dict(arrowstyle="-|>", color=colour, linewidth=1.6, mutation_scale=12,
                                     shrinkA=0, shrinkB=0))
+    if not label:
+        return
     at = p + 1.25 * r * np.array([math.cos(math.pi / 4), math.sin(math.pi / 4)])
     ax.text(at[0], at[1], text, ha="left", va="bottom", fontsize=8, color=colour, zorder=8, bbox=_LABEL_BOX)
 
 
-def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: float):
+def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: float, label: bool = True):
     mag = float(np.hypot(*v))
     text = f"{name} = {mag:.3g} N"
+    if not label and (mag == 0 or scale == 0):
+        return
     if mag == 0 or scale == 0:
         ax.text(p[0], p[1] + 1.5 * h, text, ha="center", va="bottom", fontsize=8, color="#d62728", zorder=8,
                 bbox=_LABEL_BOX)
@@ -255,6 +264,8 @@ def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: fl
     ax.annotate("", xy=tip, xytext=p, zorder=7,
                 arrowprops=dict(arrowstyle="-|>", color="#d62728", linewidth=1.8, mutation_scale=14,
                                 shrinkA=0, shrinkB=0))
+    if not label:
+        return
     u = v / mag
     at = tip + 0.8 * h * u
     if abs(u[1]) >= abs(u[0]):
@@ -304,7 +315,7 @@ def _draw_labels(ax, scene: Scene, h: float, limits) -> None:
 
 def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: bool = True,
                force_scale: float | None = None, limits: tuple[float, float, float, float] | None = None,
-               labels: bool = False):
+               labels: bool = False, slider_spans: Sequence | None = None, quiet_loads: Iterable[str] = ()):
     """Draw one :class:`Scene` on matplotlib axes.
 
     Parameters
@@ -328,6 +339,12 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
     labels:
         Name every body at its centre and label every named point of ``scene.points``
         (coincident points share one label).
+    slider_spans:
+        Per slider, the ends ``(a, b)`` of its guide (an animation passes the whole travel,
+        see :func:`slider_span`); by default a short guide around the block.
+    quiet_loads:
+        Names of forces and moments drawn without their value label (printed elsewhere,
+        e.g. in an animation's note), so no text covers the mechanism.
 
     Returns
     -------
@@ -345,8 +362,8 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
         limits = _limits(_bounds(scene, scale, show_forces))
     h = _SYMBOL * max(limits[1] - limits[0], limits[3] - limits[2])
 
-    for p, direction in scene.sliders:
-        _draw_slider(ax, np.asarray(p, float), direction, h, limits)
+    for k, (p, direction) in enumerate(scene.sliders):
+        _draw_slider(ax, np.asarray(p, float), direction, h, None if slider_spans is None else slider_spans[k])
     for p in scene.grounds:
         _draw_ground(ax, np.asarray(p, float), h, gid="ground")
     for p in scene.anchors:
@@ -369,10 +386,11 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
     for p in scene.anchors:
         _draw_pin(ax, np.asarray(p, float), 0.7 * h)
     if show_forces:
+        quiet = set(quiet_loads)
         for name, p, v in scene.forces:
-            _draw_force(ax, name, np.asarray(p, float), np.asarray(v, float), scale, h)
+            _draw_force(ax, name, np.asarray(p, float), np.asarray(v, float), scale, h, label=name not in quiet)
         for name, p, value in scene.moments:
-            _draw_moment(ax, name, np.asarray(p, float), float(value), h)
+            _draw_moment(ax, name, np.asarray(p, float), float(value), h, label=name not in quiet)
     if labels:
         _draw_labels(ax, scene, h, limits)
 
