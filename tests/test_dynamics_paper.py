@@ -8,8 +8,16 @@ from mechcont.paper import dynamics
 
 
 @pytest.mark.slow
-def test_paper_dynamics_section(tmp_path):
+def test_paper_dynamics_section(tmp_path, monkeypatch):
+    from figure_checks import check_figure
+
+    import mechcont.outputs.plotting as plotting
+
+    figs, save = [], plotting.save_figure
+    monkeypatch.setattr(plotting, "save_figure", lambda fig, path, dpi=150: (figs.append((fig, path)), save(fig, path)))
     lines = dynamics.run(tmp_path, quiet=True)
+    for fig, path in figs:  # units on every axis, legends only for what is drawn, labels inside the axes
+        check_figure(fig, path.name)
     text = "\n".join(lines)
     for name in ("dynamics_fig3_sweep_vs_continuation.png", "dynamics_gap_vs_rate.png"):
         assert (tmp_path / name).stat().st_size > 1000

@@ -163,3 +163,28 @@ def test_fold_band_lies_within_the_bound(res):
     bound, s_min = fold_depth_bound(p)
     assert fc.special("CP")[0]["LU"] >= s_min - bound
     assert 0.0 < bound < p["L4"]
+
+
+def test_every_figure_has_units_honest_legends_and_labels_inside(res, tmp_path, monkeypatch):
+    from figure_checks import check_figure
+
+    import mechcont.paper.nose_gear as ng
+
+    figs = []
+    monkeypatch.setattr(ng, "_save", lambda fig, path: figs.append((fig, path.name)))
+    ng._plot_all(res, tmp_path)
+    assert len(figs) == 6
+    for fig, name in figs:
+        check_figure(fig, name)
+    # Fig. 10 is drawn through the continuation's points, eight samples per step: no coarse polyline
+    fig10 = next(f for f, n in figs if n == "nose_gear_fig10.png")
+    (curve,) = [ln for ln in fig10.axes[0].get_lines() if len(ln.get_xdata()) > 10]
+    assert len(curve.get_xdata()) == 8 * (len(res.fig10) - 1) + 1
+    # the design point is marked with its force and signed lock margin; colour-bar ticks are round numbers
+    design = next(f for f, n in figs if n == "nose_gear_design.png")
+    ax = design.axes[0]
+    star = [ln for ln in ax.get_lines() if ln.get_label() == "design point"]
+    assert star and tuple(star[0].get_xydata()[0]) == pytest.approx(res.region.design)
+    assert any("lock margin +0.149 m" in t.get_text() for t in ax.texts)
+    ticks = design.axes[1].get_yticks()
+    assert np.allclose(ticks / 500, np.round(ticks / 500))

@@ -71,3 +71,21 @@ def test_fig3b_shows_the_bistability_at_20_newtons(paper_dir):
     assert [st for _, st in sorted(eq)] == [True, False, True]
     text = (paper_dir / "summary.md").read_text()
     assert "At F = 20 N the equilibria are theta1 = -73.6 deg (stable), -4.2 deg (unstable), 75.4 deg (stable)" in text
+
+
+def test_overcentre_figures_have_units_honest_legends_and_labels_inside(tmp_path, monkeypatch):
+    from figure_checks import check_figure
+
+    from mechcont.paper import dynamics, overcentre
+
+    figs = []
+    for mod in (overcentre, dynamics):
+        monkeypatch.setattr(mod, "save_figure", lambda fig, path: figs.append((fig, path.name)), raising=False)
+    import mechcont.outputs.plotting as plotting
+
+    monkeypatch.setattr(plotting, "save_figure", lambda fig, path, dpi=150: figs.append((fig, path.name)))
+    overcentre.run(tmp_path)
+    names = [n for _, n in figs]
+    assert len(set(names)) == len(names) >= 7
+    for fig, name in figs:
+        check_figure(fig, name)

@@ -196,7 +196,8 @@ def _fig5(folds, out_dir: Path) -> None:
             LU0 = _downlock_length(folds)
             ax.plot(LU0, 0.0, "o", color="k", ms=5)
             ax.annotate(f"F = 0 at LU = {LU0:.3f} m:\nabove it the mechanism\ndownlocks with no force", (LU0, 0.0),
-                        textcoords="offset points", xytext=(8, -14), ha="left", va="top", fontsize=8)
+                        xytext=(0.97, 0.25), textcoords="axes fraction", ha="right", va="center", fontsize=8,
+                        arrowprops=dict(arrowstyle="->", color="0.3", lw=0.8))
         ax.set_title(f"Fig. {tag}: fold curve, {y} vs LU", fontsize=10)
         save_figure(fig, out_dir / f"fig{tag}_fold_{y}.png")
 
