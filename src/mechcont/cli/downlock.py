@@ -95,6 +95,8 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     (released, continued in the force), written per point as unlock_<FORCE> columns.
     Runs that stop short of their bounds are named on stderr.
     """
+    import numpy as np
+
     from ..analysis.downlock import downlock
 
     out_path = checked_path(out, TABLE_SUFFIXES, "out")
@@ -112,6 +114,8 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     branch = with_unlock_columns(system, branch, f, released=list(h))
     xs, Fs = branch[vary], branch[f]
     unit_x = system.variable(vary).unit
+    if unit_x == "rad":  # angles shown in degrees, as everywhere
+        xs, unit_x = np.degrees(xs), "deg"
     held = ", ".join(f"{k}={v:g}" for k, v in h.items())
     unlock_col = f"unlock_{f}" if f"unlock_{f}" in branch.names else None
     click.echo(f"downlock force {f} (N) vs {vary} ({unit_x}), {held} held: "
@@ -135,8 +139,11 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        fig, ax = plt.subplots(figsize=(5.5, 4))
-        ax.plot(xs, Fs, "k-", label=f"downlock force ({held})")
+        from ..outputs.plotting import curve
+
+        fig, ax = plt.subplots(figsize=(5.5, 4), layout="constrained")
+        cx, cF, _ = curve(branch, vary, f)  # the continuation's points joined smoothly
+        ax.plot(cx, cF, "k-", label=f"downlock force ({held})")
         if unlock_col:
             ax.plot(xs, branch[unlock_col], "--", color="tab:red", label=f"unlock fold ({f} increasing)")
             ax.legend(loc="best", fontsize=8)
