@@ -267,7 +267,7 @@ def design_region(system: EquationSystem, x_name: str = "l_sp1", y_name: str = "
                   x_bounds: tuple[float, float], y_levels: Sequence[float],
                   values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
                   force: str | None = None, n_x: int = 121, condition: str | None = None,
-                  max_steps: int = 2000) -> DesignRegion:
+                  max_steps: int = 2000, progress=None) -> DesignRegion:
     """Downlock force over the (x, y) design plane, the F = 0 boundary, folds and margins.
 
     Parameters
@@ -286,6 +286,9 @@ def design_region(system: EquationSystem, x_name: str = "l_sp1", y_name: str = "
         Number of grid points in ``x`` for the force map.
     max_steps:
         Most continuation steps each way, for every run.
+    progress:
+        Called with no argument after each level of ``y`` and after the boundary and the fold
+        locus (``len(y_levels) + 2`` calls; progress bars).
 
     Returns
     -------
@@ -334,9 +337,13 @@ def design_region(system: EquationSystem, x_name: str = "l_sp1", y_name: str = "
         crossings = [e for iv in intervals for e in iv if lo < e < hi]
         to_zero = min((abs(x0 - c) for c in crossings), default=float("nan"))
         rows.append(DesignRow(float(yv), F0, intervals, folds, margin, to_zero, slope))
+        if progress is not None:
+            progress()
     boundary, why = _zero_force_boundary(system, x_name, y_name, (lo, hi), (y_levels[0], y_levels[-1]), grid,
                                          y_levels, force_map, values, h, f, max_steps)
     warnings += why
+    if progress is not None:
+        progress()
     y_mid = float(values.get(y_name, system.variable(y_name).value))
     try:
         folds = fold_locus(system, x_name, y_name, {x_name: (lo, hi), y_name: (y_levels[0], y_levels[-1])},
@@ -345,6 +352,8 @@ def design_region(system: EquationSystem, x_name: str = "l_sp1", y_name: str = "
     except (ConvergenceError, InputError) as exc:
         folds = None
         warnings.append(f"the fold locus from {y_name} = {y_mid:g} is unknown: {exc}")
+    if progress is not None:
+        progress()
     units = (system.variable(x_name).unit, system.variable(y_name).unit, system.variable(f).unit or "N")
     return DesignRegion(x_name, y_name, grid, y_levels, force_map, boundary, folds, rows, (x0, y_mid), units,
                         warnings)

@@ -89,9 +89,12 @@ def design_command(model, x_name, y_name, bounds_, levels, sets, holds, conditio
     system, h, f = model_and_condition(model, holds, force, condition)
     for n in (*values, x_name, y_name):
         system.variable(n)
-    region = design_region(system, x_name, y_name, x_bounds=bnds[x_name],
-                           y_levels=np.linspace(*bnds[y_name], levels), values=values, hold=h, force=f,
-                           max_steps=max_steps)
+    from .._progress import Progress
+
+    with Progress("design", total=levels + 2, unit="runs") as bar:
+        region = design_region(system, x_name, y_name, x_bounds=bnds[x_name],
+                               y_levels=np.linspace(*bnds[y_name], levels), values=values, hold=h, force=f,
+                               max_steps=max_steps, progress=bar.update if bar.enabled else None)
     records = region.table()
     click.echo(_markdown(records))
     warn(region.warnings)
