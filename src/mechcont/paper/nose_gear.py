@@ -261,9 +261,12 @@ def _plot_all(res, out_dir: Path) -> list[Path]:
     kx, kF, _ = curve(kk, "k", "F")
     axs[1].plot(kx / 1e3, kF, "k-")
     axs[1].set_xlabel("spring stiffness k (kN/m)")
+    from matplotlib.ticker import MaxNLocator
+
     for a in axs:
         a.set_ylabel("downlock force F (N)")
         a.axhline(0, color="0.6", lw=0.6)
+        a.xaxis.set_major_locator(MaxNLocator(5))
     fig.suptitle("Fig. 9: spring properties")
     paths.append(out_dir / "nose_gear_fig9.png")
     _save(fig, paths[-1])

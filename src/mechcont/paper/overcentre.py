@@ -127,7 +127,7 @@ def _fig3b(b, path: Path) -> None:
         ax.plot(F_EXAMPLE, th, "o", color="k", mfc="k" if st else "white", ms=6, zorder=5)
     n_st = sum(st for _, st in eq)
     ax.plot([], [], "o", color="k", mfc="k", label=f"equilibria at F = {F_EXAMPLE:g} N: stable")
-    ax.plot([], [], "o", color="k", mfc="white", label="... unstable")
+    ax.plot([], [], "o", color="k", mfc="white", label=f"equilibrium at F = {F_EXAMPLE:g} N: unstable")
     ax.annotate(f"F = {F_EXAMPLE:g} N: {n_st} stable equilibria,\nan unstable one between", (F_EXAMPLE, 0.0),
                 textcoords="offset points", xytext=(8, 0), fontsize=8, va="center", color="0.3")
     ax.set_xlim(F_RANGE[0] - 5, F_RANGE[1] + 5)
