@@ -32,10 +32,14 @@ def cases():
     tmp = Path(tempfile.mkdtemp())
 
     def paper_part():
+        # the section keeps its branches and sweeps for the dynamics section: start each run afresh
+        for f in (paper_overcentre.system, paper_overcentre._start, paper_overcentre.branch):
+            f.cache_clear()
+        paper_overcentre._SWEEPS.clear()
         paper_overcentre.run(tmp, quiet=True)
 
     return [
         ("overcentre branch, both LP located", branch, 20),
         ("overcentre fold curve LU=0.1 -> cusp", fold_curve, 20),
-        ("paper overcentre part (figures incl.)", paper_part, 20),
+        ("paper overcentre part (two time simulations, figures incl.)", paper_part, 3),
     ]
