@@ -53,6 +53,15 @@ def test_folds_command_finds_the_cusp(tmp_path, run):
     assert float(cp["LU"]) == pytest.approx(1.5, rel=1e-9)
 
 
+def test_folds_command_names_a_runaway_first_branch(tmp_path, run):
+    # no bounds on the branch in F: it runs to max_steps, and the command says which variable ran away
+    r = run("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
+            "--bounds", "LU=0.1:2", "--max-steps", "400", "--out", tmp_path / "f.csv")
+    assert r.exit_code == 0, r.output
+    (line,) = [ln for ln in r.output.splitlines() if ln.startswith("ends of the branch in F:")]
+    assert "max_steps=400" in line and "may grow without bound" in line and "--bounds" in line
+
+
 def test_models_lists_parameters(run):
     r = run("models", "overcentre")
     assert r.exit_code == 0

@@ -59,6 +59,8 @@ def folds_command(model, sets, starts, holds, bnds, ds, dsmax, max_steps, quiet,
         raise InputError("--fold", f"the branch has {len(lps)} fold(s) ({listed}); choose 1..{len(lps)}")
     if not quiet:  # the folds of the first branch, numbered as `continue` numbers them: what --fold picks from
         click.echo(special_table(first, [vary, *[n for n in assignments(starts, "start") if n != vary]]))
+        if first.message:  # e.g. a runaway at max_steps, with the bounds to add
+            click.echo(f"ends of the branch in {vary}: {first.message}")
         click.echo(f"continuing {folds[which - 1][0]} (--fold {which}) in {second}\n")
     curve = run_continuation(continue_folds, system, lps[which - 1], vary, second, options=options, quiet=quiet,
                              label="fold curve")
