@@ -64,6 +64,11 @@ def model_and_condition(model: str, holds, force: str | None, condition: str | N
     return system, h, f
 
 
+def _or_none(value: float) -> str:
+    """A force for the table (12 wide), ``none`` where there is no fold (nan)."""
+    return f"{value:12.6g}" if value == value else f"{'none':>12}"
+
+
 def warn(lines) -> None:
     """Each line on stderr as ``warning: ...`` (runs that stopped short: where and why)."""
     for line in lines:
@@ -106,7 +111,7 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     system, h, f = model_and_condition(model, holds, force, condition)
     for n in values:
         system.variable(n)
-    from ..analysis.unlock import with_unlock_columns
+    from ..analysis.unlock import RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN, with_unlock_columns
 
     if max_steps is not None and max_steps < 1:
         raise InputError("--max-steps", f"must be a positive integer, got {max_steps}")
@@ -122,9 +127,13 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
                f"{len(branch)} points, {f} from {Fs.min():.6g} to {Fs.max():.6g} N; status {branch.status}")
     step = max(1, len(branch) // 10)
     for i in list(range(0, len(branch), step)) + ([len(branch) - 1] if (len(branch) - 1) % step else []):
-        extra = f"   unlock {branch[unlock_col][i]:12.6g}" if unlock_col else ""
+        extra = f"   unlock {_or_none(branch[unlock_col][i])}" if unlock_col else ""
         click.echo(f"  {vary} = {xs[i]:12.6g}   {f} = {Fs[i]:12.6g}{extra}   {branch.stability_labels()[i]} "
                    f"{branch.labels[i]}")
+    if unlock_col and not np.isfinite(branch[unlock_col]).all():
+        click.echo(f"  unlock none: the release run from that point met no fold increasing {f} before its bounds "
+                   f"({f} moved by {RELEASE_FORCE_SPAN:g} of its scales, or the released state by "
+                   f"{RELEASE_STATE_SPAN:g}): the locked state is not bounded there")
     start = values.get(vary, system.variable(vary).value)
     click.echo(f"at {vary} = {start:g}: {branch.unlock.summary(held)}")
     for note in branch.unlock.notes:
