@@ -56,3 +56,22 @@ def test_cli_says_where_no_fold_bounds_the_locked_state(tmp_path):
     assert re.search(r"unlock\s+none", rows[-1])  # l0 = 0.8: none
     assert "unlock none: the release run from that point met no fold increasing F" in r.output
     assert "nan" not in r.output
+
+
+def test_sweep_warns_of_an_unstable_start_and_of_a_branch_at_other_values(tmp_path):
+    run = make_runner()
+    branch = tmp_path / "b.csv"
+    r = run("continue", CLAMP, "--start", "theta_handle=0.6", "--vary", "F", "--bounds", "theta_handle=-0.5:1.5",
+            "--out", branch, "--quiet")
+    assert r.exit_code == 0, r.output
+    # l0 = 0.5 m: from theta_handle = 0.3 Newton lands on the straight toggle, pushed by a compressed spring
+    r = run("sweep", CLAMP, "--set", "l0=0.5", "--start", "theta_handle=0.3", "--ramp", "F=0:50:500",
+            "--watch", "theta_handle", "--branch", branch, "--quiet")
+    assert r.exit_code == 0, r.output
+    warnings = [ln for ln in r.stderr.splitlines() if ln.startswith("warning: ")]
+    assert any("continued at other parameter values: l0 = 0.6 m (sweep 0.5 m)" in w for w in warnings), r.stderr
+    assert any("starts at an unstable equilibrium (theta_handle = " in w for w in warnings), r.stderr
+    # the same values: no warning about the branch
+    r = run("sweep", CLAMP, "--start", "theta_handle=0.3", "--ramp", "F=0:50:500", "--watch", "theta_handle",
+            "--branch", branch, "--quiet")
+    assert r.exit_code == 0 and "other parameter values" not in r.stderr

@@ -47,6 +47,22 @@ def _read_branch(path, system, parameter: str, watch: str):
     return branch
 
 
+def _other_values(branch, system, ramped) -> list[str]:
+    """The parameters (not ramped) whose value on the --branch differs from the sweep's: ``["l0 = 0.6 m (sweep 0.5 m)"]``."""
+    import numpy as np
+
+    out = []
+    for n in system.parameter_names:
+        if n in ramped:
+            continue
+        on_branch, here = float(branch[n][0]), float(system.variable(n).value)
+        if not np.isclose(on_branch, here, rtol=1e-9, atol=0.0):
+            v = system.variable(n)
+            a, b = _shown(system, n, on_branch), _shown(system, n, here)
+            out.append(f"{v.name} = {a[0]:.6g} {a[1]} (sweep {b[0]:.6g} {b[1]})".replace(" )", ")"))
+    return out
+
+
 def _gaps(result, branch) -> list[str]:
     """Per jump: "; 4.8 N past LP2 (F = -75.58 N)", the gap to the fold it follows (empty without a branch)."""
     if branch is None or not branch.special("LP") or not result.jumps:
@@ -127,6 +143,13 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     with Progress("sweep", total=total, unit="s simulated", quiet=quiet) as bar:
         result = sweep(system, x0, segs, watch=watch, damping=damping, settle=settle, through=through, rtol=rtol,
                        progress=bar.set if bar.enabled else None)
+    if not system.mechanics.stability(x0).stable:  # said after sweep(), which reports bad input first
+        a = _shown(system, watch, x0[system.index(watch)])
+        click.echo(f"warning: the sweep starts at an unstable equilibrium ({watch} = {a[0]:.6g} {a[1]}".rstrip()
+                   + "): it leaves it at once; give a --start nearer a stable one", err=True)
+    if branch is not None and (differ := _other_values(branch, system, {r.name for r in segs})):
+        click.echo(f"warning: '{branch_csv}' was continued at other parameter values: {', '.join(differ)}; "
+                   "its folds are not this sweep's (continue with the same --set)", err=True)
     sim = result.simulation
     click.echo(f"# {system.name}: {len(segs)} segment(s), {total:g} s simulated, {len(sim)} samples, "
                f"{sim.nfev} evaluations; max constraint drift {sim.constraint_drift:.2e}")
