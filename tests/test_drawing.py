@@ -533,3 +533,12 @@ def test_labels_name_every_body_at_its_centre_and_every_named_point():
     assert sorted(labels) == sorted(["crank.a, ground.A", "crank.b, coupler.a", "coupler.b, rocker.b",
                                      "rocker.a, ground.D", "ground.S"])
     assert not [t for t in draw(s, x, **SMALL).texts if (t.get_gid() or "").startswith(("body:", "point:"))]
+
+
+@pytest.mark.parametrize("value, unit, text", [(9690.55, "N", "9.69 kN"), (5.0, "N", "5 N"), (0.0, "N m", "0 N m"),
+                                               (12.5, "N m", "12.5 N m"), (1.23e6, "N", "1.23 MN"),
+                                               (999.0, "N", "999 N"), (1000.0, "N", "1 kN")])
+def test_load_labels_use_si_prefixes(value, unit, text):
+    from mechcont.outputs.drawing import load_text
+
+    assert load_text(value, unit) == text

@@ -226,13 +226,21 @@ def _draw_actuator(ax, name: str, a: np.ndarray, b: np.ndarray, tension: float, 
     if label:
         sense = "tension" if tension > 0 else ("compression" if tension < 0 else "unloaded")
         at = a + 0.3 * length * t + 2.2 * width * nrm
-        ax.text(at[0], at[1], f"{name} = {abs(tension):.3g} N {sense}", ha="center", va="center", fontsize=8,
+        ax.text(at[0], at[1], f"{name} = {load_text(abs(tension), 'N')} {sense}", ha="center", va="center", fontsize=8,
                 color=colour, zorder=8, bbox=_LABEL_BOX)
+
+
+def load_text(value: float, unit: str) -> str:
+    """A load for a label, three significant digits with an SI prefix: ``9.69 kN``, ``12.5 N m``, ``1.2 MN``."""
+    for factor, prefix in ((1e6, "M"), (1e3, "k")):
+        if abs(value) >= factor:
+            return f"{value / factor:.3g} {prefix}{unit}"
+    return f"{value:.3g} {unit}"
 
 
 def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float, label: bool = True):
     """Curved arrow of 270 degrees around ``p`` (open below): counter-clockwise if ``value`` > 0; label |value| in N m."""
-    text = f"{name} = {abs(value):.3g} N m"
+    text = f"{name} = {load_text(abs(value), 'N m')}"
     r = _moment_radius(h)
     colour = "#d62728"
     if value != 0:
@@ -253,7 +261,7 @@ def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float, label: bo
 
 def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: float, label: bool = True):
     mag = float(np.hypot(*v))
-    text = f"{name} = {mag:.3g} N"
+    text = f"{name} = {load_text(mag, 'N')}"
     if not label and (mag == 0 or scale == 0):
         return
     if mag == 0 or scale == 0:
