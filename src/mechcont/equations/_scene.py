@@ -4,6 +4,11 @@ Models (hand-formulated or generated) provide ``scene(x) -> Scene`` for a full v
 vector ``x``; :mod:`mechcont.outputs.drawing` turns scenes into pictures and animations.
 All coordinates are in metres in the plane of the mechanism; forces in newtons; moments in
 newton metres, counter-clockwise positive.
+
+A spatial mechanism fills the same fields with 3-vectors (x, y, z in metres; a moment is then
+a 3-vector in N m) and may list its joint axes in ``joint_axes``;
+:mod:`mechcont.outputs.drawing3d` draws such a scene as an orthographic three-view and a 3-D
+view. :attr:`Scene.dimension` tells which kind a scene is.
 """
 
 from __future__ import annotations
@@ -35,7 +40,8 @@ class Scene:
         ``(name, point, vector)``: an applied force (N) at a point.
     moments:
         ``(name, point, value)``: an applied moment (N m, counter-clockwise positive) drawn
-        around ``point`` (for a moment on a body pinned to the ground: that pin).
+        around ``point`` (for a moment on a body pinned to the ground: that pin); in a 3-D
+        scene ``value`` is the moment vector (3,).
     anchors:
         Ground points (2,) that springs, dampers or actuators are attached to (no joint there).
     dampers:
@@ -46,6 +52,10 @@ class Scene:
     points:
         ``(name, position)``: named points, for labels only (e.g. ``"crank.b"``,
         ``"ground.A"``); not part of :meth:`extent`.
+    joint_axes:
+        ``(name, position, axis)``: the axis (unit vector) of a revolute, cylindrical or
+        universal joint's pin at ``position``, drawn as a short line in 3-D views (optional;
+        planar scenes leave it empty: their axes are normal to the plane).
     """
 
     bars: list[tuple[str, np.ndarray]] = field(default_factory=list)
@@ -59,13 +69,26 @@ class Scene:
     dampers: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
     points: list[tuple[str, np.ndarray]] = field(default_factory=list)
     actuators: list[tuple[str, np.ndarray, np.ndarray, float]] = field(default_factory=list)
+    joint_axes: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
 
-    def extent(self) -> tuple[float, float, float, float]:
-        """Bounding box ``(xmin, xmax, ymin, ymax)`` of every primitive (m)."""
+    @property
+    def dimension(self) -> int:
+        """2 for a planar scene, 3 for a spatial one (the length of its first coordinate vector)."""
+        for p in self._positions():
+            return 3 if np.asarray(p).shape[-1] == 3 else 2
+        return 2
+
+    def _positions(self) -> list[np.ndarray]:
         pts = [p for _, b in self.bars for p in np.atleast_2d(b)] + list(self.pins) + list(self.grounds)
         pts += [p for p, _ in self.sliders] + [p for _, a, b in self.springs for p in (a, b)]
         pts += [p for _, a, b in self.dampers for p in (a, b)] + list(self.anchors)
         pts += [p for _, a, b, _ in self.actuators for p in (a, b)]
         pts += [p for _, p, _ in self.forces] + [p for _, p, _ in self.moments]
-        arr = np.array(pts, dtype=float).reshape(-1, 2)
-        return float(arr[:, 0].min()), float(arr[:, 0].max()), float(arr[:, 1].min()), float(arr[:, 1].max())
+        return pts + [p for _, p, _ in self.joint_axes]
+
+    def extent(self) -> tuple[float, ...]:
+        """Bounding box of every primitive (m): ``(xmin, xmax, ymin, ymax)``, and for a 3-D scene
+        ``(xmin, xmax, ymin, ymax, zmin, zmax)``."""
+        d = self.dimension
+        arr = np.array(self._positions(), dtype=float).reshape(-1, d)
+        return tuple(float(v) for k in range(d) for v in (arr[:, k].min(), arr[:, k].max()))

@@ -6,7 +6,7 @@ import importlib
 
 _LAZY = {
     "draw_scene": "drawing", "draw": "drawing", "animate": "animation", "branch_frames": "animation",
-    "BranchFrames": "animation",
+    "BranchFrames": "animation", "draw_scene3d": "drawing3d", "draw3d": "drawing3d", "project": "drawing3d",
     "plot_branch": "plotting", "plot_surface": "plotting", "new_figure": "plotting", "save_figure": "plotting",
 }
 

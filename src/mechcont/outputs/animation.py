@@ -299,7 +299,8 @@ def _gif_writer_class():
 
         def grab_frame(self, hold: float = 0.0, **savefig_kwargs):
             super().grab_frame(**savefig_kwargs)
-            self._durations.append(int(round(1000.0 / self.fps + 1000.0 * hold)))
+            # a GIF stores durations in 10 ms steps: round up, so that the animation lasts at least its length
+            self._durations.append(10 * math.ceil(round(100.0 / self.fps + 100.0 * hold, 6)))
 
         def finish(self):
             self._frames[0].save(self.outfile, save_all=True, append_images=self._frames[1:],
@@ -370,6 +371,67 @@ def _slider_spans(scenes, h: float):
         t = [float((np.asarray(s.sliders[k][0], float) - p0) @ u) for s in scenes if len(s.sliders) > k]
         spans.append(_d.slider_span(p0, u, h, (min(t), max(t))))
     return spans
+
+
+def _planar_renderer(system, frames, rows, scenes, annotate, labels, *, title, show_forces, diagram, figsize):
+    """Figure and ``render(k)`` drawing frame ``k`` of a planar mechanism (one fixed view, optional diagram)."""
+    scale = _d._default_force_scale(scenes)
+    limits = _d._limits(_d._union(_d._bounds(s, scale, show_forces) for s in scenes))
+    h = _d._SYMBOL * max(limits[1] - limits[0], limits[3] - limits[2])
+    spans = _slider_spans(scenes, h)
+    corner = _d._note_corner(scenes, limits)
+
+    from matplotlib.figure import Figure
+
+    # the mechanism's panel as wide as its view needs at this height, the diagram's 6 in: >= 8 in (800 px) in all
+    aspect = (limits[1] - limits[0]) / max(limits[3] - limits[2], 1e-12)
+    mech_w = min(max(aspect * 4.8 + 1.0, 3.0), 12.0)
+    if figsize is None:
+        figsize = (max(mech_w + 6.2, 8.0), 5.6) if diagram else (max(aspect * 5.2 + 1.0, 8.0), 6.0)
+    fig = Figure(figsize=figsize, layout="constrained")
+    if diagram:
+        ax, dax = fig.subplots(1, 2, width_ratios=(mech_w, 6.0))
+        marker, dx, dy = _diagram(dax, system, frames, tuple(diagram))
+    else:
+        ax = fig.add_subplot()
+
+    def render(k: int) -> None:
+        i = rows[k]
+        ax.clear()
+        _d.draw_scene(scenes[k], ax, title=title or system.name, show_forces=show_forces, force_scale=scale,
+                      limits=limits, slider_spans=spans, quiet_loads=annotate)
+        _d._put_note(ax, _d._note(system, frames.values[i], annotate, frames.stable[i], labels[i]), frames.stable[i],
+                     corner)
+        if diagram:
+            marker.set_data([dx[i]], [dy[i]])
+
+    return fig, render
+
+
+def _spatial_renderer(system, frames, rows, scenes, annotate, labels, *, title, show_forces, diagram, figsize):
+    """Figure and ``render(k)`` for a spatial mechanism: front, side, top and 3-D views (fixed for every
+    frame) and, with ``diagram``, the branch with the current point in place of the top view."""
+    from matplotlib.figure import Figure
+
+    from . import drawing3d as _d3
+
+    views = ("front", "side", "diagram", "3d") if diagram else ("front", "side", "top", "3d")
+    frame = _d3._Frame(scenes, [v for v in views if v != "diagram"], show_forces)
+    fig = Figure(figsize=figsize or (11.0, 9.0), layout="constrained")
+    axes = {v: fig.add_subplot(2, 2, k + 1, **({"projection": "3d"} if v == "3d" else {}))
+            for k, v in enumerate(views)}
+    if diagram:
+        marker, dx, dy = _diagram(axes.pop("diagram"), system, frames, tuple(diagram))
+
+    def render(k: int) -> None:
+        i = rows[k]
+        frame.render(axes, scenes[k], labels=True, title=title or system.name, quiet_loads=annotate)
+        _d._put_note(axes["front"], _d._note(system, frames.values[i], annotate, frames.stable[i], labels[i]),
+                     frames.stable[i])
+        if diagram:
+            marker.set_data([dx[i]], [dy[i]])
+
+    return fig, render
 
 
 def animate(system, branch, path: str | os.PathLike, fps: float | None = None, every: int = 1,
@@ -451,36 +513,13 @@ def animate(system, branch, path: str | os.PathLike, fps: float | None = None, e
     writer = _writer(out, fps)
     annotate = _d._with_vary(vary or frames.vary, annotate)
     scenes = [scene_fn(frames.values[i]) for i in rows]
-    scale = _d._default_force_scale(scenes)
     labels = _numbered(frames.labels)
-    limits = _d._limits(_d._union(_d._bounds(s, scale, show_forces) for s in scenes))
-    h = _d._SYMBOL * max(limits[1] - limits[0], limits[3] - limits[2])
-    spans = _slider_spans(scenes, h)
-    corner = _d._note_corner(scenes, limits)
-
-    from matplotlib.figure import Figure
-
-    # the mechanism's panel as wide as its view needs at this height, the diagram's 6 in: >= 8 in (800 px) in all
-    aspect = (limits[1] - limits[0]) / max(limits[3] - limits[2], 1e-12)
-    mech_w = min(max(aspect * 4.8 + 1.0, 3.0), 12.0)
-    if figsize is None:
-        figsize = (max(mech_w + 6.2, 8.0), 5.6) if diagram else (max(aspect * 5.2 + 1.0, 8.0), 6.0)
-    fig = Figure(figsize=figsize, layout="constrained")
-    if diagram:
-        ax, dax = fig.subplots(1, 2, width_ratios=(mech_w, 6.0))
-        marker, dx, dy = _diagram(dax, system, frames, tuple(diagram))
+    if scenes[0].dimension == 3:
+        fig, render = _spatial_renderer(system, frames, rows, scenes, annotate, labels, title=title,
+                                        show_forces=show_forces, diagram=diagram, figsize=figsize)
     else:
-        ax = fig.add_subplot()
-
-    def render(k: int) -> None:
-        i = rows[k]
-        ax.clear()
-        _d.draw_scene(scenes[k], ax, title=title or system.name, show_forces=show_forces, force_scale=scale,
-                      limits=limits, slider_spans=spans, quiet_loads=annotate)
-        _d._put_note(ax, _d._note(system, frames.values[i], annotate, frames.stable[i], labels[i]), frames.stable[i],
-                     corner)
-        if diagram:
-            marker.set_data([dx[i]], [dy[i]])
+        fig, render = _planar_renderer(system, frames, rows, scenes, annotate, labels, title=title,
+                                       show_forces=show_forces, diagram=diagram, figsize=figsize)
 
     # Lay the figure out once (the view is fixed, so every frame has the same layout).
     render(0)

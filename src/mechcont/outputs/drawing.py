@@ -60,7 +60,7 @@ def _moment_radius(h: float) -> float:
 
 
 def _max_force(scene: Scene) -> float:
-    return max((float(np.hypot(*np.asarray(v, float))) for _, _, v in scene.forces), default=0.0)
+    return max((float(np.linalg.norm(np.asarray(v, float))) for _, _, v in scene.forces), default=0.0)
 
 
 def _default_force_scale(scenes: Sequence[Scene]) -> float:
@@ -351,7 +351,7 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
         Per slider, the ends ``(a, b)`` of its guide (an animation passes the whole travel,
         see :func:`slider_span`); by default a short guide around the block.
     quiet_loads:
-        Names of forces and moments drawn without their value label (printed elsewhere,
+        Names of forces, moments and actuators drawn without their value label (printed elsewhere,
         e.g. in an animation's note), so no text covers the mechanism.
 
     Returns
@@ -384,7 +384,7 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
         _draw_damper(ax, name, np.asarray(a, float), np.asarray(b, float), 0.6 * h)
     for name, a, b, tension in scene.actuators:
         _draw_actuator(ax, name, np.asarray(a, float), np.asarray(b, float), float(tension), 0.8 * h,
-                       show_forces)
+                       show_forces and name not in set(quiet_loads))
     for i, (name, pts) in enumerate(scene.bars):
         pts = np.atleast_2d(np.asarray(pts, float))
         ax.plot(pts[:, 0], pts[:, 1], color=_BAR_COLOURS[i % len(_BAR_COLOURS)], linewidth=6,
@@ -546,6 +546,8 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
     Returns
     -------
     matplotlib.axes.Axes
+        For a spatial mechanism (3-D scene, no ``ax`` given) the drawing is
+        :func:`mechcont.outputs.drawing3d.draw3d`'s and this is its ``{view: axes}``.
 
     Raises
     ------
@@ -561,6 +563,11 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
     x = _check_x(system, x)
     for name in annotate:
         system.index(name)
+    if ax is None and scene_fn(x).dimension == 3:  # a spatial mechanism: three-view and 3-D view
+        from .drawing3d import draw3d
+
+        return draw3d(system, x, path, title=title, show_forces=show_forces, annotate=annotate, stable=stable,
+                      label=label, dpi=dpi)
     if ax is None:
         from matplotlib.figure import Figure
 
