@@ -1,0 +1,55 @@
+"""Figures of a retraction: actuator load and length against the driving angle, lock-up maps."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .plotting import new_figure
+
+__all__ = ["plot_actuator_loads", "plot_lock_up"]
+
+
+def plot_actuator_loads(loads, title: str = "retraction actuator"):
+    """Two panels against the retraction angle (deg): actuator load (kN, + tension) and length (m).
+
+    ``loads`` is an :class:`~mechcont.analysis.retraction.ActuatorLoads`; returns the figure.
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.5, 6.0), layout="constrained")
+    ax1, ax2 = fig.subplots(2, 1, sharex=True)
+    deg = np.degrees(loads.s)
+    ax1.plot(deg, loads.tension / 1e3, color="#6a3d9a", label="actuator load")
+    ax1.axhline(0.0, color="0.6", linewidth=0.8)
+    ax1.set_ylabel("actuator load (kN, + tension)")
+    ax1.set_title(f"{title}: efficiency {loads.efficiency:.3f}, peak {loads.peak / 1e3:.1f} kN")
+    ax2.plot(deg, loads.length, color="#1f77b4", label="actuator length")
+    ax2.set_ylabel("actuator length (m)")
+    ax2.set_xlabel("retraction angle theta (deg)")
+    for ax in (ax1, ax2):
+        ax.grid(True, linewidth=0.3, alpha=0.5)
+    return fig
+
+
+def plot_lock_up(plane_angles, lock_angles, retracted: float, current: float | None = None):
+    """Retraction angle (deg) at which the gear locks up against the aft sidestay plane angle (deg).
+
+    ``lock_angles`` holds ``nan`` where the gear retracts fully (to ``retracted``, rad), drawn
+    on the dashed full-retraction line; ``current`` marks the default plane angle (rad).
+    """
+    fig, ax = new_figure((6.5, 4.5))
+    phi = np.degrees(np.asarray(plane_angles, float))
+    lock = np.degrees(np.asarray(lock_angles, float))
+    full = np.isnan(lock)
+    ax.plot(phi[~full], lock[~full], "o-", color="#d62728", label="locks up (first fold LP)")
+    ax.plot(phi[full], np.full(full.sum(), math.degrees(retracted)), "s", color="#2ca02c", label="retracts fully")
+    ax.axhline(math.degrees(retracted), color="0.5", linestyle="--", linewidth=0.8)
+    if current is not None:
+        ax.axvline(math.degrees(current), color="0.3", linestyle=":", linewidth=1.0, label="default plane angle")
+    ax.set_xlabel("aft sidestay plane angle phi_aft (deg)")
+    ax.set_ylabel("retraction angle at lock-up (deg)")
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    ax.legend(fontsize=8, loc="lower right")
+    return fig

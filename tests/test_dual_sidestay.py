@@ -1,0 +1,133 @@
+"""Dual-sidestay main gear retraction: actuator load by virtual work against a moment balance about the
+trunnion and against finite differences, lock-up folds against a hand-derived tangency condition,
+3-D drawings of the gear, and a reduced run of the paper section."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+from figure_checks import check_figure  # noqa: E402
+
+from mechcont.models.dual_sidestay import build_dual_sidestay_kinematics, points_at  # noqa: E402
+from mechcont.models.dual_sidestay_geometry import DEFAULT_GEOMETRY, trunnion_axis  # noqa: E402
+from mechcont.paper import dual_sidestay as paper  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def base():
+    return build_dual_sidestay_kinematics()
+
+
+@pytest.fixture(scope="module")
+def run_default(base):
+    return paper.retraction(DEFAULT_GEOMETRY, base=base)
+
+
+def test_branch_satisfies_the_constraints_by_hand(run_default):
+    """Every branch point: arm and link lengths and the plane conditions, from the points alone."""
+    r = run_default
+    geo = DEFAULT_GEOMETRY
+    for x in r.branch.values[::10]:
+        p = points_at(r.system, x)
+        for side, st in (("fwd", geo.forward), ("aft", geo.aft)):
+            A, B, K, J, P = (p[f"{side}_{n}"] for n in "ABKJP")
+            assert np.linalg.norm(K - A) == pytest.approx(st.upper, abs=1e-9)
+            assert np.linalg.norm(K - B) == pytest.approx(st.lower, abs=1e-9)
+            assert np.linalg.norm(J - K) == pytest.approx(st.link1, abs=1e-9)
+            assert np.linalg.norm(J - P) == pytest.approx(st.link2, abs=1e-9)
+            assert abs((K - A) @ st.normal) < 1e-9 and abs((J - A) @ st.normal) < 1e-9
+    assert r.lock_up is None and r.branch.values[-1, r.system.index("theta")] == pytest.approx(geo.retracted)
+
+
+def test_actuator_load_by_virtual_work_equals_the_moment_balance_about_the_trunnion(base):
+    """Massless sidestays: T (C - D)/|C - D| at D and the weight at the cg have no net moment about the
+    trunnion axis (statics of the fitting), independent of the branch-rate code."""
+    geo = replace(DEFAULT_GEOMETRY, forward=replace(DEFAULT_GEOMETRY.forward, upper_mass=0.0, lower_mass=0.0),
+                  aft=replace(DEFAULT_GEOMETRY.aft, upper_mass=0.0, lower_mass=0.0))
+    r = paper.retraction(geo, base=base, arms=False)
+    e = trunnion_axis(geo.delta)
+    for x, t in zip(r.branch.values[::7], r.loads.tension[::7]):
+        p = points_at(r.system, x)
+        u = (p["C"] - p["D"]) / np.linalg.norm(p["C"] - p["D"])
+        arm = np.cross(p["D"], u) @ e
+        weight = np.cross(p["cg"], [0.0, 0.0, -geo.fitting_mass * geo.g]) @ e
+        assert t == pytest.approx(-weight / arm, rel=1e-9)
+
+
+def test_virtual_work_with_the_arms_weight_matches_finite_differences(run_default):
+    """T = -dV/dl: central differences of V (all weights, points from the branch) over dl along the branch."""
+    r = run_default
+    geo = DEFAULT_GEOMETRY
+    xs = r.branch.values
+
+    def potential(x):
+        p = points_at(r.system, x)
+        v = geo.fitting_mass * geo.g * p["cg"][2]
+        for side, st in (("fwd", geo.forward), ("aft", geo.aft)):
+            v += st.upper_mass * geo.g * (p[f"{side}_A"][2] + p[f"{side}_K"][2]) / 2
+            v += st.lower_mass * geo.g * (p[f"{side}_K"][2] + p[f"{side}_B"][2]) / 2
+        return v
+
+    from mechcont.continuation import find_equilibrium
+
+    def length(x):
+        p = points_at(r.system, x)
+        return np.linalg.norm(p["D"] - p["C"])
+
+    h = 1e-6
+    it = r.system.index("theta")
+    for x, t in zip(xs[::9], r.loads.tension[::9]):
+        plus, minus = (find_equilibrium(r.system, values={"theta": x[it] + sgn * h}, guess=x, tol=1e-13,
+                                        residual_tol=1e-13) for sgn in (1, -1))
+        fd = -(potential(plus) - potential(minus)) / (length(plus) - length(minus))
+        assert t == pytest.approx(fd, rel=1e-5)
+    # work: the actuator lifts the gear; -integral T dl equals the rise of V to the accuracy of the trapezoid rule
+    V = np.array([potential(x) for x in xs])
+    assert r.loads.work == pytest.approx(V[-1] - V[0], rel=2e-2)
+    assert 0 < r.loads.efficiency <= 1
+
+
+def test_lock_up_is_the_hand_derived_tangency_of_the_lock_links(base):
+    """At a lock-up fold the lock links' circle in the fold plane touches the sphere about P: with P' the
+    projection of P onto the plane and d its distance, |K - P'| = L4 + sqrt(L5^2 - d^2)."""
+    geo = DEFAULT_GEOMETRY.with_aft_plane(math.radians(-30.0))
+    r = paper.retraction(geo, base=base)
+    assert r.lock_up is not None and r.lock_side == "aft"
+    lp = next(p for p in r.branch.special_points if p.label.startswith("LP"))
+    p = points_at(r.system, lp.x)
+    st = geo.aft
+    K, P = p["aft_K"], p["aft_P"]
+    d = (P - st.A) @ st.normal
+    P_in = P - d * st.normal
+    assert np.linalg.norm(K - P_in) == pytest.approx(st.link1 + math.sqrt(st.link2**2 - d**2), abs=1e-7)
+    # with the gear down the links are not yet aligned (their joint sits lock_sag off the line)
+    early = points_at(r.system, r.branch.values[0])
+    K, P = early["aft_K"], early["aft_P"]
+    d = (P - st.A) @ st.normal
+    assert np.linalg.norm(K - (P - d * st.normal)) < st.link1 + math.sqrt(st.link2**2 - d**2) - 1e-4
+
+
+def test_gear_drawing_three_view(run_default, tmp_path):
+    from mechcont.outputs.drawing3d import draw3d
+
+    axes = draw3d(run_default.system, run_default.branch.values[-1], tmp_path / "up.png", annotate=("theta",))
+    fig = axes["front"].figure
+    check_figure(fig, "dual sidestay")
+    texts = {t.get_text() for t in axes["3d"].texts}
+    assert {"fitting", "fwd lock links", "aft upper"} <= texts
+    assert any(t.startswith("actuator = ") and "compression" in t for t in texts)
+
+
+def test_paper_section_quick(tmp_path):
+    lines = paper.run(tmp_path, quick=True)
+    text = "\n".join(lines)
+    assert "mechanical efficiency" in text and "kN" in text and "locks at theta" in text
+    for name in ("sidestay_actuator.png", "sidestay_down.png", "sidestay_up.png", "sidestay_lock_up.png"):
+        assert (tmp_path / name).stat().st_size > 0
