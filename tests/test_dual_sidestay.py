@@ -131,3 +131,24 @@ def test_paper_section_quick(tmp_path):
     assert "mechanical efficiency" in text and "kN" in text and "locks at theta" in text
     for name in ("sidestay_actuator.png", "sidestay_down.png", "sidestay_up.png", "sidestay_lock_up.png"):
         assert (tmp_path / name).stat().st_size > 0
+
+
+def test_cli_continue_draw_animate_the_spatial_gear(tmp_path):
+    """The built-in spatial model through the ordinary commands: a branch, a three-view, an animation."""
+    from cli_helpers import make_runner, one_line_error
+    from PIL import Image
+
+    run = make_runner()
+    branch = tmp_path / "b.csv"
+    r = run("continue", "dual_sidestay_kinematics", "--vary", "theta", "--bounds", "theta=0:0.6", "--out", branch,
+            "--quiet")
+    assert r.exit_code == 0, r.output
+    r = run("draw", "dual_sidestay_kinematics", "--point", f"{branch}:EP2", "--out", tmp_path / "d.png")
+    assert r.exit_code == 0, r.output
+    with Image.open(tmp_path / "d.png") as im:
+        assert im.size[0] >= 800
+    r = run("animate", "dual_sidestay_kinematics", "--branch", branch, "--every", 20, "--out", tmp_path / "a.gif",
+            "--quiet")
+    assert r.exit_code == 0, r.output
+    one_line_error(run("draw", "dual_sidestay_kinematics", "--set", "bogus=1", "--out", tmp_path / "e.png"),
+                   "bogus")

@@ -26,10 +26,26 @@ def _nose_gear(**kw):
     return build_nose_gear(**kw)
 
 
+def _dual_sidestay(**kw):
+    from .dual_sidestay import build_dual_sidestay_kinematics
+
+    system = build_dual_sidestay_kinematics()
+    for name in kw:
+        if name not in system.parameter_names:
+            raise InputError(name, f"not a parameter of dual_sidestay_kinematics; valid: "
+                                   f"{', '.join(system.parameter_names)}")
+    if not kw:
+        return copy.copy(system)
+    new = system.with_values({k: float(v) for k, v in kw.items()})
+    new.geometry = system.geometry
+    return new
+
+
 #: Hand-formulated reference models of the paper: name -> (builder, one-line description).
 BUILTIN_MODELS: dict[str, tuple[Callable[..., EquationSystem], str]] = {
     "overcentre": (_overcentre, "overcentre mechanism, the paper's eq. 6 (6 states)"),
     "nose_gear": (_nose_gear, "planar nose landing gear, the paper's 25-equation form"),
+    "dual_sidestay_kinematics": (_dual_sidestay, "dual-sidestay main gear retraction kinematics, 3-D (12 states)"),
 }
 
 
