@@ -129,7 +129,8 @@ def test_paper_section_quick(tmp_path):
     lines = paper.run(tmp_path, quick=True)
     text = "\n".join(lines)
     assert "mechanical efficiency" in text and "kN" in text and "locks at theta" in text
-    for name in ("sidestay_actuator.png", "sidestay_down.png", "sidestay_up.png", "sidestay_lock_up.png"):
+    for name in ("sidestay_actuator.png", "sidestay_down.png", "sidestay_up.png", "sidestay_lock_up.png",
+                 "sidestay_rigging.png"):
         assert (tmp_path / name).stat().st_size > 0
 
 
@@ -152,3 +153,36 @@ def test_cli_continue_draw_animate_the_spatial_gear(tmp_path):
     assert r.exit_code == 0, r.output
     one_line_error(run("draw", "dual_sidestay_kinematics", "--set", "bogus=1", "--out", tmp_path / "e.png"),
                    "bogus")
+
+
+def test_alignment_angle_is_the_continuation_fold_of_the_locked_links(base):
+    """The closed-form alignment angle (knee from circle-sphere intersection, misfit root) equals the fold
+    (LP) that continuation finds when the forward lock links start on their locked side."""
+    from mechcont.continuation import ContinuationOptions, continuation
+    from mechcont.models.dual_sidestay import geometry_values
+
+    geo = DEFAULT_GEOMETRY
+    x = base.defaults()
+    st = geo.forward
+    v = (st.P - st.K) / np.linalg.norm(st.P - st.K)
+    locked = st.K + 2 * ((st.J - st.K) @ v) * v - (st.J - st.K)   # J mirrored across the K-P line
+    for i, c in enumerate("xyz"):
+        x[base.index(f"fwd_J_{c}")] = locked[i]
+    b = continuation(base, x, "theta", direction=-1,
+                     options=ContinuationOptions(bounds={"theta": (-0.01, 0.01)}, max_steps=100, stability=False))
+    lp = next(p for p in b.special_points if p.label.startswith("LP"))
+    theta = paper.alignment_angle(geometry_values(geo), "fwd")
+    assert lp.x[base.index("theta")] == pytest.approx(theta, abs=1e-12)
+    assert paper.lock_misfit({**geometry_values(geo), "theta": theta}, "fwd") == pytest.approx(0.0, abs=1e-12)
+
+
+def test_rigging_offset_moves_the_misfit_the_way_a_longer_stay_must():
+    """Offsets of opposite sign give misfits of opposite sign about the nominal one, and zero offset leaves the
+    aft alignment where the unperturbed closed form puts it."""
+    from mechcont.models.dual_sidestay import geometry_values
+
+    aft, fwd, misfit = paper.rigging_scan([-5e-4, 0.0, 5e-4])
+    assert aft[1] == pytest.approx(paper.alignment_angle(geometry_values(DEFAULT_GEOMETRY), "aft"), abs=1e-15)
+    assert (misfit[0] - misfit[1]) * (misfit[2] - misfit[1]) < 0
+    assert misfit[1] == pytest.approx(paper.lock_misfit({**geometry_values(DEFAULT_GEOMETRY), "theta": fwd[0]},
+                                                        "aft"), abs=1e-15)

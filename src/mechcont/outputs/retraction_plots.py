@@ -8,7 +8,7 @@ import numpy as np
 
 from .plotting import new_figure
 
-__all__ = ["plot_actuator_loads", "plot_lock_up"]
+__all__ = ["plot_actuator_loads", "plot_lock_up", "plot_rigging"]
 
 
 def plot_actuator_loads(loads, title: str = "retraction actuator"):
@@ -43,7 +43,7 @@ def plot_lock_up(plane_angles, lock_angles, retracted: float, current: float | N
     phi = np.degrees(np.asarray(plane_angles, float))
     lock = np.degrees(np.asarray(lock_angles, float))
     full = np.isnan(lock)
-    ax.plot(phi[~full], lock[~full], "o-", color="#d62728", label="locks up (first fold LP)")
+    ax.plot(phi, lock, "o-", color="#d62728", label="locks up (first fold LP)")   # nan breaks the line
     ax.plot(phi[full], np.full(full.sum(), math.degrees(retracted)), "s", color="#2ca02c", label="retracts fully")
     ax.axhline(math.degrees(retracted), color="0.5", linestyle="--", linewidth=0.8)
     if current is not None:
@@ -52,4 +52,26 @@ def plot_lock_up(plane_angles, lock_angles, retracted: float, current: float | N
     ax.set_ylabel("retraction angle at lock-up (deg)")
     ax.grid(True, linewidth=0.3, alpha=0.5)
     ax.legend(fontsize=8, loc="lower right")
+    return fig
+
+
+def plot_rigging(offsets, aft_angles, fwd_angle: float, misfit):
+    """Rigid downlock against rigging error: the aft lock links' misfit (mm) at the forward links' alignment
+    and the alignment angles (deg) against the aft attachment offset (mm)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.5, 6.0), layout="constrained")
+    ax1, ax2 = fig.subplots(2, 1, sharex=True)
+    off = 1e3 * np.asarray(offsets, float)
+    ax1.plot(off, 1e3 * np.asarray(misfit, float), "o-", color="#d62728", label="aft links at fwd alignment")
+    ax1.axhline(0.0, color="0.6", linewidth=0.8)
+    ax1.set_ylabel("aft lock-link misfit (mm, + stretch)")
+    ax1.legend(fontsize=8, loc="best")
+    ax2.plot(off, np.degrees(aft_angles), "o-", color="#17becf", label="aft links aligned")
+    ax2.axhline(math.degrees(fwd_angle), color="#8c564b", linestyle="--", label="fwd links aligned")
+    ax2.set_ylabel("retraction angle at alignment (deg)")
+    ax2.set_xlabel("aft airframe attachment offset along the stay (mm)")
+    ax2.legend(fontsize=8, loc="best")
+    for ax in (ax1, ax2):
+        ax.grid(True, linewidth=0.3, alpha=0.5)
     return fig

@@ -29,7 +29,8 @@ from ..models.dual_sidestay import (
 )
 from ..models.dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry
 
-__all__ = ["retraction", "lock_up_scan", "Retraction", "run", "PLANE_ANGLES"]
+__all__ = ["retraction", "lock_up_scan", "Retraction", "run", "PLANE_ANGLES", "lock_misfit", "alignment_angle",
+           "rigging_scan"]
 
 #: Aft sidestay plane angles (rad) of the lock-up study.
 PLANE_ANGLES = np.radians(np.arange(-45.0, 60.1, 7.5))
@@ -90,7 +91,7 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
     from ..outputs.animation import animate
     from ..outputs.drawing3d import draw3d
     from ..outputs.plotting import save_figure
-    from ..outputs.retraction_plots import plot_actuator_loads, plot_lock_up
+    from ..outputs.retraction_plots import plot_actuator_loads, plot_lock_up, plot_rigging
 
     timings = timings if timings is not None else {}
     out_dir = Path(out_dir)
@@ -114,6 +115,13 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
     phi, lock, runs = lock_up_scan(geo, angles, base=base)
     timings["dual_sidestay: lock-up scan"] = time.perf_counter() - t0
     save_figure(plot_lock_up(phi, lock, geo.retracted, geo.aft.phi), out_dir / "sidestay_lock_up.png")
+
+    offsets = np.linspace(-1e-3, 1e-3, 5 if quick else 9)
+    aft_align, fwd_align, misfit = rigging_scan(offsets, geo)
+    save_figure(plot_rigging(offsets, aft_align, fwd_align[0], misfit), out_dir / "sidestay_rigging.png")
+    per_mm = float(np.polyfit(offsets * 1e3, misfit * 1e3, 1)[0])
+    per_mm_angle = float(np.polyfit(offsets * 1e3, np.degrees(aft_align), 1)[0])
+    nominal = 1e3 * float(np.interp(0.0, offsets, misfit))  # mm
 
     def deg(v):
         return f"{math.degrees(v):.1f}"
@@ -141,6 +149,101 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
              f"- The actuator load hardly depends on the aft plane angle: at theta = {deg(common)} deg it is "
              f"{min(at) / 1e3:.2f} to {max(at) / 1e3:.2f} kN over the scan (+ tension), because the sidestays fold "
              "passively and only their arms' weight changes with the plane.",
-             "- Not yet computed (need the spatial statics layer): downlock/unlock forces of the lock links, "
-             "their sensitivity to attachment misalignment with compliance, two-parameter fold curves.", ""]
+             f"- Rigid downlock, rigging tolerance: the forward lock links align at theta = "
+             f"{math.degrees(fwd_align[0]):.4f} deg, the aft ones at "
+             f"{math.degrees(float(np.interp(0.0, offsets, aft_align))):.4f} deg; "
+             f"moving the aft airframe attachment along its stay moves the aft alignment by {per_mm_angle:.4f} deg/mm "
+             f"and leaves the aft links {per_mm:.2f} mm off alignment per mm of offset when the forward ones are "
+             f"aligned (nominal geometry: {nominal:.3f} mm). Both pairs can be aligned at once only for one exact "
+             "rigging: the rigid over-constrained downlock is highly sensitive, and its loads are set by how the "
+             "structure absorbs this misfit (compliance). Figure: sidestay_rigging.png.",
+             "- Not yet computed (need the spatial statics layer with compliance): downlock/unlock forces of the "
+             "lock links (each and both), the downlock force against misalignment with a compliant sidestay or "
+             "attachment, two-parameter fold curves with cusps.", ""]
     return lines
+
+
+def _knee(A, n, L1, B, L2, hint):
+    """Knee (m): on the circle of radius L1 about A in the plane through A normal to n, at L2 from B; of the
+    two solutions the one nearer ``hint``. ``None`` when the arms cannot reach."""
+    h = float((B - A) @ n)
+    Bp = B - h * n
+    r2 = L2**2 - h * h
+    d = float(np.linalg.norm(Bp - A))
+    if r2 < 0 or d == 0:
+        return None
+    a = (L1**2 - r2 + d * d) / (2 * d)
+    q = L1**2 - a * a
+    if q < 0:
+        return None
+    e = (Bp - A) / d
+    f = np.cross(n, e)
+    cands = [A + a * e + sgn * math.sqrt(q) * f for sgn in (1, -1)]
+    return min(cands, key=lambda k: float(np.linalg.norm(k - hint)))
+
+
+def lock_misfit(values: dict, side: str, geo: GearGeometry = DEFAULT_GEOMETRY) -> float:
+    """How far (m) the ``side`` lock links are from alignment at the parameter ``values`` (``theta`` ...):
+    |K - P'| - (L4 + sqrt(L5^2 - d^2)), with the knee K solved in closed form, P' the lug P projected onto
+    the fold plane and d its distance from it. Negative: slack (the links can fold); zero: aligned;
+    positive: a rigid link pair would have to stretch by this much."""
+    from ..models.dual_sidestay_geometry import rotation, trunnion_axis
+
+    R = rotation(trunnion_axis(values["delta"]), values["theta"])
+
+    def vec(name):
+        return np.array([values[f"{side}_{name}_{c}"] for c in "xyz"])
+
+    A, n = vec("A"), vec("n")
+    B, P = R @ vec("B0"), R @ vec("P0")
+    st = geo.forward if side == "fwd" else geo.aft
+    K = _knee(A, n, values[f"{side}_L1"], B, values[f"{side}_L2"], st.K)
+    if K is None:
+        return float("nan")
+    d = float((P - A) @ n)
+    reach = values[f"{side}_L4"] + math.sqrt(max(values[f"{side}_L5"] ** 2 - d * d, 0.0))
+    return float(np.linalg.norm(K - (P - d * n)) - reach)
+
+
+def alignment_angle(values: dict, side: str, geo: GearGeometry = DEFAULT_GEOMETRY,
+                    window=(-0.0087, 0.0175)) -> float:
+    """Retraction angle (rad) near gear down at which the ``side`` lock links are aligned (misfit 0): the
+    sign change nearest gear down on a 0.01 deg grid over ``window`` (rad; default -0.5 to 1 deg), polished by Brent's method.
+
+    Raises
+    ------
+    ValueError
+        When the links do not align in ``window`` (or the knee cannot reach there).
+    """
+    from scipy.optimize import brentq
+
+    def g(t: float) -> float:
+        return lock_misfit({**values, "theta": t}, side, geo)
+
+    grid = np.arange(window[0], window[1], math.radians(0.01))
+    vals = np.array([g(t) for t in grid])
+    pairs = [k for k in range(len(grid) - 1) if np.isfinite(vals[k]) and np.isfinite(vals[k + 1])
+             and vals[k] * vals[k + 1] <= 0]
+    if not pairs:
+        raise ValueError(f"the {side} lock links do not align between {math.degrees(window[0]):.2f} and "
+                         f"{math.degrees(window[1]):.2f} deg")
+    k = min(pairs, key=lambda k: abs(grid[k]))
+    return float(brentq(g, grid[k], grid[k + 1], xtol=1e-15))
+
+
+def rigging_scan(offsets, geo: GearGeometry = DEFAULT_GEOMETRY):
+    """Rigging tolerance of the rigid downlock: the aft airframe attachment moved by each of ``offsets`` (m)
+    along its stay line (towards the fitting positive), all lengths unchanged.
+
+    Returns arrays (rad, rad, m): the aft and forward lock links' alignment angles, and the aft links'
+    misfit at the forward links' alignment angle (what a rigid aft link pair would have to stretch, or
+    leave slack, for both pairs to be aligned at once).
+    """
+    values = geometry_values(geo)
+    theta_f = alignment_angle(values, "fwd", geo)
+    aft, misfit = [], []
+    for delta in offsets:
+        moved = {**values, **{f"aft_A_{c}": float(a + delta * uc) for c, a, uc in zip("xyz", geo.aft.A, geo.aft.u)}}
+        aft.append(alignment_angle(moved, "aft", geo))
+        misfit.append(lock_misfit({**moved, "theta": theta_f}, "aft", geo))
+    return np.array(aft), np.full(len(aft), theta_f), np.array(misfit)
