@@ -186,3 +186,53 @@ def test_rigging_offset_moves_the_misfit_the_way_a_longer_stay_must():
     assert (misfit[0] - misfit[1]) * (misfit[2] - misfit[1]) < 0
     assert misfit[1] == pytest.approx(paper.lock_misfit({**geometry_values(DEFAULT_GEOMETRY), "theta": fwd[0]},
                                                         "aft"), abs=1e-15)
+
+
+def test_compliant_downlock_is_the_constrained_energy_minimum():
+    """The KKT solution equals an independent constrained minimisation (SLSQP) of the potential
+    V(theta) + sum k delta^2 / 2 subject to both misfits <= 0, and its tensions balance the load moment
+    (virtual work in theta)."""
+    from scipy.optimize import minimize
+
+    from mechcont.models.dual_sidestay import geometry_values
+    from mechcont.models.dual_sidestay_geometry import rotation
+
+    geo, k, S, off = DEFAULT_GEOMETRY, paper.STAY_STIFFNESS, paper.SIDE_LOAD, 4e-4
+    r = paper.downlock_loads(off)
+    values = geometry_values(geo)
+    values.update({f"aft_A_{c}": float(a + off * uc) for c, a, uc in zip("xyz", geo.aft.A, geo.aft.u)})
+    e = trunnion_axis(geo.delta)
+
+    R0 = rotation(e, 0.0)
+    v0 = geo.fitting_mass * geo.g * (R0 @ geo.cg)[2] - S * (R0 @ geo.axle)[1]
+
+    def potential(z):   # J above gear down; theta in mrad, stretches in mm for a well-scaled problem
+        R = rotation(e, z[0] * 1e-3)
+        return (geo.fitting_mass * geo.g * (R @ geo.cg)[2] - S * (R @ geo.axle)[1] - v0
+                + 0.5 * k * ((z[1] * 1e-3) ** 2 + (z[2] * 1e-3) ** 2))
+
+    cons = [{"type": "ineq", "fun": (lambda z, s=s, i=i: -1e3 * paper._g(values, s, z[0] * 1e-3, z[i] * 1e-3,
+                                                                          geo))}
+            for i, s in ((1, "fwd"), (2, "aft"))]
+    z0 = [r.theta * 1e3 + 0.1, 1.0, 1.0]
+    best = minimize(potential, z0, constraints=cons, method="SLSQP", options={"ftol": 1e-14, "maxiter": 500})
+    # SLSQP stops at the optimum either cleanly (0) or when no line search can improve it further (8)
+    assert best.status in (0, 8), best.message
+    assert all(c["fun"](best.x) > -1e-6 for c in cons)
+    ours = [r.theta * 1e3, r.stretch["fwd"] * 1e3, r.stretch["aft"] * 1e3]
+    assert potential(ours) <= potential(best.x) + 1e-6
+    assert best.x[0] * 1e-3 == pytest.approx(r.theta, abs=1e-7)
+    assert best.x[1] * 1e-3 == pytest.approx(r.stretch["fwd"], rel=1e-5)
+    assert best.x[2] * 1e-3 == pytest.approx(r.stretch["aft"], rel=1e-5)
+    assert all(t > 0 for t in r.tension.values()) and all(abs(m) < 1e-9 for m in r.misfit.values())
+
+
+def test_rigid_downlock_load_switches_pairs_at_the_exact_rigging():
+    """Rigid sidestays: all the load on the pair that aligns first; it moves to the other pair where the
+    closed-form misfit of the aft pair at the forward alignment changes sign."""
+    from scipy.optimize import brentq
+
+    exact = brentq(lambda o: paper.rigging_scan([o])[2][0], -1e-3, 1e-3, xtol=1e-12)
+    below, above = (paper.downlock_loads(exact + d, stiffness=None) for d in (-2e-5, 2e-5))
+    assert below.tension["fwd"] == 0.0 and below.tension["aft"] > 0
+    assert above.tension["aft"] == 0.0 and above.tension["fwd"] > 0

@@ -8,7 +8,7 @@ import numpy as np
 
 from .plotting import new_figure
 
-__all__ = ["plot_actuator_loads", "plot_lock_up", "plot_rigging"]
+__all__ = ["plot_actuator_loads", "plot_lock_up", "plot_rigging", "plot_downlock"]
 
 
 def plot_actuator_loads(loads, title: str = "retraction actuator"):
@@ -74,4 +74,22 @@ def plot_rigging(offsets, aft_angles, fwd_angle: float, misfit):
     ax2.legend(fontsize=8, loc="best")
     for ax in (ax1, ax2):
         ax.grid(True, linewidth=0.3, alpha=0.5)
+    return fig
+
+
+def plot_downlock(offsets, compliant, rigid, stiffness: float, side_load: float):
+    """Lock-link tension (kN) of each pair against the aft attachment offset (mm), compliant (lines) and rigid
+    (markers) sidestays; ``compliant``/``rigid`` are lists of ``DownlockLoads``."""
+    fig, ax = new_figure((6.5, 4.5))
+    off = 1e3 * np.asarray(offsets, float)
+    for side, colour in (("fwd", "#8c564b"), ("aft", "#17becf")):
+        ax.plot(off, [r.tension[side] / 1e3 for r in compliant], "-", color=colour,
+                label=f"{side}, stay stiffness {stiffness:.1e} N/m")
+        ax.plot(off, [r.tension[side] / 1e3 for r in rigid], "o", color=colour, markerfacecolor="none",
+                label=f"{side}, rigid")
+    ax.set_xlabel("aft airframe attachment offset along the stay (mm)")
+    ax.set_ylabel("lock-link tension (kN)")
+    ax.set_title(f"downlock loads, {side_load / 1e3:.0f} kN side load + gravity", fontsize=10)
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    ax.legend(fontsize=8, loc="best")
     return fig

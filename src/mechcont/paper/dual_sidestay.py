@@ -1,5 +1,6 @@
-"""The dual-sidestay main gear's retraction (issue 11): actuator load and efficiency, lock-up against
-the aft sidestay plane angle, 3-D drawings and an animation.
+"""The dual-sidestay main gear (issue 11): retraction actuator load and efficiency, lock-up against the aft
+sidestay plane angle, the rigid downlock's rigging sensitivity, downlock loads with compliant and rigid
+sidestays, 3-D drawings and an animation.
 
 Built on the hand-formulated kinematic model :mod:`mechcont.models.dual_sidestay` with the
 representative A320-class geometry of :mod:`mechcont.models.dual_sidestay_geometry` (see
@@ -30,7 +31,7 @@ from ..models.dual_sidestay import (
 from ..models.dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry
 
 __all__ = ["retraction", "lock_up_scan", "Retraction", "run", "PLANE_ANGLES", "lock_misfit", "alignment_angle",
-           "rigging_scan"]
+           "rigging_scan", "downlock_loads", "DownlockLoads", "STAY_STIFFNESS", "SIDE_LOAD"]
 
 #: Aft sidestay plane angles (rad) of the lock-up study.
 PLANE_ANGLES = np.radians(np.arange(-45.0, 60.1, 7.5))
@@ -91,7 +92,7 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
     from ..outputs.animation import animate
     from ..outputs.drawing3d import draw3d
     from ..outputs.plotting import save_figure
-    from ..outputs.retraction_plots import plot_actuator_loads, plot_lock_up, plot_rigging
+    from ..outputs.retraction_plots import plot_actuator_loads, plot_downlock, plot_lock_up, plot_rigging
 
     timings = timings if timings is not None else {}
     out_dir = Path(out_dir)
@@ -122,6 +123,13 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
     per_mm = float(np.polyfit(offsets * 1e3, misfit * 1e3, 1)[0])
     per_mm_angle = float(np.polyfit(offsets * 1e3, np.degrees(aft_align), 1)[0])
     nominal = 1e3 * float(np.interp(0.0, offsets, misfit))  # mm
+
+    dl_offsets = np.linspace(-1e-3, 1e-3, 5 if quick else 11)
+    compliant = [downlock_loads(o) for o in dl_offsets]
+    rigid = [downlock_loads(o, stiffness=None) for o in dl_offsets]
+    save_figure(plot_downlock(dl_offsets, compliant, rigid, STAY_STIFFNESS, SIDE_LOAD),
+                out_dir / "sidestay_downlock.png")
+    nom_c, nom_r = downlock_loads(0.0), downlock_loads(0.0, stiffness=None)
 
     def deg(v):
         return f"{math.degrees(v):.1f}"
@@ -157,9 +165,21 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
              f"aligned (nominal geometry: {nominal:.3f} mm). Both pairs can be aligned at once only for one exact "
              "rigging: the rigid over-constrained downlock is highly sensitive, and its loads are set by how the "
              "structure absorbs this misfit (compliance). Figure: sidestay_rigging.png.",
-             "- Not yet computed (need the spatial statics layer with compliance): downlock/unlock forces of the "
-             "lock links (each and both), the downlock force against misalignment with a compliant sidestay or "
-             "attachment, two-parameter fold curves with cusps.", ""]
+             f"- Downlock loads (gear down, {SIDE_LOAD / 1e3:.0f} kN outboard side load at the axle plus gravity, "
+             f"sidestays as axial springs of {STAY_STIFFNESS:.1e} N/m): nominal rigging, fwd lock links "
+             f"{nom_c.tension['fwd'] / 1e3:.2f} kN, aft {nom_c.tension['aft'] / 1e3:.2f} kN (both together "
+             f"{(nom_c.tension['fwd'] + nom_c.tension['aft']) / 1e3:.2f} kN); over aft attachment offsets of "
+             f"-1 to +1 mm the fwd load goes {compliant[0].tension['fwd'] / 1e3:.2f} to "
+             f"{compliant[-1].tension['fwd'] / 1e3:.2f} kN and the aft {compliant[0].tension['aft'] / 1e3:.2f} to "
+             f"{compliant[-1].tension['aft'] / 1e3:.2f} kN. Rigid sidestays: one pair carries everything "
+             f"(nominal: fwd {nom_r.tension['fwd'] / 1e3:.2f} kN, aft {nom_r.tension['aft'] / 1e3:.2f} kN) and the "
+             f"load jumps to the other pair within a fraction of a millimetre of rigging "
+             f"(-1 mm: aft {rigid[0].tension['aft'] / 1e3:.2f} kN); only at the one exact rigging do both pairs "
+             "touch alignment, and there the split is indeterminate. Compliance makes it determinate and "
+             "continuous. Figure: sidestay_downlock.png. (Lock springs and overcentre stops are not "
+             "modelled: loads are at lock-link alignment.)",
+             "- Not yet computed: the unlock force (needs lock springs and stops), two-parameter fold curves "
+             "with cusps, the gear in the spatial description format.", ""]
     return lines
 
 
@@ -247,3 +267,113 @@ def rigging_scan(offsets, geo: GearGeometry = DEFAULT_GEOMETRY):
         aft.append(alignment_angle(moved, "aft", geo))
         misfit.append(lock_misfit({**moved, "theta": theta_f}, "aft", geo))
     return np.array(aft), np.full(len(aft), theta_f), np.array(misfit)
+
+
+#: Representative axial stiffness of a sidestay with its airframe attachment (N/m): a steel stay of about
+#: 2.1 m and 1e-3 m^2 section (E A / L ~ 1e8 N/m) in series with a wing attachment of ~5e7 N/m.
+STAY_STIFFNESS = 3.0e7
+
+
+@dataclass(frozen=True)
+class DownlockLoads:
+    """Gear down, both lock-link pairs held at alignment or slack, under gravity (fitting and wheels).
+
+    Attributes: ``theta`` (rad) the settled retraction angle; ``tension`` ``{side: N}`` the axial load in
+    each lock-link pair (0 when slack); ``stretch`` ``{side: m}`` each sidestay's elastic extension
+    (0 when rigid); ``misfit`` ``{side: m}`` each pair's distance from alignment (<= 0).
+    """
+
+    theta: float
+    tension: dict
+    stretch: dict
+    misfit: dict
+
+
+def _g(values, side, theta, stretch, geo):
+    return lock_misfit({**values, "theta": theta, f"{side}_L1": values[f"{side}_L1"] + stretch}, side, geo)
+
+
+#: Representative outboard side load at the axle (N) for the downlock study: about 0.2 of a main gear's
+#: static reaction at 78 t.
+SIDE_LOAD = 30.0e3
+
+
+def downlock_loads(offset: float = 0.0, stiffness: float | None = STAY_STIFFNESS, side_load: float = SIDE_LOAD,
+                   geo: GearGeometry = DEFAULT_GEOMETRY, h: float = 1e-6) -> DownlockLoads:
+    """Lock-link loads of the locked gear under gravity and an outboard ``side_load`` (N, +y at the axle) with
+    the aft attachment moved ``offset`` (m) along its stay, each sidestay an axial spring of ``stiffness``
+    (N/m; ``None``: rigid).
+
+    The gear settles where gravity's potential is least subject to misfit <= 0 for both pairs; the
+    multiplier of an active misfit constraint is that pair's tension (N). Solved as KKT conditions with
+    an active set (a pair with negative tension is slack); derivatives of the closed-form misfit by
+    central differences of step ``h``. A rigid gear settles where the first pair aligns: both pairs
+    carry load only at the one exact rigging.
+
+    Raises
+    ------
+    ValueError
+        When no active set gives a converged equilibrium.
+    """
+    from scipy.optimize import fsolve
+
+    from ..models.dual_sidestay_geometry import trunnion_axis
+
+    values = geometry_values(geo)
+    values.update({f"aft_A_{c}": float(a + offset * uc) for c, a, uc in zip("xyz", geo.aft.A, geo.aft.u)})
+    e = trunnion_axis(geo.delta)
+    sides = ("fwd", "aft")
+
+    def dV(theta):  # J/rad: the weight of the fitting and wheels and the side load, about the trunnion axis
+        from ..models.dual_sidestay_geometry import rotation
+
+        R = rotation(e, theta)
+        return (geo.fitting_mass * geo.g * float(np.cross(e, R @ geo.cg)[2])
+                - side_load * float(np.cross(e, R @ geo.axle)[1]))
+
+    def d(f, k, z):
+        zp, zm = list(z), list(z)
+        zp[k] += h
+        zm[k] -= h
+        return (f(*zp) - f(*zm)) / (2 * h)
+
+    rigid = stiffness is None
+    for active in (sides, ("fwd",), ("aft",)):
+        if rigid:
+            if len(active) == 2:
+                continue   # a rigid gear settles where the first pair aligns; both only by exact rigging
+            side = active[0]
+            theta = alignment_angle(values, side, geo)
+            lam = -dV(theta) / d(lambda t, side=side: _g(values, side, t, 0.0, geo), 0, [theta])
+            other = [s for s in sides if s != side][0]
+            mis = _g(values, other, theta, 0.0, geo)
+            if lam >= 0 and mis <= 1e-12:
+                return DownlockLoads(theta, {side: lam, other: 0.0}, {s: 0.0 for s in sides},
+                                     {side: 0.0, other: mis})
+            continue
+
+        def kkt(z, active=active):
+            theta, st = z[0], dict(zip(sides, z[1:3]))
+            lam = dict(zip(active, z[3:]))
+            rows = [dV(theta) + sum(lam[s] * d(lambda t, s=s: _g(values, s, t, st[s], geo), 0, [theta])
+                                    for s in active)]
+            for s in sides:
+                grad = d(lambda u, s=s: _g(values, s, theta, u, geo), 0, [st[s]]) if s in active else 0.0
+                rows.append(st[s] * stiffness + lam.get(s, 0.0) * grad)
+            rows += [_g(values, s, theta, st[s], geo) * 1e3 for s in active]
+            return rows
+
+        lam0 = abs(dV(0.0)) / 4.0 / len(active)   # the misfit changes about 4 m per rad of retraction
+        z0 = [alignment_angle(values, active[0], geo), lam0 / stiffness, lam0 / stiffness] + [lam0] * len(active)
+        z = fsolve(kkt, z0, xtol=1e-13, full_output=True)[0]   # judged by its residual below
+        res = np.abs(kkt(z))
+        # converged: the moment and spring rows to 1e-7 of the load moment, the misfits to 1e-9 m
+        if not (np.all(res[:3] < 1e-7 * abs(dV(0.0)) + 1e-9) and np.all(res[3:] < 1e-6)):
+            continue
+        theta, st = z[0], dict(zip(sides, z[1:3]))
+        lam = dict(zip(active, z[3:]))
+        mis = {s: _g(values, s, theta, st[s], geo) for s in sides}
+        if all(v >= 0 for v in lam.values()) and all(mis[s] <= 1e-9 for s in sides if s not in active):
+            return DownlockLoads(float(theta), {s: float(lam.get(s, 0.0)) for s in sides},
+                                 {s: float(st[s]) for s in sides}, mis)
+    raise ValueError(f"no locked equilibrium found for the aft attachment offset {offset} m")
