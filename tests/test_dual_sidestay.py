@@ -130,7 +130,7 @@ def test_paper_section_quick(tmp_path):
     text = "\n".join(lines)
     assert "mechanical efficiency" in text and "kN" in text and "locks at theta" in text
     for name in ("sidestay_actuator.png", "sidestay_down.png", "sidestay_up.png", "sidestay_lock_up.png",
-                 "sidestay_rigging.png"):
+                 "sidestay_rigging.png", "sidestay_downlock.png", "sidestay_fold_curve.png"):
         assert (tmp_path / name).stat().st_size > 0
 
 
@@ -236,3 +236,16 @@ def test_rigid_downlock_load_switches_pairs_at_the_exact_rigging():
     below, above = (paper.downlock_loads(exact + d, stiffness=None) for d in (-2e-5, 2e-5))
     assert below.tension["fwd"] == 0.0 and below.tension["aft"] > 0
     assert above.tension["aft"] == 0.0 and above.tension["fwd"] > 0
+
+
+def test_lock_up_fold_curve_points_are_lock_link_alignments(base):
+    """Every point of the two-parameter lock-up fold curve (theta, aft_L4) satisfies the hand-derived
+    tangency of the aft lock links, and the curve moves the lock-up with the link length."""
+    geo = DEFAULT_GEOMETRY.with_aft_plane(math.radians(-30.0))
+    system, curve = paper.lock_up_fold_curve(geo, base=base, span=(0.9, 1.2), max_steps=60)
+    assert len(curve.values) > 3
+    for x in curve.values:   # the hint only picks which of the two closed-form knee positions
+        hint = points_at(system, x)["aft_K"]
+        assert paper.lock_misfit(system.as_dict(x), "aft", geo, knee_hint=hint) == pytest.approx(0.0, abs=1e-8)
+    th, l4 = curve.values[:, system.index("theta")], curve.values[:, system.index("aft_L4")]
+    assert np.ptp(l4) > 0.05 and np.ptp(th) > math.radians(1.0)

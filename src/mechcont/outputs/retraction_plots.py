@@ -8,7 +8,7 @@ import numpy as np
 
 from .plotting import new_figure
 
-__all__ = ["plot_actuator_loads", "plot_lock_up", "plot_rigging", "plot_downlock"]
+__all__ = ["plot_actuator_loads", "plot_lock_up", "plot_rigging", "plot_downlock", "plot_fold_curve"]
 
 
 def plot_actuator_loads(loads, title: str = "retraction actuator"):
@@ -90,6 +90,21 @@ def plot_downlock(offsets, compliant, rigid, stiffness: float, side_load: float)
     ax.set_xlabel("aft airframe attachment offset along the stay (mm)")
     ax.set_ylabel("lock-link tension (kN)")
     ax.set_title(f"downlock loads, {side_load / 1e3:.0f} kN side load + gravity", fontsize=10)
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    ax.legend(fontsize=8, loc="best")
+    return fig
+
+
+def plot_fold_curve(lengths, angles, retracted: float, nominal: float, plane_angle: float):
+    """Two-parameter fold curve: the lock-up angle (deg) against the aft first lock-link length (m), with the
+    gear-up angle and the nominal length marked."""
+    fig, ax = new_figure((6.5, 4.5))
+    ax.plot(lengths, np.degrees(angles), "-", color="#d62728", label="lock-up fold (LP) curve")
+    ax.axhline(math.degrees(retracted), color="0.5", linestyle="--", linewidth=0.8, label="gear up")
+    ax.axvline(nominal, color="0.3", linestyle=":", linewidth=1.0, label="nominal length")
+    ax.set_xlabel("aft lock link K-J length aft_L4 (m)")
+    ax.set_ylabel("retraction angle at lock-up (deg)")
+    ax.set_title(f"aft sidestay plane angle {math.degrees(plane_angle):.1f} deg", fontsize=10)
     ax.grid(True, linewidth=0.3, alpha=0.5)
     ax.legend(fontsize=8, loc="best")
     return fig

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..analysis.retraction import ActuatorLoads, actuator_loads, first_fold
-from ..continuation import Branch, ContinuationOptions, continuation
+from ..continuation import Branch, ContinuationOptions, continuation, continue_folds
 from ..models.dual_sidestay import (
     actuator_length_rate,
     build_dual_sidestay_kinematics,
@@ -31,7 +31,7 @@ from ..models.dual_sidestay import (
 from ..models.dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry
 
 __all__ = ["retraction", "lock_up_scan", "Retraction", "run", "PLANE_ANGLES", "lock_misfit", "alignment_angle",
-           "rigging_scan", "downlock_loads", "DownlockLoads", "STAY_STIFFNESS", "SIDE_LOAD"]
+           "rigging_scan", "lock_up_fold_curve", "downlock_loads", "DownlockLoads", "STAY_STIFFNESS", "SIDE_LOAD"]
 
 #: Aft sidestay plane angles (rad) of the lock-up study.
 PLANE_ANGLES = np.radians(np.arange(-45.0, 60.1, 7.5))
@@ -78,6 +78,26 @@ def retraction(geo: GearGeometry = DEFAULT_GEOMETRY, *, base=None, max_steps: in
     return Retraction(system, branch, lock, loads, side)
 
 
+def lock_up_fold_curve(geo: GearGeometry, *, base=None, span=(0.5, 2.0), max_steps: int = 300):
+    """The lock-up fold of ``geo``'s retraction continued in two parameters, ``theta`` and the aft first
+    lock-link length ``aft_L4`` (within ``span`` times its nominal value). Returns ``(system, curve)``: the
+    equation system with ``geo``'s values and the fold-curve Branch (CP at cusps).
+
+    Raises
+    ------
+    ValueError
+        When ``geo`` retracts fully (no lock-up fold to continue).
+    """
+    ret = retraction(geo, base=base)
+    lp = next((p for p in ret.branch.special_points if p.label.startswith("LP")), None)
+    if lp is None:
+        raise ValueError("this geometry retracts fully: no lock-up fold to continue")
+    l4 = ret.system.as_dict(lp.x)["aft_L4"]
+    opts = ContinuationOptions(bounds={"aft_L4": (span[0] * l4, span[1] * l4), "theta": (-0.1, 1.6)},
+                               max_steps=max_steps)
+    return ret.system, continue_folds(ret.system, lp, "theta", "aft_L4", options=opts)
+
+
 def lock_up_scan(geo: GearGeometry = DEFAULT_GEOMETRY, angles=PLANE_ANGLES, *, base=None,
                  max_steps: int = 300) -> tuple[np.ndarray, np.ndarray, list[Retraction]]:
     """Lock-up angle (rad, ``nan`` = retracts fully) for each aft sidestay plane angle in ``angles`` (rad)."""
@@ -92,7 +112,13 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
     from ..outputs.animation import animate
     from ..outputs.drawing3d import draw3d
     from ..outputs.plotting import save_figure
-    from ..outputs.retraction_plots import plot_actuator_loads, plot_downlock, plot_lock_up, plot_rigging
+    from ..outputs.retraction_plots import (
+        plot_actuator_loads,
+        plot_downlock,
+        plot_fold_curve,
+        plot_lock_up,
+        plot_rigging,
+    )
 
     timings = timings if timings is not None else {}
     out_dir = Path(out_dir)
@@ -130,6 +156,16 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
     save_figure(plot_downlock(dl_offsets, compliant, rigid, STAY_STIFFNESS, SIDE_LOAD),
                 out_dir / "sidestay_downlock.png")
     nom_c, nom_r = downlock_loads(0.0), downlock_loads(0.0, stiffness=None)
+
+    curve_plane = math.radians(-30.0)
+    cs, curve = lock_up_fold_curve(geo.with_aft_plane(curve_plane), base=base)
+    lengths, angles = curve.values[:, cs.index("aft_L4")], curve.values[:, cs.index("theta")]
+    nominal_l4 = geo.with_aft_plane(curve_plane).aft.link1
+    save_figure(plot_fold_curve(lengths, angles, geo.retracted, nominal_l4, curve_plane),
+                out_dir / "sidestay_fold_curve.png")
+    order = np.argsort(angles)
+    l4_full = float(np.interp(geo.retracted, angles[order], lengths[order]))
+    cusps = [p for p in curve.special_points if p.label.startswith("CP")]
 
     def deg(v):
         return f"{math.degrees(v):.1f}"
@@ -178,8 +214,14 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
              "touch alignment, and there the split is indeterminate. Compliance makes it determinate and "
              "continuous. Figure: sidestay_downlock.png. (Lock springs and overcentre stops are not "
              "modelled: loads are at lock-link alignment.)",
-             "- Not yet computed: the unlock force (needs lock springs and stops), two-parameter fold curves "
-             "with cusps, the gear in the spatial description format.", ""]
+             f"- Two-parameter fold curve (aft plane angle {deg(curve_plane)} deg): the lock-up fold continued in "
+             f"the retraction angle and the aft first lock-link length aft_L4 runs from theta = {deg(angles.min())} "
+             f"deg at {lengths[np.argmin(angles)]:.3f} m to {deg(angles.max())} deg at "
+             f"{lengths[np.argmax(angles)]:.3f} m; the lock-up moves past gear up ({deg(geo.retracted)} deg) at "
+             f"aft_L4 = {l4_full:.3f} m (nominal {nominal_l4:.3f} m). Cusps (CP) on it: {len(cusps)}. Figure: "
+             "sidestay_fold_curve.png.",
+             "- Not yet computed: the unlock force (needs lock springs and stops) and its two-parameter fold "
+             "curves with cusps, the gear in the spatial description format.", ""]
     return lines
 
 
@@ -202,11 +244,12 @@ def _knee(A, n, L1, B, L2, hint):
     return min(cands, key=lambda k: float(np.linalg.norm(k - hint)))
 
 
-def lock_misfit(values: dict, side: str, geo: GearGeometry = DEFAULT_GEOMETRY) -> float:
+def lock_misfit(values: dict, side: str, geo: GearGeometry = DEFAULT_GEOMETRY, knee_hint=None) -> float:
     """How far (m) the ``side`` lock links are from alignment at the parameter ``values`` (``theta`` ...):
     |K - P'| - (L4 + sqrt(L5^2 - d^2)), with the knee K solved in closed form, P' the lug P projected onto
     the fold plane and d its distance from it. Negative: slack (the links can fold); zero: aligned;
-    positive: a rigid link pair would have to stretch by this much."""
+    positive: a rigid link pair would have to stretch by this much. Of the two knee positions the one nearer
+    ``knee_hint`` (m; default: the gear-down knee) is taken."""
     from ..models.dual_sidestay_geometry import rotation, trunnion_axis
 
     R = rotation(trunnion_axis(values["delta"]), values["theta"])
@@ -217,7 +260,7 @@ def lock_misfit(values: dict, side: str, geo: GearGeometry = DEFAULT_GEOMETRY) -
     A, n = vec("A"), vec("n")
     B, P = R @ vec("B0"), R @ vec("P0")
     st = geo.forward if side == "fwd" else geo.aft
-    K = _knee(A, n, values[f"{side}_L1"], B, values[f"{side}_L2"], st.K)
+    K = _knee(A, n, values[f"{side}_L1"], B, values[f"{side}_L2"], st.K if knee_hint is None else knee_hint)
     if K is None:
         return float("nan")
     d = float((P - A) @ n)
