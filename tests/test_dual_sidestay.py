@@ -99,7 +99,7 @@ def test_lock_up_is_the_hand_derived_tangency_of_the_lock_links(base):
     projection of P onto the plane and d its distance, |K - P'| = L4 + sqrt(L5^2 - d^2)."""
     geo = DEFAULT_GEOMETRY.with_aft_plane(math.radians(-30.0))
     r = paper.retraction(geo, base=base)
-    assert r.lock_up is not None and r.lock_side == "aft"
+    assert r.lock_up is not None and (r.lock_side, r.lock_member) == ("aft", "lock links")
     lp = next(p for p in r.branch.special_points if p.label.startswith("LP"))
     p = points_at(r.system, lp.x)
     st = geo.aft

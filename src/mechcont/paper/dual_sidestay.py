@@ -40,13 +40,16 @@ PLANE_ANGLES = np.radians(np.arange(-45.0, 60.1, 7.5))
 @dataclass(frozen=True)
 class Retraction:
     """One retraction run: the system (with the geometry's values), its branch from gear down, the
-    lock-up angle (rad, ``None`` when it retracts fully) and the actuator loads up to there."""
+    lock-up angle (rad, ``None`` when it retracts fully), the actuator loads up to there, and at a
+    lock-up the sidestay (``fwd``/``aft``) and member that jams: ``lock links`` (aligned links, the
+    knee at rest in the fold's null vector) or ``knee`` (the arms aligned)."""
 
     system: object
     branch: Branch
     lock_up: float | None
     loads: ActuatorLoads
     lock_side: str | None = None
+    lock_member: str | None = None
 
 
 def retraction(geo: GearGeometry = DEFAULT_GEOMETRY, *, base=None, max_steps: int = 300,
@@ -75,7 +78,10 @@ def retraction(geo: GearGeometry = DEFAULT_GEOMETRY, *, base=None, max_steps: in
         states = [system.index(n) for n in system.state_names]
         null = np.linalg.svd(system.jacobian(branch.values[end])[:, states])[2][-1]
         side = system.state_names[int(np.argmax(np.abs(null)))].split("_")[0]
-    return Retraction(system, branch, lock, loads, side)
+        knee = [k for k, n in enumerate(system.state_names) if n.startswith(f"{side}_K_")]
+        member = "knee" if np.max(np.abs(null[knee])) > 1e-6 else "lock links"
+        return Retraction(system, branch, lock, loads, side, member)
+    return Retraction(system, branch, lock, loads)
 
 
 def lock_up_fold_curve(geo: GearGeometry, *, base=None, span=(0.5, 2.0), max_steps: int = 300):
@@ -171,7 +177,7 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
         return f"{math.degrees(v):.1f}"
 
     i_peak = int(np.argmax(np.abs(loads.tension)))
-    locked = [(p, t, r.lock_side) for p, t, r in zip(phi, lock, runs) if not np.isnan(t)]
+    locked = [(p, t, f"{r.lock_side} {r.lock_member}") for p, t, r in zip(phi, lock, runs) if not np.isnan(t)]
     common = min(r.loads.s[-1] for r in runs)   # loads compared up to the earliest lock-up
     at = [float(np.interp(common, r.loads.s, r.loads.tension)) for r in runs]
     free = [p for p, t in zip(phi, lock) if np.isnan(t)]
@@ -185,10 +191,10 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
              "(work over peak load x stroke). Figure: sidestay_actuator.png; drawings sidestay_down.png, "
              "sidestay_up.png" + ("" if quick else ", animation sidestay_retraction.gif") + ".",
              f"- Geometric lock-up against the aft sidestay plane angle ({deg(phi[0])} to {deg(phi[-1])} deg): "
-             + (", ".join(f"phi_aft = {deg(p)} deg locks at theta = {deg(t)} deg ({side} lock links)"
+             + (", ".join(f"phi_aft = {deg(p)} deg locks at theta = {deg(t)} deg ({side})"
                        for p, t, side in locked) or "none")
              + "; retracts fully at phi_aft = " + (", ".join(deg(p) for p in free) or "none") + " deg. "
-             "A lock-up is a fold (LP) of the retraction branch: the aft lock links reach alignment and would "
+             "A lock-up is a fold (LP) of the retraction branch: a lock-link pair reaches alignment and would "
              "have to stretch (go into tension) to follow. Figure: sidestay_lock_up.png.",
              f"- The actuator load hardly depends on the aft plane angle: at theta = {deg(common)} deg it is "
              f"{min(at) / 1e3:.2f} to {max(at) / 1e3:.2f} kN over the scan (+ tension), because the sidestays fold "
