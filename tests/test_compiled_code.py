@@ -331,3 +331,16 @@ def test_batch_of_a_scattered_jacobian(chain12):
     R, J = system.residual_and_jacobian_batch(X)
     for i in range(4):
         assert np.array_equal(J[i], system.jacobian(X[i])) and np.array_equal(R[i], system.residual(X[i]))
+
+
+def test_cli_no_cache_flag_leaves_the_cache_untouched(tmp_path):
+    cache = tmp_path / "cache"
+    env = {**os.environ, "MECHCONT_CACHE_DIR": str(cache), "MECHCONT_NO_CACHE": ""}
+    args = [str(Path(sys.executable).with_name("mechcont")), "--no-cache", "continue", "overcentre", "--start", "theta1=0.3",
+            "--vary", "F", "--bounds", "theta1=-1:1", "--quiet"]
+    r = subprocess.run(args, env=env, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert not cache.exists() or not any(p.is_file() for p in cache.rglob("*"))
+    r = subprocess.run([a for a in args if a != "--no-cache"], env=env, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert any(p.is_file() for p in cache.rglob("*"))  # without the flag the same run writes the cache

@@ -67,12 +67,17 @@ class _Group(click.Group):
 
 @click.group(cls=_Group)
 @click.version_option(package_name="mechcont")
-def cli():
+@click.option("--no-cache", is_flag=True,
+              help="Neither read nor write the disk cache of compiled equations (as MECHCONT_NO_CACHE=1).")
+def cli(no_cache):
     """mechcont: numerical continuation for quasi-static mechanisms (landing gear).
 
     Models are built-in names (see `mechcont models`) or mechanism description files
-    (.toml). Values are SI units, angles in radians.
+    (.toml). Values are SI units, angles in radians. Compiled equations are cached on disk
+    (MECHCONT_CACHE_DIR, default the user cache folder) so the next run starts fast.
     """
+    if no_cache:
+        os.environ["MECHCONT_NO_CACHE"] = "1"
 
 
 def _register():
