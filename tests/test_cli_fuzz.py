@@ -295,6 +295,21 @@ def test_cli_outputs_get_the_users_umask(tmp_path, run):
         assert stat.S_IMODE((tmp_path / name).stat().st_mode) == 0o644
 
 
+def test_design_and_downlock_outputs_get_the_users_umask_and_leave_no_temporary(tmp_path, run):
+    old = os.umask(0o022)
+    try:
+        r1 = run("downlock", "lockstay", "--vary", "k", "--bounds", "k=15000:25000", "--out", tmp_path / "d.csv",
+                 "--plot", tmp_path / "d.png")
+        r2 = run("design", "lockstay", "--x", "s_up", "--y", "k", "--bounds", "s_up=0.7:0.9", "--bounds", "k=15000:25000",
+                 "--levels", "2", "--out", tmp_path / "m.md", "--plot", tmp_path / "m.png")
+    finally:
+        os.umask(old)
+    assert r1.exit_code == 0 and r2.exit_code == 0, r1.output + r2.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.csv", "d.png", "m.md", "m.png"]
+    for p in tmp_path.iterdir():
+        assert stat.S_IMODE(p.stat().st_mode) == 0o644, p.name
+
+
 def test_atomic_write_leaves_nothing_on_interrupt(tmp_path):
     def write(tmp):
         Path(tmp).write_text("partial")

@@ -4,16 +4,16 @@ from __future__ import annotations
 
 import csv
 import io
-import os
-import tempfile
+from pathlib import Path
 
 import click
 
+from .._io import atomic_write
 from ..errors import InputError
 from ._app import cli
 from ._parse import assignments
 from ._parse import bounds as parse_bounds
-from .downlock import PLOT_SUFFIXES, checked_path, model_and_condition, save_figure, warn
+from .downlock import PLOT_SUFFIXES, checked_path, model_and_condition, warn
 
 
 def _markdown(records: list[dict]) -> str:
@@ -32,10 +32,7 @@ def _write_table(records, path):
         w.writerows(records)
     else:
         buf.write(_markdown(records) + "\n")
-    fd, tmp = tempfile.mkstemp(suffix=path.suffix, dir=str(path.resolve().parent))
-    with os.fdopen(fd, "w", encoding="utf-8") as f:
-        f.write(buf.getvalue())
-    os.replace(tmp, path)
+    atomic_write(path, lambda tmp: Path(tmp).write_text(buf.getvalue(), encoding="utf-8"))
 
 
 def plot_region(region, ax, *, force_name: str = "F"):
@@ -113,6 +110,8 @@ def design_command(model, x_name, y_name, bounds_, levels, sets, holds, conditio
         fig, ax = plt.subplots(figsize=(6.5, 4.5))
         plot_region(region, ax, force_name=f)
         ax.set_title(f"{system.name}: where the gear locks unaided ({f} > 0)")
-        save_figure(fig, plot_path)
+        from ..outputs.plotting import save_figure
+
+        save_figure(fig, plot_path, dpi=120)
         plt.close(fig)
         click.echo(f"wrote {plot_path}")

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import functools
-import os
-import tempfile
 from pathlib import Path
 
 import click
@@ -27,18 +25,6 @@ def checked_path(path: str | None, valid: tuple[str, ...], option: str) -> Path 
     if p.suffix.lower() not in valid:
         raise InputError(f"--{option}", f"unknown file type '{p.suffix or p.name}'; valid: {', '.join(valid)}")
     return check_output_path(p, f"--{option}")  # folder exists, is a folder, is writable; p not a folder
-
-
-def save_figure(fig, path: Path) -> None:
-    """Save a matplotlib figure atomically (a temporary file renamed into place)."""
-    fd, tmp = tempfile.mkstemp(suffix=path.suffix, dir=str(path.resolve().parent))
-    os.close(fd)
-    try:
-        fig.savefig(tmp, dpi=120, bbox_inches="tight")
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
 
 
 @functools.lru_cache(maxsize=4)
@@ -160,6 +146,8 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
         ax.set_xlabel(f"{vary} ({unit_x})")
         ax.set_ylabel(f"{f} (N)" if unlock_col else f"downlock force {f} (N)")
         ax.set_title(f"{system.name}: downlock force vs {vary}")
-        save_figure(fig, plot_path)
+        from ..outputs.plotting import save_figure
+
+        save_figure(fig, plot_path, dpi=120)
         plt.close(fig)
         click.echo(f"wrote {plot_path}")
