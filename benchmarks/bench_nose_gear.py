@@ -29,7 +29,7 @@ def cases():
         ("fig9 downlock vs LU and k", lambda: ng._fig9(ng.NoseGearResults(system=system)), 10),
         ("fig10 downlock vs l_sp1", lambda: ng._fig10(ng.NoseGearResults(system=system)), 10),
         ("fig11 fold locus + 21-branch surface", fig11, 5),
-        ("design region (11 levels)", lambda: design_region(system, x_bounds=ng.L_SP1_RANGE,
+        ("design region (11 levels)", lambda: design_region(system, "l_sp1", "LU", x_bounds=ng.L_SP1_RANGE,
                                                             y_levels=np.linspace(*ng.LU_RANGE, 11)), 5),
         ("whole nose-gear paper section (compute)", lambda: ng.compute(), 3),
     ]

@@ -106,6 +106,15 @@ def test_design_on_a_description_and_its_warnings(run):
     assert any(w.startswith("warning: Sy = -0.1: downlock branch in k") for w in warnings)
 
 
+def test_design_parameters_default_to_the_bounds_names_in_order(run):
+    named = run("design", "lockstay.toml", "--x", "k", "--y", "Sy", "--bounds", "k=5000:40000", "--bounds", "Sy=-0.1:0.1",
+                "--levels", "2")
+    inferred = run("design", "lockstay.toml", "--bounds", "k=5000:40000", "--bounds", "Sy=-0.1:0.1", "--levels", "2")
+    assert named.exit_code == 0 and inferred.exit_code == 0, inferred.output
+    assert inferred.output == named.output
+    one_line_error(run("design", "lockstay.toml", "--bounds", "k=5000:40000"), "--bounds", "two design parameters")
+
+
 def test_a_signed_margin_is_never_positive_for_a_design_that_does_not_lock():
     from mechcont.analysis.design import DesignRow
 

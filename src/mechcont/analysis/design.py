@@ -263,7 +263,7 @@ def _intervals(x, F):
     return tuple(out)
 
 
-def design_region(system: EquationSystem, x_name: str = "l_sp1", y_name: str = "LU", *,
+def design_region(system: EquationSystem, x_name: str, y_name: str, *,
                   x_bounds: tuple[float, float], y_levels: Sequence[float],
                   values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
                   force: str | None = None, n_x: int = 121, condition: str | None = None,

@@ -46,8 +46,10 @@ def plot_region(region, ax, *, force_name: str = "F"):
 
 @cli.command("design")
 @click.argument("model")
-@click.option("--x", "x_name", default="l_sp1", show_default=True, metavar="NAME", help="Design parameter continued.")
-@click.option("--y", "y_name", default="LU", show_default=True, metavar="NAME", help="Second design parameter (levels).")
+@click.option("--x", "x_name", default=None, metavar="NAME",
+              help="Design parameter continued (default: the first --bounds name).")
+@click.option("--y", "y_name", default=None, metavar="NAME",
+              help="Second design parameter, in levels (default: the other --bounds name).")
 @click.option("--bounds", "bounds_", multiple=True, required=True, metavar="NAME=LO:HI",
               help="Ranges of both design parameters (finite).")
 @click.option("--levels", default=11, show_default=True, type=int, help="Number of levels of the second parameter.")
@@ -78,6 +80,11 @@ def design_command(model, x_name, y_name, bounds_, levels, sets, holds, conditio
         raise InputError("--max-steps", f"must be a positive integer, got {max_steps}")
     values = assignments(sets, "set")
     bnds = parse_bounds(bounds_)
+    rest = [n for n in bnds if n not in (x_name, y_name)]  # --x/--y default to the --bounds names, in order
+    x_name = x_name or (rest.pop(0) if rest else None)
+    y_name = y_name or (rest.pop(0) if rest else None)
+    if x_name is None or y_name is None:
+        raise InputError("--bounds", "give the ranges of two design parameters, e.g. --bounds l_sp1=LO:HI --bounds LU=LO:HI")
     for n in (x_name, y_name):
         if n not in bnds or not all(np.isfinite(bnds[n])):
             raise InputError("--bounds", f"give a finite range for {n}, e.g. {n}=LO:HI")

@@ -149,7 +149,7 @@ def _fig11(res):
 def _design(res):
     from ..analysis.design import design_region
 
-    res.region = design_region(res.system, x_bounds=L_SP1_RANGE, y_levels=np.linspace(*LU_RANGE, 11))
+    res.region = design_region(res.system, "l_sp1", "LU", x_bounds=L_SP1_RANGE, y_levels=np.linspace(*LU_RANGE, 11))
 
 
 _STEPS = ("fig7", "fig7_dynamic", "downlock_sweep", "fig8", "fig9", "fig10", "fig11", "design")
