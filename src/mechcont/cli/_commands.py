@@ -9,5 +9,6 @@ from . import (  # noqa: F401,E401  (mechcont models, continue, folds)
     folds,
     models,
     paper,  # noqa: F401  (mechcont paper)
+    study,  # noqa: F401  (mechcont study)
     sweep,  # noqa: F401  (mechcont sweep)
 )

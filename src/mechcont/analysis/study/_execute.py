@@ -1,0 +1,238 @@
+"""Running a study: chunk by chunk in this process, or on a Dask cluster, written as it goes.
+
+:func:`run_study` computes the chunks not yet on disk (see :class:`StudyStore`), writes each
+as soon as it is done, and combines them into ``results.parquet`` at the end. Where the
+chunks run:
+
+* ``scheduler=None``: in this process, one after the other;
+* ``scheduler="local"``: a :class:`dask.distributed.LocalCluster` of worker processes
+  (one thread each, ``workers`` of them, default one per core), started and stopped here;
+* ``scheduler="tcp://HOST:PORT"`` (any address): an existing Dask scheduler.
+
+On Dask the model reaches each worker once: the study spec (with the description file's
+text, when the model is a file) is scattered to every worker, each worker loads and compiles
+the model on its first task (from the disk cache of compiled code where it has one:
+``MECHCONT_CACHE_DIR``) and keeps it for every further task. Tasks are whole chunks (a
+chunk of the default size takes >= 0.1 s, well above Dask's ~1 ms per task), results come
+back as plain arrays and are written by this process only, so workers need no access to the
+study folder. Every chunk runs the same :func:`run_chunk` on the same compiled code wherever
+it runs, so the results are the same bits.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from ...errors import InputError
+from ._kernels import check_spec, run_chunk
+from ._spec import StudySpec
+from ._store import StudyStore
+
+__all__ = ["run_study", "StudyResult", "ModelSource", "load_study_model", "STUDY_EXTRA_HINT"]
+
+#: What to tell a user whose installation lacks the study's dependencies.
+STUDY_EXTRA_HINT = "install the study extra: pip install 'mechcont[study]' (pyarrow and dask[distributed])"
+
+
+@dataclass(frozen=True)
+class ModelSource:
+    """How a worker gets the model: a built-in name, or a description file's name and text."""
+
+    model: str
+    text: str | None = None
+
+    @classmethod
+    def of(cls, model: str) -> ModelSource:
+        """The source of ``model`` (reads a description file's text)."""
+        from ...mechanism import find_description
+        from ...models import BUILTIN_MODELS
+
+        if model in BUILTIN_MODELS:
+            return cls(model)
+        path = find_description(model)
+        if path is None:
+            return cls(model)  # load_model names what is wrong
+        return cls(str(model), Path(path).read_text(encoding="utf-8"))
+
+
+_LOADED: dict[ModelSource, object] = {}
+
+
+def load_study_model(source: ModelSource):
+    """The compiled model of ``source``, loaded once per process (a worker keeps it for every chunk)."""
+    if source not in _LOADED:
+        from ...models import load_model
+
+        if source.text is None:
+            _LOADED[source] = load_model(source.model)
+        else:
+            path = Path(source.model)
+            if not (path.is_file() and path.read_text(encoding="utf-8") == source.text):
+                import tempfile
+
+                # a worker without the file (another machine): the shipped text, under the same name
+                folder = Path(tempfile.mkdtemp(prefix="mechcont-study-"))
+                path = folder / (path.name if path.suffix == ".toml" else f"{path.name}.toml")
+                path.write_text(source.text, encoding="utf-8")
+            _LOADED[source] = load_model(str(path))
+    return _LOADED[source]
+
+
+def _chunk_task(source: ModelSource, spec: StudySpec, k: int) -> tuple[int, dict, float]:
+    """One chunk on a worker: ``(k, columns, seconds)``."""
+    t0 = time.perf_counter()
+    system = load_study_model(source)
+    cols = run_chunk(system, spec, k, samples=_samples(spec))
+    return k, cols, time.perf_counter() - t0
+
+
+_SAMPLES: dict[StudySpec, object] = {}
+
+
+def _samples(spec: StudySpec):
+    """All samples of ``spec``, drawn once per process."""
+    if spec not in _SAMPLES:
+        _SAMPLES.clear()
+        _SAMPLES[spec] = spec.samples()
+    return _SAMPLES[spec]
+
+
+@dataclass
+class StudyResult:
+    """What :func:`run_study` did.
+
+    Attributes
+    ----------
+    folder:
+        The study folder; ``results`` is its ``results.parquet``.
+    computed, reused:
+        Chunks computed by this run, and chunks found done on disk (resumed).
+    seconds:
+        Wall time of this run (s), including starting a cluster.
+    samples:
+        Number of samples in the study.
+    """
+
+    folder: Path
+    results: Path
+    computed: list[int]
+    reused: list[int]
+    seconds: float
+    samples: int
+
+    def frame(self):
+        """The results as a :class:`pandas.DataFrame` (units in ``.attrs["units"]``)."""
+        from ._results import read_results
+
+        return read_results(self.results)
+
+
+def _units(system, spec: StudySpec) -> dict[str, str]:
+    return {n: system.variable(n).unit for n in spec.names}
+
+
+def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, scheduler: str | None = None,
+              workers: int | None = None, progress: Callable[[int], None] | None = None,
+              on_chunk: Callable[[int, float], None] | None = None) -> StudyResult:
+    """Run ``spec`` into ``folder``, computing only the chunks not already there.
+
+    Parameters
+    ----------
+    spec:
+        The study.
+    folder:
+        The study folder (see :class:`StudyStore`).
+    resume:
+        Continue the study already in ``folder`` (same spec): finished chunks are kept.
+    scheduler:
+        ``None`` (this process), ``"local"`` (a local cluster of worker processes) or a Dask
+        scheduler's address.
+    workers:
+        Worker processes of the local cluster (default: the number of cores).
+    progress:
+        Called with the number of samples of each chunk written.
+    on_chunk:
+        Called with ``(k, seconds)`` after chunk ``k`` is written.
+
+    Returns
+    -------
+    StudyResult
+
+    Raises
+    ------
+    InputError
+        Unknown names, a folder holding another study, a spec that does not fit the model:
+        all before anything is computed or written.
+    """
+    t0 = time.perf_counter()
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        raise InputError("study", f"needs pyarrow; {STUDY_EXTRA_HINT}") from None
+    spec = spec.with_model_hash()
+    source = ModelSource.of(spec.model)
+    system = load_study_model(source)
+    check_spec(system, spec)
+    units = _units(system, spec)
+    store = StudyStore(folder, spec, resume=resume)
+    done = store.open()
+    todo = [k for k in range(spec.n_chunks) if k not in done]
+    computed: list[int] = []
+
+    def finished(k: int, cols: dict, seconds: float) -> None:
+        store.write(k, cols, units)
+        computed.append(k)
+        if progress is not None:
+            progress(len(cols["sample"]))
+        if on_chunk is not None:
+            on_chunk(k, seconds)
+
+    if todo and scheduler is None:
+        samples = _samples(spec)
+        for k in todo:
+            t = time.perf_counter()
+            cols = run_chunk(system, spec, k, samples=samples)
+            finished(k, cols, time.perf_counter() - t)
+    elif todo:
+        _run_dask(spec, source, todo, scheduler, workers, finished)
+    store.combine()
+    return StudyResult(store.folder, store.results, computed, sorted(done), time.perf_counter() - t0, spec.size)
+
+
+def _run_dask(spec, source, todo, scheduler, workers, finished) -> None:
+    try:
+        from dask.distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise InputError("--scheduler", f"running on Dask needs dask.distributed; {STUDY_EXTRA_HINT}") from None
+    cluster = None
+    if scheduler == "local":
+        n = workers or os.cpu_count() or 1
+        if not 1 <= n <= 256:
+            raise InputError("--workers", f"must be 1..256, got {n}")
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=50)
+        client = Client(cluster)
+    else:
+        try:
+            client = Client(scheduler, timeout=10)
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise InputError("--scheduler", f"cannot reach the Dask scheduler at {scheduler!r}: {exc}") from None
+    try:
+        # the spec and the model's source go to every worker once; tasks refer to them
+        shipped_source, shipped_spec = client.scatter([source, spec], broadcast=True)
+        futures = [client.submit(_chunk_task, shipped_source, shipped_spec, k, pure=False) for k in todo]
+        try:
+            for fut in as_completed(futures):
+                k, cols, seconds = fut.result()
+                finished(k, cols, seconds)
+        finally:
+            for fut in futures:
+                fut.cancel()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()

@@ -1,0 +1,163 @@
+"""The analyses of one chunk of samples: batched downlock solves, stragglers one by one, unlock folds.
+
+:func:`run_chunk` is the unit of work of a study (the same function runs in-process and on a
+Dask worker, so both give the same bits). For every sample it records a status:
+``converged``, or ``failed`` and why (a value outside the model's valid range, Newton
+that did not converge even from the single-point path's start); a failing sample never
+stops the chunk.
+
+* ``downlock``: the downlock condition held, the force solved for
+  (:func:`mechcont.continuation._batch.newton_batch` for the whole chunk from the model's
+  downlocked pose; a row that does not converge there, or whose configuration moved further
+  than :data:`MAX_MOVE` from it, is solved again by :func:`mechcont.analysis.downlock_point`,
+  the single-point path, and marked ``single``).
+  ``locks_unaided`` is ``downlock_force > 0``.
+* ``unlock``: the folds bounding the locked state through the downlocked point
+  (:func:`mechcont.analysis.unlock_folds`, one release run per sample): ``unlock_force``
+  (reached by increasing the force), ``unlock_force_decreasing``, and the fold margin
+  ``unlock_margin = unlock_force - downlock_force`` (N): the force the locked state still
+  carries beyond the downlock force. ``nan`` where no fold bounds that side (with a note).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...continuation import choose_unknowns
+from ...continuation._batch import newton_batch
+from ...errors import ConvergenceError, InputError
+from ..downlock import downlock_condition, downlock_point
+from ..unlock import unlock_folds
+from ._spec import StudySpec
+
+__all__ = ["run_chunk", "check_spec", "COLUMNS", "MAX_MOVE"]
+
+#: A batched solution is kept only if no angle (rad) or position (m) state moved by more than
+#: this many of its scales from the shared start (the model's downlocked pose); further away
+#: the single-point path, which starts from the model's own assembly at the sample's values
+#: when it has one, decides which assembly of the mechanism is meant.
+MAX_MOVE = 0.25
+
+#: Result columns after the sampled parameters: name -> (unit, meaning).
+COLUMNS = {
+    "status": ("", "converged, or failed (see reason)"),
+    "reason": ("", "why a sample failed (empty when it converged)"),
+    "path": ("", "batched (solved with the chunk) or single (solved alone: a straggler)"),
+    "downlock_force": ("N", "force at which the downlock condition holds (+ unlocks)"),
+    "locks_unaided": ("", "downlock_force > 0: the gear locks with no help"),
+    "unlock_force": ("N", "fold reached by increasing the force from the downlocked point"),
+    "unlock_force_decreasing": ("N", "fold reached by decreasing the force"),
+    "unlock_margin": ("N", "unlock_force - downlock_force: the fold margin"),
+    "stable": ("", "the downlocked point is physically stable"),
+    "unlock_note": ("", "why a side has no fold"),
+}
+
+
+def check_spec(system, spec: StudySpec) -> tuple[dict, str]:
+    """Check ``spec`` against the model before any work: every name known and a parameter
+    that may be set, the downlock condition resolvable. Returns ``(hold, force)``."""
+    h, f = downlock_condition(system, dict(spec.hold) or None, spec.force, condition=spec.condition)
+    for n in (*spec.names, *dict(spec.values)):
+        v = system.variable(n)
+        if n == f:
+            raise InputError(n, "is the downlock force, which each sample solves for; sample a design parameter")
+        if v.kind != "parameter":
+            raise InputError(n, "is a state of the model; sample or set parameters only")
+    return h, f
+
+
+def _plan(system, spec: StudySpec) -> dict:
+    h, f = check_spec(system, spec)
+    fixed = dict(spec.values)
+    base = getattr(system, "downlocked", None)
+    base = system.vector(fixed, base=base) if base is not None else system.vector(fixed)
+    base = system.vector(h, base=base)
+    return {"hold": h, "force": f, "base": base, "fixed": fixed,
+            "unknowns": choose_unknowns(system, hold=list(h), free=[f]),
+            "cols": np.array([system.index(n) for n in spec.names]), "scales": system.scales(),
+            "geometry": np.array([i for i, v in enumerate(system.variables)
+                                  if v.kind == "state" and v.unit in ("rad", "m")], dtype=int)}
+
+
+def _valid(system, values: dict) -> str:
+    """The one-line reason ``values`` are outside the model's valid range, or ""."""
+    try:
+        if system.check_values is not None:
+            system.check_values(values)
+    except InputError as exc:
+        return str(exc)
+    return ""
+
+
+def run_chunk(system, spec: StudySpec, k: int, samples: np.ndarray | None = None) -> dict:
+    """The analyses of chunk ``k`` of ``spec`` on ``system``: ``{column: array}``, one row per sample.
+
+    ``samples`` (all of the study's, from :meth:`StudySpec.samples`) saves drawing them again.
+    Columns: ``sample`` (index), the sampled parameters (SI), then :data:`COLUMNS` (those of
+    the requested analyses).
+    """
+    p = _plan(system, spec)
+    h, f, base, names = p["hold"], p["force"], p["base"], spec.names
+    start, stop = spec.chunk_rows(k)
+    S = (spec.samples() if samples is None else samples)[start:stop]
+    m = len(S)
+    X0 = np.tile(base, (m, 1))
+    X0[:, p["cols"]] = S
+    status = np.full(m, "converged", dtype=object)
+    reason = np.full(m, "", dtype=object)
+    path = np.full(m, "batched", dtype=object)
+    # values outside the model's ranges (its check and its declared limits) fail at once
+    for i in range(m):
+        why = _valid(system, {n: float(v) for n, v in zip(names, S[i])})
+        if not why:
+            try:
+                system.check_limits(X0[i])
+            except InputError as exc:
+                why = str(exc)
+        if why:
+            status[i], reason[i] = "failed", why
+    ok = np.nonzero(status == "converged")[0]
+    X = np.full_like(X0, np.nan)
+    if len(ok):
+        sol = newton_batch(system, X0[ok], p["unknowns"])
+        # a row whose configuration moved far from the shared start may have reached another
+        # assembly of the mechanism than the single-point path's own start would: it is a straggler
+        geo = p["geometry"]
+        moved = np.max(np.abs(sol.x[:, geo] - X0[ok][:, geo]) / p["scales"][geo], axis=1, initial=0.0)
+        kept = sol.converged & (moved <= MAX_MOVE)
+        X[ok[kept]] = sol.x[kept]
+        for i in ok[~kept]:  # stragglers: the single-point path, from its own start
+            path[i] = "single"
+            values = {**p["fixed"], **{n: float(v) for n, v in zip(names, S[i])}}
+            try:
+                X[i] = downlock_point(system, values, hold=h, force=f)
+            except (ConvergenceError, InputError) as exc:
+                status[i], reason[i] = "failed", f"downlock solve: {exc}"
+    F = X[:, system.index(f)]
+    out = {"sample": np.arange(start, stop, dtype=np.int64), **{n: S[:, j] for j, n in enumerate(names)},
+           "status": status, "reason": reason, "path": path, "downlock_force": F, "locks_unaided": F > 0}
+    if "unlock" in spec.analyses:
+        out.update(_unlock_columns(system, X, F, status, reason, f, list(h)))
+    return out
+
+
+def _unlock_columns(system, X, F, status, reason, f, released) -> dict:
+    m = len(X)
+    above, below = np.full(m, np.nan), np.full(m, np.nan)
+    stable = np.full(m, None, dtype=object)
+    note = np.full(m, "", dtype=object)
+    for i in np.nonzero(status == "converged")[0]:
+        try:
+            u = unlock_folds(system, X[i], f, released=released)
+        except (ConvergenceError, InputError) as exc:  # unlock_folds reports failures itself; belt and braces
+            status[i], reason[i] = "failed", f"unlock folds: {exc}"
+            continue
+        if u.warnings:
+            status[i], reason[i] = "failed", "unlock folds: " + "; ".join(u.warnings)
+        lo, hi = u.locked_range
+        above[i] = hi if np.isfinite(hi) else np.nan
+        below[i] = lo if np.isfinite(lo) else np.nan
+        stable[i] = u.stable
+        note[i] = "; ".join(u.notes)
+    return {"unlock_force": above, "unlock_force_decreasing": below, "unlock_margin": above - F, "stable": stable,
+            "unlock_note": note}

@@ -1,0 +1,172 @@
+"""``mechcont study``: design and tolerance studies (grids, Latin hypercube, Monte Carlo), resumable, on Dask."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import click
+
+from ..errors import InputError
+from ._app import cli
+from ._parse import assignments
+from .downlock import PLOT_SUFFIXES, checked_path
+
+
+def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk):
+    from ..analysis.study import StudySpec, parse_axis, parse_distribution
+
+    if spec_file is not None:
+        import tomllib
+
+        if dists or grids:
+            raise InputError("--spec", "give the parameters either in the --spec file or as --dist/--grid, not both")
+        try:
+            data = tomllib.loads(Path(spec_file).read_text(encoding="utf-8"))
+        except OSError as exc:
+            raise InputError("--spec", f"cannot read '{spec_file}': {exc.strerror}") from None
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError("--spec", f"'{spec_file}' is not valid TOML: {exc}") from None
+        data.setdefault("model", model)
+        if str(data["model"]) != model:
+            raise InputError("--spec", f"the file is a study of '{data['model']}', not of '{model}'")
+        return StudySpec.from_mapping(data, where=Path(spec_file).name)
+    if grids and dists:
+        raise InputError("--grid", "a study samples either a grid (--grid) or distributions (--dist), not both")
+    if not grids and not dists:
+        raise InputError("--dist", "give the sampled parameters: --dist NAME=normal:MEAN:SD (or uniform:LO:HI, "
+                                   "truncnormal:MEAN:SD:LO:HI) or --grid NAME=LO:HI:N")
+
+    def split(item, option):
+        name, sep, rest = item.partition("=")
+        if not sep or not name.strip():
+            raise InputError(option, f"'{item}' is not NAME=...")
+        return name.strip(), rest
+
+    if grids:
+        if sample is not None:
+            raise InputError("--sample", "a --grid study takes every grid point; --sample is for --dist studies")
+        params = tuple((nm, parse_axis(r, f"--grid {nm}")) for nm, r in (split(g, "--grid") for g in grids))
+        sampling = "grid"
+    else:
+        params = tuple((nm, parse_distribution(r, f"--dist {nm}")) for nm, r in (split(d, "--dist") for d in dists))
+        sampling = sample or "mc"
+        if n is None:
+            raise InputError("--n", "give the number of samples, e.g. --n 10000")
+    return StudySpec(model=model, sampling=sampling, parameters=params, n=n or 0, seed=seed,
+                     analyses=tuple(analyses) or ("downlock",), values=tuple(assignments(sets, "set").items()),
+                     hold=tuple(assignments(holds, "hold").items()), condition=condition, force=force, chunk=chunk or 0)
+
+
+@cli.command("study")
+@click.argument("model")
+@click.option("--dist", "dists", multiple=True, metavar="NAME=KIND:...",
+              help="A sampled parameter: uniform:LO:HI, normal:MEAN:SD or truncnormal:MEAN:SD:LO:HI (SI units).")
+@click.option("--grid", "grids", multiple=True, metavar="NAME=LO:HI:N",
+              help="A grid axis: N values from LO to HI (the last --grid varies fastest).")
+@click.option("--sample", type=click.Choice(["mc", "lhs"]), default=None,
+              help="Monte Carlo (default) or Latin hypercube, for --dist.")
+@click.option("--n", type=int, default=None, help="Number of samples (--dist).")
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random samples.")
+@click.option("--spec", "spec_file", default=None, metavar="FILE.toml",
+              help="The study's settings from a TOML file instead of --dist/--grid/--n/--seed.")
+@click.option("--analysis", "analyses", multiple=True, type=click.Choice(["downlock", "unlock"]),
+              help="Per sample: the downlock force (default), and/or the unlock folds (one release run each).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Fix a parameter (SI units, radians).")
+@click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE", help="Downlock condition (default: the model's).")
+@click.option("--condition", default=None, metavar="NAME", help="Downlock condition: a declared [conditions] name.")
+@click.option("--force", default=None, metavar="NAME", help="The downlock force (default: the model's, F).")
+@click.option("--out", required=True, metavar="DIR", help="Study folder (results.parquet, parts/, study.json).")
+@click.option("--resume", is_flag=True, help="Continue the study in --out: finished chunks are kept, not recomputed.")
+@click.option("--chunk", type=int, default=None, help="Samples per task and per written part (default by analysis).")
+@click.option("--scheduler", default="local", show_default=True, metavar="local|serial|ADDRESS",
+              help="Where chunks run: a local cluster of worker processes, this process, or a Dask scheduler.")
+@click.option("--workers", type=int, default=None, help="Worker processes of the local cluster (default: cores).")
+@click.option("--plot", default=None, metavar="FILE", help="Figure: contour map (2-D grid) or histogram and sensitivities.")
+@click.option("--verbose", is_flag=True, help="One line per chunk written.")
+@click.option("--quiet", is_flag=True, help="Print nothing but errors.")
+def study_command(model, dists, grids, sample, n, seed, spec_file, analyses, sets, holds, condition, force, out,
+                  resume, chunk, scheduler, workers, plot, verbose, quiet):
+    """Sample MODEL's parameters and solve the downlock (and unlock folds) at every sample.
+
+    Results go to --out as Parquet, one part per chunk as soon as it is done, then
+    results.parquet; an interrupted study keeps its finished chunks and --resume computes
+    only the rest. Each sample has a status: converged, or failed and why; failures never
+    stop the study. Prints the probability of not locking unaided (downlock force <= 0) with
+    its 95 % Clopper-Pearson interval and, for sampled tolerances, the sensitivity ranking.
+    """
+    import time
+
+    from .._io import check_output_folder
+
+    plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
+    check_output_folder(out, "--out")
+    for name, v in (("--n", n), ("--chunk", chunk), ("--workers", workers)):
+        if v is not None and v < 1:
+            raise InputError(name, f"must be a positive whole number, got {v}")
+    try:
+        from ..analysis import study as st
+    except ImportError:  # pragma: no cover - the study modules import no optional package at import time
+        raise
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        raise InputError("study", f"needs pyarrow; {_hint()}") from None
+    spec = _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk)
+    where = None if scheduler == "serial" else scheduler
+    from .._progress import Progress
+
+    def chunk_line(k, seconds):
+        if verbose:
+            click.echo(f"chunk {k} written ({seconds:.3g} s)")
+            sys.stdout.flush()
+
+    t0 = time.perf_counter()
+    with Progress("study", total=spec.size, unit="samples", quiet=quiet) as bar:
+        result = st.run_study(spec, out, resume=resume, scheduler=where, workers=workers,
+                              progress=bar.update if bar.enabled else None, on_chunk=chunk_line)
+    seconds = time.perf_counter() - t0
+    df = result.frame()
+    if not quiet:
+        _report(df, spec, result, seconds, where, workers)
+    if plot_path is not None:
+        from ..outputs.study_plots import plot_study
+
+        plot_study(df, plot_path)
+        if not quiet:
+            click.echo(f"wrote {plot_path}")
+
+
+def _hint() -> str:
+    from ..analysis.study import STUDY_EXTRA_HINT
+
+    return STUDY_EXTRA_HINT
+
+
+def _report(df, spec, result, seconds, where, workers) -> None:
+    from ..analysis.study import failure_probability, sensitivity
+
+    ok = df["status"] == "converged"
+    done = len(result.computed)
+    place = "this process" if where is None or done <= 1 else (
+        f"a local cluster of {workers or os.cpu_count()} worker processes" if where == "local" else where)
+    click.echo(f"{spec.size} samples of {spec.model} ({spec.sampling}), {int(ok.sum())} converged, "
+               f"{int((~ok).sum())} failed; {done} chunk(s) computed in {place}, {len(result.reused)} resumed; "
+               f"{seconds:.3g} s")
+    click.echo(failure_probability(df).line())
+    if (~ok).any():
+        reasons = df.loc[~ok, "reason"].value_counts()
+        for text, count in reasons.head(3).items():
+            click.echo(f"warning: {count} sample(s) failed: {text}", err=True)
+    if "unlock_force" in df:
+        found = df["unlock_force"].notna()
+        click.echo(f"unlock fold found for {int(found.sum())} of {int(ok.sum())} converged samples")
+    if spec.sampling != "grid" and int(ok.sum()) >= len(spec.names) + 2:
+        ranking, r2 = sensitivity(df, list(spec.names))
+        click.echo(f"sensitivity of the downlock force (standardised regression coefficients, linear fit R^2 = {r2:.4f}):")
+        units = df.attrs.get("units", {})
+        for s in ranking:
+            unit = f"N/{units.get(s.name) or '1'}"
+            click.echo(f"  {s.name:>10}  SRC {s.src:+.4f}  slope {s.slope:+.6g} {unit}  Spearman {s.spearman:+.4f}")
+    click.echo(f"wrote {result.results}")

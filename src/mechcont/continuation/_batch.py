@@ -1,0 +1,169 @@
+"""Batched square solves: Newton for many parameter sets of one model at once.
+
+A study asks the same question (hold these states, free that force) at thousands of
+parameter sets. One :func:`~mechcont.continuation.find_equilibrium` call costs a few
+hundred microseconds of Python around a few microseconds of compiled code; here every
+step is done for all rows together: the residual and Jacobian of every row in one call
+of the compiled code (:meth:`~mechcont.equations.EquationSystem.residual_and_jacobian_batch`),
+the Newton steps by one stacked :func:`numpy.linalg.solve`, and masks that freeze the rows
+that have converged.
+
+:func:`newton_batch` is the batched twin of :func:`~mechcont.continuation._newton.newton_square`:
+the same damped Newton iteration (full step, halved while the row-scaled residual norm does
+not decrease, at most six halvings), the same stopping test (scaled step below ``tol`` and
+:func:`~mechcont.continuation._newton.residual_met`), applied row by row. What it does not
+do is stop at a singular Jacobian in mid-iteration (the single-point solve estimates the
+condition number at every iteration, an SVD per row): a row whose last Jacobian is that
+ill-conditioned, or that does not converge, or meets a non-finite value, is reported as not
+converged, so that the caller hands it to the single-point path (the stragglers).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..equations import EquationSystem
+
+__all__ = ["BatchSolution", "newton_batch"]
+
+#: Condition number of the row-scaled Jacobian above which a converged row is not trusted
+#: (the single-point solve refuses such a Jacobian as singular).
+SINGULAR_CONDITION = 1e14
+
+
+@dataclass
+class BatchSolution:
+    """Result of :func:`newton_batch`.
+
+    Attributes
+    ----------
+    x:
+        Full variable vectors, one row per parameter set (SI units); rows that did not
+        converge hold the last iterate.
+    converged:
+        Boolean mask of the rows that met the stopping test.
+    iterations:
+        Newton iterations used by each row.
+    reason:
+        Why a row did not converge (``""`` for converged rows).
+    """
+
+    x: np.ndarray
+    converged: np.ndarray
+    iterations: np.ndarray
+    reason: np.ndarray
+
+
+def _residual_met(r: np.ndarray, J: np.ndarray, u: np.ndarray, tol: float) -> np.ndarray:
+    """Row-wise :func:`~mechcont.continuation._newton.residual_met` for stacked ``r (m, n)``, ``J (m, n, n)``."""
+    floor = 100 * np.finfo(float).eps * np.abs(J * u[:, None, :]).sum(axis=2)
+    return np.all(np.abs(r) <= np.maximum(tol, floor), axis=1)
+
+
+def _stacked_solve(J: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``J[i]^-1 b[i]`` for every row; rows with a singular ``J[i]`` get nan (one LAPACK call when none is)."""
+    with np.errstate(all="ignore"):
+        try:
+            return np.linalg.solve(J, b[:, :, None])[:, :, 0]
+        except np.linalg.LinAlgError:  # one singular row spoils the stacked call: solve row by row
+            out = np.full(b.shape, np.nan)
+            for i in range(len(J)):
+                try:
+                    out[i] = np.linalg.solve(J[i], b[i])
+                except np.linalg.LinAlgError:
+                    pass
+            return out
+
+
+def newton_batch(system: EquationSystem, X0: np.ndarray, unknowns: Sequence[str], *, tol: float = 1e-10,
+                 residual_tol: float = 1e-10, max_iter: int = 50) -> BatchSolution:
+    """Solve ``G(x) = 0`` for the ``unknowns`` at every row of ``X0``, all rows at once.
+
+    Parameters
+    ----------
+    system:
+        The compiled equation system.
+    X0:
+        Full variable vectors ``(m, n_variables)``: held values and parameters as given,
+        the unknowns' entries as the initial guess.
+    unknowns:
+        Names solved for, one per equation (see
+        :func:`~mechcont.continuation.choose_unknowns`).
+    tol, residual_tol, max_iter:
+        As for :func:`~mechcont.continuation.find_equilibrium`: the scaled Newton step and
+        the residuals (or their floating-point floor) must fall below them.
+
+    Returns
+    -------
+    BatchSolution
+        Solutions, the converged mask, iterations and reasons; never raises for a row that
+        fails (its reason says why).
+    """
+    system.compile()
+    X = np.array(X0, dtype=float, copy=True)
+    if X.ndim != 2 or X.shape[1] != len(system.names):
+        raise ValueError(f"expected an array (rows, {len(system.names)} variables), got shape {X.shape}")
+    idx = np.array([system.index(n) for n in unknowns])
+    if len(idx) != len(system.equations):
+        raise ValueError(f"{len(idx)} unknowns for {len(system.equations)} equations")
+    scale = system.scales()[idx]
+    m = len(X)
+    converged = np.zeros(m, dtype=bool)
+    iterations = np.zeros(m, dtype=int)
+    reason = np.full(m, "", dtype=object)
+    active = np.arange(m)
+    for it in range(1, max_iter + 1):
+        if not len(active):
+            break
+        Xa = X[active]
+        r_a, J_full = system.residual_and_jacobian_batch(Xa)  # r_a equals the last line search's residual
+        J = J_full[:, :, idx]
+        u = Xa[:, idx]
+        # rows measured against the size of their terms, as in newton_square
+        row = np.maximum(1.0, np.abs(J * scale).max(axis=2))
+        norm = np.linalg.norm(r_a / row, axis=1)
+        du = _stacked_solve(J, -r_a)
+        bad = ~np.all(np.isfinite(du), axis=1)
+        # backtracking line search, row by row: halve lam while the scaled residual norm grows
+        lam = np.ones(len(active))
+        trial = u.copy()
+        r_trial = np.zeros_like(r_a)
+        searching = ~bad
+        while searching.any():
+            s = np.nonzero(searching)[0]
+            Xt = Xa[s].copy()
+            Xt[:, idx] = u[s] + lam[s, None] * du[s]
+            rt = system.residual_batch(Xt)
+            with np.errstate(all="ignore"):
+                n_trial = np.linalg.norm(rt / row[s], axis=1)
+            ok = np.isfinite(n_trial) & ((n_trial < norm[s]) | (lam[s] < 1 / 64) | (n_trial < residual_tol))
+            done = s[ok]
+            trial[done] = Xt[ok][:, idx]
+            r_trial[done] = rt[ok]
+            searching[done] = False
+            lam[s[~ok]] *= 0.5
+        good = ~bad
+        iterations[active[good]] = it
+        X[active[good][:, None], idx] = trial[good]
+        with np.errstate(all="ignore"):
+            step = np.max(np.abs(lam[:, None] * du / scale), axis=1)
+        met = good & (step < tol) & _residual_met(r_trial, J, trial, residual_tol)
+        if met.any():  # the single-point solve would have refused a singular Jacobian
+            where = np.nonzero(met)[0]
+            with np.errstate(all="ignore"):
+                cond = np.linalg.cond(J[where] * scale / row[where][:, :, None])
+            singular = where[~(cond <= SINGULAR_CONDITION)]
+            reason[active[singular]] = "singular Jacobian at the solution"
+            bad[singular] = True
+            met[singular] = False
+        for i in np.nonzero(bad)[0]:
+            if not reason[active[i]]:
+                reason[active[i]] = f"singular Jacobian or non-finite step at iteration {it}"
+        converged[active[met]] = True
+        active = active[~met & ~bad]
+    for i in active:
+        reason[i] = f"Newton did not converge in {max_iter} iterations"
+    return BatchSolution(X, converged, iterations, reason)
