@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import sys
 from pathlib import Path
 
@@ -129,7 +128,7 @@ def study_command(model, dists, grids, sample, n, seed, spec_file, analyses, set
     seconds = time.perf_counter() - t0
     df = result.frame()
     if not quiet:
-        _report(df, spec, result, seconds, where, workers)
+        _report(df, spec, result, seconds)
     if plot_path is not None:
         from ..outputs.study_plots import plot_study
 
@@ -144,13 +143,11 @@ def _hint() -> str:
     return STUDY_EXTRA_HINT
 
 
-def _report(df, spec, result, seconds, where, workers) -> None:
+def _report(df, spec, result, seconds) -> None:
     from ..analysis.study import failure_probability, sensitivity
 
     ok = df["status"] == "converged"
-    done = len(result.computed)
-    place = "this process" if where is None or done <= 1 else (
-        f"a local cluster of {workers or os.cpu_count()} worker processes" if where == "local" else where)
+    done, place = len(result.computed), result.ran_on
     click.echo(f"{spec.size} samples of {spec.model} ({spec.sampling}), {int(ok.sum())} converged, "
                f"{int((~ok).sum())} failed; {done} chunk(s) computed in {place}, {len(result.reused)} resumed; "
                f"{seconds:.3g} s")

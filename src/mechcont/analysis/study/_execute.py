@@ -6,7 +6,8 @@ chunks run:
 
 * ``scheduler=None``: in this process, one after the other;
 * ``scheduler="local"``: a :class:`dask.distributed.LocalCluster` of worker processes
-  (one thread each, ``workers`` of them, default one per core), started and stopped here;
+  (one thread each, ``workers`` of them, default one per core), started and stopped here
+  (not when one chunk is left to compute: that runs in this process);
 * ``scheduler="tcp://HOST:PORT"`` (any address): an existing Dask scheduler.
 
 On Dask the model reaches each worker once: the study spec (with the description file's
@@ -21,6 +22,7 @@ it runs, so the results are the same bits.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import time
 from collections.abc import Callable
@@ -115,6 +117,8 @@ class StudyResult:
         Wall time of this run (s), including starting a cluster.
     samples:
         Number of samples in the study.
+    ran_on:
+        Where the chunks ran: ``"this process"``, a local cluster, or the scheduler's address.
     """
 
     folder: Path
@@ -123,6 +127,7 @@ class StudyResult:
     reused: list[int]
     seconds: float
     samples: int
+    ran_on: str = "this process"
 
     def frame(self):
         """The results as a :class:`pandas.DataFrame` (units in ``.attrs["units"]``)."""
@@ -179,8 +184,7 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
     check_spec(system, spec)
     units = _units(system, spec)
     store = StudyStore(folder, spec, resume=resume)
-    done = store.open()
-    todo = [k for k in range(spec.n_chunks) if k not in done]
+    todo = [k for k in range(spec.n_chunks) if k not in store.done()]
     computed: list[int] = []
 
     def finished(k: int, cols: dict, seconds: float) -> None:
@@ -191,21 +195,31 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
         if on_chunk is not None:
             on_chunk(k, seconds)
 
-    if todo and scheduler is None:
+    if scheduler == "local" and len(todo) <= 1:
+        scheduler = None  # one chunk: starting a cluster would only cost time
+    if todo and scheduler is not None:
+        with _dask_client(scheduler, workers) as client:  # reached before anything is written
+            done = store.open()
+            _run_dask(client, spec, source, [k for k in todo if k not in done], finished)
+    else:
+        done = store.open()
         samples = _samples(spec)
         for k in todo:
             t = time.perf_counter()
             cols = run_chunk(system, spec, k, samples=samples)
             finished(k, cols, time.perf_counter() - t)
-    elif todo:
-        _run_dask(spec, source, todo, scheduler, workers, finished)
     store.combine()
-    return StudyResult(store.folder, store.results, computed, sorted(done), time.perf_counter() - t0, spec.size)
+    ran_on = "this process" if scheduler is None or not todo else (
+        f"a local cluster of {workers or os.cpu_count()} worker processes" if scheduler == "local" else scheduler)
+    return StudyResult(store.folder, store.results, computed, sorted(done), time.perf_counter() - t0, spec.size,
+                       ran_on)
 
 
-def _run_dask(spec, source, todo, scheduler, workers, finished) -> None:
+@contextlib.contextmanager
+def _dask_client(scheduler: str, workers: int | None):
+    """A :class:`dask.distributed.Client` of a new local cluster (``"local"``) or of the scheduler at an address."""
     try:
-        from dask.distributed import Client, LocalCluster, as_completed
+        from dask.distributed import Client, LocalCluster
     except ImportError:
         raise InputError("--scheduler", f"running on Dask needs dask.distributed; {STUDY_EXTRA_HINT}") from None
     cluster = None
@@ -222,17 +236,23 @@ def _run_dask(spec, source, todo, scheduler, workers, finished) -> None:
         except (OSError, TimeoutError, ValueError) as exc:
             raise InputError("--scheduler", f"cannot reach the Dask scheduler at {scheduler!r}: {exc}") from None
     try:
-        # the spec and the model's source go to every worker once; tasks refer to them
-        shipped_source, shipped_spec = client.scatter([source, spec], broadcast=True)
-        futures = [client.submit(_chunk_task, shipped_source, shipped_spec, k, pure=False) for k in todo]
-        try:
-            for fut in as_completed(futures):
-                k, cols, seconds = fut.result()
-                finished(k, cols, seconds)
-        finally:
-            for fut in futures:
-                fut.cancel()
+        yield client
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _run_dask(client, spec, source, todo, finished) -> None:
+    from dask.distributed import as_completed
+
+    # the spec and the model's source go to every worker once; tasks refer to them
+    shipped_source, shipped_spec = client.scatter([source, spec], broadcast=True)
+    futures = [client.submit(_chunk_task, shipped_source, shipped_spec, k, pure=False) for k in todo]
+    try:
+        for fut in as_completed(futures):
+            k, cols, seconds = fut.result()
+            finished(k, cols, seconds)
+    finally:
+        for fut in futures:
+            fut.cancel()
