@@ -106,3 +106,27 @@ def test_mc_chunk_matches_single_point_and_is_batched(nose):
         x = downlock_point(nose, {"LU": cols["LU"][i], "l_sp1": cols["l_sp1"][i]})
         assert cols["downlock_force"][i] == pytest.approx(x[nose.index("F")], rel=1e-10)
     assert (cols["locks_unaided"] == (cols["downlock_force"] > 0)).all()
+
+
+def test_batched_unlock_folds_equal_release_runs(lockstay):
+    """The unlock folds of a chunk, polished all at once from its first sample's folds
+    (continuation._batch.fold_batch), equal each sample's own release run (unlock_folds) to 1e-9,
+    with the same stability; the fold margin is the unlock force less the downlock force."""
+    from mechcont.analysis import unlock_folds
+
+    spec = StudySpec("lockstay.toml", "mc", (("k", Distribution("normal", (20000.0, 1500.0))),
+                                             ("LU", Distribution("normal", (0.6, 0.005)))), n=25, seed=3,
+                     analyses=("unlock",), chunk=25)
+    cols = run_chunk(lockstay, spec, 0)
+    assert (cols["status"] == "converged").all()
+    assert (cols["unlock_path"][1:] == "batched").all() and cols["unlock_path"][0] == "single"
+    h, f = downlock_condition(lockstay)
+    for i in range(25):
+        x = downlock_point(lockstay, {"k": cols["k"][i], "LU": cols["LU"][i]})
+        u = unlock_folds(lockstay, x, f, released=list(h))
+        assert cols["unlock_force"][i] == pytest.approx(u.unlock_force, rel=1e-9)
+        lo = u.locked_range[0]
+        assert (np.isnan(cols["unlock_force_decreasing"][i]) and not np.isfinite(lo)) or \
+            cols["unlock_force_decreasing"][i] == pytest.approx(lo, rel=1e-9)
+        assert cols["stable"][i] == u.stable
+        assert cols["unlock_margin"][i] == cols["unlock_force"][i] - cols["downlock_force"][i]

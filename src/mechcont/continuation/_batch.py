@@ -27,7 +27,7 @@ import numpy as np
 
 from ..equations import EquationSystem
 
-__all__ = ["BatchSolution", "newton_batch"]
+__all__ = ["BatchSolution", "BatchFolds", "newton_batch", "fold_batch"]
 
 #: Condition number of the row-scaled Jacobian above which a converged row is not trusted
 #: (the single-point solve refuses such a Jacobian as singular).
@@ -167,3 +167,119 @@ def newton_batch(system: EquationSystem, X0: np.ndarray, unknowns: Sequence[str]
     for i in active:
         reason[i] = f"Newton did not converge in {max_iter} iterations"
     return BatchSolution(X, converged, iterations, reason)
+
+
+@dataclass
+class BatchFolds:
+    """Result of :func:`fold_batch`.
+
+    Attributes
+    ----------
+    x:
+        Full variable vectors at the folds (SI units), one row per parameter set.
+    v:
+        Null vectors over the states (unscaled, unit length), one row each.
+    converged:
+        Boolean mask of the rows that met the stopping test.
+    iterations:
+        Newton iterations used by each row.
+    """
+
+    x: np.ndarray
+    v: np.ndarray
+    converged: np.ndarray
+    iterations: np.ndarray
+
+
+def _hessian_contraction(system: EquationSystem, X: np.ndarray, VF: np.ndarray) -> np.ndarray:
+    """Row-wise :meth:`~mechcont.equations.EquationSystem.jacobian_derivative`: ``(m, n_eq, n_variables)``."""
+    from scipy import sparse
+
+    code = system.compile(second_derivatives=True)._code
+    n_eq, n = len(system.equations), len(system.names)
+    W = code["hess_values"].batch(X) * VF[:, code["hess_j"]]
+    key = "_batch_hess_scatter"
+    S = code.get(key)
+    if S is None:  # entry k of the second derivatives adds to flat position hess_ik[k]
+        nnz = len(code["hess_ik"])
+        S = code[key] = sparse.csr_matrix((np.ones(nnz), (code["hess_ik"], np.arange(nnz))), shape=(n_eq * n, nnz))
+    return np.asarray(S @ W.T).T.reshape(len(X), n_eq, n)
+
+
+def fold_batch(system: EquationSystem, X0: np.ndarray, V0: np.ndarray, states: Sequence[str], param: str, *,
+               tol: float = 1e-11, residual_tol: float = 1e-10, max_iter: int = 30) -> BatchFolds:
+    """Folds in ``param`` near every row of ``X0`` at once: Newton on the standard augmented system.
+
+    The batched twin of :func:`~mechcont.continuation._folds.polish_fold`: unknowns the
+    ``states``, ``param`` and the null vector ``v_hat`` in equilibrated coordinates
+    (``v = col * v_hat``, ``|v_hat| = 1``), equations ``G = 0``, ``G_s col v_hat = 0``,
+    ``(|v_hat|^2 - 1)/2 = 0``, rows and columns equilibrated. One scaling serves all rows: it
+    is read off the Jacobian at the first row (:func:`~mechcont.continuation._folds.fold_scaling`),
+    so the rows should be perturbations of one fold (a tolerance study); Newton's iterates do
+    not depend on the scaling, only the stopping test is measured in it. Full Newton steps (no
+    line search), stopped per row when the scaled step is below ``tol`` and the residuals
+    below ``residual_tol`` or their floating-point floor.
+
+    Parameters
+    ----------
+    system:
+        The compiled model.
+    X0:
+        Full variable vectors ``(m, n_variables)``: each row's parameters, and a guess of its fold.
+    V0:
+        Guess of the null vector over the states ``(m, len(states))`` or ``(len(states),)``.
+    states, param:
+        The unknowns whose Jacobian is singular at the fold, and the fold's parameter.
+
+    Returns
+    -------
+    BatchFolds
+        Never raises for a row that fails: it is not in ``converged`` (hand it to the
+        single-point path).
+    """
+    from ._folds import fold_scaling
+
+    X = np.array(X0, dtype=float, copy=True)
+    m = len(X)
+    idx = np.array([system.index(n) for n in [*states, param]])
+    n = len(states)
+    state_idx = idx[:n]
+    row, col = fold_scaling(system, X[0], idx)
+    V0 = np.broadcast_to(np.asarray(V0, dtype=float), (m, n))
+    VH = V0 / col[:n]
+    VH = VH / np.linalg.norm(VH, axis=1, keepdims=True)
+    rows = np.concatenate([row, row, [1.0]])
+    cols = np.concatenate([col, np.ones(n)])
+    converged = np.zeros(m, dtype=bool)
+    iterations = np.zeros(m, dtype=int)
+    active = np.arange(m)
+    n_eq = len(system.equations)
+    for it in range(1, max_iter + 1):
+        if not len(active):
+            break
+        Xa, vh = X[active], VH[active]
+        r, J = system.residual_and_jacobian_batch(Xa)
+        Jv = J[:, :, state_idx] * col[:n]
+        VF = np.zeros_like(Xa)
+        VF[:, state_idx] = col[:n] * vh
+        H = _hessian_contraction(system, Xa, VF)
+        F = np.concatenate([r, np.einsum("mij,mj->mi", Jv, vh), 0.5 * (np.sum(vh * vh, axis=1, keepdims=True) - 1)], 1)
+        JF = np.zeros((len(active), 2 * n_eq + 1, len(idx) + n))
+        JF[:, :n_eq, :len(idx)] = J[:, :, idx]
+        JF[:, n_eq:2 * n_eq, :len(idx)] = H[:, :, idx]
+        JF[:, n_eq:2 * n_eq, len(idx):] = Jv
+        JF[:, 2 * n_eq, len(idx):] = vh
+        dU = _stacked_solve(JF * rows[:, None] * cols, -rows * F)
+        good = np.all(np.isfinite(dU), axis=1)
+        U = np.concatenate([Xa[:, idx], vh], axis=1) + cols * np.where(good[:, None], dU, 0.0)
+        X[active[:, None], idx] = U[:, :len(idx)]
+        VH[active] = U[:, len(idx):]
+        iterations[active] = it
+        step = np.max(np.abs(dU), axis=1)
+        r_new, J_new = system.residual_and_jacobian_batch(X[active])
+        met = good & (step < tol) & _residual_met(r_new, J_new[:, :, idx], X[active][:, idx], residual_tol)
+        converged[active[met]] = True
+        active = active[good & ~met]
+    v = col[:n] * VH
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    return BatchFolds(X, v, converged, iterations)

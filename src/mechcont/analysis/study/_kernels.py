@@ -13,7 +13,12 @@ stops the chunk.
   the single-point path, and marked ``single``).
   ``locks_unaided`` is ``downlock_force > 0``.
 * ``unlock``: the folds bounding the locked state through the downlocked point
-  (:func:`mechcont.analysis.unlock_folds`, one release run per sample): ``unlock_force``
+  (:func:`mechcont.analysis.unlock_folds`, a release run, for the chunk's first sample; the
+  others' folds polished all at once from its folds by
+  :func:`mechcont.continuation._batch.fold_batch`, and a release run of their own for those
+  whose fold is not found so, lies on the wrong side of the downlock force, or moved further
+  than :data:`MAX_MOVE`, and for all when the first sample has no located fold; a side on
+  which the first sample has no fold is not searched for the others, and their note says so): ``unlock_force``
   (reached by increasing the force), ``unlock_force_decreasing``, and the fold margin
   ``unlock_margin = unlock_force - downlock_force`` (N): the force the locked state still
   carries beyond the downlock force. ``nan`` where no fold bounds that side (with a note).
@@ -24,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...continuation import choose_unknowns
-from ...continuation._batch import newton_batch
+from ...continuation._batch import fold_batch, newton_batch
 from ...errors import ConvergenceError, InputError
 from ..downlock import downlock_condition, downlock_point
 from ..unlock import unlock_folds
@@ -50,6 +55,7 @@ COLUMNS = {
     "unlock_margin": ("N", "unlock_force - downlock_force: the fold margin"),
     "stable": ("", "the downlocked point is physically stable"),
     "unlock_note": ("", "why a side has no fold"),
+    "unlock_path": ("", "batched (folds polished with the chunk from its first sample's) or single (own release run)"),
 }
 
 
@@ -146,12 +152,15 @@ def _unlock_columns(system, X, F, status, reason, f, released) -> dict:
     above, below = np.full(m, np.nan), np.full(m, np.nan)
     stable = np.full(m, None, dtype=object)
     note = np.full(m, "", dtype=object)
-    for i in np.nonzero(status == "converged")[0]:
+    path = np.full(m, "", dtype=object)
+
+    def single(i):
+        path[i] = "single"
         try:
             u = unlock_folds(system, X[i], f, released=released)
         except (ConvergenceError, InputError) as exc:  # unlock_folds reports failures itself; belt and braces
             status[i], reason[i] = "failed", f"unlock folds: {exc}"
-            continue
+            return None
         if u.warnings:
             status[i], reason[i] = "failed", "unlock folds: " + "; ".join(u.warnings)
         lo, hi = u.locked_range
@@ -159,5 +168,42 @@ def _unlock_columns(system, X, F, status, reason, f, released) -> dict:
         below[i] = lo if np.isfinite(lo) else np.nan
         stable[i] = u.stable
         note[i] = "; ".join(u.notes)
+        return u
+
+    rows = np.nonzero(status == "converged")[0]
+    if len(rows):
+        ref = single(rows[0])
+        rest = rows[1:]
+        # the others from the reference's folds, all at once; a row whose fold is not found so,
+        # or not on its side of the downlock force, or far from the reference, is run alone
+        ok = np.ones(len(rest), dtype=bool)
+        sides = [] if ref is None or ref.warnings else [
+            (p, out, sign) for p, out, sign in ((ref.above, above, 1), (ref.below, below, -1)) if p is not None]
+        if not sides or any(not p.located for p, _, _ in sides):
+            ok[:] = False
+        else:
+            missing = [n for n in ref.notes if n.startswith("no fold")]
+            note[rest] = "; ".join(f"{n} (for the chunk's first sample; not searched for this one)" for n in missing)
+            params = np.array([i for i, v in enumerate(system.variables) if v.kind == "parameter" and v.name != f])
+            geo = np.array([i for i, v in enumerate(system.variables) if v.kind == "state" and v.unit in ("rad", "m")],
+                           dtype=int)
+            scales = system.scales()
+            for p, out, sign in sides:
+                G = np.tile(p.x, (len(rest), 1))
+                G[:, params] = X[rest][:, params]
+                fb = fold_batch(system, G, p.info["null_vector"], list(system.state_names), f)
+                moved = np.max(np.abs(fb.x[:, geo] - p.x[geo]) / scales[geo], axis=1, initial=0.0)
+                Ff = fb.x[:, system.index(f)]
+                good = fb.converged & (moved <= MAX_MOVE) & (sign * (Ff - F[rest]) > 0)
+                out[rest[good]] = Ff[good]
+                ok &= good
+        for j, i in enumerate(rest):
+            if ok[j]:
+                path[i] = "batched"
+                if system.mechanics is not None:
+                    stable[i] = bool(system.mechanics.stability(X[i]).stable)
+            else:
+                above[i] = below[i] = np.nan
+                single(i)
     return {"unlock_force": above, "unlock_force_decreasing": below, "unlock_margin": above - F, "stable": stable,
-            "unlock_note": note}
+            "unlock_note": note, "unlock_path": path}
