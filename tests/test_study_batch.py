@@ -130,3 +130,20 @@ def test_batched_unlock_folds_equal_release_runs(lockstay):
             cols["unlock_force_decreasing"][i] == pytest.approx(lo, rel=1e-9)
         assert cols["stable"][i] == u.stable
         assert cols["unlock_margin"][i] == cols["unlock_force"][i] - cols["downlock_force"][i]
+
+
+def test_branch_summary_of_each_release_run(lockstay):
+    """`branch`: every sample's own release run, summarised. Each direction stops at its first fold,
+    so the largest force of the run is the unlock fold; the unlock columns from these runs equal the
+    batched ones."""
+    params = (("k", Distribution("normal", (20000.0, 1500.0))), ("LU", Distribution("normal", (0.6, 0.005))))
+    both = run_chunk(lockstay, StudySpec("lockstay.toml", "mc", params, n=6, seed=8, analyses=("unlock", "branch")), 0)
+    batched = run_chunk(lockstay, StudySpec("lockstay.toml", "mc", params, n=6, seed=8, analyses=("unlock",)), 0)
+    assert (both["unlock_path"] == "single").all() and (batched["unlock_path"][1:] == "batched").all()
+    assert (both["branch_folds"] == 1).all() and (both["branch_points"] > 10).all()
+    assert set(both["branch_status"]) == {"completed"}
+    assert np.array_equal(both["branch_force_high"], both["unlock_force"])
+    assert (both["branch_force_low"] < both["downlock_force"]).all()
+    np.testing.assert_allclose(both["unlock_force"], batched["unlock_force"], rtol=1e-9)
+    only = run_chunk(lockstay, StudySpec("lockstay.toml", "mc", params, n=2, seed=8, analyses=("branch",)), 0)
+    assert "unlock_force" not in only and "branch_folds" in only

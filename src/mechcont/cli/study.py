@@ -70,8 +70,9 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random samples.")
 @click.option("--spec", "spec_file", default=None, metavar="FILE.toml",
               help="The study's settings from a TOML file instead of --dist/--grid/--n/--seed.")
-@click.option("--analysis", "analyses", multiple=True, type=click.Choice(["downlock", "unlock"]),
-              help="Per sample: the downlock force (default), and/or the unlock folds (one release run each).")
+@click.option("--analysis", "analyses", multiple=True, type=click.Choice(["downlock", "unlock", "branch"]),
+              help="Per sample: the downlock force (default); the unlock folds and fold margin; a summary of "
+                   "the sample's own release run (branch).")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Fix a parameter (SI units, radians).")
 @click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE", help="Downlock condition (default: the model's).")
 @click.option("--condition", default=None, metavar="NAME", help="Downlock condition: a declared [conditions] name.")
@@ -159,6 +160,9 @@ def _report(df, spec, result, seconds) -> None:
     if "unlock_force" in df:
         found = df["unlock_force"].notna()
         click.echo(f"unlock fold found for {int(found.sum())} of {int(ok.sum())} converged samples")
+    if "branch_folds" in df:
+        counts = df.loc[ok, "branch_folds"].value_counts().sort_index()
+        click.echo("release runs: " + ", ".join(f"{int(c)} with {int(k)} fold(s)" for k, c in counts.items()))
     if spec.sampling != "grid" and int(ok.sum()) >= len(spec.names) + 2:
         ranking, r2 = sensitivity(df, list(spec.names))
         click.echo(f"sensitivity of the downlock force (standardised regression coefficients, linear fit R^2 = {r2:.4f}):")

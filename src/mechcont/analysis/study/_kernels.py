@@ -22,6 +22,9 @@ stops the chunk.
   (reached by increasing the force), ``unlock_force_decreasing``, and the fold margin
   ``unlock_margin = unlock_force - downlock_force`` (N): the force the locked state still
   carries beyond the downlock force. ``nan`` where no fold bounds that side (with a note).
+* ``branch``: a summary of every sample's own release run (no batching): its points, folds,
+  unstable points, the range of the force it covered and how it ended; with ``unlock`` the
+  unlock columns then come from the same runs.
 """
 
 from __future__ import annotations
@@ -56,6 +59,12 @@ COLUMNS = {
     "stable": ("", "the downlocked point is physically stable"),
     "unlock_note": ("", "why a side has no fold"),
     "unlock_path": ("", "batched (folds polished with the chunk from its first sample's) or single (own release run)"),
+    "branch_points": ("", "points of the release run (continuation in the force, condition released)"),
+    "branch_folds": ("", "folds (LP) on the release run: each direction stops at its first"),
+    "branch_unstable_points": ("", "release-run points with an unstable direction"),
+    "branch_force_low": ("N", "smallest force reached by the release run"),
+    "branch_force_high": ("N", "largest force reached by the release run"),
+    "branch_status": ("", "how the release run ended: completed, stopped early, failed"),
 }
 
 
@@ -142,14 +151,24 @@ def run_chunk(system, spec: StudySpec, k: int, samples: np.ndarray | None = None
     F = X[:, system.index(f)]
     out = {"sample": np.arange(start, stop, dtype=np.int64), **{n: S[:, j] for j, n in enumerate(names)},
            "status": status, "reason": reason, "path": path, "downlock_force": F, "locks_unaided": F > 0}
-    if "unlock" in spec.analyses:
-        out.update(_unlock_columns(system, X, F, status, reason, f, list(h)))
+    if "unlock" in spec.analyses or "branch" in spec.analyses:
+        cols = _unlock_columns(system, X, F, status, reason, f, list(h), batched="branch" not in spec.analyses)
+        keep = [*(_UNLOCK if "unlock" in spec.analyses else ()), *(_BRANCH if "branch" in spec.analyses else ())]
+        out.update({k: cols[k] for k in keep})
     return out
 
 
-def _unlock_columns(system, X, F, status, reason, f, released) -> dict:
+_UNLOCK = ("unlock_force", "unlock_force_decreasing", "unlock_margin", "stable", "unlock_note", "unlock_path")
+_BRANCH = ("branch_points", "branch_folds", "branch_unstable_points", "branch_force_low", "branch_force_high",
+           "branch_status")
+
+
+def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = True) -> dict:
     m = len(X)
     above, below = np.full(m, np.nan), np.full(m, np.nan)
+    points, folds, unstable = (np.zeros(m, dtype=np.int64) for _ in range(3))
+    f_low, f_high = np.full(m, np.nan), np.full(m, np.nan)
+    how = np.full(m, "", dtype=object)
     stable = np.full(m, None, dtype=object)
     note = np.full(m, "", dtype=object)
     path = np.full(m, "", dtype=object)
@@ -159,7 +178,7 @@ def _unlock_columns(system, X, F, status, reason, f, released) -> dict:
         try:
             u = unlock_folds(system, X[i], f, released=released)
         except (ConvergenceError, InputError) as exc:  # unlock_folds reports failures itself; belt and braces
-            status[i], reason[i] = "failed", f"unlock folds: {exc}"
+            status[i], reason[i], how[i] = "failed", f"unlock folds: {exc}", "failed"
             return None
         if u.warnings:
             status[i], reason[i] = "failed", "unlock folds: " + "; ".join(u.warnings)
@@ -168,6 +187,15 @@ def _unlock_columns(system, X, F, status, reason, f, released) -> dict:
         below[i] = lo if np.isfinite(lo) else np.nan
         stable[i] = u.stable
         note[i] = "; ".join(u.notes)
+        b = u.branch
+        if b is not None and len(b):
+            Fb = b[f]
+            points[i], folds[i] = len(b), len(b.special("LP"))
+            unstable[i] = int(np.sum(np.asarray(b.n_unstable) > 0))
+            f_low[i], f_high[i] = float(np.min(Fb)), float(np.max(Fb))
+            how[i] = b.status if not u.warnings else "stopped early"
+        else:
+            how[i] = "failed"
         return u
 
     rows = np.nonzero(status == "converged")[0]
@@ -179,7 +207,7 @@ def _unlock_columns(system, X, F, status, reason, f, released) -> dict:
         ok = np.ones(len(rest), dtype=bool)
         sides = [] if ref is None or ref.warnings else [
             (p, out, sign) for p, out, sign in ((ref.above, above, 1), (ref.below, below, -1)) if p is not None]
-        if not sides or any(not p.located for p, _, _ in sides):
+        if not batched or not sides or any(not p.located for p, _, _ in sides):
             ok[:] = False
         else:
             missing = [n for n in ref.notes if n.startswith("no fold")]
@@ -206,4 +234,6 @@ def _unlock_columns(system, X, F, status, reason, f, released) -> dict:
                 above[i] = below[i] = np.nan
                 single(i)
     return {"unlock_force": above, "unlock_force_decreasing": below, "unlock_margin": above - F, "stable": stable,
-            "unlock_note": note, "unlock_path": path}
+            "unlock_note": note, "unlock_path": path, "branch_points": points, "branch_folds": folds,
+            "branch_unstable_points": unstable, "branch_force_low": f_low, "branch_force_high": f_high,
+            "branch_status": how}

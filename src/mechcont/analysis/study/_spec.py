@@ -35,11 +35,11 @@ __all__ = ["Distribution", "GridAxis", "StudySpec", "ANALYSES", "SAMPLINGS", "pa
 #: Sampling schemes: a full grid, a Latin hypercube, plain Monte Carlo.
 SAMPLINGS = ("grid", "lhs", "mc")
 #: Analyses of each sample (see :mod:`mechcont.analysis.study._kernels`).
-ANALYSES = ("downlock", "unlock")
+ANALYSES = ("downlock", "unlock", "branch")
 #: Samples per chunk when not given: a chunk should take >= 0.1 s (the batched downlock
 #: solves ~15,000 nose-gear samples per second; the unlock folds cost one release run per chunk and
 #: a batched fold polish, or a release run per sample where the batch does not apply).
-DEFAULT_CHUNK = {"downlock": 1000, "unlock": 100}
+DEFAULT_CHUNK = {"downlock": 1000, "unlock": 100, "branch": 10}
 #: Fields of each distribution, in the order of the ``KIND:A:B...`` form.
 _FIELDS = {"uniform": ("low", "high"), "normal": ("mean", "sd"), "truncnormal": ("mean", "sd", "low", "high")}
 
@@ -185,7 +185,7 @@ class StudySpec:
     seed:
         Seed of the random numbers (same seed, same samples).
     analyses:
-        Subset of :data:`ANALYSES`, in order; ``unlock`` includes the downlock solve.
+        Subset of :data:`ANALYSES`, in order; each includes the downlock solve.
     values:
         ``((name, value), ...)``: parameters fixed for the whole study (SI).
     hold, condition, force:
