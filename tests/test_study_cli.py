@@ -155,3 +155,28 @@ def test_grid_study_reproduces_the_design_map():
     b = region.boundary
     on = np.column_stack([b["l_sp1"], b["LU"]])
     assert np.max(np.abs(interp(on))) < 0.02 * np.max(np.abs(F))
+
+
+def test_spec_file_is_data_with_whitelisted_keys(tmp_path):
+    """A TOML study file gives the same study as the options; unknown keys and non-numbers are one line."""
+    spec = tmp_path / "study.toml"
+    spec.write_text('sampling = "lhs"\nn = 40\nseed = 2\n[parameters]\nLU = "normal:1.3:0.01"\n'
+                    'l_sp1 = { distribution = "uniform", low = 0.05, high = 0.15 }\n[set]\nk = 25000\n')
+    r = run("study", "nose_gear", "--spec", spec, "--out", tmp_path / "a", "--scheduler", "serial")
+    assert r.exit_code == 0, r.output
+    r2 = run("study", "nose_gear", "--dist", "LU=normal:1.3:0.01", "--dist", "l_sp1=uniform:0.05:0.15", "--sample", "lhs",
+             "--n", "40", "--seed", "2", "--set", "k=25000", "--out", tmp_path / "b", "--scheduler", "serial")
+    assert r2.exit_code == 0, r2.output
+    assert read_results(tmp_path / "a" / "results.parquet").equals(read_results(tmp_path / "b" / "results.parquet"))
+    for text, words in [('sampling = "mc"\nn = 4\nimport = "os"\n[parameters]\nLU = "normal:1.3:0.01"\n',
+                         ["study.toml.import", "unknown key"]),
+                        ('sampling = "mc"\nn = 4\n[parameters]\nLU = "normal:__import__(\'os\'):0.01"\n',
+                         ["study.toml.parameters.LU", "not a number"]),
+                        ('sampling = "mc"\nn = 4\n[parameters]\nLU = { distribution = "normal", mean = 1.3 }\n',
+                         ["study.toml.parameters.LU.sd", "not a number"])]:
+        spec.write_text(text)
+        one_line_error(run("study", "nose_gear", "--spec", spec, "--out", tmp_path / "c", "--scheduler", "serial"), *words)
+    assert not (tmp_path / "c").exists()
+    one_line_error(run("study", "nose_gear", "--grid", "LU=1.2:1.4:2", "--grid", "k=1e4:2e4:2", "--grid", "L4=0.3:0.4:2",
+                       "--plot", tmp_path / "p.png", "--out", tmp_path / "d"), "--plot", "no figure")
+    assert not (tmp_path / "d").exists()

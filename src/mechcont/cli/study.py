@@ -114,6 +114,8 @@ def study_command(model, dists, grids, sample, n, seed, spec_file, analyses, set
     except ImportError:
         raise InputError("study", f"needs pyarrow; {_hint()}") from None
     spec = _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk)
+    if plot_path is not None and spec.sampling == "grid" and len(spec.parameters) > 2:
+        raise InputError("--plot", f"a grid over {len(spec.parameters)} parameters has no figure; use one or two --grid")
     where = None if scheduler == "serial" else scheduler
     from .._progress import Progress
 
