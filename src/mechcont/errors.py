@@ -6,7 +6,9 @@ valid, so the CLI can print it as is and exit with status 2.
 
 from __future__ import annotations
 
-__all__ = ["MechcontError", "InputError", "ConvergenceError", "one_line"]
+import math
+
+__all__ = ["MechcontError", "InputError", "ConvergenceError", "finite_number", "one_line"]
 
 
 class MechcontError(Exception):
@@ -43,3 +45,17 @@ class ConvergenceError(MechcontError):
     def __init__(self, message: str, partial=None):
         self.partial = partial
         super().__init__(message)
+
+
+def finite_number(text, field: str) -> float:
+    """``text`` (a string or number from the command line or a file) as a finite float, else
+    :class:`InputError` naming ``field``; ``True``/``False`` are not numbers."""
+    if isinstance(text, bool):
+        raise InputError(field, f"'{text}' is not a number (SI units, radians)")
+    try:
+        v = float(text)
+    except (TypeError, ValueError):
+        raise InputError(field, f"'{text}' is not a number (SI units, radians)") from None
+    if not math.isfinite(v):
+        raise InputError(field, f"'{text}' is not a finite number")
+    return v

@@ -5,20 +5,14 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 
-from ..errors import InputError
+from ..errors import InputError, finite_number
 
 __all__ = ["assignments", "bounds", "names", "number"]
 
 
 def number(text: str, field: str) -> float:
     """``text`` as a finite float, else InputError naming ``field``."""
-    try:
-        v = float(text)
-    except (TypeError, ValueError):
-        raise InputError(field, f"'{text}' is not a number (SI units, radians)") from None
-    if not math.isfinite(v):
-        raise InputError(field, f"'{text}' is not a finite number")
-    return v
+    return finite_number(text, field)
 
 
 def assignments(items: Iterable[str], option: str) -> dict[str, float]:

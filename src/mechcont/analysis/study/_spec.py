@@ -21,14 +21,13 @@ distribution's inverse CDF.
 from __future__ import annotations
 
 import hashlib
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ...errors import InputError
+from ...errors import InputError, finite_number
 
 __all__ = ["Distribution", "GridAxis", "StudySpec", "ANALYSES", "SAMPLINGS", "parse_distribution", "parse_axis"]
 
@@ -42,18 +41,6 @@ ANALYSES = ("downlock", "unlock", "branch")
 DEFAULT_CHUNK = {"downlock": 1000, "unlock": 100, "branch": 10}
 #: Fields of each distribution, in the order of the ``KIND:A:B...`` form.
 _FIELDS = {"uniform": ("low", "high"), "normal": ("mean", "sd"), "truncnormal": ("mean", "sd", "low", "high")}
-
-
-def _number(text, field_name: str) -> float:
-    if isinstance(text, bool):
-        raise InputError(field_name, f"'{text}' is not a number (SI units, radians)")
-    try:
-        v = float(text)
-    except (TypeError, ValueError):
-        raise InputError(field_name, f"'{text}' is not a number (SI units, radians)") from None
-    if not math.isfinite(v):
-        raise InputError(field_name, f"'{text}' is not a finite number")
-    return v
 
 
 @dataclass(frozen=True)
@@ -142,7 +129,7 @@ def parse_distribution(text: str, name: str) -> Distribution:
         raise InputError(name, f"{kind} needs {len(_FIELDS[kind])} numbers, {kind}:{':'.join(_FIELDS[kind]).upper()}; "
                                f"got '{text}'")
     try:
-        return Distribution(kind, tuple(_number(v.strip(), f"{name} {f}") for v, f in zip(nums, _FIELDS[kind])))
+        return Distribution(kind, tuple(finite_number(v.strip(), f"{name} {f}") for v, f in zip(nums, _FIELDS[kind])))
     except InputError as exc:
         raise InputError(name, str(exc)) from None
 
@@ -152,7 +139,7 @@ def parse_axis(text: str, name: str) -> GridAxis:
     parts = str(text).split(":")
     if len(parts) != 3:
         raise InputError(name, f"'{text}' is not LO:HI:N")
-    lo, hi = (_number(p.strip(), name) for p in parts[:2])
+    lo, hi = (finite_number(p.strip(), name) for p in parts[:2])
     try:
         n = int(parts[2].strip())
     except ValueError:
@@ -336,7 +323,7 @@ class StudySpec:
             table = data.get(key, {})
             if not isinstance(table, Mapping):
                 raise InputError(f"{where}.{key}", "must be a table NAME = VALUE")
-            return tuple((str(k), _number(v, f"{where}.{key}.{k}")) for k, v in table.items())
+            return tuple((str(k), finite_number(v, f"{where}.{key}.{k}")) for k, v in table.items())
 
         def whole(key, default):
             v = data.get(key, default)
@@ -383,11 +370,11 @@ def _from_table(d: Mapping, label: str, sampling: str):
                 raise InputError(f"{label}.{k}", f"unknown key; valid: {', '.join(allowed)}")
         if "n" not in d or isinstance(d["n"], bool) or not isinstance(d["n"], int):
             raise InputError(f"{label}.n", "give the number of values (a whole number)")
-        return GridAxis(_number(d.get("low"), f"{label}.low"), _number(d.get("high"), f"{label}.high"), int(d["n"]))
+        return GridAxis(finite_number(d.get("low"), f"{label}.low"), finite_number(d.get("high"), f"{label}.high"), int(d["n"]))
     kind = str(d.get("distribution", "")).lower()
     if kind not in _FIELDS:
         raise InputError(f"{label}.distribution", f"give one of {', '.join(_FIELDS)}")
     for k in d:
         if k != "distribution" and k not in _FIELDS[kind]:
             raise InputError(f"{label}.{k}", f"unknown key for {kind}; valid: {', '.join(_FIELDS[kind])}")
-    return Distribution(kind, tuple(_number(d.get(f), f"{label}.{f}") for f in _FIELDS[kind]))
+    return Distribution(kind, tuple(finite_number(d.get(f), f"{label}.{f}") for f in _FIELDS[kind]))
