@@ -71,7 +71,7 @@ def check_actuators(mech) -> None:
 def actuator_length(kin, act: Actuator) -> sp.Expr:
     """``|P_b - P_a|`` (m) of ``act`` in the coordinates of ``kin``."""
     d = kin.point(act.b) - kin.point(act.a)
-    return sp.sqrt(d[0] ** 2 + d[1] ** 2)
+    return sp.sqrt(sum((c ** 2 for c in d), sp.S.Zero))
 
 
 def actuator_potential(kin) -> sp.Expr:

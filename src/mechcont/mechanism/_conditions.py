@@ -38,7 +38,7 @@ __all__ = ["Condition", "DownlockSpec", "condition_expr", "check_conditions", "c
 #: Keys of a ``[conditions]`` entry per kind (an expression may also be a bare string).
 CONDITION_KEYS: dict[str, frozenset[str]] = {
     "expression": frozenset({"type", "expr", "unit", "target", "description"}),
-    "collinear": frozenset({"type", "points", "target", "description"}),
+    "collinear": frozenset({"type", "points", "normal", "target", "description"}),
     "distance": frozenset({"type", "points", "target", "description"}),
     "angle": frozenset({"type", "bodies", "target", "description"}),
 }
@@ -63,6 +63,9 @@ class Condition:
         Point references (three for collinear, two for distance).
     bodies:
         Two body names (angle).
+    normal:
+        Collinear condition of a spatial mechanism: the direction (3 numbers) about which the
+        sine is signed, ``((P2 - P1) x (P3 - P1)) . n / (|P2 - P1| |P3 - P1| |n|)``.
     target:
         Value held by the downlock analysis (None: default 0, none for a distance).
     unit:
@@ -79,6 +82,7 @@ class Condition:
     target: Value | None = None
     unit: str = ""
     description: str = ""
+    normal: Sequence[float] = ()
 
     @property
     def value_unit(self) -> str:
@@ -95,12 +99,17 @@ class DownlockSpec:
     force: str
 
 
-def _cross(u: sp.Matrix, v: sp.Matrix) -> sp.Expr:
-    return u[0] * v[1] - u[1] * v[0]
+def _cross(u: sp.Matrix, v: sp.Matrix, normal: Sequence = ()) -> sp.Expr:
+    """Planar cross product, or (3-vectors) the triple product with the unit ``normal``."""
+    if len(u) == 2:
+        return u[0] * v[1] - u[1] * v[0]
+    n = [sp.nsimplify(c) for c in normal]
+    w = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+    return sum((a * b for a, b in zip(w, n)), sp.S.Zero) / sp.sqrt(sum((c ** 2 for c in n), sp.S.Zero))
 
 
 def _norm(u: sp.Matrix) -> sp.Expr:
-    return sp.sqrt(u[0] ** 2 + u[1] ** 2)
+    return sp.sqrt(sum((c ** 2 for c in u), sp.S.Zero))
 
 
 def condition_expr(kin, cond: Condition) -> sp.Expr:
@@ -111,7 +120,7 @@ def condition_expr(kin, cond: Condition) -> sp.Expr:
     if cond.kind == "collinear":
         p1, p2, p3 = (kin.point(r) for r in cond.points)
         u, v = p2 - p1, p3 - p1
-        return _cross(u, v) / (_norm(u) * _norm(v))
+        return _cross(u, v, cond.normal) / (_norm(u) * _norm(v))
     if cond.kind == "distance":
         return _norm(kin.point(cond.points[1]) - kin.point(cond.points[0]))
     b1, b2 = cond.bodies
@@ -138,7 +147,11 @@ def check_conditions(mech) -> None:
                 mech.point_ref(ref, f"{f}.points")
             if len(set(c.points)) != n:
                 raise InputError(f + ".points", f"the {n} points must be different, got {list(c.points)}")
+            _check_normal(mech, c, f)
         else:
+            if mech.dimension == 3:
+                raise InputError(f + ".type", "an angle condition is planar; in a spatial mechanism use an "
+                                              "expression, distance or collinear condition")
             if isinstance(c.bodies, str) or len(c.bodies) != 2:
                 raise InputError(f + ".bodies", f"an angle condition needs two body names, got {c.bodies!r}")
             for b in c.bodies:
@@ -162,6 +175,19 @@ def check_conditions(mech) -> None:
         valid = ", ".join(mech.param_symbols) or "none"
         raise InputError("mechanism.downlock.force", f"must be a parameter (the force solved for), got "
                                                      f"{spec.force!r}; parameters: {valid}")
+
+
+def _check_normal(mech, c: Condition, f: str) -> None:
+    """A spatial collinear condition needs a non-zero ``normal``; a planar one takes none."""
+    spatial = mech.dimension == 3
+    if c.kind != "collinear":
+        return
+    if not spatial and c.normal:
+        raise InputError(f + ".normal", "is for spatial mechanisms; a planar collinear condition is signed "
+                                        "counter-clockwise in the plane")
+    if spatial and (len(c.normal) != 3 or not any(c.normal)):
+        raise InputError(f + ".normal", "a spatial collinear condition needs normal = [x, y, z] (non-zero): the "
+                                        "direction about which its sine is signed")
 
 
 def conditions_from_table(tab: Mapping, field: str = "conditions") -> list[Condition]:
@@ -188,9 +214,14 @@ def conditions_from_table(tab: Mapping, field: str = "conditions") -> list[Condi
         for k in ("unit", "description"):
             if k in spec and not isinstance(spec[k], str):
                 raise InputError(f"{f}.{k}", f"must be a string, got {spec[k]!r}")
+        normal = spec.get("normal", [])
+        if not (isinstance(normal, list) and all(isinstance(c, (int, float)) and not isinstance(c, bool)
+                                                 for c in normal)):
+            raise InputError(f + ".normal", f"must be a list of three numbers [x, y, z], got {normal!r}")
         out.append(Condition(name, kind, expr=spec.get("expr"), points=tuple(spec.get("points", ())),
                              bodies=tuple(spec.get("bodies", ())), target=spec.get("target"),
-                             unit=spec.get("unit", ""), description=spec.get("description", "")))
+                             unit=spec.get("unit", ""), description=spec.get("description", ""),
+                             normal=tuple(float(c) for c in normal)))
     return out
 
 

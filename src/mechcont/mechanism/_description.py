@@ -340,6 +340,11 @@ class Mechanism:
     actuators: Sequence[Actuator] = ()
     downlock: DownlockSpec | None = None
 
+    #: Keys of a custom load whose expressions may use the coordinates.
+    _COORDINATE_KEYS = ("fx", "fy", "moment")
+    #: 2 for a planar mechanism, 3 for a spatial one.
+    dimension = 2
+
     def __post_init__(self):
         self.parameters = tuple(self.parameters)
         self.bodies = tuple(self.bodies)
@@ -379,7 +384,7 @@ class Mechanism:
             if b.name in self.body_map:
                 raise InputError(f"bodies.{b.name}", "body defined more than once")
             self.body_map[b.name] = b
-            for c in coordinate_names(b.name):
+            for c in self._coordinate_names(b.name):
                 if c in self.param_symbols:
                     raise InputError(f"parameters.{c}", f"clashes with a coordinate of body '{b.name}'")
                 coords[c] = b.name
@@ -410,6 +415,21 @@ class Mechanism:
             group = "springs" if isinstance(s, Spring) else "dampers"
             self.point_ref(s.a, f"{group}.{s.name}.a")
             self.point_ref(s.b, f"{group}.{s.name}.b")
+        self._check_loads()
+        check_actuators(self)
+        check_conditions(self)
+        for name in self.hold:
+            if name not in self.coordinate_symbols:
+                raise InputError(f"assembly.hold.{name}",
+                                 f"not a coordinate; coordinates: {', '.join(self.coordinate_symbols)}")
+        self._check_connected()
+
+    def _coordinate_names(self, body: str) -> tuple[str, ...]:
+        """The coordinate names of ``body`` (see :func:`coordinate_names`)."""
+        return coordinate_names(body)
+
+    def _check_loads(self) -> None:
+        """Check every load's references (raises a one-line InputError)."""
         for ld in self.loads:
             f = f"loads.{ld.name}"
             if isinstance(ld, (PointForce, CustomLoad)):
@@ -424,13 +444,6 @@ class Mechanism:
                     self.point_ref(f"{ld.body}.{ld.end}", f + ".end")
             else:
                 raise InputError(f, f"unknown load type {type(ld).__name__}")
-        check_actuators(self)
-        check_conditions(self)
-        for name in self.hold:
-            if name not in self.coordinate_symbols:
-                raise InputError(f"assembly.hold.{name}",
-                                 f"not a coordinate; coordinates: {', '.join(self.coordinate_symbols)}")
-        self._check_connected()
 
     def _values(self):
         """Every (key path, raw value) of the description that is a number or expression."""
@@ -473,12 +486,6 @@ class Mechanism:
             for attr in ("angle", "relative_angle"):
                 if hasattr(j, attr):
                     yield f"joints.{j.name}.{attr}", getattr(j, attr)
-        for s in self.springs:
-            yield f"springs.{s.name}.k", s.k
-            yield f"springs.{s.name}.free_length", s.free_length
-            yield f"springs.{s.name}.preload", s.preload
-        for d in self.dampers:
-            yield f"dampers.{d.name}.c", d.c
         if self.gravity is not None:
             yield "gravity.g", self.gravity.g
             yield "gravity.angle", self.gravity.angle
@@ -501,6 +508,17 @@ class Mechanism:
             elif isinstance(ld, CustomLoad):
                 for attr in ("fx", "fy", "moment"):
                     yield f"{f}.{attr}", getattr(ld, attr)
+        yield from self._common_values()
+
+    def _common_values(self):
+        """The (key path, raw value) pairs of the elements planar and spatial descriptions share:
+        springs, dampers, held coordinates, actuators and conditions."""
+        for s in self.springs:
+            yield f"springs.{s.name}.k", s.k
+            yield f"springs.{s.name}.free_length", s.free_length
+            yield f"springs.{s.name}.preload", s.preload
+        for d in self.dampers:
+            yield f"dampers.{d.name}.c", d.c
         for k, v in self.hold.items():
             yield f"assembly.hold.{k}", v
         for act in self.actuators:
@@ -518,7 +536,7 @@ class Mechanism:
         if isinstance(value, sp.Basic):
             return value
         known = dict(self.param_symbols)
-        if (field.startswith("loads.") and field.rsplit(".", 1)[-1] in ("fx", "fy", "moment")) or (
+        if (field.startswith("loads.") and field.rsplit(".", 1)[-1] in self._COORDINATE_KEYS) or (
                 field.startswith("conditions.") and field.endswith(".expr")):
             known.update(self.coordinate_symbols)
         return to_expr(value, field, known)
@@ -589,10 +607,14 @@ class Mechanism:
         """Generate the reduced static system (see :mod:`mechcont.mechanism._reduce`)."""
         return self._generate(overrides, reduced=True)
 
+    def _generator(self):
+        """The function that generates this kind of mechanism's equations."""
+        from ._generate import generate
+        return generate
+
     def _generate(self, overrides: dict, reduced: bool):
         from ._file import locate_error
-        from ._generate import generate
         try:
-            return generate(self, overrides, reduced=reduced)
+            return self._generator()(self, overrides, reduced=reduced)
         except InputError as exc:
             raise locate_error(self.source, exc) from None

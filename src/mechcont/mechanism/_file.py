@@ -78,7 +78,7 @@ _SECTIONS = {"mechanism", "parameters", "ground", "bodies", "joints", "springs",
 #: per ``type``, are in ``_JOINTS``/``_LOADS``), by key path; ``NAME`` stands for a user's name.
 #: The parser checks against these sets and docs/mechanism-format.md is tested against them.
 KEYS: dict[str, frozenset[str]] = {
-    "mechanism": frozenset({"name", "description", "dof", "redundant", "downlock"}),
+    "mechanism": frozenset({"name", "description", "dimension", "dof", "redundant", "downlock"}),
     "mechanism.downlock": frozenset({"condition", "force"}),
     "actuators.NAME": ACTUATOR_KEYS,
     "parameters.NAME": frozenset({"value", "unit", "description", "scale"}),
@@ -217,11 +217,8 @@ def _pair(v, field: str):
     return tuple(v)
 
 
-def _mechanism(data: Mapping, filename: str) -> Mechanism:
-    _only(data, _SECTIONS, "")
-    head = _table(data, "mechanism", "mechanism")
-    _only(head, KEYS["mechanism"], "mechanism")
-    name = _text(head.get("name", Path(filename).stem.replace("-", "_")), "mechanism.name")
+def _parameters(data: Mapping) -> list[Parameter]:
+    """The ``[parameters]`` table: ``NAME = value`` or ``NAME = {value, unit, description, scale}``."""
     params = []
     for pname, spec in _table(data, "parameters", "parameters").items():
         f = f"parameters.{pname}"
@@ -243,6 +240,53 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
                                   or not 0 < scale <= sys.float_info.max):
             raise InputError(f + ".scale", f"must be a finite positive number, got {_short(scale)}")
         params.append(Parameter(pname, float(val), unit, desc, scale))
+    return params
+
+
+def _two_point_elements(data: Mapping) -> tuple[list[Spring], list[Damper]]:
+    """The ``[springs.NAME]`` and ``[dampers.NAME]`` tables."""
+    springs = []
+    for sname, spec in _entries(data, "springs"):
+        f = f"springs.{sname}"
+        _only(spec, KEYS["springs.NAME"], f)
+        _require(spec, ["a", "b", "k", "free_length"], f)
+        springs.append(Spring(sname, **spec))
+    dampers = []
+    for dname, spec in _entries(data, "dampers"):
+        f = f"dampers.{dname}"
+        _only(spec, KEYS["dampers.NAME"], f)
+        _require(spec, ["a", "b", "c"], f)
+        dampers.append(Damper(dname, **spec))
+    return springs, dampers
+
+
+def _common(data: Mapping, head: Mapping, filename: str) -> dict:
+    """The keyword arguments both planar and spatial mechanisms take from a file."""
+    assembly = _table(data, "assembly", "assembly")
+    _only(assembly, KEYS["assembly"], "assembly")
+    springs, dampers = _two_point_elements(data)
+    return dict(
+        name=_text(head.get("name", Path(filename).stem.replace("-", "_")), "mechanism.name"),
+        parameters=_parameters(data), springs=springs, dampers=dampers, dof=head.get("dof", 1),
+        hold=dict(_table(assembly, "hold", "assembly.hold")),
+        description=_text(head.get("description", ""), "mechanism.description"),
+        redundant=head.get("redundant", "error"),
+        conditions=conditions_from_table(_table(data, "conditions", "conditions")),
+        actuators=actuators_from_table(_table(data, "actuators", "actuators")),
+        downlock=downlock_from_table(head["downlock"]) if "downlock" in head else None)
+
+
+def _mechanism(data: Mapping, filename: str) -> Mechanism:
+    _only(data, _SECTIONS, "")
+    head = _table(data, "mechanism", "mechanism")
+    _only(head, KEYS["mechanism"], "mechanism")
+    dimension = head.get("dimension", 2)
+    if dimension not in (2, 3) or isinstance(dimension, bool):
+        raise InputError("mechanism.dimension", f"must be 2 (planar, the default) or 3 (spatial), got {dimension!r}")
+    common = _common(data, head, filename)
+    if dimension == 3:
+        from .spatial._file import spatial_mechanism
+        return spatial_mechanism(data, common)
     ground = {k: _pair(v, f"ground.{k}") for k, v in _table(data, "ground", "ground").items()}
     bodies = []
     for bname, spec in _entries(data, "bodies"):
@@ -267,18 +311,6 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
         kind, cls = _typed(spec, f, "joints", _JOINTS)
         _require(spec, ["a", "b"], f)
         joints.append(cls(jname, **{k: v for k, v in spec.items() if k != "type"}))
-    springs = []
-    for sname, spec in _entries(data, "springs"):
-        f = f"springs.{sname}"
-        _only(spec, KEYS["springs.NAME"], f)
-        _require(spec, ["a", "b", "k", "free_length"], f)
-        springs.append(Spring(sname, **spec))
-    dampers = []
-    for dname, spec in _entries(data, "dampers"):
-        f = f"dampers.{dname}"
-        _only(spec, KEYS["dampers.NAME"], f)
-        _require(spec, ["a", "b", "c"], f)
-        dampers.append(Damper(dname, **spec))
     gravity = None
     if "gravity" in data:
         gtab = _table(data, "gravity", "gravity")
@@ -295,17 +327,7 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
         if "direction" in kw and isinstance(kw["direction"], list):
             kw["direction"] = _pair(kw["direction"], f + ".direction")
         loads.append(cls(lname, **kw))
-    assembly = _table(data, "assembly", "assembly")
-    _only(assembly, KEYS["assembly"], "assembly")
-    hold = dict(_table(assembly, "hold", "assembly.hold"))
-    dof = head.get("dof", 1)
-    actuators = actuators_from_table(_table(data, "actuators", "actuators"))
-    conditions = conditions_from_table(_table(data, "conditions", "conditions"))
-    downlock = downlock_from_table(head["downlock"]) if "downlock" in head else None
-    return Mechanism(name, params, bodies, joints, ground, springs, dampers, loads, gravity, dof, hold,
-                     _text(head.get("description", ""), "mechanism.description"),
-                     redundant=head.get("redundant", "error"), conditions=conditions, actuators=actuators,
-                     downlock=downlock)
+    return Mechanism(bodies=bodies, joints=joints, ground=ground, loads=loads, gravity=gravity, **common)
 
 
 # -- locating keys in the text ----------------------------------------------------------------

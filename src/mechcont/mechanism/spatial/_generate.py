@@ -1,0 +1,224 @@
+"""Generate the static equilibrium system of a spatial mechanism.
+
+Unknowns: body coordinates ``q`` (origin and Euler parameters of each body), one reaction per
+constraint row (joints, length-mode actuators, and the normalisation multiplier ``mu_<body>``
+per body) and one state per condition. Equations, as for planar mechanisms:
+
+    Q(q, p) - Phi_q(q, p)^T lambda = 0      one row per coordinate (Fx_b, Fy_b, Fz_b, Qe0_b..Qe3_b)
+    Phi_k(q, p) = 0                          a rigid row
+    Phi_k(q, p) - lambda_k / k_k = 0         a compliant row (joint stiffness k_k)
+    c(q, p) - NAME = 0                       a condition row
+
+The mechanics (stability, dynamics) sees the rigid rows as constraints and each compliant row
+as the potential ``k Phi^2 / 2``. Redundant rigid rows (an over-constrained closure) are
+refused with the joints involved and the fix (a joint stiffness, which makes the reactions
+determinate, or ``redundant = "drop"``); a rigid closure that cannot be assembled is reported
+with its misfit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from ...equations import EquationSystem, MechanicalModel, Variable
+from ...errors import InputError
+from .._assembly import DofReport, close_constraints, dof_report
+from .._conditions import condition_description, condition_rows, condition_scale, condition_targets
+from .._expr import symbol
+from .._generate import _coordinates_of, _dropped_residual, _equilibrium, _parameter_scale, _scales
+from .._values import evaluate, parameter_values
+from ._description import SpatialMechanism
+from ._joints import SpatialRow
+from ._kinematics import SpatialKinematics, spatial_loads
+from ._rotation import quaternion_from_rotation_vector
+from ._scene import spatial_scene_function
+from ._values import check_spatial_values, spatial_limits
+
+__all__ = ["generate"]
+
+
+def _row_name(coord: str) -> str:
+    head, _, body = coord.partition("_") if coord[0] == "e" else (coord[0], "", coord[1:].lstrip("_"))
+    return f"Q{head}_{body}" if coord[0] == "e" else f"F{head}_{body}"
+
+
+def _initial_guess(kin: SpatialKinematics, values: dict[str, float]) -> dict[str, float]:
+    """Coordinates near the design pose: given ``initial`` values, bodies placed through the
+    joints that make two points coincide, unit Euler parameters from ``initial.rotation``."""
+    mech = kin.mech
+    num = {symbol(k): v for k, v in values.items()}
+    guess: dict[str, float] = {}
+    placed = {"ground"}
+    for b in mech.bodies:
+        f = f"bodies.{b.name}.initial"
+        names = mech._coordinate_names(b.name)
+        for key, name in zip("xyz", names):
+            guess[name] = evaluate(mech.value(f"{f}.{key}"), values, f"{f}.{key}") if key in b.initial else 0.0
+        rot = ([evaluate(mech.value(f"{f}.rotation.{c}"), values, f"{f}.rotation") for c in "xyz"]
+               if "rotation" in b.initial else [0.0, 0.0, 0.0])
+        guess.update(zip(names[3:], quaternion_from_rotation_vector(rot)))
+        if all(k in b.initial for k in "xyz"):
+            placed.add(b.name)
+    for k in mech.hold:
+        guess[k] = evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}")
+    changed = True
+    while changed:
+        changed = False
+        for j in mech.joints:
+            ba, bb = j.a.split(".")[0], j.b.split(".")[0]
+            if not j.COINCIDENT or (ba in placed) == (bb in placed):
+                continue
+            known, new = (j.a, j.b) if ba in placed else (j.b, j.a)
+            body = new.split(".")[0]
+            at = {**num, **{symbol(k): v for k, v in guess.items()}}
+            P = np.array([float(c) for c in kin.point(known).xreplace(at)])
+            origin = kin.body_r[body]
+            local = np.array([float(c) for c in kin.point(new).xreplace({**at, **{s: 0 for s in origin}})])
+            for s, v in zip(origin, P - local):
+                guess[str(s)] = float(v)
+            placed.add(body)
+            changed = True
+    return guess
+
+
+def _misfit_error(mech: SpatialMechanism, rows: list[SpatialRow], phi: np.ndarray) -> InputError:
+    """One line: the rigid closure cannot be assembled; its misfit, joint by joint."""
+    gaps: dict[str, float] = {}
+    for row, r in zip(rows, phi):
+        gaps[row.joint] = float(np.hypot(gaps.get(row.joint, 0.0), r))
+    worst = sorted((g, j) for j, g in gaps.items() if g > 1e-9)[::-1][:3]
+    shown = ", ".join(f"{j} {g:.4g}" for g, j in worst)
+    field = f"joints.{worst[0][1]}" if worst and worst[0][1] in {j.name for j in mech.joints} else "joints"
+    return InputError(field, f"the rigid closure cannot be assembled: misfit (m or rad, least squares) {shown}; "
+                             "an over-constrained closure only assembles when its constraints are exactly "
+                             "compatible: correct the geometry or give an attachment a stiffness "
+                             "(joints.NAME.stiffness, N/m) so it deflects")
+
+
+def _redundancy_error(report: DofReport, rows: list[SpatialRow], dependent: list[int]) -> InputError:
+    joints = []
+    for i in dependent:
+        for g in report.redundant:
+            if g[0] == rows[i].joint:
+                joints.extend(j for j in g if j not in joints)
+    joints = joints or sorted({rows[i].joint for i in dependent})
+    rx = ", ".join(rows[i].reaction for i in dependent[:6]) + (", ..." if len(dependent) > 6 else "")
+    return InputError("mechanism.redundant",
+                      f"over-constrained: {len(dependent)} redundant constraint(s) among joints {', '.join(joints)}; "
+                      f"statics cannot determine their reactions ({rx} and the rows they depend on): give one of "
+                      f"those joints a stiffness (joints.NAME.stiffness, N/m, or rotational_stiffness, N m/rad) to "
+                      f"make them determinate, or set redundant = \"drop\" under [mechanism] for one particular "
+                      f"solution")
+
+
+def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> EquationSystem:
+    """Build the static system of the spatial ``mech`` with parameter ``overrides`` (SI)."""
+    if reduced:
+        raise InputError("reduced", "the reduced form exists for planar mechanisms only; build the full system")
+    values = parameter_values(mech, overrides)
+    check_spatial_values(mech, values)
+    kin = SpatialKinematics(mech)
+    ld = spatial_loads(kin)
+    coords = list(kin.coords)
+    # rigid rows first: a dependency among rows that involves a compliant row is then found at
+    # a compliant row (determinate); one among rigid rows only, at a rigid row (indeterminate)
+    all_rows = kin.constraints()
+    rows = [r for r in all_rows if r.stiffness is None] + [r for r in all_rows if r.stiffness is not None]
+    forces = [-sp.diff(ld.V, qi) + qnc for qi, qnc in zip(kin.q, ld.Q_nc)]
+    mass = kin.mass_matrix()
+    Lc, Fc = _scales(mech, values)
+    conditions = condition_rows(kin, {})
+    cnames = [c.name for c, _ in conditions]
+    _, closure = _equilibrium(mech, coords, rows, forces, mass, cnames)  # every row taken as rigid
+    guess = _initial_guess(kin, values)
+    nq = len(coords)
+    x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * (len(rows) + len(cnames))
+                 + [values[p.name] for p in mech.parameters])
+    free_q = np.array([c not in mech.hold for c in coords])
+    rigid = np.array([r.stiffness is None for r in rows])
+    x_all, ok = close_constraints(closure.phi, closure.phi_q, x, closure.q_index, free_q)
+    if ok:
+        x = x_all
+    elif rigid.all():
+        raise _misfit_error(mech, rows, closure.phi(x_all))
+    else:  # the compliant joints take up the misfit of the rigid rows
+        x, ok = close_constraints(lambda y: closure.phi(y)[rigid], lambda y: closure.phi_q(y)[rigid], x,
+                                  closure.q_index, free_q)
+        if not ok:
+            raise _misfit_error(mech, [r for r in rows if r.stiffness is None], closure.phi(x)[rigid])
+    report = dof_report(closure.phi_q(x), [r.joint for r in rows])
+    if report.dof != mech.dof:
+        red = f"; redundant constraints among joints {', '.join(report.redundant_joints)}" if report.redundant else ""
+        raise InputError("mechanism.dof", f"the assembled mechanism has {report.dof} degree(s) of freedom, intended "
+                                          f"{mech.dof} (rank {report.rank} of {len(rows)} constraint rows on "
+                                          f"{nq} coordinates, {len(mech.bodies)} of them normalisation rows){red}")
+    dependent = [i for i in report.dependent if rows[i].stiffness is None]
+    dropped: list[SpatialRow] = []
+    if dependent:
+        if mech.redundant != "drop":
+            raise _redundancy_error(report, rows, dependent)
+        dropped = [rows[i] for i in dependent]
+        keep = [i for i in range(len(rows)) if i not in set(dependent)]
+        x = np.concatenate([x[:nq], np.zeros(len(keep)), x[nq + len(rows):]])
+        rows = [rows[i] for i in keep]
+    equilibrium, closure = _equilibrium(mech, coords, rows, forces, mass, cnames)
+    x[nq:nq + len(rows)] = closure.multipliers(x)
+    lam = [symbol(r.reaction) for r in rows]
+    stiff = [(r, k) for r, k in zip(rows, lam) if r.stiffness is not None]
+    elastic = sum((r.expr ** 2 * r.stiffness / 2 for r, _ in stiff), sp.S.Zero)
+    mech_forces = [f - sp.diff(elastic, qi) for f, qi in zip(forces, kin.q)]
+    names = [*coords, *(r.reaction for r in rows), *cnames, *(p.name for p in mech.parameters)]
+    model = MechanicalModel(names, coords, [r.expr for r in rows if r.stiffness is None], mech_forces, mass)
+    if conditions:
+        from ...equations._codegen import compile_dense
+
+        at = compile_dense([symbol(n) for n in names], [e for _, e in conditions])
+        x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(at(x), dtype=float).reshape(-1)
+    variables = []
+    for c, v in zip(coords, x):
+        euler = c.startswith("e")
+        variables.append(Variable(c, "state", float(v), "" if euler else "m", 1.0 if euler else Lc,
+                                  "Euler parameter of a body's orientation" if euler
+                                  else f"{c[0]} position of a body's frame origin"))
+    for r, v in zip(rows, x[nq:]):
+        if r.reaction.startswith("mu_"):
+            what = "multiplier of the Euler-parameter normalisation (no physical meaning)"
+        elif r.equation.endswith("_length"):
+            what = f"tension of actuator {r.joint} (+ pulls its ends together)"
+        else:
+            what = f"reaction of joint {r.joint} (on its second body)" + (
+                "; compliant: the joint deflects by reaction / stiffness" if r.stiffness is not None else "")
+        variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc, what))
+    for (c, _), v in zip(conditions, x[nq + len(rows):]):
+        variables.append(Variable(c.name, "state", float(v), c.value_unit, condition_scale(c, Lc, Fc),
+                                  condition_description(c)))
+    for p in mech.parameters:
+        val = values[p.name]
+        variables.append(Variable(p.name, "parameter", val, p.unit, _parameter_scale(p, val, Lc, Fc), p.description))
+    row_exprs = [r.expr - k / r.stiffness if r.stiffness is not None else r.expr for r, k in zip(rows, lam)]
+    system = EquationSystem(
+        name=mech.name,
+        variables=variables,
+        equations=[*equilibrium, *row_exprs, *(e - symbol(c.name) for c, e in conditions)],
+        equation_names=[*(_row_name(c) for c in coords), *(r.equation for r in rows), *(f"cond_{n}" for n in cnames)],
+        mechanics=model,
+        description=(mech.description or f"generated from the description of {mech.name}")
+        + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
+        limits=spatial_limits(mech, solve=True),
+    )
+    system.scene = spatial_scene_function(kin, ld.arrows, system.symbols)
+    system.potential_energy = ld.V + elastic
+    system.mechanism = mech
+    system.check_values = lambda values, _mech=mech: check_spatial_values(
+        _mech, {p.name: float(values.get(p.name, p.value)) for p in _mech.parameters}, solve=True)
+    system.dof = report
+    system.reaction_names = tuple(r.reaction for r in rows)
+    system.coordinates_of = _coordinates_of(kin, system, {})
+    system.dropped_constraints = tuple(r.equation for r in dropped)
+    system.dropped_residual = _dropped_residual(system, dropped)
+    system.conditions = condition_targets(mech, values)
+    if mech.downlock is not None:
+        system.downlock_hold = {mech.downlock.condition: system.conditions[mech.downlock.condition]}
+        system.downlock_force = mech.downlock.force
+    return system

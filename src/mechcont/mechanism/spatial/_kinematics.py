@@ -1,0 +1,198 @@
+"""Symbolic kinematics and loads of a spatial mechanism: coordinates, points, rows, masses.
+
+Body ``b`` has coordinates ``(r_b, e_b)``: frame origin (m) and Euler parameters; a point with
+body coordinates ``s`` is at ``r_b + A(e_b) s`` (see :mod:`._rotation`). Applied loads give a
+potential ``V`` (gravity, springs, force-mode actuators, fixed-direction point forces) and
+non-conservative generalised forces ``Q_nc`` (moments of fixed direction: ``2 E^T n`` on the
+Euler parameters; custom loads; dampers). The mass matrix follows from the kinetic energy
+``1/2 m |v_cg|^2 + 1/2 omega'^T J omega'`` with ``omega' = 2 G edot``, plus
+``2 jbar (e . edot)^2`` (``jbar`` the mean principal inertia), which vanishes on every motion
+that keeps ``|e| = 1`` and makes ``M`` positive definite.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ...equations import velocity_symbol
+from .._actuators import actuator_rows
+from .._expr import symbol
+from .._forces import Loads
+from .._values import parameter_values
+from ._description import INERTIA_KEYS, SpatialBody, SpatialCustomLoad, SpatialMechanism, SpatialMoment
+from ._joints import SpatialRow
+from ._rotation import body_omega_matrix, dot, norm, omega_matrix, rotation_matrix
+
+__all__ = ["SpatialKinematics", "spatial_loads"]
+
+
+class SpatialKinematics:
+    """Symbols and symbolic geometry of a :class:`SpatialMechanism`."""
+
+    dimension = 3
+
+    def __init__(self, mech: SpatialMechanism):
+        self.mech = mech
+        self.coords: list[str] = []
+        self.body_r: dict[str, sp.Matrix] = {}
+        self.body_e: dict[str, list[sp.Symbol]] = {}
+        for b in mech.bodies:
+            names = mech._coordinate_names(b.name)
+            self.coords.extend(names)
+            syms = [symbol(n) for n in names]
+            self.body_r[b.name] = sp.Matrix(syms[:3])
+            self.body_e[b.name] = syms[3:]
+        self.q = [symbol(n) for n in self.coords]
+        self._A = {b: rotation_matrix(e) for b, e in self.body_e.items()}
+        defaults = parameter_values(mech, {})
+        #: Parameter symbol -> default value (for structure choices that must not depend on values).
+        self.defaults = {symbol(k): v for k, v in defaults.items()}
+
+    # -- points and frames ----------------------------------------------------------------
+    def local_point(self, body: str, point: str) -> sp.Matrix:
+        """Body coordinates (m) of ``point`` on ``body``."""
+        m, b = self.mech, self.mech.body_map[body]
+        f = f"bodies.{body}"
+        if point == "origin":
+            return sp.zeros(3, 1)
+        if point == "cg":
+            return sp.Matrix([m.value(f"{f}.cg.{c}") for c in "xyz"])
+        if point in b.points:
+            return sp.Matrix([m.value(f"{f}.points.{point}.{c}") for c in "xyz"])
+        half = m.value(f + ".length") / 2
+        return sp.Matrix([-half if point == "a" else half, 0, 0])
+
+    def rotation(self, ref: str) -> sp.Matrix:
+        """Rotation matrix (body -> global) of the frame that ``ref`` belongs to (identity for ground)."""
+        body = ref.split(".")[0]
+        return sp.eye(3) if body == "ground" else self._A[body]
+
+    def point(self, ref: str) -> sp.Matrix:
+        """Global position (m) of the point reference ``"<body>.<point>"`` / ``"ground.<p>"``."""
+        body, point = ref.split(".")
+        if body == "ground":
+            return sp.Matrix([self.mech.value(f"ground.{point}.{c}") for c in "xyz"])
+        return self.body_r[body] + self._A[body] * self.local_point(body, point)
+
+    def cg(self, body: str) -> sp.Matrix:
+        """Global position of the centre of gravity of ``body``."""
+        return self.point(f"{body}.cg")
+
+    # -- constraints ----------------------------------------------------------------------
+    def constraints(self) -> list[SpatialRow]:
+        """Every scalar constraint row: joints in declaration order, the length-mode actuators,
+        then one normalisation row per body."""
+        rows: list[SpatialRow] = []
+        for j in self.mech.joints:
+            rows.extend(j.rows(self))
+        rows += [SpatialRow(r.joint, r.equation, r.reaction, r.unit, r.expr) for r in actuator_rows(self)]
+        for b in self.mech.bodies:
+            e = self.body_e[b.name]
+            rows.append(SpatialRow(f"norm_{b.name}", f"norm_{b.name}", f"mu_{b.name}", "N m",
+                                   sum((c ** 2 for c in e), sp.S.Zero) - 1))
+        return rows
+
+    # -- inertia --------------------------------------------------------------------------
+    def inertia_tensor(self, b: SpatialBody) -> sp.Matrix:
+        """Inertia tensor about the CG in body axes (kg m^2): given, or the documented default."""
+        m, f = self.mech, f"bodies.{b.name}"
+        mass = m.value(f + ".mass")
+        if b.inertia is not None:
+            v = {k: m.value(f"{f}.inertia.{k}") for k in INERTIA_KEYS[:len(b.inertia)]}
+            xy, xz, yz = (v.get(k, 0) for k in ("xy", "xz", "yz"))
+            return sp.Matrix([[v["xx"], xy, xz], [xy, v["yy"], yz], [xz, yz, v["zz"]]])
+        if b.length is not None:
+            L = m.value(f + ".length")
+            return sp.diag(mass * (L / 20) ** 2 / 2, mass * L ** 2 / 12, mass * L ** 2 / 12)
+        pts = [self.local_point(b.name, p) for p in m.point_names(b.name)]
+        at = self.defaults
+        spread = max((float(norm(p - q).xreplace(at)) for p in pts for q in pts), default=0.0)
+        radius = max(spread / 2, 1e-3)
+        return sp.eye(3) * (sp.Rational(2, 5) * mass * radius ** 2)
+
+    def mass_matrix(self) -> sp.Matrix:
+        """Mass matrix (7 x 7 blocks per body) from the kinetic energy (see the module docstring)."""
+        n = len(self.q)
+        M = sp.zeros(n, n)
+        for i, b in enumerate(self.mech.bodies):
+            mass = self.mech.value(f"bodies.{b.name}.mass")
+            e = self.body_e[b.name]
+            c = self.local_point(b.name, "cg")
+            Ac = self._A[b.name] * c
+            Jv = sp.Matrix.hstack(sp.eye(3), Ac.jacobian(e))
+            J = self.inertia_tensor(b)
+            G = body_omega_matrix(e)
+            jbar = (J[0, 0] + J[1, 1] + J[2, 2]) / 3
+            ev = sp.Matrix(e)
+            block = mass * Jv.T * Jv
+            block[3:, 3:] += 4 * G.T * J * G + 4 * jbar * ev * ev.T
+            M[7 * i:7 * i + 7, 7 * i:7 * i + 7] = block
+        return M
+
+
+def spatial_loads(kin: SpatialKinematics) -> Loads:
+    """Potential ``V``, non-conservative forces ``Q_nc`` and arrows of every load of ``kin.mech``."""
+    from .._actuators import actuator_potential
+
+    mech = kin.mech
+    V = sp.S.Zero
+    Q_nc = [sp.S.Zero] * len(kin.q)
+    arrows: list[tuple[str, sp.Matrix, sp.Matrix]] = []
+    if mech.gravity is not None:
+        u = _unit(sp.Matrix([mech.value(f"gravity.direction.{c}") for c in "xyz"]))
+        g = mech.value("gravity.g")
+        for b in mech.bodies:
+            V -= mech.value(f"bodies.{b.name}.mass") * g * dot(u, kin.cg(b.name))
+    for s in mech.springs:
+        f = f"springs.{s.name}"
+        k, l0, pre = mech.value(f + ".k"), mech.value(f + ".free_length"), mech.value(f + ".preload")
+        length = norm(kin.point(s.b) - kin.point(s.a))
+        V += pre * length + k / 2 * (length - l0) ** 2
+    V += actuator_potential(kin)
+    qd = [velocity_symbol(n) for n in kin.coords]
+    for d in mech.dampers:
+        c = mech.value(f"dampers.{d.name}.c")
+        length = norm(kin.point(d.b) - kin.point(d.a))
+        grad = [sp.diff(length, qi) for qi in kin.q]
+        rate = sum((gi * vi for gi, vi in zip(grad, qd)), sp.S.Zero)
+        Q_nc = [Qi - c * rate * gi for Qi, gi in zip(Q_nc, grad)]
+    for ld in mech.loads:
+        f = f"loads.{ld.name}"
+        if isinstance(ld, SpatialMoment):
+            n = mech.value(f + ".magnitude") * _unit(sp.Matrix([mech.value(f"{f}.axis.{c}") for c in "xyz"]))
+            Q_nc = _add(Q_nc, _moment_work(kin, ld.body, n))
+            arrows.append((ld.name, kin.point(f"{ld.body}.origin"), n))
+        elif isinstance(ld, SpatialCustomLoad):
+            P = kin.point(ld.at)
+            force = sp.Matrix([mech.value(f"{f}.{k}") for k in ("fx", "fy", "fz")])
+            moment = sp.Matrix([mech.value(f"{f}.{k}") for k in ("mx", "my", "mz")])
+            Q_c = [dot(force, P.diff(qi)) for qi in kin.q]
+            Q_nc = _add(Q_nc, _add(Q_c, _moment_work(kin, ld.at.split(".")[0], moment)))
+            arrows.append((ld.name, P, force))
+        else:  # a point force of fixed direction: conservative
+            F = mech.value(f + ".magnitude")
+            u = _unit(sp.Matrix([mech.value(f"{f}.direction.{c}") for c in "xyz"]))
+            P = kin.point(ld.at)
+            V -= F * dot(u, P)
+            arrows.append((ld.name, P, F * u))
+    return Loads(V, Q_nc, arrows)
+
+
+def _unit(u: sp.Matrix) -> sp.Matrix:
+    n = norm(u)
+    return u if n == 1 else u / n
+
+
+def _add(a: list, b: list) -> list:
+    return [x + y for x, y in zip(a, b)]
+
+
+def _moment_work(kin: SpatialKinematics, body: str, n: sp.Matrix) -> list[sp.Expr]:
+    """Generalised forces of a moment ``n`` (global, N m) on ``body``: ``2 E^T n`` on its Euler parameters."""
+    e = kin.body_e[body]
+    Qe = 2 * omega_matrix(e).T * n
+    index = {str(q): i for i, q in enumerate(kin.q)}
+    out = [sp.S.Zero] * len(kin.q)
+    for k, ek in enumerate(e):
+        out[index[str(ek)]] = Qe[k]
+    return out

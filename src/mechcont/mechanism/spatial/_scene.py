@@ -1,0 +1,109 @@
+"""Drawing primitives of a generated spatial mechanism at any full variable vector."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import sympy as sp
+
+from ...equations import Scene
+from ...equations._codegen import compile_dense
+from .._actuators import actuator_load
+from ._description import SpatialMoment
+from ._kinematics import SpatialKinematics
+
+__all__ = ["spatial_scene_function"]
+
+
+def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.Symbol]) -> Callable[[np.ndarray], Scene]:
+    """Compile ``scene(x) -> Scene`` (3-vectors, m, N, N m) for the spatial mechanism of ``kin``.
+
+    A bar is drawn from ``a`` to ``b`` (a triangle through each declared point); another body
+    as a polyline through its declared points. Each joint is a pin (a ground pin when one side
+    is the ground) at its point ``b``, with its axes (revolute, universal, cylindrical,
+    prismatic) in ``Scene.joint_axes``. Springs, dampers, actuators (with their tension, N),
+    their ground anchors, point forces and moments (3-vectors, N m) and every named point follow.
+    """
+    mech = kin.mech
+    items: list[tuple[str, str, int]] = []
+    exprs: list[sp.Expr] = []
+
+    def add(kind: str, name: str, pts: list) -> None:
+        items.append((kind, name, len(pts)))
+        for p in pts:
+            exprs.extend(list(p))
+
+    for b in mech.bodies:
+        def pt(p, _b=b.name):
+            return kin.point(f"{_b}.{p}")
+        if b.length is not None:
+            add("bar", b.name, [pt("a"), pt("b")])
+            for pn in b.points:
+                add("bar", b.name, [pt("a"), pt(pn), pt("b")])
+        else:
+            names = list(b.points) or ["origin"]
+            add("bar", b.name, [pt(n) for n in names] + ([pt(names[0])] if len(names) > 2 else []))
+    ground_refs: set[str] = set()
+    for j in mech.joints:
+        ground = "ground" in (j.a.split(".")[0], j.b.split(".")[0])
+        ground_refs.update(r for r in (j.a, j.b) if r.startswith("ground."))
+        add("ground" if ground else "pin", j.name, [kin.point(j.b)])
+        for axis in j.drawn_axes(kin):
+            add("axis", j.name, [kin.point(j.b), axis])
+    for s in mech.springs:
+        add("spring", s.name, [kin.point(s.a), kin.point(s.b)])
+    for d in mech.dampers:
+        add("damper", d.name, [kin.point(d.a), kin.point(d.b)])
+    for act in mech.actuators:
+        add("actuator", act.name, [kin.point(act.a), kin.point(act.b), sp.Matrix([actuator_load(mech, act), 0, 0])])
+    anchors: list[str] = []
+    for ref in (r for e in (*mech.springs, *mech.dampers, *mech.actuators) for r in (e.a, e.b)):
+        if ref.startswith("ground.") and ref not in ground_refs and ref not in anchors:
+            anchors.append(ref)
+            add("anchor", ref, [kin.point(ref)])
+    moments = {ld.name for ld in mech.loads if isinstance(ld, SpatialMoment)}
+    for name, P, F in arrows:
+        add("moment" if name in moments else "force", name, [P, F])
+    for b in mech.bodies:
+        off_origin = any(c != 0 for c in kin.local_point(b.name, "cg"))
+        for pn in mech.point_names(b.name):
+            if (pn == "origin" and b.length is not None) or (pn == "cg" and not off_origin):
+                continue
+            add("point", f"{b.name}.{pn}", [kin.point(f"{b.name}.{pn}")])
+    for gname in mech.ground:
+        add("point", f"ground.{gname}", [kin.point(f"ground.{gname}")])
+    fn = compile_dense(list(symbols), [sp.sympify(e, strict=True) for e in exprs])
+
+    def scene(x: np.ndarray) -> Scene:
+        """Drawing primitives (3-D) at the full variable vector ``x``."""
+        flat = np.asarray(fn(np.asarray(x, dtype=float)), dtype=float).reshape(-1, 3)
+        out, i = Scene(), 0
+        for kind, name, n in items:
+            pts = flat[i:i + n].copy()
+            i += n
+            if kind == "bar":
+                out.bars.append((name, pts))
+            elif kind == "pin":
+                out.pins.append(pts[0])
+            elif kind == "ground":
+                out.grounds.append(pts[0])
+            elif kind == "axis":
+                out.joint_axes.append((name, pts[0], pts[1]))
+            elif kind == "spring":
+                out.springs.append((name, pts[0], pts[1]))
+            elif kind == "damper":
+                out.dampers.append((name, pts[0], pts[1]))
+            elif kind == "actuator":
+                out.actuators.append((name, pts[0], pts[1], float(pts[2][0])))
+            elif kind == "anchor":
+                out.anchors.append(pts[0])
+            elif kind == "moment":
+                out.moments.append((name, pts[0], pts[1]))
+            elif kind == "force":
+                out.forces.append((name, pts[0], pts[1]))
+            else:
+                out.points.append((name, pts[0]))
+        return out
+
+    return scene

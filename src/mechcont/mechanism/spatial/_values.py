@@ -1,0 +1,74 @@
+"""Physical ranges and value checks of a spatial description (see :mod:`.._values` for planar)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from ...equations import Limit
+from ...errors import InputError
+from .._values import check_finite, evaluate
+from ._description import SpatialCustomLoad, SpatialMechanism, SpatialMoment
+from ._joints import Universal
+
+__all__ = ["spatial_limits", "check_spatial_values"]
+
+
+def spatial_limits(mech: SpatialMechanism, *, solve: bool = True) -> list[Limit]:
+    """Masses, lengths, principal inertias, free lengths, actuator lengths and joint stiffnesses
+    positive; damping non-negative; spring stiffness positive in the file and non-negative for
+    an analysis (``solve``). Each :class:`~mechcont.equations.Limit` is named by its key path."""
+    out: list[Limit] = []
+
+    def need(field: str, positive: bool, what: str) -> None:
+        out.append(Limit(field, mech.value(field), positive, what))
+
+    for b in mech.bodies:
+        f = f"bodies.{b.name}"
+        need(f + ".mass", True, "mass (kg)")
+        if b.length is not None:
+            need(f + ".length", True, "length (m)")
+        if b.inertia is not None:
+            for k in ("xx", "yy", "zz"):
+                need(f"{f}.inertia.{k}", True, "principal moment of inertia (kg m^2)")
+    for s in mech.springs:
+        need(f"springs.{s.name}.k", not solve, "stiffness (N/m)")
+        need(f"springs.{s.name}.free_length", True, "free length (m)")
+    for d in mech.dampers:
+        need(f"dampers.{d.name}.c", False, "damping (N s/m)")
+    for act in mech.actuators:
+        if act.length is not None:
+            need(f"actuators.{act.name}.length", True, "actuator length (m)")
+    for j in mech.joints:
+        if j.stiffness is not None:
+            need(f"joints.{j.name}.stiffness", True, "joint stiffness (N/m)")
+        if j.rotational_stiffness is not None:
+            need(f"joints.{j.name}.rotational_stiffness", True, "joint rotational stiffness (N m/rad)")
+    return out
+
+
+def check_spatial_values(mech: SpatialMechanism, values: Mapping[str, float], *, solve: bool = False) -> None:
+    """Reject impossible values at the parameter ``values``: non-finite numbers, quantities out of
+    their :func:`spatial_limits` range, zero direction vectors. Raises a one-line InputError."""
+    check_finite(mech, values)
+    for lim in spatial_limits(mech, solve=solve):
+        v = evaluate(lim.expr, values, lim.name)
+        if (v <= 0) if lim.strict else (v < 0):
+            raise InputError(lim.name, lim.message(v))
+    fields = [f"loads.{ld.name}.direction" for ld in mech.loads if not isinstance(ld, (SpatialMoment,
+                                                                                          SpatialCustomLoad))]
+    fields += [f"loads.{ld.name}.axis" for ld in mech.loads if isinstance(ld, SpatialMoment)]
+    fields += ["gravity.direction"] if mech.gravity is not None else []
+    for j in mech.joints:
+        fields += [f"joints.{j.name}.{k}" for k in j.VECTORS]
+    for f in fields:
+        v = [evaluate(mech.value(f"{f}.{c}"), values, f) for c in "xyz"]
+        if not any(v):
+            raise InputError(f, "must not be the zero vector")
+    for j in mech.joints:
+        if isinstance(j, Universal):
+            a = [evaluate(mech.value(f"joints.{j.name}.axis_a.{c}"), values, "") for c in "xyz"]
+            b = [evaluate(mech.value(f"joints.{j.name}.axis_b.{c}"), values, "") for c in "xyz"]
+            c = sum(p * q for p, q in zip(a, b)) / (sum(p * p for p in a) * sum(q * q for q in b)) ** 0.5
+            if abs(c) > 1e-9:
+                raise InputError(f"joints.{j.name}.axis_b", f"must be perpendicular to axis_a in the design pose "
+                                                            f"(cosine of the angle between them {c:.3g})")
