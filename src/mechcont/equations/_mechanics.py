@@ -156,11 +156,15 @@ class MechanicalModel:
         velocity symbols ``velocity_symbol(q_i)`` (dampers). At rest they are zero.
     mass_matrix:
         SymPy matrix ``M`` (n_q x n_q).
+    constraint_names:
+        Optional name of each constraint (for reports); None when the constraints are the
+        system's rows that follow the equilibrium rows.
     """
 
     def __init__(self, names: Sequence[str], coordinates: Sequence[str], constraints: Sequence[sp.Expr],
-                 forces: Sequence[sp.Expr], mass_matrix: sp.Matrix):
+                 forces: Sequence[sp.Expr], mass_matrix: sp.Matrix, constraint_names: Sequence[str] | None = None):
         self.names = tuple(names)
+        self.constraint_names = None if constraint_names is None else tuple(constraint_names)
         self.coordinates = tuple(coordinates)
         missing = [c for c in self.coordinates if c not in self.names]
         if missing:

@@ -98,6 +98,10 @@ class CheckReport:
         Problems, one line each; empty when all is well (:attr:`ok`).
     system, x, x_equilibrium:
         The built system, the assembled full vector and the equilibrium's (or None).
+    compliant:
+        Spatial mechanisms: each compliant joint row (a joint with a ``stiffness``), its
+        deflection (m or rad) at the equilibrium (else the assembled configuration), and in
+        its description the reaction and the stiffness that make that reaction determinate.
     """
 
     name: str
@@ -126,6 +130,7 @@ class CheckReport:
     system: object = field(repr=False, compare=False)
     x: np.ndarray = field(repr=False, compare=False)
     x_equilibrium: np.ndarray | None = field(repr=False, compare=False)
+    compliant: tuple[Quantity, ...] = ()
 
     @property
     def ok(self) -> bool:
@@ -163,6 +168,10 @@ class CheckReport:
             out.append(f"  dropped-row residual at the assembled configuration: {_g(self.dropped_residual)}")
         else:
             out.append("redundant constraints: none")
+        if self.compliant:
+            out.append(f"compliant joint rows (their stiffness makes the reactions determinate), deflection at the "
+                       f"{'equilibrium' if self.x_equilibrium is not None else 'assembled configuration'}:")
+            out += _table([(q.name, f"{_g(q.value)} {q.unit}", q.description) for q in self.compliant])
         out.append("")
         held = ", ".join(f"{q.name} = {_show(q.value, q.unit)}" for q in self.held) or "nothing"
         out.append(f"loop closure at the assembled configuration (held: {held}), max |Phi| per joint:")
@@ -299,12 +308,17 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     nq, nc = len(model.coordinates), len(model.constraints)
     report = system.dof
 
-    # loop closure per joint: equation names <joint>_x, _y, _n (m) and <joint>_angle (rad)
+    # loop closure per joint: equation names <joint>_x, _y, _z, _n, _n1 (m), <joint>_angle and
+    # <joint>_rot1.. (rad); a spatial model's rigid rows are named by its mechanics, and its
+    # Euler-parameter normalisation rows (norm_<body>) are no joint
     phi = np.abs(model.phi(x)) if nc else np.zeros(0)
+    names = model.constraint_names if model.constraint_names is not None else system.equation_names[nq:]
     gaps: dict[tuple[str, str], float] = {}
-    for eq, r in zip(system.equation_names[nq:], phi):
+    for eq, r in zip(names, phi):
+        if mech.dimension == 3 and eq.startswith("norm_"):
+            continue
         joint, kind = eq.rsplit("_", 1)
-        unit = "rad" if kind == "angle" else "m"
+        unit = "rad" if kind == "angle" or kind.startswith("rot") else "m"
         gaps[(joint, unit)] = max(gaps.get((joint, unit), 0.0), float(r))
     closure = tuple(Quantity(j, v, u) for (j, u), v in gaps.items())
     kept = {j for j, _ in gaps}
@@ -316,14 +330,15 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     dropped = system.dropped_residual(x) if system.dropped_constraints else None
     if dropped is not None and not dropped <= CLOSURE_TOL:
         findings.append(f"the dropped redundant rows are violated by {dropped:.3g} at the assembled configuration")
-    redundant = tuple((row, tuple(group)) for row, group in zip(system.dropped_constraints, report.redundant))
+    redundant = tuple((row, tuple(j for j in group if not (mech.dimension == 3 and j.startswith("norm_"))))
+                      for row, group in zip(system.dropped_constraints, report.redundant))
 
     # equilibrium: the assembled configuration's imbalance, then Newton on every state from it
     res = system.residual(x)[:nq]
     worst = int(np.argmax(np.abs(res))) if nq else 0
     coord = model.coordinates[worst] if nq else ""
     imbalance = Quantity(system.equation_names[worst] if nq else "", float(np.abs(res[worst])) if nq else 0.0,
-                         "N m" if coord.startswith("theta") else "N")
+                         "N" if nq and system.variable(coord).unit == "m" else "N m")
     reaction_scale = max([system.variable(n).scale for n in getattr(system, "reaction_names", ())] + [1.0])
     xe, stability = None, None
     if imbalance.value <= 1e-9 * reaction_scale:
@@ -345,6 +360,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     if xe is not None:
         stability = model.stability(xe)
 
+    compliant = _compliant_rows(system, x if xe is None else xe)
     variables = system.variables
     states = tuple(State(v.name, float(x[i]), None if xe is None else float(xe[i]), v.unit, v.description)
                    for i, v in enumerate(variables) if v.kind == "state")
@@ -358,4 +374,24 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         n_parameters=len(system.parameter_names), redundant=redundant, dropped_residual=dropped,
         closure=closure, eliminated_joints=eliminated, imbalance=imbalance, equilibrium_note=note,
         stability=stability, scales=scales, parameters=params, states=states, findings=tuple(findings),
-        system=system, x=x, x_equilibrium=xe)
+        system=system, x=x, x_equilibrium=xe, compliant=compliant)
+
+
+def _compliant_rows(system, x: np.ndarray) -> tuple[Quantity, ...]:
+    """Each compliant constraint row (``Phi - lambda / k = 0``, found from the Jacobian: its own
+    reaction enters with ``-1/k``) as ``Quantity(row, deflection, unit, "reaction ..., stiffness ...")``."""
+    nq = len(system.mechanics.coordinates)
+    reactions = list(getattr(system, "reaction_names", ()))
+    if not reactions:
+        return ()
+    J = system.jacobian(x)
+    out = []
+    for i, r in enumerate(reactions):
+        c = J[nq + i, system.index(r)]
+        if c == 0:
+            continue
+        lam, unit = float(x[system.index(r)]), system.variable(r).unit
+        k_unit = "N/m" if unit == "N" else "N m/rad"
+        out.append(Quantity(system.equation_names[nq + i], -c * lam, "m" if unit == "N" else "rad",
+                            f"reaction {r} = {lam:.6g} {unit}, stiffness {-1 / c:.4g} {k_unit}"))
+    return tuple(out)

@@ -132,6 +132,9 @@ class SpatialMechanism(Mechanism):
 
     def _validate(self) -> None:
         for j in self.joints:
+            if isinstance(j.name, str) and j.name.startswith("norm_"):
+                raise InputError(f"joints.{j.name}", "names starting with 'norm_' are reserved for the Euler-parameter "
+                                                     "normalisation rows (norm_<body>); rename the joint")
             if not isinstance(j, SpatialJoint):
                 raise InputError(f"joints.{j.name}", f"{type(j).__name__} is a planar joint; a spatial mechanism "
                                                      "takes spherical, revolute, universal, cylindrical, prismatic "

@@ -96,12 +96,17 @@ def _misfit_error(mech: SpatialMechanism, rows: list[SpatialRow], phi: np.ndarra
                              "(joints.NAME.stiffness, N/m) so it deflects")
 
 
+def _joints_only(names) -> list[str]:
+    """The joint names among row owners (the normalisation rows ``norm_<body>`` left out)."""
+    return [n for n in names if not n.startswith("norm_")]
+
+
 def _redundancy_error(report: DofReport, rows: list[SpatialRow], dependent: list[int]) -> InputError:
-    joints = []
+    joints: list[str] = []
     for i in dependent:
         for g in report.redundant:
             if g[0] == rows[i].joint:
-                joints.extend(j for j in g if j not in joints)
+                joints.extend(j for j in _joints_only(g) if j not in joints)
     joints = joints or sorted({rows[i].joint for i in dependent})
     rx = ", ".join(rows[i].reaction for i in dependent[:6]) + (", ..." if len(dependent) > 6 else "")
     return InputError("mechanism.redundant",
@@ -149,7 +154,8 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Equation
             raise _misfit_error(mech, [r for r in rows if r.stiffness is None], closure.phi(x)[rigid])
     report = dof_report(closure.phi_q(x), [r.joint for r in rows])
     if report.dof != mech.dof:
-        red = f"; redundant constraints among joints {', '.join(report.redundant_joints)}" if report.redundant else ""
+        red = (f"; redundant constraints among joints {', '.join(_joints_only(report.redundant_joints))}"
+               if report.redundant else "")
         raise InputError("mechanism.dof", f"the assembled mechanism has {report.dof} degree(s) of freedom, intended "
                                           f"{mech.dof} (rank {report.rank} of {len(rows)} constraint rows on "
                                           f"{nq} coordinates, {len(mech.bodies)} of them normalisation rows){red}")
@@ -169,7 +175,9 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Equation
     elastic = sum((r.expr ** 2 * r.stiffness / 2 for r, _ in stiff), sp.S.Zero)
     mech_forces = [f - sp.diff(elastic, qi) for f, qi in zip(forces, kin.q)]
     names = [*coords, *(r.reaction for r in rows), *cnames, *(p.name for p in mech.parameters)]
-    model = MechanicalModel(names, coords, [r.expr for r in rows if r.stiffness is None], mech_forces, mass)
+    rigid_rows = [r for r in rows if r.stiffness is None]
+    model = MechanicalModel(names, coords, [r.expr for r in rigid_rows], mech_forces, mass,
+                            [r.equation for r in rigid_rows])
     if conditions:
         from ...equations._codegen import compile_dense
 

@@ -80,16 +80,17 @@ class SpatialKinematics:
 
     # -- constraints ----------------------------------------------------------------------
     def constraints(self) -> list[SpatialRow]:
-        """Every scalar constraint row: joints in declaration order, the length-mode actuators,
-        then one normalisation row per body."""
+        """Every scalar constraint row: one normalisation row per body first (so a redundancy is
+        always reported at a joint), then the joints in declaration order and the length-mode
+        actuators."""
         rows: list[SpatialRow] = []
-        for j in self.mech.joints:
-            rows.extend(j.rows(self))
-        rows += [SpatialRow(r.joint, r.equation, r.reaction, r.unit, r.expr) for r in actuator_rows(self)]
         for b in self.mech.bodies:
             e = self.body_e[b.name]
             rows.append(SpatialRow(f"norm_{b.name}", f"norm_{b.name}", f"mu_{b.name}", "N m",
                                    sum((c ** 2 for c in e), sp.S.Zero) - 1))
+        for j in self.mech.joints:
+            rows.extend(j.rows(self))
+        rows += [SpatialRow(r.joint, r.equation, r.reaction, r.unit, r.expr) for r in actuator_rows(self)]
         return rows
 
     # -- inertia --------------------------------------------------------------------------

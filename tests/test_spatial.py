@@ -1,0 +1,185 @@
+"""Spatial mechanisms against truth: a Bennett linkage (over-constrained and mobile), a compound
+pendulum on a tilted hinge (closed-form equilibrium and frequency, and time simulation), and a
+door on two hinges (statically indeterminate when rigid; determinate, as the closed form of the
+split of its gravity moment, with compliant hinges; a misaligned hinge's misfit)."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium
+from mechcont.dynamics import simulate
+from mechcont.errors import InputError
+from mechcont.mechanism import assemble, check_report, load, parse_description
+from tests.derivative_checks import check_derivatives
+
+DATA = Path(__file__).parent / "data" / "spatial"
+
+
+def _text(name: str) -> str:
+    return (DATA / name).read_text()
+
+
+# -- Bennett linkage ---------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def bennett():
+    return load(DATA / "bennett.toml")
+
+
+def test_bennett_rigid_is_refused_naming_its_joints_and_the_fix():
+    text = _text("bennett.toml").replace('redundant = "drop"', "")
+    with pytest.raises(InputError) as err:
+        parse_description(text, "bennett.toml").build()
+    msg = str(err.value)
+    assert "over-constrained: 3 redundant constraint(s) among joints" in msg
+    assert all(j in msg for j in ("A", "B", "C", "D")) and "norm_" not in msg
+    assert "stiffness" in msg and 'redundant = "drop"' in msg
+
+
+def test_bennett_has_mobility_one_and_three_redundant_rows(bennett):
+    # 3 bodies x 7 coordinates; 4 revolutes x 5 rows + 3 normalisation rows = 23 rows of rank 20
+    assert bennett.dof.dof == 1 and bennett.dof.rank == 20
+    assert len(bennett.dropped_constraints) == 3
+
+
+def test_bennett_branch_satisfies_every_constraint(bennett):
+    x0 = assemble(bennett, hold={"crank": 0.0}, free=["M"])
+    b = continuation(bennett, x0, "crank", free=["M"],
+                     options=ContinuationOptions(bounds={"crank": (-2.5, 2.5)}, max_steps=400))
+    assert b.success and len(b.values) > 50
+    assert np.ptp(b["crank"]) > 2.0  # the linkage really moves
+    for row in b.values:
+        assert np.max(np.abs(bennett.mechanics.phi(row))) < 1e-10
+        assert bennett.dropped_residual(row) < 1e-10   # the dropped rows stay implied: true mobility
+
+
+def test_bennett_derivatives_match_finite_differences(bennett):
+    check_derivatives(bennett)
+
+
+# -- compound pendulum on a tilted hinge -------------------------------------------------------
+@pytest.fixture(scope="module")
+def pendulum():
+    return load(DATA / "pendulum_3d.toml")
+
+
+def _closed_form(v):
+    return v["m"] * v["g"] * math.cos(v["beta"]) * v["L"] / 2 / (v["It"] + v["m"] * v["L"] ** 2 / 4)
+
+
+@pytest.mark.parametrize("beta", [0.0, 0.6, 1.2])
+def test_pendulum_hangs_below_the_hinge_and_its_frequency_is_the_closed_form(pendulum, beta):
+    x = find_equilibrium(pendulum, values={"beta": beta})
+    v = pendulum.as_dict(x)
+    # the CG hangs at L/2 from the hinge along gravity's component normal to the axis
+    n = np.array([0.0, math.cos(beta), math.sin(beta)])
+    down = np.array([0.0, 0.0, -1.0]) - (-math.sin(beta)) * n
+    down /= np.linalg.norm(down)
+    assert np.allclose([v["x_bar"], v["y_bar"], v["z_bar"]], v["L"] / 2 * down, atol=1e-12)
+    mech = pendulum.mechanics
+    st = mech.stability(x)
+    assert st.stable
+    Z = mech.allowed_motions(x)
+    assert Z.shape[1] == 1
+    omega2 = scipy.linalg.eigvals(Z.T @ mech.tangent_stiffness(x) @ Z, Z.T @ mech.mass(x) @ Z).real
+    assert omega2[0] == pytest.approx(_closed_form(v), rel=1e-10)
+    # the hinge carries the weight: vertical reaction m g, no horizontal force
+    assert v["R_hinge_z"] == pytest.approx(v["m"] * v["g"], rel=1e-12)
+    assert abs(v["R_hinge_x"]) + abs(v["R_hinge_y"]) < 1e-9
+
+
+def test_pendulum_time_simulation_oscillates_at_the_closed_form_frequency(pendulum):
+    x = find_equilibrium(pendulum)
+    v = pendulum.as_dict(x)
+    omega = math.sqrt(_closed_form(v))
+    # start turned by 0.01 rad about the hinge axis (angular velocity kick instead: at rest it is
+    # the same small oscillation), integrate three periods
+    Z = pendulum.mechanics.allowed_motions(x)[:, 0]
+    qdot = 0.01 * omega * Z / np.sqrt(Z @ pendulum.mechanics.mass(x) @ Z) * 1.0
+    T = 2 * math.pi / omega
+    res = simulate(pendulum, x, (0.0, 3 * T), qdot0=qdot, rtol=1e-10, atol=1e-12,
+                   t_eval=np.linspace(0.0, 3 * T, 3001))
+    y = res.y[pendulum.index("x_bar")] if hasattr(res, "y") else res["x_bar"]
+    t = res.t
+    s = y - y.mean()
+    ups = [t[i] - s[i] * (t[i + 1] - t[i]) / (s[i + 1] - s[i]) for i in range(len(s) - 1) if s[i] < 0 <= s[i + 1]]
+    assert len(ups) >= 2
+    assert np.mean(np.diff(ups)) == pytest.approx(T, rel=1e-4)
+
+
+def test_pendulum_derivatives_match_finite_differences(pendulum):
+    check_derivatives(pendulum)
+
+
+# -- a door on two hinges -----------------------------------------------------------------------
+def _compliant_door(misalign: float = 0.0):
+    text = _text("door_3d.toml").replace('''[joints.lower]
+type = "revolute"
+a = "ground.low"
+b = "door.low"
+axis = [0, 0, 1]''', '''[joints.lower]
+type = "revolute"
+a = "ground.low"
+b = "door.low"
+axis = [0, 0, 1]
+rotational_stiffness = "kr"''').replace('''[joints.upper]
+type = "revolute"''', '''[joints.upper]
+type = "spherical"
+stiffness = "k"''').replace('axis = [0, 0, 1]\n\n[gravity]', '\n[gravity]')
+    return parse_description(text, "door_compliant.toml").build(misalign=misalign)
+
+
+def test_rigid_door_is_statically_indeterminate():
+    with pytest.raises(InputError) as err:
+        load(DATA / "door_3d.toml")
+    msg = str(err.value)
+    assert "5 redundant constraint(s) among joints upper, lower" in msg
+    assert "R_upper_x" in msg and "joints.NAME.stiffness" in msg
+
+
+def test_misaligned_rigid_hinges_report_their_misfit():
+    with pytest.raises(InputError) as err:
+        load(DATA / "door_3d.toml", misalign=0.002)
+    msg = str(err.value)
+    assert "cannot be assembled: misfit" in msg and "stiffness" in msg
+    misfit = float(msg.split("misfit (m or rad, least squares) ")[1].split()[1].rstrip(","))
+    assert 1e-4 < misfit < 0.002 + 1e-9
+
+
+@pytest.mark.parametrize("misalign", [0.0, 0.002])
+def test_compliant_hinges_make_the_reactions_determinate(misalign):
+    door = _compliant_door(misalign)
+    x = find_equilibrium(door, hold={"swing": 0.3}, free=["M"], guess=door.defaults())
+    v = door.as_dict(x)
+    mga = v["m"] * v["g"] * v["a"]
+    h, k, kr = v["h"], v["k"], v["kr"]
+    # the door swung by 0.3 rad about z; in that pose, with d = (cos 0.3, sin 0.3, 0) the CG's
+    # direction from the hinge line, small tilts phi (in the plane of z and d) and psi (normal to it):
+    # m g a + k h (delta c) = (kr + k h^2) phi and k h (delta s) = (kr + k h^2) psi
+    c, s = math.cos(0.3), math.sin(0.3)
+    phi = (mga + k * h * misalign * c) / (kr + k * h ** 2)
+    psi = k * h * misalign * s / (kr + k * h ** 2)
+    # holding the swing needs no moment but for second-order terms (the prestressed hinge's force
+    # acting on the tilted door: k delta h psi ~ 2e-4 m g a with the misalignment)
+    assert abs(v["M"]) <= (1e-9 if misalign == 0 else 1e-3 * mga)
+    assert c * v["R_upper_x"] + s * v["R_upper_y"] == pytest.approx(k * (misalign * c - h * phi), rel=1e-5, abs=1e-6)
+    assert -s * v["R_upper_x"] + c * v["R_upper_y"] == pytest.approx(-k * (misalign * s - h * psi), rel=1e-5,
+                                                                        abs=1e-6)
+    assert math.hypot(v["T_lower_1"], v["T_lower_2"]) == pytest.approx(kr * math.hypot(phi, psi), rel=1e-5)
+    # the whole door balances: horizontal reactions cancel, vertical ones carry the weight
+    assert v["R_lower_x"] + v["R_upper_x"] == pytest.approx(0.0, abs=1e-6)
+    assert v["R_lower_z"] + v["R_upper_z"] == pytest.approx(v["m"] * v["g"], rel=1e-9)
+    assert door.mechanics.stability(x).stable
+    check_derivatives(door)
+
+
+def test_check_reports_dof_redundancy_and_compliance():
+    rep = check_report(DATA / "bennett.toml")
+    assert rep.dof == 1 and len(rep.redundant) == 3
+    text = rep.to_text()
+    assert "redundant constraints: 3 row(s) dropped" in text and "norm_" not in text.split("loop closure")[0]
+    door = check_report(DATA / "door_3d.toml")
+    assert any("over-constrained" in f for f in door.findings)
