@@ -96,3 +96,60 @@ def test_fold_curve_and_cusp_equal_closed_form(spatial):
     cusp = curve.special("CP")
     assert len(cusp) == 1
     assert cusp[0]["LU"] == pytest.approx(SYM["L"], abs=1e-7)
+
+
+# -- the four-bar linkage and the paper's nose gear --------------------------------------------
+def _folds(system, hold, value, free, bounds):
+    x = assemble(system, hold={hold: value}, free=[free])
+    b = continuation(system, x, free, options=ContinuationOptions(bounds=bounds))
+    assert b.success
+    return b, sorted((p[hold], p[free]) for p in b.special("LP"))
+
+
+def test_fourbar_folds_and_stability_equal_planar():
+    spatial, planar = load(DATA / "fourbar_3d.toml"), load("fourbar")
+    assert spatial.dropped_constraints == ("D_z", "D_rot1", "D_rot2")
+    # one revolution of the crank (the conditions' 2 atan2 of Euler parameters wraps at +-2 pi)
+    bounds = {"T": (-30.0, 30.0), "theta_crank": (-1.5, 4.7)}
+    bs, ls = _folds(spatial, "theta_crank", 1.2, "T", bounds)
+    bp, lp = _folds(planar, "theta_crank", 1.2, "T", bounds)
+    assert len(ls) == len(lp) == 4
+    for a, b in zip(ls, lp):
+        assert a == pytest.approx(b, abs=1e-9)
+    assert bs["theta_crank"][bs.stable].size > 0
+    # the same equilibria have the same stability (away from the folds)
+    for row, label in zip(bs.values[::5], bs.labels[::5]):
+        if label == "LP":
+            continue
+        v = spatial.as_dict(row)
+        xp = assemble(planar, values={"T": v["T"]}, hold={"theta_crank": v["theta_crank"]}, free=["T"])
+        assert xp[planar.index("T")] == pytest.approx(v["T"], abs=1e-9)
+        assert planar.mechanics.stability(xp).n_unstable == spatial.mechanics.stability(row).n_unstable
+
+
+def test_nose_gear_unlock_fold_and_fold_curve_equal_planar():
+    spatial, planar = load(DATA / "nose_gear_3d.toml"), load("nose_gear")
+    assert spatial.dof.dof == 1 and len(spatial.dropped_constraints) == 6  # 3 per planar loop
+    bounds = {"F": (-3e4, 3e4), "theta4": (-0.5, 0.5)}
+    for values in ({}, {"U": 60.0, "alpha": 0.3}, {"psi2": -0.1, "U": 40.0}):
+        xs = assemble(spatial, values=values, hold={"theta4": 0.05}, free=["F"])
+        xp = assemble(planar, values=values, hold={"theta4": 0.05}, free=["F"])
+        assert xs[spatial.index("F")] == pytest.approx(xp[planar.index("F")], rel=1e-9)
+        for name in ("x3", "y3", "R_pivot_x", "R_pivot_y", "R_joint45_x", "R_joint45_y"):
+            assert xs[spatial.index(name)] == pytest.approx(xp[planar.index(name)], rel=1e-9, abs=1e-9), name
+        assert spatial.mechanics.stability(xs).n_unstable == planar.mechanics.stability(xp).n_unstable
+    bs, ls = _folds(spatial, "theta4", 0.0, "F", bounds)
+    bp, lp = _folds(planar, "theta4", 0.0, "F", bounds)
+    assert len(ls) == len(lp) == 1
+    assert ls[0] == pytest.approx(lp[0], rel=1e-9)
+    assert ls[0][1] == pytest.approx(10403.721131432, rel=1e-9)   # the paper's unlock force, as planar
+    # the spatial fold curve in (l_sp1, F): each of its points is the planar gear's fold at that l_sp1
+    opts = ContinuationOptions(bounds={"l_sp1": (0.0, 0.2)}, max_steps=60)
+    cs = continue_folds(spatial, bs.special("LP")[0], "F", "l_sp1", options=opts)
+    assert len(cs.values) > 20 and cs["l_sp1"].max() == pytest.approx(0.2, abs=1e-12)
+    for i in (len(cs.values) // 3, 2 * len(cs.values) // 3, len(cs.values) - 1):
+        l_sp1 = cs["l_sp1"][i]
+        x = assemble(planar, values={"l_sp1": l_sp1}, hold={"theta4": 0.0}, free=["F"])
+        fold = continuation(planar, x, "F", options=ContinuationOptions(bounds=bounds)).special("LP")[0]
+        assert fold["F"] == pytest.approx(cs["F"][i], rel=1e-9)
+        assert fold["theta4"] == pytest.approx(cs["theta4"][i], abs=1e-9)

@@ -313,9 +313,12 @@ def _equilibrium(mech: Mechanism, coords: list[str], rows: list[ConstraintRow], 
     at_rest = {velocity_symbol(c): 0 for c in coords}
     lam = [symbol(r.reaction) for r in rows]
     equilibrium = []
+    uses = [row.expr.free_symbols for row in rows]  # a row differentiates only in its own coordinates
     for qi, Qi in zip(q, forces):
         e = Qi.xreplace(at_rest)
-        for row, lk in zip(rows, lam):
+        for row, lk, used in zip(rows, lam, uses):
+            if qi not in used:
+                continue
             d = sp.diff(row.expr, qi)
             if d != 0:
                 e -= d * lk

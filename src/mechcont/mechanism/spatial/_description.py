@@ -28,7 +28,7 @@ from .._description import BAR_POINTS, BUILTIN_POINTS, Mechanism, PointForce, _c
 from .._expr import Value
 from ._joints import SpatialJoint
 
-__all__ = ["SpatialBody", "SpatialGravity", "SpatialMoment", "SpatialCustomLoad", "SpatialMechanism",
+__all__ = ["SpatialBody", "SpatialGravity", "SpatialMoment", "SpatialCustomLoad", "SpatialDrag", "SpatialMechanism",
            "spatial_coordinate_names", "INERTIA_KEYS"]
 
 Vector = tuple[Value, Value, Value]
@@ -114,6 +114,28 @@ class SpatialCustomLoad:
     mz: Value = 0
 
 
+@dataclass(frozen=True)
+class SpatialDrag:
+    """Aerodynamic cross-flow drag on the segment from point ``start`` to point ``end`` of ``body``.
+
+    With the air velocity ``U * direction / |direction|`` (m/s), the segment ``D = P_end -
+    P_start`` of length ``L`` and the air velocity's component normal to it ``w_n``, the force
+    ``1/2 rho C_D d L |w_n| w_n`` (N) acts at the segment's midpoint (the planar drag's model in
+    space; ``|w_n|`` smoothed as ``sqrt(|w_n|^2 + (1e-6 m/s)^2)`` so the Jacobian exists at
+    ``U = 0``).
+    """
+
+    name: str
+    body: str
+    rho: Value = "rho"
+    U: Value = "U"
+    direction: Vector = (1, 0, 0)
+    d: Value = "d"
+    CD: Value = "C_D"
+    start: str = "a"
+    end: str = "b"
+
+
 class SpatialMechanism(Mechanism):
     """A spatial mechanism: everything needed to generate its equations.
 
@@ -121,7 +143,7 @@ class SpatialMechanism(Mechanism):
     ``bodies`` of :class:`SpatialBody`, ``joints`` of the :mod:`._joints` classes, ``ground``
     points ``{name: (x, y, z)}``, ``springs``, ``dampers``, ``actuators``, ``loads`` of
     :class:`~mechcont.mechanism.PointForce` (3-vector ``direction``), :class:`SpatialMoment`
-    and :class:`SpatialCustomLoad`, ``gravity`` a :class:`SpatialGravity`, ``conditions``,
+    :class:`SpatialDrag` and :class:`SpatialCustomLoad`, ``gravity`` a :class:`SpatialGravity`, ``conditions``,
     ``dof``, ``redundant``, ``hold``, ``downlock``). ``redundant = "drop"`` removes dependent
     rows (reactions then indeterminate: one particular solution); a joint ``stiffness`` makes
     them determinate instead (see :mod:`._joints`).
@@ -153,12 +175,17 @@ class SpatialMechanism(Mechanism):
                 self.point_ref(ld.at, f + ".at")
                 if ld.at.startswith("ground."):
                     raise InputError(f + ".at", "a load on the ground does nothing; apply it to a body point")
-            elif isinstance(ld, SpatialMoment):
+            elif isinstance(ld, (SpatialMoment, SpatialDrag)):
                 if ld.body not in self.body_map:
                     raise InputError(f + ".body", f"unknown body '{ld.body}'; bodies: {', '.join(self.body_map)}")
+                if isinstance(ld, SpatialDrag):
+                    self.point_ref(f"{ld.body}.{ld.start}", f + ".start")
+                    self.point_ref(f"{ld.body}.{ld.end}", f + ".end")
+                    if ld.start == ld.end:
+                        raise InputError(f + ".end", "the drag segment needs two different points")
             else:
                 raise InputError(f, f"load type {type(ld).__name__} is not available for spatial mechanisms "
-                                    "(force, moment, custom)")
+                                    "(force, moment, drag, custom)")
 
     def _values(self):
         for b in self.bodies:
@@ -204,6 +231,10 @@ class SpatialMechanism(Mechanism):
             elif isinstance(ld, SpatialCustomLoad):
                 for attr in self._COORDINATE_KEYS:
                     yield f"{f}.{attr}", getattr(ld, attr)
+            elif isinstance(ld, SpatialDrag):
+                for attr in ("rho", "U", "d", "CD"):
+                    yield f"{f}.{attr}", getattr(ld, attr)
+                yield from _vector(f + ".direction", ld.direction)
         yield from self._common_values()
 
     def _generator(self):

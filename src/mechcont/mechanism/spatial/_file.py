@@ -14,6 +14,7 @@ expression string in the parameter names)::
     [gravity]           g, direction = [x, y, z] (default [0, 0, -1])
     [loads.NAME]        type = "force": at, magnitude, direction = [x, y, z]
                         type = "moment": body, magnitude, axis = [x, y, z]
+                        type = "drag": body, rho, U, direction = [x, y, z], d, CD, start, end
                         type = "custom": at, fx, fy, fz, mx, my, mz (may use coordinates)
 
 See :mod:`._description` for the conventions (design pose, coordinates).
@@ -26,7 +27,14 @@ from collections.abc import Mapping
 from ...errors import InputError
 from .._description import PointForce
 from .._file import _entries, _only, _require, _table, _text, _typed
-from ._description import SpatialBody, SpatialCustomLoad, SpatialGravity, SpatialMechanism, SpatialMoment
+from ._description import (
+    SpatialBody,
+    SpatialCustomLoad,
+    SpatialDrag,
+    SpatialGravity,
+    SpatialMechanism,
+    SpatialMoment,
+)
 from ._joints import JOINT_TYPES, joint_keys
 
 __all__ = ["spatial_mechanism", "SPATIAL_KEYS", "SPATIAL_JOINTS", "SPATIAL_LOADS"]
@@ -36,6 +44,7 @@ SPATIAL_JOINTS = {kind: (cls, joint_keys(cls) - {"type"}) for kind, cls in JOINT
 #: ``type`` -> (class, keys) of ``[loads.NAME]`` in a spatial file.
 SPATIAL_LOADS = {"force": (PointForce, {"at", "magnitude", "direction"}),
                  "moment": (SpatialMoment, {"body", "magnitude", "axis"}),
+                 "drag": (SpatialDrag, {"body", "rho", "U", "direction", "d", "CD", "start", "end"}),
                  "custom": (SpatialCustomLoad, {"at", "fx", "fy", "fz", "mx", "my", "mz"})}
 #: Keys of the other spatial tables, by key path (``NAME`` stands for a user's name).
 SPATIAL_KEYS: dict[str, frozenset[str]] = {
@@ -88,7 +97,7 @@ def spatial_mechanism(data: Mapping, common: dict) -> SpatialMechanism:
         f = f"loads.{lname}"
         kind, cls = _typed(spec, f, "loads", SPATIAL_LOADS)
         _require(spec, {"force": ["at", "magnitude", "direction"], "moment": ["body", "magnitude", "axis"],
-                        "custom": ["at"]}[kind], f)
+                        "drag": ["body", "direction"], "custom": ["at"]}[kind], f)
         kw = {k: (_triple(v, f"{f}.{k}") if k in ("direction", "axis") else v) for k, v in spec.items() if k != "type"}
         loads.append(cls(lname, **kw))
     return SpatialMechanism(bodies=bodies, joints=joints, ground=ground, loads=loads, gravity=gravity, **common)

@@ -135,7 +135,8 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Equation
     Lc, Fc = _scales(mech, values)
     conditions = condition_rows(kin, {})
     cnames = [c.name for c, _ in conditions]
-    _, closure = _equilibrium(mech, coords, rows, forces, mass, cnames)  # every row taken as rigid
+    names = [*coords, *(r.reaction for r in rows), *cnames, *(p.name for p in mech.parameters)]
+    closure = MechanicalModel(names, coords, [r.expr for r in rows], forces, mass)  # every row taken as rigid
     guess = _initial_guess(kin, values)
     nq = len(coords)
     x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * (len(rows) + len(cnames))
@@ -169,12 +170,12 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Equation
         x = np.concatenate([x[:nq], np.zeros(len(keep)), x[nq + len(rows):]])
         rows = [rows[i] for i in keep]
     equilibrium, closure = _equilibrium(mech, coords, rows, forces, mass, cnames)
+    names = list(closure.names)
     x[nq:nq + len(rows)] = closure.multipliers(x)
     lam = [symbol(r.reaction) for r in rows]
     stiff = [(r, k) for r, k in zip(rows, lam) if r.stiffness is not None]
     elastic = sum((r.expr ** 2 * r.stiffness / 2 for r, _ in stiff), sp.S.Zero)
     mech_forces = [f - sp.diff(elastic, qi) for f, qi in zip(forces, kin.q)]
-    names = [*coords, *(r.reaction for r in rows), *cnames, *(p.name for p in mech.parameters)]
     rigid_rows = [r for r in rows if r.stiffness is None]
     model = MechanicalModel(names, coords, [r.expr for r in rigid_rows], mech_forces, mass,
                             [r.equation for r in rigid_rows])

@@ -17,9 +17,9 @@ import sympy as sp
 from ...equations import velocity_symbol
 from .._actuators import actuator_rows
 from .._expr import symbol
-from .._forces import Loads
+from .._forces import DRAG_SMOOTHING, Loads
 from .._values import parameter_values
-from ._description import INERTIA_KEYS, SpatialBody, SpatialCustomLoad, SpatialMechanism, SpatialMoment
+from ._description import INERTIA_KEYS, SpatialBody, SpatialCustomLoad, SpatialDrag, SpatialMechanism, SpatialMoment
 from ._joints import SpatialRow
 from ._rotation import body_omega_matrix, dot, norm, omega_matrix, rotation_matrix
 
@@ -163,6 +163,10 @@ def spatial_loads(kin: SpatialKinematics) -> Loads:
             n = mech.value(f + ".magnitude") * _unit(sp.Matrix([mech.value(f"{f}.axis.{c}") for c in "xyz"]))
             Q_nc = _add(Q_nc, _moment_work(kin, ld.body, n))
             arrows.append((ld.name, kin.point(f"{ld.body}.origin"), n))
+        elif isinstance(ld, SpatialDrag):
+            Q_drag, P, force = _drag(kin, ld)
+            Q_nc = _add(Q_nc, Q_drag)
+            arrows.append((ld.name, P, force))
         elif isinstance(ld, SpatialCustomLoad):
             P = kin.point(ld.at)
             force = sp.Matrix([mech.value(f"{f}.{k}") for k in ("fx", "fy", "fz")])
@@ -197,3 +201,19 @@ def _moment_work(kin: SpatialKinematics, body: str, n: sp.Matrix) -> list[sp.Exp
     for k, ek in enumerate(e):
         out[index[str(ek)]] = Qe[k]
     return out
+
+
+def _drag(kin: SpatialKinematics, ld: SpatialDrag):
+    """Generalised forces, midpoint and force of a cross-flow drag (see :class:`SpatialDrag`)."""
+    mech, f = kin.mech, f"loads.{ld.name}"
+    rho, U, d, CD = (mech.value(f"{f}.{a}") for a in ("rho", "U", "d", "CD"))
+    w = U * _unit(sp.Matrix([mech.value(f"{f}.direction.{c}") for c in "xyz"]))
+    A, B = kin.point(f"{ld.body}.{ld.start}"), kin.point(f"{ld.body}.{ld.end}")
+    local = kin.local_point(ld.body, ld.end) - kin.local_point(ld.body, ld.start)
+    L2 = dot(local, local)  # squared segment length, constant on a rigid body (no sqrt of coordinates)
+    D = B - A
+    W = L2 * w - dot(w, D) * D  # L^2 w_n
+    # 1/2 rho C_D d L |w_n| w_n with |w_n| -> sqrt(|w_n|^2 + eps^2), written through W = L^2 w_n
+    force = rho * CD * d / 2 * sp.sqrt(dot(W, W) + DRAG_SMOOTHING ** 2 * L2 ** 2) / L2 ** sp.Rational(3, 2) * W
+    P = (A + B) / 2
+    return [dot(force, P.diff(qi)) for qi in kin.q], P, force

@@ -7,7 +7,7 @@ from collections.abc import Mapping
 from ...equations import Limit
 from ...errors import InputError
 from .._values import check_finite, evaluate
-from ._description import SpatialCustomLoad, SpatialMechanism, SpatialMoment
+from ._description import SpatialCustomLoad, SpatialDrag, SpatialMechanism, SpatialMoment
 from ._joints import Universal
 
 __all__ = ["spatial_limits", "check_spatial_values"]
@@ -38,6 +38,12 @@ def spatial_limits(mech: SpatialMechanism, *, solve: bool = True) -> list[Limit]
     for act in mech.actuators:
         if act.length is not None:
             need(f"actuators.{act.name}.length", True, "actuator length (m)")
+    for ld in mech.loads:
+        if isinstance(ld, SpatialDrag):
+            f = f"loads.{ld.name}"
+            need(f + ".rho", False, "air density (kg/m^3)")
+            need(f + ".d", True, "diameter (m)")
+            need(f + ".CD", False, "drag coefficient")
     for j in mech.joints:
         if j.stiffness is not None:
             need(f"joints.{j.name}.stiffness", True, "joint stiffness (N/m)")
