@@ -162,7 +162,7 @@ def spatial_loads(kin: SpatialKinematics) -> Loads:
         if isinstance(ld, SpatialMoment):
             n = mech.value(f + ".magnitude") * _unit(sp.Matrix([mech.value(f"{f}.axis.{c}") for c in "xyz"]))
             Q_nc = _add(Q_nc, _moment_work(kin, ld.body, n))
-            arrows.append((ld.name, kin.point(f"{ld.body}.origin"), n))
+            arrows.append((ld.name, _moment_anchor(kin, ld.body), n))
         elif isinstance(ld, SpatialDrag):
             Q_drag, P, force = _drag(kin, ld)
             Q_nc = _add(Q_nc, Q_drag)
@@ -181,6 +181,15 @@ def spatial_loads(kin: SpatialKinematics) -> Loads:
             V -= F * dot(u, P)
             arrows.append((ld.name, P, F * u))
     return Loads(V, Q_nc, arrows)
+
+
+def _moment_anchor(kin: SpatialKinematics, body: str) -> sp.Matrix:
+    """Where a moment on ``body`` is drawn: its first joint to the ground, else its centre of gravity."""
+    for j in kin.mech.joints:
+        ends = (j.a, j.b)
+        if any(r.startswith("ground.") for r in ends) and any(r.split(".")[0] == body for r in ends):
+            return kin.point(next(r for r in ends if r.split(".")[0] == body))
+    return kin.cg(body)
 
 
 def _unit(u: sp.Matrix) -> sp.Matrix:

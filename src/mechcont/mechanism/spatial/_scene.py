@@ -68,7 +68,7 @@ def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.
     for b in mech.bodies:
         off_origin = any(c != 0 for c in kin.local_point(b.name, "cg"))
         for pn in mech.point_names(b.name):
-            if (pn == "origin" and b.length is not None) or (pn == "cg" and not off_origin):
+            if pn == "origin" or (pn == "cg" and not off_origin):  # a spatial frame origin marks nothing
                 continue
             add("point", f"{b.name}.{pn}", [kin.point(f"{b.name}.{pn}")])
     for gname in mech.ground:
