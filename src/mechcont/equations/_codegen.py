@@ -110,6 +110,30 @@ def _diff(e, a):
     return d
 
 
+def gradient(expr, symbols: Sequence[sp.Symbol]) -> list[sp.Expr]:
+    """``[d expr / d s for s in symbols]`` as SymPy expressions, differentiated in SymEngine.
+
+    Exact, like ``sympy.diff``, and much faster on the long expressions of spatial mechanisms.
+    SymEngine forgets SymPy's assumptions, so the result's symbols are mapped back to the
+    originals (``Symbol(name, real=True)``) by name.
+    """
+    expr = sp.sympify(expr, strict=True)
+    if not symbols:
+        return []
+    originals = {s.name: s for s in expr.free_symbols | set(symbols) if isinstance(s, sp.Symbol)}
+    e = to_engine(expr)
+    used = {str(s) for s in e.free_symbols}
+    out: list[sp.Expr] = []
+    for s in symbols:
+        if s.name not in used:
+            out.append(sp.S.Zero)
+            continue
+        d = sp.sympify(_diff(e, se.Symbol(s.name)))
+        out.append(d.xreplace({a: originals[a.name] for a in d.free_symbols
+                               if isinstance(a, sp.Symbol) and a.name in originals}))
+    return out
+
+
 def _extremum_derivative(f, var):
     """d Max(u_i)/d var (or Min): u_k' where u_k is the first argument attaining the extremum."""
     better = se.Ge if isinstance(f, se.Max) else se.Le

@@ -304,25 +304,24 @@ def _check_assembled(mech: Mechanism, kin: Kinematics, model: MechanicalModel, x
 
 
 def _equilibrium(mech: Mechanism, coords: list[str], rows: list[ConstraintRow], forces: list[sp.Expr],
-                 mass: sp.Matrix, conditions: list[str] = ()) -> tuple[list[sp.Expr], MechanicalModel]:
+                 mass: sp.Matrix, conditions: list[str] = (), *,
+                 gradient=None) -> tuple[list[sp.Expr], MechanicalModel]:
     """Equilibrium rows ``Q - Phi_q^T lambda`` (at rest) and the compiled mechanical model.
 
     ``conditions`` are the names of the condition states (variables after the reactions;
-    not coordinates of the mechanics)."""
+    not coordinates of the mechanics). ``gradient(expr, symbols)`` differentiates the rows
+    (default: SymPy, one coordinate at a time)."""
     q = [symbol(c) for c in coords]
     at_rest = {velocity_symbol(c): 0 for c in coords}
     lam = [symbol(r.reaction) for r in rows]
-    equilibrium = []
-    uses = [row.expr.free_symbols for row in rows]  # a row differentiates only in its own coordinates
-    for qi, Qi in zip(q, forces):
-        e = Qi.xreplace(at_rest)
-        for row, lk, used in zip(rows, lam, uses):
-            if qi not in used:
-                continue
-            d = sp.diff(row.expr, qi)
+    equilibrium = [Qi.xreplace(at_rest) for Qi in forces]
+    index = {qi: i for i, qi in enumerate(q)}
+    for row, lk in zip(rows, lam):
+        used = [qi for qi in q if qi in row.expr.free_symbols]  # a row differentiates only in its own coordinates
+        ds = gradient(row.expr, used) if gradient is not None else [sp.diff(row.expr, qi) for qi in used]
+        for qi, d in zip(used, ds):
             if d != 0:
-                e -= d * lk
-        equilibrium.append(e)
+                equilibrium[index[qi]] -= d * lk
     names = [*coords, *(r.reaction for r in rows), *conditions, *(p.name for p in mech.parameters)]
     clash = {n for n in names if names.count(n) > 1}
     if clash:

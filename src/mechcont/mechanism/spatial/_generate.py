@@ -22,6 +22,7 @@ import numpy as np
 import sympy as sp
 
 from ...equations import EquationSystem, MechanicalModel, Variable
+from ...equations._codegen import gradient
 from ...errors import InputError
 from .._assembly import DofReport, close_constraints, dof_report
 from .._conditions import condition_description, condition_rows, condition_scale, condition_targets
@@ -130,7 +131,7 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Equation
     # a compliant row (determinate); one among rigid rows only, at a rigid row (indeterminate)
     all_rows = kin.constraints()
     rows = [r for r in all_rows if r.stiffness is None] + [r for r in all_rows if r.stiffness is not None]
-    forces = [-sp.diff(ld.V, qi) + qnc for qi, qnc in zip(kin.q, ld.Q_nc)]
+    forces = [-dv + qnc for dv, qnc in zip(gradient(ld.V, kin.q), ld.Q_nc)]
     mass = kin.mass_matrix()
     Lc, Fc = _scales(mech, values)
     conditions = condition_rows(kin, {})
@@ -169,13 +170,13 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Equation
         keep = [i for i in range(len(rows)) if i not in set(dependent)]
         x = np.concatenate([x[:nq], np.zeros(len(keep)), x[nq + len(rows):]])
         rows = [rows[i] for i in keep]
-    equilibrium, closure = _equilibrium(mech, coords, rows, forces, mass, cnames)
+    equilibrium, closure = _equilibrium(mech, coords, rows, forces, mass, cnames, gradient=gradient)
     names = list(closure.names)
     x[nq:nq + len(rows)] = closure.multipliers(x)
     lam = [symbol(r.reaction) for r in rows]
     stiff = [(r, k) for r, k in zip(rows, lam) if r.stiffness is not None]
     elastic = sum((r.expr ** 2 * r.stiffness / 2 for r, _ in stiff), sp.S.Zero)
-    mech_forces = [f - sp.diff(elastic, qi) for f, qi in zip(forces, kin.q)]
+    mech_forces = [f - d for f, d in zip(forces, gradient(elastic, kin.q))]
     rigid_rows = [r for r in rows if r.stiffness is None]
     model = MechanicalModel(names, coords, [r.expr for r in rigid_rows], mech_forces, mass,
                             [r.equation for r in rigid_rows])

@@ -96,7 +96,7 @@ class SpatialJoint:
     def _rotation_row(self, kin, i: int, u_a: sp.Matrix, v_b: sp.Matrix) -> SpatialRow:
         """``(A_a u_a) . (A_b v_b) = 0``: zero while the two body vectors stay perpendicular."""
         n = self.name
-        expr = dot(kin.rotation(self.a) * u_a, kin.rotation(self.b) * v_b)
+        expr = dot(kin.turn(self.a, u_a), kin.turn(self.b, v_b))
         return SpatialRow(n, f"{n}_rot{i}", f"T_{n}_{i}", "N m", expr, self._k(kin, "rotational_stiffness"))
 
     def _axis_rows(self, kin, axis: sp.Matrix) -> list[SpatialRow]:
@@ -138,7 +138,7 @@ class Revolute3(SpatialJoint):
         return self._point_rows(kin) + self._axis_rows(kin, self.vector(kin, "axis"))
 
     def drawn_axes(self, kin) -> list[sp.Matrix]:
-        return [kin.rotation(self.a) * perpendiculars(self.vector(kin, "axis"), kin.defaults)[0]]
+        return [kin.turn(self.a, perpendiculars(self.vector(kin, "axis"), kin.defaults)[0])]
 
 
 @dataclass(frozen=True)
@@ -159,8 +159,8 @@ class Universal(SpatialJoint):
         return self._point_rows(kin) + [self._rotation_row(kin, 1, ua, ub)]
 
     def drawn_axes(self, kin) -> list[sp.Matrix]:
-        return [kin.rotation(self.a) * perpendiculars(self.vector(kin, "axis_a"), kin.defaults)[0],
-                kin.rotation(self.b) * perpendiculars(self.vector(kin, "axis_b"), kin.defaults)[0]]
+        return [kin.turn(self.a, perpendiculars(self.vector(kin, "axis_a"), kin.defaults)[0]),
+                kin.turn(self.b, perpendiculars(self.vector(kin, "axis_b"), kin.defaults)[0])]
 
 
 @dataclass(frozen=True)
@@ -177,10 +177,10 @@ class Inline(SpatialJoint):
 
     def _line_rows(self, kin) -> list[SpatialRow]:
         _, f, g = perpendiculars(self.vector(kin, "axis"), kin.defaults)
-        A = kin.rotation(self.a)
         d = kin.point(self.a) - kin.point(self.b)
         k, n = self._k(kin, "stiffness"), self.name
-        return [SpatialRow(n, f"{n}_n{i}", f"R_{n}_{i}", "N", dot(A * v, d), k) for i, v in ((1, f), (2, g))]
+        return [SpatialRow(n, f"{n}_n{i}", f"R_{n}_{i}", "N", dot(kin.turn(self.a, v), d), k)
+                for i, v in ((1, f), (2, g))]
 
     def rows(self, kin) -> list[SpatialRow]:
         return self._line_rows(kin)
@@ -200,7 +200,7 @@ class Cylindrical(Inline):
         return self._line_rows(kin) + self._axis_rows(kin, self.vector(kin, "axis"))
 
     def drawn_axes(self, kin) -> list[sp.Matrix]:
-        return [kin.rotation(self.a) * perpendiculars(self.vector(kin, "axis"), kin.defaults)[0]]
+        return [kin.turn(self.a, perpendiculars(self.vector(kin, "axis"), kin.defaults)[0])]
 
 
 @dataclass(frozen=True)

@@ -15,13 +15,14 @@ from __future__ import annotations
 import sympy as sp
 
 from ...equations import velocity_symbol
+from ...equations._codegen import gradient
 from .._actuators import actuator_rows
 from .._expr import symbol
 from .._forces import DRAG_SMOOTHING, Loads
 from .._values import parameter_values
 from ._description import INERTIA_KEYS, SpatialBody, SpatialCustomLoad, SpatialDrag, SpatialMechanism, SpatialMoment
 from ._joints import SpatialRow
-from ._rotation import body_omega_matrix, dot, norm, omega_matrix, rotation_matrix
+from ._rotation import body_omega_matrix, dot, matvec, norm, omega_matrix, rotation_matrix
 
 __all__ = ["SpatialKinematics", "spatial_loads"]
 
@@ -44,6 +45,7 @@ class SpatialKinematics:
             self.body_e[b.name] = syms[3:]
         self.q = [symbol(n) for n in self.coords]
         self._A = {b: rotation_matrix(e) for b, e in self.body_e.items()}
+        self._points: dict[str, sp.Matrix] = {}
         defaults = parameter_values(mech, {})
         #: Parameter symbol -> default value (for structure choices that must not depend on values).
         self.defaults = {symbol(k): v for k, v in defaults.items()}
@@ -69,10 +71,19 @@ class SpatialKinematics:
 
     def point(self, ref: str) -> sp.Matrix:
         """Global position (m) of the point reference ``"<body>.<point>"`` / ``"ground.<p>"``."""
-        body, point = ref.split(".")
-        if body == "ground":
-            return sp.Matrix([self.mech.value(f"ground.{point}.{c}") for c in "xyz"])
-        return self.body_r[body] + self._A[body] * self.local_point(body, point)
+        if ref not in self._points:
+            body, point = ref.split(".")
+            if body == "ground":
+                P = sp.Matrix([self.mech.value(f"ground.{point}.{c}") for c in "xyz"])
+            else:
+                P = self.body_r[body] + matvec(self._A[body], self.local_point(body, point))
+            self._points[ref] = P
+        return self._points[ref].copy()
+
+    def turn(self, ref: str, v: sp.Matrix) -> sp.Matrix:
+        """The body vector ``v`` (design pose) of the frame ``ref`` belongs to, in global axes."""
+        body = ref.split(".")[0]
+        return sp.Matrix(v) if body == "ground" else matvec(self._A[body], v)
 
     def cg(self, body: str) -> sp.Matrix:
         """Global position of the centre of gravity of ``body``."""
@@ -119,14 +130,22 @@ class SpatialKinematics:
             mass = self.mech.value(f"bodies.{b.name}.mass")
             e = self.body_e[b.name]
             c = self.local_point(b.name, "cg")
-            Ac = self._A[b.name] * c
-            Jv = sp.Matrix.hstack(sp.eye(3), Ac.jacobian(e))
+            Ac = matvec(self._A[b.name], c)
+            dA = [gradient(Ac[i], e) for i in range(3)]  # d(A c)/de, 3 x 4
+            Jv = [[int(i == j) for j in range(3)] + dA[i] for i in range(3)]
             J = self.inertia_tensor(b)
             G = body_omega_matrix(e)
+            JG = [[sum((J[i, k] * G[k, j] for k in range(3) if J[i, k] != 0), sp.S.Zero) for j in range(4)]
+                  for i in range(3)]
             jbar = (J[0, 0] + J[1, 1] + J[2, 2]) / 3
-            ev = sp.Matrix(e)
-            block = mass * Jv.T * Jv
-            block[3:, 3:] += 4 * G.T * J * G + 4 * jbar * ev * ev.T
+            block = sp.zeros(7, 7)
+            for r in range(7):
+                for col in range(r, 7):
+                    v = mass * sum((Jv[i][r] * Jv[i][col] for i in range(3)), sp.S.Zero)
+                    if r >= 3 and col >= 3:
+                        v += 4 * sum((G[i, r - 3] * JG[i][col - 3] for i in range(3)), sp.S.Zero)
+                        v += 4 * jbar * e[r - 3] * e[col - 3]
+                    block[r, col] = block[col, r] = v
             M[7 * i:7 * i + 7, 7 * i:7 * i + 7] = block
         return M
 
@@ -171,7 +190,8 @@ def spatial_loads(kin: SpatialKinematics) -> Loads:
             P = kin.point(ld.at)
             force = sp.Matrix([mech.value(f"{f}.{k}") for k in ("fx", "fy", "fz")])
             moment = sp.Matrix([mech.value(f"{f}.{k}") for k in ("mx", "my", "mz")])
-            Q_c = [dot(force, P.diff(qi)) for qi in kin.q]
+            dP = [gradient(P[i], kin.q) for i in range(3)]
+            Q_c = [dot(force, [dP[i][k] for i in range(3)]) for k in range(len(kin.q))]
             Q_nc = _add(Q_nc, _add(Q_c, _moment_work(kin, ld.at.split(".")[0], moment)))
             arrows.append((ld.name, P, force))
         else:  # a point force of fixed direction: conservative
@@ -225,4 +245,5 @@ def _drag(kin: SpatialKinematics, ld: SpatialDrag):
     # 1/2 rho C_D d L |w_n| w_n with |w_n| -> sqrt(|w_n|^2 + eps^2), written through W = L^2 w_n
     force = rho * CD * d / 2 * sp.sqrt(dot(W, W) + DRAG_SMOOTHING ** 2 * L2 ** 2) / L2 ** sp.Rational(3, 2) * W
     P = (A + B) / 2
-    return [dot(force, P.diff(qi)) for qi in kin.q], P, force
+    dP = [gradient(P[i], kin.q) for i in range(3)]
+    return [dot(force, [dP[i][k] for i in range(3)]) for k in range(len(kin.q))], P, force

@@ -21,7 +21,7 @@ import numpy as np
 import sympy as sp
 
 __all__ = ["rotation_matrix", "omega_matrix", "body_omega_matrix", "skew", "quaternion_from_rotation_vector",
-           "perpendiculars", "cross", "dot", "norm"]
+           "perpendiculars", "cross", "dot", "norm", "matvec"]
 
 
 def skew(v: Sequence) -> sp.Matrix:
@@ -54,6 +54,12 @@ def quaternion_from_rotation_vector(r: Sequence[float]) -> np.ndarray:
     if angle == 0.0:
         return np.array([1.0, 0.0, 0.0, 0.0])
     return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * r / angle])
+
+
+def matvec(A: sp.Matrix, v: Sequence) -> sp.Matrix:
+    """``A v`` of a 3 x 3 matrix and a 3-vector, term by term (SymPy's matrix product goes through
+    its polynomial domains, far slower on these small symbolic products)."""
+    return sp.Matrix([sum((A[i, k] * v[k] for k in range(3) if v[k] != 0), sp.S.Zero) for i in range(3)])
 
 
 def cross(u: Sequence, v: Sequence) -> sp.Matrix:
