@@ -72,6 +72,8 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
         'F_aft = { value = 0.0, unit = "N", description = "unlock force at the aft lock-link joint" }',
         'k_lock = { value = 8000.0, unit = "N/m", description = "lock spring stiffness" }',
         'stretch = { value = 0.7, unit = "", description = "lock spring free length / its gear-down length" }',
+        'm_link1 = { value = 4.0, unit = "kg", description = "lock link 1 mass" }',
+        'm_link2 = { value = 3.5, unit = "kg", description = "lock link 2 mass" }',
     ]
     if compliant_aft:
         out.append('k_att = { value = 5.0e7, unit = "N/m", description = "aft sidestay airframe attachment stiffness" }')
@@ -93,13 +95,14 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
         spring_2 = st.K + sb * (st.B - st.K)
         for body, mass, a, b, extra in (("upper", st.upper_mass, st.A, st.K, {}),
                                         ("lower", st.lower_mass, st.K, st.B, {"spring": spring_2}),
-                                        ("link1", 4.0, st.K, st.J, {"spring": spring_1}),
-                                        ("link2", 3.5, st.J, st.P, {})):
+                                        ("link1", "m_link1", st.K, st.J, {"spring": spring_1}),
+                                        ("link2", "m_link2", st.J, st.P, {})):
             length = float(np.linalg.norm(b - a))
             pts = {"a": a, "b": b, **extra}
-            across = mass * length ** 2 / 12
-            out += ["", f"[bodies.{s}_{body}]", f"mass = {mass!r}",
-                    f"inertia = [{across!r}, {across!r}, {across!r}]", f"cg = {_v((a + b) / 2)}",
+            across = f'"{mass}*{length ** 2 / 12!r}"' if isinstance(mass, str) else repr(mass * length ** 2 / 12)
+            shown = f'"{mass}"' if isinstance(mass, str) else repr(mass)
+            out += ["", f"[bodies.{s}_{body}]", f"mass = {shown}",
+                    f"inertia = [{across}, {across}, {across}]", f"cg = {_v((a + b) / 2)}",
                     "points = { " + ", ".join(f"{k} = {_v(p)}" for k, p in pts.items()) + " }"]
         stiff = '\nstiffness = "k_att"' if (compliant_aft and s == "aft") else ""
         knee_cross = _unit(np.cross(n, st.B - st.K))
