@@ -5,6 +5,7 @@ trunnion and against finite differences, lock-up folds against a hand-derived ta
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import replace
 
 import matplotlib
@@ -129,8 +130,14 @@ def test_paper_section_quick(tmp_path):
     lines = paper.run(tmp_path, quick=True)
     text = "\n".join(lines)
     assert "mechanical efficiency" in text and "kN" in text and "locks at theta" in text
+    # the generated gear, both lock-link pairs held: the locked-in load grows with the attachment stiffness
+    held = re.findall(r"attachment reaction ([0-9.]+) kN, deflection ([0-9.]+) mm", text)
+    assert len(held) == 3
+    loads = [float(r) for r, _ in held]
+    assert loads[0] < loads[1] < loads[2]
     for name in ("sidestay_actuator.png", "sidestay_down.png", "sidestay_up.png", "sidestay_lock_up.png",
-                 "sidestay_rigging.png", "sidestay_downlock.png", "sidestay_fold_curve.png"):
+                 "sidestay_rigging.png", "sidestay_downlock.png", "sidestay_fold_curve.png",
+                 "sidestay_generated.png"):
         assert (tmp_path / name).stat().st_size > 0
 
 

@@ -31,7 +31,11 @@ from ..models.dual_sidestay import (
 from ..models.dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry
 
 __all__ = ["retraction", "lock_up_scan", "Retraction", "run", "PLANE_ANGLES", "lock_misfit", "alignment_angle",
-           "rigging_scan", "lock_up_fold_curve", "downlock_loads", "DownlockLoads", "STAY_STIFFNESS", "SIDE_LOAD"]
+           "rigging_scan", "lock_up_fold_curve", "downlock_loads", "DownlockLoads", "STAY_STIFFNESS", "SIDE_LOAD",
+           "generated_gear", "locked_gear", "LockedGear", "ATTACHMENT_STIFFNESS"]
+
+#: Aft airframe attachment stiffnesses (N/m) of the locked generated gear.
+ATTACHMENT_STIFFNESS = (5e6, 5e7, 5e8)
 
 #: Aft sidestay plane angles (rad) of the lock-up study.
 PLANE_ANGLES = np.radians(np.arange(-45.0, 60.1, 7.5))
@@ -173,6 +177,17 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
     l4_full = float(np.interp(geo.retracted, angles[order], lengths[order]))
     cusps = [p for p in curve.special_points if p.label.startswith("CP")]
 
+    t0 = time.perf_counter()
+    gen = generated_gear(geo)
+    timings["dual_sidestay: generated model build"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    held = locked_gear(gen, ATTACHMENT_STIFFNESS)
+    timings["dual_sidestay: locked generated gear"] = time.perf_counter() - t0
+    mid = held[len(held) // 2]
+    draw3d(gen.with_values({"k_att": mid.k_att}), mid.x, out_dir / "sidestay_generated.png",
+           annotate=("F_fwd", "F_aft"))
+    n_coords = len(gen.mechanics.coordinates)
+
     def deg(v):
         return f"{math.degrees(v):.1f}"
 
@@ -226,9 +241,61 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
              f"{lengths[np.argmax(angles)]:.3f} m; the lock-up moves past gear up ({deg(geo.retracted)} deg) at "
              f"aft_L4 = {l4_full:.3f} m (nominal {nominal_l4:.3f} m). Cusps (CP) on it: {len(cusps)}. Figure: "
              "sidestay_fold_curve.png.",
-             "- Not yet computed: the unlock force (needs lock springs and stops) and its two-parameter fold "
-             "curves with cusps, the gear in the spatial description format.", ""]
+             f"- The same gear from its spatial description (examples/dual_sidestay.toml: {len(gen.mechanism.bodies)} "
+             f"rigid bodies, {n_coords} coordinates, {len(gen.names) - len(gen.parameter_names)} unknowns, equations "
+             "generated; lock springs; tests/test_dual_sidestay_generated.py checks its retraction against the hand "
+             f"model to 1e-9): {gen.dof.dof} degree of freedom, no redundant row while the lock links are free. "
+             "Holding both lock-link pairs aligned adds two conditions to one degree of freedom: with rigid "
+             "attachments there is no solution (the rigging misfit above); with the aft airframe attachment "
+             "compliant every reaction is determinate: "
+             + "; ".join(f"k_att = {h.k_att:.0e} N/m: holding forces fwd {h.F_fwd:.1f} N, aft {h.F_aft:.1f} N, "
+                         f"attachment reaction {h.reaction / 1e3:.2f} kN, deflection {h.deflection * 1e3:.4f} mm"
+                         for h in held)
+             + ". The deflection tends to the geometric misfit the attachment must take up, so the locked-in load "
+             "grows with the stiffness: in the rigid limit it is unbounded, the highly sensitive downlock of the "
+             "paper. Figure: sidestay_generated.png.",
+             "- Not yet computed: the unlock force with overcentre stops and its two-parameter fold curves "
+             "with cusps.", ""]
     return lines
+
+
+@dataclass(frozen=True)
+class LockedGear:
+    """The generated gear (``examples/dual_sidestay.toml``) with both lock-link pairs held aligned, at an aft
+    attachment stiffness ``k_att`` (N/m): the forces holding each pair aligned (N, + towards unlocking), the
+    attachment's reaction (N, on the upper arm) and deflection (m), and the full solution ``x``."""
+
+    k_att: float
+    F_fwd: float
+    F_aft: float
+    reaction: float
+    deflection: float
+    x: np.ndarray
+
+
+def generated_gear(geo: GearGeometry = DEFAULT_GEOMETRY):
+    """The gear generated from its spatial description (:mod:`mechcont.models.dual_sidestay_description`),
+    compliant aft attachment."""
+    from ..mechanism import parse_description
+    from ..models.dual_sidestay_description import dual_sidestay_description
+
+    return parse_description(dual_sidestay_description(geo), "dual_sidestay.toml").build()
+
+
+def locked_gear(system, stiffnesses) -> list[LockedGear]:
+    """Hold both lock-link pairs of the generated ``system`` aligned (conditions ``fwd_lock = aft_lock = 0``) and
+    solve for the two forces ``F_fwd``, ``F_aft`` at each aft attachment stiffness (N/m). With one degree of
+    freedom the two alignments are two conditions: the attachment's deflection takes up the rigging misfit."""
+    from ..continuation import find_equilibrium
+
+    out = []
+    for k in stiffnesses:
+        sys_k = system.with_values({"k_att": float(k)})
+        x = find_equilibrium(sys_k, hold={"fwd_lock": 0.0, "aft_lock": 0.0}, free=["F_fwd", "F_aft"])
+        v = sys_k.as_dict(x)
+        R = float(np.linalg.norm([v[f"R_aft_A_{c}"] for c in "xyz"]))
+        out.append(LockedGear(v["k_att"], v["F_fwd"], v["F_aft"], R, R / v["k_att"], x))
+    return out
 
 
 def _knee(A, n, L1, B, L2, hint):
