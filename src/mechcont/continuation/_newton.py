@@ -89,7 +89,9 @@ def find_equilibrium(system: EquationSystem, values: Mapping[str, float] | None 
     free:
         Parameters solved for instead (e.g. ``["F"]``); their values act as guesses.
     guess:
-        Initial guess for unknowns, by name (or a full vector); defaults otherwise.
+        Initial guess for unknowns, by name, or a full vector; defaults otherwise. A full
+        vector also supplies every parameter value not given in ``values`` (a point of
+        another branch keeps its parameters): pass ``values`` for those that must change.
 
     Returns
     -------
