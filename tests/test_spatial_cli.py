@@ -45,8 +45,11 @@ def test_check_reports_the_compliances_that_make_it_determinate(tmp_path):
 def test_continue_prints_the_planar_folds_and_writes_the_branch(tmp_path):
     out = tmp_path / "b.csv"
     r = run("continue", OVERCENTRE, "--vary", "F", "--start", "theta1=0.3", "--bounds", "F=-150:150",
-            "--bounds", "theta1=-1.45:1.45", "--out", out, "--quiet")
+            "--bounds", "theta1=-1.45:1.45", "--out", out)
     assert r.exit_code == 0, r.output
+    # the out-of-plane row dropped at build stays implied along the whole branch
+    assert "dropped at build (reactions indeterminate): slider_n2; their largest residual" in r.output
+    assert "from row 0 (EP1): 1 degree(s) of freedom" in r.output
     rows = list(csv.DictReader(out.open()))
     lps = sorted(float(row["F [N]"]) for row in rows if row["label"].startswith("LP"))
     assert lps == pytest.approx([-75.58066788290293, 95.20066788290295], abs=1e-8)

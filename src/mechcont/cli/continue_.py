@@ -33,3 +33,14 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     branch = run_continuation(continuation, system, x0, vary, hold=holds, free=frees, options=options, quiet=quiet)
     first_state = next(iter(assignments(starts, "start")), None) or branch.unknowns[0]
     write_branch(branch, out, plot, xname or vary, yname or first_state, quiet)
+    if not quiet and system.mechanics is not None and len(branch.values):
+        from ..analysis.redundancy import redundancy_along
+
+        report = redundancy_along(system, branch)
+        if report.dropped or report.changes or report.states[0].indeterminate:
+            click.echo("redundant constraints along the branch:")
+            names = [""] * len(branch.values)
+            for p, name in zip(branch.special_points, branch.point_names()):
+                names[p.index] = name
+            for line in report.lines(names):
+                click.echo(f"  {line}")
