@@ -26,6 +26,7 @@ from ...equations._codegen import gradient
 from ...errors import InputError
 from .._assembly import DofReport, close_constraints, dof_report
 from .._conditions import condition_description, condition_rows, condition_scale, condition_targets
+from .._description import PointForce
 from .._expr import symbol
 from .._generate import _coordinates_of, _dropped_residual, _equilibrium, _parameter_scale, _scales
 from .._values import evaluate, parameter_values
@@ -42,6 +43,28 @@ __all__ = ["generate"]
 def _row_name(coord: str) -> str:
     head, _, body = coord.partition("_") if coord[0] == "e" else (coord[0], "", coord[1:].lstrip("_"))
     return f"Q{head}_{body}" if coord[0] == "e" else f"F{head}_{body}"
+
+
+def _spatial_scales(kin: SpatialKinematics, values: dict[str, float]) -> tuple[float, float]:
+    """Typical length (m) and force (N) of the spatial mechanism at ``values``: the largest body
+    (distance between its points), bar, free or actuator length; the largest of the weight, spring
+    forces over that length and point-force magnitudes."""
+    mech = kin.mech
+    at = {symbol(k): v for k, v in values.items()}
+    Lc = _scales(mech, values)[0]
+    for b in mech.bodies:
+        pts = [[float(c.xreplace(at)) for c in kin.local_point(b.name, p)] for p in mech.point_names(b.name)]
+        P = np.array(pts)
+        if len(P) > 1:
+            Lc = max(Lc, float(np.max(np.linalg.norm(P[:, None, :] - P[None, :, :], axis=-1))))
+    forces = [1e-3]
+    if mech.gravity is not None:
+        g = abs(evaluate(mech.value("gravity.g"), values, ""))
+        forces.append(g * sum(evaluate(mech.value(f"bodies.{b.name}.mass"), values, "") for b in mech.bodies))
+    forces += [abs(evaluate(mech.value(f"springs.{sp_.name}.k"), values, "")) * Lc for sp_ in mech.springs]
+    forces += [abs(evaluate(mech.value(f"loads.{ld.name}.magnitude"), values, "")) for ld in mech.loads
+               if isinstance(ld, PointForce)]
+    return Lc, max(forces)
 
 
 def _initial_guess(kin: SpatialKinematics, values: dict[str, float]) -> dict[str, float]:
@@ -133,7 +156,7 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Equation
     rows = [r for r in all_rows if r.stiffness is None] + [r for r in all_rows if r.stiffness is not None]
     forces = [-dv + qnc for dv, qnc in zip(gradient(ld.V, kin.q), ld.Q_nc)]
     mass = kin.mass_matrix()
-    Lc, Fc = _scales(mech, values)
+    Lc, Fc = _spatial_scales(kin, values)
     conditions = condition_rows(kin, {})
     cnames = [c.name for c, _ in conditions]
     names = [*coords, *(r.reaction for r in rows), *cnames, *(p.name for p in mech.parameters)]
