@@ -46,11 +46,17 @@ def _unit(a) -> np.ndarray:
     return a / np.linalg.norm(a)
 
 
-def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant_aft: bool = True) -> str:
+def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant_aft: bool = True,
+                              locked: bool = False) -> str:
     """TOML text of the spatial description of ``geo`` (see the module docstring).
 
     ``compliant_aft`` gives the aft sidestay's airframe attachment the translational stiffness
-    parameter ``k_att`` (N/m); otherwise every joint is rigid.
+    parameter ``k_att`` (N/m); otherwise every joint is rigid. ``locked`` describes the gear
+    downlocked: each lock-link pair welded at its joint ``J`` (the links held by their stops) and
+    free to slide along the fold-plane normal at the fitting lug ``P`` (so a locked pair holds the
+    knee in its plane and nothing else): each sidestay is a strut, and the two together
+    over-constrain the fitting's one degree of freedom (``dof = 0``; determinate only with
+    ``compliant_aft``).
     """
     e = geo.trunnion
     out = [
@@ -60,10 +66,11 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
         "# not an Airbus design. See that module's docstring for the bodies and joints.",
         "",
         "[mechanism]",
-        'name = "dual_sidestay"',
+        f'name = "dual_sidestay{"_locked" if locked else ""}"',
         "dimension = 3",
-        "dof = 1",
-        'description = "Dual-sidestay main gear: fitting on its trunnion, two folding sidestays with lock links"',
+        f"dof = {0 if locked else 1}",
+        'description = "Dual-sidestay main gear: fitting on its trunnion, two folding sidestays with lock links'
+        + (', downlocked (lock links welded)"' if locked else '"'),
         "",
         "[parameters]",
         'g = { value = 9.81, unit = "m/s^2" }',
@@ -114,9 +121,12 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
                 "", f"[joints.{s}_B]", 'type = "spherical"', f'a = "{s}_lower.b"', f'b = "fitting.B_{s}"',
                 "", f"[joints.{s}_K]", 'type = "revolute"', f'a = "{s}_upper.b"', f'b = "{s}_link1.a"',
                 f"axis = {_v(n)}",
-                "", f"[joints.{s}_J]", 'type = "universal"', f'a = "{s}_link1.b"', f'b = "{s}_link2.a"',
-                f"axis_a = {_v(n)}", f"axis_b = {_v(link_cross)}",
-                "", f"[joints.{s}_P]", 'type = "spherical"', f'a = "{s}_link2.b"', f'b = "fitting.P_{s}"']
+                "", f"[joints.{s}_J]", *(['type = "weld"', f'a = "{s}_link1.b"', f'b = "{s}_link2.a"'] if locked else
+                                         ['type = "universal"', f'a = "{s}_link1.b"', f'b = "{s}_link2.a"',
+                                          f"axis_a = {_v(n)}", f"axis_b = {_v(link_cross)}"]),
+                "", f"[joints.{s}_P]", *(['type = "inline"', f'a = "{s}_link2.b"', f'b = "fitting.P_{s}"',
+                                          f"axis = {_v(n)}"] if locked else
+                                         ['type = "spherical"', f'a = "{s}_link2.b"', f'b = "fitting.P_{s}"'])]
     out += ["", "[joints.trunnion_fwd]", 'type = "spherical"', 'a = "ground.T_fwd"', 'b = "fitting.T_fwd"',
             "", "[joints.trunnion_aft]", 'type = "inline"', 'a = "ground.T_aft"', 'b = "fitting.T_aft"',
             f"axis = {_v(e)}"]

@@ -303,6 +303,8 @@ def _gif_writer_class():
             self._durations.append(10 * math.ceil(round(100.0 / self.fps + 100.0 * hold, 6)))
 
         def finish(self):
+            if not self._frames:  # interrupted before the first frame: nothing to write (the error propagates)
+                return
             self._frames[0].save(self.outfile, save_all=True, append_images=self._frames[1:],
                                  duration=self._durations, loop=0)
 
