@@ -14,15 +14,33 @@ import pytest
 
 from mechcont.continuation import find_equilibrium
 from mechcont.errors import ConvergenceError
-from mechcont.mechanism import parse_description
+from mechcont.mechanism import check_report, parse_description
 from mechcont.models.dual_sidestay import actuator_tension, build_dual_sidestay_kinematics, points_at
 from mechcont.models.dual_sidestay_description import dual_sidestay_description
 
 EXAMPLE = Path(__file__).parent.parent / "examples" / "dual_sidestay.toml"
+LOCKED = EXAMPLE.with_name("dual_sidestay_locked.toml")
 
 
-def test_example_file_is_the_generated_description():
+def test_example_files_are_the_generated_descriptions():
     assert EXAMPLE.read_text() == dual_sidestay_description()
+    assert LOCKED.read_text() == dual_sidestay_description(locked=True)
+
+
+def test_check_of_the_locked_gear_reports_its_redundancy_and_the_compliance_that_resolves_it():
+    """Downlocked (lock links welded), each sidestay is a strut: the two over-constrain the fitting's one
+    degree of freedom. Rigid, check names one redundant row among the joints of both sidestays and the
+    trunnion; with the compliant aft attachment every reaction is determinate."""
+    rigid = check_report(parse_description(dual_sidestay_description(locked=True, compliant_aft=False),
+                                           "locked_rigid.toml"))
+    assert rigid.dof == 0 and len(rigid.redundant) == 1
+    joints = set(rigid.redundant[0][1])
+    assert {"fwd_A", "fwd_P", "aft_A", "aft_P", "trunnion_fwd"} <= joints
+    assert any("over-constrained: 1 redundant constraint(s)" in f for f in rigid.findings)
+    compliant = check_report(LOCKED)
+    assert compliant.ok and compliant.dof == 0 and not compliant.redundant
+    assert [q.name for q in compliant.compliant] == ["aft_A_x", "aft_A_y", "aft_A_z"]
+    assert all("stiffness 5e+07 N/m" in q.description for q in compliant.compliant)
 
 
 @pytest.fixture(scope="module")
