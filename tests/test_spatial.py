@@ -183,3 +183,20 @@ def test_check_reports_dof_redundancy_and_compliance():
     assert "redundant constraints: 3 row(s) dropped" in text and "norm_" not in text.split("loop closure")[0]
     door = check_report(DATA / "door_3d.toml")
     assert any("over-constrained" in f for f in door.findings)
+
+
+def test_custom_load_equal_to_gravity_gives_the_same_equilibrium_and_derivatives(pendulum):
+    """A custom load (fz = -m g at the CG, a moment expression in the coordinates that vanishes at
+    rest) in place of gravity: same equilibrium, reactions and stiffness; every derivative exact."""
+    text = _text("pendulum_3d.toml").replace('[gravity]\ng = "g"', """[loads.weight]
+type = "custom"
+at = "bar.cg"
+fz = "-m*g"
+my = "0.2*M*cos(beta)"
+""")
+    custom = parse_description(text, "pendulum_custom.toml").build()
+    x = find_equilibrium(custom, guess=custom.vector(pendulum.as_dict(find_equilibrium(pendulum))))
+    xg = find_equilibrium(pendulum)
+    for name in ("x_bar", "y_bar", "z_bar", "R_hinge_z", "T_hinge_1"):
+        assert custom.as_dict(x)[name] == pytest.approx(pendulum.as_dict(xg)[name], abs=1e-10)
+    check_derivatives(custom)

@@ -127,8 +127,17 @@ def test_fourbar_folds_and_stability_equal_planar():
         assert planar.mechanics.stability(xp).n_unstable == spatial.mechanics.stability(row).n_unstable
 
 
-def test_nose_gear_unlock_fold_and_fold_curve_equal_planar():
-    spatial, planar = load(DATA / "nose_gear_3d.toml"), load("nose_gear")
+@pytest.fixture(scope="module")
+def nose_3d():
+    return load(DATA / "nose_gear_3d.toml")
+
+
+def test_nose_gear_derivatives_with_drag_match_finite_differences(nose_3d):
+    check_derivatives(nose_3d.with_values({"U": 40.0, "alpha": 0.3}))
+
+
+def test_nose_gear_unlock_fold_and_fold_curve_equal_planar(nose_3d):
+    spatial, planar = nose_3d, load("nose_gear")
     assert spatial.dof.dof == 1 and len(spatial.dropped_constraints) == 6  # 3 per planar loop
     bounds = {"F": (-3e4, 3e4), "theta4": (-0.5, 0.5)}
     for values in ({}, {"U": 60.0, "alpha": 0.3}, {"psi2": -0.1, "U": 40.0}):
