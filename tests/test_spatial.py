@@ -149,6 +149,13 @@ def test_misaligned_rigid_hinges_report_their_misfit():
     assert 1e-4 < misfit < 0.002 + 1e-9
 
 
+def test_misfit_names_joints_only():
+    """The closest configuration's rounding in a normalisation row is not reported as a joint's misfit."""
+    with pytest.raises(InputError) as err:
+        load(DATA / "door_3d.toml", misalign=0.002)
+    assert "norm_" not in str(err.value) and "upper" in str(err.value) and "lower" in str(err.value)
+
+
 @pytest.mark.parametrize("misalign", [0.0, 0.002])
 def test_compliant_hinges_make_the_reactions_determinate(misalign):
     door = _compliant_door(misalign)

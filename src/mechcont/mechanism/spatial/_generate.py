@@ -110,7 +110,8 @@ def _misfit_error(mech: SpatialMechanism, rows: list[SpatialRow], phi: np.ndarra
     """One line: the rigid closure cannot be assembled; its misfit, joint by joint."""
     gaps: dict[str, float] = {}
     for row, r in zip(rows, phi):
-        gaps[row.joint] = float(np.hypot(gaps.get(row.joint, 0.0), r))
+        if not row.joint.startswith("norm_"):   # a normalisation row is no joint: its residual is rounding
+            gaps[row.joint] = float(np.hypot(gaps.get(row.joint, 0.0), r))
     worst = sorted((g, j) for j, g in gaps.items() if g > 1e-9)[::-1][:3]
     shown = ", ".join(f"{j} {g:.4g}" for g, j in worst)
     field = f"joints.{worst[0][1]}" if worst and worst[0][1] in {j.name for j in mech.joints} else "joints"
