@@ -207,3 +207,20 @@ my = "0.2*M*cos(beta)"
     for name in ("x_bar", "y_bar", "z_bar", "R_hinge_z", "T_hinge_1"):
         assert custom.as_dict(x)[name] == pytest.approx(pendulum.as_dict(xg)[name], abs=1e-10)
     check_derivatives(custom)
+
+
+def test_default_inertia_does_not_depend_on_where_the_frame_origin_is():
+    """The design-pose conventions promise that points in aircraft coordinates (origin at the global
+    origin) and points about the body's own origin describe the same body: the default inertia too."""
+    from mechcont.mechanism.spatial._kinematics import SpatialKinematics
+
+    def inertia(points: str, cg: str):
+        text = (f'[mechanism]\ndimension = 3\ndof = 3\n[ground]\nO = [0, 0, 0]\n[bodies.link]\nmass = 2\n'
+                f'cg = {cg}\npoints = {points}\n[joints.J]\ntype = "spherical"\na = "ground.O"\nb = "link.p"\n')
+        mech = parse_description(text, "link.toml")
+        return np.array(SpatialKinematics(mech).inertia_tensor(mech.bodies[0]), dtype=float)
+
+    far = inertia("{ p = [3, -1, 2], q = [3.4, -1, 2.3] }", "[3.2, -1, 2.15]")
+    own = inertia("{ p = [0, 0, 0], q = [0.4, 0, 0.3] }", "[0.2, 0, 0.15]")
+    np.testing.assert_allclose(far, own, rtol=1e-14)
+    np.testing.assert_allclose(own, np.eye(3) * 2 / 5 * 2 * 0.25 ** 2, rtol=1e-14)   # r = |q - p| / 2

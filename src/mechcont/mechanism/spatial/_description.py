@@ -59,7 +59,8 @@ class SpatialBody:
         ``[Ixx, Iyy, Izz, Ixy, Ixz, Iyz]`` (products of inertia as the tensor's off-diagonal
         entries). Default: a bar is a thin rod (``m L^2/12`` across, ``m r^2/2`` along it,
         ``r = L/20``); another body a uniform sphere ``2/5 m r^2`` whose radius is half the
-        largest distance between its points. Statics never uses the inertia; the time
+        largest distance between its declared points and centre of gravity (not its frame
+        origin, at least 1 mm). Statics never uses the inertia; the time
         simulation and non-conservative stability do: give it for those.
     cg:
         Centre of gravity in body coordinates (m).

@@ -116,7 +116,9 @@ class SpatialKinematics:
         if b.length is not None:
             L = m.value(f + ".length")
             return sp.diag(mass * (L / 20) ** 2 / 2, mass * L ** 2 / 12, mass * L ** 2 / 12)
-        pts = [self.local_point(b.name, p) for p in m.point_names(b.name)]
+        # the frame origin is left out: where it is (the global origin, for hard points in aircraft
+        # coordinates) must not change the body
+        pts = [self.local_point(b.name, p) for p in m.point_names(b.name) if p != "origin"]
         at = self.defaults
         spread = max((float(norm(p - q).xreplace(at)) for p in pts for q in pts), default=0.0)
         radius = max(spread / 2, 1e-3)
