@@ -260,7 +260,7 @@ def test_worked_example_builds_as_described(side_brace):
     assert {"Fx_leg", "Qe3_lower", "norm_leg", "trunnion_rot2", "top_rot1", "ball_z", "cond_locked"} \
         <= set(s.equation_names)
     v = s.as_dict(s.defaults())
-    assert v["locked"] == pytest.approx(0.0254, abs=5e-5)                  # 1.45 deg off straight
+    assert v["locked"] == pytest.approx(0.0254, abs=5e-5)                  # the knee 1.45 deg off the line S - brace
     assert math.degrees(math.asin(v["locked"])) == pytest.approx(1.45, abs=0.01)
 
 
