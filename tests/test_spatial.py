@@ -224,3 +224,20 @@ def test_default_inertia_does_not_depend_on_where_the_frame_origin_is():
     own = inertia("{ p = [0, 0, 0], q = [0.4, 0, 0.3] }", "[0.2, 0, 0.15]")
     np.testing.assert_allclose(far, own, rtol=1e-14)
     np.testing.assert_allclose(own, np.eye(3) * 2 / 5 * 2 * 0.25 ** 2, rtol=1e-14)   # r = |q - p| / 2
+
+
+def test_check_of_a_compliant_mechanism_reports_a_true_equilibrium():
+    """The assembly closes compliant rows as if rigid; where they carry a reaction that is no
+    equilibrium yet (Phi - lambda/k != 0): check must solve on, and not call the compliant joint
+    closed by a reduced form (a spatial mechanism has none)."""
+    text = _text("door_3d.toml").replace('b = "door.high"\naxis = [0, 0, 1]',
+                                         'b = "door.high"\naxis = [0, 0, 1]\nstiffness = "k"\n'
+                                         'rotational_stiffness = "kr"')
+    rep = check_report(parse_description(text, "door_compliant.toml"))
+    assert rep.ok and not rep.redundant and rep.eliminated_joints == ()
+    assert rep.x_equilibrium is not None
+    assert np.max(np.abs(rep.system.residual(rep.x_equilibrium))) < 1e-8
+    assert rep.imbalance.name.startswith("upper_") and rep.imbalance.unit in ("m", "rad")
+    text = rep.to_text()
+    assert "closed exactly by the reduced form" not in text and "compliant joint rows" in text
+    assert "the assembled configuration is not one" in text

@@ -209,12 +209,26 @@ def _flat(text: str) -> str:
     return " ".join(text.split())
 
 
-def test_the_compliance_snippet_makes_the_door_determinate_and_stiffness_alone_does_not():
+def test_the_compliance_snippet_makes_the_door_determinate_with_the_stated_split():
     snippet = re.sub(r"^ {3}", "", _snippet("## Redundant constraints"), flags=re.M)
-    door = parse_description(_door(snippet), "door.toml").build()
-    assert door.dropped_constraints == ()
+    text = (DATA / "door_3d.toml").read_text()
+    text = text[:text.index("[joints.lower]")] + snippet + "\n" + text[text.index("[gravity]"):]
+    door = parse_description(text, "door.toml").build()
+    assert door.dropped_constraints == () and door.dof.dof == 1
+    v = door.as_dict(find_equilibrium(door, hold={"swing": 0.0}, free=["M"], guess=door.defaults()))
+    phi = v["m"] * v["g"] * v["a"] / (v["kr"] + v["k"] * v["h"] ** 2)
+    assert math.hypot(v["T_lower_1"], v["T_lower_2"]) == pytest.approx(v["kr"] * phi, rel=1e-5)
+    assert abs(v["R_upper_x"]) == pytest.approx(v["k"] * v["h"] * phi, rel=1e-5)
+
+
+def test_a_compliant_joint_beside_a_rigid_one_carries_nothing_and_stiffness_alone_stays_redundant():
+    upper = ('[joints.upper]\ntype = "revolute"\na = "ground.high"\nb = "door.high"\naxis = [0, 0, 1]\n'
+             'stiffness = "k"\n')
+    door = parse_description(_door(upper + 'rotational_stiffness = "kr"'), "door.toml").build()
+    v = door.as_dict(find_equilibrium(door, hold={"swing": 0.0}, free=["M"], guess=door.defaults()))
+    assert max(abs(v[r]) for r in door.reaction_names if r.startswith(("R_upper", "T_upper"))) < 1e-6
     with pytest.raises(InputError) as err:
-        parse_description(_door(snippet.replace('rotational_stiffness = "kr"', "")), "door.toml").build()
+        parse_description(_door(upper), "door.toml").build()
     assert "2 redundant constraint(s)" in str(err.value) and "T_upper_1, T_upper_2" in str(err.value)
 
 

@@ -323,7 +323,10 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     closure = tuple(Quantity(j, v, u) for (j, u), v in gaps.items())
     kept = {j for j, _ in gaps}
     dropped_joints = {eq.rsplit("_", 1)[0] for eq in system.dropped_constraints}
-    eliminated = tuple(j.name for j in mech.joints if j.name not in kept and j.name not in dropped_joints)
+    # only the reduced form closes joints away; a spatial joint whose rows are all compliant has none
+    # among the constraints either, and is reported with its deflections instead
+    eliminated = tuple(j.name for j in mech.joints
+                       if j.name not in kept and j.name not in dropped_joints) if reduced else ()
     for q in closure:
         if not q.value <= CLOSURE_TOL:
             findings.append(f"joint {q.name} is open by {q.value:.3g} {q.unit} at the assembled configuration")
@@ -341,8 +344,15 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
                          "N" if nq and system.variable(coord).unit == "m" else "N m")
     reaction_scale = max([system.variable(n).scale for n in getattr(system, "reaction_names", ())] + [1.0])
     xe, stability = None, None
-    if imbalance.value <= 1e-9 * reaction_scale:
+    at_rest = imbalance.value <= 1e-9 * reaction_scale
+    if at_rest:
         imbalance = imbalance._replace(value=0.0)
+        # a compliant row holds only where its deflection is its reaction over its stiffness; the
+        # assembly closed it as if rigid, so with a reaction it is not yet in equilibrium
+        spring = _compliant_gap(system, x)
+        if spring is not None:
+            imbalance, at_rest = spring, False
+    if at_rest:
         xe, note = x.copy(), "reactions solved at the assembled configuration"
     else:
         try:
@@ -377,21 +387,38 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         system=system, x=x, x_equilibrium=xe, compliant=compliant)
 
 
-def _compliant_rows(system, x: np.ndarray) -> tuple[Quantity, ...]:
-    """Each compliant constraint row (``Phi - lambda / k = 0``, found from the Jacobian: its own
-    reaction enters with ``-1/k``) as ``Quantity(row, deflection, unit, "reaction ..., stiffness ...")``."""
+def _compliant(system, x: np.ndarray) -> list[tuple[int, str, float]]:
+    """``(row, reaction, c)`` of each compliant constraint row ``Phi - lambda / k = 0``, found from the
+    Jacobian (its own reaction enters with ``c = -1/k``); ``row`` indexes the system's equations."""
     nq = len(system.mechanics.coordinates)
     reactions = list(getattr(system, "reaction_names", ()))
     if not reactions:
-        return ()
+        return []
     J = system.jacobian(x)
+    return [(nq + i, r, float(J[nq + i, system.index(r)])) for i, r in enumerate(reactions)
+            if J[nq + i, system.index(r)] != 0]
+
+
+def _compliant_gap(system, x: np.ndarray) -> Quantity | None:
+    """The compliant row farthest from its spring law at ``x`` (``|Phi - lambda / k|``, m or rad), if
+    any is off by more than ``CLOSURE_TOL``; else None."""
+    rows = _compliant(system, x)
+    if not rows:
+        return None
+    res = system.residual(x)
+    i, r, _ = max(rows, key=lambda row: abs(res[row[0]]))
+    if not abs(res[i]) > CLOSURE_TOL:
+        return None
+    return Quantity(system.equation_names[i], float(abs(res[i])), "m" if system.variable(r).unit == "N" else "rad")
+
+
+def _compliant_rows(system, x: np.ndarray) -> tuple[Quantity, ...]:
+    """Each compliant constraint row (see :func:`_compliant`) as
+    ``Quantity(row, deflection, unit, "reaction ..., stiffness ...")``."""
     out = []
-    for i, r in enumerate(reactions):
-        c = J[nq + i, system.index(r)]
-        if c == 0:
-            continue
+    for i, r, c in _compliant(system, x):
         lam, unit = float(x[system.index(r)]), system.variable(r).unit
         k_unit = "N/m" if unit == "N" else "N m/rad"
-        out.append(Quantity(system.equation_names[nq + i], -c * lam, "m" if unit == "N" else "rad",
+        out.append(Quantity(system.equation_names[i], -c * lam, "m" if unit == "N" else "rad",
                             f"reaction {r} = {lam:.6g} {unit}, stiffness {-1 / c:.4g} {k_unit}"))
     return tuple(out)
