@@ -145,7 +145,7 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
     draw3d(sys_, ret.branch.values[0], out_dir / "sidestay_down.png", annotate=("theta",))
     draw3d(sys_, ret.branch.values[-1], out_dir / "sidestay_up.png", annotate=("theta",))
     if not quick:
-        animate(sys_, ret.branch, out_dir / "sidestay_retraction.gif", every=max(1, len(ret.branch.values) // 24),
+        animate(sys_, ret.branch, out_dir / "sidestay_retraction.gif", every=max(1, len(ret.branch.values) // 12),
                 annotate=("theta",), dpi=80)
     t0 = time.perf_counter()
     angles = PLANE_ANGLES[::3] if quick else PLANE_ANGLES
