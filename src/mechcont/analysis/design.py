@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..continuation import Branch, ContinuationOptions, continuation, continue_folds
-from ..equations import EquationSystem
+from ..equations import EquationSystem, as_model
 from ..errors import ConvergenceError, InputError
 from ._runs import early_stops
 from .downlock import downlock, downlock_condition, downlock_point
@@ -230,7 +230,7 @@ def _refined(system, intervals, vals, x_name, xb, h, f):
     """The interior ends of ``intervals`` (F = 0 crossings) solved exactly: F held at 0, x freed."""
     from ..continuation import find_equilibrium
 
-    base = getattr(system, "downlocked", None)
+    base = as_model(system).downlocked
 
     def crossing(xc):
         if not xb[0] < xc < xb[1]:
@@ -375,7 +375,7 @@ def _zero_force_boundary(system, x_name, y_name, xb, yb, grid, levels, fmap, val
             j = idx[0]
             xs = grid[j] - row[j] * (grid[j + 1] - grid[j]) / (row[j + 1] - row[j])
             vals = {**values, y_name: float(levels[i]), x_name: float(xs), f: 0.0}
-            base = getattr(system, "downlocked", None)
+            base = as_model(system).downlocked
             guess = system.vector(vals, base=base) if base is not None else None
             try:
                 x0 = find_equilibrium(system, values={k: v for k, v in vals.items() if k != x_name}, hold=h,

@@ -21,7 +21,7 @@ from collections.abc import Iterable, Mapping
 import numpy as np
 
 from ..continuation import Branch, ContinuationOptions, continuation, find_equilibrium
-from ..equations import EquationSystem
+from ..equations import EquationSystem, as_model
 from ..errors import ConvergenceError, InputError
 from ._runs import early_stops
 from .unlock import UnlockFolds, unlock_folds
@@ -73,10 +73,11 @@ def downlock_condition(system: EquationSystem, hold: Mapping[str, float] | None 
     when nothing names the condition, a name is unknown, or both ``hold`` and ``condition``
     are given.
     """
+    model = as_model(system)
     if condition is not None:
         if hold:
             raise InputError("condition", "give either a condition or held states (hold), not both")
-        declared = getattr(system, "conditions", None) or {}
+        declared = model.conditions
         if condition not in declared:
             valid = ", ".join(declared) or "none declared (add a [conditions] table to the description)"
             raise InputError("condition", f"unknown condition {condition!r} of model '{system.name}'; conditions: "
@@ -85,14 +86,14 @@ def downlock_condition(system: EquationSystem, hold: Mapping[str, float] | None 
             raise InputError("condition", f"condition {condition!r} has no target; give target = VALUE under "
                                           f"[conditions] or hold it at a value ({condition}=VALUE)")
         hold = {condition: declared[condition]}
-    h = dict(hold) if hold else getattr(system, "downlock_hold", None)
+    h = dict(hold) if hold else model.downlock_hold
     if not h:
-        declared = ", ".join(getattr(system, "conditions", None) or {})
+        declared = ", ".join(model.conditions)
         hint = f"; declared conditions: {declared}" if declared else ""
         raise InputError("hold", f"model '{system.name}' defines no downlock condition; give the held lock-link state "
                                  f"(e.g. theta4=0) or a declared condition, or declare [mechanism] downlock = "
                                  f"{{condition = ..., force = ...}}{hint}")
-    f = force if force is not None else getattr(system, "downlock_force", "F")
+    f = force if force is not None else (model.downlock_force or "F")
     for n in h:
         if system.variable(n).kind != "state":
             raise InputError(n, "only states can be held for the downlock condition")
@@ -131,15 +132,14 @@ def downlock_point(system: EquationSystem, values: Mapping[str, float] | None = 
     for n in values:
         if n in h or n == f:
             raise InputError(n, "is fixed by the downlock condition; it cannot be set")
-    check = getattr(system, "check_values", None)
-    if callable(check):  # the model's own valid ranges (e.g. positive lengths)
-        check(values)
-    assemble = getattr(system, "assemble_downlocked", None)
-    base = getattr(system, "downlocked", None)
+    model = as_model(system)
+    if model.check_values is not None:  # the model's own valid ranges (e.g. positive lengths)
+        model.check_values(values)
+    base = model.downlocked
     guess = system.vector(values, base=base) if base is not None else None
-    if callable(assemble):  # closed-form assembly at these values: a guess that survives geometry changes
+    if model.assemble_downlocked is not None:  # closed-form assembly at these values: survives geometry changes
         try:
-            guess = assemble(values, h)
+            guess = model.assemble_downlocked(values, h)
         except InputError as exc:  # no closed-form pose nearby: Newton from the default pose decides
             try:
                 return find_equilibrium(system, values=values, hold=h, free=[f, *free], guess=guess)

@@ -129,7 +129,7 @@ class ConstrainedDynamics:
 
     def __init__(self, system, x: np.ndarray, loads: Mapping[str, Callable[[float], float]] | None = None,
                  baumgarte: tuple[float, float] | None = (10.0, 10.0), damping: float = 0.0):
-        mech = getattr(system, "mechanics", None)
+        mech = system.mechanics
         if mech is None:
             raise InputError(system.name, "model has no mechanics (coordinates, constraints, masses); cannot simulate")
         self.system = system

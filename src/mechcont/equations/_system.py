@@ -153,6 +153,12 @@ class EquationSystem:
     limits: Sequence[Limit] = ()
     # compiled code, filled on first use and shared by copies (with_values, load_model)
     _code: dict = field(default_factory=dict, init=False, repr=False)
+    # derived in __post_init__ from the variables (their names never change)
+    names: tuple[str, ...] = field(init=False, repr=False, compare=False)
+    symbols: tuple[sp.Symbol, ...] = field(init=False, repr=False, compare=False)
+    _index: dict[str, int] = field(init=False, repr=False, compare=False)
+    #: fields that did not pickle and were reset to their defaults when this copy was unpickled
+    unpickled_without: tuple[str, ...] = field(default_factory=tuple, init=False, repr=False, compare=False)
 
     def __post_init__(self):
         self.variables = tuple(self.variables)
@@ -226,13 +232,36 @@ class EquationSystem:
         Only defaults change; the equations are the same, so this is how a model is
         re-parametrised cheaply. Unknown names raise :class:`InputError`.
         """
-        import copy
         from dataclasses import replace
 
         for k in values:
             self.index(k)
+        return self.evolve(variables=tuple(replace(v, value=float(values[v.name])) if v.name in values else v
+                                           for v in self.variables))
+
+    def evolve(self, **changes) -> EquationSystem:
+        """A copy with some declared fields replaced, sharing the compiled code (nothing is rebuilt).
+
+        ``variables`` may change values, scales, units and descriptions but not names or kinds
+        (the compiled equations are in them); ``equations`` cannot change. Any other declared
+        field (``scene``, ``check_values``, a :class:`~mechcont.equations.Model`'s fields) may.
+        Raises :class:`TypeError` for a name that is not a declared field.
+        """
+        import copy
+        from dataclasses import fields
+
+        declared = {f.name for f in fields(self) if f.init}
+        for k in changes:
+            if k not in declared or k in ("name", "equations", "equation_names"):
+                raise TypeError(f"{type(self).__name__}.evolve() cannot set {k!r}")
+        if "variables" in changes:
+            variables = tuple(changes["variables"])
+            if tuple((v.name, v.kind) for v in variables) != tuple((v.name, v.kind) for v in self.variables):
+                raise ValueError("evolve() may change the variables' values and scales, not their names or kinds")
+            changes["variables"] = variables
         new = copy.copy(self)
-        new.variables = tuple(replace(v, value=float(values[v.name])) if v.name in values else v for v in self.variables)
+        for k, v in changes.items():
+            object.__setattr__(new, k, v)
         return new
 
     # -- compiled numerics ------------------------------------------------------------
@@ -414,9 +443,18 @@ class EquationSystem:
         return state
 
     def __setstate__(self, state: dict) -> None:
+        from dataclasses import MISSING, fields
+
         self.__dict__.update(EquationSystem.from_compiled_state(state).__dict__)
         self.__dict__.update(state.get("extras", {}))
-        self.unpickled_without = tuple(state.get("omitted", ()))
+        omitted = tuple(state.get("omitted", ()))
+        for f in fields(self):  # a declared field that did not pickle is back at its default
+            if f.name not in self.__dict__ or f.name in omitted:
+                if f.default is not MISSING:
+                    self.__dict__[f.name] = f.default
+                elif f.default_factory is not MISSING:
+                    self.__dict__[f.name] = f.default_factory()
+        self.__dict__["unpickled_without"] = omitted
 
     def __copy__(self) -> EquationSystem:
         # a plain shallow copy (with_values relies on sharing _code); not the pickled state

@@ -27,6 +27,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..equations import as_model
 from ..errors import ConvergenceError, InputError
 from ._assembly import assemble
 from ._description import Mechanism
@@ -140,7 +141,7 @@ class CheckReport:
     @property
     def held(self) -> tuple[Quantity, ...]:
         """The coordinates held at assembly (``[assembly] hold``), at their assembled values."""
-        hold = getattr(self.system.mechanism, "hold", {})
+        hold = as_model(self.system).mechanism.hold
         return tuple(Quantity(n, float(self.x[self.system.index(n)]), self.system.variable(n).unit) for n in hold)
 
     @property
@@ -342,7 +343,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     coord = model.coordinates[worst] if nq else ""
     imbalance = Quantity(system.equation_names[worst] if nq else "", float(np.abs(res[worst])) if nq else 0.0,
                          "N" if nq and system.variable(coord).unit == "m" else "N m")
-    reaction_scale = max([system.variable(n).scale for n in getattr(system, "reaction_names", ())] + [1.0])
+    reaction_scale = max([system.variable(n).scale for n in as_model(system).reaction_names] + [1.0])
     xe, stability = None, None
     at_rest = imbalance.value <= 1e-9 * reaction_scale
     if at_rest:
@@ -391,7 +392,7 @@ def _compliant(system, x: np.ndarray) -> list[tuple[int, str, float]]:
     """``(row, reaction, c)`` of each compliant constraint row ``Phi - lambda / k = 0``, found from the
     Jacobian (its own reaction enters with ``c = -1/k``); ``row`` indexes the system's equations."""
     nq = len(system.mechanics.coordinates)
-    reactions = list(getattr(system, "reaction_names", ()))
+    reactions = list(as_model(system).reaction_names)
     if not reactions:
         return []
     J = system.jacobian(x)

@@ -339,6 +339,8 @@ class Mechanism:
     conditions: Sequence[Condition] = ()
     actuators: Sequence[Actuator] = ()
     downlock: DownlockSpec | None = None
+    # the value-independent part of each generated form, made by the first build (never pickled)
+    _generated: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     #: Keys of a custom load whose expressions may use the coordinates.
     _COORDINATE_KEYS = ("fx", "fy", "moment")
@@ -354,6 +356,15 @@ class Mechanism:
         self.hold = dict(self.hold)
         self.conditions, self.actuators = tuple(self.conditions), tuple(self.actuators)
         self._validate()
+
+    def __getstate__(self) -> dict:
+        # the generated structures hold compiled code and the models made from them: a pickled
+        # description is the description only (a copy generates its own on first build)
+        return {k: v for k, v in self.__dict__.items() if k != "_generated"}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self.__dict__["_generated"] = {}
 
     # -- validation -----------------------------------------------------------------
     def _validate(self) -> None:

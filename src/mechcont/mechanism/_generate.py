@@ -19,11 +19,14 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 import sympy as sp
 
-from ..equations import EquationSystem, MechanicalModel, Variable, velocity_symbol
+from ..equations import EquationSystem, MechanicalModel, Model, Variable, velocity_symbol
 from ..errors import InputError
 from ._assembly import close_constraints, dof_report
 from ._conditions import condition_description, condition_rows, condition_scale, condition_targets
@@ -161,10 +164,72 @@ def _loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray) -> 
                       f"lengths{held}: it misses by {gap:.4g} m at best")
 
 
-def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
-    """Build the (full or reduced) static system of ``mech``; see :meth:`Mechanism.build`."""
-    values = parameter_values(mech, overrides)
-    check_values(mech, values)
+@dataclass
+class _Variant:
+    """The symbolic system of a structure with a given set of redundant rows dropped, and its model.
+
+    ``model`` is made (and its code compiled) at the first build; later builds copy it with
+    their own values (:meth:`~mechcont.equations.EquationSystem.evolve`)."""
+
+    rows: list[ConstraintRow]
+    dropped: list[ConstraintRow]
+    equilibrium: list[sp.Expr]
+    mechanics: MechanicalModel
+    condition_values: object | None = None
+    model: Model | None = None
+
+
+@dataclass
+class _Structure:
+    """Everything of a generated system that does not depend on parameter values.
+
+    Made once per description and form (full or reduced) and kept with the description, so a
+    build at other values generates and compiles nothing: only the assembly (initial guess,
+    loop closure, reactions, condition values, scales) is redone."""
+
+    kin: Kinematics
+    rows: list[ConstraintRow]
+    arrows: list
+    coords: list[str]
+    forces: list[sp.Expr]
+    mass: sp.Matrix
+    subs: dict
+    V: sp.Expr
+    conditions: list
+    mechanics: MechanicalModel
+    equilibrium: list[sp.Expr]
+    variants: dict[tuple[int, ...], _Variant] = field(default_factory=dict)
+
+    @property
+    def cnames(self) -> list[str]:
+        """Names of the condition states."""
+        return [c.name for c, _ in self.conditions]
+
+    def variant(self, mech: Mechanism, dependent: tuple[int, ...]) -> _Variant:
+        """The system with the rows ``dependent`` (indices into :attr:`rows`) dropped."""
+        out = self.variants.get(dependent)
+        if out is None:
+            if dependent:
+                keep = [i for i in range(len(self.rows)) if i not in set(dependent)]
+                rows = [self.rows[i] for i in keep]
+                equilibrium, mechanics = _equilibrium(mech, self.coords, rows, self.forces, self.mass, self.cnames)
+            else:
+                rows, equilibrium, mechanics = self.rows, self.equilibrium, self.mechanics
+            out = self.variants[dependent] = _Variant(rows, [self.rows[i] for i in dependent], equilibrium, mechanics)
+            if self.conditions:
+                from ..equations._codegen import compile_dense
+
+                out.condition_values = compile_dense([symbol(n) for n in mechanics.names],
+                                                     [e for _, e in self.conditions])
+        return out
+
+
+def _structure(mech: Mechanism, reduced: bool) -> _Structure:
+    """The value-independent part of ``mech``'s (full or reduced) system, made once per description."""
+    key = "reduced" if reduced else "full"
+    st = mech._generated.get(key)
+    if st is not None:
+        return st
     kin = Kinematics(mech)
     rows = kin.constraints()
     ld = loads(kin)
@@ -179,10 +244,24 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
     else:
         coords, mass, subs, V = list(kin.coords), M, {}, ld.V
         forces = [-sp.diff(ld.V, qi) + qnc for qi, qnc in zip(kin.q, ld.Q_nc)]
-    Lc, Fc = _scales(mech, values)
     conditions = condition_rows(kin, subs)
-    cnames = [c.name for c, _ in conditions]
-    equilibrium, model = _equilibrium(mech, coords, rows, forces, mass, cnames)
+    equilibrium, model = _equilibrium(mech, coords, rows, forces, mass, [c.name for c, _ in conditions])
+    st = _Structure(kin, rows, ld.arrows, coords, forces, mass, subs, V, conditions, model, equilibrium)
+    mech._generated[key] = st
+    return st
+
+
+def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
+    """Build the (full or reduced) static system of ``mech``; see :meth:`Mechanism.build`.
+
+    The equations are generated and compiled once per description and form; a build at other
+    parameter values reuses them and only assembles the mechanism at those values.
+    """
+    values = parameter_values(mech, overrides)
+    check_values(mech, values)
+    st = _structure(mech, reduced)
+    kin, coords, rows, cnames, model = st.kin, st.coords, st.rows, st.cnames, st.mechanics
+    Lc, Fc = _scales(mech, values)
     # -- first assembly: consistent coordinates near the initial guess ------------------
     guess = _initial_guess(mech, kin, values)
     x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * (len(rows) + len(cnames))
@@ -200,64 +279,79 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> EquationSystem:
         raise InputError("mechanism.dof", f"the assembled mechanism has {report.dof} degree(s) of freedom, intended "
                                           f"{mech.dof} (rank {report.rank} of {len(rows)} constraints on "
                                           f"{len(coords)} coordinates){why}")
-    dropped: list[ConstraintRow] = []
-    if report.redundant:
-        if mech.redundant != "drop":
-            raise _redundancy_error(mech, rows, report)
-        dropped = [rows[i] for i in report.dependent]
-        keep = [i for i in range(len(rows)) if i not in set(report.dependent)]
-        x = np.concatenate([x[:len(coords)], np.zeros(len(keep)), x[len(coords) + len(rows):]])
-        rows = [rows[i] for i in keep]
-        equilibrium, model = _equilibrium(mech, coords, rows, forces, mass, cnames)
+    if report.redundant and mech.redundant != "drop":
+        raise _redundancy_error(mech, rows, report)
+    var = st.variant(mech, tuple(report.dependent) if report.redundant else ())
+    if var.dropped:
+        x = np.concatenate([x[:len(coords)], np.zeros(len(var.rows)), x[len(coords) + len(rows):]])
+    rows, model = var.rows, var.mechanics
     nq = len(coords)
     x[nq:nq + len(rows)] = model.multipliers(x)
-    if conditions:  # each condition's value at the assembled configuration
-        from ..equations._codegen import compile_dense
-
-        at = compile_dense([symbol(n) for n in model.names], [e for _, e in conditions])
-        x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(at(x), dtype=float).reshape(-1)
-    _check_assembled(mech, kin, model, x, subs, Lc, coords, rows, cnames)
+    if var.condition_values is not None:  # each condition's value at the assembled configuration
+        x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(var.condition_values(x), dtype=float).reshape(-1)
+    _check_assembled(mech, kin, model, x, st.subs, Lc, coords, rows, cnames)
     variables = []
     for c, v in zip(coords, x):
-        angle = c.startswith("theta")
-        variables.append(Variable(c, "state", float(v), "rad" if angle else "m", 1.0 if angle else Lc,
-                                  f"{'angle' if angle else c[0] + ' position'} of body frame"))
+        variables.append(Variable(c, "state", float(v), *_coordinate_unit_text(c, Lc)))
     for r, v in zip(rows, x[nq:]):
         variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc,
-                                  f"tension of actuator {r.joint} (+ pulls its ends together)"
-                                  if r.equation == f"{r.joint}_length" else
-                                  f"reaction of joint {r.joint} (on its second body)"))
-    for (c, _), v in zip(conditions, x[nq + len(rows):]):
+                                  _reaction_text(r)))
+    for (c, _), v in zip(st.conditions, x[nq + len(rows):]):
         variables.append(Variable(c.name, "state", float(v), c.value_unit, condition_scale(c, Lc, Fc),
                                   condition_description(c)))
     for p in mech.parameters:
         val = values[p.name]
         variables.append(Variable(p.name, "parameter", val, p.unit, _parameter_scale(p, val, Lc, Fc), p.description))
+    targets = condition_targets(mech, values)
+    downlock = ({"downlock_hold": {mech.downlock.condition: targets[mech.downlock.condition]},
+                 "downlock_force": mech.downlock.force} if mech.downlock is not None else {})
+    if var.model is not None:  # the same structure built before: new values, the same compiled code
+        return var.model.evolve(variables=variables, dof=report, conditions=targets, **downlock)
+    dropped = var.dropped
     system = EquationSystem(
         name=mech.name + ("_reduced" if reduced else ""),
         variables=variables,
-        equations=[*equilibrium, *(r.expr for r in rows), *(e - symbol(c.name) for c, e in conditions)],
+        equations=[*var.equilibrium, *(r.expr for r in rows), *(e - symbol(c.name) for c, e in st.conditions)],
         equation_names=[*(_row_name(c) for c in coords), *(r.equation for r in rows), *(f"cond_{n}" for n in cnames)],
         mechanics=model,
         description=(mech.description or f"generated from the description of {mech.name}")
         + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
         limits=physical_limits(mech, solve=True),
+        scene=scene_function(kin, st.arrows, [v.symbol for v in variables], st.subs),
+        check_values=partial(_check_analysis_values, mech),
     )
-    system.scene = scene_function(kin, ld.arrows, system.symbols, subs)
-    system.potential_energy = V
-    system.mechanism = mech
-    system.check_values = lambda values, _mech=mech: check_values(
-        _mech, {p.name: float(values.get(p.name, p.value)) for p in _mech.parameters}, solve=True)
-    system.dof = report
-    system.reaction_names = tuple(r.reaction for r in rows)
-    system.coordinates_of = _coordinates_of(kin, system, subs)
-    system.dropped_constraints = tuple(r.equation for r in dropped)
-    system.dropped_residual = _dropped_residual(system, dropped)
-    system.conditions = condition_targets(mech, values)
-    if mech.downlock is not None:
-        system.downlock_hold = {mech.downlock.condition: system.conditions[mech.downlock.condition]}
-        system.downlock_force = mech.downlock.force
-    return system  # compiled on first numeric use
+    var.model = Model.from_system(
+        system,
+        potential_energy=st.V,
+        mechanism=mech,
+        dof=report,
+        reaction_names=tuple(r.reaction for r in rows),
+        coordinates_of=_coordinates_of(kin, system, st.subs),
+        dropped_constraints=tuple(r.equation for r in dropped),
+        dropped_residual=_dropped_residual(system, dropped),
+        conditions=targets,
+        **downlock,
+    )
+    return var.model.evolve()  # a copy: the kept model is never handed out (compiled on first numeric use)
+
+
+def _coordinate_unit_text(coord: str, Lc: float = 1.0) -> tuple[str, float, str]:
+    """Unit, scale and description of a body coordinate (``Lc``: the typical length, m)."""
+    angle = coord.startswith("theta")
+    return ("rad" if angle else "m", 1.0 if angle else Lc,
+            f"{'angle' if angle else coord[0] + ' position'} of body frame")
+
+
+def _reaction_text(row: ConstraintRow) -> str:
+    """What the reaction of a constraint row is."""
+    if row.equation == f"{row.joint}_length":
+        return f"tension of actuator {row.joint} (+ pulls its ends together)"
+    return f"reaction of joint {row.joint} (on its second body)"
+
+
+def _check_analysis_values(mech: Mechanism, values: Mapping[str, float]) -> None:
+    """The description's physical checks at ``values`` (the defaults where not given; a zero stiffness allowed)."""
+    check_values(mech, {p.name: float(values.get(p.name, p.value)) for p in mech.parameters}, solve=True)
 
 
 def _check_assembled(mech: Mechanism, kin: Kinematics, model: MechanicalModel, x: np.ndarray, subs: dict,
@@ -344,28 +438,39 @@ def _redundancy_error(mech: Mechanism, rows: list[ConstraintRow], report) -> Inp
                       f"[mechanism] to drop the dependent rows")
 
 
-def _dropped_residual(system: EquationSystem, dropped: list[ConstraintRow]):
+@dataclass(frozen=True)
+class _DroppedResidual:
     """``f(x) -> max |Phi_dropped(x)|`` (m or rad): 0 while the dropped rows stay implied."""
-    from ..equations._codegen import compile_dense
-    fn = compile_dense(list(system.symbols), [r.expr for r in dropped]) if dropped else None
 
-    def dropped_residual(x: np.ndarray) -> float:
+    fn: object | None
+
+    def __call__(self, x: np.ndarray) -> float:
         """Largest residual of the dropped redundant constraint rows at ``x`` (0.0 if none dropped)."""
-        if fn is None:
+        if self.fn is None:
             return 0.0
-        return float(np.max(np.abs(fn(np.asarray(x, dtype=float)))))
-
-    return dropped_residual
+        return float(np.max(np.abs(self.fn(np.asarray(x, dtype=float)))))
 
 
-def _coordinates_of(kin: Kinematics, system: EquationSystem, subs: dict):
+def _dropped_residual(system: EquationSystem, dropped: list[ConstraintRow]) -> _DroppedResidual:
+    """The compiled residual of the ``dropped`` rows of ``system`` (see :class:`_DroppedResidual`)."""
+    from ..equations._codegen import compile_dense
+    return _DroppedResidual(compile_dense(list(system.symbols), [r.expr for r in dropped]) if dropped else None)
+
+
+@dataclass(frozen=True)
+class _CoordinatesOf:
     """``f(x) -> {coordinate: value}`` for every body coordinate, eliminated ones included."""
+
+    coordinates: tuple[str, ...]
+    fn: object
+
+    def __call__(self, x: np.ndarray) -> dict[str, float]:
+        """All body coordinates (m, rad) at the full variable vector ``x``."""
+        return dict(zip(self.coordinates, (float(v) for v in self.fn(np.asarray(x, dtype=float)))))
+
+
+def _coordinates_of(kin: Kinematics, system: EquationSystem, subs: dict) -> _CoordinatesOf:
+    """The compiled body coordinates of ``system`` (see :class:`_CoordinatesOf`)."""
     from ..equations._codegen import compile_dense
     exprs = [subs.get(s, s) for s in kin.q]
-    fn = compile_dense(list(system.symbols), exprs)
-
-    def coordinates_of(x: np.ndarray) -> dict[str, float]:
-        """All body coordinates (m, rad) at the full variable vector ``x``."""
-        return dict(zip(kin.coords, (float(v) for v in fn(np.asarray(x, dtype=float)))))
-
-    return coordinates_of
+    return _CoordinatesOf(tuple(kin.coords), compile_dense(list(system.symbols), exprs))

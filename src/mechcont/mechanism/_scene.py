@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
@@ -96,13 +97,25 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
     for gname in mech.ground:
         add("point", f"ground.{gname}", [kin.point(f"ground.{gname}")])
     exprs = [sp.sympify(e, strict=True).xreplace(subs) for e in exprs]
-    fn = compile_dense(list(symbols), exprs)
+    return GeneratedScene(tuple(items), compile_dense(list(symbols), exprs))
 
-    def scene(x: np.ndarray) -> Scene:
+
+@dataclass(frozen=True)
+class GeneratedScene:
+    """``scene(x) -> Scene`` of a generated mechanism (see :func:`scene_function`); picklable.
+
+    ``items`` lists ``(kind, name, (number of points, extra))`` in the order of the compiled
+    function ``fn``'s output pairs.
+    """
+
+    items: tuple
+    fn: object
+
+    def __call__(self, x: np.ndarray) -> Scene:
         """Drawing primitives at the full variable vector ``x`` (m, N)."""
-        flat = np.asarray(fn(np.asarray(x, dtype=float)), dtype=float).reshape(-1, 2)
+        flat = np.asarray(self.fn(np.asarray(x, dtype=float)), dtype=float).reshape(-1, 2)
         out, i = Scene(), 0
-        for kind, name, (n, _) in items:
+        for kind, name, (n, _) in self.items:
             pts = flat[i:i + n]
             i += n
             if kind == "bar":
@@ -128,5 +141,3 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
             else:
                 out.forces.append((name, pts[0].copy(), pts[1].copy()))
         return out
-
-    return scene

@@ -2,16 +2,17 @@
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Callable
 from pathlib import Path
 
-from ..equations import EquationSystem
+from ..equations import EquationSystem, Model
 from ..errors import InputError
 
 __all__ = ["BUILTIN_MODELS", "load_model", "model_names"]
 
-_BUILT: dict[tuple, EquationSystem] = {}
+#: Descriptions read in this process, by (resolved path, modification time), at most ``_KEEP``.
+_DESCRIPTIONS: dict[tuple[str, int], object] = {}
+_KEEP = 16
 
 
 def _overcentre(**kw):
@@ -34,11 +35,7 @@ def _dual_sidestay(**kw):
         if name not in system.parameter_names:
             raise InputError(name, f"not a parameter of dual_sidestay_kinematics; valid: "
                                    f"{', '.join(system.parameter_names)}")
-    if not kw:
-        return copy.copy(system)
-    new = system.with_values({k: float(v) for k, v in kw.items()})
-    new.geometry = system.geometry
-    return new
+    return system.with_values({k: float(v) for k, v in kw.items()})
 
 
 #: Hand-formulated reference models of the paper: name -> (builder, one-line description).
@@ -56,8 +53,8 @@ def model_names() -> list[str]:
     return [*BUILTIN_MODELS, *(f"{stem}.toml" for stem in builtin_descriptions())]
 
 
-def load_model(name: str | Path, **overrides: float) -> EquationSystem:
-    """The compiled equation system of a built-in model or a mechanism description.
+def load_model(name: str | Path, **overrides: float) -> Model:
+    """The model (a compiled equation system with its declared facts) of a built-in model or a description.
 
     Parameters
     ----------
@@ -75,14 +72,17 @@ def load_model(name: str | Path, **overrides: float) -> EquationSystem:
     key = str(name)
     if key in BUILTIN_MODELS:
         return BUILTIN_MODELS[key][0](**overrides)
-    from ..mechanism import find_description, load
+    from ..mechanism import find_description, load_description
 
     path = find_description(key)
     if path is None:
         raise InputError("model", f"unknown model '{key}'; valid: {', '.join(model_names())} or a path to a .toml file")
-    # generating and compiling equations costs ~0.5 s: keep one build per file version and
-    # parameter set in this process, and hand out shallow copies (shared compiled code)
-    stamp = (str(Path(path).resolve()), Path(path).stat().st_mtime_ns, tuple(sorted(overrides.items())))
-    if stamp not in _BUILT:
-        _BUILT[stamp] = load(key, **overrides)
-    return copy.copy(_BUILT[stamp])
+    # the description is parsed once per file version; its equations are generated and
+    # compiled on its first build, and a build at other values reuses them (Mechanism.build)
+    resolved = Path(path).resolve()
+    stamp = (str(resolved), resolved.stat().st_mtime_ns)
+    mech = _DESCRIPTIONS.pop(stamp, None) or load_description(path)
+    _DESCRIPTIONS[stamp] = mech  # most recently used last
+    while len(_DESCRIPTIONS) > _KEEP:
+        del _DESCRIPTIONS[next(iter(_DESCRIPTIONS))]
+    return mech.build(**overrides)

@@ -23,10 +23,12 @@ Loads (gravity of the fitting and wheels and of the sidestay arms) enter only th
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 import sympy as sp
 
-from ..equations import EquationSystem, Scene, Variable
+from ..equations import EquationSystem, Model, Scene, Variable
 from .dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry, rotation
 
 __all__ = ["build_dual_sidestay_kinematics", "geometry_values", "points_at", "gear_scene", "loaded_scene",
@@ -65,13 +67,8 @@ def _rodrigues(axis: sp.Matrix, angle) -> sp.Matrix:
     return sp.eye(3) + sp.sin(angle) * k + (1 - sp.cos(angle)) * k * k
 
 
-def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> EquationSystem:
-    """The compiled retraction kinematics (12 states ``fwd_K_x .. aft_J_z`` in m; parameters
-    ``theta`` (rad), ``delta`` (rad) and per sidestay ``A``, ``n``, ``B0``, ``P0`` vectors and
-    ``L1, L2, L4, L5`` lengths (m)), its defaults the gear-down position of ``geo``.
-
-    The scene draws the gear in 3-D (fitting, arms, lock links, actuator, weight).
-    """
+def _variables(geo: GearGeometry) -> list[Variable]:
+    """The states at the gear-down position of ``geo`` and the parameters at its geometry (SI)."""
     values = geometry_values(geo)
     start = start_values(geo)
     variables = []
@@ -86,6 +83,32 @@ def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> Equa
         if name in ("theta", "delta"):
             continue
         variables.append(Variable(name, "parameter", val, "" if "_n_" in name else "m", 1.0, f"geometry {name}"))
+    return variables
+
+
+def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> Model:
+    """The compiled retraction kinematics (12 states ``fwd_K_x .. aft_J_z`` in m; parameters
+    ``theta`` (rad), ``delta`` (rad) and per sidestay ``A``, ``n``, ``B0``, ``P0`` vectors and
+    ``L1, L2, L4, L5`` lengths (m)), its defaults the gear-down position of ``geo``.
+
+    The scene draws the gear in 3-D (fitting, arms, lock links, actuator, weight). The
+    equations are generated and compiled once per process; another ``geo`` only changes the
+    defaults and the model's ``geometry``.
+    """
+    if "system" not in _STRUCTURE:
+        _STRUCTURE["system"] = _build(_variables(DEFAULT_GEOMETRY))
+    model = Model.from_system(_STRUCTURE["system"].evolve(variables=_variables(geo)), geometry=geo)
+    return model.evolve(scene=partial(loaded_scene, model))
+
+
+#: What ``mechcont models`` says about the model.
+DESCRIPTION = "dual-sidestay main gear retraction kinematics (natural coordinates, 12 states)"
+
+_STRUCTURE: dict[str, EquationSystem] = {}
+
+
+def _build(variables: list[Variable]) -> EquationSystem:
+    """Generate and compile the kinematic equations in the ``variables`` (their values are the defaults)."""
     s = {v.name: v.symbol for v in variables}
     axis = sp.Matrix([-sp.cos(s["delta"]), 0, -sp.sin(s["delta"])])
     R = _rodrigues(axis, s["theta"])
@@ -104,10 +127,7 @@ def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> Equa
         names += [f"{side}_upper", f"{side}_lower", f"{side}_knee_plane", f"{side}_link1", f"{side}_link2",
                   f"{side}_link_plane"]
     system = EquationSystem(name="dual_sidestay_kinematics", variables=variables, equations=eqs, equation_names=names,
-                            description="dual-sidestay main gear retraction kinematics (natural coordinates, "
-                                        "12 states)")
-    system.geometry = geo
-    system.scene = lambda x: loaded_scene(system, x)
+                            description=DESCRIPTION)
     return system.compile()
 
 

@@ -55,11 +55,13 @@ simulation come from it.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
+from functools import partial
 
 import numpy as np
 import sympy as sp
 
-from ..equations import EquationSystem, Limit, MechanicalModel, Scene, Variable, velocity_symbol
+from ..equations import EquationSystem, Limit, MechanicalModel, Model, Scene, Variable, velocity_symbol
 from ..errors import InputError
 from .nose_gear_geometry import PARAMETERS, defaults, downlocked_pose
 
@@ -169,39 +171,34 @@ def _mechanics(names, s, G, P, constraints):
     return MechanicalModel(names, COORDINATES, constraints, forces, sp.diag(*inertia)), V
 
 
-def _scene_function(system):
-    names = system.names
+def _scene(names: tuple[str, ...], x) -> Scene:
+    """Drawing primitives of the gear at the full variable vector ``x`` (m, N), variables ``names``."""
+    v = dict(zip(names, np.asarray(x, float)))
 
-    def scene(x) -> Scene:
-        """Drawing primitives of the gear at the full variable vector ``x`` (m, N)."""
-        v = dict(zip(names, np.asarray(x, float)))
+    def e(a):
+        return np.array([math.cos(a), math.sin(a)])
 
-        def e(a):
-            return np.array([math.cos(a), math.sin(a)])
-
-        G = {i: np.array([v[f"x{i}"], v[f"y{i}"]]) for i in range(1, 6)}
-        t = {i: v[f"theta{i}"] for i in range(1, 6)}
-        A = G[1] - v["L1"] / 2 * e(t[1])
-        K = G[1] + v["L1"] / 2 * e(t[1])
-        O = G[3] + v["L3"] / 2 * e(t[3])
-        axis = lambda r: O - r * e(t[3])  # noqa: E731
-        P2 = O - v["L32"] * e(t[3] + v["psi1"])
-        P5 = O - v["L35"] * e(t[3] - v["psi2"])
-        S3 = O - v["l_sp2"] * e(t[3] + v["psi3"])
-        J = G[4] + v["L4"] / 2 * e(t[4])
-        S4 = G[4] - v["l_sp1"] * e(t[4])
-        fitting = np.array([O, axis(v["L35"]), P5, axis(v["L35"]), axis(v["L32"]), P2, axis(v["L32"]),
-                            axis(v["l_sp2"]), S3, axis(v["l_sp2"]), axis(v["L3"])])
-        sc = Scene()
-        sc.bars = [("drag stay upper", np.array([A, K])), ("drag stay lower", np.array([K, P2])),
-                   ("main fitting", fitting), ("lock link 1", np.array([K, J])), ("lock link 2", np.array([J, P5]))]
-        sc.pins = [K, P2, J, P5]
-        sc.grounds = [A, O]
-        sc.springs = [("lock-link spring", S4, S3)]
-        sc.forces = [("F", J, np.array([0.0, v["F"]]))]
-        return sc
-
-    return scene
+    G = {i: np.array([v[f"x{i}"], v[f"y{i}"]]) for i in range(1, 6)}
+    t = {i: v[f"theta{i}"] for i in range(1, 6)}
+    A = G[1] - v["L1"] / 2 * e(t[1])
+    K = G[1] + v["L1"] / 2 * e(t[1])
+    O = G[3] + v["L3"] / 2 * e(t[3])
+    axis = lambda r: O - r * e(t[3])  # noqa: E731
+    P2 = O - v["L32"] * e(t[3] + v["psi1"])
+    P5 = O - v["L35"] * e(t[3] - v["psi2"])
+    S3 = O - v["l_sp2"] * e(t[3] + v["psi3"])
+    J = G[4] + v["L4"] / 2 * e(t[4])
+    S4 = G[4] - v["l_sp1"] * e(t[4])
+    fitting = np.array([O, axis(v["L35"]), P5, axis(v["L35"]), axis(v["L32"]), P2, axis(v["L32"]),
+                        axis(v["l_sp2"]), S3, axis(v["l_sp2"]), axis(v["L3"])])
+    sc = Scene()
+    sc.bars = [("drag stay upper", np.array([A, K])), ("drag stay lower", np.array([K, P2])),
+               ("main fitting", fitting), ("lock link 1", np.array([K, J])), ("lock link 2", np.array([J, P5]))]
+    sc.pins = [K, P2, J, P5]
+    sc.grounds = [A, O]
+    sc.springs = [("lock-link spring", S4, S3)]
+    sc.forces = [("F", J, np.array([0.0, v["F"]]))]
+    return sc
 
 
 #: Parameters that must be positive (lengths, m) and non-negative (masses, stiffness, damping, air data).
@@ -226,43 +223,27 @@ def check_values(values) -> None:
             raise InputError(n, f"must not be negative, got {v:g}")
 
 
-def _assembler(system):
-    def assemble_downlocked(values, hold=None) -> np.ndarray:
-        """Full vector at ``values`` (SI) with the lock links at the held theta4, assembled in closed form.
+def _assemble_downlocked(system: EquationSystem, downlocked: np.ndarray, values, hold=None) -> np.ndarray:
+    """Full vector at ``values`` (SI) with the lock links at the held theta4, assembled in closed form.
 
-        A guess for Newton (the inter-link forces and F are those of the default pose).
-        Raises :class:`InputError` when the gear cannot close at these values.
-        """
-        base = system.vector(dict(values), base=system.downlocked)
-        p = {n: float(base[system.index(n)]) for n in PARAMETERS}
-        t4 = float((hold or {}).get("theta4", 0.0))
-        try:
-            q = downlocked_pose(p, t4)
-        except InputError as exc:
-            changed = [n for n in values if n in _GEOMETRY] or ["theta4"]
-            raise InputError(changed[0], f"the gear cannot assemble with theta4 = {t4:g} rad at "
-                             f"{', '.join(f'{n}={values[n]:g}' for n in changed if n in values) or 'these values'}: "
-                             f"{exc}") from None
-        return system.vector(q, base=base)
-
-    return assemble_downlocked
-
-
-def build_nose_gear(**overrides: float) -> EquationSystem:
-    """The paper's 25-equation nose landing gear, with mechanics and a scene attached.
-
-    Keyword arguments override the parameter defaults of
-    :data:`~mechcont.models.nose_gear_geometry.PARAMETERS` (SI units; ``L35``/``psi2``
-    are re-derived for aligned lock links unless given). State defaults are the assembled
-    downlocked pose (theta4 = 0) with its inter-link forces at ``F`` = the downlock force.
-
-    The returned system carries ``downlock_hold = {"theta4": <downlocked theta4>}``,
-    ``downlock_force = "F"``, ``check_values`` (valid ranges) and ``assemble_downlocked``
-    (closed-form guess) for :func:`mechcont.analysis.downlock.downlock`.
+    A guess for Newton (the inter-link forces and F are those of the default pose ``downlocked``).
+    Raises :class:`InputError` when the gear cannot close at these values.
     """
-    check_values(overrides)
-    p = defaults(**overrides)
-    q = downlocked_pose(p, 0.0)
+    base = system.vector(dict(values), base=downlocked)
+    p = {n: float(base[system.index(n)]) for n in PARAMETERS}
+    t4 = float((hold or {}).get("theta4", 0.0))
+    try:
+        q = downlocked_pose(p, t4)
+    except InputError as exc:
+        changed = [n for n in values if n in _GEOMETRY] or ["theta4"]
+        raise InputError(changed[0], f"the gear cannot assemble with theta4 = {t4:g} rad at "
+                         f"{', '.join(f'{n}={values[n]:g}' for n in changed if n in values) or 'these values'}: "
+                         f"{exc}") from None
+    return system.vector(q, base=base)
+
+
+def _variables(p: dict[str, float], q: dict[str, float]) -> list[Variable]:
+    """The 40 variables: coordinates at the pose ``q``, forces 0, parameters at ``p`` (SI)."""
     variables = []
     for n in COORDINATES:
         kind_unit = "rad" if n.startswith("theta") else "m"
@@ -272,26 +253,59 @@ def build_nose_gear(**overrides: float) -> EquationSystem:
         variables.append(Variable(n, "state", 0.0, "N", 1000.0, f"force of bar {n[1]} on bar {n[2]}, {n[3]} component"))
     for n, (_, unit, scale, desc) in PARAMETERS.items():
         variables.append(Variable(n, "parameter", p[n], unit, scale, desc))
-    s = {v.name: v.symbol for v in variables}
-    G, _, P = _points(s)
-    geometry, g_labels = _constraints(s, P)
-    equilibrium, e_labels = _equilibrium(s, G, P)
-    names = [v.name for v in variables]
-    mech, V = _mechanics(names, s, G, P, geometry)
-    system = EquationSystem(
-        name="nose_gear",
-        variables=variables,
-        equations=[*geometry, *equilibrium],
-        equation_names=[*g_labels, *e_labels],
-        mechanics=mech,
-        description="Planar nose landing gear, paper Section III-A: 15 coordinates + 10 inter-link forces, 25 equations",
-        limits=[Limit(n, s[n], n in _POSITIVE, f"{PARAMETERS[n][3]} ({PARAMETERS[n][1]})")
-                for n in (*_POSITIVE, *_NON_NEGATIVE) if n in s],
-    )
-    system.potential_energy = V
-    system.downlock_hold = {"theta4": 0.0}
-    system.downlock_force = "F"
-    system.scene = _scene_function(system)
+    return variables
+
+
+#: What ``mechcont models`` says about the model.
+DESCRIPTION = "Planar nose landing gear, paper Section III-A: 15 coordinates + 10 inter-link forces, 25 equations"
+
+_STRUCTURE: dict[str, tuple[EquationSystem, sp.Expr]] = {}
+
+
+def _structure() -> tuple[EquationSystem, sp.Expr]:
+    """The gear's equations and potential energy, generated once per process (values are data)."""
+    if "system" not in _STRUCTURE:
+        p = defaults()
+        variables = _variables(p, downlocked_pose(p, 0.0))
+        s = {v.name: v.symbol for v in variables}
+        G, _, P = _points(s)
+        geometry, g_labels = _constraints(s, P)
+        equilibrium, e_labels = _equilibrium(s, G, P)
+        mech, V = _mechanics([v.name for v in variables], s, G, P, geometry)
+        system = EquationSystem(
+            name="nose_gear",
+            variables=variables,
+            equations=[*geometry, *equilibrium],
+            equation_names=[*g_labels, *e_labels],
+            mechanics=mech,
+            description=DESCRIPTION,
+            limits=[Limit(n, s[n], n in _POSITIVE, f"{PARAMETERS[n][3]} ({PARAMETERS[n][1]})")
+                    for n in (*_POSITIVE, *_NON_NEGATIVE) if n in s],
+            check_values=check_values,
+        )
+        _STRUCTURE["system"] = (system, V)
+    return _STRUCTURE["system"]
+
+
+def build_nose_gear(**overrides: float) -> Model:
+    """The paper's 25-equation nose landing gear, with mechanics and a scene attached.
+
+    Keyword arguments override the parameter defaults of
+    :data:`~mechcont.models.nose_gear_geometry.PARAMETERS` (SI units; ``L35``/``psi2``
+    are re-derived for aligned lock links unless given). State defaults are the assembled
+    downlocked pose (theta4 = 0) with its inter-link forces at ``F`` = the downlock force.
+    The equations are generated and compiled once per process; other values only change
+    the defaults and the assembled pose.
+
+    The returned model carries ``downlock_hold = {"theta4": 0.0}``, ``downlock_force = "F"``,
+    ``downlocked`` (that pose), ``check_values`` (valid ranges) and ``assemble_downlocked``
+    (closed-form guess) for :func:`mechcont.analysis.downlock.downlock`.
+    """
+    check_values(overrides)
+    p = defaults(**overrides)
+    q = downlocked_pose(p, 0.0)
+    core, V = _structure()
+    system = core.evolve(variables=_variables(p, q))
     # inter-link forces at the downlocked pose: the equilibrium rows are linear in (R, F)
     x = system.defaults()
     unknown = [system.index(n) for n in (*FORCES, "F")]
@@ -301,10 +315,12 @@ def build_nose_gear(**overrides: float) -> EquationSystem:
     r0 = system.residual(x)[rows]
     sol = np.linalg.solve(J, -r0)
     x[unknown] = sol
-    system.variables = tuple(
-        Variable(v.name, v.kind, float(x[i]) if (v.kind == "state") else v.value, v.unit, v.scale, v.description)
-        for i, v in enumerate(system.variables))
-    system.downlocked = x
-    system.check_values = check_values
-    system.assemble_downlocked = _assembler(system)
-    return system
+    variables = tuple(replace(v, value=float(x[i])) if v.kind == "state" else v for i, v in enumerate(system.variables))
+    return Model.from_system(
+        system.evolve(variables=variables, scene=partial(_scene, system.names)),
+        potential_energy=V,
+        downlock_hold={"theta4": 0.0},
+        downlock_force="F",
+        downlocked=x,
+        assemble_downlocked=partial(_assemble_downlocked, core, x),
+    )

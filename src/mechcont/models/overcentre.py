@@ -37,7 +37,7 @@ import math
 import numpy as np
 import sympy as sp
 
-from ..equations import EquationSystem, Limit, MechanicalModel, Variable, velocity_symbol
+from ..equations import Limit, MechanicalModel, Model, Variable, velocity_symbol
 
 __all__ = ["build_overcentre", "symmetric_force", "symmetric_folds", "symmetric_cusp", "symmetric_stable",
            "DEFAULTS"]
@@ -73,10 +73,13 @@ def _variables(p: dict) -> list[Variable]:
     ]
 
 
-_CACHE: dict[str, EquationSystem] = {}
+#: What ``mechcont models`` says about the model.
+DESCRIPTION = "Overcentre mechanism, paper eq. 6 (6 states, one equilibrium row)"
+
+_CACHE: dict[str, Model] = {}
 
 
-def build_overcentre(**overrides: float) -> EquationSystem:
+def build_overcentre(**overrides: float) -> Model:
     """The paper's six-equation overcentre model (eq. 6) with its mechanics attached.
 
     Keyword arguments override the default parameter values (SI units). Returns a compiled
@@ -92,17 +95,12 @@ def build_overcentre(**overrides: float) -> EquationSystem:
             from ..errors import InputError
             raise InputError(key, f"not a parameter of the overcentre; valid: {', '.join(p)}")
         p[key] = float(val)
-    fresh = {v.name: v for v in _variables(p)}
-    base = _CACHE["base"]
-    new = base.with_values({n: fresh[n].value for n in base.names})
-    from dataclasses import replace
-
-    new.variables = tuple(replace(v, scale=fresh[v.name].scale) for v in new.variables)
+    new = _CACHE["base"].evolve(variables=_variables(p))
     new.check_limits(new.defaults())
     return new
 
 
-def _build(p: dict) -> EquationSystem:
+def _build(p: dict) -> Model:
     """Generate and compile the symbolic model (parameters ``p`` give the defaults)."""
     variables = _variables(p)
     s = {v.name: v.symbol for v in variables}
@@ -135,23 +133,22 @@ def _build(p: dict) -> EquationSystem:
     inertia1, inertia2 = m1 * L1**2 / 12, m2 * L2**2 / 12
     mass = sp.diag(m1, m1, inertia1, m2, m2, inertia2)
     mech = MechanicalModel(names, coords, geometry, forces, mass)
-    system = EquationSystem(
+    system = Model(
         name="overcentre",
         variables=variables,
         equations=[*geometry, equilibrium],
         equation_names=["pin1_x", "pin1_y", "apex_x", "apex_y", "slider_y", "equilibrium"],
         mechanics=mech,
-        description="Overcentre mechanism, paper eq. 6 (6 states, one equilibrium row)",
+        description=DESCRIPTION,
         limits=[Limit("L1", L1, True, "length of bar 1 (m)"), Limit("L2", L2, True, "length of bar 2 (m)"),
                 Limit("m1", m1, True, "mass of bar 1 (kg)"), Limit("m2", m2, True, "mass of bar 2 (kg)"),
                 Limit("k", k, False, "spring stiffness (N/m)"), Limit("LU", LU, True, "unstrained spring length (m)"),
                 Limit("c", c, False, "damping (N s/m)")],
+        potential_energy=V,
     )
-    system.potential_energy = V
     from .overcentre_scene import overcentre_scene
 
-    system.scene = overcentre_scene(system)
-    return system.compile()
+    return system.evolve(scene=overcentre_scene(system)).compile()
 
 
 # -- closed form of the symmetric case (L1 = L2 = L, m = n = 0) ---------------------------

@@ -11,6 +11,7 @@ rather than being silently repaired. The spring joins the points at distances ``
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -40,10 +41,19 @@ def overcentre_scene(system: EquationSystem, *, weights: bool = False) -> Callab
         the slider at bar 2's lower end on the rail y = 0 (direction +x), the spring and the
         force ``F`` (vector ``(0, F)`` at the apex).
     """
-    idx = {name: system.index(name) for name in _NAMES}
+    return _OvercentreScene({name: system.index(name) for name in _NAMES}, weights)
 
-    def scene(x: np.ndarray) -> Scene:
-        v = {name: float(x[i]) for name, i in idx.items()}
+
+@dataclass(frozen=True)
+class _OvercentreScene:
+    """``scene(x)`` of :func:`overcentre_scene`: the variables' positions ``idx`` by name (picklable)."""
+
+    idx: dict[str, int]
+    weights: bool = False
+
+    def __call__(self, x: np.ndarray) -> Scene:
+        """Drawing primitives at the full variable vector ``x`` (m, rad, N)."""
+        v = {name: float(x[i]) for name, i in self.idx.items()}
         e1 = np.array([np.cos(v["theta1"]), np.sin(v["theta1"])])
         e2 = np.array([np.cos(v["theta2"]), np.sin(v["theta2"])])
         c1 = np.array([v["x1"], v["y1"]])
@@ -51,7 +61,7 @@ def overcentre_scene(system: EquationSystem, *, weights: bool = False) -> Callab
         ground_end, apex1 = c1 - v["L1"] / 2 * e1, c1 + v["L1"] / 2 * e1
         slider_end, apex2 = c2 - v["L2"] / 2 * e2, c2 + v["L2"] / 2 * e2
         forces = [("F", apex1, np.array([0.0, v["F"]]))]
-        if weights:
+        if self.weights:
             forces += [("w1", c1, np.array([0.0, -v["m1"] * v["g"]])),
                        ("w2", c2, np.array([0.0, -v["m2"] * v["g"]]))]
         return Scene(
@@ -62,5 +72,3 @@ def overcentre_scene(system: EquationSystem, *, weights: bool = False) -> Callab
             springs=[("spring", c1 + v["m"] * e1, c2 + v["n"] * e2)],
             forces=forces,
         )
-
-    return scene

@@ -441,7 +441,7 @@ def _check_x(system, x) -> np.ndarray:
 
 
 def _scene_of(system) -> Callable[[np.ndarray], Scene]:
-    if getattr(system, "scene", None) is None:
+    if system.scene is None:
         raise InputError("model", f"'{system.name}' has no drawing (its EquationSystem has no scene)")
     return system.scene
 

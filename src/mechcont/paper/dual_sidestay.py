@@ -20,6 +20,7 @@ import numpy as np
 
 from ..analysis.retraction import ActuatorLoads, actuator_loads, first_fold
 from ..continuation import Branch, ContinuationOptions, continuation, continue_folds
+from ..equations import as_model
 from ..models.dual_sidestay import (
     actuator_length_rate,
     build_dual_sidestay_kinematics,
@@ -65,9 +66,8 @@ def retraction(geo: GearGeometry = DEFAULT_GEOMETRY, *, base=None, max_steps: in
     first fold (lock-up) or the gear-up position.
     """
     base = base or build_dual_sidestay_kinematics(geo)
-    system = base.with_values(geometry_values(geo))
-    system.geometry = geo
-    system.scene = partial(loaded_scene, system)
+    system = as_model(base.with_values(geometry_values(geo))).evolve(geometry=geo)
+    system = system.evolve(scene=partial(loaded_scene, system))
     x0 = system.vector(start_values(geo), base=system.defaults())
     branch = continuation(system, x0, "theta", direction=1,
                           options=ContinuationOptions(bounds={"theta": (-0.01, geo.retracted)}, max_steps=max_steps,

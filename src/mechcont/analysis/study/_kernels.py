@@ -33,6 +33,7 @@ import numpy as np
 
 from ...continuation import choose_unknowns
 from ...continuation._batch import fold_batch, newton_batch
+from ...equations import as_model
 from ...errors import ConvergenceError, InputError
 from ..downlock import downlock_condition, downlock_point
 from ..unlock import unlock_folds
@@ -84,7 +85,7 @@ def check_spec(system, spec: StudySpec) -> tuple[dict, str]:
 def _plan(system, spec: StudySpec) -> dict:
     h, f = check_spec(system, spec)
     fixed = dict(spec.values)
-    base = getattr(system, "downlocked", None)
+    base = as_model(system).downlocked
     base = system.vector(fixed, base=base) if base is not None else system.vector(fixed)
     base = system.vector(h, base=base)
     return {"hold": h, "force": f, "base": base, "fixed": fixed,

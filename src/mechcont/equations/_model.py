@@ -1,0 +1,125 @@
+"""A model: an equation system with everything a mechanism's analyses need, as declared fields.
+
+:class:`Model` is an :class:`~mechcont.equations.EquationSystem` (the equations, their
+compiled derivatives, the mechanics, the scene, the value checks) plus the typed, optional
+facts about the mechanism behind it: its potential energy, the description it came from,
+its degrees of freedom, reactions, dropped redundant rows, declared conditions and downlock.
+Every field is declared and set when the model is made; nothing is attached afterwards
+(assigning any other attribute raises :class:`AttributeError`), so analyses read fields
+instead of probing for attributes. :meth:`~mechcont.equations.EquationSystem.with_values`
+and :meth:`~mechcont.equations.EquationSystem.evolve` copy a model with its fields and its
+compiled code; pickling carries every field (the callables are picklable objects).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import MISSING, dataclass, field, fields
+
+import numpy as np
+import sympy as sp
+
+from ._system import EquationSystem
+
+__all__ = ["Model", "as_model"]
+
+
+@dataclass(eq=False)
+class Model(EquationSystem):
+    """An :class:`EquationSystem` with the declared facts of the mechanism behind it.
+
+    Parameters (besides those of :class:`EquationSystem`; every one optional)
+    --------------------------------------------------------------------------
+    potential_energy:
+        ``V`` (J) as a SymPy expression in the variables' symbols, or None.
+    mechanism:
+        The description (:class:`~mechcont.mechanism.Mechanism`) the model was generated
+        from; None for a hand-formulated model.
+    dof:
+        The :class:`~mechcont.mechanism.DofReport` of the assembled configuration.
+    reaction_names:
+        Names of the joint reactions (N, N m), one per kept constraint row.
+    coordinates_of:
+        ``coordinates_of(x) -> {coordinate: value}`` (m, rad) for every body coordinate,
+        eliminated ones included.
+    dropped_constraints:
+        Equation names of the redundant constraint rows dropped (``redundant = "drop"``).
+    dropped_residual:
+        ``dropped_residual(x) -> float``: the largest residual of the dropped rows (m, rad).
+    conditions:
+        Each declared condition's target, ``{name: value or None}``.
+    downlock_hold:
+        The held states of the downlock condition, ``{state: value}``, or None.
+    downlock_force:
+        The parameter freed as the downlock force, or None (analyses then use ``"F"``).
+    downlocked:
+        A full variable vector of the downlocked equilibrium at the defaults, or None.
+    assemble_downlocked:
+        ``assemble_downlocked(values, hold) -> x``: a closed-form downlocked guess, or None.
+    geometry:
+        A model's own geometry record (the dual-sidestay gear's), or None.
+    """
+
+    potential_energy: sp.Expr | None = None
+    mechanism: object | None = None
+    dof: object | None = None
+    reaction_names: tuple[str, ...] = ()
+    coordinates_of: Callable[[np.ndarray], dict[str, float]] | None = None
+    dropped_constraints: tuple[str, ...] = ()
+    dropped_residual: Callable[[np.ndarray], float] | None = None
+    conditions: Mapping[str, float | None] = field(default_factory=dict)
+    downlock_hold: Mapping[str, float] | None = None
+    downlock_force: str | None = None
+    downlocked: np.ndarray | None = field(default=None, repr=False)
+    assemble_downlocked: Callable[..., np.ndarray] | None = field(default=None, repr=False)
+    geometry: object | None = field(default=None, repr=False)
+
+    def __setattr__(self, name: str, value) -> None:
+        if name not in _declared(type(self)):
+            raise AttributeError(f"{type(self).__name__} has no field {name!r}: a model's fields are declared "
+                                 f"(make a copy with evolve(...) or declare the field)")
+        object.__setattr__(self, name, value)
+
+    @classmethod
+    def from_system(cls, system: EquationSystem, **fields_: object) -> Model:
+        """A model of ``system`` (its equations and compiled code shared, nothing rebuilt) with ``fields_`` set."""
+        model = object.__new__(cls)
+        for f in fields(cls):
+            if f.name in system.__dict__ and f.name in _declared(EquationSystem):
+                value = system.__dict__[f.name]
+            elif f.default is not MISSING:
+                value = f.default
+            elif f.default_factory is not MISSING:
+                value = f.default_factory()
+            else:  # pragma: no cover - every Model field has a default
+                raise TypeError(f"no value for field {f.name!r}")
+            object.__setattr__(model, f.name, value)
+        for k in fields_:
+            if k not in _declared(cls) or k in _declared(EquationSystem):
+                raise TypeError(f"Model.from_system() got an unknown model field {k!r}")
+        for k, v in fields_.items():
+            object.__setattr__(model, k, v)
+        return model
+
+
+_DECLARED: dict[type, frozenset[str]] = {}
+
+
+def _declared(cls: type) -> frozenset[str]:
+    """Names of the dataclass fields of ``cls``."""
+    names = _DECLARED.get(cls)
+    if names is None:
+        names = _DECLARED[cls] = frozenset(f.name for f in fields(cls))
+    return names
+
+
+def as_model(system: EquationSystem) -> Model:
+    """``system`` itself if it is a :class:`Model`, else a model of it with no facts beyond its equations.
+
+    A plain :class:`EquationSystem` that still carries a model fact as an ad-hoc attribute
+    (older generators attach them after construction) keeps it in the model.
+    """
+    if isinstance(system, Model):
+        return system
+    extra = {k: v for k, v in vars(system).items() if k in _declared(Model) and k not in _declared(EquationSystem)}
+    return Model.from_system(system, **extra)

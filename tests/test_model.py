@@ -1,0 +1,172 @@
+"""The typed model: declared fields only, compiled once per structure, listed without compiling.
+
+A model (:class:`mechcont.equations.Model`) is an equation system with declared fields; nothing
+is attached after construction. Its equations are generated and compiled once per structure:
+a build at other parameter values compiles nothing (counted with ``MECHCONT_NO_CACHE=1``, so
+the disk cache cannot hide a rebuild) and gives the same results as a fresh build at those
+values. ``mechcont models`` lists every model without compiling anything.
+"""
+
+import dataclasses
+import pickle
+
+import numpy as np
+import pytest
+from mechcont.analysis.downlock import downlock_point
+from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium
+from mechcont.equations import Model, _cache, _codegen
+from mechcont.mechanism import load_description
+from mechcont.models import build_overcentre, load_model
+from mechcont.models.dual_sidestay import build_dual_sidestay_kinematics
+from mechcont.models.nose_gear import build_nose_gear
+
+DECLARED = {f.name for f in dataclasses.fields(Model)}
+
+BUILDS = {
+    "overcentre": lambda: build_overcentre(LU=0.5),
+    "nose_gear": lambda: build_nose_gear(LU=1.31),
+    "dual_sidestay": build_dual_sidestay_kinematics,
+    "fourbar": lambda: load_model("fourbar", k=250.0),
+    "lockstay": lambda: load_model("lockstay.toml"),
+    "fivebar_reduced": lambda: load_description("fivebar").build_reduced(),
+}
+
+
+def _counts() -> tuple[int, int, int]:
+    """Functions compiled in this process, and disk-cache look-ups (hits, misses)."""
+    return _codegen.COUNTS["compiled"], _cache.STATS["hits"], _cache.STATS["misses"]
+
+
+def _use_everything(system, x=None) -> None:
+    """Evaluate every compiled part once (residual, Jacobian, second derivatives, mechanics, drawing)."""
+    x = system.defaults() if x is None else x
+    system.residual_and_jacobian(x)
+    system.jacobian_derivative(x, np.ones(len(x)))
+    system.limit_values(x)
+    if system.mechanics is not None:
+        system.mechanics.stability(x)
+        system.mechanics.mass(x)
+    system.scene(x)
+    if system.coordinates_of is not None:
+        system.coordinates_of(x)
+        system.dropped_residual(x)
+
+
+@pytest.mark.parametrize("name", list(BUILDS))
+def test_a_built_model_has_its_declared_fields_only(name):
+    model = BUILDS[name]()
+    assert isinstance(model, Model)
+    assert set(vars(model)) == DECLARED
+    with pytest.raises(AttributeError, match="no field 'downlock_angle'"):
+        model.downlock_angle = 0.0  # nothing can be bolted on
+    # copies keep exactly the declared fields, and the fields themselves
+    for copy in (model.with_values({model.parameter_names[0]: model.defaults()[model.index(model.parameter_names[0])]}),
+                 pickle.loads(pickle.dumps(model))):
+        assert type(copy) is Model and set(vars(copy)) == DECLARED and copy.unpickled_without == ()
+        assert copy.reaction_names == model.reaction_names and copy.conditions == model.conditions
+        assert copy.downlock_hold == model.downlock_hold and copy.downlock_force == model.downlock_force
+        x = model.defaults()
+        assert [b.tobytes() for _, b in copy.scene(x).bars] == [b.tobytes() for _, b in model.scene(x).bars]
+
+
+def test_no_getattr_probing_is_left_in_the_readers():
+    """The analyses, outputs and dynamics read a model's declared fields, never probe for attributes."""
+    from pathlib import Path
+
+    import mechcont
+
+    root = Path(mechcont.__file__).parent
+    for rel in ("analysis/downlock.py", "analysis/design.py", "analysis/study/_kernels.py", "mechanism/_check.py",
+                "outputs/drawing.py", "dynamics/_udwadia_kalaba.py", "models/_registry.py"):
+        text = (root / rel).read_text()
+        for field in DECLARED:
+            assert f'getattr(system, "{field}"' not in text and f'"{field}", None)' not in text, (rel, field)
+
+
+@pytest.fixture
+def no_disk_cache(monkeypatch):
+    monkeypatch.setenv("MECHCONT_NO_CACHE", "1")
+
+
+def _lockstay():
+    return load_description("lockstay").build, {"k": 26000.0, "LU": 0.61, "Ax": -1.48}
+
+
+def _fivebar_reduced():
+    return load_description("fivebar").build_reduced, {"k1": 310.0}
+
+
+STRUCTURES = {  # name -> (a build function over one structure, values that change)
+    "lockstay": _lockstay,
+    "fivebar_reduced": _fivebar_reduced,
+    "nose_gear": lambda: (build_nose_gear, {"LU": 1.31, "l_sp1": 0.05}),
+    "overcentre": lambda: (build_overcentre, {"LU": 0.7, "L1": 1.4}),
+}
+
+
+@pytest.mark.parametrize("name", list(STRUCTURES))
+def test_a_parameter_change_compiles_nothing(no_disk_cache, name):
+    build, changed = STRUCTURES[name]()
+    first = build()
+    _use_everything(first)
+    before = _counts()
+    other = build(**changed)
+    _use_everything(other)
+    assert _counts() == before  # nothing generated, compiled or even looked up
+    assert other._code is first._code and other.mechanics is first.mechanics
+    for k, v in changed.items():
+        assert other.defaults()[other.index(k)] == v
+
+
+def test_load_model_with_overrides_compiles_nothing(no_disk_cache):
+    for name, change in (("nose_gear.toml", {"LU": 1.31}), ("fourbar", {"k": 260.0}), ("nose_gear", {"LU": 1.29}),
+                         ("overcentre", {"LU": 0.9}), ("dual_sidestay_kinematics", {"delta": 0.05})):
+        _use_everything(load_model(name))
+        before = _counts()
+        _use_everything(load_model(name, **change))
+        assert _counts() == before, name
+
+
+def _assert_same(a, b, tol=1e-12):
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    assert a.shape == b.shape
+    assert np.all(np.abs(a - b) <= tol * np.maximum(1.0, np.abs(b))), np.max(np.abs(a - b))
+
+
+def test_new_values_give_what_a_fresh_build_gives():
+    """A build at new values (the first build's code, the start assembled again) equals a fresh build."""
+    values = {"k": 26000.0, "LU": 0.61, "Ax": -1.48, "L_up": 1.06}
+    mech = load_description("lockstay")
+    default = mech.build()
+    reused = mech.build(**values)
+    fresh = load_description("lockstay").build(**values)
+    assert reused._code is default._code and fresh._code is not default._code
+    # the start is assembled again at the new values (the links' angles move with L_up and Ax)
+    assert np.max(np.abs(reused.defaults()[:9] - default.defaults()[:9])) > 1e-3
+    _assert_same(reused.defaults(), fresh.defaults())
+    _assert_same(reused.scales(), fresh.scales())
+    assert reused.conditions == fresh.conditions and reused.downlock_hold == fresh.downlock_hold
+    x = fresh.defaults() + 1e-3
+    _assert_same(reused.residual(x), fresh.residual(x))
+    _assert_same(reused.jacobian(x), fresh.jacobian(x))
+    # and so do the analyses: a downlocked equilibrium and a continuation branch from it
+    xr, xf = downlock_point(reused), downlock_point(fresh)
+    _assert_same(xr, xf)
+    opts = ContinuationOptions(bounds={"k": (15000.0, 40000.0)}, max_steps=40)
+    br = continuation(reused, xr, "k", hold=list(reused.downlock_hold), free=[reused.downlock_force], options=opts)
+    bf = continuation(fresh, xf, "k", hold=list(fresh.downlock_hold), free=[fresh.downlock_force], options=opts)
+    _assert_same(br.values, bf.values)
+
+
+def test_nose_gear_at_new_values_equals_a_fresh_structure(monkeypatch):
+    from mechcont.models import nose_gear
+
+    build_nose_gear()
+    reused = build_nose_gear(LU=1.31, l_sp1=0.05)
+    monkeypatch.setattr(nose_gear, "_STRUCTURE", {})
+    fresh = build_nose_gear(LU=1.31, l_sp1=0.05)
+    assert fresh._code is not reused._code
+    _assert_same(reused.downlocked, fresh.downlocked)
+    _assert_same(reused.assemble_downlocked({"LU": 1.3}), fresh.assemble_downlocked({"LU": 1.3}))
+    x = find_equilibrium(reused, values={"F": 150.0}, guess=reused.downlocked)
+    _assert_same(x, find_equilibrium(fresh, values={"F": 150.0}, guess=fresh.downlocked))
