@@ -8,15 +8,21 @@ values. ``mechcont models`` lists every model without compiling anything.
 """
 
 import dataclasses
+import json
+import os
 import pickle
+import subprocess
+import sys
 
 import numpy as np
 import pytest
+from cli_helpers import make_runner
+
 from mechcont.analysis.downlock import downlock_point
 from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium
 from mechcont.equations import Model, _cache, _codegen
 from mechcont.mechanism import load_description
-from mechcont.models import build_overcentre, load_model
+from mechcont.models import build_overcentre, describe_model, load_model, model_names
 from mechcont.models.dual_sidestay import build_dual_sidestay_kinematics
 from mechcont.models.nose_gear import build_nose_gear
 
@@ -170,3 +176,31 @@ def test_nose_gear_at_new_values_equals_a_fresh_structure(monkeypatch):
     _assert_same(reused.assemble_downlocked({"LU": 1.3}), fresh.assemble_downlocked({"LU": 1.3}))
     x = find_equilibrium(reused, values={"F": 150.0}, guess=reused.downlocked)
     _assert_same(x, find_equilibrium(fresh, values={"F": 150.0}, guess=fresh.downlocked))
+
+
+def test_models_lists_without_compiling_and_says_what_a_build_says():
+    code = """
+import contextlib, io, json, sys
+from mechcont.cli import main
+from mechcont.equations import _cache, _codegen
+from mechcont.models import _registry
+sys.argv = ["mechcont", "models", "--json"]
+out = io.StringIO()
+with contextlib.redirect_stdout(out), contextlib.suppress(SystemExit):
+    main()
+print(json.dumps({"listed": len(json.loads(out.getvalue())), "compiled": _codegen.COUNTS["compiled"],
+                  "cache": _cache.STATS, "descriptions_read": len(_registry._DESCRIPTIONS)}))
+"""
+    env = {**os.environ, "MECHCONT_NO_CACHE": "1"}
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
+    assert r.returncode == 0, r.stderr
+    got = json.loads(r.stdout.strip().splitlines()[-1])
+    assert got == {"listed": len(model_names()), "compiled": 0, "cache": {"hits": 0, "misses": 0, "writes": 0},
+                   "descriptions_read": 0}
+    assert make_runner()("models", "lockstay.toml").exit_code == 0
+    for name in model_names():
+        s, m = describe_model(name), load_model(name)
+        assert s.description == m.description and s.n_equations == len(m.equations)
+        assert s.states == tuple((v.name, v.unit, v.description) for v in m.variables if v.kind == "state")
+        assert s.parameters == tuple((v.name, v.value, v.unit, v.description) for v in m.variables
+                                     if v.kind == "parameter")

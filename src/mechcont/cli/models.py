@@ -14,18 +14,16 @@ from ._app import cli
 @click.argument("names", nargs=-1)
 def models_command(as_json, names):
     """List models (or show NAMES) with states, parameters, defaults and units."""
-    from ..models import load_model, model_names
+    from ..models import describe_model, model_names
 
     chosen = names or model_names()
     doc = []
     for name in chosen:
-        s = load_model(name)
+        s = describe_model(name)  # from the registry and the descriptions: nothing is compiled
         doc.append({
-            "name": name, "description": s.description, "equations": len(s.equations),
-            "states": [{"name": v.name, "unit": v.unit, "description": v.description} for v in s.variables
-                       if v.kind == "state"],
-            "parameters": [{"name": v.name, "default": v.value, "unit": v.unit, "description": v.description}
-                           for v in s.variables if v.kind == "parameter"],
+            "name": name, "description": s.description, "equations": s.n_equations,
+            "states": [{"name": n, "unit": u, "description": d} for n, u, d in s.states],
+            "parameters": [{"name": n, "default": v, "unit": u, "description": d} for n, v, u, d in s.parameters],
         })
     if as_json:
         click.echo(json.dumps(doc, indent=1))

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..equations import EquationSystem
+from ..equations import Model
 from ._actuators import Actuator
 from ._assembly import DofReport, assemble, close_constraints, dof_report
 from ._check import CheckReport, check_report
@@ -51,7 +51,7 @@ __all__ = [
 ]
 
 
-def load(name_or_path: str | Path, *, reduced: bool = False, **overrides: float) -> EquationSystem:
+def load(name_or_path: str | Path, *, reduced: bool = False, **overrides: float) -> Model:
     """Load a description (a ``.toml`` path or a shipped stem) and build its equations.
 
     Parameters
@@ -65,8 +65,9 @@ def load(name_or_path: str | Path, *, reduced: bool = False, **overrides: float)
 
     Returns
     -------
-    EquationSystem
-        Compiled, with ``mechanics``, ``scene``, ``potential_energy`` and ``dof`` attached.
+    Model
+        An equation system with ``mechanics``, ``scene``, ``potential_energy``, ``dof`` and the
+        description's other facts as declared fields.
     """
     mech = load_description(name_or_path)
     return mech.build_reduced(**overrides) if reduced else mech.build(**overrides)

@@ -606,9 +606,11 @@ class Mechanism:
     def build(self, **overrides: float):
         """Generate the full static system: coordinates, joint reactions and every equation.
 
-        Keyword arguments override parameter defaults (SI). Returns a compiled
-        :class:`~mechcont.equations.EquationSystem` (with ``mechanics``, ``scene`` and
-        ``potential_energy``) whose state values are an assembled configuration.
+        Keyword arguments override parameter defaults (SI). Returns a
+        :class:`~mechcont.equations.Model` (with ``mechanics``, ``scene``,
+        ``potential_energy``, ``dof``, ...) whose state values are an assembled configuration.
+        The equations are generated and compiled by the first build of this description; a
+        build at other values reuses them and only assembles the mechanism again.
         Raises :class:`InputError` for impossible values, loops that cannot close and a
         wrong number of degrees of freedom.
         """

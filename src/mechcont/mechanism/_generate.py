@@ -349,6 +349,26 @@ def _reaction_text(row: ConstraintRow) -> str:
     return f"reaction of joint {row.joint} (on its second body)"
 
 
+def summary(mech: Mechanism) -> tuple[str, list[tuple[str, str, str, str, float | None]]] | None:
+    """What a full build of ``mech`` declares, without generating or compiling its equations.
+
+    Returns the description and ``(name, kind, unit, description, default)`` per variable in
+    the build's order (``default`` None for states), or None when only an assembly can tell
+    (``redundant = "drop"``: which rows are dropped depends on the assembled configuration).
+    """
+    if mech.redundant == "drop":
+        return None
+    kin = Kinematics(mech)
+    out: list[tuple[str, str, str, str, float | None]] = []
+    for c in kin.coords:
+        unit, _, text = _coordinate_unit_text(c)
+        out.append((c, "state", unit, text, None))
+    out += [(r.reaction, "state", r.unit, _reaction_text(r), None) for r in kin.constraints()]
+    out += [(c.name, "state", c.value_unit, condition_description(c), None) for c in mech.conditions]
+    out += [(p.name, "parameter", p.unit, p.description, float(p.value)) for p in mech.parameters]
+    return mech.description or f"generated from the description of {mech.name}", out
+
+
 def _check_analysis_values(mech: Mechanism, values: Mapping[str, float]) -> None:
     """The description's physical checks at ``values`` (the defaults where not given; a zero stiffness allowed)."""
     check_values(mech, {p.name: float(values.get(p.name, p.value)) for p in mech.parameters}, solve=True)

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 from ..equations import EquationSystem, Model
 from ..errors import InputError
 
-__all__ = ["BUILTIN_MODELS", "load_model", "model_names"]
+__all__ = ["BUILTIN_MODELS", "load_model", "model_names", "describe_model", "ModelSummary"]
 
 #: Descriptions read in this process, by (resolved path, modification time), at most ``_KEEP``.
 _DESCRIPTIONS: dict[tuple[str, int], object] = {}
@@ -44,6 +45,78 @@ BUILTIN_MODELS: dict[str, tuple[Callable[..., EquationSystem], str]] = {
     "nose_gear": (_nose_gear, "planar nose landing gear, the paper's 25-equation form"),
     "dual_sidestay_kinematics": (_dual_sidestay, "dual-sidestay main gear retraction kinematics, 3-D (12 states)"),
 }
+
+
+def _overcentre_summary():
+    from .overcentre import DEFAULTS, DESCRIPTION, _variables
+
+    return DESCRIPTION, _variables(dict(DEFAULTS))
+
+
+def _nose_gear_summary():
+    from .nose_gear import DESCRIPTION, summary_variables
+
+    return DESCRIPTION, summary_variables()
+
+
+def _dual_sidestay_summary():
+    from .dual_sidestay import DESCRIPTION, _variables
+    from .dual_sidestay_geometry import DEFAULT_GEOMETRY
+
+    return DESCRIPTION, _variables(DEFAULT_GEOMETRY)
+
+
+#: What each built-in model declares, without generating its equations: (description, variables).
+_SUMMARIES: dict[str, Callable[[], tuple[str, list]]] = {
+    "overcentre": _overcentre_summary,
+    "nose_gear": _nose_gear_summary,
+    "dual_sidestay_kinematics": _dual_sidestay_summary,
+}
+
+
+@dataclass(frozen=True)
+class ModelSummary:
+    """What a model declares: its description, equations, states and parameters (``mechcont models``).
+
+    ``states`` holds ``(name, unit, description)``; ``parameters`` ``(name, default, unit,
+    description)`` with the default in SI units.
+    """
+
+    name: str
+    description: str
+    n_equations: int
+    states: tuple[tuple[str, str, str], ...]
+    parameters: tuple[tuple[str, float, str, str], ...]
+
+
+def describe_model(name: str | Path) -> ModelSummary:
+    """What :func:`load_model` would give for ``name``, read from the registry or the description.
+
+    Nothing is generated or compiled, except for a description whose variables only an assembly
+    can tell (``redundant = "drop"``, or a spatial mechanism), which is built. Raises
+    :class:`InputError` like :func:`load_model`.
+    """
+    key = str(name)
+    if key in _SUMMARIES:
+        description, variables = _SUMMARIES[key]()
+        rows = [(v.name, v.kind, v.unit, v.description, v.value) for v in variables]
+    else:
+        from ..mechanism import find_description, load_description
+        from ..mechanism._generate import summary
+
+        path = find_description(key)
+        if path is None:
+            raise InputError("model", f"unknown model '{key}'; valid: {', '.join(model_names())} or a path to a "
+                                      f".toml file")
+        mech = load_description(path)
+        found = summary(mech) if mech.dimension == 2 else None
+        if found is None:
+            m = load_model(key)
+            found = m.description, [(v.name, v.kind, v.unit, v.description, v.value) for v in m.variables]
+        description, rows = found
+    states = tuple((n, u, d) for n, kind, u, d, _ in rows if kind == "state")
+    return ModelSummary(key, description, len(states), states,
+                        tuple((n, float(v), u, d) for n, kind, u, d, v in rows if kind == "parameter"))
 
 
 def model_names() -> list[str]:

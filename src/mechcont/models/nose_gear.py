@@ -262,6 +262,12 @@ DESCRIPTION = "Planar nose landing gear, paper Section III-A: 15 coordinates + 1
 _STRUCTURE: dict[str, tuple[EquationSystem, sp.Expr]] = {}
 
 
+def summary_variables() -> list[Variable]:
+    """The variables with the default parameters, without generating the equations or assembling the
+    gear (for ``mechcont models``; the states' values are placeholders, 0)."""
+    return _variables(defaults(), dict.fromkeys(COORDINATES, 0.0))
+
+
 def _structure() -> tuple[EquationSystem, sp.Expr]:
     """The gear's equations and potential energy, generated once per process (values are data)."""
     if "system" not in _STRUCTURE:
