@@ -22,6 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..equations import as_model
+
 __all__ = ["redundancy_along", "RedundancyReport", "RedundancyState"]
 
 
@@ -82,11 +84,12 @@ def redundancy_along(system, branch, *, rtol: float = 1e-9) -> RedundancyReport:
 
     ``rtol``: singular values below ``rtol`` times the largest count as zero.
     """
+    model = as_model(system)
     mech = system.mechanics
     nq = len(mech.coordinates)
     rows = mech.constraint_names if mech.constraint_names is not None else system.equation_names[nq:nq + len(
         mech.constraints)]
-    reactions = dict(zip(system.equation_names[nq:], getattr(system, "reaction_names", ())))
+    reactions = dict(zip(system.equation_names[nq:], model.reaction_names))
     ranks, dofs, states = [], [], []
     for i, x in enumerate(branch.values):
         A = mech.phi_q(x)
@@ -106,6 +109,6 @@ def redundancy_along(system, branch, *, rtol: float = 1e-9) -> RedundancyReport:
     for start, rank, bad in states:
         joints = tuple(dict.fromkeys(_row_joint(r) for r in bad))
         out.append(RedundancyState(start, rank, nq - rank, tuple(reactions.get(r, r) for r in bad), joints))
-    dropped = tuple(getattr(system, "dropped_constraints", ()))
-    residual = max((system.dropped_residual(x) for x in branch.values), default=0.0) if dropped else 0.0
+    dropped = tuple(model.dropped_constraints)
+    residual = max((model.dropped_residual(x) for x in branch.values), default=0.0) if dropped else 0.0
     return RedundancyReport(np.array(ranks), np.array(dofs), tuple(out), dropped, float(residual))
