@@ -77,7 +77,7 @@ def test_a_built_model_has_its_declared_fields_only(name):
 
 def test_no_getattr_probing_is_left_in_the_readers():
     """Analyses, outputs, dynamics and the CLI read a model's declared fields, never probe for attributes
-    (the spatial generator, which still attaches its facts to a plain system, aside)."""
+    (the spatial generator included)."""
     import re
     from pathlib import Path
 
@@ -86,7 +86,7 @@ def test_no_getattr_probing_is_left_in_the_readers():
     root = Path(mechcont.__file__).parent
     facts = DECLARED - {f.name for f in dataclasses.fields(EquationSystem)} | {"scene", "check_values", "mechanics"}
     probe = re.compile(r"(?:getattr|hasattr)\([^,()]+, \"(" + "|".join(sorted(facts)) + r")\"")
-    found = [(str(f.relative_to(root)), m.group(1)) for f in root.rglob("*.py") if "spatial" not in f.parts
+    found = [(str(f.relative_to(root)), m.group(1)) for f in root.rglob("*.py")
              for m in probe.finditer(f.read_text())]
     assert found == []
 

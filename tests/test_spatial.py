@@ -241,3 +241,28 @@ def test_check_of_a_compliant_mechanism_reports_a_true_equilibrium():
     text = rep.to_text()
     assert "closed exactly by the reduced form" not in text and "compliant joint rows" in text
     assert "the assembled configuration is not one" in text
+
+
+def test_spatial_model_has_declared_fields_and_compiles_once_per_structure():
+    """A spatial build is a typed Model (nothing attached afterwards, pickles whole); a build at other
+    values reuses the generated structure and equals a fresh build."""
+    import dataclasses
+    import pickle
+
+    from mechcont.equations import Model
+    from mechcont.mechanism import load_description
+
+    mech = load_description(DATA / "pendulum_3d.toml")
+    a = mech.build()
+    assert type(a) is Model and set(vars(a)) <= {f.name for f in dataclasses.fields(Model)}
+    with pytest.raises(AttributeError):
+        a.something = 1
+    b = mech.build(beta=1.0)   # same structure: no new generation
+    assert mech._generated["spatial"].variants[()].model is not None
+    fresh = load_description(DATA / "pendulum_3d.toml").build(beta=1.0)
+    assert np.array_equal(b.defaults(), fresh.defaults())
+    xb, xf = find_equilibrium(b), find_equilibrium(fresh)
+    assert np.allclose(xb, xf, atol=1e-12)
+    c = pickle.loads(pickle.dumps(b))
+    assert np.array_equal(c.residual(xb), b.residual(xb))
+    assert [p.tobytes() for _, p in c.scene(xb).bars] == [p.tobytes() for _, p in b.scene(xb).bars]

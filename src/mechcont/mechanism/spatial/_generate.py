@@ -18,10 +18,14 @@ with its misfit.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import partial
+
 import numpy as np
 import sympy as sp
 
-from ...equations import EquationSystem, MechanicalModel, Variable
+from ...equations import EquationSystem, MechanicalModel, Model, Variable
 from ...equations._codegen import gradient
 from ...errors import InputError
 from .._assembly import DofReport, close_constraints, dof_report
@@ -142,12 +146,69 @@ def _redundancy_error(report: DofReport, rows: list[SpatialRow], dependent: list
                       f"solution")
 
 
-def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> EquationSystem:
-    """Build the static system of the spatial ``mech`` with parameter ``overrides`` (SI)."""
-    if reduced:
-        raise InputError("reduced", "the reduced form exists for planar mechanisms only; build the full system")
-    values = parameter_values(mech, overrides)
-    check_spatial_values(mech, values)
+@dataclass
+class _Variant:
+    """The spatial system with a given set of redundant rigid rows dropped: its rows, equations and
+    mechanics, and (after the first build) its model, copied with new values by later builds."""
+
+    rows: list[SpatialRow]
+    dropped: list[SpatialRow]
+    equilibrium: list[sp.Expr]
+    closure: MechanicalModel      # every kept row taken as rigid: the assembled reactions
+    mechanics: MechanicalModel    # rigid rows as constraints, compliant rows as springs
+    elastic: sp.Expr
+    condition_values: object | None = None
+    model: Model | None = None
+
+
+@dataclass
+class _Structure:
+    """Everything of a spatial system that does not depend on parameter values, made once per description."""
+
+    kin: SpatialKinematics
+    rows: list[SpatialRow]        # rigid rows first, then the compliant ones
+    arrows: list
+    coords: list[str]
+    forces: list[sp.Expr]
+    mass: sp.Matrix
+    V: sp.Expr
+    conditions: list
+    closure: MechanicalModel      # every row taken as rigid (first assembly, degrees of freedom)
+    variants: dict[tuple[int, ...], _Variant] = field(default_factory=dict)
+
+    @property
+    def cnames(self) -> list[str]:
+        """Names of the condition states."""
+        return [c.name for c, _ in self.conditions]
+
+    def variant(self, mech: SpatialMechanism, dependent: tuple[int, ...]) -> _Variant:
+        """The system with the rows ``dependent`` (indices into :attr:`rows`) dropped."""
+        out = self.variants.get(dependent)
+        if out is None:
+            keep = [i for i in range(len(self.rows)) if i not in set(dependent)]
+            rows = [self.rows[i] for i in keep]
+            equilibrium, closure = _equilibrium(mech, self.coords, rows, self.forces, self.mass, self.cnames,
+                                                gradient=gradient)
+            elastic = sum((r.expr ** 2 * r.stiffness / 2 for r in rows if r.stiffness is not None), sp.S.Zero)
+            mech_forces = [f - d for f, d in zip(self.forces, gradient(elastic, self.kin.q))]
+            rigid_rows = [r for r in rows if r.stiffness is None]
+            mechanics = MechanicalModel(closure.names, self.coords, [r.expr for r in rigid_rows], mech_forces,
+                                        self.mass, [r.equation for r in rigid_rows])
+            out = self.variants[dependent] = _Variant(rows, [self.rows[i] for i in dependent], equilibrium, closure,
+                                                      mechanics, elastic)
+            if self.conditions:
+                from ...equations._codegen import compile_dense
+
+                out.condition_values = compile_dense([symbol(n) for n in closure.names],
+                                                     [e for _, e in self.conditions])
+        return out
+
+
+def _structure(mech: SpatialMechanism) -> _Structure:
+    """The value-independent part of ``mech``'s system, made by its first build and kept with it."""
+    st = mech._generated.get("spatial")
+    if st is not None:
+        return st
     kin = SpatialKinematics(mech)
     ld = spatial_loads(kin)
     coords = list(kin.coords)
@@ -157,11 +218,32 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Equation
     rows = [r for r in all_rows if r.stiffness is None] + [r for r in all_rows if r.stiffness is not None]
     forces = [-dv + qnc for dv, qnc in zip(gradient(ld.V, kin.q), ld.Q_nc)]
     mass = kin.mass_matrix()
-    Lc, Fc = _spatial_scales(kin, values)
     conditions = condition_rows(kin, {})
-    cnames = [c.name for c, _ in conditions]
-    names = [*coords, *(r.reaction for r in rows), *cnames, *(p.name for p in mech.parameters)]
-    closure = MechanicalModel(names, coords, [r.expr for r in rows], forces, mass)  # every row taken as rigid
+    names = [*coords, *(r.reaction for r in rows), *(c.name for c, _ in conditions), *(p.name for p in mech.parameters)]
+    closure = MechanicalModel(names, coords, [r.expr for r in rows], forces, mass)
+    st = mech._generated["spatial"] = _Structure(kin, rows, ld.arrows, coords, forces, mass, ld.V, conditions,
+                                                 closure)
+    return st
+
+
+def _check_analysis_values(mech: SpatialMechanism, values: Mapping[str, float]) -> None:
+    """The description's physical checks at ``values`` (the defaults where not given; a zero stiffness allowed)."""
+    check_spatial_values(mech, {p.name: float(values.get(p.name, p.value)) for p in mech.parameters}, solve=True)
+
+
+def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
+    """Build the static system of the spatial ``mech`` with parameter ``overrides`` (SI).
+
+    The equations are generated and compiled by the first build of the description; a build at
+    other values only assembles the mechanism again (see :class:`_Structure`).
+    """
+    if reduced:
+        raise InputError("reduced", "the reduced form exists for planar mechanisms only; build the full system")
+    values = parameter_values(mech, overrides)
+    check_spatial_values(mech, values)
+    st = _structure(mech)
+    kin, coords, rows, cnames, closure = st.kin, st.coords, st.rows, st.cnames, st.closure
+    Lc, Fc = _spatial_scales(kin, values)
     guess = _initial_guess(kin, values)
     nq = len(coords)
     x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * (len(rows) + len(cnames))
@@ -185,30 +267,16 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Equation
         raise InputError("mechanism.dof", f"the assembled mechanism has {report.dof} degree(s) of freedom, intended "
                                           f"{mech.dof} (rank {report.rank} of {len(rows)} constraint rows on "
                                           f"{nq} coordinates, {len(mech.bodies)} of them normalisation rows){red}")
-    dependent = [i for i in report.dependent if rows[i].stiffness is None]
-    dropped: list[SpatialRow] = []
-    if dependent:
-        if mech.redundant != "drop":
-            raise _redundancy_error(report, rows, dependent)
-        dropped = [rows[i] for i in dependent]
-        keep = [i for i in range(len(rows)) if i not in set(dependent)]
-        x = np.concatenate([x[:nq], np.zeros(len(keep)), x[nq + len(rows):]])
-        rows = [rows[i] for i in keep]
-    equilibrium, closure = _equilibrium(mech, coords, rows, forces, mass, cnames, gradient=gradient)
-    names = list(closure.names)
-    x[nq:nq + len(rows)] = closure.multipliers(x)
-    lam = [symbol(r.reaction) for r in rows]
-    stiff = [(r, k) for r, k in zip(rows, lam) if r.stiffness is not None]
-    elastic = sum((r.expr ** 2 * r.stiffness / 2 for r, _ in stiff), sp.S.Zero)
-    mech_forces = [f - d for f, d in zip(forces, gradient(elastic, kin.q))]
-    rigid_rows = [r for r in rows if r.stiffness is None]
-    model = MechanicalModel(names, coords, [r.expr for r in rigid_rows], mech_forces, mass,
-                            [r.equation for r in rigid_rows])
-    if conditions:
-        from ...equations._codegen import compile_dense
-
-        at = compile_dense([symbol(n) for n in names], [e for _, e in conditions])
-        x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(at(x), dtype=float).reshape(-1)
+    dependent = tuple(i for i in report.dependent if rows[i].stiffness is None)
+    if dependent and mech.redundant != "drop":
+        raise _redundancy_error(report, rows, list(dependent))
+    var = st.variant(mech, dependent)
+    if var.dropped:
+        x = np.concatenate([x[:nq], np.zeros(len(var.rows)), x[nq + len(rows):]])
+    rows = var.rows
+    x[nq:nq + len(rows)] = var.closure.multipliers(x)
+    if var.condition_values is not None:
+        x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(var.condition_values(x), dtype=float).reshape(-1)
     variables = []
     for c, v in zip(coords, x):
         euler = c.startswith("e")
@@ -224,35 +292,42 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Equation
             what = f"reaction of joint {r.joint} (on its second body)" + (
                 "; compliant: the joint deflects by reaction / stiffness" if r.stiffness is not None else "")
         variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc, what))
-    for (c, _), v in zip(conditions, x[nq + len(rows):]):
+    for (c, _), v in zip(st.conditions, x[nq + len(rows):]):
         variables.append(Variable(c.name, "state", float(v), c.value_unit, condition_scale(c, Lc, Fc),
                                   condition_description(c)))
     for p in mech.parameters:
         val = values[p.name]
         variables.append(Variable(p.name, "parameter", val, p.unit, _parameter_scale(p, val, Lc, Fc), p.description))
+    targets = condition_targets(mech, values)
+    downlock = ({"downlock_hold": {mech.downlock.condition: targets[mech.downlock.condition]},
+                 "downlock_force": mech.downlock.force} if mech.downlock is not None else {})
+    if var.model is not None:  # the same structure built before: new values, the same compiled code
+        return var.model.evolve(variables=variables, dof=report, conditions=targets, **downlock)
+    lam = [symbol(r.reaction) for r in rows]
     row_exprs = [r.expr - k / r.stiffness if r.stiffness is not None else r.expr for r, k in zip(rows, lam)]
+    dropped = var.dropped
     system = EquationSystem(
         name=mech.name,
         variables=variables,
-        equations=[*equilibrium, *row_exprs, *(e - symbol(c.name) for c, e in conditions)],
+        equations=[*var.equilibrium, *row_exprs, *(e - symbol(c.name) for c, e in st.conditions)],
         equation_names=[*(_row_name(c) for c in coords), *(r.equation for r in rows), *(f"cond_{n}" for n in cnames)],
-        mechanics=model,
+        mechanics=var.mechanics,
         description=(mech.description or f"generated from the description of {mech.name}")
         + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
         limits=spatial_limits(mech, solve=True),
+        scene=spatial_scene_function(kin, st.arrows, [v.symbol for v in variables]),
+        check_values=partial(_check_analysis_values, mech),
     )
-    system.scene = spatial_scene_function(kin, ld.arrows, system.symbols)
-    system.potential_energy = ld.V + elastic
-    system.mechanism = mech
-    system.check_values = lambda values, _mech=mech: check_spatial_values(
-        _mech, {p.name: float(values.get(p.name, p.value)) for p in _mech.parameters}, solve=True)
-    system.dof = report
-    system.reaction_names = tuple(r.reaction for r in rows)
-    system.coordinates_of = _coordinates_of(kin, system, {})
-    system.dropped_constraints = tuple(r.equation for r in dropped)
-    system.dropped_residual = _dropped_residual(system, dropped)
-    system.conditions = condition_targets(mech, values)
-    if mech.downlock is not None:
-        system.downlock_hold = {mech.downlock.condition: system.conditions[mech.downlock.condition]}
-        system.downlock_force = mech.downlock.force
-    return system
+    var.model = Model.from_system(
+        system,
+        potential_energy=st.V + var.elastic,
+        mechanism=mech,
+        dof=report,
+        reaction_names=tuple(r.reaction for r in rows),
+        coordinates_of=_coordinates_of(kin, system, {}),
+        dropped_constraints=tuple(r.equation for r in dropped),
+        dropped_residual=_dropped_residual(system, dropped),
+        conditions=targets,
+        **downlock,
+    )
+    return var.model.evolve()  # a copy: the kept model is never handed out (compiled on first numeric use)

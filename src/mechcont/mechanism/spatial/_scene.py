@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
@@ -13,10 +14,10 @@ from .._actuators import actuator_load
 from ._description import SpatialMoment
 from ._kinematics import SpatialKinematics
 
-__all__ = ["spatial_scene_function"]
+__all__ = ["spatial_scene_function", "SpatialScene"]
 
 
-def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.Symbol]) -> Callable[[np.ndarray], Scene]:
+def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.Symbol]) -> SpatialScene:
     """Compile ``scene(x) -> Scene`` (3-vectors, m, N, N m) for the spatial mechanism of ``kin``.
 
     A bar is drawn from ``a`` to ``b`` (a triangle through each declared point); another body
@@ -73,13 +74,24 @@ def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.
             add("point", f"{b.name}.{pn}", [kin.point(f"{b.name}.{pn}")])
     for gname in mech.ground:
         add("point", f"ground.{gname}", [kin.point(f"ground.{gname}")])
-    fn = compile_dense(list(symbols), [sp.sympify(e, strict=True) for e in exprs])
+    return SpatialScene(tuple(items), compile_dense(list(symbols), [sp.sympify(e, strict=True) for e in exprs]))
 
-    def scene(x: np.ndarray) -> Scene:
+
+@dataclass(frozen=True)
+class SpatialScene:
+    """``scene(x) -> Scene`` (3-D) of a generated spatial mechanism; picklable.
+
+    ``items`` lists ``(kind, name, number of points)`` in the order of the compiled function
+    ``fn``'s output triples (see :func:`spatial_scene_function`)."""
+
+    items: tuple
+    fn: object
+
+    def __call__(self, x: np.ndarray) -> Scene:
         """Drawing primitives (3-D) at the full variable vector ``x``."""
-        flat = np.asarray(fn(np.asarray(x, dtype=float)), dtype=float).reshape(-1, 3)
+        flat = np.asarray(self.fn(np.asarray(x, dtype=float)), dtype=float).reshape(-1, 3)
         out, i = Scene(), 0
-        for kind, name, n in items:
+        for kind, name, n in self.items:
             pts = flat[i:i + n].copy()
             i += n
             if kind == "bar":
@@ -105,5 +117,3 @@ def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.
             else:
                 out.points.append((name, pts[0]))
         return out
-
-    return scene
