@@ -2,7 +2,9 @@
 
 Each ``benchmarks/bench_*.py`` module defines ``cases()`` returning a list of
 ``(name, function, repeats)``: ``function()`` runs one repetition (its set-up is done
-inside ``cases()``, before timing). Usage: ``python benchmarks/run.py [-k SUBSTRING]``.
+inside ``cases()``, before timing). A module may also define ``report(min_repeats, k)`` returning a table of its own (printed
+after the main table): ``bench_process.py`` times whole CLI processes that way.
+Usage: ``python benchmarks/run.py [-k SUBSTRING]``.
 """
 
 from __future__ import annotations
@@ -31,8 +33,12 @@ def main(argv=None) -> int:
     here = Path(__file__).parent
     sys.path.insert(0, str(here))
     rows = []
+    reports = []
     for path in sorted(here.glob("bench_*.py")):
-        for name, fn, repeats in _load(path).cases():
+        mod = _load(path)
+        if hasattr(mod, "report"):
+            reports.append(mod.report)
+        for name, fn, repeats in mod.cases():
             if args.k not in name:
                 continue
             n = max(repeats, args.min_repeats)
@@ -54,6 +60,11 @@ def main(argv=None) -> int:
     print(f"|{'-' * 14}|{'-' * (w + 2)}|------|-------------|----------|")
     for group, name, n, med, mn in rows:
         print(f"| {group:<12} | {name:<{w}} | {n:>4} | {med * 1e3:>11.3f} | {mn * 1e3:>8.3f} |")
+    for report in reports:
+        table = report(args.min_repeats, args.k)
+        if table:
+            print()
+            print(table)
     return 0
 
 
