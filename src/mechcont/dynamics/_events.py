@@ -5,8 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
+from .._roots import brentq
 from ..errors import InputError
 
 __all__ = ["Crossing", "EventTracker"]

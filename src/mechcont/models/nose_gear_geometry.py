@@ -228,7 +228,7 @@ def downlocked_pose(p: Mapping[str, float], theta4: float = 0.0) -> dict[str, fl
     Solves the one scalar closure |P5 - J| = L5 for theta3 (bracketed root search) with
     J = K + L4 (cos theta4, sin theta4). Raises :class:`InputError` if no such pose exists nearby.
     """
-    from scipy.optimize import brentq
+    from .._roots import brentq
 
     def gap(t3):
         try:
