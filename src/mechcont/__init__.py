@@ -1,8 +1,93 @@
-"""mechcont: numerical continuation for quasi-static mechanisms."""
+"""mechcont: numerical continuation for quasi-static mechanisms (aircraft landing gear first).
 
-from .equations import EquationSystem, MechanicalModel, StabilityResult, Variable
+The public API in one place; each name is imported on first use (PEP 562), so
+``import mechcont`` costs no SymPy, SciPy or Matplotlib import::
+
+    import mechcont as mc
+    s = mc.load_model("overcentre", LU=0.4)
+    x0 = mc.find_equilibrium(s, hold={"theta1": 0.3}, free=["F"])
+    b = mc.continuation(s, x0, "F", options=mc.ContinuationOptions(bounds={"theta1": (-1.2, 1.2)}))
+    folds = mc.continue_folds(s, b["LP1"], vary="F", free="LU")
+
+The layers are subpackages: ``mechanism`` (descriptions) → ``equations`` → ``continuation``
+→ ``analysis`` → ``outputs``; ``dynamics`` is the time simulation. ``mechcont.continuation``
+is both the subpackage and, called, the function :func:`mechcont.continuation.continuation`.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from .errors import ConvergenceError, InputError, MechcontError
 
-__all__ = ["EquationSystem", "MechanicalModel", "StabilityResult", "Variable",
-           "ConvergenceError", "InputError", "MechcontError"]
 __version__ = "0.1.0"
+
+#: public name -> the module that defines it
+_LAZY = {
+    # models: built-in names and description files
+    "load_model": "mechcont.models",
+    "model_names": "mechcont.models",
+    "Mechanism": "mechcont.mechanism",
+    "load_description": "mechcont.mechanism",
+    # equations
+    "EquationSystem": "mechcont.equations",
+    "MechanicalModel": "mechcont.equations",
+    "StabilityResult": "mechcont.equations",
+    "Variable": "mechcont.equations",
+    # continuation
+    "find_equilibrium": "mechcont.continuation",
+    "continue_folds": "mechcont.continuation",
+    "switch_branch": "mechcont.continuation",
+    "ContinuationOptions": "mechcont.continuation",
+    "Branch": "mechcont.continuation",
+    "SpecialPoint": "mechcont.continuation",
+    "ValueEvent": "mechcont.continuation",
+    # time simulation
+    "simulate": "mechcont.dynamics",
+    "sweep": "mechcont.dynamics",
+    "SimulationResult": "mechcont.dynamics",
+}
+_SUBPACKAGES = {"analysis", "continuation", "dynamics", "equations", "mechanism", "models", "outputs", "errors"}
+
+__all__ = [
+    "load_model", "model_names", "Mechanism", "load_description",
+    "EquationSystem", "MechanicalModel", "StabilityResult", "Variable",
+    "find_equilibrium", "continuation", "continue_folds", "switch_branch", "ContinuationOptions", "Branch",
+    "SpecialPoint", "ValueEvent",
+    "simulate", "sweep", "SimulationResult",
+    "errors", "ConvergenceError", "InputError", "MechcontError",
+]
+
+if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
+    from . import errors
+    from .continuation import (
+        Branch,
+        ContinuationOptions,
+        SpecialPoint,
+        ValueEvent,
+        continuation,
+        continue_folds,
+        find_equilibrium,
+        switch_branch,
+    )
+    from .dynamics import SimulationResult, simulate, sweep
+    from .equations import EquationSystem, MechanicalModel, StabilityResult, Variable
+    from .mechanism import Mechanism, load_description
+    from .models import load_model, model_names
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is not None:
+        value = getattr(importlib.import_module(module), name)
+    elif name in _SUBPACKAGES:
+        value = importlib.import_module(f"{__name__}.{name}")
+    else:
+        raise AttributeError(f"module 'mechcont' has no attribute {name!r}")
+    globals()[name] = value  # the next access is a plain attribute
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY, *_SUBPACKAGES})

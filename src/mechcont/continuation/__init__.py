@@ -1,5 +1,12 @@
 """Continuation: problems (lenses on an equation system), the pseudo-arclength engine,
-events (LP, BP, CP, EP, user) and branch results."""
+events (LP, BP, CP, EP, user) and branch results.
+
+The package is callable: ``mechcont.continuation(system, x0, "F")`` is
+:func:`continuation` (so ``import mechcont; mechcont.continuation(...)`` reads as the API).
+"""
+
+import sys
+import types
 
 from ._api import continuation, continue_folds, locate_fold, switch_branch
 from ._branch import Branch, SpecialPoint, read_branch_table
@@ -17,3 +24,13 @@ __all__ = [
     "PointState", "ContinuationProblem", "EquilibriumProblem", "FoldProblem", "choose_unknowns",
     "Termination", "BranchSteps", "LinearSolver", "DenseLU", "MinimumNorm", "read_branch_table",
 ]
+
+
+class _CallablePackage(types.ModuleType):
+    """This package's type: calling it calls :func:`continuation`."""
+
+    def __call__(self, *args, **kwargs):
+        return continuation(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallablePackage
