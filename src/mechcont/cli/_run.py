@@ -95,7 +95,7 @@ def run_continuation(fn, *args, quiet: bool = False, label: str = "continuation"
 
 def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quiet: bool, extra=()):
     """Write the branch table (CSV or JSON by suffix) and the plot, checking paths first."""
-    from ..outputs.plotting import new_figure, plot_branch, save_figure
+    from ..outputs.plotting import branch_figure, save_figure
 
     check_outputs(out, plot)  # again: the folder may have changed during the run
     for name in (x, y):
@@ -103,10 +103,7 @@ def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quie
     if out:
         (branch.to_json if out.lower().endswith(".json") else branch.to_csv)(out)
     if plot:
-        fig, ax = new_figure()
-        plot_branch(branch, x, y, ax=ax)
-        ax.set_title(f"{branch.model}: {y} vs {x}")
-        save_figure(fig, plot)
+        save_figure(branch_figure(branch, x, y, title=f"{branch.model}: {y} vs {x}"), plot)
     if not quiet:
         click.echo(special_table(branch, [x, y, *extra]))
         if branch.message:

@@ -35,15 +35,6 @@ def _write_table(records, path):
     atomic_write(path, lambda tmp: Path(tmp).write_text(buf.getvalue(), encoding="utf-8"))
 
 
-def plot_region(region, ax, *, force_name: str = "F"):
-    """Draw a :class:`~mechcont.analysis.design.DesignRegion` (see
-    :func:`mechcont.outputs.plotting.plot_design_region`: force contours, F = 0 boundary, folds,
-    the design point with its force and signed lock margin)."""
-    from ..outputs.plotting import plot_design_region
-
-    plot_design_region(region, ax, force_name=force_name)
-
-
 @cli.command("design")
 @click.argument("model")
 @click.option("--x", "x_name", default=None, metavar="NAME",
@@ -109,16 +100,9 @@ def design_command(model, x_name, y_name, bounds_, levels, sets, holds, conditio
         _write_table(records, out_path)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        fig, ax = plt.subplots(figsize=(6.5, 4.5))
-        plot_region(region, ax, force_name=f)
-        ax.set_title(f"{system.name}: where the gear locks unaided ({f} > 0)")
+        from ..outputs.design_plots import design_figure
         from ..outputs.plotting import save_figure
 
+        fig = design_figure(region, force_name=f, title=f"{system.name}: where the gear locks unaided ({f} > 0)")
         save_figure(fig, plot_path, dpi=120)
-        plt.close(fig)
         click.echo(f"wrote {plot_path}")

@@ -129,25 +129,9 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
         (branch.to_json if out_path.suffix.lower() == ".json" else branch.to_csv)(out_path)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        from ..outputs.plotting import curve
-
-        fig, ax = plt.subplots(figsize=(5.5, 4), layout="constrained")
-        cx, cF, _ = curve(branch, vary, f)  # the continuation's points joined smoothly
-        ax.plot(cx, cF, "k-", label=f"downlock force ({held})")
-        if unlock_col:
-            ax.plot(xs, branch[unlock_col], "--", color="tab:red", label=f"unlock fold ({f} increasing)")
-            ax.legend(loc="best", fontsize=8)
-        ax.axhline(0.0, color="0.6", lw=0.8)
-        ax.set_xlabel(f"{vary} ({unit_x})")
-        ax.set_ylabel(f"{f} (N)" if unlock_col else f"downlock force {f} (N)")
-        ax.set_title(f"{system.name}: downlock force vs {vary}")
+        from ..outputs.design_plots import downlock_figure
         from ..outputs.plotting import save_figure
 
+        fig = downlock_figure(branch, vary, f, held=held, title=f"{system.name}: downlock force vs {vary}")
         save_figure(fig, plot_path, dpi=120)
-        plt.close(fig)
         click.echo(f"wrote {plot_path}")

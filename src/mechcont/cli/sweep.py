@@ -171,18 +171,11 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
         result.to_csv(out_path)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
-        from ..dynamics import plot_sweep
-        from ..outputs.plotting import new_figure, save_figure
+        from ..outputs.plotting import save_figure
+        from ..outputs.sweep_plots import sweep_figure
 
-        fig, ax = new_figure(figsize=(6.4, 4.8))
-        if branch is not None:
-            from ..outputs.plotting import plot_branch
-
-            plot_branch(branch, segs[0].name, watch, ax=ax, color="0.65", lw=3.0, label="continuation",
-                        stability_legend=True, endpoints=False)
-        plot_sweep(result, ax, degrees=system.variable(watch).unit == "rad")
-        ax.set_title(f"{system.name}: {watch} against {segs[0].name}, time simulation"
-                     + (" on the continuation branch" if branch is not None else ""), fontsize=10)
-        ax.legend(fontsize=8, loc="best")
+        title = (f"{system.name}: {watch} against {segs[0].name}, time simulation"
+                 + (" on the continuation branch" if branch is not None else ""))
+        fig = sweep_figure(result, title=title, branch=branch, degrees=system.variable(watch).unit == "rad")
         save_figure(fig, plot_path)
         click.echo(f"wrote {plot_path}")

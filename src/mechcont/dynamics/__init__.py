@@ -7,6 +7,7 @@ against: :func:`simulate` integrates any :class:`~mechcont.equations.MechanicalM
 
 from ._compare import JumpGap, RateGap, gap_versus_rate, jump_gaps, plot_sweep
 from ._events import Crossing
+from ._exudyn import exudyn_available, exudyn_overcentre
 from ._result import SimulationResult, SimulationStatus
 from ._simulate import assemble, simulate
 from ._sweep import Jump, Ramp, SweepResult, parse_ramps, sweep
@@ -14,4 +15,4 @@ from ._udwadia_kalaba import ConstrainedDynamics, fundamental_equation
 
 __all__ = ["simulate", "assemble", "sweep", "parse_ramps", "Ramp", "Jump", "SweepResult", "SimulationResult",
            "SimulationStatus", "Crossing", "ConstrainedDynamics", "fundamental_equation", "jump_gaps", "JumpGap",
-           "gap_versus_rate", "RateGap", "plot_sweep"]
+           "gap_versus_rate", "RateGap", "plot_sweep", "exudyn_available", "exudyn_overcentre"]

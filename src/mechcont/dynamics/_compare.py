@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..outputs.sweep_plots import plot_sweep  # drawing lives in outputs; kept here by name
 from ._sweep import SweepResult, sweep
 
 __all__ = ["JumpGap", "jump_gaps", "RateGap", "gap_versus_rate", "plot_sweep"]
@@ -74,36 +75,3 @@ def gap_versus_rate(system, x0, parameter: str, start: float, stop: float, rates
         v = r.jumps[0].value if r.jumps else float("nan")
         out.append(RateGap(float(rate), v, v - fold_value, dt))
     return out
-
-
-def plot_sweep(result: SweepResult, ax=None, *, color: str = "k", label: str | None = "time simulation",
-               arrows: bool = True, degrees: bool | None = None):
-    """Draw a sweep as (ramped parameter, watched coordinate) curves, jumps as arrows.
-
-    Intended over continuation branches (grey) as in the paper's Figures 3 and 4. Axes are
-    labelled with their units; an angle (unit ``rad``) is shown in degrees, as
-    :func:`mechcont.outputs.plotting.plot_branch` shows it (``degrees`` forces either way).
-    Returns the matplotlib axes.
-    """
-    if ax is None:
-        from ..outputs.plotting import new_figure
-
-        _, ax = new_figure()
-    sim = result.simulation
-    unit = sim.unit(result.watch) if hasattr(sim, "unit") else ""
-    if degrees is None:
-        degrees = unit == "rad"
-    k = 180.0 / np.pi if degrees else 1.0
-    for i in range(len(result.ramps)):
-        p, w = result.curve(i)
-        ax.plot(p, k * w, color=color, lw=1.0, label=label if i == 0 else None)
-    if arrows:
-        for j in result.jumps:
-            b, a = j.before[result.watch], j.after[result.watch]
-            ax.annotate("", xy=(j.value, k * a), xytext=(j.value, k * b),
-                        arrowprops=dict(arrowstyle="->", color=color, lw=0.8))
-    name = result.ramps[0].name
-    xunit = sim.unit(name) if hasattr(sim, "unit") else ""
-    ax.set_xlabel(f"{name} ({xunit})" if xunit else name)  # drawn as stored (SI)
-    ax.set_ylabel(f"{result.watch} (deg)" if degrees else f"{result.watch} ({unit})" if unit else result.watch)
-    return ax

@@ -8,6 +8,8 @@ _LAZY = {
     "draw_scene": "drawing", "draw": "drawing", "animate": "animation", "branch_frames": "animation",
     "BranchFrames": "animation", "draw_scene3d": "drawing3d", "draw3d": "drawing3d", "project": "drawing3d",
     "plot_branch": "plotting", "plot_surface": "plotting", "new_figure": "plotting", "save_figure": "plotting",
+    "plot_design_region": "plotting", "downlock_figure": "design_plots", "design_figure": "design_plots",
+    "branch_figure": "plotting", "plot_sweep": "sweep_plots", "sweep_figure": "sweep_plots",
 }
 
 __all__ = list(_LAZY)  # noqa: PLE0605 - the lazily exported names

@@ -17,8 +17,8 @@ import numpy as np
 from .._io import atomic_write
 from ..errors import InputError
 
-__all__ = ["plot_branch", "plot_surface", "new_figure", "save_figure", "axis_values", "axis_label", "curve",
-           "label_point", "nice_levels", "plot_design_region", "FIGURE_SUFFIXES"]
+__all__ = ["plot_branch", "branch_figure", "plot_surface", "new_figure", "save_figure", "interval_states",
+           "axis_values", "axis_label", "curve", "label_point", "nice_levels", "plot_design_region", "FIGURE_SUFFIXES"]
 
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 _MARKERS = {"LP": ("o", "tab:red"), "BP": ("s", "tab:purple"), "CP": ("D", "tab:green"),
@@ -78,7 +78,7 @@ def curve(branch, *names: str, per_step: int = PER_STEP) -> tuple[np.ndarray, ..
     return (*dense.T, sd)
 
 
-def _interval_states(branch) -> np.ndarray:
+def interval_states(branch) -> np.ndarray:
     """Stability per interval between rows: 0 stable, 1 unstable, 2 not evaluated.
 
     Where the two ends differ the change is at a special point (a fold): the interval takes
@@ -172,7 +172,7 @@ def plot_branch(branch, x: str, y: str, ax=None, *, color="k", label: str | None
     _, xl = axis_values(branch, x)
     _, yl = axis_values(branch, y)
     zl = axis_values(branch, z)[1] if z else None
-    states = _interval_states(branch)
+    states = interval_states(branch)
     s = np.asarray(branch.s, float)
     styles = {0: "-", 1: "--", 2: "-"}  # fold curves (stability not evaluated) solid
     seen: set[int] = set()
@@ -220,6 +220,15 @@ def plot_branch(branch, x: str, y: str, ax=None, *, color="k", label: str | None
 SHEET_COLOURS = {0: (0.72, 0.72, 0.72), 1: (0.93, 0.55, 0.50), 2: (0.72, 0.72, 0.72)}
 
 
+def branch_figure(branch, x: str, y: str, *, title: str | None = None):
+    """A new figure of ``y`` against ``x`` along ``branch`` (:func:`plot_branch`), titled ``title``."""
+    fig, ax = new_figure()
+    plot_branch(branch, x, y, ax=ax)
+    if title:
+        ax.set_title(title)
+    return fig
+
+
 def _sheet_samples(b, names, samples: int):
     """Member ``b`` resampled at ``samples`` points of its normalised arclength: (3, samples) values
     (display units) and the stability state (0/1/2) of each sample."""
@@ -229,7 +238,7 @@ def _sheet_samples(b, names, samples: int):
     vals = np.array([np.interp(u, t, c) for c in cols])
     s = np.asarray(b.s, float)
     ts = (s - s[0]) / max(s[-1] - s[0], 1e-300)
-    states = _interval_states(b)
+    states = interval_states(b)
     k = np.clip(np.searchsorted(ts, u, side="right") - 1, 0, max(len(states) - 1, 0))
     return vals, (states[k] if len(states) else np.full(samples, 2))
 

@@ -21,8 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dynamics import gap_versus_rate, jump_gaps, plot_sweep
+from ..dynamics import gap_versus_rate, jump_gaps
 from ..models.overcentre import symmetric_folds
+from ..outputs.sweep_plots import plot_sweep
 from .overcentre import F_RANGE, F_START, RATE, C, branch, hysteresis, sweep_duration, system
 
 __all__ = ["run"]
@@ -40,7 +41,7 @@ def _crossings(F: np.ndarray, theta1: np.ndarray) -> list[float]:
 
 def _exudyn_loop(r04):
     """The same sweep in Exudyn (h = 10 ms, trapezoidal): (F, theta1, run time s), or None if not installed."""
-    from ..dynamics._exudyn import exudyn_available, exudyn_overcentre
+    from ..dynamics import exudyn_available, exudyn_overcentre
 
     if not exudyn_available():
         return None

@@ -223,9 +223,9 @@ def _plot_all(res, out_dir: Path) -> list[Path]:
                 label=f"time simulation (F ramped at {FIG7_RATE:g} N/s)")
     b = res.fig7_branch
     F, oc = _oc_curve(b)
-    from ..outputs.plotting import _interval_states
+    from ..outputs.plotting import interval_states
 
-    states = np.repeat(_interval_states(b), (len(F) - 1) // max(len(b) - 1, 1))
+    states = np.repeat(interval_states(b), (len(F) - 1) // max(len(b) - 1, 1))
     for state, style, word in ((0, "-", "stable"), (1, "--", "unstable")):
         if np.any(states == state):
             mask = np.append(states == state, states[-1] == state)

@@ -137,7 +137,7 @@ def _fig3b(b, path: Path) -> None:
 
 
 def _sweep_on_branch(ax, b, sw, title: str) -> None:
-    from ..dynamics import plot_sweep
+    from ..outputs.sweep_plots import plot_sweep
 
     plot_branch(b, "F", "theta1", ax=ax, color="0.7", lw=3.5, label="continuation", stability_legend=True,
                 special=False)
