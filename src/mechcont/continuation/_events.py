@@ -117,7 +117,9 @@ class BranchPointEvent(Event):
     continuous = True
 
     def value(self, problem, state):
-        A = np.vstack([state.jac, state.tangent])
+        A = np.empty((len(state.tangent), len(state.tangent)))
+        A[:-1] = state.jac
+        A[-1] = state.tangent
         sign, logdet = np.linalg.slogdet(A)
         # a continuous, scale-tamed version of the determinant
         return float(sign * np.exp(logdet / len(A))) if np.isfinite(logdet) else 0.0

@@ -12,6 +12,8 @@ from ._problem import choose_unknowns
 
 __all__ = ["find_equilibrium", "newton_square", "residual_met"]
 
+_FLOOR = 100 * np.finfo(float).eps
+
 
 def residual_met(r: np.ndarray, J: np.ndarray, u: np.ndarray, tol: float) -> bool:
     """True when every residual is below ``tol``, or at its floating-point floor.
@@ -20,8 +22,11 @@ def residual_met(r: np.ndarray, J: np.ndarray, u: np.ndarray, tol: float) -> boo
     are tens of kilonewton-metres cannot be met to ``tol`` = 1e-10 in double precision,
     while a constraint row in metres still must be. ``J`` and ``u`` may both be scaled.
     """
-    floor = 100 * np.finfo(float).eps * np.abs(J * u).sum(axis=1)
-    return bool(np.all(np.abs(r) <= np.maximum(tol, floor)))
+    size = np.abs(r)
+    if size.max(initial=0.0) <= tol:  # the usual case at convergence: no floor can matter
+        return True
+    floor = _FLOOR * np.abs(J * u).sum(axis=1)
+    return bool(np.all(size <= np.maximum(tol, floor)))
 
 
 def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol: float = 1e-10,

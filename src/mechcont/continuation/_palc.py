@@ -74,6 +74,8 @@ class PseudoArclength:
         self.solver = options.linear_solver
         self.D = np.asarray(problem.scale, dtype=float)
         self.n = len(self.D) - 1
+        self._e_last = np.zeros(self.n + 1)  # right-hand side of the tangent system
+        self._e_last[-1] = 1.0
 
     # -- evaluation in scaled coordinates -----------------------------------------------
     def G(self, z):
@@ -109,12 +111,10 @@ class PseudoArclength:
         A = np.empty((self.n + 1, self.n + 1))
         A[:-1] = jac
         A[-1] = border
-        rhs = np.zeros(self.n + 1)
-        rhs[-1] = 1.0
-        t = self.solver.solve(A, rhs)
+        t = self.solver.solve(A, self._e_last.copy())
         if t is None:
             raise np.linalg.LinAlgError("singular tangent system")
-        t /= np.linalg.norm(t)
+        t /= math.sqrt(t.dot(t))  # = np.linalg.norm(t), without its overhead
         return t if t @ border > 0 else -t
 
     # -- corrector --------------------------------------------------------------------
@@ -291,7 +291,8 @@ class BranchSteps(Iterator[RecordedPoint]):
                 self._end(Termination.STEP_UNDERFLOW, msg, "EP", {"reason": msg})
                 return
         new = eng.state(z1, t1, jac)
-        step = float(np.linalg.norm(z1 - cur.z))
+        dz = z1 - cur.z
+        step = math.sqrt(dz.dot(dz))
         new_values = [ev.value(problem, new) for ev in self.events]
         leaving = [ev for ev, v0, v1 in zip(self.events, self.values, new_values) if ev.stop and v0 == 0 and v1 < 0]
         if leaving:  # started exactly on a bound and this direction leaves the interval

@@ -16,6 +16,7 @@ constraint-curvature term is what hand-made codes forget.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -391,7 +392,7 @@ class MechanicalModel:
         out = self._statics(self._args(x))
         if nc:
             U, sv, Vt = np.linalg.svd(layout.constraint_jacobian(out))
-            r = int(np.sum(sv > 1e-10 * max(sv[0], 1e-300)))
+            r = int(np.count_nonzero(sv > 1e-10 * max(sv[0], 1e-300)))
             lam = U[:, :r] @ ((Vt[:r] @ out[layout.q_slice]) / sv[:r])
             K = layout.stiffness(out, lam)
         else:
@@ -401,6 +402,11 @@ class MechanicalModel:
         if Z.shape[1] == 0:
             return StabilityResult(0, np.zeros(0), True)
         Kr = Z.T @ K @ Z
+        if Kr.shape == (1, 1) and math.isfinite(Kr[0, 0]):
+            # one degree of freedom (most gears): Kr is its own eigenvalue; the general path
+            # below gives the same answer through five more array operations
+            k = float(Kr[0, 0])
+            return StabilityResult(int(k < -rtol * max(abs(k), 1e-300)), Kr[0].copy(), True)
         scale = max(np.abs(Kr).max(), 1e-300)
         if np.abs(Kr - Kr.T).max() <= 1e-9 * scale:
             ev = np.linalg.eigvalsh(0.5 * (Kr + Kr.T)) if len(Kr) > 1 else Kr[0].copy()
