@@ -4,6 +4,7 @@
 #   bash run.sh test  [pytest args] run the test suite
 #   bash run.sh bench               run the benchmarks (median of repeated runs)
 #   bash run.sh lint                ruff on the sources, tests and benchmarks
+#   bash run.sh typecheck           mypy on src/ (configured in pyproject.toml)
 #   bash run.sh mechcont ARGS...    any CLI command
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -24,6 +25,7 @@ case "$cmd" in
   paper) exec .venv/bin/mechcont paper "$@" ;;
   bench) exec .venv/bin/python benchmarks/run.py "$@" ;;
   lint) exec .venv/bin/ruff check src tests benchmarks "$@" ;;
+  typecheck) exec .venv/bin/mypy "$@" ;;
   mechcont) exec .venv/bin/mechcont "$@" ;;
-  *) echo "run.sh: unknown command '$cmd' (use: paper, test, bench, lint, mechcont)" >&2; exit 2 ;;
+  *) echo "run.sh: unknown command '$cmd' (use: paper, test, bench, lint, typecheck, mechcont)" >&2; exit 2 ;;
 esac

@@ -42,18 +42,18 @@ def one_line(text: str) -> str:
 class ConvergenceError(MechcontError):
     """A solve that did not converge; ``partial`` holds what was computed up to there."""
 
-    def __init__(self, message: str, partial=None):
+    def __init__(self, message: str, partial: object = None):
         self.partial = partial
         super().__init__(message)
 
 
-def finite_number(text, field: str) -> float:
+def finite_number(text: object, field: str) -> float:
     """``text`` (a string or number from the command line or a file) as a finite float, else
     :class:`InputError` naming ``field``; ``True``/``False`` are not numbers."""
     if isinstance(text, bool):
         raise InputError(field, f"'{text}' is not a number (SI units, radians)")
     try:
-        v = float(text)
+        v = float(text)  # type: ignore[arg-type]  # anything float() takes; the rest is refused below
     except (TypeError, ValueError):
         raise InputError(field, f"'{text}' is not a number (SI units, radians)") from None
     if not math.isfinite(v):

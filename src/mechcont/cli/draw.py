@@ -25,7 +25,7 @@ def _names(text: str | None, field: str) -> tuple[str, ...]:
     return names(text, field)
 
 
-def _out(path: str, valid) -> Path:
+def _out(path: str, valid) -> Path | None:
     """The --out file, checked before any work (suffix, folder, writable)."""
     from .._io import check_output_path
 

@@ -40,7 +40,7 @@ def _start_vector(system: EquationSystem, start) -> np.ndarray:
 
 
 def _bound_events(system: EquationSystem, options: ContinuationOptions) -> list[Event]:
-    evs = []
+    evs: list[Event] = []
     for name, (lo, hi) in options.bounds.items():
         i = system.index(name)
         for b, side in ((lo, 1), (hi, -1)):

@@ -181,7 +181,7 @@ class Branch:
         raise InputError(key, f"neither a column nor a special point (columns: {', '.join(self.names)})")
 
     def __repr__(self) -> str:
-        counts = {}
+        counts: dict[str, int] = {}
         for p in self.special_points:
             counts[p.label] = counts.get(p.label, 0) + 1
         sp = ", ".join(f"{k}x{v}" for k, v in counts.items()) or "none"

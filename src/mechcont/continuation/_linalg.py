@@ -34,7 +34,7 @@ class DenseLU:
     def __repr__(self) -> str:
         return "DenseLU()"
 
-    def __eq__(self, other) -> bool:
+    def __eq__(self, other: object) -> bool:
         return type(other) is DenseLU
 
     def __hash__(self) -> int:
@@ -60,7 +60,7 @@ class MinimumNorm:
     def __repr__(self) -> str:
         return f"MinimumNorm(rcond={self.rcond:g})"
 
-    def __eq__(self, other) -> bool:
+    def __eq__(self, other: object) -> bool:
         return isinstance(other, MinimumNorm) and other.rcond == self.rcond
 
     def __hash__(self) -> int:

@@ -76,8 +76,8 @@ class ContinuationOptions:
     scales: Mapping[str, float] = field(default_factory=dict)
     linear_solver: LinearSolver = field(default_factory=DenseLU)
 
-    def __post_init__(self):
-        def positive(name, value):
+    def __post_init__(self) -> None:
+        def positive(name: str, value: object) -> None:
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise InputError(name, f"must be a positive number, got {value!r}")
 

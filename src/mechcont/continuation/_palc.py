@@ -334,7 +334,7 @@ class BranchSteps(Iterator[RecordedPoint]):
         landed on another branch), else None.
         """
         eng, problem = self.stepper, self.problem
-        hits = []
+        hits: list = []
         for ev, v0, v1 in zip(self.events, self.values, new_values):
             if v0 == 0 or v1 == 0 or (v0 > 0) == (v1 > 0):
                 continue
@@ -411,6 +411,7 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
         res.arclength.append(point.s)
         if progress is not None and not point.label and point.s > 0:
             progress(1)
+    assert steps.termination is not None  # the iterator stops only after setting it
     res.termination = steps.termination
     res.status = steps.termination.status
     res.message = steps.message

@@ -161,4 +161,4 @@ class EquilibriumProblem(ContinuationProblem):
     def stability(self, u) -> int:
         if not self._stability:
             return -1
-        return self.system.mechanics.stability(self.full(u)).n_unstable
+        return self.system.mechanics.stability(self.full(u)).n_unstable  # type: ignore[attr-defined]

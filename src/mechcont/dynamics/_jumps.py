@@ -46,8 +46,8 @@ def _fast_intervals(rate: np.ndarray, thr: float) -> list[tuple[int, int]]:
     if not above.any():
         return []
     d = np.diff(above.astype(int))
-    starts = list(np.flatnonzero(d == 1) + 1)
-    ends = list(np.flatnonzero(d == -1))
+    starts: list[int] = (np.flatnonzero(d == 1) + 1).tolist()
+    ends: list[int] = np.flatnonzero(d == -1).tolist()
     if above[0]:
         starts.insert(0, 0)
     if above[-1]:

@@ -175,7 +175,7 @@ class ConstrainedDynamics:
 
     def mass_inv_sqrt(self, x: np.ndarray) -> np.ndarray:
         """``M^-1/2`` at ``x`` (cached when the mass matrix is constant)."""
-        return self._Mis if self._mass_constant else inverse_sqrt(self.mech.mass(x))
+        return self._Mis if self._Mis is not None else inverse_sqrt(self.mech.mass(x))
 
     def forces(self, x: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Applied generalised forces including the Rayleigh damping term (N, N m)."""

@@ -200,7 +200,7 @@ def plot_branch(branch, x: str, y: str, ax=None, *, color="k", label: str | None
             if p.label == "EP" and not endpoints:
                 continue
             marker, mc = _MARKERS.get(p.label, ("*", "tab:blue"))
-            pos = (xs[p.index], ys[p.index]) if z is None else (xs[p.index], ys[p.index], zs[p.index])
+            pos = (xs[p.index], ys[p.index]) if zs is None else (xs[p.index], ys[p.index], zs[p.index])
             ax.plot(*[[c] for c in pos], marker, color=mc, ms=6, mew=1.5, mfc="none" if p.label != "EP" else mc)
             if p.label != "EP":
                 text = name if p.located else name + "?"
