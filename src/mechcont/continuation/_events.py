@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _dense
 from .._roots import brentq
 
 __all__ = ["Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "PointState"]
@@ -120,7 +121,7 @@ class BranchPointEvent(Event):
         A = np.empty((len(state.tangent), len(state.tangent)))
         A[:-1] = state.jac
         A[-1] = state.tangent
-        sign, logdet = np.linalg.slogdet(A)
+        sign, logdet = _dense.slogdet(A)
         # a continuous, scale-tamed version of the determinant
         return float(sign * np.exp(logdet / len(A))) if np.isfinite(logdet) else 0.0
 

@@ -25,6 +25,7 @@ import numpy as np
 from scipy.linalg.lapack import dgetrf as _dgetrf
 from scipy.linalg.lapack import dgetrs as _dgetrs
 
+from .. import _dense
 from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 from ._events import Event
@@ -60,7 +61,7 @@ def _null_vectors(Js: np.ndarray, row: np.ndarray | None = None,
     """
     row = np.ones(Js.shape[0]) if row is None else row
     col = np.ones(Js.shape[1]) if col is None else col
-    u, _, vt = np.linalg.svd(Js * row[:, None] * col)
+    u, _, vt = _dense.svd(Js * row[:, None] * col)
     v = vt[-1] * col
     w = u[:, -1] * row
     return v / np.linalg.norm(v), w / np.linalg.norm(w)

@@ -16,9 +16,12 @@ from enum import Enum
 
 import numpy as np
 
+from .. import _dense
 from ._events import Event, PointState
 from ._newton import residual_met
 from ._options import ContinuationOptions
+
+_add, _max = np.add.reduce, np.maximum.reduce
 
 __all__ = ["PseudoArclength", "StepSizeController", "Termination", "BranchSteps", "RecordedPoint",
            "DirectionResult", "run_direction"]
@@ -99,7 +102,7 @@ class PseudoArclength:
     # -- tangent --------------------------------------------------------------------
     def initial_tangent(self, z, direction: int) -> np.ndarray:
         """Null vector of G_z at ``z`` oriented so the parameter increases (direction=+1)."""
-        _, _, vt = np.linalg.svd(self.Gz(z))
+        _, _, vt = _dense.svd(self.Gz(z))
         t = vt[-1]
         p = self.problem.param_index
         ref = t[p] if abs(t[p]) > 1e-12 else t[np.argmax(np.abs(t))]
@@ -131,7 +134,8 @@ class PseudoArclength:
         prev = step = math.inf
         for it in range(1, o.max_newton + 2):
             r, jac = self.evaluate(z)
-            if not (math.isfinite(r.sum()) and math.isfinite(jac.sum())):
+            # np.add.reduce(a, None) is a.sum() without the method's Python frame (same bits)
+            if not (math.isfinite(_add(r, None)) and math.isfinite(_add(jac, None))):
                 return None, "residual not finite (outside the model's domain)", it
             if step < o.newton_tol and residual_met(r, jac, z, o.residual_tol):
                 return z, jac, it - 1
@@ -144,7 +148,7 @@ class PseudoArclength:
             if dz is None:
                 return None, "singular bordered Jacobian", it
             z = z + dz
-            step = np.abs(dz).max()
+            step = _max(np.abs(dz), None)
             if step > o.max_contraction * prev and step > 1e3 * o.newton_tol:
                 return None, "corrector converging too slowly", it
             prev = step

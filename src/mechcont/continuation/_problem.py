@@ -155,7 +155,9 @@ class EquilibriumProblem(ContinuationProblem):
         return self.system.jacobian(self.full(u))[:, self.idx]
 
     def evaluate(self, u):
-        r, J = self.system.residual_and_jacobian(self.full(u))
+        x = self.base.copy()  # self.full(u), inline: this runs at every Newton iteration
+        x[self.idx] = u
+        r, J = self.system.residual_and_jacobian(x)
         return r, J[:, self.idx]
 
     def stability(self, u) -> int:

@@ -24,6 +24,7 @@ import numpy as np
 import symengine as se
 import sympy as sp
 
+from .. import _dense
 from ..errors import InputError
 from . import _cache, _codegen
 from ._codegen import compile_scattered, compile_values, derivative_entries, engine_arguments, is_smooth
@@ -391,7 +392,7 @@ class MechanicalModel:
         layout = self._statics_layout
         out = self._statics(self._args(x))
         if nc:
-            U, sv, Vt = np.linalg.svd(layout.constraint_jacobian(out))
+            U, sv, Vt = _dense.svd(layout.constraint_jacobian(out))
             r = int(np.count_nonzero(sv > 1e-10 * max(sv[0], 1e-300)))
             lam = U[:, :r] @ ((Vt[:r] @ out[layout.q_slice]) / sv[:r])
             K = layout.stiffness(out, lam)

@@ -1,0 +1,42 @@
+"""``numpy.linalg.svd`` and ``slogdet`` of one small real matrix, without the wrappers' per-call checks.
+
+The continuation loop takes an SVD (stability, null vectors) and a log-determinant
+(branch-point test) at every point of a branch, on matrices of a few dozen entries, where
+NumPy's Python wrappers (argument conversion, dtype promotion, result tuples) cost more
+than LAPACK. These call the same LAPACK kernels (NumPy's own generalised ufuncs) with the
+same error handling, so they return the same bits and raise the same errors; anything but
+a 2-D float64 array goes through ``numpy.linalg`` itself.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["svd", "slogdet"]
+
+try:  # NumPy >= 2
+    from numpy.linalg import _umath_linalg
+    from numpy.linalg._linalg import _raise_linalgerror_svd_nonconvergence as _svd_failed
+except ImportError:  # pragma: no cover - older NumPy: the public functions
+    _umath_linalg = None
+
+
+def _plain(A: np.ndarray) -> bool:
+    return _umath_linalg is not None and type(A) is np.ndarray and A.dtype == np.float64 and A.ndim == 2
+
+
+def svd(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``numpy.linalg.svd(A)`` (full matrices): ``(U, singular values, V^T)``; LinAlgError if it fails."""
+    if not _plain(A) or 0 in A.shape:
+        U, s, Vt = np.linalg.svd(A)
+        return U, s, Vt
+    with np.errstate(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore"):
+        return _umath_linalg.svd_f(A, signature="d->ddd")
+
+
+def slogdet(A: np.ndarray) -> tuple[float, float]:
+    """``numpy.linalg.slogdet(A)`` of a square matrix: ``(sign, log |det A|)``."""
+    if not _plain(A) or A.shape[0] != A.shape[1]:
+        sign, logdet = np.linalg.slogdet(A)
+        return sign, logdet
+    return _umath_linalg.slogdet(A, signature="d->dd")
