@@ -31,6 +31,7 @@ _LAZY = {
     "Mechanism": "mechcont.mechanism",
     "load_description": "mechcont.mechanism",
     # equations
+    "Model": "mechcont.equations",
     "EquationSystem": "mechcont.equations",
     "MechanicalModel": "mechcont.equations",
     "StabilityResult": "mechcont.equations",
@@ -52,7 +53,7 @@ _SUBPACKAGES = {"analysis", "continuation", "dynamics", "equations", "mechanism"
 
 __all__ = [
     "load_model", "model_names", "Mechanism", "load_description",
-    "EquationSystem", "MechanicalModel", "StabilityResult", "Variable",
+    "Model", "EquationSystem", "MechanicalModel", "StabilityResult", "Variable",
     "find_equilibrium", "continuation", "continue_folds", "switch_branch", "ContinuationOptions", "Branch",
     "SpecialPoint", "ValueEvent",
     "simulate", "sweep", "SimulationResult",
@@ -72,7 +73,7 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
         switch_branch,
     )
     from .dynamics import SimulationResult, simulate, sweep
-    from .equations import EquationSystem, MechanicalModel, StabilityResult, Variable
+    from .equations import EquationSystem, MechanicalModel, Model, StabilityResult, Variable
     from .mechanism import Mechanism, load_description
     from .models import load_model, model_names
 
