@@ -10,14 +10,17 @@ a 2-D float64 array goes through ``numpy.linalg`` itself.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 __all__ = ["svd", "slogdet"]
 
-try:  # NumPy >= 2
+_umath_linalg: Any
+try:  # NumPy >= 2 (private names: any other NumPy falls back to the public functions)
     from numpy.linalg import _umath_linalg
-    from numpy.linalg._linalg import _raise_linalgerror_svd_nonconvergence as _svd_failed
-except ImportError:  # pragma: no cover - older NumPy: the public functions
+    from numpy.linalg._linalg import _raise_linalgerror_svd_nonconvergence as _svd_failed  # type: ignore[attr-defined]
+except ImportError:  # pragma: no cover
     _umath_linalg = None
 
 
