@@ -67,7 +67,8 @@ def test_a_built_model_has_its_declared_fields_only(name):
         model.downlock_angle = 0.0  # nothing can be bolted on
     # copies keep exactly the declared fields, and the fields themselves
     for copy in (model.with_values({model.parameter_names[0]: model.defaults()[model.index(model.parameter_names[0])]}),
-                 pickle.loads(pickle.dumps(model))):
+                 pickle.loads(pickle.dumps(model)), Model.from_compiled_state(pickle.loads(pickle.dumps(
+                     model.compiled_state())))):
         assert type(copy) is Model and set(vars(copy)) == DECLARED and copy.unpickled_without == ()
         assert copy.reaction_names == model.reaction_names and copy.conditions == model.conditions
         assert copy.downlock_hold == model.downlock_hold and copy.downlock_force == model.downlock_force

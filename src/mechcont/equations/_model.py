@@ -80,6 +80,26 @@ class Model(EquationSystem):
                                  f"(make a copy with evolve(...) or declare the field)")
         object.__setattr__(self, name, value)
 
+    def compiled_state(self) -> dict:
+        """:meth:`EquationSystem.compiled_state` plus every other field of the model (``"fields"``).
+
+        The fields' callables (scene, value checks, coordinates, ...) are picklable objects, so the
+        state pickles whole; :meth:`from_compiled_state` makes the model again, compiling nothing.
+        """
+        state = super().compiled_state()
+        core = {"name", "variables", "equations", "equation_names", "mechanics", "description", "limits"}
+        state["fields"] = {f.name: self.__dict__[f.name] for f in fields(self)
+                           if f.init and f.name not in core}
+        return state
+
+    @classmethod
+    def from_compiled_state(cls, state: dict) -> Model:
+        """A :class:`Model` from :meth:`compiled_state` (validated, nothing compiled again)."""
+        system = EquationSystem.from_compiled_state(state)
+        given = dict(state.get("fields", {}))
+        own = {k: given.pop(k) for k in list(given) if k not in _declared(EquationSystem)}
+        return cls.from_system(system.evolve(**given), **own)
+
     @classmethod
     def from_system(cls, system: EquationSystem, **fields_: object) -> Model:
         """A model of ``system`` (its equations and compiled code shared, nothing rebuilt) with ``fields_`` set."""

@@ -388,10 +388,10 @@ class EquationSystem:
         limits, every part of the mechanics), so a process that loads the state compiles
         nothing. Included: name, variables, equations and their names, description, limits,
         the :class:`~mechcont.equations.MechanicalModel` (its symbolic model and compiled
-        functions) and the compiled functions. Not included: any other attribute (those a
-        generated model carries, such as ``scene``, ``check_values``, ``coordinates_of``,
-        ``dropped_residual``, ``mechanism``; pickling the system itself keeps those that
-        pickle, see :meth:`__getstate__`).
+        functions) and the compiled functions. Not included: the other fields (``scene``,
+        ``check_values``); :meth:`mechcont.equations.Model.compiled_state` adds them and a
+        model's own fields, and pickling the system itself keeps every field that pickles
+        (see :meth:`__getstate__`).
         """
         from ._mechanics import MechanicalModel
 
@@ -419,14 +419,15 @@ class EquationSystem:
     def __getstate__(self) -> dict:
         """Pickle: the compiled numeric core (:meth:`compiled_state`) plus every other attribute that pickles.
 
-        Attributes that do not pickle (closures that generation attaches: ``scene``,
-        ``check_values``, ``coordinates_of``, ``dropped_residual``) are left out; after
-        unpickling ``scene`` and ``check_values`` are None, the others absent, and
-        ``unpickled_without`` names them all.
+        A field that does not pickle (a closure given as ``scene`` or ``check_values``) is
+        left out and back at its default after unpickling; an attribute attached after
+        construction (not a declared field) that does not pickle is absent.
+        ``unpickled_without`` names them all. The built-in models and generated descriptions
+        give picklable callables, so their models travel whole.
         """
         import pickle
 
-        state = self.compiled_state()
+        state = EquationSystem.compiled_state(self)  # the core; the other fields below, each if it pickles
         core = {"name", "variables", "equations", "equation_names", "mechanics", "description", "limits",
                 "_code", "names", "_index", "symbols", "unpickled_without"}
         extras, omitted = {}, []
