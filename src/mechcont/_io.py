@@ -14,6 +14,7 @@ import tempfile
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
+from ._signals import raise_pending
 from .errors import InputError
 
 __all__ = ["atomic_write", "check_output_path", "check_output_folder", "current_umask"]
@@ -105,6 +106,7 @@ def atomic_write(path: str | os.PathLike, write: Callable[[str], None]) -> Path:
     os.close(fd)
     try:
         write(tmp)
+        raise_pending()  # a signal a library swallowed while writing still stops the run here
         os.chmod(tmp, 0o666 & ~current_umask())
         os.replace(tmp, path)
     except BaseException:

@@ -14,16 +14,18 @@ import sys
 
 import click
 
+from .._signals import Terminated, clear, raise_pending, record
 from ..errors import MechcontError, one_line
 
 
-class Terminated(BaseException):
-    """Raised by the SIGTERM handler of the ``mechcont`` command: unwinds like Ctrl-C
-    (``finally`` blocks and :func:`mechcont._io.atomic_write` clean up)."""
-
-
 def _terminate(signum, frame):
+    record(signum)
     raise Terminated()
+
+
+def _interrupt(signum, frame):
+    record(signum)
+    raise KeyboardInterrupt()
 
 
 def _fail(message: str, status: int):
@@ -39,6 +41,7 @@ class _Group(click.Group):
             return super().main(args, prog_name, standalone_mode=False, **extra)
         try:
             rv = super().main(args, prog_name, standalone_mode=False, **extra)
+            raise_pending()
         except click.exceptions.Exit as exc:
             sys.exit(exc.exit_code)
         except click.exceptions.Abort as exc:
@@ -88,8 +91,11 @@ def _register():
 def main(argv=None):
     """Entry point of the ``mechcont`` console script (SIGTERM unwinds as :class:`Terminated`)."""
     _register()
+    clear()
     previous = signal.signal(signal.SIGTERM, _terminate)
+    previous_int = signal.signal(signal.SIGINT, _interrupt)
     try:
         cli.main(args=argv, prog_name="mechcont")
     finally:
         signal.signal(signal.SIGTERM, previous)
+        signal.signal(signal.SIGINT, previous_int)
