@@ -266,3 +266,17 @@ def test_spatial_model_has_declared_fields_and_compiles_once_per_structure():
     c = pickle.loads(pickle.dumps(b))
     assert np.array_equal(c.residual(xb), b.residual(xb))
     assert [p.tobytes() for _, p in c.scene(xb).bars] == [p.tobytes() for _, p in b.scene(xb).bars]
+
+
+def test_messages_name_every_spatial_joint_type_and_the_spatial_collinear_sign():
+    from mechcont.mechanism._description import Revolute
+    from mechcont.mechanism.spatial import JOINT_TYPES, SpatialBody, SpatialMechanism
+
+    with pytest.raises(InputError) as err:
+        SpatialMechanism(name="m", parameters=[], bodies=[SpatialBody("b", 1.0)],
+                         joints=[Revolute("J", "ground.O", "b.origin")], ground={"O": (0, 0, 0)})
+    assert all(kind in str(err.value) for kind in JOINT_TYPES)
+    text = _text("pendulum_3d.toml") + ('\n[conditions]\nc = { type = "collinear", points = ["ground.O", "bar.cg", '
+                                        '"bar.b"], normal = [0, 1, 0] }\n')
+    system = parse_description(text, "pendulum_c.toml").build()
+    assert "right-handed about the normal" in system.variable("c").description

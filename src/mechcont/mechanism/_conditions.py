@@ -263,8 +263,9 @@ def condition_targets(mech, values: Mapping[str, float]) -> dict[str, float | No
 
 def condition_description(cond: Condition) -> str:
     """A one-line meaning of the condition's value, for the variable's description."""
+    turn = "right-handed about the normal" if cond.normal else "counter-clockwise"
     what = {"expression": f"{cond.expr}", "collinear": f"sine of the angle {cond.points[0]}: {cond.points[1]} -> "
-                                                       f"{cond.points[2]} (0: aligned, + counter-clockwise)"
+                                                       f"{cond.points[2]} (0: aligned, + {turn})"
             if len(cond.points) == 3 else "", "distance": f"distance {' - '.join(cond.points)}",
             "angle": f"theta of {cond.bodies[-1]} minus theta of {cond.bodies[0]}" if cond.bodies else ""}[cond.kind]
     return f"condition {cond.name}: {cond.description or what}"

@@ -159,9 +159,9 @@ class SpatialMechanism(Mechanism):
                 raise InputError(f"joints.{j.name}", "names starting with 'norm_' are reserved for the Euler-parameter "
                                                      "normalisation rows (norm_<body>); rename the joint")
             if not isinstance(j, SpatialJoint):
+                from ._joints import JOINT_TYPES
                 raise InputError(f"joints.{j.name}", f"{type(j).__name__} is a planar joint; a spatial mechanism "
-                                                     "takes spherical, revolute, universal, cylindrical, prismatic "
-                                                     "or weld joints")
+                                                     f"takes {', '.join(JOINT_TYPES)} joints")
         if self.gravity is not None and not isinstance(self.gravity, SpatialGravity):
             raise InputError("gravity", "a spatial mechanism takes gravity as {g, direction = [x, y, z]}")
         super()._validate()

@@ -8,8 +8,8 @@ expression string in the parameter names)::
     [bodies.NAME]       mass, length (bar along the body's x axis), inertia = [Ixx, Iyy, Izz]
                         or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz], cg = [x, y, z], description,
                         points = {P = [x, y, z]}, initial = {x, y, z, rotation = [rx, ry, rz]}
-    [joints.NAME]       type = "spherical" | "revolute" | "universal" | "cylindrical" | "prismatic"
-                        | "weld", a, b, axis = [x, y, z] (revolute, cylindrical, prismatic),
+    [joints.NAME]       type = "spherical" | "revolute" | "universal" | "inline" | "cylindrical"
+                        | "prismatic" | "weld", a, b, axis = [x, y, z] (revolute, inline, cylindrical, prismatic),
                         axis_a, axis_b (universal), stiffness (N/m), rotational_stiffness (N m/rad)
     [gravity]           g, direction = [x, y, z] (default [0, 0, -1])
     [loads.NAME]        type = "force": at, magnitude, direction = [x, y, z]
