@@ -296,15 +296,8 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
     for r, v in zip(rows, x[nq:]):
         variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc,
                                   _reaction_text(r)))
-    for (c, _), v in zip(st.conditions, x[nq + len(rows):]):
-        variables.append(Variable(c.name, "state", float(v), c.value_unit, condition_scale(c, Lc, Fc),
-                                  condition_description(c)))
-    for p in mech.parameters:
-        val = values[p.name]
-        variables.append(Variable(p.name, "parameter", val, p.unit, _parameter_scale(p, val, Lc, Fc), p.description))
-    targets = condition_targets(mech, values)
-    downlock = ({"downlock_hold": {mech.downlock.condition: targets[mech.downlock.condition]},
-                 "downlock_force": mech.downlock.force} if mech.downlock is not None else {})
+    variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc)
+    targets, downlock = condition_fields(mech, values)
     if var.model is not None:  # the same structure built before: new values, the same compiled code
         return var.model.evolve(variables=variables, dof=report, conditions=targets, **downlock)
     dropped = var.dropped
@@ -333,6 +326,26 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
         **downlock,
     )
     return var.model.evolve()  # a copy: the kept model is never handed out (compiled on first numeric use)
+
+
+def condition_and_parameter_variables(mech: Mechanism, conditions, condition_values, values: Mapping[str, float],
+                                      Lc: float, Fc: float) -> list[Variable]:
+    """The condition states (at ``condition_values``) and the parameters (at ``values``) as variables,
+    scaled by the typical length ``Lc`` (m) and force ``Fc`` (N); shared by planar and spatial builds."""
+    out = [Variable(c.name, "state", float(v), c.value_unit, condition_scale(c, Lc, Fc), condition_description(c))
+           for (c, _), v in zip(conditions, condition_values)]
+    for p in mech.parameters:
+        val = values[p.name]
+        out.append(Variable(p.name, "parameter", val, p.unit, _parameter_scale(p, val, Lc, Fc), p.description))
+    return out
+
+
+def condition_fields(mech: Mechanism, values: Mapping[str, float]) -> tuple[dict, dict]:
+    """Each condition's target at ``values`` and the downlock fields of a :class:`Model` (empty without one)."""
+    targets = condition_targets(mech, values)
+    downlock = ({"downlock_hold": {mech.downlock.condition: targets[mech.downlock.condition]},
+                 "downlock_force": mech.downlock.force} if mech.downlock is not None else {})
+    return targets, downlock
 
 
 def _coordinate_unit_text(coord: str, Lc: float = 1.0) -> tuple[str, float, str]:

@@ -29,10 +29,17 @@ from ...equations import EquationSystem, MechanicalModel, Model, Variable
 from ...equations._codegen import gradient
 from ...errors import InputError
 from .._assembly import DofReport, close_constraints, dof_report
-from .._conditions import condition_description, condition_rows, condition_scale, condition_targets
+from .._conditions import condition_rows
 from .._description import PointForce
 from .._expr import symbol
-from .._generate import _coordinates_of, _dropped_residual, _equilibrium, _parameter_scale, _scales
+from .._generate import (
+    _coordinates_of,
+    _dropped_residual,
+    _equilibrium,
+    _scales,
+    condition_and_parameter_variables,
+    condition_fields,
+)
 from .._values import evaluate, parameter_values
 from ._description import SpatialMechanism
 from ._joints import SpatialRow
@@ -292,15 +299,8 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
             what = f"reaction of joint {r.joint} (on its second body)" + (
                 "; compliant: the joint deflects by reaction / stiffness" if r.stiffness is not None else "")
         variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc, what))
-    for (c, _), v in zip(st.conditions, x[nq + len(rows):]):
-        variables.append(Variable(c.name, "state", float(v), c.value_unit, condition_scale(c, Lc, Fc),
-                                  condition_description(c)))
-    for p in mech.parameters:
-        val = values[p.name]
-        variables.append(Variable(p.name, "parameter", val, p.unit, _parameter_scale(p, val, Lc, Fc), p.description))
-    targets = condition_targets(mech, values)
-    downlock = ({"downlock_hold": {mech.downlock.condition: targets[mech.downlock.condition]},
-                 "downlock_force": mech.downlock.force} if mech.downlock is not None else {})
+    variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc)
+    targets, downlock = condition_fields(mech, values)
     if var.model is not None:  # the same structure built before: new values, the same compiled code
         return var.model.evolve(variables=variables, dof=report, conditions=targets, **downlock)
     lam = [symbol(r.reaction) for r in rows]
