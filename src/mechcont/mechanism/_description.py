@@ -439,22 +439,28 @@ class Mechanism:
         """The coordinate names of ``body`` (see :func:`coordinate_names`)."""
         return coordinate_names(body)
 
+    def _load_kinds(self) -> tuple[tuple[type, ...], tuple[type, ...], str]:
+        """The load classes applied at a point, those applied to a body (a drag has ``start`` and
+        ``end`` points), and the message for any other load (``{}``: its class name)."""
+        return (PointForce, CustomLoad), (Moment, Drag), "unknown load type {}"
+
     def _check_loads(self) -> None:
         """Check every load's references (raises a one-line InputError)."""
+        at_point, on_body, other = self._load_kinds()
         for ld in self.loads:
             f = f"loads.{ld.name}"
-            if isinstance(ld, (PointForce, CustomLoad)):
+            if isinstance(ld, at_point):
                 self.point_ref(ld.at, f + ".at")
                 if ld.at.startswith("ground."):
                     raise InputError(f + ".at", "a load on the ground does nothing; apply it to a body point")
-            elif isinstance(ld, (Moment, Drag)):
+            elif isinstance(ld, on_body):
                 if ld.body not in self.body_map:
                     raise InputError(f + ".body", f"unknown body '{ld.body}'; bodies: {', '.join(self.body_map)}")
-                if isinstance(ld, Drag):
+                if hasattr(ld, "start"):
                     self.point_ref(f"{ld.body}.{ld.start}", f + ".start")
                     self.point_ref(f"{ld.body}.{ld.end}", f + ".end")
             else:
-                raise InputError(f, f"unknown load type {type(ld).__name__}")
+                raise InputError(f, other.format(type(ld).__name__))
 
     def _values(self):
         """Every (key path, raw value) of the description that is a number or expression."""

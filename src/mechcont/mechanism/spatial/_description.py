@@ -169,24 +169,15 @@ class SpatialMechanism(Mechanism):
     def _coordinate_names(self, body: str) -> tuple[str, ...]:
         return spatial_coordinate_names(body)
 
+    def _load_kinds(self) -> tuple[tuple[type, ...], tuple[type, ...], str]:
+        return ((PointForce, SpatialCustomLoad), (SpatialMoment, SpatialDrag),
+                "load type {} is not available for spatial mechanisms (force, moment, drag, custom)")
+
     def _check_loads(self) -> None:
+        super()._check_loads()
         for ld in self.loads:
-            f = f"loads.{ld.name}"
-            if isinstance(ld, (PointForce, SpatialCustomLoad)):
-                self.point_ref(ld.at, f + ".at")
-                if ld.at.startswith("ground."):
-                    raise InputError(f + ".at", "a load on the ground does nothing; apply it to a body point")
-            elif isinstance(ld, (SpatialMoment, SpatialDrag)):
-                if ld.body not in self.body_map:
-                    raise InputError(f + ".body", f"unknown body '{ld.body}'; bodies: {', '.join(self.body_map)}")
-                if isinstance(ld, SpatialDrag):
-                    self.point_ref(f"{ld.body}.{ld.start}", f + ".start")
-                    self.point_ref(f"{ld.body}.{ld.end}", f + ".end")
-                    if ld.start == ld.end:
-                        raise InputError(f + ".end", "the drag segment needs two different points")
-            else:
-                raise InputError(f, f"load type {type(ld).__name__} is not available for spatial mechanisms "
-                                    "(force, moment, drag, custom)")
+            if isinstance(ld, SpatialDrag) and ld.start == ld.end:
+                raise InputError(f"loads.{ld.name}.end", "the drag segment needs two different points")
 
     def _values(self):
         for b in self.bodies:
