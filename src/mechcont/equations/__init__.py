@@ -1,9 +1,9 @@
 """Equations: named algebraic systems with exact derivatives, and their mechanics."""
 
 from ._mechanics import MechanicalModel, StabilityResult, velocity_symbol
-from ._model import Model, as_model
+from ._model import Model, StopLimit, as_model
 from ._scene import Scene
 from ._system import EquationSystem, Limit, Variable
 
-__all__ = ["EquationSystem", "Model", "as_model", "Variable", "Limit", "MechanicalModel", "StabilityResult",
+__all__ = ["EquationSystem", "Model", "StopLimit", "as_model", "Variable", "Limit", "MechanicalModel", "StabilityResult",
            "velocity_symbol", "Scene"]

@@ -377,8 +377,12 @@ class MechanicalModel:
         _, _, Vt, r = self._decompose(x, rtol)
         return Vt[r:].T
 
-    def stability(self, x, rtol: float = 1e-9) -> StabilityResult:
+    def stability(self, x, rtol: float = 1e-9, held: np.ndarray | None = None) -> StabilityResult:
         """Physical stability of the equilibrium at ``x`` (a full variable vector).
+
+        ``held`` (optional, shape (k, n_q)): gradients of further relations held fixed, e.g. a
+        stop in contact (its reaction's curvature is already in the forces); the motions they
+        forbid are removed from the tangent space as the joints' are.
 
         Reduces the tangent stiffness to the constraint tangent space, ``Kr = Z^T K Z``.
         Conservative (symmetric ``Kr``): the number of negative eigenvalues is the number
@@ -400,6 +404,9 @@ class MechanicalModel:
             K = layout.stiffness(out, None)
             Vt, r = np.eye(nq), 0
         Z = Vt[r:].T
+        if held is not None and len(held) and Z.shape[1]:
+            _, hs, hVt = np.linalg.svd(np.atleast_2d(held) @ Z)
+            Z = Z @ hVt[int(np.count_nonzero(hs > 1e-10 * max(hs[0], 1e-300))):].T
         if Z.shape[1] == 0:
             return StabilityResult(0, np.zeros(0), True)
         Kr = Z.T @ K @ Z

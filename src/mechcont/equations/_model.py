@@ -21,7 +21,27 @@ import sympy as sp
 
 from ._system import EquationSystem
 
-__all__ = ["Model", "as_model"]
+__all__ = ["Model", "StopLimit", "as_model"]
+
+
+@dataclass(frozen=True)
+class StopLimit:
+    """A stop of a model: the condition it limits, its contact reaction and its limit.
+
+    ``side`` is +1 when the condition stays at or above ``limit`` (a min stop), -1 at or below;
+    ``limit`` is in the condition's unit (its value at the build's parameter values);
+    ``reaction`` names the contact reaction parameter (>= 0 in contact; see
+    :mod:`mechcont.mechanism._stops`)."""
+
+    name: str
+    condition: str
+    reaction: str
+    side: int
+    limit: float
+
+    def gap(self, condition_value: float) -> float:
+        """How far (condition unit) the condition is from the stop, >= 0 on the allowed side."""
+        return self.side * (condition_value - self.limit)
 
 
 @dataclass(eq=False)
@@ -58,6 +78,8 @@ class Model(EquationSystem):
         ``assemble_downlocked(values, hold) -> x``: a closed-form downlocked guess, or None.
     geometry:
         A model's own geometry record (the dual-sidestay gear's), or None.
+    stops:
+        The stops (:class:`StopLimit`): one-sided limits of conditions with their contact reactions.
     """
 
     potential_energy: sp.Expr | None = None
@@ -73,6 +95,7 @@ class Model(EquationSystem):
     downlocked: np.ndarray | None = field(default=None, repr=False)
     assemble_downlocked: Callable[..., np.ndarray] | None = field(default=None, repr=False)
     geometry: object | None = field(default=None, repr=False)
+    stops: tuple[StopLimit, ...] = ()
 
     def __setattr__(self, name: str, value) -> None:
         if name not in _declared(type(self)):

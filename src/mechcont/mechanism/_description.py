@@ -29,6 +29,7 @@ from ..errors import InputError
 from ._actuators import Actuator, check_actuators
 from ._conditions import Condition, DownlockSpec, check_conditions
 from ._expr import FUNCTIONS, Value, symbol, to_expr
+from ._stops import Stop, StopReaction, check_stops, stop_reactions
 
 __all__ = [
     "Parameter", "Polar", "Body", "Revolute", "Slider", "Prismatic", "Weld", "Spring", "Damper",
@@ -314,6 +315,11 @@ class Mechanism:
         Coordinates held during the first assembly, ``{name: value}`` (expressions allowed).
     description:
         Free text.
+    conditions:
+        Named relations of the configuration that analyses watch or hold (:mod:`._conditions`).
+    stops:
+        One-sided limits of conditions (:mod:`._stops`); each adds the contact reaction parameter
+        ``R_<stop>`` (default 0) to :attr:`parameters`.
 
     Raises
     ------
@@ -339,6 +345,7 @@ class Mechanism:
     conditions: Sequence[Condition] = ()
     actuators: Sequence[Actuator] = ()
     downlock: DownlockSpec | None = None
+    stops: Sequence[Stop] = ()
     # the value-independent part of each generated form, made by the first build (never pickled)
     _generated: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
@@ -355,6 +362,10 @@ class Mechanism:
         self.ground = dict(self.ground)
         self.hold = dict(self.hold)
         self.conditions, self.actuators = tuple(self.conditions), tuple(self.actuators)
+        self.stops = tuple(self.stops)
+        # a copy (dataclasses.replace) passes the generated reactions back in: made anew here
+        self.parameters = (*(p for p in self.parameters if not isinstance(p, StopReaction)),
+                           *stop_reactions(self, self.stops))
         self._validate()
 
     def __getstate__(self) -> dict:
@@ -378,6 +389,9 @@ class Mechanism:
             _check_name(p.name, f, digits=False)
             _check_variable_name(p.name, f, "parameter")
             if p.name in self.param_symbols:
+                if isinstance(p, StopReaction):
+                    raise InputError(f, f"clashes with the contact reaction {p.name} of a stop: rename the parameter "
+                                        "or the stop")
                 raise InputError(f, "parameter defined more than once")
             if isinstance(p.value, bool) or not isinstance(p.value, (int, float)):
                 raise InputError(f, f"value must be a number, got {p.value!r}")
@@ -404,7 +418,8 @@ class Mechanism:
             _check_name(name, f"ground.{name}")
         seen: dict[str, str] = {}
         groups = [("joints", self.joints), ("springs", self.springs), ("dampers", self.dampers),
-                  ("loads", self.loads), ("actuators", self.actuators), ("conditions", self.conditions)]
+                  ("loads", self.loads), ("actuators", self.actuators), ("conditions", self.conditions),
+                  ("stops", self.stops)]
         for group, items in groups:
             for it in items:
                 _check_name(it.name, f"{group}.{it.name}")
@@ -429,6 +444,7 @@ class Mechanism:
         self._check_loads()
         check_actuators(self)
         check_conditions(self)
+        check_stops(self)
         for name in self.hold:
             if name not in self.coordinate_symbols:
                 raise InputError(f"assembly.hold.{name}",
@@ -547,6 +563,8 @@ class Mechanism:
                 yield f"conditions.{c.name}.expr", c.expr
             if c.target is not None:
                 yield f"conditions.{c.name}.target", c.target
+        for st in self.stops:
+            yield f"stops.{st.name}.{'min' if st.side > 0 else 'max'}", st.limit
 
     def expr(self, value: Value, field: str) -> sp.Expr:
         """Parse ``value`` over the parameters (and, for custom loads and conditions, the coordinates)."""

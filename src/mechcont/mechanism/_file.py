@@ -28,6 +28,9 @@ Layout (every number may be an expression string in the parameter names)::
                                 | {type = "angle", bodies = [b1, b2], target, description}
                            (each adds the state NAME and the row cond_NAME: c(q, p) - NAME = 0;
                            see mechcont.mechanism._conditions for the sign conventions)
+    [stops.NAME]           condition, min = LIMIT or max = LIMIT, description: a one-sided limit
+                           of the condition; its contact reaction is the parameter R_NAME (>= 0,
+                           default 0), see mechcont.mechanism._stops
     [mechanism] downlock = {condition = NAME, force = PARAMETER}: the condition held (at its
                            target) and the force solved for by ``mechcont downlock``/``design``
 
@@ -62,6 +65,7 @@ from ._description import (
     Spring,
     Weld,
 )
+from ._stops import STOP_KEYS, stops_from_table
 
 __all__ = ["load_description", "parse_description", "builtin_descriptions", "find_description", "locate_error"]
 
@@ -73,7 +77,7 @@ _LOADS = {"force": (PointForce, {"at", "magnitude", "direction"}), "moment": (Mo
           "drag": (Drag, {"body", "rho", "U", "alpha", "d", "CD", "start", "end"}),
           "custom": (CustomLoad, {"at", "fx", "fy", "moment"})}
 _SECTIONS = {"mechanism", "parameters", "ground", "bodies", "joints", "springs", "dampers", "gravity", "loads",
-             "assembly", "actuators", "conditions"}
+             "assembly", "actuators", "conditions", "stops"}
 #: The keys accepted in each table other than ``[joints.NAME]``/``[loads.NAME]`` (whose keys,
 #: per ``type``, are in ``_JOINTS``/``_LOADS``), by key path; ``NAME`` stands for a user's name.
 #: The parser checks against these sets and docs/mechanism-format.md is tested against them.
@@ -88,6 +92,7 @@ KEYS: dict[str, frozenset[str]] = {
     "dampers.NAME": frozenset({"a", "b", "c"}),
     "gravity": frozenset({"g", "angle"}),
     "assembly": frozenset({"hold"}),
+    "stops.NAME": STOP_KEYS,
 }
 
 
@@ -273,7 +278,8 @@ def _common(data: Mapping, head: Mapping, filename: str) -> dict:
         redundant=head.get("redundant", "error"),
         conditions=conditions_from_table(_table(data, "conditions", "conditions")),
         actuators=actuators_from_table(_table(data, "actuators", "actuators")),
-        downlock=downlock_from_table(head["downlock"]) if "downlock" in head else None)
+        downlock=downlock_from_table(head["downlock"]) if "downlock" in head else None,
+        stops=stops_from_table(_table(data, "stops", "stops")))
 
 
 def _mechanism(data: Mapping, filename: str) -> Mechanism:

@@ -7,6 +7,8 @@ named ``R_<joint>_x``, ``R_<joint>_y``, ``R_<joint>`` or ``T_<joint>``). Equatio
     Phi(q, p) = 0                           (one row per constraint: <joint>_x, ...)
     c(q, p) - NAME = 0                      (one row per condition: cond_<NAME>, state NAME)
 
+where ``Q`` includes each stop's contact reaction ``s R_<stop> dc/dq`` (see :mod:`._stops`)
+
 with ``Q = -dV/dq + Q_nc`` at rest (see :mod:`._forces`). Length-mode actuators are
 constraint rows (reaction ``T_<actuator>``, see :mod:`._actuators`); condition rows are
 outputs that the mechanics never see (see :mod:`._conditions`). For a body whose frame origin is
@@ -26,7 +28,7 @@ from functools import partial
 import numpy as np
 import sympy as sp
 
-from ..equations import EquationSystem, MechanicalModel, Model, Variable, velocity_symbol
+from ..equations import EquationSystem, MechanicalModel, Model, StopLimit, Variable, velocity_symbol
 from ..errors import InputError
 from ._assembly import close_constraints, dof_report
 from ._conditions import condition_description, condition_rows, condition_scale, condition_targets
@@ -36,6 +38,7 @@ from ._forces import loads
 from ._kinematics import ConstraintRow, Kinematics, pin_chain
 from ._reduce import reduce_form
 from ._scene import scene_function
+from ._stops import stop_forces
 from ._values import check_values, evaluate, parameter_values, physical_limits
 
 __all__ = ["generate"]
@@ -245,6 +248,8 @@ def _structure(mech: Mechanism, reduced: bool) -> _Structure:
         coords, mass, subs, V = list(kin.coords), M, {}, ld.V
         forces = [-sp.diff(ld.V, qi) + qnc for qi, qnc in zip(kin.q, ld.Q_nc)]
     conditions = condition_rows(kin, subs)
+    if mech.stops:
+        forces = [f + g for f, g in zip(forces, stop_forces(mech, conditions, [symbol(c) for c in coords]))]
     equilibrium, model = _equilibrium(mech, coords, rows, forces, mass, [c.name for c, _ in conditions])
     st = _Structure(kin, rows, ld.arrows, coords, forces, mass, subs, V, conditions, model, equilibrium)
     mech._generated[key] = st
@@ -341,10 +346,17 @@ def condition_and_parameter_variables(mech: Mechanism, conditions, condition_val
 
 
 def condition_fields(mech: Mechanism, values: Mapping[str, float]) -> tuple[dict, dict]:
-    """Each condition's target at ``values`` and the downlock fields of a :class:`Model` (empty without one)."""
+    """Each condition's target at ``values``, and the downlock and stop fields of a :class:`Model`
+    (each only when the description has one)."""
     targets = condition_targets(mech, values)
-    downlock = ({"downlock_hold": {mech.downlock.condition: targets[mech.downlock.condition]},
-                 "downlock_force": mech.downlock.force} if mech.downlock is not None else {})
+    downlock: dict = ({"downlock_hold": {mech.downlock.condition: targets[mech.downlock.condition]},
+                       "downlock_force": mech.downlock.force} if mech.downlock is not None else {})
+    if mech.stops:
+        downlock["stops"] = tuple(
+            StopLimit(s.name, s.condition, s.reaction, s.side,
+                      evaluate(mech.value(f"stops.{s.name}.{'min' if s.side > 0 else 'max'}"), values,
+                               f"stops.{s.name}"))
+            for s in mech.stops)
     return targets, downlock
 
 

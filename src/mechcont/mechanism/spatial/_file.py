@@ -1,7 +1,7 @@
 """The spatial part of a description file (``[mechanism] dimension = 3``).
 
 Layout (besides the tables planar and spatial files share: ``[parameters]``, ``[springs]``,
-``[dampers]``, ``[actuators]``, ``[conditions]``, ``[assembly]``; every number may be an
+``[dampers]``, ``[actuators]``, ``[conditions]``, ``[stops]``, ``[assembly]``; every number may be an
 expression string in the parameter names)::
 
     [ground]            NAME = [x, y, z]

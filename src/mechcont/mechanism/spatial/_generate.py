@@ -40,6 +40,7 @@ from .._generate import (
     condition_and_parameter_variables,
     condition_fields,
 )
+from .._stops import stop_forces
 from .._values import evaluate, parameter_values
 from ._description import SpatialMechanism
 from ._joints import SpatialRow
@@ -123,7 +124,11 @@ def _misfit_error(mech: SpatialMechanism, rows: list[SpatialRow], phi: np.ndarra
     for row, r in zip(rows, phi):
         if not row.joint.startswith("norm_"):   # a normalisation row is no joint: its residual is rounding
             gaps[row.joint] = float(np.hypot(gaps.get(row.joint, 0.0), r))
-    worst = sorted((g, j) for j, g in gaps.items() if g > 1e-9)[::-1][:3]
+    order = {j.name: i for i, j in enumerate(mech.joints)}
+    # largest first, equal misfits (to the 4 digits shown) in declaration order: a tie must not
+    # depend on the last bits of a least-squares solve
+    worst = sorted(((g, j) for j, g in gaps.items() if g > 1e-9),
+                   key=lambda gj: (-float(f"{gj[0]:.4g}"), order.get(gj[1], len(order))))[:3]
     shown = ", ".join(f"{j} {g:.4g}" for g, j in worst)
     field = f"joints.{worst[0][1]}" if worst and worst[0][1] in {j.name for j in mech.joints} else "joints"
     return InputError(field, f"the rigid closure cannot be assembled: misfit (m or rad, least squares) {shown}; "
@@ -226,6 +231,8 @@ def _structure(mech: SpatialMechanism) -> _Structure:
     forces = [-dv + qnc for dv, qnc in zip(gradient(ld.V, kin.q), ld.Q_nc)]
     mass = kin.mass_matrix()
     conditions = condition_rows(kin, {})
+    if mech.stops:
+        forces = [f + g for f, g in zip(forces, stop_forces(mech, conditions, kin.q, gradient=gradient))]
     names = [*coords, *(r.reaction for r in rows), *(c.name for c, _ in conditions), *(p.name for p in mech.parameters)]
     closure = MechanicalModel(names, coords, [r.expr for r in rows], forces, mass)
     st = mech._generated["spatial"] = _Structure(kin, rows, ld.arrows, coords, forces, mass, ld.V, conditions,

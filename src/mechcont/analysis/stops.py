@@ -1,0 +1,334 @@
+"""Continuation of a mechanism with stops: contact and release switch the equations on the way.
+
+A stop (``[stops.NAME]`` of a description, :class:`~mechcont.equations.StopLimit` of a model)
+keeps a condition ``c`` on one side of a limit. Along a branch each stop is either
+
+* *in contact*: ``c`` held at the limit, the contact reaction ``R_NAME`` solved for (it must stay
+  >= 0: a stop pushes, it does not pull), or
+* *free*: ``R_NAME = 0`` and ``c`` solved for (it must stay on the allowed side of the limit).
+
+:func:`continuation_with_stops` continues with one such *active set* until a reaction reaches
+zero (``SR``, stop released) or a free condition reaches its limit (``SC``, stop contact), then
+switches that stop and continues from the located switch point in the same sense along the
+branch. The pieces are joined into one :class:`~mechcont.continuation.Branch`: its points carry
+the full variable vector (the conditions and reactions are columns), ``SC``/``SR`` label the
+switches, ``LP`` the folds of the piece they lie on (each keeps its own lens in
+``info["unknowns"]``, so :func:`~mechcont.continuation.continue_folds` follows it in a second
+parameter with the stops it had in contact held).
+
+:func:`equilibrium_on_stops` finds the start: an equilibrium whose active set is consistent
+(every reaction >= 0, every free condition on its side), by adding the most violated stop or
+releasing the most negative reaction until none is left (a small active-set method).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..continuation import Branch, ContinuationOptions, FoldEvent, SpecialPoint, ValueEvent, continuation, find_equilibrium
+from ..equations import EquationSystem, StopLimit, as_model
+from ..errors import ConvergenceError, InputError
+
+__all__ = ["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stops_in_contact"]
+
+#: A stop counts as touching when its condition is within this of the limit (condition units: a
+#: sine, rad or m), far below any physical gap and far above the solver's residual.
+GAP_TOL = 1e-9
+
+
+def _stops(system: EquationSystem, names: Iterable[str] | None) -> tuple[StopLimit, ...]:
+    have = as_model(system).stops
+    if names is None:
+        return have
+    by_name = {s.name: s for s in have}
+    out = []
+    for n in names:
+        if n not in by_name:
+            valid = ", ".join(by_name) or "none (declare [stops.NAME] in the description)"
+            raise InputError("stops", f"unknown stop {n!r}; stops of {system.name}: {valid}")
+        out.append(by_name[n])
+    return tuple(out)
+
+
+def stops_in_contact(system: EquationSystem, x: np.ndarray, stops: Sequence[StopLimit] | None = None) -> list[str]:
+    """Names of the stops touching at the full vector ``x``: condition at its limit and reaction > 0."""
+    stops = _stops(system, None) if stops is None else stops
+    return [s.name for s in stops
+            if abs(s.gap(x[system.index(s.condition)])) <= GAP_TOL and x[system.index(s.reaction)] > 0]
+
+
+def _lens(stops: Sequence[StopLimit], active: Iterable[str], hold: Iterable[str], free: Iterable[str]):
+    active = set(active)
+    hold_ = [*hold, *(s.condition for s in stops if s.name in active)]
+    free_ = [*free, *(s.reaction for s in stops if s.name in active)]
+    return hold_, free_
+
+
+def _with_contacts(system: EquationSystem, x: np.ndarray, stops, active) -> np.ndarray:
+    """``x`` with the active stops' conditions exactly at their limits and the free stops' reactions 0."""
+    y = np.array(x, dtype=float)
+    for s in stops:
+        if s.name in active:
+            y[system.index(s.condition)] = s.limit
+        else:
+            y[system.index(s.reaction)] = 0.0
+    return y
+
+
+def equilibrium_on_stops(system: EquationSystem, guess: np.ndarray | Mapping[str, float], *,
+                         values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
+                         free: Iterable[str] = (), stops: Iterable[str] | None = None,
+                         contact: Iterable[str] | None = None) -> tuple[np.ndarray, list[str]]:
+    """An equilibrium with a consistent set of stops in contact.
+
+    Parameters
+    ----------
+    system:
+        A model with stops (``system.stops``).
+    guess:
+        Full vector or ``{name: value}`` near the equilibrium.
+    values, hold, free:
+        As :func:`~mechcont.continuation.find_equilibrium` (parameters set, states held, parameters freed).
+    stops:
+        Names of the stops to consider (default: all of the model's).
+    contact:
+        The stops to try in contact first (default: those whose condition is at or past its limit
+        at ``guess``).
+
+    Returns
+    -------
+    (x, contact)
+        The full vector (reactions of free stops 0, reactions in contact >= 0, free conditions on
+        their sides) and the names of the stops in contact.
+
+    Raises
+    ------
+    ConvergenceError
+        When no active set gives a consistent equilibrium (the sets tried are named).
+    """
+    st = _stops(system, stops)
+    x = system.vector(guess) if isinstance(guess, Mapping) else np.array(guess, dtype=float)
+    active = set(contact) if contact is not None else {s.name for s in st
+                                                       if s.gap(x[system.index(s.condition)]) <= GAP_TOL}
+    tried = []
+    hold = dict(hold or {})
+    for _ in range(2 ** len(st) + 1):
+        tried.append(sorted(active))
+        hold_k = {**hold, **{s.condition: s.limit for s in st if s.name in active}}
+        free_k = [*free, *(s.reaction for s in st if s.name in active)]
+        y = find_equilibrium(system, values={**(values or {}), **{s.reaction: 0.0 for s in st
+                                                                   if s.name not in active}},
+                             hold=hold_k, free=free_k, guess=_with_contacts(system, x, st, active))
+        pulls = {s.name: y[system.index(s.reaction)] for s in st if s.name in active}
+        past = {s.name: s.gap(y[system.index(s.condition)]) for s in st if s.name not in active}
+        worst_pull = min(pulls, key=pulls.get, default=None)
+        worst_past = min(past, key=past.get, default=None)
+        if worst_past is not None and past[worst_past] < -GAP_TOL:
+            active.add(worst_past)
+        elif worst_pull is not None and pulls[worst_pull] < 0:
+            active.discard(worst_pull)
+        else:
+            return y, [s.name for s in st if s.name in active]
+        if sorted(active) in tried:
+            break
+        x = y
+    raise ConvergenceError(f"no consistent set of stops in contact: tried {tried} (a stop pulling or a free "
+                           "condition past its limit in each)")
+
+
+@dataclass
+class StopRun:
+    """The result of :func:`continuation_with_stops`.
+
+    Attributes
+    ----------
+    branch:
+        All pieces joined in order (arclength continued across switches); ``SC``/``SR`` label
+        where a stop made or lost contact, ``LP`` the folds, ``EP`` the ends.
+    pieces:
+        The branch of each piece, with ``contact[i]`` the stops in contact along piece ``i``.
+    contact:
+        Per piece, the names of the stops in contact.
+    directions:
+        Per piece, +1 when it was run increasing the parameter at its start, -1 decreasing (a
+        piece's rows run in arclength order, so a -1 piece is travelled from its last row).
+    switches:
+        ``(label, stop name, index into branch)`` of every switch.
+    message:
+        Why the run ended (the last piece's end, or the switch limit).
+    """
+
+    branch: Branch
+    pieces: list[Branch] = field(default_factory=list)
+    contact: list[tuple[str, ...]] = field(default_factory=list)
+    switches: list[tuple[str, str, int]] = field(default_factory=list)
+    message: str = ""
+    directions: list[int] = field(default_factory=list)
+
+    def first_fold(self) -> SpecialPoint | None:
+        """The first fold (``LP``) along the run from its start, or None."""
+        return next((p for p in self.branch.special_points if p.label == "LP"), None)
+
+
+def _travel(branch: Branch, vary: str, sign: int) -> int:
+    """+1 when ``vary`` was increasing at the end of a piece run in direction ``sign``, -1 when decreasing."""
+    col = branch.values[:, branch.names.index(vary)]
+    if sign < 0:
+        col = col[::-1]
+    if len(col) < 2 or col[-1] == col[-2]:
+        return sign
+    return 1 if col[-1] > col[-2] else -1
+
+
+class _StopEvent(ValueEvent):
+    """Contact (``SC``: a free condition reaches its limit) or release (``SR``: a reaction reaches 0); ends a piece."""
+
+    def __init__(self, stop: StopLimit, in_contact: bool):
+        if in_contact:
+            super().__init__(stop.reaction, 0.0, label="SR", stop=True)
+        else:
+            super().__init__(stop.condition, stop.limit, label="SC", stop=True)
+        self.stop_name, self.side = stop.name, (1 if in_contact else stop.side)
+
+    def value(self, problem, state) -> float:
+        # positive on the allowed side (reaction >= 0, condition on its side of the limit), so a piece
+        # that starts at a switch and leaves the allowed side at once ends as "start on a bound"
+        return self.side * super().value(problem, state)
+
+    def point_info(self) -> dict:
+        return {"stop": self.stop_name}
+
+
+class _FirstFold(FoldEvent):
+    """A fold that ends the run (``stop_at_fold``)."""
+
+    stop = True
+
+
+def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str, *, direction: int = 1,
+                            hold: Iterable[str] = (), free: Iterable[str] = (), stops: Iterable[str] | None = None,
+                            contact: Iterable[str] | None = None, options: ContinuationOptions | None = None,
+                            stop_at_fold: bool = False, max_switches: int = 20,
+                            progress: Callable[[int], None] | None = None) -> StopRun:
+    """Continue equilibria in ``vary`` with stops making and losing contact on the way.
+
+    Parameters
+    ----------
+    system:
+        A model with stops.
+    start:
+        A converged full vector with a consistent contact set (see :func:`equilibrium_on_stops`).
+    vary:
+        The continuation parameter (e.g. an unlock force ``F_fwd``, N).
+    direction:
+        +1: start by increasing ``vary``; -1: decreasing. (One direction: a run follows the
+        mechanism as the parameter is pushed one way.)
+    hold, free:
+        The lens besides the stops (states held, parameters freed), as :func:`continuation`.
+    stops:
+        The stops considered (default: all of the model's); the others stay as they are in ``start``.
+    contact:
+        The stops in contact at ``start`` (default: those touching there, :func:`stops_in_contact`).
+    options:
+        Continuation options; its ``bounds`` end the whole run.
+    stop_at_fold:
+        End the run at the first fold (e.g. the unlock load).
+    max_switches:
+        Largest number of contact changes before the run ends (a chattering contact is reported).
+    progress:
+        Called with 1 after every accepted step.
+
+    Returns
+    -------
+    StopRun
+        The joined branch, its pieces and switches. A piece that fails ends the run with its
+        message; what was computed up to there is returned.
+    """
+    if direction not in (-1, 1):
+        raise InputError("direction", f"must be +1 or -1 (a run with stops goes one way), got {direction!r}")
+    st = _stops(system, stops)
+    options = options or ContinuationOptions()
+    if stop_at_fold:
+        options = replace(options, detect_folds=False)
+    x = np.array(start, dtype=float)
+    active = set(stops_in_contact(system, x, st) if contact is None else contact)
+    hold, free = list(hold), list(free)
+    run = StopRun(branch=None)  # type: ignore[arg-type]
+    sign = direction
+    for _ in range(max_switches + 1):
+        x = _with_contacts(system, x, st, active)
+        events = [_StopEvent(s, s.name in active) for s in st] + ([_FirstFold()] if stop_at_fold else [])
+        hold_k, free_k = _lens(st, active, hold, free)
+        piece = continuation(system, x, vary, hold=hold_k, free=free_k, options=options, direction=sign,
+                             events=events, progress=progress)
+        if active and options.stability:
+            _contact_stability(system, piece, [s for s in st if s.name in active])
+        run.pieces.append(piece)
+        run.contact.append(tuple(s.name for s in st if s.name in active))
+        run.directions.append(sign)
+        last = len(piece) - 1 if sign > 0 else 0  # a branch's rows run in increasing arclength
+        end = next((p for p in piece.special_points if p.index == last and p.label in ("SC", "SR")), None)
+        switched = end is not None and "stop" in end.info
+        if not switched:
+            run.message = piece.message or f"ended: {piece.status}"
+            break
+        name = end.info["stop"]
+        run.switches.append((end.label, name, -1))
+        (active.discard if end.label == "SR" else active.add)(name)
+        sign = _travel(piece, vary, sign)
+        x = piece.values[last]
+    else:
+        run.message = f"stopped after {max_switches} contact changes (a chattering contact: check the stops' limits)"
+    run.branch = _join(system, run.pieces, vary, run)
+    return run
+
+
+def _contact_stability(system: EquationSystem, piece: Branch, touching: Sequence[StopLimit]) -> None:
+    """Stability along a piece with stops in contact: a stop pushing (reaction > 0) forbids motion across
+    it, so its condition's gradient is held like a joint's (``n_unstable`` rewritten in place)."""
+    mech = system.mechanics
+    cols = [system.index(q) for q in mech.coordinates]
+    rows = [system.equation_names.index(f"cond_{s.condition}") for s in touching]
+    for i, x in enumerate(piece.values):
+        J = system.jacobian(x)
+        piece.n_unstable[i] = mech.stability(x, held=J[np.ix_(rows, cols)]).n_unstable
+
+
+def _join(system: EquationSystem, pieces: list[Branch], vary: str, run: StopRun) -> Branch:
+    """One branch of the pieces in travel order; each switch row appears once (the end of its piece), labelled."""
+    rows: list[np.ndarray] = []
+    s: list[float] = []
+    stab: list[int] = []
+    labels: list[str] = []
+    special: list[SpecialPoint] = []
+    offset = 0.0
+    k_switch = 0
+    for i, (p, sign) in enumerate(zip(pieces, run.directions)):
+        order = list(range(len(p))) if sign > 0 else list(range(len(p) - 1, -1, -1))
+        pos = {j: k for k, j in enumerate(order)}
+        first = 1 if i > 0 else 0  # a piece starts at the previous piece's switch point
+        base = len(rows) - first
+        s0 = p.s[order[0]] if order else 0.0
+        for j in order[first:]:
+            rows.append(p.values[j])
+            s.append(offset + abs(p.s[j] - s0))
+            stab.append(int(p.n_unstable[j]))
+            labels.append(p.labels[j])
+        for sp_ in sorted(p.special_points, key=lambda q: pos[q.index]):
+            k = pos[sp_.index]
+            if k < first:
+                continue
+            idx = base + k
+            special.append(SpecialPoint(sp_.label, idx, sp_.x.copy(), sp_.names, sp_.tangent, dict(sp_.info)))
+            if sp_.label in ("SC", "SR") and k == len(order) - 1 and k_switch < len(run.switches):
+                lab, name, _ = run.switches[k_switch]
+                run.switches[k_switch] = (lab, name, idx)
+                k_switch += 1
+        offset = s[-1] if s else 0.0
+    unknowns = pieces[0].unknowns if pieces else ()
+    status = pieces[-1].status if pieces else "failed"
+    return Branch(system.names, np.array(rows), s, stab, labels, special, vary, unknowns, status, run.message,
+                  system.name, units={v.name: v.unit for v in system.variables})

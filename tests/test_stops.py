@@ -1,0 +1,162 @@
+"""Stops: one-sided limits of conditions, their contact reactions, and continuation through contact changes.
+
+Truth: a pendulum resting on a stop (planar angle stop, spatial distance stop), closed forms for the
+contact reaction, the release load and the fold after release; the generated stop force against
+finite differences of the condition.
+"""
+
+import math
+import pickle
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mechcont.analysis import continuation_with_stops, equilibrium_on_stops, stops_in_contact
+from mechcont.continuation import ContinuationOptions, find_equilibrium
+from mechcont.errors import InputError
+from mechcont.mechanism import load_description, parse_description
+
+DATA = Path(__file__).parent / "data"
+M, L, G, THETA0 = 2.0, 1.0, 9.81, -1.2
+
+
+@pytest.fixture(scope="module")
+def pendulum():
+    return load_description(DATA / "pendulum_stop.toml").build()
+
+
+def test_reaction_is_a_parameter_with_its_unit(pendulum):
+    v = pendulum.variable("R_rest")
+    assert v.kind == "parameter" and v.value == 0.0 and v.unit == "N m"
+    (stop,) = pendulum.stops
+    assert (stop.condition, stop.side, stop.limit, stop.reaction) == ("angle", 1, -1.2, "R_rest")
+    assert stop.gap(-1.0) == pytest.approx(0.2)
+
+
+def test_contact_reaction_closed_form(pendulum):
+    x, contact = equilibrium_on_stops(pendulum, pendulum.defaults())
+    assert contact == ["rest"]
+    d = pendulum.as_dict(x)
+    # moment balance about the pin: R = m g (L/2) cos(theta0)
+    assert d["R_rest"] == pytest.approx(M * G * L / 2 * math.cos(THETA0), rel=1e-12)
+    assert d["angle"] == THETA0
+    assert stops_in_contact(pendulum, x) == ["rest"]
+
+
+def test_free_equilibrium_leaves_the_stop_alone(pendulum):
+    # a large lifting moment: the bar stands off the stop, reaction 0
+    x0 = find_equilibrium(pendulum, values={"T": 8.0}, guess={"theta_bar": -0.5, "angle": -0.5})
+    x, contact = equilibrium_on_stops(pendulum, x0)
+    d = pendulum.as_dict(x)
+    assert contact == [] and d["R_rest"] == 0.0
+    assert math.cos(d["theta_bar"]) == pytest.approx(8.0 / (M * G * L / 2), rel=1e-10)
+
+
+def test_generated_stop_force_is_the_condition_gradient(pendulum):
+    # the Jacobian column of R_rest in the moment row is d(angle)/d(theta_bar) = 1
+    x, _ = equilibrium_on_stops(pendulum, pendulum.defaults())
+    J = pendulum.jacobian(x)
+    row = pendulum.equation_names.index("M_bar")
+    assert J[row, pendulum.index("R_rest")] == pytest.approx(1.0, abs=1e-14)
+
+
+def test_release_then_fold(pendulum):
+    x, _ = equilibrium_on_stops(pendulum, pendulum.defaults())
+    run = continuation_with_stops(pendulum, x, "T", direction=1, stop_at_fold=True,
+                                  options=ContinuationOptions(bounds={"T": (-20, 20)}))
+    assert [s[:2] for s in run.switches] == [("SR", "rest")]
+    assert run.contact == [("rest",), ()]
+    sr = run.branch[run.branch.special_points[0].label + "1"]
+    assert sr.label == "SR" and sr.info["stop"] == "rest"
+    assert sr["T"] == pytest.approx(M * G * L / 2 * math.cos(THETA0), rel=1e-9)
+    assert abs(sr["R_rest"]) < 1e-9
+    lp = run.first_fold()
+    # lifted off the stop the bar balances T = m g (L/2) cos(theta): the largest T it carries is at theta = 0
+    assert lp["T"] == pytest.approx(M * G * L / 2, rel=1e-9)
+    assert abs(lp["theta_bar"]) < 1e-6
+    # the contact piece is stable, the free piece stable up to the fold
+    b = run.branch
+    assert np.all(b.n_unstable[: lp.index] == 0)
+    # on the contact piece the reaction carries the rest: R + T = m g (L/2) cos(theta0)
+    on = b.values[: run.switches[0][2] + 1]
+    np.testing.assert_allclose(on[:, b.names.index("R_rest")] + on[:, b.names.index("T")],
+                               M * G * L / 2 * math.cos(THETA0), rtol=1e-10)
+
+
+def test_contact_made_on_the_way_down(pendulum):
+    x0 = find_equilibrium(pendulum, values={"T": 5.0}, guess={"theta_bar": -1.0, "angle": -1.0})
+    x, contact = equilibrium_on_stops(pendulum, x0)
+    assert contact == []
+    run = continuation_with_stops(pendulum, x, "T", direction=-1,
+                                  options=ContinuationOptions(bounds={"T": (-10, 10)}))
+    assert [s[:2] for s in run.switches] == [("SC", "rest")]
+    sc = run.branch.special_points[0]
+    assert sc.label == "SC" and sc["T"] == pytest.approx(M * G * L / 2 * math.cos(THETA0), rel=1e-9)
+    end = run.branch.values[-1]
+    d = dict(zip(run.branch.names, end))
+    assert d["T"] == pytest.approx(-10.0)
+    assert d["R_rest"] == pytest.approx(M * G * L / 2 * math.cos(THETA0) + 10.0, rel=1e-10)
+    assert d["angle"] == pytest.approx(THETA0, abs=1e-12)
+
+
+def test_contact_stability_holds_the_stop():
+    # a pendulum pushed by gravity against a stop above the horizontal: free it would be unstable
+    # there (it hangs below), held by the stop it is not
+    text = (DATA / "pendulum_stop.toml").read_text().replace("min = -1.2", "max = 0.3").replace(
+        "initial = { theta = -1.2 }", "initial = { theta = 0.3 }")
+    m = parse_description(text, "p.toml").build()
+    x, contact = equilibrium_on_stops(m, m.defaults(), values={"T": 15.0})
+    assert contact == ["rest"]
+    assert m.as_dict(x)["R_rest"] == pytest.approx(15.0 - M * G * L / 2 * math.cos(0.3), rel=1e-12)
+    run = continuation_with_stops(m, x, "T", direction=-1, options=ContinuationOptions(bounds={"T": (10, 15)}))
+    assert m.mechanics.stability(x).n_unstable == 1   # free, the bar would fall from there
+    assert np.all(run.branch.n_unstable == 0)          # held by the stop it is stable
+
+
+def test_spatial_distance_stop_closed_form():
+    m = load_description(DATA / "spatial" / "pendulum_stop_3d.toml").build()
+    assert m.variable("R_floor").unit == "N"
+    x, contact = equilibrium_on_stops(m, m.defaults())
+    assert contact == ["floor"]
+    d = m.as_dict(x)
+    # virtual work: R = m g d_min / (2 L)
+    assert d["R_floor"] == pytest.approx(2.0 * 9.81 * 0.72 / (2 * 0.8), rel=1e-10)
+    assert d["gap"] == 0.72
+
+
+def test_stops_pickle_with_the_model(pendulum):
+    back = pickle.loads(pickle.dumps(pendulum))
+    assert back.stops == pendulum.stops
+    assert back.with_values({"T": 1.0}).stops == pendulum.stops
+
+
+@pytest.mark.parametrize("table, field, words", [
+    ('[stops.rest]\ncondition = "nope"\nmin = 0', "stops.rest.condition", "unknown condition 'nope'"),
+    ('[stops.rest]\ncondition = "angle"\nmin = 0\nmax = 1', "stops.rest", "exactly one of min"),
+    ('[stops.rest]\ncondition = "angle"', "stops.rest", "exactly one of min"),
+    ('[stops.rest]\ncondition = "angle"\nmin = 0\nlimit = 3', "stops.rest.limit", "valid keys"),
+    ('[stops.rest]\ncondition = "angle"\nmin = true', "stops.rest.min", "number or an expression"),
+    ('[stops.rest]\ncondition = "angle"\nmin = "Q + 1"', "stops.rest.min", "Q"),
+])
+def test_bad_stop_tables(table, field, words):
+    text = (DATA / "pendulum_stop.toml").read_text().split("[stops.rest]")[0] + table + "\n"
+    with pytest.raises(InputError) as err:
+        parse_description(text, "p.toml")
+    assert field in str(err.value) and words in str(err.value)
+
+
+def test_reaction_name_clash_is_named():
+    text = (DATA / "pendulum_stop.toml").read_text().replace(
+        'T = { value', 'R_rest = 1.0\nT = { value')
+    with pytest.raises(InputError, match="contact reaction R_rest of a stop"):
+        parse_description(text, "p.toml")
+
+
+def test_no_consistent_contact_set_is_reported(pendulum):
+    # a stop that would have to pull: forcing contact with a large lifting moment releases it
+    x0 = find_equilibrium(pendulum, values={"T": 8.0}, guess={"theta_bar": -0.5, "angle": -0.5})
+    x, contact = equilibrium_on_stops(pendulum, x0, contact=["rest"])
+    assert contact == []
+    with pytest.raises(InputError, match="unknown stop"):
+        equilibrium_on_stops(pendulum, x0, stops=["other"])
