@@ -20,6 +20,9 @@ if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
 fi
 cmd=${1:-test}; shift || true
 export MPLBACKEND=Agg
+# one BLAS thread (mechcont's matrices are small; see src/mechcont/__init__.py), also for test
+# processes that import NumPy before mechcont
+export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 case "$cmd" in
   test) exec .venv/bin/python -m pytest -q "$@" ;;
   paper) exec .venv/bin/mechcont paper "$@" ;;

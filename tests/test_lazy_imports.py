@@ -41,3 +41,20 @@ def test_light_paths_import_nothing_heavy():
                          capture_output=True, text=True, check=True, timeout=300).stdout
     found = json.loads(out)
     assert found == {"import mechcont": [], **{" ".join(c): [] for c in commands}}
+
+
+def _blas_threads(env_value: str | None) -> str:
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    if env_value is not None:
+        env["OPENBLAS_NUM_THREADS"] = env_value
+    code = "import os, mechcont, numpy; print(os.environ.get('OPENBLAS_NUM_THREADS'))"
+    return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                          check=True).stdout.strip()
+
+
+def test_one_blas_thread_by_default_and_the_users_choice_kept():
+    # small matrices on a shared machine: threads spin (a 63 x 64 SVD 96 ms instead of 0.5 ms)
+    assert _blas_threads(None) == "1"
+    assert _blas_threads("3") == "3"

@@ -17,9 +17,19 @@ is both the subpackage and, called, the function :func:`mechcont.continuation.co
 from __future__ import annotations
 
 import importlib
+import os
+import sys
 from typing import TYPE_CHECKING, Any
 
 from .errors import ConvergenceError, InputError, MechcontError
+
+# OpenBLAS (NumPy's and SciPy's BLAS) runs every matrix operation on one thread per core. mechcont's
+# matrices are small (tens to a few hundred rows), where the threads cost more than they give, and
+# when another process holds a core they spin: a 63 x 64 SVD took 96 ms instead of 0.5 ms on the
+# 2-core machine with the other core busy. One thread unless the user chose (only possible before
+# NumPy is first imported; set OPENBLAS_NUM_THREADS yourself to override).
+if "numpy" not in sys.modules:
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 __version__ = "0.1.0"
 

@@ -18,7 +18,13 @@ Bodies and joints (the same idealisation as the hand model, now as rigid bodies)
   at ``J`` by a universal joint and to the fitting at ``P`` by a spherical joint;
 * a lock spring per sidestay from link 1 to the lower arm; a retraction actuator (force mode,
   tension ``F_act``) from the airframe to the fitting; an unlock force ``F_<side>`` at each ``J``
-  normal to the link line in the fold plane (positive towards unlocking); gravity.
+  normal to the link line in the fold plane (positive towards unlocking; ``F_lock`` acts at both
+  together); gravity;
+* each lock-link pair has an overcentre stop 2 deg past aligned (``[stops.<side>_stop]`` on the
+  condition ``<side>_lock``, whose sine an unlock force drives negative; contact reaction
+  ``R_<side>_stop``, N m). In the design pose (gear down, theta = 0) the links are about 3 deg on
+  the unlocking side of aligned; locked, they rest on their stops a few thousandths of a degree of
+  retraction away.
 
 The aft sidestay's airframe attachment may be compliant (``k_att``, N/m): with both lock-link
 pairs held aligned the gear is over-constrained (one sidestay already fixes the fitting), and
@@ -31,10 +37,15 @@ import numpy as np
 
 from .dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry
 
-__all__ = ["dual_sidestay_description", "SPRING_POSITION"]
+__all__ = ["dual_sidestay_description", "SPRING_POSITION", "STOP_ANGLE_DEG", "STOP_SINE"]
 
 #: Lock spring ends: fraction of lock link 1 from K, and of the lower arm from K.
 SPRING_POSITION = (0.35, 0.4)
+#: How far past aligned (deg) the lock links rest on their stops when locked (a representative rigging).
+STOP_ANGLE_DEG = 2.0
+#: The stops' limit on the ``<side>_lock`` conditions: an unlock force drives the sine negative, so the
+#: overcentre side is positive and the stop is ``max = sin(2 deg)``.
+STOP_SINE = float(np.sin(np.radians(STOP_ANGLE_DEG)))
 
 
 def _v(a) -> str:
@@ -77,6 +88,7 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
         'F_act = { value = 0.0, unit = "N", description = "retraction actuator tension (+ pulls its ends together)" }',
         'F_fwd = { value = 0.0, unit = "N", description = "unlock force at the forward lock-link joint" }',
         'F_aft = { value = 0.0, unit = "N", description = "unlock force at the aft lock-link joint" }',
+        'F_lock = { value = 0.0, unit = "N", description = "unlock force at both lock-link joints together" }',
         'k_lock = { value = 8000.0, unit = "N/m", description = "lock spring stiffness" }',
         'stretch = { value = 0.7, unit = "", description = "lock spring free length / its gear-down length" }',
         'm_link1 = { value = 4.0, unit = "kg", description = "lock link 1 mass" }',
@@ -140,7 +152,7 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
     for st in (geo.forward, geo.aft):
         s = st.name
         unlock = _unit(np.cross(st.normal, st.P - st.K))
-        out += ["", f"[loads.F_{s}]", 'type = "force"', f'at = "{s}_link1.b"', f'magnitude = "F_{s}"',
+        out += ["", f"[loads.F_{s}]", 'type = "force"', f'at = "{s}_link1.b"', f'magnitude = "F_{s} + F_lock"',
                 f"direction = {_v(unlock)}"]
     out += ["", "[conditions]"]
     # the retraction angle: the fitting's rotation about the trunnion axis e (right hand) from gear down
@@ -150,4 +162,8 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
         s = st.name
         out.append(f'{s}_lock = {{ type = "collinear", points = ["{s}_link1.a", "{s}_link1.b", "{s}_link2.b"], '
                    f'normal = {_v(st.normal)}, description = "sine of the {s} lock links\' angle (0: aligned)" }}')
+    if not locked:
+        for st in (geo.forward, geo.aft):
+            out += ["", f"[stops.{st.name}_stop]", f'condition = "{st.name}_lock"', f"max = {STOP_SINE!r}",
+                    f'description = "{st.name} lock links\' overcentre stop, {STOP_ANGLE_DEG:g} deg past aligned"']
     return "\n".join(out) + "\n"
