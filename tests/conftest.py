@@ -3,8 +3,11 @@ import os
 import shutil
 import tempfile
 
-import matplotlib
-import pytest
+# one BLAS thread, as `import mechcont` sets when it comes first (matplotlib below imports NumPy)
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import matplotlib  # noqa: E402
+import pytest  # noqa: E402
 
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")

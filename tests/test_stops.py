@@ -160,3 +160,12 @@ def test_no_consistent_contact_set_is_reported(pendulum):
     assert contact == []
     with pytest.raises(InputError, match="unknown stop"):
         equilibrium_on_stops(pendulum, x0, stops=["other"])
+
+
+def test_an_inconsistent_start_is_refused_with_the_way_out(pendulum):
+    # at T = 8 the bar stands off the stop; a start that claims contact there would pull
+    x0 = find_equilibrium(pendulum, values={"T": 8.0}, hold={"angle": THETA0}, free=["R_rest"],
+                          guess={"theta_bar": THETA0})
+    assert pendulum.as_dict(x0)["R_rest"] < 0
+    with pytest.raises(InputError, match="stop rest is not consistently.*equilibrium_on_stops"):
+        continuation_with_stops(pendulum, x0, "T")

@@ -255,6 +255,14 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
         options = replace(options, detect_folds=False)
     x = np.array(start, dtype=float)
     active = set(stops_in_contact(system, x, st) if contact is None else contact)
+    for s in st:
+        R, gap = x[system.index(s.reaction)], s.gap(x[system.index(s.condition)])
+        if (s.name in active and (R < 0 or abs(gap) > GAP_TOL)) or (s.name not in active and (R != 0 or gap < -GAP_TOL)):
+            raise InputError("start", f"stop {s.name} is not consistently in or out of contact there (reaction "
+                                      f"{s.reaction} = {R:.6g}, {s.condition} {gap:+.3g} from its limit): a stop in "
+                                      "contact has its condition at the limit and a reaction >= 0, a free one a zero "
+                                      "reaction and its condition on the allowed side; find the start with "
+                                      "equilibrium_on_stops")
     hold, free = list(hold), list(free)
     run = StopRun(branch=None)  # type: ignore[arg-type]
     sign = direction

@@ -108,3 +108,48 @@ def plot_fold_curve(lengths, angles, retracted: float, nominal: float, plane_ang
     ax.grid(True, linewidth=0.3, alpha=0.5)
     ax.legend(fontsize=8, loc="best")
     return fig
+
+
+def plot_unlock_with_stops(runs: dict, fold_curve=None, labels: dict | None = None):
+    """Unlock with overcentre stops: (left) each unlock force (N) against its lock links' angle from
+    aligned (deg, + overcentre), releases (SR) and unlock folds (LP) marked; (right) the unlock fold of
+    both pairs together against the lock-spring stretch, cusps (CP) marked. ``runs`` maps the force name
+    to its :class:`~mechcont.analysis.StopRun`; ``labels`` names each curve."""
+    fig, ax = new_figure((11.5, 4.5) if fold_curve is not None else (6.5, 4.5))
+    if fold_curve is not None:
+        ax.remove()
+        axes = fig.subplots(1, 2)
+        ax = axes[0]
+    colors = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd"]
+    for (force, run), c in zip(runs.items(), colors):
+        b = run.branch
+        F = b.values[:, b.names.index(force)]
+        side = "aft" if force == "F_aft" else "fwd"
+        psi = np.degrees(np.arcsin(np.clip(b.values[:, b.names.index(f"{side}_lock")], -1, 1)))
+        ax.plot(psi, F, "-", color=c, label=(labels or {}).get(force, force) + f" ({side} links' angle)")
+        for p in b.special_points:
+            if p.label in ("SR", "LP"):
+                ax.plot(np.degrees(np.arcsin(p[f"{side}_lock"])), p[force], "o" if p.label == "LP" else "s",
+                        color=c, markersize=5, markerfacecolor="white" if p.label == "SR" else c)
+                ax.annotate(p.label, (np.degrees(np.arcsin(p[f"{side}_lock"])), p[force]), fontsize=7,
+                            xytext=(4, 4), textcoords="offset points")
+    ax.axvline(0.0, color="0.5", linestyle=":", linewidth=0.8)
+    ax.set_xlabel("lock links' angle from aligned (deg, + overcentre)")
+    ax.set_ylabel("unlock force (N)")
+    ax.set_title("unlock with overcentre stops (SR: leaves its stop, LP: unlocks)", fontsize=10)
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    ax.legend(fontsize=7, loc="best")
+    if fold_curve is not None:
+        ax = axes[1]
+        b = fold_curve
+        ax.plot(b.values[:, b.names.index("stretch")], b.values[:, b.names.index("F_lock")], "-", color="#2ca02c",
+                label="unlock fold (LP) of both pairs")
+        for p in b.special_points:
+            if p.label == "CP":
+                ax.plot(p["stretch"], p["F_lock"], "k*", markersize=9, label="cusp (CP)")
+        ax.set_xlabel("lock spring free length / installed length (stretch)")
+        ax.set_ylabel("unlock force, both pairs (N)")
+        ax.set_title("two-parameter fold curve", fontsize=10)
+        ax.grid(True, linewidth=0.3, alpha=0.5)
+        ax.legend(fontsize=8, loc="best")
+    return fig

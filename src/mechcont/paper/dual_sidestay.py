@@ -1,6 +1,7 @@
 """The dual-sidestay main gear (issue 11): retraction actuator load and efficiency, lock-up against the aft
 sidestay plane angle, the rigid downlock's rigging sensitivity, downlock loads with compliant and rigid
-sidestays, 3-D drawings and an animation.
+sidestays, unlock forces with overcentre stops and their fold curve with a cusp, 3-D drawings and an
+animation.
 
 Built on the hand-formulated kinematic model :mod:`mechcont.models.dual_sidestay` with the
 representative A320-class geometry of :mod:`mechcont.models.dual_sidestay_geometry` (see
@@ -33,7 +34,11 @@ from ..models.dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry
 
 __all__ = ["retraction", "lock_up_scan", "Retraction", "run", "PLANE_ANGLES", "lock_misfit", "alignment_angle",
            "rigging_scan", "lock_up_fold_curve", "downlock_loads", "DownlockLoads", "STAY_STIFFNESS", "SIDE_LOAD",
-           "generated_gear", "locked_gear", "LockedGear", "ATTACHMENT_STIFFNESS"]
+           "generated_gear", "locked_gear", "LockedGear", "ATTACHMENT_STIFFNESS", "UnlockStudy", "unlock_study",
+           "UNLOCK_FORCES"]
+
+#: The unlock forces of the generated gear (N, at the lock-link joints J, + towards unlocking).
+UNLOCK_FORCES = {"F_fwd": "forward pair alone", "F_aft": "aft pair alone", "F_lock": "both pairs together"}
 
 #: Aft airframe attachment stiffnesses (N/m) of the locked generated gear.
 ATTACHMENT_STIFFNESS = (5e6, 5e7, 5e8)
@@ -128,6 +133,7 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
         plot_fold_curve,
         plot_lock_up,
         plot_rigging,
+        plot_unlock_with_stops,
     )
 
     timings = timings if timings is not None else {}
@@ -183,6 +189,10 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
     t0 = time.perf_counter()
     held = locked_gear(gen, ATTACHMENT_STIFFNESS)
     timings["dual_sidestay: locked generated gear"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    unlock = unlock_study(gen, stretch=None if quick else (0.5, 1.0))
+    timings["dual_sidestay: unlock with stops"] = time.perf_counter() - t0
+    save_figure(plot_unlock_with_stops(unlock.runs, unlock.fold_curve, UNLOCK_FORCES), out_dir / "sidestay_unlock.png")
     mid = held[len(held) // 2]
     draw3d(gen.with_values({"k_att": mid.k_att}), mid.x, out_dir / "sidestay_generated.png",
            annotate=("F_fwd", "F_aft"))
@@ -254,9 +264,47 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
              + ". The deflection tends to the geometric misfit the attachment must take up, so the locked-in load "
              "grows with the stiffness: in the rigid limit it is unbounded, the highly sensitive downlock of the "
              "paper. Figure: sidestay_generated.png.",
-             "- Not yet computed: the unlock force with overcentre stops and its two-parameter fold curves "
-             "with cusps.", ""]
+             _unlock_line(unlock, gen), ""]
     return lines
+
+
+def _unlock_line(study: UnlockStudy, gen) -> str:
+    """The summary line of the unlock study (numbers in N, N m, deg)."""
+    R = study.contact
+    parts = []
+    for f, what in UNLOCK_FORCES.items():
+        rel = study.release(f)
+        released = ", ".join(f"the {s.split('_')[0]} pair leaves its stop at {v:.1f} N" for s, v in rel.items())
+        run = study.runs[f]
+        if math.isnan(study.unlock(f)):
+            end = run.branch.values[-1]
+            held_by = [s for s in ("fwd_stop", "aft_stop") if end[gen.index(f"R_{s}")] > 0]
+            parts.append(f"{what} ({f}): {released}; no unlock fold up to {end[gen.index(f)]:.0f} N, the "
+                         + (f"{held_by[0].split('_')[0]} pair still on its stop carrying "
+                            f"{end[gen.index('R_' + held_by[0])]:.0f} N m" if held_by else "links turning")
+                         + " (the aft attachment deflects): one pair cannot unlock the gear alone")
+        else:
+            lp = run.first_fold()
+            parts.append(f"{what} ({f}): {released}; unlocks at {study.unlock(f):.1f} N (LP; fwd links "
+                         f"{math.degrees(math.asin(lp['fwd_lock'])):+.2f} deg, aft "
+                         f"{math.degrees(math.asin(lp['aft_lock'])):+.2f} deg from aligned)")
+    text = ("- Unlock with overcentre stops (generated gear; each lock-link pair rests on a stop 2 deg past aligned, "
+            "`[stops]` in examples/dual_sidestay.toml; mechcont.analysis.continuation_with_stops switches a stop "
+            "off where its reaction reaches zero, SR, and on where its links reach it, SC): locked under gravity "
+            f"and the lock springs with stop reactions fwd {R.get('R_fwd_stop', 0.0):.1f} N m, aft "
+            f"{R.get('R_aft_stop', 0.0):.1f} N m. " + "; ".join(parts) + ".")
+    curve = study.fold_curve
+    if curve is not None:
+        st = curve.values[:, curve.names.index("stretch")]
+        F = curve.values[:, curve.names.index("F_lock")]
+        cusps = [p for p in curve.special_points if p.label == "CP"]
+        text += (f" Two-parameter fold curve: the unlock fold of both pairs continued in the lock-spring stretch "
+                 f"(free length / installed length) over {st.min():.2f} to {st.max():.2f}, unlock force "
+                 f"{F.min():.1f} to {F.max():.1f} N; cusps (CP): {len(cusps)}"
+                 + "".join(f", at stretch = {p['stretch']:.4f}, F_lock = {p['F_lock']:.1f} N" for p in cusps)
+                 + (": with less preload than that the lock no longer snaps open (no fold, no hysteresis)"
+                    if cusps else "") + ".")
+    return text + " Figure: sidestay_unlock.png."
 
 
 @dataclass(frozen=True)
@@ -271,6 +319,59 @@ class LockedGear:
     reaction: float
     deflection: float
     x: np.ndarray
+
+
+@dataclass
+class UnlockStudy:
+    """Unlocking the generated gear from its downlocked state (both lock-link pairs on their overcentre stops).
+
+    ``locked``: the downlocked full vector; ``contact``: the stop reactions there (N m, ``R_<side>_stop``);
+    ``runs``: per unlock force (:data:`UNLOCK_FORCES`) its :class:`~mechcont.analysis.StopRun`, pushed from 0 up
+    to its first fold (the unlock load) or ``force_bound``; ``fold_curve``: the unlock fold of both pairs
+    together continued in the lock-spring ``stretch`` (cusps ``CP``), or None."""
+
+    locked: np.ndarray
+    contact: dict
+    runs: dict
+    fold_curve: Branch | None
+
+    def release(self, force: str) -> dict[str, float]:
+        """``{stop: force (N) at which it leaves its stop}`` along the run of ``force``."""
+        b = self.runs[force].branch
+        return {p.info["stop"]: p[force] for p in b.special_points if p.label == "SR"}
+
+    def unlock(self, force: str) -> float:
+        """The unlock load (N): ``force`` at the run's first fold; nan when none up to the bound."""
+        lp = self.runs[force].first_fold()
+        return float(lp[force]) if lp is not None else float("nan")
+
+
+def unlock_study(gen, *, force_bound: float = 1000.0, stretch=(0.5, 1.0)) -> UnlockStudy:
+    """Unlock the generated gear ``gen`` with each of :data:`UNLOCK_FORCES` (N) and continue the joint unlock
+    fold in the lock-spring ``stretch`` over ``stretch`` (None: no fold curve).
+
+    The downlocked state holds both lock-link pairs on their stops (conditions ``fwd_lock``/``aft_lock`` at
+    the stops' limits, the contact reactions solved for, checked >= 0 by
+    :func:`~mechcont.analysis.equilibrium_on_stops`); each run is
+    :func:`~mechcont.analysis.continuation_with_stops` from there, ended at its first fold."""
+    from ..analysis import continuation_with_stops, equilibrium_on_stops
+    from ..continuation import find_equilibrium
+
+    model = as_model(gen)
+    limits = {s.condition: s.limit for s in model.stops}
+    guess = find_equilibrium(gen, hold=limits, free=[s.reaction for s in model.stops], guess=gen.defaults())
+    x, contact = equilibrium_on_stops(gen, guess)
+    runs = {f: continuation_with_stops(gen, x, f, direction=1, stop_at_fold=True,
+                                       options=ContinuationOptions(bounds={f: (-1.0, force_bound)}, max_steps=200))
+            for f in UNLOCK_FORCES}
+    curve = None
+    lp = runs["F_lock"].first_fold()
+    if stretch is not None and lp is not None:
+        curve = continue_folds(gen, lp, "F_lock", "stretch",
+                               options=ContinuationOptions(bounds={"stretch": stretch, "F_lock": (0.0, 5e3)},
+                                                           max_steps=100))
+    return UnlockStudy(x, {s.reaction: float(x[gen.index(s.reaction)]) for s in model.stops if s.name in contact},
+                       runs, curve)
 
 
 def generated_gear(geo: GearGeometry = DEFAULT_GEOMETRY):
