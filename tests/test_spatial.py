@@ -280,3 +280,15 @@ def test_messages_name_every_spatial_joint_type_and_the_spatial_collinear_sign()
                                         '"bar.b"], normal = [0, 1, 0] }\n')
     system = parse_description(text, "pendulum_c.toml").build()
     assert "right-handed about the normal" in system.variable("c").description
+
+
+@pytest.mark.parametrize("kind", ["spherical", "inline"])
+def test_rotational_stiffness_on_a_joint_without_rotational_rows_is_refused(kind):
+    text = (DATA / "pendulum_3d.toml").read_text().replace('type = "revolute"', f'type = "{kind}"').replace(
+        'axis = [0, "cos(beta)", "sin(beta)"]\n\n[gravity]',
+        ('axis = [0, "cos(beta)", "sin(beta)"]\n' if kind == "inline" else "") + 'rotational_stiffness = 1e4\n\n[gravity]')
+    with pytest.raises(InputError) as err:
+        parse_description(text, "p.toml")
+    msg = str(err.value)
+    assert "joints.hinge.rotational_stiffness" in msg and f"a {kind} joint leaves the rotation free" in msg
+    assert "revolute, universal, cylindrical, prismatic, weld" in msg

@@ -76,6 +76,11 @@ class SpatialJoint:
                 raise InputError(f"{f}.{key}", f"must be a 3-vector [x, y, z], got {v!r}")
             for c, comp in zip("xyz", v):
                 yield f"{f}.{key}.{c}", comp
+        if self.rotational_stiffness is not None and self.ROTATIONS == 0:
+            holding = ", ".join(c.kind for c in _rotation_holding())
+            raise InputError(f"{f}.rotational_stiffness", f"a {self.kind} joint leaves the rotation free (it has no "
+                                                          "rotational rows to make compliant): remove it, or use a "
+                                                          f"joint that holds rotation ({holding})")
         for key in ("stiffness", "rotational_stiffness"):
             if getattr(self, key) is not None:
                 yield f"{f}.{key}", getattr(self, key)
@@ -239,3 +244,8 @@ JOINT_TYPES: dict[str, type[SpatialJoint]] = {
 def joint_keys(cls: type[SpatialJoint]) -> frozenset[str]:
     """Keys accepted in a ``[joints.NAME]`` table of joint class ``cls`` (``type`` included)."""
     return frozenset({"type", "a", "b", "stiffness", "rotational_stiffness", *cls.VECTORS})
+
+
+def _rotation_holding() -> list[type[SpatialJoint]]:
+    """The joint classes with rotational rows (those a ``rotational_stiffness`` applies to), in declaration order."""
+    return [c for c in (Revolute3, Universal, Cylindrical, Prismatic3, Weld3) if c.ROTATIONS]
