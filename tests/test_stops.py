@@ -169,3 +169,16 @@ def test_an_inconsistent_start_is_refused_with_the_way_out(pendulum):
     assert pendulum.as_dict(x0)["R_rest"] < 0
     with pytest.raises(InputError, match="stop rest is not consistently.*equilibrium_on_stops"):
         continuation_with_stops(pendulum, x0, "T")
+
+
+def test_check_reports_the_stops_in_contact():
+    from tests.cli_helpers import make_runner
+
+    run = make_runner()
+
+    r = run("check", DATA / "pendulum_stop.toml")
+    assert r.exit_code == 0, r.output
+    assert "rest  min of angle = -1.2 rad: in contact, reaction R_rest = 3.55473 N m" in r.output
+    assert "stability there (a stop in contact holds its condition): stable" in r.output
+    lifted = run("check", DATA / "pendulum_stop.toml", "--set", "T=8")
+    assert "rest  min of angle = -1.2 rad: free, angle = " in lifted.output

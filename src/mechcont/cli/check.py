@@ -68,6 +68,9 @@ def check_command(ctx, model, sets, reduced, plot, quiet):
         draw(report.system, report.x, path, labels=True, title=f"{report.name}: assembled configuration")
     if not quiet:
         click.echo(report.to_text())
+        stops = _stops_text(report)
+        if stops:
+            click.echo(stops)
         if path is not None:
             click.echo(f"drawing: {path}")
     elif report.findings:
@@ -75,3 +78,40 @@ def check_command(ctx, model, sets, reduced, plot, quiet):
             click.echo(f"finding: {finding}", err=True)
     if report.findings:
         ctx.exit(1)
+
+
+def _stops_text(report) -> str:
+    """The stops section: the equilibrium with a consistent set of stops in contact, found from the
+    assembled configuration (empty when the mechanism has no stops)."""
+    from ..analysis import equilibrium_on_stops
+    from ..equations import as_model
+    from ..errors import ConvergenceError
+
+    system = report.system
+    stops = as_model(system).stops
+    if not stops:
+        return ""
+    out = ["", "stops (one-sided limits of conditions), the equilibrium with those in contact that push:"]
+    try:
+        x, contact = equilibrium_on_stops(system, report.x)
+    except (ConvergenceError, InputError) as exc:
+        return "\n".join(out + [f"  no equilibrium with a consistent set of stops in contact: {exc}"])
+    width = max(len(s.name) for s in stops)
+    for s in stops:
+        c = system.variable(s.condition)
+        bound = f"{'min' if s.side > 0 else 'max'} of {s.condition} = {s.limit:.6g}{' ' + c.unit if c.unit else ''}"
+        if s.name in contact:
+            R = system.variable(s.reaction)
+            state = f"in contact, reaction {s.reaction} = {x[system.index(s.reaction)]:.6g} {R.unit}"
+        else:
+            value = x[system.index(s.condition)]
+            state = f"free, {s.condition} = {value:.6g} ({s.gap(value):.3g} from it)"
+        out.append(f"  {s.name:<{width}}  {bound}: {state}")
+    model = system.mechanics
+    rows = [system.equation_names.index(f"cond_{s.condition}") for s in stops if s.name in contact]
+    cols = [system.index(q) for q in model.coordinates]
+    held = system.jacobian(x)[rows][:, cols] if rows else None
+    st = model.stability(x, held=held)
+    out.append(f"  stability there (a stop in contact holds its condition): "
+               f"{'stable' if st.stable else f'UNSTABLE in {st.n_unstable} direction(s)'}")
+    return "\n".join(out)
