@@ -182,3 +182,24 @@ def test_check_reports_the_stops_in_contact():
     assert "stability there (a stop in contact holds its condition): stable" in r.output
     lifted = run("check", DATA / "pendulum_stop.toml", "--set", "T=8")
     assert "rest  min of angle = -1.2 rad: free, angle = " in lifted.output
+
+
+def test_continue_with_stops_on_the_command_line(tmp_path):
+    from mechcont.continuation import read_branch_table
+    from tests.cli_helpers import make_runner, one_line_error
+
+    run = make_runner()
+    out = tmp_path / "b.csv"
+    r = run("continue", DATA / "pendulum_stop.toml", "--vary", "T", "--bounds", "T=-5:12", "--stops", "--out", out)
+    assert r.exit_code == 0, r.output
+    assert "SR1" in r.output and "LP1" in r.output
+    rows, units = read_branch_table(out)
+    T = np.array([float(r["T"]) for r in rows])
+    R = np.array([float(r["R_rest"]) for r in rows])
+    assert units["R_rest"] == "N m" and T[0] == pytest.approx(-5.0)
+    assert R[0] == pytest.approx(M * G * L / 2 * math.cos(THETA0) + 5.0, rel=1e-10)   # on the stop
+    assert [r["label"] for r in rows if r.get("label")][:2] == ["EP", "SR"]
+    # without --stops the stops are free and the user is told how to let them act
+    r = run("continue", DATA / "pendulum_stop.toml", "--vary", "T", "--bounds", "T=-5:12")
+    assert "note: pendulum_stop has stops (rest)" in r.output and "--stops" in r.output
+    one_line_error(run("continue", "overcentre", "--vary", "F", "--stops"), "--stops", "has no stops")

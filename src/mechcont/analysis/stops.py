@@ -224,8 +224,9 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
     vary:
         The continuation parameter (e.g. an unlock force ``F_fwd``, N).
     direction:
-        +1: start by increasing ``vary``; -1: decreasing. (One direction: a run follows the
-        mechanism as the parameter is pushed one way.)
+        +1: start by increasing ``vary``; -1: decreasing; 0: both, joined into one branch from the
+        end of the decreasing run to the end of the increasing one (each run follows the
+        mechanism as the parameter is pushed one way from the start).
     hold, free:
         The lens besides the stops (states held, parameters freed), as :func:`continuation`.
     stops:
@@ -247,8 +248,16 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
         The joined branch, its pieces and switches. A piece that fails ends the run with its
         message; what was computed up to there is returned.
     """
+    if direction == 0:
+        down = continuation_with_stops(system, start, vary, direction=-1, hold=hold, free=free, stops=stops,
+                                       contact=contact, options=options, stop_at_fold=stop_at_fold,
+                                       max_switches=max_switches, progress=progress)
+        up = continuation_with_stops(system, start, vary, direction=1, hold=hold, free=free, stops=stops,
+                                     contact=contact, options=options, stop_at_fold=stop_at_fold,
+                                     max_switches=max_switches, progress=progress)
+        return _both_ways(system, down, up)
     if direction not in (-1, 1):
-        raise InputError("direction", f"must be +1 or -1 (a run with stops goes one way), got {direction!r}")
+        raise InputError("direction", f"must be +1, -1 or 0 (both ways, each pushed from the start), got {direction!r}")
     st = _stops(system, stops)
     options = options or ContinuationOptions()
     if stop_at_fold:
@@ -340,3 +349,25 @@ def _join(system: EquationSystem, pieces: list[Branch], vary: str, run: StopRun)
     status = pieces[-1].status if pieces else "failed"
     return Branch(system.names, np.array(rows), s, stab, labels, special, vary, unknowns, status, run.message,
                   system.name, units={v.name: v.unit for v in system.variables})
+
+
+def _both_ways(system: EquationSystem, down: StopRun, up: StopRun) -> StopRun:
+    """The decreasing run reversed, then the increasing one (the shared start once), as one run."""
+    bd, bu = down.branch, up.branch
+    n = len(bd)
+    rows = np.vstack([bd.values[::-1], bu.values[1:]])
+    s = np.concatenate([-bd.s[::-1], bu.s[1:]])
+    stab = np.concatenate([bd.n_unstable[::-1], bu.n_unstable[1:]])
+    labels = list(bd.labels[::-1]) + list(bu.labels[1:])
+    special = [SpecialPoint(p.label, n - 1 - p.index, p.x, p.names, p.tangent, dict(p.info))
+               for p in reversed(bd.special_points)]
+    special += [SpecialPoint(p.label, n - 1 + p.index, p.x, p.names, p.tangent, dict(p.info))
+                for p in bu.special_points if p.index > 0]
+    message = "; ".join(r.message for r in (down, up) if r.message)   # each says its direction
+    status = bd.status if bd.status != "completed" else bu.status
+    branch = Branch(system.names, rows, s, stab, labels, special, bu.vary, bu.unknowns, status, message,
+                    system.name, units={v.name: v.unit for v in system.variables})
+    switches = ([(lab, name, n - 1 - i) for lab, name, i in reversed(down.switches)]
+                + [(lab, name, n - 1 + i) for lab, name, i in up.switches])
+    return StopRun(branch, down.pieces + up.pieces, down.contact + up.contact, switches, message,
+                   down.directions + up.directions)

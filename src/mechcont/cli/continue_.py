@@ -16,13 +16,20 @@ from ._run import check_outputs, common_options, continuation_options, run_conti
 @click.option("--plot", default=None, help="Figure: .png, .svg or .pdf.")
 @click.option("--x", "xname", default=None, help="Plot x axis (default: the --vary name).")
 @click.option("--y", "yname", default=None, help="Plot y axis (default: the --start state).")
-def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, out, plot, xname, yname):
-    """Continue equilibria of MODEL in --vary, both directions, within --bounds.
+@click.option("--stops", "with_stops", is_flag=True,
+              help="Let the description's stops make and lose contact (SC, SR): the start is found with a "
+                   "consistent set of stops in contact and each direction is followed as --vary is pushed.")
+def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, out, plot, xname, yname,
+                     with_stops):
+    """Continue equilibria of MODEL in --vary, both directions, within --bounds (with --stops, through
+    the contacts and releases of the description's stops).
 
     Example: mechcont continue overcentre --set LU=0.4 --start theta1=0.3 --vary F
     --bounds theta1=-1.2:1.2 --out branch.csv --plot branch.png
     """
     from ..continuation import continuation
+    from ..equations import as_model
+    from ..errors import InputError
     from ..models import load_model
     from ._parse import assignments
 
@@ -30,7 +37,22 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_model(model)
     x0 = solve_start(system, sets, starts, vary, frees, holds)
-    branch = run_continuation(continuation, system, x0, vary, hold=holds, free=frees, options=options, quiet=quiet)
+    stops = as_model(system).stops
+    if with_stops:
+        if not stops:
+            raise InputError("--stops", f"{system.name} has no stops; declare them as [stops.NAME] tables "
+                                        "(condition, min or max) in its description")
+        from ..analysis import continuation_with_stops, equilibrium_on_stops
+
+        x0, _ = equilibrium_on_stops(system, x0, hold={h: x0[system.index(h)] for h in holds}, free=frees)
+        branch = run_continuation(continuation_with_stops, system, x0, vary, direction=0, hold=holds, free=frees,
+                                  options=options, quiet=quiet).branch
+    else:
+        if stops and not quiet:
+            click.echo(f"note: {system.name} has stops ({', '.join(s.name for s in stops)}); here they are free, "
+                       "their reactions held at their values: --stops lets them make and lose contact")
+        branch = run_continuation(continuation, system, x0, vary, hold=holds, free=frees, options=options,
+                                  quiet=quiet)
     first_state = next(iter(assignments(starts, "start")), None) or branch.unknowns[0]
     write_branch(branch, out, plot, xname or vary, yname or first_state, quiet)
     if not quiet and system.mechanics is not None and len(branch.values):
