@@ -203,3 +203,18 @@ def test_continue_with_stops_on_the_command_line(tmp_path):
     r = run("continue", DATA / "pendulum_stop.toml", "--vary", "T", "--bounds", "T=-5:12")
     assert "note: pendulum_stop has stops (rest)" in r.output and "--stops" in r.output
     one_line_error(run("continue", "overcentre", "--vary", "F", "--stops"), "--stops", "has no stops")
+
+
+@pytest.mark.parametrize("path", [DATA / "pendulum_stop.toml", DATA / "spatial" / "pendulum_stop_3d.toml"])
+def test_derivatives_with_a_stop_reaction_match_differences(path):
+    from tests.derivative_checks import check_derivatives
+
+    m = load_description(path).build()
+    check_derivatives(m.with_values({m.stops[0].reaction: 3.0}))
+
+
+def test_reduced_form_carries_the_stop():
+    m = load_description(DATA / "pendulum_stop.toml").build_reduced()
+    x, contact = equilibrium_on_stops(m, m.defaults())
+    assert contact == ["rest"] and "x_bar" not in m.names
+    assert m.as_dict(x)["R_rest"] == pytest.approx(M * G * L / 2 * math.cos(THETA0), rel=1e-12)
