@@ -285,9 +285,12 @@ def _unlock_line(study: UnlockStudy, gen) -> str:
                          + " (the aft attachment deflects): one pair cannot unlock the gear alone")
         else:
             lp = run.first_fold()
-            parts.append(f"{what} ({f}): {released}; unlocks at {study.unlock(f):.1f} N (LP; fwd links "
+            still = [s for s in ("fwd_stop", "aft_stop") if lp[f"R_{s}"] > 0]
+            holds = "".join(f", the {s.split('_')[0]} pair still on its stop ({lp['R_' + s]:.0f} N m) holding the gear"
+                            for s in still)
+            parts.append(f"{what} ({f}): {released}; snaps through at {study.unlock(f):.1f} N (LP; fwd links "
                          f"{math.degrees(math.asin(lp['fwd_lock'])):+.2f} deg, aft "
-                         f"{math.degrees(math.asin(lp['aft_lock'])):+.2f} deg from aligned)")
+                         f"{math.degrees(math.asin(lp['aft_lock'])):+.2f} deg past aligned{holds})")
     text = ("- Unlock with overcentre stops (generated gear; each lock-link pair rests on a stop 2 deg past aligned, "
             "`[stops]` in examples/dual_sidestay.toml; mechcont.analysis.continuation_with_stops switches a stop "
             "off where its reaction reaches zero, SR, and on where its links reach it, SC): locked under gravity "
