@@ -346,3 +346,21 @@ def test_cli_no_cache_flag_leaves_the_cache_untouched(tmp_path):
     r = subprocess.run([a for a in args if a != "--no-cache"], env=env, capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     assert any(p.is_file() for p in cache.rglob("*"))  # without the flag the same run writes the cache
+
+
+def test_a_long_float_constant_is_smooth_and_differentiates_alike():
+    # a description's 17-digit constants become SymEngine RealMPFR numbers: smooth, so their rows skip
+    # the search for unevaluated derivatives (which made the dual-sidestay second derivatives 4x slower)
+    import symengine as se
+    import sympy as sp
+
+    from mechcont.equations._codegen import derivative_entries, is_smooth, to_engine
+
+    x, y = sp.symbols("x y", real=True)
+    e = to_engine(sp.Float("0.29157727625195257", 17) * sp.sqrt(x ** 2 + y ** 2) * sp.sin(x * y))
+    assert any(type(n).__name__ == "RealMPFR" for n in se.sympify(e).atoms(se.Number))
+    assert is_smooth(e)
+    args = [se.Symbol("x"), se.Symbol("y")]
+    fast, checked = derivative_entries([e], args, True), derivative_entries([e], args, False)
+    assert [ij for ij, _ in fast] == [ij for ij, _ in checked]
+    assert all(se.expand(a - b) == 0 for (_, a), (_, b) in zip(fast, checked))

@@ -146,7 +146,7 @@ def _extremum_derivative(f, var):
 # SymEngine node types whose derivatives are again made of these types, in closed form
 # (no unevaluated Derivative): expressions of only these need no check after differentiating.
 _SMOOTH_TYPES = frozenset({
-    "Symbol", "Integer", "Rational", "RealDouble", "Zero", "One", "NegativeOne", "Half", "Pi", "Exp1",
+    "Symbol", "Integer", "Rational", "RealDouble", "RealMPFR", "Zero", "One", "NegativeOne", "Half", "Pi", "Exp1",
     "Add", "Mul", "Pow", "log", "sin", "cos", "tan", "cot", "sec", "csc", "asin", "acos", "atan", "acot",
     "asec", "acsc", "atan2", "sinh", "cosh", "tanh", "coth", "sech", "csch", "asinh", "acosh", "atanh", "acoth",
 })
