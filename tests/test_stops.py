@@ -218,3 +218,24 @@ def test_reduced_form_carries_the_stop():
     x, contact = equilibrium_on_stops(m, m.defaults())
     assert contact == ["rest"] and "x_bar" not in m.names
     assert m.as_dict(x)["R_rest"] == pytest.approx(M * G * L / 2 * math.cos(THETA0), rel=1e-12)
+
+
+def test_unlock_through_a_stop_equals_the_downlock_release_fold():
+    # the shipped lock stay with a knee stop 0.05 (sine) over centre: pushed open from rest, its first fold
+    # is the unlock load that `mechcont downlock` finds by releasing the aligned (downlocked) point
+    from mechcont.analysis import downlock_point, unlock_folds
+
+    from mechcont.mechanism import find_description
+
+    base = find_description("lockstay").read_text()
+    stopped = base.replace("[assembly]", '[stops.overcentre]\ncondition = "aligned"\nmax = 0.05\n\n[assembly]')
+    m = parse_description(stopped, "lockstay_stop.toml").build()
+    x, contact = equilibrium_on_stops(m, m.defaults())
+    run = continuation_with_stops(m, x, "F", stop_at_fold=True, options=ContinuationOptions(bounds={"F": (-2e3, 2e3)}))
+    lp = run.first_fold()
+    plain = parse_description(base, "lockstay.toml").build()
+    down = downlock_point(plain)
+    folds = unlock_folds(plain, down, "F", ["aligned"])
+    assert lp is not None and lp.located
+    assert lp["F"] == pytest.approx(folds.unlock_force, rel=1e-9)
+    assert lp["R_overcentre"] == 0.0 and lp["aligned"] < 0.05
