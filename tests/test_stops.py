@@ -224,7 +224,6 @@ def test_unlock_through_a_stop_equals_the_downlock_release_fold():
     # the shipped lock stay with a knee stop 0.05 (sine) over centre: pushed open from rest, its first fold
     # is the unlock load that `mechcont downlock` finds by releasing the aligned (downlocked) point
     from mechcont.analysis import downlock_point, unlock_folds
-
     from mechcont.mechanism import find_description
 
     base = find_description("lockstay").read_text()
