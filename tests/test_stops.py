@@ -238,3 +238,13 @@ def test_unlock_through_a_stop_equals_the_downlock_release_fold():
     assert lp is not None and lp.located
     assert lp["F"] == pytest.approx(folds.unlock_force, rel=1e-9)
     assert lp["R_overcentre"] == 0.0 and lp["aligned"] < 0.05
+
+
+@pytest.mark.parametrize("args, field", [(["--vary", "R_rest"], "vary: R_rest"), (["--vary", "angle"], "vary: angle"),
+                                         (["--vary", "T", "--hold", "angle"], "hold: angle"),
+                                         (["--vary", "T", "--free", "R_rest"], "free: R_rest")])
+def test_continue_with_stops_refuses_a_lens_on_the_stops(args, field):
+    from tests.cli_helpers import make_runner, one_line_error
+
+    one_line_error(make_runner()("continue", DATA / "pendulum_stop.toml", *args, "--stops"), field,
+                   "is switched by the stop rest")

@@ -32,7 +32,7 @@ from ..continuation import Branch, ContinuationOptions, FoldEvent, SpecialPoint,
 from ..equations import EquationSystem, StopLimit, as_model
 from ..errors import ConvergenceError, InputError
 
-__all__ = ["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stops_in_contact"]
+__all__ = ["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stops_in_contact", "check_stop_lens"]
 
 #: A stop counts as touching when its condition is within this of the limit (condition units: a
 #: sine, rad or m), far below any physical gap and far above the solver's residual.
@@ -58,6 +58,19 @@ def stops_in_contact(system: EquationSystem, x: np.ndarray, stops: Sequence[Stop
     stops = _stops(system, None) if stops is None else stops
     return [s.name for s in stops
             if abs(s.gap(x[system.index(s.condition)])) <= GAP_TOL and x[system.index(s.reaction)] > 0]
+
+
+def check_stop_lens(system: EquationSystem, vary: str, hold: Iterable[str] = (), free: Iterable[str] = (),
+                    stops: Iterable[str] | None = None) -> None:
+    """Raise a one-line :class:`~mechcont.errors.InputError` when ``vary``, ``hold`` or ``free`` names a stop's
+    reaction or condition: with stops those are switched by contact, not chosen."""
+    managed = {n: s.name for s in _stops(system, stops) for n in (s.reaction, s.condition)}
+    for what, names in (("vary", [vary]), ("hold", list(hold)), ("free", list(free))):
+        for n in names:
+            if n in managed:
+                raise InputError(what, f"{n} is switched by the stop {managed[n]} (held at its limit with the "
+                                       "reaction free in contact, free with a zero reaction out of it); "
+                                       f"{'vary a load or parameter' if what == 'vary' else 'leave it out'}")
 
 
 def _lens(stops: Sequence[StopLimit], active: Iterable[str], hold: Iterable[str], free: Iterable[str]):
@@ -259,6 +272,7 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
     if direction not in (-1, 1):
         raise InputError("direction", f"must be +1, -1 or 0 (both ways, each pushed from the start), got {direction!r}")
     st = _stops(system, stops)
+    check_stop_lens(system, vary, hold, free, [s.name for s in st])
     options = options or ContinuationOptions()
     if stop_at_fold:
         options = replace(options, detect_folds=False)

@@ -36,12 +36,16 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     check_outputs(out, plot)
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_model(model)
-    x0 = solve_start(system, sets, starts, vary, frees, holds)
     stops = as_model(system).stops
     if with_stops:
+        from ..analysis.stops import check_stop_lens
+
         if not stops:
             raise InputError("--stops", f"{system.name} has no stops; declare them as [stops.NAME] tables "
                                         "(condition, min or max) in its description")
+        check_stop_lens(system, vary, holds, frees)
+    x0 = solve_start(system, sets, starts, vary, frees, holds)
+    if with_stops:
         from ..analysis import continuation_with_stops, equilibrium_on_stops
 
         x0, _ = equilibrium_on_stops(system, x0, hold={h: x0[system.index(h)] for h in holds}, free=frees)
