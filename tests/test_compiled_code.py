@@ -133,6 +133,41 @@ def test_dense_and_scattered_layouts_agree(monkeypatch):
     assert sd.n_unstable == ss.n_unstable and np.allclose(sd.eigenvalues, ss.eigenvalues, rtol=1e-10)
 
 
+@pytest.mark.parametrize("dense_max", [0, 10**9])
+def test_column_view_equals_the_columns_of_the_whole_jacobian_bit_for_bit(monkeypatch, dense_max):
+    """The continuation's restricted evaluation (EquationSystem.columns) gives the same bits, in the
+    same memory layout as ``J[:, cols]`` (the layout decides the order of later sums), in both layouts."""
+    monkeypatch.setenv("MECHCONT_NO_CACHE", "1")
+    monkeypatch.setattr(_codegen, "DENSE_MAX", dense_max)
+    system = load("fourbar")
+    x = _point(system)
+    cols = np.array([system.index(n) for n in reversed(system.state_names)] + [len(system.names) - 1])
+    view = system.columns(cols)
+    assert system.columns(list(cols)) is view  # one view per set of columns, kept with the code
+    r, J = system.residual_and_jacobian(x)
+    rv, Jv = view.residual_and_jacobian(x)
+    assert np.array_equal(rv, r) and np.array_equal(Jv, J[:, cols]) and Jv.strides == J[:, cols].strides
+    v = np.linspace(-1.0, 1.0, len(x))
+    H = system.jacobian_derivative(x, v)[:, cols]
+    Hv = view.jacobian_derivative(x, v)
+    assert np.array_equal(Hv, H) and Hv.strides == H.strides
+    assert np.array_equal(view.residual_and_jacobian(list(x))[1], Jv)  # any sequence of floats
+    with pytest.raises(ValueError):
+        view.residual_and_jacobian(x[:-1])
+    with pytest.raises(ValueError):
+        system.columns([0, 0])
+
+
+def test_gather_reads_entries_of_every_compiled_layout():
+    a, b = sp.symbols("a b", real=True)
+    dense = _codegen.compile_dense([a, b], [a * b, a - b, sp.sin(a)], cache=False)
+    scattered = _codegen.compile_sparse([a, b], [((0, 2), a * b), ((1, 0), a + b)], (2, 3), cache=False)
+    x = np.array([0.7, -1.3])
+    for f in (dense, scattered):
+        pos = [4, 0, 2, 2] if f is scattered else [2, 0, 1]
+        assert np.array_equal(f.gather(pos)(x), f(x).reshape(-1)[pos])
+
+
 def test_chain_build_compiles_only_nonzero_entries(chain12):
     """12 bars (62 equations, 69 variables): only the Jacobian's non-zero entries are compiled."""
     n_eq, n = len(chain12.equations), len(chain12.names)

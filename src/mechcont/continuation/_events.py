@@ -123,7 +123,7 @@ class BranchPointEvent(Event):
         A[-1] = state.tangent
         sign, logdet = _dense.slogdet(A)
         # a continuous, scale-tamed version of the determinant
-        return float(sign * np.exp(logdet / len(A))) if np.isfinite(logdet) else 0.0
+        return float(sign * np.exp(logdet / len(A))) if math.isfinite(logdet) else 0.0
 
 
 class BoundEvent(Event):

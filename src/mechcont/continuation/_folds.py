@@ -18,6 +18,7 @@ disappear there.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -36,6 +37,12 @@ from ._scaling import equilibrate
 __all__ = ["FoldProblem", "FoldPoint", "CuspEvent", "fold_quantities", "fold_scaling", "polish_fold", "refine_fold"]
 
 
+def _norm(a: np.ndarray) -> float:
+    """``np.linalg.norm(a)`` (2-norm of the entries, the same bits: it computes exactly this) without its overhead."""
+    a = a.ravel(order="K")
+    return math.sqrt(a.dot(a))
+
+
 def _reference_columns(system: EquationSystem, idx: np.ndarray) -> np.ndarray:
     """Mask of the columns ``idx`` measured in radians (the reference of :func:`equilibrate`)."""
     return np.array([system.variables[i].unit == "rad" for i in idx], dtype=bool)
@@ -47,7 +54,11 @@ def fold_scaling(system: EquationSystem, x: np.ndarray, idx_vars: np.ndarray) ->
     Read off the Jacobian (see :func:`equilibrate`), so they do not depend on the units the
     user chose nor on ``scale`` hints: the fold polish and the fold curve use them.
     """
-    J = system.jacobian(x)[:, idx_vars]
+    return _scaling_of(system, system.jacobian(x)[:, idx_vars], idx_vars)
+
+
+def _scaling_of(system: EquationSystem, J: np.ndarray, idx_vars: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`fold_scaling` from the Jacobian's columns ``J = dG/dx[:, idx_vars]``, already evaluated."""
     return equilibrate(J, _reference_columns(system, idx_vars))
 
 
@@ -64,7 +75,7 @@ def _null_vectors(Js: np.ndarray, row: np.ndarray | None = None,
     u, _, vt = _dense.svd(Js * row[:, None] * col)
     v = vt[-1] * col
     w = u[:, -1] * row
-    return v / np.linalg.norm(v), w / np.linalg.norm(w)
+    return v / _norm(v), w / _norm(w)
 
 
 def fold_quantities(system: EquationSystem, x: np.ndarray, state_idx: np.ndarray, param_index: int,
@@ -85,16 +96,20 @@ def fold_quantities(system: EquationSystem, x: np.ndarray, state_idx: np.ndarray
     vs, w = _null_vectors(Js, row, col)
     if v is None:
         v = vs
-    if w @ J[:, param_index] < 0:
-        w = -w
     vf = np.zeros(len(x))
     vf[state_idx] = v
-    Gvv = system.jacobian_derivative(x, vf)[:, state_idx] @ v
-    a = float(w @ Gvv) / (v @ v)
+    return _oriented_coefficient(v, w, J[:, param_index], system.jacobian_derivative(x, vf)[:, state_idx])
+
+
+def _oriented_coefficient(v, w, Jp, Hs):
+    """``(v, w, a)`` of :func:`fold_quantities` from ``w``, ``dG/dp1`` and ``Hs = d(G_s v)/ds``."""
+    if w @ Jp < 0:
+        w = -w
+    a = float(w @ (Hs @ v)) / (v @ v)
     return v, w, a
 
 
-def _fold_system(system, base, idx_vars, state_pos, col_states):
+class _FoldSystem:
     """Residual and Jacobian of the fold system in unknowns ``U = (vars..., v_hat)``.
 
     The null vector is carried in equilibrated coordinates, ``v = col_states * v_hat``,
@@ -105,44 +120,59 @@ def _fold_system(system, base, idx_vars, state_pos, col_states):
 
     ``idx_vars``: full indices of the variable unknowns (states then parameters);
     ``state_pos``: positions within ``idx_vars`` of the states whose Jacobian must be
-    singular; ``col_states``: the column scales of those states.
+    singular; ``col_states``: the column scales of those states. :attr:`last` keeps
+    ``(U.tobytes(), J, H)`` of the latest :meth:`evaluate` (``J``: the unknowns' Jacobian columns,
+    ``H``: those of ``d(G_s v)/dx``), so a test function at the converged point (the
+    cusp's) reads them instead of evaluating the same point again.
     """
-    nv = len(idx_vars)
-    n = len(state_pos)
-    state_idx = idx_vars[state_pos]
-    col = np.asarray(col_states, dtype=float)
 
-    def full(U):
-        x = base.copy()
-        x[idx_vars] = U[:nv]
+    def __init__(self, system: EquationSystem, base: np.ndarray, idx_vars: np.ndarray, state_pos, col_states) -> None:
+        self.base, self.idx_vars = base, idx_vars
+        self.nv, self.n = len(idx_vars), len(state_pos)
+        # the states' columns: a slice when they come first (always, here): the same values and
+        # layout as fancy indexing, one copy fewer per evaluation
+        pos = np.asarray(state_pos, dtype=np.intp)
+        self.state_pos = slice(0, len(pos)) if np.array_equal(pos, np.arange(len(pos))) else pos
+        self.state_idx = idx_vars[pos]
+        self.col = np.asarray(col_states, dtype=float)
+        self.view = system.columns(idx_vars)  # only the unknowns' columns of J and of d(J v)/dx are formed
+        self.last: tuple | None = None
+
+    def full(self, U):
+        """The full variable vector at ``U``."""
+        x = self.base.copy()
+        x[self.idx_vars] = U[:self.nv]
         return x
 
-    def evaluate(U):
-        x = full(U)
+    def evaluate(self, U):
+        """Residual (2n+1) and Jacobian (2n+1, nv+n) at ``U``."""
+        nv, n, col = self.nv, self.n, self.col
+        x = self.full(U)
         vh = U[nv:]
-        r, J = system.residual_and_jacobian(x)
-        Jv = J[:, state_idx] * col
+        r, J = self.view.residual_and_jacobian(x)
+        Jv = J[:, self.state_pos] * col
         res = np.concatenate([r, Jv @ vh, [0.5 * (vh @ vh - 1.0)]])
         vf = np.zeros(len(x))
-        vf[state_idx] = col * vh
-        H = system.jacobian_derivative(x, vf)
+        vf[self.state_idx] = col * vh
+        H = self.view.jacobian_derivative(x, vf)
         out = np.zeros((2 * n + 1, nv + n))
-        out[:n, :nv] = J[:, idx_vars]
-        out[n:2 * n, :nv] = H[:, idx_vars]
+        out[:n, :nv] = J
+        out[n:2 * n, :nv] = H
         out[n:2 * n, nv:] = Jv
         out[2 * n, nv:] = vh
+        self.last = (U.tobytes(), J, H)  # the point's bytes: a key that later changes to U cannot alter
         return res, out
 
-    def residual(U):
-        x = full(U)
-        vh = U[nv:]
-        r, J = system.residual_and_jacobian(x)
-        return np.concatenate([r, (J[:, state_idx] * col) @ vh, [0.5 * (vh @ vh - 1.0)]])
+    def residual(self, U):
+        """Residual (2n+1) at ``U``."""
+        x = self.full(U)
+        vh = U[self.nv:]
+        r, J = self.view.residual_and_jacobian(x)
+        return np.concatenate([r, (J[:, self.state_pos] * self.col) @ vh, [0.5 * (vh @ vh - 1.0)]])
 
-    def jacobian(U):
-        return evaluate(U)[1]
-
-    return full, residual, jacobian, evaluate
+    def jacobian(self, U):
+        """Jacobian (2n+1, nv+n) at ``U``."""
+        return self.evaluate(U)[1]
 
 
 @dataclass
@@ -206,11 +236,13 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
     x = np.array(x, dtype=float)
     idx_vars = np.array([system.index(n) for n in [*states, param]])
     n = len(states)
-    row, col = fold_scaling(system, x, idx_vars)
-    Js = system.jacobian(x)[:, idx_vars[:n]]
+    J0 = system.jacobian(x)  # evaluated once for the scales and the first null vector
+    row, col = _scaling_of(system, J0[:, idx_vars], idx_vars)
+    Js = J0[:, idx_vars[:n]]
     _, _, vt = np.linalg.svd(Js * row[:, None] * col[:n])
     vh0 = vt[-1]
-    full, _, _, evaluate = _fold_system(system, x, idx_vars, np.arange(n), col[:n])
+    fs = _FoldSystem(system, x, idx_vars, np.arange(n), col[:n])
+    full, evaluate = fs.full, fs.evaluate
     U = np.concatenate([x[idx_vars], vh0])
     rows = np.concatenate([row, row, [1.0]])
     cols = np.concatenate([col, np.ones(n)])
@@ -226,12 +258,12 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
         # trial point must be shorter than the Newton step. Unlike the residual norm it is
         # affine invariant, and it accepts a long step along the null direction that a
         # residual already at its noise floor would wrongly reject.
-        size, lam = np.linalg.norm(dU), 1.0
+        size, lam = _norm(dU), 1.0
         while True:
             trial = U + lam * cols * dU
             F_t, JF_t = evaluate(trial)
             bar = _dgetrs(lu, piv, -rows * F_t)[0]
-            if (np.all(np.isfinite(bar)) and np.linalg.norm(bar) <= (1 - lam / 4) * size) or lam < 1 / 64:
+            if (np.all(np.isfinite(bar)) and _norm(bar) <= (1 - lam / 4) * size) or lam < 1 / 64:
                 break
             lam *= 0.5
         U, F, JF = trial, F_t, JF_t
@@ -242,11 +274,12 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
         if (step < tol and residual_met(r_eq, J_eq, U[:len(idx_vars)], residual_tol)
                 and residual_met(row * null_rows, J_null * row[:, None], U * cols, residual_tol)):
             xf = full(U)
-            Jf = system.jacobian(xf)[:, idx_vars] * row[:, None] * col
+            # the columns at xf, from its evaluation above (the same values as system.jacobian(xf)[:, idx_vars])
+            Jf = fs.last[1] * row[:, None] * col  # type: ignore[index]
             # relative to the whole equilibrated Jacobian (G_p is non-zero at a fold)
-            smallest = np.linalg.svd(Jf[:, :n], compute_uv=False)[-1] / np.linalg.norm(Jf)
+            smallest = np.linalg.svd(Jf[:, :n], compute_uv=False)[-1] / _norm(Jf)
             v = col[:n] * U[len(idx_vars):]
-            return FoldPoint(xf, v / np.linalg.norm(v), U[len(idx_vars):].copy(), col,
+            return FoldPoint(xf, v / _norm(v), U[len(idx_vars):].copy(), col,
                              _relative_residual(r_eq, J_eq, U[:len(idx_vars)]), float(smallest), it)
     raise ConvergenceError(f"fold polish did not converge in {max_iter} iterations (equilibrated residual "
                            f"{np.linalg.norm(rows * F):.3g})", partial=full(U))
@@ -301,8 +334,9 @@ class FoldProblem(ContinuationProblem):
         vh0 = np.asarray(v0, float) / self.col
         vh0 /= np.linalg.norm(vh0)
         self.base = x_fold.copy()
-        self._full, self._res, self._jac, self._eval = _fold_system(system, self.base, self.idx_vars, np.arange(n),
-                                                                    self.col)
+        self._fs = _FoldSystem(system, self.base, self.idx_vars, np.arange(n), self.col)
+        fs = self._fs
+        self._full, self._res, self._jac, self._eval = fs.full, fs.residual, fs.jacobian, fs.evaluate
         self.u0 = np.concatenate([x_fold[self.idx_vars], vh0])
         self.names = (*states, p1, p2, *[f"v_{s}" for s in states])
         self.param_index = len(states) + 1
@@ -326,9 +360,15 @@ class FoldProblem(ContinuationProblem):
 
     def quadratic_coefficient(self, u) -> float:
         """Normalised ``a = w^T G_ss[v, v]`` at the fold-curve point ``u``."""
-        nv = len(self.idx_vars)
-        return fold_quantities(self.system, self._full(u), self.state_idx, self.idx_vars[-2], self.col * u[nv:],
-                               scaling=(self.row, self.col))[2]
+        nv, fs = len(self.idx_vars), self._fs
+        if fs.last is None or fs.last[0] != u.tobytes():
+            fs.evaluate(u)  # usually the corrector's last evaluation is at u already
+        _, J, H = fs.last  # type: ignore[misc]
+        # as fold_quantities(system, full(u), state_idx, p1, col * v_hat, scaling), from the
+        # columns the fold system evaluated (the same values: no second evaluation of the point)
+        Js = J[:, fs.state_pos]
+        _, w = _null_vectors(Js, self.row, self.col)
+        return _oriented_coefficient(self.col * u[nv:], w, J[:, nv - 2], H[:, fs.state_pos])[2]
 
     def test_functions(self):
         return [CuspEvent()]

@@ -127,13 +127,15 @@ class PseudoArclength:
         Returns ``(z, jac, iterations)`` or ``(None, reason, iterations)``.
         """
         o = self.options
+        D, evaluate, solve = self.D, self.problem.evaluate, self.solver.solve  # self.evaluate, inline below
         z = np.array(z_pred if z_start is None else z_start, dtype=float)
         A = np.empty((self.n + 1, self.n + 1))
         A[-1] = t0
         b = np.empty(self.n + 1)
         prev = step = math.inf
         for it in range(1, o.max_newton + 2):
-            r, jac = self.evaluate(z)
+            r, J = evaluate(z * D)
+            jac = J * D
             # np.add.reduce(a, None) is a.sum() without the method's Python frame (same bits)
             if not (math.isfinite(_add(r, None)) and math.isfinite(_add(jac, None))):
                 return None, "residual not finite (outside the model's domain)", it
@@ -144,7 +146,7 @@ class PseudoArclength:
             A[:-1] = jac
             b[:-1] = -r
             b[-1] = -(t0 @ (z - z_pred))
-            dz = self.solver.solve(A, b)
+            dz = solve(A, b)
             if dz is None:
                 return None, "singular bordered Jacobian", it
             z = z + dz
@@ -349,6 +351,8 @@ class BranchSteps(Iterator[RecordedPoint]):
                 # another branch. Retry with a step short of the discontinuity.
                 return hits, hit[0]
             hits.append((ev, _refined(eng, problem, cur, ev, hit)))
+        if not hits:  # the usual step: nothing crossed, so nothing crossed twice either
+            return hits, None
         # An event crossed twice within the step (two close folds, or a bound the branch
         # leaves and re-enters) shows no sign change between the step's ends, but does at
         # a point located inside the step: look there too.

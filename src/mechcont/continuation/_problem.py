@@ -138,6 +138,7 @@ class EquilibriumProblem(ContinuationProblem):
             sc[system.index(n)] = v
         self.scale = sc[self.idx]
         self._stability = stability and system.mechanics is not None
+        self._columns = self.system.columns(self.idx)
 
     def u_of(self, x: np.ndarray) -> np.ndarray:
         """Restrict a full vector to this problem's unknowns + parameter."""
@@ -152,13 +153,12 @@ class EquilibriumProblem(ContinuationProblem):
         return self.system.residual(self.full(u))
 
     def jacobian(self, u):
-        return self.system.jacobian(self.full(u))[:, self.idx]
+        return self._columns.residual_and_jacobian(self.full(u))[1]
 
     def evaluate(self, u):
         x = self.base.copy()  # self.full(u), inline: this runs at every Newton iteration
         x[self.idx] = u
-        r, J = self.system.residual_and_jacobian(x)
-        return r, J[:, self.idx]
+        return self._columns.residual_and_jacobian(x)
 
     def stability(self, u) -> int:
         if not self._stability:

@@ -44,15 +44,17 @@ def equilibrate(A: np.ndarray, reference: np.ndarray | None = None, iterations: 
     B = np.abs(np.asarray(A, dtype=float))
     m, n = B.shape
     r, c = np.ones(m), np.ones(n)
+    top = np.maximum.reduce  # ndarray.max without its Python wrapper (the same reduction)
     for _ in range(iterations):
-        S = B * r[:, None] * c
-        rmax = S.max(axis=1, initial=0.0)
-        cmax = S.max(axis=0, initial=0.0)
+        S = B * r[:, None]
+        S *= c
+        rmax = top(S, axis=1, initial=0.0)
+        cmax = top(S, axis=0, initial=0.0)
         rmax[rmax == 0] = 1.0
         cmax[cmax == 0] = 1.0
         r /= np.sqrt(rmax)
         c /= np.sqrt(cmax)
-        if max(np.abs(rmax - 1).max(initial=0.0), np.abs(cmax - 1).max(initial=0.0)) < tol:
+        if max(top(np.abs(rmax - 1), initial=0.0), top(np.abs(cmax - 1), initial=0.0)) < tol:
             break
     ref = np.ones(n, dtype=bool) if reference is None or not np.any(reference) else np.asarray(reference, bool)
     factor = float(np.exp(np.mean(np.log(c[ref]))))

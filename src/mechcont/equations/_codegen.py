@@ -268,6 +268,21 @@ class CompiledFunction:
         out[:, self.idx] = vals
         return out.reshape((m, *self.shape))
 
+    def gather(self, positions) -> _Gather:
+        """``g(x) = f(x).reshape(-1)[positions]``, without forming the whole output (the same values).
+
+        For the hot loops that need a few entries of a large output (the Jacobian's columns of
+        a solve's unknowns): one compiled call and one ``take``, no zeroed array to scatter into.
+        """
+        pos = np.asarray(positions, dtype=np.intp).reshape(-1)
+        if self._fn is None:
+            return _Gather(None, self._argshape, 0, np.full(len(pos), 0, dtype=np.intp))
+        if self.idx is None:
+            return _Gather(self._fn, self._argshape, self.size, pos)
+        src = np.full(self.size, self.n_out, dtype=np.intp)  # structural zeros read the extra slot
+        src[self.idx] = np.arange(self.n_out, dtype=np.intp)
+        return _Gather(self._fn, self._argshape, self.n_out, src[pos])
+
     def __reduce__(self):
         fn = self._fn if self._source is None else None
         return _restore, (fn, self.n_args, self.shape, self.idx, self._source)
@@ -317,6 +332,30 @@ class _Constant(CompiledFunction):
     def __call__(self, x) -> np.ndarray:
         self._check(x)
         return np.zeros(self.shape)
+
+
+class _Gather:
+    """See :meth:`CompiledFunction.gather`: ``n_out`` computed values plus a zero, then ``take``."""
+
+    __slots__ = ("_fn", "_argshape", "_n_out", "_src")
+
+    def __init__(self, fn, argshape: tuple[int, ...], n_out: int, src: np.ndarray):
+        self._fn, self._argshape, self._n_out, self._src = fn, argshape, n_out, src
+
+    def __call__(self, x) -> np.ndarray:
+        # attribute checks first: the loops that call this pass their own float vectors, and
+        # ascontiguousarray costs as much as the compiled code on a small model
+        if type(x) is not np.ndarray or x.dtype != _FLOAT or x.shape != self._argshape or x.strides != _STRIDE:
+            x = np.ascontiguousarray(x, dtype=float)
+            if x.shape != self._argshape:
+                raise ValueError(f"expected {self._argshape[0]} values, got shape {x.shape}")
+        vals = np.zeros(self._n_out + 1)  # the last entry stays 0: structural zeros read it
+        if self._fn is not None:
+            self._fn.unsafe_real(x, vals)  # safe: x has the length checked above; it writes n_out values
+        return vals.take(self._src)
+
+
+_FLOAT, _STRIDE = np.dtype(float), (np.dtype(float).itemsize,)
 
 
 def _restore(fn, n_args, shape, idx, source) -> CompiledFunction:

@@ -320,8 +320,12 @@ class MechanicalModel:
 
     # -- numeric evaluation (x: full variable vector, qdot: coordinate velocities) ---------
     def _args(self, x, qdot=None):
-        qd = np.zeros(len(self.coordinates)) if qdot is None else qdot
-        return np.concatenate([np.asarray(x, float), np.asarray(qd, float)])
+        if qdot is None:  # at rest: x then zeros (one allocation; this runs at every point of a branch)
+            x = np.asarray(x, float)
+            a = np.zeros(len(x) + len(self.coordinates))
+            a[:len(x)] = x
+            return a
+        return np.concatenate([np.asarray(x, float), np.asarray(qdot, float)])
 
     def phi(self, x, qdot=None) -> np.ndarray:
         """Constraint residuals Phi (units of each constraint, usually m)."""

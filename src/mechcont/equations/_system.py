@@ -27,7 +27,7 @@ from ._codegen import (
     is_smooth,
 )
 
-__all__ = ["Variable", "Limit", "EquationSystem"]
+__all__ = ["Variable", "Limit", "EquationSystem", "ColumnView"]
 
 
 @dataclass(frozen=True)
@@ -355,6 +355,20 @@ class EquationSystem:
         w = code["hess_values"](x) * np.asarray(v)[code["hess_j"]]
         return np.bincount(code["hess_ik"], weights=w, minlength=n_eq * n).reshape(n_eq, n)
 
+    def columns(self, columns: Sequence[int] | np.ndarray) -> ColumnView:
+        """Evaluation restricted to the Jacobian columns ``columns`` (a solve's unknowns), for hot loops.
+
+        Returns a :class:`ColumnView`: the same values as :meth:`residual_and_jacobian` and
+        :meth:`jacobian_derivative` followed by ``[:, columns]``, without forming the other
+        columns. Views are kept with the compiled code (shared by copies), one per set of columns.
+        """
+        key = tuple(int(c) for c in np.asarray(columns).reshape(-1))
+        views = self._code.setdefault("_views", {})
+        view = views.get(key)
+        if view is None:
+            view = views[key] = ColumnView(self, key)
+        return view
+
     def residual_batch(self, X: np.ndarray) -> np.ndarray:
         """G at every row of ``X`` (shape ``(m, n_variables)``): array ``(m, n_equations)``.
 
@@ -486,6 +500,50 @@ class EquationSystem:
 
         rows = [f"{sp.latex(e)} &= 0 && \\text{{({label(name)})}}" for name, e in zip(self.equation_names, self.equations)]
         return "\\begin{align}\n" + " \\\\\n".join(rows) + "\n\\end{align}"
+
+
+class ColumnView:
+    """Residual and some Jacobian columns of an :class:`EquationSystem`, from one compiled call.
+
+    ``view.residual_and_jacobian(x)`` is ``(G(x), dG/dx[:, columns])`` and
+    ``view.jacobian_derivative(x, v)`` is ``system.jacobian_derivative(x, v)[:, columns]``,
+    the same values (bit for bit: the same compiled code, and the same sums in the same
+    order), without building and then discarding the other columns. Built by
+    :meth:`EquationSystem.columns`; the second derivatives are compiled on first use.
+    """
+
+    def __init__(self, system: EquationSystem, columns: Sequence[int] | np.ndarray):
+        self.system = system.compile()
+        self.columns = np.asarray(columns, dtype=np.intp).reshape(-1)
+        if len(np.unique(self.columns)) != len(self.columns):
+            raise ValueError("ColumnView: the columns must be distinct")
+        n_eq, n = len(system.equations), len(system.names)
+        # column by column: the arrays come out in Fortran order, as ``J[:, columns]`` makes
+        # them (the layout decides the summation order of later reductions and products)
+        self.n_eq, self._shape = n_eq, (len(self.columns), n_eq)
+        flat = n_eq + (self.columns[:, None] + np.arange(n_eq, dtype=np.intp) * n).reshape(-1)
+        self._res_jac = system._code["res_jac"].gather(np.concatenate([np.arange(n_eq, dtype=np.intp), flat]))
+        self._hess: tuple | None = None
+
+    def residual_and_jacobian(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(G(x), dG/dx[:, columns])`` at the full vector ``x`` (the Jacobian in Fortran order)."""
+        out = self._res_jac(x)
+        return out[:self.n_eq], out[self.n_eq:].reshape(self._shape).T
+
+    def jacobian_derivative(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """``d/dx (J(x) v)[:, columns]`` (Fortran order), ``v`` a full-length vector (see
+        :meth:`EquationSystem.jacobian_derivative`)."""
+        if self._hess is None:
+            code = self.system.compile(second_derivatives=True)._code
+            n = len(self.system.names)
+            where = np.full(n, -1, dtype=np.intp)
+            where[self.columns] = np.arange(len(self.columns), dtype=np.intp)
+            i, k = np.divmod(code["hess_ik"], n)
+            keep = np.flatnonzero(where[k] >= 0)  # entries of other columns only fill bins dropped anyway
+            self._hess = (code["hess_values"].gather(keep), code["hess_j"][keep], where[k[keep]] * self.n_eq + i[keep])
+        values, j, bins = self._hess
+        w = values(x) * np.asarray(v)[j]
+        return np.bincount(bins, weights=w, minlength=self._shape[0] * self._shape[1]).reshape(self._shape).T
 
 
 #: LLVM optimisation level of the compiled second derivatives (the residual and Jacobian use 3).
