@@ -100,6 +100,19 @@ def test_unlock_columns_follow_the_closed_form(lock, branch):
     assert table.units["unlock_P"] == "N"
 
 
+def test_release_run_without_stability_finds_the_same_folds(lock, branch):
+    """unlock_force_along skips the release runs' stability: the folds, notes and warnings are the same."""
+    from mechcont.analysis.unlock import unlock_folds
+
+    x = branch.values[len(branch) // 2]
+    full = unlock_folds(lock, x, "P", released=["aligned"])
+    lean = unlock_folds(lock, x, "P", released=["aligned"], stability=False)
+    assert lean.locked_range == full.locked_range and lean.stable == full.stable
+    assert (lean.notes, lean.warnings) == (full.notes, full.warnings)
+    assert np.array_equal(lean.branch.values, full.branch.values) and lean.branch.labels == full.branch.labels
+    assert set(lean.branch.n_unstable) == {-1} and -1 not in full.branch.n_unstable
+
+
 def test_an_unstable_downlocked_point_is_reported_with_both_folds(lock):
     """At LU = 0.2 m the folds sit at theta1 = +-acos((0.2/1.5)^(1/3)) = +-1.034: theta1 = 1 lies
     between them, on the unstable branch: not a lock, bounded by a fold on either side."""

@@ -91,17 +91,18 @@ RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN = 50.0, 2.0
 
 
 def _release_options(system: EquationSystem, x: np.ndarray, released, force: str, max_steps: int,
-                     bounds: Mapping[str, tuple[float, float]] | None) -> ContinuationOptions:
+                     bounds: Mapping[str, tuple[float, float]] | None, stability: bool = True) -> ContinuationOptions:
     """Steps and bounds of the release run (see :data:`RELEASE_FORCE_SPAN`); ``bounds`` take precedence."""
     b = dict(bounds or {})
     for n, span in ((force, RELEASE_FORCE_SPAN), *((n, RELEASE_STATE_SPAN) for n in released)):
         v, sc = x[system.index(n)], system.variable(n).scale
         b.setdefault(n, (v - span * sc, v + span * sc))
-    return ContinuationOptions(ds=0.02, dsmax=0.5, max_steps=max_steps, bounds=b, detect_folds=False)
+    return ContinuationOptions(ds=0.02, dsmax=0.5, max_steps=max_steps, bounds=b, detect_folds=False,
+                               stability=stability)
 
 
 def unlock_folds(system: EquationSystem, x: np.ndarray, force: str, released=(), *, max_steps: int = 400,
-                 bounds: Mapping[str, tuple[float, float]] | None = None) -> UnlockFolds:
+                 bounds: Mapping[str, tuple[float, float]] | None = None, stability: bool = True) -> UnlockFolds:
     """The folds bounding the locked state through the downlocked point ``x``.
 
     Parameters
@@ -121,6 +122,11 @@ def unlock_folds(system: EquationSystem, x: np.ndarray, force: str, released=(),
         ``{name: (low, high)}`` bounds of the release run; by default the force may move by
         :data:`RELEASE_FORCE_SPAN` of its scales and each released state by
         :data:`RELEASE_STATE_SPAN` of its scales.
+    stability:
+        Whether the points of the release run (:attr:`UnlockFolds.branch`) get their physical
+        stability. The folds, the notes and the warnings do not depend on it; a caller that
+        keeps only those (:func:`unlock_force_along`) saves the stability analysis of every
+        point. :attr:`UnlockFolds.stable` (the downlocked point's) is computed either way.
 
     Returns
     -------
@@ -134,8 +140,8 @@ def unlock_folds(system: EquationSystem, x: np.ndarray, force: str, released=(),
     fold = FoldEvent()
     fold.stop = True  # the first fold each way bounds the locked segment
     try:
-        branch = continuation(system, x, force, options=_release_options(system, x, released, force, max_steps, bounds),
-                              events=[fold])
+        branch = continuation(system, x, force, events=[fold],
+                              options=_release_options(system, x, released, force, max_steps, bounds, stability))
     except (ConvergenceError, InputError) as exc:
         return UnlockFolds(force, F0, stable, None, None, None, warnings=[f"release run in {force} failed: {exc}"])
     below = above = None
@@ -167,7 +173,8 @@ def unlock_force_along(system: EquationSystem, branch: Branch, force: str, relea
     above, below = np.full(len(branch), np.nan), np.full(len(branch), np.nan)
     warnings: list[str] = []
     for i, x in enumerate(branch.values):
-        u = unlock_folds(system, x, force, released, max_steps=max_steps)
+        # only the folds are kept: the release run's own stability is not needed
+        u = unlock_folds(system, x, force, released, max_steps=max_steps, stability=False)
         lo, hi = u.locked_range
         above[i] = hi if np.isfinite(hi) else np.nan
         below[i] = lo if np.isfinite(lo) else np.nan
