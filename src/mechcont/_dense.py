@@ -22,6 +22,13 @@ try:  # NumPy >= 2 (private names: any other NumPy falls back to the public func
     from numpy.linalg._linalg import _raise_linalgerror_svd_nonconvergence as _svd_failed  # type: ignore[attr-defined]
 except ImportError:  # pragma: no cover
     _umath_linalg = None
+_svd_errors: Any = None
+try:  # the error state numpy.linalg.svd enters, made once (entering np.errstate costs a fifth of a small SVD)
+    from numpy._core._ufunc_config import _extobj_contextvar, _make_extobj  # type: ignore[attr-defined]
+
+    _svd_errors = _make_extobj(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore")
+except Exception:  # noqa: BLE001  # pragma: no cover - another NumPy: np.errstate below
+    _svd_errors = None
 
 
 def _plain(A: np.ndarray) -> bool:
@@ -33,6 +40,12 @@ def svd(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if not _plain(A) or 0 in A.shape:
         U, s, Vt = np.linalg.svd(A)
         return U, s, Vt
+    if _svd_errors is not None:
+        token = _extobj_contextvar.set(_svd_errors)
+        try:
+            return _umath_linalg.svd_f(A, signature="d->ddd")
+        finally:
+            _extobj_contextvar.reset(token)
     with np.errstate(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore"):
         return _umath_linalg.svd_f(A, signature="d->ddd")
 

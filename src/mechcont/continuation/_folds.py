@@ -251,7 +251,7 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
         A = JF * rows[:, None] * cols
         lu, piv, info = _dgetrf(A)
         dU = _dgetrs(lu, piv, -rows * F)[0] if info == 0 else None
-        if dU is None or not np.all(np.isfinite(dU)):
+        if dU is None or not np.isfinite(dU).all():
             raise ConvergenceError(f"fold polish: singular fold system at iteration {it} (the fold may be degenerate "
                                    "or a branch point)", partial=full(U))
         # Deuflhard's natural monotonicity test: the simplified Newton correction at the
@@ -263,11 +263,11 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
             trial = U + lam * cols * dU
             F_t, JF_t = evaluate(trial)
             bar = _dgetrs(lu, piv, -rows * F_t)[0]
-            if (np.all(np.isfinite(bar)) and _norm(bar) <= (1 - lam / 4) * size) or lam < 1 / 64:
+            if (np.isfinite(bar).all() and _norm(bar) <= (1 - lam / 4) * size) or lam < 1 / 64:
                 break
             lam *= 0.5
         U, F, JF = trial, F_t, JF_t
-        step = float(np.max(np.abs(lam * dU)))
+        step = float(np.abs(lam * dU).max())
         r_eq, J_eq = F[:len(row)], JF[:len(row), :len(idx_vars)]
         null_rows = F[len(row):2 * len(row)]
         J_null = JF[len(row):2 * len(row)]

@@ -43,18 +43,19 @@ def equilibrate(A: np.ndarray, reference: np.ndarray | None = None, iterations: 
     """
     B = np.abs(np.asarray(A, dtype=float))
     m, n = B.shape
-    r, c = np.ones(m), np.ones(n)
+    # rows then columns in one array each (scales, and the largest entries of a pass), so one
+    # operation updates both: the same arithmetic as two, with half the calls
+    rc, big = np.ones(m + n), np.empty(m + n)
+    r, c, r_col, rbig, cbig = rc[:m], rc[m:], rc[:m, None], big[:m], big[m:]
     top = np.maximum.reduce  # ndarray.max without its Python wrapper (the same reduction)
     for _ in range(iterations):
-        S = B * r[:, None]
+        S = B * r_col
         S *= c
-        rmax = top(S, axis=1, initial=0.0)
-        cmax = top(S, axis=0, initial=0.0)
-        rmax[rmax == 0] = 1.0
-        cmax[cmax == 0] = 1.0
-        r /= np.sqrt(rmax)
-        c /= np.sqrt(cmax)
-        if max(top(np.abs(rmax - 1), initial=0.0), top(np.abs(cmax - 1), initial=0.0)) < tol:
+        top(S, axis=1, initial=0.0, out=rbig)
+        top(S, axis=0, initial=0.0, out=cbig)
+        big[big == 0] = 1.0
+        rc /= np.sqrt(big)
+        if top(np.abs(big - 1), initial=0.0) < tol:
             break
     ref = np.ones(n, dtype=bool) if reference is None or not np.any(reference) else np.asarray(reference, bool)
     factor = float(np.exp(np.mean(np.log(c[ref]))))

@@ -401,7 +401,9 @@ class MechanicalModel:
         out = self._statics(self._args(x))
         if nc:
             U, sv, Vt = _dense.svd(layout.constraint_jacobian(out))
-            r = int(np.count_nonzero(sv > 1e-10 * max(sv[0], 1e-300)))
+            svs = sv.tolist()  # the rank counted on floats: the same count, without two array operations
+            cut = 1e-10 * max(svs[0], 1e-300)
+            r = sum(1 for v in svs if v > cut)
             lam = U[:, :r] @ ((Vt[:r] @ out[layout.q_slice]) / sv[:r])
             K = layout.stiffness(out, lam)
         else:
