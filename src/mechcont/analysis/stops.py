@@ -261,6 +261,8 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
         The joined branch, its pieces and switches. A piece that fails ends the run with its
         message; what was computed up to there is returned.
     """
+    hold, free = list(hold), list(free)
+    contact = None if contact is None else list(contact)
     if direction == 0:
         down = continuation_with_stops(system, start, vary, direction=-1, hold=hold, free=free, stops=stops,
                                        contact=contact, options=options, stop_at_fold=stop_at_fold,
@@ -286,7 +288,6 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
                                       "contact has its condition at the limit and a reaction >= 0, a free one a zero "
                                       "reaction and its condition on the allowed side; find the start with "
                                       "equilibrium_on_stops")
-    hold, free = list(hold), list(free)
     run = StopRun(branch=None)  # type: ignore[arg-type]
     sign = direction
     for _ in range(max_switches + 1):
