@@ -2,8 +2,10 @@
 
 Cases: the overcentre and the paper's nose gear described with spatial elements, the
 dual-sidestay gear (9 bodies, 63 coordinates, 128 unknowns) built from a freshly parsed
-description each time (so nothing generated is reused), and the spatial nose gear's
-unlock branch with its fold.
+description each time (so nothing generated is reused), the spatial nose gear's
+unlock branch with its fold, and the dual-sidestay unlock with its overcentre stops (three
+runs through contact changes to their folds, and the joint unlock fold continued in the
+lock-spring stretch to its cusp).
 """
 
 from __future__ import annotations
@@ -26,6 +28,14 @@ def cases():
         b = continuation(nose, x0, "F", options=opts)
         assert len(b.special("LP")) == 1
 
+    from mechcont.paper.dual_sidestay import generated_gear, unlock_study
+
+    gear = generated_gear()
+
+    def gear_unlock():
+        study = unlock_study(gear)
+        assert [p.label for p in study.fold_curve.special_points].count("CP") == 1
+
     return [
         ("spatial: parse + build overcentre (2 bodies)", lambda: load_description(SPATIAL / "overcentre_3d.toml").build(), 3),
         ("spatial: parse + build nose gear (5 bodies, 103 unknowns)",
@@ -33,4 +43,5 @@ def cases():
         ("spatial: parse + build dual-sidestay gear (9 bodies, 128 unknowns)",
          lambda: load_description(ROOT / "examples" / "dual_sidestay.toml").build(), 3),
         ("spatial: nose-gear unlock branch, LP located", nose_branch, 3),
+        ("spatial: dual-sidestay unlock with stops (3 runs + fold curve to its cusp)", gear_unlock, 3),
     ]
