@@ -67,10 +67,7 @@ def check_command(ctx, model, sets, reduced, plot, quiet):
 
         draw(report.system, report.x, path, labels=True, title=f"{report.name}: assembled configuration")
     if not quiet:
-        click.echo(report.to_text())
-        stops = _stops_text(report)
-        if stops:
-            click.echo(stops)
+        click.echo(report.to_text(_stops_text(report)))
         if path is not None:
             click.echo(f"drawing: {path}")
     elif report.findings:
@@ -91,7 +88,8 @@ def _stops_text(report) -> str:
     stops = as_model(system).stops
     if not stops:
         return ""
-    out = ["", "stops (one-sided limits of conditions), the equilibrium with those in contact that push:"]
+    out = ["stops (one-sided limits of conditions; the equilibrium above leaves them free), the equilibrium with "
+           "those in contact that push:"]
     try:
         x, contact = equilibrium_on_stops(system, report.x)
     except (ConvergenceError, InputError) as exc:

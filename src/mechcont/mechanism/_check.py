@@ -149,8 +149,9 @@ class CheckReport:
         """True when the assembled configuration is itself in equilibrium."""
         return self.x_equilibrium is not None and self.imbalance.value == 0.0
 
-    def to_text(self) -> str:
-        """The report as plain text (angles of states and parameters in degrees)."""
+    def to_text(self, extra: str = "") -> str:
+        """The report as plain text (angles of states and parameters in degrees); ``extra`` (lines of
+        text, e.g. the stops section of ``mechcont check``) follows the equilibrium and its stability."""
         out = [f"mechanism {self.name}" + (" (reduced form)" if self.reduced else "") + f": {self.source}"]
         if self.description:
             out.append(f"  {self.description}")
@@ -198,6 +199,8 @@ class CheckReport:
             kind = "reduced tangent stiffness" if st.conservative else "omega^2 of the reduced system (1/s^2)"
             status = "stable" if st.stable else f"UNSTABLE in {st.n_unstable} direction(s)"
             out.append(f"stability at the equilibrium: {status} (eigenvalues of the {kind}: {ev or 'none'})")
+        if extra:
+            out += ["", extra]
         out.append("")
         out.append("parameters:")
         out += _table([(p.name, _show(p.value, p.unit), p.description) for p in self.parameters])
