@@ -143,7 +143,7 @@ def plot_unlock_with_stops(runs: dict, fold_curve=None, labels: dict | None = No
         ax = axes[1]
         b = fold_curve
         ax.plot(b.values[:, b.names.index("stretch")], b.values[:, b.names.index("F_lock")], "-", color="#2ca02c",
-                label="unlock fold (LP) of both pairs")
+                label="folds (LP) of the unlock branch, both pairs")
         for p in b.special_points:
             if p.label == "CP":
                 ax.plot(p["stretch"], p["F_lock"], "k*", markersize=9, label="cusp (CP)")
