@@ -248,3 +248,12 @@ def test_continue_with_stops_refuses_a_lens_on_the_stops(args, field):
 
     one_line_error(make_runner()("continue", DATA / "pendulum_stop.toml", *args, "--stops"), field,
                    "is switched by the stop rest")
+
+
+def test_a_stop_on_a_condition_without_coordinates_is_refused():
+    text = (DATA / "pendulum_stop.toml").read_text().replace(
+        'angle = { type = "angle", bodies = ["ground", "bar"] }', 'angle = { type = "angle", bodies = ["ground", "bar"] }\n'
+        'size = "2*L"')
+    text = text.replace('condition = "angle"', 'condition = "size"')
+    with pytest.raises(InputError, match="stops.rest.condition.*does not depend on the coordinates"):
+        parse_description(text, "p.toml").build()

@@ -146,6 +146,10 @@ def stop_forces(mech, conditions, q: Sequence[sp.Symbol], gradient=None) -> list
     for s in mech.stops:
         c = exprs[s.condition]
         ds = gradient(c, list(q)) if gradient is not None else [sp.diff(c, qi) for qi in q]
+        if all(d == 0 for d in ds):
+            raise InputError(f"stops.{s.name}.condition", f"the condition {s.condition!r} does not depend on the "
+                                                          "coordinates, so nothing can move against the stop; limit "
+                                                          "a condition of the configuration")
         R = symbol(s.reaction)
         out = [o + s.side * R * d for o, d in zip(out, ds)]
     return out
