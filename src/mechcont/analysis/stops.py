@@ -32,7 +32,8 @@ from ..continuation import Branch, ContinuationOptions, FoldEvent, SpecialPoint,
 from ..equations import EquationSystem, StopLimit, as_model
 from ..errors import ConvergenceError, InputError
 
-__all__ = ["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stops_in_contact", "check_stop_lens"]
+__all__ = ["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stops_in_contact", "check_stop_lens",
+           "stability_on_stops"]
 
 #: A stop counts as touching when its condition is within this of the limit (condition units: a
 #: sine, rad or m), far below any physical gap and far above the solver's residual.
@@ -297,7 +298,7 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
         piece = continuation(system, x, vary, hold=hold_k, free=free_k, options=options, direction=sign,
                              events=events, progress=progress)
         if active and options.stability:
-            _contact_stability(system, piece, [s for s in st if s.name in active])
+            _contact_stability(system, piece, [s.name for s in st if s.name in active])
         run.pieces.append(piece)
         run.contact.append(tuple(s.name for s in st if s.name in active))
         run.directions.append(sign)
@@ -318,15 +319,27 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
     return run
 
 
-def _contact_stability(system: EquationSystem, piece: Branch, touching: Sequence[StopLimit]) -> None:
-    """Stability along a piece with stops in contact: a stop pushing (reaction > 0) forbids motion across
-    it, so its condition's gradient is held like a joint's (``n_unstable`` rewritten in place)."""
+def stability_on_stops(system: EquationSystem, x: np.ndarray, contact: Iterable[str]):
+    """Physical stability at the full vector ``x`` with the stops ``contact`` (names) in contact.
+
+    A stop that pushes (reaction > 0) forbids motion across it, so its condition's gradient (the
+    Jacobian row ``cond_<condition>`` over the coordinates) is held like a joint's; its reaction's
+    curvature is already in the forces. Returns the mechanics'
+    :class:`~mechcont.equations.StabilityResult`."""
     mech = system.mechanics
+    touching = _stops(system, list(contact))
+    if not touching:
+        return mech.stability(x)
     cols = [system.index(q) for q in mech.coordinates]
     rows = [system.equation_names.index(f"cond_{s.condition}") for s in touching]
+    return mech.stability(x, held=system.jacobian(x)[np.ix_(rows, cols)])
+
+
+def _contact_stability(system: EquationSystem, piece: Branch, contact: Sequence[str]) -> None:
+    """:func:`stability_on_stops` at every point of a piece with the stops ``contact`` in contact
+    (``n_unstable`` rewritten in place)."""
     for i, x in enumerate(piece.values):
-        J = system.jacobian(x)
-        piece.n_unstable[i] = mech.stability(x, held=J[np.ix_(rows, cols)]).n_unstable
+        piece.n_unstable[i] = stability_on_stops(system, x, contact).n_unstable
 
 
 def _join(system: EquationSystem, pieces: list[Branch], vary: str, run: StopRun) -> Branch:

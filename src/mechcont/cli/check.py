@@ -80,7 +80,7 @@ def check_command(ctx, model, sets, reduced, plot, quiet):
 def _stops_text(report) -> str:
     """The stops section: the equilibrium with a consistent set of stops in contact, found from the
     assembled configuration (empty when the mechanism has no stops)."""
-    from ..analysis import equilibrium_on_stops
+    from ..analysis import equilibrium_on_stops, stability_on_stops
     from ..equations import as_model
     from ..errors import ConvergenceError
 
@@ -97,7 +97,7 @@ def _stops_text(report) -> str:
     width = max(len(s.name) for s in stops)
     for s in stops:
         c = system.variable(s.condition)
-        bound = f"{'min' if s.side > 0 else 'max'} of {s.condition} = {s.limit:.6g}{' ' + c.unit if c.unit else ''}"
+        bound = f"{s.key} of {s.condition} = {s.limit:.6g}{' ' + c.unit if c.unit else ''}"
         if s.name in contact:
             R = system.variable(s.reaction)
             state = f"in contact, reaction {s.reaction} = {x[system.index(s.reaction)]:.6g} {R.unit}"
@@ -105,11 +105,7 @@ def _stops_text(report) -> str:
             value = x[system.index(s.condition)]
             state = f"free, {s.condition} = {value:.6g} ({s.gap(value):.3g} from it)"
         out.append(f"  {s.name:<{width}}  {bound}: {state}")
-    model = system.mechanics
-    rows = [system.equation_names.index(f"cond_{s.condition}") for s in stops if s.name in contact]
-    cols = [system.index(q) for q in model.coordinates]
-    held = system.jacobian(x)[rows][:, cols] if rows else None
-    st = model.stability(x, held=held)
+    st = stability_on_stops(system, x, contact)
     out.append(f"  stability there (a stop in contact holds its condition): "
                f"{'stable' if st.stable else f'UNSTABLE in {st.n_unstable} direction(s)'}")
     return "\n".join(out)

@@ -39,6 +39,11 @@ class StopLimit:
     side: int
     limit: float
 
+    @property
+    def key(self) -> str:
+        """``"min"`` (side +1) or ``"max"`` (side -1), as in the description's stop table."""
+        return "min" if self.side > 0 else "max"
+
     def gap(self, condition_value: float) -> float:
         """How far (condition unit) the condition is from the stop, >= 0 on the allowed side."""
         return self.side * (condition_value - self.limit)

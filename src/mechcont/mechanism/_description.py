@@ -29,7 +29,7 @@ from ..errors import InputError
 from ._actuators import Actuator, check_actuators
 from ._conditions import Condition, DownlockSpec, check_conditions
 from ._expr import FUNCTIONS, Value, symbol, to_expr
-from ._stops import Stop, StopReaction, check_stops, stop_reactions
+from ._stops import Stop, check_stops, stop_reaction_unit
 
 __all__ = [
     "Parameter", "Polar", "Body", "Revolute", "Slider", "Prismatic", "Weld", "Spring", "Damper",
@@ -50,6 +50,12 @@ class Parameter:
     unit: str = ""
     description: str = ""
     scale: float | None = None
+
+
+@dataclass(frozen=True)
+class StopReaction(Parameter):
+    """The contact reaction parameter ``R_<stop>`` that a stop adds (default 0: out of contact);
+    made by the mechanism from its ``stops``, never read from a file."""
 
 
 @dataclass(frozen=True)
@@ -364,8 +370,10 @@ class Mechanism:
         self.conditions, self.actuators = tuple(self.conditions), tuple(self.actuators)
         self.stops = tuple(self.stops)
         # a copy (dataclasses.replace) passes the generated reactions back in: made anew here
+        units = {c.name: c.value_unit for c in self.conditions}
         self.parameters = (*(p for p in self.parameters if not isinstance(p, StopReaction)),
-                           *stop_reactions(self, self.stops))
+                           *(StopReaction(s.reaction, 0.0, stop_reaction_unit(units.get(s.condition, "")),
+                                          s.reaction_description) for s in self.stops))
         self._validate()
 
     def __getstate__(self) -> dict:
@@ -564,7 +572,7 @@ class Mechanism:
             if c.target is not None:
                 yield f"conditions.{c.name}.target", c.target
         for st in self.stops:
-            yield f"stops.{st.name}.{'min' if st.side > 0 else 'max'}", st.limit
+            yield f"stops.{st.name}.{st.key}", st.limit
 
     def expr(self, value: Value, field: str) -> sp.Expr:
         """Parse ``value`` over the parameters (and, for custom loads and conditions, the coordinates)."""

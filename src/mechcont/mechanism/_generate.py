@@ -354,7 +354,7 @@ def condition_fields(mech: Mechanism, values: Mapping[str, float]) -> tuple[dict
     if mech.stops:
         downlock["stops"] = tuple(
             StopLimit(s.name, s.condition, s.reaction, s.side,
-                      evaluate(mech.value(f"stops.{s.name}.{'min' if s.side > 0 else 'max'}"), values,
+                      evaluate(mech.value(f"stops.{s.name}.{s.key}"), values,
                                f"stops.{s.name}"))
             for s in mech.stops)
     return targets, downlock

@@ -29,7 +29,7 @@ import sympy as sp
 from ..errors import InputError
 from ._expr import Value, symbol
 
-__all__ = ["Stop", "StopReaction", "stops_from_table", "check_stops", "stop_reaction_unit", "stop_forces",
+__all__ = ["Stop", "stops_from_table", "check_stops", "stop_reaction_unit", "stop_forces",
            "STOP_KEYS"]
 
 #: Keys of a ``[stops.NAME]`` table.
@@ -65,16 +65,15 @@ class Stop:
         """Name of the contact reaction parameter (>= 0 in contact, 0 out of contact)."""
         return f"R_{self.name}"
 
+    @property
+    def key(self) -> str:
+        """The key of the limit in the stop's table: ``"min"`` or ``"max"``."""
+        return "min" if self.side > 0 else "max"
 
-@dataclass(frozen=True)
-class StopReaction:
-    """The generated parameter of a stop's contact reaction (a :class:`~._description.Parameter` look-alike)."""
-
-    name: str
-    value: float = 0.0
-    unit: str = ""
-    description: str = ""
-    scale: float | None = None
+    @property
+    def reaction_description(self) -> str:
+        """The meaning of the contact reaction parameter, for its variable's description."""
+        return f"contact reaction of stop {self.name} ({self.key} of {self.condition}), >= 0 in contact, 0 out of contact"
 
 
 def stop_reaction_unit(condition_unit: str) -> str:
@@ -123,17 +122,8 @@ def check_stops(mech) -> None:
             raise InputError(f, f"side must be +1 (min) or -1 (max), got {s.side!r}")
         if (s.condition, s.side) in seen:
             raise InputError(f, f"the condition {s.condition!r} already has a "
-                                f"{'min' if s.side > 0 else 'max'} stop ({seen[(s.condition, s.side)]})")
+                                f"{s.key} stop ({seen[(s.condition, s.side)]})")
         seen[(s.condition, s.side)] = s.name
-
-
-def stop_reactions(mech, stops: Sequence[Stop]) -> list[StopReaction]:
-    """The generated reaction parameters of ``stops`` (value 0: out of contact)."""
-    units = {c.name: c.value_unit for c in mech.conditions}
-    return [StopReaction(s.reaction, 0.0, stop_reaction_unit(units.get(s.condition, "")),
-                         f"contact reaction of stop {s.name} ({'min' if s.side > 0 else 'max'} of {s.condition}), "
-                         f">= 0 in contact, 0 out of contact")
-            for s in stops]
 
 
 def stop_forces(mech, conditions, q: Sequence[sp.Symbol], gradient=None) -> list[sp.Expr]:

@@ -358,12 +358,9 @@ def unlock_study(gen, *, force_bound: float = 1000.0, stretch=(0.5, 1.0)) -> Unl
     :func:`~mechcont.analysis.equilibrium_on_stops`); each run is
     :func:`~mechcont.analysis.continuation_with_stops` from there, ended at its first fold."""
     from ..analysis import continuation_with_stops, equilibrium_on_stops
-    from ..continuation import find_equilibrium
 
     model = as_model(gen)
-    limits = {s.condition: s.limit for s in model.stops}
-    guess = find_equilibrium(gen, hold=limits, free=[s.reaction for s in model.stops], guess=gen.defaults())
-    x, contact = equilibrium_on_stops(gen, guess)
+    x, contact = equilibrium_on_stops(gen, gen.defaults(), contact=[s.name for s in model.stops])
     runs = {f: continuation_with_stops(gen, x, f, direction=1, stop_at_fold=True,
                                        options=ContinuationOptions(bounds={f: (-1.0, force_bound)}, max_steps=200))
             for f in UNLOCK_FORCES}
