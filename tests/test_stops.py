@@ -257,3 +257,14 @@ def test_a_stop_on_a_condition_without_coordinates_is_refused():
     text = text.replace('condition = "angle"', 'condition = "size"')
     with pytest.raises(InputError, match="stops.rest.condition.*does not depend on the coordinates"):
         parse_description(text, "p.toml").build()
+
+
+def test_a_bad_stop_table_is_one_line_on_the_command_line(tmp_path):
+    from tests.cli_helpers import make_runner, one_line_error
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text((DATA / "pendulum_stop.toml").read_text().replace("min = -1.2", "min = -1.2\nmax = 0.5"))
+    one_line_error(make_runner()("check", bad), "stops.rest", "exactly one of min")
+    bad.write_text((DATA / "pendulum_stop.toml").read_text().replace('condition = "angle"\nmin', 'condition = "gap"\nmin'))
+    one_line_error(make_runner()("continue", bad, "--vary", "T", "--stops"), "stops.rest.condition",
+                   "unknown condition 'gap'")
