@@ -154,3 +154,20 @@ def test_branch_switching_at_bp(kind):
     assert np.max(np.abs(on_new(nb["x"], nb["p"]))) < 1e-9
     assert (nb["x"] > 0.1).any() and (nb["x"] < -0.1).any()  # both directions followed
     assert nb.labels[int(np.argmin(np.abs(nb.s)))] == "BP"
+
+
+def test_every_point_solves_the_equations(overcentre):
+    # the corrector may return its last correction unevaluated (Newton's linear model makes
+    # its residual of the order of the correction squared): check each point afresh
+    from mechcont.continuation._newton import residual_met
+
+    s = make("circle", [lambda v: v["x"] ** 2 + v["p"] ** 2 - 1], {"x": 1.0}, {"p": 0.0})
+    b = continuation(s, s.vector({"x": 1.0, "p": 0.0}), "p", options=ContinuationOptions(max_steps=200, stability=False,
+                                                                                          bounds={"x": (-0.5, 2)}))
+    assert np.abs(b["x"] ** 2 + b["p"] ** 2 - 1).max() < 1e-12  # residual_tol is 1e-10
+    x0 = find_equilibrium(overcentre, hold={"theta1": 0.3}, free=["F"])
+    b = continuation(overcentre, x0, "F", options=ContinuationOptions(bounds={"theta1": (-1.2, 1.2)}))
+    idx = [overcentre.index(n) for n in (*b.unknowns, "F")]
+    for x in b.values:
+        J = overcentre.jacobian(x)[:, idx]
+        assert residual_met(overcentre.residual(x), J, x[idx], 1e-10)

@@ -49,3 +49,28 @@ def test_brentq_errors_as_scipy():
     with pytest.raises(ValueError, match="rtol"):
         brentq(lambda x: x, -1.0, 1.0, rtol=1e-17)
     assert brentq(lambda x: x, 0.0, 1.0) == 0.0
+
+
+def test_known_end_values_are_not_evaluated_again_and_change_nothing():
+    rng = np.random.default_rng(5)
+    n = 0
+    for f, a, b in _functions(rng):
+        fa, fb = f(a), f(b)
+        if (fa < 0) == (fb < 0):
+            continue
+        calls = []
+
+        def g(x, f=f, calls=calls):
+            calls.append(x)
+            return f(x)
+
+        try:
+            expected = brentq(f, a, b, xtol=1e-14, rtol=8.9e-16)
+        except RuntimeError:
+            continue
+        assert brentq(g, a, b, xtol=1e-14, rtol=8.9e-16, fa=fa, fb=fb) == expected
+        assert a not in calls and b not in calls
+        n += 1
+    assert n > 250
+    with pytest.raises(ValueError, match="NaN"):
+        brentq(lambda x: x, -1.0, 1.0, fa=math.nan)

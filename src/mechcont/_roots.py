@@ -28,11 +28,13 @@ def _value(f: Callable[[float], float], x: float) -> float:
 
 
 def brentq(f: Callable[[float], float], a: float, b: float, xtol: float = XTOL, rtol: float = RTOL,
-           maxiter: int = 100) -> float:
+           maxiter: int = 100, fa: float | None = None, fb: float | None = None) -> float:
     """A zero of the scalar function ``f`` between ``a`` and ``b`` (where ``f`` changes sign).
 
     Converged when the bracket's half width is below ``(xtol + rtol * |x|) / 2`` or ``f``
-    is exactly zero. Returns the abscissa (same units as ``a``, ``b``).
+    is exactly zero. Returns the abscissa (same units as ``a``, ``b``). ``fa`` / ``fb``:
+    the values at ``a`` / ``b`` when the caller knows them (``f`` is then not called there;
+    with ``f(a)``, ``f(b)`` themselves the iterates are the same).
 
     Raises
     ------
@@ -48,7 +50,10 @@ def brentq(f: Callable[[float], float], a: float, b: float, xtol: float = XTOL, 
     if maxiter < 0:
         raise ValueError("maxiter should be > 0")
     xpre, xcur = float(a), float(b)
-    fpre, fcur = _value(f, xpre), _value(f, xcur)
+    fpre = _value(f, xpre) if fa is None else float(fa)
+    fcur = _value(f, xcur) if fb is None else float(fb)
+    if math.isnan(fpre) or math.isnan(fcur):
+        raise ValueError("The function value at an end of the bracket is NaN; solver cannot guarantee convergence.")
     if fpre == 0:
         return xpre
     if fcur == 0:

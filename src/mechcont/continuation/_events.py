@@ -68,17 +68,23 @@ class Event:
         ``(sigma, state, info)`` with ``info["status"]`` ``"located"`` (Brent's method on
         sigma, each trial point corrected onto the branch) or ``"approximate"`` (the secant
         estimate, when root finding fails); ``state`` is None when not even that converges.
+
+        Each trial point's corrector starts from the nearest point already on the branch
+        (``cur`` or an earlier trial), moved along the tangent onto the trial's hyperplane:
+        as Brent closes in, one Newton correction is enough.
         """
-        cache = {}
+        cache: dict[float, PointState] = {0.0: cur}
 
         def f(sigma):
-            st = stepper.point_at(cur.z, cur.tangent, sigma)
+            near = min(cache, key=lambda s: abs(s - sigma))
+            st = stepper.point_at(cur.z, cur.tangent, sigma, cache[near].z + (sigma - near) * cur.tangent)
             cache[sigma] = st
             return self.value(problem, st)
 
         try:
-            sigma = brentq(f, 0.0, ds, xtol=1e-14 * max(1.0, ds), rtol=8.9e-16, maxiter=100)
-            st = cache.get(sigma) or stepper.point_at(cur.z, cur.tangent, sigma)
+            sigma = brentq(f, 0.0, ds, xtol=1e-14 * max(1.0, ds), rtol=8.9e-16, maxiter=100, fa=v0, fb=v1)
+            st = cache.get(sigma) if sigma != 0.0 else None
+            st = st or stepper.point_at(cur.z, cur.tangent, sigma)
         except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
             return _secant(stepper, cur, ds, v0, v1, f"not located: {exc}")
         return sigma, st, {"status": "located"}

@@ -30,9 +30,12 @@ from .. import _dense
 from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 from ._events import Event
+from ._linalg import DenseLU
 from ._newton import residual_met
 from ._problem import ContinuationProblem, choose_unknowns
 from ._scaling import equilibrate
+
+_SOLVER = DenseLU()
 
 __all__ = ["FoldProblem", "FoldPoint", "CuspEvent", "fold_quantities", "fold_scaling", "polish_fold", "refine_fold"]
 
@@ -147,11 +150,15 @@ class _FoldSystem:
     def evaluate(self, U):
         """Residual (2n+1) and Jacobian (2n+1, nv+n) at ``U``."""
         nv, n, col = self.nv, self.n, self.col
-        x = self.full(U)
+        x = self.base.copy()  # self.full(U), inline: this runs at every Newton iteration
+        x[self.idx_vars] = U[:nv]
         vh = U[nv:]
         r, J = self.view.residual_and_jacobian(x)
         Jv = J[:, self.state_pos] * col
-        res = np.concatenate([r, Jv @ vh, [0.5 * (vh @ vh - 1.0)]])
+        res = np.empty(2 * n + 1)
+        res[:n] = r
+        res[n:2 * n] = Jv @ vh
+        res[2 * n] = 0.5 * (vh @ vh - 1.0)
         vf = np.zeros(len(x))
         vf[self.state_idx] = col * vh
         H = self.view.jacobian_derivative(x, vf)
@@ -301,7 +308,7 @@ class CuspEvent(Event):
     label = "CP"
 
     def value(self, problem, state):
-        return problem.quadratic_coefficient(state.u)
+        return problem.quadratic_coefficient(state.u, state.jac)
 
 
 class FoldProblem(ContinuationProblem):
@@ -358,17 +365,41 @@ class FoldProblem(ContinuationProblem):
     def full(self, u):
         return self._full(u)
 
-    def quadratic_coefficient(self, u) -> float:
-        """Normalised ``a = w^T G_ss[v, v]`` at the fold-curve point ``u``."""
-        nv, fs = len(self.idx_vars), self._fs
-        if fs.last is None or fs.last[0] != u.tobytes():
-            fs.evaluate(u)  # usually the corrector's last evaluation is at u already
-        _, J, H = fs.last  # type: ignore[misc]
+    def quadratic_coefficient(self, u, jac: np.ndarray | None = None) -> float:
+        """Normalised ``a = w^T G_ss[v, v]`` at the fold-curve point ``u``.
+
+        ``jac``: the scaled Jacobian of the fold system the corrector returned with ``u``
+        (``dG/du * scale``), whose blocks are ``G``'s columns and ``d(G_s v)/dx``; without it
+        they are evaluated at ``u``.
+        """
+        nv, n, fs = len(self.idx_vars), len(self.states), self._fs
+        if jac is not None:
+            full = jac / self.scale
+            J, H = full[:n, :nv], full[n:2 * n, :nv]
+        else:
+            if fs.last is None or fs.last[0] != u.tobytes():
+                fs.evaluate(u)
+            _, J, H = fs.last  # type: ignore[misc]
         # as fold_quantities(system, full(u), state_idx, p1, col * v_hat, scaling), from the
-        # columns the fold system evaluated (the same values: no second evaluation of the point)
-        Js = J[:, fs.state_pos]
-        _, w = _null_vectors(Js, self.row, self.col)
-        return _oriented_coefficient(self.col * u[nv:], w, J[:, nv - 2], H[:, fs.state_pos])[2]
+        # columns the fold system evaluated (no second evaluation of the point). The left null
+        # vector w solves the bordered system [R G_s C, R G_p1; v_hat^T, 0]^T [y; s] = e, w = R y:
+        # non-singular along a fold curve (G_p1 is outside the range of G_s: transversality), an
+        # LU instead of an SVD, and w^T G_p1 = 1 > 0 comes out oriented.
+        Js, Jp, row, vh = J[:, fs.state_pos], J[:, nv - 2], self.row, u[nv:]
+        M = np.empty((n + 1, n + 1))
+        M[:n, :n] = (Js * row[:, None] * self.col).T
+        M[:n, n] = vh
+        M[n, :n] = row * Jp
+        M[n, n] = 0.0
+        e = np.zeros(n + 1)
+        e[n] = 1.0
+        y = _SOLVER.solve(M, e)
+        if y is None or not np.isfinite(y).all():
+            _, w = _null_vectors(Js, row, self.col)
+        else:
+            w = row * y[:n]
+            w /= _norm(w)
+        return _oriented_coefficient(self.col * vh, w, Jp, H[:, fs.state_pos])[2]
 
     def test_functions(self):
         return [CuspEvent()]

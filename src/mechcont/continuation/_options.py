@@ -33,7 +33,8 @@ class ContinuationOptions:
         ``{name: (low, high)}``: the branch ends (``EP``, located exactly) where a named
         variable leaves its interval.
     newton_tol:
-        Newton converged when the scaled correction's max-norm is below this ...
+        Newton converged when the scaled correction's max-norm, or the distance to the
+        solution that the last two corrections' contraction bounds, is below this ...
     residual_tol:
         ... and each residual is below this (equation units), or at its floating-point
         floor where the row's terms are too large for that (see ``residual_met``).

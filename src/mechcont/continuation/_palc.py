@@ -58,7 +58,14 @@ class PseudoArclength:
 
       i.e. iterations ``[G_z; t0^T] dz = -[G; t0^T (z - z_p)]``. The hyperplane through
       the predictor orthogonal to ``t0`` cuts the branch transversally even at a fold,
-      where Newton in the parameter alone would fail;
+      where Newton in the parameter alone would fail. It has converged when the residuals
+      pass :func:`~._newton.residual_met` and the distance to the solution is below
+      ``newton_tol``: either a correction is that small (the corrected point is returned
+      unevaluated, with the Jacobian of the point the correction was computed at: Newton's
+      linear model makes its residual of the order of the correction squared, and the
+      Jacobians differ by terms of the order of the correction), or the contraction ``q = |dz_k| / |dz_(k-1)|`` of the last
+      two corrections bounds it by ``q / (1 - q) |dz_k|``. Both save the last, confirming
+      evaluation of a quadratically converging Newton;
     * **new tangent**: solve ``[G_z(z1); t0^T] t = e_(n+1)`` and normalise; bordering
       with the previous tangent keeps the orientation (``t0^T t1 > 0``) continuous through
       folds.
@@ -132,14 +139,14 @@ class PseudoArclength:
         A = np.empty((self.n + 1, self.n + 1))
         A[-1] = t0
         b = np.empty(self.n + 1)
-        prev = step = math.inf
+        prev = step = error = math.inf
         for it in range(1, o.max_newton + 2):
             r, J = evaluate(z * D)
             jac = J * D
             # np.add.reduce(a, None) is a.sum() without the method's Python frame (same bits)
             if not (math.isfinite(_add(r, None)) and math.isfinite(_add(jac, None))):
                 return None, "residual not finite (outside the model's domain)", it
-            if step < o.newton_tol and residual_met(r, jac, z, o.residual_tol):
+            if (step < o.newton_tol or error < o.newton_tol) and residual_met(r, jac, z, o.residual_tol):
                 return z, jac, it - 1
             if it > o.max_newton:
                 break
@@ -149,16 +156,28 @@ class PseudoArclength:
             dz = solve(A, b)
             if dz is None:
                 return None, "singular bordered Jacobian", it
-            z = z + dz
             step = _max(np.abs(dz), None)
+            if step < o.newton_tol:
+                # converged without evaluating z + dz: Newton's linear model makes its residual
+                # of order |dz|^2 (r + G_z dz = 0), and its Jacobian differs from the one
+                # returned by terms of order |dz| < newton_tol
+                return z + dz, jac, it
+            z = z + dz
             if step > o.max_contraction * prev and step > 1e3 * o.newton_tol:
                 return None, "corrector converging too slowly", it
+            if prev < math.inf:
+                # the distance left to the solution, from the observed contraction q of the
+                # last two corrections: |z - z*| <= q / (1 - q) |dz| (Deuflhard); Newton's
+                # quadratic convergence makes it an overestimate
+                q = step / prev
+                error = q / (1.0 - q) * step
             prev = step
         return None, f"corrector needed more than {o.max_newton} iterations", o.max_newton
 
-    def point_at(self, z0, t0, sigma):
-        """The branch point on the hyperplane at distance ``sigma`` along ``t0`` from ``z0``."""
-        z, jac, _ = self.correct(z0 + sigma * t0, t0)
+    def point_at(self, z0, t0, sigma, z_start=None):
+        """The branch point on the hyperplane at distance ``sigma`` along ``t0`` from ``z0``
+        (Newton starts at ``z_start``, by default the predictor ``z0 + sigma t0``)."""
+        z, jac, _ = self.correct(z0 + sigma * t0, t0, z_start)
         if z is None:
             raise RuntimeError(jac)
         return self.state(z, self.tangent(z, t0, jac), jac)
@@ -413,12 +432,14 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
     res = DirectionResult()
     for point in steps:
         res.states.append(point.state)
-        res.stability.append(problem.stability(point.state.u) if options.stability else -1)
         res.labels.append(point.label)
         res.info.append(point.info)
         res.arclength.append(point.s)
         if progress is not None and not point.label and point.s > 0:
             progress(1)
+    # one batch for the whole direction: a point's stability plays no part in the stepping
+    res.stability = (problem.stability_batch(np.array([st.u for st in res.states])) if options.stability
+                     else [-1] * len(res.states))
     assert steps.termination is not None  # the iterator stops only after setting it
     res.termination = steps.termination
     res.status = steps.termination.status

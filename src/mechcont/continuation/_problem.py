@@ -67,6 +67,10 @@ class ContinuationProblem(Protocol):
         """Number of unstable directions at ``u`` (-1 when unknown)."""
         return -1
 
+    def stability_batch(self, U: np.ndarray) -> list[int]:
+        """:meth:`stability` at every row of ``U`` (override when a batch is cheaper)."""
+        return [self.stability(u) for u in U]
+
     def test_functions(self) -> list:
         """Extra events particular to this problem (e.g. cusp detection)."""
         return []
@@ -164,3 +168,10 @@ class EquilibriumProblem(ContinuationProblem):
         if not self._stability:
             return -1
         return self.system.mechanics.stability(self.full(u)).n_unstable  # type: ignore[attr-defined]
+
+    def stability_batch(self, U) -> list[int]:
+        if not self._stability:
+            return [-1] * len(U)
+        X = np.tile(self.base, (len(U), 1))
+        X[:, self.idx] = U
+        return self.system.mechanics.count_unstable(X).tolist()  # type: ignore[attr-defined]
