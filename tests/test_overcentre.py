@@ -87,6 +87,22 @@ def test_fold_curve_and_cusp_match_closed_form():
     assert fc["LU"].min() == pytest.approx(0.1) and (th > 0).any() and (th < 0).any()
 
 
+def test_fold_curve_starts_from_a_located_fold_as_from_a_rough_one():
+    # a located LP starts the curve as it is; a plain vector, or an LP whose point no longer
+    # solves the fold system, is polished first: the three curves are the same closed form
+    from dataclasses import replace
+
+    s, b = branch_at(0.1, theta_bound=1.45)
+    lp = min(b.special("LP"), key=lambda p: p["F"])
+    opts = ContinuationOptions(bounds={"LU": (0.1, 2.0)})
+    stale = replace(lp, x=lp.x + 1e-3 * (np.array(s.names) == "theta1"))
+    LUc = symmetric_cusp(P["L"], P["m1"], P["m2"], P["g"], P["k"])[0]
+    for start in (lp, lp.x, stale):
+        fc = continue_folds(s, start, vary="F", free="LU", options=opts, direction=1, stop_at_cusp=True)
+        assert np.max(np.abs(P["L"] * np.cos(fc["theta1"]) ** 3 - fc["LU"])) < 1e-10
+        assert fc["LU"][0] == 0.1 and fc.labels[-1] == "CP" and fc["LU"][-1] == pytest.approx(LUc, rel=1e-9)
+
+
 def test_lower_fold_crosses_zero_force_near_1_2_m():
     s, b = branch_at(0.4)
     lp = min(b.special("LP"), key=lambda p: p["F"])

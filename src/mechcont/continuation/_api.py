@@ -80,13 +80,13 @@ def _run(problem, system, u0, options, events, direction, vary, unknowns, tangen
     if direction not in (-1, 0, 1):
         raise InputError("direction", f"must be -1, 0 (both) or +1, got {direction!r}")
     dirs = [direction] if direction else [-1, 1]
-    parts = {d: run_direction(problem, u0, d, options, events, tangent0=tangent0, progress=progress) for d in dirs}
-    rows, stab, labels, infos, s = [], [], [], [], []
+    parts = {d: run_direction(problem, u0, d, options, events, tangent0=tangent0, progress=progress, stability=False)
+             for d in dirs}
+    rows, labels, infos, s = [], [], [], []
 
     def take(p, indices, sign):
         for i in indices:
             rows.append(p.states[i])
-            stab.append(p.stability[i])
             labels.append(p.labels[i])
             infos.append(p.info[i])
             s.append(sign * p.arclength[i])
@@ -101,6 +101,8 @@ def _run(problem, system, u0, options, events, direction, vary, unknowns, tangen
             p.labels[0], p.info[0] = parts[-1].labels[0], parts[-1].info[0]
         take(p, range(len(p.states)), 1)
     values = np.array([st.x for st in rows])
+    # the whole branch's stability in one batch
+    stab = problem.stability_batch(np.array([st.u for st in rows])) if options.stability else [-1] * len(rows)
     special = []
     for i, (lab, st, inf) in enumerate(zip(labels, rows, infos)):
         if lab:
@@ -217,8 +219,19 @@ def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: 
     states = [s for s in states if s != free]
     if len(states) != len(system.equations):
         raise InputError(free, "is one of the unknowns of the branch; choose a parameter that was held")
-    x, v = refine_fold(system, _start_vector(system, fold), states, vary)
-    problem = FoldProblem(system, x, vary, free, states, v0=v, scales=options.scales)
+    x0 = _start_vector(system, fold)
+    problem = None
+    if (isinstance(fold, SpecialPoint) and fold.info.get("status") == "located" and fold.info.get("vary") == vary
+            and fold.info.get("null_vector") is not None):
+        # a fold the branch already polished: start from it as it is, if it still solves the fold system
+        problem = FoldProblem(system, x0, vary, free, states, v0=np.asarray(fold.info["null_vector"], float),
+                              scales=options.scales)
+        if not problem.solves(problem.u0):
+            problem = None
+    if problem is None:
+        x, v = refine_fold(system, x0, states, vary)
+        problem = FoldProblem(system, x, vary, free, states, v0=v, scales=options.scales)
+    x = problem.full(problem.u0)
     from dataclasses import replace
 
     opts = replace(options, stability=False)

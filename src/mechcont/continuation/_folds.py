@@ -123,10 +123,10 @@ class _FoldSystem:
 
     ``idx_vars``: full indices of the variable unknowns (states then parameters);
     ``state_pos``: positions within ``idx_vars`` of the states whose Jacobian must be
-    singular; ``col_states``: the column scales of those states. :attr:`last` keeps
-    ``(U.tobytes(), J, H)`` of the latest :meth:`evaluate` (``J``: the unknowns' Jacobian columns,
-    ``H``: those of ``d(G_s v)/dx``), so a test function at the converged point (the
-    cusp's) reads them instead of evaluating the same point again.
+    singular; ``col_states``: the column scales of those states. The Jacobian's blocks are
+    ``G``'s columns (rows ``:n``, columns ``:nv``) and those of ``d(G_s v)/dx`` (rows
+    ``n:2n``): a test function at a converged point (the cusp's) reads them there instead of
+    evaluating the point again.
     """
 
     def __init__(self, system: EquationSystem, base: np.ndarray, idx_vars: np.ndarray, state_pos, col_states) -> None:
@@ -139,7 +139,7 @@ class _FoldSystem:
         self.state_idx = idx_vars[pos]
         self.col = np.asarray(col_states, dtype=float)
         self.view = system.columns(idx_vars)  # only the unknowns' columns of J and of d(J v)/dx are formed
-        self.last: tuple | None = None
+        self._second: tuple | None = None
 
     def full(self, U):
         """The full variable vector at ``U``."""
@@ -159,16 +159,31 @@ class _FoldSystem:
         res[:n] = r
         res[n:2 * n] = Jv @ vh
         res[2 * n] = 0.5 * (vh @ vh - 1.0)
-        vf = np.zeros(len(x))
-        vf[self.state_idx] = col * vh
-        H = self.view.jacobian_derivative(x, vf)
-        out = np.zeros((2 * n + 1, nv + n))
+        # d(G_s v)/dx scattered straight into its block of the output: the same sums as
+        # view.jacobian_derivative(x, v) (entries added in the same order), one array fewer
+        if self._second is None:
+            self._second = self._second_derivative_layout()
+        values, v_at, bins, size = self._second
+        cv = np.empty(n + 1)
+        np.multiply(col, vh, out=cv[:n])
+        cv[n] = 0.0
+        w = values(x)
+        w *= cv[v_at]
+        out = np.bincount(bins, weights=w, minlength=size).reshape(2 * n + 1, nv + n)
         out[:n, :nv] = J
-        out[n:2 * n, :nv] = H
         out[n:2 * n, nv:] = Jv
         out[2 * n, nv:] = vh
-        self.last = (U.tobytes(), J, H)  # the point's bytes: a key that later changes to U cannot alter
         return res, out
+
+    def _second_derivative_layout(self):
+        """``(values, v_at, bins, size)``: the view's second derivatives, where each entry reads
+        the null vector (``v_at``: position among the states, ``n`` for a zero) and where it
+        adds in the flattened output (row ``n + i``, column ``c``)."""
+        values, i, j, c = self.view.second_derivative_entries()
+        n, nv = self.n, self.nv
+        at = np.full(len(self.base), n, dtype=np.intp)
+        at[self.state_idx] = np.arange(n, dtype=np.intp)
+        return values, at[j], (n + i) * (nv + n) + c, (2 * n + 1) * (nv + n)
 
     def residual(self, U):
         """Residual (2n+1) at ``U``."""
@@ -282,7 +297,7 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
                 and residual_met(row * null_rows, J_null * row[:, None], U * cols, residual_tol)):
             xf = full(U)
             # the columns at xf, from its evaluation above (the same values as system.jacobian(xf)[:, idx_vars])
-            Jf = fs.last[1] * row[:, None] * col  # type: ignore[index]
+            Jf = J_eq * row[:, None] * col
             # relative to the whole equilibrated Jacobian (G_p is non-zero at a fold)
             smallest = np.linalg.svd(Jf[:, :n], compute_uv=False)[-1] / _norm(Jf)
             v = col[:n] * U[len(idx_vars):]
@@ -338,6 +353,9 @@ class FoldProblem(ContinuationProblem):
         self.row, self.col = row, col[:n]
         if v0 is None:
             v0, _ = _null_vectors(system.jacobian(x_fold)[:, self.state_idx], row, self.col)
+        self._colrow = self.col[:, None] * row  # (R G_s C)^T = G_s^T * (col row^T)
+        self._e_last = np.zeros(n + 1)
+        self._e_last[n] = 1.0
         vh0 = np.asarray(v0, float) / self.col
         vh0 /= np.linalg.norm(vh0)
         self.base = x_fold.copy()
@@ -365,6 +383,17 @@ class FoldProblem(ContinuationProblem):
     def full(self, u):
         return self._full(u)
 
+    def solves(self, u, tol: float = 1e-10) -> bool:
+        """Whether ``u`` solves the fold system: equilibrium rows, the equilibrated null-vector
+        rows and the normalisation each below ``tol`` or their floating-point floor."""
+        n, nv = len(self.states), len(self.idx_vars)
+        res, out = self._eval(u)
+        if not np.isfinite(res).all():
+            return False
+        return bool(residual_met(res[:n], out[:n, :nv], u[:nv], tol)
+                    and residual_met(self.row * res[n:2 * n], out[n:2 * n] * self.row[:, None], u, tol)
+                    and abs(res[2 * n]) <= tol)
+
     def quadratic_coefficient(self, u, jac: np.ndarray | None = None) -> float:
         """Normalised ``a = w^T G_ss[v, v]`` at the fold-curve point ``u``.
 
@@ -373,13 +402,8 @@ class FoldProblem(ContinuationProblem):
         they are evaluated at ``u``.
         """
         nv, n, fs = len(self.idx_vars), len(self.states), self._fs
-        if jac is not None:
-            full = jac / self.scale
-            J, H = full[:n, :nv], full[n:2 * n, :nv]
-        else:
-            if fs.last is None or fs.last[0] != u.tobytes():
-                fs.evaluate(u)
-            _, J, H = fs.last  # type: ignore[misc]
+        full = fs.evaluate(u)[1] if jac is None else jac / self.scale
+        J, H = full[:n, :nv], full[n:2 * n, :nv]
         # as fold_quantities(system, full(u), state_idx, p1, col * v_hat, scaling), from the
         # columns the fold system evaluated (no second evaluation of the point). The left null
         # vector w solves the bordered system [R G_s C, R G_p1; v_hat^T, 0]^T [y; s] = e, w = R y:
@@ -387,19 +411,16 @@ class FoldProblem(ContinuationProblem):
         # LU instead of an SVD, and w^T G_p1 = 1 > 0 comes out oriented.
         Js, Jp, row, vh = J[:, fs.state_pos], J[:, nv - 2], self.row, u[nv:]
         M = np.empty((n + 1, n + 1))
-        M[:n, :n] = (Js * row[:, None] * self.col).T
+        np.multiply(Js.T, self._colrow, out=M[:n, :n])
         M[:n, n] = vh
-        M[n, :n] = row * Jp
+        np.multiply(row, Jp, out=M[n, :n])
         M[n, n] = 0.0
-        e = np.zeros(n + 1)
-        e[n] = 1.0
-        y = _SOLVER.solve(M, e)
-        if y is None or not np.isfinite(y).all():
-            _, w = _null_vectors(Js, row, self.col)
-        else:
-            w = row * y[:n]
-            w /= _norm(w)
-        return _oriented_coefficient(self.col * vh, w, Jp, H[:, fs.state_pos])[2]
+        y = _SOLVER.solve(M, self._e_last)
+        v = self.col * vh
+        if y is None or not math.isfinite(np.add.reduce(y, None)):
+            return _oriented_coefficient(v, _null_vectors(Js, row, self.col)[1], Jp, H[:, fs.state_pos])[2]
+        w = row * y[:n]  # w^T G_p1 = 1: oriented as _oriented_coefficient orients it
+        return float(w @ (H[:, fs.state_pos] @ v)) / (_norm(w) * (v @ v))
 
     def test_functions(self):
         return [CuspEvent()]

@@ -22,6 +22,7 @@ from ._newton import residual_met
 from ._options import ContinuationOptions
 
 _add, _max = np.add.reduce, np.maximum.reduce
+_NOT_FINITE = "residual not finite (outside the model's domain)"
 
 __all__ = ["PseudoArclength", "StepSizeController", "Termination", "BranchSteps", "RecordedPoint",
            "DirectionResult", "run_direction"]
@@ -134,36 +135,36 @@ class PseudoArclength:
         Returns ``(z, jac, iterations)`` or ``(None, reason, iterations)``.
         """
         o = self.options
-        D, evaluate, solve = self.D, self.problem.evaluate, self.solver.solve  # self.evaluate, inline below
+        tol, D, evaluate, solve = o.newton_tol, self.D, self.problem.evaluate, self.solver.solve
         z = np.array(z_pred if z_start is None else z_start, dtype=float)
         A = np.empty((self.n + 1, self.n + 1))
         A[-1] = t0
+        jac = A[:-1]  # the scaled Jacobian is written straight into the bordered matrix
         b = np.empty(self.n + 1)
         prev = step = error = math.inf
         for it in range(1, o.max_newton + 2):
             r, J = evaluate(z * D)
-            jac = J * D
+            np.multiply(J, D, out=jac)
             # np.add.reduce(a, None) is a.sum() without the method's Python frame (same bits)
-            if not (math.isfinite(_add(r, None)) and math.isfinite(_add(jac, None))):
-                return None, "residual not finite (outside the model's domain)", it
-            if (step < o.newton_tol or error < o.newton_tol) and residual_met(r, jac, z, o.residual_tol):
-                return z, jac, it - 1
+            if not math.isfinite(_add(r, None)):
+                return None, _NOT_FINITE, it
+            if (step < tol or error < tol) and residual_met(r, jac, z, o.residual_tol):
+                return (z, jac.copy(), it - 1) if math.isfinite(_add(jac, None)) else (None, _NOT_FINITE, it)
             if it > o.max_newton:
                 break
-            A[:-1] = jac
-            b[:-1] = -r
-            b[-1] = -(t0 @ (z - z_pred))
+            np.negative(r, out=b[:-1])
+            b[-1] = 0.0 if it == 1 and z_start is None else -(t0 @ (z - z_pred))  # z = z_pred at first
             dz = solve(A, b)
             if dz is None:
-                return None, "singular bordered Jacobian", it
-            step = _max(np.abs(dz), None)
-            if step < o.newton_tol:
+                return None, "singular bordered Jacobian" if math.isfinite(_add(jac, None)) else _NOT_FINITE, it
+            step = _max(np.abs(dz), None)  # NaN from a non-finite Jacobian: the next residual says so
+            if step < tol:
                 # converged without evaluating z + dz: Newton's linear model makes its residual
                 # of order |dz|^2 (r + G_z dz = 0), and its Jacobian differs from the one
                 # returned by terms of order |dz| < newton_tol
-                return z + dz, jac, it
+                return (z + dz, jac.copy(), it) if math.isfinite(_add(jac, None)) else (None, _NOT_FINITE, it)
             z = z + dz
-            if step > o.max_contraction * prev and step > 1e3 * o.newton_tol:
+            if step > o.max_contraction * prev and step > 1e3 * tol:
                 return None, "corrector converging too slowly", it
             if prev < math.inf:
                 # the distance left to the solution, from the observed contraction q of the
@@ -420,13 +421,14 @@ class DirectionResult:
 
 
 def run_direction(problem, u0: np.ndarray, direction: int, options: ContinuationOptions, events: list[Event],
-                  tangent0: np.ndarray | None = None, progress=None) -> DirectionResult:
+                  tangent0: np.ndarray | None = None, progress=None, stability: bool = True) -> DirectionResult:
     """Continue from ``u0`` (a converged point) in one direction: the driver of :class:`BranchSteps`.
 
     ``direction`` +1 follows increasing continuation parameter initially, -1 decreasing.
-    ``progress(k)`` is called with 1 after every accepted step. Returns a
-    :class:`DirectionResult`; it always holds what was computed, with ``status`` /
-    ``message`` / ``termination`` saying why it ended.
+    ``progress(k)`` is called with 1 after every accepted step. ``stability=False`` leaves
+    the stability to the caller (-1 at every point; a caller joining two directions computes
+    it in one batch). Returns a :class:`DirectionResult`; it always holds what was computed,
+    with ``status`` / ``message`` / ``termination`` saying why it ended.
     """
     steps = BranchSteps(problem, u0, direction, options, events, tangent0)
     res = DirectionResult()
@@ -438,7 +440,7 @@ def run_direction(problem, u0: np.ndarray, direction: int, options: Continuation
         if progress is not None and not point.label and point.s > 0:
             progress(1)
     # one batch for the whole direction: a point's stability plays no part in the stepping
-    res.stability = (problem.stability_batch(np.array([st.u for st in res.states])) if options.stability
+    res.stability = (problem.stability_batch(np.array([st.u for st in res.states])) if options.stability and stability
                      else [-1] * len(res.states))
     assert steps.termination is not None  # the iterator stops only after setting it
     res.termination = steps.termination

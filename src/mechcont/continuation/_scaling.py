@@ -47,15 +47,19 @@ def equilibrate(A: np.ndarray, reference: np.ndarray | None = None, iterations: 
     # operation updates both: the same arithmetic as two, with half the calls
     rc, big = np.ones(m + n), np.empty(m + n)
     r, c, r_col, rbig, cbig = rc[:m], rc[m:], rc[:m, None], big[:m], big[m:]
-    top = np.maximum.reduce  # ndarray.max without its Python wrapper (the same reduction)
+    top, low = np.maximum.reduce, np.minimum.reduce  # ndarray.max/min without their Python wrappers
+    S = np.empty_like(B)
+    zero = not (top(B, axis=1, initial=0.0).all() and top(B, axis=0, initial=0.0).all())
     for _ in range(iterations):
-        S = B * r_col
+        np.multiply(B, r_col, out=S)
         S *= c
         top(S, axis=1, initial=0.0, out=rbig)
         top(S, axis=0, initial=0.0, out=cbig)
-        big[big == 0] = 1.0
+        if zero:  # a zero row or column keeps its scale
+            big[big == 0] = 1.0
         rc /= np.sqrt(big)
-        if top(np.abs(big - 1), initial=0.0) < tol:
+        # max |big - 1| < tol, from the extremes (the same comparison: rounding is monotonic)
+        if top(big) - 1 < tol and 1 - low(big) < tol:
             break
     ref = np.ones(n, dtype=bool) if reference is None or not np.any(reference) else np.asarray(reference, bool)
     factor = float(np.exp(np.mean(np.log(c[ref]))))

@@ -524,15 +524,21 @@ class ColumnView:
         flat = n_eq + (self.columns[:, None] + np.arange(n_eq, dtype=np.intp) * n).reshape(-1)
         self._res_jac = system._code["res_jac"].gather(np.concatenate([np.arange(n_eq, dtype=np.intp), flat]))
         self._hess: tuple | None = None
+        self._bins: np.ndarray | None = None
 
     def residual_and_jacobian(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(G(x), dG/dx[:, columns])`` at the full vector ``x`` (the Jacobian in Fortran order)."""
         out = self._res_jac(x)
         return out[:self.n_eq], out[self.n_eq:].reshape(self._shape).T
 
-    def jacobian_derivative(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """``d/dx (J(x) v)[:, columns]`` (Fortran order), ``v`` a full-length vector (see
-        :meth:`EquationSystem.jacobian_derivative`)."""
+    def second_derivative_entries(self):
+        """The non-zero second derivatives ``d2 G_i / dx_j dx_k`` with ``k`` among the columns.
+
+        Returns ``(values, i, j, c)``: ``values(x)`` computes them (one compiled call), ``i``
+        the equation, ``j`` the full variable index, ``c`` the position of ``k`` in
+        :attr:`columns`. ``d/dx (J v)[i, columns[c]]`` is the sum of ``values * v[j]`` over
+        the entries with that ``(i, c)``, added in this order (see :meth:`jacobian_derivative`).
+        """
         if self._hess is None:
             code = self.system.compile(second_derivatives=True)._code
             n = len(self.system.names)
@@ -540,10 +546,17 @@ class ColumnView:
             where[self.columns] = np.arange(len(self.columns), dtype=np.intp)
             i, k = np.divmod(code["hess_ik"], n)
             keep = np.flatnonzero(where[k] >= 0)  # entries of other columns only fill bins dropped anyway
-            self._hess = (code["hess_values"].gather(keep), code["hess_j"][keep], where[k[keep]] * self.n_eq + i[keep])
-        values, j, bins = self._hess
+            self._hess = (code["hess_values"].gather(keep), i[keep], code["hess_j"][keep], where[k[keep]])
+        return self._hess
+
+    def jacobian_derivative(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """``d/dx (J(x) v)[:, columns]`` (Fortran order), ``v`` a full-length vector (see
+        :meth:`EquationSystem.jacobian_derivative`)."""
+        values, i, j, c = self.second_derivative_entries()
+        if self._bins is None:
+            self._bins = c * self.n_eq + i
         w = values(x) * np.asarray(v)[j]
-        return np.bincount(bins, weights=w, minlength=self._shape[0] * self._shape[1]).reshape(self._shape).T
+        return np.bincount(self._bins, weights=w, minlength=self._shape[0] * self._shape[1]).reshape(self._shape).T
 
 
 #: LLVM optimisation level of the compiled second derivatives (the residual and Jacobian use 3).
