@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["svd", "slogdet"]
+__all__ = ["svd", "singular_values", "slogdet"]
 
 _umath_linalg: Any
 try:  # NumPy >= 2 (private names: any other NumPy falls back to the public functions)
@@ -48,6 +48,20 @@ def svd(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             _extobj_contextvar.reset(token)
     with np.errstate(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore"):
         return _umath_linalg.svd_f(A, signature="d->ddd")
+
+
+def singular_values(A: np.ndarray) -> np.ndarray:
+    """``numpy.linalg.svd(A, compute_uv=False)``: the singular values, largest first; LinAlgError if it fails."""
+    if not _plain(A) or 0 in A.shape:
+        return np.linalg.svd(A, compute_uv=False)
+    if _svd_errors is not None:
+        token = _extobj_contextvar.set(_svd_errors)
+        try:
+            return _umath_linalg.svd(A, signature="d->d")
+        finally:
+            _extobj_contextvar.reset(token)
+    with np.errstate(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore"):
+        return _umath_linalg.svd(A, signature="d->d")
 
 
 def slogdet(A: np.ndarray) -> tuple[float, float]:

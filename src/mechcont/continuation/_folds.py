@@ -261,7 +261,7 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
     J0 = system.jacobian(x)  # evaluated once for the scales and the first null vector
     row, col = _scaling_of(system, J0[:, idx_vars], idx_vars)
     Js = J0[:, idx_vars[:n]]
-    _, _, vt = np.linalg.svd(Js * row[:, None] * col[:n])
+    _, _, vt = _dense.svd(Js * row[:, None] * col[:n])
     vh0 = vt[-1]
     fs = _FoldSystem(system, x, idx_vars, np.arange(n), col[:n])
     full, evaluate = fs.full, fs.evaluate
@@ -299,7 +299,7 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
             # the columns at xf, from its evaluation above (the same values as system.jacobian(xf)[:, idx_vars])
             Jf = J_eq * row[:, None] * col
             # relative to the whole equilibrated Jacobian (G_p is non-zero at a fold)
-            smallest = np.linalg.svd(Jf[:, :n], compute_uv=False)[-1] / _norm(Jf)
+            smallest = _dense.singular_values(Jf[:, :n])[-1] / _norm(Jf)
             v = col[:n] * U[len(idx_vars):]
             return FoldPoint(xf, v / _norm(v), U[len(idx_vars):].copy(), col,
                              _relative_residual(r_eq, J_eq, U[:len(idx_vars)]), float(smallest), it)
