@@ -100,6 +100,24 @@ def test_unlock_columns_follow_the_closed_form(lock, branch):
     assert table.units["unlock_P"] == "N"
 
 
+def test_unlock_columns_reuse_the_start_points_release_run(lock, branch, monkeypatch):
+    import copy
+
+    from mechcont.analysis import unlock as unlock_mod
+
+    calls = []
+    real = unlock_mod.unlock_folds
+    monkeypatch.setattr(unlock_mod, "unlock_folds", lambda *a, **k: (calls.append(1), real(*a, **k))[1])
+    table = with_unlock_columns(lock, branch, "P", released=["aligned"])
+    assert len(calls) == len(branch) - 1  # the start's run is branch.unlock
+    bare = copy.copy(branch)
+    bare.unlock = None  # nothing to reuse: every row runs
+    calls.clear()
+    again = with_unlock_columns(lock, bare, "P", released=["aligned"])
+    assert len(calls) == len(branch)
+    assert np.array_equal(table["unlock_P"], again["unlock_P"])
+
+
 def test_release_run_without_stability_finds_the_same_folds(lock, branch):
     """unlock_force_along skips the release runs' stability: the folds, notes and warnings are the same."""
     from mechcont.analysis.unlock import unlock_folds

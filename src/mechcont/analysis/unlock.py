@@ -166,15 +166,24 @@ def unlock_force_along(system: EquationSystem, branch: Branch, force: str, relea
     """The unlock folds (N) at every point of a downlock ``branch``, each from its own release run.
 
     Every row of a downlock branch is a downlocked point; :func:`unlock_folds` is run from
-    each (``released``: the held states). Returns ``(above, below, warnings)``: the force at
-    the fold reached by increasing / decreasing it (nan where there is none), and one line
-    per release run that stopped short of its bounds.
+    each (``released``: the held states). A :class:`~mechcont.analysis.downlock.DownlockBranch`
+    carries the release run of its start point (``branch.unlock``): that row reuses it.
+    Returns ``(above, below, warnings)``: the force at the fold reached by increasing /
+    decreasing it (nan where there is none), and one line per release run that stopped short
+    of its bounds.
     """
     above, below = np.full(len(branch), np.nan), np.full(len(branch), np.nan)
     warnings: list[str] = []
+    known = getattr(branch, "unlock", None)
+    start = None
+    if isinstance(known, UnlockFolds) and known.branch is not None and len(known.branch):
+        start = known.branch.values[int(np.argmin(np.abs(known.branch.s)))]  # the point it was released from
     for i, x in enumerate(branch.values):
-        # only the folds are kept: the release run's own stability is not needed
-        u = unlock_folds(system, x, force, released, max_steps=max_steps, stability=False)
+        if start is not None and np.array_equal(x, start):
+            u = known  # the same run (its stability does not change its folds)
+        else:
+            # only the folds are kept: the release run's own stability is not needed
+            u = unlock_folds(system, x, force, released, max_steps=max_steps, stability=False)
         lo, hi = u.locked_range
         above[i] = hi if np.isfinite(hi) else np.nan
         below[i] = lo if np.isfinite(lo) else np.nan
