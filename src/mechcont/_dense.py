@@ -35,33 +35,31 @@ def _plain(A: np.ndarray) -> bool:
     return _umath_linalg is not None and type(A) is np.ndarray and A.dtype == np.float64 and A.ndim == 2
 
 
+def _svd_call(gufunc, A: np.ndarray, signature: str):
+    """``gufunc(A)`` in the error state numpy.linalg.svd uses (non-convergence raises LinAlgError)."""
+    if _svd_errors is not None:
+        token = _extobj_contextvar.set(_svd_errors)
+        try:
+            return gufunc(A, signature=signature)
+        finally:
+            _extobj_contextvar.reset(token)
+    with np.errstate(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore"):
+        return gufunc(A, signature=signature)
+
+
 def svd(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``numpy.linalg.svd(A)`` (full matrices): ``(U, singular values, V^T)``; LinAlgError if it fails."""
     if not _plain(A) or 0 in A.shape:
         U, s, Vt = np.linalg.svd(A)
         return U, s, Vt
-    if _svd_errors is not None:
-        token = _extobj_contextvar.set(_svd_errors)
-        try:
-            return _umath_linalg.svd_f(A, signature="d->ddd")
-        finally:
-            _extobj_contextvar.reset(token)
-    with np.errstate(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore"):
-        return _umath_linalg.svd_f(A, signature="d->ddd")
+    return _svd_call(_umath_linalg.svd_f, A, "d->ddd")
 
 
 def singular_values(A: np.ndarray) -> np.ndarray:
     """``numpy.linalg.svd(A, compute_uv=False)``: the singular values, largest first; LinAlgError if it fails."""
     if not _plain(A) or 0 in A.shape:
         return np.linalg.svd(A, compute_uv=False)
-    if _svd_errors is not None:
-        token = _extobj_contextvar.set(_svd_errors)
-        try:
-            return _umath_linalg.svd(A, signature="d->d")
-        finally:
-            _extobj_contextvar.reset(token)
-    with np.errstate(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore"):
-        return _umath_linalg.svd(A, signature="d->d")
+    return _svd_call(_umath_linalg.svd, A, "d->d")
 
 
 def slogdet(A: np.ndarray) -> tuple[float, float]:
