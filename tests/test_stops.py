@@ -268,3 +268,25 @@ def test_a_bad_stop_table_is_one_line_on_the_command_line(tmp_path):
     bad.write_text((DATA / "pendulum_stop.toml").read_text().replace('condition = "angle"\nmin', 'condition = "gap"\nmin'))
     one_line_error(make_runner()("continue", bad, "--vary", "T", "--stops"), "stops.rest.condition",
                    "unknown condition 'gap'")
+
+
+def test_a_limit_in_parameters_follows_with_values():
+    # the stop angle as a parameter: with_values moves the stop (and a condition's target) as a
+    # fresh build at those values does, and the contact reaction follows the closed form
+    text = (DATA / "pendulum_stop.toml").read_text().replace(
+        'T = { value = 0.0', 'stop = { value = -1.2, unit = "rad" }\nT = { value = 0.0').replace(
+        "min = -1.2", 'min = "stop"').replace(
+        'angle = { type = "angle", bodies = ["ground", "bar"] }',
+        'angle = { type = "angle", bodies = ["ground", "bar"] }\nlevel = { type = "angle", bodies = ["ground", "bar"], '
+        'target = "stop + 0.2" }')
+    m = parse_description(text, "p.toml").build()
+    assert m.stops[0].limit == -1.2 and m.conditions["level"] == pytest.approx(-1.0)
+    moved = m.with_values({"stop": -0.9})
+    fresh = parse_description(text.replace("value = -1.2", "value = -0.9"), "p.toml").build()
+    assert moved.stops == fresh.stops and moved.stops[0].limit == -0.9
+    assert moved.conditions == fresh.conditions and moved.conditions["level"] == pytest.approx(-0.7)
+    assert m.stops[0].limit == -1.2  # the original is unchanged
+    x, contact = equilibrium_on_stops(moved, moved.defaults())
+    assert contact == ["rest"] and x[moved.index("angle")] == pytest.approx(-0.9, abs=1e-12)
+    assert x[moved.index("R_rest")] == pytest.approx(M * G * L / 2 * math.cos(-0.9), rel=1e-10)
+    assert pickle.loads(pickle.dumps(moved)).with_values({"stop": -1.0}).stops[0].limit == -1.0

@@ -85,6 +85,10 @@ class Model(EquationSystem):
         A model's own geometry record (the dual-sidestay gear's), or None.
     stops:
         The stops (:class:`StopLimit`): one-sided limits of conditions with their contact reactions.
+    fields_at:
+        ``fields_at(values) -> {field: value}``: the fields that depend on the parameter values
+        (the conditions' targets, the downlock hold, the stops' limits), at ``values`` (all
+        parameters, SI); :meth:`with_values` applies it. None when no field depends on them.
     """
 
     potential_energy: sp.Expr | None = None
@@ -101,6 +105,17 @@ class Model(EquationSystem):
     assemble_downlocked: Callable[..., np.ndarray] | None = field(default=None, repr=False)
     geometry: object | None = field(default=None, repr=False)
     stops: tuple[StopLimit, ...] = ()
+    fields_at: Callable[[Mapping[str, float]], dict] | None = field(default=None, repr=False)
+
+    def with_values(self, values: Mapping[str, float]) -> Model:
+        """:meth:`EquationSystem.with_values`, with the fields that depend on the parameter values
+        (a condition's target, the downlock hold, a stop's limit written as an expression in
+        parameters) evaluated at the new values."""
+        new = super().with_values(values)
+        if self.fields_at is None:
+            return new  # type: ignore[return-value]
+        params = {v.name: v.value for v in new.variables if v.kind == "parameter"}
+        return new.evolve(**self.fields_at(params))  # type: ignore[return-value]
 
     def __setattr__(self, name: str, value) -> None:
         if name not in _declared(type(self)):

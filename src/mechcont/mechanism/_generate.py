@@ -303,8 +303,9 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
                                   _reaction_text(r)))
     variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc)
     targets, downlock = condition_fields(mech, values)
+    at = partial(value_fields, mech) if mech.conditions else None
     if var.model is not None:  # the same structure built before: new values, the same compiled code
-        return var.model.evolve(variables=variables, dof=report, conditions=targets, **downlock)
+        return var.model.evolve(variables=variables, dof=report, conditions=targets, fields_at=at, **downlock)
     dropped = var.dropped
     system = EquationSystem(
         name=mech.name + ("_reduced" if reduced else ""),
@@ -328,6 +329,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
         dropped_constraints=tuple(r.equation for r in dropped),
         dropped_residual=_dropped_residual(system, dropped),
         conditions=targets,
+        fields_at=at,
         **downlock,
     )
     return var.model.evolve()  # a copy: the kept model is never handed out (compiled on first numeric use)
@@ -343,6 +345,14 @@ def condition_and_parameter_variables(mech: Mechanism, conditions, condition_val
         val = values[p.name]
         out.append(Variable(p.name, "parameter", val, p.unit, _parameter_scale(p, val, Lc, Fc), p.description))
     return out
+
+
+def value_fields(mech: Mechanism, values: Mapping[str, float]) -> dict:
+    """The fields of a :class:`Model` of ``mech`` that depend on the parameter ``values``:
+    ``conditions`` and, when the description has them, the downlock and the stops
+    (:attr:`Model.fields_at` is this function bound to ``mech``)."""
+    targets, downlock = condition_fields(mech, values)
+    return {"conditions": targets, **downlock}
 
 
 def condition_fields(mech: Mechanism, values: Mapping[str, float]) -> tuple[dict, dict]:

@@ -39,6 +39,7 @@ from .._generate import (
     _scales,
     condition_and_parameter_variables,
     condition_fields,
+    value_fields,
 )
 from .._stops import stop_forces
 from .._values import evaluate, parameter_values
@@ -308,8 +309,9 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
         variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc, what))
     variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc)
     targets, downlock = condition_fields(mech, values)
+    at = partial(value_fields, mech) if mech.conditions else None
     if var.model is not None:  # the same structure built before: new values, the same compiled code
-        return var.model.evolve(variables=variables, dof=report, conditions=targets, **downlock)
+        return var.model.evolve(variables=variables, dof=report, conditions=targets, fields_at=at, **downlock)
     lam = [symbol(r.reaction) for r in rows]
     row_exprs = [r.expr - k / r.stiffness if r.stiffness is not None else r.expr for r, k in zip(rows, lam)]
     dropped = var.dropped
@@ -335,6 +337,7 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
         dropped_constraints=tuple(r.equation for r in dropped),
         dropped_residual=_dropped_residual(system, dropped),
         conditions=targets,
+        fields_at=at,
         **downlock,
     )
     return var.model.evolve()  # a copy: the kept model is never handed out (compiled on first numeric use)
