@@ -198,3 +198,22 @@ def test_equilibrium_rows_are_in_newtons(gear):
     assert J[rows["force4_y"], iF] == pytest.approx(1.0, rel=1e-14)
     assert J[rows["force4_x"], iF] == 0.0
     assert J[rows["moment4"], iF] == pytest.approx(v["L4"] / 2 * np.cos(v["theta4"]), rel=1e-14)
+
+
+def test_structure_from_the_disk_cache_is_the_derived_one():
+    """A new process loads the gear's equations from the disk cache: the same system as deriving them."""
+    import pickle
+
+    from mechcont.models import nose_gear
+
+    system, V = nose_gear._structure()
+    derived, V2 = nose_gear._derive_structure()
+    assert V == V2 and system.equation_names == derived.equation_names
+    back, _ = pickle.loads(pickle.dumps((derived, V2)))  # what the cache stores and loads
+    rng = np.random.default_rng(2)
+    x0 = system.defaults()
+    for _ in range(5):
+        x = x0 * (1 + 0.01 * rng.normal(size=len(x0)))
+        for s in (derived, back):
+            assert np.array_equal(s.residual(x), system.residual(x))
+            assert np.array_equal(s.jacobian(x), system.jacobian(x))

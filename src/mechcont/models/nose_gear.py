@@ -269,28 +269,46 @@ def summary_variables() -> list[Variable]:
 
 
 def _structure() -> tuple[EquationSystem, sp.Expr]:
-    """The gear's equations and potential energy, generated once per process (values are data)."""
+    """The gear's equations and potential energy, generated once (values are data).
+
+    Kept for the process, and in the disk cache of compiled code (keyed by this module's and
+    the geometry's source), so a new process does not derive the 25 equations again.
+    """
     if "system" not in _STRUCTURE:
-        p = defaults()
-        variables = _variables(p, downlocked_pose(p, 0.0))
-        s = {v.name: v.symbol for v in variables}
-        G, _, P = _points(s)
-        geometry, g_labels = _constraints(s, P)
-        equilibrium, e_labels = _equilibrium(s, G, P)
-        mech, V = _mechanics([v.name for v in variables], s, G, P, geometry)
-        system = EquationSystem(
-            name="nose_gear",
-            variables=variables,
-            equations=[*geometry, *equilibrium],
-            equation_names=[*g_labels, *e_labels],
-            mechanics=mech,
-            description=DESCRIPTION,
-            limits=[Limit(n, s[n], n in _POSITIVE, f"{PARAMETERS[n][3]} ({PARAMETERS[n][1]})")
-                    for n in (*_POSITIVE, *_NON_NEGATIVE) if n in s],
-            check_values=check_values,
-        )
-        _STRUCTURE["system"] = (system, V)
+        from pathlib import Path
+
+        from ..equations._cache import cached
+
+        def sources():
+            here = Path(__file__).parent
+            return ["nose_gear structure", *((here / f).read_bytes() for f in ("nose_gear.py", "nose_gear_geometry.py"))]
+
+        _STRUCTURE["system"] = cached(sources, _derive_structure,
+                                      valid=lambda obj: isinstance(obj, tuple) and isinstance(obj[0], EquationSystem))
     return _STRUCTURE["system"]
+
+
+def _derive_structure() -> tuple[EquationSystem, sp.Expr]:
+    """The gear's equations (SymPy) and potential energy, derived from its geometry."""
+    p = defaults()
+    variables = _variables(p, downlocked_pose(p, 0.0))
+    s = {v.name: v.symbol for v in variables}
+    G, _, P = _points(s)
+    geometry, g_labels = _constraints(s, P)
+    equilibrium, e_labels = _equilibrium(s, G, P)
+    mech, V = _mechanics([v.name for v in variables], s, G, P, geometry)
+    system = EquationSystem(
+        name="nose_gear",
+        variables=variables,
+        equations=[*geometry, *equilibrium],
+        equation_names=[*g_labels, *e_labels],
+        mechanics=mech,
+        description=DESCRIPTION,
+        limits=[Limit(n, s[n], n in _POSITIVE, f"{PARAMETERS[n][3]} ({PARAMETERS[n][1]})")
+                for n in (*_POSITIVE, *_NON_NEGATIVE) if n in s],
+        check_values=check_values,
+    )
+    return system, V
 
 
 def build_nose_gear(**overrides: float) -> Model:
