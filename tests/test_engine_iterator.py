@@ -75,3 +75,22 @@ def test_progress_is_called_once_per_accepted_step(start):
     b = continuation(s, x0, "F", options=ContinuationOptions(bounds={"theta1": (-1.2, 1.2)}), progress=calls.append)
     accepted = sum(1 for lab, si in zip(b.labels, b.s) if not lab and si != 0)
     assert calls == [1] * accepted and accepted > 10
+
+
+def test_corrector_never_accepts_on_a_growing_correction():
+    """The contraction bound |z - z*| <= q/(1-q)|dz| holds only for q < 1: an iteration whose
+    corrections grow (here a Jacobian 0.4 times the true one: each step overshoots by 1.5) must not
+    be accepted, even where the residual sits below its floating-point floor (a large unknown)."""
+    from mechcont.continuation import ContinuationOptions
+    from mechcont.continuation._palc import PseudoArclength
+
+    class Overshooting:
+        names, param_index, scale, idx = ("a", "p"), 1, np.ones(2), None
+
+        def evaluate(self, u):
+            return np.array([u[0] - 1e7]), np.array([[0.4, 0.0]])
+
+    eng = PseudoArclength(Overshooting(), ContinuationOptions())
+    t0 = np.array([0.0, 1.0])
+    z, reason, _ = eng.correct(np.array([1e7 + 3e-9, 0.0]), t0)
+    assert z is None and ("iterations" in reason or "slowly" in reason)

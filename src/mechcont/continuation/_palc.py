@@ -171,7 +171,7 @@ class PseudoArclength:
                 # last two corrections: |z - z*| <= q / (1 - q) |dz| (Deuflhard); Newton's
                 # quadratic convergence makes it an overestimate
                 q = step / prev
-                error = q / (1.0 - q) * step
+                error = q / (1.0 - q) * step if q < 1.0 else math.inf  # no bound unless contracting
             prev = step
         return None, f"corrector needed more than {o.max_newton} iterations", o.max_newton
 
