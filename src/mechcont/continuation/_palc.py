@@ -59,14 +59,15 @@ class PseudoArclength:
 
       i.e. iterations ``[G_z; t0^T] dz = -[G; t0^T (z - z_p)]``. The hyperplane through
       the predictor orthogonal to ``t0`` cuts the branch transversally even at a fold,
-      where Newton in the parameter alone would fail. It has converged when the residuals
-      pass :func:`~._newton.residual_met` and the distance to the solution is below
-      ``newton_tol``: either a correction is that small (the corrected point is returned
-      unevaluated, with the Jacobian of the point the correction was computed at: Newton's
-      linear model makes its residual of the order of the correction squared, and the
-      Jacobians differ by terms of the order of the correction), or the contraction ``q = |dz_k| / |dz_(k-1)|`` of the last
-      two corrections bounds it by ``q / (1 - q) |dz_k|``. Both save the last, confirming
-      evaluation of a quadratically converging Newton;
+      where Newton in the parameter alone would fail. It has converged when the distance
+      to the solution is below ``newton_tol``, either because a correction is that small
+      (the corrected point is returned unevaluated, with the Jacobian of the point the
+      correction was computed at: Newton's linear model makes its residual of the order of
+      the correction squared, and the Jacobians differ by terms of the order of the
+      correction), or because the residuals pass :func:`~._newton.residual_met` and the
+      contraction ``q = |dz_k| / |dz_(k-1)| < 1`` of the last two corrections bounds the
+      distance by ``q / (1 - q) |dz_k|``. Both save the last, confirming evaluation of a
+      quadratically converging Newton;
     * **new tangent**: solve ``[G_z(z1); t0^T] t = e_(n+1)`` and normalise; bordering
       with the previous tangent keeps the orientation (``t0^T t1 > 0``) continuous through
       folds.
