@@ -142,14 +142,14 @@ class PseudoArclength:
         A[-1] = t0
         jac = A[:-1]  # the scaled Jacobian is written straight into the bordered matrix
         b = np.empty(self.n + 1)
-        prev = step = error = math.inf
+        prev = error = math.inf
         for it in range(1, o.max_newton + 2):
             r, J = evaluate(z * D)
             np.multiply(J, D, out=jac)
             # np.add.reduce(a, None) is a.sum() without the method's Python frame (same bits)
             if not math.isfinite(_add(r, None)):
                 return None, _NOT_FINITE, it
-            if (step < tol or error < tol) and residual_met(r, jac, z, o.residual_tol):
+            if error < tol and residual_met(r, jac, z, o.residual_tol):  # (a small step returned below)
                 return (z, jac.copy(), it - 1) if math.isfinite(_add(jac, None)) else (None, _NOT_FINITE, it)
             if it > o.max_newton:
                 break
