@@ -295,8 +295,9 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
         x = _with_contacts(system, x, st, active)
         events = [_StopEvent(s, s.name in active) for s in st] + ([_FirstFold()] if stop_at_fold else [])
         hold_k, free_k = _lens(st, active, hold, free)
-        piece = continuation(system, x, vary, hold=hold_k, free=free_k, options=options, direction=sign,
-                             events=events, progress=progress)
+        # with stops in contact the stability holds them (below): the free mechanics' is not computed
+        piece = continuation(system, x, vary, hold=hold_k, free=free_k, direction=sign, events=events,
+                             options=replace(options, stability=False) if active else options, progress=progress)
         if active and options.stability:
             _contact_stability(system, piece, [s.name for s in st if s.name in active])
         run.pieces.append(piece)

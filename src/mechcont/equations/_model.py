@@ -29,7 +29,8 @@ class StopLimit:
     """A stop of a model: the condition it limits, its contact reaction and its limit.
 
     ``side`` is +1 when the condition stays at or above ``limit`` (a min stop), -1 at or below;
-    ``limit`` is in the condition's unit (its value at the build's parameter values);
+    ``limit`` is in the condition's unit (its value at the model's parameter values: a limit
+    written in parameters follows :meth:`Model.with_values`);
     ``reaction`` names the contact reaction parameter (>= 0 in contact; see
     :mod:`mechcont.mechanism._stops`)."""
 
