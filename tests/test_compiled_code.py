@@ -158,6 +158,31 @@ def test_column_view_equals_the_columns_of_the_whole_jacobian_bit_for_bit(monkey
         system.columns([0, 0])
 
 
+def test_fold_system_blocks_are_the_column_views_bit_for_bit():
+    """The fold system scatters d(G_s v)/dx straight into its Jacobian: the same bits as the view's
+    jacobian_derivative with v on the states (and the view's Jacobian columns above it)."""
+    from mechcont.continuation._folds import _FoldSystem
+
+    system = load("fivebar")
+    x0 = _point(system)
+    states = list(system.state_names)[:len(system.equations)]  # a square lens with T1 free
+    idx = np.array([system.index(n) for n in [*states, "T1"]])
+    rng = np.random.default_rng(4)
+    col = rng.uniform(0.5, 2.0, len(states))
+    fs = _FoldSystem(system, x0, idx, np.arange(len(states)), col)
+    n, nv = len(states), len(idx)
+    for _ in range(5):
+        U = np.concatenate([x0[idx] + 0.01 * rng.normal(size=nv), rng.normal(size=n)])
+        res, out = fs.evaluate(U)
+        x, vh = fs.full(U), U[nv:]
+        vf = np.zeros(len(x))
+        vf[idx[:n]] = col * vh
+        r, J = fs.view.residual_and_jacobian(x)
+        assert np.array_equal(out[:n, :nv], J) and np.array_equal(res[:n], r)
+        assert np.array_equal(out[n:2 * n, :nv], fs.view.jacobian_derivative(x, vf))
+        assert np.array_equal(res, fs.residual(U))
+
+
 def test_gather_reads_entries_of_every_compiled_layout():
     a, b = sp.symbols("a b", real=True)
     dense = _codegen.compile_dense([a, b], [a * b, a - b, sp.sin(a)], cache=False)
