@@ -48,8 +48,18 @@ STOP_ANGLE_DEG = 2.0
 STOP_SINE = float(np.sin(np.radians(STOP_ANGLE_DEG)))
 
 
+def _num(x: float) -> str:
+    """``x`` rounded to 12 significant digits, as the shortest text that reads back as that value.
+
+    The geometry is computed with NumPy (norms, cross products), whose last bits depend on the
+    BLAS kernel and CPU; rounding makes the generated file the same text on every machine
+    (a value 1e-12 from a rounding boundary aside, which the tests allow for).
+    """
+    return repr(float(f"{float(x):.12g}"))
+
+
 def _v(a) -> str:
-    return "[" + ", ".join(repr(float(c)) for c in np.asarray(a, float)) + "]"
+    return "[" + ", ".join(_num(c) for c in np.asarray(a, float)) + "]"
 
 
 def _unit(a) -> np.ndarray:
@@ -104,7 +114,7 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
     fit_points = {"T_fwd": trunnion_fwd, "T_aft": trunnion_aft, "axle": geo.axle, "D": geo.actuator_lug}
     for st in (geo.forward, geo.aft):
         fit_points[f"B_{st.name}"], fit_points[f"P_{st.name}"] = st.B, st.P
-    out += ["", "[bodies.fitting]", f"mass = {geo.fitting_mass!r}", "inertia = [1400.0, 1500.0, 250.0]",
+    out += ["", "[bodies.fitting]", f"mass = {_num(geo.fitting_mass)}", "inertia = [1400.0, 1500.0, 250.0]",
             f"cg = {_v(geo.cg)}", "description = \"main fitting, shock strut and wheels\"",
             "points = { " + ", ".join(f"{k} = {_v(p)}" for k, p in fit_points.items()) + " }"]
     sa, sb = SPRING_POSITION
@@ -118,8 +128,8 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
                                         ("link2", "m_link2", st.J, st.P, {})):
             length = float(np.linalg.norm(b - a))
             pts = {"a": a, "b": b, **extra}
-            across = f'"{mass}*{length ** 2 / 12!r}"' if isinstance(mass, str) else repr(mass * length ** 2 / 12)
-            shown = f'"{mass}"' if isinstance(mass, str) else repr(mass)
+            across = f'"{mass}*{_num(length ** 2 / 12)}"' if isinstance(mass, str) else _num(mass * length ** 2 / 12)
+            shown = f'"{mass}"' if isinstance(mass, str) else _num(mass)
             out += ["", f"[bodies.{s}_{body}]", f"mass = {shown}",
                     f"inertia = [{across}, {across}, {across}]", f"cg = {_v((a + b) / 2)}",
                     "points = { " + ", ".join(f"{k} = {_v(p)}" for k, p in pts.items()) + " }"]
@@ -146,7 +156,7 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
         s = st.name
         free = float(np.linalg.norm((st.K + sa * (st.J - st.K)) - (st.K + sb * (st.B - st.K))))
         out += ["", f"[springs.{s}_spring]", f'a = "{s}_link1.spring"', f'b = "{s}_lower.spring"', 'k = "k_lock"',
-                f'free_length = "stretch*{free!r}"']
+                f'free_length = "stretch*{_num(free)}"']
     out += ["", "[actuators.retraction]", 'a = "ground.C"', 'b = "fitting.D"', 'force = "F_act"',
             'description = "retraction actuator"', "", "[gravity]", 'g = "g"', "direction = [0, 0, -1]"]
     for st in (geo.forward, geo.aft):
@@ -156,7 +166,7 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
                 f"direction = {_v(unlock)}"]
     out += ["", "[conditions]"]
     # the retraction angle: the fitting's rotation about the trunnion axis e (right hand) from gear down
-    out.append('theta = { expr = "2*atan2(' + " + ".join(f"({float(c)!r})*e{i + 1}_fitting" for i, c in enumerate(e))
+    out.append('theta = { expr = "2*atan2(' + " + ".join(f"({_num(c)})*e{i + 1}_fitting" for i, c in enumerate(e))
                + ', e0_fitting)", unit = "rad", description = "retraction angle about the trunnion axis" }')
     for st in (geo.forward, geo.aft):
         s = st.name
@@ -164,6 +174,6 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
                    f'normal = {_v(st.normal)}, description = "sine of the {s} lock links\' angle (0: aligned)" }}')
     if not locked:
         for st in (geo.forward, geo.aft):
-            out += ["", f"[stops.{st.name}_stop]", f'condition = "{st.name}_lock"', f"max = {STOP_SINE!r}",
+            out += ["", f"[stops.{st.name}_stop]", f'condition = "{st.name}_lock"', f"max = {_num(STOP_SINE)}",
                     f'description = "{st.name} lock links\' overcentre stop, {STOP_ANGLE_DEG:g} deg past aligned"']
     return "\n".join(out) + "\n"
