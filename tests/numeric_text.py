@@ -30,3 +30,19 @@ def assert_text_close(actual, expected, *, rtol, atol=0.0):
     assert len(numbers_a) == len(numbers_e)
     for k, (a, e) in enumerate(zip(numbers_a, numbers_e, strict=True)):
         assert math.isclose(a, e, rel_tol=rtol, abs_tol=atol), f"number {k + 1}: {a!r} against {e!r}"
+
+
+def assert_frames_close(actual, expected, *, rtol, atol=0.0):
+    """Two DataFrames with the same columns, index and non-float cells, and float cells within
+    ``atol + rtol*|expected|`` (NaN where the other is NaN): for results computed in other processes."""
+    import numpy as np
+    import pandas as pd
+
+    assert list(actual.columns) == list(expected.columns) and actual.index.equals(expected.index)
+    for name in expected.columns:
+        a, e = actual[name], expected[name]
+        assert a.dtype == e.dtype, name
+        if pd.api.types.is_float_dtype(e.dtype):
+            np.testing.assert_allclose(a.to_numpy(), e.to_numpy(), rtol=rtol, atol=atol, equal_nan=True, err_msg=name)
+        else:
+            assert a.equals(e), name

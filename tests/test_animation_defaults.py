@@ -26,6 +26,7 @@ def branch(overcentre):
     return continuation(overcentre, x0, "F", options=ContinuationOptions(bounds={"F": (-90, 110), "theta1": (-1.5, 1.5)}))
 
 
+@pytest.mark.slow
 def test_defaults_last_six_seconds_hold_special_points_and_are_800_px_wide(tmp_path, overcentre, branch):
     out = tmp_path / "a.gif"
     n = animate(overcentre, branch, out, every=7, diagram=("F", "theta1"))

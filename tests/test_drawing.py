@@ -475,6 +475,7 @@ def test_frame_of_a_fourbar_branch_prints_the_continuation_parameter(tmp_path, f
     assert "fold LP" in svg and "stable LP" not in svg  # a fold is neutral, whatever stable= says
 
 
+@pytest.mark.slow
 def test_animation_frames_print_vary_units_stability_and_label(tmp_path, fourbar_branch, monkeypatch):
     """Every frame's note: the branch's vary (N m), the annotated angle (degrees), stability, label."""
     import mechcont.outputs.drawing as drawing

@@ -126,6 +126,7 @@ def test_gear_drawing_three_view(run_default, tmp_path):
     assert any(t.startswith("actuator = ") and "compression" in t for t in texts)
 
 
+@pytest.mark.slow
 def test_paper_section_quick(tmp_path):
     lines = paper.run(tmp_path, quick=True)
     text = "\n".join(lines)

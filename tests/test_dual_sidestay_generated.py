@@ -39,6 +39,7 @@ def test_text_comparison_sees_a_changed_number_or_word():
         assert_text_close(text.replace('type = "revolute"', 'type = "spherical"', 1), text, rtol=1e-11, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_check_of_the_locked_gear_reports_its_redundancy_and_the_compliance_that_resolves_it():
     """Downlocked (lock links welded), each sidestay is a strut: the two over-constrain the fitting's one
     degree of freedom. Rigid, check names one redundant row among the joints of both sidestays and the
@@ -96,6 +97,7 @@ def test_retraction_kinematics_and_actuator_load_equal_the_hand_model(rigid, han
     assert rigid.as_dict(x)["F_act"] == pytest.approx(actuator_tension(hand, xh), rel=1e-8)
 
 
+@pytest.mark.slow
 def test_locked_gear_needs_compliance(rigid):
     hold = {"fwd_lock": 0.0, "aft_lock": 0.0}
     with pytest.raises(ConvergenceError):

@@ -69,6 +69,7 @@ def test_inverse_sqrt_is_symmetric_inverse_root():
 
 
 # -- long simulations: constraint drift and energy -----------------------------------------
+@pytest.mark.slow
 def test_constraint_drift_stays_small_over_a_long_simulation(oc04):
     # 60 s of free oscillation (no damping): 8 periods or so
     x0 = start(oc04, 1.0)

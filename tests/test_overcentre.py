@@ -53,6 +53,7 @@ def test_stability_on_all_three_branches_matches_energy():
         assert {c, c + 1} & fold_rows
 
 
+@pytest.mark.slow
 def test_equilibrium_row_equals_virtual_work_for_general_geometry():
     # independent derivation: minimal coordinate theta1, potential energy, dV/dtheta1 = 0
     t1, F = sp.symbols("theta1 F", real=True)

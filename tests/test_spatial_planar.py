@@ -132,6 +132,7 @@ def nose_3d():
     return load(DATA / "nose_gear_3d.toml")
 
 
+@pytest.mark.slow
 def test_nose_gear_derivatives_with_drag_match_finite_differences(nose_3d):
     check_derivatives(nose_3d.with_values({"U": 40.0, "alpha": 0.3}))
 
