@@ -13,32 +13,66 @@ by a hash of everything they are made from:
   SymPy, SymEngine and Python versions, the code-generation backend and the platform.
 
 Where: ``$MECHCONT_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/mechcont`` or the platform's
-user cache directory (``~/.cache/mechcont``, ``~/Library/Caches/mechcont``,
-``%LOCALAPPDATA%\\mechcont\\cache``). ``MECHCONT_NO_CACHE=1`` (any value other than empty,
+user cache directory (``~/.cache/mechcont``, ``~/Library/Caches/mechcont``). The entry of
+key ``k`` is ``<root>/k[:2]/k.pkl``. ``MECHCONT_NO_CACHE=1`` (any value other than empty,
 ``0``, ``false``, ``no``, ``off``) turns it off: nothing is read or written. It is also off
 with SymEngine's interpreted ``lambda`` backend (a wheel without LLVM), whose functions
-cannot be stored as code: loading them would compile them again.
+cannot be stored as code (loading them would compile them again), and on platforms without
+POSIX file ownership, ``O_NOFOLLOW`` and directory descriptors (Windows), where the checks
+below cannot be made.
 
-Safety: an entry is written to a temporary file in the same directory and renamed into
-place (``os.replace``, atomic), so concurrent processes never see half an entry; two that
-compile the same model both write the same content and the last rename wins. An entry
-starts with a magic line and the SHA-256 of its payload; one that is truncated, corrupt,
-from another format or unreadable is ignored (the code is compiled again and the entry
-rewritten), never an error, and any failure to write (read-only or full disk) only means
-no caching. Entries contain machine code that is loaded and run: the directory is created
-private to the user (mode 0700), and it should not be shared with untrusted users. The
-cache is never pruned; deleting the directory is always safe.
+Threat model. An entry is a pickle holding machine code: loading one runs code as the
+user, so whoever can put an entry where this process reads it can run code as this user.
+The cache trusts only files the current (effective) user made in folders nobody else can
+write; other local users, files copied in from elsewhere and links planted to make the
+process read someone else's file or a device are the threats. (The user themselves and
+root can always run code as the user; they are not.) The checks, all made before anything
+is unpickled:
+
+1. Folders. The root is opened without following a final symbolic link (``O_NOFOLLOW |
+   O_DIRECTORY``; links higher up the path are followed as usual), and the shard folder
+   ``k[:2]`` likewise relative to the root's descriptor; every later file operation is
+   relative to these descriptors, so renaming or swapping a folder mid-way redirects
+   nothing. Each must be owned by ``os.geteuid()`` and not writable by group or others.
+   If one is not (or is a link), the process prints ONE warning on stderr for that root,
+   saying which folder, why and how to fix it, and runs without the cache (no reads, no
+   writes). A root mechcont creates is created with mode 0700; an existing folder's mode
+   is never changed.
+2. Entries are opened with ``O_NOFOLLOW | O_NONBLOCK | O_NOCTTY`` (a link is refused, a
+   FIFO never blocks) and must be a regular file owned by the user, not group- or other-writable, at
+   most ``_MAX_ENTRY`` bytes (256 MiB: the largest entry, the nose gear's second
+   derivatives, is about 4 MB; a bound only stops a huge or growing file from exhausting
+   memory), read with a read of exactly its size.
+3. An entry is ``magic line, key, newline, tag, payload``: the magic and the key are
+   compared as plain bytes first.
+4. ``tag`` is the HMAC-SHA256 of header and payload under a per-user secret: 32 random
+   bytes in ``<root>/hmac-key``, made once (written to a temporary file, then hard-linked
+   into place, so it is created exclusively and never seen half-written), mode 0600, and
+   checked like an entry but also not readable by group or others (a bad key file is a
+   warning, like a bad folder). An entry whose tag does not verify (forged, copied from
+   another cache, truncated, corrupt) is a miss: compiled again and rewritten. Only then is
+   the payload unpickled.
+
+Anything else that goes wrong (a missing, unreadable, corrupt or foreign entry, a read-only
+or full disk) only means no caching, never an error. An entry is written to a temporary file
+in its folder and renamed into place (atomic), so concurrent processes never see half an
+entry; two that compile the same model write the same content and the last rename wins.
+The cache is never pruned; deleting the folder is always safe (the key is made again).
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
+import hmac
 import os
 import pickle
 import platform
+import re
+import secrets
+import stat
 import sys
-import tempfile
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import TypeVar
 
@@ -46,13 +80,26 @@ __all__ = ["cache_dir", "enabled", "cache_key", "cached", "load", "store", "expr
 
 T = TypeVar("T")
 
-_MAGIC = b"mechcont-compiled-cache 1\n"
-_FORMAT = "1"
+_MAGIC = b"mechcont-compiled-cache 2\n"
+_FORMAT = "2"
+_TAG_SIZE = 32
+_SECRET_NAME = "hmac-key"
+_SECRET_SIZE = 32
+#: Largest entry read or written, bytes (see the module docstring).
+_MAX_ENTRY = 256 * 2**20
+_KEY = re.compile(r"[0-9a-f]{64}")
 #: Counters of this process: ``hits`` (entries loaded), ``misses`` (looked up, not found or
 #: unusable), ``writes`` (entries stored). For tests and benchmarks.
 STATS = {"hits": 0, "misses": 0, "writes": 0}
 _OFF = {"", "0", "false", "no", "off"}
 _environment: str | None = None
+_SUPPORTED = hasattr(os, "geteuid") and hasattr(os, "O_NOFOLLOW") and os.open in os.supports_dir_fd
+_DIR_FLAGS = os.O_RDONLY | getattr(os, "O_DIRECTORY", 0) | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
+_FILE_FLAGS = (os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
+               | getattr(os, "O_CLOEXEC", 0))
+_NEW_FLAGS = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
+#: Roots refused in this process, with the reason (each warned about once).
+_DISTRUSTED: dict[str, str] = {}
 
 
 def enabled() -> bool:
@@ -151,60 +198,238 @@ def cache_key(parts: Iterable[str | bytes]) -> str:
     return h.hexdigest()
 
 
-def _path(key: str) -> Path | None:
-    d = cache_dir()
-    return None if d is None else d / key[:2] / f"{key}.pkl"
+class _Untrusted(Exception):
+    """A folder or key file of the cache that this user must not trust (message: what and how to fix)."""
 
 
-def load(key: str):
-    """The object stored under ``key``, or None (absent, unreadable, corrupt, caching off)."""
-    path = _path(key)
-    if path is None:
+def _problem(st: os.stat_result, kind: int, shared: int) -> str | None:
+    """Why a file with status ``st`` is not trusted (not of ``kind``, not ours, ``shared`` mode bits set), or None."""
+    if stat.S_IFMT(st.st_mode) != kind:
+        return "is not a folder" if kind == stat.S_IFDIR else "is not a regular file"
+    if st.st_uid != os.geteuid():
+        return f"is owned by user id {st.st_uid}, not by this user (id {os.geteuid()})"
+    if st.st_mode & shared:
+        return f"is {'writable' if shared == 0o022 else 'readable or writable'} by group or others (mode {st.st_mode & 0o777:o})"
+    return None
+
+
+def _refuse(where: str, problem: str) -> _Untrusted:
+    if where.endswith(_SECRET_NAME):
+        fix = f"delete {where} (a new key is made)"
+    elif problem.startswith("is writable"):
+        fix = f"run `chmod 700 {where}`"
+    else:
+        fix = "make it a folder of your own, not a link"
+    return _Untrusted(f"{where} {problem}; {fix}, or set MECHCONT_CACHE_DIR to a private folder of your own")
+
+
+def _why_not_opened(name: str | Path, dir_fd: int | None, kind: int, shared: int) -> str | None:
+    """Why ``name``, which could not be opened, is not to be trusted (a link, another user's), or None (absent, say)."""
+    try:
+        st = os.stat(name, dir_fd=dir_fd, follow_symlinks=False)
+    except OSError:
+        return None
+    return "is a symbolic link" if stat.S_ISLNK(st.st_mode) else _problem(st, kind, shared)
+
+
+def _open_folder(name: str | Path, dir_fd: int | None, where: str, create: bool) -> int | None:
+    """Descriptor of the trusted folder ``name`` (made 0700 if absent and ``create``), or None if absent.
+
+    Raises _Untrusted for a link or a folder that is not private to this user.
+    """
+    try:
+        fd = os.open(name, _DIR_FLAGS, dir_fd=dir_fd)
+    except FileNotFoundError:
+        if not create:
+            return None
+        try:
+            if dir_fd is None:
+                Path(name).parent.mkdir(parents=True, exist_ok=True)
+            os.mkdir(name, 0o700, dir_fd=dir_fd)
+        except FileExistsError:
+            pass
+        except OSError:
+            return None
+        return _open_folder(name, dir_fd, where, False)
+    except OSError:
+        problem = _why_not_opened(name, dir_fd, stat.S_IFDIR, 0o022)
+        if problem:
+            raise _refuse(where, problem) from None
         return None
     try:
-        data = path.read_bytes()
+        problem = _problem(os.fstat(fd), stat.S_IFDIR, 0o022)
+    except OSError:
+        problem = "cannot be examined"
+    if problem:
+        os.close(fd)
+        raise _refuse(where, problem)
+    return fd
+
+
+def _read_file(name: str, dir_fd: int, shared: int, limit: int) -> tuple[bytes | None, str | None]:
+    """(content, None) of a regular file of ours, at most ``limit`` bytes; (None, why) otherwise.
+
+    ``why`` is None when the file is absent or unreadable, else why it is not trusted.
+    """
+    try:
+        fd = os.open(name, _FILE_FLAGS, dir_fd=dir_fd)
+    except OSError:
+        return None, _why_not_opened(name, dir_fd, stat.S_IFREG, shared)
+    try:
+        st = os.fstat(fd)
+        problem = _problem(st, stat.S_IFREG, shared)
+        if problem is None and st.st_size > limit:
+            problem = f"is larger than {limit} bytes"
+        if problem:
+            return None, problem
+        chunks, left = [], st.st_size
+        while left > 0:
+            chunk = os.read(fd, left)
+            if not chunk:
+                break
+            chunks.append(chunk)
+            left -= len(chunk)
+        return b"".join(chunks), None
+    except OSError:
+        return None, None
+    finally:
+        os.close(fd)
+
+
+def _secret(root_fd: int, where: str, create: bool) -> bytes | None:
+    """The cache's HMAC key (made if absent and ``create``), or None. Raises _Untrusted for a bad key file."""
+    data, problem = _read_file(_SECRET_NAME, root_fd, 0o077, _SECRET_SIZE)
+    if problem is None and data is not None and len(data) != _SECRET_SIZE:
+        problem = f"is not a {_SECRET_SIZE}-byte key"
+    if problem:
+        raise _refuse(f"{where}/{_SECRET_NAME}", problem)
+    if data is not None or not create:
+        return data
+    key = secrets.token_bytes(_SECRET_SIZE)
+    tmp = f".tmp-key-{secrets.token_hex(8)}"
+    try:
+        fd = os.open(tmp, _NEW_FLAGS, 0o600, dir_fd=root_fd)
     except OSError:
         return None
     try:
-        if not data.startswith(_MAGIC):
+        with os.fdopen(fd, "wb") as f:
+            f.write(key)
+        # a hard link never replaces an existing key: of concurrent processes, one wins
+        os.link(tmp, _SECRET_NAME, src_dir_fd=root_fd, dst_dir_fd=root_fd, follow_symlinks=False)
+        return key
+    except FileExistsError:
+        return _secret(root_fd, where, False)
+    except OSError:
+        return None
+    finally:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp, dir_fd=root_fd)
+
+
+@contextlib.contextmanager
+def _shard(key: str, create: bool) -> Iterator[tuple[int, bytes] | None]:
+    """(descriptor of the trusted folder of ``key``'s entry, HMAC key), or None: no caching now.
+
+    The walk from the root goes by descriptors; a folder or key file not to be trusted turns
+    the cache off for this root in this process, with one warning.
+    """
+    root = cache_dir() if _SUPPORTED and _KEY.fullmatch(key) else None
+    where = str(root)
+    if root is None or where in _DISTRUSTED:
+        yield None
+        return
+    fds: list[int] = []
+    found = None
+    try:
+        root_fd = _open_folder(root, None, where, create)
+        if root_fd is not None:
+            fds.append(root_fd)
+            secret = _secret(root_fd, where, create)
+            shard_fd = _open_folder(key[:2], root_fd, f"{where}/{key[:2]}", create) if secret else None
+            if shard_fd is not None:
+                fds.append(shard_fd)
+                found = (shard_fd, secret)
+    except _Untrusted as e:
+        _DISTRUSTED[where] = str(e)
+        sys.stderr.write(f"mechcont: not using the compiled-code cache: {e}\n")
+    except OSError:
+        pass
+    try:
+        yield found
+    finally:
+        for fd in fds:
+            os.close(fd)
+
+
+def _header(key: str) -> bytes:
+    return _MAGIC + key.encode("ascii") + b"\n"
+
+
+def _tag(secret: bytes, header: bytes, payload: bytes | memoryview) -> bytes:
+    mac = hmac.new(secret, header, hashlib.sha256)
+    mac.update(payload)
+    return mac.digest()
+
+
+def _encode(key: str, payload: bytes, secret: bytes) -> bytes:
+    """An entry's bytes: header (magic, key), HMAC tag, payload."""
+    header = _header(key)
+    return header + _tag(secret, header, payload) + payload
+
+
+def _decode(data: bytes, key: str, secret: bytes) -> memoryview | None:
+    """The payload (a view, not a copy) of an entry for ``key`` whose tag verifies, else None. Nothing is unpickled here."""
+    header = _header(key)
+    if not data.startswith(header) or len(data) < len(header) + _TAG_SIZE:
+        return None
+    view = memoryview(data)
+    tag, payload = view[len(header):len(header) + _TAG_SIZE], view[len(header) + _TAG_SIZE:]
+    return payload if hmac.compare_digest(tag, _tag(secret, header, payload)) else None
+
+
+def load(key: str):
+    """The object stored under ``key``, or None (absent, untrusted, unverified, corrupt, caching off)."""
+    with _shard(key, create=False) as found:
+        if found is None:
             return None
-        digest, payload = data[len(_MAGIC):len(_MAGIC) + 32], data[len(_MAGIC) + 32:]
-        if hashlib.sha256(payload).digest() != digest:
-            return None
-        stored_key, obj = pickle.loads(payload)
-        return obj if stored_key == key else None
+        data, _ = _read_file(f"{key}.pkl", found[0], 0o022, _MAX_ENTRY)
+        payload = None if data is None else _decode(data, key, found[1])
+    if payload is None:
+        return None
+    try:
+        return pickle.loads(payload)
     except Exception:  # noqa: BLE001 - a bad entry is only a cache miss
         return None
 
 
 def store(key: str, obj) -> bool:
-    """Write ``obj`` under ``key`` atomically; False (and no error) if it cannot be written."""
-    path = _path(key)
-    if path is None:
-        return False
+    """Write ``obj`` under ``key`` atomically; False (and no error) if it cannot or may not be written."""
     try:
-        payload = pickle.dumps((key, obj), protocol=pickle.HIGHEST_PROTOCOL)
+        payload = pickle.dumps(obj, protocol=pickle.HIGHEST_PROTOCOL)
     except Exception:  # noqa: BLE001 - e.g. a backend whose code cannot be pickled
         return False
-    tmp = None
-    try:
-        path.parent.parent.mkdir(parents=True, exist_ok=True, mode=0o700)  # the cache root: private
-        path.parent.mkdir(exist_ok=True, mode=0o700)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=".pkl")
-        with os.fdopen(fd, "wb") as f:
-            f.write(_MAGIC + hashlib.sha256(payload).digest() + payload)
-        os.replace(tmp, path)
-        tmp = None
-        STATS["writes"] += 1
-        return True
-    except OSError:
-        return False
-    finally:
-        if tmp is not None:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
+    with _shard(key, create=True) as found:
+        if found is None:
+            return False
+        shard_fd, secret = found
+        data = _encode(key, payload, secret)
+        if len(data) > _MAX_ENTRY:
+            return False
+        tmp: str | None = f".tmp-{secrets.token_hex(8)}.pkl"
+        try:
+            fd = os.open(tmp, _NEW_FLAGS, 0o600, dir_fd=shard_fd)
+            with os.fdopen(fd, "wb") as f:
+                f.write(data)
+            os.replace(tmp, f"{key}.pkl", src_dir_fd=shard_fd, dst_dir_fd=shard_fd)
+            tmp = None
+            STATS["writes"] += 1
+            return True
+        except OSError:
+            return False
+        finally:
+            if tmp is not None:
+                with contextlib.suppress(OSError):
+                    os.unlink(tmp, dir_fd=shard_fd)
 
 
 def cached(parts: Iterable[str | bytes] | Callable[[], Iterable[str | bytes]], build: Callable[[], T],
