@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # One entry point for a fresh machine: sets up .venv on first use, then runs the job.
 #   bash run.sh paper [--out DIR]   reproduce the paper's analyses (figures + summary)
-#   bash run.sh test  [pytest args] run the test suite
+#   bash run.sh test  [pytest args] run the test suite, in parallel on every core (slow tests too;
+#                                   add -m "not slow" for the quick set, -n 0 for one process)
 #   bash run.sh bench               run the benchmarks (median of repeated runs)
 #   bash run.sh lint                ruff on the sources, tests and benchmarks
 #   bash run.sh typecheck           mypy on src/ (configured in pyproject.toml)
@@ -10,13 +11,16 @@ set -euo pipefail
 cd "$(dirname "$0")"
 PY=${PYTHON:-python3}
 if [ ! -x .venv/bin/python ]; then
+  echo "run.sh: creating .venv and installing mechcont with its dependencies (first use only: about 1-3 minutes)" >&2
   "$PY" -m venv .venv
 fi
 stamp=.venv/.mechcont-installed
 if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
+  [ -f "$stamp" ] && echo "run.sh: pyproject.toml changed: updating .venv's packages" >&2
   .venv/bin/python -m pip install --quiet --upgrade pip
   .venv/bin/python -m pip install --quiet -e ".[test]"
   touch "$stamp"
+  echo "run.sh: .venv ready" >&2
 fi
 cmd=${1:-test}; shift || true
 export MPLBACKEND=Agg
@@ -24,7 +28,7 @@ export MPLBACKEND=Agg
 # processes that import NumPy before mechcont
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 case "$cmd" in
-  test) exec .venv/bin/python -m pytest -q "$@" ;;
+  test) exec .venv/bin/python -m pytest -q -n "${MECHCONT_TEST_WORKERS:-auto}" --dist loadfile "$@" ;;
   paper) exec .venv/bin/mechcont paper "$@" ;;
   bench) exec .venv/bin/python benchmarks/run.py "$@" ;;
   lint) exec .venv/bin/ruff check src tests benchmarks "$@" ;;
