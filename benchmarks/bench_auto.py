@@ -155,27 +155,33 @@ def write_problem(folder: Path, x0: dict[str, float], fscale: float, dsmax: floa
     (folder / "c.oc").write_text(_CONSTANTS.format(ds=0.01 * min(dsmax, 1.0), dsmax=dsmax, flo=-F_BOUND / fscale,
                                                    fhi=F_BOUND / fscale))
     (folder / "branch.auto").write_text(_BRANCH)
+    (folder / "empty.auto").write_text("")
     (folder / "folds.auto").write_text(_FOLDS.format(dsmax=fold_dsmax, lulo=LU_BOUNDS[0], luhi=LU_BOUNDS[1]))
 
 
+def parse_auto_output(out: str) -> tuple[list[float], list[int], list[list[str]]]:
+    """What an ``auto`` process printed: AUTO's ``Total Time`` of each run (s), the points each
+    run computed (the PT column of the last row it prints) and the scripts' ``RESULT`` lines
+    split into words (without ``RESULT``)."""
+    times = [float(t) for t in re.findall(r"Total Time\s+(\S+)", out)]
+    points = []
+    for chunk in out.split("Total Time")[:-1]:
+        rows = re.findall(r"^\s+\d+\s+(\d+)\s+[A-Z]{2}\s+\d+\s", chunk, flags=re.M)
+        points.append(int(rows[-1]))
+    results = [line.split()[1:] for line in out.splitlines() if line.startswith("RESULT")]
+    return times, points, results
+
+
 class AutoRun:
-    """One ``auto SCRIPT`` process: its wall time and what it printed."""
+    """One ``auto SCRIPT`` process: its wall time (s) and what it printed (see :func:`parse_auto_output`)."""
 
     def __init__(self, auto_dir: Path, folder: Path, script: str, env: dict[str, str]):
         t0 = time.perf_counter()
         proc = subprocess.run([str(auto_dir / "bin" / "auto"), script], cwd=folder, env=env, capture_output=True, text=True)
         self.wall = time.perf_counter() - t0
-        out = proc.stdout
-        if proc.returncode != 0 or "Traceback" in out + proc.stderr:
-            raise RuntimeError(f"auto {script} failed ({proc.returncode}): {(out + proc.stderr)[-800:]}")
-        #: AUTO's own timer, one per run (seconds)
-        self.run_times = [float(t) for t in re.findall(r"Total Time\s+(\S+)", out)]
-        #: points computed per run: the PT column of the last row each run prints
-        self.run_points = []
-        for chunk in out.split("Total Time")[:-1]:
-            rows = re.findall(r"^\s+\d+\s+(\d+)\s+[A-Z]{2}\s+\d+\s", chunk, flags=re.M)
-            self.run_points.append(int(rows[-1]))
-        self.results = [line.split()[1:] for line in out.splitlines() if line.startswith("RESULT")]
+        if proc.returncode != 0 or "Traceback" in proc.stdout + proc.stderr:
+            raise RuntimeError(f"auto {script} failed ({proc.returncode}): {(proc.stdout + proc.stderr)[-800:]}")
+        self.run_times, self.run_points, self.results = parse_auto_output(proc.stdout)
 
     def values(self, kind: str, fscale: float) -> list[tuple[float, float]]:
         """``(F [N], second)`` of each printed point of ``kind`` (``LP``: second theta1; ``UZ``: LU)."""
@@ -281,6 +287,8 @@ def main(argv=None) -> int:
         for _ in range(repeats):
             rows.setdefault("mechcont continue", []).append(_timed(_mechcont_cli(MECHCONT_CONTINUE), menv))
             rows.setdefault("mechcont folds", []).append(_timed(_mechcont_cli(MECHCONT_FOLDS), menv))
+            rows.setdefault("auto empty.auto (AUTO's Python CLUI start-up)", []).append(
+                AutoRun(auto_dir, next(iter(folders.values()))[0], "empty.auto", env).wall)
             for name, (folder, _) in folders.items():
                 r = AutoRun(auto_dir, folder, "branch.auto", env)
                 rows.setdefault(f"auto branch.auto ({name})", []).append(r.wall)
@@ -311,7 +319,8 @@ def main(argv=None) -> int:
         print("|---|---|---|")
         for key, t in med.items():
             ours = med["mechcont folds" if "folds" in key else "mechcont continue"]
-            print(f"| {key} | {t:.3f} | {'' if key.startswith('mechcont') else f'{ours / t:.2f}×'} |")
+            shown = "" if key.startswith("mechcont") or "empty" in key else f"{ours / t:.2f}×"
+            print(f"| {key} | {t:.3f} | {shown} |")
         return 0
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
