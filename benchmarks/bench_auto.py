@@ -28,7 +28,8 @@ Timings, each the median of ``--repeats`` interleaved rounds measured in this ru
   equations compiled before timing) against ``mechcont continue overcentre ... --bounds
   F=-200:200`` / ``mechcont folds ...`` (compiled-code cache warm).
 
-AUTO runs with ``OMP_NUM_THREADS=1``.
+AUTO runs with ``OMP_NUM_THREADS=1`` and, for its Python CLUI, the interpreter running this
+script (first on ``PATH`` as ``python``), so both programs start the same Python and NumPy.
 """
 
 from __future__ import annotations
@@ -53,13 +54,14 @@ F_BOUND = 200.0
 LU_BOUNDS = (0.1, 2.0)
 REL_TOL = 1e-6
 
-#: (name, F = FSCALE * PAR(1), DSMAX of the branch, DSMAX of the fold curve). With F in newtons, of
+#: (name, F = FSCALE * PAR(1), DSMAX of the branch, DSMAX of the fold curve, IID). With F in newtons, of
 #: DSMAX = 0.5, 1, 2, 5, 10, 20 only 2 locates both folds: at the others AUTO's secant search for the
 #: fold at -75.6 N (fold function near +-0.9 on both sides: the tangent turns from F to the states
 #: within a tiny arclength) runs out of its ITMX = 8 iterations and reports no LP (ITMX = 20 gives
 #: LPs off by 1e-4). With F/127 every DSMAX from 0.005 to 1 locates both; 1 gives point counts
-#: nearest mechcont's.
-VARIANTS = [("F in N", 1.0, 2.0, 2.0), ("F/127", 127.0, 1.0, 1.0)]
+#: nearest mechcont's. IID = 2 (AUTO's default) writes every Newton iteration to the d-file; IID = 0
+#: writes none (the b- and s-files as before): mechcont writes no file in-process.
+VARIANTS = [("F in N", 1.0, 2.0, 2.0, 2), ("F/127", 127.0, 1.0, 1.0, 2), ("F/127, IID=0", 127.0, 1.0, 1.0, 0)]
 
 
 _FORTRAN = """\
@@ -112,7 +114,7 @@ _CONSTANTS = """\
 NDIM=6, IPS=0, IRS=0, ILP=1
 ICP=[1]
 NTST=1, NCOL=1, IAD=0, ISP=1, ISW=1, IPLT=0, NBC=0, NINT=0
-NMX=5000, NPR=5000, MXBF=0, IID=2, ITMX=8, ITNW=8, NWTN=3, JAC=0
+NMX=5000, NPR=5000, MXBF=0, IID={iid}, ITMX=8, ITNW=8, NWTN=3, JAC=0
 EPSL=1e-10, EPSU=1e-10, EPSS=1e-10
 DS={ds}, DSMIN=1e-9, DSMAX={dsmax}, IADS=1
 NPAR=10, THL={{}}, THU={{}}
@@ -148,11 +150,11 @@ def _fortran_start(x0: dict[str, float], fscale: float) -> str:
     return "\n".join(lines)
 
 
-def write_problem(folder: Path, x0: dict[str, float], fscale: float, dsmax: float, fold_dsmax: float) -> None:
+def write_problem(folder: Path, x0: dict[str, float], fscale: float, dsmax: float, fold_dsmax: float, iid: int = 2) -> None:
     """Write the AUTO problem (``oc.f90``, ``c.oc``) and the scripts ``branch.auto``, ``folds.auto``."""
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "oc.f90").write_text(_FORTRAN.format(fscale=f"{fscale!r}D0", start=_fortran_start(x0, fscale)))
-    (folder / "c.oc").write_text(_CONSTANTS.format(ds=0.01 * min(dsmax, 1.0), dsmax=dsmax, flo=-F_BOUND / fscale,
+    (folder / "c.oc").write_text(_CONSTANTS.format(ds=0.01 * min(dsmax, 1.0), dsmax=dsmax, iid=iid, flo=-F_BOUND / fscale,
                                                    fhi=F_BOUND / fscale))
     (folder / "branch.auto").write_text(_BRANCH)
     (folder / "empty.auto").write_text("")
@@ -179,7 +181,7 @@ class AutoRun:
         t0 = time.perf_counter()
         proc = subprocess.run([str(auto_dir / "bin" / "auto"), script], cwd=folder, env=env, capture_output=True, text=True)
         self.wall = time.perf_counter() - t0
-        if proc.returncode != 0 or "Traceback" in proc.stdout + proc.stderr:
+        if proc.returncode != 0 or "Traceback" in proc.stdout + proc.stderr or "AUTO Runtime Error" in proc.stdout:
             raise RuntimeError(f"auto {script} failed ({proc.returncode}): {(proc.stdout + proc.stderr)[-800:]}")
         self.run_times, self.run_points, self.results = parse_auto_output(proc.stdout)
 
@@ -260,15 +262,20 @@ def main(argv=None) -> int:
     fc = fold_fn(b)
     our_lp = [p["F"] for p in b.special("LP")]
     our_ends = [p["F"] for p in fc.special("EP")]
-    env = {**os.environ, "AUTO_DIR": str(auto_dir), "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
     tmp = Path(tempfile.mkdtemp(prefix="mechcont-bench-auto-"))
     try:
+        # $AUTO_DIR/bin/auto runs the first `python` on PATH: make it this interpreter (no shim in
+        # between, the same start-up and NumPy as mechcont's processes)
+        (tmp / "bin").mkdir()
+        (tmp / "bin" / "python").symlink_to(sys.executable)
+        env = {**os.environ, "AUTO_DIR": str(auto_dir), "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg",
+               "PATH": f"{tmp / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}"}
         folders = {}
         ok = True
         print(f"Same problem? (folds of the branch in F at LU = {LU} m; fold-curve ends at LU = {LU_BOUNDS[0]} m; N)")
-        for name, fscale, dsmax, fold_dsmax in VARIANTS:
-            folder = tmp / name.replace("/", "_").replace(" ", "_")
-            write_problem(folder, x0, fscale, dsmax, fold_dsmax)
+        for name, fscale, dsmax, fold_dsmax, iid in VARIANTS:
+            folder = tmp / re.sub(r"\W", "_", name)
+            write_problem(folder, x0, fscale, dsmax, fold_dsmax, iid)
             folders[name] = (folder, fscale)
             check = AutoRun(auto_dir, folder, "folds.auto", env)  # also compiles oc.exe (before any timing)
             ok &= _agree(f"AUTO {name}: LP (F)", our_lp, [f for f, _ in check.values("LP", fscale)])
