@@ -7,9 +7,10 @@ Run: ``AUTO_DIR=/path/to/auto-07p python benchmarks/bench_auto.py [--repeats N]`
 The overcentre is written as an AUTO algebraic problem (IPS = 0, six unknowns
 ``x1, y1, theta1, x2, y2, theta2``, PAR(1) the force, PAR(2) = LU; the equations below are
 eq. 6 typed again in Fortran, Jacobian by AUTO's finite differences, JAC = 0) and started
-from the point mechcont's ``find_equilibrium`` gives at theta1 = 0.3 rad. Two AUTO variants:
-PAR(1) = F in newtons, and PAR(1) = F/127 (F rescaled by k = 127 N/m so that its
-arclength weight is near the states'). Work measured, in both programs:
+from the point mechcont's ``find_equilibrium`` gives at theta1 = 0.3 rad. AUTO variants (see
+``VARIANTS``): PAR(1) = F in newtons; PAR(1) = F/127 (F rescaled by k = 127 N/m so that its
+arclength weight is near the states'); and the rescaled one without AUTO's per-iteration
+diagnostics file (IID = 0). Work measured, in both programs:
 
 * branch: the equilibrium branch in F, both directions from the start, to F = -200 and 200 N
   (AUTO: two runs, ``DS`` and ``-DS``, ended by ``UZSTOP``);
