@@ -36,6 +36,7 @@ script (first on ``PATH`` as ``python``), so both programs start the same Python
 from __future__ import annotations
 
 import argparse
+import gc
 import os
 import re
 import shutil
@@ -239,12 +240,19 @@ def mechcont_problem():
 
 
 def _median_in_process(fn, repeats: int) -> float:
+    """Median seconds of ``repeats`` calls of ``fn`` after one warm-up, garbage collection off
+    while timing (as in ``benchmarks/run.py``)."""
     fn()
     times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
+    gc.collect()
+    gc.disable()
+    try:
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            fn()
+            times.append(time.perf_counter() - t0)
+    finally:
+        gc.enable()
     return statistics.median(times)
 
 
