@@ -1,0 +1,93 @@
+"""benchmarks/bench_auto.py without AUTO (its one-line exit), its parser of AUTO's output, and
+the Fortran it generates (double-precision literals that give back mechcont's start)."""
+
+from __future__ import annotations
+
+import importlib.util
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def bench():
+    spec = importlib.util.spec_from_file_location("bench_auto", ROOT / "benchmarks" / "bench_auto.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+@pytest.mark.parametrize("auto_dir", [None, "/nonexistent/auto-07p"])
+def test_without_auto_prints_one_line_and_exits_0(bench, monkeypatch, capsys, auto_dir):
+    if auto_dir is None:
+        monkeypatch.delenv("AUTO_DIR", raising=False)
+    else:
+        monkeypatch.setenv("AUTO_DIR", auto_dir)
+    assert bench.main([]) == 0
+    out = capsys.readouterr().out
+    assert out.count("\n") == 1
+    assert "AUTO_DIR" in out and "github.com/auto-07p/auto-07p" in out
+
+
+# two runs as AUTO-07p prints them (column header, special points, its timer), then the script's lines
+_OUTPUT = """\
+gfortran -g -fopenmp -O -c oc.f90 -o oc.o
+Starting oc ...
+
+  BR    PT  TY  LAB    PAR(1)        L2-NORM         U(1)          U(2)          U(3)
+   1     1  EP    1  -3.07723E+01   3.66014E+00   7.16502E-01   2.21640E-01   3.00000E-01
+   1    50  LP    2   9.52007E+01   4.45578E+00   4.82745E-01  -5.73984E-01  -8.71526E-01
+   1   126  UZ    3  -2.00000E+02   4.93059E+00   9.47748E-02  -7.43988E-01  -1.44409E+00
+
+ Total Time    0.586E-02
+oc ... done
+Starting oc ...
+
+  BR    PT  TY  LAB    PAR(1)        L2-NORM         U(1)          U(2)          U(3)
+   1     1  EP    1  -3.07723E+01   3.66014E+00   7.16502E-01   2.21640E-01   3.00000E-01
+   1   123  UZ    2   2.00000E+02   2.48490E+00   9.96363E-02   7.43352E-01   1.43755E+00
+
+ Total Time    0.570E-02
+oc ... done
+RESULT LP 95.200667883 -0.87152579
+"""
+
+
+def test_parse_auto_output(bench):
+    times, points, results = bench.parse_auto_output(_OUTPUT)
+    assert times == pytest.approx([5.86e-3, 5.70e-3], rel=1e-12)
+    assert points == [126, 123]
+    assert results == [["LP", "95.200667883", "-0.87152579"]]
+
+
+def test_fortran_start_is_double_precision_and_gives_back_the_start(bench, tmp_path):
+    """Every literal of STPNT carries a D exponent (a bare 0.3 is single precision in Fortran)
+    and reads back as the value mechcont solved for; F is divided by the variant's scale."""
+    s, x0vec, _, _ = bench.mechcont_problem()
+    x0 = dict(zip(s.names, map(float, x0vec)))
+    bench.write_problem(tmp_path, x0, 127.0, 1.0, 1.0)
+    source = (tmp_path / "oc.f90").read_text()
+    start = source[source.index("SUBROUTINE STPNT"):source.index("END SUBROUTINE STPNT")]
+    assigned = dict(re.findall(r"^\s+((?:PAR|U)\(\d+\)) = (\S+)$", start, flags=re.M))
+    assert len(assigned) == 16
+    assert all("D" in lit for lit in assigned.values())
+    read = {k: float(v.replace("D", "e")) for k, v in assigned.items()}
+    assert read["PAR(1)"] * 127.0 == pytest.approx(x0["F"], rel=1e-15)
+    assert read["PAR(2)"] == x0["LU"]
+    assert [read[f"U({i})"] for i in range(1, 7)] == [x0[n] for n in ("x1", "y1", "theta1", "x2", "y2", "theta2")]
+    assert "UZSTOP={1: [-1.5748031496062993, 1.5748031496062993]}" in (tmp_path / "c.oc").read_text()
+
+
+@pytest.mark.skipif(shutil.which("gfortran") is None, reason="needs gfortran")
+def test_generated_fortran_compiles(bench, tmp_path):
+    """The generated equations file is valid Fortran (compiled alone; AUTO's library not needed)."""
+    import subprocess
+
+    s, x0vec, _, _ = bench.mechcont_problem()
+    bench.write_problem(tmp_path, dict(zip(s.names, map(float, x0vec))), 1.0, 2.0, 2.0)
+    proc = subprocess.run(["gfortran", "-c", "oc.f90", "-o", "oc.o"], cwd=tmp_path, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
