@@ -77,20 +77,39 @@ def test_progress_is_called_once_per_accepted_step(start):
     assert calls == [1] * accepted and accepted > 10
 
 
+class _Overshooting:
+    """One equation ``a - c = 0`` whose Jacobian is 0.4 times the true one: each correction
+    overshoots by 1.5, so the corrections grow."""
+
+    names, param_index, scale, idx = ("a", "p"), 1, np.ones(2), None
+
+    def __init__(self, c):
+        self.c = c
+
+    def evaluate(self, u):
+        return np.array([u[0] - self.c]), np.array([[0.4, 0.0]])
+
+
 def test_corrector_never_accepts_on_a_growing_correction():
     """The contraction bound |z - z*| <= q/(1-q)|dz| holds only for q < 1: an iteration whose
-    corrections grow (here a Jacobian 0.4 times the true one: each step overshoots by 1.5) must not
-    be accepted, even where the residual sits below its floating-point floor (a large unknown)."""
+    corrections grow must not be accepted while they are above the rounding noise, even where the
+    residual passes its tolerance (5e-11 < 1e-10): q/(1-q) < 0 there must not read as converged."""
     from mechcont.continuation import ContinuationOptions
     from mechcont.continuation._palc import PseudoArclength
 
-    class Overshooting:
-        names, param_index, scale, idx = ("a", "p"), 1, np.ones(2), None
-
-        def evaluate(self, u):
-            return np.array([u[0] - 1e7]), np.array([[0.4, 0.0]])
-
-    eng = PseudoArclength(Overshooting(), ContinuationOptions())
-    t0 = np.array([0.0, 1.0])
-    z, reason, _ = eng.correct(np.array([1e7 + 3e-9, 0.0]), t0)
+    eng = PseudoArclength(_Overshooting(1.0), ContinuationOptions())
+    z, reason, _ = eng.correct(np.array([1.0 + 5e-11, 0.0]), np.array([0.0, 1.0]))
     assert z is None and ("iterations" in reason or "slowly" in reason)
+
+
+def test_corrector_accepts_a_point_whose_corrections_are_rounding_noise():
+    """Where the residual sits below its floating-point floor (a = 1e7: the floor is 100 eps |J a|
+    = 9e-8) a correction of 1e-8 is noise, whatever its trend: the point is converged as far as
+    double precision allows (here within a few units in the last place of the solution), and the
+    same overshooting iteration that is refused above the floor is accepted there."""
+    from mechcont.continuation import ContinuationOptions
+    from mechcont.continuation._palc import PseudoArclength
+
+    eng = PseudoArclength(_Overshooting(1e7), ContinuationOptions())
+    z, _, _ = eng.correct(np.array([1e7 + 3e-9, 0.0]), np.array([0.0, 1.0]))
+    assert z is not None and abs(z[0] - 1e7) <= 8 * np.spacing(1e7)

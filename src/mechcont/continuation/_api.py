@@ -20,11 +20,20 @@ __all__ = ["continuation", "continue_folds", "locate_fold", "switch_branch"]
 
 class _Equilibria(EquilibriumProblem):
     def refine_fold(self, state):
-        """The fold polished to machine precision, or the located guess marked approximate."""
+        """The fold polished to machine precision, or the located guess marked approximate.
+
+        The null vector's first guess is the branch tangent's states part (exact at the fold;
+        near a stiff compliance the smallest singular vector may be the compliance's, not
+        the fold's), then, if that fails, the smallest singular vector."""
+        states, param = self.names[:-1], self.names[-1]
+        tangent = np.asarray(state.tangent, float)[:-1] * np.asarray(self.scale, float)[:-1]
         try:
-            fp = polish_fold(self.system, state.x, self.names[:-1], self.names[-1])
-        except ConvergenceError as exc:
-            return state.u, {"status": "approximate", "reason": str(exc)}
+            fp = polish_fold(self.system, state.x, states, param, v0=tangent)
+        except ConvergenceError:
+            try:
+                fp = polish_fold(self.system, state.x, states, param)
+            except ConvergenceError as exc:
+                return state.u, {"status": "approximate", "reason": str(exc)}
         return self.u_of(fp.x), {"null_vector": fp.v, "status": "located", **fp.precision()}
 
 

@@ -31,7 +31,7 @@ from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 from ._events import Event
 from ._linalg import DenseLU
-from ._newton import residual_met
+from ._newton import residual_met, step_noise
 from ._problem import ContinuationProblem, choose_unknowns
 from ._scaling import equilibrate
 
@@ -238,8 +238,18 @@ def _relative_residual(r: np.ndarray, J: np.ndarray, u: np.ndarray) -> float:
     return float(np.max(np.abs(r) / np.maximum(terms, np.finfo(float).tiny), initial=0.0))
 
 
+class _LUSolve:
+    """``solve(A, b)`` with a factorisation already made (``A`` is ignored): for :func:`step_noise`."""
+
+    def __init__(self, lu: np.ndarray, piv: np.ndarray) -> None:
+        self.lu, self.piv = lu, piv
+
+    def __call__(self, _A: np.ndarray, b: np.ndarray) -> np.ndarray:
+        return _dgetrs(self.lu, self.piv, b)[0]
+
+
 def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], param: str, tol: float = 1e-11,
-                max_iter: int = 30, residual_tol: float = 1e-10) -> FoldPoint:
+                max_iter: int = 30, residual_tol: float = 1e-10, v0: np.ndarray | None = None) -> FoldPoint:
     """Locate a fold in ``param`` near ``x`` to machine precision, whatever the units.
 
     Newton on the standard augmented system ``G = 0, G_s C v_hat = 0, |v_hat| = 1`` in
@@ -247,9 +257,17 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
     multiplied by the row scales ``R`` of :func:`fold_scaling`. Newton's iterates are
     invariant under a change of variables, so with scales read off the Jacobian the result
     does not depend on the units or on ``scale`` hints; only the stopping test is measured
-    in those scales (step below ``tol``, residuals below ``residual_tol`` or their
-    floating-point floor). A backtracking line search on the equilibrated residual keeps
+    in those scales (residuals below ``residual_tol`` or their floating-point floor, and the
+    step below ``tol``, or stalled at the noise that floor causes in it,
+    :func:`~._newton.step_noise`: a very stiff compliance makes the system so
+    ill-conditioned that the step stalls there). A backtracking line search on the equilibrated residual keeps
     a rough start (a secant guess) from overshooting.
+
+    ``v0`` (optional, in the states' units): a guess of the null vector, e.g. the states'
+    part of the branch tangent at ``x`` (at a fold the tangent's parameter component
+    vanishes and its states' part spans ker G_s). Without it the guess is the singular
+    vector of the smallest singular value at ``x``, which near a stiff joint compliance can
+    belong to the compliance (singular values ~1/k) rather than to the fold.
 
     Returns a :class:`FoldPoint`. Raises :class:`~mechcont.errors.ConvergenceError`
     (``partial``: the last full vector) when Newton fails.
@@ -260,15 +278,19 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
     n = len(states)
     J0 = system.jacobian(x)  # evaluated once for the scales and the first null vector
     row, col = _scaling_of(system, J0[:, idx_vars], idx_vars)
-    Js = J0[:, idx_vars[:n]]
-    _, _, vt = _dense.svd(Js * row[:, None] * col[:n])
-    vh0 = vt[-1]
+    if v0 is None:
+        _, _, vt = _dense.svd(J0[:, idx_vars[:n]] * row[:, None] * col[:n])
+        vh0 = vt[-1]
+    else:
+        vh0 = np.asarray(v0, float) / col[:n]
+        vh0 /= _norm(vh0)
     fs = _FoldSystem(system, x, idx_vars, np.arange(n), col[:n])
     full, evaluate = fs.full, fs.evaluate
     U = np.concatenate([x[idx_vars], vh0])
     rows = np.concatenate([row, row, [1.0]])
     cols = np.concatenate([col, np.ones(n)])
     F, JF = evaluate(U)
+    step = np.inf
     for it in range(1, max_iter + 1):
         A = JF * rows[:, None] * cols
         lu, piv, info = _dgetrf(A)
@@ -289,12 +311,14 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
                 break
             lam *= 0.5
         U, F, JF = trial, F_t, JF_t
-        step = float(np.abs(lam * dU).max())
+        prev_step, step = step, float(np.abs(lam * dU).max())
         r_eq, J_eq = F[:len(row)], JF[:len(row), :len(idx_vars)]
         null_rows = F[len(row):2 * len(row)]
         J_null = JF[len(row):2 * len(row)]
-        if (step < tol and residual_met(r_eq, J_eq, U[:len(idx_vars)], residual_tol)
-                and residual_met(row * null_rows, J_null * row[:, None], U * cols, residual_tol)):
+        if (residual_met(r_eq, J_eq, U[:len(idx_vars)], residual_tol)
+                and residual_met(row * null_rows, J_null * row[:, None], U * cols, residual_tol)
+                and (step < tol or (step > 0.5 * prev_step  # stalled, no longer converging
+                                    and step <= 10 * step_noise(_LUSolve(lu, piv), A, A, U / cols)))):
             xf = full(U)
             # the columns at xf, from its evaluation above (the same values as system.jacobian(xf)[:, idx_vars])
             Jf = J_eq * row[:, None] * col

@@ -10,9 +10,12 @@ from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 from ._problem import choose_unknowns
 
-__all__ = ["find_equilibrium", "newton_square", "residual_met"]
+__all__ = ["find_equilibrium", "newton_square", "residual_met", "step_noise"]
 
 _FLOOR = 100 * np.finfo(float).eps
+#: Rounding of one evaluation of a residual row, relative to the sum of its terms' sizes:
+#: the noise model of :func:`step_noise` (the floor of :func:`residual_met` is a generous 100x that).
+_ROUNDING = np.finfo(float).eps
 
 
 def residual_met(r: np.ndarray, J: np.ndarray, u: np.ndarray, tol: float) -> bool:
@@ -29,6 +32,32 @@ def residual_met(r: np.ndarray, J: np.ndarray, u: np.ndarray, tol: float) -> boo
     return bool(np.all(size <= np.maximum(tol, floor)))
 
 
+def step_noise(solve, A: np.ndarray, J: np.ndarray, u: np.ndarray) -> float:
+    """Largest change of a Newton step that rounding of the residual alone can cause.
+
+    At a solution a residual row cannot be computed better than the rounding of its terms,
+    ``f_i = eps sum_j |J_ij u_j|``; a Newton step computed from such a residual, ``A^-1 r``,
+    is noise of the size ``|A^-1 f|``. On a well-conditioned system that is far
+    below any tolerance and never matters. On an ill-conditioned one (a joint compliance of
+    1e10 N/m beside newton-sized loads: condition number 1e11 and more) the steps at the
+    solution stall at that size while the residual sits at its floor, and no tolerance on the
+    step can be met: the iterate is then as converged as double precision allows. ``A`` is the
+    (square) matrix the step was solved with, whose first ``len(J)`` rows are ``J``; ``solve``
+    solves with it. Returns the largest entry of the noise step, in the unknowns of ``A``, over
+    two sign patterns of ``f`` (one could cancel), or ``inf`` if ``A`` is singular.
+    """
+    f = np.zeros(A.shape[0])
+    f[: J.shape[0]] = _ROUNDING * np.abs(J * u).sum(axis=1)
+    alternating = np.where(np.arange(len(f)) % 2 == 0, 1.0, -1.0)
+    noise = 0.0
+    for rhs in (f, f * alternating):
+        d = solve(A, rhs)
+        if d is None or not np.all(np.isfinite(d)):
+            return np.inf
+        noise = max(noise, float(np.max(np.abs(d))))
+    return noise
+
+
 def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol: float = 1e-10,
                   max_iter: int = 50, scale: np.ndarray | None = None, names=None):
     """Damped Newton for a square system ``fun(u) = 0``.
@@ -36,8 +65,11 @@ def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol:
     The full Newton step is tried first and halved while it does not reduce the residual
     norm (a backtracking line search), so a rough guess still converges. The merit
     function divides each row by the size of its terms (``max(1, max_j |J_ij scale_j|)``)
-    so the line search weighs equations in N, N m and m alike. Converged when the scaled
-    step is below ``tol`` and the residuals pass :func:`residual_met`.
+    so the line search weighs equations in N, N m and m alike. Converged when the
+    residuals pass :func:`residual_met` and the scaled step is below ``tol``, or has stopped
+    shrinking at most ten times the noise that rounding of the residual causes in it
+    (:func:`step_noise`: an ill-conditioned system, e.g. a very stiff joint compliance,
+    whose steps stall there).
 
     Returns ``(u, iterations)``. Raises :class:`ConvergenceError` (with ``partial`` = the
     last iterate) if the Jacobian is singular or ``max_iter`` is reached.
@@ -45,6 +77,7 @@ def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol:
     u = np.array(u0, dtype=float)
     scale = np.ones_like(u) if scale is None else scale
     r = fun(u)
+    step = np.inf
     for it in range(1, max_iter + 1):
         J = jac(u)
         # rows measured against the size of their terms: the merit function and the
@@ -68,13 +101,23 @@ def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol:
                 break
             lam *= 0.5
         u, r = trial, r_trial
-        if np.max(np.abs(lam * du / scale)) < tol and residual_met(r, J, u, residual_tol):
+        prev_step, step = step, np.max(np.abs(lam * du / scale))
+        if residual_met(r, J, u, residual_tol) and (
+                step < tol or (step > 0.5 * prev_step  # stalled, no longer converging
+                               and step <= 10 * step_noise(_lu_solve, J * scale, J * scale, u / scale))):
             return u, it
     worst = int(np.argmax(np.abs(r)))
     raise ConvergenceError(
         f"Newton did not converge in {max_iter} iterations: residual {np.linalg.norm(r):.3g}, largest in equation "
         f"{worst}; "
         "try a closer guess or a different held value", partial=u)
+
+
+def _lu_solve(A: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    try:
+        return np.linalg.solve(A, b)
+    except np.linalg.LinAlgError:
+        return None
 
 
 def find_equilibrium(system: EquationSystem, values: Mapping[str, float] | None = None,
