@@ -127,7 +127,8 @@ def study_command(model, dists, grids, sample, n, seed, spec_file, analyses, set
     t0 = time.perf_counter()
     with Progress("study", total=spec.size, unit="samples", quiet=quiet) as bar:
         result = st.run_study(spec, out, resume=resume, scheduler=where, workers=workers,
-                              progress=bar.update if bar.enabled else None, on_chunk=chunk_line)
+                              progress=bar.update if bar.enabled else None, on_chunk=chunk_line,
+                              on_warning=lambda line: click.echo(f"warning: {line}", err=True))
     seconds = time.perf_counter() - t0
     df = result.frame()
     if not quiet:

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ...errors import InputError
-from ._kernels import check_spec, run_chunk
+from ._kernels import check_spec, result_columns, run_chunk
 from ._spec import StudySpec
 from ._store import StudyStore
 
@@ -142,7 +142,8 @@ def _units(system, spec: StudySpec) -> dict[str, str]:
 
 def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, scheduler: str | None = None,
               workers: int | None = None, progress: Callable[[int], None] | None = None,
-              on_chunk: Callable[[int, float], None] | None = None) -> StudyResult:
+              on_chunk: Callable[[int, float], None] | None = None,
+              on_warning: Callable[[str], None] | None = None) -> StudyResult:
     """Run ``spec`` into ``folder``, computing only the chunks not already there.
 
     Parameters
@@ -162,6 +163,9 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
         Called with the number of samples of each chunk written.
     on_chunk:
         Called with ``(k, seconds)`` after chunk ``k`` is written.
+    on_warning:
+        Called with one line per part found on disk that is not this study's (another
+        study's settings or samples, truncated, not Parquet): that chunk is computed again.
 
     Returns
     -------
@@ -184,6 +188,9 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
     check_spec(system, spec)
     units = _units(system, spec)
     store = StudyStore(folder, spec, resume=resume)
+    for k, why in store.verify(result_columns(spec)).items():
+        if on_warning is not None:
+            on_warning(f"part {k} of the study ({store.parts.name}/chunk-{k:06d}.parquet) {why}; computing it again")
     todo = [k for k in range(spec.n_chunks) if k not in store.done()]
     computed: list[int] = []
 
