@@ -2,10 +2,14 @@
 one-line error (exit 2), a reported finding, or a verified recomputation."""
 
 import shutil
+import time
+from pathlib import Path
 
 import numpy as np
 import pytest
 from cli_helpers import make_runner, one_line_error
+
+from mechcont.mechanism import find_description
 
 run = make_runner()
 
@@ -115,3 +119,123 @@ def test_branch_summary_bound_is_a_status_and_a_fold_is_not_unstable():
         assert note == f"decreasing: the release run ended at its bound {b:.6g} N, no fold"
     assert (c["branch_folds"] == 1).all() and (c["branch_force_high"] > F).all()
     assert (c["branch_unstable_points"] == 0).all()
+
+
+# -- description values that were accepted and gave wrong results -------------------------------
+DATA = Path(__file__).parent / "data"
+PENDULUM_STOP_3D = (DATA / "spatial" / "pendulum_stop_3d.toml").read_text()
+PENDULUM_STOP = (DATA / "pendulum_stop.toml").read_text()
+
+
+def _file(tmp_path, text, name="m.toml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("normal", ["[nan, 0, 0]", "[inf, 0, 0]", "[1e308, 1e308, 0]", "[1e-320, 0, 0]",
+                                    "[-inf, 1, 0]"])
+def test_spatial_collinear_normal_must_be_finite_and_normalisable(tmp_path, normal):
+    cond = f'col = {{ type = "collinear", points = ["ground.O", "bar.a", "bar.b"], normal = {normal} }}\n'
+    text = PENDULUM_STOP_3D.replace("[conditions]\n", "[conditions]\n" + cond, 1)
+    clean_failure(run("equations", _file(tmp_path, text)), "conditions.col.normal", "finite direction")
+
+
+def test_spatial_collinear_normal_of_ordinary_length_is_accepted(tmp_path):
+    cond = 'col = { type = "collinear", points = ["ground.O", "bar.a", "bar.b"], normal = [0, 1e-3, 0] }\n'
+    text = PENDULUM_STOP_3D.replace("[conditions]\n", "[conditions]\n" + cond, 1)
+    r = run("equations", _file(tmp_path, text))
+    assert r.exit_code == 0, r.output
+
+
+def test_a_held_coordinate_is_the_value_solved_or_refused(tmp_path):
+    """`hold = { x_crank = 50 }` of a crank 0.2 m long pinned at the origin: refused (it used to be
+    moved to 0.07 m by the placement of the crank and reported as held)."""
+    text = find_description("slidercrank").read_text().replace("hold = { theta_crank = 0.8 }", "hold = { x_crank = 50 }")
+    clean_failure(run("check", _file(tmp_path, text)), "cannot close", "x_crank = 50")
+    # a reachable held x: assembled with x_crank at that value (r cos(theta) = 0.1 with r = 0.2)
+    text = text.replace("x_crank = 50", "x_crank = 0.1")
+    from mechcont.mechanism import load_description
+
+    system = load_description(_file(tmp_path, text, "ok.toml")).build()
+    assert system.vector()[system.index("x_crank")] == pytest.approx(0.1, abs=1e-12)
+
+
+def test_min_stop_above_max_stop_is_refused(tmp_path):
+    text = PENDULUM_STOP + '\n[stops.top]\ncondition = "angle"\nmax = -1.3\n'
+    clean_failure(run("equations", _file(tmp_path, text)), "stops.top.max", "-1.3 is below min = -1.2", "rest")
+    ok = PENDULUM_STOP + '\n[stops.top]\ncondition = "angle"\nmax = 1.3\n'
+    assert run("equations", _file(tmp_path, ok, "ok.toml")).exit_code == 0
+
+
+@pytest.mark.parametrize("inertia, words", [
+    ("[1, 1, 1, 10, 0, 0]", ("not positive definite",)),
+    ("[1, 1, 100]", ("triangle inequality",)),
+    ("[1, 2, 3.5, 0.1, 0, 0]", ("triangle inequality",)),
+])
+def test_spatial_inertia_must_be_a_real_bodys(tmp_path, inertia, words):
+    text = PENDULUM_STOP_3D.replace("inertia = [0.01, 0.1, 0.1]", f"inertia = {inertia}", 1)
+    clean_failure(run("equations", _file(tmp_path, text)), "bodies.bar.inertia", *words)
+
+
+@pytest.mark.parametrize("inertia", ["[1, 1, 2]", "[2, 3, 4, 0.5, -0.2, 0.1]", "[0.01, 0.1, 0.1]"])
+def test_spatial_inertia_of_real_bodies_is_accepted(tmp_path, inertia):
+    text = PENDULUM_STOP_3D.replace("inertia = [0.01, 0.1, 0.1]", f"inertia = {inertia}", 1)
+    assert run("equations", _file(tmp_path, text)).exit_code == 0
+
+
+@pytest.mark.parametrize("value, name", [("fwd_L1=-1.15", "fwd_L1"), ("aft_L5=0", "aft_L5"), ("fwd_L2=-0.9", "fwd_L2")])
+def test_dual_sidestay_kinematics_refuses_non_physical_lengths(tmp_path, value, name):
+    clean_failure(run("draw", "dual_sidestay_kinematics", "--set", value, "--out", tmp_path / "d.png"),
+                  name, "length (m) must be positive")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_dual_sidestay_kinematics_refuses_a_zero_plane_normal(tmp_path):
+    args = [a for c in "xyz" for a in ("--set", f"fwd_n_{c}=0")]
+    clean_failure(run("draw", "dual_sidestay_kinematics", *args, "--out", tmp_path / "d.png"), "fwd_n", "positive")
+
+
+SWEEP = ("sweep", "overcentre", "--set", "LU=0.4", "--set", "c=50", "--start", "theta1=1.2", "--watch", "theta1",
+         "--quiet", "--ramp", "F=-65:-90:0.5")
+
+
+@pytest.mark.parametrize("rtol", ["1e300", "1", "0.5", "1e-20"])
+def test_sweep_rtol_outside_a_sensible_range(tmp_path, rtol):
+    clean_failure(run(*SWEEP, "--rtol", rtol, "--out", tmp_path / "s.csv"), "rtol", "between 1e-13 and 0.1")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_max_steps_is_capped_with_the_valid_range(tmp_path):
+    t0 = time.perf_counter()
+    clean_failure(run("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--max-steps",
+                      "999999999999", "--out", tmp_path / "b.csv"), "--max-steps", "1..100000")
+    assert time.perf_counter() - t0 < 20 and list(tmp_path.iterdir()) == []
+
+
+def test_check_without_an_equilibrium_has_a_finding_and_exit_1(tmp_path):
+    """A moment of 100 N m on a pendulum whose gravity moment is at most m g L / 2 = 9.81 N m: no equilibrium."""
+    text = PENDULUM_STOP.split("[conditions]")[0]  # no stops: the free mechanism
+    r = run("check", _file(tmp_path, text), "--set", "T=100")
+    assert r.exit_code == 1, r.output
+    assert "findings: none" not in r.output and "no equilibrium found at these parameter values" in r.output
+    assert run("check", _file(tmp_path, text, "ok.toml"), "--set", "T=5").exit_code == 0  # 5 < 9.81: one exists
+
+
+def test_check_without_a_consistent_stop_set_has_a_finding(tmp_path):
+    path = _file(tmp_path, PENDULUM_STOP)
+    r = run("check", path, "--set", "T=100", "--quiet")
+    assert r.exit_code == 1 and "finding: no equilibrium with a consistent set of stops in contact" in r.stderr
+    # pushed onto its stop (clockwise), the pendulum rests there: no free equilibrium, but one on the stop
+    r = run("check", path, "--set", "T=-100")
+    assert r.exit_code == 0 and "findings: none" in r.output and "in contact" in r.output, r.output
+
+
+@pytest.mark.parametrize("text, words", [
+    (PENDULUM_STOP.replace("[conditions]\n", '[conditions]\nd = { type = "distance", points = ["ground.O", "bar.origin"] }\n'),
+     ("conditions.d", "ground.O and bar.origin coincide")),
+    (PENDULUM_STOP_3D.replace("[conditions]\n", '[conditions]\nd = { type = "distance", points = ["ground.O", "bar.a"] }\n'),
+     ("conditions.d", "ground.O and bar.a coincide")),
+])
+def test_distance_between_two_pinned_points(tmp_path, text, words):
+    clean_failure(run("check", _file(tmp_path, text)), *words)

@@ -45,6 +45,10 @@ def common_options(f=None, *, free: bool = True):
     return f
 
 
+#: Most continuation steps each way that ``--max-steps`` accepts.
+MAX_STEPS = 100_000
+
+
 def continuation_options(bnds, ds, dsmax, max_steps):
     """ContinuationOptions from the CLI values (validated there)."""
     from ..continuation import ContinuationOptions
@@ -58,6 +62,8 @@ def continuation_options(bnds, ds, dsmax, max_steps):
     elif dsmax is not None:
         kw["ds"] = min(ContinuationOptions.ds, dsmax)
     if max_steps is not None:
+        if not 1 <= max_steps <= MAX_STEPS:  # more would run for days where no bound ends the branch
+            raise InputError("--max-steps", f"must be 1..{MAX_STEPS}, got {max_steps}")
         kw["max_steps"] = max_steps
     return ContinuationOptions(**kw)
 

@@ -371,6 +371,8 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
                     f"with every coordinate free (largest move: {v.name} by {_show(float(move[i]), v.unit)})")
         except (ConvergenceError, InputError) as exc:
             note = f"Newton from the assembled configuration with every coordinate free found no equilibrium ({exc})"
+            if not as_model(system).stops:  # with stops, the equilibrium may be one with a stop in contact
+                findings.append(f"no equilibrium found at these parameter values: {exc}")
     if xe is not None:
         stability = model.stability(xe)
 
