@@ -239,3 +239,123 @@ def test_check_without_a_consistent_stop_set_has_a_finding(tmp_path):
 ])
 def test_distance_between_two_pinned_points(tmp_path, text, words):
     clean_failure(run("check", _file(tmp_path, text)), *words)
+
+
+# -- tracebacks ---------------------------------------------------------------------------------
+BIG = "1" + "0" * 4400  # Python refuses to convert integers of more than 4300 digits
+OVERCENTRE = find_description("overcentre").read_text()
+
+
+def test_a_4401_digit_integer_in_a_description(tmp_path):
+    path = _file(tmp_path, OVERCENTRE.replace("k = { value = 127.0", "k = { value = " + BIG, 1))
+    clean_failure(run("equations", path), "m.toml", "4401 digits")
+
+
+STUDY_FILES = {
+    "4401-digit integer": (f'sampling = "mc"\nn = {BIG}\n[parameters]\nLU = "normal:1.3:0.01"\n', ("4401 digits",)),
+    "5000-deep array": ('sampling = "mc"\nn = 5\nanalyses = ' + "[" * 5000 + "]" * 5000
+                        + '\n[parameters]\nLU = "normal:1.3:0.01"\n', ("nested too deeply",)),
+    "binary file": (bytes(range(256)) * 10, ("not a text file",)),
+    "10 GiB chunk": ('sampling = "mc"\nn = 10000000\nchunk = 1000000\n[parameters]\nLU = "normal:1.3:0.01"\n',
+                     ("chunk", "GiB", "give at most")),
+    "10^10-point grid": ('sampling = "grid"\n[parameters]\nLU = "1.2:1.4:100000"\nU = "0:100:100000"\n',
+                         ("grid", "10000000000 points", "at most 10000000")),
+    "20-axis grid (int64 overflow)": ('sampling = "grid"\n[parameters]\n' + "".join(f'p{i} = "0:1:100000"\n' for i in range(20)),
+                                      ("grid", "at most 10000000")),
+    "n = inf": ('sampling = "mc"\nn = inf\n[parameters]\nLU = "normal:1.3:0.01"\n', ("n", "whole number")),
+    "chunk = nan": ('sampling = "mc"\nn = 5\nchunk = nan\n[parameters]\nLU = "normal:1.3:0.01"\n', ("chunk", "whole number")),
+}
+
+
+@pytest.mark.parametrize("case", list(STUDY_FILES))
+def test_bad_study_spec_files(tmp_path, case):
+    text, words = STUDY_FILES[case]
+    spec = tmp_path / "spec.toml"
+    spec.write_bytes(text) if isinstance(text, bytes) else spec.write_text(text)
+    t0 = time.perf_counter()
+    clean_failure(run("study", "nose_gear", "--spec", spec, "--out", tmp_path / "s", "--scheduler", "serial"), *words)
+    assert time.perf_counter() - t0 < 30  # decided from the sizes, before any work
+    assert not (tmp_path / "s").exists()
+
+
+def test_a_huge_grid_on_the_command_line_is_refused_at_once(tmp_path):
+    t0 = time.perf_counter()
+    clean_failure(run("study", "nose_gear", "--grid", "LU=1.2:1.4:100000", "--grid", "U=0:100:100000", "--out",
+                      tmp_path / "s", "--scheduler", "serial"), "10000000000 points")
+    assert time.perf_counter() - t0 < 30 and not (tmp_path / "s").exists()
+
+
+def test_rotation_vector_beyond_a_turn(tmp_path):
+    text = (DATA / "spatial" / "pendulum_3d.toml").read_text()
+    text = text.replace("rotation = [0, 0.8, 0]", "rotation = [0, 0, 1e308]", 1)
+    clean_failure(run("check", _file(tmp_path, text)), "bodies.bar.initial.rotation", "at most 2 pi")
+
+
+@pytest.fixture(scope="module")
+def overcentre_branch(tmp_path_factory):
+    out = tmp_path_factory.mktemp("branch") / "b.csv"
+    r = run("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--bounds", "theta1=-1.2:1.2", "--out", out,
+            "--quiet")
+    assert r.exit_code == 0, r.output
+    return out
+
+
+def _edited_csv(src, tmp_path, row, column, value, name="e.csv"):
+    import csv
+
+    rows = list(csv.reader(src.open()))
+    rows[row + 1][rows[0].index(column)] = value
+    path = tmp_path / name
+    with path.open("w", newline="") as fh:
+        csv.writer(fh).writerows(rows)
+    return path
+
+
+def test_draw_a_branch_cell_of_1e308(tmp_path, overcentre_branch):
+    csv_path = _edited_csv(overcentre_branch, tmp_path, 2, "y1 [m]", "1e308")
+    r = run("draw", "overcentre", "--point", f"{csv_path}:2", "--out", tmp_path / "p.png")
+    clean_failure(r, "configuration", "beyond any mechanism")
+    assert "RuntimeWarning" not in r.stderr and not (tmp_path / "p.png").exists()
+
+
+@pytest.mark.parametrize("address", ["tls://127.0.0.1:1", "ucx://127.0.0.1:1", "inproc://x", "nonsense"])
+def test_scheduler_addresses_other_than_tcp(tmp_path, address):
+    clean_failure(run(*STUDY, "--scheduler", address, "--out", tmp_path / "s"), "--scheduler")
+    assert not (tmp_path / "s").exists()
+
+
+def test_a_scheduler_that_accepts_and_never_answers(tmp_path, monkeypatch):
+    """A loopback listener that accepts the connection and says nothing: the timeout fires."""
+    import socket
+    import threading
+
+    from mechcont.analysis.study import _execute
+
+    monkeypatch.setattr(_execute, "SCHEDULER_TIMEOUT", 2.0)
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(4)
+    server.settimeout(60)
+    accepted = []
+
+    def accept():
+        try:
+            accepted.append(server.accept()[0])
+        except OSError:
+            pass
+
+    thread = threading.Thread(target=accept, daemon=True)
+    thread.start()
+    try:
+        t0 = time.perf_counter()
+        r = run("study", "nose_gear", "--dist", "LU=normal:1.3:0.01", "--n", "30", "--chunk", "10", "--quiet",
+                "--scheduler", f"tcp://127.0.0.1:{server.getsockname()[1]}", "--out", tmp_path / "s")
+        elapsed = time.perf_counter() - t0
+    finally:
+        server.close()
+        for c in accepted:
+            c.close()
+        thread.join(5)
+    clean_failure(r, "--scheduler", "did not answer within 2 s")
+    assert accepted and elapsed < 30
+    assert not (tmp_path / "s").exists()

@@ -143,6 +143,9 @@ def parse_description(text: str, filename: str = "<string>") -> Mechanism:
         line = int(m.group(1)) if m else None
         key = _key_at(text, line) if line else "?"
         raise InputError(f"{filename}:{line}: {key}", f"malformed TOML: {re.sub(r' [(]at .*[)]$', '', msg)}") from None
+    except ValueError as exc:  # Python refuses to convert an integer of more than 4300 digits
+        raise InputError(filename, f"a number the TOML reader refuses ({exc.args[0].split(';')[0]}); "
+                                   "give numbers within the floating-point range") from None
     try:
         mech = _mechanism(data, filename)
     except InputError as exc:

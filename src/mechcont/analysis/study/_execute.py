@@ -222,6 +222,41 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
                        ran_on)
 
 
+#: Seconds a Dask scheduler has to accept the connection and to say its first word.
+SCHEDULER_TIMEOUT = 10.0
+
+
+def _probe_scheduler(address: str) -> None:
+    """InputError unless ``address`` is a ``tcp://`` (or bare ``HOST:PORT``) address of a server that
+    accepts a connection and sends its handshake within :data:`SCHEDULER_TIMEOUT`.
+
+    Dask's own connect waits for the handshake without a time limit, so a server that accepts and
+    never answers would hang the study; a scheduler sends its handshake at once."""
+    import socket
+
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    try:
+        scheme, location = parse_address(address, strict=False)
+        host, port = parse_host_port(location)
+    except (ValueError, TypeError) as exc:
+        raise InputError("--scheduler", f"{address!r} is not a scheduler address tcp://HOST:PORT ({exc})") from None
+    if scheme != "tcp":
+        raise InputError("--scheduler", f"only tcp:// scheduler addresses are supported (tls:// needs certificates, "
+                                        f"ucx:// a UCX installation), got {address!r}")
+    try:
+        with socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT) as sock:
+            sock.settimeout(SCHEDULER_TIMEOUT)
+            if not sock.recv(1):
+                raise InputError("--scheduler", f"the server at {address!r} closed the connection: not a Dask scheduler")
+    except TimeoutError:
+        raise InputError("--scheduler", f"the server at {address!r} did not answer within {SCHEDULER_TIMEOUT:g} s: "
+                                        "not a Dask scheduler, or one that hangs") from None
+    except OSError as exc:
+        raise InputError("--scheduler", f"cannot reach the Dask scheduler at {address!r}: "
+                                        f"{exc.strerror or exc}") from None
+
+
 @contextlib.contextmanager
 def _dask_client(scheduler: str, workers: int | None):
     """A :class:`dask.distributed.Client` of a new local cluster (``"local"``) or of the scheduler at an address."""
@@ -238,9 +273,10 @@ def _dask_client(scheduler: str, workers: int | None):
                                silence_logs=50)
         client = Client(cluster)
     else:
+        _probe_scheduler(scheduler)
         try:
-            client = Client(scheduler, timeout=10)
-        except (OSError, TimeoutError, ValueError) as exc:
+            client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+        except (OSError, TimeoutError, ValueError, TypeError) as exc:
             raise InputError("--scheduler", f"cannot reach the Dask scheduler at {scheduler!r}: {exc}") from None
     try:
         yield client

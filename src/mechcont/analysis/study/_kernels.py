@@ -80,6 +80,7 @@ def check_spec(system, spec: StudySpec) -> tuple[dict, str]:
     """Check ``spec`` against the model before any work: every name known and a parameter
     that may be set, the downlock condition resolvable. Returns ``(hold, force)``."""
     h, f = downlock_condition(system, dict(spec.hold) or None, spec.force, condition=spec.condition)
+    _check_chunk_memory(system, spec)
     for n in (*spec.names, *dict(spec.values)):
         v = system.variable(n)
         if n == f:
@@ -87,6 +88,21 @@ def check_spec(system, spec: StudySpec) -> tuple[dict, str]:
         if v.kind != "parameter":
             raise InputError(n, "is a state of the model; sample or set parameters only")
     return h, f
+
+
+#: Most memory (bytes) the batched solves of one chunk may take; decided from the sizes before any work.
+CHUNK_MEMORY = 2 * 1024**3
+
+
+def _check_chunk_memory(system, spec: StudySpec) -> None:
+    """InputError when a chunk's batched solves would need more than :data:`CHUNK_MEMORY`: per sample
+    about three Jacobians of the (fold-augmented, for ``unlock``) system, 8 bytes a number."""
+    n_eq, n_var = len(system.equations), len(system.names)
+    per_row = 3 * 8 * ((2 * n_eq + 1) * (2 * n_var) if "unlock" in spec.analyses else n_eq * n_var)
+    rows = min(spec.chunk, spec.size)
+    if rows * per_row > CHUNK_MEMORY:
+        raise InputError("chunk", f"{rows} samples per chunk would need about {rows * per_row / 1024**3:.3g} GiB for "
+                                  f"the batched solves of this model; give at most {CHUNK_MEMORY // per_row} (--chunk)")
 
 
 def _plan(system, spec: StudySpec) -> dict:

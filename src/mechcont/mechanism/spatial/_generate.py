@@ -18,6 +18,7 @@ with its misfit.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import partial
@@ -94,6 +95,9 @@ def _initial_guess(kin: SpatialKinematics, values: dict[str, float]) -> dict[str
             guess[name] = evaluate(mech.value(f"{f}.{key}"), values, f"{f}.{key}") if key in b.initial else 0.0
         rot = ([evaluate(mech.value(f"{f}.rotation.{c}"), values, f"{f}.rotation") for c in "xyz"]
                if "rotation" in b.initial else [0.0, 0.0, 0.0])
+        if not math.hypot(*rot) <= 2 * math.pi:  # beyond one turn (1e308: cos/sin of an overflow) nothing is meant
+            raise InputError(f"{f}.rotation", f"its angle |r| = {math.hypot(*rot):.6g} rad must be at most 2 pi: give "
+                                              "the axis times an angle of at most one turn")
         guess.update(zip(names[3:], quaternion_from_rotation_vector(rot)))
         if all(k in b.initial for k in "xyz"):
             placed.add(b.name)
