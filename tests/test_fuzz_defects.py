@@ -359,3 +359,72 @@ def test_a_scheduler_that_accepts_and_never_answers(tmp_path, monkeypatch):
     clean_failure(r, "--scheduler", "did not answer within 2 s")
     assert accepted and elapsed < 30
     assert not (tmp_path / "s").exists()
+
+
+def test_sweep_ramp_to_1e308_is_refused_at_once(tmp_path):
+    t0 = time.perf_counter()
+    r = run("sweep", "overcentre", "--set", "LU=0.4", "--set", "c=50", "--start", "theta1=1.2", "--watch", "theta1",
+            "--quiet", "--ramp", "F=0:1e308:1e308", "--out", tmp_path / "s.csv")
+    clean_failure(r, "ramp", "F: 0 -> 1e+308", "times its scale")
+    assert time.perf_counter() - t0 < 20 and list(tmp_path.iterdir()) == []
+
+
+# -- minor ----------------------------------------------------------------------------------------
+@pytest.mark.parametrize("args", [
+    ("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--free", "theta2", "--quiet"),
+    ("draw", "overcentre", "--start", "theta1=0.3", "--free", "theta2"),
+])
+def test_free_a_state_is_refused(tmp_path, args):
+    clean_failure(run(*args, "--out", tmp_path / ("b.csv" if args[0] == "continue" else "p.png")),
+                  "--free", "theta2 is a state", "free a parameter")
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("only", [",", " , ,", ""])
+def test_paper_only_naming_no_section(tmp_path, only):
+    clean_failure(run("paper", "--only", only, "--out", tmp_path / "p"), "--only", "names no section", "overcentre")
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("name", ["lambda", "if", "None", "class"])
+def test_parameter_named_by_a_python_keyword(tmp_path, name):
+    path = _file(tmp_path, OVERCENTRE.replace("[parameters]\n", f"[parameters]\n{name} = 1.0\n", 1))
+    clean_failure(run("equations", path), f"parameters.{name}", "Python keyword")
+
+
+def test_text_from_a_description_cannot_forge_lines_or_drive_the_terminal(tmp_path):
+    text = OVERCENTRE.replace('name = "overcentre_generated"', 'name = "evil\\nfindings: none\\u001b[2J"', 1)
+    text = text.replace('description = "Overcentre mechanism generated from its description (paper Fig. 2)"',
+                        'description = "a\\u001b]0;pwned\\u0007b\\rc"', 1)
+    text = text.replace("[parameters]\n", '[parameters]\nzz = { value = 1.0, description = "x\\nforged: yes\\u001b[31m" }\n', 1)
+    r = run("check", _file(tmp_path, text))
+    assert r.exit_code == 0, r.output
+    assert "\x1b" not in r.output and "\x07" not in r.output and "\r" not in r.output
+    lines = r.output.splitlines()
+    assert lines[0].startswith("mechanism evil\\nfindings: none\\x1b[2J")
+    assert lines[1] == "  a\\x1b]0;pwned\\x07b\\rc"
+    assert not any(ln.startswith(("forged", "findings: none\\")) for ln in lines)
+    assert [ln for ln in lines if ln.startswith("findings")] == ["findings: none"]
+
+
+@pytest.mark.parametrize("column, value, words", [
+    ("n_unstable", "-5", ("column n_unstable", "'-5'")),
+    ("n_unstable", "1.5", ("column n_unstable",)),
+    ("s", "nan", ("column s", "not a finite number")),
+    ("s", "inf", ("column s",)),
+])
+def test_animate_refuses_a_bad_branch_cell(tmp_path, overcentre_branch, column, value, words):
+    csv_path = _edited_csv(overcentre_branch, tmp_path, 1, column, value)
+    clean_failure(run("animate", "overcentre", "--branch", csv_path, "--out", tmp_path / "a.gif", "--quiet"),
+                  "branch", "line 3", *words)
+    assert not (tmp_path / "a.gif").exists()
+
+
+def test_animate_refuses_duplicated_columns(tmp_path, overcentre_branch):
+    lines = overcentre_branch.read_text().splitlines()
+    lines = [ln + "," + ln.split(",")[2] for ln in lines]  # theta1 [rad] once more, other values or not
+    path = tmp_path / "d.csv"
+    path.write_text("\n".join(lines) + "\n")
+    clean_failure(run("animate", "overcentre", "--branch", path, "--out", tmp_path / "a.gif", "--quiet"),
+                  "branch", "more than once", "theta1 [rad]")
+    assert not (tmp_path / "a.gif").exists()

@@ -28,7 +28,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..equations import as_model
-from ..errors import ConvergenceError, InputError
+from ..errors import ConvergenceError, InputError, one_line
 from ._assembly import assemble
 from ._description import Mechanism
 from ._file import find_description, load_description
@@ -152,7 +152,7 @@ class CheckReport:
     def to_text(self, extra: str = "") -> str:
         """The report as plain text (angles of states and parameters in degrees); ``extra`` (lines of
         text, e.g. the stops section of ``mechcont check``) follows the equilibrium and its stability."""
-        out = [f"mechanism {self.name}" + (" (reduced form)" if self.reduced else "") + f": {self.source}"]
+        out = [f"mechanism {self.name}" + (" (reduced form)" if self.reduced else "") + f": {one_line(self.source)}"]
         if self.description:
             out.append(f"  {self.description}")
         out.append("")
