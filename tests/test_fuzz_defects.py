@@ -428,3 +428,15 @@ def test_animate_refuses_duplicated_columns(tmp_path, overcentre_branch):
     clean_failure(run("animate", "overcentre", "--branch", path, "--out", tmp_path / "a.gif", "--quiet"),
                   "branch", "more than once", "theta1 [rad]")
     assert not (tmp_path / "a.gif").exists()
+
+
+def test_the_scheduler_probe_accepts_a_real_dask_scheduler():
+    """The handshake probe that bounds the wait must let a real scheduler through at once."""
+    distributed = pytest.importorskip("dask.distributed")
+    from mechcont.analysis.study._execute import _probe_scheduler
+
+    with distributed.LocalCluster(n_workers=0, processes=True, dashboard_address=None, silence_logs=50) as cluster:
+        assert cluster.scheduler_address.startswith("tcp://")
+        t0 = time.perf_counter()
+        _probe_scheduler(cluster.scheduler_address)
+        assert time.perf_counter() - t0 < 5
