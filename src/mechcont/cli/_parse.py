@@ -52,3 +52,14 @@ def names(text: str | None, option: str) -> tuple[str, ...]:
     if not out:
         raise InputError(f"--{option}", "give comma-separated variable names, e.g. F,theta1")
     return out
+
+
+def freed_parameters(system, frees: Iterable[str], option: str = "--free") -> list[str]:
+    """``frees`` checked: each a parameter of ``system`` (a state is always solved for, so freeing
+    one would be silently ignored)."""
+    out = list(frees)
+    for n in out:
+        if system.variable(n).kind != "parameter":
+            valid = ", ".join(system.parameter_names)
+            raise InputError(option, f"{n} is a state, which is always solved for; free a parameter: {valid}")
+    return out

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from ..errors import InputError
-from ._parse import assignments, bounds
+from ._parse import assignments, bounds, freed_parameters
 
 __all__ = ["continuation_options", "solve_start", "write_branch", "special_table", "common_options", "check_outputs",
            "run_continuation"]
@@ -45,6 +45,10 @@ def common_options(f=None, *, free: bool = True):
     return f
 
 
+#: Most continuation steps each way that ``--max-steps`` accepts.
+MAX_STEPS = 100_000
+
+
 def continuation_options(bnds, ds, dsmax, max_steps):
     """ContinuationOptions from the CLI values (validated there)."""
     from ..continuation import ContinuationOptions
@@ -58,6 +62,8 @@ def continuation_options(bnds, ds, dsmax, max_steps):
     elif dsmax is not None:
         kw["ds"] = min(ContinuationOptions.ds, dsmax)
     if max_steps is not None:
+        if not 1 <= max_steps <= MAX_STEPS:  # more would run for days where no bound ends the branch
+            raise InputError("--max-steps", f"must be a positive whole number 1..{MAX_STEPS}, got {max_steps}")
         kw["max_steps"] = max_steps
     return ContinuationOptions(**kw)
 
@@ -70,6 +76,7 @@ def solve_start(system, sets, starts, vary, frees, holds):
     held = assignments(starts, "start")
     for name in [*values, *held, vary, *frees, *holds]:
         system.index(name)
+    freed_parameters(system, frees)
     base = system.vector(values)
     for n in holds:
         held.setdefault(n, float(base[system.index(n)]))

@@ -53,21 +53,26 @@ def check_command(ctx, model, sets, reduced, plot, quiet):
 
     Exit status: 0 when all is well; 1 when there are findings (a degree-of-freedom count
     other than the declared dof, redundant constraints refused by redundant = "error", an
-    open joint), listed at the end of the report (with --quiet: one line 'finding: ...' each
-    on stderr); 2 for input the model cannot be built from (one line on stderr), e.g. a loop
-    that cannot close.
+    open joint, no equilibrium found, no consistent set of stops in contact), listed at the
+    end of the report (with --quiet: one line 'finding: ...' each on stderr); 2 for input
+    the model cannot be built from (one line on stderr), e.g. a loop that cannot close.
     """
     from ..mechanism import check_report
 
     overrides = assignments(sets, "set")
     path = _plot_path(plot) if plot is not None else None
     report = check_report(model, reduced=reduced, **overrides)
+    stops, finding = _stops_text(report)
+    if finding:
+        from dataclasses import replace
+
+        report = replace(report, findings=(*report.findings, finding))
     if path is not None:
         from ..outputs.drawing import draw
 
         draw(report.system, report.x, path, labels=True, title=f"{report.name}: assembled configuration")
     if not quiet:
-        click.echo(report.to_text(_stops_text(report)))
+        click.echo(report.to_text(stops))
         if path is not None:
             click.echo(f"drawing: {path}")
     elif report.findings:
@@ -77,9 +82,9 @@ def check_command(ctx, model, sets, reduced, plot, quiet):
         ctx.exit(1)
 
 
-def _stops_text(report) -> str:
+def _stops_text(report) -> tuple[str, str]:
     """The stops section: the equilibrium with a consistent set of stops in contact, found from the
-    assembled configuration (empty when the mechanism has no stops)."""
+    assembled configuration (empty when the mechanism has no stops); and a finding when there is none."""
     from ..analysis import equilibrium_on_stops, stability_on_stops
     from ..equations import as_model
     from ..errors import ConvergenceError
@@ -87,13 +92,14 @@ def _stops_text(report) -> str:
     system = report.system
     stops = as_model(system).stops
     if not stops:
-        return ""
+        return "", ""
     out = ["stops (one-sided limits of conditions; the equilibrium above leaves them free), the equilibrium with "
            "those in contact that push:"]
     try:
         x, contact = equilibrium_on_stops(system, report.x)
     except (ConvergenceError, InputError) as exc:
-        return "\n".join(out + [f"  no equilibrium with a consistent set of stops in contact: {exc}"])
+        why = f"no equilibrium with a consistent set of stops in contact: {exc}"
+        return "\n".join(out + [f"  {why}"]), why
     width = max(len(s.name) for s in stops)
     for s in stops:
         c = system.variable(s.condition)
@@ -108,4 +114,4 @@ def _stops_text(report) -> str:
     st = stability_on_stops(system, x, contact)
     out.append(f"  stability there (a stop in contact holds its condition): "
                f"{'stable' if st.stable else f'UNSTABLE in {st.n_unstable} direction(s)'}")
-    return "\n".join(out)
+    return "\n".join(out), ""

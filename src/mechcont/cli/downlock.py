@@ -10,7 +10,7 @@ import click
 from .._io import check_output_path
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments
+from ._parse import assignments, freed_parameters
 from ._parse import bounds as parse_bounds
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
@@ -98,10 +98,12 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     for n in values:
         system.variable(n)
     from ..analysis.unlock import RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN, with_unlock_columns
+    from ._run import MAX_STEPS
 
-    if max_steps is not None and max_steps < 1:
-        raise InputError("--max-steps", f"must be a positive integer, got {max_steps}")
-    branch = downlock(system, vary, bnds, free=frees, values=values, hold=h, force=f, max_steps=max_steps)
+    if max_steps is not None and not 1 <= max_steps <= MAX_STEPS:
+        raise InputError("--max-steps", f"must be a positive whole number 1..{MAX_STEPS}, got {max_steps}")
+    branch = downlock(system, vary, bnds, free=freed_parameters(system, frees), values=values, hold=h, force=f,
+                      max_steps=max_steps)
     branch = with_unlock_columns(system, branch, f, released=list(h))
     xs, Fs = branch[vary], branch[f]
     unit_x = system.variable(vary).unit

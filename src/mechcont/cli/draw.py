@@ -8,7 +8,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, names
+from ._parse import assignments, freed_parameters, names
 
 
 def _model(name: str):
@@ -79,7 +79,7 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, o
         from ..continuation import find_equilibrium
 
         x = find_equilibrium(system, values=_assignments(sets, "set"), hold=_assignments(starts, "start"),
-                             free=list(frees))
+                             free=freed_parameters(system, frees))
         if system.mechanics is not None:
             stable = bool(system.mechanics.stability(x).stable)
     draw(system, x, path, annotate=names, stable=stable, label=label, show_forces=not no_forces)

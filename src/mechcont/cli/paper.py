@@ -45,6 +45,8 @@ def paper_command(out_dir, only, quiet):
     names = [n for n, _ in SECTIONS]
     valid = names + [n for n, _ in EXTRA_SECTIONS]
     chosen = names if only is None else [n.strip() for n in only.split(",") if n.strip()]
+    if not chosen:
+        raise InputError("--only", f"names no section ({only!r}); valid: {', '.join(valid)}")
     for n in chosen:
         if n not in valid:
             raise InputError("--only", f"unknown section '{n}'; valid: {', '.join(valid)}")

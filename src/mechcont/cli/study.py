@@ -25,8 +25,15 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
             data = tomllib.loads(Path(spec_file).read_text(encoding="utf-8"))
         except OSError as exc:
             raise InputError("--spec", f"cannot read '{spec_file}': {exc.strerror}") from None
+        except UnicodeDecodeError:
+            raise InputError("--spec", f"'{spec_file}' is not a text file (UTF-8 TOML)") from None
         except tomllib.TOMLDecodeError as exc:
             raise InputError("--spec", f"'{spec_file}' is not valid TOML: {exc}") from None
+        except (RecursionError, MemoryError):
+            raise InputError("--spec", f"'{spec_file}' is nested too deeply (arrays or tables inside each other)") from None
+        except ValueError as exc:  # an integer of more than 4300 digits
+            raise InputError("--spec", f"'{spec_file}' has a number the TOML reader refuses "
+                                       f"({exc.args[0].split(';')[0]})") from None
         data.setdefault("model", model)
         if str(data["model"]) != model:
             raise InputError("--spec", f"the file is a study of '{data['model']}', not of '{model}'")
@@ -127,7 +134,8 @@ def study_command(model, dists, grids, sample, n, seed, spec_file, analyses, set
     t0 = time.perf_counter()
     with Progress("study", total=spec.size, unit="samples", quiet=quiet) as bar:
         result = st.run_study(spec, out, resume=resume, scheduler=where, workers=workers,
-                              progress=bar.update if bar.enabled else None, on_chunk=chunk_line)
+                              progress=bar.update if bar.enabled else None, on_chunk=chunk_line,
+                              on_warning=lambda line: click.echo(f"warning: {line}", err=True))
     seconds = time.perf_counter() - t0
     df = result.frame()
     if not quiet:

@@ -84,6 +84,10 @@ def _velocities(system, qdot0, coordinates) -> np.ndarray:
     return qd
 
 
+#: Range of relative tolerances the integrator is given: a few ulps up to 10 %.
+_RTOL = (1e-13, 0.1)
+
+
 def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
              loads: Mapping[str, Callable[[float], float]] | None = None, method: str = "RK45",
              rtol: float = 1e-6, atol: float = 1e-9, baumgarte: tuple[float, float] | None = (10.0, 10.0),
@@ -148,6 +152,9 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     for name, v in (("rtol", rtol), ("max_step", max_step)):
         if not v > 0:
             raise InputError(name, "must be positive")
+    if not _RTOL[0] <= rtol <= _RTOL[1]:  # below: rounding noise; above: no accuracy at all (1e300 was accepted)
+        raise InputError("rtol", f"must be between {_RTOL[0]:g} and {_RTOL[1]:g} (the integrator's relative tolerance), "
+                                 f"got {rtol:g}")
     if np.any(np.asarray(atol) <= 0):
         raise InputError("atol", "must be positive")
     x = initial_vector(system, x0)

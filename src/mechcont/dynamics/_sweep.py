@@ -207,6 +207,10 @@ def _piecewise(segs):
     return value
 
 
+#: A ramped parameter stays within this many of its scales (``system.scales()``) of zero.
+MAX_RAMP_SCALES = 1e6
+
+
 def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float = 0.0,
           through: float | None = None, rate_threshold: float | None = None, stop_on_jump: bool = False,
           method: str = "RK45", rtol: float = 1e-6, atol: float = 1e-8, max_step: float | None = None,
@@ -256,6 +260,11 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
     ramps = parse_ramps(ramp)
     for r in ramps:
         system.index(r.name)
+        reach = MAX_RAMP_SCALES * system.variable(r.name).scale
+        if max(abs(r.start), abs(r.stop)) > reach:  # 1e308 N: the integrator's steps shrink without end
+            unit = system.variable(r.name).unit
+            raise InputError("ramp", f"{r.name}: {r.start:g} -> {r.stop:g} goes beyond {reach:g} {unit} ({MAX_RAMP_SCALES:g} "
+                                     f"times its scale), where no simulation of the mechanism can follow")
     coords = [system.names[i] for i in system.mechanics.q_index] if system.mechanics is not None else []
     if watch not in coords:
         raise InputError("watch", f"must be a coordinate of the model; valid: {', '.join(coords)}")

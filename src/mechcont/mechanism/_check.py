@@ -28,7 +28,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..equations import as_model
-from ..errors import ConvergenceError, InputError
+from ..errors import ConvergenceError, InputError, one_line
 from ._assembly import assemble
 from ._description import Mechanism
 from ._file import find_description, load_description
@@ -152,7 +152,7 @@ class CheckReport:
     def to_text(self, extra: str = "") -> str:
         """The report as plain text (angles of states and parameters in degrees); ``extra`` (lines of
         text, e.g. the stops section of ``mechcont check``) follows the equilibrium and its stability."""
-        out = [f"mechanism {self.name}" + (" (reduced form)" if self.reduced else "") + f": {self.source}"]
+        out = [f"mechanism {self.name}" + (" (reduced form)" if self.reduced else "") + f": {one_line(self.source)}"]
         if self.description:
             out.append(f"  {self.description}")
         out.append("")
@@ -371,6 +371,8 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
                     f"with every coordinate free (largest move: {v.name} by {_show(float(move[i]), v.unit)})")
         except (ConvergenceError, InputError) as exc:
             note = f"Newton from the assembled configuration with every coordinate free found no equilibrium ({exc})"
+            if not as_model(system).stops:  # with stops, the equilibrium may be one with a stop in contact
+                findings.append(f"no equilibrium found at these parameter values: {exc}")
     if xe is not None:
         stability = model.stability(xe)
 

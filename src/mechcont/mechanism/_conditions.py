@@ -24,6 +24,7 @@ and angle conditions; a distance has no default.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -188,6 +189,17 @@ def _check_normal(mech, c: Condition, f: str) -> None:
     if spatial and (len(c.normal) != 3 or not any(c.normal)):
         raise InputError(f + ".normal", "a spatial collinear condition needs normal = [x, y, z] (non-zero): the "
                                         "direction about which its sine is signed")
+    if spatial and not _normalisable(c.normal):
+        raise InputError(f + ".normal", f"must be a finite direction whose length is between 1e-150 and 1e150 (it is "
+                                        f"normalised), got {list(c.normal)!r}")
+
+
+def _normalisable(v: Sequence[float]) -> bool:
+    """Every component finite and the squared length a normal float (neither overflow nor underflow)."""
+    if not all(math.isfinite(c) for c in v):
+        return False
+    n = math.hypot(*v)
+    return 1e-150 <= n <= 1e150
 
 
 def conditions_from_table(tab: Mapping, field: str = "conditions") -> list[Condition]:

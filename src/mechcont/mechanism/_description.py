@@ -19,6 +19,7 @@ Conventions (SI units, radians):
 
 from __future__ import annotations
 
+import keyword
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -280,6 +281,9 @@ def _check_variable_name(name: str, field: str, what: str) -> None:
     if name.endswith("_dot"):
         raise InputError(field, f"names ending in '_dot' are reserved for the velocities of the time simulation "
                                 f"(theta1_dot); rename the {what}")
+    if keyword.iskeyword(name):  # the compiled code names every variable: a keyword cannot be one
+        raise InputError(field, f"'{name}' is a Python keyword and cannot name a variable; rename the {what} "
+                                f"(e.g. {name}_)")
     if name in FUNCTIONS:
         kind = "constant" if name == "pi" else "function"
         raise InputError(field, f"'{name}' is the expression {kind} {name}; rename the {what}")

@@ -45,7 +45,7 @@ import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import InputError, one_line
 from ._actuators import ACTUATOR_KEYS, actuators_from_table
 from ._conditions import conditions_from_table, downlock_from_table
 from ._description import (
@@ -133,7 +133,7 @@ def load_description(name_or_path: str | Path) -> Mechanism:
 def parse_description(text: str, filename: str = "<string>") -> Mechanism:
     """Parse description ``text`` (TOML); ``filename`` is used in error messages."""
     try:
-        data = tomllib.loads(text)
+        data = _printable(tomllib.loads(text))
     except (RecursionError, MemoryError):
         raise InputError(filename, "nested too deeply (arrays or inline tables inside each other); "
                                    "a description needs at most a few levels") from None
@@ -143,6 +143,9 @@ def parse_description(text: str, filename: str = "<string>") -> Mechanism:
         line = int(m.group(1)) if m else None
         key = _key_at(text, line) if line else "?"
         raise InputError(f"{filename}:{line}: {key}", f"malformed TOML: {re.sub(r' [(]at .*[)]$', '', msg)}") from None
+    except ValueError as exc:  # Python refuses to convert an integer of more than 4300 digits
+        raise InputError(filename, f"a number the TOML reader refuses ({exc.args[0].split(';')[0]}); "
+                                   "give numbers within the floating-point range") from None
     try:
         mech = _mechanism(data, filename)
     except InputError as exc:
@@ -210,6 +213,19 @@ def _require(tab: Mapping, keys: list[str], field: str) -> None:
             raise InputError(f"{field}.{k}", "is required")
 
 
+def _printable(v):
+    """``v`` (parsed TOML) with every string's line breaks, escape sequences and other control
+    characters escaped (:func:`~mechcont.errors.one_line`): text from a description is printed to
+    terminals and written to tables, where it must not forge lines or drive the terminal."""
+    if isinstance(v, str):
+        return one_line(v)
+    if isinstance(v, dict):
+        return {k: _printable(x) for k, x in v.items()}
+    if isinstance(v, list):
+        return [_printable(x) for x in v]
+    return v
+
+
 def _text(v, field: str) -> str:
     if not isinstance(v, str):
         raise InputError(field, f"must be a string, got {v!r}")
@@ -271,7 +287,7 @@ def _common(data: Mapping, head: Mapping, filename: str) -> dict:
     _only(assembly, KEYS["assembly"], "assembly")
     springs, dampers = _two_point_elements(data)
     return dict(
-        name=_text(head.get("name", Path(filename).stem.replace("-", "_")), "mechanism.name"),
+        name=_text(head.get("name", one_line(Path(filename).stem.replace("-", "_"))), "mechanism.name"),
         parameters=_parameters(data), springs=springs, dampers=dampers, dof=head.get("dof", 1),
         hold=dict(_table(assembly, "hold", "assembly.hold")),
         description=_text(head.get("description", ""), "mechanism.description"),

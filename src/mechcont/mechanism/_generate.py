@@ -91,14 +91,15 @@ def _initial_guess(mech: Mechanism, kin: Kinematics, values: dict[str, float]) -
             guess[name] = evaluate(mech.value(f"{f}.{key}"), values, f"{f}.{key}") if key in b.initial else 0.0
         if "x" in b.initial and "y" in b.initial:
             placed.add(b.name)
-    for k in mech.hold:
-        guess[k] = evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}")
+    held = {k: evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}") for k in mech.hold}
+    guess.update(held)
     for _, known, new, body in pin_chain(mech, placed):
         x, y, _ = kin.body_q[body]
         at = {**num, **{symbol(k): v for k, v in guess.items()}}
         P = [float(c) for c in kin.point(known).xreplace(at)]
         local = [float(c) for c in kin.point(new).xreplace({**at, x: 0, y: 0})]
         guess[str(x)], guess[str(y)] = P[0] - local[0], P[1] - local[1]
+    guess.update(held)  # a held coordinate keeps its value: placing its body by a joint must not move it
     return guess
 
 
@@ -428,6 +429,14 @@ def _check_assembled(mech: Mechanism, kin: Kinematics, model: MechanicalModel, x
                 raise InputError(f"{group}.{el.name}", f"its ends {el.a} and {el.b} coincide at the assembled "
                                                        f"configuration (distance {gap:.3g} m): the direction of its "
                                                        f"force is undefined there{where}")
+    for cond in mech.conditions:
+        if cond.kind == "distance":  # |b - a| has no derivative where a = b (a NaN Jacobian)
+            d = kin.point(cond.points[1]) - kin.point(cond.points[0])
+            gap = math.hypot(number(d[0]), number(d[1]))
+            if not gap > 1e-9 * Lc:
+                raise InputError(f"conditions.{cond.name}", f"its points {cond.points[0]} and {cond.points[1]} coincide "
+                                                            f"at the assembled configuration (distance {gap:.3g} m): the "
+                                                            f"distance has no derivative there{where}")
     for ld in mech.loads:
         if isinstance(ld, CustomLoad):
             for key in ("fx", "fy", "moment"):

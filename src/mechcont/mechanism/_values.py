@@ -12,7 +12,7 @@ from ..errors import InputError
 from ._description import Drag, Mechanism, PointForce
 from ._expr import float_value
 
-__all__ = ["parameter_values", "check_values", "check_finite", "physical_limits", "evaluate"]
+__all__ = ["parameter_values", "check_values", "check_finite", "check_stop_limits", "physical_limits", "evaluate"]
 
 
 def parameter_values(mech: Mechanism, overrides: Mapping[str, float]) -> dict[str, float]:
@@ -65,6 +65,22 @@ def check_finite(mech: Mechanism, values: Mapping[str, float]) -> None:
             _finite(expr, float_value(expr, num), field)
 
 
+def check_stop_limits(mech, values: Mapping[str, float]) -> None:
+    """A condition with both a min and a max stop needs ``min <= max`` at ``values`` (else no
+    configuration satisfies both); one-line InputError naming the max stop."""
+    lows = {s.condition: s for s in mech.stops if s.side > 0}
+    for s in mech.stops:
+        low = lows.get(s.condition) if s.side < 0 else None
+        if low is None:
+            continue
+        hi = evaluate(mech.value(f"stops.{s.name}.max"), values, f"stops.{s.name}.max")
+        lo = evaluate(mech.value(f"stops.{low.name}.min"), values, f"stops.{low.name}.min")
+        if lo > hi:
+            raise InputError(f"stops.{s.name}.max", f"{hi:g} is below min = {lo:g} of stop {low.name} on the same "
+                                                    f"condition {s.condition!r}: no configuration satisfies both; "
+                                                    "give max >= min")
+
+
 def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
     """The physical ranges of a description's quantities, as :class:`~mechcont.equations.Limit`.
 
@@ -112,6 +128,7 @@ def check_values(mech: Mechanism, values: Mapping[str, float], *, solve: bool = 
     :class:`InputError` naming the key path and the value.
     """
     check_finite(mech, values)
+    check_stop_limits(mech, values)
     for lim in physical_limits(mech, solve=solve):
         v = evaluate(lim.expr, values, lim.name)
         if (v <= 0) if lim.strict else (v < 0):

@@ -28,7 +28,7 @@ from functools import partial
 import numpy as np
 import sympy as sp
 
-from ..equations import EquationSystem, Model, Scene, Variable
+from ..equations import EquationSystem, Limit, Model, Scene, Variable
 from .dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry, rotation
 
 __all__ = ["build_dual_sidestay_kinematics", "geometry_values", "points_at", "gear_scene", "loaded_scene",
@@ -126,8 +126,14 @@ def _build(variables: list[Variable]) -> EquationSystem:
         eqs += rows
         names += [f"{side}_upper", f"{side}_lower", f"{side}_knee_plane", f"{side}_link1", f"{side}_link2",
                   f"{side}_link_plane"]
+    # the rows hold |K - A|^2 = L1^2 (and so on): a negative length would solve them too, so it is refused
+    limits = [Limit(f"{side}_L{i}", s[f"{side}_L{i}"], True, f"{side} {what} length (m)")
+              for side in SIDES for i, what in ((1, "upper arm"), (2, "lower arm"), (4, "lock link 1"), (5, "lock link 2"))]
+    limits += [Limit(f"{side}_n", sum((c**2 for c in vec(f"{side}_n")), sp.S.Zero), True,
+                     f"{side} sidestay plane normal: squared length")
+               for side in SIDES]
     system = EquationSystem(name="dual_sidestay_kinematics", variables=variables, equations=eqs, equation_names=names,
-                            description=DESCRIPTION)
+                            description=DESCRIPTION, limits=limits)
     return system.compile()
 
 

@@ -136,6 +136,9 @@ def _read_csv(system, path: Path) -> BranchFrames:
         raise InputError("branch", f"cannot read '{path}': {getattr(exc, 'strerror', None) or exc}") from None
     if not rows:
         raise InputError("branch", f"'{path}' has no rows")
+    repeated = sorted({h for h in header if header.count(h) > 1})
+    if repeated:  # DictReader would keep the last of them silently
+        raise InputError("branch", f"'{path}' has the column(s) {', '.join(map(repr, repeated))} more than once")
     cols = _columns(path, header, system)
     missing = [n for n in system.names if n not in cols]
     if missing:
@@ -160,11 +163,33 @@ def _read_csv(system, path: Path) -> BranchFrames:
             raise InputError("branch", f"'{path}' line {r + 2}, column stability: {word!r} is not stable, unstable "
                                        "or fold")
         stable.append(_STABILITY_WORDS[word])
+    for r, row in enumerate(rows):
+        _check_extra_cells(path, r, cell(row, "s"), cell(row, "n_unstable"))
     labels = tuple(cell(row, "label") for row in rows)
     vary = cell(rows[0], "vary") or None  # written by Branch.to_csv
     if vary is not None and vary not in system.names:
         raise InputError("branch", f"'{path}' column vary: '{vary}' is not a variable of '{system.name}'")
     return BranchFrames(values, tuple(stable), labels, vary)
+
+
+def _check_extra_cells(path: Path, r: int, s: str, n_unstable: str) -> None:
+    """A branch table's ``s`` (arclength: a finite number) and ``n_unstable`` (a count of unstable
+    directions, -1 for not evaluated) when present; InputError naming the line otherwise."""
+    if s:
+        try:
+            ok = math.isfinite(float(s))
+        except ValueError:
+            ok = False
+        if not ok:
+            raise InputError("branch", f"'{path}' line {r + 2}, column s: {s!r} is not a finite number (arclength)")
+    if n_unstable:
+        try:
+            k = int(n_unstable)
+        except ValueError:
+            k = -2
+        if k < -1:
+            raise InputError("branch", f"'{path}' line {r + 2}, column n_unstable: {n_unstable!r} is not a count of "
+                                       "unstable directions (0, 1, 2, ...; -1 for not evaluated)")
 
 
 def _changing_parameter(system, values: np.ndarray) -> str | None:

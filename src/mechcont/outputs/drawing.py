@@ -60,7 +60,7 @@ def _moment_radius(h: float) -> float:
 
 
 def _max_force(scene: Scene) -> float:
-    return max((float(np.linalg.norm(np.asarray(v, float))) for _, _, v in scene.forces), default=0.0)
+    return max((math.hypot(*np.asarray(v, float)) for _, _, v in scene.forces), default=0.0)  # hypot: no overflow
 
 
 def _default_force_scale(scenes: Sequence[Scene]) -> float:
@@ -72,13 +72,14 @@ def _default_force_scale(scenes: Sequence[Scene]) -> float:
 
 def _bounds(scene: Scene, force_scale: float, show_forces: bool) -> tuple[float, float, float, float]:
     """Box around every primitive and, if shown, every force arrow with room for its label."""
-    xmin, xmax, ymin, ymax = scene.extent()
+    xmin, xmax, ymin, ymax = _checked_extent(scene.extent())
     if show_forces:
         h = _SYMBOL * _size((xmin, xmax, ymin, ymax))
         for _, p, v in scene.forces:
             p, v = np.asarray(p, float), np.asarray(v, float) * force_scale
             n = np.hypot(*v)
-            tip = p + v + (3 * h * v / n if n > 0 else np.array([0.0, 2 * h]))
+            with np.errstate(over="ignore", invalid="ignore"):  # an absurd force: refused by _limits
+                tip = p + v + (3 * h * v / n if n > 0 else np.array([0.0, 2 * h]))
             xmin, xmax = min(xmin, tip[0]), max(xmax, tip[0])
             ymin, ymax = min(ymin, tip[1]), max(ymax, tip[1])
         r = _moment_radius(h) + 2 * h
@@ -88,10 +89,23 @@ def _bounds(scene: Scene, force_scale: float, show_forces: bool) -> tuple[float,
     return xmin, xmax, ymin, ymax
 
 
+#: Largest extent (m) of a drawing: beyond it a coordinate is no mechanism's (e.g. 1e308 read from a file).
+_MAX_EXTENT = 1e9
+
+
 def _limits(bounds: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    xmin, xmax, ymin, ymax = _checked_extent(bounds)
     pad = _PAD * _size(bounds)
-    xmin, xmax, ymin, ymax = bounds
     return xmin - pad, xmax + pad, ymin - pad, ymax + pad
+
+
+def _checked_extent(bounds: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    """``bounds``, or InputError when they reach beyond :data:`_MAX_EXTENT` (or are not finite)."""
+    if not all(math.isfinite(b) and abs(b) <= _MAX_EXTENT for b in bounds):
+        raise InputError("configuration", f"the drawing would reach {max(map(abs, bounds)):.3g} m from the origin, "
+                                          f"beyond any mechanism (at most {_MAX_EXTENT:g} m): a coordinate or force "
+                                          "drawn is not a physical value")
+    return bounds
 
 
 # -- primitives ----------------------------------------------------------------------------

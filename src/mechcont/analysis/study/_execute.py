@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ...errors import InputError
-from ._kernels import check_spec, run_chunk
+from ._kernels import check_spec, result_columns, run_chunk
 from ._spec import StudySpec
 from ._store import StudyStore
 
@@ -142,7 +142,8 @@ def _units(system, spec: StudySpec) -> dict[str, str]:
 
 def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, scheduler: str | None = None,
               workers: int | None = None, progress: Callable[[int], None] | None = None,
-              on_chunk: Callable[[int, float], None] | None = None) -> StudyResult:
+              on_chunk: Callable[[int, float], None] | None = None,
+              on_warning: Callable[[str], None] | None = None) -> StudyResult:
     """Run ``spec`` into ``folder``, computing only the chunks not already there.
 
     Parameters
@@ -162,6 +163,9 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
         Called with the number of samples of each chunk written.
     on_chunk:
         Called with ``(k, seconds)`` after chunk ``k`` is written.
+    on_warning:
+        Called with one line per part found on disk that is not this study's (another
+        study's settings or samples, truncated, not Parquet): that chunk is computed again.
 
     Returns
     -------
@@ -184,6 +188,9 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
     check_spec(system, spec)
     units = _units(system, spec)
     store = StudyStore(folder, spec, resume=resume)
+    for k, why in store.verify(result_columns(spec)).items():
+        if on_warning is not None:
+            on_warning(f"part {k} of the study ({store.parts.name}/chunk-{k:06d}.parquet) {why}; computing it again")
     todo = [k for k in range(spec.n_chunks) if k not in store.done()]
     computed: list[int] = []
 
@@ -215,6 +222,41 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
                        ran_on)
 
 
+#: Seconds a Dask scheduler has to accept the connection and to say its first word.
+SCHEDULER_TIMEOUT = 10.0
+
+
+def _probe_scheduler(address: str) -> None:
+    """InputError unless ``address`` is a ``tcp://`` (or bare ``HOST:PORT``) address of a server that
+    accepts a connection and sends its handshake within :data:`SCHEDULER_TIMEOUT`.
+
+    Dask's own connect waits for the handshake without a time limit, so a server that accepts and
+    never answers would hang the study; a scheduler sends its handshake at once."""
+    import socket
+
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    try:
+        scheme, location = parse_address(address, strict=False)
+        host, port = parse_host_port(location)
+    except (ValueError, TypeError) as exc:
+        raise InputError("--scheduler", f"{address!r} is not a scheduler address tcp://HOST:PORT ({exc})") from None
+    if scheme != "tcp":
+        raise InputError("--scheduler", f"only tcp:// scheduler addresses are supported (tls:// needs certificates, "
+                                        f"ucx:// a UCX installation), got {address!r}")
+    try:
+        with socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT) as sock:
+            sock.settimeout(SCHEDULER_TIMEOUT)
+            if not sock.recv(1):
+                raise InputError("--scheduler", f"the server at {address!r} closed the connection: not a Dask scheduler")
+    except TimeoutError:
+        raise InputError("--scheduler", f"the server at {address!r} did not answer within {SCHEDULER_TIMEOUT:g} s: "
+                                        "not a Dask scheduler, or one that hangs") from None
+    except OSError as exc:
+        raise InputError("--scheduler", f"cannot reach the Dask scheduler at {address!r}: "
+                                        f"{exc.strerror or exc}") from None
+
+
 @contextlib.contextmanager
 def _dask_client(scheduler: str, workers: int | None):
     """A :class:`dask.distributed.Client` of a new local cluster (``"local"``) or of the scheduler at an address."""
@@ -231,9 +273,10 @@ def _dask_client(scheduler: str, workers: int | None):
                                silence_logs=50)
         client = Client(cluster)
     else:
+        _probe_scheduler(scheduler)
         try:
-            client = Client(scheduler, timeout=10)
-        except (OSError, TimeoutError, ValueError) as exc:
+            client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+        except (OSError, TimeoutError, ValueError, TypeError) as exc:
             raise InputError("--scheduler", f"cannot reach the Dask scheduler at {scheduler!r}: {exc}") from None
     try:
         yield client

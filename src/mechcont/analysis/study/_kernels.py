@@ -36,10 +36,10 @@ from ...continuation._batch import fold_batch, newton_batch
 from ...equations import as_model
 from ...errors import ConvergenceError, InputError
 from ..downlock import downlock_condition, downlock_point
-from ..unlock import unlock_folds
+from ..unlock import RELEASE_FORCE_SPAN, unlock_folds
 from ._spec import StudySpec
 
-__all__ = ["run_chunk", "check_spec", "COLUMNS", "MAX_MOVE"]
+__all__ = ["run_chunk", "check_spec", "result_columns", "COLUMNS", "MAX_MOVE"]
 
 #: A batched solution is kept only if no angle (rad) or position (m) state moved by more than
 #: this many of its scales from the shared start (the model's downlocked pose); further away
@@ -62,17 +62,25 @@ COLUMNS = {
     "unlock_path": ("", "batched (folds polished with the chunk from its first sample's) or single (own release run)"),
     "branch_points": ("", "points of the release run (continuation in the force, condition released)"),
     "branch_folds": ("", "folds (LP) on the release run: each direction stops at its first"),
-    "branch_unstable_points": ("", "release-run points with an unstable direction"),
-    "branch_force_low": ("N", "smallest force reached by the release run"),
-    "branch_force_high": ("N", "largest force reached by the release run"),
+    "branch_unstable_points": ("", "release-run points with an unstable direction (a fold point, neither, not counted)"),
+    "branch_force_low": ("N", "smallest force reached by the release run (nan where it ended at its own bound)"),
+    "branch_force_high": ("N", "largest force reached by the release run (nan where it ended at its own bound)"),
     "branch_status": ("", "how the release run ended: completed, stopped early, failed"),
+    "branch_note": ("", "why branch_force_low or branch_force_high is nan"),
 }
+
+
+def result_columns(spec: StudySpec) -> list[str]:
+    """The columns of a chunk of ``spec``, in order (as :func:`run_chunk` returns them)."""
+    return ["sample", *spec.names, "status", "reason", "path", "downlock_force", "locks_unaided",
+            *(_UNLOCK if "unlock" in spec.analyses else ()), *(_BRANCH if "branch" in spec.analyses else ())]
 
 
 def check_spec(system, spec: StudySpec) -> tuple[dict, str]:
     """Check ``spec`` against the model before any work: every name known and a parameter
     that may be set, the downlock condition resolvable. Returns ``(hold, force)``."""
     h, f = downlock_condition(system, dict(spec.hold) or None, spec.force, condition=spec.condition)
+    _check_chunk_memory(system, spec)
     for n in (*spec.names, *dict(spec.values)):
         v = system.variable(n)
         if n == f:
@@ -80,6 +88,21 @@ def check_spec(system, spec: StudySpec) -> tuple[dict, str]:
         if v.kind != "parameter":
             raise InputError(n, "is a state of the model; sample or set parameters only")
     return h, f
+
+
+#: Most memory (bytes) the batched solves of one chunk may take; decided from the sizes before any work.
+CHUNK_MEMORY = 2 * 1024**3
+
+
+def _check_chunk_memory(system, spec: StudySpec) -> None:
+    """InputError when a chunk's batched solves would need more than :data:`CHUNK_MEMORY`: per sample
+    about three Jacobians of the (fold-augmented, for ``unlock``) system, 8 bytes a number."""
+    n_eq, n_var = len(system.equations), len(system.names)
+    per_row = 3 * 8 * ((2 * n_eq + 1) * (2 * n_var) if "unlock" in spec.analyses else n_eq * n_var)
+    rows = min(spec.chunk, spec.size)
+    if rows * per_row > CHUNK_MEMORY:
+        raise InputError("chunk", f"{rows} samples per chunk would need about {rows * per_row / 1024**3:.3g} GiB for "
+                                  f"the batched solves of this model; give at most {CHUNK_MEMORY // per_row} (--chunk)")
 
 
 def _plan(system, spec: StudySpec) -> dict:
@@ -154,14 +177,13 @@ def run_chunk(system, spec: StudySpec, k: int, samples: np.ndarray | None = None
            "status": status, "reason": reason, "path": path, "downlock_force": F, "locks_unaided": F > 0}
     if "unlock" in spec.analyses or "branch" in spec.analyses:
         cols = _unlock_columns(system, X, F, status, reason, f, list(h), batched="branch" not in spec.analyses)
-        keep = [*(_UNLOCK if "unlock" in spec.analyses else ()), *(_BRANCH if "branch" in spec.analyses else ())]
-        out.update({k: cols[k] for k in keep})
+        out.update({k: cols[k] for k in result_columns(spec)[len(out):]})
     return out
 
 
 _UNLOCK = ("unlock_force", "unlock_force_decreasing", "unlock_margin", "stable", "unlock_note", "unlock_path")
 _BRANCH = ("branch_points", "branch_folds", "branch_unstable_points", "branch_force_low", "branch_force_high",
-           "branch_status")
+           "branch_status", "branch_note")
 
 
 def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = True) -> dict:
@@ -172,6 +194,7 @@ def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = T
     how = np.full(m, "", dtype=object)
     stable = np.full(m, None, dtype=object)
     note = np.full(m, "", dtype=object)
+    branch_note = np.full(m, "", dtype=object)
     path = np.full(m, "", dtype=object)
 
     def single(i):
@@ -190,10 +213,9 @@ def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = T
         note[i] = "; ".join(u.notes)
         b = u.branch
         if b is not None and len(b):
-            Fb = b[f]
             points[i], folds[i] = len(b), len(b.special("LP"))
-            unstable[i] = int(np.sum(np.asarray(b.n_unstable) > 0))
-            f_low[i], f_high[i] = float(np.min(Fb)), float(np.max(Fb))
+            unstable[i] = _unstable_points(b)
+            (f_low[i], f_high[i]), branch_note[i] = _force_range(system, b, f, X[i])
             how[i] = b.status if not u.warnings else "stopped early"
         else:
             how[i] = "failed"
@@ -237,4 +259,29 @@ def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = T
     return {"unlock_force": above, "unlock_force_decreasing": below, "unlock_margin": above - F, "stable": stable,
             "unlock_note": note, "unlock_path": path, "branch_points": points, "branch_folds": folds,
             "branch_unstable_points": unstable, "branch_force_low": f_low, "branch_force_high": f_high,
-            "branch_status": how}
+            "branch_status": how, "branch_note": branch_note}
+
+
+def _unstable_points(b) -> int:
+    """Points of the release run with an unstable direction; a fold point (its stability is
+    ``fold``: a zero eigenvalue, neither stable nor unstable) is not one."""
+    unstable = np.asarray(b.n_unstable) > 0
+    unstable[[p.index for p in b.special("LP") if 0 <= p.index < len(unstable)]] = False
+    return int(np.sum(unstable))
+
+
+def _force_range(system, b, f: str, x: np.ndarray) -> tuple[tuple[float, float], str]:
+    """``((low, high), note)``: the force range of the release run ``b`` from the downlocked point ``x``;
+    an end where the run stopped at its own bound on the force is no force of the mechanism: nan, and the note says so."""
+    Fb = np.asarray(b[f], dtype=float)
+    F0, sc = float(x[system.index(f)]), system.variable(f).scale
+    reach = RELEASE_FORCE_SPAN * sc * (1 - 1e-9)
+    low, high = float(np.min(Fb)), float(np.max(Fb))
+    notes = []
+    if low <= F0 - reach:
+        low = float("nan")
+        notes.append(f"decreasing: the release run ended at its bound {F0 - RELEASE_FORCE_SPAN * sc:.6g} N, no fold")
+    if high >= F0 + reach:
+        high = float("nan")
+        notes.append(f"increasing: the release run ended at its bound {F0 + RELEASE_FORCE_SPAN * sc:.6g} N, no fold")
+    return (low, high), "; ".join(notes)

@@ -21,6 +21,7 @@ distribution's inverse CDF.
 from __future__ import annotations
 
 import hashlib
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,6 +32,8 @@ from ...errors import InputError, finite_number
 
 __all__ = ["Distribution", "GridAxis", "StudySpec", "ANALYSES", "SAMPLINGS", "parse_distribution", "parse_axis"]
 
+#: Most samples of a study (a grid's points too): their values alone are then 80 MB per parameter.
+MAX_SAMPLES = 10_000_000
 #: Sampling schemes: a full grid, a Latin hypercube, plain Monte Carlo.
 SAMPLINGS = ("grid", "lhs", "mc")
 #: Analyses of each sample (see :mod:`mechcont.analysis.study._kernels`).
@@ -213,8 +216,11 @@ class StudySpec:
                 raise InputError(n, f"a {self.sampling} study needs {what} for every parameter")
             if n in dict(self.values):
                 raise InputError(n, "is both sampled and fixed (--set)")
-        if self.sampling != "grid" and not 1 <= self.n <= 10_000_000:
-            raise InputError("n", f"the number of samples must be 1..10000000, got {self.n}")
+        if self.sampling != "grid" and not 1 <= self.n <= MAX_SAMPLES:
+            raise InputError("n", f"the number of samples must be 1..{MAX_SAMPLES}, got {self.n}")
+        if self.sampling == "grid" and self.size > MAX_SAMPLES:  # decided before the points are made
+            raise InputError("grid", f"{' x '.join(str(a.n) for _, a in self.parameters)} = {self.size} points; a "
+                                     f"study takes at most {MAX_SAMPLES} samples (fewer values per axis)")
         if not self.analyses or any(a not in ANALYSES for a in self.analyses):
             raise InputError("analysis", f"unknown analysis in {', '.join(self.analyses) or 'none'}; valid: "
                                          f"{', '.join(ANALYSES)}")
@@ -235,7 +241,7 @@ class StudySpec:
     def size(self) -> int:
         """Number of samples."""
         if self.sampling == "grid":
-            return int(np.prod([a.n for _, a in self.parameters]))
+            return math.prod(a.n for _, a in self.parameters)  # exact: no int64 overflow for many axes
         return self.n
 
     @property
@@ -327,7 +333,7 @@ class StudySpec:
 
         def whole(key, default):
             v = data.get(key, default)
-            if isinstance(v, bool) or not isinstance(v, int | float) or v != int(v):
+            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v) or v != int(v):
                 raise InputError(f"{where}.{key}", f"must be a whole number, got {v!r}")
             return int(v)
 

@@ -18,6 +18,7 @@ with its misfit.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import partial
@@ -94,11 +95,14 @@ def _initial_guess(kin: SpatialKinematics, values: dict[str, float]) -> dict[str
             guess[name] = evaluate(mech.value(f"{f}.{key}"), values, f"{f}.{key}") if key in b.initial else 0.0
         rot = ([evaluate(mech.value(f"{f}.rotation.{c}"), values, f"{f}.rotation") for c in "xyz"]
                if "rotation" in b.initial else [0.0, 0.0, 0.0])
+        if not math.hypot(*rot) <= 2 * math.pi:  # beyond one turn (1e308: cos/sin of an overflow) nothing is meant
+            raise InputError(f"{f}.rotation", f"its angle |r| = {math.hypot(*rot):.6g} rad must be at most 2 pi: give "
+                                              "the axis times an angle of at most one turn")
         guess.update(zip(names[3:], quaternion_from_rotation_vector(rot)))
         if all(k in b.initial for k in "xyz"):
             placed.add(b.name)
-    for k in mech.hold:
-        guess[k] = evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}")
+    held = {k: evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}") for k in mech.hold}
+    guess.update(held)
     changed = True
     while changed:
         changed = False
@@ -116,6 +120,7 @@ def _initial_guess(kin: SpatialKinematics, values: dict[str, float]) -> dict[str
                 guess[str(s)] = float(v)
             placed.add(body)
             changed = True
+    guess.update(held)  # a held coordinate keeps its value: placing its body by a joint must not move it
     return guess
 
 
@@ -292,6 +297,12 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
     x[nq:nq + len(rows)] = var.closure.multipliers(x)
     if var.condition_values is not None:
         x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(var.condition_values(x), dtype=float).reshape(-1)
+    for cond, value in zip(mech.conditions, x[nq + len(rows):nq + len(rows) + len(cnames)]):
+        if cond.kind == "distance" and not value > 1e-9 * Lc:  # |b - a| has no derivative where a = b
+            raise InputError(f"conditions.{cond.name}", f"its points {cond.points[0]} and {cond.points[1]} coincide at "
+                                                        f"the assembled configuration (distance {value:.3g} m): the "
+                                                        "distance has no derivative there; move a point or assemble "
+                                                        "elsewhere (bodies' initial, [assembly] hold)")
     variables = []
     for c, v in zip(coords, x):
         euler = c.startswith("e")

@@ -6,7 +6,7 @@ from collections.abc import Mapping
 
 from ...equations import Limit
 from ...errors import InputError
-from .._values import check_finite, evaluate
+from .._values import check_finite, check_stop_limits, evaluate
 from ._description import SpatialCustomLoad, SpatialDrag, SpatialMechanism, SpatialMoment
 from ._joints import Universal
 
@@ -56,10 +56,14 @@ def check_spatial_values(mech: SpatialMechanism, values: Mapping[str, float], *,
     """Reject impossible values at the parameter ``values``: non-finite numbers, quantities out of
     their :func:`spatial_limits` range, zero direction vectors. Raises a one-line InputError."""
     check_finite(mech, values)
+    check_stop_limits(mech, values)
     for lim in spatial_limits(mech, solve=solve):
         v = evaluate(lim.expr, values, lim.name)
         if (v <= 0) if lim.strict else (v < 0):
             raise InputError(lim.name, lim.message(v))
+    for b in mech.bodies:
+        if b.inertia is not None:
+            _check_inertia(mech, values, f"bodies.{b.name}.inertia", len(b.inertia))
     fields = [f"loads.{ld.name}.direction" for ld in mech.loads if not isinstance(ld, (SpatialMoment,
                                                                                           SpatialCustomLoad))]
     fields += [f"loads.{ld.name}.axis" for ld in mech.loads if isinstance(ld, SpatialMoment)]
@@ -78,3 +82,23 @@ def check_spatial_values(mech: SpatialMechanism, values: Mapping[str, float], *,
             if abs(c) > 1e-9:
                 raise InputError(f"joints.{j.name}.axis_b", f"must be perpendicular to axis_a in the design pose "
                                                             f"(cosine of the angle between them {c:.3g})")
+
+
+def _check_inertia(mech: SpatialMechanism, values: Mapping[str, float], field: str, n: int) -> None:
+    """An inertia tensor about the CG must be positive definite and its principal moments obey the
+    triangle inequality (each at most the sum of the other two: a real body's mass distribution)."""
+    import numpy as np
+
+    keys = ("xx", "yy", "zz", "xy", "xz", "yz")[:n]
+    v = dict(zip(keys, (evaluate(mech.value(f"{field}.{k}"), values, f"{field}.{k}") for k in keys)))
+    xy, xz, yz = v.get("xy", 0.0), v.get("xz", 0.0), v.get("yz", 0.0)
+    tensor = np.array([[v["xx"], xy, xz], [xy, v["yy"], yz], [xz, yz, v["zz"]]])
+    scale = float(np.max(np.abs(tensor)))
+    moments = np.linalg.eigvalsh(tensor / scale) * scale
+    shown = ", ".join(f"{m:.6g}" for m in moments)
+    if moments[0] <= 1e-12 * scale:
+        raise InputError(field, f"is not positive definite (principal moments {shown} kg m^2); a body's inertia "
+                                "tensor has positive principal moments")
+    if moments[2] > (moments[0] + moments[1]) * (1 + 1e-9):
+        raise InputError(field, f"principal moments {shown} kg m^2 violate the triangle inequality (the largest must "
+                                "not exceed the sum of the other two): no body has this mass distribution")
