@@ -26,7 +26,7 @@ def _folds(system, lo, hi):
     x0 = find_equilibrium(system, hold={"crank": 0.0}, free=["M"])
     b = continuation(system, x0, "M", options=ContinuationOptions(bounds={"crank": (lo, hi)}))
     return b, [(b["crank"][i], b["M"][i]) for i, lab in enumerate(b.labels) if lab.startswith("LP")], \
-        [lab for lab in b.labels if lab]
+        [lab for lab in b.row_labels() if lab]
 
 
 @pytest.fixture(scope="module")
