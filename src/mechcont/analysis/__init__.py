@@ -10,10 +10,14 @@ from typing import TYPE_CHECKING
 
 from .._lazy import lazy_exports
 
+# ``downlock`` names both a function and the module defining it: imported now, so that the name is the
+# function whatever imports the module later (an import binds a submodule to its package's name)
+from .downlock import downlock
+
 #: public name -> the module of this package that defines it
 _LAZY = {
     **dict.fromkeys(["DesignRegion", "DesignRow", "FoldLocus", "design_region", "fold_locus"], "design"),
-    **dict.fromkeys(["DownlockBranch", "downlock", "downlock_condition", "downlock_point"], "downlock"),
+    **dict.fromkeys(["DownlockBranch", "downlock_condition", "downlock_point"], "downlock"),
     **dict.fromkeys(["RedundancyReport", "RedundancyState", "redundancy_along"], "redundancy"),
     **dict.fromkeys(["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stability_on_stops",
                      "stops_in_contact"], "stops"),
@@ -29,7 +33,7 @@ __all__ = ["equilibrium_family", "downlock", "downlock_point", "downlock_conditi
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     from .design import DesignRegion, DesignRow, FoldLocus, design_region, fold_locus
-    from .downlock import DownlockBranch, downlock, downlock_condition, downlock_point
+    from .downlock import DownlockBranch, downlock_condition, downlock_point
     from .redundancy import RedundancyReport, RedundancyState, redundancy_along
     from .stops import StopRun, continuation_with_stops, equilibrium_on_stops, stability_on_stops, stops_in_contact
     from .surface import equilibrium_family

@@ -142,7 +142,8 @@ class ValueCheck(_deferred.Apart):
 
     ``groups`` lists ``(kind, n)`` for the screen's consecutive outputs: ``finite`` (each
     finite), ``positive``/``nonnegative`` (one limit), ``nonzero`` (a vector of ``n``) and
-    ``perpendicular`` (two 3-vectors, their cosine within 1e-9 of zero).
+    ``perpendicular`` (two 3-vectors, their cosine within 1e-9 of zero). ``screen`` is a compiled
+    function of the parameter values, their values when there are no parameters, or None.
     """
 
     _APART = ("exact",)
@@ -165,7 +166,7 @@ class ValueCheck(_deferred.Apart):
         x = np.array([full[n] for n in self.names], dtype=float)
         if not np.isfinite(x).all():
             return False
-        v = np.asarray(self.screen(x), dtype=float)
+        v = self.screen if isinstance(self.screen, np.ndarray) else np.asarray(self.screen(x), dtype=float)
         if not np.isfinite(v).all():
             return False
         i = 0

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
+import numpy as np
 import sympy as sp
 
 from ..equations import Limit
@@ -153,5 +154,16 @@ def value_check(mech, exact, limits: list[Limit], vectors: list[list], perpendic
         groups.append(("perpendicular", 6))
     exprs = [sp.sympify(e, strict=True) for e in exprs]
     usable = not static_error and all(e.free_symbols <= known for e in exprs)
-    screen = compile_dense(syms, exprs) if usable and exprs else None
+    screen = None
+    if usable and exprs:
+        # without parameters the quantities are numbers (SymEngine compiles no function of nothing)
+        screen = compile_dense(syms, exprs) if syms else np.array([_number(e) for e in exprs])
     return ValueCheck(names, [p.value for p in mech.parameters], screen, groups if screen is not None else (), exact)
+
+
+def _number(expr: sp.Expr) -> float:
+    """The value of a constant expression, nan when it is not a real number."""
+    try:
+        return float(expr)
+    except (TypeError, ValueError):
+        return math.nan
