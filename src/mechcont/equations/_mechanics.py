@@ -362,6 +362,8 @@ class MechanicalModel:
 
     def __setstate__(self, state):
         self.__dict__.update(state)
+        if "n_constraints" not in state and "constraints" in state:  # pickled before the count was kept
+            self.__dict__["n_constraints"] = len(state["constraints"])
 
     # -- numeric evaluation (x: full variable vector, qdot: coordinate velocities) ---------
     def _args(self, x, qdot=None):
