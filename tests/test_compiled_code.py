@@ -211,6 +211,8 @@ def test_pickle_round_trip_is_bit_identical(make):
     assert _fingerprint(copy, x) == before
     assert copy.names == system.names and copy.equations == system.equations
     # a model's declared fields all travel (never silently half-there), the callables included
+    # (the symbolic parts of a pickled model are unpickled on first use: read them on both)
+    copy.symbols, system.symbols, system.equations  # noqa: B018 - read for their side effect
     assert type(copy) is type(system) and copy.unpickled_without == () and set(vars(copy)) == set(vars(system))
     assert copy.reaction_names == system.reaction_names  # plain data does travel
     assert [b.tobytes() for _, b in copy.scene(x).bars] == [b.tobytes() for _, b in system.scene(x).bars]

@@ -1,13 +1,22 @@
 """Light paths import nothing heavy they do not use: ``import mechcont`` imports no SymPy,
 SciPy or Matplotlib, and a continuation, fold or listing command imports no Matplotlib,
 ``scipy.integrate``/``scipy.optimize``, Exudyn, pandas, pyarrow or Dask (each costs a CLI
-run 0.1-1 s). Checked in a fresh interpreter, the commands run in-process."""
+run 0.1-1 s). Checked in a fresh interpreter, the commands run in-process.
+
+With a warm disk cache a command starts like a compiled tool: the built-in models and the
+description files load their structure and compiled code from it, so no command imports
+SymPy (0.5 s), the readers or generators of descriptions, or SciPy modules it does not call;
+and an edited description never reuses the entry of its old text."""
 
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
+from pathlib import Path
+
+import numpy as np
 
 HEAVY = ["matplotlib", "scipy.integrate", "scipy.optimize", "exudyn", "pandas", "pyarrow", "dask"]
 
@@ -58,3 +67,84 @@ def test_one_blas_thread_by_default_and_the_users_choice_kept():
     # small matrices on a shared machine: threads spin (a 63 x 64 SVD 96 ms instead of 0.5 ms)
     assert _blas_threads(None) == "1"
     assert _blas_threads("3") == "3"
+
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+#: what a command with a warm cache must not import (unless it plots, which none of these does)
+NOT_WARM = ["sympy", "matplotlib", "pandas", "scipy.integrate", "scipy.optimize", "scipy.interpolate", "scipy.sparse",
+            "scipy.special", "mechcont.mechanism._description", "mechcont.mechanism._generate",
+            "mechcont.mechanism.spatial", "mechcont.analysis.design"]
+WARM_SCRIPT = r"""
+import contextlib, io, json, sys
+from mechcont.cli import main
+with contextlib.redirect_stdout(io.StringIO()):
+    try:
+        main(json.loads(sys.argv[2]))
+    except SystemExit as exc:
+        assert not exc.code, exc.code
+print(json.dumps([m for m in json.loads(sys.argv[1]) if m in sys.modules]))
+"""
+
+
+def _modules_after(args: list[str]) -> list[str]:
+    """The modules of :data:`NOT_WARM` a fresh interpreter imported running ``mechcont args``."""
+    env = {k: v for k, v in os.environ.items() if k != "MECHCONT_NO_CACHE"}
+    out = subprocess.run([sys.executable, "-c", WARM_SCRIPT, json.dumps(NOT_WARM), json.dumps(args)], env=env,
+                         capture_output=True, text=True, check=True, timeout=900).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def test_with_a_warm_cache_no_command_imports_sympy_or_what_it_does_not_call():
+    commands = [
+        ["continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F",
+         "--bounds", "theta1=-1.2:1.2"],
+        ["models"],
+        ["downlock", "nose_gear", "--vary", "l_sp1", "--bounds", "l_sp1=-0.175:0.175"],
+        ["check", str(EXAMPLES / "dual_sidestay.toml")],  # generated spatial gear
+        ["check", "nose_gear.toml"],  # a planar description
+        ["continue", "fourbar.toml", "--vary", "T", "--bounds", "T=-5:5", "--quiet"],
+        ["continue", "dual_sidestay_kinematics", "--vary", "theta", "--bounds", "theta=0:1.5", "--quiet"],
+    ]
+    for args in commands:
+        _modules_after(args)  # the first run fills the cache (the session's cache: warm after one run)
+        assert _modules_after(args) == [], args
+
+
+def test_an_edited_description_never_reuses_a_stale_entry(tmp_path, monkeypatch):
+    """One number edited in a description file: the next load builds the edited mechanism (the same
+    as a build without any cache), and the original text still finds its own entry."""
+    from mechcont.equations import _cache
+    from mechcont.mechanism import check_report
+    from mechcont.mechanism._paths import DATA_DIR
+    from mechcont.models import describe_model, load_model
+
+    monkeypatch.setenv("MECHCONT_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.delenv("MECHCONT_NO_CACHE", raising=False)
+    text = (DATA_DIR / "fourbar.toml").read_text()
+    assert text.count('D = ["d", 0]') == 1 and text.count("k = { value = 200.0,") == 1
+    path = tmp_path / "linkage.toml"
+    path.write_text(text)
+    before = load_model(path)
+    assert load_model(path).variable("k").value == 200.0  # the same text: from the disk cache
+    hits = _cache.STATS["hits"]
+    for old, new in (('D = ["d", 0]', 'D = ["d", 0.05]'), ("k = { value = 200.0,", "k = { value = 260.0,")):
+        edited = text.replace(old, new)
+        path.write_text(edited)
+        os.utime(path, ns=(0, 0))  # the same modification time as before: only the text tells
+        model = load_model(path)
+        monkeypatch.setenv("MECHCONT_NO_CACHE", "1")
+        truth = load_model(path)
+        monkeypatch.delenv("MECHCONT_NO_CACHE")
+        x = before.defaults()
+        np.testing.assert_allclose(model.defaults(), truth.defaults(), rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(model.residual(x), truth.residual(x), rtol=1e-12, atol=1e-12)
+        # the edit shows: in the equations (the anchor) or in the values (the stiffness)
+        assert not (np.allclose(model.residual(x), before.residual(x), rtol=1e-9, atol=1e-12)
+                    and np.allclose(model.defaults(), x, rtol=1e-9, atol=1e-12)), new
+        assert describe_model(str(path)).parameters == tuple((v.name, v.value, v.unit, v.description)
+                                                             for v in truth.variables if v.kind == "parameter")
+        assert check_report(str(path)).system.variable("k").value == truth.variable("k").value
+    path.write_text(text)
+    again = load_model(path)
+    assert _cache.STATS["hits"] > hits and again.variable("k").value == 200.0
+    np.testing.assert_array_equal(again.residual(before.defaults()), before.residual(before.defaults()))

@@ -70,3 +70,42 @@ def test_fold_curve_stops_at_a_physical_limit():
     curve = continue_folds(s, b["LP1"], "F", "k", options=ContinuationOptions(bounds={"k": (-50.0, 500.0)}))
     low = min(curve.special("EP"), key=lambda p: p["k"])
     assert abs(low["k"]) < 1e-9 and low.info["limit"] == "k"
+
+
+@pytest.mark.parametrize("where", ["fourbar", "tests/data/spatial/fourbar_3d.toml", "examples/dual_sidestay.toml"])
+def test_the_compiled_value_screen_agrees_with_the_exact_check(where):
+    """A description's value check (run by every solve) decides as its exact SymPy check does, with the
+    same one-line error, for each parameter at its default, zero, negated, tiny, large, inf and nan;
+    clearly valid values never reach the exact check (that is what keeps SymPy out of a solve)."""
+    from pathlib import Path
+
+    import numpy as np
+
+    from mechcont.errors import InputError
+    from mechcont.mechanism._compiled import ValueCheck
+    from mechcont.models import load_model
+
+    path = Path(__file__).resolve().parent.parent / where if where.endswith(".toml") else where
+    check = load_model(path).check_values  # (the dual-sidestay gear's has perpendicular axes)
+    assert isinstance(check, ValueCheck) and check.screen is not None
+    exact = check.exact
+    calls = []
+    check.exact = lambda values: (calls.append(values), exact(values))
+
+    def outcome(fn, values):
+        try:
+            fn(values)
+        except InputError as exc:
+            return str(exc)
+        return None
+
+    check({})
+    assert calls == []  # the defaults pass on the screen alone
+    refused = 0
+    for name, default in zip(check.names, check.defaults):
+        for value in (default, 0.0, -default, 1e-12, -1e-12, 3 * default + 1, np.inf, np.nan):
+            values = {name: value}
+            expected = outcome(exact, {**dict(zip(check.names, check.defaults)), **values})
+            assert outcome(check, values) == expected, (name, value)
+            refused += expected is not None
+    assert calls and refused  # the doubtful values went to the exact check, some were refused

@@ -87,8 +87,7 @@ def redundancy_along(system, branch, *, rtol: float = 1e-9) -> RedundancyReport:
     model = as_model(system)
     mech = system.mechanics
     nq = len(mech.coordinates)
-    rows = mech.constraint_names if mech.constraint_names is not None else system.equation_names[nq:nq + len(
-        mech.constraints)]
+    rows = mech.constraint_names if mech.constraint_names is not None else system.equation_names[nq:nq + mech.n_constraints]
     reactions = dict(zip(system.equation_names[nq:], model.reaction_names))
     ranks, dofs, states = [], [], []
     for i, x in enumerate(branch.values):

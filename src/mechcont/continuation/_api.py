@@ -226,7 +226,7 @@ def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: 
     states = (fold.info.get("unknowns") if isinstance(fold, SpecialPoint) else None) or choose_unknowns(
         system, hold=hold, free=free_extra, exclude=[vary])
     states = [s for s in states if s != free]
-    if len(states) != len(system.equations):
+    if len(states) != system.n_equations:
         raise InputError(free, "is one of the unknowns of the branch; choose a parameter that was held")
     x0 = _start_vector(system, fold)
     problem = None

@@ -107,8 +107,8 @@ def newton_batch(system: EquationSystem, X0: np.ndarray, unknowns: Sequence[str]
     if X.ndim != 2 or X.shape[1] != len(system.names):
         raise ValueError(f"expected an array (rows, {len(system.names)} variables), got shape {X.shape}")
     idx = np.array([system.index(n) for n in unknowns])
-    if len(idx) != len(system.equations):
-        raise ValueError(f"{len(idx)} unknowns for {len(system.equations)} equations")
+    if len(idx) != system.n_equations:
+        raise ValueError(f"{len(idx)} unknowns for {system.n_equations} equations")
     scale = system.scales()[idx]
     m = len(X)
     converged = np.zeros(m, dtype=bool)
@@ -196,7 +196,7 @@ def _hessian_contraction(system: EquationSystem, X: np.ndarray, VF: np.ndarray) 
     from scipy import sparse
 
     code = system.compile(second_derivatives=True)._code
-    n_eq, n = len(system.equations), len(system.names)
+    n_eq, n = system.n_equations, len(system.names)
     W = code["hess_values"].batch(X) * VF[:, code["hess_j"]]
     key = "_batch_hess_scatter"
     S = code.get(key)
@@ -253,7 +253,7 @@ def fold_batch(system: EquationSystem, X0: np.ndarray, V0: np.ndarray, states: S
     converged = np.zeros(m, dtype=bool)
     iterations = np.zeros(m, dtype=int)
     active = np.arange(m)
-    n_eq = len(system.equations)
+    n_eq = system.n_equations
     for it in range(1, max_iter + 1):
         if not len(active):
             break

@@ -100,7 +100,7 @@ def choose_unknowns(system: EquationSystem, hold: Iterable[str] = (), free: Iter
             raise InputError(n, "is the continuation parameter; it cannot also be freed")
         if n not in unknowns:
             unknowns.append(n)
-    n_eq = len(system.equations)
+    n_eq = system.n_equations
     if len(unknowns) != n_eq:
         diff = len(unknowns) - n_eq
         what = f"hold {diff} more state(s)" if diff > 0 else f"free {-diff} more parameter(s)"

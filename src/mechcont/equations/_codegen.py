@@ -22,12 +22,15 @@ there first.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 import symengine as se
-import sympy as sp
 
 from . import _cache
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = ["to_engine", "derivative_entries", "is_smooth", "compile_dense", "compile_sparse", "CompiledFunction",
            "engine_arguments", "compile_values", "compile_scattered", "COUNTS", "DENSE_MAX", "backend"]
@@ -117,6 +120,8 @@ def gradient(expr, symbols: Sequence[sp.Symbol]) -> list[sp.Expr]:
     SymEngine forgets SymPy's assumptions, so the result's symbols are mapped back to the
     originals (``Symbol(name, real=True)``) by name.
     """
+    import sympy as sp
+
     expr = sp.sympify(expr, strict=True)
     if not symbols:
         return []
@@ -467,4 +472,6 @@ def _valid(n_args: int, shape: tuple[int, ...]):
 
 def sympy_symbols(names: Sequence[str]) -> list[sp.Symbol]:
     """Real SymPy symbols for ``names``."""
+    import sympy as sp
+
     return [sp.Symbol(n, real=True) for n in names]

@@ -19,21 +19,25 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import symengine as se
-import sympy as sp
 
 from .. import _dense
 from ..errors import InputError
-from . import _cache, _codegen
+from . import _cache, _codegen, _deferred
 from ._codegen import compile_scattered, compile_values, derivative_entries, engine_arguments, is_smooth
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = ["MechanicalModel", "StabilityResult", "velocity_symbol"]
 
 
 def velocity_symbol(name: str) -> sp.Symbol:
     """The symbol standing for the time derivative of coordinate ``name`` (``name_dot``)."""
+    import sympy as sp
+
     return sp.Symbol(f"{name}_dot", real=True)
 
 
@@ -190,6 +194,8 @@ class MechanicalModel:
 
     def __init__(self, names: Sequence[str], coordinates: Sequence[str], constraints: Sequence[sp.Expr],
                  forces: Sequence[sp.Expr], mass_matrix: sp.Matrix, constraint_names: Sequence[str] | None = None):
+        import sympy as sp
+
         self.names = tuple(names)
         self.constraint_names = None if constraint_names is None else tuple(constraint_names)
         self.coordinates = tuple(coordinates)
@@ -214,6 +220,7 @@ class MechanicalModel:
             if bad:
                 raise InputError(str(sorted(map(str, bad))[0]), "used in the mechanical model but not a variable")
         self._syms, self._qs, self._qd = syms, qs, qd
+        self.n_constraints = len(self.constraints)
 
     # Compiled functions, in three groups each compiled (or loaded from the disk cache) on
     # first use of one of its members: assembly needs only the kinematics, stability the
@@ -223,11 +230,17 @@ class MechanicalModel:
                "_gamma": "dynamics", "_dQdqd": "dynamics", "_M": "dynamics"}
     _COMPILED = tuple(_GROUPS)
 
+    #: The symbolic attributes, pickled apart (see :mod:`._deferred`).
+    _SYMBOLIC = ("constraints", "forces", "mass_matrix", "_syms", "_qs", "_qd")
+
     def __getattr__(self, name):
-        # only reached for missing attributes: the compiled functions, built on first use
+        # only reached for missing attributes: the compiled functions, built on first use, and
+        # a loaded model's symbolic attributes
         group = MechanicalModel._GROUPS.get(name)
         if group is None:
-            raise AttributeError(name)
+            if name.startswith("__"):
+                raise AttributeError(name)
+            return _deferred.materialize(self, name)
         self._compile_group(group)
         return self.__dict__[name]
 
@@ -324,6 +337,8 @@ class MechanicalModel:
                          "_phi_hess": _Part(statics, layout.hess_slice, _flat(hess, (nc, nq, nq)), (nc, nq, nq))}
             return {"_statics": statics, "_statics_layout": layout, **parts}
         # dynamics. gamma = -(d/dq (Phi_q qdot)) qdot: right-hand side of Phi_q qddot = gamma
+        import symengine as se
+
         rows = [se.Integer(0)] * nc
         for (k, i), d in phi_q:
             rows[k] = rows[k] + d * qd[i]
@@ -337,11 +352,18 @@ class MechanicalModel:
                 "_M": compile_scattered(args, _flat([(k, None) for k in keys], (nq, nq)), m_exprs, (nq, nq))}
 
     def __getstate__(self):
-        """Picklable state: the symbolic model and every compiled group built so far."""
-        return {k: v for k, v in self.__dict__.items() if k != "_engine"}
+        """Picklable state: every compiled group built so far, and the symbolic model as an inner
+        pickle (unpickled on first use: stability and simulation need only the compiled code)."""
+        state = {k: v for k, v in self.__dict__.items() if k != "_engine" and k not in self._SYMBOLIC}
+        if _deferred.DEFERRED not in state:
+            state[_deferred.DEFERRED] = _deferred.pack({k: getattr(self, k) for k in self._SYMBOLIC})
+        state.setdefault("n_constraints", len(self.constraints))
+        return state
 
     def __setstate__(self, state):
         self.__dict__.update(state)
+        if "n_constraints" not in state and "constraints" in state:  # pickled before the count was kept
+            self.__dict__["n_constraints"] = len(state["constraints"])
 
     # -- numeric evaluation (x: full variable vector, qdot: coordinate velocities) ---------
     def _args(self, x, qdot=None):
@@ -421,7 +443,7 @@ class MechanicalModel:
         Eigenvalues within ``rtol`` of the largest magnitude count as zero (neutral).
         The count is independent of the units of ``q`` (Sylvester's law of inertia).
         """
-        nq, nc = len(self.coordinates), len(self.constraints)
+        nq, nc = len(self.coordinates), self.n_constraints
         layout = self._statics_layout
         out = self._statics(self._args(x))
         if nc:
@@ -468,7 +490,7 @@ class MechanicalModel:
         integer array (m,).
         """
         X = np.asarray(X, dtype=float)
-        m, nq, nc = len(X), len(self.coordinates), len(self.constraints)
+        m, nq, nc = len(X), len(self.coordinates), self.n_constraints
         if X.ndim != 2 or m == 0 or nc > nq:  # (more constraints than coordinates: redundant, row by row)
             return np.array([self.stability(x, rtol).n_unstable for x in X], dtype=int)
         layout = self._statics_layout

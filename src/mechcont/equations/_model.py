@@ -15,11 +15,15 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import MISSING, dataclass, field, fields
+from typing import TYPE_CHECKING
 
 import numpy as np
-import sympy as sp
 
+from . import _deferred
 from ._system import EquationSystem
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = ["Model", "StopLimit", "as_model"]
 
@@ -132,8 +136,7 @@ class Model(EquationSystem):
         """
         state = super().compiled_state()
         core = {"name", "variables", "equations", "equation_names", "mechanics", "description", "limits"}
-        state["fields"] = {f.name: self.__dict__[f.name] for f in fields(self)
-                           if f.init and f.name not in core}
+        state["fields"] = {f.name: getattr(self, f.name) for f in fields(self) if f.init and f.name not in core}
         return state
 
     @classmethod
@@ -148,9 +151,12 @@ class Model(EquationSystem):
     def from_system(cls, system: EquationSystem, **fields_: object) -> Model:
         """A model of ``system`` (its equations and compiled code shared, nothing rebuilt) with ``fields_`` set."""
         model = object.__new__(cls)
+        given = system.__dict__
         for f in fields(cls):
-            if f.name in system.__dict__ and f.name in _declared(EquationSystem):
-                value = system.__dict__[f.name]
+            if f.name in given and f.name in _declared(EquationSystem):
+                value = given[f.name]
+            elif f.name in _declared(EquationSystem) and (_deferred.DEFERRED in given or f.name == "symbols"):
+                continue  # in the system's inner pickle (a loaded system), or made on first use
             elif f.default is not MISSING:
                 value = f.default
             elif f.default_factory is not MISSING:
@@ -158,6 +164,8 @@ class Model(EquationSystem):
             else:  # pragma: no cover - every Model field has a default
                 raise TypeError(f"no value for field {f.name!r}")
             object.__setattr__(model, f.name, value)
+        if _deferred.DEFERRED in given:
+            object.__setattr__(model, _deferred.DEFERRED, given[_deferred.DEFERRED])
         for k in fields_:
             if k not in _declared(cls) or k in _declared(EquationSystem):
                 raise TypeError(f"Model.from_system() got an unknown model field {k!r}")
@@ -165,6 +173,8 @@ class Model(EquationSystem):
             object.__setattr__(model, k, v)
         return model
 
+
+_deferred.defaults_off_the_class(Model)
 
 _DECLARED: dict[type, frozenset[str]] = {}
 

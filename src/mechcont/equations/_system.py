@@ -11,12 +11,12 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import sympy as sp
 
 from ..errors import InputError
-from . import _cache
+from . import _cache, _deferred
 from ._codegen import (
     CompiledFunction,
     compile_dense,
@@ -26,6 +26,9 @@ from ._codegen import (
     engine_arguments,
     is_smooth,
 )
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = ["Variable", "Limit", "EquationSystem", "ColumnView"]
 
@@ -69,11 +72,13 @@ class Variable:
     @property
     def symbol(self) -> sp.Symbol:
         """The SymPy symbol of this variable (real)."""
+        import sympy as sp
+
         return sp.Symbol(self.name, real=True)
 
 
 @dataclass(frozen=True)
-class Limit:
+class Limit(_deferred.Apart):
     """A physical range of a model: ``expr > 0`` (``strict``) or ``expr >= 0``.
 
     ``expr`` is a SymPy expression in the variables' symbols (usually parameters only: a
@@ -98,10 +103,14 @@ class Limit:
     strict: bool = True
     description: str = ""
 
+    # pickled apart: a loaded limit checks values through the system's compiled code (see _deferred)
+    _APART = ("expr",)
+
     def message(self, value: float) -> str:
         """The one-line reason a value violates (or reaches the edge of) this limit."""
         what = self.description or "value"
         return f"{what} must be {'positive' if self.strict else 'non-negative'}, got {value:g}"
+
 
 
 @dataclass
@@ -161,6 +170,8 @@ class EquationSystem:
     unpickled_without: tuple[str, ...] = field(default_factory=tuple, init=False, repr=False, compare=False)
 
     def __post_init__(self):
+        import sympy as sp
+
         self.variables = tuple(self.variables)
         self.equations = tuple(sp.sympify(e, strict=True) for e in self.equations)
         self.limits = tuple(self.limits)
@@ -186,6 +197,11 @@ class EquationSystem:
             )
 
     # -- naming ------------------------------------------------------------------------
+    @property
+    def n_equations(self) -> int:
+        """Number of equations (one name each; a loaded system counts them without its SymPy form)."""
+        return len(self.equation_names)  # type: ignore[arg-type]
+
     @property
     def state_names(self) -> tuple[str, ...]:
         """Names of the default unknowns."""
@@ -322,8 +338,15 @@ class EquationSystem:
 
     def limits_of(self, names: Iterable[str]) -> list[int]:
         """Indices of the limits whose quantity depends on any of ``names``."""
-        syms = {self.variable(n).symbol for n in names}
-        return [i for i, lim in enumerate(self.limits) if lim.expr.free_symbols & syms]
+        wanted = {self.variable(n).name for n in names}
+        return [i for i, uses in enumerate(self._limit_uses()) if uses & wanted]
+
+    def _limit_uses(self) -> tuple[frozenset[str], ...]:
+        """The variable names each limit's quantity depends on (kept with the compiled code)."""
+        uses = self._code.get("limit_uses")
+        if uses is None:
+            uses = self._code["limit_uses"] = tuple(frozenset(s.name for s in lim.expr.free_symbols) for lim in self.limits)
+        return uses
 
     def residual(self, x: np.ndarray) -> np.ndarray:
         """G(x): one residual per equation (units of each equation), ``x`` in :attr:`names` order."""
@@ -340,7 +363,7 @@ class EquationSystem:
         except KeyError:
             fn = self.compile()._code["res_jac"]
         out = fn(x)
-        n_eq = len(self.equations)
+        n_eq = self.n_equations
         return out[:n_eq], out[n_eq:].reshape(n_eq, len(self.names))
 
     def jacobian_derivative(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -351,7 +374,7 @@ class EquationSystem:
         Used for fold and cusp conditions.
         """
         code = self._code if "hess_values" in self._code else self.compile(second_derivatives=True)._code
-        n_eq, n = len(self.equations), len(self.names)
+        n_eq, n = self.n_equations, len(self.names)
         w = code["hess_values"](x) * np.asarray(v)[code["hess_j"]]
         return np.bincount(code["hess_ik"], weights=w, minlength=n_eq * n).reshape(n_eq, n)
 
@@ -391,7 +414,7 @@ class EquationSystem:
         if X.ndim != 2:
             raise ValueError(f"expected a 2-D array (points, {len(self.names)} variables), got shape {X.shape}")
         out = fn.batch(X)
-        n_eq = len(self.equations)
+        n_eq = self.n_equations
         return out[:, :n_eq], out[:, n_eq:].reshape(len(X), n_eq, len(self.names))
 
     # -- pickling: the compiled numeric core ------------------------------------------
@@ -412,6 +435,7 @@ class EquationSystem:
         self.compile(second_derivatives=True)
         if self.limits and "limits" not in self._code:
             self._code["limits"] = compile_dense(self.symbols, [lim.expr for lim in self.limits])
+        self._limit_uses()
         if isinstance(self.mechanics, MechanicalModel):
             self.mechanics._compile()
         return {"format": 1, "name": self.name, "variables": tuple(self.variables), "equations": tuple(self.equations),
@@ -439,37 +463,64 @@ class EquationSystem:
         ``unpickled_without`` names them all. The built-in models and generated descriptions
         give picklable callables, so their models travel whole.
         """
-        import pickle
-
         state = EquationSystem.compiled_state(self)  # the core; the other fields below, each if it pickles
         core = {"name", "variables", "equations", "equation_names", "mechanics", "description", "limits",
                 "_code", "names", "_index", "symbols", "unpickled_without"}
+        # what needs SymPy to unpickle (the equations, a potential energy, a description) is kept
+        # apart, unpickled on first use: a loaded model runs on its compiled code (see _deferred)
+        apart = {"equations": state.pop("equations")}
         extras, omitted = {}, []
         for k, v in self.__dict__.items():
             if k in core:
                 continue
             try:
-                pickle.dumps(v)
+                heavy = _deferred.needs_heavy(v)
             except Exception:  # noqa: BLE001 - whatever does not pickle stays behind
                 omitted.append(k)
             else:
-                extras[k] = v
+                (apart if heavy else extras)[k] = v
         state["extras"], state["omitted"] = extras, tuple(omitted)
+        state["deferred_keys"], state["deferred"] = tuple(apart), _deferred.pack(apart)
         return state
 
     def __setstate__(self, state: dict) -> None:
         from dataclasses import MISSING, fields
 
-        self.__dict__.update(EquationSystem.from_compiled_state(state).__dict__)
-        self.__dict__.update(state.get("extras", {}))
+        if state.get("format") != 1:
+            raise ValueError("not a compiled state of an EquationSystem (format 1)")
+        d = self.__dict__
+        for k in ("name", "equation_names", "mechanics", "description"):
+            d[k] = state[k]
+        # no validation (a pickle holds a system that was valid when built) and no SymPy: the
+        # equations and the symbols come back on first use (__getattr__)
+        d["variables"], d["limits"] = tuple(state["variables"]), tuple(state["limits"])
+        d["names"] = tuple(v.name for v in d["variables"])
+        d["_index"] = {n: i for i, n in enumerate(d["names"])}
+        d["_code"] = dict(state["code"])
+        if "equations" in state:  # a state from compiled_state()
+            d["equations"] = tuple(state["equations"])
+        if state.get("deferred") is not None:
+            d[_deferred.DEFERRED] = state["deferred"]
+        d.update(state.get("extras", {}))
         omitted = tuple(state.get("omitted", ()))
+        apart = set(state.get("deferred_keys", ()))
         for f in fields(self):  # a declared field that did not pickle is back at its default
-            if f.name not in self.__dict__ or f.name in omitted:
+            if f.name in omitted or (f.name not in d and f.name not in apart and f.init):
                 if f.default is not MISSING:
-                    self.__dict__[f.name] = f.default
+                    d[f.name] = f.default
                 elif f.default_factory is not MISSING:
-                    self.__dict__[f.name] = f.default_factory()
-        self.__dict__["unpickled_without"] = omitted
+                    d[f.name] = f.default_factory()
+        d["unpickled_without"] = omitted
+
+    def __getattr__(self, name: str):
+        # reached only for attributes missing from the instance: a loaded system's symbolic
+        # parts (kept apart when pickled) and its symbols, made on first use
+        if name == "symbols" and "variables" in self.__dict__:
+            value = self.__dict__["symbols"] = tuple(v.symbol for v in self.variables)
+            return value
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return _deferred.materialize(self, name)
 
     def __copy__(self) -> EquationSystem:
         # a plain shallow copy (with_values relies on sharing _code); not the pickled state
@@ -484,6 +535,8 @@ class EquationSystem:
         With ``shared=True`` sub-expressions used more than once (a spring's length, its
         direction) are named ``w0, w1, ...`` and listed first, as a hand derivation would.
         """
+        import sympy as sp
+
         eqs = list(self.equations)
         lines = []
         if shared:
@@ -495,11 +548,16 @@ class EquationSystem:
 
     def latex(self) -> str:
         """The equations as a LaTeX ``align`` environment."""
+        import sympy as sp
+
         def label(name: str) -> str:
             return name.replace("_", "\\_")  # underscores are special in LaTeX text mode
 
         rows = [f"{sp.latex(e)} &= 0 && \\text{{({label(name)})}}" for name, e in zip(self.equation_names, self.equations)]
         return "\\begin{align}\n" + " \\\\\n".join(rows) + "\n\\end{align}"
+
+
+_deferred.defaults_off_the_class(EquationSystem)
 
 
 class ColumnView:
@@ -517,7 +575,7 @@ class ColumnView:
         self.columns = np.asarray(columns, dtype=np.intp).reshape(-1)
         if len(np.unique(self.columns)) != len(self.columns):
             raise ValueError("ColumnView: the columns must be distinct")
-        n_eq, n = len(system.equations), len(system.names)
+        n_eq, n = system.n_equations, len(system.names)
         # column by column: the arrays come out in Fortran order, as ``J[:, columns]`` makes
         # them (the layout decides the summation order of later reductions and products)
         self.n_eq, self._shape = n_eq, (len(self.columns), n_eq)

@@ -16,31 +16,22 @@ stability and dynamics, and a drawing scene::
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from ..equations import Model
-from ._actuators import Actuator
-from ._assembly import DofReport, assemble, close_constraints, dof_report
-from ._check import CheckReport, check_report
-from ._conditions import Condition, DownlockSpec
-from ._description import (
-    Body,
-    CustomLoad,
-    Damper,
-    Drag,
-    Gravity,
-    Mechanism,
-    Moment,
-    Parameter,
-    PointForce,
-    Polar,
-    Prismatic,
-    Revolute,
-    Slider,
-    Spring,
-    Weld,
-    coordinate_names,
-)
-from ._file import builtin_descriptions, find_description, load_description, parse_description
+from .._lazy import lazy_exports
+
+#: public name -> the module of this package that defines it; each is imported on first use
+#: (PEP 562), so finding or listing description files imports no SymPy
+_LAZY = {
+    **dict.fromkeys(["Actuator"], "_actuators"),
+    **dict.fromkeys(["DofReport", "assemble", "close_constraints", "dof_report"], "_assembly"),
+    **dict.fromkeys(["CheckReport", "check_report"], "_check"),
+    **dict.fromkeys(["Condition", "DownlockSpec"], "_conditions"),
+    **dict.fromkeys(["Body", "CustomLoad", "Damper", "Drag", "Gravity", "Mechanism", "Moment", "Parameter", "PointForce",
+                     "Polar", "Prismatic", "Revolute", "Slider", "Spring", "Weld", "coordinate_names"], "_description"),
+    **dict.fromkeys(["load_description", "parse_description"], "_file"),
+    **dict.fromkeys(["builtin_descriptions", "find_description"], "_paths"),
+}
 
 __all__ = [
     "load", "load_description", "parse_description", "builtin_descriptions", "find_description",
@@ -49,6 +40,36 @@ __all__ = [
     "coordinate_names",
     "assemble", "dof_report", "DofReport", "close_constraints", "check_report", "CheckReport",
 ]
+
+if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
+    from ..equations import Model
+    from ._actuators import Actuator
+    from ._assembly import DofReport, assemble, close_constraints, dof_report
+    from ._check import CheckReport, check_report
+    from ._conditions import Condition, DownlockSpec
+    from ._description import (
+        Body,
+        CustomLoad,
+        Damper,
+        Drag,
+        Gravity,
+        Mechanism,
+        Moment,
+        Parameter,
+        PointForce,
+        Polar,
+        Prismatic,
+        Revolute,
+        Slider,
+        Spring,
+        Weld,
+        coordinate_names,
+    )
+    from ._file import load_description, parse_description
+    from ._paths import builtin_descriptions, find_description
+
+
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())
 
 
 def load(name_or_path: str | Path, *, reduced: bool = False, **overrides: float) -> Model:
@@ -69,5 +90,7 @@ def load(name_or_path: str | Path, *, reduced: bool = False, **overrides: float)
         An equation system with ``mechanics``, ``scene``, ``potential_energy``, ``dof`` and the
         description's other facts as declared fields.
     """
+    from ._file import load_description
+
     mech = load_description(name_or_path)
     return mech.build_reduced(**overrides) if reduced else mech.build(**overrides)

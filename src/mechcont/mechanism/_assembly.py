@@ -196,8 +196,8 @@ def assemble(system: EquationSystem, values: Mapping[str, float] | None = None,
     for n in free:
         system.index(n)
     unknowns = states + [n for n in free if n not in states]
-    if len(unknowns) != len(system.equations):
-        raise InputError("free", f"{len(system.equations)} equations but {len(unknowns)} unknowns; hold as many "
+    if len(unknowns) != system.n_equations:
+        raise InputError("free", f"{system.n_equations} equations but {len(unknowns)} unknowns; hold as many "
                                  f"states as you free parameters (held {len(hold)}, freed {len(free)})")
     mech = system.mechanics
     q_index = mech.q_index

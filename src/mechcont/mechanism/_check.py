@@ -23,15 +23,17 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from ..equations import as_model
+from ..equations import Model, as_model
 from ..errors import ConvergenceError, InputError, one_line
 from ._assembly import assemble
-from ._description import Mechanism
-from ._file import find_description, load_description
+from ._paths import find_description
+
+if TYPE_CHECKING:
+    from ._description import Mechanism
 
 __all__ = ["check_report", "CheckReport", "Quantity", "State"]
 
@@ -132,6 +134,8 @@ class CheckReport:
     x: np.ndarray = field(repr=False, compare=False)
     x_equilibrium: np.ndarray | None = field(repr=False, compare=False)
     compliant: tuple[Quantity, ...] = ()
+    #: the coordinates held at assembly (``[assembly] hold``)
+    hold: tuple[str, ...] = ()
 
     @property
     def ok(self) -> bool:
@@ -141,8 +145,7 @@ class CheckReport:
     @property
     def held(self) -> tuple[Quantity, ...]:
         """The coordinates held at assembly (``[assembly] hold``), at their assembled values."""
-        hold = as_model(self.system).mechanism.hold
-        return tuple(Quantity(n, float(self.x[self.system.index(n)]), self.system.variable(n).unit) for n in hold)
+        return tuple(Quantity(n, float(self.x[self.system.index(n)]), self.system.variable(n).unit) for n in self.hold)
 
     @property
     def assembled_is_equilibrium(self) -> bool:
@@ -273,6 +276,52 @@ def _build(mech: Mechanism, reduced: bool, overrides: Mapping[str, float]):
     raise AssertionError("unreachable: at most one rebuild per kind")  # pragma: no cover
 
 
+class _Facts(NamedTuple):
+    """What the report says of the description itself (its name, intended dof, joints...)."""
+
+    name: str
+    description: str
+    dof: int | None
+    dimension: int
+    joints: tuple[str, ...]
+    hold: tuple[str, ...]
+
+    @classmethod
+    def of(cls, mech: Mechanism) -> _Facts:
+        """The facts of ``mech``."""
+        return cls(mech.name, mech.description, mech.dof, mech.dimension, tuple(j.name for j in mech.joints),
+                   tuple(mech.hold))
+
+
+def _stored_build(name_or_path: str | Path, reduced: bool, overrides: Mapping[str, float]) -> tuple[Model, tuple, _Facts]:
+    """:func:`_build` of a description file, with the description's facts; kept in the disk cache
+    (keyed by the file's name and full text, the form and the values), so a new process checking
+    the same file neither reads it (SymPy) nor generates its equations again."""
+    from ..equations._stored import stored
+
+    path = find_description(name_or_path)
+    if path is None:
+        from ._file import load_description
+
+        load_description(name_or_path)  # raises the reader's error
+        raise AssertionError("unreachable")  # pragma: no cover
+    try:
+        text = path.read_bytes()
+    except OSError as exc:
+        raise InputError(str(path), f"cannot read the file ({exc.__class__.__name__})") from None
+    values = {k: float(v) for k, v in overrides.items()}
+
+    def build() -> tuple[Model, tuple, _Facts]:
+        from ._file import load_description
+
+        mech = load_description(path)
+        system, findings, _ = _build(mech, reduced, values)
+        return system, tuple(findings), _Facts.of(mech)
+
+    return stored(lambda: ["check build", path.name, text, f"reduced={reduced}", repr(sorted(values.items()))], build,
+                  valid=lambda obj: isinstance(obj, tuple) and len(obj) == 3 and isinstance(obj[0], Model))
+
+
 def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
                  **overrides: float) -> CheckReport:
     """Build a mechanism description and report what was made of it.
@@ -299,17 +348,18 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         Any other reason the description cannot be read or built (e.g. a loop that
         cannot close), as :meth:`Mechanism.build` raises it.
     """
-    if isinstance(mech_or_path, Mechanism):
-        mech = mech_or_path
-        source = mech.source[0] if isinstance(mech.source, tuple) else "(Python object)"
-    else:
-        mech = load_description(mech_or_path)
+    if isinstance(mech_or_path, (str, Path)):
         source = str(find_description(mech_or_path))
+        system, found, mech = _stored_build(mech_or_path, reduced, overrides)
+    else:
+        source = mech_or_path.source[0] if isinstance(mech_or_path.source, tuple) else "(Python object)"
+        system, found, _ = _build(mech_or_path, reduced, overrides)
+        mech = _Facts.of(mech_or_path)
+    findings = list(found)
     intended = mech.dof
-    system, findings, _ = _build(mech, reduced, overrides)
     x = system.defaults()
     model = system.mechanics
-    nq, nc = len(model.coordinates), len(model.constraints)
+    nq, nc = len(model.coordinates), model.n_constraints
     report = system.dof
 
     # loop closure per joint: equation names <joint>_x, _y, _z, _n, _n1 (m), <joint>_angle and
@@ -329,8 +379,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     dropped_joints = {eq.rsplit("_", 1)[0] for eq in system.dropped_constraints}
     # only the reduced form closes joints away; a spatial joint whose rows are all compliant has none
     # among the constraints either, and is reported with its deflections instead
-    eliminated = tuple(j.name for j in mech.joints
-                       if j.name not in kept and j.name not in dropped_joints) if reduced else ()
+    eliminated = tuple(j for j in mech.joints if j not in kept and j not in dropped_joints) if reduced else ()
     for q in closure:
         if not q.value <= CLOSURE_TOL:
             findings.append(f"joint {q.name} is open by {q.value:.3g} {q.unit} at the assembled configuration")
@@ -386,11 +435,11 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     return CheckReport(
         name=mech.name, source=source, description=mech.description, reduced=reduced, dof=report.dof,
         intended_dof=intended, rank=report.rank, n_coordinates=nq, n_constraints=nc,
-        n_equations=len(system.equations), n_unknowns=len(system.state_names),
+        n_equations=system.n_equations, n_unknowns=len(system.state_names),
         n_parameters=len(system.parameter_names), redundant=redundant, dropped_residual=dropped,
         closure=closure, eliminated_joints=eliminated, imbalance=imbalance, equilibrium_note=note,
         stability=stability, scales=scales, parameters=params, states=states, findings=tuple(findings),
-        system=system, x=x, x_equilibrium=xe, compliant=compliant)
+        system=system, x=x, x_equilibrium=xe, compliant=compliant, hold=mech.hold)
 
 
 def _compliant(system, x: np.ndarray) -> list[tuple[int, str, float]]:

@@ -65,11 +65,11 @@ from ._description import (
     Spring,
     Weld,
 )
+from ._paths import builtin_descriptions, find_description
 from ._stops import STOP_KEYS, stops_from_table
 
 __all__ = ["load_description", "parse_description", "builtin_descriptions", "find_description", "locate_error"]
 
-DATA_DIR = Path(__file__).resolve().parent.parent / "data"
 
 _JOINTS = {"revolute": (Revolute, {"a", "b"}), "slider": (Slider, {"a", "b", "angle"}),
            "prismatic": (Prismatic, {"a", "b", "angle", "relative_angle"}), "weld": (Weld, {"a", "b", "angle"})}
@@ -94,22 +94,6 @@ KEYS: dict[str, frozenset[str]] = {
     "assembly": frozenset({"hold"}),
     "stops.NAME": STOP_KEYS,
 }
-
-
-def builtin_descriptions() -> list[str]:
-    """Stems of the description files shipped in ``mechcont/data`` (e.g. ``"overcentre"``)."""
-    return sorted(p.stem for p in DATA_DIR.glob("*.toml"))
-
-
-def find_description(name_or_path: str | Path) -> Path | None:
-    """The description file meant by ``name_or_path``: an existing ``.toml`` path, or the stem
-    (with or without ``.toml``) of a shipped description; None when neither."""
-    p = Path(name_or_path)
-    if p.suffix == ".toml" and p.is_file():
-        return p
-    stem = p.name[:-5] if p.name.endswith(".toml") else p.name
-    shipped = DATA_DIR / f"{stem}.toml"
-    return shipped if str(p.parent) in (".", "") and shipped.is_file() else None
 
 
 def load_description(name_or_path: str | Path) -> Mechanism:

@@ -31,15 +31,16 @@ import sympy as sp
 from ..equations import EquationSystem, MechanicalModel, Model, StopLimit, Variable, velocity_symbol
 from ..errors import InputError
 from ._assembly import close_constraints, dof_report
+from ._compiled import CoordinatesOf, DroppedResidual
 from ._conditions import condition_description, condition_rows, condition_scale, condition_targets
-from ._description import CustomLoad, Mechanism, PointForce
+from ._description import CustomLoad, Drag, Mechanism, PointForce
 from ._expr import float_value, symbol
 from ._forces import loads
 from ._kinematics import ConstraintRow, Kinematics, pin_chain
 from ._reduce import reduce_form
 from ._scene import scene_function
 from ._stops import stop_forces
-from ._values import check_values, evaluate, parameter_values, physical_limits
+from ._values import check_values, evaluate, parameter_values, physical_limits, value_check
 
 __all__ = ["generate"]
 
@@ -318,7 +319,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
         + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
         limits=physical_limits(mech, solve=True),
         scene=scene_function(kin, st.arrows, [v.symbol for v in variables], st.subs),
-        check_values=partial(_check_analysis_values, mech),
+        check_values=_analysis_value_check(mech),
     )
     var.model = Model.from_system(
         system,
@@ -403,6 +404,16 @@ def summary(mech: Mechanism) -> tuple[str, list[tuple[str, str, str, str, float 
     out += [(c.name, "state", c.value_unit, condition_description(c), None) for c in mech.conditions]
     out += [(p.name, "parameter", p.unit, p.description, float(p.value)) for p in mech.parameters]
     return mech.description or f"generated from the description of {mech.name}", out
+
+
+def _analysis_value_check(mech: Mechanism):
+    """``check(values)`` of :func:`_check_analysis_values`, screened by compiled code (see
+    :class:`~mechcont.mechanism._compiled.ValueCheck`)."""
+    vectors = [[mech.value(f"loads.{ld.name}.direction.{c}") for c in "xy"] for ld in mech.loads
+               if isinstance(ld, PointForce) and isinstance(ld.direction, (tuple, list))]
+    static = any(isinstance(ld, Drag) and ld.start == ld.end for ld in mech.loads)
+    return value_check(mech, partial(_check_analysis_values, mech), physical_limits(mech, solve=True), vectors,
+                       static_error=static)
 
 
 def _check_analysis_values(mech: Mechanism, values: Mapping[str, float]) -> None:
@@ -502,39 +513,14 @@ def _redundancy_error(mech: Mechanism, rows: list[ConstraintRow], report) -> Inp
                       f"[mechanism] to drop the dependent rows")
 
 
-@dataclass(frozen=True)
-class _DroppedResidual:
-    """``f(x) -> max |Phi_dropped(x)|`` (m or rad): 0 while the dropped rows stay implied."""
-
-    fn: object | None
-
-    def __call__(self, x: np.ndarray) -> float:
-        """Largest residual of the dropped redundant constraint rows at ``x`` (0.0 if none dropped)."""
-        if self.fn is None:
-            return 0.0
-        return float(np.max(np.abs(self.fn(np.asarray(x, dtype=float)))))
-
-
-def _dropped_residual(system: EquationSystem, dropped: list[ConstraintRow]) -> _DroppedResidual:
-    """The compiled residual of the ``dropped`` rows of ``system`` (see :class:`_DroppedResidual`)."""
+def _dropped_residual(system: EquationSystem, dropped: list[ConstraintRow]) -> DroppedResidual:
+    """The compiled residual of the ``dropped`` rows of ``system`` (see :class:`DroppedResidual`)."""
     from ..equations._codegen import compile_dense
-    return _DroppedResidual(compile_dense(list(system.symbols), [r.expr for r in dropped]) if dropped else None)
+    return DroppedResidual(compile_dense(list(system.symbols), [r.expr for r in dropped]) if dropped else None)
 
 
-@dataclass(frozen=True)
-class _CoordinatesOf:
-    """``f(x) -> {coordinate: value}`` for every body coordinate, eliminated ones included."""
-
-    coordinates: tuple[str, ...]
-    fn: object
-
-    def __call__(self, x: np.ndarray) -> dict[str, float]:
-        """All body coordinates (m, rad) at the full variable vector ``x``."""
-        return dict(zip(self.coordinates, (float(v) for v in self.fn(np.asarray(x, dtype=float)))))
-
-
-def _coordinates_of(kin: Kinematics, system: EquationSystem, subs: dict) -> _CoordinatesOf:
-    """The compiled body coordinates of ``system`` (see :class:`_CoordinatesOf`)."""
+def _coordinates_of(kin: Kinematics, system: EquationSystem, subs: dict) -> CoordinatesOf:
+    """The compiled body coordinates of ``system`` (see :class:`CoordinatesOf`)."""
     from ..equations._codegen import compile_dense
     exprs = [subs.get(s, s) for s in kin.q]
-    return _CoordinatesOf(tuple(kin.coords), compile_dense(list(system.symbols), exprs))
+    return CoordinatesOf(tuple(kin.coords), compile_dense(list(system.symbols), exprs))

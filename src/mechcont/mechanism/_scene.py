@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
@@ -11,6 +10,7 @@ import sympy as sp
 from ..equations import Scene
 from ..equations._codegen import compile_dense
 from ._actuators import actuator_load
+from ._compiled import GeneratedScene
 from ._description import CustomLoad, Moment, Prismatic, Revolute, Slider, Weld
 from ._kinematics import Kinematics
 
@@ -98,46 +98,3 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
         add("point", f"ground.{gname}", [kin.point(f"ground.{gname}")])
     exprs = [sp.sympify(e, strict=True).xreplace(subs) for e in exprs]
     return GeneratedScene(tuple(items), compile_dense(list(symbols), exprs))
-
-
-@dataclass(frozen=True)
-class GeneratedScene:
-    """``scene(x) -> Scene`` of a generated mechanism (see :func:`scene_function`); picklable.
-
-    ``items`` lists ``(kind, name, (number of points, extra))`` in the order of the compiled
-    function ``fn``'s output pairs.
-    """
-
-    items: tuple
-    fn: object
-
-    def __call__(self, x: np.ndarray) -> Scene:
-        """Drawing primitives at the full variable vector ``x`` (m, N)."""
-        flat = np.asarray(self.fn(np.asarray(x, dtype=float)), dtype=float).reshape(-1, 2)
-        out, i = Scene(), 0
-        for kind, name, (n, _) in self.items:
-            pts = flat[i:i + n]
-            i += n
-            if kind == "bar":
-                out.bars.append((name, pts.copy()))
-            elif kind == "pin":
-                out.pins.append(pts[0].copy())
-            elif kind == "ground":
-                out.grounds.append(pts[0].copy())
-            elif kind == "slider":
-                out.sliders.append((pts[0].copy(), pts[1].copy()))
-            elif kind == "spring":
-                out.springs.append((name, pts[0].copy(), pts[1].copy()))
-            elif kind == "damper":
-                out.dampers.append((name, pts[0].copy(), pts[1].copy()))
-            elif kind == "anchor":
-                out.anchors.append(pts[0].copy())
-            elif kind == "actuator":
-                out.actuators.append((name, pts[0].copy(), pts[1].copy(), float(pts[2][0])))
-            elif kind == "moment":
-                out.moments.append((name, pts[0].copy(), float(pts[1][0])))
-            elif kind == "point":
-                out.points.append((name, pts[0].copy()))
-            else:
-                out.forces.append((name, pts[0].copy(), pts[1].copy()))
-        return out

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
+import numpy as np
 import sympy as sp
 
 from ..equations import Limit
@@ -12,7 +13,8 @@ from ..errors import InputError
 from ._description import Drag, Mechanism, PointForce
 from ._expr import float_value
 
-__all__ = ["parameter_values", "check_values", "check_finite", "check_stop_limits", "physical_limits", "evaluate"]
+__all__ = ["parameter_values", "check_values", "check_finite", "check_stop_limits", "physical_limits", "evaluate",
+           "value_check"]
 
 
 def parameter_values(mech: Mechanism, overrides: Mapping[str, float]) -> dict[str, float]:
@@ -142,3 +144,44 @@ def check_values(mech: Mechanism, values: Mapping[str, float], *, solve: bool = 
             uy = evaluate(mech.value(f + ".direction.y"), values, f + ".direction")
             if ux == 0 and uy == 0:
                 raise InputError(f + ".direction", "direction must not be the zero vector")
+
+
+def value_check(mech, exact, limits: list[Limit], vectors: list[list], perpendicular: list[list] = (),
+                static_error: bool = False):
+    """A :class:`~mechcont.mechanism._compiled.ValueCheck` of ``mech``: ``exact(values)`` screened by
+    its quantities compiled (the description's numbers in the parameters alone, the ``limits``,
+    the ``vectors`` (each a list of expressions, not all zero) and the ``perpendicular`` pairs
+    (six expressions: two 3-vectors)). No screen when a quantity depends on more than the
+    parameters or ``static_error`` (a defect that does not depend on the values)."""
+    from ..equations._codegen import compile_dense
+    from ._compiled import ValueCheck
+
+    names = [p.name for p in mech.parameters]
+    syms = [mech.param_symbols[n] for n in names]
+    known = set(syms)
+    exprs = [e for e in mech._exprs.values() if e.free_symbols <= known]
+    groups: list[tuple[str, int]] = [("finite", len(exprs))]
+    for lim in limits:
+        exprs.append(lim.expr)
+        groups.append(("positive" if lim.strict else "nonnegative", 1))
+    for vec in vectors:
+        exprs += vec
+        groups.append(("nonzero", len(vec)))
+    for pair in perpendicular:
+        exprs += pair
+        groups.append(("perpendicular", 6))
+    exprs = [sp.sympify(e, strict=True) for e in exprs]
+    usable = not static_error and all(e.free_symbols <= known for e in exprs)
+    screen = None
+    if usable and exprs:
+        # without parameters the quantities are numbers (SymEngine compiles no function of nothing)
+        screen = compile_dense(syms, exprs) if syms else np.array([_number(e) for e in exprs])
+    return ValueCheck(names, [p.value for p in mech.parameters], screen, groups if screen is not None else (), exact)
+
+
+def _number(expr: sp.Expr) -> float:
+    """The value of a constant expression, nan when it is not a real number."""
+    try:
+        return float(expr)
+    except (TypeError, ValueError):
+        return math.nan

@@ -11,8 +11,8 @@ from ..errors import InputError
 
 __all__ = ["BUILTIN_MODELS", "load_model", "model_names", "describe_model", "ModelSummary"]
 
-#: Descriptions read in this process, by (resolved path, modification time), at most ``_KEEP``.
-_DESCRIPTIONS: dict[tuple[str, int], object] = {}
+#: Descriptions read in this process, by (resolved path, text), at most ``_KEEP``.
+_DESCRIPTIONS: dict[tuple[str, bytes], object] = {}
 _KEEP = 16
 
 
@@ -99,29 +99,50 @@ def describe_model(name: str | Path) -> ModelSummary:
     key = str(name)
     if key in _SUMMARIES:
         description, variables = _SUMMARIES[key]()
-        rows = [(v.name, v.kind, v.unit, v.description, v.value) for v in variables]
-    else:
-        from ..mechanism import find_description, load_description
+        return _summary(key, description, [(v.name, v.kind, v.unit, v.description, v.value) for v in variables])
+    from ..equations._stored import stored
+    from ..mechanism._paths import find_description
+
+    path = find_description(key)
+    if path is None:
+        raise InputError("model", f"unknown model '{key}'; valid: {', '.join(model_names())} or a path to a "
+                                  f".toml file")
+    text = _read(path)
+
+    def describe() -> ModelSummary:
+        from ..mechanism import load_description
         from ..mechanism._generate import summary
 
-        path = find_description(key)
-        if path is None:
-            raise InputError("model", f"unknown model '{key}'; valid: {', '.join(model_names())} or a path to a "
-                                      f".toml file")
         mech = load_description(path)
         found = summary(mech) if mech.dimension == 2 else None
         if found is None:
             m = load_model(key)
             found = m.description, [(v.name, v.kind, v.unit, v.description, v.value) for v in m.variables]
-        description, rows = found
+        return _summary(key, *found)
+
+    # kept in the disk cache, keyed by the file's name and full text (reading a description imports SymPy)
+    return stored(lambda: ["description summary", key, path.name, text], describe,
+                  valid=lambda obj: isinstance(obj, ModelSummary) and obj.name == key)
+
+
+def _summary(key: str, description: str, rows) -> ModelSummary:
+    """A :class:`ModelSummary` from rows ``(name, kind, unit, description, value)``."""
     states = tuple((n, u, d) for n, kind, u, d, _ in rows if kind == "state")
     return ModelSummary(key, description, len(states), states,
                         tuple((n, float(v), u, d) for n, kind, u, d, v in rows if kind == "parameter"))
 
 
+def _read(path: Path) -> bytes:
+    """The bytes of a description file (its key in the disk cache), or :class:`InputError`."""
+    try:
+        return path.read_bytes()
+    except OSError as exc:
+        raise InputError(str(path), f"cannot read the file ({exc.__class__.__name__})") from None
+
+
 def model_names() -> list[str]:
     """Names accepted by :func:`load_model`: built-in models, then shipped description files."""
-    from ..mechanism import builtin_descriptions
+    from ..mechanism._paths import builtin_descriptions
 
     return [*BUILTIN_MODELS, *(f"{stem}.toml" for stem in builtin_descriptions())]
 
@@ -145,17 +166,28 @@ def load_model(name: str | Path, **overrides: float) -> Model:
     key = str(name)
     if key in BUILTIN_MODELS:
         return BUILTIN_MODELS[key][0](**overrides)
-    from ..mechanism import find_description, load_description
+    from ..equations._stored import stored
+    from ..mechanism._paths import find_description
 
     path = find_description(key)
     if path is None:
         raise InputError("model", f"unknown model '{key}'; valid: {', '.join(model_names())} or a path to a .toml file")
-    # the description is parsed once per file version; its equations are generated and
-    # compiled on its first build, and a build at other values reuses them (Mechanism.build)
-    resolved = Path(path).resolve()
-    stamp = (str(resolved), resolved.stat().st_mtime_ns)
-    mech = _DESCRIPTIONS.pop(stamp, None) or load_description(path)
-    _DESCRIPTIONS[stamp] = mech  # most recently used last
-    while len(_DESCRIPTIONS) > _KEEP:
-        del _DESCRIPTIONS[next(iter(_DESCRIPTIONS))]
-    return mech.build(**overrides)
+    text = _read(path)
+    values = {k: float(v) for k, v in overrides.items()}
+
+    def build() -> Model:
+        from ..mechanism import load_description
+
+        # the description is parsed once per file text; its equations are generated and
+        # compiled on its first build, and a build at other values reuses them (Mechanism.build)
+        stamp = (str(Path(path).resolve()), text)
+        mech = _DESCRIPTIONS.pop(stamp, None) or load_description(path)
+        _DESCRIPTIONS[stamp] = mech  # most recently used last
+        while len(_DESCRIPTIONS) > _KEEP:
+            del _DESCRIPTIONS[next(iter(_DESCRIPTIONS))]
+        return mech.build(**values)
+
+    # the built model (structure and compiled code) is kept in the disk cache, keyed by the file's
+    # name and full text and the values (an edited file never reuses an entry of its old text)
+    return stored(lambda: ["description model", path.name, text, repr(sorted(values.items()))], build,
+                  valid=lambda obj: isinstance(obj, Model))

@@ -24,12 +24,15 @@ Loads (gravity of the fitting and wheels and of the sidestay arms) enter only th
 from __future__ import annotations
 
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
-import sympy as sp
 
 from ..equations import EquationSystem, Limit, Model, Scene, Variable
 from .dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry, rotation
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = ["build_dual_sidestay_kinematics", "geometry_values", "points_at", "gear_scene", "loaded_scene",
            "actuator_tension", "gravity_rate", "start_values", "actuator_length_rate", "SIDES", "POINTS"]
@@ -63,6 +66,8 @@ def start_values(geo: GearGeometry) -> dict[str, float]:
 
 
 def _rodrigues(axis: sp.Matrix, angle) -> sp.Matrix:
+    import sympy as sp
+
     k = sp.Matrix([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
     return sp.eye(3) + sp.sin(angle) * k + (1 - sp.cos(angle)) * k * k
 
@@ -93,10 +98,16 @@ def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> Mode
 
     The scene draws the gear in 3-D (fitting, arms, lock links, actuator, weight). The
     equations are generated and compiled once per process; another ``geo`` only changes the
-    defaults and the model's ``geometry``.
+    defaults and the model's ``geometry``. A new process loads them with their compiled code from
+    the disk cache (keyed by mechcont's source) when an earlier one built them.
     """
     if "system" not in _STRUCTURE:
-        _STRUCTURE["system"] = _build(_variables(DEFAULT_GEOMETRY))
+        from ..equations._stored import stored
+
+        _STRUCTURE["system"] = stored(lambda: ["dual_sidestay_kinematics structure"],
+                                      lambda: _build(_variables(DEFAULT_GEOMETRY)),
+                                      valid=lambda obj: isinstance(obj, EquationSystem)
+                                      and obj.name == "dual_sidestay_kinematics")
     model = Model.from_system(_STRUCTURE["system"].evolve(variables=_variables(geo)), geometry=geo)
     return model.evolve(scene=partial(loaded_scene, model))
 
@@ -109,6 +120,8 @@ _STRUCTURE: dict[str, EquationSystem] = {}
 
 def _build(variables: list[Variable]) -> EquationSystem:
     """Generate and compile the kinematic equations in the ``variables`` (their values are the defaults)."""
+    import sympy as sp
+
     s = {v.name: v.symbol for v in variables}
     axis = sp.Matrix([-sp.cos(s["delta"]), 0, -sp.sin(s["delta"])])
     R = _rodrigues(axis, s["theta"])

@@ -57,13 +57,16 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
-import sympy as sp
 
 from ..equations import EquationSystem, Limit, MechanicalModel, Model, Scene, Variable, velocity_symbol
 from ..errors import InputError
 from .nose_gear_geometry import PARAMETERS, defaults, downlocked_pose
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = ["build_nose_gear", "overcentre_angle", "COORDINATES", "FORCES"]
 
@@ -85,11 +88,15 @@ def _cross(a, b):
 
 
 def _e(a):
+    import sympy as sp
+
     return sp.Matrix([sp.cos(a), sp.sin(a)])
 
 
 def _points(s):
     """Every named point of the gear, each expressed on its own body's coordinates."""
+    import sympy as sp
+
     G = {i: sp.Matrix([s[f"x{i}"], s[f"y{i}"]]) for i in range(1, 6)}
     e = {i: _e(s[f"theta{i}"]) for i in range(1, 6)}
     t3 = s["theta3"]
@@ -105,6 +112,8 @@ def _points(s):
 
 
 def _constraints(s, P):
+    import sympy as sp
+
     A = sp.Matrix([s["Ax"], s["Ay"]])
     pairs = [(P["A1"], A), (P["K1"], P["K2"]), (P["P2_2"], P["P2_3"]), (P["O3"], sp.zeros(2, 1)),
              (P["K1"], P["K4"]), (P["J4"], P["J5"]), (P["P5_5"], P["P5_3"])]
@@ -117,16 +126,22 @@ def _constraints(s, P):
 
 
 def _spring(s, P):
+    import sympy as sp
+
     dvec = P["S3"] - P["S4"]
     length = sp.sqrt(dvec.dot(dvec))
     return dvec, length
 
 
 def _drag(s):
+    import sympy as sp
+
     return s["rho"] / 4 * (s["U"] * sp.cos(s["alpha"] - s["theta3"] + sp.pi / 2)) ** 2 * s["d"] * s["L3"] ** 2 * s["CD"]
 
 
 def _equilibrium(s, G, P):
+    import sympy as sp
+
     R = {n: sp.Matrix([s[f"{n}x"], s[f"{n}y"]]) for n in ("R12", "R14", "R23", "R45", "R53")}
     grav = {i: sp.Matrix([0, -s[f"m{i}"] * s["g"]]) for i in range(1, 6)}
     dvec, length = _spring(s, P)
@@ -155,6 +170,8 @@ def _equilibrium(s, G, P):
 
 
 def _mechanics(names, s, G, P, constraints):
+    import sympy as sp
+
     q = [s[n] for n in COORDINATES]
     qd = [velocity_symbol(n) for n in COORDINATES]
     dvec, length = _spring(s, P)
@@ -259,7 +276,7 @@ def _variables(p: dict[str, float], q: dict[str, float]) -> list[Variable]:
 #: What ``mechcont models`` says about the model.
 DESCRIPTION = "Planar nose landing gear, paper Section III-A: 15 coordinates + 10 inter-link forces, 25 equations"
 
-_STRUCTURE: dict[str, tuple[EquationSystem, sp.Expr]] = {}
+_STRUCTURE: dict[str, Model] = {}
 
 
 def summary_variables() -> list[Variable]:
@@ -268,23 +285,22 @@ def summary_variables() -> list[Variable]:
     return _variables(defaults(), dict.fromkeys(COORDINATES, 0.0))
 
 
-def _structure() -> tuple[EquationSystem, sp.Expr]:
-    """The gear's equations and potential energy, generated once (values are data).
+def _structure() -> Model:
+    """The gear's equations, compiled, and its potential energy, generated once (values are data).
 
-    Kept for the process, and in the disk cache of compiled code (keyed by this module's and
-    the geometry's source), so a new process does not derive the 25 equations again.
+    Kept for the process, and in the disk cache with its compiled code (keyed by mechcont's
+    source, see :mod:`mechcont.equations._stored`), so a new process neither derives the 25
+    equations again nor imports SymPy.
     """
     if "system" not in _STRUCTURE:
-        from pathlib import Path
+        from ..equations._stored import stored
 
-        from ..equations._cache import cached
+        def derive() -> Model:
+            system, V = _derive_structure()
+            return Model.from_system(system, potential_energy=V)
 
-        def sources():
-            here = Path(__file__).parent
-            return ["nose_gear structure", *((here / f).read_bytes() for f in ("nose_gear.py", "nose_gear_geometry.py"))]
-
-        _STRUCTURE["system"] = cached(sources, _derive_structure,
-                                      valid=lambda obj: isinstance(obj, tuple) and isinstance(obj[0], EquationSystem))
+        _STRUCTURE["system"] = stored(lambda: ["nose_gear structure"], derive,
+                                      valid=lambda obj: isinstance(obj, Model) and obj.name == "nose_gear")
     return _STRUCTURE["system"]
 
 
@@ -328,7 +344,7 @@ def build_nose_gear(**overrides: float) -> Model:
     check_values(overrides)
     p = defaults(**overrides)
     q = downlocked_pose(p, 0.0)
-    core, V = _structure()
+    core = _structure()
     system = core.evolve(variables=_variables(p, q))
     # inter-link forces at the downlocked pose: the equilibrium rows are linear in (R, F)
     x = system.defaults()
@@ -340,11 +356,11 @@ def build_nose_gear(**overrides: float) -> Model:
     sol = np.linalg.solve(J, -r0)
     x[unknown] = sol
     variables = tuple(replace(v, value=float(x[i])) if v.kind == "state" else v for i, v in enumerate(system.variables))
-    return Model.from_system(
-        system.evolve(variables=variables, scene=partial(_scene, system.names)),
-        potential_energy=V,
+    return system.evolve(
+        variables=variables,
+        scene=partial(_scene, system.names),
         downlock_hold={"theta4": 0.0},
         downlock_force="F",
         downlocked=x,
         assemble_downlocked=partial(_assemble_downlocked, core, x),
-    )
+    )  # type: ignore[return-value]

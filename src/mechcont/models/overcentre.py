@@ -35,7 +35,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import sympy as sp
 
 from ..equations import Limit, MechanicalModel, Model, Variable, velocity_symbol
 
@@ -85,10 +84,14 @@ def build_overcentre(**overrides: float) -> Model:
     Keyword arguments override the default parameter values (SI units). Returns a compiled
     :class:`EquationSystem` whose states are ``x1, y1, theta1, x2, y2, theta2`` and whose
     parameters are ``L1, L2, m1, m2, g, k, LU, m, n, F, c``. The equations are generated
-    once per process; later calls only change the defaults.
+    once per process, or loaded with their compiled code from the disk cache (keyed by
+    mechcont's source) when an earlier process built them; later calls only change the defaults.
     """
     if "base" not in _CACHE:
-        _CACHE["base"] = _build(dict(DEFAULTS))
+        from ..equations._stored import stored
+
+        _CACHE["base"] = stored(lambda: ["overcentre", repr(sorted(DEFAULTS.items()))], lambda: _build(dict(DEFAULTS)),
+                                valid=lambda obj: isinstance(obj, Model) and obj.name == "overcentre")
     p = dict(DEFAULTS)
     for key, val in overrides.items():
         if key not in p:
@@ -102,6 +105,8 @@ def build_overcentre(**overrides: float) -> Model:
 
 def _build(p: dict) -> Model:
     """Generate and compile the symbolic model (parameters ``p`` give the defaults)."""
+    import sympy as sp
+
     variables = _variables(p)
     s = {v.name: v.symbol for v in variables}
     x1, y1, t1, x2, y2, t2 = (s[n] for n in ("x1", "y1", "theta1", "x2", "y2", "theta2"))

@@ -49,7 +49,7 @@ from ._joints import SpatialRow
 from ._kinematics import SpatialKinematics, spatial_loads
 from ._rotation import quaternion_from_rotation_vector
 from ._scene import spatial_scene_function
-from ._values import check_spatial_values, spatial_limits
+from ._values import check_spatial_values, spatial_limits, spatial_value_check
 
 __all__ = ["generate"]
 
@@ -336,7 +336,7 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
         + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
         limits=spatial_limits(mech, solve=True),
         scene=spatial_scene_function(kin, st.arrows, [v.symbol for v in variables]),
-        check_values=partial(_check_analysis_values, mech),
+        check_values=spatial_value_check(mech, partial(_check_analysis_values, mech)),
     )
     var.model = Model.from_system(
         system,

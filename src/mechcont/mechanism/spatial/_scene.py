@@ -3,14 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
-import numpy as np
 import sympy as sp
 
-from ...equations import Scene
 from ...equations._codegen import compile_dense
 from .._actuators import actuator_load
+from .._compiled import SpatialScene
 from ._description import SpatialMoment
 from ._kinematics import SpatialKinematics
 
@@ -75,45 +73,3 @@ def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.
     for gname in mech.ground:
         add("point", f"ground.{gname}", [kin.point(f"ground.{gname}")])
     return SpatialScene(tuple(items), compile_dense(list(symbols), [sp.sympify(e, strict=True) for e in exprs]))
-
-
-@dataclass(frozen=True)
-class SpatialScene:
-    """``scene(x) -> Scene`` (3-D) of a generated spatial mechanism; picklable.
-
-    ``items`` lists ``(kind, name, number of points)`` in the order of the compiled function
-    ``fn``'s output triples (see :func:`spatial_scene_function`)."""
-
-    items: tuple
-    fn: object
-
-    def __call__(self, x: np.ndarray) -> Scene:
-        """Drawing primitives (3-D) at the full variable vector ``x``."""
-        flat = np.asarray(self.fn(np.asarray(x, dtype=float)), dtype=float).reshape(-1, 3)
-        out, i = Scene(), 0
-        for kind, name, n in self.items:
-            pts = flat[i:i + n].copy()
-            i += n
-            if kind == "bar":
-                out.bars.append((name, pts))
-            elif kind == "pin":
-                out.pins.append(pts[0])
-            elif kind == "ground":
-                out.grounds.append(pts[0])
-            elif kind == "axis":
-                out.joint_axes.append((name, pts[0], pts[1]))
-            elif kind == "spring":
-                out.springs.append((name, pts[0], pts[1]))
-            elif kind == "damper":
-                out.dampers.append((name, pts[0], pts[1]))
-            elif kind == "actuator":
-                out.actuators.append((name, pts[0], pts[1], float(pts[2][0])))
-            elif kind == "anchor":
-                out.anchors.append(pts[0])
-            elif kind == "moment":
-                out.moments.append((name, pts[0], pts[1]))
-            elif kind == "force":
-                out.forces.append((name, pts[0], pts[1]))
-            else:
-                out.points.append((name, pts[0]))
-        return out

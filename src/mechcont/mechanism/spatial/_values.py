@@ -52,6 +52,28 @@ def spatial_limits(mech: SpatialMechanism, *, solve: bool = True) -> list[Limit]
     return out
 
 
+def _vector_fields(mech: SpatialMechanism) -> list[str]:
+    """The key paths of the description's vectors that must not be zero (directions, axes)."""
+    fields = [f"loads.{ld.name}.direction" for ld in mech.loads if not isinstance(ld, (SpatialMoment,
+                                                                                          SpatialCustomLoad))]
+    fields += [f"loads.{ld.name}.axis" for ld in mech.loads if isinstance(ld, SpatialMoment)]
+    fields += ["gravity.direction"] if mech.gravity is not None else []
+    for j in mech.joints:
+        fields += [f"joints.{j.name}.{k}" for k in j.VECTORS]
+    return fields
+
+
+def spatial_value_check(mech: SpatialMechanism, exact):
+    """``exact(values)`` (:func:`check_spatial_values` for an analysis) screened by compiled code (see
+    :class:`~mechcont.mechanism._compiled.ValueCheck`): the same limits, vectors and perpendicular axes."""
+    from .._values import value_check
+
+    vectors = [[mech.value(f"{f}.{c}") for c in "xyz"] for f in _vector_fields(mech)]
+    pairs = [[mech.value(f"joints.{j.name}.{axis}.{c}") for axis in ("axis_a", "axis_b") for c in "xyz"]
+             for j in mech.joints if isinstance(j, Universal)]
+    return value_check(mech, exact, spatial_limits(mech, solve=True), vectors, pairs)
+
+
 def check_spatial_values(mech: SpatialMechanism, values: Mapping[str, float], *, solve: bool = False) -> None:
     """Reject impossible values at the parameter ``values``: non-finite numbers, quantities out of
     their :func:`spatial_limits` range, zero direction vectors. Raises a one-line InputError."""
@@ -64,13 +86,7 @@ def check_spatial_values(mech: SpatialMechanism, values: Mapping[str, float], *,
     for b in mech.bodies:
         if b.inertia is not None:
             _check_inertia(mech, values, f"bodies.{b.name}.inertia", len(b.inertia))
-    fields = [f"loads.{ld.name}.direction" for ld in mech.loads if not isinstance(ld, (SpatialMoment,
-                                                                                          SpatialCustomLoad))]
-    fields += [f"loads.{ld.name}.axis" for ld in mech.loads if isinstance(ld, SpatialMoment)]
-    fields += ["gravity.direction"] if mech.gravity is not None else []
-    for j in mech.joints:
-        fields += [f"joints.{j.name}.{k}" for k in j.VECTORS]
-    for f in fields:
+    for f in _vector_fields(mech):
         v = [evaluate(mech.value(f"{f}.{c}"), values, f) for c in "xyz"]
         if not any(v):
             raise InputError(f, "must not be the zero vector")

@@ -1,0 +1,103 @@
+"""Built models kept in the disk cache, so that a new process starts like a compiled tool.
+
+Deriving a model's equations in SymPy and compiling them is what a cold start costs; a
+built :class:`~mechcont.equations.Model` pickles with its compiled code, and its symbolic
+parts are pickled apart (see :mod:`._deferred`), so a process that loads one imports
+neither SymPy nor the code generation. :func:`stored` keeps such objects in the disk cache
+of compiled code (:mod:`._cache`: :func:`~._cache.load` and :func:`~._cache.store`, the same
+files, directory, switches and safety).
+
+The key: everything the object is made from that can change. The caller gives the inputs
+(a description file's full text, a built-in model's name and values); added here are the
+source of every module of mechcont (the code that builds from them: any change there
+invalidates every entry), the versions of SymPy, SymEngine, NumPy and Python, and the
+platform. SymPy's version is read from its ``release.py`` without importing it:
+:func:`~._cache.cache_key` imports SymPy (0.5 s), so it is not used for these keys.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import sys
+from collections.abc import Callable, Iterable
+from pathlib import Path
+from typing import TypeVar
+
+from . import _cache
+
+__all__ = ["stored", "stored_key"]
+
+T = TypeVar("T")
+_ENVIRONMENT: list[bytes] = []
+
+
+def _sympy_release() -> bytes:
+    """SymPy's ``release.py`` (its version), found without importing SymPy."""
+    from importlib.util import find_spec
+
+    spec = find_spec("sympy")
+    if spec is None or spec.origin is None:  # pragma: no cover - SymPy is a dependency
+        return b"no sympy"
+    try:
+        return (Path(spec.origin).parent / "release.py").read_bytes()
+    except OSError:  # pragma: no cover - an unusual installation: the installed version instead
+        from importlib.metadata import version
+
+        return version("sympy").encode()
+
+
+def _environment() -> bytes:
+    """The digest of mechcont's source and of the versions and platform (once per process)."""
+    if not _ENVIRONMENT:
+        import platform
+
+        import numpy
+        import symengine
+
+        from .. import __version__
+
+        root = Path(__file__).resolve().parent.parent
+        h = hashlib.sha256()
+        for path in sorted(root.rglob("*.py")):
+            rel = path.relative_to(root).as_posix().encode()
+            data = path.read_bytes()
+            h.update(len(rel).to_bytes(8, "little") + rel + len(data).to_bytes(8, "little") + data)
+        h.update(_sympy_release())
+        h.update("\n".join(["stored 1", __version__, f"symengine {symengine.__version__}", f"numpy {numpy.__version__}",
+                            f"python {sys.version_info[:3]}", f"{sys.platform} {platform.machine()} {sys.byteorder}"]
+                           ).encode())
+        _ENVIRONMENT.append(h.digest())
+    return _ENVIRONMENT[0]
+
+
+def stored_key(parts: Iterable[str | bytes]) -> str:
+    """SHA-256 (hex) of ``parts`` (separated unambiguously), mechcont's source and the environment."""
+    h = hashlib.sha256(b"mechcont stored object\n" + _environment())
+    for p in parts:
+        b = p if isinstance(p, bytes) else p.encode("utf-8", "surrogatepass")
+        h.update(len(b).to_bytes(8, "little") + b)
+    return h.hexdigest()
+
+
+def stored(parts: Callable[[], Iterable[str | bytes]], build: Callable[[], T], valid: Callable[[object], bool]) -> T:
+    """``build()``, or the object an earlier process stored under the key of ``parts()``.
+
+    ``valid(obj)`` must accept a loaded object (else it is built again and the entry
+    rewritten). With caching off (``MECHCONT_NO_CACHE``), just ``build()``; with SymEngine's
+    interpreted backend (whose code would be compiled again on loading) nothing is stored.
+    The cache's ``STATS`` count the look-ups.
+    """
+    if not _cache.enabled():
+        return build()
+    key = stored_key(parts())
+    obj = _cache.load(key)
+    if obj is not None and valid(obj):
+        _cache.STATS["hits"] += 1
+        return obj
+    _cache.STATS["misses"] += 1
+    obj = build()
+    from ._codegen import backend
+
+    if backend() == "llvm":
+        _cache.store(key, obj)
+    return obj
