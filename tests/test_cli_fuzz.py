@@ -373,3 +373,37 @@ def test_ctrl_c_during_a_sweep_is_one_line(tmp_path):
     assert proc.returncode == 130, err
     assert "Traceback" not in err and [ln for ln in err.splitlines() if ln.strip()] == ["error: interrupted"]
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("sig, status, word", [(signal.SIGTERM, 143, "terminated"), (signal.SIGINT, 130, "interrupted")])
+def test_a_library_error_after_a_signal_reports_the_signal(capsys, sig, status, word):
+    """A signal that interrupts Matplotlib mid-update can surface as Matplotlib's own error
+    ('Invalid affine transformation matrix') when the library goes on: the command still ends as
+    the signal says (seen under load in the animate signal test, exit 1 with a traceback)."""
+    import click
+
+    from mechcont import _signals
+    from mechcont.cli._app import _Group
+
+    @click.group(cls=_Group)
+    def group():
+        pass
+
+    @group.command()
+    def draw():
+        _signals.record(sig)
+        raise ValueError("Invalid affine transformation matrix")
+
+    _signals.clear()
+    with pytest.raises(SystemExit) as exit_info:
+        group.main(["draw"], prog_name="mechcont")
+    assert exit_info.value.code == status
+    assert capsys.readouterr().err.strip() == f"error: {word}"
+
+    @group.command()
+    def fail():
+        raise ValueError("a bug")
+
+    _signals.clear()
+    with pytest.raises(ValueError):  # without a signal a library error is not hidden
+        group.main(["fail"], prog_name="mechcont")

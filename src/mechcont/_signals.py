@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import signal
 
-__all__ = ["Terminated", "record", "raise_pending", "clear"]
+__all__ = ["Terminated", "record", "raise_pending", "clear", "pending"]
 
 _PENDING: list[int] = []
 
@@ -30,6 +30,11 @@ def record(signum: int) -> None:
 def clear() -> None:
     """Forget recorded signals (at the start of a command)."""
     _PENDING.clear()
+
+
+def pending() -> int | None:
+    """The first signal recorded since :func:`clear`, or None."""
+    return _PENDING[0] if _PENDING else None
 
 
 def raise_pending() -> None:

@@ -14,7 +14,7 @@ import sys
 
 import click
 
-from .._signals import Terminated, clear, raise_pending, record
+from .._signals import Terminated, clear, pending, raise_pending, record
 from ..errors import MechcontError, one_line
 
 
@@ -31,6 +31,12 @@ def _interrupt(signum, frame):
 def _fail(message: str, status: int):
     click.echo(f"error: {one_line(message)}", err=True)
     sys.exit(status)
+
+
+def _fail_for_signal():
+    if pending() == signal.SIGTERM:
+        _fail("terminated", 128 + signal.SIGTERM)
+    _fail("interrupted", 130)
 
 
 class _Group(click.Group):
@@ -62,9 +68,17 @@ class _Group(click.Group):
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
             sys.exit(1)
         except OSError as exc:
+            if pending() is not None:
+                _fail_for_signal()
             # the file system refused (disk full, permissions changed during the run, ...)
             what = f"'{exc.filename}'" if exc.filename else "a file"
             _fail(f"cannot write or read {what}: {exc.strerror or errno.errorcode.get(exc.errno, exc)}", 2)
+        except Exception:
+            # a signal that arrived while a library was mid-update (Matplotlib's transforms)
+            # can surface as that library's error when it goes on: the signal is the cause
+            if pending() is None:
+                raise
+            _fail_for_signal()
         sys.exit(rv if isinstance(rv, int) else 0)
 
 
