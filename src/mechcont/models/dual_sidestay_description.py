@@ -23,21 +23,37 @@ Bodies and joints (the same idealisation as the hand model, now as rigid bodies)
 * each lock-link pair has an overcentre stop 2 deg past aligned (``[stops.<side>_stop]`` on the
   condition ``<side>_lock``, whose sine an unlock force drives negative; contact reaction
   ``R_<side>_stop``, N m). In the design pose (gear down, theta = 0) the links are about 3 deg on
-  the unlocking side of aligned; locked, they rest on their stops a few thousandths of a degree of
-  retraction away.
+  the unlocking side of aligned (``fwd_lock`` = -0.049, ``aft_lock`` = -0.053); locked, they rest
+  on their stops a few thousandths of a degree of retraction away.
 
 The aft sidestay's airframe attachment may be compliant (``k_att``, N/m): with both lock-link
 pairs held aligned the gear is over-constrained (one sidestay already fixes the fitting), and
 the attachment's deflection is what makes every reaction determinate.
+
+The downlocked gear (``locked=True``, ``examples/dual_sidestay_locked.toml``) welds each lock-link
+pair on its stop, not at the design pose: a weld fixes the links' relative orientation as drawn,
+and drawn at the design pose (3 deg on the unlocking side) it would lock a gear that is not the
+one resting on its stops. So lock link 2 is written turned about ``J`` in the fold plane until
+``<side>_lock`` = :data:`STOP_SINE` (:func:`lug_on_stop`; link 1, the lock spring's points and its
+free length stay as in the unlocked file). Its end ``P`` then misses the fitting's lug by about
+6 cm: the design pose no longer closes, and the first assembly closes the rigid joints
+from it (the compliant aft attachment taking up the rest) and Newton finds the locked
+equilibrium. That is the unlocked gear's equilibrium with both stops in contact: the same
+retraction angle (-0.007 deg), lock-link sines and aft attachment reaction (2.08 kN), as
+``tests/test_dual_sidestay_generated.py`` checks. The joints differ where the lock is: a weld at
+``J`` and an inline joint at ``P`` (free along ``n``) instead of a universal and a spherical joint,
+so the fitting's lug carries no force along ``n`` and half of link 2's weight along ``n`` (7 and
+9 N) reaches the airframe through ``K`` instead; this moves the aft attachment reaction by 9 N
+(its magnitude by 1.7 N). With massless lock links the two agree to 0.01 N.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry
+from .dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry, Sidestay, rotation
 
-__all__ = ["dual_sidestay_description", "SPRING_POSITION", "STOP_ANGLE_DEG", "STOP_SINE"]
+__all__ = ["dual_sidestay_description", "lug_on_stop", "SPRING_POSITION", "STOP_ANGLE_DEG", "STOP_SINE"]
 
 #: Lock spring ends: fraction of lock link 1 from K, and of the lower arm from K.
 SPRING_POSITION = (0.35, 0.4)
@@ -67,17 +83,33 @@ def _unit(a) -> np.ndarray:
     return a / np.linalg.norm(a)
 
 
+def lug_on_stop(st: Sidestay) -> np.ndarray:
+    """Where lock link 2's far end ``P`` (m, gear frame) lies when the links of ``st`` rest on their stop.
+
+    Link 1 stays at its design pose (``K`` to ``J``) and link 2 turns about ``J`` in the fold plane
+    (normal ``n``, which holds ``K``, ``J`` and ``P`` with the gear down) until the condition
+    ``<side>_lock``, the sine of the angle at ``K`` from ``J`` to ``P`` about ``n``, equals
+    :data:`STOP_SINE`: in the triangle ``K J P`` with ``|K J| = L4``, ``|J P| = L5`` and that angle
+    ``a`` at ``K``, ``|K P| = L4 cos a + sqrt(L5^2 - L4^2 sin^2 a)``.
+    """
+    n, a = st.normal, np.radians(STOP_ANGLE_DEG)
+    kj = st.J - st.K
+    l4, l5 = float(np.linalg.norm(kj)), float(np.linalg.norm(st.P - st.J))
+    r = l4 * np.cos(a) + np.sqrt(l5 ** 2 - (l4 * np.sin(a)) ** 2)
+    return st.K + r * (rotation(n, a) @ kj) / l4
+
+
 def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant_aft: bool = True,
                               locked: bool = False) -> str:
     """TOML text of the spatial description of ``geo`` (see the module docstring).
 
     ``compliant_aft`` gives the aft sidestay's airframe attachment the translational stiffness
     parameter ``k_att`` (N/m); otherwise every joint is rigid. ``locked`` describes the gear
-    downlocked: each lock-link pair welded at its joint ``J`` (the links held by their stops) and
-    free to slide along the fold-plane normal at the fitting lug ``P`` (so a locked pair holds the
-    knee in its plane and nothing else): each sidestay is a strut, and the two together
-    over-constrain the fitting's one degree of freedom (``dof = 0``; determinate only with
-    ``compliant_aft``).
+    downlocked: each lock-link pair welded at its joint ``J`` on its stop (link 2 written turned
+    about ``J`` to :data:`STOP_SINE`, see the module docstring) and free to slide along the
+    fold-plane normal at the fitting lug ``P`` (so a locked pair holds the knee in its plane and
+    nothing else): each sidestay is a strut, and the two together over-constrain the fitting's one
+    degree of freedom (``dof = 0``; assembled and determinate only with ``compliant_aft``).
     """
     e = geo.trunnion
     out = [
@@ -85,6 +117,11 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
         "# mechcont.models.dual_sidestay_description from the geometry documented in docs/dual-sidestay.md.",
         "# Hard points in the gear frame (m, gear down): +x aft, +y outboard, +z up; representative values,",
         "# not an Airbus design. See that module's docstring for the bodies and joints.",
+        *([f"# Downlocked: each lock-link pair welded on its overcentre stop, {STOP_ANGLE_DEG:g} deg past aligned",
+           "# (<side>_lock = sin of that): lock link 2 is written turned about J to that angle, so its end P misses",
+           "# the fitting's lug and the loops close only when assembled, which moves the gear to its locked pose",
+           "# (a few thousandths of a degree of retraction, the aft attachment taking up the misfit)."]
+          if locked else []),
         "",
         "[mechanism]",
         f'name = "dual_sidestay{"_locked" if locked else ""}"',
@@ -122,10 +159,11 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
         s, n = st.name, st.normal
         spring_1 = st.K + sa * (st.J - st.K)
         spring_2 = st.K + sb * (st.B - st.K)
+        link2_end = lug_on_stop(st) if locked else st.P
         for body, mass, a, b, extra in (("upper", st.upper_mass, st.A, st.K, {}),
                                         ("lower", st.lower_mass, st.K, st.B, {"spring": spring_2}),
                                         ("link1", "m_link1", st.K, st.J, {"spring": spring_1}),
-                                        ("link2", "m_link2", st.J, st.P, {})):
+                                        ("link2", "m_link2", st.J, link2_end, {})):
             length = float(np.linalg.norm(b - a))
             pts = {"a": a, "b": b, **extra}
             across = f'"{mass}*{_num(length ** 2 / 12)}"' if isinstance(mass, str) else _num(mass * length ** 2 / 12)
