@@ -376,11 +376,19 @@ def unlock_study(gen, *, force_bound: float = 1000.0, stretch=(0.5, 1.0)) -> Unl
 
 def generated_gear(geo: GearGeometry = DEFAULT_GEOMETRY):
     """The gear generated from its spatial description (:mod:`mechcont.models.dual_sidestay_description`),
-    compliant aft attachment."""
+    compliant aft attachment.
+
+    The built model is kept in the disk cache under the description's text, with the key
+    :func:`~mechcont.models.load_model` gives ``examples/dual_sidestay.toml`` (the same text for the
+    default geometry, so the two share one entry)."""
+    from ..equations import Model
+    from ..equations._stored import stored
     from ..mechanism import parse_description
     from ..models.dual_sidestay_description import dual_sidestay_description
 
-    return parse_description(dual_sidestay_description(geo), "dual_sidestay.toml").build()
+    text = dual_sidestay_description(geo)
+    return stored(lambda: ["description model", "dual_sidestay.toml", text.encode(), repr([])],
+                  lambda: parse_description(text, "dual_sidestay.toml").build(), valid=lambda obj: isinstance(obj, Model))
 
 
 def locked_gear(system, stiffnesses) -> list[LockedGear]:
