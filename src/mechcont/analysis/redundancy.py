@@ -10,8 +10,11 @@ the mechanism gains or loses a degree of freedom (a singular configuration: two 
 lock-up, a bifurcation); where it stays, the redundancy is structural (e.g. a planar loop built of
 spatial joints, a Bennett linkage).
 
-Rows dropped at build (``redundant = "drop"``) are no longer in the system: their reactions are
-indeterminate by construction, and :func:`redundancy_along` reports how far they stay satisfied
+Rows dropped (``redundant = "drop"``) hold their reactions at zero instead of their constraint;
+the mechanics keeps every rigid row, so the reactions reported indeterminate here are those of the
+whole over-constrained set, as ``mechcont check`` names them, whichever rows are dropped. The rows
+dropped at build are chosen again along a branch where the kept ones lose rank (``RC`` points);
+:func:`redundancy_along` reports how far the rows dropped at build stay satisfied
 (``dropped_residual``): zero while the geometry keeps them implied.
 """
 
@@ -45,13 +48,15 @@ class RedundancyState:
 class RedundancyReport:
     """Redundancy along a branch: per row ``rank`` and ``dof`` (arrays), the stretches of equal
     structure (:class:`RedundancyState`, in branch order), the rows dropped at build and their
-    largest residual over the branch (m or rad; 0.0 when none were dropped)."""
+    largest residual over the branch (m or rad; 0.0 when none were dropped), and the rows where the
+    dropped rows were chosen again (``RC`` points of the branch)."""
 
     rank: np.ndarray
     dof: np.ndarray
     states: tuple[RedundancyState, ...]
     dropped: tuple[str, ...]
     dropped_residual: float
+    switches: tuple[int, ...] = ()
 
     @property
     def changes(self) -> tuple[RedundancyState, ...]:
@@ -63,7 +68,9 @@ class RedundancyReport:
         out = []
         if self.dropped:
             out.append(f"dropped at build (reactions indeterminate): {', '.join(self.dropped)}; their largest "
-                       f"residual along the branch {self.dropped_residual:.3g}")
+                       f"residual along the branch {self.dropped_residual:.3g}"
+                       + (f"; chosen again where the kept rows lost rank (RC at rows {', '.join(map(str, self.switches))})"
+                          if self.switches else ""))
         for st in self.states:
             where = f"from row {st.start}" + (f" ({labels[st.start]})" if labels is not None and labels[st.start]
                                               else "")
@@ -89,6 +96,8 @@ def redundancy_along(system, branch, *, rtol: float = 1e-9) -> RedundancyReport:
     nq = len(mech.coordinates)
     rows = mech.constraint_names if mech.constraint_names is not None else system.equation_names[nq:nq + mech.n_constraints]
     reactions = dict(zip(system.equation_names[nq:], model.reaction_names))
+    if mech.constraint_names is not None:  # a row dropped from the equations (spatial: rigid rows first, in order)
+        reactions.update((r, lam) for r, lam in zip(rows, model.reaction_names) if r not in reactions)
     ranks, dofs, states = [], [], []
     for i, x in enumerate(branch.values):
         A = mech.phi_q(x)
@@ -110,4 +119,5 @@ def redundancy_along(system, branch, *, rtol: float = 1e-9) -> RedundancyReport:
         out.append(RedundancyState(start, rank, nq - rank, tuple(reactions.get(r, r) for r in bad), joints))
     dropped = tuple(model.dropped_constraints)
     residual = max((model.dropped_residual(x) for x in branch.values), default=0.0) if dropped else 0.0
-    return RedundancyReport(np.array(ranks), np.array(dofs), tuple(out), dropped, float(residual))
+    switches = tuple(p.index for p in getattr(branch, "special_points", ()) if p.label == "RC")
+    return RedundancyReport(np.array(ranks), np.array(dofs), tuple(out), dropped, float(residual), switches)

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..continuation import Branch, ContinuationOptions, FoldEvent, SpecialPoint, ValueEvent, continuation, find_equilibrium
+from ..continuation._variants import travel as _travel
 from ..equations import EquationSystem, StopLimit, as_model
 from ..errors import ConvergenceError, InputError
 
@@ -185,16 +186,6 @@ class StopRun:
     def first_fold(self) -> SpecialPoint | None:
         """The first fold (``LP``) along the run from its start, or None."""
         return next((p for p in self.branch.special_points if p.label == "LP"), None)
-
-
-def _travel(branch: Branch, vary: str, sign: int) -> int:
-    """+1 when ``vary`` was increasing at the end of a piece run in direction ``sign``, -1 when decreasing."""
-    col = branch.values[:, branch.names.index(vary)]
-    if sign < 0:
-        col = col[::-1]
-    if len(col) < 2 or col[-1] == col[-2]:
-        return sign
-    return 1 if col[-1] > col[-2] else -1
 
 
 class _StopEvent(ValueEvent):

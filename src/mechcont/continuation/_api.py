@@ -6,7 +6,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from ..equations import EquationSystem
+from ..equations import EquationSystem, as_model
 from ..errors import ConvergenceError, InputError
 from ._branch import Branch, SpecialPoint
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent
@@ -163,11 +163,20 @@ def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str
     system.compile()
     x0 = _start_vector(system, start)
     unknowns = choose_unknowns(system, hold=hold, free=free, exclude=[vary])
-    problem = _Equilibria(system, x0, vary, unknowns, scales=options.scales, stability=options.stability)
-    u0 = problem.u_of(x0)
-    _check_start(system, problem, u0, options, x0)
-    evs = _equilibrium_events(system, options, events, moving=(*unknowns, vary))
-    return _run(problem, system, u0, options, evs, direction, vary, unknowns, progress=progress)
+
+    def piece(model, x, vary_, opts, sense, evs_):
+        model.compile()
+        problem = _Equilibria(model, x, vary_, unknowns, scales=opts.scales, stability=opts.stability)
+        u0 = problem.u_of(x)
+        _check_start(model, problem, u0, opts, x)
+        evs = _equilibrium_events(model, opts, evs_, moving=(*unknowns, vary_))
+        return _run(problem, model, u0, opts, evs, sense, vary_, unknowns, progress=progress)
+
+    if as_model(system).reselect is not None:  # a choice of dropped rows made again along the branch
+        from ._variants import across_variants
+
+        return across_variants(piece, system, x0, vary, options, direction, events, unknowns)
+    return piece(system, x0, vary, options, direction, events)
 
 
 def locate_fold(system: EquationSystem, point, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = ()):

@@ -485,13 +485,14 @@ class MechanicalModel:
         of the cost on a branch's worth of points: one call of the compiled statics for all
         rows, stacked SVDs and products. Stacked products may round differently in the last
         bits, so a row whose reduced stiffness is within ``1e-8`` of its scale of zero (a
-        fold, where the count is decided by rounding), a row with dependent constraints and a
-        non-conservative row go through :meth:`stability` itself. Returns an
-        integer array (m,).
+        fold, where the count is decided by rounding), a row whose constraint rank differs
+        from the most common one along ``X`` (redundant rows that persist along a branch, as in
+        an over-constrained linkage, are batched like the others) and a non-conservative row go
+        through :meth:`stability` itself. Returns an integer array (m,).
         """
         X = np.asarray(X, dtype=float)
         m, nq, nc = len(X), len(self.coordinates), self.n_constraints
-        if X.ndim != 2 or m == 0 or nc > nq:  # (more constraints than coordinates: redundant, row by row)
+        if X.ndim != 2 or m == 0:
             return np.array([self.stability(x, rtol).n_unstable for x in X], dtype=int)
         layout = self._statics_layout
         args = np.zeros((m, X.shape[1] + nq))
@@ -500,10 +501,12 @@ class MechanicalModel:
         Q = out[:, layout.q_slice]
         if nc:
             U, sv, Vt = np.linalg.svd(layout.constraint_jacobians(out))
-            full = sv[:, -1] > 1e-10 * np.maximum(sv[:, 0], 1e-300)
-            lam = np.einsum("mij,mj->mi", U[:, :, :nc], np.einsum("mij,mj->mi", Vt[:, :nc], Q) / sv[:, :nc])
+            ranks = np.count_nonzero(sv > 1e-10 * np.maximum(sv[:, :1], 1e-300), axis=1)  # stability()'s cut
+            r = int(np.bincount(ranks).argmax())
+            full = ranks == r   # the other rows through stability() itself
+            lam = np.einsum("mij,mj->mi", U[:, :, :r], np.einsum("mij,mj->mi", Vt[:, :r], Q) / sv[:, :r])
             K = layout.stiffnesses(out, lam)
-            Z = np.swapaxes(Vt[:, nc:], 1, 2)
+            Z = np.swapaxes(Vt[:, r:], 1, 2)
         else:
             full = np.ones(m, dtype=bool)
             K = layout.stiffnesses(out, np.zeros((m, 0)))

@@ -94,6 +94,12 @@ class Model(EquationSystem):
         ``fields_at(values) -> {field: value}``: the fields that depend on the parameter values
         (the conditions' targets, the downlock hold, the stops' limits), at ``values`` (all
         parameters, SI); :meth:`with_values` applies it. None when no field depends on them.
+    reselect:
+        For a model with dropped redundant rows whose choice depends on the configuration (a
+        spatial ``redundant = "drop"`` mechanism): an object with ``quality(x) -> float``
+        (positive while the dropped rows suit the full vector ``x``; continuation ends a piece
+        where it turns negative) and ``switch(model, x) -> (model, x) or None`` (the variant of
+        the system with another choice and ``x`` with its reactions solved again). None otherwise.
     """
 
     potential_energy: sp.Expr | None = None
@@ -111,6 +117,7 @@ class Model(EquationSystem):
     geometry: object | None = field(default=None, repr=False)
     stops: tuple[StopLimit, ...] = ()
     fields_at: Callable[[Mapping[str, float]], dict] | None = field(default=None, repr=False)
+    reselect: object | None = field(default=None, repr=False)
 
     def with_values(self, values: Mapping[str, float]) -> Model:
         """:meth:`EquationSystem.with_values`, with the fields that depend on the parameter values

@@ -450,8 +450,10 @@ def _compliant(system, x: np.ndarray) -> list[tuple[int, str, float]]:
     if not reactions:
         return []
     J = system.jacobian(x)
+    # a dropped row's equation (spatial: ``<row>_dropped``) holds its reaction at zero: no spring
+    dropped = {f"{d}_dropped" for d in as_model(system).dropped_constraints}
     return [(nq + i, r, float(J[nq + i, system.index(r)])) for i, r in enumerate(reactions)
-            if J[nq + i, system.index(r)] != 0]
+            if J[nq + i, system.index(r)] != 0 and system.equation_names[nq + i] not in dropped]
 
 
 def _compliant_gap(system, x: np.ndarray) -> Quantity | None:

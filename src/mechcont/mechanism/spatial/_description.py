@@ -146,7 +146,8 @@ class SpatialMechanism(Mechanism):
     :class:`~mechcont.mechanism.PointForce` (3-vector ``direction``), :class:`SpatialMoment`
     :class:`SpatialDrag` and :class:`SpatialCustomLoad`, ``gravity`` a :class:`SpatialGravity`, ``conditions``,
     ``dof``, ``redundant``, ``hold``, ``downlock``). ``redundant = "drop"`` removes dependent
-    rows (reactions then indeterminate: one particular solution); a joint ``stiffness`` makes
+    rows (reactions then indeterminate: one particular solution, the dropped rows chosen again
+    along a branch where the kept ones lose rank); a joint ``stiffness`` makes
     them determinate instead (see :mod:`._joints`).
     """
 

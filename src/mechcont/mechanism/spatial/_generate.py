@@ -9,22 +9,25 @@ per body) and one state per condition. Equations, as for planar mechanisms:
     Phi_k(q, p) - lambda_k / k_k = 0         a compliant row (joint stiffness k_k)
     c(q, p) - NAME = 0                       a condition row
 
-The mechanics (stability, dynamics) sees the rigid rows as constraints and each compliant row
-as the potential ``k Phi^2 / 2``. Redundant rigid rows (an over-constrained closure) are
+The mechanics (stability, dynamics) sees every rigid row as a constraint and each compliant
+row as the potential ``k Phi^2 / 2``. Redundant rigid rows (an over-constrained closure) are
 refused with the joints involved and the fix (a joint stiffness, which makes the reactions
 determinate, or ``redundant = "drop"``); a rigid closure that cannot be assembled is reported
-with its misfit.
+with its misfit. With ``redundant = "drop"`` a dependent row's equation ``<row>_dropped`` holds
+its reaction at zero (``lambda_k = 0``) instead of the row; which rows are dropped is chosen at
+the build pose and again along a branch where the kept rows lose rank (:class:`_RowChoice`).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import partial
 
 import numpy as np
 import sympy as sp
+from scipy.linalg import qr
 
 from ...equations import EquationSystem, MechanicalModel, Model, Variable
 from ...equations._codegen import gradient
@@ -164,18 +167,63 @@ def _redundancy_error(report: DofReport, rows: list[SpatialRow], dependent: list
                       f"solution")
 
 
+#: The dropped rows are chosen again where the kept rigid rows come this close to losing rank:
+#: their smallest singular value over the rank-th one of all the rigid rows (rows scaled to unit
+#: length; 1 at best, 0 where the kept rows are dependent). A fresh choice scores far above it
+#: (:func:`_choose_dropped`; 0.45 to 0.75 on the Bennett linkage), so the choice does not chatter,
+#: and the reactions, which grow like its inverse near the singularity, stay within about
+#: 1 / SWITCH_RATIO times the minimum-norm ones (10 times on the Bennett linkage's turn).
+SWITCH_RATIO = 0.05
+
+
+def _unit_rows(A: np.ndarray) -> np.ndarray:
+    norms = np.linalg.norm(A, axis=1)
+    return A / np.where(norms > 0, norms, 1.0)[:, None]
+
+
+def _rank(sv: np.ndarray, rtol: float = 1e-9) -> int:
+    return int(np.sum(sv > rtol * max(sv[0], 1e-300))) if sv.size else 0
+
+
+def _conditioning(A: np.ndarray, dropped: Sequence[int]) -> float:
+    """How far the rows of ``A`` left after ``dropped`` are from losing rank, relative to all of ``A``'s:
+    ``sigma_min(kept) / sigma_rank(all)`` of the rows scaled to unit length, in [0, 1] (interlacing)."""
+    B = _unit_rows(A)
+    sv = np.linalg.svd(B, compute_uv=False)
+    r = _rank(sv)
+    if r == 0:
+        return 1.0
+    kept = np.delete(B, list(dropped), axis=0)
+    sk = np.linalg.svd(kept, compute_uv=False)
+    return float(sk[r - 1] / sv[r - 1]) if len(sk) >= r else 0.0
+
+
+def _choose_dropped(A: np.ndarray, protect: np.ndarray) -> tuple[int, ...]:
+    """The rows of ``A`` to drop so that the rest are independent and well conditioned: QR with column
+    pivoting of ``A^T`` (rows scaled to unit length) takes, one by one, the row farthest from the span
+    of those taken; the rows left after ``rank`` are dropped. ``protect`` rows (the Euler-parameter
+    normalisations, independent of everything else) are weighted so that they are taken first."""
+    B = _unit_rows(A) * np.where(protect, 10.0, 1.0)[:, None]
+    r = _rank(np.linalg.svd(_unit_rows(A), compute_uv=False))
+    _, _, piv = qr(B.T, mode="economic", pivoting=True)
+    return tuple(sorted(int(i) for i in piv[r:]))
+
+
 @dataclass
 class _Variant:
-    """The spatial system with a given set of redundant rigid rows dropped: its rows, equations and
-    mechanics, and (after the first build) its model, copied with new values by later builds."""
+    """The spatial system with a given set of redundant rigid rows dropped.
 
-    rows: list[SpatialRow]
-    dropped: list[SpatialRow]
-    equilibrium: list[sp.Expr]
-    closure: MechanicalModel      # every kept row taken as rigid: the assembled reactions
-    mechanics: MechanicalModel    # rigid rows as constraints, compliant rows as springs
-    elastic: sp.Expr
-    condition_values: object | None = None
+    Every row keeps its reaction among the unknowns; a dropped row's equation holds its reaction
+    at zero instead of the row at zero, and the equilibrium rows leave it out (so its column is
+    that one entry: the Jacobian is the one of the system without the dropped rows, bordered).
+    So all variants have the same variables, and a branch passes from one to the next with its
+    vector unchanged but for the reactions. After its first build the variant keeps its model,
+    copied by later builds."""
+
+    dropped: tuple[int, ...]
+    equilibrium: list[sp.Expr]    # Q - Phi_q^T lambda over the kept rows
+    equations: list[sp.Expr]
+    equation_names: list[str]
     model: Model | None = None
 
 
@@ -192,6 +240,9 @@ class _Structure:
     V: sp.Expr
     conditions: list
     closure: MechanicalModel      # every row taken as rigid (first assembly, degrees of freedom)
+    mechanics: MechanicalModel    # every rigid row (dropped or not) a constraint, compliant rows springs
+    elastic: sp.Expr
+    condition_values: object | None
     variants: dict[tuple[int, ...], _Variant] = field(default_factory=dict)
 
     @property
@@ -199,27 +250,117 @@ class _Structure:
         """Names of the condition states."""
         return [c.name for c, _ in self.conditions]
 
-    def variant(self, mech: SpatialMechanism, dependent: tuple[int, ...]) -> _Variant:
-        """The system with the rows ``dependent`` (indices into :attr:`rows`) dropped."""
-        out = self.variants.get(dependent)
-        if out is None:
-            keep = [i for i in range(len(self.rows)) if i not in set(dependent)]
-            rows = [self.rows[i] for i in keep]
-            equilibrium, closure = _equilibrium(mech, self.coords, rows, self.forces, self.mass, self.cnames,
-                                                gradient=gradient)
-            elastic = sum((r.expr ** 2 * r.stiffness / 2 for r in rows if r.stiffness is not None), sp.S.Zero)
-            mech_forces = [f - d for f, d in zip(self.forces, gradient(elastic, self.kin.q))]
-            rigid_rows = [r for r in rows if r.stiffness is None]
-            mechanics = MechanicalModel(closure.names, self.coords, [r.expr for r in rigid_rows], mech_forces,
-                                        self.mass, [r.equation for r in rigid_rows])
-            out = self.variants[dependent] = _Variant(rows, [self.rows[i] for i in dependent], equilibrium, closure,
-                                                      mechanics, elastic)
-            if self.conditions:
-                from ...equations._codegen import compile_dense
+    @property
+    def n_rigid(self) -> int:
+        """Number of rigid rows (they come first in :attr:`rows`)."""
+        return sum(r.stiffness is None for r in self.rows)
 
-                out.condition_values = compile_dense([symbol(n) for n in closure.names],
-                                                     [e for _, e in self.conditions])
+    @property
+    def protect(self) -> np.ndarray:
+        """Mask over the rigid rows: the Euler-parameter normalisations, never dropped."""
+        return np.array([r.joint.startswith("norm_") for r in self.rows if r.stiffness is None], dtype=bool)
+
+    def variant(self, mech: SpatialMechanism, dropped: tuple[int, ...]) -> _Variant:
+        """The system with the rigid rows ``dropped`` (indices into :attr:`rows`) dropped."""
+        out = self.variants.get(dropped)
+        if out is None:
+            # the dropped reactions, zero, are left out of the equilibrium rows: products with a zero
+            # multiplier there would only bring rounding (down to subnormal numbers, slow to factorise)
+            kept = [r for i, r in enumerate(self.rows) if i not in dropped]
+            equilibrium, _ = _equilibrium(mech, self.coords, kept, self.forces, self.mass, self.cnames,
+                                          gradient=gradient)
+            eqs, names = [], []
+            for i, r in enumerate(self.rows):
+                lam = symbol(r.reaction)
+                if i in dropped:
+                    eqs.append(lam)
+                    names.append(f"{r.equation}_dropped")
+                else:
+                    eqs.append(r.expr - lam / r.stiffness if r.stiffness is not None else r.expr)
+                    names.append(r.equation)
+            out = self.variants[dropped] = _Variant(dropped, equilibrium, eqs, names)
         return out
+
+    def reactions(self, model: MechanicalModel, x: np.ndarray, dropped: Sequence[int]) -> np.ndarray:
+        """The reactions of ``model``'s constraint rows balancing its applied forces at ``x`` with the
+        rows ``dropped`` carrying none (least squares: exact at an equilibrium)."""
+        A = model.phi_q(x)
+        keep = np.setdiff1d(np.arange(len(A)), np.asarray(dropped, dtype=int))
+        lam = np.zeros(len(A))
+        lam[keep] = np.linalg.lstsq(A[keep].T, model.applied_forces(x), rcond=None)[0]
+        return lam
+
+
+@dataclass(frozen=True)
+class _RowChoice:
+    """The dropped rows of one variant, checked and chosen again along a branch (a model's ``reselect``).
+
+    Why choose again rather than keep every row: rows dropped at one configuration can become
+    dependent at another (the Bennett linkage's kept rows lose rank a few tens of degrees of crank
+    away from the build pose, its reactions then grow without bound and continuation stalls), while
+    the mechanism itself stays regular. Keeping every row with minimum-norm reactions would need no
+    choice, but its Jacobian is singular everywhere: the corrector keeps whatever self-stress the
+    predictor brings (reactions that depend on the path), and the tangent, fold and branch-point
+    tests of the engine, which rely on a regular bordered Jacobian, no longer work. Switching keeps
+    every piece a regular square system; only the split of the indeterminate reactions between
+    the rows changes at a switch (the determinate ones, the loads solved for and the coordinates
+    are continuous)."""
+
+    mech: SpatialMechanism = field(repr=False)
+    dropped: tuple[int, ...]
+
+    def quality(self, x: np.ndarray) -> float:
+        """``log(conditioning / SWITCH_RATIO)`` of the kept rigid rows at the full vector ``x``:
+        positive while the dropped rows suit ``x``, negative once they should be chosen again."""
+        ratio = _conditioning(_structure(self.mech).mechanics.phi_q(x), self.dropped)
+        return math.log(max(ratio, 1e-300) / SWITCH_RATIO)
+
+    def switch(self, model: Model, x: np.ndarray, force: bool = False) -> tuple[Model, np.ndarray] | None:
+        """The variant of ``model`` whose kept rows are best conditioned at the equilibrium ``x``, and
+        ``x`` with its rigid reactions solved again (the dropped ones zero); None when it is this one,
+        unless ``force`` (then ``model`` itself with the reactions solved again)."""
+        st = _structure(self.mech)
+        dropped = _choose_dropped(st.mechanics.phi_q(x), st.protect)
+        if dropped == self.dropped and not force:
+            return None
+        keep = ("dof", "conditions", "fields_at", "downlock_hold", "downlock_force", "assemble_downlocked", "stops")
+        new = model if dropped == self.dropped else _variant_model(
+            self.mech, st, st.variant(self.mech, dropped), list(model.variables), **{k: getattr(model, k) for k in keep})
+        nq = len(st.coords)
+        y = np.array(x, dtype=float)
+        y[nq:nq + st.n_rigid] = st.reactions(st.mechanics, y, dropped)
+        return new, y
+
+
+def _variant_model(mech: SpatialMechanism, st: _Structure, var: _Variant, variables: list[Variable],
+                   **fields_) -> Model:
+    """A copy of ``var``'s model with ``variables`` and the model ``fields_`` (built and kept on first use)."""
+    if var.model is None:
+        dropped = [st.rows[i] for i in var.dropped]
+        system = EquationSystem(
+            name=mech.name,
+            variables=variables,
+            equations=[*var.equilibrium, *var.equations, *(e - symbol(c.name) for c, e in st.conditions)],
+            equation_names=[*(_row_name(c) for c in st.coords), *var.equation_names,
+                            *(f"cond_{n}" for n in st.cnames)],
+            mechanics=st.mechanics,
+            description=(mech.description or f"generated from the description of {mech.name}")
+            + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
+            limits=spatial_limits(mech, solve=True),
+            scene=spatial_scene_function(st.kin, st.arrows, [v.symbol for v in variables]),
+            check_values=spatial_value_check(mech, partial(_check_analysis_values, mech)),
+        )
+        var.model = Model.from_system(
+            system,
+            potential_energy=st.V + st.elastic,
+            mechanism=mech,
+            reaction_names=tuple(r.reaction for r in st.rows),
+            coordinates_of=_coordinates_of(st.kin, system, {}),
+            dropped_constraints=tuple(r.equation for r in dropped),
+            dropped_residual=_dropped_residual(system, dropped),
+            reselect=_RowChoice(mech, var.dropped) if var.dropped else None,
+        )
+    return var.model.evolve(variables=variables, **fields_)  # a copy: the kept model is never handed out
 
 
 def _structure(mech: SpatialMechanism) -> _Structure:
@@ -239,10 +380,20 @@ def _structure(mech: SpatialMechanism) -> _Structure:
     conditions = condition_rows(kin, {})
     if mech.stops:
         forces = [f + g for f, g in zip(forces, stop_forces(mech, conditions, kin.q, gradient=gradient))]
-    names = [*coords, *(r.reaction for r in rows), *(c.name for c, _ in conditions), *(p.name for p in mech.parameters)]
-    closure = MechanicalModel(names, coords, [r.expr for r in rows], forces, mass)
+    cnames = [c.name for c, _ in conditions]
+    _, closure = _equilibrium(mech, coords, rows, forces, mass, cnames, gradient=gradient)
+    elastic = sum((r.expr ** 2 * r.stiffness / 2 for r in rows if r.stiffness is not None), sp.S.Zero)
+    mech_forces = [f - d for f, d in zip(forces, gradient(elastic, kin.q))]
+    rigid_rows = [r for r in rows if r.stiffness is None]
+    mechanics = MechanicalModel(closure.names, coords, [r.expr for r in rigid_rows], mech_forces, mass,
+                                [r.equation for r in rigid_rows])
+    condition_values = None
+    if conditions:
+        from ...equations._codegen import compile_dense
+
+        condition_values = compile_dense([symbol(n) for n in closure.names], [e for _, e in conditions])
     st = mech._generated["spatial"] = _Structure(kin, rows, ld.arrows, coords, forces, mass, ld.V, conditions,
-                                                 closure)
+                                                 closure, mechanics, elastic, condition_values)
     return st
 
 
@@ -291,12 +442,9 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
     if dependent and mech.redundant != "drop":
         raise _redundancy_error(report, rows, list(dependent))
     var = st.variant(mech, dependent)
-    if var.dropped:
-        x = np.concatenate([x[:nq], np.zeros(len(var.rows)), x[nq + len(rows):]])
-    rows = var.rows
-    x[nq:nq + len(rows)] = var.closure.multipliers(x)
-    if var.condition_values is not None:
-        x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(var.condition_values(x), dtype=float).reshape(-1)
+    x[nq:nq + len(rows)] = st.reactions(closure, x, dependent)
+    if st.condition_values is not None:
+        x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(st.condition_values(x), dtype=float).reshape(-1)
     for cond, value in zip(mech.conditions, x[nq + len(rows):nq + len(rows) + len(cnames)]):
         if cond.kind == "distance" and not value > 1e-9 * Lc:  # |b - a| has no derivative where a = b
             raise InputError(f"conditions.{cond.name}", f"its points {cond.points[0]} and {cond.points[1]} coincide at "
@@ -321,34 +469,4 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
     variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc)
     targets, downlock = condition_fields(mech, values)
     at = partial(value_fields, mech) if mech.conditions else None
-    if var.model is not None:  # the same structure built before: new values, the same compiled code
-        return var.model.evolve(variables=variables, dof=report, conditions=targets, fields_at=at, **downlock)
-    lam = [symbol(r.reaction) for r in rows]
-    row_exprs = [r.expr - k / r.stiffness if r.stiffness is not None else r.expr for r, k in zip(rows, lam)]
-    dropped = var.dropped
-    system = EquationSystem(
-        name=mech.name,
-        variables=variables,
-        equations=[*var.equilibrium, *row_exprs, *(e - symbol(c.name) for c, e in st.conditions)],
-        equation_names=[*(_row_name(c) for c in coords), *(r.equation for r in rows), *(f"cond_{n}" for n in cnames)],
-        mechanics=var.mechanics,
-        description=(mech.description or f"generated from the description of {mech.name}")
-        + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
-        limits=spatial_limits(mech, solve=True),
-        scene=spatial_scene_function(kin, st.arrows, [v.symbol for v in variables]),
-        check_values=spatial_value_check(mech, partial(_check_analysis_values, mech)),
-    )
-    var.model = Model.from_system(
-        system,
-        potential_energy=st.V + var.elastic,
-        mechanism=mech,
-        dof=report,
-        reaction_names=tuple(r.reaction for r in rows),
-        coordinates_of=_coordinates_of(kin, system, {}),
-        dropped_constraints=tuple(r.equation for r in dropped),
-        dropped_residual=_dropped_residual(system, dropped),
-        conditions=targets,
-        fields_at=at,
-        **downlock,
-    )
-    return var.model.evolve()  # a copy: the kept model is never handed out (compiled on first numeric use)
+    return _variant_model(mech, st, var, variables, dof=report, conditions=targets, fields_at=at, **downlock)
