@@ -123,12 +123,20 @@ def gif_frame(rgba: np.ndarray):
     return Image.frombytes("RGB", (width, height), np.ascontiguousarray(rgba), "raw", "RGBX", 0, 1)
 
 
+#: Palette entries given to the most frequent exact colours of a GIF (the background, the bars, the text).
+_EXACT_COLOURS = 64
+#: Blend entries within this many levels (in any channel) of an exact colour are dropped (see write_gif).
+_NEAR = 10
+
+
 def write_gif(path: str | Path, frames: Sequence, durations: Sequence[int]) -> None:
     """Write ``frames`` (Pillow RGB images of one size) as a looping GIF, frame ``k`` shown ``durations[k]`` ms.
 
-    All frames share one adaptive palette (median cut over a sample of every frame's pixels, no
-    dithering): quantizing each frame on its own is most of a GIF's writing time, and one palette
-    keeps a colour from flickering between frames.
+    All frames share one palette: quantizing each frame on its own is most of a GIF's writing time,
+    and one palette keeps a colour from flickering between frames. Its first entries are the most
+    frequent colours exactly (a median cut alone would average white with the greys near it into a
+    grey background), the rest a median cut of every frame's pixels (a regular sample), for the
+    antialiased blends; frames are mapped to it without dithering.
     """
     from PIL import Image
 
@@ -141,7 +149,25 @@ def write_gif(path: str | Path, frames: Sequence, durations: Sequence[int]) -> N
     sample = Image.new("RGB", (tiles[0].width, tiles[0].height * len(tiles)))
     for k, tile in enumerate(tiles):
         sample.paste(tile, (0, k * tile.height))
-    palette = sample.quantize(256, method=Image.Quantize.MEDIANCUT)
+    pixels = np.asarray(sample, dtype=np.uint32).reshape(-1, 3)
+    keys, counts = np.unique((pixels[:, 0] << 16) | (pixels[:, 1] << 8) | pixels[:, 2], return_counts=True)
+    exact_rgb: list[np.ndarray] = []
+    for key in keys[np.argsort(counts, kind="stable")[::-1]]:  # most frequent first; a shade beside one is not kept
+        rgb = np.array([(key >> 16) & 255, (key >> 8) & 255, key & 255], np.int32)
+        if all(np.abs(rgb - c).max() > _NEAR for c in exact_rgb):
+            exact_rgb.append(rgb)
+            if len(exact_rgb) == _EXACT_COLOURS:
+                break
+    exact = np.array(exact_rgb, np.int32)
+    blends = sample.quantize(256 - len(exact), method=Image.Quantize.MEDIANCUT).getpalette() or []
+    blend_rgb = np.asarray(blends[: 3 * (256 - len(exact))], np.int32).reshape(-1, 3)
+    # Pillow maps a pixel through a cache of 4-level cells, to the entry nearest the cell, not the pixel: a
+    # blend entry beside an exact colour (a near-white) would take the exact colour's pixels (white). Away
+    # from every exact colour by more than a cell's diagonal (5.2 levels) plus a cell, none can.
+    gap = np.abs(blend_rgb[:, None, :] - exact[None, :, :]).max(axis=2).min(axis=1)
+    colours = np.concatenate([exact, blend_rgb[gap > _NEAR]]).astype(np.uint8).ravel()
+    palette = Image.new("P", (1, 1))
+    palette.putpalette(np.resize(colours, 768).tolist())  # padded with repeats of the first entries
     images = [f.quantize(palette=palette, dither=Image.Dither.NONE) for f in frames]
     images[0].save(path, format="GIF", save_all=True, append_images=images[1:], duration=list(durations), loop=0)
 
