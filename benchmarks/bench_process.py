@@ -9,6 +9,9 @@ bare-import baseline measured in the same rounds.
 * warm: ``MECHCONT_CACHE_DIR`` is a temporary directory filled by one run before timing;
 * cold: every run gets a fresh, empty ``MECHCONT_CACHE_DIR`` (everything compiled again).
 
+Files a command reads (the branch ``animate`` draws) are written once, before timing, by the
+commands in ``PREPARE``.
+
 Rounds: at least 20 (``--min-repeats`` of ``benchmarks/run.py``); ``MECHCONT_BENCH_PROCESS_REPEATS=N``
 sets N for a quick look (the table says how many were run). ``MECHCONT_BENCH_PROCESS=0``
 skips this part. Run alone: ``python benchmarks/bench_process.py``.
@@ -32,6 +35,14 @@ COMMANDS = [
       "--bounds", "theta1=-1.2:1.2"], 4.0),
     ("models", ["models"], 4.0),
     ("downlock nose_gear", ["downlock", "nose_gear", "--vary", "l_sp1", "--bounds", "l_sp1=-0.175:0.175"], 8.0),
+    # issue 19: at most about 5 s with a warm cache (the bare import takes about 0.7 s)
+    ("animate overcentre branch (54 frames, GIF)",
+     ["animate", "overcentre", "--branch", "{tmp}/overcentre-branch.csv", "--out", "{tmp}/overcentre.gif"], 7.0),
+]
+#: Files the commands read, written once before timing: CLI arguments ("{tmp}": the run's temporary folder).
+PREPARE = [
+    ["continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--bounds", "theta1=-1.2:1.2",
+     "--out", "{tmp}/overcentre-branch.csv"],
 ]
 BASELINE = [sys.executable, "-c", "import numpy, scipy.linalg"]
 
@@ -41,8 +52,9 @@ def cases():
     return []
 
 
-def _command(args: list[str]) -> list[str]:
-    return [sys.executable, "-c", "import sys; from mechcont.cli import main; main(sys.argv[1:])", *args]
+def _command(args: list[str], tmp: Path) -> list[str]:
+    return [sys.executable, "-c", "import sys; from mechcont.cli import main; main(sys.argv[1:])",
+            *(a.replace("{tmp}", str(tmp)) for a in args)]
 
 
 def _run(argv: list[str], env: dict[str, str]) -> float:
@@ -67,17 +79,19 @@ def measure(repeats: int, k: str = "", progress=None) -> list[tuple[str, str, fl
     tmp = Path(tempfile.mkdtemp(prefix="mechcont-bench-process-"))
     try:
         warm_env = {**env, "MECHCONT_CACHE_DIR": str(tmp / "warm")}
+        for args in PREPARE:
+            _run(_command(args, tmp), warm_env)
         for _, args, _ in chosen:  # fill the warm cache (and the interpreter's own bytecode caches)
-            _run(_command(args), warm_env)
+            _run(_command(args, tmp), warm_env)
         _run(BASELINE, env)
         times: dict[tuple[str, str], list[float]] = {("bare import numpy, scipy.linalg", "-"): []}
         for r in range(repeats):
             times[("bare import numpy, scipy.linalg", "-")].append(_run(BASELINE, env))
             for name, args, _ in chosen:
-                times.setdefault((name, "warm"), []).append(_run(_command(args), warm_env))
+                times.setdefault((name, "warm"), []).append(_run(_command(args, tmp), warm_env))
                 cold = tmp / f"cold-{r}"
                 times.setdefault((name, "cold"), []).append(
-                    _run(_command(args), {**env, "MECHCONT_CACHE_DIR": str(cold)}))
+                    _run(_command(args, tmp), {**env, "MECHCONT_CACHE_DIR": str(cold)}))
                 shutil.rmtree(cold, ignore_errors=True)
             if progress:
                 progress(r + 1, repeats)

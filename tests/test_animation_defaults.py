@@ -1,9 +1,17 @@
 """Animations made for a human: long enough, wide enough, every special point shown and held, labels off the
-mechanism, ground drawn locally, an HTML page for notebooks."""
+mechanism, ground drawn locally, an HTML page for notebooks; frames drawn fast (fixed parts once) that show
+what a full redraw shows, a special point's frame naming its values."""
 
 import matplotlib
 
 matplotlib.use("Agg")
+
+import base64  # noqa: E402
+import io  # noqa: E402
+import math  # noqa: E402
+import os  # noqa: E402
+import re  # noqa: E402
+import stat  # noqa: E402
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
@@ -11,7 +19,8 @@ from PIL import Image  # noqa: E402
 
 from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium  # noqa: E402
 from mechcont.models import build_overcentre  # noqa: E402
-from mechcont.outputs import drawing  # noqa: E402
+from mechcont.outputs import _frames, drawing  # noqa: E402
+from mechcont.outputs import animation as anim  # noqa: E402
 from mechcont.outputs.animation import HOLD, MIN_DURATION, animate, branch_frames, frame_rows  # noqa: E402
 
 
@@ -95,3 +104,115 @@ def test_cli_animation_is_quiet_off_a_terminal(tmp_path, branch):
     assert r.stderr == ""
     with Image.open(tmp_path / "a.gif") as im:
         assert im.size[0] >= 800  # the default panel beside the mechanism: the branch, current point marked
+
+
+# -- fast frames: the fixed parts drawn once, each frame's artists over them -----------------------------
+# A blitted frame must show what a full redraw shows; the GIF's shared palette stays close to the drawn
+# colours; every output (GIF, HTML, MP4 through ffmpeg's pipe) gets every frame, special points held.
+
+def _renderer(system, branch, every, diagram, **kw):
+    frames = anim.branch_frames(system, branch)
+    rows = anim.frame_rows(frames, every)
+    annotate = drawing._with_vary(frames.vary, drawing.default_annotate(system))
+    r = anim._renderer(system.scene, system, frames, rows, annotate, title=None, show_forces=True, diagram=diagram,
+                       **{"figsize": None, "dpi": 100, **kw})
+    return frames, rows, r
+
+
+def _differences(renderer, n):
+    """Per frame: (fraction of pixels that differ at all, largest difference in any channel) between the
+    blitted frame and a full redraw of the same figure."""
+    out = []
+    for blit, full in anim._frame_pixels(renderer, n, check=True):
+        d = np.abs(blit.astype(int) - full.astype(int)).max(axis=2)
+        out.append((float(np.mean(d > 0)), int(d.max())))
+    return out
+
+
+def test_blitted_frames_are_full_redraws(overcentre, branch):
+    """Drawing order is zorder within each axes either way; only antialiased edges where a frame's artist
+    meets a fixed one (the faint grid) may differ by a few levels."""
+    frames, rows, r = _renderer(overcentre, branch, 6, ("F", "theta1"))
+    diffs = _differences(r, len(rows))
+    assert len(diffs) == len(rows) > 5
+    assert max(f for f, _ in diffs) < 1e-3 and max(m for _, m in diffs) <= 32, diffs
+
+
+def test_blitted_frames_of_a_spatial_mechanism_are_full_redraws():
+    from test_drawing3d import Swing
+
+    system = Swing()
+    rows = np.column_stack([np.linspace(0.0, 1.2, 4), np.linspace(0.0, 3.0, 4)])
+    frames, order, r = _renderer(system, rows, 1, ("F", "theta"), figsize=(8.0, 6.5), dpi=60)
+    assert r.content_axes and r.content_axes[0].name == "3d"
+    diffs = _differences(r, len(order))
+    assert max(f for f, _ in diffs) < 1e-3 and max(m for _, m in diffs) <= 32, diffs
+
+
+def test_a_special_point_frame_names_its_values_and_marks_the_branch(overcentre, branch):
+    frames, rows, r = _renderer(overcentre, branch, 10, ("F", "theta1"))
+    labels = frames.numbered_labels
+    special = [k for k, i in enumerate(rows) if labels[i]]
+    assert {rows[k] for k in special} == {p.index for p in branch.special_points}
+    for k in special:
+        i = rows[k]
+        over = r.render(k)
+        notes = [a.get_text() for a in over if isinstance(a, matplotlib.text.Text) and "=" in a.get_text()]
+        F, theta = branch.values[i, overcentre.index("F")], branch.values[i, overcentre.index("theta1")]
+        status = "fold" if labels[i].startswith("LP") else "stable"
+        assert notes == [f"F = {F:.4g} N\ntheta1 = {round(math.degrees(theta), 2) + 0.0:.2f}°\n{status} {labels[i]}"]
+        x, y = r.marker[0].get_data()
+        assert np.allclose([x[0], y[0]], [F, math.degrees(theta)], rtol=1e-12, atol=1e-12)
+        assert r.marker[0] in over
+
+
+def test_gif_frames_stay_close_to_the_drawn_pixels(tmp_path, overcentre, branch):
+    """One palette of 256 colours for all frames: the few colours of the drawing are kept exactly (the
+    white background stays white), and the antialiased blends between them (thousands of shades) are
+    mapped to near ones."""
+    frames, rows, r = _renderer(overcentre, branch, 9, ("F", "theta1"))
+    drawn = [px[..., :3].copy() for px in anim._frame_pixels(r, len(rows))]
+    out = tmp_path / "a.gif"
+    _frames.write_gif(out, [_frames.gif_frame(np.dstack([f, np.full(f.shape[:2], 255, np.uint8)])) for f in drawn],
+                      [100] * len(drawn))
+    with Image.open(out) as im:
+        assert im.n_frames == len(drawn)
+        for k, want in enumerate(drawn):
+            im.seek(k)
+            got = np.asarray(im.convert("RGB")).astype(int)
+            d = np.abs(got - want).max(axis=2)
+            assert d.mean() < 1 and np.quantile(d, 0.999) <= 24, (k, d.mean(), np.quantile(d, 0.999))
+            white = (want == 255).all(axis=2)
+            assert white.mean() > 0.5 and (got[white] == 255).all()
+
+
+def _html_frames(path):
+    text = path.read_text()
+    return [np.asarray(Image.open(io.BytesIO(base64.b64decode(d.replace("\\n", ""))))) for d in
+            re.findall(r'data:image/png;base64,([^"]+)"', text)]
+
+
+def test_html_and_mp4_hold_special_points_by_repeating_frames(tmp_path, overcentre, branch, monkeypatch):
+    """MP4 goes through ffmpeg's pipe as raw RGBA frames: a stand-in ffmpeg keeps them."""
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    fake = bin_dir / "ffmpeg"
+    fake.write_text('#!/bin/sh\nfor last; do :; done\ncat > "$last"\n')
+    fake.chmod(fake.stat().st_mode | stat.S_IXUSR)
+    monkeypatch.setenv("PATH", f"{bin_dir}{os.pathsep}{os.environ['PATH']}")
+    kw = dict(every=12, fps=5, hold=0.4, figsize=(4, 3), dpi=30)  # 120 x 90 px: even, as h264 wants
+    n = anim.animate(overcentre, branch, tmp_path / "a.html", **kw)
+    assert anim.animate(overcentre, branch, tmp_path / "a.mp4", **kw) == n
+    rows = anim.frame_rows(anim.branch_frames(overcentre, branch), 12)
+    held = [bool(branch.labels[i]) for i in rows]
+    total = sum(1 + (2 if h else 0) for h in held)  # 0.4 s at 5 frames a second: 2 more frames
+    html = _html_frames(tmp_path / "a.html")
+    raw = np.frombuffer((tmp_path / "a.mp4").read_bytes(), np.uint8)
+    assert len(html) == total and raw.size == total * 90 * 120 * 4
+    mp4 = raw.reshape(total, 90, 120, 4)
+    for k in range(total):
+        assert np.array_equal(mp4[k, ..., :3], html[k][..., :3])
+    starts = np.cumsum([0] + [1 + (2 if h else 0) for h in held])[:-1]
+    for k, h in zip(starts, held):
+        assert all(np.array_equal(mp4[k], mp4[k + j]) for j in range(1, 3 if h else 1))
+    assert not np.array_equal(mp4[starts[0]], mp4[starts[1]])

@@ -5,6 +5,7 @@ that an output can be written where the user asked; :func:`atomic_write` then wr
 temporary file beside the target and moves it into place, with the permissions of an
 ordinary new file (``0o666`` less the umask), removing the temporary file on any failure,
 including an interrupt or (through the CLI's SIGTERM handler) termination.
+:func:`read_csv_header` reads a table's column header (``name [unit]``) back.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from pathlib import Path
 from ._signals import raise_pending
 from .errors import InputError
 
-__all__ = ["atomic_write", "check_output_path", "check_output_folder", "current_umask"]
+__all__ = ["atomic_write", "check_output_path", "check_output_folder", "current_umask", "read_csv_header"]
 
 
 def current_umask() -> int:
@@ -114,3 +115,12 @@ def atomic_write(path: str | os.PathLike, write: Callable[[str], None]) -> Path:
             os.unlink(tmp)
         raise
     return path
+
+
+def read_csv_header(header: str) -> tuple[str, str]:
+    """``"F [N]"`` -> ``("F", "N")``; ``"F"`` (a table written before units) -> ``("F", "")``."""
+    text = header.strip()
+    if text.endswith("]") and " [" in text:
+        name, _, unit = text[:-1].rpartition(" [")
+        return name.strip(), unit.strip()
+    return text, ""

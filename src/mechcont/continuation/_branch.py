@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._io import atomic_write
+from .._io import atomic_write, read_csv_header
 from ..errors import InputError
 
 __all__ = ["Branch", "SpecialPoint", "unit_header", "read_csv_header", "read_branch_table"]
@@ -323,15 +323,6 @@ _EXTRA_COLUMNS = ("s", "stability", "n_unstable", "label", "vary")
 def unit_header(name: str, unit: str) -> str:
     """A CSV column header: ``"F [N]"``, or ``"label"`` for a column without a unit."""
     return f"{name} [{unit}]" if unit else name
-
-
-def read_csv_header(header: str) -> tuple[str, str]:
-    """``"F [N]"`` -> ``("F", "N")``; ``"F"`` (a table written before units) -> ``("F", "")``."""
-    text = header.strip()
-    if text.endswith("]") and " [" in text:
-        name, _, unit = text[:-1].rpartition(" [")
-        return name.strip(), unit.strip()
-    return text, ""
 
 
 def read_branch_table(path: str | os.PathLike) -> tuple[list[dict[str, str]], dict[str, str]]:

@@ -1,16 +1,18 @@
-"""Animations of mechanisms along a continuation branch (GIF, or MP4 with ffmpeg).
+"""Animations of mechanisms along a continuation branch (GIF, HTML page, or MP4 with ffmpeg).
 
 The rows of a branch (a :class:`~mechcont.continuation.Branch`, its CSV table or plain
 rows of full variable vectors) become :class:`BranchFrames`; :func:`animate` draws each
 with :mod:`mechcont.outputs.drawing` in one fixed view, annotated with the continuation
 parameter (with units, degrees for angles), chosen variables, stability and label, and
-optionally beside the bifurcation diagram with the current point marked.
+optionally beside the bifurcation diagram with the current point marked. The parts of the
+figure that every frame shares are drawn once; each frame draws only its own artists over
+them (:mod:`mechcont.outputs._frames`).
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
-import functools
 import math
 import os
 import shutil
@@ -20,7 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .._io import read_csv_header
 from ..errors import InputError
+from . import _frames as _f
 from . import drawing as _d
 
 __all__ = ["animate", "BranchFrames", "branch_frames", "check_fps", "frame_rows", "default_fps",
@@ -109,8 +113,6 @@ _STABILITY_WORDS = {"stable": True, "unstable": False, "fold": None, "": None}
 def _columns(path: Path, header: list[str], system) -> dict[str, tuple[str, float]]:
     """``{name: (header, factor to SI)}`` from headers ``name [unit]`` (or bare names, as
     tables were written before units). A unit must be the model's; an angle may be in ``deg``."""
-    from ..continuation._branch import read_csv_header
-
     out: dict[str, tuple[str, float]] = {}
     for h in header:
         name, unit = read_csv_header(h or "")
@@ -298,48 +300,6 @@ def default_fps(n_frames: int) -> float:
     return float(min(MAX_FPS, max(n_frames / MIN_DURATION, 0.5)))
 
 
-def _writer(out: Path, fps: float):
-    from matplotlib import animation
-
-    suffix = out.suffix.lower()
-    if suffix == ".gif":
-        return _GifWriter(fps=fps)
-    if suffix in (".html", ".htm"):
-        return animation.HTMLWriter(fps=fps, embed_frames=True, embed_limit=200)
-    if shutil.which("ffmpeg") is None or not animation.writers.is_available("ffmpeg"):
-        raise InputError("out", "writing .mp4 needs ffmpeg, which is not installed; write a .gif (or .html) instead")
-    return animation.FFMpegWriter(fps=fps)
-
-
-@functools.cache
-def _gif_writer_class():
-    from matplotlib import animation
-
-    class GifWriter(animation.PillowWriter):
-        """Pillow GIF writer with a duration per frame (special points are held longer)."""
-
-        def setup(self, fig, outfile, dpi=None):
-            super().setup(fig, outfile, dpi=dpi)
-            self._durations: list[int] = []
-
-        def grab_frame(self, hold: float = 0.0, **savefig_kwargs):
-            super().grab_frame(**savefig_kwargs)
-            # a GIF stores durations in 10 ms steps: round up, so that the animation lasts at least its length
-            self._durations.append(10 * math.ceil(round(100.0 / self.fps + 100.0 * hold, 6)))
-
-        def finish(self):
-            if not self._frames:  # interrupted before the first frame: nothing to write (the error propagates)
-                return
-            self._frames[0].save(self.outfile, save_all=True, append_images=self._frames[1:],
-                                 duration=self._durations, loop=0)
-
-    return GifWriter
-
-
-def _GifWriter(fps: float):
-    return _gif_writer_class()(fps=fps)
-
-
 def _diagram_states(frames: BranchFrames) -> np.ndarray:
     """Per interval between rows: 1.0 stable, 0.0 unstable, nan not evaluated. A special point's own
     stability never decides (a fold is neutral): the interval takes its other end's."""
@@ -400,8 +360,54 @@ def _slider_spans(scenes, h: float):
     return spans
 
 
-def _planar_renderer(system, frames, rows, scenes, annotate, labels, *, title, show_forces, diagram, figsize):
-    """Figure and ``render(k)`` drawing frame ``k`` of a planar mechanism (one fixed view, optional diagram)."""
+def _added(axes, draw: Callable[[], object]) -> list:
+    """Call ``draw()`` and return the artists it added to ``axes``."""
+    before = {id(c) for ax in axes for c in ax.get_children()}
+    draw()
+    return [c for ax in axes for c in ax.get_children() if id(c) not in before]
+
+
+class _Renderer:
+    """Draws frame ``k`` into a fixed figure: removes the previous frame's artists, adds this one's.
+
+    ``render(k)`` returns the artists that differ between frames (the frame's own, the diagram's
+    marker, and the legend the marker may pass under), to be drawn over the fixed image.
+    ``content_axes`` are 3-D axes (see :class:`~mechcont.outputs._frames.Compositor`).
+    """
+
+    def __init__(self, fig, axes, draw: Callable[[int], None], marker=None, content_axes=()):
+        self.fig, self.axes, self._draw, self.marker = fig, list(axes), draw, marker
+        self.content_axes = list(content_axes)
+        self.over: list = []  # the artists of the frame drawn to lay the figure out
+        self.legend_over_marker = True  # False once the marker is known never to pass under the legend
+        self._current: list = []
+
+    def render(self, k: int) -> list:
+        for a in self._current:
+            a.remove()
+        self._current = _added(self.axes, lambda: self._draw(k))
+        over = list(self._current)
+        if self.marker is not None:
+            legend = self.marker[0].axes.get_legend() if self.legend_over_marker else None
+            over += [self.marker[0], *([legend] if legend is not None else [])]
+        return over
+
+    def marker_meets_legend(self) -> bool:
+        """Whether the diagram's marker, at any row, overlaps its legend (which is then redrawn over it)."""
+        if self.marker is None or self.marker[0].axes.get_legend() is None:
+            return False
+        line, xs, ys = self.marker
+        ax = line.axes
+        box = ax.get_legend().get_window_extent()
+        r = 0.5 * line.get_markersize() * self.fig.dpi / 72.0 + 2.0  # pixels, with a margin for antialiasing
+        px = ax.transData.transform(np.column_stack([xs, ys]))
+        return bool(np.any((px[:, 0] > box.x0 - r) & (px[:, 0] < box.x1 + r) & (px[:, 1] > box.y0 - r)
+                           & (px[:, 1] < box.y1 + r)))
+
+
+def _planar_renderer(system, frames, rows, scenes, annotate, labels, *, title, show_forces, diagram, figsize,
+                     dpi) -> _Renderer:
+    """The figure of a planar mechanism and its frames (one fixed view, optional diagram)."""
     scale = _d._default_force_scale(scenes)
     limits = _d._limits(_d._union(_d._bounds(s, scale, show_forces) for s in scenes))
     h = _d._SYMBOL * max(limits[1] - limits[0], limits[3] - limits[2])
@@ -415,28 +421,29 @@ def _planar_renderer(system, frames, rows, scenes, annotate, labels, *, title, s
     mech_w = min(max(aspect * 4.8 + 1.0, 3.0), 12.0)
     if figsize is None:
         figsize = (max(mech_w + 6.2, 8.0), 5.6) if diagram else (max(aspect * 5.2 + 1.0, 8.0), 6.0)
-    fig = Figure(figsize=figsize, layout="constrained")
+    fig = Figure(figsize=figsize, dpi=dpi, layout="constrained")
+    marker = None
     if diagram:
         ax, dax = fig.subplots(1, 2, width_ratios=(mech_w, 6.0))
-        marker, dx, dy = _diagram(dax, system, frames, tuple(diagram))
+        marker = _diagram(dax, system, frames, tuple(diagram))
     else:
         ax = fig.add_subplot()
 
-    def render(k: int) -> None:
+    def draw(k: int) -> None:
         i = rows[k]
-        ax.clear()
         _d.draw_scene(scenes[k], ax, title=title or system.name, show_forces=show_forces, force_scale=scale,
                       limits=limits, slider_spans=spans, quiet_loads=annotate)
         _d._put_note(ax, _d._note(system, frames.values[i], annotate, frames.stable[i], labels[i]), frames.stable[i],
                      corner)
-        if diagram:
-            marker.set_data([dx[i]], [dy[i]])
+        if marker is not None:
+            marker[0].set_data([marker[1][i]], [marker[2][i]])
 
-    return fig, render
+    return _Renderer(fig, [ax], draw, marker)
 
 
-def _spatial_renderer(system, frames, rows, scenes, annotate, labels, *, title, show_forces, diagram, figsize):
-    """Figure and ``render(k)`` for a spatial mechanism: front, side, top and 3-D views (fixed for every
+def _spatial_renderer(system, frames, rows, scenes, annotate, labels, *, title, show_forces, diagram, figsize,
+                      dpi) -> _Renderer:
+    """The figure of a spatial mechanism and its frames: front, side, top and 3-D views (fixed for every
     frame) and, with ``diagram``, the branch with the current point in place of the top view."""
     from matplotlib.figure import Figure
 
@@ -444,21 +451,21 @@ def _spatial_renderer(system, frames, rows, scenes, annotate, labels, *, title, 
 
     views = ("front", "side", "diagram", "3d") if diagram else ("front", "side", "top", "3d")
     frame = _d3._Frame(scenes, [v for v in views if v != "diagram"], show_forces)
-    fig = Figure(figsize=figsize or (11.0, 9.0), layout="constrained")
+    fig = Figure(figsize=figsize or (11.0, 9.0), dpi=dpi, layout="constrained")
     axes = {v: fig.add_subplot(2, 2, k + 1, **({"projection": "3d"} if v == "3d" else {}))
             for k, v in enumerate(views)}
-    if diagram:
-        marker, dx, dy = _diagram(axes.pop("diagram"), system, frames, tuple(diagram))
+    marker = _diagram(axes.pop("diagram"), system, frames, tuple(diagram)) if diagram else None
+    fig.suptitle(title or system.name)  # once: the layout places it
 
-    def render(k: int) -> None:
+    def draw(k: int) -> None:
         i = rows[k]
-        frame.render(axes, scenes[k], labels=True, title=title or system.name, quiet_loads=annotate)
+        frame.render(axes, scenes[k], labels=True, title=None, quiet_loads=annotate, clear=False)
         _d._put_note(axes["front"], _d._note(system, frames.values[i], annotate, frames.stable[i], labels[i]),
                      frames.stable[i])
-        if diagram:
-            marker.set_data([dx[i]], [dy[i]])
+        if marker is not None:
+            marker[0].set_data([marker[1][i]], [marker[2][i]])
 
-    return fig, render
+    return _Renderer(fig, axes.values(), draw, marker, content_axes=[axes["3d"]])
 
 
 def animate(system, branch, path: str | os.PathLike, fps: float | None = None, every: int = 1,
@@ -534,39 +541,75 @@ def animate(system, branch, path: str | os.PathLike, fps: float | None = None, e
         system.index(name)
     if diagram is not None and len(diagram) != 2:
         raise InputError("diagram", "give exactly two variable names (x, y)")
+    suffix = out.suffix.lower()
+    if suffix == ".mp4" and (shutil.which("ffmpeg") is None or not _ffmpeg_available()):
+        raise InputError("out", "writing .mp4 needs ffmpeg, which is not installed; write a .gif (or .html) instead")
     frames = branch_frames(system, branch)
     rows = frame_rows(frames, every)
     fps = default_fps(len(rows)) if fps is None else float(fps)
-    writer = _writer(out, fps)
-    annotate = _d._with_vary(vary or frames.vary, annotate)
-    scenes = [scene_fn(frames.values[i]) for i in rows]
-    labels = _numbered(frames.labels)
-    if scenes[0].dimension == 3:
-        fig, render = _spatial_renderer(system, frames, rows, scenes, annotate, labels, title=title,
-                                        show_forces=show_forces, diagram=diagram, figsize=figsize)
-    else:
-        fig, render = _planar_renderer(system, frames, rows, scenes, annotate, labels, title=title,
-                                       show_forces=show_forces, diagram=diagram, figsize=figsize)
-
-    # Lay the figure out once (the view is fixed, so every frame has the same layout).
-    render(0)
-    fig.draw_without_rendering()
-    fig.set_layout_engine("none")
-    repeats = int(round(hold * fps))
-    gif = isinstance(writer, _gif_writer_class())
+    renderer = _renderer(scene_fn, system, frames, rows, _d._with_vary(vary or frames.vary, annotate), title=title,
+                         show_forces=show_forces, diagram=diagram, figsize=figsize, dpi=dpi)
+    held = [bool(lab) for lab in (frames.labels[i] for i in rows)]
 
     def write(tmp: str) -> None:
-        with writer.saving(fig, tmp, dpi):
-            for k in range(len(scenes)):
-                render(k)
-                held = bool(labels[rows[k]])
-                if gif:  # a GIF holds a frame by its duration
-                    writer.grab_frame(hold=hold if held else 0.0)
-                else:  # MP4 and HTML have one frame rate: the frame is repeated
-                    for _ in range(1 + (repeats if held else 0)):
-                        writer.grab_frame()
+        sink = None if suffix == ".gif" else _f.html_sink(fps) if suffix in (".html", ".htm") else _f.mp4_sink(fps)
+        images: list = []
+        # sink.setup may round an MP4's size to even pixels: before the fixed image is drawn
+        with contextlib.nullcontext() if sink is None else sink.saving(renderer.fig, tmp, dpi):
+            for k, rgba in enumerate(_frame_pixels(renderer, len(rows))):
+                if sink is None:  # a GIF holds a frame by its duration
+                    images.append(_f.gif_frame(rgba))
+                else:  # HTML and MP4 have one frame rate: a held frame is repeated
+                    sink.add(rgba, 1 + (int(round(hold * fps)) if held[k] else 0))
                 if on_frame is not None:
                     on_frame()
+        if sink is None:
+            _f.write_gif(tmp, images, [_f.gif_duration_ms(fps, hold if h else 0.0) for h in held])
 
     _d._atomic_write(out, write)
-    return len(scenes)
+    return len(rows)
+
+
+def _ffmpeg_available() -> bool:
+    from matplotlib import animation
+
+    return bool(animation.writers.is_available("ffmpeg"))
+
+
+def _renderer(scene_fn, system, frames: BranchFrames, rows: Sequence[int], annotate: Sequence[str], *, title,
+              show_forces, diagram, figsize, dpi) -> _Renderer:
+    """The laid-out figure of an animation and its frames (planar or spatial), first frame drawn."""
+    scenes = [scene_fn(frames.values[i]) for i in rows]
+    make = _spatial_renderer if scenes[0].dimension == 3 else _planar_renderer
+    renderer = make(system, frames, rows, scenes, annotate, _numbered(frames.labels), title=title,
+                    show_forces=show_forces, diagram=diagram, figsize=figsize, dpi=dpi)
+    # Lay the figure out once (the view is fixed, so every frame has the same layout).
+    renderer.over = renderer.render(0)
+    renderer.fig.draw_without_rendering()
+    renderer.fig.set_layout_engine("none")
+    for ax in renderer.fig.axes:
+        _pin_legend(ax)
+    if renderer.marker is not None and not renderer.marker_meets_legend():  # the legend stays in the fixed image
+        renderer.legend_over_marker = False
+        renderer.over = [a for a in renderer.over if a is not renderer.marker[0].axes.get_legend()]
+    return renderer
+
+
+def _pin_legend(ax) -> None:
+    """Keep ``ax``'s legend where ``loc="best"`` put it: searching the best place again costs more
+    than drawing the rest of a frame, and the branch it avoids does not change."""
+    legend = ax.get_legend()
+    if legend is None:
+        return
+    box, anchor = legend.get_window_extent(), legend.get_bbox_to_anchor()
+    legend.set_loc(((box.x0 - anchor.x0) / anchor.width, (box.y0 - anchor.y0) / anchor.height))
+
+
+def _frame_pixels(renderer: _Renderer, n: int, *, check: bool = False):
+    """RGBA pixels of frames ``0..n-1`` (each valid until the next is drawn): the fixed parts drawn once,
+    each frame's own artists over them. With ``check``, pairs ``(blitted, full redraw)`` instead (tests)."""
+    comp = _f.Compositor(renderer.fig, renderer.content_axes)
+    comp.draw_background(renderer.over)
+    for k in range(n):
+        rgba = comp.frame(renderer.render(k))
+        yield (rgba.copy(), comp.full_frame()) if check else rgba

@@ -110,6 +110,18 @@ def _checked_extent(bounds: tuple[float, float, float, float]) -> tuple[float, f
 
 # -- primitives ----------------------------------------------------------------------------
 
+def _add(ax, artist):
+    """Put ``artist`` on ``ax`` without widening the data limits: :func:`draw_scene` always sets the view
+    itself, and measuring a curved patch's extent costs more than drawing it (an animation adds hundreds)."""
+    return ax.add_artist(artist)
+
+
+def _line(ax, xs, ys, **kw):
+    """A polyline on ``ax`` (as ``ax.plot(xs, ys, **kw)`` draws it when given its colour), see :func:`_add`."""
+    from matplotlib.lines import Line2D
+
+    return _add(ax, Line2D(np.asarray(xs, float), np.asarray(ys, float), **kw))
+
 def _zigzag(a: np.ndarray, b: np.ndarray, width: float) -> np.ndarray:
     """Polyline of a spring from ``a`` to ``b``: straight leads, ``_COILS`` coils of ``width``."""
     d = b - a
@@ -131,8 +143,8 @@ def _hatched_strip(ax, start: np.ndarray, end: np.ndarray, normal: np.ndarray, d
     quad = np.array([start, end, end + depth * normal, start + depth * normal])
     angle = math.degrees(math.atan2(end[1] - start[1], end[0] - start[0])) % 180
     hatch = "\\\\\\\\" if 20 < angle < 70 else "////"     # strokes never parallel to the strip
-    ax.add_patch(Polygon(quad, closed=True, fill=False, hatch=hatch, edgecolor="0.35", linewidth=0, zorder=zorder))
-    ax.plot([start[0], end[0]], [start[1], end[1]], color="0.2", linewidth=1.2, zorder=zorder)
+    _add(ax, Polygon(quad, closed=True, fill=False, hatch=hatch, edgecolor="0.35", linewidth=0, zorder=zorder))
+    _line(ax, [start[0], end[0]], [start[1], end[1]], color="0.2", linewidth=1.2, zorder=zorder)
 
 
 def _draw_ground(ax, p: np.ndarray, h: float, down=(0.0, -1.0), gid: str | None = None):
@@ -146,7 +158,7 @@ def _draw_ground(ax, p: np.ndarray, h: float, down=(0.0, -1.0), gid: str | None 
         return p + h * (u * e + v * d)
 
     tri = np.array([p, at(-1.2, 2), at(1.2, 2)])
-    ax.add_patch(Polygon(tri, closed=True, facecolor="0.85", edgecolor="0.2", linewidth=1.0, zorder=2, gid=gid))
+    _add(ax, Polygon(tri, closed=True, facecolor="0.85", edgecolor="0.2", linewidth=1.0, zorder=2, gid=gid))
     _hatched_strip(ax, at(-2, 2), at(2, 2), d, 0.9 * h, 2)
 
 
@@ -185,18 +197,18 @@ def _draw_slider(ax, p: np.ndarray, direction: np.ndarray, h: float, span=None):
     hw, hh = 1.6 * h, 0.6 * h
     w = hh + 0.25 * h                       # half width of the slot
     for side in (-1.0, 1.0):
-        ax.plot([a[0] + side * w * nrm[0], b[0] + side * w * nrm[0]], [a[1] + side * w * nrm[1], b[1] + side * w * nrm[1]],
+        _line(ax, [a[0] + side * w * nrm[0], b[0] + side * w * nrm[0]], [a[1] + side * w * nrm[1], b[1] + side * w * nrm[1]],
                 color="0.55", linewidth=0.8, zorder=1, gid="slider-guide")
     for end, out in ((a, -u), (b, u)):      # ground caps, hatched away from the slot
         _hatched_strip(ax, end - (w + 0.4 * h) * nrm, end + (w + 0.4 * h) * nrm, out, 0.8 * h, 1)
     block = np.array([p - hw * u - hh * nrm, p + hw * u - hh * nrm, p + hw * u + hh * nrm, p - hw * u + hh * nrm])
-    ax.add_patch(Polygon(block, closed=True, facecolor="0.75", edgecolor="0.2", linewidth=1.0, zorder=3))
+    _add(ax, Polygon(block, closed=True, facecolor="0.75", edgecolor="0.2", linewidth=1.0, zorder=3))
 
 
 def _draw_pin(ax, p: np.ndarray, h: float):
     from matplotlib.patches import Circle
 
-    ax.add_patch(Circle(p, 0.45 * h, facecolor="white", edgecolor="black", linewidth=1.2, zorder=6))
+    _add(ax, Circle(p, 0.45 * h, facecolor="white", edgecolor="black", linewidth=1.2, zorder=6))
 
 
 def _draw_damper(ax, name: str, a: np.ndarray, b: np.ndarray, width: float):
@@ -213,10 +225,10 @@ def _draw_damper(ax, name: str, a: np.ndarray, b: np.ndarray, width: float):
 
     kw = dict(color="#8c564b", linewidth=1.3, zorder=4)
     cyl = np.array([at(0.6, 1), at(0.3, 1), at(0.3, -1), at(0.6, -1)])
-    ax.plot(*np.array([a, at(0.3, 0)]).T, label=name, **kw)
-    ax.plot(*cyl.T, **kw)
-    ax.plot(*np.array([at(0.5, 0.75), at(0.5, -0.75)]).T, **kw)
-    ax.plot(*np.array([at(0.5, 0), b]).T, **kw)
+    _line(ax, *np.array([a, at(0.3, 0)]).T, label=name, **kw)
+    _line(ax, *cyl.T, **kw)
+    _line(ax, *np.array([at(0.5, 0.75), at(0.5, -0.75)]).T, **kw)
+    _line(ax, *np.array([at(0.5, 0), b]).T, **kw)
 
 
 def _draw_actuator(ax, name: str, a: np.ndarray, b: np.ndarray, tension: float, width: float, label: bool):
@@ -232,9 +244,9 @@ def _draw_actuator(ax, name: str, a: np.ndarray, b: np.ndarray, tension: float, 
     nrm = np.array([-t[1], t[0]])
     colour = "#6a3d9a"
     barrel = [a + w * width * nrm + s * length * t for s, w in ((0, 1), (0.55, 1), (0.55, -1), (0, -1))]
-    ax.add_patch(Polygon(np.array(barrel), closed=True, facecolor="#cab2d6", edgecolor=colour, linewidth=1.3,
+    _add(ax, Polygon(np.array(barrel), closed=True, facecolor="#cab2d6", edgecolor=colour, linewidth=1.3,
                          zorder=4, gid=f"actuator:{name}", label=name))
-    ax.plot(*np.array([a + 0.45 * length * t, b]).T, color=colour, linewidth=2.4, solid_capstyle="butt", zorder=3.9)
+    _line(ax, *np.array([a + 0.45 * length * t, b]).T, color=colour, linewidth=2.4, solid_capstyle="butt", zorder=3.9)
     for end in (a, b):
         _draw_pin(ax, end, width)
     if label:
@@ -262,7 +274,7 @@ def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float, label: bo
         if value < 0:
             phi = phi[::-1]
         arc = p + r * np.column_stack([np.cos(phi), np.sin(phi)])
-        ax.plot(arc[:-3, 0], arc[:-3, 1], color=colour, linewidth=1.6, zorder=7, gid=f"moment:{name}",
+        _line(ax, arc[:-3, 0], arc[:-3, 1], color=colour, linewidth=1.6, zorder=7, gid=f"moment:{name}",
                 solid_capstyle="butt")
         ax.annotate("", xy=arc[-1], xytext=arc[-4], zorder=7,
                     arrowprops=dict(arrowstyle="-|>", color=colour, linewidth=1.6, mutation_scale=12,
@@ -393,7 +405,7 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
         _draw_ground(ax, p, 0.7 * h, down=_anchor_down(p, scene), gid="anchor")
     for name, a, b in scene.springs:
         line = _zigzag(np.asarray(a, float), np.asarray(b, float), 0.7 * h)
-        ax.plot(line[:, 0], line[:, 1], color="#ff7f0e", linewidth=1.3, zorder=4, label=name)
+        _line(ax, line[:, 0], line[:, 1], color="#ff7f0e", linewidth=1.3, zorder=4, label=name)
     for name, a, b in scene.dampers:
         _draw_damper(ax, name, np.asarray(a, float), np.asarray(b, float), 0.6 * h)
     for name, a, b, tension in scene.actuators:
@@ -401,7 +413,7 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
                        show_forces and name not in set(quiet_loads))
     for i, (name, pts) in enumerate(scene.bars):
         pts = np.atleast_2d(np.asarray(pts, float))
-        ax.plot(pts[:, 0], pts[:, 1], color=_BAR_COLOURS[i % len(_BAR_COLOURS)], linewidth=6,
+        _line(ax, pts[:, 0], pts[:, 1], color=_BAR_COLOURS[i % len(_BAR_COLOURS)], linewidth=6,
                 solid_capstyle="round", solid_joinstyle="round", zorder=5, label=name)
     for p in [*scene.pins, *scene.grounds, *(q for q, _ in scene.sliders)]:
         _draw_pin(ax, np.asarray(p, float), h)

@@ -242,9 +242,12 @@ class _Frame:
         self.box = _box3d(scenes, self.scale, show_forces)
         self.show_forces = show_forces
 
-    def render(self, axes: dict, scene: Scene, *, labels: bool, title: str | None, quiet_loads=()):
+    def render(self, axes: dict, scene: Scene, *, labels: bool, title: str | None, quiet_loads=(), clear: bool = True):
+        """Draw ``scene`` in every view of ``axes``; ``clear=False`` keeps what they hold (an animation
+        removes its previous frame's artists itself and keeps the axes, ticks and all)."""
         for v, ax in axes.items():
-            ax.clear()
+            if clear:
+                ax.clear()
             if v == "3d":
                 _draw_3d(ax, scene, self.box, self.scale, self.show_forces, labels, "3-D view")
             else:
