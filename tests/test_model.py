@@ -214,3 +214,22 @@ print(json.dumps({"listed": len(json.loads(out.getvalue())), "compiled": _codege
         assert s.states == tuple((v.name, v.unit, v.description) for v in m.variables if v.kind == "state")
         assert s.parameters == tuple((v.name, v.value, v.unit, v.description) for v in m.variables
                                      if v.kind == "parameter")
+
+
+def test_model_from_text_shares_the_disk_cache_entry_of_a_file_with_that_text(tmp_path, monkeypatch):
+    """model_from_text(text, "name.toml") and load_model of a file name.toml holding that text are one
+    entry of the disk cache; another text is another entry (never a stale model)."""
+    from mechcont.equations import _cache
+    from mechcont.mechanism._paths import find_description
+    from mechcont.models import load_model, model_from_text
+
+    monkeypatch.setenv("MECHCONT_CACHE_DIR", str(tmp_path / "cache"))
+    text = find_description("fourbar").read_text()
+    a = model_from_text(text, "fourbar.toml")
+    (tmp_path / "fourbar.toml").write_text(text)
+    writes = _cache.STATS["writes"]
+    b = load_model(tmp_path / "fourbar.toml")
+    assert _cache.STATS["writes"] == writes and b.names == a.names
+    np.testing.assert_array_equal(b.defaults(), a.defaults())
+    other = model_from_text(text.replace("k = { value = ", "k = { value = 1", 1), "fourbar.toml")
+    assert _cache.STATS["writes"] == writes + 1 and other.names == a.names

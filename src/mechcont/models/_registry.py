@@ -147,6 +147,30 @@ def model_names() -> list[str]:
     return [*BUILTIN_MODELS, *(f"{stem}.toml" for stem in builtin_descriptions())]
 
 
+def model_from_text(text: str, filename: str) -> Model:
+    """The model of a description given as TOML ``text`` (``filename``: the name its errors and model
+    use, e.g. ``"gear.toml"``), at its default values.
+
+    Like :func:`load_model` of a file, the built model is kept in the disk cache under the
+    text, with the key a file of that name and text has: both share one entry.
+
+    Raises
+    ------
+    InputError
+        An invalid description.
+    """
+
+    def build() -> Model:
+        from ..mechanism import parse_description
+
+        return parse_description(text, filename).build()
+
+    from ..equations._stored import stored
+
+    return stored(lambda: ["description model", filename, text.encode(), repr([])], build,
+                  valid=lambda obj: isinstance(obj, Model))
+
+
 def load_model(name: str | Path, **overrides: float) -> Model:
     """The model (a compiled equation system with its declared facts) of a built-in model or a description.
 

@@ -378,17 +378,12 @@ def generated_gear(geo: GearGeometry = DEFAULT_GEOMETRY):
     """The gear generated from its spatial description (:mod:`mechcont.models.dual_sidestay_description`),
     compliant aft attachment.
 
-    The built model is kept in the disk cache under the description's text, with the key
-    :func:`~mechcont.models.load_model` gives ``examples/dual_sidestay.toml`` (the same text for the
-    default geometry, so the two share one entry)."""
-    from ..equations import Model
-    from ..equations._stored import stored
-    from ..mechanism import parse_description
+    The built model is kept in the disk cache under the description's text, the same entry as
+    :func:`~mechcont.models.load_model` of ``examples/dual_sidestay.toml`` (the same text)."""
+    from ..models import model_from_text
     from ..models.dual_sidestay_description import dual_sidestay_description
 
-    text = dual_sidestay_description(geo)
-    return stored(lambda: ["description model", "dual_sidestay.toml", text.encode(), repr([])],
-                  lambda: parse_description(text, "dual_sidestay.toml").build(), valid=lambda obj: isinstance(obj, Model))
+    return model_from_text(dual_sidestay_description(geo), "dual_sidestay.toml")
 
 
 def locked_gear(system, stiffnesses) -> list[LockedGear]:
