@@ -1,4 +1,4 @@
-"""``numpy.linalg.svd`` and ``slogdet`` of one small real matrix, without the wrappers' per-call checks.
+"""``numpy.linalg.svd``, ``slogdet`` and ``solve`` of one small real matrix, without the wrappers' per-call checks.
 
 The continuation loop takes an SVD (stability, null vectors) and a log-determinant
 (branch-point test) at every point of a branch, on matrices of a few dozen entries, where
@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["svd", "singular_values", "slogdet"]
+__all__ = ["svd", "singular_values", "slogdet", "solve", "inverse"]
 
 _umath_linalg: Any
 try:  # NumPy >= 2 (private names: any other NumPy falls back to the public functions)
@@ -27,8 +27,9 @@ try:  # the error state numpy.linalg.svd enters, made once (entering np.errstate
     from numpy._core._ufunc_config import _extobj_contextvar, _make_extobj  # type: ignore[attr-defined]
 
     _svd_errors = _make_extobj(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore")
+    _quiet = _make_extobj(invalid="ignore", over="ignore", divide="ignore", under="ignore")
 except Exception:  # noqa: BLE001  # pragma: no cover - another NumPy: np.errstate below
-    _svd_errors = None
+    _svd_errors = _quiet = None
 
 
 def _plain(A: np.ndarray) -> bool:
@@ -68,3 +69,42 @@ def slogdet(A: np.ndarray) -> tuple[float, float]:
         sign, logdet = np.linalg.slogdet(A)
         return sign, logdet
     return _umath_linalg.slogdet(A, signature="d->dd")
+
+
+def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    """``numpy.linalg.solve(A, b)`` for a square ``A`` and a vector ``b`` (LAPACK ``dgesv``, NumPy's
+    own kernel), or None when it is singular (an exact zero pivot) or the result is not finite.
+
+    NumPy's kernel fills the result with NaN where the factorisation meets a zero pivot; that
+    is how a singular matrix is told here. SciPy's LAPACK wrappers would do the same job, but
+    importing ``scipy.linalg`` costs a start-up 0.2 s that a short run never earns back.
+    """
+    if _quiet is None or not _plain(A) or type(b) is not np.ndarray or b.dtype != np.float64 or b.ndim != 1:
+        try:
+            x = np.linalg.solve(np.asarray(A, float), np.asarray(b, float))
+        except np.linalg.LinAlgError:
+            return None
+    else:
+        token = _extobj_contextvar.set(_quiet)
+        try:
+            x = _umath_linalg.solve1(A, b, signature="dd->d")
+        finally:
+            _extobj_contextvar.reset(token)
+    return x if np.isfinite(np.add.reduce(x, None)) else None
+
+
+def inverse(A: np.ndarray) -> np.ndarray | None:
+    """``numpy.linalg.inv(A)`` of a square matrix, or None when it is singular or not finite: for a
+    Newton iteration that solves with one matrix several times (a product per solve)."""
+    if _quiet is None or not _plain(A):
+        try:
+            Ai = np.linalg.inv(np.asarray(A, float))
+        except np.linalg.LinAlgError:
+            return None
+    else:
+        token = _extobj_contextvar.set(_quiet)
+        try:
+            Ai = _umath_linalg.inv(A, signature="d->d")
+        finally:
+            _extobj_contextvar.reset(token)
+    return Ai if np.isfinite(np.add.reduce(Ai, None)) else None

@@ -23,8 +23,6 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg.lapack import dgetrf as _dgetrf
-from scipy.linalg.lapack import dgetrs as _dgetrs
 
 from .. import _dense
 from ..equations import EquationSystem
@@ -238,14 +236,14 @@ def _relative_residual(r: np.ndarray, J: np.ndarray, u: np.ndarray) -> float:
     return float(np.max(np.abs(r) / np.maximum(terms, np.finfo(float).tiny), initial=0.0))
 
 
-class _LUSolve:
-    """``solve(A, b)`` with a factorisation already made (``A`` is ignored): for :func:`step_noise`."""
+class _InverseSolve:
+    """``solve(A, b)`` with ``A``'s inverse already computed (``A`` is ignored): for :func:`step_noise`."""
 
-    def __init__(self, lu: np.ndarray, piv: np.ndarray) -> None:
-        self.lu, self.piv = lu, piv
+    def __init__(self, inverse: np.ndarray) -> None:
+        self.inverse = inverse
 
     def __call__(self, _A: np.ndarray, b: np.ndarray) -> np.ndarray:
-        return _dgetrs(self.lu, self.piv, b)[0]
+        return self.inverse @ b
 
 
 def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], param: str, tol: float = 1e-11,
@@ -293,8 +291,10 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
     step = np.inf
     for it in range(1, max_iter + 1):
         A = JF * rows[:, None] * cols
-        lu, piv, info = _dgetrf(A)
-        dU = _dgetrs(lu, piv, -rows * F)[0] if info == 0 else None
+        # one inverse for the Newton step, the line search's simplified corrections and the noise
+        # estimate (a product per solve; LU factors are not reachable without scipy.linalg's start-up)
+        Ai = _dense.inverse(A)
+        dU = Ai @ (-rows * F) if Ai is not None else None
         if dU is None or not np.isfinite(dU).all():
             raise ConvergenceError(f"fold polish: singular fold system at iteration {it} (the fold may be degenerate "
                                    "or a branch point)", partial=full(U))
@@ -306,7 +306,7 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
         while True:
             trial = U + lam * cols * dU
             F_t, JF_t = evaluate(trial)
-            bar = _dgetrs(lu, piv, -rows * F_t)[0]
+            bar = Ai @ (-rows * F_t)
             if (np.isfinite(bar).all() and _norm(bar) <= (1 - lam / 4) * size) or lam < 1 / 64:
                 break
             lam *= 0.5
@@ -318,7 +318,7 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
         if (residual_met(r_eq, J_eq, U[:len(idx_vars)], residual_tol)
                 and residual_met(row * null_rows, J_null * row[:, None], U * cols, residual_tol)
                 and (step < tol or (step > 0.5 * prev_step  # stalled, no longer converging
-                                    and step <= 10 * step_noise(_LUSolve(lu, piv), A, A, U / cols)))):
+                                    and step <= 10 * step_noise(_InverseSolve(Ai), A, A, U / cols)))):
             xf = full(U)
             # the columns at xf, from its evaluation above (the same values as system.jacobian(xf)[:, idx_vars])
             Jf = J_eq * row[:, None] * col

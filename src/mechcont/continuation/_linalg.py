@@ -11,7 +11,8 @@ from __future__ import annotations
 from typing import Protocol, runtime_checkable
 
 import numpy as np
-from scipy.linalg.lapack import dgesv as _dgesv
+
+from .. import _dense
 
 __all__ = ["LinearSolver", "DenseLU", "MinimumNorm"]
 
@@ -27,9 +28,9 @@ class DenseLU:
     """LU with partial pivoting (LAPACK ``dgesv``): exact, fast for a few hundred unknowns."""
 
     def solve(self, A: np.ndarray, b: np.ndarray) -> np.ndarray | None:
-        """Solve ``A x = b``; ``None`` when an exact zero pivot shows ``A`` singular."""
-        _, _, x, info = _dgesv(A, b)
-        return None if info != 0 else x
+        """Solve ``A x = b``; ``None`` when an exact zero pivot shows ``A`` singular (or the result is
+        not finite: a non-finite ``A`` or ``b``)."""
+        return _dense.solve(A, b)
 
     def __repr__(self) -> str:
         return "DenseLU()"
