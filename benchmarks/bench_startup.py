@@ -64,13 +64,13 @@ def measure(rounds: int, sources: dict[str, str | None], k: str = "", progress=N
     try:
         for env in envs.values():  # fill the caches (and the interpreter's bytecode caches)
             for _, args, _ in chosen:
-                _run(_command(args), env)
+                _run(_command(args, tmp), env)
         _run(BASELINE, base_env)
         for r in range(rounds):
             times[(_BARE, "-")].append(_run(BASELINE, base_env))
             for name, args, _ in chosen:
                 for label, env in envs.items():
-                    times.setdefault((name, label), []).append(_run(_command(args), env))
+                    times.setdefault((name, label), []).append(_run(_command(args, tmp), env))
             if progress:
                 progress(r + 1, rounds)
     finally:
