@@ -222,6 +222,25 @@ def pose(p: Mapping[str, float], theta3: float, lock_side: int = -1) -> dict[str
     return out
 
 
+def _gap_scan(p: Mapping[str, float], ts: np.ndarray, theta4: float) -> np.ndarray:
+    """``downlocked_pose``'s closure gap |P5 - J| - L5 (m) at every main-fitting angle of ``ts`` at once
+    (NaN where the knee cannot close): the same construction as :func:`_knee`, on arrays."""
+    A = np.array([p["Ax"], p["Ay"]])[:, None]
+    P2 = -p["L32"] * np.array([np.cos(ts + p["psi1"]), np.sin(ts + p["psi1"])])
+    d = P2 - A
+    dist = np.hypot(d[0], d[1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = (p["L1"] ** 2 - p["L2"] ** 2 + dist ** 2) / (2 * dist)
+        h2 = p["L1"] ** 2 - a ** 2
+        u = d / dist
+        K = A + a * u + np.sqrt(np.maximum(h2, 0.0)) * np.array([-u[1], u[0]])
+    J = K + p["L4"] * _e(theta4)[:, None]
+    P5 = -p["L35"] * np.array([np.cos(ts - p["psi2"]), np.sin(ts - p["psi2"])])
+    gap = np.hypot(*(P5 - J)) - p["L5"]
+    gap[(h2 < -1e-12 * p["L1"] ** 2) | (dist == 0)] = np.nan
+    return gap
+
+
 def downlocked_pose(p: Mapping[str, float], theta4: float = 0.0) -> dict[str, float]:
     """The 15 coordinates where the lock link 1 angle is ``theta4`` (rad), near the downlocked pose.
 
@@ -240,7 +259,7 @@ def downlocked_pose(p: Mapping[str, float], theta4: float = 0.0) -> dict[str, fl
         return float(np.hypot(*(P5 - J)) - p["L5"])
 
     ts = DOWNLOCK_THETA3 + np.linspace(-0.5, 0.5, 1001)
-    vals = [gap(t) for t in ts]
+    vals = _gap_scan(p, ts, theta4)  # brackets only: each root is found on the scalar gap
     roots = [brentq(gap, ts[i], ts[i + 1], xtol=1e-15, rtol=1e-15)
              for i in range(len(ts) - 1) if vals[i] * vals[i + 1] < 0 or vals[i] == 0]
     if not roots:
