@@ -295,7 +295,7 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
         # estimate (a product per solve; LU factors are not reachable without scipy.linalg's start-up)
         Ai = _dense.inverse(A)
         dU = Ai @ (-rows * F) if Ai is not None else None
-        if dU is None or not np.isfinite(dU).all():
+        if Ai is None or dU is None or not np.isfinite(dU).all():
             raise ConvergenceError(f"fold polish: singular fold system at iteration {it} (the fold may be degenerate "
                                    "or a branch point)", partial=full(U))
         # Deuflhard's natural monotonicity test: the simplified Newton correction at the
