@@ -102,14 +102,34 @@ def _register():
     from . import _commands  # noqa: F401
 
 
+def _signal_aware_unraisable_hook(previous):
+    """A ``sys.unraisablehook`` that stays quiet about the signal exceptions of :func:`main`.
+
+    A signal that lands in a callback whose exceptions Python cannot raise (a weakref
+    callback of Matplotlib's transforms, a ``__del__``) would print "Exception ignored in"
+    with a traceback. The handler has recorded the signal, and :func:`raise_pending` raises
+    it again at the next safe point, so nothing is lost by not printing it; every other
+    unraisable exception goes to ``previous``."""
+
+    def hook(unraisable):
+        if isinstance(unraisable.exc_value, (Terminated, KeyboardInterrupt)):
+            return
+        previous(unraisable)
+
+    return hook
+
+
 def main(argv=None):
     """Entry point of the ``mechcont`` console script (SIGTERM unwinds as :class:`Terminated`)."""
     _register()
     clear()
     previous = signal.signal(signal.SIGTERM, _terminate)
     previous_int = signal.signal(signal.SIGINT, _interrupt)
+    previous_hook = sys.unraisablehook
+    sys.unraisablehook = _signal_aware_unraisable_hook(previous_hook)
     try:
         cli.main(args=argv, prog_name="mechcont")
     finally:
         signal.signal(signal.SIGTERM, previous)
         signal.signal(signal.SIGINT, previous_int)
+        sys.unraisablehook = previous_hook
