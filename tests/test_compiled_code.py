@@ -196,6 +196,7 @@ def test_gather_reads_entries_of_every_compiled_layout():
 def test_chain_build_compiles_only_nonzero_entries(chain12):
     """12 bars (62 equations, 69 variables): only the Jacobian's non-zero entries are compiled."""
     n_eq, n = len(chain12.equations), len(chain12.names)
+    chain12.compile()  # (the module's fixture is shared: this test must not rely on an earlier one compiling it)
     f = chain12._code["res_jac"]
     assert f.idx is not None and f.n_out == n_eq + int(np.count_nonzero(np.abs(chain12.jacobian(_point(chain12))) > 0))
     assert f.n_out < (n_eq + n_eq * n) // 10
