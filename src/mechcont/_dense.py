@@ -36,14 +36,20 @@ def _plain(A: np.ndarray) -> bool:
     return _umath_linalg is not None and type(A) is np.ndarray and A.dtype == np.float64 and A.ndim == 2
 
 
+def _in_state(extobj, gufunc, *args, signature: str):
+    """``gufunc(*args)`` in the floating-point error state ``extobj`` (made once: entering np.errstate
+    costs a fifth of a small SVD)."""
+    token = _extobj_contextvar.set(extobj)
+    try:
+        return gufunc(*args, signature=signature)
+    finally:
+        _extobj_contextvar.reset(token)
+
+
 def _svd_call(gufunc, A: np.ndarray, signature: str):
     """``gufunc(A)`` in the error state numpy.linalg.svd uses (non-convergence raises LinAlgError)."""
     if _svd_errors is not None:
-        token = _extobj_contextvar.set(_svd_errors)
-        try:
-            return gufunc(A, signature=signature)
-        finally:
-            _extobj_contextvar.reset(token)
+        return _in_state(_svd_errors, gufunc, A, signature=signature)
     with np.errstate(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore"):
         return gufunc(A, signature=signature)
 
@@ -85,11 +91,7 @@ def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray | None:
         except np.linalg.LinAlgError:
             return None
     else:
-        token = _extobj_contextvar.set(_quiet)
-        try:
-            x = _umath_linalg.solve1(A, b, signature="dd->d")
-        finally:
-            _extobj_contextvar.reset(token)
+        x = _in_state(_quiet, _umath_linalg.solve1, A, b, signature="dd->d")
     return x if np.isfinite(np.add.reduce(x, None)) else None
 
 
@@ -102,9 +104,5 @@ def inverse(A: np.ndarray) -> np.ndarray | None:
         except np.linalg.LinAlgError:
             return None
     else:
-        token = _extobj_contextvar.set(_quiet)
-        try:
-            Ai = _umath_linalg.inv(A, signature="d->d")
-        finally:
-            _extobj_contextvar.reset(token)
+        Ai = _in_state(_quiet, _umath_linalg.inv, A, signature="d->d")
     return Ai if np.isfinite(np.add.reduce(Ai, None)) else None

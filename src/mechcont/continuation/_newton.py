@@ -6,6 +6,7 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 
+from .. import _dense
 from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 from ._problem import choose_unknowns
@@ -104,20 +105,13 @@ def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol:
         prev_step, step = step, np.max(np.abs(lam * du / scale))
         if residual_met(r, J, u, residual_tol) and (
                 step < tol or (step > 0.5 * prev_step  # stalled, no longer converging
-                               and step <= 10 * step_noise(_lu_solve, J * scale, J * scale, u / scale))):
+                               and step <= 10 * step_noise(_dense.solve, J * scale, J * scale, u / scale))):
             return u, it
     worst = int(np.argmax(np.abs(r)))
     raise ConvergenceError(
         f"Newton did not converge in {max_iter} iterations: residual {np.linalg.norm(r):.3g}, largest in equation "
         f"{worst}; "
         "try a closer guess or a different held value", partial=u)
-
-
-def _lu_solve(A: np.ndarray, b: np.ndarray) -> np.ndarray | None:
-    try:
-        return np.linalg.solve(A, b)
-    except np.linalg.LinAlgError:
-        return None
 
 
 def find_equilibrium(system: EquationSystem, values: Mapping[str, float] | None = None,

@@ -76,7 +76,8 @@ from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import TypeVar
 
-__all__ = ["cache_dir", "enabled", "cache_key", "cached", "load", "store", "expr_text", "STATS"]
+__all__ = ["cache_dir", "enabled", "cache_key", "cached", "load", "store", "load_or_build", "digest", "expr_text",
+           "STATS"]
 
 T = TypeVar("T")
 
@@ -188,14 +189,19 @@ def expr_text(e) -> str:
     return _engine_text(e)
 
 
-def cache_key(parts: Iterable[str | bytes]) -> str:
-    """SHA-256 (hex) of ``parts`` (separated unambiguously) and the environment."""
-    h = hashlib.sha256(_environment_text().encode())
+def digest(head: bytes, parts: Iterable[str | bytes]) -> str:
+    """SHA-256 (hex) of ``head`` and then ``parts``, each preceded by its length (unambiguous)."""
+    h = hashlib.sha256(head)
     for p in parts:
         b = p if isinstance(p, bytes) else p.encode("utf-8", "surrogatepass")
         h.update(len(b).to_bytes(8, "little"))
         h.update(b)
     return h.hexdigest()
+
+
+def cache_key(parts: Iterable[str | bytes]) -> str:
+    """SHA-256 (hex) of ``parts`` (separated unambiguously) and the environment."""
+    return digest(_environment_text().encode(), parts)
 
 
 class _Untrusted(Exception):
@@ -444,12 +450,21 @@ def cached(parts: Iterable[str | bytes] | Callable[[], Iterable[str | bytes]], b
 
     if not enabled() or backend() != "llvm":  # the interpreted backend's code is rebuilt on loading anyway
         return build()
-    key = cache_key(parts() if callable(parts) else parts)
+    return load_or_build(cache_key(parts() if callable(parts) else parts), build, valid)
+
+
+def load_or_build(key: str, build: Callable[[], T], valid: Callable[[object], bool] | None = None) -> T:
+    """The object stored under ``key`` if ``valid`` accepts it (a hit), else ``build()``, stored
+    under ``key`` unless SymEngine's interpreted backend made it (its code would be compiled
+    again on loading). Counts hits and misses in :data:`STATS`."""
     obj = load(key)
     if obj is not None and (valid is None or valid(obj)):
         STATS["hits"] += 1
         return obj
     STATS["misses"] += 1
     obj = build()
-    store(key, obj)
+    from ._codegen import backend
+
+    if backend() == "llvm":
+        store(key, obj)
     return obj

@@ -72,11 +72,7 @@ def _environment() -> bytes:
 
 def stored_key(parts: Iterable[str | bytes]) -> str:
     """SHA-256 (hex) of ``parts`` (separated unambiguously), mechcont's source and the environment."""
-    h = hashlib.sha256(b"mechcont stored object\n" + _environment())
-    for p in parts:
-        b = p if isinstance(p, bytes) else p.encode("utf-8", "surrogatepass")
-        h.update(len(b).to_bytes(8, "little") + b)
-    return h.hexdigest()
+    return _cache.digest(b"mechcont stored object\n" + _environment(), parts)
 
 
 def stored(parts: Callable[[], Iterable[str | bytes]], build: Callable[[], T], valid: Callable[[object], bool]) -> T:
@@ -89,15 +85,4 @@ def stored(parts: Callable[[], Iterable[str | bytes]], build: Callable[[], T], v
     """
     if not _cache.enabled():
         return build()
-    key = stored_key(parts())
-    obj = _cache.load(key)
-    if obj is not None and valid(obj):
-        _cache.STATS["hits"] += 1
-        return obj
-    _cache.STATS["misses"] += 1
-    obj = build()
-    from ._codegen import backend
-
-    if backend() == "llvm":
-        _cache.store(key, obj)
-    return obj
+    return _cache.load_or_build(stored_key(parts()), build, valid)

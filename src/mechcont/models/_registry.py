@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -147,6 +147,11 @@ def model_names() -> list[str]:
     return [*BUILTIN_MODELS, *(f"{stem}.toml" for stem in builtin_descriptions())]
 
 
+def _model_key(filename: str, text: bytes, values: Mapping[str, float]) -> list[str | bytes]:
+    """The disk-cache key parts of a description's built model: its file name, full text and values."""
+    return ["description model", filename, text, repr(sorted(values.items()))]
+
+
 def model_from_text(text: str, filename: str) -> Model:
     """The model of a description given as TOML ``text`` (``filename``: the name its errors and model
     use, e.g. ``"gear.toml"``), at its default values.
@@ -167,7 +172,7 @@ def model_from_text(text: str, filename: str) -> Model:
 
     from ..equations._stored import stored
 
-    return stored(lambda: ["description model", filename, text.encode(), repr([])], build,
+    return stored(lambda: _model_key(filename, text.encode(), {}), build,
                   valid=lambda obj: isinstance(obj, Model))
 
 
@@ -213,5 +218,5 @@ def load_model(name: str | Path, **overrides: float) -> Model:
 
     # the built model (structure and compiled code) is kept in the disk cache, keyed by the file's
     # name and full text and the values (an edited file never reuses an entry of its old text)
-    return stored(lambda: ["description model", path.name, text, repr(sorted(values.items()))], build,
+    return stored(lambda: _model_key(path.name, text, values), build,
                   valid=lambda obj: isinstance(obj, Model))
