@@ -64,9 +64,6 @@ def test_spatial_press_equals_the_planar_one_at_the_cusp_and_the_ends(curves):
     assert cps[0]["L0"] == pytest.approx(cps[1]["L0"], abs=1e-12)
 
 
-@pytest.mark.xfail(strict=True, reason="open (issue 22, item 3): with a stiff spring (k = 2e6 N/m, forces ~1e5 N) the "
-                                       "fold curve near the cusp moves ~1e-5 rad of phi per step, the planar cusp is "
-                                       "only approximate (CP?) and the spatial curve goes back and forth (dozens of CP)")
 @pytest.mark.parametrize("kind", list(FILES))
 def test_fold_curve_of_a_stiff_press_has_one_located_cusp(kind):
     """The same press with the spring 1000 times stiffer: the equations scale (forces and reactions by
@@ -77,4 +74,31 @@ def test_fold_curve_of_a_stiff_press_has_one_located_cusp(kind):
     c = continue_folds(s, b["LP1"], vary="F", free="L0",
                        options=ContinuationOptions(bounds={"L0": (0.5, 1.2)}, max_steps=300))
     assert [lab for lab in c.row_labels() if lab] == ["EP", "CP", "EP"]
-    assert c["CP1"].values["L0"] == pytest.approx(2 * L, abs=1e-12)
+    assert c["CP1"].info["status"] == "located"
+    assert c["CP1"].values["L0"] == pytest.approx(2 * L, abs=1e-12) and abs(c["CP1"].values["phi"]) < 1e-9
+    phi = c["phi"]
+    assert np.max(np.abs(c["L0"] - 2 * L * np.cos(phi) ** 3)) < 1e-11
+    assert np.count_nonzero(np.diff(np.sign(phi[np.abs(phi) > 1e-9])) != 0) == 1  # no back and forth
+    assert len(phi) < 80  # arclength in the physical unknowns: about as many steps as the soft press
+
+
+@pytest.mark.parametrize("kind", list(FILES))
+@pytest.mark.parametrize("phi", [-0.4, -1e-3, 0.0, 2e-5])
+def test_fold_condition_gradient_agrees_with_finite_differences(kind, phi):
+    """The fold condition det(R G_s C) / N and its exact gradient (the adjugate contracted with
+    the generated second derivatives) against central differences, on and near the cusp."""
+    from mechcont.continuation import FoldProblem
+
+    s = load_model(FILES[kind])
+    x0 = find_equilibrium(s, hold={"phi": 0.3}, free=["F"])
+    lp = continuation(s, x0, "F", options=ContinuationOptions(bounds={"phi": (-1.2, 1.2)}))["LP1"]
+    prob = FoldProblem(s, lp.x, "F", "L0", lp.info["unknowns"])
+    x = find_equilibrium(s, hold={"phi": phi}, free=["F"])
+    u = x[prob.idx_vars]
+    J = prob.jacobian(u)
+    h = 1e-6 * prob.scale
+    fd = np.array([(prob.residual(u + hi * e) - prob.residual(u - hi * e)) / (2 * hi)
+                   for hi, e in zip(h, np.eye(len(u)))]).T
+    scale = np.abs(J[-1] * prob.scale).max()
+    assert scale > 0
+    np.testing.assert_allclose(J[-1] * prob.scale, fd[-1] * prob.scale, rtol=0, atol=1e-6 * scale)

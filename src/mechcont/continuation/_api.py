@@ -239,16 +239,14 @@ def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: 
         raise InputError(free, "is one of the unknowns of the branch; choose a parameter that was held")
     x0 = _start_vector(system, fold)
     problem = None
-    if (isinstance(fold, SpecialPoint) and fold.info.get("status") == "located" and fold.info.get("vary") == vary
-            and fold.info.get("null_vector") is not None):
+    if isinstance(fold, SpecialPoint) and fold.info.get("status") == "located" and fold.info.get("vary") == vary:
         # a fold the branch already polished: start from it as it is, if it still solves the fold system
-        problem = FoldProblem(system, x0, vary, free, states, v0=np.asarray(fold.info["null_vector"], float),
-                              scales=options.scales)
+        problem = FoldProblem(system, x0, vary, free, states, scales=options.scales)
         if not problem.solves(problem.u0):
             problem = None
     if problem is None:
-        x, v = refine_fold(system, x0, states, vary)
-        problem = FoldProblem(system, x, vary, free, states, v0=v, scales=options.scales)
+        x, _ = refine_fold(system, x0, states, vary)
+        problem = FoldProblem(system, x, vary, free, states, scales=options.scales)
     x = problem.full(problem.u0)
     from dataclasses import replace
 

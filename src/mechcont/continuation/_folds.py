@@ -6,10 +6,12 @@ Jacobian with respect to the unknown states ``s``,
     G(s, p1, p2) = 0,    G_s v = 0,    (v^T v - 1) / 2 = 0,
 
 (``2n + 1`` equations). With ``p2`` held this is square in ``(s, p1, v)`` and Newton
-polishes a fold found by a sign change to machine precision. With ``p2`` free, it is
-one more continuation problem for the same pseudo-arclength engine, whose solutions are
-the fold curve in the ``(p1, p2)`` plane. Its Jacobian needs second derivatives of
-``G``, contracted with ``v``: exact, from the system's generated Hessian.
+polishes a fold found by a sign change to machine precision (:func:`polish_fold`).
+
+The fold curve in the ``(p1, p2)`` plane is continued by the same pseudo-arclength engine
+on the minimally extended system ``G = 0, det(R G_s C) / N = 0`` in ``(s, p1, p2)`` alone
+(:class:`FoldProblem` says why the null vector is not an unknown there). Both Jacobians
+need second derivatives of ``G``: exact, from the system's generated Hessian.
 
 A cusp (``CP``) is where the fold's quadratic coefficient ``a = w^T G_ss[v, v]``
 changes sign (``w``: left null vector); the two folds of a hysteresis loop meet and
@@ -353,13 +355,32 @@ class CuspEvent(Event):
 class FoldProblem(ContinuationProblem):
     """The fold curve of ``system`` in parameters ``(p1, p2)`` as a continuation problem.
 
-    Unknowns ``u = (states..., p1, p2, v_hat...)`` with the null vector in equilibrated
-    coordinates (``v = col * v_hat``, ``col`` read off the Jacobian at the start fold, see
-    :func:`_fold_system`); the continuation parameter (whose direction is chosen) is ``p2``.
+    Unknowns ``u = (states..., p1, p2)``, equations ``G = 0`` and one fold condition, the
+    minimally extended system
+
+        G(s, p1, p2) = 0,    g(s, p1, p2) = det(R G_s C) / N = 0,
+
+    (``n + 1`` equations in ``n + 2`` unknowns) with ``R``, ``C`` the row and column scales
+    read off the Jacobian at the start fold (:func:`fold_scaling`) and ``N`` the product of
+    all but the smallest singular value of ``R G_s C`` there (so ``g`` starts as a signed
+    smallest singular value). Its gradient is exact from the adjugate and the system's
+    generated second derivatives: ``dg/dx_c = tr(adj(A) dA/dx_c) / N``, ``A = R G_s C``.
+
+    Why not the standard augmented system ``(G, G_s v, |v| - 1)`` that :func:`polish_fold`
+    uses: its null vector becomes an unknown, and near a cusp the null vector can turn
+    through half a revolution within a tiny stretch of the curve. In a toggle press the
+    reactions' share of ``v`` is proportional to the distance from the cusp times the spring
+    stiffness, so with a stiff spring ``v`` turns from "all reactions" through "all motion"
+    to "all reactions, reversed" within 1e-4 rad. Steps either shrink to nothing there or
+    jump across it, and a tangent oriented by its null-vector part then points back: the
+    curve retraced itself across the cusp again and again. Here the unknowns are the
+    physical ones only; the curve is smooth through a cusp in them (the press's is
+    ``L0 = 2 L cos^3(phi)``), arclength is measured in them, and the null vectors are
+    recomputed from ``G_s`` where a test function needs them.
     """
 
     def __init__(self, system: EquationSystem, x_fold: np.ndarray, p1: str, p2: str, states: Iterable[str],
-                 v0: np.ndarray | None = None, scales=None):
+                 scales=None):
         self.system = system.compile()
         states = list(states)
         for p in (p1, p2):
@@ -375,76 +396,126 @@ class FoldProblem(ContinuationProblem):
         n = len(states)
         row, col = fold_scaling(system, x_fold, self.idx_vars)
         self.row, self.col = row, col[:n]
-        if v0 is None:
-            v0, _ = _null_vectors(system.jacobian(x_fold)[:, self.state_idx], row, self.col)
+        self._rowcol = row[:, None] * self.col
+        sv = _dense.singular_values(system.jacobian(x_fold)[:, self.state_idx] * self._rowcol)
+        # log N: the start's singular values but the smallest (a zero one would make N meaningless)
+        self._log_norm = float(np.sum(np.log(np.maximum(sv[:-1], np.finfo(float).tiny))))
         self._colrow = self.col[:, None] * row  # (R G_s C)^T = G_s^T * (col row^T)
         self._e_last = np.zeros(n + 1)
         self._e_last[n] = 1.0
-        vh0 = np.asarray(v0, float) / self.col
-        vh0 /= np.linalg.norm(vh0)
         self.base = x_fold.copy()
-        self._fs = _FoldSystem(system, self.base, self.idx_vars, np.arange(n), self.col)
-        fs = self._fs
-        self._full, self._res, self._jac, self._eval = fs.full, fs.residual, fs.jacobian, fs.evaluate
-        self.u0 = np.concatenate([x_fold[self.idx_vars], vh0])
-        self.names = (*states, p1, p2, *[f"v_{s}" for s in states])
+        self.view = system.columns(self.idx_vars)
+        self._adjugate_layout: tuple | None = None
+        self.u0 = x_fold[self.idx_vars].copy()
+        self.names = (*states, p1, p2)
         self.param_index = len(states) + 1
         sc = system.scales()
-        for n, v in (scales or {}).items():
-            sc[system.index(n)] = v
-        self.scale = np.concatenate([sc[self.idx_vars], np.ones(len(states))])
+        for name, v in (scales or {}).items():
+            sc[system.index(name)] = v
+        self.scale = sc[self.idx_vars]
         self.idx = self.idx_vars  # for messages
 
-    def residual(self, u):
-        return self._res(u)
+    def full(self, u):
+        """The full variable vector at ``u``."""
+        x = self.base.copy()
+        x[self.idx_vars] = u
+        return x
 
-    def jacobian(self, u):
-        return self._jac(u)
+    def _layout(self):
+        """The view's second derivatives ``d2 G_i / ds_j dx_c`` with ``s_j`` a state: ``(values,
+        keep, i, pos, c)`` (``keep`` selects them among all entries, ``pos`` is ``j``'s position
+        among the states) and the factor ``R_i C_pos`` of each in ``dA/dx_c``."""
+        if self._adjugate_layout is None:
+            values, i, j, c = self.view.second_derivative_entries()
+            at = np.full(len(self.base), -1, dtype=np.intp)
+            at[self.state_idx] = np.arange(len(self.states), dtype=np.intp)
+            keep = np.flatnonzero(at[j] >= 0)
+            i, pos, c = i[keep], at[j[keep]], c[keep]
+            self._adjugate_layout = (values, keep, i, pos, c, self.row[i] * self.col[pos])
+        return self._adjugate_layout
+
+    def _adjugate(self, A: np.ndarray) -> tuple[float, np.ndarray]:
+        """``(g, adj(A) / N)``: the fold condition and the scaled adjugate of ``A = R G_s C``."""
+        sign, logdet = _dense.slogdet(A)
+        Ai = _dense.inverse(A) if sign != 0 else None
+        if Ai is not None and np.isfinite(Ai).all():
+            g = sign * math.exp(logdet - self._log_norm)
+            return g, g * Ai
+        # exactly singular (a converged fold can be, in the last bit): adj = det(U V) V adj(S) U^T
+        U, s, Vt = _dense.svd(A)
+        logs = np.log(np.maximum(s, np.finfo(float).tiny))
+        others = np.exp(np.sum(logs) - logs - self._log_norm)  # prod_{j != i} s_j / N
+        unitary = _dense.slogdet(U)[0] * _dense.slogdet(Vt)[0]
+        return 0.0, unitary * (Vt.T * others) @ U.T
 
     def evaluate(self, u):
-        return self._eval(u)
+        """Residual (n + 1) and Jacobian (n + 1, n + 2) at ``u``."""
+        x = self.base.copy()
+        x[self.idx_vars] = u
+        r, J = self.view.residual_and_jacobian(x)
+        n = len(self.states)
+        g, adj = self._adjugate(J[:, :n] * self._rowcol)
+        values, keep, i, pos, c, factor = self._layout()
+        # dg/dx_c = sum_ij adj_ji dA_ij/dx_c over the non-zero second derivatives
+        w = values(x)[keep] * factor * adj[pos, i]
+        res = np.empty(n + 1)
+        res[:n] = r
+        res[n] = g
+        out = np.empty((n + 1, len(self.idx_vars)))
+        out[:n] = J
+        out[n] = np.bincount(c, weights=w, minlength=len(self.idx_vars))
+        return res, out
 
-    def full(self, u):
-        return self._full(u)
+    def residual(self, u):
+        return self.evaluate(u)[0]
+
+    def jacobian(self, u):
+        return self.evaluate(u)[1]
+
+    def null_vectors(self, u, jac: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Right and left null vectors ``(v, w)`` of ``G_s`` at the fold-curve point ``u`` (unscaled
+        states and equations, each of unit length), from the equilibrated matrix (see
+        :func:`_null_vectors`). ``jac``: the scaled Jacobian the corrector returned with ``u``."""
+        n = len(self.states)
+        J = self.view.residual_and_jacobian(self.full(u))[1] if jac is None else jac[:n] / self.scale
+        return _null_vectors(J[:, :n], self.row, self.col)
 
     def solves(self, u, tol: float = 1e-10) -> bool:
-        """Whether ``u`` solves the fold system: equilibrium rows, the equilibrated null-vector
-        rows and the normalisation each below ``tol`` or their floating-point floor."""
-        n, nv = len(self.states), len(self.idx_vars)
-        res, out = self._eval(u)
-        if not np.isfinite(res).all():
-            return False
-        return bool(residual_met(res[:n], out[:n, :nv], u[:nv], tol)
-                    and residual_met(self.row * res[n:2 * n], out[n:2 * n] * self.row[:, None], u, tol)
-                    and abs(res[2 * n]) <= tol)
+        """Whether ``u`` solves the fold system: equilibrium rows and the fold condition each below
+        ``tol`` or their floating-point floor."""
+        res, out = self.evaluate(u)
+        return bool(np.isfinite(res).all() and residual_met(res, out, u, tol))
 
     def quadratic_coefficient(self, u, jac: np.ndarray | None = None) -> float:
         """Normalised ``a = w^T G_ss[v, v]`` at the fold-curve point ``u``.
 
         ``jac``: the scaled Jacobian of the fold system the corrector returned with ``u``
-        (``dG/du * scale``), whose blocks are ``G``'s columns and ``d(G_s v)/dx``; without it
-        they are evaluated at ``u``.
+        (``dG/du * scale``), whose first rows are ``G``'s columns; without it they are
+        evaluated at ``u``.
         """
-        nv, n, fs = len(self.idx_vars), len(self.states), self._fs
-        full = fs.evaluate(u)[1] if jac is None else jac / self.scale
-        J, H = full[:n, :nv], full[n:2 * n, :nv]
-        # as fold_quantities(system, full(u), state_idx, p1, col * v_hat, scaling), from the
-        # columns the fold system evaluated (no second evaluation of the point). The left null
-        # vector w solves the bordered system [R G_s C, R G_p1; v_hat^T, 0]^T [y; s] = e, w = R y:
-        # non-singular along a fold curve (G_p1 is outside the range of G_s: transversality), an
-        # LU instead of an SVD, and w^T G_p1 = 1 > 0 comes out oriented.
-        Js, Jp, row, vh = J[:, fs.state_pos], J[:, nv - 2], self.row, u[nv:]
+        n, nv = len(self.states), len(self.idx_vars)
+        x = self.full(u)
+        J = self.view.residual_and_jacobian(x)[1] if jac is None else jac[:n] / self.scale
+        Js, Jp, row = J[:, :n], J[:, nv - 2], self.row
+        vh = _dense.svd(Js * self._rowcol)[2][-1]
+        v = self.col * vh
+        vf = np.zeros(len(x))
+        vf[self.state_idx] = v
+        H = self.view.jacobian_derivative(x, vf)[:, :n]
+        # as fold_quantities(system, x, state_idx, p1, v, scaling). The left null vector w solves
+        # the bordered system [R G_s C, R G_p1; v_hat^T, 0]^T [y; s] = e, w = R y: non-singular
+        # along a fold curve (G_p1 is outside the range of G_s: transversality), and
+        # w^T G_p1 = 1 > 0 comes out oriented.
         M = np.empty((n + 1, n + 1))
         np.multiply(Js.T, self._colrow, out=M[:n, :n])
         M[:n, n] = vh
         np.multiply(row, Jp, out=M[n, :n])
         M[n, n] = 0.0
         y = _SOLVER.solve(M, self._e_last)
-        v = self.col * vh
         if y is None or not math.isfinite(np.add.reduce(y, None)):
-            return _oriented_coefficient(v, _null_vectors(Js, row, self.col)[1], Jp, H[:, fs.state_pos])[2]
-        w = row * y[:n]  # w^T G_p1 = 1: oriented as _oriented_coefficient orients it
-        return float(w @ (H[:, fs.state_pos] @ v)) / (_norm(w) * (v @ v))
+            return _oriented_coefficient(v, _null_vectors(Js, row, self.col)[1], Jp, H)[2]
+        w = row * y[:n]
+        return float(w @ (H @ v)) / (_norm(w) * (v @ v))
 
     def test_functions(self):
         return [CuspEvent()]
