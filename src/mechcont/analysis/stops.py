@@ -13,7 +13,8 @@ continues from the located switch point in the same sense along the branch with 
 the one-sided tangents choose (the same choice decides a start exactly on a limit). Where no set
 continues, the switch is a non-smooth fold (``NSF``: e.g. a release onto an unstable free branch,
 a snap-through); the branch goes on through it like through a smooth fold, and the ``NSF`` point
-says where the mechanism lands (``info["landing"]``). The pieces are joined into one :class:`~mechcont.continuation.Branch`: its points carry
+says where the mechanism lands (``info["landing"]``). The pieces are joined into one
+:class:`~mechcont.continuation.Branch`: its points carry
 the full variable vector (the conditions and reactions are columns), ``SC``/``SR`` label the
 switches, ``LP`` the folds of the piece they lie on (each keeps its own lens in
 ``info["unknowns"]``, so :func:`~mechcont.continuation.continue_folds` follows it in a second
@@ -101,7 +102,7 @@ def _with_contacts(system: EquationSystem, x: np.ndarray, stops, active) -> np.n
 def equilibrium_on_stops(system: EquationSystem, guess: np.ndarray | Mapping[str, float], *,
                          values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
                          free: Iterable[str] = (), stops: Iterable[str] | None = None,
-                         contact: Iterable[str] | None = None) -> tuple[np.ndarray, list[str]]:
+                         contact: Iterable[str] | None = None, stable: bool = False) -> tuple[np.ndarray, list[str]]:
     """An equilibrium with a consistent set of stops in contact.
 
     Parameters
@@ -117,6 +118,10 @@ def equilibrium_on_stops(system: EquationSystem, guess: np.ndarray | Mapping[str
     contact:
         The stops to try in contact first (default: those whose condition is at or past its limit
         at ``guess``).
+    stable:
+        When the equilibrium found is unstable (e.g. Newton from the guess went to the unstable
+        straight toggle of a clamp whose lock rests on a stop past it), try each further stop in
+        contact first and return the first consistent stable equilibrium, if any.
 
     Returns
     -------
@@ -129,6 +134,23 @@ def equilibrium_on_stops(system: EquationSystem, guess: np.ndarray | Mapping[str
     ConvergenceError
         When no active set gives a consistent equilibrium (the sets tried are named).
     """
+    x, found = _active_set(system, guess, values, hold, free, stops, contact)
+    if not stable or system.mechanics is None or stability_on_stops(system, x, found).stable:
+        return x, found
+    for s in _stops(system, stops):
+        if s.name in found:
+            continue
+        try:
+            y, there = _active_set(system, guess, values, hold, free, stops, [*found, s.name])
+        except ConvergenceError:
+            continue
+        if stability_on_stops(system, y, there).stable:
+            return y, there
+    return x, found
+
+
+def _active_set(system, guess, values, hold, free, stops, contact) -> tuple[np.ndarray, list[str]]:
+    """:func:`equilibrium_on_stops`' active-set method from one guess and first contact set."""
     st = _stops(system, stops)
     x = system.vector(guess) if isinstance(guess, Mapping) else np.array(guess, dtype=float)
     active = set(contact) if contact is not None else {s.name for s in st
