@@ -18,7 +18,9 @@ from ._run import check_outputs, common_options, continuation_options, run_conti
 @click.option("--y", "yname", default=None, help="Plot y axis (default: the --start state).")
 @click.option("--stops", "with_stops", is_flag=True,
               help="Let the description's stops make and lose contact (SC, SR): the start is found with a "
-                   "consistent set of stops in contact and each direction is followed as --vary is pushed.")
+                   "consistent set of stops in contact (at a limit, as the one-sided tangents decide) and each "
+                   "direction is followed as --vary is pushed; a release onto an unstable branch is a non-smooth "
+                   "fold (NSF), and where the mechanism lands is printed.")
 def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, out, plot, xname, yname,
                      with_stops):
     """Continue equilibria of MODEL in --vary, both directions, within --bounds (with --stops, through
