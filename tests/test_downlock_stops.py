@@ -35,6 +35,11 @@ def test_lock_on_a_stop_with_a_snap_release():
     assert u.stable is True and u.downlock_force == 0.0
     assert u.above.label == "NSF" and u.unlock_force == pytest.approx(15.0 - A * math.cos(0.3), rel=1e-9)
     assert any("non-smooth fold" in n for n in u.notes)
+    (land,) = [n for n in u.notes if "lands on" in n]
+    # released at F = M0 - a cos(0.3) the bar swings down to theta = -0.3, where a cos(theta) balances again
+    got = re.search(r"lands on no stop \(stable; theta_bar from (\S+) deg to (\S+) deg\)", land)
+    assert got and float(got.group(1)) == pytest.approx(math.degrees(0.3), rel=1e-5)
+    assert float(got.group(2)) == pytest.approx(-math.degrees(0.3), rel=1e-5)
 
 
 def test_lock_on_a_stop_with_a_smooth_release_then_a_fold():

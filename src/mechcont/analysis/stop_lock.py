@@ -26,7 +26,7 @@ from .downlock import DownlockBranch, design_bounds, design_options
 from .stops import GAP_TOL, continuation_with_stops, equilibrium_on_stops, stability_on_stops
 from .unlock import RELEASE_FORCE_SPAN, UnlockFolds
 
-__all__ = ["downlock_on_stops", "stop_unlock", "stop_unlock_along", "lock_force"]
+__all__ = ["downlock_on_stops", "stop_unlock", "stop_unlock_along", "lock_force", "landing_after_unlock"]
 
 
 def lock_force(system: EquationSystem, force: str | None = None) -> str:
@@ -98,6 +98,37 @@ def stop_unlock(system: EquationSystem, x: np.ndarray, force: str, *, max_steps:
     return UnlockFolds(force, F0, stable, below, above, b, notes, warnings)
 
 
+def landing_after_unlock(system: EquationSystem, x: np.ndarray, unlock: UnlockFolds) -> str:
+    """Where the lock at ``x`` lands when its unlock load (``unlock.above``) is a non-smooth fold: one line
+    (from a run through the fold, :func:`~mechcont.analysis.stops.continuation_with_stops`), "" otherwise."""
+    p = unlock.above
+    if p is None or p.label != "NSF":
+        return ""
+    f, F0 = unlock.force, unlock.downlock_force
+    sc = system.variable(f).scale
+    options = ContinuationOptions(ds=0.02, dsmax=0.5, max_steps=400, detect_folds=False,
+                                  bounds={f: (F0 - RELEASE_FORCE_SPAN * sc, F0 + RELEASE_FORCE_SPAN * sc)})
+    try:
+        run = continuation_with_stops(system, x, f, direction=1, options=options, max_switches=6)
+    except (ConvergenceError, InputError):
+        return ""
+    nsf = next((q for q in run.branch.special("NSF") if abs(q[f] - p[f]) <= 1e-6 * max(abs(p[f]), sc)), None)
+    if nsf is None or nsf.info.get("landing") is None:
+        return f"the lock snaps at {f} = {p[f]:.6g}; no equilibrium at that {f} catches it within the release run"
+    at = dict(zip(run.branch.names, nsf.info["landing"]))
+    on = ", ".join(nsf.info["landing_contact"]) or "no stop"
+    names = system.mechanics.coordinates if system.mechanics is not None else system.state_names
+    moved = max(names, key=lambda n: abs(at[n] - p[n]) / system.variable(n).scale)  # the coordinate that jumps most
+    how = "stable" if nsf.info["landing_stable"] else "UNSTABLE"
+    unit = system.variable(moved).unit
+
+    def shown(v: float) -> str:   # angles in degrees, as everywhere on display
+        return f"{np.degrees(v):.6g} deg" if unit == "rad" else f"{v:.6g}{' ' + unit if unit else ''}"
+
+    return (f"the lock snaps at {f} = {p[f]:.6g} {system.variable(f).unit} and lands on {on} ({how}; {moved} from "
+            f"{shown(p[moved])} to {shown(at[moved])})")
+
+
 def stop_unlock_along(system: EquationSystem, branch: Branch, force: str) -> tuple[np.ndarray, list[str]]:
     """The unlock load (force increasing, nan where none) at every row of a lock-on-stops ``branch``, each
     from its own release run (:func:`stop_unlock`, increasing only), and the runs' warnings."""
@@ -152,6 +183,9 @@ def downlock_on_stops(system: EquationSystem, vary: str, bounds: Mapping[str, tu
     if unlock:
         found = stop_unlock(system, x0, f)
         warnings += [f"unlock loads at {vary} = {start:g}: {w}" for w in found.warnings]
+        landing = landing_after_unlock(system, x0, found)
+        if landing:
+            found.notes.append(landing)
     out = DownlockBranch.of(run.branch, f, condition, found, warnings)
     out.lock_stops = tuple(contact)
     return out

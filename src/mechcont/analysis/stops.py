@@ -373,7 +373,9 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
         last = len(piece) - 1 if sign > 0 else 0  # a branch's rows run in increasing arclength
         end = next((p for p in piece.special_points if p.index == last and p.label in ("SC", "SR")), None)
         if end is None or "stop" not in end.info:
-            run.message = piece.message or f"ended: {piece.status}"
+            # the piece's own "+: "/"-: " says its sense; the run's is the one it was started in
+            why = "; ".join(m.split(": ", 1)[-1] for m in piece.message.split("; ")) if piece.message else ""
+            run.message = f"{'+' if direction > 0 else '-'}: {why or f'ended: {piece.status}'}"
             break
         run.switches.append((end.label, end.info["stop"], -1))
         arriving = set(active)
