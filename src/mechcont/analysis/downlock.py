@@ -44,12 +44,16 @@ class DownlockBranch(Branch):
     warnings:
         One line per run that stopped short (a failed direction, ``max_steps`` before the
         bounds, a release run without a fold): where and why.
+    lock_stops:
+        The stops the lock rests on (:func:`~mechcont.analysis.stop_lock.downlock_on_stops`); empty
+        for a lock held at a condition.
     """
 
     downlock_force: str
     condition: dict
     unlock: UnlockFolds | None
     warnings: list
+    lock_stops: tuple[str, ...] = ()
 
     @classmethod
     def of(cls, branch: Branch, force: str, condition: Mapping[str, float], unlock: UnlockFolds | None,
@@ -148,6 +152,38 @@ def downlock_point(system: EquationSystem, values: Mapping[str, float] | None = 
     return find_equilibrium(system, values=values, hold=h, free=[f, *free], guess=guess)
 
 
+def design_bounds(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float, float]] | None,
+                  options: ContinuationOptions | None, values: Mapping[str, float] | None) -> tuple[dict, float]:
+    """The bounds of a run in the design parameter ``vary`` (``options``' merged with ``bounds``) and its start
+    value; :class:`InputError` for an unknown name, no range for ``vary`` or a start outside it."""
+    all_bounds = dict(options.bounds) if options is not None else {}
+    all_bounds.update(bounds or {})
+    for n in all_bounds:
+        system.variable(n)
+    if vary not in all_bounds:
+        raise InputError("bounds", f"give a range for the varied parameter, e.g. {vary}=LO:HI")
+    lo, hi = all_bounds[vary]
+    start = (values or {}).get(vary, system.variable(vary).value)
+    if not lo <= start <= hi:
+        raise InputError(vary, f"start value {start:g} lies outside its bounds {lo:g}:{hi:g}; set it with values")
+    return all_bounds, start
+
+
+def design_options(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float, float]],
+                   options: ContinuationOptions | None, max_steps: int | None) -> ContinuationOptions:
+    """Continuation options of a run in the design parameter ``vary`` within ``bounds``: steps sized to
+    its range and scale unless ``options`` are given (their bounds replaced by ``bounds``)."""
+    if options is not None:
+        from dataclasses import replace
+
+        return replace(options, bounds=dict(bounds), **({"max_steps": max_steps} if max_steps else {}))
+    lo, hi = bounds[vary]
+    span = hi - lo if np.isfinite(hi - lo) else 1.0
+    scale = system.variable(vary).scale
+    return ContinuationOptions(ds=min(0.02, 0.5 * span / scale), dsmin=1e-9, dsmax=max(0.02, min(0.5, 0.1 * span / scale)),
+                               bounds=dict(bounds), **({"max_steps": max_steps} if max_steps else {}))
+
+
 def downlock(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None, *,
              free: Iterable[str] = (), values: Mapping[str, float] | None = None,
              hold: Mapping[str, float] | None = None, force: str | None = None,
@@ -204,28 +240,10 @@ def downlock(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float
     free = list(free)
     if vary in free:
         raise InputError("vary", f"'{vary}' cannot be both varied and freed")
-    all_bounds = dict(options.bounds) if options is not None else {}
-    all_bounds.update(bounds or {})
-    for n in all_bounds:
-        system.variable(n)
-    if vary not in all_bounds:
-        raise InputError("bounds", f"give a range for the varied parameter, e.g. {vary}=LO:HI")
-    lo, hi = all_bounds[vary]
+    all_bounds, start = design_bounds(system, vary, bounds, options, values)
     values = dict(values or {})
-    start = values.get(vary, system.variable(vary).value)
-    if not lo <= start <= hi:
-        raise InputError(vary, f"start value {start:g} lies outside its bounds {lo:g}:{hi:g}; set it with values")
     x0 = downlock_point(system, values, hold=h, force=f, free=free)
-    if options is None:
-        span = hi - lo if np.isfinite(hi - lo) else 1.0
-        scale = system.variable(vary).scale
-        options = ContinuationOptions(ds=min(0.02, 0.5 * span / scale), dsmin=1e-9,
-                                      dsmax=max(0.02, min(0.5, 0.1 * span / scale)), bounds=all_bounds,
-                                      **({"max_steps": max_steps} if max_steps else {}))
-    else:
-        from dataclasses import replace
-
-        options = replace(options, bounds=all_bounds, **({"max_steps": max_steps} if max_steps else {}))
+    options = design_options(system, vary, all_bounds, options, max_steps)
     branch = continuation(system, x0, vary, hold=list(h), free=[f, *free], options=options, direction=direction)
     held = ", ".join(f"{k} = {v:g}" for k, v in h.items())
     warnings = early_stops(branch, f"downlock branch in {vary} ({held})", show=(f,))

@@ -9,8 +9,12 @@ keeps a condition ``c`` on one side of a limit. Along a branch each stop is eith
 
 :func:`continuation_with_stops` continues with one such *active set* until a reaction reaches
 zero (``SR``, stop released) or a free condition reaches its limit (``SC``, stop contact), then
-switches that stop and continues from the located switch point in the same sense along the
-branch. The pieces are joined into one :class:`~mechcont.continuation.Branch`: its points carry
+continues from the located switch point in the same sense along the branch with the contact set
+the one-sided tangents choose (the same choice decides a start exactly on a limit). Where no set
+continues, the switch is a non-smooth fold (``NSF``: e.g. a release onto an unstable free branch,
+a snap-through); the branch goes on through it like through a smooth fold, and the ``NSF`` point
+says where the mechanism lands (``info["landing"]``). The pieces are joined into one
+:class:`~mechcont.continuation.Branch`: its points carry
 the full variable vector (the conditions and reactions are columns), ``SC``/``SR`` label the
 switches, ``LP`` the folds of the piece they lie on (each keeps its own lens in
 ``info["unknowns"]``, so :func:`~mechcont.continuation.continue_folds` follows it in a second
@@ -25,10 +29,12 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from itertools import combinations
 
 import numpy as np
 
 from ..continuation import Branch, ContinuationOptions, FoldEvent, SpecialPoint, ValueEvent, continuation, find_equilibrium
+from ..continuation._problem import choose_unknowns
 from ..continuation._variants import travel as _travel
 from ..equations import EquationSystem, StopLimit, as_model
 from ..errors import ConvergenceError, InputError
@@ -96,7 +102,7 @@ def _with_contacts(system: EquationSystem, x: np.ndarray, stops, active) -> np.n
 def equilibrium_on_stops(system: EquationSystem, guess: np.ndarray | Mapping[str, float], *,
                          values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
                          free: Iterable[str] = (), stops: Iterable[str] | None = None,
-                         contact: Iterable[str] | None = None) -> tuple[np.ndarray, list[str]]:
+                         contact: Iterable[str] | None = None, stable: bool = False) -> tuple[np.ndarray, list[str]]:
     """An equilibrium with a consistent set of stops in contact.
 
     Parameters
@@ -112,6 +118,10 @@ def equilibrium_on_stops(system: EquationSystem, guess: np.ndarray | Mapping[str
     contact:
         The stops to try in contact first (default: those whose condition is at or past its limit
         at ``guess``).
+    stable:
+        When the equilibrium found is unstable (e.g. Newton from the guess went to the unstable
+        straight toggle of a clamp whose lock rests on a stop past it), try each further stop in
+        contact first and return the first consistent stable equilibrium, if any.
 
     Returns
     -------
@@ -124,6 +134,23 @@ def equilibrium_on_stops(system: EquationSystem, guess: np.ndarray | Mapping[str
     ConvergenceError
         When no active set gives a consistent equilibrium (the sets tried are named).
     """
+    x, found = _active_set(system, guess, values, hold, free, stops, contact)
+    if not stable or system.mechanics is None or stability_on_stops(system, x, found).stable:
+        return x, found
+    for s in _stops(system, stops):
+        if s.name in found:
+            continue
+        try:
+            y, there = _active_set(system, guess, values, hold, free, stops, [*found, s.name])
+        except ConvergenceError:
+            continue
+        if stability_on_stops(system, y, there).stable:
+            return y, there
+    return x, found
+
+
+def _active_set(system, guess, values, hold, free, stops, contact) -> tuple[np.ndarray, list[str]]:
+    """:func:`equilibrium_on_stops`' active-set method from one guess and first contact set."""
     st = _stops(system, stops)
     x = system.vector(guess) if isinstance(guess, Mapping) else np.array(guess, dtype=float)
     active = set(contact) if contact is not None else {s.name for s in st
@@ -184,8 +211,8 @@ class StopRun:
     directions: list[int] = field(default_factory=list)
 
     def first_fold(self) -> SpecialPoint | None:
-        """The first fold (``LP``) along the run from its start, or None."""
-        return next((p for p in self.branch.special_points if p.label == "LP"), None)
+        """The first fold along the run from its start, smooth (``LP``) or not (``NSF``), or None."""
+        return next((p for p in self.branch.special_points if p.label in ("LP", "NSF")), None)
 
 
 class _StopEvent(ValueEvent):
@@ -220,12 +247,27 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
                             progress: Callable[[int], None] | None = None) -> StopRun:
     """Continue equilibria in ``vary`` with stops making and losing contact on the way.
 
+    Where a stop is at its limit with a zero reaction (the start exactly on a limit, or a located
+    ``SC``/``SR``), the stops in contact on the way on are decided by the one-sided tangents: of the
+    sets that continue as ``vary`` is pushed with every reaction growing from zero or every
+    released condition moving to its allowed side, the one with the most stops in contact (a
+    stop pushed into stays in contact). When no set continues, the point is a *non-smooth fold*
+    (``NSF``, e.g. a release onto an unstable free branch: a snap-through): the branch goes on
+    through it like through a smooth fold (``vary`` turns back, on the other set), and when the
+    mechanism arrived there stable, ``info["landing"]`` of the ``NSF`` point is where it lands:
+    the first equilibrium further along the branch at the same value of ``vary`` (the next
+    equilibrium in the direction the mechanism moves, for one degree of freedom exactly where a
+    heavily damped motion comes to rest), with ``info["landing_contact"]`` and
+    ``info["landing_stable"]``; None when the bounds come first. ``info["jump"]`` says whether the
+    mechanism arrived there stable (False: an unstable branch meets a stop, nothing jumps).
+
     Parameters
     ----------
     system:
         A model with stops.
     start:
-        A converged full vector with a consistent contact set (see :func:`equilibrium_on_stops`).
+        A converged full vector with a consistent contact set (see :func:`equilibrium_on_stops`);
+        a stop at its limit with a zero reaction is decided as above.
     vary:
         The continuation parameter (e.g. an unlock force ``F_fwd``, N).
     direction:
@@ -237,21 +279,22 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
     stops:
         The stops considered (default: all of the model's); the others stay as they are in ``start``.
     contact:
-        The stops in contact at ``start`` (default: those touching there, :func:`stops_in_contact`).
+        The stops in contact at ``start`` (default: those touching there, :func:`stops_in_contact`,
+        and those at their limit with a zero reaction as the tangents decide).
     options:
         Continuation options; its ``bounds`` end the whole run.
     stop_at_fold:
-        End the run at the first fold (e.g. the unlock load).
+        End the run at the first fold, ``LP`` or ``NSF`` (e.g. the unlock load).
     max_switches:
-        Largest number of contact changes before the run ends (a chattering contact is reported).
+        Largest number of contact changes before the run ends.
     progress:
         Called with 1 after every accepted step.
 
     Returns
     -------
     StopRun
-        The joined branch, its pieces and switches. A piece that fails ends the run with its
-        message; what was computed up to there is returned.
+        The joined branch, its pieces and switches (``SC``, ``SR`` and ``NSF``). A piece that fails
+        ends the run with its message; what was computed up to there is returned.
     """
     hold, free = list(hold), list(free)
     contact = None if contact is None else list(contact)
@@ -271,9 +314,12 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
     if stop_at_fold:
         options = replace(options, detect_folds=False)
     x = np.array(start, dtype=float)
-    active = set(stops_in_contact(system, x, st) if contact is None else contact)
+    undecided = _at_switch(system, x, st)
+    active = set(stops_in_contact(system, x, st) if contact is None else contact) - undecided
     for s in st:
         R, gap = x[system.index(s.reaction)], s.gap(x[system.index(s.condition)])
+        if s.name in undecided:
+            continue
         if (s.name in active and (R < 0 or abs(gap) > GAP_TOL)) or (s.name not in active and (R != 0 or gap < -GAP_TOL)):
             raise InputError("start", f"stop {s.name} is not consistently in or out of contact there (reaction "
                                       f"{s.reaction} = {R:.6g}, {s.condition} {gap:+.3g} from its limit): a stop in "
@@ -282,7 +328,37 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
                                       "equilibrium_on_stops")
     run = StopRun(branch=None)  # type: ignore[arg-type]
     sign = direction
+    arriving: set[str] | None = None   # the set of the piece that ended at x (None at the start)
+    folds: dict[int, dict] = {}         # switch number (-1: the start) -> the NSF's info
+    run.message = ""
     for _ in range(max_switches + 1):
+        if undecided:
+            x = _with_contacts(system, x, st, active)
+            for s in st:
+                if s.name in undecided:
+                    x[system.index(s.condition)], x[system.index(s.reaction)] = s.limit, 0.0
+            ahead = _continuing_sets(system, x, vary, sign, st, active, undecided, hold, free)
+            if ahead:
+                active = ahead[0]
+            else:   # a non-smooth fold: nothing continues this way; go on through it, the way turned back
+                back = _continuing_sets(system, x, vary, -sign, st, active, undecided, hold, free)
+                came = arriving if arriving is not None else (back[0] if back else None)
+                through = [a for a in back if a != came]
+                stable = came is not None and stability_on_stops(system, x, sorted(came)).n_unstable == 0
+                folds[len(run.switches) - 1] = {"stop": ", ".join(sorted(undecided)), vary: float(x[system.index(vary)]),
+                                                "sign": sign, "jumps": stable, "n_unstable": 0 if stable else 1}
+                if run.switches:
+                    lab, name, i = run.switches[-1]
+                    run.switches[-1] = ("NSF", name, i)
+                if stop_at_fold or not through:
+                    run.message = ("stopped at the non-smooth fold (NSF)" if stop_at_fold else
+                                   "no equilibrium continues the branch through the non-smooth fold (NSF)")
+                    if not run.pieces:
+                        run.pieces.append(_single(system, x, vary, hold, free, st, came or active))
+                        run.contact.append(tuple(s.name for s in st if s.name in (came or active)))
+                        run.directions.append(sign)
+                    break
+                active, sign = through[0], -sign
         x = _with_contacts(system, x, st, active)
         events = [_StopEvent(s, s.name in active) for s in st] + ([_FirstFold()] if stop_at_fold else [])
         hold_k, free_k = _lens(st, active, hold, free)
@@ -296,19 +372,69 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
         run.directions.append(sign)
         last = len(piece) - 1 if sign > 0 else 0  # a branch's rows run in increasing arclength
         end = next((p for p in piece.special_points if p.index == last and p.label in ("SC", "SR")), None)
-        switched = end is not None and "stop" in end.info
-        if not switched:
-            run.message = piece.message or f"ended: {piece.status}"
+        if end is None or "stop" not in end.info:
+            # the piece's own "+: "/"-: " says its sense; the run's is the one it was started in
+            why = "; ".join(m.split(": ", 1)[-1] for m in piece.message.split("; ")) if piece.message else ""
+            run.message = f"{'+' if direction > 0 else '-'}: {why or f'ended: {piece.status}'}"
             break
-        name = end.info["stop"]
-        run.switches.append((end.label, name, -1))
-        (active.discard if end.label == "SR" else active.add)(name)
+        run.switches.append((end.label, end.info["stop"], -1))
+        arriving = set(active)
         sign = _travel(piece, vary, sign)
         x = piece.values[last]
+        undecided = _at_switch(system, x, st) | {end.info["stop"]}
     else:
-        run.message = f"stopped after {max_switches} contact changes (a chattering contact: check the stops' limits)"
-    run.branch = _join(system, run.pieces, vary, run)
+        run.message = (f"stopped after {max_switches} contact changes at {vary} = {x[system.index(vary)]:.6g} "
+                       "(the contact keeps switching there)")
+    run.branch, row_piece = _join(system, run.pieces, vary, run, folds)
+    _land(system, run, row_piece, vary, hold, free, st)
     return run
+
+
+def _at_switch(system: EquationSystem, x: np.ndarray, stops: Sequence[StopLimit]) -> set[str]:
+    """The stops at their limit with a zero reaction at ``x``: in or out of contact is for the tangents to say."""
+    sc = system.scales()
+    return {s.name for s in stops if abs(s.gap(x[system.index(s.condition)])) <= GAP_TOL
+            and abs(x[system.index(s.reaction)]) <= GAP_TOL * sc[system.index(s.reaction)]}
+
+
+def _continuing_sets(system: EquationSystem, x: np.ndarray, vary: str, sign: int, stops: Sequence[StopLimit],
+                     active: set[str], undecided: set[str], hold: list[str], free: list[str]) -> list[set[str]]:
+    """The contact sets that continue from ``x`` as ``vary`` is pushed in ``sign``, most stops in contact first.
+
+    The ``undecided`` stops (at their limit, zero reaction) are tried in and out of contact; a set
+    continues when, along its branch's tangent, every undecided reaction in contact grows and
+    every undecided free condition moves to its allowed side (to first order; a zero rate counts).
+    """
+    names = [s.name for s in stops if s.name in undecided]
+    by_name = {s.name: s for s in stops}
+    fixed = set(active) - undecided
+    sc = system.scales()
+    out = []
+    for k in range(len(names), -1, -1):
+        for chosen in combinations(names, k):
+            trial = fixed | set(chosen)
+            hold_k, free_k = _lens(stops, trial, hold, free)
+            cols = [system.index(n) for n in (*choose_unknowns(system, hold_k, free_k, exclude=[vary]), vary)]
+            J = system.jacobian(x)[:, cols] * sc[cols]
+            t = np.linalg.svd(J)[2][-1]      # the null vector: the branch's unit tangent, scaled
+            if abs(t[-1]) < 1e-10:           # a fold of this set at x: it cannot be pushed in vary
+                continue
+            t *= sign * np.sign(t[-1])
+            rate = dict(zip((system.names[c] for c in cols), t))
+            tol = -1e-9
+            if all(rate[by_name[n].reaction] >= tol if n in chosen else by_name[n].side * rate[by_name[n].condition] >= tol
+                   for n in names):
+                out.append(trial)
+    return out
+
+
+def _single(system: EquationSystem, x: np.ndarray, vary: str, hold, free, stops, active) -> Branch:
+    """A one-row branch at ``x`` (a run that ends where it starts: a non-smooth fold at the start)."""
+    hold_k, free_k = _lens(stops, active, hold, free)
+    unknowns = tuple(choose_unknowns(system, hold_k, free_k, exclude=[vary]))
+    st = stability_on_stops(system, x, sorted(active)).n_unstable if system.mechanics is not None else -1
+    return Branch(system.names, np.array([x]), [0.0], [st], [""], [], vary, unknowns, "completed", "", system.name,
+                  units={v.name: v.unit for v in system.variables})
 
 
 def stability_on_stops(system: EquationSystem, x: np.ndarray, contact: Iterable[str]):
@@ -334,15 +460,22 @@ def _contact_stability(system: EquationSystem, piece: Branch, contact: Sequence[
         piece.n_unstable[i] = stability_on_stops(system, x, contact).n_unstable
 
 
-def _join(system: EquationSystem, pieces: list[Branch], vary: str, run: StopRun) -> Branch:
-    """One branch of the pieces in travel order; each switch row appears once (the end of its piece), labelled."""
+def _join(system: EquationSystem, pieces: list[Branch], vary: str, run: StopRun,
+          folds: Mapping[int, dict]) -> tuple[Branch, list[int]]:
+    """One branch of the pieces in travel order; each switch row appears once (the end of its piece), labelled
+    with its switch's label (``NSF`` with its ``folds`` info); and the piece of each row."""
     rows: list[np.ndarray] = []
     s: list[float] = []
     stab: list[int] = []
     labels: list[str] = []
     special: list[SpecialPoint] = []
+    row_piece: list[int] = []
     offset = 0.0
     k_switch = 0
+    if -1 in folds and pieces:   # a non-smooth fold at the start itself
+        p0 = pieces[0]
+        j0 = 0 if run.directions[0] > 0 else len(p0) - 1
+        special.append(SpecialPoint("NSF", 0, p0.values[j0].copy(), p0.names, None, dict(folds[-1])))
     for i, (p, sign) in enumerate(zip(pieces, run.directions)):
         order = list(range(len(p))) if sign > 0 else list(range(len(p) - 1, -1, -1))
         pos = {j: k for k, j in enumerate(order)}
@@ -354,21 +487,68 @@ def _join(system: EquationSystem, pieces: list[Branch], vary: str, run: StopRun)
             s.append(offset + abs(p.s[j] - s0))
             stab.append(int(p.n_unstable[j]))
             labels.append(p.labels[j])
+            row_piece.append(i)
         for sp_ in sorted(p.special_points, key=lambda q: pos[q.index]):
             k = pos[sp_.index]
             if k < first:
                 continue
             idx = base + k
-            special.append(SpecialPoint(sp_.label, idx, sp_.x.copy(), sp_.names, sp_.tangent, dict(sp_.info)))
+            label, info = sp_.label, dict(sp_.info)
             if sp_.label in ("SC", "SR") and k == len(order) - 1 and k_switch < len(run.switches):
-                lab, name, _ = run.switches[k_switch]
-                run.switches[k_switch] = (lab, name, idx)
+                label, name, _ = run.switches[k_switch]
+                run.switches[k_switch] = (label, name, idx)
+                info.update(folds.get(k_switch, {}))
+                labels[idx] = label
                 k_switch += 1
+            special.append(SpecialPoint(label, idx, sp_.x.copy(), sp_.names, sp_.tangent, info))
         offset = s[-1] if s else 0.0
+    if -1 in folds and rows:   # the start belongs to the set the mechanism rests on, not to the one through the fold
+        labels[0], stab[0] = "NSF", folds[-1]["n_unstable"]
+        run.switches.insert(0, ("NSF", folds[-1]["stop"], 0))
     unknowns = pieces[0].unknowns if pieces else ()
     status = pieces[-1].status if pieces else "failed"
-    return Branch(system.names, np.array(rows), s, stab, labels, special, vary, unknowns, status, run.message,
-                  system.name, units={v.name: v.unit for v in system.variables})
+    branch = Branch(system.names, np.array(rows), s, stab, labels, special, vary, unknowns, status, run.message,
+                    system.name, units={v.name: v.unit for v in system.variables})
+    return branch, row_piece
+
+
+def _land(system: EquationSystem, run: StopRun, row_piece: list[int], vary: str, hold: list[str], free: list[str],
+          stops: Sequence[StopLimit]) -> None:
+    """Where the mechanism lands after each ``NSF`` it reached stable: the first equilibrium further along
+    the branch at the fold's value of ``vary``, solved on that piece's contact set (``info`` of the point)."""
+    b = run.branch
+    col = b.values[:, b.names.index(vary)] if len(b) else np.zeros(0)
+    for p in b.special_points:
+        if p.label != "NSF":
+            continue
+        p.info.pop("n_unstable", None)
+        p.info.update(jump=p.info.pop("jumps", False), landing=None, landing_contact=None, landing_stable=None)
+        if not p.info["jump"]:
+            continue
+        v, sign = p.info[vary], p.info["sign"]
+        ahead = (col - v) * sign
+        j = next((j for j in range(p.index + 2, len(b)) if ahead[j] >= 0 > ahead[j - 1]), None)
+        if j is None:
+            note = (f"the mechanism jumps at the non-smooth fold ({vary} = {v:.6g}); no equilibrium at that "
+                    f"{vary} further along the branch, within its bounds")
+            run.message = f"{run.message}; {note}" if run.message else note
+            b.message = run.message
+            continue
+        active = run.contact[row_piece[j]]
+        w = ahead[j] / (ahead[j] - ahead[j - 1])
+        guess = w * b.values[j - 1] + (1 - w) * b.values[j]
+        guess[system.index(vary)] = v
+        hold_k, free_k = _lens(stops, active, hold, free)
+        held = {n: float(guess[system.index(n)]) for n in hold_k if system.variable(n).kind == "state"}
+        held.update({s.condition: s.limit for s in stops if s.name in active})
+        if system.variable(vary).kind == "state":
+            held[vary] = v
+        try:
+            x = find_equilibrium(system, hold=held, free=free_k, guess=guess)
+        except ConvergenceError:
+            continue
+        stable = stability_on_stops(system, x, list(active)).n_unstable == 0 if system.mechanics is not None else None
+        p.info.update(landing=x, landing_contact=tuple(active), landing_stable=stable)
 
 
 def _both_ways(system: EquationSystem, down: StopRun, up: StopRun) -> StopRun:

@@ -96,7 +96,7 @@ def _stops_text(report) -> tuple[str, str]:
     out = ["stops (one-sided limits of conditions; the equilibrium above leaves them free), the equilibrium with "
            "those in contact that push:"]
     try:
-        x, contact = equilibrium_on_stops(system, report.x)
+        x, contact = equilibrium_on_stops(system, report.x, stable=True)
     except (ConvergenceError, InputError) as exc:
         why = f"no equilibrium with a consistent set of stops in contact: {exc}"
         return "\n".join(out + [f"  {why}"]), why

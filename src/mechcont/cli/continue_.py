@@ -18,7 +18,9 @@ from ._run import check_outputs, common_options, continuation_options, run_conti
 @click.option("--y", "yname", default=None, help="Plot y axis (default: the --start state).")
 @click.option("--stops", "with_stops", is_flag=True,
               help="Let the description's stops make and lose contact (SC, SR): the start is found with a "
-                   "consistent set of stops in contact and each direction is followed as --vary is pushed.")
+                   "consistent set of stops in contact (at a limit, as the one-sided tangents decide) and each "
+                   "direction is followed as --vary is pushed; a release onto an unstable branch is a non-smooth "
+                   "fold (NSF), and where the mechanism lands is printed.")
 def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, out, plot, xname, yname,
                      with_stops):
     """Continue equilibria of MODEL in --vary, both directions, within --bounds (with --stops, through
@@ -59,6 +61,9 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
                                   quiet=quiet)
     first_state = next(iter(assignments(starts, "start")), None) or branch.unknowns[0]
     write_branch(branch, out, plot, xname or vary, yname or first_state, quiet)
+    if with_stops and not quiet:
+        for line in jump_lines(branch, vary, yname or first_state):
+            click.echo(line)
     if not quiet and system.mechanics is not None and len(branch.values):
         from ..analysis.redundancy import redundancy_along
 
@@ -70,3 +75,27 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
                 names[p.index] = name
             for line in report.lines(names):
                 click.echo(f"  {line}")
+
+
+def jump_lines(branch, vary: str, y: str) -> list[str]:
+    """One line per non-smooth fold (``NSF``) of a branch with stops: the load, and where the mechanism lands."""
+    from ._run import display, heading
+
+    out = []
+    names = dict(zip((id(p) for p in branch.special_points), branch.point_names()))
+    for p in branch.special("NSF"):
+        at_fold = display(branch, vary, p[vary])
+        head = f"{names[id(p)]}: non-smooth fold at {heading(branch, vary)} = {at_fold:.10g} (stop {p.info['stop']})"
+        land = p.info.get("landing")
+        if land is not None:
+            at = dict(zip(branch.names, land))
+            on = ", ".join(p.info["landing_contact"]) or "none"
+            how = "stable" if p.info["landing_stable"] else "UNSTABLE"
+            out.append(f"{head}: the mechanism jumps and lands at {heading(branch, y)} = {display(branch, y, at[y]):.10g} "
+                       f"(stops in contact: {on}; {how})")
+        elif p.info.get("jump"):
+            out.append(f"{head}: the mechanism jumps; no equilibrium at that {vary} further along the branch "
+                       "catches it within the bounds")
+        else:
+            out.append(f"{head}: reached along an unstable branch (nothing jumps there)")
+    return out

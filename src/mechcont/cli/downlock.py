@@ -85,23 +85,35 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     no help. Also printed: the unlock folds of the downlocked point at the start value
     (released, continued in the force), written per point as unlock_<FORCE> columns.
     Runs that stop short of their bounds are named on stderr.
+
+    On a description with [stops] and no --hold/--condition, the locked state is the one resting
+    on its stops (the --force at its value): printed is the stop's reaction (the lock's preload)
+    along --vary and, per point, the unlock load: the force increased until the stop releases
+    (SR) and the fold that follows, smooth (LP) or not (NSF: the release is the snap).
     """
     import numpy as np
 
     from ..analysis.downlock import downlock
+    from ..equations import as_model
 
     out_path = checked_path(out, TABLE_SUFFIXES, "out")
     plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
     values = assignments(sets, "set")
     bnds = parse_bounds(bounds_)
-    system, h, f = model_and_condition(model, holds, force, condition)
-    for n in values:
-        system.variable(n)
-    from ..analysis.unlock import RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN, with_unlock_columns
     from ._run import MAX_STEPS
 
     if max_steps is not None and not 1 <= max_steps <= MAX_STEPS:
         raise InputError("--max-steps", f"must be a positive whole number 1..{MAX_STEPS}, got {max_steps}")
+    stops = as_model(_load(model)).stops
+    if stops and not holds and condition is None:
+        return _on_stops(_load(model), vary, bnds, frees, values, force, max_steps, out_path, plot_path)
+    system, h, f = model_and_condition(model, holds, force, condition)
+    if stops:
+        click.echo(f"note: the stops of {system.name} ({', '.join(s.name for s in stops)}) are ignored here: the lock is "
+                   "held at the condition given; leave out --hold/--condition to take the locked state on its stops")
+    for n in values:
+        system.variable(n)
+    from ..analysis.unlock import RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN, with_unlock_columns
     branch = downlock(system, vary, bnds, free=freed_parameters(system, frees), values=values, hold=h, force=f,
                       max_steps=max_steps)
     branch = with_unlock_columns(system, branch, f, released=list(h))
@@ -135,5 +147,59 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
         from ..outputs.plotting import save_figure
 
         fig = downlock_figure(branch, vary, f, held=held, title=f"{system.name}: downlock force vs {vary}")
+        save_figure(fig, plot_path, dpi=120)
+        click.echo(f"wrote {plot_path}")
+
+
+def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plot_path) -> None:
+    """``downlock`` on a description with stops: the lock rests on them (:mod:`mechcont.analysis.stop_lock`)."""
+    import numpy as np
+
+    from ..analysis.stop_lock import downlock_on_stops, stop_unlock_along
+
+    for n in values:
+        system.variable(n)
+    branch = downlock_on_stops(system, vary, bnds, force=force, free=freed_parameters(system, frees), values=values,
+                               max_steps=max_steps)
+    f = branch.downlock_force
+    unlock, more = stop_unlock_along(system, branch, f)
+    branch.warnings += [f"unlock loads along the branch: {w}" for w in more]
+    reactions = [s.reaction for s in system.stops if s.name in branch.lock_stops]
+    xs, unit_x = branch[vary], system.variable(vary).unit
+    if unit_x == "rad":
+        xs, unit_x = np.degrees(xs), "deg"
+    unit_f = system.variable(f).unit
+    on = ", ".join(branch.lock_stops)
+    spans = "; ".join(f"{r} from {branch[r].min():.6g} to {branch[r].max():.6g} {system.variable(r).unit}"
+                      for r in reactions)
+    click.echo(f"lock resting on stop {on} (the locked state; its reaction is the preload) vs {vary} ({unit_x}), "
+               f"{f} = {branch[f][0]:g} {unit_f}: {len(branch)} points, {spans}; status {branch.status}")
+    step = max(1, len(branch) // 10)
+    for i in list(range(0, len(branch), step)) + ([len(branch) - 1] if (len(branch) - 1) % step else []):
+        held = "   ".join(f"{r} = {branch[r][i]:12.6g}" for r in reactions)
+        click.echo(f"  {vary} = {xs[i]:12.6g}   {held}   unlock {_or_none(unlock[i])}   "
+                   f"{branch.stability_labels()[i]} {branch.labels[i]}")
+    start = values.get(vary, system.variable(vary).value)
+    found = branch.unlock
+    if found is not None:
+        click.echo(f"at {vary} = {start:g}: {found.summary(f'resting on stop {on}')}")
+        for note in found.notes:
+            click.echo(f"  {note}")
+    warn(branch.warnings)
+    if np.isfinite(unlock).any():
+        from ..continuation import Branch
+
+        Branch.__init__(branch, (*branch.names, f"unlock_{f}"), np.column_stack([branch.values, unlock]), branch.s,
+                        branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
+                        branch.status, branch.message, branch.model, {**branch.units, f"unlock_{f}": unit_f})
+    if out_path is not None:
+        (branch.to_json if out_path.suffix.lower() == ".json" else branch.to_csv)(out_path)
+        click.echo(f"wrote {out_path}")
+    if plot_path is not None:
+        from ..outputs.design_plots import downlock_figure
+        from ..outputs.plotting import save_figure
+
+        fig = downlock_figure(branch, vary, f, held=f"resting on stop {on}",
+                              title=f"{system.name}: lock on stop {on} vs {vary}")
         save_figure(fig, plot_path, dpi=120)
         click.echo(f"wrote {plot_path}")
