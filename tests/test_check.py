@@ -184,3 +184,15 @@ def test_cli_plot_checked_before_work(tmp_path):
     afile.write_text("")
     one_line_error(run("check", "nosuch", "--plot", afile / "x.png"), "--plot", "not a folder")
     one_line_error(run("check", "fourbar", "--plot", tmp_path), "--plot")
+
+
+@pytest.mark.parametrize("path", ["pendulum_stop.toml", "spatial/door_3d.toml"])
+def test_the_parameter_count_is_the_parameters_listed(path):
+    """The size line's count and the parameters table agree (a stop's reaction R_NAME included)."""
+    from pathlib import Path
+
+    result = run("check", Path(__file__).parent / "data" / path)
+    text = result.stdout
+    count = int(text.split(" parameters\n")[0].rsplit(", ", 1)[1])
+    block = text.split("\nparameters:\n", 1)[1].split("\n\n", 1)[0]
+    assert count == len(block.splitlines()) > 0, text

@@ -68,6 +68,22 @@ def test_models_lists_parameters(run):
     assert "LU" in r.output and "unstrained spring length" in r.output
 
 
+def test_models_says_each_size_once_and_describes_every_parameter(run):
+    r = run("models", "overcentre", "nose_gear", "dual_sidestay_kinematics")
+    assert r.exit_code == 0, r.output
+    heads = [ln for ln in r.output.splitlines() if not ln.startswith(" ")]
+    assert len(heads) == 3
+    for head in heads:  # "overcentre: ... (6 equations)": the size once, not also in the description
+        assert head.count("equations") == 1 and head.count("states") == 0, head
+    params = [ln.split() for ln in r.output.splitlines() if ln.startswith("    ")]
+    geometry = [p for p in params if p[0].startswith(("fwd_", "aft_"))]
+    assert len(geometry) == 32  # 2 sidestays x (A, n, B0, P0 vectors + 4 lengths)
+    for p in geometry:
+        text = " ".join(p)
+        assert ("forward sidestay:" in text) == p[0].startswith("fwd_") and "sidestay:" in text, text
+        assert "geometry" not in text, text
+
+
 @pytest.mark.parametrize("args, words", [
     (("continue", "overcentre", "--set", "LU=abc", "--start", "theta1=0.3", "--vary", "F"), ("LU", "not a number")),
     (("continue", "overcentre", "--set", "LU", "--start", "theta1=0.3", "--vary", "F"), ("--set", "NAME=VALUE")),

@@ -68,6 +68,12 @@ def test_every_top_level_table_has_a_section():
         table_section(table)
 
 
+def test_the_list_of_top_level_tables_names_every_table():
+    listed = re.search(r"The top level holds only these tables: (.*?)\. Every table", DOC, re.S).group(1)
+    names = set(re.findall(r"`\[(\w+)(?:\.NAME)?\]`", listed))
+    assert names == set(_file._SECTIONS), sorted(names ^ set(_file._SECTIONS))
+
+
 @pytest.mark.parametrize("path", sorted(_file.KEYS))
 def test_every_key_of_the_plain_tables_is_documented_in_its_section(path):
     text = table_section(path.split(".")[0])

@@ -193,6 +193,8 @@ def test_continue_with_stops_on_the_command_line(tmp_path):
     r = run("continue", DATA / "pendulum_stop.toml", "--vary", "T", "--bounds", "T=-5:12", "--stops", "--out", out)
     assert r.exit_code == 0, r.output
     assert "SR1" in r.output and "LP1" in r.output
+    # without --start the table shows the stop's condition (not the first coordinate, x_bar, 0 throughout)
+    assert "angle (deg)" in r.output.splitlines()[1] and "x_bar" not in r.output
     rows, units = read_branch_table(out)
     T = np.array([float(r["T"]) for r in rows])
     R = np.array([float(r["R_rest"]) for r in rows])

@@ -42,10 +42,18 @@ def test_study_prints_probability_and_ranking(tmp_path):
     assert f"P(not locking unaided) = {k / 300:.4g} ({k} of 300 samples)" in r.output
     ranking = [ln.split()[0] for ln in r.output.splitlines() if " SRC " in ln]
     assert ranking == ["LU", "U"]
+    slopes = {ln.split()[0]: ln.split("slope ")[1].split("  ")[0].split()[1] for ln in r.output.splitlines() if " SRC " in ln}
+    assert slopes == {"LU": "N/m", "U": "N/(m/s)"}  # the slope's unit, N per the parameter's unit
     assert (tmp_path / "s.png").stat().st_size > 10_000
     again = run("study", "nose_gear", "--dist", "LU=normal:1.3:0.01", "--dist", "U=uniform:0:100", "--n", "300",
                 "--out", tmp_path / "s", "--scheduler", "serial")
     one_line_error(again, "--out", "--resume")
+
+
+def test_slope_units_read_as_units():
+    from mechcont.cli.study import per_unit
+
+    assert [per_unit("N", u) for u in ("m", "N/m", "N m", "")] == ["N/m", "N/(N/m)", "N/(N m)", "N"]
 
 
 # -- killed half way, resumed -----------------------------------------------------------------

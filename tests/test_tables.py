@@ -162,3 +162,17 @@ def test_one_numbering_in_every_output(tmp_path):
     assert curve["F"][i0] == pytest.approx(b["LP2"]["F"], rel=1e-9) and curve["LU"][i0] == pytest.approx(0.4)
     bad = run("folds", *args[:-2], "--free", "LU", "--bounds", "LU=0.1:2", "--fold", "3")
     assert bad.exit_code == 2 and "LP1 at F = " in bad.stderr and "LP2 at F = " in bad.stderr
+
+
+def test_special_point_repr_is_readable():
+    """``folds["CP1"]`` at the prompt: label, row, status and named values, not raw arrays."""
+    from mechcont.continuation import SpecialPoint
+
+    p = SpecialPoint("CP", 35, np.array([1.5, 9.81, -1.2e-13]), ("LU", "F", "theta1"), tangent=np.ones(3),
+                     info={"null_vector": np.ones(3)})
+    text = repr(p)
+    assert text == "SpecialPoint(CP at row 35, located: LU=1.5, F=9.81, theta1=-1.2e-13)"
+    big = SpecialPoint("LP", 2, np.arange(100.0), tuple(f"q{i}" for i in range(100)), info={"status": "approximate"})
+    text = repr(big)
+    assert text.startswith("SpecialPoint(LP? at row 2, approximate: q0=0, q1=1,") and "q59=59, ... (40 more" in text
+    assert "array" not in text

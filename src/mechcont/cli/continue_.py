@@ -59,7 +59,9 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
                        "their reactions held at their values: --stops lets them make and lose contact")
         branch = run_continuation(continuation, system, x0, vary, hold=holds, free=frees, options=options,
                                   quiet=quiet)
-    first_state = next(iter(assignments(starts, "start")), None) or branch.unknowns[0]
+    # shown and plotted: the --start state, else (with --stops) the first stop's condition, else the first unknown
+    stopped = [s.condition for s in stops if s.condition in branch.names] if with_stops else []
+    first_state = next(iter(assignments(starts, "start")), None) or next(iter(stopped), None) or branch.unknowns[0]
     write_branch(branch, out, plot, xname or vary, yname or first_state, quiet)
     if with_stops and not quiet:
         for line in jump_lines(branch, vary, yname or first_state):

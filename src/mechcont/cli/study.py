@@ -65,6 +65,14 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
                      hold=tuple(assignments(holds, "hold").items()), condition=condition, force=force, chunk=chunk or 0)
 
 
+def per_unit(numerator: str, unit: str) -> str:
+    """The unit of a slope ``numerator`` per ``unit``: ``("N", "m")`` -> ``"N/m"``, ``("N", "N/m")`` -> ``"N/(N/m)"``,
+    ``("N", "")`` -> ``"N"`` (a dimensionless parameter)."""
+    if not unit:
+        return numerator
+    return f"{numerator}/({unit})" if any(c in unit for c in "/ *") else f"{numerator}/{unit}"
+
+
 @cli.command("study")
 @click.argument("model")
 @click.option("--dist", "dists", multiple=True, metavar="NAME=KIND:...",
@@ -178,6 +186,6 @@ def _report(df, spec, result, seconds) -> None:
         click.echo(f"sensitivity of the downlock force (standardised regression coefficients, linear fit R^2 = {r2:.4f}):")
         units = df.attrs.get("units", {})
         for s in ranking:
-            unit = f"N/{units.get(s.name) or '1'}"
+            unit = per_unit("N", units.get(s.name, ""))
             click.echo(f"  {s.name:>10}  SRC {s.src:+.4f}  slope {s.slope:+.6g} {unit}  Spearman {s.spearman:+.4f}")
     click.echo(f"wrote {result.results}")

@@ -48,18 +48,31 @@ def _read_branch(path, system, parameter: str, watch: str):
 
 
 def _other_values(branch, system, ramped) -> list[str]:
-    """The parameters (not ramped) whose value on the --branch differs from the sweep's: ``["l0 = 0.6 m (sweep 0.5 m)"]``."""
+    """The parameters (not ramped) whose value on the --branch differs from the sweep's: ``["l0 = 0.6 m (sweep 0.5 m)"]``.
+
+    Only parameters that change the equilibrium equations at the branch's points count: a damping
+    coefficient (dynamic model only) moves no fold, so a branch continued with ``c = 0`` is still the
+    sweep's. A parameter the equations do not use leaves the compiled residual bit for bit the same
+    (the same code on the same arguments), which is what is tested.
+    """
     import numpy as np
 
+    rows = np.column_stack([np.asarray(branch[n], dtype=float) for n in system.names])
+    base = system.residual_batch(rows)
     out = []
     for n in system.parameter_names:
         if n in ramped:
             continue
         on_branch, here = float(branch[n][0]), float(system.variable(n).value)
-        if not np.isclose(on_branch, here, rtol=1e-9, atol=0.0):
-            v = system.variable(n)
-            a, b = _shown(system, n, on_branch), _shown(system, n, here)
-            out.append(f"{v.name} = {a[0]:.6g} {a[1]} (sweep {b[0]:.6g} {b[1]})".replace(" )", ")"))
+        if np.isclose(on_branch, here, rtol=1e-9, atol=0.0):
+            continue
+        moved = rows.copy()
+        moved[:, system.index(n)] = here
+        if np.array_equal(system.residual_batch(moved), base):
+            continue  # not in the equilibrium equations (at these points): the branch's folds are the sweep's
+        v = system.variable(n)
+        a, b = _shown(system, n, on_branch), _shown(system, n, here)
+        out.append(f"{v.name} = {a[0]:.6g} {a[1]} (sweep {b[0]:.6g} {b[1]})".replace(" )", ")"))
     return out
 
 

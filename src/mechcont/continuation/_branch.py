@@ -15,6 +15,9 @@ from ..errors import InputError
 
 __all__ = ["Branch", "SpecialPoint", "unit_header", "read_csv_header", "read_branch_table"]
 
+#: How many values a :class:`SpecialPoint`'s repr shows.
+_REPR_VALUES = 60
+
 
 @dataclass
 class SpecialPoint:
@@ -71,6 +74,14 @@ class SpecialPoint:
     def tag(self) -> str:
         """The label as written in tables: ``"LP"``, or ``"LP?"`` when only approximate."""
         return self.label if self.located else self.label + "?"
+
+    def __repr__(self) -> str:
+        """``SpecialPoint(CP at row 40, located: LU=1.5, F=9.81, ...)``: its values to 10 digits (SI units),
+        the first :data:`_REPR_VALUES` of them (a large model's point would fill the screen)."""
+        shown = ", ".join(f"{n}={float(v):.10g}" for n, v in zip(self.names[:_REPR_VALUES], self.x))
+        more = len(self.names) - _REPR_VALUES
+        rest = f", ... ({more} more; .values has all)" if more > 0 else ""
+        return f"SpecialPoint({self.tag} at row {self.index}, {self.status}: {shown}{rest})"
 
 
 class Branch:

@@ -87,8 +87,29 @@ def _variables(geo: GearGeometry) -> list[Variable]:
     for name, val in values.items():
         if name in ("theta", "delta"):
             continue
-        variables.append(Variable(name, "parameter", val, "" if "_n_" in name else "m", 1.0, f"geometry {name}"))
+        variables.append(Variable(name, "parameter", val, "" if "_n_" in name else "m", 1.0, _geometry_description(name)))
     return variables
+
+
+#: What each geometry parameter is, by its name without the side and axis (``fwd_A_x`` -> ``A``).
+_GEOMETRY_MEANING = {
+    "A": "upper-arm airframe hinge A",
+    "n": "fold-plane unit normal (hinge axis at A)",
+    "B0": "lower-arm lug B on the fitting, gear down",
+    "P0": "lock-link lug P on the fitting, gear down",
+    "L1": "upper arm length, A to knee K",
+    "L2": "lower arm length, knee K to lug B",
+    "L4": "lock link 1 length, knee K to joint J",
+    "L5": "lock link 2 length, joint J to lug P",
+}
+
+
+def _geometry_description(name: str) -> str:
+    """``"fwd_A_x"`` -> ``"forward sidestay: upper-arm airframe hinge A, x"`` (shown by ``mechcont models``)."""
+    side, _, rest = name.partition("_")
+    key, _, axis = rest.partition("_")
+    text = f"{'forward' if side == 'fwd' else 'aft'} sidestay: {_GEOMETRY_MEANING[key]}"
+    return f"{text}, {axis}" if axis else text
 
 
 def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> Model:
@@ -113,7 +134,7 @@ def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> Mode
 
 
 #: What ``mechcont models`` says about the model.
-DESCRIPTION = "dual-sidestay main gear retraction kinematics (natural coordinates, 12 states)"
+DESCRIPTION = "dual-sidestay main gear retraction kinematics (knees and lock-link joints in natural coordinates)"
 
 _STRUCTURE: dict[str, EquationSystem] = {}
 

@@ -274,7 +274,7 @@ def _variables(p: dict[str, float], q: dict[str, float]) -> list[Variable]:
 
 
 #: What ``mechcont models`` says about the model.
-DESCRIPTION = "Planar nose landing gear, paper Section III-A: 15 coordinates + 10 inter-link forces, 25 equations"
+DESCRIPTION = "Planar nose landing gear, paper Section III-A: 15 coordinates and 10 inter-link forces"
 
 _STRUCTURE: dict[str, Model] = {}
 

@@ -73,7 +73,7 @@ def _variables(p: dict) -> list[Variable]:
 
 
 #: What ``mechcont models`` says about the model.
-DESCRIPTION = "Overcentre mechanism, paper eq. 6 (6 states, one equilibrium row)"
+DESCRIPTION = "Overcentre mechanism, paper eq. 6 (five constraints and one equilibrium row)"
 
 _CACHE: dict[str, Model] = {}
 
