@@ -66,6 +66,8 @@ class Sensitivity:
         system (the states' derivatives at the point, SI).
     x:
         The full variable vector at the point (SI), as solved.
+    point:
+        Where the point came from (e.g. ``"LP1"``), written into the JSON when set.
     """
 
     quantity: str
@@ -76,6 +78,7 @@ class Sensitivity:
     units: dict[str, str]
     states: dict[str, dict[str, float]] = field(default_factory=dict)
     x: np.ndarray | None = None
+    point: str = ""
 
     def __post_init__(self) -> None:
         self.derivatives = {p: float(d) + 0.0 for p, d in self.derivatives.items()}  # -0.0 (an exact zero) prints as 0
@@ -87,9 +90,10 @@ class Sensitivity:
             raise InputError(name, f"no derivative with respect to it; computed: {', '.join(self.derivatives)}") from None
 
     def to_dict(self) -> dict:
-        """``{param: derivative, ..., "units": {param: unit}, "quantity": {name, value, unit, kind}}`` (SI)."""
+        """``{param: derivative, ..., "units": {param: unit}, "quantity": {name, value, unit, kind[, point]}}`` (SI)."""
+        quantity = {"name": self.quantity, "value": self.value, "unit": self.unit, "kind": self.kind}
         return {**self.derivatives, "units": dict(self.units),
-                "quantity": {"name": self.quantity, "value": self.value, "unit": self.unit, "kind": self.kind}}
+                "quantity": {**quantity, "point": self.point} if self.point else quantity}
 
     def to_json(self, path: str | os.PathLike) -> Path:
         """Write :meth:`to_dict` as JSON, atomically (no partial file on failure)."""
@@ -295,7 +299,8 @@ def downlock_sensitivity(system: EquationSystem, params: Iterable[str], values: 
 
 def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, params: Iterable[str], *,
                       vary: str | None = None, unknowns: Sequence[str] | None = None, of: str | None = None,
-                      keep: str | None = None, label: str | None = None) -> Sensitivity:
+                      keep: str | None = None, label: str | None = None,
+                      values: Mapping[str, float] | None = None) -> Sensitivity:
     """Derivatives of a branch point's quantity ``of`` (default: the continuation parameter ``vary``).
 
     * ``of`` is ``vary`` at a fold (``label`` ``"LP"``): the fold load, :func:`fold_sensitivity`.
@@ -307,7 +312,9 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
 
     ``vary``, ``unknowns`` and ``label`` default to the point's (a :class:`SpecialPoint`
     from a continuation records them; one read from a CSV does not); ``unknowns`` else to
-    the model's states.
+    the model's states. ``values`` (``{name: value}``, SI) replaces held values of the point
+    first, and the point is solved again (the fold polished, the equilibrium by Newton
+    from the point).
     """
     info = point.info if isinstance(point, SpecialPoint) else {}
     x = np.asarray(point.x if isinstance(point, SpecialPoint) else point, dtype=float)
@@ -320,13 +327,42 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
     label = label if label is not None else (point.label if isinstance(point, SpecialPoint) else "")
     lens = list(unknowns or info.get("unknowns") or choose_unknowns(system, exclude=[vary]))
     of = of or vary
+    fold = of == vary and label == "LP"
     if of != vary:
-        return equilibrium_sensitivity(system, x, lens, params, of)
-    if label == "LP":
-        return fold_sensitivity(system, x, lens, vary, params, null_vector=info.get("null_vector"))
-    if keep is None:
+        solved = lens
+    elif fold:
+        solved = [*lens, vary]
+    elif keep is None:
         raise InputError("keep", f"the point is not a fold: name the state that defines it (kept at its value there, "
                                  f"{vary} solved for); one of: {', '.join(lens)}")
-    if keep not in lens:
+    elif keep not in lens:
         raise InputError("keep", f"'{keep}' is not solved for on the branch; one of: {', '.join(lens)}")
-    return equilibrium_sensitivity(system, x, [n for n in lens if n != keep] + [vary], params, vary)
+    else:
+        solved = [n for n in lens if n != keep] + [vary]
+    if values:
+        x = _with_values(system, x, values, solved)
+        if not fold:
+            x = _resolve(system, x, solved)
+    if fold:
+        return fold_sensitivity(system, x, lens, vary, params, null_vector=info.get("null_vector"))
+    return equilibrium_sensitivity(system, x, solved, params, of)
+
+
+def _with_values(system: EquationSystem, x: np.ndarray, values: Mapping[str, float], solved: Sequence[str]) -> np.ndarray:
+    """``x`` with held ``values`` replaced; :class:`InputError` for a name solved for at the point."""
+    for n in values:
+        if n in solved:
+            held = [m for m in system.names if m not in solved]
+            raise InputError("set", f"{n} is solved for at this point; set one of: {', '.join(held)}")
+    x = system.vector(values, base=x)
+    system.check_limits(x)
+    return x
+
+
+def _resolve(system: EquationSystem, x: np.ndarray, unknowns: Sequence[str]) -> np.ndarray:
+    """The equilibrium with ``unknowns`` solved for by Newton from ``x``, everything else held at ``x``."""
+    from ..continuation import find_equilibrium
+
+    held = {n: float(x[system.index(n)]) for n in system.state_names if n not in unknowns}
+    free = [n for n in unknowns if system.variable(n).kind == "parameter"]
+    return find_equilibrium(system, hold=held, free=free, guess=x)
