@@ -181,3 +181,25 @@ def test_derivative_units():
     assert derivative_unit("N", "") == "N"
     assert derivative_unit("", "m") == "1/m"
     assert derivative_unit("m", "m") == "1"
+
+
+def test_downlock_branch_rows_give_the_downlock_force_sensitivity():
+    """A downlock branch in k: every row's default quantity is the downlock force (k held there), the same
+    derivatives as the downlock point solved at that row's k, and central differences of it."""
+    from mechcont.analysis import downlock
+    from mechcont.models import load_model
+
+    model = load_model("nose_gear")
+    k0 = model.variable("k").value
+    branch = downlock(model, "k", {"k": (0.9 * k0, 1.1 * k0)}, unlock=False)
+    x = branch.values[0]
+    sens = branch.sensitivity(model, 0, ["LU", "L4"])
+    assert sens.quantity == "F"
+    direct = downlock_sensitivity(model, ["LU", "L4"], {"k": x[model.index("k")]})
+    for p in ("LU", "L4"):
+        assert sens[p] == pytest.approx(direct[p], rel=1e-9)
+
+    def force(y):
+        return downlock_point(model, {p: y[model.index(p)] for p in ("k", "L4")})[model.index("F")]
+
+    assert relative_error(sens["L4"], central(force, model, x, "L4")) < 1e-6
