@@ -36,7 +36,7 @@ from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 
 __all__ = ["Sensitivity", "equilibrium_sensitivity", "fold_sensitivity", "downlock_sensitivity", "point_sensitivity",
-           "derivative_unit", "check_parameters"]
+           "derivative_unit", "check_parameters", "write_json"]
 
 #: Above this condition number of the equilibrated Jacobian the solve is taken to be singular (a fold of that lens).
 _SINGULAR = 1e13
@@ -97,21 +97,24 @@ class Sensitivity:
 
     def to_json(self, path: str | os.PathLike) -> Path:
         """Write :meth:`to_dict` as JSON, atomically (no partial file on failure)."""
-        from .._io import atomic_write
-
-        doc = self.to_dict()
-
-        def write(tmp):
-            with open(tmp, "w") as f:
-                json.dump(doc, f, indent=1)
-
-        return atomic_write(path, write)
+        return write_json(path, self.to_dict())
 
     def table(self) -> str:
         """The derivatives as plain text, one parameter per line (SI units)."""
         head = f"d{self.quantity}/dp at {self.quantity} = {self.value:.10g} {self.unit} ({self.kind})"
         width = max(len(p) for p in self.derivatives) if self.derivatives else 1
         return "\n".join([head, *(f"  {p:<{width}}  {d: .10g} {self.units[p]}" for p, d in self.derivatives.items())])
+
+
+def write_json(path: str | os.PathLike, doc: dict) -> Path:
+    """Write ``doc`` as indented JSON at ``path`` atomically (no partial file left on failure)."""
+    from .._io import atomic_write
+
+    def write(tmp):
+        with open(tmp, "w") as f:
+            json.dump(doc, f, indent=1)
+
+    return atomic_write(path, write)
 
 
 def derivative_unit(of: str, by: str) -> str:
