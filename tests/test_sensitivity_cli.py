@@ -84,3 +84,28 @@ def test_nose_gear_downlock_slope(tmp_path):
     assert doc["LU"] == pytest.approx(-4239, rel=1e-3)
     r = run("sensitivity", "nose_gear", "--downlock", "--params", "LU", "--keep", "theta1")
     one_line_error(r, "--keep")
+
+
+def test_downlock_sensitivity_columns(tmp_path):
+    """`downlock --sensitivity LU,l_sp1`: per-row exact derivative columns with units, equal to the downlock
+    point's sensitivity solved at that row's k."""
+    from mechcont.analysis.sensitivity import downlock_sensitivity
+    from mechcont.continuation import Branch
+    from mechcont.models import load_model
+
+    out = tmp_path / "d.csv"
+    r = run("downlock", "nose_gear", "--vary", "k", "--bounds", "k=18000:22000", "--sensitivity", "LU,l_sp1",
+            "--out", out)
+    assert r.exit_code == 0, r.output
+    branch = Branch.read_csv(out)
+    assert branch.units["dF_dLU"] == "N/m" and branch.units["dF_dl_sp1"] == "N/m"
+    model = load_model("nose_gear")
+    for i in (0, len(branch) - 1):
+        s = downlock_sensitivity(model, ["LU", "l_sp1"], {"k": branch["k"][i]})
+        assert branch["dF_dLU"][i] == pytest.approx(s["LU"], rel=1e-8)
+        assert branch["dF_dl_sp1"][i] == pytest.approx(s["l_sp1"], rel=1e-8)
+    bad = tmp_path / "e.csv"
+    r = run("downlock", "nose_gear", "--vary", "k", "--bounds", "k=18000:22000", "--sensitivity", "LU,theta1",
+            "--out", bad)
+    one_line_error(r, "--sensitivity", "theta1", "valid:")
+    assert not bad.exists()

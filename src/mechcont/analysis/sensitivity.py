@@ -36,7 +36,7 @@ from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 
 __all__ = ["Sensitivity", "equilibrium_sensitivity", "fold_sensitivity", "downlock_sensitivity", "point_sensitivity",
-           "derivative_unit", "check_parameters", "write_json"]
+           "derivative_unit", "check_parameters", "write_json", "with_sensitivity_columns"]
 
 #: Above this condition number of the equilibrated Jacobian the solve is taken to be singular (a fold of that lens).
 _SINGULAR = 1e13
@@ -369,3 +369,31 @@ def _resolve(system: EquationSystem, x: np.ndarray, unknowns: Sequence[str]) -> 
     held = {n: float(x[system.index(n)]) for n in system.state_names if n not in unknowns}
     free = [n for n in unknowns if system.variable(n).kind == "parameter"]
     return find_equilibrium(system, hold=held, free=free, guess=x)
+
+
+def with_sensitivity_columns(system: EquationSystem, branch, params: Iterable[str], of: str | None = None):
+    """A copy of ``branch`` with ``d<of>_d<p>`` columns: the exact derivative at every row (SI units).
+
+    ``of`` is an unknown of the branch (default: a downlock branch's force), differentiated
+    with the continuation parameter held (:func:`equilibrium_sensitivity` at each row). The
+    units of the new columns are those of the derivatives (``N/(N/m)``).
+    """
+    import copy
+
+    from ..continuation import Branch
+
+    of = of or getattr(branch, "downlock_force", None)
+    if of is None:
+        raise InputError("sensitivity", "name the unknown of the branch to differentiate")
+    params = list(params)
+    unknowns = list(branch.unknowns)
+    check_parameters(system, params, unknowns)
+    X = np.column_stack([branch.column(n) for n in system.names])  # the model's variables (other columns may follow)
+    rows = [equilibrium_sensitivity(system, x, unknowns, params, of) for x in X]
+    cols = {f"d{of}_d{p}": np.array([r[p] for r in rows]) for p in params}
+    units = {f"d{of}_d{p}": rows[0].units[p] if rows else "" for p in params}
+    out = copy.copy(branch)  # same type, a downlock branch's own attributes kept
+    Branch.__init__(out, (*branch.names, *cols), np.column_stack([branch.values, *cols.values()]), branch.s,
+                    branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
+                    branch.status, branch.message, branch.model, {**branch.units, **units})
+    return out
