@@ -117,3 +117,32 @@ def _fold_force(path, name):
     from mechcont.continuation import Branch
 
     return Branch.read_csv(path).point(name)["F"]
+
+
+def test_lockstay_least_unlock_force_with_downlock_margin():
+    """The lock stay (a description with a declared downlock): least unlock force with a downlock force of at
+    least 100 N. At the optimum the downlock force re-solved is 100 N, and the constraint's multiplier is
+    dU/dLU / dD/dLU with both slopes from central differences of re-solved quantities (the unlock fold from
+    a fresh release run)."""
+    from mechcont.analysis import downlock_point
+    from mechcont.analysis.unlock import unlock_folds
+    from mechcont.models import load_model
+
+    model = load_model("lockstay")
+    res = optimize(model, "unlock_force", {"k": (10000.0, 30000.0), "LU": (0.5, 0.7)},
+                   constraints=[Constraint.parse("downlock_force >= 100")])
+    assert res.success
+    x = downlock_point(model, res.design)
+    assert x[model.index("F")] == pytest.approx(100.0, rel=1e-8)
+
+    def forces(lu):
+        y = downlock_point(model, {**res.design, "LU": lu})
+        return y[model.index("F")], unlock_folds(model, y, "F", released=["aligned"], stability=False).locked_range[1]
+
+    lu, h = res.design["LU"], 1e-4 * res.design["LU"]
+    (d_lo, u_lo), (d_hi, u_hi) = forces(lu - h), forces(lu + h)
+    (d_lo2, u_lo2), (d_hi2, u_hi2) = forces(lu - h / 2), forces(lu + h / 2)
+    dD = (4 * (d_hi2 - d_lo2) / h - (d_hi - d_lo) / (2 * h)) / 3
+    dU = (4 * (u_hi2 - u_lo2) / h - (u_hi - u_lo) / (2 * h)) / 3
+    assert dict(res.active)["downlock_force >= 100"] == pytest.approx(dU / dD, rel=1e-6)
+    assert res.value == pytest.approx(forces(lu)[1], rel=1e-9)
