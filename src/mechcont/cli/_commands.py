@@ -8,7 +8,9 @@ from . import (  # noqa: F401,E401  (mechcont models, continue, folds)
     equations,  # noqa: F401  (mechcont equations)
     folds,
     models,
+    optimize,  # noqa: F401  (mechcont optimize)
     paper,  # noqa: F401  (mechcont paper)
+    sensitivity,  # noqa: F401  (mechcont sensitivity)
     study,  # noqa: F401  (mechcont study)
     sweep,  # noqa: F401  (mechcont sweep)
 )

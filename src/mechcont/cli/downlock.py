@@ -10,7 +10,7 @@ import click
 from .._io import check_output_path
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, freed_parameters
+from ._parse import assignments, freed_parameters, names
 from ._parse import bounds as parse_bounds
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
@@ -76,7 +76,9 @@ def warn(lines) -> None:
 @click.option("--max-steps", type=int, default=None, help="Most continuation steps each way (default 2000).")
 @click.option("--out", default=None, metavar="FILE", help="Write the branch as .csv or .json.")
 @click.option("--plot", default=None, metavar="FILE", help="Plot the downlock force (.png, .svg, .pdf).")
-def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force, max_steps, out, plot):
+@click.option("--sensitivity", "sens_text", default=None, metavar="NAMES",
+              help="Comma-separated parameters: exact d<FORCE>_d<NAME> columns per point (SI units).")
+def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force, max_steps, out, plot, sens_text):
     """Downlock force of MODEL (built-in name or description .toml) as a function of --vary.
 
     The lock links are held aligned (e.g. theta4 = 0, overcentre angle 180 deg, or the
@@ -100,12 +102,16 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
     values = assignments(sets, "set")
     bnds = parse_bounds(bounds_)
+    sens_params = names(sens_text, "sensitivity")
     from ._run import MAX_STEPS
 
     if max_steps is not None and not 1 <= max_steps <= MAX_STEPS:
         raise InputError("--max-steps", f"must be a positive whole number 1..{MAX_STEPS}, got {max_steps}")
     stops = as_model(_load(model)).stops
     if stops and not holds and condition is None:
+        if sens_params:
+            raise InputError("--sensitivity", "is not available for a lock resting on its stops; give the lock's "
+                                              "--hold or --condition to differentiate the held downlock force")
         return _on_stops(_load(model), vary, bnds, frees, values, force, max_steps, out_path, plot_path)
     system, h, f = model_and_condition(model, holds, force, condition)
     if stops:
@@ -117,6 +123,16 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     branch = downlock(system, vary, bnds, free=freed_parameters(system, frees), values=values, hold=h, force=f,
                       max_steps=max_steps)
     branch = with_unlock_columns(system, branch, f, released=list(h))
+    if sens_params:
+        from ..analysis.sensitivity import with_sensitivity_columns
+
+        try:
+            branch = with_sensitivity_columns(system, branch, sens_params)
+        except InputError as exc:
+            raise InputError("--sensitivity", str(exc)[len(exc.field) + 2:]) from None
+        for p in sens_params:
+            col = f"d{f}_d{p}"
+            click.echo(f"  {col} ({branch.units[col]}) from {branch[col].min():.6g} to {branch[col].max():.6g}")
     xs, Fs = branch[vary], branch[f]
     unit_x = system.variable(vary).unit
     if unit_x == "rad":  # angles shown in degrees, as everywhere

@@ -83,6 +83,22 @@ class SpecialPoint:
         rest = f", ... ({more} more; .values has all)" if more > 0 else ""
         return f"SpecialPoint({self.tag} at row {self.index}, {self.status}: {shown}{rest})"
 
+    def sensitivity(self, system, params, *, of: str | None = None, keep: str | None = None, vary: str | None = None,
+                    values=None):
+        """Exact derivatives of this point's quantity with respect to ``params`` (SI units per SI unit).
+
+        At a fold (``LP``) the fold load (the continuation parameter's value there); elsewhere
+        the continuation parameter at the state ``keep`` held at its value here; or ``of``, an
+        unknown of the branch, with the continuation parameter held. ``system`` is the model
+        of the branch; ``vary`` is needed only for a point read from a table; ``values``
+        (``{name: value}``, SI) changes held values first (the point is solved again). Returns a
+        :class:`~mechcont.analysis.sensitivity.Sensitivity` (see
+        :func:`~mechcont.analysis.sensitivity.point_sensitivity`).
+        """
+        from ..analysis.sensitivity import point_sensitivity
+
+        return point_sensitivity(system, self, params, vary=vary, of=of, keep=keep, values=values)
+
 
 class Branch:
     """A continued branch of solutions.
@@ -190,6 +206,48 @@ class Branch:
                 return pts[k - 1]
             raise InputError(key, f"branch has {len(pts)} point(s) labelled {label}")
         raise InputError(key, f"neither a column nor a special point (columns: {', '.join(self.names)})")
+
+    def point(self, spec: str | int) -> SpecialPoint:
+        """A row as a :class:`SpecialPoint`: a special point's name (``"LP1"``) or a row number (0-based,
+        negative from the end; a special row gives its own point, with what the run recorded)."""
+        if isinstance(spec, str):
+            text = spec.strip()
+            try:
+                spec = int(text)
+            except ValueError:
+                name = text.rstrip("?")
+                try:
+                    target = self[name]
+                except InputError:
+                    raise InputError("point", f"no point '{name}'; this branch has {', '.join(self.point_names()) or 'none'}"
+                                              f" or rows 0..{len(self) - 1}") from None
+                if not isinstance(target, SpecialPoint):
+                    raise InputError("point", f"'{text}' is a column; give a special point's name (LP1) or a row "
+                                              "number") from None
+                return target
+        n = len(self)
+        if not -n <= spec < n:
+            raise InputError("point", f"row {spec} out of range; the branch has {n} rows (0..{n - 1})")
+        i = spec % n
+        found = [p for p in self.special_points if p.index == i]
+        return found[0] if found else SpecialPoint(self.labels[i], i, self.values[i].copy(), self.names)
+
+    def sensitivity(self, system, point: str | int, params, *, of: str | None = None, keep: str | None = None,
+                    values=None):
+        """Exact derivatives of a point's quantity with respect to ``params`` (SI units per SI unit).
+
+        ``point``: as :meth:`point` takes it. The quantity is ``of`` (an unknown of the
+        branch, the continuation parameter held), by default a downlock branch's force, else
+        the continuation parameter: at a fold the fold load, elsewhere its value at the state
+        ``keep`` held at its value there. ``values`` (``{name: value}``, SI) changes held
+        values first; the point is then solved again. ``system`` is the model of the branch.
+        Returns a :class:`~mechcont.analysis.sensitivity.Sensitivity`.
+        """
+        from ..analysis.sensitivity import point_sensitivity
+
+        of = of or getattr(self, "downlock_force", None)
+        return point_sensitivity(system, self.point(point), params, vary=self.vary, unknowns=self.unknowns or None,
+                                 of=of, keep=keep, values=values)
 
     def __repr__(self) -> str:
         counts: dict[str, int] = {}

@@ -1,0 +1,289 @@
+"""Design optimisation on exact gradients: a quantity of interest minimised or maximised within bounds, under constraints.
+
+The quantities are those :mod:`mechcont.analysis.sensitivity` differentiates exactly: the
+downlock force, the unlock force (the fold bounding the locked state when the force
+increases, :mod:`mechcont.analysis.unlock`), the load at a fold followed from a start fold,
+and any parameter itself. SciPy's SLSQP gets their values and gradients; the design
+variables are mapped to ``[0, 1]`` by their bounds and every function is divided by a typical
+magnitude, so newtons beside stiffnesses beside metres do not skew the steps.
+
+At the optimum the active constraints and bounds carry multipliers ``mu`` with
+``grad f = sum mu_i grad g_i``: ``mu_i`` is the change of the optimum per unit of the
+constraint's bound (what one more newton of margin costs, in the objective's units).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..equations import EquationSystem
+from ..errors import ConvergenceError, InputError
+from .sensitivity import Sensitivity, downlock_sensitivity, fold_sensitivity, write_json
+
+__all__ = ["Constraint", "OptimumResult", "optimize", "QUANTITIES"]
+
+#: Named quantities besides the model's parameters.
+QUANTITIES = ("downlock_force", "unlock_force", "fold_load")
+
+# name, comparison, number: nothing else is accepted (never evaluated as an expression)
+_CONSTRAINT = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(<=|>=)\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*$")
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """``quantity >= bound`` or ``quantity <= bound`` (SI units)."""
+
+    quantity: str
+    sense: str
+    bound: float
+
+    @classmethod
+    def parse(cls, text: str) -> Constraint:
+        """``"downlock_force >= 200"`` -> Constraint; :class:`InputError` for anything but NAME (<=|>=) NUMBER."""
+        m = _CONSTRAINT.match(text)
+        if m is None:
+            raise InputError("constraint", f"'{text}' is not NAME >= NUMBER or NAME <= NUMBER (e.g. downlock_force >= 200)")
+        bound = float(m.group(3))
+        if not math.isfinite(bound):
+            raise InputError("constraint", f"'{text}': the bound must be a finite number")
+        return cls(m.group(1), m.group(2), bound)
+
+    def __str__(self) -> str:
+        return f"{self.quantity} {self.sense} {self.bound:g}"
+
+
+@dataclass
+class OptimumResult:
+    """The outcome of :func:`optimize`.
+
+    Attributes
+    ----------
+    design:
+        ``{parameter: value}`` at the optimum (SI).
+    objective, value:
+        The quantity optimised and its value there (SI).
+    quantities:
+        Every quantity of the problem at the optimum (SI).
+    active:
+        ``[(what, multiplier)]``: each active constraint (``"downlock_force >= 200"``) or bound
+        (``"k <= 300"``) with the change of the optimum per unit of its bound.
+    iterations, evaluations:
+        SLSQP's iterations and the points where the quantities were solved.
+    success, message:
+        Whether SLSQP converged, and its message.
+    """
+
+    design: dict[str, float]
+    objective: str
+    value: float
+    quantities: dict[str, float]
+    active: list[tuple[str, float]]
+    iterations: int
+    evaluations: int
+    success: bool
+    message: str
+    units: dict[str, str] = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        """JSON-ready: design, objective, value, quantities, active (with multipliers), iterations, units."""
+        return {"design": self.design, "objective": self.objective, "value": self.value, "quantities": self.quantities,
+                "active": [{"constraint": c, "multiplier": m} for c, m in self.active], "iterations": self.iterations,
+                "evaluations": self.evaluations, "success": self.success, "message": self.message, "units": self.units}
+
+    def to_json(self, path) -> None:
+        """Write :meth:`to_dict` as JSON, atomically."""
+        write_json(path, self.to_dict())
+
+    def summary(self) -> str:
+        """Plain text: the optimum, the active constraints with multipliers, the iteration count."""
+        u = self.units
+        lines = [f"{'converged' if self.success else 'NOT converged'}: {self.message} ({self.iterations} iterations, "
+                 f"{self.evaluations} solves)",
+                 f"{self.objective} = {self.value:.10g} {u.get(self.objective, '')}".rstrip()]
+        lines += [f"  {n} = {v:.10g} {u.get(n, '')}".rstrip() for n, v in self.design.items() if n != self.objective]
+        lines += [f"  {n} = {v:.10g} {u.get(n, '')}".rstrip() for n, v in self.quantities.items()
+                  if n != self.objective and n not in self.design]
+        lines.append("active: " + ("; ".join(f"{c} (multiplier {m:.6g})" for c, m in self.active) or "none"))
+        return "\n".join(lines)
+
+
+class _Quantities:
+    """Values and exact gradients of the named quantities at a design, solved once per design."""
+
+    def __init__(self, system: EquationSystem, design: Sequence[str], values: Mapping[str, float],
+                 fold: tuple[np.ndarray, Sequence[str], str] | None):
+        self.system, self.design, self.values = system, list(design), dict(values)
+        self.fold = fold  # (x, states, vary) of the fold followed by fold_load, updated as the design moves
+        self.unlock_x: np.ndarray | None = None
+        self.cache: dict[tuple, dict[str, tuple[float, np.ndarray]]] = {}
+        self.evaluations = 0
+
+    def at(self, z: np.ndarray, names: Sequence[str]) -> dict[str, tuple[float, np.ndarray]]:
+        key = tuple(float(v) for v in z)
+        got = self.cache.setdefault(key, {})
+        missing = [n for n in names if n not in got]
+        if missing:
+            self.evaluations += 1
+            vals = {**self.values, **dict(zip(self.design, key))}
+            for n in missing:
+                got[n] = self._one(n, vals)
+        return got
+
+    def _one(self, name: str, vals: dict[str, float]) -> tuple[float, np.ndarray]:
+        where = ", ".join(f"{k} = {v:.6g}" for k, v in vals.items() if k in self.design)
+        if name in self.design:
+            return vals[name], np.array([1.0 if n == name else 0.0 for n in self.design])
+        if name in self.system.names:
+            return vals.get(name, self.system.variable(name).value), np.zeros(len(self.design))
+        try:
+            s = self._sensitivity(name, vals)
+        except ConvergenceError as exc:
+            raise InputError(name, f"not found at {where}: {exc}") from None
+        return s.value, np.array([s[n] for n in self.design])
+
+    def _sensitivity(self, name: str, vals: dict[str, float]) -> Sensitivity:
+        system = self.system
+        if name == "downlock_force":
+            return downlock_sensitivity(system, self.design, vals)
+        if name == "fold_load":
+            if self.fold is None:
+                raise InputError("fold_load", "needs a start fold (a point labelled LP of a branch)")
+            x, states, vary = self.fold
+            s = fold_sensitivity(system, system.vector(vals, base=x), states, vary, self.design)
+            self.fold = (s.x, states, vary)  # followed: the next design starts from here
+            return s
+        return self._unlock(vals)
+
+    def _unlock(self, vals: dict[str, float]) -> Sensitivity:
+        from ..continuation import choose_unknowns
+        from .downlock import downlock_condition, downlock_point
+        from .unlock import unlock_folds
+
+        system = self.system
+        hold, force = downlock_condition(system)
+        x = downlock_point(system, vals, hold=hold, force=force)
+        folds = unlock_folds(system, x, force, released=tuple(hold), stability=False)
+        where = ", ".join(f"{k} = {v:.6g}" for k, v in vals.items() if k in self.design)
+        if folds.above is None:
+            raise InputError("unlock_force", f"no unlock fold at {where}: {'; '.join(folds.notes)}")
+        lens = choose_unknowns(system, exclude=[force])
+        return fold_sensitivity(system, folds.above.x, lens, force, self.design,
+                                null_vector=folds.above.info.get("null_vector"))
+
+
+def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[float, float]], *,
+             maximize: bool = False, constraints: Sequence[Constraint] = (), values: Mapping[str, float] | None = None,
+             fold: tuple[np.ndarray, Sequence[str], str] | None = None, max_iter: int = 100,
+             tol: float = 1e-10) -> OptimumResult:
+    """Minimise (or maximise) ``objective`` over the parameters of ``bounds`` subject to ``constraints``.
+
+    Parameters
+    ----------
+    system:
+        The model.
+    objective:
+        ``"downlock_force"``, ``"unlock_force"``, ``"fold_load"`` or a parameter's name.
+    bounds:
+        ``{parameter: (low, high)}`` (SI): the design variables.
+    maximize:
+        Maximise instead of minimise.
+    constraints:
+        :class:`Constraint` objects on the same quantities.
+    values:
+        Other parameter values (SI); the design starts at the model's values clipped into the bounds.
+    fold:
+        ``(x, states, vary)``: the start fold followed by ``fold_load`` (e.g. a branch's ``LP``:
+        ``(p.x, p.info["unknowns"], p.info["vary"])``).
+    max_iter, tol:
+        SLSQP's iteration limit and tolerance (on the scaled objective).
+
+    Returns an :class:`OptimumResult`. Raises :class:`InputError` for an unknown quantity, a
+    design name that is not a parameter, empty bounds, or a quantity that does not exist at
+    a design the optimiser tried (the message says where).
+    """
+    from scipy.optimize import minimize
+
+    design = list(bounds)
+    if not design:
+        raise InputError("design", "give at least one design parameter with its bounds")
+    valid = (*QUANTITIES, *system.parameter_names)
+    for name in (objective, *(c.quantity for c in constraints)):
+        if name not in valid:
+            raise InputError(name, f"not a quantity; valid: {', '.join(valid)}")
+    for n in design:
+        if system.variable(n).kind != "parameter":
+            raise InputError(n, f"design variables must be parameters; valid: {', '.join(system.parameter_names)}")
+        lo, hi = bounds[n]
+        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+            raise InputError(n, f"needs finite bounds LO < HI, got {lo:g}:{hi:g}")
+    lo = np.array([bounds[n][0] for n in design])
+    hi = np.array([bounds[n][1] for n in design])
+    base = system.vector(values or {})
+    z0 = np.clip(np.array([base[system.index(n)] for n in design]), lo, hi)
+    q = _Quantities(system, design, values or {}, fold)
+    names = list(dict.fromkeys([objective, *(c.quantity for c in constraints)]))
+    sign = -1.0 if maximize else 1.0
+
+    def phys(t):
+        return lo + (hi - lo) * np.asarray(t, float)
+
+    start = q.at(z0, names)
+    f_scale = max(abs(start[objective][0]), 1e-12)
+    g_scale = [max(abs(c.bound), abs(start[c.quantity][0]), 1e-12) for c in constraints]
+
+    def fun(t):
+        v, g = q.at(phys(t), names)[objective]
+        return sign * v / f_scale, sign * g * (hi - lo) / f_scale
+
+    def cons(i, c):
+        side = 1.0 if c.sense == ">=" else -1.0
+
+        def value(t):
+            return side * (q.at(phys(t), names)[c.quantity][0] - c.bound) / g_scale[i]
+
+        def jac(t):
+            return side * q.at(phys(t), names)[c.quantity][1] * (hi - lo) / g_scale[i]
+
+        return {"type": "ineq", "fun": value, "jac": jac}
+
+    res = minimize(fun, (z0 - lo) / (hi - lo), jac=True, method="SLSQP", bounds=[(0.0, 1.0)] * len(design),
+                   constraints=[cons(i, c) for i, c in enumerate(constraints)],
+                   options={"maxiter": max_iter, "ftol": tol})
+    t = np.clip(res.x, 0.0, 1.0)
+    z = phys(t)
+    at = q.at(z, names)
+    active = _multipliers(design, t, lo, hi, at, objective, constraints, g_scale)
+    units = {n: system.variable(n).unit for n in design}
+    units.update({n: ("N" if n in QUANTITIES else system.variable(n).unit) for n in names})
+    if fold is not None and "fold_load" in names and q.fold is not None:
+        units["fold_load"] = system.variable(q.fold[2]).unit
+    return OptimumResult({n: float(v) for n, v in zip(design, z)}, objective, float(at[objective][0]),
+                         {n: float(at[n][0]) for n in names}, active, int(res.nit), q.evaluations, bool(res.success),
+                         str(res.message), units)
+
+
+def _multipliers(design, t, lo, hi, at, objective, constraints, g_scale, tol: float = 1e-6) -> list[tuple[str, float]]:
+    """Active constraints and bounds with ``mu`` solving ``grad f = sum mu_i grad g_i`` (least squares).
+
+    ``mu_i = d f* / d b_i``: the change of the optimum per unit of the bound ``b_i``.
+    """
+    rows, what = [], []
+    for i, c in enumerate(constraints):
+        v, g = at[c.quantity]
+        if abs(v - c.bound) <= tol * g_scale[i]:
+            rows.append(g)
+            what.append(str(c))
+    for j, n in enumerate(design):
+        for side, edge, sense in ((t[j] <= tol, lo[j], ">="), (t[j] >= 1 - tol, hi[j], "<=")):
+            if side:
+                rows.append(np.eye(len(design))[j])
+                what.append(f"{n} {sense} {edge:g}")
+    if not rows:
+        return []
+    mu, *_ = np.linalg.lstsq(np.array(rows).T, at[objective][1], rcond=None)
+    return [(w, float(m) + 0.0) for w, m in zip(what, mu)]

@@ -1,0 +1,80 @@
+"""``mechcont optimize``: a quantity minimised or maximised over design parameters, on exact gradients."""
+
+from __future__ import annotations
+
+import click
+
+from ..errors import InputError
+from ._app import cli
+from ._parse import assignments, bounds
+
+
+@cli.command("optimize")
+@click.argument("model")
+@click.option("--minimize", "minimize_", metavar="QUANTITY",
+              help="Quantity to minimise: downlock_force, unlock_force, fold_load or a parameter.")
+@click.option("--maximize", "maximize_", metavar="QUANTITY", help="Quantity to maximise (as --minimize).")
+@click.option("--design", "designs", multiple=True, required=True, metavar="NAME=LO:HI",
+              help="A design parameter and its bounds (SI units, rad); repeat for each.")
+@click.option("--constraint", "constraints", multiple=True, metavar="'QUANTITY >= NUMBER'",
+              help="A constraint, QUANTITY >= NUMBER or QUANTITY <= NUMBER (SI); repeat for each.")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Another parameter's value (SI units, rad).")
+@click.option("--point", metavar="BRANCH.csv:LPn", help="For fold_load: the start fold, a point of a branch table.")
+@click.option("--max-iter", type=click.IntRange(1, 1000), default=100, show_default=True, help="Most SLSQP iterations.")
+@click.option("--out", default=None, metavar="FILE.json", help="Write the optimum as JSON (SI units).")
+def optimize_command(model, minimize_, maximize_, designs, constraints, sets, point, max_iter, out):
+    """Minimise or maximise a quantity over the --design parameters within their bounds, under --constraint.
+
+    SLSQP on exact gradients (implicit-function theorem). Prints the optimum, the active
+    constraints and bounds with their multipliers (the change of the optimum per unit of
+    the bound), and the iterations.
+
+    Example: mechcont optimize nose_gear --minimize k --design k=1000:8000
+    --constraint "downlock_force >= 100"
+    """
+    from .._io import check_output_path
+    from ..analysis.optimize import Constraint, optimize
+    from ..models import load_model
+
+    check_output_path(out, "--out", (".json",))
+    if (minimize_ is None) == (maximize_ is None):
+        raise InputError("--minimize", "give exactly one of --minimize QUANTITY or --maximize QUANTITY")
+    try:
+        design = bounds(designs)
+    except InputError as exc:
+        raise InputError(exc.field.replace("--bounds", "--design"), str(exc)[len(exc.field) + 2:]) from None
+    values = assignments(sets, "set")
+    system = load_model(model)
+    for n in values:
+        system.index(n)
+    fold = _fold(system, point) if point else None
+    try:
+        parsed = [Constraint.parse(c) for c in constraints]
+        result = optimize(system, minimize_ or maximize_, design, maximize=maximize_ is not None, constraints=parsed,
+                          values=values, fold=fold, max_iter=max_iter)
+    except InputError as exc:
+        if exc.field == "constraint":
+            raise InputError("--constraint", str(exc)[len(exc.field) + 2:]) from None
+        raise
+    click.echo(result.summary())
+    if out:
+        check_output_path(out, "--out", (".json",))  # again: the folder may have changed meanwhile
+        result.to_json(out)
+        click.echo(f"wrote {out}")
+    if not result.success:
+        click.echo(f"warning: the optimiser did not converge: {result.message}", err=True)
+
+
+def _fold(system, point: str):
+    from ..continuation import Branch, choose_unknowns
+
+    csv_path, sep, row = point.rpartition(":")
+    if not sep or not csv_path or not row:
+        raise InputError("--point", f"'{point}' is not BRANCH.csv:LPn (e.g. branch.csv:LP1)")
+    branch = Branch.read_csv(csv_path, model=system.name)
+    if tuple(branch.names) != tuple(system.names) or not branch.vary:
+        raise InputError("--point", f"'{csv_path}' is not a branch table of model '{system.name}' (with its vary column)")
+    p = branch.point(row)
+    if p.label != "LP":
+        raise InputError("--point", f"'{row}' is not a fold; fold_load follows a point labelled LP")
+    return p.x, choose_unknowns(system, exclude=[branch.vary]), branch.vary
