@@ -9,6 +9,7 @@ from . import (  # noqa: F401,E401  (mechcont models, continue, folds)
     folds,
     models,
     paper,  # noqa: F401  (mechcont paper)
+    simulate,  # noqa: F401  (mechcont simulate)
     study,  # noqa: F401  (mechcont study)
     sweep,  # noqa: F401  (mechcont sweep)
 )
