@@ -23,11 +23,17 @@ def _start(system, model: str, starts) -> tuple:
         raise InputError("model", f"'{model}' has no mechanics (masses, forces): it cannot be simulated")
     for n in start:
         if n not in system.names:
-            raise InputError("--start", f"{n} is not a variable of {system.name}; give a coordinate or a condition")
+            raise InputError("--start", f"{n} is not a variable of {system.name}; give a coordinate or a condition: "
+                                        + ", ".join(_holdable(system)))
     try:
         return assemble(system, start, hold=list(start)), start
     except InputError as exc:
         raise InputError("--start", str(exc).split(": ", 1)[-1]) from None
+
+
+def _holdable(system) -> list[str]:
+    """The names ``--start`` accepts: coordinates and conditions."""
+    return [*system.mechanics.coordinates, *(r[5:] for r in system.equation_names if r.startswith("cond_"))]
 
 
 def _labels(result, units: dict) -> list[str]:
@@ -88,9 +94,14 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     from .._progress import Progress
     from ..dynamics import simulate
 
-    with Progress("simulate", total=until, unit="s simulated", quiet=quiet) as bar:
-        result = simulate(system, x0, (0.0, until), damping=damping, rtol=rtol, stops=use_stops,
-                          progress=bar.set if bar.enabled else None)
+    try:
+        with Progress("simulate", total=until, unit="s simulated", quiet=quiet) as bar:
+            result = simulate(system, x0, (0.0, until), damping=damping, rtol=rtol, stops=use_stops,
+                              progress=bar.set if bar.enabled else None)
+    except InputError as exc:
+        if exc.field != "x0":  # the start is the --start pose
+            raise
+        raise InputError("--start", str(exc).split(": ", 1)[-1]) from None
     if stops and not use_stops:
         click.echo(f"warning: the stops ({', '.join(s.name for s in stops)}) are ignored; give --stops to simulate "
                    "them", err=True)
