@@ -18,7 +18,7 @@ import pytest
 from scipy.integrate import quad, solve_ivp
 from scipy.special import ellipk, ellipkinc
 
-from mechcont.analysis import equilibrium_on_stops
+from mechcont.analysis import continuation_with_stops, equilibrium_on_stops
 from mechcont.dynamics import assemble, simulate
 from mechcont.errors import InputError
 from mechcont.models import load_model, model_from_text
@@ -200,3 +200,32 @@ def test_start_past_a_stop_is_refused():
     x0 = assemble(system, {"theta_bar": -1.3}, hold=["theta_bar"])
     with pytest.raises(InputError, match="past the limit of stop rest"):
         simulate(system, x0, (0.0, 0.1), stops=True)
+
+
+def test_sweep_with_stops_contact_load_converges_to_sc_as_the_rate_falls_and_releases_at_sr():
+    from mechcont.continuation import ContinuationOptions
+    from mechcont.dynamics import sweep
+
+    system = load_model(f"{DATA}/pendulum_stop.toml", T=6.0)
+    x_free, contact = equilibrium_on_stops(system, assemble(system, {"theta_bar": -0.9}, hold=["theta_bar"]))
+    assert contact == []
+    run = continuation_with_stops(system, x_free, "T", direction=-1, options=ContinuationOptions(bounds={"T": (0.0, 7.0)}))
+    (T_sc,) = [p["T"] for p in run.branch.special_points if p.label == "SC"]
+    # lowering the moment lets the bar down onto the stop; the simulated bar lags the equilibrium (damping), so it
+    # touches later, at a lower moment, by a gap that shrinks with the rate
+    loads = []
+    for rate in (2.0, 0.5, 0.125):
+        r = sweep(system, x_free, [("T", 6.0, 0.0, rate)], watch="theta_bar", damping=5.0, stops=True, rtol=1e-7)
+        (T_contact,) = r.stop_loads("contact", "rest")
+        loads.append(T_contact)
+    gaps = T_sc - np.array(loads)
+    assert np.all(gaps > 0) and np.all(gaps[1:] < gaps[:-1] / 3)  # monotone, about proportional to the rate
+    assert gaps[-1] < 0.06
+    # raising it again from the stop: in contact the bar is at rest, so it lets go exactly at SR
+    x_on, contact = equilibrium_on_stops(system, x_free, values={"T": 3.0}, contact=["rest"])
+    assert contact == ["rest"]
+    up = continuation_with_stops(system, x_on, "T", direction=1, options=ContinuationOptions(bounds={"T": (0.0, 4.0)}))
+    (T_sr,) = [p["T"] for p in up.branch.special_points if p.label == "SR"]
+    r = sweep(system, x_on, [("T", 3.0, 4.0, 1.0)], watch="theta_bar", stops=True, rtol=1e-9)
+    assert [ev.kind for ev in r.stop_events] == ["contact", "release"]
+    assert r.stop_loads("release")[0] == pytest.approx(T_sr, abs=1e-8)
