@@ -229,3 +229,12 @@ def test_sweep_with_stops_contact_load_converges_to_sc_as_the_rate_falls_and_rel
     r = sweep(system, x_on, [("T", 3.0, 4.0, 1.0)], watch="theta_bar", stops=True, rtol=1e-9)
     assert [ev.kind for ev in r.stop_events] == ["contact", "release"]
     assert r.stop_loads("release")[0] == pytest.approx(T_sr, abs=1e-8)
+
+
+def test_condition_columns_follow_the_motion_with_or_without_stops():
+    system = bar(0.0)
+    x0 = assemble(system, {"theta_bar": 0.0}, hold=["theta_bar"])
+    for stops in (False, True):
+        r = simulate(system, x0, (0.0, 0.3), stops=stops)
+        assert np.ptp(r["angle"]) > 0.1
+        np.testing.assert_allclose(r["angle"], r["theta_bar"], atol=1e-12)  # angle = theta_bar - theta_ground

@@ -83,7 +83,7 @@ class StopEvent:
 
     def describe(self, unit: str = "") -> str:
         """One line: ``t = 0.4567 s  impact  rest  speed 3.2 rad/s, rebound 1.6 rad/s``."""
-        u = f" {unit}/s" if unit else "/s"
+        u = f" {unit or '1'}/s"
         what = f"  speed {self.speed:.6g}{u}, rebound {self.rebound:.6g}{u}" if self.kind == "impact" else ""
         return f"t = {self.time:.9g} s  {self.kind:<7s}  {self.stop}{what}"
 

@@ -304,6 +304,7 @@ def _rest_height(system, rtol: float, atol) -> float:
 def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="", modes=None) -> SimulationResult:
     nq = dyn.nq
     values = np.array([dyn.full(ti, yi[:nq]) for ti, yi in zip(t, y)]).reshape(-1, len(system.names))
+    _fill_conditions(system, values)
     stop_events: list = []
     if dyn.contacts is not None:
         stop_events = _fill_contacts(dyn.contacts, t, y, values, modes)
@@ -319,12 +320,23 @@ def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="", mode
                             units={v.name: v.unit for v in system.variables})
 
 
+def _fill_conditions(system, values) -> None:
+    """The description's conditions (rows ``cond_NAME: c(q) - NAME``) evaluated at every saved row."""
+    rows = [(k, system.index(r[5:])) for k, r in enumerate(getattr(system, "equation_names", ()))
+            if r.startswith("cond_") and r[5:] in system.names]
+    if not rows:
+        return
+    k, j = (np.array(v) for v in zip(*rows))
+    for x in values:
+        x[j] = 0.0
+        x[j] = system.residual(x)[k]
+
+
 def _fill_contacts(contacts, t, y, values, modes) -> list:
-    """The stops' conditions and reactions into the saved rows; the stop events with their row numbers."""
+    """The stops' reactions into the saved rows; the stop events with their row numbers."""
     from dataclasses import replace
 
     for i, (ti, yi, mode) in enumerate(zip(t, y, modes)):
-        values[i, contacts.cond] = contacts.gaps(values[i]) * contacts.side + contacts.limit
         if mode:
             contacts.active = list(mode)
             values[i, contacts.reaction[list(mode)]] = contacts.reactions(ti, yi)
