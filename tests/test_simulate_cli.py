@@ -57,6 +57,10 @@ def test_simulate_without_stops_warns_that_they_are_ignored(run, tmp_path):
     (["--start", "theta_bar=-1.5", "--stops"], ["--start", "past the limit of stop rest"]),
     (["--start", "theta_bar=0", "--until", "-1"], ["--until"]),
     (["--start", "theta_bar=0", "--watch", "nope"], ["--watch"]),
+    (["--start", "theta_bar=0", "--rtol", "0"], ["--rtol"]),
+    (["--start", "theta_bar=0", "--damping", "-1"], ["--damping"]),
+    (["--start", "theta_bar=0", "--set", "R_rest=1", "--stops"], ["--set", "R_rest", "computed"]),
+    (["--start", "theta_bar=0", "--until", "nan"], ["--until"]),
 ])
 def test_bad_input_is_one_line_exit_2_and_no_file(run, tmp_path, args, words):
     out = tmp_path / "h.csv"

@@ -98,10 +98,14 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
         with Progress("simulate", total=until, unit="s simulated", quiet=quiet) as bar:
             result = simulate(system, x0, (0.0, until), damping=damping, rtol=rtol, stops=use_stops,
                               progress=bar.set if bar.enabled else None)
-    except InputError as exc:
-        if exc.field != "x0":  # the start is the --start pose
+    except InputError as exc:  # named by the option that gave the value
+        option = {"x0": "--start", "rtol": "--rtol", "damping": "--damping"}.get(exc.field)
+        if option is None and exc.field.startswith("R_"):
+            option = "--set"
+        if option is None:
             raise
-        raise InputError("--start", str(exc).split(": ", 1)[-1]) from None
+        raise InputError(option, f"{exc.field}: {str(exc).split(': ', 1)[-1]}" if option == "--set"
+                         else str(exc).split(": ", 1)[-1]) from None
     if stops and not use_stops:
         click.echo(f"warning: the stops ({', '.join(s.name for s in stops)}) are ignored; give --stops to simulate "
                    "them", err=True)
