@@ -238,3 +238,16 @@ def test_condition_columns_follow_the_motion_with_or_without_stops():
         r = simulate(system, x0, (0.0, 0.3), stops=stops)
         assert np.ptp(r["angle"]) > 0.1
         np.testing.assert_allclose(r["angle"], r["theta_bar"], atol=1e-12)  # angle = theta_bar - theta_ground
+
+
+def test_spatial_elastic_stop_conserves_energy():
+    text = open(f"{DATA}/spatial/pendulum_stop_3d.toml").read()
+    system = model_from_text(text.replace('min = "d_min"', 'min = "d_min"\nrestitution = 1'), "pendulum_stop_3d_e1.toml")
+    x0 = assemble(system, {"gap": 1.0}, hold=["gap"])
+    r = simulate(system, x0, (0.0, 1.2), stops=True, rtol=1e-9, atol=1e-12)
+    hits = impacts(r)
+    assert len(hits) == 3 and all(ev.rebound == pytest.approx(ev.speed, rel=1e-12) for ev in hits)
+    np.testing.assert_allclose([ev.speed for ev in hits], hits[0].speed, rtol=1e-7)
+    mech, mg = system.mechanics, 2.0 * 9.81
+    energy = np.array([0.5 * v @ mech.mass(x) @ v + mg * x[system.index("z_bar")] for x, v in zip(r.values, r.qdot)])
+    assert np.ptp(energy) < 100 * 1e-9 * mg * 0.8  # a few rtol of the energy scale m g L
