@@ -169,7 +169,8 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
         constraints (impacts with the stop's ``restitution``, contact, release; see
         :mod:`._contact`); default False: stops are ignored (their reactions stay at their values).
         With stops the reactions ``R_NAME`` are computed (they must be 0 in ``x0``) and the
-        history has a row at each stop event (two at an impact: before and after).
+        history has two rows at each stop event after the start, just before and just after it
+        (the velocities jump at an impact).
     max_stop_events:
         The simulation stops (status FAILED) after this many stop events.
 
