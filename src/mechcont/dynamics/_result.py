@@ -53,6 +53,9 @@ class SimulationResult:
         Where and why the integrator stopped, when it failed (time and the solver's message).
     units:
         ``{name: SI unit}`` of the variables (written into the CSV headers).
+    stop_events:
+        With stops simulated: every :class:`~._contact.StopEvent` (impact, contact, release) in
+        time order, each with the index of its history row.
     """
 
     t: np.ndarray
@@ -68,6 +71,7 @@ class SimulationResult:
     nfev: int = 0
     detail: str = ""
     units: dict = field(default_factory=dict)
+    stop_events: list = field(default_factory=list)
 
     def unit(self, column: str) -> str:
         """SI unit of a column (``t``: s; ``<coordinate>_dot``: its unit per second; ``""`` if none)."""

@@ -9,6 +9,7 @@ import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 
 from ..errors import InputError
+from ._contact import MAX_EVENTS_AT_ONCE
 from ._events import EventTracker
 from ._result import SimulationResult, SimulationStatus
 from ._udwadia_kalaba import ConstrainedDynamics
@@ -45,8 +46,9 @@ def assemble(system, values, hold: Sequence[str] = ()) -> np.ndarray:
         Full vector or ``{name: value}`` overriding the defaults: parameters, and
         coordinates as a starting guess.
     hold:
-        Coordinates kept at their given values (e.g. ``["theta1"]`` for a 1-DOF mechanism);
-        the others are corrected by Gauss–Newton with minimum-kinetic-energy steps.
+        Coordinates kept at their given values (e.g. ``["theta1"]`` for a 1-DOF mechanism), or
+        conditions of a description (``[conditions]``) held at their given values; the other
+        coordinates are corrected by Gauss–Newton with minimum-kinetic-energy steps.
 
     Returns
     -------
@@ -57,12 +59,38 @@ def assemble(system, values, hold: Sequence[str] = ()) -> np.ndarray:
     x = initial_vector(system, values)
     dyn = ConstrainedDynamics(system, x, baumgarte=None)
     coords = [system.names[i] for i in dyn.q_index]
+    rows = list(getattr(system, "equation_names", ()))
+    conditions = [h for h in hold if h not in coords and f"cond_{h}" in rows]
     for h in hold:
-        if h not in coords:
-            raise InputError(h, f"only coordinates can be held; valid: {', '.join(coords)}")
+        if h not in coords and h not in conditions:
+            raise InputError(h, f"only coordinates or conditions can be held; valid: {', '.join(coords)}"
+                                + "".join(f", {r[5:]}" for r in rows if r.startswith("cond_")))
     mask = np.array([c in hold for c in coords])
+    if conditions:
+        x = _hold_conditions(system, dyn, x, [rows.index(f"cond_{h}") for h in conditions], ~mask)
     q, _ = dyn.project(0.0, x[dyn.q_index], np.zeros(dyn.nq), hold=mask)
     x[dyn.q_index] = q
+    return x
+
+
+def _hold_conditions(system, dyn, x, rows, free, tol: float = 1e-12, max_iter: int = 30) -> np.ndarray:
+    """``x`` with its ``free`` coordinates moved (Gauss–Newton, minimum-kinetic-energy steps) so that
+    the joints close and the condition rows ``c(q) - NAME`` (``NAME`` at its value in ``x``) vanish."""
+    x = np.array(x, float)
+    qi = dyn.q_index[free]
+    for _ in range(max_iter):
+        G, J = system.residual_and_jacobian(x)
+        r = np.concatenate([dyn.mech.phi(x), G[rows]])
+        if np.max(np.abs(r)) <= tol:
+            return x
+        A = np.vstack([dyn.mech.phi_q(x).reshape(-1, dyn.nq)[:, free], J[rows][:, qi]])
+        Mis = dyn.mass_inv_sqrt(x)[np.ix_(free, free)]
+        x[qi] -= Mis @ (np.linalg.lstsq(A @ Mis, r, rcond=1e-12)[0])
+    G = system.residual(x)
+    worst = float(np.max(np.abs(G[rows])))
+    if worst > 1e-9:
+        raise InputError("x0", f"cannot assemble the mechanism with the conditions held: residual {worst:.3g} "
+                               "(is the value reachable from the start configuration?)")
     return x
 
 
@@ -93,7 +121,8 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
              rtol: float = 1e-6, atol: float = 1e-9, baumgarte: tuple[float, float] | None = (10.0, 10.0),
              projection: bool = False, damping: float = 0.0, max_step: float = math.inf,
              t_eval: Sequence[float] | None = None, events: Sequence | None = None,
-             progress: Callable[[float], None] | None = None) -> SimulationResult:
+             progress: Callable[[float], None] | None = None, stops: bool | Sequence[str] = False,
+             max_stop_events: int = 10_000) -> SimulationResult:
     """Simulate a mechanism in time (paper's state-space model, eqs. 1–5, for any mechanism).
 
     The state is ``(q, qdot)`` (for the overcentre the paper's 12 states); accelerations come
@@ -135,6 +164,15 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
         ``direction`` as in SciPy); occurrences go to ``t_events`` and ``x_events``.
     progress:
         Called with the current time after every accepted step.
+    stops:
+        True (all of the model's stops) or the names of the stops to simulate as unilateral
+        constraints (impacts with the stop's ``restitution``, contact, release; see
+        :mod:`._contact`); default False: stops are ignored (their reactions stay at their values).
+        With stops the reactions ``R_NAME`` are computed (they must be 0 in ``x0``) and the
+        history has two rows at each stop event after the start, just before and just after it
+        (the velocities jump at an impact).
+    max_stop_events:
+        The simulation stops (status FAILED) after this many stop events.
 
     Returns
     -------
@@ -170,6 +208,13 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     cls = _METHODS[method]
     if projection and cls not in (RK23, RK45, DOP853):  # explicit RK: y and f can be reset after a step
         raise InputError("projection", f"is supported with RK23, RK45 and DOP853, not {method}")
+    contacts = None
+    if stops:
+        from ._contact import StopConstraints
+
+        contacts = dyn.contacts = StopConstraints(system, dyn, None if stops is True else stops,
+                                                  rest_height=_rest_height(system, rtol, atol))
+        y0 = contacts.begin(t0, y0)
     solver = cls(dyn, t0, y0, t1, rtol=rtol, atol=atol, max_step=max_step)
     tracker = EventTracker(events, system, coords)
     tracker.start(dyn, t0, y0)
@@ -178,8 +223,10 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
         if t_eval.ndim != 1 or np.any(np.diff(t_eval) < 0) or t_eval[0] < t0 or t_eval[-1] > t1:
             raise InputError("t_eval", "must be increasing times within t_span")
     ts, ys = ([t0], [y0]) if t_eval is None or (t_eval.size and t_eval[0] == t0) else ([], [])
+    modes = [_mode(contacts)] * len(ts)  # the stops in contact at each saved row
     k_eval = 1 if ts and t_eval is not None else 0
     status, detail = SimulationStatus.FINISHED, ""
+    at_once, t_last_event = 0, -math.inf
     while True:
         t_old = solver.t
         why = solver.step()
@@ -192,37 +239,76 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             solver.y = np.concatenate([qp, qdp])
             solver.f = dyn(solver.t, solver.y)
         t_new, y_new = solver.t, solver.y
-        sol = solver.dense_output() if (tracker or t_eval is not None) else None
+        sol = solver.dense_output() if (tracker or contacts or t_eval is not None) else None
+        hit = contacts.locate(t_old, t_new, y_new, sol) if contacts is not None else None
+        if hit is not None:  # the step ends at the stop event
+            t_new, y_new = hit[0], sol(hit[0])
         t_stop = tracker.step(dyn, t_old, t_new, y_new, sol)
+        if t_stop is not None:
+            hit = None  # a terminal event comes first
         t_end = t_new if t_stop is None else t_stop
         if t_eval is not None:
             while k_eval < t_eval.size and t_eval[k_eval] <= t_end:
                 ts.append(float(t_eval[k_eval]))
                 ys.append(sol(t_eval[k_eval]))
                 k_eval += 1
-            if t_stop is not None and (not ts or ts[-1] < t_stop):
-                ts.append(t_stop)
-                ys.append(sol(t_stop))
-        elif t_stop is not None:
-            ts.append(t_stop)
-            ys.append(sol(t_stop))
+            if (t_stop is not None or hit is not None) and (not ts or ts[-1] < t_end):
+                ts.append(t_end)
+                ys.append(sol(t_end))
+        elif t_stop is not None or hit is not None:
+            ts.append(t_end)
+            ys.append(sol(t_end))
         else:
             ts.append(t_new)
             ys.append(y_new.copy())
+        modes += [_mode(contacts)] * (len(ts) - len(modes))
         if progress is not None:
             progress(t_end)
         if t_stop is not None:
             status = SimulationStatus.EVENT
             break
+        if hit is not None:
+            at_once = at_once + 1 if hit[0] == t_last_event else 0
+            t_last_event = hit[0]
+            if at_once > MAX_EVENTS_AT_ONCE or len(contacts.events) > max_stop_events:
+                status = SimulationStatus.FAILED
+                detail = (f"Stopped at t = {hit[0]:.6g} s: {len(contacts.events)} stop events"
+                          + (f", {at_once} at this instant (no consistent contact set)" if at_once > MAX_EVENTS_AT_ONCE
+                             else f", more than max_stop_events = {max_stop_events}") + ".")
+                break
+            y_after, _ = contacts.handle(hit[0], y_new, hit[1])
+            ts.append(hit[0])  # the row after the event (the velocities jump at an impact)
+            ys.append(y_after)
+            modes.append(_mode(contacts))
+            solver = cls(dyn, hit[0], y_after, t1, rtol=rtol, atol=atol, max_step=max_step)
+            tracker.start(dyn, hit[0], y_after)
+            continue
         if solver.status == "finished":
             break
     return _assemble_result(system, dyn, coords, np.array(ts), np.array(ys).reshape(-1, 2 * nq), status, tracker,
-                            detail)
+                            detail, modes)
 
 
-def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="") -> SimulationResult:
+def _mode(contacts) -> tuple[int, ...]:
+    return () if contacts is None else tuple(contacts.active)
+
+
+def _rest_height(system, rtol: float, atol) -> float:
+    """Smallest rebound height (condition units) the integrator resolves: its error on a gap near
+    the limit, ``atol + rtol |limit|`` (at least 1e-12)."""
+    from ..equations import as_model
+
+    limits = [abs(float(s.limit)) for s in as_model(system).stops] or [0.0]
+    return max(float(np.min(atol)) + rtol * max(limits), 1e-12)
+
+
+def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="", modes=None) -> SimulationResult:
     nq = dyn.nq
     values = np.array([dyn.full(ti, yi[:nq]) for ti, yi in zip(t, y)]).reshape(-1, len(system.names))
+    _fill_conditions(system, values)
+    stop_events: list = []
+    if dyn.contacts is not None:
+        stop_events = _fill_contacts(dyn.contacts, t, y, values, modes)
     qdot = y[:, nq:]
     mech = dyn.mech
     drift = max((float(np.max(np.abs(mech.phi(xi)), initial=0.0)) for xi in values), default=0.0)
@@ -231,5 +317,33 @@ def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="") -> S
     t_events, x_events = tracker.results()
     return SimulationResult(t=t, values=values, qdot=qdot, names=tuple(system.names), coordinates=coords,
                             status=status, constraint_drift=drift, velocity_drift=vdrift,
-                            t_events=t_events, x_events=x_events, nfev=dyn.nfev, detail=detail,
+                            t_events=t_events, x_events=x_events, nfev=dyn.nfev, detail=detail, stop_events=stop_events,
                             units={v.name: v.unit for v in system.variables})
+
+
+def _fill_conditions(system, values) -> None:
+    """The description's conditions (rows ``cond_NAME: c(q) - NAME``) evaluated at every saved row."""
+    rows = [(k, system.index(r[5:])) for k, r in enumerate(getattr(system, "equation_names", ()))
+            if r.startswith("cond_") and r[5:] in system.names]
+    if not rows:
+        return
+    k, j = (np.array(v) for v in zip(*rows))
+    for x in values:
+        x[j] = 0.0
+        x[j] = system.residual(x)[k]
+
+
+def _fill_contacts(contacts, t, y, values, modes) -> list:
+    """The stops' reactions into the saved rows; the stop events with their row numbers."""
+    from dataclasses import replace
+
+    for i, (ti, yi, mode) in enumerate(zip(t, y, modes)):
+        if mode:
+            contacts.active = list(mode)
+            values[i, contacts.reaction[list(mode)]] = contacts.reactions(ti, yi)
+    out, i = [], 0
+    for ev in contacts.events:  # rows are in time order; an event's row is the last one at its time
+        while i + 1 < len(t) and t[i + 1] <= ev.time:
+            i += 1
+        out.append(replace(ev, row=i))
+    return out

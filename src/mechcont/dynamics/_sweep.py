@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -128,6 +128,19 @@ class SweepResult:
     def __getitem__(self, name: str) -> np.ndarray:
         return self.simulation[name]
 
+    @property
+    def stop_events(self) -> list:
+        """The stop events (:class:`~._contact.StopEvent`) of a sweep with stops, in time order."""
+        return self.simulation.stop_events
+
+    def stop_loads(self, kind: str, stop: str | None = None) -> list[float]:
+        """The first ramped parameter's value at each stop event of ``kind`` (``"contact"``,
+        ``"impact"``, ``"release"``), of stop ``stop`` or any: the sweep's contact and release loads."""
+        name = self.ramps[0].name
+        column = self[name]
+        return [float(column[ev.row]) for ev in self.stop_events
+                if ev.kind == kind and (stop is None or ev.stop == stop)]
+
     def segment_mask(self, i: int) -> np.ndarray:
         """Boolean mask of the samples in segment ``i``."""
         t0, t1 = self.segment_times[i]
@@ -215,7 +228,7 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
           through: float | None = None, rate_threshold: float | None = None, stop_on_jump: bool = False,
           method: str = "RK45", rtol: float = 1e-6, atol: float = 1e-8, max_step: float | None = None,
           baumgarte: tuple[float, float] | None = (10.0, 10.0),
-          progress: Callable[[float], None] | None = None) -> SweepResult:
+          progress: Callable[[float], None] | None = None, stops: bool | Sequence[str] = False) -> SweepResult:
     """Ramp parameters slowly, simulate the mechanism, and detect the jumps of ``watch``.
 
     Parameters
@@ -251,6 +264,11 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
         resolved by at least 400 samples.
     progress:
         Called with the simulated time after each step.
+    stops:
+        True (all the model's stops) or stop names: simulated as unilateral constraints (see
+        :func:`simulate`); their events (contact, impact, release) are in ``result.stop_events``
+        with the ramped loads at each (:meth:`SweepResult.stop_loads`). The stops' reactions in
+        ``x0`` are ignored (they are computed).
 
     Returns
     -------
@@ -275,6 +293,8 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
     if stop_on_jump and through is None:
         raise InputError("stop_on_jump", "needs a `through` value to stop at")
     x = initial_vector(system, x0)
+    reactions = _reaction_indices(system, stops)
+    x[reactions] = 0.0
     seg_times, loads = _schedule(ramps, settle)
     if max_step is None:
         max_step = min(r.duration for r in ramps) / 400.0
@@ -297,9 +317,10 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
     for a, b in phases:
         part = simulate(system, x, (a, b), qdot0=qd, loads=loads, method=method, rtol=rtol, atol=atol,
                         baumgarte=baumgarte, damping=damping, max_step=max_step, events=events,
-                        progress=progress)
+                        progress=progress, stops=stops)
         parts.append(part)
-        x, qd = part.values[-1], part.qdot[-1]
+        x, qd = part.values[-1].copy(), part.qdot[-1]
+        x[reactions] = 0.0  # computed again by the next phase, which finds the same contacts
         if part.status is not SimulationStatus.FINISHED:
             break
     sim = _concatenate(parts)
@@ -330,6 +351,12 @@ def _concatenate(parts: list[SimulationResult]) -> SimulationResult:
     first = parts[0]
     keep = [slice(None)] + [slice(1, None)] * (len(parts) - 1)
     n_ev = len(first.t_events)
+    stop_events, offset = list(first.stop_events), len(first.t)
+    for prev, p in zip(parts, parts[1:]):  # a later phase's first row is its predecessor's last
+        still = _in_contact_at_end(prev)  # not a new contact when the next phase starts on it
+        stop_events += [replace(ev, row=ev.row + offset - 1) for ev in p.stop_events
+                        if not (ev.kind == "contact" and ev.time == p.t[0] and ev.stop in still)]
+        offset += len(p.t) - 1
     return SimulationResult(
         t=np.concatenate([p.t[k] for p, k in zip(parts, keep)]),
         values=np.concatenate([p.values[k] for p, k in zip(parts, keep)]),
@@ -339,7 +366,25 @@ def _concatenate(parts: list[SimulationResult]) -> SimulationResult:
         velocity_drift=max(p.velocity_drift for p in parts),
         t_events=[np.concatenate([p.t_events[i] for p in parts]) for i in range(n_ev)],
         x_events=[np.concatenate([p.x_events[i] for p in parts]) for i in range(n_ev)],
-        nfev=sum(p.nfev for p in parts), detail=parts[-1].detail, units=first.units)
+        nfev=sum(p.nfev for p in parts), detail=parts[-1].detail, units=first.units, stop_events=stop_events)
+
+
+def _reaction_indices(system, stops) -> list[int]:
+    """Indices of the reactions of the simulated stops (none without stops)."""
+    if not stops:
+        return []
+    from ._contact import _stops_of
+
+    return [system.index(s.reaction) for s in _stops_of(system, None if stops is True else stops)]
+
+
+def _in_contact_at_end(part: SimulationResult) -> set[str]:
+    """The stops in contact at the end of a phase, from its events."""
+    state: dict[str, bool] = {}
+    for ev in part.stop_events:
+        if ev.kind in ("contact", "release"):
+            state[ev.stop] = ev.kind == "contact"
+    return {n for n, on in state.items() if on}
 
 
 def _coords_at(sim: SimulationResult, i: int) -> dict:

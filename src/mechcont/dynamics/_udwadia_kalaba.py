@@ -28,12 +28,16 @@ centre-of-gravity coordinates, as in the paper).
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
 from scipy.linalg.lapack import dpotrf, dpotrs
 
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ._contact import StopConstraints
 
 __all__ = ["fundamental_equation", "inverse_sqrt", "ConstrainedDynamics"]
 
@@ -163,6 +167,8 @@ class ConstrainedDynamics:
         self._mass_constant = not (_symbols_of(list(mech.mass_matrix)) & coord_names)
         self._Mis = inverse_sqrt(mech.mass(self.x)) if self._mass_constant else None
         self.nfev = 0
+        #: The stops as unilateral constraints (a :class:`~._contact.StopConstraints`), or None.
+        self.contacts: StopConstraints | None = None
 
     # -- helpers -------------------------------------------------------------------------
     def full(self, t: float, q: np.ndarray) -> np.ndarray:
@@ -184,6 +190,14 @@ class ConstrainedDynamics:
             Q = Q - self.damping * (self.mech.mass(x) @ qd)
         return Q
 
+    def joint_rows(self, x: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(A, b)``: the joints' acceleration-level constraints ``A qddot = b``, Baumgarte-stabilised."""
+        A = self.mech.phi_q(x)
+        b = self.mech.gamma(x, qd)
+        if self.alpha or self.beta:
+            b = b - 2.0 * self.alpha * (A @ qd) - self.beta**2 * self.mech.phi(x)
+        return A, b
+
     def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Constrained accelerations at time ``t`` (the fundamental equation, stabilised).
 
@@ -193,10 +207,9 @@ class ConstrainedDynamics:
         x = self.full(t, q)
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(qd))):
             return np.full(self.nq, np.nan)
-        A = self.mech.phi_q(x)
-        b = self.mech.gamma(x, qd)
-        if self.alpha or self.beta:
-            b = b - 2.0 * self.alpha * (A @ qd) - self.beta**2 * self.mech.phi(x)
+        A, b = self.joint_rows(x, qd)
+        if self.contacts is not None:  # the stops in contact are constraint rows too
+            A, b = self.contacts.rows(x, qd, A, b)
         Q = self.forces(x, qd)
         if not (np.all(np.isfinite(Q)) and np.all(np.isfinite(A)) and np.all(np.isfinite(b))):
             return np.full(self.nq, np.nan)

@@ -33,7 +33,7 @@ __all__ = ["Stop", "stops_from_table", "check_stops", "stop_reaction_unit", "sto
            "STOP_KEYS"]
 
 #: Keys of a ``[stops.NAME]`` table.
-STOP_KEYS = frozenset({"condition", "min", "max", "description"})
+STOP_KEYS = frozenset({"condition", "min", "max", "restitution", "description"})
 
 
 @dataclass(frozen=True)
@@ -52,6 +52,10 @@ class Stop:
         ``+1``: the condition stays at or above ``limit`` (``min``); ``-1``: at or below (``max``).
     description:
         Free text.
+    restitution:
+        Newton's coefficient of restitution ``e`` (0 to 1) used by the time simulation at an
+        impact: the condition's rate after the impact is ``-e`` times its rate before. Default 0
+        (a lock does not bounce); quasi-static analyses do not use it.
     """
 
     name: str
@@ -59,6 +63,7 @@ class Stop:
     limit: Value
     side: int = 1
     description: str = ""
+    restitution: float = 0.0
 
     @property
     def reaction(self) -> str:
@@ -105,7 +110,10 @@ def stops_from_table(tab: Mapping, field: str = "stops") -> list[Stop]:
         desc = spec.get("description", "")
         if not isinstance(desc, str):
             raise InputError(f + ".description", f"must be a string, got {desc!r}")
-        out.append(Stop(name, spec["condition"], limit, 1 if sides[0] == "min" else -1, desc))
+        e = spec.get("restitution", 0.0)
+        if isinstance(e, bool) or not isinstance(e, (int, float)) or not 0.0 <= e <= 1.0:
+            raise InputError(f + ".restitution", f"must be a number from 0 (no bounce) to 1 (elastic), got {e!r}")
+        out.append(Stop(name, spec["condition"], limit, 1 if sides[0] == "min" else -1, desc, float(e)))
     return out
 
 

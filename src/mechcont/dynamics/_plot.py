@@ -1,0 +1,36 @@
+"""A time history drawn against time, with its stop events marked."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["history_figure"]
+
+_EVENT_STYLE = {"impact": ("v", "tab:red"), "contact": ("o", "tab:green"), "release": ("^", "tab:blue")}
+
+
+def history_figure(result, watch: str, *, title: str | None = None):
+    """A figure of column ``watch`` of a :class:`~._result.SimulationResult` against time (s);
+    angles (rad) shown in degrees; each stop event marked (impact, contact, release)."""
+    from ..outputs.plotting import axis_label, new_figure
+
+    unit = result.unit(watch)
+    scale, shown = (180.0 / math.pi, "deg") if unit == "rad" else (1.0, unit)
+    fig, ax = new_figure(figsize=(7.0, 4.0))
+    y = np.asarray(result[watch]) * scale
+    ax.plot(result.t, y, color="k", lw=1.2)
+    seen = set()
+    for ev in result.stop_events:
+        marker, color = _EVENT_STYLE.get(ev.kind, ("x", "0.4"))
+        ax.plot([ev.time], [y[ev.row]], marker=marker, color=color, ls="none",
+                label=None if ev.kind in seen else ev.kind)
+        seen.add(ev.kind)
+    ax.set_xlabel(axis_label("t", "s"))
+    ax.set_ylabel(axis_label(watch, shown))
+    if seen:
+        ax.legend(title="stop events")
+    if title:
+        ax.set_title(title)
+    return fig
