@@ -60,7 +60,7 @@ def test_compliant_folds_are_located_and_tend_to_the_rigid_ones_as_one_over_k(ri
     assert np.all(e8 / e10 > 20), e8 / e10  # still 1/k down to where rounding (1e-10 N m) sets in
 
 
-@pytest.mark.parametrize("k", [1e6, 1e10])
+@pytest.mark.parametrize("k", STIFF)
 def test_the_compliant_linkage_goes_round_a_full_revolution(rigid_folds, k):
     """Continued in the crank moment from crank = 0 both ways to +-6.2 rad (past a full turn; the
     crank condition, 2 atan2, wraps at +-2 pi): every fold on the way is a located LP, the three
@@ -70,7 +70,7 @@ def test_the_compliant_linkage_goes_round_a_full_revolution(rigid_folds, k):
     b, folds, labels = _folds(s, -6.2, 6.2)
     assert b["crank"].min() == pytest.approx(-6.2) and b["crank"].max() == pytest.approx(6.2)
     assert labels[0] == labels[-1] == "EP" and set(labels[1:-1]) == {"LP"} and len(labels) == 9
-    tol = 1e-3 if k == 1e6 else 1e-7
+    tol = 1e3 / k  # the compliant folds differ from the rigid ones by O(1/k) (measured ~170/k N m)
     inside = [m for theta, m in folds if -1.05 < theta < 1.0]
     np.testing.assert_allclose(inside, rigid_folds, atol=tol)
     for theta, m in folds:
