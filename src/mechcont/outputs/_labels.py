@@ -119,7 +119,7 @@ def place_labels(ax, labels: Sequence[Label], renderer, avoid=None, *, fontsize:
             ok = ok if ok.any() else np.ones(len(boxes), bool)
         k = int(np.argmin(np.where(ok, cost, np.inf)))
         c = centres[k]
-        t.set_position(tuple(to_data(c.reshape(1, 2))[0]))
+        t.set_position(tuple(lab.anchor) if dist[k] == 0 else tuple(to_data(c.reshape(1, 2))[0]))
         placed.append(boxes[k])
         if dist[k] > 0:
             half = np.array([w / 2 - _GAP, h / 2 - _GAP])
