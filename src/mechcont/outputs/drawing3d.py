@@ -203,6 +203,10 @@ def _draw_3d(ax, scene: Scene, box: np.ndarray, scale: float, show_forces: bool,
     ax.set_ylabel(_label_3d("y"), fontsize=_FONT)
     ax.set_zlabel(_label_3d("z"), fontsize=_FONT)
     ax.tick_params(labelsize=_FONT)
+    from matplotlib.ticker import MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):   # few ticks: the 3-D panel is the smallest
+        axis.set_major_locator(MaxNLocator(4))
     if title:
         ax.set_title(title)
 
