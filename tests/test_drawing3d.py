@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import matplotlib
+import matplotlib.colors
 
 matplotlib.use("Agg")
 
@@ -18,7 +19,7 @@ from mechcont.equations import Scene  # noqa: E402
 from mechcont.errors import InputError  # noqa: E402
 from mechcont.outputs.animation import MIN_DURATION, animate  # noqa: E402
 from mechcont.outputs.drawing import draw  # noqa: E402
-from mechcont.outputs.drawing3d import VIEWS, draw_scene3d, project  # noqa: E402
+from mechcont.outputs.drawing3d import VIEWS, draw3d, draw_scene3d, project  # noqa: E402
 
 RNG = np.random.default_rng(11)
 
@@ -110,9 +111,11 @@ def test_three_view_figure_has_units_labels_and_distinct_items():
     axes = draw_scene3d(swing_scene(0.2), fig, title="swing")
     assert set(axes) == {"front", "side", "top", "3d"}
     check_figure(fig, "three-view")
+    (legend,) = fig.legends  # the 3-D view names the bodies by their colour
+    assert "fitting" in [t.get_text() for t in legend.get_texts()]
     for view, ax in axes.items():
         texts = {t.get_text() for t in ax.texts}
-        assert "fitting" in texts, view
+        assert ("fitting" in texts) == (view != "3d"), view
         if view != "3d":
             h, v, _ = VIEWS[view]
             assert (ax.get_xlabel(), ax.get_ylabel()) == (f"{'xyz'[h]} (m)", f"{'xyz'[v]} (m)")
@@ -158,3 +161,43 @@ def test_spatial_animation_frames_duration_and_size(tmp_path):
             im.seek(k)
             total += im.info["duration"]
     assert total / 1000.0 >= MIN_DURATION - 1e-9
+
+
+def test_three_view_labels_do_not_overlap_are_readable_and_panels_are_close():
+    """Issue 25: bodies named without overlap inside the figure, >= 9 pt type, a legend with one entry per
+    body in its colour, front and side panels against each other."""
+    from figure_checks import check_labels, horizontal_gap, smallest_font
+
+    from mechcont.paper.dual_sidestay import retraction
+
+    ret = retraction()
+    for row in (0, -1):
+        axes = draw3d(ret.system, ret.branch.values[row], annotate=("theta",))
+        fig = axes["front"].figure
+        check_figure(fig, "sidestay")
+        check_labels(fig, "sidestay")
+        assert smallest_font(fig) >= 9
+        assert 0 < horizontal_gap(fig, axes["front"], axes["side"]) < 0.1 * fig.bbox.width
+        scene = ret.system.scene(ret.branch.values[row])
+        names = list(dict.fromkeys(n for n, _ in scene.bars))
+        (legend,) = fig.legends
+        entries = {t.get_text(): h.get_color() for t, h in zip(legend.get_texts(), legend.legend_handles)}
+        for view in ("front", "side", "top"):
+            texts = {t.get_gid(): t for t in axes[view].texts if t.get_gid()}
+            for n in names:  # every body named once per view, in its legend colour, as its bar is drawn
+                assert matplotlib.colors.same_color(texts[f"body:{n}"].get_color(), entries[n])
+                bar = next(ln for ln in axes[view].lines if ln.get_label() == n)
+                assert matplotlib.colors.same_color(bar.get_color(), entries[n])
+            assert not any(g.startswith("point:") for g in texts)   # points only on demand
+
+
+def test_label_points_names_every_point_without_overlap():
+    from figure_checks import check_labels
+
+    sc = swing_scene(0.3)
+    axes = draw_scene3d(sc, label_points=True)
+    fig = axes["front"].figure
+    check_labels(fig, "swing points")
+    for view in ("front", "side", "top"):
+        gids = {t.get_gid() for t in axes[view].texts}
+        assert "point:fitting.axle" in gids and "body:fitting" in gids

@@ -121,9 +121,11 @@ def test_gear_drawing_three_view(run_default, tmp_path):
     axes = draw3d(run_default.system, run_default.branch.values[-1], tmp_path / "up.png", annotate=("theta",))
     fig = axes["front"].figure
     check_figure(fig, "dual sidestay")
-    texts = {t.get_text() for t in axes["3d"].texts}
-    assert {"fitting", "fwd lock links", "aft upper"} <= texts
-    assert any(t.startswith("actuator = ") and "compression" in t for t in texts)
+    (legend,) = fig.legends   # bodies named by their colour in the 3-D view, by labels in the others
+    assert {"fitting", "fwd lock links", "aft upper"} <= {t.get_text() for t in legend.get_texts()}
+    assert {"fitting", "fwd lock links", "aft upper"} <= {t.get_text() for t in axes["front"].texts}
+    (loads,) = [t.get_text() for t in axes["3d"].texts]
+    assert any(line.startswith("actuator = ") and "compression" in line for line in loads.splitlines())
 
 
 @pytest.mark.slow

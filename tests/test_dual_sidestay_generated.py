@@ -173,3 +173,22 @@ def test_locked_file_is_the_unlocked_gear_resting_on_both_stops(compliant):
     R_u, R_l = (np.array([w[f"R_aft_A_{c}"] for c in "xyz"]) for w in (u, v))
     assert np.linalg.norm(R_u) > 2000.0   # the locked-in load of the two struts' misfit
     assert np.linalg.norm(R_l - R_u) < 0.05
+
+
+def test_drawing_of_the_generated_gear_names_its_bodies_readably(compliant):
+    """Issue 25: the generated gear (nine bodies, 42 named points) drawn with its bodies named, no two labels
+    overlapping, all inside the figure, type >= 9 pt; with every point named, still no overlap."""
+    from figure_checks import check_figure, check_labels, smallest_font
+
+    from mechcont.outputs.drawing3d import draw3d
+
+    x = compliant.defaults()
+    for points in (False, True):
+        axes = draw3d(compliant, x, label_points=points)
+        fig = axes["front"].figure
+        check_figure(fig, "generated gear")
+        check_labels(fig, "generated gear")
+        assert smallest_font(fig) >= 9
+        gids = [t.get_gid() or "" for t in axes["top"].texts]
+        assert sum(g.startswith("body:") for g in gids) == 9
+        assert any(g.startswith("point:") for g in gids) == points

@@ -183,8 +183,21 @@ def test_every_figure_has_units_honest_legends_and_labels_inside(res, tmp_path, 
     # the design point is marked with its force and signed lock margin; colour-bar ticks are round numbers
     design = next(f for f, n in figs if n == "nose_gear_design.png")
     ax = design.axes[0]
-    star = [ln for ln in ax.get_lines() if ln.get_label() == "design point"]
+    star = [ln for ln in ax.get_lines() if ln.get_label().startswith("design point")]
     assert star and tuple(star[0].get_xydata()[0]) == pytest.approx(res.region.design)
-    assert any("lock margin +0.149 m" in t.get_text() for t in ax.texts)
+    # the force and margin are in the legend, which leaves the F = 0 curve uncovered; the margin says along what
+    entries = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any("lock margin +0.149 m along l_sp1" in t for t in entries), entries
+    from figure_checks import drawn
+
+    renderer = drawn(design)
+    box = ax.get_legend().get_window_extent(renderer)
+    (zero,) = [ln for ln in ax.get_lines() if ln.get_label().startswith("F = 0")]
+    px = ax.transData.transform(zero.get_xydata())
+    assert not np.any((px[:, 0] > box.x0) & (px[:, 0] < box.x1) & (px[:, 1] > box.y0) & (px[:, 1] < box.y1))
+    # colour-bar ticks are the levels, round (1-2-5) numbers; the design force is at least two bands from F = 0
     ticks = design.axes[1].get_yticks()
-    assert np.allclose(ticks / 500, np.round(ticks / 500))
+    mantissa = np.abs(ticks[ticks != 0]) / 10.0 ** np.floor(np.log10(np.abs(ticks[ticks != 0])))
+    assert np.allclose(mantissa, np.round(mantissa)) and set(np.round(mantissa)) <= {1, 2, 5}
+    row = min(res.region.rows, key=lambda r: abs(r.level - res.region.design[1]))
+    assert np.sum((ticks > 0) & (ticks < row.force_at_design)) >= 2

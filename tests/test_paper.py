@@ -89,3 +89,29 @@ def test_overcentre_figures_have_units_honest_legends_and_labels_inside(tmp_path
     assert len(set(names)) == len(names) >= 7
     for fig, name in figs:
         check_figure(fig, name)
+
+
+def test_fig4a_shows_two_time_simulations_apart_and_no_empty_band(paper_dir, monkeypatch):
+    """Issue 25: each time simulation its own style and legend entry; the page cropped to what is drawn."""
+    import matplotlib.colors as mcolors
+    import numpy as np
+    from PIL import Image
+
+    from mechcont.paper import overcentre
+
+    figs = []
+    monkeypatch.setattr(overcentre, "save_figure", lambda fig, path, **kw: figs.append(fig))
+    overcentre._fig4a(overcentre.compute(), paper_dir / "unused.png")
+    ax = figs[0].axes[0]
+    legend = ax.get_legend()
+    sims = [(t.get_text(), h) for t, h in zip(legend.get_texts(), legend.legend_handles)
+            if t.get_text().startswith("time simulation")]
+    assert [t for t, _ in sims] == ["time simulation, LU = 0.4 m", "time simulation, LU = 2 m"]
+    styles = [(mcolors.to_hex(h.get_color()), h.get_linestyle()) for _, h in sims]
+    assert styles[0] != styles[1]
+    for colour, style in styles:  # each style is that of a curve drawn
+        assert any(mcolors.to_hex(ln.get_color()) == colour and ln.get_linestyle() == style for ln in ax.get_lines())
+    with Image.open(next(paper_dir.glob("fig4a*.png"))) as im:
+        ink = np.asarray(im.convert("L")) < 240
+    rows = np.flatnonzero(ink.any(axis=1))
+    assert len(ink) - 1 - rows[-1] < 0.04 * len(ink)   # no empty band at the bottom (was ~100 px of 900)

@@ -81,3 +81,20 @@ def test_bad_spatial_input_is_one_line(tmp_path):
     one_line_error(run("check", f), "joints.hinge.axis", "3-vector")
     f.write_text((DATA / "pendulum_3d.toml").read_text().replace("dimension = 3", "dimension = 4"))
     one_line_error(run("check", f), "mechanism.dimension", "2", "3")
+
+
+def test_label_points_on_draw_and_check(tmp_path, monkeypatch):
+    """Issue 25: a spatial drawing names its bodies; its points only with --label-points (draw and check --plot)."""
+    import mechcont.outputs.drawing3d as d3
+
+    seen = []
+    real = d3.label_views
+    monkeypatch.setattr(d3, "label_views", lambda axes, scene, **kw: (seen.append(kw), real(axes, scene, **kw))[1])
+    for extra in ((), ("--label-points",)):
+        r = run("draw", DATA / "bennett.toml", "--start", "crank=0.5", "--free", "M", *extra, "--out",
+                tmp_path / "b.png")
+        assert r.exit_code == 0, r.output
+        r = run("check", DATA / "bennett.toml", "--quiet", "--plot", tmp_path / "c.png", *extra)
+        assert r.exit_code in (0, 1), r.output
+        assert (tmp_path / "c.png").is_file()
+    assert seen == [{"bodies": True, "label_points": False}] * 2 + [{"bodies": True, "label_points": True}] * 2

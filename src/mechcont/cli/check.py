@@ -37,11 +37,12 @@ def _plot_path(text: str) -> Path:
 @click.option("--reduced", is_flag=True, help="Check the reduced form (tree coordinates and their reactions "
                                                "eliminated).")
 @click.option("--plot", default=None, metavar="FILE",
-              help="Write a drawing of the assembled configuration with every body and point named "
-                   "(.png, .svg or .pdf).")
+              help="Write a drawing of the assembled configuration with every body named, and every point of a "
+                   "planar mechanism (.png, .svg or .pdf).")
+@click.option("--label-points", is_flag=True, help="With --plot of a spatial mechanism: name every point too.")
 @click.option("--quiet", is_flag=True, help="Print nothing but errors and findings (on stderr).")
 @click.pass_context
-def check_command(ctx, model, sets, reduced, plot, quiet):
+def check_command(ctx, model, sets, reduced, plot, label_points, quiet):
     """Check the mechanism description MODEL (a .toml file, or the stem of a shipped one:
     overcentre means overcentre.toml, not the hand-formulated model).
 
@@ -70,7 +71,8 @@ def check_command(ctx, model, sets, reduced, plot, quiet):
     if path is not None:
         from ..outputs.drawing import draw
 
-        draw(report.system, report.x, path, labels=True, title=f"{report.name}: assembled configuration")
+        draw(report.system, report.x, path, labels=True, title=f"{report.name}: assembled configuration",
+             label_points=label_points)
     if not quiet:
         click.echo(report.to_text(stops))
         if path is not None:

@@ -46,8 +46,10 @@ def _out(path: str, valid) -> Path | None:
               help="With --point: the branch's continuation parameter, printed first "
                    "[the one parameter that changes along the branch].")
 @click.option("--no-forces", is_flag=True, help="Do not draw the applied forces and moments.")
+@click.option("--label-points", is_flag=True, help="Name the described points too (bodies are named in any case "
+                                                   "in a spatial drawing).")
 @click.option("--out", required=True, metavar="FILE", help="Output .png, .svg or .pdf.")
-def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, out):
+def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, label_points, out):
     """Draw MODEL (a built-in name or a description .toml) at one equilibrium or at a branch point.
 
     The equilibrium is solved at the --set values with the --start states held and the
@@ -82,7 +84,8 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, o
                              free=freed_parameters(system, frees))
         if system.mechanics is not None:
             stable = bool(system.mechanics.stability(x).stable)
-    draw(system, x, path, annotate=names, stable=stable, label=label, show_forces=not no_forces)
+    draw(system, x, path, annotate=names, stable=stable, label=label, show_forces=not no_forces,
+         label_points=label_points)
     click.echo(str(path))
 
 

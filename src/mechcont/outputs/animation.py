@@ -333,17 +333,25 @@ def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
                 show = np.r_[mask, False] | np.r_[False, mask]  # both ends of each interval
                 ax.plot(np.where(show, xs, np.nan), np.where(show, ys, np.nan), style, color="0.2",
                         linewidth=width, label=name)
-        ax.legend(fontsize=8, loc="best")
+        ax.legend(fontsize=9, loc="best")
     for i, lab in enumerate(_numbered(frames.labels)):
         if lab:
             ax.plot(xs[i], ys[i], "k.", markersize=5)
-            ax.annotate(lab, (xs[i], ys[i]), textcoords="offset points", xytext=(3, 3), fontsize=8)
+            right = xs[i] > np.min(xs) + 0.85 * np.ptp(xs)   # near the right edge: the label to the left
+            ax.annotate(lab, (xs[i], ys[i]), textcoords="offset points", xytext=(-3 if right else 3, 3), fontsize=9,
+                        ha="right" if right else "left")
     units = ["deg" if system.variable(n).unit == "rad" else system.variable(n).unit for n in names]
     ax.set_xlabel(f"{xn} ({units[0]})" if units[0] else xn)
     ax.set_ylabel(f"{yn} ({units[1]})" if units[1] else yn)
     ax.grid(True, linewidth=0.3, alpha=0.5)
     (marker,) = ax.plot([], [], "o", color="#d62728", markersize=8, zorder=5)
     return marker, xs, ys
+
+
+def _unknown(system) -> str:
+    """What a frame says of a row whose stability is not known: a model without a potential energy
+    (a kinematic one) has none to speak of; another was continued without evaluating it."""
+    return "stability not evaluated" if getattr(system, "mechanics", None) is not None else "kinematic: no stability"
 
 
 def _slider_spans(scenes, h: float):
@@ -433,7 +441,8 @@ def _planar_renderer(system, frames, rows, scenes, annotate, labels, *, title, s
         i = rows[k]
         _d.draw_scene(scenes[k], ax, title=title or system.name, show_forces=show_forces, force_scale=scale,
                       limits=limits, slider_spans=spans, quiet_loads=annotate)
-        _d._put_note(ax, _d._note(system, frames.values[i], annotate, frames.stable[i], labels[i]), frames.stable[i],
+        _d._put_note(ax, _d._note(system, frames.values[i], annotate, frames.stable[i], labels[i], _unknown(system)),
+                     frames.stable[i],
                      corner)
         if marker is not None:
             marker[0].set_data([marker[1][i]], [marker[2][i]])
@@ -451,17 +460,21 @@ def _spatial_renderer(system, frames, rows, scenes, annotate, labels, *, title, 
 
     views = ("front", "side", "diagram", "3d") if diagram else ("front", "side", "top", "3d")
     frame = _d3._Frame(scenes, [v for v in views if v != "diagram"], show_forces)
-    fig = Figure(figsize=figsize or (11.0, 9.0), dpi=dpi, layout="constrained")
-    axes = {v: fig.add_subplot(2, 2, k + 1, **({"projection": "3d"} if v == "3d" else {}))
-            for k, v in enumerate(views)}
+    wide = max(8.5, 800.0 / dpi)   # at least 800 pixels wide
+    fig = Figure(figsize=figsize or _d3.layout_size(frame.limits, (wide, max(wide, 13.0)), max(9.5, 950.0 / dpi)),
+                 dpi=dpi, layout="constrained")
+    axes = _d3.spatial_layout(fig, views, frame.limits)
     marker = _diagram(axes.pop("diagram"), system, frames, tuple(diagram)) if diagram else None
     fig.suptitle(title or system.name)  # once: the layout places it
+    _d3.legend(fig, frame.colours, scenes[0])   # bodies named by colour: the same in every frame
+    corner = _d._note_corner([_d3.project(s, "front") for s in scenes], frame.limits["front"])
 
     def draw(k: int) -> None:
         i = rows[k]
-        frame.render(axes, scenes[k], labels=True, title=None, quiet_loads=annotate, clear=False)
-        _d._put_note(axes["front"], _d._note(system, frames.values[i], annotate, frames.stable[i], labels[i]),
-                     frames.stable[i])
+        frame.render(axes, scenes[k], title=None, quiet_loads=annotate, clear=False)
+        _d._put_note(axes["front"], _d._note(system, frames.values[i], annotate, frames.stable[i], labels[i],
+                                             _unknown(system)),
+                     frames.stable[i], corner)
         if marker is not None:
             marker[0].set_data([marker[1][i]], [marker[2][i]])
 

@@ -39,7 +39,19 @@ _ARROW = 0.3         # default longest force arrow as a fraction of the scene si
 _DEFAULT_ANNOTATE = ("F", "theta1")
 _COILS = 6           # zig-zag coils per spring, whatever its length
 _LABEL_BOX = dict(boxstyle="square,pad=0.1", facecolor="white", edgecolor="none", alpha=0.75)
-_BAR_COLOURS = ("#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#17becf", "#7f7f7f", "#bcbd22", "#e377c2")
+_BAR_COLOURS = ("#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#17becf", "#7f7f7f", "#bcbd22", "#e377c2",
+                "#393b79", "#637939", "#843c39", "#7b4173")
+
+
+def body_colours(scenes: Iterable[Scene]) -> dict[str, str]:
+    """``{body name: colour}``: one colour per distinct bar name of ``scenes``, in the order they first appear,
+    so a body has the same colour in every view, frame and legend."""
+    out: dict[str, str] = {}
+    for scene in scenes:
+        for name, _ in scene.bars:
+            if name not in out:
+                out[name] = _BAR_COLOURS[len(out) % len(_BAR_COLOURS)]
+    return out
 
 
 # -- geometry of a view --------------------------------------------------------------------
@@ -252,7 +264,7 @@ def _draw_actuator(ax, name: str, a: np.ndarray, b: np.ndarray, tension: float, 
     if label:
         sense = "tension" if tension > 0 else ("compression" if tension < 0 else "unloaded")
         at = a + 0.3 * length * t + 2.2 * width * nrm
-        ax.text(at[0], at[1], f"{name} = {load_text(abs(tension), 'N')} {sense}", ha="center", va="center", fontsize=8,
+        ax.text(at[0], at[1], f"{name} = {load_text(abs(tension), 'N')} {sense}", ha="center", va="center", fontsize=9,
                 color=colour, zorder=8, bbox=_LABEL_BOX)
 
 
@@ -282,7 +294,7 @@ def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float, label: bo
     if not label:
         return
     at = p + 1.25 * r * np.array([math.cos(math.pi / 4), math.sin(math.pi / 4)])
-    ax.text(at[0], at[1], text, ha="left", va="bottom", fontsize=8, color=colour, zorder=8, bbox=_LABEL_BOX)
+    ax.text(at[0], at[1], text, ha="left", va="bottom", fontsize=9, color=colour, zorder=8, bbox=_LABEL_BOX)
 
 
 def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: float, label: bool = True):
@@ -291,7 +303,7 @@ def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: fl
     if not label and (mag == 0 or scale == 0):
         return
     if mag == 0 or scale == 0:
-        ax.text(p[0], p[1] + 1.5 * h, text, ha="center", va="bottom", fontsize=8, color="#d62728", zorder=8,
+        ax.text(p[0], p[1] + 1.5 * h, text, ha="center", va="bottom", fontsize=9, color="#d62728", zorder=8,
                 bbox=_LABEL_BOX)
         return
     tip = p + v * scale
@@ -306,7 +318,22 @@ def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: fl
         ha, va = "center", ("bottom" if u[1] > 0 else "top")
     else:
         ha, va = ("left" if u[0] > 0 else "right"), "center"
-    ax.text(at[0], at[1], text, ha=ha, va=va, fontsize=8, color="#d62728", zorder=8, bbox=_LABEL_BOX)
+    ax.text(at[0], at[1], text, ha=ha, va=va, fontsize=9, color="#d62728", zorder=8, bbox=_LABEL_BOX)
+
+
+def _point_groups(points, size: float) -> list[tuple[np.ndarray, list[str]]]:
+    """Named ``points`` grouped where they lie within a thousandth of ``size`` (m) of each other:
+    ``[(position, [names])]``, in the order they first appear."""
+    groups: list[tuple[np.ndarray, list[str]]] = []
+    for name, p in points:
+        p = np.asarray(p, float)
+        for q, names in groups:
+            if np.hypot(*(p - q)) <= 1e-3 * size:
+                names.append(name)
+                break
+        else:
+            groups.append((p, [name]))
+    return groups
 
 
 def _draw_labels(ax, scene: Scene, h: float, limits) -> None:
@@ -316,26 +343,19 @@ def _draw_labels(ax, scene: Scene, h: float, limits) -> None:
     midpoint). Points closer than a thousandth of the view share one label (``"crank.b,
     coupler.a"``), placed away from the middle of the view.
     """
+    colours = body_colours([scene])
     seen: set[str] = set()
-    for i, (name, pts) in enumerate(scene.bars):
+    for name, pts in scene.bars:
         if name in seen:
             continue
         seen.add(name)
         pts = np.unique(np.atleast_2d(np.asarray(pts, float)), axis=0)
         c = pts.mean(axis=0)
         ax.text(c[0], c[1], name, ha="center", va="center", fontsize=9, fontweight="bold",
-                color=_BAR_COLOURS[i % len(_BAR_COLOURS)], zorder=9, bbox=_LABEL_BOX, gid=f"body:{name}")
+                color=colours[name], zorder=9, bbox=_LABEL_BOX, gid=f"body:{name}")
     size = max(limits[1] - limits[0], limits[3] - limits[2])
     middle = np.array([(limits[0] + limits[1]) / 2, (limits[2] + limits[3]) / 2])
-    groups: list[tuple[np.ndarray, list[str]]] = []
-    for name, p in scene.points:
-        p = np.asarray(p, float)
-        for q, names in groups:
-            if np.hypot(*(p - q)) <= 1e-3 * size:
-                names.append(name)
-                break
-        else:
-            groups.append((p, [name]))
+    groups = _point_groups(scene.points, size)
     for p, names in groups:
         ax.plot(p[0], p[1], "o", color="black", markersize=2.5, zorder=7)
         away = p - middle
@@ -343,13 +363,14 @@ def _draw_labels(ax, scene: Scene, h: float, limits) -> None:
         u = away / n if n > 1e-9 * size else np.array([0.7071, 0.7071])
         at = p + 1.2 * h * u
         ax.text(at[0], at[1], ", ".join(names), ha="left" if u[0] >= 0 else "right",
-                va="bottom" if u[1] >= 0 else "top", fontsize=7, color="0.15", zorder=9, bbox=_LABEL_BOX,
+                va="bottom" if u[1] >= 0 else "top", fontsize=9, color="0.15", zorder=9, bbox=_LABEL_BOX,
                 gid=f"point:{names[0]}")
 
 
 def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: bool = True,
                force_scale: float | None = None, limits: tuple[float, float, float, float] | None = None,
-               labels: bool = False, slider_spans: Sequence | None = None, quiet_loads: Iterable[str] = ()):
+               labels: bool = False, slider_spans: Sequence | None = None, quiet_loads: Iterable[str] = (),
+               colours: dict[str, str] | None = None):
     """Draw one :class:`Scene` on matplotlib axes.
 
     Parameters
@@ -379,6 +400,8 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
     quiet_loads:
         Names of forces, moments and actuators drawn without their value label (printed elsewhere,
         e.g. in an animation's note), so no text covers the mechanism.
+    colours:
+        ``{body name: colour}`` (see :func:`body_colours`, the default), e.g. shared by several views.
 
     Returns
     -------
@@ -411,9 +434,10 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
     for name, a, b, tension in scene.actuators:
         _draw_actuator(ax, name, np.asarray(a, float), np.asarray(b, float), float(tension), 0.8 * h,
                        show_forces and name not in set(quiet_loads))
-    for i, (name, pts) in enumerate(scene.bars):
+    colours = {**body_colours([scene]), **(colours or {})}
+    for name, pts in scene.bars:
         pts = np.atleast_2d(np.asarray(pts, float))
-        _line(ax, pts[:, 0], pts[:, 1], color=_BAR_COLOURS[i % len(_BAR_COLOURS)], linewidth=6,
+        _line(ax, pts[:, 0], pts[:, 1], color=colours[name], linewidth=6,
                 solid_capstyle="round", solid_joinstyle="round", zorder=5, label=name)
     for p in [*scene.pins, *scene.grounds, *(q for q, _ in scene.sliders)]:
         _draw_pin(ax, np.asarray(p, float), h)
@@ -487,8 +511,8 @@ def _with_vary(vary: str | None, annotate: Sequence[str]) -> tuple[str, ...]:
     return tuple(dict.fromkeys([*([vary] if vary else []), *annotate]))
 
 
-def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str) -> str:
-    """Text lines: each annotated variable (angles in degrees), stability and label."""
+def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str, unknown: str = "") -> str:
+    """Text lines: each annotated variable (angles in degrees), stability (``unknown`` when not known) and label."""
     lines = []
     for name in annotate:
         var, val = system.variable(name), float(x[system.index(name)])
@@ -496,7 +520,7 @@ def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str) ->
             lines.append(f"{name} = {round(math.degrees(val), 2) + 0.0:.2f}°")   # no "-0.00°"
         else:
             lines.append(f"{name} = {val:.4g} {var.unit}".rstrip())
-    status = {True: "stable", False: "unstable"}.get(None if stable is None else bool(stable), "")
+    status = {True: "stable", False: "unstable"}.get(None if stable is None else bool(stable), unknown)
     if label.rstrip("0123456789?") == "LP":
         status = "fold"  # neutral: neither stable nor unstable (see Branch.stability_labels)
     tail = " ".join(s for s in (status, label) if s)
@@ -539,14 +563,14 @@ def _put_note(ax, text: str, stable, corner=_CORNERS[0]) -> None:
         return
     colour = {True: "#e5f5e0", False: "#fde0dd"}.get(None if stable is None else bool(stable), "white")
     x, y, ha, va = corner
-    ax.text(x, y, text, transform=ax.transAxes, ha=ha, va=va, fontsize=8, zorder=10,
+    ax.text(x, y, text, transform=ax.transAxes, ha=ha, va=va, fontsize=9, zorder=10,
             bbox=dict(boxstyle="round,pad=0.3", facecolor=colour, edgecolor="0.6", alpha=0.9))
 
 
 def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: str | None = None,
          show_forces: bool = True, force_scale: float | None = None, annotate: Sequence[str] = (),
          stable: bool | None = None, label: str = "", figsize: tuple[float, float] = (6, 4.5), dpi: int = 120,
-         labels: bool = False):
+         labels: bool = False, label_points: bool = False):
     """Draw ``system`` at the full variable vector ``x`` and optionally save it.
 
     Parameters
@@ -568,6 +592,9 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
         Figure size (inches) and resolution of a raster file.
     labels:
         Name every body and every named point (see :func:`draw_scene`).
+    label_points:
+        Name the named points too (a planar drawing: as ``labels``; a spatial one names its
+        bodies in any case and its points only with this).
 
     Returns
     -------
@@ -593,14 +620,14 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
         from .drawing3d import draw3d
 
         return draw3d(system, x, path, title=title, show_forces=show_forces, annotate=annotate, stable=stable,
-                      label=label, dpi=dpi)
+                      label=label, dpi=dpi, label_points=label_points)
     if ax is None:
         from matplotlib.figure import Figure
 
         ax = Figure(figsize=figsize, layout="constrained").add_subplot()
     scene = scene_fn(x)
     draw_scene(scene, ax, title=title or system.name, show_forces=show_forces, force_scale=force_scale,
-               labels=labels)
+               labels=labels or label_points)
     corner = _note_corner([scene], (*ax.get_xlim(), *ax.get_ylim()))
     _put_note(ax, _note(system, x, annotate, stable, label), stable, corner)
     if out is not None:

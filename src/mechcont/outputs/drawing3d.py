@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -33,12 +34,14 @@ from ..equations import Scene
 from ..errors import InputError
 from . import drawing as _d
 
-__all__ = ["VIEWS", "is_spatial", "project", "draw_scene3d", "draw3d", "spatial_layout"]
+__all__ = ["VIEWS", "is_spatial", "project", "draw_scene3d", "draw3d", "spatial_layout", "layout_size", "legend",
+           "label_views"]
 
 #: View name -> (horizontal axis index, vertical axis index, axis seen along).
 VIEWS: dict[str, tuple[int, int, int]] = {"front": (1, 2, 0), "side": (0, 2, 1), "top": (0, 1, 2)}
 _AXIS = "xyz"
 _DEFAULT_VIEWS = ("front", "side", "top", "3d")
+_FONT = 9   # pt: the smallest type of a drawing
 
 
 def is_spatial(scene: Scene) -> bool:
@@ -146,28 +149,37 @@ def _zigzag3d(a: np.ndarray, b: np.ndarray, width: float, coils: int = 6) -> np.
     return np.vstack([a, a + np.outer(s * length, t) + np.outer(off, nrm), b])
 
 
-def _draw_3d(ax, scene: Scene, box: np.ndarray, scale: float, show_forces: bool, labels: bool, title: str | None):
-    """Scene in Matplotlib 3-D axes ``ax`` within ``box`` (3, 2) m, equal scale on the three axes."""
+def _loads_text(scene: Scene, show_forces: bool) -> str:
+    """The loads of ``scene`` as text lines (``W = 11.3 kN``, ``actuator = 17.3 kN compression``)."""
+    if not show_forces:
+        return ""
+    lines = [f"{name} = {_d.load_text(_norm(f), 'N')}" for name, _, f in scene.forces]
+    lines += [f"{name} = {_d.load_text(_norm(m), 'N m')}" for name, _, m in scene.moments]
+    for name, _, _, tension in scene.actuators:
+        sense = "tension" if tension > 0 else ("compression" if tension < 0 else "unloaded")
+        lines.append(f"{name} = {_d.load_text(abs(tension), 'N')} {sense}")
+    return "\n".join(lines)
+
+
+def _draw_3d(ax, scene: Scene, box: np.ndarray, scale: float, show_forces: bool, title: str | None,
+             colours: dict[str, str]):
+    """Scene in Matplotlib 3-D axes ``ax`` within ``box`` (3, 2) m, equal scale on the three axes. Bodies are
+    named by their colour (the figure's legend); the loads' values are listed in a corner."""
     size = float(np.max(box[:, 1] - box[:, 0]))
     h = _d._SYMBOL * size
-    for i, (name, pts) in enumerate(scene.bars):
+    for name, pts in scene.bars:
         pts = np.atleast_2d(np.asarray(pts, float))
-        ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], color=_d._BAR_COLOURS[i % len(_d._BAR_COLOURS)], linewidth=4,
-                solid_capstyle="round", label=name)
+        ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], color=colours[name], linewidth=4, solid_capstyle="round", label=name)
     for name, a, b in scene.springs:
         line = _zigzag3d(np.asarray(a, float), np.asarray(b, float), 0.7 * h)
         ax.plot(*line.T, color="#ff7f0e", linewidth=1.3, label=name)
     for name, a, b in scene.dampers:
         ax.plot(*np.array([a, b], float).T, color="#8c564b", linewidth=2.0, linestyle="--", label=name)
-    for name, a, b, tension in scene.actuators:
+    for name, a, b, _ in scene.actuators:
         a, b = np.asarray(a, float), np.asarray(b, float)
         mid = a + 0.55 * (b - a)
         ax.plot(*np.array([a, mid]).T, color="#6a3d9a", linewidth=7, alpha=0.55, solid_capstyle="butt", label=name)
         ax.plot(*np.array([a, b]).T, color="#6a3d9a", linewidth=2.4)
-        if show_forces:
-            sense = "tension" if tension > 0 else ("compression" if tension < 0 else "unloaded")
-            ax.text(*(a + 0.3 * (b - a)), f"{name} = {_d.load_text(abs(tension), 'N')} {sense}", fontsize=7,
-                    color="#6a3d9a")
     for a, b in _axis_lines(scene, None, 6 * h):
         ax.plot(*np.array([a, b]).T, color="0.3", linewidth=1.0, linestyle="-.")
     pins = np.array([np.asarray(p, float) for p in scene.pins]).reshape(-1, 3)
@@ -175,39 +187,39 @@ def _draw_3d(ax, scene: Scene, box: np.ndarray, scale: float, show_forces: bool,
     grounds = np.array([np.asarray(p, float) for p in (*scene.grounds, *scene.anchors)]).reshape(-1, 3)
     ax.scatter(*grounds.T, s=70, marker="^", facecolor="0.8", edgecolor="0.2", depthshade=False, zorder=6)
     if show_forces:
-        for name, p, f in scene.forces:
+        for _, p, f in scene.forces:
             p, v = np.asarray(p, float), scale * np.asarray(f, float)
             if _norm(v) > 0:
                 ax.quiver(*p, *v, color="#d62728", linewidth=1.8, arrow_length_ratio=0.15)
-            ax.text(*(p + v), f"{name} = {_d.load_text(_norm(f), 'N')}", fontsize=7, color="#d62728")
-    if labels:
-        seen: set[str] = set()
-        for i, (name, pts) in enumerate(scene.bars):
-            if name not in seen:
-                seen.add(name)
-                c = np.unique(np.atleast_2d(np.asarray(pts, float)), axis=0).mean(axis=0)
-                ax.text(*c, name, fontsize=8, fontweight="bold", color=_d._BAR_COLOURS[i % len(_d._BAR_COLOURS)])
+    loads = _loads_text(scene, show_forces)
+    if loads:
+        ax.text2D(0.0, 1.0, loads, transform=ax.transAxes, ha="left", va="top", fontsize=_FONT, color="#d62728",
+                  zorder=10, bbox=dict(boxstyle="round,pad=0.3", facecolor="white", edgecolor="0.6", alpha=0.9))
     ax.set_xlim(*box[0])
     ax.set_ylim(*box[1])
     ax.set_zlim(*box[2])
-    ax.set_box_aspect(tuple(box[:, 1] - box[:, 0]))
-    ax.set_xlabel(_label_3d("x"))
-    ax.set_ylabel(_label_3d("y"))
-    ax.set_zlabel(_label_3d("z"))
-    ax.tick_params(labelsize=7)
+    ax.set_box_aspect(tuple(box[:, 1] - box[:, 0]), zoom=0.85)   # room for the tick labels inside the panel
+    ax.set_xlabel(_label_3d("x"), fontsize=_FONT)
+    ax.set_ylabel(_label_3d("y"), fontsize=_FONT)
+    ax.set_zlabel(_label_3d("z"), fontsize=_FONT)
+    ax.tick_params(labelsize=_FONT)
+    from matplotlib.ticker import MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):   # few ticks: the 3-D panel is the smallest
+        axis.set_major_locator(MaxNLocator(4))
     if title:
         ax.set_title(title)
 
 
-def _draw_view(ax, scene: Scene, view: str, limits, scale: float, show_forces: bool, labels: bool,
-               quiet_loads: Sequence[str] = ()):
+def _draw_view(ax, scene: Scene, view: str, limits, scale: float, show_forces: bool, quiet_loads: Sequence[str] = (),
+               colours: dict[str, str] | None = None):
     h_i, v_i, n_i = VIEWS[view]
     flat = project(scene, view)
     # a projected load is a component, not the load: its arrow is drawn, its value is printed in the 3-D view
     quiet = (*quiet_loads, *(n for n, _, _ in flat.forces), *(n for n, _, _ in flat.moments),
              *(n for n, _, _, _ in flat.actuators))
     _d.draw_scene(flat, ax, title=f"{view} (seen along {_AXIS[n_i]})", show_forces=show_forces, force_scale=scale,
-                  limits=limits, labels=labels, quiet_loads=quiet)
+                  limits=limits, quiet_loads=quiet, colours=colours)
     h = _d._SYMBOL * max(limits[1] - limits[0], limits[3] - limits[2])
     for a, b in _axis_lines(scene, view, 6 * h):
         ax.plot(*np.array([a, b]).T, color="0.3", linewidth=1.0, linestyle="-.", zorder=6.5, gid="joint-axis")
@@ -215,21 +227,117 @@ def _draw_view(ax, scene: Scene, view: str, limits, scale: float, show_forces: b
     ax.set_ylabel(f"{_AXIS[v_i]} (m)")
 
 
-def spatial_layout(fig, views: Sequence[str] = _DEFAULT_VIEWS):
-    """Axes for ``views`` on ``fig`` (two columns): ``{view: axes}``, the 3-D one with a 3-D projection."""
+#: Where each view of the default layout sits (row, column) and which corner of its cell it hugs: front and side
+#: share the vertical axis z, side and top the horizontal axis x (third-angle projection), the 3-D view below front.
+_GRID = {"front": (0, 0, "SE"), "side": (0, 1, "SW"), "3d": (1, 0, "C"), "top": (1, 1, "NW")}
+
+
+def spatial_layout(fig, views: Sequence[str] = _DEFAULT_VIEWS, limits: dict | None = None):
+    """Axes for ``views`` on ``fig``: ``{view: axes}``, the 3-D one with a 3-D projection.
+
+    With the four default views (in any order; ``"diagram"`` may stand for ``top``) and the
+    views' ``limits`` (``{view: (hmin, hmax, vmin, vmax)}`` m), the panels are sized to their
+    drawings at one scale and drawn against each other: front beside side (same height), top
+    below side (same width). Otherwise two columns in the order given.
+    """
     for v in views:
-        if v != "3d":
+        if v not in ("3d", "diagram"):
             _check_view(v)
     if not views:
         raise InputError("view", "give at least one view")
+    kw = {"3d": {"projection": "3d"}}
+    slots = {("top" if v == "diagram" else v) for v in views}
+    if limits is not None and slots == set(_GRID) and len(views) == 4 and {"front", "side"} <= set(limits):
+        f, s = limits["front"], limits["side"]
+        t = limits.get("top", (s[0], s[1], f[0], f[1]))   # top: x across, y up (y as wide as the front view)
+        gs = fig.add_gridspec(2, 2, width_ratios=(f[1] - f[0], s[1] - s[0]), height_ratios=(f[3] - f[2], t[3] - t[2]))
+        out = {}
+        for v in views:
+            r, c, anchor = _GRID["top" if v == "diagram" else v]
+            out[v] = fig.add_subplot(gs[r, c], **kw.get(v, {}))
+            out[v].set_anchor(anchor)
+        return out
     cols = 1 if len(views) == 1 else 2
     rows = math.ceil(len(views) / cols)
-    return {v: fig.add_subplot(rows, cols, k + 1, **({"projection": "3d"} if v == "3d" else {}))
-            for k, v in enumerate(views)}
+    return {v: fig.add_subplot(rows, cols, k + 1, **kw.get(v, {})) for k, v in enumerate(views)}
+
+
+def layout_size(limits: dict, width: tuple[float, float] = (8.5, 13.0), height: float = 9.5) -> tuple[float, float]:
+    """Figure size (in) of the default four-view layout of views with ``limits``: ``height`` tall, as wide as the
+    panels need at that height (within ``width``), room left for ticks, titles and the legend."""
+    f, s = limits["front"], limits["side"]
+    t = limits.get("top", (s[0], s[1], f[0], f[1]))
+    aspect = ((f[1] - f[0]) + (s[1] - s[0])) / max((f[3] - f[2]) + (t[3] - t[2]), 1e-12)
+    return float(np.clip(aspect * (height - 2.2) + 1.6, *width)), height
+
+
+def legend(fig, colours: dict[str, str], scene: Scene) -> None:
+    """One legend below the panels: a line per body in its colour, and the spring, damper, actuator and load
+    symbols the scene has."""
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=c, linewidth=5, solid_capstyle="round", label=n) for n, c in colours.items()]
+    extra: tuple[tuple[str, str, Any, float, Sequence], ...] = (
+        ("springs", "#ff7f0e", "-", 1.3, scene.springs), ("dampers", "#8c564b", "--", 2.0, scene.dampers),
+             ("actuators", "#6a3d9a", "-", 5, scene.actuators), ("loads", "#d62728", "-", 1.8, scene.forces),
+             ("joint axes", "0.3", "-.", 1.0, scene.joint_axes))
+    for n, c, ls, lw, items in extra:
+        if items:
+            handles.append(Line2D([], [], color=c, linestyle=ls, linewidth=lw, label=n))
+    fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 6), fontsize=_FONT, frameon=False)
+
+
+def label_views(axes: dict, scene: Scene, *, bodies: bool = True, label_points: bool = False) -> None:
+    """Name the bodies (with ``bodies``) and the named points (with ``label_points``) in each orthographic view of the laid-out
+    figure of ``axes``: beside what they name, clear of each other and of the drawing where there is room,
+    inside the axes, with leader lines (see :mod:`mechcont.outputs._labels`)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from ._labels import Label, place_labels
+
+    fig = next(iter(axes.values())).figure
+    if not isinstance(fig.canvas, FigureCanvasAgg):
+        FigureCanvasAgg(fig)
+    fig.draw_without_rendering()   # the layout: label positions are measured in pixels
+    renderer = fig.canvas.get_renderer()
+    colours = _d.body_colours([scene])
+    for view, ax in axes.items():
+        if view not in VIEWS:
+            continue
+        flat = project(scene, view)
+        items = [Label(name, _body_anchor(pts), colours[name], bold=True, gid=f"body:{name}")
+                 for name, pts in _first_of_each(flat.bars)] if bodies else []
+        points = _d._point_groups(flat.points, _d._size(ax.get_xlim() + ax.get_ylim())) if label_points else []
+        for p, _ in points:
+            ax.plot(p[0], p[1], "o", color="black", markersize=2.5, zorder=7)
+        items += [Label(_stacked(names), (float(p[0]), float(p[1])), gid=f"point:{names[0]}") for p, names in points]
+        place_labels(ax, items, renderer, avoid=_d._scene_samples(flat), fontsize=_FONT)
+
+
+def _stacked(names: Sequence[str]) -> str:
+    """Names of coincident points, two to a line (a long one-line label finds no room)."""
+    return ",\n".join(", ".join(names[k:k + 2]) for k in range(0, len(names), 2))
+
+
+def _first_of_each(bars):
+    seen: dict = {}
+    for name, pts in bars:
+        seen.setdefault(name, pts)
+    return list(seen.items())
+
+
+def _body_anchor(pts) -> tuple[float, float]:
+    """The middle of the longest segment of a body's polyline (on the body, where it is easiest to see)."""
+    pts = np.atleast_2d(np.asarray(pts, float))
+    if len(pts) < 2:
+        return float(pts[0, 0]), float(pts[0, 1])
+    k = int(np.argmax(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+    mid = 0.5 * (pts[k] + pts[k + 1])
+    return float(mid[0]), float(mid[1])
 
 
 class _Frame:
-    """Fixed views (limits, force scale) shared by every scene of a drawing or an animation."""
+    """Fixed views (limits, force scale, body colours) shared by every scene of a drawing or an animation."""
 
     def __init__(self, scenes: Sequence[Scene], views: Sequence[str], show_forces: bool, force_scale=None):
         if not scenes or not all(is_spatial(s) for s in scenes):
@@ -238,26 +346,52 @@ class _Frame:
         if not (math.isfinite(self.scale) and self.scale >= 0):
             raise InputError("force_scale", f"must be a non-negative number of m/N, not {force_scale!r}")
         self.views = tuple(views)
-        self.limits = {v: _view_limits(scenes, v, self.scale, show_forces) for v in views if v != "3d"}
+        self.limits = {v: _view_limits(scenes, v, self.scale, show_forces) for v in views if v in VIEWS}
         self.box = _box3d(scenes, self.scale, show_forces)
         self.show_forces = show_forces
+        self.colours = _d.body_colours(scenes)
 
-    def render(self, axes: dict, scene: Scene, *, labels: bool, title: str | None, quiet_loads=(), clear: bool = True):
-        """Draw ``scene`` in every view of ``axes``; ``clear=False`` keeps what they hold (an animation
-        removes its previous frame's artists itself and keeps the axes, ticks and all)."""
+    def render(self, axes: dict, scene: Scene, *, title: str | None, quiet_loads=(), clear: bool = True):
+        """Draw ``scene`` in every view of ``axes`` (bodies unnamed: see :func:`label_views`); ``clear=False``
+        keeps what they hold (an animation removes its previous frame's artists itself and keeps the axes,
+        ticks and all)."""
         for v, ax in axes.items():
             if clear:
                 ax.clear()
             if v == "3d":
-                _draw_3d(ax, scene, self.box, self.scale, self.show_forces, labels, "3-D view")
+                _draw_3d(ax, scene, self.box, self.scale, self.show_forces, "3-D view", self.colours)
             else:
-                _draw_view(ax, scene, v, self.limits[v], self.scale, self.show_forces, labels, quiet_loads)
+                _draw_view(ax, scene, v, self.limits[v], self.scale, self.show_forces, quiet_loads, self.colours)
         if title:
             next(iter(axes.values())).figure.suptitle(title)
 
 
+def _compose(scene: Scene, fig, views, title, show_forces, force_scale, labels, label_points,
+             note: tuple[str, bool | None] | None = None) -> dict:
+    """The whole spatial drawing on ``fig`` (a new sized one when None): views, legend, note, labels."""
+    frame = _Frame([scene], views, show_forces, force_scale)
+    if fig is None:
+        from matplotlib.figure import Figure
+
+        four = set(views) == set(_GRID) and len(views) == 4
+        grow = 1.6 if label_points else 1.0   # room for every point's name
+        size = layout_size(frame.limits, (8.5 * grow, 13.0 * grow), 9.5 * grow) if four else (11 * grow, 9 * grow)
+        fig = Figure(figsize=size, layout="constrained")
+    axes = spatial_layout(fig, views, frame.limits)
+    frame.render(axes, scene, title=title)
+    legend(fig, frame.colours, scene)
+    first = next((ax for v, ax in axes.items() if v in VIEWS), None)
+    if note is not None and first is not None:
+        view = next(v for v in axes if v in VIEWS)
+        _d._put_note(first, note[0], note[1], _d._note_corner([project(scene, view)], frame.limits[view]))
+    if labels or label_points:
+        label_views(axes, scene, bodies=labels, label_points=label_points)
+    return axes
+
+
 def draw_scene3d(scene: Scene, fig=None, *, views: Sequence[str] = _DEFAULT_VIEWS, title: str | None = None,
-                 show_forces: bool = True, force_scale: float | None = None, labels: bool = True) -> dict:
+                 show_forces: bool = True, force_scale: float | None = None, labels: bool = True,
+                 label_points: bool = False) -> dict:
     """Draw a spatial :class:`Scene` as orthographic views and a 3-D view on one figure.
 
     Parameters
@@ -265,38 +399,37 @@ def draw_scene3d(scene: Scene, fig=None, *, views: Sequence[str] = _DEFAULT_VIEW
     scene:
         3-D primitives, coordinates in metres, forces in newtons.
     fig:
-        Matplotlib figure to draw on; a new one (Agg canvas, 11 x 9 in) when omitted.
+        Matplotlib figure to draw on; a new one (Agg canvas, sized to the views, about 9 x 9.5 in) when omitted.
     views:
-        Any of ``front``, ``side``, ``top`` (see :data:`VIEWS`) and ``3d``, in the order drawn.
+        Any of ``front``, ``side``, ``top`` (see :data:`VIEWS`) and ``3d``, in any order (the four
+        together are laid out as a third-angle projection, see :func:`spatial_layout`).
     title:
         Figure title.
     show_forces, force_scale:
         As for :func:`mechcont.outputs.drawing.draw_scene` (the scale in m/N, shared by every view).
     labels:
-        Name the bodies (and, in the orthographic views, the named points).
+        Name the bodies in the orthographic views (leader lines, no two labels overlapping); a
+        legend below the views gives each body's colour in any case.
+    label_points:
+        Name the points of ``scene.points`` too (coincident points share one label).
 
     Returns
     -------
     dict
         ``{view: matplotlib axes}``; every axis labelled with its coordinate in metres.
     """
-    if fig is None:
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(11, 9), layout="constrained")
-    frame = _Frame([scene], views, show_forces, force_scale)
-    axes = spatial_layout(fig, views)
-    frame.render(axes, scene, labels=labels, title=title)
-    return axes
+    return _compose(scene, fig, views, title, show_forces, force_scale, labels, label_points)
 
 
 def draw3d(system, x, path: str | os.PathLike | None = None, *, views: Sequence[str] = _DEFAULT_VIEWS,
            title: str | None = None, show_forces: bool = True, annotate: Sequence[str] = (),
-           stable: bool | None = None, label: str = "", dpi: int = 100, labels: bool = True) -> dict:
+           stable: bool | None = None, label: str = "", dpi: int = 100, labels: bool = True,
+           label_points: bool = False) -> dict:
     """Draw a spatial ``system`` at the full variable vector ``x`` (three-view + 3-D) and optionally save it.
 
     Like :func:`mechcont.outputs.drawing.draw` (same ``x``, ``annotate``, ``stable``,
     ``label``); the note with the annotated values is printed in the first orthographic view.
+    ``labels`` and ``label_points`` are :func:`draw_scene3d`'s.
 
     Returns
     -------
@@ -316,14 +449,9 @@ def draw3d(system, x, path: str | os.PathLike | None = None, *, views: Sequence[
     x = _d._check_x(system, x)
     for name in annotate:
         system.index(name)
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(11, 9), layout="constrained")
-    axes = draw_scene3d(scene_fn(x), fig, views=views, title=title or system.name, show_forces=show_forces,
-                        labels=labels)
-    first = next((ax for v, ax in axes.items() if v != "3d"), None)
-    if first is not None:
-        _d._put_note(first, _d._note(system, x, annotate, stable, label), stable)
+    axes = _compose(scene_fn(x), None, views, title or system.name, show_forces, None, labels, label_points,
+                    note=(_d._note(system, x, annotate, stable, label), stable))
     if out is not None:
+        fig = next(iter(axes.values())).figure
         _d._atomic_write(out, lambda tmp: fig.savefig(tmp, format=out.suffix[1:].lower(), dpi=dpi))
     return axes

@@ -18,7 +18,8 @@ from .._io import atomic_write
 from ..errors import InputError
 
 __all__ = ["plot_branch", "branch_figure", "plot_surface", "new_figure", "save_figure", "interval_states",
-           "axis_values", "axis_label", "curve", "label_point", "nice_levels", "plot_design_region", "FIGURE_SUFFIXES"]
+           "axis_values", "axis_label", "curve", "label_point", "nice_levels", "signed_levels",
+           "plot_design_region", "FIGURE_SUFFIXES"]
 
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 _MARKERS = {"LP": ("o", "tab:red"), "BP": ("s", "tab:purple"), "CP": ("D", "tab:green"),
@@ -286,35 +287,58 @@ def plot_surface(branches: Sequence, x: str, y: str, z: str, folds=None, ax=None
     return ax
 
 
-def nice_levels(limit: float, n: int = 10) -> tuple[np.ndarray, np.ndarray]:
+def nice_levels(limit: float, n: int = 10, per_tick: int = 2) -> tuple[np.ndarray, np.ndarray]:
     """Contour levels symmetric about 0 on round numbers covering ``[-limit, limit]``, and the
-    (fewer) round ticks to label them: e.g. levels every 100 N, ticks every 200 N."""
+    (fewer) round ticks to label them: ``per_tick`` levels per tick, e.g. levels every 100 N, ticks
+    every 200 N."""
     from matplotlib.ticker import MaxNLocator
 
     limit = float(limit) if np.isfinite(limit) and limit > 0 else 1.0
     ticks = MaxNLocator(nbins=n // 2, steps=[1, 2, 2.5, 5, 10], symmetric=True).tick_values(-limit, limit)
-    half = (ticks[1] - ticks[0]) / 2
+    half = (ticks[1] - ticks[0]) / per_tick
     top = half * np.ceil(limit / half - 1e-9)
     levels = np.arange(-top, top + half / 2, half)
     return levels, ticks[(ticks >= -top - 1e-9) & (ticks <= top + 1e-9)]
+
+
+def signed_levels(limit: float, finest: float = float("nan")) -> np.ndarray:
+    """Contour levels 0, +-a, +-b, ... on the 1-2-5 series from ``finest`` (rounded down to it; between
+    ``limit``/200 and ``limit``/10, ``limit``/50 when not finite) to the first value >= ``limit``: narrow
+    bands near 0, where a design is decided, wide ones far from it."""
+    limit = float(limit) if np.isfinite(limit) and limit > 0 else 1.0
+    finest = float(np.clip(finest, limit / 200, limit / 10)) if np.isfinite(finest) and finest > 0 else limit / 50
+    e = int(np.floor(np.log10(finest)))
+    series = [m * 10.0**k for k in range(e, e + 12) for m in (1, 2, 5)]
+    series = [v for v in series if v >= max(v2 for v2 in series if v2 <= finest * (1 + 1e-12))]
+    top = next(k for k, v in enumerate(series) if v >= limit * (1 - 1e-12))
+    pos = np.array(series[:top + 1])
+    return np.concatenate([-pos[::-1], [0.0], pos])
 
 
 def plot_design_region(region, ax, *, force_name: str = "F"):
     """Draw a :class:`~mechcont.analysis.design.DesignRegion` on a matplotlib axis.
 
     Filled contours of the downlock force (N, blue where it is positive: locks unaided) on
-    round levels, the continued F = 0 boundary (black), the fold locus with its cusps
-    (orange) and the design point (star, with its force and signed lock margin). Curves are
+    :func:`signed_levels` (the finest band half the design point's force), the continued
+    F = 0 boundary (black), the fold locus with its cusps (orange) and the design point (star;
+    its force and its signed lock margin along x in the legend, clear of the curves). Curves are
     the continuation's points joined smoothly (:func:`curve`).
     """
+    from matplotlib.colors import BoundaryNorm
+
     X, Y = np.meshgrid(region.x, region.y)
     lim = np.nanmax(np.abs(region.force))
-    levels, ticks = nice_levels(lim)
-    # blue: F > 0, the gear locks unaided; red: it needs help
-    cs = ax.contourf(X, Y, region.force, levels=levels, cmap="RdBu")  # 0 is a level
-    unit = region.units[2] or "N"
-    ax.figure.colorbar(cs, ax=ax, ticks=ticks, label=f"downlock force {force_name} ({unit}); > 0: locks unaided")
     xn, yn = region.x_name, region.y_name
+    row = min(region.rows, key=lambda r: abs(r.level - region.design[1])) if region.rows else None
+    if row is not None and abs(row.level - region.design[1]) > 1e-9 * max(1.0, abs(row.level)):
+        row = None
+    levels = signed_levels(lim, np.nan if row is None else abs(row.force_at_design) / 2)
+    # blue: F > 0, the gear locks unaided; red: it needs help; each band its own shade (finer ones near F = 0)
+    norm = BoundaryNorm(levels, 256)
+    cs = ax.contourf(X, Y, region.force, levels=levels, cmap="RdBu", norm=norm)  # 0 is a level
+    ax.contour(X, Y, region.force, levels=levels, colors="0.4", linewidths=0.3, alpha=0.6)
+    unit = region.units[2] or "N"
+    ax.figure.colorbar(cs, ax=ax, ticks=levels, label=f"downlock force {force_name} ({unit}); > 0: locks unaided")
     box = (float(region.x[0]), float(region.x[-1]), float(region.y[0]), float(region.y[-1]))
     if region.boundary is not None:
         bx, by, _ = curve(region.boundary, xn, yn)
@@ -325,24 +349,45 @@ def plot_design_region(region, ax, *, force_name: str = "F"):
         for p in region.folds.cusps:
             ax.plot(p[xn], p[yn], "o", color="darkorange", ms=7)
             label_point(ax, p[xn], p[yn], "CP", box, color="k")
-    ax.plot(*region.design, "k*", ms=12, label="design point")
-    row = min(region.rows, key=lambda r: abs(r.level - region.design[1])) if region.rows else None
-    if row is not None and abs(row.level - region.design[1]) <= 1e-9 * max(1.0, abs(row.level)):
+    # the design point's values go in the legend, which finds a place off the curves (a label box beside the
+    # star covered the F = 0 boundary)
+    design = "design point"
+    if row is not None:
         ux = region.units[0]
-        margin = "" if not np.isfinite(row.lock_margin) else f"\nlock margin {row.lock_margin:+.3g} {ux}".rstrip()
-        label_point(ax, region.design[0], region.design[1], f"{force_name} = {row.force_at_design:.3g} {unit}{margin}",
-                    box, color="k", background=True)
+        design += f": {force_name} = {row.force_at_design:.3g} {unit}"
+        if np.isfinite(row.lock_margin):
+            design += f"\nlock margin {row.lock_margin:+.3g} {ux} along {xn}".rstrip()
+    ax.plot(*region.design, "k*", ms=12, label=design)
     ax.set_xlim(region.x[0], region.x[-1])
     ax.set_ylim(region.y[0], region.y[-1])
     ax.set_xlabel(f"{xn} ({region.units[0]})" if region.units[0] else xn)  # values as stored (SI)
     ax.set_ylabel(f"{yn} ({region.units[1]})" if region.units[1] else yn)
-    ax.legend(loc="best", fontsize=8)
+    ax.legend(loc="best", fontsize=9)
 
 
-def save_figure(fig, path: str | os.PathLike, dpi: int = 150) -> Path:
-    """Save ``fig`` as PNG, SVG or PDF (by suffix) through a temporary file; returns the path."""
+def save_figure(fig, path: str | os.PathLike, dpi: int = 150, *, tight: bool = False) -> Path:
+    """Save ``fig`` as PNG, SVG or PDF (by suffix) through a temporary file; returns the path. ``tight`` crops the
+    page to what is drawn (with a small margin)."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in FIGURE_SUFFIXES:
         raise InputError(str(path), f"unknown figure type '{suffix}'; use one of {', '.join(FIGURE_SUFFIXES)}")
-    return atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=suffix[1:]))
+    crop = {"bbox_inches": _drawn_box(fig), "pad_inches": 0.0} if tight else {}
+    return atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=suffix[1:], **crop))
+
+
+def _drawn_box(fig, pad: float = 0.1):
+    """The box (in) around what ``fig`` draws, ``pad`` in wider: a 2-D axes' tight box, a 3-D axes' axes (panes,
+    ticks, labels), title and legend, not its whole square box, whose corners a perspective view leaves empty."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.transforms import Bbox
+
+    renderer = FigureCanvasAgg(fig).get_renderer() if not hasattr(fig.canvas, "get_renderer") else fig.canvas.get_renderer()
+    fig.draw_without_rendering()
+    boxes = []
+    for ax in fig.axes:
+        parts = [ax.xaxis, ax.yaxis, ax.zaxis, ax.title, ax.get_legend()] if ax.name == "3d" else [ax]
+        boxes += [p.get_tightbbox(renderer) for p in parts if p is not None]
+    boxes += [t.get_window_extent(renderer) for t in fig.texts if t.get_text()]
+    box = Bbox.union([b for b in boxes if b is not None and b.width > 0])
+    return box.transformed(fig.dpi_scale_trans.inverted()).padded(pad)

@@ -122,6 +122,18 @@ def lock_up_scan(geo: GearGeometry = DEFAULT_GEOMETRY, angles=PLANE_ANGLES, *, b
     return np.asarray(angles, float), lock, runs
 
 
+#: Frames of the retraction animation, at least (about 8 s at its frame rate).
+ANIMATION_FRAMES = 64
+
+
+def _fine(system, branch: Branch, retracted: float) -> Branch:
+    """``branch`` continued again from its first row with steps short enough for :data:`ANIMATION_FRAMES` rows
+    (a step moves theta by at most the step length), for a smooth animation."""
+    opts = ContinuationOptions(bounds={"theta": (-0.01, retracted)}, dsmax=retracted / ANIMATION_FRAMES,
+                               ds=retracted / ANIMATION_FRAMES, max_steps=4 * ANIMATION_FRAMES, stability=False)
+    return continuation(system, branch.values[0], "theta", direction=1, options=opts)
+
+
 def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: bool = False) -> list[str]:
     """Figures into ``out_dir`` and the Markdown summary lines; ``quick`` runs a reduced study (tests)."""
     from ..outputs.animation import animate
@@ -151,8 +163,8 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
     draw3d(sys_, ret.branch.values[0], out_dir / "sidestay_down.png", annotate=("theta",))
     draw3d(sys_, ret.branch.values[-1], out_dir / "sidestay_up.png", annotate=("theta",))
     if not quick:
-        animate(sys_, ret.branch, out_dir / "sidestay_retraction.gif", every=max(1, len(ret.branch.values) // 12),
-                annotate=("theta",), dpi=80)
+        animate(sys_, _fine(sys_, ret.branch, geo.retracted), out_dir / "sidestay_retraction.gif",
+                annotate=("theta",), diagram=("theta", "aft_J_z"), dpi=80)
     t0 = time.perf_counter()
     angles = PLANE_ANGLES[::3] if quick else PLANE_ANGLES
     phi, lock, runs = lock_up_scan(geo, angles, base=base)

@@ -157,9 +157,10 @@ def _sweep_on_branch(ax, b, sw, title: str) -> None:
 def _fig4a(r, path: Path) -> None:
     fig, ax = new_figure(figsize=(7.6, 6.0), projection="3d")
     plot_surface(r["family"], "F", "LU", "theta1", folds=r["folds_4a"], ax=ax)
-    for LU in (0.4, 2.0):
+    sims = ((0.4, "#1f77b4", "--"), (2.0, "#6a3d9a", "-"))   # one style per simulation, one legend entry each
+    for LU, colour, style in sims:
         sw = r[f"sweep_{LU}"]
-        ax.plot(sw["F"], np.full(len(sw.t), LU), np.degrees(sw["theta1"]), color="k", lw=1.2)
+        ax.plot(sw["F"], np.full(len(sw.t), LU), np.degrees(sw["theta1"]), color=colour, linestyle=style, lw=1.6)
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
@@ -168,12 +169,13 @@ def _fig4a(r, path: Path) -> None:
     ax.legend(handles=[Patch(color=SHEET_COLOURS[0], label="stable equilibria"),
                        Patch(color=SHEET_COLOURS[1], label="unstable equilibria"),
                        Line2D([], [], color="0.15", lw=2.5, label="fold curve (CP: cusp)"),
-                       Line2D([], [], color="k", lw=1.2, label="time simulations, LU = 0.4 m and 2 m")],
-              fontsize=8, loc="upper left")
+                       *(Line2D([], [], color=c, linestyle=ls, lw=1.6, label=f"time simulation, LU = {LU:g} m")
+                         for LU, c, ls in sims)],
+              fontsize=9, loc="upper left")
     ax.view_init(elev=18, azim=-40)  # the pleat between the folds and the cusp in view
     ax.set_box_aspect(None, zoom=0.92)
     ax.set_title("Fig. 4a: equilibria over (F, LU), fold curve and two time simulations", fontsize=10)
-    save_figure(fig, path)
+    save_figure(fig, path, tight=True)   # a 3-D axes leaves its box's lower part empty at this view
 
 
 def _fig5(folds, out_dir: Path) -> None:
