@@ -6,6 +6,7 @@ from . import (  # noqa: F401,E401  (mechcont models, continue, folds)
     downlock,  # noqa: F401  (mechcont downlock)
     draw,  # noqa: F401  (mechcont draw, mechcont animate)
     equations,  # noqa: F401  (mechcont equations)
+    explore,  # noqa: F401  (mechcont explore)
     folds,
     models,
     optimize,  # noqa: F401  (mechcont optimize)

@@ -1,0 +1,252 @@
+"""A branch explorer: one self-contained HTML page with the bifurcation diagram and the mechanism beside it.
+
+:func:`explore_page` reads branch, fold-curve or time-history tables (or :class:`Branch`
+objects), draws every row of the mechanism with its model's scene (:mod:`mechcont.mechanism`
+or the hand-formulated model's ``scene``), and embeds the poses as JSON in a page
+(:mod:`._explore_page`) whose small script draws them in SVG: the diagram with any two
+columns on the axes, the mechanism at the point hovered, clicked or chosen with the slider
+(planar: one view; spatial: the front, side and top views of :mod:`.drawing3d`), the loads
+and the point's values, and the special points as buttons. The page needs no server and no
+network: no external script, style or font.
+
+Poses (JSON ``branches[k].poses[row]``) are in metres; forces in N, moments in N m; body
+colours are those of the PNG drawings (:func:`.drawing.body_colours`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from .._io import atomic_write
+from ..equations import Scene
+from ..errors import InputError
+from . import drawing as _d
+
+__all__ = ["explore_page", "write_explore", "pose_json", "MAX_ROWS", "EXPLORE_SUFFIXES"]
+
+EXPLORE_SUFFIXES = (".html",)
+#: Rows per branch embedded at most; a longer table is thinned (its special points always kept) and the page says so.
+MAX_ROWS = 3000
+_EXTRA = ("s", "stability", "n_unstable", "label", "vary")
+
+
+def _xy(p) -> list[float]:
+    return [float(v) for v in np.asarray(p, float).ravel()]
+
+
+def pose_json(scene: Scene, bodies: Mapping[str, int]) -> dict:
+    """One pose as JSON-ready lists (metres, N, N m): ``bars`` ``[[body index, [[x, y(, z)], ...]], ...]``,
+    ``pins``/``grounds``/``anchors`` ``[[x, y], ...]``, ``sliders`` ``[[point, direction]]``, ``springs``/
+    ``dampers`` ``[[name, a, b]]``, ``actuators`` ``[[name, a, b, tension N]]``, ``forces`` ``[[name, point,
+    vector N]]``, ``moments`` ``[[name, point, value N m (a 3-vector in 3-D)]]``, ``axes`` ``[[name, point,
+    unit axis]]``. ``bodies`` maps a body name to its index in the page's body list."""
+    return {
+        "bars": [[bodies[n], [_xy(p) for p in np.atleast_2d(np.asarray(pts, float))]] for n, pts in scene.bars],
+        "pins": [_xy(p) for p in scene.pins], "grounds": [_xy(p) for p in scene.grounds],
+        "anchors": [_xy(p) for p in scene.anchors],
+        "sliders": [[_xy(p), _xy(d)] for p, d in scene.sliders],
+        "springs": [[n, _xy(a), _xy(b)] for n, a, b in scene.springs],
+        "dampers": [[n, _xy(a), _xy(b)] for n, a, b in scene.dampers],
+        "actuators": [[n, _xy(a), _xy(b), float(t)] for n, a, b, t in scene.actuators],
+        "forces": [[n, _xy(p), _xy(f)] for n, p, f in scene.forces],
+        "moments": [[n, _xy(p), _xy(m) if np.ndim(m) else float(m)] for n, p, m in scene.moments],
+        "axes": [[n, _xy(p), _xy(u)] for n, p, u in scene.joint_axes],
+    }
+
+
+def _model(model):
+    if model is None or hasattr(model, "names"):
+        return model
+    from ..models import load_model
+
+    return load_model(model)
+
+
+def _branch(source, index: int):
+    from ..continuation import Branch
+
+    if isinstance(source, Branch):
+        return source, source.model or f"branch {index + 1}"
+    if isinstance(source, (str, os.PathLike)):
+        return Branch.read_csv(source), Path(source).name
+    raise InputError("branch", f"expected a branch CSV path or a Branch, not {type(source).__name__}")
+
+
+def _full_rows(system, branch, name: str, values: Mapping[str, float]) -> np.ndarray:
+    """The model's full variable vectors at every row of ``branch`` (SI; ``values`` on every row)."""
+    X = np.empty((len(branch), len(system.names)))
+    missing = []
+    for c, var in enumerate(system.variables):
+        if var.name in values:
+            X[:, c] = values[var.name]
+        elif var.name in branch.names:
+            unit, want = branch.units.get(var.name, ""), var.unit
+            factor = 1.0
+            if unit == "deg" and want == "rad":
+                factor = math.pi / 180.0
+            elif unit and unit != want:
+                raise InputError("branch", f"'{name}' column {var.name}: the model's unit is '{want or 'none'}', "
+                                           f"not '{unit}'")
+            X[:, c] = branch.column(var.name) * factor
+        else:
+            missing.append(var.name)
+    if missing:
+        listed = ", ".join(missing[:6]) + (f" and {len(missing) - 6} more" if len(missing) > 6 else "")
+        raise InputError("branch", f"'{name}' lacks the column(s) {listed} of model '{system.name}' (a table of "
+                                   "another model?); give a missing one with --set NAME=VALUE")
+    if not np.all(np.isfinite(X)):
+        raise InputError("branch", f"'{name}' row {int(np.where(~np.isfinite(X).all(axis=1))[0][0])} has a "
+                                   "non-finite value")
+    return X
+
+
+def _rows(branch, max_rows: int) -> np.ndarray:
+    """Rows embedded: all, or every k-th, the last and every special row when more than ``max_rows``."""
+    n = len(branch)
+    if n <= max_rows:
+        return np.arange(n)
+    step = math.ceil(n / max_rows)
+    keep = set(range(0, n, step)) | {n - 1} | {p.index for p in branch.special_points}
+    return np.array(sorted(keep))
+
+
+def _limits(scenes: Sequence[Scene], dim: int) -> tuple[float, dict]:
+    """(force scale m/N, {view: (xmin, xmax, ymin, ymax)}) fixed over all ``scenes``."""
+    if dim == 3:
+        from . import drawing3d as _d3
+
+        scale = _d3._force_scale(scenes)
+        return scale, {v: _d3._view_limits(scenes, v, scale, True) for v in _d3.VIEWS}
+    scale = _d._default_force_scale(scenes)
+    return scale, {"plane": _d._limits(_d._union(_d._bounds(s, scale, True) for s in scenes))}
+
+
+def _special(branch, rows: np.ndarray) -> list[dict]:
+    where = {int(r): k for k, r in enumerate(rows)}
+    return [{"name": name, "tag": name + ("" if p.located else "?"), "label": p.label, "row": where[p.index]}
+            for name, p in zip(branch.point_names(), branch.special_points)]
+
+
+def _default_axes(doc: dict) -> list[str]:
+    """The diagram's first axes: the continuation parameter (else the first changing column) against the
+    first changing angle (else the last changing column: a freed parameter, such as a downlock's force)."""
+    cols = doc["columns"]
+    changing = [n for n, v in cols.items() if np.ptp(v) > 1e-12 * max(1.0, float(np.max(np.abs(v))))] or list(cols)
+    x = doc["vary"] if doc["vary"] in cols else changing[0]
+    rest = [n for n in changing if n != x] or [n for n in cols if n != x] or [x]
+    y = next((n for n in rest if doc["units"].get(n) == "rad"), rest[-1])  # else e.g. a downlock's force (last)
+    return [x, y]
+
+
+def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None = None,
+              max_rows: int = MAX_ROWS, title: str | None = None) -> dict:
+    """The JSON document the page embeds (see :func:`explore_page` for the arguments).
+
+    ``branches[k]``: ``name``, ``columns`` (``{name: [values]}``, SI, the table's own columns),
+    ``units``, ``n_unstable`` (-1: not evaluated), ``labels``, ``special`` (``name``, ``tag``,
+    ``label``, ``row``), ``rows`` (the table rows embedded), ``note`` and, with a model, ``poses``
+    (:func:`pose_json` per embedded row). Top level: ``bodies`` (``[{name, colour}]``),
+    ``dim`` (2 or 3), ``views`` (``{view: [xmin, xmax, ymin, ymax]}`` m; spatial views
+    name the axes in ``view_axes``), ``force_scale`` (m/N), ``symbol`` (m).
+    """
+    from ._explore_page import VIEW_AXES
+
+    if int(max_rows) < 2:
+        raise InputError("--max-rows", f"must be at least 2, not {max_rows}")
+    system = _model(model)
+    values = dict(values or {})
+    if system is not None:
+        for n in values:
+            system.index(n)
+        if system.scene is None:
+            raise InputError("model", f"'{system.name}' has no drawing (its EquationSystem has no scene)")
+    out: list[dict] = []
+    all_scenes: list[list[Scene]] = []
+    for k, source in enumerate(branches):
+        branch, name = _branch(source, k)
+        rows = _rows(branch, int(max_rows))
+        note = (f"{len(rows)} of {len(branch)} rows shown (every {math.ceil(len(branch) / max_rows)}th and every "
+                "special point)" if len(rows) < len(branch) else "")
+        doc = {"name": name, "vary": branch.vary, "units": {n: branch.units.get(n, "") for n in branch.names},
+               "columns": {n: [float(v) for v in branch.column(n)[rows]] for n in branch.names},
+               "n_unstable": [int(v) for v in branch.n_unstable[rows]], "labels": [branch.labels[i] for i in rows],
+               "rows": [int(i) for i in rows], "special": _special(branch, rows), "note": note}
+        if system is not None:
+            X = _full_rows(system, branch, name, values)[rows]
+            all_scenes.append([system.scene(x) for x in X])
+        out.append(doc)
+    data: dict = {"title": title or (system.name if system is not None else ""), "branches": out, "bodies": [],
+                  "axes": _default_axes(out[0]) if out else ["", ""],
+                  "dim": 2, "views": {}, "force_scale": 0.0, "symbol": 0.0, "view_axes": VIEW_AXES}
+    if system is not None:
+        flat = [s for scenes in all_scenes for s in scenes]
+        colours = _d.body_colours(flat)
+        index = {n: i for i, n in enumerate(colours)}
+        dim = flat[0].dimension
+        scale, views = _limits(flat, dim)
+        size = max(max(v[1] - v[0], v[3] - v[2]) for v in views.values())
+        data.update(bodies=[{"name": n, "colour": c} for n, c in colours.items()], dim=dim, force_scale=scale,
+                    views={v: [float(t) for t in lim] for v, lim in views.items()}, symbol=_d._SYMBOL * size,
+                    model=system.name)
+        for doc, scenes in zip(out, all_scenes):
+            doc["poses"] = [pose_json(s, index) for s in scenes]
+    return data
+
+
+def explore_page(model, branches: Sequence, *, values: Mapping[str, float] | None = None,
+                 max_rows: int = MAX_ROWS, title: str | None = None, compact: bool = False) -> str:
+    """The explorer page (HTML text) of ``branches`` of ``model``.
+
+    Parameters
+    ----------
+    model:
+        The model (an :class:`~mechcont.equations.EquationSystem` with a scene), a built-in
+        name or description path (see :func:`mechcont.models.load_model`), or None for the
+        diagram alone.
+    branches:
+        Branch, fold-curve or time-history CSV paths (``mechcont continue``/``folds``/
+        ``downlock``/``sweep``/``simulate --out``) or :class:`~mechcont.continuation.Branch` objects.
+        Each table must hold every variable of the model (or get it from ``values``).
+    values:
+        ``{name: value}`` (SI) set on every row before drawing: variables a table lacks.
+    max_rows:
+        Rows per branch embedded at most (more are thinned, special points kept; the page says so).
+    title:
+        Page heading [the model's name].
+    compact:
+        A smaller page (for a notebook's output cell).
+
+    Raises
+    ------
+    InputError
+        Unreadable table, a model variable missing from a table, a unit that is not the model's.
+    """
+    from ._explore_page import render
+
+    data = page_data(model, branches, values=values, max_rows=max_rows, title=title)
+    text = json.dumps(data, separators=(",", ":"), allow_nan=False)
+    token = "mcx" + hashlib.sha1(text.encode()).hexdigest()[:10]
+    return render(text, token, title=str(data["title"]), compact=compact)
+
+
+def write_explore(path: str | os.PathLike, model, branches: Sequence, **options) -> Path:
+    """Write :func:`explore_page` to ``path`` (``.html``) atomically; returns the path. ``options``
+    as :func:`explore_page` takes them."""
+    from .._io import check_output_path
+
+    out = check_output_path(path, "out", EXPLORE_SUFFIXES)
+    assert out is not None
+    page = explore_page(model, branches, **options)
+
+    def write(tmp: str) -> None:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(page)
+
+    return atomic_write(out, write)
