@@ -1,0 +1,147 @@
+"""The explorer page in a real browser: headless Chromium (the distribution's package) driven by Playwright.
+
+Clicking a special point (its button, its marker in the diagram), dragging the slider and
+hovering draw the mechanism in that pose: the coordinates read back from the drawn SVG
+elements (``data-xy``, metres) are the model's scene at that row, and the pixels drawn are
+those coordinates under one scale per view. A screenshot shows the bodies' colours.
+Needs ``apt-get install chromium`` (``/usr/bin/chromium``) and ``pip install playwright``
+(no browser download); skipped otherwise.
+"""
+
+from __future__ import annotations
+
+import io
+import shutil
+
+import numpy as np
+import pytest
+from cli_helpers import make_runner
+
+from mechcont.continuation import Branch
+from mechcont.models import load_model
+from mechcont.outputs.explore import write_explore
+
+CHROMIUM = next((p for p in map(shutil.which, ("chromium", "chromium-browser")) if p), None)
+pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no Chromium on PATH (Debian: apt-get install chromium)")
+sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed (pip install playwright)")
+
+#: Chromium on a machine without network: no background connections, no sandbox as root (see the machine notes).
+ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
+        "--disable-component-update", "--disable-sync"]
+
+run = make_runner()
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        yield b
+        b.close()
+
+
+def _open(browser, path):
+    page = browser.new_page(viewport={"width": 1500, "height": 1000})
+    errors: list[str] = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.goto(path.as_uri())
+    page.wait_for_selector("[data-ready='1']", timeout=15000)
+    return page, errors
+
+
+def _points(text: str) -> np.ndarray:
+    return np.array([[float(v) for v in p.split()] for p in text.split(";")])
+
+
+def _drawn(page, view: str) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """(body, points in m, points in px) of every bar drawn in ``view``."""
+    out = []
+    for e in page.query_selector_all(f"svg.mech[data-view='{view}'] [data-kind='bar']"):
+        px = np.array([[float(v) for v in p.split(",")] for p in e.get_attribute("points").split()])
+        out.append((e.get_attribute("data-body"), _points(e.get_attribute("data-xy")), px))
+    return out
+
+
+def _check_pose(page, system, x, views=("plane",), axes=((0, 1),)) -> None:
+    """The bars drawn in each view are the scene's at ``x`` (1e-12 m) and drawn at one scale, y (or z) up."""
+    scene = system.scene(x)
+    for view, (h, v) in zip(views, axes):
+        drawn = _drawn(page, view)
+        assert [b for b, _, _ in drawn] == [n for n, _ in scene.bars]
+        for (_, got, _), (_, want) in zip(drawn, scene.bars):
+            np.testing.assert_allclose(got, np.asarray(want, float), rtol=0, atol=1e-12)
+        m = np.vstack([g[:, [h, v]] for _, g, _ in drawn])
+        px = np.vstack([p for _, _, p in drawn])
+        # px = (x0 + s x, y0 - s y): one scale, y up, solved by least squares over every point drawn
+        A = np.zeros((2 * len(m), 3))
+        A[0::2, 0], A[0::2, 2], A[1::2, 1], A[1::2, 2] = 1, m[:, 0], 1, -m[:, 1]
+        sol, *_ = np.linalg.lstsq(A, px.ravel(), rcond=None)
+        assert sol[2] > 0
+        np.testing.assert_allclose(A @ sol, px.ravel(), rtol=0, atol=1e-6)
+
+
+def _shows_colour(png: bytes, colour: str) -> bool:
+    from matplotlib.image import imread
+
+    img = imread(io.BytesIO(png), format="png")[..., :3]
+    want = np.array([int(colour[i:i + 2], 16) / 255 for i in (1, 3, 5)])
+    assert img.std() > 0.01  # not blank
+    return int(np.sum(np.all(np.abs(img - want) < 0.02, axis=-1))) > 50
+
+
+def test_overcentre_click_slide_hover(browser, tmp_path):
+    csv, page_file = tmp_path / "branch.csv", tmp_path / "page.html"
+    result = run("continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F",
+                 "--bounds", "F=-100:120", "--out", csv)
+    assert result.exit_code == 0, result.output
+    system, branch = load_model("overcentre"), Branch.read_csv(csv)
+    write_explore(page_file, system, [csv])
+    page, errors = _open(browser, page_file)
+    buttons = page.query_selector_all(".sp button")
+    assert [b.get_attribute("data-point") for b in buttons] == branch.point_names()
+
+    page.click(".sp button[data-point='LP1']")
+    lp1 = branch["LP1"]
+    assert page.get_attribute(".status", "data-row") == str(lp1.index)
+    assert "LP1" in page.inner_text(".status") and "fold" in page.inner_text(".status")
+    _check_pose(page, system, lp1.x)
+    assert page.inner_text("table.values tr[data-name='F'] td.n") == f"{lp1['F']:.6g}"
+    assert "F" in page.inner_text("table.loads")
+    png = page.locator("svg.mech").screenshot()
+    assert _shows_colour(png, page.get_attribute("svg.mech [data-kind='bar']", "stroke"))
+    page.screenshot(path=str(tmp_path / "page.png"), full_page=True)
+
+    page.click("svg.diagram .mcx-sp[data-point='LP2']")  # its marker in the diagram
+    _check_pose(page, system, branch["LP2"].x)
+    assert page.get_attribute(".mcx-cursor", "data-row") == str(branch["LP2"].index)
+
+    page.focus(".slider")
+    page.keyboard.press("End")  # the slider to the last row
+    _check_pose(page, system, branch.values[-1])
+    page.keyboard.press("ArrowLeft")
+    _check_pose(page, system, branch.values[-2])
+
+    box = page.locator("svg.diagram .mcx-sp[data-point='EP1']").bounding_box()
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)  # hover: a preview
+    _check_pose(page, system, branch["EP1"].x)
+    page.mouse.move(5, 5)  # leaving the diagram: back to the chosen row
+    _check_pose(page, system, branch.values[-2])
+
+    page.select_option(".ysel", "F")
+    page.select_option(".xsel", "theta2")
+    text = page.text_content("svg.diagram") or ""
+    assert "theta2 (deg)" in text and "F (N)" in text
+    assert errors == []
+
+
+def test_spatial_three_view(browser, tmp_path):
+    csv, page_file = tmp_path / "retraction.csv", tmp_path / "gear.html"
+    result = run("continue", "dual_sidestay_kinematics", "--vary", "theta", "--bounds", "theta=0:1.5", "--out", csv)
+    assert result.exit_code == 0, result.output
+    system, branch = load_model("dual_sidestay_kinematics"), Branch.read_csv(csv)
+    write_explore(page_file, system, [csv])
+    page, errors = _open(browser, page_file)
+    page.click(".sp button[data-point='EP2']")
+    _check_pose(page, system, branch["EP2"].x, views=("front", "side", "top"), axes=((1, 2), (0, 2), (0, 1)))
+    assert "actuator" in page.inner_text("table.loads")
+    assert errors == []
