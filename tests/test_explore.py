@@ -173,3 +173,18 @@ def test_cli_bad_input_is_one_line_and_writes_nothing(tables, tmp_path, args, wo
     one_line_error(run("explore", *args, "--out", out), *words)
     assert not out.exists()
     one_line_error(run("explore", "overcentre", "--branch", tables["overcentre"], "--out", tmp_path / "p.png"), ".html")
+
+
+def test_set_gives_a_column_the_table_lacks(tables, tmp_path):
+    text = tables["overcentre"].read_text().splitlines()
+    header = text[0].split(",")
+    drop = header.index("c [N s/m]")
+    (tmp_path / "no_c.csv").write_text("\n".join(",".join(c for k, c in enumerate(line.split(",")) if k != drop)
+                                                 for line in text) + "\n")
+    one_line_error(run("explore", "overcentre", "--branch", tmp_path / "no_c.csv", "--out", tmp_path / "a.html"),
+                   "lacks the column(s) c ", "--set")
+    result = run("explore", "overcentre", "--branch", tmp_path / "no_c.csv", "--set", "c=0", "--out", tmp_path / "a.html")
+    assert result.exit_code == 0, result.output
+    data = _embedded((tmp_path / "a.html").read_text())
+    system, branch = load_model("overcentre"), Branch.read_csv(tables["overcentre"])
+    _check_poses(system, branch, data["branches"][0], data["bodies"])

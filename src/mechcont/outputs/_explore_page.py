@@ -264,7 +264,8 @@ q(".title").textContent=D.title;
 var notes=B.filter(function(br){return br.note;}).map(function(br){return br.name+": "+br.note;});
 if(!D.bodies.length)notes.push("no model given: the diagram only");q(".notes").textContent=notes.join("; ");
 drawDiagram();
-var first=B[0].special.length?B[0].special[0].row:0;fix(0,first);
+var first=B[0].special.filter(function(s){return s.label!=="EP";}).concat(B[0].special)[0];
+fix(0,first?first.row:0);  // the first fold, cusp or event: the point a reader looks at first
 root.setAttribute("data-ready","1");
 })();
 """
