@@ -188,3 +188,18 @@ def test_set_gives_a_column_the_table_lacks(tables, tmp_path):
     data = _embedded((tmp_path / "a.html").read_text())
     system, branch = load_model("overcentre"), Branch.read_csv(tables["overcentre"])
     _check_poses(system, branch, data["branches"][0], data["bodies"])
+
+
+def test_bad_tables_and_outputs(tables, tmp_path):
+    text = tables["sweep"].read_text().splitlines()
+    cells = text[5].split(",")
+    cells[0] = "nan"  # the time column: not a model variable, still refused
+    (tmp_path / "nan.csv").write_text("\n".join([*text[:5], ",".join(cells), *text[6:]]) + "\n")
+    one_line_error(run("explore", "overcentre", "--branch", tmp_path / "nan.csv", "--out", tmp_path / "a.html"),
+                   "column t", "finite")
+    cells[0] = "zero"
+    (tmp_path / "text.csv").write_text("\n".join([*text[:5], ",".join(cells), *text[6:]]) + "\n")
+    one_line_error(run("explore", "overcentre", "--branch", tmp_path / "text.csv", "--out", tmp_path / "a.html"),
+                   "not a number")
+    one_line_error(run("explore", "overcentre", "--branch", tables["overcentre"], "--out", tmp_path), "--out")
+    assert not (tmp_path / "a.html").exists()

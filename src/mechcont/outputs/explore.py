@@ -178,6 +178,11 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
                "columns": {n: [float(v) for v in branch.column(n)[rows]] for n in branch.names},
                "n_unstable": [int(v) for v in branch.n_unstable[rows]], "labels": [branch.labels[i] for i in rows],
                "rows": [int(i) for i in rows], "special": _special(branch, rows), "note": note}
+        for col, vals in doc["columns"].items():
+            bad = [i for i, v in enumerate(vals) if not math.isfinite(v)]
+            if bad:
+                raise InputError("branch", f"'{name}' row {doc['rows'][bad[0]]}, column {col}: {vals[bad[0]]} is "
+                                           "not a finite number")
         if system is not None:
             X = _full_rows(system, branch, name, values)[rows]
             all_scenes.append([system.scene(x) for x in X])
