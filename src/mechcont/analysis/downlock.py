@@ -55,6 +55,11 @@ class DownlockBranch(Branch):
     warnings: list
     lock_stops: tuple[str, ...] = ()
 
+    def sensitivity(self, system, point, params, *, of: str | None = None, keep: str | None = None,
+                    values=None):
+        """:meth:`Branch.sensitivity`, of the downlock force unless ``of`` names another unknown."""
+        return super().sensitivity(system, point, params, of=of or self.downlock_force, keep=keep, values=values)
+
     @classmethod
     def of(cls, branch: Branch, force: str, condition: Mapping[str, float], unlock: UnlockFolds | None,
            warnings: list[str]) -> DownlockBranch:

@@ -381,8 +381,9 @@ def with_sensitivity_columns(system: EquationSystem, branch, params: Iterable[st
     import copy
 
     from ..continuation import Branch
+    from .downlock import DownlockBranch
 
-    of = of or getattr(branch, "downlock_force", None)
+    of = of or (branch.downlock_force if isinstance(branch, DownlockBranch) else None)
     if of is None:
         raise InputError("sensitivity", "name the unknown of the branch to differentiate")
     params = list(params)

@@ -237,7 +237,7 @@ class Branch:
         """Exact derivatives of a point's quantity with respect to ``params`` (SI units per SI unit).
 
         ``point``: as :meth:`point` takes it. The quantity is ``of`` (an unknown of the
-        branch, the continuation parameter held), by default a downlock branch's force, else
+        branch, the continuation parameter held; a downlock branch's default is its force), else
         the continuation parameter: at a fold the fold load, elsewhere its value at the state
         ``keep`` held at its value there. ``values`` (``{name: value}``, SI) changes held
         values first; the point is then solved again. ``system`` is the model of the branch.
@@ -245,7 +245,6 @@ class Branch:
         """
         from ..analysis.sensitivity import point_sensitivity
 
-        of = of or getattr(self, "downlock_force", None)
         return point_sensitivity(system, self.point(point), params, vary=self.vary, unknowns=self.unknowns or None,
                                  of=of, keep=keep, values=values)
 

@@ -105,13 +105,12 @@ def _stops_of(system, names: Iterable[str] | None):
 
 
 def _restitution(system, name: str) -> float:
-    """The description's ``restitution`` of stop ``name`` (0 for a model without a description)."""
+    """The ``restitution`` of stop ``name`` (its :class:`~mechcont.equations.StopLimit`'s, 0 by default)."""
     from ..equations import as_model
 
-    mech = as_model(system).mechanism
-    for s in getattr(mech, "stops", ()):
+    for s in as_model(system).stops:
         if s.name == name:
-            return float(getattr(s, "restitution", 0.0))
+            return float(s.restitution)
     return 0.0
 
 

@@ -36,13 +36,15 @@ class StopLimit:
     ``limit`` is in the condition's unit (its value at the model's parameter values: a limit
     written in parameters follows :meth:`Model.with_values`);
     ``reaction`` names the contact reaction parameter (>= 0 in contact; see
-    :mod:`mechcont.mechanism._stops`)."""
+    :mod:`mechcont.mechanism._stops`); ``restitution`` is Newton's coefficient ``e`` (0 to 1) the
+    time simulation applies at an impact on it."""
 
     name: str
     condition: str
     reaction: str
     side: int
     limit: float
+    restitution: float = 0.0
 
     @property
     def key(self) -> str:

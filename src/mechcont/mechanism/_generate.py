@@ -367,7 +367,7 @@ def condition_fields(mech: Mechanism, values: Mapping[str, float]) -> tuple[dict
         downlock["stops"] = tuple(
             StopLimit(s.name, s.condition, s.reaction, s.side,
                       evaluate(mech.value(f"stops.{s.name}.{s.key}"), values,
-                               f"stops.{s.name}"))
+                               f"stops.{s.name}"), s.restitution)
             for s in mech.stops)
     return targets, downlock
 

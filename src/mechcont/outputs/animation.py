@@ -351,7 +351,11 @@ def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
 def _unknown(system) -> str:
     """What a frame says of a row whose stability is not known: a model without a potential energy
     (a kinematic one) has none to speak of; another was continued without evaluating it."""
-    return "stability not evaluated" if getattr(system, "mechanics", None) is not None else "kinematic: no stability"
+    from ..equations import EquationSystem, as_model
+
+    if isinstance(system, EquationSystem) and as_model(system).mechanics is not None:
+        return "stability not evaluated"
+    return "kinematic: no stability"  # (a drawing-only object has no mechanics either)
 
 
 def _slider_spans(scenes, h: float):
