@@ -129,7 +129,7 @@ class DesignPoint:
 
 
 def form(limit: LimitState, variables: Variables, *, u0: np.ndarray | None = None, tol: float = 1e-9,
-         max_iter: int = 100) -> DesignPoint:
+         max_iter: int = 500) -> DesignPoint:
     """The most probable failure point of ``limit`` (failure where ``g <= 0``) by iHL-RF from ``u0`` (default the mean).
 
     Converged when ``|g| <= tol`` times ``|g|`` at the start (or its gradient's length) and
