@@ -145,6 +145,8 @@ def test_study_method_form_writes_and_prints(tmp_path):
     (("--dist", NOSE[0], "--method", "form", "--sample", "lhs"), ["--sample", "--method form"]),
     (("--dist", NOSE[0], "--method", "form", "--n", "-1"), ["--n", "non-negative"]),
     (("--dist", "LUX=normal:1:0.1", "--method", "form"), ["LUX"]),
+    # every free length in 1.2..1.25 m locks: no failure point within the bounded distribution
+    (("--dist", "LU=uniform:1.2:1.25", "--method", "form"), ["FORM", "no failure point", "LU = 1.25"]),
 ])
 def test_study_method_form_bad_input_is_one_line(tmp_path, args, words):
     r = run("study", "nose_gear", *args, "--out", tmp_path / "f", "--scheduler", "serial")

@@ -152,7 +152,9 @@ def form(limit: LimitState, variables: Variables, *, u0: np.ndarray | None = Non
     for it in range(1, max_iter + 1):
         norm = float(np.linalg.norm(gu))
         if not norm > 0:
-            raise ConvergenceError(f"FORM: the limit state's gradient vanishes at {_where(variables, x)}")
+            raise ConvergenceError(f"FORM: the limit state's gradient in standard normal space vanishes at "
+                                   f"{_where(variables, x)} (g = {g:.6g}): no failure point within the distributions' "
+                                   "range (the edge of a bounded one?)")
         alpha = -gu / norm
         if abs(g) <= tol * scale and np.linalg.norm(u - (alpha @ u) * alpha) <= 1e-6 * max(1.0, np.linalg.norm(u)):
             return DesignPoint(u, x, float(alpha @ u), alpha, gu, gx, g, it - 1, count[0])
