@@ -152,3 +152,15 @@ def test_study_method_form_bad_input_is_one_line(tmp_path, args, words):
     r = run("study", "nose_gear", *args, "--out", tmp_path / "f", "--scheduler", "serial")
     one_line_error(r, *words)
     assert not (tmp_path / "f").exists()
+
+
+@pytest.mark.slow
+def test_importance_sampling_on_a_local_cluster_equals_in_process():
+    """The importance samples solved on a local Dask cluster (two chunks) give the same forces as in this process."""
+    pytest.importorskip("distributed")
+    spec = replace(nose_spec(mean=1.2696), chunk=500)
+    here = downlock_reliability(spec, n=1000, seed=4)
+    there = downlock_reliability(spec, n=1000, seed=4, scheduler="local", workers=2)
+    assert "local cluster" in there.sampling.ran_on and here.sampling.ran_on == "this process"
+    assert there.sampling.probability == pytest.approx(here.sampling.probability, rel=1e-9)
+    assert there.sampling.cov == pytest.approx(here.sampling.cov, rel=1e-9)
