@@ -10,6 +10,13 @@ magnitude, so newtons beside stiffnesses beside metres do not skew the steps.
 At the optimum the active constraints and bounds carry multipliers ``mu`` with
 ``grad f = sum mu_i grad g_i``: ``mu_i`` is the change of the optimum per unit of the
 constraint's bound (what one more newton of margin costs, in the objective's units).
+
+A probability constraint ``P(not locking) <= p`` (reliability-based design) holds the
+first-order reliability index of the downlock force over given distributions instead:
+``beta >= Phi^-1(1 - p)`` (:mod:`mechcont.analysis.reliability`), with
+``d beta / d d = (dg/dd at the design point) / |grad_u g|`` (the design point moves along the
+limit state, so only the explicit change of ``g`` counts). A design parameter that also has a
+distribution is a toleranced nominal value: its distribution moves with it.
 """
 
 from __future__ import annotations
@@ -24,11 +31,16 @@ import numpy as np
 from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 from .sensitivity import Sensitivity, downlock_sensitivity, fold_sensitivity, write_json
+from .study._spec import Distribution
 
-__all__ = ["Constraint", "OptimumResult", "optimize", "QUANTITIES"]
+__all__ = ["Constraint", "OptimumResult", "optimize", "QUANTITIES", "NOT_LOCKING", "BETA"]
 
 #: Named quantities besides the model's parameters.
 QUANTITIES = ("downlock_force", "unlock_force", "fold_load")
+#: The probability of a constraint ``P(not locking) <= p``, and the reliability index that stands for it inside.
+NOT_LOCKING, BETA = "P(not locking)", "beta(not locking)"
+_PROBABILITY = re.compile(r"^\s*P\(\s*not\s+locking(?:\s+unaided)?\s*\)\s*(<=|>=)\s*"
+                          r"((?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*$")
 
 # name, comparison, number: nothing else is accepted (never evaluated as an expression)
 _CONSTRAINT = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(<=|>=)\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*$")
@@ -44,7 +56,14 @@ class Constraint:
 
     @classmethod
     def parse(cls, text: str) -> Constraint:
-        """``"downlock_force >= 200"`` -> Constraint; :class:`InputError` for anything but NAME (<=|>=) NUMBER."""
+        """``"downlock_force >= 200"`` -> Constraint; :class:`InputError` for anything but NAME (<=|>=) NUMBER
+        or ``P(not locking) <= NUMBER`` (a probability in (0, 1))."""
+        p = _PROBABILITY.match(text)
+        if p is not None:
+            bound = float(p.group(2))
+            if not 0 < bound < 1:
+                raise InputError("constraint", f"'{text}': a probability must lie strictly between 0 and 1")
+            return cls(NOT_LOCKING, p.group(1), bound)
         m = _CONSTRAINT.match(text)
         if m is None:
             raise InputError("constraint", f"'{text}' is not NAME >= NUMBER or NAME <= NUMBER (e.g. downlock_force >= 200)")
@@ -116,9 +135,11 @@ class _Quantities:
     """Values and exact gradients of the named quantities at a design, solved once per design."""
 
     def __init__(self, system: EquationSystem, design: Sequence[str], values: Mapping[str, float],
-                 fold: tuple[np.ndarray, Sequence[str], str] | None):
+                 fold: tuple[np.ndarray, Sequence[str], str] | None, random: Mapping[str, Distribution] | None = None):
         self.system, self.design, self.values = system, list(design), dict(values)
         self.fold = fold  # (x, states, vary) of the fold followed by fold_load, updated as the design moves
+        self.random = dict(random or {})
+        self.u_star: np.ndarray | None = None  # the last design point: the next FORM starts there
         self.unlock_x: np.ndarray | None = None
         self.cache: dict[tuple, dict[str, tuple[float, np.ndarray]]] = {}
         self.evaluations = 0
@@ -141,10 +162,27 @@ class _Quantities:
         if name in self.system.names:
             return vals.get(name, self.system.variable(name).value), np.zeros(len(self.design))
         try:
+            if name == BETA:
+                return self._beta(vals)
             s = self._sensitivity(name, vals)
         except ConvergenceError as exc:
             raise InputError(name, f"not found at {where}: {exc}") from None
         return s.value, np.array([s[n] for n in self.design])
+
+    def _beta(self, vals: dict[str, float]) -> tuple[float, np.ndarray]:
+        """FORM's reliability index of the downlock force at this design, and its gradient over the design."""
+        from .reliability import Variables, downlock_limit_state, form
+
+        names = list(self.random)
+        shift = [vals[n] - d.centre if n in self.design else 0.0 for n, d in self.random.items()]
+        fixed = {k: v for k, v in vals.items() if k not in self.random}
+        variables = Variables(names, list(self.random.values()), shift)
+        p = form(downlock_limit_state(self.system, names, fixed), variables, u0=self.u_star)
+        self.u_star = p.u
+        at = {**fixed, **dict(zip(names, p.x))}
+        # a designed toleranced value moves x itself (dx/dd = 1): its derivative is dg/dx
+        s = downlock_sensitivity(self.system, list(dict.fromkeys([*names, *self.design])), at)
+        return p.beta, np.array([s[n] for n in self.design]) / float(np.linalg.norm(p.grad_u))
 
     def _sensitivity(self, name: str, vals: dict[str, float]) -> Sensitivity:
         system = self.system
@@ -179,7 +217,7 @@ class _Quantities:
 def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[float, float]], *,
              maximize: bool = False, constraints: Sequence[Constraint] = (), values: Mapping[str, float] | None = None,
              fold: tuple[np.ndarray, Sequence[str], str] | None = None, max_iter: int = 100,
-             tol: float = 1e-10) -> OptimumResult:
+             tol: float = 1e-10, random: Mapping[str, Distribution] | None = None) -> OptimumResult:
     """Minimise (or maximise) ``objective`` over the parameters of ``bounds`` subject to ``constraints``.
 
     Parameters
@@ -201,6 +239,9 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
         ``(p.x, p.info["unknowns"], p.info["vary"])``).
     max_iter, tol:
         SLSQP's iteration limit and tolerance (on the scaled objective).
+    random:
+        ``{parameter: Distribution}``: the tolerances of a ``P(not locking)`` constraint (a
+        design parameter among them is the nominal value its distribution moves with).
 
     Returns an :class:`OptimumResult`. Raises :class:`InputError` for an unknown quantity, a
     design name that is not a parameter, empty bounds, or a quantity that does not exist at
@@ -212,9 +253,11 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
     if not design:
         raise InputError("design", "give at least one design parameter with its bounds")
     valid = (*QUANTITIES, *system.parameter_names)
-    for name in (objective, *(c.quantity for c in constraints)):
+    constraints = _reliability_constraints(system, constraints, random)
+    for name in (objective, *(c.quantity for c in constraints if c.quantity != BETA)):
         if name not in valid:
-            raise InputError(name, f"not a quantity; valid: {', '.join(valid)}")
+            raise InputError(name, f"not a quantity; valid: {', '.join(valid)}"
+                                   + (f" ({NOT_LOCKING} only in a constraint)" if name == NOT_LOCKING else ""))
     for n in design:
         if system.variable(n).kind != "parameter":
             raise InputError(n, f"design variables must be parameters; valid: {', '.join(system.parameter_names)}")
@@ -225,7 +268,7 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
     hi = np.array([bounds[n][1] for n in design])
     base = system.vector(values or {})
     z0 = np.clip(np.array([base[system.index(n)] for n in design]), lo, hi)
-    q = _Quantities(system, design, values or {}, fold)
+    q = _Quantities(system, design, values or {}, fold, random)
     names = list(dict.fromkeys([objective, *(c.quantity for c in constraints)]))
     sign = -1.0 if maximize else 1.0
 
@@ -259,12 +302,36 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
     at = q.at(z, names)
     active = _multipliers(design, t, lo, hi, at, objective, constraints, g_scale)
     units = {n: system.variable(n).unit for n in design}
-    units.update({n: ("N" if n in QUANTITIES else system.variable(n).unit) for n in names})
+    units.update({n: ("N" if n in QUANTITIES else "" if n == BETA else system.variable(n).unit) for n in names})
     if fold is not None and "fold_load" in names and q.fold is not None:
         units["fold_load"] = system.variable(q.fold[2]).unit
+    quantities = {n: float(at[n][0]) for n in names}
+    if BETA in quantities:
+        from scipy.stats import norm
+
+        quantities[NOT_LOCKING] = float(norm.cdf(-quantities[BETA]))
     return OptimumResult({n: float(v) for n, v in zip(design, z)}, objective, float(at[objective][0]),
-                         {n: float(at[n][0]) for n in names}, active, int(res.nit), q.evaluations, bool(res.success),
-                         str(res.message), units)
+                         quantities, active, int(res.nit), q.evaluations, bool(res.success), str(res.message), units)
+
+
+def _reliability_constraints(system: EquationSystem, constraints: Sequence[Constraint],
+                             random: Mapping[str, Distribution] | None) -> list[Constraint]:
+    """``P(not locking) <= p`` as ``beta(not locking) >= Phi^-1(1 - p)``; the distributions checked."""
+    from scipy.stats import norm
+
+    out = []
+    for c in constraints:
+        if c.quantity != NOT_LOCKING:
+            out.append(c)
+            continue
+        if not random:
+            raise InputError("dist", f"'{c}' needs the tolerances: give each random parameter's distribution "
+                                     "(--dist NAME=normal:MEAN:SD)")
+        out.append(Constraint(BETA, ">=" if c.sense == "<=" else "<=", float(norm.isf(c.bound))))
+    for n in random or {}:
+        if system.variable(n).kind != "parameter":
+            raise InputError(n, f"only parameters can have a distribution; valid: {', '.join(system.parameter_names)}")
+    return out
 
 
 def _multipliers(design, t, lo, hi, at, objective, constraints, g_scale, tol: float = 1e-6) -> list[tuple[str, float]]:

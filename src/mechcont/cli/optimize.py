@@ -17,12 +17,16 @@ from ._parse import assignments, bounds
 @click.option("--design", "designs", multiple=True, required=True, metavar="NAME=LO:HI",
               help="A design parameter and its bounds (SI units, rad); repeat for each.")
 @click.option("--constraint", "constraints", multiple=True, metavar="'QUANTITY >= NUMBER'",
-              help="A constraint, QUANTITY >= NUMBER or QUANTITY <= NUMBER (SI); repeat for each.")
+              help="A constraint, QUANTITY >= NUMBER or QUANTITY <= NUMBER (SI), or 'P(not locking) <= P' "
+                   "(FORM over the --dist tolerances); repeat for each.")
+@click.option("--dist", "dists", multiple=True, metavar="NAME=KIND:...",
+              help="A toleranced parameter for P(not locking): normal:MEAN:SD, uniform:LO:HI or "
+                   "truncnormal:MEAN:SD:LO:HI (SI); on a --design parameter it moves with the design value.")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Another parameter's value (SI units, rad).")
 @click.option("--point", metavar="BRANCH.csv:LPn", help="For fold_load: the start fold, a point of a branch table.")
 @click.option("--max-iter", type=click.IntRange(1, 1000), default=100, show_default=True, help="Most SLSQP iterations.")
 @click.option("--out", default=None, metavar="FILE.json", help="Write the optimum as JSON (SI units).")
-def optimize_command(model, minimize_, maximize_, designs, constraints, sets, point, max_iter, out):
+def optimize_command(model, minimize_, maximize_, designs, constraints, dists, sets, point, max_iter, out):
     """Minimise or maximise a quantity over the --design parameters within their bounds, under --constraint.
 
     SLSQP on exact gradients (implicit-function theorem). Prints the optimum, the active
@@ -31,9 +35,12 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, sets, po
 
     Example: mechcont optimize nose_gear --minimize k --design k=1000:8000
     --constraint "downlock_force >= 100"
+
+    Reliability-based: mechcont optimize nose_gear --maximize LU --design LU=1.2:1.4
+    --dist LU=normal:1.3:0.01 --constraint "P(not locking) <= 1e-6"
     """
     from .._io import check_output_path
-    from ..analysis.optimize import Constraint, optimize
+    from ..analysis.optimize import NOT_LOCKING, Constraint, optimize
     from ..models import load_model
 
     check_output_path(out, "--out", (".json",))
@@ -48,13 +55,16 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, sets, po
     for n in values:
         system.index(n)
     fold = _fold(system, point) if point else None
+    random = _distributions(dists)
     try:
         parsed = [Constraint.parse(c) for c in constraints]
+        if random and not any(c.quantity == NOT_LOCKING for c in parsed):
+            raise InputError("--dist", f"tolerances are for a constraint '{NOT_LOCKING} <= P'; none is given")
         result = optimize(system, minimize_ or maximize_, design, maximize=maximize_ is not None, constraints=parsed,
-                          values=values, fold=fold, max_iter=max_iter)
+                          values=values, fold=fold, max_iter=max_iter, random=random)
     except InputError as exc:
-        if exc.field == "constraint":
-            raise InputError("--constraint", str(exc)[len(exc.field) + 2:]) from None
+        if exc.field in ("constraint", "dist"):
+            raise InputError(f"--{exc.field}", str(exc)[len(exc.field) + 2:]) from None
         raise
     click.echo(result.summary())
     if out:
@@ -63,6 +73,20 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, sets, po
         click.echo(f"wrote {out}")
     if not result.success:
         click.echo(f"warning: the optimiser did not converge: {result.message}", err=True)
+
+
+def _distributions(dists) -> dict:
+    from ..analysis.study import parse_distribution
+
+    out = {}
+    for item in dists:
+        name, sep, rest = item.partition("=")
+        if not sep or not name.strip():
+            raise InputError("--dist", f"'{item}' is not NAME=KIND:... (e.g. LU=normal:1.3:0.01)")
+        if name.strip() in out:
+            raise InputError("--dist", f"{name.strip()} has two distributions")
+        out[name.strip()] = parse_distribution(rest, f"--dist {name.strip()}")
+    return out
 
 
 def _fold(system, point: str):

@@ -81,7 +81,11 @@ def per_unit(numerator: str, unit: str) -> str:
               help="A grid axis: N values from LO to HI (the last --grid varies fastest).")
 @click.option("--sample", type=click.Choice(["mc", "lhs"]), default=None,
               help="Monte Carlo (default) or Latin hypercube, for --dist.")
-@click.option("--n", type=int, default=None, help="Number of samples (--dist).")
+@click.option("--method", default="sampling", show_default=True, metavar="sampling|form",
+              help="sampling: solve every sample; form: the most probable failure point (FORM, SORM) and an "
+                   "importance-sampling check of --n samples around it, written to DIR/reliability.json.")
+@click.option("--n", type=int, default=None, help="Number of samples (--dist; with --method form the importance "
+                                                  "samples, default 2000, 0 for none).")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random samples.")
 @click.option("--spec", "spec_file", default=None, metavar="FILE.toml",
               help="The study's settings from a TOML file instead of --dist/--grid/--n/--seed.")
@@ -101,7 +105,7 @@ def per_unit(numerator: str, unit: str) -> str:
 @click.option("--plot", default=None, metavar="FILE", help="Figure: contour map (2-D grid) or histogram and sensitivities.")
 @click.option("--verbose", is_flag=True, help="One line per chunk written.")
 @click.option("--quiet", is_flag=True, help="Print nothing but errors.")
-def study_command(model, dists, grids, sample, n, seed, spec_file, analyses, sets, holds, condition, force, out,
+def study_command(model, dists, grids, sample, method, n, seed, spec_file, analyses, sets, holds, condition, force, out,
                   resume, chunk, scheduler, workers, plot, verbose, quiet):
     """Sample MODEL's parameters and solve the downlock (and unlock folds) at every sample.
 
@@ -110,13 +114,22 @@ def study_command(model, dists, grids, sample, n, seed, spec_file, analyses, set
     only the rest. Each sample has a status: converged, or failed and why; failures never
     stop the study. Prints the probability of not locking unaided (downlock force <= 0) with
     its 95 % Clopper-Pearson interval and, for sampled tolerances, the sensitivity ranking.
+
+    With --method form: the first- and second-order reliability of the same distributions
+    (beta, P = Phi(-beta), SORM, the most probable failure point and each variable's
+    importance alpha^2), checked by importance sampling around that point.
     """
     import time
 
     from .._io import check_output_folder
 
+    if method not in ("sampling", "form"):
+        raise InputError("--method", f"unknown method '{method}'; valid: sampling, form")
     plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
     check_output_folder(out, "--out")
+    if method == "form":
+        return _form(model, dists, grids, sample, n, seed, spec_file, analyses, sets, holds, condition, force, out,
+                     resume, chunk, scheduler, workers, plot, quiet)
     for name, v in (("--n", n), ("--chunk", chunk), ("--workers", workers)):
         if v is not None and v < 1:
             raise InputError(name, f"must be a positive whole number, got {v}")
@@ -154,6 +167,34 @@ def study_command(model, dists, grids, sample, n, seed, spec_file, analyses, set
         plot_study(df, plot_path)
         if not quiet:
             click.echo(f"wrote {plot_path}")
+
+
+def _form(model, dists, grids, sample, n, seed, spec_file, analyses, sets, holds, condition, force, out, resume,
+          chunk, scheduler, workers, plot, quiet) -> None:
+    """``--method form``: FORM, SORM and importance sampling; DIR/reliability.json."""
+    from ..analysis.reliability import DEFAULT_SAMPLES, downlock_reliability
+
+    for option, given in (("--sample", sample), ("--resume", resume), ("--plot", plot), ("--grid", grids),
+                          ("--analysis", [a for a in analyses if a != "downlock"])):
+        if given:
+            raise InputError(option, "does not apply to --method form (FORM on the downlock force of --dist "
+                                     "distributions)")
+    for name, v in (("--n", n), ("--chunk", chunk), ("--workers", workers)):
+        if v is not None and v < (0 if name == "--n" else 1):
+            raise InputError(name, f"must be a {'non-negative' if name == '--n' else 'positive'} whole number, got {v}")
+    spec = _spec(model, None, DEFAULT_SAMPLES if n is None else max(n, 1), seed, dists, grids, spec_file, analyses,
+                 sets, holds, condition, force, chunk)
+    if spec.sampling == "grid":
+        raise InputError("--spec", "--method form needs distributions, not a grid")
+    samples = spec.n if n is None else n  # the spec keeps at least 1 sample; 0 here means no sampling check
+    result = downlock_reliability(spec, n=samples, scheduler=None if scheduler == "serial" else scheduler,
+                                  workers=workers)
+    Path(out).mkdir(parents=True, exist_ok=True)
+    path = Path(out) / "reliability.json"
+    result.to_json(path)
+    if not quiet:
+        click.echo(result.summary())
+        click.echo(f"wrote {path}")
 
 
 def _hint() -> str:
