@@ -21,6 +21,7 @@ import os
 import sys
 from typing import TYPE_CHECKING, Any
 
+from ._version import __version__ as __version__  # re-exported: mechcont.__version__
 from .errors import ConvergenceError, InputError, MechcontError
 
 # OpenBLAS (NumPy's and SciPy's BLAS) runs every matrix operation on one thread per core. mechcont's
@@ -30,8 +31,6 @@ from .errors import ConvergenceError, InputError, MechcontError
 # NumPy is first imported; set OPENBLAS_NUM_THREADS yourself to override).
 if "numpy" not in sys.modules:
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-
-__version__ = "0.1.0"
 
 #: public name -> the module that defines it
 _LAZY = {

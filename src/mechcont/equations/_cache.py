@@ -134,7 +134,7 @@ def _environment_text() -> str:
         import symengine
         import sympy
 
-        from .. import __version__
+        from .._version import __version__
         from ._codegen import backend
 
         here = Path(__file__).parent
