@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..equations import EquationSystem, Limit, Model, Scene, Variable
+from ..equations import EquationSystem, Limit, Model, Scene, Variable, branch_rates
 from .dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry, rotation
 
 if TYPE_CHECKING:
@@ -267,7 +267,6 @@ def actuator_length_rate(system, x: np.ndarray, dx: np.ndarray) -> tuple[float, 
 def actuator_tension(system, x: np.ndarray) -> float:
     """Quasi-static retraction actuator load (N, + tension) at ``x`` by virtual work (gravity of the fitting and
     the arms); ``nan`` at a fold, where the mechanism cannot be driven by ``theta``."""
-    from ..analysis.retraction import branch_rates
     from ..errors import InputError
 
     try:
