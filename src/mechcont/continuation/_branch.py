@@ -95,7 +95,7 @@ class SpecialPoint:
         :class:`~mechcont.analysis.sensitivity.Sensitivity` (see
         :func:`~mechcont.analysis.sensitivity.point_sensitivity`).
         """
-        from ..analysis.sensitivity import point_sensitivity
+        from ._sensitivity import point_sensitivity
 
         return point_sensitivity(system, self, params, vary=vary, of=of, keep=keep, values=values)
 
@@ -243,7 +243,7 @@ class Branch:
         values first; the point is then solved again. ``system`` is the model of the branch.
         Returns a :class:`~mechcont.analysis.sensitivity.Sensitivity`.
         """
-        from ..analysis.sensitivity import point_sensitivity
+        from ._sensitivity import point_sensitivity
 
         of = of or getattr(self, "downlock_force", None)
         return point_sensitivity(system, self.point(point), params, vary=self.vary, unknowns=self.unknowns or None,
