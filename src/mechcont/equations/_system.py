@@ -200,7 +200,7 @@ class EquationSystem:
     @property
     def n_equations(self) -> int:
         """Number of equations (one name each; a loaded system counts them without its SymPy form)."""
-        return len(self.equation_names)  # type: ignore[arg-type]
+        return len(self.equation_names or ())  # a tuple after __post_init__
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -439,7 +439,7 @@ class EquationSystem:
         if isinstance(self.mechanics, MechanicalModel):
             self.mechanics._compile()
         return {"format": 1, "name": self.name, "variables": tuple(self.variables), "equations": tuple(self.equations),
-                "equation_names": tuple(self.equation_names), "description": self.description,
+                "equation_names": tuple(self.equation_names or ()), "description": self.description,
                 "limits": tuple(self.limits), "mechanics": self.mechanics,
                 "code": {k: v for k, v in self._code.items() if not k.startswith("_")}}
 
@@ -469,7 +469,8 @@ class EquationSystem:
         # what needs SymPy to unpickle (the equations, a potential energy, a description) is kept
         # apart, unpickled on first use: a loaded model runs on its compiled code (see _deferred)
         apart = {"equations": state.pop("equations")}
-        extras, omitted = {}, []
+        extras: dict[str, object] = {}
+        omitted: list[str] = []
         for k, v in self.__dict__.items():
             if k in core:
                 continue
@@ -543,7 +544,7 @@ class EquationSystem:
             names = sp.numbered_symbols("w")
             reps, eqs = sp.cse(eqs, symbols=names, optimizations="basic")
             lines = [f"{s} = {sp.sstr(e)}" for s, e in reps]
-        lines += [f"{name}: {sp.sstr(e)} = 0" for name, e in zip(self.equation_names, eqs)]
+        lines += [f"{name}: {sp.sstr(e)} = 0" for name, e in zip(self.equation_names or (), eqs)]
         return "\n".join(lines)
 
     def latex(self) -> str:
@@ -553,7 +554,7 @@ class EquationSystem:
         def label(name: str) -> str:
             return name.replace("_", "\\_")  # underscores are special in LaTeX text mode
 
-        rows = [f"{sp.latex(e)} &= 0 && \\text{{({label(name)})}}" for name, e in zip(self.equation_names, self.equations)]
+        rows = [f"{sp.latex(e)} &= 0 && \\text{{({label(name)})}}" for name, e in zip(self.equation_names or (), self.equations)]
         return "\\begin{align}\n" + " \\\\\n".join(rows) + "\n\\end{align}"
 
 
