@@ -165,13 +165,15 @@ class EquilibriumProblem(ContinuationProblem):
         return self._columns.residual_and_jacobian(x)
 
     def stability(self, u) -> int:
-        if not self._stability:
+        mechanics = self.system.mechanics
+        if not self._stability or mechanics is None:
             return -1
-        return self.system.mechanics.stability(self.full(u)).n_unstable  # type: ignore[attr-defined]
+        return mechanics.stability(self.full(u)).n_unstable
 
     def stability_batch(self, U) -> list[int]:
-        if not self._stability:
+        mechanics = self.system.mechanics
+        if not self._stability or mechanics is None:
             return [-1] * len(U)
         X = np.tile(self.base, (len(U), 1))
         X[:, self.idx] = U
-        return self.system.mechanics.count_unstable(X).tolist()  # type: ignore[attr-defined]
+        return mechanics.count_unstable(X).tolist()
