@@ -84,7 +84,9 @@ def actuator_loads(system, rows: np.ndarray, vary: str,
     ActuatorLoads
     """
     rows = np.atleast_2d(np.asarray(rows, float))
-    s, length, tension = [], [], []
+    rows_s: list[float] = []
+    rows_length: list[float] = []
+    rows_tension: list[float] = []
     for x in rows:
         dx = branch_rates(system, x, vary)
         dv = potential_rate(x, dx)
@@ -92,10 +94,10 @@ def actuator_loads(system, rows: np.ndarray, vary: str,
         if abs(dl) < 1e-12:
             raise InputError("actuator", f"its length does not change at {vary} = {x[system.index(vary)]:.6g}: "
                                          "it cannot drive the mechanism there")
-        s.append(float(x[system.index(vary)]))
-        length.append(ell)
-        tension.append(-dv / dl)
-    s, length, tension = map(np.asarray, (s, length, tension))
+        rows_s.append(float(x[system.index(vary)]))
+        rows_length.append(ell)
+        rows_tension.append(-dv / dl)
+    s, length, tension = np.asarray(rows_s), np.asarray(rows_length), np.asarray(rows_tension)
     stroke = abs(length[-1] - length[0])
     peak = float(np.max(np.abs(tension)))
     eff = abs(float(np.trapezoid(tension, length))) / (peak * stroke) if peak > 0 and stroke > 0 else float("nan")

@@ -35,6 +35,10 @@ class Mechanics(Protocol):
         """Positions of the coordinates in ``x``."""
 
     @property
+    def n_constraints(self) -> int:
+        """Number of constraints ``Phi``."""
+
+    @property
     def constraint_names(self) -> tuple[str, ...] | None:
         """Name of each constraint, or None when they are the model's rows after the equilibrium rows."""
 

@@ -156,7 +156,7 @@ class EquationSystem:
     name: str
     variables: Sequence[Variable]
     equations: Sequence[sp.Expr]
-    equation_names: Sequence[str] | None = None
+    equation_names: Sequence[str] = ()
     mechanics: Mechanics | None = None
     description: str = ""
     scene: SceneFunction | None = None
@@ -188,7 +188,7 @@ class EquationSystem:
             unknown = {s for s in e.free_symbols if s not in known}
             if unknown:
                 raise InputError(str(sorted(map(str, unknown))[0]), f"used in equation {i} but not declared as a variable")
-        if self.equation_names is None:
+        if not self.equation_names:  # None or none given: G0, G1, ...
             self.equation_names = tuple(f"G{i}" for i in range(len(self.equations)))
         self.equation_names = tuple(self.equation_names)
         n_states = len(self.state_names)
@@ -202,7 +202,7 @@ class EquationSystem:
     @property
     def n_equations(self) -> int:
         """Number of equations (one name each; a loaded system counts them without its SymPy form)."""
-        return len(self.equation_names or ())  # a tuple after __post_init__
+        return len(self.equation_names)
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -441,7 +441,7 @@ class EquationSystem:
         if isinstance(self.mechanics, MechanicalModel):
             self.mechanics._compile()
         return {"format": 1, "name": self.name, "variables": tuple(self.variables), "equations": tuple(self.equations),
-                "equation_names": tuple(self.equation_names or ()), "description": self.description,
+                "equation_names": tuple(self.equation_names), "description": self.description,
                 "limits": tuple(self.limits), "mechanics": self.mechanics,
                 "code": {k: v for k, v in self._code.items() if not k.startswith("_")}}
 
@@ -546,7 +546,7 @@ class EquationSystem:
             names = sp.numbered_symbols("w")
             reps, eqs = sp.cse(eqs, symbols=names, optimizations="basic")
             lines = [f"{s} = {sp.sstr(e)}" for s, e in reps]
-        lines += [f"{name}: {sp.sstr(e)} = 0" for name, e in zip(self.equation_names or (), eqs)]
+        lines += [f"{name}: {sp.sstr(e)} = 0" for name, e in zip(self.equation_names, eqs)]
         return "\n".join(lines)
 
     def latex(self) -> str:
@@ -556,7 +556,7 @@ class EquationSystem:
         def label(name: str) -> str:
             return name.replace("_", "\\_")  # underscores are special in LaTeX text mode
 
-        rows = [f"{sp.latex(e)} &= 0 && \\text{{({label(name)})}}" for name, e in zip(self.equation_names or (), self.equations)]
+        rows = [f"{sp.latex(e)} &= 0 && \\text{{({label(name)})}}" for name, e in zip(self.equation_names, self.equations)]
         return "\\begin{align}\n" + " \\\\\n".join(rows) + "\n\\end{align}"
 
 
