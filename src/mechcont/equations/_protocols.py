@@ -14,7 +14,7 @@ if TYPE_CHECKING:
     from ._mechanics import StabilityResult
     from ._model import Model
 
-__all__ = ["Mechanics", "SceneFunction", "ValueCheck", "Reselect"]
+__all__ = ["Mechanics", "SceneFunction", "ValueCheck", "Reselect", "DofFacts"]
 
 
 class Mechanics(Protocol):
@@ -97,3 +97,19 @@ class Reselect(Protocol):
 
     def switch(self, model: Model, x: np.ndarray, force: bool = False) -> tuple[Model, np.ndarray] | None:
         """The variant of ``model`` chosen at ``x`` with ``x``'s reactions solved again, or None when it is this one."""
+
+
+class DofFacts(Protocol):
+    """Degrees of freedom of a model's assembled configuration (:class:`~mechcont.mechanism.DofReport`)."""
+
+    @property
+    def dof(self) -> int:
+        """``n_q - rank(Phi_q)``."""
+
+    @property
+    def rank(self) -> int:
+        """Numerical rank of the constraint Jacobian."""
+
+    @property
+    def redundant(self) -> tuple[tuple[str, ...], ...]:
+        """Groups of joints whose constraints are linearly dependent, one per redundant row."""
