@@ -58,7 +58,7 @@ def geometry_values(geo: GearGeometry) -> dict[str, float]:
 
 def start_values(geo: GearGeometry) -> dict[str, float]:
     """Knee and lock-link joint coordinates (m) of ``geo`` with the gear down."""
-    out = {}
+    out: dict[str, float] = {}
     for side, st in (("fwd", geo.forward), ("aft", geo.aft)):
         out.update(zip(_vec(f"{side}_K"), map(float, st.K)))
         out.update(zip(_vec(f"{side}_J"), map(float, st.J)))
