@@ -40,8 +40,12 @@ class ContinuationProblem(Protocol):
     idx:
         Index in the full variable vector of each leading component of ``u`` (bounds on
         those are solved for directly), or None.
+    system:
+        The equation system whose full variable vectors :meth:`full` makes (events read
+        variables of the branch by name in it).
     """
 
+    system: EquationSystem
     names: tuple[str, ...]
     param_index: int
     scale: np.ndarray
