@@ -9,8 +9,10 @@ The public API in one place; each name is imported on first use (PEP 562), so
     b = mc.continuation(s, x0, "F", options=mc.ContinuationOptions(bounds={"theta1": (-1.2, 1.2)}))
     folds = mc.continue_folds(s, b["LP1"], vary="F", free="LU")
 
-The layers are subpackages: ``mechanism`` (descriptions) → ``equations`` → ``continuation``
-→ ``analysis`` → ``outputs``; ``dynamics`` is the time simulation. ``mechcont.continuation``
+The layers are subpackages, each importing only those below it (tests/test_layers.py): ``equations``
+(the model type, compiled code); ``mechanism`` (descriptions to models) and ``continuation``; ``models``
+(built-in models); ``analysis`` and ``dynamics`` (time simulation); ``outputs``; then this API, the
+paper and the CLI. ``mechcont.continuation``
 is both the subpackage and, called, the function :func:`mechcont.continuation.continuation`.
 """
 
