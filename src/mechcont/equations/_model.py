@@ -25,7 +25,7 @@ from ._system import EquationSystem
 if TYPE_CHECKING:
     import sympy as sp
 
-    from ._protocols import DofFacts, Reselect
+    from ._protocols import Description, DofFacts, Reselect
 
 __all__ = ["Model", "StopLimit", "as_model"]
 
@@ -105,7 +105,7 @@ class Model(EquationSystem):
     """
 
     potential_energy: sp.Expr | None = None
-    mechanism: object | None = None
+    mechanism: Description | None = None
     dof: DofFacts | None = None
     reaction_names: tuple[str, ...] = ()
     coordinates_of: Callable[[np.ndarray], dict[str, float]] | None = None

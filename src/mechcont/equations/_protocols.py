@@ -14,7 +14,7 @@ if TYPE_CHECKING:
     from ._mechanics import StabilityResult
     from ._model import Model
 
-__all__ = ["Mechanics", "SceneFunction", "ValueCheck", "Reselect", "DofFacts"]
+__all__ = ["Mechanics", "SceneFunction", "ValueCheck", "Reselect", "DofFacts", "Description"]
 
 
 class Mechanics(Protocol):
@@ -113,3 +113,14 @@ class DofFacts(Protocol):
     @property
     def redundant(self) -> tuple[tuple[str, ...], ...]:
         """Groups of joints whose constraints are linearly dependent, one per redundant row."""
+
+
+class Description(Protocol):
+    """The description a model was generated from (:class:`~mechcont.mechanism.Mechanism`)."""
+
+    @property
+    def name(self) -> str:
+        """The mechanism's name."""
+
+    def build(self, **overrides: float) -> Model:
+        """The model at the parameter values ``overrides`` (SI; the others at their defaults)."""

@@ -23,7 +23,7 @@ import keyword
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import sympy as sp
 
@@ -32,6 +32,9 @@ from ._actuators import Actuator, check_actuators
 from ._conditions import Condition, DownlockSpec, check_conditions
 from ._expr import FUNCTIONS, Value, symbol, to_expr
 from ._stops import Stop, check_stops, stop_reaction_unit
+
+if TYPE_CHECKING:
+    from ..equations import Model
 
 __all__ = [
     "Parameter", "Polar", "Body", "Revolute", "Slider", "Prismatic", "Weld", "Spring", "Damper",
@@ -657,7 +660,7 @@ class Mechanism:
             raise InputError(f"bodies.{loose[0]}", "is not connected to the ground through joints (it would float freely)")
 
     # -- generation -----------------------------------------------------------------
-    def build(self, **overrides: float):
+    def build(self, **overrides: float) -> Model:
         """Generate the full static system: coordinates, joint reactions and every equation.
 
         Keyword arguments override parameter defaults (SI). Returns a
@@ -670,7 +673,7 @@ class Mechanism:
         """
         return self._generate(overrides, reduced=False)
 
-    def build_reduced(self, **overrides: float):
+    def build_reduced(self, **overrides: float) -> Model:
         """Generate the reduced static system (see :mod:`mechcont.mechanism._reduce`)."""
         return self._generate(overrides, reduced=True)
 
@@ -679,7 +682,7 @@ class Mechanism:
         from ._generate import generate
         return generate
 
-    def _generate(self, overrides: dict, reduced: bool):
+    def _generate(self, overrides: dict, reduced: bool) -> Model:
         from ._file import locate_error
         try:
             return self._generator()(self, overrides, reduced=reduced)
