@@ -1,24 +1,11 @@
-"""Exact sensitivities of equilibria, folds and downlock forces to parameters (implicit-function theorem).
+"""Exact sensitivities to parameters: of equilibria, folds and branch points, and of downlock forces.
 
-Every quantity of interest is a solution of a square system with exact Jacobians, so its
-derivative with respect to a held parameter ``p`` is one linear solve, not a re-solve:
-
-* an equilibrium ``G(u, p) = 0`` in the unknowns ``u`` (states, freed parameters):
-  ``du/dp = -G_u^-1 G_p``. The downlock force is one of these (the lock condition held,
-  the force among ``u``), and so is the continuation parameter at a point defined by a
-  state kept at its value there (that state held, the continuation parameter freed);
-* a fold in ``lam`` (the continuation parameter): ``G(s, lam, p) = 0`` with ``G_s`` singular.
-  Differentiating ``G(s*(p), lam*(p), p) = 0`` and multiplying by the left null vector
-  ``w`` (``w^T G_s = 0``) removes the unknown ``ds*/dp``:
-  ``dlam*/dp = -w^T G_p / w^T G_lam``. The states' derivatives at the fold come from the
-  standard augmented system ``G = 0, G_s v = 0, |v_hat| = 1`` (second derivatives of
-  ``G``, exact), whose ``lam`` row must give the same number.
-
-``G_p`` is a column of the system's full Jacobian (:meth:`EquationSystem.jacobian` is with
-respect to every named variable): nothing is differenced. Results are in SI units per SI
-unit (``N/(N/m)`` for a force by a stiffness); angles in radians.
+The derivatives of equilibria, folds and branch points are the engine's
+(:mod:`mechcont.continuation._sensitivity`: the implicit-function theorem on exact Jacobians,
+nothing differenced), re-exported here; this module adds the downlock force (the lock
+condition held, the force among the unknowns) and a branch's columns of derivatives. Results
+are in SI units per SI unit (``N/(N/m)`` for a force by a stiffness); angles in radians.
 """
-
 
 from __future__ import annotations
 
