@@ -1,5 +1,5 @@
 """The layers the folder list promises: every package imports only lower layers (the contract
-below); the CLI parses, calls the public API and prints (no
+below, imports inside functions included); the CLI parses, calls the public API and prints (no
 plotting, no global Matplotlib backend); the paper's analyses call the public API (no CLI,
 no private names of other packages)."""
 
