@@ -23,7 +23,7 @@ import keyword
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, ClassVar, Protocol
 
 import sympy as sp
 
@@ -380,7 +380,7 @@ class Mechanism:
     _generated: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     #: Keys of a custom load whose expressions may use the coordinates.
-    _COORDINATE_KEYS = ("fx", "fy", "moment")
+    _COORDINATE_KEYS: ClassVar[tuple[str, ...]] = ("fx", "fy", "moment")
     #: 2 for a planar mechanism, 3 for a spatial one.
     dimension = 2
 
