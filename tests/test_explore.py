@@ -5,6 +5,7 @@ from __future__ import annotations
 import html
 import json
 import re
+import sys
 
 import numpy as np
 import pytest
@@ -142,14 +143,32 @@ def test_page_is_offline_and_safe(tables):
     assert page.count("</script>") == 2
 
 
-def test_repr_html_is_the_compact_page(tables):
+def test_a_branch_in_jupyter_is_the_compact_page(tables, monkeypatch):
+    """``import mechcont`` in IPython registers the page as every Branch's HTML view, by name."""
+    import types
+
+    import mechcont
+
+    registered = {}
+
+    class Formatter:
+        def for_type_by_name(self, module, name, func):
+            registered[(module, name)] = func
+
+    shell = types.SimpleNamespace(display_formatter=types.SimpleNamespace(formatters={"text/html": Formatter()}))
+    monkeypatch.setitem(sys.modules, "IPython", types.SimpleNamespace(get_ipython=lambda: shell))
+    assert mechcont._register_notebook_view()
+    view = registered[("mechcont.continuation._branch", "Branch")]
+    assert (Branch.__module__, Branch.__name__) == ("mechcont.continuation._branch", "Branch")  # what it names
     branch = Branch.read_csv(tables["overcentre"], model="overcentre")
-    text = branch._repr_html_()
+    text = view(branch)
     assert text.startswith("<iframe srcdoc=")
     inner = html.unescape(text.split('srcdoc="', 1)[1].split('" style=', 1)[0])
     data = _embedded(inner)
     assert data["compact"] is True and data["bodies"]  # the model loaded: the mechanism is drawn
-    assert Branch.read_csv(tables["overcentre"])._repr_html_().startswith("<iframe")  # no model: the diagram alone
+    assert view(Branch.read_csv(tables["overcentre"])).startswith("<iframe")  # no model: the diagram alone
+    monkeypatch.delitem(sys.modules, "IPython")
+    assert not mechcont._register_notebook_view()  # outside IPython: nothing to register with
 
 
 def test_cli_writes_the_page(tables, tmp_path):

@@ -80,10 +80,10 @@ def test_overcentre_figures_have_units_honest_legends_and_labels_inside(tmp_path
 
     figs = []
     for mod in (overcentre, dynamics):
-        monkeypatch.setattr(mod, "save_figure", lambda fig, path: figs.append((fig, path.name)), raising=False)
+        monkeypatch.setattr(mod, "save_figure", lambda fig, path, **kw: figs.append((fig, path.name)), raising=False)
     import mechcont.outputs.plotting as plotting
 
-    monkeypatch.setattr(plotting, "save_figure", lambda fig, path, dpi=150: figs.append((fig, path.name)))
+    monkeypatch.setattr(plotting, "save_figure", lambda fig, path, **kw: figs.append((fig, path.name)))
     overcentre.run(tmp_path)
     names = [n for _, n in figs]
     assert len(set(names)) == len(names) >= 7

@@ -9,8 +9,10 @@ The public API in one place; each name is imported on first use (PEP 562), so
     b = mc.continuation(s, x0, "F", options=mc.ContinuationOptions(bounds={"theta1": (-1.2, 1.2)}))
     folds = mc.continue_folds(s, b["LP1"], vary="F", free="LU")
 
-The layers are subpackages: ``mechanism`` (descriptions) → ``equations`` → ``continuation``
-→ ``analysis`` → ``outputs``; ``dynamics`` is the time simulation. ``mechcont.continuation``
+The layers are subpackages, each importing only those below it (tests/test_layers.py): ``equations``
+(the model type, compiled code); ``mechanism`` (descriptions to models) and ``continuation``; ``models``
+(built-in models); ``analysis`` and ``dynamics`` (time simulation); ``outputs``; then this API, the
+paper and the CLI. ``mechcont.continuation``
 is both the subpackage and, called, the function :func:`mechcont.continuation.continuation`.
 """
 
@@ -21,6 +23,7 @@ import os
 import sys
 from typing import TYPE_CHECKING, Any
 
+from ._version import __version__ as __version__  # re-exported: mechcont.__version__
 from .errors import ConvergenceError, InputError, MechcontError
 
 # OpenBLAS (NumPy's and SciPy's BLAS) runs every matrix operation on one thread per core. mechcont's
@@ -30,8 +33,6 @@ from .errors import ConvergenceError, InputError, MechcontError
 # NumPy is first imported; set OPENBLAS_NUM_THREADS yourself to override).
 if "numpy" not in sys.modules:
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-
-__version__ = "0.1.0"
 
 #: public name -> the module that defines it
 _LAZY = {
@@ -98,6 +99,28 @@ def __getattr__(name: str) -> Any:
         raise AttributeError(f"module 'mechcont' has no attribute {name!r}")
     globals()[name] = value  # the next access is a plain attribute
     return value
+
+
+def _branch_html(branch: Any) -> str:
+    from .outputs.explore import branch_html
+
+    return branch_html(branch)
+
+
+def _register_notebook_view() -> bool:
+    """In IPython/Jupyter, show every :class:`~mechcont.continuation.Branch` (subclasses too) as the
+    explorer page. Registered by the class's name, so nothing is imported until a branch is shown;
+    the continuation layer itself knows nothing of outputs. Returns whether it registered."""
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None and hasattr(ipython, "get_ipython") else None
+    if shell is None:
+        return False
+    shell.display_formatter.formatters["text/html"].for_type_by_name("mechcont.continuation._branch", "Branch",
+                                                                      _branch_html)
+    return True
+
+
+_register_notebook_view()
 
 
 def __dir__() -> list[str]:

@@ -88,7 +88,7 @@ def check_output_folder(path: str | os.PathLike, option: str) -> Path:
     return p
 
 
-def atomic_write(path: str | os.PathLike, write: Callable[[str], None]) -> Path:
+def atomic_write(path: str | os.PathLike, write: Callable[[str], object]) -> Path:
     """Call ``write(tmp)`` on a temporary file beside ``path``, then move it into place.
 
     The file gets the permissions of a newly created file (``0o666`` less the umask), not

@@ -264,7 +264,7 @@ def _intervals(x, F):
 
 
 def design_region(system: EquationSystem, x_name: str, y_name: str, *,
-                  x_bounds: tuple[float, float], y_levels: Sequence[float],
+                  x_bounds: tuple[float, float], y_levels: Sequence[float] | np.ndarray,
                   values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
                   force: str | None = None, n_x: int = 121, condition: str | None = None,
                   max_steps: int = 2000, progress=None) -> DesignRegion:
@@ -345,17 +345,18 @@ def design_region(system: EquationSystem, x_name: str, y_name: str, *,
     if progress is not None:
         progress()
     y_mid = float(values.get(y_name, system.variable(y_name).value))
+    locus: FoldLocus | None
     try:
-        folds = fold_locus(system, x_name, y_name, {x_name: (lo, hi), y_name: (y_levels[0], y_levels[-1])},
+        locus = fold_locus(system, x_name, y_name, {x_name: (lo, hi), y_name: (y_levels[0], y_levels[-1])},
                            values={**values, y_name: y_mid}, hold=h, force=f, max_steps=max_steps)
-        warnings += folds.warnings
+        warnings += locus.warnings
     except (ConvergenceError, InputError) as exc:
-        folds = None
+        locus = None
         warnings.append(f"the fold locus from {y_name} = {y_mid:g} is unknown: {exc}")
     if progress is not None:
         progress()
     units = (system.variable(x_name).unit, system.variable(y_name).unit, system.variable(f).unit or "N")
-    return DesignRegion(x_name, y_name, grid, y_levels, force_map, boundary, folds, rows, (x0, y_mid), units,
+    return DesignRegion(x_name, y_name, grid, y_levels, force_map, boundary, locus, rows, (x0, y_mid), units,
                         warnings)
 
 

@@ -17,6 +17,7 @@ stopped short of its bounds (:attr:`DownlockBranch.warnings`).
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -91,14 +92,15 @@ def downlock_condition(system: EquationSystem, hold: Mapping[str, float] | None 
             valid = ", ".join(declared) or "none declared (add a [conditions] table to the description)"
             raise InputError("condition", f"unknown condition {condition!r} of model '{system.name}'; conditions: "
                                           f"{valid}")
-        if declared[condition] is None:
+        target = declared[condition]
+        if target is None:
             raise InputError("condition", f"condition {condition!r} has no target; give target = VALUE under "
                                           f"[conditions] or hold it at a value ({condition}=VALUE)")
-        hold = {condition: declared[condition]}
+        hold = {condition: target}
     h = dict(hold) if hold else model.downlock_hold
     if not h:
-        declared = ", ".join(model.conditions)
-        hint = f"; declared conditions: {declared}" if declared else ""
+        names = ", ".join(model.conditions)
+        hint = f"; declared conditions: {names}" if names else ""
         raise InputError("hold", f"model '{system.name}' defines no downlock condition; give the held lock-link state "
                                  f"(e.g. theta4=0) or a declared condition, or declare [mechanism] downlock = "
                                  f"{{condition = ..., force = ...}}{hint}")
@@ -178,15 +180,16 @@ def design_options(system: EquationSystem, vary: str, bounds: Mapping[str, tuple
                    options: ContinuationOptions | None, max_steps: int | None) -> ContinuationOptions:
     """Continuation options of a run in the design parameter ``vary`` within ``bounds``: steps sized to
     its range and scale unless ``options`` are given (their bounds replaced by ``bounds``)."""
+    steps: dict[str, Any] = {"max_steps": max_steps} if max_steps else {}
     if options is not None:
         from dataclasses import replace
 
-        return replace(options, bounds=dict(bounds), **({"max_steps": max_steps} if max_steps else {}))
+        return replace(options, bounds=dict(bounds), **steps)
     lo, hi = bounds[vary]
     span = hi - lo if np.isfinite(hi - lo) else 1.0
     scale = system.variable(vary).scale
     return ContinuationOptions(ds=min(0.02, 0.5 * span / scale), dsmin=1e-9, dsmax=max(0.02, min(0.5, 0.1 * span / scale)),
-                               bounds=dict(bounds), **({"max_steps": max_steps} if max_steps else {}))
+                               bounds=dict(bounds), **steps)
 
 
 def downlock(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None, *,

@@ -98,9 +98,12 @@ def redundancy_along(system, branch, *, rtol: float = 1e-9) -> RedundancyReport:
     reactions = dict(zip(system.equation_names[nq:], model.reaction_names))
     if mech.constraint_names is not None:  # a row dropped from the equations (spatial: rigid rows first, in order)
         reactions.update((r, lam) for r, lam in zip(rows, model.reaction_names) if r not in reactions)
-    ranks, dofs, states = [], [], []
+    ranks: list[int] = []
+    dofs: list[int] = []
+    states: list[tuple[int, int, tuple[str, ...]]] = []  # (first row, rank, rows in the redundancy)
     for i, x in enumerate(branch.values):
         A = mech.phi_q(x)
+        bad: tuple[str, ...]
         if A.shape[0] == 0:
             rank, bad = 0, ()
         else:
@@ -118,6 +121,9 @@ def redundancy_along(system, branch, *, rtol: float = 1e-9) -> RedundancyReport:
         joints = tuple(dict.fromkeys(_row_joint(r) for r in bad))
         out.append(RedundancyState(start, rank, nq - rank, tuple(reactions.get(r, r) for r in bad), joints))
     dropped = tuple(model.dropped_constraints)
-    residual = max((model.dropped_residual(x) for x in branch.values), default=0.0) if dropped else 0.0
+    residual = 0.0
+    if dropped:
+        assert model.dropped_residual is not None, "a model with dropped rows has their residual"
+        residual = max((model.dropped_residual(x) for x in branch.values), default=0.0)
     switches = tuple(p.index for p in getattr(branch, "special_points", ()) if p.label == "RC")
     return RedundancyReport(np.array(ranks), np.array(dofs), tuple(out), dropped, float(residual), switches)

@@ -148,7 +148,7 @@ def form(limit: LimitState, variables: Variables, *, u0: np.ndarray | None = Non
         return x, float(g), np.asarray(gx, dtype=float), np.asarray(gx, dtype=float) * variables.dx_du(u)
 
     x, g, gx, gu = at(u)
-    scale = max(abs(g), float(np.linalg.norm(gu)), 1e-300)  # g is divided by this: the merit is unit-free
+    scale = float(max(abs(float(g)), float(np.linalg.norm(gu)), 1e-300))  # g is divided by this: the merit is unit-free
     for it in range(1, max_iter + 1):
         norm = float(np.linalg.norm(gu))
         if not norm > 0:
@@ -156,7 +156,7 @@ def form(limit: LimitState, variables: Variables, *, u0: np.ndarray | None = Non
                                    f"{_where(variables, x)} (g = {g:.6g}): no failure point within the distributions' "
                                    "range (the edge of a bounded one?)")
         alpha = -gu / norm
-        if abs(g) <= tol * scale and np.linalg.norm(u - (alpha @ u) * alpha) <= 1e-6 * max(1.0, np.linalg.norm(u)):
+        if abs(g) <= tol * scale and np.linalg.norm(u - (alpha @ u) * alpha) <= 1e-6 * max(1.0, float(np.linalg.norm(u))):
             return DesignPoint(u, x, float(alpha @ u), alpha, gu, gx, g, it - 1, count[0])
         d = (alpha @ u + g / norm) * alpha - u  # towards the HL-RF point
         c = 2.0 * float(np.linalg.norm(u)) / (norm / scale) + 10.0  # > |u| / |grad|: d descends the merit

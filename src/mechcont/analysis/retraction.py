@@ -23,30 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..equations import branch_rates  # re-exported here, where it is used most
 from ..errors import InputError
 
 __all__ = ["branch_rates", "ActuatorLoads", "actuator_loads", "first_fold"]
-
-
-def branch_rates(system, x: np.ndarray, vary: str) -> np.ndarray:
-    """``dx/d(vary)`` (full vector, ordered like ``system.names``) at the equilibrium ``x`` of a
-    one-parameter family in which every state moves and every other parameter is held.
-
-    Raises
-    ------
-    InputError
-        When the states' Jacobian is singular at ``x`` (a fold in ``vary``: the rate is infinite).
-    """
-    states = [system.index(n) for n in system.state_names]
-    j = system.index(vary)
-    jac = system.jacobian(np.asarray(x, float))
-    ju = jac[:, states]
-    if np.linalg.cond(ju) > 1e12:
-        raise InputError(vary, "the states' Jacobian is singular here (a fold): no rate along the branch")
-    rate = np.zeros(len(system.names))
-    rate[states] = np.linalg.solve(ju, -jac[:, j])
-    rate[j] = 1.0
-    return rate
 
 
 @dataclass(frozen=True)
@@ -104,7 +84,9 @@ def actuator_loads(system, rows: np.ndarray, vary: str,
     ActuatorLoads
     """
     rows = np.atleast_2d(np.asarray(rows, float))
-    s, length, tension = [], [], []
+    rows_s: list[float] = []
+    rows_length: list[float] = []
+    rows_tension: list[float] = []
     for x in rows:
         dx = branch_rates(system, x, vary)
         dv = potential_rate(x, dx)
@@ -112,10 +94,10 @@ def actuator_loads(system, rows: np.ndarray, vary: str,
         if abs(dl) < 1e-12:
             raise InputError("actuator", f"its length does not change at {vary} = {x[system.index(vary)]:.6g}: "
                                          "it cannot drive the mechanism there")
-        s.append(float(x[system.index(vary)]))
-        length.append(ell)
-        tension.append(-dv / dl)
-    s, length, tension = map(np.asarray, (s, length, tension))
+        rows_s.append(float(x[system.index(vary)]))
+        rows_length.append(ell)
+        rows_tension.append(-dv / dl)
+    s, length, tension = np.asarray(rows_s), np.asarray(rows_length), np.asarray(rows_tension)
     stroke = abs(length[-1] - length[0])
     peak = float(np.max(np.abs(tension)))
     eff = abs(float(np.trapezoid(tension, length))) / (peak * stroke) if peak > 0 and stroke > 0 else float("nan")

@@ -166,8 +166,8 @@ def _active_set(system, guess, values, hold, free, stops, contact) -> tuple[np.n
                              hold=hold_k, free=free_k, guess=_with_contacts(system, x, st, active))
         pulls = {s.name: y[system.index(s.reaction)] for s in st if s.name in active}
         past = {s.name: s.gap(y[system.index(s.condition)]) for s in st if s.name not in active}
-        worst_pull = min(pulls, key=pulls.get, default=None)
-        worst_past = min(past, key=past.get, default=None)
+        worst_pull = min(pulls, key=pulls.__getitem__, default=None)
+        worst_past = min(past, key=past.__getitem__, default=None)
         if worst_past is not None and past[worst_past] < -GAP_TOL:
             active.add(worst_past)
         elif worst_pull is not None and pulls[worst_pull] < 0:
@@ -445,6 +445,7 @@ def stability_on_stops(system: EquationSystem, x: np.ndarray, contact: Iterable[
     curvature is already in the forces. Returns the mechanics'
     :class:`~mechcont.equations.StabilityResult`."""
     mech = system.mechanics
+    assert mech is not None, "stability needs the model's mechanics (callers check)"
     touching = _stops(system, list(contact))
     if not touching:
         return mech.stability(x)

@@ -153,11 +153,11 @@ def unlock_folds(system: EquationSystem, x: np.ndarray, force: str, released=(),
     warnings = early_stops(branch, f"release run in {force}", show=(*released,))
     notes = []
     ends = branch[force][[0, -1]] if len(branch) else np.array([F0, F0])
-    for side, p, end in (("decreasing", below, ends.min()), ("increasing", above, ends.max())):
-        if p is None:
+    for side, fold_point, end in (("decreasing", below, ends.min()), ("increasing", above, ends.max())):
+        if fold_point is None:
             notes.append(f"no fold {side} {force} from {F0:.6g} N to {end:.6g} N (where the release run ended)")
-        elif not p.located:
-            notes.append(f"the fold {side} {force} is approximate: {p.info.get('reason', 'not located')}")
+        elif not fold_point.located:
+            notes.append(f"the fold {side} {force} is approximate: {fold_point.info.get('reason', 'not located')}")
     return UnlockFolds(force, F0, stable, below, above, branch, notes, warnings)
 
 
@@ -174,12 +174,13 @@ def unlock_force_along(system: EquationSystem, branch: Branch, force: str, relea
     """
     above, below = np.full(len(branch), np.nan), np.full(len(branch), np.nan)
     warnings: list[str] = []
-    known = getattr(branch, "unlock", None)
+    unlock = getattr(branch, "unlock", None)
+    known = unlock if isinstance(unlock, UnlockFolds) else None
     start = None
-    if isinstance(known, UnlockFolds) and known.branch is not None and len(known.branch):
+    if known is not None and known.branch is not None and len(known.branch):
         start = known.branch.values[int(np.argmin(np.abs(known.branch.s)))]  # the point it was released from
     for i, x in enumerate(branch.values):
-        if start is not None and np.array_equal(x, start):
+        if known is not None and start is not None and np.array_equal(x, start):
             u = known  # the same run (its stability does not change its folds)
         else:
             # only the folds are kept: the release run's own stability is not needed
@@ -207,6 +208,8 @@ def with_unlock_columns(system: EquationSystem, branch: Branch, force: str, rele
         Branch.__init__(out, (*branch.names, *extra), np.column_stack([branch.values, *extra.values()]), branch.s,
                         branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
                         branch.status, branch.message, branch.model, {**branch.units, **dict.fromkeys(extra, "N")})
-    if isinstance(getattr(branch, "warnings", None), list):
-        out.warnings = [*branch.warnings, *(f"unlock folds along the branch: {w}" for w in warnings)]
+    from .downlock import DownlockBranch  # (downlock imports this module)
+
+    if isinstance(out, DownlockBranch):
+        out.warnings = [*out.warnings, *(f"unlock folds along the branch: {w}" for w in warnings)]
     return out

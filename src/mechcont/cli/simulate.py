@@ -123,7 +123,7 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
         result.to_csv(out_path, labels=labels)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
-        from ..dynamics import history_figure
+        from ..outputs.history_plots import history_figure
         from ..outputs.plotting import save_figure
 
         save_figure(history_figure(result, watch, title=f"{system.name}: {watch} from rest"), plot_path)

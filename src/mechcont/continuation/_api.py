@@ -13,7 +13,7 @@ from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent
 from ._folds import FoldProblem, fold_quantities, polish_fold, refine_fold
 from ._options import ContinuationOptions
 from ._palc import run_direction
-from ._problem import EquilibriumProblem, choose_unknowns
+from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns
 
 __all__ = ["continuation", "continue_folds", "locate_fold", "switch_branch"]
 
@@ -73,7 +73,7 @@ def _equilibrium_events(system, options: ContinuationOptions, events, moving: It
     return evs + list(events) + _bound_events(system, options) + _limit_events(system, moving)
 
 
-def _check_start(system, problem, u0, options, start_x):
+def _check_start(system, problem: ContinuationProblem, u0, options, start_x):
     system.check_limits(start_x)
     r = problem.residual(u0)
     if not np.all(np.isfinite(r)) or np.max(np.abs(r)) > 1e3 * options.residual_tol:
@@ -85,7 +85,8 @@ def _check_start(system, problem, u0, options, start_x):
             raise InputError(name, f"start value {v:.6g} lies outside its bounds {lo:g}:{hi:g}")
 
 
-def _run(problem, system, u0, options, events, direction, vary, unknowns, tangent0=None, progress=None) -> Branch:
+def _run(problem: ContinuationProblem, system, u0, options, events, direction, vary, unknowns, tangent0=None,
+         progress=None) -> Branch:
     if direction not in (-1, 0, 1):
         raise InputError("direction", f"must be -1, 0 (both) or +1, got {direction!r}")
     dirs = [direction] if direction else [-1, 1]

@@ -95,7 +95,7 @@ class SpecialPoint:
         :class:`~mechcont.analysis.sensitivity.Sensitivity` (see
         :func:`~mechcont.analysis.sensitivity.point_sensitivity`).
         """
-        from ..analysis.sensitivity import point_sensitivity
+        from ._sensitivity import point_sensitivity
 
         return point_sensitivity(system, self, params, vary=vary, of=of, keep=keep, values=values)
 
@@ -243,7 +243,7 @@ class Branch:
         values first; the point is then solved again. ``system`` is the model of the branch.
         Returns a :class:`~mechcont.analysis.sensitivity.Sensitivity`.
         """
-        from ..analysis.sensitivity import point_sensitivity
+        from ._sensitivity import point_sensitivity
 
         return point_sensitivity(system, self.point(point), params, vary=self.vary, unknowns=self.unknowns or None,
                                  of=of, keep=keep, values=values)
@@ -254,26 +254,6 @@ class Branch:
             counts[p.label] = counts.get(p.label, 0) + 1
         sp = ", ".join(f"{k}x{v}" for k, v in counts.items()) or "none"
         return f"<Branch {self.model} in {self.vary}: {len(self)} points, special: {sp}, status: {self.status}>"
-
-    def _repr_html_(self) -> str:
-        """Jupyter's view of the branch: the explorer page (:func:`mechcont.outputs.explore.explore_page`,
-        compact, at most 600 rows) in an ``iframe``, with the mechanism drawn when :attr:`model` loads as a
-        model of these variables (else the diagram alone)."""
-        import html
-
-        from ..outputs.explore import explore_page
-
-        model = None
-        try:
-            from ..models import load_model
-
-            system = load_model(self.model) if self.model else None
-            model = system if system is not None and tuple(system.names) == self.names else None
-        except Exception:  # noqa: BLE001 - an unknown or unbuildable model: show the diagram alone
-            model = None
-        page = explore_page(model, [self], max_rows=600, compact=True)
-        return (f'<iframe srcdoc="{html.escape(page, quote=True)}" style="width:100%;height:760px;border:0" '
-                f'title="{html.escape(repr(self))}"></iframe>')
 
     # -- export ----------------------------------------------------------------------
     def stability_labels(self) -> list[str]:

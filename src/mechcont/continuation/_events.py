@@ -18,6 +18,7 @@ import numpy as np
 
 from .. import _dense
 from .._roots import brentq
+from ._problem import ContinuationProblem
 
 __all__ = ["Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "PointState"]
 
@@ -49,10 +50,10 @@ class Event:
     #: a zero between the two points reveals a jump to another branch.
     continuous = False
 
-    def value(self, problem, state: PointState) -> float:  # pragma: no cover - interface
+    def value(self, problem: ContinuationProblem, state: PointState) -> float:  # pragma: no cover - interface
         raise NotImplementedError
 
-    def refine(self, problem, state: PointState):
+    def refine(self, problem: ContinuationProblem, state: PointState):
         """Optionally improve a located point; returns ``(u, info)`` or ``None``."""
         return None
 
@@ -60,7 +61,7 @@ class Event:
         """Extra information recorded with the special point (e.g. why a branch ended)."""
         return {}
 
-    def locate(self, stepper, problem, cur: PointState, ds: float, v0: float, v1: float):
+    def locate(self, stepper, problem: ContinuationProblem, cur: PointState, ds: float, v0: float, v1: float):
         """The zero of :meth:`value` between ``cur`` (sigma = 0) and the accepted step (sigma = ``ds``).
 
         ``stepper`` is the :class:`~mechcont.continuation._palc.PseudoArclength` that took
@@ -105,13 +106,13 @@ class FoldEvent(Event):
 
     label = "LP"
 
-    def value(self, problem, state):
+    def value(self, problem: ContinuationProblem, state):
         return float(state.tangent[problem.param_index])
 
-    def refine(self, problem, state):
+    def refine(self, problem: ContinuationProblem, state):
         return problem.refine_fold(state)
 
-    def locate(self, stepper, problem, cur, ds, v0, v1):
+    def locate(self, stepper, problem: ContinuationProblem, cur, ds, v0, v1):
         """A secant guess: close enough for the fold polish (:meth:`refine`) that follows."""
         hit = _secant(stepper, cur, ds, v0, v1)
         return hit if hit[1] is not None else super().locate(stepper, problem, cur, ds, v0, v1)
@@ -123,7 +124,7 @@ class BranchPointEvent(Event):
     label = "BP"
     continuous = True
 
-    def value(self, problem, state):
+    def value(self, problem: ContinuationProblem, state):
         A = np.empty((len(state.tangent), len(state.tangent)))
         A[:-1] = state.jac
         A[-1] = state.tangent
@@ -145,20 +146,20 @@ class BoundEvent(Event):
     def __init__(self, name: str, index: int, bound: float, side: int = 1):
         self.name, self.index, self.bound, self.side = name, index, bound, side
 
-    def value(self, problem, state):
+    def value(self, problem: ContinuationProblem, state):
         return float(self.side * (state.x[self.index] - self.bound))
 
     def point_info(self) -> dict:
         return {"bound_of": self.name, "bound": self.bound}
 
-    def locate(self, stepper, problem, cur, ds, v0, v1):
+    def locate(self, stepper, problem: ContinuationProblem, cur, ds, v0, v1):
         """Newton on ``[G; x_k - bound] = 0`` when the bounded name is an unknown, else Brent."""
         st = self._solve_on_bound(stepper, problem, cur, ds, v0, v1)
         if st is not None:
             return float(cur.tangent @ (st.z - cur.z)), st, {"status": "located"}
         return super().locate(stepper, problem, cur, ds, v0, v1)
 
-    def _solve_on_bound(self, stepper, problem, cur, ds, v0, v1):
+    def _solve_on_bound(self, stepper, problem: ContinuationProblem, cur, ds, v0, v1):
         idx = problem.idx
         if idx is None or self.index not in idx:
             return None
@@ -208,7 +209,7 @@ class LimitEvent(Event):
         self.limit = system.limits[index]
         self.name = self.limit.name
 
-    def value(self, problem, state):
+    def value(self, problem: ContinuationProblem, state):
         return float(self.system.limit_values(state.x)[self.index])
 
     def point_info(self) -> dict:
@@ -233,9 +234,9 @@ class ValueEvent(Event):
 
     def __init__(self, name: str, target: float, label: str = "UZ", stop: bool = False):
         self.name, self.target, self.label, self.stop = name, float(target), label, stop
-        self._index = None
+        self._index: int | None = None
 
-    def value(self, problem, state):
+    def value(self, problem: ContinuationProblem, state):
         if self._index is None:
             self._index = problem.system.index(self.name)
         return float(state.x[self._index] - self.target)

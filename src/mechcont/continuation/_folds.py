@@ -348,7 +348,8 @@ class CuspEvent(Event):
 
     label = "CP"
 
-    def value(self, problem, state):
+    def value(self, problem: ContinuationProblem, state):
+        assert isinstance(problem, FoldProblem), "a cusp is an event of fold curves (FoldProblem.test_functions)"
         return problem.quadratic_coefficient(state.u, state.jac)
 
 

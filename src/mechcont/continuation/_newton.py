@@ -161,7 +161,7 @@ def find_equilibrium(system: EquationSystem, values: Mapping[str, float] | None 
         x = system.vector({**(guess or {}), **(values or {})})
     x = system.vector(hold, base=x)
     if system.check_values is not None:
-        system.check_values({n: x[system.index(n)] for n in system.parameter_names})  # type: ignore[operator]
+        system.check_values({n: x[system.index(n)] for n in system.parameter_names})
     system.check_limits(x)
     unknowns = choose_unknowns(system, hold=hold, free=free)
     idx = np.array([system.index(n) for n in unknowns])

@@ -20,6 +20,7 @@ from .. import _dense
 from ._events import Event, PointState
 from ._newton import residual_met, step_noise
 from ._options import ContinuationOptions
+from ._problem import ContinuationProblem
 
 _add, _max = np.add.reduce, np.maximum.reduce
 _NOT_FINITE = "residual not finite (outside the model's domain)"
@@ -86,7 +87,7 @@ class PseudoArclength:
     solved by ``options.linear_solver``.
     """
 
-    def __init__(self, problem, options: ContinuationOptions):
+    def __init__(self, problem: ContinuationProblem, options: ContinuationOptions):
         self.problem = problem
         self.options = options
         self.solver = options.linear_solver
@@ -248,7 +249,7 @@ class RecordedPoint:
     s: float = 0.0
 
 
-def _describe(problem, x) -> str:
+def _describe(problem: ContinuationProblem, x) -> str:
     names, idx = problem.names, problem.idx
     if idx is None:
         return ""
@@ -256,7 +257,7 @@ def _describe(problem, x) -> str:
     return " at " + ", ".join(shown)
 
 
-def _runaway(problem, first: PointState, last: PointState) -> str:
+def _runaway(problem: ContinuationProblem, first: PointState, last: PointState) -> str:
     """A hint naming the unknown that grew most (in its scales) when max_steps ran out."""
     names = problem.names
     scale = np.asarray(problem.scale, dtype=float)
@@ -280,8 +281,8 @@ class BranchSteps(Iterator[RecordedPoint]):
     should be labelled with (``EP`` at ``max_steps`` or a step-size underflow).
     """
 
-    def __init__(self, problem, u0: np.ndarray, direction: int, options: ContinuationOptions, events: list[Event],
-                 tangent0: np.ndarray | None = None):
+    def __init__(self, problem: ContinuationProblem, u0: np.ndarray, direction: int, options: ContinuationOptions,
+                 events: list[Event], tangent0: np.ndarray | None = None):
         self.problem, self.options, self.events = problem, options, list(events)
         self.stepper = PseudoArclength(problem, options)
         self.control = StepSizeController(options)
@@ -412,7 +413,7 @@ class BranchSteps(Iterator[RecordedPoint]):
         return hits, None
 
 
-def _refined(eng: PseudoArclength, problem, cur: PointState, ev: Event, hit):
+def _refined(eng: PseudoArclength, problem: ContinuationProblem, cur: PointState, ev: Event, hit):
     """``hit`` after the event's own polish (folds), with its step position recomputed.
 
     The polish can move a point well along the step when the located guess was rough, so
@@ -441,7 +442,7 @@ class DirectionResult:
     termination: Termination | None = None
 
 
-def run_direction(problem, u0: np.ndarray, direction: int, options: ContinuationOptions, events: list[Event],
+def run_direction(problem: ContinuationProblem, u0: np.ndarray, direction: int, options: ContinuationOptions, events: list[Event],
                   tangent0: np.ndarray | None = None, progress=None, stability: bool = True) -> DirectionResult:
     """Continue from ``u0`` (a converged point) in one direction: the driver of :class:`BranchSteps`.
 

@@ -40,8 +40,12 @@ class ContinuationProblem(Protocol):
     idx:
         Index in the full variable vector of each leading component of ``u`` (bounds on
         those are solved for directly), or None.
+    system:
+        The equation system whose full variable vectors :meth:`full` makes (events read
+        variables of the branch by name in it).
     """
 
+    system: EquationSystem
     names: tuple[str, ...]
     param_index: int
     scale: np.ndarray
@@ -165,13 +169,15 @@ class EquilibriumProblem(ContinuationProblem):
         return self._columns.residual_and_jacobian(x)
 
     def stability(self, u) -> int:
-        if not self._stability:
+        mechanics = self.system.mechanics
+        if not self._stability or mechanics is None:
             return -1
-        return self.system.mechanics.stability(self.full(u)).n_unstable  # type: ignore[attr-defined]
+        return mechanics.stability(self.full(u)).n_unstable
 
     def stability_batch(self, U) -> list[int]:
-        if not self._stability:
+        mechanics = self.system.mechanics
+        if not self._stability or mechanics is None:
             return [-1] * len(U)
         X = np.tile(self.base, (len(U), 1))
         X[:, self.idx] = U
-        return self.system.mechanics.count_unstable(X).tolist()  # type: ignore[attr-defined]
+        return mechanics.count_unstable(X).tolist()

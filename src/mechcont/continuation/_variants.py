@@ -22,6 +22,7 @@ import numpy as np
 
 from ._branch import Branch, SpecialPoint
 from ._events import Event
+from ._problem import ContinuationProblem
 
 __all__: list[str] = []
 
@@ -38,7 +39,7 @@ class _Reselect(Event):
     def __init__(self, reselect):
         self.reselect = reselect
 
-    def value(self, problem, state) -> float:
+    def value(self, problem: ContinuationProblem, state) -> float:
         return float(self.reselect.quality(state.x))
 
     def point_info(self) -> dict:

@@ -5,11 +5,10 @@ against: :func:`simulate` integrates any :class:`~mechcont.equations.MechanicalM
 :func:`sweep` ramps loads slowly and reports the jumps.
 """
 
-from ._compare import JumpGap, RateGap, gap_versus_rate, jump_gaps, plot_sweep
+from ._compare import JumpGap, RateGap, gap_versus_rate, jump_gaps
 from ._contact import StopConstraints, StopEvent
 from ._events import Crossing
 from ._exudyn import exudyn_available, exudyn_overcentre
-from ._plot import history_figure
 from ._result import SimulationResult, SimulationStatus
 from ._simulate import assemble, simulate
 from ._sweep import Jump, Ramp, SweepResult, parse_ramps, sweep
@@ -17,5 +16,5 @@ from ._udwadia_kalaba import ConstrainedDynamics, fundamental_equation
 
 __all__ = ["simulate", "assemble", "sweep", "parse_ramps", "Ramp", "Jump", "SweepResult", "SimulationResult",
            "SimulationStatus", "Crossing", "ConstrainedDynamics", "fundamental_equation", "jump_gaps", "JumpGap",
-           "gap_versus_rate", "RateGap", "plot_sweep", "exudyn_available", "exudyn_overcentre", "StopEvent",
-           "StopConstraints", "history_figure"]
+           "gap_versus_rate", "RateGap", "exudyn_available", "exudyn_overcentre", "StopEvent",
+           "StopConstraints"]

@@ -1,4 +1,4 @@
-"""Sweeps against continuation: jump-to-fold gaps, gap versus sweep rate, overlay plots."""
+"""Sweeps against continuation: jump-to-fold gaps, gap versus sweep rate (their plots: outputs.sweep_plots)."""
 
 from __future__ import annotations
 
@@ -9,10 +9,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..outputs.sweep_plots import plot_sweep  # drawing lives in outputs; kept here by name
 from ._sweep import SweepResult, sweep
 
-__all__ = ["JumpGap", "jump_gaps", "RateGap", "gap_versus_rate", "plot_sweep"]
+__all__ = ["JumpGap", "jump_gaps", "RateGap", "gap_versus_rate"]
 
 
 @dataclass(frozen=True)

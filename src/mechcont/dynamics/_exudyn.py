@@ -113,7 +113,8 @@ def exudyn_overcentre(params: Mapping[str, float], theta1_0: float, force: Calla
                                          loadVector=[0, -P["g"], 0]))
     f0 = float(force(0.0))
     mbs.AddLoad(Force(markerNumber=point(b1, L1 / 2), loadVector=[0, f0, 0],
-                      loadVectorUserFunction=lambda mbs_, t, load: [0, float(force(t)), 0]))
+                      # Exudyn's stub types this as its own callback class; it takes any Python callable
+                      loadVectorUserFunction=lambda mbs_, t, load: [0, float(force(t)), 0]))  # type: ignore[arg-type]
     sensor = mbs.AddSensor(SensorNode(nodeNumber=nodes[0], storeInternal=True,
                                       outputVariableType=exu.OutputVariableType.Coordinates))
     mbs.Assemble()
@@ -131,5 +132,5 @@ def exudyn_overcentre(params: Mapping[str, float], theta1_0: float, force: Calla
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DeprecationWarning)
         exu.SolveDynamic(mbs, settings)
-    data = mbs.GetSensorStoredData(sensor)
+    data = np.asarray(mbs.GetSensorStoredData(sensor))  # typed as ArrayLike in Exudyn's stubs
     return data[:, 0], theta1_0 + data[:, 3]  # node coordinates are displacements from the reference

@@ -218,13 +218,13 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     solver = cls(dyn, t0, y0, t1, rtol=rtol, atol=atol, max_step=max_step)
     tracker = EventTracker(events, system, coords)
     tracker.start(dyn, t0, y0)
-    if t_eval is not None:
-        t_eval = np.asarray(t_eval, float)
-        if t_eval.ndim != 1 or np.any(np.diff(t_eval) < 0) or t_eval[0] < t0 or t_eval[-1] > t1:
+    times = None if t_eval is None else np.asarray(t_eval, float)
+    if times is not None:
+        if times.ndim != 1 or np.any(np.diff(times) < 0) or times[0] < t0 or times[-1] > t1:
             raise InputError("t_eval", "must be increasing times within t_span")
-    ts, ys = ([t0], [y0]) if t_eval is None or (t_eval.size and t_eval[0] == t0) else ([], [])
+    ts, ys = ([t0], [y0]) if times is None or (times.size and times[0] == t0) else ([], [])
     modes = [_mode(contacts)] * len(ts)  # the stops in contact at each saved row
-    k_eval = 1 if ts and t_eval is not None else 0
+    k_eval = 1 if ts and times is not None else 0
     status, detail = SimulationStatus.FINISHED, ""
     at_once, t_last_event = 0, -math.inf
     while True:
@@ -239,23 +239,26 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             solver.y = np.concatenate([qp, qdp])
             solver.f = dyn(solver.t, solver.y)
         t_new, y_new = solver.t, solver.y
-        sol = solver.dense_output() if (tracker or contacts or t_eval is not None) else None
+        sol = solver.dense_output() if (tracker or contacts or times is not None) else None
         hit = contacts.locate(t_old, t_new, y_new, sol) if contacts is not None else None
         if hit is not None:  # the step ends at the stop event
+            assert sol is not None  # made for every step with stops
             t_new, y_new = hit[0], sol(hit[0])
         t_stop = tracker.step(dyn, t_old, t_new, y_new, sol)
         if t_stop is not None:
             hit = None  # a terminal event comes first
         t_end = t_new if t_stop is None else t_stop
-        if t_eval is not None:
-            while k_eval < t_eval.size and t_eval[k_eval] <= t_end:
-                ts.append(float(t_eval[k_eval]))
-                ys.append(sol(t_eval[k_eval]))
+        if times is not None:
+            assert sol is not None  # made for every step with times to save
+            while k_eval < times.size and times[k_eval] <= t_end:
+                ts.append(float(times[k_eval]))
+                ys.append(sol(times[k_eval]))
                 k_eval += 1
             if (t_stop is not None or hit is not None) and (not ts or ts[-1] < t_end):
                 ts.append(t_end)
                 ys.append(sol(t_end))
         elif t_stop is not None or hit is not None:
+            assert sol is not None  # made for every step with events or stops
             ts.append(t_end)
             ys.append(sol(t_end))
         else:
@@ -268,6 +271,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             status = SimulationStatus.EVENT
             break
         if hit is not None:
+            assert contacts is not None  # a stop event comes only from the contacts
             at_once = at_once + 1 if hit[0] == t_last_event else 0
             t_last_event = hit[0]
             if at_once > MAX_EVENTS_AT_ONCE or len(contacts.events) > max_stop_events:

@@ -2,8 +2,9 @@
 
 from ._mechanics import MechanicalModel, StabilityResult, velocity_symbol
 from ._model import Model, StopLimit, as_model
+from ._rates import branch_rates
 from ._scene import Scene
 from ._system import EquationSystem, Limit, Variable
 
 __all__ = ["EquationSystem", "Model", "StopLimit", "as_model", "Variable", "Limit", "MechanicalModel", "StabilityResult",
-           "velocity_symbol", "Scene"]
+           "velocity_symbol", "Scene", "branch_rates"]

@@ -134,7 +134,7 @@ def _environment_text() -> str:
         import symengine
         import sympy
 
-        from .. import __version__
+        from .._version import __version__
         from ._codegen import backend
 
         here = Path(__file__).parent
@@ -345,14 +345,14 @@ def _shard(key: str, create: bool) -> Iterator[tuple[int, bytes] | None]:
         yield None
         return
     fds: list[int] = []
-    found = None
+    found: tuple[int, bytes] | None = None
     try:
         root_fd = _open_folder(root, None, where, create)
         if root_fd is not None:
             fds.append(root_fd)
             secret = _secret(root_fd, where, create)
             shard_fd = _open_folder(key[:2], root_fd, f"{where}/{key[:2]}", create) if secret else None
-            if shard_fd is not None:
+            if shard_fd is not None and secret is not None:  # a shard is opened only with a secret
                 fds.append(shard_fd)
                 found = (shard_fd, secret)
     except _Untrusted as e:
@@ -421,12 +421,13 @@ def store(key: str, obj) -> bool:
         data = _encode(key, payload, secret)
         if len(data) > _MAX_ENTRY:
             return False
-        tmp: str | None = f".tmp-{secrets.token_hex(8)}.pkl"
+        name = f".tmp-{secrets.token_hex(8)}.pkl"
+        tmp: str | None = name  # None once renamed into place
         try:
-            fd = os.open(tmp, _NEW_FLAGS, 0o600, dir_fd=shard_fd)
+            fd = os.open(name, _NEW_FLAGS, 0o600, dir_fd=shard_fd)
             with os.fdopen(fd, "wb") as f:
                 f.write(data)
-            os.replace(tmp, f"{key}.pkl", src_dir_fd=shard_fd, dst_dir_fd=shard_fd)
+            os.replace(name, f"{key}.pkl", src_dir_fd=shard_fd, dst_dir_fd=shard_fd)
             tmp = None
             STATS["writes"] += 1
             return True

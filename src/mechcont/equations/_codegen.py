@@ -230,7 +230,7 @@ class CompiledFunction:
         self.shape = tuple(int(s) for s in shape)
         self.size = int(np.prod(self.shape, dtype=np.int64))
         self.idx = None if idx is None else np.ascontiguousarray(idx, dtype=np.intp)
-        self.n_out = self.size if idx is None else len(self.idx)
+        self.n_out = self.size if self.idx is None else len(self.idx)
         self._source = source
         self._argshape = (self.n_args,)
         self._flat = len(self.shape) == 1
@@ -449,7 +449,7 @@ def compile_sparse(args: Sequence, entries: Sequence[tuple[tuple[int, ...], obje
     shape = tuple(int(s) for s in shape)
     entries = list(entries)
     if entries:
-        flat = np.ravel_multi_index(np.array([i for i, _ in entries], dtype=np.intp).T, shape)
+        flat = np.asarray(np.ravel_multi_index(np.array([i for i, _ in entries], dtype=np.intp).T, shape))
     else:
         flat = np.zeros(0, dtype=np.intp)
     safe, exprs = engine_arguments(args, [e for _, e in entries])

@@ -45,7 +45,7 @@ def _flat(entries, shape: tuple[int, ...]) -> np.ndarray:
     """Flat (C-order) positions in an array of ``shape`` of the indices of ``(index, expr)`` entries."""
     if not entries:
         return np.zeros(0, dtype=np.intp)
-    return np.ravel_multi_index(np.array([i for i, _ in entries], dtype=np.intp).T, shape).astype(np.intp)
+    return np.asarray(np.ravel_multi_index(np.array([i for i, _ in entries], dtype=np.intp).T, shape), dtype=np.intp)
 
 
 class _StaticsLayout:
@@ -115,6 +115,7 @@ class _StaticsLayout:
     def stiffness(self, vals: np.ndarray, lam: np.ndarray | None) -> np.ndarray:
         """K = -dQ/dq + sum_k lam_k Hess(Phi_k) (n_q x n_q) from the statics values."""
         nq = self.nq
+        K: np.ndarray
         if self.dense:
             K = -vals[self.dq_slice].reshape(nq, nq)
             if lam is not None and self.nc:

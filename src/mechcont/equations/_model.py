@@ -25,6 +25,8 @@ from ._system import EquationSystem
 if TYPE_CHECKING:
     import sympy as sp
 
+    from ._protocols import Description, DofFacts, Reselect
+
 __all__ = ["Model", "StopLimit", "as_model"]
 
 
@@ -105,8 +107,8 @@ class Model(EquationSystem):
     """
 
     potential_energy: sp.Expr | None = None
-    mechanism: object | None = None
-    dof: object | None = None
+    mechanism: Description | None = None
+    dof: DofFacts | None = None
     reaction_names: tuple[str, ...] = ()
     coordinates_of: Callable[[np.ndarray], dict[str, float]] | None = None
     dropped_constraints: tuple[str, ...] = ()
@@ -119,7 +121,7 @@ class Model(EquationSystem):
     geometry: object | None = field(default=None, repr=False)
     stops: tuple[StopLimit, ...] = ()
     fields_at: Callable[[Mapping[str, float]], dict] | None = field(default=None, repr=False)
-    reselect: object | None = field(default=None, repr=False)
+    reselect: Reselect | None = field(default=None, repr=False)
 
     def with_values(self, values: Mapping[str, float]) -> Model:
         """:meth:`EquationSystem.with_values`, with the fields that depend on the parameter values
@@ -127,9 +129,9 @@ class Model(EquationSystem):
         parameters) evaluated at the new values."""
         new = super().with_values(values)
         if self.fields_at is None:
-            return new  # type: ignore[return-value]
+            return new
         params = {v.name: v.value for v in new.variables if v.kind == "parameter"}
-        return new.evolve(**self.fields_at(params))  # type: ignore[return-value]
+        return new.evolve(**self.fields_at(params))
 
     def __setattr__(self, name: str, value) -> None:
         if name not in _declared(type(self)):

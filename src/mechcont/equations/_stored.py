@@ -54,7 +54,7 @@ def _environment() -> bytes:
         import numpy
         import symengine
 
-        from .. import __version__
+        from .._version import __version__
 
         root = Path(__file__).resolve().parent.parent
         h = hashlib.sha256()

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Self
 
 import numpy as np
 
@@ -29,6 +29,8 @@ from ._codegen import (
 
 if TYPE_CHECKING:
     import sympy as sp
+
+    from ._protocols import Mechanics, SceneFunction, ValueCheck
 
 __all__ = ["Variable", "Limit", "EquationSystem", "ColumnView"]
 
@@ -154,11 +156,11 @@ class EquationSystem:
     name: str
     variables: Sequence[Variable]
     equations: Sequence[sp.Expr]
-    equation_names: Sequence[str] | None = None
-    mechanics: object | None = None
+    equation_names: Sequence[str] = ()
+    mechanics: Mechanics | None = None
     description: str = ""
-    scene: object | None = None
-    check_values: object | None = None
+    scene: SceneFunction | None = None
+    check_values: ValueCheck | None = None
     limits: Sequence[Limit] = ()
     # compiled code, filled on first use and shared by copies (with_values, load_model)
     _code: dict = field(default_factory=dict, init=False, repr=False)
@@ -186,7 +188,7 @@ class EquationSystem:
             unknown = {s for s in e.free_symbols if s not in known}
             if unknown:
                 raise InputError(str(sorted(map(str, unknown))[0]), f"used in equation {i} but not declared as a variable")
-        if self.equation_names is None:
+        if not self.equation_names:  # None or none given: G0, G1, ...
             self.equation_names = tuple(f"G{i}" for i in range(len(self.equations)))
         self.equation_names = tuple(self.equation_names)
         n_states = len(self.state_names)
@@ -200,7 +202,7 @@ class EquationSystem:
     @property
     def n_equations(self) -> int:
         """Number of equations (one name each; a loaded system counts them without its SymPy form)."""
-        return len(self.equation_names)  # type: ignore[arg-type]
+        return len(self.equation_names)
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -242,7 +244,7 @@ class EquationSystem:
         """Typical magnitude of every variable, ordered like :attr:`names`."""
         return np.array([v.scale for v in self.variables])
 
-    def with_values(self, values: Mapping[str, float]) -> EquationSystem:
+    def with_values(self, values: Mapping[str, float]) -> Self:
         """A copy with new default values, sharing the compiled functions (no rebuild).
 
         Only defaults change; the equations are the same, so this is how a model is
@@ -255,7 +257,7 @@ class EquationSystem:
         return self.evolve(variables=tuple(replace(v, value=float(values[v.name])) if v.name in values else v
                                            for v in self.variables))
 
-    def evolve(self, **changes) -> EquationSystem:
+    def evolve(self, **changes) -> Self:
         """A copy with some declared fields replaced, sharing the compiled code (nothing is rebuilt).
 
         ``variables`` may change values, scales, units and descriptions but not names or kinds
@@ -281,7 +283,7 @@ class EquationSystem:
         return new
 
     # -- compiled numerics ------------------------------------------------------------
-    def compile(self, second_derivatives: bool = False) -> EquationSystem:
+    def compile(self, second_derivatives: bool = False) -> Self:
         """Generate the numeric residual and Jacobian function (once), and optionally the second derivatives.
 
         Called on first numeric use; the second derivatives (:meth:`jacobian_derivative`,
@@ -469,7 +471,8 @@ class EquationSystem:
         # what needs SymPy to unpickle (the equations, a potential energy, a description) is kept
         # apart, unpickled on first use: a loaded model runs on its compiled code (see _deferred)
         apart = {"equations": state.pop("equations")}
-        extras, omitted = {}, []
+        extras: dict[str, object] = {}
+        omitted: list[str] = []
         for k, v in self.__dict__.items():
             if k in core:
                 continue

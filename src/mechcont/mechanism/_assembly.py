@@ -200,6 +200,8 @@ def assemble(system: EquationSystem, values: Mapping[str, float] | None = None,
         raise InputError("free", f"{system.n_equations} equations but {len(unknowns)} unknowns; hold as many "
                                  f"states as you free parameters (held {len(hold)}, freed {len(free)})")
     mech = system.mechanics
+    if mech is None:
+        raise InputError("system", f"model '{system.name}' has no mechanics: only a mechanism's model can be assembled")
     q_index = mech.q_index
     free_q = np.array([system.names[i] not in hold for i in q_index])
     x, ok = close_constraints(mech.phi, mech.phi_q, x, q_index, free_q)

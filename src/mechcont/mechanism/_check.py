@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from ..equations import Model, as_model
+from ..equations import Model, StabilityResult, as_model
 from ..errors import ConvergenceError, InputError, one_line
 from ._assembly import assemble
 from ._paths import find_description
@@ -112,7 +112,7 @@ class CheckReport:
     description: str
     reduced: bool
     dof: int
-    intended_dof: int
+    intended_dof: int | None
     rank: int
     n_coordinates: int
     n_constraints: int
@@ -125,12 +125,12 @@ class CheckReport:
     eliminated_joints: tuple[str, ...]
     imbalance: Quantity
     equilibrium_note: str
-    stability: object | None
+    stability: StabilityResult | None
     scales: tuple[Quantity, ...]
     parameters: tuple[Quantity, ...]
     states: tuple[State, ...]
     findings: tuple[str, ...]
-    system: object = field(repr=False, compare=False)
+    system: Model = field(repr=False, compare=False)
     x: np.ndarray = field(repr=False, compare=False)
     x_equilibrium: np.ndarray | None = field(repr=False, compare=False)
     compliant: tuple[Quantity, ...] = ()
@@ -359,8 +359,9 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     intended = mech.dof
     x = system.defaults()
     model = system.mechanics
-    nq, nc = len(model.coordinates), model.n_constraints
     report = system.dof
+    assert model is not None and report is not None, "a generated model has its mechanics and degrees of freedom"
+    nq, nc = len(model.coordinates), model.n_constraints
 
     # loop closure per joint: equation names <joint>_x, _y, _z, _n, _n1 (m), <joint>_angle and
     # <joint>_rot1.. (rad); a spatial model's rigid rows are named by its mechanics, and its
@@ -383,7 +384,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     for q in closure:
         if not q.value <= CLOSURE_TOL:
             findings.append(f"joint {q.name} is open by {q.value:.3g} {q.unit} at the assembled configuration")
-    dropped = system.dropped_residual(x) if system.dropped_constraints else None
+    dropped = system.dropped_residual(x) if system.dropped_constraints and system.dropped_residual else None
     if dropped is not None and not dropped <= CLOSURE_TOL:
         findings.append(f"the dropped redundant rows are violated by {dropped:.3g} at the assembled configuration")
     redundant = tuple((row, tuple(j for j in group if not (mech.dimension == 3 and j.startswith("norm_"))))

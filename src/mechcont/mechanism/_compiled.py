@@ -7,6 +7,7 @@ disk cache finds their classes without importing SymPy.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,7 +21,7 @@ __all__ = ["DroppedResidual", "CoordinatesOf", "GeneratedScene", "SpatialScene",
 class DroppedResidual:
     """``f(x) -> max |Phi_dropped(x)|`` (m or rad): 0 while the dropped rows stay implied."""
 
-    fn: object | None
+    fn: Callable[[np.ndarray], np.ndarray] | None
 
     def __call__(self, x: np.ndarray) -> float:
         """Largest residual of the dropped redundant constraint rows at ``x`` (0.0 if none dropped)."""
@@ -34,7 +35,7 @@ class CoordinatesOf:
     """``f(x) -> {coordinate: value}`` for every body coordinate, eliminated ones included."""
 
     coordinates: tuple[str, ...]
-    fn: object
+    fn: Callable[[np.ndarray], np.ndarray]
 
     def __call__(self, x: np.ndarray) -> dict[str, float]:
         """All body coordinates (m, rad) at the full variable vector ``x``."""
@@ -50,7 +51,7 @@ class GeneratedScene:
     """
 
     items: tuple
-    fn: object
+    fn: Callable[[np.ndarray], np.ndarray]
 
     def __call__(self, x: np.ndarray) -> Scene:
         """Drawing primitives at the full variable vector ``x`` (m, N)."""
@@ -92,7 +93,7 @@ class SpatialScene:
     ``fn``'s output triples (see :func:`spatial_scene_function`)."""
 
     items: tuple
-    fn: object
+    fn: Callable[[np.ndarray], np.ndarray]
 
     def __call__(self, x: np.ndarray) -> Scene:
         """Drawing primitives (3-D) at the full variable vector ``x``."""

@@ -23,6 +23,7 @@ import keyword
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, ClassVar, Protocol
 
 import sympy as sp
 
@@ -31,6 +32,9 @@ from ._actuators import Actuator, check_actuators
 from ._conditions import Condition, DownlockSpec, check_conditions
 from ._expr import FUNCTIONS, Value, symbol, to_expr
 from ._stops import Stop, check_stops, stop_reaction_unit
+
+if TYPE_CHECKING:
+    from ..equations import Model
 
 __all__ = [
     "Parameter", "Polar", "Body", "Revolute", "Slider", "Prismatic", "Weld", "Spring", "Damper",
@@ -245,6 +249,22 @@ Joint = Revolute | Slider | Prismatic | Weld
 Load = PointForce | Moment | Drag | CustomLoad
 
 
+class _LoadAtPoint(Protocol):
+    """A load applied at a point."""
+
+    @property
+    def at(self) -> str:
+        """``"<body>.<point>"``."""
+
+
+class _LoadOnBody(Protocol):
+    """A load applied to a body (a drag also names two points of it, ``start`` and ``end``)."""
+
+    @property
+    def body(self) -> str:
+        """The body's name."""
+
+
 def coordinate_names(body: str) -> tuple[str, str, str]:
     """The names of a body's coordinates: ``x1, y1, theta1`` for ``"1"``, ``x_b, y_b, theta_b`` for ``"b"``."""
     if body.isdigit():
@@ -360,7 +380,7 @@ class Mechanism:
     _generated: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     #: Keys of a custom load whose expressions may use the coordinates.
-    _COORDINATE_KEYS = ("fx", "fy", "moment")
+    _COORDINATE_KEYS: ClassVar[tuple[str, ...]] = ("fx", "fy", "moment")
     #: 2 for a planar mechanism, 3 for a spatial one.
     dimension = 2
 
@@ -449,7 +469,8 @@ class Mechanism:
             self.point_ref(j.b, f"joints.{j.name}.b")
             if self._body_of(j.a) == self._body_of(j.b):
                 raise InputError(f"joints.{j.name}", "joins a body to itself")
-        for s in (*self.springs, *self.dampers):
+        two_ended: tuple[Spring | Damper, ...] = (*self.springs, *self.dampers)
+        for s in two_ended:
             group = "springs" if isinstance(s, Spring) else "dampers"
             self.point_ref(s.a, f"{group}.{s.name}.a")
             self.point_ref(s.b, f"{group}.{s.name}.b")
@@ -467,7 +488,7 @@ class Mechanism:
         """The coordinate names of ``body`` (see :func:`coordinate_names`)."""
         return coordinate_names(body)
 
-    def _load_kinds(self) -> tuple[tuple[type, ...], tuple[type, ...], str]:
+    def _load_kinds(self) -> tuple[tuple[type[_LoadAtPoint], ...], tuple[type[_LoadOnBody], ...], str]:
         """The load classes applied at a point, those applied to a body (a drag has ``start`` and
         ``end`` points), and the message for any other load (``{}``: its class name)."""
         return (PointForce, CustomLoad), (Moment, Drag), "unknown load type {}"
@@ -484,7 +505,7 @@ class Mechanism:
             elif isinstance(ld, on_body):
                 if ld.body not in self.body_map:
                     raise InputError(f + ".body", f"unknown body '{ld.body}'; bodies: {', '.join(self.body_map)}")
-                if hasattr(ld, "start"):
+                if hasattr(ld, "start") and hasattr(ld, "end"):  # a drag
                     self.point_ref(f"{ld.body}.{ld.start}", f + ".start")
                     self.point_ref(f"{ld.body}.{ld.end}", f + ".end")
             else:
@@ -602,8 +623,8 @@ class Mechanism:
         body, point = ref.split(".")
         if body == "ground":
             if point not in self.ground:
-                valid = ", ".join(self.ground) or "none declared"
-                raise InputError(field, f"unknown ground point '{point}'; ground points: {valid}")
+                declared = ", ".join(self.ground) or "none declared"
+                raise InputError(field, f"unknown ground point '{point}'; ground points: {declared}")
             return body, point
         if body not in self.body_map:
             raise InputError(field, f"unknown body '{body}'; bodies: {', '.join(self.body_map)}")
@@ -639,7 +660,7 @@ class Mechanism:
             raise InputError(f"bodies.{loose[0]}", "is not connected to the ground through joints (it would float freely)")
 
     # -- generation -----------------------------------------------------------------
-    def build(self, **overrides: float):
+    def build(self, **overrides: float) -> Model:
         """Generate the full static system: coordinates, joint reactions and every equation.
 
         Keyword arguments override parameter defaults (SI). Returns a
@@ -652,7 +673,7 @@ class Mechanism:
         """
         return self._generate(overrides, reduced=False)
 
-    def build_reduced(self, **overrides: float):
+    def build_reduced(self, **overrides: float) -> Model:
         """Generate the reduced static system (see :mod:`mechcont.mechanism._reduce`)."""
         return self._generate(overrides, reduced=True)
 
@@ -661,7 +682,7 @@ class Mechanism:
         from ._generate import generate
         return generate
 
-    def _generate(self, overrides: dict, reduced: bool):
+    def _generate(self, overrides: dict, reduced: bool) -> Model:
         from ._file import locate_error
         try:
             return self._generator()(self, overrides, reduced=reduced)

@@ -23,7 +23,7 @@ from __future__ import annotations
 import ast
 import math
 import sys
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 import mpmath
 import sympy as sp
@@ -169,7 +169,7 @@ def _check_int(value: int, field: str) -> None:
                                 f"floating-point range; numbers must lie within +-{_FLOAT_MAX:.4g}")
 
 
-def _check_size(tree: ast.AST, value: str, field: str) -> None:
+def _check_size(tree: ast.Expression, value: str, field: str) -> None:
     """Refuse trees with more than MAX_NODES nodes or deeper than MAX_DEPTH (iteratively)."""
     if sum(isinstance(n, ast.expr) for n in ast.walk(tree)) > MAX_NODES:
         raise InputError(field, f"expression {_show(value)} is too large (more than {MAX_NODES} terms); "
@@ -310,7 +310,7 @@ def _in_range(expr: sp.Expr) -> sp.Expr:
 
 
 #: Float versions of the functions SymPy may leave in a parsed expression.
-_MATH = {
+_MATH: dict[object, Callable[..., float]] = {
     sp.sin: math.sin, sp.cos: math.cos, sp.tan: math.tan, sp.asin: math.asin, sp.acos: math.acos,
     sp.atan: math.atan, sp.atan2: math.atan2, sp.sinh: math.sinh, sp.cosh: math.cosh, sp.tanh: math.tanh,
     sp.exp: math.exp, sp.Abs: abs, sp.Min: min, sp.Max: max,

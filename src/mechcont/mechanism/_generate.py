@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import partial
 
@@ -131,11 +131,11 @@ def _loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray) -> 
     gaps: dict[str, float] = {}
     for row, r in zip(rows, phi):
         gaps[row.joint] = math.hypot(gaps.get(row.joint, 0.0), r)
-    worst = max(gaps, key=gaps.get)
+    worst = max(gaps, key=gaps.__getitem__)
     actuators = {n: g for n, g in gaps.items() if g > 1e-9 and any(a.name == n for a in mech.actuators)}
     if actuators:  # a length-mode actuator that cannot reach its length: name it, not a joint
         held = f" with held {', '.join(f'{k} = {v}' for k, v in mech.hold.items())}" if mech.hold else ""
-        return InputError(f"actuators.{max(actuators, key=actuators.get)}.length",
+        return InputError(f"actuators.{max(actuators, key=actuators.__getitem__)}.length",
                           f"cannot be met{held}: the loop through the actuator misses by {sum(gaps.values()):.4g} m "
                           f"at best")
     joint = next(j for j in mech.joints if j.name == worst)
@@ -154,10 +154,12 @@ def _loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray) -> 
     if goal not in prev:
         return InputError(f"joints.{worst}", f"cannot be satisfied{held}: gap {gaps[worst]:.4g} m")
     bodies, joints, node = [goal], [], goal
-    while prev[node] is not None:
-        node, name = prev[node]
+    step = prev[node]
+    while step is not None:
+        node, name = step
         bodies.append(node)
         joints.append(name)
+        step = prev[node]
     bodies, joints = bodies[::-1], [*joints[::-1], worst]  # start ... goal, then back to start by `worst`
     if "ground" in bodies:  # read the loop from the ground
         i = bodies.index("ground")
@@ -180,7 +182,7 @@ class _Variant:
     dropped: list[ConstraintRow]
     equilibrium: list[sp.Expr]
     mechanics: MechanicalModel
-    condition_values: object | None = None
+    condition_values: Callable[[np.ndarray], np.ndarray] | None = None
     model: Model | None = None
 
 
@@ -473,7 +475,7 @@ def _check_assembled(mech: Mechanism, kin: Kinematics, model: MechanicalModel, x
 
 
 def _equilibrium(mech: Mechanism, coords: list[str], rows: list[ConstraintRow], forces: list[sp.Expr],
-                 mass: sp.Matrix, conditions: list[str] = (), *,
+                 mass: sp.Matrix, conditions: Sequence[str] = (), *,
                  gradient=None) -> tuple[list[sp.Expr], MechanicalModel]:
     """Equilibrium rows ``Q - Phi_q^T lambda`` (at rest) and the compiled mechanical model.
 

@@ -9,9 +9,9 @@ import sympy as sp
 
 from ..equations import Scene
 from ..equations._codegen import compile_dense
-from ._actuators import actuator_load
+from ._actuators import Actuator, actuator_load
 from ._compiled import GeneratedScene
-from ._description import CustomLoad, Moment, Prismatic, Revolute, Slider, Weld
+from ._description import CustomLoad, Damper, Moment, Prismatic, Revolute, Slider, Spring, Weld
 from ._kinematics import Kinematics
 
 __all__ = ["scene_function"]
@@ -73,7 +73,8 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
         add("damper", d.name, [kin.point(d.a), kin.point(d.b)])
     for act in mech.actuators:  # ends, then (tension N, 0)
         add("actuator", act.name, [kin.point(act.a), kin.point(act.b), sp.Matrix([actuator_load(mech, act), 0])])
-    for ref in (r for e in (*mech.springs, *mech.dampers, *mech.actuators) for r in (e.a, e.b)):
+    two_ended: tuple[Spring | Damper | Actuator, ...] = (*mech.springs, *mech.dampers, *mech.actuators)
+    for ref in (r for e in two_ended for r in (e.a, e.b)):
         if ref.split(".")[0] == "ground" and ref not in ground_joints and ref not in anchors:
             anchors.append(ref)
             add("anchor", ref, [kin.point(ref)])

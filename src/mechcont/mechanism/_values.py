@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import sympy as sp
@@ -146,7 +146,7 @@ def check_values(mech: Mechanism, values: Mapping[str, float], *, solve: bool = 
                 raise InputError(f + ".direction", "direction must not be the zero vector")
 
 
-def value_check(mech, exact, limits: list[Limit], vectors: list[list], perpendicular: list[list] = (),
+def value_check(mech, exact, limits: list[Limit], vectors: list[list], perpendicular: Sequence[list] = (),
                 static_error: bool = False):
     """A :class:`~mechcont.mechanism._compiled.ValueCheck` of ``mech``: ``exact(values)`` screened by
     its quantities compiled (the description's numbers in the parameters alone, the ``limits``,

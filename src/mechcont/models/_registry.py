@@ -5,30 +5,34 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from ..equations import EquationSystem, Model
+from ..equations import Model
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..mechanism import Mechanism
 
 __all__ = ["BUILTIN_MODELS", "load_model", "model_names", "describe_model", "ModelSummary"]
 
 #: Descriptions read in this process, by (resolved path, text), at most ``_KEEP``.
-_DESCRIPTIONS: dict[tuple[str, bytes], object] = {}
+_DESCRIPTIONS: dict[tuple[str, bytes], Mechanism] = {}
 _KEEP = 16
 
 
-def _overcentre(**kw):
+def _overcentre(**kw: float) -> Model:
     from .overcentre import build_overcentre
 
     return build_overcentre(**kw)
 
 
-def _nose_gear(**kw):
+def _nose_gear(**kw: float) -> Model:
     from .nose_gear import build_nose_gear
 
     return build_nose_gear(**kw)
 
 
-def _dual_sidestay(**kw):
+def _dual_sidestay(**kw: float) -> Model:
     from .dual_sidestay import build_dual_sidestay_kinematics
 
     system = build_dual_sidestay_kinematics()
@@ -40,7 +44,7 @@ def _dual_sidestay(**kw):
 
 
 #: Hand-formulated reference models of the paper: name -> (builder, one-line description).
-BUILTIN_MODELS: dict[str, tuple[Callable[..., EquationSystem], str]] = {
+BUILTIN_MODELS: dict[str, tuple[Callable[..., Model], str]] = {
     "overcentre": (_overcentre, "overcentre mechanism, the paper's eq. 6 (6 states)"),
     "nose_gear": (_nose_gear, "planar nose landing gear, the paper's 25-equation form"),
     "dual_sidestay_kinematics": (_dual_sidestay, "dual-sidestay main gear retraction kinematics, 3-D (12 states)"),

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..equations import EquationSystem, Limit, Model, Scene, Variable
+from ..equations import EquationSystem, Limit, Model, Scene, Variable, branch_rates
 from .dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry, rotation
 
 if TYPE_CHECKING:
@@ -58,7 +58,7 @@ def geometry_values(geo: GearGeometry) -> dict[str, float]:
 
 def start_values(geo: GearGeometry) -> dict[str, float]:
     """Knee and lock-link joint coordinates (m) of ``geo`` with the gear down."""
-    out = {}
+    out: dict[str, float] = {}
     for side, st in (("fwd", geo.forward), ("aft", geo.aft)):
         out.update(zip(_vec(f"{side}_K"), map(float, st.K)))
         out.update(zip(_vec(f"{side}_J"), map(float, st.J)))
@@ -267,7 +267,6 @@ def actuator_length_rate(system, x: np.ndarray, dx: np.ndarray) -> tuple[float, 
 def actuator_tension(system, x: np.ndarray) -> float:
     """Quasi-static retraction actuator load (N, + tension) at ``x`` by virtual work (gravity of the fitting and
     the arms); ``nan`` at a fold, where the mechanism cannot be driven by ``theta``."""
-    from ..analysis.retraction import branch_rates
     from ..errors import InputError
 
     try:

@@ -350,7 +350,7 @@ def build_nose_gear(**overrides: float) -> Model:
     x = system.defaults()
     unknown = [system.index(n) for n in (*FORCES, "F")]
     rows = np.arange(14, 25)
-    J = system.jacobian(x)[np.ix_(rows, unknown)]
+    J = system.jacobian(x)[np.ix_(rows, np.asarray(unknown))]
     x[unknown] = 0.0
     r0 = system.residual(x)[rows]
     sol = np.linalg.solve(J, -r0)

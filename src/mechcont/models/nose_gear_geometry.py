@@ -210,11 +210,9 @@ def pose(p: Mapping[str, float], theta3: float, lock_side: int = -1) -> dict[str
     O = np.zeros(2)
     P5 = -p["L35"] * _e(theta3 - p["psi2"])
     J = _circle_intersection(K, p["L4"], P5, p["L5"], -lock_side)
-    out = {}
-    bars = {1: (A, K), 2: (K, P2), 3: (None, None), 4: (K, J), 5: (J, P5)}
+    out: dict[str, float] = {}
+    bars = {1: (A, K), 2: (K, P2), 4: (K, J), 5: (J, P5)}  # bar 3 (through O) below
     for i, (a, b) in bars.items():
-        if i == 3:
-            continue
         out[f"x{i}"], out[f"y{i}"] = (0.5 * (a + b)).tolist()
         out[f"theta{i}"] = math.atan2(b[1] - a[1], b[0] - a[0])
     G3 = O - 0.5 * p["L3"] * _e(theta3)
@@ -269,7 +267,8 @@ def downlocked_pose(p: Mapping[str, float], theta4: float = 0.0) -> dict[str, fl
     J = K + p["L4"] * _e(theta4)
     P5 = -p["L35"] * _e(t3 - p["psi2"])
     out = pose(p, t3)
-    out["x4"], out["y4"], out["theta4"] = *(0.5 * (K + J)).tolist(), float(theta4)
+    mid4 = 0.5 * (K + J)
+    out["x4"], out["y4"], out["theta4"] = float(mid4[0]), float(mid4[1]), float(theta4)
     out["x5"], out["y5"] = (0.5 * (J + P5)).tolist()
     out["theta5"] = math.atan2(P5[1] - J[1], P5[0] - J[0])
     return out

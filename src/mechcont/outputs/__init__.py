@@ -10,6 +10,7 @@ _LAZY = {
     "plot_branch": "plotting", "plot_surface": "plotting", "new_figure": "plotting", "save_figure": "plotting",
     "plot_design_region": "plotting", "downlock_figure": "design_plots", "design_figure": "design_plots",
     "branch_figure": "plotting", "plot_sweep": "sweep_plots", "sweep_figure": "sweep_plots",
+    "history_figure": "history_plots",
 }
 
 __all__ = list(_LAZY)  # noqa: PLE0605 - the lazily exported names

@@ -62,7 +62,7 @@ def _size(bounds: tuple[float, float, float, float]) -> float:
     return s if s > 1e-12 else 1.0
 
 
-def _union(boxes: Iterable[tuple[float, float, float, float]]) -> tuple[float, float, float, float]:
+def _union(boxes: Iterable[tuple[float, ...]]) -> tuple[float, float, float, float]:
     b = np.array(list(boxes), dtype=float)
     return float(b[:, 0].min()), float(b[:, 1].max()), float(b[:, 2].min()), float(b[:, 3].max())
 
@@ -111,7 +111,7 @@ def _limits(bounds: tuple[float, float, float, float]) -> tuple[float, float, fl
     return xmin - pad, xmax + pad, ymin - pad, ymax + pad
 
 
-def _checked_extent(bounds: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+def _checked_extent(bounds: tuple[float, ...]) -> tuple[float, ...]:
     """``bounds``, or InputError when they reach beyond :data:`_MAX_EXTENT` (or are not finite)."""
     if not all(math.isfinite(b) and abs(b) <= _MAX_EXTENT for b in bounds):
         raise InputError("configuration", f"the drawing would reach {max(map(abs, bounds)):.3g} m from the origin, "
@@ -220,7 +220,7 @@ def _draw_slider(ax, p: np.ndarray, direction: np.ndarray, h: float, span=None):
 def _draw_pin(ax, p: np.ndarray, h: float):
     from matplotlib.patches import Circle
 
-    _add(ax, Circle(p, 0.45 * h, facecolor="white", edgecolor="black", linewidth=1.2, zorder=6))
+    _add(ax, Circle((float(p[0]), float(p[1])), 0.45 * h, facecolor="white", edgecolor="black", linewidth=1.2, zorder=6))
 
 
 def _draw_damper(ax, name: str, a: np.ndarray, b: np.ndarray, width: float):
@@ -520,7 +520,7 @@ def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str, un
             lines.append(f"{name} = {round(math.degrees(val), 2) + 0.0:.2f}°")   # no "-0.00°"
         else:
             lines.append(f"{name} = {val:.4g} {var.unit}".rstrip())
-    status = {True: "stable", False: "unstable"}.get(None if stable is None else bool(stable), unknown)
+    status = unknown if stable is None else ("stable" if stable else "unstable")
     if label.rstrip("0123456789?") == "LP":
         status = "fold"  # neutral: neither stable nor unstable (see Branch.stability_labels)
     tail = " ".join(s for s in (status, label) if s)
@@ -561,7 +561,7 @@ def _note_corner(scenes: Sequence[Scene], limits) -> tuple[float, float, str, st
 def _put_note(ax, text: str, stable, corner=_CORNERS[0]) -> None:
     if not text:
         return
-    colour = {True: "#e5f5e0", False: "#fde0dd"}.get(None if stable is None else bool(stable), "white")
+    colour = "white" if stable is None else ("#e5f5e0" if stable else "#fde0dd")
     x, y, ha, va = corner
     ax.text(x, y, text, transform=ax.transAxes, ha=ha, va=va, fontsize=9, zorder=10,
             bbox=dict(boxstyle="round,pad=0.3", facecolor=colour, edgecolor="0.6", alpha=0.9))

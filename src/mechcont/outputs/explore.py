@@ -255,3 +255,23 @@ def write_explore(path: str | os.PathLike, model, branches: Sequence, **options)
             f.write(page)
 
     return atomic_write(out, write)
+
+
+def branch_html(branch) -> str:
+    """Jupyter's view of a :class:`~mechcont.continuation.Branch`: the explorer page (compact, at most 600
+    rows) in an ``iframe``, with the mechanism drawn when the branch's ``model`` loads as a model of
+    its variables (else the diagram alone). ``import mechcont`` registers it with IPython's HTML
+    formatter (:func:`mechcont._register_notebook_view`)."""
+    import html
+
+    model = None
+    try:
+        from ..models import load_model
+
+        system = load_model(branch.model) if branch.model else None
+        model = system if system is not None and tuple(system.names) == branch.names else None
+    except Exception:  # noqa: BLE001 - an unknown or unbuildable model: show the diagram alone
+        model = None
+    page = explore_page(model, [branch], max_rows=600, compact=True)
+    return (f'<iframe srcdoc="{html.escape(page, quote=True)}" style="width:100%;height:760px;border:0" '
+            f'title="{html.escape(repr(branch))}"></iframe>')

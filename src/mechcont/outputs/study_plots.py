@@ -15,8 +15,12 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.typing import LineStyleType
 
 __all__ = ["plot_study", "plot_response_surface", "plot_force_histogram", "plot_sensitivity"]
 
@@ -42,7 +46,7 @@ def plot_response_surface(df, ax, column: str = "downlock_force"):
     lim = np.nanmax(np.abs(Z)) if np.isfinite(Z).any() else 1.0
     cs = ax.contourf(x, y, Z.T, levels=21, cmap="RdBu", vmin=-lim, vmax=lim)
     ax.figure.colorbar(cs, ax=ax, label=f"{column} (N)")
-    handles = []
+    handles: list[tuple[str, LineStyleType, str]] = []  # (colour, line style, legend text)
     if np.nanmin(Z) < 0 < np.nanmax(Z):
         ax.contour(x, y, Z.T, levels=[0.0], colors="k", linewidths=2)
         handles.append(("k", "-", f"{column} = 0: locks unaided on the blue side"))

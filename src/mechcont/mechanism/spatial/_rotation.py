@@ -47,7 +47,7 @@ def body_omega_matrix(e: Sequence) -> sp.Matrix:
     return sp.Matrix.hstack(-eps, e[0] * sp.eye(3) - skew(eps))
 
 
-def quaternion_from_rotation_vector(r: Sequence[float]) -> np.ndarray:
+def quaternion_from_rotation_vector(r: Sequence[float] | np.ndarray) -> np.ndarray:
     """Euler parameters (4,) of the rotation by ``|r|`` radians about ``r / |r|``."""
     r = np.asarray(r, dtype=float)
     angle = float(np.linalg.norm(r))

@@ -6,16 +6,16 @@ import math
 
 import numpy as np
 
+from .plotting import axis_label, new_figure
+
 __all__ = ["history_figure"]
 
 _EVENT_STYLE = {"impact": ("v", "tab:red"), "contact": ("o", "tab:green"), "release": ("^", "tab:blue")}
 
 
 def history_figure(result, watch: str, *, title: str | None = None):
-    """A figure of column ``watch`` of a :class:`~._result.SimulationResult` against time (s);
+    """A figure of column ``watch`` of a :class:`~mechcont.dynamics.SimulationResult` against time (s);
     angles (rad) shown in degrees; each stop event marked (impact, contact, release)."""
-    from ..outputs.plotting import axis_label, new_figure
-
     unit = result.unit(watch)
     scale, shown = (180.0 / math.pi, "deg") if unit == "rad" else (1.0, unit)
     fig, ax = new_figure(figsize=(7.0, 4.0))
