@@ -7,6 +7,7 @@ from . import (  # noqa: F401,E401  (mechcont models, continue, folds)
     draw,  # noqa: F401  (mechcont draw, mechcont animate)
     equations,  # noqa: F401  (mechcont equations)
     folds,
+    freefall,  # noqa: F401  (mechcont freefall)
     models,
     optimize,  # noqa: F401  (mechcont optimize)
     paper,  # noqa: F401  (mechcont paper)

@@ -28,7 +28,7 @@ from ._events import Crossing
 from ._result import SimulationResult
 
 __all__ = ["FreefallResult", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
-           "quasi_static_critical", "damper_tensions", "critical_figure"]
+           "quasi_static_critical", "damper_tensions", "critical_figure", "travel_of"]
 
 #: Outcomes of a freefall run.
 LOCKED, STALLED, TIMED_OUT, FAILED = "locked", "stalled", "timed out", "failed"
@@ -269,7 +269,9 @@ class CriticalAirspeed:
 
     ``value`` is the middle of the final bracket ``(low, high)``, whose ends lock and fail
     (``locks_below``: True when the lower end locks). ``runs`` holds ``(airspeed, outcome)`` in
-    the order simulated."""
+    the order simulated. A run near the critical value creeps through its slowest point for a
+    time that grows without bound, so a finite ``until`` biases the value towards the failing
+    side; :attr:`undecided` says when that may have happened."""
 
     name: str
     value: float
@@ -277,6 +279,13 @@ class CriticalAirspeed:
     high: float
     locks_below: bool
     runs: list[tuple[float, str]] = field(default_factory=list)
+
+    @property
+    def undecided(self) -> bool:
+        """True when the failing end of the bracket *timed out* (still moving at ``until``): a longer
+        simulation might lock it, so the critical value may lie beyond the bracket."""
+        fail = self.high if self.locks_below else self.low
+        return any(v == fail and outcome == TIMED_OUT for v, outcome in self.runs)
 
 
 def critical_airspeed(system, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
@@ -382,6 +391,30 @@ def quasi_static_critical(system, travel: str, start_value: float, lock_value: f
         fx, _, _ = locate_fold(model, branch.values[k], vary)
         value, pose, fold = float(fx[model.index(vary)]), float(fx[model.index(travel)]), True
     return QuasiStaticCritical(vary, value, pose, fold, branch)
+
+
+def travel_of(system, start: Mapping[str, float], lock, values: Mapping[str, float] | None = None) -> tuple[str, float, float]:
+    """The travel of a freefall: ``(variable, value at the released pose, value at the lock)``.
+
+    The variable is the lock stop's condition (its limit is the lock value) or the lock
+    condition's state; its start value is computed at the pose assembled from ``start``."""
+    from ..equations import as_model
+    from ._simulate import assemble
+
+    model = as_model(system)
+    if values:
+        model = model.with_values(dict(values))
+    stop, target = _lock_spec(model, lock)
+    name, end = (stop.condition, float(stop.limit)) if stop is not None else target  # type: ignore[misc]
+    x0 = assemble(model, dict(start), hold=list(start))
+    rows = list(model.equation_names or ())
+    if f"cond_{name}" in rows:
+        y = np.array(x0, float)
+        y[model.index(name)] = 0.0
+        begin = float(model.residual(y)[rows.index(f"cond_{name}")])
+    else:
+        begin = float(x0[model.index(name)])
+    return name, begin, end
 
 
 def critical_figure(dampings: Sequence[float], dynamic: Sequence[float], quasi_static: float, *,
