@@ -346,7 +346,7 @@ class QuasiStaticCritical:
 
 
 def quasi_static_critical(system, travel: str, start_value: float, lock_value: float, vary: str, *,
-                          side: str = "min", values: Mapping[str, float] | None = None, samples: int = 9,
+                          side: str = "min", values: Mapping[str, float] | None = None, samples: int = 17,
                           options=None) -> QuasiStaticCritical:
     """The airspeed ``vary`` at the extreme of the stall branch over the travel.
 
@@ -355,7 +355,9 @@ def quasi_static_critical(system, travel: str, start_value: float, lock_value: f
     airspeed where the gear could first hang is their minimum (``side = "min"``: airloads that
     oppose the fall, so the gear locks below it) or maximum (``"max"``). An interior extreme is a
     fold of the branch in ``vary``, polished with :func:`~mechcont.continuation.locate_fold`.
-    Stops are free (their reactions at 0): the intermediate equilibria are off the stops.
+    Stops are free (their reactions at 0): the intermediate equilibria are off the stops. The branch
+    starts from the extreme of ``samples`` equilibria spread over the travel (only positive airspeeds:
+    a negative one reverses the airloads).
     """
     from ..continuation import ContinuationOptions, continuation, find_equilibrium, locate_fold
     from ..equations import as_model
@@ -369,19 +371,23 @@ def quasi_static_critical(system, travel: str, start_value: float, lock_value: f
         if n not in model.names:
             raise InputError(n, f"is not a variable of {model.name}")
     lo, hi = sorted((float(start_value), float(lock_value)))
-    x = None
-    for p in np.linspace(lo, hi, samples + 2)[1:-1]:  # an equilibrium somewhere inside the travel
+    iv = model.index(vary)
+    found = []
+    for p in np.linspace(lo, hi, samples):  # equilibria across the travel, the airspeed solved for
         try:
             x = find_equilibrium(model, hold={travel: float(p)}, free=[vary])
         except InputError:
             continue
-        if math.isfinite(x[model.index(vary)]):
-            break
-        x = None
-    if x is None:
-        raise InputError("quasi-static", f"no equilibrium with {vary} solved for was found along {travel} in "
+        if math.isfinite(x[iv]) and x[iv] > 0:  # an airspeed; a negative one would reverse the airloads
+            found.append(x)
+    if not found:
+        raise InputError("quasi-static", f"no equilibrium with a positive {vary} was found along {travel} in "
                                          f"[{lo:g}, {hi:g}]: the gear cannot hang anywhere in its travel")
-    opts = options or ContinuationOptions(bounds={travel: (lo, hi)}, max_steps=4000)
+    x = (min if side == "min" else max)(found, key=lambda y: y[iv])
+    # continued from the sample nearest the extreme; bounded in vary so that the branch does not run off
+    # through a pose where the airload has no lever (there vary goes to infinity)
+    top = 4.0 * float(x[iv]) if side == "min" else math.inf
+    opts = options or ContinuationOptions(bounds={travel: (lo, hi), vary: (0.0, top)}, max_steps=2000)
     branch = continuation(model, x, travel, free=[vary], options=opts)
     column, poses = branch[vary], branch[travel]
     k = int(np.argmin(column) if side == "min" else np.argmax(column))
@@ -389,7 +395,8 @@ def quasi_static_critical(system, travel: str, start_value: float, lock_value: f
     width = hi - lo
     if min(pose - lo, hi - pose) > 1e-6 * width:  # inside the travel: a fold in vary, polished
         fx, _, _ = locate_fold(model, branch.values[k], vary)
-        value, pose, fold = float(fx[model.index(vary)]), float(fx[model.index(travel)]), True
+        if lo <= fx[model.index(travel)] <= hi:
+            value, pose, fold = float(fx[iv]), float(fx[model.index(travel)]), True
     return QuasiStaticCritical(vary, value, pose, fold, branch)
 
 
