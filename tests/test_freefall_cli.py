@@ -82,3 +82,14 @@ def test_bad_input_is_one_line_and_writes_nothing(run, tmp_path, args, words):
     res = run("freefall", PATH, *args, "--out", out)
     one_line_error(res, *words)
     assert not out.exists() and not fig.exists()
+
+
+def test_shipped_example_checks_clean_and_locks(run):
+    res = run("check", "examples/freefall_leg.toml")
+    assert res.exit_code == 0, res.output
+    assert "findings: none" in res.output and "downlock  max of angle = 4.45 rad: in contact" in res.output
+    res = run("freefall", "examples/freefall_leg.toml", "--from", "angle=3.0", "--lock", "downlock", "--until", 5,
+              "--set", "U=40")
+    assert res.exit_code == 0, res.output
+    assert "outcome: locked (lock: stop downlock)" in res.output
+    assert "peak damper tension actuator: " in res.output
