@@ -36,3 +36,11 @@ def test_paper_section_reports_the_critical_airspeed(tmp_path):
     low, high = (float(v) for v in dyn.split("bracket [")[1].split("]")[0].split(", "))
     assert low <= sr <= high  # a run locks exactly when its contact reaction is positive: below SR
     assert (tmp_path / "freefall_nose_gear.png").stat().st_size > 0
+
+
+def test_the_paper_pendulum_is_the_tested_one():
+    """The damping study of the paper uses the pendulum whose closed forms tests/test_freefall.py checks."""
+    from mechcont.paper.freefall import PENDULUM
+
+    with open("tests/data/freefall_pendulum.toml") as fh:
+        assert PENDULUM == fh.read()

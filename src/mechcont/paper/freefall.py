@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["run", "description_text", "AIRSPEEDS"]
+__all__ = ["run", "description_text", "AIRSPEEDS", "PENDULUM"]
 
 #: Airspeeds (m/s) of the freefall runs.
 AIRSPEEDS = (0.0, 25.0, 50.0, 75.0, 100.0, 125.0)
@@ -71,6 +71,77 @@ _RETRACTED = (('initial = { theta = -0.678 }', 'initial = { theta = 0.15 }'),
               ('hold = { theta4 = 0.0 }', 'hold = { theta3 = 0.2 }'))
 
 
+#: A gear leg as a pendulum with a closed-form stall fold (the same file as tests/data/freefall_pendulum.toml,
+#: whose header derives U_c = sqrt(2 m g / (rho C_D d L))): the critical airspeed against damping.
+PENDULUM = '''# A gear leg as a pendulum: a uniform bar (mass m, length L) hinged at O, held up by an uplock at
+# theta = beta (rad) and released at rest, falls under gravity to the downlock at theta = -beta.
+# The air moves up at U (alpha = pi/2), so the drag on the bar, 1/2 rho C_D d L U^2 cos^2(theta) at
+# its midpoint, opposes the fall. The net moment about O is
+#   (L/2) cos(theta) (k U^2 cos(theta) - m g),   k = rho C_D d L / 2,
+# so the equilibria the leg could hang in satisfy cos(theta) = m g / (k U^2): a branch with a fold
+# at theta = 0, U_c = sqrt(2 m g / (rho C_D d L)) (the quasi-static critical airspeed). A hydraulic
+# damper from the ground point G = (0, 2L) to the tip slows the fall (tests/test_freefall.py).
+[mechanism]
+name = "freefall_pendulum"
+description = "a gear leg released from its uplock, falling against an upward airflow onto its downlock"
+
+[parameters]
+m = { value = 10.0, unit = "kg" }
+L = { value = 1.0, unit = "m" }
+g = { value = 9.81, unit = "m/s^2" }
+beta = { value = 1.0, unit = "rad", description = "uplock angle; the downlock is at -beta" }
+rho = { value = 1.225, unit = "kg/m^3" }
+C_D = { value = 1.2, unit = "1" }
+d = { value = 0.2, unit = "m" }
+U = { value = 20.0, unit = "m/s", description = "airspeed" }
+alpha = { value = 1.5707963267948966, unit = "rad", description = "the air moves up" }
+c = { value = 0.0, unit = "N s/m", description = "damper coefficient" }
+
+[ground]
+O = [0, 0]
+G = [0, "2*L"]
+
+[bodies.leg]
+mass = "m"
+cg = ["L/2", 0]
+length = "L"
+points = { tip = ["L", 0] }   # hinged at its frame origin: the tip is at L from the hinge
+initial = { theta = 0.3 }
+
+[joints.pin]
+type = "revolute"
+a = "ground.O"
+b = "leg.origin"
+
+[dampers.retraction]
+a = "ground.G"
+b = "leg.tip"
+c = "c"
+
+[gravity]
+g = "g"
+
+[loads.air]
+type = "drag"
+body = "leg"
+start = "origin"
+end = "tip"
+
+[conditions]
+angle = { type = "angle", bodies = ["ground", "leg"] }
+
+[stops.uplock]
+condition = "angle"
+max = "beta"
+
+[stops.downlock]
+condition = "angle"
+min = "-beta"
+'''
+#: Damper coefficients (N s/m) of the study, the bisection bracket (m/s), tolerance and run length (s).
+DAMPERS, PENDULUM_BRACKET, PENDULUM_TOL, PENDULUM_UNTIL = (1.0, 2.0, 5.0, 10.0, 20.0), (24.0, 30.0), 0.01, 100.0
+
+
 def description_text() -> str:
     """The nose gear's description with the damper, the stops and the retracted pose (TOML)."""
     from ..mechanism import find_description
@@ -104,6 +175,40 @@ def _figure(runs, path: Path) -> None:
     ax.legend(loc="lower right")
     fig.tight_layout()
     save_figure(fig, path)
+
+
+def _damping_study(out_dir: Path, timings: dict) -> list[str]:
+    """Dynamic critical airspeed of :data:`PENDULUM` against its damper, beside the closed-form fold."""
+    from ..dynamics.freefall import critical_airspeed, critical_figure, quasi_static_critical
+    from ..models import model_from_text
+    from ..outputs.plotting import save_figure
+
+    system = model_from_text(PENDULUM, "freefall_pendulum.toml")
+    closed = math.sqrt(2 * 10.0 * 9.81 / (1.225 * 1.2 * 0.2 * 1.0))
+    qs = quasi_static_critical(system, "angle", 1.0, -1.0, "U")
+    crits = []
+    for c in DAMPERS:
+        t0 = time.perf_counter()
+        crits.append(critical_airspeed(system, {"angle": 1.0}, "U", *PENDULUM_BRACKET, tol=PENDULUM_TOL,
+                                       lock="downlock", until=PENDULUM_UNTIL, values={"c": c}))
+        timings[f"freefall: pendulum critical airspeed at c = {c:g} N s/m"] = time.perf_counter() - t0
+    fig = critical_figure(DAMPERS, [k.value for k in crits], qs.value, damping_label="damper c (N s/m)",
+                          airspeed_label="critical airspeed U (m/s)",
+                          title="Gear leg (pendulum) freefall: dynamic vs quasi-static")
+    save_figure(fig, out_dir / "freefall_critical_vs_damping.png")
+    lines = ["### Critical airspeed against damping (a gear leg with a closed-form fold)", "",
+             "A gear leg as a pendulum (`tests/data/freefall_pendulum.toml`: 10 kg, 1 m, released at 57 deg above "
+             "the horizontal, locked at 57 deg below) falls against the drag of an upward airflow, which holds it up "
+             "best at the horizontal: its stall equilibria fold at U_c = sqrt(2 m g / (rho C_D d L)) = "
+             f"{closed:.4f} m/s. Continuation finds the fold at {qs.value:.4f} m/s. Bisection on freefall runs "
+             f"({PENDULUM_UNTIL:g} s each, to {PENDULUM_TOL:g} m/s):", "",
+             "| damper c (N s/m) | dynamic critical U (m/s) | above the fold (%) |", "|---|---|---|"]
+    lines += [f"| {c:g} | {k.value:.3f} | {100 * (k.value - qs.value) / qs.value:+.2f} |" for c, k in zip(DAMPERS, crits)]
+    lines += ["", "Lightly damped, the leg's momentum carries it over the airload's hump: it locks above the "
+              "quasi-static critical airspeed. Heavily damped, it creeps through the hump and the dynamic value "
+              "converges to the fold (a run near it creeps for a time growing without bound, so a finite run "
+              "length leaves it a little below).", "", "![critical vs damping](freefall_critical_vs_damping.png)", ""]
+    return lines
 
 
 def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[str]:
@@ -174,4 +279,5 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
                     "lock links come down but hover just short of their stop, unlocked (still moving at the end "
                     "of the run: timed out).")
     lines += ["", "![nose gear freefall](freefall_nose_gear.png)", ""]
+    lines += _damping_study(out_dir, timings)
     return lines
