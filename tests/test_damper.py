@@ -91,3 +91,47 @@ def test_unknown_damper_key_is_refused():
     text = open(PATH).read().replace('c2 = "c2"', 'c3 = "c2"')
     with pytest.raises(InputError, match=r"dampers\.retraction\.c3"):
         model_from_text(text, "bad_damper.toml")
+
+
+def _power_check(system, x, qd, damper, c, c2):
+    """(Q(x, qd) - Q(x, 0)) . qd against -(c v + c2 v|v|) v, v = dl/dt from the damper's drawn ends."""
+    mech = system.mechanics
+    Qd = mech.applied_forces(x, qd) - mech.applied_forces(x, np.zeros_like(qd))
+    q_index = np.array([system.index(n) for n in mech.coordinates])
+
+    def length(y):
+        (a, b), = [(a, b) for name, a, b in system.scene(y).dampers if name == damper]
+        return float(np.linalg.norm(np.asarray(b) - np.asarray(a)))
+
+    h = 1e-6
+    xp, xm = x.copy(), x.copy()
+    xp[q_index] += h * qd
+    xm[q_index] -= h * qd
+    v = (length(xp) - length(xm)) / (2 * h)
+    assert abs(v) > 1e-3  # the damper strokes
+    assert Qd @ qd == pytest.approx(-(c * v + c2 * v * abs(v)) * v, rel=1e-8)
+
+
+def test_planar_damper_power_is_minus_tension_times_rate():
+    system = load_model(PATH)
+    x = assemble(system, {"theta_bar": 0.4}, hold=["theta_bar"])
+    _power_check(system, x, np.array([0.3, -0.7, 1.9]), "retraction", C, C2)
+
+
+def test_spatial_damper_takes_the_quadratic_term():
+    """The spatial worked example's damper with c2 added: the same law along the 3-D distance."""
+    import re
+
+    from mechcont.mechanism import parse_description
+
+    doc = open("docs/spatial-format.md").read()
+    (text,) = re.findall(r"```toml\n(.*?)```", doc.split("## Worked example")[1], re.S)
+    name = re.search(r"\[dampers\.(\w+)\]", text).group(1)
+    text = re.sub(rf"(\[dampers\.{name}\]\n(?:.*\n)*?c = [^\n]*\n)", r"\1c2 = 7000.0\n", text, count=1)
+    assert "c2 = 7000.0" in text
+    system = parse_description(text, "side_brace.toml").build()
+    x = system.defaults()
+    c = re.search(rf"\[dampers\.{name}\]\n(?:.*\n)*?c = ([^\n]*)\n", text).group(1).strip('"')
+    c = float(c) if c[0].isdigit() else float(x[system.index(c)])  # a number or a parameter's name
+    qd = np.random.default_rng(3).normal(size=len(system.mechanics.coordinates))
+    _power_check(system, x, qd, name, c, 7000.0)
