@@ -116,17 +116,21 @@ def damper_tensions(system, result: SimulationResult, h: float = 1e-7) -> dict[s
         ends = {name: (a, b) for name, a, b in system.scene(x).dampers}
         return {n: float(np.linalg.norm(np.asarray(b) - np.asarray(a))) for n, (a, b) in ends.items()}
 
+    coefficients: dict[tuple, list[tuple[float, float]]] = {}  # per parameter vector (they may vary in time)
     for i in range(len(result)):
         x = result.values[i]
-        p = {**params, **{n: float(x[system.index(n)]) for n in params}}
+        p = {n: float(x[system.index(n)]) for n in params}
+        key = tuple(p.values())
+        if key not in coefficients:
+            coefficients[key] = [(evaluate(mech.value(f"dampers.{d.name}.c"), p, f"dampers.{d.name}.c"),
+                                  evaluate(mech.value(f"dampers.{d.name}.c2"), p, f"dampers.{d.name}.c2"))
+                                 for d in dampers]
         xp, xm = x.copy(), x.copy()
         xp[q_index] += h * result.qdot[i]
         xm[q_index] -= h * result.qdot[i]
         lp, lm = lengths(xp), lengths(xm)
-        for d in dampers:
-            f = f"dampers.{d.name}"
+        for d, (c, c2) in zip(dampers, coefficients[key]):
             v = (lp[d.name] - lm[d.name]) / (2 * h)
-            c, c2 = evaluate(mech.value(f + ".c"), p, f + ".c"), evaluate(mech.value(f + ".c2"), p, f + ".c2")
             out[d.name][i] = c * v + c2 * v * abs(v)
     return out
 
