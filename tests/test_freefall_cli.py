@@ -68,6 +68,7 @@ def test_critical_airspeed_with_scan_writes_table_and_figure(run, tmp_path):
     (["--from", "angle=1", "--until", 1, "--lock", "nope"], ["--lock", "unknown stop 'nope'"]),
     (["--from", "phi=1", "--until", 1, "--lock", "downlock"], ["--from", "phi is not"]),
     (["--until", 1, "--lock", "downlock"], ["--from"]),
+    (["--from", "angle=1.2", "--until", 1, "--lock", "downlock"], ["--from", "past the limit of stop uplock"]),
     (["--from", "angle=1", "--until", -1, "--lock", "downlock"], ["--until"]),
     (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--critical", "U=30"], ["--critical", "NAME=LO:HI"]),
     (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--critical", "V=1:2"], ["--critical", "V is not"]),
