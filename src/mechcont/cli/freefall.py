@@ -87,8 +87,8 @@ def freefall_command(model, starts, settings, lock, lock_condition, until, criti
                      rest_speed, out, plot):
     """Release MODEL at rest from the retracted pose and simulate it with its stops until it locks.
 
-    Example: mechcont freefall examples/freefall_leg.toml --from angle=1.0 --lock downlock
-    --until 10 --set U=30
+    Example: mechcont freefall examples/freefall_leg.toml --from angle=3.0 --lock downlock
+    --until 10 --set U=40
 
     Prints the outcome (locked, stalled: at rest short of locking, timed out), the time to lock,
     the impact speed at the lock, the peak damper tensions and stop reactions. With --critical
