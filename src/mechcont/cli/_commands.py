@@ -8,6 +8,7 @@ from . import (  # noqa: F401,E401  (mechcont models, continue, folds)
     equations,  # noqa: F401  (mechcont equations)
     explore,  # noqa: F401  (mechcont explore)
     folds,
+    freefall,  # noqa: F401  (mechcont freefall)
     models,
     optimize,  # noqa: F401  (mechcont optimize)
     paper,  # noqa: F401  (mechcont paper)

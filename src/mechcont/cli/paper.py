@@ -20,6 +20,7 @@ SECTIONS = [
 #: Sections run only when named in --only (beyond the 2010 paper): module, title.
 EXTRA_SECTIONS = [
     ("dual_sidestay", "dual-sidestay main gear: retraction, actuator load, lock-up, downlock and unlock loads"),
+    ("freefall", "nose gear freefall: released from the uplock, outcome and loads against airspeed"),
 ]
 
 

@@ -93,6 +93,21 @@ def _gaps(result, branch) -> list[str]:
     return out
 
 
+def _print_stop_loads(system, result) -> None:
+    """One line per stop event of a sweep with stops: time, kind, stop and the ramped load there."""
+    name = result.ramps[0].name
+    unit = system.variable(name).unit
+    if not result.stop_events:
+        click.echo("no stop event")
+    for ev in result.stop_events:
+        load = float(result[name][ev.row])
+        click.echo(f"{ev.describe()}  at {name} = {load:.6g} {unit}".rstrip())
+    for kind in ("contact", "release"):
+        loads = result.stop_loads(kind)
+        if loads:
+            click.echo(f"{kind} loads: " + ", ".join(f"{v:.6g}" for v in loads) + f" {unit}".rstrip())
+
+
 @cli.command("sweep")
 @click.argument("model")
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
@@ -112,9 +127,12 @@ def _gaps(result, branch) -> list[str]:
 @click.option("--branch", "branch_csv", default=None, metavar="BRANCH.csv",
               help="A continuation branch in the ramped parameter (mechcont continue --out): drawn under the sweep, "
                    "and each jump is paired with the fold it follows (the gap printed).")
+@click.option("--stops", "use_stops", is_flag=True,
+              help="Simulate the description's stops (impacts, contact with its reaction, release) and print the "
+                   "ramped load at each contact and release.")
 @click.option("--quiet", is_flag=True, help="No progress bar.")
 def sweep_command(model, settings, starts, ramps, watch, damping, settle, equilibrium, through, rtol, out, plot,
-                  branch_csv, quiet):
+                  branch_csv, use_stops, quiet):
     """Ramp loads of MODEL slowly in a time simulation and report where WATCH jumps.
 
     Example: mechcont sweep overcentre --set LU=0.4 --set c=50 --start theta1=1.2
@@ -150,12 +168,17 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
         from ..continuation import find_equilibrium
 
         x0 = find_equilibrium(system, values={n: x0[system.index(n)] for n in system.parameter_names}, guess=x0)
+    if use_stops:
+        from ..equations import as_model
+
+        if not as_model(system).stops:
+            raise InputError("--stops", f"{system.name} declares no stops ([stops.NAME] in the description)")
     total = settle + sum(r.duration for r in segs)
     from .._progress import Progress
 
     with Progress("sweep", total=total, unit="s simulated", quiet=quiet) as bar:
         result = sweep(system, x0, segs, watch=watch, damping=damping, settle=settle, through=through, rtol=rtol,
-                       progress=bar.set if bar.enabled else None)
+                       progress=bar.set if bar.enabled else None, stops=use_stops)
     if not system.mechanics.stability(x0).stable:  # said after sweep(), which reports bad input first
         a = _shown(system, watch, x0[system.index(watch)])
         click.echo(f"warning: the sweep starts at an unstable equilibrium ({watch} = {a[0]:.6g} {a[1]}".rstrip()
@@ -171,6 +194,8 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     if not result.jumps:
         click.echo(f"no jump of {watch} detected")
     gaps = _gaps(result, branch)
+    if use_stops:
+        _print_stop_loads(system, result)
     for i, j in enumerate(result.jumps, 1):
         word = "increasing" if j.direction > 0 else "decreasing"
         a, b = _shown(system, watch, j.before[watch]), _shown(system, watch, j.after[watch])

@@ -169,13 +169,15 @@ class Spring:
 
 @dataclass(frozen=True)
 class Damper:
-    """A linear damper between points ``a`` and ``b``: tension ``c dl/dt`` (N), ``c`` >= 0 (N s/m).
-    Only the dynamic model feels it (zero at rest)."""
+    """A hydraulic damper between points ``a`` and ``b``: tension ``c v + c2 v |v|`` (N) with
+    ``v = dl/dt`` (m/s), ``c`` >= 0 (N s/m, linear), ``c2`` >= 0 (N s^2/m^2, quadratic: a restrictor
+    orifice). Only the dynamic model feels it (zero at rest); see :mod:`._dampers`."""
 
     name: str
     a: str
     b: str
     c: Value
+    c2: Value = 0
 
 
 @dataclass(frozen=True)
@@ -585,6 +587,7 @@ class Mechanism:
             yield f"springs.{s.name}.preload", s.preload
         for d in self.dampers:
             yield f"dampers.{d.name}.c", d.c
+            yield f"dampers.{d.name}.c2", d.c2
         for k, v in self.hold.items():
             yield f"assembly.hold.{k}", v
         for act in self.actuators:

@@ -11,7 +11,7 @@ Layout (every number may be an expression string in the parameter names)::
     [joints.NAME]          type = "revolute" | "slider" | "prismatic" | "weld", a, b,
                            angle (slider line / weld offset), relative_angle (prismatic)
     [springs.NAME]         a, b, k, free_length, preload
-    [dampers.NAME]         a, b, c
+    [dampers.NAME]         a, b, c, c2 (tension c v + c2 v|v|, v = dl/dt)
     [gravity]              g, angle (default -pi/2)
     [loads.NAME]           type = "force": at, magnitude, direction ([x, y] or angle)
                            type = "moment": body, magnitude
@@ -89,7 +89,7 @@ KEYS: dict[str, frozenset[str]] = {
     "bodies.NAME": frozenset({"mass", "length", "inertia", "cg", "points", "initial", "description"}),
     "bodies.NAME.points.NAME": frozenset({"r", "angle"}),
     "springs.NAME": frozenset({"a", "b", "k", "free_length", "preload"}),
-    "dampers.NAME": frozenset({"a", "b", "c"}),
+    "dampers.NAME": frozenset({"a", "b", "c", "c2"}),
     "gravity": frozenset({"g", "angle"}),
     "assembly": frozenset({"hold"}),
     "stops.NAME": STOP_KEYS,

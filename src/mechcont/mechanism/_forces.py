@@ -3,17 +3,19 @@
 Conservative loads (gravity, springs, force-mode actuators, fixed-direction point forces and
 pure moments whose magnitudes are parameters) enter through the potential ``V``; the generalised forces are
 ``Q = -dV/dq + Q_nc`` where ``Q_nc`` collects drag, custom loads (virtual work
-``f . dP/dq + M dtheta/dq``) and dampers (``-c dl/dt dl/dq``, using the velocity symbols).
+``f . dP/dq + M dtheta/dq``) and dampers (``-(c v + c2 v|v|) dl/dq``, ``v = dl/dt``, using the velocity symbols).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import sympy as sp
 
 from ..equations import velocity_symbol
 from ._actuators import actuator_potential
+from ._dampers import damper_forces
 from ._description import CustomLoad, Drag, Moment, PointForce
 from ._kinematics import Kinematics
 
@@ -63,12 +65,7 @@ def loads(kin: Kinematics) -> Loads:
         V += pre * length + k / 2 * (length - l0) ** 2
     V += actuator_potential(kin)
     qd = [velocity_symbol(n) for n in kin.coords]
-    for d in mech.dampers:
-        c = mech.value(f"dampers.{d.name}.c")
-        length = _length(kin, d.a, d.b)
-        grad = [sp.diff(length, qi) for qi in kin.q]
-        rate = sum((gi * vi for gi, vi in zip(grad, qd)), sp.S.Zero)
-        Q_nc = [Qi - c * rate * gi for Qi, gi in zip(Q_nc, grad)]
+    Q_nc = [a + b for a, b in zip(Q_nc, damper_forces(mech, kin, partial(_length, kin), kin.q, qd))]
     for ld in mech.loads:
         f = f"loads.{ld.name}"
         if isinstance(ld, PointForce):

@@ -109,6 +109,7 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
         need(f"springs.{s.name}.free_length", True, "free length (m)")
     for d in mech.dampers:
         need(f"dampers.{d.name}.c", False, "damping (N s/m)")
+        need(f"dampers.{d.name}.c2", False, "quadratic damping (N s^2/m^2)")
     for ld in mech.loads:
         if isinstance(ld, Drag):
             f = f"loads.{ld.name}"

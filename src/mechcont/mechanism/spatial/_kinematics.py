@@ -17,6 +17,7 @@ import sympy as sp
 from ...equations import velocity_symbol
 from ...equations._codegen import gradient
 from .._actuators import actuator_rows
+from .._dampers import damper_forces
 from .._expr import symbol
 from .._forces import DRAG_SMOOTHING, Loads
 from .._values import parameter_values
@@ -172,12 +173,7 @@ def spatial_loads(kin: SpatialKinematics) -> Loads:
         V += pre * length + k / 2 * (length - l0) ** 2
     V += actuator_potential(kin)
     qd = [velocity_symbol(n) for n in kin.coords]
-    for d in mech.dampers:
-        c = mech.value(f"dampers.{d.name}.c")
-        length = norm(kin.point(d.b) - kin.point(d.a))
-        grad = [sp.diff(length, qi) for qi in kin.q]
-        rate = sum((gi * vi for gi, vi in zip(grad, qd)), sp.S.Zero)
-        Q_nc = [Qi - c * rate * gi for Qi, gi in zip(Q_nc, grad)]
+    Q_nc = _add(Q_nc, damper_forces(mech, kin, lambda a, b: norm(kin.point(b) - kin.point(a)), kin.q, qd))
     for ld in mech.loads:
         f = f"loads.{ld.name}"
         if isinstance(ld, SpatialMoment):

@@ -35,6 +35,7 @@ def spatial_limits(mech: SpatialMechanism, *, solve: bool = True) -> list[Limit]
         need(f"springs.{s.name}.free_length", True, "free length (m)")
     for d in mech.dampers:
         need(f"dampers.{d.name}.c", False, "damping (N s/m)")
+        need(f"dampers.{d.name}.c2", False, "quadratic damping (N s^2/m^2)")
     for act in mech.actuators:
         if act.length is not None:
             need(f"actuators.{act.name}.length", True, "actuator length (m)")

@@ -1,0 +1,231 @@
+"""``mechcont freefall``: release at rest from the uplock, simulate with the stops until locked, stalled
+or timed out; the critical airspeed by bisection, beside its quasi-static predictor."""
+
+from __future__ import annotations
+
+import math
+
+import click
+
+from ..errors import InputError
+from ._app import cli
+from ._parse import assignments, number
+from .simulate import MAX_SECONDS
+
+
+def _range(text: str | None, option: str) -> tuple[str, float, float] | None:
+    """``"U=20:80"`` -> ``("U", 20.0, 80.0)``."""
+    if text is None:
+        return None
+    name, sep, rng = text.partition("=")
+    lo, colon, hi = rng.partition(":")
+    name = name.strip()
+    if not sep or not name or not colon:
+        raise InputError(option, f"'{text}' is not NAME=LO:HI")
+    low, high = number(lo.strip(), f"{option} {name}"), number(hi.strip(), f"{option} {name}")
+    if not low < high:
+        raise InputError(option, f"needs LO < HI, got {lo}:{hi}")
+    return name, low, high
+
+
+def _scan(text: str | None) -> tuple[str, list[float]] | None:
+    """``"c=1,10,100"`` -> ``("c", [1.0, 10.0, 100.0])``."""
+    if text is None:
+        return None
+    name, sep, vals = text.partition("=")
+    name = name.strip()
+    items = [v.strip() for v in vals.split(",") if v.strip()]
+    if not sep or not name or not items:
+        raise InputError("--scan", f"'{text}' is not NAME=V1,V2,...")
+    return name, [number(v, f"--scan {name}") for v in items]
+
+
+def _lock(system, lock: str | None, lock_condition: str | None):
+    """The lock of :func:`~mechcont.dynamics.freefall.freefall` from the two options (exactly one)."""
+    if (lock is None) == (lock_condition is None):
+        raise InputError("--lock", "give exactly one of --lock STOP and --lock-condition NAME=VALUE")
+    if lock is not None:
+        return lock
+    assert lock_condition is not None
+    ((name, value),) = assignments([lock_condition], "lock-condition").items()
+    if name not in system.names or system.variable(name).kind != "state":
+        raise InputError("--lock-condition", f"{name} is not a coordinate or condition of {system.name}")
+    return name, value
+
+
+def _option_error(exc: InputError) -> InputError:
+    """An error from the library, named by the option that gave the value."""
+    option = {"x0": "--from", "rtol": "--rtol", "damping": "--damping", "lock": "--lock", "critical": "--critical",
+              "tol": "--tol", "until": "--until"}.get(exc.field)
+    return exc if option is None else InputError(option, str(exc).split(": ", 1)[-1])
+
+
+@cli.command("freefall")
+@click.argument("model")
+@click.option("--from", "starts", multiple=True, metavar="NAME=VALUE",
+              help="The retracted pose: coordinate or condition held while assembling (the uplock); released at rest.")
+@click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
+@click.option("--lock", default=None, metavar="STOP", help="The lock stop: locked when in contact and at rest.")
+@click.option("--lock-condition", default=None, metavar="NAME=VALUE",
+              help="Locked when this coordinate or condition reaches VALUE (instead of --lock).")
+@click.option("--until", type=float, required=True, metavar="SECONDS", help="Longest simulated time (s).")
+@click.option("--critical", default=None, metavar="V=LO:HI",
+              help="Find the critical value of parameter V (an airspeed) in [LO, HI] by bisection on runs.")
+@click.option("--tol", type=float, default=None, help="Bisection tolerance (units of V; default (HI-LO)/1000).")
+@click.option("--scan", default=None, metavar="NAME=V1,V2,...",
+              help="With --critical: the critical value at each value of parameter NAME (e.g. a damper's c).")
+@click.option("--damping", default=0.0, show_default=True, help="Mass-proportional damping (1/s).")
+@click.option("--rtol", default=1e-8, show_default=True, help="Integrator relative tolerance.")
+@click.option("--rest-speed", default=1e-4, show_default=True,
+              help="Coordinate speed (rad/s, m/s) below which a run that has not locked has stalled.")
+@click.option("--out", default=None, metavar="FILE.csv",
+              help="The time history (one run), or the critical values (with --critical).")
+@click.option("--plot", default=None, metavar="FILE.png",
+              help="The lock quantity against time (one run), or the critical value against the --scan parameter "
+                   "with the quasi-static line.")
+def freefall_command(model, starts, settings, lock, lock_condition, until, critical, tol, scan, damping, rtol,
+                     rest_speed, out, plot):
+    """Release MODEL at rest from the retracted pose and simulate it with its stops until it locks.
+
+    Example: mechcont freefall examples/freefall_leg.toml --from angle=3.0 --lock downlock
+    --until 10 --set U=40
+
+    Prints the outcome (locked, stalled: at rest short of locking, timed out), the time to lock,
+    the impact speed at the lock, the peak damper tensions and stop reactions. With --critical
+    V=LO:HI it bisects for the value of V where the outcome changes, and prints beside it the
+    quasi-static prediction: the fold of the equilibria the gear could hang in on its way.
+    """
+    from .._io import check_output_path
+    from ..models import load_model
+    from ..outputs.plotting import FIGURE_SUFFIXES
+
+    out_path = check_output_path(out, "--out", (".csv",))
+    plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
+    if not (math.isfinite(until) and 0 < until <= MAX_SECONDS):
+        raise InputError("--until", f"must be a number of seconds, 0 < SECONDS <= {MAX_SECONDS:g}, got {until:g}")
+    start = assignments(starts, "from")
+    if not start:
+        raise InputError("--from", "give the retracted pose, e.g. --from angle=1.2 (a coordinate or condition)")
+    rng, scanned = _range(critical, "--critical"), _scan(scan)
+    if scanned is not None and rng is None:
+        raise InputError("--scan", "needs --critical V=LO:HI (the scan repeats the bisection)")
+    if plot_path is not None and rng is not None and scanned is None:
+        raise InputError("--plot", "with --critical the figure is against a --scan parameter: give --scan NAME=V1,...")
+    system = load_model(model, **assignments(settings, "set"))
+    if system.mechanics is None:
+        raise InputError("model", f"'{model}' has no mechanics (masses, forces): it cannot be simulated")
+    for n in start:
+        if n not in system.names or system.variable(n).kind != "state":
+            raise InputError("--from", f"{n} is not a coordinate or condition of {system.name}")
+    for n in [*([rng[0]] if rng else []), *([scanned[0]] if scanned else [])]:
+        if n not in system.names or system.variable(n).kind != "parameter":
+            raise InputError("--critical" if rng and n == rng[0] else "--scan",
+                             f"{n} is not a parameter of {system.name}; valid: {', '.join(system.parameter_names)}")
+    lock_spec = _lock(system, lock, lock_condition)
+    options = {"damping": damping, "rtol": rtol, "rest_speed": rest_speed}
+    try:
+        if rng is None:
+            _one(system, start, lock_spec, until, options, out_path, plot_path)
+        else:
+            _critical(system, start, lock_spec, until, options, rng, tol, scanned, out_path, plot_path)
+    except InputError as exc:
+        raise _option_error(exc) from None
+
+
+def _one(system, start, lock, until, options, out_path, plot_path) -> None:
+    from ..dynamics.freefall import freefall
+
+    run = freefall(system, start, lock=lock, until=until, **options)
+    h = run.history
+    name = lock if isinstance(lock, str) else lock[0]
+    stop = next((s for s in _stops(system) if s.name == name), None)
+    watch = stop.condition if stop is not None else name
+    units = {s.reaction: system.variable(s.reaction).unit for s in _stops(system)}
+    units = {**{s.name: units[s.reaction] for s in _stops(system)},
+             "lock_rate": f"{system.variable(watch).unit or '1'}/s"}
+    click.echo(f"# {system.name}: released at rest from {', '.join(f'{k} = {v:g}' for k, v in start.items())}; "
+               f"{h.t[-1]:.6g} s simulated, {len(h)} rows")
+    if not h.success:
+        click.echo(f"# warning: {h.message}")
+    for line in run.describe(units):
+        click.echo(line)
+    if out_path is not None:
+        from .simulate import _labels
+
+        h.to_csv(out_path, labels=_labels(h, {s.name: system.variable(s.condition).unit for s in _stops(system)})
+                 if h.stop_events else None)
+        click.echo(f"wrote {out_path}")
+    if plot_path is not None:
+        from ..dynamics import history_figure
+        from ..outputs.plotting import save_figure
+
+        save_figure(history_figure(h, watch, title=f"{system.name}: freefall, {run.outcome}"), plot_path)
+        click.echo(f"wrote {plot_path}")
+
+
+def _stops(system):
+    from ..equations import as_model
+
+    return as_model(system).stops
+
+
+def _critical(system, start, lock, until, options, rng, tol, scanned, out_path, plot_path) -> None:
+    from ..dynamics.freefall import critical_airspeed, quasi_static_critical, travel_of
+
+    vary, low, high = rng
+    tol = (high - low) / 1000.0 if tol is None else tol
+    unit = system.variable(vary).unit
+    name, values = scanned if scanned is not None else (None, [math.nan])
+    rows = []
+    for v in values:
+        extra = {name: v} if name is not None else {}
+        crit = critical_airspeed(system, start, vary, low, high, tol=tol, lock=lock, until=until, values=extra,
+                                 **options)
+        where = f"{name} = {v:g}: " if name is not None else ""
+        which = "the largest that locks" if crit.locks_below else "the smallest that locks"
+        click.echo(f"{where}critical {vary} = {crit.value:.6g} {unit} ({which}; bracket [{crit.low:.6g}, "
+                   f"{crit.high:.6g}], {len(crit.runs)} runs)")
+        if crit.undecided:
+            click.echo(f"warning: {where}the failing end {vary} = {crit.high if crit.locks_below else crit.low:.6g} was "
+                       f"still moving at {until:g} s (timed out): a longer --until may lock it")
+        rows.append((v, crit))
+    travel, begin, end = travel_of(system, start, lock)
+    side = "min" if rows[0][1].locks_below else "max"
+    try:
+        qs = quasi_static_critical(system, travel, begin, end, vary, side=side)
+    except InputError as exc:
+        qs = None
+        click.echo(f"quasi-static: {str(exc).split(': ', 1)[-1]}")
+    if qs is not None:
+        kind = f"fold of the stall branch at {travel} = {qs.pose:.6g}" if qs.fold else f"at the end {travel} = {qs.pose:.6g}"
+        click.echo(f"quasi-static critical {vary} = {qs.value:.6g} {unit} ({kind})")
+        for v, crit in rows:
+            where = f"{name} = {v:g}: " if name is not None else ""
+            click.echo(f"{where}dynamic - quasi-static = {crit.value - qs.value:+.4g} {unit} "
+                       f"({(crit.value - qs.value) / qs.value:+.3%})")
+    if out_path is not None:
+        import csv
+
+        from .._io import atomic_write
+
+        def write(tmp):
+            with open(tmp, "w", newline="") as fh:
+                w = csv.writer(fh, lineterminator="\n")
+                w.writerow([*([name] if name else []), f"critical_{vary} [{unit}]", f"low [{unit}]", f"high [{unit}]",
+                            f"quasi_static [{unit}]"])
+                for v, crit in rows:
+                    w.writerow([*([repr(v)] if name else []), repr(crit.value), repr(crit.low), repr(crit.high),
+                                repr(qs.value) if qs is not None else "nan"])
+
+        atomic_write(out_path, write)
+        click.echo(f"wrote {out_path}")
+    if plot_path is not None:
+        from ..dynamics.freefall import critical_figure
+        from ..outputs.plotting import save_figure
+
+        fig = critical_figure([v for v, _ in rows], [c.value for _, c in rows], qs.value if qs is not None else math.nan,
+                              damping_label=f"{name} ({system.variable(name).unit})".replace(" ()", ""),
+                              airspeed_label=f"critical {vary} ({unit})".replace(" ()", ""),
+                              title=f"{system.name}: freefall critical {vary} (runs of {until:g} s)")
+        save_figure(fig, plot_path)
+        click.echo(f"wrote {plot_path}")

@@ -1,0 +1,448 @@
+"""Freefall extension: released at rest from the uplock, does the gear fall out and lock?
+
+:func:`freefall` simulates a mechanism with its stops from rest in the retracted pose (an uplock
+release) until it locks (the lock stop in contact and at rest, or a lock condition reached),
+stalls (comes to rest short of locking: it hangs in an intermediate equilibrium, or back on the
+uplock) or the time runs out, and reports the time to lock, the impact speed at the lock, the
+peak damper tensions and the peak stop reactions.
+
+:func:`critical_airspeed` bisects on such runs for the airspeed (any parameter) where the outcome
+changes. :func:`quasi_static_critical` is the predictor beside it: the equilibria the gear could
+hang in between the retracted and the locked pose (the stall branch, continued in the pose with
+the airspeed solved for) and the airspeed at its fold, the value the dynamic critical airspeed
+tends to as the damping grows (a heavily damped gear creeps through the slowest point).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..equations import StopLimit
+from ..errors import InputError
+from ._events import Crossing
+from ._result import SimulationResult
+
+__all__ = ["FreefallResult", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
+           "quasi_static_critical", "damper_tensions", "critical_figure", "travel_of"]
+
+#: Outcomes of a freefall run.
+LOCKED, STALLED, TIMED_OUT, FAILED = "locked", "stalled", "timed out", "failed"
+
+
+@dataclass
+class FreefallResult:
+    """The outcome of one freefall simulation.
+
+    Attributes
+    ----------
+    outcome:
+        ``"locked"``, ``"stalled"`` (at rest short of locking), ``"timed out"`` (still moving at
+        ``until``) or ``"failed"`` (the integrator failed).
+    lock:
+        What counted as locked: ``"stop NAME"`` or ``"NAME = VALUE"``.
+    time_to_lock:
+        When it locked (s): the lock stop's last contact (or the condition reached); None otherwise.
+    impact_speed:
+        The rate of the lock stop's condition at its first impact, or of the lock condition when
+        reached (its unit per s); None when it did not get there.
+    peak_damper:
+        ``{damper: max |tension|}`` (N) over the history.
+    peak_reaction:
+        ``{stop: max reaction}`` (units of ``R_NAME``) over the history.
+    final_speed:
+        ``max |qdot|`` at the end (coordinate units per s).
+    history:
+        The :class:`SimulationResult`.
+    """
+
+    outcome: str
+    lock: str
+    time_to_lock: float | None
+    impact_speed: float | None
+    peak_damper: dict[str, float]
+    peak_reaction: dict[str, float]
+    final_speed: float
+    history: SimulationResult
+
+    @property
+    def locked(self) -> bool:
+        """True when the gear locked."""
+        return self.outcome == LOCKED
+
+    def describe(self, units: Mapping[str, str] | None = None) -> list[str]:
+        """Readable lines: outcome, time to lock, impact speed, peak loads (``units`` of the
+        stop reactions and the lock quantity's rate, by name)."""
+        units = units or {}
+        lines = [f"outcome: {self.outcome} (lock: {self.lock})"]
+        if self.time_to_lock is not None:
+            lines.append(f"time to lock: {self.time_to_lock:.6g} s")
+        if self.impact_speed is not None:
+            lines.append(f"impact speed at the lock: {self.impact_speed:.6g} {units.get('lock_rate', '1/s')}")
+        for name, v in self.peak_damper.items():
+            lines.append(f"peak damper tension {name}: {v:.6g} N")
+        for name, v in self.peak_reaction.items():
+            lines.append(f"peak stop reaction {name}: {v:.6g} {units.get(name, '')}".rstrip())
+        if self.outcome != LOCKED:
+            t, pose = self.history.t[-1], self.history.at(len(self.history) - 1)
+            lines.append(f"at t = {t:.6g} s: max speed {self.final_speed:.3g}, "
+                         + ", ".join(f"{c} = {pose[c]:.6g}" for c in self.history.coordinates))
+        return lines
+
+
+def damper_tensions(system, result: SimulationResult, h: float = 1e-7) -> dict[str, np.ndarray]:
+    """Tension (N) of every damper of ``system``'s description at every row of ``result``.
+
+    ``T = c v + c2 v |v|`` with ``v = dl/dt`` (see :mod:`mechcont.mechanism._dampers`): the
+    length ``l`` between the damper's drawn end points, its rate by a central difference along the
+    row's velocity (error ``O(h^2)``, relative ~1e-14 at the default ``h``).
+    """
+    from ..equations import as_model
+    from ..mechanism._values import evaluate
+
+    mech: Any = as_model(system).mechanism
+    dampers = list(getattr(mech, "dampers", ()))
+    if not dampers or system.scene is None:
+        return {}
+    params = {v.name: v.value for v in system.variables if v.kind == "parameter"}
+    q_index = np.array([system.index(c) for c in result.coordinates])
+    out = {d.name: np.zeros(len(result)) for d in dampers}
+
+    def lengths(x):
+        ends = {name: (a, b) for name, a, b in system.scene(x).dampers}
+        return {n: float(np.linalg.norm(np.asarray(b) - np.asarray(a))) for n, (a, b) in ends.items()}
+
+    coefficients: dict[tuple, list[tuple[float, float]]] = {}  # per parameter vector (they may vary in time)
+    for i in range(len(result)):
+        x = result.values[i]
+        p = {n: float(x[system.index(n)]) for n in params}
+        key = tuple(p.values())
+        if key not in coefficients:
+            coefficients[key] = [(evaluate(mech.value(f"dampers.{d.name}.c"), p, f"dampers.{d.name}.c"),
+                                  evaluate(mech.value(f"dampers.{d.name}.c2"), p, f"dampers.{d.name}.c2"))
+                                 for d in dampers]
+        xp, xm = x.copy(), x.copy()
+        xp[q_index] += h * result.qdot[i]
+        xm[q_index] -= h * result.qdot[i]
+        lp, lm = lengths(xp), lengths(xm)
+        for d, (c, c2) in zip(dampers, coefficients[key]):
+            v = (lp[d.name] - lm[d.name]) / (2 * h)
+            out[d.name][i] = c * v + c2 * v * abs(v)
+    return out
+
+
+def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None]:
+    """``(stop, None)`` for a lock stop's name, ``(None, (state, value))`` for a lock condition."""
+    from ..equations import as_model
+
+    stops = as_model(system).stops
+    if isinstance(lock, str):
+        by_name = {s.name: s for s in stops}
+        if lock not in by_name:
+            raise InputError("lock", f"unknown stop {lock!r}; stops of {system.name}: "
+                                     f"{', '.join(by_name) or 'none (declare [stops.NAME] in the description)'}")
+        return by_name[lock], None
+    try:
+        name, value = lock
+        value = float(value)
+    except (TypeError, ValueError):
+        raise InputError("lock", "give a stop's name or (condition, value)") from None
+    if name not in system.names or system.variable(name).kind != "state":
+        raise InputError("lock", f"{name} is not a state of {system.name} (a coordinate or a condition)")
+    if not math.isfinite(value):
+        raise InputError("lock", f"the lock value must be finite, got {value}")
+    return None, (str(name), value)
+
+
+def freefall(system, start: Mapping[str, float], *, lock, until: float, values: Mapping[str, float] | None = None,
+             damping: float = 0.0, rtol: float = 1e-8, atol: float = 1e-10, rest_speed: float = 1e-4,
+             max_step: float = math.inf) -> FreefallResult:
+    """Release ``system`` at rest in the pose ``start`` and simulate it with its stops until it locks.
+
+    Parameters
+    ----------
+    system:
+        A model with mechanics (a description with stops for ``lock`` = a stop).
+    start:
+        ``{coordinate or condition: value}`` held while the retracted pose is assembled (SI, rad).
+    lock:
+        The name of the lock stop (locked: in contact and at rest), or ``(state, value)``: locked
+        when that coordinate or condition reaches ``value`` (from the side it starts on).
+    until:
+        Longest simulated time (s).
+    values:
+        Parameter values (SI) overriding the model's, e.g. ``{"U": 60.0}``.
+    damping, rtol, atol, max_step:
+        As for :func:`~mechcont.dynamics.simulate`.
+    rest_speed:
+        A run that ends with every coordinate speed below this (rad/s, m/s) and not locked has
+        *stalled*; otherwise it has *timed out*.
+
+    Returns
+    -------
+    FreefallResult
+    """
+    from ..equations import as_model
+    from ._simulate import assemble, simulate
+
+    if not (math.isfinite(until) and until > 0):
+        raise InputError("until", f"must be a positive number of seconds, got {until}")
+    if not rest_speed > 0:
+        raise InputError("rest_speed", "must be positive")
+    model = as_model(system)
+    if values:
+        model = model.with_values(dict(values))
+    stop, target = _lock_spec(model, lock)
+    x0 = assemble(model, dict(start), hold=list(start))
+    events: Sequence = ()
+    if target is not None:
+        name, value = target
+        side = float(np.sign(value - x0[model.index(name)])) or 1.0
+        coordinates: Any = model.mechanics.coordinates  # type: ignore[attr-defined]
+        events = [Crossing(name, value, direction=int(side), terminal=True) if name in coordinates
+                  else _ConditionCrossing(model, name, value, int(side))]
+    stops = bool(model.stops)
+    result = simulate(model, x0, (0.0, float(until)), stops=stops, damping=damping, rtol=rtol, atol=atol,
+                      max_step=max_step, events=events)
+    speed = float(np.max(np.abs(result.qdot[-1]), initial=0.0))
+    t_lock = impact = None
+    if stop is not None:
+        evs = [ev for ev in result.stop_events if ev.stop == stop.name]
+        impacts = [ev for ev in evs if ev.kind == "impact"]
+        last = next((ev for ev in reversed(evs) if ev.kind in ("contact", "release")), None)
+        if last is not None and last.kind == "contact" and result.success and speed <= rest_speed:
+            t_lock = last.time
+        if impacts:
+            impact = impacts[0].speed
+        lock_text = f"stop {stop.name}"
+    else:
+        assert target is not None
+        name, value = target
+        lock_text = f"{name} = {value:g}"
+        if result.t_events and len(result.t_events[0]):
+            t_lock = float(result.t_events[0][0])
+            impact = abs(_rate(model, result, name, len(result) - 1))
+    if t_lock is not None:
+        outcome = LOCKED
+    elif not result.success:
+        outcome = FAILED
+    else:
+        outcome = STALLED if speed <= rest_speed else TIMED_OUT
+    tensions = damper_tensions(model, result)
+    reactions = {s.name: float(np.max(result[s.reaction], initial=0.0)) for s in model.stops} if stops else {}
+    return FreefallResult(outcome, lock_text, t_lock, impact, {n: float(np.max(np.abs(v), initial=0.0))
+                                                                 for n, v in tensions.items()},
+                          reactions, speed, result)
+
+
+class _ConditionCrossing:
+    """Terminal event: a description's condition (evaluated from the coordinates; the simulation
+    fills the condition columns only afterwards) passes ``value`` in ``direction``."""
+
+    terminal = True
+
+    def __init__(self, model, name: str, value: float, direction: int):
+        self.model, self.value, self.direction = model, value, direction
+        self.row = list(model.equation_names).index(f"cond_{name}")
+        self.index = model.index(name)
+
+    def __call__(self, t, x, qd) -> float:
+        y = np.array(x, float)
+        y[self.index] = 0.0
+        return float(self.model.residual(y)[self.row]) - self.value
+
+
+def _rate(model, result: SimulationResult, name: str, i: int) -> float:
+    """d(name)/dt at row ``i``: a coordinate's velocity, or a condition's ``grad c . qdot``."""
+    if name in result.coordinates:
+        return float(result.qdot[i, result.coordinates.index(name)])
+    rows = list(model.equation_names)
+    k = rows.index(f"cond_{name}")
+    _, J = model.residual_and_jacobian(result.values[i])
+    q_index = np.array([model.index(c) for c in result.coordinates])
+    return float(J[k, q_index] @ result.qdot[i])
+
+
+@dataclass
+class CriticalAirspeed:
+    """The airspeed where the freefall outcome changes, bracketed by dynamic runs.
+
+    ``value`` is the middle of the final bracket ``(low, high)``, whose ends lock and fail
+    (``locks_below``: True when the lower end locks). ``runs`` holds ``(airspeed, outcome)`` in
+    the order simulated. A run near the critical value creeps through its slowest point for a
+    time that grows without bound, so a finite ``until`` biases the value towards the failing
+    side; :attr:`undecided` says when that may have happened."""
+
+    name: str
+    value: float
+    low: float
+    high: float
+    locks_below: bool
+    runs: list[tuple[float, str]] = field(default_factory=list)
+
+    @property
+    def undecided(self) -> bool:
+        """True when the failing end of the bracket *timed out* (still moving at ``until``): a longer
+        simulation might lock it, so the critical value may lie beyond the bracket."""
+        fail = self.high if self.locks_below else self.low
+        return any(v == fail and outcome == TIMED_OUT for v, outcome in self.runs)
+
+
+def critical_airspeed(system, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
+                      lock, until: float, values: Mapping[str, float] | None = None, **options) -> CriticalAirspeed:
+    """Bisect on freefall runs for the value of the parameter ``vary`` (an airspeed, m/s) in
+    ``[low, high]`` where the outcome changes between locked and not locked.
+
+    The two ends must differ (one locks, one does not); the bracket is halved until its width is
+    at most ``tol`` (units of ``vary``). ``options`` go to :func:`freefall`.
+    """
+    from ..equations import as_model
+
+    model = as_model(system)
+    if vary not in model.names or model.variable(vary).kind != "parameter":
+        raise InputError("critical", f"{vary} is not a parameter of {model.name}")
+    if not (math.isfinite(low) and math.isfinite(high) and low < high):
+        raise InputError("critical", f"needs LO < HI, finite, got {low:g}:{high:g}")
+    if not (math.isfinite(tol) and tol > 0):
+        raise InputError("tol", f"must be a positive number (units of {vary}), got {tol:g}")
+    base = dict(values or {})
+    runs: list[tuple[float, str]] = []
+
+    def locks(v: float) -> bool:
+        r = freefall(model, start, lock=lock, until=until, values={**base, vary: v}, **options)
+        runs.append((v, r.outcome))
+        return r.locked
+
+    lo_locks, hi_locks = locks(low), locks(high)
+    if lo_locks == hi_locks:
+        what = "lock" if lo_locks else "fail to lock"
+        raise InputError("critical", f"both ends {vary} = {low:g} and {high:g} {what}: widen the bracket "
+                                     f"(outcomes {runs[0][1]}, {runs[1][1]})")
+    a, b = low, high
+    while b - a > tol:
+        mid = 0.5 * (a + b)
+        if locks(mid) == lo_locks:
+            a = mid
+        else:
+            b = mid
+    return CriticalAirspeed(vary, 0.5 * (a + b), a, b, lo_locks, runs)
+
+
+@dataclass
+class QuasiStaticCritical:
+    """The quasi-static predictor of the critical airspeed.
+
+    ``value`` is the lowest (``side = "min"``) or highest airspeed at which the gear has an
+    equilibrium between the retracted and the locked pose (it could hang there); ``fold`` is True
+    when that extreme is a fold of the stall branch (inside the travel), False when it lies at an
+    end of the travel. ``pose`` is the travel variable there; ``branch`` the stall branch
+    (continued in the travel variable with ``vary`` solved for)."""
+
+    name: str
+    value: float
+    pose: float
+    fold: bool
+    branch: object
+
+
+def quasi_static_critical(system, travel: str, start_value: float, lock_value: float, vary: str, *,
+                          side: str = "min", values: Mapping[str, float] | None = None, samples: int = 17,
+                          options=None) -> QuasiStaticCritical:
+    """The airspeed ``vary`` at the extreme of the stall branch over the travel.
+
+    The equilibria along the travel ``travel`` (a coordinate or condition, from ``start_value``
+    to ``lock_value``) are continued with ``travel`` prescribed and ``vary`` solved for; the
+    airspeed where the gear could first hang is their minimum (``side = "min"``: airloads that
+    oppose the fall, so the gear locks below it) or maximum (``"max"``). An interior extreme is a
+    fold of the branch in ``vary``, polished with :func:`~mechcont.continuation.locate_fold`.
+    Stops are free (their reactions at 0): the intermediate equilibria are off the stops. The branch
+    starts from the extreme of ``samples`` equilibria spread over the travel (only positive airspeeds:
+    a negative one reverses the airloads).
+    """
+    from ..continuation import ContinuationOptions, continuation, find_equilibrium, locate_fold
+    from ..equations import as_model
+
+    if side not in ("min", "max"):
+        raise InputError("side", f"must be 'min' or 'max', got {side!r}")
+    model = as_model(system)
+    if values:
+        model = model.with_values(dict(values))
+    for n in (travel, vary):
+        if n not in model.names:
+            raise InputError(n, f"is not a variable of {model.name}")
+    lo, hi = sorted((float(start_value), float(lock_value)))
+    iv = model.index(vary)
+    found = []
+    for p in np.linspace(lo, hi, samples):  # equilibria across the travel, the airspeed solved for
+        try:
+            x = find_equilibrium(model, hold={travel: float(p)}, free=[vary])
+        except InputError:
+            continue
+        if math.isfinite(x[iv]) and x[iv] > 0:  # an airspeed; a negative one would reverse the airloads
+            found.append(x)
+    if not found:
+        raise InputError("quasi-static", f"no equilibrium with a positive {vary} was found along {travel} in "
+                                         f"[{lo:g}, {hi:g}]: the gear cannot hang anywhere in its travel")
+    x = (min if side == "min" else max)(found, key=lambda y: y[iv])
+    # continued from the sample nearest the extreme; bounded in vary so that the branch does not run off
+    # through a pose where the airload has no lever (there vary goes to infinity)
+    top = 4.0 * float(x[iv]) if side == "min" else math.inf
+    opts = options or ContinuationOptions(bounds={travel: (lo, hi), vary: (0.0, top)}, max_steps=2000)
+    branch = continuation(model, x, travel, free=[vary], options=opts)
+    column, poses = branch[vary], branch[travel]
+    k = int(np.argmin(column) if side == "min" else np.argmax(column))
+    value, pose, fold = float(column[k]), float(poses[k]), False
+    width = hi - lo
+    if min(pose - lo, hi - pose) > 1e-6 * width:  # inside the travel: a fold in vary, polished
+        fx, _, _ = locate_fold(model, branch.values[k], vary)
+        if lo <= fx[model.index(travel)] <= hi:
+            value, pose, fold = float(fx[iv]), float(fx[model.index(travel)]), True
+    return QuasiStaticCritical(vary, value, pose, fold, branch)
+
+
+def travel_of(system, start: Mapping[str, float], lock, values: Mapping[str, float] | None = None) -> tuple[str, float, float]:
+    """The travel of a freefall: ``(variable, value at the released pose, value at the lock)``.
+
+    The variable is the lock stop's condition (its limit is the lock value) or the lock
+    condition's state; its start value is computed at the pose assembled from ``start``."""
+    from ..equations import as_model
+    from ._simulate import assemble
+
+    model = as_model(system)
+    if values:
+        model = model.with_values(dict(values))
+    stop, target = _lock_spec(model, lock)
+    name, end = (stop.condition, float(stop.limit)) if stop is not None else target  # type: ignore[misc]
+    x0 = assemble(model, dict(start), hold=list(start))
+    rows = list(model.equation_names or ())
+    if f"cond_{name}" in rows:
+        y = np.array(x0, float)
+        y[model.index(name)] = 0.0
+        begin = float(model.residual(y)[rows.index(f"cond_{name}")])
+    else:
+        begin = float(x0[model.index(name)])
+    return name, begin, end
+
+
+def critical_figure(dampings: Sequence[float], dynamic: Sequence[float], quasi_static: float, *,
+                    damping_label: str = "damping", airspeed_label: str = "critical airspeed (m/s)", title: str = ""):
+    """Dynamic critical airspeed against damping, with the quasi-static prediction as a line.
+
+    Returns a Matplotlib figure (save it with :func:`mechcont.outputs.plotting.save_figure`)."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(dampings, dynamic, "o-", label="dynamic (bisection on time simulations)")
+    ax.axhline(quasi_static, color="k", ls="--", label="quasi-static (fold of the stall branch)")
+    ax.set_xlabel(damping_label)
+    ax.set_ylabel(airspeed_label)
+    if all(d > 0 for d in dampings) and max(dampings) / min(dampings) > 20:
+        ax.set_xscale("log")
+    ax.legend()
+    ax.set_title(title)
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,137 @@
+"""The hydraulic damper (tension c v + c2 v|v|) against an independent reduced equation of motion.
+
+tests/data/damped_pendulum.toml: a uniform bar (mass m, length L) hinged at O falls under gravity;
+a damper joins the ground point G to the tip P = L (cos theta, sin theta). With l = |P - G| and
+l' = dl/dtheta = (P - G) . dP/dtheta / l, the reduced equation of motion is
+
+    (m L^2 / 3) theta'' = -m g (L/2) cos theta - T l',   T = c v + c2 v |v|,  v = l' theta',
+
+and the energy E = (m L^2/6) theta'^2 + m g (L/2) sin theta falls at the rate dE/dt = -T v.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from mechcont.dynamics import assemble, simulate
+from mechcont.errors import InputError
+from mechcont.models import load_model, model_from_text
+
+PATH = "tests/data/damped_pendulum.toml"
+M, L, G_, C, C2 = 2.0, 1.0, 9.81, 4.0, 6.0
+GX, GY = 0.3, 0.8
+THETA0 = 0.2
+
+
+def arm(theta):
+    """l (m) and dl/dtheta (m/rad) of the damper at theta."""
+    px, py = L * math.cos(theta) - GX, L * math.sin(theta) - GY
+    length = math.hypot(px, py)
+    return length, (px * -L * math.sin(theta) + py * L * math.cos(theta)) / length
+
+
+def tension(theta, omega, c=C, c2=C2):
+    _, dl = arm(theta)
+    v = dl * omega
+    return c * v + c2 * v * abs(v), v
+
+
+def reduced(t_eval, c=C, c2=C2):
+    def rhs(t, y):
+        T, _ = tension(y[0], y[1], c, c2)
+        return [y[1], (-M * G_ * L / 2 * math.cos(y[0]) - T * arm(y[0])[1]) / (M * L * L / 3)]
+
+    return solve_ivp(rhs, (0, t_eval[-1]), [THETA0, 0.0], t_eval=t_eval, rtol=1e-12, atol=1e-13, method="DOP853")
+
+
+@pytest.mark.parametrize("c, c2", [(4.0, 6.0), (0.0, 6.0), (4.0, 0.0)])
+def test_damped_fall_matches_the_reduced_equation(c, c2):
+    system = load_model(PATH, c=c, c2=c2)
+    t = np.linspace(0.0, 1.5, 16)
+    x0 = assemble(system, {"theta_bar": THETA0}, hold=["theta_bar"])
+    sim = simulate(system, x0, (0.0, t[-1]), rtol=1e-10, atol=1e-12, t_eval=t)
+    ref = reduced(t, c, c2)
+    assert np.max(np.abs(sim["theta_bar"] - ref.y[0])) < 1e-6
+    assert np.max(np.abs(sim["theta_bar_dot"] - ref.y[1])) < 1e-5
+    # the energy lost between rows equals the damper's work, integral of T v dt (Simpson on a fine grid)
+    fine = np.linspace(0.0, 1.0, 2001)
+    s = simulate(system, x0, (0.0, 1.0), rtol=1e-10, atol=1e-12, t_eval=fine)
+    th, om = s["theta_bar"], s["theta_bar_dot"]
+    E = M * L * L / 6 * om ** 2 + M * G_ * L / 2 * np.sin(th)
+    power = np.array([np.prod(tension(a, b, c, c2)) for a, b in zip(th, om)])
+    from scipy.integrate import simpson
+    work = simpson(power, x=fine)
+    assert E[0] - E[-1] == pytest.approx(work, rel=1e-6, abs=1e-9)
+    assert work > 0.1  # the damper does take energy out
+
+
+def test_damper_exerts_nothing_at_rest():
+    """Continuation sees equilibria at rest: the damper's force is zero there, whatever c and c2."""
+    damped, free = load_model(PATH, c=50.0, c2=80.0), load_model(PATH, c=0.0, c2=0.0)
+    x = assemble(damped, {"theta_bar": 0.7}, hold=["theta_bar"])
+    y = free.vector({n: v for n, v in zip(damped.names, x) if n not in ("c", "c2")})
+    assert np.allclose(damped.mechanics.applied_forces(x), free.mechanics.applied_forces(y), rtol=0, atol=1e-12)
+    assert np.allclose(damped.residual(x), free.residual(y), rtol=0, atol=1e-12)
+    # and the force is that of gravity alone: moment -m g (L/2) cos theta about O
+    Q = damped.mechanics.applied_forces(x)
+    theta_index = damped.mechanics.coordinates.index("theta_bar")
+    assert Q[theta_index] == pytest.approx(-M * G_ * L / 2 * math.cos(0.7), rel=1e-12)
+    assert Q[damped.mechanics.coordinates.index("y_bar")] == pytest.approx(-M * G_, rel=1e-12)
+
+
+def test_negative_quadratic_damping_is_refused():
+    text = open(PATH).read().replace('c2 = { value = 6.0', 'c2 = { value = -1.0')
+    with pytest.raises(InputError, match=r"dampers\.retraction\.c2: .*non-negative"):
+        model_from_text(text, "bad_damper.toml")
+
+
+def test_unknown_damper_key_is_refused():
+    text = open(PATH).read().replace('c2 = "c2"', 'c3 = "c2"')
+    with pytest.raises(InputError, match=r"dampers\.retraction\.c3"):
+        model_from_text(text, "bad_damper.toml")
+
+
+def _power_check(system, x, qd, damper, c, c2):
+    """(Q(x, qd) - Q(x, 0)) . qd against -(c v + c2 v|v|) v, v = dl/dt from the damper's drawn ends."""
+    mech = system.mechanics
+    Qd = mech.applied_forces(x, qd) - mech.applied_forces(x, np.zeros_like(qd))
+    q_index = np.array([system.index(n) for n in mech.coordinates])
+
+    def length(y):
+        (a, b), = [(a, b) for name, a, b in system.scene(y).dampers if name == damper]
+        return float(np.linalg.norm(np.asarray(b) - np.asarray(a)))
+
+    h = 1e-6
+    xp, xm = x.copy(), x.copy()
+    xp[q_index] += h * qd
+    xm[q_index] -= h * qd
+    v = (length(xp) - length(xm)) / (2 * h)
+    assert abs(v) > 1e-3  # the damper strokes
+    assert Qd @ qd == pytest.approx(-(c * v + c2 * v * abs(v)) * v, rel=1e-8)
+
+
+def test_planar_damper_power_is_minus_tension_times_rate():
+    system = load_model(PATH)
+    x = assemble(system, {"theta_bar": 0.4}, hold=["theta_bar"])
+    _power_check(system, x, np.array([0.3, -0.7, 1.9]), "retraction", C, C2)
+
+
+def test_spatial_damper_takes_the_quadratic_term():
+    """The spatial worked example's damper with c2 added: the same law along the 3-D distance."""
+    import re
+
+    from mechcont.mechanism import parse_description
+
+    doc = open("docs/spatial-format.md").read()
+    (text,) = re.findall(r"```toml\n(.*?)```", doc.split("## Worked example")[1], re.S)
+    name = re.search(r"\[dampers\.(\w+)\]", text).group(1)
+    text = re.sub(rf"(\[dampers\.{name}\]\n(?:.*\n)*?c = [^\n]*\n)", r"\1c2 = 7000.0\n", text, count=1)
+    assert "c2 = 7000.0" in text
+    system = parse_description(text, "side_brace.toml").build()
+    x = system.defaults()
+    c = re.search(rf"\[dampers\.{name}\]\n(?:.*\n)*?c = ([^\n]*)\n", text).group(1).strip('"')
+    c = float(c) if c[0].isdigit() else float(x[system.index(c)])  # a number or a parameter's name
+    qd = np.random.default_rng(3).normal(size=len(system.mechanics.coordinates))
+    _power_check(system, x, qd, name, c, 7000.0)

@@ -1,0 +1,138 @@
+"""Freefall (issue 23, item 5) against closed forms and an independent reduced equation of motion.
+
+tests/data/freefall_pendulum.toml: a uniform bar (mass m, length L, I_O = m L^2 / 3) hinged at O,
+released at rest from the uplock theta = beta, falls onto the downlock theta = -beta against the drag
+of an upward airflow U and a damper (coefficient c) from G = (0, 2L) to the tip. The net moment is
+
+    M(theta) = (L/2) cos(theta) (k U^2 cos(theta) - m g),   k = rho C_D d L / 2,
+
+so the stall equilibria satisfy cos(theta) = m g / (k U^2): a branch whose fold is at theta = 0,
+U_c = sqrt(m g / k) -- the quasi-static critical airspeed. The damper's length is
+l = L sqrt(5 - 4 sin(theta)), dl/dtheta = -2 L cos(theta) / sqrt(5 - 4 sin(theta)).
+"""
+
+import math
+
+import pytest
+from scipy.integrate import solve_ivp
+
+from mechcont.dynamics.freefall import critical_airspeed, critical_figure, freefall, quasi_static_critical
+from mechcont.errors import InputError
+from mechcont.models import load_model
+
+PATH = "tests/data/freefall_pendulum.toml"
+M, L, G, BETA, RHO, CD, D = 10.0, 1.0, 9.81, 1.0, 1.225, 1.2, 0.2
+K = RHO * CD * D * L / 2
+U_C = math.sqrt(M * G / K)
+I_O = M * L * L / 3
+
+
+def moment(theta, U):
+    return L / 2 * math.cos(theta) * (K * U * U * math.cos(theta) - M * G)
+
+
+def arm(theta):
+    return -2 * L * math.cos(theta) / math.sqrt(5 - 4 * math.sin(theta))
+
+
+def reduced_locks(U, c, until):
+    """The independent engine: I theta'' = M(theta) - c (dl/dtheta)^2 theta', from rest at beta;
+    locked when theta reaches -beta (before an uplock return or the end of time)."""
+    def rhs(t, y):
+        return [y[1], (moment(y[0], U) - c * arm(y[0]) ** 2 * y[1]) / I_O]
+
+    def down(t, y):
+        return y[0] + BETA
+    down.terminal = True
+
+    def up(t, y):
+        return y[0] - BETA - 1e-9
+    up.terminal, up.direction = True, 1
+    sol = solve_ivp(rhs, (0, until), [BETA, 0.0], events=[down, up], rtol=1e-10, atol=1e-12)
+    return bool(len(sol.t_events[0])), sol
+
+
+def reduced_critical(c, until, lo, hi, tol):
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if reduced_locks(mid, c, until)[0] else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def test_lock_time_impact_speed_and_reaction_match_the_reduced_equation():
+    system = load_model(PATH, c=5.0)
+    run = freefall(system, {"angle": BETA}, lock="downlock", until=10.0, values={"U": 15.0})
+    locks, sol = reduced_locks(15.0, 5.0, 10.0)
+    assert locks and run.outcome == "locked"
+    assert run.time_to_lock == pytest.approx(sol.t_events[0][0], rel=1e-6)
+    assert run.impact_speed == pytest.approx(abs(sol.y_events[0][0][1]), rel=1e-6)
+    # at rest on the downlock the stop carries the net moment there (restitution 0: no bounce)
+    assert run.peak_reaction["downlock"] == pytest.approx(-moment(-BETA, 15.0), rel=1e-6)
+    assert run.peak_reaction["uplock"] == 0.0
+    # the damper's tension at every row is c dl/dt = c (dl/dtheta) theta'; the peak is the largest
+    h = run.history
+    tension = [5.0 * arm(a) * b for a, b in zip(h["angle"], h["theta_leg_dot"])]
+    assert run.peak_damper["retraction"] == pytest.approx(max(abs(v) for v in tension), rel=1e-9)
+
+
+def test_stall_rests_in_the_closed_form_equilibrium():
+    system = load_model(PATH, c=20.0)
+    U = 1.02 * U_C
+    run = freefall(system, {"angle": BETA}, lock="downlock", until=60.0, values={"U": U})
+    assert run.outcome == "stalled" and run.time_to_lock is None and run.impact_speed is None
+    theta = run.history["angle"][-1]
+    assert theta == pytest.approx(math.acos(M * G / (K * U * U)), abs=1e-6)
+
+
+def test_lock_condition_reached():
+    system = load_model(PATH, c=5.0)
+    run = freefall(system, {"angle": BETA}, lock=("angle", -0.5), until=10.0, values={"U": 15.0})
+    def hit(t, y):
+        return y[0] + 0.5
+    hit.terminal = True
+    sol = solve_ivp(lambda t, y: [y[1], (moment(y[0], 15.0) - 5.0 * arm(y[0]) ** 2 * y[1]) / I_O], (0, 10),
+                    [BETA, 0.0], events=[hit], rtol=1e-10, atol=1e-12)
+    assert run.outcome == "locked"
+    assert run.time_to_lock == pytest.approx(sol.t_events[0][0], rel=1e-6)
+    assert run.impact_speed == pytest.approx(abs(sol.y_events[0][0][1]), rel=1e-6)
+
+
+def test_quasi_static_critical_is_the_closed_form_fold():
+    q = quasi_static_critical(load_model(PATH), "angle", BETA, -BETA, "U")
+    assert q.fold
+    assert q.value == pytest.approx(U_C, rel=1e-9)
+    assert q.pose == pytest.approx(0.0, abs=1e-6)
+
+
+def test_overdamped_critical_airspeed_converges_to_the_quasi_static_fold():
+    system = load_model(PATH, c=20.0)
+    crit = critical_airspeed(system, {"angle": BETA}, "U", 25.0, 27.0, tol=2e-3, lock="downlock", until=200.0)
+    assert crit.locks_below and crit.high - crit.low <= 2e-3
+    assert crit.value == pytest.approx(U_C, rel=1e-3)
+
+
+def test_light_damping_critical_airspeed_matches_the_reduced_equation():
+    """With little damping the momentum carries the gear over the fold: a margin above U_c that the
+    independent integrator reproduces to the bisection tolerance."""
+    crit = critical_airspeed(load_model(PATH, c=2.0), {"angle": BETA}, "U", 24.0, 30.0, tol=2e-3,
+                             lock="downlock", until=30.0)
+    ref = reduced_critical(2.0, 30.0, 24.0, 30.0, 1e-4)
+    assert abs(crit.value - ref) <= 2e-3
+    assert crit.value > 1.02 * U_C  # the momentum margin shows
+
+
+def test_bad_inputs():
+    system = load_model(PATH)
+    with pytest.raises(InputError, match="^lock: unknown stop 'nope'"):
+        freefall(system, {"angle": BETA}, lock="nope", until=1.0)
+    with pytest.raises(InputError, match="^critical: both ends"):
+        critical_airspeed(system, {"angle": BETA}, "U", 5.0, 6.0, tol=0.1, lock="downlock", until=5.0)
+    with pytest.raises(InputError, match="^critical: m2 is not a parameter"):
+        critical_airspeed(system, {"angle": BETA}, "m2", 5.0, 6.0, tol=0.1, lock="downlock", until=5.0)
+
+
+def test_critical_figure(tmp_path):
+    fig = critical_figure([1.0, 10.0, 100.0], [27.0, 26.0, 25.9], U_C, damping_label="c (N s/m)")
+    ax = fig.axes[0]
+    assert len(ax.lines) == 2 and ax.get_xscale() == "log"
+    assert ax.lines[1].get_ydata()[0] == pytest.approx(U_C)

@@ -1,0 +1,96 @@
+"""``mechcont freefall`` from the command line (issue 23, item 5) on tests/data/freefall_pendulum.toml
+(closed forms in tests/test_freefall.py: quasi-static critical U_c = sqrt(2 m g / (rho C_D d L)))."""
+
+import csv
+import math
+
+import pytest
+from cli_helpers import make_runner, one_line_error
+
+PATH = "tests/data/freefall_pendulum.toml"
+U_C = math.sqrt(2 * 10.0 * 9.81 / (1.225 * 1.2 * 0.2 * 1.0))
+
+
+@pytest.fixture(scope="module")
+def run():
+    return make_runner()
+
+
+def test_one_run_locks_and_reports(run, tmp_path):
+    from mechcont.dynamics.freefall import freefall
+    from mechcont.models import load_model
+
+    out, fig = tmp_path / "h.csv", tmp_path / "h.png"
+    res = run("freefall", PATH, "--from", "angle=1", "--lock", "downlock", "--until", 5, "--set", "U=15",
+              "--set", "c=5", "--out", out, "--plot", fig)
+    assert res.exit_code == 0, res.output
+    lines = res.output.splitlines()
+    assert "outcome: locked (lock: stop downlock)" in lines
+    lib = freefall(load_model(PATH, c=5.0), {"angle": 1.0}, lock="downlock", until=5.0, values={"U": 15.0})
+    (t,) = [ln for ln in lines if ln.startswith("time to lock: ")]
+    assert float(t.split()[3]) == pytest.approx(lib.time_to_lock, rel=1e-5)  # 6 significant digits printed
+    (v,) = [ln for ln in lines if ln.startswith("impact speed at the lock: ")]
+    assert v.endswith("rad/s") and float(v.split()[5]) == pytest.approx(lib.impact_speed, rel=1e-5)
+    assert any(ln.startswith("peak damper tension retraction: ") for ln in lines)
+    assert any(ln.startswith("peak stop reaction downlock: ") and ln.endswith("N m") for ln in lines)
+    with open(out) as fh:
+        header = next(csv.reader(fh))
+    assert "R_downlock [N m]" in header and header[-1] == "label"
+    assert fig.stat().st_size > 0
+
+
+def test_stall_is_reported_with_where_it_hangs(run):
+    res = run("freefall", PATH, "--from", "angle=1", "--lock", "downlock", "--until", 40, "--set", f"U={1.02 * U_C}",
+              "--set", "c=20")
+    assert res.exit_code == 0, res.output
+    assert "outcome: stalled (lock: stop downlock)" in res.output
+
+
+def test_critical_airspeed_with_scan_writes_table_and_figure(run, tmp_path):
+    out, fig = tmp_path / "c.csv", tmp_path / "c.png"
+    res = run("freefall", PATH, "--from", "angle=1", "--lock", "downlock", "--until", 30, "--critical", "U=24:30",
+              "--tol", 0.05, "--scan", "c=2", "--out", out, "--plot", fig)
+    assert res.exit_code == 0, res.output
+    assert "fold of the stall branch" in res.output
+    with open(out) as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == ["c", "critical_U [m/s]", "low [m/s]", "high [m/s]", "quasi_static [m/s]"]
+    c, crit, low, high, qs = (float(x) for x in rows[1])
+    assert float(qs) == pytest.approx(U_C, rel=1e-9)
+    assert high - low <= 0.05 and low <= crit <= high
+    assert crit > 1.02 * U_C  # light damping: the momentum margin (tests/test_freefall.py checks its value)
+    assert fig.stat().st_size > 0
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--from", "angle=1", "--until", 1], ["--lock", "exactly one"]),
+    (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--lock-condition", "angle=-0.5"], ["--lock"]),
+    (["--from", "angle=1", "--until", 1, "--lock", "nope"], ["--lock", "unknown stop 'nope'"]),
+    (["--from", "phi=1", "--until", 1, "--lock", "downlock"], ["--from", "phi is not"]),
+    (["--until", 1, "--lock", "downlock"], ["--from"]),
+    (["--from", "angle=1.2", "--until", 1, "--lock", "downlock"], ["--from", "past the limit of stop uplock"]),
+    (["--from", "angle=1", "--until", -1, "--lock", "downlock"], ["--until"]),
+    (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--critical", "U=30"], ["--critical", "NAME=LO:HI"]),
+    (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--critical", "V=1:2"], ["--critical", "V is not"]),
+    (["--from", "angle=1", "--until", 2, "--lock", "downlock", "--critical", "U=5:6"], ["--critical", "both ends"]),
+    (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--critical", "U=5:6", "--plot", "PLOT"],
+     ["--plot", "--scan"]),
+    (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--scan", "c=1,2"], ["--scan", "--critical"]),
+])
+def test_bad_input_is_one_line_and_writes_nothing(run, tmp_path, args, words):
+    out, fig = tmp_path / "o.csv", tmp_path / "o.png"
+    args = [str(fig) if a == "PLOT" else a for a in args]
+    res = run("freefall", PATH, *args, "--out", out)
+    one_line_error(res, *words)
+    assert not out.exists() and not fig.exists()
+
+
+def test_shipped_example_checks_clean_and_locks(run):
+    res = run("check", "examples/freefall_leg.toml")
+    assert res.exit_code == 0, res.output
+    assert "findings: none" in res.output and "downlock  max of angle = 4.45 rad: in contact" in res.output
+    res = run("freefall", "examples/freefall_leg.toml", "--from", "angle=3.0", "--lock", "downlock", "--until", 5,
+              "--set", "U=40")
+    assert res.exit_code == 0, res.output
+    assert "outcome: locked (lock: stop downlock)" in res.output
+    assert "peak damper tension actuator: " in res.output
