@@ -156,7 +156,7 @@ def _one(system, start, lock, until, options, out_path, plot_path) -> None:
                  if h.stop_events else None)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
-        from ..dynamics import history_figure
+        from ..outputs.history_plots import history_figure
         from ..outputs.plotting import save_figure
 
         save_figure(history_figure(h, watch, title=f"{system.name}: freefall, {run.outcome}"), plot_path)

@@ -202,7 +202,8 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     if target is not None:
         name, value = target
         side = float(np.sign(value - x0[model.index(name)])) or 1.0
-        coordinates: Any = model.mechanics.coordinates  # type: ignore[attr-defined]
+        mechanics = model.mechanics
+        coordinates = mechanics.coordinates if mechanics is not None else ()
         events = [Crossing(name, value, direction=int(side), terminal=True) if name in coordinates
                   else _ConditionCrossing(model, name, value, int(side))]
     stops = bool(model.stops)
