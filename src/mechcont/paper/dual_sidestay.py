@@ -123,7 +123,7 @@ def lock_up_scan(geo: GearGeometry = DEFAULT_GEOMETRY, angles=PLANE_ANGLES, *, b
 
 
 #: Frames of the retraction animation, at least (about 8 s at its frame rate).
-ANIMATION_FRAMES = 64
+ANIMATION_FRAMES = 48
 
 
 def _fine(system, branch: Branch, retracted: float) -> Branch:
