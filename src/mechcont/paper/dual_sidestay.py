@@ -1,4 +1,4 @@
-"""The dual-sidestay main gear (issue 11): retraction actuator load and efficiency, lock-up against the aft
+"""The dual-sidestay main gear: retraction actuator load and efficiency, lock-up against the aft
 sidestay plane angle, the rigid downlock's rigging sensitivity, downlock loads with compliant and rigid
 sidestays, unlock forces with overcentre stops and their fold curve with a cusp, 3-D drawings and an
 animation.

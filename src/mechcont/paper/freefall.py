@@ -228,7 +228,7 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
         runs.append((U, freefall(system, {"fitting": THETA_UP}, lock="downlock", until=UNTIL, values={"U": U})))
         timings[f"freefall: nose gear at U = {U:g} m/s ({UNTIL:g} s simulated)"] = time.perf_counter() - t0
     _figure(runs, out_dir / "freefall_nose_gear.png")
-    lines = ["## Freefall extension of the nose gear (issue 23; beyond the 2010 paper)", "",
+    lines = ["## Freefall extension of the nose gear (beyond the 2010 paper)", "",
              f"The nose gear of Fig. 6 with its retraction actuator as a hydraulic damper (c = 2000 N s/m, "
              f"c2 = 5000 N s^2/m^2, from the airframe point (-0.3, 0.4) m to the drag-stay lug), an uplock at "
              f"theta3 = {math.degrees(THETA_UP):.1f} deg and a downlock stop 2.0 deg past aligned lock links "
