@@ -47,3 +47,13 @@ def test_corrector_converges_and_names_each_failure(solver):
     assert eng.correct(np.array([0.0, 1.0]), np.array([0.0, 1.0]))[:2] == (None, "singular bordered Jacobian")
     # a finite residual with a NaN Jacobian entry
     assert eng.correct(np.array([0.5, 6.0]), np.array([1.0, 0.0]))[:2] == (None, _NOT_FINITE)
+
+
+@pytest.mark.parametrize("solver", [DenseLU(), Checked()], ids=["raw", "checked"])
+def test_tangent_is_the_unit_null_vector_or_singular(solver):
+    eng = PseudoArclength(Circle(), ContinuationOptions(linear_solver=solver))
+    z = np.array([0.6, 0.8])
+    t = eng.tangent(z, np.array([-1.0, 1.0]))  # the circle's tangent (-0.8, 0.6), oriented along the border
+    assert t == pytest.approx([-0.8, 0.6], abs=1e-15)
+    with pytest.raises(np.linalg.LinAlgError, match="singular tangent system"):
+        eng.tangent(np.array([0.0, 1.0]), np.array([0.0, 1.0]))  # [[0, 2], [0, 1]]

@@ -95,6 +95,7 @@ class PseudoArclength:
         # so the tangent's right-hand side and matrix need no fresh copies per point
         self._dense = type(self.solver) is DenseLU
         self._solve = _dense.solve if self._dense else self.solver.solve
+        self._raw = self._dense and _dense.RAW_SOLVE  # its unchecked kernel (see correct)
         self.D = np.asarray(problem.scale, dtype=float)
         self.n = len(self.D) - 1
         self._e_last = np.zeros(self.n + 1)  # right-hand side of the tangent system
@@ -135,10 +136,16 @@ class PseudoArclength:
         A = self._A_tangent if self._dense else np.empty((self.n + 1, self.n + 1))
         A[:-1] = jac
         A[-1] = border
-        t = self._solve(A, self._e_last if self._dense else self._e_last.copy())
-        if t is None:
+        t: np.ndarray | None
+        if self._raw:
+            with _dense.quiet():
+                t = _dense.solve_raw(A, self._e_last)
+        else:
+            t = self._solve(A, self._e_last if self._dense else self._e_last.copy())
+        norm = math.sqrt(t.dot(t)) if t is not None else math.nan  # = np.linalg.norm(t), without its overhead
+        if t is None or not math.isfinite(norm):  # NaN: an exact zero pivot
             raise np.linalg.LinAlgError("singular tangent system")
-        t /= math.sqrt(t.dot(t))  # = np.linalg.norm(t), without its overhead
+        t /= norm
         return t if t @ border > 0 else -t
 
     # -- corrector --------------------------------------------------------------------
@@ -149,7 +156,7 @@ class PseudoArclength:
         correction (see the class docstring) is not counted: the step control judges the
         geometry's convergence.
         """
-        if self._dense and _dense.RAW_SOLVE:  # the error state entered once, not per solve
+        if self._raw:  # the error state entered once, not per solve
             with _dense.quiet():
                 return self._correct(z_pred, t0, z_start, _dense.solve_raw)
         return self._correct(z_pred, t0, z_start, self._solve)
