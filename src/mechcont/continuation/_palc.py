@@ -184,7 +184,9 @@ class PseudoArclength:
                     return None, _NOT_FINITE, it
                 break
             np.negative(r, out=b_residual)
-            b[-1] = 0.0 if it == 1 and z_start is None else -(t0 @ (z - z_pred))  # z = z_pred at first
+            # the hyperplane's row: z = z_pred at first; from a z_start, the first correction lands on
+            # the hyperplane, and the later ones move within it (t0.dz = 0 up to rounding)
+            b[-1] = -(t0 @ (z - z_pred)) if it == 1 and z_start is not None else 0.0
             dz = solve(A, b)
             step = _max(np.abs(dz), None) if dz is not None else math.nan
             if not math.isfinite(step):
