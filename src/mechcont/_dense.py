@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["svd", "singular_values", "slogdet", "solve", "inverse"]
+__all__ = ["svd", "singular_values", "slogdet", "solve", "inverse", "quiet", "solve_raw", "RAW_SOLVE"]
 
 _umath_linalg: Any
 try:  # NumPy >= 2 (private names: any other NumPy falls back to the public functions)
@@ -93,6 +93,31 @@ def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     else:
         x = _in_state(_quiet, _umath_linalg.solve1, A, b, signature="dd->d")
     return x if np.isfinite(np.add.reduce(x, None)) else None
+
+
+class quiet:
+    """``with quiet(): ...``: the floating-point error state of :func:`solve`, entered once for many
+    :func:`solve_raw` calls (a loop of small solves: entering it per solve costs half a solve)."""
+
+    __slots__ = ("_token",)
+
+    def __enter__(self) -> None:
+        self._token = _extobj_contextvar.set(_quiet) if _quiet is not None else None
+
+    def __exit__(self, *exc) -> None:
+        if self._token is not None:
+            _extobj_contextvar.reset(self._token)
+
+
+#: Whether :func:`solve_raw` may be used (this NumPy has the kernel and the error state).
+RAW_SOLVE = _umath_linalg is not None and _quiet is not None
+
+
+def solve_raw(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """:func:`solve` without its checks, for callers that made ``A`` (square) and ``b`` (a vector)
+    float64 NumPy arrays themselves and test the result's finiteness anyway: NaN where ``A`` is
+    singular. Only where :data:`RAW_SOLVE`, and inside :class:`quiet` (else a singular ``A`` warns)."""
+    return _umath_linalg.solve1(A, b, signature="dd->d")
 
 
 def inverse(A: np.ndarray) -> np.ndarray | None:

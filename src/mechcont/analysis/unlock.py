@@ -88,6 +88,14 @@ class UnlockFolds:
 #: The release run ends where the force has moved by this many of its scales (N), or a
 #: released state by RELEASE_STATE_SPAN of its scales (e.g. 2 rad), if no fold comes first.
 RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN = 50.0, 2.0
+#: First and largest step of the release run (scaled arclength). Away from its folds a release
+#: run is nearly straight (the released states saturate as the force grows), so it may take long
+#: steps: the step grows from RELEASE_DS by 1.5 per easy step, up to RELEASE_DSMAX, a tenth of
+#: the force span. Near a fold the tangent turns and the step control shortens the steps
+#: (RELEASE_MAX_ANGLE per step at most); the first fold each way is then located by the sign
+#: change of the force's tangent component and polished to machine precision, so the folds
+#: found do not depend on these steps.
+RELEASE_DS, RELEASE_DSMAX, RELEASE_MAX_ANGLE = 0.1, 0.1 * RELEASE_FORCE_SPAN, 0.2
 
 
 def _release_options(system: EquationSystem, x: np.ndarray, released, force: str, max_steps: int,
@@ -97,8 +105,8 @@ def _release_options(system: EquationSystem, x: np.ndarray, released, force: str
     for n, span in ((force, RELEASE_FORCE_SPAN), *((n, RELEASE_STATE_SPAN) for n in released)):
         v, sc = x[system.index(n)], system.variable(n).scale
         b.setdefault(n, (v - span * sc, v + span * sc))
-    return ContinuationOptions(ds=0.02, dsmax=0.5, max_steps=max_steps, bounds=b, detect_folds=False,
-                               stability=stability)
+    return ContinuationOptions(ds=RELEASE_DS, dsmax=RELEASE_DSMAX, max_angle=RELEASE_MAX_ANGLE, max_steps=max_steps,
+                               bounds=b, detect_folds=False, stability=stability)
 
 
 def unlock_folds(system: EquationSystem, x: np.ndarray, force: str, released=(), *, max_steps: int = 400,

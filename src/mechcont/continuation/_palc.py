@@ -18,6 +18,7 @@ import numpy as np
 
 from .. import _dense
 from ._events import Event, PointState
+from ._linalg import DenseLU
 from ._newton import residual_met, step_noise
 from ._options import ContinuationOptions
 from ._problem import ContinuationProblem
@@ -91,10 +92,16 @@ class PseudoArclength:
         self.problem = problem
         self.options = options
         self.solver = options.linear_solver
+        # the default solver called without its method's frame; it leaves its arguments unchanged,
+        # so the tangent's right-hand side and matrix need no fresh copies per point
+        self._dense = type(self.solver) is DenseLU
+        self._solve = _dense.solve if self._dense else self.solver.solve
+        self._raw = self._dense and _dense.RAW_SOLVE  # its unchecked kernel (see correct)
         self.D = np.asarray(problem.scale, dtype=float)
         self.n = len(self.D) - 1
         self._e_last = np.zeros(self.n + 1)  # right-hand side of the tangent system
         self._e_last[-1] = 1.0
+        self._A_tangent = np.empty((self.n + 1, self.n + 1))
 
     # -- evaluation in scaled coordinates -----------------------------------------------
     def G(self, z):
@@ -127,13 +134,19 @@ class PseudoArclength:
     def tangent(self, z, border, jac=None) -> np.ndarray:
         """Unit tangent at ``z`` from [G_z; border^T] t = e_(n+1), oriented along ``border``."""
         jac = self.Gz(z) if jac is None else jac
-        A = np.empty((self.n + 1, self.n + 1))
+        A = self._A_tangent if self._dense else np.empty((self.n + 1, self.n + 1))
         A[:-1] = jac
         A[-1] = border
-        t = self.solver.solve(A, self._e_last.copy())
-        if t is None:
+        t: np.ndarray | None
+        if self._raw:
+            with _dense.quiet():
+                t = _dense.solve_raw(A, self._e_last)
+        else:
+            t = self._solve(A, self._e_last if self._dense else self._e_last.copy())
+        norm = math.sqrt(t.dot(t)) if t is not None else math.nan  # = np.linalg.norm(t), without its overhead
+        if t is None or not math.isfinite(norm):  # NaN: an exact zero pivot
             raise np.linalg.LinAlgError("singular tangent system")
-        t /= math.sqrt(t.dot(t))  # = np.linalg.norm(t), without its overhead
+        t /= norm
         return t if t @ border > 0 else -t
 
     # -- corrector --------------------------------------------------------------------
@@ -144,31 +157,44 @@ class PseudoArclength:
         correction (see the class docstring) is not counted: the step control judges the
         geometry's convergence.
         """
+        if self._raw:  # the error state entered once, not per solve
+            with _dense.quiet():
+                return self._correct(z_pred, t0, z_start, _dense.solve_raw)
+        return self._correct(z_pred, t0, z_start, self._solve)
+
+    def _correct(self, z_pred, t0, z_start, solve):
         o = self.options
-        tol, D, evaluate, solve = o.newton_tol, self.D, self.problem.evaluate, self.solver.solve
+        tol, D, evaluate = o.newton_tol, self.D, self.problem.evaluate
         z = np.array(z_pred if z_start is None else z_start, dtype=float)
         A = np.empty((self.n + 1, self.n + 1))
         A[-1] = t0
         jac = A[:-1]  # the scaled Jacobian is written straight into the bordered matrix
         b = np.empty(self.n + 1)
+        b_residual = b[:-1]
         prev = error = math.inf
         lag, r_prev = True, None
         for it in range(1, o.max_newton + 2):
             r, J = evaluate(z * D)
             np.multiply(J, D, out=jac)
-            # np.add.reduce(a, None) is a.sum() without the method's Python frame (same bits)
-            if not math.isfinite(_add(r, None)):
-                return None, _NOT_FINITE, it
+            # a non-finite residual is not tested here: it makes the correction non-finite (below),
+            # and the residual tests that come first (residual_met) fail on it
             if error < tol and residual_met(r, jac, z, o.residual_tol):  # (a small step returned below)
                 return (z, jac.copy(), it - 1 - (not lag)) if math.isfinite(_add(jac, None)) else (None, _NOT_FINITE, it)
             if it > o.max_newton:
+                if not math.isfinite(_add(r, None)):
+                    return None, _NOT_FINITE, it
                 break
-            np.negative(r, out=b[:-1])
-            b[-1] = 0.0 if it == 1 and z_start is None else -(t0 @ (z - z_pred))  # z = z_pred at first
+            np.negative(r, out=b_residual)
+            # the hyperplane's row: z = z_pred at first; from a z_start, the first correction lands on
+            # the hyperplane, and the later ones move within it (t0.dz = 0 up to rounding)
+            b[-1] = -(t0 @ (z - z_pred)) if it == 1 and z_start is not None else 0.0
             dz = solve(A, b)
-            if dz is None:
-                return None, "singular bordered Jacobian" if math.isfinite(_add(jac, None)) else _NOT_FINITE, it
-            step = _max(np.abs(dz), None)  # NaN from a non-finite Jacobian: the next residual says so
+            step = _max(np.abs(dz), None) if dz is not None else math.nan
+            if not math.isfinite(step):
+                # np.add.reduce(a, None) is a.sum() without the method's Python frame (same bits)
+                if not (math.isfinite(_add(r, None)) and math.isfinite(_add(jac, None))):
+                    return None, _NOT_FINITE, it
+                return None, "singular bordered Jacobian", it  # an exact zero pivot
             if step < tol:
                 # converged without evaluating z + dz: Newton's linear model makes its residual
                 # of order |dz|^2 (r + G_z dz = 0), and its Jacobian differs from the one
@@ -342,7 +368,8 @@ class BranchSteps(Iterator[RecordedPoint]):
         dz = z1 - cur.z
         step = math.sqrt(dz.dot(dz))
         new_values = [ev.value(problem, new) for ev in self.events]
-        leaving = [ev for ev, v0, v1 in zip(self.events, self.values, new_values) if ev.stop and v0 == 0 and v1 < 0]
+        leaving = [ev for ev, v0, v1 in zip(self.events, self.values, new_values)
+                   if ev.stop and v0 == 0 and v1 < 0] if 0.0 in self.values else None
         if leaving:  # started exactly on a bound and this direction leaves the interval
             ev = leaving[0]
             self._end(Termination.START_ON_BOUND, f"start lies on the bound of {ev.name or ev.label}",
