@@ -36,7 +36,8 @@ from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 
 __all__ = ["Sensitivity", "equilibrium_sensitivity", "fold_sensitivity", "downlock_sensitivity", "point_sensitivity",
-           "derivative_unit", "check_parameters", "write_json", "with_sensitivity_columns"]
+           "release_sensitivity", "margin_sensitivity", "cusp_sensitivity", "derivative_unit", "check_parameters",
+           "write_json", "with_sensitivity_columns"]
 
 #: Above this condition number of the equilibrated Jacobian the solve is taken to be singular (a fold of that lens).
 _SINGULAR = 1e13
@@ -328,8 +329,10 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
         raise InputError("vary", "the point does not say its continuation parameter; give it")
     system.variable(vary)
     label = label if label is not None else (point.label if isinstance(point, SpecialPoint) else "")
-    lens = list(unknowns or info.get("unknowns") or choose_unknowns(system, exclude=[vary]))
     of = of or vary
+    if of == vary and label in ("SR", "CP"):
+        return _switch_or_cusp(system, x, params, vary, label, info, unknowns, values)
+    lens = list(unknowns or info.get("unknowns") or choose_unknowns(system, exclude=[vary]))
     fold = of == vary and label == "LP"
     if of != vary:
         solved = lens
@@ -349,6 +352,28 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
     if fold:
         return fold_sensitivity(system, x, lens, vary, params, null_vector=info.get("null_vector"))
     return equilibrium_sensitivity(system, x, solved, params, of)
+
+
+def _switch_or_cusp(system: EquationSystem, x: np.ndarray, params: Iterable[str], vary: str, label: str, info: dict,
+                    unknowns: Sequence[str] | None, values: Mapping[str, float] | None) -> Sensitivity:
+    """:func:`point_sensitivity` at a stop's release (``SR``) or a fold curve's cusp (``CP``)."""
+    if values:
+        x = system.vector(values, base=x)
+        system.check_limits(x)
+    if label == "SR":
+        from ..equations import as_model
+
+        stop = info.get("stop") or next((s.name for s in as_model(system).stops
+                                         if abs(x[system.index(s.reaction)]) <= 1e-9 * system.variable(s.reaction).scale),
+                                        None)
+        if stop is None:
+            raise InputError("point", "no stop's reaction is zero here: not a release (SR)")
+        return release_sensitivity(system, x, stop, vary, params)
+    lens = list(unknowns or info.get("unknowns") or [])
+    if len(lens) != system.n_equations + 1:
+        raise InputError("unknowns", "a cusp's unknowns are the fold's states and then its parameter (a fold "
+                                     "curve's points record them); give them")
+    return cusp_sensitivity(system, x, lens[:-1], lens[-1], vary, params)
 
 
 def _with_values(system: EquationSystem, x: np.ndarray, values: Mapping[str, float], solved: Sequence[str]) -> np.ndarray:
@@ -398,3 +423,279 @@ def with_sensitivity_columns(system: EquationSystem, branch, params: Iterable[st
                     branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
                     branch.status, branch.message, branch.model, {**branch.units, **units})
     return out
+
+
+def release_sensitivity(system: EquationSystem, x: np.ndarray, stop: str, vary: str, params: Iterable[str], *,
+                        polish: bool = True) -> Sensitivity:
+    """Derivatives of a stop's release load: the value of ``vary`` where the stop's reaction reaches zero.
+
+    At a release (``SR`` of :func:`~mechcont.analysis.stops.continuation_with_stops`) the stop is
+    still in contact (its condition held at the limit) and its reaction ``R`` is zero, so the
+    release is the square solve ``G = 0`` with every touching stop's condition held at its limit,
+    ``R = 0`` held and ``vary`` freed beside the other touching stops' reactions:
+    :func:`equilibrium_sensitivity` of ``vary`` there.
+
+    Parameters
+    ----------
+    system, x:
+        A model with stops and a point at (or, with ``polish``, near) the release.
+    stop:
+        The releasing stop's name.
+    vary:
+        The load continued (e.g. the unlock force).
+    params:
+        Held names to differentiate by (not a touching stop's condition or reaction).
+    polish:
+        Solve the release exactly first (Newton from ``x``: ``R = 0``, ``vary`` freed).
+
+    Returns a :class:`Sensitivity` of kind ``"release"`` (its ``x`` the solved release).
+    """
+    from ..equations import as_model
+    from .stops import GAP_TOL
+
+    stops = {s.name: s for s in as_model(system).stops}
+    if stop not in stops:
+        raise InputError("stop", f"unknown stop {stop!r}; stops of {system.name}: {', '.join(stops) or 'none'}")
+    x = np.asarray(x, dtype=float).copy()
+    touching = [s for s in stops.values()
+                if s.name == stop or abs(s.gap(x[system.index(s.condition)])) <= max(GAP_TOL, 1e-6)]
+    hold = {s.condition: float(s.limit) for s in touching}
+    free = [vary, *(s.reaction for s in touching if s.name != stop)]
+    for s in touching:
+        x[system.index(s.condition)] = s.limit
+    x[system.index(stops[stop].reaction)] = 0.0
+    if polish:
+        from ..continuation import find_equilibrium
+
+        x = find_equilibrium(system, hold=hold, free=free, guess=x)
+    unknowns = choose_unknowns(system, hold=list(hold), free=free)
+    s = equilibrium_sensitivity(system, x, unknowns, params, vary, kind="release")
+    s.point = s.point or f"release of stop {stop}"
+    return s
+
+
+def margin_sensitivity(system: EquationSystem, design: str, params: Iterable[str],
+                       values: Mapping[str, float] | None = None, *, kind: str = "fold", at: float | None = None,
+                       bounds: tuple[float, float] | None = None, hold: Mapping[str, float] | None = None,
+                       force: str | None = None, condition: str | None = None) -> Sensitivity:
+    """Derivatives of the design map's margins along ``design`` (:mod:`mechcont.analysis.design`).
+
+    * ``kind="fold"``: the margin to the fold, ``|x0 - x_f|`` with ``x_f`` the nearest extremum of
+      the downlock force in ``design`` (a fold in the force with ``design`` solved for). ``dx_f/dp``
+      is the ``design`` row of :func:`fold_sensitivity`'s augmented system.
+    * ``kind="lock"``: the signed lock margin, ``+|x0 - x_c|`` when the design locks unaided
+      (force > 0 at ``x0``), ``-|x0 - x_c|`` when not, ``x_c`` the nearest ``F = 0`` crossing:
+      ``dx_c/dp`` from :func:`equilibrium_sensitivity` with ``F = 0`` held and ``design`` freed.
+
+    ``x0`` is ``design``'s value in ``values`` (else the model's). The fold or crossing is the
+    one near ``at`` (SI), else the nearest found by continuation of the force in ``design``
+    within ``bounds``. The derivative by ``design`` itself is the margin's sign change of
+    ``x0``; by any other parameter it is ``-sign(x0 - x_f) dx_f/dp`` (times the lock's sign).
+    Returns a :class:`Sensitivity` of kind ``"fold_margin"`` or ``"lock_margin"`` (unit of
+    ``design``); :class:`InputError` when there is no fold or crossing in ``bounds``.
+    """
+    from ..continuation import find_equilibrium
+    from .downlock import downlock_condition, downlock_point
+
+    if kind not in ("fold", "lock"):
+        raise InputError("kind", f"'{kind}' is not a margin; valid: fold, lock")
+    h, f = downlock_condition(system, hold, force, condition=condition)
+    values = dict(values or {})
+    system.variable(design)
+    x0 = float(values.get(design, system.variable(design).value))
+    lens = choose_unknowns(system, hold=h, free=[design])
+    params = check_parameters(system, params, [f, *(n for n in lens if n != design)])
+    others = [p for p in params if p != design]
+    if at is None:
+        at = _nearest(system, design, values, kind, bounds, h, f, x0)
+    start = downlock_point(system, {**values, design: at}, hold=h, force=f)
+    if kind == "fold":
+        s = fold_sensitivity(system, start, lens, f, others) if others else None
+        xq = s.x if s is not None else polish_fold(system, start, lens, f).x
+        d_x = {p: s.states[p][design] for p in others} if s is not None else {}
+        sign = 1.0
+    else:
+        guess = start.copy()
+        guess[system.index(f)] = 0.0
+        xq = find_equilibrium(system, values={**values, f: 0.0}, hold=h, free=[design], guess=guess)
+        d_x = (equilibrium_sensitivity(system, xq, lens, others, design).derivatives if others else {})
+        F0 = float(downlock_point(system, values, hold=h, force=f)[system.index(f)])
+        sign = 1.0 if F0 > 0 else -1.0
+    xc = float(xq[system.index(design)])
+    side = sign * (1.0 if x0 >= xc else -1.0)
+    deriv = {p: side * (1.0 if p == design else -d_x[p]) for p in params}
+    unit = system.variable(design).unit
+    return Sensitivity(f"{kind}_margin", side * (x0 - xc), unit, f"{kind}_margin", deriv,
+                       {p: derivative_unit(unit, system.variable(p).unit) for p in params}, {}, xq,
+                       f"{'fold' if kind == 'fold' else f + ' = 0'} at {design} = {xc:.10g}")
+
+
+def _nearest(system, design, values, kind, bounds, h, f, x0) -> float:
+    """The fold (extremum of ``f`` in ``design``) or ``f = 0`` crossing nearest ``x0``, by continuation in ``f``."""
+    from ..continuation import ContinuationOptions, continuation
+    from .downlock import downlock_point
+
+    if bounds is None:
+        raise InputError("bounds", f"give the range of {design} to look for the {kind} margin in (or 'at')")
+    lo, hi = map(float, bounds)
+    opts = ContinuationOptions(ds=0.02, dsmin=1e-9, dsmax=0.5, bounds={design: (lo, hi), f: (-1e6, 1e6)},
+                               max_steps=2000)
+    br = continuation(system, downlock_point(system, {**values, design: min(max(x0, lo), hi)}, hold=h, force=f), f,
+                      hold=list(h), free=[design], options=opts)
+    if kind == "fold":
+        found = [p[design] for p in br.special("LP")]
+    else:
+        xs, Fs = br[design], br[f]
+        cross = np.nonzero(np.sign(Fs[:-1]) * np.sign(Fs[1:]) < 0)[0]
+        found = [xs[i] - Fs[i] * (xs[i + 1] - xs[i]) / (Fs[i + 1] - Fs[i]) for i in cross]
+    if not found:
+        what = f"fold (extremum of {f})" if kind == "fold" else f"{f} = 0 crossing"
+        raise InputError(design, f"no {what} in {design} = {lo:g}..{hi:g}")
+    return float(min(found, key=lambda v: abs(v - x0)))
+
+
+def _fold_system(system: EquationSystem, x: np.ndarray, vh: np.ndarray, s_idx: np.ndarray,
+                 cs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Residual and Jacobian of the augmented fold system ``R = (G, G_s C v_hat, (|v_hat|^2 - 1)/2)``.
+
+    The Jacobian is with respect to every variable of the model and then ``v_hat``: exact, from
+    the generated first and second derivatives of ``G``.
+    """
+    n, N = len(s_idx), len(x)
+    vf = np.zeros(N)
+    vf[s_idx] = cs * vh
+    G, J = system.residual_and_jacobian(x)
+    H = system.jacobian_derivative(x, vf)
+    R = np.concatenate([G, J[:, s_idx] @ (cs * vh), [(vh @ vh - 1.0) / 2]])
+    JR = np.zeros((2 * n + 1, N + n))
+    JR[:n, :N], JR[n:2 * n, :N] = J, H
+    JR[n:2 * n, N:] = J[:, s_idx] * cs
+    JR[2 * n, N:] = vh
+    return R, JR
+
+
+class _Cusp:
+    """A cusp as a fold in ``second`` of the augmented fold system ``R(s, lam, v_hat; second) = 0``.
+
+    ``R``'s Jacobian ``A`` in ``z = (s, lam, v_hat)`` is exact (second derivatives of ``G``) and
+    singular at the cusp. The cusp's location in ``second`` has the fold-load formula's
+    sensitivity ``-psi^T R_p / psi^T R_second`` (``psi`` the left null vector of ``A``): exact.
+    Locating the cusp, and the derivatives of its other coordinates, need the bordered system
+    ``R = 0, A phi = 0, |phi_hat| = 1``, whose Jacobian holds ``d(A phi)/dz``: third derivatives
+    of ``G``. That block is a central difference of the exact second-derivative matrix along
+    ``phi`` (one pair of evaluations: ``d(A phi)/dz_j = d/de [dR/dz_j](z + e phi)`` by symmetry).
+    """
+
+    EPS = 1e-5  # step along the unit equilibrated null vector: error ~EPS^2 relative, far below 1e-6
+
+    def __init__(self, system: EquationSystem, x: np.ndarray, states: Sequence[str], vary: str, second: str):
+        self.system = system
+        self.s_idx = _columns(system, states)
+        self.N, self.n = len(x), len(states)
+        idx = np.concatenate([self.s_idx, [system.index(vary)]])
+        _, col = fold_scaling(system, x, idx)
+        self.cs = col[:self.n]
+        # no fold polish: at a cusp the augmented fold system is singular (that is the cusp). Columns scaled
+        # only: at a symmetric cusp (the overcentre's) an equation's row of G_s vanishes, and equilibrating
+        # rows would blow its rounding up into the null space
+        self.vh = np.linalg.svd(system.jacobian(x)[:, self.s_idx] * self.cs)[2][-1]
+        self.z_idx = np.concatenate([idx, self.N + np.arange(self.n)])  # columns of z in [x, v_hat]
+        self.y = system.index(second)
+        self.x = np.array(x, dtype=float)
+        self.scale = np.ones(self.N + self.n)
+
+    def evaluate(self, E: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(R, dR/d[x, v_hat])`` at the extended vector ``E = [x, v_hat]``."""
+        return _fold_system(self.system, E[:self.N], E[self.N:], self.s_idx, self.cs)
+
+    def third(self, E: np.ndarray, phi: np.ndarray) -> np.ndarray:
+        """``d(A phi)/d[x, v_hat]`` by a central difference of the exact Jacobian along ``phi`` (full length)."""
+        h = self.EPS / max(np.linalg.norm(phi / self.scale), 1e-300)
+        return (self.evaluate(E + h * phi)[1] - self.evaluate(E - h * phi)[1]) / (2 * h)
+
+    def locate(self, max_iter: int = 30, tol: float = 1e-12) -> tuple[np.ndarray, np.ndarray]:
+        """Newton on the bordered cusp system from the start; returns ``(E, phi)`` (``phi`` over ``z``, full length)."""
+        E = np.concatenate([self.x, self.vh])
+        _, JR = self.evaluate(E)
+        A = JR[:, self.z_idx]
+        row, col = equilibrate(A)
+        self.scale = np.ones(len(E))
+        self.scale[self.z_idx] = col
+        _, _, vt = np.linalg.svd(A * row[:, None] * col)
+        ph = vt[-1]
+        m = len(self.z_idx)
+        for _ in range(max_iter):
+            phi = np.zeros(len(E))
+            phi[self.z_idx] = col * ph
+            R, JR = self.evaluate(E)
+            A = JR[:, self.z_idx]
+            M = self.third(E, phi)
+            res = np.concatenate([R, A @ (col * ph), [(ph @ ph - 1.0) / 2]])
+            K = np.zeros((2 * m + 1, 2 * m + 1))
+            K[:m, :m], K[:m, m] = A, JR[:, self.y]
+            K[m:2 * m, :m], K[m:2 * m, m], K[m:2 * m, m + 1:] = M[:, self.z_idx], M[:, self.y], A * col
+            K[2 * m, m + 1:] = ph
+            d = -_solve(K, res[:, None], np.zeros(2 * m + 1, dtype=bool), "cusp location")[:, 0]
+            E[self.z_idx] += d[:m]
+            E[self.y] += d[m]
+            ph = ph + d[m + 1:]
+            if np.max(np.abs(d[:m] / col)) < tol and abs(d[m]) < tol * max(abs(E[self.y]), 1.0):
+                break
+        else:
+            raise ConvergenceError(f"cusp location did not converge in {max_iter} iterations")
+        phi = np.zeros(len(E))
+        phi[self.z_idx] = col * ph / np.linalg.norm(ph)
+        return E, phi
+
+
+def cusp_sensitivity(system: EquationSystem, x: np.ndarray, states: Sequence[str], vary: str, second: str,
+                     params: Iterable[str]) -> Sensitivity:
+    """Derivatives of a cusp's location (the value of ``second`` there) and of its other coordinates.
+
+    The cusp of the fold curve of ``vary`` (states ``states`` solved) continued in ``second`` is
+    where ``second`` turns along the curve: a fold in ``second`` of the augmented fold system
+    (:class:`_Cusp`). ``d second_c/dp`` (the derivatives) is exact, from second derivatives of
+    ``G``; the states' and ``vary``'s derivatives at the cusp (``states`` of the result, with
+    ``second``'s own, equal to the former) use third derivatives of ``G`` taken as a central
+    difference of the exact second derivatives (relative error ~1e-10).
+
+    Parameters
+    ----------
+    system, x:
+        The model and a point near the cusp (e.g. a fold curve's ``CP``; it is located first).
+    states:
+        The unknowns of the equilibrium (not ``vary`` nor ``second``).
+    vary, second:
+        The fold's parameter and the one it is continued in.
+    params:
+        Held names to differentiate by.
+
+    Returns a :class:`Sensitivity` of kind ``"cusp"`` (quantity ``second``; ``x`` the located cusp).
+    """
+    states = list(states)
+    params = check_parameters(system, params, [*states, vary, second])
+    cusp = _Cusp(system, np.asarray(x, dtype=float), states, vary, second)
+    E, phi = cusp.locate()
+    R, JR = cusp.evaluate(E)
+    A = JR[:, cusp.z_idx]
+    p_idx = _columns(system, params)
+    row, col = equilibrate(A)
+    u, _, _ = np.linalg.svd(A * row[:, None] * col)
+    psi = row * u[:, -1]
+    exact = -(psi @ JR[:, p_idx]) / (psi @ JR[:, cusp.y])
+    m = len(cusp.z_idx)
+    M = cusp.third(E, phi)
+    ph = phi[cusp.z_idx]
+    K = np.zeros((2 * m + 1, 2 * m + 1))
+    K[:m, :m], K[:m, m] = A, JR[:, cusp.y]
+    K[m:2 * m, :m], K[m:2 * m, m], K[m:2 * m, m + 1:] = M[:, cusp.z_idx], M[:, cusp.y], A
+    K[2 * m, m + 1:] = ph / (col * col)  # |phi_hat|^2 with phi_hat = phi / col
+    B = np.zeros((2 * m + 1, len(params)))
+    B[:m], B[m:2 * m] = JR[:, p_idx], M[:, p_idx]
+    D = -_solve(K, B, np.zeros(2 * m + 1, dtype=bool), "cusp sensitivity")
+    names = [*states, vary, second]
+    rows = np.vstack([D[:cusp.n + 1], D[m]])
+    xc = E[:cusp.N]
+    return Sensitivity(second, float(xc[cusp.y]), system.variable(second).unit, "cusp",
+                       {p: float(d) for p, d in zip(params, exact)}, _units(system, second, params),
+                       _state_table(names, params, rows), xc.copy())
