@@ -203,3 +203,34 @@ def test_nose_gear_margins_match_resolved_margins(kind):
             assert abs(sens[p]) < 1e-12 and abs(fd) < 1e-9
             continue
         assert relative_error(sens[p], fd) < 1e-6, (p, sens[p], fd)
+
+
+def test_design_table_sensitivity_columns(tmp_path):
+    """`design --sensitivity`: per level the force's derivatives at the design l_sp1 against central differences
+    of re-solved downlock forces, and the margins' against the library's sensitivities at that level; a name
+    that is solved for is a one-line error."""
+    import csv
+
+    from cli_helpers import make_runner, one_line_error
+
+    from mechcont.analysis.downlock import downlock_point
+
+    run = make_runner()
+    out = tmp_path / "d.csv"
+    r = run("design", "nose_gear", "--bounds", "l_sp1=-0.175:0.175", "--bounds", "LU=1.3:1.35", "--levels", "2",
+            "--sensitivity", "LU,k", "--out", out)
+    assert r.exit_code == 0, r.output
+    rows = list(csv.DictReader(out.open()))
+    model = load_model("nose_gear")
+    for row in rows:
+        lu = float(row["LU (m)"])
+        x = downlock_point(model, {"LU": lu})
+        for p, unit in (("LU", "N/m"), ("k", "N/(N/m)")):
+            fd = central(lambda y: downlock_point(model, {"LU": y[model.index("LU")], "k": y[model.index("k")]})[
+                model.index("F")], model, x, p)
+            assert relative_error(float(row[f"dF/d{p} at l_sp1=0.1 ({unit})"]), fd) < 1e-6, (lu, p)
+        lock = margin_sensitivity(model, "l_sp1", ["LU"], {"LU": lu}, kind="lock", bounds=(-0.175, 0.175))
+        assert float(row["d(lock margin)/dLU (1)"]) == pytest.approx(lock["LU"], rel=1e-9)
+    assert rows[0]["d(margin to fold)/dLU (1)"] != "none" and rows[1]["d(margin to fold)/dLU (1)"] == "none"
+    one_line_error(run("design", "nose_gear", "--bounds", "l_sp1=-0.175:0.175", "--bounds", "LU=1.3:1.35",
+                       "--sensitivity", "theta1"), "--sensitivity", "solved for")

@@ -517,7 +517,8 @@ def margin_sensitivity(system: EquationSystem, design: str, params: Iterable[str
     else:
         guess = start.copy()
         guess[system.index(f)] = 0.0
-        xq = find_equilibrium(system, values={**values, f: 0.0}, hold=h, free=[design], guess=guess)
+        held = {k: v for k, v in values.items() if k != design}  # the design value would override the start
+        xq = find_equilibrium(system, values={**held, f: 0.0}, hold=h, free=[design], guess=guess)
         d_x = (equilibrium_sensitivity(system, xq, lens, others, design).derivatives if others else {})
         F0 = float(downlock_point(system, values, hold=h, force=f)[system.index(f)])
         sign = 1.0 if F0 > 0 else -1.0
