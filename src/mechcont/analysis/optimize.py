@@ -181,7 +181,17 @@ class _Quantities:
         shift = [vals[n] - d.centre if n in self.design else 0.0 for n, d in self.random.items()]
         fixed = {k: v for k, v in vals.items() if k not in self.random}
         variables = Variables(names, list(self.random.values()), shift)
-        p = form(downlock_limit_state(self.system, names, fixed), variables, u0=self.u_star)
+        limit = downlock_limit_state(self.system, names, fixed)
+        p = form(limit, variables)
+        if self.u_star is not None:
+            # a curved g = 0 has several local design points (the nose gear's F = 0 is U-shaped in (l_sp1, LU)): the
+            # one found from the last design point counts only when nearer the mean than the one found from the mean
+            try:
+                warm = form(limit, variables, u0=self.u_star)
+            except ConvergenceError:
+                warm = p
+            if np.linalg.norm(warm.u) < np.linalg.norm(p.u):
+                p = warm
         self.u_star = p.u
         at = {**fixed, **dict(zip(names, p.x))}
         # a designed toleranced value moves x itself (dx/dd = 1): its derivative is dg/dx
@@ -408,8 +418,8 @@ class OptimumMap:
     boundaries:
         ``[(constraint, x, y)]``: each active constraint's boundary as a curve in the plane (SI).
         ``downlock_force`` is continued exactly through the optimum (the force held at its bound,
-        the second parameter solved for); a design bound is a line; any other quantity is the
-        contour at its bound of a coarse grid of its values.
+        the second parameter solved for); a design bound is a line; any other quantity is traced
+        through the optimum by Newton on its exact gradient, level by level.
     notes:
         What could not be drawn, and why.
     """
@@ -423,14 +433,14 @@ class OptimumMap:
 def optimum_map(system: EquationSystem, result: OptimumResult, bounds: Mapping[str, tuple[float, float]], *,
                 constraints: Sequence[Constraint] = (), values: Mapping[str, float] | None = None,
                 random: Mapping[str, Distribution] | None = None, levels: int = 11, n_x: int = 121,
-                grid: int = 9) -> OptimumMap:
+                grid: int = 11) -> OptimumMap:
     """The design map over the two design parameters of ``result`` with the optimum and its active boundaries.
 
     ``bounds`` are the design's (the map's extent); ``constraints``, ``values`` and ``random`` those
     given to :func:`optimize`. The map is :func:`~mechcont.analysis.design.design_region` with
     ``levels`` levels of the second parameter and ``n_x`` points in the first; a quantity other
-    than the downlock force or a design bound is contoured from a ``grid`` x ``grid`` grid of its
-    values. Raises :class:`InputError` unless there are exactly two design parameters.
+    than the downlock force or a design bound is traced through the optimum by Newton on its
+    exact gradient at ``grid`` levels each way. Raises :class:`InputError` unless there are exactly two design parameters.
     """
     from ..continuation import ContinuationOptions, continuation, find_equilibrium
     from .design import design_region
@@ -469,25 +479,49 @@ def optimum_map(system: EquationSystem, result: OptimumResult, bounds: Mapping[s
             order = np.argsort(br.s)
             curves.append((what, br[xn][order], br[yn][order]))
         else:
-            curves += _grid_boundary(system, c, what, design, bounds, values, random, grid, notes)
+            if c.quantity == BETA:  # shown as the probability it stands for
+                from scipy.stats import norm
+
+                what = f"{NOT_LOCKING} {'<=' if c.sense == '>=' else '>='} {float(norm.sf(c.bound)):.3g}"
+            curves += _traced_boundary(system, c, what, design, bounds, values, random, opt, grid, notes)
     return OptimumMap(region, opt, curves, notes)
 
 
-def _grid_boundary(system, c, what, design, bounds, values, random, n, notes):
-    """The contour ``c.quantity = c.bound`` of an ``n`` x ``n`` grid of the quantity's values (SI), as curves."""
-    import contourpy
+def _traced_boundary(system, c, what, design, bounds, values, random, opt, n, notes):
+    """The curve ``c.quantity = c.bound`` through the optimum ``opt``, traced on the exact gradients.
 
-    xn, yn = design
-    xs, ys = np.linspace(*bounds[xn], n), np.linspace(*bounds[yn], n)
+    One design parameter is solved for (the one the quantity changes most across its range, at
+    the optimum) by Newton at ``n`` levels of the other, marching out from the optimum both ways
+    (each level starts from the last); a level where it fails or leaves the bounds ends that way.
+    Returns ``[(what, x, y)]`` in the design's order.
+    """
     q = _Quantities(system, design, values, None, random)
-    Z = np.full((n, n), np.nan)
-    for i, yv in enumerate(ys):
-        for j, xv in enumerate(xs):
+    lo = np.array([bounds[d][0] for d in design], dtype=float)
+    hi = np.array([bounds[d][1] for d in design], dtype=float)
+    z0 = np.array(opt, dtype=float)
+    _, g0 = q.at(z0, [c.quantity])[c.quantity]
+    i = int(np.argmax(np.abs(g0) * (hi - lo)))  # solved for
+    j = 1 - i
+    scale = max(abs(c.bound), 1e-12)
+    points = {float(z0[j]): z0.copy()}
+    for way in (-1, 1):
+        z = z0.copy()
+        for level in np.linspace(z0[j], hi[j] if way > 0 else lo[j], n)[1:]:
+            z = z.copy()
+            z[j] = level
             try:
-                Z[i, j] = q.at(np.array([xv, yv]), [c.quantity])[c.quantity][0]
-            except InputError:
-                pass  # the quantity does not exist there: a hole in the grid
-    lines = contourpy.contour_generator(xs, ys, np.ma.masked_invalid(Z)).lines(c.bound)
-    if not lines:
-        notes.append(f"the boundary {what} is not drawn: it does not cross the {n} x {n} grid")
-    return [(what, np.asarray(seg)[:, 0], np.asarray(seg)[:, 1]) for seg in lines]
+                for _ in range(30):
+                    v, g = q.at(z, [c.quantity])[c.quantity]
+                    if abs(v - c.bound) <= 1e-9 * scale:
+                        break
+                    z[i] -= (v - c.bound) / g[i]
+                    if not lo[i] <= z[i] <= hi[i]:
+                        raise ConvergenceError(f"{design[i]} leaves its bounds")
+                else:
+                    raise ConvergenceError("Newton did not converge")
+            except (ConvergenceError, InputError, ZeroDivisionError, FloatingPointError) as exc:
+                notes.append(f"the boundary {what} is not drawn past {design[j]} = {z[j]:g}: {exc}")
+                break
+            points[float(level)] = z.copy()
+    pts = np.array([points[k] for k in sorted(points)])
+    return [(what, pts[:, 0], pts[:, 1])]

@@ -57,9 +57,11 @@ def optimum_figure(omap, *, force_name: str = "F", title: str, value_text: str =
     fig = design_figure(omap.region, force_name=force_name, title=title)
     ax = fig.axes[0]
     styles = ["--", ":", "-."]
+    names = list(dict.fromkeys(w for w, _, _ in omap.boundaries))  # a constraint's pieces share its style and label
     for i, (what, xs, ys) in enumerate(omap.boundaries):
         first = all(w != what for w, _, _ in omap.boundaries[:i])
-        ax.plot(xs, ys, styles[i % len(styles)], color="magenta", lw=2, label=f"active: {what}" if first else None)
+        ax.plot(xs, ys, styles[names.index(what) % len(styles)], color="magenta", lw=2,
+                label=f"active: {what}" if first else None)
     ax.plot(*omap.optimum, "D", color="limegreen", mec="k", ms=9, clip_on=False, zorder=5,
             label=f"optimum{': ' + value_text if value_text else ''}")
     ax.set_xlim(omap.region.x[0], omap.region.x[-1])
