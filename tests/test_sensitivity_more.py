@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_sensitivity import relative_error
+from test_sensitivity import central, relative_error
 
 from mechcont.analysis.sensitivity import _Cusp, cusp_sensitivity, margin_sensitivity, release_sensitivity
 from mechcont.analysis.stop_lock import locked_on_stops
@@ -26,21 +26,6 @@ from mechcont.models import load_model
 
 DATA = Path(__file__).parent / "data"
 G = 9.81
-
-
-def central(f, system, x, name, rel=1e-4):
-    """Central difference of ``f`` along ``name`` with step ``rel`` of its value, Richardson-extrapolated (h, h/2)."""
-    v = x[system.index(name)]
-    h = rel * (abs(v) if v != 0 else system.variable(name).scale)
-    i = system.index(name)
-
-    def diff(d):
-        lo, hi = x.copy(), x.copy()
-        lo[i] -= d
-        hi[i] += d
-        return (f(hi) - f(lo)) / (2 * d)
-
-    return (4 * diff(h / 2) - diff(h)) / 3
 
 
 def released(model, stop, vary, values):
