@@ -18,7 +18,8 @@ import numpy as np
 import pytest
 from test_sensitivity import central, relative_error
 
-from mechcont.analysis.sensitivity import _Cusp, cusp_sensitivity, margin_sensitivity, release_sensitivity
+from mechcont.analysis._cusp import _Cusp
+from mechcont.analysis.sensitivity import cusp_sensitivity, margin_sensitivity, release_sensitivity
 from mechcont.analysis.stop_lock import locked_on_stops
 from mechcont.continuation import ContinuationOptions, continuation, continue_folds, find_equilibrium
 from mechcont.errors import InputError
