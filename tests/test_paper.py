@@ -115,3 +115,40 @@ def test_fig4a_shows_two_time_simulations_apart_and_no_empty_band(paper_dir, mon
         ink = np.asarray(im.convert("L")) < 240
     rows = np.flatnonzero(ink.any(axis=1))
     assert len(ink) - 1 - rows[-1] < 0.04 * len(ink)   # no empty band at the bottom (was ~100 px of 900)
+
+
+def test_design_optimum_section_numbers_resolve(tmp_path):
+    """The reliability-based design section: each optimum re-analysed on its own at the printed design (FORM afresh
+    with the tolerances centred there gives P = 1e-6; the unlock fold and the downlock force re-solved)."""
+    from scipy.stats import norm
+
+    from mechcont.analysis.downlock import downlock_condition, downlock_point
+    from mechcont.analysis.reliability import Variables, downlock_limit_state, form
+    from mechcont.analysis.study import Distribution
+    from mechcont.analysis.unlock import unlock_folds
+    from mechcont.models import load_model
+
+    _register()
+    r = CliRunner().invoke(cli, ["paper", "--out", str(tmp_path), "--only", "design_optimum", "--quiet"])
+    assert r.exit_code == 0, r.output
+    text = (tmp_path / "summary.md").read_text()
+    assert (tmp_path / "design_optimum_lockstay.png").read_bytes().startswith(b"\x89PNG")
+    target = norm.isf(1e-6)
+
+    nose = load_model("nose_gear")
+    lu = float(re.search(r"free length is LU = ([0-9.]+) m", text).group(1))
+    tol = Variables(["LU", "l_sp1"], [Distribution("normal", (lu, 0.01)),
+                                      Distribution("truncnormal", (0.1, 0.005, 0.09, 0.11))])
+    assert form(downlock_limit_state(nose, ["LU", "l_sp1"], {}), tol).beta == pytest.approx(target, abs=1e-4)
+    force = float(re.search(r"its nominal downlock force is ([0-9.]+) N", text).group(1))
+    assert force == pytest.approx(downlock_point(nose, {"LU": lu})[nose.index("F")], abs=0.006)
+
+    stay = load_model("lockstay")
+    got = re.search(r"least unlock load is ([0-9.]+) N at k = ([0-9.]+) N/m and LU = ([0-9.]+) m", text)
+    unlock, k, lu = map(float, got.groups())
+    assert k == pytest.approx(10000.0, rel=1e-9)  # at its lower bound: a softer spring would unlock easier still
+    tol = Variables(["LU", "k"], [Distribution("normal", (lu, 0.005)), Distribution("normal", (k, 1500.0))])
+    assert form(downlock_limit_state(stay, ["LU", "k"], {}), tol).beta == pytest.approx(target, abs=1e-4)
+    hold, f = downlock_condition(stay)
+    x = downlock_point(stay, {"k": k, "LU": lu})
+    assert unlock == pytest.approx(unlock_folds(stay, x, f, released=tuple(hold)).above[f], abs=6e-4)

@@ -21,20 +21,20 @@ DATA = Path(__file__).parent / "data"
 OVERCENTRE_STATES = ["x1", "y1", "theta1", "x2", "y2", "theta2"]
 
 
-def step(system, x, name):
-    """A central-difference step for ``name``: 1e-4 of its value (of its scale when it is zero)."""
+def step(system, x, name, rel=1e-4):
+    """A central-difference step for ``name``: ``rel`` of its value (of its scale when it is zero)."""
     v = x[system.index(name)]
-    return 1e-4 * (abs(v) if v != 0 else system.variable(name).scale)
+    return rel * (abs(v) if v != 0 else system.variable(name).scale)
 
 
-def central(f, system, x, name):
+def central(f, system, x, name, rel=1e-4):
     """Central difference of ``f`` along ``name``, Richardson-extrapolated from steps h and h/2.
 
     Truncation error O(h^4) (~1e-16 relative with h = 1e-4 of the value, where a plain
     central difference is off by 1e-5 near the overcentre's steep end); the re-solved
     quantity's own error (Newton to ~1e-12 relative) divided by h stays below 1e-7.
     """
-    h = step(system, x, name)
+    h = step(system, x, name, rel)
     i = system.index(name)
 
     def diff(d):

@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from .._lazy import lazy_exports
+from . import _special_points  # noqa: F401  (the loads of SR and CP points for Branch.sensitivity)
 
 # ``downlock`` names both a function and the module defining it: imported now, so that the name is the
 # function whatever imports the module later (an import binds a submodule to its package's name)

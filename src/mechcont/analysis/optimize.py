@@ -25,6 +25,7 @@ import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -33,7 +34,10 @@ from ..errors import ConvergenceError, InputError
 from .sensitivity import Sensitivity, downlock_sensitivity, fold_sensitivity, write_json
 from .study._spec import Distribution
 
-__all__ = ["Constraint", "OptimumResult", "optimize", "QUANTITIES", "NOT_LOCKING", "BETA"]
+if TYPE_CHECKING:
+    from .design import DesignRegion
+
+__all__ = ["Constraint", "OptimumResult", "optimize", "QUANTITIES", "NOT_LOCKING", "BETA", "OptimumMap", "optimum_map"]
 
 #: Named quantities besides the model's parameters.
 QUANTITIES = ("downlock_force", "unlock_force", "fold_load")
@@ -177,7 +181,17 @@ class _Quantities:
         shift = [vals[n] - d.centre if n in self.design else 0.0 for n, d in self.random.items()]
         fixed = {k: v for k, v in vals.items() if k not in self.random}
         variables = Variables(names, list(self.random.values()), shift)
-        p = form(downlock_limit_state(self.system, names, fixed), variables, u0=self.u_star)
+        limit = downlock_limit_state(self.system, names, fixed)
+        p = form(limit, variables)
+        if self.u_star is not None:
+            # a curved g = 0 has several local design points (the nose gear's F = 0 is U-shaped in (l_sp1, LU)): the
+            # one found from the last design point counts only when nearer the mean than the one found from the mean
+            try:
+                warm = form(limit, variables, u0=self.u_star)
+            except ConvergenceError:
+                warm = p
+            if np.linalg.norm(warm.u) < np.linalg.norm(p.u):
+                p = warm
         self.u_star = p.u
         at = {**fixed, **dict(zip(names, p.x))}
         # a designed toleranced value moves x itself (dx/dd = 1): its derivative is dg/dx
@@ -217,7 +231,7 @@ class _Quantities:
 def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[float, float]], *,
              maximize: bool = False, constraints: Sequence[Constraint] = (), values: Mapping[str, float] | None = None,
              fold: tuple[np.ndarray, Sequence[str], str] | None = None, max_iter: int = 100,
-             tol: float = 1e-10, random: Mapping[str, Distribution] | None = None) -> OptimumResult:
+             tol: float = 1e-10, random: Mapping[str, Distribution] | None = None, starts: int = 1) -> OptimumResult:
     """Minimise (or maximise) ``objective`` over the parameters of ``bounds`` subject to ``constraints``.
 
     Parameters
@@ -242,6 +256,9 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
     random:
         ``{parameter: Distribution}``: the tolerances of a ``P(not locking)`` constraint (a
         design parameter among them is the nominal value its distribution moves with).
+    starts:
+        SLSQP finds a local optimum: with ``starts`` = n > 1 it also starts from the n^d points
+        of an even grid over the bounds (corners included) and keeps the best feasible optimum.
 
     Returns an :class:`OptimumResult`. Raises :class:`InputError` for an unknown quantity, a
     design name that is not a parameter, empty bounds, or a quantity that does not exist at
@@ -294,9 +311,20 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
 
         return {"type": "ineq", "fun": value, "jac": jac}
 
-    res = minimize(fun, (z0 - lo) / (hi - lo), jac=True, method="SLSQP", bounds=[(0.0, 1.0)] * len(design),
-                   constraints=[cons(i, c) for i, c in enumerate(constraints)],
-                   options={"maxiter": max_iter, "ftol": tol})
+    slsqp = [cons(i, c) for i, c in enumerate(constraints)]
+    res, lost = None, None
+    for t0 in _starts(z0, lo, hi, starts):
+        try:
+            r = minimize(fun, t0, jac=True, method="SLSQP", bounds=[(0.0, 1.0)] * len(design), constraints=slsqp,
+                         options={"maxiter": max_iter, "ftol": tol})
+        except InputError as exc:
+            lost = exc  # from this start the optimiser went where a quantity does not exist: that start is lost
+            continue
+        if res is None or _better(r, res, slsqp):
+            res = r
+    if res is None:
+        assert lost is not None
+        raise lost
     t = np.clip(res.x, 0.0, 1.0)
     z = phys(t)
     at = q.at(z, names)
@@ -312,6 +340,27 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
         quantities[NOT_LOCKING] = float(norm.cdf(-quantities[BETA]))
     return OptimumResult({n: float(v) for n, v in zip(design, z)}, objective, float(at[objective][0]),
                          quantities, active, int(res.nit), q.evaluations, bool(res.success), str(res.message), units)
+
+
+def _starts(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, n: int):
+    """The scaled start points: the given design, then (``n`` > 1) an ``n``-per-axis grid over the bounds."""
+    if n < 1:
+        raise InputError("starts", f"must be a positive whole number, got {n}")
+    yield (z0 - lo) / (hi - lo)
+    if n > 1:
+        import itertools
+
+        for t in itertools.product(np.linspace(0.0, 1.0, n), repeat=len(z0)):
+            yield np.array(t)
+
+
+def _better(r, best, constraints, tol: float = 1e-6) -> bool:
+    """Is SLSQP result ``r`` better than ``best``: feasible (to ``tol`` of the scaled constraints) first, then lower."""
+    def feasible(res):
+        return bool(res.success) and all(c["fun"](np.clip(res.x, 0.0, 1.0)) >= -tol for c in constraints)
+
+    fr, fb = feasible(r), feasible(best)
+    return fr and (not fb or float(r.fun) < float(best.fun) - 1e-12 * max(1.0, abs(float(best.fun))))
 
 
 def _reliability_constraints(system: EquationSystem, constraints: Sequence[Constraint],
@@ -354,3 +403,125 @@ def _multipliers(design, t, lo, hi, at, objective, constraints, g_scale, tol: fl
         return []
     mu, *_ = np.linalg.lstsq(np.array(rows).T, at[objective][1], rcond=None)
     return [(w, float(m) + 0.0) for w, m in zip(what, mu)]
+
+
+@dataclass
+class OptimumMap:
+    """An optimum over two design parameters drawn on their design map.
+
+    Attributes
+    ----------
+    region:
+        The design map (:class:`~mechcont.analysis.design.DesignRegion`) over the design bounds.
+    optimum:
+        ``(x, y)``: the optimum in the map's parameters (SI).
+    boundaries:
+        ``[(constraint, x, y)]``: each active constraint's boundary as a curve in the plane (SI).
+        ``downlock_force`` is continued exactly through the optimum (the force held at its bound,
+        the second parameter solved for); a design bound is a line; any other quantity is traced
+        through the optimum by Newton on its exact gradient, level by level.
+    notes:
+        What could not be drawn, and why.
+    """
+
+    region: DesignRegion
+    optimum: tuple[float, float]
+    boundaries: list[tuple[str, np.ndarray, np.ndarray]]
+    notes: list[str] = field(default_factory=list)
+
+
+def optimum_map(system: EquationSystem, result: OptimumResult, bounds: Mapping[str, tuple[float, float]], *,
+                constraints: Sequence[Constraint] = (), values: Mapping[str, float] | None = None,
+                random: Mapping[str, Distribution] | None = None, levels: int = 11, n_x: int = 121,
+                grid: int = 11) -> OptimumMap:
+    """The design map over the two design parameters of ``result`` with the optimum and its active boundaries.
+
+    ``bounds`` are the design's (the map's extent); ``constraints``, ``values`` and ``random`` those
+    given to :func:`optimize`. The map is :func:`~mechcont.analysis.design.design_region` with
+    ``levels`` levels of the second parameter and ``n_x`` points in the first; a quantity other
+    than the downlock force or a design bound is traced through the optimum by Newton on its
+    exact gradient at ``grid`` levels each way. Raises :class:`InputError` unless there are exactly two design parameters.
+    """
+    from ..continuation import ContinuationOptions, continuation, find_equilibrium
+    from .design import design_region
+    from .downlock import downlock_condition, downlock_point
+
+    design = list(result.design)
+    if len(design) != 2:
+        raise InputError("plot", f"a design map needs exactly two design parameters, got {len(design)}")
+    xn, yn = design
+    values = dict(values or {})
+    region = design_region(system, xn, yn, x_bounds=bounds[xn], y_levels=np.linspace(*bounds[yn], levels),
+                           values=values, n_x=n_x)
+    opt = (result.design[xn], result.design[yn])
+    h, f = downlock_condition(system)
+    by_text = {str(c): c for c in _reliability_constraints(system, constraints, random)}
+    curves: list[tuple[str, np.ndarray, np.ndarray]] = []
+    notes: list[str] = []
+    for what, _ in result.active:
+        c = by_text.get(what)
+        if c is None:  # a design bound, "NAME >= EDGE"
+            name, _, edge = what.split(" ")
+            e = float(edge)
+            line = np.array([e, e])
+            curves.append((what, line, np.array(bounds[yn])) if name == xn else (what, np.array(bounds[xn]), line))
+        elif c.quantity == "downlock_force":
+            at = {**values, xn: opt[0], f: c.bound}
+            try:
+                start = find_equilibrium(system, values=at, hold=h, free=[yn],
+                                         guess=downlock_point(system, {**values, xn: opt[0], yn: opt[1]}, hold=h,
+                                                              force=f))
+                br = continuation(system, start, xn, hold=list(h), free=[yn], options=ContinuationOptions(
+                    ds=0.02, dsmin=1e-9, dsmax=0.5, bounds={xn: bounds[xn], yn: bounds[yn]}, max_steps=2000))
+            except (ConvergenceError, InputError) as exc:
+                notes.append(f"the boundary {what} is not drawn: {exc}")
+                continue
+            order = np.argsort(br.s)
+            curves.append((what, br[xn][order], br[yn][order]))
+        else:
+            if c.quantity == BETA:  # shown as the probability it stands for
+                from scipy.stats import norm
+
+                what = f"{NOT_LOCKING} {'<=' if c.sense == '>=' else '>='} {float(norm.sf(c.bound)):.3g}"
+            curves += _traced_boundary(system, c, what, design, bounds, values, random, opt, grid, notes)
+    return OptimumMap(region, opt, curves, notes)
+
+
+def _traced_boundary(system, c, what, design, bounds, values, random, opt, n, notes):
+    """The curve ``c.quantity = c.bound`` through the optimum ``opt``, traced on the exact gradients.
+
+    One design parameter is solved for (the one the quantity changes most across its range, at
+    the optimum) by Newton at ``n`` levels of the other, marching out from the optimum both ways
+    (each level starts from the last); a level where it fails or leaves the bounds ends that way.
+    Returns ``[(what, x, y)]`` in the design's order.
+    """
+    q = _Quantities(system, design, values, None, random)
+    lo = np.array([bounds[d][0] for d in design], dtype=float)
+    hi = np.array([bounds[d][1] for d in design], dtype=float)
+    z0 = np.array(opt, dtype=float)
+    _, g0 = q.at(z0, [c.quantity])[c.quantity]
+    i = int(np.argmax(np.abs(g0) * (hi - lo)))  # solved for
+    j = 1 - i
+    scale = max(abs(c.bound), 1e-12)
+    points = {float(z0[j]): z0.copy()}
+    for way in (-1, 1):
+        z = z0.copy()
+        for level in np.linspace(z0[j], hi[j] if way > 0 else lo[j], n)[1:]:
+            z = z.copy()
+            z[j] = level
+            try:
+                for _ in range(30):
+                    v, g = q.at(z, [c.quantity])[c.quantity]
+                    if abs(v - c.bound) <= 1e-9 * scale:
+                        break
+                    z[i] -= (v - c.bound) / g[i]
+                    if not lo[i] <= z[i] <= hi[i]:
+                        raise ConvergenceError(f"{design[i]} leaves its bounds")
+                else:
+                    raise ConvergenceError("Newton did not converge")
+            except (ConvergenceError, InputError, ZeroDivisionError, FloatingPointError) as exc:
+                notes.append(f"the boundary {what} is not drawn past {design[j]} = {z[j]:g}: {exc}")
+                break
+            points[float(level)] = z.copy()
+    pts = np.array([points[k] for k in sorted(points)])
+    return [(what, pts[:, 0], pts[:, 1])]

@@ -9,11 +9,12 @@ are in SI units per SI unit (``N/(N/m)`` for a force by a stiffness); angles in 
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
 from ..continuation import choose_unknowns
+from ..continuation._folds import polish_fold
 from ..continuation._sensitivity import (
     Sensitivity,
     check_parameters,
@@ -27,7 +28,8 @@ from ..equations import EquationSystem
 from ..errors import InputError
 
 __all__ = ["Sensitivity", "equilibrium_sensitivity", "fold_sensitivity", "downlock_sensitivity", "point_sensitivity",
-           "derivative_unit", "check_parameters", "write_json", "with_sensitivity_columns"]
+           "release_sensitivity", "margin_sensitivity", "cusp_sensitivity", "derivative_unit", "check_parameters",
+           "write_json", "with_sensitivity_columns"]
 
 
 def downlock_sensitivity(system: EquationSystem, params: Iterable[str], values: Mapping[str, float] | None = None, *,
@@ -47,6 +49,29 @@ def downlock_sensitivity(system: EquationSystem, params: Iterable[str], values: 
         x = downlock_point(system, values, hold=h, force=f)
     unknowns = choose_unknowns(system, hold=h, free=[f])
     return equilibrium_sensitivity(system, x, unknowns, params, f, kind="downlock")
+
+
+def _switch_or_cusp(system: EquationSystem, x: np.ndarray, params: Iterable[str], vary: str, label: str, info: dict,
+                    unknowns: Sequence[str] | None, values: Mapping[str, float] | None) -> Sensitivity:
+    """:func:`point_sensitivity` at a stop's release (``SR``) or a fold curve's cusp (``CP``): the
+    handler :mod:`mechcont.analysis` registers for those labels (:data:`SPECIAL_POINTS`)."""
+    if values:
+        x = system.vector(values, base=x)
+        system.check_limits(x)
+    if label == "SR":
+        from ..equations import as_model
+
+        stop = info.get("stop") or next((s.name for s in as_model(system).stops
+                                         if abs(x[system.index(s.reaction)]) <= 1e-9 * system.variable(s.reaction).scale),
+                                        None)
+        if stop is None:
+            raise InputError("point", "no stop's reaction is zero here: not a release (SR)")
+        return release_sensitivity(system, x, stop, vary, params)
+    lens = list(unknowns or info.get("unknowns") or [])
+    if len(lens) != system.n_equations + 1:
+        raise InputError("unknowns", "a cusp's unknowns are the fold's states and then its parameter (a fold "
+                                     "curve's points record them); give them")
+    return cusp_sensitivity(system, x, lens[:-1], lens[-1], vary, params)
 
 
 def with_sensitivity_columns(system: EquationSystem, branch, params: Iterable[str], of: str | None = None):
@@ -76,3 +101,138 @@ def with_sensitivity_columns(system: EquationSystem, branch, params: Iterable[st
                     branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
                     branch.status, branch.message, branch.model, {**branch.units, **units})
     return out
+
+
+def release_sensitivity(system: EquationSystem, x: np.ndarray, stop: str, vary: str, params: Iterable[str], *,
+                        polish: bool = True) -> Sensitivity:
+    """Derivatives of a stop's release load: the value of ``vary`` where the stop's reaction reaches zero.
+
+    At a release (``SR`` of :func:`~mechcont.analysis.stops.continuation_with_stops`) the stop is
+    still in contact (its condition held at the limit) and its reaction ``R`` is zero, so the
+    release is the square solve ``G = 0`` with every touching stop's condition held at its limit,
+    ``R = 0`` held and ``vary`` freed beside the other touching stops' reactions:
+    :func:`equilibrium_sensitivity` of ``vary`` there.
+
+    Parameters
+    ----------
+    system, x:
+        A model with stops and a point at (or, with ``polish``, near) the release.
+    stop:
+        The releasing stop's name.
+    vary:
+        The load continued (e.g. the unlock force).
+    params:
+        Held names to differentiate by (not a touching stop's condition or reaction).
+    polish:
+        Solve the release exactly first (Newton from ``x``: ``R = 0``, ``vary`` freed).
+
+    Returns a :class:`Sensitivity` of kind ``"release"`` (its ``x`` the solved release).
+    """
+    from ..equations import as_model
+    from .stops import GAP_TOL
+
+    stops = {s.name: s for s in as_model(system).stops}
+    if stop not in stops:
+        raise InputError("stop", f"unknown stop {stop!r}; stops of {system.name}: {', '.join(stops) or 'none'}")
+    x = np.asarray(x, dtype=float).copy()
+    touching = [s for s in stops.values()
+                if s.name == stop or abs(s.gap(x[system.index(s.condition)])) <= max(GAP_TOL, 1e-6)]
+    hold = {s.condition: float(s.limit) for s in touching}
+    free = [vary, *(s.reaction for s in touching if s.name != stop)]
+    for s in touching:
+        x[system.index(s.condition)] = s.limit
+    x[system.index(stops[stop].reaction)] = 0.0
+    if polish:
+        from ..continuation import find_equilibrium
+
+        x = find_equilibrium(system, hold=hold, free=free, guess=x)
+    unknowns = choose_unknowns(system, hold=list(hold), free=free)
+    sens = equilibrium_sensitivity(system, x, unknowns, params, vary, kind="release")
+    sens.point = sens.point or f"release of stop {stop}"
+    return sens
+
+
+def margin_sensitivity(system: EquationSystem, design: str, params: Iterable[str],
+                       values: Mapping[str, float] | None = None, *, kind: str = "fold", at: float | None = None,
+                       bounds: tuple[float, float] | None = None, hold: Mapping[str, float] | None = None,
+                       force: str | None = None, condition: str | None = None) -> Sensitivity:
+    """Derivatives of the design map's margins along ``design`` (:mod:`mechcont.analysis.design`).
+
+    * ``kind="fold"``: the margin to the fold, ``|x0 - x_f|`` with ``x_f`` the nearest extremum of
+      the downlock force in ``design`` (a fold in the force with ``design`` solved for). ``dx_f/dp``
+      is the ``design`` row of :func:`fold_sensitivity`'s augmented system.
+    * ``kind="lock"``: the signed lock margin, ``+|x0 - x_c|`` when the design locks unaided
+      (force > 0 at ``x0``), ``-|x0 - x_c|`` when not, ``x_c`` the nearest ``F = 0`` crossing:
+      ``dx_c/dp`` from :func:`equilibrium_sensitivity` with ``F = 0`` held and ``design`` freed.
+
+    ``x0`` is ``design``'s value in ``values`` (else the model's). The fold or crossing is the
+    one near ``at`` (SI), else the nearest found by continuation of the force in ``design``
+    within ``bounds``. The derivative by ``design`` itself is the margin's sign change of
+    ``x0``; by any other parameter it is ``-sign(x0 - x_f) dx_f/dp`` (times the lock's sign).
+    Returns a :class:`Sensitivity` of kind ``"fold_margin"`` or ``"lock_margin"`` (unit of
+    ``design``); :class:`InputError` when there is no fold or crossing in ``bounds``.
+    """
+    from ..continuation import find_equilibrium
+    from .downlock import downlock_condition, downlock_point
+
+    if kind not in ("fold", "lock"):
+        raise InputError("kind", f"'{kind}' is not a margin; valid: fold, lock")
+    h, f = downlock_condition(system, hold, force, condition=condition)
+    values = dict(values or {})
+    system.variable(design)
+    x0 = float(values.get(design, system.variable(design).value))
+    lens = choose_unknowns(system, hold=h, free=[design])
+    params = check_parameters(system, params, [f, *(n for n in lens if n != design)])
+    others = [p for p in params if p != design]
+    if at is None:
+        at = _nearest(system, design, values, kind, bounds, h, f, x0)
+    start = downlock_point(system, {**values, design: at}, hold=h, force=f)
+    if kind == "fold":
+        s = fold_sensitivity(system, start, lens, f, others) if others else None
+        xq = s.x if s is not None else polish_fold(system, start, lens, f).x
+        d_x = {p: s.states[p][design] for p in others} if s is not None else {}
+        sign = 1.0
+    else:
+        guess = start.copy()
+        guess[system.index(f)] = 0.0
+        held = {k: v for k, v in values.items() if k != design}  # the design value would override the start
+        xq = find_equilibrium(system, values={**held, f: 0.0}, hold=h, free=[design], guess=guess)
+        d_x = (equilibrium_sensitivity(system, xq, lens, others, design).derivatives if others else {})
+        F0 = float(downlock_point(system, values, hold=h, force=f)[system.index(f)])
+        sign = 1.0 if F0 > 0 else -1.0
+    assert xq is not None
+    xc = float(xq[system.index(design)])
+    side = sign * (1.0 if x0 >= xc else -1.0)
+    deriv = {p: side * (1.0 if p == design else -d_x[p]) for p in params}
+    unit = system.variable(design).unit
+    return Sensitivity(f"{kind}_margin", side * (x0 - xc), unit, f"{kind}_margin", deriv,
+                       {p: derivative_unit(unit, system.variable(p).unit) for p in params}, {}, xq,
+                       f"{'fold' if kind == 'fold' else f + ' = 0'} at {design} = {xc:.10g}")
+
+
+def _nearest(system, design, values, kind, bounds, h, f, x0) -> float:
+    """The fold (extremum of ``f`` in ``design``) or ``f = 0`` crossing nearest ``x0``, by continuation in ``f``."""
+    from ..continuation import ContinuationOptions, continuation
+    from .downlock import downlock_point
+
+    if bounds is None:
+        raise InputError("bounds", f"give the range of {design} to look for the {kind} margin in (or 'at')")
+    lo, hi = map(float, bounds)
+    opts = ContinuationOptions(ds=0.02, dsmin=1e-9, dsmax=0.5, bounds={design: (lo, hi), f: (-1e6, 1e6)},
+                               max_steps=2000)
+    br = continuation(system, downlock_point(system, {**values, design: min(max(x0, lo), hi)}, hold=h, force=f), f,
+                      hold=list(h), free=[design], options=opts)
+    if kind == "fold":
+        found = [p[design] for p in br.special("LP")]
+    else:
+        xs, Fs = br[design], br[f]
+        cross = np.nonzero(np.sign(Fs[:-1]) * np.sign(Fs[1:]) < 0)[0]
+        found = [xs[i] - Fs[i] * (xs[i + 1] - xs[i]) / (Fs[i + 1] - Fs[i]) for i in cross]
+    if not found:
+        what = f"fold (extremum of {f})" if kind == "fold" else f"{f} = 0 crossing"
+        raise InputError(design, f"no {what} in {design} = {lo:g}..{hi:g}")
+    return float(min(found, key=lambda v: abs(v - x0)))
+
+
+# the cusp's location lives in its own module (it uses the helpers above); re-exported here
+from ._cusp import cusp_sensitivity  # noqa: E402

@@ -25,8 +25,15 @@ from ._parse import assignments, bounds
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Another parameter's value (SI units, rad).")
 @click.option("--point", metavar="BRANCH.csv:LPn", help="For fold_load: the start fold, a point of a branch table.")
 @click.option("--max-iter", type=click.IntRange(1, 1000), default=100, show_default=True, help="Most SLSQP iterations.")
+@click.option("--starts", type=click.IntRange(1, 20), default=1, show_default=True,
+              help="Also start SLSQP from N points per --design parameter (a grid over the bounds, corners "
+                   "included) and keep the best feasible optimum: SLSQP alone finds a local one.")
 @click.option("--out", default=None, metavar="FILE.json", help="Write the optimum as JSON (SI units).")
-def optimize_command(model, minimize_, maximize_, designs, constraints, dists, sets, point, max_iter, out):
+@click.option("--plot", default=None, metavar="FILE",
+              help="With two --design parameters: the optimum on their design map, with the active constraints' "
+                   "boundaries (.png, .svg, .pdf).")
+def optimize_command(model, minimize_, maximize_, designs, constraints, dists, sets, point, max_iter, starts, out,
+                     plot):
     """Minimise or maximise a quantity over the --design parameters within their bounds, under --constraint.
 
     SLSQP on exact gradients (implicit-function theorem). Prints the optimum, the active
@@ -38,12 +45,17 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
 
     Reliability-based: mechcont optimize nose_gear --maximize LU --design LU=1.2:1.4
     --dist LU=normal:1.3:0.01 --constraint "P(not locking) <= 1e-6"
+
+    On the design map: mechcont optimize nose_gear --maximize LU --design l_sp1=-0.175:0.175
+    --design LU=1.25:1.35 --constraint "downlock_force >= 100" --plot optimum.png
     """
     from .._io import check_output_path
     from ..analysis.optimize import NOT_LOCKING, Constraint, optimize
     from ..models import load_model
+    from .downlock import PLOT_SUFFIXES, checked_path
 
     check_output_path(out, "--out", (".json",))
+    plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
     if (minimize_ is None) == (maximize_ is None):
         raise InputError("--minimize", "give exactly one of --minimize QUANTITY or --maximize QUANTITY")
     try:
@@ -51,6 +63,8 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
     except InputError as exc:
         raise InputError(exc.field.replace("--bounds", "--design"), str(exc)[len(exc.field) + 2:]) from None
     values = assignments(sets, "set")
+    if plot_path is not None and len(design) != 2:
+        raise InputError("--plot", f"a design map needs exactly two --design parameters, got {len(design)}")
     system = load_model(model)
     for n in values:
         system.index(n)
@@ -61,7 +75,7 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
         if random and not any(c.quantity == NOT_LOCKING for c in parsed):
             raise InputError("--dist", f"tolerances are for a constraint '{NOT_LOCKING} <= P'; none is given")
         result = optimize(system, minimize_ or maximize_, design, maximize=maximize_ is not None, constraints=parsed,
-                          values=values, fold=fold, max_iter=max_iter, random=random)
+                          values=values, fold=fold, max_iter=max_iter, random=random, starts=starts)
     except InputError as exc:
         if exc.field in ("constraint", "dist"):
             raise InputError(f"--{exc.field}", str(exc)[len(exc.field) + 2:]) from None
@@ -71,8 +85,27 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
         check_output_path(out, "--out", (".json",))  # again: the folder may have changed meanwhile
         result.to_json(out)
         click.echo(f"wrote {out}")
+    if plot_path is not None:
+        _plot(system, result, "maximum" if maximize_ is not None else "minimum", design, parsed, values, random,
+              plot_path)
     if not result.success:
         click.echo(f"warning: the optimiser did not converge: {result.message}", err=True)
+
+
+def _plot(system, result, sense, design, constraints, values, random, path) -> None:
+    """The optimum on the design map of its two design parameters, written to ``path``."""
+    from ..analysis.optimize import optimum_map
+    from ..outputs.design_plots import optimum_figure
+    from ..outputs.plotting import save_figure
+    from .downlock import warn
+
+    omap = optimum_map(system, result, design, constraints=constraints, values=values, random=random)
+    warn([*omap.region.warnings, *omap.notes])
+    unit = result.units.get(result.objective, "")
+    fig = optimum_figure(omap, title=f"{system.name}: {sense} of {result.objective} on the design map",
+                         value_text=f"{result.objective} = {result.value:.4g} {unit}".rstrip())
+    save_figure(fig, path, dpi=120)
+    click.echo(f"wrote {path}")
 
 
 def _distributions(dists) -> dict:

@@ -16,6 +16,7 @@ SECTIONS = [
     ("overcentre", "overcentre continuation and time simulations (Figs. 3b, 4a-c, 5a-c)"),
     ("dynamics", "overcentre dynamic models, jumps against folds (Fig. 3a, sweep rates)"),
     ("nose_gear", "nose landing gear downlock analysis (Figs. 7-11, design)"),
+    ("design_optimum", "reliability-based design: nose gear free length, lock stay unlock load (issue 24)"),
 ]
 #: Sections run only when named in --only (beyond the 2010 paper): module, title.
 EXTRA_SECTIONS = [

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -285,6 +285,13 @@ def _fold_states_derivative(system: EquationSystem, x: np.ndarray, s_idx: np.nda
     return -_solve(A, B, reference, "fold sensitivity")[:n + 1]
 
 
+#: Special points whose quantity a higher layer defines: a stop's release (``SR``: the load where its
+#: reaction reaches zero) and a fold curve's cusp (``CP``). ``label -> handler(system, x, params, vary,
+#: label, info, unknowns, values)``, registered by :mod:`mechcont.analysis` when it is imported (it
+#: owns stops and cusps; this layer does not import it).
+SPECIAL_POINTS: dict[str, Callable[..., Sensitivity]] = {}
+
+
 def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, params: Iterable[str], *,
                       vary: str | None = None, unknowns: Sequence[str] | None = None, of: str | None = None,
                       keep: str | None = None, label: str | None = None,
@@ -313,8 +320,14 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
         raise InputError("vary", "the point does not say its continuation parameter; give it")
     system.variable(vary)
     label = label if label is not None else (point.label if isinstance(point, SpecialPoint) else "")
-    lens = list(unknowns or info.get("unknowns") or choose_unknowns(system, exclude=[vary]))
     of = of or vary
+    if of == vary and label in ("SR", "CP"):
+        handler = SPECIAL_POINTS.get(label)
+        if handler is None:
+            raise InputError("point", f"the load at a {label} point is defined by mechcont.analysis: import it (or "
+                                      "use mechcont.analysis.sensitivity.point_sensitivity)")
+        return handler(system, x, params, vary, label, info, unknowns, values)
+    lens = list(unknowns or info.get("unknowns") or choose_unknowns(system, exclude=[vary]))
     fold = of == vary and label == "LP"
     if of != vary:
         solved = lens

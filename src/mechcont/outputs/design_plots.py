@@ -7,7 +7,7 @@ import numpy as np
 
 from .plotting import axis_label, curve, new_figure, plot_design_region
 
-__all__ = ["downlock_figure", "design_figure"]
+__all__ = ["downlock_figure", "design_figure", "optimum_figure"]
 
 
 def downlock_figure(branch, vary: str, force: str, *, held: str, title: str):
@@ -47,4 +47,24 @@ def design_figure(region, *, force_name: str = "F", title: str):
     ax = fig.add_subplot()
     plot_design_region(region, ax, force_name=force_name)
     ax.set_title(title)
+    return fig
+
+
+def optimum_figure(omap, *, force_name: str = "F", title: str, value_text: str = ""):
+    """An :class:`~mechcont.analysis.optimize.OptimumMap`: the design map (:func:`design_figure`'s), each active
+    constraint's boundary dashed and the optimum as a filled diamond (``value_text`` beside its legend entry,
+    e.g. ``"LU = 1.29 m"``). Returns the figure."""
+    fig = design_figure(omap.region, force_name=force_name, title=title)
+    ax = fig.axes[0]
+    styles = ["--", ":", "-."]
+    names = list(dict.fromkeys(w for w, _, _ in omap.boundaries))  # a constraint's pieces share its style and label
+    for i, (what, xs, ys) in enumerate(omap.boundaries):
+        first = all(w != what for w, _, _ in omap.boundaries[:i])
+        ax.plot(xs, ys, styles[names.index(what) % len(styles)], color="magenta", lw=2,
+                label=f"active: {what}" if first else None)
+    ax.plot(*omap.optimum, "D", color="limegreen", mec="k", ms=9, clip_on=False, zorder=5,
+            label=f"optimum{': ' + value_text if value_text else ''}")
+    ax.set_xlim(omap.region.x[0], omap.region.x[-1])
+    ax.set_ylim(omap.region.y[0], omap.region.y[-1])
+    ax.legend(loc="best", fontsize=8)
     return fig

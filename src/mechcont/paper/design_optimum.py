@@ -1,0 +1,119 @@
+"""Design answers beyond the paper (issue 24): reliability-based optima of the nose gear and the lock stay.
+
+* The nose gear: the longest nominal lock-spring free length ``LU`` with which the gear still
+  locks unaided at ``P(not locking) <= 1e-6`` under the issue's tolerances (``LU`` normal, 10 mm,
+  about its nominal value; the attachment ``l_sp1`` truncated normal, 5 mm within +-10 mm).
+* The lock stay (``lockstay.toml``): the smallest unlock load its actuator must overcome, over the
+  spring's stiffness and free length (both toleranced), with the gear locking unaided at the same
+  probability; drawn on its design map with the probability constraint's boundary.
+
+Both are :func:`~mechcont.analysis.optimize.optimize` (SLSQP on exact gradients, FORM inside for
+the probability), a few seconds together.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+
+__all__ = ["P_MAX", "NOSE_TOLERANCES", "STAY_TOLERANCES", "NOSE_BOUNDS", "STAY_BOUNDS", "compute", "run"]
+
+#: The probability of not locking unaided that both designs allow.
+P_MAX = 1e-6
+#: ``{name: (kind, parameters)}`` (SI): the issue's tolerances of the nose gear; LU's centre moves with the design.
+NOSE_TOLERANCES = {"LU": ("normal", (1.3, 0.01), "m"), "l_sp1": ("truncnormal", (0.1, 0.005, 0.09, 0.11), "m")}
+NOSE_BOUNDS = {"LU": (1.2, 1.4)}
+#: The lock stay's tolerances (spring stiffness and free length; both centres move with the design).
+STAY_TOLERANCES = {"LU": ("normal", (0.6, 0.005), "m"), "k": ("normal", (20000.0, 1500.0), "N/m")}
+STAY_BOUNDS = {"LU": (0.5, 0.7), "k": (10000.0, 30000.0)}
+
+
+@dataclass
+class DesignOptima:
+    """The two optima (:class:`~mechcont.analysis.optimize.OptimumResult`) and the lock stay's map."""
+
+    nose: object
+    nose_force: float
+    stay: object
+    stay_force: float
+    stay_map: object
+    seconds: dict
+
+
+def _random(tolerances):
+    from ..analysis.study import Distribution
+
+    return {n: Distribution(kind, params) for n, (kind, params, _) in tolerances.items()}
+
+
+def _constraint():
+    from ..analysis.optimize import Constraint
+
+    return [Constraint.parse(f"P(not locking) <= {P_MAX:g}")]
+
+
+@lru_cache(maxsize=1)
+def compute() -> DesignOptima:
+    """Both optima, the downlock force at each, and the lock stay's optimum map (cached: one run per process)."""
+    from ..analysis.downlock import downlock_point
+    from ..analysis.optimize import optimize, optimum_map
+    from ..models import load_model
+
+    seconds = {}
+    t0 = time.perf_counter()
+    nose_gear = load_model("nose_gear")
+    nose = optimize(nose_gear, "LU", NOSE_BOUNDS, maximize=True, constraints=_constraint(),
+                    random=_random(NOSE_TOLERANCES))
+    nose_force = float(downlock_point(nose_gear, nose.design)[nose_gear.index("F")])
+    seconds["nose gear: longest LU at P <= 1e-6"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    stay_model = load_model("lockstay")
+    stay = optimize(stay_model, "unlock_force", STAY_BOUNDS, constraints=_constraint(), random=_random(STAY_TOLERANCES))
+    stay_force = float(downlock_point(stay_model, stay.design)[stay_model.index("F")])
+    seconds["lock stay: least unlock load at P <= 1e-6"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    stay_map = optimum_map(stay_model, stay, STAY_BOUNDS, constraints=_constraint(), random=_random(STAY_TOLERANCES))
+    seconds["lock stay: design map with the optimum"] = time.perf_counter() - t0
+    return DesignOptima(nose, nose_force, stay, stay_force, stay_map, seconds)
+
+
+def _tolerances(tolerances) -> str:
+    def one(name, kind, p, unit):
+        if kind == "normal":
+            return f"{name} normal, standard deviation {p[1]:g} {unit}"
+        return (f"{name} truncated normal, standard deviation {p[1]:g} {unit} within {p[2] - p[0]:+g}..{p[3] - p[0]:+g} "
+                f"{unit}")
+
+    return "; ".join(one(n, *rest) for n, rest in tolerances.items())
+
+
+def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[str]:
+    """Write the lock stay's optimum figure into ``out_dir``; return summary Markdown lines."""
+    from ..outputs.design_plots import optimum_figure
+    from ..outputs.plotting import save_figure
+
+    timings = {} if timings is None else timings
+    res = compute()
+    timings.update({f"design_optimum: {k}": v for k, v in res.seconds.items()})
+    nose, stay = res.nose, res.stay
+    fig = optimum_figure(res.stay_map, title="lock stay: least unlock load, locking unaided at P <= 1e-6",
+                         value_text=f"unlock load {stay.value:.1f} N")
+    save_figure(fig, Path(out_dir) / "design_optimum_lockstay.png")
+    active = "; ".join(f"{c} (multiplier {m:.4g})" for c, m in stay.active)
+    return [
+        "## Reliability-based design (issue 24; beyond the paper)", "",
+        f"SLSQP on exact gradients with FORM inside: P(not locking unaided) <= {P_MAX:g} stands for the reliability "
+        "index beta >= 4.7534 of the downlock force, each toleranced design parameter's distribution centred on "
+        "its design value.", "",
+        f"* Nose gear, tolerances {_tolerances(NOSE_TOLERANCES)}: the longest nominal lock-spring free length "
+        f"is LU = {nose.design['LU']:.9f} m (beta = {nose.quantities['beta(not locking)']:.5f}, "
+        f"P = {nose.quantities['P(not locking)']:.4g}; {nose.iterations} iterations); its nominal downlock force is "
+        f"{res.nose_force:.2f} N.",
+        f"* Lock stay, tolerances {_tolerances(STAY_TOLERANCES)}: the least unlock load is "
+        f"{stay.value:.3f} N at k = {stay.design['k']:.1f} N/m and LU = {stay.design['LU']:.9f} m (nominal downlock "
+        f"force {res.stay_force:.2f} N; {stay.iterations} iterations). Active: {active}; the probability "
+        "constraint's multiplier is the unlock load one more unit of beta costs.",
+        "", "Figure `design_optimum_lockstay.png`: the lock stay's design map over (LU, k) with the optimum, the "
+        "boundary P = 1e-6 traced through it and the stiffness's lower bound.", ""]
