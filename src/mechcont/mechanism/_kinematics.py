@@ -15,7 +15,7 @@ from ._description import Body, Mechanism, Polar, coordinate_names
 from ._expr import symbol
 from .joints import ConstraintRow
 
-__all__ = ["Kinematics", "ConstraintRow"]
+__all__ = ["Kinematics", "ConstraintRow", "kinematics_of"]
 
 
 def _rot(theta: sp.Expr, p: sp.Matrix) -> sp.Matrix:
@@ -101,6 +101,15 @@ class Kinematics:
         if b.inertia is not None:
             return self.mech.value(f + ".inertia")
         return self.body_mass(b) * self.mech.value(f + ".length") ** 2 / 12
+
+
+def kinematics_of(mech: Mechanism) -> Kinematics:
+    """The :class:`Kinematics` of ``mech``, made once per description (it depends on no value) and kept
+    with its generated structures."""
+    kin = mech._generated.get("kinematics")
+    if kin is None:
+        kin = mech._generated["kinematics"] = Kinematics(mech)
+    return kin
 
 
 def pin_chain(mech: Mechanism, placed: set[str]):
