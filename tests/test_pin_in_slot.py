@@ -73,6 +73,16 @@ def test_the_fold_is_where_the_lever_ratio_is_extreme(branch):
     assert lp["Mc"] == pytest.approx(-ML * R / (D + R), abs=1e-10)
 
 
+@pytest.mark.parametrize("theta", [-2.0, 0.5, 2.9])
+def test_the_reduced_form_keeps_the_slot_row_and_the_same_statics(theta):
+    s = load_description(DATA).build_reduced()
+    assert s.equation_names == ("M_crank", "M_lever", "slot_n")
+    v = s.as_dict(find_equilibrium(s, hold={"theta_crank": theta}, free=["Mc"]))
+    assert v["theta_lever"] == pytest.approx(psi(theta), abs=1e-10)
+    assert v["Mc"] == pytest.approx(-ML * dpsi(theta), abs=1e-10)
+    assert v["R_slot"] == pytest.approx(ML / rho(theta), abs=1e-10)
+
+
 def test_generated_derivatives_match_finite_differences(system):
     check_derivatives(system)
 
