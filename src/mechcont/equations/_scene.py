@@ -56,6 +56,9 @@ class Scene:
         ``(name, position, axis)``: the axis (unit vector) of a revolute, cylindrical or
         universal joint's pin at ``position``, drawn as a short line in 3-D views (optional;
         planar scenes leave it empty: their axes are normal to the plane).
+    slots:
+        ``(name, start, end)``: a straight slot in a body (a pin-in-slot joint), drawn as a
+        channel from ``start`` to ``end`` over the body.
     """
 
     bars: list[tuple[str, np.ndarray]] = field(default_factory=list)
@@ -70,6 +73,7 @@ class Scene:
     points: list[tuple[str, np.ndarray]] = field(default_factory=list)
     actuators: list[tuple[str, np.ndarray, np.ndarray, float]] = field(default_factory=list)
     joint_axes: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
+    slots: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
 
     @property
     def dimension(self) -> int:
@@ -84,6 +88,7 @@ class Scene:
         pts += [p for _, a, b in self.dampers for p in (a, b)] + list(self.anchors)
         pts += [p for _, a, b, _ in self.actuators for p in (a, b)]
         pts += [p for _, p, _ in self.forces] + [p for _, p, _ in self.moments]
+        pts += [p for _, a, b in self.slots for p in (a, b)]
         return pts + [p for _, p, _ in self.joint_axes]
 
     def extent(self) -> tuple[float, ...]:

@@ -80,6 +80,8 @@ class GeneratedScene:
                 out.moments.append((name, pts[0].copy(), float(pts[1][0])))
             elif kind == "point":
                 out.points.append((name, pts[0].copy()))
+            elif kind == "slot":
+                out.slots.append((name, pts[0].copy(), pts[1].copy()))
             else:
                 out.forces.append((name, pts[0].copy(), pts[1].copy()))
         return out

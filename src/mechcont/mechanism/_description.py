@@ -32,6 +32,7 @@ from ._actuators import Actuator, check_actuators
 from ._conditions import Condition, DownlockSpec, check_conditions
 from ._expr import FUNCTIONS, Value, symbol, to_expr
 from ._stops import Stop, check_stops, stop_reaction_unit
+from .joints import PlanarJoint, Prismatic, Revolute, Slider, Weld
 
 if TYPE_CHECKING:
     from ..equations import Model
@@ -106,51 +107,6 @@ class Body:
     points: Mapping[str, PointSpec] = field(default_factory=dict)
     initial: Mapping[str, Value] = field(default_factory=dict)
     description: str = ""
-
-
-@dataclass(frozen=True)
-class Revolute:
-    """A pin: point ``a`` coincides with point ``b``. Reactions ``R_<name>_x, R_<name>_y``:
-    the force (N) that the body of ``a`` exerts on the body of ``b``."""
-
-    name: str
-    a: str
-    b: str
-
-
-@dataclass(frozen=True)
-class Slider:
-    """Point ``b`` slides along the line through point ``a`` at ``angle`` (rad) in ``a``'s
-    frame (the global frame for a ground point); rotation stays free (pin in a slot).
-    Reaction ``R_<name>``: the force (N) on ``b``'s body along the line's left normal."""
-
-    name: str
-    a: str
-    b: str
-    angle: Value = 0
-
-
-@dataclass(frozen=True)
-class Prismatic:
-    """A slider that also locks the relative rotation: ``theta_b - theta_a = relative_angle``.
-    Reactions ``R_<name>`` (normal force, N) and ``T_<name>`` (moment on ``b``, N m)."""
-
-    name: str
-    a: str
-    b: str
-    angle: Value = 0
-    relative_angle: Value = 0
-
-
-@dataclass(frozen=True)
-class Weld:
-    """Points ``a`` and ``b`` coincide and ``theta_b - theta_a = angle`` (a fixed angle offset).
-    Reactions ``R_<name>_x, R_<name>_y`` (N) and ``T_<name>`` (N m) on ``b``'s body."""
-
-    name: str
-    a: str
-    b: str
-    angle: Value = 0
 
 
 @dataclass(frozen=True)
@@ -247,8 +203,17 @@ class CustomLoad:
     moment: Value = 0
 
 
-Joint = Revolute | Slider | Prismatic | Weld
+#: A planar joint: any registered joint class (see :mod:`.joints`).
+Joint = PlanarJoint
 Load = PointForce | Moment | Drag | CustomLoad
+
+
+class _Named(Protocol):
+    """A named element of a description."""
+
+    @property
+    def name(self) -> str:
+        """Its name."""
 
 
 class _LoadAtPoint(Protocol):
@@ -324,7 +289,8 @@ class Mechanism:
     bodies:
         The moving rigid bodies.
     joints:
-        Revolute, slider, prismatic and weld joints.
+        Joints: instances of the registered joint classes (:mod:`.joints`: revolute, slider,
+        prismatic, weld, pin_in_slot, ...).
     ground:
         Named ground points ``{name: (x, y)}`` (m).
     springs, dampers, loads:
@@ -451,9 +417,9 @@ class Mechanism:
         for name in self.ground:
             _check_name(name, f"ground.{name}")
         seen: dict[str, str] = {}
-        groups = [("joints", self.joints), ("springs", self.springs), ("dampers", self.dampers),
-                  ("loads", self.loads), ("actuators", self.actuators), ("conditions", self.conditions),
-                  ("stops", self.stops)]
+        groups: list[tuple[str, Sequence[_Named]]] = [
+            ("joints", self.joints), ("springs", self.springs), ("dampers", self.dampers), ("loads", self.loads),
+            ("actuators", self.actuators), ("conditions", self.conditions), ("stops", self.stops)]
         for group, items in groups:
             for it in items:
                 _check_name(it.name, f"{group}.{it.name}")
@@ -467,10 +433,7 @@ class Mechanism:
         for p, v in self._values():
             self._exprs[p] = self.expr(v, p)
         for j in self.joints:
-            self.point_ref(j.a, f"joints.{j.name}.a")
-            self.point_ref(j.b, f"joints.{j.name}.b")
-            if self._body_of(j.a) == self._body_of(j.b):
-                raise InputError(f"joints.{j.name}", "joins a body to itself")
+            j.check(self)
         two_ended: tuple[Spring | Damper, ...] = (*self.springs, *self.dampers)
         for s in two_ended:
             group = "springs" if isinstance(s, Spring) else "dampers"
@@ -551,9 +514,7 @@ class Mechanism:
             yield f"ground.{gname}.x", gp[0]
             yield f"ground.{gname}.y", gp[1]
         for j in self.joints:
-            for attr in ("angle", "relative_angle"):
-                if hasattr(j, attr):
-                    yield f"joints.{j.name}.{attr}", getattr(j, attr)
+            yield from j.values()
         if self.gravity is not None:
             yield "gravity.g", self.gravity.g
             yield "gravity.angle", self.gravity.angle

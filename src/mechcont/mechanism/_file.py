@@ -9,7 +9,8 @@ Layout (every number may be an expression string in the parameter names)::
     [bodies.NAME]          mass, length (bar), inertia, cg = [x, y], description,
                            points = {P = [x, y] or {r, angle}}, initial = {x, y, theta}
     [joints.NAME]          type = "revolute" | "slider" | "prismatic" | "weld", a, b,
-                           angle (slider line / weld offset), relative_angle (prismatic)
+                           angle (slider line / weld offset), relative_angle (prismatic);
+                           type = "pin_in_slot": pin, slot = [start, end] (see .joints)
     [springs.NAME]         a, b, k, free_length, preload
     [dampers.NAME]         a, b, c, c2 (tension c v + c2 v|v|, v = dl/dt)
     [gravity]              g, angle (default -pi/2)
@@ -59,20 +60,17 @@ from ._description import (
     Parameter,
     PointForce,
     Polar,
-    Prismatic,
-    Revolute,
-    Slider,
     Spring,
-    Weld,
 )
 from ._paths import builtin_descriptions, find_description
 from ._stops import STOP_KEYS, stops_from_table
+from .joints import JOINT_TYPES, joint_keys
 
 __all__ = ["load_description", "parse_description", "builtin_descriptions", "find_description", "locate_error"]
 
 
-_JOINTS = {"revolute": (Revolute, {"a", "b"}), "slider": (Slider, {"a", "b", "angle"}),
-           "prismatic": (Prismatic, {"a", "b", "angle", "relative_angle"}), "weld": (Weld, {"a", "b", "angle"})}
+#: ``type`` -> (joint class, keys): every registered planar joint (:mod:`.joints`).
+_JOINTS = joint_keys()
 _LOADS = {"force": (PointForce, {"at", "magnitude", "direction"}), "moment": (Moment, {"body", "magnitude"}),
           "drag": (Drag, {"body", "rho", "U", "alpha", "d", "CD", "start", "end"}),
           "custom": (CustomLoad, {"at", "fx", "fy", "moment"})}
@@ -314,9 +312,8 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
     joints = []
     for jname, spec in _entries(data, "joints"):
         f = f"joints.{jname}"
-        kind, cls = _typed(spec, f, "joints", _JOINTS)
-        _require(spec, ["a", "b"], f)
-        joints.append(cls(jname, **{k: v for k, v in spec.items() if k != "type"}))
+        kind, _ = _typed(spec, f, "joints", _JOINTS)
+        joints.append(JOINT_TYPES[kind].from_table(jname, {k: v for k, v in spec.items() if k != "type"}, f))
     gravity = None
     if "gravity" in data:
         gtab = _table(data, "gravity", "gravity")

@@ -8,26 +8,14 @@ so that the multiplier of a joint is the force the body of ``a`` exerts on the b
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import sympy as sp
 
 from ._actuators import actuator_rows
-from ._description import Body, Mechanism, Polar, Prismatic, Revolute, Slider, Weld, coordinate_names
+from ._description import Body, Mechanism, Polar, coordinate_names
 from ._expr import symbol
+from .joints import ConstraintRow
 
-__all__ = ["Kinematics", "ConstraintRow"]
-
-
-@dataclass(frozen=True)
-class ConstraintRow:
-    """One scalar constraint: its joint, equation name, reaction name, unit, expression."""
-
-    joint: str
-    equation: str
-    reaction: str
-    unit: str
-    expr: sp.Expr
+__all__ = ["Kinematics", "ConstraintRow", "kinematics_of"]
 
 
 def _rot(theta: sp.Expr, p: sp.Matrix) -> sp.Matrix:
@@ -86,22 +74,7 @@ class Kinematics:
     # -- constraints ---------------------------------------------------------------
     def constraints(self) -> list[ConstraintRow]:
         """Every scalar constraint, joint by joint in declaration order, then the length-mode actuators."""
-        rows: list[ConstraintRow] = []
-        for j in self.mech.joints:
-            n = j.name
-            pa, pb = self.point(j.a), self.point(j.b)
-            if isinstance(j, (Revolute, Weld)):
-                d = pa - pb
-                rows.append(ConstraintRow(n, f"{n}_x", f"R_{n}_x", "N", d[0]))
-                rows.append(ConstraintRow(n, f"{n}_y", f"R_{n}_y", "N", d[1]))
-            if isinstance(j, (Slider, Prismatic)):
-                phi = self.angle(j.a) + self.mech.value(f"joints.{n}.angle")
-                normal = sp.Matrix([-sp.sin(phi), sp.cos(phi)])
-                rows.append(ConstraintRow(n, f"{n}_n", f"R_{n}", "N", normal.dot(pa - pb)))
-            if isinstance(j, (Prismatic, Weld)):
-                key = "relative_angle" if isinstance(j, Prismatic) else "angle"
-                rel = self.mech.value(f"joints.{n}.{key}")
-                rows.append(ConstraintRow(n, f"{n}_angle", f"T_{n}", "N m", self.angle(j.a) + rel - self.angle(j.b)))
+        rows = [row for j in self.mech.joints for row in j.rows(self)]
         return rows + actuator_rows(self)
 
     # -- inertia -------------------------------------------------------------------
@@ -130,8 +103,17 @@ class Kinematics:
         return self.body_mass(b) * self.mech.value(f + ".length") ** 2 / 12
 
 
+def kinematics_of(mech: Mechanism) -> Kinematics:
+    """The :class:`Kinematics` of ``mech``, made once per description (it depends on no value) and kept
+    with its generated structures."""
+    kin = mech._generated.get("kinematics")
+    if kin is None:
+        kin = mech._generated["kinematics"] = Kinematics(mech)
+    return kin
+
+
 def pin_chain(mech: Mechanism, placed: set[str]):
-    """Walk pins and welds outward from the ``placed`` bodies (``"ground"`` included).
+    """Walk coincident joints (pins, welds) outward from the ``placed`` bodies (``"ground"`` included).
 
     Yields ``(joint, known_ref, new_ref, new_body)`` for each joint that places a new body
     from one already placed, in declaration order, repeating until nothing changes. The
@@ -142,7 +124,7 @@ def pin_chain(mech: Mechanism, placed: set[str]):
     while changed:
         changed = False
         for j in mech.joints:
-            if not isinstance(j, (Revolute, Weld)):
+            if not j.COINCIDENT:
                 continue
             ba, bb = j.a.split(".")[0], j.b.split(".")[0]
             if (ba in placed) == (bb in placed):

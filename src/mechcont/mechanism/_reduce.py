@@ -23,7 +23,6 @@ from __future__ import annotations
 import sympy as sp
 
 from ..equations import velocity_symbol
-from ._description import Weld
 from ._kinematics import ConstraintRow, Kinematics, pin_chain
 
 __all__ = ["tree_elimination", "reduce_form"]
@@ -40,8 +39,8 @@ def tree_elimination(kin: Kinematics) -> tuple[dict[sp.Symbol, sp.Expr], set[str
     tree = set()
     for j, known, new, body in pin_chain(mech, {"ground"}):
         x, y, th = kin.body_q[body]
-        if isinstance(j, Weld):
-            rel = mech.value(f"joints.{j.name}.angle")
+        rel = j.locked_angle(kin)
+        if rel is not None:
             th_known = kin.angle(known).xreplace(subs)
             subs[th] = th_known + rel if new == j.b else th_known - rel
         p_known = kin.point(known).xreplace(subs)

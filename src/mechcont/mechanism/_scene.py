@@ -11,7 +11,7 @@ from ..equations import Scene
 from ..equations._codegen import compile_dense
 from ._actuators import Actuator, actuator_load
 from ._compiled import GeneratedScene
-from ._description import CustomLoad, Damper, Moment, Prismatic, Revolute, Slider, Spring, Weld
+from ._description import CustomLoad, Damper, Moment, Spring
 from ._kinematics import Kinematics
 
 __all__ = ["scene_function"]
@@ -52,16 +52,11 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
             names = list(b.points) or ["origin"]
             add("bar", b.name, [pt(n) for n in names] + ([pt(names[0])] if len(names) > 2 else []))
     for j in mech.joints:
-        ground = "ground" in (j.a.split(".")[0], j.b.split(".")[0])
-        if isinstance(j, (Revolute, Weld)):
-            add("ground" if ground else "pin", j.name, [kin.point(j.b)])
-        elif isinstance(j, (Slider, Prismatic)):
-            phi = kin.angle(j.a) + mech.value(f"joints.{j.name}.angle")
-            add("slider", j.name, [kin.point(j.b), sp.Matrix([sp.cos(phi), sp.sin(phi)])])
+        j.draw(kin, add)
     pinned: dict[str, str] = {}        # body -> its first point pinned or welded to the ground
     ground_joints: set[str] = set()
     for j in mech.joints:
-        if isinstance(j, (Revolute, Weld)):
+        if j.COINCIDENT:
             for here, there in ((j.a, j.b), (j.b, j.a)):
                 if here.split(".")[0] == "ground":
                     ground_joints.add(here)

@@ -119,6 +119,10 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
     for act in mech.actuators:
         if act.length is not None:
             need(f"actuators.{act.name}.length", True, "actuator length (m)")
+    if mech.joints:
+        from ._kinematics import kinematics_of
+        kin = kinematics_of(mech)
+        out += [Limit(f, e, strict, what) for j in mech.joints for f, e, strict, what in j.limits(kin)]
     return out
 
 

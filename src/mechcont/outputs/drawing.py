@@ -4,11 +4,12 @@ A model provides ``system.scene(x) -> Scene`` (coordinates in metres, forces in 
 this module draws it: bars as thick polylines, pins as small circles, ground pins with a
 hatched ground symbol (a smaller one, facing away, where only springs or dampers are
 anchored), sliders as a block in a short slot fixed to the ground at its ends (drawn
-locally, never as a band across the view), springs as zig-zag coils, dampers as
-dashpots, actuators as a cylinder and rod labelled with their load (N, tension or
-compression), forces as arrows labelled in newtons and moments as curved arrows around their
-point (counter-clockwise for a positive value) labelled in newton metres. :func:`draw` saves one configuration (PNG, SVG, PDF),
-animations along a branch are in :mod:`mechcont.outputs.animation`.
+locally, never as a band across the view), slots in a body (pin-in-slot joints) as a channel
+along the body, springs as zig-zag coils, dampers as dashpots, actuators as a cylinder and rod
+labelled with their load (N, tension or compression), forces as arrows labelled in newtons and
+moments as curved arrows around their point (counter-clockwise for a positive value) labelled
+in newton metres. :func:`draw` saves one configuration (PNG, SVG, PDF), animations along a
+branch are in :mod:`mechcont.outputs.animation`.
 
 Sizes of the symbols (pins, ground, coil width) are a fixed fraction of the view so that
 every frame of an animation looks alike; force arrows are ``force_scale`` metres per newton.
@@ -215,6 +216,14 @@ def _draw_slider(ax, p: np.ndarray, direction: np.ndarray, h: float, span=None):
         _hatched_strip(ax, end - (w + 0.4 * h) * nrm, end + (w + 0.4 * h) * nrm, out, 0.8 * h, 1)
     block = np.array([p - hw * u - hh * nrm, p + hw * u - hh * nrm, p + hw * u + hh * nrm, p - hw * u + hh * nrm])
     _add(ax, Polygon(block, closed=True, facecolor="0.75", edgecolor="0.2", linewidth=1.0, zorder=3))
+
+
+def _draw_slot(ax, name: str, a: np.ndarray, b: np.ndarray):
+    """A straight slot cut in a body: a dark channel with a light floor from ``a`` to ``b``, inside the
+    body's bar (drawn 6 points wide) and under the pin."""
+    for width, colour, z in ((4.0, "0.2", 5.2), (2.0, "white", 5.3)):
+        _line(ax, [a[0], b[0]], [a[1], b[1]], color=colour, linewidth=width, solid_capstyle="round", zorder=z,
+              gid="slot", label=f"slot {name}")
 
 
 def _draw_pin(ax, p: np.ndarray, h: float):
@@ -439,6 +448,8 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
         pts = np.atleast_2d(np.asarray(pts, float))
         _line(ax, pts[:, 0], pts[:, 1], color=colours[name], linewidth=6,
                 solid_capstyle="round", solid_joinstyle="round", zorder=5, label=name)
+    for name, a, b in scene.slots:
+        _draw_slot(ax, name, np.asarray(a, float), np.asarray(b, float))
     for p in [*scene.pins, *scene.grounds, *(q for q, _ in scene.sliders)]:
         _draw_pin(ax, np.asarray(p, float), h)
     for p in scene.anchors:

@@ -33,6 +33,7 @@ import sympy as sp
 from ...errors import InputError
 from .._expr import Value
 from .._kinematics import ConstraintRow
+from ..joints._base import check_points
 from ._rotation import dot, perpendiculars
 
 __all__ = ["SpatialRow", "SpatialJoint", "Spherical", "Revolute3", "Universal", "Inline", "Cylindrical", "Prismatic3",
@@ -84,6 +85,10 @@ class SpatialJoint:
         for key in ("stiffness", "rotational_stiffness"):
             if getattr(self, key) is not None:
                 yield f"{f}.{key}", getattr(self, key)
+
+    def check(self, mech) -> None:
+        """Check the point references ``a``, ``b`` against ``mech`` (a one-line InputError naming the key)."""
+        check_points(self.name, [("a", self.a), ("b", self.b)], mech)
 
     def vector(self, kin, key: str) -> sp.Matrix:
         """The joint vector ``key`` (design pose) as a SymPy 3-vector."""
