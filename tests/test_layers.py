@@ -55,7 +55,7 @@ def test_paper_uses_the_public_api():
 #: (its ``__init__``) is the public API.
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("errors", "_version", "_dense", "_lazy", "_progress", "_roots", "_signals"),
-    ("_io",),
+    ("_io", "_status"),
     ("equations",),
     ("mechanism", "continuation"),
     ("models",),

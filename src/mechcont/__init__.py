@@ -59,6 +59,8 @@ _LAZY = {
     "simulate": "mechcont.dynamics",
     "sweep": "mechcont.dynamics",
     "SimulationResult": "mechcont.dynamics",
+    # how a result ended (branches, special points, simulations, studies)
+    "Status": "mechcont._status",
 }
 _SUBPACKAGES = {"analysis", "continuation", "dynamics", "equations", "mechanism", "models", "outputs", "errors"}
 
@@ -67,12 +69,13 @@ __all__ = [
     "Model", "EquationSystem", "MechanicalModel", "StabilityResult", "Variable",
     "find_equilibrium", "continuation", "continue_folds", "switch_branch", "ContinuationOptions", "Branch",
     "SpecialPoint", "ValueEvent",
-    "simulate", "sweep", "SimulationResult",
+    "simulate", "sweep", "SimulationResult", "Status",
     "errors", "ConvergenceError", "InputError", "MechcontError",
 ]
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     from . import errors
+    from ._status import Status
     from .continuation import (
         Branch,
         ContinuationOptions,

@@ -21,7 +21,7 @@ def early_stops(branch, what: str, show: Iterable[str] = ()) -> list[str]:
     out = []
     names = [branch.vary, *(n for n in show if n != branch.vary)]
     for p in branch.special("EP"):
-        reason = p.info.get("reason")
+        reason = p.reason
         if not reason:
             continue  # a bound (or a limit): the run ended where it was asked to
         vals = p.values
@@ -29,6 +29,6 @@ def early_stops(branch, what: str, show: Iterable[str] = ()) -> list[str]:
         why = ("it used up max_steps before reaching its bounds (raise max_steps, --max-steps)" if reason == "max_steps"
                else reason)
         out.append(f"{what} stopped early at {where}: {why}")
-    if not out and (branch.status != "completed" or "max_steps" in branch.message):
+    if not out and (not branch.success or "max_steps" in branch.message):
         out.append(f"{what} stopped early ({branch.status}): {branch.message}")
     return out

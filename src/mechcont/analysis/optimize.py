@@ -225,7 +225,7 @@ class _Quantities:
             raise InputError("unlock_force", f"no unlock fold at {where}: {'; '.join(folds.notes)}")
         lens = choose_unknowns(system, exclude=[force])
         return fold_sensitivity(system, folds.above.x, lens, force, self.design,
-                                null_vector=folds.above.info.get("null_vector"))
+                                null_vector=folds.above.null_vector)
 
 
 def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[float, float]], *,

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .._status import Status
 from ..errors import ConvergenceError, InputError
 from .sensitivity import write_json
 from .study._spec import Distribution, StudySpec
@@ -361,7 +362,7 @@ def _is_chunk(source, spec: StudySpec, S: np.ndarray) -> np.ndarray:
 
     system = load_study_model(source)
     cols = run_chunk(system, replace(spec, n=len(S), chunk=len(S)), 0, samples=S)
-    return np.where(cols["status"] == "converged", cols["downlock_force"], np.nan).astype(float)
+    return np.where(cols["status"] == Status.CONVERGED, cols["downlock_force"], np.nan).astype(float)
 
 
 def _study_evaluate(spec: StudySpec, source, scheduler: str | None, workers: int | None, ran_on: list[str],

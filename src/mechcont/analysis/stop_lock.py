@@ -87,12 +87,12 @@ def stop_unlock(system: EquationSystem, x: np.ndarray, force: str, *, max_steps:
                              f"{RELEASE_FORCE_SPAN:g} of its scales)")
             continue
         releases = [q for q in b.special("SR") if min(F0, p[force]) <= q[force] <= max(F0, p[force])]
-        rel = "; ".join(f"stop {q.info['stop']} releases at {force} = {q[force]:.6g} {unit} (SR)" for q in releases)
+        rel = "; ".join(f"stop {q.extra['stop']} releases at {force} = {q[force]:.6g} {unit} (SR)" for q in releases)
         what = f"{'a non-smooth fold (NSF): the release is the snap' if p.label == 'NSF' else 'a fold (LP)'}"
         land = ""
-        if p.label == "NSF" and p.info.get("landing") is not None:
-            on = ", ".join(p.info["landing_contact"]) or "no stop"
-            land = f", the mechanism lands on {on} ({'stable' if p.info['landing_stable'] else 'UNSTABLE'})"
+        if p.label == "NSF" and p.extra.get("landing") is not None:
+            on = ", ".join(p.extra["landing_contact"]) or "no stop"
+            land = f", the mechanism lands on {on} ({'stable' if p.extra['landing_stable'] else 'UNSTABLE'})"
         notes.append(f"{side} {force}: {rel + '; then ' if rel else ''}{what} at {force} = {p[force]:.6g} {unit}{land}")
     warnings = early_stops(b, f"release run in {force}")
     return UnlockFolds(force, F0, stable, below, above, b, notes, warnings)
@@ -113,13 +113,13 @@ def landing_after_unlock(system: EquationSystem, x: np.ndarray, unlock: UnlockFo
     except (ConvergenceError, InputError):
         return ""
     nsf = next((q for q in run.branch.special("NSF") if abs(q[f] - p[f]) <= 1e-6 * max(abs(p[f]), sc)), None)
-    if nsf is None or nsf.info.get("landing") is None:
+    if nsf is None or nsf.extra.get("landing") is None:
         return f"the lock snaps at {f} = {p[f]:.6g}; no equilibrium at that {f} catches it within the release run"
-    at = dict(zip(run.branch.names, nsf.info["landing"]))
-    on = ", ".join(nsf.info["landing_contact"]) or "no stop"
+    at = dict(zip(run.branch.names, nsf.extra["landing"]))
+    on = ", ".join(nsf.extra["landing_contact"]) or "no stop"
     names = system.mechanics.coordinates if system.mechanics is not None else system.state_names
     moved = max(names, key=lambda n: abs(at[n] - p[n]) / system.variable(n).scale)  # the coordinate that jumps most
-    how = "stable" if nsf.info["landing_stable"] else "UNSTABLE"
+    how = "stable" if nsf.extra["landing_stable"] else "UNSTABLE"
     unit = system.variable(moved).unit
 
     def shown(v: float) -> str:   # angles in degrees, as everywhere on display

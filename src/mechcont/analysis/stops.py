@@ -13,11 +13,11 @@ continues from the located switch point in the same sense along the branch with 
 the one-sided tangents choose (the same choice decides a start exactly on a limit). Where no set
 continues, the switch is a non-smooth fold (``NSF``: e.g. a release onto an unstable free branch,
 a snap-through); the branch goes on through it like through a smooth fold, and the ``NSF`` point
-says where the mechanism lands (``info["landing"]``). The pieces are joined into one
+says where the mechanism lands (``extra["landing"]``). The pieces are joined into one
 :class:`~mechcont.continuation.Branch`: its points carry
 the full variable vector (the conditions and reactions are columns), ``SC``/``SR`` label the
 switches, ``LP`` the folds of the piece they lie on (each keeps its own lens in
-``info["unknowns"]``, so :func:`~mechcont.continuation.continue_folds` follows it in a second
+``unknowns``, so :func:`~mechcont.continuation.continue_folds` follows it in a second
 parameter with the stops it had in contact held).
 
 :func:`equilibrium_on_stops` finds the start: an equilibrium whose active set is consistent
@@ -33,6 +33,7 @@ from itertools import combinations
 
 import numpy as np
 
+from .._status import Status
 from ..continuation import Branch, ContinuationOptions, FoldEvent, SpecialPoint, ValueEvent, continuation, find_equilibrium
 from ..continuation._problem import choose_unknowns
 from ..continuation._variants import travel as _travel
@@ -254,11 +255,11 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
     stop pushed into stays in contact). When no set continues, the point is a *non-smooth fold*
     (``NSF``, e.g. a release onto an unstable free branch: a snap-through): the branch goes on
     through it like through a smooth fold (``vary`` turns back, on the other set), and when the
-    mechanism arrived there stable, ``info["landing"]`` of the ``NSF`` point is where it lands:
+    mechanism arrived there stable, ``extra["landing"]`` of the ``NSF`` point is where it lands:
     the first equilibrium further along the branch at the same value of ``vary`` (the next
     equilibrium in the direction the mechanism moves, for one degree of freedom exactly where a
-    heavily damped motion comes to rest), with ``info["landing_contact"]`` and
-    ``info["landing_stable"]``; None when the bounds come first. ``info["jump"]`` says whether the
+    heavily damped motion comes to rest), with ``extra["landing_contact"]`` and
+    ``extra["landing_stable"]``; None when the bounds come first. ``extra["jump"]`` says whether the
     mechanism arrived there stable (False: an unstable branch meets a stop, nothing jumps).
 
     Parameters
@@ -372,16 +373,16 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
         run.directions.append(sign)
         last = len(piece) - 1 if sign > 0 else 0  # a branch's rows run in increasing arclength
         end = next((p for p in piece.special_points if p.index == last and p.label in ("SC", "SR")), None)
-        if end is None or "stop" not in end.info:
+        if end is None or "stop" not in end.extra:
             # the piece's own "+: "/"-: " says its sense; the run's is the one it was started in
             why = "; ".join(m.split(": ", 1)[-1] for m in piece.message.split("; ")) if piece.message else ""
             run.message = f"{'+' if direction > 0 else '-'}: {why or f'ended: {piece.status}'}"
             break
-        run.switches.append((end.label, end.info["stop"], -1))
+        run.switches.append((end.label, end.extra["stop"], -1))
         arriving = set(active)
         sign = _travel(piece, vary, sign)
         x = piece.values[last]
-        undecided = _at_switch(system, x, st) | {end.info["stop"]}
+        undecided = _at_switch(system, x, st) | {end.extra["stop"]}
     else:
         run.message = (f"stopped after {max_switches} contact changes at {vary} = {x[system.index(vary)]:.6g} "
                        "(the contact keeps switching there)")
@@ -507,7 +508,7 @@ def _join(system: EquationSystem, pieces: list[Branch], vary: str, run: StopRun,
         labels[0], stab[0] = "NSF", folds[-1]["n_unstable"]
         run.switches.insert(0, ("NSF", folds[-1]["stop"], 0))
     unknowns = pieces[0].unknowns if pieces else ()
-    status = pieces[-1].status if pieces else "failed"
+    status = pieces[-1].status if pieces else Status.FAILED
     branch = Branch(system.names, np.array(rows), s, stab, labels, special, vary, unknowns, status, run.message,
                     system.name, units={v.name: v.unit for v in system.variables})
     return branch, row_piece
@@ -522,11 +523,11 @@ def _land(system: EquationSystem, run: StopRun, row_piece: list[int], vary: str,
     for p in b.special_points:
         if p.label != "NSF":
             continue
-        p.info.pop("n_unstable", None)
-        p.info.update(jump=p.info.pop("jumps", False), landing=None, landing_contact=None, landing_stable=None)
-        if not p.info["jump"]:
+        p.extra.pop("n_unstable", None)
+        p.extra.update(jump=p.extra.pop("jumps", False), landing=None, landing_contact=None, landing_stable=None)
+        if not p.extra["jump"]:
             continue
-        v, sign = p.info[vary], p.info["sign"]
+        v, sign = p.extra[vary], p.extra["sign"]
         ahead = (col - v) * sign
         j = next((j for j in range(p.index + 2, len(b)) if ahead[j] >= 0 > ahead[j - 1]), None)
         if j is None:
@@ -549,7 +550,7 @@ def _land(system: EquationSystem, run: StopRun, row_piece: list[int], vary: str,
         except ConvergenceError:
             continue
         stable = stability_on_stops(system, x, list(active)).n_unstable == 0 if system.mechanics is not None else None
-        p.info.update(landing=x, landing_contact=tuple(active), landing_stable=stable)
+        p.extra.update(landing=x, landing_contact=tuple(active), landing_stable=stable)
 
 
 def _both_ways(system: EquationSystem, down: StopRun, up: StopRun) -> StopRun:
@@ -560,12 +561,10 @@ def _both_ways(system: EquationSystem, down: StopRun, up: StopRun) -> StopRun:
     s = np.concatenate([-bd.s[::-1], bu.s[1:]])
     stab = np.concatenate([bd.n_unstable[::-1], bu.n_unstable[1:]])
     labels = list(bd.labels[::-1]) + list(bu.labels[1:])
-    special = [SpecialPoint(p.label, n - 1 - p.index, p.x, p.names, p.tangent, dict(p.info))
-               for p in reversed(bd.special_points)]
-    special += [SpecialPoint(p.label, n - 1 + p.index, p.x, p.names, p.tangent, dict(p.info))
-                for p in bu.special_points if p.index > 0]
+    special = [replace(p, index=n - 1 - p.index, extra=dict(p.extra)) for p in reversed(bd.special_points)]
+    special += [replace(p, index=n - 1 + p.index, extra=dict(p.extra)) for p in bu.special_points if p.index > 0]
     message = "; ".join(r.message for r in (down, up) if r.message)   # each says its direction
-    status = bd.status if bd.status != "completed" else bu.status
+    status = Status.first_failure([bd.status, bu.status])
     branch = Branch(system.names, rows, s, stab, labels, special, bu.vary, bu.unknowns, status, message,
                     system.name, units={v.name: v.unit for v in system.variables})
     switches = ([(lab, name, n - 1 - i) for lab, name, i in reversed(down.switches)]

@@ -165,7 +165,7 @@ def unlock_folds(system: EquationSystem, x: np.ndarray, force: str, released=(),
         if fold_point is None:
             notes.append(f"no fold {side} {force} from {F0:.6g} N to {end:.6g} N (where the release run ended)")
         elif not fold_point.located:
-            notes.append(f"the fold {side} {force} is approximate: {fold_point.info.get('reason', 'not located')}")
+            notes.append(f"the fold {side} {force} is approximate: {fold_point.reason or 'not located'}")
     return UnlockFolds(force, F0, stable, below, above, branch, notes, warnings)
 
 

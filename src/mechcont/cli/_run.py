@@ -160,7 +160,7 @@ def warn_approximate(branch) -> None:
     """One stderr line per special point that was detected but not located."""
     for name, p in zip(branch.point_names(), branch.special_points):
         if not p.located:
-            why = p.info.get("reason", "not located")
+            why = p.reason or "not located"
             v = branch.vary
             unit = "deg" if branch.units.get(v) == "rad" else branch.units.get(v, "")
             click.echo(f"warning: {name} at {v} = {display(branch, v, p.values[v]):.10g} {unit} is approximate "

@@ -6,6 +6,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
+from .._status import Status
 from ..equations import EquationSystem, as_model
 from ..errors import ConvergenceError, InputError
 from ._branch import Branch, SpecialPoint
@@ -116,10 +117,9 @@ def _run(problem: ContinuationProblem, system, u0, options, events, direction, v
     special = []
     for i, (lab, st, inf) in enumerate(zip(labels, rows, infos)):
         if lab:
-            special.append(SpecialPoint(lab, i, st.x.copy(), system.names, st.tangent.copy(),
-                                        {**inf, "unknowns": tuple(unknowns), "vary": vary}))
-    statuses = [parts[d].status for d in dirs]
-    status = "completed" if all(x == "completed" for x in statuses) else next(x for x in statuses if x != "completed")
+            special.append(SpecialPoint(lab, i, st.x.copy(), system.names, st.tangent.copy(), inf,
+                                        unknowns=tuple(unknowns), vary=vary))
+    status = Status.first_failure(parts[d].status for d in dirs)
     message = "; ".join(f"{'+' if d > 0 else '-'}: {parts[d].message}" for d in dirs if parts[d].message)
     return Branch(system.names, values, s, stab, labels, special, vary, unknowns, status, message, system.name,
                   units={v.name: v.unit for v in system.variables})
@@ -188,7 +188,7 @@ def locate_fold(system: EquationSystem, point, vary: str, *, hold: Iterable[str]
     and the normalised quadratic coefficient (its sign tells which side the branch bends).
     """
     x0 = _start_vector(system, point)
-    states = (point.info.get("unknowns") if isinstance(point, SpecialPoint) else None) or choose_unknowns(
+    states = (point.unknowns if isinstance(point, SpecialPoint) else None) or choose_unknowns(
         system, hold=hold, free=free, exclude=[vary])
     x, v = refine_fold(system, x0, states, vary)
     idx = np.array([system.index(n) for n in states])
@@ -233,14 +233,14 @@ def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: 
     options = options or ContinuationOptions()
     system.compile()
     system.index(free)
-    states = (fold.info.get("unknowns") if isinstance(fold, SpecialPoint) else None) or choose_unknowns(
+    states = (fold.unknowns if isinstance(fold, SpecialPoint) else None) or choose_unknowns(
         system, hold=hold, free=free_extra, exclude=[vary])
     states = [s for s in states if s != free]
     if len(states) != system.n_equations:
         raise InputError(free, "is one of the unknowns of the branch; choose a parameter that was held")
     x0 = _start_vector(system, fold)
     problem = None
-    if isinstance(fold, SpecialPoint) and fold.info.get("status") == "located" and fold.info.get("vary") == vary:
+    if isinstance(fold, SpecialPoint) and fold.located and fold.vary == vary:
         # a fold the branch already polished: start from it as it is, if it still solves the fold system
         problem = FoldProblem(system, x0, vary, free, states, scales=options.scales)
         if not problem.solves(problem.u0):
@@ -289,10 +289,11 @@ def switch_branch(system: EquationSystem, bp: SpecialPoint, *, options: Continua
     Branch
         The new branch; the start row is labelled ``BP``.
     """
-    if not isinstance(bp, SpecialPoint) or bp.label != "BP" or bp.tangent is None:
+    if (not isinstance(bp, SpecialPoint) or bp.label != "BP" or bp.tangent is None or bp.vary is None
+            or bp.unknowns is None):
         raise InputError("bp", "give a special point labelled BP from a continuation branch")
     options = options or ContinuationOptions()
-    vary, unknowns = bp.info["vary"], list(bp.info["unknowns"])
+    vary, unknowns = bp.vary, list(bp.unknowns)
     problem = _Equilibria(system, bp.x, vary, unknowns, scales=options.scales, stability=options.stability)
     u0 = problem.u_of(bp.x)
     D = problem.scale
@@ -322,6 +323,6 @@ def switch_branch(system: EquationSystem, bp: SpecialPoint, *, options: Continua
     if not branch.labels[i0]:
         branch.labels[i0] = "BP"
         branch.special_points.append(SpecialPoint("BP", i0, branch.values[i0].copy(), system.names, t_new,
-                                                  {"unknowns": tuple(unknowns), "vary": vary, "switched": True}))
+                                                  unknowns=tuple(unknowns), vary=vary, extra={"switched": True}))
         branch.special_points.sort(key=lambda p: p.index)
     return branch

@@ -5,12 +5,15 @@ from __future__ import annotations
 import csv
 import json
 import os
-from dataclasses import dataclass, field
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 
 from .._io import atomic_write, read_csv_header
+from .._status import Status
 from ..errors import InputError
 
 __all__ = ["Branch", "SpecialPoint", "unit_header", "read_csv_header", "read_branch_table"]
@@ -19,7 +22,7 @@ __all__ = ["Branch", "SpecialPoint", "unit_header", "read_csv_header", "read_bra
 _REPR_VALUES = 60
 
 
-@dataclass
+@dataclass(init=False)
 class SpecialPoint:
     """A labelled point of a branch (AUTO's vocabulary).
 
@@ -36,19 +39,69 @@ class SpecialPoint:
         Variable names, ordered like ``x``.
     tangent:
         Unit tangent of the branch at the point in the problem's scaled unknowns (when known).
+    status:
+        :attr:`Status.LOCATED <mechcont._status.Status.LOCATED>` (solved to the tolerances: a
+        fold polished on the augmented system, an event's zero found by root finding) or
+        ``APPROXIMATE`` (detected by a sign change but not located; :attr:`reason` says why).
+    reason:
+        Why the point is approximate, or why a branch ended there (``""`` when none).
+    residual, singular_value:
+        The precision of a located fold (None elsewhere): the largest equation residual
+        relative to its terms, and the smallest singular value of the equilibrated state
+        Jacobian over the norm of the whole equilibrated Jacobian.
+    vary, unknowns:
+        The lens the point was found with: the continuation parameter and the names solved
+        for (None for a point read from a table).
+    null_vector:
+        The null vector over :attr:`unknowns`' states at a fold (None elsewhere).
+    extra:
+        What an analysis adds (a stop's name, where the mechanism lands, dropped rows...).
     info:
-        Extra data: e.g. ``"null_vector"`` at a fold, ``"status"``, the precision of a
-        located fold (``"residual"``: largest equation residual relative to its terms;
-        ``"singular_value"``: smallest singular value of the equilibrated state Jacobian
-        over the norm of the whole equilibrated Jacobian), an end reason.
+        All of the above as one read-only dict (the keys of before: ``"status"``,
+        ``"null_vector"``, ``"residual"``, ...); pass ``info=`` to the constructor to fill
+        the typed fields from such a dict (its other keys go to :attr:`extra`).
     """
 
     label: str
     index: int
     x: np.ndarray
     names: tuple[str, ...]
-    tangent: np.ndarray | None = None
-    info: dict = field(default_factory=dict)
+    tangent: np.ndarray | None
+    status: Status
+    reason: str
+    residual: float | None
+    singular_value: float | None
+    vary: str | None
+    unknowns: tuple[str, ...] | None
+    null_vector: np.ndarray | None
+    extra: dict
+
+    def __init__(self, label: str, index: int, x: np.ndarray, names: tuple[str, ...], tangent: np.ndarray | None = None,
+                 info: Mapping | None = None, *, status: Status | str | None = None, reason: str | None = None,
+                 residual: float | None = None, singular_value: float | None = None, vary: str | None = None,
+                 unknowns: Sequence[str] | None = None, null_vector: np.ndarray | None = None,
+                 extra: Mapping | None = None):
+        rest = dict(info or {})
+        typed = {k: rest.pop(k, None) for k in _TYPED}
+        self.label, self.index, self.x, self.names, self.tangent = label, index, x, names, tangent
+        self.status = Status.of(status or typed["status"] or Status.LOCATED)
+        self.reason = str(reason if reason is not None else typed["reason"] or "")
+        self.residual = _first(residual, typed["residual"])
+        self.singular_value = _first(singular_value, typed["singular_value"])
+        self.vary = _first(vary, typed["vary"])
+        lens = _first(unknowns, typed["unknowns"])
+        self.unknowns = None if lens is None else tuple(lens)
+        self.null_vector = _first(null_vector, typed["null_vector"])
+        self.extra = {**rest, **(extra or {})}
+
+    @property
+    def info(self) -> Mapping:
+        """The point's data as a read-only dict (the compatibility view of the typed fields and
+        :attr:`extra`): ``"status"`` always, the other typed fields when set."""
+        typed = {"status": self.status, "reason": self.reason or None, "null_vector": self.null_vector,
+                 "residual": self.residual, "singular_value": self.singular_value, "unknowns": self.unknowns,
+                 "vary": self.vary}
+        return MappingProxyType({**{k: v for k, v in typed.items() if v is not None}, **self.extra})
 
     @property
     def values(self) -> dict[str, float]:
@@ -59,16 +112,9 @@ class SpecialPoint:
         return self.values[name]
 
     @property
-    def status(self) -> str:
-        """``"located"`` (solved to the tolerances: a fold polished on the augmented system,
-        an event's zero found by root finding) or ``"approximate"`` (detected by a sign
-        change but not located; ``info["reason"]`` says why)."""
-        return self.info.get("status", "located")
-
-    @property
     def located(self) -> bool:
-        """True when :attr:`status` is ``"located"``."""
-        return self.status == "located"
+        """True when :attr:`status` is ``LOCATED``."""
+        return self.status is Status.LOCATED
 
     @property
     def tag(self) -> str:
@@ -129,8 +175,9 @@ class Branch:
         ``{name: SI unit}`` (angles ``rad``); written into the CSV headers (``F [N]``), the
         JSON ``units`` map and :meth:`to_frame`'s ``attrs``.
     status, message:
-        ``"completed"`` (hit a bound or max steps) or a failure reason with an
-        explanation, per direction joined by ``"; "``.
+        A :class:`~mechcont._status.Status` (a ``str``): ``"completed"`` (hit a bound or max
+        steps) or how it failed (``"step size underflow"``), and the explanation per direction
+        joined by ``"; "``. A text status given to the constructor is read as its Status.
     """
 
     def __init__(self, names, values, s, n_unstable, labels, special_points, vary, unknowns,
@@ -143,7 +190,7 @@ class Branch:
         self.special_points = list(special_points)
         self.vary = vary
         self.unknowns = tuple(unknowns)
-        self.status = status
+        self.status = Status.of(status)
         self.message = message
         self.model = model
         self.units = dict(units or {})
@@ -162,7 +209,7 @@ class Branch:
     @property
     def success(self) -> bool:
         """True when every direction ended normally (bound, max steps)."""
-        return self.status == "completed"
+        return self.status is Status.COMPLETED
 
     def column(self, name: str) -> np.ndarray:
         """Values of variable ``name`` along the branch."""
@@ -363,9 +410,9 @@ class Branch:
               for r in rows]
         tags = [(r.get("label") or "").strip() for r in rows]
         labels = [t.rstrip("?") for t in tags]
-        special = [SpecialPoint(lab, i, values[i].copy(), tuple(names),
-                                info={} if not tags[i].endswith("?") else {"status": "approximate",
-                                                                             "reason": "marked approximate in the table"})
+        special = [SpecialPoint(lab, i, values[i].copy(), tuple(names), status=Status.LOCATED) if not tags[i].endswith("?")
+                   else SpecialPoint(lab, i, values[i].copy(), tuple(names), status=Status.APPROXIMATE,
+                                     reason="marked approximate in the table")
                    for i, lab in enumerate(labels) if lab]
         vary = (rows[0].get("vary") or "").strip()
         return cls(names, values, s, nu, labels, special, vary, (), model=model, units=units)
@@ -386,6 +433,13 @@ class Branch:
 
 
 _EXTRA_COLUMNS = ("s", "stability", "n_unstable", "label", "vary")
+#: The keys of an ``info`` dict that are typed fields of a :class:`SpecialPoint`.
+_TYPED = ("status", "reason", "residual", "singular_value", "vary", "unknowns", "null_vector")
+
+
+def _first(*values):
+    """The first of ``values`` that is not None (None when all are)."""
+    return next((v for v in values if v is not None), None)
 
 
 def unit_header(name: str, unit: str) -> str:

@@ -17,6 +17,7 @@ from enum import Enum
 import numpy as np
 
 from .. import _dense
+from .._status import Status
 from ._events import Event, PointState
 from ._linalg import DenseLU
 from ._newton import residual_met, step_noise
@@ -41,10 +42,10 @@ class Termination(Enum):
     BRANCHES_TOO_CLOSE = "branches too close to separate"
 
     @property
-    def status(self) -> str:
-        """``"completed"`` for a normal end, ``"step size underflow"`` for a failure."""
+    def status(self) -> Status:
+        """:attr:`Status.COMPLETED` for a normal end, :attr:`Status.STEP_UNDERFLOW` for a failure."""
         failed = (Termination.STEP_UNDERFLOW, Termination.BRANCHES_TOO_CLOSE)
-        return "step size underflow" if self in failed else "completed"
+        return Status.STEP_UNDERFLOW if self in failed else Status.COMPLETED
 
 
 class PseudoArclength:
@@ -464,7 +465,7 @@ class DirectionResult:
     labels: list = field(default_factory=list)
     info: list = field(default_factory=list)
     arclength: list = field(default_factory=list)
-    status: str = "completed"
+    status: Status = Status.COMPLETED
     message: str = ""
     termination: Termination | None = None
 

@@ -311,11 +311,11 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
     first, and the point is solved again (the fold polished, the equilibrium by Newton
     from the point).
     """
-    info = point.info if isinstance(point, SpecialPoint) else {}
+    sp = point if isinstance(point, SpecialPoint) else None
     x = np.asarray(point.x if isinstance(point, SpecialPoint) else point, dtype=float)
     if x.shape != (len(system.names),):
         raise InputError("point", f"has {x.size} values; model '{system.name}' has {len(system.names)} variables")
-    vary = vary or info.get("vary")
+    vary = vary or (sp.vary if sp else None)
     if not vary:
         raise InputError("vary", "the point does not say its continuation parameter; give it")
     system.variable(vary)
@@ -326,8 +326,8 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
         if handler is None:
             raise InputError("point", f"the load at a {label} point is defined by mechcont.analysis: import it (or "
                                       "use mechcont.analysis.sensitivity.point_sensitivity)")
-        return handler(system, x, params, vary, label, info, unknowns, values)
-    lens = list(unknowns or info.get("unknowns") or choose_unknowns(system, exclude=[vary]))
+        return handler(system, x, params, vary, label, sp.info if sp else {}, unknowns, values)
+    lens = list(unknowns or (sp.unknowns if sp else None) or choose_unknowns(system, exclude=[vary]))
     fold = of == vary and label == "LP"
     if of != vary:
         solved = lens
@@ -345,7 +345,7 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
         if not fold:
             x = _resolve(system, x, solved)
     if fold:
-        return fold_sensitivity(system, x, lens, vary, params, null_vector=info.get("null_vector"))
+        return fold_sensitivity(system, x, lens, vary, params, null_vector=sp.null_vector if sp else None)
     return equilibrium_sensitivity(system, x, solved, params, of)
 
 

@@ -8,7 +8,7 @@ is followed in pieces: a piece ends where ``reselect.quality`` turns negative (`
 like any event), ``reselect.switch`` gives the variant chosen there with the reactions solved
 again, and the next piece starts from that point in the same sense of travel. The pieces are
 joined into one :class:`Branch` (the switch row once, as the end of its piece; the
-``RC`` point's ``info["dropped"]`` holds the dropped rows before and after it, in branch order).
+``RC`` point's ``extra["dropped"]`` (also in ``info``) holds the dropped rows before and after it, in branch order).
 Every row solves the variant of its piece; the reactions that statics cannot determine change
 their split at a switch, everything determinate (coordinates, loads solved for, the reactions'
 part in the range of ``Phi_q``) is continuous.
@@ -20,7 +20,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from ._branch import Branch, SpecialPoint
+from .._status import Status
+from ._branch import Branch
 from ._events import Event
 from ._problem import ContinuationProblem
 
@@ -83,7 +84,7 @@ def _one_way(run, system, x0: np.ndarray, vary: str, sign: int, options, events)
             model, x = out
         for sp in piece.special_points:
             if sp.index == last:  # (before, after) in the sense of travel; join_variants orders them along the branch
-                sp.info["dropped"] = (before, tuple(model.dropped_constraints))
+                sp.extra["dropped"] = (before, tuple(model.dropped_constraints))
         sign = travel(piece, vary, sign)
     else:
         message = f"{'+' if sign > 0 else '-'}: stopped after {MAX_SWITCHES} changes of the dropped redundant rows"
@@ -124,13 +125,12 @@ def join_variants(system, halves: dict[int, tuple[list, str, str]], vary: str, u
     n_back = len(rows) - (len(fwd) if 1 in halves else 0)
     for i, (_, _, _, lab, sp) in enumerate(rows):
         if lab and sp is not None:
-            info = dict(sp.info)
-            if i < n_back and "dropped" in info:  # travelled backwards: before and after swap along the branch
-                info["dropped"] = info["dropped"][::-1]
-            special.append(SpecialPoint(sp.label, i, sp.x.copy(), sp.names, sp.tangent, info))
+            extra = dict(sp.extra)
+            if i < n_back and "dropped" in extra:  # travelled backwards: before and after swap along the branch
+                extra["dropped"] = extra["dropped"][::-1]
+            special.append(replace(sp, index=i, x=sp.x.copy(), extra=extra))
     dirs = sorted(halves)
-    statuses = [halves[d][1] for d in dirs]
-    status = "completed" if all(s == "completed" for s in statuses) else next(s for s in statuses if s != "completed")
+    status = Status.first_failure(halves[d][1] for d in dirs)
     message = "; ".join(halves[d][2] for d in dirs if halves[d][2])   # each piece's says its direction
     return Branch(system.names, np.array([r[0] for r in rows]), [r[1] for r in rows], [r[2] for r in rows],
                   [r[3] for r in rows], special, vary, unknowns, status, message, system.name,

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import csv
-import enum
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -11,17 +10,18 @@ from pathlib import Path
 import numpy as np
 
 from .._io import atomic_write
+from .._status import Status
 from ..errors import InputError
 
 __all__ = ["SimulationStatus", "SimulationResult"]
 
 
-class SimulationStatus(enum.Enum):
-    """How a simulation ended (``.value`` is the readable message)."""
+#: How a simulation ended: ``FINISHED``, ``EVENT`` or ``FAILED`` of the one :class:`~mechcont._status.Status`
+#: vocabulary (the name kept for the code written before it).
+SimulationStatus = Status
 
-    FINISHED = "The end of the time span was reached."
-    EVENT = "A terminal event occurred."
-    FAILED = "The integrator failed (step size became too small); try a looser rtol or a smaller max_step."
+#: A failed simulation's message: what failed and what to try.
+_INTEGRATOR_FAILED = "The integrator failed (step size became too small); try a looser rtol or a smaller max_step."
 
 
 @dataclass
@@ -40,7 +40,8 @@ class SimulationResult:
     names, coordinates:
         Column names of ``values`` and the coordinate names (order of ``qdot``).
     status:
-        A :class:`SimulationStatus`; ``message`` repeats it as text.
+        :attr:`Status.FINISHED <mechcont._status.Status.FINISHED>`, ``EVENT`` or ``FAILED``;
+        ``message`` says it as a sentence.
     constraint_drift:
         ``max |Phi|`` over the saved points (units of the constraints, m for the overcentre).
     velocity_drift:
@@ -63,7 +64,7 @@ class SimulationResult:
     qdot: np.ndarray
     names: tuple[str, ...]
     coordinates: tuple[str, ...]
-    status: SimulationStatus
+    status: Status
     constraint_drift: float
     velocity_drift: float
     t_events: list[np.ndarray] = field(default_factory=list)
@@ -85,12 +86,13 @@ class SimulationResult:
     @property
     def success(self) -> bool:
         """True unless the integrator failed."""
-        return self.status is not SimulationStatus.FAILED
+        return self.status is not Status.FAILED
 
     @property
     def message(self) -> str:
         """Readable termination reason (with where and why, if the integrator failed)."""
-        return f"{self.status.value} {self.detail}" if self.detail else self.status.value
+        text = _INTEGRATOR_FAILED if self.status is Status.FAILED else self.status.message
+        return f"{text} {self.detail}" if self.detail else text
 
     @property
     def columns(self) -> tuple[str, ...]:

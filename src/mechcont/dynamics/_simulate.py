@@ -8,10 +8,11 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 
+from .._status import Status
 from ..errors import InputError
 from ._contact import MAX_EVENTS_AT_ONCE
 from ._events import EventTracker
-from ._result import SimulationResult, SimulationStatus
+from ._result import SimulationResult
 from ._udwadia_kalaba import ConstrainedDynamics
 
 __all__ = ["simulate", "initial_vector", "assemble"]
@@ -225,13 +226,13 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     ts, ys = ([t0], [y0]) if times is None or (times.size and times[0] == t0) else ([], [])
     modes = [_mode(contacts)] * len(ts)  # the stops in contact at each saved row
     k_eval = 1 if ts and times is not None else 0
-    status, detail = SimulationStatus.FINISHED, ""
+    status, detail = Status.FINISHED, ""
     at_once, t_last_event = 0, -math.inf
     while True:
         t_old = solver.t
         why = solver.step()
         if solver.status == "failed":
-            status = SimulationStatus.FAILED
+            status = Status.FAILED
             detail = f"Stopped at t = {solver.t:.6g} s ({method}: {why})."
             break
         if projection:  # back onto Phi = 0, Phi_q qdot = 0; restart the FSAL derivative there
@@ -268,14 +269,14 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
         if progress is not None:
             progress(t_end)
         if t_stop is not None:
-            status = SimulationStatus.EVENT
+            status = Status.EVENT
             break
         if hit is not None:
             assert contacts is not None  # a stop event comes only from the contacts
             at_once = at_once + 1 if hit[0] == t_last_event else 0
             t_last_event = hit[0]
             if at_once > MAX_EVENTS_AT_ONCE or len(contacts.events) > max_stop_events:
-                status = SimulationStatus.FAILED
+                status = Status.FAILED
                 detail = (f"Stopped at t = {hit[0]:.6g} s: {len(contacts.events)} stop events"
                           + (f", {at_once} at this instant (no consistent contact set)" if at_once > MAX_EVENTS_AT_ONCE
                              else f", more than max_stop_events = {max_stop_events}") + ".")

@@ -16,10 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
+from .._status import Status
 from ..errors import InputError
 from ._events import Crossing
 from ._jumps import find_jump_windows
-from ._result import SimulationResult, SimulationStatus
+from ._result import SimulationResult
 from ._simulate import initial_vector, simulate
 
 __all__ = ["Ramp", "Jump", "SweepResult", "sweep", "parse_ramps"]
@@ -321,7 +322,7 @@ def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float =
         parts.append(part)
         x, qd = part.values[-1].copy(), part.qdot[-1]
         x[reactions] = 0.0  # computed again by the next phase, which finds the same contacts
-        if part.status is not SimulationStatus.FINISHED:
+        if part.status is not Status.FINISHED:
             break
     sim = _concatenate(parts)
     t, w, wdot = sim.t, sim[watch], sim[f"{watch}_dot"]

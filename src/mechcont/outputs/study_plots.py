@@ -19,6 +19,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .._status import Status
+
 if TYPE_CHECKING:
     from matplotlib.typing import LineStyleType
 
@@ -69,7 +71,7 @@ def plot_force_histogram(df, ax, column: str = "downlock_force"):
     """Histogram of ``column`` over the converged samples, ``F = 0`` marked, P(not locking) in the title."""
     from ..analysis.study import failure_probability
 
-    ok = (df["status"] == "converged").to_numpy()
+    ok = (df["status"] == Status.CONVERGED).to_numpy()
     F = df[column].to_numpy()[ok]
     bins = max(10, min(80, int(np.sqrt(len(F)))))
     ax.hist(F[F > 0], bins=np.histogram_bin_edges(F, bins), color="tab:blue", label="locks unaided (F > 0)")
@@ -118,7 +120,7 @@ def plot_study(df, path: str | os.PathLike, dpi: int = 120) -> Path:
         fig, ax = plt.subplots(figsize=(7, 4.5))
         name = spec.names[0]
         f, label = _axis(df, name)
-        ok = df["status"] == "converged"
+        ok = df["status"] == Status.CONVERGED
         ax.plot(df.loc[ok, name] * f, df.loc[ok, "downlock_force"], "k.-")
         ax.axhline(0.0, color="tab:red", lw=1)
         ax.set_xlabel(label)

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..._status import Status
 from ...continuation import choose_unknowns
 from ...continuation._batch import fold_batch, newton_batch
 from ...equations import as_model
@@ -46,6 +47,9 @@ __all__ = ["run_chunk", "check_spec", "result_columns", "COLUMNS", "MAX_MOVE"]
 #: the single-point path, which starts from the model's own assembly at the sample's values
 #: when it has one, decides which assembly of the mechanism is meant.
 MAX_MOVE = 0.25
+
+# a sample's status as written in the table's columns: the words of Status, plain text for the file formats
+_CONVERGED, _FAILED = Status.CONVERGED.value, Status.FAILED.value
 
 #: Result columns after the sampled parameters: name -> (unit, meaning).
 COLUMNS = {
@@ -142,7 +146,7 @@ def run_chunk(system, spec: StudySpec, k: int, samples: np.ndarray | None = None
     m = len(S)
     X0 = np.tile(base, (m, 1))
     X0[:, p["cols"]] = S
-    status = np.full(m, "converged", dtype=object)
+    status = np.full(m, _CONVERGED, dtype=object)
     reason = np.full(m, "", dtype=object)
     path = np.full(m, "batched", dtype=object)
     # values outside the model's ranges (its check and its declared limits) fail at once
@@ -154,8 +158,8 @@ def run_chunk(system, spec: StudySpec, k: int, samples: np.ndarray | None = None
             except InputError as exc:
                 why = str(exc)
         if why:
-            status[i], reason[i] = "failed", why
-    ok = np.nonzero(status == "converged")[0]
+            status[i], reason[i] = _FAILED, why
+    ok = np.nonzero(status == _CONVERGED)[0]
     X = np.full_like(X0, np.nan)
     if len(ok):
         sol = newton_batch(system, X0[ok], p["unknowns"])
@@ -171,7 +175,7 @@ def run_chunk(system, spec: StudySpec, k: int, samples: np.ndarray | None = None
             try:
                 X[i] = downlock_point(system, values, hold=h, force=f)
             except (ConvergenceError, InputError) as exc:
-                status[i], reason[i] = "failed", f"downlock solve: {exc}"
+                status[i], reason[i] = _FAILED, f"downlock solve: {exc}"
     F = X[:, system.index(f)]
     out = {"sample": np.arange(start, stop, dtype=np.int64), **{n: S[:, j] for j, n in enumerate(names)},
            "status": status, "reason": reason, "path": path, "downlock_force": F, "locks_unaided": F > 0}
@@ -202,10 +206,10 @@ def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = T
         try:
             u = unlock_folds(system, X[i], f, released=released)
         except (ConvergenceError, InputError) as exc:  # unlock_folds reports failures itself; belt and braces
-            status[i], reason[i], how[i] = "failed", f"unlock folds: {exc}", "failed"
+            status[i], reason[i], how[i] = _FAILED, f"unlock folds: {exc}", _FAILED
             return None
         if u.warnings:
-            status[i], reason[i] = "failed", "unlock folds: " + "; ".join(u.warnings)
+            status[i], reason[i] = _FAILED, "unlock folds: " + "; ".join(u.warnings)
         lo, hi = u.locked_range
         above[i] = hi if np.isfinite(hi) else np.nan
         below[i] = lo if np.isfinite(lo) else np.nan
@@ -216,12 +220,12 @@ def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = T
             points[i], folds[i] = len(b), len(b.special("LP"))
             unstable[i] = _unstable_points(b)
             (f_low[i], f_high[i]), branch_note[i] = _force_range(system, b, f, X[i])
-            how[i] = b.status if not u.warnings else "stopped early"
+            how[i] = (b.status if not u.warnings else Status.STOPPED_EARLY).value
         else:
-            how[i] = "failed"
+            how[i] = _FAILED
         return u
 
-    rows = np.nonzero(status == "converged")[0]
+    rows = np.nonzero(status == _CONVERGED)[0]
     if len(rows):
         ref = single(rows[0])
         rest = rows[1:]
@@ -242,7 +246,7 @@ def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = T
             for p, out, sign in sides:
                 G = np.tile(p.x, (len(rest), 1))
                 G[:, params] = X[rest][:, params]
-                fb = fold_batch(system, G, p.info["null_vector"], list(system.state_names), f)
+                fb = fold_batch(system, G, p.null_vector, list(system.state_names), f)
                 moved = np.max(np.abs(fb.x[:, geo] - p.x[geo]) / scales[geo], axis=1, initial=0.0)
                 Ff = fb.x[:, system.index(f)]
                 good = fb.converged & (moved <= MAX_MOVE) & (sign * (Ff - F[rest]) > 0)

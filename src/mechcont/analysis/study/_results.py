@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..._status import Status
+
 __all__ = ["read_results", "failure_probability", "FailureProbability", "sensitivity", "Sensitivity", "grid_values",
            "study_spec_of"]
 
@@ -88,7 +90,7 @@ def failure_probability(df, confidence: float = 0.95) -> FailureProbability:
     """Probability that a sample does not lock unaided (downlock force <= 0 N), with its exact interval."""
     from scipy.stats import binomtest
 
-    ok = (df["status"] == "converged").to_numpy()
+    ok = (df["status"] == Status.CONVERGED).to_numpy()
     n = int(ok.sum())
     k = int((df["downlock_force"].to_numpy()[ok] <= 0).sum())
     if n == 0:
@@ -130,7 +132,7 @@ def sensitivity(df, names=None, output: str = "downlock_force") -> tuple[list[Se
 
     if names is None:
         names = list(df.attrs.get("study", {}).get("parameters", {}))
-    ok = (df["status"] == "converged").to_numpy()
+    ok = (df["status"] == Status.CONVERGED).to_numpy()
     y = df[output].to_numpy()[ok]
     X = np.column_stack([df[n].to_numpy()[ok] for n in names])
     if len(y) < len(names) + 2:
