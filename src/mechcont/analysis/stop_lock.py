@@ -21,6 +21,7 @@ import numpy as np
 from ..continuation import Branch, ContinuationOptions
 from ..equations import EquationSystem, as_model
 from ..errors import ConvergenceError, InputError
+from ..units import shown
 from ._runs import early_stops
 from .downlock import DownlockBranch, design_bounds, design_options
 from .stops import GAP_TOL, continuation_with_stops, equilibrium_on_stops, stability_on_stops
@@ -122,11 +123,8 @@ def landing_after_unlock(system: EquationSystem, x: np.ndarray, unlock: UnlockFo
     how = "stable" if nsf.info["landing_stable"] else "UNSTABLE"
     unit = system.variable(moved).unit
 
-    def shown(v: float) -> str:   # angles in degrees, as everywhere on display
-        return f"{np.degrees(v):.6g} deg" if unit == "rad" else f"{v:.6g}{' ' + unit if unit else ''}"
-
     return (f"the lock snaps at {f} = {p[f]:.6g} {system.variable(f).unit} and lands on {on} ({how}; {moved} from "
-            f"{shown(p[moved])} to {shown(at[moved])})")
+            f"{shown(p[moved], unit)} to {shown(at[moved], unit)})")
 
 
 def stop_unlock_along(system: EquationSystem, branch: Branch, force: str) -> tuple[np.ndarray, list[str]]:

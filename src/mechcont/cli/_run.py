@@ -125,9 +125,9 @@ def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quie
 
 def display(branch, name: str, value: float) -> float:
     """A value as shown in tables: angles (``rad``) in degrees, everything else in SI."""
-    import math
+    from ..units import display as shown
 
-    return math.degrees(value) if branch.units.get(name) == "rad" else value
+    return shown(value, branch.units.get(name, ""))[0]
 
 
 def heading(branch, name: str) -> str:
@@ -158,10 +158,12 @@ def special_table(branch, cols=None) -> str:
 
 def warn_approximate(branch) -> None:
     """One stderr line per special point that was detected but not located."""
+    from ..units import display_unit
+
     for name, p in zip(branch.point_names(), branch.special_points):
         if not p.located:
             why = p.info.get("reason", "not located")
             v = branch.vary
-            unit = "deg" if branch.units.get(v) == "rad" else branch.units.get(v, "")
+            unit = display_unit(branch.units.get(v, ""))
             click.echo(f"warning: {name} at {v} = {display(branch, v, p.values[v]):.10g} {unit} is approximate "
                        f"({why}); its row is labelled {p.tag}".replace("  ", " "), err=True)

@@ -9,6 +9,7 @@ import click
 
 from .._io import check_output_path
 from ..errors import InputError
+from ..units import display
 from ._app import cli
 from ._parse import assignments, freed_parameters, names
 from ._parse import bounds as parse_bounds
@@ -133,10 +134,7 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
         for p in sens_params:
             col = f"d{f}_d{p}"
             click.echo(f"  {col} ({branch.units[col]}) from {branch[col].min():.6g} to {branch[col].max():.6g}")
-    xs, Fs = branch[vary], branch[f]
-    unit_x = system.variable(vary).unit
-    if unit_x == "rad":  # angles shown in degrees, as everywhere
-        xs, unit_x = np.degrees(xs), "deg"
+    (xs, unit_x), Fs = display(branch[vary], system.variable(vary).unit), branch[f]
     held = ", ".join(f"{k}={v:g}" for k, v in h.items())
     unlock_col = f"unlock_{f}" if f"unlock_{f}" in branch.names else None
     click.echo(f"downlock force {f} (N) vs {vary} ({unit_x}), {held} held: "
@@ -181,9 +179,7 @@ def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plo
     unlock, more = stop_unlock_along(system, branch, f)
     branch.warnings += [f"unlock loads along the branch: {w}" for w in more]
     reactions = [s.reaction for s in system.stops if s.name in branch.lock_stops]
-    xs, unit_x = branch[vary], system.variable(vary).unit
-    if unit_x == "rad":
-        xs, unit_x = np.degrees(xs), "deg"
+    xs, unit_x = display(branch[vary], system.variable(vary).unit)
     unit_f = system.variable(f).unit
     on = ", ".join(branch.lock_stops)
     spans = "; ".join(f"{r} from {branch[r].min():.6g} to {branch[r].max():.6g} {system.variable(r).unit}"

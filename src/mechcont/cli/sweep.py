@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 
 from ..errors import InputError
+from ..units import display
 from ._app import cli
 from ._parse import assignments, number
 
@@ -27,10 +28,7 @@ def _ramps(items) -> list[tuple[str, float, float, float]]:
 
 def _shown(system, name: str, value: float) -> tuple[float, str]:
     """A value and its unit as printed: angles in degrees."""
-    import math
-
-    unit = system.variable(name).unit
-    return (math.degrees(value), "deg") if unit == "rad" else (value, unit)
+    return display(value, system.variable(name).unit)
 
 
 def _read_branch(path, system, parameter: str, watch: str):

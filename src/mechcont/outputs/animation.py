@@ -24,6 +24,7 @@ import numpy as np
 
 from .._io import read_csv_header
 from ..errors import InputError
+from ..units import display_scale, display_unit
 from . import _frames as _f
 from . import drawing as _d
 
@@ -320,7 +321,7 @@ def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
     """Branch projected on ``names`` (x, y): stable solid, unstable dashed, labels marked."""
     (xn, yn) = names
     xs, ys = (frames.values[:, system.index(n)] for n in names)
-    conv = [math.degrees(1) if system.variable(n).unit == "rad" else 1.0 for n in names]
+    conv = [display_scale(system.variable(n).unit) for n in names]
     xs, ys = xs * conv[0], ys * conv[1]
     states = _diagram_states(frames)
     if len(states) == 0 or np.isnan(states).all():
@@ -340,7 +341,7 @@ def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
             right = xs[i] > np.min(xs) + 0.85 * np.ptp(xs)   # near the right edge: the label to the left
             ax.annotate(lab, (xs[i], ys[i]), textcoords="offset points", xytext=(-3 if right else 3, 3), fontsize=9,
                         ha="right" if right else "left")
-    units = ["deg" if system.variable(n).unit == "rad" else system.variable(n).unit for n in names]
+    units = [display_unit(system.variable(n).unit) for n in names]
     ax.set_xlabel(f"{xn} ({units[0]})" if units[0] else xn)
     ax.set_ylabel(f"{yn} ({units[1]})" if units[1] else yn)
     ax.grid(True, linewidth=0.3, alpha=0.5)
