@@ -10,16 +10,14 @@ from ._parse import assignments, bounds, freed_parameters
 __all__ = ["continuation_options", "solve_start", "write_branch", "special_table", "common_options", "check_outputs",
            "run_continuation"]
 
-#: Branch tables are written as CSV or JSON (by suffix).
-TABLE_SUFFIXES = (".csv", ".json")
-
 
 def check_outputs(out: str | None, plot: str | None) -> None:
-    """Check the --out table and --plot figure paths before any work (suffix, folder, writable)."""
+    """Check the --out branch table and --plot figure paths before any work (suffix, folder, writable)."""
     from .._io import check_output_path
     from ..outputs.plotting import FIGURE_SUFFIXES
+    from ..outputs.tables import BRANCH_SUFFIXES
 
-    check_output_path(out, "--out", TABLE_SUFFIXES)
+    check_output_path(out, "--out", BRANCH_SUFFIXES)
     check_output_path(plot, "--plot", FIGURE_SUFFIXES)
 
 
@@ -108,7 +106,9 @@ def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quie
     for name in (x, y):
         branch.column(name)
     if out:
-        (branch.to_json if out.lower().endswith(".json") else branch.to_csv)(out)
+        from ..outputs.tables import write_branch_table
+
+        write_branch_table(branch, out)
     if plot:
         save_figure(branch_figure(branch, x, y, title=f"{branch.model}: {y} vs {x}"), plot)
     if not quiet:

@@ -13,7 +13,7 @@ from ..errors import InputError
 from ._app import cli
 from ._parse import assignments
 from ._parse import bounds as parse_bounds
-from .downlock import PLOT_SUFFIXES, checked_path, model_and_condition, warn
+from .downlock import model_and_condition, warn
 
 
 def _markdown(records: list[dict]) -> str:
@@ -61,10 +61,13 @@ def design_command(model, x_name, y_name, bounds_, levels, sets, holds, conditio
     """
     import numpy as np
 
+    from .._io import check_output_path
     from ..analysis.design import design_region
+    from ..outputs.plotting import FIGURE_SUFFIXES
+    from ..outputs.tables import RECORD_SUFFIXES
 
-    out_path = checked_path(out, (".csv", ".md"), "out")
-    plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
+    out_path = check_output_path(out, "--out", RECORD_SUFFIXES)
+    plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     if levels < 2 or levels > 200:
         raise InputError("--levels", f"must be between 2 and 200, got {levels}")
     if max_steps < 1:

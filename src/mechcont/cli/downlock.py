@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import functools
-from pathlib import Path
 
 import click
 
@@ -13,19 +12,6 @@ from ..units import display
 from ._app import cli
 from ._parse import assignments, freed_parameters, names
 from ._parse import bounds as parse_bounds
-
-PLOT_SUFFIXES = (".png", ".svg", ".pdf")
-TABLE_SUFFIXES = (".csv", ".json")
-
-
-def checked_path(path: str | None, valid: tuple[str, ...], option: str) -> Path | None:
-    """``path`` as a Path with one of the ``valid`` suffixes in an existing folder, else InputError."""
-    if path is None:
-        return None
-    p = Path(path)
-    if p.suffix.lower() not in valid:
-        raise InputError(f"--{option}", f"unknown file type '{p.suffix or p.name}'; valid: {', '.join(valid)}")
-    return check_output_path(p, f"--{option}")  # folder exists, is a folder, is writable; p not a folder
 
 
 @functools.lru_cache(maxsize=4)
@@ -98,9 +84,11 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
 
     from ..analysis.downlock import downlock
     from ..equations import as_model
+    from ..outputs.plotting import FIGURE_SUFFIXES
+    from ..outputs.tables import BRANCH_SUFFIXES, write_branch_table
 
-    out_path = checked_path(out, TABLE_SUFFIXES, "out")
-    plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
+    out_path = check_output_path(out, "--out", BRANCH_SUFFIXES)
+    plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     values = assignments(sets, "set")
     bnds = parse_bounds(bounds_)
     sens_params = names(sens_text, "sensitivity")
@@ -154,7 +142,7 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
         click.echo(f"  {note}")
     warn(branch.warnings)
     if out_path is not None:
-        (branch.to_json if out_path.suffix.lower() == ".json" else branch.to_csv)(out_path)
+        write_branch_table(branch, out_path)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
         from ..outputs.design_plots import downlock_figure
@@ -170,6 +158,7 @@ def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plo
     import numpy as np
 
     from ..analysis.stop_lock import downlock_on_stops, stop_unlock_along
+    from ..outputs.tables import write_branch_table
 
     for n in values:
         system.variable(n)
@@ -205,7 +194,7 @@ def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plo
                         branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
                         branch.status, branch.message, branch.model, {**branch.units, f"unlock_{f}": unit_f})
     if out_path is not None:
-        (branch.to_json if out_path.suffix.lower() == ".json" else branch.to_csv)(out_path)
+        write_branch_table(branch, out_path)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
         from ..outputs.design_plots import downlock_figure

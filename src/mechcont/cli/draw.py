@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
 
+from .._io import check_output_path
 from ..errors import InputError
 from ._app import cli
 from ._parse import assignments, freed_parameters, names
@@ -23,13 +22,6 @@ def _assignments(items, field: str) -> dict[str, float]:
 
 def _names(text: str | None, field: str) -> tuple[str, ...]:
     return names(text, field)
-
-
-def _out(path: str, valid) -> Path | None:
-    """The --out file, checked before any work (suffix, folder, writable)."""
-    from .._io import check_output_path
-
-    return check_output_path(path, "--out", valid)
 
 
 @cli.command("draw")
@@ -58,7 +50,7 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, l
     from ..outputs.animation import branch_frames
     from ..outputs.drawing import IMAGE_SUFFIXES, default_annotate, draw
 
-    path = _out(out, IMAGE_SUFFIXES)
+    path = check_output_path(out, "--out", IMAGE_SUFFIXES)
     system = _model(model)
     names = _names(annotate, "annotate") or default_annotate(system)
     if vary is not None:
@@ -121,7 +113,7 @@ def animate_command(model, branch_csv, out, fps, every, hold, annotate, vary, di
     from ..outputs.animation import ANIMATION_SUFFIXES, animate, branch_frames, check_fps, frame_rows
     from ..outputs.drawing import default_annotate
 
-    path = _out(out, ANIMATION_SUFFIXES)
+    path = check_output_path(out, "--out", ANIMATION_SUFFIXES)
     if fps is not None:
         check_fps(fps)
     if every < 1:

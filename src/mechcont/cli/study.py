@@ -10,7 +10,6 @@ import click
 from ..errors import InputError
 from ._app import cli
 from ._parse import assignments
-from .downlock import PLOT_SUFFIXES, checked_path
 
 
 def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk):
@@ -121,11 +120,12 @@ def study_command(model, dists, grids, sample, method, n, seed, spec_file, analy
     """
     import time
 
-    from .._io import check_output_folder
+    from .._io import check_output_folder, check_output_path
+    from ..outputs.plotting import FIGURE_SUFFIXES
 
     if method not in ("sampling", "form"):
         raise InputError("--method", f"unknown method '{method}'; valid: sampling, form")
-    plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
+    plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     check_output_folder(out, "--out")
     if method == "form":
         return _form(model, dists, grids, sample, n, seed, spec_file, analyses, sets, holds, condition, force, out,
