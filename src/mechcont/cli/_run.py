@@ -7,8 +7,7 @@ import click
 from ..errors import InputError
 from ._parse import assignments, bounds, freed_parameters
 
-__all__ = ["continuation_options", "solve_start", "write_branch", "special_table", "common_options", "check_outputs",
-           "run_continuation"]
+__all__ = ["continuation_options", "solve_start", "write_branch", "common_options", "check_outputs", "run_continuation"]
 
 
 def check_outputs(out: str | None, plot: str | None) -> None:
@@ -101,13 +100,12 @@ def run_continuation(fn, *args, quiet: bool = False, label: str = "continuation"
 def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quiet: bool, extra=()):
     """Write the branch table (CSV or JSON by suffix) and the plot, checking paths first."""
     from ..outputs.plotting import branch_figure, save_figure
+    from ..outputs.tables import approximate_warnings, special_table, write_branch_table
 
     check_outputs(out, plot)  # again: the folder may have changed during the run
     for name in (x, y):
         branch.column(name)
     if out:
-        from ..outputs.tables import write_branch_table
-
         write_branch_table(branch, out)
     if plot:
         save_figure(branch_figure(branch, x, y, title=f"{branch.model}: {y} vs {x}"), plot)
@@ -120,50 +118,5 @@ def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quie
                 click.echo(f"wrote {path}")
     if not branch.success:
         click.echo(f"warning: {branch.message}", err=True)
-    warn_approximate(branch)
-
-
-def display(branch, name: str, value: float) -> float:
-    """A value as shown in tables: angles (``rad``) in degrees, everything else in SI."""
-    from ..units import display as shown
-
-    return shown(value, branch.units.get(name, ""))[0]
-
-
-def heading(branch, name: str) -> str:
-    """A column heading with its display unit: ``F (N)``, ``theta1 (deg)``, ``s``."""
-    from ..outputs.plotting import axis_label
-
-    return axis_label(name, branch.units.get(name, ""))
-
-
-def special_table(branch, cols=None) -> str:
-    """A plain-text table of the special points of a branch (columns ``cols``).
-
-    Points are named as everywhere else (:meth:`Branch.point_names`, numbered along the
-    branch; ``LP2?`` when only approximate); angles are shown in degrees, every heading
-    carries its unit, and a fold's stability is ``fold``.
-    """
-    cols = list(dict.fromkeys(cols or [branch.vary, *branch.unknowns[:3]]))
-    width = max(16, *(len(heading(branch, c)) + 2 for c in cols))
-    head = f"{'point':<7}" + "".join(f"{heading(branch, c):>{width}}" for c in cols) + f"{'stability':>11}"
-    lines = [f"{branch.model}: {len(branch)} points in {branch.vary}", head]
-    st = branch.stability_labels()
-    for name, p in zip(branch.point_names(), branch.special_points):
-        vals = "".join(f" {display(branch, c, p.values[c]):>{width - 1}.10g}" for c in cols)
-        tag = name + ("" if p.located else "?")
-        lines.append(f"{tag:<7}{vals}{st[p.index] or '-':>11}")
-    return "\n".join(lines)
-
-
-def warn_approximate(branch) -> None:
-    """One stderr line per special point that was detected but not located."""
-    from ..units import display_unit
-
-    for name, p in zip(branch.point_names(), branch.special_points):
-        if not p.located:
-            why = p.info.get("reason", "not located")
-            v = branch.vary
-            unit = display_unit(branch.units.get(v, ""))
-            click.echo(f"warning: {name} at {v} = {display(branch, v, p.values[v]):.10g} {unit} is approximate "
-                       f"({why}); its row is labelled {p.tag}".replace("  ", " "), err=True)
+    for line in approximate_warnings(branch):
+        click.echo(f"warning: {line}", err=True)

@@ -7,7 +7,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table"]
+from ..units import display, display_unit
+from .plotting import axis_label
+
+__all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "branch_value", "heading", "special_table",
+           "approximate_warnings", "jump_lines"]
 
 #: A branch is written as CSV or JSON (by suffix).
 BRANCH_SUFFIXES = (".csv", ".json")
@@ -20,3 +24,67 @@ def write_branch_table(branch, path: str | Path) -> Path:
     path = Path(path)
     (branch.to_json if path.suffix.lower() == ".json" else branch.to_csv)(path)
     return path
+
+
+def branch_value(branch, name: str, value: float) -> float:
+    """``value`` of column ``name`` of ``branch`` as shown in tables: angles (``rad``) in degrees, else SI."""
+    return display(value, branch.units.get(name, ""))[0]
+
+
+def heading(branch, name: str) -> str:
+    """A column heading with its display unit: ``F (N)``, ``theta1 (deg)``, ``s``."""
+    return axis_label(name, branch.units.get(name, ""))
+
+
+def special_table(branch, cols=None) -> str:
+    """A plain-text table of the special points of a branch (columns ``cols``).
+
+    Points are named as everywhere else (:meth:`Branch.point_names`, numbered along the
+    branch; ``LP2?`` when only approximate); angles are shown in degrees, every heading
+    carries its unit, and a fold's stability is ``fold``.
+    """
+    cols = list(dict.fromkeys(cols or [branch.vary, *branch.unknowns[:3]]))
+    width = max(16, *(len(heading(branch, c)) + 2 for c in cols))
+    head = f"{'point':<7}" + "".join(f"{heading(branch, c):>{width}}" for c in cols) + f"{'stability':>11}"
+    lines = [f"{branch.model}: {len(branch)} points in {branch.vary}", head]
+    st = branch.stability_labels()
+    for name, p in zip(branch.point_names(), branch.special_points):
+        vals = "".join(f" {branch_value(branch, c, p.values[c]):>{width - 1}.10g}" for c in cols)
+        tag = name + ("" if p.located else "?")
+        lines.append(f"{tag:<7}{vals}{st[p.index] or '-':>11}")
+    return "\n".join(lines)
+
+
+def approximate_warnings(branch) -> list[str]:
+    """One line per special point of ``branch`` that was detected but not located: where, and why."""
+    out = []
+    for name, p in zip(branch.point_names(), branch.special_points):
+        if not p.located:
+            why = p.info.get("reason", "not located")
+            v = branch.vary
+            unit = display_unit(branch.units.get(v, ""))
+            out.append(f"{name} at {v} = {branch_value(branch, v, p.values[v]):.10g} {unit} is approximate "
+                       f"({why}); its row is labelled {p.tag}".replace("  ", " "))
+    return out
+
+
+def jump_lines(branch, vary: str, y: str) -> list[str]:
+    """One line per non-smooth fold (``NSF``) of a branch with stops: the load, and where the mechanism lands."""
+    out = []
+    names = dict(zip((id(p) for p in branch.special_points), branch.point_names()))
+    for p in branch.special("NSF"):
+        at_fold = branch_value(branch, vary, p[vary])
+        head = f"{names[id(p)]}: non-smooth fold at {heading(branch, vary)} = {at_fold:.10g} (stop {p.info['stop']})"
+        land = p.info.get("landing")
+        if land is not None:
+            at = dict(zip(branch.names, land))
+            on = ", ".join(p.info["landing_contact"]) or "none"
+            how = "stable" if p.info["landing_stable"] else "UNSTABLE"
+            out.append(f"{head}: the mechanism jumps and lands at {heading(branch, y)} = "
+                       f"{branch_value(branch, y, at[y]):.10g} (stops in contact: {on}; {how})")
+        elif p.info.get("jump"):
+            out.append(f"{head}: the mechanism jumps; no equilibrium at that {vary} further along the branch "
+                       "catches it within the bounds")
+        else:
+            out.append(f"{head}: reached along an unstable branch (nothing jumps there)")
+    return out
