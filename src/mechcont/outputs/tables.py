@@ -5,13 +5,16 @@ No Matplotlib here: the commands that print tables stay light.
 
 from __future__ import annotations
 
+import csv
+import io
 from pathlib import Path
 
+from .._io import atomic_write
 from ..units import display, display_unit
 from .plotting import axis_label
 
-__all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "branch_value", "heading", "special_table",
-           "approximate_warnings", "jump_lines"]
+__all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "markdown_table", "write_records", "branch_value",
+           "heading", "special_table", "approximate_warnings", "jump_lines"]
 
 #: A branch is written as CSV or JSON (by suffix).
 BRANCH_SUFFIXES = (".csv", ".json")
@@ -24,6 +27,28 @@ def write_branch_table(branch, path: str | Path) -> Path:
     path = Path(path)
     (branch.to_json if path.suffix.lower() == ".json" else branch.to_csv)(path)
     return path
+
+
+def markdown_table(records: list[dict]) -> str:
+    """A Markdown table of ``records`` (one dict per row, the first one's keys as headings); floats as ``.6g``."""
+    keys = list(records[0])
+    lines = ["| " + " | ".join(keys) + " |", "|" + "|".join("---" for _ in keys) + "|"]
+    for r in records:
+        lines.append("| " + " | ".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in r.values()) + " |")
+    return "\n".join(lines)
+
+
+def write_records(records: list[dict], path: str | Path) -> Path:
+    """Write ``records`` to ``path`` as CSV (suffix ``.csv``, full precision) or else as Markdown, atomically."""
+    path = Path(path)
+    buf = io.StringIO()
+    if path.suffix.lower() == ".csv":
+        w = csv.DictWriter(buf, fieldnames=list(records[0]), lineterminator="\n")
+        w.writeheader()
+        w.writerows(records)
+    else:
+        buf.write(markdown_table(records) + "\n")
+    return atomic_write(path, lambda tmp: Path(tmp).write_text(buf.getvalue(), encoding="utf-8"))
 
 
 def branch_value(branch, name: str, value: float) -> float:
