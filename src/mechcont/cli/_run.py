@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ..errors import InputError
-from ._parse import assignments, bounds, freed_parameters
+from ._parse import assignments, bounds
 
 __all__ = ["continuation_options", "solve_start", "write_branch", "common_options", "check_outputs", "run_continuation"]
 
@@ -42,51 +41,19 @@ def common_options(f=None, *, free: bool = True):
     return f
 
 
-#: Most continuation steps each way that ``--max-steps`` accepts.
-MAX_STEPS = 100_000
-
-
 def continuation_options(bnds, ds, dsmax, max_steps):
-    """ContinuationOptions from the CLI values (validated there)."""
-    from ..continuation import ContinuationOptions
+    """ContinuationOptions from the CLI values (:func:`mechcont.continuation.run_options`)."""
+    from ..continuation import run_options
 
-    kw = {"bounds": bounds(bnds)}
-    if dsmax is not None:
-        kw["dsmax"] = dsmax
-    if ds is not None:
-        kw["ds"] = ds
-        kw.setdefault("dsmax", max(ds, ContinuationOptions.dsmax))
-    elif dsmax is not None:
-        kw["ds"] = min(ContinuationOptions.ds, dsmax)
-    if max_steps is not None:
-        if not 1 <= max_steps <= MAX_STEPS:  # more would run for days where no bound ends the branch
-            raise InputError("--max-steps", f"must be a positive whole number 1..{MAX_STEPS}, got {max_steps}")
-        kw["max_steps"] = max_steps
-    return ContinuationOptions(**kw)
+    return run_options(bounds(bnds), ds=ds, dsmax=dsmax, max_steps=max_steps, max_steps_field="--max-steps")
 
 
 def solve_start(system, sets, starts, vary, frees, holds):
-    """The first equilibrium: ``--start`` states held, ``vary`` (and ``--free``) solved for."""
-    from ..continuation import find_equilibrium
+    """The first equilibrium (:func:`mechcont.continuation.start_point`): ``--start`` states held, ``vary`` solved for."""
+    from ..continuation import start_point
 
-    values = assignments(sets, "set")
-    held = assignments(starts, "start")
-    for name in [*values, *held, vary, *frees, *holds]:
-        system.index(name)
-    freed_parameters(system, frees)
-    base = system.vector(values)
-    for n in holds:
-        held.setdefault(n, float(base[system.index(n)]))
-    if system.variable(vary).kind == "state":
-        # a state as the parameter: it is prescribed, at its --start value or its default
-        held.setdefault(vary, float(base[system.index(vary)]))
-        free = [n for n in frees if n != vary]
-    else:
-        if vary in held:
-            raise InputError("--start", f"{vary} is the continuation parameter; hold a state instead")
-        # a held --start state frees the parameter to be varied for the first solve
-        free = [*([vary] if starts else []), *(n for n in frees if n != vary)]
-    return find_equilibrium(system, values=values, hold=held, free=free)
+    return start_point(system, vary, values=assignments(sets, "set"), start=assignments(starts, "start"), free=frees,
+                       hold=holds, start_field="--start", free_field="--free")
 
 
 def run_continuation(fn, *args, quiet: bool = False, label: str = "continuation", **kwargs):

@@ -83,6 +83,7 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     import numpy as np
 
     from ..analysis.downlock import downlock
+    from ..continuation import check_max_steps
     from ..equations import as_model
     from ..outputs.plotting import FIGURE_SUFFIXES
     from ..outputs.tables import BRANCH_SUFFIXES, write_branch_table
@@ -92,10 +93,7 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     values = assignments(sets, "set")
     bnds = parse_bounds(bounds_)
     sens_params = names(sens_text, "sensitivity")
-    from ._run import MAX_STEPS
-
-    if max_steps is not None and not 1 <= max_steps <= MAX_STEPS:
-        raise InputError("--max-steps", f"must be a positive whole number 1..{MAX_STEPS}, got {max_steps}")
+    check_max_steps(max_steps, "--max-steps")
     stops = as_model(_load(model)).stops
     if stops and not holds and condition is None:
         if sens_params:
