@@ -46,46 +46,27 @@ def _read_branch(path, system, parameter: str, watch: str):
 
 
 def _other_values(branch, system, ramped) -> list[str]:
-    """The parameters (not ramped) whose value on the --branch differs from the sweep's: ``["l0 = 0.6 m (sweep 0.5 m)"]``.
+    """The parameters (not ramped) whose value on the --branch differs from the sweep's, in the equations:
+    ``["l0 = 0.6 m (sweep 0.5 m)"]`` (:func:`mechcont.dynamics.branch_differences`)."""
+    from ..dynamics import branch_differences
 
-    Only parameters that change the equilibrium equations at the branch's points count: a damping
-    coefficient (dynamic model only) moves no fold, so a branch continued with ``c = 0`` is still the
-    sweep's. A parameter the equations do not use leaves the compiled residual bit for bit the same
-    (the same code on the same arguments), which is what is tested.
-    """
-    import numpy as np
-
-    rows = np.column_stack([np.asarray(branch[n], dtype=float) for n in system.names])
-    base = system.residual_batch(rows)
     out = []
-    for n in system.parameter_names:
-        if n in ramped:
-            continue
-        on_branch, here = float(branch[n][0]), float(system.variable(n).value)
-        if np.isclose(on_branch, here, rtol=1e-9, atol=0.0):
-            continue
-        moved = rows.copy()
-        moved[:, system.index(n)] = here
-        if np.array_equal(system.residual_batch(moved), base):
-            continue  # not in the equilibrium equations (at these points): the branch's folds are the sweep's
-        v = system.variable(n)
+    for n, on_branch, here in branch_differences(system, branch, ignore=ramped):
         a, b = _shown(system, n, on_branch), _shown(system, n, here)
-        out.append(f"{v.name} = {a[0]:.6g} {a[1]} (sweep {b[0]:.6g} {b[1]})".replace(" )", ")"))
+        out.append(f"{n} = {a[0]:.6g} {a[1]} (sweep {b[0]:.6g} {b[1]})".replace(" )", ")"))
     return out
 
 
 def _gaps(result, branch) -> list[str]:
     """Per jump: "; 4.8 N past LP2 (F = -75.58 N)", the gap to the fold it follows (empty without a branch)."""
-    if branch is None or not branch.special("LP") or not result.jumps:
+    if branch is None:
         return []
-    from ..dynamics import jump_gaps
+    from ..dynamics import branch_jump_gaps
 
     name = result.ramps[0].name
-    folds = [(n, p[name]) for n, p in zip(branch.point_names(), branch.special_points) if p.label == "LP"]
     unit = branch.units.get(name, "")
     out = []
-    for g in jump_gaps(result, [v for _, v in folds]):
-        fold = next(n for n, v in folds if v == g.fold_value)
+    for fold, g in branch_jump_gaps(result, branch):
         where = "past" if g.past else "BEFORE (not a fold of this sweep?)"
         out.append(f"; {abs(g.gap):.4g} {unit} {where} {fold} ({name} = {g.fold_value:.6g} {unit})".replace("  ", " "))
     return out

@@ -5,7 +5,7 @@ against: :func:`simulate` integrates any :class:`~mechcont.equations.MechanicalM
 :func:`sweep` ramps loads slowly and reports the jumps.
 """
 
-from ._compare import JumpGap, RateGap, gap_versus_rate, jump_gaps
+from ._compare import JumpGap, RateGap, branch_differences, branch_jump_gaps, gap_versus_rate, jump_gaps
 from ._contact import StopConstraints, StopEvent
 from ._events import Crossing
 from ._exudyn import exudyn_available, exudyn_overcentre
@@ -16,5 +16,6 @@ from ._udwadia_kalaba import ConstrainedDynamics, fundamental_equation
 
 __all__ = ["simulate", "assemble", "sweep", "parse_ramps", "Ramp", "Jump", "SweepResult", "SimulationResult",
            "SimulationStatus", "Crossing", "ConstrainedDynamics", "fundamental_equation", "jump_gaps", "JumpGap",
+           "branch_jump_gaps", "branch_differences",
            "gap_versus_rate", "RateGap", "exudyn_available", "exudyn_overcentre", "StopEvent",
            "StopConstraints"]
