@@ -28,7 +28,7 @@ from ..units import display_scale, display_unit
 from . import _frames as _f
 from . import drawing as _d
 
-__all__ = ["animate", "BranchFrames", "branch_frames", "check_fps", "frame_rows", "default_fps",
+__all__ = ["animate", "BranchFrames", "branch_frames", "check_fps", "check_hold", "frame_rows", "default_fps",
            "ANIMATION_SUFFIXES", "FPS_RANGE", "MIN_DURATION", "MAX_FPS", "HOLD"]
 
 ANIMATION_SUFFIXES = (".gif", ".mp4", ".html")
@@ -278,6 +278,14 @@ def check_fps(fps) -> float:
         raise InputError("fps", f"{fps:g} frames per second is outside {lo:g}..{hi:g} (a frame lasts at most "
                                 f"{1 / lo:g} s and at least {1 / hi:g} s)")
     return float(fps)
+
+
+def check_hold(seconds, field: str = "hold") -> float:
+    """``seconds`` (the extra time on each special point) as a float in 0..60, else :class:`InputError` naming ``field``."""
+    if not (isinstance(seconds, (int, float)) and not isinstance(seconds, bool) and math.isfinite(seconds)
+            and 0 <= seconds <= 60):
+        raise InputError(field, f"must be a number of seconds between 0 and 60, not {seconds!r}")
+    return float(seconds)
 
 
 #: Defaults chosen for a human watching: at least this long (s) ...
@@ -551,8 +559,7 @@ def animate(system, branch, path: str | os.PathLike, fps: float | None = None, e
         check_fps(fps)
     if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
         raise InputError("every", f"must be an integer >= 1, not {every!r}")
-    if not (isinstance(hold, (int, float)) and math.isfinite(hold) and 0 <= hold <= 60):
-        raise InputError("hold", f"must be a number of seconds between 0 and 60, not {hold!r}")
+    check_hold(hold)
     if tuple(annotate) == _d._DEFAULT_ANNOTATE:
         annotate = _d.default_annotate(system)
     for name in (*annotate, *(diagram or ()), *([vary] if vary is not None else [])):
