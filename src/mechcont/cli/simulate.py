@@ -36,16 +36,6 @@ def _holdable(system) -> list[str]:
     return [*system.mechanics.coordinates, *(r[5:] for r in system.equation_names if r.startswith("cond_"))]
 
 
-def _labels(result, units: dict) -> list[str]:
-    """One CSV label per row: the stop events at that row (``impact rest 5.24 rad/s; contact rest``)."""
-    labels = [""] * len(result.t)
-    for ev in result.stop_events:
-        rate = f"{units.get(ev.stop) or '1'}/s"
-        text = f"{ev.kind} {ev.stop}" + (f" {ev.speed:.6g} {rate}" if ev.kind == "impact" else "")
-        labels[ev.row] = f"{labels[ev.row]}; {text}" if labels[ev.row] else text
-    return labels
-
-
 @cli.command("simulate")
 @click.argument("model")
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
@@ -119,7 +109,9 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     if use_stops and not result.stop_events:
         click.echo("no stop event")
     if out_path is not None:
-        labels = _labels(result, units) if use_stops else None
+        from ..outputs.tables import event_labels
+
+        labels = event_labels(result, units) if use_stops else None
         result.to_csv(out_path, labels=labels)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:

@@ -14,7 +14,7 @@ from ..units import display, display_unit
 from .plotting import axis_label
 
 __all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "markdown_table", "write_records", "branch_value",
-           "heading", "special_table", "approximate_warnings", "jump_lines"]
+           "heading", "special_table", "approximate_warnings", "jump_lines", "event_labels", "write_rows"]
 
 #: A branch is written as CSV or JSON (by suffix).
 BRANCH_SUFFIXES = (".csv", ".json")
@@ -49,6 +49,18 @@ def write_records(records: list[dict], path: str | Path) -> Path:
     else:
         buf.write(markdown_table(records) + "\n")
     return atomic_write(path, lambda tmp: Path(tmp).write_text(buf.getvalue(), encoding="utf-8"))
+
+
+def write_rows(path: str | Path, header: list[str], rows) -> Path:
+    """Write a CSV of ``header`` and ``rows`` (numbers written in full, ``repr``; ``nan`` as ``nan``), atomically."""
+
+    def write(tmp: str) -> None:
+        with open(tmp, "w", newline="", encoding="utf-8") as fh:
+            w = csv.writer(fh, lineterminator="\n")
+            w.writerow(header)
+            w.writerows([repr(v) if isinstance(v, float) else v for v in row] for row in rows)
+
+    return atomic_write(path, write)
 
 
 def branch_value(branch, name: str, value: float) -> float:
@@ -113,3 +125,14 @@ def jump_lines(branch, vary: str, y: str) -> list[str]:
         else:
             out.append(f"{head}: reached along an unstable branch (nothing jumps there)")
     return out
+
+
+def event_labels(result, units: dict) -> list[str]:
+    """One label per row of a time history (its CSV's label column): the stop events at that row,
+    ``"impact rest 5.24 rad/s; contact rest"``; ``units`` maps a stop's name to its condition's unit."""
+    labels = [""] * len(result.t)
+    for ev in result.stop_events:
+        rate = f"{units.get(ev.stop) or '1'}/s"
+        text = f"{ev.kind} {ev.stop}" + (f" {ev.speed:.6g} {rate}" if ev.kind == "impact" else "")
+        labels[ev.row] = f"{labels[ev.row]}; {text}" if labels[ev.row] else text
+    return labels
