@@ -150,9 +150,9 @@ def _one(system, start, lock, until, options, out_path, plot_path) -> None:
     for line in run.describe(units):
         click.echo(line)
     if out_path is not None:
-        from .simulate import _labels
+        from ..outputs.tables import event_labels
 
-        h.to_csv(out_path, labels=_labels(h, {s.name: system.variable(s.condition).unit for s in _stops(system)})
+        h.to_csv(out_path, labels=event_labels(h, {s.name: system.variable(s.condition).unit for s in _stops(system)})
                  if h.stop_events else None)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
@@ -204,20 +204,12 @@ def _critical(system, start, lock, until, options, rng, tol, scanned, out_path, 
             click.echo(f"{where}dynamic - quasi-static = {crit.value - qs.value:+.4g} {unit} "
                        f"({(crit.value - qs.value) / qs.value:+.3%})")
     if out_path is not None:
-        import csv
+        from ..outputs.tables import write_rows
 
-        from .._io import atomic_write
-
-        def write(tmp):
-            with open(tmp, "w", newline="") as fh:
-                w = csv.writer(fh, lineterminator="\n")
-                w.writerow([*([name] if name else []), f"critical_{vary} [{unit}]", f"low [{unit}]", f"high [{unit}]",
-                            f"quasi_static [{unit}]"])
-                for v, crit in rows:
-                    w.writerow([*([repr(v)] if name else []), repr(crit.value), repr(crit.low), repr(crit.high),
-                                repr(qs.value) if qs is not None else "nan"])
-
-        atomic_write(out_path, write)
+        write_rows(out_path, [*([name] if name else []), f"critical_{vary} [{unit}]", f"low [{unit}]", f"high [{unit}]",
+                              f"quasi_static [{unit}]"],
+                   [[*([v] if name else []), crit.value, crit.low, crit.high, qs.value if qs is not None else math.nan]
+                    for v, crit in rows])
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
         from ..dynamics.freefall import critical_figure
