@@ -153,9 +153,8 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
 
 def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plot_path) -> None:
     """``downlock`` on a description with stops: the lock rests on them (:mod:`mechcont.analysis.stop_lock`)."""
-    import numpy as np
 
-    from ..analysis.stop_lock import downlock_on_stops, stop_unlock_along
+    from ..analysis.stop_lock import downlock_on_stops, with_stop_unlock_column
     from ..outputs.tables import write_branch_table
 
     for n in values:
@@ -163,8 +162,7 @@ def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plo
     branch = downlock_on_stops(system, vary, bnds, force=force, free=freed_parameters(system, frees), values=values,
                                max_steps=max_steps)
     f = branch.downlock_force
-    unlock, more = stop_unlock_along(system, branch, f)
-    branch.warnings += [f"unlock loads along the branch: {w}" for w in more]
+    branch, unlock = with_stop_unlock_column(system, branch, f)
     reactions = [s.reaction for s in system.stops if s.name in branch.lock_stops]
     xs, unit_x = display(branch[vary], system.variable(vary).unit)
     unit_f = system.variable(f).unit
@@ -185,12 +183,6 @@ def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plo
         for note in found.notes:
             click.echo(f"  {note}")
     warn(branch.warnings)
-    if np.isfinite(unlock).any():
-        from ..continuation import Branch
-
-        Branch.__init__(branch, (*branch.names, f"unlock_{f}"), np.column_stack([branch.values, unlock]), branch.s,
-                        branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
-                        branch.status, branch.message, branch.model, {**branch.units, f"unlock_{f}": unit_f})
     if out_path is not None:
         write_branch_table(branch, out_path)
         click.echo(f"wrote {out_path}")
