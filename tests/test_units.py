@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from mechcont.units import display, display_scale, display_unit, shown
+from mechcont.units import derivative_unit, display, display_scale, display_unit, shown
 
 
 def test_an_angle_is_shown_in_degrees_and_nothing_else_is_converted():
@@ -25,3 +25,8 @@ def test_shown_writes_the_value_with_its_display_unit():
     assert shown(math.pi, "rad") == "180 deg"
     assert shown(12.5, "N") == "12.5 N"
     assert shown(0.5, "") == "0.5"
+
+
+def test_the_unit_of_a_derivative():
+    assert [derivative_unit("N", u) for u in ("m", "N/m", "N m", "", "N")] == ["N/m", "N/(N/m)", "N/(N m)", "N", "1"]
+    assert derivative_unit("", "m") == "1/m"

@@ -11,7 +11,7 @@ from typing import TypeVar
 
 import numpy as np
 
-__all__ = ["display", "display_unit", "display_scale", "shown"]
+__all__ = ["display", "display_unit", "display_scale", "shown", "derivative_unit"]
 
 V = TypeVar("V", float, np.ndarray)
 
@@ -40,3 +40,15 @@ def shown(value: float, unit: str, fmt: str = ".6g") -> str:
     """``"12.5 deg"``, ``"3 N"``, ``"0.5"`` (no unit): a value with its display unit, formatted with ``fmt``."""
     v, u = display(value, unit)
     return f"{v:{fmt}} {u}" if u else f"{v:{fmt}}"
+
+
+
+def derivative_unit(of: str, by: str) -> str:
+    """The unit of ``d(of)/d(by)``: ``"N/m"``, ``"N/(N/m)"``, ``"1/m"``, ``"1"`` when they cancel; ``of`` when
+    ``by`` has no unit (a dimensionless parameter)."""
+    if of == by:
+        return "1"
+    if not by:
+        return of
+    den = f"({by})" if any(c in by for c in "/* ") else by
+    return f"{of or '1'}/{den}"

@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 
 from ..errors import InputError
+from ..units import derivative_unit as per_unit  # the slope's unit (this name: it lived here)
 from ._app import cli
 from ._parse import assignments
 
@@ -16,27 +17,9 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
     from ..analysis.study import StudySpec, parse_axis, parse_distribution
 
     if spec_file is not None:
-        import tomllib
-
         if dists or grids:
             raise InputError("--spec", "give the parameters either in the --spec file or as --dist/--grid, not both")
-        try:
-            data = tomllib.loads(Path(spec_file).read_text(encoding="utf-8"))
-        except OSError as exc:
-            raise InputError("--spec", f"cannot read '{spec_file}': {exc.strerror}") from None
-        except UnicodeDecodeError:
-            raise InputError("--spec", f"'{spec_file}' is not a text file (UTF-8 TOML)") from None
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError("--spec", f"'{spec_file}' is not valid TOML: {exc}") from None
-        except (RecursionError, MemoryError):
-            raise InputError("--spec", f"'{spec_file}' is nested too deeply (arrays or tables inside each other)") from None
-        except ValueError as exc:  # an integer of more than 4300 digits
-            raise InputError("--spec", f"'{spec_file}' has a number the TOML reader refuses "
-                                       f"({exc.args[0].split(';')[0]})") from None
-        data.setdefault("model", model)
-        if str(data["model"]) != model:
-            raise InputError("--spec", f"the file is a study of '{data['model']}', not of '{model}'")
-        return StudySpec.from_mapping(data, where=Path(spec_file).name)
+        return StudySpec.read(spec_file, model, field="--spec")
     if grids and dists:
         raise InputError("--grid", "a study samples either a grid (--grid) or distributions (--dist), not both")
     if not grids and not dists:
@@ -62,14 +45,6 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
     return StudySpec(model=model, sampling=sampling, parameters=params, n=n or 0, seed=seed,
                      analyses=tuple(analyses) or ("downlock",), values=tuple(assignments(sets, "set").items()),
                      hold=tuple(assignments(holds, "hold").items()), condition=condition, force=force, chunk=chunk or 0)
-
-
-def per_unit(numerator: str, unit: str) -> str:
-    """The unit of a slope ``numerator`` per ``unit``: ``("N", "m")`` -> ``"N/m"``, ``("N", "N/m")`` -> ``"N/(N/m)"``,
-    ``("N", "")`` -> ``"N"`` (a dimensionless parameter)."""
-    if not unit:
-        return numerator
-    return f"{numerator}/({unit})" if any(c in unit for c in "/ *") else f"{numerator}/{unit}"
 
 
 @cli.command("study")
