@@ -2,25 +2,19 @@
 
 from __future__ import annotations
 
-import math
-
 import click
 
 from ..errors import InputError
 from ._app import cli
 from ._parse import assignments
 
-#: Longest time (s) a simulation may be asked for (as a sweep's).
-MAX_SECONDS = 1e6
-
 
 def _start(system, model: str, starts) -> tuple:
     """The assembled start vector: ``--start`` coordinates or conditions held."""
-    from ..dynamics import assemble
+    from ..dynamics import assemble, check_simulable
 
     start = assignments(starts, "start")
-    if system.mechanics is None:
-        raise InputError("model", f"'{model}' has no mechanics (masses, forces): it cannot be simulated")
+    check_simulable(system, model)
     for n in start:
         if n not in system.names:
             raise InputError("--start", f"{n} is not a variable of {system.name}; give a coordinate or a condition: "
@@ -63,14 +57,14 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     time and the stop's name, and the CSV has a row at each (its label column says which).
     """
     from .._io import check_output_path
+    from ..dynamics import check_duration
     from ..equations import as_model
     from ..models import load_model
     from ..outputs.plotting import FIGURE_SUFFIXES
 
     out_path = check_output_path(out, "--out", (".csv",))
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
-    if not (math.isfinite(until) and 0 < until <= MAX_SECONDS):
-        raise InputError("--until", f"must be a number of seconds, 0 < SECONDS <= {MAX_SECONDS:g}, got {until:g}")
+    check_duration(until, "--until")
     system = load_model(model, **assignments(settings, "set"))
     x0, start = _start(system, model, starts)
     coords = system.mechanics.coordinates

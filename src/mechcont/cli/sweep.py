@@ -122,7 +122,7 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     with its gap to the fold it follows: the time simulation's delay past the fold.
     """
     from .._io import check_output_path
-    from ..dynamics import assemble, parse_ramps, sweep
+    from ..dynamics import assemble, check_simulable, parse_ramps, sweep
     from ..models import load_model
     from ..outputs.plotting import FIGURE_SUFFIXES
 
@@ -135,8 +135,7 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     values = dict(start)
     for r in segs:  # each ramped parameter begins at its first segment's start value
         values.setdefault(r.name, r.start)
-    if system.mechanics is None:
-        raise InputError("model", f"'{model}' has no mechanics (masses, forces): it cannot be simulated")
+    check_simulable(system, model)
     try:
         x0 = assemble(system, values, hold=[n for n in start if n in system.names])
     except InputError as exc:

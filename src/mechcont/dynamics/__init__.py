@@ -5,6 +5,7 @@ against: :func:`simulate` integrates any :class:`~mechcont.equations.MechanicalM
 :func:`sweep` ramps loads slowly and reports the jumps.
 """
 
+from ._checks import MAX_SECONDS, check_duration, check_simulable
 from ._compare import JumpGap, RateGap, branch_differences, branch_jump_gaps, gap_versus_rate, jump_gaps
 from ._contact import StopConstraints, StopEvent
 from ._events import Crossing
@@ -18,4 +19,4 @@ __all__ = ["simulate", "assemble", "sweep", "parse_ramps", "Ramp", "Jump", "Swee
            "SimulationStatus", "Crossing", "ConstrainedDynamics", "fundamental_equation", "jump_gaps", "JumpGap",
            "branch_jump_gaps", "branch_differences",
            "gap_versus_rate", "RateGap", "exudyn_available", "exudyn_overcentre", "StopEvent",
-           "StopConstraints"]
+           "StopConstraints", "MAX_SECONDS", "check_duration", "check_simulable"]
