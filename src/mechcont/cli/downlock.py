@@ -8,6 +8,7 @@ import click
 
 from .._io import check_output_path
 from ..errors import InputError
+from ..outputs.tables import summary_rows
 from ..units import display
 from ._app import cli
 from ._parse import assignments, freed_parameters, names
@@ -125,8 +126,7 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     unlock_col = f"unlock_{f}" if f"unlock_{f}" in branch.names else None
     click.echo(f"downlock force {f} (N) vs {vary} ({unit_x}), {held} held: "
                f"{len(branch)} points, {f} from {Fs.min():.6g} to {Fs.max():.6g} N; status {branch.status}")
-    step = max(1, len(branch) // 10)
-    for i in list(range(0, len(branch), step)) + ([len(branch) - 1] if (len(branch) - 1) % step else []):
+    for i in summary_rows(len(branch)):
         extra = f"   unlock {_or_none(branch[unlock_col][i])}" if unlock_col else ""
         click.echo(f"  {vary} = {xs[i]:12.6g}   {f} = {Fs[i]:12.6g}{extra}   {branch.stability_labels()[i]} "
                    f"{branch.labels[i]}")
@@ -171,8 +171,7 @@ def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plo
                       for r in reactions)
     click.echo(f"lock resting on stop {on} (the locked state; its reaction is the preload) vs {vary} ({unit_x}), "
                f"{f} = {branch[f][0]:g} {unit_f}: {len(branch)} points, {spans}; status {branch.status}")
-    step = max(1, len(branch) // 10)
-    for i in list(range(0, len(branch), step)) + ([len(branch) - 1] if (len(branch) - 1) % step else []):
+    for i in summary_rows(len(branch)):
         held = "   ".join(f"{r} = {branch[r][i]:12.6g}" for r in reactions)
         click.echo(f"  {vary} = {xs[i]:12.6g}   {held}   unlock {_or_none(unlock[i])}   "
                    f"{branch.stability_labels()[i]} {branch.labels[i]}")

@@ -14,7 +14,8 @@ from ..units import display, display_unit
 from .plotting import axis_label
 
 __all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "markdown_table", "write_records", "branch_value",
-           "heading", "special_table", "approximate_warnings", "jump_lines", "event_labels", "write_rows"]
+           "heading", "special_table", "approximate_warnings", "jump_lines", "event_labels", "write_rows",
+           "summary_rows"]
 
 #: A branch is written as CSV or JSON (by suffix).
 BRANCH_SUFFIXES = (".csv", ".json")
@@ -61,6 +62,12 @@ def write_rows(path: str | Path, header: list[str], rows) -> Path:
             w.writerows([repr(v) if isinstance(v, float) else v for v in row] for row in rows)
 
     return atomic_write(path, write)
+
+
+def summary_rows(n: int, about: int = 10) -> list[int]:
+    """The rows a summary of an ``n``-row table prints: every ``n // about``-th from the first, and the last."""
+    step = max(1, n // about)
+    return list(range(0, n, step)) + ([n - 1] if (n - 1) % step else [])
 
 
 def branch_value(branch, name: str, value: float) -> float:
