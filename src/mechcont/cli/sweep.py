@@ -122,7 +122,7 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     with its gap to the fold it follows: the time simulation's delay past the fold.
     """
     from .._io import check_output_path
-    from ..dynamics import assemble, check_simulable, parse_ramps, sweep
+    from ..dynamics import check_simulable, parse_ramps, sweep, sweep_start
     from ..models import load_model
     from ..outputs.plotting import FIGURE_SUFFIXES
 
@@ -132,20 +132,8 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     system = load_model(model, **assignments(settings, "set"))
     branch = _read_branch(branch_csv, system, segs[0].name, watch) if branch_csv is not None else None
     start = assignments(starts, "start")
-    values = dict(start)
-    for r in segs:  # each ramped parameter begins at its first segment's start value
-        values.setdefault(r.name, r.start)
     check_simulable(system, model)
-    try:
-        x0 = assemble(system, values, hold=[n for n in start if n in system.names])
-    except InputError as exc:
-        if exc.field != "x0":
-            raise
-        raise InputError("--start", str(exc).split(": ", 1)[1]) from None
-    if equilibrium:
-        from ..continuation import find_equilibrium
-
-        x0 = find_equilibrium(system, values={n: x0[system.index(n)] for n in system.parameter_names}, guess=x0)
+    x0 = sweep_start(system, start, segs, equilibrium=equilibrium, start_field="--start")
     if use_stops:
         from ..equations import as_model
 
