@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from ..errors import InputError
-from ..units import derivative_unit as per_unit  # the slope's unit (this name: it lived here)
+from ..units import derivative_unit as per_unit  # noqa: F401 - the slope's unit, by the name it had here
 from ._app import cli
 from ._parse import assignments
 
@@ -179,29 +179,11 @@ def _hint() -> str:
 
 
 def _report(df, spec, result, seconds) -> None:
-    from ..analysis.study import failure_probability, sensitivity
+    from ..analysis.study import study_report
 
-    ok = df["status"] == "converged"
-    done, place = len(result.computed), result.ran_on
-    click.echo(f"{spec.size} samples of {spec.model} ({spec.sampling}), {int(ok.sum())} converged, "
-               f"{int((~ok).sum())} failed; {done} chunk(s) computed in {place}, {len(result.reused)} resumed; "
-               f"{seconds:.3g} s")
-    click.echo(failure_probability(df).line())
-    if (~ok).any():
-        reasons = df.loc[~ok, "reason"].value_counts()
-        for text, count in reasons.head(3).items():
-            click.echo(f"warning: {count} sample(s) failed: {text}", err=True)
-    if "unlock_force" in df:
-        found = df["unlock_force"].notna()
-        click.echo(f"unlock fold found for {int(found.sum())} of {int(ok.sum())} converged samples")
-    if "branch_folds" in df:
-        counts = df.loc[ok, "branch_folds"].value_counts().sort_index()
-        click.echo("release runs: " + ", ".join(f"{int(c)} with {int(k)} fold(s)" for k, c in counts.items()))
-    if spec.sampling != "grid" and int(ok.sum()) >= len(spec.names) + 2:
-        ranking, r2 = sensitivity(df, list(spec.names))
-        click.echo(f"sensitivity of the downlock force (standardised regression coefficients, linear fit R^2 = {r2:.4f}):")
-        units = df.attrs.get("units", {})
-        for s in ranking:
-            unit = per_unit("N", units.get(s.name, ""))
-            click.echo(f"  {s.name:>10}  SRC {s.src:+.4f}  slope {s.slope:+.6g} {unit}  Spearman {s.spearman:+.4f}")
-    click.echo(f"wrote {result.results}")
+    lines, warnings = study_report(df, spec, result, seconds)
+    for i, line in enumerate(lines):
+        click.echo(line)
+        if i == 1:  # the failures right after the probability line, as they were found
+            for w in warnings:
+                click.echo(f"warning: {w}", err=True)
