@@ -12,7 +12,7 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from cli_helpers import make_runner, one_line_error  # noqa: E402
-from PIL import Image  # noqa: E402
+from PIL import Image, ImageSequence  # noqa: E402
 
 from mechcont.equations import Scene  # noqa: E402
 from mechcont.errors import InputError  # noqa: E402
@@ -543,3 +543,27 @@ def test_load_labels_use_si_prefixes(value, unit, text):
     from mechcont.outputs.drawing import load_text
 
     assert load_text(value, unit) == text
+
+
+def test_animate_pause_and_its_deprecated_spelling(tmp_path, run, branch_csv):
+    """``--hold`` means a held state elsewhere, so the animation's extra seconds are ``--pause``; the old
+    ``--hold SECONDS`` still works, with a one-line note, and is not offered in the help."""
+    one_line_error(run("animate", "overcentre", "--branch", branch_csv, "--out", tmp_path / "a.gif", "--pause", "99"),
+                   "--pause:", "between 0 and 60")
+    one_line_error(run("animate", "overcentre", "--branch", branch_csv, "--out", tmp_path / "a.gif", "--hold", "-1"),
+                   "--hold:", "between 0 and 60")
+    assert not (tmp_path / "a.gif").exists()
+    r = run("animate", "overcentre", "--branch", branch_csv, "--out", tmp_path / "a.gif", "--every", "2", "--fps", "4",
+            "--hold", "0.5")
+    assert r.exit_code == 0, r.output
+    assert r.stderr.strip() == "note: animate --hold SECONDS is now --pause SECONDS (--hold will be removed)"
+    with Image.open(tmp_path / "a.gif") as old:
+        durations = [old.info["duration"] for _ in ImageSequence.Iterator(old)]
+    r = run("animate", "overcentre", "--branch", branch_csv, "--out", tmp_path / "b.gif", "--every", "2", "--fps", "4",
+            "--pause", "0.5")
+    assert r.exit_code == 0 and not r.stderr, r.output
+    with Image.open(tmp_path / "b.gif") as new:
+        assert [new.info["duration"] for _ in ImageSequence.Iterator(new)] == durations
+    assert 750 in durations  # the fold held 0.25 s + 0.5 s
+    helptext = run("animate", "--help").output
+    assert "--pause" in helptext and "--hold" not in helptext

@@ -54,7 +54,7 @@ def test_paper_uses_the_public_api():
 #: below the analyses; ``dynamics`` sits beside ``analysis`` and draws nothing; ``mechcont``
 #: (its ``__init__``) is the public API.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "_version", "_dense", "_lazy", "_progress", "_roots", "_signals"),
+    ("errors", "_version", "_dense", "_lazy", "_progress", "_roots", "_signals", "units"),
     ("_io", "_status"),
     ("equations",),
     ("mechanism", "continuation"),

@@ -9,6 +9,10 @@ The public API in one place; each name is imported on first use (PEP 562), so
     b = mc.continuation(s, x0, "F", options=mc.ContinuationOptions(bounds={"theta1": (-1.2, 1.2)}))
     folds = mc.continue_folds(s, b["LP1"], vary="F", free="LU")
 
+The analyses and studies are here too (``mc.downlock``, ``mc.design_region``, ``mc.run_study``,
+``mc.optimize``, ``mc.freefall``...), each with its own module in ``analysis`` or ``dynamics``; what
+every command shows is written in ``outputs`` (``outputs.tables``) and ``units.display``.
+
 The layers are subpackages, each importing only those below it (tests/test_layers.py): ``equations``
 (the model type, compiled code); ``mechanism`` (descriptions to models) and ``continuation``; ``models``
 (built-in models); ``analysis`` and ``dynamics`` (time simulation); ``outputs``; then this API, the
@@ -61,21 +65,57 @@ _LAZY = {
     "SimulationResult": "mechcont.dynamics",
     # how a result ended (branches, special points, simulations, studies)
     "Status": "mechcont._status",
+    "freefall": "mechcont.dynamics.freefall",
+    "critical_airspeed": "mechcont.dynamics.freefall",
+    # analyses: downlock and unlock, stops, families, design maps
+    "downlock": "mechcont.analysis.downlock",
+    "downlock_condition": "mechcont.analysis.downlock",
+    "unlock_folds": "mechcont.analysis.unlock",
+    "continuation_with_stops": "mechcont.analysis.stops",
+    "equilibrium_on_stops": "mechcont.analysis.stops",
+    "equilibrium_family": "mechcont.analysis.surface",
+    "design_region": "mechcont.analysis.design",
+    "fold_locus": "mechcont.analysis.design",
+    "redundancy_along": "mechcont.analysis.redundancy",
+    # sensitivities, optimisation, reliability, studies
+    "equilibrium_sensitivity": "mechcont.analysis.sensitivity",
+    "fold_sensitivity": "mechcont.analysis.sensitivity",
+    "downlock_sensitivity": "mechcont.analysis.sensitivity",
+    "optimize": "mechcont.analysis.optimize",
+    "downlock_reliability": "mechcont.analysis.reliability",
+    "StudySpec": "mechcont.analysis.study",
+    "run_study": "mechcont.analysis.study",
+    "read_results": "mechcont.analysis.study",
+    "failure_probability": "mechcont.analysis.study",
 }
-_SUBPACKAGES = {"analysis", "continuation", "dynamics", "equations", "mechanism", "models", "outputs", "errors"}
+_SUBPACKAGES = {"analysis", "continuation", "dynamics", "equations", "mechanism", "models", "outputs", "errors", "units"}
 
 __all__ = [
     "load_model", "model_names", "Mechanism", "load_description",
     "Model", "EquationSystem", "MechanicalModel", "StabilityResult", "Variable",
     "find_equilibrium", "continuation", "continue_folds", "switch_branch", "ContinuationOptions", "Branch",
     "SpecialPoint", "ValueEvent",
-    "simulate", "sweep", "SimulationResult", "Status",
-    "errors", "ConvergenceError", "InputError", "MechcontError",
+    "simulate", "sweep", "SimulationResult", "Status", "freefall", "critical_airspeed",
+    "downlock", "downlock_condition", "unlock_folds", "continuation_with_stops", "equilibrium_on_stops",
+    "equilibrium_family", "design_region", "fold_locus", "redundancy_along",
+    "equilibrium_sensitivity", "fold_sensitivity", "downlock_sensitivity", "optimize", "downlock_reliability",
+    "StudySpec", "run_study", "read_results", "failure_probability",
+    "errors", "units", "ConvergenceError", "InputError", "MechcontError",
 ]
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
-    from . import errors
+    from . import errors, units
     from ._status import Status
+    from .analysis.design import design_region, fold_locus
+    from .analysis.downlock import downlock, downlock_condition
+    from .analysis.optimize import optimize
+    from .analysis.redundancy import redundancy_along
+    from .analysis.reliability import downlock_reliability
+    from .analysis.sensitivity import downlock_sensitivity, equilibrium_sensitivity, fold_sensitivity
+    from .analysis.stops import continuation_with_stops, equilibrium_on_stops
+    from .analysis.study import StudySpec, failure_probability, read_results, run_study
+    from .analysis.surface import equilibrium_family
+    from .analysis.unlock import unlock_folds
     from .continuation import (
         Branch,
         ContinuationOptions,
@@ -87,6 +127,7 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
         switch_branch,
     )
     from .dynamics import SimulationResult, simulate, sweep
+    from .dynamics.freefall import critical_airspeed, freefall
     from .equations import EquationSystem, MechanicalModel, Model, StabilityResult, Variable
     from .mechanism import Mechanism, load_description
     from .models import load_model, model_names

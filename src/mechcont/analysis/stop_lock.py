@@ -14,6 +14,7 @@ condition-held downlock.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Iterable, Mapping
 
 import numpy as np
@@ -21,12 +22,14 @@ import numpy as np
 from ..continuation import Branch, ContinuationOptions
 from ..equations import EquationSystem, as_model
 from ..errors import ConvergenceError, InputError
+from ..units import shown
 from ._runs import early_stops
 from .downlock import DownlockBranch, design_bounds, design_options
 from .stops import GAP_TOL, continuation_with_stops, equilibrium_on_stops, stability_on_stops
 from .unlock import RELEASE_FORCE_SPAN, UnlockFolds
 
-__all__ = ["downlock_on_stops", "stop_unlock", "stop_unlock_along", "lock_force", "landing_after_unlock"]
+__all__ = ["downlock_on_stops", "stop_unlock", "stop_unlock_along", "with_stop_unlock_column", "lock_force",
+           "landing_after_unlock"]
 
 
 def lock_force(system: EquationSystem, force: str | None = None) -> str:
@@ -122,11 +125,8 @@ def landing_after_unlock(system: EquationSystem, x: np.ndarray, unlock: UnlockFo
     how = "stable" if nsf.extra["landing_stable"] else "UNSTABLE"
     unit = system.variable(moved).unit
 
-    def shown(v: float) -> str:   # angles in degrees, as everywhere on display
-        return f"{np.degrees(v):.6g} deg" if unit == "rad" else f"{v:.6g}{' ' + unit if unit else ''}"
-
     return (f"the lock snaps at {f} = {p[f]:.6g} {system.variable(f).unit} and lands on {on} ({how}; {moved} from "
-            f"{shown(p[moved])} to {shown(at[moved])})")
+            f"{shown(p[moved], unit)} to {shown(at[moved], unit)})")
 
 
 def stop_unlock_along(system: EquationSystem, branch: Branch, force: str) -> tuple[np.ndarray, list[str]]:
@@ -139,6 +139,21 @@ def stop_unlock_along(system: EquationSystem, branch: Branch, force: str) -> tup
         out[i] = u.unlock_force
         warnings += [f"{branch.vary} = {x[system.index(branch.vary)]:.6g}: {w}" for w in u.warnings]
     return out, warnings
+
+
+def with_stop_unlock_column(system: EquationSystem, branch: DownlockBranch, force: str) -> tuple[DownlockBranch, np.ndarray]:
+    """``(copy of branch, unlock loads)``: the lock-on-stops ``branch`` with the unlock load of every row
+    (:func:`stop_unlock_along`, unit of ``force``) as column ``unlock_<force>`` when some row has one, and
+    the release runs' warnings added to its ``warnings``."""
+    unlock, more = stop_unlock_along(system, branch, force)
+    out = copy.copy(branch)  # same type, the downlock's own attributes kept
+    out.warnings = [*branch.warnings, *(f"unlock loads along the branch: {w}" for w in more)]
+    if np.isfinite(unlock).any():
+        col = f"unlock_{force}"
+        Branch.__init__(out, (*branch.names, col), np.column_stack([branch.values, unlock]), branch.s,
+                        branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
+                        branch.status, branch.message, branch.model, {**branch.units, col: system.variable(force).unit})
+    return out, unlock
 
 
 def downlock_on_stops(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None, *,

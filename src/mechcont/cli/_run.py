@@ -4,22 +4,18 @@ from __future__ import annotations
 
 import click
 
-from ..errors import InputError
-from ._parse import assignments, bounds, freed_parameters
+from ._parse import assignments, bounds
 
-__all__ = ["continuation_options", "solve_start", "write_branch", "special_table", "common_options", "check_outputs",
-           "run_continuation"]
-
-#: Branch tables are written as CSV or JSON (by suffix).
-TABLE_SUFFIXES = (".csv", ".json")
+__all__ = ["continuation_options", "solve_start", "write_branch", "common_options", "check_outputs", "run_continuation"]
 
 
 def check_outputs(out: str | None, plot: str | None) -> None:
-    """Check the --out table and --plot figure paths before any work (suffix, folder, writable)."""
+    """Check the --out branch table and --plot figure paths before any work (suffix, folder, writable)."""
     from .._io import check_output_path
     from ..outputs.plotting import FIGURE_SUFFIXES
+    from ..outputs.tables import BRANCH_SUFFIXES
 
-    check_output_path(out, "--out", TABLE_SUFFIXES)
+    check_output_path(out, "--out", BRANCH_SUFFIXES)
     check_output_path(plot, "--plot", FIGURE_SUFFIXES)
 
 
@@ -45,51 +41,19 @@ def common_options(f=None, *, free: bool = True):
     return f
 
 
-#: Most continuation steps each way that ``--max-steps`` accepts.
-MAX_STEPS = 100_000
-
-
 def continuation_options(bnds, ds, dsmax, max_steps):
-    """ContinuationOptions from the CLI values (validated there)."""
-    from ..continuation import ContinuationOptions
+    """ContinuationOptions from the CLI values (:func:`mechcont.continuation.run_options`)."""
+    from ..continuation import run_options
 
-    kw = {"bounds": bounds(bnds)}
-    if dsmax is not None:
-        kw["dsmax"] = dsmax
-    if ds is not None:
-        kw["ds"] = ds
-        kw.setdefault("dsmax", max(ds, ContinuationOptions.dsmax))
-    elif dsmax is not None:
-        kw["ds"] = min(ContinuationOptions.ds, dsmax)
-    if max_steps is not None:
-        if not 1 <= max_steps <= MAX_STEPS:  # more would run for days where no bound ends the branch
-            raise InputError("--max-steps", f"must be a positive whole number 1..{MAX_STEPS}, got {max_steps}")
-        kw["max_steps"] = max_steps
-    return ContinuationOptions(**kw)
+    return run_options(bounds(bnds), ds=ds, dsmax=dsmax, max_steps=max_steps, max_steps_field="--max-steps")
 
 
 def solve_start(system, sets, starts, vary, frees, holds):
-    """The first equilibrium: ``--start`` states held, ``vary`` (and ``--free``) solved for."""
-    from ..continuation import find_equilibrium
+    """The first equilibrium (:func:`mechcont.continuation.start_point`): ``--start`` states held, ``vary`` solved for."""
+    from ..continuation import start_point
 
-    values = assignments(sets, "set")
-    held = assignments(starts, "start")
-    for name in [*values, *held, vary, *frees, *holds]:
-        system.index(name)
-    freed_parameters(system, frees)
-    base = system.vector(values)
-    for n in holds:
-        held.setdefault(n, float(base[system.index(n)]))
-    if system.variable(vary).kind == "state":
-        # a state as the parameter: it is prescribed, at its --start value or its default
-        held.setdefault(vary, float(base[system.index(vary)]))
-        free = [n for n in frees if n != vary]
-    else:
-        if vary in held:
-            raise InputError("--start", f"{vary} is the continuation parameter; hold a state instead")
-        # a held --start state frees the parameter to be varied for the first solve
-        free = [*([vary] if starts else []), *(n for n in frees if n != vary)]
-    return find_equilibrium(system, values=values, hold=held, free=free)
+    return start_point(system, vary, values=assignments(sets, "set"), start=assignments(starts, "start"), free=frees,
+                       hold=holds, start_field="--start", free_field="--free")
 
 
 def run_continuation(fn, *args, quiet: bool = False, label: str = "continuation", **kwargs):
@@ -103,12 +67,13 @@ def run_continuation(fn, *args, quiet: bool = False, label: str = "continuation"
 def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quiet: bool, extra=()):
     """Write the branch table (CSV or JSON by suffix) and the plot, checking paths first."""
     from ..outputs.plotting import branch_figure, save_figure
+    from ..outputs.tables import approximate_warnings, special_table, write_branch_table
 
     check_outputs(out, plot)  # again: the folder may have changed during the run
     for name in (x, y):
         branch.column(name)
     if out:
-        (branch.to_json if out.lower().endswith(".json") else branch.to_csv)(out)
+        write_branch_table(branch, out)
     if plot:
         save_figure(branch_figure(branch, x, y, title=f"{branch.model}: {y} vs {x}"), plot)
     if not quiet:
@@ -120,48 +85,5 @@ def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quie
                 click.echo(f"wrote {path}")
     if not branch.success:
         click.echo(f"warning: {branch.message}", err=True)
-    warn_approximate(branch)
-
-
-def display(branch, name: str, value: float) -> float:
-    """A value as shown in tables: angles (``rad``) in degrees, everything else in SI."""
-    import math
-
-    return math.degrees(value) if branch.units.get(name) == "rad" else value
-
-
-def heading(branch, name: str) -> str:
-    """A column heading with its display unit: ``F (N)``, ``theta1 (deg)``, ``s``."""
-    from ..outputs.plotting import axis_label
-
-    return axis_label(name, branch.units.get(name, ""))
-
-
-def special_table(branch, cols=None) -> str:
-    """A plain-text table of the special points of a branch (columns ``cols``).
-
-    Points are named as everywhere else (:meth:`Branch.point_names`, numbered along the
-    branch; ``LP2?`` when only approximate); angles are shown in degrees, every heading
-    carries its unit, and a fold's stability is ``fold``.
-    """
-    cols = list(dict.fromkeys(cols or [branch.vary, *branch.unknowns[:3]]))
-    width = max(16, *(len(heading(branch, c)) + 2 for c in cols))
-    head = f"{'point':<7}" + "".join(f"{heading(branch, c):>{width}}" for c in cols) + f"{'stability':>11}"
-    lines = [f"{branch.model}: {len(branch)} points in {branch.vary}", head]
-    st = branch.stability_labels()
-    for name, p in zip(branch.point_names(), branch.special_points):
-        vals = "".join(f" {display(branch, c, p.values[c]):>{width - 1}.10g}" for c in cols)
-        tag = name + ("" if p.located else "?")
-        lines.append(f"{tag:<7}{vals}{st[p.index] or '-':>11}")
-    return "\n".join(lines)
-
-
-def warn_approximate(branch) -> None:
-    """One stderr line per special point that was detected but not located."""
-    for name, p in zip(branch.point_names(), branch.special_points):
-        if not p.located:
-            why = p.reason or "not located"
-            v = branch.vary
-            unit = "deg" if branch.units.get(v) == "rad" else branch.units.get(v, "")
-            click.echo(f"warning: {name} at {v} = {display(branch, v, p.values[v]):.10g} {unit} is approximate "
-                       f"({why}); its row is labelled {p.tag}".replace("  ", " "), err=True)
+    for line in approximate_warnings(branch):
+        click.echo(f"warning: {line}", err=True)

@@ -64,6 +64,8 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     first_state = next(iter(assignments(starts, "start")), None) or next(iter(stopped), None) or branch.unknowns[0]
     write_branch(branch, out, plot, xname or vary, yname or first_state, quiet)
     if with_stops and not quiet:
+        from ..outputs.tables import jump_lines
+
         for line in jump_lines(branch, vary, yname or first_state):
             click.echo(line)
     if not quiet and system.mechanics is not None and len(branch.values):
@@ -77,27 +79,3 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
                 names[p.index] = name
             for line in report.lines(names):
                 click.echo(f"  {line}")
-
-
-def jump_lines(branch, vary: str, y: str) -> list[str]:
-    """One line per non-smooth fold (``NSF``) of a branch with stops: the load, and where the mechanism lands."""
-    from ._run import display, heading
-
-    out = []
-    names = dict(zip((id(p) for p in branch.special_points), branch.point_names()))
-    for p in branch.special("NSF"):
-        at_fold = display(branch, vary, p[vary])
-        head = f"{names[id(p)]}: non-smooth fold at {heading(branch, vary)} = {at_fold:.10g} (stop {p.info['stop']})"
-        land = p.info.get("landing")
-        if land is not None:
-            at = dict(zip(branch.names, land))
-            on = ", ".join(p.info["landing_contact"]) or "none"
-            how = "stable" if p.info["landing_stable"] else "UNSTABLE"
-            out.append(f"{head}: the mechanism jumps and lands at {heading(branch, y)} = {display(branch, y, at[y]):.10g} "
-                       f"(stops in contact: {on}; {how})")
-        elif p.info.get("jump"):
-            out.append(f"{head}: the mechanism jumps; no equilibrium at that {vary} further along the branch "
-                       "catches it within the bounds")
-        else:
-            out.append(f"{head}: reached along an unstable branch (nothing jumps there)")
-    return out

@@ -2,37 +2,13 @@
 
 from __future__ import annotations
 
-import csv
-import io
-from pathlib import Path
-
 import click
 
-from .._io import atomic_write
 from ..errors import InputError
 from ._app import cli
 from ._parse import assignments, names
 from ._parse import bounds as parse_bounds
-from .downlock import PLOT_SUFFIXES, checked_path, model_and_condition, warn
-
-
-def _markdown(records: list[dict]) -> str:
-    keys = list(records[0])
-    lines = ["| " + " | ".join(keys) + " |", "|" + "|".join("---" for _ in keys) + "|"]
-    for r in records:
-        lines.append("| " + " | ".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in r.values()) + " |")
-    return "\n".join(lines)
-
-
-def _write_table(records, path):
-    buf = io.StringIO()
-    if path.suffix.lower() == ".csv":
-        w = csv.DictWriter(buf, fieldnames=list(records[0]), lineterminator="\n")
-        w.writeheader()
-        w.writerows(records)
-    else:
-        buf.write(_markdown(records) + "\n")
-    atomic_write(path, lambda tmp: Path(tmp).write_text(buf.getvalue(), encoding="utf-8"))
+from .downlock import model_and_condition, warn
 
 
 @cli.command("design")
@@ -67,10 +43,13 @@ def design_command(model, x_name, y_name, bounds_, levels, sets, holds, conditio
     """
     import numpy as np
 
+    from .._io import check_output_path
     from ..analysis.design import design_region
+    from ..outputs.plotting import FIGURE_SUFFIXES
+    from ..outputs.tables import RECORD_SUFFIXES, markdown_table, write_records
 
-    out_path = checked_path(out, (".csv", ".md"), "out")
-    plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
+    out_path = check_output_path(out, "--out", RECORD_SUFFIXES)
+    plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     if levels < 2 or levels > 200:
         raise InputError("--levels", f"must be between 2 and 200, got {levels}")
     if max_steps < 1:
@@ -101,13 +80,13 @@ def design_command(model, x_name, y_name, bounds_, levels, sets, holds, conditio
     if sens_params:
         notes = _add_sensitivity(system, region, records, sens_params, values, h, f)
         warn(notes)
-    click.echo(_markdown(records))
+    click.echo(markdown_table(records))
     warn(region.warnings)
     if region.folds is not None:
         for p in region.folds.cusps:
             click.echo(f"cusp: {y_name} = {p[y_name]:.6g}, {x_name} = {p[x_name]:.6g}, {f} = {p[f]:.6g} N")
     if out_path is not None:
-        _write_table(records, out_path)
+        write_records(records, out_path)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
         from ..outputs.design_plots import design_figure

@@ -3,28 +3,16 @@
 from __future__ import annotations
 
 import functools
-from pathlib import Path
 
 import click
 
 from .._io import check_output_path
 from ..errors import InputError
+from ..outputs.tables import summary_rows
+from ..units import display
 from ._app import cli
 from ._parse import assignments, freed_parameters, names
 from ._parse import bounds as parse_bounds
-
-PLOT_SUFFIXES = (".png", ".svg", ".pdf")
-TABLE_SUFFIXES = (".csv", ".json")
-
-
-def checked_path(path: str | None, valid: tuple[str, ...], option: str) -> Path | None:
-    """``path`` as a Path with one of the ``valid`` suffixes in an existing folder, else InputError."""
-    if path is None:
-        return None
-    p = Path(path)
-    if p.suffix.lower() not in valid:
-        raise InputError(f"--{option}", f"unknown file type '{p.suffix or p.name}'; valid: {', '.join(valid)}")
-    return check_output_path(p, f"--{option}")  # folder exists, is a folder, is writable; p not a folder
 
 
 @functools.lru_cache(maxsize=4)
@@ -96,17 +84,17 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     import numpy as np
 
     from ..analysis.downlock import downlock
+    from ..continuation import check_max_steps
     from ..equations import as_model
+    from ..outputs.plotting import FIGURE_SUFFIXES
+    from ..outputs.tables import BRANCH_SUFFIXES, write_branch_table
 
-    out_path = checked_path(out, TABLE_SUFFIXES, "out")
-    plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
+    out_path = check_output_path(out, "--out", BRANCH_SUFFIXES)
+    plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     values = assignments(sets, "set")
     bnds = parse_bounds(bounds_)
     sens_params = names(sens_text, "sensitivity")
-    from ._run import MAX_STEPS
-
-    if max_steps is not None and not 1 <= max_steps <= MAX_STEPS:
-        raise InputError("--max-steps", f"must be a positive whole number 1..{MAX_STEPS}, got {max_steps}")
+    check_max_steps(max_steps, "--max-steps")
     stops = as_model(_load(model)).stops
     if stops and not holds and condition is None:
         if sens_params:
@@ -133,16 +121,12 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
         for p in sens_params:
             col = f"d{f}_d{p}"
             click.echo(f"  {col} ({branch.units[col]}) from {branch[col].min():.6g} to {branch[col].max():.6g}")
-    xs, Fs = branch[vary], branch[f]
-    unit_x = system.variable(vary).unit
-    if unit_x == "rad":  # angles shown in degrees, as everywhere
-        xs, unit_x = np.degrees(xs), "deg"
+    (xs, unit_x), Fs = display(branch[vary], system.variable(vary).unit), branch[f]
     held = ", ".join(f"{k}={v:g}" for k, v in h.items())
     unlock_col = f"unlock_{f}" if f"unlock_{f}" in branch.names else None
     click.echo(f"downlock force {f} (N) vs {vary} ({unit_x}), {held} held: "
                f"{len(branch)} points, {f} from {Fs.min():.6g} to {Fs.max():.6g} N; status {branch.status}")
-    step = max(1, len(branch) // 10)
-    for i in list(range(0, len(branch), step)) + ([len(branch) - 1] if (len(branch) - 1) % step else []):
+    for i in summary_rows(len(branch)):
         extra = f"   unlock {_or_none(branch[unlock_col][i])}" if unlock_col else ""
         click.echo(f"  {vary} = {xs[i]:12.6g}   {f} = {Fs[i]:12.6g}{extra}   {branch.stability_labels()[i]} "
                    f"{branch.labels[i]}")
@@ -156,7 +140,7 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
         click.echo(f"  {note}")
     warn(branch.warnings)
     if out_path is not None:
-        (branch.to_json if out_path.suffix.lower() == ".json" else branch.to_csv)(out_path)
+        write_branch_table(branch, out_path)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
         from ..outputs.design_plots import downlock_figure
@@ -169,29 +153,25 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
 
 def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plot_path) -> None:
     """``downlock`` on a description with stops: the lock rests on them (:mod:`mechcont.analysis.stop_lock`)."""
-    import numpy as np
 
-    from ..analysis.stop_lock import downlock_on_stops, stop_unlock_along
+    from ..analysis.stop_lock import downlock_on_stops, with_stop_unlock_column
+    from ..outputs.tables import write_branch_table
 
     for n in values:
         system.variable(n)
     branch = downlock_on_stops(system, vary, bnds, force=force, free=freed_parameters(system, frees), values=values,
                                max_steps=max_steps)
     f = branch.downlock_force
-    unlock, more = stop_unlock_along(system, branch, f)
-    branch.warnings += [f"unlock loads along the branch: {w}" for w in more]
+    branch, unlock = with_stop_unlock_column(system, branch, f)
     reactions = [s.reaction for s in system.stops if s.name in branch.lock_stops]
-    xs, unit_x = branch[vary], system.variable(vary).unit
-    if unit_x == "rad":
-        xs, unit_x = np.degrees(xs), "deg"
+    xs, unit_x = display(branch[vary], system.variable(vary).unit)
     unit_f = system.variable(f).unit
     on = ", ".join(branch.lock_stops)
     spans = "; ".join(f"{r} from {branch[r].min():.6g} to {branch[r].max():.6g} {system.variable(r).unit}"
                       for r in reactions)
     click.echo(f"lock resting on stop {on} (the locked state; its reaction is the preload) vs {vary} ({unit_x}), "
                f"{f} = {branch[f][0]:g} {unit_f}: {len(branch)} points, {spans}; status {branch.status}")
-    step = max(1, len(branch) // 10)
-    for i in list(range(0, len(branch), step)) + ([len(branch) - 1] if (len(branch) - 1) % step else []):
+    for i in summary_rows(len(branch)):
         held = "   ".join(f"{r} = {branch[r][i]:12.6g}" for r in reactions)
         click.echo(f"  {vary} = {xs[i]:12.6g}   {held}   unlock {_or_none(unlock[i])}   "
                    f"{branch.stability_labels()[i]} {branch.labels[i]}")
@@ -202,14 +182,8 @@ def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plo
         for note in found.notes:
             click.echo(f"  {note}")
     warn(branch.warnings)
-    if np.isfinite(unlock).any():
-        from ..continuation import Branch
-
-        Branch.__init__(branch, (*branch.names, f"unlock_{f}"), np.column_stack([branch.values, unlock]), branch.s,
-                        branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
-                        branch.status, branch.message, branch.model, {**branch.units, f"unlock_{f}": unit_f})
     if out_path is not None:
-        (branch.to_json if out_path.suffix.lower() == ".json" else branch.to_csv)(out_path)
+        write_branch_table(branch, out_path)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
         from ..outputs.design_plots import downlock_figure

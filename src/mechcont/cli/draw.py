@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
 
+from .._io import check_output_path
 from ..errors import InputError
 from ._app import cli
 from ._parse import assignments, freed_parameters, names
@@ -23,13 +22,6 @@ def _assignments(items, field: str) -> dict[str, float]:
 
 def _names(text: str | None, field: str) -> tuple[str, ...]:
     return names(text, field)
-
-
-def _out(path: str, valid) -> Path | None:
-    """The --out file, checked before any work (suffix, folder, writable)."""
-    from .._io import check_output_path
-
-    return check_output_path(path, "--out", valid)
 
 
 @cli.command("draw")
@@ -58,7 +50,7 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, l
     from ..outputs.animation import branch_frames
     from ..outputs.drawing import IMAGE_SUFFIXES, default_annotate, draw
 
-    path = _out(out, IMAGE_SUFFIXES)
+    path = check_output_path(out, "--out", IMAGE_SUFFIXES)
     system = _model(model)
     names = _names(annotate, "annotate") or default_annotate(system)
     if vary is not None:
@@ -98,7 +90,8 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, l
               help="Frames per second [chosen so that the animation lasts at least 6 s, at most 15 fps].")
 @click.option("--every", type=int, default=1, show_default=True,
               help="Use every N-th branch point (special points such as folds are always used).")
-@click.option("--hold", type=float, default=0.6, show_default=True, help="Extra seconds on each special point.")
+@click.option("--pause", type=float, default=0.6, show_default=True, help="Extra seconds on each special point.")
+@click.option("--hold", "old_hold", type=float, default=None, hidden=True)  # deprecated spelling of --pause
 @click.option("--annotate", metavar="NAMES",
               help="Comma-separated variables printed on each frame [F,theta1 or the first angle].")
 @click.option("--vary", metavar="NAME",
@@ -109,21 +102,23 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, l
                    "[the continuation parameter and the first annotated state]; 'none' for no panel.")
 @click.option("--no-forces", is_flag=True, help="Do not draw the applied forces and moments.")
 @click.option("--quiet", is_flag=True, help="No progress bar.")
-def animate_command(model, branch_csv, out, fps, every, hold, annotate, vary, diagram, no_forces, quiet):
+def animate_command(model, branch_csv, out, fps, every, pause, old_hold, annotate, vary, diagram, no_forces, quiet):
     """Animate MODEL along a branch CSV (columns: variables, s, stability, label).
 
     Each frame prints the continuation parameter (--vary), the --annotate variables (angles
     in degrees), stable/unstable/fold and the special-point label; every special point is a
-    frame and is held --hold seconds. Beside the mechanism the branch is drawn with the
+    frame and is held --pause seconds. Beside the mechanism the branch is drawn with the
     current point marked.
     """
     from .._progress import Progress
-    from ..outputs.animation import ANIMATION_SUFFIXES, animate, branch_frames, check_fps, frame_rows
+    from ..outputs.animation import ANIMATION_SUFFIXES, animate, branch_frames, check_fps, check_hold, frame_rows
     from ..outputs.drawing import default_annotate
 
-    path = _out(out, ANIMATION_SUFFIXES)
+    path = check_output_path(out, "--out", ANIMATION_SUFFIXES)
     if fps is not None:
         check_fps(fps)
+    # --hold names a held state in continue, folds and sensitivity (one meaning per option): the old spelling still works
+    pause = check_hold(pause, "--pause") if old_hold is None else check_hold(old_hold, "--hold")
     if every < 1:
         raise InputError("every", f"must be an integer >= 1, not {every}")
     system = _model(model)
@@ -142,7 +137,9 @@ def animate_command(model, branch_csv, out, fps, every, hold, annotate, vary, di
         if pair is not None and len(pair) != 2:
             raise InputError("diagram", f"give exactly two variable names X,Y (or none), not '{diagram}'")
     total = len(frame_rows(frames, every))
+    if old_hold is not None:  # said once the input is known good, so that an error stays one line
+        click.echo("note: animate --hold SECONDS is now --pause SECONDS (--hold will be removed)", err=True)
     with Progress("animation", total=total, unit="frames", quiet=quiet) as bar:
         n = animate(system, frames, path, fps=fps, every=every, annotate=names, vary=vary, diagram=pair,
-                    show_forces=not no_forces, hold=hold, on_frame=bar.update if bar.enabled else None)
+                    show_forces=not no_forces, hold=pause, on_frame=bar.update if bar.enabled else None)
     click.echo(f"{path} ({n} frames)")

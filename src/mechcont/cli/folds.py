@@ -13,10 +13,8 @@ from ._run import (
     check_outputs,
     common_options,
     continuation_options,
-    display,
     run_continuation,
     solve_start,
-    special_table,
     write_branch,
 )
 
@@ -41,6 +39,7 @@ def folds_command(model, sets, starts, holds, bnds, ds, dsmax, max_steps, quiet,
     """
     from ..continuation import continuation, continue_folds
     from ..models import load_model
+    from ..outputs.tables import branch_value, special_table
 
     check_outputs(out, plot)
     frees = tuple(frees2)
@@ -54,7 +53,7 @@ def folds_command(model, sets, starts, holds, bnds, ds, dsmax, max_steps, quiet,
     if not lps:
         raise InputError("--vary", f"the branch in {vary} has no fold within the bounds; change --set or --bounds")
     folds = [(n, p) for n, p in zip(first.point_names(), first.special_points) if p.label == "LP"]
-    listed = ", ".join(f"{n} at {vary} = {display(first, vary, p[vary]):.6g}" for n, p in folds)
+    listed = ", ".join(f"{n} at {vary} = {branch_value(first, vary, p[vary]):.6g}" for n, p in folds)
     if not 1 <= which <= len(lps):
         raise InputError("--fold", f"the branch has {len(lps)} fold(s) ({listed}); choose 1..{len(lps)}")
     if not quiet:  # the folds of the first branch, numbered as `continue` numbers them: what --fold picks from

@@ -10,7 +10,6 @@ import click
 from ..errors import InputError
 from ._app import cli
 from ._parse import assignments, number
-from .simulate import MAX_SECONDS
 
 
 def _range(text: str | None, option: str) -> tuple[str, float, float] | None:
@@ -96,13 +95,13 @@ def freefall_command(model, starts, settings, lock, lock_condition, until, criti
     quasi-static prediction: the fold of the equilibria the gear could hang in on its way.
     """
     from .._io import check_output_path
+    from ..dynamics import check_duration, check_simulable
     from ..models import load_model
     from ..outputs.plotting import FIGURE_SUFFIXES
 
     out_path = check_output_path(out, "--out", (".csv",))
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
-    if not (math.isfinite(until) and 0 < until <= MAX_SECONDS):
-        raise InputError("--until", f"must be a number of seconds, 0 < SECONDS <= {MAX_SECONDS:g}, got {until:g}")
+    check_duration(until, "--until")
     start = assignments(starts, "from")
     if not start:
         raise InputError("--from", "give the retracted pose, e.g. --from angle=1.2 (a coordinate or condition)")
@@ -112,8 +111,7 @@ def freefall_command(model, starts, settings, lock, lock_condition, until, criti
     if plot_path is not None and rng is not None and scanned is None:
         raise InputError("--plot", "with --critical the figure is against a --scan parameter: give --scan NAME=V1,...")
     system = load_model(model, **assignments(settings, "set"))
-    if system.mechanics is None:
-        raise InputError("model", f"'{model}' has no mechanics (masses, forces): it cannot be simulated")
+    check_simulable(system, model)
     for n in start:
         if n not in system.names or system.variable(n).kind != "state":
             raise InputError("--from", f"{n} is not a coordinate or condition of {system.name}")
@@ -150,9 +148,9 @@ def _one(system, start, lock, until, options, out_path, plot_path) -> None:
     for line in run.describe(units):
         click.echo(line)
     if out_path is not None:
-        from .simulate import _labels
+        from ..outputs.tables import event_labels
 
-        h.to_csv(out_path, labels=_labels(h, {s.name: system.variable(s.condition).unit for s in _stops(system)})
+        h.to_csv(out_path, labels=event_labels(h, {s.name: system.variable(s.condition).unit for s in _stops(system)})
                  if h.stop_events else None)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
@@ -204,20 +202,12 @@ def _critical(system, start, lock, until, options, rng, tol, scanned, out_path, 
             click.echo(f"{where}dynamic - quasi-static = {crit.value - qs.value:+.4g} {unit} "
                        f"({(crit.value - qs.value) / qs.value:+.3%})")
     if out_path is not None:
-        import csv
+        from ..outputs.tables import write_rows
 
-        from .._io import atomic_write
-
-        def write(tmp):
-            with open(tmp, "w", newline="") as fh:
-                w = csv.writer(fh, lineterminator="\n")
-                w.writerow([*([name] if name else []), f"critical_{vary} [{unit}]", f"low [{unit}]", f"high [{unit}]",
-                            f"quasi_static [{unit}]"])
-                for v, crit in rows:
-                    w.writerow([*([repr(v)] if name else []), repr(crit.value), repr(crit.low), repr(crit.high),
-                                repr(qs.value) if qs is not None else "nan"])
-
-        atomic_write(out_path, write)
+        write_rows(out_path, [*([name] if name else []), f"critical_{vary} [{unit}]", f"low [{unit}]", f"high [{unit}]",
+                              f"quasi_static [{unit}]"],
+                   [[*([v] if name else []), crit.value, crit.low, crit.high, qs.value if qs is not None else math.nan]
+                    for v, crit in rows])
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
         from ..dynamics.freefall import critical_figure

@@ -52,10 +52,10 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
     from .._io import check_output_path
     from ..analysis.optimize import NOT_LOCKING, Constraint, optimize
     from ..models import load_model
-    from .downlock import PLOT_SUFFIXES, checked_path
+    from ..outputs.plotting import FIGURE_SUFFIXES
 
     check_output_path(out, "--out", (".json",))
-    plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
+    plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     if (minimize_ is None) == (maximize_ is None):
         raise InputError("--minimize", "give exactly one of --minimize QUANTITY or --maximize QUANTITY")
     try:

@@ -2,25 +2,19 @@
 
 from __future__ import annotations
 
-import math
-
 import click
 
 from ..errors import InputError
 from ._app import cli
 from ._parse import assignments
 
-#: Longest time (s) a simulation may be asked for (as a sweep's).
-MAX_SECONDS = 1e6
-
 
 def _start(system, model: str, starts) -> tuple:
     """The assembled start vector: ``--start`` coordinates or conditions held."""
-    from ..dynamics import assemble
+    from ..dynamics import assemble, check_simulable
 
     start = assignments(starts, "start")
-    if system.mechanics is None:
-        raise InputError("model", f"'{model}' has no mechanics (masses, forces): it cannot be simulated")
+    check_simulable(system, model)
     for n in start:
         if n not in system.names:
             raise InputError("--start", f"{n} is not a variable of {system.name}; give a coordinate or a condition: "
@@ -34,16 +28,6 @@ def _start(system, model: str, starts) -> tuple:
 def _holdable(system) -> list[str]:
     """The names ``--start`` accepts: coordinates and conditions."""
     return [*system.mechanics.coordinates, *(r[5:] for r in system.equation_names if r.startswith("cond_"))]
-
-
-def _labels(result, units: dict) -> list[str]:
-    """One CSV label per row: the stop events at that row (``impact rest 5.24 rad/s; contact rest``)."""
-    labels = [""] * len(result.t)
-    for ev in result.stop_events:
-        rate = f"{units.get(ev.stop) or '1'}/s"
-        text = f"{ev.kind} {ev.stop}" + (f" {ev.speed:.6g} {rate}" if ev.kind == "impact" else "")
-        labels[ev.row] = f"{labels[ev.row]}; {text}" if labels[ev.row] else text
-    return labels
 
 
 @cli.command("simulate")
@@ -73,14 +57,14 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     time and the stop's name, and the CSV has a row at each (its label column says which).
     """
     from .._io import check_output_path
+    from ..dynamics import check_duration
     from ..equations import as_model
     from ..models import load_model
     from ..outputs.plotting import FIGURE_SUFFIXES
 
     out_path = check_output_path(out, "--out", (".csv",))
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
-    if not (math.isfinite(until) and 0 < until <= MAX_SECONDS):
-        raise InputError("--until", f"must be a number of seconds, 0 < SECONDS <= {MAX_SECONDS:g}, got {until:g}")
+    check_duration(until, "--until")
     system = load_model(model, **assignments(settings, "set"))
     x0, start = _start(system, model, starts)
     coords = system.mechanics.coordinates
@@ -119,7 +103,9 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     if use_stops and not result.stop_events:
         click.echo("no stop event")
     if out_path is not None:
-        labels = _labels(result, units) if use_stops else None
+        from ..outputs.tables import event_labels
+
+        labels = event_labels(result, units) if use_stops else None
         result.to_csv(out_path, labels=labels)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:

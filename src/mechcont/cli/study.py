@@ -8,36 +8,18 @@ from pathlib import Path
 import click
 
 from ..errors import InputError
+from ..units import derivative_unit as per_unit  # noqa: F401 - the slope's unit, by the name it had here
 from ._app import cli
 from ._parse import assignments
-from .downlock import PLOT_SUFFIXES, checked_path
 
 
 def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk):
     from ..analysis.study import StudySpec, parse_axis, parse_distribution
 
     if spec_file is not None:
-        import tomllib
-
         if dists or grids:
             raise InputError("--spec", "give the parameters either in the --spec file or as --dist/--grid, not both")
-        try:
-            data = tomllib.loads(Path(spec_file).read_text(encoding="utf-8"))
-        except OSError as exc:
-            raise InputError("--spec", f"cannot read '{spec_file}': {exc.strerror}") from None
-        except UnicodeDecodeError:
-            raise InputError("--spec", f"'{spec_file}' is not a text file (UTF-8 TOML)") from None
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError("--spec", f"'{spec_file}' is not valid TOML: {exc}") from None
-        except (RecursionError, MemoryError):
-            raise InputError("--spec", f"'{spec_file}' is nested too deeply (arrays or tables inside each other)") from None
-        except ValueError as exc:  # an integer of more than 4300 digits
-            raise InputError("--spec", f"'{spec_file}' has a number the TOML reader refuses "
-                                       f"({exc.args[0].split(';')[0]})") from None
-        data.setdefault("model", model)
-        if str(data["model"]) != model:
-            raise InputError("--spec", f"the file is a study of '{data['model']}', not of '{model}'")
-        return StudySpec.from_mapping(data, where=Path(spec_file).name)
+        return StudySpec.read(spec_file, model, field="--spec")
     if grids and dists:
         raise InputError("--grid", "a study samples either a grid (--grid) or distributions (--dist), not both")
     if not grids and not dists:
@@ -63,14 +45,6 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
     return StudySpec(model=model, sampling=sampling, parameters=params, n=n or 0, seed=seed,
                      analyses=tuple(analyses) or ("downlock",), values=tuple(assignments(sets, "set").items()),
                      hold=tuple(assignments(holds, "hold").items()), condition=condition, force=force, chunk=chunk or 0)
-
-
-def per_unit(numerator: str, unit: str) -> str:
-    """The unit of a slope ``numerator`` per ``unit``: ``("N", "m")`` -> ``"N/m"``, ``("N", "N/m")`` -> ``"N/(N/m)"``,
-    ``("N", "")`` -> ``"N"`` (a dimensionless parameter)."""
-    if not unit:
-        return numerator
-    return f"{numerator}/({unit})" if any(c in unit for c in "/ *") else f"{numerator}/{unit}"
 
 
 @cli.command("study")
@@ -121,11 +95,12 @@ def study_command(model, dists, grids, sample, method, n, seed, spec_file, analy
     """
     import time
 
-    from .._io import check_output_folder
+    from .._io import check_output_folder, check_output_path
+    from ..outputs.plotting import FIGURE_SUFFIXES
 
     if method not in ("sampling", "form"):
         raise InputError("--method", f"unknown method '{method}'; valid: sampling, form")
-    plot_path = checked_path(plot, PLOT_SUFFIXES, "plot")
+    plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     check_output_folder(out, "--out")
     if method == "form":
         return _form(model, dists, grids, sample, n, seed, spec_file, analyses, sets, holds, condition, force, out,
@@ -204,29 +179,11 @@ def _hint() -> str:
 
 
 def _report(df, spec, result, seconds) -> None:
-    from ..analysis.study import failure_probability, sensitivity
+    from ..analysis.study import study_report
 
-    ok = df["status"] == "converged"
-    done, place = len(result.computed), result.ran_on
-    click.echo(f"{spec.size} samples of {spec.model} ({spec.sampling}), {int(ok.sum())} converged, "
-               f"{int((~ok).sum())} failed; {done} chunk(s) computed in {place}, {len(result.reused)} resumed; "
-               f"{seconds:.3g} s")
-    click.echo(failure_probability(df).line())
-    if (~ok).any():
-        reasons = df.loc[~ok, "reason"].value_counts()
-        for text, count in reasons.head(3).items():
-            click.echo(f"warning: {count} sample(s) failed: {text}", err=True)
-    if "unlock_force" in df:
-        found = df["unlock_force"].notna()
-        click.echo(f"unlock fold found for {int(found.sum())} of {int(ok.sum())} converged samples")
-    if "branch_folds" in df:
-        counts = df.loc[ok, "branch_folds"].value_counts().sort_index()
-        click.echo("release runs: " + ", ".join(f"{int(c)} with {int(k)} fold(s)" for k, c in counts.items()))
-    if spec.sampling != "grid" and int(ok.sum()) >= len(spec.names) + 2:
-        ranking, r2 = sensitivity(df, list(spec.names))
-        click.echo(f"sensitivity of the downlock force (standardised regression coefficients, linear fit R^2 = {r2:.4f}):")
-        units = df.attrs.get("units", {})
-        for s in ranking:
-            unit = per_unit("N", units.get(s.name, ""))
-            click.echo(f"  {s.name:>10}  SRC {s.src:+.4f}  slope {s.slope:+.6g} {unit}  Spearman {s.spearman:+.4f}")
-    click.echo(f"wrote {result.results}")
+    lines, warnings = study_report(df, spec, result, seconds)
+    for i, line in enumerate(lines):
+        click.echo(line)
+        if i == 1:  # the failures right after the probability line, as they were found
+            for w in warnings:
+                click.echo(f"warning: {w}", err=True)

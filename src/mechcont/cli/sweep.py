@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 
 from ..errors import InputError
+from ..units import display
 from ._app import cli
 from ._parse import assignments, number
 
@@ -27,10 +28,7 @@ def _ramps(items) -> list[tuple[str, float, float, float]]:
 
 def _shown(system, name: str, value: float) -> tuple[float, str]:
     """A value and its unit as printed: angles in degrees."""
-    import math
-
-    unit = system.variable(name).unit
-    return (math.degrees(value), "deg") if unit == "rad" else (value, unit)
+    return display(value, system.variable(name).unit)
 
 
 def _read_branch(path, system, parameter: str, watch: str):
@@ -48,46 +46,27 @@ def _read_branch(path, system, parameter: str, watch: str):
 
 
 def _other_values(branch, system, ramped) -> list[str]:
-    """The parameters (not ramped) whose value on the --branch differs from the sweep's: ``["l0 = 0.6 m (sweep 0.5 m)"]``.
+    """The parameters (not ramped) whose value on the --branch differs from the sweep's, in the equations:
+    ``["l0 = 0.6 m (sweep 0.5 m)"]`` (:func:`mechcont.dynamics.branch_differences`)."""
+    from ..dynamics import branch_differences
 
-    Only parameters that change the equilibrium equations at the branch's points count: a damping
-    coefficient (dynamic model only) moves no fold, so a branch continued with ``c = 0`` is still the
-    sweep's. A parameter the equations do not use leaves the compiled residual bit for bit the same
-    (the same code on the same arguments), which is what is tested.
-    """
-    import numpy as np
-
-    rows = np.column_stack([np.asarray(branch[n], dtype=float) for n in system.names])
-    base = system.residual_batch(rows)
     out = []
-    for n in system.parameter_names:
-        if n in ramped:
-            continue
-        on_branch, here = float(branch[n][0]), float(system.variable(n).value)
-        if np.isclose(on_branch, here, rtol=1e-9, atol=0.0):
-            continue
-        moved = rows.copy()
-        moved[:, system.index(n)] = here
-        if np.array_equal(system.residual_batch(moved), base):
-            continue  # not in the equilibrium equations (at these points): the branch's folds are the sweep's
-        v = system.variable(n)
+    for n, on_branch, here in branch_differences(system, branch, ignore=ramped):
         a, b = _shown(system, n, on_branch), _shown(system, n, here)
-        out.append(f"{v.name} = {a[0]:.6g} {a[1]} (sweep {b[0]:.6g} {b[1]})".replace(" )", ")"))
+        out.append(f"{n} = {a[0]:.6g} {a[1]} (sweep {b[0]:.6g} {b[1]})".replace(" )", ")"))
     return out
 
 
 def _gaps(result, branch) -> list[str]:
     """Per jump: "; 4.8 N past LP2 (F = -75.58 N)", the gap to the fold it follows (empty without a branch)."""
-    if branch is None or not branch.special("LP") or not result.jumps:
+    if branch is None:
         return []
-    from ..dynamics import jump_gaps
+    from ..dynamics import branch_jump_gaps
 
     name = result.ramps[0].name
-    folds = [(n, p[name]) for n, p in zip(branch.point_names(), branch.special_points) if p.label == "LP"]
     unit = branch.units.get(name, "")
     out = []
-    for g in jump_gaps(result, [v for _, v in folds]):
-        fold = next(n for n, v in folds if v == g.fold_value)
+    for fold, g in branch_jump_gaps(result, branch):
         where = "past" if g.past else "BEFORE (not a fold of this sweep?)"
         out.append(f"; {abs(g.gap):.4g} {unit} {where} {fold} ({name} = {g.fold_value:.6g} {unit})".replace("  ", " "))
     return out
@@ -143,7 +122,7 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     with its gap to the fold it follows: the time simulation's delay past the fold.
     """
     from .._io import check_output_path
-    from ..dynamics import assemble, parse_ramps, sweep
+    from ..dynamics import check_simulable, parse_ramps, sweep, sweep_start
     from ..models import load_model
     from ..outputs.plotting import FIGURE_SUFFIXES
 
@@ -153,21 +132,8 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     system = load_model(model, **assignments(settings, "set"))
     branch = _read_branch(branch_csv, system, segs[0].name, watch) if branch_csv is not None else None
     start = assignments(starts, "start")
-    values = dict(start)
-    for r in segs:  # each ramped parameter begins at its first segment's start value
-        values.setdefault(r.name, r.start)
-    if system.mechanics is None:
-        raise InputError("model", f"'{model}' has no mechanics (masses, forces): it cannot be simulated")
-    try:
-        x0 = assemble(system, values, hold=[n for n in start if n in system.names])
-    except InputError as exc:
-        if exc.field != "x0":
-            raise
-        raise InputError("--start", str(exc).split(": ", 1)[1]) from None
-    if equilibrium:
-        from ..continuation import find_equilibrium
-
-        x0 = find_equilibrium(system, values={n: x0[system.index(n)] for n in system.parameter_names}, guess=x0)
+    check_simulable(system, model)
+    x0 = sweep_start(system, start, segs, equilibrium=equilibrium, start_field="--start")
     if use_stops:
         from ..equations import as_model
 

@@ -17,12 +17,14 @@ from ._newton import find_equilibrium
 from ._options import ContinuationOptions
 from ._palc import BranchSteps, Termination
 from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns
+from ._start import MAX_STEPS, check_max_steps, run_options, start_point
 
 __all__ = [
     "continuation", "continue_folds", "switch_branch", "locate_fold", "find_equilibrium", "ContinuationOptions", "Branch",
     "SpecialPoint", "Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "CuspEvent",
     "PointState", "ContinuationProblem", "EquilibriumProblem", "FoldProblem", "choose_unknowns",
     "Termination", "BranchSteps", "LinearSolver", "DenseLU", "MinimumNorm", "read_branch_table",
+    "MAX_STEPS", "check_max_steps", "run_options", "start_point",
 ]
 
 

@@ -34,6 +34,7 @@ import numpy as np
 
 from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
+from ..units import derivative_unit
 from ._branch import SpecialPoint
 from ._folds import fold_quantities, fold_scaling, polish_fold
 from ._problem import choose_unknowns
@@ -120,15 +121,6 @@ def write_json(path: str | os.PathLike, doc: dict) -> Path:
 
     return atomic_write(path, write)
 
-
-def derivative_unit(of: str, by: str) -> str:
-    """The unit of ``d(of)/d(by)``: ``"N/m"``, ``"N/(N/m)"``, ``"1/m"``, ``"1"`` when they cancel."""
-    if of == by:
-        return "1"
-    if not by:
-        return of
-    den = f"({by})" if any(c in by for c in "/* ") else by
-    return f"{of or '1'}/{den}"
 
 
 def check_parameters(system: EquationSystem, params: Iterable[str], excluded: Iterable[str]) -> list[str]:

@@ -5,16 +5,18 @@ against: :func:`simulate` integrates any :class:`~mechcont.equations.MechanicalM
 :func:`sweep` ramps loads slowly and reports the jumps.
 """
 
-from ._compare import JumpGap, RateGap, gap_versus_rate, jump_gaps
+from ._checks import MAX_SECONDS, check_duration, check_simulable
+from ._compare import JumpGap, RateGap, branch_differences, branch_jump_gaps, gap_versus_rate, jump_gaps
 from ._contact import StopConstraints, StopEvent
 from ._events import Crossing
 from ._exudyn import exudyn_available, exudyn_overcentre
 from ._result import SimulationResult, SimulationStatus
 from ._simulate import assemble, simulate
-from ._sweep import Jump, Ramp, SweepResult, parse_ramps, sweep
+from ._sweep import Jump, Ramp, SweepResult, parse_ramps, sweep, sweep_start
 from ._udwadia_kalaba import ConstrainedDynamics, fundamental_equation
 
-__all__ = ["simulate", "assemble", "sweep", "parse_ramps", "Ramp", "Jump", "SweepResult", "SimulationResult",
+__all__ = ["simulate", "assemble", "sweep", "sweep_start", "parse_ramps", "Ramp", "Jump", "SweepResult", "SimulationResult",
            "SimulationStatus", "Crossing", "ConstrainedDynamics", "fundamental_equation", "jump_gaps", "JumpGap",
+           "branch_jump_gaps", "branch_differences",
            "gap_versus_rate", "RateGap", "exudyn_available", "exudyn_overcentre", "StopEvent",
-           "StopConstraints"]
+           "StopConstraints", "MAX_SECONDS", "check_duration", "check_simulable"]

@@ -11,7 +11,7 @@ import numpy as np
 from ..errors import InputError
 from ._sweep import SweepResult, sweep
 
-__all__ = ["JumpGap", "jump_gaps", "RateGap", "gap_versus_rate"]
+__all__ = ["JumpGap", "jump_gaps", "branch_jump_gaps", "branch_differences", "RateGap", "gap_versus_rate"]
 
 
 @dataclass(frozen=True)
@@ -46,6 +46,45 @@ def jump_gaps(result: SweepResult, fold_values: Sequence[float]) -> list[JumpGap
         f = float(pool[np.argmin(np.abs(pool - j.value))])
         gap = j.value - f
         out.append(JumpGap(j.value, f, gap, j.direction, bool(j.direction * gap > 0)))
+    return out
+
+
+def branch_jump_gaps(result: SweepResult, branch) -> list[tuple[str, JumpGap]]:
+    """Each jump of ``result`` paired with the fold (``LP``) of a continuation ``branch`` in the ramped
+    parameter that it follows: ``(fold name as the branch numbers it, e.g. "LP2", gap)``, one per jump.
+
+    ``[]`` when there is no jump or the branch has no fold (see :func:`jump_gaps`).
+    """
+    if not branch.special("LP") or not result.jumps:
+        return []
+    name = result.ramps[0].name
+    folds = [(n, p[name]) for n, p in zip(branch.point_names(), branch.special_points) if p.label == "LP"]
+    return [(next(n for n, v in folds if v == g.fold_value), g) for g in jump_gaps(result, [v for _, v in folds])]
+
+
+def branch_differences(system, branch, ignore: Sequence[str] = ()) -> list[tuple[str, float, float]]:
+    """The parameters of ``system`` (not in ``ignore``) whose value on ``branch`` differs from the system's
+    and changes the equilibrium equations at the branch's points: ``(name, on branch, system's)``.
+
+    A parameter the equilibrium equations do not use (a damping coefficient, in the dynamic model
+    only) moves no fold, so a branch continued with another value of it is still the system's; such
+    a parameter leaves the compiled residual bit for bit the same (the same code on the same
+    arguments), which is what is tested.
+    """
+    rows = np.column_stack([np.asarray(branch[n], dtype=float) for n in system.names])
+    base = system.residual_batch(rows)
+    out = []
+    for n in system.parameter_names:
+        if n in ignore:
+            continue
+        on_branch, here = float(branch[n][0]), float(system.variable(n).value)
+        if np.isclose(on_branch, here, rtol=1e-9, atol=0.0):
+            continue
+        moved = rows.copy()
+        moved[:, system.index(n)] = here
+        if np.array_equal(system.residual_batch(moved), base):
+            continue  # not in the equilibrium equations (at these points): the branch's folds are the system's
+        out.append((n, on_branch, here))
     return out
 
 

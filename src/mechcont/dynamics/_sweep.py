@@ -21,9 +21,9 @@ from ..errors import InputError
 from ._events import Crossing
 from ._jumps import find_jump_windows
 from ._result import SimulationResult
-from ._simulate import initial_vector, simulate
+from ._simulate import assemble, initial_vector, simulate
 
-__all__ = ["Ramp", "Jump", "SweepResult", "sweep", "parse_ramps"]
+__all__ = ["Ramp", "Jump", "SweepResult", "sweep", "parse_ramps", "sweep_start"]
 
 
 #: Longest time (s) a sweep may simulate (about 11.6 days of slowly ramped loads).
@@ -192,6 +192,28 @@ def parse_ramps(ramp) -> tuple[Ramp, ...]:
     if not out:
         raise InputError("ramp", "at least one segment (name, from, to, rate) is needed")
     return tuple(out)
+
+
+def sweep_start(system, start: Mapping[str, float], ramps: Sequence[Ramp], *, equilibrium: bool = True,
+                start_field: str = "x0") -> np.ndarray:
+    """The state a sweep of ``ramps`` starts from: the mechanism assembled with the ``start`` coordinates
+    or conditions held and each ramped parameter at its first segment's start value; with
+    ``equilibrium`` then the equilibrium nearest it (Newton from there, every parameter kept).
+    An assembly that fails names ``start_field``."""
+    values = dict(start)
+    for r in ramps:  # each ramped parameter begins at its first segment's start value
+        values.setdefault(r.name, r.start)
+    try:
+        x0 = assemble(system, values, hold=[n for n in start if n in system.names])
+    except InputError as exc:
+        if exc.field != "x0":
+            raise
+        raise InputError(start_field, str(exc).split(": ", 1)[1]) from None
+    if equilibrium:
+        from ..continuation import find_equilibrium
+
+        x0 = find_equilibrium(system, values={n: x0[system.index(n)] for n in system.parameter_names}, guess=x0)
+    return x0
 
 
 def _schedule(ramps: Sequence[Ramp], settle: float):

@@ -24,10 +24,11 @@ import numpy as np
 
 from .._io import read_csv_header
 from ..errors import InputError
+from ..units import display_scale, display_unit
 from . import _frames as _f
 from . import drawing as _d
 
-__all__ = ["animate", "BranchFrames", "branch_frames", "check_fps", "frame_rows", "default_fps",
+__all__ = ["animate", "BranchFrames", "branch_frames", "check_fps", "check_hold", "frame_rows", "default_fps",
            "ANIMATION_SUFFIXES", "FPS_RANGE", "MIN_DURATION", "MAX_FPS", "HOLD"]
 
 ANIMATION_SUFFIXES = (".gif", ".mp4", ".html")
@@ -279,6 +280,14 @@ def check_fps(fps) -> float:
     return float(fps)
 
 
+def check_hold(seconds, field: str = "hold") -> float:
+    """``seconds`` (the extra time on each special point) as a float in 0..60, else :class:`InputError` naming ``field``."""
+    if not (isinstance(seconds, (int, float)) and not isinstance(seconds, bool) and math.isfinite(seconds)
+            and 0 <= seconds <= 60):
+        raise InputError(field, f"must be a number of seconds between 0 and 60, not {seconds!r}")
+    return float(seconds)
+
+
 #: Defaults chosen for a human watching: at least this long (s) ...
 MIN_DURATION = 6.0
 #: ... at most this many frames a second (when ``fps`` is not given) ...
@@ -320,7 +329,7 @@ def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
     """Branch projected on ``names`` (x, y): stable solid, unstable dashed, labels marked."""
     (xn, yn) = names
     xs, ys = (frames.values[:, system.index(n)] for n in names)
-    conv = [math.degrees(1) if system.variable(n).unit == "rad" else 1.0 for n in names]
+    conv = [display_scale(system.variable(n).unit) for n in names]
     xs, ys = xs * conv[0], ys * conv[1]
     states = _diagram_states(frames)
     if len(states) == 0 or np.isnan(states).all():
@@ -340,7 +349,7 @@ def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
             right = xs[i] > np.min(xs) + 0.85 * np.ptp(xs)   # near the right edge: the label to the left
             ax.annotate(lab, (xs[i], ys[i]), textcoords="offset points", xytext=(-3 if right else 3, 3), fontsize=9,
                         ha="right" if right else "left")
-    units = ["deg" if system.variable(n).unit == "rad" else system.variable(n).unit for n in names]
+    units = [display_unit(system.variable(n).unit) for n in names]
     ax.set_xlabel(f"{xn} ({units[0]})" if units[0] else xn)
     ax.set_ylabel(f"{yn} ({units[1]})" if units[1] else yn)
     ax.grid(True, linewidth=0.3, alpha=0.5)
@@ -550,8 +559,7 @@ def animate(system, branch, path: str | os.PathLike, fps: float | None = None, e
         check_fps(fps)
     if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
         raise InputError("every", f"must be an integer >= 1, not {every!r}")
-    if not (isinstance(hold, (int, float)) and math.isfinite(hold) and 0 <= hold <= 60):
-        raise InputError("hold", f"must be a number of seconds between 0 and 60, not {hold!r}")
+    check_hold(hold)
     if tuple(annotate) == _d._DEFAULT_ANNOTATE:
         annotate = _d.default_annotate(system)
     for name in (*annotate, *(diagram or ()), *([vary] if vary is not None else [])):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..units import display
 from .plotting import axis_label, curve, new_figure, plot_design_region
 
 __all__ = ["downlock_figure", "design_figure", "optimum_figure"]
@@ -25,7 +26,7 @@ def downlock_figure(branch, vary: str, force: str, *, held: str, title: str):
     unlock_col = f"unlock_{force}"
     if unlock_col in branch.names:
         xs = branch[vary]
-        ax.plot(np.degrees(xs) if unit == "rad" else xs, branch[unlock_col], "--", color="tab:red",
+        ax.plot(display(np.asarray(xs, dtype=float), unit)[0], branch[unlock_col], "--", color="tab:red",
                 label=f"unlock fold ({force} increasing)")
         ax.legend(loc="best", fontsize=8)
         ax.set_ylabel(f"{force} (N)")

@@ -29,6 +29,7 @@ import numpy as np
 from .._io import atomic_write
 from ..equations import Scene
 from ..errors import InputError
+from ..units import display
 
 __all__ = ["draw_scene", "draw", "default_annotate", "IMAGE_SUFFIXES"]
 
@@ -528,7 +529,7 @@ def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str, un
     for name in annotate:
         var, val = system.variable(name), float(x[system.index(name)])
         if var.unit == "rad":
-            lines.append(f"{name} = {round(math.degrees(val), 2) + 0.0:.2f}°")   # no "-0.00°"
+            lines.append(f"{name} = {round(display(val, 'rad')[0], 2) + 0.0:.2f}°")   # no "-0.00°"
         else:
             lines.append(f"{name} = {val:.4g} {var.unit}".rstrip())
     status = unknown if stable is None else ("stable" if stable else "unstable")

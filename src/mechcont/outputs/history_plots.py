@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from ..units import display
 from .plotting import axis_label, new_figure
 
 __all__ = ["history_figure"]
@@ -17,9 +16,8 @@ def history_figure(result, watch: str, *, title: str | None = None):
     """A figure of column ``watch`` of a :class:`~mechcont.dynamics.SimulationResult` against time (s);
     angles (rad) shown in degrees; each stop event marked (impact, contact, release)."""
     unit = result.unit(watch)
-    scale, shown = (180.0 / math.pi, "deg") if unit == "rad" else (1.0, unit)
+    y, shown = display(np.asarray(result[watch], dtype=float), unit)
     fig, ax = new_figure(figsize=(7.0, 4.0))
-    y = np.asarray(result[watch]) * scale
     ax.plot(result.t, y, color="k", lw=1.2)
     seen = set()
     for ev in result.stop_events:

@@ -16,6 +16,7 @@ import numpy as np
 
 from .._io import atomic_write
 from ..errors import InputError
+from ..units import display, display_unit
 
 __all__ = ["plot_branch", "branch_figure", "plot_surface", "new_figure", "save_figure", "interval_states",
            "axis_values", "axis_label", "curve", "label_point", "nice_levels", "signed_levels",
@@ -38,8 +39,7 @@ def _is_angle(branch, name: str) -> bool:
 
 def axis_label(name: str, unit: str) -> str:
     """``"F (N)"``; an angle (``rad``) is labelled in degrees, ``"theta1 (deg)"``; no unit: the name."""
-    if unit == "rad":
-        return f"{name} (deg)"
+    unit = display_unit(unit)
     return f"{name} ({unit})" if unit else name
 
 
@@ -48,7 +48,7 @@ def axis_values(branch, name: str) -> tuple[np.ndarray, str]:
     v = branch.column(name)
     units = getattr(branch, "units", None) or {}
     if _is_angle(branch, name):
-        return np.degrees(v), axis_label(name, "rad")
+        return display(np.asarray(v, dtype=float), "rad")[0], axis_label(name, "rad")
     return v, axis_label(name, units.get(name, ""))
 
 

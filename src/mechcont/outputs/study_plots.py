@@ -20,6 +20,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._status import Status
+from ..units import display_scale
+from .plotting import axis_label
 
 if TYPE_CHECKING:
     from matplotlib.typing import LineStyleType
@@ -30,9 +32,7 @@ __all__ = ["plot_study", "plot_response_surface", "plot_force_histogram", "plot_
 def _axis(df, name: str) -> tuple[float, str]:
     """Display factor and axis label of the column ``name`` (degrees for radians)."""
     unit = df.attrs.get("units", {}).get(name, "")
-    if unit == "rad":
-        return 180 / np.pi, f"{name} (deg)"
-    return 1.0, f"{name} ({unit})" if unit else name
+    return display_scale(unit), axis_label(name, unit)
 
 
 def plot_response_surface(df, ax, column: str = "downlock_force"):

@@ -22,6 +22,7 @@ from ._results import (
     grid_values,
     read_results,
     sensitivity,
+    study_report,
     study_spec_of,
 )
 from ._spec import ANALYSES, SAMPLINGS, Distribution, GridAxis, StudySpec, parse_axis, parse_distribution
@@ -30,4 +31,4 @@ from ._store import StudyStore
 __all__ = ["StudySpec", "Distribution", "GridAxis", "parse_distribution", "parse_axis", "ANALYSES", "SAMPLINGS",
            "run_study", "StudyResult", "ModelSource", "load_study_model", "STUDY_EXTRA_HINT", "run_chunk",
            "check_spec", "COLUMNS", "StudyStore", "read_results", "failure_probability", "FailureProbability",
-           "sensitivity", "Sensitivity", "grid_values", "study_spec_of"]
+           "sensitivity", "Sensitivity", "grid_values", "study_spec_of", "study_report"]

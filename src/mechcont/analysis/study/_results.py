@@ -21,7 +21,7 @@ import numpy as np
 from ..._status import Status
 
 __all__ = ["read_results", "failure_probability", "FailureProbability", "sensitivity", "Sensitivity", "grid_values",
-           "study_spec_of"]
+           "study_spec_of", "study_report"]
 
 
 def read_results(path: str | Path):
@@ -158,3 +158,33 @@ def grid_values(df, column: str) -> np.ndarray:
         raise ValueError("not a grid study")
     order = np.argsort(df["sample"].to_numpy())
     return df[column].to_numpy()[order].reshape(shape)
+
+
+def study_report(df, spec, result, seconds: float) -> tuple[list[str], list[str]]:
+    """``(lines, warnings)`` summing up a study: samples and where they ran, the probability of not
+    locking, unlock folds and release runs found, the sensitivity ranking (SI units per SI unit) and
+    the results' path; ``warnings``: the three commonest reasons samples failed, with their counts."""
+    from ...units import derivative_unit
+
+    ok = df["status"] == "converged"
+    done, place = len(result.computed), result.ran_on
+    lines = [f"{spec.size} samples of {spec.model} ({spec.sampling}), {int(ok.sum())} converged, "
+             f"{int((~ok).sum())} failed; {done} chunk(s) computed in {place}, {len(result.reused)} resumed; "
+             f"{seconds:.3g} s", failure_probability(df).line()]
+    warnings = [f"{count} sample(s) failed: {text}" for text, count in df.loc[~ok, "reason"].value_counts().head(3).items()
+                ] if (~ok).any() else []
+    if "unlock_force" in df:
+        found = df["unlock_force"].notna()
+        lines.append(f"unlock fold found for {int(found.sum())} of {int(ok.sum())} converged samples")
+    if "branch_folds" in df:
+        counts = df.loc[ok, "branch_folds"].value_counts().sort_index()
+        lines.append("release runs: " + ", ".join(f"{int(c)} with {int(k)} fold(s)" for k, c in counts.items()))
+    if spec.sampling != "grid" and int(ok.sum()) >= len(spec.names) + 2:
+        ranking, r2 = sensitivity(df, list(spec.names))
+        lines.append(f"sensitivity of the downlock force (standardised regression coefficients, linear fit R^2 = {r2:.4f}):")
+        units = df.attrs.get("units", {})
+        for s in ranking:
+            unit = derivative_unit("N", units.get(s.name, ""))
+            lines.append(f"  {s.name:>10}  SRC {s.src:+.4f}  slope {s.slope:+.6g} {unit}  Spearman {s.spearman:+.4f}")
+    lines.append(f"wrote {result.results}")
+    return lines, warnings

@@ -294,6 +294,30 @@ class StudySpec:
         return out
 
     @classmethod
+    def read(cls, path: str | Path, model: str | None = None, *, field: str = "spec") -> StudySpec:
+        """A spec from a TOML study file (:meth:`from_mapping`'s form); its ``model`` defaults to ``model``
+        and, when both are given, must be it. Errors (unreadable, not TOML, another model) name ``field``."""
+        import tomllib
+
+        try:
+            data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+        except OSError as exc:
+            raise InputError(field, f"cannot read '{path}': {exc.strerror}") from None
+        except UnicodeDecodeError:
+            raise InputError(field, f"'{path}' is not a text file (UTF-8 TOML)") from None
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError(field, f"'{path}' is not valid TOML: {exc}") from None
+        except (RecursionError, MemoryError):
+            raise InputError(field, f"'{path}' is nested too deeply (arrays or tables inside each other)") from None
+        except ValueError as exc:  # an integer of more than 4300 digits
+            raise InputError(field, f"'{path}' has a number the TOML reader refuses ({exc.args[0].split(';')[0]})") from None
+        if model is not None:
+            data.setdefault("model", model)
+            if str(data["model"]) != model:
+                raise InputError(field, f"the file is a study of '{data['model']}', not of '{model}'")
+        return cls.from_mapping(data, where=Path(path).name)
+
+    @classmethod
     def from_mapping(cls, data: Mapping, *, where: str = "study") -> StudySpec:
         """A spec from :meth:`to_mapping`'s form (a TOML study file, ``study.json``); keys whitelisted.
 

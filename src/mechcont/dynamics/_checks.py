@@ -1,0 +1,25 @@
+"""What every time simulation asks of its model and its duration, checked once."""
+
+from __future__ import annotations
+
+import math
+
+from ..errors import InputError
+
+__all__ = ["MAX_SECONDS", "check_simulable", "check_duration"]
+
+#: Longest time (s) a simulation may be asked for (as a sweep's).
+MAX_SECONDS = 1e6
+
+
+def check_simulable(system, model: str) -> None:
+    """:class:`InputError` (field ``model``) unless ``system`` (loaded from ``model``) has mechanics to simulate."""
+    if system.mechanics is None:
+        raise InputError("model", f"'{model}' has no mechanics (masses, forces): it cannot be simulated")
+
+
+def check_duration(seconds: float, field: str = "until") -> float:
+    """``seconds`` (a simulated time) if ``0 < seconds <=`` :data:`MAX_SECONDS`, else :class:`InputError` naming ``field``."""
+    if not (math.isfinite(seconds) and 0 < seconds <= MAX_SECONDS):
+        raise InputError(field, f"must be a number of seconds, 0 < SECONDS <= {MAX_SECONDS:g}, got {seconds:g}")
+    return float(seconds)

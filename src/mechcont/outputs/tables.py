@@ -1,0 +1,145 @@
+"""Tables as text and files: branch tables, record tables (Markdown or CSV), special-point tables.
+
+No Matplotlib here: the commands that print tables stay light.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from pathlib import Path
+
+from .._io import atomic_write
+from ..units import display, display_unit
+from .plotting import axis_label
+
+__all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "markdown_table", "write_records", "branch_value",
+           "heading", "special_table", "approximate_warnings", "jump_lines", "event_labels", "write_rows",
+           "summary_rows"]
+
+#: A branch is written as CSV or JSON (by suffix).
+BRANCH_SUFFIXES = (".csv", ".json")
+#: A table of records (one dict per row) is written as CSV or Markdown (by suffix).
+RECORD_SUFFIXES = (".csv", ".md")
+
+
+def write_branch_table(branch, path: str | Path) -> Path:
+    """Write ``branch`` to ``path`` as JSON when its suffix is ``.json`` (any case), else as CSV; returns the path."""
+    path = Path(path)
+    (branch.to_json if path.suffix.lower() == ".json" else branch.to_csv)(path)
+    return path
+
+
+def markdown_table(records: list[dict]) -> str:
+    """A Markdown table of ``records`` (one dict per row, the first one's keys as headings); floats as ``.6g``."""
+    keys = list(records[0])
+    lines = ["| " + " | ".join(keys) + " |", "|" + "|".join("---" for _ in keys) + "|"]
+    for r in records:
+        lines.append("| " + " | ".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in r.values()) + " |")
+    return "\n".join(lines)
+
+
+def write_records(records: list[dict], path: str | Path) -> Path:
+    """Write ``records`` to ``path`` as CSV (suffix ``.csv``, full precision) or else as Markdown, atomically."""
+    path = Path(path)
+    buf = io.StringIO()
+    if path.suffix.lower() == ".csv":
+        w = csv.DictWriter(buf, fieldnames=list(records[0]), lineterminator="\n")
+        w.writeheader()
+        w.writerows(records)
+    else:
+        buf.write(markdown_table(records) + "\n")
+    return atomic_write(path, lambda tmp: Path(tmp).write_text(buf.getvalue(), encoding="utf-8"))
+
+
+def write_rows(path: str | Path, header: list[str], rows) -> Path:
+    """Write a CSV of ``header`` and ``rows`` (numbers written in full, ``repr``; ``nan`` as ``nan``), atomically."""
+
+    def write(tmp: str) -> None:
+        with open(tmp, "w", newline="", encoding="utf-8") as fh:
+            w = csv.writer(fh, lineterminator="\n")
+            w.writerow(header)
+            w.writerows([repr(v) if isinstance(v, float) else v for v in row] for row in rows)
+
+    return atomic_write(path, write)
+
+
+def summary_rows(n: int, about: int = 10) -> list[int]:
+    """The rows a summary of an ``n``-row table prints: every ``n // about``-th from the first, and the last."""
+    step = max(1, n // about)
+    return list(range(0, n, step)) + ([n - 1] if (n - 1) % step else [])
+
+
+def branch_value(branch, name: str, value: float) -> float:
+    """``value`` of column ``name`` of ``branch`` as shown in tables: angles (``rad``) in degrees, else SI."""
+    return display(value, branch.units.get(name, ""))[0]
+
+
+def heading(branch, name: str) -> str:
+    """A column heading with its display unit: ``F (N)``, ``theta1 (deg)``, ``s``."""
+    return axis_label(name, branch.units.get(name, ""))
+
+
+def special_table(branch, cols=None) -> str:
+    """A plain-text table of the special points of a branch (columns ``cols``).
+
+    Points are named as everywhere else (:meth:`Branch.point_names`, numbered along the
+    branch; ``LP2?`` when only approximate); angles are shown in degrees, every heading
+    carries its unit, and a fold's stability is ``fold``.
+    """
+    cols = list(dict.fromkeys(cols or [branch.vary, *branch.unknowns[:3]]))
+    width = max(16, *(len(heading(branch, c)) + 2 for c in cols))
+    head = f"{'point':<7}" + "".join(f"{heading(branch, c):>{width}}" for c in cols) + f"{'stability':>11}"
+    lines = [f"{branch.model}: {len(branch)} points in {branch.vary}", head]
+    st = branch.stability_labels()
+    for name, p in zip(branch.point_names(), branch.special_points):
+        vals = "".join(f" {branch_value(branch, c, p.values[c]):>{width - 1}.10g}" for c in cols)
+        tag = name + ("" if p.located else "?")
+        lines.append(f"{tag:<7}{vals}{st[p.index] or '-':>11}")
+    return "\n".join(lines)
+
+
+def approximate_warnings(branch) -> list[str]:
+    """One line per special point of ``branch`` that was detected but not located: where, and why."""
+    out = []
+    for name, p in zip(branch.point_names(), branch.special_points):
+        if not p.located:
+            why = p.reason or "not located"
+            v = branch.vary
+            unit = display_unit(branch.units.get(v, ""))
+            out.append(f"{name} at {v} = {branch_value(branch, v, p.values[v]):.10g} {unit} is approximate "
+                       f"({why}); its row is labelled {p.tag}".replace("  ", " "))
+    return out
+
+
+def jump_lines(branch, vary: str, y: str) -> list[str]:
+    """One line per non-smooth fold (``NSF``) of a branch with stops: the load, and where the mechanism lands."""
+    out = []
+    names = dict(zip((id(p) for p in branch.special_points), branch.point_names()))
+    for p in branch.special("NSF"):
+        at_fold = branch_value(branch, vary, p[vary])
+        head = f"{names[id(p)]}: non-smooth fold at {heading(branch, vary)} = {at_fold:.10g} (stop {p.extra['stop']})"
+        land = p.extra.get("landing")
+        if land is not None:
+            at = dict(zip(branch.names, land))
+            on = ", ".join(p.extra["landing_contact"]) or "none"
+            how = "stable" if p.extra["landing_stable"] else "UNSTABLE"
+            out.append(f"{head}: the mechanism jumps and lands at {heading(branch, y)} = "
+                       f"{branch_value(branch, y, at[y]):.10g} (stops in contact: {on}; {how})")
+        elif p.extra.get("jump"):
+            out.append(f"{head}: the mechanism jumps; no equilibrium at that {vary} further along the branch "
+                       "catches it within the bounds")
+        else:
+            out.append(f"{head}: reached along an unstable branch (nothing jumps there)")
+    return out
+
+
+def event_labels(result, units: dict) -> list[str]:
+    """One label per row of a time history (its CSV's label column): the stop events at that row,
+    ``"impact rest 5.24 rad/s; contact rest"``; ``units`` maps a stop's name to its condition's unit."""
+    labels = [""] * len(result.t)
+    for ev in result.stop_events:
+        rate = f"{units.get(ev.stop) or '1'}/s"
+        text = f"{ev.kind} {ev.stop}" + (f" {ev.speed:.6g} {rate}" if ev.kind == "impact" else "")
+        labels[ev.row] = f"{labels[ev.row]}; {text}" if labels[ev.row] else text
+    return labels
