@@ -1,0 +1,86 @@
+"""Freefall with several lock stops, and the freefall study (P(fails to lock) under tolerances).
+
+tests/data/freefall_two_legs.toml: two uniform bars (mass m, lengths L1, L2, I_O = m L^2 / 3) released at
+rest from theta = beta fall independently onto their downlocks at -beta. Each one's fall is the reduced
+equation I theta'' = -m g (L/2) cos(theta) (the second leg also feels its drag and damper), so its lock time
+comes from an independent integration and its impact speed from energy: sqrt(6 g sin(beta) / L).
+"""
+
+import math
+
+import pytest
+from scipy.integrate import solve_ivp
+
+from mechcont.dynamics.freefall import freefall
+from mechcont.errors import InputError
+from mechcont.models import load_model
+
+TWO = "tests/data/freefall_two_legs.toml"
+M, G, BETA, L1, L2 = 10.0, 9.81, 1.0, 1.0, 1.5
+K2 = 1.225 * 1.2 * 0.2 * L2 / 2  # drag factor of the second leg (as in test_freefall.py)
+
+
+def fall_time(L, until=20.0):
+    """The independent engine for a leg without airload or damper: when it reaches -beta from rest at beta."""
+    I_O = M * L * L / 3
+
+    def rhs(t, y):
+        return [y[1], -M * G * L / 2 * math.cos(y[0]) / I_O]
+
+    def down(t, y):
+        return y[0] + BETA
+    down.terminal = True
+    sol = solve_ivp(rhs, (0, until), [BETA, 0.0], events=[down], rtol=1e-11, atol=1e-12)
+    return float(sol.t_events[0][0]) if len(sol.t_events[0]) else None
+
+
+def test_two_lock_stops_lock_at_their_own_times():
+    run = freefall(load_model(TWO), {"angle1": BETA, "angle2": BETA}, lock=["lock1", "lock2"], until=3.0)
+    assert run.outcome == "locked" and run.lock == "stops lock1, lock2"
+    t1, t2 = fall_time(L1), fall_time(L2)
+    assert run.stops["lock1"].time == pytest.approx(t1, rel=1e-6)
+    assert run.stops["lock2"].time == pytest.approx(t2, rel=1e-6)
+    for name, L in (("lock1", L1), ("lock2", L2)):
+        assert run.stops[name].impact_speed == pytest.approx(math.sqrt(6 * G * math.sin(BETA) / L), rel=1e-6)
+    assert run.time_to_lock == pytest.approx(max(t1, t2), rel=1e-6)
+    assert run.lock_spread == pytest.approx(abs(t2 - t1), rel=1e-5)
+    lines = run.describe()
+    assert any(line.startswith("stop lock1: locked at ") for line in lines)
+    assert any(line.startswith("locked ") and line.endswith(" s apart") for line in lines)
+
+
+def test_one_leg_hangs_the_other_locks():
+    """The second leg hangs in the airflow (cos(theta) = m g / (k U^2)); the first locks: not locked, the
+    first's lock time reported, the second's None, no spread."""
+    U = 1.2 * math.sqrt(M * G / K2)
+    run = freefall(load_model(TWO, U=U, c=20.0), {"angle1": BETA, "angle2": BETA}, lock=["lock1", "lock2"],
+                   until=60.0)
+    assert run.outcome == "stalled" and run.time_to_lock is None and run.lock_spread is None
+    assert run.stops["lock1"].time == pytest.approx(fall_time(L1), rel=1e-6)
+    assert run.stops["lock2"].time is None and run.stops["lock2"].impact_speed is None
+    assert run.history["angle2"][-1] == pytest.approx(math.acos(M * G / (K2 * U * U)), abs=1e-6)
+
+
+def test_bad_lock_names():
+    system = load_model(TWO)
+    with pytest.raises(InputError, match="^lock: unknown stop 'nope'; stops of freefall_two_legs: uplock1"):
+        freefall(system, {"angle1": BETA}, lock=["lock1", "nope"], until=1.0)
+    with pytest.raises(InputError, match="^lock: stop 'lock1' is named twice"):
+        freefall(system, {"angle1": BETA}, lock=["lock1", "lock1"], until=1.0)
+
+
+def test_cli_lock_repeatable_and_one_line_errors():
+    from cli_helpers import make_runner, one_line_error
+
+    run = make_runner()
+    r = run("freefall", TWO, "--from", "angle1=1", "--from", "angle2=1", "--lock", "lock1", "--lock", "lock2",
+            "--until", 3)
+    assert r.exit_code == 0, r.output
+    lib = freefall(load_model(TWO), {"angle1": BETA, "angle2": BETA}, lock=["lock1", "lock2"], until=3.0)
+    (line,) = [ln for ln in r.output.splitlines() if ln.endswith(" s apart")]
+    assert float(line.split()[1]) == pytest.approx(lib.lock_spread, rel=1e-5)
+    assert "stop lock2: locked at " in r.output and "impact speed" in r.output
+    one_line_error(run("freefall", TWO, "--from", "angle1=1", "--lock", "lock1", "--lock", "lock9", "--until", 3),
+                   "--lock", "'lock9'", "lock1, lock2")
+    one_line_error(run("freefall", TWO, "--from", "angle1=1", "--lock", "lock1", "--lock-condition", "angle1=0",
+                       "--until", 3), "--lock", "exactly one")
