@@ -84,3 +84,53 @@ def test_cli_lock_repeatable_and_one_line_errors():
                    "--lock", "'lock9'", "lock1, lock2")
     one_line_error(run("freefall", TWO, "--from", "angle1=1", "--lock", "lock1", "--lock-condition", "angle1=0",
                        "--until", 3), "--lock", "exactly one")
+
+
+# -- the freefall study --------------------------------------------------------------------------------------
+PENDULUM = "tests/data/freefall_pendulum.toml"
+K = 1.225 * 1.2 * 0.2 * 1.0 / 2  # the pendulum's drag factor: U_c = sqrt(m g / k) (tests/test_freefall.py)
+
+
+def test_study_probability_of_failing_to_lock_matches_the_closed_form(tmp_path):
+    """The pendulum with heavy damping (c = 20 N s/m: dynamic = quasi-static critical airspeed to 1e-3) at
+    U = 20 m/s with a normally distributed mass: it fails to lock where U_c(m) = sqrt(m g / k) <= U, i.e.
+    m <= m_c = k U^2 / g, so P = Phi((m_c - mean) / sd). Every sample's outcome matches that rule outside a
+    band of 2e-3 relative in m (1e-3 in U_c, the dynamic-quasi-static gap at the finite --until), and the
+    closed-form P lies in the study's Clopper-Pearson interval."""
+    import pandas as pd
+    from cli_helpers import make_runner
+    from scipy.stats import norm
+
+    U, mean, sd, n = 20.0, 6.2, 0.4, 24
+    m_c = K * U * U / G
+    out = tmp_path / "study"
+    r = make_runner()("study", PENDULUM, "--analysis", "freefall", "--dist", f"m=normal:{mean}:{sd}", "--n", n,
+                      "--hold", "angle=1", "--lock", "downlock", "--until", 100, "--set", f"U={U}", "--set", "c=20",
+                      "--scheduler", "serial", "--out", out, "--quiet")
+    assert r.exit_code == 0, r.output
+    df = pd.read_parquet(out / "results.parquet")
+    assert len(df) == n and (df["status"] == "converged").all()
+    near = (df["m"] / m_c - 1).abs() < 2e-3
+    assert (df["locked"] == (df["m"] > m_c))[~near].all()
+    assert set(df.loc[df["locked"], "outcome"]) == {"locked"} and df.loc[df["locked"], "time_to_lock"].gt(0).all()
+    from mechcont.analysis.study import failure_probability
+
+    fp = failure_probability(df)
+    assert fp.what == "freefall fails to lock" and fp.samples == n
+    assert fp.low <= norm.cdf((m_c - mean) / sd) <= fp.high
+    assert 0 < fp.failures < n  # both outcomes sampled: the test can tell a wrong rule
+
+
+def test_study_freefall_settings_one_line_errors(tmp_path):
+    from cli_helpers import make_runner, one_line_error
+
+    run = make_runner()
+    base = ("study", PENDULUM, "--analysis", "freefall", "--dist", "m=normal:6:0.4", "--n", 2, "--scheduler", "serial",
+            "--out", tmp_path / "s")
+    one_line_error(run(*base, "--hold", "angle=1", "--lock", "nope", "--until", 5), "lock", "'nope'", "uplock, downlock")
+    one_line_error(run(*base, "--hold", "angle=1", "--until", 5), "lock", "give the lock stop")
+    one_line_error(run(*base, "--lock", "downlock", "--until", 5), "hold", "released")
+    one_line_error(run(*base, "--hold", "angle=1", "--lock", "downlock"), "until")
+    one_line_error(run("study", PENDULUM, "--analysis", "freefall", "--analysis", "downlock", "--dist", "m=normal:6:0.4",
+                       "--n", 2, "--hold", "angle=1", "--lock", "downlock", "--until", 5, "--out", tmp_path / "t"),
+                   "analysis", "alone")

@@ -207,7 +207,7 @@ def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None
 
 def freefall(system, start: Mapping[str, float], *, lock, until: float, values: Mapping[str, float] | None = None,
              damping: float = 0.0, rtol: float = 1e-8, atol: float = 1e-10, rest_speed: float = 1e-4,
-             max_step: float = math.inf) -> FreefallResult:
+             max_step: float = math.inf, guess=None) -> FreefallResult:
     """Release ``system`` at rest in the pose ``start`` and simulate it with its stops until it locks.
 
     Parameters
@@ -229,6 +229,10 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     rest_speed:
         A run that ends with every coordinate speed below this (rad/s, m/s) and not locked has
         *stalled*; otherwise it has *timed out*.
+    guess:
+        A full variable vector to assemble from (default the model's own pose), e.g. the end of a
+        retraction run: a mechanism with several assemblies at the ``start`` values takes the one
+        nearest it.
 
     Returns
     -------
@@ -246,7 +250,8 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         model = model.with_values(dict(values))
     stop, target = _lock_spec(model, lock)
     lock_stops = _lock_stops(model, lock) or []
-    x0 = assemble(model, dict(start), hold=list(start))
+    x0 = assemble(model, dict(start) if guess is None else model.vector(dict(start), base=_states_of(model, guess)),
+                  hold=list(start))
     events: Sequence = ()
     if target is not None:
         name, value = target
@@ -288,6 +293,16 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     return FreefallResult(outcome, lock_text, t_lock, impact, {n: float(np.max(np.abs(v), initial=0.0))
                                                                  for n, v in tensions.items()},
                           reactions, speed, result, per_stop)
+
+
+def _states_of(model, guess) -> np.ndarray:
+    """The model's defaults (its parameter values) with the states of the full vector ``guess``."""
+    x, g = model.defaults(), np.asarray(guess, float)
+    if g.shape != x.shape:
+        raise InputError("guess", f"must be a full vector of {len(x)} values, got shape {g.shape}")
+    states = np.array([v.kind == "state" for v in model.variables])
+    x[states] = g[states]
+    return x
 
 
 def _stop_lock(result: SimulationResult, name: str, at_rest: bool) -> StopLock:
