@@ -134,3 +134,25 @@ def test_study_freefall_settings_one_line_errors(tmp_path):
     one_line_error(run("study", PENDULUM, "--analysis", "freefall", "--analysis", "downlock", "--dist", "m=normal:6:0.4",
                        "--n", 2, "--hold", "angle=1", "--lock", "downlock", "--until", 5, "--out", tmp_path / "t"),
                    "analysis", "alone")
+
+
+def test_dual_sidestay_gear_up_pose_keeps_every_stop_on_its_side():
+    """The generated dual-sidestay gear assembled at gear up along its retraction path: theta held at 85 deg,
+    the joints closed, both lock-link pairs on the allowed side of their overcentre stops, the forward pair
+    folded (unlocked) and the aft pair near aligned (its retraction lock-up)."""
+    import numpy as np
+
+    from mechcont.dynamics.freefall import condition_value
+    from mechcont.equations import as_model
+    from mechcont.paper.dual_sidestay import generated_gear
+    from mechcont.paper.freefall import SIDESTAY_UP, sidestay_retracted
+
+    system = generated_gear()
+    model = as_model(system)
+    x = sidestay_retracted(system)
+    assert condition_value(model, x, "theta") == pytest.approx(SIDESTAY_UP, abs=1e-9)
+    assert np.max(np.abs(model.mechanics.phi(x))) < 1e-9  # the joints closed (m; unit quaternions)
+    for st in model.stops:
+        assert st.side * (condition_value(model, x, st.condition) - st.limit) > 0
+    assert condition_value(model, x, "fwd_lock") < -0.3
+    assert abs(condition_value(model, x, "aft_lock")) < 0.03

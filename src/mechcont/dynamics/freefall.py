@@ -28,7 +28,7 @@ from ._events import Crossing
 from ._result import SimulationResult
 
 __all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
-           "quasi_static_critical", "damper_tensions", "critical_figure", "travel_of"]
+           "quasi_static_critical", "damper_tensions", "critical_figure", "travel_of", "condition_value"]
 
 #: Outcomes of a freefall run.
 LOCKED, STALLED, TIMED_OUT, FAILED = "locked", "stalled", "timed out", "failed"
@@ -494,14 +494,21 @@ def travel_of(system, start: Mapping[str, float], lock, values: Mapping[str, flo
     stop, target = _lock_spec(model, lock)
     name, end = (stop.condition, float(stop.limit)) if stop is not None else target  # type: ignore[misc]
     x0 = assemble(model, dict(start), hold=list(start))
+    return name, condition_value(model, x0, name), end
+
+
+def condition_value(system, x, name: str) -> float:
+    """The value of the coordinate or declared condition ``name`` at the full vector ``x`` (its unit),
+    computed from the coordinates (a condition's own entry in ``x`` need not be up to date)."""
+    from ..equations import as_model
+
+    model = as_model(system)
     rows = list(model.equation_names or ())
-    if f"cond_{name}" in rows:
-        y = np.array(x0, float)
-        y[model.index(name)] = 0.0
-        begin = float(model.residual(y)[rows.index(f"cond_{name}")])
-    else:
-        begin = float(x0[model.index(name)])
-    return name, begin, end
+    if f"cond_{name}" not in rows:
+        return float(x[model.index(name)])
+    y = np.array(x, float)
+    y[model.index(name)] = 0.0
+    return float(model.residual(y)[rows.index(f"cond_{name}")])
 
 
 def critical_figure(dampings: Sequence[float], dynamic: Sequence[float], quasi_static: float, *,
