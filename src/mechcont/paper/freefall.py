@@ -233,8 +233,8 @@ def _sidestay(timings: dict) -> list[str]:
             f"Released at rest there and simulated for {SIDESTAY_UNTIL:g} s: {struck('aft_stop')}; {struck('fwd_stop')}; "
             f"theta {math.degrees(float(np.min(h['theta']))):.1f} to {math.degrees(float(np.max(h['theta']))):.1f} deg "
             f"(outcome {run.outcome}). The stiff aft attachment (k_att = {system.as_dict(x_up)['k_att']:.0e} N/m) and "
-            "the light lock links make the fall a stiff, impact-rich simulation: the whole fall (about a second) "
-            "is too slow for this section (the time per simulated second is in the timings); "
+            "the light lock links make the fall a stiff, impact-rich simulation: a whole fall (seconds of simulated "
+            "time) is too slow for this section (the time per simulated second is in the timings); "
             "`mechcont.paper.freefall.sidestay_freefall` runs it.", ""]
 
 
