@@ -97,7 +97,8 @@ def per_unit(numerator: str, unit: str) -> str:
 @click.option("--lock", multiple=True, metavar="STOP", help="--analysis freefall: a lock stop (repeatable).")
 @click.option("--until", type=float, default=None, metavar="SECONDS", help="--analysis freefall: longest simulated time.")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Fix a parameter (SI units, radians).")
-@click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE", help="Downlock condition (default: the model's).")
+@click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE", help="Downlock condition (default: the model's); "
+              "with --analysis freefall the released pose.")
 @click.option("--condition", default=None, metavar="NAME", help="Downlock condition: a declared [conditions] name.")
 @click.option("--force", default=None, metavar="NAME", help="The downlock force (default: the model's, F).")
 @click.option("--out", required=True, metavar="DIR", help="Study folder (results.parquet, parts/, study.json).")
