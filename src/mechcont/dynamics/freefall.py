@@ -483,7 +483,7 @@ def quasi_static_critical(system, travel: str, start_value: float, lock_value: f
 def travel_of(system, start: Mapping[str, float], lock, values: Mapping[str, float] | None = None) -> tuple[str, float, float]:
     """The travel of a freefall: ``(variable, value at the released pose, value at the lock)``.
 
-    The variable is the lock stop's condition (its limit is the lock value) or the lock
+    The variable is the lock stop's condition (the first of several; its limit is the lock value) or the lock
     condition's state; its start value is computed at the pose assembled from ``start``."""
     from ..equations import as_model
     from ._simulate import assemble
