@@ -10,6 +10,12 @@ outcome, time to lock, the lock links' impact speed, the peak actuator load and 
 reaction are tabulated; the quasi-static predictor (the equilibria the gear could hang in on its
 way, with the airspeed solved for) says whether any airspeed can stall it.
 
+The dual-sidestay gear (``examples/dual_sidestay.toml``) is assembled at gear up along its retraction
+path (:func:`sidestay_retracted`) and released with both lock-link stops as its lock; its fall is stiff
+(light lock links, a stiff aft attachment), so the section simulates only its start and tabulates the
+quasi-static equilibria in which its aft lock links hold it up (:func:`sidestay_hang`) against the aft
+attachment stiffness and the lock-spring preload; :func:`sidestay_freefall` runs a whole fall.
+
 Run times go to ``timings``, never into the summary, which is the same on every run.
 """
 
@@ -22,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["run", "description_text", "AIRSPEEDS", "PENDULUM", "sidestay_retracted", "sidestay_freefall",
-           "SIDESTAY_UP"]
+           "sidestay_hang", "SIDESTAY_UP"]
 
 #: Airspeeds (m/s) of the freefall runs.
 AIRSPEEDS = (0.0, 25.0, 50.0, 75.0, 100.0, 125.0)
@@ -149,6 +155,9 @@ DAMPERS, PENDULUM_BRACKET, PENDULUM_TOL, PENDULUM_UNTIL = (1.0, 2.0, 5.0, 10.0, 
 SIDESTAY_UP, SIDESTAY_STEPS, SIDESTAY_UNTIL = math.radians(85.0), 17, 0.05
 #: The dual-sidestay gear's lock stops.
 SIDESTAY_LOCKS = ("fwd_stop", "aft_stop")
+#: Aft attachment stiffnesses (N/m) and lock-spring stretches (free over installed length: less is more
+#: preload) of the gear-up hang table.
+HANG_K_ATT, HANG_STRETCH = (5e7, 5e6, 1e6), (0.5, 0.7, 1.0)
 
 
 def sidestay_retracted(system, theta_up: float = SIDESTAY_UP, steps: int = SIDESTAY_STEPS) -> np.ndarray:
@@ -190,6 +199,24 @@ def sidestay_freefall(until: float, values=None, system=None, x_up=None, **optio
     run = freefall(system, {"theta": SIDESTAY_UP}, lock=list(SIDESTAY_LOCKS), until=until, values=values, guess=x_up,
                    **options)
     return run, x_up
+
+
+def sidestay_hang(system, x_up, values=None) -> tuple[float, float] | None:
+    """The equilibrium near gear up with the aft lock-link pair resting on its overcentre stop (the fwd pair
+    free): ``(theta, R_aft_stop)`` (rad, N m), or None when there is none with a positive reaction
+    (:func:`~mechcont.analysis.equilibrium_on_stops` from the gear-up pose ``x_up``). Where it exists the
+    lock spring can hold the aft sidestay locked *up*: the gear may hang there instead of falling."""
+    from ..analysis import equilibrium_on_stops
+    from ..dynamics.freefall import condition_value
+    from ..errors import ConvergenceError, InputError
+
+    try:
+        x, contact = equilibrium_on_stops(system, x_up, values=values, contact=["aft_stop"])
+    except (ConvergenceError, InputError):
+        return None
+    if "aft_stop" not in contact:
+        return None
+    return condition_value(system, x, "theta"), float(x[system.index("R_aft_stop")])
 
 
 def _sidestay(timings: dict) -> list[str]:
@@ -235,7 +262,26 @@ def _sidestay(timings: dict) -> list[str]:
             f"(outcome {run.outcome}). The stiff aft attachment (k_att = {system.as_dict(x_up)['k_att']:.0e} N/m) and "
             "the light lock links make the fall a stiff, impact-rich simulation: a whole fall (seconds of simulated "
             "time) is too slow for this section (the time per simulated second is in the timings); "
-            "`mechcont.paper.freefall.sidestay_freefall` runs it.", ""]
+            "`mechcont.paper.freefall.sidestay_freefall` runs it.", ""] + _hang_table(system, x_up, timings)
+
+
+def _hang_table(system, x_up, timings: dict) -> list[str]:
+    """The gear-up hang (:func:`sidestay_hang`) against the aft attachment stiffness and the lock-spring stretch."""
+    t0 = time.perf_counter()
+    rows = [(k, st, sidestay_hang(system, x_up, {"k_att": k, "stretch": st})) for k in HANG_K_ATT for st in HANG_STRETCH]
+    timings["freefall: dual-sidestay gear-up hang equilibria"] = time.perf_counter() - t0
+    lines = ["Quasi-static: the aft pair, retracted within a degree of aligned, can go over centre onto its stop "
+             "and hold the gear *up*. The equilibria with the aft pair on its stop near gear up (the fwd pair free):",
+             "",
+             "| k_att (N/m) | lock-spring stretch | hangs at theta (deg) | aft stop reaction (N m) |", "|---|---|---|---|"]
+    for k, st, hang in rows:
+        cells = f"{math.degrees(hang[0]):.2f} | {hang[1]:.1f}" if hang is not None else "none | -"
+        lines.append(f"| {k:.0e} | {st:g} | {cells} |")
+    lines += ["", "A positive reaction means the stop carries the gear there: a freefall from gear up may hang on "
+              "the aft lock links instead of falling. The reaction hardly depends on the lock-spring preload (the "
+              "stretch), so it is the gear's weight, not the spring, that holds the aft pair over centre; a softer "
+              "aft attachment lets the gear sag further before the stop holds it.", ""]
+    return lines
 
 
 def description_text() -> str:
