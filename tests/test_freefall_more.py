@@ -156,3 +156,22 @@ def test_dual_sidestay_gear_up_pose_keeps_every_stop_on_its_side():
         assert st.side * (condition_value(model, x, st.condition) - st.limit) > 0
     assert condition_value(model, x, "fwd_lock") < -0.3
     assert abs(condition_value(model, x, "aft_lock")) < 0.03
+
+
+@pytest.mark.slow
+def test_dual_sidestay_damped_freefall_comes_to_rest_in_the_gear_up_hang():
+    """Released at gear up with a soft aft attachment and mass-proportional damping, the gear sags and comes to
+    rest with its aft lock links on their stop: in the static equilibrium on that stop (sidestay_hang, an
+    independent Newton solve) to the residual motion of a run of 4 s (speed ~1e-3 rad/s, decaying at 5/s)."""
+    from mechcont.paper.dual_sidestay import generated_gear
+    from mechcont.paper.freefall import sidestay_freefall, sidestay_hang, sidestay_retracted
+
+    system = generated_gear()
+    x_up = sidestay_retracted(system)
+    theta, reaction = sidestay_hang(system, x_up, {"k_att": 1e6})
+    assert reaction > 0
+    run, _ = sidestay_freefall(4.0, values={"k_att": 1e6}, system=system, x_up=x_up, damping=5.0, rtol=1e-6, atol=1e-8)
+    h = run.history
+    assert run.stops["fwd_stop"].time is None and not run.locked  # hung up: the forward pair never got down
+    assert h["theta"][-1] == pytest.approx(theta, abs=1e-4)
+    assert h["R_aft_stop"][-1] == pytest.approx(reaction, rel=2e-3)
