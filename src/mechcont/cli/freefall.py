@@ -39,12 +39,18 @@ def _scan(text: str | None) -> tuple[str, list[float]] | None:
     return name, [number(v, f"--scan {name}") for v in items]
 
 
-def _lock(system, lock: str | None, lock_condition: str | None):
-    """The lock of :func:`~mechcont.dynamics.freefall.freefall` from the two options (exactly one)."""
-    if (lock is None) == (lock_condition is None):
-        raise InputError("--lock", "give exactly one of --lock STOP and --lock-condition NAME=VALUE")
-    if lock is not None:
-        return lock
+def _lock(system, lock: tuple[str, ...], lock_condition: str | None):
+    """The lock of :func:`~mechcont.dynamics.freefall.freefall` from the two options (exactly one; --lock repeatable)."""
+    if bool(lock) == (lock_condition is not None):
+        raise InputError("--lock", "give exactly one of --lock STOP (repeatable) and --lock-condition NAME=VALUE")
+    if lock:
+        from ..dynamics.freefall import _lock_stops
+
+        try:
+            _lock_stops(system, list(lock))
+        except InputError as exc:
+            raise _option_error(exc) from None
+        return lock[0] if len(lock) == 1 else list(lock)
     assert lock_condition is not None
     ((name, value),) = assignments([lock_condition], "lock-condition").items()
     if name not in system.names or system.variable(name).kind != "state":
@@ -64,7 +70,8 @@ def _option_error(exc: InputError) -> InputError:
 @click.option("--from", "starts", multiple=True, metavar="NAME=VALUE",
               help="The retracted pose: coordinate or condition held while assembling (the uplock); released at rest.")
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
-@click.option("--lock", default=None, metavar="STOP", help="The lock stop: locked when in contact and at rest.")
+@click.option("--lock", multiple=True, metavar="STOP",
+              help="A lock stop (repeatable): locked when every one is in contact and at rest.")
 @click.option("--lock-condition", default=None, metavar="NAME=VALUE",
               help="Locked when this coordinate or condition reaches VALUE (instead of --lock).")
 @click.option("--until", type=float, required=True, metavar="SECONDS", help="Longest simulated time (s).")
@@ -140,6 +147,7 @@ def _one(system, start, lock, until, options, out_path, plot_path) -> None:
     watch = stop.condition if stop is not None else name
     units = {s.reaction: system.variable(s.reaction).unit for s in _stops(system)}
     units = {**{s.name: units[s.reaction] for s in _stops(system)},
+             **{f"{s.name}_rate": f"{system.variable(s.condition).unit or '1'}/s" for s in _stops(system)},
              "lock_rate": f"{system.variable(watch).unit or '1'}/s"}
     click.echo(f"# {system.name}: released at rest from {', '.join(f'{k} = {v:g}' for k, v in start.items())}; "
                f"{h.t[-1]:.6g} s simulated, {len(h)} rows")

@@ -13,7 +13,8 @@ from ._app import cli
 from ._parse import assignments
 
 
-def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk):
+def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk, lock=(),
+          until=None):
     from ..analysis.study import StudySpec, parse_axis, parse_distribution
 
     if spec_file is not None:
@@ -44,7 +45,8 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
             raise InputError("--n", "give the number of samples, e.g. --n 10000")
     return StudySpec(model=model, sampling=sampling, parameters=params, n=n or 0, seed=seed,
                      analyses=tuple(analyses) or ("downlock",), values=tuple(assignments(sets, "set").items()),
-                     hold=tuple(assignments(holds, "hold").items()), condition=condition, force=force, chunk=chunk or 0)
+                     hold=tuple(assignments(holds, "hold").items()), condition=condition, force=force, chunk=chunk or 0,
+                     lock=tuple(lock), until=until or 0.0)
 
 
 @cli.command("study")
@@ -63,11 +65,14 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random samples.")
 @click.option("--spec", "spec_file", default=None, metavar="FILE.toml",
               help="The study's settings from a TOML file instead of --dist/--grid/--n/--seed.")
-@click.option("--analysis", "analyses", multiple=True, type=click.Choice(["downlock", "unlock", "branch"]),
+@click.option("--analysis", "analyses", multiple=True, type=click.Choice(["downlock", "unlock", "branch", "freefall"]),
               help="Per sample: the downlock force (default); the unlock folds and fold margin; a summary of "
-                   "the sample's own release run (branch).")
+                   "the sample's own release run (branch); a freefall from --hold (the released pose) until --lock.")
+@click.option("--lock", multiple=True, metavar="STOP", help="--analysis freefall: a lock stop (repeatable).")
+@click.option("--until", type=float, default=None, metavar="SECONDS", help="--analysis freefall: longest simulated time.")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Fix a parameter (SI units, radians).")
-@click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE", help="Downlock condition (default: the model's).")
+@click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE", help="Downlock condition (default: the model's); "
+              "with --analysis freefall the released pose.")
 @click.option("--condition", default=None, metavar="NAME", help="Downlock condition: a declared [conditions] name.")
 @click.option("--force", default=None, metavar="NAME", help="The downlock force (default: the model's, F).")
 @click.option("--out", required=True, metavar="DIR", help="Study folder (results.parquet, parts/, study.json).")
@@ -79,8 +84,8 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
 @click.option("--plot", default=None, metavar="FILE", help="Figure: contour map (2-D grid) or histogram and sensitivities.")
 @click.option("--verbose", is_flag=True, help="One line per chunk written.")
 @click.option("--quiet", is_flag=True, help="Print nothing but errors.")
-def study_command(model, dists, grids, sample, method, n, seed, spec_file, analyses, sets, holds, condition, force, out,
-                  resume, chunk, scheduler, workers, plot, verbose, quiet):
+def study_command(model, dists, grids, sample, method, n, seed, spec_file, analyses, lock, until, sets, holds, condition,
+                  force, out, resume, chunk, scheduler, workers, plot, verbose, quiet):
     """Sample MODEL's parameters and solve the downlock (and unlock folds) at every sample.
 
     Results go to --out as Parquet, one part per chunk as soon as it is done, then
@@ -116,7 +121,9 @@ def study_command(model, dists, grids, sample, method, n, seed, spec_file, analy
         import pyarrow  # noqa: F401
     except ImportError:
         raise InputError("study", f"needs pyarrow; {_hint()}") from None
-    spec = _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk)
+    spec = _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk, lock, until)
+    if plot_path is not None and "freefall" in spec.analyses:
+        raise InputError("--plot", "a freefall study has no figure; read its results.parquet (column locked)")
     if plot_path is not None and spec.sampling == "grid" and len(spec.parameters) > 2:
         raise InputError("--plot", f"a grid over {len(spec.parameters)} parameters has no figure; use one or two --grid")
     where = None if scheduler == "serial" else scheduler

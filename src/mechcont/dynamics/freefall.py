@@ -27,11 +27,22 @@ from ..errors import InputError
 from ._events import Crossing
 from ._result import SimulationResult
 
-__all__ = ["FreefallResult", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
-           "quasi_static_critical", "damper_tensions", "critical_figure", "travel_of"]
+__all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
+           "quasi_static_critical", "damper_tensions", "critical_figure", "travel_of", "condition_value"]
 
 #: Outcomes of a freefall run.
 LOCKED, STALLED, TIMED_OUT, FAILED = "locked", "stalled", "timed out", "failed"
+
+
+@dataclass(frozen=True)
+class StopLock:
+    """One lock stop of a freefall: ``time`` (s) of its last contact when it ends the run in contact and
+    the gear at rest (None otherwise), ``impact_speed`` the rate of its condition at its first impact (its
+    unit per s; None when it never struck)."""
+
+    stop: str
+    time: float | None
+    impact_speed: float | None
 
 
 @dataclass
@@ -58,6 +69,9 @@ class FreefallResult:
         ``max |qdot|`` at the end (coordinate units per s).
     history:
         The :class:`SimulationResult`.
+    stops:
+        ``{stop: StopLock}`` for each lock stop (several: locked when every one is in contact at
+        rest; ``time_to_lock`` is then the last of their lock times, ``impact_speed`` the last one's).
     """
 
     outcome: str
@@ -68,11 +82,21 @@ class FreefallResult:
     peak_reaction: dict[str, float]
     final_speed: float
     history: SimulationResult
+    stops: dict[str, StopLock] = field(default_factory=dict)
 
     @property
     def locked(self) -> bool:
         """True when the gear locked."""
         return self.outcome == LOCKED
+
+    @property
+    def lock_spread(self) -> float | None:
+        """How far apart in time (s) the lock stops locked: last lock time minus first; None unless
+        every lock stop locked (0 for a single stop)."""
+        times = [s.time for s in self.stops.values()]
+        if not times or any(t is None for t in times):
+            return None
+        return max(times) - min(times)  # type: ignore[type-var,operator]
 
     def describe(self, units: Mapping[str, str] | None = None) -> list[str]:
         """Readable lines: outcome, time to lock, impact speed, peak loads (``units`` of the
@@ -81,7 +105,15 @@ class FreefallResult:
         lines = [f"outcome: {self.outcome} (lock: {self.lock})"]
         if self.time_to_lock is not None:
             lines.append(f"time to lock: {self.time_to_lock:.6g} s")
-        if self.impact_speed is not None:
+        if len(self.stops) > 1:
+            for name, st in self.stops.items():
+                when = f"locked at {st.time:.6g} s" if st.time is not None else "not locked"
+                hit = (f", impact speed {st.impact_speed:.6g} {units.get(name + '_rate', '1/s')}"
+                       if st.impact_speed is not None else ", no impact")
+                lines.append(f"stop {name}: {when}{hit}")
+            if self.lock_spread is not None:
+                lines.append(f"locked {self.lock_spread:.6g} s apart")
+        elif self.impact_speed is not None:
             lines.append(f"impact speed at the lock: {self.impact_speed:.6g} {units.get('lock_rate', '1/s')}")
         for name, v in self.peak_damper.items():
             lines.append(f"peak damper tension {name}: {v:.6g} N")
@@ -135,17 +167,32 @@ def damper_tensions(system, result: SimulationResult, h: float = 1e-7) -> dict[s
     return out
 
 
-def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None]:
-    """``(stop, None)`` for a lock stop's name, ``(None, (state, value))`` for a lock condition."""
+def _lock_stops(system, lock) -> list[StopLimit] | None:
+    """The lock stops named by ``lock`` (a stop's name or a sequence of names), None for a lock condition."""
     from ..equations import as_model
 
-    stops = as_model(system).stops
     if isinstance(lock, str):
-        by_name = {s.name: s for s in stops}
-        if lock not in by_name:
-            raise InputError("lock", f"unknown stop {lock!r}; stops of {system.name}: "
+        names = [lock]
+    elif isinstance(lock, Sequence) and lock and all(isinstance(n, str) for n in lock):
+        names = list(lock)
+    else:
+        return None
+    by_name = {s.name: s for s in as_model(system).stops}
+    for n in names:
+        if n not in by_name:
+            raise InputError("lock", f"unknown stop {n!r}; stops of {system.name}: "
                                      f"{', '.join(by_name) or 'none (declare [stops.NAME] in the description)'}")
-        return by_name[lock], None
+    if len(set(names)) != len(names):
+        raise InputError("lock", f"stop {next(n for n in names if names.count(n) > 1)!r} is named twice")
+    return [by_name[n] for n in names]
+
+
+def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None]:
+    """``(stop, None)`` for a lock stop's name (the first of several), ``(None, (state, value))`` for a
+    lock condition."""
+    stops = _lock_stops(system, lock)
+    if stops is not None:
+        return stops[0], None
     try:
         name, value = lock
         value = float(value)
@@ -160,7 +207,7 @@ def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None
 
 def freefall(system, start: Mapping[str, float], *, lock, until: float, values: Mapping[str, float] | None = None,
              damping: float = 0.0, rtol: float = 1e-8, atol: float = 1e-10, rest_speed: float = 1e-4,
-             max_step: float = math.inf) -> FreefallResult:
+             max_step: float = math.inf, guess=None) -> FreefallResult:
     """Release ``system`` at rest in the pose ``start`` and simulate it with its stops until it locks.
 
     Parameters
@@ -170,7 +217,8 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     start:
         ``{coordinate or condition: value}`` held while the retracted pose is assembled (SI, rad).
     lock:
-        The name of the lock stop (locked: in contact and at rest), or ``(state, value)``: locked
+        The name of the lock stop (locked: in contact and at rest), a sequence of stop names (locked:
+        every one in contact and at rest; e.g. a gear's two sidestays), or ``(state, value)``: locked
         when that coordinate or condition reaches ``value`` (from the side it starts on).
     until:
         Longest simulated time (s).
@@ -181,6 +229,10 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     rest_speed:
         A run that ends with every coordinate speed below this (rad/s, m/s) and not locked has
         *stalled*; otherwise it has *timed out*.
+    guess:
+        A full variable vector to assemble from (default the model's own pose), e.g. the end of a
+        retraction run: a mechanism with several assemblies at the ``start`` values takes the one
+        nearest it.
 
     Returns
     -------
@@ -197,7 +249,9 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     if values:
         model = model.with_values(dict(values))
     stop, target = _lock_spec(model, lock)
-    x0 = assemble(model, dict(start), hold=list(start))
+    lock_stops = _lock_stops(model, lock) or []
+    x0 = assemble(model, dict(start) if guess is None else model.vector(dict(start), base=_states_of(model, guess)),
+                  hold=list(start))
     events: Sequence = ()
     if target is not None:
         name, value = target
@@ -211,15 +265,16 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
                       max_step=max_step, events=events)
     speed = float(np.max(np.abs(result.qdot[-1]), initial=0.0))
     t_lock = impact = None
+    per_stop: dict[str, StopLock] = {}
     if stop is not None:
-        evs = [ev for ev in result.stop_events if ev.stop == stop.name]
-        impacts = [ev for ev in evs if ev.kind == "impact"]
-        last = next((ev for ev in reversed(evs) if ev.kind in ("contact", "release")), None)
-        if last is not None and last.kind == "contact" and result.success and speed <= rest_speed:
-            t_lock = last.time
-        if impacts:
-            impact = impacts[0].speed
-        lock_text = f"stop {stop.name}"
+        at_rest = result.success and speed <= rest_speed
+        per_stop = {s.name: _stop_lock(result, s.name, at_rest) for s in lock_stops}
+        if all(s.time is not None for s in per_stop.values()):
+            last_stop = max(per_stop.values(), key=lambda s: s.time)  # type: ignore[arg-type,return-value]
+            t_lock, impact = last_stop.time, last_stop.impact_speed
+        elif len(per_stop) == 1:
+            impact = per_stop[stop.name].impact_speed
+        lock_text = ("stop " if len(lock_stops) == 1 else "stops ") + ", ".join(s.name for s in lock_stops)
     else:
         assert target is not None
         name, value = target
@@ -237,7 +292,27 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     reactions = {s.name: float(np.max(result[s.reaction], initial=0.0)) for s in model.stops} if stops else {}
     return FreefallResult(outcome, lock_text, t_lock, impact, {n: float(np.max(np.abs(v), initial=0.0))
                                                                  for n, v in tensions.items()},
-                          reactions, speed, result)
+                          reactions, speed, result, per_stop)
+
+
+def _states_of(model, guess) -> np.ndarray:
+    """The model's defaults (its parameter values) with the states of the full vector ``guess``."""
+    x, g = model.defaults(), np.asarray(guess, float)
+    if g.shape != x.shape:
+        raise InputError("guess", f"must be a full vector of {len(x)} values, got shape {g.shape}")
+    states = np.array([v.kind == "state" for v in model.variables])
+    x[states] = g[states]
+    return x
+
+
+def _stop_lock(result: SimulationResult, name: str, at_rest: bool) -> StopLock:
+    """The lock of stop ``name`` in ``result``: its last contact when that is its last contact or release event
+    and the run ended at rest, and its first impact's speed."""
+    evs = [ev for ev in result.stop_events if ev.stop == name]
+    last = next((ev for ev in reversed(evs) if ev.kind in ("contact", "release")), None)
+    first = next((ev for ev in evs if ev.kind == "impact"), None)
+    return StopLock(name, last.time if last is not None and last.kind == "contact" and at_rest else None,
+                    first.speed if first is not None else None)
 
 
 class _ConditionCrossing:
@@ -408,7 +483,7 @@ def quasi_static_critical(system, travel: str, start_value: float, lock_value: f
 def travel_of(system, start: Mapping[str, float], lock, values: Mapping[str, float] | None = None) -> tuple[str, float, float]:
     """The travel of a freefall: ``(variable, value at the released pose, value at the lock)``.
 
-    The variable is the lock stop's condition (its limit is the lock value) or the lock
+    The variable is the lock stop's condition (the first of several; its limit is the lock value) or the lock
     condition's state; its start value is computed at the pose assembled from ``start``."""
     from ..equations import as_model
     from ._simulate import assemble
@@ -419,14 +494,21 @@ def travel_of(system, start: Mapping[str, float], lock, values: Mapping[str, flo
     stop, target = _lock_spec(model, lock)
     name, end = (stop.condition, float(stop.limit)) if stop is not None else target  # type: ignore[misc]
     x0 = assemble(model, dict(start), hold=list(start))
+    return name, condition_value(model, x0, name), end
+
+
+def condition_value(system, x, name: str) -> float:
+    """The value of the coordinate or declared condition ``name`` at the full vector ``x`` (its unit),
+    computed from the coordinates (a condition's own entry in ``x`` need not be up to date)."""
+    from ..equations import as_model
+
+    model = as_model(system)
     rows = list(model.equation_names or ())
-    if f"cond_{name}" in rows:
-        y = np.array(x0, float)
-        y[model.index(name)] = 0.0
-        begin = float(model.residual(y)[rows.index(f"cond_{name}")])
-    else:
-        begin = float(x0[model.index(name)])
-    return name, begin, end
+    if f"cond_{name}" not in rows:
+        return float(x[model.index(name)])
+    y = np.array(x, float)
+    y[model.index(name)] = 0.0
+    return float(model.residual(y)[rows.index(f"cond_{name}")])
 
 
 def critical_figure(dampings: Sequence[float], dynamic: Sequence[float], quasi_static: float, *,

@@ -25,6 +25,10 @@ stops the chunk.
 * ``branch``: a summary of every sample's own release run (no batching): its points, folds,
   unstable points, the range of the force it covered and how it ended; with ``unlock`` the
   unlock columns then come from the same runs.
+* ``freefall`` (alone: no downlock solve): every sample released at rest from the retracted pose
+  (the spec's ``hold``) and simulated with its stops (:func:`mechcont.dynamics.freefall.freefall`):
+  its outcome, ``locked`` (every lock stop in contact at rest), the time to lock and the impact
+  speed; an integrator failure is a failed sample.
 """
 
 from __future__ import annotations
@@ -71,18 +75,30 @@ COLUMNS = {
     "branch_force_high": ("N", "largest force reached by the release run (nan where it ended at its own bound)"),
     "branch_status": ("", "how the release run ended: completed, stopped early, failed"),
     "branch_note": ("", "why branch_force_low or branch_force_high is nan"),
+    "outcome": ("", "freefall: locked, stalled (at rest short of locking) or timed out"),
+    "locked": ("", "freefall: every lock stop in contact, at rest"),
+    "time_to_lock": ("s", "freefall: when the last lock stop locked (nan: not locked)"),
+    "impact_speed": ("", "freefall: the last lock stop's condition rate at its first impact (its unit per s; nan: none)"),
+    "lock_spread": ("s", "freefall: how far apart in time the lock stops locked (nan: not all locked)"),
 }
+
+_FREEFALL = ("outcome", "locked", "time_to_lock", "impact_speed", "lock_spread")
 
 
 def result_columns(spec: StudySpec) -> list[str]:
     """The columns of a chunk of ``spec``, in order (as :func:`run_chunk` returns them)."""
+    if "freefall" in spec.analyses:
+        return ["sample", *spec.names, "status", "reason", *_FREEFALL]
     return ["sample", *spec.names, "status", "reason", "path", "downlock_force", "locks_unaided",
             *(_UNLOCK if "unlock" in spec.analyses else ()), *(_BRANCH if "branch" in spec.analyses else ())]
 
 
-def check_spec(system, spec: StudySpec) -> tuple[dict, str]:
+def check_spec(system, spec: StudySpec) -> tuple[dict, str | None]:
     """Check ``spec`` against the model before any work: every name known and a parameter
-    that may be set, the downlock condition resolvable. Returns ``(hold, force)``."""
+    that may be set, the downlock condition resolvable (the freefall's pose and lock stops). Returns
+    ``(hold, force)`` (a freefall study: ``(released pose, None)``)."""
+    if "freefall" in spec.analyses:
+        return _check_freefall(system, spec), None
     h, f = downlock_condition(system, dict(spec.hold) or None, spec.force, condition=spec.condition)
     _check_chunk_memory(system, spec)
     for n in (*spec.names, *dict(spec.values)):
@@ -111,6 +127,7 @@ def _check_chunk_memory(system, spec: StudySpec) -> None:
 
 def _plan(system, spec: StudySpec) -> dict:
     h, f = check_spec(system, spec)
+    assert f is not None  # a downlock study (a freefall study has no _plan)
     fixed = dict(spec.values)
     base = as_model(system).downlocked
     base = system.vector(fixed, base=base) if base is not None else system.vector(fixed)
@@ -120,6 +137,53 @@ def _plan(system, spec: StudySpec) -> dict:
             "cols": np.array([system.index(n) for n in spec.names]), "scales": system.scales(),
             "geometry": np.array([i for i, v in enumerate(system.variables)
                                   if v.kind == "state" and v.unit in ("rad", "m")], dtype=int)}
+
+
+def _check_freefall(system, spec: StudySpec) -> dict:
+    from ...dynamics.freefall import _lock_stops
+
+    if system.mechanics is None:
+        raise InputError("model", f"{spec.model} has no mechanics (masses, forces): it cannot be simulated")
+    _lock_stops(system, list(spec.lock))
+    for n, _ in spec.hold:
+        if n not in system.names or system.variable(n).kind != "state":
+            raise InputError("hold", f"{n} is not a coordinate or condition of {system.name} (the released pose)")
+    for n in (*spec.names, *dict(spec.values)):
+        if n not in system.names or system.variable(n).kind != "parameter":
+            raise InputError(n, f"is not a parameter of {system.name}; sample or set parameters only")
+    return dict(spec.hold)
+
+
+def _freefall_chunk(system, spec: StudySpec, S: np.ndarray, start: int, stop: int) -> dict:
+    """The ``freefall`` analysis of the samples ``S`` (rows ``start:stop`` of the study)."""
+    from ...dynamics.freefall import freefall
+
+    pose = _check_freefall(system, spec)
+    m = len(S)
+    status, reason = np.full(m, "converged", dtype=object), np.full(m, "", dtype=object)
+    outcome = np.full(m, "", dtype=object)
+    locked = np.zeros(m, dtype=bool)
+    t_lock, impact, spread = np.full(m, np.nan), np.full(m, np.nan), np.full(m, np.nan)
+    lock = spec.lock[0] if len(spec.lock) == 1 else list(spec.lock)
+    for i in range(m):
+        values = {**dict(spec.values), **{n: float(v) for n, v in zip(spec.names, S[i])}}
+        why = _valid(system, values)
+        if why:
+            status[i], reason[i] = "failed", why
+            continue
+        try:
+            run = freefall(system, pose, lock=lock, until=spec.until, values=values)
+        except (ConvergenceError, InputError) as exc:
+            status[i], reason[i] = "failed", f"freefall: {exc}"
+            continue
+        outcome[i], locked[i] = run.outcome, run.locked
+        if run.outcome == "failed":
+            status[i], reason[i] = "failed", f"freefall: {run.history.message}"
+        for arr, v in ((t_lock, run.time_to_lock), (impact, run.impact_speed), (spread, run.lock_spread)):
+            arr[i] = np.nan if v is None else v
+    return {"sample": np.arange(start, stop, dtype=np.int64), **{n: S[:, j] for j, n in enumerate(spec.names)},
+            "status": status, "reason": reason, "outcome": outcome, "locked": locked, "time_to_lock": t_lock,
+            "impact_speed": impact, "lock_spread": spread}
 
 
 def _valid(system, values: dict) -> str:
@@ -139,9 +203,11 @@ def run_chunk(system, spec: StudySpec, k: int, samples: np.ndarray | None = None
     Columns: ``sample`` (index), the sampled parameters (SI), then :data:`COLUMNS` (those of
     the requested analyses).
     """
+    start, stop = spec.chunk_rows(k)
+    if "freefall" in spec.analyses:
+        return _freefall_chunk(system, spec, (spec.samples() if samples is None else samples)[start:stop], start, stop)
     p = _plan(system, spec)
     h, f, base, names = p["hold"], p["force"], p["base"], spec.names
-    start, stop = spec.chunk_rows(k)
     S = (spec.samples() if samples is None else samples)[start:stop]
     m = len(S)
     X0 = np.tile(base, (m, 1))

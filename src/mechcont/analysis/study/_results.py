@@ -78,25 +78,30 @@ class FailureProbability:
     low: float
     high: float
     confidence: float
+    what: str = "not locking unaided"
 
     def line(self) -> str:
         """One line for a report."""
         extra = f"; {self.unsolved} samples unsolved, not counted" if self.unsolved else ""
-        return (f"P(not locking unaided) = {self.probability:.4g} ({self.failures} of {self.samples} samples), "
+        return (f"P({self.what}) = {self.probability:.4g} ({self.failures} of {self.samples} samples), "
                 f"{100 * self.confidence:g} % Clopper-Pearson interval [{self.low:.4g}, {self.high:.4g}]{extra}")
 
 
 def failure_probability(df, confidence: float = 0.95) -> FailureProbability:
-    """Probability that a sample does not lock unaided (downlock force <= 0 N), with its exact interval."""
+    """Probability that a sample does not lock unaided (downlock force <= 0 N), or for a freefall study
+    that its freefall fails to lock (column ``locked`` False), with its exact interval."""
     from scipy.stats import binomtest
 
     ok = (df["status"] == Status.CONVERGED).to_numpy()
     n = int(ok.sum())
-    k = int((df["downlock_force"].to_numpy()[ok] <= 0).sum())
+    freefall = "locked" in df and "downlock_force" not in df
+    fails = ~df["locked"].to_numpy(dtype=bool) if freefall else df["downlock_force"].to_numpy() <= 0
+    k = int(fails[ok].sum())
+    what = "freefall fails to lock" if freefall else "not locking unaided"
     if n == 0:
-        return FailureProbability(0, 0, int((~ok).sum()), float("nan"), 0.0, 1.0, confidence)
+        return FailureProbability(0, 0, int((~ok).sum()), float("nan"), 0.0, 1.0, confidence, what)
     ci = binomtest(k, n).proportion_ci(confidence_level=confidence, method="exact")
-    return FailureProbability(k, n, int((~ok).sum()), k / n, float(ci.low), float(ci.high), confidence)
+    return FailureProbability(k, n, int((~ok).sum()), k / n, float(ci.low), float(ci.high), confidence, what)
 
 
 @dataclass(frozen=True)
@@ -179,7 +184,7 @@ def study_report(df, spec, result, seconds: float) -> tuple[list[str], list[str]
     if "branch_folds" in df:
         counts = df.loc[ok, "branch_folds"].value_counts().sort_index()
         lines.append("release runs: " + ", ".join(f"{int(c)} with {int(k)} fold(s)" for k, c in counts.items()))
-    if spec.sampling != "grid" and int(ok.sum()) >= len(spec.names) + 2:
+    if spec.sampling != "grid" and int(ok.sum()) >= len(spec.names) + 2 and "downlock_force" in df:
         ranking, r2 = sensitivity(df, list(spec.names))
         lines.append(f"sensitivity of the downlock force (standardised regression coefficients, linear fit R^2 = {r2:.4f}):")
         units = df.attrs.get("units", {})

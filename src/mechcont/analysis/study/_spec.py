@@ -37,11 +37,13 @@ MAX_SAMPLES = 10_000_000
 #: Sampling schemes: a full grid, a Latin hypercube, plain Monte Carlo.
 SAMPLINGS = ("grid", "lhs", "mc")
 #: Analyses of each sample (see :mod:`mechcont.analysis.study._kernels`).
-ANALYSES = ("downlock", "unlock", "branch")
+ANALYSES = ("downlock", "unlock", "branch", "freefall")
 #: Samples per chunk when not given: a chunk should take >= 0.1 s (the batched downlock
 #: solves ~15,000 nose-gear samples per second; the unlock folds cost one release run per chunk and
 #: a batched fold polish, or a release run per sample where the batch does not apply).
-DEFAULT_CHUNK = {"downlock": 1000, "unlock": 100, "branch": 10}
+DEFAULT_CHUNK = {"downlock": 1000, "unlock": 100, "branch": 10, "freefall": 4}
+#: Longest simulated time (s) a freefall sample may ask for (as ``mechcont simulate``).
+MAX_UNTIL = 3600.0
 #: Fields of each distribution, in the order of the ``KIND:A:B...`` form.
 _FIELDS = {"uniform": ("low", "high"), "normal": ("mean", "sd"), "truncnormal": ("mean", "sd", "low", "high")}
 
@@ -180,7 +182,12 @@ class StudySpec:
         ``((name, value), ...)``: parameters fixed for the whole study (SI).
     hold, condition, force:
         The downlock condition (default the model's; see
-        :func:`~mechcont.analysis.downlock_condition`).
+        :func:`~mechcont.analysis.downlock_condition`). For the ``freefall`` analysis ``hold`` is
+        the released (retracted) pose instead (coordinates or conditions held while assembling).
+    lock, until:
+        The ``freefall`` analysis (alone: it has no downlock solve): each sample released at rest
+        from ``hold`` and simulated with its stops for at most ``until`` s; it locks when every
+        stop named in ``lock`` is in contact at rest (:func:`~mechcont.dynamics.freefall.freefall`).
     chunk:
         Samples per chunk (the unit of work, of a written part, and of resuming).
     model_hash:
@@ -200,6 +207,8 @@ class StudySpec:
     force: str | None = None
     chunk: int = 0
     model_hash: str = field(default="")
+    lock: tuple[str, ...] = ()
+    until: float = 0.0
 
     def __post_init__(self):
         if self.sampling not in SAMPLINGS:
@@ -224,12 +233,30 @@ class StudySpec:
         if not self.analyses or any(a not in ANALYSES for a in self.analyses):
             raise InputError("analysis", f"unknown analysis in {', '.join(self.analyses) or 'none'}; valid: "
                                          f"{', '.join(ANALYSES)}")
+        if "freefall" in self.analyses:
+            self._check_freefall()
+        elif self.lock or self.until:
+            raise InputError("lock" if self.lock else "until", "applies to the freefall analysis only (--analysis freefall)")
         if self.chunk < 0 or self.chunk > 1_000_000:
             raise InputError("chunk", f"must be 1..1000000 samples, got {self.chunk}")
         if self.chunk == 0:
             object.__setattr__(self, "chunk", min(DEFAULT_CHUNK[a] for a in self.analyses))
         if not 0 <= self.seed < 2**63:
             raise InputError("seed", f"must be a non-negative whole number, got {self.seed}")
+
+    def _check_freefall(self) -> None:
+        if len(self.analyses) != 1:
+            raise InputError("analysis", "freefall is a study of its own (a time simulation per sample, no downlock "
+                                         "solve): give --analysis freefall alone")
+        if self.condition is not None or self.force is not None:
+            raise InputError("condition" if self.condition is not None else "force",
+                             "is a downlock setting; a freefall study takes --hold (the released pose), --lock, --until")
+        if not self.hold:
+            raise InputError("hold", "give the released (retracted) pose of the freefall, e.g. --hold angle=3.0")
+        if not self.lock:
+            raise InputError("lock", "give the lock stop(s) of the freefall, e.g. --lock downlock")
+        if not (math.isfinite(self.until) and 0 < self.until <= MAX_UNTIL):
+            raise InputError("until", f"must be a number of seconds, 0 < SECONDS <= {MAX_UNTIL:g}, got {self.until:g}")
 
     # -- the samples -----------------------------------------------------------------------
     @property
@@ -291,6 +318,10 @@ class StudySpec:
                 out[k] = getattr(self, k)
         if self.model_hash:
             out["model_hash"] = self.model_hash
+        if self.lock:
+            out["lock"] = list(self.lock)
+        if self.until:
+            out["until"] = self.until
         return out
 
     @classmethod
@@ -328,7 +359,7 @@ class StudySpec:
         if not isinstance(data, Mapping):
             raise InputError(where, "must be a table of study settings")
         known = {"model", "sampling", "parameters", "n", "seed", "analyses", "set", "hold", "condition", "force",
-                 "chunk", "model_hash"}
+                 "chunk", "model_hash", "lock", "until"}
         for k in data:
             if k not in known:
                 raise InputError(f"{where}.{k}", f"unknown key; valid: {', '.join(sorted(known))}")
@@ -361,6 +392,10 @@ class StudySpec:
                 raise InputError(f"{where}.{key}", f"must be a whole number, got {v!r}")
             return int(v)
 
+        lock = data.get("lock", [])
+        lock = [lock] if isinstance(lock, str) else lock
+        if not isinstance(lock, list | tuple) or not all(isinstance(n, str) and n.isidentifier() for n in lock):
+            raise InputError(f"{where}.lock", "must be a stop's name or a list of them")
         analyses = data.get("analyses", ["downlock"])
         if isinstance(analyses, str) or not isinstance(analyses, list | tuple):
             raise InputError(f"{where}.analyses", f"must be a list of analyses ({', '.join(ANALYSES)})")
@@ -368,7 +403,8 @@ class StudySpec:
                    seed=whole("seed", 0), analyses=tuple(str(a) for a in analyses), values=pairs("set"),
                    hold=pairs("hold"), condition=_text(data.get("condition"), f"{where}.condition"),
                    force=_text(data.get("force"), f"{where}.force"), chunk=whole("chunk", 0),
-                   model_hash=str(data.get("model_hash", "")))
+                   model_hash=str(data.get("model_hash", "")), lock=tuple(lock),
+                   until=finite_number(data.get("until", 0.0), f"{where}.until"))
 
     def with_model_hash(self) -> StudySpec:
         """This spec with :attr:`model_hash` of its description file filled in (unchanged for a built-in)."""
