@@ -15,7 +15,7 @@ every command shows is written in ``outputs`` (``outputs.tables``) and ``units.d
 
 The layers are subpackages, each importing only those below it (tests/test_layers.py): ``equations``
 (the model type, compiled code); ``mechanism`` (descriptions to models) and ``continuation``; ``models``
-(built-in models); ``analysis`` and ``dynamics`` (time simulation); ``outputs``; then this API, the
+(built-in models); ``dynamics`` (time simulation); ``analysis`` (its studies simulate too); ``outputs``; then this API, the
 paper and the CLI. ``mechcont.continuation``
 is both the subpackage and, called, the function :func:`mechcont.continuation.continuation`.
 """

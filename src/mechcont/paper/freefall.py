@@ -167,7 +167,7 @@ def sidestay_retracted(system, theta_up: float = SIDESTAY_UP, steps: int = SIDES
     the last, so the lock links fold as they do when the gear retracts (assembled at once at gear up from
     the gear-down guess, a lock-link pair may take another of its assemblies). Returns the full vector;
     :class:`~mechcont.errors.InputError` when a stop's condition is on its forbidden side there."""
-    from ..dynamics._simulate import assemble
+    from ..dynamics import assemble
     from ..dynamics.freefall import condition_value
     from ..equations import as_model
     from ..errors import InputError
