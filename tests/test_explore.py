@@ -65,7 +65,8 @@ def _check_poses(system, branch: Branch, doc: dict, bodies: list[dict]) -> None:
             assert len(pose[key]) == len(items)
             for got, want in zip(pose[key], items):
                 _same(got, want)
-        for key, items in (("springs", scene.springs), ("dampers", scene.dampers), ("forces", scene.forces),
+        for key, items in (("springs", scene.springs), ("dampers", scene.dampers), ("slots", scene.slots),
+                           ("forces", scene.forces),
                            ("actuators", scene.actuators), ("moments", scene.moments), ("axes", scene.joint_axes)):
             assert [it[0] for it in pose[key]] == [it[0] for it in items]
             for got, want in zip(pose[key], items):
@@ -92,6 +93,25 @@ def test_overcentre_poses_are_the_model_points(tables):
     from mechcont.outputs.drawing import body_colours
 
     assert {b["name"]: b["colour"] for b in data["bodies"]} == body_colours([system.scene(branch.values[0])])
+
+
+def test_a_pin_in_slot_joint_is_drawn_as_its_slot():
+    """The quick-return mechanism's slot (tests/data/quick_return.toml, a pin-in-slot joint): embedded at
+    every row where the model's scene puts it (the page's script draws each as a line of kind "slot")."""
+    from pathlib import Path
+
+    from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium
+
+    system = load_model(Path(__file__).parent / "data" / "quick_return.toml")
+    x0 = find_equilibrium(system, hold={"theta_crank": 0.5}, free=["Mc"])
+    scales = {n: 10.0 for n in ("Mc", "R_O_x", "R_O_y", "R_C_x", "R_C_y", "R_slot")}
+    branch = continuation(system, x0, "Mc", options=ContinuationOptions(bounds={"theta_crank": (0.0, 1.0)},
+                                                                      scales=scales))
+    page = explore_page(system, [branch])
+    data = _embedded(page)
+    doc = data["branches"][0]
+    _check_poses(system, branch, doc, data["bodies"])
+    assert all(len(pose["slots"]) == 1 for pose in doc["poses"])
 
 
 def test_every_special_point_is_listed(tables):

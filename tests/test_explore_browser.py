@@ -145,3 +145,27 @@ def test_spatial_three_view(browser, tmp_path):
     _check_pose(page, system, branch["EP2"].x, views=("front", "side", "top"), axes=((1, 2), (0, 2), (0, 1)))
     assert "actuator" in page.inner_text("table.loads")
     assert errors == []
+
+
+def test_pin_in_slot_draws_its_slot(browser, tmp_path):
+    """A pin-in-slot joint's slot is drawn (an element of kind "slot") where the model's scene has it."""
+    from pathlib import Path
+
+    from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium
+
+    system = load_model(Path(__file__).parent / "data" / "quick_return.toml")
+    x0 = find_equilibrium(system, hold={"theta_crank": 0.5}, free=["Mc"])
+    scales = {n: 10.0 for n in ("Mc", "R_O_x", "R_O_y", "R_C_x", "R_C_y", "R_slot")}
+    branch = continuation(system, x0, "Mc", options=ContinuationOptions(bounds={"theta_crank": (0.0, 1.0)},
+                                                                      scales=scales))
+    page_file = tmp_path / "slot.html"
+    write_explore(page_file, system, [branch])
+    page, errors = _open(browser, page_file)
+    page.click(".sp button[data-point='EP2']")
+    slots = page.query_selector_all("svg.mech [data-kind='slot']")
+    want = system.scene(branch["EP2"].x).slots
+    assert len(slots) == len(want) == 1
+    np.testing.assert_allclose(_points(slots[0].get_attribute("data-xy")), np.array([want[0][1], want[0][2]], float),
+                               rtol=0, atol=1e-12)
+    _check_pose(page, system, branch["EP2"].x)
+    assert errors == []

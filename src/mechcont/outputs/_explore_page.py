@@ -209,6 +209,9 @@ function drawView(V,pose){var svg=V.svg,hs=V.hs;svg.innerHTML="";var g=el("g",{}
  pose.springs.forEach(function(it){el("polyline",{points:zig(V.P(it[1]),V.P(it[2]),
  0.7*hs).map(function(p){return p.join(",");}).join(" "),
   fill:"none",stroke:"#ff7f0e","stroke-width":1.4,"data-kind":"spring","data-name":it[0],"data-xy":xys([it[1],it[2]])},g);});
+ (pose.slots||[]).forEach(function(it){var a=V.P(it[1]),b=V.P(it[2]);el("line",{x1:a[0],y1:a[1],x2:b[0],y2:b[1],
+  stroke:"#555","stroke-width":7,"stroke-opacity":0.35,"stroke-linecap":"round","data-kind":"slot","data-name":it[0],
+  "data-xy":xys([it[1],it[2]])},g);});
  pose.dampers.forEach(function(it){var a=V.P(it[1]),b=V.P(it[2]);el("line",{x1:a[0],y1:a[1],x2:b[0],y2:b[1],stroke:"#8c564b",
   "stroke-width":3,"stroke-dasharray":"8 3","data-kind":"damper","data-name":it[0],"data-xy":xys([it[1],it[2]])},g);});
  pose.actuators.forEach(function(it){var a=V.P(it[1]),b=V.P(it[2]);el("line",{x1:a[0],y1:a[1],x2:b[0],y2:b[1],stroke:"#6a3d9a",

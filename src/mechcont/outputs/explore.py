@@ -44,7 +44,7 @@ def _xy(p) -> list[float]:
 def pose_json(scene: Scene, bodies: Mapping[str, int]) -> dict:
     """One pose as JSON-ready lists (metres, N, N m): ``bars`` ``[[body index, [[x, y(, z)], ...]], ...]``,
     ``pins``/``grounds``/``anchors`` ``[[x, y], ...]``, ``sliders`` ``[[point, direction]]``, ``springs``/
-    ``dampers`` ``[[name, a, b]]``, ``actuators`` ``[[name, a, b, tension N]]``, ``forces`` ``[[name, point,
+    ``dampers`` ``[[name, a, b]]``, ``slots`` (pin-in-slot joints) ``[[name, start, end]]``, ``actuators`` ``[[name, a, b, tension N]]``, ``forces`` ``[[name, point,
     vector N]]``, ``moments`` ``[[name, point, value N m (a 3-vector in 3-D)]]``, ``axes`` ``[[name, point,
     unit axis]]``. ``bodies`` maps a body name to its index in the page's body list."""
     return {
@@ -54,6 +54,7 @@ def pose_json(scene: Scene, bodies: Mapping[str, int]) -> dict:
         "sliders": [[_xy(p), _xy(d)] for p, d in scene.sliders],
         "springs": [[n, _xy(a), _xy(b)] for n, a, b in scene.springs],
         "dampers": [[n, _xy(a), _xy(b)] for n, a, b in scene.dampers],
+        "slots": [[n, _xy(a), _xy(b)] for n, a, b in scene.slots],
         "actuators": [[n, _xy(a), _xy(b), float(t)] for n, a, b, t in scene.actuators],
         "forces": [[n, _xy(p), _xy(f)] for n, p, f in scene.forces],
         "moments": [[n, _xy(p), _xy(m) if np.ndim(m) else float(m)] for n, p, m in scene.moments],
