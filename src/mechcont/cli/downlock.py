@@ -87,7 +87,7 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     from ..continuation import check_max_steps
     from ..equations import as_model
     from ..outputs.plotting import FIGURE_SUFFIXES
-    from ..outputs.tables import BRANCH_SUFFIXES, write_branch_table
+    from ..outputs.tables import BRANCH_SUFFIXES
 
     out_path = check_output_path(out, "--out", BRANCH_SUFFIXES)
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
@@ -139,6 +139,13 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     for note in branch.unlock.notes:
         click.echo(f"  {note}")
     warn(branch.warnings)
+    _write(branch, out_path, plot_path, vary, f, held, f"{system.name}: downlock force vs {vary}")
+
+
+def _write(branch, out_path, plot_path, vary: str, force: str, held: str, title: str) -> None:
+    """The branch's table (``--out``) and figure of the force against ``vary`` (``--plot``), each when asked."""
+    from ..outputs.tables import write_branch_table
+
     if out_path is not None:
         write_branch_table(branch, out_path)
         click.echo(f"wrote {out_path}")
@@ -146,8 +153,7 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
         from ..outputs.design_plots import downlock_figure
         from ..outputs.plotting import save_figure
 
-        fig = downlock_figure(branch, vary, f, held=held, title=f"{system.name}: downlock force vs {vary}")
-        save_figure(fig, plot_path, dpi=120)
+        save_figure(downlock_figure(branch, vary, force, held=held, title=title), plot_path, dpi=120)
         click.echo(f"wrote {plot_path}")
 
 
@@ -155,7 +161,6 @@ def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plo
     """``downlock`` on a description with stops: the lock rests on them (:mod:`mechcont.analysis.stop_lock`)."""
 
     from ..analysis.stop_lock import downlock_on_stops, with_stop_unlock_column
-    from ..outputs.tables import write_branch_table
 
     for n in values:
         system.variable(n)
@@ -182,14 +187,4 @@ def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plo
         for note in found.notes:
             click.echo(f"  {note}")
     warn(branch.warnings)
-    if out_path is not None:
-        write_branch_table(branch, out_path)
-        click.echo(f"wrote {out_path}")
-    if plot_path is not None:
-        from ..outputs.design_plots import downlock_figure
-        from ..outputs.plotting import save_figure
-
-        fig = downlock_figure(branch, vary, f, held=f"resting on stop {on}",
-                              title=f"{system.name}: lock on stop {on} vs {vary}")
-        save_figure(fig, plot_path, dpi=120)
-        click.echo(f"wrote {plot_path}")
+    _write(branch, out_path, plot_path, vary, f, f"resting on stop {on}", f"{system.name}: lock on stop {on} vs {vary}")

@@ -44,7 +44,8 @@ def _xy(p) -> list[float]:
 def pose_json(scene: Scene, bodies: Mapping[str, int]) -> dict:
     """One pose as JSON-ready lists (metres, N, N m): ``bars`` ``[[body index, [[x, y(, z)], ...]], ...]``,
     ``pins``/``grounds``/``anchors`` ``[[x, y], ...]``, ``sliders`` ``[[point, direction]]``, ``springs``/
-    ``dampers`` ``[[name, a, b]]``, ``slots`` (pin-in-slot joints) ``[[name, start, end]]``, ``actuators`` ``[[name, a, b, tension N]]``, ``forces`` ``[[name, point,
+    ``dampers`` ``[[name, a, b]]``, ``slots`` (pin-in-slot joints) ``[[name, start, end]]``,
+    ``actuators`` ``[[name, a, b, tension N]]``, ``forces`` ``[[name, point,
     vector N]]``, ``moments`` ``[[name, point, value N m (a 3-vector in 3-D)]]``, ``axes`` ``[[name, point,
     unit axis]]``. ``bodies`` maps a body name to its index in the page's body list."""
     return {
