@@ -161,7 +161,7 @@ def test_column_view_equals_the_columns_of_the_whole_jacobian_bit_for_bit(monkey
 def test_fold_system_blocks_are_the_column_views_bit_for_bit():
     """The fold system scatters d(G_s v)/dx straight into its Jacobian: the same bits as the view's
     jacobian_derivative with v on the states (and the view's Jacobian columns above it)."""
-    from mechcont.continuation._folds import _FoldSystem
+    from mechcont.continuation._fold_point import _FoldSystem
 
     system = load("fivebar")
     x0 = _point(system)

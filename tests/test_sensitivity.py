@@ -14,7 +14,7 @@ from mechcont.analysis.sensitivity import (
     fold_sensitivity,
 )
 from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium
-from mechcont.continuation._folds import polish_fold
+from mechcont.continuation._fold_point import polish_fold
 from mechcont.errors import ConvergenceError, InputError
 
 DATA = Path(__file__).parent / "data"

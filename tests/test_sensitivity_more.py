@@ -159,7 +159,7 @@ def test_nose_gear_margins_match_resolved_margins(kind):
     design, against central differences of the fold re-polished / the crossing re-solved at p +- h."""
     from mechcont.analysis.design import fold_locus
     from mechcont.analysis.downlock import downlock_point
-    from mechcont.continuation._folds import polish_fold
+    from mechcont.continuation._fold_point import polish_fold
 
     model = load_model("nose_gear")
     params = ["l_sp1", "LU", "L4", "k"]

@@ -16,7 +16,7 @@ import pytest
 from mechcont.analysis.downlock import downlock
 from mechcont.analysis.unlock import RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN, with_unlock_columns
 from mechcont.continuation import ContinuationOptions, continuation
-from mechcont.continuation._folds import refine_fold
+from mechcont.continuation._fold_point import refine_fold
 from mechcont.models import load_model
 
 CLAMP = Path(__file__).parent / "data" / "toggle_clamp.toml"

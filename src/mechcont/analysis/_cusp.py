@@ -9,7 +9,7 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from ..continuation._folds import fold_scaling
+from ..continuation._fold_point import fold_scaling
 from ..continuation._scaling import equilibrate
 from ..continuation._sensitivity import Sensitivity, _columns, _solve, _state_table, _units, check_parameters
 from ..equations import EquationSystem

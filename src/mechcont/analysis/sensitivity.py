@@ -14,7 +14,7 @@ from collections.abc import Iterable, Mapping, Sequence
 import numpy as np
 
 from ..continuation import choose_unknowns
-from ..continuation._folds import polish_fold
+from ..continuation._fold_point import polish_fold
 from ..continuation._sensitivity import (
     Sensitivity,
     check_parameters,

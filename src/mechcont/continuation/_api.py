@@ -11,7 +11,8 @@ from ..equations import EquationSystem, as_model
 from ..errors import ConvergenceError, InputError
 from ._branch import Branch, SpecialPoint
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent
-from ._folds import FoldProblem, fold_quantities, polish_fold, refine_fold
+from ._fold_point import fold_quantities, polish_fold, refine_fold
+from ._folds import FoldProblem
 from ._options import ContinuationOptions
 from ._palc import run_direction
 from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns

@@ -210,11 +210,11 @@ def fold_batch(system: EquationSystem, X0: np.ndarray, V0: np.ndarray, states: S
                tol: float = 1e-11, residual_tol: float = 1e-10, max_iter: int = 30) -> BatchFolds:
     """Folds in ``param`` near every row of ``X0`` at once: Newton on the standard augmented system.
 
-    The batched twin of :func:`~mechcont.continuation._folds.polish_fold`: unknowns the
+    The batched twin of :func:`~mechcont.continuation._fold_point.polish_fold`: unknowns the
     ``states``, ``param`` and the null vector ``v_hat`` in equilibrated coordinates
     (``v = col * v_hat``, ``|v_hat| = 1``), equations ``G = 0``, ``G_s col v_hat = 0``,
     ``(|v_hat|^2 - 1)/2 = 0``, rows and columns equilibrated. One scaling serves all rows: it
-    is read off the Jacobian at the first row (:func:`~mechcont.continuation._folds.fold_scaling`),
+    is read off the Jacobian at the first row (:func:`~mechcont.continuation._fold_point.fold_scaling`),
     so the rows should be perturbations of one fold (a tolerance study); Newton's iterates do
     not depend on the scaling, only the stopping test is measured in it. Full Newton steps (no
     line search), stopped per row when the scaled step is below ``tol`` and the residuals
@@ -237,7 +237,7 @@ def fold_batch(system: EquationSystem, X0: np.ndarray, V0: np.ndarray, states: S
         Never raises for a row that fails: it is not in ``converged`` (hand it to the
         single-point path).
     """
-    from ._folds import fold_scaling
+    from ._fold_point import fold_scaling
 
     X = np.array(X0, dtype=float, copy=True)
     m = len(X)

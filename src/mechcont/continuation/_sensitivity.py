@@ -36,7 +36,7 @@ from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 from ..units import derivative_unit
 from ._branch import SpecialPoint
-from ._folds import fold_quantities, fold_scaling, polish_fold
+from ._fold_point import fold_quantities, fold_scaling, polish_fold
 from ._problem import choose_unknowns
 from ._scaling import equilibrate
 
@@ -226,7 +226,7 @@ def fold_sensitivity(system: EquationSystem, x: np.ndarray, states: Sequence[str
     params:
         Held names to differentiate by.
     polish:
-        Locate the fold to machine precision first (:func:`~mechcont.continuation._folds.polish_fold`).
+        Locate the fold to machine precision first (:func:`~mechcont.continuation._fold_point.polish_fold`).
     null_vector:
         A guess of the right null vector over ``states`` for the polish.
 
