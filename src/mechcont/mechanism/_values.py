@@ -110,6 +110,10 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
     for d in mech.dampers:
         need(f"dampers.{d.name}.c", False, "damping (N s/m)")
         need(f"dampers.{d.name}.c2", False, "quadratic damping (N s^2/m^2)")
+    for st in mech.stops:
+        if st.contact == "compliant":
+            need(f"stops.{st.name}.stiffness", True, "contact stiffness (per unit of the condition)")
+            need(f"stops.{st.name}.damping", False, "contact damping (per unit of the condition's rate)")
     for ld in mech.loads:
         if isinstance(ld, Drag):
             f = f"loads.{ld.name}"
