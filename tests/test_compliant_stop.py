@@ -160,3 +160,29 @@ def test_stiffness_and_damping_may_be_expressions_in_parameters():
 def test_rigid_is_the_default():
     stop = model_from_text(open(f"{DATA}/bar_drop.toml").read(), "bar.toml").stops[0]
     assert stop.contact == "rigid"
+
+
+def test_spatial_compliant_stop_conserves_energy_with_its_spring():
+    # the 3-D pendulum on a floor (tests/data/spatial/pendulum_stop_3d.toml), its stop a distance condition (N/m)
+    text = open(f"{DATA}/spatial/pendulum_stop_3d.toml").read()
+    k = 1e5
+    system = model_from_text(text.replace('min = "d_min"', f'min = "d_min"\ncontact = "compliant"\nstiffness = {k}'),
+                             "pendulum_soft.toml")
+    x0 = assemble(system, {"gap": 1.0}, hold=["gap"])
+    r = simulate(system, x0, (0.0, 1.2), stops=True, rtol=1e-9, atol=1e-12)
+    kinds = [ev.kind for ev in r.stop_events]
+    assert r.success and kinds[:2] == ["contact", "release"] and len(kinds) >= 4
+    p = np.maximum(0.0, system.variable("d_min").value - r["gap"])
+    assert p.max() > 1e-3
+    mech, mg = system.mechanics, 2.0 * 9.81
+    energy = np.array([0.5 * v @ mech.mass(x) @ v + mg * x[system.index("z_bar")] for x, v in zip(r.values, r.qdot)])
+    energy += 0.5 * k * p**2
+    assert np.ptp(energy) < 1000 * 1e-9 * mg * 0.8  # a few hundred rtol of the energy scale m g L
+    np.testing.assert_allclose(r["R_floor"], k * p, rtol=1e-12, atol=0)  # the history's reaction is the penalty
+
+
+def test_spatial_compliant_stiffness_must_be_positive():
+    text = open(f"{DATA}/spatial/pendulum_stop_3d.toml").read()
+    with pytest.raises(InputError) as exc:
+        model_from_text(text.replace('min = "d_min"', 'min = "d_min"\ncontact = "compliant"\nstiffness = -5'), "bad.toml")
+    assert exc.value.field.endswith("stops.floor.stiffness") and "positive" in str(exc.value)

@@ -30,7 +30,7 @@ from ..errors import InputError
 from ._expr import Value, symbol
 
 __all__ = ["Stop", "stops_from_table", "check_stops", "stop_reaction_unit", "stop_forces",
-           "STOP_KEYS"]
+           "STOP_KEYS", "stop_value_limits"]
 
 #: Keys of a ``[stops.NAME]`` table.
 STOP_KEYS = frozenset({"condition", "min", "max", "restitution", "contact", "stiffness", "damping", "description"})
@@ -153,6 +153,17 @@ def _contact_model(spec: Mapping, f: str) -> tuple[str, Value | None, Value | No
             raise InputError(f"{f}.{k}", f"must be a number or an expression in parameters, got {v!r}")
         out.append(v)
     return contact, out[0], out[1]
+
+
+def stop_value_limits(mech) -> list[tuple[str, bool, str]]:
+    """``(key path, positive, what)`` of the stops' values with a physical range: a compliant
+    stop's stiffness (> 0) and damping (>= 0); shared by the planar and spatial value checks."""
+    out = []
+    for st in mech.stops:
+        if st.contact == "compliant":
+            out += [(f"stops.{st.name}.stiffness", True, "contact stiffness (per unit of the condition)"),
+                    (f"stops.{st.name}.damping", False, "contact damping (per unit of the condition's rate)")]
+    return out
 
 
 def check_stops(mech) -> None:
