@@ -108,6 +108,10 @@ def study_command(model, dists, grids, sample, method, n, seed, spec_file, analy
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     check_output_folder(out, "--out")
     if method == "form":
+        for option, given in (("--lock", lock), ("--until", until is not None)):
+            if given:  # they belong to --analysis freefall, which FORM does not run
+                raise InputError(option, "does not apply to --method form (FORM on the downlock force; --lock and "
+                                         "--until are for --analysis freefall with --method sampling)")
         return _form(model, dists, grids, sample, n, seed, spec_file, analyses, sets, holds, condition, force, out,
                      resume, chunk, scheduler, workers, plot, quiet)
     for name, v in (("--n", n), ("--chunk", chunk), ("--workers", workers)):

@@ -29,6 +29,10 @@ The gradient and curvature of a gap come from the mechanics itself: the stop's g
 is linear in its reaction, so ``grad g = Q(R = 1) - Q(R = 0)`` and ``Hess g = -(K(R = 1) - K(R = 0))``
 (``K`` the tangent stiffness at zero joint multipliers), exactly, for planar and spatial models.
 The gap's value is the description's condition row ``c(q) - NAME``.
+
+A stop with ``contact = "compliant"`` is never a constraint row: it pushes with a penalty
+reaction (:mod:`._compliant`) applied through the dynamics' forces, and its events are only its
+penetration crossing zero (``contact`` going in, ``release`` coming out; no velocity jump).
 """
 
 from __future__ import annotations
@@ -40,6 +44,7 @@ import numpy as np
 
 from .._roots import brentq
 from ..errors import InputError
+from ._compliant import CompliantLaw
 from ._udwadia_kalaba import _pinv_apply, fundamental_equation
 
 __all__ = ["StopEvent", "StopConstraints"]
@@ -64,7 +69,8 @@ class StopEvent:
     kind:
         ``"impact"`` (arrival at the limit with a speed), ``"contact"`` (the stop becomes a
         constraint: after a plastic impact, a rebound too small to resolve, or at the start) or
-        ``"release"`` (its reaction fell to zero and it lets go).
+        ``"release"`` (its reaction fell to zero and it lets go). For a compliant stop:
+        ``"contact"`` when its penetration becomes positive, ``"release"`` when it returns to zero.
     speed:
         For an impact: the approach speed of the condition (its unit per s, > 0); else 0.
     rebound:
@@ -148,6 +154,10 @@ class StopConstraints:
             k = int(np.flatnonzero(dyn.x[self.reaction] != 0)[0])
             raise InputError(self.stops[k].reaction, "is computed by a simulation with stops (the contact reaction); "
                                                      "leave it at 0")
+        self.law = CompliantLaw(self.stops)
+        self.soft = frozenset(self.law.index)
+        #: The compliant stops penetrated (between their contact and release events).
+        self.pressed: set[int] = set()
         self.rest_height = float(rest_height)
         self.active: list[int] = []
         self.events: list[StopEvent] = []
@@ -180,6 +190,15 @@ class StopConstraints:
         zero = np.zeros(mech.n_constraints)
         k0 = mech.tangent_stiffness(x, zero)
         return np.array([-(qd @ ((mech.tangent_stiffness(self._with_reaction(x, k), zero) - k0) @ qd)) for k in which])
+
+    def penalized(self, x: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        """``x`` (whose stop reactions are 0) with the compliant stops' penalty reactions set."""
+        if not self.law:
+            return x
+        idx = self.law.index
+        y = np.array(x, float)
+        y[self.reaction[idx]] = self.law.reactions(self.gaps(x)[idx], self.gradients(x, idx) @ qd)
+        return y
 
     # -- the equations of motion with the stops in contact ------------------------------------
     def rows(self, x: np.ndarray, qd: np.ndarray, A: np.ndarray, b: np.ndarray, which=None):
@@ -233,7 +252,8 @@ class StopConstraints:
         dyn = self.dyn
         self._g_old = self.gaps(dyn.full(t, y[: dyn.nq]))
         # free stops at their limits (just rebounded or released) are watched from the top of their flight
-        self._fresh = {k for k in range(len(self.stops)) if k not in self.active and self._g_old[k] < self.rest_height}
+        self._fresh = {k for k in range(len(self.stops))
+                       if k not in self.active and k not in self.soft and self._g_old[k] < self.rest_height}
         self._r_old = np.zeros(len(self.stops))
         if self.active:
             self._r_old[self.active] = self.reactions(t, y)
@@ -245,15 +265,16 @@ class StopConstraints:
         dyn = self.dyn
         g = self.gaps(dyn.full(t, y[: dyn.nq]))
         for k, gk in enumerate(g):
-            if gk < -START_GAP_TOL:
+            if gk < -START_GAP_TOL and k not in self.soft:
                 s = self.stops[k]
                 raise InputError("x0", f"the start is past the limit of stop {s.name} ({s.condition} "
                                        f"{'>=' if s.side > 0 else '<='} {s.limit:.6g}) by {-gk:.3g}; start on its allowed side")
-        touching = [k for k in range(len(g)) if g[k] <= START_GAP_TOL]
+        touching = [k for k in range(len(g)) if g[k] <= START_GAP_TOL and k not in self.soft]
+        self.pressed = {k for k in self.soft if g[k] <= START_GAP_TOL}
         y = self._impulse(t, y, touching, np.zeros(len(touching))) if touching else y
         self.active = list(touching)
         self._consistent(t, y)
-        for k in self.active:
+        for k in sorted([*self.active, *self.pressed]):
             self.events.append(StopEvent(t, self.names[k], "contact"))
         self.start(t, y)
         return y
@@ -300,7 +321,15 @@ class StopConstraints:
 
         for k in range(len(self.stops)):
             a = t_old
-            if k in self.active:
+            if k in self.soft:  # the penetration's sign changes: into contact, or out
+                def f(tt, k=k):  # > 0 across: out of a pressed stop, into a free one (fixed during locate)
+                    return gap(tt, k) if k in self.pressed else -gap(tt, k)
+                if not (f(t_new) > 0):
+                    continue
+                if f(a) > 0:  # already across at the start of the step (a graze): the event is there
+                    best = (a, k) if best is None or a < best[0] else best
+                    continue
+            elif k in self.active:
                 if not (self._r_old[k] > 0 >= r_new[k]):
                     continue
                 j = self.active.index(k)
@@ -341,6 +370,13 @@ class StopConstraints:
         after it and the events (an impact may be followed by contact, and by releases of others)."""
         out: list[StopEvent] = []
         added = False
+        if k in self.soft:  # the state goes on unchanged; only the bookkeeping switches
+            kind = "release" if k in self.pressed else "contact"
+            self.pressed ^= {k}
+            out.append(StopEvent(t, self.names[k], kind))
+            self.events.extend(out)
+            self.start(t, y)
+            return y, out
         if k in self.active:  # its reaction fell to zero
             self.active.remove(k)
             out.append(StopEvent(t, self.names[k], "release"))

@@ -168,7 +168,8 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     stops:
         True (all of the model's stops) or the names of the stops to simulate as unilateral
         constraints (impacts with the stop's ``restitution``, contact, release; see
-        :mod:`._contact`); default False: stops are ignored (their reactions stay at their values).
+        :mod:`._contact`), or, for a stop with ``contact = "compliant"``, as a penalty reaction
+        (:mod:`._compliant`); default False: stops are ignored (their reactions stay at their values).
         With stops the reactions ``R_NAME`` are computed (they must be 0 in ``x0``) and the
         history has two rows at each stop event after the start, just before and just after it
         (the velocities jump at an impact).
@@ -339,13 +340,17 @@ def _fill_conditions(system, values) -> None:
 
 
 def _fill_contacts(contacts, t, y, values, modes) -> list:
-    """The stops' reactions into the saved rows; the stop events with their row numbers."""
+    """The stops' reactions (rigid: the multipliers; compliant: the penalty) into the saved rows; the
+    stop events with their row numbers."""
     from dataclasses import replace
 
     for i, (ti, yi, mode) in enumerate(zip(t, y, modes)):
         if mode:
             contacts.active = list(mode)
             values[i, contacts.reaction[list(mode)]] = contacts.reactions(ti, yi)
+        if contacts.law:
+            idx = contacts.reaction[contacts.law.index]
+            values[i, idx] = contacts.penalized(contacts.dyn.full(ti, yi[: contacts.dyn.nq]), yi[contacts.dyn.nq:])[idx]
     out, i = [], 0
     for ev in contacts.events:  # rows are in time order; an event's row is the last one at its time
         while i + 1 < len(t) and t[i + 1] <= ev.time:

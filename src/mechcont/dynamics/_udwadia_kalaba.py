@@ -184,7 +184,10 @@ class ConstrainedDynamics:
         return self._Mis if self._Mis is not None else inverse_sqrt(self.mech.mass(x))
 
     def forces(self, x: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        """Applied generalised forces including the Rayleigh damping term (N, N m)."""
+        """Applied generalised forces including the Rayleigh damping term and the compliant
+        stops' reactions (N, N m)."""
+        if self.contacts is not None:  # the compliant stops' penalty reactions
+            x = self.contacts.penalized(x, qd)
         Q = self.mech.applied_forces(x, qd)
         if self.damping:
             Q = Q - self.damping * (self.mech.mass(x) @ qd)

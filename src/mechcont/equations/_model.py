@@ -39,7 +39,9 @@ class StopLimit:
     written in parameters follows :meth:`Model.with_values`);
     ``reaction`` names the contact reaction parameter (>= 0 in contact; see
     :mod:`mechcont.mechanism._stops`); ``restitution`` is Newton's coefficient ``e`` (0 to 1) the
-    time simulation applies at an impact on it."""
+    time simulation applies at an impact on it; ``contact`` is ``"rigid"`` or ``"compliant"`` (the
+    time simulation's penalty reaction ``max(0, stiffness p + damping p')`` on the penetration
+    ``p``, ``stiffness`` and ``damping`` per unit of the condition, at the model's parameter values)."""
 
     name: str
     condition: str
@@ -47,6 +49,9 @@ class StopLimit:
     side: int
     limit: float
     restitution: float = 0.0
+    contact: str = "rigid"
+    stiffness: float = 0.0
+    damping: float = 0.0
 
     @property
     def key(self) -> str:

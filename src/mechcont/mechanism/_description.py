@@ -562,6 +562,9 @@ class Mechanism:
                 yield f"conditions.{c.name}.target", c.target
         for st in self.stops:
             yield f"stops.{st.name}.{st.key}", st.limit
+            if st.contact == "compliant":
+                yield f"stops.{st.name}.stiffness", st.stiffness
+                yield f"stops.{st.name}.damping", st.damping
 
     def expr(self, value: Value, field: str) -> sp.Expr:
         """Parse ``value`` over the parameters (and, for custom loads and conditions, the coordinates)."""

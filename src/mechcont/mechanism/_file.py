@@ -29,7 +29,8 @@ Layout (every number may be an expression string in the parameter names)::
                                 | {type = "angle", bodies = [b1, b2], target, description}
                            (each adds the state NAME and the row cond_NAME: c(q, p) - NAME = 0;
                            see mechcont.mechanism._conditions for the sign conventions)
-    [stops.NAME]           condition, min = LIMIT or max = LIMIT, description: a one-sided limit
+    [stops.NAME]           condition, min = LIMIT or max = LIMIT, description, restitution, contact
+                           ("rigid" or "compliant" with stiffness, damping): a one-sided limit
                            of the condition; its contact reaction is the parameter R_NAME (>= 0,
                            default 0), see mechcont.mechanism._stops
     [mechanism] downlock = {condition = NAME, force = PARAMETER}: the condition held (at its

@@ -369,7 +369,9 @@ def condition_fields(mech: Mechanism, values: Mapping[str, float]) -> tuple[dict
         downlock["stops"] = tuple(
             StopLimit(s.name, s.condition, s.reaction, s.side,
                       evaluate(mech.value(f"stops.{s.name}.{s.key}"), values,
-                               f"stops.{s.name}"), s.restitution)
+                               f"stops.{s.name}"), s.restitution, s.contact,
+                      *(evaluate(mech.value(f"stops.{s.name}.{k}"), values, f"stops.{s.name}.{k}")
+                        if s.contact == "compliant" else 0.0 for k in ("stiffness", "damping")))
             for s in mech.stops)
     return targets, downlock
 

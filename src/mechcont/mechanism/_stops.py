@@ -30,10 +30,12 @@ from ..errors import InputError
 from ._expr import Value, symbol
 
 __all__ = ["Stop", "stops_from_table", "check_stops", "stop_reaction_unit", "stop_forces",
-           "STOP_KEYS"]
+           "STOP_KEYS", "stop_value_limits"]
 
 #: Keys of a ``[stops.NAME]`` table.
-STOP_KEYS = frozenset({"condition", "min", "max", "restitution", "description"})
+STOP_KEYS = frozenset({"condition", "min", "max", "restitution", "contact", "stiffness", "damping", "description"})
+#: Contact models of a stop in the time simulation.
+CONTACT_MODELS = ("rigid", "compliant")
 
 
 @dataclass(frozen=True)
@@ -56,6 +58,12 @@ class Stop:
         Newton's coefficient of restitution ``e`` (0 to 1) used by the time simulation at an
         impact: the condition's rate after the impact is ``-e`` times its rate before. Default 0
         (a lock does not bounce); quasi-static analyses do not use it.
+    contact:
+        ``"rigid"`` (a unilateral constraint with impacts) or ``"compliant"`` (a penalty
+        reaction ``max(0, stiffness p + damping p')`` on the penetration ``p``) in time simulation.
+    stiffness, damping:
+        Of a compliant stop: per unit of the condition (N/m or N m/rad; N s/m or N m s/rad),
+        numbers or expressions in parameters; None for a rigid stop.
     """
 
     name: str
@@ -64,6 +72,9 @@ class Stop:
     side: int = 1
     description: str = ""
     restitution: float = 0.0
+    contact: str = "rigid"
+    stiffness: Value | None = None
+    damping: Value | None = None
 
     @property
     def reaction(self) -> str:
@@ -113,7 +124,45 @@ def stops_from_table(tab: Mapping, field: str = "stops") -> list[Stop]:
         e = spec.get("restitution", 0.0)
         if isinstance(e, bool) or not isinstance(e, (int, float)) or not 0.0 <= e <= 1.0:
             raise InputError(f + ".restitution", f"must be a number from 0 (no bounce) to 1 (elastic), got {e!r}")
-        out.append(Stop(name, spec["condition"], limit, 1 if sides[0] == "min" else -1, desc, float(e)))
+        out.append(Stop(name, spec["condition"], limit, 1 if sides[0] == "min" else -1, desc, float(e),
+                        *_contact_model(spec, f)))
+    return out
+
+
+def _contact_model(spec: Mapping, f: str) -> tuple[str, Value | None, Value | None]:
+    """``(contact, stiffness, damping)`` of the stop table ``spec`` at key path ``f`` (checked;
+    the values' signs are checked with the parameters, see :func:`~._values.physical_limits`)."""
+    contact = spec.get("contact", "rigid")
+    if contact not in CONTACT_MODELS:
+        raise InputError(f + ".contact", f"must be one of {', '.join(map(repr, CONTACT_MODELS))}, got {contact!r}")
+    if contact == "rigid":
+        for k in ("stiffness", "damping"):
+            if k in spec:
+                raise InputError(f"{f}.{k}", 'is for a compliant stop: give contact = "compliant" (or remove it)')
+        return contact, None, None
+    if "stiffness" not in spec:
+        raise InputError(f + ".stiffness", "is required for a compliant stop: a positive number or expression "
+                                           "(N/m, or N m/rad for an angle or collinear condition)")
+    if "restitution" in spec:
+        raise InputError(f + ".restitution", "is for a rigid stop; a compliant stop's bounce follows from its "
+                                             "stiffness and damping")
+    out = []
+    for k in ("stiffness", "damping"):
+        v = spec.get(k, 0.0)
+        if isinstance(v, bool) or not isinstance(v, (int, float, str)):
+            raise InputError(f"{f}.{k}", f"must be a number or an expression in parameters, got {v!r}")
+        out.append(v)
+    return contact, out[0], out[1]
+
+
+def stop_value_limits(mech) -> list[tuple[str, bool, str]]:
+    """``(key path, positive, what)`` of the stops' values with a physical range: a compliant
+    stop's stiffness (> 0) and damping (>= 0); shared by the planar and spatial value checks."""
+    out = []
+    for st in mech.stops:
+        if st.contact == "compliant":
+            out += [(f"stops.{st.name}.stiffness", True, "contact stiffness (per unit of the condition)"),
+                    (f"stops.{st.name}.damping", False, "contact damping (per unit of the condition's rate)")]
     return out
 
 

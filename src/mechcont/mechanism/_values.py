@@ -12,6 +12,7 @@ from ..equations import Limit
 from ..errors import InputError
 from ._description import Drag, Mechanism, PointForce
 from ._expr import float_value
+from ._stops import stop_value_limits
 
 __all__ = ["parameter_values", "check_values", "check_finite", "check_stop_limits", "physical_limits", "evaluate",
            "value_check"]
@@ -110,6 +111,8 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
     for d in mech.dampers:
         need(f"dampers.{d.name}.c", False, "damping (N s/m)")
         need(f"dampers.{d.name}.c2", False, "quadratic damping (N s^2/m^2)")
+    for args in stop_value_limits(mech):
+        need(*args)
     for ld in mech.loads:
         if isinstance(ld, Drag):
             f = f"loads.{ld.name}"

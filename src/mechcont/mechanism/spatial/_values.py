@@ -6,6 +6,7 @@ from collections.abc import Mapping
 
 from ...equations import Limit
 from ...errors import InputError
+from .._stops import stop_value_limits
 from .._values import check_finite, check_stop_limits, evaluate
 from ._description import SpatialCustomLoad, SpatialDrag, SpatialMechanism, SpatialMoment
 from ._joints import Universal
@@ -36,6 +37,8 @@ def spatial_limits(mech: SpatialMechanism, *, solve: bool = True) -> list[Limit]
     for d in mech.dampers:
         need(f"dampers.{d.name}.c", False, "damping (N s/m)")
         need(f"dampers.{d.name}.c2", False, "quadratic damping (N s^2/m^2)")
+    for args in stop_value_limits(mech):
+        need(*args)
     for act in mech.actuators:
         if act.length is not None:
             need(f"actuators.{act.name}.length", True, "actuator length (m)")
