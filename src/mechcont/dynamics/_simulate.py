@@ -181,35 +181,12 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     SimulationResult
         Time history with named columns; ``constraint_drift`` reports ``max |Phi|``.
     """
-    if method not in _METHODS:
-        raise InputError("method", f"unknown integrator {method!r}; valid: {', '.join(_METHODS)}")
-    try:
-        t0, t1 = (float(v) for v in t_span)
-    except (TypeError, ValueError):
-        raise InputError("t_span", "must be (t0, t1) in seconds") from None
-    if not (math.isfinite(t0) and math.isfinite(t1) and t1 > t0):
-        raise InputError("t_span", f"needs finite t0 < t1, got ({t0}, {t1})")
-    for name, v in (("rtol", rtol), ("max_step", max_step)):
-        if not v > 0:
-            raise InputError(name, "must be positive")
-    if not _RTOL[0] <= rtol <= _RTOL[1]:  # below: rounding noise; above: no accuracy at all (1e300 was accepted)
-        raise InputError("rtol", f"must be between {_RTOL[0]:g} and {_RTOL[1]:g} (the integrator's relative tolerance), "
-                                 f"got {rtol:g}")
-    if np.any(np.asarray(atol) <= 0):
-        raise InputError("atol", "must be positive")
+    t0, t1, cls = _checked_options(method, t_span, rtol, atol, max_step, projection)
     x = initial_vector(system, x0)
     dyn = ConstrainedDynamics(system, x, loads=loads, baumgarte=baumgarte, damping=damping)
     coords = tuple(system.names[i] for i in dyn.q_index)
     nq = dyn.nq
-    phi0 = dyn.mech.phi(dyn.full(t0, x[dyn.q_index]))
-    if phi0.size and np.max(np.abs(phi0)) > _ASSEMBLY_TOL:
-        raise InputError("x0", f"coordinates violate the constraints by {np.max(np.abs(phi0)):.3g}; "
-                               "start from an assembled configuration (mechcont.dynamics.assemble)")
-    q, qd = dyn.project(t0, x[dyn.q_index], _velocities(system, qdot0, list(coords)))
-    y0 = np.concatenate([q, qd])
-    cls = _METHODS[method]
-    if projection and cls not in (RK23, RK45, DOP853):  # explicit RK: y and f can be reset after a step
-        raise InputError("projection", f"is supported with RK23, RK45 and DOP853, not {method}")
+    y0 = _start_state(system, dyn, t0, x, qdot0, coords)
     contacts = None
     if stops:
         from ._contact import StopConstraints
@@ -220,13 +197,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     solver = cls(dyn, t0, y0, t1, rtol=rtol, atol=atol, max_step=max_step)
     tracker = EventTracker(events, system, coords)
     tracker.start(dyn, t0, y0)
-    times = None if t_eval is None else np.asarray(t_eval, float)
-    if times is not None:
-        if times.ndim != 1 or np.any(np.diff(times) < 0) or times[0] < t0 or times[-1] > t1:
-            raise InputError("t_eval", "must be increasing times within t_span")
-    ts, ys = ([t0], [y0]) if times is None or (times.size and times[0] == t0) else ([], [])
-    modes = [_mode(contacts)] * len(ts)  # the stops in contact at each saved row
-    k_eval = 1 if ts and times is not None else 0
+    history = _History(t0, y0, t1, t_eval, contacts)
     status, detail = Status.FINISHED, ""
     at_once, t_last_event = 0, -math.inf
     while True:
@@ -241,7 +212,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             solver.y = np.concatenate([qp, qdp])
             solver.f = dyn(solver.t, solver.y)
         t_new, y_new = solver.t, solver.y
-        sol = solver.dense_output() if (tracker or contacts or times is not None) else None
+        sol = solver.dense_output() if (tracker or contacts or history.times is not None) else None
         hit = contacts.locate(t_old, t_new, y_new, sol) if contacts is not None else None
         if hit is not None:  # the step ends at the stop event
             assert sol is not None  # made for every step with stops
@@ -250,23 +221,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
         if t_stop is not None:
             hit = None  # a terminal event comes first
         t_end = t_new if t_stop is None else t_stop
-        if times is not None:
-            assert sol is not None  # made for every step with times to save
-            while k_eval < times.size and times[k_eval] <= t_end:
-                ts.append(float(times[k_eval]))
-                ys.append(sol(times[k_eval]))
-                k_eval += 1
-            if (t_stop is not None or hit is not None) and (not ts or ts[-1] < t_end):
-                ts.append(t_end)
-                ys.append(sol(t_end))
-        elif t_stop is not None or hit is not None:
-            assert sol is not None  # made for every step with events or stops
-            ts.append(t_end)
-            ys.append(sol(t_end))
-        else:
-            ts.append(t_new)
-            ys.append(y_new.copy())
-        modes += [_mode(contacts)] * (len(ts) - len(modes))
+        history.step(sol, t_new, y_new, t_end, ends_at_event=t_stop is not None or hit is not None)
         if progress is not None:
             progress(t_end)
         if t_stop is not None:
@@ -283,16 +238,93 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
                              else f", more than max_stop_events = {max_stop_events}") + ".")
                 break
             y_after, _ = contacts.handle(hit[0], y_new, hit[1])
-            ts.append(hit[0])  # the row after the event (the velocities jump at an impact)
-            ys.append(y_after)
-            modes.append(_mode(contacts))
+            history.add(hit[0], y_after)  # the row after the event (the velocities jump at an impact)
             solver = cls(dyn, hit[0], y_after, t1, rtol=rtol, atol=atol, max_step=max_step)
             tracker.start(dyn, hit[0], y_after)
             continue
         if solver.status == "finished":
             break
-    return _assemble_result(system, dyn, coords, np.array(ts), np.array(ys).reshape(-1, 2 * nq), status, tracker,
-                            detail, modes)
+    return _assemble_result(system, dyn, coords, np.array(history.ts), np.array(history.ys).reshape(-1, 2 * nq),
+                            status, tracker, detail, history.modes)
+
+
+def _checked_options(method: str, t_span, rtol: float, atol, max_step: float, projection: bool):
+    """``(t0, t1, solver class)`` of :func:`simulate`'s options; :class:`InputError` naming a bad one."""
+    if method not in _METHODS:
+        raise InputError("method", f"unknown integrator {method!r}; valid: {', '.join(_METHODS)}")
+    try:
+        t0, t1 = (float(v) for v in t_span)
+    except (TypeError, ValueError):
+        raise InputError("t_span", "must be (t0, t1) in seconds") from None
+    if not (math.isfinite(t0) and math.isfinite(t1) and t1 > t0):
+        raise InputError("t_span", f"needs finite t0 < t1, got ({t0}, {t1})")
+    for name, v in (("rtol", rtol), ("max_step", max_step)):
+        if not v > 0:
+            raise InputError(name, "must be positive")
+    if not _RTOL[0] <= rtol <= _RTOL[1]:  # below: rounding noise; above: no accuracy at all (1e300 was accepted)
+        raise InputError("rtol", f"must be between {_RTOL[0]:g} and {_RTOL[1]:g} (the integrator's relative tolerance), "
+                                 f"got {rtol:g}")
+    if np.any(np.asarray(atol) <= 0):
+        raise InputError("atol", "must be positive")
+    cls = _METHODS[method]
+    if projection and cls not in (RK23, RK45, DOP853):  # explicit RK: y and f can be reset after a step
+        raise InputError("projection", f"is supported with RK23, RK45 and DOP853, not {method}")
+    return t0, t1, cls
+
+
+def _start_state(system, dyn, t0: float, x: np.ndarray, qdot0, coords) -> np.ndarray:
+    """``(q, qdot)`` at ``t0``: ``x``'s coordinates (assembled, else :class:`InputError`) and ``qdot0``,
+    projected onto the constraints and their rates."""
+    phi0 = dyn.mech.phi(dyn.full(t0, x[dyn.q_index]))
+    if phi0.size and np.max(np.abs(phi0)) > _ASSEMBLY_TOL:
+        raise InputError("x0", f"coordinates violate the constraints by {np.max(np.abs(phi0)):.3g}; "
+                               "start from an assembled configuration (mechcont.dynamics.assemble)")
+    q, qd = dyn.project(t0, x[dyn.q_index], _velocities(system, qdot0, list(coords)))
+    return np.concatenate([q, qd])
+
+
+class _History:
+    """The rows :func:`simulate` keeps: every accepted step, or the ``t_eval`` times (interpolated on the
+    step's dense output), and a row at each event; with the stops in contact at each row."""
+
+    def __init__(self, t0: float, y0: np.ndarray, t1: float, t_eval, contacts) -> None:
+        self.times = None if t_eval is None else np.asarray(t_eval, float)
+        if self.times is not None and (self.times.ndim != 1 or np.any(np.diff(self.times) < 0)
+                                       or self.times[0] < t0 or self.times[-1] > t1):
+            raise InputError("t_eval", "must be increasing times within t_span")
+        first = self.times is None or (self.times.size and self.times[0] == t0)
+        self.ts: list[float] = [t0] if first else []
+        self.ys: list[np.ndarray] = [y0] if first else []
+        self.contacts = contacts
+        self.modes = [_mode(contacts)] * len(self.ts)  # the stops in contact at each saved row
+        self.k_eval = 1 if self.ts and self.times is not None else 0
+
+    def step(self, sol, t_new: float, y_new: np.ndarray, t_end: float, ends_at_event: bool) -> None:
+        """The rows of a step that ended at ``t_end`` (``t_new`` unless an event came first)."""
+        ts, ys, times = self.ts, self.ys, self.times
+        if times is not None:
+            assert sol is not None  # made for every step with times to save
+            while self.k_eval < times.size and times[self.k_eval] <= t_end:
+                ts.append(float(times[self.k_eval]))
+                ys.append(sol(times[self.k_eval]))
+                self.k_eval += 1
+            if ends_at_event and (not ts or ts[-1] < t_end):
+                ts.append(t_end)
+                ys.append(sol(t_end))
+        elif ends_at_event:
+            assert sol is not None  # made for every step with events or stops
+            ts.append(t_end)
+            ys.append(sol(t_end))
+        else:
+            ts.append(t_new)
+            ys.append(y_new.copy())
+        self.modes += [_mode(self.contacts)] * (len(ts) - len(self.modes))
+
+    def add(self, t: float, y: np.ndarray) -> None:
+        """One more row (the state just after a stop event)."""
+        self.ts.append(t)
+        self.ys.append(y)
+        self.modes.append(_mode(self.contacts))
 
 
 def _mode(contacts) -> tuple[int, ...]:
