@@ -317,16 +317,7 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
     x = np.array(start, dtype=float)
     undecided = _at_switch(system, x, st)
     active = set(stops_in_contact(system, x, st) if contact is None else contact) - undecided
-    for s in st:
-        R, gap = x[system.index(s.reaction)], s.gap(x[system.index(s.condition)])
-        if s.name in undecided:
-            continue
-        if (s.name in active and (R < 0 or abs(gap) > GAP_TOL)) or (s.name not in active and (R != 0 or gap < -GAP_TOL)):
-            raise InputError("start", f"stop {s.name} is not consistently in or out of contact there (reaction "
-                                      f"{s.reaction} = {R:.6g}, {s.condition} {gap:+.3g} from its limit): a stop in "
-                                      "contact has its condition at the limit and a reaction >= 0, a free one a zero "
-                                      "reaction and its condition on the allowed side; find the start with "
-                                      "equilibrium_on_stops")
+    _check_start_contacts(system, x, st, active, undecided)
     run = StopRun(branch=None)  # type: ignore[arg-type]
     sign = direction
     arriving: set[str] | None = None   # the set of the piece that ended at x (None at the start)
@@ -389,6 +380,23 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
     run.branch, row_piece = _join(system, run.pieces, vary, run, folds)
     _land(system, run, row_piece, vary, hold, free, st)
     return run
+
+
+def _check_start_contacts(system: EquationSystem, x: np.ndarray, stops: Sequence[StopLimit], active: set[str],
+                          undecided: set[str]) -> None:
+    """:class:`InputError` unless every stop not ``undecided`` is consistently in (``active``) or out of
+    contact at ``x``: in contact, its condition at the limit and a reaction >= 0; free, a zero reaction
+    and its condition on the allowed side."""
+    for s in stops:
+        R, gap = x[system.index(s.reaction)], s.gap(x[system.index(s.condition)])
+        if s.name in undecided:
+            continue
+        if (s.name in active and (R < 0 or abs(gap) > GAP_TOL)) or (s.name not in active and (R != 0 or gap < -GAP_TOL)):
+            raise InputError("start", f"stop {s.name} is not consistently in or out of contact there (reaction "
+                                      f"{s.reaction} = {R:.6g}, {s.condition} {gap:+.3g} from its limit): a stop in "
+                                      "contact has its condition at the limit and a reaction >= 0, a free one a zero "
+                                      "reaction and its condition on the allowed side; find the start with "
+                                      "equilibrium_on_stops")
 
 
 def _at_switch(system: EquationSystem, x: np.ndarray, stops: Sequence[StopLimit]) -> set[str]:
