@@ -31,6 +31,10 @@ __all__ = ["PseudoArclength", "StepSizeController", "Termination", "BranchSteps"
            "DirectionResult", "run_direction"]
 
 
+#: a stopping event's value this close to zero at the start (relative to its bound) is the start on it
+_ON_BOUND = 1e-14
+
+
 class Termination(Enum):
     """Why one direction of a branch ended; ``status`` is what :class:`Branch` reports."""
 
@@ -369,9 +373,12 @@ class BranchSteps(Iterator[RecordedPoint]):
         dz = z1 - cur.z
         step = math.sqrt(dz.dot(dz))
         new_values = [ev.value(problem, new) for ev in self.events]
+        # started on a bound (to within the rounding of the start's scaled round trip, which can put it
+        # an ulp outside) and this direction leaves the interval
         leaving = [ev for ev, v0, v1 in zip(self.events, self.values, new_values)
-                   if ev.stop and v0 == 0 and v1 < 0] if 0.0 in self.values else None
-        if leaving:  # started exactly on a bound and this direction leaves the interval
+                   if ev.stop and abs(v0) <= _ON_BOUND * max(1.0, abs(getattr(ev, "bound", 0.0))) and v1 < 0
+                   ] if self.steps == 0 else None
+        if leaving:
             ev = leaving[0]
             self._end(Termination.START_ON_BOUND, f"start lies on the bound of {ev.name or ev.label}",
                       ev.label, {"bound_of": ev.name, **ev.point_info()})
@@ -386,6 +393,11 @@ class BranchSteps(Iterator[RecordedPoint]):
         hits.sort(key=lambda h: h[1][0])
         for ev, (sigma, st, info) in hits:
             if self.steps == 0 and sigma <= 1e-6 * ds:
+                if ev.stop and new_values[self.events.index(ev)] < 0:  # the start lies on a bound (to within
+                    # rounding) and this direction leaves it
+                    self._end(Termination.START_ON_BOUND, f"start lies on the bound of {ev.name or ev.label}",
+                              ev.label, {"bound_of": ev.name, **ev.point_info()})
+                    return
                 continue  # the start itself is the special point (e.g. leaving a BP)
             if st is None:
                 continue
