@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from cli_helpers import make_runner, one_line_error
 from scipy.optimize import brentq
 
 from mechcont.analysis._stop_quantities import preload_sensitivity, stop_unlock_sensitivity
@@ -121,3 +122,21 @@ def test_stop_preload_needs_stops():
 def test_stop_preload_is_not_an_objective(gear):
     with pytest.raises(InputError, match="R_fwd_stop"):
         optimize(gear, "stop_preload", DS_BOUNDS, force=DS_FORCE)
+
+
+def test_cli_optimizes_the_lock_springs(tmp_path, optimum):
+    """``mechcont optimize ... --force F_lock --constraint 'stop_preload >= 20'``: the same optimum as the API."""
+    import json
+    from pathlib import Path
+
+    res, _ = optimum
+    example = Path(__file__).resolve().parents[1] / "examples" / "dual_sidestay.toml"
+    run = make_runner()
+    args = [example, "--minimize", "unlock_force", "--design", "k_lock=1000:16000", "--design", "stretch=0.5:0.85",
+            "--constraint", f"stop_preload >= {DS_MARGIN:g}"]
+    r = run("optimize", *args, "--force", DS_FORCE, "--out", tmp_path / "opt.json")
+    assert r.exit_code == 0, r.output
+    got = json.loads((tmp_path / "opt.json").read_text())
+    assert got["value"] == pytest.approx(res.value, rel=1e-9)
+    assert got["design"]["k_lock"] == pytest.approx(res.design["k_lock"], rel=1e-9)
+    one_line_error(run("optimize", *args, "--force", "F_nope"), "--force", "F_lock")
