@@ -140,3 +140,63 @@ def test_cli_optimizes_the_lock_springs(tmp_path, optimum):
     assert got["value"] == pytest.approx(res.value, rel=1e-9)
     assert got["design"]["k_lock"] == pytest.approx(res.design["k_lock"], rel=1e-9)
     one_line_error(run("optimize", *args, "--force", "F_nope"), "--force", "F_lock")
+
+
+TOL = {"k_lock": (200.0, "N/m"), "stretch": (0.005, "")}  # standard deviations, normal, centred on the design
+
+
+@pytest.fixture(scope="module")
+def reliable(gear, optimum):
+    """Least unlock load locking unaided at P(not locking) <= 1e-6, started from the deterministic optimum."""
+    from mechcont.analysis.study import Distribution
+
+    random = {n: Distribution("normal", (gear.variable(n).value, sd)) for n, (sd, _) in TOL.items()}
+    res = optimize(gear, "unlock_force", DS_BOUNDS, constraints=[Constraint.parse("P(not locking) <= 1e-6")],
+                   random=random, force=DS_FORCE, values=optimum[0].design)
+    return res, random
+
+
+def test_reliable_optimum_is_a_kkt_point_on_the_probability_bound(gear, reliable):
+    from scipy.stats import norm
+
+    from mechcont.analysis.optimize import BETA, _Quantities
+
+    res, random = reliable
+    assert res.success
+    assert res.quantities[BETA] == pytest.approx(norm.isf(1e-6), rel=1e-6)
+    assert [c for c, _ in res.active] == [f"{BETA} >= {norm.isf(1e-6):g}"]  # interior in both design parameters
+    q = _Quantities(gear, DESIGN, {}, None, random, DS_FORCE)
+    at = q.at(np.array([res.design[n] for n in DESIGN]), ["unlock_force", BETA])
+    span = np.array([DS_BOUNDS[n][1] - DS_BOUNDS[n][0] for n in DESIGN])
+    gf, gb = at["unlock_force"][1] * span, at[BETA][1] * span  # on the optimiser's scaled variables
+    tangent = np.array([-gb[1], gb[0]]) / np.linalg.norm(gb)
+    assert abs(gf @ tangent) <= 1e-4 * np.linalg.norm(gf)
+
+
+def test_reliable_optimum_beta_without_form(gear, reliable):
+    """The reliability index at the optimum as the distance to the nearest failure point in standard normal space,
+    found by a polar search (Brent along each ray, Brent over the ray's angle): no FORM, no gradient."""
+    from scipy.optimize import minimize_scalar
+
+    from mechcont.continuation import find_equilibrium
+
+    res, _ = reliable
+    stops = gear.stops
+    hold = {s.condition: float(s.limit) for s in stops}
+    free = [s.reaction for s in stops]
+    guess = locked_on_stops(gear, res.design)[0]
+
+    def weakest(u):
+        v = {n: res.design[n] + TOL[n][0] * ui for n, ui in zip(DESIGN, u)}
+        x = find_equilibrium(gear, values=v, hold=hold, free=free, guess=guess)
+        return min(float(x[gear.index(r)]) for r in free)
+
+    def radius(theta):
+        d = np.array([np.cos(theta), np.sin(theta)])
+        return brentq(lambda r: weakest(r * d), 0.0, 10.0, xtol=1e-12)
+
+    # failure lies towards a softer spring (u_k < 0) and a longer free length (u_stretch > 0)
+    coarse = np.linspace(np.pi / 2 + 0.05, np.pi - 0.05, 7)
+    t0 = coarse[int(np.argmin([radius(t) for t in coarse]))]
+    best = minimize_scalar(radius, bounds=(t0 - 0.25, t0 + 0.25), method="bounded", options={"xatol": 1e-7})
+    assert best.fun == pytest.approx(res.quantities["beta(not locking)"], rel=1e-6)

@@ -151,7 +151,7 @@ class _Quantities:
         self.rest: np.ndarray | None = None  # the last lock at rest on its stops: the next preload starts there
         self.fold = fold  # (x, states, vary) of the fold followed by fold_load, updated as the design moves
         self.random = dict(random or {})
-        self.u_star: np.ndarray | None = None  # the last design point: the next FORM starts there
+        self.u_star: dict[str | None, np.ndarray] = {}  # the last design point of each limit state: the next FORM starts there
         self.unlock_x: np.ndarray | None = None
         self.cache: dict[tuple, dict[str, tuple[float, np.ndarray]]] = {}
         self.evaluations = 0
@@ -198,28 +198,55 @@ class _Quantities:
         return s.value, np.array([s[n] for n in self.design])
 
     def _beta(self, vals: dict[str, float]) -> tuple[float, np.ndarray]:
-        """FORM's reliability index of the downlock force at this design, and its gradient over the design."""
-        from .reliability import Variables, downlock_limit_state, form
+        """FORM's reliability index of the downlock force at this design, and its gradient over the design.
+
+        A lock on stops fails when any stop leaves its stop: the limit state is the smallest of the stops' reactions
+        at rest (a series system), its gradient that of the smallest."""
+        from .reliability import Variables, downlock_limit_state
 
         names = list(self.random)
         shift = [vals[n] - d.centre if n in self.design else 0.0 for n, d in self.random.items()]
         fixed = {k: v for k, v in vals.items() if k not in self.random}
         variables = Variables(names, list(self.random.values()), shift)
-        limit = downlock_limit_state(self.system, names, fixed)
+        wrt = list(dict.fromkeys([*names, *self.design]))
+        if not self.reactions:
+            return self._form(None, downlock_limit_state(self.system, names, fixed), variables, fixed,
+                              lambda at: downlock_sensitivity(self.system, wrt, at))
+        from ._stop_quantities import preload_sensitivity
+
+        if self.rest is None:  # FORM's points may leave the stops (negative reactions): they start from the design's rest
+            where = ", ".join(f"{k} = {v:.6g}" for k, v in vals.items() if k in self.design)
+            self._preload(next(iter(self.reactions)), vals, where)
+
+        def weakest(at, params):
+            """The smallest stop reaction at rest at ``at``, differentiated by ``params``."""
+            return min((preload_sensitivity(self.system, at, r, params, guess=self.rest) for r in self.reactions),
+                       key=lambda q: q.value)
+
+        def limit(x):
+            s = weakest({**fixed, **dict(zip(names, map(float, x)))}, names)
+            return s.value, np.array([s[n] for n in names])
+
+        return self._form("stops", limit, variables, fixed, lambda at: weakest(at, wrt))
+
+    def _form(self, key, limit, variables, fixed, sensitivity) -> tuple[float, np.ndarray]:
+        """FORM of one limit state (warm-started from its last design point, ``key``) and d beta / d design."""
+        from .reliability import form
+
         p = form(limit, variables)
-        if self.u_star is not None:
+        if key in self.u_star:
             # a curved g = 0 has several local design points (the nose gear's F = 0 is U-shaped in (l_sp1, LU)): the
             # one found from the last design point counts only when nearer the mean than the one found from the mean
             try:
-                warm = form(limit, variables, u0=self.u_star)
+                warm = form(limit, variables, u0=self.u_star[key])
             except ConvergenceError:
                 warm = p
             if np.linalg.norm(warm.u) < np.linalg.norm(p.u):
                 p = warm
-        self.u_star = p.u
-        at = {**fixed, **dict(zip(names, p.x))}
+        self.u_star[key] = p.u
+        at = {**fixed, **dict(zip(variables.names, p.x))}
         # a designed toleranced value moves x itself (dx/dd = 1): its derivative is dg/dx
-        s = downlock_sensitivity(self.system, list(dict.fromkeys([*names, *self.design])), at)
+        s = sensitivity(at)
         return p.beta, np.array([s[n] for n in self.design]) / float(np.linalg.norm(p.grad_u))
 
     def _sensitivity(self, name: str, vals: dict[str, float]) -> Sensitivity:
