@@ -152,3 +152,17 @@ def test_design_optimum_section_numbers_resolve(tmp_path):
     hold, f = downlock_condition(stay)
     x = downlock_point(stay, {"k": k, "LU": lu})
     assert unlock == pytest.approx(unlock_folds(stay, x, f, released=tuple(hold)).above[f], abs=6e-4)
+
+    # the dual-sidestay gear: the printed design re-solved on its own (locked state, release run to the fold)
+    from mechcont.analysis.stop_lock import locked_on_stops, stop_unlock
+    from mechcont.paper.dual_sidestay import generated_gear
+
+    got = re.search(r"least unlock load of both pairs together is ([0-9.]+) N at k_lock = ([0-9.]+) N/m and "
+                    r"stretch = ([0-9.]+), with each stop's preload at rest at least ([0-9.]+) N m", text)
+    unlock, k, st, margin = map(float, got.groups())
+    gear = generated_gear()
+    x, contact = locked_on_stops(gear, {"k_lock": k, "stretch": st})
+    assert set(contact) == {"fwd_stop", "aft_stop"}
+    # printed to 0.1 N/m and 1e-6: the reaction moves 0.01 N m per N/m there
+    assert min(x[gear.index("R_fwd_stop")], x[gear.index("R_aft_stop")]) == pytest.approx(margin, abs=2e-3)
+    assert unlock == pytest.approx(stop_unlock(gear, x, "F_lock", stability=False, both=False).unlock_force, abs=6e-3)

@@ -3,7 +3,10 @@
 The quantities are those :mod:`mechcont.analysis.sensitivity` differentiates exactly: the
 downlock force, the unlock force (the fold bounding the locked state when the force
 increases, :mod:`mechcont.analysis.unlock`), the load at a fold followed from a start fold,
-and any parameter itself. SciPy's SLSQP gets their values and gradients; the design
+and any parameter itself. A lock resting on its stops (a description with ``[stops]``) has its
+unlock load from rest through the stops' release (:mod:`mechcont.analysis.stop_lock`) and each
+stop's preload at rest, its reaction ``R_NAME`` (``stop_preload >= b`` stands for every stop's,
+:mod:`mechcont.analysis._stop_quantities`). SciPy's SLSQP gets their values and gradients; the design
 variables are mapped to ``[0, 1]`` by their bounds and every function is divided by a typical
 magnitude, so newtons beside stiffnesses beside metres do not skew the steps.
 
@@ -31,6 +34,7 @@ import numpy as np
 
 from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
+from ._stop_quantities import stop_reactions
 from .sensitivity import Sensitivity, downlock_sensitivity, fold_sensitivity, write_json
 from .study._spec import Distribution
 
@@ -40,7 +44,7 @@ if TYPE_CHECKING:
 __all__ = ["Constraint", "OptimumResult", "optimize", "QUANTITIES", "NOT_LOCKING", "BETA", "OptimumMap", "optimum_map"]
 
 #: Named quantities besides the model's parameters.
-QUANTITIES = ("downlock_force", "unlock_force", "fold_load")
+QUANTITIES = ("downlock_force", "unlock_force", "fold_load", "stop_preload")
 #: The probability of a constraint ``P(not locking) <= p``, and the reliability index that stands for it inside.
 NOT_LOCKING, BETA = "P(not locking)", "beta(not locking)"
 _PROBABILITY = re.compile(r"^\s*P\(\s*not\s+locking(?:\s+unaided)?\s*\)\s*(<=|>=)\s*"
@@ -139,11 +143,15 @@ class _Quantities:
     """Values and exact gradients of the named quantities at a design, solved once per design."""
 
     def __init__(self, system: EquationSystem, design: Sequence[str], values: Mapping[str, float],
-                 fold: tuple[np.ndarray, Sequence[str], str] | None, random: Mapping[str, Distribution] | None = None):
+                 fold: tuple[np.ndarray, Sequence[str], str] | None, random: Mapping[str, Distribution] | None = None,
+                 force: str | None = None):
         self.system, self.design, self.values = system, list(design), dict(values)
+        self.force = force  # the force that opens a lock on stops
+        self.reactions = stop_reactions(system)
+        self.rest: np.ndarray | None = None  # the last lock at rest on its stops: the next preload starts there
         self.fold = fold  # (x, states, vary) of the fold followed by fold_load, updated as the design moves
         self.random = dict(random or {})
-        self.u_star: np.ndarray | None = None  # the last design point: the next FORM starts there
+        self.u_star: dict[str | None, np.ndarray] = {}  # the last design point of each limit state: the next FORM starts there
         self.unlock_x: np.ndarray | None = None
         self.cache: dict[tuple, dict[str, tuple[float, np.ndarray]]] = {}
         self.evaluations = 0
@@ -163,6 +171,8 @@ class _Quantities:
         where = ", ".join(f"{k} = {v:.6g}" for k, v in vals.items() if k in self.design)
         if name in self.design:
             return vals[name], np.array([1.0 if n == name else 0.0 for n in self.design])
+        if name in self.reactions:
+            return self._preload(name, vals, where)
         if name in self.system.names:
             return vals.get(name, self.system.variable(name).value), np.zeros(len(self.design))
         try:
@@ -173,29 +183,70 @@ class _Quantities:
             raise InputError(name, f"not found at {where}: {exc}") from None
         return s.value, np.array([s[n] for n in self.design])
 
+    def _preload(self, name: str, vals: dict[str, float], where: str) -> tuple[float, np.ndarray]:
+        """A stop's reaction at rest (all stops held) and its gradient over the design."""
+        from ._stop_quantities import preload_sensitivity
+
+        try:
+            s = preload_sensitivity(self.system, vals, name, self.design, guess=self.rest)
+        except ConvergenceError:
+            try:  # from the description's configuration instead of the last design's
+                s = preload_sensitivity(self.system, vals, name, self.design)
+            except ConvergenceError as exc:
+                raise InputError(name, f"no lock at rest on the stops at {where}: {exc}") from None
+        self.rest = s.x
+        return s.value, np.array([s[n] for n in self.design])
+
     def _beta(self, vals: dict[str, float]) -> tuple[float, np.ndarray]:
-        """FORM's reliability index of the downlock force at this design, and its gradient over the design."""
-        from .reliability import Variables, downlock_limit_state, form
+        """FORM's reliability index of the downlock force at this design, and its gradient over the design.
+
+        A lock on stops fails when any stop leaves its stop: the limit state is the smallest of the stops' reactions
+        at rest (a series system), its gradient that of the smallest."""
+        from .reliability import Variables, downlock_limit_state
 
         names = list(self.random)
         shift = [vals[n] - d.centre if n in self.design else 0.0 for n, d in self.random.items()]
         fixed = {k: v for k, v in vals.items() if k not in self.random}
         variables = Variables(names, list(self.random.values()), shift)
-        limit = downlock_limit_state(self.system, names, fixed)
+        wrt = list(dict.fromkeys([*names, *self.design]))
+        if not self.reactions:
+            return self._form(None, downlock_limit_state(self.system, names, fixed), variables, fixed,
+                              lambda at: downlock_sensitivity(self.system, wrt, at))
+        from ._stop_quantities import preload_sensitivity
+
+        if self.rest is None:  # FORM's points may leave the stops (negative reactions): they start from the design's rest
+            where = ", ".join(f"{k} = {v:.6g}" for k, v in vals.items() if k in self.design)
+            self._preload(next(iter(self.reactions)), vals, where)
+
+        def weakest(at, params):
+            """The smallest stop reaction at rest at ``at``, differentiated by ``params``."""
+            return min((preload_sensitivity(self.system, at, r, params, guess=self.rest) for r in self.reactions),
+                       key=lambda q: q.value)
+
+        def limit(x):
+            s = weakest({**fixed, **dict(zip(names, map(float, x)))}, names)
+            return s.value, np.array([s[n] for n in names])
+
+        return self._form("stops", limit, variables, fixed, lambda at: weakest(at, wrt))
+
+    def _form(self, key, limit, variables, fixed, sensitivity) -> tuple[float, np.ndarray]:
+        """FORM of one limit state (warm-started from its last design point, ``key``) and d beta / d design."""
+        from .reliability import form
+
         p = form(limit, variables)
-        if self.u_star is not None:
+        if key in self.u_star:
             # a curved g = 0 has several local design points (the nose gear's F = 0 is U-shaped in (l_sp1, LU)): the
             # one found from the last design point counts only when nearer the mean than the one found from the mean
             try:
-                warm = form(limit, variables, u0=self.u_star)
+                warm = form(limit, variables, u0=self.u_star[key])
             except ConvergenceError:
                 warm = p
             if np.linalg.norm(warm.u) < np.linalg.norm(p.u):
                 p = warm
-        self.u_star = p.u
-        at = {**fixed, **dict(zip(names, p.x))}
+        self.u_star[key] = p.u
+        at = {**fixed, **dict(zip(variables.names, p.x))}
         # a designed toleranced value moves x itself (dx/dd = 1): its derivative is dg/dx
-        s = downlock_sensitivity(self.system, list(dict.fromkeys([*names, *self.design])), at)
+        s = sensitivity(at)
         return p.beta, np.array([s[n] for n in self.design]) / float(np.linalg.norm(p.grad_u))
 
     def _sensitivity(self, name: str, vals: dict[str, float]) -> Sensitivity:
@@ -217,6 +268,11 @@ class _Quantities:
         from .unlock import unlock_folds
 
         system = self.system
+        if self.reactions:
+            from ._stop_quantities import stop_unlock_sensitivity
+            from .stop_lock import lock_force
+
+            return stop_unlock_sensitivity(system, vals, lock_force(system, self.force), self.design)
         hold, force = downlock_condition(system)
         x = downlock_point(system, vals, hold=hold, force=force)
         folds = unlock_folds(system, x, force, released=tuple(hold), stability=False)
@@ -231,7 +287,8 @@ class _Quantities:
 def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[float, float]], *,
              maximize: bool = False, constraints: Sequence[Constraint] = (), values: Mapping[str, float] | None = None,
              fold: tuple[np.ndarray, Sequence[str], str] | None = None, max_iter: int = 100,
-             tol: float = 1e-10, random: Mapping[str, Distribution] | None = None, starts: int = 1) -> OptimumResult:
+             tol: float = 1e-10, random: Mapping[str, Distribution] | None = None, starts: int = 1,
+             force: str | None = None) -> OptimumResult:
     """Minimise (or maximise) ``objective`` over the parameters of ``bounds`` subject to ``constraints``.
 
     Parameters
@@ -239,7 +296,8 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
     system:
         The model.
     objective:
-        ``"downlock_force"``, ``"unlock_force"``, ``"fold_load"`` or a parameter's name.
+        ``"downlock_force"``, ``"unlock_force"``, ``"fold_load"`` or a parameter's name; on a model with
+        stops also a stop's reaction ``R_NAME``: its preload at rest (all stops held at their limits).
     bounds:
         ``{parameter: (low, high)}`` (SI): the design variables.
     maximize:
@@ -259,6 +317,9 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
     starts:
         SLSQP finds a local optimum: with ``starts`` = n > 1 it also starts from the n^d points
         of an even grid over the bounds (corners included) and keeps the best feasible optimum.
+    force:
+        The force that opens a lock on stops, for its ``unlock_force`` (default the model's downlock
+        force, else ``F``). A ``stop_preload`` constraint stands for one on each stop's reaction.
 
     Returns an :class:`OptimumResult`. Raises :class:`InputError` for an unknown quantity, a
     design name that is not a parameter, empty bounds, or a quantity that does not exist at
@@ -270,14 +331,18 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
     if not design:
         raise InputError("design", "give at least one design parameter with its bounds")
     valid = (*QUANTITIES, *system.parameter_names)
-    constraints = _reliability_constraints(system, constraints, random)
+    constraints = _stop_constraints(system, _reliability_constraints(system, constraints, random))
+    if objective == "stop_preload":
+        reactions = ", ".join(stop_reactions(system)) or "none"
+        raise InputError("stop_preload", f"as an objective name one stop's reaction: {reactions}")
     for name in (objective, *(c.quantity for c in constraints if c.quantity != BETA)):
         if name not in valid:
             raise InputError(name, f"not a quantity; valid: {', '.join(valid)}"
                                    + (f" ({NOT_LOCKING} only in a constraint)" if name == NOT_LOCKING else ""))
     for n in design:
-        if system.variable(n).kind != "parameter":
-            raise InputError(n, f"design variables must be parameters; valid: {', '.join(system.parameter_names)}")
+        if system.variable(n).kind != "parameter" or n in stop_reactions(system):
+            raise InputError(n, "design variables must be parameters (not a stop's reaction); valid: "
+                                + ", ".join(system.parameter_names))
         lo, hi = bounds[n]
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
             raise InputError(n, f"needs finite bounds LO < HI, got {lo:g}:{hi:g}")
@@ -285,7 +350,7 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
     hi = np.array([bounds[n][1] for n in design])
     base = system.vector(values or {})
     z0 = np.clip(np.array([base[system.index(n)] for n in design]), lo, hi)
-    q = _Quantities(system, design, values or {}, fold, random)
+    q = _Quantities(system, design, values or {}, fold, random, force)
     names = list(dict.fromkeys([objective, *(c.quantity for c in constraints)]))
     sign = -1.0 if maximize else 1.0
 
@@ -340,6 +405,20 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
         quantities[NOT_LOCKING] = float(norm.cdf(-quantities[BETA]))
     return OptimumResult({n: float(v) for n, v in zip(design, z)}, objective, float(at[objective][0]),
                          quantities, active, int(res.nit), q.evaluations, bool(res.success), str(res.message), units)
+
+
+def _stop_constraints(system: EquationSystem, constraints: Sequence[Constraint]) -> list[Constraint]:
+    """``stop_preload >= b`` as ``R_NAME >= b`` for each stop of the model (the lock rests on all of them)."""
+    reactions = stop_reactions(system)
+    out = []
+    for c in constraints:
+        if c.quantity != "stop_preload":
+            out.append(c)
+        elif not reactions:
+            raise InputError("constraint", f"'{c}': model '{system.name}' has no stops (declare [stops.NAME])")
+        else:
+            out += [Constraint(r, c.sense, c.bound) for r in reactions]
+    return out
 
 
 def _starts(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, n: int):

@@ -12,17 +12,21 @@ from ._parse import assignments, bounds
 @cli.command("optimize")
 @click.argument("model")
 @click.option("--minimize", "minimize_", metavar="QUANTITY",
-              help="Quantity to minimise: downlock_force, unlock_force, fold_load or a parameter.")
+              help="Quantity to minimise: downlock_force, unlock_force, fold_load, a parameter or (a lock on stops) "
+                   "a stop's reaction R_NAME at rest.")
 @click.option("--maximize", "maximize_", metavar="QUANTITY", help="Quantity to maximise (as --minimize).")
 @click.option("--design", "designs", multiple=True, required=True, metavar="NAME=LO:HI",
               help="A design parameter and its bounds (SI units, rad); repeat for each.")
 @click.option("--constraint", "constraints", multiple=True, metavar="'QUANTITY >= NUMBER'",
               help="A constraint, QUANTITY >= NUMBER or QUANTITY <= NUMBER (SI), or 'P(not locking) <= P' "
-                   "(FORM over the --dist tolerances); repeat for each.")
+                   "(FORM over the --dist tolerances); 'stop_preload >= N' holds every stop's reaction at rest; "
+                   "repeat for each.")
 @click.option("--dist", "dists", multiple=True, metavar="NAME=KIND:...",
               help="A toleranced parameter for P(not locking): normal:MEAN:SD, uniform:LO:HI or "
                    "truncnormal:MEAN:SD:LO:HI (SI); on a --design parameter it moves with the design value.")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Another parameter's value (SI units, rad).")
+@click.option("--force", "force", default=None, metavar="NAME",
+              help="For unlock_force of a lock on stops: the force that opens it (default the model's downlock force).")
 @click.option("--point", metavar="BRANCH.csv:LPn", help="For fold_load: the start fold, a point of a branch table.")
 @click.option("--max-iter", type=click.IntRange(1, 1000), default=100, show_default=True, help="Most SLSQP iterations.")
 @click.option("--starts", type=click.IntRange(1, 20), default=1, show_default=True,
@@ -32,8 +36,8 @@ from ._parse import assignments, bounds
 @click.option("--plot", default=None, metavar="FILE",
               help="With two --design parameters: the optimum on their design map, with the active constraints' "
                    "boundaries (.png, .svg, .pdf).")
-def optimize_command(model, minimize_, maximize_, designs, constraints, dists, sets, point, max_iter, starts, out,
-                     plot):
+def optimize_command(model, minimize_, maximize_, designs, constraints, dists, sets, force, point, max_iter, starts,
+                     out, plot):
     """Minimise or maximise a quantity over the --design parameters within their bounds, under --constraint.
 
     SLSQP on exact gradients (implicit-function theorem). Prints the optimum, the active
@@ -68,6 +72,9 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
     system = load_model(model)
     for n in values:
         system.index(n)
+    if force is not None and force not in system.parameter_names:
+        raise InputError("--force", f"'{force}' is not a parameter of {system.name}; parameters: "
+                                    + ", ".join(system.parameter_names))
     fold = _fold(system, point) if point else None
     random = _distributions(dists)
     try:
@@ -75,7 +82,7 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
         if random and not any(c.quantity == NOT_LOCKING for c in parsed):
             raise InputError("--dist", f"tolerances are for a constraint '{NOT_LOCKING} <= P'; none is given")
         result = optimize(system, minimize_ or maximize_, design, maximize=maximize_ is not None, constraints=parsed,
-                          values=values, fold=fold, max_iter=max_iter, random=random, starts=starts)
+                          values=values, fold=fold, max_iter=max_iter, random=random, starts=starts, force=force)
     except InputError as exc:
         if exc.field in ("constraint", "dist"):
             raise InputError(f"--{exc.field}", str(exc)[len(exc.field) + 2:]) from None

@@ -6,9 +6,14 @@
 * The lock stay (``lockstay.toml``): the smallest unlock load its actuator must overcome, over the
   spring's stiffness and free length (both toleranced), with the gear locking unaided at the same
   probability; drawn on its design map with the probability constraint's boundary.
+* The dual-sidestay gear (``examples/dual_sidestay.toml``), whose lock-link pairs rest on overcentre
+  stops: the smallest unlock load of both pairs together (``F_lock``, the release run from rest to
+  its fold) over the lock springs' stiffness and stretch, with each stop's preload at rest (its
+  reaction) at least :data:`DS_MARGIN` (deterministic: the FORM constraint holds a downlock force,
+  not a stop's reaction).
 
 Both are :func:`~mechcont.analysis.optimize.optimize` (SLSQP on exact gradients, FORM inside for
-the probability), a few seconds together.
+the probability), a few seconds together (the dual-sidestay optimum about 2 s).
 """
 
 from __future__ import annotations
@@ -18,7 +23,8 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
-__all__ = ["P_MAX", "NOSE_TOLERANCES", "STAY_TOLERANCES", "NOSE_BOUNDS", "STAY_BOUNDS", "compute", "run"]
+__all__ = ["P_MAX", "NOSE_TOLERANCES", "STAY_TOLERANCES", "NOSE_BOUNDS", "STAY_BOUNDS", "DS_BOUNDS", "DS_MARGIN",
+           "DS_FORCE", "dual_sidestay_optimum", "compute", "run"]
 
 #: The probability of not locking unaided that both designs allow.
 P_MAX = 1e-6
@@ -28,6 +34,14 @@ NOSE_BOUNDS = {"LU": (1.2, 1.4)}
 #: The lock stay's tolerances (spring stiffness and free length; both centres move with the design).
 STAY_TOLERANCES = {"LU": ("normal", (0.6, 0.005), "m"), "k": ("normal", (20000.0, 1500.0), "N/m")}
 STAY_BOUNDS = {"LU": (0.5, 0.7), "k": (10000.0, 30000.0)}
+#: The dual-sidestay gear's lock springs (both pairs alike): stiffness (N/m) and stretch (free length over installed
+#: length; 0.5 = stretched to twice the free length, the most allowed).
+DS_BOUNDS = {"k_lock": (1000.0, 16000.0), "stretch": (0.5, 0.85)}
+#: The least preload (N m) each overcentre stop of the dual-sidestay gear must carry at rest: a third of the
+#: forward stop's at the description's springs (61.7 N m).
+DS_MARGIN = 20.0
+#: The unlock force of both lock-link pairs together.
+DS_FORCE = "F_lock"
 
 
 @dataclass
@@ -40,6 +54,8 @@ class DesignOptima:
     stay_force: float
     stay_map: object
     seconds: dict
+    sidestay: object = None
+    sidestay_nominal: dict | None = None
 
 
 def _random(tolerances):
@@ -76,7 +92,27 @@ def compute() -> DesignOptima:
     t0 = time.perf_counter()
     stay_map = optimum_map(stay_model, stay, STAY_BOUNDS, constraints=_constraint(), random=_random(STAY_TOLERANCES))
     seconds["lock stay: design map with the optimum"] = time.perf_counter() - t0
-    return DesignOptima(nose, nose_force, stay, stay_force, stay_map, seconds)
+    t0 = time.perf_counter()
+    sidestay, nominal = dual_sidestay_optimum()
+    seconds["dual-sidestay gear: least unlock load, stops preloaded"] = time.perf_counter() - t0
+    return DesignOptima(nose, nose_force, stay, stay_force, stay_map, seconds, sidestay, nominal)
+
+
+def dual_sidestay_optimum(margin: float = DS_MARGIN):
+    """The dual-sidestay gear's lock springs with the least unlock load (:data:`DS_FORCE`, N) with each stop's
+    preload at rest at least ``margin`` (N m), over :data:`DS_BOUNDS`. Returns ``(OptimumResult, nominal)``,
+    ``nominal`` the unlock load and preloads at the description's springs (``{name: value}``, SI)."""
+    from ..analysis.optimize import Constraint, optimize
+    from ..analysis.stop_lock import locked_on_stops, stop_unlock
+    from .dual_sidestay import generated_gear
+
+    gear = generated_gear()
+    best = optimize(gear, "unlock_force", DS_BOUNDS, constraints=[Constraint("stop_preload", ">=", margin)],
+                    force=DS_FORCE)
+    x, _ = locked_on_stops(gear)
+    nominal = {n: float(x[gear.index(n)]) for n in (*DS_BOUNDS, "R_fwd_stop", "R_aft_stop")}
+    nominal["unlock_force"] = float(stop_unlock(gear, x, DS_FORCE, stability=False, both=False).unlock_force)
+    return best, nominal
 
 
 def _tolerances(tolerances) -> str:
@@ -116,4 +152,22 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
         f"force {res.stay_force:.2f} N; {stay.iterations} iterations). Active: {active}; the probability "
         "constraint's multiplier is the unlock load one more unit of beta costs.",
         "", "Figure `design_optimum_lockstay.png`: the lock stay's design map over (LU, k) with the optimum, the "
-        "boundary P = 1e-6 traced through it and the stiffness's lower bound.", ""]
+        "boundary P = 1e-6 traced through it and the stiffness's lower bound.", "", *_sidestay_lines(res)]
+
+
+def _sidestay_lines(res: DesignOptima) -> list[str]:
+    """The dual-sidestay optimum's Markdown lines."""
+    ds, nom = res.sidestay, res.sidestay_nominal
+    if ds is None or nom is None:
+        return []
+    active = "; ".join(f"{c} (multiplier {m:.4g})" for c, m in ds.active)
+    return [
+        f"* Dual-sidestay gear (both lock-link pairs on overcentre stops, one lock-spring design for both): the least "
+        f"unlock load of both pairs together is {ds.value:.3f} N at k_lock = {ds.design['k_lock']:.1f} N/m and "
+        f"stretch = {ds.design['stretch']:.6f}, with each stop's preload at rest at least {DS_MARGIN:g} N m (fwd "
+        f"{ds.quantities['R_fwd_stop']:.4f}, aft {ds.quantities['R_aft_stop']:.4f} N m; {ds.iterations} iterations). "
+        f"The description's springs (k_lock = {nom['k_lock']:g} N/m, stretch = {nom['stretch']:g}) need "
+        f"{nom['unlock_force']:.1f} N with "
+        f"preloads fwd {nom['R_fwd_stop']:.1f}, aft {nom['R_aft_stop']:.1f} N m. Active: {active}: a softer spring "
+        "stretched further gives the same preload for less unlock load, down to the stretch allowed. "
+        "Deterministic: the probability constraint's FORM holds a downlock force, not a stop's reaction.", ""]
