@@ -158,14 +158,6 @@ class FoldProblem(ContinuationProblem):
     def jacobian(self, u):
         return self.evaluate(u)[1]
 
-    def null_vectors(self, u, jac: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Right and left null vectors ``(v, w)`` of ``G_s`` at the fold-curve point ``u`` (unscaled
-        states and equations, each of unit length), from the equilibrated matrix (see
-        :func:`_null_vectors`). ``jac``: the scaled Jacobian the corrector returned with ``u``."""
-        n = len(self.states)
-        J = self.view.residual_and_jacobian(self.full(u))[1] if jac is None else jac[:n] / self.scale
-        return _null_vectors(J[:, :n], self.row, self.col)
-
     def solves(self, u, tol: float = 1e-10) -> bool:
         """Whether ``u`` solves the fold system: equilibrium rows and the fold condition each below
         ``tol`` or their floating-point floor."""
