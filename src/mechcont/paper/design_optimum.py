@@ -18,10 +18,11 @@ the probability), a few seconds together (the dual-sidestay optimum about 2 s).
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
+
+from ._timing import timed
 
 __all__ = ["P_MAX", "NOSE_TOLERANCES", "STAY_TOLERANCES", "NOSE_BOUNDS", "STAY_BOUNDS", "DS_BOUNDS", "DS_MARGIN",
            "DS_FORCE", "dual_sidestay_optimum", "compute", "run"]
@@ -78,23 +79,21 @@ def compute() -> DesignOptima:
     from ..models import load_model
 
     seconds = {}
-    t0 = time.perf_counter()
-    nose_gear = load_model("nose_gear")
-    nose = optimize(nose_gear, "LU", NOSE_BOUNDS, maximize=True, constraints=_constraint(),
-                    random=_random(NOSE_TOLERANCES))
-    nose_force = float(downlock_point(nose_gear, nose.design)[nose_gear.index("F")])
-    seconds["nose gear: longest LU at P <= 1e-6"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    stay_model = load_model("lockstay")
-    stay = optimize(stay_model, "unlock_force", STAY_BOUNDS, constraints=_constraint(), random=_random(STAY_TOLERANCES))
-    stay_force = float(downlock_point(stay_model, stay.design)[stay_model.index("F")])
-    seconds["lock stay: least unlock load at P <= 1e-6"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    stay_map = optimum_map(stay_model, stay, STAY_BOUNDS, constraints=_constraint(), random=_random(STAY_TOLERANCES))
-    seconds["lock stay: design map with the optimum"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    sidestay, nominal = dual_sidestay_optimum()
-    seconds["dual-sidestay gear: least unlock load, stops preloaded"] = time.perf_counter() - t0
+    with timed(seconds, "nose gear: longest LU at P <= 1e-6"):
+        nose_gear = load_model("nose_gear")
+        nose = optimize(nose_gear, "LU", NOSE_BOUNDS, maximize=True, constraints=_constraint(),
+                        random=_random(NOSE_TOLERANCES))
+        nose_force = float(downlock_point(nose_gear, nose.design)[nose_gear.index("F")])
+    with timed(seconds, "lock stay: least unlock load at P <= 1e-6"):
+        stay_model = load_model("lockstay")
+        stay = optimize(stay_model, "unlock_force", STAY_BOUNDS, constraints=_constraint(),
+                        random=_random(STAY_TOLERANCES))
+        stay_force = float(downlock_point(stay_model, stay.design)[stay_model.index("F")])
+    with timed(seconds, "lock stay: design map with the optimum"):
+        stay_map = optimum_map(stay_model, stay, STAY_BOUNDS, constraints=_constraint(),
+                               random=_random(STAY_TOLERANCES))
+    with timed(seconds, "dual-sidestay gear: least unlock load, stops preloaded"):
+        sidestay, nominal = dual_sidestay_optimum()
     return DesignOptima(nose, nose_force, stay, stay_force, stay_map, seconds, sidestay, nominal)
 
 

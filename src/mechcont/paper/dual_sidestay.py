@@ -12,7 +12,6 @@ representative A320-class geometry of :mod:`mechcont.models.dual_sidestay_geomet
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
@@ -31,6 +30,7 @@ from ..models.dual_sidestay import (
     start_values,
 )
 from ..models.dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry
+from ._timing import timed
 
 __all__ = ["retraction", "lock_up_scan", "Retraction", "run", "PLANE_ANGLES", "lock_misfit", "alignment_angle",
            "rigging_scan", "lock_up_fold_curve", "downlock_loads", "DownlockLoads", "STAY_STIFFNESS", "SIDE_LOAD",
@@ -139,7 +139,8 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
     timings = timings if timings is not None else {}
     out_dir = Path(out_dir)
     geo = DEFAULT_GEOMETRY
-    base = _timed(timings, "build", lambda: build_dual_sidestay_kinematics(geo))
+    with timed(timings, "dual_sidestay: build"):
+        base = build_dual_sidestay_kinematics(geo)
     lines = ["## Dual-sidestay main gear: retraction (representative A320-class geometry)", "",
              "Hand-formulated kinematic model (12 natural coordinates, ball-jointed lugs; docs/dual-sidestay.md), "
              f"continued in the retraction angle theta from gear down to {_deg(geo.retracted)} deg.", ""]
@@ -155,13 +156,6 @@ def _deg(v: float) -> str:
     return f"{math.degrees(v):.1f}"
 
 
-def _timed(timings: dict, what: str, f):
-    t0 = time.perf_counter()
-    out = f()
-    timings[f"dual_sidestay: {what}"] = time.perf_counter() - t0
-    return out
-
-
 def _retraction_part(out_dir: Path, geo, base, timings: dict, quick: bool) -> list[str]:
     """The retraction's actuator load, drawings and animation, and the lock-up against the aft plane angle."""
     from ..outputs.animation import animate
@@ -169,7 +163,8 @@ def _retraction_part(out_dir: Path, geo, base, timings: dict, quick: bool) -> li
     from ..outputs.plotting import save_figure
     from ..outputs.retraction_plots import plot_actuator_loads, plot_lock_up
 
-    ret = _timed(timings, "retraction", lambda: retraction(geo, base=base))
+    with timed(timings, "dual_sidestay: retraction"):
+        ret = retraction(geo, base=base)
     loads = ret.loads
     save_figure(plot_actuator_loads(loads), out_dir / "sidestay_actuator.png")
     sys_ = ret.system
@@ -179,7 +174,8 @@ def _retraction_part(out_dir: Path, geo, base, timings: dict, quick: bool) -> li
         animate(sys_, _fine(sys_, ret.branch, geo.retracted), out_dir / "sidestay_retraction.gif",
                 annotate=("theta",), diagram=("theta", "aft_J_z"), dpi=80)
     angles = PLANE_ANGLES[::3] if quick else PLANE_ANGLES
-    phi, lock, runs = _timed(timings, "lock-up scan", lambda: lock_up_scan(geo, angles, base=base))
+    with timed(timings, "dual_sidestay: lock-up scan"):
+        phi, lock, runs = lock_up_scan(geo, angles, base=base)
     save_figure(plot_lock_up(phi, lock, geo.retracted, geo.aft.phi), out_dir / "sidestay_lock_up.png")
     i_peak = int(np.argmax(np.abs(loads.tension)))
     locked = [(p, t, f"{r.lock_side} {r.lock_member}") for p, t, r in zip(phi, lock, runs) if not np.isnan(t)]
@@ -278,9 +274,12 @@ def _generated_part(out_dir: Path, geo, timings: dict, quick: bool) -> list[str]
     from ..outputs.plotting import save_figure
     from ..outputs.retraction_plots import plot_unlock_with_stops
 
-    gen = _timed(timings, "generated model build", lambda: generated_gear(geo))
-    held = _timed(timings, "locked generated gear", lambda: locked_gear(gen, ATTACHMENT_STIFFNESS))
-    unlock = _timed(timings, "unlock with stops", lambda: unlock_study(gen, stretch=None if quick else (0.5, 1.0)))
+    with timed(timings, "dual_sidestay: generated model build"):
+        gen = generated_gear(geo)
+    with timed(timings, "dual_sidestay: locked generated gear"):
+        held = locked_gear(gen, ATTACHMENT_STIFFNESS)
+    with timed(timings, "dual_sidestay: unlock with stops"):
+        unlock = unlock_study(gen, stretch=None if quick else (0.5, 1.0))
     save_figure(plot_unlock_with_stops(unlock.runs, unlock.fold_curve, UNLOCK_FORCES), out_dir / "sidestay_unlock.png")
     mid = held[len(held) // 2]
     draw3d(gen.with_values({"k_att": mid.k_att}), mid.x, out_dir / "sidestay_generated.png",

@@ -24,6 +24,7 @@ import numpy as np
 from ..dynamics import gap_versus_rate, jump_gaps
 from ..models.overcentre import symmetric_folds
 from ..outputs.sweep_plots import plot_sweep
+from ._timing import timed
 from .overcentre import F_RANGE, F_START, RATE, C, branch, hysteresis, sweep_duration, system
 
 __all__ = ["run"]
@@ -125,13 +126,11 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
     timings = {} if timings is None else timings
     out_dir = Path(out_dir)
     lines = ["## Time simulation against continuation (paper Fig. 3a; each jump against its fold)", ""]
-    t0 = time.perf_counter()
-    with Progress("[dynamics] time simulation", total=sweep_duration(), unit="s simulated", quiet=quiet) as bar:
+    with (timed(timings, "dynamics: time simulation at LU = 0.4 m (or reused)"),
+          Progress("[dynamics] time simulation", total=sweep_duration(), unit="s simulated", quiet=quiet) as bar):
         r04 = hysteresis(0.4, bar.set if bar.enabled else None)
-    timings["dynamics: time simulation at LU = 0.4 m (or reused)"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    b04 = branch(0.4)
-    timings["dynamics: continuation branch at LU = 0.4 m (or reused)"] = time.perf_counter() - t0
+    with timed(timings, "dynamics: continuation branch at LU = 0.4 m (or reused)"):
+        b04 = branch(0.4)
     (_, F_up), (_, F_low) = symmetric_folds(L, M1, M2, G, K, 0.4)
     lp = [p["F"] for p in b04.special("LP")]
     names = {round(p["F"], 9): n for n, p in zip(b04.point_names(), b04.special_points) if p.label == "LP"}
@@ -169,11 +168,10 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
                     "halfway through the jump, which starts when its speed crosses the threshold."]
     lines += ["", "![Fig. 3a and the jumps at the folds](dynamics_fig3_sweep_vs_continuation.png)", ""]
     # -- LU = 2 m: no fold ------------------------------------------------------------------------
-    t0 = time.perf_counter()
-    with Progress("[dynamics] time simulation, LU = 2 m", total=sweep_duration(), unit="s simulated",
-                  quiet=quiet) as bar:
+    with (timed(timings, "dynamics: time simulation at LU = 2 m (or reused)"),
+          Progress("[dynamics] time simulation, LU = 2 m", total=sweep_duration(), unit="s simulated",
+                   quiet=quiet) as bar):
         r2 = hysteresis(2.0, bar.set if bar.enabled else None)
-    timings["dynamics: time simulation at LU = 2 m (or reused)"] = time.perf_counter() - t0
     b2 = branch(2.0)
     order = np.argsort(b2["F"])
     lag = float(np.max(np.abs(r2["theta1"] - np.interp(r2["F"], b2["F"][order], b2["theta1"][order]))))
@@ -184,13 +182,12 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
 
     s04 = system(0.4)
     x_lock = find_equilibrium(s04, values={"F": RATE_START}, guess={"theta1": 1.1, "theta2": math.pi - 1.1})
-    t0 = time.perf_counter()
-    with Progress("[dynamics] sweep-rate study", total=len(RATES), unit="sweeps", quiet=quiet) as bar:
+    with (timed(timings, "dynamics: sweep-rate study"),
+          Progress("[dynamics] sweep-rate study", total=len(RATES), unit="sweeps", quiet=quiet) as bar):
         study = []
         for rate in RATES:
             study += gap_versus_rate(s04, x_lock, "F", RATE_START, F_RANGE[0], (rate,), F_low, watch="theta1")
             bar.update()
-    timings["dynamics: sweep-rate study"] = time.perf_counter() - t0
     for r in study:
         timings[f"dynamics: sweep at {r.rate:g} N/s"] = r.seconds
     g = np.array([abs(r.gap) for r in study])

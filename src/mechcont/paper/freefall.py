@@ -27,6 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ._timing import timed
+
 __all__ = ["run", "description_text", "AIRSPEEDS", "PENDULUM", "sidestay_retracted", "sidestay_freefall",
            "sidestay_hang", "SIDESTAY_UP"]
 
@@ -267,9 +269,9 @@ def _sidestay(timings: dict) -> list[str]:
 
 def _hang_table(system, x_up, timings: dict) -> list[str]:
     """The gear-up hang (:func:`sidestay_hang`) against the aft attachment stiffness and the lock-spring stretch."""
-    t0 = time.perf_counter()
-    rows = [(k, st, sidestay_hang(system, x_up, {"k_att": k, "stretch": st})) for k in HANG_K_ATT for st in HANG_STRETCH]
-    timings["freefall: dual-sidestay gear-up hang equilibria"] = time.perf_counter() - t0
+    with timed(timings, "freefall: dual-sidestay gear-up hang equilibria"):
+        rows = [(k, st, sidestay_hang(system, x_up, {"k_att": k, "stretch": st}))
+                for k in HANG_K_ATT for st in HANG_STRETCH]
     lines = ["Quasi-static: the aft pair, retracted within a degree of aligned, can go over centre onto its stop "
              "and hold the gear *up*. The equilibria with the aft pair on its stop near gear up (the fwd pair free):",
              "",
@@ -330,10 +332,9 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     qs = quasi_static_critical(system, "angle", 1.0, -1.0, "U")
     crits = []
     for c in DAMPERS:
-        t0 = time.perf_counter()
-        crits.append(critical_airspeed(system, {"angle": 1.0}, "U", *PENDULUM_BRACKET, tol=PENDULUM_TOL,
-                                       lock="downlock", until=PENDULUM_UNTIL, values={"c": c}))
-        timings[f"freefall: pendulum critical airspeed at c = {c:g} N s/m"] = time.perf_counter() - t0
+        with timed(timings, f"freefall: pendulum critical airspeed at c = {c:g} N s/m"):
+            crits.append(critical_airspeed(system, {"angle": 1.0}, "U", *PENDULUM_BRACKET, tol=PENDULUM_TOL,
+                                           lock="downlock", until=PENDULUM_UNTIL, values={"c": c}))
     fig = critical_figure(DAMPERS, [k.value for k in crits], qs.value, damping_label="damper c (N s/m)",
                           airspeed_label="critical airspeed U (m/s)",
                           title="Gear leg (pendulum) freefall: dynamic vs quasi-static")
@@ -366,9 +367,8 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
     system = model_from_text(description_text(), "nose_gear_freefall.toml")
     runs = []
     for U in AIRSPEEDS:
-        t0 = time.perf_counter()
-        runs.append((U, freefall(system, {"fitting": THETA_UP}, lock="downlock", until=UNTIL, values={"U": U})))
-        timings[f"freefall: nose gear at U = {U:g} m/s ({UNTIL:g} s simulated)"] = time.perf_counter() - t0
+        with timed(timings, f"freefall: nose gear at U = {U:g} m/s ({UNTIL:g} s simulated)"):
+            runs.append((U, freefall(system, {"fitting": THETA_UP}, lock="downlock", until=UNTIL, values={"U": U})))
     _figure(runs, out_dir / "freefall_nose_gear.png")
     lines = ["## Freefall extension of the nose gear (beyond the 2010 paper)", "",
              f"The nose gear of Fig. 6 with its retraction actuator as a hydraulic damper (c = 2000 N s/m, "
@@ -393,10 +393,9 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
     x = runs[0][1].history.values[-1].copy()
     x[system.index("R_downlock")] = 0.0
     locked, _ = equilibrium_on_stops(system, x, values={"U": 0.0}, contact=["downlock"])
-    t0 = time.perf_counter()
-    sr = [p["U"] for p in continuation_with_stops(system, locked, "U", direction=1, options=ContinuationOptions(
-        bounds={"U": (0.0, 2 * CRITICAL[1])})).branch.special_points if p.label == "SR"]
-    timings["freefall: locked state continued in U"] = time.perf_counter() - t0
+    with timed(timings, "freefall: locked state continued in U"):
+        sr = [p["U"] for p in continuation_with_stops(system, locked, "U", direction=1, options=ContinuationOptions(
+            bounds={"U": (0.0, 2 * CRITICAL[1])})).branch.special_points if p.label == "SR"]
     t0 = time.perf_counter()
     crit = critical_airspeed(system, {"fitting": THETA_UP}, "U", *CRITICAL, tol=TOL, lock="downlock", until=UNTIL)
     timings[f"freefall: critical airspeed by bisection ({len(crit.runs)} runs)"] = time.perf_counter() - t0

@@ -17,11 +17,12 @@
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from ._timing import timed
 
 __all__ = ["run", "compute", "NoseGearResults", "fit_residual"]
 
@@ -63,13 +64,6 @@ class NoseGearResults:
     fig11_levels: np.ndarray = field(default_factory=lambda: np.zeros(0))
     region: object = None
     timings: dict = field(default_factory=dict)
-
-
-def _timed(res, name, fn):
-    t0 = time.perf_counter()
-    out = fn()
-    res.timings[name] = time.perf_counter() - t0
-    return out
 
 
 def _fig7(res):
@@ -165,13 +159,15 @@ def compute(system=None, *, dynamic: bool = True, on_step=None) -> NoseGearResul
     from ..models.nose_gear import build_nose_gear
 
     res = NoseGearResults(system=None)
-    res.system = _timed(res, "build", lambda: system or build_nose_gear())
+    with timed(res.timings, "build"):
+        res.system = system or build_nose_gear()
     res.downlock_force = float(res.system.as_dict(res.system.downlocked)["F"])
     steps = {"fig7": _fig7, "fig7_dynamic": _fig7_dynamic, "downlock_sweep": _downlock_sweep, "fig8": _fig8,
              "fig9": _fig9, "fig10": _fig10, "fig11": _fig11, "design": _design}
     for name in _STEPS:
         if dynamic or name not in ("fig7_dynamic", "downlock_sweep"):
-            _timed(res, name, lambda f=steps[name]: f(res))
+            with timed(res.timings, name):
+                steps[name](res)
         if on_step is not None:
             on_step()
     return res
@@ -494,9 +490,8 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
     out_dir.mkdir(parents=True, exist_ok=True)
     with Progress("[nose_gear] analyses", total=len(_STEPS) + 1, unit="steps", quiet=quiet) as bar:
         res = compute(on_step=bar.update) if bar.enabled else compute()
-        t0 = time.perf_counter()
-        _plot_all(res, out_dir)
-        res.timings["plots"] = time.perf_counter() - t0
+        with timed(res.timings, "plots"):
+            _plot_all(res, out_dir)
     if timings is not None:
         timings.update({f"nose_gear: {k}": v for k, v in res.timings.items()})
     return summary(res)
