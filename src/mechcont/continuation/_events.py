@@ -49,6 +49,8 @@ class Event:
     #: True when the test function is continuous along a branch, so a sign change without
     #: a zero between the two points reveals a jump to another branch.
     continuous = False
+    #: Typical size of :meth:`value` (its unit): a value within rounding of it is zero (a start on a bound)
+    scale = 1.0
 
     def value(self, problem: ContinuationProblem, state: PointState) -> float:  # pragma: no cover - interface
         raise NotImplementedError
@@ -145,6 +147,7 @@ class BoundEvent(Event):
 
     def __init__(self, name: str, index: int, bound: float, side: int = 1):
         self.name, self.index, self.bound, self.side = name, index, bound, side
+        self.scale = max(1.0, abs(bound))
 
     def value(self, problem: ContinuationProblem, state):
         return float(self.side * (state.x[self.index] - self.bound))

@@ -376,12 +376,9 @@ class BranchSteps(Iterator[RecordedPoint]):
         # started on a bound (to within the rounding of the start's scaled round trip, which can put it
         # an ulp outside) and this direction leaves the interval
         leaving = [ev for ev, v0, v1 in zip(self.events, self.values, new_values)
-                   if ev.stop and abs(v0) <= _ON_BOUND * max(1.0, abs(getattr(ev, "bound", 0.0))) and v1 < 0
-                   ] if self.steps == 0 else None
+                   if ev.stop and abs(v0) <= _ON_BOUND * ev.scale and v1 < 0] if self.steps == 0 else None
         if leaving:
-            ev = leaving[0]
-            self._end(Termination.START_ON_BOUND, f"start lies on the bound of {ev.name or ev.label}",
-                      ev.label, {"bound_of": ev.name, **ev.point_info()})
+            self._end_on_bound(leaving[0])
             return
         hits, jumped = self._events_in_step(cur, ds, new_values)
         if jumped is not None:
@@ -395,8 +392,7 @@ class BranchSteps(Iterator[RecordedPoint]):
             if self.steps == 0 and sigma <= 1e-6 * ds:
                 if ev.stop and new_values[self.events.index(ev)] < 0:  # the start lies on a bound (to within
                     # rounding) and this direction leaves it
-                    self._end(Termination.START_ON_BOUND, f"start lies on the bound of {ev.name or ev.label}",
-                              ev.label, {"bound_of": ev.name, **ev.point_info()})
+                    self._end_on_bound(ev)
                     return
                 continue  # the start itself is the special point (e.g. leaving a BP)
             if st is None:
@@ -413,6 +409,11 @@ class BranchSteps(Iterator[RecordedPoint]):
         self.current, self.values = new, new_values
         self.steps += 1
         self.control.accept(iters)
+
+    def _end_on_bound(self, ev: Event) -> None:
+        """End the direction at its start: it lies on ``ev``'s bound and this direction leaves it."""
+        self._end(Termination.START_ON_BOUND, f"start lies on the bound of {ev.name or ev.label}", ev.label,
+                  {"bound_of": ev.name, **ev.point_info()})
 
     def _events_in_step(self, cur: PointState, ds: float, new_values: list[float]):
         """Events whose sign changes within the step, located and polished.
