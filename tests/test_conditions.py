@@ -153,4 +153,4 @@ def test_a_distance_held_by_the_downlock_needs_a_target():
         parse_description(text, "d.toml")
     system = parse_description(TEXT.replace('dof = 1', 'dof = 1\ndownlock = {condition = "gap", force = "F"}'),
                                "d.toml").build()
-    assert system.downlock_hold == {"gap": 2.5} and system.downlock_force == "F"
+    assert system.downlock.hold == {"gap": 2.5} and system.downlock.force == "F"

@@ -30,8 +30,8 @@ def test_downlock_on_a_description_needs_no_flags_and_reports_the_unlock_force(t
     rows = read_branch_table(out)[0]
     system = load_model("lockstay.toml")
     api = downlock(system, "k", {"k": (10000.0, 30000.0)})
-    assert [float(x["k"]) for x in rows] == pytest.approx(list(api["k"]), rel=1e-12)
-    assert [float(x["F"]) for x in rows] == pytest.approx(list(api["F"]), rel=1e-12)
+    assert [float(x["k"]) for x in rows] == pytest.approx(list(api.branch["k"]), rel=1e-12)
+    assert [float(x["F"]) for x in rows] == pytest.approx(list(api.branch["F"]), rel=1e-12)
     at = next(x for x in rows if float(x["k"]) == 20000.0)
     assert float(at["unlock_F"]) == pytest.approx(api.unlock.unlock_force, rel=1e-12)
     assert f"{api.unlock.unlock_force:.6g}" in r.output

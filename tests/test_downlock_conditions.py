@@ -13,7 +13,7 @@ import pickle
 import numpy as np
 import pytest
 
-from mechcont.analysis import DownlockBranch, design_region, downlock, downlock_point, with_unlock_columns
+from mechcont.analysis import DownlockResult, design_region, downlock, downlock_point, with_unlock_columns
 from mechcont.continuation import Branch, ContinuationOptions, continuation, locate_fold
 from mechcont.errors import InputError
 from mechcont.mechanism import find_description, parse_description
@@ -53,29 +53,30 @@ def lock(request):
 
 
 @pytest.fixture(scope="module")
-def branch(lock):
+def result(lock):
     return downlock(lock, "LU", {"LU": (0.3, 0.8)})  # condition and force from [mechanism] downlock
 
 
 def test_the_description_declares_the_downlock(lock):
-    assert lock.downlock_hold == {"aligned": TARGET} and lock.downlock_force == "P"
+    assert lock.downlock.hold == {"aligned": TARGET} and lock.downlock.force == "P"
     x = downlock_point(lock)
     assert x[lock.index("theta1")] == pytest.approx(1.0, abs=1e-12)
     assert x[lock.index("P")] == pytest.approx(-symmetric_force(1.0, LU=0.4, **P), rel=1e-12)
 
 
-def test_downlock_force_along_the_branch_is_the_closed_form(branch):
-    assert isinstance(branch, DownlockBranch) and isinstance(branch, Branch)
-    assert branch.success and branch.warnings == [] and len(branch) > 10
-    assert branch.condition == {"aligned": TARGET} and branch.downlock_force == "P"
+def test_downlock_force_along_the_branch_is_the_closed_form(result):
+    branch = result.branch
+    assert isinstance(result, DownlockResult) and isinstance(branch, Branch)
+    assert branch.success and result.warnings == [] and len(branch) > 10
+    assert result.condition == {"aligned": TARGET} and result.force == "P"
     assert np.allclose(branch["theta1"], 1.0, atol=1e-12, rtol=0)
     for LU, Pd in zip(branch["LU"], branch["P"]):
         assert Pd == pytest.approx(-symmetric_force(1.0, LU=LU, **P), rel=1e-10, abs=1e-10)
-    assert pickle.loads(pickle.dumps(branch)).unlock.unlock_force == branch.unlock.unlock_force
+    assert pickle.loads(pickle.dumps(result)).unlock.unlock_force == result.unlock.unlock_force
 
 
-def test_unlock_fold_is_the_closed_form_and_the_fold_found_by_hand(lock, branch):
-    u = branch.unlock
+def test_unlock_fold_is_the_closed_form_and_the_fold_found_by_hand(lock, result):
+    u = result.unlock
     assert u.stable is True and u.below is None and u.above.located
     assert u.force == "P" and u.downlock_force == pytest.approx(-symmetric_force(1.0, LU=0.4, **P), rel=1e-12)
     assert u.unlock_force == pytest.approx(unlock_closed_form(0.4), rel=1e-10)
@@ -91,38 +92,38 @@ def test_unlock_fold_is_the_closed_form_and_the_fold_found_by_hand(lock, branch)
     assert u.unlock_force == pytest.approx(xf[lock.index("P")], rel=1e-12, abs=1e-12)
 
 
-def test_unlock_columns_follow_the_closed_form(lock, branch):
-    table = with_unlock_columns(lock, branch, "P", released=["aligned"])
-    assert isinstance(table, DownlockBranch) and table.unlock is branch.unlock
+def test_unlock_columns_follow_the_closed_form(lock, result):
+    out = with_unlock_columns(lock, result, "P", released=["aligned"])
+    assert isinstance(out, DownlockResult) and out.unlock is result.unlock
+    table = out.branch
     assert "unlock_P" in table.names and "unlock_P_decreasing" not in table.names
     for LU, Pu in zip(table["LU"], table["unlock_P"]):
         assert Pu == pytest.approx(unlock_closed_form(LU), rel=1e-9)
     assert table.units["unlock_P"] == "N"
 
 
-def test_unlock_columns_reuse_the_start_points_release_run(lock, branch, monkeypatch):
-    import copy
+def test_unlock_columns_reuse_the_start_points_release_run(lock, result, monkeypatch):
+    import dataclasses
 
     from mechcont.analysis import unlock as unlock_mod
 
     calls = []
     real = unlock_mod.unlock_folds
     monkeypatch.setattr(unlock_mod, "unlock_folds", lambda *a, **k: (calls.append(1), real(*a, **k))[1])
-    table = with_unlock_columns(lock, branch, "P", released=["aligned"])
-    assert len(calls) == len(branch) - 1  # the start's run is branch.unlock
-    bare = copy.copy(branch)
-    bare.unlock = None  # nothing to reuse: every row runs
+    table = with_unlock_columns(lock, result, "P", released=["aligned"]).branch
+    assert len(calls) == len(result.branch) - 1  # the start's run is result.unlock
+    bare = dataclasses.replace(result, unlock=None)  # nothing to reuse: every row runs
     calls.clear()
-    again = with_unlock_columns(lock, bare, "P", released=["aligned"])
-    assert len(calls) == len(branch)
+    again = with_unlock_columns(lock, bare, "P", released=["aligned"]).branch
+    assert len(calls) == len(result.branch)
     assert np.array_equal(table["unlock_P"], again["unlock_P"])
 
 
-def test_release_run_without_stability_finds_the_same_folds(lock, branch):
+def test_release_run_without_stability_finds_the_same_folds(lock, result):
     """unlock_force_along skips the release runs' stability: the folds, notes and warnings are the same."""
     from mechcont.analysis.unlock import unlock_folds
 
-    x = branch.values[len(branch) // 2]
+    x = result.branch.values[len(result.branch) // 2]
     full = unlock_folds(lock, x, "P", released=["aligned"])
     lean = unlock_folds(lock, x, "P", released=["aligned"], stability=False)
     assert lean.locked_range == full.locked_range and lean.stable == full.stable
@@ -143,8 +144,9 @@ def test_an_unstable_downlocked_point_is_reported_with_both_folds(lock):
 
 
 def test_another_declared_condition_by_name(lock):
-    b = downlock(lock, "k", {"k": (100.0, 150.0)}, condition="rel", unlock=False)
-    assert b.condition == {"rel": math.pi - 2.0} and b.unlock is None
+    res = downlock(lock, "k", {"k": (100.0, 150.0)}, condition="rel", unlock=False)
+    b = res.branch
+    assert res.condition == {"rel": math.pi - 2.0} and res.unlock is None
     assert np.allclose(b["theta1"], 1.0, atol=1e-12, rtol=0)
     for k, Pd in zip(b["k"], b["P"]):
         assert Pd == pytest.approx(-symmetric_force(1.0, LU=0.4, **{**P, "k": k}), rel=1e-10)
@@ -166,7 +168,7 @@ def test_bad_conditions_are_one_line_input_errors(lock, kwargs, words):
 
 def test_a_run_that_stops_early_is_named(lock):
     b = downlock(lock, "LU", {"LU": (0.2, 0.8)}, max_steps=3)
-    assert b.success  # the engine's status: max_steps is a normal end ...
+    assert b.branch.success  # the engine's status: max_steps is a normal end ...
     assert len(b.warnings) == 2  # ... but neither direction reached its bound
     for w in b.warnings:
         assert "downlock branch in LU" in w and "stopped early at LU = " in w and "P = " in w and "max_steps" in w

@@ -26,12 +26,13 @@ A = 2.0 * G * 1.0 / 2
 
 def test_lock_on_a_stop_with_a_snap_release():
     m = load_description(DATA / "pendulum_lock.toml").build()
-    b = downlock_on_stops(m, "M0", {"M0": (12.0, 20.0)}, force="F")
-    assert b.lock_stops == ("top",) and b.condition == {"angle": 0.3}
+    res = downlock_on_stops(m, "M0", {"M0": (12.0, 20.0)}, force="F")
+    b = res.branch
+    assert res.lock_stops == ("top",) and res.condition == {"angle": 0.3}
     assert b["M0"].min() == pytest.approx(12.0) and b["M0"].max() == pytest.approx(20.0)
     np.testing.assert_allclose(b["R_top"], b["M0"] - A * math.cos(0.3), rtol=1e-10)
     assert np.all(b.n_unstable == 0)
-    u = b.unlock
+    u = res.unlock
     assert u.stable is True and u.downlock_force == 0.0
     assert u.above.label == "NSF" and u.unlock_force == pytest.approx(15.0 - A * math.cos(0.3), rel=1e-9)
     assert any("non-smooth fold" in n for n in u.notes)
@@ -44,9 +45,10 @@ def test_lock_on_a_stop_with_a_snap_release():
 
 def test_lock_on_a_stop_with_a_smooth_release_then_a_fold():
     m = load_description(DATA / "pendulum_stop.toml").build()
-    b = downlock_on_stops(m, "m", {"m": (1.0, 3.0)}, force="T")
+    res = downlock_on_stops(m, "m", {"m": (1.0, 3.0)}, force="T")
+    b = res.branch
     np.testing.assert_allclose(b["R_rest"], b["m"] * G / 2 * math.cos(1.2), rtol=1e-10)
-    u = b.unlock
+    u = res.unlock
     assert u.above.label == "LP" and u.unlock_force == pytest.approx(A, rel=1e-9)
     (note,) = [n for n in u.notes if n.startswith("increasing")]
     release = float(re.search(r"releases at T = (\S+)", note).group(1))
@@ -97,9 +99,9 @@ def test_the_clamp_resting_on_its_stop_is_a_lock():
     from tests.test_toggle_clamp import force_to_hold
 
     m = load_model(DATA / "toggle_clamp_stop.toml")
-    b = downlock_on_stops(m, "l0", {"l0": (0.58, 0.62)}, force="F")
-    u = b.unlock
-    assert b.lock_stops == ("over",) and u.stable is True and np.all(b["R_over"] > 0)
+    res = downlock_on_stops(m, "l0", {"l0": (0.58, 0.62)}, force="F")
+    b, u = res.branch, res.unlock
+    assert res.lock_stops == ("over",) and u.stable is True and np.all(b["R_over"] > 0)
     theta = float(b.values[np.argmin(np.abs(b["l0"] - 0.6)), m.index("theta_handle")])
     assert u.above.label == "NSF"
     assert u.unlock_force == pytest.approx(force_to_hold(theta, 0.6), rel=1e-9)

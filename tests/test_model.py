@@ -78,7 +78,7 @@ def test_a_built_model_has_its_declared_fields_only(name):
                      model.compiled_state())))):
         assert type(copy) is Model and _fields(copy) == DECLARED and copy.unpickled_without == ()
         assert copy.reaction_names == model.reaction_names and copy.conditions == model.conditions
-        assert copy.downlock_hold == model.downlock_hold and copy.downlock_force == model.downlock_force
+        assert copy.downlock == model.downlock
         x = model.defaults()
         assert [b.tobytes() for _, b in copy.scene(x).bars] == [b.tobytes() for _, b in model.scene(x).bars]
 
@@ -161,7 +161,7 @@ def test_new_values_give_what_a_fresh_build_gives():
     assert np.max(np.abs(reused.defaults()[:9] - default.defaults()[:9])) > 1e-3
     _assert_same(reused.defaults(), fresh.defaults())
     _assert_same(reused.scales(), fresh.scales())
-    assert reused.conditions == fresh.conditions and reused.downlock_hold == fresh.downlock_hold
+    assert reused.conditions == fresh.conditions and reused.downlock == fresh.downlock
     x = fresh.defaults() + 1e-3
     _assert_same(reused.residual(x), fresh.residual(x))
     _assert_same(reused.jacobian(x), fresh.jacobian(x))
@@ -169,8 +169,8 @@ def test_new_values_give_what_a_fresh_build_gives():
     xr, xf = downlock_point(reused), downlock_point(fresh)
     _assert_same(xr, xf)
     opts = ContinuationOptions(bounds={"k": (15000.0, 40000.0)}, max_steps=40)
-    br = continuation(reused, xr, "k", hold=list(reused.downlock_hold), free=[reused.downlock_force], options=opts)
-    bf = continuation(fresh, xf, "k", hold=list(fresh.downlock_hold), free=[fresh.downlock_force], options=opts)
+    br = continuation(reused, xr, "k", hold=list(reused.downlock.hold), free=[reused.downlock.force], options=opts)
+    bf = continuation(fresh, xf, "k", hold=list(fresh.downlock.hold), free=[fresh.downlock.force], options=opts)
     _assert_same(br.values, bf.values)
 
 
@@ -182,10 +182,10 @@ def test_nose_gear_at_new_values_equals_a_fresh_structure(monkeypatch):
     monkeypatch.setattr(nose_gear, "_STRUCTURE", {})
     fresh = build_nose_gear(LU=1.31, l_sp1=0.05)
     assert fresh._code is not reused._code
-    _assert_same(reused.downlocked, fresh.downlocked)
-    _assert_same(reused.assemble_downlocked({"LU": 1.3}), fresh.assemble_downlocked({"LU": 1.3}))
-    x = find_equilibrium(reused, values={"F": 150.0}, guess=reused.downlocked)
-    _assert_same(x, find_equilibrium(fresh, values={"F": 150.0}, guess=fresh.downlocked))
+    _assert_same(reused.downlock.pose, fresh.downlock.pose)
+    _assert_same(reused.downlock.assemble({"LU": 1.3}), fresh.downlock.assemble({"LU": 1.3}))
+    x = find_equilibrium(reused, values={"F": 150.0}, guess=reused.downlock.pose)
+    _assert_same(x, find_equilibrium(fresh, values={"F": 150.0}, guess=fresh.downlock.pose))
 
 
 def test_models_lists_without_compiling_and_says_what_a_build_says():

@@ -25,7 +25,7 @@ def _solve(gear, **values):
     """Equilibrium with theta4 held at 0 and F free (scipy-free: plain Newton on the 25 equations)."""
     from mechcont.continuation import find_equilibrium
 
-    return find_equilibrium(gear, values=values, hold={"theta4": 0.0}, free=["F"], guess=gear.downlocked)
+    return find_equilibrium(gear, values=values, hold={"theta4": 0.0}, free=["F"], guess=gear.downlock.pose)
 
 
 def test_counts_match_the_paper(gear):
@@ -36,11 +36,11 @@ def test_counts_match_the_paper(gear):
 
 
 def test_downlocked_pose_is_level_and_aligned(gear):
-    v = gear.as_dict(gear.downlocked)
+    v = gear.as_dict(gear.downlock.pose)
     assert v["theta4"] == 0.0
     assert abs(v["theta5"]) < 1e-12
     assert abs(overcentre_angle(v["theta4"], v["theta5"]) - np.pi) < 1e-12
-    assert np.max(np.abs(gear.residual(gear.downlocked))) < 1e-9
+    assert np.max(np.abs(gear.residual(gear.downlock.pose))) < 1e-9
 
 
 def test_closed_form_pose_satisfies_the_constraints(gear):
@@ -54,7 +54,7 @@ def test_closed_form_pose_satisfies_the_constraints(gear):
 
 def test_downlock_force_matches_virtual_work_closed_form(gear):
     """The 25-equation solution and the dead-centre virtual-work formula are independent derivations."""
-    F = gear.as_dict(gear.downlocked)["F"]
+    F = gear.as_dict(gear.downlock.pose)["F"]
     assert F == pytest.approx(aligned_downlock_force(defaults()), rel=1e-12)
     # the weight of the lock links alone, with no spring
     assert gear.as_dict(_solve(gear, k=0.0))["F"] == pytest.approx((2.5 + 2.0) * 9.81 / 2, rel=1e-12)
@@ -62,7 +62,7 @@ def test_downlock_force_matches_virtual_work_closed_form(gear):
 
 def test_jacobian_matches_finite_differences(gear):
     rng = np.random.default_rng(1)
-    x = gear.downlocked + 0.05 * rng.standard_normal(len(gear.names)) * gear.scales()
+    x = gear.downlock.pose + 0.05 * rng.standard_normal(len(gear.names)) * gear.scales()
     J = gear.jacobian(x)
     h = 1e-6 * gear.scales()
     fd = np.empty_like(J)
@@ -95,14 +95,14 @@ def test_inter_link_forces_are_the_multipliers_of_the_energy_model(gear):
 
 
 def test_static_balance_by_virtual_work(gear):
-    x = gear.downlocked
+    x = gear.downlock.pose
     Z = gear.mechanics.allowed_motions(x)
     assert Z.shape[1] == 1
     assert abs(float(Z[:, 0] @ gear.mechanics.applied_forces(x))) < 1e-9
 
 
 def test_dead_centre_makes_drag_and_gear_weight_irrelevant(gear):
-    F0 = gear.as_dict(gear.downlocked)["F"]
+    F0 = gear.as_dict(gear.downlock.pose)["F"]
     for kw in ({"U": 100.0}, {"m3": 200.0, "m1": 30.0}):
         assert gear.as_dict(_solve(gear, **kw))["F"] == pytest.approx(F0, abs=1e-9)
 
@@ -117,7 +117,7 @@ def test_misaligned_lug_lets_drag_in(gear):
 
 def test_stability_is_physical_and_matches_energy(gear):
     """Reduced stiffness equals V'' along the one allowed motion (finite differences of V on the manifold)."""
-    x = gear.downlocked
+    x = gear.downlock.pose
     st = gear.mechanics.stability(x)
     assert st.conservative and st.n_unstable == 0
     # V along the mechanism's motion parametrised by theta4 (closed-form assembly)
@@ -140,7 +140,7 @@ def test_stability_is_physical_and_matches_energy(gear):
 
 
 def test_scene_draws_five_bars(gear):
-    sc = gear.scene(gear.downlocked)
+    sc = gear.scene(gear.downlock.pose)
     assert len(sc.bars) == 5 and len(sc.grounds) == 2 and len(sc.springs) == 1
     xmin, xmax, ymin, ymax = sc.extent()
     assert ymin < -1.9 and xmin <= -1.4 + 1e-12
@@ -190,7 +190,7 @@ def test_drag_enters_the_tangent_stiffness(gear):
 def test_equilibrium_rows_are_in_newtons(gear):
     """Plain SI, no row scaling: 1 N more of F changes bar 4's vertical force row by 1 N and
     its moment row by 1 N times the arm L4/2 (m) from the centre to J."""
-    x = gear.downlocked
+    x = gear.downlock.pose
     J = gear.jacobian(x)
     rows = {n: i for i, n in enumerate(gear.equation_names)}
     iF = gear.index("F")

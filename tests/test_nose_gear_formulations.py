@@ -38,7 +38,7 @@ def test_downlocked_points_agree(paper, generated, values):
 
 def test_branches_agree_point_by_point(paper, generated):
     """Every point of the generated gear's l_sp1 branch solves the paper-style equations to 1e-8."""
-    br = downlock(generated, "l_sp1", {"l_sp1": (-0.175, 0.175)}, hold=HOLD)
+    br = downlock(generated, "l_sp1", {"l_sp1": (-0.175, 0.175)}, hold=HOLD).branch
     assert len(br) > 10
     for row in br.values:
         vals = {n: row[generated.index(n)] for n in ("l_sp1",)}
@@ -46,13 +46,13 @@ def test_branches_agree_point_by_point(paper, generated):
         assert abs(x[paper.index("F")] - row[generated.index("F")]) < TOL
         assert np.max(np.abs(_coords(paper, x)[:15] - np.array([row[generated.index(n)] for n in COORDINATES]))) < TOL
     # and the stability from both mechanics is the same
-    pb = downlock(paper, "l_sp1", {"l_sp1": (-0.175, 0.175)})
+    pb = downlock(paper, "l_sp1", {"l_sp1": (-0.175, 0.175)}).branch
     assert set(pb.n_unstable) == set(br.n_unstable)
 
 
 def test_misaligned_drag_branch_agrees(paper, generated):
     vals = {"L35": 0.3480, "psi2": -0.0585}
-    a = downlock(paper, "U", {"U": (0.0, 100.0)}, values=vals)
+    a = downlock(paper, "U", {"U": (0.0, 100.0)}, values=vals).branch
     for U, F in zip(a["U"][::5], a["F"][::5]):
         x = downlock_point(generated, {**vals, "U": float(U)}, hold=HOLD)
         assert abs(x[generated.index("F")] - F) < TOL
@@ -193,7 +193,7 @@ def _bar_balance(system, x):
 def test_every_bar_balanced_at_every_point(generated):
     for vary, rng, vals in (("l_sp1", (-0.175, 0.175), {}), ("U", (0.0, 100.0), {"L35": 0.3480, "psi2": -0.0585}),
                             ("LU", (1.2, 1.4), {"l_sp1": -0.05})):
-        br = downlock(generated, vary, {vary: rng}, values=vals, hold=HOLD)
+        br = downlock(generated, vary, {vary: rng}, values=vals, hold=HOLD).branch
         assert len(br) > 5
         for x in br.values:
             f, m = _bar_balance(generated, x)

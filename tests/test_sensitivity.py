@@ -191,9 +191,9 @@ def test_downlock_branch_rows_give_the_downlock_force_sensitivity():
 
     model = load_model("nose_gear")
     k0 = model.variable("k").value
-    branch = downlock(model, "k", {"k": (0.9 * k0, 1.1 * k0)}, unlock=False)
-    x = branch.values[0]
-    sens = branch.sensitivity(model, 0, ["LU", "L4"])
+    result = downlock(model, "k", {"k": (0.9 * k0, 1.1 * k0)}, unlock=False)
+    x = result.branch.values[0]
+    sens = result.sensitivity(model, 0, ["LU", "L4"])
     assert sens.quantity == "F"
     direct = downlock_sensitivity(model, ["LU", "L4"], {"k": x[model.index("k")]})
     for p in ("LU", "L4"):

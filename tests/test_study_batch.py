@@ -24,7 +24,7 @@ def lockstay():
 
 def _batch(system, rows: list[dict]):
     h, f = downlock_condition(system)
-    X = np.tile(system.vector(h, base=getattr(system, "downlocked", None)), (len(rows), 1))
+    X = np.tile(system.vector(h, base=system.downlock.pose), (len(rows), 1))
     for i, r in enumerate(rows):
         X[i] = system.vector(r, base=X[i])
     return newton_batch(system, X, choose_unknowns(system, hold=list(h), free=[f])), f

@@ -46,7 +46,7 @@ def reference_folds(system, x, force, released):
 def clamp_table():
     s = load_model(CLAMP)
     branch = downlock(s, "l0", {"l0": (0.55, 0.8)}, condition="toggle", force="F")
-    return s, with_unlock_columns(s, branch, "F", released=["toggle"])
+    return s, with_unlock_columns(s, branch, "F", released=["toggle"]).branch
 
 
 def test_unlock_columns_are_the_independently_polished_folds(clamp_table):

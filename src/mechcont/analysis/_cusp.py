@@ -12,13 +12,13 @@ import numpy as np
 from ..continuation._fold_point import fold_scaling
 from ..continuation._scaling import equilibrate
 from ..continuation._sensitivity import Sensitivity, _columns, _solve, _state_table, _units, check_parameters
-from ..equations import EquationSystem
+from ..equations import Model
 from ..errors import ConvergenceError
 
 __all__ = ["cusp_sensitivity"]
 
 
-def _fold_system(system: EquationSystem, x: np.ndarray, vh: np.ndarray, s_idx: np.ndarray,
+def _fold_system(system: Model, x: np.ndarray, vh: np.ndarray, s_idx: np.ndarray,
                  cs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Residual and Jacobian of the augmented fold system ``R = (G, G_s C v_hat, (|v_hat|^2 - 1)/2)``.
 
@@ -52,7 +52,7 @@ class _Cusp:
 
     EPS = 1e-5  # step along the unit equilibrated null vector: error ~EPS^2 relative, far below 1e-6
 
-    def __init__(self, system: EquationSystem, x: np.ndarray, states: Sequence[str], vary: str, second: str):
+    def __init__(self, system: Model, x: np.ndarray, states: Sequence[str], vary: str, second: str):
         self.system = system
         self.s_idx = _columns(system, states)
         self.N, self.n = len(x), len(states)
@@ -112,7 +112,7 @@ class _Cusp:
         return E, phi
 
 
-def cusp_sensitivity(system: EquationSystem, x: np.ndarray, states: Sequence[str], vary: str, second: str,
+def cusp_sensitivity(system: Model, x: np.ndarray, states: Sequence[str], vary: str, second: str,
                      params: Iterable[str]) -> Sensitivity:
     """Derivatives of a cusp's location (the value of ``second`` there) and of its other coordinates.
 

@@ -19,24 +19,24 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ..continuation import choose_unknowns, find_equilibrium
-from ..equations import EquationSystem, as_model
+from ..equations import Model
 from ..errors import InputError
 from .sensitivity import Sensitivity, equilibrium_sensitivity, fold_sensitivity, release_sensitivity
 
 __all__ = ["stop_reactions", "preload_sensitivity", "stop_unlock_sensitivity"]
 
 
-def stop_reactions(system: EquationSystem) -> dict[str, str]:
+def stop_reactions(system: Model) -> dict[str, str]:
     """``{reaction name: stop name}`` of the model's stops (empty for a model without stops)."""
-    return {s.reaction: s.name for s in as_model(system).stops}
+    return {s.reaction: s.name for s in system.stops}
 
 
-def preload_sensitivity(system: EquationSystem, values: Mapping[str, float], reaction: str, params: Sequence[str],
+def preload_sensitivity(system: Model, values: Mapping[str, float], reaction: str, params: Sequence[str],
                         guess: np.ndarray | None = None) -> Sensitivity:
     """The reaction ``reaction`` (N or N m) of a stop at rest, every stop held at its limit, and its derivatives by
     ``params`` (SI). ``guess``: a full vector near the solution (default: the locked state found from the
     description's configuration). Raises :class:`~mechcont.errors.ConvergenceError` when Newton fails."""
-    stops = as_model(system).stops
+    stops = system.stops
     hold = {s.condition: float(s.limit) for s in stops}
     free = [s.reaction for s in stops]
     if guess is None:
@@ -50,7 +50,7 @@ def preload_sensitivity(system: EquationSystem, values: Mapping[str, float], rea
     return s
 
 
-def stop_unlock_sensitivity(system: EquationSystem, values: Mapping[str, float], force: str,
+def stop_unlock_sensitivity(system: Model, values: Mapping[str, float], force: str,
                             params: Sequence[str]) -> Sensitivity:
     """The unlock load (N) of the lock on stops at ``values`` (the force increased from its value to the first
     fold, :func:`~mechcont.analysis.stop_lock.stop_unlock`) and its derivatives by ``params``. Raises

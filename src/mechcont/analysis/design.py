@@ -23,10 +23,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..continuation import Branch, ContinuationOptions, continuation, continue_folds
-from ..equations import EquationSystem, as_model
+from ..equations import Model
 from ..errors import ConvergenceError, InputError
 from ._runs import early_stops
-from .downlock import downlock, downlock_condition, downlock_point
+from .downlock import downlock, downlock_condition, downlock_point, downlocked_pose
 
 __all__ = ["FoldLocus", "DesignRow", "DesignRegion", "fold_locus", "design_region"]
 
@@ -169,7 +169,7 @@ def _options(bounds, scale_span, max_steps=2000):
                                max_steps=max_steps)
 
 
-def fold_locus(system: EquationSystem, design: str, second: str, bounds: Mapping[str, tuple[float, float]], *,
+def fold_locus(system: Model, design: str, second: str, bounds: Mapping[str, tuple[float, float]], *,
                values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
                force: str | None = None, force_bounds: tuple[float, float] = (-1e4, 1e4),
                condition: str | None = None, max_steps: int = 2000) -> FoldLocus:
@@ -230,7 +230,7 @@ def _refined(system, intervals, vals, x_name, xb, h, f):
     """The interior ends of ``intervals`` (F = 0 crossings) solved exactly: F held at 0, x freed."""
     from ..continuation import find_equilibrium
 
-    base = as_model(system).downlocked
+    base = downlocked_pose(system)
 
     def crossing(xc):
         if not xb[0] < xc < xb[1]:
@@ -263,7 +263,7 @@ def _intervals(x, F):
     return tuple(out)
 
 
-def design_region(system: EquationSystem, x_name: str, y_name: str, *,
+def design_region(system: Model, x_name: str, y_name: str, *,
                   x_bounds: tuple[float, float], y_levels: Sequence[float] | np.ndarray,
                   values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
                   force: str | None = None, n_x: int = 121, condition: str | None = None,
@@ -311,9 +311,10 @@ def design_region(system: EquationSystem, x_name: str, y_name: str, *,
     rows, warnings = [], []
     for i, yv in enumerate(y_levels):
         vals = {**values, y_name: float(yv), x_name: x0}
-        br = downlock(system, x_name, {x_name: (lo, hi)}, values=vals, hold=h, force=f, unlock=False,
-                      max_steps=max_steps)
-        warnings += [f"{y_name} = {yv:g}: {w}" for w in br.warnings]
+        run = downlock(system, x_name, {x_name: (lo, hi)}, values=vals, hold=h, force=f, unlock=False,
+                       max_steps=max_steps)
+        warnings += [f"{y_name} = {yv:g}: {w}" for w in run.warnings]
+        br = run.branch
         order = np.argsort(br[x_name])
         xs, Fs = br[x_name][order], br[f][order]
         force_map[i] = np.interp(grid, xs, Fs)
@@ -376,7 +377,7 @@ def _zero_force_boundary(system, x_name, y_name, xb, yb, grid, levels, fmap, val
             j = idx[0]
             xs = grid[j] - row[j] * (grid[j + 1] - grid[j]) / (row[j + 1] - row[j])
             vals = {**values, y_name: float(levels[i]), x_name: float(xs), f: 0.0}
-            base = as_model(system).downlocked
+            base = downlocked_pose(system)
             guess = system.vector(vals, base=base) if base is not None else None
             try:
                 x0 = find_equilibrium(system, values={k: v for k, v in vals.items() if k != x_name}, hold=h,

@@ -11,32 +11,38 @@ The condition is any held state: the nose gear's ``theta4 = 0``, or a condition 
 a mechanism description (``[conditions]``, held at its ``target``; ``[mechanism] downlock =
 {condition, force}`` makes it the default). The result also carries the unlock folds of the
 downlocked point at the start (:mod:`mechcont.analysis.unlock`) and names every run that
-stopped short of its bounds (:attr:`DownlockBranch.warnings`).
+stopped short of its bounds (:attr:`DownlockResult.warnings`); the branch itself is a plain
+:class:`~mechcont.continuation.Branch` the result holds.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from ..continuation import Branch, ContinuationOptions, continuation, find_equilibrium
-from ..equations import EquationSystem, as_model
+from ..equations import Model
 from ..errors import ConvergenceError, InputError
 from ._runs import early_stops
 from .unlock import UnlockFolds, unlock_folds
 
-__all__ = ["downlock", "downlock_point", "downlock_condition", "DownlockBranch"]
+__all__ = ["downlock", "downlock_point", "downlock_condition", "downlocked_pose", "DownlockResult"]
 
 
-class DownlockBranch(Branch):
-    """A downlock branch (a :class:`~mechcont.continuation.Branch`) and what it rests on.
+@dataclass(frozen=True)
+class DownlockResult:
+    """A downlock branch and what it rests on.
 
-    Attributes (besides the branch's own)
-    -------------------------------------
-    downlock_force:
-        Name of the force solved for (N); ``branch[downlock_force]`` is the downlock force.
+    Attributes
+    ----------
+    branch:
+        The :class:`~mechcont.continuation.Branch`: every variable along the run in the design
+        parameter (``branch[force]`` is the downlock force, N).
+    force:
+        Name of the force solved for (N).
     condition:
         The held states ``{name: value}`` (e.g. ``{"aligned": 0.0}``).
     unlock:
@@ -50,40 +56,32 @@ class DownlockBranch(Branch):
         for a lock held at a condition.
     """
 
-    downlock_force: str
-    condition: dict
-    unlock: UnlockFolds | None
-    warnings: list
+    branch: Branch
+    force: str
+    condition: Mapping[str, float]
+    unlock: UnlockFolds | None = None
+    warnings: list[str] = field(default_factory=list)
     lock_stops: tuple[str, ...] = ()
 
-    def sensitivity(self, system, point, params, *, of: str | None = None, keep: str | None = None,
-                    values=None):
-        """:meth:`Branch.sensitivity`, of the downlock force unless ``of`` names another unknown."""
-        return super().sensitivity(system, point, params, of=of or self.downlock_force, keep=keep, values=values)
-
-    @classmethod
-    def of(cls, branch: Branch, force: str, condition: Mapping[str, float], unlock: UnlockFolds | None,
-           warnings: list[str]) -> DownlockBranch:
-        """``branch`` (every attribute kept) with the downlock's force, condition, unlock folds and warnings."""
-        out = cls.__new__(cls)
-        out.__dict__.update(branch.__dict__)
-        out.downlock_force, out.condition = force, dict(condition)
-        out.unlock, out.warnings = unlock, list(warnings)
-        return out
+    def sensitivity(self, system: Model, point: str | int, params: Iterable[str], *, of: str | None = None,
+                    keep: str | None = None, values: Mapping[str, float] | None = None):
+        """:meth:`Branch.sensitivity <mechcont.continuation.Branch.sensitivity>` of the branch, of the downlock
+        force unless ``of`` names another unknown."""
+        return self.branch.sensitivity(system, point, params, of=of or self.force, keep=keep, values=values)
 
 
-def downlock_condition(system: EquationSystem, hold: Mapping[str, float] | None = None,
+def downlock_condition(system: Model, hold: Mapping[str, float] | None = None,
                        force: str | None = None, *, condition: str | None = None) -> tuple[dict[str, float], str]:
     """The held states and the freed force of the downlock condition of ``system``.
 
     Uses ``hold`` (``{state: value}``) or ``condition`` (a declared condition's name, held at
-    its target) when given, else the model's ``downlock_hold`` / ``downlock_force`` attributes
+    its target) when given, else the model's :attr:`~mechcont.equations.Model.downlock`
     (the built-in nose gear: ``{"theta4": 0.0}``, ``"F"``; a description: its ``[mechanism]
     downlock``). ``force`` defaults to the model's, else ``"F"``. Raises :class:`InputError`
     when nothing names the condition, a name is unknown, or both ``hold`` and ``condition``
     are given.
     """
-    model = as_model(system)
+    model = system
     if condition is not None:
         if hold:
             raise InputError("condition", "give either a condition or held states (hold), not both")
@@ -97,14 +95,14 @@ def downlock_condition(system: EquationSystem, hold: Mapping[str, float] | None 
             raise InputError("condition", f"condition {condition!r} has no target; give target = VALUE under "
                                           f"[conditions] or hold it at a value ({condition}=VALUE)")
         hold = {condition: target}
-    h = dict(hold) if hold else model.downlock_hold
+    h = dict(hold) if hold else (dict(model.downlock.hold) if model.downlock is not None else None)
     if not h:
         names = ", ".join(model.conditions)
         hint = f"; declared conditions: {names}" if names else ""
         raise InputError("hold", f"model '{system.name}' defines no downlock condition; give the held lock-link state "
                                  f"(e.g. theta4=0) or a declared condition, or declare [mechanism] downlock = "
                                  f"{{condition = ..., force = ...}}{hint}")
-    f = force if force is not None else (model.downlock_force or "F")
+    f = force if force is not None else (model.downlock.force if model.downlock is not None else "F")
     for n in h:
         if system.variable(n).kind != "state":
             raise InputError(n, "only states can be held for the downlock condition")
@@ -113,7 +111,12 @@ def downlock_condition(system: EquationSystem, hold: Mapping[str, float] | None 
     return {k: float(v) for k, v in h.items()}, f
 
 
-def downlock_point(system: EquationSystem, values: Mapping[str, float] | None = None, *,
+def downlocked_pose(model: Model) -> np.ndarray | None:
+    """The model's downlocked equilibrium at its defaults (full vector), or None when it declares none."""
+    return model.downlock.pose if model.downlock is not None else None
+
+
+def downlock_point(system: Model, values: Mapping[str, float] | None = None, *,
                    hold: Mapping[str, float] | None = None, force: str | None = None,
                    free: Iterable[str] = (), condition: str | None = None) -> np.ndarray:
     """One downlocked equilibrium: the held lock-link state, the force solved for.
@@ -135,22 +138,23 @@ def downlock_point(system: EquationSystem, values: Mapping[str, float] | None = 
         Full variable vector; ``x[system.index(force)]`` is the downlock force (N).
 
     Models may carry ``check_values(values)`` (raises :class:`InputError` for values out of
-    range) and ``assemble_downlocked(values, hold)`` (a closed-form guess); both are used.
-    Without the latter, Newton starts from the model's default (assembled) configuration.
+    range) and a downlock with a closed-form assembly (:attr:`DownlockFacts.assemble
+    <mechcont.equations.DownlockFacts>`); both are used. Without the latter, Newton starts from
+    the model's downlocked pose, else its default (assembled) configuration.
     """
     h, f = downlock_condition(system, hold, force, condition=condition)
     values = dict(values or {})
     for n in values:
         if n in h or n == f:
             raise InputError(n, "is fixed by the downlock condition; it cannot be set")
-    model = as_model(system)
+    model = system
     if model.check_values is not None:  # the model's own valid ranges (e.g. positive lengths)
         model.check_values(values)
-    base = model.downlocked
+    base = downlocked_pose(model)
     guess = system.vector(values, base=base) if base is not None else None
-    if model.assemble_downlocked is not None:  # closed-form assembly at these values: survives geometry changes
+    if model.downlock is not None and model.downlock.assemble is not None:  # closed form: survives geometry changes
         try:
-            guess = model.assemble_downlocked(values, h)
+            guess = model.downlock.assemble(values, h)
         except InputError as exc:  # no closed-form pose nearby: Newton from the default pose decides
             try:
                 return find_equilibrium(system, values=values, hold=h, free=[f, *free], guess=guess)
@@ -159,7 +163,7 @@ def downlock_point(system: EquationSystem, values: Mapping[str, float] | None = 
     return find_equilibrium(system, values=values, hold=h, free=[f, *free], guess=guess)
 
 
-def design_bounds(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float, float]] | None,
+def design_bounds(system: Model, vary: str, bounds: Mapping[str, tuple[float, float]] | None,
                   options: ContinuationOptions | None, values: Mapping[str, float] | None) -> tuple[dict, float]:
     """The bounds of a run in the design parameter ``vary`` (``options``' merged with ``bounds``) and its start
     value; :class:`InputError` for an unknown name, no range for ``vary`` or a start outside it."""
@@ -176,7 +180,7 @@ def design_bounds(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[
     return all_bounds, start
 
 
-def design_options(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float, float]],
+def design_options(system: Model, vary: str, bounds: Mapping[str, tuple[float, float]],
                    options: ContinuationOptions | None, max_steps: int | None) -> ContinuationOptions:
     """Continuation options of a run in the design parameter ``vary`` within ``bounds``: steps sized to
     its range and scale unless ``options`` are given (their bounds replaced by ``bounds``)."""
@@ -192,11 +196,11 @@ def design_options(system: EquationSystem, vary: str, bounds: Mapping[str, tuple
                                bounds=dict(bounds), **steps)
 
 
-def downlock(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None, *,
+def downlock(system: Model, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None, *,
              free: Iterable[str] = (), values: Mapping[str, float] | None = None,
              hold: Mapping[str, float] | None = None, force: str | None = None,
              options: ContinuationOptions | None = None, direction: int = 0, condition: str | None = None,
-             unlock: bool = True, max_steps: int | None = None) -> DownlockBranch:
+             unlock: bool = True, max_steps: int | None = None) -> DownlockResult:
     """The downlock force as a function of the parameter ``vary``, by continuation.
 
     Parameters
@@ -227,11 +231,11 @@ def downlock(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float
 
     Returns
     -------
-    DownlockBranch
-        A :class:`~mechcont.continuation.Branch`: columns of every variable along the branch
-        (``branch[force]`` is the downlock force, N); stability from the mechanics; ``LP``
-        where ``vary`` turns back. Also ``unlock`` (the unlock folds at the start) and
-        ``warnings`` (runs that stopped short of their bounds: where and why).
+    DownlockResult
+        Its ``branch``: columns of every variable along the branch (``branch[force]`` is the
+        downlock force, N); stability from the mechanics; ``LP`` where ``vary`` turns back.
+        Also ``unlock`` (the unlock folds at the start) and ``warnings`` (runs that stopped
+        short of their bounds: where and why).
 
     Raises
     ------
@@ -259,4 +263,4 @@ def downlock(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float
     if unlock:
         found = unlock_folds(system, x0, f, released=list(h))
         warnings += [f"unlock folds at {vary} = {start:g}: {n}" for n in found.warnings]
-    return DownlockBranch.of(branch, f, h, found, warnings)
+    return DownlockResult(branch, f, h, found, warnings)

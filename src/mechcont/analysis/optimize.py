@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..equations import EquationSystem
+from ..equations import Model
 from ..errors import ConvergenceError, InputError
 from ._stop_quantities import stop_reactions
 from .sensitivity import Sensitivity, downlock_sensitivity, fold_sensitivity, write_json
@@ -142,7 +142,7 @@ class OptimumResult:
 class _Quantities:
     """Values and exact gradients of the named quantities at a design, solved once per design."""
 
-    def __init__(self, system: EquationSystem, design: Sequence[str], values: Mapping[str, float],
+    def __init__(self, system: Model, design: Sequence[str], values: Mapping[str, float],
                  fold: tuple[np.ndarray, Sequence[str], str] | None, random: Mapping[str, Distribution] | None = None,
                  force: str | None = None):
         self.system, self.design, self.values = system, list(design), dict(values)
@@ -284,7 +284,7 @@ class _Quantities:
                                 null_vector=folds.above.null_vector)
 
 
-def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[float, float]], *,
+def optimize(system: Model, objective: str, bounds: Mapping[str, tuple[float, float]], *,
              maximize: bool = False, constraints: Sequence[Constraint] = (), values: Mapping[str, float] | None = None,
              fold: tuple[np.ndarray, Sequence[str], str] | None = None, max_iter: int = 100,
              tol: float = 1e-10, random: Mapping[str, Distribution] | None = None, starts: int = 1,
@@ -407,7 +407,7 @@ def optimize(system: EquationSystem, objective: str, bounds: Mapping[str, tuple[
                          quantities, active, int(res.nit), q.evaluations, bool(res.success), str(res.message), units)
 
 
-def _stop_constraints(system: EquationSystem, constraints: Sequence[Constraint]) -> list[Constraint]:
+def _stop_constraints(system: Model, constraints: Sequence[Constraint]) -> list[Constraint]:
     """``stop_preload >= b`` as ``R_NAME >= b`` for each stop of the model (the lock rests on all of them)."""
     reactions = stop_reactions(system)
     out = []
@@ -442,7 +442,7 @@ def _better(r, best, constraints, tol: float = 1e-6) -> bool:
     return fr and (not fb or float(r.fun) < float(best.fun) - 1e-12 * max(1.0, abs(float(best.fun))))
 
 
-def _reliability_constraints(system: EquationSystem, constraints: Sequence[Constraint],
+def _reliability_constraints(system: Model, constraints: Sequence[Constraint],
                              random: Mapping[str, Distribution] | None) -> list[Constraint]:
     """``P(not locking) <= p`` as ``beta(not locking) >= Phi^-1(1 - p)``; the distributions checked."""
     from scipy.stats import norm
@@ -509,7 +509,7 @@ class OptimumMap:
     notes: list[str] = field(default_factory=list)
 
 
-def optimum_map(system: EquationSystem, result: OptimumResult, bounds: Mapping[str, tuple[float, float]], *,
+def optimum_map(system: Model, result: OptimumResult, bounds: Mapping[str, tuple[float, float]], *,
                 constraints: Sequence[Constraint] = (), values: Mapping[str, float] | None = None,
                 random: Mapping[str, Distribution] | None = None, levels: int = 11, n_x: int = 121,
                 grid: int = 11) -> OptimumMap:

@@ -25,7 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..equations import as_model
+from ..equations import Model
+from ..errors import InputError
 
 __all__ = ["redundancy_along", "RedundancyReport", "RedundancyState"]
 
@@ -85,19 +86,20 @@ def _row_joint(name: str) -> str:
     return name.rsplit("_", 1)[0]
 
 
-def redundancy_along(system, branch, *, rtol: float = 1e-9) -> RedundancyReport:
+def redundancy_along(system: Model, branch, *, rtol: float = 1e-9) -> RedundancyReport:
     """The constraint rank, degrees of freedom and statically indeterminate reactions at every point
     of ``branch`` (a :class:`~mechcont.continuation.Branch` of ``system``), see the module docstring.
 
     ``rtol``: singular values below ``rtol`` times the largest count as zero.
     """
-    model = as_model(system)
     mech = system.mechanics
+    if mech is None:
+        raise InputError("model", f"'{system.name}' has no mechanics (constraints): no redundancy to report")
     nq = len(mech.coordinates)
     rows = mech.constraint_names if mech.constraint_names is not None else system.equation_names[nq:nq + mech.n_constraints]
-    reactions = dict(zip(system.equation_names[nq:], model.reaction_names))
+    reactions = dict(zip(system.equation_names[nq:], system.reaction_names))
     if mech.constraint_names is not None:  # a row dropped from the equations (spatial: rigid rows first, in order)
-        reactions.update((r, lam) for r, lam in zip(rows, model.reaction_names) if r not in reactions)
+        reactions.update((r, lam) for r, lam in zip(rows, system.reaction_names) if r not in reactions)
     ranks: list[int] = []
     dofs: list[int] = []
     states: list[tuple[int, int, tuple[str, ...]]] = []  # (first row, rank, rows in the redundancy)
@@ -111,7 +113,7 @@ def redundancy_along(system, branch, *, rtol: float = 1e-9) -> RedundancyReport:
             rank = int(np.sum(sv > rtol * max(sv[0], 1e-300)))
             W = U[:, rank:]
             part = np.max(np.abs(W), axis=1) if W.shape[1] else np.zeros(A.shape[0])
-            bad = tuple(rows[k] for k in np.flatnonzero(part > 1e-6) if not rows[k].startswith("norm_"))
+            bad = tuple(rows[int(k)] for k in np.flatnonzero(part > 1e-6) if not rows[int(k)].startswith("norm_"))
         ranks.append(rank)
         dofs.append(nq - rank)
         if not states or states[-1][1:3] != (rank, bad):
@@ -120,10 +122,10 @@ def redundancy_along(system, branch, *, rtol: float = 1e-9) -> RedundancyReport:
     for start, rank, bad in states:
         joints = tuple(dict.fromkeys(_row_joint(r) for r in bad))
         out.append(RedundancyState(start, rank, nq - rank, tuple(reactions.get(r, r) for r in bad), joints))
-    dropped = tuple(model.dropped_constraints)
+    dropped = tuple(system.dropped_constraints)
     residual = 0.0
     if dropped:
-        assert model.dropped_residual is not None, "a model with dropped rows has their residual"
-        residual = max((model.dropped_residual(x) for x in branch.values), default=0.0)
+        assert system.dropped_residual is not None, "a model with dropped rows has their residual"
+        residual = max((system.dropped_residual(x) for x in branch.values), default=0.0)
     switches = tuple(p.index for p in getattr(branch, "special_points", ()) if p.label == "RC")
     return RedundancyReport(np.array(ranks), np.array(dofs), tuple(out), dropped, float(residual), switches)

@@ -10,6 +10,7 @@ are in SI units per SI unit (``N/(N/m)`` for a force by a stiffness); angles in 
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import replace
 
 import numpy as np
 
@@ -24,15 +25,16 @@ from ..continuation._sensitivity import (
     point_sensitivity,
     write_json,
 )
-from ..equations import EquationSystem
+from ..equations import Model
 from ..errors import InputError
+from .unlock import B
 
 __all__ = ["Sensitivity", "equilibrium_sensitivity", "fold_sensitivity", "downlock_sensitivity", "point_sensitivity",
            "release_sensitivity", "margin_sensitivity", "cusp_sensitivity", "derivative_unit", "check_parameters",
            "write_json", "with_sensitivity_columns"]
 
 
-def downlock_sensitivity(system: EquationSystem, params: Iterable[str], values: Mapping[str, float] | None = None, *,
+def downlock_sensitivity(system: Model, params: Iterable[str], values: Mapping[str, float] | None = None, *,
                          hold: Mapping[str, float] | None = None, force: str | None = None,
                          condition: str | None = None, x: np.ndarray | None = None) -> Sensitivity:
     """Derivatives of the downlock force (condition held, force solved) with respect to ``params``.
@@ -51,7 +53,7 @@ def downlock_sensitivity(system: EquationSystem, params: Iterable[str], values: 
     return equilibrium_sensitivity(system, x, unknowns, params, f, kind="downlock")
 
 
-def _switch_or_cusp(system: EquationSystem, x: np.ndarray, params: Iterable[str], vary: str, label: str, info: dict,
+def _switch_or_cusp(system: Model, x: np.ndarray, params: Iterable[str], vary: str, label: str, info: dict,
                     unknowns: Sequence[str] | None, values: Mapping[str, float] | None) -> Sensitivity:
     """:func:`point_sensitivity` at a stop's release (``SR``) or a fold curve's cusp (``CP``): the
     handler :mod:`mechcont.analysis` registers for those labels (:data:`SPECIAL_POINTS`)."""
@@ -59,9 +61,8 @@ def _switch_or_cusp(system: EquationSystem, x: np.ndarray, params: Iterable[str]
         x = system.vector(values, base=x)
         system.check_limits(x)
     if label == "SR":
-        from ..equations import as_model
 
-        stop = info.get("stop") or next((s.name for s in as_model(system).stops
+        stop = info.get("stop") or next((s.name for s in system.stops
                                          if abs(x[system.index(s.reaction)]) <= 1e-9 * system.variable(s.reaction).scale),
                                         None)
         if stop is None:
@@ -74,19 +75,19 @@ def _switch_or_cusp(system: EquationSystem, x: np.ndarray, params: Iterable[str]
     return cusp_sensitivity(system, x, lens[:-1], lens[-1], vary, params)
 
 
-def with_sensitivity_columns(system: EquationSystem, branch, params: Iterable[str], of: str | None = None):
-    """A copy of ``branch`` with ``d<of>_d<p>`` columns: the exact derivative at every row (SI units).
+def with_sensitivity_columns(system: Model, result: B, params: Iterable[str], of: str | None = None) -> B:
+    """A new ``result`` (a :class:`~mechcont.continuation.Branch`, or a
+    :class:`~mechcont.analysis.downlock.DownlockResult` with a new branch) with ``d<of>_d<p>`` columns:
+    the exact derivative at every row (SI units).
 
-    ``of`` is an unknown of the branch (default: a downlock branch's force), differentiated
+    ``of`` is an unknown of the branch (default: a downlock result's force), differentiated
     with the continuation parameter held (:func:`equilibrium_sensitivity` at each row). The
     units of the new columns are those of the derivatives (``N/(N/m)``).
     """
-    import copy
+    from .downlock import DownlockResult
 
-    from ..continuation import Branch
-    from .downlock import DownlockBranch
-
-    of = of or (branch.downlock_force if isinstance(branch, DownlockBranch) else None)
+    branch = result.branch if isinstance(result, DownlockResult) else result
+    of = of or (result.force if isinstance(result, DownlockResult) else None)
     if of is None:
         raise InputError("sensitivity", "name the unknown of the branch to differentiate")
     params = list(params)
@@ -96,14 +97,11 @@ def with_sensitivity_columns(system: EquationSystem, branch, params: Iterable[st
     rows = [equilibrium_sensitivity(system, x, unknowns, params, of) for x in X]
     cols = {f"d{of}_d{p}": np.array([r[p] for r in rows]) for p in params}
     units = {f"d{of}_d{p}": rows[0].units[p] if rows else "" for p in params}
-    out = copy.copy(branch)  # same type, a downlock branch's own attributes kept
-    Branch.__init__(out, (*branch.names, *cols), np.column_stack([branch.values, *cols.values()]), branch.s,
-                    branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
-                    branch.status, branch.message, branch.model, {**branch.units, **units})
-    return out
+    out = branch.with_columns(cols, units)
+    return replace(result, branch=out) if isinstance(result, DownlockResult) else out
 
 
-def release_sensitivity(system: EquationSystem, x: np.ndarray, stop: str, vary: str, params: Iterable[str], *,
+def release_sensitivity(system: Model, x: np.ndarray, stop: str, vary: str, params: Iterable[str], *,
                         polish: bool = True) -> Sensitivity:
     """Derivatives of a stop's release load: the value of ``vary`` where the stop's reaction reaches zero.
 
@@ -128,10 +126,9 @@ def release_sensitivity(system: EquationSystem, x: np.ndarray, stop: str, vary: 
 
     Returns a :class:`Sensitivity` of kind ``"release"`` (its ``x`` the solved release).
     """
-    from ..equations import as_model
     from .stops import GAP_TOL
 
-    stops = {s.name: s for s in as_model(system).stops}
+    stops = {s.name: s for s in system.stops}
     if stop not in stops:
         raise InputError("stop", f"unknown stop {stop!r}; stops of {system.name}: {', '.join(stops) or 'none'}")
     x = np.asarray(x, dtype=float).copy()
@@ -152,7 +149,7 @@ def release_sensitivity(system: EquationSystem, x: np.ndarray, stop: str, vary: 
     return sens
 
 
-def margin_sensitivity(system: EquationSystem, design: str, params: Iterable[str],
+def margin_sensitivity(system: Model, design: str, params: Iterable[str],
                        values: Mapping[str, float] | None = None, *, kind: str = "fold", at: float | None = None,
                        bounds: tuple[float, float] | None = None, hold: Mapping[str, float] | None = None,
                        force: str | None = None, condition: str | None = None) -> Sensitivity:

@@ -14,17 +14,17 @@ condition-held downlock.
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Iterable, Mapping
+from dataclasses import replace
 
 import numpy as np
 
 from ..continuation import Branch, ContinuationOptions
-from ..equations import EquationSystem, as_model
+from ..equations import Model
 from ..errors import ConvergenceError, InputError
 from ..units import shown
 from ._runs import early_stops
-from .downlock import DownlockBranch, design_bounds, design_options
+from .downlock import DownlockResult, design_bounds, design_options
 from .stops import GAP_TOL, continuation_with_stops, equilibrium_on_stops, stability_on_stops
 from .unlock import RELEASE_FORCE_SPAN, UnlockFolds
 
@@ -32,15 +32,16 @@ __all__ = ["downlock_on_stops", "stop_unlock", "stop_unlock_along", "with_stop_u
            "landing_after_unlock"]
 
 
-def lock_force(system: EquationSystem, force: str | None = None) -> str:
+def lock_force(system: Model, force: str | None = None) -> str:
     """The force (a parameter) that opens a lock on stops: ``force``, else the model's downlock force, else ``F``."""
-    f = force if force is not None else (as_model(system).downlock_force or "F")
+    facts = system.downlock
+    f = force if force is not None else (facts.force if facts is not None else "F")
     if system.variable(f).kind != "parameter":
         raise InputError(f, "the unlock force must be a parameter of the model (it is continued)")
     return f
 
 
-def locked_on_stops(system: EquationSystem, values: Mapping[str, float] | None = None,
+def locked_on_stops(system: Model, values: Mapping[str, float] | None = None,
                     free: Iterable[str] = ()) -> tuple[np.ndarray, list[str]]:
     """The locked state: the equilibrium with a consistent set of stops in contact at ``values`` (SI), found
     from the description's assembled configuration, a stable one when there is one. Raises
@@ -52,13 +53,13 @@ def locked_on_stops(system: EquationSystem, values: Mapping[str, float] | None =
     except ConvergenceError as exc:
         raise InputError("stops", f"no locked state on the stops of {system.name}: {exc}") from None
     if not contact:
-        names = ", ".join(s.name for s in as_model(system).stops)
+        names = ", ".join(s.name for s in system.stops)
         raise InputError("stops", f"{system.name} rests on none of its stops ({names}) at these values: not locked "
                                   "(the equilibrium found stands free)")
     return x, contact
 
 
-def stop_unlock(system: EquationSystem, x: np.ndarray, force: str, *, max_steps: int = 400,
+def stop_unlock(system: Model, x: np.ndarray, force: str, *, max_steps: int = 400,
                 stability: bool = True, both: bool = True) -> UnlockFolds:
     """The unlock loads of a lock resting on its stops at ``x``: the force continued both ways from there
     with the stops switching (:func:`~mechcont.analysis.stops.continuation_with_stops`), each way ended at its
@@ -66,7 +67,7 @@ def stop_unlock(system: EquationSystem, x: np.ndarray, force: str, *, max_steps:
     the notes name the release (``SR``) before each and where a non-smooth fold lands. The force may move by
     :data:`~mechcont.analysis.unlock.RELEASE_FORCE_SPAN` of its scales. ``both=False``: increasing only."""
     F0 = float(x[system.index(force)])
-    contact = [s.name for s in as_model(system).stops if abs(s.gap(x[system.index(s.condition)])) <= GAP_TOL
+    contact = [s.name for s in system.stops if abs(s.gap(x[system.index(s.condition)])) <= GAP_TOL
                and x[system.index(s.reaction)] >= 0]
     stable = bool(stability_on_stops(system, x, contact).stable) if system.mechanics is not None else None
     sc = system.variable(force).scale
@@ -101,7 +102,7 @@ def stop_unlock(system: EquationSystem, x: np.ndarray, force: str, *, max_steps:
     return UnlockFolds(force, F0, stable, below, above, b, notes, warnings)
 
 
-def landing_after_unlock(system: EquationSystem, x: np.ndarray, unlock: UnlockFolds) -> str:
+def landing_after_unlock(system: Model, x: np.ndarray, unlock: UnlockFolds) -> str:
     """Where the lock at ``x`` lands when its unlock load (``unlock.above``) is a non-smooth fold: one line
     (from a run through the fold, :func:`~mechcont.analysis.stops.continuation_with_stops`), "" otherwise."""
     p = unlock.above
@@ -129,7 +130,7 @@ def landing_after_unlock(system: EquationSystem, x: np.ndarray, unlock: UnlockFo
             f"{shown(p[moved], unit)} to {shown(at[moved], unit)})")
 
 
-def stop_unlock_along(system: EquationSystem, branch: Branch, force: str) -> tuple[np.ndarray, list[str]]:
+def stop_unlock_along(system: Model, branch: Branch, force: str) -> tuple[np.ndarray, list[str]]:
     """The unlock load (force increasing, nan where none) at every row of a lock-on-stops ``branch``, each
     from its own release run (:func:`stop_unlock`, increasing only), and the runs' warnings."""
     out = np.full(len(branch), np.nan)
@@ -141,25 +142,22 @@ def stop_unlock_along(system: EquationSystem, branch: Branch, force: str) -> tup
     return out, warnings
 
 
-def with_stop_unlock_column(system: EquationSystem, branch: DownlockBranch, force: str) -> tuple[DownlockBranch, np.ndarray]:
-    """``(copy of branch, unlock loads)``: the lock-on-stops ``branch`` with the unlock load of every row
-    (:func:`stop_unlock_along`, unit of ``force``) as column ``unlock_<force>`` when some row has one, and
-    the release runs' warnings added to its ``warnings``."""
-    unlock, more = stop_unlock_along(system, branch, force)
-    out = copy.copy(branch)  # same type, the downlock's own attributes kept
-    out.warnings = [*branch.warnings, *(f"unlock loads along the branch: {w}" for w in more)]
-    if np.isfinite(unlock).any():
-        col = f"unlock_{force}"
-        Branch.__init__(out, (*branch.names, col), np.column_stack([branch.values, unlock]), branch.s,
-                        branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
-                        branch.status, branch.message, branch.model, {**branch.units, col: system.variable(force).unit})
-    return out, unlock
+def with_stop_unlock_column(system: Model, result: DownlockResult, force: str) -> tuple[DownlockResult, np.ndarray]:
+    """``(new result, unlock loads)``: the lock-on-stops ``result`` with the unlock load of every row
+    (:func:`stop_unlock_along`, unit of ``force``) as column ``unlock_<force>`` of its branch when some row
+    has one, and the release runs' warnings added to its ``warnings``."""
+    unlock, more = stop_unlock_along(system, result.branch, force)
+    col = f"unlock_{force}"
+    branch = (result.branch.with_columns({col: unlock}, {col: system.variable(force).unit}) if np.isfinite(unlock).any()
+              else result.branch)
+    return replace(result, branch=branch,
+                   warnings=[*result.warnings, *(f"unlock loads along the branch: {w}" for w in more)]), unlock
 
 
-def downlock_on_stops(system: EquationSystem, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None, *,
+def downlock_on_stops(system: Model, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None, *,
                       force: str | None = None, free: Iterable[str] = (), values: Mapping[str, float] | None = None,
                       options: ContinuationOptions | None = None, direction: int = 0, unlock: bool = True,
-                      max_steps: int | None = None) -> DownlockBranch:
+                      max_steps: int | None = None) -> DownlockResult:
     """The lock resting on its stops as a function of the design parameter ``vary``, by continuation.
 
     Parameters
@@ -175,8 +173,8 @@ def downlock_on_stops(system: EquationSystem, vary: str, bounds: Mapping[str, tu
 
     Returns
     -------
-    DownlockBranch
-        The branch in ``vary`` with the stops switching (their reactions ``R_NAME`` are the lock's
+    DownlockResult
+        Its ``branch``: the run in ``vary`` with the stops switching (their reactions ``R_NAME`` are the lock's
         preload: > 0 locked, ``SR`` where a design stops locking); ``condition`` maps each stop's
         condition in contact at the start to its limit; ``unlock`` the :class:`UnlockFolds` of the
         start; ``warnings`` the runs that stopped short; ``lock_stops`` the stops in contact at the start.
@@ -190,7 +188,7 @@ def downlock_on_stops(system: EquationSystem, vary: str, bounds: Mapping[str, tu
     x0, contact = locked_on_stops(system, values, free)
     opts = design_options(system, vary, all_bounds, options, max_steps)
     run = continuation_with_stops(system, x0, vary, direction=direction, free=list(free), options=opts, contact=contact)
-    stops = {s.name: s for s in as_model(system).stops}
+    stops = {s.name: s for s in system.stops}
     condition = {stops[n].condition: float(stops[n].limit) for n in contact}
     warnings = early_stops(run.branch, f"lock on stops ({', '.join(contact)}) in {vary}",
                            show=[stops[n].reaction for n in contact])
@@ -201,6 +199,4 @@ def downlock_on_stops(system: EquationSystem, vary: str, bounds: Mapping[str, tu
         landing = landing_after_unlock(system, x0, found)
         if landing:
             found.notes.append(landing)
-    out = DownlockBranch.of(run.branch, f, condition, found, warnings)
-    out.lock_stops = tuple(contact)
-    return out
+    return DownlockResult(run.branch, f, condition, found, warnings, tuple(contact))

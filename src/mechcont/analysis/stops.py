@@ -37,7 +37,7 @@ from .._status import Status
 from ..continuation import Branch, ContinuationOptions, FoldEvent, SpecialPoint, ValueEvent, continuation, find_equilibrium
 from ..continuation._problem import choose_unknowns
 from ..continuation._variants import travel as _travel
-from ..equations import EquationSystem, StopLimit, as_model
+from ..equations import Model, StopLimit
 from ..errors import ConvergenceError, InputError
 
 __all__ = ["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stops_in_contact", "check_stop_lens",
@@ -48,8 +48,8 @@ __all__ = ["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stops_
 GAP_TOL = 1e-9
 
 
-def _stops(system: EquationSystem, names: Iterable[str] | None) -> tuple[StopLimit, ...]:
-    have = as_model(system).stops
+def _stops(system: Model, names: Iterable[str] | None) -> tuple[StopLimit, ...]:
+    have = system.stops
     if names is None:
         return have
     by_name = {s.name: s for s in have}
@@ -62,14 +62,14 @@ def _stops(system: EquationSystem, names: Iterable[str] | None) -> tuple[StopLim
     return tuple(out)
 
 
-def stops_in_contact(system: EquationSystem, x: np.ndarray, stops: Sequence[StopLimit] | None = None) -> list[str]:
+def stops_in_contact(system: Model, x: np.ndarray, stops: Sequence[StopLimit] | None = None) -> list[str]:
     """Names of the stops touching at the full vector ``x``: condition at its limit and reaction > 0."""
     stops = _stops(system, None) if stops is None else stops
     return [s.name for s in stops
             if abs(s.gap(x[system.index(s.condition)])) <= GAP_TOL and x[system.index(s.reaction)] > 0]
 
 
-def check_stop_lens(system: EquationSystem, vary: str, hold: Iterable[str] = (), free: Iterable[str] = (),
+def check_stop_lens(system: Model, vary: str, hold: Iterable[str] = (), free: Iterable[str] = (),
                     stops: Iterable[str] | None = None) -> None:
     """Raise a one-line :class:`~mechcont.errors.InputError` when ``vary``, ``hold`` or ``free`` names a stop's
     reaction or condition: with stops those are switched by contact, not chosen."""
@@ -89,7 +89,7 @@ def _lens(stops: Sequence[StopLimit], active: Iterable[str], hold: Iterable[str]
     return hold_, free_
 
 
-def _with_contacts(system: EquationSystem, x: np.ndarray, stops, active) -> np.ndarray:
+def _with_contacts(system: Model, x: np.ndarray, stops, active) -> np.ndarray:
     """``x`` with the active stops' conditions exactly at their limits and the free stops' reactions 0."""
     y = np.array(x, dtype=float)
     for s in stops:
@@ -100,7 +100,7 @@ def _with_contacts(system: EquationSystem, x: np.ndarray, stops, active) -> np.n
     return y
 
 
-def equilibrium_on_stops(system: EquationSystem, guess: np.ndarray | Mapping[str, float], *,
+def equilibrium_on_stops(system: Model, guess: np.ndarray | Mapping[str, float], *,
                          values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
                          free: Iterable[str] = (), stops: Iterable[str] | None = None,
                          contact: Iterable[str] | None = None, stable: bool = False) -> tuple[np.ndarray, list[str]]:
@@ -241,7 +241,7 @@ class _FirstFold(FoldEvent):
     stop = True
 
 
-def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str, *, direction: int = 1,
+def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, direction: int = 1,
                             hold: Iterable[str] = (), free: Iterable[str] = (), stops: Iterable[str] | None = None,
                             contact: Iterable[str] | None = None, options: ContinuationOptions | None = None,
                             stop_at_fold: bool = False, max_switches: int = 20,
@@ -382,7 +382,7 @@ def continuation_with_stops(system: EquationSystem, start: np.ndarray, vary: str
     return run
 
 
-def _check_start_contacts(system: EquationSystem, x: np.ndarray, stops: Sequence[StopLimit], active: set[str],
+def _check_start_contacts(system: Model, x: np.ndarray, stops: Sequence[StopLimit], active: set[str],
                           undecided: set[str]) -> None:
     """:class:`InputError` unless every stop not ``undecided`` is consistently in (``active``) or out of
     contact at ``x``: in contact, its condition at the limit and a reaction >= 0; free, a zero reaction
@@ -399,14 +399,14 @@ def _check_start_contacts(system: EquationSystem, x: np.ndarray, stops: Sequence
                                       "equilibrium_on_stops")
 
 
-def _at_switch(system: EquationSystem, x: np.ndarray, stops: Sequence[StopLimit]) -> set[str]:
+def _at_switch(system: Model, x: np.ndarray, stops: Sequence[StopLimit]) -> set[str]:
     """The stops at their limit with a zero reaction at ``x``: in or out of contact is for the tangents to say."""
     sc = system.scales()
     return {s.name for s in stops if abs(s.gap(x[system.index(s.condition)])) <= GAP_TOL
             and abs(x[system.index(s.reaction)]) <= GAP_TOL * sc[system.index(s.reaction)]}
 
 
-def _continuing_sets(system: EquationSystem, x: np.ndarray, vary: str, sign: int, stops: Sequence[StopLimit],
+def _continuing_sets(system: Model, x: np.ndarray, vary: str, sign: int, stops: Sequence[StopLimit],
                      active: set[str], undecided: set[str], hold: list[str], free: list[str]) -> list[set[str]]:
     """The contact sets that continue from ``x`` as ``vary`` is pushed in ``sign``, most stops in contact first.
 
@@ -437,7 +437,7 @@ def _continuing_sets(system: EquationSystem, x: np.ndarray, vary: str, sign: int
     return out
 
 
-def _single(system: EquationSystem, x: np.ndarray, vary: str, hold, free, stops, active) -> Branch:
+def _single(system: Model, x: np.ndarray, vary: str, hold, free, stops, active) -> Branch:
     """A one-row branch at ``x`` (a run that ends where it starts: a non-smooth fold at the start)."""
     hold_k, free_k = _lens(stops, active, hold, free)
     unknowns = tuple(choose_unknowns(system, hold_k, free_k, exclude=[vary]))
@@ -446,7 +446,7 @@ def _single(system: EquationSystem, x: np.ndarray, vary: str, hold, free, stops,
                   units={v.name: v.unit for v in system.variables})
 
 
-def stability_on_stops(system: EquationSystem, x: np.ndarray, contact: Iterable[str]):
+def stability_on_stops(system: Model, x: np.ndarray, contact: Iterable[str]):
     """Physical stability at the full vector ``x`` with the stops ``contact`` (names) in contact.
 
     A stop that pushes (reaction > 0) forbids motion across it, so its condition's gradient (the
@@ -463,14 +463,14 @@ def stability_on_stops(system: EquationSystem, x: np.ndarray, contact: Iterable[
     return mech.stability(x, held=system.jacobian(x)[np.ix_(rows, cols)])
 
 
-def _contact_stability(system: EquationSystem, piece: Branch, contact: Sequence[str]) -> None:
+def _contact_stability(system: Model, piece: Branch, contact: Sequence[str]) -> None:
     """:func:`stability_on_stops` at every point of a piece with the stops ``contact`` in contact
     (``n_unstable`` rewritten in place)."""
     for i, x in enumerate(piece.values):
         piece.n_unstable[i] = stability_on_stops(system, x, contact).n_unstable
 
 
-def _join(system: EquationSystem, pieces: list[Branch], vary: str, run: StopRun,
+def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun,
           folds: Mapping[int, dict]) -> tuple[Branch, list[int]]:
     """One branch of the pieces in travel order; each switch row appears once (the end of its piece), labelled
     with its switch's label (``NSF`` with its ``folds`` info); and the piece of each row."""
@@ -522,7 +522,7 @@ def _join(system: EquationSystem, pieces: list[Branch], vary: str, run: StopRun,
     return branch, row_piece
 
 
-def _land(system: EquationSystem, run: StopRun, row_piece: list[int], vary: str, hold: list[str], free: list[str],
+def _land(system: Model, run: StopRun, row_piece: list[int], vary: str, hold: list[str], free: list[str],
           stops: Sequence[StopLimit]) -> None:
     """Where the mechanism lands after each ``NSF`` it reached stable: the first equilibrium further along
     the branch at the fold's value of ``vary``, solved on that piece's contact set (``info`` of the point)."""
@@ -542,7 +542,7 @@ def _land(system: EquationSystem, run: StopRun, row_piece: list[int], vary: str,
             note = (f"the mechanism jumps at the non-smooth fold ({vary} = {v:.6g}); no equilibrium at that "
                     f"{vary} further along the branch, within its bounds")
             run.message = f"{run.message}; {note}" if run.message else note
-            b.message = run.message
+            run.branch = run.branch.replace(message=run.message)
             continue
         active = run.contact[row_piece[j]]
         w = ahead[j] / (ahead[j] - ahead[j - 1])
@@ -561,7 +561,7 @@ def _land(system: EquationSystem, run: StopRun, row_piece: list[int], vary: str,
         p.extra.update(landing=x, landing_contact=tuple(active), landing_stable=stable)
 
 
-def _both_ways(system: EquationSystem, down: StopRun, up: StopRun) -> StopRun:
+def _both_ways(system: Model, down: StopRun, up: StopRun) -> StopRun:
     """The decreasing run reversed, then the increasing one (the shared start once), as one run."""
     bd, bu = down.branch, up.branch
     n = len(bd)

@@ -14,13 +14,13 @@ from dataclasses import replace
 import numpy as np
 
 from ..continuation import Branch, ContinuationOptions, continuation
-from ..equations import EquationSystem
+from ..equations import Model
 from ..errors import InputError
 
 __all__ = ["equilibrium_family"]
 
 
-def equilibrium_family(system: EquationSystem, start: np.ndarray, vary: str, family: str,
+def equilibrium_family(system: Model, start: np.ndarray, vary: str, family: str,
                        values: Sequence[float], *, hold: Iterable[str] = (), free: Iterable[str] = (),
                        options: ContinuationOptions | None = None, move_hold: Iterable[str] | None = None,
                        move_free: Iterable[str] | None = None, progress=None) -> list[Branch]:

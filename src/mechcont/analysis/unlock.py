@@ -11,16 +11,22 @@ the lock cannot carry the force and the mechanism snaps. Those folds are the *un
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, TypeVar
 
 import numpy as np
 
 from ..continuation import Branch, ContinuationOptions, FoldEvent, SpecialPoint, continuation
-from ..equations import EquationSystem
+from ..equations import Model
 from ..errors import ConvergenceError, InputError
 from ._runs import early_stops
+
+if TYPE_CHECKING:
+    from .downlock import DownlockResult
+
+#: A branch, or a downlock result holding one (the functions that add columns give back the same kind).
+B = TypeVar("B", Branch, "DownlockResult")
 
 __all__ = ["UnlockFolds", "unlock_folds", "unlock_force_along", "with_unlock_columns"]
 
@@ -98,7 +104,7 @@ RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN = 50.0, 2.0
 RELEASE_DS, RELEASE_DSMAX, RELEASE_MAX_ANGLE = 0.1, 0.1 * RELEASE_FORCE_SPAN, 0.2
 
 
-def _release_options(system: EquationSystem, x: np.ndarray, released, force: str, max_steps: int,
+def _release_options(system: Model, x: np.ndarray, released, force: str, max_steps: int,
                      bounds: Mapping[str, tuple[float, float]] | None, stability: bool = True) -> ContinuationOptions:
     """Steps and bounds of the release run (see :data:`RELEASE_FORCE_SPAN`); ``bounds`` take precedence."""
     b = dict(bounds or {})
@@ -109,7 +115,7 @@ def _release_options(system: EquationSystem, x: np.ndarray, released, force: str
                                bounds=b, detect_folds=False, stability=stability)
 
 
-def unlock_folds(system: EquationSystem, x: np.ndarray, force: str, released=(), *, max_steps: int = 400,
+def unlock_folds(system: Model, x: np.ndarray, force: str, released=(), *, max_steps: int = 400,
                  bounds: Mapping[str, tuple[float, float]] | None = None, stability: bool = True) -> UnlockFolds:
     """The folds bounding the locked state through the downlocked point ``x``.
 
@@ -169,21 +175,19 @@ def unlock_folds(system: EquationSystem, x: np.ndarray, force: str, released=(),
     return UnlockFolds(force, F0, stable, below, above, branch, notes, warnings)
 
 
-def unlock_force_along(system: EquationSystem, branch: Branch, force: str, released=(), *,
-                       max_steps: int = 400) -> tuple[np.ndarray, np.ndarray, list[str]]:
+def unlock_force_along(system: Model, branch: Branch, force: str, released=(), *, max_steps: int = 400,
+                       known: UnlockFolds | None = None) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """The unlock folds (N) at every point of a downlock ``branch``, each from its own release run.
 
     Every row of a downlock branch is a downlocked point; :func:`unlock_folds` is run from
-    each (``released``: the held states). A :class:`~mechcont.analysis.downlock.DownlockBranch`
-    carries the release run of its start point (``branch.unlock``): that row reuses it.
+    each (``released``: the held states). ``known``: the release run of one of its points (a
+    :class:`~mechcont.analysis.downlock.DownlockResult`'s ``unlock``, its start's): that row reuses it.
     Returns ``(above, below, warnings)``: the force at the fold reached by increasing /
     decreasing it (nan where there is none), and one line per release run that stopped short
     of its bounds.
     """
     above, below = np.full(len(branch), np.nan), np.full(len(branch), np.nan)
     warnings: list[str] = []
-    unlock = getattr(branch, "unlock", None)
-    known = unlock if isinstance(unlock, UnlockFolds) else None
     start = None
     if known is not None and known.branch is not None and len(known.branch):
         start = known.branch.values[int(np.argmin(np.abs(known.branch.s)))]  # the point it was released from
@@ -200,24 +204,28 @@ def unlock_force_along(system: EquationSystem, branch: Branch, force: str, relea
     return above, below, warnings
 
 
-def with_unlock_columns(system: EquationSystem, branch: Branch, force: str, released=()) -> Branch:
-    """A copy of ``branch`` with the unlock folds (N) of every point as extra columns.
+def with_unlock_columns(system: Model, result: B, force: str, released=()) -> B:
+    """A new ``result`` with the unlock folds (N) of every point as extra columns of its branch.
 
-    ``unlock_<F>``: the fold reached by increasing the force (the paper's unlock direction);
-    ``unlock_<F>_decreasing``: the one reached by decreasing it; a column only when some
-    point has that fold (see :func:`unlock_force_along`). A branch with a ``warnings`` list
-    (a :class:`~mechcont.analysis.downlock.DownlockBranch`) gets the release runs' warnings.
+    ``result`` is a :class:`~mechcont.continuation.Branch` or a
+    :class:`~mechcont.analysis.downlock.DownlockResult` (whose start's release run is reused and
+    whose ``warnings`` gain the release runs'). ``unlock_<F>``: the fold reached by increasing the
+    force (the paper's unlock direction); ``unlock_<F>_decreasing``: the one reached by decreasing
+    it; a column only when some point has that fold (see :func:`unlock_force_along`).
     """
-    above, below, warnings = unlock_force_along(system, branch, force, released)
-    extra = {name: col for name, col in ((f"unlock_{force}", above), (f"unlock_{force}_decreasing", below))
-             if np.isfinite(col).any()}
-    out = copy.copy(branch)  # same type, the downlock's own attributes kept
-    if extra:
-        Branch.__init__(out, (*branch.names, *extra), np.column_stack([branch.values, *extra.values()]), branch.s,
-                        branch.n_unstable, branch.labels, branch.special_points, branch.vary, branch.unknowns,
-                        branch.status, branch.message, branch.model, {**branch.units, **dict.fromkeys(extra, "N")})
-    from .downlock import DownlockBranch  # (downlock imports this module)
+    from .downlock import DownlockResult  # (downlock imports this module)
 
-    if isinstance(out, DownlockBranch):
-        out.warnings = [*out.warnings, *(f"unlock folds along the branch: {w}" for w in warnings)]
-    return out
+    if not isinstance(result, DownlockResult):
+        above, below, _ = unlock_force_along(system, result, force, released)
+        return result.with_columns(*_unlock_columns(force, above, below))
+    more: list[str]
+    above, below, more = unlock_force_along(system, result.branch, force, released, known=result.unlock)
+    return replace(result, branch=result.branch.with_columns(*_unlock_columns(force, above, below)),
+                   warnings=[*result.warnings, *(f"unlock folds along the branch: {w}" for w in more)])
+
+
+def _unlock_columns(force: str, above: np.ndarray, below: np.ndarray) -> tuple[dict[str, np.ndarray], dict[str, str]]:
+    """The unlock columns (those with some fold) and their units (N)."""
+    cols = {name: col for name, col in ((f"unlock_{force}", above), (f"unlock_{force}_decreasing", below))
+            if np.isfinite(col).any()}
+    return cols, dict.fromkeys(cols, "N")

@@ -88,11 +88,10 @@ def _stops_text(report) -> tuple[str, str]:
     """The stops section: the equilibrium with a consistent set of stops in contact, found from the
     assembled configuration (empty when the mechanism has no stops); and a finding when there is none."""
     from ..analysis import equilibrium_on_stops, stability_on_stops
-    from ..equations import as_model
     from ..errors import ConvergenceError
 
     system = report.system
-    stops = as_model(system).stops
+    stops = system.stops
     if not stops:
         return "", ""
     out = ["stops (one-sided limits of conditions; the equilibrium above leaves them free), the equilibrium with "

@@ -30,7 +30,6 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     --bounds theta1=-1.2:1.2 --out branch.csv --plot branch.png
     """
     from ..continuation import continuation
-    from ..equations import as_model
     from ..errors import InputError
     from ..models import load_model
     from ._parse import assignments
@@ -38,7 +37,7 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     check_outputs(out, plot)
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_model(model)
-    stops = as_model(system).stops
+    stops = system.stops
     if with_stops:
         from ..analysis.stops import check_stop_lens
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+from typing import TYPE_CHECKING
 
 import click
 
@@ -14,9 +15,12 @@ from ._app import cli
 from ._parse import assignments, freed_parameters, names
 from ._parse import bounds as parse_bounds
 
+if TYPE_CHECKING:
+    from ..equations import Model
+
 
 @functools.lru_cache(maxsize=4)
-def _load(model: str):
+def _load(model: str) -> Model:
     # compiled once per process: the analyses never modify a system
     from ..models import load_model
 
@@ -85,7 +89,6 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
 
     from ..analysis.downlock import downlock
     from ..continuation import check_max_steps
-    from ..equations import as_model
     from ..outputs.plotting import FIGURE_SUFFIXES
     from ..outputs.tables import BRANCH_SUFFIXES
 
@@ -95,7 +98,7 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     bnds = parse_bounds(bounds_)
     sens_params = names(sens_text, "sensitivity")
     check_max_steps(max_steps, "--max-steps")
-    stops = as_model(_load(model)).stops
+    stops = _load(model).stops
     if stops and not holds and condition is None:
         if sens_params:
             raise InputError("--sensitivity", "is not available for a lock resting on its stops; give the lock's "
@@ -108,16 +111,18 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     for n in values:
         system.variable(n)
     from ..analysis.unlock import RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN, with_unlock_columns
-    branch = downlock(system, vary, bnds, free=freed_parameters(system, frees), values=values, hold=h, force=f,
+    result = downlock(system, vary, bnds, free=freed_parameters(system, frees), values=values, hold=h, force=f,
                       max_steps=max_steps)
-    branch = with_unlock_columns(system, branch, f, released=list(h))
+    result = with_unlock_columns(system, result, f, released=list(h))
     if sens_params:
         from ..analysis.sensitivity import with_sensitivity_columns
 
         try:
-            branch = with_sensitivity_columns(system, branch, sens_params)
+            result = with_sensitivity_columns(system, result, sens_params)
         except InputError as exc:
             raise InputError("--sensitivity", str(exc)[len(exc.field) + 2:]) from None
+    branch = result.branch
+    if sens_params:
         for p in sens_params:
             col = f"d{f}_d{p}"
             click.echo(f"  {col} ({branch.units[col]}) from {branch[col].min():.6g} to {branch[col].max():.6g}")
@@ -135,10 +140,11 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
                    f"({f} moved by {RELEASE_FORCE_SPAN:g} of its scales, or the released state by "
                    f"{RELEASE_STATE_SPAN:g}): the locked state is not bounded there")
     start = values.get(vary, system.variable(vary).value)
-    click.echo(f"at {vary} = {start:g}: {branch.unlock.summary(held)}")
-    for note in branch.unlock.notes:
+    assert result.unlock is not None  # downlock() finds the start's unlock folds by default
+    click.echo(f"at {vary} = {start:g}: {result.unlock.summary(held)}")
+    for note in result.unlock.notes:
         click.echo(f"  {note}")
-    warn(branch.warnings)
+    warn(result.warnings)
     _write(branch, out_path, plot_path, vary, f, held, f"{system.name}: downlock force vs {vary}")
 
 
@@ -164,14 +170,15 @@ def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plo
 
     for n in values:
         system.variable(n)
-    branch = downlock_on_stops(system, vary, bnds, force=force, free=freed_parameters(system, frees), values=values,
+    result = downlock_on_stops(system, vary, bnds, force=force, free=freed_parameters(system, frees), values=values,
                                max_steps=max_steps)
-    f = branch.downlock_force
-    branch, unlock = with_stop_unlock_column(system, branch, f)
-    reactions = [s.reaction for s in system.stops if s.name in branch.lock_stops]
+    f = result.force
+    result, unlock = with_stop_unlock_column(system, result, f)
+    branch = result.branch
+    reactions = [s.reaction for s in system.stops if s.name in result.lock_stops]
     xs, unit_x = display(branch[vary], system.variable(vary).unit)
     unit_f = system.variable(f).unit
-    on = ", ".join(branch.lock_stops)
+    on = ", ".join(result.lock_stops)
     spans = "; ".join(f"{r} from {branch[r].min():.6g} to {branch[r].max():.6g} {system.variable(r).unit}"
                       for r in reactions)
     click.echo(f"lock resting on stop {on} (the locked state; its reaction is the preload) vs {vary} ({unit_x}), "
@@ -181,10 +188,10 @@ def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plo
         click.echo(f"  {vary} = {xs[i]:12.6g}   {held}   unlock {_or_none(unlock[i])}   "
                    f"{branch.stability_labels()[i]} {branch.labels[i]}")
     start = values.get(vary, system.variable(vary).value)
-    found = branch.unlock
+    found = result.unlock
     if found is not None:
         click.echo(f"at {vary} = {start:g}: {found.summary(f'resting on stop {on}')}")
         for note in found.notes:
             click.echo(f"  {note}")
-    warn(branch.warnings)
+    warn(result.warnings)
     _write(branch, out_path, plot_path, vary, f, f"resting on stop {on}", f"{system.name}: lock on stop {on} vs {vary}")

@@ -143,11 +143,11 @@ def _one(system, start, lock, until, options, out_path, plot_path) -> None:
     run = freefall(system, start, lock=lock, until=until, **options)
     h = run.history
     name = lock if isinstance(lock, str) else lock[0]
-    stop = next((s for s in _stops(system) if s.name == name), None)
+    stop = next((s for s in system.stops if s.name == name), None)
     watch = stop.condition if stop is not None else name
-    units = {s.reaction: system.variable(s.reaction).unit for s in _stops(system)}
-    units = {**{s.name: units[s.reaction] for s in _stops(system)},
-             **{f"{s.name}_rate": f"{system.variable(s.condition).unit or '1'}/s" for s in _stops(system)},
+    units = {s.reaction: system.variable(s.reaction).unit for s in system.stops}
+    units = {**{s.name: units[s.reaction] for s in system.stops},
+             **{f"{s.name}_rate": f"{system.variable(s.condition).unit or '1'}/s" for s in system.stops},
              "lock_rate": f"{system.variable(watch).unit or '1'}/s"}
     click.echo(f"# {system.name}: released at rest from {', '.join(f'{k} = {v:g}' for k, v in start.items())}; "
                f"{h.t[-1]:.6g} s simulated, {len(h)} rows")
@@ -158,7 +158,7 @@ def _one(system, start, lock, until, options, out_path, plot_path) -> None:
     if out_path is not None:
         from ..outputs.tables import event_labels
 
-        h.to_csv(out_path, labels=event_labels(h, {s.name: system.variable(s.condition).unit for s in _stops(system)})
+        h.to_csv(out_path, labels=event_labels(h, {s.name: system.variable(s.condition).unit for s in system.stops})
                  if h.stop_events else None)
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
@@ -167,12 +167,6 @@ def _one(system, start, lock, until, options, out_path, plot_path) -> None:
 
         save_figure(history_figure(h, watch, title=f"{system.name}: freefall, {run.outcome}"), plot_path)
         click.echo(f"wrote {plot_path}")
-
-
-def _stops(system):
-    from ..equations import as_model
-
-    return as_model(system).stops
 
 
 def _critical(system, start, lock, until, options, rng, tol, scanned, out_path, plot_path) -> None:

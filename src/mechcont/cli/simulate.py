@@ -58,7 +58,6 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     """
     from .._io import check_output_path
     from ..dynamics import check_duration
-    from ..equations import as_model
     from ..models import load_model
     from ..outputs.plotting import FIGURE_SUFFIXES
 
@@ -72,7 +71,7 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
         watch = next(iter(start), coords[0])
     elif watch not in system.names and not (watch.endswith("_dot") and watch[:-4] in coords):
         raise InputError("--watch", f"{watch} is not a column of {system.name}; give a variable or <coordinate>_dot")
-    stops = as_model(system).stops
+    stops = system.stops
     if use_stops and not stops:
         raise InputError("--stops", f"{system.name} declares no stops ([stops.NAME] in the description)")
     from .._progress import Progress

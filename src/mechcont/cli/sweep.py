@@ -135,9 +135,7 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     check_simulable(system, model)
     x0 = sweep_start(system, start, segs, equilibrium=equilibrium, start_field="--start")
     if use_stops:
-        from ..equations import as_model
-
-        if not as_model(system).stops:
+        if not system.stops:
             raise InputError("--stops", f"{system.name} declares no stops ([stops.NAME] in the description)")
     total = settle + sum(r.duration for r in segs)
     from .._progress import Progress

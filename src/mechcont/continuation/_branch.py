@@ -194,8 +194,34 @@ class Branch:
         self.message = message
         self.model = model
         self.units = dict(units or {})
-        self._col = {n: i for i, n in enumerate(self.names)}
         self.special_points.sort(key=lambda p: p.index)  # arclength order: the numbering's order
+        self._col = {n: i for i, n in enumerate(self.names)}  # set last: the branch is complete (see __setattr__)
+
+    def __setattr__(self, name: str, value) -> None:
+        if "_col" in self.__dict__:
+            raise AttributeError(f"a Branch is not changed once made (setting {name!r}); make a changed copy with "
+                                 "replace(...) or with_columns(...)")
+        object.__setattr__(self, name, value)
+
+    def replace(self, **changes) -> Branch:
+        """A new branch with the constructor's arguments in ``changes`` replaced (``message``, ``units``, ...);
+        the arrays and the special points are shared with this one (nothing is copied)."""
+        args = {"names": self.names, "values": self.values, "s": self.s, "n_unstable": self.n_unstable,
+                "labels": self.labels, "special_points": self.special_points, "vary": self.vary,
+                "unknowns": self.unknowns, "status": self.status, "message": self.message, "model": self.model,
+                "units": self.units}
+        unknown = set(changes) - set(args)
+        if unknown:
+            raise TypeError(f"Branch.replace() got unknown field(s) {', '.join(sorted(unknown))}")
+        return Branch(**{**args, **changes})
+
+    def with_columns(self, columns: Mapping[str, np.ndarray], units: Mapping[str, str] | None = None) -> Branch:
+        """A new branch with ``columns`` (``{name: values per row}``) appended after this one's, in ``units``
+        (``{name: SI unit}``); this branch itself is unchanged."""
+        if not columns:
+            return self.replace()
+        new = np.column_stack([self.values, *(np.asarray(c, dtype=float) for c in columns.values())])
+        return self.replace(names=(*self.names, *columns), values=new, units={**self.units, **(units or {})})
 
     # -- access ----------------------------------------------------------------------
     def __len__(self) -> int:

@@ -1,10 +1,10 @@
 """Equations: named algebraic systems with exact derivatives, and their mechanics."""
 
 from ._mechanics import MechanicalModel, StabilityResult, velocity_symbol
-from ._model import Model, StopLimit, as_model
+from ._model import DownlockFacts, Model, StopLimit, ValueFields, as_model
 from ._rates import branch_rates
 from ._scene import Scene
 from ._system import EquationSystem, Limit, Variable
 
-__all__ = ["EquationSystem", "Model", "StopLimit", "as_model", "Variable", "Limit", "MechanicalModel", "StabilityResult",
-           "velocity_symbol", "Scene", "branch_rates"]
+__all__ = ["EquationSystem", "Model", "StopLimit", "DownlockFacts", "ValueFields", "as_model", "Variable", "Limit",
+           "MechanicalModel", "StabilityResult", "velocity_symbol", "Scene", "branch_rates"]

@@ -3,7 +3,8 @@
 :class:`Model` is an :class:`~mechcont.equations.EquationSystem` (the equations, their
 compiled derivatives, the mechanics, the scene, the value checks) plus the typed, optional
 facts about the mechanism behind it: its potential energy, the description it came from,
-its degrees of freedom, reactions, dropped redundant rows, declared conditions and downlock.
+its degrees of freedom, reactions, dropped redundant rows, declared conditions, stops and downlock
+(the last two as typed records: :class:`StopLimit`, :class:`DownlockFacts`).
 Every field is declared and set when the model is made; nothing is attached afterwards
 (assigning any other attribute raises :class:`AttributeError`), so analyses read fields
 instead of probing for attributes. :meth:`~mechcont.equations.EquationSystem.with_values`
@@ -15,7 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import MISSING, dataclass, field, fields
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypedDict
 
 import numpy as np
 
@@ -27,7 +28,23 @@ if TYPE_CHECKING:
 
     from ._protocols import Description, DofFacts, Reselect
 
-__all__ = ["Model", "StopLimit", "as_model"]
+__all__ = ["Model", "StopLimit", "DownlockFacts", "ValueFields", "as_model"]
+
+
+@dataclass(frozen=True)
+class DownlockFacts:
+    """The downlock of a model: the condition its lock is held at and what the downlock analyses start from.
+
+    ``hold``: the held states ``{state: value}`` (SI; e.g. the nose gear's ``{"theta4": 0.0}``);
+    ``force``: the parameter freed as the downlock force (N); ``pose``: a full variable vector of the
+    downlocked equilibrium at the model's defaults, or None; ``assemble``: ``assemble(values, hold) -> x``,
+    a closed-form downlocked guess at the parameter ``values`` (SI), or None. Read by
+    :mod:`mechcont.analysis.downlock` and the studies."""
+
+    hold: Mapping[str, float]
+    force: str = "F"
+    pose: np.ndarray | None = field(default=None, repr=False, compare=False)
+    assemble: Callable[..., np.ndarray] | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass(frozen=True)
@@ -63,6 +80,14 @@ class StopLimit:
         return self.side * (condition_value - self.limit)
 
 
+class ValueFields(TypedDict, total=False):
+    """The fields of a :class:`Model` that depend on its parameter values (what :attr:`Model.fields_at` gives)."""
+
+    conditions: Mapping[str, float | None]
+    downlock: DownlockFacts | None
+    stops: tuple[StopLimit, ...]
+
+
 @dataclass(eq=False)
 class Model(EquationSystem):
     """An :class:`EquationSystem` with the declared facts of the mechanism behind it.
@@ -87,20 +112,13 @@ class Model(EquationSystem):
         ``dropped_residual(x) -> float``: the largest residual of the dropped rows (m, rad).
     conditions:
         Each declared condition's target, ``{name: value or None}``.
-    downlock_hold:
-        The held states of the downlock condition, ``{state: value}``, or None.
-    downlock_force:
-        The parameter freed as the downlock force, or None (analyses then use ``"F"``).
-    downlocked:
-        A full variable vector of the downlocked equilibrium at the defaults, or None.
-    assemble_downlocked:
-        ``assemble_downlocked(values, hold) -> x``: a closed-form downlocked guess, or None.
-    geometry:
-        A model's own geometry record (the dual-sidestay gear's), or None.
+    downlock:
+        The downlock (:class:`DownlockFacts`: held states, force, downlocked pose, closed-form
+        assembly), or None when the model declares none.
     stops:
         The stops (:class:`StopLimit`): one-sided limits of conditions with their contact reactions.
     fields_at:
-        ``fields_at(values) -> {field: value}``: the fields that depend on the parameter values
+        ``fields_at(values) -> ValueFields``: the fields that depend on the parameter values
         (the conditions' targets, the downlock hold, the stops' limits), at ``values`` (all
         parameters, SI); :meth:`with_values` applies it. None when no field depends on them.
     reselect:
@@ -119,13 +137,9 @@ class Model(EquationSystem):
     dropped_constraints: tuple[str, ...] = ()
     dropped_residual: Callable[[np.ndarray], float] | None = None
     conditions: Mapping[str, float | None] = field(default_factory=dict)
-    downlock_hold: Mapping[str, float] | None = None
-    downlock_force: str | None = None
-    downlocked: np.ndarray | None = field(default=None, repr=False)
-    assemble_downlocked: Callable[..., np.ndarray] | None = field(default=None, repr=False)
-    geometry: object | None = field(default=None, repr=False)
+    downlock: DownlockFacts | None = None
     stops: tuple[StopLimit, ...] = ()
-    fields_at: Callable[[Mapping[str, float]], dict] | None = field(default=None, repr=False)
+    fields_at: Callable[[Mapping[str, float]], ValueFields] | None = field(default=None, repr=False)
     reselect: Reselect | None = field(default=None, repr=False)
 
     def with_values(self, values: Mapping[str, float]) -> Model:
@@ -206,10 +220,7 @@ def _declared(cls: type) -> frozenset[str]:
 def as_model(system: EquationSystem) -> Model:
     """``system`` itself if it is a :class:`Model`, else a model of it with no facts beyond its equations.
 
-    A plain :class:`EquationSystem` that still carries a model fact as an ad-hoc attribute
-    (older generators attach them after construction) keeps it in the model.
+    For the public entries of the analyses, which also accept a hand-formulated
+    :class:`EquationSystem`; everything below them takes the :class:`Model`.
     """
-    if isinstance(system, Model):
-        return system
-    extra = {k: v for k, v in vars(system).items() if k in _declared(Model) and k not in _declared(EquationSystem)}
-    return Model.from_system(system, **extra)
+    return system if isinstance(system, Model) else Model.from_system(system)

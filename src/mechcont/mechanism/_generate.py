@@ -28,7 +28,7 @@ from functools import partial
 import numpy as np
 import sympy as sp
 
-from ..equations import EquationSystem, MechanicalModel, Model, StopLimit, Variable, velocity_symbol
+from ..equations import DownlockFacts, EquationSystem, MechanicalModel, Model, StopLimit, ValueFields, Variable, velocity_symbol
 from ..errors import InputError
 from ._assembly import close_constraints, dof_report
 from ._compiled import CoordinatesOf, DroppedResidual
@@ -351,7 +351,7 @@ def condition_and_parameter_variables(mech: Mechanism, conditions, condition_val
     return out
 
 
-def value_fields(mech: Mechanism, values: Mapping[str, float]) -> dict:
+def value_fields(mech: Mechanism, values: Mapping[str, float]) -> ValueFields:
     """The fields of a :class:`Model` of ``mech`` that depend on the parameter ``values``:
     ``conditions`` and, when the description has them, the downlock and the stops
     (:attr:`Model.fields_at` is this function bound to ``mech``)."""
@@ -363,8 +363,11 @@ def condition_fields(mech: Mechanism, values: Mapping[str, float]) -> tuple[dict
     """Each condition's target at ``values``, and the downlock and stop fields of a :class:`Model`
     (each only when the description has one)."""
     targets = condition_targets(mech, values)
-    downlock: dict = ({"downlock_hold": {mech.downlock.condition: targets[mech.downlock.condition]},
-                       "downlock_force": mech.downlock.force} if mech.downlock is not None else {})
+    downlock: dict = {}
+    if mech.downlock is not None:
+        target = targets[mech.downlock.condition]
+        assert target is not None  # the parser refuses a downlock condition without a target
+        downlock["downlock"] = DownlockFacts({mech.downlock.condition: target}, mech.downlock.force)
     if mech.stops:
         downlock["stops"] = tuple(
             StopLimit(s.name, s.condition, s.reaction, s.side,

@@ -34,7 +34,7 @@ from .dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry, rotation
 if TYPE_CHECKING:
     import sympy as sp
 
-__all__ = ["build_dual_sidestay_kinematics", "geometry_values", "points_at", "gear_scene", "loaded_scene",
+__all__ = ["build_dual_sidestay_kinematics", "geometry_of", "geometry_values", "points_at", "gear_scene", "loaded_scene",
            "actuator_tension", "gravity_rate", "start_values", "actuator_length_rate", "SIDES", "POINTS"]
 
 SIDES = ("fwd", "aft")
@@ -119,8 +119,8 @@ def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> Mode
 
     The scene draws the gear in 3-D (fitting, arms, lock links, actuator, weight). The
     equations are generated and compiled once per process; another ``geo`` only changes the
-    defaults and the model's ``geometry``. A new process loads them with their compiled code from
-    the disk cache (keyed by mechcont's source) when an earlier one built them.
+    defaults and the model's ``mechanism`` (``geo``: the description it is built from). A new
+    process loads them with their compiled code from the disk cache (keyed by mechcont's source) when an earlier one built them.
     """
     if "system" not in _STRUCTURE:
         from ..equations._stored import stored
@@ -129,7 +129,7 @@ def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> Mode
                                       lambda: _build(_variables(DEFAULT_GEOMETRY)),
                                       valid=lambda obj: isinstance(obj, EquationSystem)
                                       and obj.name == "dual_sidestay_kinematics")
-    model = Model.from_system(_STRUCTURE["system"].evolve(variables=_variables(geo)), geometry=geo)
+    model = Model.from_system(_STRUCTURE["system"].evolve(variables=_variables(geo)), mechanism=geo)
     return model.evolve(scene=partial(loaded_scene, model))
 
 
@@ -171,11 +171,19 @@ def _build(variables: list[Variable]) -> EquationSystem:
     return system.compile()
 
 
-def points_at(system: EquationSystem, x: np.ndarray) -> dict[str, np.ndarray]:
+def geometry_of(system: Model) -> GearGeometry:
+    """The :class:`GearGeometry` a model of :func:`build_dual_sidestay_kinematics` was built from."""
+    geo = system.mechanism
+    if not isinstance(geo, GearGeometry):
+        raise TypeError(f"model '{system.name}' is not built from a GearGeometry (build_dual_sidestay_kinematics)")
+    return geo
+
+
+def points_at(system: Model, x: np.ndarray) -> dict[str, np.ndarray]:
     """Every named point (m) of the gear at the full vector ``x``: ``O``, ``axle``, ``cg``, actuator ends
     ``C``/``D``, and per side ``<side>_A``, ``_B``, ``_P``, ``_K``, ``_J``."""
     v = system.as_dict(x)
-    geo: GearGeometry = system.geometry
+    geo = geometry_of(system)
     from .dual_sidestay_geometry import trunnion_axis
 
     R = rotation(trunnion_axis(v["delta"]), v["theta"])
@@ -190,11 +198,11 @@ def points_at(system: EquationSystem, x: np.ndarray) -> dict[str, np.ndarray]:
     return out
 
 
-def gear_scene(system: EquationSystem, x: np.ndarray, actuator_tension: float = 0.0) -> Scene:
+def gear_scene(system: Model, x: np.ndarray, actuator_tension: float = 0.0) -> Scene:
     """3-D :class:`Scene` of the gear at ``x``: fitting, sidestay arms, lock links, actuator (``actuator_tension``
     in N, positive pulling), the fitting's weight, the trunnion and hinge axes."""
     p = points_at(system, np.asarray(x, float))
-    geo: GearGeometry = system.geometry
+    geo = geometry_of(system)
     from .dual_sidestay_geometry import trunnion_axis
 
     v = system.as_dict(x)
@@ -237,10 +245,10 @@ def _arm_mid_z_rate(system, x, dx, side: str, a: str, b: str) -> float:
     return 0.5 * (z_rate(a) + z_rate(b))
 
 
-def gravity_rate(system, x: np.ndarray, dx: np.ndarray, arms: bool = True) -> float:
+def gravity_rate(system: Model, x: np.ndarray, dx: np.ndarray, arms: bool = True) -> float:
     """dV/d(theta) of gravity (J/rad) for the rate ``dx``: the fitting with wheels at its cg and, with
     ``arms``, each sidestay arm's mass at its middle (lock links massless)."""
-    geo: GearGeometry = system.geometry
+    geo = geometry_of(system)
     from .dual_sidestay_geometry import trunnion_axis
 
     e = trunnion_axis(system.as_dict(x)["delta"])

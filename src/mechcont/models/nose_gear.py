@@ -61,7 +61,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..equations import EquationSystem, Limit, MechanicalModel, Model, Scene, Variable, velocity_symbol
+from ..equations import DownlockFacts, EquationSystem, Limit, MechanicalModel, Model, Scene, Variable, velocity_symbol
 from ..errors import InputError
 from .nose_gear_geometry import PARAMETERS, defaults, downlocked_pose
 
@@ -337,9 +337,9 @@ def build_nose_gear(**overrides: float) -> Model:
     The equations are generated and compiled once per process; other values only change
     the defaults and the assembled pose.
 
-    The returned model carries ``downlock_hold = {"theta4": 0.0}``, ``downlock_force = "F"``,
-    ``downlocked`` (that pose), ``check_values`` (valid ranges) and ``assemble_downlocked``
-    (closed-form guess) for :func:`mechcont.analysis.downlock.downlock`.
+    The returned model carries its downlock (:class:`~mechcont.equations.DownlockFacts`: held
+    ``{"theta4": 0.0}``, force ``"F"``, that pose and a closed-form assembly) and ``check_values``
+    (valid ranges) for :func:`mechcont.analysis.downlock.downlock`.
     """
     check_values(overrides)
     p = defaults(**overrides)
@@ -359,8 +359,5 @@ def build_nose_gear(**overrides: float) -> Model:
     return system.evolve(
         variables=variables,
         scene=partial(_scene, system.names),
-        downlock_hold={"theta4": 0.0},
-        downlock_force="F",
-        downlocked=x,
-        assemble_downlocked=partial(_assemble_downlocked, core, x),
+        downlock=DownlockFacts({"theta4": 0.0}, "F", x, partial(_assemble_downlocked, core, x)),
     )  # type: ignore[return-value]

@@ -360,9 +360,9 @@ def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
 def _unknown(system) -> str:
     """What a frame says of a row whose stability is not known: a model without a potential energy
     (a kinematic one) has none to speak of; another was continued without evaluating it."""
-    from ..equations import EquationSystem, as_model
+    from ..equations import EquationSystem
 
-    if isinstance(system, EquationSystem) and as_model(system).mechanics is not None:
+    if isinstance(system, EquationSystem) and system.mechanics is not None:
         return "stability not evaluated"
     return "kinematic: no stability"  # (a drawing-only object has no mechanics either)
 

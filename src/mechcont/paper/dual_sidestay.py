@@ -20,7 +20,6 @@ import numpy as np
 
 from ..analysis.retraction import ActuatorLoads, actuator_loads, first_fold
 from ..continuation import Branch, ContinuationOptions, continuation, continue_folds
-from ..equations import as_model
 from ..models.dual_sidestay import (
     actuator_length_rate,
     build_dual_sidestay_kinematics,
@@ -71,7 +70,7 @@ def retraction(geo: GearGeometry = DEFAULT_GEOMETRY, *, base=None, max_steps: in
     first fold (lock-up) or the gear-up position.
     """
     base = base or build_dual_sidestay_kinematics(geo)
-    system = as_model(base.with_values(geometry_values(geo))).evolve(geometry=geo)
+    system = base.with_values(geometry_values(geo)).evolve(mechanism=geo)
     system = system.evolve(scene=partial(loaded_scene, system))
     x0 = system.vector(start_values(geo), base=system.defaults())
     branch = continuation(system, x0, "theta", direction=1,
@@ -392,7 +391,7 @@ def unlock_study(gen, *, force_bound: float = 1000.0, stretch=(0.5, 1.0)) -> Unl
     :func:`~mechcont.analysis.continuation_with_stops` from there, ended at its first fold."""
     from ..analysis import continuation_with_stops, equilibrium_on_stops
 
-    model = as_model(gen)
+    model = gen
     x, contact = equilibrium_on_stops(gen, gen.defaults(), contact=[s.name for s in model.stops])
     runs = {f: continuation_with_stops(gen, x, f, direction=1, stop_at_fold=True,
                                        options=ContinuationOptions(bounds={f: (-1.0, force_bound)}, max_steps=200))

@@ -66,11 +66,17 @@ class NoseGearResults:
     timings: dict = field(default_factory=dict)
 
 
+def _downlocked(system) -> np.ndarray:
+    """The nose gear's downlocked pose at its defaults (full vector)."""
+    assert system.downlock is not None and system.downlock.pose is not None  # build_nose_gear declares it
+    return system.downlock.pose
+
+
 def _fig7(res):
     from ..continuation import ContinuationOptions, continuation, find_equilibrium
 
     sy = res.system
-    x0 = find_equilibrium(sy, values={"k": 0.0, "U": 0.0}, hold={"theta4": 0.0}, free=["F"], guess=sy.downlocked)
+    x0 = find_equilibrium(sy, values={"k": 0.0, "U": 0.0}, hold={"theta4": 0.0}, free=["F"], guess=_downlocked(sy))
     opts = ContinuationOptions(ds=0.05, dsmax=0.3, bounds={"F": (-400.0, 400.0), "theta4": (-0.5, 0.5)})
     res.fig7_branch = continuation(sy, x0, "F", options=opts)
 
@@ -81,7 +87,7 @@ def _fig7_dynamic(res):
     from ..models.nose_gear import overcentre_angle
 
     sy = res.system
-    x0 = find_equilibrium(sy, values={"k": 0.0, "U": 0.0, "F": 300.0}, guess=sy.downlocked)
+    x0 = find_equilibrium(sy, values={"k": 0.0, "U": 0.0, "F": 300.0}, guess=_downlocked(sy))
     sw = sweep(sy, x0, {"F": [(300.0, -300.0, FIG7_RATE), (-300.0, 300.0, FIG7_RATE)]}, watch="theta4",
                damping=FIG7_DAMPING)
     res.fig7_sweep = sw
@@ -99,7 +105,7 @@ def _downlock_sweep(res):
     from ..dynamics import sweep
 
     sy = res.system
-    x0 = find_equilibrium(sy, values={"F": 150.0}, guess=sy.downlocked)
+    x0 = find_equilibrium(sy, values={"F": 150.0}, guess=_downlocked(sy))
     sw = sweep(sy, x0, {"F": [(150.0, 0.0, DOWNLOCK_RATE)]}, watch="theta4", through=0.0, damping=DOWNLOCK_DAMPING)
     res.sweep_downlock_force = float(sw.jumps[0].value) if sw.jumps else float("nan")
 
@@ -109,23 +115,23 @@ def _fig8(res):
     from ..models.nose_gear_geometry import aligned_lock_lug, defaults
 
     sy = res.system
-    res.fig8_aligned = downlock(sy, "U", {"U": (0.0, 100.0)}, unlock=False)  # the paper's figures need no unlock folds
+    res.fig8_aligned = downlock(sy, "U", {"U": (0.0, 100.0)}, unlock=False).branch  # the paper's figures need no unlock folds
     L35, psi2 = aligned_lock_lug(defaults(), offset=MISRIG)
     res.fig8_misrig_values = {"L35": L35, "psi2": psi2}
-    res.fig8_misrigged = downlock(sy, "U", {"U": (0.0, 100.0)}, values=res.fig8_misrig_values, unlock=False)
+    res.fig8_misrigged = downlock(sy, "U", {"U": (0.0, 100.0)}, values=res.fig8_misrig_values, unlock=False).branch
 
 
 def _fig9(res):
     from ..analysis.downlock import downlock
 
-    res.fig9_LU = downlock(res.system, "LU", {"LU": (1.2, 1.4)}, unlock=False)
-    res.fig9_k = downlock(res.system, "k", {"k": (0.0, 40000.0)}, unlock=False)
+    res.fig9_LU = downlock(res.system, "LU", {"LU": (1.2, 1.4)}, unlock=False).branch
+    res.fig9_k = downlock(res.system, "k", {"k": (0.0, 40000.0)}, unlock=False).branch
 
 
 def _fig10(res):
     from ..analysis.downlock import downlock
 
-    res.fig10 = downlock(res.system, "l_sp1", {"l_sp1": L_SP1_RANGE}, unlock=False)
+    res.fig10 = downlock(res.system, "l_sp1", {"l_sp1": L_SP1_RANGE}, unlock=False).branch
 
 
 def _fig11(res):
@@ -136,7 +142,7 @@ def _fig11(res):
     fl = fold_locus(sy, "l_sp1", "LU", {"l_sp1": L_SP1_RANGE, "LU": LU_RANGE})
     res.fig11_force_branch, res.fig11_fold_curve = fl.branch, fl.curve
     res.fig11_levels = np.round(np.linspace(LU_RANGE[0], LU_RANGE[1], 21), 10)
-    res.fig11_surface = [downlock(sy, "l_sp1", {"l_sp1": L_SP1_RANGE}, values={"LU": float(v)}, unlock=False)
+    res.fig11_surface = [downlock(sy, "l_sp1", {"l_sp1": L_SP1_RANGE}, values={"LU": float(v)}, unlock=False).branch
                          for v in res.fig11_levels]
 
 
@@ -161,7 +167,7 @@ def compute(system=None, *, dynamic: bool = True, on_step=None) -> NoseGearResul
     res = NoseGearResults(system=None)
     with timed(res.timings, "build"):
         res.system = system or build_nose_gear()
-    res.downlock_force = float(res.system.as_dict(res.system.downlocked)["F"])
+    res.downlock_force = float(res.system.as_dict(_downlocked(res.system))["F"])
     steps = {"fig7": _fig7, "fig7_dynamic": _fig7_dynamic, "downlock_sweep": _downlock_sweep, "fig8": _fig8,
              "fig9": _fig9, "fig10": _fig10, "fig11": _fig11, "design": _design}
     for name in _STEPS:
@@ -446,7 +452,7 @@ def summary(res: NoseGearResults) -> list[str]:
     if cps:
         from ..models.nose_gear_geometry import fold_depth_bound
 
-        p = res.system.as_dict(res.system.downlocked)
+        p = res.system.as_dict(_downlocked(res.system))
         bound, s_min = fold_depth_bound(p)
         L4 = p["L4"]
         c = cps[0]

@@ -38,9 +38,8 @@ import numpy as np
 from ..._status import Status
 from ...continuation import choose_unknowns
 from ...continuation._batch import fold_batch, newton_batch
-from ...equations import as_model
 from ...errors import ConvergenceError, InputError
-from ..downlock import downlock_condition, downlock_point
+from ..downlock import downlock_condition, downlock_point, downlocked_pose
 from ..unlock import RELEASE_FORCE_SPAN, unlock_folds
 from ._spec import StudySpec
 
@@ -129,7 +128,7 @@ def _plan(system, spec: StudySpec) -> dict:
     h, f = check_spec(system, spec)
     assert f is not None  # a downlock study (a freefall study has no _plan)
     fixed = dict(spec.values)
-    base = as_model(system).downlocked
+    base = downlocked_pose(system)
     base = system.vector(fixed, base=base) if base is not None else system.vector(fixed)
     base = system.vector(h, base=base)
     return {"hold": h, "force": f, "base": base, "fixed": fixed,

@@ -323,7 +323,7 @@ class _RowChoice:
         dropped = _choose_dropped(st.mechanics.phi_q(x), st.protect)
         if dropped == self.dropped and not force:
             return None
-        keep = ("dof", "conditions", "fields_at", "downlock_hold", "downlock_force", "assemble_downlocked", "stops")
+        keep = ("dof", "conditions", "fields_at", "downlock", "stops")
         new = model if dropped == self.dropped else _variant_model(
             self.mech, st, st.variant(self.mech, dropped), list(model.variables), **{k: getattr(model, k) for k in keep})
         nq = len(st.coords)
