@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # One entry point for a fresh machine: sets up .venv on first use, then runs the job.
-#   bash run.sh paper [--out DIR]   reproduce the paper's analyses (figures + summary)
+#   bash run.sh paper [--dir DIR]   reproduce the paper's analyses (figures + summary)
 #   bash run.sh test  [pytest args] run the test suite, in parallel on every core (slow tests too;
 #                                   add -m "not slow" for the quick set, -n 0 for one process)
 #   bash run.sh bench               run the benchmarks (median of repeated runs)

@@ -45,7 +45,7 @@ def test_continue_json(tmp_path, run):
 
 def test_folds_command_finds_the_cusp(tmp_path, run):
     out = tmp_path / "f.csv"
-    r = run("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
+    r = run("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--along", "LU",
             "--bounds", "LU=0.1:2", "--out", out)
     assert r.exit_code == 0, r.output
     rows = read_branch_table(out)[0]
@@ -55,7 +55,7 @@ def test_folds_command_finds_the_cusp(tmp_path, run):
 
 def test_folds_command_names_a_runaway_first_branch(tmp_path, run):
     # no bounds on the branch in F: it runs to max_steps, and the command says which variable ran away
-    r = run("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
+    r = run("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--along", "LU",
             "--bounds", "LU=0.1:2", "--max-steps", "400", "--out", tmp_path / "f.csv")
     assert r.exit_code == 0, r.output
     (line,) = [ln for ln in r.output.splitlines() if ln.startswith("ends of the branch in F:")]
@@ -96,7 +96,7 @@ def test_models_says_each_size_once_and_describes_every_parameter(run):
     (("continue", "overcentre", "--start", "theta1=0.3"), ("--vary",)),
     (("continue", "nomodel", "--vary", "F"), ("unknown model",)),
     (("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--ds", "-1"), ("ds",)),
-    (("folds", "overcentre", "--set", "LU=2", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
+    (("folds", "overcentre", "--set", "LU=2", "--start", "theta1=0.3", "--vary", "F", "--along", "LU",
       "--bounds", "theta1=-1:1"), ("no fold",)),
 ])
 def test_bad_input_one_line_exit_2(tmp_path, run, args, words):

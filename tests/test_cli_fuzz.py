@@ -186,7 +186,7 @@ def _commands(out, plot, branch):
     return {
         "continue --out": ("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--out", out),
         "continue --plot": ("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--plot", plot),
-        "folds --out": ("folds", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
+        "folds --out": ("folds", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--along", "LU",
                         "--bounds", "LU=0.1:2", "--out", out),
         "sweep --out": (*SWEEP, "--ramp", "F=-65:-90:0.5", "--out", out),
         "sweep --plot": (*SWEEP, "--ramp", "F=-65:-90:0.5", "--plot", plot),

@@ -89,7 +89,7 @@ def test_sweep_over_a_continuation_branch(tmp_path):
     assert gap == pytest.approx(F_low - jump, abs=1e-3) and gap > 0
     assert fig.stat().st_size > 1000
     curve = tmp_path / "f.csv"
-    assert run("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
+    assert run("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--along", "LU",
                "--bounds", "LU=0.3:0.5", "--out", curve, "--quiet").exit_code == 0
     one_line_error(run("sweep", "overcentre", "--start", "theta1=1.2", "--ramp", "F=-65:-90:1", "--watch", "theta1",
                        "--branch", curve), "branch in LU")

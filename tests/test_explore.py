@@ -19,7 +19,7 @@ run = make_runner()
 
 OVERCENTRE = ("continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F",
               "--bounds", "F=-100:120")
-FOLDS = ("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
+FOLDS = ("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--along", "LU",
          "--bounds", "F=-200:200", "--bounds", "LU=0.1:2")
 DOWNLOCK = ("downlock", "nose_gear", "--vary", "l_sp1", "--bounds", "l_sp1=-0.175:0.175")
 RETRACTION = ("continue", "dual_sidestay_kinematics", "--vary", "theta", "--bounds", "theta=0:1.5")

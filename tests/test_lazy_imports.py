@@ -42,7 +42,7 @@ def test_light_paths_import_nothing_heavy():
     commands = [
         ["continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F",
          "--bounds", "theta1=-1.2:1.2", "--quiet"],
-        ["folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
+        ["folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--along", "LU",
          "--bounds", "LU=0.1:2", "--quiet"],
         ["models", "overcentre", "fourbar"],
     ]

@@ -57,7 +57,7 @@ def test_continue_prints_the_planar_folds_and_writes_the_branch(tmp_path):
 
 def test_folds_reach_the_cusp(tmp_path):
     out = tmp_path / "f.csv"
-    r = run("folds", OVERCENTRE, "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--free", "LU",
+    r = run("folds", OVERCENTRE, "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--along", "LU",
             "--bounds", "LU=0.1:2", "--out", out, "--quiet")
     assert r.exit_code == 0, r.output
     cusp = [row for row in csv.DictReader(out.open()) if row["label"].startswith("CP")]

@@ -154,13 +154,13 @@ def test_one_numbering_in_every_output(tmp_path):
     for name in ("LP1", "LP2"):
         assert labels[name] == pytest.approx((b[name]["F"], math.degrees(b[name]["theta1"])))
     # `folds --fold 2` continues that same LP2 (the curve starts there, at LU = 0.4 m)
-    r = run("folds", *args[:-2], "--free", "LU", "--bounds", "LU=0.1:2", "--fold", "2", "--out", tmp_path / "f.csv")
+    r = run("folds", *args[:-2], "--along", "LU", "--bounds", "LU=0.1:2", "--fold", "2", "--out", tmp_path / "f.csv")
     assert r.exit_code == 0, r.output
     assert "continuing LP2 (--fold 2)" in r.output
     curve = Branch.read_csv(tmp_path / "f.csv")
     i0 = int(np.argmin(np.abs(curve.s)))
     assert curve["F"][i0] == pytest.approx(b["LP2"]["F"], rel=1e-9) and curve["LU"][i0] == pytest.approx(0.4)
-    bad = run("folds", *args[:-2], "--free", "LU", "--bounds", "LU=0.1:2", "--fold", "3")
+    bad = run("folds", *args[:-2], "--along", "LU", "--bounds", "LU=0.1:2", "--fold", "3")
     assert bad.exit_code == 2 and "LP1 at F = " in bad.stderr and "LP2 at F = " in bad.stderr
 
 

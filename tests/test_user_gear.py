@@ -126,7 +126,7 @@ def test_folds_command_runs_on_the_unscaled_gear(tmp_path):
     from cli_helpers import make_runner
 
     out = tmp_path / "folds.csv"
-    r = make_runner()("folds", GEAR, "--start", "theta4=0.08", "--vary", "F", "--free", "LU", "--fold", "1",
+    r = make_runner()("folds", GEAR, "--start", "theta4=0.08", "--vary", "F", "--along", "LU", "--fold", "1",
                       "--bounds", "theta4=-0.8:0.8", "--bounds", "LU=1.0:2.0", "--out", out)
     assert r.exit_code == 0, r.output
     assert "CP1" in r.output and out.exists()

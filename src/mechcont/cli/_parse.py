@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager
 
 from ..errors import InputError, finite_number
 
-__all__ = ["assignments", "bounds", "names", "number"]
+__all__ = ["assignments", "bounds", "names", "number", "renamed", "named_as"]
 
 
 def number(text: str, field: str) -> float:
@@ -63,3 +64,24 @@ def freed_parameters(system, frees: Iterable[str], option: str = "--free") -> li
             valid = ", ".join(system.parameter_names)
             raise InputError(option, f"{n} is a state, which is always solved for; free a parameter: {valid}")
     return out
+
+
+def renamed(value, old_value, option: str, old: str):
+    """``(value, the spelling given)`` of an option that also takes its old spelling ``old`` (a hidden alias kept
+    for scripts): the one given, or ``value`` (its default) when neither; InputError when both are given."""
+    given_old = old_value not in (None, (), False)
+    if given_old and value not in (None, (), False):
+        raise InputError(option, f"give {option} or its old spelling {old}, not both")
+    return (old_value, old) if given_old else (value, option)
+
+
+@contextmanager
+def named_as(options: Mapping[str, str]) -> Iterator[None]:
+    """Re-raise an :class:`InputError` of the library whose field is a key of ``options`` (``{"folder": "--dir"}``)
+    as one naming the command-line option the value came from."""
+    try:
+        yield
+    except InputError as exc:
+        if exc.field not in options:
+            raise
+        raise InputError(options[exc.field], str(exc)[len(exc.field) + 2:]) from None

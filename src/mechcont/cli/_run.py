@@ -19,17 +19,14 @@ def check_outputs(out: str | None, plot: str | None) -> None:
     check_output_path(plot, "--plot", FIGURE_SUFFIXES)
 
 
-def common_options(f=None, *, free: bool = True):
-    """Options shared by `continue` and `folds` (``free=False``: no --free, folds use it for P2)."""
-    if f is None:
-        return lambda g: common_options(g, free=free)
+def common_options(f):
+    """Options shared by `continue` and `folds`."""
     opts = [
         click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Parameter value (SI units, rad)."),
         click.option("--start", "starts", multiple=True, metavar="NAME=VALUE",
                      help="State held at a value to find the first solution (the --vary name is free then)."),
         click.option("--hold", "holds", multiple=True, metavar="NAME", help="State held during continuation."),
-        *([click.option("--free", "frees", multiple=True, metavar="NAME",
-                        help="Parameter solved for (keeps it square).")] if free else []),
+        click.option("--free", "frees", multiple=True, metavar="NAME", help="Parameter solved for (keeps it square)."),
         click.option("--bounds", "bnds", multiple=True, metavar="NAME=LO:HI", help="Stop where NAME leaves [LO, HI]."),
         click.option("--ds", type=float, default=None, help="Initial step (scaled arclength)."),
         click.option("--dsmax", type=float, default=None, help="Largest step (scaled arclength)."),

@@ -101,8 +101,10 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, l
               help="The panel beside the mechanism: the branch in the plane of two variables, with the current point "
                    "[the continuation parameter and the first annotated state]; 'none' for no panel.")
 @click.option("--no-forces", is_flag=True, help="Do not draw the applied forces and moments.")
-@click.option("--quiet", is_flag=True, help="No progress bar.")
-def animate_command(model, branch_csv, out, fps, every, pause, old_hold, annotate, vary, diagram, no_forces, quiet):
+@click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
+@click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
+def animate_command(model, branch_csv, out, fps, every, pause, old_hold, annotate, vary, diagram, no_forces, no_progress,
+                    old_quiet):
     """Animate MODEL along a branch CSV (columns: variables, s, stability, label).
 
     Each frame prints the continuation parameter (--vary), the --annotate variables (angles
@@ -139,7 +141,7 @@ def animate_command(model, branch_csv, out, fps, every, pause, old_hold, annotat
     total = len(frame_rows(frames, every))
     if old_hold is not None:  # said once the input is known good, so that an error stays one line
         click.echo("note: animate --hold SECONDS is now --pause SECONDS (--hold will be removed)", err=True)
-    with Progress("animation", total=total, unit="frames", quiet=quiet) as bar:
+    with Progress("animation", total=total, unit="frames", quiet=no_progress or old_quiet) as bar:
         n = animate(system, frames, path, fps=fps, every=every, annotate=names, vary=vary, diagram=pair,
                     show_forces=not no_forces, hold=pause, on_frame=bar.update if bar.enabled else None)
     click.echo(f"{path} ({n} frames)")

@@ -8,7 +8,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments
+from ._parse import assignments, renamed
 from ._run import (
     check_outputs,
     common_options,
@@ -21,20 +21,23 @@ from ._run import (
 
 @cli.command("folds")
 @click.argument("model")
-@common_options(free=False)
+@common_options
 @click.option("--vary", required=True, metavar="P1", help="Parameter in which the fold is a turning point.")
-@click.option("--free", "second", required=True, metavar="P2", help="Second parameter, continued along the fold curve.")
-@click.option("--solve-for", "frees2", multiple=True, metavar="NAME",
-              help="Further parameters solved for on the branch (with --hold).")
+@click.option("--along", "second", default=None, metavar="P2", help="Second parameter, continued along the fold curve.")
+@click.option("--solve-for", "old_frees", multiple=True, hidden=True)  # the old spelling of --free here
 @click.option("--fold", "which", default=1, show_default=True,
               help="Which fold of the first branch: N for LPN, numbered along the branch as `continue` prints them.")
 @click.option("--out", default=None, help="Fold-curve table: .csv or .json.")
 @click.option("--plot", default=None, help="Figure: .png, .svg or .pdf (P1 against P2).")
-def folds_command(model, sets, starts, holds, bnds, ds, dsmax, max_steps, quiet, vary, second, frees2, which,
+def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, second, old_frees, which,
                   out, plot):
-    """Locate fold number --fold of the branch in --vary, then continue it in --free.
+    """Locate fold number --fold of the branch in --vary, then continue it in --along.
 
-    Example: mechcont folds overcentre --set LU=0.4 --start theta1=0.3 --vary F --free LU
+    --free names a parameter solved for on the branch, as in `continue`. Scripts written before
+    --along gave P2 as --free P2 (and the solved-for parameters as --solve-for): one --free
+    without --along (and without --hold, or with --solve-for) is still read that way, with a note.
+
+    Example: mechcont folds overcentre --set LU=0.4 --start theta1=0.3 --vary F --along LU
     --bounds LU=0.1:2 --out folds.csv
     """
     from ..continuation import continuation, continue_folds
@@ -42,13 +45,21 @@ def folds_command(model, sets, starts, holds, bnds, ds, dsmax, max_steps, quiet,
     from ..outputs.tables import branch_value, special_table
 
     check_outputs(out, plot)
-    frees = tuple(frees2)
+    old_spelling = second is None and len(frees) == 1 and (bool(old_frees) or not holds)
+    if old_spelling:  # folds --vary P1 --free P2, as written before --along
+        second, frees = frees[0], ()
+    if second is None:
+        raise InputError("--along", "give the second parameter, continued along the fold curve (e.g. --along LU)")
+    frees, _ = renamed(tuple(frees), tuple(old_frees), "--free", "--solve-for")
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_model(model)
     system.index(second)
     x0 = solve_start(system, sets, starts, vary, frees, holds)
     first = run_continuation(continuation, system, x0, vary, hold=holds, free=frees, quiet=quiet,
                              options=replace(options, bounds={k: v for k, v in options.bounds.items() if k != second}))
+    if old_spelling:  # said once the input is known good, so that an error stays one line
+        click.echo(f"note: folds --free {second} is now --along {second} (--free names a parameter solved for, "
+                   "as in continue)", err=True)
     lps = first.special("LP")
     if not lps:
         raise InputError("--vary", f"the branch in {vary} has no fold within the bounds; change --set or --bounds")

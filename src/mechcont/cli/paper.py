@@ -10,6 +10,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
+from ._parse import renamed
 
 #: Sections in order: module in mechcont.paper, title.
 SECTIONS = [
@@ -34,11 +35,12 @@ def summary_header() -> list[str]:
 
 
 @cli.command("paper")
-@click.option("--out", "out_dir", default="paper-output", show_default=True, help="Folder for figures and summary.")
+@click.option("--dir", "out_dir", default=None, metavar="DIR", help="Folder for figures and summary [paper-output].")
+@click.option("--out", "old_out", default=None, hidden=True)  # its spelling before --out meant a file everywhere else
 @click.option("--only", default=None,
               help="Comma-separated sections to run (default: the paper's; dual_sidestay only when named).")
 @click.option("--quiet", is_flag=True, help="Print nothing but errors.")
-def paper_command(out_dir, only, quiet):
+def paper_command(out_dir, old_out, only, quiet):
     """Reproduce the paper's analyses with the built-in models (figures, summary.md, timings.txt).
 
     summary.md holds the results only, so two runs give identical files; run times go to
@@ -54,7 +56,8 @@ def paper_command(out_dir, only, quiet):
             raise InputError("--only", f"unknown section '{n}'; valid: {', '.join(valid)}")
     from .._io import atomic_write, check_output_folder
 
-    out = check_output_folder(out_dir, "--out")
+    folder, option = renamed(out_dir, old_out, "--dir", "--out")
+    out = check_output_folder(folder or "paper-output", option)
     out.mkdir(parents=True, exist_ok=True)
     verbose = not quiet and sys.stderr.isatty()
     lines = summary_header()

@@ -45,8 +45,9 @@ def _holdable(system) -> list[str]:
 @click.option("--rtol", default=1e-6, show_default=True, help="Integrator relative tolerance.")
 @click.option("--out", default=None, metavar="FILE.csv", help="Write the time history as CSV (a row at each event).")
 @click.option("--plot", default=None, metavar="FILE.png", help="Plot WATCH against time, stop events marked.")
-@click.option("--quiet", is_flag=True, help="No progress bar.")
-def simulate_command(model, settings, starts, until, use_stops, watch, damping, rtol, out, plot, quiet):
+@click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
+@click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
+def simulate_command(model, settings, starts, until, use_stops, watch, damping, rtol, out, plot, no_progress, old_quiet):
     """Simulate MODEL in time from rest in the pose assembled with the --start values held.
 
     Example: mechcont simulate tests/data/bar_drop.toml --start theta_bar=0 --until 3 --stops
@@ -78,7 +79,7 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     from ..dynamics import simulate
 
     try:
-        with Progress("simulate", total=until, unit="s simulated", quiet=quiet) as bar:
+        with Progress("simulate", total=until, unit="s simulated", quiet=no_progress or old_quiet) as bar:
             result = simulate(system, x0, (0.0, until), damping=damping, rtol=rtol, stops=use_stops,
                               progress=bar.set if bar.enabled else None)
     except InputError as exc:  # named by the option that gave the value

@@ -10,7 +10,7 @@ import click
 from ..errors import InputError
 from ..units import derivative_unit as per_unit  # noqa: F401 - the slope's unit, by the name it had here
 from ._app import cli
-from ._parse import assignments
+from ._parse import assignments, named_as, renamed
 
 
 def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk, lock=(),
@@ -75,8 +75,10 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
               "with --analysis freefall the released pose.")
 @click.option("--condition", default=None, metavar="NAME", help="Downlock condition: a declared [conditions] name.")
 @click.option("--force", default=None, metavar="NAME", help="The downlock force (default: the model's, F).")
-@click.option("--out", required=True, metavar="DIR", help="Study folder (results.parquet, parts/, study.json).")
-@click.option("--resume", is_flag=True, help="Continue the study in --out: finished chunks are kept, not recomputed.")
+@click.option("--dir", "out_dir", default=None, metavar="DIR", help="Study folder (results.parquet, parts/, study.json); "
+              "required.")
+@click.option("--out", "old_out", default=None, hidden=True)  # its spelling before --out meant a file everywhere else
+@click.option("--resume", is_flag=True, help="Continue the study in --dir: finished chunks are kept, not recomputed.")
 @click.option("--chunk", type=int, default=None, help="Samples per task and per written part (default by analysis).")
 @click.option("--scheduler", default="local", show_default=True, metavar="local|serial|ADDRESS",
               help="Where chunks run: a local cluster of worker processes, this process, or a Dask scheduler.")
@@ -85,10 +87,10 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
 @click.option("--verbose", is_flag=True, help="One line per chunk written.")
 @click.option("--quiet", is_flag=True, help="Print nothing but errors.")
 def study_command(model, dists, grids, sample, method, n, seed, spec_file, analyses, lock, until, sets, holds, condition,
-                  force, out, resume, chunk, scheduler, workers, plot, verbose, quiet):
+                  force, out_dir, old_out, resume, chunk, scheduler, workers, plot, verbose, quiet):
     """Sample MODEL's parameters and solve the downlock (and unlock folds) at every sample.
 
-    Results go to --out as Parquet, one part per chunk as soon as it is done, then
+    Results go to --dir as Parquet, one part per chunk as soon as it is done, then
     results.parquet; an interrupted study keeps its finished chunks and --resume computes
     only the rest. Each sample has a status: converged, or failed and why; failures never
     stop the study. Prints the probability of not locking unaided (downlock force <= 0) with
@@ -98,15 +100,26 @@ def study_command(model, dists, grids, sample, method, n, seed, spec_file, analy
     (beta, P = Phi(-beta), SORM, the most probable failure point and each variable's
     importance alpha^2), checked by importance sampling around that point.
     """
-    import time
-
     from .._io import check_output_folder, check_output_path
     from ..outputs.plotting import FIGURE_SUFFIXES
 
     if method not in ("sampling", "form"):
         raise InputError("--method", f"unknown method '{method}'; valid: sampling, form")
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
-    check_output_folder(out, "--out")
+    out, option = renamed(out_dir, old_out, "--dir", "--out")
+    if out is None:
+        raise InputError("--dir", "give the study's folder (--dir DIR)")
+    check_output_folder(out, option)
+    with named_as({"folder": option}):
+        _study(model, dists, grids, sample, method, n, seed, spec_file, analyses, lock, until, sets, holds, condition,
+               force, out, resume, chunk, scheduler, workers, plot, plot_path, verbose, quiet)
+
+
+def _study(model, dists, grids, sample, method, n, seed, spec_file, analyses, lock, until, sets, holds, condition,
+           force, out, resume, chunk, scheduler, workers, plot, plot_path, verbose, quiet) -> None:
+    """The study, its inputs checked for the folder and the figure."""
+    import time
+
     if method == "form":
         for option, given in (("--lock", lock), ("--until", until is not None)):
             if given:  # they belong to --analysis freefall, which FORM does not run

@@ -109,9 +109,10 @@ def _print_stop_loads(system, result) -> None:
 @click.option("--stops", "use_stops", is_flag=True,
               help="Simulate the description's stops (impacts, contact with its reaction, release) and print the "
                    "ramped load at each contact and release.")
-@click.option("--quiet", is_flag=True, help="No progress bar.")
+@click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
+@click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
 def sweep_command(model, settings, starts, ramps, watch, damping, settle, equilibrium, through, rtol, out, plot,
-                  branch_csv, use_stops, quiet):
+                  branch_csv, use_stops, no_progress, old_quiet):
     """Ramp loads of MODEL slowly in a time simulation and report where WATCH jumps.
 
     Example: mechcont sweep overcentre --set LU=0.4 --set c=50 --start theta1=1.2
@@ -140,7 +141,7 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     total = settle + sum(r.duration for r in segs)
     from .._progress import Progress
 
-    with Progress("sweep", total=total, unit="s simulated", quiet=quiet) as bar:
+    with Progress("sweep", total=total, unit="s simulated", quiet=no_progress or old_quiet) as bar:
         result = sweep(system, x0, segs, watch=watch, damping=damping, settle=settle, through=through, rtol=rtol,
                        progress=bar.set if bar.enabled else None, stops=use_stops)
     if not system.mechanics.stability(x0).stable:  # said after sweep(), which reports bad input first

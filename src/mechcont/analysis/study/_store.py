@@ -84,10 +84,10 @@ class StudyStore:
         self.spec_file = self.folder / "study.json"
         self.results = self.folder / "results.parquet"
         if self.folder.exists() and not self.folder.is_dir():
-            raise InputError("--out", f"'{self.folder}' is a file; give a folder for the study")
+            raise InputError("folder", f"'{self.folder}' is a file; give a folder for the study")
         if self.spec_file.exists():
             if not resume:
-                raise InputError("--out", f"'{self.folder}' already holds a study; add --resume to continue it, or "
+                raise InputError("folder", f"'{self.folder}' already holds a study; add --resume to continue it, or "
                                           "choose another folder")
             try:
                 old = json.loads(self.spec_file.read_text(encoding="utf-8"))
@@ -180,7 +180,7 @@ class StudyStore:
 
         missing = sorted(set(range(self.spec.n_chunks)) - self.done())
         if missing:
-            raise InputError("--out", f"chunks {missing[:5]} are not done yet; resume the study")
+            raise InputError("folder", f"chunks {missing[:5]} are not done yet; resume the study")
         tables = [pq.read_table(self.parts / _PART.format(k)) for k in range(self.spec.n_chunks)]
         table = pa.concat_tables(tables)
         return atomic_write(self.results, lambda tmp: pq.write_table(table, tmp))
