@@ -168,10 +168,11 @@ def test_fold_band_lies_within_the_bound(res):
 def test_every_figure_has_units_honest_legends_and_labels_inside(res, tmp_path, monkeypatch):
     from figure_checks import check_figure
 
+    import mechcont.paper._nose_gear_figures as ng_figures
     import mechcont.paper.nose_gear as ng
 
     figs = []
-    monkeypatch.setattr(ng, "_save", lambda fig, path: figs.append((fig, path.name)))
+    monkeypatch.setattr(ng_figures, "_save", lambda fig, path: figs.append((fig, path.name)))
     ng._plot_all(res, tmp_path)
     assert len(figs) == 6
     for fig, name in figs:

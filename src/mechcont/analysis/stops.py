@@ -25,6 +25,11 @@ parameter with the stops it had in contact held).
 releasing the most negative reaction until none is left (a small active-set method).
 """
 
+# Why one module of about 580 lines: the start (equilibrium_on_stops), the continuation with its
+# switches and the joining of its pieces are one algorithm over the same private vocabulary (the
+# stops' lens _lens, _with_contacts, the stability on a contact set, StopRun); split, each part would
+# import the others' private helpers.
+
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping, Sequence
@@ -297,6 +302,9 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
         The joined branch, its pieces and switches (``SC``, ``SR`` and ``NSF``). A piece that fails
         ends the run with its message; what was computed up to there is returned.
     """
+    # longer than 60 lines: one loop over the pieces whose steps share its state (the point, the
+    # contact set, the run so far); what does not (the start's checks, the switch rules, the joining,
+    # the landings) is in the helpers below
     hold, free = list(hold), list(free)
     contact = None if contact is None else list(contact)
     if direction == 0:

@@ -35,10 +35,10 @@ import numpy as np
 from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 from ..units import derivative_unit
-from ._branch import SpecialPoint
 from ._fold_point import fold_quantities, fold_scaling, polish_fold
 from ._problem import choose_unknowns
 from ._scaling import equilibrate
+from ._special_point import SpecialPoint
 
 __all__ = ["Sensitivity", "equilibrium_sensitivity", "fold_sensitivity", "point_sensitivity", "derivative_unit",
            "check_parameters", "write_json"]

@@ -21,8 +21,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ._timing import timed
+
+if TYPE_CHECKING:
+    from ..analysis.optimize import OptimumMap, OptimumResult
 
 __all__ = ["P_MAX", "NOSE_TOLERANCES", "STAY_TOLERANCES", "NOSE_BOUNDS", "STAY_BOUNDS", "DS_BOUNDS", "DS_MARGIN",
            "DS_FORCE", "dual_sidestay_optimum", "compute", "run"]
@@ -49,14 +53,14 @@ DS_FORCE = "F_lock"
 class DesignOptima:
     """The two optima (:class:`~mechcont.analysis.optimize.OptimumResult`) and the lock stay's map."""
 
-    nose: object
+    nose: OptimumResult
     nose_force: float
-    stay: object
+    stay: OptimumResult
     stay_force: float
-    stay_map: object
-    seconds: dict
-    sidestay: object = None
-    sidestay_nominal: dict | None = None
+    stay_map: OptimumMap
+    seconds: dict[str, float]
+    sidestay: OptimumResult | None = None
+    sidestay_nominal: dict[str, float] | None = None
 
 
 def _random(tolerances):
@@ -78,7 +82,7 @@ def compute() -> DesignOptima:
     from ..analysis.optimize import optimize, optimum_map
     from ..models import load_model
 
-    seconds = {}
+    seconds: dict[str, float] = {}
     with timed(seconds, "nose gear: longest LU at P <= 1e-6"):
         nose_gear = load_model("nose_gear")
         nose = optimize(nose_gear, "LU", NOSE_BOUNDS, maximize=True, constraints=_constraint(),

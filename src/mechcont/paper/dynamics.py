@@ -121,11 +121,19 @@ def _gap_figure(rates, g, path: Path) -> None:
 
 def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[str]:
     """Write the dynamic-comparison figures into ``out_dir``; return summary Markdown lines."""
-    from .._progress import Progress
-
     timings = {} if timings is None else timings
     out_dir = Path(out_dir)
-    lines = ["## Time simulation against continuation (paper Fig. 3a; each jump against its fold)", ""]
+    loop, gaps, names = _loop_part(out_dir, quiet, timings)
+    return ["## Time simulation against continuation (paper Fig. 3a; each jump against its fold)", "", *loop,
+            *_no_fold_part(quiet, timings), *_rate_part(out_dir, quiet, timings, gaps, names)]
+
+
+def _loop_part(out_dir: Path, quiet: bool, timings: dict) -> tuple[list[str], list, dict[float, str]]:
+    """The hysteresis loop at LU = 0.4 m against its branch (Fig. 3a, the jumps' table, Exudyn's snap-throughs):
+    ``(lines, jump gaps, {fold F: its name})``."""
+    from .._progress import Progress
+
+    lines: list[str] = []
     with (timed(timings, "dynamics: time simulation at LU = 0.4 m (or reused)"),
           Progress("[dynamics] time simulation", total=sweep_duration(), unit="s simulated", quiet=quiet) as bar):
         r04 = hysteresis(0.4, bar.set if bar.enabled else None)
@@ -167,7 +175,13 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
                   + " These snap-through loads are later than the jump loads of the table because theta1 passes 0 "
                     "halfway through the jump, which starts when its speed crosses the threshold."]
     lines += ["", "![Fig. 3a and the jumps at the folds](dynamics_fig3_sweep_vs_continuation.png)", ""]
-    # -- LU = 2 m: no fold ------------------------------------------------------------------------
+    return lines, gaps, names
+
+
+def _no_fold_part(quiet: bool, timings: dict) -> list[str]:
+    """LU = 2 m, no fold: how closely the time simulation follows the branch."""
+    from .._progress import Progress
+
     with (timed(timings, "dynamics: time simulation at LU = 2 m (or reused)"),
           Progress("[dynamics] time simulation, LU = 2 m", total=sweep_duration(), unit="s simulated",
                    quiet=quiet) as bar):
@@ -175,10 +189,16 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
     b2 = branch(2.0)
     order = np.argsort(b2["F"])
     lag = float(np.max(np.abs(r2["theta1"] - np.interp(r2["F"], b2["F"][order], b2["theta1"][order]))))
-    lines += [f"LU = 2 m: {len(r2.jumps)} jumps; the sweep stays within {math.degrees(lag):.2f} deg of the "
-              "continuation branch over the whole range (Fig. 4b, `fig4b_overcentre_LU2.png`).", ""]
-    # -- gap versus sweep rate ---------------------------------------------------------------------
+    return [f"LU = 2 m: {len(r2.jumps)} jumps; the sweep stays within {math.degrees(lag):.2f} deg of the "
+            "continuation branch over the whole range (Fig. 4b, `fig4b_overcentre_LU2.png`).", ""]
+
+
+def _rate_part(out_dir: Path, quiet: bool, timings: dict, gaps: list, names: dict[float, str]) -> list[str]:
+    """The jump past the lower fold against the sweep rate (its figure and table), against the loop's ``gaps``."""
+    from .._progress import Progress
     from ..continuation import find_equilibrium
+
+    (_, F_low) = symmetric_folds(L, M1, M2, G, K, 0.4)[1]
 
     s04 = system(0.4)
     x_lock = find_equilibrium(s04, values={"F": RATE_START}, guess={"theta1": 1.1, "theta2": math.pi - 1.1})
@@ -190,10 +210,10 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
             bar.update()
     for r in study:
         timings[f"dynamics: sweep at {r.rate:g} N/s"] = r.seconds
-    g = np.array([abs(r.gap) for r in study])
-    slope = float(np.polyfit(np.log(RATES), np.log(g), 1)[0])
-    _gap_figure(RATES, g, out_dir / "dynamics_gap_vs_rate.png")
-    lines += [f"Jump past the lower fold ({names.get(round(F_low, 9), 'LP')}, F = {F_low:.3f} N) for slower and "
+    rate_gaps = np.array([abs(r.gap) for r in study])
+    slope = float(np.polyfit(np.log(RATES), np.log(rate_gaps), 1)[0])
+    _gap_figure(RATES, rate_gaps, out_dir / "dynamics_gap_vs_rate.png")
+    lines = [f"Jump past the lower fold ({names.get(round(F_low, 9), 'LP')}, F = {F_low:.3f} N) for slower and "
               f"slower sweeps, each from rest on the upper branch at F = {RATE_START:g} N down to {F_RANGE[0]:g} N:", "",
               "| rate (N/s) | jump F (N) | gap (N) |", "|---|---|---|"]
     lines += [f"| {r.rate:g} | {r.jump_value:.3f} | {r.gap:+.3f} |" for r in study]

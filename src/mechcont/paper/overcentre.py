@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import functools
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
 
@@ -97,7 +98,7 @@ def compute(progress=None) -> dict:
     lp = branch(0.4).special("LP")[0]
     base = build_overcentre()
     x0 = find_equilibrium(base, values={"LU": LU_LEVELS[0], "F": F_START}, guess={"theta1": 1.35, "theta2": 1.79})
-    out["family"] = equilibrium_family(base, x0, "F", "LU", LU_LEVELS, options=_options())  # moved at F = 60 N
+    out["family"] = equilibrium_family(base, x0, "F", "LU", list(LU_LEVELS), options=_options())  # moved at F = 60 N
     # the fold curve over the whole LU range (Fig. 5), and within the surface's ranges (Fig. 4a)
     out["folds"] = continue_folds(system(0.4), lp, "F", "LU", options=ContinuationOptions(bounds={"LU": (0.1, 2.0)}))
     out["folds_4a"] = continue_folds(system(0.4), lp, "F", "LU", options=ContinuationOptions(
@@ -157,7 +158,8 @@ def _sweep_on_branch(ax, b, sw, title: str) -> None:
 def _fig4a(r, path: Path) -> None:
     fig, ax = new_figure(figsize=(7.6, 6.0), projection="3d")
     plot_surface(r["family"], "F", "LU", "theta1", folds=r["folds_4a"], ax=ax)
-    sims = ((0.4, "#1f77b4", "--"), (2.0, "#6a3d9a", "-"))   # one style per simulation, one legend entry each
+    # one style per simulation, one legend entry each
+    sims: tuple[tuple[float, str, Literal["-", "--"]], ...] = ((0.4, "#1f77b4", "--"), (2.0, "#6a3d9a", "-"))
     for LU, colour, style in sims:
         sw = r[f"sweep_{LU}"]
         ax.plot(sw["F"], np.full(len(sw.t), LU), np.degrees(sw["theta1"]), color=colour, linestyle=style, lw=1.6)

@@ -256,6 +256,10 @@ _BRANCH = ("branch_points", "branch_folds", "branch_unstable_points", "branch_fo
 
 
 def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = True) -> dict:
+    """The unlock columns of a chunk: the first converged row's release run, the others' folds polished all at
+    once from it (:func:`fold_batch`), a row whose batched fold cannot be trusted run alone."""
+    # longer than 60 lines: the chunk's thirteen result columns are filled in place by both paths (a
+    # row run alone, the batch), which share them through the closure single()
     m = len(X)
     above, below = np.full(m, np.nan), np.full(m, np.nan)
     points, folds, unstable = (np.zeros(m, dtype=np.int64) for _ in range(3))

@@ -6,6 +6,9 @@ the samples are a pure function of it: the same spec gives the same samples, row
 on any machine. That is what lets ``--resume`` recompute nothing: chunk ``k`` always holds
 the same samples.
 
+(About 450 lines: :class:`StudySpec` validates every field of a study file and round-trips it, in one
+place, so that a spec read from ``study.json`` is checked exactly as one given on the command line.)
+
 Distributions are parsed from a short whitelist (numbers only, never evaluated):
 
 * ``uniform:LO:HI``

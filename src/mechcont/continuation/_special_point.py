@@ -1,0 +1,149 @@
+"""A labelled point of a branch (:class:`SpecialPoint`): a fold, a branch point, a cusp, an end or an event."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from types import MappingProxyType
+
+import numpy as np
+
+from .._status import Status
+
+__all__ = ["SpecialPoint"]
+
+#: How many values a :class:`SpecialPoint`'s repr shows.
+_REPR_VALUES = 60
+
+
+@dataclass(init=False)
+class SpecialPoint:
+    """A labelled point of a branch (AUTO's vocabulary).
+
+    Attributes
+    ----------
+    label:
+        ``"LP"`` limit point (fold), ``"BP"`` branch point, ``"CP"`` cusp, ``"EP"`` end
+        point, or a user event name.
+    index:
+        Row of the point in the branch.
+    x:
+        Full variable vector at the point.
+    names:
+        Variable names, ordered like ``x``.
+    tangent:
+        Unit tangent of the branch at the point in the problem's scaled unknowns (when known).
+    status:
+        :attr:`Status.LOCATED <mechcont._status.Status.LOCATED>` (solved to the tolerances: a
+        fold polished on the augmented system, an event's zero found by root finding) or
+        ``APPROXIMATE`` (detected by a sign change but not located; :attr:`reason` says why).
+    reason:
+        Why the point is approximate, or why a branch ended there (``""`` when none).
+    residual, singular_value:
+        The precision of a located fold (None elsewhere): the largest equation residual
+        relative to its terms, and the smallest singular value of the equilibrated state
+        Jacobian over the norm of the whole equilibrated Jacobian.
+    vary, unknowns:
+        The lens the point was found with: the continuation parameter and the names solved
+        for (None for a point read from a table).
+    null_vector:
+        The null vector over :attr:`unknowns`' states at a fold (None elsewhere).
+    extra:
+        What an analysis adds (a stop's name, where the mechanism lands, dropped rows...).
+    info:
+        All of the above as one read-only dict (the keys of before: ``"status"``,
+        ``"null_vector"``, ``"residual"``, ...); pass ``info=`` to the constructor to fill
+        the typed fields from such a dict (its other keys go to :attr:`extra`).
+    """
+
+    label: str
+    index: int
+    x: np.ndarray
+    names: tuple[str, ...]
+    tangent: np.ndarray | None
+    status: Status
+    reason: str
+    residual: float | None
+    singular_value: float | None
+    vary: str | None
+    unknowns: tuple[str, ...] | None
+    null_vector: np.ndarray | None
+    extra: dict
+
+    def __init__(self, label: str, index: int, x: np.ndarray, names: tuple[str, ...], tangent: np.ndarray | None = None,
+                 info: Mapping | None = None, *, status: Status | str | None = None, reason: str | None = None,
+                 residual: float | None = None, singular_value: float | None = None, vary: str | None = None,
+                 unknowns: Sequence[str] | None = None, null_vector: np.ndarray | None = None,
+                 extra: Mapping | None = None):
+        rest = dict(info or {})
+        typed = {k: rest.pop(k, None) for k in _TYPED}
+        self.label, self.index, self.x, self.names, self.tangent = label, index, x, names, tangent
+        self.status = Status.of(status or typed["status"] or Status.LOCATED)
+        self.reason = str(reason if reason is not None else typed["reason"] or "")
+        self.residual = _first(residual, typed["residual"])
+        self.singular_value = _first(singular_value, typed["singular_value"])
+        self.vary = _first(vary, typed["vary"])
+        lens = _first(unknowns, typed["unknowns"])
+        self.unknowns = None if lens is None else tuple(lens)
+        self.null_vector = _first(null_vector, typed["null_vector"])
+        self.extra = {**rest, **(extra or {})}
+
+    @property
+    def info(self) -> Mapping:
+        """The point's data as a read-only dict (the compatibility view of the typed fields and
+        :attr:`extra`): ``"status"`` always, the other typed fields when set."""
+        typed = {"status": self.status, "reason": self.reason or None, "null_vector": self.null_vector,
+                 "residual": self.residual, "singular_value": self.singular_value, "unknowns": self.unknowns,
+                 "vary": self.vary}
+        return MappingProxyType({**{k: v for k, v in typed.items() if v is not None}, **self.extra})
+
+    @property
+    def values(self) -> dict[str, float]:
+        """``{name: value}`` at the point."""
+        return {n: float(v) for n, v in zip(self.names, self.x)}
+
+    def __getitem__(self, name: str) -> float:
+        return self.values[name]
+
+    @property
+    def located(self) -> bool:
+        """True when :attr:`status` is ``LOCATED``."""
+        return self.status is Status.LOCATED
+
+    @property
+    def tag(self) -> str:
+        """The label as written in tables: ``"LP"``, or ``"LP?"`` when only approximate."""
+        return self.label if self.located else self.label + "?"
+
+    def __repr__(self) -> str:
+        """``SpecialPoint(CP at row 40, located: LU=1.5, F=9.81, ...)``: its values to 10 digits (SI units),
+        the first :data:`_REPR_VALUES` of them (a large model's point would fill the screen)."""
+        shown = ", ".join(f"{n}={float(v):.10g}" for n, v in zip(self.names[:_REPR_VALUES], self.x))
+        more = len(self.names) - _REPR_VALUES
+        rest = f", ... ({more} more; .values has all)" if more > 0 else ""
+        return f"SpecialPoint({self.tag} at row {self.index}, {self.status}: {shown}{rest})"
+
+    def sensitivity(self, system, params, *, of: str | None = None, keep: str | None = None, vary: str | None = None,
+                    values=None):
+        """Exact derivatives of this point's quantity with respect to ``params`` (SI units per SI unit).
+
+        At a fold (``LP``) the fold load (the continuation parameter's value there); elsewhere
+        the continuation parameter at the state ``keep`` held at its value here; or ``of``, an
+        unknown of the branch, with the continuation parameter held. ``system`` is the model
+        of the branch; ``vary`` is needed only for a point read from a table; ``values``
+        (``{name: value}``, SI) changes held values first (the point is solved again). Returns a
+        :class:`~mechcont.analysis.sensitivity.Sensitivity` (see
+        :func:`~mechcont.analysis.sensitivity.point_sensitivity`).
+        """
+        from ._sensitivity import point_sensitivity
+
+        return point_sensitivity(system, self, params, vary=vary, of=of, keep=keep, values=values)
+
+
+#: The keys of an ``info`` dict that are typed fields of a :class:`SpecialPoint`.
+_TYPED = ("status", "reason", "residual", "singular_value", "vary", "unknowns", "null_vector")
+
+
+def _first(*values):
+    """The first of ``values`` that is not None (None when all are)."""
+    return next((v for v in values if v is not None), None)
