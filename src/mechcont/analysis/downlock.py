@@ -29,7 +29,7 @@ from ..errors import ConvergenceError, InputError
 from ._runs import early_stops
 from .unlock import UnlockFolds, unlock_folds
 
-__all__ = ["downlock", "downlock_point", "downlock_condition", "downlocked_pose", "DownlockResult"]
+__all__ = ["downlock", "downlock_table", "downlock_point", "downlock_condition", "downlocked_pose", "DownlockResult"]
 
 
 @dataclass(frozen=True)
@@ -264,3 +264,20 @@ def downlock(system: Model, vary: str, bounds: Mapping[str, tuple[float, float]]
         found = unlock_folds(system, x0, f, released=list(h))
         warnings += [f"unlock folds at {vary} = {start:g}: {n}" for n in found.warnings]
     return DownlockResult(branch, f, h, found, warnings)
+
+
+def downlock_table(system: Model, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None, *,
+                   sensitivity: Iterable[str] = (), **options: Any) -> DownlockResult:
+    """:func:`downlock` with the columns ``mechcont downlock`` writes: the unlock folds of every point
+    (``unlock_<F>``, ``unlock_<F>_decreasing``, N; see :func:`~mechcont.analysis.unlock.with_unlock_columns`)
+    and, for each parameter of ``sensitivity``, the exact derivative of the downlock force ``d<F>_d<p>``
+    (:func:`~mechcont.analysis.sensitivity.with_sensitivity_columns`). ``options`` are :func:`downlock`'s.
+    Raises :class:`InputError` (field ``params``) for a ``sensitivity`` name that is not a parameter held
+    along the branch."""
+    from .sensitivity import with_sensitivity_columns
+    from .unlock import with_unlock_columns
+
+    result = downlock(system, vary, bounds, **options)
+    result = with_unlock_columns(system, result, result.force, released=list(result.condition))
+    params = list(sensitivity)
+    return with_sensitivity_columns(system, result, params) if params else result

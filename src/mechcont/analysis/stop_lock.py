@@ -28,8 +28,8 @@ from .downlock import DownlockResult, design_bounds, design_options
 from .stops import GAP_TOL, continuation_with_stops, equilibrium_on_stops, stability_on_stops
 from .unlock import RELEASE_FORCE_SPAN, UnlockFolds
 
-__all__ = ["downlock_on_stops", "stop_unlock", "stop_unlock_along", "with_stop_unlock_column", "lock_force",
-           "landing_after_unlock"]
+__all__ = ["downlock_on_stops", "downlock_on_stops_table", "stop_unlock", "stop_unlock_along", "with_stop_unlock_column",
+           "lock_force", "landing_after_unlock"]
 
 
 def lock_force(system: Model, force: str | None = None) -> str:
@@ -152,6 +152,15 @@ def with_stop_unlock_column(system: Model, result: DownlockResult, force: str) -
               else result.branch)
     return replace(result, branch=branch,
                    warnings=[*result.warnings, *(f"unlock loads along the branch: {w}" for w in more)]), unlock
+
+
+def downlock_on_stops_table(system: Model, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None,
+                            **options) -> tuple[DownlockResult, np.ndarray]:
+    """:func:`downlock_on_stops` (``options`` are its) with the unlock load of every row as a column
+    (:func:`with_stop_unlock_column`): the table ``mechcont downlock`` writes for a lock on stops, and the
+    unlock loads (unit of the force; nan where a row has none)."""
+    result = downlock_on_stops(system, vary, bounds, **options)
+    return with_stop_unlock_column(system, result, result.force)
 
 
 def downlock_on_stops(system: Model, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None, *,

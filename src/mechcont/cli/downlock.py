@@ -12,7 +12,7 @@ from ..errors import InputError
 from ..outputs.tables import summary_rows
 from ..units import display
 from ._app import cli
-from ._parse import assignments, freed_parameters, names
+from ._parse import assignments, freed_parameters, named_as, names
 from ._parse import bounds as parse_bounds
 
 if TYPE_CHECKING:
@@ -87,7 +87,7 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     """
     import numpy as np
 
-    from ..analysis.downlock import downlock
+    from ..analysis.downlock import downlock_table
     from ..continuation import check_max_steps
     from ..outputs.plotting import FIGURE_SUFFIXES
     from ..outputs.tables import BRANCH_SUFFIXES
@@ -110,17 +110,11 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
                    "held at the condition given; leave out --hold/--condition to take the locked state on its stops")
     for n in values:
         system.variable(n)
-    from ..analysis.unlock import RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN, with_unlock_columns
-    result = downlock(system, vary, bnds, free=freed_parameters(system, frees), values=values, hold=h, force=f,
-                      max_steps=max_steps)
-    result = with_unlock_columns(system, result, f, released=list(h))
-    if sens_params:
-        from ..analysis.sensitivity import with_sensitivity_columns
+    from ..analysis.unlock import RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN
 
-        try:
-            result = with_sensitivity_columns(system, result, sens_params)
-        except InputError as exc:
-            raise InputError("--sensitivity", str(exc)[len(exc.field) + 2:]) from None
+    with named_as({"params": "--sensitivity", "sensitivity": "--sensitivity"}):
+        result = downlock_table(system, vary, bnds, sensitivity=sens_params, free=freed_parameters(system, frees),
+                                values=values, hold=h, force=f, max_steps=max_steps)
     branch = result.branch
     if sens_params:
         for p in sens_params:
@@ -166,14 +160,13 @@ def _write(branch, out_path, plot_path, vary: str, force: str, held: str, title:
 def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plot_path) -> None:
     """``downlock`` on a description with stops: the lock rests on them (:mod:`mechcont.analysis.stop_lock`)."""
 
-    from ..analysis.stop_lock import downlock_on_stops, with_stop_unlock_column
+    from ..analysis.stop_lock import downlock_on_stops_table
 
     for n in values:
         system.variable(n)
-    result = downlock_on_stops(system, vary, bnds, force=force, free=freed_parameters(system, frees), values=values,
-                               max_steps=max_steps)
+    result, unlock = downlock_on_stops_table(system, vary, bnds, force=force, free=freed_parameters(system, frees),
+                                             values=values, max_steps=max_steps)
     f = result.force
-    result, unlock = with_stop_unlock_column(system, result, f)
     branch = result.branch
     reactions = [s.reaction for s in system.stops if s.name in result.lock_stops]
     xs, unit_x = display(branch[vary], system.variable(vary).unit)

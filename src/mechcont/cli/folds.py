@@ -23,7 +23,8 @@ from ._run import (
 @click.argument("model")
 @common_options
 @click.option("--vary", required=True, metavar="P1", help="Parameter in which the fold is a turning point.")
-@click.option("--along", "second", default=None, metavar="P2", help="Second parameter, continued along the fold curve.")
+@click.option("--along", "second", default=None, metavar="P2",
+              help="Second parameter, continued along the fold curve (required).")
 @click.option("--solve-for", "old_frees", multiple=True, hidden=True)  # the old spelling of --free here
 @click.option("--fold", "which", default=1, show_default=True,
               help="Which fold of the first branch: N for LPN, numbered along the branch as `continue` prints them.")

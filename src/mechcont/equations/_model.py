@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import MISSING, dataclass, field, fields
-from typing import TYPE_CHECKING, TypedDict
+from typing import TYPE_CHECKING, Protocol, TypedDict
 
 import numpy as np
 
@@ -29,6 +29,13 @@ if TYPE_CHECKING:
     from ._protocols import Description, DofFacts, Reselect
 
 __all__ = ["Model", "StopLimit", "DownlockFacts", "ValueFields", "as_model"]
+
+
+class DownlockAssembly(Protocol):
+    """``assemble(values, hold=None) -> x``: a closed-form downlocked full vector at the parameter ``values``
+    (SI) with the held states ``hold`` (default: the downlock's)."""
+
+    def __call__(self, values: Mapping[str, float], hold: Mapping[str, float] | None = None, /) -> np.ndarray: ...
 
 
 @dataclass(frozen=True)
@@ -44,7 +51,7 @@ class DownlockFacts:
     hold: Mapping[str, float]
     force: str = "F"
     pose: np.ndarray | None = field(default=None, repr=False, compare=False)
-    assemble: Callable[..., np.ndarray] | None = field(default=None, repr=False, compare=False)
+    assemble: DownlockAssembly | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass(frozen=True)
