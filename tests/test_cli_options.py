@@ -2,7 +2,7 @@
 
 ``--free`` names a parameter solved for, ``--out`` a file, ``--quiet`` prints nothing but errors, in
 every command that has them; the spellings they replaced (``folds --free P2`` and ``--solve-for``,
-``paper``/``study --out DIR``, ``simulate``/``sweep``/``animate --quiet``) still work, hidden from the help.
+``design --x/--y``, ``paper``/``study --out DIR``, ``simulate``/``sweep``/``animate --quiet``) still work, hidden from the help.
 """
 
 import click
@@ -39,6 +39,8 @@ def test_each_shared_option_name_has_one_meaning():
         assert "folder" not in text and "dir" not in text.split(), (command, p.help, p.metavar)
     for command, p in options["--quiet"]:
         assert (p.help or "").startswith("Print nothing but errors"), (command, p.help)
+    assert {c for c, _ in options["--x"]} == {"continue"}  # a plot axis; design's parameters are --vary/--across
+    assert {c for c, _ in options["--across"]} == {"design"}
     assert {c for c, _ in options["--dir"]} == {"paper", "study"}
     assert {c for c, _ in options["--no-progress"]} == {"simulate", "sweep", "animate"}
     assert "--solve-for" not in options
@@ -77,3 +79,14 @@ def test_study_folder_old_and_new_spelling(run, tmp_path):
     one_line_error(run(*args, "--out", tmp_path / "b"), "--out", "--resume")
     one_line_error(run(*args, "--dir", tmp_path / "c", "--out", tmp_path / "d"), "--dir", "not both")
     one_line_error(run(*args), "--dir")
+
+
+def test_design_parameters_old_and_new_spelling(run):
+    args = ("design", "lockstay.toml", "--bounds", "k=5000:40000", "--bounds", "Sy=-0.1:0.1", "--levels", "2")
+    new = run(*args, "--vary", "k", "--across", "Sy")
+    old = run(*args, "--x", "k", "--y", "Sy")
+    assert new.exit_code == 0 and old.exit_code == 0, new.output
+    assert new.output == old.output
+    one_line_error(run(*args, "--vary", "k", "--across", "k"), "--across", "must differ from --vary")
+    one_line_error(run(*args, "--x", "k", "--y", "k"), "--y", "must differ from --x")
+    one_line_error(run(*args, "--vary", "k", "--x", "k"), "--vary", "not both")

@@ -6,17 +6,20 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, names
+from ._parse import assignments, names, renamed
 from ._parse import bounds as parse_bounds
 from .downlock import model_and_condition, warn
 
 
 @cli.command("design")
 @click.argument("model")
-@click.option("--x", "x_name", default=None, metavar="NAME",
+@click.option("--vary", "x_name", default=None, metavar="NAME",
               help="Design parameter continued (default: the first --bounds name).")
-@click.option("--y", "y_name", default=None, metavar="NAME",
+@click.option("--across", "y_name", default=None, metavar="NAME",
               help="Second design parameter, in levels (default: the other --bounds name).")
+# their spellings before --x/--y meant the plot's axes (continue): kept for scripts
+@click.option("--x", "old_x", default=None, hidden=True)
+@click.option("--y", "old_y", default=None, hidden=True)
 @click.option("--bounds", "bounds_", multiple=True, required=True, metavar="NAME=LO:HI",
               help="Ranges of both design parameters (finite).")
 @click.option("--levels", default=11, show_default=True, type=int, help="Number of levels of the second parameter.")
@@ -29,16 +32,16 @@ from .downlock import model_and_condition, warn
 @click.option("--out", default=None, metavar="FILE", help="Write the table as .csv or .md.")
 @click.option("--plot", default=None, metavar="FILE", help="Region plot (.png, .svg, .pdf).")
 @click.option("--sensitivity", "sens_text", default=None, metavar="NAMES",
-              help="Comma-separated parameters: per level, exact derivatives of the force at the design --x and of "
-                   "the lock and fold margins (SI units).")
-def design_command(model, x_name, y_name, bounds_, levels, sets, holds, condition, force, max_steps, out, plot,
-                   sens_text):
-    """Where MODEL's downlock force is positive over (--x, --y), the margin to the folds, as a table and a plot.
+              help="Comma-separated parameters: per level, exact derivatives of the force at the design --vary value "
+                   "and of the lock and fold margins (SI units).")
+def design_command(model, x_name, y_name, old_x, old_y, bounds_, levels, sets, holds, condition, force, max_steps, out,
+                   plot, sens_text):
+    """Where MODEL's downlock force is positive over (--vary, --across), the margin to the folds, as a table and a plot.
 
-    The lock margin is signed: positive when the design locks unaided (by that much of --x
+    The lock margin is signed: positive when the design locks unaided (by that much of --vary
     before it stops), negative when it does not. Runs that stop short of their bounds are
     named on stderr. --sensitivity NAMES adds, per level, the exact derivatives (implicit-function
-    theorem) of the force at the design --x, of the lock margin and of the margin to the fold
+    theorem) of the force at the design --vary value, of the lock margin and of the margin to the fold
     with respect to each name.
     """
     import numpy as np
@@ -54,9 +57,11 @@ def design_command(model, x_name, y_name, bounds_, levels, sets, holds, conditio
         raise InputError("--levels", f"must be between 2 and 200, got {levels}")
     if max_steps < 1:
         raise InputError("--max-steps", f"must be a positive integer, got {max_steps}")
+    x_name, x_option = renamed(x_name, old_x, "--vary", "--x")
+    y_name, y_option = renamed(y_name, old_y, "--across", "--y")
     values = assignments(sets, "set")
     bnds = parse_bounds(bounds_)
-    rest = [n for n in bnds if n not in (x_name, y_name)]  # --x/--y default to the --bounds names, in order
+    rest = [n for n in bnds if n not in (x_name, y_name)]  # --vary/--across default to the --bounds names, in order
     x_name = x_name or (rest.pop(0) if rest else None)
     y_name = y_name or (rest.pop(0) if rest else None)
     if x_name is None or y_name is None:
@@ -65,7 +70,7 @@ def design_command(model, x_name, y_name, bounds_, levels, sets, holds, conditio
         if n not in bnds or not all(np.isfinite(bnds[n])):
             raise InputError("--bounds", f"give a finite range for {n}, e.g. {n}=LO:HI")
     if x_name == y_name:
-        raise InputError("--y", "must differ from --x")
+        raise InputError(y_option, f"must differ from {x_option}")
     system, h, f = model_and_condition(model, holds, force, condition)
     for n in (*values, x_name, y_name):
         system.variable(n)
