@@ -366,7 +366,7 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
         piece = continuation(system, x, vary, hold=hold_k, free=free_k, direction=sign, events=events,
                              options=replace(options, stability=False) if active else options, progress=progress)
         if active and options.stability:
-            _contact_stability(system, piece, [s.name for s in st if s.name in active])
+            piece = _contact_stability(system, piece, [s.name for s in st if s.name in active])
         run.pieces.append(piece)
         run.contact.append(tuple(s.name for s in st if s.name in active))
         run.directions.append(sign)
@@ -471,11 +471,10 @@ def stability_on_stops(system: Model, x: np.ndarray, contact: Iterable[str]):
     return mech.stability(x, held=system.jacobian(x)[np.ix_(rows, cols)])
 
 
-def _contact_stability(system: Model, piece: Branch, contact: Sequence[str]) -> None:
-    """:func:`stability_on_stops` at every point of a piece with the stops ``contact`` in contact
-    (``n_unstable`` rewritten in place)."""
-    for i, x in enumerate(piece.values):
-        piece.n_unstable[i] = stability_on_stops(system, x, contact).n_unstable
+def _contact_stability(system: Model, piece: Branch, contact: Sequence[str]) -> Branch:
+    """The piece with :func:`stability_on_stops` at every point, the stops ``contact`` in contact (its
+    ``n_unstable``)."""
+    return piece.replace(n_unstable=[stability_on_stops(system, x, contact).n_unstable for x in piece.values])
 
 
 def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun,

@@ -322,8 +322,9 @@ def switch_branch(system: EquationSystem, bp: SpecialPoint, *, options: Continua
     branch = _run(problem, system, u0, options, evs, direction, vary, unknowns, tangent0=t_new)
     i0 = int(np.argmin(np.abs(branch.s)))
     if not branch.labels[i0]:
-        branch.labels[i0] = "BP"
-        branch.special_points.append(SpecialPoint("BP", i0, branch.values[i0].copy(), system.names, t_new,
-                                                  unknowns=tuple(unknowns), vary=vary, extra={"switched": True}))
-        branch.special_points.sort(key=lambda p: p.index)
+        labels = list(branch.labels)
+        labels[i0] = "BP"
+        bp = SpecialPoint("BP", i0, branch.values[i0].copy(), system.names, t_new, unknowns=tuple(unknowns), vary=vary,
+                          extra={"switched": True})
+        branch = branch.replace(labels=labels, special_points=[*branch.special_points, bp])  # sorted by the Branch
     return branch
