@@ -69,6 +69,7 @@ _LAZY = {
     "critical_airspeed": "mechcont.dynamics.freefall",
     # analyses: downlock and unlock, stops, families, design maps
     "downlock": "mechcont.analysis.downlock",
+    "DownlockResult": "mechcont.analysis.downlock",
     "downlock_condition": "mechcont.analysis.downlock",
     "unlock_folds": "mechcont.analysis.unlock",
     "continuation_with_stops": "mechcont.analysis.stops",
@@ -96,7 +97,7 @@ __all__ = [
     "find_equilibrium", "continuation", "continue_folds", "switch_branch", "ContinuationOptions", "Branch",
     "SpecialPoint", "ValueEvent",
     "simulate", "sweep", "SimulationResult", "Status", "freefall", "critical_airspeed",
-    "downlock", "downlock_condition", "unlock_folds", "continuation_with_stops", "equilibrium_on_stops",
+    "downlock", "DownlockResult", "downlock_condition", "unlock_folds", "continuation_with_stops", "equilibrium_on_stops",
     "equilibrium_family", "design_region", "fold_locus", "redundancy_along",
     "equilibrium_sensitivity", "fold_sensitivity", "downlock_sensitivity", "optimize", "downlock_reliability",
     "StudySpec", "run_study", "read_results", "failure_probability",
@@ -107,7 +108,7 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     from . import errors, units
     from ._status import Status
     from .analysis.design import design_region, fold_locus
-    from .analysis.downlock import downlock, downlock_condition
+    from .analysis.downlock import DownlockResult, downlock, downlock_condition
     from .analysis.optimize import optimize
     from .analysis.redundancy import redundancy_along
     from .analysis.reliability import downlock_reliability
