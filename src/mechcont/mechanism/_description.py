@@ -33,6 +33,7 @@ from ._conditions import Condition, DownlockSpec, check_conditions
 from ._expr import FUNCTIONS, Value, symbol, to_expr
 from ._stops import Stop, check_stops, stop_reaction_unit
 from .joints import PlanarJoint, Prismatic, Revolute, Slider, Weld
+from .loads import LOAD_TYPES, CustomLoad, Drag, Gravity, Load, Moment, PointForce, SpatialGravity
 
 if TYPE_CHECKING:
     from ..equations import Model
@@ -56,12 +57,16 @@ class Parameter:
     unit: str = ""
     description: str = ""
     scale: float | None = None
+    #: Whether the mechanism made it (from another element) rather than the user.
+    GENERATED: ClassVar[bool] = False
 
 
 @dataclass(frozen=True)
 class StopReaction(Parameter):
     """The contact reaction parameter ``R_<stop>`` that a stop adds (default 0: out of contact);
     made by the mechanism from its ``stops``, never read from a file."""
+
+    GENERATED: ClassVar[bool] = True
 
 
 @dataclass(frozen=True)
@@ -136,76 +141,8 @@ class Damper:
     c2: Value = 0
 
 
-@dataclass(frozen=True)
-class Gravity:
-    """Uniform gravity of magnitude ``g`` (m/s^2) pointing at ``angle`` (rad; default -y)."""
-
-    g: Value = "g"
-    angle: Value = -sp.pi / 2
-
-
-@dataclass(frozen=True)
-class PointForce:
-    """A force of fixed global direction at a point: ``magnitude * direction/|direction|`` (N).
-
-    ``direction`` is a 2-vector or an angle (rad). ``magnitude`` is typically a parameter
-    name (``"F"``) so that the continuation can free it as an unknown.
-    """
-
-    name: str
-    at: str
-    magnitude: Value
-    direction: tuple[Value, Value] | Value = (0, 1)
-
-
-@dataclass(frozen=True)
-class Moment:
-    """A pure moment (N m, counter-clockwise positive) on a body."""
-
-    name: str
-    body: str
-    magnitude: Value
-
-
-@dataclass(frozen=True)
-class Drag:
-    """Aerodynamic drag on the segment from point ``start`` to point ``end`` of ``body``.
-
-    Cross-flow model of the paper's eq. 12: with the air velocity ``U (cos alpha, sin alpha)``
-    (m/s, rad), the segment of length ``L`` and unit normal ``n`` (left of start->end), the
-    normal flow ``u_n = U sin(alpha - theta_axis)`` gives the force
-    ``1/2 rho C_D d L u_n |u_n| n`` (N) at the segment's midpoint; its moment about ``start``
-    is the paper's ``D = 1/4 rho (U cos(alpha - theta + pi/2))^2 d L^2 C_D`` with the sign of
-    ``u_n``. ``|u_n|`` is smoothed as ``sqrt(u_n^2 + (1e-6 m/s)^2)`` so the Jacobian exists
-    at ``U = 0`` (force change < 1e-11 N).
-    """
-
-    name: str
-    body: str
-    rho: Value = "rho"
-    U: Value = "U"
-    alpha: Value = "alpha"
-    d: Value = "d"
-    CD: Value = "C_D"
-    start: str = "a"
-    end: str = "b"
-
-
-@dataclass(frozen=True)
-class CustomLoad:
-    """A user-defined load: force ``(fx, fy)`` (N, global axes) at point ``at`` and a moment
-    (N m) on that point's body; expressions may use parameters and coordinates."""
-
-    name: str
-    at: str
-    fx: Value = 0
-    fy: Value = 0
-    moment: Value = 0
-
-
 #: A planar joint: any registered joint class (see :mod:`.joints`).
 Joint = PlanarJoint
-Load = PointForce | Moment | Drag | CustomLoad
 
 
 class _Named(Protocol):
@@ -214,22 +151,6 @@ class _Named(Protocol):
     @property
     def name(self) -> str:
         """Its name."""
-
-
-class _LoadAtPoint(Protocol):
-    """A load applied at a point."""
-
-    @property
-    def at(self) -> str:
-        """``"<body>.<point>"``."""
-
-
-class _LoadOnBody(Protocol):
-    """A load applied to a body (a drag also names two points of it, ``start`` and ``end``)."""
-
-    @property
-    def body(self) -> str:
-        """The body's name."""
 
 
 def coordinate_names(body: str) -> tuple[str, str, str]:
@@ -334,7 +255,7 @@ class Mechanism:
     springs: Sequence[Spring] = ()
     dampers: Sequence[Damper] = ()
     loads: Sequence[Load] = ()
-    gravity: Gravity | None = None
+    gravity: Gravity | SpatialGravity | None = None
     dof: int = 1
     hold: Mapping[str, Value] = field(default_factory=dict)
     description: str = ""
@@ -347,10 +268,20 @@ class Mechanism:
     # the value-independent part of each generated form, made by the first build (never pickled)
     _generated: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
-    #: Keys of a custom load whose expressions may use the coordinates.
-    _COORDINATE_KEYS: ClassVar[tuple[str, ...]] = ("fx", "fy", "moment")
-    #: 2 for a planar mechanism, 3 for a spatial one.
-    dimension = 2
+    #: 2 for a planar mechanism, 3 for a spatial one (for readers of a description; the code asks
+    #: :attr:`space`, :attr:`AXES` and the kinematics instead).
+    dimension: ClassVar[int] = 2
+    #: The registry key of the elements this mechanism takes (:data:`~.loads.LOAD_TYPES`).
+    space: ClassVar[str] = "plane"
+    #: The components of a vector (a point, a direction).
+    AXES: ClassVar[str] = "xy"
+    #: The message for a load of a type not registered for this space (``{}``: its class name).
+    _UNKNOWN_LOAD: ClassVar[str] = "unknown load type {}"
+    #: Condition types this space has not, with the message that refuses them.
+    UNAVAILABLE_CONDITIONS: ClassVar[Mapping[str, str]] = {}
+    #: Whether a collinear condition is signed about a given ``normal`` (in space) rather than
+    #: counter-clockwise (in the plane).
+    COLLINEAR_NORMAL: ClassVar[bool] = False
 
     def __post_init__(self):
         self.parameters = tuple(self.parameters)
@@ -363,7 +294,7 @@ class Mechanism:
         self.stops = tuple(self.stops)
         # a copy (dataclasses.replace) passes the generated reactions back in: made anew here
         units = {c.name: c.value_unit for c in self.conditions}
-        self.parameters = (*(p for p in self.parameters if not isinstance(p, StopReaction)),
+        self.parameters = (*(p for p in self.parameters if not p.GENERATED),
                            *(StopReaction(s.reaction, 0.0, stop_reaction_unit(units.get(s.condition, "")),
                                           s.reaction_description) for s in self.stops))
         self._validate()
@@ -389,7 +320,7 @@ class Mechanism:
             _check_name(p.name, f, digits=False)
             _check_variable_name(p.name, f, "parameter")
             if p.name in self.param_symbols:
-                if isinstance(p, StopReaction):
+                if p.GENERATED:
                     raise InputError(f, f"clashes with the contact reaction {p.name} of a stop: rename the parameter "
                                         "or the stop")
                 raise InputError(f, "parameter defined more than once")
@@ -434,11 +365,12 @@ class Mechanism:
             self._exprs[p] = self.expr(v, p)
         for j in self.joints:
             j.check(self)
-        two_ended: tuple[Spring | Damper, ...] = (*self.springs, *self.dampers)
-        for s in two_ended:
-            group = "springs" if isinstance(s, Spring) else "dampers"
-            self.point_ref(s.a, f"{group}.{s.name}.a")
-            self.point_ref(s.b, f"{group}.{s.name}.b")
+        two_ended: tuple[tuple[str, Sequence[Spring | Damper]], ...] = (("springs", self.springs),
+                                                                         ("dampers", self.dampers))
+        for group, elements in two_ended:
+            for s in elements:
+                self.point_ref(s.a, f"{group}.{s.name}.a")
+                self.point_ref(s.b, f"{group}.{s.name}.b")
         self._check_loads()
         check_actuators(self)
         check_conditions(self)
@@ -453,28 +385,27 @@ class Mechanism:
         """The coordinate names of ``body`` (see :func:`coordinate_names`)."""
         return coordinate_names(body)
 
-    def _load_kinds(self) -> tuple[tuple[type[_LoadAtPoint], ...], tuple[type[_LoadOnBody], ...], str]:
-        """The load classes applied at a point, those applied to a body (a drag has ``start`` and
-        ``end`` points), and the message for any other load (``{}``: its class name)."""
-        return (PointForce, CustomLoad), (Moment, Drag), "unknown load type {}"
-
     def _check_loads(self) -> None:
-        """Check every load's references (raises a one-line InputError)."""
-        at_point, on_body, other = self._load_kinds()
+        """Check every load's type and references (raises a one-line InputError)."""
+        known = tuple(LOAD_TYPES[self.space].values())
         for ld in self.loads:
-            f = f"loads.{ld.name}"
-            if isinstance(ld, at_point):
-                self.point_ref(ld.at, f + ".at")
-                if ld.at.startswith("ground."):
-                    raise InputError(f + ".at", "a load on the ground does nothing; apply it to a body point")
-            elif isinstance(ld, on_body):
-                if ld.body not in self.body_map:
-                    raise InputError(f + ".body", f"unknown body '{ld.body}'; bodies: {', '.join(self.body_map)}")
-                if hasattr(ld, "start") and hasattr(ld, "end"):  # a drag
-                    self.point_ref(f"{ld.body}.{ld.start}", f + ".start")
-                    self.point_ref(f"{ld.body}.{ld.end}", f + ".end")
-            else:
-                raise InputError(f, other.format(type(ld).__name__))
+            if type(ld) not in known:
+                raise InputError(f"loads.{getattr(ld, 'name', '?')}", self._UNKNOWN_LOAD.format(type(ld).__name__))
+            ld.check(self)
+
+    def direction_values(self, field: str, v) -> list[tuple[str, Value]]:
+        """The (key path, raw value) of a direction: ``[x, y]`` or an angle (rad)."""
+        if not isinstance(v, (tuple, list)):
+            return [(field, v)]
+        if len(v) != 2:
+            raise InputError(field, "a direction is [x, y] or an angle (rad)")
+        return [(f"{field}.x", v[0]), (f"{field}.y", v[1])]
+
+    def vector_values(self, field: str, v) -> list[tuple[str, Value]]:
+        """The (key path, raw value) of each component of the vector ``v`` (``[x, y]``)."""
+        if not isinstance(v, (tuple, list)) or len(v) != len(self.AXES):
+            raise InputError(field, f"must be a vector [{', '.join(self.AXES)}], got {v!r}")
+        return [(f"{field}.{c}", comp) for c, comp in zip(self.AXES, v)]
 
     def _values(self):
         """Every (key path, raw value) of the description that is a number or expression."""
@@ -516,27 +447,9 @@ class Mechanism:
         for j in self.joints:
             yield from j.values()
         if self.gravity is not None:
-            yield "gravity.g", self.gravity.g
-            yield "gravity.angle", self.gravity.angle
+            yield from self.gravity.values(self)
         for ld in self.loads:
-            f = f"loads.{ld.name}"
-            if isinstance(ld, PointForce):
-                yield f + ".magnitude", ld.magnitude
-                if isinstance(ld.direction, (tuple, list)):
-                    if len(ld.direction) != 2:
-                        raise InputError(f + ".direction", "a direction is [x, y] or an angle (rad)")
-                    yield f + ".direction.x", ld.direction[0]
-                    yield f + ".direction.y", ld.direction[1]
-                else:
-                    yield f + ".direction", ld.direction
-            elif isinstance(ld, Moment):
-                yield f + ".magnitude", ld.magnitude
-            elif isinstance(ld, Drag):
-                for attr in ("rho", "U", "alpha", "d", "CD"):
-                    yield f"{f}.{attr}", getattr(ld, attr)
-            elif isinstance(ld, CustomLoad):
-                for attr in ("fx", "fy", "moment"):
-                    yield f"{f}.{attr}", getattr(ld, attr)
+            yield from ld.values(self)
         yield from self._common_values()
 
     def _common_values(self):
@@ -566,12 +479,22 @@ class Mechanism:
                 yield f"stops.{st.name}.stiffness", st.stiffness
                 yield f"stops.{st.name}.damping", st.damping
 
+    def normalisation_rows(self) -> frozenset[str]:
+        """The names of the constraint rows that normalise coordinates (no joint's): none in the plane."""
+        return frozenset()
+
+    def summary(self) -> tuple[str, list[tuple[str, str, str, str, float | None]]] | None:
+        """What a full build declares, without generating its equations (see :func:`._generate.summary`)."""
+        from ._generate import summary
+        return summary(self)
+
     def expr(self, value: Value, field: str) -> sp.Expr:
         """Parse ``value`` over the parameters (and, for custom loads and conditions, the coordinates)."""
         if isinstance(value, sp.Basic):
             return value
         known = dict(self.param_symbols)
-        if (field.startswith("loads.") and field.rsplit(".", 1)[-1] in self._COORDINATE_KEYS) or (
+        coordinate_keys = {k for cls in LOAD_TYPES[self.space].values() for k in cls.COORDINATE_KEYS}
+        if (field.startswith("loads.") and field.rsplit(".", 1)[-1] in coordinate_keys) or (
                 field.startswith("conditions.") and field.endswith(".expr")):
             known.update(self.coordinate_symbols)
         return to_expr(value, field, known)

@@ -50,31 +50,19 @@ from pathlib import Path
 from ..errors import InputError, one_line
 from ._actuators import ACTUATOR_KEYS, actuators_from_table
 from ._conditions import conditions_from_table, downlock_from_table
-from ._description import (
-    Body,
-    CustomLoad,
-    Damper,
-    Drag,
-    Gravity,
-    Mechanism,
-    Moment,
-    Parameter,
-    PointForce,
-    Polar,
-    Spring,
-)
+from ._description import Body, Damper, Gravity, Mechanism, Parameter, Polar, Spring
 from ._paths import builtin_descriptions, find_description
 from ._stops import STOP_KEYS, stops_from_table
 from .joints import JOINT_TYPES, joint_keys
+from .loads import Load, load_keys
 
 __all__ = ["load_description", "parse_description", "builtin_descriptions", "find_description", "locate_error"]
 
 
 #: ``type`` -> (joint class, keys): every registered planar joint (:mod:`.joints`).
 _JOINTS = joint_keys()
-_LOADS = {"force": (PointForce, {"at", "magnitude", "direction"}), "moment": (Moment, {"body", "magnitude"}),
-          "drag": (Drag, {"body", "rho", "U", "alpha", "d", "CD", "start", "end"}),
-          "custom": (CustomLoad, {"at", "fx", "fy", "moment"})}
+#: ``type`` -> (load class, keys): every load registered for planar mechanisms (:mod:`.loads`).
+_LOADS = load_keys("plane")
 _SECTIONS = {"mechanism", "parameters", "ground", "bodies", "joints", "springs", "dampers", "gravity", "loads",
              "assembly", "actuators", "conditions", "stops"}
 #: The keys accepted in each table other than ``[joints.NAME]``/``[loads.NAME]`` (whose keys,
@@ -221,6 +209,23 @@ def _pair(v, field: str):
     return tuple(v)
 
 
+def _direction(v, field: str):
+    """A planar vector ``[x, y]``, or an angle (rad) where a direction may be one."""
+    return _pair(v, field) if isinstance(v, list) else v
+
+
+def loads_from_table(data: Mapping, registry: Mapping[str, tuple[type[Load], frozenset[str]]], vector,
+                     space: str) -> list[Load]:
+    """The ``[loads.NAME]`` tables, each read by the class its ``type`` names in ``registry``
+    (``vector(value, field)`` reads a vector of the description's ``space``)."""
+    out = []
+    for lname, spec in _entries(data, "loads"):
+        f = f"loads.{lname}"
+        kind, _ = _typed(spec, f, "loads", registry)
+        out.append(registry[kind][0].from_table(lname, {k: v for k, v in spec.items() if k != "type"}, f, vector, space))
+    return out
+
+
 def _parameters(data: Mapping) -> list[Parameter]:
     """The ``[parameters]`` table: ``NAME = value`` or ``NAME = {value, unit, description, scale}``."""
     params = []
@@ -286,12 +291,18 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
     head = _table(data, "mechanism", "mechanism")
     _only(head, KEYS["mechanism"], "mechanism")
     dimension = head.get("dimension", 2)
-    if dimension not in (2, 3) or isinstance(dimension, bool):
+    if isinstance(dimension, bool) or dimension not in _READERS:
         raise InputError("mechanism.dimension", f"must be 2 (planar, the default) or 3 (spatial), got {dimension!r}")
-    common = _common(data, head, filename)
-    if dimension == 3:
-        from .spatial._file import spatial_mechanism
-        return spatial_mechanism(data, common)
+    return _READERS[dimension]()(data, _common(data, head, filename))
+
+
+def _spatial_reader():
+    from .spatial._file import spatial_mechanism
+    return spatial_mechanism
+
+
+def _planar_mechanism(data: Mapping, common: dict) -> Mechanism:
+    """Build a planar :class:`Mechanism` from parsed TOML ``data`` and the shared ``common`` keywords."""
     ground = {k: _pair(v, f"ground.{k}") for k, v in _table(data, "ground", "ground").items()}
     bodies = []
     for bname, spec in _entries(data, "bodies"):
@@ -320,18 +331,12 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
         gtab = _table(data, "gravity", "gravity")
         _only(gtab, KEYS["gravity"], "gravity")
         gravity = Gravity(**gtab)
-    loads = []
-    for lname, spec in _entries(data, "loads"):
-        f = f"loads.{lname}"
-        kind, cls = _typed(spec, f, "loads", _LOADS)
-        required = {"force": ["at", "magnitude"], "moment": ["body", "magnitude"], "drag": ["body"],
-                    "custom": ["at"]}[kind]
-        _require(spec, required, f)
-        kw = {k: v for k, v in spec.items() if k != "type"}
-        if "direction" in kw and isinstance(kw["direction"], list):
-            kw["direction"] = _pair(kw["direction"], f + ".direction")
-        loads.append(cls(lname, **kw))
+    loads = loads_from_table(data, _LOADS, _direction, "plane")
     return Mechanism(bodies=bodies, joints=joints, ground=ground, loads=loads, gravity=gravity, **common)
+
+
+#: ``[mechanism] dimension`` -> the reader of the rest of the file (imported on first use).
+_READERS = {2: lambda: _planar_mechanism, 3: _spatial_reader}
 
 
 # -- locating keys in the text ----------------------------------------------------------------

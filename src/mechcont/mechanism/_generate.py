@@ -33,7 +33,7 @@ from ..errors import InputError
 from ._assembly import close_constraints, dof_report
 from ._compiled import CoordinatesOf, DroppedResidual
 from ._conditions import condition_description, condition_rows, condition_scale, condition_targets
-from ._description import CustomLoad, Drag, Mechanism, PointForce
+from ._description import Mechanism
 from ._expr import float_value, symbol
 from ._forces import loads
 from ._kinematics import ConstraintRow, Kinematics, pin_chain
@@ -65,9 +65,14 @@ def _scales(mech: Mechanism, values: dict[str, float]) -> tuple[float, float]:
         g = abs(evaluate(mech.value("gravity.g"), values, ""))
         forces.append(g * sum(evaluate(mech.value(f"bodies.{b.name}.mass"), values, "") for b in mech.bodies))
     forces += [abs(evaluate(mech.value(f"springs.{s.name}.k"), values, "")) * Lc for s in mech.springs]
-    forces += [abs(evaluate(mech.value(f"loads.{ld.name}.magnitude"), values, "")) for ld in mech.loads
-               if isinstance(ld, PointForce)]
+    forces += load_forces(mech, values)
     return Lc, max(forces + [1e-3])
+
+
+def load_forces(mech: Mechanism, values: Mapping[str, float]) -> list[float]:
+    """The magnitudes (N) of the loads that state one (:attr:`~.loads.Load.FORCE_KEY`) at ``values``."""
+    return [abs(evaluate(mech.value(ld.field(ld.FORCE_KEY)), values, "")) for ld in mech.loads
+            if ld.FORCE_KEY is not None]
 
 
 def _parameter_scale(p, value: float, Lc: float, Fc: float) -> float:
@@ -413,9 +418,8 @@ def summary(mech: Mechanism) -> tuple[str, list[tuple[str, str, str, str, float 
 def _analysis_value_check(mech: Mechanism):
     """``check(values)`` of :func:`_check_analysis_values`, screened by compiled code (see
     :class:`~mechcont.mechanism._compiled.ValueCheck`)."""
-    vectors = [[mech.value(f"loads.{ld.name}.direction.{c}") for c in "xy"] for ld in mech.loads
-               if isinstance(ld, PointForce) and isinstance(ld.direction, (tuple, list))]
-    static = any(isinstance(ld, Drag) and ld.start == ld.end for ld in mech.loads)
+    vectors = [[mech.value(f"{f}.{c}") for c in mech.AXES] for ld in mech.loads for f in ld.vectors()]
+    static = any(ld.static_error() for ld in mech.loads)
     return value_check(mech, partial(_check_analysis_values, mech), physical_limits(mech, solve=True), vectors,
                        static_error=static)
 
@@ -453,12 +457,11 @@ def _check_assembled(mech: Mechanism, kin: Kinematics, model: MechanicalModel, x
                                                             f"at the assembled configuration (distance {gap:.3g} m): the "
                                                             f"distance has no derivative there{where}")
     for ld in mech.loads:
-        if isinstance(ld, CustomLoad):
-            for key in ("fx", "fy", "moment"):
-                v = number(mech.value(f"loads.{ld.name}.{key}"))
-                if not math.isfinite(v):
-                    raise InputError(f"loads.{ld.name}.{key}", f"is {v} at the assembled configuration (a division "
-                                                               f"by zero there?){where}")
+        for key in ld.COORDINATE_KEYS:  # the expressions in the coordinates
+            v = number(mech.value(ld.field(key)))
+            if not math.isfinite(v):
+                raise InputError(ld.field(key), f"is {v} at the assembled configuration (a division "
+                                                f"by zero there?){where}")
     nq, nr = len(coords), len(rows)
     for c, v in zip(cnames, x[nq + nr:nq + nr + len(cnames)]):
         if not math.isfinite(v):

@@ -71,6 +71,26 @@ class Kinematics:
         """Global position of the centre of gravity of ``body``."""
         return self.point(f"{body}.cg")
 
+    def distance(self, a: str, b: str) -> sp.Expr:
+        """Distance (m) between the point references ``a`` and ``b``."""
+        d = self.point(b) - self.point(a)
+        return sp.sqrt(d[0] ** 2 + d[1] ** 2)
+
+    def direction(self, field: str, raw) -> sp.Matrix:
+        """The unit vector of the direction at key path ``field``: its ``[x, y]`` normalised, or
+        ``(cos, sin)`` of an angle (rad) (``raw``, the value as described, tells which)."""
+        m = self.mech
+        if isinstance(raw, (tuple, list)):
+            u = sp.Matrix([m.value(f"{field}.x"), m.value(f"{field}.y")])
+            return u / sp.sqrt(u[0] ** 2 + u[1] ** 2)
+        a = m.value(field)
+        return sp.Matrix([sp.cos(a), sp.sin(a)])
+
+    def force_work(self, P: sp.Matrix, f: sp.Matrix, theta=sp.S.Zero, moment=0) -> list[sp.Expr]:
+        """Generalised forces (one per coordinate) of the force ``f`` (N) at ``P`` and the moment
+        ``moment`` (N m) on the frame at angle ``theta``: ``f . dP/dq + moment dtheta/dq``."""
+        return [f[0] * sp.diff(P[0], qi) + f[1] * sp.diff(P[1], qi) + moment * sp.diff(theta, qi) for qi in self.q]
+
     # -- constraints ---------------------------------------------------------------
     def constraints(self) -> list[ConstraintRow]:
         """Every scalar constraint, joint by joint in declaration order, then the length-mode actuators."""

@@ -10,12 +10,12 @@ import sympy as sp
 
 from ..equations import Limit
 from ..errors import InputError
-from ._description import Drag, Mechanism, PointForce
+from ._description import Mechanism
 from ._expr import float_value
 from ._stops import stop_value_limits
 
 __all__ = ["parameter_values", "check_values", "check_finite", "check_stop_limits", "physical_limits", "evaluate",
-           "value_check"]
+           "value_check", "check_vectors"]
 
 
 def parameter_values(mech: Mechanism, overrides: Mapping[str, float]) -> dict[str, float]:
@@ -114,11 +114,8 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
     for args in stop_value_limits(mech):
         need(*args)
     for ld in mech.loads:
-        if isinstance(ld, Drag):
-            f = f"loads.{ld.name}"
-            need(f + ".rho", False, "air density (kg/m^3)")
-            need(f + ".d", True, "diameter (m)")
-            need(f + ".CD", False, "drag coefficient")
+        for field, strict, what in ld.limits():
+            need(field, strict, what)
     for act in mech.actuators:
         if act.length is not None:
             need(f"actuators.{act.name}.length", True, "actuator length (m)")
@@ -144,14 +141,16 @@ def check_values(mech: Mechanism, values: Mapping[str, float], *, solve: bool = 
         if (v <= 0) if lim.strict else (v < 0):
             raise InputError(lim.name, lim.message(v))
     for ld in mech.loads:
-        f = f"loads.{ld.name}"
-        if isinstance(ld, Drag) and ld.start == ld.end:
-            raise InputError(f + ".end", "the drag segment needs two different points")
-        if isinstance(ld, PointForce) and isinstance(ld.direction, (tuple, list)):
-            ux = evaluate(mech.value(f + ".direction.x"), values, f + ".direction")
-            uy = evaluate(mech.value(f + ".direction.y"), values, f + ".direction")
-            if ux == 0 and uy == 0:
-                raise InputError(f + ".direction", "direction must not be the zero vector")
+        ld.check_values(mech, values)
+    check_vectors(mech, values, [f for ld in mech.loads for f in ld.vectors()])
+
+
+def check_vectors(mech: Mechanism, values: Mapping[str, float], fields: Sequence[str]) -> None:
+    """Each vector at the key paths ``fields`` (components ``mech.AXES``) must not be zero at ``values``."""
+    for f in fields:
+        v = [evaluate(mech.value(f"{f}.{c}"), values, f) for c in mech.AXES]
+        if not any(v):
+            raise InputError(f, "must not be the zero vector")
 
 
 def value_check(mech, exact, limits: list[Limit], vectors: list[list], perpendicular: Sequence[list] = (),

@@ -24,8 +24,9 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 from ...errors import InputError
-from .._description import BAR_POINTS, BUILTIN_POINTS, Mechanism, PointForce, _check_name
+from .._description import BAR_POINTS, BUILTIN_POINTS, Mechanism, _check_name
 from .._expr import Value
+from ..loads import SpatialCustomLoad, SpatialDrag, SpatialGravity, SpatialMoment
 from ._joints import SpatialJoint
 
 __all__ = ["SpatialBody", "SpatialGravity", "SpatialMoment", "SpatialCustomLoad", "SpatialDrag", "SpatialMechanism",
@@ -34,6 +35,11 @@ __all__ = ["SpatialBody", "SpatialGravity", "SpatialMoment", "SpatialCustomLoad"
 Vector = tuple[Value, Value, Value]
 #: Components of a full inertia tensor, in the order of ``inertia = [...]`` with six values.
 INERTIA_KEYS = ("xx", "yy", "zz", "xy", "xz", "yz")
+
+
+def normalisation_row(body: str) -> str:
+    """The name of ``body``'s Euler-parameter normalisation row (and its joint)."""
+    return f"norm_{body}"
 
 
 def spatial_coordinate_names(body: str) -> tuple[str, ...]:
@@ -81,62 +87,6 @@ class SpatialBody:
     description: str = ""
 
 
-@dataclass(frozen=True)
-class SpatialGravity:
-    """Uniform gravity of magnitude ``g`` (m/s^2) along ``direction`` (default ``-z``)."""
-
-    g: Value = "g"
-    direction: Vector = (0, 0, -1)
-
-
-@dataclass(frozen=True)
-class SpatialMoment:
-    """A pure moment ``magnitude`` (N m) about the fixed global ``axis`` (right-hand rule) on a body."""
-
-    name: str
-    body: str
-    magnitude: Value
-    axis: Vector = (0, 0, 1)
-
-
-@dataclass(frozen=True)
-class SpatialCustomLoad:
-    """A user-defined load: force ``(fx, fy, fz)`` (N, global axes) at point ``at`` and moment
-    ``(mx, my, mz)`` (N m, global axes) on that point's body; expressions may use the
-    parameters and the coordinates."""
-
-    name: str
-    at: str
-    fx: Value = 0
-    fy: Value = 0
-    fz: Value = 0
-    mx: Value = 0
-    my: Value = 0
-    mz: Value = 0
-
-
-@dataclass(frozen=True)
-class SpatialDrag:
-    """Aerodynamic cross-flow drag on the segment from point ``start`` to point ``end`` of ``body``.
-
-    With the air velocity ``U * direction / |direction|`` (m/s), the segment ``D = P_end -
-    P_start`` of length ``L`` and the air velocity's component normal to it ``w_n``, the force
-    ``1/2 rho C_D d L |w_n| w_n`` (N) acts at the segment's midpoint (the planar drag's model in
-    space; ``|w_n|`` smoothed as ``sqrt(|w_n|^2 + (1e-6 m/s)^2)`` so the Jacobian exists at
-    ``U = 0``).
-    """
-
-    name: str
-    body: str
-    rho: Value = "rho"
-    U: Value = "U"
-    direction: Vector = (1, 0, 0)
-    d: Value = "d"
-    CD: Value = "C_D"
-    start: str = "a"
-    end: str = "b"
-
-
 class SpatialMechanism(Mechanism):
     """A spatial mechanism: everything needed to generate its equations.
 
@@ -151,8 +101,13 @@ class SpatialMechanism(Mechanism):
     them determinate instead (see :mod:`._joints`).
     """
 
-    _COORDINATE_KEYS = ("fx", "fy", "fz", "mx", "my", "mz")
     dimension = 3
+    space = "space"
+    AXES = "xyz"
+    _UNKNOWN_LOAD = "load type {} is not available for spatial mechanisms (force, moment, drag, custom)"
+    UNAVAILABLE_CONDITIONS = {"angle": "an angle condition is planar; in a spatial mechanism use an expression, "
+                                       "distance or collinear condition"}
+    COLLINEAR_NORMAL = True
 
     def _validate(self) -> None:
         for j in self.joints:
@@ -163,22 +118,12 @@ class SpatialMechanism(Mechanism):
                 from ._joints import JOINT_TYPES
                 raise InputError(f"joints.{j.name}", f"{type(j).__name__} is a planar joint; a spatial mechanism "
                                                      f"takes {', '.join(JOINT_TYPES)} joints")
-        if self.gravity is not None and not isinstance(self.gravity, SpatialGravity):
+        if self.gravity is not None and self.space not in self.gravity.SPACES:
             raise InputError("gravity", "a spatial mechanism takes gravity as {g, direction = [x, y, z]}")
         super()._validate()
 
     def _coordinate_names(self, body: str) -> tuple[str, ...]:
         return spatial_coordinate_names(body)
-
-    def _load_kinds(self) -> tuple[tuple[type, ...], tuple[type, ...], str]:
-        return ((PointForce, SpatialCustomLoad), (SpatialMoment, SpatialDrag),
-                "load type {} is not available for spatial mechanisms (force, moment, drag, custom)")
-
-    def _check_loads(self) -> None:
-        super()._check_loads()
-        for ld in self.loads:
-            if isinstance(ld, SpatialDrag) and ld.start == ld.end:
-                raise InputError(f"loads.{ld.name}.end", "the drag segment needs two different points")
 
     def _values(self):
         for b in self.bodies:
@@ -211,24 +156,26 @@ class SpatialMechanism(Mechanism):
         for j in self.joints:
             yield from j.values()
         if self.gravity is not None:
-            yield "gravity.g", self.gravity.g
-            yield from _vector("gravity.direction", self.gravity.direction)
+            yield from self.gravity.values(self)
         for ld in self.loads:
-            f = f"loads.{ld.name}"
-            if isinstance(ld, PointForce):
-                yield f + ".magnitude", ld.magnitude
-                yield from _vector(f + ".direction", ld.direction)
-            elif isinstance(ld, SpatialMoment):
-                yield f + ".magnitude", ld.magnitude
-                yield from _vector(f + ".axis", ld.axis)
-            elif isinstance(ld, SpatialCustomLoad):
-                for attr in self._COORDINATE_KEYS:
-                    yield f"{f}.{attr}", getattr(ld, attr)
-            elif isinstance(ld, SpatialDrag):
-                for attr in ("rho", "U", "d", "CD"):
-                    yield f"{f}.{attr}", getattr(ld, attr)
-                yield from _vector(f + ".direction", ld.direction)
+            yield from ld.values(self)
         yield from self._common_values()
+
+    def normalisation_rows(self) -> frozenset[str]:
+        """``norm_<body>``: each body's Euler-parameter normalisation row (no joint's)."""
+        return frozenset(normalisation_row(b.name) for b in self.bodies)
+
+    def summary(self) -> None:
+        """None: a spatial description's variables are read from a build."""
+        return None
+
+    def direction_values(self, field: str, v) -> list[tuple[str, Value]]:
+        """The (key path, raw value) of each component of a direction ``[x, y, z]``."""
+        return _vector(field, v)
+
+    def vector_values(self, field: str, v) -> list[tuple[str, Value]]:
+        """The (key path, raw value) of each component of the vector ``v`` (``[x, y, z]``)."""
+        return _vector(field, v)
 
     def _generator(self):
         from ._generate import generate

@@ -25,16 +25,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from ...errors import InputError
-from .._description import PointForce
-from .._file import _entries, _only, _require, _table, _text, _typed
-from ._description import (
-    SpatialBody,
-    SpatialCustomLoad,
-    SpatialDrag,
-    SpatialGravity,
-    SpatialMechanism,
-    SpatialMoment,
-)
+from .._file import _entries, _only, _require, _table, _text, _typed, loads_from_table
+from ..loads import SpatialGravity, load_keys
+from ._description import SpatialBody, SpatialMechanism
 from ._joints import JOINT_TYPES, joint_keys
 
 __all__ = ["spatial_mechanism", "SPATIAL_KEYS", "SPATIAL_JOINTS", "SPATIAL_LOADS"]
@@ -42,10 +35,7 @@ __all__ = ["spatial_mechanism", "SPATIAL_KEYS", "SPATIAL_JOINTS", "SPATIAL_LOADS
 #: ``type`` -> (class, keys) of ``[joints.NAME]`` in a spatial file.
 SPATIAL_JOINTS = {kind: (cls, joint_keys(cls) - {"type"}) for kind, cls in JOINT_TYPES.items()}
 #: ``type`` -> (class, keys) of ``[loads.NAME]`` in a spatial file.
-SPATIAL_LOADS = {"force": (PointForce, {"at", "magnitude", "direction"}),
-                 "moment": (SpatialMoment, {"body", "magnitude", "axis"}),
-                 "drag": (SpatialDrag, {"body", "rho", "U", "direction", "d", "CD", "start", "end"}),
-                 "custom": (SpatialCustomLoad, {"at", "fx", "fy", "fz", "mx", "my", "mz"})}
+SPATIAL_LOADS = load_keys("space")
 #: Keys of the other spatial tables, by key path (``NAME`` stands for a user's name).
 SPATIAL_KEYS: dict[str, frozenset[str]] = {
     "bodies.NAME": frozenset({"mass", "length", "inertia", "cg", "points", "initial", "description"}),
@@ -92,12 +82,5 @@ def spatial_mechanism(data: Mapping, common: dict) -> SpatialMechanism:
         gtab = _table(data, "gravity", "gravity")
         _only(gtab, SPATIAL_KEYS["gravity"], "gravity")
         gravity = SpatialGravity(gtab.get("g", "g"), _triple(gtab.get("direction", [0, 0, -1]), "gravity.direction"))
-    loads = []
-    for lname, spec in _entries(data, "loads"):
-        f = f"loads.{lname}"
-        kind, cls = _typed(spec, f, "loads", SPATIAL_LOADS)
-        _require(spec, {"force": ["at", "magnitude", "direction"], "moment": ["body", "magnitude", "axis"],
-                        "drag": ["body", "direction"], "custom": ["at"]}[kind], f)
-        kw = {k: (_triple(v, f"{f}.{k}") if k in ("direction", "axis") else v) for k, v in spec.items() if k != "type"}
-        loads.append(cls(lname, **kw))
+    loads = loads_from_table(data, SPATIAL_LOADS, _triple, "space")
     return SpatialMechanism(bodies=bodies, joints=joints, ground=ground, loads=loads, gravity=gravity, **common)

@@ -34,8 +34,8 @@ from ...equations._codegen import gradient
 from ...errors import InputError
 from .._assembly import DofReport, close_constraints, dof_report
 from .._conditions import condition_rows
-from .._description import PointForce
 from .._expr import symbol
+from .._forces import loads
 from .._generate import (
     _coordinates_of,
     _dropped_residual,
@@ -43,13 +43,14 @@ from .._generate import (
     _scales,
     condition_and_parameter_variables,
     condition_fields,
+    load_forces,
     value_fields,
 )
 from .._stops import stop_forces
 from .._values import evaluate, parameter_values
 from ._description import SpatialMechanism
 from ._joints import SpatialRow
-from ._kinematics import SpatialKinematics, spatial_loads
+from ._kinematics import SpatialKinematics
 from ._rotation import quaternion_from_rotation_vector
 from ._scene import spatial_scene_function
 from ._values import check_spatial_values, spatial_limits, spatial_value_check
@@ -79,8 +80,7 @@ def _spatial_scales(kin: SpatialKinematics, values: dict[str, float]) -> tuple[f
         g = abs(evaluate(mech.value("gravity.g"), values, ""))
         forces.append(g * sum(evaluate(mech.value(f"bodies.{b.name}.mass"), values, "") for b in mech.bodies))
     forces += [abs(evaluate(mech.value(f"springs.{sp_.name}.k"), values, "")) * Lc for sp_ in mech.springs]
-    forces += [abs(evaluate(mech.value(f"loads.{ld.name}.magnitude"), values, "")) for ld in mech.loads
-               if isinstance(ld, PointForce)]
+    forces += load_forces(mech, values)
     return Lc, max(forces)
 
 
@@ -369,7 +369,7 @@ def _structure(mech: SpatialMechanism) -> _Structure:
     if st is not None:
         return st
     kin = SpatialKinematics(mech)
-    ld = spatial_loads(kin)
+    ld = loads(kin)
     coords = list(kin.coords)
     # rigid rows first: a dependency among rows that involves a compliant row is then found at
     # a compliant row (determinate); one among rigid rows only, at a rigid row (indeterminate)

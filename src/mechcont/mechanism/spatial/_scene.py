@@ -9,7 +9,6 @@ import sympy as sp
 from ...equations._codegen import compile_dense
 from .._actuators import actuator_load
 from .._compiled import SpatialScene
-from ._description import SpatialMoment
 from ._kinematics import SpatialKinematics
 
 __all__ = ["spatial_scene_function", "SpatialScene"]
@@ -61,9 +60,8 @@ def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.
         if ref.startswith("ground.") and ref not in ground_refs and ref not in anchors:
             anchors.append(ref)
             add("anchor", ref, [kin.point(ref)])
-    moments = {ld.name for ld in mech.loads if isinstance(ld, SpatialMoment)}
-    for name, P, F in arrows:
-        add("moment" if name in moments else "force", name, [P, F])
+    for kind, name, P, F in arrows:
+        add(kind, name, [P, F])
     for b in mech.bodies:
         off_origin = any(c != 0 for c in kin.local_point(b.name, "cg"))
         for pn in mech.point_names(b.name):

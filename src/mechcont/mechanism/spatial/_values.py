@@ -7,8 +7,8 @@ from collections.abc import Mapping
 from ...equations import Limit
 from ...errors import InputError
 from .._stops import stop_value_limits
-from .._values import check_finite, check_stop_limits, evaluate
-from ._description import SpatialCustomLoad, SpatialDrag, SpatialMechanism, SpatialMoment
+from .._values import check_finite, check_stop_limits, check_vectors, evaluate
+from ._description import SpatialMechanism
 from ._joints import Universal
 
 __all__ = ["spatial_limits", "check_spatial_values"]
@@ -43,11 +43,8 @@ def spatial_limits(mech: SpatialMechanism, *, solve: bool = True) -> list[Limit]
         if act.length is not None:
             need(f"actuators.{act.name}.length", True, "actuator length (m)")
     for ld in mech.loads:
-        if isinstance(ld, SpatialDrag):
-            f = f"loads.{ld.name}"
-            need(f + ".rho", False, "air density (kg/m^3)")
-            need(f + ".d", True, "diameter (m)")
-            need(f + ".CD", False, "drag coefficient")
+        for field, strict, what in ld.limits():
+            need(field, strict, what)
     for j in mech.joints:
         if j.stiffness is not None:
             need(f"joints.{j.name}.stiffness", True, "joint stiffness (N/m)")
@@ -58,10 +55,8 @@ def spatial_limits(mech: SpatialMechanism, *, solve: bool = True) -> list[Limit]
 
 def _vector_fields(mech: SpatialMechanism) -> list[str]:
     """The key paths of the description's vectors that must not be zero (directions, axes)."""
-    fields = [f"loads.{ld.name}.direction" for ld in mech.loads if not isinstance(ld, (SpatialMoment,
-                                                                                          SpatialCustomLoad))]
-    fields += [f"loads.{ld.name}.axis" for ld in mech.loads if isinstance(ld, SpatialMoment)]
-    fields += ["gravity.direction"] if mech.gravity is not None else []
+    fields = [f for ld in mech.loads for f in ld.vectors()]
+    fields += mech.gravity.vectors() if mech.gravity is not None else []
     for j in mech.joints:
         fields += [f"joints.{j.name}.{k}" for k in j.VECTORS]
     return fields
@@ -90,10 +85,7 @@ def check_spatial_values(mech: SpatialMechanism, values: Mapping[str, float], *,
     for b in mech.bodies:
         if b.inertia is not None:
             _check_inertia(mech, values, f"bodies.{b.name}.inertia", len(b.inertia))
-    for f in _vector_fields(mech):
-        v = [evaluate(mech.value(f"{f}.{c}"), values, f) for c in "xyz"]
-        if not any(v):
-            raise InputError(f, "must not be the zero vector")
+    check_vectors(mech, values, _vector_fields(mech))
     for j in mech.joints:
         if isinstance(j, Universal):
             a = [evaluate(mech.value(f"joints.{j.name}.axis_a.{c}"), values, "") for c in "xyz"]
