@@ -19,18 +19,23 @@ Conventions (SI units, radians):
 
 from __future__ import annotations
 
-import keyword
-import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar, Protocol
+from typing import TYPE_CHECKING, ClassVar, Generic, Protocol, TypeVar
 
 import sympy as sp
 
 from ..errors import InputError
 from ._actuators import Actuator, check_actuators
+from ._bodies import (
+    Body,
+    Polar,
+    _check_name,
+    _check_variable_name,
+    _RigidBody,
+)
 from ._conditions import Condition, DownlockSpec, check_conditions
-from ._expr import FUNCTIONS, Value, symbol, to_expr
+from ._expr import Value, symbol, to_expr
 from ._stops import Stop, check_stops, stop_reaction_unit
 from .joints import PlanarJoint, Prismatic, Revolute, Slider, Weld
 from .loads import LOAD_TYPES, CustomLoad, Drag, Gravity, Load, Moment, PointForce, SpatialGravity
@@ -67,51 +72,6 @@ class StopReaction(Parameter):
     made by the mechanism from its ``stops``, never read from a file."""
 
     GENERATED: ClassVar[bool] = True
-
-
-@dataclass(frozen=True)
-class Polar:
-    """A point at distance ``r`` (m) from the body frame origin, at ``angle`` (rad) from the body axis."""
-
-    r: Value
-    angle: Value
-
-
-PointSpec = tuple[Value, Value] | Polar
-
-
-@dataclass(frozen=True)
-class Body:
-    """A rigid planar body.
-
-    Parameters
-    ----------
-    name:
-        Identifier (letters, digits, underscore; may be all digits).
-    mass:
-        Mass (kg), positive.
-    length:
-        For a bar: its length (m), positive; adds the end points ``a`` and ``b``.
-    inertia:
-        Moment of inertia about the centre of gravity (kg m^2), positive; default
-        ``mass*length^2/12`` for a bar (required for other bodies).
-    cg:
-        Centre of gravity in body coordinates (m); default the frame origin.
-    points:
-        Named points in body coordinates: ``(x, y)`` or :class:`Polar`.
-    initial:
-        Approximate configuration for assembly: any of ``x``, ``y``, ``theta``
-        (numbers or expressions in the parameters).
-    """
-
-    name: str
-    mass: Value
-    length: Value | None = None
-    inertia: Value | None = None
-    cg: tuple[Value, Value] = (0, 0)
-    points: Mapping[str, PointSpec] = field(default_factory=dict)
-    initial: Mapping[str, Value] = field(default_factory=dict)
-    description: str = ""
 
 
 @dataclass(frozen=True)
@@ -153,6 +113,29 @@ class _Named(Protocol):
         """Its name."""
 
 
+class _Joint(_Named, Protocol):
+    """What a description asks of any joint, planar or spatial (see :mod:`.joints`, :mod:`.spatial._joints`)."""
+
+    @property
+    def a(self) -> str:
+        """The point reference of side a."""
+
+    @property
+    def b(self) -> str:
+        """The point reference of side b."""
+
+    def check(self, mech) -> None:
+        """Check its references against ``mech``."""
+
+    def values(self) -> Iterator[tuple[str, Value]]:
+        """Its (key path, raw value) pairs."""
+
+
+#: The joint and body types of a description: planar (:class:`PlanarJoint`, :class:`Body`) or spatial.
+JointT = TypeVar("JointT", bound=_Joint)
+BodyT = TypeVar("BodyT", bound=_RigidBody)
+
+
 def coordinate_names(body: str) -> tuple[str, str, str]:
     """The names of a body's coordinates: ``x1, y1, theta1`` for ``"1"``, ``x_b, y_b, theta_b`` for ``"b"``."""
     if body.isdigit():
@@ -160,45 +143,8 @@ def coordinate_names(body: str) -> tuple[str, str, str]:
     return f"x_{body}", f"y_{body}", f"theta_{body}"
 
 
-_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*|[0-9]+")
-_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
-#: Columns of every branch table (see ``Branch.to_csv``): no variable may take these names.
-BRANCH_COLUMNS = ("s", "stability", "n_unstable", "label", "vary")
-#: Points every body has (``a``, ``b`` also for bars): they cannot be declared.
-BUILTIN_POINTS = ("origin", "cg")
-BAR_POINTS = ("a", "b")
-
-
-def _check_name(name: str, field: str, *, digits: bool = True) -> None:
-    """``name`` must be ASCII letters, digits and underscores not starting with a digit, or
-    (``digits``) all ASCII digits. Non-ASCII names are refused: Python and SymPy would treat
-    look-alikes differently (NFKC turns ``ｋ`` into ``k``), so two names could collide."""
-    pattern = _NAME if digits else _IDENTIFIER
-    if not isinstance(name, str) or not pattern.fullmatch(name):
-        shown = repr(name) if isinstance(name, str) else type(name).__name__
-        what = "ASCII letters, digits and underscores, not starting with a digit" + (", or all digits" if digits
-                                                                                     else "")
-        raise InputError(field, f"name {shown} must be an identifier: {what}")
-
-
-def _check_variable_name(name: str, field: str, what: str) -> None:
-    """A parameter or condition name: also a variable of the system and a branch-table column."""
-    if name in BRANCH_COLUMNS:
-        raise InputError(field, f"'{name}' is reserved: every branch table has a column of that name "
-                                f"({', '.join(BRANCH_COLUMNS)}); rename the {what}")
-    if name.endswith("_dot"):
-        raise InputError(field, f"names ending in '_dot' are reserved for the velocities of the time simulation "
-                                f"(theta1_dot); rename the {what}")
-    if keyword.iskeyword(name):  # the compiled code names every variable: a keyword cannot be one
-        raise InputError(field, f"'{name}' is a Python keyword and cannot name a variable; rename the {what} "
-                                f"(e.g. {name}_)")
-    if name in FUNCTIONS:
-        kind = "constant" if name == "pi" else "function"
-        raise InputError(field, f"'{name}' is the expression {kind} {name}; rename the {what}")
-
-
 @dataclass
-class Mechanism:
+class Mechanism(Generic[JointT, BodyT]):
     """A planar mechanism: everything needed to generate its equations.
 
     Parameters
@@ -249,8 +195,8 @@ class Mechanism:
 
     name: str
     parameters: Sequence[Parameter]
-    bodies: Sequence[Body]
-    joints: Sequence[Joint]
+    bodies: Sequence[BodyT]
+    joints: Sequence[JointT]
     ground: Mapping[str, tuple[Value, Value]] = field(default_factory=dict)
     springs: Sequence[Spring] = ()
     dampers: Sequence[Damper] = ()
@@ -331,7 +277,7 @@ class Mechanism:
             self.param_symbols[p.name] = symbol(p.name)
         if not self.bodies:
             raise InputError("bodies", "a mechanism needs at least one body")
-        self.body_map: dict[str, Body] = {}
+        self.body_map: dict[str, BodyT] = {}
         coords: dict[str, str] = {}
         for b in self.bodies:
             _check_name(b.name, f"bodies.{b.name}")
@@ -404,46 +350,15 @@ class Mechanism:
     def vector_values(self, field: str, v) -> list[tuple[str, Value]]:
         """The (key path, raw value) of each component of the vector ``v`` (``[x, y]``)."""
         if not isinstance(v, (tuple, list)) or len(v) != len(self.AXES):
-            raise InputError(field, f"must be a vector [{', '.join(self.AXES)}], got {v!r}")
+            raise InputError(field, f"must be a {len(self.AXES)}-vector [{', '.join(self.AXES)}], got {v!r}")
         return [(f"{field}.{c}", comp) for c, comp in zip(self.AXES, v)]
 
     def _values(self):
         """Every (key path, raw value) of the description that is a number or expression."""
         for b in self.bodies:
-            f = f"bodies.{b.name}"
-            yield f + ".mass", b.mass
-            if b.length is not None:
-                yield f + ".length", b.length
-            if b.inertia is not None:
-                yield f + ".inertia", b.inertia
-            yield f + ".cg.x", b.cg[0]
-            yield f + ".cg.y", b.cg[1]
-            for pn, ps in b.points.items():
-                _check_name(pn, f"{f}.points.{pn}")
-                if pn in BUILTIN_POINTS or (pn in BAR_POINTS and b.length is not None):
-                    meaning = {"a": "the bar's end at -length/2", "b": "the bar's end at +length/2",
-                               "origin": "the body's frame origin", "cg": "the centre of gravity (key cg)"}[pn]
-                    raise InputError(f"{f}.points.{pn}", f"'{pn}' is a built-in point ({meaning}); "
-                                                         "name the declared point differently")
-                if isinstance(ps, Polar):
-                    yield f"{f}.points.{pn}.r", ps.r
-                    yield f"{f}.points.{pn}.angle", ps.angle
-                else:
-                    if not isinstance(ps, (tuple, list)) or len(ps) != 2:
-                        raise InputError(f"{f}.points.{pn}", "a point is [x, y] or {r = ..., angle = ...}")
-                    yield f"{f}.points.{pn}.x", ps[0]
-                    yield f"{f}.points.{pn}.y", ps[1]
-            for k, v in b.initial.items():
-                if k not in ("x", "y", "theta"):
-                    raise InputError(f"{f}.initial.{k}", "initial values are x, y, theta")
-                yield f"{f}.initial.{k}", v
-            if b.inertia is None and b.length is None:
-                raise InputError(f + ".inertia", "a body without a length needs an inertia (kg m^2)")
+            yield from b.values(self)
         for gname, gp in self.ground.items():
-            if not isinstance(gp, (tuple, list)) or len(gp) != 2:
-                raise InputError(f"ground.{gname}", "a ground point is [x, y]")
-            yield f"ground.{gname}.x", gp[0]
-            yield f"ground.{gname}.y", gp[1]
+            yield from self.vector_values(f"ground.{gname}", gp)
         for j in self.joints:
             yield from j.values()
         if self.gravity is not None:
@@ -478,6 +393,11 @@ class Mechanism:
             if st.contact == "compliant":
                 yield f"stops.{st.name}.stiffness", st.stiffness
                 yield f"stops.{st.name}.damping", st.damping
+
+    def kinematics_class(self) -> type:
+        """The kinematics strategy of this space (:class:`~._kinematics.Kinematics`: x, y, theta per body)."""
+        from ._kinematics import Kinematics
+        return Kinematics
 
     def normalisation_rows(self) -> frozenset[str]:
         """The names of the constraint rows that normalise coordinates (no joint's): none in the plane."""

@@ -24,6 +24,7 @@ from collections import deque
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
@@ -40,7 +41,10 @@ from ._kinematics import ConstraintRow, Kinematics, pin_chain
 from ._reduce import reduce_form
 from ._scene import scene_function
 from ._stops import stop_forces
-from ._values import check_values, evaluate, parameter_values, physical_limits, value_check
+from ._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
+
+if TYPE_CHECKING:
+    from .spatial._kinematics import SpatialKinematics
 
 __all__ = ["generate"]
 
@@ -326,7 +330,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
         + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
         limits=physical_limits(mech, solve=True),
         scene=scene_function(kin, st.arrows, [v.symbol for v in variables], st.subs),
-        check_values=_analysis_value_check(mech),
+        check_values=analysis_value_check(mech),
     )
     var.model = Model.from_system(
         system,
@@ -415,20 +419,6 @@ def summary(mech: Mechanism) -> tuple[str, list[tuple[str, str, str, str, float 
     return mech.description or f"generated from the description of {mech.name}", out
 
 
-def _analysis_value_check(mech: Mechanism):
-    """``check(values)`` of :func:`_check_analysis_values`, screened by compiled code (see
-    :class:`~mechcont.mechanism._compiled.ValueCheck`)."""
-    vectors = [[mech.value(f"{f}.{c}") for c in mech.AXES] for ld in mech.loads for f in ld.vectors()]
-    static = any(ld.static_error() for ld in mech.loads)
-    return value_check(mech, partial(_check_analysis_values, mech), physical_limits(mech, solve=True), vectors,
-                       static_error=static)
-
-
-def _check_analysis_values(mech: Mechanism, values: Mapping[str, float]) -> None:
-    """The description's physical checks at ``values`` (the defaults where not given; a zero stiffness allowed)."""
-    check_values(mech, {p.name: float(values.get(p.name, p.value)) for p in mech.parameters}, solve=True)
-
-
 def _check_assembled(mech: Mechanism, kin: Kinematics, model: MechanicalModel, x: np.ndarray, subs: dict,
                      Lc: float, coords: list[str], rows: list[ConstraintRow], cnames: list[str]) -> None:
     """InputError naming what makes the assembled configuration degenerate: a spring, damper or
@@ -479,7 +469,7 @@ def _check_assembled(mech: Mechanism, kin: Kinematics, model: MechanicalModel, x
                                      f"points that carry a force coincide, or a load divides by zero){where}")
 
 
-def _equilibrium(mech: Mechanism, coords: list[str], rows: list[ConstraintRow], forces: list[sp.Expr],
+def _equilibrium(mech: Mechanism, coords: list[str], rows: Sequence[ConstraintRow], forces: list[sp.Expr],
                  mass: sp.Matrix, conditions: Sequence[str] = (), *,
                  gradient=None) -> tuple[list[sp.Expr], MechanicalModel]:
     """Equilibrium rows ``Q - Phi_q^T lambda`` (at rest) and the compiled mechanical model.
@@ -520,13 +510,13 @@ def _redundancy_error(mech: Mechanism, rows: list[ConstraintRow], report) -> Inp
                       f"[mechanism] to drop the dependent rows")
 
 
-def _dropped_residual(system: EquationSystem, dropped: list[ConstraintRow]) -> DroppedResidual:
+def _dropped_residual(system: EquationSystem, dropped: Sequence[ConstraintRow]) -> DroppedResidual:
     """The compiled residual of the ``dropped`` rows of ``system`` (see :class:`DroppedResidual`)."""
     from ..equations._codegen import compile_dense
     return DroppedResidual(compile_dense(list(system.symbols), [r.expr for r in dropped]) if dropped else None)
 
 
-def _coordinates_of(kin: Kinematics, system: EquationSystem, subs: dict) -> CoordinatesOf:
+def _coordinates_of(kin: Kinematics | SpatialKinematics, system: EquationSystem, subs: dict) -> CoordinatesOf:
     """The compiled body coordinates of ``system`` (see :class:`CoordinatesOf`)."""
     from ..equations._codegen import compile_dense
     exprs = [subs.get(s, s) for s in kin.q]

@@ -11,6 +11,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ._actuators import actuator_rows
+from ._bodies import SpatialBody
 from ._description import Body, Mechanism, Polar, coordinate_names
 from ._expr import symbol
 from .joints import ConstraintRow
@@ -111,11 +112,11 @@ class Kinematics:
             M[3 * i:3 * i + 3, 3 * i:3 * i + 3] = block
         return M
 
-    def body_mass(self, b: Body) -> sp.Expr:
+    def body_mass(self, b: Body | SpatialBody) -> sp.Expr:
         """Mass (kg) of body ``b``."""
         return self.mech.value(f"bodies.{b.name}.mass")
 
-    def body_inertia(self, b: Body) -> sp.Expr:
+    def body_inertia(self, b: Body | SpatialBody) -> sp.Expr:
         """Moment of inertia about the CG (kg m^2): given, or ``m L^2/12`` for a bar."""
         f = f"bodies.{b.name}"
         if b.inertia is not None:
@@ -123,12 +124,13 @@ class Kinematics:
         return self.body_mass(b) * self.mech.value(f + ".length") ** 2 / 12
 
 
-def kinematics_of(mech: Mechanism) -> Kinematics:
-    """The :class:`Kinematics` of ``mech``, made once per description (it depends on no value) and kept
-    with its generated structures."""
+def kinematics_of(mech: Mechanism):
+    """The kinematics of ``mech`` (:class:`Kinematics` in the plane, its spatial twin in space: the
+    description's :meth:`~Mechanism.kinematics_class`), made once per description (it depends on no
+    value) and kept with its generated structures."""
     kin = mech._generated.get("kinematics")
     if kin is None:
-        kin = mech._generated["kinematics"] = Kinematics(mech)
+        kin = mech._generated["kinematics"] = mech.kinematics_class()(mech)
     return kin
 
 

@@ -20,21 +20,15 @@ Conventions (SI units, radians):
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
-
 from ...errors import InputError
-from .._description import BAR_POINTS, BUILTIN_POINTS, Mechanism, _check_name
+from .._bodies import INERTIA_KEYS, SpatialBody
+from .._description import Mechanism
 from .._expr import Value
 from ..loads import SpatialCustomLoad, SpatialDrag, SpatialGravity, SpatialMoment
 from ._joints import SpatialJoint
 
 __all__ = ["SpatialBody", "SpatialGravity", "SpatialMoment", "SpatialCustomLoad", "SpatialDrag", "SpatialMechanism",
            "spatial_coordinate_names", "INERTIA_KEYS"]
-
-Vector = tuple[Value, Value, Value]
-#: Components of a full inertia tensor, in the order of ``inertia = [...]`` with six values.
-INERTIA_KEYS = ("xx", "yy", "zz", "xy", "xz", "yz")
 
 
 def normalisation_row(body: str) -> str:
@@ -48,46 +42,7 @@ def spatial_coordinate_names(body: str) -> tuple[str, ...]:
     return (f"x{sep}{body}", f"y{sep}{body}", f"z{sep}{body}", *(f"e{i}_{body}" for i in range(4)))
 
 
-@dataclass(frozen=True)
-class SpatialBody:
-    """A rigid body in space.
-
-    Parameters
-    ----------
-    name:
-        Identifier (letters, digits, underscore; may be all digits).
-    mass:
-        Mass (kg), positive.
-    length:
-        For a bar: its length (m); adds the end points ``a``, ``b`` on the body's x axis.
-    inertia:
-        About the centre of gravity, design-pose axes (kg m^2): ``[Ixx, Iyy, Izz]`` or
-        ``[Ixx, Iyy, Izz, Ixy, Ixz, Iyz]`` (products of inertia as the tensor's off-diagonal
-        entries). Default: a bar is a thin rod (``m L^2/12`` across, ``m r^2/2`` along it,
-        ``r = L/20``); another body a uniform sphere ``2/5 m r^2`` whose radius is half the
-        largest distance between its declared points and centre of gravity (not its frame
-        origin, at least 1 mm). Statics never uses the inertia; the time
-        simulation and non-conservative stability do: give it for those.
-    cg:
-        Centre of gravity in body coordinates (m).
-    points:
-        Named points in body coordinates ``[x, y, z]`` (m).
-    initial:
-        Guess for the first assembly: ``x``, ``y``, ``z`` (m) of the frame origin and
-        ``rotation = [rx, ry, rz]`` (rad, a rotation vector from the design pose).
-    """
-
-    name: str
-    mass: Value
-    length: Value | None = None
-    inertia: Sequence[Value] | None = None
-    cg: Vector = (0, 0, 0)
-    points: Mapping[str, Vector] = field(default_factory=dict)
-    initial: Mapping[str, object] = field(default_factory=dict)
-    description: str = ""
-
-
-class SpatialMechanism(Mechanism):
+class SpatialMechanism(Mechanism[SpatialJoint, SpatialBody]):
     """A spatial mechanism: everything needed to generate its equations.
 
     Same fields and validation as :class:`~mechcont.mechanism.Mechanism` (``parameters``,
@@ -125,41 +80,10 @@ class SpatialMechanism(Mechanism):
     def _coordinate_names(self, body: str) -> tuple[str, ...]:
         return spatial_coordinate_names(body)
 
-    def _values(self):
-        for b in self.bodies:
-            f = f"bodies.{b.name}"
-            yield f + ".mass", b.mass
-            if b.length is not None:
-                yield f + ".length", b.length
-            if b.inertia is not None:
-                if isinstance(b.inertia, (str, int, float)) or len(b.inertia) not in (3, 6):
-                    raise InputError(f + ".inertia", "is [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (kg m^2)")
-                for key, v in zip(INERTIA_KEYS, b.inertia):
-                    yield f"{f}.inertia.{key}", v
-            yield from _vector(f + ".cg", b.cg)
-            for pn, ps in b.points.items():
-                _check_name(pn, f"{f}.points.{pn}")
-                if pn in BUILTIN_POINTS or (pn in BAR_POINTS and b.length is not None):
-                    raise InputError(f"{f}.points.{pn}", f"'{pn}' is a built-in point; name the declared point "
-                                                         "differently")
-                yield from _vector(f"{f}.points.{pn}", ps)
-            for k, v in b.initial.items():
-                if k == "rotation":
-                    yield from _vector(f"{f}.initial.rotation", v)
-                elif k in ("x", "y", "z"):
-                    yield f"{f}.initial.{k}", v
-                else:
-                    raise InputError(f"{f}.initial.{k}", "initial values are x, y, z (m) and rotation = [rx, ry, rz] "
-                                                         "(rad)")
-        for gname, gp in self.ground.items():
-            yield from _vector(f"ground.{gname}", gp)
-        for j in self.joints:
-            yield from j.values()
-        if self.gravity is not None:
-            yield from self.gravity.values(self)
-        for ld in self.loads:
-            yield from ld.values(self)
-        yield from self._common_values()
+    def kinematics_class(self) -> type:
+        """The kinematics strategy of space (:class:`._kinematics.SpatialKinematics`: origin and Euler parameters)."""
+        from ._kinematics import SpatialKinematics
+        return SpatialKinematics
 
     def normalisation_rows(self) -> frozenset[str]:
         """``norm_<body>``: each body's Euler-parameter normalisation row (no joint's)."""
@@ -171,18 +95,8 @@ class SpatialMechanism(Mechanism):
 
     def direction_values(self, field: str, v) -> list[tuple[str, Value]]:
         """The (key path, raw value) of each component of a direction ``[x, y, z]``."""
-        return _vector(field, v)
-
-    def vector_values(self, field: str, v) -> list[tuple[str, Value]]:
-        """The (key path, raw value) of each component of the vector ``v`` (``[x, y, z]``)."""
-        return _vector(field, v)
+        return self.vector_values(field, v)
 
     def _generator(self):
         from ._generate import generate
         return generate
-
-
-def _vector(field_: str, v) -> list[tuple[str, Value]]:
-    if not isinstance(v, (tuple, list)) or len(v) != 3:
-        raise InputError(field_, f"must be a 3-vector [x, y, z], got {v!r}")
-    return [(f"{field_}.{c}", comp) for c, comp in zip("xyz", v)]

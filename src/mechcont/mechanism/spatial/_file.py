@@ -23,6 +23,7 @@ See :mod:`._description` for the conventions (design pose, coordinates).
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 from ...errors import InputError
 from .._file import _entries, _only, _require, _table, _text, _typed, loads_from_table
@@ -73,9 +74,11 @@ def spatial_mechanism(data: Mapping, common: dict) -> SpatialMechanism:
     joints = []
     for jname, spec in _entries(data, "joints"):
         f = f"joints.{jname}"
-        _, cls = _typed(spec, f, "joints", SPATIAL_JOINTS)
+        kind, _ = _typed(spec, f, "joints", SPATIAL_JOINTS)
+        cls = SPATIAL_JOINTS[kind][0]
         _require(spec, ["a", "b"], f)
-        kw = {k: (_triple(v, f"{f}.{k}") if k in cls.VECTORS else v) for k, v in spec.items() if k != "type"}
+        kw: dict[str, Any] = {k: (_triple(v, f"{f}.{k}") if k in cls.VECTORS else v) for k, v in spec.items()
+                              if k != "type"}
         joints.append(cls(jname, **kw))
     gravity = None
     if "gravity" in data:

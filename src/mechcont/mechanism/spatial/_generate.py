@@ -21,7 +21,7 @@ the build pose and again along a branch where the kept rows lose rank (:class:`_
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import partial
 
@@ -47,13 +47,12 @@ from .._generate import (
     value_fields,
 )
 from .._stops import stop_forces
-from .._values import evaluate, parameter_values
+from .._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
 from ._description import SpatialMechanism
 from ._joints import SpatialRow
 from ._kinematics import SpatialKinematics
 from ._rotation import quaternion_from_rotation_vector
 from ._scene import spatial_scene_function
-from ._values import check_spatial_values, spatial_limits, spatial_value_check
 
 __all__ = ["generate"]
 
@@ -242,7 +241,7 @@ class _Structure:
     closure: MechanicalModel      # every row taken as rigid (first assembly, degrees of freedom)
     mechanics: MechanicalModel    # every rigid row (dropped or not) a constraint, compliant rows springs
     elastic: sp.Expr
-    condition_values: object | None
+    condition_values: Callable[[np.ndarray], np.ndarray] | None
     variants: dict[tuple[int, ...], _Variant] = field(default_factory=dict)
 
     @property
@@ -346,9 +345,9 @@ def _variant_model(mech: SpatialMechanism, st: _Structure, var: _Variant, variab
             mechanics=st.mechanics,
             description=(mech.description or f"generated from the description of {mech.name}")
             + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
-            limits=spatial_limits(mech, solve=True),
+            limits=physical_limits(mech, solve=True),
             scene=spatial_scene_function(st.kin, st.arrows, [v.symbol for v in variables]),
-            check_values=spatial_value_check(mech, partial(_check_analysis_values, mech)),
+            check_values=analysis_value_check(mech),
         )
         var.model = Model.from_system(
             system,
@@ -397,11 +396,6 @@ def _structure(mech: SpatialMechanism) -> _Structure:
     return st
 
 
-def _check_analysis_values(mech: SpatialMechanism, values: Mapping[str, float]) -> None:
-    """The description's physical checks at ``values`` (the defaults where not given; a zero stiffness allowed)."""
-    check_spatial_values(mech, {p.name: float(values.get(p.name, p.value)) for p in mech.parameters}, solve=True)
-
-
 def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
     """Build the static system of the spatial ``mech`` with parameter ``overrides`` (SI).
 
@@ -411,7 +405,7 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
     if reduced:
         raise InputError("reduced", "the reduced form exists for planar mechanisms only; build the full system")
     values = parameter_values(mech, overrides)
-    check_spatial_values(mech, values)
+    check_values(mech, values)
     st = _structure(mech)
     kin, coords, rows, cnames, closure = st.kin, st.coords, st.rows, st.cnames, st.closure
     Lc, Fc = _spatial_scales(kin, values)

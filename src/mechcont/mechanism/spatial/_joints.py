@@ -90,6 +90,22 @@ class SpatialJoint:
         """Check the point references ``a``, ``b`` against ``mech`` (a one-line InputError naming the key)."""
         check_points(self.name, [("a", self.a), ("b", self.b)], mech)
 
+    def limits(self, kin) -> list[tuple[str, sp.Expr, bool, str]]:
+        """``(key path, quantity, strict, what)``: the stiffnesses given must be positive."""
+        out = []
+        for key, what in (("stiffness", "joint stiffness (N/m)"),
+                          ("rotational_stiffness", "joint rotational stiffness (N m/rad)")):
+            if getattr(self, key) is not None:
+                out.append((f"joints.{self.name}.{key}", kin.mech.value(f"joints.{self.name}.{key}"), True, what))
+        return out
+
+    def perpendicular(self, mech) -> list[list[sp.Expr]]:
+        """Pairs of vectors (six expressions) that must be perpendicular (default: none)."""
+        return []
+
+    def check_values(self, mech, values) -> None:
+        """Reject values impossible for this joint at the parameter ``values`` (default: none)."""
+
     def vector(self, kin, key: str) -> sp.Matrix:
         """The joint vector ``key`` (design pose) as a SymPy 3-vector."""
         return sp.Matrix([kin.mech.value(f"joints.{self.name}.{key}.{c}") for c in "xyz"])
@@ -162,6 +178,21 @@ class Universal(SpatialJoint):
     kind: ClassVar[str] = "universal"
     VECTORS: ClassVar[tuple[str, ...]] = ("axis_a", "axis_b")
     ROTATIONS: ClassVar[int] = 1
+
+    def perpendicular(self, mech) -> list[list[sp.Expr]]:
+        """``axis_a`` and ``axis_b`` must be perpendicular in the design pose."""
+        return [[mech.value(f"joints.{self.name}.{axis}.{c}") for axis in ("axis_a", "axis_b") for c in "xyz"]]
+
+    def check_values(self, mech, values) -> None:
+        """``axis_a`` perpendicular to ``axis_b`` at ``values`` (one-line InputError)."""
+        from .._values import evaluate
+
+        a = [evaluate(mech.value(f"joints.{self.name}.axis_a.{c}"), values, "") for c in "xyz"]
+        b = [evaluate(mech.value(f"joints.{self.name}.axis_b.{c}"), values, "") for c in "xyz"]
+        c = sum(p * q for p, q in zip(a, b)) / (sum(p * p for p in a) * sum(q * q for q in b)) ** 0.5
+        if abs(c) > 1e-9:
+            raise InputError(f"joints.{self.name}.axis_b", f"must be perpendicular to axis_a in the design pose "
+                                                           f"(cosine of the angle between them {c:.3g})")
 
     def rows(self, kin) -> list[SpatialRow]:
         ua = perpendiculars(self.vector(kin, "axis_a"), kin.defaults)[0]

@@ -56,7 +56,8 @@ def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.
     for act in mech.actuators:
         add("actuator", act.name, [kin.point(act.a), kin.point(act.b), sp.Matrix([actuator_load(mech, act), 0, 0])])
     anchors: list[str] = []
-    for ref in (r for e in (*mech.springs, *mech.dampers, *mech.actuators) for r in (e.a, e.b)):
+    ends = [(e.a, e.b) for e in mech.springs] + [(e.a, e.b) for e in mech.dampers] + [(e.a, e.b) for e in mech.actuators]
+    for ref in (r for pair in ends for r in pair):
         if ref.startswith("ground.") and ref not in ground_refs and ref not in anchors:
             anchors.append(ref)
             add("anchor", ref, [kin.point(ref)])
