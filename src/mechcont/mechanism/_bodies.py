@@ -179,14 +179,10 @@ class Body(_RigidBody):
 
 @dataclass(frozen=True)
 class SpatialBody(_RigidBody):
-    """A rigid body in space.
+    """A rigid body in space (``name``, ``mass`` and ``description`` as for :class:`Body`).
 
     Parameters
     ----------
-    name:
-        Identifier (letters, digits, underscore; may be all digits).
-    mass:
-        Mass (kg), positive.
     length:
         For a bar: its length (m); adds the end points ``a``, ``b`` on the body's x axis.
     inertia:

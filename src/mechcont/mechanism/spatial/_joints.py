@@ -24,9 +24,9 @@ Compliant rows never make a mechanism over-constrained: every reaction is then d
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import sympy as sp
 
@@ -49,6 +49,13 @@ class SpatialRow(ConstraintRow):
     stiffness: sp.Expr | None = None
 
 
+def vector3(v, field: str) -> tuple:
+    """A 3-vector ``[x, y, z]`` of a description file (a one-line InputError naming ``field`` otherwise)."""
+    if not isinstance(v, list) or len(v) != 3:
+        raise InputError(field, f"must be a 3-vector [x, y, z], got {v!r}")
+    return tuple(v)
+
+
 @dataclass(frozen=True)
 class SpatialJoint:
     """Base of the spatial joints: ``a``, ``b`` point references and optional compliances."""
@@ -67,6 +74,15 @@ class SpatialJoint:
     #: Number of translational and rotational rows (for the degree-of-freedom bookkeeping).
     TRANSLATIONS: ClassVar[int] = 3
     ROTATIONS: ClassVar[int] = 0
+
+    @classmethod
+    def from_table(cls, name: str, spec: Mapping, field: str) -> SpatialJoint:
+        """The joint of a ``[joints.NAME]`` table ``spec`` (its keys already checked)."""
+        for k in ("a", "b"):
+            if k not in spec:
+                raise InputError(f"{field}.{k}", "is required")
+        kw: dict[str, Any] = {k: (vector3(v, f"{field}.{k}") if k in cls.VECTORS else v) for k, v in spec.items()}
+        return cls(name, **kw)
 
     def values(self) -> Iterator[tuple[str, Value]]:
         """Every (key path, raw value) of the joint that is a number or an expression."""
