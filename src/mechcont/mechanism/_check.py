@@ -1,5 +1,8 @@
 """A diagnostic report on a mechanism description: what mechcont made of it, and whether it is sound.
 
+(Longer than most modules: the report, its gathering and its text are one unit that the
+``check`` command prints; they change together.)
+
 :func:`check_report` builds the description as every command does, then gathers what an
 engineer checks before trusting a model: the degrees of freedom from the rank of the
 constraint Jacobian against the intended count, the sizes of the system, redundant

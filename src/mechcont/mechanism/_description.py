@@ -1,5 +1,8 @@
 """A planar mechanism described as objects: bodies, points, joints, springs, dampers, loads.
 
+(Longer than most modules: :class:`Mechanism` checks every element's names and references in
+one place, so that an error names the key path whatever the element.)
+
 Conventions (SI units, radians):
 
 * Every body has a frame; its coordinates are ``x<b>, y<b>, theta<b>`` when the body
@@ -35,6 +38,7 @@ from ._bodies import (
     _RigidBody,
 )
 from ._conditions import Condition, DownlockSpec, check_conditions
+from ._elements import Damper, Parameter, Spring, StopReaction
 from ._expr import Value, symbol, to_expr
 from ._stops import Stop, check_stops, stop_reaction_unit
 from .joints import PlanarJoint, Prismatic, Revolute, Slider, Weld
@@ -47,58 +51,6 @@ __all__ = [
     "Parameter", "Polar", "Body", "Revolute", "Slider", "Prismatic", "Weld", "Spring", "Damper",
     "Gravity", "PointForce", "Moment", "Drag", "CustomLoad", "Mechanism", "coordinate_names",
 ]
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """A named parameter: default value (SI), unit, meaning and typical magnitude.
-
-    ``scale`` (optional, positive) weights the parameter in the continuation arclength;
-    by default it is inferred from the unit and the mechanism's size.
-    """
-
-    name: str
-    value: float
-    unit: str = ""
-    description: str = ""
-    scale: float | None = None
-    #: Whether the mechanism made it (from another element) rather than the user.
-    GENERATED: ClassVar[bool] = False
-
-
-@dataclass(frozen=True)
-class StopReaction(Parameter):
-    """The contact reaction parameter ``R_<stop>`` that a stop adds (default 0: out of contact);
-    made by the mechanism from its ``stops``, never read from a file."""
-
-    GENERATED: ClassVar[bool] = True
-
-
-@dataclass(frozen=True)
-class Spring:
-    """A linear spring between points ``a`` and ``b``: tension ``preload + k (l - free_length)``
-    (N), potential ``preload*l + k/2 (l - free_length)^2`` (J). ``k`` > 0 (N/m),
-    ``free_length`` > 0 (m)."""
-
-    name: str
-    a: str
-    b: str
-    k: Value
-    free_length: Value
-    preload: Value = 0
-
-
-@dataclass(frozen=True)
-class Damper:
-    """A hydraulic damper between points ``a`` and ``b``: tension ``c v + c2 v |v|`` (N) with
-    ``v = dl/dt`` (m/s), ``c`` >= 0 (N s/m, linear), ``c2`` >= 0 (N s^2/m^2, quadratic: a restrictor
-    orifice). Only the dynamic model feels it (zero at rest); see :mod:`._dampers`."""
-
-    name: str
-    a: str
-    b: str
-    c: Value
-    c2: Value = 0
 
 
 #: A planar joint: any registered joint class (see :mod:`.joints`).

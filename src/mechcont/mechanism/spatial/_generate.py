@@ -27,7 +27,6 @@ from functools import partial
 
 import numpy as np
 import sympy as sp
-from scipy.linalg import qr
 
 from ...equations import EquationSystem, MechanicalModel, Model, Variable
 from ...equations._codegen import gradient
@@ -49,6 +48,7 @@ from .._generate import (
 from .._stops import stop_forces
 from .._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
 from ._description import SpatialMechanism
+from ._dropped import SWITCH_RATIO, choose_dropped, conditioning
 from ._joints import SpatialRow
 from ._kinematics import SpatialKinematics
 from ._rotation import quaternion_from_rotation_vector
@@ -166,48 +166,6 @@ def _redundancy_error(report: DofReport, rows: list[SpatialRow], dependent: list
                       f"solution")
 
 
-#: The dropped rows are chosen again where the kept rigid rows come this close to losing rank:
-#: their smallest singular value over the rank-th one of all the rigid rows (rows scaled to unit
-#: length; 1 at best, 0 where the kept rows are dependent). A fresh choice scores far above it
-#: (:func:`_choose_dropped`; 0.45 to 0.75 on the Bennett linkage), so the choice does not chatter,
-#: and the reactions, which grow like its inverse near the singularity, stay within about
-#: 1 / SWITCH_RATIO times the minimum-norm ones (10 times on the Bennett linkage's turn).
-SWITCH_RATIO = 0.05
-
-
-def _unit_rows(A: np.ndarray) -> np.ndarray:
-    norms = np.linalg.norm(A, axis=1)
-    return A / np.where(norms > 0, norms, 1.0)[:, None]
-
-
-def _rank(sv: np.ndarray, rtol: float = 1e-9) -> int:
-    return int(np.sum(sv > rtol * max(sv[0], 1e-300))) if sv.size else 0
-
-
-def _conditioning(A: np.ndarray, dropped: Sequence[int]) -> float:
-    """How far the rows of ``A`` left after ``dropped`` are from losing rank, relative to all of ``A``'s:
-    ``sigma_min(kept) / sigma_rank(all)`` of the rows scaled to unit length, in [0, 1] (interlacing)."""
-    B = _unit_rows(A)
-    sv = np.linalg.svd(B, compute_uv=False)
-    r = _rank(sv)
-    if r == 0:
-        return 1.0
-    kept = np.delete(B, list(dropped), axis=0)
-    sk = np.linalg.svd(kept, compute_uv=False)
-    return float(sk[r - 1] / sv[r - 1]) if len(sk) >= r else 0.0
-
-
-def _choose_dropped(A: np.ndarray, protect: np.ndarray) -> tuple[int, ...]:
-    """The rows of ``A`` to drop so that the rest are independent and well conditioned: QR with column
-    pivoting of ``A^T`` (rows scaled to unit length) takes, one by one, the row farthest from the span
-    of those taken; the rows left after ``rank`` are dropped. ``protect`` rows (the Euler-parameter
-    normalisations, independent of everything else) are weighted so that they are taken first."""
-    B = _unit_rows(A) * np.where(protect, 10.0, 1.0)[:, None]
-    r = _rank(np.linalg.svd(_unit_rows(A), compute_uv=False))
-    _, _, piv = qr(B.T, mode="economic", pivoting=True)
-    return tuple(sorted(int(i) for i in piv[r:]))
-
-
 @dataclass
 class _Variant:
     """The spatial system with a given set of redundant rigid rows dropped.
@@ -311,7 +269,7 @@ class _RowChoice:
     def quality(self, x: np.ndarray) -> float:
         """``log(conditioning / SWITCH_RATIO)`` of the kept rigid rows at the full vector ``x``:
         positive while the dropped rows suit ``x``, negative once they should be chosen again."""
-        ratio = _conditioning(_structure(self.mech).mechanics.phi_q(x), self.dropped)
+        ratio = conditioning(_structure(self.mech).mechanics.phi_q(x), self.dropped)
         return math.log(max(ratio, 1e-300) / SWITCH_RATIO)
 
     def switch(self, model: Model, x: np.ndarray, force: bool = False) -> tuple[Model, np.ndarray] | None:
@@ -319,7 +277,7 @@ class _RowChoice:
         ``x`` with its rigid reactions solved again (the dropped ones zero); None when it is this one,
         unless ``force`` (then ``model`` itself with the reactions solved again)."""
         st = _structure(self.mech)
-        dropped = _choose_dropped(st.mechanics.phi_q(x), st.protect)
+        dropped = choose_dropped(st.mechanics.phi_q(x), st.protect)
         if dropped == self.dropped and not force:
             return None
         keep = ("dof", "conditions", "fields_at", "downlock_hold", "downlock_force", "assemble_downlocked", "stops")
