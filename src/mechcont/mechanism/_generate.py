@@ -37,7 +37,7 @@ from ._description import Mechanism
 from ._diagnose import check_assembled, least_squares_closure, loop_error, redundancy_error
 from ._expr import symbol
 from ._forces import loads
-from ._kinematics import ConstraintRow, Kinematics, pin_chain
+from ._kinematics import ConstraintRow, Kinematics, place_along_joints
 from ._reduce import reduce_form
 from ._scene import scene_function
 from ._stops import stop_forces
@@ -91,7 +91,6 @@ def _parameter_scale(p, value: float, Lc: float, Fc: float) -> float:
 
 def _initial_guess(mech: Mechanism, kin: Kinematics, values: dict[str, float]) -> dict[str, float]:
     """Approximate coordinates: the given initial values, bodies placed along pin chains."""
-    num = {symbol(k): v for k, v in values.items()}
     guess: dict[str, float] = {}
     placed = {"ground"}
     for b in mech.bodies:
@@ -103,12 +102,7 @@ def _initial_guess(mech: Mechanism, kin: Kinematics, values: dict[str, float]) -
             placed.add(b.name)
     held = {k: evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}") for k in mech.hold}
     guess.update(held)
-    for _, known, new, body in pin_chain(mech, placed):
-        x, y, _ = kin.body_q[body]
-        at = {**num, **{symbol(k): v for k, v in guess.items()}}
-        P = [float(c) for c in kin.point(known).xreplace(at)]
-        local = [float(c) for c in kin.point(new).xreplace({**at, x: 0, y: 0})]
-        guess[str(x)], guess[str(y)] = P[0] - local[0], P[1] - local[1]
+    place_along_joints(kin, placed, guess, values)
     guess.update(held)  # a held coordinate keeps its value: placing its body by a joint must not move it
     return guess
 

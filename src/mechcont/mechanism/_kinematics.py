@@ -8,6 +8,8 @@ so that the multiplier of a joint is the force the body of ``a`` exerts on the b
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import sympy as sp
 
 from ._actuators import actuator_rows
@@ -16,7 +18,7 @@ from ._description import Body, Mechanism, Polar, coordinate_names
 from ._expr import symbol
 from .joints import ConstraintRow
 
-__all__ = ["Kinematics", "ConstraintRow", "kinematics_of"]
+__all__ = ["Kinematics", "ConstraintRow", "kinematics_of", "pin_chain", "place_along_joints"]
 
 
 def _rot(theta: sp.Expr, p: sp.Matrix) -> sp.Matrix:
@@ -71,6 +73,10 @@ class Kinematics:
     def cg(self, body: str) -> sp.Matrix:
         """Global position of the centre of gravity of ``body``."""
         return self.point(f"{body}.cg")
+
+    def origin(self, body: str) -> list[sp.Symbol]:
+        """The coordinates of ``body``'s frame origin: ``x``, ``y`` (m)."""
+        return list(self.body_q[body][:2])
 
     def distance(self, a: str, b: str) -> sp.Expr:
         """Distance (m) between the point references ``a`` and ``b``."""
@@ -157,3 +163,16 @@ def pin_chain(mech: Mechanism, placed: set[str]):
             placed.add(body)
             changed = True
 
+
+def place_along_joints(kin, placed: set[str], guess: dict[str, float], values: Mapping[str, float]) -> None:
+    """Move the frame origin of each body reached from the ``placed`` ones through coincident
+    joints (:func:`pin_chain`) so that the joint's two points meet, its orientation in ``guess``
+    kept: updates ``guess`` (coordinate name -> value) for the kinematics ``kin``, planar or spatial."""
+    num = {symbol(k): v for k, v in values.items()}
+    for _, known, new, body in pin_chain(kin.mech, placed):
+        origin = kin.origin(body)
+        at = {**num, **{symbol(k): v for k, v in guess.items()}}
+        P = [float(c) for c in kin.point(known).xreplace(at)]
+        local = [float(c) for c in kin.point(new).xreplace({**at, **{s: 0 for s in origin}})]
+        for s, p, q in zip(origin, P, local):
+            guess[str(s)] = p - q

@@ -45,6 +45,7 @@ from .._generate import (
     load_forces,
     value_fields,
 )
+from .._kinematics import place_along_joints
 from .._stops import stop_forces
 from .._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
 from ._description import SpatialMechanism
@@ -87,7 +88,6 @@ def _initial_guess(kin: SpatialKinematics, values: dict[str, float]) -> dict[str
     """Coordinates near the design pose: given ``initial`` values, bodies placed through the
     joints that make two points coincide, unit Euler parameters from ``initial.rotation``."""
     mech = kin.mech
-    num = {symbol(k): v for k, v in values.items()}
     guess: dict[str, float] = {}
     placed = {"ground"}
     for b in mech.bodies:
@@ -105,23 +105,7 @@ def _initial_guess(kin: SpatialKinematics, values: dict[str, float]) -> dict[str
             placed.add(b.name)
     held = {k: evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}") for k in mech.hold}
     guess.update(held)
-    changed = True
-    while changed:
-        changed = False
-        for j in mech.joints:
-            ba, bb = j.a.split(".")[0], j.b.split(".")[0]
-            if not j.COINCIDENT or (ba in placed) == (bb in placed):
-                continue
-            known, new = (j.a, j.b) if ba in placed else (j.b, j.a)
-            body = new.split(".")[0]
-            at = {**num, **{symbol(k): v for k, v in guess.items()}}
-            P = np.array([float(c) for c in kin.point(known).xreplace(at)])
-            origin = kin.body_r[body]
-            local = np.array([float(c) for c in kin.point(new).xreplace({**at, **{s: 0 for s in origin}})])
-            for s, v in zip(origin, P - local):
-                guess[str(s)] = float(v)
-            placed.add(body)
-            changed = True
+    place_along_joints(kin, placed, guess, values)
     guess.update(held)  # a held coordinate keeps its value: placing its body by a joint must not move it
     return guess
 

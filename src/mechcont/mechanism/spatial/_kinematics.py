@@ -87,6 +87,10 @@ class SpatialKinematics:
         """Global position of the centre of gravity of ``body``."""
         return self.point(f"{body}.cg")
 
+    def origin(self, body: str) -> list[sp.Symbol]:
+        """The coordinates of ``body``'s frame origin: ``x``, ``y``, ``z`` (m)."""
+        return list(self.body_r[body])
+
     def distance(self, a: str, b: str) -> sp.Expr:
         """Distance (m) between the point references ``a`` and ``b``."""
         return norm(self.point(b) - self.point(a))
