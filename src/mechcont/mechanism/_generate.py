@@ -100,10 +100,7 @@ def _initial_guess(mech: Mechanism, kin: Kinematics, values: dict[str, float]) -
             guess[name] = evaluate(mech.value(f"{f}.{key}"), values, f"{f}.{key}") if key in b.initial else 0.0
         if "x" in b.initial and "y" in b.initial:
             placed.add(b.name)
-    held = {k: evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}") for k in mech.hold}
-    guess.update(held)
     place_along_joints(kin, placed, guess, values)
-    guess.update(held)  # a held coordinate keeps its value: placing its body by a joint must not move it
     return guess
 
 

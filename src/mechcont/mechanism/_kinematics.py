@@ -167,7 +167,14 @@ def pin_chain(mech: Mechanism, placed: set[str]):
 def place_along_joints(kin, placed: set[str], guess: dict[str, float], values: Mapping[str, float]) -> None:
     """Move the frame origin of each body reached from the ``placed`` ones through coincident
     joints (:func:`pin_chain`) so that the joint's two points meet, its orientation in ``guess``
-    kept: updates ``guess`` (coordinate name -> value) for the kinematics ``kin``, planar or spatial."""
+    kept: updates ``guess`` (coordinate name -> value) for the kinematics ``kin``, planar or spatial.
+    The held coordinates (``[assembly] hold``, at the parameter ``values``) are set first and keep
+    their values: placing a body by a joint must not move them."""
+    from ._values import evaluate
+
+    mech = kin.mech
+    held = {k: evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}") for k in mech.hold}
+    guess.update(held)
     num = {symbol(k): v for k, v in values.items()}
     for _, known, new, body in pin_chain(kin.mech, placed):
         origin = kin.origin(body)
@@ -176,3 +183,4 @@ def place_along_joints(kin, placed: set[str], guess: dict[str, float], values: M
         local = [float(c) for c in kin.point(new).xreplace({**at, **{s: 0 for s in origin}})]
         for s, p, q in zip(origin, P, local):
             guess[str(s)] = p - q
+    guess.update(held)

@@ -103,10 +103,7 @@ def _initial_guess(kin: SpatialKinematics, values: dict[str, float]) -> dict[str
         guess.update(zip(names[3:], quaternion_from_rotation_vector(rot)))
         if all(k in b.initial for k in "xyz"):
             placed.add(b.name)
-    held = {k: evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}") for k in mech.hold}
-    guess.update(held)
     place_along_joints(kin, placed, guess, values)
-    guess.update(held)  # a held coordinate keeps its value: placing its body by a joint must not move it
     return guess
 
 
