@@ -1,5 +1,8 @@
 """A diagnostic report on a mechanism description: what mechcont made of it, and whether it is sound.
 
+(Longer than most modules: the report, its gathering and its text are one unit that the
+``check`` command prints; they change together.)
+
 :func:`check_report` builds the description as every command does, then gathers what an
 engineer checks before trusting a model: the degrees of freedom from the rank of the
 constraint Jacobian against the intended count, the sizes of the system, redundant
@@ -282,15 +285,15 @@ class _Facts(NamedTuple):
     name: str
     description: str
     dof: int | None
-    dimension: int
     joints: tuple[str, ...]
     hold: tuple[str, ...]
+    normalisations: frozenset[str]   # constraint rows that are no joint's (see Mechanism.normalisation_rows)
 
     @classmethod
     def of(cls, mech: Mechanism) -> _Facts:
         """The facts of ``mech``."""
-        return cls(mech.name, mech.description, mech.dof, mech.dimension, tuple(j.name for j in mech.joints),
-                   tuple(mech.hold))
+        return cls(mech.name, mech.description, mech.dof, tuple(j.name for j in mech.joints), tuple(mech.hold),
+                   mech.normalisation_rows())
 
 
 def _stored_build(name_or_path: str | Path, reduced: bool, overrides: Mapping[str, float]) -> tuple[Model, tuple, _Facts]:
@@ -369,8 +372,9 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     phi = np.abs(model.phi(x)) if nc else np.zeros(0)
     names = model.constraint_names if model.constraint_names is not None else system.equation_names[nq:]
     gaps: dict[tuple[str, str], float] = {}
+    normalisations = mech.normalisations
     for eq, r in zip(names, phi):
-        if mech.dimension == 3 and eq.startswith("norm_"):
+        if eq in normalisations:
             continue
         joint, kind = eq.rsplit("_", 1)
         unit = "rad" if kind == "angle" or kind.startswith("rot") else "m"
@@ -387,7 +391,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     dropped = system.dropped_residual(x) if system.dropped_constraints and system.dropped_residual else None
     if dropped is not None and not dropped <= CLOSURE_TOL:
         findings.append(f"the dropped redundant rows are violated by {dropped:.3g} at the assembled configuration")
-    redundant = tuple((row, tuple(j for j in group if not (mech.dimension == 3 and j.startswith("norm_"))))
+    redundant = tuple((row, tuple(j for j in group if j not in normalisations))
                       for row, group in zip(system.dropped_constraints, report.redundant))
 
     # equilibrium: the assembled configuration's imbalance, then Newton on every state from it

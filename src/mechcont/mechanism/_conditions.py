@@ -150,9 +150,8 @@ def check_conditions(mech) -> None:
                 raise InputError(f + ".points", f"the {n} points must be different, got {list(c.points)}")
             _check_normal(mech, c, f)
         else:
-            if mech.dimension == 3:
-                raise InputError(f + ".type", "an angle condition is planar; in a spatial mechanism use an "
-                                              "expression, distance or collinear condition")
+            if c.kind in mech.UNAVAILABLE_CONDITIONS:
+                raise InputError(f + ".type", mech.UNAVAILABLE_CONDITIONS[c.kind])
             if isinstance(c.bodies, str) or len(c.bodies) != 2:
                 raise InputError(f + ".bodies", f"an angle condition needs two body names, got {c.bodies!r}")
             for b in c.bodies:
@@ -179,8 +178,9 @@ def check_conditions(mech) -> None:
 
 
 def _check_normal(mech, c: Condition, f: str) -> None:
-    """A spatial collinear condition needs a non-zero ``normal``; a planar one takes none."""
-    spatial = mech.dimension == 3
+    """A spatial collinear condition needs a non-zero ``normal``; a planar one takes none
+    (``mech.COLLINEAR_NORMAL``: whether a collinear condition is signed about a given normal)."""
+    spatial = mech.COLLINEAR_NORMAL
     if c.kind != "collinear":
         return
     if not spatial and c.normal:

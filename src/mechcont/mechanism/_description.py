@@ -1,5 +1,8 @@
 """A planar mechanism described as objects: bodies, points, joints, springs, dampers, loads.
 
+(Longer than most modules: :class:`Mechanism` checks every element's names and references in
+one place, so that an error names the key path whatever the element.)
+
 Conventions (SI units, radians):
 
 * Every body has a frame; its coordinates are ``x<b>, y<b>, theta<b>`` when the body
@@ -19,20 +22,27 @@ Conventions (SI units, radians):
 
 from __future__ import annotations
 
-import keyword
-import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar, Protocol
+from typing import TYPE_CHECKING, ClassVar, Generic, Protocol, TypeVar
 
 import sympy as sp
 
 from ..errors import InputError
 from ._actuators import Actuator, check_actuators
+from ._bodies import (
+    Body,
+    Polar,
+    _check_name,
+    _check_variable_name,
+    _RigidBody,
+)
 from ._conditions import Condition, DownlockSpec, check_conditions
-from ._expr import FUNCTIONS, Value, symbol, to_expr
+from ._elements import Damper, Parameter, Spring, StopReaction
+from ._expr import Value, symbol, to_expr
 from ._stops import Stop, check_stops, stop_reaction_unit
 from .joints import PlanarJoint, Prismatic, Revolute, Slider, Weld
+from .loads import LOAD_TYPES, CustomLoad, Drag, Gravity, Load, Moment, PointForce, SpatialGravity
 
 if TYPE_CHECKING:
     from ..equations import Model
@@ -43,169 +53,8 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
-class Parameter:
-    """A named parameter: default value (SI), unit, meaning and typical magnitude.
-
-    ``scale`` (optional, positive) weights the parameter in the continuation arclength;
-    by default it is inferred from the unit and the mechanism's size.
-    """
-
-    name: str
-    value: float
-    unit: str = ""
-    description: str = ""
-    scale: float | None = None
-
-
-@dataclass(frozen=True)
-class StopReaction(Parameter):
-    """The contact reaction parameter ``R_<stop>`` that a stop adds (default 0: out of contact);
-    made by the mechanism from its ``stops``, never read from a file."""
-
-
-@dataclass(frozen=True)
-class Polar:
-    """A point at distance ``r`` (m) from the body frame origin, at ``angle`` (rad) from the body axis."""
-
-    r: Value
-    angle: Value
-
-
-PointSpec = tuple[Value, Value] | Polar
-
-
-@dataclass(frozen=True)
-class Body:
-    """A rigid planar body.
-
-    Parameters
-    ----------
-    name:
-        Identifier (letters, digits, underscore; may be all digits).
-    mass:
-        Mass (kg), positive.
-    length:
-        For a bar: its length (m), positive; adds the end points ``a`` and ``b``.
-    inertia:
-        Moment of inertia about the centre of gravity (kg m^2), positive; default
-        ``mass*length^2/12`` for a bar (required for other bodies).
-    cg:
-        Centre of gravity in body coordinates (m); default the frame origin.
-    points:
-        Named points in body coordinates: ``(x, y)`` or :class:`Polar`.
-    initial:
-        Approximate configuration for assembly: any of ``x``, ``y``, ``theta``
-        (numbers or expressions in the parameters).
-    """
-
-    name: str
-    mass: Value
-    length: Value | None = None
-    inertia: Value | None = None
-    cg: tuple[Value, Value] = (0, 0)
-    points: Mapping[str, PointSpec] = field(default_factory=dict)
-    initial: Mapping[str, Value] = field(default_factory=dict)
-    description: str = ""
-
-
-@dataclass(frozen=True)
-class Spring:
-    """A linear spring between points ``a`` and ``b``: tension ``preload + k (l - free_length)``
-    (N), potential ``preload*l + k/2 (l - free_length)^2`` (J). ``k`` > 0 (N/m),
-    ``free_length`` > 0 (m)."""
-
-    name: str
-    a: str
-    b: str
-    k: Value
-    free_length: Value
-    preload: Value = 0
-
-
-@dataclass(frozen=True)
-class Damper:
-    """A hydraulic damper between points ``a`` and ``b``: tension ``c v + c2 v |v|`` (N) with
-    ``v = dl/dt`` (m/s), ``c`` >= 0 (N s/m, linear), ``c2`` >= 0 (N s^2/m^2, quadratic: a restrictor
-    orifice). Only the dynamic model feels it (zero at rest); see :mod:`._dampers`."""
-
-    name: str
-    a: str
-    b: str
-    c: Value
-    c2: Value = 0
-
-
-@dataclass(frozen=True)
-class Gravity:
-    """Uniform gravity of magnitude ``g`` (m/s^2) pointing at ``angle`` (rad; default -y)."""
-
-    g: Value = "g"
-    angle: Value = -sp.pi / 2
-
-
-@dataclass(frozen=True)
-class PointForce:
-    """A force of fixed global direction at a point: ``magnitude * direction/|direction|`` (N).
-
-    ``direction`` is a 2-vector or an angle (rad). ``magnitude`` is typically a parameter
-    name (``"F"``) so that the continuation can free it as an unknown.
-    """
-
-    name: str
-    at: str
-    magnitude: Value
-    direction: tuple[Value, Value] | Value = (0, 1)
-
-
-@dataclass(frozen=True)
-class Moment:
-    """A pure moment (N m, counter-clockwise positive) on a body."""
-
-    name: str
-    body: str
-    magnitude: Value
-
-
-@dataclass(frozen=True)
-class Drag:
-    """Aerodynamic drag on the segment from point ``start`` to point ``end`` of ``body``.
-
-    Cross-flow model of the paper's eq. 12: with the air velocity ``U (cos alpha, sin alpha)``
-    (m/s, rad), the segment of length ``L`` and unit normal ``n`` (left of start->end), the
-    normal flow ``u_n = U sin(alpha - theta_axis)`` gives the force
-    ``1/2 rho C_D d L u_n |u_n| n`` (N) at the segment's midpoint; its moment about ``start``
-    is the paper's ``D = 1/4 rho (U cos(alpha - theta + pi/2))^2 d L^2 C_D`` with the sign of
-    ``u_n``. ``|u_n|`` is smoothed as ``sqrt(u_n^2 + (1e-6 m/s)^2)`` so the Jacobian exists
-    at ``U = 0`` (force change < 1e-11 N).
-    """
-
-    name: str
-    body: str
-    rho: Value = "rho"
-    U: Value = "U"
-    alpha: Value = "alpha"
-    d: Value = "d"
-    CD: Value = "C_D"
-    start: str = "a"
-    end: str = "b"
-
-
-@dataclass(frozen=True)
-class CustomLoad:
-    """A user-defined load: force ``(fx, fy)`` (N, global axes) at point ``at`` and a moment
-    (N m) on that point's body; expressions may use parameters and coordinates."""
-
-    name: str
-    at: str
-    fx: Value = 0
-    fy: Value = 0
-    moment: Value = 0
-
-
 #: A planar joint: any registered joint class (see :mod:`.joints`).
 Joint = PlanarJoint
-Load = PointForce | Moment | Drag | CustomLoad
 
 
 class _Named(Protocol):
@@ -216,20 +65,27 @@ class _Named(Protocol):
         """Its name."""
 
 
-class _LoadAtPoint(Protocol):
-    """A load applied at a point."""
+class _Joint(_Named, Protocol):
+    """What a description asks of any joint, planar or spatial (see :mod:`.joints`, :mod:`.spatial._joints`)."""
 
     @property
-    def at(self) -> str:
-        """``"<body>.<point>"``."""
-
-
-class _LoadOnBody(Protocol):
-    """A load applied to a body (a drag also names two points of it, ``start`` and ``end``)."""
+    def a(self) -> str:
+        """The point reference of side a."""
 
     @property
-    def body(self) -> str:
-        """The body's name."""
+    def b(self) -> str:
+        """The point reference of side b."""
+
+    def check(self, mech) -> None:
+        """Check its references against ``mech``."""
+
+    def values(self) -> Iterator[tuple[str, Value]]:
+        """Its (key path, raw value) pairs."""
+
+
+#: The joint and body types of a description: planar (:class:`PlanarJoint`, :class:`Body`) or spatial.
+JointT = TypeVar("JointT", bound=_Joint)
+BodyT = TypeVar("BodyT", bound=_RigidBody)
 
 
 def coordinate_names(body: str) -> tuple[str, str, str]:
@@ -239,45 +95,8 @@ def coordinate_names(body: str) -> tuple[str, str, str]:
     return f"x_{body}", f"y_{body}", f"theta_{body}"
 
 
-_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*|[0-9]+")
-_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
-#: Columns of every branch table (see ``Branch.to_csv``): no variable may take these names.
-BRANCH_COLUMNS = ("s", "stability", "n_unstable", "label", "vary")
-#: Points every body has (``a``, ``b`` also for bars): they cannot be declared.
-BUILTIN_POINTS = ("origin", "cg")
-BAR_POINTS = ("a", "b")
-
-
-def _check_name(name: str, field: str, *, digits: bool = True) -> None:
-    """``name`` must be ASCII letters, digits and underscores not starting with a digit, or
-    (``digits``) all ASCII digits. Non-ASCII names are refused: Python and SymPy would treat
-    look-alikes differently (NFKC turns ``ｋ`` into ``k``), so two names could collide."""
-    pattern = _NAME if digits else _IDENTIFIER
-    if not isinstance(name, str) or not pattern.fullmatch(name):
-        shown = repr(name) if isinstance(name, str) else type(name).__name__
-        what = "ASCII letters, digits and underscores, not starting with a digit" + (", or all digits" if digits
-                                                                                     else "")
-        raise InputError(field, f"name {shown} must be an identifier: {what}")
-
-
-def _check_variable_name(name: str, field: str, what: str) -> None:
-    """A parameter or condition name: also a variable of the system and a branch-table column."""
-    if name in BRANCH_COLUMNS:
-        raise InputError(field, f"'{name}' is reserved: every branch table has a column of that name "
-                                f"({', '.join(BRANCH_COLUMNS)}); rename the {what}")
-    if name.endswith("_dot"):
-        raise InputError(field, f"names ending in '_dot' are reserved for the velocities of the time simulation "
-                                f"(theta1_dot); rename the {what}")
-    if keyword.iskeyword(name):  # the compiled code names every variable: a keyword cannot be one
-        raise InputError(field, f"'{name}' is a Python keyword and cannot name a variable; rename the {what} "
-                                f"(e.g. {name}_)")
-    if name in FUNCTIONS:
-        kind = "constant" if name == "pi" else "function"
-        raise InputError(field, f"'{name}' is the expression {kind} {name}; rename the {what}")
-
-
 @dataclass
-class Mechanism:
+class Mechanism(Generic[JointT, BodyT]):
     """A planar mechanism: everything needed to generate its equations.
 
     Parameters
@@ -328,13 +147,13 @@ class Mechanism:
 
     name: str
     parameters: Sequence[Parameter]
-    bodies: Sequence[Body]
-    joints: Sequence[Joint]
+    bodies: Sequence[BodyT]
+    joints: Sequence[JointT]
     ground: Mapping[str, tuple[Value, Value]] = field(default_factory=dict)
     springs: Sequence[Spring] = ()
     dampers: Sequence[Damper] = ()
     loads: Sequence[Load] = ()
-    gravity: Gravity | None = None
+    gravity: Gravity | SpatialGravity | None = None
     dof: int = 1
     hold: Mapping[str, Value] = field(default_factory=dict)
     description: str = ""
@@ -347,10 +166,20 @@ class Mechanism:
     # the value-independent part of each generated form, made by the first build (never pickled)
     _generated: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
-    #: Keys of a custom load whose expressions may use the coordinates.
-    _COORDINATE_KEYS: ClassVar[tuple[str, ...]] = ("fx", "fy", "moment")
-    #: 2 for a planar mechanism, 3 for a spatial one.
-    dimension = 2
+    #: 2 for a planar mechanism, 3 for a spatial one (for readers of a description; the code asks
+    #: :attr:`space`, :attr:`AXES` and the kinematics instead).
+    dimension: ClassVar[int] = 2
+    #: The registry key of the elements this mechanism takes (:data:`~.loads.LOAD_TYPES`).
+    space: ClassVar[str] = "plane"
+    #: The components of a vector (a point, a direction).
+    AXES: ClassVar[str] = "xy"
+    #: The message for a load of a type not registered for this space (``{}``: its class name).
+    _UNKNOWN_LOAD: ClassVar[str] = "unknown load type {}"
+    #: Condition types this space has not, with the message that refuses them.
+    UNAVAILABLE_CONDITIONS: ClassVar[Mapping[str, str]] = {}
+    #: Whether a collinear condition is signed about a given ``normal`` (in space) rather than
+    #: counter-clockwise (in the plane).
+    COLLINEAR_NORMAL: ClassVar[bool] = False
 
     def __post_init__(self):
         self.parameters = tuple(self.parameters)
@@ -363,7 +192,7 @@ class Mechanism:
         self.stops = tuple(self.stops)
         # a copy (dataclasses.replace) passes the generated reactions back in: made anew here
         units = {c.name: c.value_unit for c in self.conditions}
-        self.parameters = (*(p for p in self.parameters if not isinstance(p, StopReaction)),
+        self.parameters = (*(p for p in self.parameters if not p.GENERATED),
                            *(StopReaction(s.reaction, 0.0, stop_reaction_unit(units.get(s.condition, "")),
                                           s.reaction_description) for s in self.stops))
         self._validate()
@@ -389,7 +218,7 @@ class Mechanism:
             _check_name(p.name, f, digits=False)
             _check_variable_name(p.name, f, "parameter")
             if p.name in self.param_symbols:
-                if isinstance(p, StopReaction):
+                if p.GENERATED:
                     raise InputError(f, f"clashes with the contact reaction {p.name} of a stop: rename the parameter "
                                         "or the stop")
                 raise InputError(f, "parameter defined more than once")
@@ -400,7 +229,7 @@ class Mechanism:
             self.param_symbols[p.name] = symbol(p.name)
         if not self.bodies:
             raise InputError("bodies", "a mechanism needs at least one body")
-        self.body_map: dict[str, Body] = {}
+        self.body_map: dict[str, BodyT] = {}
         coords: dict[str, str] = {}
         for b in self.bodies:
             _check_name(b.name, f"bodies.{b.name}")
@@ -434,11 +263,12 @@ class Mechanism:
             self._exprs[p] = self.expr(v, p)
         for j in self.joints:
             j.check(self)
-        two_ended: tuple[Spring | Damper, ...] = (*self.springs, *self.dampers)
-        for s in two_ended:
-            group = "springs" if isinstance(s, Spring) else "dampers"
-            self.point_ref(s.a, f"{group}.{s.name}.a")
-            self.point_ref(s.b, f"{group}.{s.name}.b")
+        two_ended: tuple[tuple[str, Sequence[Spring | Damper]], ...] = (("springs", self.springs),
+                                                                         ("dampers", self.dampers))
+        for group, elements in two_ended:
+            for s in elements:
+                self.point_ref(s.a, f"{group}.{s.name}.a")
+                self.point_ref(s.b, f"{group}.{s.name}.b")
         self._check_loads()
         check_actuators(self)
         check_conditions(self)
@@ -453,90 +283,40 @@ class Mechanism:
         """The coordinate names of ``body`` (see :func:`coordinate_names`)."""
         return coordinate_names(body)
 
-    def _load_kinds(self) -> tuple[tuple[type[_LoadAtPoint], ...], tuple[type[_LoadOnBody], ...], str]:
-        """The load classes applied at a point, those applied to a body (a drag has ``start`` and
-        ``end`` points), and the message for any other load (``{}``: its class name)."""
-        return (PointForce, CustomLoad), (Moment, Drag), "unknown load type {}"
-
     def _check_loads(self) -> None:
-        """Check every load's references (raises a one-line InputError)."""
-        at_point, on_body, other = self._load_kinds()
+        """Check every load's type and references (raises a one-line InputError)."""
+        known = tuple(LOAD_TYPES[self.space].values())
         for ld in self.loads:
-            f = f"loads.{ld.name}"
-            if isinstance(ld, at_point):
-                self.point_ref(ld.at, f + ".at")
-                if ld.at.startswith("ground."):
-                    raise InputError(f + ".at", "a load on the ground does nothing; apply it to a body point")
-            elif isinstance(ld, on_body):
-                if ld.body not in self.body_map:
-                    raise InputError(f + ".body", f"unknown body '{ld.body}'; bodies: {', '.join(self.body_map)}")
-                if hasattr(ld, "start") and hasattr(ld, "end"):  # a drag
-                    self.point_ref(f"{ld.body}.{ld.start}", f + ".start")
-                    self.point_ref(f"{ld.body}.{ld.end}", f + ".end")
-            else:
-                raise InputError(f, other.format(type(ld).__name__))
+            if type(ld) not in known:
+                raise InputError(f"loads.{getattr(ld, 'name', '?')}", self._UNKNOWN_LOAD.format(type(ld).__name__))
+            ld.check(self)
+
+    def direction_values(self, field: str, v) -> list[tuple[str, Value]]:
+        """The (key path, raw value) of a direction: ``[x, y]`` or an angle (rad)."""
+        if not isinstance(v, (tuple, list)):
+            return [(field, v)]
+        if len(v) != 2:
+            raise InputError(field, "a direction is [x, y] or an angle (rad)")
+        return [(f"{field}.x", v[0]), (f"{field}.y", v[1])]
+
+    def vector_values(self, field: str, v) -> list[tuple[str, Value]]:
+        """The (key path, raw value) of each component of the vector ``v`` (``[x, y]``)."""
+        if not isinstance(v, (tuple, list)) or len(v) != len(self.AXES):
+            raise InputError(field, f"must be a {len(self.AXES)}-vector [{', '.join(self.AXES)}], got {v!r}")
+        return [(f"{field}.{c}", comp) for c, comp in zip(self.AXES, v)]
 
     def _values(self):
         """Every (key path, raw value) of the description that is a number or expression."""
         for b in self.bodies:
-            f = f"bodies.{b.name}"
-            yield f + ".mass", b.mass
-            if b.length is not None:
-                yield f + ".length", b.length
-            if b.inertia is not None:
-                yield f + ".inertia", b.inertia
-            yield f + ".cg.x", b.cg[0]
-            yield f + ".cg.y", b.cg[1]
-            for pn, ps in b.points.items():
-                _check_name(pn, f"{f}.points.{pn}")
-                if pn in BUILTIN_POINTS or (pn in BAR_POINTS and b.length is not None):
-                    meaning = {"a": "the bar's end at -length/2", "b": "the bar's end at +length/2",
-                               "origin": "the body's frame origin", "cg": "the centre of gravity (key cg)"}[pn]
-                    raise InputError(f"{f}.points.{pn}", f"'{pn}' is a built-in point ({meaning}); "
-                                                         "name the declared point differently")
-                if isinstance(ps, Polar):
-                    yield f"{f}.points.{pn}.r", ps.r
-                    yield f"{f}.points.{pn}.angle", ps.angle
-                else:
-                    if not isinstance(ps, (tuple, list)) or len(ps) != 2:
-                        raise InputError(f"{f}.points.{pn}", "a point is [x, y] or {r = ..., angle = ...}")
-                    yield f"{f}.points.{pn}.x", ps[0]
-                    yield f"{f}.points.{pn}.y", ps[1]
-            for k, v in b.initial.items():
-                if k not in ("x", "y", "theta"):
-                    raise InputError(f"{f}.initial.{k}", "initial values are x, y, theta")
-                yield f"{f}.initial.{k}", v
-            if b.inertia is None and b.length is None:
-                raise InputError(f + ".inertia", "a body without a length needs an inertia (kg m^2)")
+            yield from b.values(self)
         for gname, gp in self.ground.items():
-            if not isinstance(gp, (tuple, list)) or len(gp) != 2:
-                raise InputError(f"ground.{gname}", "a ground point is [x, y]")
-            yield f"ground.{gname}.x", gp[0]
-            yield f"ground.{gname}.y", gp[1]
+            yield from self.vector_values(f"ground.{gname}", gp)
         for j in self.joints:
             yield from j.values()
         if self.gravity is not None:
-            yield "gravity.g", self.gravity.g
-            yield "gravity.angle", self.gravity.angle
+            yield from self.gravity.values(self)
         for ld in self.loads:
-            f = f"loads.{ld.name}"
-            if isinstance(ld, PointForce):
-                yield f + ".magnitude", ld.magnitude
-                if isinstance(ld.direction, (tuple, list)):
-                    if len(ld.direction) != 2:
-                        raise InputError(f + ".direction", "a direction is [x, y] or an angle (rad)")
-                    yield f + ".direction.x", ld.direction[0]
-                    yield f + ".direction.y", ld.direction[1]
-                else:
-                    yield f + ".direction", ld.direction
-            elif isinstance(ld, Moment):
-                yield f + ".magnitude", ld.magnitude
-            elif isinstance(ld, Drag):
-                for attr in ("rho", "U", "alpha", "d", "CD"):
-                    yield f"{f}.{attr}", getattr(ld, attr)
-            elif isinstance(ld, CustomLoad):
-                for attr in ("fx", "fy", "moment"):
-                    yield f"{f}.{attr}", getattr(ld, attr)
+            yield from ld.values(self)
         yield from self._common_values()
 
     def _common_values(self):
@@ -566,12 +346,27 @@ class Mechanism:
                 yield f"stops.{st.name}.stiffness", st.stiffness
                 yield f"stops.{st.name}.damping", st.damping
 
+    def kinematics_class(self) -> type:
+        """The kinematics strategy of this space (:class:`~._kinematics.Kinematics`: x, y, theta per body)."""
+        from ._kinematics import Kinematics
+        return Kinematics
+
+    def normalisation_rows(self) -> frozenset[str]:
+        """The names of the constraint rows that normalise coordinates (no joint's): none in the plane."""
+        return frozenset()
+
+    def summary(self) -> tuple[str, list[tuple[str, str, str, str, float | None]]] | None:
+        """What a full build declares, without generating its equations (see :func:`._generate.summary`)."""
+        from ._generate import summary
+        return summary(self)
+
     def expr(self, value: Value, field: str) -> sp.Expr:
         """Parse ``value`` over the parameters (and, for custom loads and conditions, the coordinates)."""
         if isinstance(value, sp.Basic):
             return value
         known = dict(self.param_symbols)
-        if (field.startswith("loads.") and field.rsplit(".", 1)[-1] in self._COORDINATE_KEYS) or (
+        coordinate_keys = {k for cls in LOAD_TYPES[self.space].values() for k in cls.COORDINATE_KEYS}
+        if (field.startswith("loads.") and field.rsplit(".", 1)[-1] in coordinate_keys) or (
                 field.startswith("conditions.") and field.endswith(".expr")):
             known.update(self.coordinate_symbols)
         return to_expr(value, field, known)

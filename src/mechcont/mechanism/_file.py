@@ -44,37 +44,28 @@ from __future__ import annotations
 import re
 import sys
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from ..errors import InputError, one_line
 from ._actuators import ACTUATOR_KEYS, actuators_from_table
+from ._bodies import PointSpec
 from ._conditions import conditions_from_table, downlock_from_table
-from ._description import (
-    Body,
-    CustomLoad,
-    Damper,
-    Drag,
-    Gravity,
-    Mechanism,
-    Moment,
-    Parameter,
-    PointForce,
-    Polar,
-    Spring,
-)
+from ._description import Body, Damper, Gravity, Mechanism, Parameter, Polar, Spring
 from ._paths import builtin_descriptions, find_description
 from ._stops import STOP_KEYS, stops_from_table
-from .joints import JOINT_TYPES, joint_keys
+from .joints import joint_keys
+from .loads import Load, load_keys
 
 __all__ = ["load_description", "parse_description", "builtin_descriptions", "find_description", "locate_error"]
 
 
 #: ``type`` -> (joint class, keys): every registered planar joint (:mod:`.joints`).
 _JOINTS = joint_keys()
-_LOADS = {"force": (PointForce, {"at", "magnitude", "direction"}), "moment": (Moment, {"body", "magnitude"}),
-          "drag": (Drag, {"body", "rho", "U", "alpha", "d", "CD", "start", "end"}),
-          "custom": (CustomLoad, {"at", "fx", "fy", "moment"})}
+#: ``type`` -> (load class, keys): every load registered for planar mechanisms (:mod:`.loads`).
+_LOADS = load_keys("plane")
 _SECTIONS = {"mechanism", "parameters", "ground", "bodies", "joints", "springs", "dampers", "gravity", "loads",
              "assembly", "actuators", "conditions", "stops"}
 #: The keys accepted in each table other than ``[joints.NAME]``/``[loads.NAME]`` (whose keys,
@@ -221,6 +212,23 @@ def _pair(v, field: str):
     return tuple(v)
 
 
+def _direction(v, field: str):
+    """A planar vector ``[x, y]``, or an angle (rad) where a direction may be one."""
+    return _pair(v, field) if isinstance(v, list) else v
+
+
+def loads_from_table(data: Mapping, registry: Mapping[str, tuple[type[Load], frozenset[str]]],
+                     vector: Callable[[Any, str], Any], space: str) -> list[Load]:
+    """The ``[loads.NAME]`` tables, each read by the class its ``type`` names in ``registry``
+    (``vector(value, field)`` reads a vector of the description's ``space``)."""
+    out = []
+    for lname, spec in _entries(data, "loads"):
+        f = f"loads.{lname}"
+        kind, _ = _typed(spec, f, "loads", registry)
+        out.append(registry[kind][0].from_table(lname, {k: v for k, v in spec.items() if k != "type"}, f, vector, space))
+    return out
+
+
 def _parameters(data: Mapping) -> list[Parameter]:
     """The ``[parameters]`` table: ``NAME = value`` or ``NAME = {value, unit, description, scale}``."""
     params = []
@@ -286,52 +294,71 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
     head = _table(data, "mechanism", "mechanism")
     _only(head, KEYS["mechanism"], "mechanism")
     dimension = head.get("dimension", 2)
-    if dimension not in (2, 3) or isinstance(dimension, bool):
+    if isinstance(dimension, bool) or dimension not in _READERS:
         raise InputError("mechanism.dimension", f"must be 2 (planar, the default) or 3 (spatial), got {dimension!r}")
-    common = _common(data, head, filename)
-    if dimension == 3:
-        from .spatial._file import spatial_mechanism
-        return spatial_mechanism(data, common)
-    ground = {k: _pair(v, f"ground.{k}") for k, v in _table(data, "ground", "ground").items()}
-    bodies = []
-    for bname, spec in _entries(data, "bodies"):
-        f = f"bodies.{bname}"
-        _only(spec, KEYS["bodies.NAME"], f)
-        _require(spec, ["mass"], f)
-        points = {}
-        for pn, ps in _table(spec, "points", f + ".points").items():
-            if isinstance(ps, Mapping):
-                _only(ps, KEYS["bodies.NAME.points.NAME"], f"{f}.points.{pn}")
-                _require(ps, ["r", "angle"], f"{f}.points.{pn}")
-                points[pn] = Polar(ps["r"], ps["angle"])
-            else:
-                points[pn] = _pair(ps, f"{f}.points.{pn}")
-        initial = _table(spec, "initial", f + ".initial")
-        bodies.append(Body(bname, spec["mass"], spec.get("length"), spec.get("inertia"),
-                           _pair(spec.get("cg", [0, 0]), f + ".cg"), points, dict(initial),
-                           _text(spec.get("description", ""), f + ".description")))
-    joints = []
-    for jname, spec in _entries(data, "joints"):
-        f = f"joints.{jname}"
-        kind, _ = _typed(spec, f, "joints", _JOINTS)
-        joints.append(JOINT_TYPES[kind].from_table(jname, {k: v for k, v in spec.items() if k != "type"}, f))
-    gravity = None
-    if "gravity" in data:
-        gtab = _table(data, "gravity", "gravity")
-        _only(gtab, KEYS["gravity"], "gravity")
-        gravity = Gravity(**gtab)
-    loads = []
-    for lname, spec in _entries(data, "loads"):
-        f = f"loads.{lname}"
-        kind, cls = _typed(spec, f, "loads", _LOADS)
-        required = {"force": ["at", "magnitude"], "moment": ["body", "magnitude"], "drag": ["body"],
-                    "custom": ["at"]}[kind]
-        _require(spec, required, f)
-        kw = {k: v for k, v in spec.items() if k != "type"}
-        if "direction" in kw and isinstance(kw["direction"], list):
-            kw["direction"] = _pair(kw["direction"], f + ".direction")
-        loads.append(cls(lname, **kw))
-    return Mechanism(bodies=bodies, joints=joints, ground=ground, loads=loads, gravity=gravity, **common)
+    return _READERS[dimension]().read(data, _common(data, head, filename))
+
+
+@dataclass(frozen=True)
+class Reader:
+    """How the tables that differ in the plane and in space are read: the description class and
+    its ``space`` (the load registry's key), a vector (``vector(value, field)``), a load's
+    direction, a body (``body(name, spec, field)``), the joint registry (``type`` -> (class, keys),
+    each class with ``from_table``) and gravity (``gravity(table)``)."""
+
+    mechanism: type[Mechanism]
+    vector: Callable[[Any, str], Any]
+    direction: Callable[[Any, str], Any]
+    body: Callable[[str, Mapping, str], Any]
+    joints: Mapping[str, tuple[Any, frozenset[str]]]
+    gravity: Callable[[Mapping], Any]
+
+    def read(self, data: Mapping, common: dict) -> Mechanism:
+        """The mechanism of the parsed TOML ``data`` with the ``common`` keywords (:func:`_common`)."""
+        ground = {k: self.vector(v, f"ground.{k}") for k, v in _table(data, "ground", "ground").items()}
+        bodies = [self.body(name, spec, f"bodies.{name}") for name, spec in _entries(data, "bodies")]
+        joints = []
+        for jname, spec in _entries(data, "joints"):
+            f = f"joints.{jname}"
+            kind, _ = _typed(spec, f, "joints", self.joints)
+            joints.append(self.joints[kind][0].from_table(jname, {k: v for k, v in spec.items() if k != "type"}, f))
+        gravity = self.gravity(_table(data, "gravity", "gravity")) if "gravity" in data else None
+        space = self.mechanism.space
+        loads = loads_from_table(data, load_keys(space), self.direction, space)
+        return self.mechanism(bodies=bodies, joints=joints, ground=ground, loads=loads, gravity=gravity, **common)
+
+
+def _body(name: str, spec: Mapping, f: str) -> Body:
+    """A planar ``[bodies.NAME]`` table."""
+    _only(spec, KEYS["bodies.NAME"], f)
+    _require(spec, ["mass"], f)
+    points: dict[str, PointSpec] = {}
+    for pn, ps in _table(spec, "points", f + ".points").items():
+        if isinstance(ps, Mapping):
+            _only(ps, KEYS["bodies.NAME.points.NAME"], f"{f}.points.{pn}")
+            _require(ps, ["r", "angle"], f"{f}.points.{pn}")
+            points[pn] = Polar(ps["r"], ps["angle"])
+        else:
+            points[pn] = _pair(ps, f"{f}.points.{pn}")
+    initial = _table(spec, "initial", f + ".initial")
+    return Body(name, spec["mass"], spec.get("length"), spec.get("inertia"), _pair(spec.get("cg", [0, 0]), f + ".cg"),
+                points, dict(initial), _text(spec.get("description", ""), f + ".description"))
+
+
+def _gravity(table: Mapping) -> Gravity:
+    """The planar ``[gravity]`` table."""
+    _only(table, KEYS["gravity"], "gravity")
+    return Gravity(**table)
+
+
+def _spatial_reader() -> Reader:
+    from .spatial._file import READER
+    return READER
+
+
+#: ``[mechanism] dimension`` -> the reader of the rest of the file (the spatial one imported on first use).
+_READERS: dict[int, Callable[[], Reader]] = {
+    2: lambda: Reader(Mechanism, _pair, _direction, _body, _JOINTS, _gravity), 3: _spatial_reader}
 
 
 # -- locating keys in the text ----------------------------------------------------------------

@@ -20,10 +20,10 @@ the inter-link forces as unknowns, as in the paper. The reduced form is describe
 from __future__ import annotations
 
 import math
-from collections import deque
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
@@ -33,14 +33,18 @@ from ..errors import InputError
 from ._assembly import close_constraints, dof_report
 from ._compiled import CoordinatesOf, DroppedResidual
 from ._conditions import condition_description, condition_rows, condition_scale, condition_targets
-from ._description import CustomLoad, Drag, Mechanism, PointForce
-from ._expr import float_value, symbol
+from ._description import Mechanism
+from ._diagnose import check_assembled, least_squares_closure, loop_error, redundancy_error
+from ._expr import symbol
 from ._forces import loads
-from ._kinematics import ConstraintRow, Kinematics, pin_chain
+from ._kinematics import ConstraintRow, Kinematics, place_along_joints
 from ._reduce import reduce_form
 from ._scene import scene_function
 from ._stops import stop_forces
-from ._values import check_values, evaluate, parameter_values, physical_limits, value_check
+from ._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
+
+if TYPE_CHECKING:
+    from .spatial._kinematics import SpatialKinematics
 
 __all__ = ["generate"]
 
@@ -65,9 +69,14 @@ def _scales(mech: Mechanism, values: dict[str, float]) -> tuple[float, float]:
         g = abs(evaluate(mech.value("gravity.g"), values, ""))
         forces.append(g * sum(evaluate(mech.value(f"bodies.{b.name}.mass"), values, "") for b in mech.bodies))
     forces += [abs(evaluate(mech.value(f"springs.{s.name}.k"), values, "")) * Lc for s in mech.springs]
-    forces += [abs(evaluate(mech.value(f"loads.{ld.name}.magnitude"), values, "")) for ld in mech.loads
-               if isinstance(ld, PointForce)]
+    forces += load_forces(mech, values)
     return Lc, max(forces + [1e-3])
+
+
+def load_forces(mech: Mechanism, values: Mapping[str, float]) -> list[float]:
+    """The magnitudes (N) of the loads that state one (:attr:`~.loads.Load.FORCE_KEY`) at ``values``."""
+    return [abs(evaluate(mech.value(ld.field(ld.FORCE_KEY)), values, "")) for ld in mech.loads
+            if ld.FORCE_KEY is not None]
 
 
 def _parameter_scale(p, value: float, Lc: float, Fc: float) -> float:
@@ -82,7 +91,6 @@ def _parameter_scale(p, value: float, Lc: float, Fc: float) -> float:
 
 def _initial_guess(mech: Mechanism, kin: Kinematics, values: dict[str, float]) -> dict[str, float]:
     """Approximate coordinates: the given initial values, bodies placed along pin chains."""
-    num = {symbol(k): v for k, v in values.items()}
     guess: dict[str, float] = {}
     placed = {"ground"}
     for b in mech.bodies:
@@ -92,83 +100,8 @@ def _initial_guess(mech: Mechanism, kin: Kinematics, values: dict[str, float]) -
             guess[name] = evaluate(mech.value(f"{f}.{key}"), values, f"{f}.{key}") if key in b.initial else 0.0
         if "x" in b.initial and "y" in b.initial:
             placed.add(b.name)
-    held = {k: evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}") for k in mech.hold}
-    guess.update(held)
-    for _, known, new, body in pin_chain(mech, placed):
-        x, y, _ = kin.body_q[body]
-        at = {**num, **{symbol(k): v for k, v in guess.items()}}
-        P = [float(c) for c in kin.point(known).xreplace(at)]
-        local = [float(c) for c in kin.point(new).xreplace({**at, x: 0, y: 0})]
-        guess[str(x)], guess[str(y)] = P[0] - local[0], P[1] - local[1]
-    guess.update(held)  # a held coordinate keeps its value: placing its body by a joint must not move it
+    place_along_joints(kin, placed, guess, values)
     return guess
-
-
-def _least_squares(model: MechanicalModel, x: np.ndarray, free_q: np.ndarray) -> np.ndarray:
-    """The configuration minimising |Phi|^2 near ``x`` (to measure by how much loops miss)."""
-    from scipy.optimize import least_squares
-    idx = model.q_index[free_q]
-    cols = np.flatnonzero(free_q)
-
-    def fun(u):
-        y = x.copy()
-        y[idx] = u
-        return model.phi(y)
-
-    def jac(u):
-        y = x.copy()
-        y[idx] = u
-        return model.phi_q(y)[:, cols]
-
-    sol = least_squares(fun, x[idx], jac=jac, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=2000)
-    y = x.copy()
-    y[idx] = sol.x
-    return y
-
-
-def _loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray) -> InputError:
-    """Name the loop that cannot close and by how much (sum of the joint gaps around it)."""
-    gaps: dict[str, float] = {}
-    for row, r in zip(rows, phi):
-        gaps[row.joint] = math.hypot(gaps.get(row.joint, 0.0), r)
-    worst = max(gaps, key=gaps.__getitem__)
-    actuators = {n: g for n, g in gaps.items() if g > 1e-9 and any(a.name == n for a in mech.actuators)}
-    if actuators:  # a length-mode actuator that cannot reach its length: name it, not a joint
-        held = f" with held {', '.join(f'{k} = {v}' for k, v in mech.hold.items())}" if mech.hold else ""
-        return InputError(f"actuators.{max(actuators, key=actuators.__getitem__)}.length",
-                          f"cannot be met{held}: the loop through the actuator misses by {sum(gaps.values()):.4g} m "
-                          f"at best")
-    joint = next(j for j in mech.joints if j.name == worst)
-    start, goal = joint.a.split(".")[0], joint.b.split(".")[0]
-    edges = [(j.name, j.a.split(".")[0], j.b.split(".")[0]) for j in mech.joints if j.name != worst]
-    prev: dict[str, tuple[str, str] | None] = {start: None}
-    todo = deque([start])
-    while todo:
-        node = todo.popleft()
-        for name, a, b in edges:
-            for u, v in ((a, b), (b, a)):
-                if u == node and v not in prev:
-                    prev[v] = (node, name)
-                    todo.append(v)
-    held = f" with held {', '.join(f'{k} = {v}' for k, v in mech.hold.items())}" if mech.hold else ""
-    if goal not in prev:
-        return InputError(f"joints.{worst}", f"cannot be satisfied{held}: gap {gaps[worst]:.4g} m")
-    bodies, joints, node = [goal], [], goal
-    step = prev[node]
-    while step is not None:
-        node, name = step
-        bodies.append(node)
-        joints.append(name)
-        step = prev[node]
-    bodies, joints = bodies[::-1], [*joints[::-1], worst]  # start ... goal, then back to start by `worst`
-    if "ground" in bodies:  # read the loop from the ground
-        i = bodies.index("ground")
-        bodies, joints = bodies[i:] + bodies[:i], joints[i:] + joints[:i]
-    gap = sum(gaps.get(j, 0.0) for j in joints)
-    loop = " - ".join([*bodies, bodies[0]])
-    return InputError(f"joints.{worst}",
-                      f"the loop {loop} (joints {', '.join(joints)}) cannot close with the given "
-                      f"lengths{held}: it misses by {gap:.4g} m at best")
 
 
 @dataclass
@@ -278,7 +211,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
     free_q = np.array([c not in mech.hold for c in coords])
     x, ok = close_constraints(model.phi, model.phi_q, x, model.q_index, free_q)
     if not ok:
-        raise _loop_error(mech, rows, model.phi(_least_squares(model, x, free_q)))
+        raise loop_error(mech, rows, model.phi(least_squares_closure(model, x, free_q)))
     report = dof_report(model.phi_q(x), [r.joint for r in rows])
     if report.dof != mech.dof:
         red = report.redundant_joints
@@ -289,7 +222,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
                                           f"{mech.dof} (rank {report.rank} of {len(rows)} constraints on "
                                           f"{len(coords)} coordinates){why}")
     if report.redundant and mech.redundant != "drop":
-        raise _redundancy_error(mech, rows, report)
+        raise redundancy_error(mech, rows, report)
     var = st.variant(mech, tuple(report.dependent) if report.redundant else ())
     if var.dropped:
         x = np.concatenate([x[:len(coords)], np.zeros(len(var.rows)), x[len(coords) + len(rows):]])
@@ -298,7 +231,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
     x[nq:nq + len(rows)] = model.multipliers(x)
     if var.condition_values is not None:  # each condition's value at the assembled configuration
         x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(var.condition_values(x), dtype=float).reshape(-1)
-    _check_assembled(mech, kin, model, x, st.subs, Lc, coords, rows, cnames)
+    check_assembled(mech, kin, model, x, st.subs, Lc, coords, rows, cnames)
     variables = []
     for c, v in zip(coords, x):
         variables.append(Variable(c, "state", float(v), *_coordinate_unit_text(c, Lc)))
@@ -321,7 +254,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
         + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
         limits=physical_limits(mech, solve=True),
         scene=scene_function(kin, st.arrows, [v.symbol for v in variables], st.subs),
-        check_values=_analysis_value_check(mech),
+        check_values=analysis_value_check(mech),
     )
     var.model = Model.from_system(
         system,
@@ -413,73 +346,7 @@ def summary(mech: Mechanism) -> tuple[str, list[tuple[str, str, str, str, float 
     return mech.description or f"generated from the description of {mech.name}", out
 
 
-def _analysis_value_check(mech: Mechanism):
-    """``check(values)`` of :func:`_check_analysis_values`, screened by compiled code (see
-    :class:`~mechcont.mechanism._compiled.ValueCheck`)."""
-    vectors = [[mech.value(f"loads.{ld.name}.direction.{c}") for c in "xy"] for ld in mech.loads
-               if isinstance(ld, PointForce) and isinstance(ld.direction, (tuple, list))]
-    static = any(isinstance(ld, Drag) and ld.start == ld.end for ld in mech.loads)
-    return value_check(mech, partial(_check_analysis_values, mech), physical_limits(mech, solve=True), vectors,
-                       static_error=static)
-
-
-def _check_analysis_values(mech: Mechanism, values: Mapping[str, float]) -> None:
-    """The description's physical checks at ``values`` (the defaults where not given; a zero stiffness allowed)."""
-    check_values(mech, {p.name: float(values.get(p.name, p.value)) for p in mech.parameters}, solve=True)
-
-
-def _check_assembled(mech: Mechanism, kin: Kinematics, model: MechanicalModel, x: np.ndarray, subs: dict,
-                     Lc: float, coords: list[str], rows: list[ConstraintRow], cnames: list[str]) -> None:
-    """InputError naming what makes the assembled configuration degenerate: a spring, damper or
-    actuator whose ends coincide (its direction, and so its force, is undefined), or a load,
-    reaction or condition that is not finite there."""
-    at = {symbol(n): float(v) for n, v in zip(model.names, x)}
-
-    def number(expr) -> float:
-        return float_value(sp.sympify(expr, strict=True).xreplace(subs), at)
-
-    where = "; move an end point or assemble elsewhere (bodies' initial, [assembly] hold)"
-    for group, items in (("springs", mech.springs), ("dampers", mech.dampers), ("actuators", mech.actuators)):
-        for el in items:
-            d = kin.point(el.b) - kin.point(el.a)
-            gap = math.hypot(number(d[0]), number(d[1]))
-            if not gap > 1e-9 * Lc:
-                raise InputError(f"{group}.{el.name}", f"its ends {el.a} and {el.b} coincide at the assembled "
-                                                       f"configuration (distance {gap:.3g} m): the direction of its "
-                                                       f"force is undefined there{where}")
-    for cond in mech.conditions:
-        if cond.kind == "distance":  # |b - a| has no derivative where a = b (a NaN Jacobian)
-            d = kin.point(cond.points[1]) - kin.point(cond.points[0])
-            gap = math.hypot(number(d[0]), number(d[1]))
-            if not gap > 1e-9 * Lc:
-                raise InputError(f"conditions.{cond.name}", f"its points {cond.points[0]} and {cond.points[1]} coincide "
-                                                            f"at the assembled configuration (distance {gap:.3g} m): the "
-                                                            f"distance has no derivative there{where}")
-    for ld in mech.loads:
-        if isinstance(ld, CustomLoad):
-            for key in ("fx", "fy", "moment"):
-                v = number(mech.value(f"loads.{ld.name}.{key}"))
-                if not math.isfinite(v):
-                    raise InputError(f"loads.{ld.name}.{key}", f"is {v} at the assembled configuration (a division "
-                                                               f"by zero there?){where}")
-    nq, nr = len(coords), len(rows)
-    for c, v in zip(cnames, x[nq + nr:nq + nr + len(cnames)]):
-        if not math.isfinite(v):
-            raise InputError(f"conditions.{c}", f"is {v} at the assembled configuration (a division by zero or an "
-                                                f"angle between coincident points there?){where}")
-    Q = model.applied_forces(x)
-    lam = x[nq:nq + nr]
-    bad = [c for c, v in zip(coords, Q) if not math.isfinite(v)]
-    what = "applied forces"
-    if not bad and not np.all(np.isfinite(lam)):
-        bad, what = [r.reaction for r, v in zip(rows, lam) if not math.isfinite(v)], "joint reactions"
-    if bad:
-        raise InputError("assembly", f"the {what} are not finite at the assembled configuration ({', '.join(bad[:4])}"
-                                     f"{', ...' if len(bad) > 4 else ''}): the geometry there is degenerate (two "
-                                     f"points that carry a force coincide, or a load divides by zero){where}")
-
-
-def _equilibrium(mech: Mechanism, coords: list[str], rows: list[ConstraintRow], forces: list[sp.Expr],
+def _equilibrium(mech: Mechanism, coords: list[str], rows: Sequence[ConstraintRow], forces: list[sp.Expr],
                  mass: sp.Matrix, conditions: Sequence[str] = (), *,
                  gradient=None) -> tuple[list[sp.Expr], MechanicalModel]:
     """Equilibrium rows ``Q - Phi_q^T lambda`` (at rest) and the compiled mechanical model.
@@ -507,26 +374,13 @@ def _equilibrium(mech: Mechanism, coords: list[str], rows: list[ConstraintRow], 
     return equilibrium, MechanicalModel(names, coords, [r.expr for r in rows], forces, mass)
 
 
-def _redundancy_error(mech: Mechanism, rows: list[ConstraintRow], report) -> InputError:
-    """One line: how many constraints are redundant, which joints, and what to do."""
-    n = len(report.dependent)
-    groups = "; ".join(f"{rows[i].equation} is implied by joints {', '.join(g[1:]) or '(none)'}"
-                       for i, g in zip(report.dependent, report.redundant))
-    return InputError("mechanism.redundant",
-                      f"over-constrained: {n} redundant constraint(s) among joints "
-                      f"{', '.join(report.redundant_joints)} ({groups}); the mechanism has the intended {report.dof} "
-                      f"degree(s) of freedom but those joints' reactions are statically indeterminate: "
-                      f"relax one joint (e.g. a slider instead of a pin) or set redundant = \"drop\" under "
-                      f"[mechanism] to drop the dependent rows")
-
-
-def _dropped_residual(system: EquationSystem, dropped: list[ConstraintRow]) -> DroppedResidual:
+def _dropped_residual(system: EquationSystem, dropped: Sequence[ConstraintRow]) -> DroppedResidual:
     """The compiled residual of the ``dropped`` rows of ``system`` (see :class:`DroppedResidual`)."""
     from ..equations._codegen import compile_dense
     return DroppedResidual(compile_dense(list(system.symbols), [r.expr for r in dropped]) if dropped else None)
 
 
-def _coordinates_of(kin: Kinematics, system: EquationSystem, subs: dict) -> CoordinatesOf:
+def _coordinates_of(kin: Kinematics | SpatialKinematics, system: EquationSystem, subs: dict) -> CoordinatesOf:
     """The compiled body coordinates of ``system`` (see :class:`CoordinatesOf`)."""
     from ..equations._codegen import compile_dense
     exprs = [subs.get(s, s) for s in kin.q]

@@ -8,14 +8,17 @@ so that the multiplier of a joint is the force the body of ``a`` exerts on the b
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import sympy as sp
 
 from ._actuators import actuator_rows
+from ._bodies import SpatialBody
 from ._description import Body, Mechanism, Polar, coordinate_names
 from ._expr import symbol
 from .joints import ConstraintRow
 
-__all__ = ["Kinematics", "ConstraintRow", "kinematics_of"]
+__all__ = ["Kinematics", "ConstraintRow", "kinematics_of", "pin_chain", "place_along_joints"]
 
 
 def _rot(theta: sp.Expr, p: sp.Matrix) -> sp.Matrix:
@@ -71,6 +74,30 @@ class Kinematics:
         """Global position of the centre of gravity of ``body``."""
         return self.point(f"{body}.cg")
 
+    def origin(self, body: str) -> list[sp.Symbol]:
+        """The coordinates of ``body``'s frame origin: ``x``, ``y`` (m)."""
+        return list(self.body_q[body][:2])
+
+    def distance(self, a: str, b: str) -> sp.Expr:
+        """Distance (m) between the point references ``a`` and ``b``."""
+        d = self.point(b) - self.point(a)
+        return sp.sqrt(d[0] ** 2 + d[1] ** 2)
+
+    def direction(self, field: str, raw) -> sp.Matrix:
+        """The unit vector of the direction at key path ``field``: its ``[x, y]`` normalised, or
+        ``(cos, sin)`` of an angle (rad) (``raw``, the value as described, tells which)."""
+        m = self.mech
+        if isinstance(raw, (tuple, list)):
+            u = sp.Matrix([m.value(f"{field}.x"), m.value(f"{field}.y")])
+            return u / sp.sqrt(u[0] ** 2 + u[1] ** 2)
+        a = m.value(field)
+        return sp.Matrix([sp.cos(a), sp.sin(a)])
+
+    def force_work(self, P: sp.Matrix, f: sp.Matrix, theta=sp.S.Zero, moment=0) -> list[sp.Expr]:
+        """Generalised forces (one per coordinate) of the force ``f`` (N) at ``P`` and the moment
+        ``moment`` (N m) on the frame at angle ``theta``: ``f . dP/dq + moment dtheta/dq``."""
+        return [f[0] * sp.diff(P[0], qi) + f[1] * sp.diff(P[1], qi) + moment * sp.diff(theta, qi) for qi in self.q]
+
     # -- constraints ---------------------------------------------------------------
     def constraints(self) -> list[ConstraintRow]:
         """Every scalar constraint, joint by joint in declaration order, then the length-mode actuators."""
@@ -91,11 +118,11 @@ class Kinematics:
             M[3 * i:3 * i + 3, 3 * i:3 * i + 3] = block
         return M
 
-    def body_mass(self, b: Body) -> sp.Expr:
+    def body_mass(self, b: Body | SpatialBody) -> sp.Expr:
         """Mass (kg) of body ``b``."""
         return self.mech.value(f"bodies.{b.name}.mass")
 
-    def body_inertia(self, b: Body) -> sp.Expr:
+    def body_inertia(self, b: Body | SpatialBody) -> sp.Expr:
         """Moment of inertia about the CG (kg m^2): given, or ``m L^2/12`` for a bar."""
         f = f"bodies.{b.name}"
         if b.inertia is not None:
@@ -103,12 +130,13 @@ class Kinematics:
         return self.body_mass(b) * self.mech.value(f + ".length") ** 2 / 12
 
 
-def kinematics_of(mech: Mechanism) -> Kinematics:
-    """The :class:`Kinematics` of ``mech``, made once per description (it depends on no value) and kept
-    with its generated structures."""
+def kinematics_of(mech: Mechanism):
+    """The kinematics of ``mech`` (:class:`Kinematics` in the plane, its spatial twin in space: the
+    description's :meth:`~Mechanism.kinematics_class`), made once per description (it depends on no
+    value) and kept with its generated structures."""
     kin = mech._generated.get("kinematics")
     if kin is None:
-        kin = mech._generated["kinematics"] = Kinematics(mech)
+        kin = mech._generated["kinematics"] = mech.kinematics_class()(mech)
     return kin
 
 
@@ -135,3 +163,24 @@ def pin_chain(mech: Mechanism, placed: set[str]):
             placed.add(body)
             changed = True
 
+
+def place_along_joints(kin, placed: set[str], guess: dict[str, float], values: Mapping[str, float]) -> None:
+    """Move the frame origin of each body reached from the ``placed`` ones through coincident
+    joints (:func:`pin_chain`) so that the joint's two points meet, its orientation in ``guess``
+    kept: updates ``guess`` (coordinate name -> value) for the kinematics ``kin``, planar or spatial.
+    The held coordinates (``[assembly] hold``, at the parameter ``values``) are set first and keep
+    their values: placing a body by a joint must not move them."""
+    from ._values import evaluate
+
+    mech = kin.mech
+    held = {k: evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}") for k in mech.hold}
+    guess.update(held)
+    num = {symbol(k): v for k, v in values.items()}
+    for _, known, new, body in pin_chain(kin.mech, placed):
+        origin = kin.origin(body)
+        at = {**num, **{symbol(k): v for k, v in guess.items()}}
+        P = [float(c) for c in kin.point(known).xreplace(at)]
+        local = [float(c) for c in kin.point(new).xreplace({**at, **{s: 0 for s in origin}})]
+        for s, p, q in zip(origin, P, local):
+            guess[str(s)] = p - q
+    guess.update(held)

@@ -11,7 +11,7 @@ from ..equations import Scene
 from ..equations._codegen import compile_dense
 from ._actuators import Actuator, actuator_load
 from ._compiled import GeneratedScene
-from ._description import CustomLoad, Damper, Moment, Spring
+from ._description import Damper, Spring
 from ._kinematics import Kinematics
 
 __all__ = ["scene_function"]
@@ -23,9 +23,9 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
 
     ``subs`` maps eliminated coordinates to expressions in the system's variables (reduced
     form). Bodies are drawn as polylines ``a -> b`` (bars; each point off the bar axis adds
-    a triangle ``a -> p -> b``) or through their declared points (other bodies). A
-    :class:`Moment` on a body is drawn around the body's pin to the ground if it has one,
-    else around the body's origin; a :class:`CustomLoad` with a moment around its point.
+    a triangle ``a -> p -> b``) or through their declared points (other bodies). Each
+    load adds its arrows and draws itself (:meth:`~.loads.Load.draw`: a planar moment around the
+    body's pin to the ground if it has one, else around the body's origin).
     Ground points that springs, dampers or actuators attach to (and no pin or weld does) are
     anchors. Actuators carry their tension (N): the force parameter, or the reaction ``T_<name>``.
     ``Scene.points`` names, for labels, every ground point and every named body point: the
@@ -73,16 +73,10 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
         if ref.split(".")[0] == "ground" and ref not in ground_joints and ref not in anchors:
             anchors.append(ref)
             add("anchor", ref, [kin.point(ref)])
-    for name, P, F in arrows:
-        add("force", name, [P, F])
+    for kind, name, P, F in arrows:
+        add(kind, name, [P, F])
     for ld in mech.loads:
-        if isinstance(ld, Moment):
-            at = pinned.get(ld.body, f"{ld.body}.origin")
-            add("moment", ld.name, [kin.point(at), sp.Matrix([mech.value(f"loads.{ld.name}.magnitude"), 0])])
-        elif isinstance(ld, CustomLoad):
-            M = sp.sympify(mech.value(f"loads.{ld.name}.moment"), strict=True)
-            if M != 0:
-                add("moment", ld.name, [kin.point(ld.at), sp.Matrix([M, 0])])
+        ld.draw(kin, add, pinned)
     for b in mech.bodies:
         names = mech.point_names(b.name)
         off_origin = any(c != 0 for c in kin.local_point(b.name, "cg"))

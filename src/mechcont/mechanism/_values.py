@@ -4,18 +4,20 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from functools import partial
 
 import numpy as np
 import sympy as sp
 
 from ..equations import Limit
 from ..errors import InputError
-from ._description import Drag, Mechanism, PointForce
+from ._description import Mechanism
 from ._expr import float_value
 from ._stops import stop_value_limits
 
 __all__ = ["parameter_values", "check_values", "check_finite", "check_stop_limits", "physical_limits", "evaluate",
-           "value_check"]
+           "value_check", "check_vectors",
+           "vector_fields", "analysis_value_check"]
 
 
 def parameter_values(mech: Mechanism, overrides: Mapping[str, float]) -> dict[str, float]:
@@ -87,8 +89,8 @@ def check_stop_limits(mech, values: Mapping[str, float]) -> None:
 def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
     """The physical ranges of a description's quantities, as :class:`~mechcont.equations.Limit`.
 
-    Lengths (bodies, length-mode actuators), masses, inertias, free lengths and drag diameters
-    must be positive; damping,
+    Lengths (bodies, length-mode actuators), masses, (principal) inertias, free lengths, joint
+    stiffnesses and drag diameters must be positive; damping,
     air density and drag coefficient non-negative; spring stiffness positive in the file
     (``solve=False``) and non-negative for an analysis (zero disconnects the spring, as in
     the paper's Fig. 7, "no spring load"). Each limit is named by its key path.
@@ -103,8 +105,8 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
         need(f + ".mass", True, "mass (kg)")
         if b.length is not None:
             need(f + ".length", True, "length (m)")
-        if b.inertia is not None:
-            need(f + ".inertia", True, "inertia (kg m^2)")
+        for field, what in b.inertia_limits():
+            need(field, True, what)
     for s in mech.springs:
         need(f"springs.{s.name}.k", not solve, "stiffness (N/m)")
         need(f"springs.{s.name}.free_length", True, "free length (m)")
@@ -114,11 +116,8 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
     for args in stop_value_limits(mech):
         need(*args)
     for ld in mech.loads:
-        if isinstance(ld, Drag):
-            f = f"loads.{ld.name}"
-            need(f + ".rho", False, "air density (kg/m^3)")
-            need(f + ".d", True, "diameter (m)")
-            need(f + ".CD", False, "drag coefficient")
+        for field, strict, what in ld.limits():
+            need(field, strict, what)
     for act in mech.actuators:
         if act.length is not None:
             need(f"actuators.{act.name}.length", True, "actuator length (m)")
@@ -132,8 +131,9 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
 def check_values(mech: Mechanism, values: Mapping[str, float], *, solve: bool = False) -> None:
     """Reject physically impossible values (at the parameter ``values``).
 
-    Every :func:`physical_limits` quantity must lie in its range, a drag segment needs two
-    points and a force direction must be non-zero. With ``solve=True`` (values given for one
+    Every :func:`physical_limits` quantity must lie in its range, each element's own checks
+    pass (a drag segment needs two points, an inertia tensor is a body's, a universal joint's
+    axes are perpendicular) and no direction is zero. With ``solve=True`` (values given for one
     analysis, not the file's defaults) a spring stiffness of zero is allowed. Raises
     :class:`InputError` naming the key path and the value.
     """
@@ -143,15 +143,44 @@ def check_values(mech: Mechanism, values: Mapping[str, float], *, solve: bool = 
         v = evaluate(lim.expr, values, lim.name)
         if (v <= 0) if lim.strict else (v < 0):
             raise InputError(lim.name, lim.message(v))
+    for b in mech.bodies:
+        b.check_values(mech, values)
     for ld in mech.loads:
-        f = f"loads.{ld.name}"
-        if isinstance(ld, Drag) and ld.start == ld.end:
-            raise InputError(f + ".end", "the drag segment needs two different points")
-        if isinstance(ld, PointForce) and isinstance(ld.direction, (tuple, list)):
-            ux = evaluate(mech.value(f + ".direction.x"), values, f + ".direction")
-            uy = evaluate(mech.value(f + ".direction.y"), values, f + ".direction")
-            if ux == 0 and uy == 0:
-                raise InputError(f + ".direction", "direction must not be the zero vector")
+        ld.check_values(mech, values)
+    check_vectors(mech, values, vector_fields(mech))
+    for j in mech.joints:
+        j.check_values(mech, values)
+
+
+def vector_fields(mech: Mechanism) -> list[str]:
+    """The key paths of the description's vectors that must not be zero (directions, axes)."""
+    fields = [f for ld in mech.loads for f in ld.vectors()]
+    fields += mech.gravity.vectors() if mech.gravity is not None else []
+    return fields + [f"joints.{j.name}.{k}" for j in mech.joints for k in j.VECTORS]
+
+
+def analysis_value_check(mech: Mechanism):
+    """``check(values)`` of :func:`check_values` for an analysis (the defaults where not given, a zero
+    stiffness allowed), screened by compiled code (see :class:`~mechcont.mechanism._compiled.ValueCheck`):
+    the same limits, vectors and perpendicular axes."""
+    vectors = [[mech.value(f"{f}.{c}") for c in mech.AXES] for f in vector_fields(mech)]
+    pairs = [pair for j in mech.joints for pair in j.perpendicular(mech)]
+    static = any(ld.static_error() for ld in mech.loads)
+    return value_check(mech, partial(_check_analysis_values, mech), physical_limits(mech, solve=True), vectors, pairs,
+                       static_error=static)
+
+
+def _check_analysis_values(mech: Mechanism, values: Mapping[str, float]) -> None:
+    """The description's physical checks at ``values`` (the defaults where not given; a zero stiffness allowed)."""
+    check_values(mech, {p.name: float(values.get(p.name, p.value)) for p in mech.parameters}, solve=True)
+
+
+def check_vectors(mech: Mechanism, values: Mapping[str, float], fields: Sequence[str]) -> None:
+    """Each vector at the key paths ``fields`` (components ``mech.AXES``) must not be zero at ``values``."""
+    for f in fields:
+        v = [evaluate(mech.value(f"{f}.{c}"), values, f) for c in mech.AXES]
+        if not any(v):
+            raise InputError(f, "must not be the zero vector")
 
 
 def value_check(mech, exact, limits: list[Limit], vectors: list[list], perpendicular: Sequence[list] = (),

@@ -115,10 +115,8 @@ def describe_model(name: str | Path) -> ModelSummary:
 
     def describe() -> ModelSummary:
         from ..mechanism import load_description
-        from ..mechanism._generate import summary
 
-        mech = load_description(path)
-        found = summary(mech) if mech.dimension == 2 else None
+        found = load_description(path).summary()
         if found is None:
             m = load_model(key)
             found = m.description, [(v.name, v.kind, v.unit, v.description, v.value) for v in m.variables]

@@ -605,7 +605,9 @@ def _renderer(scene_fn, system, frames: BranchFrames, rows: Sequence[int], annot
               show_forces, diagram, figsize, dpi) -> _Renderer:
     """The laid-out figure of an animation and its frames (planar or spatial), first frame drawn."""
     scenes = [scene_fn(frames.values[i]) for i in rows]
-    make = _spatial_renderer if scenes[0].dimension == 3 else _planar_renderer
+    from .drawing3d import is_spatial
+
+    make = _spatial_renderer if is_spatial(scenes[0]) else _planar_renderer
     renderer = make(system, frames, rows, scenes, annotate, _numbered(frames.labels), title=title,
                     show_forces=show_forces, diagram=diagram, figsize=figsize, dpi=dpi)
     # Lay the figure out once (the view is fixed, so every frame has the same layout).

@@ -628,8 +628,9 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
     x = _check_x(system, x)
     for name in annotate:
         system.index(name)
-    if ax is None and scene_fn(x).dimension == 3:  # a spatial mechanism: three-view and 3-D view
-        from .drawing3d import draw3d
+    from .drawing3d import draw3d, is_spatial
+
+    if ax is None and is_spatial(scene_fn(x)):  # a spatial mechanism: three-view and 3-D view
 
         return draw3d(system, x, path, title=title, show_forces=show_forces, annotate=annotate, stable=stable,
                       label=label, dpi=dpi, label_points=label_points)

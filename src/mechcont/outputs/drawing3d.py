@@ -45,7 +45,8 @@ _FONT = 9   # pt: the smallest type of a drawing
 
 
 def is_spatial(scene: Scene) -> bool:
-    """True when ``scene`` holds 3-D coordinates."""
+    """True when ``scene`` holds 3-D coordinates: the scenes this module draws (the one place the
+    drawings ask which kind a scene is)."""
     return scene.dimension == 3
 
 

@@ -66,6 +66,8 @@ class PlanarJoint:
     KEYS: ClassVar[frozenset[str]] = frozenset({"a", "b"})
     REQUIRED: ClassVar[tuple[str, ...]] = ("a", "b")
     VALUES: ClassVar[tuple[str, ...]] = ()
+    #: Keys of the joint's vectors that must not be zero (none so far in the plane).
+    VECTORS: ClassVar[tuple[str, ...]] = ()
     COINCIDENT: ClassVar[bool] = False
 
     def __init_subclass__(cls, **kwargs):
@@ -119,6 +121,13 @@ class PlanarJoint:
     def limits(self, kin: Kinematics) -> list[tuple[str, sp.Expr, bool, str]]:
         """``(key path, quantity, strict, what)``: quantities that must be positive (strict) or non-negative."""
         return []
+
+    def perpendicular(self, mech: Mechanism) -> list[list[sp.Expr]]:
+        """Pairs of vectors (six expressions) that must be perpendicular (default: none)."""
+        return []
+
+    def check_values(self, mech: Mechanism, values: Mapping[str, float]) -> None:
+        """Reject values impossible for this joint at the parameter ``values`` (default: none)."""
 
 
 def check_points(name: str, refs: list[tuple[str, str]], mech: Mechanism) -> None:

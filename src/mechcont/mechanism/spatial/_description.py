@@ -20,20 +20,20 @@ Conventions (SI units, radians):
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
-
 from ...errors import InputError
-from .._description import BAR_POINTS, BUILTIN_POINTS, Mechanism, PointForce, _check_name
+from .._bodies import INERTIA_KEYS, SpatialBody
+from .._description import Mechanism
 from .._expr import Value
+from ..loads import SpatialCustomLoad, SpatialDrag, SpatialGravity, SpatialMoment
 from ._joints import SpatialJoint
 
 __all__ = ["SpatialBody", "SpatialGravity", "SpatialMoment", "SpatialCustomLoad", "SpatialDrag", "SpatialMechanism",
            "spatial_coordinate_names", "INERTIA_KEYS"]
 
-Vector = tuple[Value, Value, Value]
-#: Components of a full inertia tensor, in the order of ``inertia = [...]`` with six values.
-INERTIA_KEYS = ("xx", "yy", "zz", "xy", "xz", "yz")
+
+def normalisation_row(body: str) -> str:
+    """The name of ``body``'s Euler-parameter normalisation row (and its joint)."""
+    return f"norm_{body}"
 
 
 def spatial_coordinate_names(body: str) -> tuple[str, ...]:
@@ -42,102 +42,7 @@ def spatial_coordinate_names(body: str) -> tuple[str, ...]:
     return (f"x{sep}{body}", f"y{sep}{body}", f"z{sep}{body}", *(f"e{i}_{body}" for i in range(4)))
 
 
-@dataclass(frozen=True)
-class SpatialBody:
-    """A rigid body in space.
-
-    Parameters
-    ----------
-    name:
-        Identifier (letters, digits, underscore; may be all digits).
-    mass:
-        Mass (kg), positive.
-    length:
-        For a bar: its length (m); adds the end points ``a``, ``b`` on the body's x axis.
-    inertia:
-        About the centre of gravity, design-pose axes (kg m^2): ``[Ixx, Iyy, Izz]`` or
-        ``[Ixx, Iyy, Izz, Ixy, Ixz, Iyz]`` (products of inertia as the tensor's off-diagonal
-        entries). Default: a bar is a thin rod (``m L^2/12`` across, ``m r^2/2`` along it,
-        ``r = L/20``); another body a uniform sphere ``2/5 m r^2`` whose radius is half the
-        largest distance between its declared points and centre of gravity (not its frame
-        origin, at least 1 mm). Statics never uses the inertia; the time
-        simulation and non-conservative stability do: give it for those.
-    cg:
-        Centre of gravity in body coordinates (m).
-    points:
-        Named points in body coordinates ``[x, y, z]`` (m).
-    initial:
-        Guess for the first assembly: ``x``, ``y``, ``z`` (m) of the frame origin and
-        ``rotation = [rx, ry, rz]`` (rad, a rotation vector from the design pose).
-    """
-
-    name: str
-    mass: Value
-    length: Value | None = None
-    inertia: Sequence[Value] | None = None
-    cg: Vector = (0, 0, 0)
-    points: Mapping[str, Vector] = field(default_factory=dict)
-    initial: Mapping[str, object] = field(default_factory=dict)
-    description: str = ""
-
-
-@dataclass(frozen=True)
-class SpatialGravity:
-    """Uniform gravity of magnitude ``g`` (m/s^2) along ``direction`` (default ``-z``)."""
-
-    g: Value = "g"
-    direction: Vector = (0, 0, -1)
-
-
-@dataclass(frozen=True)
-class SpatialMoment:
-    """A pure moment ``magnitude`` (N m) about the fixed global ``axis`` (right-hand rule) on a body."""
-
-    name: str
-    body: str
-    magnitude: Value
-    axis: Vector = (0, 0, 1)
-
-
-@dataclass(frozen=True)
-class SpatialCustomLoad:
-    """A user-defined load: force ``(fx, fy, fz)`` (N, global axes) at point ``at`` and moment
-    ``(mx, my, mz)`` (N m, global axes) on that point's body; expressions may use the
-    parameters and the coordinates."""
-
-    name: str
-    at: str
-    fx: Value = 0
-    fy: Value = 0
-    fz: Value = 0
-    mx: Value = 0
-    my: Value = 0
-    mz: Value = 0
-
-
-@dataclass(frozen=True)
-class SpatialDrag:
-    """Aerodynamic cross-flow drag on the segment from point ``start`` to point ``end`` of ``body``.
-
-    With the air velocity ``U * direction / |direction|`` (m/s), the segment ``D = P_end -
-    P_start`` of length ``L`` and the air velocity's component normal to it ``w_n``, the force
-    ``1/2 rho C_D d L |w_n| w_n`` (N) acts at the segment's midpoint (the planar drag's model in
-    space; ``|w_n|`` smoothed as ``sqrt(|w_n|^2 + (1e-6 m/s)^2)`` so the Jacobian exists at
-    ``U = 0``).
-    """
-
-    name: str
-    body: str
-    rho: Value = "rho"
-    U: Value = "U"
-    direction: Vector = (1, 0, 0)
-    d: Value = "d"
-    CD: Value = "C_D"
-    start: str = "a"
-    end: str = "b"
-
-
-class SpatialMechanism(Mechanism):
+class SpatialMechanism(Mechanism[SpatialJoint, SpatialBody]):
     """A spatial mechanism: everything needed to generate its equations.
 
     Same fields and validation as :class:`~mechcont.mechanism.Mechanism` (``parameters``,
@@ -151,8 +56,13 @@ class SpatialMechanism(Mechanism):
     them determinate instead (see :mod:`._joints`).
     """
 
-    _COORDINATE_KEYS = ("fx", "fy", "fz", "mx", "my", "mz")
     dimension = 3
+    space = "space"
+    AXES = "xyz"
+    _UNKNOWN_LOAD = "load type {} is not available for spatial mechanisms (force, moment, drag, custom)"
+    UNAVAILABLE_CONDITIONS = {"angle": "an angle condition is planar; in a spatial mechanism use an expression, "
+                                       "distance or collinear condition"}
+    COLLINEAR_NORMAL = True
 
     def _validate(self) -> None:
         for j in self.joints:
@@ -163,79 +73,30 @@ class SpatialMechanism(Mechanism):
                 from ._joints import JOINT_TYPES
                 raise InputError(f"joints.{j.name}", f"{type(j).__name__} is a planar joint; a spatial mechanism "
                                                      f"takes {', '.join(JOINT_TYPES)} joints")
-        if self.gravity is not None and not isinstance(self.gravity, SpatialGravity):
+        if self.gravity is not None and self.space not in self.gravity.SPACES:
             raise InputError("gravity", "a spatial mechanism takes gravity as {g, direction = [x, y, z]}")
         super()._validate()
 
     def _coordinate_names(self, body: str) -> tuple[str, ...]:
         return spatial_coordinate_names(body)
 
-    def _load_kinds(self) -> tuple[tuple[type, ...], tuple[type, ...], str]:
-        return ((PointForce, SpatialCustomLoad), (SpatialMoment, SpatialDrag),
-                "load type {} is not available for spatial mechanisms (force, moment, drag, custom)")
+    def kinematics_class(self) -> type:
+        """The kinematics strategy of space (:class:`._kinematics.SpatialKinematics`: origin and Euler parameters)."""
+        from ._kinematics import SpatialKinematics
+        return SpatialKinematics
 
-    def _check_loads(self) -> None:
-        super()._check_loads()
-        for ld in self.loads:
-            if isinstance(ld, SpatialDrag) and ld.start == ld.end:
-                raise InputError(f"loads.{ld.name}.end", "the drag segment needs two different points")
+    def normalisation_rows(self) -> frozenset[str]:
+        """``norm_<body>``: each body's Euler-parameter normalisation row (no joint's)."""
+        return frozenset(normalisation_row(b.name) for b in self.bodies)
 
-    def _values(self):
-        for b in self.bodies:
-            f = f"bodies.{b.name}"
-            yield f + ".mass", b.mass
-            if b.length is not None:
-                yield f + ".length", b.length
-            if b.inertia is not None:
-                if isinstance(b.inertia, (str, int, float)) or len(b.inertia) not in (3, 6):
-                    raise InputError(f + ".inertia", "is [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (kg m^2)")
-                for key, v in zip(INERTIA_KEYS, b.inertia):
-                    yield f"{f}.inertia.{key}", v
-            yield from _vector(f + ".cg", b.cg)
-            for pn, ps in b.points.items():
-                _check_name(pn, f"{f}.points.{pn}")
-                if pn in BUILTIN_POINTS or (pn in BAR_POINTS and b.length is not None):
-                    raise InputError(f"{f}.points.{pn}", f"'{pn}' is a built-in point; name the declared point "
-                                                         "differently")
-                yield from _vector(f"{f}.points.{pn}", ps)
-            for k, v in b.initial.items():
-                if k == "rotation":
-                    yield from _vector(f"{f}.initial.rotation", v)
-                elif k in ("x", "y", "z"):
-                    yield f"{f}.initial.{k}", v
-                else:
-                    raise InputError(f"{f}.initial.{k}", "initial values are x, y, z (m) and rotation = [rx, ry, rz] "
-                                                         "(rad)")
-        for gname, gp in self.ground.items():
-            yield from _vector(f"ground.{gname}", gp)
-        for j in self.joints:
-            yield from j.values()
-        if self.gravity is not None:
-            yield "gravity.g", self.gravity.g
-            yield from _vector("gravity.direction", self.gravity.direction)
-        for ld in self.loads:
-            f = f"loads.{ld.name}"
-            if isinstance(ld, PointForce):
-                yield f + ".magnitude", ld.magnitude
-                yield from _vector(f + ".direction", ld.direction)
-            elif isinstance(ld, SpatialMoment):
-                yield f + ".magnitude", ld.magnitude
-                yield from _vector(f + ".axis", ld.axis)
-            elif isinstance(ld, SpatialCustomLoad):
-                for attr in self._COORDINATE_KEYS:
-                    yield f"{f}.{attr}", getattr(ld, attr)
-            elif isinstance(ld, SpatialDrag):
-                for attr in ("rho", "U", "d", "CD"):
-                    yield f"{f}.{attr}", getattr(ld, attr)
-                yield from _vector(f + ".direction", ld.direction)
-        yield from self._common_values()
+    def summary(self) -> None:
+        """None: a spatial description's variables are read from a build."""
+        return None
+
+    def direction_values(self, field: str, v) -> list[tuple[str, Value]]:
+        """The (key path, raw value) of each component of a direction ``[x, y, z]``."""
+        return self.vector_values(field, v)
 
     def _generator(self):
         from ._generate import generate
         return generate
-
-
-def _vector(field_: str, v) -> list[tuple[str, Value]]:
-    if not isinstance(v, (tuple, list)) or len(v) != 3:
-        raise InputError(field_, f"must be a 3-vector [x, y, z], got {v!r}")
-    return [(f"{field_}.{c}", comp) for c, comp in zip("xyz", v)]

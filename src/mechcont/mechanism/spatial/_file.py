@@ -25,27 +25,18 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from ...errors import InputError
-from .._description import PointForce
-from .._file import _entries, _only, _require, _table, _text, _typed
-from ._description import (
-    SpatialBody,
-    SpatialCustomLoad,
-    SpatialDrag,
-    SpatialGravity,
-    SpatialMechanism,
-    SpatialMoment,
-)
+from .._file import Reader, _only, _require, _table, _text
+from ..loads import SpatialGravity, load_keys
+from ._description import SpatialBody, SpatialMechanism
 from ._joints import JOINT_TYPES, joint_keys
+from ._joints import vector3 as _triple
 
-__all__ = ["spatial_mechanism", "SPATIAL_KEYS", "SPATIAL_JOINTS", "SPATIAL_LOADS"]
+__all__ = ["READER", "SPATIAL_KEYS", "SPATIAL_JOINTS", "SPATIAL_LOADS"]
 
 #: ``type`` -> (class, keys) of ``[joints.NAME]`` in a spatial file.
 SPATIAL_JOINTS = {kind: (cls, joint_keys(cls) - {"type"}) for kind, cls in JOINT_TYPES.items()}
 #: ``type`` -> (class, keys) of ``[loads.NAME]`` in a spatial file.
-SPATIAL_LOADS = {"force": (PointForce, {"at", "magnitude", "direction"}),
-                 "moment": (SpatialMoment, {"body", "magnitude", "axis"}),
-                 "drag": (SpatialDrag, {"body", "rho", "U", "direction", "d", "CD", "start", "end"}),
-                 "custom": (SpatialCustomLoad, {"at", "fx", "fy", "fz", "mx", "my", "mz"})}
+SPATIAL_LOADS = load_keys("space")
 #: Keys of the other spatial tables, by key path (``NAME`` stands for a user's name).
 SPATIAL_KEYS: dict[str, frozenset[str]] = {
     "bodies.NAME": frozenset({"mass", "length", "inertia", "cg", "points", "initial", "description"}),
@@ -54,50 +45,29 @@ SPATIAL_KEYS: dict[str, frozenset[str]] = {
 }
 
 
-def _triple(v, field: str) -> tuple:
-    if not isinstance(v, list) or len(v) != 3:
-        raise InputError(field, f"must be a 3-vector [x, y, z], got {v!r}")
-    return tuple(v)
+def _body(name: str, spec: Mapping, f: str) -> SpatialBody:
+    """A spatial ``[bodies.NAME]`` table."""
+    _only(spec, SPATIAL_KEYS["bodies.NAME"], f)
+    _require(spec, ["mass"], f)
+    points = {pn: _triple(ps, f"{f}.points.{pn}") for pn, ps in _table(spec, "points", f + ".points").items()}
+    initial = dict(_table(spec, "initial", f + ".initial"))
+    _only(initial, SPATIAL_KEYS["bodies.NAME.initial"], f + ".initial")
+    if "rotation" in initial:
+        initial["rotation"] = _triple(initial["rotation"], f + ".initial.rotation")
+    inertia = spec.get("inertia")
+    if inertia is not None and (not isinstance(inertia, list) or len(inertia) not in (3, 6)):
+        raise InputError(f + ".inertia", f"is [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (kg m^2), "
+                                         f"got {inertia!r}")
+    return SpatialBody(name, spec["mass"], spec.get("length"), None if inertia is None else tuple(inertia),
+                       _triple(spec.get("cg", [0, 0, 0]), f + ".cg"), points, initial,
+                       _text(spec.get("description", ""), f + ".description"))
 
 
-def spatial_mechanism(data: Mapping, common: dict) -> SpatialMechanism:
-    """Build a :class:`SpatialMechanism` from parsed TOML ``data`` and the shared ``common`` keywords."""
-    ground = {k: _triple(v, f"ground.{k}") for k, v in _table(data, "ground", "ground").items()}
-    bodies = []
-    for bname, spec in _entries(data, "bodies"):
-        f = f"bodies.{bname}"
-        _only(spec, SPATIAL_KEYS["bodies.NAME"], f)
-        _require(spec, ["mass"], f)
-        points = {pn: _triple(ps, f"{f}.points.{pn}") for pn, ps in _table(spec, "points", f + ".points").items()}
-        initial = dict(_table(spec, "initial", f + ".initial"))
-        _only(initial, SPATIAL_KEYS["bodies.NAME.initial"], f + ".initial")
-        if "rotation" in initial:
-            initial["rotation"] = _triple(initial["rotation"], f + ".initial.rotation")
-        inertia = spec.get("inertia")
-        if inertia is not None and (not isinstance(inertia, list) or len(inertia) not in (3, 6)):
-            raise InputError(f + ".inertia", f"is [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (kg m^2), "
-                                             f"got {inertia!r}")
-        bodies.append(SpatialBody(bname, spec["mass"], spec.get("length"), None if inertia is None else tuple(inertia),
-                                  _triple(spec.get("cg", [0, 0, 0]), f + ".cg"), points, initial,
-                                  _text(spec.get("description", ""), f + ".description")))
-    joints = []
-    for jname, spec in _entries(data, "joints"):
-        f = f"joints.{jname}"
-        _, cls = _typed(spec, f, "joints", SPATIAL_JOINTS)
-        _require(spec, ["a", "b"], f)
-        kw = {k: (_triple(v, f"{f}.{k}") if k in cls.VECTORS else v) for k, v in spec.items() if k != "type"}
-        joints.append(cls(jname, **kw))
-    gravity = None
-    if "gravity" in data:
-        gtab = _table(data, "gravity", "gravity")
-        _only(gtab, SPATIAL_KEYS["gravity"], "gravity")
-        gravity = SpatialGravity(gtab.get("g", "g"), _triple(gtab.get("direction", [0, 0, -1]), "gravity.direction"))
-    loads = []
-    for lname, spec in _entries(data, "loads"):
-        f = f"loads.{lname}"
-        kind, cls = _typed(spec, f, "loads", SPATIAL_LOADS)
-        _require(spec, {"force": ["at", "magnitude", "direction"], "moment": ["body", "magnitude", "axis"],
-                        "drag": ["body", "direction"], "custom": ["at"]}[kind], f)
-        kw = {k: (_triple(v, f"{f}.{k}") if k in ("direction", "axis") else v) for k, v in spec.items() if k != "type"}
-        loads.append(cls(lname, **kw))
-    return SpatialMechanism(bodies=bodies, joints=joints, ground=ground, loads=loads, gravity=gravity, **common)
+def _gravity(table: Mapping) -> SpatialGravity:
+    """The spatial ``[gravity]`` table."""
+    _only(table, SPATIAL_KEYS["gravity"], "gravity")
+    return SpatialGravity(table.get("g", "g"), _triple(table.get("direction", [0, 0, -1]), "gravity.direction"))
+
+
+#: How the spatial tables are read (see :class:`~.._file.Reader`).
+READER = Reader(SpatialMechanism, _triple, _triple, _body, SPATIAL_JOINTS, _gravity)

@@ -21,21 +21,20 @@ the build pose and again along a branch where the kept rows lose rank (:class:`_
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import partial
 
 import numpy as np
 import sympy as sp
-from scipy.linalg import qr
 
 from ...equations import EquationSystem, MechanicalModel, Model, Variable
 from ...equations._codegen import gradient
 from ...errors import InputError
 from .._assembly import DofReport, close_constraints, dof_report
 from .._conditions import condition_rows
-from .._description import PointForce
 from .._expr import symbol
+from .._forces import loads
 from .._generate import (
     _coordinates_of,
     _dropped_residual,
@@ -43,16 +42,18 @@ from .._generate import (
     _scales,
     condition_and_parameter_variables,
     condition_fields,
+    load_forces,
     value_fields,
 )
+from .._kinematics import place_along_joints
 from .._stops import stop_forces
-from .._values import evaluate, parameter_values
+from .._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
 from ._description import SpatialMechanism
+from ._dropped import SWITCH_RATIO, choose_dropped, conditioning
 from ._joints import SpatialRow
-from ._kinematics import SpatialKinematics, spatial_loads
+from ._kinematics import SpatialKinematics
 from ._rotation import quaternion_from_rotation_vector
 from ._scene import spatial_scene_function
-from ._values import check_spatial_values, spatial_limits, spatial_value_check
 
 __all__ = ["generate"]
 
@@ -79,8 +80,7 @@ def _spatial_scales(kin: SpatialKinematics, values: dict[str, float]) -> tuple[f
         g = abs(evaluate(mech.value("gravity.g"), values, ""))
         forces.append(g * sum(evaluate(mech.value(f"bodies.{b.name}.mass"), values, "") for b in mech.bodies))
     forces += [abs(evaluate(mech.value(f"springs.{sp_.name}.k"), values, "")) * Lc for sp_ in mech.springs]
-    forces += [abs(evaluate(mech.value(f"loads.{ld.name}.magnitude"), values, "")) for ld in mech.loads
-               if isinstance(ld, PointForce)]
+    forces += load_forces(mech, values)
     return Lc, max(forces)
 
 
@@ -88,7 +88,6 @@ def _initial_guess(kin: SpatialKinematics, values: dict[str, float]) -> dict[str
     """Coordinates near the design pose: given ``initial`` values, bodies placed through the
     joints that make two points coincide, unit Euler parameters from ``initial.rotation``."""
     mech = kin.mech
-    num = {symbol(k): v for k, v in values.items()}
     guess: dict[str, float] = {}
     placed = {"ground"}
     for b in mech.bodies:
@@ -104,26 +103,7 @@ def _initial_guess(kin: SpatialKinematics, values: dict[str, float]) -> dict[str
         guess.update(zip(names[3:], quaternion_from_rotation_vector(rot)))
         if all(k in b.initial for k in "xyz"):
             placed.add(b.name)
-    held = {k: evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}") for k in mech.hold}
-    guess.update(held)
-    changed = True
-    while changed:
-        changed = False
-        for j in mech.joints:
-            ba, bb = j.a.split(".")[0], j.b.split(".")[0]
-            if not j.COINCIDENT or (ba in placed) == (bb in placed):
-                continue
-            known, new = (j.a, j.b) if ba in placed else (j.b, j.a)
-            body = new.split(".")[0]
-            at = {**num, **{symbol(k): v for k, v in guess.items()}}
-            P = np.array([float(c) for c in kin.point(known).xreplace(at)])
-            origin = kin.body_r[body]
-            local = np.array([float(c) for c in kin.point(new).xreplace({**at, **{s: 0 for s in origin}})])
-            for s, v in zip(origin, P - local):
-                guess[str(s)] = float(v)
-            placed.add(body)
-            changed = True
-    guess.update(held)  # a held coordinate keeps its value: placing its body by a joint must not move it
+    place_along_joints(kin, placed, guess, values)
     return guess
 
 
@@ -167,48 +147,6 @@ def _redundancy_error(report: DofReport, rows: list[SpatialRow], dependent: list
                       f"solution")
 
 
-#: The dropped rows are chosen again where the kept rigid rows come this close to losing rank:
-#: their smallest singular value over the rank-th one of all the rigid rows (rows scaled to unit
-#: length; 1 at best, 0 where the kept rows are dependent). A fresh choice scores far above it
-#: (:func:`_choose_dropped`; 0.45 to 0.75 on the Bennett linkage), so the choice does not chatter,
-#: and the reactions, which grow like its inverse near the singularity, stay within about
-#: 1 / SWITCH_RATIO times the minimum-norm ones (10 times on the Bennett linkage's turn).
-SWITCH_RATIO = 0.05
-
-
-def _unit_rows(A: np.ndarray) -> np.ndarray:
-    norms = np.linalg.norm(A, axis=1)
-    return A / np.where(norms > 0, norms, 1.0)[:, None]
-
-
-def _rank(sv: np.ndarray, rtol: float = 1e-9) -> int:
-    return int(np.sum(sv > rtol * max(sv[0], 1e-300))) if sv.size else 0
-
-
-def _conditioning(A: np.ndarray, dropped: Sequence[int]) -> float:
-    """How far the rows of ``A`` left after ``dropped`` are from losing rank, relative to all of ``A``'s:
-    ``sigma_min(kept) / sigma_rank(all)`` of the rows scaled to unit length, in [0, 1] (interlacing)."""
-    B = _unit_rows(A)
-    sv = np.linalg.svd(B, compute_uv=False)
-    r = _rank(sv)
-    if r == 0:
-        return 1.0
-    kept = np.delete(B, list(dropped), axis=0)
-    sk = np.linalg.svd(kept, compute_uv=False)
-    return float(sk[r - 1] / sv[r - 1]) if len(sk) >= r else 0.0
-
-
-def _choose_dropped(A: np.ndarray, protect: np.ndarray) -> tuple[int, ...]:
-    """The rows of ``A`` to drop so that the rest are independent and well conditioned: QR with column
-    pivoting of ``A^T`` (rows scaled to unit length) takes, one by one, the row farthest from the span
-    of those taken; the rows left after ``rank`` are dropped. ``protect`` rows (the Euler-parameter
-    normalisations, independent of everything else) are weighted so that they are taken first."""
-    B = _unit_rows(A) * np.where(protect, 10.0, 1.0)[:, None]
-    r = _rank(np.linalg.svd(_unit_rows(A), compute_uv=False))
-    _, _, piv = qr(B.T, mode="economic", pivoting=True)
-    return tuple(sorted(int(i) for i in piv[r:]))
-
-
 @dataclass
 class _Variant:
     """The spatial system with a given set of redundant rigid rows dropped.
@@ -242,7 +180,7 @@ class _Structure:
     closure: MechanicalModel      # every row taken as rigid (first assembly, degrees of freedom)
     mechanics: MechanicalModel    # every rigid row (dropped or not) a constraint, compliant rows springs
     elastic: sp.Expr
-    condition_values: object | None
+    condition_values: Callable[[np.ndarray], np.ndarray] | None
     variants: dict[tuple[int, ...], _Variant] = field(default_factory=dict)
 
     @property
@@ -312,7 +250,7 @@ class _RowChoice:
     def quality(self, x: np.ndarray) -> float:
         """``log(conditioning / SWITCH_RATIO)`` of the kept rigid rows at the full vector ``x``:
         positive while the dropped rows suit ``x``, negative once they should be chosen again."""
-        ratio = _conditioning(_structure(self.mech).mechanics.phi_q(x), self.dropped)
+        ratio = conditioning(_structure(self.mech).mechanics.phi_q(x), self.dropped)
         return math.log(max(ratio, 1e-300) / SWITCH_RATIO)
 
     def switch(self, model: Model, x: np.ndarray, force: bool = False) -> tuple[Model, np.ndarray] | None:
@@ -320,7 +258,7 @@ class _RowChoice:
         ``x`` with its rigid reactions solved again (the dropped ones zero); None when it is this one,
         unless ``force`` (then ``model`` itself with the reactions solved again)."""
         st = _structure(self.mech)
-        dropped = _choose_dropped(st.mechanics.phi_q(x), st.protect)
+        dropped = choose_dropped(st.mechanics.phi_q(x), st.protect)
         if dropped == self.dropped and not force:
             return None
         keep = ("dof", "conditions", "fields_at", "downlock", "stops")
@@ -346,9 +284,9 @@ def _variant_model(mech: SpatialMechanism, st: _Structure, var: _Variant, variab
             mechanics=st.mechanics,
             description=(mech.description or f"generated from the description of {mech.name}")
             + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
-            limits=spatial_limits(mech, solve=True),
+            limits=physical_limits(mech, solve=True),
             scene=spatial_scene_function(st.kin, st.arrows, [v.symbol for v in variables]),
-            check_values=spatial_value_check(mech, partial(_check_analysis_values, mech)),
+            check_values=analysis_value_check(mech),
         )
         var.model = Model.from_system(
             system,
@@ -369,7 +307,7 @@ def _structure(mech: SpatialMechanism) -> _Structure:
     if st is not None:
         return st
     kin = SpatialKinematics(mech)
-    ld = spatial_loads(kin)
+    ld = loads(kin)
     coords = list(kin.coords)
     # rigid rows first: a dependency among rows that involves a compliant row is then found at
     # a compliant row (determinate); one among rigid rows only, at a rigid row (indeterminate)
@@ -397,11 +335,6 @@ def _structure(mech: SpatialMechanism) -> _Structure:
     return st
 
 
-def _check_analysis_values(mech: SpatialMechanism, values: Mapping[str, float]) -> None:
-    """The description's physical checks at ``values`` (the defaults where not given; a zero stiffness allowed)."""
-    check_spatial_values(mech, {p.name: float(values.get(p.name, p.value)) for p in mech.parameters}, solve=True)
-
-
 def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
     """Build the static system of the spatial ``mech`` with parameter ``overrides`` (SI).
 
@@ -411,7 +344,7 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
     if reduced:
         raise InputError("reduced", "the reduced form exists for planar mechanisms only; build the full system")
     values = parameter_values(mech, overrides)
-    check_spatial_values(mech, values)
+    check_values(mech, values)
     st = _structure(mech)
     kin, coords, rows, cnames, closure = st.kin, st.coords, st.rows, st.cnames, st.closure
     Lc, Fc = _spatial_scales(kin, values)

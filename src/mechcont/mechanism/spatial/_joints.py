@@ -24,9 +24,9 @@ Compliant rows never make a mechanism over-constrained: every reaction is then d
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import sympy as sp
 
@@ -49,6 +49,13 @@ class SpatialRow(ConstraintRow):
     stiffness: sp.Expr | None = None
 
 
+def vector3(v, field: str) -> tuple:
+    """A 3-vector ``[x, y, z]`` of a description file (a one-line InputError naming ``field`` otherwise)."""
+    if not isinstance(v, list) or len(v) != 3:
+        raise InputError(field, f"must be a 3-vector [x, y, z], got {v!r}")
+    return tuple(v)
+
+
 @dataclass(frozen=True)
 class SpatialJoint:
     """Base of the spatial joints: ``a``, ``b`` point references and optional compliances."""
@@ -67,6 +74,15 @@ class SpatialJoint:
     #: Number of translational and rotational rows (for the degree-of-freedom bookkeeping).
     TRANSLATIONS: ClassVar[int] = 3
     ROTATIONS: ClassVar[int] = 0
+
+    @classmethod
+    def from_table(cls, name: str, spec: Mapping, field: str) -> SpatialJoint:
+        """The joint of a ``[joints.NAME]`` table ``spec`` (its keys already checked)."""
+        for k in ("a", "b"):
+            if k not in spec:
+                raise InputError(f"{field}.{k}", "is required")
+        kw: dict[str, Any] = {k: (vector3(v, f"{field}.{k}") if k in cls.VECTORS else v) for k, v in spec.items()}
+        return cls(name, **kw)
 
     def values(self) -> Iterator[tuple[str, Value]]:
         """Every (key path, raw value) of the joint that is a number or an expression."""
@@ -89,6 +105,22 @@ class SpatialJoint:
     def check(self, mech) -> None:
         """Check the point references ``a``, ``b`` against ``mech`` (a one-line InputError naming the key)."""
         check_points(self.name, [("a", self.a), ("b", self.b)], mech)
+
+    def limits(self, kin) -> list[tuple[str, sp.Expr, bool, str]]:
+        """``(key path, quantity, strict, what)``: the stiffnesses given must be positive."""
+        out = []
+        for key, what in (("stiffness", "joint stiffness (N/m)"),
+                          ("rotational_stiffness", "joint rotational stiffness (N m/rad)")):
+            if getattr(self, key) is not None:
+                out.append((f"joints.{self.name}.{key}", kin.mech.value(f"joints.{self.name}.{key}"), True, what))
+        return out
+
+    def perpendicular(self, mech) -> list[list[sp.Expr]]:
+        """Pairs of vectors (six expressions) that must be perpendicular (default: none)."""
+        return []
+
+    def check_values(self, mech, values) -> None:
+        """Reject values impossible for this joint at the parameter ``values`` (default: none)."""
 
     def vector(self, kin, key: str) -> sp.Matrix:
         """The joint vector ``key`` (design pose) as a SymPy 3-vector."""
@@ -162,6 +194,21 @@ class Universal(SpatialJoint):
     kind: ClassVar[str] = "universal"
     VECTORS: ClassVar[tuple[str, ...]] = ("axis_a", "axis_b")
     ROTATIONS: ClassVar[int] = 1
+
+    def perpendicular(self, mech) -> list[list[sp.Expr]]:
+        """``axis_a`` and ``axis_b`` must be perpendicular in the design pose."""
+        return [[mech.value(f"joints.{self.name}.{axis}.{c}") for axis in ("axis_a", "axis_b") for c in "xyz"]]
+
+    def check_values(self, mech, values) -> None:
+        """``axis_a`` perpendicular to ``axis_b`` at ``values`` (one-line InputError)."""
+        from .._values import evaluate
+
+        a = [evaluate(mech.value(f"joints.{self.name}.axis_a.{c}"), values, "") for c in "xyz"]
+        b = [evaluate(mech.value(f"joints.{self.name}.axis_b.{c}"), values, "") for c in "xyz"]
+        c = sum(p * q for p, q in zip(a, b)) / (sum(p * p for p in a) * sum(q * q for q in b)) ** 0.5
+        if abs(c) > 1e-9:
+            raise InputError(f"joints.{self.name}.axis_b", f"must be perpendicular to axis_a in the design pose "
+                                                           f"(cosine of the angle between them {c:.3g})")
 
     def rows(self, kin) -> list[SpatialRow]:
         ua = perpendiculars(self.vector(kin, "axis_a"), kin.defaults)[0]

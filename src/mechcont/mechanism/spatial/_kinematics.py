@@ -1,10 +1,10 @@
-"""Symbolic kinematics and loads of a spatial mechanism: coordinates, points, rows, masses.
+"""Symbolic kinematics of a spatial mechanism: coordinates, points, directions, rows, masses.
 
 Body ``b`` has coordinates ``(r_b, e_b)``: frame origin (m) and Euler parameters; a point with
-body coordinates ``s`` is at ``r_b + A(e_b) s`` (see :mod:`._rotation`). Applied loads give a
-potential ``V`` (gravity, springs, force-mode actuators, fixed-direction point forces) and
-non-conservative generalised forces ``Q_nc`` (moments of fixed direction: ``2 E^T n`` on the
-Euler parameters; custom loads; dampers). The mass matrix follows from the kinetic energy
+body coordinates ``s`` is at ``r_b + A(e_b) s`` (see :mod:`._rotation`). A force does the
+virtual work ``f . dP/dq``, a moment of fixed direction ``n`` gives ``2 E^T n`` on the Euler
+parameters (:meth:`SpatialKinematics.moment_work`; the loads themselves are :mod:`..loads`).
+The mass matrix follows from the kinetic energy
 ``1/2 m |v_cg|^2 + 1/2 omega'^T J omega'`` with ``omega' = 2 G edot``, plus
 ``2 jbar (e . edot)^2`` (``jbar`` the mean principal inertia), which vanishes on every motion
 that keeps ``|e| = 1`` and makes ``M`` positive definite.
@@ -14,18 +14,15 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ...equations import velocity_symbol
 from ...equations._codegen import gradient
 from .._actuators import actuator_rows
-from .._dampers import damper_forces
 from .._expr import symbol
-from .._forces import DRAG_SMOOTHING, Loads
 from .._values import parameter_values
-from ._description import INERTIA_KEYS, SpatialBody, SpatialCustomLoad, SpatialDrag, SpatialMechanism, SpatialMoment
+from ._description import INERTIA_KEYS, SpatialBody, SpatialMechanism, normalisation_row
 from ._joints import SpatialRow
 from ._rotation import body_omega_matrix, dot, matvec, norm, omega_matrix, rotation_matrix
 
-__all__ = ["SpatialKinematics", "spatial_loads"]
+__all__ = ["SpatialKinematics"]
 
 
 class SpatialKinematics:
@@ -90,6 +87,45 @@ class SpatialKinematics:
         """Global position of the centre of gravity of ``body``."""
         return self.point(f"{body}.cg")
 
+    def origin(self, body: str) -> list[sp.Symbol]:
+        """The coordinates of ``body``'s frame origin: ``x``, ``y``, ``z`` (m)."""
+        return list(self.body_r[body])
+
+    def distance(self, a: str, b: str) -> sp.Expr:
+        """Distance (m) between the point references ``a`` and ``b``."""
+        return norm(self.point(b) - self.point(a))
+
+    def direction(self, field: str, raw=None) -> sp.Matrix:
+        """The unit vector of the direction ``[x, y, z]`` at key path ``field``."""
+        return _unit(sp.Matrix([self.mech.value(f"{field}.{c}") for c in "xyz"]))
+
+    def force_work(self, P: sp.Matrix, f: sp.Matrix) -> list[sp.Expr]:
+        """Generalised forces (one per coordinate) of the force ``f`` (N) at ``P``: ``f . dP/dq``."""
+        dP = [gradient(P[i], self.q) for i in range(3)]
+        return [dot(f, [dP[i][k] for i in range(3)]) for k in range(len(self.q))]
+
+    def moment_work(self, body: str, n: sp.Matrix) -> list[sp.Expr]:
+        """Generalised forces of a moment ``n`` (global, N m) on ``body``: ``2 E^T n`` on its Euler parameters."""
+        e = self.body_e[body]
+        Qe = 2 * omega_matrix(e).T * n
+        index = {str(q): i for i, q in enumerate(self.q)}
+        out = [sp.S.Zero] * len(self.q)
+        for k, ek in enumerate(e):
+            out[index[str(ek)]] = Qe[k]
+        return out
+
+    def moment_anchor(self, body: str) -> sp.Matrix:
+        """Where a moment on ``body`` is drawn: its first joint to the ground, else its centre of gravity."""
+        for j in self.mech.joints:
+            ends = (j.a, j.b)
+            if any(r.startswith("ground.") for r in ends) and any(r.split(".")[0] == body for r in ends):
+                return self.point(next(r for r in ends if r.split(".")[0] == body))
+        return self.cg(body)
+
+    def body_mass(self, b: SpatialBody) -> sp.Expr:
+        """Mass (kg) of body ``b``."""
+        return self.mech.value(f"bodies.{b.name}.mass")
+
     # -- constraints ----------------------------------------------------------------------
     def constraints(self) -> list[SpatialRow]:
         """Every scalar constraint row: one normalisation row per body first (so a redundancy is
@@ -98,7 +134,8 @@ class SpatialKinematics:
         rows: list[SpatialRow] = []
         for b in self.mech.bodies:
             e = self.body_e[b.name]
-            rows.append(SpatialRow(f"norm_{b.name}", f"norm_{b.name}", f"mu_{b.name}", "N m",
+            norm_row = normalisation_row(b.name)
+            rows.append(SpatialRow(norm_row, norm_row, f"mu_{b.name}", "N m",
                                    sum((c ** 2 for c in e), sp.S.Zero) - 1))
         for j in self.mech.joints:
             rows.extend(j.rows(self))
@@ -153,95 +190,6 @@ class SpatialKinematics:
         return M
 
 
-def spatial_loads(kin: SpatialKinematics) -> Loads:
-    """Potential ``V``, non-conservative forces ``Q_nc`` and arrows of every load of ``kin.mech``."""
-    from .._actuators import actuator_potential
-
-    mech = kin.mech
-    V = sp.S.Zero
-    Q_nc = [sp.S.Zero] * len(kin.q)
-    arrows: list[tuple[str, sp.Matrix, sp.Matrix]] = []
-    if mech.gravity is not None:
-        u = _unit(sp.Matrix([mech.value(f"gravity.direction.{c}") for c in "xyz"]))
-        g = mech.value("gravity.g")
-        for b in mech.bodies:
-            V -= mech.value(f"bodies.{b.name}.mass") * g * dot(u, kin.cg(b.name))
-    for s in mech.springs:
-        f = f"springs.{s.name}"
-        k, l0, pre = mech.value(f + ".k"), mech.value(f + ".free_length"), mech.value(f + ".preload")
-        length = norm(kin.point(s.b) - kin.point(s.a))
-        V += pre * length + k / 2 * (length - l0) ** 2
-    V += actuator_potential(kin)
-    qd = [velocity_symbol(n) for n in kin.coords]
-    Q_nc = _add(Q_nc, damper_forces(mech, kin, lambda a, b: norm(kin.point(b) - kin.point(a)), kin.q, qd))
-    for ld in mech.loads:
-        f = f"loads.{ld.name}"
-        if isinstance(ld, SpatialMoment):
-            n = mech.value(f + ".magnitude") * _unit(sp.Matrix([mech.value(f"{f}.axis.{c}") for c in "xyz"]))
-            Q_nc = _add(Q_nc, _moment_work(kin, ld.body, n))
-            arrows.append((ld.name, _moment_anchor(kin, ld.body), n))
-        elif isinstance(ld, SpatialDrag):
-            Q_drag, P, force = _drag(kin, ld)
-            Q_nc = _add(Q_nc, Q_drag)
-            arrows.append((ld.name, P, force))
-        elif isinstance(ld, SpatialCustomLoad):
-            P = kin.point(ld.at)
-            force = sp.Matrix([mech.value(f"{f}.{k}") for k in ("fx", "fy", "fz")])
-            moment = sp.Matrix([mech.value(f"{f}.{k}") for k in ("mx", "my", "mz")])
-            dP = [gradient(P[i], kin.q) for i in range(3)]
-            Q_c = [dot(force, [dP[i][k] for i in range(3)]) for k in range(len(kin.q))]
-            Q_nc = _add(Q_nc, _add(Q_c, _moment_work(kin, ld.at.split(".")[0], moment)))
-            arrows.append((ld.name, P, force))
-        else:  # a point force of fixed direction: conservative
-            F = mech.value(f + ".magnitude")
-            u = _unit(sp.Matrix([mech.value(f"{f}.direction.{c}") for c in "xyz"]))
-            P = kin.point(ld.at)
-            V -= F * dot(u, P)
-            arrows.append((ld.name, P, F * u))
-    return Loads(V, Q_nc, arrows)
-
-
-def _moment_anchor(kin: SpatialKinematics, body: str) -> sp.Matrix:
-    """Where a moment on ``body`` is drawn: its first joint to the ground, else its centre of gravity."""
-    for j in kin.mech.joints:
-        ends = (j.a, j.b)
-        if any(r.startswith("ground.") for r in ends) and any(r.split(".")[0] == body for r in ends):
-            return kin.point(next(r for r in ends if r.split(".")[0] == body))
-    return kin.cg(body)
-
-
 def _unit(u: sp.Matrix) -> sp.Matrix:
     n = norm(u)
     return u if n == 1 else u / n
-
-
-def _add(a: list, b: list) -> list:
-    return [x + y for x, y in zip(a, b)]
-
-
-def _moment_work(kin: SpatialKinematics, body: str, n: sp.Matrix) -> list[sp.Expr]:
-    """Generalised forces of a moment ``n`` (global, N m) on ``body``: ``2 E^T n`` on its Euler parameters."""
-    e = kin.body_e[body]
-    Qe = 2 * omega_matrix(e).T * n
-    index = {str(q): i for i, q in enumerate(kin.q)}
-    out = [sp.S.Zero] * len(kin.q)
-    for k, ek in enumerate(e):
-        out[index[str(ek)]] = Qe[k]
-    return out
-
-
-def _drag(kin: SpatialKinematics, ld: SpatialDrag):
-    """Generalised forces, midpoint and force of a cross-flow drag (see :class:`SpatialDrag`)."""
-    mech, f = kin.mech, f"loads.{ld.name}"
-    rho, U, d, CD = (mech.value(f"{f}.{a}") for a in ("rho", "U", "d", "CD"))
-    w = U * _unit(sp.Matrix([mech.value(f"{f}.direction.{c}") for c in "xyz"]))
-    A, B = kin.point(f"{ld.body}.{ld.start}"), kin.point(f"{ld.body}.{ld.end}")
-    local = kin.local_point(ld.body, ld.end) - kin.local_point(ld.body, ld.start)
-    L2 = dot(local, local)  # squared segment length, constant on a rigid body (no sqrt of coordinates)
-    D = B - A
-    W = L2 * w - dot(w, D) * D  # L^2 w_n
-    # 1/2 rho C_D d L |w_n| w_n with |w_n| -> sqrt(|w_n|^2 + eps^2), written through W = L^2 w_n
-    force = rho * CD * d / 2 * sp.sqrt(dot(W, W) + DRAG_SMOOTHING ** 2 * L2 ** 2) / L2 ** sp.Rational(3, 2) * W
-    P = (A + B) / 2
-    dP = [gradient(P[i], kin.q) for i in range(3)]
-    return [dot(force, [dP[i][k] for i in range(3)]) for k in range(len(kin.q))], P, force

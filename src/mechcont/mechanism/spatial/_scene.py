@@ -9,7 +9,6 @@ import sympy as sp
 from ...equations._codegen import compile_dense
 from .._actuators import actuator_load
 from .._compiled import SpatialScene
-from ._description import SpatialMoment
 from ._kinematics import SpatialKinematics
 
 __all__ = ["spatial_scene_function", "SpatialScene"]
@@ -57,13 +56,13 @@ def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.
     for act in mech.actuators:
         add("actuator", act.name, [kin.point(act.a), kin.point(act.b), sp.Matrix([actuator_load(mech, act), 0, 0])])
     anchors: list[str] = []
-    for ref in (r for e in (*mech.springs, *mech.dampers, *mech.actuators) for r in (e.a, e.b)):
+    ends = [(e.a, e.b) for e in mech.springs] + [(e.a, e.b) for e in mech.dampers] + [(e.a, e.b) for e in mech.actuators]
+    for ref in (r for pair in ends for r in pair):
         if ref.startswith("ground.") and ref not in ground_refs and ref not in anchors:
             anchors.append(ref)
             add("anchor", ref, [kin.point(ref)])
-    moments = {ld.name for ld in mech.loads if isinstance(ld, SpatialMoment)}
-    for name, P, F in arrows:
-        add("moment" if name in moments else "force", name, [P, F])
+    for kind, name, P, F in arrows:
+        add(kind, name, [P, F])
     for b in mech.bodies:
         off_origin = any(c != 0 for c in kin.local_point(b.name, "cg"))
         for pn in mech.point_names(b.name):
