@@ -32,10 +32,15 @@ __all__ = ["run", "description_text", "AIRSPEEDS", "PENDULUM"]
 #: Airspeeds (m/s) of the freefall runs.
 AIRSPEEDS = (0.0, 25.0, 50.0, 75.0, 100.0, 125.0)
 #: Simulated time (s) per run, the retracted angle (rad) of the main fitting at the uplock.
-UNTIL, THETA_UP = 5.0, 0.2
+UNTIL, THETA_UP = 2.5, 0.2
 #: Bracket and tolerance (m/s) of the critical airspeed's bisection; the end (rad) of the travel
 #: searched for intermediate equilibria (short of the lock links' kinematic fold at aligned).
 CRITICAL, TOL, TRAVEL_END = (100.0, 125.0), 0.05, 1.3
+#: The bisection bracket (m/s) about the quasi-static release (SR) of the lock, from SR - 0.77 to SR + 0.83:
+#: not centred, so that no bisection point falls on SR itself, where the reaction at rest is zero; the longest
+#: simulated time (s) of a bisection run (the gear locks within 1.3 s at every airspeed of the table; a run
+#: that locks ends there, one that does not runs this long).
+SR_BRACKET, CRITICAL_UNTIL = (-0.77, 0.83), 2.5
 
 _PARAMETERS = '''c_ret = { value = 2000.0, unit = "N s/m", description = "retraction actuator, laminar term" }
 c2_ret = { value = 5000.0, unit = "N s^2/m^2", description = "retraction actuator restrictor, quadratic term" }
@@ -185,7 +190,7 @@ def _figure(runs, path: Path) -> None:
 
 def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     """Dynamic critical airspeed of :data:`PENDULUM` against its damper, beside the closed-form fold."""
-    from ..dynamics.freefall import critical_airspeed, critical_figure, quasi_static_critical
+    from ..dynamics.freefall import critical_figure, quasi_static_critical
     from ..models import model_from_text
     from ..outputs.plotting import save_figure
 
@@ -193,10 +198,12 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     closed = math.sqrt(2 * 10.0 * 9.81 / (1.225 * 1.2 * 0.2 * 1.0))
     qs = quasi_static_critical(system, "angle", 1.0, -1.0, "U")
     crits = []
-    for c in DAMPERS:
+    lo, hi = PENDULUM_BRACKET
+    for c in DAMPERS:  # lightest first: more damping locks at no higher an airspeed, so each bracket is the last's
         with timed(timings, f"freefall: pendulum critical airspeed at c = {c:g} N s/m"):
-            crits.append(critical_airspeed(system, {"angle": 1.0}, "U", *PENDULUM_BRACKET, tol=PENDULUM_TOL,
-                                           lock="downlock", until=PENDULUM_UNTIL, values={"c": c}))
+            crits.append(_bisect(system, {"angle": 1.0}, "U", (max(lo, qs.value - 0.5), hi), PENDULUM_BRACKET,
+                                 tol=PENDULUM_TOL, lock="downlock", until=PENDULUM_UNTIL, values={"c": c}))
+        hi = crits[-1].high  # (upper end: it failed with less damping, checked again by the next bisection)
     fig = critical_figure(DAMPERS, [k.value for k in crits], qs.value, damping_label="damper c (N s/m)",
                           airspeed_label="critical airspeed U (m/s)",
                           title="Gear leg (pendulum) freefall: dynamic vs quasi-static")
@@ -206,7 +213,7 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
              "the horizontal, locked at 57 deg below) falls against the drag of an upward airflow, which holds it up "
              "best at the horizontal: its stall equilibria fold at U_c = sqrt(2 m g / (rho C_D d L)) = "
              f"{closed:.4f} m/s. Continuation finds the fold at {qs.value:.4f} m/s. Bisection on freefall runs "
-             f"({PENDULUM_UNTIL:g} s each, to {PENDULUM_TOL:g} m/s):", "",
+             f"(up to {PENDULUM_UNTIL:g} s each, ended once locked; each bracket from the last, to {PENDULUM_TOL:g} m/s):", "",
              "| damper c (N s/m) | dynamic critical U (m/s) | above the fold (%) |", "|---|---|---|"]
     lines += [f"| {c:g} | {k.value:.3f} | {100 * (k.value - qs.value) / qs.value:+.2f} |" for c, k in zip(DAMPERS, crits)]
     lines += ["", "Lightly damped, the leg's momentum carries it over the airload's hump: it locks above the "
@@ -216,11 +223,23 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     return lines
 
 
+def _bisect(system, start, vary: str, bracket, fallback, **options):
+    """:func:`~mechcont.dynamics.freefall.critical_airspeed` in ``bracket`` (runs ended at the lock), or in the
+    wider ``fallback`` when the outcome does not change across ``bracket``."""
+    from ..dynamics.freefall import critical_airspeed
+    from ..errors import InputError
+
+    try:
+        return critical_airspeed(system, start, vary, *bracket, end_at_lock=True, **options)
+    except InputError:
+        return critical_airspeed(system, start, vary, *fallback, end_at_lock=True, **options)
+
+
 def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[str]:
     """Simulate the nose-gear freefall at :data:`AIRSPEEDS`; write the figure; return summary lines."""
     from ..analysis import continuation_with_stops, equilibrium_on_stops
     from ..continuation import ContinuationOptions
-    from ..dynamics.freefall import critical_airspeed, freefall, quasi_static_critical
+    from ..dynamics.freefall import freefall, quasi_static_critical
     from ..errors import InputError
     from ..models import model_from_text
 
@@ -259,7 +278,8 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
         sr = [p["U"] for p in continuation_with_stops(system, locked, "U", direction=1, options=ContinuationOptions(
             bounds={"U": (0.0, 2 * CRITICAL[1])})).branch.special_points if p.label == "SR"]
     t0 = time.perf_counter()
-    crit = critical_airspeed(system, {"fitting": THETA_UP}, "U", *CRITICAL, tol=TOL, lock="downlock", until=UNTIL)
+    bracket = (sr[0] + SR_BRACKET[0], sr[0] + SR_BRACKET[1]) if sr else CRITICAL
+    crit = _bisect(system, {"fitting": THETA_UP}, "U", bracket, CRITICAL, tol=TOL, lock="downlock", until=CRITICAL_UNTIL)
     timings[f"freefall: critical airspeed by bisection ({len(crit.runs)} runs)"] = time.perf_counter() - t0
     static = []
     for U, r in runs:
@@ -275,7 +295,8 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
               ]
     lines[-1] += (f"; above it the lock spring cannot hold the lock links on their stop. Dynamic: bisection on "
                   f"freefall runs gives the largest airspeed that locks, {crit.value:.3f} m/s (bracket "
-                  f"[{crit.low:.3f}, {crit.high:.3f}], {len(crit.runs)} runs of {UNTIL:g} s). Each locked run's "
+                  f"[{crit.low:.3f}, {crit.high:.3f}], {len(crit.runs)} runs of up to {CRITICAL_UNTIL:g} s from a "
+                  f"bracket from SR {SR_BRACKET[0]:+g} to SR {SR_BRACKET[1]:+g} m/s, to {TOL:g} m/s). Each locked run's "
                   f"reaction at rest equals the static reaction on the stop (`equilibrium_on_stops`) to "
                   + ("better than 1e-8 relative" if max(static) < 1e-8 else f"{max(static):.1e} relative")
                   + ". The airload shortens the fall and hits the lock harder; above the critical airspeed the "

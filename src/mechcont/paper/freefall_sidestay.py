@@ -26,7 +26,7 @@ __all__ = ["SIDESTAY_UP", "LOCKS", "description_text", "freefall_gear", "retract
            "sidestay_freefall", "lines"]
 
 #: Gear-up retraction angle (rad; docs/dual-sidestay.md) and the quasi-static retraction steps to it.
-SIDESTAY_UP, STEPS = math.radians(85.0), 17
+SIDESTAY_UP, STEPS = math.radians(85.0), 8
 #: The lock stops; the airframe point (m) of the compliant aft attachment; the aft upper arm's mass (kg).
 LOCKS, A_AFT, M_UPPER = ("fwd_stop", "aft_stop"), (0.85, -1.55, 0.3), 45.0
 #: Longest simulated fall (s), the integrator's tolerances.
