@@ -94,3 +94,11 @@ def test_dual_sidestay_retracted_pose_is_the_quasi_static_one(section):
     force = np.linalg.norm([x[model.index(f"R_aft_A_{c}")] for c in "xyz"])
     assert fs.attachment_offset(model, x) == pytest.approx(force / x[model.index("k_att")], rel=1e-6)
     assert math.degrees(abs(math.asin(condition_value(model, x, "aft_lock")))) > 5.0
+
+
+def test_the_paper_pendulum_is_the_tested_one():
+    """The damping study of the paper uses the pendulum whose closed forms tests/test_freefall.py checks."""
+    from mechcont.paper.freefall import PENDULUM
+
+    with open("tests/data/freefall_pendulum.toml") as fh:
+        assert PENDULUM == fh.read()
