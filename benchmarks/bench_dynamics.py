@@ -111,6 +111,18 @@ def downlock_by_continuation(system) -> np.ndarray:
     return np.array(out)
 
 
+def sidestay_freefall(until: float = 0.05):
+    """The dual-sidestay gear's freefall (63 coordinates, both lock stops, the retraction actuator as a damper,
+    aft attachment 5e7 N/m) released at gear up, simulated for ``until`` s: a callable for the timing (the
+    model and its retracted pose made before)."""
+    from mechcont.equations import as_model
+    from mechcont.paper import freefall_sidestay as fs
+
+    model = as_model(fs.freefall_gear())
+    x = fs.retracted(model)
+    return lambda: fs.sidestay_freefall(model, x, until=until)
+
+
 def cases():
     """Benchmark cases for benchmarks/run.py."""
     sw_system, starts = sweep_setup()
@@ -121,6 +133,7 @@ def cases():
         (f"downlock_5of20LU_sweeps_{USABLE_RATE:g}N_per_s", lambda: downlock_by_sweeps(sw_system, subset, USABLE_RATE),
          20),
         ("downlock_20LU_fold_continuation", lambda: downlock_by_continuation(ct_system), 20),
+        ("dual_sidestay_freefall_0.05s_simulated", sidestay_freefall(0.05), 5),
     ]
 
 

@@ -136,3 +136,17 @@ def test_critical_figure(tmp_path):
     ax = fig.axes[0]
     assert len(ax.lines) == 2 and ax.get_xscale() == "log"
     assert ax.lines[1].get_ydata()[0] == pytest.approx(U_C)
+
+
+def test_a_run_ended_at_the_lock_has_the_lock_of_the_full_run():
+    """end_at_lock stops the run once the downlock is in contact and the leg at rest: the same lock time as the
+    run to the end (the time is the contact event, located alike), well before ``until``, and at rest then."""
+    system = load_model(PATH)
+    full = freefall(system, {"angle": BETA}, lock="downlock", until=20.0, values={"U": 10.0, "c": 5.0})
+    short = freefall(system, {"angle": BETA}, lock="downlock", until=20.0, values={"U": 10.0, "c": 5.0},
+                     end_at_lock=True)
+    assert full.locked and short.locked
+    assert short.time_to_lock == pytest.approx(full.time_to_lock, abs=1e-9)
+    assert short.history.t[-1] < 0.5 * full.history.t[-1]
+    assert short.final_speed <= 1e-4 * (1 + 1e-6)
+    assert short.history["angle"][-1] == pytest.approx(-BETA, abs=1e-9)

@@ -1,5 +1,10 @@
-"""The nose-gear freefall of ``mechcont paper --only freefall`` (issue 23, item 6)."""
+"""The freefall section of ``mechcont paper`` (issue 23, item 6): the nose gear, the damping study and the
+dual-sidestay gear from gear up. The section runs once (module fixture); its summary is checked here."""
 
+import math
+import re
+
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -22,20 +27,73 @@ def test_nose_gear_locks_from_the_uplock_and_rests_with_the_static_reaction():
     assert h["R_downlock"][-1] == pytest.approx(xe[system.index("R_downlock")], rel=1e-8)
 
 
-@pytest.mark.slow
-def test_paper_section_reports_the_critical_airspeed(tmp_path):
+@pytest.fixture(scope="module")
+def section(tmp_path_factory):
     from mechcont.cli._app import _register, cli
 
     _register()
-    res = CliRunner().invoke(cli, ["paper", "--out", str(tmp_path), "--only", "freefall", "--quiet"])
+    out = tmp_path_factory.mktemp("freefall")
+    res = CliRunner().invoke(cli, ["paper", "--out", str(out), "--only", "freefall", "--quiet"])
     assert res.exit_code == 0, res.output
-    text = (tmp_path / "summary.md").read_text()
+    return out, (out / "summary.md").read_text()
+
+
+@pytest.mark.slow
+def test_paper_section_reports_the_critical_airspeed(section):
+    out, text = section
     assert "## Freefall extension of the nose gear" in text and "| 125 | timed out |" in text
     sr = float(text.split("releases (SR) at U = ")[1].split()[0])
     dyn = text.split("largest airspeed that locks, ")[1]
     low, high = (float(v) for v in dyn.split("bracket [")[1].split("]")[0].split(", "))
     assert low <= sr <= high  # a run locks exactly when its contact reaction is positive: below SR
-    assert (tmp_path / "freefall_nose_gear.png").stat().st_size > 0
+    assert (out / "freefall_nose_gear.png").stat().st_size > 0
+    assert (out / "freefall_critical_vs_damping.png").stat().st_size > 0
+
+
+def _sidestay_rows(text):
+    table = text.split("### Dual-sidestay main gear: freefall from gear up")[1].split("| k_att (N/m)")[1]
+    rows = [r for r in table.splitlines()[2:] if r.startswith("| ")]
+    return [[c.strip() for c in r.strip("|").split("|")] for r in rows]
+
+
+@pytest.mark.slow
+def test_paper_section_dual_sidestay_gear_locks_both_sidestays(section):
+    """Every row of the table is consistent: locked after the pair's first strike, the gap is aft minus fwd,
+    the nominal gear (first row) locks both pairs; the pose paragraph reports a physical retracted pose."""
+    _, text = section
+    rows = _sidestay_rows(text)
+    assert len(rows) >= 3 and rows[0][:3] == ["5e+07", "0.7", "locked"]
+    for _k, _stretch, outcome, fwd_hit, fwd_lock, aft_hit, aft_lock, gap, load in rows:
+        if outcome != "locked":
+            continue
+        hits = [float(fwd_hit.split()[0]), float(aft_hit.split()[0])]
+        locks = [float(fwd_lock.split()[0]), float(aft_lock.split()[0])]
+        assert all(h <= t + 1e-9 for h, t in zip(hits, locks))
+        assert float(gap) == pytest.approx(locks[1] - locks[0], abs=0.11)  # cells rounded to 0.1 ms
+        assert 1.0 < locks[0] / 1e3 < 3.0 and 10.0 < float(load) < 200.0
+    um = float(re.search(r"the attachment deflects (\d+) um", text).group(1))
+    mm = float(re.search(r"the aft upper arm ends (\d+) mm off", text).group(1))
+    assert 0 < um < 1000 and mm > 50  # physical: tens of microns; kinematic: the attachment dragged away
+
+
+@pytest.mark.slow
+def test_dual_sidestay_retracted_pose_is_the_quasi_static_one(section):
+    """The released pose: theta at gear up, the joints closed, every stop on its allowed side, both pairs
+    folded, and the attachment deflected by its force over its stiffness (the compliant joint's law, from the
+    pose's reaction and the attachment point's position, to 1e-6)."""
+    from mechcont.dynamics.freefall import condition_value
+    from mechcont.equations import as_model
+    from mechcont.paper import freefall_sidestay as fs
+
+    model = as_model(fs.freefall_gear())
+    x = fs.retracted(model)
+    assert condition_value(model, x, "theta") == pytest.approx(fs.SIDESTAY_UP, abs=1e-9)
+    assert np.max(np.abs(model.mechanics.phi(x))) < 1e-9
+    for st in model.stops:
+        assert st.side * (condition_value(model, x, st.condition) - st.limit) > 0.1
+    force = np.linalg.norm([x[model.index(f"R_aft_A_{c}")] for c in "xyz"])
+    assert fs.attachment_offset(model, x) == pytest.approx(force / x[model.index("k_att")], rel=1e-6)
+    assert math.degrees(abs(math.asin(condition_value(model, x, "aft_lock")))) > 5.0
 
 
 def test_the_paper_pendulum_is_the_tested_one():

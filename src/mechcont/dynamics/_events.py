@@ -109,6 +109,22 @@ class EventTracker:
                 t_stop = te if t_stop is None else min(t_stop, te)
         return t_stop
 
+    def jump(self, dyn, t, y) -> float | None:
+        """Restart after a velocity jump at ``t`` (an impact) to the state ``y``: an event whose value the jump
+        carried across zero (in its direction) occurs at ``t``. Returns ``t`` if a terminal one did, else None."""
+        if not self._fns:
+            return None
+        before, after = self._last, self._values(dyn, t, y)
+        self._last = after
+        t_stop = None
+        for k, (a, b) in enumerate(zip(before, after)):
+            up, down = a < 0 <= b, a > 0 >= b
+            if (up and self.direction[k] >= 0) or (down and self.direction[k] <= 0):
+                self.t_events[k].append(t)
+                self.x_events[k].append(dyn.full(t, y[: self.nq]))
+                t_stop = t if self.terminal[k] else t_stop
+        return t_stop
+
     def results(self):
         """``(t_events, x_events)``: lists of arrays, one per event."""
         n = len(self._fns)

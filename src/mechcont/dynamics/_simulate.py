@@ -239,8 +239,10 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
                 break
             y_after, _ = contacts.handle(hit[0], y_new, hit[1])
             history.add(hit[0], y_after)  # the row after the event (the velocities jump at an impact)
+            if tracker.jump(dyn, hit[0], y_after) is not None:  # the jump itself ended the run (e.g. came to rest)
+                status = Status.EVENT
+                break
             solver = cls(dyn, hit[0], y_after, t1, rtol=rtol, atol=atol, max_step=max_step)
-            tracker.start(dyn, hit[0], y_after)
             continue
         if solver.status == "finished":
             break

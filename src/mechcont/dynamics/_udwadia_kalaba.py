@@ -22,7 +22,9 @@ microseconds) and fall back to the SVD pseudo-inverse when ``B B^T`` is (nearly)
 
 ``M^-1/2`` is the symmetric inverse square root from the eigen-decomposition of ``M``;
 it is computed once when ``M`` does not depend on the coordinates (bars described by
-centre-of-gravity coordinates, as in the paper).
+centre-of-gravity coordinates, as in the paper). Otherwise (spatial bodies in Euler parameters)
+``M`` is block diagonal, one block per body, and ``M^-1/2`` is computed block by block
+(:class:`MassBlocks`): nine 7 x 7 eigen-decompositions in one batched call instead of one 63 x 63.
 """
 
 from __future__ import annotations
@@ -39,7 +41,7 @@ from ..errors import InputError
 if TYPE_CHECKING:
     from ._contact import StopConstraints
 
-__all__ = ["fundamental_equation", "inverse_sqrt", "ConstrainedDynamics"]
+__all__ = ["fundamental_equation", "inverse_sqrt", "MassBlocks", "ConstrainedDynamics"]
 
 _RCOND = 1e-12
 
@@ -59,6 +61,54 @@ def inverse_sqrt(M: np.ndarray) -> np.ndarray:
     if w.min() <= 0:
         raise InputError("mass_matrix", "must be positive definite (an eigenvalue is <= 0)")
     return (V / np.sqrt(w)) @ V.T
+
+
+class MassBlocks:
+    """The block-diagonal structure of a mass matrix: its coupled coordinates (the connected components
+    of its non-zero pattern), grouped by block size, so that :meth:`inverse_sqrt` decomposes each block
+    (one batched ``eigh`` per size) instead of the whole matrix.
+
+    ``pattern`` is the set of ``(i, j)`` positions that may be non-zero (from the symbolic matrix)."""
+
+    def __init__(self, n: int, pattern) -> None:
+        parent = list(range(n))
+
+        def root(i: int) -> int:
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        for i, j in pattern:
+            parent[root(i)] = root(j)
+        blocks: dict[int, list[int]] = {}
+        for i in range(n):
+            blocks.setdefault(root(i), []).append(i)
+        by_size: dict[int, list[list[int]]] = {}
+        for b in blocks.values():
+            by_size.setdefault(len(b), []).append(b)
+        self.n = n
+        self.groups = [np.array(g) for g in by_size.values()]  # each (blocks, size)
+
+    def inverse(self, M: np.ndarray) -> np.ndarray:
+        """``M^-1`` of a matrix with this structure, block by block."""
+        out = np.zeros((self.n, self.n))
+        for g in self.groups:
+            rows, cols = g[:, :, None], g[:, None, :]
+            out[rows, cols] = np.linalg.inv(M[rows, cols])
+        return out
+
+    def inverse_sqrt(self, M: np.ndarray) -> np.ndarray:
+        """``M^-1/2`` of a matrix with this structure (the same as :func:`inverse_sqrt`, block by block)."""
+        out = np.zeros((self.n, self.n))
+        for g in self.groups:
+            rows, cols = g[:, :, None], g[:, None, :]
+            B = M[rows, cols]
+            w, V = np.linalg.eigh(0.5 * (B + B.transpose(0, 2, 1)))
+            if w.min() <= 0:
+                raise InputError("mass_matrix", "must be positive definite (an eigenvalue is <= 0)")
+            out[rows, cols] = (V / np.sqrt(w)[:, None, :]) @ V.transpose(0, 2, 1)
+        return out
 
 
 def _pinv_apply(B: np.ndarray, r: np.ndarray) -> np.ndarray:
@@ -108,6 +158,20 @@ def _symbols_of(exprs) -> set[str]:
     return out
 
 
+def _mass_samples(mech, x: np.ndarray, q_index: np.ndarray, samples: int = 3) -> tuple[np.ndarray, list[np.ndarray]]:
+    """``M`` at ``x`` and at ``samples`` coordinate vectors moved at random (seeded) from it: a constant mass
+    matrix is the same at all of them, and the union of their non-zero entries is ``M``'s pattern (an entry
+    that is not identically zero vanishes at random points with probability 0). Numerical, so that the
+    symbolic matrix (kept pickled in a cached model: seconds to load for a 63-coordinate gear) is not needed."""
+    rng = np.random.default_rng(0)
+    moved = []
+    for _ in range(samples):
+        y = np.array(x, float)
+        y[q_index] += rng.uniform(-0.5, 0.5, len(q_index))
+        moved.append(mech.mass(y))
+    return mech.mass(x), moved
+
+
 class ConstrainedDynamics:
     """The first-order ODE ``y' = f(t, y)``, ``y = (q, qdot)``, of a mechanism.
 
@@ -153,7 +217,7 @@ class ConstrainedDynamics:
             raise InputError("damping", "must be a non-negative number (1/s)")
         self.damping = float(damping)
         loads = dict(loads or {})
-        rigid = _symbols_of([*mech.constraints, *mech.mass_matrix])
+        rigid = _symbols_of([*mech.constraints, *mech.mass_matrix]) if loads else set()
         for name, fn in loads.items():
             i = system.index(name)
             if i in set(self.q_index.tolist()):
@@ -163,9 +227,11 @@ class ConstrainedDynamics:
             if not callable(fn):
                 raise InputError(name, "load must be a callable t -> value")
         self._loads = [(system.index(n), fn) for n, fn in loads.items()]
-        coord_names = {system.names[i] for i in self.q_index}
-        self._mass_constant = not (_symbols_of(list(mech.mass_matrix)) & coord_names)
-        self._Mis = inverse_sqrt(mech.mass(self.x)) if self._mass_constant else None
+        M, moved = _mass_samples(mech, self.x, self.q_index)
+        self._mass_constant = all(np.array_equal(M, Mk) for Mk in moved)
+        self._Mis = inverse_sqrt(M) if self._mass_constant else None
+        pattern = np.argwhere(sum((np.abs(Mk) for Mk in moved), np.abs(M)) > 0)
+        self._blocks = None if self._mass_constant else MassBlocks(self.nq, pattern.tolist())
         self.nfev = 0
         #: The stops as unilateral constraints (a :class:`~._contact.StopConstraints`), or None.
         self.contacts: StopConstraints | None = None
@@ -181,7 +247,10 @@ class ConstrainedDynamics:
 
     def mass_inv_sqrt(self, x: np.ndarray) -> np.ndarray:
         """``M^-1/2`` at ``x`` (cached when the mass matrix is constant)."""
-        return self._Mis if self._Mis is not None else inverse_sqrt(self.mech.mass(x))
+        if self._Mis is not None:
+            return self._Mis
+        assert self._blocks is not None
+        return self._blocks.inverse_sqrt(self.mech.mass(x))
 
     def forces(self, x: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Applied generalised forces including the Rayleigh damping term and the compliant
@@ -216,7 +285,29 @@ class ConstrainedDynamics:
         Q = self.forces(x, qd)
         if not (np.all(np.isfinite(Q)) and np.all(np.isfinite(A)) and np.all(np.isfinite(b))):
             return np.full(self.nq, np.nan)
+        if self._blocks is not None and A.shape[0]:
+            qdd = self._by_inverse(x, Q, A, b)
+            if qdd is not None:
+                return qdd
         return fundamental_equation(self.mass_inv_sqrt(x), Q, A, b)
+
+    def _by_inverse(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+        """The fundamental equation through ``M^-1`` (block by block) when ``A`` has full row rank:
+        ``M^-1/2 (A M^-1/2)^+ r = M^-1 A^T (A M^-1 A^T)^-1 r``, the same matrix ``A M^-1 A^T`` and rank test
+        as :func:`fundamental_equation`'s Cholesky path, without the eigen-decomposition of ``M``. None
+        when that matrix is (nearly) singular: the caller takes the pseudo-inverse path."""
+        assert self._blocks is not None
+        Minv = self._blocks.inverse(self.mech.mass(x))
+        a = Minv @ Q
+        MA = Minv @ A.T
+        c, info = dpotrf(A @ MA, lower=1, clean=0)
+        if info != 0:
+            return None
+        d = np.abs(c.diagonal())
+        if not d.min() > 1e-6 * d.max():
+            return None
+        z, _ = dpotrs(c, b - A @ a, lower=1)
+        return a + MA @ z
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         """Right-hand side ``(qdot, qddot)`` of the first-order system."""

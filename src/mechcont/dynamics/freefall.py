@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from .._status import Status
 from ..equations import StopLimit
 from ..errors import InputError
 from ._events import Crossing
@@ -30,6 +31,9 @@ from ._result import SimulationResult
 __all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
            "quasi_static_critical", "damper_tensions", "critical_figure", "travel_of", "condition_value"]
 
+#: A lock stop counts as on its limit within this gap (condition units) for the end of a run at the lock: far
+#: below any gap a free stop has at rest, far above the contact's drift.
+LOCK_GAP = 1e-6
 #: Outcomes of a freefall run.
 LOCKED, STALLED, TIMED_OUT, FAILED = "locked", "stalled", "timed out", "failed"
 
@@ -126,17 +130,19 @@ class FreefallResult:
         return lines
 
 
-def damper_tensions(system, result: SimulationResult, h: float = 1e-7) -> dict[str, np.ndarray]:
+def damper_tensions(system, result: SimulationResult, h: float = 1e-7, mechanism=None) -> dict[str, np.ndarray]:
     """Tension (N) of every damper of ``system``'s description at every row of ``result``.
 
     ``T = c v + c2 v |v|`` with ``v = dl/dt`` (see :mod:`mechcont.mechanism._dampers`): the
     length ``l`` between the damper's drawn end points, its rate by a central difference along the
-    row's velocity (error ``O(h^2)``, relative ~1e-14 at the default ``h``).
+    row's velocity (error ``O(h^2)``, relative ~1e-14 at the default ``h``). ``mechanism``: the description's
+    mechanism when already at hand (a model loaded from the cache makes it on first use, seconds for a large
+    one, and a copy made with other values before that makes it again).
     """
     from ..equations import as_model
     from ..mechanism._values import evaluate
 
-    mech: Any = as_model(system).mechanism
+    mech: Any = as_model(system).mechanism if mechanism is None else mechanism
     dampers = list(getattr(mech, "dampers", ()))
     if not dampers or system.scene is None:
         return {}
@@ -207,7 +213,7 @@ def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None
 
 def freefall(system, start: Mapping[str, float], *, lock, until: float, values: Mapping[str, float] | None = None,
              damping: float = 0.0, rtol: float = 1e-8, atol: float = 1e-10, rest_speed: float = 1e-4,
-             max_step: float = math.inf, guess=None) -> FreefallResult:
+             max_step: float = math.inf, guess=None, method: str = "RK45", end_at_lock: bool = False) -> FreefallResult:
     """Release ``system`` at rest in the pose ``start`` and simulate it with its stops until it locks.
 
     Parameters
@@ -222,10 +228,15 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         when that coordinate or condition reaches ``value`` (from the side it starts on).
     until:
         Longest simulated time (s).
+    end_at_lock:
+        End the run as soon as every lock stop is in contact and the mechanism at rest (every coordinate
+        speed below ``rest_speed``): it has locked. Then the last row is that instant (the motion has not
+        died out: its stop reactions differ from the static ones by the remaining dynamics).
     values:
         Parameter values (SI) overriding the model's, e.g. ``{"U": 60.0}``.
-    damping, rtol, atol, max_step:
-        As for :func:`~mechcont.dynamics.simulate`.
+    damping, rtol, atol, max_step, method:
+        As for :func:`~mechcont.dynamics.simulate` (``method="Radau"`` for a stiff mechanism, e.g. a stiff
+        compliant attachment, whose fast vibration is damped).
     rest_speed:
         A run that ends with every coordinate speed below this (rad/s, m/s) and not locked has
         *stalled*; otherwise it has *timed out*.
@@ -260,14 +271,16 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         coordinates = mechanics.coordinates if mechanics is not None else ()
         events = [Crossing(name, value, direction=int(side), terminal=True) if name in coordinates
                   else _ConditionCrossing(model, name, value, int(side))]
+    if lock_stops and end_at_lock:
+        events = [_AtRestOnStops(model, lock_stops, rest_speed)]
     stops = bool(model.stops)
     result = simulate(model, x0, (0.0, float(until)), stops=stops, damping=damping, rtol=rtol, atol=atol,
-                      max_step=max_step, events=events)
+                      max_step=max_step, events=events, method=method)
     speed = float(np.max(np.abs(result.qdot[-1]), initial=0.0))
     t_lock = impact = None
     per_stop: dict[str, StopLock] = {}
     if stop is not None:
-        at_rest = result.success and speed <= rest_speed
+        at_rest = result.success and (speed <= rest_speed or result.status is Status.EVENT)  # the event: at rest
         per_stop = {s.name: _stop_lock(result, s.name, at_rest) for s in lock_stops}
         if all(s.time is not None for s in per_stop.values()):
             last_stop = max(per_stop.values(), key=lambda s: s.time)  # type: ignore[arg-type,return-value]
@@ -288,7 +301,7 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         outcome = FAILED
     else:
         outcome = STALLED if speed <= rest_speed else TIMED_OUT
-    tensions = damper_tensions(model, result)
+    tensions = damper_tensions(model, result, mechanism=as_model(system).mechanism)  # made once, on the original
     reactions = {s.name: float(np.max(result[s.reaction], initial=0.0)) for s in model.stops} if stops else {}
     return FreefallResult(outcome, lock_text, t_lock, impact, {n: float(np.max(np.abs(v), initial=0.0))
                                                                  for n, v in tensions.items()},
@@ -313,6 +326,30 @@ def _stop_lock(result: SimulationResult, name: str, at_rest: bool) -> StopLock:
     first = next((ev for ev in evs if ev.kind == "impact"), None)
     return StopLock(name, last.time if last is not None and last.kind == "contact" and at_rest else None,
                     first.speed if first is not None else None)
+
+
+class _AtRestOnStops:
+    """Terminal event: every stop of ``stops`` on its limit (gap below :data:`LOCK_GAP`) and every coordinate
+    speed below ``rest_speed``: ``max(max |qdot| - rest_speed, max gap - LOCK_GAP)`` falls through 0."""
+
+    terminal, direction = True, -1
+
+    def __init__(self, model, stops: Sequence[StopLimit], rest_speed: float):
+        rows = list(model.equation_names)
+        self.model, self.rest_speed = model, rest_speed
+        self.rows = np.array([rows.index(f"cond_{s.condition}") for s in stops])
+        self.index = np.array([model.index(s.condition) for s in stops])
+        self.side = np.array([float(s.side) for s in stops])
+        self.limit = np.array([float(s.limit) for s in stops])
+
+    def __call__(self, t, x, qd) -> float:
+        speed = float(np.max(np.abs(qd), initial=0.0)) - self.rest_speed
+        if speed > 0:  # moving: the gaps need not be computed
+            return speed
+        y = np.array(x, float)
+        y[self.index] = 0.0
+        gaps = self.side * (self.model.residual(y)[self.rows] - self.limit)
+        return max(speed, float(np.max(gaps)) - LOCK_GAP)
 
 
 class _ConditionCrossing:

@@ -10,11 +10,8 @@ outcome, time to lock, the lock links' impact speed, the peak actuator load and 
 reaction are tabulated; the quasi-static predictor (the equilibria the gear could hang in on its
 way, with the airspeed solved for) says whether any airspeed can stall it.
 
-The dual-sidestay gear (``examples/dual_sidestay.toml``) is assembled at gear up along its retraction
-path (:func:`sidestay_retracted`) and released with both lock-link stops as its lock; its fall is stiff
-(light lock links, a stiff aft attachment), so the section simulates only its start and tabulates the
-quasi-static equilibria in which its aft lock links hold it up (:func:`sidestay_hang`) against the aft
-attachment stiffness and the lock-spring preload; :func:`sidestay_freefall` runs a whole fall.
+The dual-sidestay gear's freefall from gear up (both lock-link pairs as its lock, against the aft
+attachment stiffness and the lock-spring preload) is :mod:`.freefall_sidestay`.
 
 Run times go to ``timings``, never into the summary, which is the same on every run.
 """
@@ -27,18 +24,23 @@ from pathlib import Path
 
 import numpy as np
 
+from . import freefall_sidestay
 from ._timing import timed
 
-__all__ = ["run", "description_text", "AIRSPEEDS", "PENDULUM", "sidestay_retracted", "sidestay_freefall",
-           "sidestay_hang", "SIDESTAY_UP"]
+__all__ = ["run", "description_text", "AIRSPEEDS", "PENDULUM"]
 
 #: Airspeeds (m/s) of the freefall runs.
 AIRSPEEDS = (0.0, 25.0, 50.0, 75.0, 100.0, 125.0)
 #: Simulated time (s) per run, the retracted angle (rad) of the main fitting at the uplock.
-UNTIL, THETA_UP = 5.0, 0.2
+UNTIL, THETA_UP = 2.5, 0.2
 #: Bracket and tolerance (m/s) of the critical airspeed's bisection; the end (rad) of the travel
 #: searched for intermediate equilibria (short of the lock links' kinematic fold at aligned).
 CRITICAL, TOL, TRAVEL_END = (100.0, 125.0), 0.05, 1.3
+#: The bisection bracket (m/s) about the quasi-static release (SR) of the lock, from SR - 0.77 to SR + 0.83:
+#: not centred, so that no bisection point falls on SR itself, where the reaction at rest is zero; the longest
+#: simulated time (s) of a bisection run (the gear locks within 1.3 s at every airspeed of the table; a run
+#: that locks ends there, one that does not runs this long).
+SR_BRACKET, CRITICAL_UNTIL = (-0.77, 0.83), 2.5
 
 _PARAMETERS = '''c_ret = { value = 2000.0, unit = "N s/m", description = "retraction actuator, laminar term" }
 c2_ret = { value = 5000.0, unit = "N s^2/m^2", description = "retraction actuator restrictor, quadratic term" }
@@ -149,141 +151,9 @@ min = "-beta"
 '''
 #: Damper coefficients (N s/m) of the study, the bisection bracket (m/s), tolerance and run length (s).
 DAMPERS, PENDULUM_BRACKET, PENDULUM_TOL, PENDULUM_UNTIL = (1.0, 2.0, 5.0, 10.0, 20.0), (24.0, 30.0), 0.01, 100.0
-
-
-#: The dual-sidestay gear (``examples/dual_sidestay.toml``): its gear-up retraction angle (rad), the assemblies
-#: along its kinematic path from gear down to there, and the simulated time (s) of its freefall in the paper
-#: (the full fall is too slow for the section: see :func:`sidestay_freefall` and the timings).
-SIDESTAY_UP, SIDESTAY_STEPS, SIDESTAY_UNTIL = math.radians(85.0), 17, 0.05
-#: The dual-sidestay gear's lock stops.
-SIDESTAY_LOCKS = ("fwd_stop", "aft_stop")
-#: Aft attachment stiffnesses (N/m) and lock-spring stretches (free over installed length: less is more
-#: preload) of the gear-up hang table.
-HANG_K_ATT, HANG_STRETCH = (5e7, 5e6, 1e6), (0.5, 0.7, 1.0)
-
-
-def sidestay_retracted(system, theta_up: float = SIDESTAY_UP, steps: int = SIDESTAY_STEPS) -> np.ndarray:
-    """The dual-sidestay gear ``system`` assembled at gear up (``theta = theta_up``, rad) on its retraction path.
-
-    The retraction angle is held at ``steps`` values from gear down (0) to ``theta_up``, each assembly from
-    the last, so the lock links fold as they do when the gear retracts (assembled at once at gear up from
-    the gear-down guess, a lock-link pair may take another of its assemblies). Returns the full vector;
-    :class:`~mechcont.errors.InputError` when a stop's condition is on its forbidden side there."""
-    from ..dynamics import assemble
-    from ..dynamics.freefall import condition_value
-    from ..equations import as_model
-    from ..errors import InputError
-
-    model = as_model(system)
-    x = assemble(model, {"theta": 0.0}, hold=["theta"])
-    for t in np.linspace(0.0, theta_up, steps + 1)[1:]:
-        x = assemble(model, model.vector({"theta": float(t)}, base=x), hold=["theta"])
-    for st in model.stops:
-        value = condition_value(model, x, st.condition)
-        if st.side * (value - st.limit) < 0:
-            raise InputError("retracted", f"stop {st.name} is violated at gear up ({st.condition} = {value:.4g}, "
-                                          f"limit {st.limit:.4g})")
-    return x
-
-
-def sidestay_freefall(until: float, values=None, system=None, x_up=None, **options):
-    """The dual-sidestay gear released at rest at gear up (:func:`sidestay_retracted`) and simulated with its
-    stops for at most ``until`` s; locked when both lock-link pairs rest on their stops.
-
-    ``values`` override parameters (e.g. ``k_att``, the aft attachment stiffness, N/m; ``stretch``, the lock
-    springs' free length over their installed length: their preload); ``x_up`` the gear-up pose when already
-    computed. Returns ``(FreefallResult, x_up)``."""
-    from ..dynamics.freefall import freefall
-    from .dual_sidestay import generated_gear
-
-    system = generated_gear() if system is None else system
-    x_up = sidestay_retracted(system) if x_up is None else x_up
-    run = freefall(system, {"theta": SIDESTAY_UP}, lock=list(SIDESTAY_LOCKS), until=until, values=values, guess=x_up,
-                   **options)
-    return run, x_up
-
-
-def sidestay_hang(system, x_up, values=None) -> tuple[float, float] | None:
-    """The equilibrium near gear up with the aft lock-link pair resting on its overcentre stop (the fwd pair
-    free): ``(theta, R_aft_stop)`` (rad, N m), or None when there is none with a positive reaction
-    (:func:`~mechcont.analysis.equilibrium_on_stops` from the gear-up pose ``x_up``). Where it exists the
-    lock spring can hold the aft sidestay locked *up*: the gear may hang there instead of falling."""
-    from ..analysis import equilibrium_on_stops
-    from ..dynamics.freefall import condition_value
-    from ..errors import ConvergenceError, InputError
-
-    try:
-        x, contact = equilibrium_on_stops(system, x_up, values=values, contact=["aft_stop"])
-    except (ConvergenceError, InputError):
-        return None
-    if "aft_stop" not in contact:
-        return None
-    return condition_value(system, x, "theta"), float(x[system.index("R_aft_stop")])
-
-
-def _sidestay(timings: dict) -> list[str]:
-    """The dual-sidestay gear from gear up: its retracted pose, and the start of its fall."""
-    from ..dynamics.freefall import condition_value
-    from ..equations import as_model
-    from .dual_sidestay import generated_gear
-
-    t0 = time.perf_counter()
-    system = generated_gear()
-    x_up = sidestay_retracted(system)
-    t1 = time.perf_counter()
-    run, _ = sidestay_freefall(SIDESTAY_UNTIL, system=system, x_up=x_up)
-    t2 = time.perf_counter()
-    timings["freefall: dual-sidestay gear, built and assembled at gear up"] = t1 - t0
-    timings[f"freefall: dual-sidestay gear, {SIDESTAY_UNTIL:g} s simulated"] = t2 - t1
-    timings["freefall: dual-sidestay gear, seconds per simulated second"] = (t2 - t1) / SIDESTAY_UNTIL
-    h = run.history
-
-    def deg(name):
-        return f"{math.degrees(math.asin(condition_value(system, x_up, name))):+.2f}"
-
-    events = {n: [e for e in h.stop_events if e.stop == n] for n in SIDESTAY_LOCKS}
-    impacts = {n: [e for e in ev if e.kind == "impact"] for n, ev in events.items()}
-    limit = math.degrees(math.asin(next(s.limit for s in as_model(system).stops if s.name == "aft_stop")))
-
-    def struck(n):
-        if not impacts[n]:
-            return f"the {n.split('_')[0]} pair never reaches its stop"
-        return (f"the {n.split('_')[0]} pair strikes its stop {len(impacts[n])} times, first at "
-                f"{1e3 * impacts[n][0].time:.2f} ms at {math.degrees(impacts[n][0].speed):.0f} deg/s")
-
-    return ["### Dual-sidestay main gear from gear up", "",
-            f"The generated gear (`examples/dual_sidestay.toml`: two sidestays with lock links, each pair with an "
-            f"overcentre stop {limit:.1f} deg past aligned, lock springs, the compliant aft attachment) assembled at "
-            f"gear up, theta = {math.degrees(SIDESTAY_UP):.0f} deg, along its retraction path ({SIDESTAY_STEPS} "
-            f"assemblies from gear down): lock links fwd {deg('fwd_lock')} deg, aft {deg('aft_lock')} deg from "
-            "aligned, every stop on its allowed side. The aft pair is retracted nearly aligned (the retraction's "
-            "lock-up: near gear up the aft lock links come back to alignment).",
-            "",
-            f"Released at rest there and simulated for {SIDESTAY_UNTIL:g} s: {struck('aft_stop')}; {struck('fwd_stop')}; "
-            f"theta {math.degrees(float(np.min(h['theta']))):.1f} to {math.degrees(float(np.max(h['theta']))):.1f} deg "
-            f"(outcome {run.outcome}). The stiff aft attachment (k_att = {system.as_dict(x_up)['k_att']:.0e} N/m) and "
-            "the light lock links make the fall a stiff, impact-rich simulation: a whole fall (seconds of simulated "
-            "time) is too slow for this section (the time per simulated second is in the timings); "
-            "`mechcont.paper.freefall.sidestay_freefall` runs it.", ""] + _hang_table(system, x_up, timings)
-
-
-def _hang_table(system, x_up, timings: dict) -> list[str]:
-    """The gear-up hang (:func:`sidestay_hang`) against the aft attachment stiffness and the lock-spring stretch."""
-    with timed(timings, "freefall: dual-sidestay gear-up hang equilibria"):
-        rows = [(k, st, sidestay_hang(system, x_up, {"k_att": k, "stretch": st}))
-                for k in HANG_K_ATT for st in HANG_STRETCH]
-    lines = ["Quasi-static: the aft pair, retracted within a degree of aligned, can go over centre onto its stop "
-             "and hold the gear *up*. The equilibria with the aft pair on its stop near gear up (the fwd pair free):",
-             "",
-             "| k_att (N/m) | lock-spring stretch | hangs at theta (deg) | aft stop reaction (N m) |", "|---|---|---|---|"]
-    for k, st, hang in rows:
-        cells = f"{math.degrees(hang[0]):.2f} | {hang[1]:.1f}" if hang is not None else "none | -"
-        lines.append(f"| {k:.0e} | {st:g} | {cells} |")
-    lines += ["", "A positive reaction means the stop carries the gear there: a freefall from gear up may hang on "
-              "the aft lock links instead of falling. The reaction hardly depends on the lock-spring preload (the "
-              "stretch), so it is the gear's weight, not the spring, that holds the aft pair over centre; a softer "
-              "aft attachment lets the gear sag further before the stop holds it.", ""]
-    return lines
+#: The integrator's tolerances of the damping study's runs (at 1e-8 / 1e-10 every bisection gave the same
+#: brackets, at 1.6 to 3.4 times the cost).
+PENDULUM_RTOL, PENDULUM_ATOL = 1e-6, 1e-8
 
 
 def description_text() -> str:
@@ -323,7 +193,7 @@ def _figure(runs, path: Path) -> None:
 
 def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     """Dynamic critical airspeed of :data:`PENDULUM` against its damper, beside the closed-form fold."""
-    from ..dynamics.freefall import critical_airspeed, critical_figure, quasi_static_critical
+    from ..dynamics.freefall import critical_figure, quasi_static_critical
     from ..models import model_from_text
     from ..outputs.plotting import save_figure
 
@@ -331,10 +201,13 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     closed = math.sqrt(2 * 10.0 * 9.81 / (1.225 * 1.2 * 0.2 * 1.0))
     qs = quasi_static_critical(system, "angle", 1.0, -1.0, "U")
     crits = []
-    for c in DAMPERS:
+    lo, hi = PENDULUM_BRACKET
+    for c in DAMPERS:  # lightest first: more damping locks at no higher an airspeed, so each bracket is the last's
         with timed(timings, f"freefall: pendulum critical airspeed at c = {c:g} N s/m"):
-            crits.append(critical_airspeed(system, {"angle": 1.0}, "U", *PENDULUM_BRACKET, tol=PENDULUM_TOL,
-                                           lock="downlock", until=PENDULUM_UNTIL, values={"c": c}))
+            crits.append(_bisect(system, {"angle": 1.0}, "U", (max(lo, qs.value - 0.5), hi), PENDULUM_BRACKET,
+                                 tol=PENDULUM_TOL, lock="downlock", until=PENDULUM_UNTIL, values={"c": c},
+                                 rtol=PENDULUM_RTOL, atol=PENDULUM_ATOL))
+        hi = crits[-1].high  # (upper end: it failed with less damping, checked again by the next bisection)
     fig = critical_figure(DAMPERS, [k.value for k in crits], qs.value, damping_label="damper c (N s/m)",
                           airspeed_label="critical airspeed U (m/s)",
                           title="Gear leg (pendulum) freefall: dynamic vs quasi-static")
@@ -344,7 +217,8 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
              "the horizontal, locked at 57 deg below) falls against the drag of an upward airflow, which holds it up "
              "best at the horizontal: its stall equilibria fold at U_c = sqrt(2 m g / (rho C_D d L)) = "
              f"{closed:.4f} m/s. Continuation finds the fold at {qs.value:.4f} m/s. Bisection on freefall runs "
-             f"({PENDULUM_UNTIL:g} s each, to {PENDULUM_TOL:g} m/s):", "",
+             f"(up to {PENDULUM_UNTIL:g} s each, ended once locked, rtol {PENDULUM_RTOL:g}; each bracket from the last, "
+             f"to {PENDULUM_TOL:g} m/s):", "",
              "| damper c (N s/m) | dynamic critical U (m/s) | above the fold (%) |", "|---|---|---|"]
     lines += [f"| {c:g} | {k.value:.3f} | {100 * (k.value - qs.value) / qs.value:+.2f} |" for c, k in zip(DAMPERS, crits)]
     lines += ["", "Lightly damped, the leg's momentum carries it over the airload's hump: it locks above the "
@@ -354,11 +228,23 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     return lines
 
 
+def _bisect(system, start, vary: str, bracket, fallback, **options):
+    """:func:`~mechcont.dynamics.freefall.critical_airspeed` in ``bracket`` (runs ended at the lock), or in the
+    wider ``fallback`` when the outcome does not change across ``bracket``."""
+    from ..dynamics.freefall import critical_airspeed
+    from ..errors import InputError
+
+    try:
+        return critical_airspeed(system, start, vary, *bracket, end_at_lock=True, **options)
+    except InputError:
+        return critical_airspeed(system, start, vary, *fallback, end_at_lock=True, **options)
+
+
 def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[str]:
     """Simulate the nose-gear freefall at :data:`AIRSPEEDS`; write the figure; return summary lines."""
     from ..analysis import continuation_with_stops, equilibrium_on_stops
     from ..continuation import ContinuationOptions
-    from ..dynamics.freefall import critical_airspeed, freefall, quasi_static_critical
+    from ..dynamics.freefall import freefall, quasi_static_critical
     from ..errors import InputError
     from ..models import model_from_text
 
@@ -397,7 +283,8 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
         sr = [p["U"] for p in continuation_with_stops(system, locked, "U", direction=1, options=ContinuationOptions(
             bounds={"U": (0.0, 2 * CRITICAL[1])})).branch.special_points if p.label == "SR"]
     t0 = time.perf_counter()
-    crit = critical_airspeed(system, {"fitting": THETA_UP}, "U", *CRITICAL, tol=TOL, lock="downlock", until=UNTIL)
+    bracket = (sr[0] + SR_BRACKET[0], sr[0] + SR_BRACKET[1]) if sr else CRITICAL
+    crit = _bisect(system, {"fitting": THETA_UP}, "U", bracket, CRITICAL, tol=TOL, lock="downlock", until=CRITICAL_UNTIL)
     timings[f"freefall: critical airspeed by bisection ({len(crit.runs)} runs)"] = time.perf_counter() - t0
     static = []
     for U, r in runs:
@@ -413,7 +300,8 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
               ]
     lines[-1] += (f"; above it the lock spring cannot hold the lock links on their stop. Dynamic: bisection on "
                   f"freefall runs gives the largest airspeed that locks, {crit.value:.3f} m/s (bracket "
-                  f"[{crit.low:.3f}, {crit.high:.3f}], {len(crit.runs)} runs of {UNTIL:g} s). Each locked run's "
+                  f"[{crit.low:.3f}, {crit.high:.3f}], {len(crit.runs)} runs of up to {CRITICAL_UNTIL:g} s from a "
+                  f"bracket from SR {SR_BRACKET[0]:+g} to SR {SR_BRACKET[1]:+g} m/s, to {TOL:g} m/s). Each locked run's "
                   f"reaction at rest equals the static reaction on the stop (`equilibrium_on_stops`) to "
                   + ("better than 1e-8 relative" if max(static) < 1e-8 else f"{max(static):.1e} relative")
                   + ". The airload shortens the fall and hits the lock harder; above the critical airspeed the "
@@ -421,5 +309,5 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
                     "of the run: timed out).")
     lines += ["", "![nose gear freefall](freefall_nose_gear.png)", ""]
     lines += _damping_study(out_dir, timings)
-    lines += _sidestay(timings)
+    lines += freefall_sidestay.lines(timings)
     return lines
