@@ -143,11 +143,21 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
     ]
     if compliant_aft:
         out.append('k_att = { value = 5.0e7, unit = "N/m", description = "aft sidestay airframe attachment stiffness" }')
+    freefall = compliant_aft and not locked
+    if freefall:
+        out += ['c_ret = { value = 2.0e4, unit = "N s/m", description = "retraction actuator as a damper, laminar term '
+                '(freefall: hydraulics failed)" }',
+                'c2_ret = { value = 2.0e5, unit = "N s^2/m^2", description = "retraction actuator restrictor, '
+                'quadratic term" }',
+                'zeta_att = { value = 0.05, unit = "", description = "damping ratio of the aft upper arm on its '
+                'attachment" }']
     trunnion_fwd, trunnion_aft = 0.35 * e, -0.35 * e
     out += ["", "[ground]", f"T_fwd = {_v(trunnion_fwd)}", f"T_aft = {_v(trunnion_aft)}",
             f"C = {_v(geo.actuator_airframe)}"]
     for st in (geo.forward, geo.aft):
         out.append(f"A_{st.name} = {_v(st.A)}")
+    if freefall:  # 1 m from the aft attachment along each axis: one damper along each
+        out += [f"A_aft_{axis} = {_v(geo.aft.A + np.eye(3)[k])}" for k, axis in enumerate("xyz")]
     fit_points = {"T_fwd": trunnion_fwd, "T_aft": trunnion_aft, "axle": geo.axle, "D": geo.actuator_lug}
     for st in (geo.forward, geo.aft):
         fit_points[f"B_{st.name}"], fit_points[f"P_{st.name}"] = st.B, st.P
@@ -197,6 +207,11 @@ def dual_sidestay_description(geo: GearGeometry = DEFAULT_GEOMETRY, *, compliant
                 f'free_length = "stretch*{_num(free)}"']
     out += ["", "[actuators.retraction]", 'a = "ground.C"', 'b = "fitting.D"', 'force = "F_act"',
             'description = "retraction actuator"', "", "[gravity]", 'g = "g"', "direction = [0, 0, -1]"]
+    if freefall:  # they act only in time simulation (a freefall): no static equation changes
+        out += ["", "[dampers.actuator]", 'a = "ground.C"', 'b = "fitting.D"', 'c = "c_ret"', 'c2 = "c2_ret"']
+        for axis in "xyz":
+            out += ["", f"[dampers.attachment_{axis}]", f'a = "ground.A_aft_{axis}"', 'b = "aft_upper.a"',
+                    f'c = "2*zeta_att*sqrt(k_att*{_num(geo.aft.upper_mass)})"']
     for st in (geo.forward, geo.aft):
         s = st.name
         unlock = _unit(np.cross(st.normal, st.P - st.K))

@@ -1,10 +1,10 @@
 """Freefall of the dual-sidestay main gear from gear up: do both sidestays lock, and how far apart in time?
 
-The generated gear (``examples/dual_sidestay.toml``) is given, in text, what a freefall needs (as the nose
-gear's in :mod:`.freefall`): its retraction actuator as a hydraulic damper (airframe point ``C`` to the
-fitting lug ``D``, ``c v + c2 v|v|``: the hydraulics failed, the fluid still goes through the restrictor)
-and structural damping of the compliant aft attachment (three dampers along x, y, z from the airframe
-to the aft upper arm's attachment point, damping ratio ``zeta_att`` of the arm on its attachment).
+The generated gear (``examples/dual_sidestay.toml``) carries what a freefall needs: its retraction
+actuator as a hydraulic damper (airframe point ``C`` to the fitting lug ``D``, ``c v + c2 v|v|``: the
+hydraulics failed, the fluid still goes through the restrictor) and structural damping of the compliant
+aft attachment (three dampers along x, y, z from the airframe to the aft upper arm's attachment point,
+damping ratio ``zeta_att`` of the arm on its attachment).
 
 The released pose is the gear retracted *quasi-statically* by its actuator (the equilibria with the
 retraction angle held and the actuator force solved for, from gear down to gear up), so the aft
@@ -27,51 +27,29 @@ __all__ = ["SIDESTAY_UP", "LOCKS", "description_text", "freefall_gear", "retract
 
 #: Gear-up retraction angle (rad; docs/dual-sidestay.md) and the quasi-static retraction steps to it.
 SIDESTAY_UP, STEPS = math.radians(85.0), 8
-#: The lock stops; the airframe point (m) of the compliant aft attachment; the aft upper arm's mass (kg).
-LOCKS, A_AFT, M_UPPER = ("fwd_stop", "aft_stop"), (0.85, -1.55, 0.3), 45.0
+#: The lock stops.
+LOCKS = ("fwd_stop", "aft_stop")
 #: Longest simulated fall (s), the integrator's tolerances.
 UNTIL, RTOL, ATOL = 4.0, 1e-6, 1e-8
 #: Aft attachment stiffnesses (N/m) and lock-spring stretches (free over installed length: less is more
 #: preload) of the table.
 K_ATT, STRETCH = (5e7, 5e6), (0.5, 0.7, 0.9)
 
-_PARAMETERS = '''c_ret = { value = 2.0e4, unit = "N s/m", description = "retraction actuator as a damper, laminar term" }
-c2_ret = { value = 2.0e5, unit = "N s^2/m^2", description = "retraction actuator restrictor, quadratic term" }
-zeta_att = { value = 0.05, unit = "", description = "damping ratio of the aft upper arm on its attachment" }
-'''
-_ELEMENTS = '''
-[dampers.actuator]
-a = "ground.C"
-b = "fitting.D"
-c = "c_ret"
-c2 = "c2_ret"
-''' + "".join(f'''
-[dampers.attachment_{axis}]
-a = "ground.A_aft_{axis}"
-b = "aft_upper.a"
-c = "2*zeta_att*sqrt(k_att*{M_UPPER})"
-''' for axis in "xyz")
-
 
 def description_text() -> str:
-    """The generated dual-sidestay gear's description with the actuator damper and the attachment's damping."""
+    """The generated dual-sidestay gear's description (``examples/dual_sidestay.toml``): it carries the actuator
+    damper and the attachment's damping, which act only in time simulation."""
     from ..models.dual_sidestay_description import dual_sidestay_description
 
-    text = dual_sidestay_description()
-    ground = "".join(f"A_aft_{axis} = [{', '.join(repr(A_AFT[i] + (1.0 if i == k else 0.0)) for i in range(3))}]\n"
-                     for k, axis in enumerate("xyz"))  # 1 m from the attachment: each damper along one axis
-    for a, b in (("[parameters]\n", "[parameters]\n" + _PARAMETERS), ("[ground]\n", "[ground]\n" + ground)):
-        if a not in text:  # pragma: no cover - guards the generated text's layout
-            raise RuntimeError(f"dual_sidestay description changed: {a!r} not found")
-        text = text.replace(a, b, 1)
-    return text + _ELEMENTS
+    return dual_sidestay_description()
 
 
 def freefall_gear():
-    """The model of :func:`description_text` (built once, then from the disk cache)."""
-    from ..models import model_from_text
+    """The generated gear's model (:func:`~mechcont.paper.dual_sidestay.generated_gear`: built once, then from
+    the disk cache, the entry the dual-sidestay section and ``load_model`` of the example share)."""
+    from .dual_sidestay import generated_gear
 
-    return model_from_text(description_text(), "dual_sidestay_freefall.toml")
+    return generated_gear()
 
 
 def retracted(system, theta_up: float = SIDESTAY_UP, steps: int = STEPS, values=None, guess=None) -> np.ndarray:
@@ -105,8 +83,10 @@ def retracted(system, theta_up: float = SIDESTAY_UP, steps: int = STEPS, values=
 
 def attachment_offset(system, x) -> float:
     """How far (m) the aft upper arm's attachment point is from its airframe point at ``x``."""
+    from ..models.dual_sidestay_geometry import DEFAULT_GEOMETRY
+
     bars = dict(system.scene(x).bars)
-    return float(np.linalg.norm(bars["aft_upper"][0] - np.array(A_AFT)))
+    return float(np.linalg.norm(bars["aft_upper"][0] - DEFAULT_GEOMETRY.aft.A))
 
 
 def kinematic_offset(system, theta_up: float = SIDESTAY_UP, steps: int = STEPS) -> tuple[float, float]:
