@@ -318,7 +318,7 @@ def test_keys_are_only_hexadecimal_digests(cache):
 
 
 _AS_NOBODY = f"""
-import json, os, sys
+import json, os, secrets, sys  # secrets: _cache imports it when writing; this Python lives where nobody cannot read
 from mechcont.equations import _cache
 parts, theirs, mine, marker = json.loads(sys.argv[1])
 key = _cache.cache_key(parts)  # the key needs the sources: read them before dropping to nobody

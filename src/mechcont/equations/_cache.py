@@ -69,7 +69,6 @@ import os
 import pickle
 import platform
 import re
-import secrets
 import stat
 import sys
 from collections.abc import Callable, Iterable, Iterator
@@ -311,6 +310,8 @@ def _secret(root_fd: int, where: str, create: bool) -> bytes | None:
         raise _refuse(f"{where}/{_SECRET_NAME}", problem)
     if data is not None or not create:
         return data
+    import secrets  # only when writing (with random, 1-2 ms of every start-up otherwise)
+
     key = secrets.token_bytes(_SECRET_SIZE)
     tmp = f".tmp-key-{secrets.token_hex(8)}"
     try:
@@ -421,6 +422,8 @@ def store(key: str, obj) -> bool:
         data = _encode(key, payload, secret)
         if len(data) > _MAX_ENTRY:
             return False
+        import secrets
+
         name = f".tmp-{secrets.token_hex(8)}.pkl"
         tmp: str | None = name  # None once renamed into place
         try:
