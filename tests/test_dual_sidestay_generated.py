@@ -19,6 +19,7 @@ from mechcont.analysis import equilibrium_on_stops
 from mechcont.continuation import find_equilibrium
 from mechcont.errors import ConvergenceError, InputError
 from mechcont.mechanism import check_report, parse_description
+from mechcont.models import model_from_text
 from mechcont.models.dual_sidestay import actuator_tension, build_dual_sidestay_kinematics, points_at
 from mechcont.models.dual_sidestay_description import STOP_SINE, dual_sidestay_description
 from mechcont.models.dual_sidestay_geometry import DEFAULT_GEOMETRY
@@ -121,7 +122,9 @@ def test_retraction_kinematics_and_actuator_load_equal_the_hand_model(rigid, han
 
 @pytest.fixture(scope="module")
 def compliant():
-    return parse_description(EXAMPLE.read_text(), "dual_sidestay.toml").build()
+    # parse_description(text).build() through the disk cache: the entry load_model(EXAMPLE) uses (other test
+    # files build this 63-coordinate gear too; the suite's session shares one cache)
+    return model_from_text(EXAMPLE.read_text(), "dual_sidestay.toml")
 
 
 @pytest.mark.slow
