@@ -8,10 +8,12 @@ traceback, and both unwind the stack so that no temporary output file is left be
 from __future__ import annotations
 
 import errno
+import gc
 import importlib
 import os
 import signal
 import sys
+import threading
 
 import click
 
@@ -145,8 +147,30 @@ def _signal_aware_unraisable_hook(previous):
     return hook
 
 
+#: Seconds from the start of :func:`main` with Python's cyclic garbage collector paused (see :func:`_pause_gc`).
+GC_PAUSE = 1.0
+
+
+def _pause_gc() -> None:
+    """Pause the cyclic garbage collector for the start-up; a daemon timer resumes it.
+
+    Start-up (the imports, the model from the disk cache) creates some 40,000 objects that live as
+    long as the process and no garbage cycles; the collector scanned them 40 times, 10-15 ms of a
+    0.2 s ``mechcont continue``. The timer turns it back on :data:`GC_PAUSE` seconds later, also
+    when :func:`main` is called in a longer-lived process, so a long command (a study, the paper)
+    collects as usual; a short command exits first (turning it back on as it returns would cost
+    one collection of everything the start-up made, 7 ms). Nothing changes when it was already off."""
+    if not gc.isenabled():
+        return
+    gc.disable()
+    timer = threading.Timer(GC_PAUSE, gc.enable)
+    timer.daemon = True
+    timer.start()
+
+
 def main(argv=None):
     """Entry point of the ``mechcont`` console script (SIGTERM unwinds as :class:`Terminated`)."""
+    _pause_gc()
     clear()
     previous = signal.signal(signal.SIGTERM, _terminate)
     previous_int = signal.signal(signal.SIGINT, _interrupt)
