@@ -318,7 +318,7 @@ def test_keys_are_only_hexadecimal_digests(cache):
 
 
 _AS_NOBODY = f"""
-import json, os, sys
+import json, os, secrets, sys  # secrets: _cache imports it when writing; this Python lives where nobody cannot read
 from mechcont.equations import _cache
 parts, theirs, mine, marker = json.loads(sys.argv[1])
 key = _cache.cache_key(parts)  # the key needs the sources: read them before dropping to nobody
@@ -398,3 +398,30 @@ def test_a_real_model_round_trips_through_the_trusted_cache(tmp_path):
     assert np.allclose(second["r"], first["r"], rtol=1e-12, atol=1e-12)
     assert np.allclose(second["J"], first["J"], rtol=1e-12, atol=1e-12)
     assert all(p.stat().st_uid == os.geteuid() and p.stat().st_mode & 0o077 == 0 for p in (tmp_path / "c").rglob("*"))
+
+
+_BUILD_ONCE = r"""
+import json, sys, time
+from mechcont.equations import _cache
+def build():
+    with open(sys.argv[1], "a") as f:
+        f.write("built\n")
+    time.sleep(3.0)  # long enough that the other process asks for the entry while this one builds it
+    return {"value": 42}
+print(json.dumps(_cache.load_or_build(_cache.cache_key(["built once"]), build)))
+"""
+
+
+def test_two_processes_that_need_one_entry_build_it_once(tmp_path):
+    """The second waits for the first's build (a lock beside the entry) and loads it: both get the object."""
+    if _codegen.backend() != "llvm":
+        pytest.skip("entries are stored only with SymEngine's LLVM backend")
+    env = {**os.environ, "MECHCONT_CACHE_DIR": str(tmp_path / "cache"), "PYTHONPATH": str(ROOT / "src")}
+    env.pop("MECHCONT_NO_CACHE", None)
+    log = tmp_path / "builds"
+    procs = [subprocess.Popen([sys.executable, "-c", _BUILD_ONCE, str(log)], env=env, stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True) for _ in range(2)]
+    results = [p.communicate(timeout=300) for p in procs]
+    assert [p.returncode for p in procs] == [0, 0], [err for _, err in results]
+    assert [json.loads(out.strip().splitlines()[-1]) for out, _ in results] == [{"value": 42}] * 2
+    assert log.read_text() == "built\n"

@@ -19,6 +19,7 @@ from mechcont.analysis import equilibrium_on_stops
 from mechcont.continuation import find_equilibrium
 from mechcont.errors import ConvergenceError, InputError
 from mechcont.mechanism import check_report, parse_description
+from mechcont.models import model_from_text
 from mechcont.models.dual_sidestay import actuator_tension, build_dual_sidestay_kinematics, points_at
 from mechcont.models.dual_sidestay_description import STOP_SINE, dual_sidestay_description
 from mechcont.models.dual_sidestay_geometry import DEFAULT_GEOMETRY
@@ -63,8 +64,15 @@ def test_locked_file_welds_the_lock_links_on_their_stops():
         assert np.linalg.norm(P - J) == pytest.approx(np.linalg.norm(b - a), abs=1e-11)
 
 
+@pytest.fixture(scope="module")
+def locked_report():
+    """The check of the downlocked file; its model (``.system``, built as ``Mechanism.build`` builds it: the
+    file checks clean) also serves the comparison with the unlocked gear, one build of it for the file."""
+    return check_report(LOCKED)
+
+
 @pytest.mark.slow
-def test_check_of_the_locked_gear_reports_its_misfit_and_the_compliance_that_resolves_it():
+def test_check_of_the_locked_gear_reports_its_misfit_and_the_compliance_that_resolves_it(locked_report):
     """Downlocked (lock links welded on their stops), each sidestay is a strut: the two over-constrain the
     fitting's one degree of freedom and, rigid, disagree on where it stands (a few micrometres), so the
     rigid gear cannot be assembled: one line names the misfit and the fix, a stiffness. With the compliant
@@ -72,7 +80,7 @@ def test_check_of_the_locked_gear_reports_its_misfit_and_the_compliance_that_res
     with pytest.raises(InputError, match="the rigid closure cannot be assembled: misfit .* stiffness"):
         check_report(parse_description(dual_sidestay_description(locked=True, compliant_aft=False),
                                        "locked_rigid.toml"))
-    compliant = check_report(LOCKED)
+    compliant = locked_report
     assert compliant.ok and compliant.dof == 0 and not compliant.redundant
     assert [q.name for q in compliant.compliant] == ["aft_A_x", "aft_A_y", "aft_A_z"]
     assert all("stiffness 5e+07 N/m" in q.description for q in compliant.compliant)
@@ -121,7 +129,9 @@ def test_retraction_kinematics_and_actuator_load_equal_the_hand_model(rigid, han
 
 @pytest.fixture(scope="module")
 def compliant():
-    return parse_description(EXAMPLE.read_text(), "dual_sidestay.toml").build()
+    # parse_description(text).build() through the disk cache: the entry load_model(EXAMPLE) uses (other test
+    # files build this 63-coordinate gear too; the suite's session shares one cache)
+    return model_from_text(EXAMPLE.read_text(), "dual_sidestay.toml")
 
 
 @pytest.mark.slow
@@ -141,7 +151,7 @@ def test_locked_gear_needs_compliance(rigid, compliant):
 
 
 @pytest.mark.slow
-def test_locked_file_is_the_unlocked_gear_resting_on_both_stops(compliant):
+def test_locked_file_is_the_unlocked_gear_resting_on_both_stops(compliant, locked_report):
     """The downlocked file's equilibrium against the unlocked gear's with both stops in contact (reactions
     >= 0), the two independent descriptions of one state. With massless lock links they model the same
     thing but for one second-order detail: the unlocked link 2 keeps |J - P| = L5 with P a distance d out of
@@ -157,7 +167,8 @@ def test_locked_file_is_the_unlocked_gear_resting_on_both_stops(compliant):
                                        contact=["fwd_stop", "aft_stop"])
     u = compliant.as_dict(xu)
     assert sorted(contact) == ["aft_stop", "fwd_stop"] and u["R_fwd_stop"] > 0 and u["R_aft_stop"] > 0
-    locked = parse_description(LOCKED.read_text(), "dual_sidestay_locked.toml").build()
+    assert locked_report.ok  # no findings: its model is Mechanism.build()'s, built on the first try
+    locked = locked_report.system
     xl = find_equilibrium(locked, values=massless)
     v = locked.as_dict(xl)
     assert np.max(np.abs(locked.residual(xl))) < 1e-6

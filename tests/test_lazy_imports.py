@@ -148,3 +148,103 @@ def test_an_edited_description_never_reuses_a_stale_entry(tmp_path, monkeypatch)
     again = load_model(path)
     assert _cache.STATS["hits"] > hits and again.variable("k").value == 200.0
     np.testing.assert_array_equal(again.residual(before.defaults()), before.residual(before.defaults()))
+
+
+def test_every_command_is_found_where_the_lazy_group_looks_for_it():
+    """``mechcont CMD`` imports only CMD's module (``_app.COMMAND_MODULES``): every module of the
+    CLI package imported, the commands registered are exactly the map's, each defined in its module."""
+    import importlib
+    import pkgutil
+
+    import mechcont.cli as package
+    from mechcont.cli._app import COMMAND_MODULES, cli
+
+    for info in pkgutil.iter_modules(package.__path__):
+        importlib.import_module(f"mechcont.cli.{info.name}")
+    assert set(cli.commands) == set(COMMAND_MODULES)
+    for name, command in cli.commands.items():
+        assert command.callback.__module__ == f"mechcont.cli.{COMMAND_MODULES[name]}", name
+
+
+LAZY_COMMANDS_SCRIPT = r"""
+import contextlib, io, json, sys
+from mechcont.cli import main
+out = io.StringIO()
+with contextlib.redirect_stdout(out):
+    try:
+        main(json.loads(sys.argv[1]))
+    except SystemExit as exc:
+        assert not exc.code, exc.code
+print(json.dumps([sorted(m for m in sys.modules if m.startswith("mechcont.cli.")), out.getvalue()]))
+"""
+
+
+def _cli_modules_and_output(args: list[str]) -> tuple[list[str], str]:
+    out = subprocess.run([sys.executable, "-c", LAZY_COMMANDS_SCRIPT, json.dumps(args)], capture_output=True, text=True,
+                         check=True, timeout=300).stdout
+    modules, text = json.loads(out.strip().splitlines()[-1])
+    return modules, text
+
+
+def test_a_command_imports_no_other_commands_module_and_help_lists_them_all():
+    from mechcont.cli._app import COMMAND_MODULES
+
+    modules, _ = _cli_modules_and_output(["models"])
+    assert [m for m in modules if m.removeprefix("mechcont.cli.") in COMMAND_MODULES.values()] == ["mechcont.cli.models"]
+    modules, text = _cli_modules_and_output(["--help"])
+    listed = {line.split()[0] for line in text.split("Commands:")[1].splitlines() if line.strip()}
+    assert listed == set(COMMAND_MODULES)
+
+
+def test_the_stored_objects_key_follows_every_source_files_size_and_time(tmp_path):
+    """Built models are keyed by the (size, modification time) of each of mechcont's modules, as
+    Python keys its bytecode: a touched module or one edited to another size gives another key."""
+    from mechcont.equations._stored import _sources
+
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "__pycache__").mkdir()
+    for name, text in (("a.py", "x = 1\n"), ("sub/b.py", "y = 2\n"), ("__pycache__/c.py", ""), ("notes.txt", "")):
+        (tmp_path / name).write_text(text)
+    before = _sources(str(tmp_path))
+    assert [(rel, size) for rel, size, _ in before] == [("a.py", 6), ("sub/b.py", 6)]
+    t = before[1][2]
+    os.utime(tmp_path / "sub" / "b.py", ns=(t + 1000, t + 1000))  # the same text, saved again
+    touched = _sources(str(tmp_path))
+    assert touched[0] == before[0] and touched[1] == ("sub/b.py", 6, t + 1000)
+    (tmp_path / "a.py").write_text("x = 10\n")
+    os.utime(tmp_path / "a.py", ns=(before[0][2], before[0][2]))  # the old time: the size tells
+    assert _sources(str(tmp_path))[0] == ("a.py", 7, before[0][2])
+
+
+GC_SCRIPT = r"""
+import contextlib, gc, io, json, sys, time
+from mechcont.cli import main
+from mechcont.cli._app import GC_PAUSE
+if sys.argv[1] == "off":
+    gc.disable()
+t0 = time.monotonic()
+with contextlib.redirect_stdout(io.StringIO()):
+    try:
+        main(["models"])
+    except SystemExit as exc:
+        assert not exc.code, exc.code
+took, paused = time.monotonic() - t0, not gc.isenabled()
+limit = GC_PAUSE + (60 if sys.argv[1] == "on" else 1)  # on: until the timer fires; off: past its time
+while not gc.isenabled() and time.monotonic() - t0 < limit:
+    time.sleep(0.01)
+print(json.dumps([took < 0.5 * GC_PAUSE, paused, gc.isenabled(), GC_PAUSE]))
+"""
+
+
+def test_the_garbage_collector_is_paused_for_the_start_up_only():
+    """main() pauses the cyclic collector (the start-up's 40,000 long-lived objects scanned for nothing)
+    and a timer turns it back on GC_PAUSE s later; a caller's own choice to keep it off stands."""
+    def run(state):
+        out = subprocess.run([sys.executable, "-c", GC_SCRIPT, state], capture_output=True, text=True, check=True,
+                             timeout=300).stdout
+        return json.loads(out.strip().splitlines()[-1])
+
+    quick, paused, enabled, pause = run("on")
+    assert enabled and 0 < pause <= 2
+    assert paused or not quick  # (a run slower than half the pause may see the timer fire first)
+    assert run("off")[1:3] == [True, False]  # still off GC_PAUSE + 1 s after the start

@@ -11,7 +11,6 @@ including an interrupt or (through the CLI's SIGTERM handler) termination.
 from __future__ import annotations
 
 import os
-import tempfile
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -103,6 +102,8 @@ def atomic_write(path: str | os.PathLike, write: Callable[[str], object]) -> Pat
         raise InputError(str(path), problem)
     if path.is_dir():
         raise InputError(str(path), "is a folder, not a file")
+    import tempfile  # here: a command that writes nothing does not import it (with shutil, 2-3 ms)
+
     fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}-", suffix=path.suffix, dir=path.parent)
     os.close(fd)
     try:

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import csv
-import json
 import os
 from collections.abc import Mapping
 from pathlib import Path
@@ -268,6 +266,8 @@ class Branch:
         recs = self.to_records()
         keys = [*self.names, *_EXTRA_COLUMNS]
 
+        import csv  # csv and json are imported where used: a run that writes no table does without
+
         def write(f):
             w = csv.writer(f, lineterminator="\n")
             w.writerow(self.csv_header())
@@ -287,6 +287,8 @@ class Branch:
         ``s``, the chord length of the rows stands in for the arclength. Raises
         :class:`InputError` for an unreadable or malformed table.
         """
+        import csv
+
         try:
             rows, units = read_branch_table(path)
         except (OSError, UnicodeDecodeError, csv.Error) as exc:
@@ -326,6 +328,8 @@ class Branch:
                                 **{k: v for k, v in p.info.items() if isinstance(v, (int, float, str))}}
                                for name, p in zip(self.point_names(), self.special_points)],
         }
+        import json
+
         return _atomic_write(path, lambda f: json.dump(doc, f, indent=1))
 
 
@@ -343,6 +347,8 @@ def read_branch_table(path: str | os.PathLike) -> tuple[list[dict[str, str]], di
     Headers ``F [N]`` give name ``F`` and unit ``N``; tables written before units (bare
     names) read the same, with no units.
     """
+    import csv
+
     with open(path, newline="") as fh:
         reader = csv.reader(fh)
         header = next(reader, [])

@@ -24,7 +24,6 @@ unit (``N/(N/m)`` for a force by a stiffness); angles in radians.
 
 from __future__ import annotations
 
-import json
 import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -113,6 +112,8 @@ class Sensitivity:
 
 def write_json(path: str | os.PathLike, doc: dict) -> Path:
     """Write ``doc`` as indented JSON at ``path`` atomically (no partial file left on failure)."""
+    import json  # here: importing this module (for the special points' loads) writes nothing
+
     from .._io import atomic_write
 
     def write(tmp):

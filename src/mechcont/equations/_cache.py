@@ -69,7 +69,6 @@ import os
 import pickle
 import platform
 import re
-import secrets
 import stat
 import sys
 from collections.abc import Callable, Iterable, Iterator
@@ -311,6 +310,8 @@ def _secret(root_fd: int, where: str, create: bool) -> bytes | None:
         raise _refuse(f"{where}/{_SECRET_NAME}", problem)
     if data is not None or not create:
         return data
+    import secrets  # only when writing (with random, 1-2 ms of every start-up otherwise)
+
     key = secrets.token_bytes(_SECRET_SIZE)
     tmp = f".tmp-key-{secrets.token_hex(8)}"
     try:
@@ -421,6 +422,8 @@ def store(key: str, obj) -> bool:
         data = _encode(key, payload, secret)
         if len(data) > _MAX_ENTRY:
             return False
+        import secrets
+
         name = f".tmp-{secrets.token_hex(8)}.pkl"
         tmp: str | None = name  # None once renamed into place
         try:
@@ -462,10 +465,48 @@ def load_or_build(key: str, build: Callable[[], T], valid: Callable[[object], bo
     if obj is not None and (valid is None or valid(obj)):
         STATS["hits"] += 1
         return obj
-    STATS["misses"] += 1
-    obj = build()
-    from ._codegen import backend
+    with _build_lock(key):
+        obj = load(key)  # built by another process while this one waited for the lock
+        if obj is not None and (valid is None or valid(obj)):
+            STATS["hits"] += 1
+            return obj
+        STATS["misses"] += 1
+        obj = build()
+        from ._codegen import backend
 
-    if backend() == "llvm":
-        store(key, obj)
+        if backend() == "llvm":
+            store(key, obj)
     return obj
+
+
+@contextlib.contextmanager
+def _build_lock(key: str) -> Iterator[None]:
+    """Held while this process builds the entry ``key``: another process that needs the same entry
+    waits and then loads it, instead of building it too (two test workers, or two runs of a study,
+    on a 2-core machine each took twice as long). An exclusive ``flock`` on ``KEY.lock`` beside the
+    entry (the file is left there, empty); the operating system releases it if the process dies.
+    Without a trusted cache folder or ``fcntl``, no lock: each process builds."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not on POSIX
+        yield
+        return
+    fd = None
+    with _shard(key, create=True) as found:
+        if found is not None:
+            try:
+                fd = os.open(f"{key}.lock", (os.O_WRONLY | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0)
+                                             | getattr(os, "O_CLOEXEC", 0)), 0o600, dir_fd=found[0])
+            except OSError:
+                fd = None
+    if fd is not None:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        except OSError:
+            os.close(fd)
+            fd = None
+    try:
+        yield
+    finally:
+        if fd is not None:
+            os.close(fd)  # releases the lock

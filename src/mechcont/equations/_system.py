@@ -576,7 +576,7 @@ class ColumnView:
     def __init__(self, system: EquationSystem, columns: Sequence[int] | np.ndarray):
         self.system = system.compile()
         self.columns = np.asarray(columns, dtype=np.intp).reshape(-1)
-        if len(np.unique(self.columns)) != len(self.columns):
+        if len(set(self.columns.tolist())) != len(self.columns):  # not np.unique: it imports numpy.ma (10 ms)
             raise ValueError("ColumnView: the columns must be distinct")
         n_eq, n = system.n_equations, len(system.names)
         # column by column: the arrays come out in Fortran order, as ``J[:, columns]`` makes

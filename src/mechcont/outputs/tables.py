@@ -5,7 +5,6 @@ No Matplotlib here: the commands that print tables stay light.
 
 from __future__ import annotations
 
-import csv
 import io
 from pathlib import Path
 
@@ -41,6 +40,8 @@ def markdown_table(records: list[dict]) -> str:
 
 def write_records(records: list[dict], path: str | Path) -> Path:
     """Write ``records`` to ``path`` as CSV (suffix ``.csv``, full precision) or else as Markdown, atomically."""
+    import csv  # imported where a table is written: a command that writes none starts without it
+
     path = Path(path)
     buf = io.StringIO()
     if path.suffix.lower() == ".csv":
@@ -54,6 +55,7 @@ def write_records(records: list[dict], path: str | Path) -> Path:
 
 def write_rows(path: str | Path, header: list[str], rows) -> Path:
     """Write a CSV of ``header`` and ``rows`` (numbers written in full, ``repr``; ``nan`` as ``nan``), atomically."""
+    import csv
 
     def write(tmp: str) -> None:
         with open(tmp, "w", newline="", encoding="utf-8") as fh:
