@@ -76,6 +76,7 @@ def test_critical_airspeed_with_scan_writes_table_and_figure(run, tmp_path):
     (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--critical", "U=5:6", "--plot", "PLOT"],
      ["--plot", "--scan"]),
     (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--scan", "c=1,2"], ["--scan", "--critical"]),
+    (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--held-by", "angle"], ["--held-by", "angle is not a parameter"]),
 ])
 def test_bad_input_is_one_line_and_writes_nothing(run, tmp_path, args, words):
     out, fig = tmp_path / "o.csv", tmp_path / "o.png"
@@ -94,3 +95,32 @@ def test_shipped_example_checks_clean_and_locks(run):
     assert res.exit_code == 0, res.output
     assert "outcome: locked (lock: stop downlock)" in res.output
     assert "peak damper tension actuator: " in res.output
+
+
+def test_held_by_on_a_rigid_leg_is_its_assembly_and_the_same_fall(run):
+    """--held-by solves the pose as an equilibrium; a rigid one-degree-of-freedom leg has one pose at the held
+    angle, so it equals the kinematic assembly, the parameter is released to its value, and the fall is the same.
+    The airspeed that holds it there is the closed form U = sqrt(m g / (k cos(angle))), k = rho C_D d L / 2."""
+    import numpy as np
+
+    from mechcont.continuation import find_equilibrium
+    from mechcont.dynamics import assemble
+    from mechcont.dynamics.freefall import held_pose
+    from mechcont.models import load_model
+
+    model = load_model(PATH)
+    x, y = held_pose(model, {"angle": 1.0}, "U"), assemble(model, {"angle": 1.0}, hold=["angle"])
+    coordinates = [model.index(n) for n in model.mechanics.coordinates]  # the pose (reactions differ: held vs free)
+    assert np.max(np.abs(x[coordinates] - y[coordinates])) < 1e-10 and x[model.index("U")] == 20.0
+    held = find_equilibrium(model, hold={"angle": 1.0}, free=["U"], guess=x)
+    assert held[model.index("U")] == pytest.approx(math.sqrt(10.0 * 9.81 / (1.225 * 1.2 * 0.2 / 2 * math.cos(1.0))),
+                                                   rel=1e-9)
+    args = ["freefall", PATH, "--from", "angle=1", "--lock", "downlock", "--until", 5, "--set", "U=15"]
+    plain, with_held = run(*args), run(*args, "--held-by", "U")
+    assert plain.exit_code == 0 and with_held.exit_code == 0, with_held.output
+
+    def lock_time(res):
+        (line,) = [ln for ln in res.output.splitlines() if ln.startswith("time to lock: ")]
+        return float(line.split()[3])
+
+    assert lock_time(with_held) == pytest.approx(lock_time(plain), rel=1e-9)

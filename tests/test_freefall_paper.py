@@ -96,6 +96,28 @@ def test_dual_sidestay_retracted_pose_is_the_quasi_static_one(section):
     assert math.degrees(abs(math.asin(condition_value(model, x, "aft_lock")))) > 5.0
 
 
+def test_held_pose_is_the_equilibrium_whatever_the_path_and_not_the_kinematic_assembly():
+    """held_pose (freefall --held-by) against an independent path: the equilibria with theta held and F_act
+    solved followed from theta = 0.05 rad in 12 steps (find_equilibrium directly) land on the same pose to
+    1e-8; the kinematic assembly at the same theta drags the compliant attachment a hundred millimetres."""
+    from mechcont.continuation import find_equilibrium
+    from mechcont.dynamics.freefall import held_pose
+    from mechcont.equations import as_model
+    from mechcont.paper import freefall_sidestay as fs
+
+    model = as_model(fs.freefall_gear())
+    x = held_pose(model, {"theta": fs.SIDESTAY_UP}, "F_act")
+    y = None
+    for t in np.linspace(0.05, fs.SIDESTAY_UP, 13):
+        y = find_equilibrium(model, hold={"theta": float(t)}, free=["F_act"], guess=y)
+    assert y is not None and y[model.index("F_act")] < -1e4  # the actuator holds the gear up
+    i = model.index("F_act")
+    assert x[i] == 0.0  # released
+    states = [k for k, v in enumerate(model.variables) if v.kind == "state" and k != i]
+    assert np.max(np.abs(x[states] - y[states])) < 1e-8
+    assert fs.attachment_offset(model, x) < 1e-3 < 0.1 < fs.kinematic_offset(model)[0]
+
+
 def test_the_paper_pendulum_is_the_tested_one():
     """The damping study of the paper uses the pendulum whose closed forms tests/test_freefall.py checks."""
     from mechcont.paper.freefall import PENDULUM

@@ -61,7 +61,7 @@ def _lock(system, lock: tuple[str, ...], lock_condition: str | None):
 def _option_error(exc: InputError) -> InputError:
     """An error from the library, named by the option that gave the value."""
     option = {"x0": "--from", "rtol": "--rtol", "damping": "--damping", "lock": "--lock", "critical": "--critical",
-              "tol": "--tol", "until": "--until"}.get(exc.field)
+              "tol": "--tol", "until": "--until", "held_by": "--held-by"}.get(exc.field)
     return exc if option is None else InputError(option, str(exc).split(": ", 1)[-1])
 
 
@@ -69,6 +69,10 @@ def _option_error(exc: InputError) -> InputError:
 @click.argument("model")
 @click.option("--from", "starts", multiple=True, metavar="NAME=VALUE",
               help="The retracted pose: coordinate or condition held while assembling (the uplock); released at rest.")
+@click.option("--held-by", default=None, metavar="PARAM",
+              help="The retracted pose is the static equilibrium with the --from values held and PARAM (e.g. the "
+                   "retraction actuator's force) solved for, then released: needed where joints are compliant "
+                   "(an assembly moves them freely).")
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
 @click.option("--lock", multiple=True, metavar="STOP",
               help="A lock stop (repeatable): locked when every one is in contact and at rest.")
@@ -89,7 +93,7 @@ def _option_error(exc: InputError) -> InputError:
 @click.option("--plot", default=None, metavar="FILE.png",
               help="The lock quantity against time (one run), or the critical value against the --scan parameter "
                    "with the quasi-static line.")
-def freefall_command(model, starts, settings, lock, lock_condition, until, critical, tol, scan, damping, rtol,
+def freefall_command(model, starts, held_by, settings, lock, lock_condition, until, critical, tol, scan, damping, rtol,
                      rest_speed, out, plot):
     """Release MODEL at rest from the retracted pose and simulate it with its stops until it locks.
 
@@ -127,7 +131,10 @@ def freefall_command(model, starts, settings, lock, lock_condition, until, criti
             raise InputError("--critical" if rng and n == rng[0] else "--scan",
                              f"{n} is not a parameter of {system.name}; valid: {', '.join(system.parameter_names)}")
     lock_spec = _lock(system, lock, lock_condition)
-    options = {"damping": damping, "rtol": rtol, "rest_speed": rest_speed}
+    if held_by is not None and (held_by not in system.names or system.variable(held_by).kind != "parameter"):
+        raise InputError("--held-by", f"{held_by} is not a parameter of {system.name}; valid: "
+                                      f"{', '.join(system.parameter_names)}")
+    options = {"damping": damping, "rtol": rtol, "rest_speed": rest_speed, "held_by": held_by}
     try:
         if rng is None:
             _one(system, start, lock_spec, until, options, out_path, plot_path)

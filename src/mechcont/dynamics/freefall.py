@@ -29,7 +29,7 @@ from ._events import Crossing
 from ._result import SimulationResult
 
 __all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
-           "quasi_static_critical", "damper_tensions", "critical_figure", "travel_of", "condition_value"]
+           "quasi_static_critical", "damper_tensions", "critical_figure", "travel_of", "condition_value", "held_pose"]
 
 #: A lock stop counts as on its limit within this gap (condition units) for the end of a run at the lock: far
 #: below any gap a free stop has at rest, far above the contact's drift.
@@ -213,7 +213,8 @@ def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None
 
 def freefall(system, start: Mapping[str, float], *, lock, until: float, values: Mapping[str, float] | None = None,
              damping: float = 0.0, rtol: float = 1e-8, atol: float = 1e-10, rest_speed: float = 1e-4,
-             max_step: float = math.inf, guess=None, method: str = "RK45", end_at_lock: bool = False) -> FreefallResult:
+             max_step: float = math.inf, guess=None, method: str = "RK45", end_at_lock: bool = False,
+             held_by: str | None = None) -> FreefallResult:
     """Release ``system`` at rest in the pose ``start`` and simulate it with its stops until it locks.
 
     Parameters
@@ -244,6 +245,10 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         A full variable vector to assemble from (default the model's own pose), e.g. the end of a
         retraction run: a mechanism with several assemblies at the ``start`` values takes the one
         nearest it.
+    held_by:
+        A parameter (the force that holds the gear up, e.g. the retraction actuator's): the released pose
+        is then the static equilibrium with ``start`` held and it solved for (:func:`held_pose`), not a
+        kinematic assembly; needed where joints are compliant.
 
     Returns
     -------
@@ -261,6 +266,8 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         model = model.with_values(dict(values))
     stop, target = _lock_spec(model, lock)
     lock_stops = _lock_stops(model, lock) or []
+    if held_by is not None:
+        guess = held_pose(model, start, held_by, guess=guess)
     x0 = assemble(model, dict(start) if guess is None else model.vector(dict(start), base=_states_of(model, guess)),
                   hold=list(start))
     events: Sequence = ()
@@ -515,6 +522,42 @@ def quasi_static_critical(system, travel: str, start_value: float, lock_value: f
         if lo <= fx[model.index(travel)] <= hi:
             value, pose, fold = float(fx[iv]), float(fx[model.index(travel)]), True
     return QuasiStaticCritical(vary, value, pose, fold, branch)
+
+
+def held_pose(system, start: Mapping[str, float], held_by: str, *, values: Mapping[str, float] | None = None,
+              guess=None, steps: int = 8) -> np.ndarray:
+    """The retracted pose as a static equilibrium: the ``start`` values held (SI, rad) and the parameter
+    ``held_by`` (the force that holds the gear there, e.g. the retraction actuator's, N) solved for; then
+    ``held_by`` is set back to its value (the model's, or ``values``'): the gear released at rest.
+
+    :func:`freefall` assembles its pose kinematically, which moves a compliant joint as freely as any
+    coordinate the joints leave open (a stiff attachment dragged far off its airframe point); this pose has
+    each compliant joint deflected by the load it carries. Solved by Newton from ``guess`` (a full vector)
+    or else followed from the model's own pose in ``steps`` equal steps of the held values, each solved from
+    the last, so the mechanism keeps the assembly it moves through (as when the gear retracts). Returns the
+    full vector; :class:`~mechcont.errors.InputError` naming ``held_by`` when it is not a parameter,
+    :class:`~mechcont.errors.ConvergenceError` when no equilibrium is found on the way."""
+    from ..continuation import find_equilibrium
+    from ..equations import as_model
+    from ._simulate import assemble
+
+    model = as_model(system)
+    if held_by not in model.names or model.variable(held_by).kind != "parameter":
+        raise InputError("held_by", f"{held_by} is not a parameter of {model.name}; valid: "
+                                    f"{', '.join(model.parameter_names)}")
+    if values:
+        model = model.with_values(dict(values))
+    if guess is not None:
+        x = find_equilibrium(model, hold=dict(start), free=[held_by],
+                             guess=model.vector(dict(start), base=np.asarray(guess, float)))
+    else:
+        x = assemble(model, model.defaults())
+        begin = {n: condition_value(model, x, n) for n in start}
+        for k in range(1, steps + 1):
+            held = {n: begin[n] + (v - begin[n]) * k / steps for n, v in start.items()}
+            x = find_equilibrium(model, hold=held, free=[held_by], guess=x)
+    x[model.index(held_by)] = model.defaults()[model.index(held_by)]
+    return x
 
 
 def travel_of(system, start: Mapping[str, float], lock, values: Mapping[str, float] | None = None) -> tuple[str, float, float]:

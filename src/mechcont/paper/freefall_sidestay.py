@@ -55,24 +55,19 @@ def freefall_gear():
 def retracted(system, theta_up: float = SIDESTAY_UP, steps: int = STEPS, values=None, guess=None) -> np.ndarray:
     """The gear ``system`` retracted quasi-statically to ``theta_up`` (rad) and released there.
 
-    The equilibria with ``theta`` held and the actuator force ``F_act`` solved for are followed from just off
-    gear down (``theta`` = 0.05 rad: at gear down the lock links are at their toggle) in ``steps`` steps, each
-    from the last (or solved once from ``guess``, the retracted pose of a neighbouring parameter set);
-    ``F_act`` is then set to 0 (the hydraulics failed). ``values`` override parameters.
-    Returns the full vector; :class:`~mechcont.errors.InputError` when a stop is violated there."""
-    from ..continuation import find_equilibrium
-    from ..dynamics.freefall import condition_value
+    :func:`~mechcont.dynamics.freefall.held_pose` (what ``mechcont freefall --held-by F_act`` does): the
+    equilibria with ``theta`` held and the actuator force ``F_act`` solved for, followed from gear down in
+    ``steps`` steps, each from the last (or solved once from ``guess``, the retracted pose of a neighbouring
+    parameter set); ``F_act`` is then back at its value, 0 (the hydraulics failed). ``values`` override
+    parameters. Returns the full vector; :class:`~mechcont.errors.InputError` when a stop is violated there."""
+    from ..dynamics.freefall import condition_value, held_pose
     from ..equations import as_model
     from ..errors import InputError
 
     model = as_model(system)
     if values:
         model = model.with_values(dict(values))
-    x = None if guess is None else np.array(guess, float)
-    for t in (np.linspace(0.05, theta_up, steps + 1) if guess is None else [theta_up]):
-        x = find_equilibrium(model, hold={"theta": float(t)}, free=["F_act"], guess=x, values=values)
-    assert x is not None
-    x[model.index("F_act")] = 0.0
+    x = held_pose(model, {"theta": theta_up}, "F_act", guess=guess, steps=steps)
     for st in model.stops:
         value = condition_value(model, x, st.condition)
         if st.side * (value - st.limit) < 0:
