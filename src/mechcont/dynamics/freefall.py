@@ -133,7 +133,7 @@ class FreefallResult:
 def damper_tensions(system, result: SimulationResult, h: float = 1e-7, mechanism=None) -> dict[str, np.ndarray]:
     """Tension (N) of every damper of ``system``'s description at every row of ``result``.
 
-    ``T = c v + c2 v |v|`` with ``v = dl/dt`` (see :mod:`mechcont.mechanism._dampers`): the
+    ``T = c v + c2 v |v|`` with ``v = dl/dt`` (see :mod:`mechcont.mechanism.elements.damper`): the
     length ``l`` between the damper's drawn end points, its rate by a central difference along the
     row's velocity (error ``O(h^2)``, relative ~1e-14 at the default ``h``). ``mechanism``: the description's
     mechanism when already at hand (a model loaded from the cache makes it on first use, seconds for a large

@@ -23,7 +23,7 @@ from .._lazy import lazy_exports
 #: public name -> the module of this package that defines it; each is imported on first use
 #: (PEP 562), so finding or listing description files imports no SymPy
 _LAZY = {
-    **dict.fromkeys(["Actuator"], "_actuators"),
+    **dict.fromkeys(["Actuator"], "elements"),
     **dict.fromkeys(["DofReport", "assemble", "close_constraints", "dof_report"], "_assembly"),
     **dict.fromkeys(["CheckReport", "check_report"], "_check"),
     **dict.fromkeys(["Condition", "DownlockSpec"], "_conditions"),
@@ -43,7 +43,6 @@ __all__ = [
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     from ..equations import Model
-    from ._actuators import Actuator
     from ._assembly import DofReport, assemble, close_constraints, dof_report
     from ._check import CheckReport, check_report
     from ._conditions import Condition, DownlockSpec
@@ -67,6 +66,7 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     )
     from ._file import load_description, parse_description
     from ._paths import builtin_descriptions, find_description
+    from .elements import Actuator
 
 
 __getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())

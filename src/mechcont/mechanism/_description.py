@@ -29,7 +29,6 @@ from typing import TYPE_CHECKING, ClassVar, Generic, Protocol, TypeVar
 import sympy as sp
 
 from ..errors import InputError
-from ._actuators import Actuator, check_actuators
 from ._bodies import (
     Body,
     Polar,
@@ -38,9 +37,10 @@ from ._bodies import (
     _RigidBody,
 )
 from ._conditions import Condition, DownlockSpec, check_conditions
-from ._elements import Damper, Parameter, Spring, StopReaction
+from ._elements import Parameter, StopReaction
 from ._expr import Value, symbol, to_expr
 from ._stops import Stop, check_stops, stop_reaction_unit
+from .elements import Actuator, Damper, Element, Spring
 from .joints import PlanarJoint, Prismatic, Revolute, Slider, Weld
 from .loads import LOAD_TYPES, CustomLoad, Drag, Gravity, Load, Moment, PointForce, SpatialGravity
 
@@ -114,6 +114,8 @@ class Mechanism(Generic[JointT, BodyT]):
         Named ground points ``{name: (x, y)}`` (m).
     springs, dampers, loads:
         Force elements.
+    elements:
+        Force elements of the other registered tables (:data:`~.elements.ELEMENT_TYPES`).
     gravity:
         Uniform gravity, or None.
     dof:
@@ -163,6 +165,7 @@ class Mechanism(Generic[JointT, BodyT]):
     actuators: Sequence[Actuator] = ()
     downlock: DownlockSpec | None = None
     stops: Sequence[Stop] = ()
+    elements: Sequence[Element] = ()
     # the value-independent part of each generated form, made by the first build (never pickled)
     _generated: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
@@ -171,6 +174,8 @@ class Mechanism(Generic[JointT, BodyT]):
     dimension: ClassVar[int] = 2
     #: The registry key of the elements this mechanism takes (:data:`~.loads.LOAD_TYPES`).
     space: ClassVar[str] = "plane"
+    #: The registered element tables with a field of their own (others go to ``elements``).
+    ELEMENT_FIELDS: ClassVar[tuple[str, ...]] = ("springs", "dampers", "actuators")
     #: The components of a vector (a point, a direction).
     AXES: ClassVar[str] = "xy"
     #: The message for a load of a type not registered for this space (``{}``: its class name).
@@ -189,7 +194,7 @@ class Mechanism(Generic[JointT, BodyT]):
         self.ground = dict(self.ground)
         self.hold = dict(self.hold)
         self.conditions, self.actuators = tuple(self.conditions), tuple(self.actuators)
-        self.stops = tuple(self.stops)
+        self.stops, self.elements = tuple(self.stops), tuple(self.elements)
         # a copy (dataclasses.replace) passes the generated reactions back in: made anew here
         units = {c.name: c.value_unit for c in self.conditions}
         self.parameters = (*(p for p in self.parameters if not p.GENERATED),
@@ -248,7 +253,8 @@ class Mechanism(Generic[JointT, BodyT]):
         seen: dict[str, str] = {}
         groups: list[tuple[str, Sequence[_Named]]] = [
             ("joints", self.joints), ("springs", self.springs), ("dampers", self.dampers), ("loads", self.loads),
-            ("actuators", self.actuators), ("conditions", self.conditions), ("stops", self.stops)]
+            ("actuators", self.actuators), ("conditions", self.conditions), ("stops", self.stops),
+            *((el.table, (el,)) for el in self.elements)]
         for group, items in groups:
             for it in items:
                 _check_name(it.name, f"{group}.{it.name}")
@@ -263,14 +269,9 @@ class Mechanism(Generic[JointT, BodyT]):
             self._exprs[p] = self.expr(v, p)
         for j in self.joints:
             j.check(self)
-        two_ended: tuple[tuple[str, Sequence[Spring | Damper]], ...] = (("springs", self.springs),
-                                                                         ("dampers", self.dampers))
-        for group, elements in two_ended:
-            for s in elements:
-                self.point_ref(s.a, f"{group}.{s.name}.a")
-                self.point_ref(s.b, f"{group}.{s.name}.b")
+        for el in self.force_elements():
+            el.check(self)
         self._check_loads()
-        check_actuators(self)
         check_conditions(self)
         check_stops(self)
         for name in self.hold:
@@ -278,6 +279,10 @@ class Mechanism(Generic[JointT, BodyT]):
                 raise InputError(f"assembly.hold.{name}",
                                  f"not a coordinate; coordinates: {', '.join(self.coordinate_symbols)}")
         self._check_connected()
+
+    def force_elements(self) -> tuple[Element, ...]:
+        """Every force element (:mod:`.elements`): springs, dampers, actuators, then the other registered kinds."""
+        return (*self.springs, *self.dampers, *self.actuators, *self.elements)
 
     def _coordinate_names(self, body: str) -> tuple[str, ...]:
         """The coordinate names of ``body`` (see :func:`coordinate_names`)."""
@@ -321,20 +326,11 @@ class Mechanism(Generic[JointT, BodyT]):
 
     def _common_values(self):
         """The (key path, raw value) pairs of the elements planar and spatial descriptions share:
-        springs, dampers, held coordinates, actuators and conditions."""
-        for s in self.springs:
-            yield f"springs.{s.name}.k", s.k
-            yield f"springs.{s.name}.free_length", s.free_length
-            yield f"springs.{s.name}.preload", s.preload
-        for d in self.dampers:
-            yield f"dampers.{d.name}.c", d.c
-            yield f"dampers.{d.name}.c2", d.c2
+        force elements, held coordinates, conditions and stops."""
+        for el in self.force_elements():
+            yield from el.values(self)
         for k, v in self.hold.items():
             yield f"assembly.hold.{k}", v
-        for act in self.actuators:
-            for key in ("force", "length"):
-                if getattr(act, key) is not None:
-                    yield f"actuators.{act.name}.{key}", getattr(act, key)
         for c in self.conditions:
             if c.kind == "expression" and c.expr is not None:
                 yield f"conditions.{c.name}.expr", c.expr

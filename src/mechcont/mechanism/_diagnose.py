@@ -96,14 +96,14 @@ def check_assembled(mech: Mechanism, kin: Kinematics, model: MechanicalModel, x:
         return float_value(sp.sympify(expr, strict=True).xreplace(subs), at)
 
     where = "; move an end point or assemble elsewhere (bodies' initial, [assembly] hold)"
-    for group, items in (("springs", mech.springs), ("dampers", mech.dampers), ("actuators", mech.actuators)):
-        for el in items:
-            d = kin.point(el.b) - kin.point(el.a)
+    for el in mech.force_elements():
+        if len(el.ends()) == 2:
+            a, b = el.ends()
+            d = kin.point(b) - kin.point(a)
             gap = math.hypot(number(d[0]), number(d[1]))
             if not gap > 1e-9 * Lc:
-                raise InputError(f"{group}.{el.name}", f"its ends {el.a} and {el.b} coincide at the assembled "
-                                                       f"configuration (distance {gap:.3g} m): the direction of its "
-                                                       f"force is undefined there{where}")
+                raise InputError(el.field(), f"its ends {a} and {b} coincide at the assembled configuration "
+                                             f"(distance {gap:.3g} m): the direction of its force is undefined there{where}")
     for cond in mech.conditions:
         if cond.kind == "distance":  # |b - a| has no derivative where a = b (a NaN Jacobian)
             d = kin.point(cond.points[1]) - kin.point(cond.points[0])

@@ -1,13 +1,11 @@
-"""The parameters of a description and its two-point force elements (springs, dampers)."""
+"""The parameters of a description (the force elements are in :mod:`.elements`)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import ClassVar
 
-from ._expr import Value
-
-__all__ = ["Parameter", "StopReaction", "Spring", "Damper"]
+__all__ = ["Parameter", "StopReaction"]
 
 
 @dataclass(frozen=True)
@@ -33,30 +31,3 @@ class StopReaction(Parameter):
     made by the mechanism from its ``stops``, never read from a file."""
 
     GENERATED: ClassVar[bool] = True
-
-
-@dataclass(frozen=True)
-class Spring:
-    """A linear spring between points ``a`` and ``b``: tension ``preload + k (l - free_length)``
-    (N), potential ``preload*l + k/2 (l - free_length)^2`` (J). ``k`` > 0 (N/m),
-    ``free_length`` > 0 (m)."""
-
-    name: str
-    a: str
-    b: str
-    k: Value
-    free_length: Value
-    preload: Value = 0
-
-
-@dataclass(frozen=True)
-class Damper:
-    """A hydraulic damper between points ``a`` and ``b``: tension ``c v + c2 v |v|`` (N) with
-    ``v = dl/dt`` (m/s), ``c`` >= 0 (N s/m, linear), ``c2`` >= 0 (N s^2/m^2, quadratic: a restrictor
-    orifice). Only the dynamic model feels it (zero at rest); see :mod:`._dampers`."""
-
-    name: str
-    a: str
-    b: str
-    c: Value
-    c2: Value = 0

@@ -50,12 +50,12 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, one_line
-from ._actuators import ACTUATOR_KEYS, actuators_from_table
 from ._bodies import PointSpec
 from ._conditions import conditions_from_table, downlock_from_table
-from ._description import Body, Damper, Gravity, Mechanism, Parameter, Polar, Spring
+from ._description import Body, Gravity, Mechanism, Parameter, Polar
 from ._paths import builtin_descriptions, find_description
 from ._stops import STOP_KEYS, stops_from_table
+from .elements import ELEMENT_TYPES, Element
 from .joints import joint_keys
 from .loads import Load, load_keys
 
@@ -66,23 +66,26 @@ __all__ = ["load_description", "parse_description", "builtin_descriptions", "fin
 _JOINTS = joint_keys()
 #: ``type`` -> (load class, keys): every load registered for planar mechanisms (:mod:`.loads`).
 _LOADS = load_keys("plane")
-_SECTIONS = {"mechanism", "parameters", "ground", "bodies", "joints", "springs", "dampers", "gravity", "loads",
-             "assembly", "actuators", "conditions", "stops"}
+#: The top-level tables besides those of the force elements (:data:`~.elements.ELEMENT_TYPES`, read
+#: at parse time: an element kind registered later is read too).
+_OTHER_SECTIONS = {"mechanism", "parameters", "ground", "bodies", "joints", "gravity", "loads", "assembly", "conditions",
+                   "stops"}
+#: The top-level tables of a description with the element kinds shipped with mechcont.
+_SECTIONS = _OTHER_SECTIONS | set(ELEMENT_TYPES)
 #: The keys accepted in each table other than ``[joints.NAME]``/``[loads.NAME]`` (whose keys,
-#: per ``type``, are in ``_JOINTS``/``_LOADS``), by key path; ``NAME`` stands for a user's name.
+#: per ``type``, are in ``_JOINTS``/``_LOADS``), by key path; ``NAME`` stands for a user's name
+#: (the force elements' keys are those of their classes).
 #: The parser checks against these sets and docs/mechanism-format.md is tested against them.
 KEYS: dict[str, frozenset[str]] = {
     "mechanism": frozenset({"name", "description", "dimension", "dof", "redundant", "downlock"}),
     "mechanism.downlock": frozenset({"condition", "force"}),
-    "actuators.NAME": ACTUATOR_KEYS,
     "parameters.NAME": frozenset({"value", "unit", "description", "scale"}),
     "bodies.NAME": frozenset({"mass", "length", "inertia", "cg", "points", "initial", "description"}),
     "bodies.NAME.points.NAME": frozenset({"r", "angle"}),
-    "springs.NAME": frozenset({"a", "b", "k", "free_length", "preload"}),
-    "dampers.NAME": frozenset({"a", "b", "c", "c2"}),
     "gravity": frozenset({"g", "angle"}),
     "assembly": frozenset({"hold"}),
     "stops.NAME": STOP_KEYS,
+    **{f"{table}.NAME": cls.KEYS for table, cls in ELEMENT_TYPES.items()},
 }
 
 
@@ -255,42 +258,35 @@ def _parameters(data: Mapping) -> list[Parameter]:
     return params
 
 
-def _two_point_elements(data: Mapping) -> tuple[list[Spring], list[Damper]]:
-    """The ``[springs.NAME]`` and ``[dampers.NAME]`` tables."""
-    springs = []
-    for sname, spec in _entries(data, "springs"):
-        f = f"springs.{sname}"
-        _only(spec, KEYS["springs.NAME"], f)
-        _require(spec, ["a", "b", "k", "free_length"], f)
-        springs.append(Spring(sname, **spec))
-    dampers = []
-    for dname, spec in _entries(data, "dampers"):
-        f = f"dampers.{dname}"
-        _only(spec, KEYS["dampers.NAME"], f)
-        _require(spec, ["a", "b", "c"], f)
-        dampers.append(Damper(dname, **spec))
-    return springs, dampers
+def _force_elements(data: Mapping) -> dict[str, list[Element]]:
+    """The tables of every registered force element (:data:`~.elements.ELEMENT_TYPES`), each entry
+    read by its class, as the keyword arguments of a description (``springs=[...]``, ...; the kinds
+    without a field of their own in ``elements``)."""
+    out: dict[str, list[Element]] = {}
+    for table, cls in ELEMENT_TYPES.items():
+        items = [cls.from_table(name, spec, f"{table}.{name}") for name, spec in _entries(data, table)]
+        out.setdefault(table if table in Mechanism.ELEMENT_FIELDS else "elements", []).extend(items)
+    return out
 
 
 def _common(data: Mapping, head: Mapping, filename: str) -> dict:
     """The keyword arguments both planar and spatial mechanisms take from a file."""
     assembly = _table(data, "assembly", "assembly")
     _only(assembly, KEYS["assembly"], "assembly")
-    springs, dampers = _two_point_elements(data)
     return dict(
+        **_force_elements(data),
         name=_text(head.get("name", one_line(Path(filename).stem.replace("-", "_"))), "mechanism.name"),
-        parameters=_parameters(data), springs=springs, dampers=dampers, dof=head.get("dof", 1),
+        parameters=_parameters(data), dof=head.get("dof", 1),
         hold=dict(_table(assembly, "hold", "assembly.hold")),
         description=_text(head.get("description", ""), "mechanism.description"),
         redundant=head.get("redundant", "error"),
         conditions=conditions_from_table(_table(data, "conditions", "conditions")),
-        actuators=actuators_from_table(_table(data, "actuators", "actuators")),
         downlock=downlock_from_table(head["downlock"]) if "downlock" in head else None,
         stops=stops_from_table(_table(data, "stops", "stops")))
 
 
 def _mechanism(data: Mapping, filename: str) -> Mechanism:
-    _only(data, _SECTIONS, "")
+    _only(data, _OTHER_SECTIONS | set(ELEMENT_TYPES), "")
     head = _table(data, "mechanism", "mechanism")
     _only(head, KEYS["mechanism"], "mechanism")
     dimension = head.get("dimension", 2)

@@ -10,7 +10,7 @@ named ``R_<joint>_x``, ``R_<joint>_y``, ``R_<joint>`` or ``T_<joint>``). Equatio
 where ``Q`` includes each stop's contact reaction ``s R_<stop> dc/dq`` (see :mod:`._stops`)
 
 with ``Q = -dV/dq + Q_nc`` at rest (see :mod:`._forces`). Length-mode actuators are
-constraint rows (reaction ``T_<actuator>``, see :mod:`._actuators`); condition rows are
+constraint rows (reaction ``T_<actuator>``, see :mod:`.elements.actuator`); condition rows are
 outputs that the mechanics never see (see :mod:`._conditions`). For a body whose frame origin is
 its centre of gravity the rows are exactly the force and moment balance of that body with
 the inter-link forces as unknowns, as in the paper. The reduced form is described in
@@ -62,15 +62,20 @@ def _scales(mech: Mechanism, values: dict[str, float]) -> tuple[float, float]:
     """Typical length (m) and force (N) of the mechanism at ``values``."""
     lengths = [abs(evaluate(mech.value(f"bodies.{b.name}.length"), values, "")) for b in mech.bodies
                if b.length is not None]
-    lengths += [abs(evaluate(mech.value(f"springs.{s.name}.free_length"), values, "")) for s in mech.springs]
+    lengths += [abs(evaluate(mech.value(el.field(k)), values, "")) for el in mech.force_elements() for k in el.LENGTH_KEYS]
     Lc = max([v for v in lengths if v > 0], default=1.0)
     forces = []
     if mech.gravity is not None:
         g = abs(evaluate(mech.value("gravity.g"), values, ""))
         forces.append(g * sum(evaluate(mech.value(f"bodies.{b.name}.mass"), values, "") for b in mech.bodies))
-    forces += [abs(evaluate(mech.value(f"springs.{s.name}.k"), values, "")) * Lc for s in mech.springs]
+    forces += element_forces(mech, values, Lc)
     forces += load_forces(mech, values)
     return Lc, max(forces + [1e-3])
+
+
+def element_forces(mech: Mechanism, values: Mapping[str, float], Lc: float) -> list[float]:
+    """The typical forces (N) of the force elements at ``values``: each stiffness (N/m) times ``Lc`` (m)."""
+    return [abs(evaluate(mech.value(el.field(k)), values, "")) * Lc for el in mech.force_elements() for k in el.STIFFNESS_KEYS]
 
 
 def load_forces(mech: Mechanism, values: Mapping[str, float]) -> list[float]:

@@ -12,10 +12,10 @@ from collections.abc import Mapping
 
 import sympy as sp
 
-from ._actuators import actuator_rows
 from ._bodies import SpatialBody
 from ._description import Body, Mechanism, Polar, coordinate_names
 from ._expr import symbol
+from .elements import element_rows
 from .joints import ConstraintRow
 
 __all__ = ["Kinematics", "ConstraintRow", "kinematics_of", "pin_chain", "place_along_joints"]
@@ -100,9 +100,9 @@ class Kinematics:
 
     # -- constraints ---------------------------------------------------------------
     def constraints(self) -> list[ConstraintRow]:
-        """Every scalar constraint, joint by joint in declaration order, then the length-mode actuators."""
+        """Every scalar constraint, joint by joint in declaration order, then the force elements' (length-mode actuators)."""
         rows = [row for j in self.mech.joints for row in j.rows(self)]
-        return rows + actuator_rows(self)
+        return rows + element_rows(self)
 
     # -- inertia -------------------------------------------------------------------
     def mass_matrix(self) -> sp.Matrix:

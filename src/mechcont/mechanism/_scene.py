@@ -9,9 +9,7 @@ import sympy as sp
 
 from ..equations import Scene
 from ..equations._codegen import compile_dense
-from ._actuators import Actuator, actuator_load
 from ._compiled import GeneratedScene
-from ._description import Damper, Spring
 from ._kinematics import Kinematics
 
 __all__ = ["scene_function"]
@@ -26,8 +24,9 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
     a triangle ``a -> p -> b``) or through their declared points (other bodies). Each
     load adds its arrows and draws itself (:meth:`~.loads.Load.draw`: a planar moment around the
     body's pin to the ground if it has one, else around the body's origin).
-    Ground points that springs, dampers or actuators attach to (and no pin or weld does) are
-    anchors. Actuators carry their tension (N): the force parameter, or the reaction ``T_<name>``.
+    Each force element draws itself (:meth:`~.elements.Element.draw`); the ground points they attach
+    to (and no pin or weld does) are anchors. Actuators carry their tension (N): the force
+    parameter, or the reaction ``T_<name>``.
     ``Scene.points`` names, for labels, every ground point and every named body point: the
     ends ``a``/``b`` and declared points of a bar (and its ``cg`` when off the centre), the
     declared points, ``origin`` and ``cg`` of any other body (``cg`` when off the origin).
@@ -62,14 +61,9 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
                     ground_joints.add(here)
                     pinned.setdefault(there.split(".")[0], there)
     anchors: list[str] = []
-    for s in mech.springs:
-        add("spring", s.name, [kin.point(s.a), kin.point(s.b)])
-    for d in mech.dampers:
-        add("damper", d.name, [kin.point(d.a), kin.point(d.b)])
-    for act in mech.actuators:  # ends, then (tension N, 0)
-        add("actuator", act.name, [kin.point(act.a), kin.point(act.b), sp.Matrix([actuator_load(mech, act), 0])])
-    two_ended: tuple[Spring | Damper | Actuator, ...] = (*mech.springs, *mech.dampers, *mech.actuators)
-    for ref in (r for e in two_ended for r in (e.a, e.b)):
+    for el in mech.force_elements():
+        el.draw(kin, add)
+    for ref in (r for el in mech.force_elements() for r in el.ends()):
         if ref.split(".")[0] == "ground" and ref not in ground_joints and ref not in anchors:
             anchors.append(ref)
             add("anchor", ref, [kin.point(ref)])

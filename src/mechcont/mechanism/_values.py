@@ -107,20 +107,14 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
             need(f + ".length", True, "length (m)")
         for field, what in b.inertia_limits():
             need(field, True, what)
-    for s in mech.springs:
-        need(f"springs.{s.name}.k", not solve, "stiffness (N/m)")
-        need(f"springs.{s.name}.free_length", True, "free length (m)")
-    for d in mech.dampers:
-        need(f"dampers.{d.name}.c", False, "damping (N s/m)")
-        need(f"dampers.{d.name}.c2", False, "quadratic damping (N s^2/m^2)")
+    for el in mech.force_elements():
+        for field, strict, what in el.limits(solve):
+            need(field, strict, what)
     for args in stop_value_limits(mech):
         need(*args)
     for ld in mech.loads:
         for field, strict, what in ld.limits():
             need(field, strict, what)
-    for act in mech.actuators:
-        if act.length is not None:
-            need(f"actuators.{act.name}.length", True, "actuator length (m)")
     if mech.joints:
         from ._kinematics import kinematics_of
         kin = kinematics_of(mech)

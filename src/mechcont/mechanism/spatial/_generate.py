@@ -42,6 +42,7 @@ from .._generate import (
     _scales,
     condition_and_parameter_variables,
     condition_fields,
+    element_forces,
     load_forces,
     value_fields,
 )
@@ -79,7 +80,7 @@ def _spatial_scales(kin: SpatialKinematics, values: dict[str, float]) -> tuple[f
     if mech.gravity is not None:
         g = abs(evaluate(mech.value("gravity.g"), values, ""))
         forces.append(g * sum(evaluate(mech.value(f"bodies.{b.name}.mass"), values, "") for b in mech.bodies))
-    forces += [abs(evaluate(mech.value(f"springs.{sp_.name}.k"), values, "")) * Lc for sp_ in mech.springs]
+    forces += element_forces(mech, values, Lc)
     forces += load_forces(mech, values)
     return Lc, max(forces)
 

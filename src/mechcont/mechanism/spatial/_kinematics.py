@@ -15,9 +15,9 @@ from __future__ import annotations
 import sympy as sp
 
 from ...equations._codegen import gradient
-from .._actuators import actuator_rows
 from .._expr import symbol
 from .._values import parameter_values
+from ..elements import element_rows
 from ._description import INERTIA_KEYS, SpatialBody, SpatialMechanism, normalisation_row
 from ._joints import SpatialRow
 from ._rotation import body_omega_matrix, dot, matvec, norm, omega_matrix, rotation_matrix
@@ -139,7 +139,7 @@ class SpatialKinematics:
                                    sum((c ** 2 for c in e), sp.S.Zero) - 1))
         for j in self.mech.joints:
             rows.extend(j.rows(self))
-        rows += [SpatialRow(r.joint, r.equation, r.reaction, r.unit, r.expr) for r in actuator_rows(self)]
+        rows += [SpatialRow(r.joint, r.equation, r.reaction, r.unit, r.expr) for r in element_rows(self)]
         return rows
 
     # -- inertia --------------------------------------------------------------------------

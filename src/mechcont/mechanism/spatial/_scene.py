@@ -7,7 +7,6 @@ from collections.abc import Sequence
 import sympy as sp
 
 from ...equations._codegen import compile_dense
-from .._actuators import actuator_load
 from .._compiled import SpatialScene
 from ._kinematics import SpatialKinematics
 
@@ -49,15 +48,10 @@ def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.
         add("ground" if ground else "pin", j.name, [kin.point(j.b)])
         for axis in j.drawn_axes(kin):
             add("axis", j.name, [kin.point(j.b), axis])
-    for s in mech.springs:
-        add("spring", s.name, [kin.point(s.a), kin.point(s.b)])
-    for d in mech.dampers:
-        add("damper", d.name, [kin.point(d.a), kin.point(d.b)])
-    for act in mech.actuators:
-        add("actuator", act.name, [kin.point(act.a), kin.point(act.b), sp.Matrix([actuator_load(mech, act), 0, 0])])
+    for el in mech.force_elements():
+        el.draw(kin, add)
     anchors: list[str] = []
-    ends = [(e.a, e.b) for e in mech.springs] + [(e.a, e.b) for e in mech.dampers] + [(e.a, e.b) for e in mech.actuators]
-    for ref in (r for pair in ends for r in pair):
+    for ref in (r for el in mech.force_elements() for r in el.ends()):
         if ref.startswith("ground.") and ref not in ground_refs and ref not in anchors:
             anchors.append(ref)
             add("anchor", ref, [kin.point(ref)])
