@@ -39,8 +39,8 @@ from ._bodies import (
 from ._conditions import Condition, DownlockSpec, check_conditions
 from ._elements import Parameter, StopReaction
 from ._expr import Value, symbol, to_expr
-from ._stops import Stop, check_stops, stop_reaction_unit
-from .elements import Actuator, Damper, Element, Spring
+from ._stops import stop_reaction_unit
+from .elements import Actuator, Damper, Element, Spring, Stop
 from .joints import PlanarJoint, Prismatic, Revolute, Slider, Weld
 from .loads import LOAD_TYPES, CustomLoad, Drag, Gravity, Load, Moment, PointForce, SpatialGravity
 
@@ -175,7 +175,7 @@ class Mechanism(Generic[JointT, BodyT]):
     #: The registry key of the elements this mechanism takes (:data:`~.loads.LOAD_TYPES`).
     space: ClassVar[str] = "plane"
     #: The registered element tables with a field of their own (others go to ``elements``).
-    ELEMENT_FIELDS: ClassVar[tuple[str, ...]] = ("springs", "dampers", "actuators")
+    ELEMENT_FIELDS: ClassVar[tuple[str, ...]] = ("springs", "dampers", "actuators", "stops")
     #: The components of a vector (a point, a direction).
     AXES: ClassVar[str] = "xy"
     #: The message for a load of a type not registered for this space (``{}``: its class name).
@@ -273,7 +273,6 @@ class Mechanism(Generic[JointT, BodyT]):
             el.check(self)
         self._check_loads()
         check_conditions(self)
-        check_stops(self)
         for name in self.hold:
             if name not in self.coordinate_symbols:
                 raise InputError(f"assembly.hold.{name}",
@@ -281,8 +280,8 @@ class Mechanism(Generic[JointT, BodyT]):
         self._check_connected()
 
     def force_elements(self) -> tuple[Element, ...]:
-        """Every force element (:mod:`.elements`): springs, dampers, actuators, then the other registered kinds."""
-        return (*self.springs, *self.dampers, *self.actuators, *self.elements)
+        """Every force element (:mod:`.elements`): springs, dampers, actuators, stops, then the other registered kinds."""
+        return (*self.springs, *self.dampers, *self.actuators, *self.stops, *self.elements)
 
     def _coordinate_names(self, body: str) -> tuple[str, ...]:
         """The coordinate names of ``body`` (see :func:`coordinate_names`)."""
@@ -326,7 +325,7 @@ class Mechanism(Generic[JointT, BodyT]):
 
     def _common_values(self):
         """The (key path, raw value) pairs of the elements planar and spatial descriptions share:
-        force elements, held coordinates, conditions and stops."""
+        force elements (stops included), held coordinates and conditions."""
         for el in self.force_elements():
             yield from el.values(self)
         for k, v in self.hold.items():
@@ -336,11 +335,6 @@ class Mechanism(Generic[JointT, BodyT]):
                 yield f"conditions.{c.name}.expr", c.expr
             if c.target is not None:
                 yield f"conditions.{c.name}.target", c.target
-        for st in self.stops:
-            yield f"stops.{st.name}.{st.key}", st.limit
-            if st.contact == "compliant":
-                yield f"stops.{st.name}.stiffness", st.stiffness
-                yield f"stops.{st.name}.damping", st.damping
 
     def kinematics_class(self) -> type:
         """The kinematics strategy of this space (:class:`~._kinematics.Kinematics`: x, y, theta per body)."""

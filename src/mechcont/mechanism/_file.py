@@ -54,7 +54,6 @@ from ._bodies import PointSpec
 from ._conditions import conditions_from_table, downlock_from_table
 from ._description import Body, Gravity, Mechanism, Parameter, Polar
 from ._paths import builtin_descriptions, find_description
-from ._stops import STOP_KEYS, stops_from_table
 from .elements import ELEMENT_TYPES, Element
 from .joints import joint_keys
 from .loads import Load, load_keys
@@ -68,8 +67,7 @@ _JOINTS = joint_keys()
 _LOADS = load_keys("plane")
 #: The top-level tables besides those of the force elements (:data:`~.elements.ELEMENT_TYPES`, read
 #: at parse time: an element kind registered later is read too).
-_OTHER_SECTIONS = {"mechanism", "parameters", "ground", "bodies", "joints", "gravity", "loads", "assembly", "conditions",
-                   "stops"}
+_OTHER_SECTIONS = {"mechanism", "parameters", "ground", "bodies", "joints", "gravity", "loads", "assembly", "conditions"}
 #: The top-level tables of a description with the element kinds shipped with mechcont.
 _SECTIONS = _OTHER_SECTIONS | set(ELEMENT_TYPES)
 #: The keys accepted in each table other than ``[joints.NAME]``/``[loads.NAME]`` (whose keys,
@@ -84,7 +82,6 @@ KEYS: dict[str, frozenset[str]] = {
     "bodies.NAME.points.NAME": frozenset({"r", "angle"}),
     "gravity": frozenset({"g", "angle"}),
     "assembly": frozenset({"hold"}),
-    "stops.NAME": STOP_KEYS,
     **{f"{table}.NAME": cls.KEYS for table, cls in ELEMENT_TYPES.items()},
 }
 
@@ -281,8 +278,7 @@ def _common(data: Mapping, head: Mapping, filename: str) -> dict:
         description=_text(head.get("description", ""), "mechanism.description"),
         redundant=head.get("redundant", "error"),
         conditions=conditions_from_table(_table(data, "conditions", "conditions")),
-        downlock=downlock_from_table(head["downlock"]) if "downlock" in head else None,
-        stops=stops_from_table(_table(data, "stops", "stops")))
+        downlock=downlock_from_table(head["downlock"]) if "downlock" in head else None)
 
 
 def _mechanism(data: Mapping, filename: str) -> Mechanism:

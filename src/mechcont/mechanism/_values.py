@@ -13,7 +13,6 @@ from ..equations import Limit
 from ..errors import InputError
 from ._description import Mechanism
 from ._expr import float_value
-from ._stops import stop_value_limits
 
 __all__ = ["parameter_values", "check_values", "check_finite", "check_stop_limits", "physical_limits", "evaluate",
            "value_check", "check_vectors",
@@ -110,8 +109,6 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
     for el in mech.force_elements():
         for field, strict, what in el.limits(solve):
             need(field, strict, what)
-    for args in stop_value_limits(mech):
-        need(*args)
     for ld in mech.loads:
         for field, strict, what in ld.limits():
             need(field, strict, what)

@@ -1,4 +1,5 @@
-"""Force elements: one module per table (``[springs.NAME]``, ``[dampers.NAME]``, ``[actuators.NAME]``);
+"""Force elements: one module per table (``[springs.NAME]``, ``[dampers.NAME]``, ``[actuators.NAME]``,
+``[stops.NAME]``);
 see :mod:`._base` for the protocol.
 
 Every public module of this package is imported here, so an element class defined in a new module
@@ -14,9 +15,10 @@ from ._base import ELEMENT_TYPES, Element, TwoPointElement, element_rows
 from .actuator import Actuator
 from .damper import Damper, damper_tension
 from .spring import Spring
+from .stop import Stop
 
 __all__ = ["ELEMENT_TYPES", "Element", "TwoPointElement", "element_rows", "Spring", "Damper", "Actuator",
-           "damper_tension"]
+           "Stop", "damper_tension"]
 
 for _info in pkgutil.iter_modules(__path__):
     if not _info.name.startswith("_"):
