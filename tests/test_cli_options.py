@@ -90,3 +90,40 @@ def test_design_parameters_old_and_new_spelling(run):
     one_line_error(run(*args, "--vary", "k", "--across", "k"), "--across", "must differ from --vary")
     one_line_error(run(*args, "--x", "k", "--y", "k"), "--y", "must differ from --x")
     one_line_error(run(*args, "--vary", "k", "--x", "k"), "--vary", "not both")
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def test_continue_hold_takes_a_value_as_downlock_does(run, tmp_path):
+    """``--hold NAME=VALUE`` holds the state at VALUE (as in downlock/design/study); ``--hold NAME`` at its
+    value in the start solve. Checked against the library run with the same state held and F solved for."""
+    import numpy as np
+
+    from mechcont.continuation import continuation, find_equilibrium, run_options
+    from mechcont.models import load_model
+
+    args = ("continue", "nose_gear", "--free", "F", "--vary", "LU", "--bounds", "LU=1.25:1.35", "--quiet")
+    assert run(*args, "--hold", "theta4=0.01", "--out", tmp_path / "v.csv").exit_code == 0
+    assert run(*args, "--hold", "theta4=0", "--out", tmp_path / "z.csv").exit_code == 0
+    assert run(*args, "--hold", "theta4", "--out", tmp_path / "n.csv").exit_code == 0  # the default, 0
+    def table(k):
+        rows, _ = read_branch_table(tmp_path / f"{k}.csv")
+        names = [n for n in rows[0] if all(_is_number(r[n]) for r in rows)]  # the numeric columns
+        return {n: np.array([float(r[n]) for r in rows]) for n in names}
+
+    held, zero, named = table("v"), table("z"), table("n")
+    assert np.allclose(held["theta4"], 0.01, rtol=0, atol=1e-12)
+    assert zero.keys() == named.keys() and all(np.allclose(zero[n], named[n], rtol=1e-12, atol=1e-12) for n in zero)
+    system = load_model("nose_gear")
+    x0 = find_equilibrium(system, hold={"theta4": 0.01}, free=["F"])
+    lib = continuation(system, x0, "LU", hold=["theta4"], free=["F"], options=run_options({"LU": (1.25, 1.35)}))
+    for lu in (1.27, 1.3, 1.33):  # the force that holds theta4 = 0.01 rad, at the same LU
+        assert np.interp(lu, held["LU"], held["F"]) == pytest.approx(np.interp(lu, lib["LU"], lib["F"]), rel=1e-6)
+    one_line_error(run(*args, "--start", "theta4=0", "--hold", "theta4=0"), "--hold", "once")
+    one_line_error(run(*args, "--hold", "theta4=abc"), "--hold theta4", "not a number")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from ..errors import InputError
 from ._parse import assignments, bounds
 
 __all__ = ["continuation_options", "solve_start", "write_branch", "common_options", "check_outputs", "run_continuation"]
@@ -25,7 +26,8 @@ def common_options(f):
         click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Parameter value (SI units, rad)."),
         click.option("--start", "starts", multiple=True, metavar="NAME=VALUE",
                      help="State held at a value to find the first solution (the --vary name is free then)."),
-        click.option("--hold", "holds", multiple=True, metavar="NAME", help="State held during continuation."),
+        click.option("--hold", "holds", multiple=True, metavar="NAME[=VALUE]",
+                     help="State held during continuation (at VALUE when given, as in downlock/design/study)."),
         click.option("--free", "frees", multiple=True, metavar="NAME", help="Parameter solved for (keeps it square)."),
         click.option("--bounds", "bnds", multiple=True, metavar="NAME=LO:HI", help="Stop where NAME leaves [LO, HI]."),
         click.option("--ds", type=float, default=None, help="Initial step (scaled arclength)."),
@@ -43,6 +45,24 @@ def continuation_options(bnds, ds, dsmax, max_steps):
     from ..continuation import run_options
 
     return run_options(bounds(bnds), ds=ds, dsmax=dsmax, max_steps=max_steps, max_steps_field="--max-steps")
+
+
+def held_states(holds, starts) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """``--hold NAME`` or ``--hold NAME=VALUE`` (one meaning in every command: a held state; with a value it
+    is held at that value, which then also finds the first solution, as ``--start NAME=VALUE`` does).
+    Returns ``(held names, --start items)``; a state given a value by both options is an error."""
+    names, given = [], {item.partition("=")[0].strip() for item in starts}
+    extra = []
+    for item in holds:
+        name, sep, _ = item.partition("=")
+        name = name.strip()
+        if sep:
+            assignments([item], "hold")  # checks NAME=VALUE and the number
+            if name in given:
+                raise InputError("--hold", f"{name} is also given to --start: give its value once")
+            extra.append(item)
+        names.append(name)
+    return tuple(names), (*starts, *extra)
 
 
 def solve_start(system, sets, starts, vary, frees, holds):

@@ -5,7 +5,15 @@ from __future__ import annotations
 import click
 
 from ._app import cli
-from ._run import check_outputs, common_options, continuation_options, run_continuation, solve_start, write_branch
+from ._run import (
+    check_outputs,
+    common_options,
+    continuation_options,
+    held_states,
+    run_continuation,
+    solve_start,
+    write_branch,
+)
 
 
 @cli.command("continue")
@@ -35,6 +43,7 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     from ._parse import assignments
 
     check_outputs(out, plot)
+    holds, starts = held_states(holds, starts)
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_model(model)
     stops = system.stops

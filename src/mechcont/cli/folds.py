@@ -13,6 +13,7 @@ from ._run import (
     check_outputs,
     common_options,
     continuation_options,
+    held_states,
     run_continuation,
     solve_start,
     write_branch,
@@ -46,6 +47,7 @@ def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps,
     from ..outputs.tables import branch_value, special_table
 
     check_outputs(out, plot)
+    holds, starts = held_states(holds, starts)
     old_spelling = second is None and len(frees) == 1 and (bool(old_frees) or not holds)
     if old_spelling:  # folds --vary P1 --free P2, as written before --along
         second, frees = frees[0], ()

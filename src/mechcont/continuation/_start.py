@@ -53,7 +53,7 @@ def start_point(system, vary: str, *, values: Mapping[str, float] | None = None,
 
     ``values`` sets variables (SI units, radians); each ``hold`` state is held at its value there.
     When ``vary`` is a state it is prescribed (at its ``start`` value or its default); when it is a
-    parameter and states are held by ``start``, it is freed for this first solve. Errors name the
+    parameter and ``start`` holds states that ``hold`` does not, it is freed for this first solve. Errors name the
     variable, or ``start_field``/``free_field`` for a wrong use of ``start``/``free``.
     """
     values = dict(values or {})
@@ -75,6 +75,8 @@ def start_point(system, vary: str, *, values: Mapping[str, float] | None = None,
     else:
         if vary in held:
             raise InputError(start_field, f"{vary} is the continuation parameter; hold a state instead")
-        # a held start state frees the parameter to be varied for the first solve
-        solved = [*([vary] if start else []), *(n for n in free if n != vary)]
+        # a start state held only for the first solve frees the parameter to be varied then (one held
+        # during the continuation too, e.g. --hold NAME=VALUE, adds no equation the run lacks)
+        extra = set(start or {}) - set(hold)
+        solved = [*([vary] if extra else []), *(n for n in free if n != vary)]
     return find_equilibrium(system, values=values, hold=held, free=solved)
