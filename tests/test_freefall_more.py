@@ -59,6 +59,10 @@ def test_one_leg_hangs_the_other_locks():
     assert run.stops["lock1"].time == pytest.approx(fall_time(L1), rel=1e-6)
     assert run.stops["lock2"].time is None and run.stops["lock2"].impact_speed is None
     assert run.history["angle2"][-1] == pytest.approx(math.acos(M * G / (K2 * U * U)), abs=1e-6)
+    last = run.describe()[-1]  # where it hangs: every coordinate, or the columns asked for
+    assert all(f"{c} = " in last for c in run.history.coordinates)
+    shown = run.describe(show=["angle2"])[-1]
+    assert shown.endswith(f"angle2 = {run.history['angle2'][-1]:.6g}") and "angle1" not in shown
 
 
 def test_bad_lock_names():

@@ -100,7 +100,8 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
     Example: mechcont freefall examples/freefall_leg.toml --from angle=3.0 --lock downlock
     --until 10 --set U=40
 
-    Prints the outcome (locked, stalled: at rest short of locking, timed out), the time to lock,
+    Simulates until it locks (the run ends there), stalls or reaches --until. Prints the outcome
+    (locked, stalled: at rest short of locking, timed out), the time to lock,
     the impact speed at the lock, the peak damper tensions and stop reactions. With --critical
     V=LO:HI it bisects for the value of V where the outcome changes, and prints beside it the
     quasi-static prediction: the fold of the equilibria the gear could hang in on its way.
@@ -134,7 +135,8 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
     if held_by is not None and (held_by not in system.names or system.variable(held_by).kind != "parameter"):
         raise InputError("--held-by", f"{held_by} is not a parameter of {system.name}; valid: "
                                       f"{', '.join(system.parameter_names)}")
-    options = {"damping": damping, "rtol": rtol, "rest_speed": rest_speed, "held_by": held_by}
+    # a run ends when it has locked (every lock stop in contact, at rest), as a lock condition ends it
+    options = {"damping": damping, "rtol": rtol, "rest_speed": rest_speed, "held_by": held_by, "end_at_lock": True}
     try:
         if rng is None:
             _one(system, start, lock_spec, until, options, out_path, plot_path)
@@ -160,7 +162,8 @@ def _one(system, start, lock, until, options, out_path, plot_path) -> None:
                f"{h.t[-1]:.6g} s simulated, {len(h)} rows")
     if not h.success:
         click.echo(f"# warning: {h.message}")
-    for line in run.describe(units):
+    many = len(h.coordinates) > 6  # where a large mechanism hangs: its declared conditions, not 63 coordinates
+    for line in run.describe(units, show=[c for c in system.conditions if c in h.names] if many else ()):
         click.echo(line)
     if out_path is not None:
         from ..outputs.tables import event_labels

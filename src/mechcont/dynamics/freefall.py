@@ -102,9 +102,10 @@ class FreefallResult:
             return None
         return max(times) - min(times)  # type: ignore[type-var,operator]
 
-    def describe(self, units: Mapping[str, str] | None = None) -> list[str]:
+    def describe(self, units: Mapping[str, str] | None = None, show: Sequence[str] = ()) -> list[str]:
         """Readable lines: outcome, time to lock, impact speed, peak loads (``units`` of the
-        stop reactions and the lock quantity's rate, by name)."""
+        stop reactions and the lock quantity's rate, by name); a run that did not lock ends with
+        where it is: the columns ``show`` (default every coordinate)."""
         units = units or {}
         lines = [f"outcome: {self.outcome} (lock: {self.lock})"]
         if self.time_to_lock is not None:
@@ -126,7 +127,7 @@ class FreefallResult:
         if self.outcome != LOCKED:
             t, pose = self.history.t[-1], self.history.at(len(self.history) - 1)
             lines.append(f"at t = {t:.6g} s: max speed {self.final_speed:.3g}, "
-                         + ", ".join(f"{c} = {pose[c]:.6g}" for c in self.history.coordinates))
+                         + ", ".join(f"{c} = {pose[c]:.6g}" for c in (show or self.history.coordinates)))
         return lines
 
 
