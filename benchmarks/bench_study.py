@@ -30,7 +30,7 @@ def tolerance_spec(n: int = N):
 def _rows(system, spec):
     import numpy as np
 
-    X = np.tile(system.vector({"theta4": 0.0}, base=system.downlocked), (spec.size, 1))
+    X = np.tile(system.vector({"theta4": 0.0}, base=system.downlock.pose), (spec.size, 1))
     S = spec.samples()
     for j, n in enumerate(spec.names):
         X[:, system.index(n)] = S[:, j]
