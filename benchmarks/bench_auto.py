@@ -139,7 +139,7 @@ for ds in (0.01, -0.01):
 
 _MECHCONT_ARGS = ["--set", f"LU={LU}", "--start", f"theta1={THETA1}", "--vary", "F"]
 MECHCONT_CONTINUE = ["continue", "overcentre", *_MECHCONT_ARGS, "--bounds", f"F={-F_BOUND:g}:{F_BOUND:g}"]
-MECHCONT_FOLDS = ["folds", "overcentre", *_MECHCONT_ARGS, "--free", "LU", "--bounds", f"LU={LU_BOUNDS[0]:g}:{LU_BOUNDS[1]:g}",
+MECHCONT_FOLDS = ["folds", "overcentre", *_MECHCONT_ARGS, "--along", "LU", "--bounds", f"LU={LU_BOUNDS[0]:g}:{LU_BOUNDS[1]:g}",
                   "--bounds", f"F={-F_BOUND:g}:{F_BOUND:g}"]
 
 
