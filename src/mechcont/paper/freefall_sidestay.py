@@ -77,11 +77,10 @@ def retracted(system, theta_up: float = SIDESTAY_UP, steps: int = STEPS, values=
 
 
 def attachment_offset(system, x) -> float:
-    """How far (m) the aft upper arm's attachment point is from its airframe point at ``x``."""
-    from ..models.dual_sidestay_geometry import DEFAULT_GEOMETRY
-
+    """How far (m) the aft upper arm's attachment point is from its airframe point ``A_aft`` (the model's own
+    description's ground point) at ``x``."""
     bars = dict(system.scene(x).bars)
-    return float(np.linalg.norm(bars["aft_upper"][0] - DEFAULT_GEOMETRY.aft.A))
+    return float(np.linalg.norm(bars["aft_upper"][0] - np.asarray(system.mechanism.ground["A_aft"], float)))
 
 
 def kinematic_offset(system, theta_up: float = SIDESTAY_UP, steps: int = STEPS) -> tuple[float, float]:
