@@ -124,3 +124,36 @@ def test_held_by_on_a_rigid_leg_is_its_assembly_and_the_same_fall(run):
         return float(line.split()[3])
 
     assert lock_time(with_held) == pytest.approx(lock_time(plain), rel=1e-9)
+
+
+def test_compliant_hinge_warns_without_held_by_and_holds_by_the_actuator_with_it(run):
+    """A 60 mm spatial leg on a compliant hinge (tests/data/freefall_compliant_leg.toml): without --held-by the
+    command warns that the kinematic assembly moves the compliant joint; with --held-by F_act the pose is the
+    static one, whose actuator force balances gravity about the hinge (closed form, to the hinge's deflection
+    over the 20 mm lever: 5e-3) and whose hinge deflects by its reaction over its stiffness."""
+    import numpy as np
+
+    from mechcont.continuation import find_equilibrium
+    from mechcont.dynamics.freefall import held_pose
+    from mechcont.models import load_model
+
+    path = "tests/data/freefall_compliant_leg.toml"
+    args = ("freefall", path, "--from", "angle=1.2", "--lock", "downlock", "--until", "0.002")
+    plain, held = run(*args), run(*args, "--held-by", "F_act")
+    assert plain.exit_code == 0 and "warning: freefall_compliant_leg has compliant joints" in plain.output
+    assert "--held-by" in plain.output
+    assert held.exit_code == 0 and "compliant joints" not in held.output
+    model = load_model(path)
+    theta = 1.2
+    x = find_equilibrium(model, hold={"angle": theta}, free=["F_act"], guess=held_pose(model, {"angle": theta}, "F_act"))
+    act = np.array([0.0, 0.02 * math.sin(theta), -0.02 * math.cos(theta)])
+    u = (np.array([0.0, 0.03, 0.02]) - act) / np.linalg.norm(np.array([0.0, 0.03, 0.02]) - act)
+    lever = act[1] * u[2] - act[2] * u[1]  # the moment about x of a unit tension
+    weight_moment = 0.05 * 9.81 * 0.03 * math.sin(theta)
+    assert x[model.index("F_act")] * lever == pytest.approx(weight_moment, rel=5e-3)
+    leg = dict(model.scene(x).bars)["leg"]  # hinge, actuator and tip points where they are, deflected
+    along = np.array([0.0, 0.03, 0.02]) - leg[1]
+    force = x[model.index("F_act")] * along / np.linalg.norm(along)  # the hinge carries this and the weight
+    reaction = np.array([x[model.index(f"R_hinge_{a}")] for a in "xyz"])
+    assert reaction == pytest.approx(-(force + np.array([0.0, 0.0, -0.05 * 9.81])), abs=1e-9)
+    assert leg[0] == pytest.approx(-reaction / 2.0e4, abs=1e-12)  # the hinge point off the airframe's: R / k

@@ -132,9 +132,13 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
             raise InputError("--critical" if rng and n == rng[0] else "--scan",
                              f"{n} is not a parameter of {system.name}; valid: {', '.join(system.parameter_names)}")
     lock_spec = _lock(system, lock, lock_condition)
-    if held_by is not None and (held_by not in system.names or system.variable(held_by).kind != "parameter"):
-        raise InputError("--held-by", f"{held_by} is not a parameter of {system.name}; valid: "
-                                      f"{', '.join(system.parameter_names)}")
+    if held_by is None:
+        from ..mechanism._check import _compliant
+
+        if _compliant(system, system.defaults()):
+            click.echo(f"warning: {system.name} has compliant joints, which the kinematic assembly of the released "
+                       "pose moves freely; give --held-by PARAM (the force that holds it there) for its static pose",
+                       err=True)
     # a run ends when it has locked (every lock stop in contact, at rest), as a lock condition ends it
     options = {"damping": damping, "rtol": rtol, "rest_speed": rest_speed, "held_by": held_by, "end_at_lock": True}
     try:
