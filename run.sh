@@ -11,12 +11,13 @@ set -euo pipefail
 cd "$(dirname "$0")"
 PY=${PYTHON:-python3}
 if [ ! -x .venv/bin/python ]; then
-  echo "run.sh: creating .venv and installing mechcont with its dependencies (first use only: about 1-3 minutes)" >&2
+  echo "run.sh: creating .venv and installing mechcont with its dependencies and compiling its corrector (first use only: about 1-3 minutes)" >&2
   "$PY" -m venv .venv
 fi
 stamp=.venv/.mechcont-installed
-if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
-  [ -f "$stamp" ] && echo "run.sh: pyproject.toml changed: updating .venv's packages" >&2
+kernel=src/mechcont/continuation/_ckernel.pyx  # the compiled corrector, built by the install (setup.py)
+if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ] || [ setup.py -nt "$stamp" ] || [ "$kernel" -nt "$stamp" ]; then
+  [ -f "$stamp" ] && echo "run.sh: pyproject.toml, setup.py or $kernel changed: updating .venv" >&2
   .venv/bin/python -m pip install --quiet --upgrade pip
   .venv/bin/python -m pip install --quiet -e ".[test]"
   touch "$stamp"

@@ -29,7 +29,8 @@ class PointState:
 
     ``z``: scaled unknowns (u / scale); ``u``: unknowns in SI units; ``tangent``: unit
     tangent in scaled coordinates; ``jac``: the scaled Jacobian dG/dz (n x n+1);
-    ``x``: the full variable vector.
+    ``x``: the full variable vector; ``bp_test``: the branch-point test function when the
+    stepper already knows it (the compiled corrector computes it from its factors), else None.
     """
 
     z: np.ndarray
@@ -37,6 +38,7 @@ class PointState:
     tangent: np.ndarray
     jac: np.ndarray
     x: np.ndarray
+    bp_test: float | None = None
 
 
 class Event:
@@ -127,6 +129,8 @@ class BranchPointEvent(Event):
     continuous = True
 
     def value(self, problem: ContinuationProblem, state):
+        if state.bp_test is not None:
+            return state.bp_test
         A = np.empty((len(state.tangent), len(state.tangent)))
         A[:-1] = state.jac
         A[-1] = state.tangent

@@ -18,6 +18,7 @@ import numpy as np
 
 from .. import _dense
 from .._status import Status
+from . import _kernel
 from ._events import Event, PointState
 from ._linalg import DenseLU
 from ._newton import residual_met, step_noise
@@ -107,6 +108,8 @@ class PseudoArclength:
         self._e_last = np.zeros(self.n + 1)  # right-hand side of the tangent system
         self._e_last[-1] = 1.0
         self._A_tangent = np.empty((self.n + 1, self.n + 1))
+        #: the compiled corrector (:mod:`._kernel`) where it applies: one call per step
+        self.kernel = _kernel.bordered_newton(problem, self.D, options)
 
     # -- evaluation in scaled coordinates -----------------------------------------------
     def G(self, z):
@@ -122,10 +125,34 @@ class PseudoArclength:
         r, J = self.problem.evaluate(z * self.D)
         return r, J * self.D
 
-    def state(self, z, tangent, jac=None) -> PointState:
-        """The :class:`PointState` events see at ``z`` with unit ``tangent``."""
+    def state(self, z, tangent, jac=None, bp_test: float | None = None) -> PointState:
+        """The :class:`PointState` events see at ``z`` with unit ``tangent`` (``bp_test``: the
+        branch-point test function when already known)."""
         u = z * self.D
-        return PointState(z=z, u=u, tangent=tangent, jac=self.Gz(z) if jac is None else jac, x=self.problem.full(u))
+        return PointState(z=z, u=u, tangent=tangent, jac=self.Gz(z) if jac is None else jac, x=self.problem.full(u),
+                          bp_test=bp_test)
+
+    def step(self, z0, t0, sigma, z_start=None):
+        """Predict ``z0 + sigma t0``, correct (from ``z_start`` if given) and take the new tangent.
+
+        Returns ``(state, iterations, "")`` with the new point's :class:`PointState`, or
+        ``(None, iterations, reason)`` when the corrector or the tangent fails. The compiled
+        corrector takes the whole step in one call where it applies (:mod:`._kernel`).
+        """
+        if self.kernel is not None:
+            code, iters, z, jac, t, sign, logdet = self.kernel.step(z0, t0, sigma, z_start)
+            if code:
+                return None, iters, _kernel.reason(code, self.options.max_newton)
+            # BranchPointEvent's value, sign * |det|^(1/(n+1)), from the tangent system's factors
+            return self.state(z, t, jac, sign * math.exp(logdet / len(z))), iters, ""
+        z, jac, iters = self.correct(z0 + sigma * t0, t0, z_start)
+        if z is None:
+            return None, iters, jac
+        try:
+            t = self.tangent(z, t0, jac)
+        except np.linalg.LinAlgError:
+            return None, iters, "singular tangent system"
+        return self.state(z, t, jac), iters, ""
 
     # -- tangent --------------------------------------------------------------------
     def initial_tangent(self, z, direction: int) -> np.ndarray:
@@ -231,10 +258,10 @@ class PseudoArclength:
     def point_at(self, z0, t0, sigma, z_start=None):
         """The branch point on the hyperplane at distance ``sigma`` along ``t0`` from ``z0``
         (Newton starts at ``z_start``, by default the predictor ``z0 + sigma t0``)."""
-        z, jac, _ = self.correct(z0 + sigma * t0, t0, z_start)
-        if z is None:
-            raise RuntimeError(jac)
-        return self.state(z, self.tangent(z, t0, jac), jac)
+        st, _, why = self.step(z0, t0, sigma, z_start)
+        if st is None:
+            raise np.linalg.LinAlgError(why) if why == "singular tangent system" else RuntimeError(why)
+        return st
 
 
 class StepSizeController:
@@ -351,26 +378,18 @@ class BranchSteps(Iterator[RecordedPoint]):
         eng, cur, problem = self.stepper, self.current, self.problem
         while True:
             ds = self.control.ds
-            z1, jac, iters = eng.correct(cur.z + ds * cur.tangent, cur.tangent)
-            if z1 is not None:
-                try:
-                    t1 = eng.tangent(z1, cur.tangent, jac)
-                except np.linalg.LinAlgError:
-                    reason = "singular tangent system"
-                else:
-                    angle = math.acos(min(1.0, max(-1.0, float(t1 @ cur.tangent))))
-                    if angle <= self.options.max_angle:
-                        break
-                    reason = f"tangent turned by {math.degrees(angle):.1f} deg"
-            else:
-                reason = jac
+            new, iters, reason = eng.step(cur.z, cur.tangent, ds)
+            if new is not None:
+                angle = math.acos(min(1.0, max(-1.0, float(new.tangent @ cur.tangent))))
+                if angle <= self.options.max_angle:
+                    break
+                reason = f"tangent turned by {math.degrees(angle):.1f} deg"
             if not self.control.reject():
                 msg = (f"step size fell below dsmin={self.options.dsmin:g}{_describe(problem, cur.x)}: {reason}; "
                        "the branch may end here (singular point) or need a smaller dsmin")
                 self._end(Termination.STEP_UNDERFLOW, msg, "EP", {"reason": msg})
                 return
-        new = eng.state(z1, t1, jac)
-        dz = z1 - cur.z
+        dz = new.z - cur.z
         step = math.sqrt(dz.dot(dz))
         new_values = [ev.value(problem, new) for ev in self.events]
         # started on a bound (to within the rounding of the start's scaled round trip, which can put it

@@ -168,6 +168,16 @@ class EquilibriumProblem(ContinuationProblem):
         x[self.idx] = u
         return self._columns.residual_and_jacobian(x)
 
+    def compiled_model(self):
+        """``(fn, n_out, src, base, idx)`` for the compiled corrector (:mod:`._kernel`), or None.
+
+        ``fn`` is the compiled residual-and-Jacobian function of the full variable vector,
+        writing ``n_out`` values; ``src`` says where the residuals and then the Jacobian's
+        columns of the unknowns (``idx``, column by column) are read among them.
+        """
+        gather = self._columns.gather_parts()
+        return None if gather is None else (*gather, self.base, self.idx)
+
     def stability(self, u) -> int:
         mechanics = self.system.mechanics
         if not self._stability or mechanics is None:

@@ -359,6 +359,11 @@ class _Gather:
             self._fn.unsafe_real(x, vals)  # safe: x has the length checked above; it writes n_out values
         return vals.take(self._src)
 
+    def parts(self):
+        """``(fn, n_out, src)``: the compiled function (SymEngine), the values it writes, and the
+        entry each output reads (``n_out``: the extra zero); None without compiled code."""
+        return None if self._fn is None else (self._fn, self._n_out, self._src)
+
 
 _FLOAT, _STRIDE = np.dtype(float), (np.dtype(float).itemsize,)
 

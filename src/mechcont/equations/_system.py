@@ -592,6 +592,12 @@ class ColumnView:
         out = self._res_jac(x)
         return out[:self.n_eq], out[self.n_eq:].reshape(self._shape).T
 
+    def gather_parts(self):
+        """``(fn, n_out, src)`` of :meth:`residual_and_jacobian`: the compiled function, how many
+        values it writes, and where each output entry reads them (``n_out``: a structural zero);
+        None when nothing is compiled (a constant model)."""
+        return self._res_jac.parts()
+
     def second_derivative_entries(self):
         """The non-zero second derivatives ``d2 G_i / dx_j dx_k`` with ``k`` among the columns.
 

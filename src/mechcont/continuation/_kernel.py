@@ -1,0 +1,63 @@
+"""Which corrector a branch runs: the compiled one (``_ckernel``) where it applies, else Python.
+
+The compiled corrector (:mod:`._ckernel`, built from Cython by ``pip install`` when a C
+compiler is present) takes a whole step of :class:`~._palc.PseudoArclength` in one call:
+predictor, Newton on the bordered system, the new tangent and the branch-point test
+function. It applies to equilibrium problems of at most ``MAX_SIZE`` unknowns solved with
+the default dense LU; fold curves, other linear solvers, larger models, and machines where
+it was not built run the Python corrector. ``MECHCONT_PURE_PYTHON=1`` (read at the start of
+each branch) turns it off, e.g. to compare the two.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+from typing import Any
+
+from ._linalg import DenseLU
+from ._options import ContinuationOptions
+
+__all__ = ["AVAILABLE", "bordered_newton", "reason"]
+
+_ck: Any = None
+try:
+    _ck = importlib.import_module("mechcont.continuation._ckernel")
+except ImportError:  # not built (no C compiler at install): the Python corrector runs
+    pass
+
+#: Whether the compiled corrector was built on this machine.
+AVAILABLE = _ck is not None
+
+_REASONS = {
+    "not_finite": "residual not finite (outside the model's domain)",
+    "singular": "singular bordered Jacobian",
+    "too_slow": "corrector converging too slowly",
+    "singular_tangent": "singular tangent system",
+}
+
+
+def reason(code: int, max_newton: int) -> str:
+    """The Python corrector's words for a compiled step's failure ``code``."""
+    assert _ck is not None
+    name = next(k for k, v in _ck.CODES.items() if v == code)
+    return _REASONS.get(name, f"corrector needed more than {max_newton} iterations")
+
+
+def bordered_newton(problem, scale, options: ContinuationOptions):
+    """A compiled stepper (``_ckernel.BorderedNewton``) for ``problem``, or None where it does not apply.
+
+    ``problem`` must offer ``compiled_model()`` (``(fn, n_out, src, base, idx)``, see
+    :meth:`~._problem.EquilibriumProblem.compiled_model`) returning something; ``scale`` are
+    the unknowns' scales (``PseudoArclength.D``).
+    """
+    if _ck is None or os.environ.get("MECHCONT_PURE_PYTHON", "") not in ("", "0"):
+        return None
+    if type(options.linear_solver) is not DenseLU or len(scale) > _ck.MAX_SIZE:
+        return None
+    parts = getattr(problem, "compiled_model", lambda: None)()
+    if parts is None:
+        return None
+    fn, n_out, src, base, idx = parts
+    return _ck.BorderedNewton(fn, n_out, src, base, idx, scale, options.newton_tol, options.residual_tol,
+                              options.max_newton, options.max_contraction)
