@@ -150,3 +150,25 @@ def test_branches_agree_with_the_python_corrector(monkeypatch, model):
     assert a.values.shape == b.values.shape
     assert (np.abs(a.values - b.values) <= tol).all()
     assert (a.n_unstable == b.n_unstable).all()
+
+
+@needs_kernel
+def test_fold_curves_agree_with_the_python_corrector(monkeypatch):
+    # the fold problem has no compiled model of its own (its last row is a determinant): the kernel
+    # calls its evaluate back; the overcentre's fold at LU = 0.1 m followed to its cusp
+    from mechcont.continuation import continue_folds
+
+    s = build_overcentre(LU=0.1)
+    x0 = find_equilibrium(s, hold={"theta1": 0.3}, free=["F"])
+    lp = min(continuation(s, x0, "F", options=ContinuationOptions(bounds={"theta1": (-1.4, 1.4)})).special("LP"),
+             key=lambda p: p["F"])
+
+    def run():
+        return continue_folds(s, lp, "F", "LU", options=ContinuationOptions(bounds={"LU": (0.1, 2.0)}), direction=1,
+                              stop_at_cusp=True)
+
+    a, b = both(monkeypatch, run)
+    assert a.labels[-1] == b.labels[-1] == "CP"
+    assert a.values.shape == b.values.shape
+    tol = 1e-9 * np.maximum(np.abs(b.values).max(axis=0), 1e-300)
+    assert (np.abs(a.values - b.values) <= tol).all()

@@ -10,7 +10,9 @@ takes a whole step: predictor, Newton on the bordered system, the new tangent, a
 branch-point test function from the tangent system's factors.
 
 The model is called through the C entry point SymEngine gives every compiled function
-(``Lambdify.as_ctypes``): ``void f(double *out, const double *in, void *data)``. The
+(``Lambdify.as_ctypes``): ``void f(double *out, const double *in, void *data)``; a problem
+without one (a fold curve, whose rows include a determinant) has its ``evaluate`` called
+back, and the loop around it still runs here. The
 bordered systems are solved by LU with partial pivoting written here, because LAPACK's
 (NumPy's or SciPy's) is not reachable from C without importing ``scipy.linalg`` (0.2 s of
 every process's start); it is used only for systems of at most :data:`MAX_SIZE` unknowns,
@@ -131,10 +133,13 @@ cdef class BorderedNewton:
     (first ``n``) and each Jacobian entry of the unknowns' columns (column by column) is
     read among them (``n_out``: a structural zero), ``base`` the full variable vector of the
     held values, ``idx`` the unknowns' positions in it, ``D`` their scales, and the
-    corrector's options.
+    corrector's options. Or, for a problem without such a function (a fold curve), ``fn``
+    is its ``evaluate(u) -> (G, dG/du)`` called from here, with ``n_out``, ``src``, ``base``
+    and ``idx`` None: the loop around it is still compiled.
     """
 
     cdef object fn
+    cdef object py_evaluate
     cdef model_fn call
     cdef void *data
     cdef int n, m, nx, n_out, max_newton
@@ -162,20 +167,26 @@ cdef class BorderedNewton:
         self.work = NULL
         self.piv = NULL
 
-    def __init__(self, fn, Py_ssize_t n_out, src, base, idx, D, double tol, double residual_tol, int max_newton,
+    def __init__(self, fn, n_out, src, base, idx, D, double tol, double residual_tol, int max_newton,
                  double max_contraction):
         import ctypes
 
-        callback, data = fn.as_ctypes()
-        self.fn = fn
-        self.call = <model_fn><size_t>ctypes.cast(callback, ctypes.c_void_p).value
-        self.data = <void *><size_t>(data.value or 0)
-        self.src_ = np.ascontiguousarray(src, dtype=np.intp)
-        self.idx_ = np.ascontiguousarray(idx, dtype=np.intp)
-        self.base_ = np.array(base, dtype=float)
         self.D_ = np.array(D, dtype=float)
         self.m = len(self.D_)
         self.n = self.m - 1
+        self.fn = fn
+        if src is None:  # a Python evaluate(u)
+            self.py_evaluate = fn
+            src, idx, base, n_out = np.zeros(self.n + self.n * self.m, dtype=np.intp), np.zeros(self.m, dtype=np.intp), \
+                np.zeros(1), 0
+        else:
+            self.py_evaluate = None
+            callback, data = fn.as_ctypes()
+            self.call = <model_fn><size_t>ctypes.cast(callback, ctypes.c_void_p).value
+            self.data = <void *><size_t>(data.value or 0)
+        self.src_ = np.ascontiguousarray(src, dtype=np.intp)
+        self.idx_ = np.ascontiguousarray(idx, dtype=np.intp)
+        self.base_ = np.array(base, dtype=float)
         self.nx = len(self.base_)
         self.n_out = n_out
         if len(self.src_) != self.n + self.n * self.m or len(self.idx_) != self.m:
@@ -204,9 +215,11 @@ cdef class BorderedNewton:
         free(self.work)
         free(self.piv)
 
-    cdef bint evaluate(self, const double *z, double *jac) noexcept nogil:
+    cdef int evaluate(self, const double *z, double *jac) except -1:
         """Residual into ``self.r`` and the scaled Jacobian (n x m, row-major) into ``jac``."""
         cdef int i, c, n = self.n, m = self.m
+        if self.py_evaluate is not None:
+            return self.evaluate_python(z, jac)
         memcpy(self.x, &self.base_[0], self.nx * sizeof(double))
         for c in range(m):
             self.x[self.idx_[c]] = z[c] * self.D_[c]
@@ -216,7 +229,24 @@ cdef class BorderedNewton:
         for c in range(m):
             for i in range(n):
                 jac[i * m + c] = self.vals[self.src_[n + c * n + i]] * self.D_[c]
-        return True
+        return 0
+
+    cdef int evaluate_python(self, const double *z, double *jac) except -1:
+        cdef int i, c, n = self.n, m = self.m
+        u = np.empty(m)
+        cdef double[::1] uv = u
+        for c in range(m):
+            uv[c] = z[c] * self.D_[c]
+        res, J = self.py_evaluate(u)
+        cdef double[::1] rv = np.ascontiguousarray(res, dtype=float).reshape(-1)
+        cdef double[:, ::1] Jv = np.ascontiguousarray(J, dtype=float)
+        if rv.shape[0] != n or Jv.shape[0] != n or Jv.shape[1] != m:
+            raise ValueError(f"evaluate must return {n} residuals and a ({n}, {m}) Jacobian")
+        for i in range(n):
+            self.r[i] = rv[i]
+            for c in range(m):
+                jac[i * m + c] = Jv[i, c] * self.D_[c]
+        return 0
 
     cdef bint residual_met(self, const double *jac, const double *z) noexcept nogil:
         """``_newton.residual_met(r, jac, z, residual_tol)``."""
@@ -281,105 +311,104 @@ cdef class BorderedNewton:
                 self.z[i] = zs[i]
         else:
             memcpy(self.z, self.zp, m * sizeof(double))
-        with nogil:
-            for it in range(1, self.max_newton + 2):
-                self.evaluate(self.z, jac)
-                if error < tol and self.residual_met(jac, self.z):
-                    code = CONVERGED if all_finite(jac, n * m) else NOT_FINITE
-                    iters = it - 1 - (not lag)
-                    done = True
-                    break
-                if it > self.max_newton:
-                    code = MAX_ITERATIONS if all_finite(self.r, n) else NOT_FINITE
-                    iters = self.max_newton if code == MAX_ITERATIONS else it
-                    done = True
-                    break
-                memcpy(A, jac, n * m * sizeof(double))
+        for it in range(1, self.max_newton + 2):
+            self.evaluate(self.z, jac)
+            if error < tol and self.residual_met(jac, self.z):
+                code = CONVERGED if all_finite(jac, n * m) else NOT_FINITE
+                iters = it - 1 - (not lag)
+                done = True
+                break
+            if it > self.max_newton:
+                code = MAX_ITERATIONS if all_finite(self.r, n) else NOT_FINITE
+                iters = self.max_newton if code == MAX_ITERATIONS else it
+                done = True
+                break
+            memcpy(A, jac, n * m * sizeof(double))
+            for j in range(m):
+                A[n * m + j] = t0[j]
+            memcpy(self.LU, A, m * m * sizeof(double))
+            for i in range(n):
+                self.b[i] = -self.r[i]
+            s = 0.0
+            if it == 1 and started:
                 for j in range(m):
-                    A[n * m + j] = t0[j]
-                memcpy(self.LU, A, m * m * sizeof(double))
-                for i in range(n):
-                    self.b[i] = -self.r[i]
-                s = 0.0
-                if it == 1 and started:
-                    for j in range(m):
-                        s -= t0[j] * (self.z[j] - self.zp[j])
-                self.b[n] = s
-                if lu_factor(self.LU, self.piv, m):
-                    step = INFINITY * 0.0  # NaN: singular, as NumPy's NaN-filled solve
-                else:
-                    memcpy(self.dz, self.b, m * sizeof(double))
-                    lu_solve(self.LU, self.piv, self.dz, m)
-                    step = max_abs(self.dz, m)
-                if not isfinite(step):
-                    code = SINGULAR if (all_finite(self.r, n) and all_finite(jac, n * m)) else NOT_FINITE
-                    iters = it
-                    done = True
-                    break
-                if step < tol:
-                    for j in range(m):
-                        self.z[j] += self.dz[j]
+                    s -= t0[j] * (self.z[j] - self.zp[j])
+            self.b[n] = s
+            if lu_factor(self.LU, self.piv, m):
+                step = INFINITY * 0.0  # NaN: singular, as NumPy's NaN-filled solve
+            else:
+                memcpy(self.dz, self.b, m * sizeof(double))
+                lu_solve(self.LU, self.piv, self.dz, m)
+                step = max_abs(self.dz, m)
+            if not isfinite(step):
+                code = SINGULAR if (all_finite(self.r, n) and all_finite(jac, n * m)) else NOT_FINITE
+                iters = it
+                done = True
+                break
+            if step < tol:
+                for j in range(m):
+                    self.z[j] += self.dz[j]
+                code = CONVERGED if all_finite(jac, n * m) else NOT_FINITE
+                iters = it - (not lag)
+                done = True
+                break
+            if step > self.max_contraction * prev:
+                if self.residual_met(jac, self.z) and step <= 10 * self.step_noise(jac, self.z):
                     code = CONVERGED if all_finite(jac, n * m) else NOT_FINITE
                     iters = it - (not lag)
                     done = True
                     break
-                if step > self.max_contraction * prev:
-                    if self.residual_met(jac, self.z) and step <= 10 * self.step_noise(jac, self.z):
-                        code = CONVERGED if all_finite(jac, n * m) else NOT_FINITE
-                        iters = it - (not lag)
-                        done = True
-                        break
-                    if lag and have_prev and max_abs(self.r, n) <= 0.1 * max_abs(self.rprev, n):
-                        lag = False
-                        step = INFINITY
-                    elif step > 1e3 * tol:
-                        code = TOO_SLOW
-                        iters = it
-                        done = True
-                        break
+                if lag and have_prev and max_abs(self.r, n) <= 0.1 * max_abs(self.rprev, n):
+                    lag = False
+                    step = INFINITY
+                elif step > 1e3 * tol:
+                    code = TOO_SLOW
+                    iters = it
+                    done = True
+                    break
+            for j in range(m):
+                self.z[j] += self.dz[j]
+            memcpy(self.rprev, self.r, n * sizeof(double))
+            have_prev = True
+            if prev < INFINITY:
+                q = step / prev
+                error = q / (1.0 - q) * step if q < 1.0 else INFINITY
+            prev = step
+        if code == CONVERGED:
+            # the new tangent: [jac; t0] t = e_(n+1), normalised (t0.t = 1 > 0 orients it along t0)
+            memcpy(self.LU, jac, n * m * sizeof(double))
+            for j in range(m):
+                self.LU[n * m + j] = t0[j]
+            if lu_factor(self.LU, self.piv, m):
+                code = SINGULAR_TANGENT
+            else:
                 for j in range(m):
-                    self.z[j] += self.dz[j]
-                memcpy(self.rprev, self.r, n * sizeof(double))
-                have_prev = True
-                if prev < INFINITY:
-                    q = step / prev
-                    error = q / (1.0 - q) * step if q < 1.0 else INFINITY
-                prev = step
-            if code == CONVERGED:
-                # the new tangent: [jac; t0] t = e_(n+1), normalised (t0.t = 1 > 0 orients it along t0)
-                memcpy(self.LU, jac, n * m * sizeof(double))
+                    self.b[j] = 0.0
+                self.b[n] = 1.0
+                lu_solve(self.LU, self.piv, self.b, m)
+                s = 0.0
                 for j in range(m):
-                    self.LU[n * m + j] = t0[j]
-                if lu_factor(self.LU, self.piv, m):
+                    s += self.b[j] * self.b[j]
+                norm = sqrt(s)
+                if not isfinite(norm):
                     code = SINGULAR_TANGENT
                 else:
+                    # det [jac; t] = det [jac; t0] |t_unnormalised| (matrix determinant lemma, with t0.t = 1)
                     for j in range(m):
-                        self.b[j] = 0.0
-                    self.b[n] = 1.0
-                    lu_solve(self.LU, self.piv, self.b, m)
+                        if self.piv[j] != j:
+                            sign = -sign
+                        if self.LU[j * m + j] < 0:
+                            sign = -sign
+                        logdet += log(fabs(self.LU[j * m + j]))
+                    logdet += log(norm)
                     s = 0.0
                     for j in range(m):
-                        s += self.b[j] * self.b[j]
-                    norm = sqrt(s)
-                    if not isfinite(norm):
-                        code = SINGULAR_TANGENT
-                    else:
-                        # det [jac; t] = det [jac; t0] |t_unnormalised| (matrix determinant lemma, with t0.t = 1)
+                        self.b[j] /= norm
+                        s += self.b[j] * t0[j]
+                    if not s > 0:
                         for j in range(m):
-                            if self.piv[j] != j:
-                                sign = -sign
-                            if self.LU[j * m + j] < 0:
-                                sign = -sign
-                            logdet += log(fabs(self.LU[j * m + j]))
-                        logdet += log(norm)
-                        s = 0.0
-                        for j in range(m):
-                            self.b[j] /= norm
-                            s += self.b[j] * t0[j]
-                        if not s > 0:
-                            for j in range(m):
-                                self.b[j] = -self.b[j]
-                            sign = -sign
+                            self.b[j] = -self.b[j]
+                        sign = -sign
         if code != CONVERGED:
             return code, iters, None, None, None, 0.0, 0.0
         z_out = np.empty(m)

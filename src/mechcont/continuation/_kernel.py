@@ -3,10 +3,12 @@
 The compiled corrector (:mod:`._ckernel`, built from Cython by ``pip install`` when a C
 compiler is present) takes a whole step of :class:`~._palc.PseudoArclength` in one call:
 predictor, Newton on the bordered system, the new tangent and the branch-point test
-function. It applies to equilibrium problems of at most ``MAX_SIZE`` unknowns solved with
-the default dense LU; fold curves, other linear solvers, larger models, and machines where
-it was not built run the Python corrector. ``MECHCONT_PURE_PYTHON=1`` (read at the start of
-each branch) turns it off, e.g. to compare the two.
+function. It applies to problems of at most ``MAX_SIZE`` unknowns solved with the default
+dense LU: an equilibrium problem's compiled model is called from C; any other problem (a
+fold curve) has its ``evaluate`` called back, the loop around it compiled. Other linear
+solvers, larger models, and machines where it was not built run the Python corrector.
+``MECHCONT_PURE_PYTHON=1`` (read at the start of each branch) turns it off, e.g. to compare
+the two.
 """
 
 from __future__ import annotations
@@ -47,17 +49,16 @@ def reason(code: int, max_newton: int) -> str:
 def bordered_newton(problem, scale, options: ContinuationOptions):
     """A compiled stepper (``_ckernel.BorderedNewton``) for ``problem``, or None where it does not apply.
 
-    ``problem`` must offer ``compiled_model()`` (``(fn, n_out, src, base, idx)``, see
-    :meth:`~._problem.EquilibriumProblem.compiled_model`) returning something; ``scale`` are
-    the unknowns' scales (``PseudoArclength.D``).
+    With ``problem.compiled_model()`` (``(fn, n_out, src, base, idx)``, see
+    :meth:`~._problem.EquilibriumProblem.compiled_model`) the model is called from C;
+    otherwise ``problem.evaluate`` is called back. ``scale`` are the unknowns' scales
+    (``PseudoArclength.D``).
     """
     if _ck is None or os.environ.get("MECHCONT_PURE_PYTHON", "") not in ("", "0"):
         return None
     if type(options.linear_solver) is not DenseLU or len(scale) > _ck.MAX_SIZE:
         return None
     parts = getattr(problem, "compiled_model", lambda: None)()
-    if parts is None:
-        return None
-    fn, n_out, src, base, idx = parts
+    fn, n_out, src, base, idx = (problem.evaluate, 0, None, None, None) if parts is None else parts
     return _ck.BorderedNewton(fn, n_out, src, base, idx, scale, options.newton_tol, options.residual_tol,
                               options.max_newton, options.max_contraction)
