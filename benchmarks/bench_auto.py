@@ -47,6 +47,9 @@ import tempfile
 import time
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).parent))
+from _bytecode import compile_sources  # noqa: E402
+
 HOW_TO_GET = ("bench_auto: AUTO_DIR is not set to a built AUTO-07p; get it from https://github.com/auto-07p/auto-07p "
               "(./configure && make, needs gfortran), then AUTO_DIR=/path/to/auto-07p python benchmarks/bench_auto.py")
 
@@ -294,6 +297,7 @@ def main(argv=None) -> int:
             return 1
         menv = {**os.environ, "MPLBACKEND": "Agg", "MECHCONT_CACHE_DIR": str(tmp / "mechcont-cache")}
         menv.pop("MECHCONT_NO_CACHE", None)
+        compile_sources(Path(auto_dir) / "python")  # both sides from bytecode, as on a machine that writes it
         for cmd in (MECHCONT_CONTINUE, MECHCONT_FOLDS):
             _timed(_mechcont_cli(cmd), menv)  # fill the warm cache
         rows: dict[str, list[float]] = {}
