@@ -24,7 +24,7 @@ extension); without it, or with ``MECHCONT_PURE_PYTHON=1``, the Python corrector
 with the same results to rounding (``tests/test_kernel.py``).
 """
 
-from libc.math cimport fabs, sqrt, log, INFINITY, isfinite
+from libc.math cimport fabs, sqrt, log, exp, INFINITY, isfinite
 from libc.string cimport memcpy
 from libc.stdlib cimport malloc, free
 
@@ -140,6 +140,24 @@ cdef class BorderedNewton:
 
     cdef object fn
     cdef object py_evaluate
+    cdef object fallback
+    # fold-curve mode (see __init__'s ``fold``)
+    cdef bint fold_mode
+    cdef object fn2
+    cdef model_fn call2
+    cdef void *data2
+    cdef int ns
+    cdef Py_ssize_t[::1] src2_
+    cdef Py_ssize_t[::1] fi_
+    cdef Py_ssize_t[::1] fpos_
+    cdef Py_ssize_t[::1] fc_
+    cdef double[::1] factor_
+    cdef double[::1] rowcol_
+    cdef double[::1] vals2_
+    cdef double[::1] Af_
+    cdef double[::1] Ai_
+    cdef double[::1] col_
+    cdef double log_norm
     cdef model_fn call
     cdef void *data
     cdef int n, m, nx, n_out, max_newton
@@ -168,39 +186,71 @@ cdef class BorderedNewton:
         self.piv = NULL
 
     def __init__(self, fn, n_out, src, base, idx, D, double tol, double residual_tol, int max_newton,
-                 double max_contraction):
+                 double max_contraction, fold=None):
+        """``fold`` (a fold curve's minimally extended system, ``_folds.FoldProblem``): ``(evaluate,
+        fn2, n_out2, src2, i, pos, c, factor, rowcol, log_norm)``. Then ``fn``/``src`` give the
+        equilibrium rows only (``n - 1`` of them), the last row is ``g = det(A) / N`` with
+        ``A = rowcol * G_s`` and its gradient ``sum_k fn2[src2_k] factor_k adj(A)[pos_k, i_k] / N``
+        added into column ``c_k``; ``evaluate`` is called instead where ``A`` is exactly singular."""
         import ctypes
 
+        def entry(f):
+            callback, data = f.as_ctypes()
+            return <size_t>ctypes.cast(callback, ctypes.c_void_p).value, <size_t>(data.value or 0)
+
+        cdef size_t address, user
         self.D_ = np.array(D, dtype=float)
         self.m = len(self.D_)
         self.n = self.m - 1
         self.fn = fn
+        self.fold_mode = fold is not None
+        self.ns = self.n - 1 if self.fold_mode else self.n
         if src is None:  # a Python evaluate(u)
             self.py_evaluate = fn
             src, idx, base, n_out = np.zeros(self.n + self.n * self.m, dtype=np.intp), np.zeros(self.m, dtype=np.intp), \
                 np.zeros(1), 0
         else:
             self.py_evaluate = None
-            callback, data = fn.as_ctypes()
-            self.call = <model_fn><size_t>ctypes.cast(callback, ctypes.c_void_p).value
-            self.data = <void *><size_t>(data.value or 0)
+            address, user = entry(fn)
+            self.call = <model_fn>address
+            self.data = <void *>user
+        if self.fold_mode:
+            evaluate, self.fn2, n_out2, src2, fi, fpos, fc, factor, rowcol, self.log_norm = fold
+            self.fallback = evaluate
+            address, user = entry(self.fn2)
+            self.call2 = <model_fn>address
+            self.data2 = <void *>user
+            self.src2_ = np.ascontiguousarray(src2, dtype=np.intp)
+            self.fi_ = np.ascontiguousarray(fi, dtype=np.intp)
+            self.fpos_ = np.ascontiguousarray(fpos, dtype=np.intp)
+            self.fc_ = np.ascontiguousarray(fc, dtype=np.intp)
+            self.factor_ = np.ascontiguousarray(factor, dtype=float)
+            self.rowcol_ = np.ascontiguousarray(rowcol, dtype=float).reshape(-1)
+            self.vals2_ = np.zeros(n_out2 + 1)
+            self.Af_ = np.empty(self.ns * self.ns)
+            self.Ai_ = np.empty(self.ns * self.ns)
+            self.col_ = np.empty(self.ns)
+            k = len(self.src2_)
+            if not (len(self.fi_) == len(self.fpos_) == len(self.fc_) == len(self.factor_) == k) or \
+                    len(self.rowcol_) != self.ns * self.ns:
+                raise ValueError("BorderedNewton: inconsistent fold-curve layout")
         self.src_ = np.ascontiguousarray(src, dtype=np.intp)
         self.idx_ = np.ascontiguousarray(idx, dtype=np.intp)
         self.base_ = np.array(base, dtype=float)
         self.nx = len(self.base_)
         self.n_out = n_out
-        if len(self.src_) != self.n + self.n * self.m or len(self.idx_) != self.m:
-            raise ValueError("BorderedNewton: src must hold n residuals and n x (n + 1) Jacobian entries")
+        if len(self.src_) != self.ns + self.ns * self.m or len(self.idx_) != self.m:
+            raise ValueError("BorderedNewton: src must hold the residuals and their Jacobian entries, column by column")
         self.tol, self.residual_tol, self.max_newton, self.max_contraction = tol, residual_tol, max_newton, max_contraction
         cdef int m = self.m
-        cdef Py_ssize_t size = self.nx + (n_out + 1) + 2 * m + 3 * m * m + 5 * m
+        cdef Py_ssize_t size = self.nx + (self.n_out + 1) + 2 * m + 3 * m * m + 5 * m
         self.work = <double *>malloc(size * sizeof(double))
         self.piv = <int *>malloc(m * sizeof(int))
         if self.work == NULL or self.piv == NULL:
             raise MemoryError()
         self.x = self.work
         self.vals = self.x + self.nx
-        self.r = self.vals + n_out + 1
+        self.r = self.vals + self.n_out + 1
         self.rprev = self.r + m
         self.A = self.rprev + m
         self.LU = self.A + m * m
@@ -209,7 +259,7 @@ cdef class BorderedNewton:
         self.zp = self.z + m
         self.dz = self.zp + m
         self.f = self.dz + m
-        self.vals[n_out] = 0.0
+        self.vals[self.n_out] = 0.0
 
     def __dealloc__(self):
         free(self.work)
@@ -217,9 +267,9 @@ cdef class BorderedNewton:
 
     cdef int evaluate(self, const double *z, double *jac) except -1:
         """Residual into ``self.r`` and the scaled Jacobian (n x m, row-major) into ``jac``."""
-        cdef int i, c, n = self.n, m = self.m
+        cdef int i, c, n = self.ns, m = self.m
         if self.py_evaluate is not None:
-            return self.evaluate_python(z, jac)
+            return self.evaluate_python(z, jac, self.py_evaluate)
         memcpy(self.x, &self.base_[0], self.nx * sizeof(double))
         for c in range(m):
             self.x[self.idx_[c]] = z[c] * self.D_[c]
@@ -229,15 +279,57 @@ cdef class BorderedNewton:
         for c in range(m):
             for i in range(n):
                 jac[i * m + c] = self.vals[self.src_[n + c * n + i]] * self.D_[c]
+        if self.fold_mode:
+            return self.fold_row(z, jac)
         return 0
 
-    cdef int evaluate_python(self, const double *z, double *jac) except -1:
+    cdef int fold_row(self, const double *z, double *jac) except -1:
+        """The fold condition ``g = det(A) / N`` and its gradient, as ``FoldProblem.evaluate``."""
+        cdef int i, j, k, c, ns = self.ns, m = self.m
+        cdef double *A = &self.Af_[0]
+        cdef double *Ai = &self.Ai_[0]
+        cdef double *col = &self.col_[0]
+        cdef double *v2
+        cdef double sign = 1.0, logdet = 0.0, g, w
+        for i in range(ns):
+            for j in range(ns):
+                A[i * ns + j] = self.vals[self.src_[ns + j * ns + i]] * self.rowcol_[i * ns + j]
+        if lu_factor(A, self.piv, ns):
+            return self.evaluate_python(z, jac, self.fallback)  # exactly singular: its SVD adjugate
+        for j in range(ns):
+            if self.piv[j] != j:
+                sign = -sign
+            if A[j * ns + j] < 0:
+                sign = -sign
+            logdet += log(fabs(A[j * ns + j]))
+        g = sign * exp(logdet - self.log_norm)
+        for k in range(ns):  # adj(A) / N = g A^-1, column by column
+            for j in range(ns):
+                col[j] = 1.0 if j == k else 0.0
+            lu_solve(A, self.piv, col, ns)
+            for j in range(ns):
+                Ai[j * ns + k] = g * col[j]
+        if not all_finite(Ai, ns * ns):
+            return self.evaluate_python(z, jac, self.fallback)
+        self.r[ns] = g
+        self.call2(&self.vals2_[0], self.x, self.data2)
+        v2 = &self.vals2_[0]
+        for c in range(m):
+            jac[ns * m + c] = 0.0
+        for k in range(self.src2_.shape[0]):
+            w = v2[self.src2_[k]] * self.factor_[k] * Ai[self.fpos_[k] * ns + self.fi_[k]]
+            jac[ns * m + self.fc_[k]] += w
+        for c in range(m):
+            jac[ns * m + c] *= self.D_[c]
+        return 0
+
+    cdef int evaluate_python(self, const double *z, double *jac, evaluate) except -1:
         cdef int i, c, n = self.n, m = self.m
         u = np.empty(m)
         cdef double[::1] uv = u
         for c in range(m):
             uv[c] = z[c] * self.D_[c]
-        res, J = self.py_evaluate(u)
+        res, J = evaluate(u)
         cdef double[::1] rv = np.ascontiguousarray(res, dtype=float).reshape(-1)
         cdef double[:, ::1] Jv = np.ascontiguousarray(J, dtype=float)
         if rv.shape[0] != n or Jv.shape[0] != n or Jv.shape[1] != m:

@@ -152,6 +152,25 @@ class FoldProblem(ContinuationProblem):
         out[n] = np.bincount(c, weights=w, minlength=len(self.idx_vars))
         return res, out
 
+    def compiled_model(self):
+        """The pieces of :meth:`evaluate` for the compiled corrector (:mod:`._kernel`), or None.
+
+        ``(fn, n_out, src, base, idx, fold)``: the equilibrium rows as
+        :meth:`EquilibriumProblem.compiled_model <._problem.EquilibriumProblem.compiled_model>`,
+        and ``fold``, what the fold condition's row needs: this ``evaluate`` (called where
+        ``A`` is exactly singular), the compiled second derivatives ``(fn2, n_out2, src2)`` of
+        the entries that enter ``dA``, with their equation ``i``, state position ``pos``,
+        column ``c`` and factor ``R_i C_pos``, and ``R C`` and ``log N``.
+        """
+        gather = self.view.gather_parts()
+        values, keep, i, pos, c, factor = self._layout()
+        second = values.parts()
+        if gather is None or second is None:
+            return None
+        fn2, n_out2, src2 = second
+        fold = (self.evaluate, fn2, n_out2, src2[keep], i, pos, c, factor, self._rowcol, self._log_norm)
+        return (*gather, self.base, self.idx_vars, fold)
+
     def residual(self, u):
         return self.evaluate(u)[0]
 

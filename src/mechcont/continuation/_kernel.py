@@ -4,8 +4,9 @@ The compiled corrector (:mod:`._ckernel`, built from Cython by ``pip install`` w
 compiler is present) takes a whole step of :class:`~._palc.PseudoArclength` in one call:
 predictor, Newton on the bordered system, the new tangent and the branch-point test
 function. It applies to problems of at most ``MAX_SIZE`` unknowns solved with the default
-dense LU: an equilibrium problem's compiled model is called from C; any other problem (a
-fold curve) has its ``evaluate`` called back, the loop around it compiled. Other linear
+dense LU: an equilibrium problem's compiled model is called from C, and so is a fold
+curve's, its determinant row included; any other problem has its ``evaluate`` called back,
+the loop around it compiled. Other linear
 solvers, larger models, and machines where it was not built run the Python corrector.
 ``MECHCONT_PURE_PYTHON=1`` (read at the start of each branch) turns it off, e.g. to compare
 the two.
@@ -49,9 +50,10 @@ def reason(code: int, max_newton: int) -> str:
 def bordered_newton(problem, scale, options: ContinuationOptions):
     """A compiled stepper (``_ckernel.BorderedNewton``) for ``problem``, or None where it does not apply.
 
-    With ``problem.compiled_model()`` (``(fn, n_out, src, base, idx)``, see
-    :meth:`~._problem.EquilibriumProblem.compiled_model`) the model is called from C;
-    otherwise ``problem.evaluate`` is called back. ``scale`` are the unknowns' scales
+    With ``problem.compiled_model()`` (``(fn, n_out, src, base, idx, fold)``, see
+    :meth:`~._problem.EquilibriumProblem.compiled_model` and
+    :meth:`~._folds.FoldProblem.compiled_model`) the model is called from C; otherwise
+    ``problem.evaluate`` is called back. ``scale`` are the unknowns' scales
     (``PseudoArclength.D``).
     """
     if _ck is None or os.environ.get("MECHCONT_PURE_PYTHON", "") not in ("", "0"):
@@ -59,6 +61,6 @@ def bordered_newton(problem, scale, options: ContinuationOptions):
     if type(options.linear_solver) is not DenseLU or len(scale) > _ck.MAX_SIZE:
         return None
     parts = getattr(problem, "compiled_model", lambda: None)()
-    fn, n_out, src, base, idx = (problem.evaluate, 0, None, None, None) if parts is None else parts
+    fn, n_out, src, base, idx, fold = (problem.evaluate, 0, None, None, None, None) if parts is None else parts
     return _ck.BorderedNewton(fn, n_out, src, base, idx, scale, options.newton_tol, options.residual_tol,
-                              options.max_newton, options.max_contraction)
+                              options.max_newton, options.max_contraction, fold)

@@ -169,14 +169,16 @@ class EquilibriumProblem(ContinuationProblem):
         return self._columns.residual_and_jacobian(x)
 
     def compiled_model(self):
-        """``(fn, n_out, src, base, idx)`` for the compiled corrector (:mod:`._kernel`), or None.
+        """``(fn, n_out, src, base, idx, None)`` for the compiled corrector (:mod:`._kernel`), or None.
 
         ``fn`` is the compiled residual-and-Jacobian function of the full variable vector,
         writing ``n_out`` values; ``src`` says where the residuals and then the Jacobian's
-        columns of the unknowns (``idx``, column by column) are read among them.
+        columns of the unknowns (``idx``, column by column) are read among them. (The last
+        entry is a fold curve's extra row, :meth:`FoldProblem.compiled_model
+        <._folds.FoldProblem.compiled_model>`.)
         """
         gather = self._columns.gather_parts()
-        return None if gather is None else (*gather, self.base, self.idx)
+        return None if gather is None else (*gather, self.base, self.idx, None)
 
     def stability(self, u) -> int:
         mechanics = self.system.mechanics
