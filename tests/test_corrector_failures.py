@@ -57,3 +57,21 @@ def test_tangent_is_the_unit_null_vector_or_singular(solver):
     assert t == pytest.approx([-0.8, 0.6], abs=1e-15)
     with pytest.raises(np.linalg.LinAlgError, match="singular tangent system"):
         eng.tangent(np.array([0.0, 1.0]), np.array([0.0, 1.0]))  # [[0, 2], [0, 1]]
+
+
+@pytest.mark.parametrize("compiled", [False, True], ids=["python", "compiled"])
+def test_a_whole_step_names_each_failure_in_the_same_words(monkeypatch, compiled):
+    # PseudoArclength.step: the compiled corrector (calling this Python problem's evaluate back) and the
+    # Python one report the same reason for each failure above, and land on the circle alike
+    from mechcont.continuation import _kernel
+
+    if compiled and not _kernel.AVAILABLE:
+        pytest.skip("the compiled corrector was not built (no C compiler)")
+    monkeypatch.setenv("MECHCONT_PURE_PYTHON", "0" if compiled else "1")
+    eng = PseudoArclength(Circle(), ContinuationOptions())
+    assert (eng.kernel is not None) == compiled
+    st, _, why = eng.step(np.array([1.0, 0.0]), np.array([0.0, 1.0]), 0.1)
+    assert why == "" and st.u[0] == pytest.approx(np.sqrt(0.99), abs=1e-12) and st.u[1] == pytest.approx(0.1)
+    assert eng.step(np.array([3.0, 0.0]), np.array([1.0, 0.0]), 0.0)[1:] == (1, _NOT_FINITE)
+    assert eng.step(np.array([0.0, 1.0]), np.array([0.0, 1.0]), 0.0)[2] == "singular bordered Jacobian"
+    assert eng.step(np.array([0.5, 6.0]), np.array([1.0, 0.0]), 0.0)[2] == _NOT_FINITE

@@ -47,8 +47,11 @@ CODES = {"converged": CONVERGED, "not_finite": NOT_FINITE, "singular": SINGULAR,
 
 ctypedef void (*model_fn)(double *out, const double *inp, void *data) noexcept nogil
 
-cdef double EPS = 2.220446049250313e-16
-cdef double FLOOR = 100 * 2.220446049250313e-16
+# the Python corrector's noise model (``_newton``): one definition for both
+from ._newton import _FLOOR, _ROUNDING
+
+cdef double EPS = _ROUNDING
+cdef double FLOOR = _FLOOR
 
 
 cdef int lu_factor(double *A, int *piv, int m) noexcept nogil:
@@ -205,10 +208,9 @@ cdef class BorderedNewton:
         self.fn = fn
         self.fold_mode = fold is not None
         self.ns = self.n - 1 if self.fold_mode else self.n
-        if src is None:  # a Python evaluate(u)
+        if src is None:  # a Python evaluate(u): no compiled model, nothing to lay out
             self.py_evaluate = fn
-            src, idx, base, n_out = np.zeros(self.n + self.n * self.m, dtype=np.intp), np.zeros(self.m, dtype=np.intp), \
-                np.zeros(1), 0
+            src, idx, base, n_out = np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros(0), 0
         else:
             self.py_evaluate = None
             address, user = entry(fn)
@@ -239,7 +241,7 @@ cdef class BorderedNewton:
         self.base_ = np.array(base, dtype=float)
         self.nx = len(self.base_)
         self.n_out = n_out
-        if len(self.src_) != self.ns + self.ns * self.m or len(self.idx_) != self.m:
+        if self.py_evaluate is None and (len(self.src_) != self.ns + self.ns * self.m or len(self.idx_) != self.m):
             raise ValueError("BorderedNewton: src must hold the residuals and their Jacobian entries, column by column")
         self.tol, self.residual_tol, self.max_newton, self.max_contraction = tol, residual_tol, max_newton, max_contraction
         cdef int m = self.m
@@ -384,7 +386,7 @@ cdef class BorderedNewton:
         branch-point test function). The arrays are None otherwise.
         """
         cdef int n = self.n, m = self.m, it, i, j, code = MAX_ITERATIONS, iters = self.max_newton
-        cdef bint lag = True, started = z_start is not None, have_prev = False, done = False
+        cdef bint lag = True, started = z_start is not None
         cdef double prev = INFINITY, error = INFINITY, step, q, tol = self.tol, s, norm, logdet = 0.0, sign = 1.0
         cdef double[::1] zs
         jac_arr = np.empty((n, m))
@@ -408,12 +410,10 @@ cdef class BorderedNewton:
             if error < tol and self.residual_met(jac, self.z):
                 code = CONVERGED if all_finite(jac, n * m) else NOT_FINITE
                 iters = it - 1 - (not lag)
-                done = True
                 break
             if it > self.max_newton:
                 code = MAX_ITERATIONS if all_finite(self.r, n) else NOT_FINITE
                 iters = self.max_newton if code == MAX_ITERATIONS else it
-                done = True
                 break
             memcpy(A, jac, n * m * sizeof(double))
             for j in range(m):
@@ -435,33 +435,28 @@ cdef class BorderedNewton:
             if not isfinite(step):
                 code = SINGULAR if (all_finite(self.r, n) and all_finite(jac, n * m)) else NOT_FINITE
                 iters = it
-                done = True
                 break
             if step < tol:
                 for j in range(m):
                     self.z[j] += self.dz[j]
                 code = CONVERGED if all_finite(jac, n * m) else NOT_FINITE
                 iters = it - (not lag)
-                done = True
                 break
             if step > self.max_contraction * prev:
                 if self.residual_met(jac, self.z) and step <= 10 * self.step_noise(jac, self.z):
                     code = CONVERGED if all_finite(jac, n * m) else NOT_FINITE
                     iters = it - (not lag)
-                    done = True
                     break
-                if lag and have_prev and max_abs(self.r, n) <= 0.1 * max_abs(self.rprev, n):
+                if lag and max_abs(self.r, n) <= 0.1 * max_abs(self.rprev, n):
                     lag = False
                     step = INFINITY
                 elif step > 1e3 * tol:
                     code = TOO_SLOW
                     iters = it
-                    done = True
                     break
             for j in range(m):
                 self.z[j] += self.dz[j]
             memcpy(self.rprev, self.r, n * sizeof(double))
-            have_prev = True
             if prev < INFINITY:
                 q = step / prev
                 error = q / (1.0 - q) * step if q < 1.0 else INFINITY

@@ -122,6 +122,13 @@ class FoldEvent(Event):
         return hit if hit[1] is not None else super().locate(stepper, problem, cur, ds, v0, v1)
 
 
+def branch_point_test(sign: float, logdet: float, size: int) -> float:
+    """The branch-point test function from ``det [G_z; tangent^T]`` given as its sign and log of its
+    magnitude, for a matrix of ``size`` rows: ``sign |det|^(1/size)``, a continuous, scale-tamed
+    version of the determinant (0 for an exactly singular matrix)."""
+    return float(sign * math.exp(logdet / size)) if math.isfinite(logdet) else 0.0
+
+
 class BranchPointEvent(Event):
     """Branch point (``BP``): det [dG/dz; tangent^T] changes sign (it does not at folds)."""
 
@@ -135,8 +142,7 @@ class BranchPointEvent(Event):
         A[:-1] = state.jac
         A[-1] = state.tangent
         sign, logdet = _dense.slogdet(A)
-        # a continuous, scale-tamed version of the determinant
-        return float(sign * np.exp(logdet / len(A))) if math.isfinite(logdet) else 0.0
+        return branch_point_test(sign, logdet, len(A))
 
 
 class BoundEvent(Event):

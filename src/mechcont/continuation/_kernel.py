@@ -6,8 +6,8 @@ predictor, Newton on the bordered system, the new tangent and the branch-point t
 function. It applies to problems of at most ``MAX_SIZE`` unknowns solved with the default
 dense LU: an equilibrium problem's compiled model is called from C, and so is a fold
 curve's, its determinant row included; any other problem has its ``evaluate`` called back,
-the loop around it compiled. Other linear
-solvers, larger models, and machines where it was not built run the Python corrector.
+the loop around it compiled. Other linear solvers, larger models, and machines where it was
+not built run the Python corrector.
 ``MECHCONT_PURE_PYTHON=1`` (read at the start of each branch) turns it off, e.g. to compare
 the two.
 """
@@ -21,7 +21,7 @@ from typing import Any
 from ._linalg import DenseLU
 from ._options import ContinuationOptions
 
-__all__ = ["AVAILABLE", "bordered_newton", "reason"]
+__all__ = ["AVAILABLE", "CODE_NAMES", "bordered_newton"]
 
 _ck: Any = None
 try:
@@ -32,34 +32,24 @@ except ImportError:  # not built (no C compiler at install): the Python correcto
 #: Whether the compiled corrector was built on this machine.
 AVAILABLE = _ck is not None
 
-_REASONS = {
-    "not_finite": "residual not finite (outside the model's domain)",
-    "singular": "singular bordered Jacobian",
-    "too_slow": "corrector converging too slowly",
-    "singular_tangent": "singular tangent system",
-}
-
-
-def reason(code: int, max_newton: int) -> str:
-    """The Python corrector's words for a compiled step's failure ``code``."""
-    assert _ck is not None
-    name = next(k for k, v in _ck.CODES.items() if v == code)
-    return _REASONS.get(name, f"corrector needed more than {max_newton} iterations")
+#: ``{code: name}`` of the compiled step's return codes (``"converged"``, ``"not_finite"``, ...)
+CODE_NAMES: dict[int, str] = {} if _ck is None else {code: name for name, code in _ck.CODES.items()}
 
 
 def bordered_newton(problem, scale, options: ContinuationOptions):
     """A compiled stepper (``_ckernel.BorderedNewton``) for ``problem``, or None where it does not apply.
 
-    With ``problem.compiled_model()`` (``(fn, n_out, src, base, idx, fold)``, see
+    Where ``problem.compiled_model()`` gives ``(fn, n_out, src, base, idx, fold)`` (see
     :meth:`~._problem.EquilibriumProblem.compiled_model` and
-    :meth:`~._folds.FoldProblem.compiled_model`) the model is called from C; otherwise
-    ``problem.evaluate`` is called back. ``scale`` are the unknowns' scales
+    :meth:`~._folds.FoldProblem.compiled_model`) the model is called from C; where it gives
+    None (the protocol's default) ``problem.evaluate`` is called back. ``scale`` are the unknowns' scales
     (``PseudoArclength.D``).
     """
     if _ck is None or os.environ.get("MECHCONT_PURE_PYTHON", "") not in ("", "0"):
         return None
     if type(options.linear_solver) is not DenseLU or len(scale) > _ck.MAX_SIZE:
         return None
+    # a problem written to the protocol without subclassing it may lack the hook: no compiled model
     parts = getattr(problem, "compiled_model", lambda: None)()
     fn, n_out, src, base, idx, fold = (problem.evaluate, 0, None, None, None, None) if parts is None else parts
     return _ck.BorderedNewton(fn, n_out, src, base, idx, scale, options.newton_tol, options.residual_tol,

@@ -19,14 +19,23 @@ import numpy as np
 from .. import _dense
 from .._status import Status
 from . import _kernel
-from ._events import Event, PointState
+from ._events import Event, PointState, branch_point_test
 from ._linalg import DenseLU
 from ._newton import residual_met, step_noise
 from ._options import ContinuationOptions
 from ._problem import ContinuationProblem
 
 _add, _max = np.add.reduce, np.maximum.reduce
+# why a correction failed, in the same words from both correctors
 _NOT_FINITE = "residual not finite (outside the model's domain)"
+_SINGULAR = "singular bordered Jacobian"
+_TOO_SLOW = "corrector converging too slowly"
+_SINGULAR_TANGENT = "singular tangent system"
+_WORDS = {"not_finite": _NOT_FINITE, "singular": _SINGULAR, "too_slow": _TOO_SLOW, "singular_tangent": _SINGULAR_TANGENT}
+
+
+def _too_many(max_newton: int) -> str:
+    return f"corrector needed more than {max_newton} iterations"
 
 __all__ = ["PseudoArclength", "StepSizeController", "Termination", "BranchSteps", "RecordedPoint",
            "DirectionResult", "run_direction"]
@@ -142,16 +151,16 @@ class PseudoArclength:
         if self.kernel is not None:
             code, iters, z, jac, t, sign, logdet = self.kernel.step(z0, t0, sigma, z_start)
             if code:
-                return None, iters, _kernel.reason(code, self.options.max_newton)
-            # BranchPointEvent's value, sign * |det|^(1/(n+1)), from the tangent system's factors
-            return self.state(z, t, jac, sign * math.exp(logdet / len(z))), iters, ""
+                return None, iters, _WORDS.get(_kernel.CODE_NAMES[code], _too_many(self.options.max_newton))
+            # BranchPointEvent's value from the tangent system's factors
+            return self.state(z, t, jac, branch_point_test(sign, logdet, len(z))), iters, ""
         z, jac, iters = self.correct(z0 + sigma * t0, t0, z_start)
         if z is None:
             return None, iters, jac
         try:
             t = self.tangent(z, t0, jac)
         except np.linalg.LinAlgError:
-            return None, iters, "singular tangent system"
+            return None, iters, _SINGULAR_TANGENT
         return self.state(z, t, jac), iters, ""
 
     # -- tangent --------------------------------------------------------------------
@@ -177,7 +186,7 @@ class PseudoArclength:
             t = self._solve(A, self._e_last if self._dense else self._e_last.copy())
         norm = math.sqrt(t.dot(t)) if t is not None else math.nan  # = np.linalg.norm(t), without its overhead
         if t is None or not math.isfinite(norm):  # NaN: an exact zero pivot
-            raise np.linalg.LinAlgError("singular tangent system")
+            raise np.linalg.LinAlgError(_SINGULAR_TANGENT)
         t /= norm
         return t if t @ border > 0 else -t
 
@@ -226,7 +235,7 @@ class PseudoArclength:
                 # np.add.reduce(a, None) is a.sum() without the method's Python frame (same bits)
                 if not (math.isfinite(_add(r, None)) and math.isfinite(_add(jac, None))):
                     return None, _NOT_FINITE, it
-                return None, "singular bordered Jacobian", it  # an exact zero pivot
+                return None, _SINGULAR, it  # an exact zero pivot
             if step < tol:
                 # converged without evaluating z + dz: Newton's linear model makes its residual
                 # of order |dz|^2 (r + G_z dz = 0), and its Jacobian differs from the one
@@ -244,7 +253,7 @@ class PseudoArclength:
                     lag = False
                     step = math.inf  # a lagging correction bounds nothing: no contraction estimate from it
                 elif step > 1e3 * tol:
-                    return None, "corrector converging too slowly", it
+                    return None, _TOO_SLOW, it
             z, r_prev = z + dz, r
             if prev < math.inf:
                 # the distance left to the solution, from the observed contraction q of the
@@ -253,14 +262,14 @@ class PseudoArclength:
                 q = step / prev
                 error = q / (1.0 - q) * step if q < 1.0 else math.inf  # no bound unless contracting
             prev = step
-        return None, f"corrector needed more than {o.max_newton} iterations", o.max_newton
+        return None, _too_many(o.max_newton), o.max_newton
 
     def point_at(self, z0, t0, sigma, z_start=None):
         """The branch point on the hyperplane at distance ``sigma`` along ``t0`` from ``z0``
         (Newton starts at ``z_start``, by default the predictor ``z0 + sigma t0``)."""
         st, _, why = self.step(z0, t0, sigma, z_start)
         if st is None:
-            raise np.linalg.LinAlgError(why) if why == "singular tangent system" else RuntimeError(why)
+            raise np.linalg.LinAlgError(why) if why == _SINGULAR_TANGENT else RuntimeError(why)
         return st
 
 

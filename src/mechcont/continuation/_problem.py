@@ -79,6 +79,11 @@ class ContinuationProblem(Protocol):
         """Extra events particular to this problem (e.g. cusp detection)."""
         return []
 
+    def compiled_model(self) -> tuple | None:
+        """The problem's compiled model for the compiled corrector (:mod:`._kernel`), or None: then
+        the corrector calls :meth:`evaluate` (see :meth:`EquilibriumProblem.compiled_model`)."""
+        return None
+
     def refine_fold(self, state) -> tuple[np.ndarray, dict] | None:
         """Polish a fold found at ``state``: ``(u, info)`` with ``info["status"]``, or None
         when the problem has no fold polish (the located guess then stays approximate)."""
