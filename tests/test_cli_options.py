@@ -127,3 +127,23 @@ def test_continue_hold_takes_a_value_as_downlock_does(run, tmp_path):
         assert np.interp(lu, held["LU"], held["F"]) == pytest.approx(np.interp(lu, lib["LU"], lib["F"]), rel=1e-6)
     one_line_error(run(*args, "--start", "theta4=0", "--hold", "theta4=0"), "--hold", "once")
     one_line_error(run(*args, "--hold", "theta4=abc"), "--hold theta4", "not a number")
+
+
+def test_set_moves_what_the_description_writes_in_parameters(run, tmp_path):
+    """``--set`` changes the model, not only the start: a stop's limit written in a parameter follows it.
+
+    The bar of pendulum_stop_3d.toml rests on its stop (tip at least d_min from P); by virtual work
+    the contact force is m g d_min / (2 L). ``continue --stops --set d_min=0.5`` kept the file's
+    0.72 m as the limit while the table said d_min = 0.5 (a gap of 0.72 and a force for 0.72)."""
+    out = tmp_path / "b.csv"
+    r = run("continue", "tests/data/spatial/pendulum_stop_3d.toml", "--stops", "--set", "d_min=0.5", "--vary", "g",
+            "--bounds", "g=5:15", "--out", out, "--quiet")
+    assert r.exit_code == 0, r.output
+    rows, _ = read_branch_table(out)
+    assert len(rows) > 5
+    for row in rows:
+        d, gap, R, m, g, L = (float(row[k]) for k in ("d_min", "gap", "R_floor", "m", "g", "L"))
+        assert d == 0.5 and gap == pytest.approx(0.5, abs=1e-12)
+        assert R == pytest.approx(m * g * 0.5 / (2 * L), rel=1e-10)
+    one_line_error(run("continue", "tests/data/spatial/pendulum_stop_3d.toml", "--stops", "--set", "d_mni=0.5",
+                       "--vary", "g", "--bounds", "g=5:15"), "d_mni")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import click
 
 from ..errors import InputError
@@ -63,6 +65,16 @@ def held_states(holds, starts) -> tuple[tuple[str, ...], tuple[str, ...]]:
             extra.append(item)
         names.append(name)
     return tuple(names), (*starts, *extra)
+
+
+def load_at(model: str, values: Mapping[str, float]):
+    """MODEL (a built-in name or a description file) with the ``--set`` ``values`` as its variables'
+    values, so that what it writes in parameters (a stop's limit, a condition's target, the
+    downlock hold) follows them (:meth:`~mechcont.equations.Model.with_values`)."""
+    from ..models import load_model
+
+    system = load_model(model)
+    return system.with_values(values) if values else system
 
 
 def solve_start(system, sets, starts, vary, frees, holds):

@@ -10,6 +10,7 @@ from ._run import (
     common_options,
     continuation_options,
     held_states,
+    load_at,
     run_continuation,
     solve_start,
     write_branch,
@@ -39,13 +40,12 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     """
     from ..continuation import continuation
     from ..errors import InputError
-    from ..models import load_model
     from ._parse import assignments
 
     check_outputs(out, plot)
     holds, starts = held_states(holds, starts)
     options = continuation_options(bnds, ds, dsmax, max_steps)
-    system = load_model(model)
+    system = load_at(model, assignments(sets, "set"))
     stops = system.stops
     if with_stops:
         from ..analysis.stops import check_stop_lens

@@ -8,6 +8,7 @@ from ..errors import InputError
 from ._app import cli
 from ._parse import assignments, names, renamed
 from ._parse import bounds as parse_bounds
+from ._run import load_at
 from .downlock import model_and_condition, warn
 
 
@@ -71,7 +72,7 @@ def design_command(model, x_name, y_name, old_x, old_y, bounds_, levels, sets, h
             raise InputError("--bounds", f"give a finite range for {n}, e.g. {n}=LO:HI")
     if x_name == y_name:
         raise InputError(y_option, f"must differ from {x_option}")
-    system, h, f = model_and_condition(model, holds, force, condition)
+    system, h, f = model_and_condition(load_at(model, values), holds, force, condition)
     for n in (*values, x_name, y_name):
         system.variable(n)
     sens_params = _checked_sensitivity(system, names(sens_text, "sensitivity"), h, f)

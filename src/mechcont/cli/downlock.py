@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import functools
 from typing import TYPE_CHECKING
 
 import click
@@ -14,24 +13,16 @@ from ..units import display
 from ._app import cli
 from ._parse import assignments, freed_parameters, named_as, names
 from ._parse import bounds as parse_bounds
+from ._run import load_at
 
 if TYPE_CHECKING:
     from ..equations import Model
 
 
-@functools.lru_cache(maxsize=4)
-def _load(model: str) -> Model:
-    # compiled once per process: the analyses never modify a system
-    from ..models import load_model
-
-    return load_model(model)
-
-
-def model_and_condition(model: str, holds, force: str | None, condition: str | None = None):
-    """Load MODEL and resolve its downlock condition (``--hold``/``--condition``/``--force`` or the model's own)."""
+def model_and_condition(system: Model, holds, force: str | None, condition: str | None = None):
+    """``system`` and its downlock condition (``--hold``/``--condition``/``--force`` or the model's own)."""
     from ..analysis.downlock import downlock_condition
 
-    system = _load(model)
     hold = assignments(holds, "hold") or None
     try:
         h, f = downlock_condition(system, hold, force, condition=condition)
@@ -98,13 +89,14 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     bnds = parse_bounds(bounds_)
     sens_params = names(sens_text, "sensitivity")
     check_max_steps(max_steps, "--max-steps")
-    stops = _load(model).stops
+    system = load_at(model, values)  # loaded once: the analyses never modify it
+    stops = system.stops
     if stops and not holds and condition is None:
         if sens_params:
             raise InputError("--sensitivity", "is not available for a lock resting on its stops; give the lock's "
                                               "--hold or --condition to differentiate the held downlock force")
-        return _on_stops(_load(model), vary, bnds, frees, values, force, max_steps, out_path, plot_path)
-    system, h, f = model_and_condition(model, holds, force, condition)
+        return _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plot_path)
+    system, h, f = model_and_condition(system, holds, force, condition)
     if stops:
         click.echo(f"note: the stops of {system.name} ({', '.join(s.name for s in stops)}) are ignored here: the lock is "
                    "held at the condition given; leave out --hold/--condition to take the locked state on its stops")

@@ -14,6 +14,7 @@ from ._run import (
     common_options,
     continuation_options,
     held_states,
+    load_at,
     run_continuation,
     solve_start,
     write_branch,
@@ -43,7 +44,6 @@ def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps,
     --bounds LU=0.1:2 --out folds.csv
     """
     from ..continuation import continuation, continue_folds
-    from ..models import load_model
     from ..outputs.tables import branch_value, special_table
 
     check_outputs(out, plot)
@@ -55,7 +55,7 @@ def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps,
         raise InputError("--along", "give the second parameter, continued along the fold curve (e.g. --along LU)")
     frees, _ = renamed(tuple(frees), tuple(old_frees), "--free", "--solve-for")
     options = continuation_options(bnds, ds, dsmax, max_steps)
-    system = load_model(model)
+    system = load_at(model, assignments(sets, "set"))
     system.index(second)
     x0 = solve_start(system, sets, starts, vary, frees, holds)
     first = run_continuation(continuation, system, x0, vary, hold=holds, free=frees, quiet=quiet,
