@@ -149,7 +149,10 @@ def test_branches_agree_with_the_python_corrector(monkeypatch, model):
     # the same steps (step control sees the same iteration counts), so point by point alike too
     assert a.values.shape == b.values.shape
     assert (np.abs(a.values - b.values) <= tol).all()
-    assert (a.n_unstable == b.n_unstable).all()
+    # at a fold the reduced stiffness is singular and rounding decides the count (count_unstable):
+    # compare it everywhere else
+    regular = np.array([label not in ("LP", "BP") for label in b.labels])
+    assert (a.n_unstable == b.n_unstable)[regular].all()
 
 
 @needs_kernel
