@@ -1,7 +1,7 @@
 """The Udwadia–Kalaba fundamental equation for any :class:`~mechcont.equations.MechanicalModel`.
 
-For coordinates ``q`` with mass matrix ``M``, applied generalised forces ``Q(q, qdot, t)``
-and holonomic constraints ``Phi(q) = 0``, the constrained accelerations are (paper eq. 1,
+For coordinates ``q`` with mass matrix ``M(q)``, generalised forces ``Q(q, qdot, t)`` and
+holonomic constraints ``Phi(q) = 0``, the constrained accelerations are (paper eq. 1,
 Udwadia & Kalaba 1996)
 
     qddot = a + M^-1/2 (A M^-1/2)^+ (b - A a),          a = M^-1 Q,
@@ -13,6 +13,12 @@ stabilisation the constraints obey ``Phi'' + 2 alpha Phi' + beta^2 Phi = 0`` ins
     b = gamma - 2 alpha Phi_q qdot - beta^2 Phi,
 
 so that numerical drift decays instead of growing (alpha, beta in 1/s).
+
+``Q`` is the applied forces plus, where ``M`` depends on ``q`` (a body frame away from its centre
+of gravity, Euler parameters, a reduced form), the velocity-product inertial forces
+``-(Mdot qdot - 1/2 d(qdot^T M qdot)/dq)`` of Lagrange's equations
+(:meth:`~mechcont.equations.MechanicalModel.inertial_forces`): without them the motion would
+depend on where a body's frame sits, and energy would not be conserved.
 
 ``(A M^-1/2)^+`` is the Moore–Penrose inverse, which makes the equation valid for
 redundant constraints too. When ``B = A M^-1/2`` has full row rank, ``B^+ = B^T (B B^T)^-1``
@@ -253,11 +259,14 @@ class ConstrainedDynamics:
         return self._blocks.inverse_sqrt(self.mech.mass(x))
 
     def forces(self, x: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        """Applied generalised forces including the Rayleigh damping term and the compliant
-        stops' reactions (N, N m)."""
+        """Generalised forces of the equations of motion ``M qddot = forces + Phi_q^T lambda`` (N, N m):
+        the applied forces, the velocity-product inertial forces (when ``M`` depends on ``q``), the
+        Rayleigh damping term and the compliant stops' reactions."""
         if self.contacts is not None:  # the compliant stops' penalty reactions
             x = self.contacts.penalized(x, qd)
         Q = self.mech.applied_forces(x, qd)
+        if not self._mass_constant:  # centrifugal, Coriolis and gyroscopic forces: M depends on q
+            Q = Q + self.mech.inertial_forces(x, qd)
         if self.damping:
             Q = Q - self.damping * (self.mech.mass(x) @ qd)
         return Q

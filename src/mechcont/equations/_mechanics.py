@@ -41,6 +41,23 @@ def velocity_symbol(name: str) -> sp.Symbol:
     return sp.Symbol(f"{name}_dot", real=True)
 
 
+def _velocity_product_forces(keys, m_exprs, qs, qd) -> list:
+    """SymEngine expressions of ``h(q, qdot) = -(Mdot qdot - 1/2 d(qdot^T M qdot)/dq)``, the velocity-product
+    terms of Lagrange's equations for ``T = 1/2 qdot^T M(q) qdot`` (``keys``: the positions of ``M``'s
+    non-zero entries ``m_exprs``, both triangles). Component ``i`` is ``-sum_jk c_ijk qdot_j qdot_k`` with
+    the Christoffel symbols ``c_ijk = dM_ij/dq_k - 1/2 dM_jk/dq_i``: centrifugal and Coriolis forces of a
+    frame away from the centre of gravity, ``omega x J omega`` of a body in Euler parameters, and those of
+    a reduced form's ``J^T M J``. Only the entries that depend on ``q`` contribute."""
+    import symengine as se
+
+    h = [se.Integer(0)] * len(qs)
+    for (n, k), d in derivative_entries(m_exprs, qs, True):
+        i, j = keys[n]
+        h[i] = h[i] - d * qd[k] * qd[j]
+        h[k] = h[k] + d * qd[i] * qd[j] / 2
+    return h
+
+
 def _flat(entries, shape: tuple[int, ...]) -> np.ndarray:
     """Flat (C-order) positions in an array of ``shape`` of the indices of ``(index, expr)`` entries."""
     if not entries:
@@ -228,7 +245,7 @@ class MechanicalModel:
     # statics, time simulation the dynamics.
     _GROUPS = {"_phi": "kinematics", "_phi_q": "kinematics", "_Q": "kinematics",
                "_statics": "statics", "_statics_layout": "statics", "_dQdq": "statics", "_phi_hess": "statics",
-               "_gamma": "dynamics", "_dQdqd": "dynamics", "_M": "dynamics"}
+               "_gamma": "dynamics", "_dQdqd": "dynamics", "_M": "dynamics", "_inertial": "dynamics"}
     _COMPILED = tuple(_GROUPS)
 
     #: The symbolic attributes, pickled apart (see :mod:`._deferred`).
@@ -251,9 +268,9 @@ class MechanicalModel:
             self._compile_group(group)
 
     def _compile_group(self, group: str) -> None:
-        if any(n in self.__dict__ for n, g in MechanicalModel._GROUPS.items() if g == group):
-            return
         names = [n for n, g in MechanicalModel._GROUPS.items() if g == group]
+        if all(n in self.__dict__ for n in names):  # all: a model pickled before a member was added builds it
+            return
 
         def valid(obj) -> bool:
             return isinstance(obj, dict) and set(obj) == set(names)
@@ -350,7 +367,8 @@ class MechanicalModel:
         keys, m_exprs = self._mass_entries()
         return {"_gamma": compile_values(args, gamma),
                 "_dQdqd": compile_scattered(args, _flat(dqd, (nq, nq)), [d for _, d in dqd], (nq, nq)),
-                "_M": compile_scattered(args, _flat([(k, None) for k in keys], (nq, nq)), m_exprs, (nq, nq))}
+                "_M": compile_scattered(args, _flat([(k, None) for k in keys], (nq, nq)), m_exprs, (nq, nq)),
+                "_inertial": compile_values(args, _velocity_product_forces(keys, m_exprs, qs, qd))}
 
     def __getstate__(self):
         """Picklable state: every compiled group built so far, and the symbolic model as an inner
@@ -398,6 +416,13 @@ class MechanicalModel:
     def mass(self, x) -> np.ndarray:
         """Mass matrix M(q), shape (n_q, n_q) (kg, kg m^2)."""
         return self._M(self._args(x))
+
+    def inertial_forces(self, x, qdot) -> np.ndarray:
+        """Velocity-product (centrifugal, Coriolis, gyroscopic) generalised forces
+        ``-(Mdot qdot - 1/2 d(qdot^T M qdot)/dq)`` (N or N m per coordinate), exact from the
+        generated ``M(q)``; zero when ``M`` is constant (frames at the centres of gravity) or at rest.
+        The equations of motion are ``M qddot = Q + inertial_forces + Phi_q^T lambda``."""
+        return self._inertial(self._args(x, qdot))
 
     def _decompose(self, x, rtol: float = 1e-10):
         """SVD of Phi_q: (U, singular values, V^T, rank) — shared by multipliers and Z."""

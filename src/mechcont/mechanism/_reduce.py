@@ -13,9 +13,10 @@ unknowns are the independent angles (and the coordinates of bodies reached only 
 sliders), the loop-closing constraints and their reactions. Solutions are the same as the
 full form's (the eliminated reactions follow from the full equations by a linear solve);
 for the overcentre it leaves ``theta1, theta2, R_slider`` and three equations. For the
-dynamic model the mass matrix becomes ``J^T M J`` and the applied forces gain the
-velocity-product terms ``-J^T M (d(J rdot)/dr) rdot`` (zero at rest), so a time simulation
-of the reduced form is the same motion as the full form's.
+dynamic model the mass matrix becomes ``J^T M J``; its velocity-product terms (zero at rest)
+come, like every model's, from that matrix's Christoffel symbols
+(:meth:`~mechcont.equations.MechanicalModel.inertial_forces`), so a time simulation of the
+reduced form is the same motion as the full form's.
 """
 
 from __future__ import annotations
@@ -55,8 +56,8 @@ def reduce_form(kin: Kinematics, rows: list[ConstraintRow], V: sp.Expr, Q_nc: li
     """Apply :func:`tree_elimination`.
 
     Returns ``(coords, rows, forces, mass, subs)``: kept coordinate names, remaining
-    constraint rows, generalised forces ``Q_r`` (with the kept coordinates' velocity
-    symbols, including the velocity-product terms), the reduced mass matrix and the substitution of the eliminated coordinates.
+    constraint rows, generalised applied forces ``Q_r`` (with the kept coordinates' velocity
+    symbols), the reduced mass matrix and the substitution of the eliminated coordinates.
     """
     subs, tree = tree_elimination(kin)
     kept = [(n, s) for n, s in zip(kin.coords, kin.q) if s not in subs]
@@ -69,18 +70,9 @@ def reduce_form(kin: Kinematics, rows: list[ConstraintRow], V: sp.Expr, Q_nc: li
     V_r = V.xreplace(subs)
     Qnc_full = [e.xreplace(subs).xreplace(vel) for e in Q_nc]
     M_sub = M.xreplace(subs)
-    # velocity-product (centripetal/Coriolis) terms: qddot = J rddot + c with c = d(J rdot)/dr rdot,
-    # so J^T M qddot = J^T M J rddot + J^T M c and -J^T M c joins the applied forces (zero at rest)
-    c = []
-    for i in range(len(kin.q)):
-        qdot_i = sum((J[i, j] * qd_r[j] for j in range(len(r)) if J[i, j] != 0), sp.S.Zero)
-        c.append(sum((sp.diff(qdot_i, rk) * qd_r[k] for k, rk in enumerate(r)), sp.S.Zero))
-    Mc = [sum((M_sub[i, m] * c[m] for m in range(len(c)) if M_sub[i, m] != 0 and c[m] != 0), sp.S.Zero)
-          for i in range(len(c))]
     forces = []
     for j, rj in enumerate(r):
-        nc = sum((J[i, j] * (Qnc_full[i] - Mc[i]) for i in range(len(kin.q))
-                  if J[i, j] != 0 and (Qnc_full[i] != 0 or Mc[i] != 0)), sp.S.Zero)
+        nc = sum((J[i, j] * Qnc_full[i] for i in range(len(kin.q)) if J[i, j] != 0 and Qnc_full[i] != 0), sp.S.Zero)
         forces.append(-sp.diff(V_r, rj) + nc)
     rest = [ConstraintRow(row.joint, row.equation, row.reaction, row.unit, row.expr.xreplace(subs))
             for row in rows if row.joint not in tree]
