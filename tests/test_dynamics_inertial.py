@@ -17,6 +17,7 @@ are checked here against truth that does not come from mechcont:
 import math
 
 import numpy as np
+import pytest
 import sympy as sp
 
 from mechcont.dynamics import assemble, simulate
@@ -379,3 +380,133 @@ def test_spatial_pendulum_energy_and_frame(tmp_path):
     for E in (E_cg, E_away):
         assert np.ptp(E) < 1e-7 * 2.0 * 9.81 * 0.4
     np.testing.assert_allclose(z_away, z_cg, atol=1e-7)
+
+
+def _moved_frames(text: str, offsets: dict[str, tuple[float, float, float]]) -> str:
+    """A spatial description whose bars become general bodies with their frame origins moved by
+    ``offsets[body]`` (body coordinates, m): ends, points and cg written about the new origin, the
+    bar's default inertia written out (as numbers, at the parameters' defaults), and the starting guess
+    moved so the design pose is the same. The ``[bodies.*]`` tables (before the first ``[joints.*]``)
+    are written anew."""
+    import tomllib
+
+    from mechcont.mechanism._expr import float_value, symbol, to_expr
+
+    d = tomllib.loads(text)
+    params = {k: (v["value"] if isinstance(v, dict) else v) for k, v in d["parameters"].items()}
+    known = {k: symbol(k) for k in params}
+    at = {symbol(k): float(v) for k, v in params.items()}
+
+    def num(v) -> float:  # the value at the parameters' defaults, through mechcont's whitelist parser
+        return float_value(to_expr(v, "test", known), at)
+
+    def vec(v) -> str:
+        return "[" + ", ".join(repr(num(c)) for c in v) + "]"
+
+    out = []
+    for name, b in d["bodies"].items():
+        o = offsets[name]
+        L, m = b["length"], b["mass"]
+        pts = {"a": [f"-({L})/2", 0, 0], "b": [f"({L})/2", 0, 0], **b.get("points", {})}
+        rot = b.get("initial", {}).get("rotation", [0.0, 0.0, 0.0])
+        assert rot[0] == rot[1] == 0
+        c, s_ = math.cos(rot[2]), math.sin(rot[2])
+        start = (c * o[0] - s_ * o[1], s_ * o[0] + c * o[1], o[2])
+        out += [f"[bodies.{name}]", f'mass = "{m}"', f"cg = {vec([-v for v in o])}",
+                f"inertia = {vec([f'({m})*(({L})/20)^2/2', f'({m})*({L})^2/12', f'({m})*({L})^2/12'])}",
+                f"initial = {{ x = {start[0]!r}, y = {start[1]!r}, z = {start[2]!r}, rotation = {vec(rot)} }}",
+                f"[bodies.{name}.points]",
+                *(f"{k} = {vec([num(v) - oc for v, oc in zip(p, o)])}" for k, p in pts.items()), ""]
+    head, tail = text[:text.index("[bodies.")], text[text.index("[joints."):]
+    return head.replace('name = "nose_gear_3d"', 'name = "nose_gear_3d_moved"') + "\n".join(out) + tail
+
+
+@pytest.mark.slow
+def test_spatial_gear_frame_invariance(tmp_path):
+    """The spatial nose gear (tests/data/spatial/nose_gear_3d.toml: bars with frames at their cgs) and
+    the same gear with every frame moved off its body, out of the plane too, pushed through its unlock
+    by an upward force: the same motion of every body (orientations, main-fitting cg) to integrator
+    tolerance, through a large swing."""
+    from pathlib import Path
+
+    src = Path(__file__).parent / "data" / "spatial" / "nose_gear_3d.toml"
+    text = src.read_text()
+    offsets = {"1": (0.3, 0.1, -0.2), "2": (-0.5, 0.2, 0.1), "3": (0.9, -0.15, 0.25), "4": (0.2, 0.3, 0.0),
+               "5": (-0.1, -0.2, 0.3)}
+    runs: list = []
+    for tag in ("cgs", "moved"):  # the shipped file itself (its build is shared with test_spatial_planar)
+        s = load_model(src) if tag == "cgs" else _load(tmp_path, "nose_gear_3d_moved", _moved_frames(text, offsets))
+        # one start pose for both: the lock link held where the first assembly put it
+        x0 = assemble(s, {"F": 3000.0, **({"theta4": runs[0]["theta4"][0]} if runs else {})},
+                      hold=["theta4"] if runs else ())
+        T = 0.3
+        r = simulate(s, x0, (0.0, T), rtol=1e-10, atol=1e-12, t_eval=np.linspace(0, T, 31))
+        assert r.success, r.message
+        runs.append(r)
+    a, b = runs
+    for body in "12345":
+        for i in range(4):
+            np.testing.assert_allclose(a[f"e{i}_{body}"], b[f"e{i}_{body}"], atol=1e-7)
+    assert np.ptp(a["theta4"]) > 0.5  # the lock links swung through
+    e = np.column_stack([b[f"e{i}_3"] for i in range(4)])
+    cg_b = np.array([[b[f"{c}3"][k] for c in "xyz"] + np.asarray(_R(e[k]), float) @ (-np.asarray(offsets["3"]))
+                     for k in range(len(b))])
+    cg_a = np.column_stack([a[f"{c}3"] for c in "xyz"])
+    np.testing.assert_allclose(cg_b, cg_a, atol=1e-7)
+
+
+TUMBLER = """
+[mechanism]
+name = "tumbler"
+dimension = 3
+dof = 3
+[ground]
+O = [0, 0, 0]
+[bodies.body]
+mass = 2.0
+inertia = [1.0, 2.0, 3.0]
+[joints.ball]
+type = "spherical"
+a = "ground.O"
+b = "body.origin"
+"""
+
+
+def test_intermediate_axis_flip_period_closed_form(tmp_path):
+    """A torque-free body spun about its intermediate axis, slightly off it, flips over periodically
+    (the Dzhanibekov effect). With I1 < I2 < I3, energy E and momentum H, H^2 > 2 E I2, the body-frame
+    angular velocity has the period T = 4 K(k) / sqrt((I3 - I2)(H^2 - 2 E I1) / (I1 I2 I3)),
+    k^2 = (I2 - I1)(2 E I3 - H^2) / ((I3 - I2)(H^2 - 2 E I1)) (Landau & Lifshitz, Mechanics, sec. 37);
+    omega_2 changes sign twice a period."""
+    from scipy.interpolate import CubicSpline
+    from scipy.special import ellipk
+
+    I1, I2, I3 = 1.0, 2.0, 3.0
+    w0 = np.array([0.2, 1.5, 0.3])
+    E = 0.5 * (I1 * w0[0] ** 2 + I2 * w0[1] ** 2 + I3 * w0[2] ** 2)
+    H2 = (I1 * w0[0]) ** 2 + (I2 * w0[1]) ** 2 + (I3 * w0[2]) ** 2
+    assert H2 > 2 * E * I2
+    k2 = (I2 - I1) * (2 * E * I3 - H2) / ((I3 - I2) * (H2 - 2 * E * I1))
+    period = 4 * ellipk(k2) / math.sqrt((I3 - I2) * (H2 - 2 * E * I1) / (I1 * I2 * I3))
+    s = _load(tmp_path, "tumbler", TUMBLER)
+    x0 = assemble(s, {})
+    e0 = np.array([x0[s.index(f"e{i}_body")] for i in range(4)])
+    np.testing.assert_allclose(e0, [1, 0, 0, 0], atol=1e-12)  # design pose: body axes = global axes
+    ed0 = 0.5 * np.array([[-0, -0, -0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]) @ w0  # edot = 1/2 E^T omega at e = (1, 0, 0, 0)
+    T = 1.3 * period
+    r = simulate(s, x0, (0.0, T), qdot0={f"e{i}_body": ed0[i] for i in range(4)}, method="DOP853", rtol=1e-10, atol=1e-12,
+                 t_eval=np.linspace(0, T, 2001))
+    assert r.success, r.message
+    names = list(s.mechanics.coordinates)
+    e = np.column_stack([r[f"e{i}_body"] for i in range(4)])
+    ed = r.qdot[:, [names.index(f"e{i}_body") for i in range(4)]]
+    w_body = []
+    for a, b in zip(e, ed):  # body-frame angular velocity 2 G edot, G = [-eps, e0 I - [eps]x]
+        eps = a[1:]
+        G = np.column_stack([-eps, a[0] * np.eye(3) - np.array([[0, -eps[2], eps[1]], [eps[2], 0, -eps[0]],
+                                                                 [-eps[1], eps[0], 0]])])
+        w_body.append(2 * G @ b)
+    w2 = CubicSpline(r.t, np.array(w_body)[:, 1])
+    flips = w2.roots(extrapolate=False)
+    assert len(flips) >= 2
+    np.testing.assert_allclose(np.diff(flips), period / 2, rtol=1e-6)
