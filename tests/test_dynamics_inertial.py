@@ -21,6 +21,7 @@ import pytest
 import sympy as sp
 
 from mechcont.dynamics import assemble, simulate
+from mechcont.mechanism import load
 from mechcont.mechanism.spatial._rotation import rotation_matrix
 from mechcont.models import load_model
 
@@ -295,16 +296,19 @@ g = "g"
 """
 
 
-def _fourbar(tmp_path, tag, shift):
+def _fourbar(tmp_path, tag, shift, reduced=False):
     """Links along their x axes (crank 0.4 m, coupler 1.1 m, rocker 0.8 m) with cgs off the axis; the
-    frame origin moved by ``shift[k]`` (body coordinates) on each body."""
+    frame origin moved by ``shift[k]`` (body coordinates) on each body; ``reduced``: the reduced form
+    (the tree of pins eliminated, M = J^T M J)."""
     links = [((0.0, 0.0), (0.4, 0.0), (0.25, 0.06)), ((0.0, 0.0), (1.1, 0.0), (0.5, -0.1)),
              ((0.0, 0.0), (0.8, 0.0), (0.3, 0.08))]
     fields = {}
     for k, ((a, b, c), sh) in enumerate(zip(links, shift), start=1):
         for key, p in (("a", a), ("b", b), ("c", c)):
             fields[f"{key}{k}"] = f"{p[0] - sh[0]}, {p[1] - sh[1]}"
-    s = _load(tmp_path, f"fourbar_{tag}", FOURBAR.format(tag=tag, **fields))
+    path = tmp_path / f"fourbar_{tag}.toml"
+    path.write_text(FOURBAR.format(tag=tag, **fields))
+    s = load(path, reduced=reduced)
     x0 = assemble(s, {"theta_crank": 1.2}, hold=["theta_crank"])
     T = 1.5
     r = simulate(s, x0, (0.0, T), rtol=1e-10, atol=1e-12, t_eval=np.linspace(0, T, 151))
@@ -329,6 +333,10 @@ def test_closed_loop_frame_invariance(tmp_path):
 
     for u, v in zip(coupler_cg(at_away, away[1]), coupler_cg(at_cgs, (0.5, -0.1))):
         np.testing.assert_allclose(u, v, atol=1e-6)
+    # the reduced form of the frames-away four-bar (its velocity-product forces from J^T M J alone)
+    reduced, _ = _fourbar(tmp_path, "away_reduced", away, reduced=True)
+    assert len(reduced.coordinates) < len(at_away.coordinates)
+    np.testing.assert_allclose(reduced["theta_crank"], at_cgs["theta_crank"], atol=1e-6)
 
 
 SPATIAL_PENDULUM = """
