@@ -16,12 +16,14 @@ coordinate is in static equilibrium. So the pose is the solution of
 (``Q`` the applied forces with the compliant joints' springs, ``Phi`` the rigid rows, ``h`` the held
 coordinates and conditions) for ``q``, the joint reactions ``lambda`` and the holding forces ``f``.
 
-The motions ``N`` that neither the joints (compliant ones taken as rigid) nor the held states fix are not
-held: they start to move at release. They stay where the kinematic assembly ``q0`` put them (``B = N^T
-M(q0)``, the kinetic-energy metric of that assembly) and the term ``B^T g = M N g`` is the d'Alembert force
-of the acceleration ``N g`` they start with: released, the mechanism starts moving as if its compliant
-joints were rigid (to first order in the deflections), with no snap of its springs. An over-constrained
-rigid closure leaves ``lambda`` indeterminate but not the pose: the Newton steps are least-squares ones.
+The motions ``N`` that neither the rigid rows, the compliant rows with their deflections kept nor the held
+states fix are not held: they start to move at release. They stay where the kinematic assembly ``q0`` put
+them (``B = N^T M``, in the kinetic-energy metric) and the term ``B^T g = M N g`` is the d'Alembert force of
+the acceleration ``N g`` they start with: released at rest, ``M N g = Q - Phi_q^T lambda`` and ``Phi_q N =
+0``, so the mechanism starts with exactly that acceleration, its compliant deflections with none (no snap
+of its springs). ``N`` depends on the pose it is taken at: it is taken again at the pose found until the
+pose no longer moves. An over-constrained rigid closure leaves ``lambda`` indeterminate but not the pose:
+the Newton steps are least-squares ones.
 """
 
 from __future__ import annotations
@@ -129,88 +131,127 @@ def _hold_conditions(system, dyn, x, rows, free, tol: float = 1e-12, max_iter: i
 
 
 def _static_pose(system, dyn: ConstrainedDynamics, x: np.ndarray, held: np.ndarray, cond_rows: list[int],
-                 springs, max_iter: int = 30) -> np.ndarray:
+                 springs) -> np.ndarray:
     """The kinematically assembled ``x`` (held coordinates ``held``, a mask over the coordinates; held
     condition rows ``cond_rows``) moved to the static pose with the compliant rows ``springs`` (``(row,
     reaction, -1/k)`` of the static system) at their loaded deflection (see the module)."""
-    mech, qi, nq = dyn.mech, dyn.q_index, dyn.nq
-    spring_rows = [row for row, _, _ in springs]
+    pose = _Statics(system, dyn, held, cond_rows, [row for row, _, _ in springs])
     # the rigidified mechanism first (compliant rows closed as if rigid, their reactions zero in the rows):
-    # then every motion it has is held or kept by B, and Newton only finds the deflections
+    # then every motion it has is held or unheld (N), and Newton only finds the deflections
     xr = np.array(x, float)
     xr[[system.index(r) for _, r, _ in springs]] = 0.0
     try:
-        xr = _hold_conditions(system, dyn, xr, cond_rows + spring_rows, ~held)
+        xr = _hold_conditions(system, dyn, xr, cond_rows + pose.spring_rows, ~held)
     except InputError:  # the rigid rows leave a misfit the compliant joints take up
         xr = np.array(x, float)
-    q0 = xr[qi].copy()
-    held_idx = np.flatnonzero(held)
-    scale = np.maximum(system.scales()[qi], 1e-300)
+    pose.q0 = xr[dyn.q_index].copy()
+    xq, mult = xr, None
+    for _ in range(_OUTER):  # the unheld motions at the deflected pose: their start is then exactly rigid
+        B = pose.unheld(xq)
+        y, mult = pose.solve(xq, B, mult)
+        moved = np.max(np.abs(y - xq)[dyn.q_index] / pose.scale, initial=0.0)
+        xq = y
+        if not len(B) or moved <= 1e-13:
+            break
+    return xq
 
-    def holds(xq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+
+#: Most solves of :class:`_Statics` with the unheld motions taken at the last pose (each a few Newton steps).
+_OUTER = 6
+
+
+class _Statics:
+    """The static equations of the module at the pose of a full vector: the held coordinates (mask ``held``),
+    the held condition rows ``cond_rows`` and the compliant rows ``spring_rows`` of ``system``'s equations;
+    ``q0`` (set by the caller) is the kinematic assembly the held values and the unheld motions keep."""
+
+    def __init__(self, system, dyn: ConstrainedDynamics, held: np.ndarray, cond_rows: list[int],
+                 spring_rows: list[int]) -> None:
+        self.system, self.dyn, self.mech = system, dyn, dyn.mech
+        self.held_idx, self.cond_rows, self.spring_rows = np.flatnonzero(held), cond_rows, spring_rows
+        self.scale = np.maximum(system.scales()[dyn.q_index], 1e-300)
+        self.q0 = np.zeros(dyn.nq)
+
+    def holds(self, xq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``h(q) - h0`` and ``H = dh/dq`` of the held coordinates and conditions at ``xq``."""
-        G, J = system.residual_and_jacobian(xq)
-        H = np.vstack([np.eye(nq)[held_idx], J[cond_rows][:, qi]])
-        return np.concatenate([xq[qi[held_idx]] - q0[held_idx], G[cond_rows]]), H
+        qi, nq = self.dyn.q_index, self.dyn.nq
+        G, J = self.system.residual_and_jacobian(xq)
+        H = np.vstack([np.eye(nq)[self.held_idx], J[self.cond_rows][:, qi]])
+        return np.concatenate([xq[qi[self.held_idx]] - self.q0[self.held_idx], G[self.cond_rows]]), H
 
-    _, H0 = holds(xr)
-    C = np.vstack([mech.phi_q(xr).reshape(-1, nq), system.jacobian(xr)[spring_rows][:, qi], H0])
-    _, sv, Vt = np.linalg.svd(C / scale[None, :]) if len(C) else (None, np.zeros(0), np.eye(nq))
-    rank = int(np.sum(sv > 1e-10 * max(sv[0], 1e-300))) if len(sv) else 0
-    N = (Vt[rank:] / scale[None, :]).T                      # motions of the rigidified mechanism left free
-    B = N.T @ mech.mass(xr)
-    nr, nh, nb = mech.n_constraints, H0.shape[0], B.shape[0]
-    cond_cols = np.flatnonzero(np.any(H0[len(held_idx):] != 0, axis=0))
-    xq = xr.copy()
+    def unheld(self, xq: np.ndarray) -> np.ndarray:
+        """``B = N^T M``: ``N`` the motions at ``xq`` that neither the rigid rows, the compliant rows taken as
+        rigid nor the held values fix (the columns of ``N`` scaled by the coordinates' scales)."""
+        qi, nq = self.dyn.q_index, self.dyn.nq
+        C = np.vstack([self.mech.phi_q(xq).reshape(-1, nq), self.system.jacobian(xq)[self.spring_rows][:, qi],
+                       self.holds(xq)[1]]) / self.scale[None, :]
+        _, sv, Vt = np.linalg.svd(C)
+        rank = int(np.sum(sv > 1e-10 * max(sv[0], 1e-300))) if len(sv) else 0
+        return (Vt[rank:] * self.scale[None, :]) @ self.mech.mass(xq)
 
-    def equations(xq: np.ndarray, mult: np.ndarray):
+    def equations(self, xq: np.ndarray, B: np.ndarray, mult: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Residual and Jacobian of the static equations at ``xq`` with the multipliers ``(lambda, f, g)``."""
+        mech, qi, nq = self.mech, self.dyn.q_index, self.dyn.nq
+        nr = mech.n_constraints
+        hres, H = self.holds(xq)
+        nh, nb = len(H), len(B)
         lam, f, g = mult[:nr], mult[nr:nr + nh], mult[nr + nh:]
         A = mech.phi_q(xq).reshape(-1, nq)
-        hres, H = holds(xq)
         E = np.concatenate([mech.applied_forces(xq) - A.T @ lam - H.T @ f - B.T @ g, mech.phi(xq), hres,
-                            B @ (xq[qi] - q0)])
+                            B @ (xq[qi] - self.q0)])
         # d(H^T f)/dq: the held conditions' curvature (central differences of their gradients)
         W = np.zeros((nq, nq))
-        for i in cond_cols if np.any(f[len(held_idx):]) else ():
-            step = 1e-6 * scale[i]
-            cols = []
+        cond_f = f[len(self.held_idx):]
+        for i in np.flatnonzero(np.any(H[len(self.held_idx):] != 0, axis=0)) if np.any(cond_f) else ():
+            step = 1e-6 * self.scale[i]
+            grads = []
             for s in (step, -step):
                 y = xq.copy()
                 y[qi[i]] += s
-                cols.append(holds(y)[1].T @ f)
-            W[:, i] = (cols[0] - cols[1]) / (2 * step)
+                grads.append(self.holds(y)[1].T @ f)
+            W[:, i] = (grads[0] - grads[1]) / (2 * step)
         K = mech.tangent_stiffness(xq, lam) + W
         Z = np.zeros
         Jac = np.block([[-K, -A.T, -H.T, -B.T], [A, Z((nr, nr + nh + nb))], [H, Z((nh, nr + nh + nb))],
                         [B, Z((nb, nr + nh + nb))]])
         return E, Jac
 
-    def lstsq(Jac: np.ndarray, E: np.ndarray) -> np.ndarray:
-        """The least-squares step ``Jac^+ E``, rows and columns equilibrated (forces, lengths, Euler parameters)."""
-        r = _inverse_or_one(np.max(np.abs(Jac), axis=1, initial=0.0))
-        c = _inverse_or_one(np.max(np.abs(Jac * r[:, None]), axis=0, initial=0.0))
-        return c * np.linalg.lstsq(Jac * r[:, None] * c[None, :], E * r, rcond=_RCOND)[0]
+    def solve(self, x: np.ndarray, B: np.ndarray, mult: np.ndarray | None,
+              max_iter: int = 30) -> tuple[np.ndarray, np.ndarray]:
+        """Newton from ``x`` on :meth:`equations` with the unheld motions ``B``: ``(pose, multipliers)``;
+        :class:`InputError` when it finds none."""
+        mech, qi, nq = self.mech, self.dyn.q_index, self.dyn.nq
+        xq = np.array(x, float)
+        _, H = self.holds(xq)
+        if mult is None or len(mult) != mech.n_constraints + len(H) + len(B):  # linear in them: least squares
+            mult = _lstsq(np.hstack([mech.phi_q(xq).reshape(-1, nq).T, H.T, B.T]), mech.applied_forces(xq))
+        for _ in range(max_iter):
+            E, Jac = self.equations(xq, B, mult)
+            step = _lstsq(Jac, E)
+            xq[qi] -= step[:nq]
+            mult = mult - step[nq:]
+            if np.max(np.abs(step[:nq]) / self.scale) <= 1e-13:
+                break
+        xq[qi[self.held_idx]] = self.q0[self.held_idx]  # exactly the values asked for
+        E, Jac = self.equations(xq, B, mult)
+        force = max(np.max(np.abs(mech.applied_forces(xq)), initial=0.0),
+                    np.max(np.abs(Jac[:nq, nq:] @ mult), initial=0.0))
+        geometry = np.max(np.abs(E[nq:nq + mech.n_constraints + len(H)]), initial=0.0)
+        imbalance = np.max(np.abs(E[:nq]), initial=0.0)
+        if not (geometry <= 1e-9 and imbalance <= 1e-8 * force):
+            raise InputError("x0", f"no static pose of the compliant joints found with the held values (joint "
+                                   f"residual {geometry:.3g}, force imbalance {imbalance:.3g} N): does every "
+                                   "compliant direction have a stiffness?")
+        return xq, mult
 
-    # the multipliers of the rigidified pose: the equilibrium rows are linear in them
-    A0 = mech.phi_q(xq).reshape(-1, nq)
-    mult = lstsq(np.hstack([A0.T, H0.T, B.T]), mech.applied_forces(xq))
-    for _ in range(max_iter):
-        E, Jac = equations(xq, mult)
-        step = lstsq(Jac, E)
-        xq[qi] -= step[:nq]
-        mult -= step[nq:]
-        if np.max(np.abs(step[:nq]) / scale) <= 1e-13:
-            break
-    xq[qi[held_idx]] = q0[held_idx]  # exactly the values asked for
-    E, Jac = equations(xq, mult)
-    force = max(np.max(np.abs(mech.applied_forces(xq)), initial=0.0), np.max(np.abs(Jac[:nq, nq:] @ mult), initial=0.0))
-    geometry = np.max(np.abs(E[nq:nq + nr + nh]), initial=0.0)
-    if not (geometry <= 1e-9 and np.max(np.abs(E[:nq]), initial=0.0) <= 1e-8 * force):
-        raise InputError("x0", f"no static pose of the compliant joints found with the held values (joint residual "
-                               f"{geometry:.3g}, force imbalance {np.max(np.abs(E[:nq])):.3g} N): does every compliant "
-                               "direction have a stiffness?")
-    return xq
+
+def _lstsq(Jac: np.ndarray, E: np.ndarray) -> np.ndarray:
+    """The least-squares solution ``Jac^+ E``, rows and columns equilibrated first (forces, lengths, Euler
+    parameters, reactions: units apart), so that only truly dependent rows (an over-constrained closure's)
+    are cut."""
+    r = _inverse_or_one(np.max(np.abs(Jac), axis=1, initial=0.0))
+    c = _inverse_or_one(np.max(np.abs(Jac * r[:, None]), axis=0, initial=0.0))
+    return c * np.linalg.lstsq(Jac * r[:, None] * c[None, :], E * r, rcond=_RCOND)[0]
 
 
 def _inverse_or_one(v: np.ndarray) -> np.ndarray:
