@@ -216,3 +216,53 @@ def test_dual_sidestay_released_from_gear_up_with_its_attachment_loaded():
     held = fs.retracted(model)  # --held-by F_act
     for lock in ("fwd_lock", "aft_lock"):
         assert condition_value(model, x, lock) == pytest.approx(condition_value(model, held, lock), abs=1e-9)
+
+
+ARM = """
+[mechanism]
+name = "arm_soft_hinge"
+dimension = 3
+
+[parameters]
+g = { value = 9.81, unit = "m/s^2" }
+k_rot = { value = 1000.0, unit = "N m/rad" }
+
+[ground]
+O = [0, 0, 0]
+
+[bodies.arm]
+mass = 0.1
+inertia = [1e-5, 2e-5, 3e-5]
+cg = [0.1, 0.05, 0]
+points = { O = [0, 0, 0], end = [0.2, 0.1, 0] }
+
+[joints.hinge]
+type = "revolute"
+a = "ground.O"
+b = "arm.O"
+axis = [1, 0, 0]
+rotational_stiffness = "k_rot"
+
+[gravity]
+g = "g"
+
+[conditions]
+angle = { expr = "2*atan2(e1_arm, e0_arm)", unit = "rad" }
+"""
+
+
+def test_rotational_compliance_tilts_the_hinge_by_the_moment_over_k():
+    """An arm on a hinge whose rotational rows are compliant, its cg off along the axis: held at its angle,
+    the hinge tilts by the weight's moment across the axis over ``k_rot`` (0.1 kg at 0.1 m: 1e-4 rad; the
+    lever moves by that much: 1e-3), each row by its reaction over its stiffness."""
+    from mechcont.models import model_from_text
+
+    arm = model_from_text(ARM, "arm_soft_hinge.toml")
+    theta = 0.3
+    x = assemble(arm, {"angle": theta}, hold=["angle"])
+    e = np.array([x[arm.index(f"e{i}_arm")] for i in range(4)])
+    tilt = 2 * math.asin(math.hypot(e[2], e[3]))           # rotation away from the hinge's axis x
+    across = 0.1 * 9.81 * 0.1                               # the weight's moment about the perpendicular axis
+    assert tilt == pytest.approx(across / 1000.0, rel=1e-3)
+    for phi, law in spring_laws(arm, x, ["angle"]):
+        assert phi == pytest.approx(law, rel=1e-6, abs=1e-9 * across / 1000.0)

@@ -139,7 +139,8 @@ def _static_pose(system, dyn: ConstrainedDynamics, x: np.ndarray, held: np.ndarr
     # the rigidified mechanism first (compliant rows closed as if rigid, their reactions zero in the rows):
     # then every motion it has is held or unheld (N), and Newton only finds the deflections
     xr = np.array(x, float)
-    xr[[system.index(r) for _, r, _ in springs]] = 0.0
+    reactions = [system.index(r) for _, r, _ in springs]
+    xr[reactions] = 0.0
     try:
         xr = _hold_conditions(system, dyn, xr, cond_rows + pose.spring_rows, ~held)
     except InputError:  # the rigid rows leave a misfit the compliant joints take up
@@ -153,6 +154,7 @@ def _static_pose(system, dyn: ConstrainedDynamics, x: np.ndarray, held: np.ndarr
         xq = y
         if not len(B) or moved <= 1e-13:
             break
+    xq[reactions] = x[reactions]  # the reactions as given, as for a rigid mechanism
     return xq
 
 
@@ -230,7 +232,8 @@ class _Statics:
             step = _lstsq(Jac, E)
             xq[qi] -= step[:nq]
             mult = mult - step[nq:]
-            if np.max(np.abs(step[:nq]) / self.scale) <= 1e-13:
+            if (np.max(np.abs(step[:nq]) / self.scale) <= 1e-13
+                    and np.max(np.abs(step[nq:]), initial=0.0) <= 1e-10 * np.max(np.abs(mult), initial=0.0)):
                 break
         xq[qi[self.held_idx]] = self.q0[self.held_idx]  # exactly the values asked for
         E, Jac = self.equations(xq, B, mult)
@@ -249,8 +252,10 @@ def _lstsq(Jac: np.ndarray, E: np.ndarray) -> np.ndarray:
     """The least-squares solution ``Jac^+ E``, rows and columns equilibrated first (forces, lengths, Euler
     parameters, reactions: units apart), so that only truly dependent rows (an over-constrained closure's)
     are cut."""
-    r = _inverse_or_one(np.max(np.abs(Jac), axis=1, initial=0.0))
-    c = _inverse_or_one(np.max(np.abs(Jac * r[:, None]), axis=0, initial=0.0))
+    c = _inverse_or_one(np.max(np.abs(Jac), axis=0, initial=0.0))
+    rows = np.max(np.abs(Jac * c[None, :]), axis=1, initial=0.0)
+    # a row of rounding-level entries (a force no row of the matrix balances yet) is not scaled up
+    r = _inverse_or_one(np.maximum(rows, 1e-8 * np.max(rows, initial=0.0)))
     return c * np.linalg.lstsq(Jac * r[:, None] * c[None, :], E * r, rcond=_RCOND)[0]
 
 
