@@ -266,3 +266,23 @@ def test_rotational_compliance_tilts_the_hinge_by_the_moment_over_k():
     assert tilt == pytest.approx(across / 1000.0, rel=1e-3)
     for phi, law in spring_laws(arm, x, ["angle"]):
         assert phi == pytest.approx(law, rel=1e-6, abs=1e-9 * across / 1000.0)
+
+
+def test_bennett_linkage_compliant_and_unheld_starts_with_its_deflections_kept():
+    """tests/data/spatial/bennett_compliant.toml: the Bennett linkage, mobile only by its special geometry,
+    with joint D compliant (translation and rotation): closed as if rigid it still has its one motion, which
+    nothing holds. Released under gravity, the compliant rows' deflections start with no acceleration
+    (``Phi_c'' = Phi_c,q qddot`` at rest, relative to ``qddot``); from the kinematic assembly (deflections
+    zero, unloaded) they snap."""
+    from mechcont.mechanism._check import _compliant
+
+    model = load_model("tests/data/spatial/bennett_compliant.toml")
+    q = [model.index(c) for c in model.mechanics.coordinates]
+    rows = [row for row, _, _ in _compliant(model, model.defaults())]
+    snap = {}
+    for kinematic in (False, True):
+        x = assemble(model, model.defaults(), kinematic=kinematic)
+        qdd = release(model, x)
+        snap[kinematic] = np.max(np.abs(model.jacobian(x)[rows][:, q] @ qdd)) / np.max(np.abs(qdd))
+    # deflected by ~1e-7 m (k = 1e8 N/m) the linkage keeps its mobility only to that over its size (0.5 m)
+    assert snap[False] < 1e-6 < 0.1 < snap[True]

@@ -16,14 +16,16 @@ coordinate is in static equilibrium. So the pose is the solution of
 (``Q`` the applied forces with the compliant joints' springs, ``Phi`` the rigid rows, ``h`` the held
 coordinates and conditions) for ``q``, the joint reactions ``lambda`` and the holding forces ``f``.
 
-The motions ``N`` that neither the rigid rows, the compliant rows with their deflections kept nor the held
-states fix are not held: they start to move at release. They stay where the kinematic assembly ``q0`` put
-them (``B = N^T M``, in the kinetic-energy metric) and the term ``B^T g = M N g`` is the d'Alembert force of
-the acceleration ``N g`` they start with: released at rest, ``M N g = Q - Phi_q^T lambda`` and ``Phi_q N =
-0``, so the mechanism starts with exactly that acceleration, its compliant deflections with none (no snap
-of its springs). ``N`` depends on the pose it is taken at: it is taken again at the pose found until the
-pose no longer moves. An over-constrained rigid closure leaves ``lambda`` indeterminate but not the pose:
-the Newton steps are least-squares ones.
+The motions ``N`` that the rigid rows allow, the held states do not fix and the compliant deflections do
+not change along (the mechanism's own motions, its compliant joints taken as rigid) are not held: they
+start at release. They stay where the kinematic assembly ``q0`` put them (``B = N^T M``, in the
+kinetic-energy metric) and the term ``B^T g = M N g`` is the d'Alembert force of the acceleration ``N g``
+they start with: released at rest, ``M N g = Q - Phi_q^T lambda`` and ``Phi_q N = 0``, so the mechanism
+starts with exactly that acceleration, its compliant deflections with none (no snap of its springs). ``N``
+depends on the pose it is taken at: it is taken again at the pose found until the pose no longer moves (an
+over-constrained closure mobile only by its geometry, Bennett's, keeps its motion only undeflected: there
+``N`` changes the deflections least, by their size over the linkage's). An over-constrained rigid closure
+leaves ``lambda`` indeterminate but not the pose: the Newton steps are least-squares ones.
 """
 
 from __future__ import annotations
@@ -146,9 +148,10 @@ def _static_pose(system, dyn: ConstrainedDynamics, x: np.ndarray, held: np.ndarr
     except InputError:  # the rigid rows leave a misfit the compliant joints take up
         xr = np.array(x, float)
     pose.q0 = xr[dyn.q_index].copy()
-    xq, mult = xr, None
+    xq, mult, count = xr, None, None
     for _ in range(_OUTER):  # the unheld motions at the deflected pose: their start is then exactly rigid
-        B = pose.unheld(xq)
+        B = pose.unheld(xq, count)
+        count = len(B)
         y, mult = pose.solve(xq, B, mult)
         moved = np.max(np.abs(y - xq)[dyn.q_index] / pose.scale, initial=0.0)
         xq = y
@@ -181,15 +184,23 @@ class _Statics:
         H = np.vstack([np.eye(nq)[self.held_idx], J[self.cond_rows][:, qi]])
         return np.concatenate([xq[qi[self.held_idx]] - self.q0[self.held_idx], G[self.cond_rows]]), H
 
-    def unheld(self, xq: np.ndarray) -> np.ndarray:
-        """``B = N^T M``: ``N`` the motions at ``xq`` that neither the rigid rows, the compliant rows taken as
-        rigid nor the held values fix (the columns of ``N`` scaled by the coordinates' scales)."""
+    def unheld(self, xq: np.ndarray, count: int | None = None) -> np.ndarray:
+        """``B = N^T M``: ``N`` the motions at ``xq`` that the rigid rows allow (exactly: released, the mechanism
+        can start along them), the held values do not fix and the compliant rows' deflections change least
+        along: as many as leave them unchanged (``count`` None: at the rigidified pose), or the ``count`` that
+        change them least (at a deflected pose an over-constrained closure such as Bennett's loses its
+        mobility by a little). Scaled by the coordinates' scales, so that the choice is free of units."""
         qi, nq = self.dyn.q_index, self.dyn.nq
-        C = np.vstack([self.mech.phi_q(xq).reshape(-1, nq), self.system.jacobian(xq)[self.spring_rows][:, qi],
-                       self.holds(xq)[1]]) / self.scale[None, :]
-        _, sv, Vt = np.linalg.svd(C)
-        rank = int(np.sum(sv > 1e-10 * max(sv[0], 1e-300))) if len(sv) else 0
-        return (Vt[rank:] * self.scale[None, :]) @ self.mech.mass(xq)
+        # in coordinates of their scale (q = scale * s), the rows' Jacobians are scaled column by column
+        fixed = np.vstack([self.mech.phi_q(xq).reshape(-1, nq), self.holds(xq)[1]]) * self.scale[None, :]
+        Z = _null_space(fixed)
+        springs = self.system.jacobian(xq)[self.spring_rows][:, qi] * self.scale[None, :]
+        _, sv, Vt = np.linalg.svd(springs @ Z)
+        if count is None:
+            big = max(float(np.linalg.norm(springs, 2)), 1e-300)
+            count = Z.shape[1] - int(np.sum(sv > 1e-10 * big))
+        N = Z @ Vt[Vt.shape[0] - count:].T
+        return (N.T * self.scale[None, :]) @ self.mech.mass(xq)
 
     def equations(self, xq: np.ndarray, B: np.ndarray, mult: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Residual and Jacobian of the static equations at ``xq`` with the multipliers ``(lambda, f, g)``."""
@@ -257,6 +268,14 @@ def _lstsq(Jac: np.ndarray, E: np.ndarray) -> np.ndarray:
     # a row of rounding-level entries (a force no row of the matrix balances yet) is not scaled up
     r = _inverse_or_one(np.maximum(rows, 1e-8 * np.max(rows, initial=0.0)))
     return c * np.linalg.lstsq(Jac * r[:, None] * c[None, :], E * r, rcond=_RCOND)[0]
+
+
+def _null_space(A: np.ndarray) -> np.ndarray:
+    """An orthonormal basis (columns) of the null space of ``A`` (rank cut 1e-10 of its largest singular value)."""
+    if not len(A):
+        return np.eye(A.shape[1])
+    _, sv, Vt = np.linalg.svd(A)
+    return Vt[int(np.sum(sv > 1e-10 * max(sv[0], 1e-300))):].T
 
 
 def _inverse_or_one(v: np.ndarray) -> np.ndarray:
