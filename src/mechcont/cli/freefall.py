@@ -70,9 +70,9 @@ def _option_error(exc: InputError) -> InputError:
 @click.option("--from", "starts", multiple=True, metavar="NAME=VALUE",
               help="The retracted pose: coordinate or condition held while assembling (the uplock); released at rest.")
 @click.option("--held-by", default=None, metavar="PARAM",
-              help="The retracted pose is the static equilibrium with the --from values held and PARAM (e.g. the "
-                   "retraction actuator's force) solved for, then released: needed where joints are compliant "
-                   "(an assembly moves them freely).")
+              help="The retracted pose is the static equilibrium with the --from values held by PARAM (e.g. the "
+                   "retraction actuator's force) solved for, then released; without it compliant joints deflect as "
+                   "held by a reaction conjugate to each --from value.")
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
 @click.option("--lock", multiple=True, metavar="STOP",
               help="A lock stop (repeatable): locked when every one is in contact and at rest.")
@@ -132,13 +132,6 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
             raise InputError("--critical" if rng and n == rng[0] else "--scan",
                              f"{n} is not a parameter of {system.name}; valid: {', '.join(system.parameter_names)}")
     lock_spec = _lock(system, lock, lock_condition)
-    if held_by is None:
-        from ..mechanism._check import _compliant
-
-        if _compliant(system, system.defaults()):
-            click.echo(f"warning: {system.name} has compliant joints, which the kinematic assembly of the released "
-                       "pose moves freely; give --held-by PARAM (the force that holds it there) for its static pose",
-                       err=True)
     # a run ends when it has locked (every lock stop in contact, at rest), as a lock condition ends it
     options = {"damping": damping, "rtol": rtol, "rest_speed": rest_speed, "held_by": held_by, "end_at_lock": True}
     try:

@@ -10,89 +10,17 @@ from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 
 from .._status import Status
 from ..errors import InputError
+from ._assembly import assemble, initial_vector
 from ._contact import MAX_EVENTS_AT_ONCE
 from ._events import EventTracker
 from ._result import SimulationResult
 from ._udwadia_kalaba import ConstrainedDynamics
 
-__all__ = ["simulate", "initial_vector", "assemble"]
+__all__ = ["simulate", "initial_vector", "assemble"]  # the last two from ._assembly
 
 _ASSEMBLY_TOL = 1e-6
 
 _METHODS = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
-
-
-def initial_vector(system, x0) -> np.ndarray:
-    """Full variable vector from an array (ordered like ``system.names``) or a ``{name: value}`` mapping.
-
-    A mapping overrides the model's default values by name.
-    """
-    if isinstance(x0, Mapping):
-        return system.vector(x0)
-    x = np.array(x0, dtype=float)
-    if x.shape != (len(system.names),) or not np.all(np.isfinite(x)):
-        raise InputError("x0", f"needs {len(system.names)} finite values ordered like the model's names "
-                               f"({', '.join(system.names)}), or a mapping name -> value")
-    return x
-
-
-def assemble(system, values, hold: Sequence[str] = ()) -> np.ndarray:
-    """A full variable vector whose coordinates satisfy the constraints ``Phi = 0``.
-
-    Parameters
-    ----------
-    system:
-        A model with ``mechanics``.
-    values:
-        Full vector or ``{name: value}`` overriding the defaults: parameters, and
-        coordinates as a starting guess.
-    hold:
-        Coordinates kept at their given values (e.g. ``["theta1"]`` for a 1-DOF mechanism), or
-        conditions of a description (``[conditions]``) held at their given values; the other
-        coordinates are corrected by Gauss–Newton with minimum-kinetic-energy steps.
-
-    Returns
-    -------
-    numpy.ndarray
-        Assembled vector ordered like ``system.names``. Raises :class:`InputError` if the
-        constraints cannot be met from that guess.
-    """
-    x = initial_vector(system, values)
-    dyn = ConstrainedDynamics(system, x, baumgarte=None)
-    coords = [system.names[i] for i in dyn.q_index]
-    rows = list(getattr(system, "equation_names", ()))
-    conditions = [h for h in hold if h not in coords and f"cond_{h}" in rows]
-    for h in hold:
-        if h not in coords and h not in conditions:
-            raise InputError(h, f"only coordinates or conditions can be held; valid: {', '.join(coords)}"
-                                + "".join(f", {r[5:]}" for r in rows if r.startswith("cond_")))
-    mask = np.array([c in hold for c in coords])
-    if conditions:
-        x = _hold_conditions(system, dyn, x, [rows.index(f"cond_{h}") for h in conditions], ~mask)
-    q, _ = dyn.project(0.0, x[dyn.q_index], np.zeros(dyn.nq), hold=mask)
-    x[dyn.q_index] = q
-    return x
-
-
-def _hold_conditions(system, dyn, x, rows, free, tol: float = 1e-12, max_iter: int = 30) -> np.ndarray:
-    """``x`` with its ``free`` coordinates moved (Gauss–Newton, minimum-kinetic-energy steps) so that
-    the joints close and the condition rows ``c(q) - NAME`` (``NAME`` at its value in ``x``) vanish."""
-    x = np.array(x, float)
-    qi = dyn.q_index[free]
-    for _ in range(max_iter):
-        G, J = system.residual_and_jacobian(x)
-        r = np.concatenate([dyn.mech.phi(x), G[rows]])
-        if np.max(np.abs(r)) <= tol:
-            return x
-        A = np.vstack([dyn.mech.phi_q(x).reshape(-1, dyn.nq)[:, free], J[rows][:, qi]])
-        Mis = dyn.mass_inv_sqrt(x)[np.ix_(free, free)]
-        x[qi] -= Mis @ (np.linalg.lstsq(A @ Mis, r, rcond=1e-12)[0])
-    G = system.residual(x)
-    worst = float(np.max(np.abs(G[rows])))
-    if worst > 1e-9:
-        raise InputError("x0", f"cannot assemble the mechanism with the conditions held: residual {worst:.3g} "
-                               "(is the value reachable from the start configuration?)")
-    return x
 
 
 def _velocities(system, qdot0, coordinates) -> np.ndarray:

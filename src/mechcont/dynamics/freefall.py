@@ -248,8 +248,9 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         nearest it.
     held_by:
         A parameter (the force that holds the gear up, e.g. the retraction actuator's): the released pose
-        is then the static equilibrium with ``start`` held and it solved for (:func:`held_pose`), not a
-        kinematic assembly; needed where joints are compliant.
+        is then the static equilibrium with ``start`` held and it solved for (:func:`held_pose`). Without it
+        compliant joints are at the deflection of the gear held by a reaction conjugate to each ``start`` value
+        (:func:`~mechcont.dynamics.assemble`).
 
     Returns
     -------
@@ -270,7 +271,7 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     if held_by is not None:
         guess = held_pose(model, start, held_by, guess=guess)
     x0 = assemble(model, dict(start) if guess is None else model.vector(dict(start), base=_states_of(model, guess)),
-                  hold=list(start))
+                  hold=list(start), kinematic=held_by is not None)  # held_pose's pose is already static
     events: Sequence = ()
     if target is not None:
         name, value = target
@@ -531,9 +532,9 @@ def held_pose(system, start: Mapping[str, float], held_by: str, *, values: Mappi
     ``held_by`` (the force that holds the gear there, e.g. the retraction actuator's, N) solved for; then
     ``held_by`` is set back to its value (the model's, or ``values``'): the gear released at rest.
 
-    :func:`freefall` assembles its pose kinematically, which moves a compliant joint as freely as any
-    coordinate the joints leave open (a stiff attachment dragged far off its airframe point); this pose has
-    each compliant joint deflected by the load it carries. Solved by Newton from ``guess`` (a full vector)
+    Without it :func:`freefall` holds the gear by a reaction conjugate to each ``start`` value (a moment for an
+    angle: :func:`~mechcont.dynamics.assemble`); here the actuator holds it, each compliant joint deflected by
+    the load it then carries. Solved by Newton from ``guess`` (a full vector)
     or else followed from the model's own pose in ``steps`` equal steps of the held values, each solved from
     the last, so the mechanism keeps the assembly it moves through (as when the gear retracts). Returns the
     full vector; :class:`~mechcont.errors.InputError` naming ``held_by`` when it is not a parameter,
@@ -552,7 +553,7 @@ def held_pose(system, start: Mapping[str, float], held_by: str, *, values: Mappi
         x = find_equilibrium(model, hold=dict(start), free=[held_by],
                              guess=model.vector(dict(start), base=np.asarray(guess, float)))
     else:
-        x = assemble(model, model.defaults())
+        x = assemble(model, model.defaults(), kinematic=True)  # a start for Newton only
         begin = {n: condition_value(model, x, n) for n in start}
         for k in range(1, steps + 1):
             held = {n: begin[n] + (v - begin[n]) * k / steps for n, v in start.items()}

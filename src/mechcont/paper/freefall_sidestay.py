@@ -84,17 +84,17 @@ def attachment_offset(system, x) -> float:
 
 
 def kinematic_offset(system, theta_up: float = SIDESTAY_UP, steps: int = STEPS) -> tuple[float, float]:
-    """The gear assembled kinematically (:func:`~mechcont.dynamics.assemble`, ``theta`` held, from gear down
-    in ``steps`` steps) at ``theta_up``: ``(attachment offset (m), aft lock condition)``. The assembly moves
+    """The gear assembled kinematically (:func:`~mechcont.dynamics.assemble` with ``kinematic=True``, ``theta``
+    held, from gear down in ``steps`` steps) at ``theta_up``: ``(attachment offset (m), aft lock condition)``. The assembly moves
     every coordinate the joints do not fix, the compliant attachment's too."""
     from ..dynamics import assemble
     from ..dynamics.freefall import condition_value
     from ..equations import as_model
 
     model = as_model(system)
-    x = assemble(model, {"theta": 0.0}, hold=["theta"])
+    x = assemble(model, {"theta": 0.0}, hold=["theta"], kinematic=True)
     for t in np.linspace(0.0, theta_up, steps + 1)[1:]:
-        x = assemble(model, model.vector({"theta": float(t)}, base=x), hold=["theta"])
+        x = assemble(model, model.vector({"theta": float(t)}, base=x), hold=["theta"], kinematic=True)
     return attachment_offset(model, x), condition_value(model, x, "aft_lock")
 
 
