@@ -76,10 +76,13 @@ def test_lock_time_impact_speed_and_reaction_match_the_reduced_equation():
 
 
 def test_stall_rests_in_the_closed_form_equilibrium():
+    """Short of the lock, at rest in the equilibrium cos(theta) = m g / (k U^2): "at rest", not locked."""
     system = load_model(PATH, c=20.0)
     U = 1.02 * U_C
-    run = freefall(system, {"angle": BETA}, lock="downlock", until=60.0, values={"U": U})
-    assert run.outcome == "stalled" and run.time_to_lock is None and run.impact_speed is None
+    run = freefall(system, {"angle": BETA}, lock="downlock", until=60.0, values={"U": U}, end_at_lock=True)
+    assert run.outcome == "at rest" and run.time_to_lock is None and run.impact_speed is None
+    assert run.describe()[0] == "outcome: at rest short of locking (lock: stop downlock)"
+    assert run.stops["downlock"].left is None
     theta = run.history["angle"][-1]
     assert theta == pytest.approx(math.acos(M * G / (K * U * U)), abs=1e-6)
 
@@ -107,18 +110,27 @@ def test_quasi_static_critical_is_the_closed_form_fold():
 def test_overdamped_critical_airspeed_converges_to_the_quasi_static_fold():
     system = load_model(PATH, c=20.0)
     crit = critical_airspeed(system, {"angle": BETA}, "U", 25.0, 27.0, tol=2e-3, lock="downlock", until=200.0)
-    assert crit.locks_below and crit.high - crit.low <= 2e-3
-    assert crit.value == pytest.approx(U_C, rel=1e-3)
+    assert crit.locks_below and 0 < crit.width <= 2e-3 and (crit.low, crit.high) == (crit.locked, crit.failed)
+    assert crit.locked == pytest.approx(U_C, rel=1e-3)
+    assert not crit.compare(U_C)[1]  # within the bracket's width of the fold: not a significant difference
 
 
 def test_light_damping_critical_airspeed_matches_the_reduced_equation():
     """With little damping the momentum carries the gear over the fold: a margin above U_c that the
     independent integrator reproduces to the bisection tolerance."""
-    crit = critical_airspeed(load_model(PATH, c=2.0), {"angle": BETA}, "U", 24.0, 30.0, tol=2e-3,
-                             lock="downlock", until=30.0)
+    system = load_model(PATH, c=2.0)
+    crit = critical_airspeed(system, {"angle": BETA}, "U", 24.0, 30.0, tol=2e-3, lock="downlock", until=30.0)
     ref = reduced_critical(2.0, 30.0, 24.0, 30.0, 1e-4)
-    assert abs(crit.value - ref) <= 2e-3
-    assert crit.value > 1.02 * U_C  # the momentum margin shows
+    assert crit.low - 1e-4 <= ref <= crit.high + 1e-4 and crit.width <= 2e-3
+    assert crit.locked > 1.02 * U_C  # the momentum margin shows
+    difference, significant = crit.compare(U_C)
+    assert significant and difference == pytest.approx(crit.locked - U_C)
+    # both ends were run with the stated outcomes: run again, and by the independent engine
+    assert (crit.locked, "locked") in crit.runs and (crit.failed, crit.outcome(crit.failed)) in crit.runs
+    again = [freefall(system, {"angle": BETA}, lock="downlock", until=30.0, values={"U": v}).locked
+             for v in (crit.locked, crit.failed)]
+    assert again == [True, False]
+    assert reduced_locks(crit.locked, 2.0, 30.0)[0] and not reduced_locks(crit.failed, 2.0, 30.0)[0]
 
 
 def test_bad_inputs():
@@ -132,9 +144,11 @@ def test_bad_inputs():
 
 
 def test_critical_figure(tmp_path):
-    fig = critical_figure([1.0, 10.0, 100.0], [27.0, 26.0, 25.9], U_C, damping_label="c (N s/m)")
+    fig = critical_figure([1.0, 10.0, 100.0], [(27.0, 27.1), (26.0, 26.1), (25.9, 26.0)], U_C,
+                          damping_label="c (N s/m)")
     ax = fig.axes[0]
     assert len(ax.lines) == 2 and ax.get_xscale() == "log"
+    assert list(ax.lines[0].get_ydata()) == [27.0, 26.0, 25.9]  # the ends that locked
     assert ax.lines[1].get_ydata()[0] == pytest.approx(U_C)
 
 
