@@ -9,7 +9,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, number
+from ._parse import assignments, integrator, integrator_options, number
 
 
 def _range(text: str | None, option: str) -> tuple[str, float, float] | None:
@@ -85,7 +85,7 @@ def _option_error(exc: InputError) -> InputError:
 @click.option("--scan", default=None, metavar="NAME=V1,V2,...",
               help="With --critical: the critical value at each value of parameter NAME (e.g. a damper's c).")
 @click.option("--damping", default=0.0, show_default=True, help="Mass-proportional damping (1/s).")
-@click.option("--rtol", default=1e-8, show_default=True, help="Integrator relative tolerance.")
+@integrator_options
 @click.option("--rest-speed", default=1e-4, show_default=True,
               help="Coordinate speed (rad/s, m/s) below which a run that has not locked is at rest.")
 @click.option("--out", default=None, metavar="FILE.csv",
@@ -93,8 +93,8 @@ def _option_error(exc: InputError) -> InputError:
 @click.option("--plot", default=None, metavar="FILE.png",
               help="The lock quantity against time (one run), or the critical value against the --scan parameter "
                    "with the quasi-static line.")
-def freefall_command(model, starts, held_by, settings, lock, lock_condition, until, critical, tol, scan, damping, rtol,
-                     rest_speed, out, plot):
+def freefall_command(model, starts, held_by, settings, lock, lock_condition, until, critical, tol, scan, damping, method,
+                     rtol, atol, rest_speed, out, plot):
     """Release MODEL at rest from the retracted pose and simulate it with its stops until it locks.
 
     Example: mechcont freefall examples/freefall_leg.toml --from angle=3.0 --lock downlock
@@ -116,6 +116,7 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
     out_path = check_output_path(out, "--out", (".csv",))
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     check_duration(until, "--until")
+    solver = integrator(method, rtol, atol)
     start = assignments(starts, "from")
     if not start:
         raise InputError("--from", "give the retracted pose, e.g. --from angle=1.2 (a coordinate or condition)")
@@ -142,7 +143,7 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
                        "pose moves freely; give --held-by PARAM (the force that holds it there) for its static pose",
                        err=True)
     # a run ends when it has locked (every lock stop in contact, at rest), as a lock condition ends it
-    options = {"damping": damping, "rtol": rtol, "rest_speed": rest_speed, "held_by": held_by, "end_at_lock": True}
+    options = {"damping": damping, **solver, "rest_speed": rest_speed, "held_by": held_by, "end_at_lock": True}
     try:
         if rng is None:
             _one(system, start, lock_spec, until, options, out_path, plot_path)
