@@ -31,8 +31,10 @@ def test_one_run_locks_and_reports(run, tmp_path):
     assert float(t.split()[3]) == pytest.approx(lib.time_to_lock, rel=1e-5)  # 6 significant digits printed
     (v,) = [ln for ln in lines if ln.startswith("impact speed at the lock: ")]
     assert v.endswith("rad/s") and float(v.split()[5]) == pytest.approx(lib.impact_speed, rel=1e-5)
-    assert any(ln.startswith("peak damper tension retraction: ") for ln in lines)
-    assert any(ln.startswith("peak stop reaction downlock: ") and ln.endswith("N m") for ln in lines)
+    (tension,) = [ln for ln in lines if ln.startswith("peak damper tension retraction: ")]
+    peak = lib.damper_peaks["retraction"]
+    assert tension == f"peak damper tension retraction: {peak.value:.6g} N at t = {peak.time:.6g} s"
+    assert any(ln.startswith("peak stop reaction downlock: ") and " N m at t = " in ln for ln in lines)
     with open(out) as fh:
         header = next(csv.reader(fh))
     assert "R_downlock [N m]" in header and header[-1] == "label"

@@ -12,6 +12,7 @@ from .._status import Status
 from ..errors import InputError
 from ._contact import MAX_EVENTS_AT_ONCE
 from ._events import EventTracker
+from ._peaks import DenseHistory
 from ._result import SimulationResult
 from ._udwadia_kalaba import ConstrainedDynamics
 
@@ -201,6 +202,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     tracker = EventTracker(events, system, coords)
     tracker.start(dyn, t0, y0)
     history = _History(t0, y0, t1, t_eval, contacts)
+    segments: list = []  # per accepted step: (t_old, t_end, its dense output, the stops in contact)
     status, detail = Status.FINISHED, ""
     at_once, t_last_event = 0, -math.inf
     while True:
@@ -215,7 +217,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             solver.y = np.concatenate([qp, qdp])
             solver.f = dyn(solver.t, solver.y)
         t_new, y_new = solver.t, solver.y
-        sol = solver.dense_output() if (tracker or contacts or history.times is not None) else None
+        sol = solver.dense_output()  # kept per step: events and peaks are located on it
         hit = contacts.locate(t_old, t_new, y_new, sol) if contacts is not None else None
         if hit is not None:  # the step ends at the stop event
             assert sol is not None  # made for every step with stops
@@ -225,6 +227,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             hit = None  # a terminal event comes first
         t_end = t_new if t_stop is None else t_stop
         history.step(sol, t_new, y_new, t_end, ends_at_event=t_stop is not None or hit is not None)
+        segments.append((t_old, t_end, sol, _mode(contacts)))
         if progress is not None:
             progress(t_end)
         if t_stop is not None:
@@ -249,8 +252,10 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             continue
         if solver.status == "finished":
             break
-    return _assemble_result(system, dyn, coords, np.array(history.ts), np.array(history.ys).reshape(-1, 2 * nq),
-                            status, tracker, detail, history.modes)
+    result = _assemble_result(system, dyn, coords, np.array(history.ts), np.array(history.ys).reshape(-1, 2 * nq),
+                              status, tracker, detail, history.modes)
+    result.dense = DenseHistory(system, dyn, segments)
+    return result
 
 
 def _checked_options(method: str, t_span, rtol: float, atol, max_step: float, projection: bool):

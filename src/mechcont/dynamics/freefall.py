@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
@@ -24,7 +23,10 @@ from .._status import Status
 from ..equations import StopLimit
 from ..errors import InputError
 from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, critical_figure, quasi_static_critical
+from ._dampers import DamperTension, damper_tensions
 from ._events import Crossing
+from ._peaks import Peak, locate_peaks
+from ._poses import condition_value, held_pose, travel_of
 from ._result import SimulationResult
 
 __all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
@@ -68,10 +70,6 @@ class FreefallResult:
     impact_speed:
         The rate of the lock stop's condition at its first impact, or of the lock condition when
         reached (its unit per s); None when it did not get there.
-    peak_damper:
-        ``{damper: max |tension|}`` (N) over the history.
-    peak_reaction:
-        ``{stop: max reaction}`` (units of ``R_NAME``) over the history.
     final_speed:
         ``max |qdot|`` at the end (coordinate units per s).
     history:
@@ -79,17 +77,53 @@ class FreefallResult:
     stops:
         ``{stop: StopLock}`` for each lock stop (several: locked when every one is in contact at
         rest; ``time_to_lock`` is then the last of their lock times, ``impact_speed`` the last one's).
+
+    The peak loads, :attr:`damper_peaks` and :attr:`reaction_peaks`, are located on the integrator's dense
+    output when first asked for (a bisection that needs only the outcome does not pay for them).
     """
 
     outcome: str
     lock: str
     time_to_lock: float | None
     impact_speed: float | None
-    peak_damper: dict[str, float]
-    peak_reaction: dict[str, float]
     final_speed: float
     history: SimulationResult
     stops: dict[str, StopLock] = field(default_factory=dict)
+    tension: DamperTension | None = field(default=None, repr=False, compare=False)
+    reactions: dict[str, str] = field(default_factory=dict, repr=False)  # {stop: its reaction column}
+    _peaks: dict = field(default_factory=dict, repr=False, compare=False)
+
+    @property
+    def damper_peaks(self) -> dict[str, Peak]:
+        """``{damper: Peak}``: the largest ``|tension|`` (N) and when (s), located on the integrator's dense
+        output (:func:`~._peaks.locate_peaks`), not sampled at the rows."""
+        if "dampers" not in self._peaks:
+            t = self.tension
+            if t is None or not t.names:
+                self._peaks["dampers"] = {}
+            else:
+                rows = damper_tensions(t.system, self.history, mechanism=t.mech)
+                found = locate_peaks(self.history, lambda x, qd: [abs(v) for v in t(x, qd).values()], full=False,
+                                     rows=np.abs(np.array([rows[n] for n in t.names])).T)
+                self._peaks["dampers"] = dict(zip(t.names, found))
+        return self._peaks["dampers"]
+
+    @property
+    def reaction_peaks(self) -> dict[str, Peak]:
+        """``{stop: Peak}``: the largest reaction (units of ``R_NAME``) and when (s), located alike."""
+        if "reactions" not in self._peaks:
+            self._peaks["reactions"] = {n: self.history.peak(r) for n, r in self.reactions.items()}
+        return self._peaks["reactions"]
+
+    @property
+    def peak_damper(self) -> dict[str, float]:
+        """``{damper: largest |tension|}`` (N), located (:attr:`damper_peaks` has the times)."""
+        return {n: p.value for n, p in self.damper_peaks.items()}
+
+    @property
+    def peak_reaction(self) -> dict[str, float]:
+        """``{stop: largest reaction}`` (units of ``R_NAME``), located (:attr:`reaction_peaks` has the times)."""
+        return {n: p.value for n, p in self.reaction_peaks.items()}
 
     @property
     def locked(self) -> bool:
@@ -129,58 +163,16 @@ class FreefallResult:
             left = next(iter(self.stops.values())).left if self.stops else None
             if left is not None:
                 lines.append(f"left the lock stop at {left:.6g} s (it did not hold)")
-        for name, v in self.peak_damper.items():
-            lines.append(f"peak damper tension {name}: {v:.6g} N")
-        for name, v in self.peak_reaction.items():
-            lines.append(f"peak stop reaction {name}: {v:.6g} {units.get(name, '')}".rstrip())
+        for name, p in self.damper_peaks.items():
+            lines.append(f"peak damper tension {name}: {p.value:.6g} N at t = {p.time:.6g} s")
+        for name, p in self.reaction_peaks.items():
+            u = f" {units[name]}" if units.get(name) else ""
+            lines.append(f"peak stop reaction {name}: {p.value:.6g}{u}" + (f" at t = {p.time:.6g} s" if p.value > 0 else ""))
         if self.outcome != LOCKED:
             t, pose = self.history.t[-1], self.history.at(len(self.history) - 1)
             lines.append(f"at t = {t:.6g} s: max speed {self.final_speed:.3g}, "
                          + ", ".join(f"{c} = {pose[c]:.6g}" for c in (show or self.history.coordinates)))
         return lines
-
-
-def damper_tensions(system, result: SimulationResult, h: float = 1e-7, mechanism=None) -> dict[str, np.ndarray]:
-    """Tension (N) of every damper of ``system``'s description at every row of ``result``.
-
-    ``T = c v + c2 v |v|`` with ``v = dl/dt`` (see :mod:`mechcont.mechanism.elements.damper`): the
-    length ``l`` between the damper's drawn end points, its rate by a central difference along the
-    row's velocity (error ``O(h^2)``, relative ~1e-14 at the default ``h``). ``mechanism``: the description's
-    mechanism when already at hand (a model loaded from the cache makes it on first use, seconds for a large
-    one, and a copy made with other values before that makes it again).
-    """
-    from ..equations import as_model
-    from ..mechanism._values import evaluate
-
-    mech: Any = as_model(system).mechanism if mechanism is None else mechanism
-    dampers = list(getattr(mech, "dampers", ()))
-    if not dampers or system.scene is None:
-        return {}
-    params = {v.name: v.value for v in system.variables if v.kind == "parameter"}
-    q_index = np.array([system.index(c) for c in result.coordinates])
-    out = {d.name: np.zeros(len(result)) for d in dampers}
-
-    def lengths(x):
-        ends = {name: (a, b) for name, a, b in system.scene(x).dampers}
-        return {n: float(np.linalg.norm(np.asarray(b) - np.asarray(a))) for n, (a, b) in ends.items()}
-
-    coefficients: dict[tuple, list[tuple[float, float]]] = {}  # per parameter vector (they may vary in time)
-    for i in range(len(result)):
-        x = result.values[i]
-        p = {n: float(x[system.index(n)]) for n in params}
-        key = tuple(p.values())
-        if key not in coefficients:
-            coefficients[key] = [(evaluate(mech.value(f"dampers.{d.name}.c"), p, f"dampers.{d.name}.c"),
-                                  evaluate(mech.value(f"dampers.{d.name}.c2"), p, f"dampers.{d.name}.c2"))
-                                 for d in dampers]
-        xp, xm = x.copy(), x.copy()
-        xp[q_index] += h * result.qdot[i]
-        xm[q_index] -= h * result.qdot[i]
-        lp, lm = lengths(xp), lengths(xm)
-        for d, (c, c2) in zip(dampers, coefficients[key]):
-            v = (lp[d.name] - lm[d.name]) / (2 * h)
-            out[d.name][i] = c * v + c2 * v * abs(v)
-    return out
 
 
 def _lock_stops(system, lock) -> list[StopLimit] | None:
@@ -318,11 +310,9 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         outcome = FAILED
     else:
         outcome = AT_REST if speed <= rest_speed else MOVING
-    tensions = damper_tensions(model, result, mechanism=as_model(system).mechanism)  # made once, on the original
-    reactions = {s.name: float(np.max(result[s.reaction], initial=0.0)) for s in model.stops} if stops else {}
-    return FreefallResult(outcome, lock_text, t_lock, impact, {n: float(np.max(np.abs(v), initial=0.0))
-                                                                 for n, v in tensions.items()},
-                          reactions, speed, result, per_stop)
+    tension = DamperTension(model, result.coordinates, mechanism=as_model(system).mechanism)  # made once
+    reactions = {s.name: s.reaction for s in model.stops} if stops else {}
+    return FreefallResult(outcome, lock_text, t_lock, impact, speed, result, per_stop, tension, reactions)
 
 
 def _states_of(model, guess) -> np.ndarray:
@@ -410,70 +400,3 @@ def _rate(model, result: SimulationResult, name: str, i: int) -> float:
     _, J = model.residual_and_jacobian(result.values[i])
     q_index = np.array([model.index(c) for c in result.coordinates])
     return float(J[k, q_index] @ result.qdot[i])
-
-
-def held_pose(system, start: Mapping[str, float], held_by: str, *, values: Mapping[str, float] | None = None,
-              guess=None, steps: int = 8) -> np.ndarray:
-    """The retracted pose as a static equilibrium: the ``start`` values held (SI, rad) and the parameter
-    ``held_by`` (the force that holds the gear there, e.g. the retraction actuator's, N) solved for; then
-    ``held_by`` is set back to its value (the model's, or ``values``'): the gear released at rest.
-
-    :func:`freefall` assembles its pose kinematically, which moves a compliant joint as freely as any
-    coordinate the joints leave open (a stiff attachment dragged far off its airframe point); this pose has
-    each compliant joint deflected by the load it carries. Solved by Newton from ``guess`` (a full vector)
-    or else followed from the model's own pose in ``steps`` equal steps of the held values, each solved from
-    the last, so the mechanism keeps the assembly it moves through (as when the gear retracts). Returns the
-    full vector; :class:`~mechcont.errors.InputError` naming ``held_by`` when it is not a parameter,
-    :class:`~mechcont.errors.ConvergenceError` when no equilibrium is found on the way."""
-    from ..continuation import find_equilibrium
-    from ..equations import as_model
-    from ._simulate import assemble
-
-    model = as_model(system)
-    if held_by not in model.names or model.variable(held_by).kind != "parameter":
-        raise InputError("held_by", f"{held_by} is not a parameter of {model.name}; valid: "
-                                    f"{', '.join(model.parameter_names)}")
-    if values:
-        model = model.with_values(dict(values))
-    if guess is not None:
-        x = find_equilibrium(model, hold=dict(start), free=[held_by],
-                             guess=model.vector(dict(start), base=np.asarray(guess, float)))
-    else:
-        x = assemble(model, model.defaults())
-        begin = {n: condition_value(model, x, n) for n in start}
-        for k in range(1, steps + 1):
-            held = {n: begin[n] + (v - begin[n]) * k / steps for n, v in start.items()}
-            x = find_equilibrium(model, hold=held, free=[held_by], guess=x)
-    x[model.index(held_by)] = model.defaults()[model.index(held_by)]
-    return x
-
-
-def travel_of(system, start: Mapping[str, float], lock, values: Mapping[str, float] | None = None) -> tuple[str, float, float]:
-    """The travel of a freefall: ``(variable, value at the released pose, value at the lock)``.
-
-    The variable is the lock stop's condition (the first of several; its limit is the lock value) or the lock
-    condition's state; its start value is computed at the pose assembled from ``start``."""
-    from ..equations import as_model
-    from ._simulate import assemble
-
-    model = as_model(system)
-    if values:
-        model = model.with_values(dict(values))
-    stop, target = _lock_spec(model, lock)
-    name, end = (stop.condition, float(stop.limit)) if stop is not None else target  # type: ignore[misc]
-    x0 = assemble(model, dict(start), hold=list(start))
-    return name, condition_value(model, x0, name), end
-
-
-def condition_value(system, x, name: str) -> float:
-    """The value of the coordinate or declared condition ``name`` at the full vector ``x`` (its unit),
-    computed from the coordinates (a condition's own entry in ``x`` need not be up to date)."""
-    from ..equations import as_model
-
-    model = as_model(system)
-    rows = list(model.equation_names or ())
-    if f"cond_{name}" not in rows:
-        return float(x[model.index(name)])
-    y = np.array(x, float)
-    y[model.index(name)] = 0.0
-    return float(model.residual(y)[rows.index(f"cond_{name}")])
