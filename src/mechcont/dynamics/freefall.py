@@ -77,6 +77,8 @@ class FreefallResult:
     stops:
         ``{stop: StopLock}`` for each lock stop (several: locked when every one is in contact at
         rest; ``time_to_lock`` is then the last of their lock times, ``impact_speed`` the last one's).
+    tension, reaction_columns:
+        What the peak loads are computed from: the dampers' :class:`DamperTension`, ``{stop: R_NAME}``.
 
     The peak loads, :attr:`damper_peaks` and :attr:`reaction_peaks`, are located on the integrator's dense
     output when first asked for (a bisection that needs only the outcome does not pay for them).
@@ -90,7 +92,7 @@ class FreefallResult:
     history: SimulationResult
     stops: dict[str, StopLock] = field(default_factory=dict)
     tension: DamperTension | None = field(default=None, repr=False, compare=False)
-    reactions: dict[str, str] = field(default_factory=dict, repr=False)  # {stop: its reaction column}
+    reaction_columns: dict[str, str] = field(default_factory=dict, repr=False)  # {stop: its R_NAME column}
     _peaks: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
@@ -112,7 +114,7 @@ class FreefallResult:
     def reaction_peaks(self) -> dict[str, Peak]:
         """``{stop: Peak}``: the largest reaction (units of ``R_NAME``) and when (s), located alike."""
         if "reactions" not in self._peaks:
-            self._peaks["reactions"] = {n: self.history.peak(r) for n, r in self.reactions.items()}
+            self._peaks["reactions"] = {n: self.history.peak(r) for n, r in self.reaction_columns.items()}
         return self._peaks["reactions"]
 
     @property
@@ -311,8 +313,8 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     else:
         outcome = AT_REST if speed <= rest_speed else MOVING
     tension = DamperTension(model, result.coordinates, mechanism=as_model(system).mechanism)  # made once
-    reactions = {s.name: s.reaction for s in model.stops} if stops else {}
-    return FreefallResult(outcome, lock_text, t_lock, impact, speed, result, per_stop, tension, reactions)
+    columns = {s.name: s.reaction for s in model.stops} if stops else {}
+    return FreefallResult(outcome, lock_text, t_lock, impact, speed, result, per_stop, tension, columns)
 
 
 def _states_of(model, guess) -> np.ndarray:
