@@ -309,8 +309,8 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
                   f"reaction at rest equals the static reaction on the stop (`equilibrium_on_stops`) to "
                   + ("better than 1e-8 relative" if max(static) < 1e-8 else f"{max(static):.1e} relative")
                   + ". The airload shortens the fall and hits the lock harder; above the critical airspeed the "
-                    "lock links strike their stop but do not stay on it: the airload pulls them off again, and the "
-                    "gear is still moving at the end of the run.")
+                    "lock links strike their stop but do not stay on it: the airload pulls them off again (the "
+                    "outcomes in the table and of the bracket's failing end say where the gear is at the end).")
     lines += ["", "![nose gear freefall](freefall_nose_gear.png)", ""]
     lines += _damping_study(out_dir, timings)
     lines += freefall_sidestay.lines(timings)
