@@ -44,6 +44,14 @@ def test_each_shared_option_name_has_one_meaning():
     assert {c for c, _ in options["--dir"]} == {"paper", "study"}
     assert {c for c, _ in options["--no-progress"]} == {"simulate", "sweep", "animate"}
     assert "--solve-for" not in options
+    # --method names the numerical method a command computes with, its values listed: the integrator of the time
+    # simulations (SciPy's names), the reliability method of study; --rtol/--atol are the integrator's tolerances
+    assert {c for c, _ in options["--method"]} == {"simulate", "sweep", "freefall", "study"}
+    for command, p in options["--method"]:
+        assert "|" in (p.metavar or "") and ("Integrator method" in (p.help or "")) == (command != "study"), command
+    for option in ("--rtol", "--atol"):
+        assert {c for c, _ in options[option]} == {"simulate", "sweep", "freefall"}
+        assert all((p.help or "").startswith("Integrator ") for _, p in options[option])
 
 
 def _fold_curve(run, tmp_path, name, *spelling):

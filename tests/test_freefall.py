@@ -52,6 +52,24 @@ def reduced_locks(U, c, until):
     return bool(len(sol.t_events[0])), sol
 
 
+def reduced_peak_tension(U, c, t_lock):
+    """The independent engine's largest |c dl/dt| (N) before the lock and when (s): on its dense output, a scan of
+    20001 points refined by bounded Brent."""
+    from scipy.optimize import minimize_scalar
+
+    sol = solve_ivp(lambda t, y: [y[1], (moment(y[0], U) - c * arm(y[0]) ** 2 * y[1]) / I_O], (0, t_lock),
+                    [BETA, 0.0], rtol=1e-12, atol=1e-13, dense_output=True)
+
+    def tension(t):
+        theta, rate = sol.sol(t)
+        return abs(c * arm(theta) * rate)
+    ts = [t_lock * k / 20000 for k in range(20001)]
+    k = max(range(len(ts)), key=lambda i: tension(ts[i]))
+    found = minimize_scalar(lambda t: -tension(t), bounds=(ts[max(k - 1, 0)], ts[min(k + 1, 20000)]),
+                            method="bounded", options={"xatol": 1e-13})
+    return -found.fun, found.x
+
+
 def reduced_critical(c, until, lo, hi, tol):
     while hi - lo > tol:
         mid = 0.5 * (lo + hi)
@@ -69,17 +87,26 @@ def test_lock_time_impact_speed_and_reaction_match_the_reduced_equation():
     # at rest on the downlock the stop carries the net moment there (restitution 0: no bounce)
     assert run.peak_reaction["downlock"] == pytest.approx(-moment(-BETA, 15.0), rel=1e-6)
     assert run.peak_reaction["uplock"] == 0.0
-    # the damper's tension at every row is c dl/dt = c (dl/dtheta) theta'; the peak is the largest
+    # the damper's tension is c dl/dt = c (dl/dtheta) theta': its peak, located on the dense output, against the
+    # independent engine's, located on its own dense output (a fine scan, then bounded Brent)
     h = run.history
     tension = [5.0 * arm(a) * b for a, b in zip(h["angle"], h["theta_leg_dot"])]
-    assert run.peak_damper["retraction"] == pytest.approx(max(abs(v) for v in tension), rel=1e-9)
+    rows = max(abs(v) for v in tension)
+    value, when = reduced_peak_tension(15.0, 5.0, sol.t_events[0][0])
+    peak = run.damper_peaks["retraction"]
+    assert peak.value == pytest.approx(value, rel=1e-8) and peak.time == pytest.approx(when, rel=1e-4)
+    assert abs(rows / value - 1) > 1e-5  # what the rows' largest value missed it by
+    assert f"peak damper tension retraction: {peak.value:.6g} N at t = {peak.time:.6g} s" in run.describe()
 
 
 def test_stall_rests_in_the_closed_form_equilibrium():
+    """Short of the lock, at rest in the equilibrium cos(theta) = m g / (k U^2): "at rest", not locked."""
     system = load_model(PATH, c=20.0)
     U = 1.02 * U_C
-    run = freefall(system, {"angle": BETA}, lock="downlock", until=60.0, values={"U": U})
-    assert run.outcome == "stalled" and run.time_to_lock is None and run.impact_speed is None
+    run = freefall(system, {"angle": BETA}, lock="downlock", until=60.0, values={"U": U}, end_at_lock=True)
+    assert run.outcome == "at rest" and run.time_to_lock is None and run.impact_speed is None
+    assert run.describe()[0] == "outcome: at rest short of locking (lock: stop downlock)"
+    assert run.stops["downlock"].left is None
     theta = run.history["angle"][-1]
     assert theta == pytest.approx(math.acos(M * G / (K * U * U)), abs=1e-6)
 
@@ -107,18 +134,27 @@ def test_quasi_static_critical_is_the_closed_form_fold():
 def test_overdamped_critical_airspeed_converges_to_the_quasi_static_fold():
     system = load_model(PATH, c=20.0)
     crit = critical_airspeed(system, {"angle": BETA}, "U", 25.0, 27.0, tol=2e-3, lock="downlock", until=200.0)
-    assert crit.locks_below and crit.high - crit.low <= 2e-3
-    assert crit.value == pytest.approx(U_C, rel=1e-3)
+    assert crit.locks_below and 0 < crit.width <= 2e-3 and (crit.low, crit.high) == (crit.locked, crit.failed)
+    assert crit.locked == pytest.approx(U_C, rel=1e-3)
+    assert not crit.compare(U_C)[1]  # within the bracket's width of the fold: not a significant difference
 
 
 def test_light_damping_critical_airspeed_matches_the_reduced_equation():
     """With little damping the momentum carries the gear over the fold: a margin above U_c that the
     independent integrator reproduces to the bisection tolerance."""
-    crit = critical_airspeed(load_model(PATH, c=2.0), {"angle": BETA}, "U", 24.0, 30.0, tol=2e-3,
-                             lock="downlock", until=30.0)
+    system = load_model(PATH, c=2.0)
+    crit = critical_airspeed(system, {"angle": BETA}, "U", 24.0, 30.0, tol=2e-3, lock="downlock", until=30.0)
     ref = reduced_critical(2.0, 30.0, 24.0, 30.0, 1e-4)
-    assert abs(crit.value - ref) <= 2e-3
-    assert crit.value > 1.02 * U_C  # the momentum margin shows
+    assert crit.low - 1e-4 <= ref <= crit.high + 1e-4 and crit.width <= 2e-3
+    assert crit.locked > 1.02 * U_C  # the momentum margin shows
+    difference, significant = crit.compare(U_C)
+    assert significant and difference == pytest.approx(crit.locked - U_C)
+    # both ends were run with the stated outcomes: run again, and by the independent engine
+    assert (crit.locked, "locked") in crit.runs and (crit.failed, crit.outcome(crit.failed)) in crit.runs
+    again = [freefall(system, {"angle": BETA}, lock="downlock", until=30.0, values={"U": v}).locked
+             for v in (crit.locked, crit.failed)]
+    assert again == [True, False]
+    assert reduced_locks(crit.locked, 2.0, 30.0)[0] and not reduced_locks(crit.failed, 2.0, 30.0)[0]
 
 
 def test_bad_inputs():
@@ -132,9 +168,11 @@ def test_bad_inputs():
 
 
 def test_critical_figure(tmp_path):
-    fig = critical_figure([1.0, 10.0, 100.0], [27.0, 26.0, 25.9], U_C, damping_label="c (N s/m)")
+    fig = critical_figure([1.0, 10.0, 100.0], [(27.0, 27.1), (26.0, 26.1), (25.9, 26.0)], U_C,
+                          damping_label="c (N s/m)")
     ax = fig.axes[0]
     assert len(ax.lines) == 2 and ax.get_xscale() == "log"
+    assert list(ax.lines[0].get_ydata()) == [27.0, 26.0, 25.9]  # the ends that locked
     assert ax.lines[1].get_ydata()[0] == pytest.approx(U_C)
 
 

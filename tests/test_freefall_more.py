@@ -55,7 +55,7 @@ def test_one_leg_hangs_the_other_locks():
     U = 1.2 * math.sqrt(M * G / K2)
     run = freefall(load_model(TWO, U=U, c=20.0), {"angle1": BETA, "angle2": BETA}, lock=["lock1", "lock2"],
                    until=60.0)
-    assert run.outcome == "stalled" and run.time_to_lock is None and run.lock_spread is None
+    assert run.outcome == "at rest" and run.time_to_lock is None and run.lock_spread is None
     assert run.stops["lock1"].time == pytest.approx(fall_time(L1), rel=1e-6)
     assert run.stops["lock2"].time is None and run.stops["lock2"].impact_speed is None
     assert run.history["angle2"][-1] == pytest.approx(math.acos(M * G / (K2 * U * U)), abs=1e-6)

@@ -1,5 +1,5 @@
-"""``mechcont freefall``: release at rest from the uplock, simulate with the stops until locked, stalled
-or timed out; the critical airspeed by bisection, beside its quasi-static predictor."""
+"""``mechcont freefall``: release at rest from the uplock, simulate with the stops until locked, at rest short
+of locking, or still moving at --until; the critical airspeed bracketed by runs, beside its quasi-static predictor."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, number
+from ._parse import assignments, integrator, integrator_options, number
 
 
 def _range(text: str | None, option: str) -> tuple[str, float, float] | None:
@@ -85,26 +85,28 @@ def _option_error(exc: InputError) -> InputError:
 @click.option("--scan", default=None, metavar="NAME=V1,V2,...",
               help="With --critical: the critical value at each value of parameter NAME (e.g. a damper's c).")
 @click.option("--damping", default=0.0, show_default=True, help="Mass-proportional damping (1/s).")
-@click.option("--rtol", default=1e-8, show_default=True, help="Integrator relative tolerance.")
+@integrator_options
 @click.option("--rest-speed", default=1e-4, show_default=True,
-              help="Coordinate speed (rad/s, m/s) below which a run that has not locked has stalled.")
+              help="Coordinate speed (rad/s, m/s) below which a run that has not locked is at rest.")
 @click.option("--out", default=None, metavar="FILE.csv",
               help="The time history (one run), or the critical values (with --critical).")
 @click.option("--plot", default=None, metavar="FILE.png",
               help="The lock quantity against time (one run), or the critical value against the --scan parameter "
                    "with the quasi-static line.")
-def freefall_command(model, starts, held_by, settings, lock, lock_condition, until, critical, tol, scan, damping, rtol,
-                     rest_speed, out, plot):
+def freefall_command(model, starts, held_by, settings, lock, lock_condition, until, critical, tol, scan, damping, method,
+                     rtol, atol, rest_speed, out, plot):
     """Release MODEL at rest from the retracted pose and simulate it with its stops until it locks.
 
     Example: mechcont freefall examples/freefall_leg.toml --from angle=3.0 --lock downlock
     --until 10 --set U=40
 
-    Simulates until it locks (the run ends there), stalls or reaches --until. Prints the outcome
-    (locked, stalled: at rest short of locking, timed out), the time to lock,
-    the impact speed at the lock, the peak damper tensions and stop reactions. With --critical
-    V=LO:HI it bisects for the value of V where the outcome changes, and prints beside it the
-    quasi-static prediction: the fold of the equilibria the gear could hang in on its way.
+    Simulates until it locks (the run ends there) or reaches --until. Prints the outcome (locked;
+    at rest short of locking; still moving at --until, e.g. it struck the lock and left it), the
+    time to lock, the impact speed at the lock, the peak damper tensions and stop reactions. With
+    --critical V=LO:HI it bisects for the value of V where the outcome changes and prints the
+    bracket by its two ends, each a run made (the one nearest the change that locked, the one that
+    did not), and beside it the quasi-static prediction: the fold of the equilibria the gear could
+    hang in on its way; their difference is significant only when it exceeds the bracket's width.
     """
     from .._io import check_output_path
     from ..dynamics import check_duration, check_simulable
@@ -114,6 +116,7 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
     out_path = check_output_path(out, "--out", (".csv",))
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     check_duration(until, "--until")
+    solver = integrator(method, rtol, atol)
     start = assignments(starts, "from")
     if not start:
         raise InputError("--from", "give the retracted pose, e.g. --from angle=1.2 (a coordinate or condition)")
@@ -133,7 +136,7 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
                              f"{n} is not a parameter of {system.name}; valid: {', '.join(system.parameter_names)}")
     lock_spec = _lock(system, lock, lock_condition)
     # a run ends when it has locked (every lock stop in contact, at rest), as a lock condition ends it
-    options = {"damping": damping, "rtol": rtol, "rest_speed": rest_speed, "held_by": held_by, "end_at_lock": True}
+    options = {"damping": damping, **solver, "rest_speed": rest_speed, "held_by": held_by, "end_at_lock": True}
     try:
         if rng is None:
             _one(system, start, lock_spec, until, options, out_path, plot_path)
@@ -189,12 +192,11 @@ def _critical(system, start, lock, until, options, rng, tol, scanned, out_path, 
         crit = critical_airspeed(system, start, vary, low, high, tol=tol, lock=lock, until=until, values=extra,
                                  **options)
         where = f"{name} = {v:g}: " if name is not None else ""
-        which = "the largest that locks" if crit.locks_below else "the smallest that locks"
-        click.echo(f"{where}critical {vary} = {crit.value:.6g} {unit} ({which}; bracket [{crit.low:.6g}, "
-                   f"{crit.high:.6g}], {len(crit.runs)} runs)")
+        for line in crit.describe(unit):
+            click.echo(where + line)
         if crit.undecided:
-            click.echo(f"warning: {where}the failing end {vary} = {crit.high if crit.locks_below else crit.low:.6g} was "
-                       f"still moving at {until:g} s (timed out): a longer --until may lock it")
+            click.echo(f"warning: {where}the failing end {vary} = {crit.failed:.6g} was still moving at {until:g} s: "
+                       "a longer --until may lock it")
         rows.append((v, crit))
     travel, begin, end = travel_of(system, start, lock)
     side = "min" if rows[0][1].locks_below else "max"
@@ -208,21 +210,23 @@ def _critical(system, start, lock, until, options, rng, tol, scanned, out_path, 
         click.echo(f"quasi-static critical {vary} = {qs.value:.6g} {unit} ({kind})")
         for v, crit in rows:
             where = f"{name} = {v:g}: " if name is not None else ""
-            click.echo(f"{where}dynamic - quasi-static = {crit.value - qs.value:+.4g} {unit} "
-                       f"({(crit.value - qs.value) / qs.value:+.3%})")
+            diff, significant = crit.compare(qs.value)
+            verdict = "significant" if significant else "not significant (within the bracket's width)"
+            click.echo(f"{where}dynamic - quasi-static = {diff:+.4g} {unit} ({diff / qs.value:+.3%}; from the run "
+                       f"that locked, bracket width {crit.width:.3g} {unit}): {verdict}".replace(" ;", ";"))
     if out_path is not None:
         from ..outputs.tables import write_rows
 
-        write_rows(out_path, [*([name] if name else []), f"critical_{vary} [{unit}]", f"low [{unit}]", f"high [{unit}]",
-                              f"quasi_static [{unit}]"],
-                   [[*([v] if name else []), crit.value, crit.low, crit.high, qs.value if qs is not None else math.nan]
+        write_rows(out_path, [*([name] if name else []), f"locked_{vary} [{unit}]", f"failed_{vary} [{unit}]",
+                              f"quasi_static_{vary} [{unit}]"],
+                   [[*([v] if name else []), crit.locked, crit.failed, qs.value if qs is not None else math.nan]
                     for v, crit in rows])
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
         from ..dynamics.freefall import critical_figure
         from ..outputs.plotting import save_figure
 
-        fig = critical_figure([v for v, _ in rows], [c.value for _, c in rows], qs.value if qs is not None else math.nan,
+        fig = critical_figure([v for v, _ in rows], [c for _, c in rows], qs.value if qs is not None else math.nan,
                               damping_label=f"{name} ({system.variable(name).unit})".replace(" ()", ""),
                               airspeed_label=f"critical {vary} ({unit})".replace(" ()", ""),
                               title=f"{system.name}: freefall critical {vary} (runs of {until:g} s)")

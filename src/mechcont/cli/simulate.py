@@ -6,7 +6,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments
+from ._parse import assignments, integrator, integrator_options
 
 
 def _start(system, model: str, starts) -> tuple:
@@ -42,12 +42,13 @@ def _holdable(system) -> list[str]:
 @click.option("--watch", default=None, help="Column plotted against time (default: the first --start, else the "
                                             "first coordinate).")
 @click.option("--damping", default=0.0, show_default=True, help="Mass-proportional damping (1/s).")
-@click.option("--rtol", default=1e-6, show_default=True, help="Integrator relative tolerance.")
+@integrator_options
 @click.option("--out", default=None, metavar="FILE.csv", help="Write the time history as CSV (a row at each event).")
 @click.option("--plot", default=None, metavar="FILE.png", help="Plot WATCH against time, stop events marked.")
 @click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
 @click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
-def simulate_command(model, settings, starts, until, use_stops, watch, damping, rtol, out, plot, no_progress, old_quiet):
+def simulate_command(model, settings, starts, until, use_stops, watch, damping, method, rtol, atol, out, plot, no_progress,
+                     old_quiet):
     """Simulate MODEL in time from rest in the pose assembled with the --start values held.
 
     Example: mechcont simulate tests/data/bar_drop.toml --start theta_bar=0 --until 3 --stops
@@ -65,6 +66,7 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     out_path = check_output_path(out, "--out", (".csv",))
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     check_duration(until, "--until")
+    solver = integrator(method, rtol, atol)
     system = load_model(model, **assignments(settings, "set"))
     x0, start = _start(system, model, starts)
     coords = system.mechanics.coordinates
@@ -80,7 +82,7 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
 
     try:
         with Progress("simulate", total=until, unit="s simulated", quiet=no_progress or old_quiet) as bar:
-            result = simulate(system, x0, (0.0, until), damping=damping, rtol=rtol, stops=use_stops,
+            result = simulate(system, x0, (0.0, until), damping=damping, stops=use_stops, **solver,
                               progress=bar.set if bar.enabled else None)
     except InputError as exc:  # named by the option that gave the value
         option = {"x0": "--start", "rtol": "--rtol", "damping": "--damping"}.get(exc.field)

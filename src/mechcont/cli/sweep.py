@@ -7,7 +7,7 @@ import click
 from ..errors import InputError
 from ..units import display
 from ._app import cli
-from ._parse import assignments, number
+from ._parse import assignments, integrator, integrator_options, number
 
 
 def _ramps(items) -> list[tuple[str, float, float, float]]:
@@ -100,7 +100,7 @@ def _print_stop_loads(system, result) -> None:
 @click.option("--equilibrium/--no-equilibrium", default=True, show_default=True,
               help="Start from the equilibrium nearest the start configuration (Newton), else as assembled.")
 @click.option("--through", type=float, default=None, help="Time jumps where WATCH passes this value.")
-@click.option("--rtol", default=1e-6, show_default=True, help="Integrator relative tolerance.")
+@integrator_options
 @click.option("--out", default=None, metavar="FILE.csv", help="Write the time history as CSV.")
 @click.option("--plot", default=None, metavar="FILE.png", help="Plot WATCH against the ramped parameter.")
 @click.option("--branch", "branch_csv", default=None, metavar="BRANCH.csv",
@@ -111,7 +111,7 @@ def _print_stop_loads(system, result) -> None:
                    "ramped load at each contact and release.")
 @click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
 @click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
-def sweep_command(model, settings, starts, ramps, watch, damping, settle, equilibrium, through, rtol, out, plot,
+def sweep_command(model, settings, starts, ramps, watch, damping, settle, equilibrium, through, method, rtol, atol, out, plot,
                   branch_csv, use_stops, no_progress, old_quiet):
     """Ramp loads of MODEL slowly in a time simulation and report where WATCH jumps.
 
@@ -129,6 +129,7 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
 
     out_path = check_output_path(out, "--out", (".csv",))
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
+    solver = integrator(method, rtol, atol)
     segs = parse_ramps(_ramps(ramps))
     system = load_model(model, **assignments(settings, "set"))
     branch = _read_branch(branch_csv, system, segs[0].name, watch) if branch_csv is not None else None
@@ -142,7 +143,7 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     from .._progress import Progress
 
     with Progress("sweep", total=total, unit="s simulated", quiet=no_progress or old_quiet) as bar:
-        result = sweep(system, x0, segs, watch=watch, damping=damping, settle=settle, through=through, rtol=rtol,
+        result = sweep(system, x0, segs, watch=watch, damping=damping, settle=settle, through=through, **solver,
                        progress=bar.set if bar.enabled else None, stops=use_stops)
     if not system.mechanics.stability(x0).stable:  # said after sweep(), which reports bad input first
         a = _shown(system, watch, x0[system.index(watch)])

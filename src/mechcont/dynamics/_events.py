@@ -42,7 +42,9 @@ class EventTracker:
     """Evaluates events at each accepted step and locates sign changes on the dense output.
 
     Each event is a :class:`Crossing` or a callable ``g(t, x, qdot) -> float`` (``x`` the full
-    variable vector) with optional attributes ``terminal`` and ``direction`` like SciPy's.
+    variable vector) with optional attributes ``terminal`` and ``direction`` like SciPy's, and an
+    optional method ``bind(dyn)``, called with the dynamics at the start (an event that needs the
+    stops in contact reads ``dyn.contacts``).
     """
 
     def __init__(self, events, system, coordinates):
@@ -83,6 +85,10 @@ class EventTracker:
 
     def start(self, dyn, t, y) -> None:
         """Record the event values at the initial state."""
+        for fn in self._fns:
+            bind = getattr(fn, "bind", None)
+            if bind is not None:
+                bind(dyn)
         if self._fns:
             self._last = self._values(dyn, t, y)
 

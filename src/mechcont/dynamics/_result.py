@@ -6,6 +6,7 @@ import csv
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -57,6 +58,9 @@ class SimulationResult:
     stop_events:
         With stops simulated: every :class:`~._contact.StopEvent` (impact, contact, release) in
         time order, each with the index of its history row.
+    dense:
+        The integrator's dense output, per accepted step (:class:`~._peaks.DenseHistory`: ``state(t)``,
+        ``row(t)``), on which :meth:`peak` locates peaks; None for a result read back or pickled.
     """
 
     t: np.ndarray
@@ -73,6 +77,34 @@ class SimulationResult:
     detail: str = ""
     units: dict = field(default_factory=dict)
     stop_events: list = field(default_factory=list)
+    dense: Any = field(default=None, repr=False, compare=False)
+
+    def __getstate__(self):
+        """Pickled without the dense output (the interpolants and the model's compiled dynamics)."""
+        return {**self.__dict__, "dense": None}
+
+    def peak(self, quantity, *, absolute: bool = False):
+        """The largest value of a column (``"R_downlock"``, ``"theta_dot"``, a condition; its unit) or of a
+        callable ``quantity(x, qdot)`` (``x`` a full row), of its magnitude with ``absolute``, located on
+        the integrator's dense output, not sampled at the rows: a :class:`~._peaks.Peak` (``value``, and
+        ``time`` in s)."""
+        from ._peaks import locate_peak
+
+        if callable(quantity):
+            fn = quantity
+        elif quantity in self.names:
+            i = self.names.index(quantity)
+
+            def fn(x, qd):
+                return x[i]
+        elif quantity.endswith("_dot") and quantity[:-4] in self.coordinates:
+            j = self.coordinates.index(quantity[:-4])
+
+            def fn(x, qd):
+                return qd[j]
+        else:
+            raise InputError(quantity, f"not a column with a peak; valid: {', '.join(self.columns)}")
+        return locate_peak(self, (lambda x, qd: abs(fn(x, qd))) if absolute else fn)
 
     def unit(self, column: str) -> str:
         """SI unit of a column (``t``: s; ``<coordinate>_dot``: its unit per second; ``""`` if none)."""

@@ -13,14 +13,16 @@ from ..errors import InputError
 from ._assembly import assemble, initial_vector
 from ._contact import MAX_EVENTS_AT_ONCE
 from ._events import EventTracker
+from ._peaks import DenseHistory
 from ._result import SimulationResult
 from ._udwadia_kalaba import ConstrainedDynamics
 
-__all__ = ["simulate", "initial_vector", "assemble"]  # the last two from ._assembly
+__all__ = ["simulate", "initial_vector", "assemble", "check_integrator", "METHODS"]  # assemble, initial_vector from ._assembly
 
 _ASSEMBLY_TOL = 1e-6
 
-_METHODS = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
+#: The integrators by SciPy's names: explicit Runge–Kutta, then implicit (for stiff mechanisms).
+METHODS = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 
 
 def _velocities(system, qdot0, coordinates) -> np.ndarray:
@@ -43,6 +45,8 @@ def _velocities(system, qdot0, coordinates) -> np.ndarray:
 
 #: Range of relative tolerances the integrator is given: a few ulps up to 10 %.
 _RTOL = (1e-13, 0.1)
+#: Range of absolute tolerances (each state's unit, m, rad, m/s): rounding of a state of 0.01 to 1.
+_ATOL = (1e-15, 1.0)
 
 
 def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
@@ -126,6 +130,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     tracker = EventTracker(events, system, coords)
     tracker.start(dyn, t0, y0)
     history = _History(t0, y0, t1, t_eval, contacts)
+    segments: list = []  # per accepted step: (t_old, t_end, its dense output, the stops in contact)
     status, detail = Status.FINISHED, ""
     at_once, t_last_event = 0, -math.inf
     while True:
@@ -140,7 +145,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             solver.y = np.concatenate([qp, qdp])
             solver.f = dyn(solver.t, solver.y)
         t_new, y_new = solver.t, solver.y
-        sol = solver.dense_output() if (tracker or contacts or history.times is not None) else None
+        sol = solver.dense_output()  # kept per step: events and peaks are located on it
         hit = contacts.locate(t_old, t_new, y_new, sol) if contacts is not None else None
         if hit is not None:  # the step ends at the stop event
             assert sol is not None  # made for every step with stops
@@ -150,6 +155,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             hit = None  # a terminal event comes first
         t_end = t_new if t_stop is None else t_stop
         history.step(sol, t_new, y_new, t_end, ends_at_event=t_stop is not None or hit is not None)
+        segments.append((t_old, t_end, sol, _mode(contacts)))
         if progress is not None:
             progress(t_end)
         if t_stop is not None:
@@ -174,32 +180,44 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             continue
         if solver.status == "finished":
             break
-    return _assemble_result(system, dyn, coords, np.array(history.ts), np.array(history.ys).reshape(-1, 2 * nq),
-                            status, tracker, detail, history.modes)
+    result = _assemble_result(system, dyn, coords, np.array(history.ts), np.array(history.ys).reshape(-1, 2 * nq),
+                              status, tracker, detail, history.modes)
+    result.dense = DenseHistory(system, dyn, segments)
+    return result
 
 
 def _checked_options(method: str, t_span, rtol: float, atol, max_step: float, projection: bool):
     """``(t0, t1, solver class)`` of :func:`simulate`'s options; :class:`InputError` naming a bad one."""
-    if method not in _METHODS:
-        raise InputError("method", f"unknown integrator {method!r}; valid: {', '.join(_METHODS)}")
+    check_integrator(method, rtol, atol)
     try:
         t0, t1 = (float(v) for v in t_span)
     except (TypeError, ValueError):
         raise InputError("t_span", "must be (t0, t1) in seconds") from None
     if not (math.isfinite(t0) and math.isfinite(t1) and t1 > t0):
         raise InputError("t_span", f"needs finite t0 < t1, got ({t0}, {t1})")
-    for name, v in (("rtol", rtol), ("max_step", max_step)):
-        if not v > 0:
-            raise InputError(name, "must be positive")
-    if not _RTOL[0] <= rtol <= _RTOL[1]:  # below: rounding noise; above: no accuracy at all (1e300 was accepted)
-        raise InputError("rtol", f"must be between {_RTOL[0]:g} and {_RTOL[1]:g} (the integrator's relative tolerance), "
-                                 f"got {rtol:g}")
-    if np.any(np.asarray(atol) <= 0):
-        raise InputError("atol", "must be positive")
-    cls = _METHODS[method]
+    if not max_step > 0:
+        raise InputError("max_step", "must be positive")
+    cls = METHODS[method]
     if projection and cls not in (RK23, RK45, DOP853):  # explicit RK: y and f can be reset after a step
         raise InputError("projection", f"is supported with RK23, RK45 and DOP853, not {method}")
     return t0, t1, cls
+
+
+def check_integrator(method: str, rtol: float, atol) -> None:
+    """Check an integrator choice: ``method`` one of :data:`METHODS`, ``rtol`` (relative) within
+    ``[1e-13, 0.1]``, ``atol`` (absolute, in each state's unit; a number or one per state) within
+    ``[1e-15, 1]``: tolerances that double precision can meet; :class:`InputError` naming ``method``,
+    ``rtol`` or ``atol`` and what is valid."""
+    if method not in METHODS:
+        raise InputError("method", f"unknown integrator {method!r}; valid: {', '.join(METHODS)}")
+    if not _RTOL[0] <= rtol <= _RTOL[1]:  # below: rounding noise; above: no accuracy at all (1e300 was accepted)
+        raise InputError("rtol", f"must be between {_RTOL[0]:g} and {_RTOL[1]:g} (the integrator's relative tolerance), "
+                                 f"got {rtol:g}")
+    a = np.asarray(atol, float)
+    if not (a.size and np.all(np.isfinite(a)) and np.all((_ATOL[0] <= a) & (a <= _ATOL[1]))):
+        # below: the error norm of a state near zero meets rounding (1e-300 overflowed SciPy's first step to NaN)
+        raise InputError("atol", f"must be finite, between {_ATOL[0]:g} and {_ATOL[1]:g} (the integrator's absolute "
+                                 f"tolerance, in each state's unit), got {atol}")
 
 
 def _start_state(system, dyn, t0: float, x: np.ndarray, qdot0, coords) -> np.ndarray:

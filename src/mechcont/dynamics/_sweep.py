@@ -20,6 +20,7 @@ from .._status import Status
 from ..errors import InputError
 from ._events import Crossing
 from ._jumps import find_jump_windows
+from ._peaks import DenseHistory
 from ._result import SimulationResult
 from ._simulate import assemble, initial_vector, simulate
 
@@ -389,7 +390,8 @@ def _concatenate(parts: list[SimulationResult]) -> SimulationResult:
         velocity_drift=max(p.velocity_drift for p in parts),
         t_events=[np.concatenate([p.t_events[i] for p in parts]) for i in range(n_ev)],
         x_events=[np.concatenate([p.x_events[i] for p in parts]) for i in range(n_ev)],
-        nfev=sum(p.nfev for p in parts), detail=parts[-1].detail, units=first.units, stop_events=stop_events)
+        nfev=sum(p.nfev for p in parts), detail=parts[-1].detail, units=first.units, stop_events=stop_events,
+        dense=DenseHistory.joined([p.dense for p in parts]) if all(p.dense for p in parts) else None)
 
 
 def _reaction_indices(system, stops) -> list[int]:

@@ -1,16 +1,14 @@
 """Freefall extension: released at rest from the uplock, does the gear fall out and lock?
 
 :func:`freefall` simulates a mechanism with its stops from rest in the retracted pose (an uplock
-release) until it locks (the lock stop in contact and at rest, or a lock condition reached),
-stalls (comes to rest short of locking: it hangs in an intermediate equilibrium, or back on the
-uplock) or the time runs out, and reports the time to lock, the impact speed at the lock, the
-peak damper tensions and the peak stop reactions.
+release) until it locks (the lock stop in contact and at rest, or a lock condition reached), and
+reports how it ended: locked; at rest short of locking (it hangs in an intermediate equilibrium, or
+back on the uplock); or still moving at the end of the run (e.g. it struck the lock and left it
+again); with the time to lock, the impact speed at the lock, the peak damper tensions and the peak
+stop reactions.
 
-:func:`critical_airspeed` bisects on such runs for the airspeed (any parameter) where the outcome
-changes. :func:`quasi_static_critical` is the predictor beside it: the equilibria the gear could
-hang in between the retracted and the locked pose (the stall branch, continued in the pose with
-the airspeed solved for) and the airspeed at its fold, the value the dynamic critical airspeed
-tends to as the damping grows (a heavily damped gear creeps through the slowest point).
+:func:`critical_airspeed` and :func:`quasi_static_critical` (in :mod:`._critical`, exported here) bracket
+the airspeed where the outcome changes by runs, beside its quasi-static predictor.
 """
 
 from __future__ import annotations
@@ -18,14 +16,17 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
 from .._status import Status
 from ..equations import StopLimit
 from ..errors import InputError
+from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, critical_figure, quasi_static_critical
+from ._dampers import DamperTension, damper_tensions
 from ._events import Crossing
+from ._peaks import Peak, locate_peaks
+from ._poses import condition_value, held_pose, travel_of
 from ._result import SimulationResult
 
 __all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
@@ -34,19 +35,23 @@ __all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critic
 #: A lock stop counts as on its limit within this gap (condition units) for the end of a run at the lock: far
 #: below any gap a free stop has at rest, far above the contact's drift.
 LOCK_GAP = 1e-6
-#: Outcomes of a freefall run.
-LOCKED, STALLED, TIMED_OUT, FAILED = "locked", "stalled", "timed out", "failed"
+#: Outcomes of a freefall run: locked; at rest short of locking; still moving at ``until`` (it may have
+#: struck the lock and left it); the integrator failed.
+LOCKED, AT_REST, MOVING, FAILED = "locked", "at rest", "still moving", "failed"
 
 
 @dataclass(frozen=True)
 class StopLock:
     """One lock stop of a freefall: ``time`` (s) of its last contact when it ends the run in contact and
     the gear at rest (None otherwise), ``impact_speed`` the rate of its condition at its first impact (its
-    unit per s; None when it never struck)."""
+    unit per s; None when it never struck), ``left`` (s) when it last left the stop after striking it (a
+    rebound, a plastic impact whose reaction would pull, a release) if the run ended off the stop (None
+    otherwise)."""
 
     stop: str
     time: float | None
     impact_speed: float | None
+    left: float | None = None
 
 
 @dataclass
@@ -56,8 +61,8 @@ class FreefallResult:
     Attributes
     ----------
     outcome:
-        ``"locked"``, ``"stalled"`` (at rest short of locking), ``"timed out"`` (still moving at
-        ``until``) or ``"failed"`` (the integrator failed).
+        ``"locked"``, ``"at rest"`` (short of locking), ``"still moving"`` (at ``until``; it may have
+        struck the lock and left it: see ``stops``) or ``"failed"`` (the integrator failed).
     lock:
         What counted as locked: ``"stop NAME"`` or ``"NAME = VALUE"``.
     time_to_lock:
@@ -65,10 +70,6 @@ class FreefallResult:
     impact_speed:
         The rate of the lock stop's condition at its first impact, or of the lock condition when
         reached (its unit per s); None when it did not get there.
-    peak_damper:
-        ``{damper: max |tension|}`` (N) over the history.
-    peak_reaction:
-        ``{stop: max reaction}`` (units of ``R_NAME``) over the history.
     final_speed:
         ``max |qdot|`` at the end (coordinate units per s).
     history:
@@ -76,17 +77,55 @@ class FreefallResult:
     stops:
         ``{stop: StopLock}`` for each lock stop (several: locked when every one is in contact at
         rest; ``time_to_lock`` is then the last of their lock times, ``impact_speed`` the last one's).
+    tension, reaction_columns:
+        What the peak loads are computed from: the dampers' :class:`DamperTension`, ``{stop: R_NAME}``.
+
+    The peak loads, :attr:`damper_peaks` and :attr:`reaction_peaks`, are located on the integrator's dense
+    output when first asked for (a bisection that needs only the outcome does not pay for them).
     """
 
     outcome: str
     lock: str
     time_to_lock: float | None
     impact_speed: float | None
-    peak_damper: dict[str, float]
-    peak_reaction: dict[str, float]
     final_speed: float
     history: SimulationResult
     stops: dict[str, StopLock] = field(default_factory=dict)
+    tension: DamperTension | None = field(default=None, repr=False, compare=False)
+    reaction_columns: dict[str, str] = field(default_factory=dict, repr=False)  # {stop: its R_NAME column}
+    _peaks: dict = field(default_factory=dict, repr=False, compare=False)
+
+    @property
+    def damper_peaks(self) -> dict[str, Peak]:
+        """``{damper: Peak}``: the largest ``|tension|`` (N) and when (s), located on the integrator's dense
+        output (:func:`~._peaks.locate_peaks`), not sampled at the rows."""
+        if "dampers" not in self._peaks:
+            t = self.tension
+            if t is None or not t.names:
+                self._peaks["dampers"] = {}
+            else:
+                rows = damper_tensions(t.system, self.history, mechanism=t.mech)
+                found = locate_peaks(self.history, lambda x, qd: [abs(v) for v in t(x, qd).values()], full=False,
+                                     rows=np.abs(np.array([rows[n] for n in t.names])).T)
+                self._peaks["dampers"] = dict(zip(t.names, found))
+        return self._peaks["dampers"]
+
+    @property
+    def reaction_peaks(self) -> dict[str, Peak]:
+        """``{stop: Peak}``: the largest reaction (units of ``R_NAME``) and when (s), located alike."""
+        if "reactions" not in self._peaks:
+            self._peaks["reactions"] = {n: self.history.peak(r) for n, r in self.reaction_columns.items()}
+        return self._peaks["reactions"]
+
+    @property
+    def peak_damper(self) -> dict[str, float]:
+        """``{damper: largest |tension|}`` (N), located (:attr:`damper_peaks` has the times)."""
+        return {n: p.value for n, p in self.damper_peaks.items()}
+
+    @property
+    def peak_reaction(self) -> dict[str, float]:
+        """``{stop: largest reaction}`` (units of ``R_NAME``), located (:attr:`reaction_peaks` has the times)."""
+        return {n: p.value for n, p in self.reaction_peaks.items()}
 
     @property
     def locked(self) -> bool:
@@ -107,12 +146,15 @@ class FreefallResult:
         stop reactions and the lock quantity's rate, by name); a run that did not lock ends with
         where it is: the columns ``show`` (default every coordinate)."""
         units = units or {}
-        lines = [f"outcome: {self.outcome} (lock: {self.lock})"]
+        t_end = float(self.history.t[-1])
+        what = {AT_REST: "at rest short of locking", MOVING: f"still moving at t = {t_end:.6g} s"}
+        lines = [f"outcome: {what.get(self.outcome, self.outcome)} (lock: {self.lock})"]
         if self.time_to_lock is not None:
             lines.append(f"time to lock: {self.time_to_lock:.6g} s")
         if len(self.stops) > 1:
             for name, st in self.stops.items():
-                when = f"locked at {st.time:.6g} s" if st.time is not None else "not locked"
+                when = (f"locked at {st.time:.6g} s" if st.time is not None
+                        else f"struck and left at {st.left:.6g} s" if st.left is not None else "not locked")
                 hit = (f", impact speed {st.impact_speed:.6g} {units.get(name + '_rate', '1/s')}"
                        if st.impact_speed is not None else ", no impact")
                 lines.append(f"stop {name}: {when}{hit}")
@@ -120,58 +162,19 @@ class FreefallResult:
                 lines.append(f"locked {self.lock_spread:.6g} s apart")
         elif self.impact_speed is not None:
             lines.append(f"impact speed at the lock: {self.impact_speed:.6g} {units.get('lock_rate', '1/s')}")
-        for name, v in self.peak_damper.items():
-            lines.append(f"peak damper tension {name}: {v:.6g} N")
-        for name, v in self.peak_reaction.items():
-            lines.append(f"peak stop reaction {name}: {v:.6g} {units.get(name, '')}".rstrip())
+            left = next(iter(self.stops.values())).left if self.stops else None
+            if left is not None:
+                lines.append(f"left the lock stop at {left:.6g} s (it did not hold)")
+        for name, p in self.damper_peaks.items():
+            lines.append(f"peak damper tension {name}: {p.value:.6g} N at t = {p.time:.6g} s")
+        for name, p in self.reaction_peaks.items():
+            u = f" {units[name]}" if units.get(name) else ""
+            lines.append(f"peak stop reaction {name}: {p.value:.6g}{u}" + (f" at t = {p.time:.6g} s" if p.value > 0 else ""))
         if self.outcome != LOCKED:
             t, pose = self.history.t[-1], self.history.at(len(self.history) - 1)
             lines.append(f"at t = {t:.6g} s: max speed {self.final_speed:.3g}, "
                          + ", ".join(f"{c} = {pose[c]:.6g}" for c in (show or self.history.coordinates)))
         return lines
-
-
-def damper_tensions(system, result: SimulationResult, h: float = 1e-7, mechanism=None) -> dict[str, np.ndarray]:
-    """Tension (N) of every damper of ``system``'s description at every row of ``result``.
-
-    ``T = c v + c2 v |v|`` with ``v = dl/dt`` (see :mod:`mechcont.mechanism.elements.damper`): the
-    length ``l`` between the damper's drawn end points, its rate by a central difference along the
-    row's velocity (error ``O(h^2)``, relative ~1e-14 at the default ``h``). ``mechanism``: the description's
-    mechanism when already at hand (a model loaded from the cache makes it on first use, seconds for a large
-    one, and a copy made with other values before that makes it again).
-    """
-    from ..equations import as_model
-    from ..mechanism._values import evaluate
-
-    mech: Any = as_model(system).mechanism if mechanism is None else mechanism
-    dampers = list(getattr(mech, "dampers", ()))
-    if not dampers or system.scene is None:
-        return {}
-    params = {v.name: v.value for v in system.variables if v.kind == "parameter"}
-    q_index = np.array([system.index(c) for c in result.coordinates])
-    out = {d.name: np.zeros(len(result)) for d in dampers}
-
-    def lengths(x):
-        ends = {name: (a, b) for name, a, b in system.scene(x).dampers}
-        return {n: float(np.linalg.norm(np.asarray(b) - np.asarray(a))) for n, (a, b) in ends.items()}
-
-    coefficients: dict[tuple, list[tuple[float, float]]] = {}  # per parameter vector (they may vary in time)
-    for i in range(len(result)):
-        x = result.values[i]
-        p = {n: float(x[system.index(n)]) for n in params}
-        key = tuple(p.values())
-        if key not in coefficients:
-            coefficients[key] = [(evaluate(mech.value(f"dampers.{d.name}.c"), p, f"dampers.{d.name}.c"),
-                                  evaluate(mech.value(f"dampers.{d.name}.c2"), p, f"dampers.{d.name}.c2"))
-                                 for d in dampers]
-        xp, xm = x.copy(), x.copy()
-        xp[q_index] += h * result.qdot[i]
-        xm[q_index] -= h * result.qdot[i]
-        lp, lm = lengths(xp), lengths(xm)
-        for d, (c, c2) in zip(dampers, coefficients[key]):
-            v = (lp[d.name] - lm[d.name]) / (2 * h)
-            out[d.name][i] = c * v + c2 * v * abs(v)
-    return out
 
 
 def _lock_stops(system, lock) -> list[StopLimit] | None:
@@ -240,8 +243,8 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         As for :func:`~mechcont.dynamics.simulate` (``method="Radau"`` for a stiff mechanism, e.g. a stiff
         compliant attachment, whose fast vibration is damped).
     rest_speed:
-        A run that ends with every coordinate speed below this (rad/s, m/s) and not locked has
-        *stalled*; otherwise it has *timed out*.
+        A run that ends with every coordinate speed below this (rad/s, m/s) and not locked is *at rest*
+        short of locking; otherwise it is *still moving*.
     guess:
         A full variable vector to assemble from (default the model's own pose), e.g. the end of a
         retraction run: a mechanism with several assemblies at the ``start`` values takes the one
@@ -309,12 +312,10 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     elif not result.success:
         outcome = FAILED
     else:
-        outcome = STALLED if speed <= rest_speed else TIMED_OUT
-    tensions = damper_tensions(model, result, mechanism=as_model(system).mechanism)  # made once, on the original
-    reactions = {s.name: float(np.max(result[s.reaction], initial=0.0)) for s in model.stops} if stops else {}
-    return FreefallResult(outcome, lock_text, t_lock, impact, {n: float(np.max(np.abs(v), initial=0.0))
-                                                                 for n, v in tensions.items()},
-                          reactions, speed, result, per_stop)
+        outcome = AT_REST if speed <= rest_speed else MOVING
+    tension = DamperTension(model, result.coordinates, mechanism=as_model(system).mechanism)  # made once
+    columns = {s.name: s.reaction for s in model.stops} if stops else {}
+    return FreefallResult(outcome, lock_text, t_lock, impact, speed, result, per_stop, tension, columns)
 
 
 def _states_of(model, guess) -> np.ndarray:
@@ -329,29 +330,44 @@ def _states_of(model, guess) -> np.ndarray:
 
 def _stop_lock(result: SimulationResult, name: str, at_rest: bool) -> StopLock:
     """The lock of stop ``name`` in ``result``: its last contact when that is its last contact or release event
-    and the run ended at rest, and its first impact's speed."""
+    and the run ended at rest, its first impact's speed, and when it last left the stop if it ended off it."""
     evs = [ev for ev in result.stop_events if ev.stop == name]
-    last = next((ev for ev in reversed(evs) if ev.kind in ("contact", "release")), None)
     first = next((ev for ev in evs if ev.kind == "impact"), None)
-    return StopLock(name, last.time if last is not None and last.kind == "contact" and at_rest else None,
-                    first.speed if first is not None else None)
+    on = bool(evs) and evs[-1].kind == "contact"  # an impact that sticks is followed by its contact event
+    # off the stop at the end after striking it: a release, a rebound, or a plastic impact that did not hold
+    # (no contact event follows an impact whose reaction would pull)
+    left = evs[-1].time if evs and first is not None and not on else None
+    return StopLock(name, evs[-1].time if on and at_rest else None, first.speed if first is not None else None, left)
 
 
 class _AtRestOnStops:
-    """Terminal event: every stop of ``stops`` on its limit (gap below :data:`LOCK_GAP`) and every coordinate
-    speed below ``rest_speed``: ``max(max |qdot| - rest_speed, max gap - LOCK_GAP)`` falls through 0."""
+    """Terminal event: every stop of ``stops`` in contact (a constraint of the simulation, or a compliant stop
+    pressed) and on its limit (gap below :data:`LOCK_GAP`), and every coordinate speed below ``rest_speed``:
+    ``max(max |qdot| - rest_speed, max gap - LOCK_GAP)`` falls through 0 (1 while a stop is out of contact:
+    a plastic impact whose reaction would pull stops the gear on the stop for an instant, then it leaves)."""
 
     terminal, direction = True, -1
 
     def __init__(self, model, stops: Sequence[StopLimit], rest_speed: float):
         rows = list(model.equation_names)
+        self.names = [s.name for s in stops]
+        self.contacts = None
         self.model, self.rest_speed = model, rest_speed
         self.rows = np.array([rows.index(f"cond_{s.condition}") for s in stops])
         self.index = np.array([model.index(s.condition) for s in stops])
         self.side = np.array([float(s.side) for s in stops])
         self.limit = np.array([float(s.limit) for s in stops])
 
+    def bind(self, dyn) -> None:
+        """Read the stops in contact from the simulation's ``dyn.contacts``."""
+        self.contacts = dyn.contacts
+        if self.contacts is not None:
+            self.stop_index = [self.contacts.names.index(n) for n in self.names]
+
     def __call__(self, t, x, qd) -> float:
+        c = self.contacts
+        if c is not None and not all(k in c.active or k in c.pressed for k in self.stop_index):
+            return 1.0
         speed = float(np.max(np.abs(qd), initial=0.0)) - self.rest_speed
         if speed > 0:  # moving: the gaps need not be computed
             return speed
@@ -387,227 +403,3 @@ def _rate(model, result: SimulationResult, name: str, i: int) -> float:
     _, J = model.residual_and_jacobian(result.values[i])
     q_index = np.array([model.index(c) for c in result.coordinates])
     return float(J[k, q_index] @ result.qdot[i])
-
-
-@dataclass
-class CriticalAirspeed:
-    """The airspeed where the freefall outcome changes, bracketed by dynamic runs.
-
-    ``value`` is the middle of the final bracket ``(low, high)``, whose ends lock and fail
-    (``locks_below``: True when the lower end locks). ``runs`` holds ``(airspeed, outcome)`` in
-    the order simulated. A run near the critical value creeps through its slowest point for a
-    time that grows without bound, so a finite ``until`` biases the value towards the failing
-    side; :attr:`undecided` says when that may have happened."""
-
-    name: str
-    value: float
-    low: float
-    high: float
-    locks_below: bool
-    runs: list[tuple[float, str]] = field(default_factory=list)
-
-    @property
-    def undecided(self) -> bool:
-        """True when the failing end of the bracket *timed out* (still moving at ``until``): a longer
-        simulation might lock it, so the critical value may lie beyond the bracket."""
-        fail = self.high if self.locks_below else self.low
-        return any(v == fail and outcome == TIMED_OUT for v, outcome in self.runs)
-
-
-def critical_airspeed(system, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
-                      lock, until: float, values: Mapping[str, float] | None = None, **options) -> CriticalAirspeed:
-    """Bisect on freefall runs for the value of the parameter ``vary`` (an airspeed, m/s) in
-    ``[low, high]`` where the outcome changes between locked and not locked.
-
-    The two ends must differ (one locks, one does not); the bracket is halved until its width is
-    at most ``tol`` (units of ``vary``). ``options`` go to :func:`freefall`.
-    """
-    from ..equations import as_model
-
-    model = as_model(system)
-    if vary not in model.names or model.variable(vary).kind != "parameter":
-        raise InputError("critical", f"{vary} is not a parameter of {model.name}")
-    if not (math.isfinite(low) and math.isfinite(high) and low < high):
-        raise InputError("critical", f"needs LO < HI, finite, got {low:g}:{high:g}")
-    if not (math.isfinite(tol) and tol > 0):
-        raise InputError("tol", f"must be a positive number (units of {vary}), got {tol:g}")
-    base = dict(values or {})
-    runs: list[tuple[float, str]] = []
-
-    def locks(v: float) -> bool:
-        r = freefall(model, start, lock=lock, until=until, values={**base, vary: v}, **options)
-        runs.append((v, r.outcome))
-        return r.locked
-
-    lo_locks, hi_locks = locks(low), locks(high)
-    if lo_locks == hi_locks:
-        what = "lock" if lo_locks else "fail to lock"
-        raise InputError("critical", f"both ends {vary} = {low:g} and {high:g} {what}: widen the bracket "
-                                     f"(outcomes {runs[0][1]}, {runs[1][1]})")
-    a, b = low, high
-    while b - a > tol:
-        mid = 0.5 * (a + b)
-        if locks(mid) == lo_locks:
-            a = mid
-        else:
-            b = mid
-    return CriticalAirspeed(vary, 0.5 * (a + b), a, b, lo_locks, runs)
-
-
-@dataclass
-class QuasiStaticCritical:
-    """The quasi-static predictor of the critical airspeed.
-
-    ``value`` is the lowest (``side = "min"``) or highest airspeed at which the gear has an
-    equilibrium between the retracted and the locked pose (it could hang there); ``fold`` is True
-    when that extreme is a fold of the stall branch (inside the travel), False when it lies at an
-    end of the travel. ``pose`` is the travel variable there; ``branch`` the stall branch
-    (continued in the travel variable with ``vary`` solved for)."""
-
-    name: str
-    value: float
-    pose: float
-    fold: bool
-    branch: object
-
-
-def quasi_static_critical(system, travel: str, start_value: float, lock_value: float, vary: str, *,
-                          side: str = "min", values: Mapping[str, float] | None = None, samples: int = 17,
-                          options=None) -> QuasiStaticCritical:
-    """The airspeed ``vary`` at the extreme of the stall branch over the travel.
-
-    The equilibria along the travel ``travel`` (a coordinate or condition, from ``start_value``
-    to ``lock_value``) are continued with ``travel`` prescribed and ``vary`` solved for; the
-    airspeed where the gear could first hang is their minimum (``side = "min"``: airloads that
-    oppose the fall, so the gear locks below it) or maximum (``"max"``). An interior extreme is a
-    fold of the branch in ``vary``, polished with :func:`~mechcont.continuation.locate_fold`.
-    Stops are free (their reactions at 0): the intermediate equilibria are off the stops. The branch
-    starts from the extreme of ``samples`` equilibria spread over the travel (only positive airspeeds:
-    a negative one reverses the airloads).
-    """
-    from ..continuation import ContinuationOptions, continuation, find_equilibrium, locate_fold
-    from ..equations import as_model
-
-    if side not in ("min", "max"):
-        raise InputError("side", f"must be 'min' or 'max', got {side!r}")
-    model = as_model(system)
-    if values:
-        model = model.with_values(dict(values))
-    for n in (travel, vary):
-        if n not in model.names:
-            raise InputError(n, f"is not a variable of {model.name}")
-    lo, hi = sorted((float(start_value), float(lock_value)))
-    iv = model.index(vary)
-    found = []
-    for p in np.linspace(lo, hi, samples):  # equilibria across the travel, the airspeed solved for
-        try:
-            x = find_equilibrium(model, hold={travel: float(p)}, free=[vary])
-        except InputError:
-            continue
-        if math.isfinite(x[iv]) and x[iv] > 0:  # an airspeed; a negative one would reverse the airloads
-            found.append(x)
-    if not found:
-        raise InputError("quasi-static", f"no equilibrium with a positive {vary} was found along {travel} in "
-                                         f"[{lo:g}, {hi:g}]: the gear cannot hang anywhere in its travel")
-    x = (min if side == "min" else max)(found, key=lambda y: y[iv])
-    # continued from the sample nearest the extreme; bounded in vary so that the branch does not run off
-    # through a pose where the airload has no lever (there vary goes to infinity)
-    top = 4.0 * float(x[iv]) if side == "min" else math.inf
-    opts = options or ContinuationOptions(bounds={travel: (lo, hi), vary: (0.0, top)}, max_steps=2000)
-    branch = continuation(model, x, travel, free=[vary], options=opts)
-    column, poses = branch[vary], branch[travel]
-    k = int(np.argmin(column) if side == "min" else np.argmax(column))
-    value, pose, fold = float(column[k]), float(poses[k]), False
-    width = hi - lo
-    if min(pose - lo, hi - pose) > 1e-6 * width:  # inside the travel: a fold in vary, polished
-        fx, _, _ = locate_fold(model, branch.values[k], vary)
-        if lo <= fx[model.index(travel)] <= hi:
-            value, pose, fold = float(fx[iv]), float(fx[model.index(travel)]), True
-    return QuasiStaticCritical(vary, value, pose, fold, branch)
-
-
-def held_pose(system, start: Mapping[str, float], held_by: str, *, values: Mapping[str, float] | None = None,
-              guess=None, steps: int = 8) -> np.ndarray:
-    """The retracted pose as a static equilibrium: the ``start`` values held (SI, rad) and the parameter
-    ``held_by`` (the force that holds the gear there, e.g. the retraction actuator's, N) solved for; then
-    ``held_by`` is set back to its value (the model's, or ``values``'): the gear released at rest.
-
-    Without it :func:`freefall` holds the gear by a reaction conjugate to each ``start`` value (a moment for an
-    angle: :func:`~mechcont.dynamics.assemble`); here the actuator holds it, each compliant joint deflected by
-    the load it then carries. Solved by Newton from ``guess`` (a full vector)
-    or else followed from the model's own pose in ``steps`` equal steps of the held values, each solved from
-    the last, so the mechanism keeps the assembly it moves through (as when the gear retracts). Returns the
-    full vector; :class:`~mechcont.errors.InputError` naming ``held_by`` when it is not a parameter,
-    :class:`~mechcont.errors.ConvergenceError` when no equilibrium is found on the way."""
-    from ..continuation import find_equilibrium
-    from ..equations import as_model
-    from ._simulate import assemble
-
-    model = as_model(system)
-    if held_by not in model.names or model.variable(held_by).kind != "parameter":
-        raise InputError("held_by", f"{held_by} is not a parameter of {model.name}; valid: "
-                                    f"{', '.join(model.parameter_names)}")
-    if values:
-        model = model.with_values(dict(values))
-    if guess is not None:
-        x = find_equilibrium(model, hold=dict(start), free=[held_by],
-                             guess=model.vector(dict(start), base=np.asarray(guess, float)))
-    else:
-        x = assemble(model, model.defaults(), kinematic=True)  # a start for Newton only
-        begin = {n: condition_value(model, x, n) for n in start}
-        for k in range(1, steps + 1):
-            held = {n: begin[n] + (v - begin[n]) * k / steps for n, v in start.items()}
-            x = find_equilibrium(model, hold=held, free=[held_by], guess=x)
-    x[model.index(held_by)] = model.defaults()[model.index(held_by)]
-    return x
-
-
-def travel_of(system, start: Mapping[str, float], lock, values: Mapping[str, float] | None = None) -> tuple[str, float, float]:
-    """The travel of a freefall: ``(variable, value at the released pose, value at the lock)``.
-
-    The variable is the lock stop's condition (the first of several; its limit is the lock value) or the lock
-    condition's state; its start value is computed at the pose assembled from ``start``."""
-    from ..equations import as_model
-    from ._simulate import assemble
-
-    model = as_model(system)
-    if values:
-        model = model.with_values(dict(values))
-    stop, target = _lock_spec(model, lock)
-    name, end = (stop.condition, float(stop.limit)) if stop is not None else target  # type: ignore[misc]
-    x0 = assemble(model, dict(start), hold=list(start))
-    return name, condition_value(model, x0, name), end
-
-
-def condition_value(system, x, name: str) -> float:
-    """The value of the coordinate or declared condition ``name`` at the full vector ``x`` (its unit),
-    computed from the coordinates (a condition's own entry in ``x`` need not be up to date)."""
-    from ..equations import as_model
-
-    model = as_model(system)
-    rows = list(model.equation_names or ())
-    if f"cond_{name}" not in rows:
-        return float(x[model.index(name)])
-    y = np.array(x, float)
-    y[model.index(name)] = 0.0
-    return float(model.residual(y)[rows.index(f"cond_{name}")])
-
-
-def critical_figure(dampings: Sequence[float], dynamic: Sequence[float], quasi_static: float, *,
-                    damping_label: str = "damping", airspeed_label: str = "critical airspeed (m/s)", title: str = ""):
-    """Dynamic critical airspeed against damping, with the quasi-static prediction as a line.
-
-    Returns a Matplotlib figure (save it with :func:`mechcont.outputs.plotting.save_figure`)."""
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot(dampings, dynamic, "o-", label="dynamic (bisection on time simulations)")
-    ax.axhline(quasi_static, color="k", ls="--", label="quasi-static (fold of the stall branch)")
-    ax.set_xlabel(damping_label)
-    ax.set_ylabel(airspeed_label)
-    if all(d > 0 for d in dampings) and max(dampings) / min(dampings) > 20:
-        ax.set_xscale("log")
-    ax.legend()
-    ax.set_title(title)
-    fig.tight_layout()
-    return fig

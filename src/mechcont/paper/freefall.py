@@ -208,7 +208,7 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
                                  tol=PENDULUM_TOL, lock="downlock", until=PENDULUM_UNTIL, values={"c": c},
                                  rtol=PENDULUM_RTOL, atol=PENDULUM_ATOL))
         hi = crits[-1].high  # (upper end: it failed with less damping, checked again by the next bisection)
-    fig = critical_figure(DAMPERS, [k.value for k in crits], qs.value, damping_label="damper c (N s/m)",
+    fig = critical_figure(DAMPERS, crits, qs.value, damping_label="damper c (N s/m)",
                           airspeed_label="critical airspeed U (m/s)",
                           title="Gear leg (pendulum) freefall: dynamic vs quasi-static")
     save_figure(fig, out_dir / "freefall_critical_vs_damping.png")
@@ -218,9 +218,12 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
              "best at the horizontal: its stall equilibria fold at U_c = sqrt(2 m g / (rho C_D d L)) = "
              f"{closed:.4f} m/s. Continuation finds the fold at {qs.value:.4f} m/s. Bisection on freefall runs "
              f"(up to {PENDULUM_UNTIL:g} s each, ended once locked, rtol {PENDULUM_RTOL:g}; each bracket from the last, "
-             f"to {PENDULUM_TOL:g} m/s):", "",
-             "| damper c (N s/m) | dynamic critical U (m/s) | above the fold (%) |", "|---|---|---|"]
-    lines += [f"| {c:g} | {k.value:.3f} | {100 * (k.value - qs.value) / qs.value:+.2f} |" for c, k in zip(DAMPERS, crits)]
+             f"to {PENDULUM_TOL:g} m/s; the two ends of each bracket are runs made, the difference from the fold "
+             "counted from the run that locked and significant only beyond the bracket's width):", "",
+             "| damper c (N s/m) | largest U that locked (m/s) | smallest U that did not (m/s) | above the fold (%) |",
+             "|---|---|---|---|"]
+    lines += [f"| {c:g} | {k.locked:.3f} | {k.failed:.3f} | {100 * k.compare(qs.value)[0] / qs.value:+.2f}"
+              f"{'' if k.compare(qs.value)[1] else ' (within the bracket)'} |" for c, k in zip(DAMPERS, crits)]
     lines += ["", "Lightly damped, the leg's momentum carries it over the airload's hump: it locks above the "
               "quasi-static critical airspeed. Heavily damped, it creeps through the hump and the dynamic value "
               "converges to the fold (a run near it creeps for a time growing without bound, so a finite run "
@@ -299,14 +302,15 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
               f"Quasi-static: {hang}; the locked state holds up to U = {2 * CRITICAL[1]:g} m/s",
               ]
     lines[-1] += (f"; above it the lock spring cannot hold the lock links on their stop. Dynamic: bisection on "
-                  f"freefall runs gives the largest airspeed that locks, {crit.value:.3f} m/s (bracket "
-                  f"[{crit.low:.3f}, {crit.high:.3f}], {len(crit.runs)} runs of up to {CRITICAL_UNTIL:g} s from a "
+                  f"freefall runs brackets the critical airspeed between the largest airspeed run that locked, "
+                  f"{crit.locked:.3f} m/s, and the smallest that did not, {crit.failed:.3f} m/s ({crit.outcome(crit.failed)}; "
+                  f"{len(crit.runs)} runs of up to {CRITICAL_UNTIL:g} s from a "
                   f"bracket from SR {SR_BRACKET[0]:+g} to SR {SR_BRACKET[1]:+g} m/s, to {TOL:g} m/s). Each locked run's "
                   f"reaction at rest equals the static reaction on the stop (`equilibrium_on_stops`) to "
                   + ("better than 1e-8 relative" if max(static) < 1e-8 else f"{max(static):.1e} relative")
                   + ". The airload shortens the fall and hits the lock harder; above the critical airspeed the "
-                    "lock links come down but hover just short of their stop, unlocked (still moving at the end "
-                    "of the run: timed out).")
+                    "lock links strike their stop but do not stay on it: the airload pulls them off again (the "
+                    "outcomes in the table and of the bracket's failing end say where the gear is at the end).")
     lines += ["", "![nose gear freefall](freefall_nose_gear.png)", ""]
     lines += _damping_study(out_dir, timings)
     lines += freefall_sidestay.lines(timings)

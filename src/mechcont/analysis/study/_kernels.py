@@ -74,7 +74,7 @@ COLUMNS = {
     "branch_force_high": ("N", "largest force reached by the release run (nan where it ended at its own bound)"),
     "branch_status": ("", "how the release run ended: completed, stopped early, failed"),
     "branch_note": ("", "why branch_force_low or branch_force_high is nan"),
-    "outcome": ("", "freefall: locked, stalled (at rest short of locking) or timed out"),
+    "outcome": ("", "freefall: locked, at rest (short of locking), still moving (at until) or failed"),
     "locked": ("", "freefall: every lock stop in contact, at rest"),
     "time_to_lock": ("s", "freefall: when the last lock stop locked (nan: not locked)"),
     "impact_speed": ("", "freefall: the last lock stop's condition rate at its first impact (its unit per s; nan: none)"),

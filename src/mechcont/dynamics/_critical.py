@@ -1,0 +1,241 @@
+"""The critical airspeed of a freefall: a bracket of dynamic runs, and its quasi-static predictor.
+
+:func:`critical_airspeed` bisects on :func:`~mechcont.dynamics.freefall.freefall` runs for the airspeed (any
+parameter) where the outcome changes, and reports the bracket by its two ends, each a value actually run with
+its outcome: the run nearest the change that locked and the nearest that did not. :func:`quasi_static_critical`
+is the predictor beside it: the equilibria the gear could hang in between the retracted and the locked pose
+(the stall branch, continued in the pose with the airspeed solved for) and the airspeed at its fold, the value
+the dynamic critical airspeed tends to as the damping grows (a heavily damped gear creeps through the slowest
+point). :meth:`CriticalAirspeed.compare` says whether the two differ by more than the bracket resolves.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical", "quasi_static_critical",
+           "critical_figure"]
+
+
+@dataclass
+class CriticalAirspeed:
+    """The value of a parameter (an airspeed, m/s) where the freefall outcome changes, bracketed by runs.
+
+    Attributes
+    ----------
+    name:
+        The parameter varied.
+    locked:
+        The value nearest the change at which a run locked (units of ``name``).
+    failed:
+        The value nearest the change at which a run did not lock.
+    runs:
+        ``(value, outcome)`` of every run, in the order simulated (both ends among them).
+
+    The critical value lies between ``locked`` and ``failed``; neither end is a midpoint: both were run.
+    A run near the critical value creeps through its slowest point for a time that grows without bound,
+    so a finite ``until`` biases the change towards the locking side; :attr:`undecided` says when the
+    failing end was still moving at the end of its run.
+    """
+
+    name: str
+    locked: float
+    failed: float
+    runs: list[tuple[float, str]] = field(default_factory=list)
+
+    @property
+    def locks_below(self) -> bool:
+        """True when the values below the change lock (airloads that oppose the fall)."""
+        return self.locked < self.failed
+
+    @property
+    def low(self) -> float:
+        """The lower end of the bracket."""
+        return min(self.locked, self.failed)
+
+    @property
+    def high(self) -> float:
+        """The upper end of the bracket."""
+        return max(self.locked, self.failed)
+
+    @property
+    def width(self) -> float:
+        """The bracket's width ``|failed - locked|``: the resolution of the critical value."""
+        return abs(self.failed - self.locked)
+
+    def outcome(self, value: float) -> str:
+        """The outcome of the run at ``value`` (one of :attr:`runs`); KeyError when none was run there."""
+        for v, outcome in self.runs:
+            if v == value:
+                return outcome
+        raise KeyError(value)
+
+    @property
+    def undecided(self) -> bool:
+        """True when the failing end was *still moving* at ``until``: a longer simulation might lock it, so
+        the critical value may lie beyond the bracket."""
+        from .freefall import MOVING
+
+        return self.outcome(self.failed) == MOVING
+
+    def compare(self, quasi_static: float) -> tuple[float, bool]:
+        """``(locked - quasi_static, significant)``: the dynamic minus the quasi-static critical value, from the
+        end that locked, and whether it exceeds the bracket's width (a smaller difference is the bisection's
+        resolution, not dynamics)."""
+        difference = self.locked - quasi_static
+        return difference, abs(difference) > self.width
+
+    def describe(self, unit: str = "") -> list[str]:
+        """Readable lines: the bracket by its two runs and their outcomes."""
+        u = f" {unit}" if unit else ""
+        which = "largest" if self.locks_below else "smallest"
+        other = "smallest" if self.locks_below else "largest"
+        return [f"critical {self.name} between {self.low:.6g} and {self.high:.6g}{u} (width {self.width:.3g}{u}, "
+                f"{len(self.runs)} runs): the {which} run that locked {self.name} = {self.locked:.6g}{u}, "
+                f"the {other} that did not {self.name} = {self.failed:.6g}{u} ({self.outcome(self.failed)})"]
+
+
+def critical_airspeed(system, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
+                      lock, until: float, values: Mapping[str, float] | None = None, **options) -> CriticalAirspeed:
+    """Bisect on freefall runs for the value of the parameter ``vary`` (an airspeed, m/s) in
+    ``[low, high]`` where the outcome changes between locked and not locked.
+
+    The two ends must differ (one locks, one does not); the bracket is halved until its width is
+    at most ``tol`` (units of ``vary``). ``options`` go to :func:`~mechcont.dynamics.freefall.freefall`.
+    Returns the :class:`CriticalAirspeed` whose ends ``locked`` and ``failed`` are runs made.
+    """
+    from ..equations import as_model
+    from .freefall import freefall
+
+    model = as_model(system)
+    if vary not in model.names or model.variable(vary).kind != "parameter":
+        raise InputError("critical", f"{vary} is not a parameter of {model.name}")
+    if not (math.isfinite(low) and math.isfinite(high) and low < high):
+        raise InputError("critical", f"needs LO < HI, finite, got {low:g}:{high:g}")
+    if not (math.isfinite(tol) and tol > 0):
+        raise InputError("tol", f"must be a positive number (units of {vary}), got {tol:g}")
+    base = dict(values or {})
+    runs: list[tuple[float, str]] = []
+
+    def locks(v: float) -> bool:
+        r = freefall(model, start, lock=lock, until=until, values={**base, vary: v}, **options)
+        runs.append((v, r.outcome))
+        return r.locked
+
+    lo_locks, hi_locks = locks(low), locks(high)
+    if lo_locks == hi_locks:
+        what = "lock" if lo_locks else "fail to lock"
+        raise InputError("critical", f"both ends {vary} = {low:g} and {high:g} {what}: widen the bracket "
+                                     f"(outcomes {runs[0][1]}, {runs[1][1]})")
+    a, b = low, high
+    while b - a > tol:
+        mid = 0.5 * (a + b)
+        if locks(mid) == lo_locks:
+            a = mid
+        else:
+            b = mid
+    return CriticalAirspeed(vary, a if lo_locks else b, b if lo_locks else a, runs)
+
+
+@dataclass
+class QuasiStaticCritical:
+    """The quasi-static predictor of the critical airspeed.
+
+    ``value`` is the lowest (``side = "min"``) or highest airspeed at which the gear has an
+    equilibrium between the retracted and the locked pose (it could hang there); ``fold`` is True
+    when that extreme is a fold of the stall branch (inside the travel), False when it lies at an
+    end of the travel. ``pose`` is the travel variable there; ``branch`` the stall branch
+    (continued in the travel variable with ``vary`` solved for)."""
+
+    name: str
+    value: float
+    pose: float
+    fold: bool
+    branch: object
+
+
+def quasi_static_critical(system, travel: str, start_value: float, lock_value: float, vary: str, *,
+                          side: str = "min", values: Mapping[str, float] | None = None, samples: int = 17,
+                          options=None) -> QuasiStaticCritical:
+    """The airspeed ``vary`` at the extreme of the stall branch over the travel.
+
+    The equilibria along the travel ``travel`` (a coordinate or condition, from ``start_value``
+    to ``lock_value``) are continued with ``travel`` prescribed and ``vary`` solved for; the
+    airspeed where the gear could first hang is their minimum (``side = "min"``: airloads that
+    oppose the fall, so the gear locks below it) or maximum (``"max"``). An interior extreme is a
+    fold of the branch in ``vary``, polished with :func:`~mechcont.continuation.locate_fold`.
+    Stops are free (their reactions at 0): the intermediate equilibria are off the stops. The branch
+    starts from the extreme of ``samples`` equilibria spread over the travel (only positive airspeeds:
+    a negative one reverses the airloads).
+    """
+    from ..continuation import ContinuationOptions, continuation, find_equilibrium, locate_fold
+    from ..equations import as_model
+
+    if side not in ("min", "max"):
+        raise InputError("side", f"must be 'min' or 'max', got {side!r}")
+    model = as_model(system)
+    if values:
+        model = model.with_values(dict(values))
+    for n in (travel, vary):
+        if n not in model.names:
+            raise InputError(n, f"is not a variable of {model.name}")
+    lo, hi = sorted((float(start_value), float(lock_value)))
+    iv = model.index(vary)
+    found = []
+    for p in np.linspace(lo, hi, samples):  # equilibria across the travel, the airspeed solved for
+        try:
+            x = find_equilibrium(model, hold={travel: float(p)}, free=[vary])
+        except InputError:
+            continue
+        if math.isfinite(x[iv]) and x[iv] > 0:  # an airspeed; a negative one would reverse the airloads
+            found.append(x)
+    if not found:
+        raise InputError("quasi-static", f"no equilibrium with a positive {vary} was found along {travel} in "
+                                         f"[{lo:g}, {hi:g}]: the gear cannot hang anywhere in its travel")
+    x = (min if side == "min" else max)(found, key=lambda y: y[iv])
+    # continued from the sample nearest the extreme; bounded in vary so that the branch does not run off
+    # through a pose where the airload has no lever (there vary goes to infinity)
+    top = 4.0 * float(x[iv]) if side == "min" else math.inf
+    opts = options or ContinuationOptions(bounds={travel: (lo, hi), vary: (0.0, top)}, max_steps=2000)
+    branch = continuation(model, x, travel, free=[vary], options=opts)
+    column, poses = branch[vary], branch[travel]
+    k = int(np.argmin(column) if side == "min" else np.argmax(column))
+    value, pose, fold = float(column[k]), float(poses[k]), False
+    width = hi - lo
+    if min(pose - lo, hi - pose) > 1e-6 * width:  # inside the travel: a fold in vary, polished
+        fx, _, _ = locate_fold(model, branch.values[k], vary)
+        if lo <= fx[model.index(travel)] <= hi:
+            value, pose, fold = float(fx[iv]), float(fx[model.index(travel)]), True
+    return QuasiStaticCritical(vary, value, pose, fold, branch)
+
+
+def critical_figure(dampings: Sequence[float], brackets: Sequence, quasi_static: float, *,
+                    damping_label: str = "damping", airspeed_label: str = "critical airspeed (m/s)", title: str = ""):
+    """Dynamic critical airspeed against damping, with the quasi-static prediction as a line.
+
+    ``brackets``: per damping a :class:`CriticalAirspeed` or a pair ``(locked, failed)`` (values run): each
+    drawn as its locking end with a bar to the failing end. Returns a Matplotlib figure (save it with
+    :func:`mechcont.outputs.plotting.save_figure`)."""
+    import matplotlib.pyplot as plt
+
+    pairs = np.array([(b.locked, b.failed) if isinstance(b, CriticalAirspeed) else tuple(b) for b in brackets],
+                     float).reshape(-1, 2)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(dampings, pairs[:, 0], "o-", label="dynamic: largest run that locked (bisection on time simulations)")
+    ax.vlines(dampings, pairs.min(axis=1), pairs.max(axis=1), color="C0", lw=3, alpha=0.4,
+              label="bracket to the run that did not lock")
+    ax.axhline(quasi_static, color="k", ls="--", label="quasi-static (fold of the stall branch)")
+    ax.set_xlabel(damping_label)
+    ax.set_ylabel(airspeed_label)
+    if all(d > 0 for d in dampings) and max(dampings) / min(dampings) > 20:
+        ax.set_xscale("log")
+    ax.legend()
+    ax.set_title(title)
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,80 @@
+"""Poses of a freefall: the retracted pose held by a force (:func:`held_pose`), the travel from it to the
+lock (:func:`travel_of`) and a condition's value at a pose (:func:`condition_value`)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["held_pose", "travel_of", "condition_value"]
+
+
+def held_pose(system, start: Mapping[str, float], held_by: str, *, values: Mapping[str, float] | None = None,
+              guess=None, steps: int = 8) -> np.ndarray:
+    """The retracted pose as a static equilibrium: the ``start`` values held (SI, rad) and the parameter
+    ``held_by`` (the force that holds the gear there, e.g. the retraction actuator's, N) solved for; then
+    ``held_by`` is set back to its value (the model's, or ``values``'): the gear released at rest.
+
+    Without it :func:`freefall` holds the gear by a reaction conjugate to each ``start`` value (a moment for an
+    angle: :func:`~mechcont.dynamics.assemble`); here the actuator holds it, each compliant joint deflected by
+    the load it then carries. Solved by Newton from ``guess`` (a full vector)
+    or else followed from the model's own pose in ``steps`` equal steps of the held values, each solved from
+    the last, so the mechanism keeps the assembly it moves through (as when the gear retracts). Returns the
+    full vector; :class:`~mechcont.errors.InputError` naming ``held_by`` when it is not a parameter,
+    :class:`~mechcont.errors.ConvergenceError` when no equilibrium is found on the way."""
+    from ..continuation import find_equilibrium
+    from ..equations import as_model
+    from ._simulate import assemble
+
+    model = as_model(system)
+    if held_by not in model.names or model.variable(held_by).kind != "parameter":
+        raise InputError("held_by", f"{held_by} is not a parameter of {model.name}; valid: "
+                                    f"{', '.join(model.parameter_names)}")
+    if values:
+        model = model.with_values(dict(values))
+    if guess is not None:
+        x = find_equilibrium(model, hold=dict(start), free=[held_by],
+                             guess=model.vector(dict(start), base=np.asarray(guess, float)))
+    else:
+        x = assemble(model, model.defaults(), kinematic=True)  # a start for Newton only
+        begin = {n: condition_value(model, x, n) for n in start}
+        for k in range(1, steps + 1):
+            held = {n: begin[n] + (v - begin[n]) * k / steps for n, v in start.items()}
+            x = find_equilibrium(model, hold=held, free=[held_by], guess=x)
+    x[model.index(held_by)] = model.defaults()[model.index(held_by)]
+    return x
+
+
+def travel_of(system, start: Mapping[str, float], lock, values: Mapping[str, float] | None = None) -> tuple[str, float, float]:
+    """The travel of a freefall: ``(variable, value at the released pose, value at the lock)``.
+
+    The variable is the lock stop's condition (the first of several; its limit is the lock value) or the lock
+    condition's state; its start value is computed at the pose assembled from ``start``."""
+    from ..equations import as_model
+    from ._simulate import assemble
+    from .freefall import _lock_spec
+
+    model = as_model(system)
+    if values:
+        model = model.with_values(dict(values))
+    stop, target = _lock_spec(model, lock)
+    name, end = (stop.condition, float(stop.limit)) if stop is not None else target  # type: ignore[misc]
+    x0 = assemble(model, dict(start), hold=list(start))
+    return name, condition_value(model, x0, name), end
+
+
+def condition_value(system, x, name: str) -> float:
+    """The value of the coordinate or declared condition ``name`` at the full vector ``x`` (its unit),
+    computed from the coordinates (a condition's own entry in ``x`` need not be up to date)."""
+    from ..equations import as_model
+
+    model = as_model(system)
+    rows = list(model.equation_names or ())
+    if f"cond_{name}" not in rows:
+        return float(x[model.index(name)])
+    y = np.array(x, float)
+    y[model.index(name)] = 0.0
+    return float(model.residual(y)[rows.index(f"cond_{name}")])
