@@ -203,3 +203,15 @@ def test_drawing_of_the_generated_gear_names_its_bodies_readably(compliant):
         gids = [t.get_gid() or "" for t in axes["top"].texts]
         assert sum(g.startswith("body:") for g in gids) == 9
         assert any(g.startswith("point:") for g in gids) == points
+
+
+def test_energy_audit_closes_as_the_gear_settles_on_its_stops(compliant):
+    """Issue 31: the gear released at rest in its described pose settles onto both lock stops (impacts, the
+    compliant attachment's damping) in 0.05 s; its energy balance closes to the tolerance's bound."""
+    from mechcont.dynamics import simulate
+
+    r = simulate(compliant, compliant.defaults(), (0.0, 0.05), stops=True, rtol=1e-8, atol=1e-10)
+    b = r.balance
+    assert b.closes and b.worst < 1e-6 * b.scale, b.describe()
+    assert b.E_diss > 1.0 and abs(b.W_ext) < 1e-5
+    assert {ev.stop for ev in r.stop_events if ev.kind == "impact"} == {"fwd_stop", "aft_stop"}
