@@ -121,7 +121,7 @@ class EnergyLedger:
         else:  # the usual case, batched: Q(x, qdot) and Q(x, 0) at every point
             X = np.array([dyn.full(t, y[:nq]) for t, y in zip(ts, Y)])
             qd = Y[:, nq:]
-            Q = mech._Q.batch(np.vstack([np.hstack([X, qd]), np.hstack([X, np.zeros_like(qd)])]))
+            Q = mech.applied_forces_batch(np.vstack([X, X]), np.vstack([qd, np.zeros_like(qd)]))
             Qv, Q0 = Q[:len(ts)], Q[len(ts):]
             P = np.stack([-np.einsum("ij,ij->i", qd, Qv - Q0), np.einsum("ij,ij->i", qd, Q0), np.zeros(len(ts))], axis=1)
         return h * (self.weights @ P)

@@ -181,7 +181,10 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     Returns
     -------
     SimulationResult
-        Time history with named columns; ``constraint_drift`` reports ``max |Phi|``.
+        Time history with named columns; ``constraint_drift`` reports ``max |Phi|``. Its reaction
+        columns are the reactions at each row (:mod:`._reactions`: the multipliers of the solve
+        that gives the accelerations), and the energy audit's columns ``E_kin``, ``E_pot``,
+        ``E_diss``, ``W_ext``, ``E_residual`` (J; :mod:`._energy`) follow; ``balance`` sums it up.
     """
     t0, t1, cls = _checked_options(method, t_span, rtol, atol, max_step, projection)
     x = initial_vector(system, x0)

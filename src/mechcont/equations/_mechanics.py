@@ -421,6 +421,11 @@ class MechanicalModel:
         """Generalised applied forces Q(q, qdot) (N or N m per coordinate)."""
         return self._Q(self._args(x, qdot))
 
+    def applied_forces_batch(self, X, Qdot) -> np.ndarray:
+        """:meth:`applied_forces` at every row of ``X`` (full vectors, (m, n_variables)) with the velocities
+        ``Qdot`` ((m, n_q)): array (m, n_q), one call into the compiled code."""
+        return self._Q.batch(np.hstack([np.asarray(X, float), np.asarray(Qdot, float)]))
+
     def damping_matrix(self, x, qdot=None) -> np.ndarray:
         """-dQ/dqdot, shape (n_q, n_q) (N s/m)."""
         return -self._dQdqd(self._args(x, qdot))
