@@ -68,6 +68,15 @@ def test_conservative_pendulum_closes_without_external_work():
     np.testing.assert_allclose(r["E_kin"] + r["E_pot"], b.E0, atol=1e-7)
 
 
+def test_rayleigh_damping_is_dissipated():
+    # --damping d: the force -d M qdot dissipates d qdot^T M qdot (the part across the joints is taken by them)
+    system = model_from_text(OFFSET_PENDULUM, "offset_pendulum.toml")
+    r = simulate(system, assemble(system, {}), (0.0, 3.0), rtol=1e-9, atol=1e-12, damping=0.8)
+    b = closes(r)
+    assert b.E_diss > 1.0 and b.E_diss > b.E_kin and np.all(np.diff(r["E_diss"]) >= 0.0)
+    assert np.max(np.abs(r["W_ext"])) < 1e-6
+
+
 def test_reduced_form_keeps_the_potential_in_its_coordinates():
     # the reduced form (the pin's coordinates eliminated, M = J^T M J) has the same motion and the potential
     # V(q(r)); the four-bar (a closed loop: two angles and a loop constraint left), moved by its crank moment T
