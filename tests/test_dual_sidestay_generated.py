@@ -222,3 +222,15 @@ def test_locked_gear_starts_a_simulation_from_its_static_pose(locked_report):
     assert np.max(np.abs(dyn.acceleration(0.0, x[dyn.q_index], np.zeros(dyn.nq)))) < 1e-8
     kinematic = assemble(locked, locked.defaults(), kinematic=True)
     assert np.max(np.abs(kinematic[q] - xe[q])) > 1e-4
+
+
+def test_energy_audit_closes_as_the_gear_settles_on_its_stops(compliant):
+    """Issue 31: the gear released at rest in its described pose settles onto both lock stops (impacts, the
+    compliant attachment's damping) in 0.05 s; its energy balance closes to the tolerance's bound."""
+    from mechcont.dynamics import simulate
+
+    r = simulate(compliant, compliant.defaults(), (0.0, 0.05), stops=True, rtol=1e-8, atol=1e-10)
+    b = r.balance
+    assert b.closes and b.worst < 1e-6 * b.scale, b.describe()
+    assert b.E_diss > 1.0 and abs(b.W_ext) < 1e-5
+    assert {ev.stop for ev in r.stop_events if ev.kind == "impact"} == {"fwd_stop", "aft_stop"}

@@ -225,7 +225,7 @@ def test_csv_has_named_columns(tmp_path, oc04):
     r.to_csv(path)
     lines = path.read_text().splitlines()
     assert lines[0].split(",")[:4] == ["t [s]", "x1 [m]", "y1 [m]", "theta1 [rad]"]
-    assert lines[0].endswith("theta2_dot [rad/s]")
+    assert lines[0].endswith("theta2_dot [rad/s],E_kin [J],E_pot [J],E_diss [J],W_ext [J],E_residual [J]")
     assert len(lines) == len(r) + 1
 
 

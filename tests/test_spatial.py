@@ -56,6 +56,27 @@ def test_bennett_branch_satisfies_every_constraint(bennett):
         assert bennett.dropped_residual(row) < 1e-10   # the dropped rows stay implied: true mobility
 
 
+def test_bennett_time_simulation_keeps_its_energy_with_minimum_norm_reactions(bennett):
+    """Issue 31: the over-constrained linkage (three redundant rigid rows, all kept by the mechanics) falls
+    under gravity conserving its energy (the audit); its reactions are the minimum-norm multipliers, reported
+    as such: orthogonal to every self-stress (the left null space of Phi_q)."""
+    from mechcont.dynamics import assemble as assemble_dynamics
+
+    r = simulate(bennett, assemble_dynamics(bennett, {}), (0.0, 0.3), rtol=1e-8, atol=1e-10)
+    b = r.balance
+    assert b.closes and b.worst < 1e-9 * b.scale and b.E_kin > 0.1, b.describe()
+    assert r.indeterminate_rows == len(r) and r.nfev < 5000
+    mech = bennett.mechanics
+    names = bennett.reaction_names[:mech.n_constraints]
+    for i in (0, len(r) // 2, len(r) - 1):
+        x = r.values[i]
+        lam = np.array([x[bennett.index(n)] for n in names])
+        U, sv, _ = np.linalg.svd(mech.phi_q(x))
+        self_stress = U[:, int(np.count_nonzero(sv > 1e-8 * sv[0])):]
+        assert self_stress.shape[1] == 3
+        assert np.max(np.abs(self_stress.T @ lam)) < 1e-6 * np.max(np.abs(lam))
+
+
 def test_bennett_derivatives_match_finite_differences(bennett):
     check_derivatives(bennett)
 

@@ -148,6 +148,7 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
 
 def _one(system, start, lock, until, options, out_path, plot_path) -> None:
     from ..dynamics.freefall import freefall
+    from .simulate import echo_balance
 
     run = freefall(system, start, lock=lock, until=until, **options)
     h = run.history
@@ -162,6 +163,7 @@ def _one(system, start, lock, until, options, out_path, plot_path) -> None:
                f"{h.t[-1]:.6g} s simulated, {len(h)} rows")
     if not h.success:
         click.echo(f"# warning: {h.message}")
+    echo_balance(h)
     many = len(h.coordinates) > 6  # where a large mechanism hangs: its declared conditions, not 63 coordinates
     for line in run.describe(units, show=[c for c in system.conditions if c in h.names] if many else ()):
         click.echo(line)

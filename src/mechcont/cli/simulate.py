@@ -25,6 +25,17 @@ def _start(system, model: str, starts) -> tuple:
         raise InputError("--start", str(exc).split(": ", 1)[-1]) from None
 
 
+def echo_balance(result) -> None:
+    """Print the history's energy balance in one line; warn (one line, stderr) when its residual
+    exceeds what the integrator's tolerance explains (:attr:`~mechcont.dynamics.EnergyBalance.bound`)."""
+    b = result.balance
+    click.echo(f"# {b.describe()}")
+    if not b.closes:
+        click.echo(f"warning: the energy balance does not close: residual {b.worst:.3g} J exceeds the {b.bound:.3g} J "
+                   "the integrator's tolerances explain; tighten --rtol, or the model's forces and masses disagree",
+                   err=True)
+
+
 def _holdable(system) -> list[str]:
     """The names ``--start`` accepts: coordinates and conditions."""
     return [*system.mechanics.coordinates, *(r[5:] for r in system.equation_names if r.startswith("cond_"))]
@@ -99,6 +110,7 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
                f"max constraint drift {result.constraint_drift:.2e}")
     if not result.success:
         click.echo(f"# warning: {result.message}")
+    echo_balance(result)
     units = {s.name: system.variable(s.condition).unit for s in stops}
     for ev in result.stop_events:
         click.echo(ev.describe(units.get(ev.stop, "")))

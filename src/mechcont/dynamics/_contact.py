@@ -45,7 +45,7 @@ import numpy as np
 from .._roots import brentq
 from ..errors import InputError
 from ._compliant import CompliantLaw
-from ._udwadia_kalaba import _pinv_apply, fundamental_equation
+from ._udwadia_kalaba import fundamental_equation
 
 __all__ = ["StopEvent", "StopConstraints"]
 
@@ -221,16 +221,13 @@ class StopConstraints:
         if not which:
             return np.zeros(0)
         dyn = self.dyn
-        q, qd = y[: dyn.nq], y[dyn.nq:]
-        x = dyn.full(t, q)
-        A, b = dyn.joint_rows(x, qd)
-        A, b = self.rows(x, qd, A, b, which)
-        Mis = dyn.mass_inv_sqrt(x)
-        a = Mis @ (Mis @ dyn.forces(x, qd))
-        B = A @ Mis
-        w = _pinv_apply(B, b - A @ a)
-        z = np.linalg.lstsq(B.T, w, rcond=None)[0]
-        return z[A.shape[0] - len(which):]
+        kept = self.active
+        self.active = which
+        try:
+            z = dyn.multipliers(t, y[: dyn.nq], y[dyn.nq:])[1]
+        finally:
+            self.active = kept
+        return z[len(z) - len(which):]
 
     def rates(self, t: float, y: np.ndarray) -> np.ndarray:
         """Gap rates ``grad g . qdot`` of every stop (condition units per s)."""

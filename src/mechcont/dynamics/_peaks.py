@@ -74,9 +74,10 @@ class DenseHistory:
 
     def row(self, t: float, segment: int | None = None, full: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """``(full variable vector, qdot)`` at ``t`` as a history row has them: coordinates, parameters, the
-        description's conditions and, with stops simulated, the stops' reactions (``full=False``: only the
-        coordinates and parameters)."""
-        from ._simulate import _fill_conditions, _fill_contacts
+        description's conditions and the live reactions of the joints and, with stops simulated, of the stops
+        (``full=False``: only the coordinates and parameters)."""
+        from ._reactions import fill_reactions
+        from ._simulate import _fill_conditions
 
         k = self.segment_at(t) if segment is None else segment
         y = self.state(t, k)
@@ -87,9 +88,9 @@ class DenseHistory:
             return values[0], y[nq:]
         _fill_conditions(system, values)
         contacts = dyn.contacts
+        active = None if contacts is None else list(contacts.active)
+        fill_reactions(system, dyn, np.array([t]), y.reshape(1, -1), values, [self.segments[k][3]])
         if contacts is not None:
-            active = list(contacts.active)
-            _fill_contacts(contacts, np.array([t]), y.reshape(1, -1), values, [self.segments[k][3]])
             contacts.active = active
         return values[0], y[nq:]
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -13,6 +14,7 @@ import numpy as np
 from .._io import atomic_write
 from .._status import Status
 from ..errors import InputError
+from ._energy import EnergyBalance
 
 __all__ = ["SimulationStatus", "SimulationResult"]
 
@@ -58,6 +60,16 @@ class SimulationResult:
     stop_events:
         With stops simulated: every :class:`~._contact.StopEvent` (impact, contact, release) in
         time order, each with the index of its history row.
+    energy:
+        The energy audit (J), ``{column: values per row}``: ``E_kin``, ``E_pot``, ``E_diss``, ``W_ext``
+        and ``E_residual`` (see :mod:`._energy`); columns of the history like the others. Empty for a
+        history made otherwise (a sweep's).
+    energy_tolerance:
+        The energy error (J) the integrator's tolerances explain over the run (for :attr:`balance`'s
+        bound; :meth:`~._energy.EnergyLedger.step_error`).
+    indeterminate_rows:
+        Rows whose joint reactions are minimum-norm multipliers (redundant constraints: the
+        accelerations are determinate, the split of the reactions among the redundant rows is not).
     dense:
         The integrator's dense output, per accepted step (:class:`~._peaks.DenseHistory`: ``state(t)``,
         ``row(t)``), on which :meth:`peak` locates peaks; None for a result read back or pickled.
@@ -77,6 +89,9 @@ class SimulationResult:
     detail: str = ""
     units: dict = field(default_factory=dict)
     stop_events: list = field(default_factory=list)
+    energy: dict = field(default_factory=dict)
+    energy_tolerance: float = math.nan
+    indeterminate_rows: int = 0
     dense: Any = field(default=None, repr=False, compare=False)
 
     def __getstate__(self):
@@ -110,6 +125,8 @@ class SimulationResult:
         """SI unit of a column (``t``: s; ``<coordinate>_dot``: its unit per second; ``""`` if none)."""
         if column == "t":
             return "s"
+        if column in self.energy:
+            return "J"
         if column.endswith("_dot") and column[:-4] in self.coordinates:
             u = self.units.get(column[:-4], "")
             return f"{u}/s" if u else "1/s"
@@ -128,8 +145,17 @@ class SimulationResult:
 
     @property
     def columns(self) -> tuple[str, ...]:
-        """All column names: ``names`` then the velocity columns ``<coordinate>_dot``."""
-        return self.names + tuple(f"{c}_dot" for c in self.coordinates)
+        """All column names: ``names``, the velocity columns ``<coordinate>_dot``, then the energy audit's."""
+        return self.names + tuple(f"{c}_dot" for c in self.coordinates) + tuple(self.energy)
+
+    @property
+    def balance(self) -> EnergyBalance:
+        """The energy balance at the end of the history (:class:`~._energy.EnergyBalance`: the audit's
+        terms in J, the worst residual, the bound the tolerance explains and whether it closes).
+        Raises :class:`InputError` for a history without the audit."""
+        if not self.energy:
+            raise InputError("energy", "this history has no energy audit (made by simulate)")
+        return EnergyBalance.of(self.energy, self.energy_tolerance)
 
     def __getitem__(self, name: str) -> np.ndarray:
         """Column ``name`` (a variable, ``<coordinate>_dot`` or ``t``) as an array."""
@@ -139,6 +165,8 @@ class SimulationResult:
             return self.values[:, self.names.index(name)]
         if name.endswith("_dot") and name[:-4] in self.coordinates:
             return self.qdot[:, self.coordinates.index(name[:-4])]
+        if name in self.energy:
+            return self.energy[name]
         raise InputError(name, f"not a column; valid: t, {', '.join(self.columns)}")
 
     def __len__(self) -> int:
@@ -149,11 +177,13 @@ class SimulationResult:
         row = {"t": float(self.t[i])}
         row.update({n: float(v) for n, v in zip(self.names, self.values[i])})
         row.update({f"{c}_dot": float(v) for c, v in zip(self.coordinates, self.qdot[i])})
+        row.update({c: float(v[i]) for c, v in self.energy.items()})
         return row
 
     def to_csv(self, path: str | Path, labels: Sequence[str] | None = None) -> Path:
         """Write every row as CSV: ``t``, one column per variable (named as in a continuation
-        branch, so ``mechcont draw/animate`` read it), the velocities ``<coordinate>_dot``, and,
+        branch, so ``mechcont draw/animate`` read it), the velocities ``<coordinate>_dot``, the energy
+        audit's columns (``E_kin [J]`` ..., :mod:`._energy`), and,
         if ``labels`` (one string per row) is given, a ``label`` column. Headers carry the
         units as branch tables do (``t [s]``, ``F [N]``, ``theta1_dot [rad/s]``). Written
         atomically; returns the path."""
@@ -169,6 +199,7 @@ class SimulationResult:
                            + (["label"] if labels is not None else []))
                 for i in range(len(self.t)):
                     w.writerow([repr(float(self.t[i])), *(repr(float(v)) for v in self.values[i]),
-                                *(repr(float(v)) for v in self.qdot[i]), *((labels[i],) if labels is not None else ())])
+                                *(repr(float(v)) for v in self.qdot[i]), *(repr(float(v[i])) for v in self.energy.values()),
+                                *((labels[i],) if labels is not None else ())])
 
         return atomic_write(path, write)

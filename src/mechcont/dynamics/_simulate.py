@@ -12,8 +12,10 @@ from .._status import Status
 from ..errors import InputError
 from ._assembly import assemble, initial_vector
 from ._contact import MAX_EVENTS_AT_ONCE
+from ._energy import EnergyLedger, energy_columns
 from ._events import EventTracker
 from ._peaks import DenseHistory
+from ._reactions import fill_reactions
 from ._result import SimulationResult
 from ._udwadia_kalaba import ConstrainedDynamics
 
@@ -111,7 +113,10 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     Returns
     -------
     SimulationResult
-        Time history with named columns; ``constraint_drift`` reports ``max |Phi|``.
+        Time history with named columns; ``constraint_drift`` reports ``max |Phi|``. Its reaction
+        columns are the reactions at each row (:mod:`._reactions`: the multipliers of the solve
+        that gives the accelerations), and the energy audit's columns ``E_kin``, ``E_pot``,
+        ``E_diss``, ``W_ext``, ``E_residual`` (J; :mod:`._energy`) follow; ``balance`` sums it up.
     """
     t0, t1, cls = _checked_options(method, t_span, rtol, atol, max_step, projection)
     x = initial_vector(system, x0)
@@ -129,7 +134,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     solver = cls(dyn, t0, y0, t1, rtol=rtol, atol=atol, max_step=max_step)
     tracker = EventTracker(events, system, coords)
     tracker.start(dyn, t0, y0)
-    history = _History(t0, y0, t1, t_eval, contacts)
+    history = _History(t0, y0, t1, t_eval, contacts, EnergyLedger(dyn, rtol, atol, method))
     segments: list = []  # per accepted step: (t_old, t_end, its dense output, the stops in contact)
     status, detail = Status.FINISHED, ""
     at_once, t_last_event = 0, -math.inf
@@ -145,16 +150,15 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             solver.y = np.concatenate([qp, qdp])
             solver.f = dyn(solver.t, solver.y)
         t_new, y_new = solver.t, solver.y
-        sol = solver.dense_output()  # kept per step: events and peaks are located on it
+        sol = solver.dense_output()  # kept per step: events, stops, t_eval, peaks and the energy audit's quadrature
         hit = contacts.locate(t_old, t_new, y_new, sol) if contacts is not None else None
         if hit is not None:  # the step ends at the stop event
-            assert sol is not None  # made for every step with stops
             t_new, y_new = hit[0], sol(hit[0])
         t_stop = tracker.step(dyn, t_old, t_new, y_new, sol)
         if t_stop is not None:
             hit = None  # a terminal event comes first
         t_end = t_new if t_stop is None else t_stop
-        history.step(sol, t_new, y_new, t_end, ends_at_event=t_stop is not None or hit is not None)
+        history.step(sol, t_old, t_new, y_new, t_end, ends_at_event=t_stop is not None or hit is not None)
         segments.append((t_old, t_end, sol, _mode(contacts)))
         if progress is not None:
             progress(t_end)
@@ -180,8 +184,11 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
             continue
         if solver.status == "finished":
             break
-    result = _assemble_result(system, dyn, coords, np.array(history.ts), np.array(history.ys).reshape(-1, 2 * nq),
-                              status, tracker, detail, history.modes)
+    ys = np.array(history.ys).reshape(-1, 2 * nq)
+    result = _assemble_result(system, dyn, coords, np.array(history.ts), ys, status, tracker, detail, history.modes,
+                              history.known)
+    result.energy = energy_columns(dyn, ys, result.values, np.array(history.ws), history.jumps, y0, t0)
+    result.energy_tolerance = history.ledger.explained
     result.dense = DenseHistory(system, dyn, segments)
     return result
 
@@ -235,7 +242,7 @@ class _History:
     """The rows :func:`simulate` keeps: every accepted step, or the ``t_eval`` times (interpolated on the
     step's dense output), and a row at each event; with the stops in contact at each row."""
 
-    def __init__(self, t0: float, y0: np.ndarray, t1: float, t_eval, contacts) -> None:
+    def __init__(self, t0: float, y0: np.ndarray, t1: float, t_eval, contacts, ledger: EnergyLedger) -> None:
         self.times = None if t_eval is None else np.asarray(t_eval, float)
         if self.times is not None and (self.times.ndim != 1 or np.any(np.diff(self.times) < 0)
                                        or self.times[0] < t0 or self.times[-1] > t1):
@@ -246,12 +253,18 @@ class _History:
         self.contacts = contacts
         self.modes = [_mode(contacts)] * len(self.ts)  # the stops in contact at each saved row
         self.k_eval = 1 if self.ts and self.times is not None else 0
+        self.ledger = ledger
+        self.ws: list[np.ndarray] = [ledger.acc] * len(self.ts)  # the energy integrals at each saved row
+        self.known: list = [None] * len(self.ts)  # each row's multipliers, when the integrator solved there
+        self.jumps: list[int] = []  # the rows just after a stop event
 
-    def step(self, sol, t_new: float, y_new: np.ndarray, t_end: float, ends_at_event: bool) -> None:
-        """The rows of a step that ended at ``t_end`` (``t_new`` unless an event came first)."""
+    def step(self, sol, t_old: float, t_new: float, y_new: np.ndarray, t_end: float, ends_at_event: bool) -> None:
+        """The rows of a step from ``t_old`` that ended at ``t_end`` (``t_new`` unless an event came first),
+        and the step's energy integrals (on its dense output ``sol``) up to each."""
         ts, ys, times = self.ts, self.ys, self.times
+        before, n = self.ledger.acc, len(ts)
+        self.ledger.advance(sol, t_old, t_end)
         if times is not None:
-            assert sol is not None  # made for every step with times to save
             while self.k_eval < times.size and times[self.k_eval] <= t_end:
                 ts.append(float(times[self.k_eval]))
                 ys.append(sol(times[self.k_eval]))
@@ -260,19 +273,25 @@ class _History:
                 ts.append(t_end)
                 ys.append(sol(t_end))
         elif ends_at_event:
-            assert sol is not None  # made for every step with events or stops
             ts.append(t_end)
             ys.append(sol(t_end))
         else:
             ts.append(t_new)
             ys.append(y_new.copy())
         self.modes += [_mode(self.contacts)] * (len(ts) - len(self.modes))
+        self.ws += [self.ledger.acc if tr == t_end else before + self.ledger.integral(sol, t_old, tr) for tr in ts[n:]]
+        nq = self.ledger.dyn.nq
+        self.known += [self.ledger.dyn.recall(tr, yr[:nq], yr[nq:]) for tr, yr in zip(ts[n:], ys[n:])]
+        self.ledger.close_step(t_new, y_new)
 
     def add(self, t: float, y: np.ndarray) -> None:
         """One more row (the state just after a stop event)."""
+        self.jumps.append(len(self.ts))
         self.ts.append(t)
         self.ys.append(y)
         self.modes.append(_mode(self.contacts))
+        self.ws.append(self.ledger.acc)
+        self.known.append(None)
 
 
 def _mode(contacts) -> tuple[int, ...]:
@@ -288,13 +307,13 @@ def _rest_height(system, rtol: float, atol) -> float:
     return max(float(np.min(atol)) + rtol * max(limits), 1e-12)
 
 
-def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="", modes=None) -> SimulationResult:
+def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="", modes=None, known=None) -> SimulationResult:
     nq = dyn.nq
     values = np.array([dyn.full(ti, yi[:nq]) for ti, yi in zip(t, y)]).reshape(-1, len(system.names))
     _fill_conditions(system, values)
-    stop_events: list = []
-    if dyn.contacts is not None:
-        stop_events = _fill_contacts(dyn.contacts, t, y, values, modes)
+    modes = modes if modes is not None else [()] * len(t)
+    indeterminate = fill_reactions(system, dyn, t, y, values, modes, known)
+    stop_events = _stop_events(dyn.contacts, t) if dyn.contacts is not None else []
     qdot = y[:, nq:]
     mech = dyn.mech
     drift = max((float(np.max(np.abs(mech.phi(xi)), initial=0.0)) for xi in values), default=0.0)
@@ -304,6 +323,7 @@ def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="", mode
     return SimulationResult(t=t, values=values, qdot=qdot, names=tuple(system.names), coordinates=coords,
                             status=status, constraint_drift=drift, velocity_drift=vdrift,
                             t_events=t_events, x_events=x_events, nfev=dyn.nfev, detail=detail, stop_events=stop_events,
+                            indeterminate_rows=indeterminate,
                             units={v.name: v.unit for v in system.variables})
 
 
@@ -319,18 +339,10 @@ def _fill_conditions(system, values) -> None:
         x[j] = system.residual(x)[k]
 
 
-def _fill_contacts(contacts, t, y, values, modes) -> list:
-    """The stops' reactions (rigid: the multipliers; compliant: the penalty) into the saved rows; the
-    stop events with their row numbers."""
+def _stop_events(contacts, t) -> list:
+    """The stop events with their row numbers."""
     from dataclasses import replace
 
-    for i, (ti, yi, mode) in enumerate(zip(t, y, modes)):
-        if mode:
-            contacts.active = list(mode)
-            values[i, contacts.reaction[list(mode)]] = contacts.reactions(ti, yi)
-        if contacts.law:
-            idx = contacts.reaction[contacts.law.index]
-            values[i, idx] = contacts.penalized(contacts.dyn.full(ti, yi[: contacts.dyn.nq]), yi[contacts.dyn.nq:])[idx]
     out, i = [], 0
     for ev in contacts.events:  # rows are in time order; an event's row is the last one at its time
         while i + 1 < len(t) and t[i + 1] <= ev.time:

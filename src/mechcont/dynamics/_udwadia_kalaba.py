@@ -43,78 +43,20 @@ import sympy as sp
 from scipy.linalg.lapack import dpotrf, dpotrs
 
 from ..errors import InputError
+from ._mass import MassBlocks, inverse_sqrt
 
 if TYPE_CHECKING:
     from ._contact import StopConstraints
 
 __all__ = ["fundamental_equation", "inverse_sqrt", "MassBlocks", "ConstrainedDynamics"]
 
-_RCOND = 1e-12
-
-
-def inverse_sqrt(M: np.ndarray) -> np.ndarray:
-    """Symmetric inverse square root ``M^-1/2`` of a symmetric positive definite matrix.
-
-    Raises :class:`InputError` (field ``mass_matrix``) if ``M`` is not positive definite.
-    """
-    M = np.asarray(M, float)
-    if np.count_nonzero(M - np.diag(np.diag(M))) == 0:
-        d = np.diag(M)
-        if np.any(d <= 0):
-            raise InputError("mass_matrix", "must be positive definite (a mass or inertia is <= 0)")
-        return np.diag(1.0 / np.sqrt(d))
-    w, V = np.linalg.eigh(0.5 * (M + M.T))
-    if w.min() <= 0:
-        raise InputError("mass_matrix", "must be positive definite (an eigenvalue is <= 0)")
-    return (V / np.sqrt(w)) @ V.T
-
-
-class MassBlocks:
-    """The block-diagonal structure of a mass matrix: its coupled coordinates (the connected components
-    of its non-zero pattern), grouped by block size, so that :meth:`inverse_sqrt` decomposes each block
-    (one batched ``eigh`` per size) instead of the whole matrix.
-
-    ``pattern`` is the set of ``(i, j)`` positions that may be non-zero (from the symbolic matrix)."""
-
-    def __init__(self, n: int, pattern) -> None:
-        parent = list(range(n))
-
-        def root(i: int) -> int:
-            while parent[i] != i:
-                parent[i] = parent[parent[i]]
-                i = parent[i]
-            return i
-
-        for i, j in pattern:
-            parent[root(i)] = root(j)
-        blocks: dict[int, list[int]] = {}
-        for i in range(n):
-            blocks.setdefault(root(i), []).append(i)
-        by_size: dict[int, list[list[int]]] = {}
-        for b in blocks.values():
-            by_size.setdefault(len(b), []).append(b)
-        self.n = n
-        self.groups = [np.array(g) for g in by_size.values()]  # each (blocks, size)
-
-    def inverse(self, M: np.ndarray) -> np.ndarray:
-        """``M^-1`` of a matrix with this structure, block by block."""
-        out = np.zeros((self.n, self.n))
-        for g in self.groups:
-            rows, cols = g[:, :, None], g[:, None, :]
-            out[rows, cols] = np.linalg.inv(M[rows, cols])
-        return out
-
-    def inverse_sqrt(self, M: np.ndarray) -> np.ndarray:
-        """``M^-1/2`` of a matrix with this structure (the same as :func:`inverse_sqrt`, block by block)."""
-        out = np.zeros((self.n, self.n))
-        for g in self.groups:
-            rows, cols = g[:, :, None], g[:, None, :]
-            B = M[rows, cols]
-            w, V = np.linalg.eigh(0.5 * (B + B.transpose(0, 2, 1)))
-            if w.min() <= 0:
-                raise InputError("mass_matrix", "must be positive definite (an eigenvalue is <= 0)")
-            out[rows, cols] = (V / np.sqrt(w)[:, None, :]) @ V.transpose(0, 2, 1)
-        return out
+#: Relative cut-off of the singular values of ``A M^-1/2`` in the pseudo-inverse path, which is taken only when
+#: the rows are (nearly) dependent (the Cholesky test fails): redundant rows (an over-constrained closure
+#: whose rows are all kept, e.g. a spatial ``redundant = "drop"`` linkage) are dependent only up to the
+#: constraint drift, so their smallest singular values are of its order (1e-9 relative on the Bennett
+#: linkage), not of rounding. Kept at 1e-12 they were inverted: accelerations of 1e9 times the drift, a
+#: crawling integration (48 000 evaluations for 0.3 s) that lost a quarter of the energy.
+_RCOND = 1e-8
 
 
 def _pinv_apply(B: np.ndarray, r: np.ndarray) -> np.ndarray:
@@ -241,6 +183,7 @@ class ConstrainedDynamics:
         self.nfev = 0
         #: The stops as unilateral constraints (a :class:`~._contact.StopConstraints`), or None.
         self.contacts: StopConstraints | None = None
+        self._last: tuple | None = None  # the last solve with its multipliers (see recall)
 
     # -- helpers -------------------------------------------------------------------------
     def full(self, t: float, q: np.ndarray) -> np.ndarray:
@@ -295,16 +238,34 @@ class ConstrainedDynamics:
         if not (np.all(np.isfinite(Q)) and np.all(np.isfinite(A)) and np.all(np.isfinite(b))):
             return np.full(self.nq, np.nan)
         if self._blocks is not None and A.shape[0]:
-            qdd = self._by_inverse(x, Q, A, b)
-            if qdd is not None:
-                return qdd
-        return fundamental_equation(self.mass_inv_sqrt(x), Q, A, b)
+            solved = self._by_inverse(x, Q, A, b, with_multipliers=True)
+            if solved is not None:
+                self._last = (t, np.array(q), np.array(qd), self._mode(), *solved, Q)
+                return solved[0]
+        qdd = fundamental_equation(self.mass_inv_sqrt(x), Q, A, b)
+        self._last = (t, np.array(q), np.array(qd), self._mode(), qdd, None, Q)
+        return qdd
 
-    def _by_inverse(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    def _mode(self) -> tuple[int, ...]:
+        return () if self.contacts is None else tuple(self.contacts.active)
+
+    def recall(self, t: float, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, np.ndarray] | None:
+        """``(qddot, z, forces)`` of the last :meth:`acceleration` if it was made at exactly this state and
+        contact set (the integrator's last evaluation of a step is at the step's end), else None: the
+        history's reactions and energy bound reuse it instead of solving again. ``z`` (the multipliers) is
+        None when that solve did not form them (the pseudo-inverse path)."""
+        last = self._last
+        if (last is None or last[0] != t or last[3] != self._mode() or not np.array_equal(last[1], q)
+                or not np.array_equal(last[2], qd)):
+            return None
+        return last[4], last[5], last[6]
+
+    def _by_inverse(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray, with_multipliers: bool = False):
         """The fundamental equation through ``M^-1`` (block by block) when ``A`` has full row rank:
         ``M^-1/2 (A M^-1/2)^+ r = M^-1 A^T (A M^-1 A^T)^-1 r``, the same matrix ``A M^-1 A^T`` and rank test
         as :func:`fundamental_equation`'s Cholesky path, without the eigen-decomposition of ``M``. None
-        when that matrix is (nearly) singular: the caller takes the pseudo-inverse path."""
+        when that matrix is (nearly) singular: the caller takes the pseudo-inverse path. With
+        ``with_multipliers``: ``(qddot, z)``, ``z = (A M^-1 A^T)^-1 r`` the multipliers (``M qddot = Q + A^T z``)."""
         assert self._blocks is not None
         Minv = self._blocks.inverse(self.mech.mass(x))
         a = Minv @ Q
@@ -316,7 +277,51 @@ class ConstrainedDynamics:
         if not d.min() > 1e-6 * d.max():
             return None
         z, _ = dpotrs(c, b - A @ a, lower=1)
-        return a + MA @ z
+        return (a + MA @ z, z) if with_multipliers else a + MA @ z
+
+    def multipliers(self, t: float, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
+        """``(qddot, z, determinate)`` at time ``t``: the accelerations and the Lagrange multipliers ``z`` of
+        the same solve, ``M qddot = forces + A^T z`` with ``A qddot = b`` (the joints' rows, then those of the
+        stops in contact, :meth:`joint_rows` and :meth:`~._contact.StopConstraints.rows`).
+
+        ``b`` is the Baumgarte-stabilised right-hand side the integrator uses, so ``qddot`` is the
+        acceleration integrated and ``z`` the reactions that produce it (on the constraint manifold at
+        rest the stabilisation terms vanish). ``forces`` is :meth:`forces`: applied, velocity-product
+        inertial, Rayleigh and compliant-stop forces. ``z`` follows the dynamics' sign: a joint's
+        reaction as the statics writes it (``Q - Phi_q^T lambda = 0``) is ``lambda = -z``; a stop's
+        contact reaction is ``+z``. ``determinate`` is False when ``A M^-1/2`` is rank deficient
+        (redundant constraints): ``z`` is then the minimum-norm multiplier vector, one of many that
+        give the same ``qddot`` (N, N m: units of each row's reaction)."""
+        known = self.recall(t, q, qd)
+        if known is not None and known[1] is not None:
+            return known[0], known[1], True
+        x = self.full(t, q)
+        A, b = self.joint_rows(x, qd)
+        if self.contacts is not None:
+            A, b = self.contacts.rows(x, qd, A, b)
+        Q = self.forces(x, qd)
+        if A.shape[0] and self._blocks is not None:  # the accelerations' own path: Cholesky of A M^-1 A^T
+            solved = self._by_inverse(x, Q, A, b, with_multipliers=True)
+            if solved is not None:
+                return solved[0], solved[1], True
+        Mis = self.mass_inv_sqrt(x)
+        a = Mis @ (Mis @ Q)
+        if A.shape[0] == 0:
+            return a, np.zeros(0), True
+        B = A @ Mis
+        r = b - A @ a
+        c, info = dpotrf(B @ B.T, lower=1, clean=0)
+        if info == 0:
+            d = np.abs(c.diagonal())
+            if d.min() > 1e-6 * d.max():  # full row rank, as in _pinv_apply: z = (B B^T)^-1 r
+                z, _ = dpotrs(c, r, lower=1)
+                return a + Mis @ (B.T @ z), z, True
+        # redundant rows: B^T z = B^+ r has solutions (B^+ r lies in the row space of B); the minimum-norm one
+        w = _pinv_apply(B, r)
+        U, sv, Vt = np.linalg.svd(B.T, full_matrices=False)
+        rank = int(np.count_nonzero(sv > _RCOND * max(sv[0], 1e-300))) if sv.size else 0
+        z = Vt[:rank].T @ ((U[:, :rank].T @ w) / sv[:rank])
+        return a + Mis @ w, z, rank == A.shape[0]
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         """Right-hand side ``(qdot, qddot)`` of the first-order system."""

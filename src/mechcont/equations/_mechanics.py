@@ -208,10 +208,15 @@ class MechanicalModel:
     constraint_names:
         Optional name of each constraint (for reports); None when the constraints are the
         system's rows that follow the equilibrium rows.
+    potential:
+        Optional potential energy ``V(q, p)`` (J) of the conservative part of ``forces``
+        (``forces = -dV/dq + ...``): gravity, springs, conservative loads. The time simulation's
+        energy audit evaluates it (:meth:`potential_energy`); None when the model declares none.
     """
 
     def __init__(self, names: Sequence[str], coordinates: Sequence[str], constraints: Sequence[sp.Expr],
-                 forces: Sequence[sp.Expr], mass_matrix: sp.Matrix, constraint_names: Sequence[str] | None = None):
+                 forces: Sequence[sp.Expr], mass_matrix: sp.Matrix, constraint_names: Sequence[str] | None = None,
+                 potential: sp.Expr | None = None):
         import sympy as sp
 
         self.names = tuple(names)
@@ -225,6 +230,8 @@ class MechanicalModel:
         self.constraints = [sp.sympify(c, strict=True) for c in constraints]
         self.forces = [sp.sympify(f, strict=True) for f in forces]
         self.mass_matrix = sp.Matrix(mass_matrix)
+        self.potential = None if potential is None else sp.sympify(potential, strict=True)
+        self.has_potential = potential is not None
         if len(self.forces) != nq:
             raise InputError("forces", f"need one generalised force per coordinate ({nq}), got {len(self.forces)}")
         if self.mass_matrix.shape != (nq, nq):
@@ -233,7 +240,7 @@ class MechanicalModel:
         qs = [syms[i] for i in self.q_index]
         qd = [velocity_symbol(c) for c in self.coordinates]
         allowed = set(syms) | set(qd)
-        for e in [*self.constraints, *self.forces, *self.mass_matrix]:
+        for e in [*self.constraints, *self.forces, *self.mass_matrix, *([self.potential] if potential is not None else [])]:
             bad = e.free_symbols - allowed
             if bad:
                 raise InputError(str(sorted(map(str, bad))[0]), "used in the mechanical model but not a variable")
@@ -245,11 +252,12 @@ class MechanicalModel:
     # statics, time simulation the dynamics.
     _GROUPS = {"_phi": "kinematics", "_phi_q": "kinematics", "_Q": "kinematics",
                "_statics": "statics", "_statics_layout": "statics", "_dQdq": "statics", "_phi_hess": "statics",
-               "_gamma": "dynamics", "_dQdqd": "dynamics", "_M": "dynamics", "_inertial": "dynamics"}
+               "_gamma": "dynamics", "_dQdqd": "dynamics", "_M": "dynamics", "_inertial": "dynamics",
+               "_V": "dynamics"}
     _COMPILED = tuple(_GROUPS)
 
     #: The symbolic attributes, pickled apart (see :mod:`._deferred`).
-    _SYMBOLIC = ("constraints", "forces", "mass_matrix", "_syms", "_qs", "_qd")
+    _SYMBOLIC = ("constraints", "forces", "mass_matrix", "potential", "_syms", "_qs", "_qd")
 
     def __getattr__(self, name):
         # only reached for missing attributes: the compiled functions, built on first use, and
@@ -289,7 +297,8 @@ class MechanicalModel:
             parts = [f"{len(s['args'])} {len(self.coordinates)}", " ".join(map(str, self.q_index)),
                      *(_cache.expr_text(e) for e in s["cons"]), "forces",
                      *(_cache.expr_text(e) for e in s["forces"]), "mass",
-                     *(f"{k}:{_cache.expr_text(e)}" for k, e in zip(*self._mass_entries()))]
+                     *(f"{k}:{_cache.expr_text(e)}" for k, e in zip(*self._mass_entries())), "potential",
+                     *(_cache.expr_text(e) for e in s["potential"])]
             for p in parts:
                 b = p.encode()
                 h.update(len(b).to_bytes(8, "little") + b)
@@ -310,11 +319,13 @@ class MechanicalModel:
         sym = self.__dict__.get("_engine")
         if sym is None:
             nq, ns, nc = len(self.coordinates), len(self._syms), len(self.constraints)
-            args, exprs = engine_arguments(self._syms + self._qd, [*self.constraints, *self.forces])
+            V = getattr(self, "potential", None)  # None also for a model pickled before potentials were kept
+            args, exprs = engine_arguments(self._syms + self._qd, [*self.constraints, *self.forces,
+                                                                   *([] if V is None else [V])])
             qs = [args[i] for i in self.q_index]
-            cons, forces = exprs[:nc], exprs[nc:]
+            cons, forces, potential = exprs[:nc], exprs[nc:nc + nq], exprs[nc + nq:]
             sym = self.__dict__["_engine"] = {"args": args, "qs": qs, "qd": args[ns:ns + nq], "cons": cons,
-                                              "forces": forces}
+                                              "forces": forces, "potential": potential}
         return sym
 
     def _phi_q_entries(self) -> tuple[list, list[bool]]:
@@ -368,7 +379,8 @@ class MechanicalModel:
         return {"_gamma": compile_values(args, gamma),
                 "_dQdqd": compile_scattered(args, _flat(dqd, (nq, nq)), [d for _, d in dqd], (nq, nq)),
                 "_M": compile_scattered(args, _flat([(k, None) for k in keys], (nq, nq)), m_exprs, (nq, nq)),
-                "_inertial": compile_values(args, _velocity_product_forces(keys, m_exprs, qs, qd))}
+                "_inertial": compile_values(args, _velocity_product_forces(keys, m_exprs, qs, qd)),
+                "_V": compile_values(args, s["potential"] or [se.Integer(0)])}
 
     def __getstate__(self):
         """Picklable state: every compiled group built so far, and the symbolic model as an inner
@@ -409,6 +421,11 @@ class MechanicalModel:
         """Generalised applied forces Q(q, qdot) (N or N m per coordinate)."""
         return self._Q(self._args(x, qdot))
 
+    def applied_forces_batch(self, X, Qdot) -> np.ndarray:
+        """:meth:`applied_forces` at every row of ``X`` (full vectors, (m, n_variables)) with the velocities
+        ``Qdot`` ((m, n_q)): array (m, n_q), one call into the compiled code."""
+        return self._Q.batch(np.hstack([np.asarray(X, float), np.asarray(Qdot, float)]))
+
     def damping_matrix(self, x, qdot=None) -> np.ndarray:
         """-dQ/dqdot, shape (n_q, n_q) (N s/m)."""
         return -self._dQdqd(self._args(x, qdot))
@@ -423,6 +440,11 @@ class MechanicalModel:
         generated ``M(q)``; zero when ``M`` is constant (frames at the centres of gravity) or at rest.
         The equations of motion are ``M qddot = Q + inertial_forces + Phi_q^T lambda``."""
         return self._inertial(self._args(x, qdot))
+
+    def potential_energy(self, x) -> float:
+        """Potential energy ``V`` (J) at the full variable vector ``x`` (0 when the model declares none,
+        see :attr:`has_potential`)."""
+        return float(self._V(self._args(x))[0])
 
     def _decompose(self, x, rtol: float = 1e-10):
         """SVD of Phi_q: (U, singular values, V^T, rank) — shared by multipliers and Z."""

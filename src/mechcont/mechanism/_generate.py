@@ -157,7 +157,8 @@ class _Structure:
             if dependent:
                 keep = [i for i in range(len(self.rows)) if i not in set(dependent)]
                 rows = [self.rows[i] for i in keep]
-                equilibrium, mechanics = _equilibrium(mech, self.coords, rows, self.forces, self.mass, self.cnames)
+                equilibrium, mechanics = _equilibrium(mech, self.coords, rows, self.forces, self.mass, self.cnames,
+                                                      potential=self.V)
             else:
                 rows, equilibrium, mechanics = self.rows, self.equilibrium, self.mechanics
             out = self.variants[dependent] = _Variant(rows, [self.rows[i] for i in dependent], equilibrium, mechanics)
@@ -192,7 +193,7 @@ def _structure(mech: Mechanism, reduced: bool) -> _Structure:
     conditions = condition_rows(kin, subs)
     if mech.stops:
         forces = [f + g for f, g in zip(forces, stop_forces(mech, conditions, [symbol(c) for c in coords]))]
-    equilibrium, model = _equilibrium(mech, coords, rows, forces, mass, [c.name for c, _ in conditions])
+    equilibrium, model = _equilibrium(mech, coords, rows, forces, mass, [c.name for c, _ in conditions], potential=V)
     st = _Structure(kin, rows, ld.arrows, coords, forces, mass, subs, V, conditions, model, equilibrium)
     mech._generated[key] = st
     return st
@@ -353,12 +354,13 @@ def summary(mech: Mechanism) -> tuple[str, list[tuple[str, str, str, str, float 
 
 def _equilibrium(mech: Mechanism, coords: list[str], rows: Sequence[ConstraintRow], forces: list[sp.Expr],
                  mass: sp.Matrix, conditions: Sequence[str] = (), *,
-                 gradient=None) -> tuple[list[sp.Expr], MechanicalModel]:
+                 gradient=None, potential: sp.Expr | None = None) -> tuple[list[sp.Expr], MechanicalModel]:
     """Equilibrium rows ``Q - Phi_q^T lambda`` (at rest) and the compiled mechanical model.
 
     ``conditions`` are the names of the condition states (variables after the reactions;
     not coordinates of the mechanics). ``gradient(expr, symbols)`` differentiates the rows
-    (default: SymPy, one coordinate at a time)."""
+    (default: SymPy, one coordinate at a time). ``potential``: the loads' potential energy ``V`` (J)
+    the mechanical model keeps for the time simulation's energy audit."""
     q = [symbol(c) for c in coords]
     at_rest = {velocity_symbol(c): 0 for c in coords}
     lam = [symbol(r.reaction) for r in rows]
@@ -376,7 +378,7 @@ def _equilibrium(mech: Mechanism, coords: list[str], rows: Sequence[ConstraintRo
         first = sorted(clash)[0]
         where = "conditions" if first in conditions else "parameters"
         raise InputError(f"{where}.{first}", "clashes with a generated coordinate or reaction name")
-    return equilibrium, MechanicalModel(names, coords, [r.expr for r in rows], forces, mass)
+    return equilibrium, MechanicalModel(names, coords, [r.expr for r in rows], forces, mass, potential=potential)
 
 
 def _dropped_residual(system: EquationSystem, dropped: Sequence[ConstraintRow]) -> DroppedResidual:

@@ -185,7 +185,7 @@ def _mechanics(names, s, G, P, constraints):
     for i in range(1, 6):
         m, L = s[f"m{i}"], s[f"L{i}"]
         inertia += [m, m, m * L**2 / 12]
-    return MechanicalModel(names, COORDINATES, constraints, forces, sp.diag(*inertia)), V
+    return MechanicalModel(names, COORDINATES, constraints, forces, sp.diag(*inertia), potential=V), V
 
 
 def _scene(names: tuple[str, ...], x) -> Scene:

@@ -137,7 +137,7 @@ def _build(p: dict) -> Model:
     forces = [-sp.diff(V, qi) - c * length_rate * sp.diff(length, qi) for qi in q]
     inertia1, inertia2 = m1 * L1**2 / 12, m2 * L2**2 / 12
     mass = sp.diag(m1, m1, inertia1, m2, m2, inertia2)
-    mech = MechanicalModel(names, coords, geometry, forces, mass)
+    mech = MechanicalModel(names, coords, geometry, forces, mass, potential=V)
     system = Model(
         name="overcentre",
         variables=variables,

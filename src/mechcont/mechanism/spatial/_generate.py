@@ -325,7 +325,7 @@ def _structure(mech: SpatialMechanism) -> _Structure:
     mech_forces = [f - d for f, d in zip(forces, gradient(elastic, kin.q))]
     rigid_rows = [r for r in rows if r.stiffness is None]
     mechanics = MechanicalModel(closure.names, coords, [r.expr for r in rigid_rows], mech_forces, mass,
-                                [r.equation for r in rigid_rows])
+                                [r.equation for r in rigid_rows], potential=ld.V + elastic)
     condition_values = None
     if conditions:
         from ...equations._codegen import compile_dense
