@@ -33,7 +33,8 @@ def overcentre():
 #: disk-cache entry; a second process waits for the first's build): it is second, so the other worker
 #: starts on work of its own while the first builds the gear.
 LONGEST_FIRST = ["test_dsopt.py", "test_doc_examples.py", "test_dual_sidestay.py", "test_physical_limits.py",
-                 "test_freefall_paper.py", "test_dual_sidestay_generated.py", "test_freefall_more.py"]
+                 "test_freefall_paper.py", "test_dual_sidestay_generated.py", "test_freefall_more.py",
+                 "test_assembly_compliance.py", "test_dynamics_inertial.py", "test_freefall.py"]
 
 
 @pytest.hookimpl(trylast=True)  # after pytest's own reordering for shared fixtures
