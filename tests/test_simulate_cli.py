@@ -81,3 +81,42 @@ def test_start_may_hold_a_condition(run, tmp_path):
     first = dict(zip(rows[0], rows[1]))
     assert float(first["theta_bar [rad]"]) == pytest.approx(-0.3, abs=1e-12)
     assert float(first["theta_bar_dot [rad/s]"]) == 0.0  # from rest
+
+
+BLOWUP = """
+[mechanism]
+name = "blowup"
+[ground]
+O = [0, 0]
+[bodies.arm]
+mass = 1.0
+length = 1.0
+points = { p = [-0.5, 0] }
+[joints.pin]
+type = "revolute"
+a = "ground.O"
+b = "arm.p"
+[loads.push]
+type = "custom"
+at = "arm.origin"
+moment = "1/(1 - theta_arm)^2"
+"""
+
+
+def test_integrator_that_cannot_go_on_is_one_line_exit_2_and_keeps_the_history(run, tmp_path):
+    """A moment 1/(1 - theta)^2 drives the arm into theta = 1 in finite time (its speed grows without bound):
+    the integrator's step collapses before. The history up to there is written, the error names the options
+    to change, says when and why, and where the history is."""
+    desc, out = tmp_path / "blowup.toml", tmp_path / "h.csv"
+    desc.write_text(BLOWUP)
+    res = run("simulate", desc, "--start", "theta_arm=0", "--until", 5, "--out", out, "--no-progress")
+    one_line_error(res, "--rtol/--atol", "could not go on at t = ", str(out))
+    with open(out) as f:
+        rows = list(csv.DictReader(f))
+    theta = [float(r["theta_arm [rad]"]) for r in rows]
+    t_end = float(rows[-1]["t [s]"])
+    assert 0.0 < t_end < 5.0 and f"t = {t_end:.6g} s" in res.stderr
+    assert 0.99 < theta[-1] < 1.0  # it stopped at the singularity, not before
+    # a plain run of the same arm that ends before the singularity succeeds
+    ok = run("simulate", desc, "--start", "theta_arm=0", "--until", 0.3, "--no-progress")
+    assert ok.exit_code == 0, ok.output

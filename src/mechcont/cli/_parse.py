@@ -115,3 +115,18 @@ def integrator(method: str, rtol: float, atol: float) -> dict:
     with named_as({"method": "--method", "rtol": "--rtol", "atol": "--atol"}):
         check_integrator(method, rtol, atol)
     return {"method": method, "rtol": rtol, "atol": atol}
+
+
+def check_integration(result, method: str, written: Iterable[str] = ()) -> None:
+    """After a time simulation's outputs are written: where its integrator stopped early (the tolerance
+    cannot be met there, or the forces blew up), a :class:`~mechcont.errors.ConvergenceError` (one line,
+    exit status 2) saying when, why, what to change and which files hold the history up to there."""
+    from ..errors import ConvergenceError
+
+    if not result.integrator_failure:
+        return
+    files = list(written)
+    kept = f"; the history up to there is in {', '.join(files)}" if files else ""
+    raise ConvergenceError(f"--rtol/--atol: the integrator ({method}) could not go on at t = {result.t[-1]:.6g} s "
+                           f"({result.integrator_failure.rstrip('.')}): loosen --rtol/--atol, or choose an implicit "
+                           f"--method (Radau, BDF) for a stiff mechanism; check the loads where it stopped{kept}")

@@ -9,7 +9,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, integrator, integrator_options, number
+from ._parse import assignments, check_integration, integrator, integrator_options, number
 
 
 def _range(text: str | None, option: str) -> tuple[str, float, float] | None:
@@ -179,6 +179,7 @@ def _one(system, start, lock, until, options, out_path, plot_path) -> None:
 
         save_figure(history_figure(h, watch, title=f"{system.name}: freefall, {run.outcome}"), plot_path)
         click.echo(f"wrote {plot_path}")
+    check_integration(h, options["method"], [str(p) for p in (out_path, plot_path) if p is not None])
 
 
 def _critical(system, start, lock, until, options, rng, tol, scanned, out_path, plot_path) -> None:

@@ -6,7 +6,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, integrator, integrator_options
+from ._parse import assignments, check_integration, integrator, integrator_options
 
 
 def _start(system, model: str, starts) -> tuple:
@@ -106,7 +106,7 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     if stops and not use_stops:
         click.echo(f"warning: the stops ({', '.join(s.name for s in stops)}) are ignored; give --stops to simulate "
                    "them", err=True)
-    click.echo(f"# {system.name}: {until:g} s simulated from rest, {len(result)} rows, {result.nfev} evaluations; "
+    click.echo(f"# {system.name}: {result.t[-1]:.6g} s simulated from rest, {len(result)} rows, {result.nfev} evaluations; "
                f"max constraint drift {result.constraint_drift:.2e}")
     if not result.success:
         click.echo(f"# warning: {result.message}")
@@ -128,3 +128,4 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
 
         save_figure(history_figure(result, watch, title=f"{system.name}: {watch} from rest"), plot_path)
         click.echo(f"wrote {plot_path}")
+    check_integration(result, method, [str(p) for p in (out_path, plot_path) if p is not None])

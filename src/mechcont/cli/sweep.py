@@ -7,7 +7,7 @@ import click
 from ..errors import InputError
 from ..units import display
 from ._app import cli
-from ._parse import assignments, integrator, integrator_options, number
+from ._parse import assignments, check_integration, integrator, integrator_options, number
 
 
 def _ramps(items) -> list[tuple[str, float, float, float]]:
@@ -183,3 +183,4 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
         fig = sweep_figure(result, title=title, branch=branch, degrees=system.variable(watch).unit == "rad")
         save_figure(fig, plot_path)
         click.echo(f"wrote {plot_path}")
+    check_integration(sim, method, [str(p) for p in (out_path, plot_path) if p is not None])

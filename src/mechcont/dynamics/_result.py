@@ -70,6 +70,10 @@ class SimulationResult:
     indeterminate_rows:
         Rows whose joint reactions are minimum-norm multipliers (redundant constraints: the
         accelerations are determinate, the split of the reactions among the redundant rows is not).
+    integrator_failure:
+        Why the integrator stopped early (SciPy's words, e.g. its step fell below the spacing of the
+        floating-point numbers: the tolerance cannot be met there, or the forces blew up); ``""`` when it
+        did not (a run stopped by too many stop events is :attr:`status` FAILED with this empty).
     dense:
         The integrator's dense output, per accepted step (:class:`~._peaks.DenseHistory`: ``state(t)``,
         ``row(t)``), on which :meth:`peak` locates peaks; None for a result read back or pickled.
@@ -92,6 +96,7 @@ class SimulationResult:
     energy: dict = field(default_factory=dict)
     energy_tolerance: float = math.nan
     indeterminate_rows: int = 0
+    integrator_failure: str = ""
     dense: Any = field(default=None, repr=False, compare=False)
 
     def __getstate__(self):

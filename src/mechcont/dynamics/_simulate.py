@@ -136,7 +136,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     tracker.start(dyn, t0, y0)
     history = _History(t0, y0, t1, t_eval, contacts, EnergyLedger(dyn, rtol, atol, method))
     segments: list = []  # per accepted step: (t_old, t_end, its dense output, the stops in contact)
-    status, detail = Status.FINISHED, ""
+    status, detail, failure = Status.FINISHED, "", ""
     at_once, t_last_event = 0, -math.inf
     while True:
         t_old = solver.t
@@ -144,6 +144,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
         if solver.status == "failed":
             status = Status.FAILED
             detail = f"Stopped at t = {solver.t:.6g} s ({method}: {why})."
+            failure = why or "failed"
             break
         if projection:  # back onto Phi = 0, Phi_q qdot = 0; restart the FSAL derivative there
             qp, qdp = dyn.project(solver.t, solver.y[:nq], solver.y[nq:])
@@ -190,6 +191,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     result.energy = energy_columns(dyn, ys, result.values, np.array(history.ws), history.jumps, y0, t0)
     result.energy_tolerance = history.ledger.explained
     result.dense = DenseHistory(system, dyn, segments)
+    result.integrator_failure = failure
     return result
 
 

@@ -391,6 +391,7 @@ def _concatenate(parts: list[SimulationResult]) -> SimulationResult:
         t_events=[np.concatenate([p.t_events[i] for p in parts]) for i in range(n_ev)],
         x_events=[np.concatenate([p.x_events[i] for p in parts]) for i in range(n_ev)],
         nfev=sum(p.nfev for p in parts), detail=parts[-1].detail, units=first.units, stop_events=stop_events,
+        integrator_failure=parts[-1].integrator_failure,
         dense=DenseHistory.joined([p.dense for p in parts]) if all(p.dense for p in parts) else None)
 
 
