@@ -13,6 +13,7 @@ from ._branch import Branch, SpecialPoint
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent
 from ._fold_point import fold_quantities, polish_fold, refine_fold
 from ._folds import FoldProblem
+from ._newton import residual_met
 from ._options import ContinuationOptions
 from ._palc import run_direction
 from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns
@@ -77,10 +78,13 @@ def _equilibrium_events(system, options: ContinuationOptions, events, moving: It
 
 def _check_start(system, problem: ContinuationProblem, u0, options, start_x):
     system.check_limits(start_x)
-    r = problem.residual(u0)
-    if not np.all(np.isfinite(r)) or np.max(np.abs(r)) > 1e3 * options.residual_tol:
-        raise InputError("start", f"is not a solution (max residual {np.max(np.abs(r)):.3g}); "
-                                  "solve it first with find_equilibrium")
+    r, J = problem.evaluate(u0)
+    # relative to the sizes of each row's terms (residual_met's floor): the same mechanism written in
+    # millimetres and grams has rows a million times larger, solved just as well
+    if not np.all(np.isfinite(r)) or not residual_met(r, J, u0, 1e3 * options.residual_tol):
+        raise InputError("start", f"is not an equilibrium of {system.name} (largest residual {np.max(np.abs(r)):.3g}, "
+                                  "above the rounding of its terms); start from a solved point: hold a state at a "
+                                  "value (--start NAME=VALUE) to find one")
     for name, (lo, hi) in options.bounds.items():
         v = start_x[system.index(name)]
         if not lo <= v <= hi:
