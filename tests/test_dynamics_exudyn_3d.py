@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from mechcont.dynamics import assemble, simulate
+from mechcont.dynamics._exudyn import solve_fixed_step
 from mechcont.models import load_model
 
 G = 9.81
@@ -122,19 +123,7 @@ def _exudyn_cgs(h):
     sensors = {name: mbs.AddSensor(SensorNode(nodeNumber=n, storeInternal=True,
                                                   outputVariableType=exu.OutputVariableType.Position))
                for name, n in nodes.items()}
-    mbs.Assemble()
-    settings = exu.SimulationSettings()
-    settings.timeIntegration.numberOfSteps = int(round(T_END / h))
-    settings.timeIntegration.endTime = T_END
-    settings.timeIntegration.generalizedAlpha.spectralRadius = 1.0
-    settings.timeIntegration.newton.relativeTolerance = 1e-12
-    settings.timeIntegration.newton.absoluteTolerance = 1e-14
-    settings.timeIntegration.verboseMode = 0
-    settings.solution.file.write = False
-    settings.solution.sensors.writePeriod = h
-    settings.show.computationTime = False
-    settings.show.statistics = False
-    exu.SolveDynamic(mbs, settings)
+    solve_fixed_step(mbs, T_END, h, spectral_radius=1.0, newton_tol=1e-12)
     data = {name: mbs.GetSensorStoredData(s_) for name, s_ in sensors.items()}
     return data["upper"][:, 0], {name: d[:, 1:4] for name, d in data.items()}
 

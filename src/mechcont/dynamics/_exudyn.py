@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["exudyn_available", "exudyn_overcentre"]
+__all__ = ["exudyn_available", "exudyn_overcentre", "solve_fixed_step"]
 
 _NEEDED = ("L1", "L2", "m1", "m2", "g", "k", "LU", "m", "n", "c")
 
@@ -28,6 +28,29 @@ def exudyn_available() -> bool:
     except ImportError:
         return False
     return True
+
+
+def solve_fixed_step(mbs, t_end: float, h: float, spectral_radius: float = 1.0, newton_tol: float = 1e-12) -> None:
+    """Assemble the Exudyn system ``mbs`` and integrate it to ``t_end`` (s) in fixed steps ``h`` (s) by its
+    generalized-alpha method (``spectral_radius`` 1: the trapezoidal rule), Newton to ``newton_tol``
+    (relative and absolute), quietly, sensors stored every step."""
+    import exudyn as exu
+
+    mbs.Assemble()
+    settings = exu.SimulationSettings()
+    settings.timeIntegration.numberOfSteps = int(round(t_end / h))
+    settings.timeIntegration.endTime = t_end
+    settings.timeIntegration.generalizedAlpha.spectralRadius = spectral_radius
+    settings.timeIntegration.newton.relativeTolerance = newton_tol
+    settings.timeIntegration.newton.absoluteTolerance = newton_tol
+    settings.timeIntegration.verboseMode = 0
+    settings.solution.file.write = False
+    settings.solution.sensors.writePeriod = h
+    settings.show.statistics = False
+    settings.show.computationTime = False
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        exu.SolveDynamic(mbs, settings)
 
 
 def exudyn_overcentre(params: Mapping[str, float], theta1_0: float, force: Callable[[float], float], t_end: float,
@@ -117,20 +140,6 @@ def exudyn_overcentre(params: Mapping[str, float], theta1_0: float, force: Calla
                       loadVectorUserFunction=lambda mbs_, t, load: [0, float(force(t)), 0]))  # type: ignore[arg-type]
     sensor = mbs.AddSensor(SensorNode(nodeNumber=nodes[0], storeInternal=True,
                                       outputVariableType=exu.OutputVariableType.Coordinates))
-    mbs.Assemble()
-    settings = exu.SimulationSettings()
-    settings.timeIntegration.numberOfSteps = int(round(t_end / h))
-    settings.timeIntegration.endTime = t_end
-    settings.timeIntegration.generalizedAlpha.spectralRadius = spectral_radius
-    settings.timeIntegration.newton.relativeTolerance = 1e-12
-    settings.timeIntegration.newton.absoluteTolerance = 1e-12
-    settings.timeIntegration.verboseMode = 0
-    settings.solution.file.write = False
-    settings.solution.sensors.writePeriod = h
-    settings.show.statistics = False
-    settings.show.computationTime = False
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)
-        exu.SolveDynamic(mbs, settings)
+    solve_fixed_step(mbs, t_end, h, spectral_radius)
     data = np.asarray(mbs.GetSensorStoredData(sensor))  # typed as ArrayLike in Exudyn's stubs
     return data[:, 0], theta1_0 + data[:, 3]  # node coordinates are displacements from the reference
