@@ -14,11 +14,13 @@ The 63-coordinate dual-sidestay gear's audit is in tests/test_dual_sidestay_gene
 import math
 
 import numpy as np
+import pytest
 
 from mechcont.dynamics import assemble, simulate
 from mechcont.dynamics._energy import ENERGY_COLUMNS
 from mechcont.dynamics.freefall import freefall
 from mechcont.equations import MechanicalModel
+from mechcont.errors import InputError
 from mechcont.models import load_model, model_from_text
 from mechcont.models.nose_gear import build_nose_gear
 from mechcont.models.overcentre import build_overcentre
@@ -66,6 +68,20 @@ def test_conservative_pendulum_closes_without_external_work():
     assert np.max(r["E_kin"]) > 5.0  # it swings
     assert np.max(np.abs(r["W_ext"])) < 1e-7 and np.max(np.abs(r["E_diss"])) == 0.0
     np.testing.assert_allclose(r["E_kin"] + r["E_pot"], b.E0, atol=1e-7)
+
+
+def test_a_run_without_the_audit_moves_the_same_and_says_it_has_none():
+    """audit=False (a bisection's runs) skips the quadrature only: the same steps and rows, no energy columns,
+    and asking for the balance is one clear error."""
+    system = model_from_text(OFFSET_PENDULUM, "offset_pendulum.toml")
+    x0 = assemble(system, {})
+    a = simulate(system, x0, (0.0, 1.0), rtol=1e-9, atol=1e-12)
+    b = simulate(system, x0, (0.0, 1.0), rtol=1e-9, atol=1e-12, audit=False)
+    assert len(a) == len(b) and a.nfev == b.nfev
+    np.testing.assert_allclose(b.values, a.values, rtol=0.0, atol=1e-15)
+    assert a.energy and not b.energy
+    with pytest.raises(InputError, match="energy: this history has no energy audit"):
+        _ = b.balance
 
 
 def test_rayleigh_damping_is_dissipated():

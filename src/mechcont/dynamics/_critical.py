@@ -124,7 +124,8 @@ def critical_airspeed(system, start: Mapping[str, float], vary: str, low: float,
     runs: list[tuple[float, str]] = []
 
     def locks(v: float) -> bool:
-        r = freefall(model, start, lock=lock, until=until, values={**base, vary: v}, **options)
+        # only the outcome is read: no energy audit (options may still ask for one)
+        r = freefall(model, start, lock=lock, until=until, values={**base, vary: v}, **{"audit": False, **options})
         runs.append((v, r.outcome))
         return r.locked
 

@@ -63,10 +63,12 @@ class EnergyLedger:
     integrator's steps: ``[damper and Rayleigh dissipation, work of the applied forces at rest, work of
     the compliant stops' reactions on the mechanism]`` (J), each integrated on a step's dense output;
     and :attr:`explained`, the energy error the integrator's tolerances allow, summed over the steps
-    (:meth:`step_error`). ``rtol``, ``atol``: the integrator's tolerances (``atol`` scalar or per state)."""
+    (:meth:`step_error`). ``rtol``, ``atol``: the integrator's tolerances (``atol`` scalar or per state).
+    ``active`` False: nothing is integrated (a run whose balance nobody reads: a bisection's)."""
 
-    def __init__(self, dyn, rtol: float, atol, method: str = "RK45") -> None:
+    def __init__(self, dyn, rtol: float, atol, method: str = "RK45", active: bool = True) -> None:
         self.dyn = dyn
+        self.active = active
         self.nodes, self.weights = _RULES[4 if method == "DOP853" else 3]
         self.acc = np.zeros(3)
         self.rtol = float(rtol)
@@ -110,7 +112,7 @@ class EnergyLedger:
     def integral(self, sol, a: float, b: float) -> np.ndarray:
         """The powers integrated from ``a`` to ``b`` on the dense output ``sol`` (J): :meth:`powers` at the
         Gauss points, the applied forces of all of them in one call of the compiled code."""
-        if b <= a:
+        if b <= a or not self.active:
             return np.zeros(3)
         h = 0.5 * (b - a)
         ts = 0.5 * (a + b) + h * self.nodes
@@ -132,7 +134,8 @@ class EnergyLedger:
 
     def close_step(self, t: float, y: np.ndarray) -> None:
         """Add the :meth:`step_error` of a step that ended at ``(t, y)``."""
-        self.explained += self.step_error(t, y)
+        if self.active:
+            self.explained += self.step_error(t, y)
 
 
 def energy_columns(dyn, y: np.ndarray, values: np.ndarray, work: np.ndarray, jumps: list[int],

@@ -159,7 +159,7 @@ class SimulationResult:
         terms in J, the worst residual, the bound the tolerance explains and whether it closes).
         Raises :class:`InputError` for a history without the audit."""
         if not self.energy:
-            raise InputError("energy", "this history has no energy audit (made by simulate)")
+            raise InputError("energy", "this history has no energy audit (simulate makes one unless audit=False)")
         return EnergyBalance.of(self.energy, self.energy_tolerance)
 
     def __getitem__(self, name: str) -> np.ndarray:

@@ -218,7 +218,7 @@ def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None
 def freefall(system, start: Mapping[str, float], *, lock, until: float, values: Mapping[str, float] | None = None,
              damping: float = 0.0, rtol: float = 1e-8, atol: float = 1e-10, rest_speed: float = 1e-4,
              max_step: float = math.inf, guess=None, method: str = "RK45", end_at_lock: bool = False,
-             held_by: str | None = None) -> FreefallResult:
+             held_by: str | None = None, audit: bool = True) -> FreefallResult:
     """Release ``system`` at rest in the pose ``start`` and simulate it with its stops until it locks.
 
     Parameters
@@ -254,6 +254,8 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         is then the static equilibrium with ``start`` held and it solved for (:func:`held_pose`). Without it
         compliant joints are at the deflection of the gear held by a reaction conjugate to each ``start`` value
         (:func:`~mechcont.dynamics.assemble`).
+    audit:
+        Keep the history's energy audit (False in :func:`critical_airspeed`'s runs, which read only the outcome).
 
     Returns
     -------
@@ -287,7 +289,7 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         events = [_AtRestOnStops(model, lock_stops, rest_speed)]
     stops = bool(model.stops)
     result = simulate(model, x0, (0.0, float(until)), stops=stops, damping=damping, rtol=rtol, atol=atol,
-                      max_step=max_step, events=events, method=method)
+                      max_step=max_step, events=events, method=method, audit=audit)
     speed = float(np.max(np.abs(result.qdot[-1]), initial=0.0))
     t_lock = impact = None
     per_stop: dict[str, StopLock] = {}
