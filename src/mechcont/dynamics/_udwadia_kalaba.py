@@ -59,20 +59,25 @@ __all__ = ["fundamental_equation", "inverse_sqrt", "MassBlocks", "ConstrainedDyn
 _RCOND = 1e-8
 
 
-def _pinv_apply(B: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """``B^+ r`` for a wide matrix ``B``: Cholesky of ``B B^T`` if well conditioned, else SVD.
-
-    LAPACK is called directly (``dpotrf``/``dpotrs``): for the 5 x 6 overcentre this is
-    five times cheaper than ``numpy.linalg.pinv`` and gives the same vector.
-    """
-    G = B @ B.T
+def _cholesky_solve(G: np.ndarray, r: np.ndarray) -> np.ndarray | None:
+    """``G^-1 r`` for a symmetric positive definite ``G`` (``B B^T`` or ``A M^-1 A^T``), or None when ``G`` is
+    (nearly) singular: its Cholesky factor's diagonal spread beyond 1e6, i.e. rcond(G) below ~1e-12 (the
+    rows are dependent: the callers take the pseudo-inverse). LAPACK is called directly (``dpotrf``/``dpotrs``):
+    for the 5 x 6 overcentre five times cheaper than ``numpy.linalg.pinv``."""
     c, info = dpotrf(G, lower=1, clean=0)
-    if info == 0:
-        d = np.abs(c.diagonal())
-        if d.min() > 1e-6 * d.max():  # rcond(B B^T) above ~1e-12: full row rank
-            z, _ = dpotrs(c, r, lower=1)
-            return B.T @ z
-    return np.linalg.pinv(B, rcond=_RCOND) @ r
+    if info != 0:
+        return None
+    d = np.abs(c.diagonal())
+    if not d.min() > 1e-6 * d.max():
+        return None
+    z, _ = dpotrs(c, r, lower=1)
+    return z
+
+
+def _pinv_apply(B: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """``B^+ r`` for a wide matrix ``B``: Cholesky of ``B B^T`` if well conditioned, else SVD."""
+    z = _cholesky_solve(B @ B.T, r)
+    return B.T @ z if z is not None else np.linalg.pinv(B, rcond=_RCOND) @ r
 
 
 def fundamental_equation(M_inv_sqrt: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -270,13 +275,9 @@ class ConstrainedDynamics:
         Minv = self._blocks.inverse(self.mech.mass(x))
         a = Minv @ Q
         MA = Minv @ A.T
-        c, info = dpotrf(A @ MA, lower=1, clean=0)
-        if info != 0:
+        z = _cholesky_solve(A @ MA, b - A @ a)
+        if z is None:
             return None
-        d = np.abs(c.diagonal())
-        if not d.min() > 1e-6 * d.max():
-            return None
-        z, _ = dpotrs(c, b - A @ a, lower=1)
         return (a + MA @ z, z) if with_multipliers else a + MA @ z
 
     def multipliers(self, t: float, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
@@ -310,18 +311,15 @@ class ConstrainedDynamics:
             return a, np.zeros(0), True
         B = A @ Mis
         r = b - A @ a
-        c, info = dpotrf(B @ B.T, lower=1, clean=0)
-        if info == 0:
-            d = np.abs(c.diagonal())
-            if d.min() > 1e-6 * d.max():  # full row rank, as in _pinv_apply: z = (B B^T)^-1 r
-                z, _ = dpotrs(c, r, lower=1)
-                return a + Mis @ (B.T @ z), z, True
-        # redundant rows: B^T z = B^+ r has solutions (B^+ r lies in the row space of B); the minimum-norm one
-        w = _pinv_apply(B, r)
-        U, sv, Vt = np.linalg.svd(B.T, full_matrices=False)
+        z = _cholesky_solve(B @ B.T, r)  # full row rank, as in _pinv_apply: z = (B B^T)^-1 r
+        if z is not None:
+            return a + Mis @ (B.T @ z), z, True
+        # redundant rows, from one SVD B = U S V^T cut at _RCOND as np.linalg.pinv cuts it: the step
+        # w = B^+ r = V S^-1 U^T r of _pinv_apply, and the minimum-norm z with B^T z = w, z = U S^-2 U^T r
+        U, sv, Vt = np.linalg.svd(B, full_matrices=False)
         rank = int(np.count_nonzero(sv > _RCOND * max(sv[0], 1e-300))) if sv.size else 0
-        z = Vt[:rank].T @ ((U[:, :rank].T @ w) / sv[:rank])
-        return a + Mis @ w, z, rank == A.shape[0]
+        c = (U[:, :rank].T @ r) / sv[:rank]
+        return a + Mis @ (Vt[:rank].T @ c), U[:, :rank] @ (c / sv[:rank]), rank == A.shape[0]
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         """Right-hand side ``(qdot, qddot)`` of the first-order system."""
