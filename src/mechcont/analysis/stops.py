@@ -156,35 +156,84 @@ def equilibrium_on_stops(system: Model, guess: np.ndarray | Mapping[str, float],
 
 
 def _active_set(system, guess, values, hold, free, stops, contact) -> tuple[np.ndarray, list[str]]:
-    """:func:`equilibrium_on_stops`' active-set method from one guess and first contact set."""
+    """:func:`equilibrium_on_stops`' active-set method from one guess and first contact set.
+
+    First the small active-set walk (add the stop most past its limit, else release the reaction
+    pulling most); when it cycles or a solve diverges (e.g. the free Newton from a pose on one stop
+    running off past it), each untried contact set in turn, fewest stops first, solved from the guess
+    with its conditions held at their limits: the first consistent one is taken."""
     st = _stops(system, stops)
-    x = system.vector(guess) if isinstance(guess, Mapping) else np.array(guess, dtype=float)
+    x0 = system.vector(guess) if isinstance(guess, Mapping) else np.array(guess, dtype=float)
     active = set(contact) if contact is not None else {s.name for s in st
-                                                       if s.gap(x[system.index(s.condition)]) <= GAP_TOL}
-    tried = []
-    hold = dict(hold or {})
+                                                       if s.gap(x0[system.index(s.condition)]) <= GAP_TOL}
+    tried: dict[frozenset[str], str] = {}      # contact set -> why it is not the answer
+    x = x0
     for _ in range(2 ** len(st) + 1):
-        tried.append(sorted(active))
-        hold_k = {**hold, **{s.condition: s.limit for s in st if s.name in active}}
-        free_k = [*free, *(s.reaction for s in st if s.name in active)]
-        y = find_equilibrium(system, values={**(values or {}), **{s.reaction: 0.0 for s in st
-                                                                   if s.name not in active}},
-                             hold=hold_k, free=free_k, guess=_with_contacts(system, x, st, active))
-        pulls = {s.name: y[system.index(s.reaction)] for s in st if s.name in active}
-        past = {s.name: s.gap(y[system.index(s.condition)]) for s in st if s.name not in active}
-        worst_pull = min(pulls, key=pulls.__getitem__, default=None)
-        worst_past = min(past, key=past.__getitem__, default=None)
-        if worst_past is not None and past[worst_past] < -GAP_TOL:
-            active.add(worst_past)
-        elif worst_pull is not None and pulls[worst_pull] < 0:
-            active.discard(worst_pull)
-        else:
+        y, worst_past, worst_pull, why = _solve_set(system, x, active, values, hold, free, st)
+        if y is not None and not why:
             return y, [s.name for s in st if s.name in active]
-        if sorted(active) in tried:
+        tried[frozenset(active)] = why
+        if y is None:
+            break
+        if worst_past is not None:
+            active.add(worst_past)
+        else:
+            active.discard(worst_pull)
+        if frozenset(active) in tried:
             break
         x = y
-    raise ConvergenceError(f"no consistent set of stops in contact: tried {tried} (a stop pulling or a free "
-                           "condition past its limit in each)")
+    for k in range(len(st) + 1):   # the stops in contact, each candidate set in turn
+        for chosen in combinations([s.name for s in st], k):
+            if frozenset(chosen) in tried or not _compatible(st, chosen):
+                continue
+            y, _, _, why = _solve_set(system, x0, set(chosen), values, hold, free, st)
+            if y is not None and not why:
+                return y, list(chosen)
+            tried[frozenset(chosen)] = why
+    sets = "; ".join(f"{', '.join(s.name for s in st if s.name in a) or 'none'} in contact: {why}"
+                     for a, why in tried.items())
+    raise ConvergenceError(f"no consistent set of stops in contact; tried: {sets}")
+
+
+def _compatible(stops: Sequence[StopLimit], chosen: Iterable[str]) -> bool:
+    """False when two of the stops ``chosen`` would hold one condition at two different limits."""
+    held: dict[str, float] = {}
+    for s in stops:
+        if s.name in chosen and held.setdefault(s.condition, s.limit) != s.limit:
+            return False
+    return True
+
+
+def _solve_set(system: Model, x: np.ndarray, active: set[str], values, hold, free,
+               stops: Sequence[StopLimit]) -> tuple[np.ndarray | None, str | None, str | None, str]:
+    """The equilibrium with the stops ``active`` in contact (conditions held at their limits, reactions freed),
+    the others free (reactions 0), from ``x``: ``(y, most past free stop, most pulling stop, why)``, ``why`` ""
+    when the set is consistent (complementarity: every reaction >= 0, every free condition on its side, to
+    within rounding), else what is wrong (``y`` None when Newton does not converge)."""
+    hold_k = {**dict(hold or {}), **{s.condition: s.limit for s in stops if s.name in active}}
+    free_k = [*free, *(s.reaction for s in stops if s.name in active)]
+    try:
+        y = find_equilibrium(system, values={**(values or {}), **{s.reaction: 0.0 for s in stops
+                                                                 if s.name not in active}},
+                             hold=hold_k, free=free_k, guess=_with_contacts(system, x, stops, active))
+    except ConvergenceError:
+        return None, None, None, "Newton from the guess did not converge"
+    sc = system.scales()
+    pulls = {s.name: y[system.index(s.reaction)] / sc[system.index(s.reaction)] for s in stops if s.name in active}
+    past = {s.name: s.gap(y[system.index(s.condition)]) for s in stops if s.name not in active}
+    worst_pull = min(pulls, key=pulls.__getitem__, default=None)
+    worst_past = min(past, key=past.__getitem__, default=None)
+    by_name = {s.name: s for s in stops}
+    if worst_past is not None and past[worst_past] < -GAP_TOL:
+        s = by_name[worst_past]
+        c = system.variable(s.condition)
+        return y, worst_past, None, (f"{s.condition} = {y[system.index(s.condition)]:.6g} {c.unit}".rstrip()
+                                     + f", {-past[worst_past]:.3g} past the {s.key} of {s.name} ({s.limit:.6g})")
+    if worst_pull is not None and pulls[worst_pull] < -GAP_TOL:
+        s = by_name[worst_pull]
+        R = system.variable(s.reaction)
+        return y, None, worst_pull, f"{s.reaction} = {f'{y[system.index(s.reaction)]:.6g} {R.unit}'.rstrip()} pulls"
+    return y, None, None, ""
 
 
 @dataclass
@@ -330,6 +379,7 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
     sign = direction
     arriving: set[str] | None = None   # the set of the piece that ended at x (None at the start)
     folds: dict[int, dict] = {}         # switch number (-1: the start) -> the NSF's info
+    released: list[str] = []            # the stops released at the start itself (an SR there)
     run.message = ""
     for _ in range(max_switches + 1):
         if undecided:
@@ -340,6 +390,8 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
             ahead = _continuing_sets(system, x, vary, sign, st, active, undecided, hold, free)
             if ahead:
                 active = ahead[0]
+                if arriving is None:   # a start exactly on a limit
+                    released = _released_at_start(system, x, vary, sign, st, active, undecided, hold, free)
             else:   # a non-smooth fold: nothing continues this way; go on through it, the way turned back
                 back = _continuing_sets(system, x, vary, -sign, st, active, undecided, hold, free)
                 came = arriving if arriving is not None else (back[0] if back else None)
@@ -385,7 +437,7 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
     else:
         run.message = (f"stopped after {max_switches} contact changes at {vary} = {x[system.index(vary)]:.6g} "
                        "(the contact keeps switching there)")
-    run.branch, row_piece = _join(system, run.pieces, vary, run, folds)
+    run.branch, row_piece = _join(system, run.pieces, vary, run, folds, _start_release(system, run, vary, released))
     _land(system, run, row_piece, vary, hold, free, st)
     return run
 
@@ -445,6 +497,35 @@ def _continuing_sets(system: Model, x: np.ndarray, vary: str, sign: int, stops: 
     return out
 
 
+def _released_at_start(system: Model, x: np.ndarray, vary: str, sign: int, stops: Sequence[StopLimit],
+                       active: set[str], undecided: set[str], hold: list[str], free: list[str]) -> list[str]:
+    """The ``undecided`` stops at a start exactly on their limits that the set ``active`` leaves free this way
+    but some set continuing the other way holds in contact: the start is their release (``SR``). By
+    complementarity a stop at its limit is in contact (its reaction, zero here, may be >= 0), so going
+    free from there releases it, whichever side the run leaves to; a stop free on both sides (grazing its
+    limit) releases nothing."""
+    off = undecided - active
+    if not off:
+        return []
+    back = _continuing_sets(system, x, vary, -sign, stops, active, undecided, hold, free)
+    return sorted(n for n in off if any(n in b for b in back))
+
+
+def _start_release(system: Model, run: StopRun, vary: str, released: Sequence[str]) -> SpecialPoint | None:
+    """The ``SR`` point at the start of ``run`` for the stops ``released`` there (None when none): exact, as
+    the start is a solution with the conditions at their limits and the reactions zero; its lens is the
+    contact set's (the released stops held), as for a release located along a piece."""
+    if not released or not run.pieces:
+        return None
+    p0 = run.pieces[0]
+    x0 = p0.values[0 if run.directions[0] > 0 else len(p0) - 1].copy()
+    by_name = {s.name: s for s in system.stops}
+    swap = {by_name[n].condition: by_name[n].reaction for n in released}
+    unknowns = [swap.get(n, n) for n in p0.unknowns]
+    return SpecialPoint("SR", 0, x0, p0.names, None, {"stop": ", ".join(released)}, status=Status.LOCATED,
+                        vary=vary, unknowns=unknowns)
+
+
 def _single(system: Model, x: np.ndarray, vary: str, hold, free, stops, active) -> Branch:
     """A one-row branch at ``x`` (a run that ends where it starts: a non-smooth fold at the start)."""
     hold_k, free_k = _lens(stops, active, hold, free)
@@ -477,10 +558,11 @@ def _contact_stability(system: Model, piece: Branch, contact: Sequence[str]) -> 
     return piece.replace(n_unstable=[stability_on_stops(system, x, contact).n_unstable for x in piece.values])
 
 
-def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun,
-          folds: Mapping[int, dict]) -> tuple[Branch, list[int]]:
+def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun, folds: Mapping[int, dict],
+          start: SpecialPoint | None = None) -> tuple[Branch, list[int]]:
     """One branch of the pieces in travel order; each switch row appears once (the end of its piece), labelled
-    with its switch's label (``NSF`` with its ``folds`` info); and the piece of each row."""
+    with its switch's label (``NSF`` with its ``folds`` info), the release at the start ``start`` (if any) first;
+    and the piece of each row."""
     rows: list[np.ndarray] = []
     s: list[float] = []
     stab: list[int] = []
@@ -489,6 +571,8 @@ def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun,
     row_piece: list[int] = []
     offset = 0.0
     k_switch = 0
+    if start is not None and -1 not in folds:   # a release at the start itself
+        special.append(start)
     if -1 in folds and pieces:   # a non-smooth fold at the start itself
         p0 = pieces[0]
         j0 = 0 if run.directions[0] > 0 else len(p0) - 1
@@ -522,6 +606,9 @@ def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun,
     if -1 in folds and rows:   # the start belongs to the set the mechanism rests on, not to the one through the fold
         labels[0], stab[0] = "NSF", folds[-1]["n_unstable"]
         run.switches.insert(0, ("NSF", folds[-1]["stop"], 0))
+    elif start is not None and rows:
+        labels[0] = "SR"
+        run.switches.insert(0, ("SR", start.extra["stop"], 0))
     unknowns = pieces[0].unknowns if pieces else ()
     status = pieces[-1].status if pieces else Status.FAILED
     branch = Branch(system.names, np.array(rows), s, stab, labels, special, vary, unknowns, status, run.message,
@@ -577,12 +664,18 @@ def _both_ways(system: Model, down: StopRun, up: StopRun) -> StopRun:
     stab = np.concatenate([bd.n_unstable[::-1], bu.n_unstable[1:]])
     labels = list(bd.labels[::-1]) + list(bu.labels[1:])
     special = [replace(p, index=n - 1 - p.index, extra=dict(p.extra)) for p in reversed(bd.special_points)]
-    special += [replace(p, index=n - 1 + p.index, extra=dict(p.extra)) for p in bu.special_points if p.index > 0]
+    # the start's own points (a release or a non-smooth fold exactly there) may come from either run: once each
+    at_start = {p.label for p in bd.special_points if p.index == 0}
+    special += [replace(p, index=n - 1 + p.index, extra=dict(p.extra)) for p in bu.special_points
+                if p.index > 0 or p.label not in at_start]
+    if bu.labels[0] and (not labels[n - 1] or bu.labels[0] == "NSF"):
+        labels[n - 1] = bu.labels[0]
     message = "; ".join(r.message for r in (down, up) if r.message)   # each says its direction
     status = Status.first_failure([bd.status, bu.status])
     branch = Branch(system.names, rows, s, stab, labels, special, bu.vary, bu.unknowns, status, message,
                     system.name, units={v.name: v.unit for v in system.variables})
+    first = {lab for lab, _, i in down.switches if i == 0}
     switches = ([(lab, name, n - 1 - i) for lab, name, i in reversed(down.switches)]
-                + [(lab, name, n - 1 + i) for lab, name, i in up.switches])
+                + [(lab, name, n - 1 + i) for lab, name, i in up.switches if i > 0 or lab not in first])
     return StopRun(branch, down.pieces + up.pieces, down.contact + up.contact, switches, message,
                    down.directions + up.directions)
