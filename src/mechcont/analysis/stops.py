@@ -10,7 +10,8 @@ keeps a condition ``c`` on one side of a limit. Along a branch each stop is eith
 :func:`continuation_with_stops` continues with one such *active set* until a reaction reaches
 zero (``SR``, stop released) or a free condition reaches its limit (``SC``, stop contact), then
 continues from the located switch point in the same sense along the branch with the contact set
-the one-sided tangents choose (the same choice decides a start exactly on a limit). Where no set
+the one-sided tangents choose (the same choice decides a start exactly on a limit, which is the
+switch itself and keeps its label: ``SR`` or ``NSF``). Where no set
 continues, the switch is a non-smooth fold (``NSF``: e.g. a release onto an unstable free branch,
 a snap-through); the branch goes on through it like through a smooth fold, and the ``NSF`` point
 says where the mechanism lands (``extra["landing"]``). The pieces are joined into one
@@ -20,15 +21,15 @@ switches, ``LP`` the folds of the piece they lie on (each keeps its own lens in
 ``unknowns``, so :func:`~mechcont.continuation.continue_folds` follows it in a second
 parameter with the stops it had in contact held).
 
-:func:`equilibrium_on_stops` finds the start: an equilibrium whose active set is consistent
-(every reaction >= 0, every free condition on its side), by adding the most violated stop or
-releasing the most negative reaction until none is left (a small active-set method).
+:func:`equilibrium_on_stops` (in :mod:`._stop_search`, with the stops' lens) finds the start: an
+equilibrium whose active set is consistent (every reaction >= 0, every free condition on its side),
+by adding the most violated stop or releasing the most negative reaction until none is left (a small
+active-set method), and when that cycles or a solve diverges, by trying every other contact set in turn.
 """
 
-# Why one module of about 580 lines: the start (equilibrium_on_stops), the continuation with its
-# switches and the joining of its pieces are one algorithm over the same private vocabulary (the
-# stops' lens _lens, _with_contacts, the stability on a contact set, StopRun); split, each part would
-# import the others' private helpers.
+# Why one module of about 490 lines: the continuation with its switches and the joining of its pieces
+# are one algorithm over the same state (the pieces, the switches, the folds); the equilibrium on the
+# stops, their lens and the stability on a contact set are in _stop_search.py.
 
 from __future__ import annotations
 
@@ -44,197 +45,19 @@ from ..continuation._problem import choose_unknowns
 from ..continuation._variants import travel as _travel
 from ..equations import Model, StopLimit
 from ..errors import ConvergenceError, InputError
+from ._stop_search import (
+    GAP_TOL,
+    check_stop_lens,
+    contact_lens,
+    equilibrium_on_stops,
+    named_stops,
+    stability_on_stops,
+    stops_in_contact,
+    with_contacts,
+)
 
 __all__ = ["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stops_in_contact", "check_stop_lens",
-           "stability_on_stops"]
-
-#: A stop counts as touching when its condition is within this of the limit (condition units: a
-#: sine, rad or m), far below any physical gap and far above the solver's residual.
-GAP_TOL = 1e-9
-
-
-def _stops(system: Model, names: Iterable[str] | None) -> tuple[StopLimit, ...]:
-    have = system.stops
-    if names is None:
-        return have
-    by_name = {s.name: s for s in have}
-    out = []
-    for n in names:
-        if n not in by_name:
-            valid = ", ".join(by_name) or "none (declare [stops.NAME] in the description)"
-            raise InputError("stops", f"unknown stop {n!r}; stops of {system.name}: {valid}")
-        out.append(by_name[n])
-    return tuple(out)
-
-
-def stops_in_contact(system: Model, x: np.ndarray, stops: Sequence[StopLimit] | None = None) -> list[str]:
-    """Names of the stops touching at the full vector ``x``: condition at its limit and reaction > 0."""
-    stops = _stops(system, None) if stops is None else stops
-    return [s.name for s in stops
-            if abs(s.gap(x[system.index(s.condition)])) <= GAP_TOL and x[system.index(s.reaction)] > 0]
-
-
-def check_stop_lens(system: Model, vary: str, hold: Iterable[str] = (), free: Iterable[str] = (),
-                    stops: Iterable[str] | None = None) -> None:
-    """Raise a one-line :class:`~mechcont.errors.InputError` when ``vary``, ``hold`` or ``free`` names a stop's
-    reaction or condition: with stops those are switched by contact, not chosen."""
-    managed = {n: s.name for s in _stops(system, stops) for n in (s.reaction, s.condition)}
-    for what, names in (("vary", [vary]), ("hold", list(hold)), ("free", list(free))):
-        for n in names:
-            if n in managed:
-                raise InputError(what, f"{n} is switched by the stop {managed[n]} (held at its limit with the "
-                                       "reaction free in contact, free with a zero reaction out of it); "
-                                       f"{'vary a load or parameter' if what == 'vary' else 'leave it out'}")
-
-
-def _lens(stops: Sequence[StopLimit], active: Iterable[str], hold: Iterable[str], free: Iterable[str]):
-    active = set(active)
-    hold_ = [*hold, *(s.condition for s in stops if s.name in active)]
-    free_ = [*free, *(s.reaction for s in stops if s.name in active)]
-    return hold_, free_
-
-
-def _with_contacts(system: Model, x: np.ndarray, stops, active) -> np.ndarray:
-    """``x`` with the active stops' conditions exactly at their limits and the free stops' reactions 0."""
-    y = np.array(x, dtype=float)
-    for s in stops:
-        if s.name in active:
-            y[system.index(s.condition)] = s.limit
-        else:
-            y[system.index(s.reaction)] = 0.0
-    return y
-
-
-def equilibrium_on_stops(system: Model, guess: np.ndarray | Mapping[str, float], *,
-                         values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
-                         free: Iterable[str] = (), stops: Iterable[str] | None = None,
-                         contact: Iterable[str] | None = None, stable: bool = False) -> tuple[np.ndarray, list[str]]:
-    """An equilibrium with a consistent set of stops in contact.
-
-    Parameters
-    ----------
-    system:
-        A model with stops (``system.stops``).
-    guess:
-        Full vector or ``{name: value}`` near the equilibrium.
-    values, hold, free:
-        As :func:`~mechcont.continuation.find_equilibrium` (parameters set, states held, parameters freed).
-    stops:
-        Names of the stops to consider (default: all of the model's).
-    contact:
-        The stops to try in contact first (default: those whose condition is at or past its limit
-        at ``guess``).
-    stable:
-        When the equilibrium found is unstable (e.g. Newton from the guess went to the unstable
-        straight toggle of a clamp whose lock rests on a stop past it), try each further stop in
-        contact first and return the first consistent stable equilibrium, if any.
-
-    Returns
-    -------
-    (x, contact)
-        The full vector (reactions of free stops 0, reactions in contact >= 0, free conditions on
-        their sides) and the names of the stops in contact.
-
-    Raises
-    ------
-    ConvergenceError
-        When no active set gives a consistent equilibrium (the sets tried are named).
-    """
-    x, found = _active_set(system, guess, values, hold, free, stops, contact)
-    if not stable or system.mechanics is None or stability_on_stops(system, x, found).stable:
-        return x, found
-    for s in _stops(system, stops):
-        if s.name in found:
-            continue
-        try:
-            y, there = _active_set(system, guess, values, hold, free, stops, [*found, s.name])
-        except ConvergenceError:
-            continue
-        if stability_on_stops(system, y, there).stable:
-            return y, there
-    return x, found
-
-
-def _active_set(system, guess, values, hold, free, stops, contact) -> tuple[np.ndarray, list[str]]:
-    """:func:`equilibrium_on_stops`' active-set method from one guess and first contact set.
-
-    First the small active-set walk (add the stop most past its limit, else release the reaction
-    pulling most); when it cycles or a solve diverges (e.g. the free Newton from a pose on one stop
-    running off past it), each untried contact set in turn, fewest stops first, solved from the guess
-    with its conditions held at their limits: the first consistent one is taken."""
-    st = _stops(system, stops)
-    x0 = system.vector(guess) if isinstance(guess, Mapping) else np.array(guess, dtype=float)
-    active = set(contact) if contact is not None else {s.name for s in st
-                                                       if s.gap(x0[system.index(s.condition)]) <= GAP_TOL}
-    tried: dict[frozenset[str], str] = {}      # contact set -> why it is not the answer
-    x = x0
-    for _ in range(2 ** len(st) + 1):
-        y, worst_past, worst_pull, why = _solve_set(system, x, active, values, hold, free, st)
-        if y is not None and not why:
-            return y, [s.name for s in st if s.name in active]
-        tried[frozenset(active)] = why
-        if y is None:
-            break
-        if worst_past is not None:
-            active.add(worst_past)
-        else:
-            active.discard(worst_pull)
-        if frozenset(active) in tried:
-            break
-        x = y
-    for k in range(len(st) + 1):   # the stops in contact, each candidate set in turn
-        for chosen in combinations([s.name for s in st], k):
-            if frozenset(chosen) in tried or not _compatible(st, chosen):
-                continue
-            y, _, _, why = _solve_set(system, x0, set(chosen), values, hold, free, st)
-            if y is not None and not why:
-                return y, list(chosen)
-            tried[frozenset(chosen)] = why
-    sets = "; ".join(f"{', '.join(s.name for s in st if s.name in a) or 'none'} in contact: {why}"
-                     for a, why in tried.items())
-    raise ConvergenceError(f"no consistent set of stops in contact; tried: {sets}")
-
-
-def _compatible(stops: Sequence[StopLimit], chosen: Iterable[str]) -> bool:
-    """False when two of the stops ``chosen`` would hold one condition at two different limits."""
-    held: dict[str, float] = {}
-    for s in stops:
-        if s.name in chosen and held.setdefault(s.condition, s.limit) != s.limit:
-            return False
-    return True
-
-
-def _solve_set(system: Model, x: np.ndarray, active: set[str], values, hold, free,
-               stops: Sequence[StopLimit]) -> tuple[np.ndarray | None, str | None, str | None, str]:
-    """The equilibrium with the stops ``active`` in contact (conditions held at their limits, reactions freed),
-    the others free (reactions 0), from ``x``: ``(y, most past free stop, most pulling stop, why)``, ``why`` ""
-    when the set is consistent (complementarity: every reaction >= 0, every free condition on its side, to
-    within rounding), else what is wrong (``y`` None when Newton does not converge)."""
-    hold_k = {**dict(hold or {}), **{s.condition: s.limit for s in stops if s.name in active}}
-    free_k = [*free, *(s.reaction for s in stops if s.name in active)]
-    try:
-        y = find_equilibrium(system, values={**(values or {}), **{s.reaction: 0.0 for s in stops
-                                                                 if s.name not in active}},
-                             hold=hold_k, free=free_k, guess=_with_contacts(system, x, stops, active))
-    except ConvergenceError:
-        return None, None, None, "Newton from the guess did not converge"
-    sc = system.scales()
-    pulls = {s.name: y[system.index(s.reaction)] / sc[system.index(s.reaction)] for s in stops if s.name in active}
-    past = {s.name: s.gap(y[system.index(s.condition)]) for s in stops if s.name not in active}
-    worst_pull = min(pulls, key=pulls.__getitem__, default=None)
-    worst_past = min(past, key=past.__getitem__, default=None)
-    by_name = {s.name: s for s in stops}
-    if worst_past is not None and past[worst_past] < -GAP_TOL:
-        s = by_name[worst_past]
-        c = system.variable(s.condition)
-        return y, worst_past, None, (f"{s.condition} = {y[system.index(s.condition)]:.6g} {c.unit}".rstrip()
-                                     + f", {-past[worst_past]:.3g} past the {s.key} of {s.name} ({s.limit:.6g})")
-    if worst_pull is not None and pulls[worst_pull] < -GAP_TOL:
-        s = by_name[worst_pull]
-        R = system.variable(s.reaction)
-        return y, None, worst_pull, f"{s.reaction} = {f'{y[system.index(s.reaction)]:.6g} {R.unit}'.rstrip()} pulls"
-    return y, None, None, ""
-
+           "stability_on_stops", "GAP_TOL"]
 
 @dataclass
 class StopRun:
@@ -349,7 +172,10 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
     -------
     StopRun
         The joined branch, its pieces and switches (``SC``, ``SR`` and ``NSF``). A piece that fails
-        ends the run with its message; what was computed up to there is returned.
+        ends the run with its message; what was computed up to there is returned. A start exactly
+        on a limit is the switch it sits on: ``SR`` at the start when a stop there goes free this
+        way and a set continuing the other way holds it in contact (by complementarity a stop at its
+        limit is in contact), ``NSF`` when no set continues this way.
     """
     # longer than 60 lines: one loop over the pieces whose steps share its state (the point, the
     # contact set, the run so far); what does not (the start's checks, the switch rules, the joining,
@@ -366,7 +192,7 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
         return _both_ways(system, down, up)
     if direction not in (-1, 1):
         raise InputError("direction", f"must be +1, -1 or 0 (both ways, each pushed from the start), got {direction!r}")
-    st = _stops(system, stops)
+    st = named_stops(system, stops)
     check_stop_lens(system, vary, hold, free, [s.name for s in st])
     options = options or ContinuationOptions()
     if stop_at_fold:
@@ -383,7 +209,7 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
     run.message = ""
     for _ in range(max_switches + 1):
         if undecided:
-            x = _with_contacts(system, x, st, active)
+            x = with_contacts(system, x, st, active)
             for s in st:
                 if s.name in undecided:
                     x[system.index(s.condition)], x[system.index(s.reaction)] = s.limit, 0.0
@@ -411,9 +237,9 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
                         run.directions.append(sign)
                     break
                 active, sign = through[0], -sign
-        x = _with_contacts(system, x, st, active)
+        x = with_contacts(system, x, st, active)
         events = [_StopEvent(s, s.name in active) for s in st] + ([_FirstFold()] if stop_at_fold else [])
-        hold_k, free_k = _lens(st, active, hold, free)
+        hold_k, free_k = contact_lens(st, active, hold, free)
         # with stops in contact the stability holds them (below): the free mechanics' is not computed
         piece = continuation(system, x, vary, hold=hold_k, free=free_k, direction=sign, events=events,
                              options=replace(options, stability=False) if active else options, progress=progress)
@@ -482,7 +308,7 @@ def _continuing_sets(system: Model, x: np.ndarray, vary: str, sign: int, stops: 
     for k in range(len(names), -1, -1):
         for chosen in combinations(names, k):
             trial = fixed | set(chosen)
-            hold_k, free_k = _lens(stops, trial, hold, free)
+            hold_k, free_k = contact_lens(stops, trial, hold, free)
             cols = [system.index(n) for n in (*choose_unknowns(system, hold_k, free_k, exclude=[vary]), vary)]
             J = system.jacobian(x)[:, cols] * sc[cols]
             t = np.linalg.svd(J)[2][-1]      # the null vector: the branch's unit tangent, scaled
@@ -528,28 +354,11 @@ def _start_release(system: Model, run: StopRun, vary: str, released: Sequence[st
 
 def _single(system: Model, x: np.ndarray, vary: str, hold, free, stops, active) -> Branch:
     """A one-row branch at ``x`` (a run that ends where it starts: a non-smooth fold at the start)."""
-    hold_k, free_k = _lens(stops, active, hold, free)
+    hold_k, free_k = contact_lens(stops, active, hold, free)
     unknowns = tuple(choose_unknowns(system, hold_k, free_k, exclude=[vary]))
     st = stability_on_stops(system, x, sorted(active)).n_unstable if system.mechanics is not None else -1
     return Branch(system.names, np.array([x]), [0.0], [st], [""], [], vary, unknowns, "completed", "", system.name,
                   units={v.name: v.unit for v in system.variables})
-
-
-def stability_on_stops(system: Model, x: np.ndarray, contact: Iterable[str]):
-    """Physical stability at the full vector ``x`` with the stops ``contact`` (names) in contact.
-
-    A stop that pushes (reaction > 0) forbids motion across it, so its condition's gradient (the
-    Jacobian row ``cond_<condition>`` over the coordinates) is held like a joint's; its reaction's
-    curvature is already in the forces. Returns the mechanics'
-    :class:`~mechcont.equations.StabilityResult`."""
-    mech = system.mechanics
-    assert mech is not None, "stability needs the model's mechanics (callers check)"
-    touching = _stops(system, list(contact))
-    if not touching:
-        return mech.stability(x)
-    cols = [system.index(q) for q in mech.coordinates]
-    rows = [system.equation_names.index(f"cond_{s.condition}") for s in touching]
-    return mech.stability(x, held=system.jacobian(x)[np.ix_(rows, cols)])
 
 
 def _contact_stability(system: Model, piece: Branch, contact: Sequence[str]) -> Branch:
@@ -642,7 +451,7 @@ def _land(system: Model, run: StopRun, row_piece: list[int], vary: str, hold: li
         w = ahead[j] / (ahead[j] - ahead[j - 1])
         guess = w * b.values[j - 1] + (1 - w) * b.values[j]
         guess[system.index(vary)] = v
-        hold_k, free_k = _lens(stops, active, hold, free)
+        hold_k, free_k = contact_lens(stops, active, hold, free)
         held = {n: float(guess[system.index(n)]) for n in hold_k if system.variable(n).kind == "state"}
         held.update({s.condition: s.limit for s in stops if s.name in active})
         if system.variable(vary).kind == "state":
