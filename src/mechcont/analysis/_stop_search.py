@@ -29,6 +29,8 @@ GAP_TOL = 1e-9
 
 
 def named_stops(system: Model, names: Iterable[str] | None) -> tuple[StopLimit, ...]:
+    """The model's stops called ``names`` (all of them for None), in that order; :class:`InputError` naming
+    the valid ones for an unknown name."""
     have = system.stops
     if names is None:
         return have
@@ -62,7 +64,10 @@ def check_stop_lens(system: Model, vary: str, hold: Iterable[str] = (), free: It
                                        f"{'vary a load or parameter' if what == 'vary' else 'leave it out'}")
 
 
-def contact_lens(stops: Sequence[StopLimit], active: Iterable[str], hold: Iterable[str], free: Iterable[str]):
+def contact_lens(stops: Sequence[StopLimit], active: Iterable[str], hold: Iterable[str],
+                 free: Iterable[str]) -> tuple[list[str], list[str]]:
+    """``(hold, free)`` names of a solve with the stops ``active`` in contact: their conditions added to
+    ``hold`` (at their limits), their reactions to ``free``."""
     active = set(active)
     hold_ = [*hold, *(s.condition for s in stops if s.name in active)]
     free_ = [*free, *(s.reaction for s in stops if s.name in active)]
