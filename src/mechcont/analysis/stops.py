@@ -10,7 +10,8 @@ keeps a condition ``c`` on one side of a limit. Along a branch each stop is eith
 :func:`continuation_with_stops` continues with one such *active set* until a reaction reaches
 zero (``SR``, stop released) or a free condition reaches its limit (``SC``, stop contact), then
 continues from the located switch point in the same sense along the branch with the contact set
-the one-sided tangents choose (the same choice decides a start exactly on a limit). Where no set
+the one-sided tangents choose (the same choice decides a start exactly on a limit, which is the
+switch itself and keeps its label: ``SR`` or ``NSF``). Where no set
 continues, the switch is a non-smooth fold (``NSF``: e.g. a release onto an unstable free branch,
 a snap-through); the branch goes on through it like through a smooth fold, and the ``NSF`` point
 says where the mechanism lands (``extra["landing"]``). The pieces are joined into one
@@ -20,15 +21,15 @@ switches, ``LP`` the folds of the piece they lie on (each keeps its own lens in
 ``unknowns``, so :func:`~mechcont.continuation.continue_folds` follows it in a second
 parameter with the stops it had in contact held).
 
-:func:`equilibrium_on_stops` finds the start: an equilibrium whose active set is consistent
-(every reaction >= 0, every free condition on its side), by adding the most violated stop or
-releasing the most negative reaction until none is left (a small active-set method).
+:func:`equilibrium_on_stops` (in :mod:`._stop_search`, with the stops' lens) finds the start: an
+equilibrium whose active set is consistent (every reaction >= 0, every free condition on its side),
+by adding the most violated stop or releasing the most negative reaction until none is left (a small
+active-set method), and when that cycles or a solve diverges, by trying every other contact set in turn.
 """
 
-# Why one module of about 580 lines: the start (equilibrium_on_stops), the continuation with its
-# switches and the joining of its pieces are one algorithm over the same private vocabulary (the
-# stops' lens _lens, _with_contacts, the stability on a contact set, StopRun); split, each part would
-# import the others' private helpers.
+# Why one module of about 490 lines: the continuation with its switches and the joining of its pieces
+# are one algorithm over the same state (the pieces, the switches, the folds); the equilibrium on the
+# stops, their lens and the stability on a contact set are in _stop_search.py.
 
 from __future__ import annotations
 
@@ -44,148 +45,19 @@ from ..continuation._problem import choose_unknowns
 from ..continuation._variants import travel as _travel
 from ..equations import Model, StopLimit
 from ..errors import ConvergenceError, InputError
+from ._stop_search import (
+    GAP_TOL,
+    check_stop_lens,
+    contact_lens,
+    equilibrium_on_stops,
+    named_stops,
+    stability_on_stops,
+    stops_in_contact,
+    with_contacts,
+)
 
 __all__ = ["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stops_in_contact", "check_stop_lens",
-           "stability_on_stops"]
-
-#: A stop counts as touching when its condition is within this of the limit (condition units: a
-#: sine, rad or m), far below any physical gap and far above the solver's residual.
-GAP_TOL = 1e-9
-
-
-def _stops(system: Model, names: Iterable[str] | None) -> tuple[StopLimit, ...]:
-    have = system.stops
-    if names is None:
-        return have
-    by_name = {s.name: s for s in have}
-    out = []
-    for n in names:
-        if n not in by_name:
-            valid = ", ".join(by_name) or "none (declare [stops.NAME] in the description)"
-            raise InputError("stops", f"unknown stop {n!r}; stops of {system.name}: {valid}")
-        out.append(by_name[n])
-    return tuple(out)
-
-
-def stops_in_contact(system: Model, x: np.ndarray, stops: Sequence[StopLimit] | None = None) -> list[str]:
-    """Names of the stops touching at the full vector ``x``: condition at its limit and reaction > 0."""
-    stops = _stops(system, None) if stops is None else stops
-    return [s.name for s in stops
-            if abs(s.gap(x[system.index(s.condition)])) <= GAP_TOL and x[system.index(s.reaction)] > 0]
-
-
-def check_stop_lens(system: Model, vary: str, hold: Iterable[str] = (), free: Iterable[str] = (),
-                    stops: Iterable[str] | None = None) -> None:
-    """Raise a one-line :class:`~mechcont.errors.InputError` when ``vary``, ``hold`` or ``free`` names a stop's
-    reaction or condition: with stops those are switched by contact, not chosen."""
-    managed = {n: s.name for s in _stops(system, stops) for n in (s.reaction, s.condition)}
-    for what, names in (("vary", [vary]), ("hold", list(hold)), ("free", list(free))):
-        for n in names:
-            if n in managed:
-                raise InputError(what, f"{n} is switched by the stop {managed[n]} (held at its limit with the "
-                                       "reaction free in contact, free with a zero reaction out of it); "
-                                       f"{'vary a load or parameter' if what == 'vary' else 'leave it out'}")
-
-
-def _lens(stops: Sequence[StopLimit], active: Iterable[str], hold: Iterable[str], free: Iterable[str]):
-    active = set(active)
-    hold_ = [*hold, *(s.condition for s in stops if s.name in active)]
-    free_ = [*free, *(s.reaction for s in stops if s.name in active)]
-    return hold_, free_
-
-
-def _with_contacts(system: Model, x: np.ndarray, stops, active) -> np.ndarray:
-    """``x`` with the active stops' conditions exactly at their limits and the free stops' reactions 0."""
-    y = np.array(x, dtype=float)
-    for s in stops:
-        if s.name in active:
-            y[system.index(s.condition)] = s.limit
-        else:
-            y[system.index(s.reaction)] = 0.0
-    return y
-
-
-def equilibrium_on_stops(system: Model, guess: np.ndarray | Mapping[str, float], *,
-                         values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
-                         free: Iterable[str] = (), stops: Iterable[str] | None = None,
-                         contact: Iterable[str] | None = None, stable: bool = False) -> tuple[np.ndarray, list[str]]:
-    """An equilibrium with a consistent set of stops in contact.
-
-    Parameters
-    ----------
-    system:
-        A model with stops (``system.stops``).
-    guess:
-        Full vector or ``{name: value}`` near the equilibrium.
-    values, hold, free:
-        As :func:`~mechcont.continuation.find_equilibrium` (parameters set, states held, parameters freed).
-    stops:
-        Names of the stops to consider (default: all of the model's).
-    contact:
-        The stops to try in contact first (default: those whose condition is at or past its limit
-        at ``guess``).
-    stable:
-        When the equilibrium found is unstable (e.g. Newton from the guess went to the unstable
-        straight toggle of a clamp whose lock rests on a stop past it), try each further stop in
-        contact first and return the first consistent stable equilibrium, if any.
-
-    Returns
-    -------
-    (x, contact)
-        The full vector (reactions of free stops 0, reactions in contact >= 0, free conditions on
-        their sides) and the names of the stops in contact.
-
-    Raises
-    ------
-    ConvergenceError
-        When no active set gives a consistent equilibrium (the sets tried are named).
-    """
-    x, found = _active_set(system, guess, values, hold, free, stops, contact)
-    if not stable or system.mechanics is None or stability_on_stops(system, x, found).stable:
-        return x, found
-    for s in _stops(system, stops):
-        if s.name in found:
-            continue
-        try:
-            y, there = _active_set(system, guess, values, hold, free, stops, [*found, s.name])
-        except ConvergenceError:
-            continue
-        if stability_on_stops(system, y, there).stable:
-            return y, there
-    return x, found
-
-
-def _active_set(system, guess, values, hold, free, stops, contact) -> tuple[np.ndarray, list[str]]:
-    """:func:`equilibrium_on_stops`' active-set method from one guess and first contact set."""
-    st = _stops(system, stops)
-    x = system.vector(guess) if isinstance(guess, Mapping) else np.array(guess, dtype=float)
-    active = set(contact) if contact is not None else {s.name for s in st
-                                                       if s.gap(x[system.index(s.condition)]) <= GAP_TOL}
-    tried = []
-    hold = dict(hold or {})
-    for _ in range(2 ** len(st) + 1):
-        tried.append(sorted(active))
-        hold_k = {**hold, **{s.condition: s.limit for s in st if s.name in active}}
-        free_k = [*free, *(s.reaction for s in st if s.name in active)]
-        y = find_equilibrium(system, values={**(values or {}), **{s.reaction: 0.0 for s in st
-                                                                   if s.name not in active}},
-                             hold=hold_k, free=free_k, guess=_with_contacts(system, x, st, active))
-        pulls = {s.name: y[system.index(s.reaction)] for s in st if s.name in active}
-        past = {s.name: s.gap(y[system.index(s.condition)]) for s in st if s.name not in active}
-        worst_pull = min(pulls, key=pulls.__getitem__, default=None)
-        worst_past = min(past, key=past.__getitem__, default=None)
-        if worst_past is not None and past[worst_past] < -GAP_TOL:
-            active.add(worst_past)
-        elif worst_pull is not None and pulls[worst_pull] < 0:
-            active.discard(worst_pull)
-        else:
-            return y, [s.name for s in st if s.name in active]
-        if sorted(active) in tried:
-            break
-        x = y
-    raise ConvergenceError(f"no consistent set of stops in contact: tried {tried} (a stop pulling or a free "
-                           "condition past its limit in each)")
-
+           "stability_on_stops", "GAP_TOL"]
 
 @dataclass
 class StopRun:
@@ -300,7 +172,10 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
     -------
     StopRun
         The joined branch, its pieces and switches (``SC``, ``SR`` and ``NSF``). A piece that fails
-        ends the run with its message; what was computed up to there is returned.
+        ends the run with its message; what was computed up to there is returned. A start exactly
+        on a limit is the switch it sits on: ``SR`` at the start when a stop there goes free this
+        way and a set continuing the other way holds it in contact (by complementarity a stop at its
+        limit is in contact), ``NSF`` when no set continues this way.
     """
     # longer than 60 lines: one loop over the pieces whose steps share its state (the point, the
     # contact set, the run so far); what does not (the start's checks, the switch rules, the joining,
@@ -317,7 +192,7 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
         return _both_ways(system, down, up)
     if direction not in (-1, 1):
         raise InputError("direction", f"must be +1, -1 or 0 (both ways, each pushed from the start), got {direction!r}")
-    st = _stops(system, stops)
+    st = named_stops(system, stops)
     check_stop_lens(system, vary, hold, free, [s.name for s in st])
     options = options or ContinuationOptions()
     if stop_at_fold:
@@ -330,16 +205,19 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
     sign = direction
     arriving: set[str] | None = None   # the set of the piece that ended at x (None at the start)
     folds: dict[int, dict] = {}         # switch number (-1: the start) -> the NSF's info
+    released: list[str] = []            # the stops released at the start itself (an SR there)
     run.message = ""
     for _ in range(max_switches + 1):
         if undecided:
-            x = _with_contacts(system, x, st, active)
+            x = with_contacts(system, x, st, active)
             for s in st:
                 if s.name in undecided:
                     x[system.index(s.condition)], x[system.index(s.reaction)] = s.limit, 0.0
             ahead = _continuing_sets(system, x, vary, sign, st, active, undecided, hold, free)
             if ahead:
                 active = ahead[0]
+                if arriving is None:   # a start exactly on a limit
+                    released = _released_at_start(system, x, vary, sign, st, active, undecided, hold, free)
             else:   # a non-smooth fold: nothing continues this way; go on through it, the way turned back
                 back = _continuing_sets(system, x, vary, -sign, st, active, undecided, hold, free)
                 came = arriving if arriving is not None else (back[0] if back else None)
@@ -359,9 +237,9 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
                         run.directions.append(sign)
                     break
                 active, sign = through[0], -sign
-        x = _with_contacts(system, x, st, active)
+        x = with_contacts(system, x, st, active)
         events = [_StopEvent(s, s.name in active) for s in st] + ([_FirstFold()] if stop_at_fold else [])
-        hold_k, free_k = _lens(st, active, hold, free)
+        hold_k, free_k = contact_lens(st, active, hold, free)
         # with stops in contact the stability holds them (below): the free mechanics' is not computed
         piece = continuation(system, x, vary, hold=hold_k, free=free_k, direction=sign, events=events,
                              options=replace(options, stability=False) if active else options, progress=progress)
@@ -385,7 +263,7 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
     else:
         run.message = (f"stopped after {max_switches} contact changes at {vary} = {x[system.index(vary)]:.6g} "
                        "(the contact keeps switching there)")
-    run.branch, row_piece = _join(system, run.pieces, vary, run, folds)
+    run.branch, row_piece = _join(system, run.pieces, vary, run, folds, _start_release(system, run, vary, released))
     _land(system, run, row_piece, vary, hold, free, st)
     return run
 
@@ -430,7 +308,7 @@ def _continuing_sets(system: Model, x: np.ndarray, vary: str, sign: int, stops: 
     for k in range(len(names), -1, -1):
         for chosen in combinations(names, k):
             trial = fixed | set(chosen)
-            hold_k, free_k = _lens(stops, trial, hold, free)
+            hold_k, free_k = contact_lens(stops, trial, hold, free)
             cols = [system.index(n) for n in (*choose_unknowns(system, hold_k, free_k, exclude=[vary]), vary)]
             J = system.jacobian(x)[:, cols] * sc[cols]
             t = np.linalg.svd(J)[2][-1]      # the null vector: the branch's unit tangent, scaled
@@ -445,30 +323,42 @@ def _continuing_sets(system: Model, x: np.ndarray, vary: str, sign: int, stops: 
     return out
 
 
+def _released_at_start(system: Model, x: np.ndarray, vary: str, sign: int, stops: Sequence[StopLimit],
+                       active: set[str], undecided: set[str], hold: list[str], free: list[str]) -> list[str]:
+    """The ``undecided`` stops at a start exactly on their limits that the set ``active`` leaves free this way
+    but some set continuing the other way holds in contact: the start is their release (``SR``). By
+    complementarity a stop at its limit is in contact (its reaction, zero here, may be >= 0), so going
+    free from there releases it, whichever side the run leaves to; a stop free on both sides (grazing its
+    limit) releases nothing."""
+    off = undecided - active
+    if not off:
+        return []
+    back = _continuing_sets(system, x, vary, -sign, stops, active, undecided, hold, free)
+    return sorted(n for n in off if any(n in b for b in back))
+
+
+def _start_release(system: Model, run: StopRun, vary: str, released: Sequence[str]) -> SpecialPoint | None:
+    """The ``SR`` point at the start of ``run`` for the stops ``released`` there (None when none): exact, as
+    the start is a solution with the conditions at their limits and the reactions zero; its lens is the
+    contact set's (the released stops held), as for a release located along a piece."""
+    if not released or not run.pieces:
+        return None
+    p0 = run.pieces[0]
+    x0 = p0.values[0 if run.directions[0] > 0 else len(p0) - 1].copy()
+    by_name = {s.name: s for s in system.stops}
+    swap = {by_name[n].condition: by_name[n].reaction for n in released}
+    unknowns = [swap.get(n, n) for n in p0.unknowns]
+    return SpecialPoint("SR", 0, x0, p0.names, None, {"stop": ", ".join(released)}, status=Status.LOCATED,
+                        vary=vary, unknowns=unknowns)
+
+
 def _single(system: Model, x: np.ndarray, vary: str, hold, free, stops, active) -> Branch:
     """A one-row branch at ``x`` (a run that ends where it starts: a non-smooth fold at the start)."""
-    hold_k, free_k = _lens(stops, active, hold, free)
+    hold_k, free_k = contact_lens(stops, active, hold, free)
     unknowns = tuple(choose_unknowns(system, hold_k, free_k, exclude=[vary]))
     st = stability_on_stops(system, x, sorted(active)).n_unstable if system.mechanics is not None else -1
     return Branch(system.names, np.array([x]), [0.0], [st], [""], [], vary, unknowns, "completed", "", system.name,
                   units={v.name: v.unit for v in system.variables})
-
-
-def stability_on_stops(system: Model, x: np.ndarray, contact: Iterable[str]):
-    """Physical stability at the full vector ``x`` with the stops ``contact`` (names) in contact.
-
-    A stop that pushes (reaction > 0) forbids motion across it, so its condition's gradient (the
-    Jacobian row ``cond_<condition>`` over the coordinates) is held like a joint's; its reaction's
-    curvature is already in the forces. Returns the mechanics'
-    :class:`~mechcont.equations.StabilityResult`."""
-    mech = system.mechanics
-    assert mech is not None, "stability needs the model's mechanics (callers check)"
-    touching = _stops(system, list(contact))
-    if not touching:
-        return mech.stability(x)
-    cols = [system.index(q) for q in mech.coordinates]
-    rows = [system.equation_names.index(f"cond_{s.condition}") for s in touching]
-    return mech.stability(x, held=system.jacobian(x)[np.ix_(rows, cols)])
 
 
 def _contact_stability(system: Model, piece: Branch, contact: Sequence[str]) -> Branch:
@@ -477,10 +367,11 @@ def _contact_stability(system: Model, piece: Branch, contact: Sequence[str]) -> 
     return piece.replace(n_unstable=[stability_on_stops(system, x, contact).n_unstable for x in piece.values])
 
 
-def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun,
-          folds: Mapping[int, dict]) -> tuple[Branch, list[int]]:
+def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun, folds: Mapping[int, dict],
+          start: SpecialPoint | None = None) -> tuple[Branch, list[int]]:
     """One branch of the pieces in travel order; each switch row appears once (the end of its piece), labelled
-    with its switch's label (``NSF`` with its ``folds`` info); and the piece of each row."""
+    with its switch's label (``NSF`` with its ``folds`` info), the release at the start ``start`` (if any) first;
+    and the piece of each row."""
     rows: list[np.ndarray] = []
     s: list[float] = []
     stab: list[int] = []
@@ -489,6 +380,8 @@ def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun,
     row_piece: list[int] = []
     offset = 0.0
     k_switch = 0
+    if start is not None and -1 not in folds:   # a release at the start itself
+        special.append(start)
     if -1 in folds and pieces:   # a non-smooth fold at the start itself
         p0 = pieces[0]
         j0 = 0 if run.directions[0] > 0 else len(p0) - 1
@@ -522,6 +415,9 @@ def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun,
     if -1 in folds and rows:   # the start belongs to the set the mechanism rests on, not to the one through the fold
         labels[0], stab[0] = "NSF", folds[-1]["n_unstable"]
         run.switches.insert(0, ("NSF", folds[-1]["stop"], 0))
+    elif start is not None and rows:
+        labels[0] = "SR"
+        run.switches.insert(0, ("SR", start.extra["stop"], 0))
     unknowns = pieces[0].unknowns if pieces else ()
     status = pieces[-1].status if pieces else Status.FAILED
     branch = Branch(system.names, np.array(rows), s, stab, labels, special, vary, unknowns, status, run.message,
@@ -555,7 +451,7 @@ def _land(system: Model, run: StopRun, row_piece: list[int], vary: str, hold: li
         w = ahead[j] / (ahead[j] - ahead[j - 1])
         guess = w * b.values[j - 1] + (1 - w) * b.values[j]
         guess[system.index(vary)] = v
-        hold_k, free_k = _lens(stops, active, hold, free)
+        hold_k, free_k = contact_lens(stops, active, hold, free)
         held = {n: float(guess[system.index(n)]) for n in hold_k if system.variable(n).kind == "state"}
         held.update({s.condition: s.limit for s in stops if s.name in active})
         if system.variable(vary).kind == "state":
@@ -577,12 +473,18 @@ def _both_ways(system: Model, down: StopRun, up: StopRun) -> StopRun:
     stab = np.concatenate([bd.n_unstable[::-1], bu.n_unstable[1:]])
     labels = list(bd.labels[::-1]) + list(bu.labels[1:])
     special = [replace(p, index=n - 1 - p.index, extra=dict(p.extra)) for p in reversed(bd.special_points)]
-    special += [replace(p, index=n - 1 + p.index, extra=dict(p.extra)) for p in bu.special_points if p.index > 0]
+    # the start's own points (a release or a non-smooth fold exactly there) may come from either run: once each
+    at_start = {p.label for p in bd.special_points if p.index == 0}
+    special += [replace(p, index=n - 1 + p.index, extra=dict(p.extra)) for p in bu.special_points
+                if p.index > 0 or p.label not in at_start]
+    if bu.labels[0] and (not labels[n - 1] or bu.labels[0] == "NSF"):
+        labels[n - 1] = bu.labels[0]
     message = "; ".join(r.message for r in (down, up) if r.message)   # each says its direction
     status = Status.first_failure([bd.status, bu.status])
     branch = Branch(system.names, rows, s, stab, labels, special, bu.vary, bu.unknowns, status, message,
                     system.name, units={v.name: v.unit for v in system.variables})
+    first = {lab for lab, _, i in down.switches if i == 0}
     switches = ([(lab, name, n - 1 - i) for lab, name, i in reversed(down.switches)]
-                + [(lab, name, n - 1 + i) for lab, name, i in up.switches])
+                + [(lab, name, n - 1 + i) for lab, name, i in up.switches if i > 0 or lab not in first])
     return StopRun(branch, down.pieces + up.pieces, down.contact + up.contact, switches, message,
                    down.directions + up.directions)

@@ -54,11 +54,22 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
             raise InputError("--stops", f"{system.name} has no stops; declare them as [stops.NAME] tables "
                                         "(condition, min or max) in its description")
         check_stop_lens(system, vary, holds, frees)
-    x0 = solve_start(system, sets, starts, vary, frees, holds)
     if with_stops:
         from ..analysis import continuation_with_stops, equilibrium_on_stops
+        from ..errors import ConvergenceError
 
+        try:
+            x0 = solve_start(system, sets, starts, vary, frees, holds)
+        except ConvergenceError:
+            # free of its stops the mechanism may have no equilibrium near its pose (a lock held on a stop):
+            # with nothing held, the stops' active-set search starts from the description's configuration
+            if starts or holds:
+                raise
+            x0 = system.vector(assignments(sets, "set"))
         x0, _ = equilibrium_on_stops(system, x0, hold={h: x0[system.index(h)] for h in holds}, free=frees)
+    else:
+        x0 = solve_start(system, sets, starts, vary, frees, holds)
+    if with_stops:
         branch = run_continuation(continuation_with_stops, system, x0, vary, direction=0, hold=holds, free=frees,
                                   options=options, quiet=quiet).branch
     else:
