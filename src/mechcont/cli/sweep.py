@@ -57,7 +57,7 @@ def _other_values(branch, system, ramped) -> list[str]:
     solved = {s.reaction for s in system.stops}
     solved |= {n for n in system.parameter_names if np.ptp(np.asarray(branch[n], dtype=float)) > 0}
     out = []
-    for n, on_branch, here in branch_differences(system, branch, ignore={*ramped, *solved}):
+    for n, on_branch, here in branch_differences(system, branch, ignore=[*ramped, *solved]):
         a, b = _shown(system, n, on_branch), _shown(system, n, here)
         out.append(f"{n} = {a[0]:.6g} {a[1]} (sweep {b[0]:.6g} {b[1]})".replace(" )", ")"))
     return out
