@@ -260,3 +260,62 @@ def test_model_at_names_and_states():
     assert m.conditions["angle"] == 0.25 and m.downlock.hold == {"angle": 0.25}
     # a zero stiffness: refused by the file's own check, valid for an analysis (continue accepted it)
     assert model_at(str(MODEL), {"k": 0.0}).variable("k").value == 0.0
+
+
+def free_fold(**kw) -> float:
+    """The closed-form fold of the free branch: the largest F that holds the bar off the stop (N m)."""
+    from scipy.optimize import minimize_scalar
+
+    found = minimize_scalar(lambda t: -stop_reaction(c=t, **kw), bounds=(-1.5, 0.3), method="bounded",
+                            options={"xatol": 1e-12})
+    return -float(found.fun)
+
+
+def test_downlock_prints_the_force_in_its_unit_and_bounds_its_release_run():
+    """downlock --force F (a moment): 'F = 0 N m', not 'N'; the release run's reach is an option, and a run that
+    stops short says where it stopped and how to go further."""
+    r = run("downlock", MODEL, "--force", "F", "--vary", "M0", "--bounds", "M0=14:16")
+    assert r.exit_code == 0, r.output
+    assert "F = 0 N m, stable" in r.output and "F = 0 N," not in r.output
+    lp = float(re.search(r"a fold \(LP\) at F = (\S+) N m", r.output).group(1))
+    assert lp == pytest.approx(free_fold(), rel=5e-6)  # printed to 6 digits
+    short = run("downlock", MODEL, "--force", "F", "--vary", "M0", "--bounds", "M0=14:16", "--release-span", "0.5")
+    assert short.exit_code == 0, short.output
+    # F's scale is 20 N m: half of it reaches 10 N m, short of the release at 12.42 N m
+    assert "no fold increasing F within the release run (F moved by 0.5 of its scales, to 10 N m; a larger " \
+           "--release-span searches further)" in short.output
+    one_line_error(run("downlock", MODEL, "--force", "F", "--vary", "M0", "--bounds", "M0=14:16", "--release-span",
+                       "0"), "--release-span")
+
+
+def test_sweep_starts_on_the_stops_and_compares_only_held_parameters(tmp_path):
+    """sweep --stops starts from the equilibrium on the stops (its free equilibrium solve put the start past the
+    limit: 'past the limit' for a start the user gave on the stop); --branch does not take a stop's reaction,
+    solved along the branch, for a value the branch was continued at, and still names a parameter set otherwise."""
+    branch = tmp_path / "b.csv"
+    r = run(*[a.format(model=MODEL, out=branch) for a in COMMANDS["continue"][0]])
+    assert r.exit_code == 0, r.output
+    sweep = ["sweep", MODEL, "--start", "theta_bar=0.2", "--ramp", "F=0:20:80", "--watch", "theta_bar", "--stops",
+             "--branch", branch]
+    r = run(*sweep)
+    assert r.exit_code == 0, r.output
+    assert "continued at other parameter values" not in r.output
+    release = float(re.search(r"release  top  at F = (\S+) N m", r.output).group(1))
+    assert release == pytest.approx(stop_reaction(), rel=2e-3)  # a ramp of 80 N m/s lags the quasi-static release
+    r = run(*sweep, "--no-equilibrium")  # at rest at theta = 0.2, below the stop: no reaction on the branch compared
+    assert r.exit_code == 0 and "continued at other parameter values" not in r.output, r.output
+    r = run(*sweep, "--set", "k=25")
+    assert "continued at other parameter values: k = 20 N/m (sweep 25 N/m)" in r.output
+    one_line_error(run("sweep", MODEL, "--start", "theta_bar=0.35", "--ramp", "F=0:20:80", "--watch", "theta_bar",
+                       "--stops", "--no-equilibrium"), "--start", "past the limit")
+
+
+def test_design_levels_of_the_stop_limit():
+    """design --across c_max: each level's downlock hold (the condition's target c_max) is its own (the closed form)."""
+    r = run("design", MODEL, "--vary", "M0", "--across", "c_max", "--bounds", "M0=5:20", "--bounds", "c_max=0.2:0.3",
+            "--levels", "2")
+    assert r.exit_code == 0, r.output
+    rows = [ln.split("|") for ln in r.output.splitlines() if re.match(r"\| 0\.[23] \|", ln)]
+    assert [float(row[1]) for row in rows] == [0.2, 0.3]
+    for row in rows:
+        assert float(row[2]) == pytest.approx(stop_reaction(c=float(row[1])), rel=5e-6)  # printed to 6 digits
