@@ -73,7 +73,7 @@ def test_downlock_cli_takes_the_lock_on_the_stop(tmp_path):
     assert "lock resting on stop top" in r.output and "UNSTABLE" not in r.output
     summary = next(ln for ln in r.output.splitlines() if ln.startswith("at M0 = 15"))
     assert "stable" in summary
-    assert float(re.search(r"F = (\S+) N increasing", summary).group(1)) == pytest.approx(15.0 - A * math.cos(0.3),
+    assert float(re.search(r"F = (\S+) N m increasing", summary).group(1)) == pytest.approx(15.0 - A * math.cos(0.3),
                                                                                           rel=1e-5)
     assert "non-smooth fold (NSF)" in r.output
     rows, units = read_branch_table(out)

@@ -14,7 +14,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -23,7 +23,7 @@ from ..equations import Model
 from ..errors import InputError
 from .sensitivity import Sensitivity, equilibrium_sensitivity, fold_sensitivity, release_sensitivity
 
-__all__ = ["stop_reactions", "preload_sensitivity", "stop_unlock_sensitivity"]
+__all__ = ["stop_reactions", "preload_sensitivity", "stop_unlock_sensitivity", "through_limits"]
 
 
 def stop_reactions(system: Model) -> dict[str, str]:
@@ -31,11 +31,47 @@ def stop_reactions(system: Model) -> dict[str, str]:
     return {s.reaction: s.name for s in system.stops}
 
 
+def through_limits(system: Model, params: Iterable[str], held: Iterable[str],
+                   compute: Callable[[list[str]], Sensitivity], *, targets: bool = False) -> Sensitivity:
+    """A sensitivity by ``params`` of a quantity solved with the conditions ``held`` at their stops' limits (or,
+    ``targets``, at their declared targets: the downlock hold), each the function of the parameters its
+    description writes (:meth:`~mechcont.equations.Model.limit_derivatives`, ``target_derivatives``):
+    ``compute(names)`` differentiates by ``names`` (``params`` and the held conditions that depend on them), and
+    ``dq/dp = dq/dp|held + sum_c dq/dc dc/dp``. A stop's limit is then a parameter like any other (its
+    derivative is not 0). Returns the :class:`Sensitivity` by ``params`` alone."""
+    params, held = list(params), set(held)
+    if targets:
+        grads = {c: system.target_derivatives(c, params) for c in held if c in system.conditions and c not in params}
+    else:
+        grads = {s.condition: system.limit_derivatives(s.name, params) for s in system.stops
+                 if s.condition in held and s.condition not in params}
+    grads = {c: g for c, g in grads.items() if any(g.values())}
+    sens = compute([*params, *grads])
+    if not grads:
+        return sens
+    d = sens.derivatives
+    for p in params:
+        d[p] = d[p] + sum(d[c] * g[p] for c, g in grads.items())
+    for p in params:
+        if p in sens.states:
+            row = sens.states[p]
+            for u in row:
+                row[u] = row[u] + sum(sens.states[c].get(u, 0.0) * g[p] for c, g in grads.items())
+    for c in grads:
+        d.pop(c, None)
+        sens.units.pop(c, None)
+        sens.states.pop(c, None)
+    return sens
+
+
 def preload_sensitivity(system: Model, values: Mapping[str, float], reaction: str, params: Sequence[str],
                         guess: np.ndarray | None = None) -> Sensitivity:
     """The reaction ``reaction`` (N or N m) of a stop at rest, every stop held at its limit, and its derivatives by
-    ``params`` (SI). ``guess``: a full vector near the solution (default: the locked state found from the
-    description's configuration). Raises :class:`~mechcont.errors.ConvergenceError` when Newton fails."""
+    ``params`` (SI; a stop's limit written in a parameter follows it). ``values``: parameter values (SI), the model
+    taken at them (:meth:`~mechcont.equations.Model.with_values`: the limits follow). ``guess``: a full vector near
+    the solution (default: the locked state found from the description's configuration). Raises
+    :class:`~mechcont.errors.ConvergenceError` when Newton fails."""
+    system = system.with_values(dict(values)) if values else system
     stops = system.stops
     hold = {s.condition: float(s.limit) for s in stops}
     free = [s.reaction for s in stops]
@@ -45,7 +81,8 @@ def preload_sensitivity(system: Model, values: Mapping[str, float], reaction: st
         guess, _ = locked_on_stops(system, values)
     x = find_equilibrium(system, values=dict(values), hold=hold, free=free, guess=guess)
     unknowns = choose_unknowns(system, hold=list(hold), free=free)
-    s = equilibrium_sensitivity(system, x, unknowns, list(params), reaction, kind="preload")
+    s = through_limits(system, params, hold,
+                       lambda names: equilibrium_sensitivity(system, x, unknowns, names, reaction, kind="preload"))
     s.point = s.point or "lock at rest, all stops held"
     return s
 
@@ -54,9 +91,11 @@ def stop_unlock_sensitivity(system: Model, values: Mapping[str, float], force: s
                             params: Sequence[str]) -> Sensitivity:
     """The unlock load (N) of the lock on stops at ``values`` (the force increased from its value to the first
     fold, :func:`~mechcont.analysis.stop_lock.stop_unlock`) and its derivatives by ``params``. Raises
-    :class:`InputError` when the release run finds no fold (the notes say why)."""
+    :class:`InputError` when the release run finds no fold (the notes say why). The model is taken at ``values``
+    (:meth:`~mechcont.equations.Model.with_values`: a stop's limit written in a parameter follows it)."""
     from .stop_lock import locked_on_stops, stop_unlock
 
+    system = system.with_values(dict(values)) if values else system
     x, _ = locked_on_stops(system, values)
     found = stop_unlock(system, x, force, stability=False, both=False)
     p = found.above
@@ -69,4 +108,7 @@ def stop_unlock_sensitivity(system: Model, values: Mapping[str, float], force: s
             raise InputError("unlock_force", f"a non-smooth fold at {force} = {p[force]:.6g} without a release before it")
         last = max(releases, key=lambda q: q[force])
         return release_sensitivity(system, last.x, last.extra["stop"], force, params)
-    return fold_sensitivity(system, p.x, list(p.unknowns), force, params, null_vector=p.null_vector)
+    unknowns = list(p.unknowns)
+    held = [c.condition for c in system.stops if c.condition not in unknowns]
+    return through_limits(system, params, held, lambda names: fold_sensitivity(system, p.x, unknowns, force, names,
+                                                                              null_vector=p.null_vector))

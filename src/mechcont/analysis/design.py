@@ -311,7 +311,10 @@ def design_region(system: Model, x_name: str, y_name: str, *,
     rows, warnings = [], []
     for i, yv in enumerate(y_levels):
         vals = {**values, y_name: float(yv), x_name: x0}
-        run = downlock(system, x_name, {x_name: (lo, hi)}, values=vals, hold=h, force=f, unlock=False,
+        # the model at this level: a hold target (or a stop's limit) written in the level's parameter follows it
+        level = system.with_values({y_name: float(yv)})
+        hl = h if hold else downlock_condition(level, None, force, condition=condition)[0]
+        run = downlock(level, x_name, {x_name: (lo, hi)}, values=vals, hold=hl, force=f, unlock=False,
                        max_steps=max_steps)
         warnings += [f"{y_name} = {yv:g}: {w}" for w in run.warnings]
         br = run.branch
@@ -320,7 +323,7 @@ def design_region(system: Model, x_name: str, y_name: str, *,
         force_map[i] = np.interp(grid, xs, Fs)
         # extrema of F(x): folds of the force branch with x solved for
         try:
-            fl = continuation(system, downlock_point(system, vals, hold=h, force=f), f, hold=list(h), free=[x_name],
+            fl = continuation(level, downlock_point(level, vals, hold=hl, force=f), f, hold=list(hl), free=[x_name],
                               options=_options({x_name: (lo, hi), f: (-1e6, 1e6)}, 0.5, max_steps))
             folds = tuple(sorted(p[x_name] for p in fl.special("LP")))
             warnings += [f"{y_name} = {yv:g}: {w}" for w in early_stops(fl, f"force branch in {f} ({x_name} solved "
@@ -329,12 +332,12 @@ def design_region(system: Model, x_name: str, y_name: str, *,
             folds = ()
             warnings.append(f"{y_name} = {yv:g}: the folds of {f} in {x_name} are unknown: {exc}")
         try:
-            F0 = float(downlock_point(system, {**vals}, hold=h, force=f)[system.index(f)])
+            F0 = float(downlock_point(level, {**vals}, hold=hl, force=f)[system.index(f)])
         except ConvergenceError:
             F0 = float(np.interp(x0, xs, Fs))
-        slope = _slope(system, vals, x_name, x0, (lo, hi), h, f)
+        slope = _slope(level, vals, x_name, x0, (lo, hi), hl, f)
         margin = min((abs(x0 - v) for v in folds), default=float("nan"))
-        intervals = _refined(system, _intervals(xs, Fs), vals, x_name, (lo, hi), h, f)
+        intervals = _refined(level, _intervals(xs, Fs), vals, x_name, (lo, hi), hl, f)
         crossings = [e for iv in intervals for e in iv if lo < e < hi]
         to_zero = min((abs(x0 - c) for c in crossings), default=float("nan"))
         rows.append(DesignRow(float(yv), F0, intervals, folds, margin, to_zero, slope))

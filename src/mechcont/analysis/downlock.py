@@ -142,8 +142,10 @@ def downlock_point(system: Model, values: Mapping[str, float] | None = None, *,
     <mechcont.equations.DownlockFacts>`); both are used. Without the latter, Newton starts from
     the model's downlocked pose, else its default (assembled) configuration.
     """
-    h, f = downlock_condition(system, hold, force, condition=condition)
     values = dict(values or {})
+    if values:  # the model at the values: a hold target written in parameters follows them
+        system = system.with_values({k: v for k, v in values.items() if system.variable(k).kind == "parameter"})
+    h, f = downlock_condition(system, hold, force, condition=condition)
     for n in values:
         if n in h or n == f:
             raise InputError(n, "is fixed by the downlock condition; it cannot be set")

@@ -246,7 +246,7 @@ class _Quantities:
         return p.beta, np.array([s[n] for n in self.design]) / float(np.linalg.norm(p.grad_u))
 
     def _sensitivity(self, name: str, vals: dict[str, float]) -> Sensitivity:
-        system = self.system
+        system = self.system.with_values(vals)  # the model at this design: what is written in its parameters follows
         if name == "downlock_force":
             return downlock_sensitivity(system, self.design, vals)
         if name == "fold_load":
@@ -264,7 +264,7 @@ class _Quantities:
         from .downlock import downlock_condition, downlock_point
         from .unlock import unlock_folds
 
-        system = self.system
+        system = self.system.with_values(vals)  # the model at this design (a stop's limit, the downlock hold)
         if self.reactions:
             from ._stop_quantities import stop_unlock_sensitivity
             from .stop_lock import lock_force

@@ -46,11 +46,16 @@ def downlock_sensitivity(system: Model, params: Iterable[str], values: Mapping[s
     """
     from .downlock import downlock_condition, downlock_point
 
+    if values:  # the model at the values: a hold target written in parameters follows them
+        system = system.with_values({k: v for k, v in values.items() if system.variable(k).kind == "parameter"})
     h, f = downlock_condition(system, hold, force, condition=condition)
     if x is None:
         x = downlock_point(system, values, hold=h, force=f)
     unknowns = choose_unknowns(system, hold=h, free=[f])
-    return equilibrium_sensitivity(system, x, unknowns, params, f, kind="downlock")
+    from ._stop_quantities import through_limits  # a hold target written in parameters moves with them
+
+    return through_limits(system, params, [] if hold else h, targets=True,
+                          compute=lambda names: equilibrium_sensitivity(system, x, unknowns, names, f, kind="downlock"))
 
 
 def _switch_or_cusp(system: Model, x: np.ndarray, params: Iterable[str], vary: str, label: str, info: dict,
@@ -58,6 +63,7 @@ def _switch_or_cusp(system: Model, x: np.ndarray, params: Iterable[str], vary: s
     """:func:`point_sensitivity` at a stop's release (``SR``) or a fold curve's cusp (``CP``): the
     handler :mod:`mechcont.analysis` registers for those labels (:data:`SPECIAL_POINTS`)."""
     if values:
+        system = system.with_values(values)  # the model at the values: a stop's limit follows them
         x = system.vector(values, base=x)
         system.check_limits(x)
     if label == "SR":
@@ -144,7 +150,10 @@ def release_sensitivity(system: Model, x: np.ndarray, stop: str, vary: str, para
 
         x = find_equilibrium(system, hold=hold, free=free, guess=x)
     unknowns = choose_unknowns(system, hold=list(hold), free=free)
-    sens = equilibrium_sensitivity(system, x, unknowns, params, vary, kind="release")
+    from ._stop_quantities import through_limits  # a limit written in parameters moves the held conditions
+
+    sens = through_limits(system, params, hold,
+                          lambda names: equilibrium_sensitivity(system, x, unknowns, names, vary, kind="release"))
     sens.point = sens.point or f"release of stop {stop}"
     return sens
 

@@ -60,19 +60,20 @@ def locked_on_stops(system: Model, values: Mapping[str, float] | None = None,
 
 
 def stop_unlock(system: Model, x: np.ndarray, force: str, *, max_steps: int = 400,
-                stability: bool = True, both: bool = True) -> UnlockFolds:
+                stability: bool = True, both: bool = True, span: float = RELEASE_FORCE_SPAN) -> UnlockFolds:
     """The unlock loads of a lock resting on its stops at ``x``: the force continued both ways from there
     with the stops switching (:func:`~mechcont.analysis.stops.continuation_with_stops`), each way ended at its
     first fold, ``LP`` or ``NSF``. ``above`` is the unlock load (force increasing), ``below`` the other side;
     the notes name the release (``SR``) before each and where a non-smooth fold lands. The force may move by
-    :data:`~mechcont.analysis.unlock.RELEASE_FORCE_SPAN` of its scales. ``both=False``: increasing only."""
+    :data:`~mechcont.analysis.unlock.RELEASE_FORCE_SPAN` of its scales (``span`` of them when given). ``both=False``:
+    increasing only."""
     F0 = float(x[system.index(force)])
     contact = [s.name for s in system.stops if abs(s.gap(x[system.index(s.condition)])) <= GAP_TOL
                and x[system.index(s.reaction)] >= 0]
     stable = bool(stability_on_stops(system, x, contact).stable) if system.mechanics is not None else None
     sc = system.variable(force).scale
     options = ContinuationOptions(ds=0.02, dsmax=0.5, max_steps=max_steps, detect_folds=False, stability=stability,
-                                  bounds={force: (F0 - RELEASE_FORCE_SPAN * sc, F0 + RELEASE_FORCE_SPAN * sc)})
+                                  bounds={force: (F0 - span * sc, F0 + span * sc)})
     try:
         run = continuation_with_stops(system, x, force, direction=0 if both else 1, stop_at_fold=True,
                                       options=options, contact=contact)
@@ -87,8 +88,10 @@ def stop_unlock(system: Model, x: np.ndarray, force: str, *, max_steps: int = 40
     for side, p in (("decreasing", below), ("increasing", above)):
         if p is None:
             if side == "increasing" or both:
-                notes.append(f"no fold {side} {force} within the release run ({force} moved by "
-                             f"{RELEASE_FORCE_SPAN:g} of its scales)")
+                end = F0 + (span if side == "increasing" else -span) * sc
+                notes.append(f"no fold {side} {force} within the release run ({force} moved by {span:g} of its "
+                             f"scales, to {end:.6g} {system.variable(force).unit}; a larger span searches further)"
+                             .replace(" ;", ";"))
             continue
         releases = [q for q in b.special("SR") if min(F0, p[force]) <= q[force] <= max(F0, p[force])]
         rel = "; ".join(f"stop {q.extra['stop']} releases at {force} = {q[force]:.6g} {unit} (SR)" for q in releases)
@@ -102,7 +105,7 @@ def stop_unlock(system: Model, x: np.ndarray, force: str, *, max_steps: int = 40
     return UnlockFolds(force, F0, stable, below, above, b, notes, warnings)
 
 
-def landing_after_unlock(system: Model, x: np.ndarray, unlock: UnlockFolds) -> str:
+def landing_after_unlock(system: Model, x: np.ndarray, unlock: UnlockFolds, span: float = RELEASE_FORCE_SPAN) -> str:
     """Where the lock at ``x`` lands when its unlock load (``unlock.above``) is a non-smooth fold: one line
     (from a run through the fold, :func:`~mechcont.analysis.stops.continuation_with_stops`), "" otherwise."""
     p = unlock.above
@@ -111,7 +114,7 @@ def landing_after_unlock(system: Model, x: np.ndarray, unlock: UnlockFolds) -> s
     f, F0 = unlock.force, unlock.downlock_force
     sc = system.variable(f).scale
     options = ContinuationOptions(ds=0.02, dsmax=0.5, max_steps=400, detect_folds=False,
-                                  bounds={f: (F0 - RELEASE_FORCE_SPAN * sc, F0 + RELEASE_FORCE_SPAN * sc)})
+                                  bounds={f: (F0 - span * sc, F0 + span * sc)})
     try:
         run = continuation_with_stops(system, x, f, direction=1, options=options, max_switches=6)
     except (ConvergenceError, InputError):
@@ -130,23 +133,25 @@ def landing_after_unlock(system: Model, x: np.ndarray, unlock: UnlockFolds) -> s
             f"{shown(p[moved], unit)} to {shown(at[moved], unit)})")
 
 
-def stop_unlock_along(system: Model, branch: Branch, force: str) -> tuple[np.ndarray, list[str]]:
+def stop_unlock_along(system: Model, branch: Branch, force: str,
+                      span: float = RELEASE_FORCE_SPAN) -> tuple[np.ndarray, list[str]]:
     """The unlock load (force increasing, nan where none) at every row of a lock-on-stops ``branch``, each
     from its own release run (:func:`stop_unlock`, increasing only), and the runs' warnings."""
     out = np.full(len(branch), np.nan)
     warnings: list[str] = []
     for i, x in enumerate(branch.values):
-        u = stop_unlock(system, x, force, stability=False, both=False)
+        u = stop_unlock(system, x, force, stability=False, both=False, span=span)
         out[i] = u.unlock_force
         warnings += [f"{branch.vary} = {x[system.index(branch.vary)]:.6g}: {w}" for w in u.warnings]
     return out, warnings
 
 
-def with_stop_unlock_column(system: Model, result: DownlockResult, force: str) -> tuple[DownlockResult, np.ndarray]:
+def with_stop_unlock_column(system: Model, result: DownlockResult, force: str,
+                            span: float = RELEASE_FORCE_SPAN) -> tuple[DownlockResult, np.ndarray]:
     """``(new result, unlock loads)``: the lock-on-stops ``result`` with the unlock load of every row
     (:func:`stop_unlock_along`, unit of ``force``) as column ``unlock_<force>`` of its branch when some row
     has one, and the release runs' warnings added to its ``warnings``."""
-    unlock, more = stop_unlock_along(system, result.branch, force)
+    unlock, more = stop_unlock_along(system, result.branch, force, span)
     col = f"unlock_{force}"
     branch = (result.branch.with_columns({col: unlock}, {col: system.variable(force).unit}) if np.isfinite(unlock).any()
               else result.branch)
@@ -160,13 +165,13 @@ def downlock_on_stops_table(system: Model, vary: str, bounds: Mapping[str, tuple
     (:func:`with_stop_unlock_column`): the table ``mechcont downlock`` writes for a lock on stops, and the
     unlock loads (unit of the force; nan where a row has none)."""
     result = downlock_on_stops(system, vary, bounds, **options)
-    return with_stop_unlock_column(system, result, result.force)
+    return with_stop_unlock_column(system, result, result.force, options.get("span", RELEASE_FORCE_SPAN))
 
 
 def downlock_on_stops(system: Model, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None, *,
                       force: str | None = None, free: Iterable[str] = (), values: Mapping[str, float] | None = None,
                       options: ContinuationOptions | None = None, direction: int = 0, unlock: bool = True,
-                      max_steps: int | None = None) -> DownlockResult:
+                      max_steps: int | None = None, span: float = RELEASE_FORCE_SPAN) -> DownlockResult:
     """The lock resting on its stops as a function of the design parameter ``vary``, by continuation.
 
     Parameters
@@ -179,6 +184,8 @@ def downlock_on_stops(system: Model, vary: str, bounds: Mapping[str, tuple[float
         The force that opens the lock (a parameter; default the model's downlock force, else ``F``).
     unlock:
         Also find the unlock loads of the locked state at the start (:func:`stop_unlock`).
+    span:
+        How far the release runs push the force: this many of its scales each way.
 
     Returns
     -------
@@ -203,9 +210,9 @@ def downlock_on_stops(system: Model, vary: str, bounds: Mapping[str, tuple[float
                            show=[stops[n].reaction for n in contact])
     found = None
     if unlock:
-        found = stop_unlock(system, x0, f)
+        found = stop_unlock(system, x0, f, span=span)
         warnings += [f"unlock loads at {vary} = {start:g}: {w}" for w in found.warnings]
-        landing = landing_after_unlock(system, x0, found)
+        landing = landing_after_unlock(system, x0, found, span)
         if landing:
             found.notes.append(landing)
     return DownlockResult(run.branch, f, condition, found, warnings, tuple(contact))

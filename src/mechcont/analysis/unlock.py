@@ -77,18 +77,20 @@ class UnlockFolds:
         hi = float(self.above[self.force]) if self.above is not None else np.inf
         return lo, hi
 
-    def summary(self, condition: str = "") -> str:
-        """One line: the downlocked point, its stability, and the bounding folds (the unlock force)."""
+    def summary(self, condition: str = "", unit: str = "N") -> str:
+        """One line: the downlocked point, its stability, and the bounding folds (the unlock force), the force
+        in ``unit`` (its own: N, N m, m/s for an airspeed)."""
         f = self.force
         held = f"{condition}, " if condition else ""
         state = {True: "stable", False: "UNSTABLE: not a lock", None: "stability unknown"}[self.stable]
         side = []
         if self.above is not None:
-            side.append(f"{f} = {self.unlock_force:.6g} N increasing (the unlock force)")
+            side.append(f"{f} = {self.unlock_force:.6g} {unit} increasing (the unlock force)")
         if self.below is not None:
-            side.append(f"{f} = {self.locked_range[0]:.6g} N decreasing")
+            side.append(f"{f} = {self.locked_range[0]:.6g} {unit} decreasing")
         found = "; ".join(side) or "none within the release run (see below)"
-        return f"unlock folds of the downlocked point ({held}{f} = {self.downlock_force:.6g} N, {state}): {found}"
+        return (f"unlock folds of the downlocked point ({held}{f} = {self.downlock_force:.6g} {unit}, {state}): "
+                f"{found}").replace(" ,", ",").replace(" )", ")")
 
 
 #: The release run ends where the force has moved by this many of its scales (N), or a
@@ -169,7 +171,9 @@ def unlock_folds(system: Model, x: np.ndarray, force: str, released=(), *, max_s
     ends = branch[force][[0, -1]] if len(branch) else np.array([F0, F0])
     for side, fold_point, end in (("decreasing", below, ends.min()), ("increasing", above, ends.max())):
         if fold_point is None:
-            notes.append(f"no fold {side} {force} from {F0:.6g} N to {end:.6g} N (where the release run ended)")
+            unit = system.variable(force).unit
+            notes.append(f"no fold {side} {force} from {F0:.6g} {unit} to {end:.6g} {unit} (where the release run "
+                         "ended)".replace("  ", " "))
         elif not fold_point.located:
             notes.append(f"the fold {side} {force} is approximate: {fold_point.reason or 'not located'}")
     return UnlockFolds(force, F0, stable, below, above, branch, notes, warnings)

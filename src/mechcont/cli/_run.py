@@ -68,13 +68,12 @@ def held_states(holds, starts) -> tuple[tuple[str, ...], tuple[str, ...]]:
 
 
 def load_at(model: str, values: Mapping[str, float]):
-    """MODEL (a built-in name or a description file) with the ``--set`` ``values`` as its variables'
-    values, so that what it writes in parameters (a stop's limit, a condition's target, the
-    downlock hold) follows them (:meth:`~mechcont.equations.Model.with_values`)."""
-    from ..models import load_model
+    """MODEL (a built-in name or a description file) at the ``--set`` ``values``: the one entry every
+    command takes (:func:`mechcont.models.model_at`), so that what it writes in parameters (a stop's
+    limit, a condition's target, the downlock hold, geometry, element values) follows them."""
+    from ..models import model_at
 
-    system = load_model(model)
-    return system.with_values(values) if values else system
+    return model_at(model, values, field="--set")
 
 
 def solve_start(system, sets, starts, vary, frees, holds):

@@ -62,6 +62,8 @@ def check_command(ctx, model, sets, reduced, plot, label_points, quiet):
 
     overrides = assignments(sets, "set")
     path = _plot_path(plot) if plot is not None else None
+    if overrides:
+        _check_values(model, overrides)
     report = check_report(model, reduced=reduced, **overrides)
     stops, finding = _stops_text(report)
     if finding:
@@ -82,6 +84,23 @@ def check_command(ctx, model, sets, reduced, plot, label_points, quiet):
             click.echo(f"finding: {finding}", err=True)
     if report.findings:
         ctx.exit(1)
+
+
+def _check_values(model: str, values: dict[str, float]) -> None:
+    """The ``--set`` values checked as every command checks them (:func:`mechcont.equations.check_values_at`);
+    the report is then the description built at them, the model :func:`mechcont.models.model_at` gives."""
+    from ..equations import check_values_at
+    from ..mechanism import find_description
+    from ..models import load_model
+
+    path = find_description(model)
+    if path is None:  # check_report says what is wrong with the name
+        return
+    system = load_model(path)
+    for n in values:  # a description checked at parameter values: no state guesses here
+        if n not in system.parameter_names:
+            raise InputError(n, f"not a parameter of {system.name}; valid: {', '.join(system.parameter_names)}")
+    check_values_at(system, values, "--set")
 
 
 def _stops_text(report) -> tuple[str, str]:

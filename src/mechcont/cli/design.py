@@ -80,7 +80,8 @@ def design_command(model, x_name, y_name, old_x, old_y, bounds_, levels, sets, h
 
     with Progress("design", total=levels + 2, unit="runs") as bar:
         region = design_region(system, x_name, y_name, x_bounds=bnds[x_name],
-                               y_levels=np.linspace(*bnds[y_name], levels), values=values, hold=h, force=f,
+                               y_levels=np.linspace(*bnds[y_name], levels), values=values,
+                               hold=assignments(holds, "hold") or None, force=f, condition=condition,
                                max_steps=max_steps, progress=bar.update if bar.enabled else None)
     records = region.table()
     if sens_params:

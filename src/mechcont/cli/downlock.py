@@ -61,7 +61,10 @@ def warn(lines) -> None:
 @click.option("--plot", default=None, metavar="FILE", help="Plot the downlock force (.png, .svg, .pdf).")
 @click.option("--sensitivity", "sens_text", default=None, metavar="NAMES",
               help="Comma-separated parameters: exact d<FORCE>_d<NAME> columns per point (SI units).")
-def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force, max_steps, out, plot, sens_text):
+@click.option("--release-span", "span", type=float, default=None, metavar="N",
+              help="A lock on stops: how far each release run pushes the --force, in its scales [50].")
+def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force, max_steps, out, plot, sens_text,
+                     span):
     """Downlock force of MODEL (built-in name or description .toml) as a function of --vary.
 
     The lock links are held aligned (e.g. theta4 = 0, overcentre angle 180 deg, or the
@@ -95,7 +98,9 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
         if sens_params:
             raise InputError("--sensitivity", "is not available for a lock resting on its stops; give the lock's "
                                               "--hold or --condition to differentiate the held downlock force")
-        return _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plot_path)
+        return _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plot_path, span)
+    if span is not None:
+        raise InputError("--release-span", "is for a lock resting on its stops; leave out --hold/--condition")
     system, h, f = model_and_condition(system, holds, force, condition)
     if stops:
         click.echo(f"note: the stops of {system.name} ({', '.join(s.name for s in stops)}) are ignored here: the lock is "
@@ -115,8 +120,10 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     (xs, unit_x), Fs = display(branch[vary], system.variable(vary).unit), branch[f]
     held = ", ".join(f"{k}={v:g}" for k, v in h.items())
     unlock_col = f"unlock_{f}" if f"unlock_{f}" in branch.names else None
-    click.echo(f"downlock force {f} (N) vs {vary} ({unit_x}), {held} held: "
-               f"{len(branch)} points, {f} from {Fs.min():.6g} to {Fs.max():.6g} N; status {branch.status}")
+    unit_f = system.variable(f).unit
+    click.echo(f"downlock force {f} ({unit_f}) vs {vary} ({unit_x}), {held} held: "
+               f"{len(branch)} points, {f} from {Fs.min():.6g} to {Fs.max():.6g} {unit_f}; status {branch.status}"
+               .replace(" ;", ";"))
     for i in summary_rows(len(branch)):
         extra = f"   unlock {_or_none(branch[unlock_col][i])}" if unlock_col else ""
         click.echo(f"  {vary} = {xs[i]:12.6g}   {f} = {Fs[i]:12.6g}{extra}   {branch.stability_labels()[i]} "
@@ -127,7 +134,7 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
                    f"{RELEASE_STATE_SPAN:g}): the locked state is not bounded there")
     start = values.get(vary, system.variable(vary).value)
     assert result.unlock is not None  # downlock() finds the start's unlock folds by default
-    click.echo(f"at {vary} = {start:g}: {result.unlock.summary(held)}")
+    click.echo(f"at {vary} = {start:g}: {result.unlock.summary(held, unit_f)}")
     for note in result.unlock.notes:
         click.echo(f"  {note}")
     warn(result.warnings)
@@ -149,15 +156,23 @@ def _write(branch, out_path, plot_path, vary: str, force: str, held: str, title:
         click.echo(f"wrote {plot_path}")
 
 
-def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plot_path) -> None:
-    """``downlock`` on a description with stops: the lock rests on them (:mod:`mechcont.analysis.stop_lock`)."""
+def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plot_path, span=None) -> None:
+    """``downlock`` on a description with stops: the lock rests on them (:mod:`mechcont.analysis.stop_lock`);
+    ``span``: how far each release run pushes the force (its scales; default the library's)."""
+    import math
 
     from ..analysis.stop_lock import downlock_on_stops_table
+    from ..analysis.unlock import RELEASE_FORCE_SPAN
+
+    if span is None:
+        span = RELEASE_FORCE_SPAN
+    elif not (math.isfinite(span) and 0 < span <= 1e6):
+        raise InputError("--release-span", f"must be a number of the force's scales in (0, 1e6], not {span:g}")
 
     for n in values:
         system.variable(n)
     result, unlock = downlock_on_stops_table(system, vary, bnds, force=force, free=freed_parameters(system, frees),
-                                             values=values, max_steps=max_steps)
+                                             values=values, max_steps=max_steps, span=span)
     f = result.force
     branch = result.branch
     reactions = [s.reaction for s in system.stops if s.name in result.lock_stops]
@@ -175,8 +190,8 @@ def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plo
     start = values.get(vary, system.variable(vary).value)
     found = result.unlock
     if found is not None:
-        click.echo(f"at {vary} = {start:g}: {found.summary(f'resting on stop {on}')}")
+        click.echo(f"at {vary} = {start:g}: {found.summary(f'resting on stop {on}', unit_f)}")
         for note in found.notes:
-            click.echo(f"  {note}")
+            click.echo(f"  {note}".replace("a larger span searches further", "a larger --release-span searches further"))
     warn(result.warnings)
     _write(branch, out_path, plot_path, vary, f, f"resting on stop {on}", f"{system.name}: lock on stop {on} vs {vary}")

@@ -10,10 +10,11 @@ from ._app import cli
 from ._parse import assignments, freed_parameters, names
 
 
-def _model(name: str):
-    from ..models import load_model
+def _model(name: str, values: dict[str, float] | None = None):
+    """MODEL at the ``--set`` ``values`` (:func:`mechcont.models.model_at`, the one entry of every command)."""
+    from ..models import model_at
 
-    return load_model(name)
+    return model_at(name, values, field="--set")
 
 
 def _assignments(items, field: str) -> dict[str, float]:
@@ -51,7 +52,9 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, l
     from ..outputs.drawing import IMAGE_SUFFIXES, default_annotate, draw
 
     path = check_output_path(out, "--out", IMAGE_SUFFIXES)
-    system = _model(model)
+    if point is not None and (sets or starts or frees):
+        raise InputError("point", "a branch point fixes every value; do not combine it with --set/--start/--free")
+    system = _model(model, _assignments(sets, "set"))
     names = _names(annotate, "annotate") or default_annotate(system)
     if vary is not None:
         if point is None:
@@ -59,8 +62,6 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, l
         system.index(vary)
     stable, label = None, ""
     if point is not None:
-        if sets or starts or frees:
-            raise InputError("point", "a branch point fixes every value; do not combine it with --set/--start/--free")
         csv_path, sep, row = point.rpartition(":")
         if not sep or not csv_path or not row:
             raise InputError("point", f"'{point}' is not BRANCH.csv:ROW")

@@ -11,14 +11,18 @@ from ._parse import assignments
 
 def _system(model: str, reduced: bool, overrides: dict[str, float]):
     """A built-in model or description (see ``load_model``); ``reduced`` needs a description."""
+    from ..equations import check_values_at
     from ..mechanism import find_description, load
+    from ..models import model_at
     from ..models._registry import BUILTIN_MODELS, load_model
 
     if not reduced:
-        return load_model(model, **overrides)
-    if model in BUILTIN_MODELS or find_description(model) is None:
+        return model_at(model, overrides)
+    path = None if model in BUILTIN_MODELS else find_description(model)
+    if path is None:
         raise InputError("--reduced", f"'{model}' is not a mechanism description file; --reduced needs one "
                                       "(e.g. overcentre.toml, fourbar)")
+    check_values_at(load_model(path), overrides, "--set")  # the values checked as every command checks them
     return load(model, reduced=True, **overrides)
 
 

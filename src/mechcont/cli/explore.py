@@ -27,10 +27,11 @@ def explore_command(model, branches, sets, max_rows, out):
     with its loads and values. Example: mechcont explore overcentre --branch branch.csv --out branch.html
     """
     from .._io import check_output_path
+    from ..models import model_at
     from ..outputs.explore import EXPLORE_SUFFIXES, MAX_ROWS, write_explore
 
     path = check_output_path(out, "--out", EXPLORE_SUFFIXES)
     values = assignments(sets, "set")
-    written = write_explore(path, model, list(branches), values=values,
+    written = write_explore(path, model_at(model, values), list(branches), values=values,
                             max_rows=MAX_ROWS if max_rows is None else max_rows)
     click.echo(f"wrote {written}")

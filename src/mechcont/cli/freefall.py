@@ -110,7 +110,7 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
     """
     from .._io import check_output_path
     from ..dynamics import check_duration, check_simulable
-    from ..models import load_model
+    from ..models import model_at
     from ..outputs.plotting import FIGURE_SUFFIXES
 
     out_path = check_output_path(out, "--out", (".csv",))
@@ -125,7 +125,7 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
         raise InputError("--scan", "needs --critical V=LO:HI (the scan repeats the bisection)")
     if plot_path is not None and rng is not None and scanned is None:
         raise InputError("--plot", "with --critical the figure is against a --scan parameter: give --scan NAME=V1,...")
-    system = load_model(model, **assignments(settings, "set"))
+    system = model_at(model, assignments(settings, "set"))
     check_simulable(system, model)
     for n in start:
         if n not in system.names or system.variable(n).kind != "state":
@@ -134,6 +134,13 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
         if n not in system.names or system.variable(n).kind != "parameter":
             raise InputError("--critical" if rng and n == rng[0] else "--scan",
                              f"{n} is not a parameter of {system.name}; valid: {', '.join(system.parameter_names)}")
+    if rng and scanned and scanned[0] == rng[0]:
+        raise InputError("--scan", f"{rng[0]} is the parameter --critical bisects; scan another one")
+    if scanned is not None:  # each value checked as --set checks it, the model at it taken by with_values
+        from ..equations import check_values_at
+
+        for v in scanned[1]:
+            check_values_at(system, {scanned[0]: v}, "--scan")
     lock_spec = _lock(system, lock, lock_condition)
     # a run ends when it has locked (every lock stop in contact, at rest), as a lock condition ends it
     options = {"damping": damping, **solver, "rest_speed": rest_speed, "held_by": held_by, "end_at_lock": True}

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import click
 
 from ..errors import InputError
@@ -55,7 +57,8 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
     """
     from .._io import check_output_path
     from ..analysis.optimize import NOT_LOCKING, Constraint, optimize
-    from ..models import load_model
+    from ..equations import check_values_at
+    from ..models import model_at
     from ..outputs.plotting import FIGURE_SUFFIXES
 
     check_output_path(out, "--out", (".json",))
@@ -69,14 +72,18 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
     values = assignments(sets, "set")
     if plot_path is not None and len(design) != 2:
         raise InputError("--plot", f"a design map needs exactly two --design parameters, got {len(design)}")
-    system = load_model(model)
-    for n in values:
-        system.index(n)
+    system = model_at(model, values)
+    for n, (lo, hi) in design.items():  # each finite bound a value the model accepts, as --set checks it
+        for v in (lo, hi):
+            if math.isfinite(v):
+                check_values_at(system, {n: v}, "--design")
     if force is not None and force not in system.parameter_names:
         raise InputError("--force", f"'{force}' is not a parameter of {system.name}; parameters: "
                                     + ", ".join(system.parameter_names))
     fold = _fold(system, point) if point else None
     random = _distributions(dists)
+    for n, d in random.items():  # each distribution's centre a value the model accepts, as --set checks it
+        check_values_at(system, {n: d.centre}, "--dist")
     try:
         parsed = [Constraint.parse(c) for c in constraints]
         if random and not any(c.quantity == NOT_LOCKING for c in parsed):

@@ -46,7 +46,7 @@ def sensitivity_command(model, point, downlock, params_text, sets, holds, frees,
     Example: mechcont sensitivity overcentre --point branch.csv:LP1 --params LU,k --out s.json
     """
     from .._io import check_output_path
-    from ..models import load_model
+    from ..models import model_at
 
     check_output_path(out, "--out", (".json",))
     params = names(params_text, "params")
@@ -54,7 +54,7 @@ def sensitivity_command(model, point, downlock, params_text, sets, holds, frees,
         if p in _RESERVED:
             raise InputError("--params", f"'{p}' is a key of the JSON output; rename the parameter")
     values = assignments(sets, "set")
-    system = load_model(model)
+    system = model_at(model, values)  # the model at the --set values: a stop's limit follows them
     if (point is None) == (not downlock):
         raise InputError("--point", "give either --point BRANCH.csv:ROW or --downlock")
     try:

@@ -71,14 +71,14 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     """
     from .._io import check_output_path
     from ..dynamics import check_duration
-    from ..models import load_model
+    from ..models import model_at
     from ..outputs.plotting import FIGURE_SUFFIXES
 
     out_path = check_output_path(out, "--out", (".csv",))
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     check_duration(until, "--until")
     solver = integrator(method, rtol, atol)
-    system = load_model(model, **assignments(settings, "set"))
+    system = model_at(model, assignments(settings, "set"))
     x0, start = _start(system, model, starts)
     coords = system.mechanics.coordinates
     if watch is None:

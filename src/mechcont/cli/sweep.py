@@ -48,13 +48,35 @@ def _read_branch(path, system, parameter: str, watch: str):
 def _other_values(branch, system, ramped) -> list[str]:
     """The parameters (not ramped) whose value on the --branch differs from the sweep's, in the equations:
     ``["l0 = 0.6 m (sweep 0.5 m)"]`` (:func:`mechcont.dynamics.branch_differences`)."""
+    import numpy as np
+
     from ..dynamics import branch_differences
 
+    # a stop's reaction, or a parameter that moves along the branch, is solved for there (not a value it was
+    # continued at): only the parameters held along the whole branch are compared
+    solved = {s.reaction for s in system.stops}
+    solved |= {n for n in system.parameter_names if np.ptp(np.asarray(branch[n], dtype=float)) > 0}
     out = []
-    for n, on_branch, here in branch_differences(system, branch, ignore=ramped):
+    for n, on_branch, here in branch_differences(system, branch, ignore=[*ramped, *solved]):
         a, b = _shown(system, n, on_branch), _shown(system, n, here)
         out.append(f"{n} = {a[0]:.6g} {a[1]} (sweep {b[0]:.6g} {b[1]})".replace(" )", ")"))
     return out
+
+
+def _start_on_stops(system, x0):
+    """With --stops the sweep starts from the equilibrium nearest the assembled start with a consistent set of
+    stops in contact (:func:`mechcont.analysis.equilibrium_on_stops`), so the simulation starts where the
+    stops allow; one line naming --start when there is none."""
+    from ..analysis import equilibrium_on_stops
+    from ..errors import ConvergenceError
+
+    try:
+        x, _ = equilibrium_on_stops(system, x0, values={n: x0[system.index(n)] for n in system.parameter_names},
+                                    stable=True)
+    except (ConvergenceError, InputError) as exc:
+        raise InputError("--start", f"no equilibrium with a consistent set of stops in contact near the start: {exc}; "
+                                    "give another --start, or --no-equilibrium to start at rest there") from None
+    return x
 
 
 def _gaps(result, branch) -> list[str]:
@@ -124,27 +146,33 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     """
     from .._io import check_output_path
     from ..dynamics import check_simulable, parse_ramps, sweep, sweep_start
-    from ..models import load_model
+    from ..models import model_at
     from ..outputs.plotting import FIGURE_SUFFIXES
 
     out_path = check_output_path(out, "--out", (".csv",))
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     solver = integrator(method, rtol, atol)
     segs = parse_ramps(_ramps(ramps))
-    system = load_model(model, **assignments(settings, "set"))
+    system = model_at(model, assignments(settings, "set"))
     branch = _read_branch(branch_csv, system, segs[0].name, watch) if branch_csv is not None else None
     start = assignments(starts, "start")
     check_simulable(system, model)
-    x0 = sweep_start(system, start, segs, equilibrium=equilibrium, start_field="--start")
-    if use_stops:
-        if not system.stops:
-            raise InputError("--stops", f"{system.name} declares no stops ([stops.NAME] in the description)")
+    if use_stops and not system.stops:
+        raise InputError("--stops", f"{system.name} declares no stops ([stops.NAME] in the description)")
+    x0 = sweep_start(system, start, segs, equilibrium=equilibrium and not use_stops, start_field="--start")
+    if use_stops and equilibrium:
+        x0 = _start_on_stops(system, x0)
     total = settle + sum(r.duration for r in segs)
     from .._progress import Progress
 
-    with Progress("sweep", total=total, unit="s simulated", quiet=no_progress or old_quiet) as bar:
-        result = sweep(system, x0, segs, watch=watch, damping=damping, settle=settle, through=through, **solver,
-                       progress=bar.set if bar.enabled else None, stops=use_stops)
+    try:
+        with Progress("sweep", total=total, unit="s simulated", quiet=no_progress or old_quiet) as bar:
+            result = sweep(system, x0, segs, watch=watch, damping=damping, settle=settle, through=through, **solver,
+                           progress=bar.set if bar.enabled else None, stops=use_stops)
+    except InputError as exc:  # the start is the --start pose (with --stops, its equilibrium on the stops)
+        if exc.field != "x0":
+            raise
+        raise InputError("--start", str(exc)[len(exc.field) + 2:]) from None
     if not system.mechanics.stability(x0).stable:  # said after sweep(), which reports bad input first
         a = _shown(system, watch, x0[system.index(watch)])
         click.echo(f"warning: the sweep starts at an unstable equilibrium ({watch} = {a[0]:.6g} {a[1]}".rstrip()

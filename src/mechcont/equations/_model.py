@@ -14,7 +14,8 @@ compiled code; pickling carries every field (the callables are picklable objects
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+import math
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import MISSING, dataclass, field, fields
 from typing import TYPE_CHECKING, Protocol, TypedDict
 
@@ -28,7 +29,7 @@ if TYPE_CHECKING:
 
     from ._protocols import Description, DofFacts, Reselect
 
-__all__ = ["Model", "StopLimit", "DownlockFacts", "ValueFields", "as_model"]
+__all__ = ["Model", "StopLimit", "DownlockFacts", "ValueFields", "as_model", "at_values", "check_values_at"]
 
 
 class DownlockAssembly(Protocol):
@@ -159,6 +160,52 @@ class Model(EquationSystem):
         params = {v.name: v.value for v in new.variables if v.kind == "parameter"}
         return new.evolve(**self.fields_at(params))
 
+    def limit_derivatives(self, stop: str, params: Iterable[str]) -> dict[str, float]:
+        """``{parameter: d limit / d parameter}`` of the stop ``stop``'s limit (condition unit per parameter unit)
+        at the model's parameter values, the limit as its description writes it in parameters: how a quantity
+        solved with the stop held at its limit changes with them (see :meth:`value_derivatives`)."""
+        found = next((s for s in self.stops if s.name == stop), None)
+        if found is None:
+            raise KeyError(stop)
+        return self.value_derivatives(f"stops.{stop}.{found.key}", params)
+
+    def target_derivatives(self, condition: str, params: Iterable[str]) -> dict[str, float]:
+        """``{parameter: d target / d parameter}`` of the declared condition ``condition``'s target (the value
+        the downlock holds it at), as its description writes it (see :meth:`value_derivatives`)."""
+        return self.value_derivatives(f"conditions.{condition}.target", params)
+
+    def written_in(self, field: str) -> frozenset[str]:
+        """The parameters the description's value at key path ``field`` is written in (empty for a number, an
+        unknown key path or a model without a description's expressions)."""
+        value = getattr(self.mechanism, "value", None)
+        try:
+            expr = value(field) if value is not None else None
+        except KeyError:
+            return frozenset()
+        return frozenset(s.name for s in getattr(expr, "free_symbols", ()))
+
+    def value_derivatives(self, field: str, params: Iterable[str]) -> dict[str, float]:
+        """``{parameter: d value / d parameter}`` of the description's value at key path ``field`` (an expression
+        in parameters) at the model's parameter values, exact (the expression differentiated); 0 for a
+        parameter it does not use, and for every parameter of a model without a description's expressions."""
+        params = list(params)
+        out = dict.fromkeys(params, 0.0)
+        value = getattr(self.mechanism, "value", None)
+        if value is None:
+            return out
+        try:
+            expr = value(field)
+        except KeyError:
+            return out
+        symbols = {s.name: s for s in getattr(expr, "free_symbols", ())}
+        if not any(p in symbols for p in params):
+            return out
+        subs = {sym: self.variable(n).value for n, sym in symbols.items()}
+        for p in params:
+            if p in symbols:
+                out[p] = float(expr.diff(symbols[p]).xreplace(subs))
+        return out
+
     def __setattr__(self, name: str, value) -> None:
         if name not in _declared(type(self)):
             raise AttributeError(f"{type(self).__name__} has no field {name!r}: a model's fields are declared "
@@ -231,3 +278,49 @@ def as_model(system: EquationSystem) -> Model:
     :class:`EquationSystem`; everything below them takes the :class:`Model`.
     """
     return system if isinstance(system, Model) else Model.from_system(system)
+
+
+def check_values_at(system: EquationSystem, values: Mapping[str, float], field: str = "values") -> None:
+    """Check ``values`` (SI, rad) for ``system`` as every option that gives values does (``--set``,
+    ``--scan``, ``--design``, ``--dist``, ``--params``): each name a variable of the model (a state's value is
+    a guess), each value finite, and the parameters, together with the model's other parameter values,
+    within the model's valid ranges: its value checks (``check_values``, an analysis's ranges: a spring of
+    zero stiffness allowed) and its declared limits that depend on parameters alone (positive lengths).
+    Raises :class:`InputError` naming ``field`` and the value's own name or key path."""
+    from ..errors import InputError
+
+    for name, value in values.items():
+        system.index(name)  # an unknown name: its own error, listing the valid ones
+        if not math.isfinite(float(value)):
+            raise InputError(field, f"{name} = {value}: give a finite number")
+    params = {v.name for v in system.variables if v.kind == "parameter"}
+    given = [n for n in values if n in params]
+    if not given:
+        return
+    x = system.vector(values)
+    try:
+        if system.check_values is not None:
+            system.check_values({n: float(x[system.index(n)]) for n in params})
+        if system.limits:
+            limit_values = system.limit_values(x)
+            uses = system._limit_uses()
+            for i in system.limits_of(given):
+                lim, v = system.limits[i], float(limit_values[i])
+                if uses[i] <= params and (not math.isfinite(v) or (v <= 0 if lim.strict else v < 0)):
+                    raise InputError(lim.name, lim.message(v))
+    except InputError as exc:
+        raise InputError(field, str(exc)) from None
+
+
+def at_values(system: EquationSystem, values: Mapping[str, float] | None, field: str = "values") -> Model:
+    """The model at ``values`` (SI, rad): the one way a value reaches a model in mechcont.
+
+    ``values`` are checked (:func:`check_values_at`, errors naming ``field``), then
+    :meth:`Model.with_values`: the parameters take their values and everything written in them
+    follows (a stop's limit, a condition's target, the downlock hold); a state's value is the guess
+    the solves start from. Returns ``system`` as a :class:`Model` when ``values`` is empty."""
+    model = as_model(system)
+    if not values:
+        return model
+    check_values_at(model, values, field)
+    return model.with_values({k: float(v) for k, v in values.items()})

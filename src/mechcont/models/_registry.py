@@ -13,7 +13,7 @@ from ..errors import InputError
 if TYPE_CHECKING:
     from ..mechanism import Mechanism
 
-__all__ = ["BUILTIN_MODELS", "load_model", "model_names", "describe_model", "ModelSummary"]
+__all__ = ["BUILTIN_MODELS", "load_model", "model_at", "model_names", "describe_model", "ModelSummary"]
 
 #: Descriptions read in this process, by (resolved path, text), at most ``_KEEP``.
 _DESCRIPTIONS: dict[tuple[str, bytes], Mechanism] = {}
@@ -222,3 +222,32 @@ def load_model(name: str | Path, **overrides: float) -> Model:
     # name and full text and the values (an edited file never reuses an entry of its old text)
     return stored(lambda: _model_key(path.name, text, values), build,
                   valid=lambda obj: isinstance(obj, Model))
+
+
+def model_at(name: str | Path, values: Mapping[str, float] | None = None, *, field: str = "--set") -> Model:
+    """The model of ``name`` (as :func:`load_model`) at ``values`` (SI, rad): what every command does with ``--set``.
+
+    ``values`` name parameters, or states whose value is then the guess the solves start from (as
+    ``continue --set`` always accepted). They are checked as every option's values are
+    (:func:`~mechcont.equations.check_values_at`: known names, finite, within the model's valid
+    ranges; errors name ``field``). The model is then the description edited to the parameter values
+    (its pose assembled there, its dropped redundant rows chosen there: what a file with those values
+    gives), taken through :meth:`~mechcont.equations.Model.with_values`, so that everything written in
+    parameters (a stop's limit, a condition's target, the downlock hold, element values, geometry) has
+    its value at ``values``. Where the edited description would not build though the values are valid
+    for an analysis (a spring of zero stiffness, a pose that does not assemble from the file's), it is
+    the file's model with the values (its states then only a guess). Raises :class:`InputError`."""
+    from ..equations import at_values, check_values_at
+
+    base = load_model(name)
+    if not values:
+        return base
+    check_values_at(base, values, field)
+    params = {k: float(v) for k, v in values.items() if base.variable(k).kind == "parameter"}
+    model = base
+    if params:
+        try:
+            model = load_model(name, **params)
+        except InputError:  # valid for an analysis, refused for a file (zero stiffness) or not assembled
+            model = base
+    return at_values(model, values, field)

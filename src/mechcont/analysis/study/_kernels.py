@@ -97,8 +97,11 @@ def check_spec(system, spec: StudySpec) -> tuple[dict, str | None]:
     that may be set, the downlock condition resolvable (the freefall's pose and lock stops). Returns
     ``(hold, force)`` (a freefall study: ``(released pose, None)``)."""
     if "freefall" in spec.analyses:
-        return _check_freefall(system, spec), None
-    h, f = downlock_condition(system, dict(spec.hold) or None, spec.force, condition=spec.condition)
+        pose = _check_freefall(system, spec)
+        _check_values(system, spec)
+        return pose, None
+    h, f = downlock_condition(system.with_values(dict(spec.values)), dict(spec.hold) or None, spec.force,
+                              condition=spec.condition)
     _check_chunk_memory(system, spec)
     for n in (*spec.names, *dict(spec.values)):
         v = system.variable(n)
@@ -106,7 +109,22 @@ def check_spec(system, spec: StudySpec) -> tuple[dict, str | None]:
             raise InputError(n, "is the downlock force, which each sample solves for; sample a design parameter")
         if v.kind != "parameter":
             raise InputError(n, "is a state of the model; sample or set parameters only")
+    _check_values(system, spec)
     return h, f
+
+
+def _check_values(system, spec: StudySpec) -> None:
+    """The ``--set`` values and each distribution's centre checked as ``--set`` values are
+    (:func:`~mechcont.equations.check_values_at`); a sample out of range (a grid may cross the model's
+    range on purpose, a distribution's tail) later fails alone, with the reason."""
+    from ...equations import check_values_at
+    from ._spec import Distribution
+
+    fixed = dict(spec.values)
+    check_values_at(system, fixed, "--set")
+    for n, d in spec.parameters:
+        if isinstance(d, Distribution):
+            check_values_at(system, {**fixed, n: float(d.centre)}, "--dist")
 
 
 #: Most memory (bytes) the batched solves of one chunk may take; decided from the sizes before any work.
@@ -125,6 +143,8 @@ def _check_chunk_memory(system, spec: StudySpec) -> None:
 
 
 def _plan(system, spec: StudySpec) -> dict:
+    """What every sample of a downlock chunk shares: the condition, the start, the unknowns (``system``: the
+    model at the study's ``--set`` values)."""
     h, f = check_spec(system, spec)
     assert f is not None  # a downlock study (a freefall study has no _plan)
     fixed = dict(spec.values)
@@ -164,6 +184,7 @@ def _freefall_chunk(system, spec: StudySpec, S: np.ndarray, start: int, stop: in
     locked = np.zeros(m, dtype=bool)
     t_lock, impact, spread = np.full(m, np.nan), np.full(m, np.nan), np.full(m, np.nan)
     lock = spec.lock[0] if len(spec.lock) == 1 else list(spec.lock)
+    system = system.with_values(dict(spec.values))  # the model at the --set values: what is written in them follows
     for i in range(m):
         values = {**dict(spec.values), **{n: float(v) for n, v in zip(spec.names, S[i])}}
         why = _valid(system, values)
@@ -186,10 +207,11 @@ def _freefall_chunk(system, spec: StudySpec, S: np.ndarray, start: int, stop: in
 
 
 def _valid(system, values: dict) -> str:
-    """The one-line reason ``values`` are outside the model's valid range, or ""."""
+    """The one-line reason ``values`` are outside the model's valid range (as ``--set`` checks them), or ""."""
+    from ...equations import check_values_at
+
     try:
-        if system.check_values is not None:
-            system.check_values(values)
+        check_values_at(system, values, "sample")
     except InputError as exc:
         return str(exc)
     return ""
@@ -205,18 +227,28 @@ def run_chunk(system, spec: StudySpec, k: int, samples: np.ndarray | None = None
     start, stop = spec.chunk_rows(k)
     if "freefall" in spec.analyses:
         return _freefall_chunk(system, spec, (spec.samples() if samples is None else samples)[start:stop], start, stop)
+    system = system.with_values(dict(spec.values))  # the model at the --set values: what is written in them follows
     p = _plan(system, spec)
     h, f, base, names = p["hold"], p["force"], p["base"], spec.names
     S = (spec.samples() if samples is None else samples)[start:stop]
     m = len(S)
     X0 = np.tile(base, (m, 1))
     X0[:, p["cols"]] = S
+    if not spec.hold and any(system.written_in(f"conditions.{c}.target") & set(names) for c in h):
+        held = [system.index(n) for n in h]  # a hold written in sampled parameters: each sample's own
+        for i in range(m):
+            try:
+                at, _ = downlock_condition(system.with_values(dict(zip(names, map(float, S[i])))), None, spec.force,
+                                           condition=spec.condition)
+            except InputError:  # a sample out of range: it fails below, with the reason
+                continue
+            X0[i, held] = [at[n] for n in h]
     status = np.full(m, _CONVERGED, dtype=object)
     reason = np.full(m, "", dtype=object)
     path = np.full(m, "batched", dtype=object)
     # values outside the model's ranges (its check and its declared limits) fail at once
     for i in range(m):
-        why = _valid(system, {n: float(v) for n, v in zip(names, S[i])})
+        why = _valid(system, {**p["fixed"], **{n: float(v) for n, v in zip(names, S[i])}})
         if not why:
             try:
                 system.check_limits(X0[i])
