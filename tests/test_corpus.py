@@ -9,6 +9,8 @@ integration), never with a number mechcont printed.
   folds (along l0) and downlock (along k) are compared with these.
 - freefall_lock_leg.toml: a leg falling onto its downlock; freefall and simulate --stops against
   solve_ivp (rtol 1e-12) of theta'' = M(theta) / I_O, and the lock's reaction against -M(theta_lock).
+- stay_downlock.toml: an over-centre side stay with its downlock declared; downlock along the leg load P
+  against the stay's virtual work F(t) = -(Q_spring + Q_P) / (a cos t) and its folds either side.
 - skew_hinge_stop_3d.toml: a spatial bar on a skewed hinge held by a tether stop; check's reaction
   against -V'(phi) / gap'(phi) at the taut angle, found by brentq on the bar's own rotation about n.
 
@@ -27,6 +29,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from cli_helpers import make_runner
+from corpus.scaling import write_scaled
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
@@ -199,9 +202,61 @@ def skew_reaction(path: Path) -> float:
     return -(potential(taut + h) - potential(taut - h)) / (gap(taut + h) - gap(taut - h))
 
 
-def test_skew_hinge_on_its_tether():
-    """check: the spatial bar rests on its tether with the reaction of its own moment balance."""
+@pytest.mark.parametrize("L, M", [(1.0, 1.0), (1e-3, 1.0), (1e6, 1.0), (1e3, 1e3)], ids=["SI", "km-kg", "um-kg", "mm-g"])
+def test_skew_hinge_on_its_tether(tmp_path, L, M):
+    """check: the spatial bar rests on its tether with the reaction of its own moment balance (N: x L M in
+    the file rewritten with lengths x L, masses x M; in km the stop search's Newton weighed its rows
+    against a floor of 1 and did not converge)."""
     path = CORPUS / "skew_hinge_stop_3d.toml"
-    r = make_runner()("check", path)
+    scaled = write_scaled(path, tmp_path / "skew.toml", L, M, labels=True)
+    r = make_runner()("check", scaled)
     assert r.exit_code == 0, r.output
-    assert _number(r"reaction R_tether = (\S+)", r.output) == pytest.approx(skew_reaction(path), rel=1e-5)
+    assert _number(r"reaction R_tether = (\S+)", r.output) == pytest.approx(skew_reaction(path) * L * M, rel=1e-5)
+
+
+# -- the side stay's downlock: virtual work ----------------------------------------------------------------
+
+STAY = dict(a=0.5, b=0.6, k=8000.0, l0=0.3, Sx=0.3, Sy=-0.5)
+
+
+def stay_force(t, P, p=STAY):
+    """The knee force F (N, + up) that holds stay_downlock.toml's upper link at angle ``t`` under the leg
+    load ``P`` (N): the virtual work of the lock spring, P at the slider end and F at the knee. Complex-safe."""
+    a, b = p["a"], p["b"]
+    c, s = np.cos(t), np.sin(t)
+    kx, ky = a * c, a * s
+    dkx, dky = -a * s, a * c
+    dbx = -a * s - a * a * s * c / np.sqrt(b * b - a * a * s * s)
+    dx, dy = kx - p["Sx"], ky - p["Sy"]
+    length = np.sqrt(dx * dx + dy * dy)
+    tension = p["k"] * (length - p["l0"])
+    spring = -tension / length * (dx * dkx + dy * dky)
+    return -(spring - P * dbx) / (a * c)
+
+
+def stay_fold(P, side: int) -> float:
+    """The first fold of F from the aligned stay (t = 0) towards ``side`` (+1: the knee rising, F increasing
+    to it; -1: the other way): the first zero of dF/dt, bracketed on a grid and refined by brentq."""
+    slope = lambda t: float(np.imag(stay_force(t + 1e-30j, P)) / 1e-30)  # noqa: E731
+    grid = side * np.linspace(1e-3, 1.2, 241)
+    k = next(i for i in range(240) if slope(grid[i]) * slope(grid[i + 1]) < 0)
+    return float(stay_force(brentq(slope, grid[k], grid[k + 1], xtol=1e-15), P))
+
+
+def test_stay_downlock(tmp_path):
+    """downlock along P: the aligned stay's force (P does no work there: the same at every P) and the unlock
+    folds either side, at every row."""
+    run = make_runner()
+    path, out = CORPUS / "stay_downlock.toml", tmp_path / "d.csv"
+    r = run("check", path)
+    assert r.exit_code == 0 and "findings: none" in r.output, r.output
+    r = run("downlock", path, "--vary", "P", "--bounds", "P=1300:1550", "--out", out)
+    assert r.exit_code == 0, r.output
+    rows = _table(out)
+    assert len(rows) >= 3
+    for row in rows:
+        P = _column(row, "P")
+        assert _column(row, "aligned") == pytest.approx(0.0, abs=1e-12)
+        assert _column(row, "F") == pytest.approx(float(stay_force(0.0, P)), rel=1e-9)
+        assert _column(row, "unlock_F") == pytest.approx(stay_fold(P, +1), rel=1e-8)
+        assert _column(row, "unlock_F_decreasing") == pytest.approx(stay_fold(P, -1), rel=1e-8)

@@ -14,17 +14,14 @@ from __future__ import annotations
 
 import math
 import re
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 from cli_helpers import make_runner
+from corpus.scaling import write_scaled
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
-
-sys.path.insert(0, str(Path(__file__).parent))
-from corpus.scaling import write_scaled  # noqa: E402
 
 ROOT = Path(__file__).parents[1]
 DATA = ROOT / "tests" / "data"
