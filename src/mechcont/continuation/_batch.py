@@ -123,7 +123,8 @@ def newton_batch(system: EquationSystem, X0: np.ndarray, unknowns: Sequence[str]
         J = J_full[:, :, idx]
         u = Xa[:, idx]
         # rows measured against the size of their terms, as in newton_square
-        row = np.maximum(1.0, np.abs(J * scale).max(axis=2))
+        row = np.abs(J * scale).max(axis=2)
+        row[~(row > 0)] = 1.0
         norm = np.linalg.norm(r_a / row, axis=1)
         du = _stacked_solve(J, -r_a)
         bad = ~np.all(np.isfinite(du), axis=1)

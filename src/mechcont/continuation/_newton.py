@@ -65,8 +65,9 @@ def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol:
 
     The full Newton step is tried first and halved while it does not reduce the residual
     norm (a backtracking line search), so a rough guess still converges. The merit
-    function divides each row by the size of its terms (``max(1, max_j |J_ij scale_j|)``)
-    so the line search weighs equations in N, N m and m alike. Converged when the
+    function divides each row by the size of its terms (``max_j |J_ij scale_j|``, 1 for a row
+    without terms) so the line search weighs equations in N, N m and m alike, in any units (a
+    floor of 1 would leave a description in km weighing its metre-sized rows a thousandth). Converged when the
     residuals pass :func:`residual_met` and the scaled step is below ``tol``, or has stopped
     shrinking at most ten times the noise that rounding of the residual causes in it
     (:func:`step_noise`: an ill-conditioned system, e.g. a very stiff joint compliance,
@@ -83,7 +84,8 @@ def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol:
         J = jac(u)
         # rows measured against the size of their terms: the merit function and the
         # convergence test then treat equations in N, N m and m alike
-        row = np.maximum(1.0, np.abs(J * scale).max(axis=1))
+        row = np.abs(J * scale).max(axis=1)
+        row[~(row > 0)] = 1.0
         norm = np.linalg.norm(r / row)
         try:
             du = np.linalg.solve(J, -r)

@@ -116,17 +116,24 @@ def _hold_conditions(system, dyn, x, rows, free, tol: float = 1e-12, max_iter: i
     the joints close and the condition rows ``c(q) - NAME`` (``NAME`` at its value in ``x``) vanish."""
     x = np.array(x, float)
     qi = dyn.q_index[free]
+    scale = system.scales()[dyn.q_index]
+    nphi = len(dyn.mech.phi(x))
+
+    def size(J):  # each row's size at the coordinates' scales: the tests hold in any units
+        return (np.abs(np.vstack([dyn.mech.phi_q(x).reshape(-1, dyn.nq), J[rows][:, dyn.q_index]])) * scale).sum(axis=1)
+
     for _ in range(max_iter):
         G, J = system.residual_and_jacobian(x)
         r = np.concatenate([dyn.mech.phi(x), G[rows]])
-        if np.max(np.abs(r)) <= tol:
+        if np.all(np.abs(r) <= tol * size(J)):
             return x
         A = np.vstack([dyn.mech.phi_q(x).reshape(-1, dyn.nq)[:, free], J[rows][:, qi]])
         Mis = dyn.mass_inv_sqrt(x)[np.ix_(free, free)]
         x[qi] -= Mis @ (np.linalg.lstsq(A @ Mis, r, rcond=1e-12)[0])
-    G = system.residual(x)
-    worst = float(np.max(np.abs(G[rows])))
-    if worst > 1e-9:
+    G, J = system.residual_and_jacobian(x)
+    excess = np.abs(G[rows]) / (1e-9 * np.maximum(size(J)[nphi:], 1e-300))
+    worst = float(np.max(np.abs(G[rows]), initial=0.0))
+    if np.max(excess, initial=0.0) > 1:
         raise InputError("x0", f"cannot assemble the mechanism with the conditions held: residual {worst:.3g} "
                                "(is the value reachable from the start configuration?)")
     return x
@@ -250,9 +257,12 @@ class _Statics:
         E, Jac = self.equations(xq, B, mult)
         force = max(np.max(np.abs(mech.applied_forces(xq)), initial=0.0),
                     np.max(np.abs(Jac[:nq, nq:] @ mult), initial=0.0))
-        geometry = np.max(np.abs(E[nq:nq + mech.n_constraints + len(H)]), initial=0.0)
+        rows = E[nq:nq + mech.n_constraints + len(H)]
+        geometry = np.max(np.abs(rows), initial=0.0)
+        # each joint or held row against its size at the coordinates' scales (m, rad): any units
+        size = (np.abs(np.vstack([mech.phi_q(xq).reshape(-1, nq), H])) * self.scale).sum(axis=1)
         imbalance = np.max(np.abs(E[:nq]), initial=0.0)
-        if not (geometry <= 1e-9 and imbalance <= 1e-8 * force):
+        if not (np.all(np.abs(rows) <= 1e-9 * size) and imbalance <= 1e-8 * force):
             raise InputError("x0", f"no static pose of the compliant joints found with the held values (joint "
                                    f"residual {geometry:.3g}, force imbalance {imbalance:.3g} N): does every "
                                    "compliant direction have a stiffness?")

@@ -24,7 +24,8 @@ __all__ = ["close_constraints", "dof_report", "DofReport", "assemble"]
 
 
 def close_constraints(phi, phi_q, x: np.ndarray, q_index: np.ndarray, free: np.ndarray, *,
-                      tol: float = 1e-12, max_iter: int = 60) -> tuple[np.ndarray, bool]:
+                      tol: float = 1e-12, max_iter: int = 60,
+                      scale: np.ndarray | None = None, weighted: bool = True) -> tuple[np.ndarray, bool]:
     """Minimise ``|Phi|`` over the coordinates ``free`` (positions in ``q_index``) from ``x``.
 
     Parameters
@@ -38,7 +39,15 @@ def close_constraints(phi, phi_q, x: np.ndarray, q_index: np.ndarray, free: np.n
     free:
         Boolean mask over the coordinates: which ones may move.
     tol:
-        Target ``max |Phi|`` (m for position constraints).
+        Target ``max |Phi|`` (m for position constraints); with ``scale``, relative to each row's size
+        ``sum_j |dPhi_i/dq_j| scale_j`` instead.
+    scale:
+        Typical magnitude of each coordinate (the mechanism's length for a position, 1 for an angle):
+        the steps are least-squares in these units and the target relative to them, so the closure is
+        the same whatever units the description is written in. None: unit weights, ``tol`` absolute.
+    weighted:
+        False keeps unit weights in the steps (``scale`` then sets only the target): the generators' first
+        assembly, whose minimum-norm steps choose the default pose of every shipped description.
 
     Returns
     -------
@@ -49,12 +58,19 @@ def close_constraints(phi, phi_q, x: np.ndarray, q_index: np.ndarray, free: np.n
     x = np.array(x, dtype=float)
     cols = np.flatnonzero(free)
     idx = q_index[cols]
+    size = np.ones(len(q_index)) if scale is None else np.asarray(scale, dtype=float)
+    weight = size if weighted else np.ones(len(q_index))
+
+    def target(y):  # tol per row: absolute, or relative to the row's size in the coordinates' units
+        return tol if scale is None else tol * (np.abs(phi_q(y)) * size).sum(axis=1)
+
     r = phi(x)
     for _ in range(max_iter):
-        if r.size == 0 or np.max(np.abs(r)) <= tol:
+        if r.size == 0 or np.all(np.abs(r) <= target(x)):
             return x, True
         A = phi_q(x)[:, cols]
-        step, *_ = np.linalg.lstsq(A, -r, rcond=1e-12)
+        step, *_ = np.linalg.lstsq(A * weight[cols], -r, rcond=1e-12)
+        step *= weight[cols]
         norm0, t = np.linalg.norm(r), 1.0
         while t > 1e-6:
             trial = x.copy()
@@ -66,9 +82,9 @@ def close_constraints(phi, phi_q, x: np.ndarray, q_index: np.ndarray, free: np.n
         else:
             return x, False  # no descent: a least-squares minimum with |Phi| > 0
         x, r = trial, r_new
-        if np.linalg.norm(t * step) <= 1e-15 * (1 + np.linalg.norm(x[idx])):
+        if np.linalg.norm(t * step / weight[cols]) <= 1e-15 * (1 + np.linalg.norm(x[idx] / weight[cols])):
             break
-    return x, bool(r.size == 0 or np.max(np.abs(r)) <= tol)
+    return x, bool(r.size == 0 or np.all(np.abs(r) <= target(x)))
 
 
 @dataclass(frozen=True)
@@ -204,7 +220,7 @@ def assemble(system: EquationSystem, values: Mapping[str, float] | None = None,
         raise InputError("system", f"model '{system.name}' has no mechanics: only a mechanism's model can be assembled")
     q_index = mech.q_index
     free_q = np.array([system.names[i] not in hold for i in q_index])
-    x, ok = close_constraints(mech.phi, mech.phi_q, x, q_index, free_q)
+    x, ok = close_constraints(mech.phi, mech.phi_q, x, q_index, free_q, scale=system.scales()[q_index])
     if not ok:
         raise ConvergenceError(f"the constraints cannot be satisfied with {hold or 'the given values'} "
                                f"(max |Phi| = {np.max(np.abs(mech.phi(x))):.3g})", partial=x)
@@ -223,6 +239,9 @@ def assemble(system: EquationSystem, values: Mapping[str, float] | None = None,
         if np.max(np.abs(step)) <= tol:
             break
     r = system.residual(x)
-    if not np.all(np.isfinite(r)) or np.max(np.abs(r)) > 1e-8 * max(1.0, np.max(np.abs(system.scales()))):
+    # each row against the size of its terms at the unknowns' scales: a file in millimetres and grams has
+    # rows a million times larger, solved as well
+    size = (np.abs(system.jacobian(x)[:, u_idx]) * scale).sum(axis=1)
+    if not np.all(np.isfinite(r)) or not np.all(np.abs(r) <= 1e-8 * size):
         raise ConvergenceError(f"assembly did not converge (max residual {np.max(np.abs(r)):.3g})", partial=x)
     return x

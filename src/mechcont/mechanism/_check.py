@@ -40,7 +40,8 @@ if TYPE_CHECKING:
 
 __all__ = ["check_report", "CheckReport", "Quantity", "State"]
 
-#: Largest loop-closure or dropped-row residual (m or rad) that counts as closed.
+#: Largest loop-closure or dropped-row residual that counts as closed: rad, or m per metre of the
+#: mechanism's length (its position scale) for a joint's gap.
 CLOSURE_TOL = 1e-9
 
 
@@ -385,8 +386,11 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     # only the reduced form closes joints away; a spatial joint whose rows are all compliant has none
     # among the constraints either, and is reported with its deflections instead
     eliminated = tuple(j for j in mech.joints if j not in kept and j not in dropped_joints) if reduced else ()
+    # a gap in metres against the mechanism's length (its position scale): the same closure in any units
+    length = max([float(sc) for sc, v in zip(system.scales(), system.variables) if v.kind == "state" and v.unit == "m"],
+                 default=1.0)
     for q in closure:
-        if not q.value <= CLOSURE_TOL:
+        if not q.value <= CLOSURE_TOL * (length if q.unit == "m" else 1.0):
             findings.append(f"joint {q.name} is open by {q.value:.3g} {q.unit} at the assembled configuration")
     dropped = system.dropped_residual(x) if system.dropped_constraints and system.dropped_residual else None
     if dropped is not None and not dropped <= CLOSURE_TOL:
@@ -400,7 +404,8 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     coord = model.coordinates[worst] if nq else ""
     imbalance = Quantity(system.equation_names[worst] if nq else "", float(np.abs(res[worst])) if nq else 0.0,
                          "N" if nq and system.variable(coord).unit == "m" else "N m")
-    reaction_scale = max([system.variable(n).scale for n in as_model(system).reaction_names] + [1.0])
+    # relative to the reactions' size alone (a floor of 1 N would be a billion times too loose in km and grams)
+    reaction_scale = max([system.variable(n).scale for n in as_model(system).reaction_names], default=1.0)
     xe, stability = None, None
     at_rest = imbalance.value <= 1e-9 * reaction_scale
     if at_rest:

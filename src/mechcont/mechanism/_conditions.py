@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..errors import InputError
+from ..units import typical_scale
 from ._expr import Value
 
 __all__ = ["Condition", "DownlockSpec", "condition_expr", "check_conditions", "conditions_from_table",
@@ -258,7 +259,7 @@ def condition_rows(kin, subs: Mapping) -> list[tuple[Condition, sp.Expr]]:
 
 def condition_scale(cond: Condition, Lc: float, Fc: float) -> float:
     """Typical magnitude of the condition's value: 1 (rad, sine), ``Lc`` (m), ``Fc`` (N), ``Fc Lc`` (N m)."""
-    return {"m": Lc, "N": Fc, "N m": Fc * Lc}.get(cond.value_unit.strip(), 1.0)
+    return typical_scale(cond.value_unit, Lc, Fc) or 1.0
 
 
 def condition_targets(mech, values: Mapping[str, float]) -> dict[str, float | None]:

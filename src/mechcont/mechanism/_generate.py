@@ -30,6 +30,7 @@ import sympy as sp
 
 from ..equations import DownlockFacts, EquationSystem, MechanicalModel, Model, StopLimit, ValueFields, Variable, velocity_symbol
 from ..errors import InputError
+from ..units import typical_scale
 from ._assembly import close_constraints, dof_report
 from ._compiled import CoordinatesOf, DroppedResidual
 from ._conditions import condition_description, condition_rows, condition_scale, condition_targets
@@ -70,7 +71,9 @@ def _scales(mech: Mechanism, values: dict[str, float]) -> tuple[float, float]:
         forces.append(g * sum(evaluate(mech.value(f"bodies.{b.name}.mass"), values, "") for b in mech.bodies))
     forces += element_forces(mech, values, Lc)
     forces += load_forces(mech, values)
-    return Lc, max(forces + [1e-3])
+    # the largest force the file states; a floor only when it states none (a floor under stated forces would
+    # swamp them in a file written in km and grams)
+    return Lc, max([f for f in forces if f > 0], default=1e-3)
 
 
 def element_forces(mech: Mechanism, values: Mapping[str, float], Lc: float) -> list[float]:
@@ -87,10 +90,9 @@ def load_forces(mech: Mechanism, values: Mapping[str, float]) -> list[float]:
 def _parameter_scale(p, value: float, Lc: float, Fc: float) -> float:
     if p.scale is not None:
         return float(p.scale)
-    unit = p.unit.replace("*", " ").replace(".", " ").strip()
-    by_unit = {"m": Lc, "N": Fc, "N m": Fc * Lc, "rad": 1.0}
-    if unit in by_unit:
-        return by_unit[unit]
+    typical = typical_scale(p.unit, Lc, Fc)  # "mm", "kN" and "g mm/s^2" are a length and a force too
+    if typical is not None:
+        return typical
     return abs(value) if value != 0 and math.isfinite(value) else 1.0
 
 
@@ -215,7 +217,8 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
     x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * (len(rows) + len(cnames))
                  + [values[p.name] for p in mech.parameters])
     free_q = np.array([c not in mech.hold for c in coords])
-    x, ok = close_constraints(model.phi, model.phi_q, x, model.q_index, free_q)
+    x, ok = close_constraints(model.phi, model.phi_q, x, model.q_index, free_q,
+                              scale=np.array([1.0 if c.startswith("theta") else Lc for c in coords]), weighted=False)
     if not ok:
         raise loop_error(mech, rows, model.phi(least_squares_closure(model, x, free_q)))
     report = dof_report(model.phi_q(x), [r.joint for r in rows])

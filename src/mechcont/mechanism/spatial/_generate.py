@@ -355,14 +355,16 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
                  + [values[p.name] for p in mech.parameters])
     free_q = np.array([c not in mech.hold for c in coords])
     rigid = np.array([r.stiffness is None for r in rows])
-    x_all, ok = close_constraints(closure.phi, closure.phi_q, x, closure.q_index, free_q)
+    # closed relative to each row's size (a position weighs Lc, an Euler parameter 1), in any units
+    weight = np.array([Lc if c[:2] in ("x_", "y_", "z_") else 1.0 for c in coords])
+    x_all, ok = close_constraints(closure.phi, closure.phi_q, x, closure.q_index, free_q, scale=weight, weighted=False)
     if ok:
         x = x_all
     elif rigid.all():
         raise _misfit_error(mech, rows, closure.phi(x_all))
     else:  # the compliant joints take up the misfit of the rigid rows
         x, ok = close_constraints(lambda y: closure.phi(y)[rigid], lambda y: closure.phi_q(y)[rigid], x,
-                                  closure.q_index, free_q)
+                                  closure.q_index, free_q, scale=weight, weighted=False)
         if not ok:
             raise _misfit_error(mech, [r for r in rows if r.stiffness is None], closure.phi(x)[rigid])
     report = dof_report(closure.phi_q(x), [r.joint for r in rows])
