@@ -44,6 +44,7 @@ from scipy.linalg.lapack import dpotrf, dpotrs
 
 from ..errors import InputError
 from ._mass import MassBlocks, inverse_sqrt
+from ._redundant import KeptRows
 
 if TYPE_CHECKING:
     from ._contact import StopConstraints
@@ -189,6 +190,15 @@ class ConstrainedDynamics:
         #: The stops as unilateral constraints (a :class:`~._contact.StopConstraints`), or None.
         self.contacts: StopConstraints | None = None
         self._last: tuple | None = None  # the last solve with its multipliers (see recall)
+        # the redundant rows the mechanics still holds (a spatial model keeps every rigid row; a planar one
+        # has left its dropped rows out already): that many are left out of each solve
+        names = set(mech.constraint_names or ())
+        n_drop = sum(r in names for r in getattr(system, "dropped_constraints", ()) or ())
+        #: The joint rows solved with when the model has redundant rows (:class:`~._redundant.KeptRows`), or None.
+        self.kept: KeptRows | None = KeptRows(n_drop) if n_drop else None
+        #: True when the model dropped redundant rows: its joint reactions are statically indeterminate (a
+        #: planar model's dropped rows carry none; a spatial history reports the minimum-norm split).
+        self.indeterminate = bool(getattr(system, "dropped_constraints", ()))
 
     # -- helpers -------------------------------------------------------------------------
     def full(self, t: float, q: np.ndarray) -> np.ndarray:
@@ -219,13 +229,28 @@ class ConstrainedDynamics:
             Q = Q - self.damping * (self.mech.mass(x) @ qd)
         return Q
 
-    def joint_rows(self, x: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``(A, b)``: the joints' acceleration-level constraints ``A qddot = b``, Baumgarte-stabilised."""
+    def joint_rows(self, x: np.ndarray, qd: np.ndarray, t: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """``(A, b)``: the joints' acceleration-level constraints ``A qddot = b``, Baumgarte-stabilised; with
+        ``t`` and redundant rows, only the rows kept at time ``t`` (:attr:`kept`)."""
         A = self.mech.phi_q(x)
         b = self.mech.gamma(x, qd)
         if self.alpha or self.beta:
             b = b - 2.0 * self.alpha * (A @ qd) - self.beta**2 * self.mech.phi(x)
+        if t is not None and self.kept is not None and A.shape[0]:
+            keep = self.kept.select(t, A)
+            return A[keep], b[keep]
         return A, b
+
+    def _full_multipliers(self, z: np.ndarray) -> np.ndarray:
+        """The multipliers of the kept rows (then of the stops in contact) spread over every joint row: a
+        dropped row carries none."""
+        if self.kept is None or self.kept.keep is None:
+            return z
+        keep = self.kept.keep
+        out = np.zeros(self.mech.n_constraints + len(z) - len(keep))
+        out[keep] = z[:len(keep)]
+        out[self.mech.n_constraints:] = z[len(keep):]
+        return out
 
     def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Constrained accelerations at time ``t`` (the fundamental equation, stabilised).
@@ -236,7 +261,7 @@ class ConstrainedDynamics:
         x = self.full(t, q)
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(qd))):
             return np.full(self.nq, np.nan)
-        A, b = self.joint_rows(x, qd)
+        A, b = self.joint_rows(x, qd, t)
         if self.contacts is not None:  # the stops in contact are constraint rows too
             A, b = self.contacts.rows(x, qd, A, b)
         Q = self.forces(x, qd)
@@ -245,7 +270,7 @@ class ConstrainedDynamics:
         if self._blocks is not None and A.shape[0]:
             solved = self._by_inverse(x, Q, A, b, with_multipliers=True)
             if solved is not None:
-                self._last = (t, np.array(q), np.array(qd), self._mode(), *solved, Q)
+                self._last = (t, np.array(q), np.array(qd), self._mode(), solved[0], self._full_multipliers(solved[1]), Q)
                 return solved[0]
         qdd = fundamental_equation(self.mass_inv_sqrt(x), Q, A, b)
         self._last = (t, np.array(q), np.array(qd), self._mode(), qdd, None, Q)
@@ -294,17 +319,18 @@ class ConstrainedDynamics:
         (redundant constraints): ``z`` is then the minimum-norm multiplier vector, one of many that
         give the same ``qddot`` (N, N m: units of each row's reaction)."""
         known = self.recall(t, q, qd)
+        determinate = not self.indeterminate  # redundant rows: one split of indeterminate reactions
         if known is not None and known[1] is not None:
-            return known[0], known[1], True
+            return known[0], known[1], determinate
         x = self.full(t, q)
-        A, b = self.joint_rows(x, qd)
+        A, b = self.joint_rows(x, qd, t)
         if self.contacts is not None:
             A, b = self.contacts.rows(x, qd, A, b)
         Q = self.forces(x, qd)
         if A.shape[0] and self._blocks is not None:  # the accelerations' own path: Cholesky of A M^-1 A^T
             solved = self._by_inverse(x, Q, A, b, with_multipliers=True)
             if solved is not None:
-                return solved[0], solved[1], True
+                return solved[0], self._full_multipliers(solved[1]), determinate
         Mis = self.mass_inv_sqrt(x)
         a = Mis @ (Mis @ Q)
         if A.shape[0] == 0:
@@ -313,13 +339,14 @@ class ConstrainedDynamics:
         r = b - A @ a
         z = _cholesky_solve(B @ B.T, r)  # full row rank, as in _pinv_apply: z = (B B^T)^-1 r
         if z is not None:
-            return a + Mis @ (B.T @ z), z, True
+            return a + Mis @ (B.T @ z), self._full_multipliers(z), determinate
         # redundant rows, from one SVD B = U S V^T cut at _RCOND as np.linalg.pinv cuts it: the step
         # w = B^+ r = V S^-1 U^T r of _pinv_apply, and the minimum-norm z with B^T z = w, z = U S^-2 U^T r
         U, sv, Vt = np.linalg.svd(B, full_matrices=False)
         rank = int(np.count_nonzero(sv > _RCOND * max(sv[0], 1e-300))) if sv.size else 0
         c = (U[:, :rank].T @ r) / sv[:rank]
-        return a + Mis @ (Vt[:rank].T @ c), U[:, :rank] @ (c / sv[:rank]), rank == A.shape[0]
+        z = self._full_multipliers(U[:, :rank] @ (c / sv[:rank]))
+        return a + Mis @ (Vt[:rank].T @ c), z, rank == A.shape[0] and determinate
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         """Right-hand side ``(qdot, qddot)`` of the first-order system."""
