@@ -26,59 +26,67 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.linalg import qr
-from scipy.linalg.lapack import dpotrf
 
 from ..mechanism.spatial._dropped import SWITCH_RATIO, _unit_rows
 
 __all__ = ["KeptRows", "SWITCH_RATIO"]
 
 
-def _spread(K: np.ndarray) -> float:
-    """Conditioning of the rows ``K`` scaled to unit length: the smallest over the largest diagonal entry of
-    the Cholesky factor of ``K K^T`` (1 for orthogonal rows, 0 for dependent ones)."""
-    if K.shape[0] == 0:
-        return 1.0
-    c, info = dpotrf(K @ K.T, lower=1, clean=0)
-    if info != 0:
-        return 0.0
-    d = np.abs(c.diagonal())
-    return float(d.min() / d.max())
-
-
 class KeptRows:
     """The joint rows the accelerations are solved with, when ``n_drop`` of them are redundant.
 
-    :meth:`select` gives the indices of the kept rows at a state (choosing them again where they lose rank);
-    ``changes`` holds the times at which they were chosen again and ``dropped`` the rows left out now."""
+    :meth:`select` gives the indices of the kept rows; :meth:`stale` watches their conditioning through the
+    solve's own Cholesky factor (its diagonal spread, :func:`~._udwadia_kalaba._cholesky_solve`) and chooses
+    them again where it falls below :data:`SWITCH_RATIO` of its value when they were chosen. ``changes`` holds
+    the times at which they were chosen again, ``singular`` those where even the new choice was no better
+    (the whole set lost rank: a singular configuration), ``dropped`` the rows left out now."""
 
     def __init__(self, n_drop: int) -> None:
         self.n_drop = int(n_drop)
         self.keep: np.ndarray | None = None
         self.dropped: tuple[int, ...] = ()
-        self.reference = 1.0  # the kept rows' conditioning when chosen
+        self.reference: float | None = None  # the solve's spread with the rows as chosen
         self.changes: list[float] = []
-        self.singular: list[float] = []  # times where even the best choice had lost rank
+        self.singular: list[float] = []
+        self._before = 0.0
+        self._time = 0.0
 
-    def _choose(self, U: np.ndarray) -> None:
-        _, _, piv = qr(U.T, mode="economic", pivoting=True)
-        n = U.shape[0] - self.n_drop
+    def _choose(self, A: np.ndarray) -> None:
+        _, _, piv = qr(_unit_rows(A).T, mode="economic", pivoting=True)
+        n = A.shape[0] - self.n_drop
         self.keep = np.sort(piv[:n])
         self.dropped = tuple(sorted(int(i) for i in piv[n:]))
-        self.reference = _spread(U[self.keep])
+        self.reference = None
 
-    def select(self, t: float, A: np.ndarray) -> np.ndarray:
-        """Indices of the rows of ``A`` (the joints' rows at time ``t``) to solve with."""
-        U = _unit_rows(A)
+    def select(self, A: np.ndarray) -> np.ndarray:
+        """Indices of the rows of ``A`` (all the joints' rows) to solve with."""
         if self.keep is None:
-            self._choose(U)
-        elif _spread(U[self.keep]) < SWITCH_RATIO * self.reference:
-            before = self.reference
-            self._choose(U)
-            self.changes.append(t)
-            if self.reference < SWITCH_RATIO * before:  # the whole set lost rank here: a singular configuration
-                self.singular.append(t)
+            self._choose(A)
         assert self.keep is not None
         return self.keep
+
+    def stale(self, t: float, A: np.ndarray, spread: list[float]) -> bool:
+        """True (and the rows chosen again from ``A``, the joints' rows at time ``t``) when the solve just made
+        with the kept rows found them losing rank: ``spread[0]``, its Cholesky factor's diagonal spread, below
+        :data:`SWITCH_RATIO` times the first one with these rows (0 where the factorisation failed)."""
+        s = spread[0] if spread else 1.0
+        if self.reference is None:
+            self.reference = s
+            return False
+        if s >= SWITCH_RATIO * self.reference:
+            return False
+        self._before = self.reference
+        self._choose(A)
+        self.changes.append(t)
+        self._time = t
+        return True
+
+    def rechosen(self, spread: list[float]) -> None:
+        """After the solve with the rows chosen again: its spread becomes the reference; a choice no better
+        than the one it replaced marks a singular configuration."""
+        self.reference = spread[0] if spread else 1.0
+        if self.reference < SWITCH_RATIO * self._before:
+            self.singular.append(self._time)
 
     def minimum_norm(self, A: np.ndarray, z: np.ndarray) -> np.ndarray:
         """The multipliers ``z`` (first those of the joint rows ``A``, then any others) with the joint part's

@@ -60,28 +60,36 @@ __all__ = ["fundamental_equation", "inverse_sqrt", "MassBlocks", "ConstrainedDyn
 _RCOND = 1e-8
 
 
-def _cholesky_solve(G: np.ndarray, r: np.ndarray) -> np.ndarray | None:
+def _cholesky_solve(G: np.ndarray, r: np.ndarray, spread: list[float] | None = None) -> np.ndarray | None:
     """``G^-1 r`` for a symmetric positive definite ``G`` (``B B^T`` or ``A M^-1 A^T``), or None when ``G`` is
     (nearly) singular: its Cholesky factor's diagonal spread beyond 1e6, i.e. rcond(G) below ~1e-12 (the
     rows are dependent: the callers take the pseudo-inverse). LAPACK is called directly (``dpotrf``/``dpotrs``):
-    for the 5 x 6 overcentre five times cheaper than ``numpy.linalg.pinv``."""
+    for the 5 x 6 overcentre five times cheaper than ``numpy.linalg.pinv``. ``spread``, when given, receives
+    the factor's smallest over its largest diagonal entry (0 when the factorisation fails): how far the rows
+    are from losing rank, at no extra cost (:class:`~._redundant.KeptRows` watches it)."""
     c, info = dpotrf(G, lower=1, clean=0)
     if info != 0:
+        if spread is not None:
+            spread.append(0.0)
         return None
     d = np.abs(c.diagonal())
+    if spread is not None:
+        spread.append(float(d.min() / d.max()))
     if not d.min() > 1e-6 * d.max():
         return None
     z, _ = dpotrs(c, r, lower=1)
     return z
 
 
-def _pinv_apply(B: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """``B^+ r`` for a wide matrix ``B``: Cholesky of ``B B^T`` if well conditioned, else SVD."""
-    z = _cholesky_solve(B @ B.T, r)
+def _pinv_apply(B: np.ndarray, r: np.ndarray, spread: list[float] | None = None) -> np.ndarray:
+    """``B^+ r`` for a wide matrix ``B``: Cholesky of ``B B^T`` if well conditioned, else SVD (``spread``: see
+    :func:`_cholesky_solve`)."""
+    z = _cholesky_solve(B @ B.T, r, spread)
     return B.T @ z if z is not None else np.linalg.pinv(B, rcond=_RCOND) @ r
 
 
-def fundamental_equation(M_inv_sqrt: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray) -> np.ndarray:
+def fundamental_equation(M_inv_sqrt: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray,
+                         spread: list[float] | None = None) -> np.ndarray:
     """Constrained accelerations ``qddot = a + M^-1/2 (A M^-1/2)^+ (b - A a)``, ``a = M^-1 Q``.
 
     Parameters
@@ -92,6 +100,9 @@ def fundamental_equation(M_inv_sqrt: np.ndarray, Q: np.ndarray, A: np.ndarray, b
         Applied generalised forces (n,), N or N m.
     A, b:
         Acceleration-level constraints ``A qddot = b``: (p x n) and (p,).
+    spread:
+        Optional list that receives how far the rows of ``A M^-1/2`` are from losing rank (see
+        :func:`_cholesky_solve`).
 
     Returns
     -------
@@ -102,7 +113,7 @@ def fundamental_equation(M_inv_sqrt: np.ndarray, Q: np.ndarray, A: np.ndarray, b
     if A.shape[0] == 0:
         return a
     B = A @ M_inv_sqrt
-    return a + M_inv_sqrt @ _pinv_apply(B, b - A @ a)
+    return a + M_inv_sqrt @ _pinv_apply(B, b - A @ a, spread)
 
 
 def _symbols_of(exprs) -> set[str]:
@@ -229,16 +240,21 @@ class ConstrainedDynamics:
             Q = Q - self.damping * (self.mech.mass(x) @ qd)
         return Q
 
-    def joint_rows(self, x: np.ndarray, qd: np.ndarray, t: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """``(A, b)``: the joints' acceleration-level constraints ``A qddot = b``, Baumgarte-stabilised; with
-        ``t`` and redundant rows, only the rows kept at time ``t`` (:attr:`kept`)."""
+    def joint_rows(self, x: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(A, b)``: the joints' acceleration-level constraints ``A qddot = b``, Baumgarte-stabilised."""
         A = self.mech.phi_q(x)
         b = self.mech.gamma(x, qd)
         if self.alpha or self.beta:
             b = b - 2.0 * self.alpha * (A @ qd) - self.beta**2 * self.mech.phi(x)
-        if t is not None and self.kept is not None and A.shape[0]:
-            keep = self.kept.select(t, A)
-            return A[keep], b[keep]
+        return A, b
+
+    def _solved_rows(self, x: np.ndarray, qd: np.ndarray, A: np.ndarray, b: np.ndarray):
+        """The rows a solve uses: the joints' (those kept, with redundant rows: :attr:`kept`), then the stops'."""
+        if self.kept is not None and A.shape[0]:
+            keep = self.kept.select(A)
+            A, b = A[keep], b[keep]
+        if self.contacts is not None:  # the stops in contact are constraint rows too
+            A, b = self.contacts.rows(x, qd, A, b)
         return A, b
 
     def _full_multipliers(self, z: np.ndarray) -> np.ndarray:
@@ -261,20 +277,30 @@ class ConstrainedDynamics:
         x = self.full(t, q)
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(qd))):
             return np.full(self.nq, np.nan)
-        A, b = self.joint_rows(x, qd, t)
-        if self.contacts is not None:  # the stops in contact are constraint rows too
-            A, b = self.contacts.rows(x, qd, A, b)
+        A_joints, b_joints = self.joint_rows(x, qd)
+        A, b = self._solved_rows(x, qd, A_joints, b_joints)
         Q = self.forces(x, qd)
         if not (np.all(np.isfinite(Q)) and np.all(np.isfinite(A)) and np.all(np.isfinite(b))):
             return np.full(self.nq, np.nan)
-        if self._blocks is not None and A.shape[0]:
-            solved = self._by_inverse(x, Q, A, b, with_multipliers=True)
-            if solved is not None:
-                self._last = (t, np.array(q), np.array(qd), self._mode(), solved[0], self._full_multipliers(solved[1]), Q)
-                return solved[0]
-        qdd = fundamental_equation(self.mass_inv_sqrt(x), Q, A, b)
-        self._last = (t, np.array(q), np.array(qd), self._mode(), qdd, None, Q)
+        qdd, z = self._solve(x, Q, A, b)
+        # the kept rows' conditioning, read off the solve's own Cholesky factor: where they lose rank along
+        # the motion they are chosen again (QR with column pivoting) and the solve repeated with them
+        if self.kept is not None and self.kept.stale(t, A_joints, self._spread):
+            A, b = self._solved_rows(x, qd, A_joints, b_joints)
+            qdd, z = self._solve(x, Q, A, b)
+            self.kept.rechosen(self._spread)
+        self._last = (t, np.array(q), np.array(qd), self._mode(), qdd, None if z is None else self._full_multipliers(z), Q)
         return qdd
+
+    def _solve(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+        """``(qddot, z)`` of the fundamental equation with the rows ``A``, ``b`` (``z`` None on the pseudo-inverse
+        path); the Cholesky factor's diagonal spread left in ``self._spread``."""
+        self._spread: list[float] = []
+        if self._blocks is not None and A.shape[0]:
+            solved = self._by_inverse(x, Q, A, b, with_multipliers=True, spread=self._spread)
+            if solved is not None:
+                return solved[0], solved[1]
+        return fundamental_equation(self.mass_inv_sqrt(x), Q, A, b, self._spread), None
 
     def _mode(self) -> tuple[int, ...]:
         return () if self.contacts is None else tuple(self.contacts.active)
@@ -290,7 +316,8 @@ class ConstrainedDynamics:
             return None
         return last[4], last[5], last[6]
 
-    def _by_inverse(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray, with_multipliers: bool = False):
+    def _by_inverse(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray, with_multipliers: bool = False,
+                    spread: list[float] | None = None):
         """The fundamental equation through ``M^-1`` (block by block) when ``A`` has full row rank:
         ``M^-1/2 (A M^-1/2)^+ r = M^-1 A^T (A M^-1 A^T)^-1 r``, the same matrix ``A M^-1 A^T`` and rank test
         as :func:`fundamental_equation`'s Cholesky path, without the eigen-decomposition of ``M``. None
@@ -300,7 +327,7 @@ class ConstrainedDynamics:
         Minv = self._blocks.inverse(self.mech.mass(x))
         a = Minv @ Q
         MA = Minv @ A.T
-        z = _cholesky_solve(A @ MA, b - A @ a)
+        z = _cholesky_solve(A @ MA, b - A @ a, spread)
         if z is None:
             return None
         return (a + MA @ z, z) if with_multipliers else a + MA @ z
@@ -323,9 +350,7 @@ class ConstrainedDynamics:
         if known is not None and known[1] is not None:
             return known[0], known[1], determinate
         x = self.full(t, q)
-        A, b = self.joint_rows(x, qd, t)
-        if self.contacts is not None:
-            A, b = self.contacts.rows(x, qd, A, b)
+        A, b = self._solved_rows(x, qd, *self.joint_rows(x, qd))
         Q = self.forces(x, qd)
         if A.shape[0] and self._blocks is not None:  # the accelerations' own path: Cholesky of A M^-1 A^T
             solved = self._by_inverse(x, Q, A, b, with_multipliers=True)
