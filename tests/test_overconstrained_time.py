@@ -152,6 +152,20 @@ def test_bricard_check_finds_the_equilibrium(bricard):
     assert 9.81 * sum(ys) < -29.43
 
 
+def test_check_says_no_equilibrium_only_with_evidence():
+    """The Bennett linkage with 100 N m on its crank, some six times the largest moment gravity can hold
+    (1 + 1.5 + 1 kg within 0.5 m of the axis): no equilibrium on its mobile branch. The search says what it
+    tried and the residual each reached; the exact root the least squares finds in the rigid assembly mode
+    (0 degrees of freedom: the reactions take the moment) is named and refused."""
+    rep = check_report(DATA / "spatial" / "bennett.toml", M=100.0)
+    assert rep.x_equilibrium is None
+    note = rep.equilibrium_note
+    for words in ("tried Newton", "max residual", "trust-region least-squares search", "another assembly mode",
+                  "0 degree(s) of freedom instead of 1"):
+        assert words in note, note
+    assert any("no equilibrium found" in f for f in rep.findings)
+
+
 def _pendulum(phi0: float, t: np.ndarray, L=0.5, m=1.0, mc=2.0, g=9.81) -> np.ndarray:
     """The three-crank parallelogram as one pendulum: (m L^2 + mc L^2) phi'' = -(3 m L / 2 + mc L) g sin phi
     (three cranks of inertia m L^2 / 3 about their pivots, the coupler translating on a circle of radius L)."""

@@ -50,12 +50,31 @@ def free_equilibrium(system, x: np.ndarray) -> tuple[np.ndarray, str]:
     fit = least_squares(lambda z: system.residual(full(z)), base[u], jac=lambda z: system.jacobian(full(z))[:, u],
                         x_scale=scale, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=_MAX_NFEV)
     reached = float(np.max(np.abs(fit.fun))) if fit.fun.size else 0.0
+    found = f"a trust-region least-squares search ({fit.nfev} evaluations)"
+    candidate, how = None, ""
     if np.all(np.isfinite(fit.fun)) and reached <= 1e3 * _tolerance(system):
         try:
-            how = f"a trust-region least-squares search ({fit.nfev} evaluations), then Newton"
-            return assemble(system, guess=full(fit.x)), how
-        except ConvergenceError:
-            pass
-    raise ConvergenceError(f"tried Newton ({newton}) and a trust-region least-squares search ({fit.nfev} evaluations, "
-                           f"max residual reached {reached:.3g}, a local minimum of the residual that is not zero)",
-                           partial=full(fit.x))
+            candidate, how = assemble(system, guess=full(fit.x)), f"{found}, then Newton"
+        except ConvergenceError:  # a root where the Jacobian is singular (e.g. links aligned): Newton cannot polish it
+            if reached <= _tolerance(system):
+                candidate = full(fit.x)
+                how = f"{found} (max residual {reached:.3g}; Newton cannot refine it: its Jacobian is singular there)"
+    if candidate is None:
+        raise ConvergenceError(f"tried Newton ({newton}) and {found}: its max residual stalled at {reached:.3g}, "
+                               "a local minimum of the residual that is not zero", partial=full(fit.x))
+    dof, there = _dof(system, x), _dof(system, candidate)
+    if there != dof:  # a root on another assembly mode (a rigid one): not where the mechanism can move to
+        raise ConvergenceError(f"tried Newton ({newton}) and {found}: it closed the equations (max residual "
+                               f"{reached:.3g}) only in another assembly mode, with {there} degree(s) of freedom instead "
+                               f"of {dof}", partial=candidate)
+    return candidate, how
+
+
+def _dof(system, x: np.ndarray) -> int:
+    """Coordinates less the rank of the rigid constraint rows at ``x`` (singular values above 1e-9 of the largest)."""
+    mech = system.mechanics
+    A = mech.phi_q(x)
+    if A.size == 0:
+        return len(mech.q_index)
+    sv = np.linalg.svd(A, compute_uv=False)
+    return len(mech.q_index) - int(np.count_nonzero(sv > 1e-9 * sv[0]))
