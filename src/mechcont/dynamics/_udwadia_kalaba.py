@@ -26,6 +26,12 @@ and the equation is the same as the augmented (KKT) system ``M qddot + A^T lambd
 A qddot = b``: we use a Cholesky factorisation of ``B B^T`` on that path (a few
 microseconds) and fall back to the SVD pseudo-inverse when ``B B^T`` is (nearly) singular.
 
+Redundant rows (a spatial ``redundant = "drop"`` closure keeps every rigid row in its mechanics) are
+dependent only up to the drift, so no cut-off decides their rank well: the number of redundant rows is
+the model's (``Model.dropped_constraints``) and that many are left out of each solve, chosen by a pivoted
+QR and chosen again where the kept rows lose rank (:mod:`._redundant`); the solve stays on the Cholesky
+path, and the pseudo-inverse is left for a genuinely singular configuration.
+
 ``M^-1/2`` is the symmetric inverse square root from the eigen-decomposition of ``M``;
 it is computed once when ``M`` does not depend on the coordinates (bars described by
 centre-of-gravity coordinates, as in the paper). Otherwise (spatial bodies in Euler parameters)
@@ -52,11 +58,11 @@ if TYPE_CHECKING:
 __all__ = ["fundamental_equation", "inverse_sqrt", "MassBlocks", "ConstrainedDynamics"]
 
 #: Relative cut-off of the singular values of ``A M^-1/2`` in the pseudo-inverse path, which is taken only when
-#: the rows are (nearly) dependent (the Cholesky test fails): redundant rows (an over-constrained closure
-#: whose rows are all kept, e.g. a spatial ``redundant = "drop"`` linkage) are dependent only up to the
-#: constraint drift, so their smallest singular values are of its order (1e-9 relative on the Bennett
-#: linkage), not of rounding. Kept at 1e-12 they were inverted: accelerations of 1e9 times the drift, a
-#: crawling integration (48 000 evaluations for 0.3 s) that lost a quarter of the energy.
+#: the rows are (nearly) dependent (the Cholesky test fails): since issue 38 the redundant rows of an
+#: over-constrained closure are left out before the solve (:mod:`._redundant`), so this path is left for
+#: singular configurations and for the initial projection. Redundant rows are dependent only up to the
+#: constraint drift (1e-9 relative on the Bennett linkage): kept at 1e-12 they were inverted, and even at
+#: 1e-8 the Cholesky test let them through at times (Bricard's loop: 496 switches of path in 2 s).
 _RCOND = 1e-8
 
 
