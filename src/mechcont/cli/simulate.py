@@ -111,6 +111,11 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     if not result.success:
         click.echo(f"# warning: {result.message}")
     echo_balance(result)
+    from ..dynamics._stall import UNRESOLVED
+
+    unresolved = result.motion_warning.startswith(UNRESOLVED)
+    if result.motion_warning and not unresolved:
+        click.echo(f"warning: {result.motion_warning}", err=True)
     units = {s.name: system.variable(s.condition).unit for s in stops}
     for ev in result.stop_events:
         click.echo(ev.describe(units.get(ev.stop, "")))
@@ -129,3 +134,5 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
         save_figure(history_figure(result, watch, title=f"{system.name}: {watch} from rest"), plot_path)
         click.echo(f"wrote {plot_path}")
     check_integration(result, method, [str(p) for p in (out_path, plot_path) if p is not None])
+    if unresolved:  # the history is written; the mechanism itself is bad input
+        raise InputError("redundant", result.motion_warning)

@@ -7,7 +7,8 @@ equilibrium rows ``Q - Phi_q^T lambda = 0``, so the reported reaction is ``lambd
 (``qdot = 0``, ``qddot = 0``) it is the static reaction. A rigid stop in contact reports its contact
 reaction (``+z`` of its row, the same multiplier the contact events watch); a compliant stop its
 penalty reaction; a compliant joint (a spatial row ``Phi_k - lambda_k / k_k = 0``) ``lambda_k = k_k Phi_k``,
-read off its row. With redundant constraints the multipliers are the minimum-norm ones.
+read off its row. With redundant constraints the multipliers are the minimum-norm ones (the solve leaves
+the redundant rows out, :mod:`._redundant`; their self-stresses are taken out here).
 """
 
 from __future__ import annotations
@@ -51,10 +52,12 @@ def fill_reactions(system, dyn, t: np.ndarray, y: np.ndarray, values: np.ndarray
         if contacts is not None:
             contacts.active = list(modes[i])
         if known is not None and known[i] is not None and known[i][1] is not None:  # the integrator's solve here
-            z, determinate = known[i][1], True
+            z, determinate = known[i][1], not dyn.indeterminate  # redundant rows: the dropped ones carry nothing
         else:
             _, z, determinate = dyn.multipliers(ti, yi[:nq], yi[nq:])
         indeterminate += not determinate
+        if dyn.kept is not None:  # the rows left out of the solve carried none: report the minimum-norm split
+            z = dyn.kept.minimum_norm(dyn.mech.phi_q(dyn.full(ti, yi[:nq])), z)
         if joint.size:
             values[i, joint] = -z[:nc]
         if contacts is not None and modes[i]:

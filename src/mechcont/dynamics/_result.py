@@ -68,12 +68,16 @@ class SimulationResult:
         The energy error (J) the integrator's tolerances explain over the run (for :attr:`balance`'s
         bound; :meth:`~._energy.EnergyLedger.step_error`).
     indeterminate_rows:
-        Rows whose joint reactions are minimum-norm multipliers (redundant constraints: the
-        accelerations are determinate, the split of the reactions among the redundant rows is not).
+        Rows whose joint reactions are statically indeterminate (redundant constraints: the
+        accelerations are determinate, the split of the reactions among the redundant rows is not;
+        the reported ones are the minimum-norm multipliers, :mod:`._redundant`).
     integrator_failure:
         Why the integrator stopped early (SciPy's words, e.g. its step fell below the spacing of the
         floating-point numbers: the tolerance cannot be met there, or the forces blew up); ``""`` when it
         did not (a run stopped by too many stop events is :attr:`status` FAILED with this empty).
+    motion_warning:
+        One line when the motion stalled where nothing stops it or the redundant constraints could
+        not be resolved (:func:`~._stall.motion_warning`), else ``""``.
     dense:
         The integrator's dense output, per accepted step (:class:`~._peaks.DenseHistory`: ``state(t)``,
         ``row(t)``), on which :meth:`peak` locates peaks; None for a result read back or pickled.
@@ -97,6 +101,7 @@ class SimulationResult:
     energy_tolerance: float = math.nan
     indeterminate_rows: int = 0
     integrator_failure: str = ""
+    motion_warning: str = ""
     dense: Any = field(default=None, repr=False, compare=False)
 
     def __getstate__(self):

@@ -17,6 +17,7 @@ from ._events import EventTracker
 from ._peaks import DenseHistory
 from ._reactions import fill_reactions
 from ._result import SimulationResult
+from ._stall import motion_warning
 from ._udwadia_kalaba import ConstrainedDynamics
 
 __all__ = ["simulate", "initial_vector", "assemble", "check_integrator", "METHODS"]  # assemble, initial_vector from ._assembly
@@ -197,6 +198,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
         result.energy_tolerance = history.ledger.explained
     result.dense = DenseHistory(system, dyn, segments)
     result.integrator_failure = failure
+    result.motion_warning = motion_warning(result, dyn)
     return result
 
 

@@ -26,6 +26,12 @@ and the equation is the same as the augmented (KKT) system ``M qddot + A^T lambd
 A qddot = b``: we use a Cholesky factorisation of ``B B^T`` on that path (a few
 microseconds) and fall back to the SVD pseudo-inverse when ``B B^T`` is (nearly) singular.
 
+Redundant rows (a spatial ``redundant = "drop"`` closure keeps every rigid row in its mechanics) are
+dependent only up to the drift, so no cut-off decides their rank well: the number of redundant rows is
+the model's (``Model.dropped_constraints``) and that many are left out of each solve, chosen by a pivoted
+QR and chosen again where the kept rows lose rank (:mod:`._redundant`); the solve stays on the Cholesky
+path, and the pseudo-inverse is left for a genuinely singular configuration.
+
 ``M^-1/2`` is the symmetric inverse square root from the eigen-decomposition of ``M``;
 it is computed once when ``M`` does not depend on the coordinates (bars described by
 centre-of-gravity coordinates, as in the paper). Otherwise (spatial bodies in Euler parameters)
@@ -44,6 +50,7 @@ from scipy.linalg.lapack import dpotrf, dpotrs
 
 from ..errors import InputError
 from ._mass import MassBlocks, inverse_sqrt
+from ._redundant import KeptRows
 
 if TYPE_CHECKING:
     from ._contact import StopConstraints
@@ -51,36 +58,44 @@ if TYPE_CHECKING:
 __all__ = ["fundamental_equation", "inverse_sqrt", "MassBlocks", "ConstrainedDynamics"]
 
 #: Relative cut-off of the singular values of ``A M^-1/2`` in the pseudo-inverse path, which is taken only when
-#: the rows are (nearly) dependent (the Cholesky test fails): redundant rows (an over-constrained closure
-#: whose rows are all kept, e.g. a spatial ``redundant = "drop"`` linkage) are dependent only up to the
-#: constraint drift, so their smallest singular values are of its order (1e-9 relative on the Bennett
-#: linkage), not of rounding. Kept at 1e-12 they were inverted: accelerations of 1e9 times the drift, a
-#: crawling integration (48 000 evaluations for 0.3 s) that lost a quarter of the energy.
+#: the rows are (nearly) dependent (the Cholesky test fails): since issue 38 the redundant rows of an
+#: over-constrained closure are left out before the solve (:mod:`._redundant`), so this path is left for
+#: singular configurations and for the initial projection. Redundant rows are dependent only up to the
+#: constraint drift (1e-9 relative on the Bennett linkage): kept at 1e-12 they were inverted, and even at
+#: 1e-8 the Cholesky test let them through at times (Bricard's loop: 496 switches of path in 2 s).
 _RCOND = 1e-8
 
 
-def _cholesky_solve(G: np.ndarray, r: np.ndarray) -> np.ndarray | None:
+def _cholesky_solve(G: np.ndarray, r: np.ndarray, spread: list[float] | None = None) -> np.ndarray | None:
     """``G^-1 r`` for a symmetric positive definite ``G`` (``B B^T`` or ``A M^-1 A^T``), or None when ``G`` is
     (nearly) singular: its Cholesky factor's diagonal spread beyond 1e6, i.e. rcond(G) below ~1e-12 (the
     rows are dependent: the callers take the pseudo-inverse). LAPACK is called directly (``dpotrf``/``dpotrs``):
-    for the 5 x 6 overcentre five times cheaper than ``numpy.linalg.pinv``."""
+    for the 5 x 6 overcentre five times cheaper than ``numpy.linalg.pinv``. ``spread``, when given, receives
+    the factor's smallest over its largest diagonal entry (0 when the factorisation fails): how far the rows
+    are from losing rank, at no extra cost (:class:`~._redundant.KeptRows` watches it)."""
     c, info = dpotrf(G, lower=1, clean=0)
     if info != 0:
+        if spread is not None:
+            spread.append(0.0)
         return None
     d = np.abs(c.diagonal())
+    if spread is not None:
+        spread.append(float(d.min() / d.max()))
     if not d.min() > 1e-6 * d.max():
         return None
     z, _ = dpotrs(c, r, lower=1)
     return z
 
 
-def _pinv_apply(B: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """``B^+ r`` for a wide matrix ``B``: Cholesky of ``B B^T`` if well conditioned, else SVD."""
-    z = _cholesky_solve(B @ B.T, r)
+def _pinv_apply(B: np.ndarray, r: np.ndarray, spread: list[float] | None = None) -> np.ndarray:
+    """``B^+ r`` for a wide matrix ``B``: Cholesky of ``B B^T`` if well conditioned, else SVD (``spread``: see
+    :func:`_cholesky_solve`)."""
+    z = _cholesky_solve(B @ B.T, r, spread)
     return B.T @ z if z is not None else np.linalg.pinv(B, rcond=_RCOND) @ r
 
 
-def fundamental_equation(M_inv_sqrt: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray) -> np.ndarray:
+def fundamental_equation(M_inv_sqrt: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray,
+                         spread: list[float] | None = None) -> np.ndarray:
     """Constrained accelerations ``qddot = a + M^-1/2 (A M^-1/2)^+ (b - A a)``, ``a = M^-1 Q``.
 
     Parameters
@@ -91,6 +106,9 @@ def fundamental_equation(M_inv_sqrt: np.ndarray, Q: np.ndarray, A: np.ndarray, b
         Applied generalised forces (n,), N or N m.
     A, b:
         Acceleration-level constraints ``A qddot = b``: (p x n) and (p,).
+    spread:
+        Optional list that receives how far the rows of ``A M^-1/2`` are from losing rank (see
+        :func:`_cholesky_solve`).
 
     Returns
     -------
@@ -101,7 +119,7 @@ def fundamental_equation(M_inv_sqrt: np.ndarray, Q: np.ndarray, A: np.ndarray, b
     if A.shape[0] == 0:
         return a
     B = A @ M_inv_sqrt
-    return a + M_inv_sqrt @ _pinv_apply(B, b - A @ a)
+    return a + M_inv_sqrt @ _pinv_apply(B, b - A @ a, spread)
 
 
 def _symbols_of(exprs) -> set[str]:
@@ -189,6 +207,15 @@ class ConstrainedDynamics:
         #: The stops as unilateral constraints (a :class:`~._contact.StopConstraints`), or None.
         self.contacts: StopConstraints | None = None
         self._last: tuple | None = None  # the last solve with its multipliers (see recall)
+        # the redundant rows the mechanics still holds (a spatial model keeps every rigid row; a planar one
+        # has left its dropped rows out already): that many are left out of each solve
+        names = set(mech.constraint_names or ())
+        n_drop = sum(r in names for r in getattr(system, "dropped_constraints", ()) or ())
+        #: The joint rows solved with when the model has redundant rows (:class:`~._redundant.KeptRows`), or None.
+        self.kept: KeptRows | None = KeptRows(n_drop) if n_drop else None
+        #: True when the model dropped redundant rows: its joint reactions are statically indeterminate (a
+        #: planar model's dropped rows carry none; a spatial history reports the minimum-norm split).
+        self.indeterminate = bool(getattr(system, "dropped_constraints", ()))
 
     # -- helpers -------------------------------------------------------------------------
     def full(self, t: float, q: np.ndarray) -> np.ndarray:
@@ -227,6 +254,26 @@ class ConstrainedDynamics:
             b = b - 2.0 * self.alpha * (A @ qd) - self.beta**2 * self.mech.phi(x)
         return A, b
 
+    def _solved_rows(self, x: np.ndarray, qd: np.ndarray, A: np.ndarray, b: np.ndarray):
+        """The rows a solve uses: the joints' (those kept, with redundant rows: :attr:`kept`), then the stops'."""
+        if self.kept is not None and A.shape[0]:
+            keep = self.kept.select(A)
+            A, b = A[keep], b[keep]
+        if self.contacts is not None:  # the stops in contact are constraint rows too
+            A, b = self.contacts.rows(x, qd, A, b)
+        return A, b
+
+    def _full_multipliers(self, z: np.ndarray) -> np.ndarray:
+        """The multipliers of the kept rows (then of the stops in contact) spread over every joint row: a
+        dropped row carries none."""
+        if self.kept is None or self.kept.keep is None:
+            return z
+        keep = self.kept.keep
+        out = np.zeros(self.mech.n_constraints + len(z) - len(keep))
+        out[keep] = z[:len(keep)]
+        out[self.mech.n_constraints:] = z[len(keep):]
+        return out
+
     def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Constrained accelerations at time ``t`` (the fundamental equation, stabilised).
 
@@ -236,20 +283,30 @@ class ConstrainedDynamics:
         x = self.full(t, q)
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(qd))):
             return np.full(self.nq, np.nan)
-        A, b = self.joint_rows(x, qd)
-        if self.contacts is not None:  # the stops in contact are constraint rows too
-            A, b = self.contacts.rows(x, qd, A, b)
+        A_joints, b_joints = self.joint_rows(x, qd)
+        A, b = self._solved_rows(x, qd, A_joints, b_joints)
         Q = self.forces(x, qd)
         if not (np.all(np.isfinite(Q)) and np.all(np.isfinite(A)) and np.all(np.isfinite(b))):
             return np.full(self.nq, np.nan)
-        if self._blocks is not None and A.shape[0]:
-            solved = self._by_inverse(x, Q, A, b, with_multipliers=True)
-            if solved is not None:
-                self._last = (t, np.array(q), np.array(qd), self._mode(), *solved, Q)
-                return solved[0]
-        qdd = fundamental_equation(self.mass_inv_sqrt(x), Q, A, b)
-        self._last = (t, np.array(q), np.array(qd), self._mode(), qdd, None, Q)
+        qdd, z = self._solve(x, Q, A, b)
+        # the kept rows' conditioning, read off the solve's own Cholesky factor: where they lose rank along
+        # the motion they are chosen again (QR with column pivoting) and the solve repeated with them
+        if self.kept is not None and self.kept.stale(t, A_joints, self._spread):
+            A, b = self._solved_rows(x, qd, A_joints, b_joints)
+            qdd, z = self._solve(x, Q, A, b)
+            self.kept.rechosen(self._spread)
+        self._last = (t, np.array(q), np.array(qd), self._mode(), qdd, None if z is None else self._full_multipliers(z), Q)
         return qdd
+
+    def _solve(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+        """``(qddot, z)`` of the fundamental equation with the rows ``A``, ``b`` (``z`` None on the pseudo-inverse
+        path); the Cholesky factor's diagonal spread left in ``self._spread``."""
+        self._spread: list[float] = []
+        if self._blocks is not None and A.shape[0]:
+            solved = self._by_inverse(x, Q, A, b, with_multipliers=True, spread=self._spread)
+            if solved is not None:
+                return solved[0], solved[1]
+        return fundamental_equation(self.mass_inv_sqrt(x), Q, A, b, self._spread), None
 
     def _mode(self) -> tuple[int, ...]:
         return () if self.contacts is None else tuple(self.contacts.active)
@@ -265,7 +322,8 @@ class ConstrainedDynamics:
             return None
         return last[4], last[5], last[6]
 
-    def _by_inverse(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray, with_multipliers: bool = False):
+    def _by_inverse(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray, with_multipliers: bool = False,
+                    spread: list[float] | None = None):
         """The fundamental equation through ``M^-1`` (block by block) when ``A`` has full row rank:
         ``M^-1/2 (A M^-1/2)^+ r = M^-1 A^T (A M^-1 A^T)^-1 r``, the same matrix ``A M^-1 A^T`` and rank test
         as :func:`fundamental_equation`'s Cholesky path, without the eigen-decomposition of ``M``. None
@@ -275,7 +333,7 @@ class ConstrainedDynamics:
         Minv = self._blocks.inverse(self.mech.mass(x))
         a = Minv @ Q
         MA = Minv @ A.T
-        z = _cholesky_solve(A @ MA, b - A @ a)
+        z = _cholesky_solve(A @ MA, b - A @ a, spread)
         if z is None:
             return None
         return (a + MA @ z, z) if with_multipliers else a + MA @ z
@@ -294,17 +352,16 @@ class ConstrainedDynamics:
         (redundant constraints): ``z`` is then the minimum-norm multiplier vector, one of many that
         give the same ``qddot`` (N, N m: units of each row's reaction)."""
         known = self.recall(t, q, qd)
+        determinate = not self.indeterminate  # redundant rows: one split of indeterminate reactions
         if known is not None and known[1] is not None:
-            return known[0], known[1], True
+            return known[0], known[1], determinate
         x = self.full(t, q)
-        A, b = self.joint_rows(x, qd)
-        if self.contacts is not None:
-            A, b = self.contacts.rows(x, qd, A, b)
+        A, b = self._solved_rows(x, qd, *self.joint_rows(x, qd))
         Q = self.forces(x, qd)
         if A.shape[0] and self._blocks is not None:  # the accelerations' own path: Cholesky of A M^-1 A^T
             solved = self._by_inverse(x, Q, A, b, with_multipliers=True)
             if solved is not None:
-                return solved[0], solved[1], True
+                return solved[0], self._full_multipliers(solved[1]), determinate
         Mis = self.mass_inv_sqrt(x)
         a = Mis @ (Mis @ Q)
         if A.shape[0] == 0:
@@ -313,13 +370,14 @@ class ConstrainedDynamics:
         r = b - A @ a
         z = _cholesky_solve(B @ B.T, r)  # full row rank, as in _pinv_apply: z = (B B^T)^-1 r
         if z is not None:
-            return a + Mis @ (B.T @ z), z, True
+            return a + Mis @ (B.T @ z), self._full_multipliers(z), determinate
         # redundant rows, from one SVD B = U S V^T cut at _RCOND as np.linalg.pinv cuts it: the step
         # w = B^+ r = V S^-1 U^T r of _pinv_apply, and the minimum-norm z with B^T z = w, z = U S^-2 U^T r
         U, sv, Vt = np.linalg.svd(B, full_matrices=False)
         rank = int(np.count_nonzero(sv > _RCOND * max(sv[0], 1e-300))) if sv.size else 0
         c = (U[:, :rank].T @ r) / sv[:rank]
-        return a + Mis @ (Vt[:rank].T @ c), U[:, :rank] @ (c / sv[:rank]), rank == A.shape[0]
+        z = self._full_multipliers(U[:, :rank] @ (c / sv[:rank]))
+        return a + Mis @ (Vt[:rank].T @ c), z, rank == A.shape[0] and determinate
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         """Right-hand side ``(qdot, qddot)`` of the first-order system."""

@@ -32,7 +32,7 @@ import numpy as np
 
 from ..equations import Model, StabilityResult, as_model
 from ..errors import ConvergenceError, InputError, one_line
-from ._assembly import assemble
+from ._equilibrium import free_equilibrium
 from ._paths import find_description
 
 if TYPE_CHECKING:
@@ -419,17 +419,17 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         xe, note = x.copy(), "reactions solved at the assembled configuration"
     else:
         try:
-            xe = assemble(system, guess=x)
+            xe, how = free_equilibrium(system, x)
             scale, move = system.scales(), xe - x
             for k in model.q_index:   # an angle that went once around has not moved
                 if system.variables[k].unit == "rad":
                     move[k] = math.remainder(move[k], 2 * math.pi)
             i = max(model.q_index, key=lambda k: abs(move[k]) / scale[k])
             v = system.variables[i]
-            note = (f"an equilibrium at these parameter values, found by Newton from the assembled configuration "
+            note = (f"an equilibrium at these parameter values, found by {how} from the assembled configuration "
                     f"with every coordinate free (largest move: {v.name} by {_show(float(move[i]), v.unit)})")
         except (ConvergenceError, InputError) as exc:
-            note = f"Newton from the assembled configuration with every coordinate free found no equilibrium ({exc})"
+            note = f"no equilibrium found from the assembled configuration with every coordinate free: {exc}"
             if not as_model(system).stops:  # with stops, the equilibrium may be one with a stop in contact
                 findings.append(f"no equilibrium found at these parameter values: {exc}")
     if xe is not None:
