@@ -57,22 +57,36 @@ def _switch_or_cusp(system: Model, x: np.ndarray, params: Iterable[str], vary: s
                     unknowns: Sequence[str] | None, values: Mapping[str, float] | None) -> Sensitivity:
     """:func:`point_sensitivity` at a stop's release (``SR``) or a fold curve's cusp (``CP``): the
     handler :mod:`mechcont.analysis` registers for those labels (:data:`SPECIAL_POINTS`)."""
-    if values:
-        x = system.vector(values, base=x)
-        system.check_limits(x)
-    if label == "SR":
-
-        stop = info.get("stop") or next((s.name for s in system.stops
-                                         if abs(x[system.index(s.reaction)]) <= 1e-9 * system.variable(s.reaction).scale),
-                                        None)
-        if stop is None:
-            raise InputError("point", "no stop's reaction is zero here: not a release (SR)")
-        return release_sensitivity(system, x, stop, vary, params)
+    if label in ("SR", "NSF"):
+        # the stops' limits at the row's own parameter values (a limit written in parameters), then at ``values``
+        own = {n: float(x[system.index(n)]) for n in system.parameter_names}
+        stop = info.get("stop") or _released_stop(system.with_values(own), x, label)
+        system = system.with_values({**own, **(values or {})})
+        if values:
+            x = system.vector(values, base=x)
+            system.check_limits(x)
+        sens = release_sensitivity(system, x, stop, vary, params)
+        sens.point = f"{label}: release of stop {stop}"
+        return sens
     lens = list(unknowns or info.get("unknowns") or [])
     if len(lens) != system.n_equations + 1:
         raise InputError("unknowns", "a cusp's unknowns are the fold's states and then its parameter (a fold "
                                      "curve's points record them); give them")
     return cusp_sensitivity(system, x, lens[:-1], lens[-1], vary, params)
+
+
+def _released_stop(system: Model, x: np.ndarray, label: str) -> str:
+    """The stop whose reaction is zero at ``x`` while its condition is at its limit (the one releasing at an
+    ``SR`` or ``NSF`` row); :class:`InputError` naming what was found when there is none."""
+    from .stops import GAP_TOL
+
+    found = [s for s in system.stops
+             if abs(x[system.index(s.reaction)]) <= 1e-9 * system.variable(s.reaction).scale
+             and abs(s.gap(x[system.index(s.condition)])) <= max(GAP_TOL, 1e-6)]
+    if len(found) != 1:
+        what = "no stop" if not found else f"{len(found)} stops ({', '.join(s.name for s in found)})"
+        raise InputError("point", f"{what} at its limit with a zero reaction here: not a release ({label}) of one stop")
+    return found[0].name
 
 
 def with_sensitivity_columns(system: Model, result: B, params: Iterable[str], of: str | None = None) -> B:
@@ -144,9 +158,41 @@ def release_sensitivity(system: Model, x: np.ndarray, stop: str, vary: str, para
 
         x = find_equilibrium(system, hold=hold, free=free, guess=x)
     unknowns = choose_unknowns(system, hold=list(hold), free=free)
-    sens = equilibrium_sensitivity(system, x, unknowns, params, vary, kind="release")
+    params = list(params)
+    conditions = [c for c in hold if c not in params]
+    sens = equilibrium_sensitivity(system, x, unknowns, [*params, *conditions], vary, kind="release")
+    # a limit written in parameters moves the held condition: d vary/dp += d vary/d condition * d limit/dp
+    for p in params:
+        for s in touching:
+            dlim = _limit_derivative(system, x, s.name, p)
+            if dlim and s.condition in sens.derivatives:
+                sens.derivatives[p] += sens.derivatives[s.condition] * dlim
+                for u, d in sens.states[s.condition].items():
+                    sens.states[p][u] += d * dlim
+    for c in conditions:
+        sens.derivatives.pop(c)
+        sens.units.pop(c)
+        sens.states.pop(c)
     sens.point = sens.point or f"release of stop {stop}"
     return sens
+
+
+def _limit_derivative(system: Model, x: np.ndarray, stop: str, param: str) -> float:
+    """``d limit / d param`` of ``stop`` (condition unit per unit of ``param``) at the parameter values of ``x``:
+    0 for a limit that does not depend on ``param`` (a number). A central difference of the limit's
+    expression (exact for the usual linear limit ``min = "c_min"``, to about 1e-10 relative otherwise)."""
+    fields_at = system.fields_at
+    if fields_at is None or system.variable(param).kind != "parameter":
+        return 0.0
+    base = {n: float(x[system.index(n)]) for n in system.parameter_names}
+    h = 1e-6 * max(abs(base[param]), system.variable(param).scale, 1e-300)
+
+    def limit(value: float) -> float:
+        stops = fields_at({**base, param: value}).get("stops", ())
+        return float(next(s.limit for s in stops if s.name == stop))
+
+    lo, hi = limit(base[param] - h), limit(base[param] + h)
+    return 0.0 if lo == hi else (hi - lo) / (2 * h)
 
 
 def margin_sensitivity(system: Model, design: str, params: Iterable[str],

@@ -93,17 +93,26 @@ def _downlock(system, params, values):
 def _at_point(system, point, params, values, holds, frees, keep, of):
     from ..analysis.sensitivity import point_sensitivity
     from ..continuation import Branch, choose_unknowns
+    from ..continuation._branch import check_branch_table
+    from ..continuation._move import PointLost, check_point
 
     csv_path, sep, row = point.rpartition(":")
     if not sep or not csv_path or not row:
         raise InputError("--point", f"'{point}' is not BRANCH.csv:ROW (e.g. branch.csv:LP1)")
     branch = Branch.read_csv(csv_path, model=system.name)
-    if tuple(branch.names) != tuple(system.names):
-        raise InputError("--point", f"the columns of '{csv_path}' are not the variables of model '{system.name}'")
+    check_branch_table(branch, system, csv_path)
     if not branch.vary:
         raise InputError("--point", f"'{csv_path}' has no vary column naming its continuation parameter")
+    if branch.vary not in system.names:
+        raise InputError("--point", f"'{csv_path}': its vary column names '{branch.vary}', not a variable of model "
+                                    f"'{system.name}'")
     target = branch.point(row)
     lens = choose_unknowns(system, hold=holds, free=frees, exclude=[branch.vary])
     if of is not None and of != branch.vary and of not in lens:
         raise InputError("--of", f"'{of}' is not solved for on the branch; one of: {', '.join([branch.vary, *lens])}")
-    return point_sensitivity(system, target, params, vary=branch.vary, unknowns=lens, of=of, keep=keep, values=values)
+    check_point(system, target.x, label=target.label, vary=branch.vary, states=lens, name=f"{csv_path}:{row}")
+    try:
+        return point_sensitivity(system, target, params, vary=branch.vary, unknowns=lens, of=of, keep=keep,
+                                 values=values)
+    except PointLost as exc:  # name the row as the user did
+        raise InputError("--point", f"{row}{str(exc).split(' point', 1)[1]}") from None
