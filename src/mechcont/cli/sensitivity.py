@@ -18,12 +18,14 @@ _OPTIONS = ("params", "keep", "set", "point", "of")
 @click.argument("model")
 @click.option("--point", metavar="BRANCH.csv:ROW",
               help="The point: a row of a branch table written by continue/folds/downlock (a label such as LP1, "
-                   "or a 0-based row number).")
+                   "SR1 or NSF1 of a continue --stops table, or a 0-based row number); the row must be the point "
+                   "it claims.")
 @click.option("--downlock", is_flag=True, help="The downlock force at the --set values instead of a branch point.")
 @click.option("--params", "params_text", required=True, metavar="NAMES",
               help="Comma-separated parameters to differentiate by, e.g. LU,k.")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
-              help="Change a held value first (SI units, rad); the point is solved again.")
+              help="Change a held value first (SI units, rad); the point is followed there from its own values "
+                   "(one line when it ends on the way, e.g. a fold past its cusp).")
 @click.option("--hold", "holds", multiple=True, metavar="NAME", help="States held on the branch (as given to continue).")
 @click.option("--free", "frees", multiple=True, metavar="NAME",
               help="Parameters solved for on the branch (as given to continue).")

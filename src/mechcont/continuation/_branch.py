@@ -330,13 +330,15 @@ _EXTRA_COLUMNS = ("s", "stability", "n_unstable", "label", "vary")
 
 
 def _number(path, row: int, column: str, text: str) -> float:
-    """A cell as a finite float; :class:`InputError` naming the file, row and column otherwise."""
+    """A cell as a float: finite, or ``nan`` (an analysis's column with no value at that row: a downlock
+    table's unlock load where none was found; :func:`check_branch_table` refuses it in the model's
+    variables); :class:`InputError` naming the file, row and column otherwise."""
     try:
         v = float(text)
     except (TypeError, ValueError):
         raise InputError("branch", f"'{path}' row {row} (line {row + 2}), column {column}: not a number: "
                                    f"{text!r}") from None
-    if not np.isfinite(v):
+    if np.isinf(v):
         raise InputError("branch", f"'{path}' row {row} (line {row + 2}), column {column}: {text!r} is not a "
                                    "finite number")
     return v

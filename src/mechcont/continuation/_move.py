@@ -166,9 +166,17 @@ def check_point(system: EquationSystem, x: np.ndarray, *, label: str, vary: str,
     Raises :class:`InputError` (field ``point``) in one line naming ``name`` and what was found.
     """
     x = np.asarray(x, dtype=float)
+    with np.errstate(all="ignore"):
+        _check_point(system, x, label, vary, states, name)
+
+
+def _check_point(system, x, label, vary, states, name) -> None:
     r = system.residual(x)
     J = system.jacobian(x)
-    terms = np.abs(J * x).sum(axis=1) + np.abs(r)
+    # each equation's terms measured with the variables' column scales (radians 1): J x would call an angle of
+    # 1e308 rad, whose sine is as good as any, a huge term and any residual small beside it
+    every = np.arange(len(x))
+    terms = np.abs(J) @ _scales(system, x, every) + np.abs(r)
     rel = np.abs(r) / np.maximum(terms, np.finfo(float).tiny)
     if not np.isfinite(rel).all() or rel.max() > _ROW_TOL:
         i = int(np.nanargmax(np.where(np.isfinite(rel), rel, np.inf)))
