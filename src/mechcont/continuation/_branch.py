@@ -415,10 +415,10 @@ def read_table(path: str | os.PathLike) -> tuple[list[str], list[list[str]]]:
     if not header:
         raise InputError("branch", f"'{path}' is empty; a branch table starts with a header line")
     names = [read_csv_header(h)[0] for h in header]
-    repeated = sorted({n for n in names if names.count(n) > 1})
+    repeated = list(dict.fromkeys(h for h, n in zip(header, names) if names.count(n) > 1))
     if repeated:
-        raise InputError("branch", f"'{path}' line 1: the column(s) {', '.join(repeated)} appear more than once; "
-                                   "each column may appear once")
+        raise InputError("branch", f"'{path}' line 1: the column(s) {', '.join(map(repr, repeated))} name a "
+                                   "variable more than once; each column may appear once")
     return header, rows
 
 
