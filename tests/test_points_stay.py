@@ -142,3 +142,28 @@ def test_cli_fold_past_cusp_one_line(folds, tmp_path):
     name = next(n for n, p in zip(br.point_names(), br.special_points) if p.label == "LP" and p["brace"] < 0)
     one_line_error(make_runner()("sensitivity", FILE, "--point", f"{tmp_path / 'b.csv'}:{name}", "--params", "k",
                                  "--set", "k=900"), "--point", name, "does not continue", "cusp")
+
+
+def test_cli_k_alone_does_not_jump_to_the_fold_past_the_pole(tmp_path):
+    # the case on this lock: a table at m = 400 kg, ux = -0.8 and `--set k=2300`. Today the unlock
+    # fold (th = -0.26 at k = 10000) re-polished at k = 2300 lands on the fold at th = -1.371, F = 3576.9 N,
+    # on the far side of the lever's pole (tan th = 1/ux): another fold. Closed form: on the near side the
+    # fold exists only for k above min K(th) = 2454.3 (it runs into the pole there), so it ends on the way.
+    kw = {"m": 400.0, "ux": -0.8}
+    pole = np.arctan(1 / kw["ux"])
+    th = np.linspace(pole + 1e-4, -1e-3, 200001)
+    k_end = float(np.min(np.where(fold_k(th, **kw) > 0, fold_k(th, **kw), np.inf)))
+    assert 2300 < k_end < 2500
+    run = make_runner()
+    table = tmp_path / "heavy.csv"
+    res = run("continue", FILE, "--set", "m=400", "--set", "ux=-0.8", "--vary", "F", "--start", "brace=-0.1",
+              "--bounds", "brace=-0.85:1", "--bounds", "F=-9000:9000", "--out", table, "--quiet")
+    assert res.exit_code == 0, res.output
+    from mechcont.continuation import Branch
+
+    br = Branch.read_csv(table)
+    name = next(n for n, p in zip(br.point_names(), br.special_points) if p.label == "LP" and p["brace"] < 0)
+    res = run("sensitivity", FILE, "--point", f"{table}:{name}", "--params", "k", "--set", "k=2300")
+    one_line_error(res, "does not continue", "ends near k = ")
+    last = float(res.stderr.split("ends near k = ")[1].split()[0])
+    assert last == pytest.approx(k_end, rel=1e-3)
