@@ -183,8 +183,8 @@ class Branch:
         branch, the continuation parameter held; a downlock branch's default is its force), else
         the continuation parameter: at a fold the fold load, elsewhere its value at the state
         ``keep`` held at its value there. ``values`` (``{name: value}``, SI) changes held
-        values first; the point is then solved again. ``system`` is the model of the branch.
-        Returns a :class:`~mechcont.analysis.sensitivity.Sensitivity`.
+        values first; the point is followed there from its own values (:func:`~._move.move_point`).
+        ``system`` is the model of the branch. Returns a :class:`~mechcont.analysis.sensitivity.Sensitivity`.
         """
         from ._sensitivity import point_sensitivity
 
