@@ -1,4 +1,5 @@
-"""Registers the loads of a stop's release (``SR``) and a cusp (``CP``) with the engine's point sensitivity.
+"""Registers the loads of a stop's release (``SR``; ``NSF``, a release that is the snap) and a cusp (``CP``)
+with the engine's point sensitivity.
 
 :func:`mechcont.continuation._sensitivity.point_sensitivity` differentiates folds and ordinary points;
 what a release or a cusp is belongs to this layer (stops, cusp conditions). Importing
@@ -18,3 +19,4 @@ def _release_or_cusp(*args):
 
 SPECIAL_POINTS.setdefault("SR", _release_or_cusp)
 SPECIAL_POINTS.setdefault("CP", _release_or_cusp)
+SPECIAL_POINTS.setdefault("NSF", _release_or_cusp)

@@ -252,8 +252,14 @@ class _Quantities:
         if name == "fold_load":
             if self.fold is None:
                 raise InputError("fold_load", "needs a start fold (a point labelled LP of a branch)")
+            from ..continuation._move import move_point
+
             x, states, vary = self.fold
-            s = fold_sensitivity(system, system.vector(vals, base=x), states, vary, self.design)
+            # followed from the last design to this one as a fold (never re-polished blindly: it could land on
+            # the other fold); PointLost in one line when it ends on the way (past a cusp)
+            at = {k: v for k, v in vals.items() if k not in (*states, vary)}
+            moved = move_point(system, x, at, solved=[*states, vary], vary=vary, states=states, name="the fold")
+            s = fold_sensitivity(system, moved.x, states, vary, self.design, null_vector=moved.v)
             assert s.x is not None  # a fold's sensitivity carries the polished fold
             self.fold = (s.x, states, vary)  # followed: the next design starts from here
             return s

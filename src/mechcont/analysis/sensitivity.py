@@ -62,23 +62,36 @@ def _switch_or_cusp(system: Model, x: np.ndarray, params: Iterable[str], vary: s
                     unknowns: Sequence[str] | None, values: Mapping[str, float] | None) -> Sensitivity:
     """:func:`point_sensitivity` at a stop's release (``SR``) or a fold curve's cusp (``CP``): the
     handler :mod:`mechcont.analysis` registers for those labels (:data:`SPECIAL_POINTS`)."""
-    if values:
-        system = system.with_values(values)  # the model at the values: a stop's limit follows them
-        x = system.vector(values, base=x)
-        system.check_limits(x)
-    if label == "SR":
-
-        stop = info.get("stop") or next((s.name for s in system.stops
-                                         if abs(x[system.index(s.reaction)]) <= 1e-9 * system.variable(s.reaction).scale),
-                                        None)
-        if stop is None:
-            raise InputError("point", "no stop's reaction is zero here: not a release (SR)")
-        return release_sensitivity(system, x, stop, vary, params)
+    if label in ("SR", "NSF"):
+        # the stops' limits at the row's own parameter values (a limit written in parameters), then at ``values``
+        own = {n: float(x[system.index(n)]) for n in system.parameter_names}
+        stop = info.get("stop") or _released_stop(system.with_values(own), x, label)
+        system = system.with_values({**own, **(values or {})})
+        if values:
+            x = system.vector(values, base=x)
+            system.check_limits(x)
+        sens = release_sensitivity(system, x, stop, vary, params)
+        sens.point = f"{label}: release of stop {stop}"
+        return sens
     lens = list(unknowns or info.get("unknowns") or [])
     if len(lens) != system.n_equations + 1:
         raise InputError("unknowns", "a cusp's unknowns are the fold's states and then its parameter (a fold "
                                      "curve's points record them); give them")
     return cusp_sensitivity(system, x, lens[:-1], lens[-1], vary, params)
+
+
+def _released_stop(system: Model, x: np.ndarray, label: str) -> str:
+    """The stop whose reaction is zero at ``x`` while its condition is at its limit (the one releasing at an
+    ``SR`` or ``NSF`` row); :class:`InputError` naming what was found when there is none."""
+    from .stops import GAP_TOL
+
+    found = [s for s in system.stops
+             if abs(x[system.index(s.reaction)]) <= 1e-9 * system.variable(s.reaction).scale
+             and abs(s.gap(x[system.index(s.condition)])) <= max(GAP_TOL, 1e-6)]
+    if len(found) != 1:
+        what = "no stop" if not found else f"{len(found)} stops ({', '.join(s.name for s in found)})"
+        raise InputError("point", f"{what} at its limit with a zero reaction here: not a release ({label}) of one stop")
+    return found[0].name
 
 
 def with_sensitivity_columns(system: Model, result: B, params: Iterable[str], of: str | None = None) -> B:

@@ -142,10 +142,16 @@ def _fold(system, point: str):
     csv_path, sep, row = point.rpartition(":")
     if not sep or not csv_path or not row:
         raise InputError("--point", f"'{point}' is not BRANCH.csv:LPn (e.g. branch.csv:LP1)")
+    from ..continuation._branch import check_branch_table
+    from ..continuation._move import check_point
+
     branch = Branch.read_csv(csv_path, model=system.name)
-    if tuple(branch.names) != tuple(system.names) or not branch.vary:
+    check_branch_table(branch, system, csv_path)
+    if not branch.vary or branch.vary not in system.names:
         raise InputError("--point", f"'{csv_path}' is not a branch table of model '{system.name}' (with its vary column)")
     p = branch.point(row)
     if p.label != "LP":
         raise InputError("--point", f"'{row}' is not a fold; fold_load follows a point labelled LP")
-    return p.x, choose_unknowns(system, exclude=[branch.vary]), branch.vary
+    states = choose_unknowns(system, exclude=[branch.vary])
+    check_point(system, p.x, label="LP", vary=branch.vary, states=states, name=f"{csv_path}:{row}")
+    return p.x, states, branch.vary

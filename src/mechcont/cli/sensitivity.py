@@ -18,12 +18,14 @@ _OPTIONS = ("params", "keep", "set", "point", "of")
 @click.argument("model")
 @click.option("--point", metavar="BRANCH.csv:ROW",
               help="The point: a row of a branch table written by continue/folds/downlock (a label such as LP1, "
-                   "or a 0-based row number).")
+                   "SR1 or NSF1 of a continue --stops table, or a 0-based row number); the row must be the point "
+                   "it claims.")
 @click.option("--downlock", is_flag=True, help="The downlock force at the --set values instead of a branch point.")
 @click.option("--params", "params_text", required=True, metavar="NAMES",
               help="Comma-separated parameters to differentiate by, e.g. LU,k.")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
-              help="Change a held value first (SI units, rad); the point is solved again.")
+              help="Change a held value first (SI units, rad); the point is followed there from its own values "
+                   "(one line when it ends on the way, e.g. a fold past its cusp).")
 @click.option("--hold", "holds", multiple=True, metavar="NAME", help="States held on the branch (as given to continue).")
 @click.option("--free", "frees", multiple=True, metavar="NAME",
               help="Parameters solved for on the branch (as given to continue).")
@@ -93,17 +95,26 @@ def _downlock(system, params, values):
 def _at_point(system, point, params, values, holds, frees, keep, of):
     from ..analysis.sensitivity import point_sensitivity
     from ..continuation import Branch, choose_unknowns
+    from ..continuation._branch import check_branch_table
+    from ..continuation._move import PointLost, check_point
 
     csv_path, sep, row = point.rpartition(":")
     if not sep or not csv_path or not row:
         raise InputError("--point", f"'{point}' is not BRANCH.csv:ROW (e.g. branch.csv:LP1)")
     branch = Branch.read_csv(csv_path, model=system.name)
-    if tuple(branch.names) != tuple(system.names):
-        raise InputError("--point", f"the columns of '{csv_path}' are not the variables of model '{system.name}'")
+    check_branch_table(branch, system, csv_path)
     if not branch.vary:
         raise InputError("--point", f"'{csv_path}' has no vary column naming its continuation parameter")
+    if branch.vary not in system.names:
+        raise InputError("--point", f"'{csv_path}': its vary column names '{branch.vary}', not a variable of model "
+                                    f"'{system.name}'")
     target = branch.point(row)
     lens = choose_unknowns(system, hold=holds, free=frees, exclude=[branch.vary])
     if of is not None and of != branch.vary and of not in lens:
         raise InputError("--of", f"'{of}' is not solved for on the branch; one of: {', '.join([branch.vary, *lens])}")
-    return point_sensitivity(system, target, params, vary=branch.vary, unknowns=lens, of=of, keep=keep, values=values)
+    check_point(system, target.x, label=target.label, vary=branch.vary, states=lens, name=f"{csv_path}:{row}")
+    try:
+        return point_sensitivity(system, target, params, vary=branch.vary, unknowns=lens, of=of, keep=keep,
+                                 values=values)
+    except PointLost as exc:  # name the row as the user did
+        raise InputError("--point", f"{row}{str(exc).split(' point', 1)[1]}") from None

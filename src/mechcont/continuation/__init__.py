@@ -9,7 +9,7 @@ import sys
 import types
 
 from ._api import continuation, continue_folds, locate_fold, switch_branch
-from ._branch import Branch, SpecialPoint, read_branch_table
+from ._branch import Branch, SpecialPoint, read_branch_table, read_table
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent, PointState, ValueEvent
 from ._folds import CuspEvent, FoldProblem
 from ._linalg import DenseLU, LinearSolver, MinimumNorm
@@ -23,7 +23,7 @@ __all__ = [
     "continuation", "continue_folds", "switch_branch", "locate_fold", "find_equilibrium", "ContinuationOptions", "Branch",
     "SpecialPoint", "Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "CuspEvent",
     "PointState", "ContinuationProblem", "EquilibriumProblem", "FoldProblem", "choose_unknowns",
-    "Termination", "BranchSteps", "LinearSolver", "DenseLU", "MinimumNorm", "read_branch_table",
+    "Termination", "BranchSteps", "LinearSolver", "DenseLU", "MinimumNorm", "read_branch_table", "read_table",
     "MAX_STEPS", "check_max_steps", "run_options", "start_point",
 ]
 

@@ -13,7 +13,8 @@ from .._status import Status
 from ..errors import InputError
 from ._special_point import SpecialPoint
 
-__all__ = ["Branch", "SpecialPoint", "unit_header", "read_csv_header", "read_branch_table"]
+__all__ = ["Branch", "SpecialPoint", "unit_header", "read_csv_header", "read_branch_table", "read_table",
+           "check_branch_table"]
 
 class Branch:
     """A continued branch of solutions.
@@ -182,8 +183,8 @@ class Branch:
         branch, the continuation parameter held; a downlock branch's default is its force), else
         the continuation parameter: at a fold the fold load, elsewhere its value at the state
         ``keep`` held at its value there. ``values`` (``{name: value}``, SI) changes held
-        values first; the point is then solved again. ``system`` is the model of the branch.
-        Returns a :class:`~mechcont.analysis.sensitivity.Sensitivity`.
+        values first; the point is followed there from its own values (:func:`~._move.move_point`).
+        ``system`` is the model of the branch. Returns a :class:`~mechcont.analysis.sensitivity.Sensitivity`.
         """
         from ._sensitivity import point_sensitivity
 
@@ -287,26 +288,18 @@ class Branch:
         ``s``, the chord length of the rows stands in for the arclength. Raises
         :class:`InputError` for an unreadable or malformed table.
         """
-        import csv
-
-        try:
-            rows, units = read_branch_table(path)
-        except (OSError, UnicodeDecodeError, csv.Error) as exc:
-            raise InputError("branch", f"cannot read '{path}': {getattr(exc, 'strerror', None) or exc}") from None
+        rows, units = read_branch_table(path)
         if not rows:
             raise InputError("branch", f"'{path}' has no rows")
         names = [n for n in rows[0] if n not in _EXTRA_COLUMNS]
-        try:
-            values = np.array([[float(r[n]) for n in names] for r in rows])
-        except (TypeError, ValueError) as exc:
-            raise InputError("branch", f"'{path}': not a number ({exc})") from None
+        values = np.array([[_number(path, i, n, r[n]) for n in names] for i, r in enumerate(rows)])
         if "s" in rows[0]:
-            s = np.array([float(r["s"]) for r in rows])
+            s = np.array([_number(path, i, "s", r["s"]) for i, r in enumerate(rows)])
         else:
             s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(values, axis=0), axis=1))])
         words = {"stable": 0, "unstable": 1}
-        nu = [int(r["n_unstable"]) if r.get("n_unstable", "").strip() else words.get(r.get("stability", ""), -1)
-              for r in rows]
+        nu = [_count(path, i, r["n_unstable"]) if r.get("n_unstable", "").strip()
+              else words.get(r.get("stability", ""), -1) for i, r in enumerate(rows)]
         tags = [(r.get("label") or "").strip() for r in rows]
         labels = [t.rstrip("?") for t in tags]
         special = [SpecialPoint(lab, i, values[i].copy(), tuple(names), status=Status.LOCATED) if not tags[i].endswith("?")
@@ -336,25 +329,142 @@ class Branch:
 _EXTRA_COLUMNS = ("s", "stability", "n_unstable", "label", "vary")
 
 
+def _number(path, row: int, column: str, text: str) -> float:
+    """A cell as a float: finite, or ``nan`` (an analysis's column with no value at that row: a downlock
+    table's unlock load where none was found; :func:`check_branch_table` refuses it in the model's
+    variables); :class:`InputError` naming the file, row and column otherwise."""
+    try:
+        v = float(text)
+    except (TypeError, ValueError):
+        raise InputError("branch", f"'{path}' row {row} (line {row + 2}), column {column}: not a number: "
+                                   f"{text!r}") from None
+    if np.isinf(v):
+        raise InputError("branch", f"'{path}' row {row} (line {row + 2}), column {column}: {text!r} is not a "
+                                   "finite number")
+    return v
+
+
+def _count(path, row: int, text: str) -> int:
+    """The ``n_unstable`` cell: an integer from -1 up; :class:`InputError` naming the row otherwise."""
+    try:
+        n = int(text)
+    except ValueError:
+        n = -2
+    if n < -1:
+        raise InputError("branch", f"'{path}' row {row} (line {row + 2}), column n_unstable: {text!r} is not a "
+                                   "count (an integer >= -1)")
+    return n
+
+
 def unit_header(name: str, unit: str) -> str:
     """A CSV column header: ``"F [N]"``, or ``"label"`` for a column without a unit."""
     return f"{name} [{unit}]" if unit else name
 
 
+#: Limits of a branch table, decided before reading it (a table mechcont writes is far below them).
+MAX_TABLE_BYTES = 64 * 2**20
+MAX_TABLE_COLUMNS = 4096
+MAX_TABLE_ROWS = 200_000
+
+
+def read_table(path: str | os.PathLike) -> tuple[list[str], list[list[str]]]:
+    """The header and the rows (lists of cell texts) of a CSV branch or sweep table, read strictly.
+
+    Only a regular file is opened (not a FIFO, a device such as ``/dev/zero`` or a folder); its
+    size (at most :data:`MAX_TABLE_BYTES`), its header's columns (at most
+    :data:`MAX_TABLE_COLUMNS`, each named once) and its rows (at most :data:`MAX_TABLE_ROWS`, each
+    with as many cells as the header) are checked as it is read, so nothing unbounded is read.
+    Raises :class:`InputError` (field ``branch``) in one line naming the file, the line and what
+    would be valid.
+    """
+    import csv
+    import stat
+
+    try:
+        st = os.stat(path)
+    except OSError as exc:
+        raise InputError("branch", f"cannot read '{path}': {exc.strerror or exc}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise InputError("branch", f"'{path}' is not a regular file (a FIFO, device or folder); give a CSV table "
+                                   "written by continue, folds, downlock or sweep")
+    if st.st_size > MAX_TABLE_BYTES:
+        raise InputError("branch", f"'{path}' has {st.st_size} bytes; a branch table may have at most "
+                                   f"{MAX_TABLE_BYTES} bytes")
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):  # replaced between the stat and the open
+                raise InputError("branch", f"'{path}' is not a regular file")
+            text = fh.read(MAX_TABLE_BYTES + 1)
+        if len(text) > MAX_TABLE_BYTES:
+            raise InputError("branch", f"'{path}' has more than {MAX_TABLE_BYTES} bytes")
+        first = text.split("\n", 1)[0]
+        if first.count(",") >= MAX_TABLE_COLUMNS:
+            raise InputError("branch", f"'{path}' line 1: more than {MAX_TABLE_COLUMNS} columns")
+        reader = csv.reader(text.splitlines())
+        header = next(reader, [])
+        rows: list[list[str]] = []
+        for line, row in enumerate(reader, start=2):
+            if len(row) != len(header):
+                raise InputError("branch", f"'{path}' line {line}: {len(row)} cells for the {len(header)} columns "
+                                           "of the header")
+            if len(rows) == MAX_TABLE_ROWS:
+                raise InputError("branch", f"'{path}' has more than {MAX_TABLE_ROWS} rows")
+            rows.append(row)
+    except (OSError, UnicodeDecodeError, csv.Error) as exc:
+        raise InputError("branch", f"cannot read '{path}': {getattr(exc, 'strerror', None) or exc}") from None
+    if not header:
+        raise InputError("branch", f"'{path}' is empty; a branch table starts with a header line")
+    names = [read_csv_header(h)[0] for h in header]
+    repeated = list(dict.fromkeys(h for h, n in zip(header, names) if names.count(n) > 1))
+    if repeated:
+        raise InputError("branch", f"'{path}' line 1: the column(s) {', '.join(map(repr, repeated))} name a "
+                                   "variable more than once; each column may appear once")
+    return header, rows
+
+
 def read_branch_table(path: str | os.PathLike) -> tuple[list[dict[str, str]], dict[str, str]]:
-    """Read a branch (or sweep) CSV: rows as ``{name: text}`` keyed by plain names, and ``{name: unit}``.
+    """Read a branch (or sweep) CSV strictly (:func:`read_table`): rows as ``{name: text}`` keyed by plain
+    names, and ``{name: unit}``.
 
     Headers ``F [N]`` give name ``F`` and unit ``N``; tables written before units (bare
     names) read the same, with no units.
     """
-    import csv
-
-    with open(path, newline="") as fh:
-        reader = csv.reader(fh)
-        header = next(reader, [])
-        pairs = [read_csv_header(h) for h in header]
-        rows = [dict(zip((n for n, _ in pairs), row)) for row in reader]
+    header, raw = read_table(path)
+    pairs = [read_csv_header(h) for h in header]
+    rows = [dict(zip((n for n, _ in pairs), row)) for row in raw]
     return rows, {n: u for n, u in pairs if u}
+
+
+def check_branch_table(branch: Branch, system, path: str | os.PathLike) -> None:
+    """Check a table read by :meth:`Branch.read_csv` against the model ``system``: its columns are exactly
+    the model's variables (none missing, none unknown), each header's unit is the model's, every value
+    is finite and the rows are in arclength order. Raises :class:`InputError` (field ``branch``) in one
+    line naming the file, the row or column and what would be valid."""
+    names = list(system.names)
+    unknown = [n for n in branch.names if n not in names]
+    if unknown:
+        raise InputError("branch", f"'{path}': column(s) {', '.join(unknown)} are not variables of model "
+                                   f"'{system.name}'; valid: {', '.join(names)}, {', '.join(_EXTRA_COLUMNS)}")
+    missing = [n for n in names if n not in branch.names]
+    if missing:
+        raise InputError("branch", f"'{path}' lacks the column(s) {', '.join(missing)} of model '{system.name}'")
+    if list(branch.names) != names:
+        raise InputError("branch", f"'{path}': the columns are not in the model's order ({', '.join(names)})")
+    for n, u in branch.units.items():
+        want = system.variable(n).unit
+        if u != want:
+            raise InputError("branch", f"'{path}' column '{unit_header(n, u)}': the unit of {n} in model "
+                                       f"'{system.name}' is '{want or 'none'}', not '{u}' (values are SI)")
+    bad = np.argwhere(~np.isfinite(branch.values))
+    if len(bad):
+        r, c = (int(i) for i in bad[0])
+        raise InputError("branch", f"'{path}' row {r} (line {r + 2}), column {branch.names[c]}: "
+                                   f"{branch.values[r, c]!r} is not a finite number")
+    if not np.isfinite(branch.s).all() or (len(branch.s) > 1 and np.any(np.diff(branch.s) < 0)):
+        r = int(np.argmax(~np.isfinite(branch.s))) if not np.isfinite(branch.s).all() else \
+            int(np.nonzero(np.diff(branch.s) < 0)[0][0]) + 1
+        raise InputError("branch", f"'{path}' row {r} (line {r + 2}), column s: the rows are not in arclength "
+                                   "order (s must be finite and non-decreasing)")
 
 
 def _atomic_write(path, writer) -> Path:

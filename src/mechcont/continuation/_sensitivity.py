@@ -35,6 +35,7 @@ from ..equations import EquationSystem
 from ..errors import ConvergenceError, InputError
 from ..units import derivative_unit
 from ._fold_point import fold_quantities, fold_scaling, polish_fold
+from ._move import move_point
 from ._problem import choose_unknowns
 from ._scaling import equilibrate
 from ._special_point import SpecialPoint
@@ -300,9 +301,11 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
 
     ``vary``, ``unknowns`` and ``label`` default to the point's (a :class:`SpecialPoint`
     from a continuation records them; one read from a CSV does not); ``unknowns`` else to
-    the model's states. ``values`` (``{name: value}``, SI) replaces held values of the point
-    first, and the point is solved again (the fold polished, the equilibrium by Newton
-    from the point).
+    the model's states. ``values`` (``{name: value}``, SI) moves the point to those held values
+    first: followed there by a homotopy in the changed parameters (:func:`~._move.move_point`:
+    a fold as a fold curve that keeps the sign of its normal-form coefficient, an ordinary point
+    with its lens), never re-solved blindly from the old row; :class:`~._move.PointLost` (an
+    :class:`InputError`) in one line when the point ends on the way (a fold past a cusp).
     """
     sp = point if isinstance(point, SpecialPoint) else None
     x = np.asarray(point.x if isinstance(point, SpecialPoint) else point, dtype=float)
@@ -314,7 +317,7 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
     system.variable(vary)
     label = label if label is not None else (point.label if isinstance(point, SpecialPoint) else "")
     of = of or vary
-    if of == vary and label in ("SR", "CP"):
+    if of == vary and label in ("SR", "NSF", "CP"):
         handler = SPECIAL_POINTS.get(label)
         if handler is None:
             raise InputError("point", f"the load at a {label} point is defined by mechcont.analysis: import it (or "
@@ -333,30 +336,17 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
         raise InputError("keep", f"'{keep}' is not solved for on the branch; one of: {', '.join(lens)}")
     else:
         solved = [n for n in lens if n != keep] + [vary]
+    v0 = sp.null_vector if sp else None
     if values:
-        x = _with_values(system, x, values, solved)
-        if not fold:
-            x = _resolve(system, x, solved)
+        moved = move_point(system, x, values, solved=solved, vary=vary if fold else None, states=lens,
+                           null_vector=v0, name=_name(sp, label))
+        x, v0 = moved.x, moved.v
+        system.check_limits(x)
     if fold:
-        return fold_sensitivity(system, x, lens, vary, params, null_vector=sp.null_vector if sp else None)
+        return fold_sensitivity(system, x, lens, vary, params, null_vector=v0)
     return equilibrium_sensitivity(system, x, solved, params, of)
 
 
-def _with_values(system: EquationSystem, x: np.ndarray, values: Mapping[str, float], solved: Sequence[str]) -> np.ndarray:
-    """``x`` with held ``values`` replaced; :class:`InputError` for a name solved for at the point."""
-    for n in values:
-        if n in solved:
-            held = [m for m in system.names if m not in solved]
-            raise InputError("set", f"{n} is solved for at this point; set one of: {', '.join(held)}")
-    x = system.vector(values, base=x)
-    system.check_limits(x)
-    return x
-
-
-def _resolve(system: EquationSystem, x: np.ndarray, unknowns: Sequence[str]) -> np.ndarray:
-    """The equilibrium with ``unknowns`` solved for by Newton from ``x``, everything else held at ``x``."""
-    from ._newton import find_equilibrium
-
-    held = {n: float(x[system.index(n)]) for n in system.state_names if n not in unknowns}
-    free = [n for n in unknowns if system.variable(n).kind == "parameter"]
-    return find_equilibrium(system, hold=held, free=free, guess=x)
+def _name(sp: SpecialPoint | None, label: str | None) -> str:
+    """How messages name the point: its label (``LP``) or "the point"."""
+    return f"the {label} point" if label else "the point"

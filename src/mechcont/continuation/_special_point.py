@@ -131,8 +131,8 @@ class SpecialPoint:
         the continuation parameter at the state ``keep`` held at its value here; or ``of``, an
         unknown of the branch, with the continuation parameter held. ``system`` is the model
         of the branch; ``vary`` is needed only for a point read from a table; ``values``
-        (``{name: value}``, SI) changes held values first (the point is solved again). Returns a
-        :class:`~mechcont.analysis.sensitivity.Sensitivity` (see
+        (``{name: value}``, SI) moves the point to those held values first (followed there,
+        :func:`~._move.move_point`). Returns a :class:`~mechcont.analysis.sensitivity.Sensitivity` (see
         :func:`~mechcont.analysis.sensitivity.point_sensitivity`).
         """
         from ._sensitivity import point_sensitivity

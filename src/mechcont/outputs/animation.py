@@ -12,7 +12,6 @@ them (:mod:`mechcont.outputs._frames`).
 from __future__ import annotations
 
 import contextlib
-import csv
 import math
 import os
 import shutil
@@ -130,18 +129,12 @@ def _columns(path: Path, header: list[str], system) -> dict[str, tuple[str, floa
 
 
 def _read_csv(system, path: Path) -> BranchFrames:
-    try:
-        with open(path, newline="") as fh:
-            reader = csv.DictReader(fh)
-            rows = list(reader)
-            header = list(reader.fieldnames or [])
-    except (OSError, UnicodeDecodeError, csv.Error) as exc:
-        raise InputError("branch", f"cannot read '{path}': {getattr(exc, 'strerror', None) or exc}") from None
+    from ..continuation import read_table
+
+    header, raw = read_table(path)  # strict: a regular file, bounded, each column once, full rows
+    rows = [dict(zip(header, r)) for r in raw]
     if not rows:
         raise InputError("branch", f"'{path}' has no rows")
-    repeated = sorted({h for h in header if header.count(h) > 1})
-    if repeated:  # DictReader would keep the last of them silently
-        raise InputError("branch", f"'{path}' has the column(s) {', '.join(map(repr, repeated))} more than once")
     cols = _columns(path, header, system)
     missing = [n for n in system.names if n not in cols]
     if missing:
@@ -154,6 +147,8 @@ def _read_csv(system, path: Path) -> BranchFrames:
                 values[r, c] = float(row[key]) * factor
             except (TypeError, ValueError):
                 raise InputError("branch", f"'{path}' line {r + 2}, column {key}: not a number: {row[key]!r}") from None
+            if not math.isfinite(values[r, c]):
+                raise InputError("branch", f"'{path}' line {r + 2}, column {key}: {row[key]!r} is not a finite number")
 
     def cell(row, name):
         key = cols.get(name, (name, 1.0))[0]
