@@ -172,22 +172,14 @@ def _read_csv(system, path: Path) -> BranchFrames:
 
 def _check_extra_cells(path: Path, r: int, s: str, n_unstable: str) -> None:
     """A branch table's ``s`` (arclength: a finite number) and ``n_unstable`` (a count of unstable
-    directions, -1 for not evaluated) when present; InputError naming the line otherwise."""
-    if s:
-        try:
-            ok = math.isfinite(float(s))
-        except ValueError:
-            ok = False
-        if not ok:
-            raise InputError("branch", f"'{path}' line {r + 2}, column s: {s!r} is not a finite number (arclength)")
+    directions, -1 for not evaluated) when present; InputError naming the row otherwise (the
+    branch reader's own cell checks)."""
+    from ..continuation._branch import _count, _number
+
+    if s and math.isnan(_number(path, r, "s", s)):
+        raise InputError("branch", f"'{path}' row {r} (line {r + 2}), column s: {s!r} is not a finite number")
     if n_unstable:
-        try:
-            k = int(n_unstable)
-        except ValueError:
-            k = -2
-        if k < -1:
-            raise InputError("branch", f"'{path}' line {r + 2}, column n_unstable: {n_unstable!r} is not a count of "
-                                       "unstable directions (0, 1, 2, ...; -1 for not evaluated)")
+        _count(path, r, n_unstable)
 
 
 def _changing_parameter(system, values: np.ndarray) -> str | None:
