@@ -484,29 +484,23 @@ def _build_lock(key: str) -> Iterator[None]:
     """Held while this process builds the entry ``key``: another process that needs the same entry
     waits and then loads it, instead of building it too (two test workers, or two runs of a study,
     on a 2-core machine each took twice as long). An exclusive ``flock`` on ``KEY.lock`` beside the
-    entry (the file is left there, empty); the operating system releases it if the process dies.
-    Without a trusted cache folder or ``fcntl``, no lock: each process builds."""
+    entry, holding its holder's process id (:func:`._lock.build_lock`: a stopped or dead holder and a
+    wait beyond its timeout are told in one line and end the wait; a lock file that is not a regular
+    file is an InputError). Without a trusted cache folder or ``fcntl``, no lock: each process builds."""
     try:
-        import fcntl
+        import fcntl  # noqa: F401
     except ImportError:  # pragma: no cover - not on POSIX
         yield
         return
-    fd = None
+    from ._lock import build_lock
+
     with _shard(key, create=True) as found:
-        if found is not None:
-            try:
-                fd = os.open(f"{key}.lock", (os.O_WRONLY | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0)
-                                             | getattr(os, "O_CLOEXEC", 0)), 0o600, dir_fd=found[0])
-            except OSError:
-                fd = None
-    if fd is not None:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX)
-        except OSError:
-            os.close(fd)
-            fd = None
-    try:
+        shard_fd = None if found is None else os.dup(found[0])  # the shard's own descriptor closes here
+    if shard_fd is None:
         yield
+        return
+    try:
+        with build_lock(f"{key}.lock", shard_fd):
+            yield
     finally:
-        if fd is not None:
-            os.close(fd)  # releases the lock
+        os.close(shard_fd)
