@@ -29,7 +29,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from ...errors import InputError
+from ._estimate import MAX_SECONDS, PILOT_SAMPLES, Estimate, check_cost, estimate_study
 from ._kernels import check_spec, result_columns, run_chunk
 from ._spec import StudySpec
 from ._store import StudyStore
@@ -143,7 +146,8 @@ def _units(system, spec: StudySpec) -> dict[str, str]:
 def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, scheduler: str | None = None,
               workers: int | None = None, progress: Callable[[int], None] | None = None,
               on_chunk: Callable[[int, float], None] | None = None,
-              on_warning: Callable[[str], None] | None = None) -> StudyResult:
+              on_warning: Callable[[str], None] | None = None, max_seconds: float | None = None,
+              on_estimate: Callable[[Estimate], None] | None = None) -> StudyResult:
     """Run ``spec`` into ``folder``, computing only the chunks not already there.
 
     Parameters
@@ -166,6 +170,12 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
     on_warning:
         Called with one line per part found on disk that is not this study's (another
         study's settings or samples, truncated, not Parquet): that chunk is computed again.
+    max_seconds:
+        Limit on the estimated computing time (s; default :data:`~._estimate.MAX_SECONDS`, one
+        hour): a study of more than :data:`~._estimate.PILOT_SAMPLES` samples to do is timed on a
+        few of them first (:func:`~._estimate.estimate_study`) and refused when above it.
+    on_estimate:
+        Called with the :class:`~._estimate.Estimate` before anything is written (not for a small study).
 
     Returns
     -------
@@ -174,8 +184,8 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
     Raises
     ------
     InputError
-        Unknown names, a folder holding another study, a spec that does not fit the model:
-        all before anything is computed or written.
+        Unknown names, a folder holding another study, a spec that does not fit the model, an
+        estimate above ``max_seconds``: all before anything is written.
     """
     t0 = time.perf_counter()
     try:
@@ -192,6 +202,14 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
         if on_warning is not None:
             on_warning(f"part {k} of the study ({store.parts.name}/chunk-{k:06d}.parquet) {why}; computing it again")
     todo = [k for k in range(spec.n_chunks) if k not in store.done()]
+    limit = MAX_SECONDS if max_seconds is None else max_seconds
+    rows = np.concatenate([np.arange(*spec.chunk_rows(k)) for k in todo]) if todo else np.zeros(0, dtype=int)
+    # a freefall sample is a time integration, bounded by its own estimate (its until and stiffness)
+    est = estimate_study(system, spec, _samples(spec), rows, limit) \
+        if len(rows) > PILOT_SAMPLES and "freefall" not in spec.analyses else None
+    check_cost(est, limit, "max_seconds")
+    if est is not None and on_estimate is not None:
+        on_estimate(est)
     computed: list[int] = []
 
     def finished(k: int, cols: dict, seconds: float) -> None:
