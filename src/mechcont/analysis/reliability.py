@@ -166,7 +166,10 @@ def form(limit: LimitState, variables: Variables, *, u0: np.ndarray | None = Non
                                    f"{_where(variables, x)} (g = {g:.6g}): no failure point within the distributions' "
                                    "range (the edge of a bounded one?)")
         alpha = -gu / norm
-        if abs(g) <= tol * scale and np.linalg.norm(u - (alpha @ u) * alpha) <= 1e-6 * max(1.0, float(np.linalg.norm(u))):
+        # a root: g small against its scale, and against its slope (a g that only decays towards 0, as
+        # exp(-u) does, is small far from any root)
+        if (abs(g) <= tol * scale and abs(g) <= 1e-6 * norm
+                and np.linalg.norm(u - (alpha @ u) * alpha) <= 1e-6 * max(1.0, float(np.linalg.norm(u)))):
             return DesignPoint(u, x, float(alpha @ u), alpha, gu, gx, g, it - 1, count[0], g_start)
         if float(np.linalg.norm(u)) > U_LIMIT and g * g_start > 0:
             raise _no_root(variables, g_start, x_start, g, x, u, count[0])

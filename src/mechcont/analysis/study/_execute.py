@@ -264,15 +264,45 @@ def _probe_scheduler(address: str) -> None:
                                         f"ucx:// a UCX installation), got {address!r}")
     try:
         with socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT) as sock:
-            sock.settimeout(SCHEDULER_TIMEOUT)
-            if not sock.recv(1):
-                raise InputError("--scheduler", f"the server at {address!r} closed the connection: not a Dask scheduler")
+            _read_handshake(sock, address)
     except TimeoutError:
         raise InputError("--scheduler", f"the server at {address!r} did not answer within {SCHEDULER_TIMEOUT:g} s: "
                                         "not a Dask scheduler, or one that hangs") from None
     except OSError as exc:
         raise InputError("--scheduler", f"cannot reach the Dask scheduler at {address!r}: "
                                         f"{exc.strerror or exc}") from None
+
+
+#: Largest handshake accepted from a scheduler, bytes (a real one sends about 60).
+MAX_HANDSHAKE = 65536
+
+
+def _read_handshake(sock, address: str) -> None:
+    """Read the scheduler's first message whole, within :data:`SCHEDULER_TIMEOUT` in all: an 8-byte length,
+    at most :data:`MAX_HANDSHAKE`, then that many bytes. Dask reads a length it is sent without bound (a
+    fake server announcing 2^62 bytes made it allocate them, or wait for them forever)."""
+    import struct
+
+    deadline = time.monotonic() + SCHEDULER_TIMEOUT
+
+    def read(n: int) -> bytes:
+        data = b""
+        while len(data) < n:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise TimeoutError
+            sock.settimeout(left)
+            chunk = sock.recv(n - len(data))
+            if not chunk:
+                raise InputError("--scheduler", f"the server at {address!r} closed the connection: not a Dask scheduler")
+            data += chunk
+        return data
+
+    (size,) = struct.unpack("<Q", read(8))
+    if size > MAX_HANDSHAKE:
+        raise InputError("--scheduler", f"the server at {address!r} announced a first message of {size} bytes (a "
+                                        f"scheduler's is under {MAX_HANDSHAKE}): not a Dask scheduler")
+    read(size)
 
 
 @contextlib.contextmanager
@@ -294,6 +324,9 @@ def _dask_client(scheduler: str, workers: int | None):
         _probe_scheduler(scheduler)
         try:
             client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+        except MemoryError:  # a server that answered the probe like a scheduler, then announced a huge frame
+            raise InputError("--scheduler", f"the server at {scheduler!r} announced a message too large to read: not "
+                                            "a Dask scheduler") from None
         except (OSError, TimeoutError, ValueError, TypeError) as exc:
             raise InputError("--scheduler", f"cannot reach the Dask scheduler at {scheduler!r}: {exc}") from None
     try:
