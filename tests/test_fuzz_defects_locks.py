@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 
@@ -149,3 +150,95 @@ def test_holder_state_reads_proc():
         p.wait(10)
     assert holder_state(p.pid) == "gone"
 
+
+
+# -- signals and temporary files ------------------------------------------------------------------
+MAIN = "from mechcont.cli._app import main; main()"
+
+
+@pytest.fixture(scope="module")
+def branch_csv(tmp_path_factory):
+    from cli_helpers import make_runner
+
+    out = tmp_path_factory.mktemp("branch") / "b.csv"
+    r = make_runner()("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--bounds", "theta1=-1.2:1.2",
+                      "--out", out, "--quiet")
+    assert r.exit_code == 0, r.output
+    return out
+
+
+def _mechcont(*args, cwd):
+    return subprocess.Popen([sys.executable, "-c", MAIN, *map(str, args)], cwd=cwd, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=dict(os.environ, MPLBACKEND="Agg"))
+
+
+def _when_a_temporary_appears(folder: Path, proc, stem: str, timeout=60.0):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if any(p.name.startswith(f".{stem}") for p in folder.iterdir()):
+            return
+        assert proc.poll() is None, proc.communicate()
+        time.sleep(0.02)
+    raise AssertionError("no temporary file appeared")
+
+
+@pytest.mark.parametrize("sig, status, words", [(signal.SIGHUP, 129, "hung up"), (signal.SIGTERM, 143, "terminated")])
+def test_a_signal_while_an_animation_is_written_leaves_no_temporary_file(tmp_path, branch_csv, sig, status, words):
+    """The GIF's temporary file exists (empty) while the frames are drawn; SIGHUP left it there."""
+    out = tmp_path / "out"
+    out.mkdir()
+    p = _mechcont("animate", "overcentre", "--branch", branch_csv, "--out", out / "a.gif", "--quiet", cwd=tmp_path)
+    try:
+        _when_a_temporary_appears(out, p, "a")
+        p.send_signal(sig)
+        _, err = p.communicate(timeout=60)
+    finally:
+        p.kill()
+    assert p.returncode == status and err.strip() == f"error: {words}", (p.returncode, err)
+    assert list(out.iterdir()) == []
+
+
+def test_a_temporary_file_of_a_killed_writer_is_removed_by_the_next_write(tmp_path, branch_csv):
+    """SIGKILL runs no handler: the temporary file stays, named after its writer; the next write into the
+    folder removes it once that process is gone (and leaves a live writer's alone)."""
+    from mechcont._io import atomic_write
+
+    out = tmp_path / "out"
+    out.mkdir()
+    p = _mechcont("animate", "overcentre", "--branch", branch_csv, "--out", out / "a.gif", "--quiet", cwd=tmp_path)
+    try:
+        _when_a_temporary_appears(out, p, "a")
+        p.kill()
+        p.communicate(timeout=30)
+    finally:
+        p.kill()
+    left = [q.name for q in out.iterdir()]
+    assert len(left) == 1 and f".mechcont-{p.pid}-" in left[0], left
+    live = out / f".b.mechcont-{os.getpid()}-abcdefgh.csv"  # this process's own: alive
+    live.write_text("")
+    atomic_write(out / "c.csv", lambda tmp: Path(tmp).write_text("x\n"))
+    assert sorted(q.name for q in out.iterdir()) == sorted([live.name, "c.csv"])
+
+
+def test_sigterm_during_a_long_continuation_writes_the_branch_so_far(tmp_path):
+    """`continue` of 100,000 steps each way: SIGTERM ends the continuation where it is, the branch so far is
+    written (table and figure), and the exit status is 143."""
+    warm = _mechcont("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--max-steps", "5", "--quiet",
+                     cwd=tmp_path)
+    t0 = time.monotonic()
+    warm.communicate(timeout=120)
+    start_up = time.monotonic() - t0
+    p = _mechcont("continue", "overcentre", "--start", "theta1=0.3", "--vary", "F", "--max-steps", "100000", "--ds",
+                  "1e-4", "--dsmax", "1e-4", "--out", "b.csv", "--plot", "b.png", cwd=tmp_path)
+    try:
+        time.sleep(start_up + 2.0)
+        assert p.poll() is None
+        p.send_signal(signal.SIGTERM)
+        out, err = p.communicate(timeout=60)
+    finally:
+        p.kill()
+    assert p.returncode == 143 and err.strip() == "error: terminated", (p.returncode, err)
+    assert "stopped by SIGTERM" in out and "wrote b.csv" in out and "wrote b.png" in out
+    rows = (tmp_path / "b.csv").read_text().splitlines()
+    assert 100 < len(rows) < 100_000  # some of the branch, not all 200,000 steps
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["b.csv", "b.png"]

@@ -25,6 +25,7 @@ import sys
 import time
 from collections.abc import Iterator
 
+from .._signals import process_state as holder_state
 from ..errors import InputError
 
 __all__ = ["build_lock", "holder_state", "TIMEOUT", "NOTICE", "STALE_GRACE"]
@@ -47,21 +48,6 @@ def _seconds(env: str, default: float) -> float:
     except ValueError:
         return default
     return value if 0 < value < 1e9 else default
-
-
-def holder_state(pid: int) -> str | None:
-    """Why process ``pid`` will not finish a build: ``"stopped"`` (state T or t in ``/proc/PID/stat``),
-    ``"gone"`` (no such process, or one that has ended: a zombie, Z or X), or None (running, sleeping,
-    or not known)."""
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as f:
-            text = f.read()
-    except FileNotFoundError:
-        return "gone"
-    except OSError:
-        return None
-    state = text[text.rfind(b")") + 2:][:1]  # the name in parentheses may hold spaces and ')'
-    return "stopped" if state in (b"T", b"t") else "gone" if state in (b"Z", b"X") else None
 
 
 def _holder(fd: int) -> int | None:
