@@ -105,6 +105,32 @@ def test_a_running_holder_is_waited_for_up_to_the_timeout_then_one_line(tmp_path
     assert len(lines) == 1 and "waited 1.5 s" in lines[0] and f"process {pid}" in lines[0], r.stderr
 
 
+def test_on_a_terminal_the_wait_is_told_every_few_seconds(tmp_path, holder):
+    """stderr a terminal: a line naming the holder and the lock while waiting (here every 0.3 s)."""
+    import pty
+
+    pid = holder()
+    leader, follower = pty.openpty()
+    p = subprocess.Popen([sys.executable, "-c", WAITER, KEY], stdout=subprocess.PIPE, stderr=follower,
+                         env=_env(tmp_path / "cache", MECHCONT_LOCK_TIMEOUT="1.5", MECHCONT_LOCK_NOTICE="0.3"))
+    os.close(follower)
+    out, _ = p.communicate(timeout=30)
+    text = b""
+    while True:
+        try:
+            chunk = os.read(leader, 4096)
+        except OSError:
+            break
+        if not chunk:
+            break
+        text += chunk
+    os.close(leader)
+    lines = [ln for ln in text.decode().splitlines() if ln.strip()]
+    waiting = [ln for ln in lines if ln.startswith(f"mechcont: waiting for process {pid} to build")]
+    assert 2 <= len(waiting) <= 6 and all(f"{KEY}.lock" in ln for ln in waiting), lines
+    assert "waited 1.5 s" in lines[-1] and out.split()[0] == b"42"
+
+
 def test_a_lock_released_in_time_is_waited_for_and_the_entry_loaded(tmp_path):
     """The lock still does its job: a waiter loads what the holder built, without building it again."""
     script = WAITER.replace("lambda: 42", "lambda: (time.sleep(1.5), 7)[1]")
@@ -242,3 +268,25 @@ def test_sigterm_during_a_long_continuation_writes_the_branch_so_far(tmp_path):
     rows = (tmp_path / "b.csv").read_text().splitlines()
     assert 100 < len(rows) < 100_000  # some of the branch, not all 200,000 steps
     assert sorted(q.name for q in tmp_path.iterdir()) == ["b.csv", "b.png"]
+
+
+def test_a_cache_entry_half_written_by_a_killed_process_is_removed_by_the_next_store(tmp_path):
+    p = subprocess.Popen([sys.executable, "-c", "pass"])
+    p.wait(10)  # a process id that is gone
+    dead, alive = p.pid, os.getpid()
+    code = ("import os, sys\nfrom mechcont.equations import _cache\n"
+            f"shard = os.path.join(sys.argv[1], '{KEY[:2]}')\n"
+            "print(_cache.store(sys.argv[2], 1), sorted(os.listdir(shard)))\n")
+    cache = tmp_path / "cache"
+    _wait(tmp_path)  # makes the cache, its key and the shard
+    shard = cache / KEY[:2]
+    (shard / f".tmp-{dead}-{'0' * 16}.pkl").write_bytes(b"half")
+    (shard / f".tmp-{alive}-{'1' * 16}.pkl").write_bytes(b"being written")
+    other = KEY[:2] + "1" * 62
+    r = subprocess.run([sys.executable, "-c", code, str(cache), other], env=_env(cache), capture_output=True,
+                       text=True, timeout=60)
+    if r.stdout.startswith("False"):
+        pytest.skip("the cache stores nothing here")
+    names = sorted(q.name for q in shard.iterdir())
+    assert f".tmp-{dead}-{'0' * 16}.pkl" not in names and f".tmp-{alive}-{'1' * 16}.pkl" in names, names
+    assert f"{other}.pkl" in names

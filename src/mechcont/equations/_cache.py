@@ -55,7 +55,8 @@ is unpickled:
 
 Anything else that goes wrong (a missing, unreadable, corrupt or foreign entry, a read-only
 or full disk) only means no caching, never an error. An entry is written to a temporary file
-in its folder and renamed into place (atomic), so concurrent processes never see half an
+in its folder (``.tmp-PID-XXXXXXXXXXXXXXXX.pkl``: one left by a killed writer is removed by the
+next store into that folder) and renamed into place (atomic), so concurrent processes never see half an
 entry; two that compile the same model write the same content and the last rename wins.
 The cache is never pruned; deleting the folder is always safe (the key is made again).
 """
@@ -424,7 +425,8 @@ def store(key: str, obj) -> bool:
             return False
         import secrets
 
-        name = f".tmp-{secrets.token_hex(8)}.pkl"
+        _remove_stale(shard_fd)
+        name = f".tmp-{os.getpid()}-{secrets.token_hex(8)}.pkl"
         tmp: str | None = name  # None once renamed into place
         try:
             fd = os.open(name, _NEW_FLAGS, 0o600, dir_fd=shard_fd)
@@ -440,6 +442,24 @@ def store(key: str, obj) -> bool:
             if tmp is not None:
                 with contextlib.suppress(OSError):
                     os.unlink(tmp, dir_fd=shard_fd)
+
+
+_STALE = re.compile(r"\.tmp-([0-9]{1,10})-[0-9a-f]{16}\.pkl")
+
+
+def _remove_stale(shard_fd: int) -> None:
+    """Remove the temporary entries in the shard whose writer is gone (killed while writing: SIGKILL)."""
+    from .._signals import process_state
+
+    try:
+        names = os.listdir(shard_fd)
+    except OSError:
+        return
+    for name in names:
+        m = _STALE.fullmatch(name)
+        if m and int(m[1]) != os.getpid() and process_state(int(m[1])) == "gone":
+            with contextlib.suppress(OSError):
+                os.unlink(name, dir_fd=shard_fd)
 
 
 def cached(parts: Iterable[str | bytes] | Callable[[], Iterable[str | bytes]], build: Callable[[], T],
