@@ -342,7 +342,7 @@ def test_signal_during_writing_leaves_no_temporary_file(tmp_path, branch_csv, si
                      cwd=tmp_path)
     try:
         # the temporary file beside the output exists while the frames are rendered into it
-        writing = _wait_for(lambda: any(p.name.startswith(".a-") for p in tmp_path.iterdir()), proc, 60)
+        writing = _wait_for(lambda: any(p.name.startswith(".a.mechcont-") for p in tmp_path.iterdir()), proc, 60)
         assert writing, "the animation never started writing"
         time.sleep(0.3)
         proc.send_signal(sig)

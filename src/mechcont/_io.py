@@ -4,20 +4,30 @@
 that an output can be written where the user asked; :func:`atomic_write` then writes it to a
 temporary file beside the target and moves it into place, with the permissions of an
 ordinary new file (``0o666`` less the umask), removing the temporary file on any failure,
-including an interrupt or (through the CLI's SIGTERM handler) termination.
+including an interrupt or (through the CLI's SIGTERM and SIGHUP handlers) termination. A
+temporary file is named ``.STEM.mechcont-PID-XXXXXXXX.SUFFIX`` after the process writing it; one
+left by a process killed outright (SIGKILL: no handler runs) is removed by the next
+:func:`atomic_write` into the same folder once that process is gone (:func:`remove_stale_temporaries`).
 :func:`read_csv_header` reads a table's column header (``name [unit]``) back.
 """
 
 from __future__ import annotations
 
 import os
+import re
+import stat
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from ._signals import raise_pending
+from ._signals import process_state, raise_pending
 from .errors import InputError
 
-__all__ = ["atomic_write", "check_output_path", "check_output_folder", "current_umask", "read_csv_header"]
+__all__ = ["atomic_write", "check_output_path", "check_output_folder", "current_umask", "read_csv_header",
+           "remove_stale_temporaries", "TEMPORARY"]
+
+#: The name of :func:`atomic_write`'s temporary files: ``.STEM.mechcont-PID-XXXXXXXX.SUFFIX`` (mkstemp's 8 characters).
+TEMPORARY = re.compile(r"\..*\.mechcont-(?P<pid>[0-9]{1,10})-[a-z0-9_]{8}(\.[^/]*)?")
+_CLEANED: set[str] = set()
 
 
 def current_umask() -> int:
@@ -104,7 +114,10 @@ def atomic_write(path: str | os.PathLike, write: Callable[[str], object]) -> Pat
         raise InputError(str(path), "is a folder, not a file")
     import tempfile  # here: a command that writes nothing does not import it (with shutil, 2-3 ms)
 
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}-", suffix=path.suffix, dir=path.parent)
+    if str(path.parent) not in _CLEANED:
+        _CLEANED.add(str(path.parent))
+        remove_stale_temporaries(path.parent)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.mechcont-{os.getpid()}-", suffix=path.suffix, dir=path.parent)
     os.close(fd)
     try:
         write(tmp)
@@ -116,6 +129,29 @@ def atomic_write(path: str | os.PathLike, write: Callable[[str], object]) -> Pat
             os.unlink(tmp)
         raise
     return path
+
+
+def remove_stale_temporaries(folder: str | os.PathLike) -> list[str]:
+    """Remove the temporary files of :func:`atomic_write` in ``folder`` whose writer is gone (killed
+    with SIGKILL, or the machine stopped): regular files of this user named :data:`TEMPORARY` whose
+    process id is no running process. Returns the names removed; never raises."""
+    removed: list[str] = []
+    try:
+        entries = list(os.scandir(os.fspath(folder)))
+    except OSError:
+        return removed
+    for e in entries:
+        m = TEMPORARY.fullmatch(e.name)
+        if not m or int(m["pid"]) == os.getpid() or process_state(int(m["pid"])) != "gone":
+            continue
+        try:
+            st = e.stat(follow_symlinks=False)
+            if stat.S_ISREG(st.st_mode) and st.st_uid == os.geteuid():
+                os.unlink(e.path)
+                removed.append(e.name)
+        except (OSError, AttributeError):
+            continue
+    return removed
 
 
 def read_csv_header(header: str) -> tuple[str, str]:

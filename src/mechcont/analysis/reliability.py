@@ -33,16 +33,20 @@ import numpy as np
 
 from .._status import Status
 from ..errors import ConvergenceError, InputError
+from ._reliability_checks import ImportanceSampling, MonteCarlo, form_findings, importance_sampling, monte_carlo
 from .sensitivity import write_json
 from .study._spec import Distribution, StudySpec
 
-__all__ = ["Variables", "DesignPoint", "ImportanceSampling", "ReliabilityResult", "form", "sorm_breitung",
-           "importance_sampling", "reliability", "downlock_limit_state", "downlock_reliability"]
+__all__ = ["Variables", "DesignPoint", "ImportanceSampling", "MonteCarlo", "ReliabilityResult", "form", "sorm_breitung",
+           "importance_sampling", "monte_carlo", "reliability", "downlock_limit_state", "downlock_reliability"]
 
 #: Step (standard deviations) of the central differences of the exact gradient that give the curvatures.
 CURVATURE_STEP = 1e-3
 #: Importance-sampling samples when not given.
 DEFAULT_SAMPLES = 2000
+#: Distance from the mean (standard deviations in u) beyond which a search that has not seen the limit state
+#: change sign stops: Phi(-38.5) is already below the smallest double.
+U_LIMIT = 1000.0
 
 #: ``limit(x) -> (g, dg/dx)``: the limit state and its gradient at the variables' values ``x`` (SI).
 LimitState = Callable[[np.ndarray], tuple[float, np.ndarray]]
@@ -115,7 +119,8 @@ class DesignPoint:
 
     ``u`` (standard normal) and ``x`` (SI) the point, ``beta = alpha . u``, ``alpha`` the unit
     vector ``-grad_u g / |grad_u g|``, ``grad_u`` and ``grad_x`` the limit state's gradients
-    there, ``g`` its value (about 0), ``iterations`` of iHL-RF and ``evaluations`` of ``g``.
+    there, ``g`` its value (about 0), ``iterations`` of iHL-RF and ``evaluations`` of ``g``;
+    ``g_start`` the limit state at the start (the mean by default: failing there when <= 0).
     """
 
     u: np.ndarray
@@ -127,6 +132,7 @@ class DesignPoint:
     g: float
     iterations: int
     evaluations: int
+    g_start: float = math.nan
 
 
 def form(limit: LimitState, variables: Variables, *, u0: np.ndarray | None = None, tol: float = 1e-9,
@@ -136,7 +142,9 @@ def form(limit: LimitState, variables: Variables, *, u0: np.ndarray | None = Non
     Converged when ``|g| <= tol`` times ``|g|`` at the start (or its gradient's length) and
     ``u`` is parallel to the gradient to ``1e-6``. Raises
     :class:`~mechcont.errors.ConvergenceError` when the gradient vanishes or the iteration
-    does not converge in ``max_iter``.
+    does not converge in ``max_iter``, and one that says so when the limit state has no root along the
+    search (``g`` keeps the sign it had at the start out to ``|u| =`` :data:`U_LIMIT`, where no probability
+    is left in double precision).
     """
     n = len(variables.names)
     u = np.zeros(n) if u0 is None else np.asarray(u0, dtype=float).copy()
@@ -149,6 +157,7 @@ def form(limit: LimitState, variables: Variables, *, u0: np.ndarray | None = Non
         return x, float(g), np.asarray(gx, dtype=float), np.asarray(gx, dtype=float) * variables.dx_du(u)
 
     x, g, gx, gu = at(u)
+    g_start, x_start = g, x
     scale = float(max(abs(float(g)), float(np.linalg.norm(gu)), 1e-300))  # g is divided by this: the merit is unit-free
     for it in range(1, max_iter + 1):
         norm = float(np.linalg.norm(gu))
@@ -157,8 +166,13 @@ def form(limit: LimitState, variables: Variables, *, u0: np.ndarray | None = Non
                                    f"{_where(variables, x)} (g = {g:.6g}): no failure point within the distributions' "
                                    "range (the edge of a bounded one?)")
         alpha = -gu / norm
-        if abs(g) <= tol * scale and np.linalg.norm(u - (alpha @ u) * alpha) <= 1e-6 * max(1.0, float(np.linalg.norm(u))):
-            return DesignPoint(u, x, float(alpha @ u), alpha, gu, gx, g, it - 1, count[0])
+        # a root: g small against its scale, and against its slope (a g that only decays towards 0, as
+        # exp(-u) does, is small far from any root)
+        if (abs(g) <= tol * scale and abs(g) <= 1e-6 * norm
+                and np.linalg.norm(u - (alpha @ u) * alpha) <= 1e-6 * max(1.0, float(np.linalg.norm(u)))):
+            return DesignPoint(u, x, float(alpha @ u), alpha, gu, gx, g, it - 1, count[0], g_start)
+        if float(np.linalg.norm(u)) > U_LIMIT and g * g_start > 0:
+            raise _no_root(variables, g_start, x_start, g, x, u, count[0])
         d = (alpha @ u + g / norm) * alpha - u  # towards the HL-RF point
         c = 2.0 * float(np.linalg.norm(u)) / (norm / scale) + 10.0  # > |u| / |grad|: d descends the merit
         m0, slope = _merit(u, g, c, scale), float((u + c * np.sign(g) * gu / scale) @ d)
@@ -177,7 +191,19 @@ def form(limit: LimitState, variables: Variables, *, u0: np.ndarray | None = Non
                 break
         u = u + step * d
         x, g, gx, gu = trial
+    if g * g_start > 0:
+        raise _no_root(variables, g_start, x_start, g, x, u, count[0])
     raise ConvergenceError(f"FORM did not converge in {max_iter} iterations (last g = {g:.6g} at {_where(variables, x)})")
+
+
+def _no_root(variables: Variables, g0: float, x0: np.ndarray, g: float, x: np.ndarray, u: np.ndarray,
+             solves: int) -> ConvergenceError:
+    """The error of a search that never saw the limit state change sign."""
+    side = "positive (safe)" if g0 > 0 else "not positive (failing)"
+    p = "0" if g0 > 0 else "1"
+    return ConvergenceError(f"FORM: the limit state has no root along the search: g stays {side} from g = {g0:.6g} at "
+                            f"{_where(variables, x0)} to g = {g:.6g} at {_where(variables, x)} ({float(np.linalg.norm(u)):.3g} "
+                            f"standard deviations out, {solves} solves): P(g <= 0) is {p} to double precision along this path")
 
 
 def _merit(u: np.ndarray, g: float, c: float, scale: float) -> float:
@@ -223,47 +249,15 @@ def sorm_breitung(beta: float, kappa: np.ndarray) -> float:
 
 
 @dataclass
-class ImportanceSampling:
-    """An importance-sampling estimate: ``probability``, its coefficient of variation ``cov``,
-    ``n`` samples (``failed`` of which could not be solved and were left out), ``seconds``."""
-
-    probability: float
-    cov: float
-    n: int
-    failed: int
-    seconds: float
-    ran_on: str = "this process"
-
-
-def importance_sampling(evaluate: Callable[[np.ndarray], np.ndarray], variables: Variables, u_star: np.ndarray,
-                        n: int, seed: int = 0) -> ImportanceSampling:
-    """``P(g <= 0)`` from ``n`` samples ``u ~ N(u*, I)`` weighted by ``phi(u) / phi(u - u*)``.
-
-    ``evaluate(X)`` gives ``g`` at the rows of ``X`` (SI), ``nan`` where it could not be solved
-    (such samples are left out and counted).
-    """
-    import time
-
-    t0 = time.perf_counter()
-    u_star = np.asarray(u_star, dtype=float)
-    U = u_star + np.random.Generator(np.random.PCG64(seed)).standard_normal((n, len(u_star)))
-    g = np.asarray(evaluate(variables.x(U)), dtype=float)
-    ok = np.isfinite(g)
-    w = np.exp(-U[ok] @ u_star + 0.5 * float(u_star @ u_star))
-    terms = np.where(g[ok] <= 0, w, 0.0)
-    m = int(ok.sum())
-    p = float(terms.mean()) if m else float("nan")
-    cov = float(terms.std(ddof=1) / math.sqrt(m) / p) if m > 1 and p > 0 else float("nan")
-    return ImportanceSampling(p, cov, n, n - m, time.perf_counter() - t0)
-
-
-@dataclass
 class ReliabilityResult:
     """The outcome of :func:`reliability`: FORM, SORM and the importance-sampling check.
 
     ``design_point`` ``{name: value}`` (SI), ``importance`` ``{name: alpha^2}``, ``curvatures``
     the principal curvatures (1/standard deviation), ``sampling`` the importance-sampling
-    check (None when not run), ``units`` ``{name: unit}``.
+    check (None when not run), ``units`` ``{name: unit}``; ``findings`` one line each where FORM is
+    outside its domain (a mean design that fails, an importance sampling that saw none of its event)
+    and ``monte_carlo`` a plain Monte Carlo estimate, made then when it is cheap (see
+    :mod:`mechcont.analysis._reliability_checks`).
     """
 
     beta: float
@@ -278,6 +272,8 @@ class ReliabilityResult:
     units: dict[str, str] = field(default_factory=dict)
     limit_state: str = "g"
     seconds: float = 0.0
+    findings: list[str] = field(default_factory=list)
+    monte_carlo: MonteCarlo | None = None
 
     def to_dict(self) -> dict:
         """JSON-ready: beta, probability (FORM), probability_sorm, design_point, importance and the rest (SI)."""
@@ -289,7 +285,12 @@ class ReliabilityResult:
         if self.sampling is not None:
             s = self.sampling
             doc["importance_sampling"] = {"probability": s.probability, "cov": s.cov, "n": s.n, "failed": s.failed,
-                                          "seconds": s.seconds, "ran_on": s.ran_on}
+                                          "seconds": s.seconds, "ran_on": s.ran_on, "event": s.event, "hits": s.hits}
+        if self.monte_carlo is not None:
+            m = self.monte_carlo
+            doc["monte_carlo"] = {"probability": m.probability, "standard_error": m.standard_error, "n": m.n,
+                                  "failures": m.failures, "failed": m.failed, "seconds": m.seconds}
+        doc["findings"] = list(self.findings)
         return doc
 
     def to_json(self, path: str | os.PathLike) -> None:
@@ -303,8 +304,13 @@ class ReliabilityResult:
                  f"SORM (Breitung): P = {self.probability_sorm:.6g}"]
         if self.sampling is not None:
             s = self.sampling
+            of = "" if s.event == "failure" else ", as 1 - P(safe)"
             lines.append(f"importance sampling: P = {s.probability:.6g}, coefficient of variation {s.cov:.3g} "
-                         f"({s.n} samples, {s.failed} failed, {s.ran_on})")
+                         f"({s.n} samples, {s.hits} in the {s.event} domain{of}, {s.failed} failed, {s.ran_on})")
+        if self.monte_carlo is not None:
+            m = self.monte_carlo
+            lines.append(f"Monte Carlo: P = {m.probability:.6g}, standard error {m.standard_error:.2g} ({m.failures} "
+                         f"failures in {m.n} samples, {m.failed} failed)")
         lines.append("design point (most probable failure point) and importance alpha^2:")
         w = max(len(n) for n in self.design_point)
         lines += [f"  {n:>{w}} = {v:.10g} {self.units.get(n, '')}  alpha^2 {self.importance[n]:.4f}"
@@ -318,7 +324,11 @@ def reliability(limit: LimitState, variables: Variables, *, evaluate: Callable[[
     """FORM, SORM (Breitung) and, with ``evaluate`` and ``n > 0``, importance sampling, of ``limit``.
 
     ``limit(x) -> (g, dg/dx)`` (failure ``g <= 0``); ``evaluate(X) -> g`` at many rows (SI)
-    for the sampling. Returns a :class:`ReliabilityResult`.
+    for the sampling. When the start (the mean) already fails, the importance sampling estimates
+    the safe probability instead; that and a sampling that saw none of its event are findings,
+    with a plain Monte Carlo estimate of ``n`` samples (seed ``seed + 1``) where it would see
+    :data:`~mechcont.analysis._reliability_checks.MC_EVENTS` of the rarer outcome. Returns a
+    :class:`ReliabilityResult`.
     """
     import time
 
@@ -327,13 +337,21 @@ def reliability(limit: LimitState, variables: Variables, *, evaluate: Callable[[
     t0 = time.perf_counter()
     p = form(limit, variables, u0=u0)
     kappa = curvatures(limit, variables, p) if sorm else np.zeros(0)
-    sampling = importance_sampling(evaluate, variables, p.u, n, seed) if evaluate is not None and n > 0 else None
+    fails = u0 is None and p.g_start <= 0  # from another start, g there says nothing about the mean
+    sample = evaluate is not None and n > 0
+    sampling = importance_sampling(evaluate, variables, p.u, n, seed, safe=fails) if evaluate is not None and n > 0 \
+        else None
+    probability = float(norm.cdf(-p.beta))
+    findings, cheap = form_findings(limit_state, p.g_start if u0 is None else math.inf, probability, sampling,
+                                    n if sample else 0)
+    mc = monte_carlo(evaluate, variables, n, seed + 1) if cheap and evaluate is not None else None
     names = variables.names
-    return ReliabilityResult(p.beta, float(norm.cdf(-p.beta)), sorm_breitung(p.beta, kappa) if sorm else float("nan"),
+    return ReliabilityResult(p.beta, probability, sorm_breitung(p.beta, kappa) if sorm else float("nan"),
                              {k: float(v) for k, v in zip(names, p.x)},
                              {k: float(a * a) for k, a in zip(names, p.alpha)}, [float(k) for k in kappa],
                              p.iterations, p.evaluations + (2 * len(names) if len(kappa) else 0), sampling,
-                             limit_state=limit_state, seconds=time.perf_counter() - t0)
+                             limit_state=limit_state, seconds=time.perf_counter() - t0, findings=findings,
+                             monte_carlo=mc)
 
 
 # -- the downlock force as the limit state ---------------------------------------------------------

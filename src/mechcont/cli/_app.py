@@ -1,7 +1,8 @@
 """The click group and the error handling shared by every command.
 
 Every failure the user can fix is one line ``error: ...`` on stderr and exit status 2;
-Ctrl-C is ``error: interrupted`` (130) and SIGTERM ``error: terminated`` (143), never a
+Ctrl-C is ``error: interrupted`` (130), SIGTERM ``error: terminated`` (143) and SIGHUP
+``error: hung up`` (129), never a
 traceback, and both unwind the stack so that no temporary output file is left behind.
 """
 
@@ -17,18 +18,8 @@ import threading
 
 import click
 
-from .._signals import Terminated, clear, pending, raise_pending, record
+from .._signals import TERMINATING, Terminated, clear, install, pending, raise_held, raise_pending
 from ..errors import MechcontError, one_line
-
-
-def _terminate(signum, frame):
-    record(signum)
-    raise Terminated()
-
-
-def _interrupt(signum, frame):
-    record(signum)
-    raise KeyboardInterrupt()
 
 
 def _fail(message: str, status: int):
@@ -37,9 +28,15 @@ def _fail(message: str, status: int):
 
 
 def _fail_for_signal():
-    if pending() == signal.SIGTERM:
-        _fail("terminated", 128 + signal.SIGTERM)
+    signum = pending()
+    if signum in TERMINATING:
+        _fail_terminated(signum)
     _fail("interrupted", 130)
+
+
+def _fail_terminated(signum: int):
+    """``error: terminated`` (SIGTERM) or ``error: hung up`` (SIGHUP), exit status 128 + the signal."""
+    _fail("hung up" if signum == getattr(signal, "SIGHUP", None) else "terminated", 128 + signum)
 
 
 #: Command name -> the module of this package that defines it. A command's module (and what it
@@ -74,6 +71,7 @@ class _Group(click.Group):
         try:
             rv = super().main(args, prog_name, standalone_mode=False, **extra)
             raise_pending()
+            raise_held()
         except click.exceptions.Exit as exc:
             sys.exit(exc.exit_code)
         except click.exceptions.Abort as exc:
@@ -82,8 +80,8 @@ class _Group(click.Group):
             _fail("aborted", 1)
         except KeyboardInterrupt:
             _fail("interrupted", 130)
-        except Terminated:
-            _fail("terminated", 128 + signal.SIGTERM)
+        except Terminated as exc:
+            _fail_terminated(exc.signum)
         except click.UsageError as exc:
             where = f"{exc.ctx.command_path} --help" if exc.ctx else "mechcont --help"
             _fail(f"{exc.format_message()} (see '{where}')", 2)
@@ -169,16 +167,14 @@ def _pause_gc() -> None:
 
 
 def main(argv=None):
-    """Entry point of the ``mechcont`` console script (SIGTERM unwinds as :class:`Terminated`)."""
+    """Entry point of the ``mechcont`` console script (SIGTERM and SIGHUP unwind as :class:`Terminated`)."""
     _pause_gc()
     clear()
-    previous = signal.signal(signal.SIGTERM, _terminate)
-    previous_int = signal.signal(signal.SIGINT, _interrupt)
+    restore = install()
     previous_hook = sys.unraisablehook
     sys.unraisablehook = _signal_aware_unraisable_hook(previous_hook)
     try:
         cli.main(args=argv, prog_name="mechcont")
     finally:
-        signal.signal(signal.SIGTERM, previous)
-        signal.signal(signal.SIGINT, previous_int)
+        restore()
         sys.unraisablehook = previous_hook

@@ -8,7 +8,11 @@ from contextlib import contextmanager
 
 from ..errors import InputError, finite_number
 
-__all__ = ["assignments", "bounds", "names", "number", "renamed", "named_as", "integrator_options", "integrator"]
+__all__ = ["assignments", "bounds", "names", "number", "renamed", "named_as", "integrator_options", "integrator",
+           "check_count", "MAX_SCAN"]
+
+#: Most values of a scan (``freefall --scan``: each repeats a bisection of runs) unless raised by its option.
+MAX_SCAN = 50
 
 #: The integrator defaults of simulate, sweep and freefall: 1e-6 relative or better on the time to lock and
 #: the impact speed of the shipped gears (docs/reference.md, "Integrator and tolerances").
@@ -47,6 +51,14 @@ def bounds(items: Iterable[str]) -> dict[str, tuple[float, float]]:
             raise InputError(f"--bounds {name}", f"empty or inverted interval {lo}:{hi}; need LO < HI")
         out[name] = (low, high)
     return out
+
+
+def check_count(count: int, option: str, limit: int, raise_option: str, what: str = "values") -> None:
+    """InputError naming ``option`` when it gives more than ``limit`` ``what`` (each a run, or a series of runs:
+    decided before any starts); ``raise_option`` raises the limit."""
+    if count > limit:
+        raise InputError(option, f"gives {count} {what}; at most {limit} unless raised with {raise_option} "
+                                 "(each is a run of its own)")
 
 
 def names(text: str | None, option: str) -> tuple[str, ...]:

@@ -84,11 +84,20 @@ def solve_start(system, sets, starts, vary, frees, holds):
                        hold=holds, start_field="--start", free_field="--free")
 
 
-def run_continuation(fn, *args, quiet: bool = False, label: str = "continuation", **kwargs):
-    """``fn(*args, progress=..., **kwargs)`` with a progress line (accepted steps) on a terminal."""
-    from .._progress import Progress
+def run_continuation(fn, *args, quiet: bool = False, label: str = "continuation", stop_on_signal: bool = False,
+                     **kwargs):
+    """``fn(*args, progress=..., **kwargs)`` with a progress line (accepted steps) on a terminal.
 
-    with Progress(label, unit="steps", quiet=quiet) as bar:
+    With ``stop_on_signal``, SIGTERM or SIGHUP ends the continuation where it is (the branch so far, its
+    message saying so) instead of the command; the caller writes it and then calls
+    :func:`mechcont._signals.raise_held` (exit status 128 + the signal)."""
+    import contextlib
+
+    from .._progress import Progress
+    from .._signals import stop_gracefully
+
+    with Progress(label, unit="steps", quiet=quiet) as bar, \
+            (stop_gracefully() if stop_on_signal else contextlib.nullcontext()):
         return fn(*args, progress=bar if bar.enabled else None, **kwargs)
 
 

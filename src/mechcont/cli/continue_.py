@@ -38,6 +38,7 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     Example: mechcont continue overcentre --set LU=0.4 --start theta1=0.3 --vary F
     --bounds theta1=-1.2:1.2 --out branch.csv --plot branch.png
     """
+    from .._signals import raise_held
     from ..continuation import continuation
     from ..errors import InputError
     from ._parse import assignments
@@ -71,17 +72,18 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
         x0 = solve_start(system, sets, starts, vary, frees, holds)
     if with_stops:
         branch = run_continuation(continuation_with_stops, system, x0, vary, direction=0, hold=holds, free=frees,
-                                  options=options, quiet=quiet).branch
+                                  options=options, quiet=quiet, stop_on_signal=True).branch
     else:
         if stops and not quiet:
             click.echo(f"note: {system.name} has stops ({', '.join(s.name for s in stops)}); here they are free, "
                        "their reactions held at their values: --stops lets them make and lose contact")
         branch = run_continuation(continuation, system, x0, vary, hold=holds, free=frees, options=options,
-                                  quiet=quiet)
+                                  quiet=quiet, stop_on_signal=True)
     # shown and plotted: the --start state, else (with --stops) the first stop's condition, else the first unknown
     stopped = [s.condition for s in stops if s.condition in branch.names] if with_stops else []
     first_state = next(iter(assignments(starts, "start")), None) or next(iter(stopped), None) or branch.unknowns[0]
     write_branch(branch, out, plot, xname or vary, yname or first_state, quiet)
+    raise_held()  # a SIGTERM that ended the continuation: its branch is written, now the exit status says so
     if with_stops and not quiet:
         from ..outputs.tables import jump_lines
 

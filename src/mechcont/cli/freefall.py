@@ -9,7 +9,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, check_integration, integrator, integrator_options, number
+from ._parse import MAX_SCAN, assignments, check_count, check_integration, integrator, integrator_options, number
 
 
 def _range(text: str | None, option: str) -> tuple[str, float, float] | None:
@@ -84,6 +84,8 @@ def _option_error(exc: InputError) -> InputError:
 @click.option("--tol", type=float, default=None, help="Bisection tolerance (units of V; default (HI-LO)/1000).")
 @click.option("--scan", default=None, metavar="NAME=V1,V2,...",
               help="With --critical: the critical value at each value of parameter NAME (e.g. a damper's c).")
+@click.option("--max-scan", type=click.IntRange(1, 100_000), default=MAX_SCAN, show_default=True,
+              help="Most --scan values (each repeats the --critical bisection).")
 @click.option("--damping", default=0.0, show_default=True, help="Mass-proportional damping (1/s).")
 @integrator_options
 @click.option("--rest-speed", default=1e-4, show_default=True,
@@ -93,8 +95,8 @@ def _option_error(exc: InputError) -> InputError:
 @click.option("--plot", default=None, metavar="FILE.png",
               help="The lock quantity against time (one run), or the critical value against the --scan parameter "
                    "with the quasi-static line.")
-def freefall_command(model, starts, held_by, settings, lock, lock_condition, until, critical, tol, scan, damping, method,
-                     rtol, atol, rest_speed, out, plot):
+def freefall_command(model, starts, held_by, settings, lock, lock_condition, until, critical, tol, scan, max_scan, damping,
+                     method, rtol, atol, rest_speed, out, plot):
     """Release MODEL at rest from the retracted pose and simulate it with its stops until it locks.
 
     Example: mechcont freefall examples/freefall_leg.toml --from angle=3.0 --lock downlock
@@ -121,6 +123,7 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
     if not start:
         raise InputError("--from", "give the retracted pose, e.g. --from angle=1.2 (a coordinate or condition)")
     rng, scanned = _range(critical, "--critical"), _scan(scan)
+    check_count(len(scanned[1]) if scanned else 0, "--scan", max_scan, "--max-scan")
     if scanned is not None and rng is None:
         raise InputError("--scan", "needs --critical V=LO:HI (the scan repeats the bisection)")
     if plot_path is not None and rng is not None and scanned is None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import sys
 from pathlib import Path
 
@@ -84,10 +85,12 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
               help="Where chunks run: a local cluster of worker processes, this process, or a Dask scheduler.")
 @click.option("--workers", type=int, default=None, help="Worker processes of the local cluster (default: cores).")
 @click.option("--plot", default=None, metavar="FILE", help="Figure: contour map (2-D grid) or histogram and sensitivities.")
+@click.option("--max-hours", type=float, default=1.0, show_default=True, metavar="HOURS",
+              help="Refuse a study whose computing time, estimated from a few samples timed first, is longer.")
 @click.option("--verbose", is_flag=True, help="One line per chunk written.")
 @click.option("--quiet", is_flag=True, help="Print nothing but errors.")
 def study_command(model, dists, grids, sample, method, n, seed, spec_file, analyses, lock, until, sets, holds, condition,
-                  force, out_dir, old_out, resume, chunk, scheduler, workers, plot, verbose, quiet):
+                  force, out_dir, old_out, resume, chunk, scheduler, workers, plot, max_hours, verbose, quiet):
     """Sample MODEL's parameters and solve the downlock (and unlock folds) at every sample.
 
     Results go to --dir as Parquet, one part per chunk as soon as it is done, then
@@ -110,13 +113,15 @@ def study_command(model, dists, grids, sample, method, n, seed, spec_file, analy
     if out is None:
         raise InputError("--dir", "give the study's folder (--dir DIR)")
     check_output_folder(out, option)
-    with named_as({"folder": option}):
+    if not (math.isfinite(max_hours) and 0 < max_hours <= 1e6):
+        raise InputError("--max-hours", f"must be a number of hours, 0 < HOURS <= 1e6, got {max_hours:g}")
+    with named_as({"folder": option, "max_seconds": "--max-hours"}):
         _study(model, dists, grids, sample, method, n, seed, spec_file, analyses, lock, until, sets, holds, condition,
-               force, out, resume, chunk, scheduler, workers, plot, plot_path, verbose, quiet)
+               force, out, resume, chunk, scheduler, workers, plot, plot_path, verbose, quiet, max_hours * 3600.0)
 
 
 def _study(model, dists, grids, sample, method, n, seed, spec_file, analyses, lock, until, sets, holds, condition,
-           force, out, resume, chunk, scheduler, workers, plot, plot_path, verbose, quiet) -> None:
+           force, out, resume, chunk, scheduler, workers, plot, plot_path, verbose, quiet, max_seconds) -> None:
     """The study, its inputs checked for the folder and the figure."""
     import time
 
@@ -151,11 +156,17 @@ def _study(model, dists, grids, sample, method, n, seed, spec_file, analyses, lo
             click.echo(f"chunk {k} written ({seconds:.3g} s)")
             sys.stdout.flush()
 
+    def estimate_line(est):
+        if not quiet and est.seconds >= 60:  # a study of a minute or more says what it is in for
+            click.echo(f"study: {est.describe()}")
+            sys.stdout.flush()
+
     t0 = time.perf_counter()
     with Progress("study", total=spec.size, unit="samples", quiet=quiet) as bar:
         result = st.run_study(spec, out, resume=resume, scheduler=where, workers=workers,
                               progress=bar.update if bar.enabled else None, on_chunk=chunk_line,
-                              on_warning=lambda line: click.echo(f"warning: {line}", err=True))
+                              on_warning=lambda line: click.echo(f"warning: {line}", err=True),
+                              max_seconds=max_seconds, on_estimate=estimate_line)
     seconds = time.perf_counter() - t0
     df = result.frame()
     if not quiet:
@@ -194,6 +205,8 @@ def _form(model, dists, grids, sample, n, seed, spec_file, analyses, sets, holds
     if not quiet:
         click.echo(result.summary())
         click.echo(f"wrote {path}")
+    for line in result.findings:
+        click.echo(f"warning: {line}", err=True)
 
 
 def _hint() -> str:

@@ -10,6 +10,7 @@ the driver that collects them. Why a direction ended is a :class:`Termination`.
 from __future__ import annotations
 
 import math
+import signal
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from enum import Enum
@@ -17,6 +18,7 @@ from enum import Enum
 import numpy as np
 
 from .. import _dense
+from .._signals import stopping
 from .._status import Status
 from . import _kernel
 from ._events import Event, PointState, branch_point_test
@@ -54,6 +56,7 @@ class Termination(Enum):
     MAX_STEPS = "took max_steps steps"
     STEP_UNDERFLOW = "step size fell below dsmin"
     BRANCHES_TOO_CLOSE = "branches too close to separate"
+    SIGNAL = "stopped by a signal"
 
     @property
     def status(self) -> Status:
@@ -379,6 +382,11 @@ class BranchSteps(Iterator[RecordedPoint]):
         self.end_label, self.end_info = label, info or {}
 
     def _step(self) -> None:
+        signum = stopping()
+        if signum is not None:  # SIGTERM in `mechcont continue`: end here, so the branch so far is written
+            name = signal.Signals(signum).name
+            self._end(Termination.SIGNAL, f"stopped by {name} after {self.steps} steps", "EP", {"reason": name})
+            return
         if self.steps >= self.options.max_steps:
             self._end(Termination.MAX_STEPS,
                       f"stopped after max_steps={self.options.max_steps}{_runaway(self.problem, self.first, self.current)}",

@@ -55,7 +55,8 @@ is unpickled:
 
 Anything else that goes wrong (a missing, unreadable, corrupt or foreign entry, a read-only
 or full disk) only means no caching, never an error. An entry is written to a temporary file
-in its folder and renamed into place (atomic), so concurrent processes never see half an
+in its folder (``.tmp-PID-XXXXXXXXXXXXXXXX.pkl``: one left by a killed writer is removed by the
+next store into that folder) and renamed into place (atomic), so concurrent processes never see half an
 entry; two that compile the same model write the same content and the last rename wins.
 The cache is never pruned; deleting the folder is always safe (the key is made again).
 """
@@ -424,7 +425,8 @@ def store(key: str, obj) -> bool:
             return False
         import secrets
 
-        name = f".tmp-{secrets.token_hex(8)}.pkl"
+        _remove_stale(shard_fd)
+        name = f".tmp-{os.getpid()}-{secrets.token_hex(8)}.pkl"
         tmp: str | None = name  # None once renamed into place
         try:
             fd = os.open(name, _NEW_FLAGS, 0o600, dir_fd=shard_fd)
@@ -440,6 +442,24 @@ def store(key: str, obj) -> bool:
             if tmp is not None:
                 with contextlib.suppress(OSError):
                     os.unlink(tmp, dir_fd=shard_fd)
+
+
+_STALE = re.compile(r"\.tmp-([0-9]{1,10})-[0-9a-f]{16}\.pkl")
+
+
+def _remove_stale(shard_fd: int) -> None:
+    """Remove the temporary entries in the shard whose writer is gone (killed while writing: SIGKILL)."""
+    from .._signals import process_state
+
+    try:
+        names = os.listdir(shard_fd)
+    except OSError:
+        return
+    for name in names:
+        m = _STALE.fullmatch(name)
+        if m and int(m[1]) != os.getpid() and process_state(int(m[1])) == "gone":
+            with contextlib.suppress(OSError):
+                os.unlink(name, dir_fd=shard_fd)
 
 
 def cached(parts: Iterable[str | bytes] | Callable[[], Iterable[str | bytes]], build: Callable[[], T],
@@ -484,29 +504,23 @@ def _build_lock(key: str) -> Iterator[None]:
     """Held while this process builds the entry ``key``: another process that needs the same entry
     waits and then loads it, instead of building it too (two test workers, or two runs of a study,
     on a 2-core machine each took twice as long). An exclusive ``flock`` on ``KEY.lock`` beside the
-    entry (the file is left there, empty); the operating system releases it if the process dies.
-    Without a trusted cache folder or ``fcntl``, no lock: each process builds."""
+    entry, holding its holder's process id (:func:`._lock.build_lock`: a stopped or dead holder and a
+    wait beyond its timeout are told in one line and end the wait; a lock file that is not a regular
+    file is an InputError). Without a trusted cache folder or ``fcntl``, no lock: each process builds."""
     try:
-        import fcntl
+        import fcntl  # noqa: F401
     except ImportError:  # pragma: no cover - not on POSIX
         yield
         return
-    fd = None
+    from ._lock import build_lock
+
     with _shard(key, create=True) as found:
-        if found is not None:
-            try:
-                fd = os.open(f"{key}.lock", (os.O_WRONLY | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0)
-                                             | getattr(os, "O_CLOEXEC", 0)), 0o600, dir_fd=found[0])
-            except OSError:
-                fd = None
-    if fd is not None:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX)
-        except OSError:
-            os.close(fd)
-            fd = None
-    try:
+        shard_fd = None if found is None else os.dup(found[0])  # the shard's own descriptor closes here
+    if shard_fd is None:
         yield
+        return
+    try:
+        with build_lock(f"{key}.lock", shard_fd):
+            yield
     finally:
-        if fd is not None:
-            os.close(fd)  # releases the lock
+        os.close(shard_fd)

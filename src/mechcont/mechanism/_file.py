@@ -98,14 +98,59 @@ def load_description(name_or_path: str | Path) -> Mechanism:
         valid = ", ".join(builtin_descriptions())
         raise InputError(str(name_or_path), f"no such description file (.toml) or shipped description ({valid})")
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
+        text = read_description_bytes(path).decode("utf-8")
+    except UnicodeDecodeError as exc:
         raise InputError(str(path), f"cannot read the file ({exc.__class__.__name__})") from None
     return parse_description(text, path.name)
 
 
+def read_description_bytes(path: Path) -> bytes:
+    """The bytes of the description file ``path``: a regular file (a FIFO or a device would block or never
+    end) of at most ``4 * MAX_TEXT`` bytes, else :class:`InputError`."""
+    if not path.is_file():
+        raise InputError(str(path), "is not a regular file")
+    try:
+        with open(path, "rb") as f:
+            raw = f.read(4 * MAX_TEXT + 1)  # UTF-8: at most 4 bytes a character
+    except OSError as exc:
+        raise InputError(str(path), f"cannot read the file ({exc.__class__.__name__})") from None
+    if len(raw) > 4 * MAX_TEXT:
+        raise InputError(str(path), f"is larger than {4 * MAX_TEXT} bytes; a description takes at most {MAX_TEXT} "
+                                    "characters")
+    return raw
+
+
+#: Longest description text read, characters (the largest shipped one has 6,000).
+MAX_TEXT = 2**20
+#: Most entries of one table (``[parameters]``, ``[bodies]``, a body's points, ...), and of ``[parameters]``.
+MAX_ENTRIES, MAX_PARAMETERS = 500, 2000
+#: Longest array (a vector, a condition's points, a slot).
+MAX_ARRAY = 100
+
+
+def _check_sizes(v, field: str) -> None:
+    """InputError naming the first table or array of the parsed ``v`` beyond its limit (decided before any
+    work: a description of 100,000 parameters or points would take minutes to build)."""
+    if isinstance(v, Mapping):
+        limit = MAX_PARAMETERS if field == "parameters" else MAX_ENTRIES
+        if len(v) > limit:
+            raise InputError(field or "description", f"has {len(v)} entries; a description takes at most {limit} "
+                                                     "in one table")
+        for k, x in v.items():
+            _check_sizes(x, f"{field}.{k}" if field else str(k))
+    elif isinstance(v, list):
+        if len(v) > MAX_ARRAY:
+            raise InputError(field, f"is an array of {len(v)} values; at most {MAX_ARRAY} are allowed")
+        for x in v:
+            _check_sizes(x, field)
+
+
 def parse_description(text: str, filename: str = "<string>") -> Mechanism:
-    """Parse description ``text`` (TOML); ``filename`` is used in error messages."""
+    """Parse description ``text`` (TOML); ``filename`` is used in error messages. Sizes are checked first:
+    at most :data:`MAX_TEXT` characters, :data:`MAX_ENTRIES` entries in a table (:data:`MAX_PARAMETERS`
+    parameters) and :data:`MAX_ARRAY` values in an array."""
+    if len(text) > MAX_TEXT:
+        raise InputError(filename, f"is {len(text)} characters long; a description takes at most {MAX_TEXT}")
     try:
         data = _printable(tomllib.loads(text))
     except (RecursionError, MemoryError):
@@ -121,6 +166,7 @@ def parse_description(text: str, filename: str = "<string>") -> Mechanism:
         raise InputError(filename, f"a number the TOML reader refuses ({exc.args[0].split(';')[0]}); "
                                    "give numbers within the floating-point range") from None
     try:
+        _check_sizes(data, "")
         mech = _mechanism(data, filename)
     except InputError as exc:
         raise locate_error((filename, text), exc) from None

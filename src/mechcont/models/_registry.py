@@ -136,10 +136,9 @@ def _summary(key: str, description: str, rows) -> ModelSummary:
 
 def _read(path: Path) -> bytes:
     """The bytes of a description file (its key in the disk cache), or :class:`InputError`."""
-    try:
-        return path.read_bytes()
-    except OSError as exc:
-        raise InputError(str(path), f"cannot read the file ({exc.__class__.__name__})") from None
+    from ..mechanism._file import read_description_bytes
+
+    return read_description_bytes(path)
 
 
 def model_names() -> list[str]:

@@ -29,7 +29,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from ...errors import InputError
+from ._estimate import MAX_SECONDS, PILOT_SAMPLES, Estimate, check_cost, estimate_study
 from ._kernels import check_spec, result_columns, run_chunk
 from ._spec import StudySpec
 from ._store import StudyStore
@@ -143,7 +146,8 @@ def _units(system, spec: StudySpec) -> dict[str, str]:
 def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, scheduler: str | None = None,
               workers: int | None = None, progress: Callable[[int], None] | None = None,
               on_chunk: Callable[[int, float], None] | None = None,
-              on_warning: Callable[[str], None] | None = None) -> StudyResult:
+              on_warning: Callable[[str], None] | None = None, max_seconds: float | None = None,
+              on_estimate: Callable[[Estimate], None] | None = None) -> StudyResult:
     """Run ``spec`` into ``folder``, computing only the chunks not already there.
 
     Parameters
@@ -166,6 +170,12 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
     on_warning:
         Called with one line per part found on disk that is not this study's (another
         study's settings or samples, truncated, not Parquet): that chunk is computed again.
+    max_seconds:
+        Limit on the estimated computing time (s; default :data:`~._estimate.MAX_SECONDS`, one
+        hour): a study of more than :data:`~._estimate.PILOT_SAMPLES` samples to do is timed on a
+        few of them first (:func:`~._estimate.estimate_study`) and refused when above it.
+    on_estimate:
+        Called with the :class:`~._estimate.Estimate` before anything is written (not for a small study).
 
     Returns
     -------
@@ -174,8 +184,8 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
     Raises
     ------
     InputError
-        Unknown names, a folder holding another study, a spec that does not fit the model:
-        all before anything is computed or written.
+        Unknown names, a folder holding another study, a spec that does not fit the model, an
+        estimate above ``max_seconds``: all before anything is written.
     """
     t0 = time.perf_counter()
     try:
@@ -192,6 +202,14 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
         if on_warning is not None:
             on_warning(f"part {k} of the study ({store.parts.name}/chunk-{k:06d}.parquet) {why}; computing it again")
     todo = [k for k in range(spec.n_chunks) if k not in store.done()]
+    limit = MAX_SECONDS if max_seconds is None else max_seconds
+    rows = np.concatenate([np.arange(*spec.chunk_rows(k)) for k in todo]) if todo else np.zeros(0, dtype=int)
+    # a freefall sample is a time integration, bounded by its own estimate (its until and stiffness)
+    est = estimate_study(system, spec, _samples(spec), rows, limit) \
+        if len(rows) > PILOT_SAMPLES and "freefall" not in spec.analyses else None
+    check_cost(est, limit, "max_seconds")
+    if est is not None and on_estimate is not None:
+        on_estimate(est)
     computed: list[int] = []
 
     def finished(k: int, cols: dict, seconds: float) -> None:
@@ -246,15 +264,45 @@ def _probe_scheduler(address: str) -> None:
                                         f"ucx:// a UCX installation), got {address!r}")
     try:
         with socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT) as sock:
-            sock.settimeout(SCHEDULER_TIMEOUT)
-            if not sock.recv(1):
-                raise InputError("--scheduler", f"the server at {address!r} closed the connection: not a Dask scheduler")
+            _read_handshake(sock, address)
     except TimeoutError:
         raise InputError("--scheduler", f"the server at {address!r} did not answer within {SCHEDULER_TIMEOUT:g} s: "
                                         "not a Dask scheduler, or one that hangs") from None
     except OSError as exc:
         raise InputError("--scheduler", f"cannot reach the Dask scheduler at {address!r}: "
                                         f"{exc.strerror or exc}") from None
+
+
+#: Largest handshake accepted from a scheduler, bytes (a real one sends about 60).
+MAX_HANDSHAKE = 65536
+
+
+def _read_handshake(sock, address: str) -> None:
+    """Read the scheduler's first message whole, within :data:`SCHEDULER_TIMEOUT` in all: an 8-byte length,
+    at most :data:`MAX_HANDSHAKE`, then that many bytes. Dask reads a length it is sent without bound (a
+    fake server announcing 2^62 bytes made it allocate them, or wait for them forever)."""
+    import struct
+
+    deadline = time.monotonic() + SCHEDULER_TIMEOUT
+
+    def read(n: int) -> bytes:
+        data = b""
+        while len(data) < n:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise TimeoutError
+            sock.settimeout(left)
+            chunk = sock.recv(n - len(data))
+            if not chunk:
+                raise InputError("--scheduler", f"the server at {address!r} closed the connection: not a Dask scheduler")
+            data += chunk
+        return data
+
+    (size,) = struct.unpack("<Q", read(8))
+    if size > MAX_HANDSHAKE:
+        raise InputError("--scheduler", f"the server at {address!r} announced a first message of {size} bytes (a "
+                                        f"scheduler's is under {MAX_HANDSHAKE}): not a Dask scheduler")
+    read(size)
 
 
 @contextlib.contextmanager
@@ -276,6 +324,9 @@ def _dask_client(scheduler: str, workers: int | None):
         _probe_scheduler(scheduler)
         try:
             client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+        except MemoryError:  # a server that answered the probe like a scheduler, then announced a huge frame
+            raise InputError("--scheduler", f"the server at {scheduler!r} announced a message too large to read: not "
+                                            "a Dask scheduler") from None
         except (OSError, TimeoutError, ValueError, TypeError) as exc:
             raise InputError("--scheduler", f"cannot reach the Dask scheduler at {scheduler!r}: {exc}") from None
     try:

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -410,17 +411,35 @@ class StudySpec:
                    until=finite_number(data.get("until", 0.0), f"{where}.until"))
 
     def with_model_hash(self) -> StudySpec:
-        """This spec with :attr:`model_hash` of its description file filled in (unchanged for a built-in)."""
+        """This spec with :attr:`model_hash` of its description file filled in (unchanged for a built-in).
+
+        A ``model_hash`` the spec already gives is checked, not kept: InputError when it is not the
+        SHA-256 of the description file's text now (the file changed since the spec was written),
+        or when the model is built in (it has none)."""
         from dataclasses import replace
 
         from ...models import BUILTIN_MODELS
 
+        given = self.model_hash
+        if given and not re.fullmatch(r"[0-9a-f]{64}", given):
+            raise InputError("model_hash", f"{given[:80]!r} is not a SHA-256 (64 hex digits); remove the key to take the "
+                                           "model as it is")
         if self.model in BUILTIN_MODELS:
+            if given:
+                raise InputError("model_hash", f"{self.model} is a built-in model, which has no description file to "
+                                               "hash; remove the key")
             return self
         from ...mechanism import find_description
 
         path = find_description(self.model)
-        return self if path is None else replace(self, model_hash=_file_hash(Path(path)))
+        if path is None:
+            return self
+        actual = _file_hash(Path(path))
+        if given and given != actual:
+            raise InputError("model_hash", f"{given[:12]}... is not the hash of {path} ({actual[:12]}...): the "
+                                           "description changed since the spec was written; remove the key to run on "
+                                           "the file as it is")
+        return replace(self, model_hash=actual)
 
 
 def _text(v, where: str) -> str | None:
