@@ -65,6 +65,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("mechcont",),
     ("paper",),
     ("cli",),
+    ("__main__",),
 )
 
 
