@@ -48,6 +48,7 @@ import numpy as np
 import sympy as sp
 from scipy.linalg.lapack import dpotrf, dpotrs
 
+from ..equations import as_model
 from ..errors import InputError
 from ._mass import MassBlocks, inverse_sqrt
 from ._redundant import KeptRows
@@ -210,12 +211,13 @@ class ConstrainedDynamics:
         # the redundant rows the mechanics still holds (a spatial model keeps every rigid row; a planar one
         # has left its dropped rows out already): that many are left out of each solve
         names = set(mech.constraint_names or ())
-        n_drop = sum(r in names for r in getattr(system, "dropped_constraints", ()) or ())
+        dropped = as_model(system).dropped_constraints
+        n_drop = sum(r in names for r in dropped)
         #: The joint rows solved with when the model has redundant rows (:class:`~._redundant.KeptRows`), or None.
         self.kept: KeptRows | None = KeptRows(n_drop) if n_drop else None
         #: True when the model dropped redundant rows: its joint reactions are statically indeterminate (a
         #: planar model's dropped rows carry none; a spatial history reports the minimum-norm split).
-        self.indeterminate = bool(getattr(system, "dropped_constraints", ()))
+        self.indeterminate = bool(dropped)
 
     # -- helpers -------------------------------------------------------------------------
     def full(self, t: float, q: np.ndarray) -> np.ndarray:
