@@ -139,6 +139,9 @@ def check_integration(result, method: str, written: Iterable[str] = ()) -> None:
         return
     files = list(written)
     kept = f"; the history up to there is in {', '.join(files)}" if files else ""
+    if result.integrator_failure == "step budget":  # stiff: the detail names the element (dynamics._budget)
+        raise ConvergenceError("--step-budget: " + result.detail.replace("(max_steps)", "(--step-budget)")
+                               .replace("use method Radau", "use --method Radau").rstrip(".") + kept)
     raise ConvergenceError(f"--rtol/--atol: the integrator ({method}) could not go on at t = {result.t[-1]:.6g} s "
                            f"({result.integrator_failure.rstrip('.')}): loosen --rtol/--atol, or choose an implicit "
                            f"--method (Radau, BDF) for a stiff mechanism; check the loads where it stopped{kept}")

@@ -61,7 +61,8 @@ def _lock(system, lock: tuple[str, ...], lock_condition: str | None):
 def _option_error(exc: InputError) -> InputError:
     """An error from the library, named by the option that gave the value."""
     option = {"x0": "--from", "rtol": "--rtol", "damping": "--damping", "lock": "--lock", "critical": "--critical",
-              "tol": "--tol", "until": "--until", "held_by": "--held-by"}.get(exc.field)
+              "tol": "--tol", "until": "--until", "held_by": "--held-by",
+              "rest_speed": "--rest-speed", "max_steps": "--step-budget"}.get(exc.field)
     return exc if option is None else InputError(option, str(exc).split(": ", 1)[-1])
 
 
@@ -88,6 +89,9 @@ def _option_error(exc: InputError) -> InputError:
               help="Most --scan values (each repeats the --critical bisection).")
 @click.option("--damping", default=0.0, show_default=True, help="Mass-proportional damping (1/s).")
 @integrator_options
+@click.option("--step-budget", default=1_000_000, show_default=True, type=int, metavar="STEPS",
+              help="Most integrator steps a run may take, projected from its recent step size before it gets there "
+                   "(a stiff mechanism on an explicit --method ends early with a message naming the stiff element).")
 @click.option("--rest-speed", default=1e-4, show_default=True,
               help="Coordinate speed (rad/s, m/s) below which a run that has not locked is at rest.")
 @click.option("--out", default=None, metavar="FILE.csv",
@@ -96,7 +100,7 @@ def _option_error(exc: InputError) -> InputError:
               help="The lock quantity against time (one run), or the critical value against the --scan parameter "
                    "with the quasi-static line.")
 def freefall_command(model, starts, held_by, settings, lock, lock_condition, until, critical, tol, scan, max_scan, damping,
-                     method, rtol, atol, rest_speed, out, plot):
+                     method, rtol, atol, step_budget, rest_speed, out, plot):
     """Release MODEL at rest from the retracted pose and simulate it with its stops until it locks.
 
     Example: mechcont freefall examples/freefall_leg.toml --from angle=3.0 --lock downlock
@@ -146,12 +150,16 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
             check_values_at(system, {scanned[0]: v}, "--scan")
     lock_spec = _lock(system, lock, lock_condition)
     # a run ends when it has locked (every lock stop in contact, at rest), as a lock condition ends it
-    options = {"damping": damping, **solver, "rest_speed": rest_speed, "held_by": held_by, "end_at_lock": True}
-    try:
-        if rng is None:
-            _one(system, start, lock_spec, until, options, out_path, plot_path)
-        else:
-            _critical(system, start, lock_spec, until, options, rng, tol, scanned, out_path, plot_path)
+    options = {"damping": damping, **solver, "rest_speed": rest_speed, "held_by": held_by, "end_at_lock": True,
+               "max_steps": step_budget}
+    import numpy as np
+
+    try:  # overflow on the way to a stiff run's stop is told by that stop's one line, not numpy's warnings
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            if rng is None:
+                _one(system, start, lock_spec, until, options, out_path, plot_path)
+            else:
+                _critical(system, start, lock_spec, until, options, rng, tol, scanned, out_path, plot_path)
     except InputError as exc:
         raise _option_error(exc) from None
 
@@ -207,7 +215,10 @@ def _critical(system, start, lock, until, options, rng, tol, scanned, out_path, 
         where = f"{name} = {v:g}: " if name is not None else ""
         for line in crit.describe(unit):
             click.echo(where + line)
-        if crit.undecided:
+        if crit.unsettled:
+            click.echo(f"warning: {where}the bracket could not be narrowed further: a run stayed undecided "
+                       f"({crit.stopped})")
+        elif crit.undecided:
             click.echo(f"warning: {where}the failing end {vary} = {crit.failed:.6g} was still moving at {until:g} s: "
                        "a longer --until may lock it")
         rows.append((v, crit))
@@ -225,6 +236,12 @@ def _critical(system, start, lock, until, options, rng, tol, scanned, out_path, 
             where = f"{name} = {v:g}: " if name is not None else ""
             diff, significant = crit.compare(qs.value)
             verdict = "significant" if significant else "not significant (within the bracket's width)"
+            if crit.contradicts(qs.value):
+                verdict = "contradicts the statics"
+                click.echo(f"warning: {where}a run that did not lock, {vary} = {crit.failed:.9g} {unit}, lies on the "
+                           f"side of the quasi-static {qs.value:.9g} {unit} where the gear has no equilibrium to hang "
+                           "in: it had not finished (give a longer --until); the bracket does not hold the critical "
+                           "value")
             click.echo(f"{where}dynamic - quasi-static = {diff:+.4g} {unit} ({diff / qs.value:+.3%}; from the run "
                        f"that locked, bracket width {crit.width:.3g} {unit}): {verdict}".replace(" ;", ";"))
     if out_path is not None:

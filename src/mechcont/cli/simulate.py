@@ -30,7 +30,7 @@ def echo_balance(result) -> None:
     exceeds what the integrator's tolerance explains (:attr:`~mechcont.dynamics.EnergyBalance.bound`)."""
     b = result.balance
     click.echo(f"# {b.describe()}")
-    if not b.closes:
+    if not b.closes and not result.integrator_failure:  # a failed run's own line says why it stopped
         click.echo(f"warning: the energy balance does not close: residual {b.worst:.3g} J exceeds the {b.bound:.3g} J "
                    "the integrator's tolerances explain; tighten --rtol, or the model's forces and masses disagree",
                    err=True)
@@ -54,12 +54,15 @@ def _holdable(system) -> list[str]:
                                             "first coordinate).")
 @click.option("--damping", default=0.0, show_default=True, help="Mass-proportional damping (1/s).")
 @integrator_options
+@click.option("--step-budget", default=1_000_000, show_default=True, type=int, metavar="STEPS",
+              help="Most integrator steps a run may take, projected from its recent step size before it gets there "
+                   "(a stiff mechanism on an explicit --method ends early with a message naming the stiff element).")
 @click.option("--out", default=None, metavar="FILE.csv", help="Write the time history as CSV (a row at each event).")
 @click.option("--plot", default=None, metavar="FILE.png", help="Plot WATCH against time, stop events marked.")
 @click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
 @click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
-def simulate_command(model, settings, starts, until, use_stops, watch, damping, method, rtol, atol, out, plot, no_progress,
-                     old_quiet):
+def simulate_command(model, settings, starts, until, use_stops, watch, damping, method, rtol, atol, step_budget, out, plot,
+                     no_progress, old_quiet):
     """Simulate MODEL in time from rest in the pose assembled with the --start values held.
 
     Example: mechcont simulate tests/data/bar_drop.toml --start theta_bar=0 --until 3 --stops
@@ -88,15 +91,19 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     stops = system.stops
     if use_stops and not stops:
         raise InputError("--stops", f"{system.name} declares no stops ([stops.NAME] in the description)")
+    import numpy as np
+
     from .._progress import Progress
     from ..dynamics import simulate
 
     try:
-        with Progress("simulate", total=until, unit="s simulated", quiet=no_progress or old_quiet) as bar:
+        # overflow on the way to a stiff run's stop is reported by that stop's one line, not numpy's warnings
+        with Progress("simulate", total=until, unit="s simulated", quiet=no_progress or old_quiet) as bar, \
+                np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             result = simulate(system, x0, (0.0, until), damping=damping, stops=use_stops, **solver,
-                              progress=bar.set if bar.enabled else None)
+                              progress=bar.set if bar.enabled else None, max_steps=step_budget)
     except InputError as exc:  # named by the option that gave the value
-        option = {"x0": "--start", "rtol": "--rtol", "damping": "--damping"}.get(exc.field)
+        option = {"x0": "--start", "rtol": "--rtol", "damping": "--damping", "max_steps": "--step-budget"}.get(exc.field)
         if option is None and exc.field.startswith("R_"):
             option = "--set"
         if option is None:

@@ -37,6 +37,12 @@ class CriticalAirspeed:
         The value nearest the change at which a run did not lock.
     runs:
         ``(value, outcome)`` of every run, in the order simulated (both ends among them).
+    unsettled:
+        Values whose runs stayed undecided (still creeping, or bouncing on a lock that would hold) even when
+        run longer: the bisection stopped there, the bracket holds the critical value but is wider than asked.
+    stopped:
+        Why the bisection stopped short of its tolerance ("" when it reached it): an undecided run, or the
+        floating-point resolution (no representable value between the two ends).
 
     The critical value lies between ``locked`` and ``failed``; neither end is a midpoint: both were run.
     A run near the critical value creeps through its slowest point for a time that grows without bound,
@@ -48,6 +54,8 @@ class CriticalAirspeed:
     locked: float
     failed: float
     runs: list[tuple[float, str]] = field(default_factory=list)
+    unsettled: list[float] = field(default_factory=list)
+    stopped: str = ""
 
     @property
     def locks_below(self) -> bool:
@@ -82,7 +90,14 @@ class CriticalAirspeed:
         the critical value may lie beyond the bracket."""
         from .freefall import MOVING
 
-        return self.outcome(self.failed) == MOVING
+        return self.outcome(self.failed) == MOVING or bool(self.unsettled)
+
+    def contradicts(self, quasi_static: float) -> bool:
+        """True when a run that did not lock lies on the side of ``quasi_static`` where the gear has no
+        equilibrium to hang in on its way (below it when the values below lock): statics forbid that outcome,
+        so the run was not run long enough (or its integration is wrong), and the bracket cannot be trusted."""
+        margin = 1e-9 * abs(quasi_static)
+        return self.failed < quasi_static - margin if self.locks_below else self.failed > quasi_static + margin
 
     def compare(self, quasi_static: float) -> tuple[float, bool]:
         """``(locked - quasi_static, significant)``: the dynamic minus the quasi-static critical value, from the
@@ -94,20 +109,32 @@ class CriticalAirspeed:
     def describe(self, unit: str = "") -> list[str]:
         """Readable lines: the bracket by its two runs and their outcomes."""
         u = f" {unit}" if unit else ""
+        # as many digits as tell the two ends apart (6 at least)
+        n = max(6, 2 + math.ceil(math.log10(max(abs(self.low), abs(self.high), 1e-300) / max(self.width, 1e-300))))
+        n = min(n, 17)
         which = "largest" if self.locks_below else "smallest"
         other = "smallest" if self.locks_below else "largest"
-        return [f"critical {self.name} between {self.low:.6g} and {self.high:.6g}{u} (width {self.width:.3g}{u}, "
-                f"{len(self.runs)} runs): the {which} run that locked {self.name} = {self.locked:.6g}{u}, "
-                f"the {other} that did not {self.name} = {self.failed:.6g}{u} ({self.outcome(self.failed)})"]
+        lines = [f"critical {self.name} between {self.low:.{n}g} and {self.high:.{n}g}{u} (width {self.width:.3g}{u}, "
+                 f"{len(self.runs)} runs): the {which} run that locked {self.name} = {self.locked:.{n}g}{u}, "
+                 f"the {other} that did not {self.name} = {self.failed:.{n}g}{u} ({self.outcome(self.failed)})"]
+        if self.stopped:
+            lines.append(f"bisection stopped at width {self.width:.3g}{u}: {self.stopped}")
+        return lines
 
 
 def critical_airspeed(system, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
-                      lock, until: float, values: Mapping[str, float] | None = None, **options) -> CriticalAirspeed:
+                      lock, until: float, values: Mapping[str, float] | None = None, extend: float = 4.0,
+                      **options) -> CriticalAirspeed:
     """Bisect on freefall runs for the value of the parameter ``vary`` (an airspeed, m/s) in
     ``[low, high]`` where the outcome changes between locked and not locked.
 
     The two ends must differ (one locks, one does not); the bracket is halved until its width is
-    at most ``tol`` (units of ``vary``). ``options`` go to :func:`~mechcont.dynamics.freefall.freefall`.
+    at most ``tol`` (units of ``vary``), or no representable value lies between its ends. A run whose outcome
+    is undecided at ``until`` (:attr:`~mechcont.dynamics.freefall.FreefallResult.decided`: creeping near a
+    fold's ghost, bouncing on a lock that would hold) is run again for ``extend`` times as long; still
+    undecided, the bisection stops there (:attr:`CriticalAirspeed.unsettled`) with the bracket it has, which
+    holds the critical value, rather than guess. An end that stays undecided is an :class:`InputError`.
+    ``options`` go to :func:`~mechcont.dynamics.freefall.freefall`.
     Returns the :class:`CriticalAirspeed` whose ends ``locked`` and ``failed`` are runs made.
     """
     from ..equations import as_model
@@ -120,28 +147,56 @@ def critical_airspeed(system, start: Mapping[str, float], vary: str, low: float,
         raise InputError("critical", f"needs LO < HI, finite, got {low:g}:{high:g}")
     if not (math.isfinite(tol) and tol > 0):
         raise InputError("tol", f"must be a positive number (units of {vary}), got {tol:g}")
+    if not (math.isfinite(extend) and extend >= 1):
+        raise InputError("extend", f"must be a finite factor >= 1, got {extend:g}")
     base = dict(values or {})
     runs: list[tuple[float, str]] = []
 
-    def locks(v: float) -> bool:
+    def locks(v: float) -> bool | None:
+        """True/False: locked or not; None: undecided even when run ``extend`` times longer."""
         # only the outcome is read: no energy audit (options may still ask for one)
-        r = freefall(model, start, lock=lock, until=until, values={**base, vary: v}, **{"audit": False, **options})
+        for t_end in (until, until * extend) if extend > 1 else (until,):
+            try:
+                r = freefall(model, start, lock=lock, until=t_end, values={**base, vary: v},
+                             **{"audit": False, **options})
+            except InputError as exc:
+                if exc.field != "values":
+                    raise
+                raise InputError("critical", f"{vary} = {v:g}: {str(exc).split(': ', 1)[-1]}") from None
+            if r.decided:
+                break
         runs.append((v, r.outcome))
-        return r.locked
+        return r.locked if r.decided else None
 
     lo_locks, hi_locks = locks(low), locks(high)
+    for v, verdict in ((low, lo_locks), (high, hi_locks)):
+        if verdict is None:
+            raise InputError("critical", f"the run at {vary} = {v:g} is undecided after {until * extend:g} s "
+                                         f"({dict(runs)[v]}: creeping, or bouncing on a lock that would hold): "
+                                         "give a longer --until or move that end")
     if lo_locks == hi_locks:
         what = "lock" if lo_locks else "fail to lock"
         raise InputError("critical", f"both ends {vary} = {low:g} and {high:g} {what}: widen the bracket "
                                      f"(outcomes {runs[0][1]}, {runs[1][1]})")
     a, b = low, high
+    unsettled: list[float] = []
+    stopped = ""
     while b - a > tol:
-        mid = 0.5 * (a + b)
-        if locks(mid) == lo_locks:
+        mid = 0.5 * a + 0.5 * b  # no overflow at the ends of the floats
+        if not a < mid < b:
+            stopped = f"no floating-point value between {a!r} and {b!r} (the resolution of {vary} there)"
+            break
+        verdict = locks(mid)
+        if verdict is None:
+            unsettled.append(mid)
+            stopped = (f"the run at {vary} = {mid:.9g} is still undecided after {until * extend:g} s (creeping "
+                       "near the fold's ghost, or bouncing on a lock that would hold); a longer --until may narrow it")
+            break
+        if verdict == lo_locks:
             a = mid
         else:
             b = mid
-    return CriticalAirspeed(vary, a if lo_locks else b, b if lo_locks else a, runs)
+    return CriticalAirspeed(vary, a if lo_locks else b, b if lo_locks else a, runs, unsettled, stopped)
 
 
 @dataclass

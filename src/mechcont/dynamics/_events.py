@@ -2,14 +2,20 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._roots import brentq
+from ..equations import StopLimit
 from ..errors import InputError
 
-__all__ = ["Crossing", "EventTracker"]
+__all__ = ["Crossing", "EventTracker", "AtRestOnStops", "ConditionCrossing", "LOCK_GAP"]
+
+#: A lock stop counts as on its limit within this gap (condition units) for the end of a run at the lock: far
+#: below any gap a free stop has at rest, far above the contact's drift.
+LOCK_GAP = 1e-6
 
 
 @dataclass(frozen=True)
@@ -136,3 +142,57 @@ class EventTracker:
         n = len(self._fns)
         return ([np.array(self.t_events[k]) for k in range(n)],
                 [np.array(self.x_events[k], float).reshape(-1, self.n_names) for k in range(n)])
+
+
+class AtRestOnStops:
+    """Terminal event: every stop of ``stops`` in contact (a constraint of the simulation, or a compliant stop
+    pressed) and on its limit (gap below :data:`LOCK_GAP`), and every coordinate speed below ``rest_speed``:
+    ``max(max |qdot| - rest_speed, max gap - LOCK_GAP)`` falls through 0 (1 while a stop is out of contact:
+    a plastic impact whose reaction would pull stops the gear on the stop for an instant, then it leaves)."""
+
+    terminal, direction = True, -1
+
+    def __init__(self, model, stops: Sequence[StopLimit], rest_speed: float):
+        rows = list(model.equation_names)
+        self.names = [s.name for s in stops]
+        self.contacts = None
+        self.model, self.rest_speed = model, rest_speed
+        self.rows = np.array([rows.index(f"cond_{s.condition}") for s in stops])
+        self.index = np.array([model.index(s.condition) for s in stops])
+        self.side = np.array([float(s.side) for s in stops])
+        self.limit = np.array([float(s.limit) for s in stops])
+
+    def bind(self, dyn) -> None:
+        """Read the stops in contact from the simulation's ``dyn.contacts``."""
+        self.contacts = dyn.contacts
+        if self.contacts is not None:
+            self.stop_index = [self.contacts.names.index(n) for n in self.names]
+
+    def __call__(self, t, x, qd) -> float:
+        c = self.contacts
+        if c is not None and not all(k in c.active or k in c.pressed for k in self.stop_index):
+            return 1.0
+        speed = float(np.max(np.abs(qd), initial=0.0)) - self.rest_speed
+        if speed > 0:  # moving: the gaps need not be computed
+            return speed
+        y = np.array(x, float)
+        y[self.index] = 0.0
+        gaps = self.side * (self.model.residual(y)[self.rows] - self.limit)
+        return max(speed, float(np.max(gaps)) - LOCK_GAP)
+
+
+class ConditionCrossing:
+    """Terminal event: a description's condition (evaluated from the coordinates; the simulation
+    fills the condition columns only afterwards) passes ``value`` in ``direction``."""
+
+    terminal = True
+
+    def __init__(self, model, name: str, value: float, direction: int):
+        self.model, self.value, self.direction = model, value, direction
+        self.row = list(model.equation_names).index(f"cond_{name}")
+        self.index = model.index(name)
+
+    def __call__(self, t, x, qd) -> float:
+        y = np.array(x, float)
+        y[self.index] = 0.0
+        return float(self.model.residual(y)[self.row]) - self.value

@@ -11,6 +11,7 @@ from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 from .._status import Status
 from ..errors import InputError
 from ._assembly import assemble, initial_vector
+from ._budget import MAX_STEPS
 from ._contact import MAX_EVENTS_AT_ONCE
 from ._energy import EnergyLedger, energy_columns
 from ._events import EventTracker
@@ -58,7 +59,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
              projection: bool = False, damping: float = 0.0, max_step: float = math.inf,
              t_eval: Sequence[float] | None = None, events: Sequence | None = None,
              progress: Callable[[float], None] | None = None, stops: bool | Sequence[str] = False,
-             max_stop_events: int = 10_000, audit: bool = True) -> SimulationResult:
+             max_stop_events: int = 10_000, audit: bool = True, max_steps: int = MAX_STEPS) -> SimulationResult:
     """Simulate a mechanism in time (paper's state-space model, eqs. 1–5, for any mechanism).
 
     The state is ``(q, qdot)`` (for the overcentre the paper's 12 states); accelerations come
@@ -110,6 +111,10 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
         (the velocities jump at an impact).
     max_stop_events:
         The simulation stops (status FAILED) after this many stop events.
+    max_steps:
+        The step budget: the run ends (status FAILED, the history kept up to there, a message naming the stiff
+        element and suggesting ``method="Radau"``) once the steps taken plus those still needed at the recent
+        step size would exceed it (:mod:`._budget`).
     audit:
         Keep the energy audit (``result.energy``, :attr:`~._result.SimulationResult.balance`); False skips
         its quadrature (about a fifth of a small mechanism's run) where nobody reads it, e.g. the runs of
@@ -143,6 +148,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     segments: list = []  # per accepted step: (t_old, t_end, its dense output, the stops in contact)
     status, detail, failure = Status.FINISHED, "", ""
     at_once, t_last_event = 0, -math.inf
+    budget = _budget(t0, t1, max_steps)
     while True:
         t_old = solver.t
         why = solver.step()
@@ -168,6 +174,10 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
         segments.append((t_old, t_end, sol, _mode(contacts)))
         if progress is not None:
             progress(t_end)
+        if t_stop is None and hit is None and budget.exceeded(t_end, dyn, y_new):
+            status, failure = Status.FAILED, "step budget"
+            detail = _over_budget(system, dyn, budget, t_end, y_new, method)
+            break
         if t_stop is not None:
             status = Status.EVENT
             break
@@ -200,6 +210,24 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     result.integrator_failure = failure
     result.motion_warning = motion_warning(result, dyn)
     return result
+
+
+def _budget(t0: float, t1: float, max_steps: int):
+    """The run's :class:`~._budget.StepBudget`; :class:`InputError` unless ``max_steps`` is a positive integer."""
+    from ._budget import StepBudget
+
+    if isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)) or max_steps < 1:
+        raise InputError("max_steps", f"must be a positive whole number of integrator steps, got {max_steps!r}")
+    return StepBudget(t0, t1, int(max_steps))
+
+
+def _over_budget(system, dyn, budget, t: float, y: np.ndarray, method: str) -> str:
+    """The one-line message of a run ended by its step budget: where, the step size, the stiff element."""
+    from ._budget import stiffest
+
+    return (f"Stopped at t = {t:.6g} s: {method} steps of {budget.h:.3g} s would take {budget.projected(t):.3g} steps "
+            f"to t = {budget.t1:.6g} s, more than the budget of {budget.max_steps} (max_steps): the mechanism is stiff "
+            f"there, set by {stiffest(system, dyn, t, y)}; use method Radau (implicit) or raise the budget.")
 
 
 def _checked_options(method: str, t_span, rtol: float, atol, max_step: float, projection: bool):

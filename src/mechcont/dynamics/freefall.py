@@ -22,9 +22,10 @@ import numpy as np
 from .._status import Status
 from ..equations import StopLimit
 from ..errors import InputError
+from ._budget import MAX_STEPS
 from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, critical_figure, quasi_static_critical
 from ._dampers import DamperTension, damper_tensions
-from ._events import Crossing
+from ._events import AtRestOnStops, ConditionCrossing, Crossing
 from ._peaks import Peak, locate_peaks
 from ._poses import condition_value, held_pose, travel_of
 from ._result import SimulationResult
@@ -32,9 +33,6 @@ from ._result import SimulationResult
 __all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
            "quasi_static_critical", "damper_tensions", "critical_figure", "travel_of", "condition_value", "held_pose"]
 
-#: A lock stop counts as on its limit within this gap (condition units) for the end of a run at the lock: far
-#: below any gap a free stop has at rest, far above the contact's drift.
-LOCK_GAP = 1e-6
 #: Outcomes of a freefall run: locked; at rest short of locking; still moving at ``until`` (it may have
 #: struck the lock and left it); the integrator failed.
 LOCKED, AT_REST, MOVING, FAILED = "locked", "at rest", "still moving", "failed"
@@ -93,6 +91,11 @@ class FreefallResult:
     stops: dict[str, StopLock] = field(default_factory=dict)
     tension: DamperTension | None = field(default=None, repr=False, compare=False)
     reaction_columns: dict[str, str] = field(default_factory=dict, repr=False)  # {stop: its R_NAME column}
+    #: Why the run is or is not at rest where it ended (statics, :func:`~._settle.settled`); "" when locked.
+    settling: str = ""
+    #: False when the outcome could still change with a longer run: still moving (creeping, or bouncing on a
+    #: lock that would hold: its static reaction is positive).
+    decided: bool = True
     _peaks: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
@@ -149,6 +152,12 @@ class FreefallResult:
         t_end = float(self.history.t[-1])
         what = {AT_REST: "at rest short of locking", MOVING: f"still moving at t = {t_end:.6g} s"}
         lines = [f"outcome: {what.get(self.outcome, self.outcome)} (lock: {self.lock})"]
+        if self.outcome == AT_REST and self.settling:
+            lines.append(f"at rest: {self.settling}")
+        if self.outcome == MOVING and self.settling:
+            lines.append(f"creeping: max speed {self.final_speed:.3g}, not at rest ({self.settling})")
+        if not self.decided:
+            lines.append("undecided: a longer run (--until) could still change the outcome")
         if self.time_to_lock is not None:
             lines.append(f"time to lock: {self.time_to_lock:.6g} s")
         if len(self.stops) > 1:
@@ -218,7 +227,7 @@ def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None
 def freefall(system, start: Mapping[str, float], *, lock, until: float, values: Mapping[str, float] | None = None,
              damping: float = 0.0, rtol: float = 1e-8, atol: float = 1e-10, rest_speed: float = 1e-4,
              max_step: float = math.inf, guess=None, method: str = "RK45", end_at_lock: bool = False,
-             held_by: str | None = None, audit: bool = True) -> FreefallResult:
+             held_by: str | None = None, audit: bool = True, max_steps: int | None = None) -> FreefallResult:
     """Release ``system`` at rest in the pose ``start`` and simulate it with its stops until it locks.
 
     Parameters
@@ -236,15 +245,19 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     end_at_lock:
         End the run as soon as every lock stop is in contact and the mechanism at rest (every coordinate
         speed below ``rest_speed``): it has locked. Then the last row is that instant (the motion has not
-        died out: its stop reactions differ from the static ones by the remaining dynamics).
+        died out: its stop reactions differ from the static ones by the remaining dynamics). A run at rest
+        short of its lock at a stable equilibrium (:func:`~._settle.settled`) ends there too: nothing more
+        can change (a long ``until`` costs no more than the motion).
     values:
         Parameter values (SI) overriding the model's, e.g. ``{"U": 60.0}``.
     damping, rtol, atol, max_step, method:
         As for :func:`~mechcont.dynamics.simulate` (``method="Radau"`` for a stiff mechanism, e.g. a stiff
         compliant attachment, whose fast vibration is damped).
     rest_speed:
-        A run that ends with every coordinate speed below this (rad/s, m/s) and not locked is *at rest*
-        short of locking; otherwise it is *still moving*.
+        A run that ends with every coordinate speed below this (rad/s, m/s), not locked, *and* at a stable
+        equilibrium with the static forces pointing back to it (:func:`~._settle.settled`) is *at rest* short
+        of locking; otherwise it is *still moving* (a slow one *creeping*, e.g. near the ghost of a fold).
+        Positive and finite.
     guess:
         A full variable vector to assemble from (default the model's own pose), e.g. the end of a
         retraction run: a mechanism with several assemblies at the ``start`` values takes the one
@@ -254,6 +267,9 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         is then the static equilibrium with ``start`` held and it solved for (:func:`held_pose`). Without it
         compliant joints are at the deflection of the gear held by a reaction conjugate to each ``start`` value
         (:func:`~mechcont.dynamics.assemble`).
+    max_steps:
+        The integrator's step budget (:func:`~mechcont.dynamics.simulate`'s; default its own): a stiff run ends
+        early with the outcome ``"failed"`` and a message naming the stiff element.
     audit:
         Keep the history's energy audit (False in :func:`critical_airspeed`'s runs, which read only the outcome).
 
@@ -262,12 +278,13 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     FreefallResult
     """
     from ..equations import as_model
+    from ._settle import SettledOffLock
     from ._simulate import assemble, simulate
 
     if not (math.isfinite(until) and until > 0):
         raise InputError("until", f"must be a positive number of seconds, got {until}")
-    if not rest_speed > 0:
-        raise InputError("rest_speed", "must be positive")
+    if not (math.isfinite(rest_speed) and rest_speed > 0):
+        raise InputError("rest_speed", f"must be a positive finite speed (rad/s, m/s), got {rest_speed:g}")
     model = as_model(system)
     if values:
         model = model.with_values(dict(values))
@@ -277,6 +294,7 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         guess = held_pose(model, start, held_by, guess=guess)
     x0 = assemble(model, dict(start) if guess is None else model.vector(dict(start), base=_states_of(model, guess)),
                   hold=list(start), kinematic=held_by is not None)  # held_pose's pose is already static
+    _check_forces(model, x0, values)
     events: Sequence = ()
     if target is not None:
         name, value = target
@@ -284,12 +302,13 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         mechanics = model.mechanics
         coordinates = mechanics.coordinates if mechanics is not None else ()
         events = [Crossing(name, value, direction=int(side), terminal=True) if name in coordinates
-                  else _ConditionCrossing(model, name, value, int(side))]
-    if lock_stops and end_at_lock:
-        events = [_AtRestOnStops(model, lock_stops, rest_speed)]
+                  else ConditionCrossing(model, name, value, int(side))]
+    if lock_stops and end_at_lock:  # ends locked, or at rest short of the lock where nothing more can change
+        events = [AtRestOnStops(model, lock_stops, rest_speed), SettledOffLock(model, lock_stops, rest_speed)]
     stops = bool(model.stops)
     result = simulate(model, x0, (0.0, float(until)), stops=stops, damping=damping, rtol=rtol, atol=atol,
-                      max_step=max_step, events=events, method=method, audit=audit)
+                      max_step=max_step, events=events, method=method, audit=audit,
+                      max_steps=MAX_STEPS if max_steps is None else max_steps)
     speed = float(np.max(np.abs(result.qdot[-1]), initial=0.0))
     t_lock = impact = None
     per_stop: dict[str, StopLock] = {}
@@ -309,15 +328,69 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         if result.t_events and len(result.t_events[0]):
             t_lock = float(result.t_events[0][0])
             impact = abs(_rate(model, result, name, len(result) - 1))
+    settling, decided = "", True
     if t_lock is not None:
         outcome = LOCKED
     elif not result.success:
         outcome = FAILED
     else:
-        outcome = AT_REST if speed <= rest_speed else MOVING
+        outcome, settling, decided = _unlocked_outcome(model, result, speed, rest_speed, lock_stops, per_stop)
     tension = DamperTension(model, result.coordinates, mechanism=as_model(system).mechanism)  # made once
     columns = {s.name: s.reaction for s in model.stops} if stops else {}
-    return FreefallResult(outcome, lock_text, t_lock, impact, speed, result, per_stop, tension, columns)
+    return FreefallResult(outcome, lock_text, t_lock, impact, speed, result, per_stop, tension, columns,
+                          settling, decided)
+
+
+def _unlocked_outcome(model, result: SimulationResult, speed: float, rest_speed: float,
+                      lock_stops: Sequence[StopLimit], per_stop: Mapping[str, StopLock]) -> tuple[str, str, bool]:
+    """``(outcome, why, decided)`` of a run that ran to its end without locking: at rest only at a stable
+    equilibrium with nothing on the way (:func:`~._settle.settled`); a slow run elsewhere creeps (still
+    moving, undecided), as does one bouncing on a lock that would hold (its static reaction positive)."""
+    from ._settle import lock_reactions, settled
+
+    if speed <= rest_speed:
+        last = {}
+        for ev in result.stop_events:
+            last[ev.stop] = ev.kind
+        touching = [s for s in model.stops if last.get(s.name) == "contact"]
+        verdict = settled(model, result.values[-1], touching)
+        if verdict.at_rest:
+            return AT_REST, verdict.why, True
+        why = verdict.why
+    else:
+        why = ""
+    left = [s for s in lock_stops if per_stop.get(s.name) is not None and per_stop[s.name].left is not None]
+    if left and len(left) == len(lock_stops):  # struck the lock and left it: back for good only if it holds
+        reactions = lock_reactions(model, lock_stops, result.values[-1])
+        if reactions is not None and not np.all(reactions > 0):
+            return MOVING, why, True  # the lock cannot hold here: it has left for good
+    if any(_turned_back(result, s) for s in lock_stops if per_stop[s.name].impact_speed is None):
+        # it came nearest the lock and went back: with no time-varying loads its energy only falls, so it
+        # cannot get nearer again (rigorous for one degree of freedom; a swing about a stable equilibrium)
+        return MOVING, why, True
+    return MOVING, why, False
+
+
+def _turned_back(result: SimulationResult, stop: StopLimit) -> bool:
+    """True when the run came nearest ``stop`` (its gap, condition units) before its end and then moved away from
+    it by more than the gap's rounding."""
+    gap = float(stop.side) * (np.asarray(result[stop.condition], float) - float(stop.limit))
+    k = int(np.argmin(gap))
+    return k < len(gap) - 1 and gap[-1] - gap[k] > 1e-9 * (1.0 + abs(float(stop.limit)))
+
+
+def _check_forces(model, x0: np.ndarray, values) -> None:
+    """:class:`InputError` (field ``values``) when the forces on the released pose are not finite numbers (a
+    parameter so large that a force overflows, e.g. an airspeed of 1e308 in a quadratic drag)."""
+    mech = model.mechanics
+    if mech is None:
+        return
+    with np.errstate(all="ignore"):
+        forces = mech.applied_forces(x0)
+    if not np.all(np.isfinite(forces)):
+        given = ", ".join(f"{k} = {v:g}" for k, v in (values or {}).items()) or "the model's values"
+        raise InputError("values", f"the forces on the released pose are not finite at {given} (a value so large "
+                                   "that a force overflows): use values of physical size")
 
 
 def _states_of(model, guess) -> np.ndarray:
@@ -340,60 +413,6 @@ def _stop_lock(result: SimulationResult, name: str, at_rest: bool) -> StopLock:
     # (no contact event follows an impact whose reaction would pull)
     left = evs[-1].time if evs and first is not None and not on else None
     return StopLock(name, evs[-1].time if on and at_rest else None, first.speed if first is not None else None, left)
-
-
-class _AtRestOnStops:
-    """Terminal event: every stop of ``stops`` in contact (a constraint of the simulation, or a compliant stop
-    pressed) and on its limit (gap below :data:`LOCK_GAP`), and every coordinate speed below ``rest_speed``:
-    ``max(max |qdot| - rest_speed, max gap - LOCK_GAP)`` falls through 0 (1 while a stop is out of contact:
-    a plastic impact whose reaction would pull stops the gear on the stop for an instant, then it leaves)."""
-
-    terminal, direction = True, -1
-
-    def __init__(self, model, stops: Sequence[StopLimit], rest_speed: float):
-        rows = list(model.equation_names)
-        self.names = [s.name for s in stops]
-        self.contacts = None
-        self.model, self.rest_speed = model, rest_speed
-        self.rows = np.array([rows.index(f"cond_{s.condition}") for s in stops])
-        self.index = np.array([model.index(s.condition) for s in stops])
-        self.side = np.array([float(s.side) for s in stops])
-        self.limit = np.array([float(s.limit) for s in stops])
-
-    def bind(self, dyn) -> None:
-        """Read the stops in contact from the simulation's ``dyn.contacts``."""
-        self.contacts = dyn.contacts
-        if self.contacts is not None:
-            self.stop_index = [self.contacts.names.index(n) for n in self.names]
-
-    def __call__(self, t, x, qd) -> float:
-        c = self.contacts
-        if c is not None and not all(k in c.active or k in c.pressed for k in self.stop_index):
-            return 1.0
-        speed = float(np.max(np.abs(qd), initial=0.0)) - self.rest_speed
-        if speed > 0:  # moving: the gaps need not be computed
-            return speed
-        y = np.array(x, float)
-        y[self.index] = 0.0
-        gaps = self.side * (self.model.residual(y)[self.rows] - self.limit)
-        return max(speed, float(np.max(gaps)) - LOCK_GAP)
-
-
-class _ConditionCrossing:
-    """Terminal event: a description's condition (evaluated from the coordinates; the simulation
-    fills the condition columns only afterwards) passes ``value`` in ``direction``."""
-
-    terminal = True
-
-    def __init__(self, model, name: str, value: float, direction: int):
-        self.model, self.value, self.direction = model, value, direction
-        self.row = list(model.equation_names).index(f"cond_{name}")
-        self.index = model.index(name)
-
-    def __call__(self, t, x, qd) -> float:
-        y = np.array(x, float)
-        y[self.index] = 0.0
-        return float(self.model.residual(y)[self.row]) - self.value
 
 
 def _rate(model, result: SimulationResult, name: str, i: int) -> float:
