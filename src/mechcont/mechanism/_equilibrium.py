@@ -12,7 +12,6 @@ then polishes it. "No equilibrium" is said only with what was tried and the resi
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from ..errors import ConvergenceError
 from ._assembly import assemble
@@ -46,6 +45,8 @@ def free_equilibrium(system, x: np.ndarray) -> tuple[np.ndarray, str]:
         y = base.copy()
         y[u] = z
         return y
+
+    from scipy.optimize import least_squares  # only when Newton failed: a warm `check` imports no scipy.optimize
 
     fit = least_squares(lambda z: system.residual(full(z)), base[u], jac=lambda z: system.jacobian(full(z))[:, u],
                         x_scale=scale, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=_MAX_NFEV)

@@ -53,7 +53,7 @@ from ..errors import InputError, one_line
 from ._bodies import PointSpec
 from ._conditions import conditions_from_table, downlock_from_table
 from ._description import Body, Gravity, Mechanism, Parameter, Polar
-from ._paths import builtin_descriptions, find_description
+from ._paths import MAX_TEXT, builtin_descriptions, find_description, read_description_bytes
 from .elements import ELEMENT_TYPES, Element
 from .joints import joint_keys
 from .loads import Load, load_keys
@@ -104,24 +104,6 @@ def load_description(name_or_path: str | Path) -> Mechanism:
     return parse_description(text, path.name)
 
 
-def read_description_bytes(path: Path) -> bytes:
-    """The bytes of the description file ``path``: a regular file (a FIFO or a device would block or never
-    end) of at most ``4 * MAX_TEXT`` bytes, else :class:`InputError`."""
-    if not path.is_file():
-        raise InputError(str(path), "is not a regular file")
-    try:
-        with open(path, "rb") as f:
-            raw = f.read(4 * MAX_TEXT + 1)  # UTF-8: at most 4 bytes a character
-    except OSError as exc:
-        raise InputError(str(path), f"cannot read the file ({exc.__class__.__name__})") from None
-    if len(raw) > 4 * MAX_TEXT:
-        raise InputError(str(path), f"is larger than {4 * MAX_TEXT} bytes; a description takes at most {MAX_TEXT} "
-                                    "characters")
-    return raw
-
-
-#: Longest description text read, characters (the largest shipped one has 6,000).
-MAX_TEXT = 2**20
 #: Most entries of one table (``[parameters]``, ``[bodies]``, a body's points, ...), and of ``[parameters]``.
 MAX_ENTRIES, MAX_PARAMETERS = 500, 2000
 #: Longest array (a vector, a condition's points, a slot).

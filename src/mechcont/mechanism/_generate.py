@@ -71,6 +71,9 @@ def _scales(mech: Mechanism, values: dict[str, float]) -> tuple[float, float]:
         forces.append(g * sum(evaluate(mech.value(f"bodies.{b.name}.mass"), values, "") for b in mech.bodies))
     forces += element_forces(mech, values, Lc)
     forces += load_forces(mech, values)
+    if not all(math.isfinite(f) for f in [Lc, *forces]):
+        raise InputError("mechanism", "its values give forces or lengths beyond floating point (a weight, spring "
+                                      "force or load above 1e308): write them in a unit that keeps them finite")
     # the largest force the file states; a floor only when it states none (a floor under stated forces would
     # swamp them in a file written in km and grams)
     return Lc, max([f for f in forces if f > 0], default=1e-3)

@@ -7,7 +7,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["DATA_DIR", "builtin_descriptions", "find_description"]
+from ..errors import InputError
+
+__all__ = ["DATA_DIR", "MAX_TEXT", "builtin_descriptions", "find_description", "read_description_bytes"]
+
+#: Longest description text read, characters (the largest shipped one has 6,000).
+MAX_TEXT = 2**20
 
 DATA_DIR = Path(__file__).resolve().parent.parent / "data"
 
@@ -26,3 +31,19 @@ def find_description(name_or_path: str | Path) -> Path | None:
     stem = p.name[:-5] if p.name.endswith(".toml") else p.name
     shipped = DATA_DIR / f"{stem}.toml"
     return shipped if str(p.parent) in (".", "") and shipped.is_file() else None
+
+
+def read_description_bytes(path: Path) -> bytes:
+    """The bytes of the description file ``path``: a regular file (a FIFO or a device would block or never
+    end) of at most ``4 * MAX_TEXT`` bytes, else :class:`InputError`."""
+    if not path.is_file():
+        raise InputError(str(path), "is not a regular file")
+    try:
+        with open(path, "rb") as f:
+            raw = f.read(4 * MAX_TEXT + 1)  # UTF-8: at most 4 bytes a character
+    except OSError as exc:
+        raise InputError(str(path), f"cannot read the file ({exc.__class__.__name__})") from None
+    if len(raw) > 4 * MAX_TEXT:
+        raise InputError(str(path), f"is larger than {4 * MAX_TEXT} bytes; a description takes at most {MAX_TEXT} "
+                                    "characters")
+    return raw

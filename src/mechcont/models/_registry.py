@@ -136,7 +136,7 @@ def _summary(key: str, description: str, rows) -> ModelSummary:
 
 def _read(path: Path) -> bytes:
     """The bytes of a description file (its key in the disk cache), or :class:`InputError`."""
-    from ..mechanism._file import read_description_bytes
+    from ..mechanism._paths import read_description_bytes
 
     return read_description_bytes(path)
 

@@ -335,7 +335,8 @@ def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = T
         ok = np.ones(len(rest), dtype=bool)
         sides = [] if ref is None or ref.warnings else [
             (p, out, sign) for p, out, sign in ((ref.above, above, 1), (ref.below, below, -1)) if p is not None]
-        if not batched or not sides or any(not p.located for p, _, _ in sides):
+        # (a chunk of one converged sample has only its reference: nothing to batch)
+        if not len(rest) or not batched or not sides or any(not p.located for p, _, _ in sides):
             ok[:] = False
         else:
             missing = [n for n in ref.notes if n.startswith("no fold")]
