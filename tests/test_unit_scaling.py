@@ -84,12 +84,7 @@ def test_a_loop_closes_in_any_units(tmp_path, scale):
     assert "is open by" not in r.output and "cannot close" not in r.output
 
 
-@pytest.mark.parametrize("scale", [pytest.param(s, marks=pytest.mark.xfail(
-    strict=True, reason="issue 32 item 4, open: MechanicalModel.stability cuts the rank of the unequilibrated "
-                        "constraint Jacobian at 1e-10 of its largest singular value; in micrometres its smallest is "
-                        "8e-11 of it (0.10 in SI), so a second, spurious unstable direction is counted and the stop "
-                        "search rejects the contact"))
-    if s == (1e6, 1.0) else s for s in NAMED], ids=["mm-g", "mm-kg", "km-kg", "um-kg"])
+@pytest.mark.parametrize("scale", NAMED, ids=["mm-g", "mm-kg", "km-kg", "um-kg"])
 def test_a_clamp_on_its_stop_in_any_units(tmp_path, scale):
     """The toggle clamp's stop reaction from `check` is the SI file's x L^2 M."""
     L, M = scale

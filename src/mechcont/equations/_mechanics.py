@@ -452,8 +452,7 @@ class MechanicalModel:
         if A.shape[0] == 0:
             return None, np.zeros(0), np.eye(A.shape[1]), 0
         U, sv, Vt = np.linalg.svd(A)
-        rank = int(np.sum(sv > rtol * max(sv[0], 1e-300))) if len(sv) else 0
-        return U, sv, Vt, rank
+        return U, sv, Vt, constraint_rank(A, sv, rtol)
 
     def multipliers(self, x) -> np.ndarray:
         """Constraint reactions lambda solving Phi_q^T lambda = Q in the least-squares sense.
@@ -499,6 +498,8 @@ class MechanicalModel:
             svs = sv.tolist()  # the rank counted on floats: the same count, without two array operations
             cut = 1e-10 * max(svs[0], 1e-300)
             r = sum(1 for v in svs if v > cut)
+            if r < len(svs):  # rank-deficient as written: decide it on the equilibrated matrix
+                r = constraint_rank(layout.constraint_jacobian(out), sv)
             lam = U[:, :r] @ ((Vt[:r] @ out[layout.q_slice]) / sv[:r])
             K = layout.stiffness(out, lam)
         else:
@@ -548,8 +549,11 @@ class MechanicalModel:
         out = self._statics.batch(args)
         Q = out[:, layout.q_slice]
         if nc:
-            U, sv, Vt = np.linalg.svd(layout.constraint_jacobians(out))
+            A = layout.constraint_jacobians(out)
+            U, sv, Vt = np.linalg.svd(A)
             ranks = np.count_nonzero(sv > 1e-10 * np.maximum(sv[:, :1], 1e-300), axis=1)  # stability()'s cut
+            for i in np.flatnonzero(ranks < sv.shape[1]):  # as stability() decides a deficient rank
+                ranks[i] = constraint_rank(A[i], sv[i])
             r = int(np.bincount(ranks).argmax())
             full = ranks == r   # the other rows through stability() itself
             lam = np.einsum("mij,mj->mi", U[:, :, :r], np.einsum("mij,mj->mi", Vt[:, :r], Q) / sv[:, :r])
@@ -575,3 +579,26 @@ class MechanicalModel:
         for i in np.flatnonzero(~clear):
             counts[i] = self.stability(X[i], rtol).n_unstable
         return counts
+
+
+def constraint_rank(A: np.ndarray, sv: np.ndarray, rtol: float = 1e-10) -> int:
+    """The rank of the constraint Jacobian ``A`` (rows: constraints, columns: coordinates) whose
+    singular values are ``sv``, independent of the units the mechanism is written in.
+
+    A singular value at most ``rtol`` of the largest counts as zero. When ``A`` as written looks
+    rank-deficient, the rank is decided again on ``A`` with its rows and columns scaled to unit
+    length: a coordinate in micrometres makes a rotation's column 1e6 times a translation's and
+    puts a true singular value below the cut, while a redundant row stays dependent under any
+    scaling. Nothing is recomputed for a full-rank ``A`` (the usual case), nor where the small
+    singular values are zeros to rounding (below 1e-14 of the largest: an exactly redundant row)."""
+    if len(sv) == 0:
+        return 0
+    top = max(float(sv[0]), 1e-300)
+    r = int(np.count_nonzero(sv > rtol * top))
+    if r == len(sv) or not np.any(sv[r:] > 1e-14 * top):  # full rank, or zeros to rounding: scaling won't lift them
+        return r
+    rows = np.linalg.norm(A, axis=1)
+    cols = np.linalg.norm(A, axis=0)
+    B = A / np.where(rows > 0, rows, 1.0)[:, None] / np.where(cols > 0, cols, 1.0)[None, :]
+    s = np.linalg.svd(B, compute_uv=False)
+    return int(np.count_nonzero(s > rtol * max(float(s[0]), 1e-300))) if len(s) else 0
