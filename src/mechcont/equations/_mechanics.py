@@ -494,12 +494,13 @@ class MechanicalModel:
         layout = self._statics_layout
         out = self._statics(self._args(x))
         if nc:
-            U, sv, Vt = _dense.svd(layout.constraint_jacobian(out))
+            A = layout.constraint_jacobian(out)
+            U, sv, Vt = _dense.svd(A)
             svs = sv.tolist()  # the rank counted on floats: the same count, without two array operations
             cut = 1e-10 * max(svs[0], 1e-300)
             r = sum(1 for v in svs if v > cut)
             if r < len(svs):  # rank-deficient as written: decide it on the equilibrated matrix
-                r = constraint_rank(layout.constraint_jacobian(out), sv)
+                r = constraint_rank(A, sv)
             lam = U[:, :r] @ ((Vt[:r] @ out[layout.q_slice]) / sv[:r])
             K = layout.stiffness(out, lam)
         else:

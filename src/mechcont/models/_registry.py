@@ -236,7 +236,7 @@ def model_at(name: str | Path, values: Mapping[str, float] | None = None, *, fie
     its value at ``values``. Where the edited description would not build though the values are valid
     for an analysis (a spring of zero stiffness, a pose that does not assemble from the file's), it is
     the file's model with the values (its states then only a guess). Raises :class:`InputError`."""
-    from ..equations import at_values, check_values_at
+    from ..equations import check_values_at
 
     base = load_model(name)
     if not values:
@@ -249,4 +249,4 @@ def model_at(name: str | Path, values: Mapping[str, float] | None = None, *, fie
             model = load_model(name, **params)
         except InputError:  # valid for an analysis, refused for a file (zero stiffness) or not assembled
             model = base
-    return at_values(model, values, field)
+    return model.with_values({k: float(v) for k, v in values.items()})  # checked above, on the file's model
