@@ -76,6 +76,11 @@ from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import TypeVar
 
+# imported with the module, not on first use: a process that drops its privileges (or whose source tree
+# becomes unreadable) after start-up still builds and cleans entries
+from .._signals import process_state
+from ._lock import build_lock
+
 __all__ = ["cache_dir", "enabled", "cache_key", "cached", "load", "store", "load_or_build", "digest", "expr_text",
            "STATS"]
 
@@ -449,8 +454,6 @@ _STALE = re.compile(r"\.tmp-([0-9]{1,10})-[0-9a-f]{16}\.pkl")
 
 def _remove_stale(shard_fd: int) -> None:
     """Remove the temporary entries in the shard whose writer is gone (killed while writing: SIGKILL)."""
-    from .._signals import process_state
-
     try:
         names = os.listdir(shard_fd)
     except OSError:
@@ -512,7 +515,6 @@ def _build_lock(key: str) -> Iterator[None]:
     except ImportError:  # pragma: no cover - not on POSIX
         yield
         return
-    from ._lock import build_lock
 
     with _shard(key, create=True) as found:
         shard_fd = None if found is None else os.dup(found[0])  # the shard's own descriptor closes here
