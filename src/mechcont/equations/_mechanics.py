@@ -17,7 +17,7 @@ constraint-curvature term is what hand-made codes forget.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -212,11 +212,17 @@ class MechanicalModel:
         Optional potential energy ``V(q, p)`` (J) of the conservative part of ``forces``
         (``forces = -dV/dq + ...``): gravity, springs, conservative loads. The time simulation's
         energy audit evaluates it (:meth:`potential_energy`); None when the model declares none.
+    state_rates:
+        Optional first-order element states (a tyre's lateral deflection): state variable name
+        (a variable of the system, not a coordinate) -> its rate ``ds/dt`` as an expression in the
+        variables and the velocity symbols. The static system holds each state at its steady state
+        (its rate at rest is one of the system's rows); the time simulation and the dynamic analyses
+        integrate or linearise it with the coordinates. ``forces`` may use the states.
     """
 
     def __init__(self, names: Sequence[str], coordinates: Sequence[str], constraints: Sequence[sp.Expr],
                  forces: Sequence[sp.Expr], mass_matrix: sp.Matrix, constraint_names: Sequence[str] | None = None,
-                 potential: sp.Expr | None = None):
+                 potential: sp.Expr | None = None, state_rates: Mapping[str, sp.Expr] | None = None):
         import sympy as sp
 
         self.names = tuple(names)
@@ -244,6 +250,15 @@ class MechanicalModel:
             bad = e.free_symbols - allowed
             if bad:
                 raise InputError(str(sorted(map(str, bad))[0]), "used in the mechanical model but not a variable")
+        self.element_states = tuple(state_rates or ())
+        self.state_rates = [sp.sympify(r, strict=True) for r in (state_rates or {}).values()]
+        for n in self.element_states:
+            if n not in self.names or n in self.coordinates:
+                raise InputError(n, "an element state must be a variable of the system and not a coordinate")
+        for e in self.state_rates:
+            bad = e.free_symbols - allowed
+            if bad:
+                raise InputError(str(sorted(map(str, bad))[0]), "used in an element state's rate but not a variable")
         self._syms, self._qs, self._qd = syms, qs, qd
         self.n_constraints = len(self.constraints)
 
@@ -257,7 +272,7 @@ class MechanicalModel:
     _COMPILED = tuple(_GROUPS)
 
     #: The symbolic attributes, pickled apart (see :mod:`._deferred`).
-    _SYMBOLIC = ("constraints", "forces", "mass_matrix", "potential", "_syms", "_qs", "_qd")
+    _SYMBOLIC = ("constraints", "forces", "mass_matrix", "potential", "state_rates", "_syms", "_qs", "_qd")
 
     def __getattr__(self, name):
         # only reached for missing attributes: the compiled functions, built on first use, and
@@ -393,6 +408,7 @@ class MechanicalModel:
 
     def __setstate__(self, state):
         self.__dict__.update(state)
+        self.__dict__.setdefault("element_states", ())  # pickled before element states existed
         if "n_constraints" not in state and "constraints" in state:  # pickled before the count was kept
             self.__dict__["n_constraints"] = len(state["constraints"])
 

@@ -27,6 +27,7 @@ from ._system import EquationSystem
 if TYPE_CHECKING:
     import sympy as sp
 
+    from ._dynamics import OdeFacts
     from ._protocols import Description, DofFacts, Reselect
 
 __all__ = ["Model", "StopLimit", "DownlockFacts", "ValueFields", "as_model", "at_values", "check_values_at"]
@@ -135,6 +136,10 @@ class Model(EquationSystem):
         (positive while the dropped rows suit the full vector ``x``; continuation ends a piece
         where it turns negative) and ``switch(model, x) -> (model, x) or None`` (the variant of
         the system with another choice and ``x`` with its reactions solved again). None otherwise.
+    ode:
+        For an ODE model (a ``[system]`` file, :func:`~mechcont.equations.ode_model`): which
+        variables are its states and whether it is algebraic (:class:`OdeFacts`); None for a
+        mechanism. :func:`~mechcont.equations.dynamics_of` gives the dynamics of either.
     """
 
     potential_energy: sp.Expr | None = None
@@ -149,6 +154,7 @@ class Model(EquationSystem):
     stops: tuple[StopLimit, ...] = ()
     fields_at: Callable[[Mapping[str, float]], ValueFields] | None = field(default=None, repr=False)
     reselect: Reselect | None = field(default=None, repr=False)
+    ode: OdeFacts | None = None
 
     def with_values(self, values: Mapping[str, float]) -> Model:
         """:meth:`EquationSystem.with_values`, with the fields that depend on the parameter values
