@@ -15,6 +15,9 @@ maths written once against the kinematics object (``kin.point``, ``kin.distance`
   that length);
 * :meth:`~Element.apply`: its potential or generalised forces, added to a :class:`~.loads.Loads`;
   :meth:`~Element.rows`: its constraint rows (with their reactions' names), if any;
+* :meth:`~Element.states`: its first-order states (:class:`ElementState`, a tyre's lateral
+  deflection), if any: each becomes a variable of the generated system held at its steady state
+  in continuation, and is integrated or linearised with the coordinates in dynamics;
 * :meth:`~Element.ends`: the point references it attaches to; :meth:`~Element.draw`: its
   drawing primitives.
 
@@ -26,6 +29,7 @@ gives them all. Adding an element kind is adding one module to this package with
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
@@ -36,12 +40,30 @@ if TYPE_CHECKING:
     from .._description import Mechanism
     from ..loads import Loads
 
-__all__ = ["Element", "TwoPointElement", "ELEMENT_TYPES", "element_rows"]
+__all__ = ["Element", "ElementState", "TwoPointElement", "ELEMENT_TYPES", "element_rows"]
 
 #: table name (``"springs"``, ...) -> element class, in registration order.
 ELEMENT_TYPES: dict[str, type[Element]] = {}
 #: ``add(kind, name, points)``: one drawing primitive (see the scene functions).
 Draw = Callable[[str, str, list[sp.Matrix]], None]
+
+
+@dataclass(frozen=True)
+class ElementState:
+    """A first-order state of a force element: ``d(name)/dt = rate``.
+
+    ``name``: the state variable (``y_<element>``); ``unit``: its unit label (SI); ``rate``: a SymPy
+    expression in the generated coordinates, their velocity symbols
+    (:func:`~mechcont.equations.velocity_symbol`), the parameters and the state symbols
+    (``sympy.Symbol(name, real=True)``); ``scale``: its typical magnitude (for the arclength);
+    ``initial``: its value before any solve."""
+
+    name: str
+    unit: str
+    rate: sp.Expr
+    scale: float = 1.0
+    initial: float = 0.0
+    description: str = ""
 
 
 class Element:
@@ -107,6 +129,10 @@ class Element:
     def rows(self, kin) -> list:
         """The element's constraint rows (:class:`~.._kinematics.ConstraintRow`) in the coordinates of ``kin``."""
         return []
+
+    def states(self, kin) -> tuple[ElementState, ...]:
+        """The element's first-order states in the coordinates of ``kin`` (none by default)."""
+        return ()
 
     def ends(self) -> tuple[str, ...]:
         """The point references the element attaches to (a ground one is drawn as an anchor)."""
