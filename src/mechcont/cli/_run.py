@@ -9,7 +9,17 @@ import click
 from ..errors import InputError
 from ._parse import assignments, bounds
 
-__all__ = ["continuation_options", "solve_start", "write_branch", "common_options", "check_outputs", "run_continuation"]
+__all__ = ["continuation_options", "solve_start", "write_branch", "common_options", "check_outputs", "run_continuation",
+           "mechanism_only"]
+
+
+def mechanism_only(model: str, what: str) -> None:
+    """Before any work: :class:`InputError` when MODEL is an ODE file (a ``[system]`` table), for which
+    ``what`` (a command or option) makes no sense."""
+    from ..mechanism._paths import is_system_file
+
+    if is_system_file(model):
+        raise InputError("model", f"{what} is a mechanism analysis; {model} is an ODE system")
 
 
 def check_outputs(out: str | None, plot: str | None) -> None:

@@ -59,8 +59,11 @@ def check_command(ctx, model, sets, reduced, plot, label_points, quiet):
     the model cannot be built from (one line on stderr), e.g. a loop that cannot close.
     """
     from ..mechanism import check_report
+    from ..mechanism._paths import is_system_file
 
     overrides = assignments(sets, "set")
+    if is_system_file(model):
+        return _check_ode(ctx, model, overrides, reduced=reduced, plot=plot, quiet=quiet)
     path = _plot_path(plot) if plot is not None else None
     if overrides:
         _check_values(model, overrides)
@@ -135,3 +138,21 @@ def _stops_text(report) -> tuple[str, str]:
     out.append(f"  stability there (a stop in contact holds its condition): "
                f"{'stable' if st.stable else f'UNSTABLE in {st.n_unstable} direction(s)'}")
     return "\n".join(out), ""
+
+
+def _check_ode(ctx, model: str, overrides: dict[str, float], *, reduced: bool, plot: str | None, quiet: bool) -> None:
+    """``check`` of an ODE file (:func:`mechcont.analysis.ode_check.ode_report`); exit status 1 with findings."""
+    from ..analysis.ode_check import ode_report
+    from ..models import model_at
+
+    for given, option in ((reduced, "--reduced"), (plot is not None, "--plot")):
+        if given:
+            raise InputError(option, f"is a mechanism option (a drawing, a reduced form); {model} is an ODE system")
+    report = ode_report(model_at(model, overrides, field="--set"))
+    if not quiet:
+        click.echo(report.to_text())
+    else:
+        for finding in report.findings:
+            click.echo(f"finding: {finding}", err=True)
+    if report.findings:
+        ctx.exit(1)

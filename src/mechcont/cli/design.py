@@ -45,6 +45,9 @@ def design_command(model, x_name, y_name, old_x, old_y, bounds_, levels, sets, h
     theorem) of the force at the design --vary value, of the lock margin and of the margin to the fold
     with respect to each name.
     """
+    from ._run import mechanism_only
+
+    mechanism_only(model, "design")
     import numpy as np
 
     from .._io import check_output_path

@@ -79,6 +79,9 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     along --vary and, per point, the unlock load: the force increased until the stop releases
     (SR) and the fold that follows, smooth (LP) or not (NSF: the release is the snap).
     """
+    from ._run import mechanism_only
+
+    mechanism_only(model, "downlock")
     import numpy as np
 
     from ..analysis.downlock import downlock_table

@@ -48,6 +48,9 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, l
     The equilibrium is solved at the --set values with the --start states held and the
     --free parameters solved for (e.g. --start theta1=0.3 --free F).
     """
+    from ._run import mechanism_only
+
+    mechanism_only(model, "draw")
     from ..outputs.animation import branch_frames
     from ..outputs.drawing import IMAGE_SUFFIXES, default_annotate, draw
 
@@ -113,6 +116,9 @@ def animate_command(model, branch_csv, out, fps, every, pause, old_hold, annotat
     frame and is held --pause seconds. Beside the mechanism the branch is drawn with the
     current point marked.
     """
+    from ._run import mechanism_only
+
+    mechanism_only(model, "animate")
     from .._progress import Progress
     from ..outputs.animation import ANIMATION_SUFFIXES, animate, branch_frames, check_fps, check_hold, frame_rows
     from ..outputs.drawing import default_annotate

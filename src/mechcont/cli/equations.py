@@ -18,6 +18,9 @@ def _system(model: str, reduced: bool, overrides: dict[str, float]):
 
     if not reduced:
         return model_at(model, overrides)
+    from ._run import mechanism_only
+
+    mechanism_only(model, "--reduced")
     path = None if model in BUILTIN_MODELS else find_description(model)
     if path is None:
         raise InputError("--reduced", f"'{model}' is not a mechanism description file; --reduced needs one "
@@ -37,10 +40,25 @@ def equations_command(model: str, latex: bool, reduced: bool, settings: tuple[st
     """Print the equations G(x) = 0 of MODEL: a built-in model name (overcentre), a shipped
     description stem (e.g. fourbar) or a mechanism description file (.toml)."""
     system = _system(model, reduced, assignments(settings, "set"))
+    if system.ode is not None and not shared:
+        from ..analysis.ode_check import ode_equations
+
+        if not latex:
+            kind = "0 = g(u, p), algebraic" if system.ode.algebraic else "du/dt = f(u, p)"
+            click.echo(f"# {system.name}: ODE system {kind}, {len(system.state_names)} states")
+            _header(system)
+        click.echo(ode_equations(system, latex=latex))
+        return
     if latex:
         click.echo(system.latex())
         return
     click.echo(f"# {system.name}: {len(system.equations)} equations in {len(system.state_names)} states")
+    _header(system)
+    click.echo(system.pretty(shared=shared))
+
+
+def _header(system) -> None:
+    """The description, states and parameters of ``system`` as comment lines."""
     if system.description:
         click.echo(f"# {system.description}")
     click.echo("# states:")
@@ -51,4 +69,3 @@ def equations_command(model: str, latex: bool, reduced: bool, settings: tuple[st
     for name in system.parameter_names:
         v = system.variable(name)
         click.echo(f"#   {name} = {v.value:g} {v.unit}  {v.description}".rstrip())
-    click.echo(system.pretty(shared=shared))

@@ -114,6 +114,9 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
     did not), and beside it the quasi-static prediction: the fold of the equilibria the gear could
     hang in on its way; their difference is significant only when it exceeds the bracket's width.
     """
+    from ._run import mechanism_only
+
+    mechanism_only(model, "freefall")
     from .._io import check_output_path
     from ..dynamics import check_duration, check_simulable
     from ..models import model_at

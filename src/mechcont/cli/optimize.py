@@ -55,6 +55,9 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
     On the design map: mechcont optimize nose_gear --maximize LU --design l_sp1=-0.175:0.175
     --design LU=1.25:1.35 --constraint "downlock_force >= 100" --plot optimum.png
     """
+    from ._run import mechanism_only
+
+    mechanism_only(model, "optimize")
     from .._io import check_output_path
     from ..analysis.optimize import NOT_LOCKING, Constraint, optimize
     from ..equations import check_values_at

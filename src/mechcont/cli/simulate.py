@@ -6,7 +6,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, check_integration, integrator, integrator_options
+from ._parse import assignments, check_integration, integrator, integrator_options, named_as
 
 
 def _start(system, model: str, starts) -> tuple:
@@ -82,6 +82,9 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     check_duration(until, "--until")
     solver = integrator(method, rtol, atol)
     system = model_at(model, assignments(settings, "set"))
+    if system.ode is not None:
+        return _simulate_ode(system, model, starts, until, watch, solver, step_budget, out_path, plot_path,
+                             use_stops=use_stops, damping=damping, quiet=no_progress or old_quiet)
     x0, start = _start(system, model, starts)
     coords = system.mechanics.coordinates
     if watch is None:
@@ -143,3 +146,38 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     check_integration(result, method, [str(p) for p in (out_path, plot_path) if p is not None])
     if unresolved:  # the history is written; the mechanism itself is bad input
         raise InputError("redundant", result.motion_warning)
+
+
+def _simulate_ode(system, model: str, starts, until: float, watch, solver: dict, step_budget: int, out_path, plot_path,
+                  *, use_stops: bool, damping: float, quiet: bool) -> None:
+    """``simulate`` of an ODE file: du/dt = f(u, p) from the file's initial states (``--start`` replacing them)."""
+    from .._progress import Progress
+    from ..dynamics._ode import ode_start, simulate_ode
+
+    for given, option in ((use_stops, "--stops"), (damping != 0.0, "--damping")):
+        if given:
+            raise InputError(option, f"is a mechanism option; {model} is an ODE system")
+    x0 = ode_start(system, assignments(starts, "start"))
+    states = system.ode.states
+    watch = watch or next(iter(assignments(starts, "start")), states[0])
+    if watch not in states:
+        raise InputError("--watch", f"{watch} is not a state of {system.name}; valid: {', '.join(states)}")
+    with named_as({"max_steps": "--step-budget"}), \
+            Progress("simulate", total=until, unit="s simulated", quiet=quiet) as bar:
+        result = simulate_ode(system, x0, (0.0, until), **solver, max_steps=step_budget,
+                              progress=bar.set if bar.enabled else None)
+    click.echo(f"# {system.name}: {result.t[-1]:.6g} s simulated from "
+               + ", ".join(f"{n} = {x0[system.index(n)]:.6g}" for n in states)
+               + f", {len(result)} rows, {result.nfev} evaluations")
+    final = result.states[-1]
+    click.echo("# at the end: " + ", ".join(f"{n} = {v:.10g}" for n, v in zip(states, final)))
+    if out_path is not None:
+        result.to_csv(out_path)
+        click.echo(f"wrote {out_path}")
+    if plot_path is not None:
+        from ..outputs.history_plots import history_figure
+        from ..outputs.plotting import save_figure
+
+        save_figure(history_figure(result, watch, title=f"{system.name}: {watch}"), plot_path)
+        click.echo(f"wrote {plot_path}")
+    check_integration(result, solver["method"], [str(p) for p in (out_path, plot_path) if p is not None])

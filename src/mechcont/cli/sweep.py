@@ -144,6 +144,9 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     branch under the sweep, stable solid and unstable dashed, and each jump is printed
     with its gap to the fold it follows: the time simulation's delay past the fold.
     """
+    from ._run import mechanism_only
+
+    mechanism_only(model, "sweep")
     from .._io import check_output_path
     from ..dynamics import check_simulable, parse_ramps, sweep, sweep_start
     from ..models import model_at

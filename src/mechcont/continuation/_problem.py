@@ -150,7 +150,10 @@ class EquilibriumProblem(ContinuationProblem):
         for n, v in (scales or {}).items():
             sc[system.index(n)] = v
         self.scale = sc[self.idx]
-        self._stability = stability and system.mechanics is not None
+        # an ODE model's stability is its Jacobian's (unstable_rates); an algebraic one has none
+        ode = getattr(system, "ode", None)
+        self._ode = ode is not None and not ode.algebraic
+        self._stability = stability and (system.mechanics is not None or self._ode)
         self._columns = self.system.columns(self.idx)
 
     def u_of(self, x: np.ndarray) -> np.ndarray:
@@ -186,15 +189,32 @@ class EquilibriumProblem(ContinuationProblem):
         return None if gather is None else (*gather, self.base, self.idx, None)
 
     def stability(self, u) -> int:
+        if self._stability and self._ode:
+            return unstable_rates(self.system, self.full(u))
         mechanics = self.system.mechanics
         if not self._stability or mechanics is None:
             return -1
         return mechanics.stability(self.full(u)).n_unstable
 
     def stability_batch(self, U) -> list[int]:
+        if self._stability and self._ode:
+            return [self.stability(u) for u in U]
         mechanics = self.system.mechanics
         if not self._stability or mechanics is None:
             return [-1] * len(U)
         X = np.tile(self.base, (len(U), 1))
         X[:, self.idx] = U
         return mechanics.count_unstable(X).tolist()
+
+
+def unstable_rates(model: EquationSystem, x: np.ndarray, rtol: float = 1e-9) -> int:
+    """The number of eigenvalues of an ODE model's ``df/du`` at the full vector ``x`` with a positive real
+    part (the dimension of the unstable manifold of the equilibrium there); a real part within ``rtol``
+    of the largest eigenvalue's modulus counts as zero (neutral: a fold, a Hopf point)."""
+    from ..equations import as_model, dynamics_of
+
+    lam = dynamics_of(as_model(model)).linearise(x).eigenvalues()
+    if not len(lam):
+        return 0
+    tol = rtol * max(float(np.abs(lam).max()), 1e-300)
+    return int(np.count_nonzero(lam.real > tol))

@@ -38,7 +38,7 @@ Value = float | int | str
 FUNCTIONS = {
     "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "asin": sp.asin, "acos": sp.acos, "atan": sp.atan,
     "atan2": sp.atan2, "sinh": sp.sinh, "cosh": sp.cosh, "tanh": sp.tanh, "sqrt": sp.sqrt, "exp": sp.exp,
-    "log": sp.log, "pi": sp.pi, "Min": sp.Min, "Max": sp.Max,
+    "log": sp.log, "abs": sp.Abs, "pi": sp.pi, "Min": sp.Min, "Max": sp.Max,
 }
 #: The names of FUNCTIONS that are constants, not functions.
 _CONSTANTS = {"pi"}

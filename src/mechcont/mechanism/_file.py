@@ -58,7 +58,8 @@ from .elements import ELEMENT_TYPES, Element
 from .joints import joint_keys
 from .loads import Load, load_keys
 
-__all__ = ["load_description", "parse_description", "builtin_descriptions", "find_description", "locate_error"]
+__all__ = ["load_description", "parse_description", "read_toml", "description_from_data",
+           "builtin_descriptions", "find_description", "locate_error"]
 
 
 #: ``type`` -> (joint class, keys): every registered planar joint (:mod:`.joints`).
@@ -131,6 +132,12 @@ def parse_description(text: str, filename: str = "<string>") -> Mechanism:
     """Parse description ``text`` (TOML); ``filename`` is used in error messages. Sizes are checked first:
     at most :data:`MAX_TEXT` characters, :data:`MAX_ENTRIES` entries in a table (:data:`MAX_PARAMETERS`
     parameters) and :data:`MAX_ARRAY` values in an array."""
+    return description_from_data(read_toml(text, filename), text, filename)
+
+
+def read_toml(text: str, filename: str) -> dict:
+    """The parsed TOML of a description ``text`` (every string made printable), its sizes checked
+    (:func:`parse_description`); :class:`InputError` with the file name and line otherwise."""
     if len(text) > MAX_TEXT:
         raise InputError(filename, f"is {len(text)} characters long; a description takes at most {MAX_TEXT}")
     try:
@@ -149,6 +156,17 @@ def parse_description(text: str, filename: str = "<string>") -> Mechanism:
                                    "give numbers within the floating-point range") from None
     try:
         _check_sizes(data, "")
+    except InputError as exc:
+        raise locate_error((filename, text), exc) from None
+    return data
+
+
+def description_from_data(data: Mapping, text: str, filename: str) -> Mechanism:
+    """The :class:`Mechanism` of the parsed TOML ``data`` (:func:`read_toml`) of ``text``."""
+    if "system" in data:
+        raise InputError(f"{filename}: system", "this file is an ODE system ([system] table), not a mechanism "
+                                                "description; load it with mechcont.models.load_model")
+    try:
         mech = _mechanism(data, filename)
     except InputError as exc:
         raise locate_error((filename, text), exc) from None
@@ -257,11 +275,12 @@ def loads_from_table(data: Mapping, registry: Mapping[str, tuple[type[Load], fro
     return out
 
 
-def _parameters(data: Mapping) -> list[Parameter]:
-    """The ``[parameters]`` table: ``NAME = value`` or ``NAME = {value, unit, description, scale}``."""
+def _parameters(data: Mapping, section: str = "parameters") -> list[Parameter]:
+    """The ``[parameters]`` table (or another ``section`` of that form, an ODE file's ``[states]``):
+    ``NAME = value`` or ``NAME = {value, unit, description, scale}``."""
     params = []
-    for pname, spec in _table(data, "parameters", "parameters").items():
-        f = f"parameters.{pname}"
+    for pname, spec in _table(data, section, section).items():
+        f = f"{section}.{pname}"
         if isinstance(spec, Mapping):
             _only(spec, KEYS["parameters.NAME"], f)
             _require(spec, ["value"], f)

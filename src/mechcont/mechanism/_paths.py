@@ -9,7 +9,8 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["DATA_DIR", "MAX_TEXT", "builtin_descriptions", "find_description", "read_description_bytes"]
+__all__ = ["DATA_DIR", "MAX_TEXT", "builtin_descriptions", "find_description", "read_description_bytes",
+           "is_system_file"]
 
 #: Longest description text read, characters (the largest shipped one has 6,000).
 MAX_TEXT = 2**20
@@ -47,3 +48,19 @@ def read_description_bytes(path: Path) -> bytes:
         raise InputError(str(path), f"is larger than {4 * MAX_TEXT} bytes; a description takes at most {MAX_TEXT} "
                                     "characters")
     return raw
+
+
+def is_system_file(name_or_path: str | Path) -> bool:
+    """Whether ``name_or_path`` is a readable ``.toml`` file with a ``[system]`` table (an ODE system);
+    False for anything else (a mechanism, a built-in name, an unreadable file: their own readers say why)."""
+    import tomllib
+    from collections.abc import Mapping
+
+    path = find_description(name_or_path)
+    if path is None:
+        return False
+    try:
+        data = tomllib.loads(read_description_bytes(path).decode("utf-8"))
+    except (InputError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError, MemoryError, ValueError):
+        return False
+    return isinstance(data.get("system"), Mapping)

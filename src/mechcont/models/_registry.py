@@ -12,11 +12,12 @@ from ..errors import InputError
 
 if TYPE_CHECKING:
     from ..mechanism import Mechanism
+    from ..mechanism._ode_file import OdeSystem
 
 __all__ = ["BUILTIN_MODELS", "load_model", "model_at", "model_names", "describe_model", "ModelSummary"]
 
 #: Descriptions read in this process, by (resolved path, text), at most ``_KEEP``.
-_DESCRIPTIONS: dict[tuple[str, bytes], Mechanism] = {}
+_DESCRIPTIONS: dict[tuple[str, bytes], Mechanism | OdeSystem] = {}
 _KEEP = 16
 
 
@@ -114,9 +115,9 @@ def describe_model(name: str | Path) -> ModelSummary:
     text = _read(path)
 
     def describe() -> ModelSummary:
-        from ..mechanism import load_description
+        from ..mechanism._ode_file import load_file
 
-        found = load_description(path).summary()
+        found = load_file(path).summary()
         if found is None:
             m = load_model(key)
             found = m.description, [(v.name, v.kind, v.unit, v.description, v.value) for v in m.variables]
@@ -167,9 +168,9 @@ def model_from_text(text: str, filename: str) -> Model:
     """
 
     def build() -> Model:
-        from ..mechanism import parse_description
+        from ..mechanism._ode_file import parse_file
 
-        return parse_description(text, filename).build()
+        return parse_file(text, filename).build()
 
     from ..equations._stored import stored
 
@@ -184,7 +185,8 @@ def load_model(name: str | Path, **overrides: float) -> Model:
     ----------
     name:
         A built-in model (``"overcentre"``, ``"nose_gear"``), a shipped description
-        (``"fourbar.toml"`` or its stem ``"fourbar"``), or a path to a ``.toml`` file.
+        (``"fourbar.toml"`` or its stem ``"fourbar"``), or a path to a ``.toml`` file: a mechanism
+        description, or an ODE system (a ``[system]`` table, docs/ode-format.md) whose model has ``ode`` set.
     **overrides:
         Parameter values (SI units) replacing the defaults.
 
@@ -206,12 +208,13 @@ def load_model(name: str | Path, **overrides: float) -> Model:
     values = {k: float(v) for k, v in overrides.items()}
 
     def build() -> Model:
-        from ..mechanism import load_description
+        from ..mechanism._ode_file import load_file
 
         # the description is parsed once per file text; its equations are generated and
-        # compiled on its first build, and a build at other values reuses them (Mechanism.build)
+        # compiled on its first build, and a build at other values reuses them (Mechanism.build);
+        # a file with a [system] table is an ODE system (mechanism._ode_file)
         stamp = (str(Path(path).resolve()), text)
-        mech = _DESCRIPTIONS.pop(stamp, None) or load_description(path)
+        mech = _DESCRIPTIONS.pop(stamp, None) or load_file(path)
         _DESCRIPTIONS[stamp] = mech  # most recently used last
         while len(_DESCRIPTIONS) > _KEEP:
             del _DESCRIPTIONS[next(iter(_DESCRIPTIONS))]

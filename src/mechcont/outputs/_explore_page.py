@@ -265,7 +265,7 @@ function show(b,r){cur={b:b,r:r};var br=B[b];
 function fix(b,r){fixed={b:b,r:r};if(+bsel.value!==b)bsel.value=b;slider.max=B[b].rows.length-1;slider.value=r;show(b,r);}
 q(".title").textContent=D.title;
 var notes=B.filter(function(br){return br.note;}).map(function(br){return br.name+": "+br.note;});
-if(!D.bodies.length)notes.push("no model given: the diagram only");q(".notes").textContent=notes.join("; ");
+if(!D.bodies.length)notes.push("no mechanism to draw: the diagram only");q(".notes").textContent=notes.join("; ");
 drawDiagram();
 var first=B[0].special.filter(function(s){return s.label!=="EP";}).concat(B[0].special)[0];
 fix(0,first?first.row:0);  // the first fold, cusp or event: the point a reader looks at first

@@ -167,8 +167,9 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
     if system is not None:
         for n in values:
             system.index(n)
-        if system.scene is None:
+        if system.scene is None and system.ode is None:  # an ODE system has no drawing: the diagram alone
             raise InputError("model", f"'{system.name}' has no drawing (its EquationSystem has no scene)")
+    drawn = system is not None and system.scene is not None
     out: list[dict] = []
     all_scenes: list[list[Scene]] = []
     for k, source in enumerate(branches):
@@ -187,12 +188,14 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
                                            "not a finite number")
         if system is not None:
             X = _full_rows(system, branch, name, values)[rows]
-            all_scenes.append([system.scene(x) for x in X])
+            if drawn:
+                all_scenes.append([system.scene(x) for x in X])
         out.append(doc)
     data: dict = {"title": title or (system.name if system is not None else ""), "branches": out, "bodies": [],
                   "axes": _default_axes(out[0]) if out else ["", ""],
                   "dim": 2, "views": {}, "force_scale": 0.0, "symbol": 0.0, "view_axes": VIEW_AXES}
-    if system is not None:
+    if drawn:
+        assert system is not None
         flat = [s for scenes in all_scenes for s in scenes]
         colours = _d.body_colours(flat)
         index = {n: i for i, n in enumerate(colours)}
