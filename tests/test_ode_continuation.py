@@ -46,7 +46,7 @@ def test_ab_folds_against_the_closed_form():
     model, branch = _ab_branch(17.0)
     c = 17.0 / 4.0
     root = np.sqrt(1 - 4 / c)
-    want = sorted(((1 - s * root) / 2 for s in (1, -1)))
+    want = sorted((1 - s * root) / 2 for s in (1, -1))
     lp = sorted((p for p in branch.special_points if p.label == "LP"), key=lambda p: p.x[model.index("u1")])
     assert len(lp) == 2
     for p, u1 in zip(lp, want):

@@ -4,13 +4,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_helpers import make_runner, one_line_error
 
 from mechcont.equations import dynamics_of
 from mechcont.errors import InputError
 from mechcont.mechanism._ode_file import OdeSystem, parse_file
 from mechcont.models import describe_model, load_model, model_at
-
-from cli_helpers import make_runner, one_line_error
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
