@@ -162,3 +162,33 @@ def test_mechanism_analyses_refuse_an_ode_file(run, args):
 ])
 def test_options_that_make_no_sense_for_an_ode_are_one_line(run, args, words):
     one_line_error(run(args[0], AB, *args[1:]), *words)
+
+
+def test_continue_the_hopf_normal_form_units_and_exact_stability(tmp_path, run):
+    """Stuart-Landau: the origin is the equilibrium for every mu; df/du there is [[mu, -omega], [omega, mu]],
+    eigenvalues mu +- i omega: two unstable for mu > 0, none for mu < 0. The file's units reach the headers."""
+    out = tmp_path / "b.csv"
+    res = run("continue", EXAMPLES / "stuart_landau.toml", "--vary", "mu", "--bounds", "mu=-1:1", "--out", out)
+    assert res.exit_code == 0, res.output
+    with open(out) as fh:
+        reader = csv.DictReader(fh)
+        rows = list(reader)
+    assert reader.fieldnames[:4] == ["x", "y", "mu [1/s]", "omega [rad/s]"]
+    mu = np.array([float(r["mu [1/s]"]) for r in rows])
+    assert mu.min() == pytest.approx(-1) and mu.max() == pytest.approx(1)
+    assert max(abs(float(r["x"])) + abs(float(r["y"])) for r in rows) < 1e-12
+    for m, r in zip(mu, rows):
+        if abs(m) > 1e-9:
+            assert int(r["n_unstable"]) == (2 if m > 0 else 0), (m, r)
+
+
+def test_an_algebraic_file_is_checked_and_not_simulated(tmp_path, run):
+    path = tmp_path / "square.toml"
+    path.write_text('[system]\nname = "square"\n[parameters]\nmu = 4.0\n[states]\nx = 1.0\n[equations]\nx = "x^2 - mu"\n')
+    res = run("check", path)
+    assert res.exit_code == 0, res.output
+    assert "algebraic system 0 = g(u, p) (AUTO's IPS = 0)" in res.output
+    assert "residual at the initial state: -3" in res.output
+    assert "equilibrium Newton reaches from the initial state: x = 2" in res.output
+    assert "eigenvalues" not in res.output
+    one_line_error(run("simulate", path, "--until", "1"), "algebraic")
