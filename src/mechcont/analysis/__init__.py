@@ -23,6 +23,7 @@ _LAZY = {
     **dict.fromkeys(["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stability_on_stops",
                      "stops_in_contact"], "stops"),
     "equilibrium_family": "surface",
+    **dict.fromkeys(["OdeReport", "ode_report", "ode_equations"], "ode_check"),
     **dict.fromkeys(["UnlockFolds", "unlock_folds", "unlock_force_along", "with_unlock_columns"], "unlock"),
 }
 
@@ -30,11 +31,12 @@ __all__ = ["equilibrium_family", "downlock", "downlock_point", "downlock_conditi
            "DesignRegion", "DesignRow", "FoldLocus", "DownlockResult", "UnlockFolds", "unlock_folds",
            "unlock_force_along", "with_unlock_columns", "redundancy_along", "RedundancyReport", "RedundancyState",
            "StopRun", "continuation_with_stops", "equilibrium_on_stops", "stability_on_stops",
-           "stops_in_contact"]
+           "stops_in_contact", "OdeReport", "ode_report", "ode_equations"]
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     from .design import DesignRegion, DesignRow, FoldLocus, design_region, fold_locus
     from .downlock import DownlockResult, downlock_condition, downlock_point
+    from .ode_check import OdeReport, ode_equations, ode_report
     from .redundancy import RedundancyReport, RedundancyState, redundancy_along
     from .stops import StopRun, continuation_with_stops, equilibrium_on_stops, stability_on_stops, stops_in_contact
     from .surface import equilibrium_family

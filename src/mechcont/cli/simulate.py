@@ -152,7 +152,7 @@ def _simulate_ode(system, model: str, starts, until: float, watch, solver: dict,
                   *, use_stops: bool, damping: float, quiet: bool) -> None:
     """``simulate`` of an ODE file: du/dt = f(u, p) from the file's initial states (``--start`` replacing them)."""
     from .._progress import Progress
-    from ..dynamics._ode import ode_start, simulate_ode
+    from ..dynamics import ode_start, simulate_ode
 
     for given, option in ((use_stops, "--stops"), (damping != 0.0, "--damping")):
         if given:
