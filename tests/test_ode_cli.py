@@ -192,3 +192,20 @@ def test_an_algebraic_file_is_checked_and_not_simulated(tmp_path, run):
     assert "equilibrium Newton reaches from the initial state: x = 2" in res.output
     assert "eigenvalues" not in res.output
     one_line_error(run("simulate", path, "--until", "1"), "algebraic")
+
+
+def test_simulate_van_der_pol_settles_on_its_cycle_of_the_known_period(tmp_path, run):
+    """mu = 1: the period of the limit cycle is 6.6632868593231... (the issue's truth); measured between
+    upward zero crossings of x, found on the cubic Hermite interpolant (dx/dt = y is in the table)."""
+    from scipy.interpolate import CubicHermiteSpline
+
+    out = tmp_path / "vdp.csv"
+    res = run("simulate", EXAMPLES / "van_der_pol.toml", "--until", "80", "--method", "DOP853", "--rtol", "1e-12",
+              "--atol", "1e-13", "--out", out, "--no-progress")
+    assert res.exit_code == 0, res.output
+    _, data = _table(out)
+    t, x, y = data[:, 0], data[:, 1], data[:, 2]
+    roots = CubicHermiteSpline(t, x, y).roots(extrapolate=False)
+    up = np.array([r for r in roots if r > 30 and np.interp(r, t, y) > 0])
+    assert len(up) >= 5
+    np.testing.assert_allclose(np.diff(up), 6.6632868593231, rtol=1e-10)  # measured: 7e-14
