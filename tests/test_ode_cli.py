@@ -123,6 +123,7 @@ def test_check_finds_a_non_finite_rate(tmp_path, run):
     res = run("check", path)
     assert res.exit_code == 1
     assert "not finite at the initial state" in res.output
+    one_line_error(run("simulate", path, "--until", "1"), "--start", "not finite at the initial state")
 
 
 def test_equations_prints_the_rates_and_latex(run):
@@ -209,3 +210,12 @@ def test_simulate_van_der_pol_settles_on_its_cycle_of_the_known_period(tmp_path,
     up = np.array([r for r in roots if r > 30 and np.interp(r, t, y) > 0])
     assert len(up) >= 5
     np.testing.assert_allclose(np.diff(up), 6.6632868593231, rtol=1e-10)  # measured: 7e-14
+
+
+def test_a_step_budget_ends_the_run_in_one_line_keeping_the_history(tmp_path, run):
+    out = tmp_path / "h.csv"
+    res = run("simulate", EXAMPLES / "van_der_pol.toml", "--until", "50", "--step-budget", "5", "--out", out,
+              "--no-progress")
+    one_line_error(res, "--step-budget", "more than 5 steps", str(out))
+    _, data = _table(out)
+    assert 2 <= len(data) <= 6 and data[-1, 0] < 50

@@ -162,7 +162,7 @@ def _simulate_ode(system, model: str, starts, until: float, watch, solver: dict,
     watch = watch or next(iter(assignments(starts, "start")), states[0])
     if watch not in states:
         raise InputError("--watch", f"{watch} is not a state of {system.name}; valid: {', '.join(states)}")
-    with named_as({"max_steps": "--step-budget"}), \
+    with named_as({"max_steps": "--step-budget", "x0": "--start"}), \
             Progress("simulate", total=until, unit="s simulated", quiet=quiet) as bar:
         result = simulate_ode(system, x0, (0.0, until), **solver, max_steps=step_budget,
                               progress=bar.set if bar.enabled else None)
