@@ -8,7 +8,6 @@ from cli_helpers import make_runner, one_line_error
 
 from mechcont.equations import dynamics_of
 from mechcont.errors import InputError
-from mechcont.mechanism._ode_file import OdeSystem, parse_file
 from mechcont.models import describe_model, load_model, model_at
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -129,6 +128,8 @@ def test_an_equations_table_is_algebraic(tmp_path):
 
 
 def test_parse_file_gives_an_ode_system_or_a_mechanism():
+    from mechcont.mechanism._ode_file import OdeSystem, parse_file
+
     assert isinstance(parse_file(AB, "ab.toml"), OdeSystem)
     assert not isinstance(parse_file((EXAMPLES.parent / "src/mechcont/data/fourbar.toml").read_text(), "f.toml"),
                           OdeSystem)
@@ -160,13 +161,14 @@ BAD = [
     ("unknown key in [system]", '[system]\nname = "s"\nipS = 1\n[states]\nu1 = 0.0\n[rates]\nu1 = "-u1"\n',
      ["system.ipS", "unknown key"]),
     ("a mechanism table", _HEAD + '[states]\nu1 = 0.0\n[rates]\nu1 = "-u1"\n[bodies.a]\nmass = 1\n',
-     ["bodies", "unknown key"]),
+     ["bodies: unknown key; valid keys: equations, parameters, rates, states, system"]),
     ("a name that is a function", _HEAD + '[states]\nexp = 0.0\n[rates]\nexp = "-1"\n', ["states.exp", "reserved"]),
     ("a name that is not an identifier", _HEAD + '[states]\n"u 1" = 0.0\n[rates]\n"u 1" = "-1"\n', ["states.u 1", "name"]),
     ("[system] not a table", 'system = "s"\n[states]\nu1 = 0.0\n[rates]\nu1 = "-u1"\n', ["system", "must be a table"]),
     ("unknown key of a state", _HEAD + '[states]\nu1 = { value = 0.0, units = "m" }\n[rates]\nu1 = "-u1"\n',
      ["states.u1.units", "unknown key"]),
-    ("malformed TOML", _HEAD + '[states]\nu1 = \n', ["malformed TOML"]),
+    ("a name that is a keyword", _HEAD + '[states]\nlambda = 0.0\n[rates]\nlambda = "-1"\n',
+     ["states.lambda", "reserved"]),
 ]
 
 

@@ -30,11 +30,13 @@ _LAZY = {
     **dict.fromkeys(["Body", "CustomLoad", "Damper", "Drag", "Gravity", "Mechanism", "Moment", "Parameter", "PointForce",
                      "Polar", "Prismatic", "Revolute", "Slider", "Spring", "Weld", "coordinate_names"], "_description"),
     **dict.fromkeys(["load_description", "parse_description"], "_file"),
+    **dict.fromkeys(["OdeSystem", "load_file", "parse_file"], "_ode_file"),
     **dict.fromkeys(["builtin_descriptions", "find_description"], "_paths"),
 }
 
 __all__ = [
     "load", "load_description", "parse_description", "builtin_descriptions", "find_description",
+    "OdeSystem", "load_file", "parse_file",
     "Mechanism", "Parameter", "Polar", "Body", "Revolute", "Slider", "Prismatic", "Weld", "Spring", "Damper",
     "Gravity", "PointForce", "Moment", "Drag", "CustomLoad", "Actuator", "Condition", "DownlockSpec",
     "coordinate_names",
@@ -65,6 +67,7 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
         coordinate_names,
     )
     from ._file import load_description, parse_description
+    from ._ode_file import OdeSystem, load_file, parse_file
     from ._paths import builtin_descriptions, find_description
     from .elements import Actuator
 
