@@ -57,6 +57,9 @@ def check_command(ctx, model, sets, reduced, plot, label_points, quiet):
     open joint, no equilibrium found, no consistent set of stops in contact), listed at the
     end of the report (with --quiet: one line 'finding: ...' each on stderr); 2 for input
     the model cannot be built from (one line on stderr), e.g. a loop that cannot close.
+
+    An ODE file ([system] table, docs/ode-format.md): its states, parameters and rates, the residual
+    and the eigenvalues of df/du at the initial state, and the equilibrium Newton reaches from there.
     """
     from ..mechanism import check_report
     from ..mechanism._paths import is_system_file

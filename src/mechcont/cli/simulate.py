@@ -71,6 +71,9 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     The start is not an equilibrium: the mechanism moves from rest under its loads. With
     --stops every stop event (impact with its speed, contact, release) is printed with its
     time and the stop's name, and the CSV has a row at each (its label column says which).
+
+    An ODE file ([system] table, docs/ode-format.md) is integrated from its initial states, the
+    --start values replacing them; its CSV has t, the states and the parameters.
     """
     from .._io import check_output_path
     from ..dynamics import check_duration

@@ -167,7 +167,7 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
     if system is not None:
         for n in values:
             system.index(n)
-        if system.scene is None and system.ode is None:  # an ODE system has no drawing: the diagram alone
+        if system.scene is None and getattr(system, "ode", None) is None:  # an ODE system: the diagram alone
             raise InputError("model", f"'{system.name}' has no drawing (its EquationSystem has no scene)")
     drawn = system is not None and system.scene is not None
     out: list[dict] = []
