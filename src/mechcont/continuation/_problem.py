@@ -16,7 +16,7 @@ from typing import Protocol
 
 import numpy as np
 
-from ..equations import EquationSystem
+from ..equations import EquationSystem, Model
 from ..errors import InputError
 
 __all__ = ["ContinuationProblem", "EquilibriumProblem", "choose_unknowns"]
@@ -151,7 +151,7 @@ class EquilibriumProblem(ContinuationProblem):
             sc[system.index(n)] = v
         self.scale = sc[self.idx]
         # an ODE model's stability is its Jacobian's (unstable_rates); an algebraic one has none
-        ode = getattr(system, "ode", None)
+        ode = system.ode if isinstance(system, Model) else None
         self._ode = ode is not None and not ode.algebraic
         self._stability = stability and (system.mechanics is not None or self._ode)
         self._columns = self.system.columns(self.idx)

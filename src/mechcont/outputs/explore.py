@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from .._io import atomic_write
-from ..equations import Scene
+from ..equations import Model, Scene
 from ..errors import InputError
 from . import drawing as _d
 
@@ -167,7 +167,7 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
     if system is not None:
         for n in values:
             system.index(n)
-        if system.scene is None and getattr(system, "ode", None) is None:  # an ODE system: the diagram alone
+        if system.scene is None and not (isinstance(system, Model) and system.ode is not None):  # an ODE: no drawing
             raise InputError("model", f"'{system.name}' has no drawing (its EquationSystem has no scene)")
     drawn = system is not None and system.scene is not None
     out: list[dict] = []
