@@ -77,6 +77,7 @@ def project(scene: Scene, view: str) -> Scene:
     out.sliders = [(p2(p), p2(d)) for p, d in scene.sliders]
     out.springs = [(name, p2(a), p2(b)) for name, a, b in scene.springs]
     out.dampers = [(name, p2(a), p2(b)) for name, a, b in scene.dampers]
+    out.coils = [(name, p2(p), kind) for name, p, kind in scene.coils]
     out.actuators = [(name, p2(a), p2(b), t) for name, a, b, t in scene.actuators]
     out.forces = [(name, p2(p), p2(f)) for name, p, f in scene.forces]
     out.moments = [(name, p2(p), sign * float(np.asarray(m, float)[n])) for name, p, m in scene.moments]
