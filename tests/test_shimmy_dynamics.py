@@ -159,12 +159,27 @@ def test_hopf_speeds_from_routh_hurwitz(caster):
     assert max(_eigenvalues(caster, 2 * v2).real) < 0                    # stable above it
 
 
-def test_planar_and_spatial_casters_agree(caster, caster3):
+def _reduced_eigenvalues(mech, V):
+    model = mech.build_reduced(V=V)
+    x = find_equilibrium(model)
+    return dynamics(model).linearise(x).eigenvalues()
+
+
+def test_planar_spatial_reduced_and_moved_frame_casters_agree(caster, caster3):
+    """The same wheel described in space, in the reduced form, and with its frame origin at the
+    contact point instead of the pin (the pin at ``wheel.swivel``) has the same eigenvalues."""
+    moved_text = text().replace("cg = [0, 0]", f"cg = [{E}, 0]").replace(
+        f"points = {{ contact = [{-E}, 0] }}", f"points = {{ swivel = [{E}, 0], contact = [0, 0] }}").replace(
+        'b = "wheel.origin"', 'b = "wheel.swivel"')
+    assert "wheel.swivel" in moved_text and f"cg = [{E}, 0]" in moved_text
+    moved = parse_description(moved_text)
     for V in (2.0, 12.0):
-        lam2, lam3 = _eigenvalues(caster, V), _eigenvalues(caster3, V)
-        assert len(lam3) == len(lam2) == 3
-        for r in lam2:
-            assert np.min(np.abs(lam3 - r)) < 1e-8 * max(1.0, abs(r))
+        lam2 = _eigenvalues(caster, V)
+        others = (_eigenvalues(caster3, V), _reduced_eigenvalues(caster, V), _eigenvalues(moved, V))
+        for lam in others:
+            assert len(lam) == len(lam2) == 3
+            for r in lam2:
+                assert np.min(np.abs(lam - r)) < 1e-8 * max(1.0, abs(r))
 
 
 PSI0 = 0.09
@@ -215,7 +230,8 @@ def test_check_reports_the_tyre_state_and_the_speed_parameter():
     result = make_runner()("check", "examples/shimmy.toml")
     assert result.exit_code == 0, result.output
     lines = result.output.splitlines()
-    assert any(ln.split()[:1] == ["y_nose"] and "lateral deflection" in ln for ln in lines), result.output
+    assert any(ln.split()[:1] == ["y_nose"] and "lateral deflection" in ln and "speed V" in ln for ln in lines), \
+        result.output
     assert any(ln.split()[:1] == ["V"] and "m/s" in ln for ln in lines), result.output
 
 

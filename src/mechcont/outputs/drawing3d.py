@@ -281,6 +281,7 @@ def legend(fig, colours: dict[str, str], scene: Scene) -> None:
     handles = [Line2D([], [], color=c, linewidth=5, solid_capstyle="round", label=n) for n, c in colours.items()]
     extra: tuple[tuple[str, str, Any, float, Sequence], ...] = (
         ("springs", "#ff7f0e", "-", 1.3, scene.springs), ("dampers", "#8c564b", "--", 2.0, scene.dampers),
+        ("rotary springs, dampers (at their joint)", "#ff7f0e", ":", 1.3, scene.coils),
              ("actuators", "#6a3d9a", "-", 5, scene.actuators), ("loads", "#d62728", "-", 1.8, scene.forces),
              ("joint axes", "0.3", "-.", 1.0, scene.joint_axes))
     for n, c, ls, lw, items in extra:

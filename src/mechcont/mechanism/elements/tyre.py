@@ -171,8 +171,9 @@ class Tyre(Element):
         at = {symbol(k): val for k, val in parameter_values(kin.mech, {}).items()}
         sigma = abs(float(sp.sympify(v(self.field("relaxation_length"))).xreplace(at)))
         return (ElementState(self.state, "m", rate, scale=sigma / 10 or 1.0, initial=0.0,
-                             description=f"lateral deflection of tyre {self.name} (stretched string; + to the "
-                                         "wheel's left)"),)
+                             description=f"lateral deflection of tyre {self.name} (stretched string at speed "
+                                         f"{self.speed}, relaxation length {self.relaxation_length}; + to the wheel's "
+                                         "left)"),)
 
     def apply(self, kin, out) -> None:
         """The side force ``F(y) l`` at the (trailed) contact point: generalised forces ``F l . dP/dq``."""
