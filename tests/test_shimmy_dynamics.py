@@ -298,3 +298,15 @@ def test_simulate_follows_the_saturating_caster_onto_its_cycle():
     ref = _reference(V, fmax, t)
     np.testing.assert_allclose(np.asarray(sim["theta_wheel"]), ref[0], atol=1e-8)   # measured 5e-11
     np.testing.assert_allclose(np.asarray(sim["y_nose"]), ref[2], atol=1e-9)        # measured 1e-11
+
+
+def test_stability_grid_has_the_sign_of_the_routh_hurwitz_condition(caster):
+    """Unstable exactly where ``a2 a1 < a0`` (with ``a2, a0 > 0``), over speeds x damper rates."""
+    from mechcont.paper.shimmy import stability_grid
+
+    speeds, rates = [0.5, 3.0, 10.0, 20.0, 60.0], [0.5, 2.0, 8.0]
+    grid = stability_grid(speeds, "c", rates, caster)
+    for row, c in zip(grid, rates):
+        for re, V in zip(row, speeds):
+            a2, a1, a0 = coefficients(V, c=c)
+            assert (re > 0) == (a2 * a1 < a0), (V, c, re, a2 * a1 - a0)
