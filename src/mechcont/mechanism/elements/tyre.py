@@ -27,7 +27,8 @@ side force to ``F = C sin psi ~ C psi`` along ``+l``: the ground pushes the whee
 steered, the slip angle being ``alpha = -v_lat/V = sin psi``. On a caster wheel swivelling about a
 pin at the origin with its contact point a caster length ``e`` behind (``P = -e h``) the moment of
 that force about the pin is ``(-e h) x (F l) = -e F``: it turns the wheel back towards the direction
-of travel, as a trailing caster does. Moving the pin, ``dy/dt = e psi' + V sin psi - (V/sigma) y``:
+of travel, as a trailing caster does. Swivelling about that fixed pin (``dP/dt = -e psi' l``),
+``dy/dt = e psi' + V sin psi - (V/sigma) y``:
 the lag of ``y`` behind ``psi`` (the ``V/sigma`` pole) is what feeds shimmy when ``e < sigma``
 (see ``tests/test_shimmy_dynamics.py`` for the Routh-Hurwitz Hopf speeds of this caster).
 
