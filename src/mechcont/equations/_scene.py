@@ -59,6 +59,9 @@ class Scene:
     slots:
         ``(name, start, end)``: a straight slot in a body (a pin-in-slot joint), drawn as a
         channel from ``start`` to ``end`` over the body.
+    coils:
+        ``(name, centre, kind)``: a rotary element at a joint, ``kind`` ``"spring"`` (a torsion
+        spring, drawn as a coil around ``centre``) or ``"damper"`` (a rotary dashpot).
     """
 
     bars: list[tuple[str, np.ndarray]] = field(default_factory=list)
@@ -74,6 +77,7 @@ class Scene:
     actuators: list[tuple[str, np.ndarray, np.ndarray, float]] = field(default_factory=list)
     joint_axes: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
     slots: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
+    coils: list[tuple[str, np.ndarray, str]] = field(default_factory=list)
 
     @property
     def dimension(self) -> int:
@@ -88,7 +92,7 @@ class Scene:
         pts += [p for _, a, b in self.dampers for p in (a, b)] + list(self.anchors)
         pts += [p for _, a, b, _ in self.actuators for p in (a, b)]
         pts += [p for _, p, _ in self.forces] + [p for _, p, _ in self.moments]
-        pts += [p for _, a, b in self.slots for p in (a, b)]
+        pts += [p for _, a, b in self.slots for p in (a, b)] + [p for _, p, _ in self.coils]
         return pts + [p for _, p, _ in self.joint_axes]
 
     def extent(self) -> tuple[float, ...]:

@@ -82,6 +82,8 @@ class GeneratedScene:
                 out.points.append((name, pts[0].copy()))
             elif kind == "slot":
                 out.slots.append((name, pts[0].copy(), pts[1].copy()))
+            elif kind in ("torsion_spring", "torsion_damper"):
+                out.coils.append((name, pts[0].copy(), kind.removeprefix("torsion_")))
             else:
                 out.forces.append((name, pts[0].copy(), pts[1].copy()))
         return out
@@ -124,6 +126,8 @@ class SpatialScene:
                 out.moments.append((name, pts[0], pts[1]))
             elif kind == "force":
                 out.forces.append((name, pts[0], pts[1]))
+            elif kind in ("torsion_spring", "torsion_damper"):
+                out.coils.append((name, pts[0], kind.removeprefix("torsion_")))
             else:
                 out.points.append((name, pts[0]))
         return out

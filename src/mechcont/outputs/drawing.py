@@ -5,7 +5,8 @@ this module draws it: bars as thick polylines, pins as small circles, ground pin
 hatched ground symbol (a smaller one, facing away, where only springs or dampers are
 anchored), sliders as a block in a short slot fixed to the ground at its ends (drawn
 locally, never as a band across the view), slots in a body (pin-in-slot joints) as a channel
-along the body, springs as zig-zag coils, dampers as dashpots, actuators as a cylinder and rod
+along the body, springs as zig-zag coils, torsion springs as a spiral and rotary dampers as an arc
+with a dashpot around their joint, dampers as dashpots, actuators as a cylinder and rod
 labelled with their load (N, tension or compression), forces as arrows labelled in newtons and
 moments as curved arrows around their point (counter-clockwise for a positive value) labelled
 in newton metres. :func:`draw` saves one configuration (PNG, SVG, PDF), animations along a
@@ -253,6 +254,26 @@ def _draw_damper(ax, name: str, a: np.ndarray, b: np.ndarray, width: float):
     _line(ax, *np.array([at(0.5, 0), b]).T, **kw)
 
 
+def _draw_coil(ax, name: str, p: np.ndarray, kind: str, h: float):
+    """A rotary element at the joint ``p``: a torsion spring (``kind`` ``"spring"``) as a spiral of
+    two and a half turns from the pin out to ``1.6 h``; a rotary damper as a 200-degree arc of radius
+    ``3 h`` (outside a moment's arrow) (open below, clear of a ground symbol) with a dashpot across its middle."""
+    if kind == "spring":
+        phi = np.linspace(0.0, 5 * np.pi, 121)
+        r = h * (0.55 + 1.05 * phi / phi[-1])
+        _line(ax, p[0] + r * np.cos(phi), p[1] + r * np.sin(phi), color="#ff7f0e", linewidth=1.3, zorder=4,
+              label=name, gid=f"coil:{name}")
+        return
+    r = 3.0 * h
+    phi = np.radians(np.linspace(-10.0, 190.0, 61))
+    kw = dict(color="#8c564b", linewidth=1.3, zorder=4)
+    _line(ax, p[0] + r * np.cos(phi), p[1] + r * np.sin(phi), label=name, gid=f"coil:{name}", **kw)
+    top = p + np.array([0.0, r])
+    _line(ax, [top[0] - 0.5 * h, top[0] - 0.5 * h], [top[1] - 0.45 * h, top[1] + 0.45 * h], **kw)
+    cup = top + np.array([[0.7 * h, 0.6 * h], [-0.2 * h, 0.6 * h], [-0.2 * h, -0.6 * h], [0.7 * h, -0.6 * h]])
+    _line(ax, cup[:, 0], cup[:, 1], **kw)
+
+
 def _draw_actuator(ax, name: str, a: np.ndarray, b: np.ndarray, tension: float, width: float, label: bool):
     """Actuator from ``a`` to ``b``: a closed cylinder from ``a`` and a thinner rod to ``b``,
     labelled with its load in N (tension: pulls its ends together; compression: pushes)."""
@@ -441,6 +462,8 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
         _line(ax, line[:, 0], line[:, 1], color="#ff7f0e", linewidth=1.3, zorder=4, label=name)
     for name, a, b in scene.dampers:
         _draw_damper(ax, name, np.asarray(a, float), np.asarray(b, float), 0.6 * h)
+    for name, p, kind in scene.coils:
+        _draw_coil(ax, name, np.asarray(p, float), kind, h)
     for name, a, b, tension in scene.actuators:
         _draw_actuator(ax, name, np.asarray(a, float), np.asarray(b, float), float(tension), 0.8 * h,
                        show_forces and name not in set(quiet_loads))

@@ -77,6 +77,7 @@ def project(scene: Scene, view: str) -> Scene:
     out.sliders = [(p2(p), p2(d)) for p, d in scene.sliders]
     out.springs = [(name, p2(a), p2(b)) for name, a, b in scene.springs]
     out.dampers = [(name, p2(a), p2(b)) for name, a, b in scene.dampers]
+    out.coils = [(name, p2(p), kind) for name, p, kind in scene.coils]
     out.actuators = [(name, p2(a), p2(b), t) for name, a, b, t in scene.actuators]
     out.forces = [(name, p2(p), p2(f)) for name, p, f in scene.forces]
     out.moments = [(name, p2(p), sign * float(np.asarray(m, float)[n])) for name, p, m in scene.moments]
@@ -280,6 +281,7 @@ def legend(fig, colours: dict[str, str], scene: Scene) -> None:
     handles = [Line2D([], [], color=c, linewidth=5, solid_capstyle="round", label=n) for n, c in colours.items()]
     extra: tuple[tuple[str, str, Any, float, Sequence], ...] = (
         ("springs", "#ff7f0e", "-", 1.3, scene.springs), ("dampers", "#8c564b", "--", 2.0, scene.dampers),
+        ("rotary springs, dampers (at their joint)", "#ff7f0e", ":", 1.3, scene.coils),
              ("actuators", "#6a3d9a", "-", 5, scene.actuators), ("loads", "#d62728", "-", 1.8, scene.forces),
              ("joint axes", "0.3", "-.", 1.0, scene.joint_axes))
     for n, c, ls, lw, items in extra:
