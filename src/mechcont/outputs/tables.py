@@ -101,6 +101,22 @@ def special_table(branch, cols=None) -> str:
     return "\n".join(lines)
 
 
+def hopf_lines(branch) -> list[str]:
+    """One line per Hopf point (``HB``) of ``branch`` carrying its payload: where, the frequency (rad/s)
+    and period (s), the first Lyapunov coefficient and what it means for the cycles born there."""
+    out = []
+    v = branch.vary
+    unit = display_unit(branch.units.get(v, ""))
+    for name, p in zip(branch.point_names(), branch.special_points):
+        hopf = p.extra.get("hopf")
+        if p.label != "HB" or hopf is None:
+            continue
+        out.append(f"{name} at {v} = {branch_value(branch, v, p.values[v]):.10g} {unit}: omega = "
+                   f"{hopf.frequency:.10g} rad/s (period {hopf.period:.6g} s), l1 = {hopf.lyapunov:.6g}: "
+                   f"{hopf.criticality}".replace("  ", " "))
+    return out
+
+
 def approximate_warnings(branch) -> list[str]:
     """One line per special point of ``branch`` that was detected but not located: where, and why."""
     out = []
