@@ -137,8 +137,12 @@ def _write_hopf_curve(curve, out, plot, x: str, y: str, quiet: bool) -> None:
     """The Hopf curve's table, its stability chart, and its special points with omega and l1."""
     from ..outputs.plotting import save_figure
     from ..outputs.stability_chart import stability_chart
+    from ..outputs.tables import hopf_curve_lines
 
-    write_branch(curve, out, None, x, y, quiet, extra=["omega", "l1"])
+    write_branch(curve, out, None, x, y, quiet)
+    if not quiet:
+        for line in hopf_curve_lines(curve):
+            click.echo(line)
     if plot:
         save_figure(stability_chart([curve], x, y, title=f"{curve.model}: stability chart in ({x}, {y})"), plot)
         if not quiet:

@@ -78,14 +78,18 @@ def _hatch(ax, b, x: str, y: str, xs, ys, hopf, spans) -> None:
     if len(idx) == 0:
         return
     ux, uy = dx / np.where(norm > 0, norm, 1.0), dy / np.where(norm > 0, norm, 1.0)
-    every = max(1, len(idx) // 40)
-    for i in idx[::every]:
+    # evenly along the drawn curve (in axes fractions), not per computed point: steps crowd where the curve bends
+    run = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(xs) / spans[0], np.diff(ys) / spans[1]))])
+    targets = np.arange(0.0, run[idx[-1]] + 1e-12, 1.5 * _HATCH)
+    marks = idx[np.unique(np.clip(np.searchsorted(run[idx], targets), 0, len(idx) - 1))]
+    for i in marks:
         ax.plot([xs[i], xs[i] + _HATCH * ux[i] * spans[0]], [ys[i], ys[i] + _HATCH * uy[i] * spans[1]],
                 "-", color="tab:blue", lw=0.8)
-    mid = idx[len(idx) // 2]
+    mid = idx[np.argmin(np.abs(run[idx] - 0.5 * (run[idx[0]] + run[idx[-1]])))]
     for word, sgn, color in (("stable", 1.0, "tab:green"), ("unstable", -1.0, "tab:red")):
-        ax.text(xs[mid] + sgn * 4 * _HATCH * ux[mid] * spans[0], ys[mid] + sgn * 4 * _HATCH * uy[mid] * spans[1],
-                word, color=color, fontsize=9, ha="center", va="center")
+        ax.text(xs[mid] + sgn * 3 * _HATCH * ux[mid] * spans[0], ys[mid] + sgn * 3 * _HATCH * uy[mid] * spans[1],
+                word, color=color, fontsize=9, ha="center", va="center",
+                bbox=dict(boxstyle="round,pad=0.2", facecolor="white", edgecolor="none", alpha=0.8))
 
 
 def stability_chart(hopf_curves: Sequence, x: str, y: str, folds: Sequence = (), *, title: str | None = None):

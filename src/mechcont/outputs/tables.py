@@ -13,8 +13,8 @@ from ..units import display, display_unit
 from .plotting import axis_label
 
 __all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "markdown_table", "write_records", "branch_value",
-           "heading", "special_table", "approximate_warnings", "jump_lines", "event_labels", "write_rows",
-           "summary_rows"]
+           "hopf_lines", "hopf_curve_lines", "heading", "special_table", "approximate_warnings", "jump_lines",
+           "event_labels", "write_rows", "summary_rows"]
 
 #: A branch is written as CSV or JSON (by suffix).
 BRANCH_SUFFIXES = (".csv", ".json")
@@ -114,6 +114,19 @@ def hopf_lines(branch) -> list[str]:
         out.append(f"{name} at {v} = {branch_value(branch, v, p.values[v]):.10g} {unit}: omega = "
                    f"{hopf.frequency:.10g} rad/s (period {hopf.period:.6g} s), l1 = {hopf.lyapunov:.6g}: "
                    f"{hopf.criticality}".replace("  ", " "))
+    return out
+
+
+def hopf_curve_lines(curve) -> list[str]:
+    """One line per special point of a Hopf curve (:func:`~mechcont.continuation.continue_hopf`): its ``omega``
+    (rad/s) and ``l1`` there, and what a ``BT`` or ``GH`` point means."""
+    meaning = {"BT": "Bogdanov-Takens: omega reaches 0, the Hopf curve meets a fold curve",
+               "GH": "generalised Hopf: l1 changes sign, the cycles born change stability"}
+    out = []
+    omega, l1 = curve.column("omega"), curve.column("l1")
+    for name, p in zip(curve.point_names(), curve.special_points):
+        if p.label in meaning:
+            out.append(f"{name}: omega = {omega[p.index]:.6g} rad/s, l1 = {l1[p.index]:.6g} ({meaning[p.label]})")
     return out
 
 
