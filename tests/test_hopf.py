@@ -112,3 +112,13 @@ def test_user_points_are_rows_exactly_at_the_values():
         assert np.max(np.abs(m.residual(p.x))) < ContinuationOptions().residual_tol  # the engine's own points' tolerance
     with pytest.raises(InputError, match="at"):
         continuation(m, m.vector({}), "D", at=[math.nan])
+
+
+def test_branch_json_carries_the_hopf_payload(tmp_path):
+    import json
+
+    br = _branch(normal_form(-1.5), "mu", {"mu": (-1.0, 1.0)})
+    doc = json.loads(br.to_json(tmp_path / "b.json").read_text())
+    (hb,) = [p for p in doc["special_points"] if p["label"] == "HB"]
+    assert hb["name"] == "HB1" and hb["frequency"] == pytest.approx(2.0, rel=1e-13)
+    assert hb["l1"] == pytest.approx(-1.5, rel=1e-8) and hb["criticality"] == "supercritical (stable cycles)"
