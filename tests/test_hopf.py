@@ -122,3 +122,15 @@ def test_branch_json_carries_the_hopf_payload(tmp_path):
     (hb,) = [p for p in doc["special_points"] if p["label"] == "HB"]
     assert hb["name"] == "HB1" and hb["frequency"] == pytest.approx(2.0, rel=1e-13)
     assert hb["l1"] == pytest.approx(-1.5, rel=1e-8) and hb["criticality"] == "supercritical (stable cycles)"
+
+
+def test_two_hopf_points_numbered_along_the_branch():
+    """ab at beta = 4: the equilibrium gains and loses the oscillation again (HB1 then HB2 as D grows)."""
+    m = ab_model(beta=4.0)
+    br = _branch(m, "D", {"D": (0.0, 1.0), "u2": (-1.0, 10.0)})
+    names = [n for n in br.point_names() if n.startswith("HB")]
+    assert names == ["HB1", "HB2"] and br["HB1"]["D"] < br["HB2"]["D"]
+    for name in names:
+        hb = br[name]
+        u1, u2, D = ab_hopf_independent([hb["u1"], hb["u2"], hb["D"]], 14.0, 4.0)
+        assert hb["D"] == pytest.approx(D, rel=1e-9) and hb["u1"] == pytest.approx(u1, rel=1e-9)

@@ -153,11 +153,16 @@ class HopfProblem(ContinuationProblem):
         return self.evaluate(u)[1]
 
     def lyapunov(self, x: np.ndarray) -> float:
-        """``l1`` at the curve point ``x`` (0 where the critical pair is real)."""
+        """``l1`` at the curve point ``x`` (0 where the critical pair is real or ``l1`` is undefined: the
+        generalised-Hopf event skips zeros)."""
         pair = self.test.pair(x)
         if not pair.complex:
             return 0.0
-        return first_lyapunov(self.test.dynamics, x, pair.omega, self.test.system)[0]
+        try:
+            l1 = first_lyapunov(self.test.dynamics, x, pair.omega, self.test.system)[0]
+        except np.linalg.LinAlgError:  # A singular: a Bogdanov-Takens point, where l1 is not defined
+            return 0.0
+        return l1 if math.isfinite(l1) else 0.0
 
     def side(self, x: np.ndarray) -> tuple[float, float, int]:
         """``(-dg/dp1, -dg/dp2, n)`` at the curve point ``x``: the direction in the parameter plane into

@@ -19,6 +19,7 @@ its linearisation ``E dz/dt = A dz`` and nothing else, so it serves ODE models a
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -87,13 +88,19 @@ def bialternate_test(lam: np.ndarray) -> float:
     lam = np.asarray(lam, dtype=complex)
     if len(lam) < 2:
         return 1.0
-    i, j = np.triu_indices(len(lam), 1)
+    i, j = _pairs(len(lam))
     s = lam[i] + lam[j]
     mag = np.abs(s)
     if not np.all(mag > 0):
         return 0.0
     k = int(round(float(np.sum(np.angle(s))) / math.pi))
     return (-1.0 if k % 2 else 1.0) * float(np.exp(np.mean(np.log(mag))))
+
+
+@functools.lru_cache(maxsize=32)
+def _pairs(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """``np.triu_indices(n, 1)``, kept: it costs more than the eigenvalues of a small system."""
+    return np.triu_indices(n, 1)
 
 
 @dataclass(frozen=True)
@@ -152,16 +159,24 @@ class HopfTest:
 
     def pair(self, x: np.ndarray) -> CriticalPair:
         """The :class:`CriticalPair` at ``x``."""
-        import scipy.linalg
-
         lin = self.dynamics.linearise(x)
         A, E = np.asarray(lin.A, float), None if lin.E is None else np.asarray(lin.E, float)
-        lam, vl, vr = scipy.linalg.eig(A, E, left=True, right=True)
+        if E is None:
+            # the left eigenvectors are the rows of V^-1 (w_k^H v_k = 1): one LAPACK call fewer than scipy's
+            lam, vr = np.linalg.eig(A)
+            try:
+                vl = np.linalg.inv(vr).conj().T
+            except np.linalg.LinAlgError:  # a defective matrix (at a Bogdanov-Takens point): no gradient there
+                vl = np.full_like(vr, np.nan)
+        else:
+            import scipy.linalg
+
+            lam, vl, vr = scipy.linalg.eig(A, E, left=True, right=True)
         finite = np.isfinite(lam)
         lam, vl, vr = lam[finite], vl[:, finite], vr[:, finite]
         if len(lam) < 2:
             raise ConvergenceError("the dynamics have fewer than two finite eigenvalues: no Hopf point", partial=None)
-        i, j = np.triu_indices(len(lam), 1)
+        i, j = _pairs(len(lam))
         k = int(np.argmin(np.abs(lam[i] + lam[j])))
         a, b = int(i[k]), int(j[k])
         if lam[a].imag < lam[b].imag:
