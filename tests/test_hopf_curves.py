@@ -133,3 +133,4 @@ def test_cli_continue_at_rows_and_hopf_then_the_hopf_curve_and_its_chart(run_ab,
     one_line_error(run_ab("continue", "ab", "--vary", "D", "--start", "u1=0", "--at", "beta=1"), "--at")
     one_line_error(run_ab("continue", "ab", "--vary", "D", "--start", "u1=0", "--at", "D=0.1,abc"), "--at")
     one_line_error(run_ab("folds", "ab", "--point", f"{branch}:HB1", "--along", "D"), "--along")
+    one_line_error(run_ab("folds", "ab", "--point", f"{branch}:HB1", "--vary", "B", "--along", "beta"), "--vary")

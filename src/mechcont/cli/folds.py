@@ -64,7 +64,7 @@ def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps,
     system = load_at(model, assignments(sets, "set"))
     system.index(second)
     if point is not None:
-        _from_point(system, point, second, holds, frees, options, out, plot, quiet)
+        _from_point(system, point, vary, second, holds, frees, options, out, plot, quiet)
         return
     if vary is None:
         raise InputError("--vary", "give the parameter in which the fold is a turning point (e.g. --vary F), or "
@@ -93,7 +93,7 @@ def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps,
     write_branch(curve, out, plot, second, vary, quiet, extra=shown)
 
 
-def _from_point(system, point: str, second: str, holds, frees, options, out, plot, quiet) -> None:
+def _from_point(system, point: str, given_vary, second: str, holds, frees, options, out, plot, quiet) -> None:
     """``folds --point BRANCH.csv:ROW --along P2``: the fold curve of an ``LP`` row, the Hopf curve of an
     ``HB`` row (with its stability chart as the plot)."""
     from ..continuation import Branch, choose_unknowns, continue_folds, continue_hopf, locate_hopf
@@ -109,6 +109,9 @@ def _from_point(system, point: str, second: str, holds, frees, options, out, plo
         raise InputError("--point", f"'{csv_path}' is not a branch table of model '{system.name}' (with its vary "
                                     "column)")
     vary = branch.vary
+    if given_vary is not None and given_vary != vary:
+        raise InputError("--vary", f"is {given_vary}, but '{csv_path}' was continued in {vary}; leave --vary out with "
+                                   "--point")
     if vary == second:
         raise InputError("--along", f"is the branch's own parameter {vary}; choose a second parameter")
     p = branch.point(row)
