@@ -134,3 +134,23 @@ def test_cli_continue_at_rows_and_hopf_then_the_hopf_curve_and_its_chart(run_ab,
     one_line_error(run_ab("continue", "ab", "--vary", "D", "--start", "u1=0", "--at", "D=0.1,abc"), "--at")
     one_line_error(run_ab("folds", "ab", "--point", f"{branch}:HB1", "--along", "D"), "--along")
     one_line_error(run_ab("folds", "ab", "--point", f"{branch}:HB1", "--vary", "B", "--along", "beta"), "--vary")
+
+
+def test_cli_folds_from_a_fold_row_of_a_table(run_ab, tmp_path):
+    """`folds --point BRANCH.csv:LP1 --along beta`: every row of the fold curve solves f = 0, det J = 0 (by hand)."""
+    branch, curve = tmp_path / "ab.csv", tmp_path / "lp.csv"
+    r = run_ab("continue", "ab", "--set", "beta=1.5", "--vary", "D", "--start", "u1=0", "--bounds", "D=0:0.3",
+               "--bounds", "u2=-1:10", "--out", branch, "--quiet")
+    assert r.exit_code == 0, r.output
+    r = run_ab("folds", "ab", "--set", "beta=1.5", "--point", f"{branch}:LP1", "--along", "beta", "--bounds",
+               "beta=1:2", "--out", curve, "--quiet")
+    assert r.exit_code == 0, r.output
+    header, rows = read_table(curve)
+    col = {h.split(" ")[0]: k for k, h in enumerate(header)}
+    assert len(rows) > 10
+    for row in rows:
+        u1, u2, D, beta = (float(row[col[n]]) for n in ("u1", "u2", "D", "beta"))
+        e = math.exp(u2)
+        assert abs(-u1 + D * (1 - u1) * e) < 1e-10 and abs(-u2 + D * 14 * (1 - u1) * e - beta * u2) < 1e-10
+        J = ab_jacobian(u1, u2, D, 14.0, beta)
+        assert abs(np.linalg.det(J)) < 1e-9 * np.abs(J).max() ** 2

@@ -179,12 +179,5 @@ class HopfProblem(ContinuationProblem):
         d = grad[n:] - y @ J[:, n:]
         return -float(d[0]), -float(d[1]), pair.n_others_unstable
 
-    def solves(self, u, tol: float = 1e-9) -> bool:
-        """Whether ``u`` solves the Hopf system to ``tol`` (equilibrium rows relative to their terms)."""
-        from ._newton import residual_met
-
-        res, out = self.evaluate(u)
-        return bool(np.isfinite(res).all() and residual_met(res, out, u, tol))
-
     def test_functions(self):
         return [BogdanovTakensEvent(), GeneralisedHopfEvent()]
