@@ -150,6 +150,8 @@ class HopfTest:
         self.dynamics = dynamics
         self.system = system
         self._ode = isinstance(dynamics, OdeDynamics) and system is not None
+        # each variable's typical size (the model's scales): the finite-difference steps' unit
+        self._scales = None if system is None else np.abs(np.asarray(system.scales(), float))
         if self._ode:
             self._cols = np.array([system.index(n) for n in dynamics.state_names], dtype=np.intp)
 
@@ -208,10 +210,11 @@ class HopfTest:
 
     def _fd_gradient(self, x, cols, lam, v, w) -> np.ndarray:
         """``w^H (dA - lam dE) v`` per column by central differences (step ``eps^(1/3)`` of the column's
-        size: truncation and rounding errors balance at ``eps^(2/3)``, about 4e-11 relative)."""
+        value or typical size, whichever is larger: truncation and rounding errors balance at ``eps^(2/3)``,
+        about 4e-11 relative)."""
         out = np.zeros(len(cols), dtype=complex)
         for n, c in enumerate(cols):
-            h = _EPS ** (1 / 3) * max(1.0, abs(x[c]))
+            h = _EPS ** (1 / 3) * (max(self._scales[c] if self._scales is not None else 1.0, abs(x[c])) or 1.0)
             lins = []
             for sgn in (1.0, -1.0):
                 xs = np.array(x, float)
