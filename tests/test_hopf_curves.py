@@ -154,3 +154,21 @@ def test_cli_folds_from_a_fold_row_of_a_table(run_ab, tmp_path):
         assert abs(-u1 + D * (1 - u1) * e) < 1e-10 and abs(-u2 + D * 14 * (1 - u1) * e - beta * u2) < 1e-10
         J = ab_jacobian(u1, u2, D, 14.0, beta)
         assert abs(np.linalg.det(J)) < 1e-9 * np.abs(J).max() ** 2
+    # the fold curve drawn on the Hopf curve's stability chart; refused where there is no chart
+    hb_branch, chart = tmp_path / "hb.csv", tmp_path / "chart.svg"
+    r = run_ab("continue", "ab", "--vary", "D", "--start", "u1=0", "--bounds", "D=0:0.2", "--bounds", "u2=-1:10",
+               "--out", hb_branch, "--quiet")
+    assert r.exit_code == 0, r.output
+    r = run_ab("folds", "ab", "--point", f"{hb_branch}:HB1", "--along", "beta", "--bounds", "beta=1:5",
+               "--fold-curve", curve, "--plot", chart, "--quiet")
+    assert r.exit_code == 0, r.output
+    assert "fold (LP) curve" in chart.read_text() and "Hopf (HB) curve" in chart.read_text()
+    one_line_error(run_ab("folds", "ab", "--point", f"{hb_branch}:HB1", "--along", "beta", "--fold-curve", curve),
+                   "--fold-curve")
+    one_line_error(run_ab("folds", "ab", "--point", f"{hb_branch}:HB1", "--along", "beta", "--fold-curve",
+                          hb_branch, "--plot", chart), "--fold-curve")
+
+
+def test_bt_row_has_zero_frequency(ab_curve):
+    bt = ab_curve["BT1"]
+    assert ab_curve.column("omega")[bt.index] == 0.0 and np.isnan(ab_curve.column("l1")[bt.index])

@@ -38,8 +38,10 @@ from ._run import (
 @click.option("--point", default=None, metavar="BRANCH.csv:ROW",
               help="Start from this point of a branch table written by continue: a fold (LPn) or a Hopf point "
                    "(HBn, continued as a Hopf curve with BT and GH); its vary column gives P1.")
+@click.option("--fold-curve", "fold_curves", multiple=True, metavar="CURVE.csv",
+              help="With --point HBn and --plot: a fold curve table (written by folds) drawn on the stability chart.")
 def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, second, old_frees, which,
-                  out, plot, point):
+                  out, plot, point, fold_curves):
     """Locate fold number --fold of the branch in --vary, then continue it in --along.
 
     --free names a parameter solved for on the branch, as in `continue`. Scripts written before
@@ -63,8 +65,11 @@ def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps,
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_at(model, assignments(sets, "set"))
     system.index(second)
+    if fold_curves and (point is None or not plot):
+        raise InputError("--fold-curve", "is drawn on the stability chart: give it with --point BRANCH.csv:HBn and "
+                                         "--plot")
     if point is not None:
-        _from_point(system, point, vary, second, holds, frees, options, out, plot, quiet)
+        _from_point(system, point, vary, second, holds, frees, options, out, plot, quiet, fold_curves)
         return
     if vary is None:
         raise InputError("--vary", "give the parameter in which the fold is a turning point (e.g. --vary F), or "
@@ -93,7 +98,8 @@ def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps,
     write_branch(curve, out, plot, second, vary, quiet, extra=shown)
 
 
-def _from_point(system, point: str, given_vary, second: str, holds, frees, options, out, plot, quiet) -> None:
+def _from_point(system, point: str, given_vary, second: str, holds, frees, options, out, plot, quiet,
+                fold_curves=()) -> None:
     """``folds --point BRANCH.csv:ROW --along P2``: the fold curve of an ``LP`` row, the Hopf curve of an
     ``HB`` row (with its stability chart as the plot)."""
     from ..continuation import Branch, choose_unknowns, continue_folds, continue_hopf, locate_hopf
@@ -116,7 +122,10 @@ def _from_point(system, point: str, given_vary, second: str, holds, frees, optio
         raise InputError("--along", f"is the branch's own parameter {vary}; choose a second parameter")
     p = branch.point(row)
     states = choose_unknowns(system, hold=holds, free=frees, exclude=[vary])
+    folds = [_fold_curve_table(path, system, vary, second) for path in fold_curves]
     if p.label == "LP":
+        if folds:
+            raise InputError("--fold-curve", "is drawn on a Hopf point's stability chart; this point is a fold")
         check_point(system, p.x, label="LP", vary=vary, states=states, name=f"{csv_path}:{row}")
         curve = run_continuation(continue_folds, system, p.x, vary, second, hold=holds, free_extra=frees,
                                  options=options, quiet=quiet, label="fold curve")
@@ -133,10 +142,23 @@ def _from_point(system, point: str, given_vary, second: str, holds, frees, optio
                                     f"{hb[vary]:.10g}")
     curve = run_continuation(continue_hopf, system, hb, vary, second, options=options, quiet=quiet,
                              label="Hopf curve")
-    _write_hopf_curve(curve, out, plot, second, vary, quiet)
+    _write_hopf_curve(curve, out, plot, second, vary, quiet, folds)
 
 
-def _write_hopf_curve(curve, out, plot, x: str, y: str, quiet: bool) -> None:
+def _fold_curve_table(path: str, system, p1: str, p2: str):
+    """A fold-curve table for the stability chart: a branch table of ``system`` with both parameters."""
+    from ..continuation import Branch
+    from ..continuation._branch import check_branch_table
+
+    curve = Branch.read_csv(path, model=system.name)
+    check_branch_table(curve, system, path)
+    if curve.vary != p2 or "LP" in curve.labels:
+        raise InputError("--fold-curve", f"'{path}' is not a fold curve in ({p1}, {p2}): write one with "
+                                         f"folds --vary {p1} --along {p2}")
+    return curve
+
+
+def _write_hopf_curve(curve, out, plot, x: str, y: str, quiet: bool, folds=()) -> None:
     """The Hopf curve's table, its stability chart, and its special points with omega and l1."""
     from ..outputs.plotting import save_figure
     from ..outputs.stability_chart import stability_chart
@@ -147,6 +169,6 @@ def _write_hopf_curve(curve, out, plot, x: str, y: str, quiet: bool) -> None:
         for line in hopf_curve_lines(curve):
             click.echo(line)
     if plot:
-        save_figure(stability_chart([curve], x, y, title=f"{curve.model}: stability chart in ({x}, {y})"), plot)
+        save_figure(stability_chart([curve], x, y, folds, title=f"{curve.model}: stability chart in ({x}, {y})"), plot)
         if not quiet:
             click.echo(f"wrote {plot}")

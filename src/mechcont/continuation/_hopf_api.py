@@ -62,7 +62,7 @@ def continue_hopf(system: EquationSystem, hopf, vary: str, free: str, *, hold: I
     SpecialPoint; ``options``: steps and bounds; ``dynamics``: as for :func:`locate_hopf`.
 
     Returns a :class:`Branch` of the curve (full variable vectors) with the columns ``omega``
-    (rad/s; NaN past a Bogdanov–Takens point, where the curve goes on as neutral saddles), ``l1``
+    (rad/s; 0 at a Bogdanov–Takens point, NaN past it, where the curve goes on as neutral saddles), ``l1``
     (the first Lyapunov coefficient; NaN there too) and ``n_unstable_other`` (eigenvalues with
     positive real part besides the critical pair: 0 where crossing the curve changes stability);
     ``stable_<p1>``, ``stable_<p2>`` (the direction in the parameter plane, per unit of each, into
@@ -97,10 +97,11 @@ def _with_hopf_columns(curve: Branch, problem: HopfProblem) -> Branch:
     ``stable_<p2>``: the direction in the parameter plane into which the critical pair turns stable)."""
     cols: dict[str, list[float]] = {"omega": [], "l1": [], "n_unstable_other": [],
                                     f"stable_{problem.p1}": [], f"stable_{problem.p2}": []}
-    for x in curve.values:
+    for x, label in zip(curve.values, curve.labels):
         pair = problem.test.pair(x)
-        cols["omega"].append(pair.omega if pair.complex else np.nan)
-        cols["l1"].append(problem.lyapunov(x) if pair.complex else np.nan)
+        # at a BT point omega is 0 (kappa there is rounding, of either sign)
+        cols["omega"].append(0.0 if label == "BT" else pair.omega if pair.complex else np.nan)
+        cols["l1"].append(problem.lyapunov(x) if pair.complex and label != "BT" else np.nan)
         d1, d2, others = problem.side(x)
         cols["n_unstable_other"].append(float(others))
         cols[f"stable_{problem.p1}"].append(d1)

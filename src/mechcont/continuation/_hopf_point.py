@@ -188,8 +188,13 @@ class HopfTest:
                             int(np.sum(others.real > 0)))
 
     def gradient(self, x: np.ndarray, columns: Sequence[int] | np.ndarray, pair: CriticalPair) -> np.ndarray:
-        """``dg/dx`` over the full-vector columns ``columns`` (``g = lambda_1 + lambda_2``), as a real row."""
-        cols = np.asarray(columns, dtype=np.intp)
+        """``dg/dx`` over the full-vector columns ``columns`` (``g = lambda_1 + lambda_2``), as a real row;
+        not finite where the pair is defective (``w^H E v = 0``, a Bogdanov–Takens point), which the
+        correctors take as a failed point."""
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            return self._gradient(x, np.asarray(columns, dtype=np.intp), pair)
+
+    def _gradient(self, x: np.ndarray, cols: np.ndarray, pair: CriticalPair) -> np.ndarray:
         out = np.zeros(len(cols), dtype=complex)
         # a conjugate pair's second gradient is the conjugate of the first: their sum is twice its real part
         conjugate = pair.lam[0].imag != 0 and pair.lam[1] == np.conj(pair.lam[0])

@@ -6,6 +6,7 @@ No Matplotlib here: the commands that print tables stay light.
 from __future__ import annotations
 
 import io
+import math
 from pathlib import Path
 
 from .._io import atomic_write
@@ -126,7 +127,8 @@ def hopf_curve_lines(curve) -> list[str]:
     omega, l1 = curve.column("omega"), curve.column("l1")
     for name, p in zip(curve.point_names(), curve.special_points):
         if p.label in meaning:
-            out.append(f"{name}: omega = {omega[p.index]:.6g} rad/s, l1 = {l1[p.index]:.6g} ({meaning[p.label]})")
+            lyapunov = f"{l1[p.index]:.6g}" if math.isfinite(float(l1[p.index])) else "undefined"
+            out.append(f"{name}: omega = {omega[p.index]:.6g} rad/s, l1 = {lyapunov} ({meaning[p.label]})")
     return out
 
 
