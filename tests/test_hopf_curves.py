@@ -120,6 +120,7 @@ def test_cli_continue_at_rows_and_hopf_then_the_hopf_curve_and_its_chart(run_ab,
     header, rows = read_table(branch)
     col = header.index("label")
     uz = [float(row[header.index("D")]) for row in rows if row[col] == "UZ"]
+    assert r.stderr == ""
     assert uz == pytest.approx([0.05, 0.15], rel=1e-15)
     assert [row[col] for row in rows if row[col]] == ["EP", "UZ", "UZ", "HB", "EP"]
     curve, chart = tmp_path / "hopf.csv", tmp_path / "chart.png"
@@ -132,6 +133,9 @@ def test_cli_continue_at_rows_and_hopf_then_the_hopf_curve_and_its_chart(run_ab,
     one_line_error(run_ab("folds", "ab", "--point", f"{branch}:UZ1", "--along", "beta"), "--point", "UZ1")
     one_line_error(run_ab("continue", "ab", "--vary", "D", "--start", "u1=0", "--at", "beta=1"), "--at")
     one_line_error(run_ab("continue", "ab", "--vary", "D", "--start", "u1=0", "--at", "D=0.1,abc"), "--at")
+    r = run_ab("continue", "ab", "--vary", "D", "--start", "u1=0", "--bounds", "D=0:0.2", "--bounds", "u2=-1:10",
+               "--at", "D=0.1,0.3", "--quiet")
+    assert r.exit_code == 0 and r.stderr.strip() == "warning: --at D=0.3: the branch does not reach it (no UZ row)"
     one_line_error(run_ab("folds", "ab", "--point", f"{branch}:HB1", "--along", "D"), "--along")
     one_line_error(run_ab("folds", "ab", "--point", f"{branch}:HB1", "--vary", "B", "--along", "beta"), "--vary")
 

@@ -97,6 +97,10 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
 
         for line in hopf_lines(branch):
             click.echo(line)
+    found = [p[vary] for p in branch.special("UZ")]
+    for v in at_values:  # a value the branch never reached (outside its bounds) has no row: say so
+        if not any(abs(f - v) <= 1e-9 * max(1.0, abs(v)) for f in found):
+            click.echo(f"warning: --at {vary}={v:g}: the branch does not reach it (no UZ row)", err=True)
     raise_held()  # a SIGTERM that ended the continuation: its branch is written, now the exit status says so
     if with_stops and not quiet:
         from ..outputs.tables import jump_lines
