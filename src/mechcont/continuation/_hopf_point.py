@@ -263,7 +263,11 @@ def polish_hopf(test: HopfTest, problem, u0: np.ndarray, max_iter: int = 30):
             x = problem.full(u)
             r, J = problem.evaluate(u)
             pair = test.pair(x)
-            return u, pair, _relative_residual(r, J, u, problem, pair)
+            residual = _relative_residual(r, J, u, problem, pair)
+            if not residual <= 1e-8:  # the steps stalled away from a solution (or at a non-finite one)
+                raise ConvergenceError(f"the Hopf system stalled at a relative residual of {residual:.3g}",
+                                       partial=None)
+            return u, pair, residual
         last = step
     raise ConvergenceError(f"the Hopf system did not converge from the detected point (after {max_iter} Newton "
                            "iterations)", partial=None)
