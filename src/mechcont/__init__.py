@@ -54,6 +54,9 @@ _LAZY = {
     # continuation
     "find_equilibrium": "mechcont.continuation",
     "continue_folds": "mechcont.continuation",
+    "continue_hopf": "mechcont.continuation",
+    "locate_hopf": "mechcont.continuation",
+    "HopfPoint": "mechcont.continuation",
     "switch_branch": "mechcont.continuation",
     "ContinuationOptions": "mechcont.continuation",
     "Branch": "mechcont.continuation",
@@ -95,7 +98,7 @@ __all__ = [
     "load_model", "model_names", "Mechanism", "load_description",
     "Model", "EquationSystem", "MechanicalModel", "StabilityResult", "Variable",
     "find_equilibrium", "continuation", "continue_folds", "switch_branch", "ContinuationOptions", "Branch",
-    "SpecialPoint", "ValueEvent",
+    "SpecialPoint", "ValueEvent", "continue_hopf", "locate_hopf", "HopfPoint",
     "simulate", "sweep", "SimulationResult", "Status", "freefall", "critical_airspeed",
     "downlock", "DownlockResult", "downlock_condition", "unlock_folds", "continuation_with_stops", "equilibrium_on_stops",
     "equilibrium_family", "design_region", "fold_locus", "redundancy_along",
@@ -120,11 +123,14 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     from .continuation import (
         Branch,
         ContinuationOptions,
+        HopfPoint,
         SpecialPoint,
         ValueEvent,
         continuation,
         continue_folds,
+        continue_hopf,
         find_equilibrium,
+        locate_hopf,
         switch_branch,
     )
     from .dynamics import SimulationResult, simulate, sweep

@@ -52,6 +52,22 @@ def common_options(f):
     return f
 
 
+def user_points(text: str | None, vary: str) -> tuple[float, ...]:
+    """``--at P=V1,V2,...``: the values (SI units) of the continuation parameter ``vary`` at which to add
+    ``UZ`` rows; ``()`` when not given. Raises :class:`InputError` (field ``--at``) for another name or a
+    value that is not a finite number."""
+    from ..errors import InputError, finite_number
+
+    if not text:
+        return ()
+    name, sep, values = text.partition("=")
+    if not sep or not values.strip():
+        raise InputError("--at", f"'{text}' is not P=V1,V2,... (e.g. --at {vary}=0.1,0.2)")
+    if name.strip() != vary:
+        raise InputError("--at", f"names '{name.strip()}'; the values are of the --vary parameter, {vary}")
+    return tuple(finite_number(v.strip(), "--at") for v in values.split(","))
+
+
 def continuation_options(bnds, ds, dsmax, max_steps):
     """ContinuationOptions from the CLI values (:func:`mechcont.continuation.run_options`)."""
     from ..continuation import run_options

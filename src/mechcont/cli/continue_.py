@@ -13,6 +13,7 @@ from ._run import (
     load_at,
     run_continuation,
     solve_start,
+    user_points,
     write_branch,
 )
 
@@ -30,8 +31,10 @@ from ._run import (
                    "consistent set of stops in contact (at a limit, as the one-sided tangents decide) and each "
                    "direction is followed as --vary is pushed; a release onto an unstable branch is a non-smooth "
                    "fold (NSF), and where the mechanism lands is printed.")
+@click.option("--at", "at", default=None, metavar="P=V1,V2,...",
+              help="Rows located exactly at these values of the --vary parameter P (SI units), labelled UZ.")
 def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, out, plot, xname, yname,
-                     with_stops):
+                     with_stops, at):
     """Continue equilibria of MODEL in --vary, both directions, within --bounds (with --stops, through
     the contacts and releases of the description's stops).
 
@@ -44,6 +47,9 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     from ._parse import assignments
 
     check_outputs(out, plot)
+    at_values = user_points(at, vary)
+    if at_values and with_stops:
+        raise InputError("--at", "is not available with --stops; continue without --stops to add UZ rows")
     holds, starts = held_states(holds, starts)
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_at(model, assignments(sets, "set"))
@@ -77,12 +83,24 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
         if stops and not quiet:
             click.echo(f"note: {system.name} has stops ({', '.join(s.name for s in stops)}); here they are free, "
                        "their reactions held at their values: --stops lets them make and lose contact")
+        # an ODE model's equilibria are watched for Hopf points (its eigenvalues at every point)
+        ode = getattr(system, "ode", None)
         branch = run_continuation(continuation, system, x0, vary, hold=holds, free=frees, options=options,
-                                  quiet=quiet, stop_on_signal=True)
+                                  quiet=quiet, stop_on_signal=True, at=at_values,
+                                  hopf=ode is not None and not ode.algebraic)
     # shown and plotted: the --start state, else (with --stops) the first stop's condition, else the first unknown
     stopped = [s.condition for s in stops if s.condition in branch.names] if with_stops else []
     first_state = next(iter(assignments(starts, "start")), None) or next(iter(stopped), None) or branch.unknowns[0]
     write_branch(branch, out, plot, xname or vary, yname or first_state, quiet)
+    if not quiet:
+        from ..outputs.tables import hopf_lines
+
+        for line in hopf_lines(branch):
+            click.echo(line)
+    found = [p[vary] for p in branch.special("UZ")]
+    for v in at_values:  # a value the branch never reached (outside its bounds) has no row: say so
+        if not any(abs(f - v) <= 1e-9 * max(1.0, abs(v)) for f in found):
+            click.echo(f"warning: --at {vary}={v:g}: the branch does not reach it (no UZ row)", err=True)
     raise_held()  # a SIGTERM that ended the continuation: its branch is written, now the exit status says so
     if with_stops and not quiet:
         from ..outputs.tables import jump_lines

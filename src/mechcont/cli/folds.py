@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 import click
+import numpy as np
 
 from ..errors import InputError
 from ._app import cli
@@ -24,16 +25,23 @@ from ._run import (
 @cli.command("folds")
 @click.argument("model")
 @common_options
-@click.option("--vary", required=True, metavar="P1", help="Parameter in which the fold is a turning point.")
+@click.option("--vary", default=None, metavar="P1",
+              help="Parameter in which the fold is a turning point (required without --point).")
 @click.option("--along", "second", default=None, metavar="P2",
               help="Second parameter, continued along the fold curve (required).")
 @click.option("--solve-for", "old_frees", multiple=True, hidden=True)  # the old spelling of --free here
 @click.option("--fold", "which", default=1, show_default=True,
               help="Which fold of the first branch: N for LPN, numbered along the branch as `continue` prints them.")
 @click.option("--out", default=None, help="Fold-curve table: .csv or .json.")
-@click.option("--plot", default=None, help="Figure: .png, .svg or .pdf (P1 against P2).")
+@click.option("--plot", default=None, help="Figure: .png, .svg or .pdf (P1 against P2; for a Hopf point the "
+                                            "stability chart).")
+@click.option("--point", default=None, metavar="BRANCH.csv:ROW",
+              help="Start from this point of a branch table written by continue: a fold (LPn) or a Hopf point "
+                   "(HBn, continued as a Hopf curve with BT and GH); its vary column gives P1.")
+@click.option("--fold-curve", "fold_curves", multiple=True, metavar="CURVE.csv",
+              help="With --point HBn and --plot: a fold curve table (written by folds) drawn on the stability chart.")
 def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, second, old_frees, which,
-                  out, plot):
+                  out, plot, point, fold_curves):
     """Locate fold number --fold of the branch in --vary, then continue it in --along.
 
     --free names a parameter solved for on the branch, as in `continue`. Scripts written before
@@ -57,6 +65,15 @@ def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps,
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_at(model, assignments(sets, "set"))
     system.index(second)
+    if fold_curves and (point is None or not plot):
+        raise InputError("--fold-curve", "is drawn on the stability chart: give it with --point BRANCH.csv:HBn and "
+                                         "--plot")
+    if point is not None:
+        _from_point(system, point, vary, second, holds, frees, options, out, plot, quiet, fold_curves)
+        return
+    if vary is None:
+        raise InputError("--vary", "give the parameter in which the fold is a turning point (e.g. --vary F), or "
+                                   "--point BRANCH.csv:LP1")
     x0 = solve_start(system, sets, starts, vary, frees, holds)
     first = run_continuation(continuation, system, x0, vary, hold=holds, free=frees, quiet=quiet,
                              options=replace(options, bounds={k: v for k, v in options.bounds.items() if k != second}))
@@ -79,3 +96,79 @@ def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps,
                              label="fold curve")
     shown = [n for n in assignments(starts, "start") if n != vary]
     write_branch(curve, out, plot, second, vary, quiet, extra=shown)
+
+
+def _from_point(system, point: str, given_vary, second: str, holds, frees, options, out, plot, quiet,
+                fold_curves=()) -> None:
+    """``folds --point BRANCH.csv:ROW --along P2``: the fold curve of an ``LP`` row, the Hopf curve of an
+    ``HB`` row (with its stability chart as the plot)."""
+    from ..continuation import Branch, choose_unknowns, continue_folds, continue_hopf, locate_hopf
+    from ..continuation._branch import check_branch_table
+    from ..continuation._move import check_point
+
+    csv_path, sep, row = point.rpartition(":")
+    if not sep or not csv_path or not row:
+        raise InputError("--point", f"'{point}' is not BRANCH.csv:ROW (e.g. branch.csv:HB1)")
+    branch = Branch.read_csv(csv_path, model=system.name)
+    check_branch_table(branch, system, csv_path)
+    if not branch.vary or branch.vary not in system.names:
+        raise InputError("--point", f"'{csv_path}' is not a branch table of model '{system.name}' (with its vary "
+                                    "column)")
+    vary = branch.vary
+    if given_vary is not None and given_vary != vary:
+        raise InputError("--vary", f"is {given_vary}, but '{csv_path}' was continued in {vary}; leave --vary out with "
+                                   "--point")
+    if vary == second:
+        raise InputError("--along", f"is the branch's own parameter {vary}; choose a second parameter")
+    p = branch.point(row)
+    states = choose_unknowns(system, hold=holds, free=frees, exclude=[vary])
+    folds = [_fold_curve_table(path, system, vary, second) for path in fold_curves]
+    if p.label == "LP":
+        if folds:
+            raise InputError("--fold-curve", "is drawn on a Hopf point's stability chart; this point is a fold")
+        check_point(system, p.x, label="LP", vary=vary, states=states, name=f"{csv_path}:{row}")
+        curve = run_continuation(continue_folds, system, p.x, vary, second, hold=holds, free_extra=frees,
+                                 options=options, quiet=quiet, label="fold curve")
+        write_branch(curve, out, plot, second, vary, quiet)
+        return
+    if p.label != "HB":
+        raise InputError("--point", f"'{row}' is labelled '{p.label or 'nothing'}'; give a fold (LPn) or a Hopf "
+                                    "point (HBn)")
+    check_point(system, p.x, label="HB", vary=vary, states=states, name=f"{csv_path}:{row}")
+    hb = locate_hopf(system, p.x, vary, hold=holds, free=frees)
+    moved = np.max(np.abs(hb.x - p.x) / np.maximum(system.scales(), np.abs(p.x)))
+    if moved > 1e-6:
+        raise InputError("--point", f"{csv_path}:{row} is not a Hopf point: the nearest one lies at {vary} = "
+                                    f"{hb[vary]:.10g}")
+    curve = run_continuation(continue_hopf, system, hb, vary, second, options=options, quiet=quiet,
+                             label="Hopf curve")
+    _write_hopf_curve(curve, out, plot, second, vary, quiet, folds)
+
+
+def _fold_curve_table(path: str, system, p1: str, p2: str):
+    """A fold-curve table for the stability chart: a branch table of ``system`` with both parameters."""
+    from ..continuation import Branch
+    from ..continuation._branch import check_branch_table
+
+    curve = Branch.read_csv(path, model=system.name)
+    check_branch_table(curve, system, path)
+    if curve.vary != p2 or "LP" in curve.labels:
+        raise InputError("--fold-curve", f"'{path}' is not a fold curve in ({p1}, {p2}): write one with "
+                                         f"folds --vary {p1} --along {p2}")
+    return curve
+
+
+def _write_hopf_curve(curve, out, plot, x: str, y: str, quiet: bool, folds=()) -> None:
+    """The Hopf curve's table, its stability chart, and its special points with omega and l1."""
+    from ..outputs.plotting import save_figure
+    from ..outputs.stability_chart import stability_chart
+    from ..outputs.tables import hopf_curve_lines
+
+    write_branch(curve, out, None, x, y, quiet)
+    if not quiet:
+        for line in hopf_curve_lines(curve):
+            click.echo(line)
+    if plot:
+        save_figure(stability_chart([curve], x, y, folds, title=f"{curve.model}: stability chart in ({x}, {y})"), plot)
+        if not quiet:
+            click.echo(f"wrote {plot}")

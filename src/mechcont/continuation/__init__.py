@@ -1,5 +1,5 @@
 """Continuation: problems (lenses on an equation system), the pseudo-arclength engine,
-events (LP, BP, CP, EP, user) and branch results.
+events (LP, BP, CP, HB, BT, GH, EP, UZ) and branch results.
 
 The package is callable: ``mechcont.continuation(system, x0, "F")`` is
 :func:`continuation` (so ``import mechcont; mechcont.continuation(...)`` reads as the API).
@@ -12,6 +12,9 @@ from ._api import continuation, continue_folds, locate_fold, switch_branch
 from ._branch import Branch, SpecialPoint, read_branch_table, read_table
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent, PointState, ValueEvent
 from ._folds import CuspEvent, FoldProblem
+from ._hopf import BogdanovTakensEvent, GeneralisedHopfEvent, HopfEvent, HopfProblem
+from ._hopf_api import continue_hopf, locate_hopf
+from ._hopf_point import HopfPoint
 from ._linalg import DenseLU, LinearSolver, MinimumNorm
 from ._newton import find_equilibrium
 from ._options import ContinuationOptions
@@ -24,7 +27,8 @@ __all__ = [
     "SpecialPoint", "Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "CuspEvent",
     "PointState", "ContinuationProblem", "EquilibriumProblem", "FoldProblem", "choose_unknowns",
     "Termination", "BranchSteps", "LinearSolver", "DenseLU", "MinimumNorm", "read_branch_table", "read_table",
-    "MAX_STEPS", "check_max_steps", "run_options", "start_point",
+    "MAX_STEPS", "check_max_steps", "run_options", "start_point", "HopfEvent", "HopfProblem", "HopfPoint",
+    "BogdanovTakensEvent", "GeneralisedHopfEvent", "continue_hopf", "locate_hopf",
 ]
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -10,13 +11,16 @@ from .._status import Status
 from ..equations import EquationSystem, as_model
 from ..errors import ConvergenceError, InputError
 from ._branch import Branch, SpecialPoint
-from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent
+from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent, ValueEvent
 from ._fold_point import fold_quantities, polish_fold, refine_fold
 from ._folds import FoldProblem
 from ._newton import residual_met
 from ._options import ContinuationOptions
 from ._palc import run_direction
 from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns
+
+if TYPE_CHECKING:
+    from ..equations._dynamics import Dynamics
 
 __all__ = ["continuation", "continue_folds", "locate_fold", "switch_branch"]
 
@@ -132,7 +136,8 @@ def _run(problem: ContinuationProblem, system, u0, options, events, direction, v
 
 def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
                  options: ContinuationOptions | None = None, direction: int = 0,
-                 events: Sequence[Event] = (), progress: Callable[[int], None] | None = None) -> Branch:
+                 events: Sequence[Event] = (), progress: Callable[[int], None] | None = None,
+                 hopf: bool | Dynamics = False, at: Iterable[float] = ()) -> Branch:
     """Continue equilibria of ``system`` in the variable ``vary``.
 
     Parameters
@@ -157,18 +162,32 @@ def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str
         Extra :class:`~mechcont.continuation.Event` objects (e.g. ``ValueEvent("theta4", 0)``).
     progress:
         Called with ``1`` after every accepted step (e.g. a progress bar's ``update``).
+    hopf:
+        Detect Hopf points (``HB``) from the eigenvalues of the model's dynamics at every point:
+        ``True`` for ``dynamics_of(system)``, or a :class:`~mechcont.equations.Dynamics` to use.
+        Each is located on the extended system and carries a
+        :class:`~mechcont.continuation.HopfPoint` (``point.extra["hopf"]``: frequency, ``l1``).
+    at:
+        Values of ``vary`` (SI units) at which to add rows located exactly there, labelled ``UZ``
+        (AUTO's user points).
 
     Returns
     -------
     Branch
-        Points with stability (from the mechanics), ``LP``/``BP`` located to the
-        tolerances, ``EP`` at the ends. The branch is returned even when a direction
+        Points with stability (from the mechanics), ``LP``/``BP`` (and ``HB``) located to the
+        tolerances, ``UZ`` at the ``at`` values, ``EP`` at the ends. The branch is returned even when a direction
         fails; ``branch.status``/``branch.message`` then say where and why.
     """
     options = options or ContinuationOptions()
     system.compile()
     x0 = _start_vector(system, start)
     unknowns = choose_unknowns(system, hold=hold, free=free, exclude=[vary])
+    events = [*events, *_user_points(vary, at)]
+    if hopf is not False:
+        from ..equations import dynamics_of
+        from ._hopf import HopfEvent
+
+        events.append(HopfEvent(dynamics_of(as_model(system)) if hopf is True else hopf, system))
 
     def piece(model, x, vary_, opts, sense, evs_):
         model.compile()
@@ -183,6 +202,17 @@ def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str
 
         return across_variants(piece, system, x0, vary, options, direction, events, unknowns)
     return piece(system, x0, vary, options, direction, events)
+
+
+def _user_points(vary: str, at: Iterable[float]) -> list[Event]:
+    """A ``UZ`` event at each value of ``at`` (finite numbers, SI units)."""
+    evs: list[Event] = []
+    for v in at:
+        v = float(v)
+        if not np.isfinite(v):
+            raise InputError("at", f"{v} is not a finite value of {vary}")
+        evs.append(ValueEvent(vary, v))
+    return evs
 
 
 def locate_fold(system: EquationSystem, point, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = ()):

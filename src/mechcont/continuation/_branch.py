@@ -318,7 +318,8 @@ class Branch:
             "labels": self.row_labels(), "units": {n: self.units.get(n, "") for n in self.names},
             "special_points": [{"name": name, "label": p.label, "index": p.index, "values": p.values,
                                 "status": p.status,
-                                **{k: v for k, v in p.info.items() if isinstance(v, (int, float, str))}}
+                                **{k: v for k, v in p.info.items() if isinstance(v, (int, float, str))},
+                                **_hopf_fields(p)}
                                for name, p in zip(self.point_names(), self.special_points)],
         }
         import json
@@ -327,6 +328,14 @@ class Branch:
 
 
 _EXTRA_COLUMNS = ("s", "stability", "n_unstable", "label", "vary")
+
+
+def _hopf_fields(p: SpecialPoint) -> dict:
+    """A Hopf point's frequency (rad/s), period (s), ``l1`` and criticality for the JSON; ``{}`` elsewhere."""
+    h = p.extra.get("hopf")
+    if h is None:
+        return {}
+    return {"frequency": h.frequency, "period": h.period, "l1": h.lyapunov, "criticality": h.criticality}
 
 
 def _number(path, row: int, column: str, text: str) -> float:

@@ -167,43 +167,47 @@ class BoundEvent(Event):
 
     def locate(self, stepper, problem: ContinuationProblem, cur, ds, v0, v1):
         """Newton on ``[G; x_k - bound] = 0`` when the bounded name is an unknown, else Brent."""
-        st = self._solve_on_bound(stepper, problem, cur, ds, v0, v1)
+        st = solve_at_value(stepper, problem, cur, ds, v0, v1, self.index, self.bound)
         if st is not None:
             return float(cur.tangent @ (st.z - cur.z)), st, {"status": "located"}
         return super().locate(stepper, problem, cur, ds, v0, v1)
 
-    def _solve_on_bound(self, stepper, problem: ContinuationProblem, cur, ds, v0, v1):
-        idx = problem.idx
-        if idx is None or self.index not in idx:
-            return None
-        from ._newton import residual_met
 
-        k = int(np.flatnonzero(idx == self.index)[0])
-        z = cur.z + (ds * v0 / (v0 - v1)) * cur.tangent
-        target = self.bound / stepper.D[k]
-        A = np.zeros((stepper.n + 1, stepper.n + 1))
-        A[-1, k] = 1.0
-        b = np.empty(stepper.n + 1)
-        options = stepper.options
-        for _ in range(options.max_newton + 2):
-            r, jac = stepper.evaluate(z)
-            if not math.isfinite(r.sum()):
-                return None
-            b[:-1] = -r
-            b[-1] = target - z[k]
-            if residual_met(r, jac, z, options.residual_tol) and abs(b[-1]) < 1e-15 * max(1.0, abs(target)):
-                try:
-                    return stepper.state(z, stepper.tangent(z, cur.tangent, jac), jac)
-                except np.linalg.LinAlgError:
-                    return None
-            A[:-1] = jac
-            dz = options.linear_solver.solve(A, b)
-            if dz is None:
-                return None
-            z = z + dz
-            if np.abs(dz).max() < options.newton_tol:
-                z[k] = target
+def solve_at_value(stepper, problem: ContinuationProblem, cur, ds, v0, v1, index: int, target: float):
+    """The branch point where the full variable ``index`` equals ``target`` (SI), by Newton on
+    ``[G; x_k - target] = 0`` from the secant guess within the step, or None when that variable is not an
+    unknown of ``problem`` or Newton fails."""
+    idx = problem.idx
+    if idx is None or index not in idx:
         return None
+    from ._newton import residual_met
+
+    k = int(np.flatnonzero(idx == index)[0])
+    z = cur.z + (ds * v0 / (v0 - v1)) * cur.tangent
+    target = target / stepper.D[k]
+    A = np.zeros((stepper.n + 1, stepper.n + 1))
+    A[-1, k] = 1.0
+    b = np.empty(stepper.n + 1)
+    options = stepper.options
+    for _ in range(options.max_newton + 2):
+        r, jac = stepper.evaluate(z)
+        if not math.isfinite(r.sum()):
+            return None
+        b[:-1] = -r
+        b[-1] = target - z[k]
+        if residual_met(r, jac, z, options.residual_tol) and abs(b[-1]) < 1e-15 * max(1.0, abs(target)):
+            try:
+                return stepper.state(z, stepper.tangent(z, cur.tangent, jac), jac)
+            except np.linalg.LinAlgError:
+                return None
+        A[:-1] = jac
+        dz = options.linear_solver.solve(A, b)
+        if dz is None:
+            return None
+        z = z + dz
+        if np.abs(dz).max() < options.newton_tol:
+            z[k] = target
+    return None
 
 
 class LimitEvent(Event):
@@ -253,3 +257,13 @@ class ValueEvent(Event):
         if self._index is None:
             self._index = problem.system.index(self.name)
         return float(state.x[self._index] - self.target)
+
+    def locate(self, stepper, problem: ContinuationProblem, cur, ds, v0, v1):
+        """Exactly at ``target`` when ``name`` is an unknown of the branch (Newton on ``[G; x - target]``),
+        else Brent's method on the step."""
+        if self._index is None:
+            self._index = problem.system.index(self.name)
+        st = solve_at_value(stepper, problem, cur, ds, v0, v1, self._index, self.target)
+        if st is not None:
+            return float(cur.tangent @ (st.z - cur.z)), st, {"status": "located"}
+        return super().locate(stepper, problem, cur, ds, v0, v1)

@@ -24,7 +24,8 @@ class SpecialPoint:
     ----------
     label:
         ``"LP"`` limit point (fold), ``"BP"`` branch point, ``"CP"`` cusp, ``"EP"`` end
-        point, or a user event name.
+        point, ``"HB"`` Hopf point (its :class:`~._hopf_point.HopfPoint` in ``extra["hopf"]``), ``"BT"``
+        and ``"GH"`` on Hopf curves, ``"UZ"`` a user point, or a user event name.
     index:
         Row of the point in the branch.
     x:

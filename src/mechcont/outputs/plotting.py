@@ -24,7 +24,8 @@ __all__ = ["plot_branch", "branch_figure", "plot_surface", "new_figure", "save_f
 
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 _MARKERS = {"LP": ("o", "tab:red"), "BP": ("s", "tab:purple"), "CP": ("D", "tab:green"),
-            "EP": ("x", "0.4"), "UZ": ("^", "tab:orange")}
+            "EP": ("x", "0.4"), "UZ": ("^", "tab:orange"), "HB": ("*", "tab:blue"), "BT": ("s", "tab:purple"),
+            "GH": ("D", "tab:green")}
 _ANGLE_HINTS = ("theta", "psi", "alpha", "angle")
 #: Samples per continuation step of a drawn curve (a cubic through the computed points).
 PER_STEP = 8

@@ -6,6 +6,7 @@ No Matplotlib here: the commands that print tables stay light.
 from __future__ import annotations
 
 import io
+import math
 from pathlib import Path
 
 from .._io import atomic_write
@@ -13,8 +14,8 @@ from ..units import display, display_unit
 from .plotting import axis_label
 
 __all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "markdown_table", "write_records", "branch_value",
-           "heading", "special_table", "approximate_warnings", "jump_lines", "event_labels", "write_rows",
-           "summary_rows"]
+           "hopf_lines", "hopf_curve_lines", "heading", "special_table", "approximate_warnings", "jump_lines",
+           "event_labels", "write_rows", "summary_rows"]
 
 #: A branch is written as CSV or JSON (by suffix).
 BRANCH_SUFFIXES = (".csv", ".json")
@@ -99,6 +100,36 @@ def special_table(branch, cols=None) -> str:
         tag = name + ("" if p.located else "?")
         lines.append(f"{tag:<7}{vals}{st[p.index] or '-':>11}")
     return "\n".join(lines)
+
+
+def hopf_lines(branch) -> list[str]:
+    """One line per Hopf point (``HB``) of ``branch`` carrying its payload: where, the frequency (rad/s)
+    and period (s), the first Lyapunov coefficient and what it means for the cycles born there."""
+    out = []
+    v = branch.vary
+    unit = display_unit(branch.units.get(v, ""))
+    for name, p in zip(branch.point_names(), branch.special_points):
+        hopf = p.extra.get("hopf")
+        if p.label != "HB" or hopf is None:
+            continue
+        out.append(f"{name} at {v} = {branch_value(branch, v, p.values[v]):.10g} {unit}: omega = "
+                   f"{hopf.frequency:.10g} rad/s (period {hopf.period:.6g} s), l1 = {hopf.lyapunov:.6g}: "
+                   f"{hopf.criticality}".replace("  ", " "))
+    return out
+
+
+def hopf_curve_lines(curve) -> list[str]:
+    """One line per special point of a Hopf curve (:func:`~mechcont.continuation.continue_hopf`): its ``omega``
+    (rad/s) and ``l1`` there, and what a ``BT`` or ``GH`` point means."""
+    meaning = {"BT": "Bogdanov-Takens: omega reaches 0, the Hopf curve meets a fold curve",
+               "GH": "generalised Hopf: l1 changes sign, the cycles born change stability"}
+    out = []
+    omega, l1 = curve.column("omega"), curve.column("l1")
+    for name, p in zip(curve.point_names(), curve.special_points):
+        if p.label in meaning:
+            lyapunov = f"{l1[p.index]:.6g}" if math.isfinite(float(l1[p.index])) else "undefined"
+            out.append(f"{name}: omega = {omega[p.index]:.6g} rad/s, l1 = {lyapunov} ({meaning[p.label]})")
+    return out
 
 
 def approximate_warnings(branch) -> list[str]:
