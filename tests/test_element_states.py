@@ -1,0 +1,157 @@
+"""First-order element states end to end (``Element.states``), with an element defined in this test only.
+
+A Maxwell element (a spring ``k2`` in series with a damper ``c``, free length ``L2``; its internal state
+``u`` the damper's extension) carries the tension ``T = k2 (l - L2 - u)`` and ``du/dt = T / c``. On a block
+of mass ``m`` on a prismatic joint, in parallel with a spring ``k1`` and pushed by a force ``F``
+(``x`` the block's travel from where both springs are free):
+
+* at rest the damper has relaxed (``T = 0``): the static deflection is ``F / k1``, ``u = x``;
+* the small motions ``(x, v, u)`` obey ``m x'' = F - k1 x - k2 (x - u)``, ``u' = (k2/c)(x - u)``: the
+  eigenvalues are the roots of ``m c s^3 + m k2 s^2 + c (k1 + k2) s + k1 k2``;
+* from rest at ``x = u = 0`` the motion is ``z(t) = z_eq + expm(A t)(z0 - z_eq)`` (the system is linear:
+  the springs lie along the rail), which the time simulation must follow, the state's column with it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+import pytest
+import scipy.linalg
+import sympy as sp
+
+from mechcont.continuation import find_equilibrium
+from mechcont.dynamics import simulate
+from mechcont.equations import dynamics_of
+from mechcont.mechanism.elements import ELEMENT_TYPES, TwoPointElement
+from mechcont.mechanism.elements._base import ElementState
+from mechcont.models import model_from_text
+
+M, K1, K2, C, F = 2.0, 100.0, 400.0, 40.0, 30.0
+
+BLOCK = f"""
+[mechanism]
+name = "zener"
+[parameters]
+m = {M}
+k1 = {K1}
+k2 = {K2}
+c = {C}
+F = {F}
+[ground]
+O = [0, 0]
+S = [-1.0, 0]
+[bodies.block]
+mass = "m"
+inertia = 0.1
+initial = {{ x = 0.1, y = 0, theta = 0 }}
+[joints.rail]
+type = "prismatic"
+a = "ground.O"
+b = "block.origin"
+[springs.parallel]
+a = "ground.S"
+b = "block.origin"
+k = "k1"
+free_length = 1.0
+[test_maxwell.mx]
+a = "ground.S"
+b = "block.origin"
+[loads.push]
+type = "force"
+at = "block.origin"
+magnitude = "F"
+direction = [1, 0]
+"""
+
+
+@pytest.fixture
+def maxwell():
+    """``[test_maxwell.NAME]``: a spring in series with a damper (for this test only); its state ``u_NAME``."""
+
+    @dataclass(frozen=True)
+    class Maxwell(TwoPointElement):
+        name: str
+        a: str
+        b: str
+        k: str = "k2"
+        c: str = "c"
+        free_length: float = 1.0
+
+        table: ClassVar[str] = "test_maxwell"
+        KEYS: ClassVar[frozenset[str]] = frozenset({"a", "b", "k", "c", "free_length"})
+        REQUIRED: ClassVar[tuple[str, ...]] = ("a", "b")
+        DRAWN: ClassVar[str] = "spring"
+
+        def values(self, mech):
+            yield self.field("k"), self.k
+            yield self.field("c"), self.c
+            yield self.field("free_length"), self.free_length
+
+        def _tension(self, kin):
+            v = kin.mech.value
+            u = sp.Symbol(f"u_{self.name}", real=True)
+            return v(self.field("k")) * (kin.distance(self.a, self.b) - v(self.field("free_length")) - u)
+
+        def apply(self, kin, out) -> None:
+            length = kin.distance(self.a, self.b)
+            T = self._tension(kin)
+            out.add([-T * sp.diff(length, qi) for qi in kin.q])
+
+        def states(self, kin):
+            return (ElementState(f"u_{self.name}", "m", self._tension(kin) / kin.mech.value(self.field("c")),
+                                 scale=0.1, description="extension of the damper"),)
+
+    try:
+        yield Maxwell
+    finally:
+        del ELEMENT_TYPES["test_maxwell"]
+
+
+def _closed_form_A():
+    return np.array([[0.0, 1.0, 0.0], [-(K1 + K2) / M, 0.0, K2 / M], [K2 / C, 0.0, -K2 / C]])
+
+
+def test_static_deflection_and_the_state_as_a_variable(maxwell):
+    model = model_from_text(BLOCK, "zener.toml")
+    assert "u_mx" in model.names and model.variable("u_mx").unit == "m"
+    assert "rate_u_mx" in model.equation_names
+    assert model.mechanics.element_states == ("u_mx",)
+    x = find_equilibrium(model)
+    assert x[model.index("x_block")] == pytest.approx(F / K1, rel=1e-12)
+    assert x[model.index("u_mx")] == pytest.approx(F / K1, rel=1e-12)  # the damper has relaxed: no tension
+    # the generated model's start (the assembled pose, x = 0.1 m) has the state at its steady state there
+    d = model.defaults()
+    assert d[model.index("x_block")] == pytest.approx(0.1, rel=1e-12)
+    assert d[model.index("u_mx")] == pytest.approx(0.1, rel=1e-12)
+
+
+def test_linearisation_eigenvalues_against_the_characteristic_cubic(maxwell):
+    model = model_from_text(BLOCK, "zener.toml")
+    x = find_equilibrium(model)
+    lam = dynamics_of(model).linearise(x).eigenvalues()
+    roots = np.roots([M * C, M * K2, C * (K1 + K2), K1 * K2])
+    assert np.allclose(np.sort_complex(lam), np.sort_complex(roots), rtol=1e-11, atol=0)
+    # the minimal-coordinate rates see the state too: their Jacobian (differences) has the same spectrum
+    dyn = dynamics_of(model)
+    z = dyn.state_at(x)
+    assert dyn.state_names[-1] == "u_mx"
+    assert np.allclose(np.sort_complex(np.linalg.eigvals(dyn.rates_jacobian(z, x))), np.sort_complex(roots),
+                       rtol=1e-7)
+
+
+def test_relaxation_in_time_against_the_closed_form(maxwell):
+    model = model_from_text(BLOCK, "zener.toml")
+    x0 = model.vector({"x_block": 0.0, "u_mx": 0.0})
+    t = np.linspace(0.0, 0.5, 11)
+    sim = simulate(model, x0, (0.0, 0.5), rtol=1e-11, atol=1e-12, t_eval=t, method="DOP853")
+    z_eq = np.array([F / K1, 0.0, F / K1])
+    A = _closed_form_A()
+    ref = np.array([z_eq + scipy.linalg.expm(A * ti) @ (np.zeros(3) - z_eq) for ti in t])
+    assert np.max(np.abs(sim["x_block"] - ref[:, 0])) < 1e-8
+    assert np.max(np.abs(sim["x_block_dot"] - ref[:, 1])) < 1e-7
+    assert np.max(np.abs(sim["u_mx"] - ref[:, 2])) < 1e-8
+    assert sim.units["u_mx"] == "m"
+    assert abs(sim["u_mx"][-1]) > 0.1 * F / K1  # the state did move
