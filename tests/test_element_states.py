@@ -155,3 +155,80 @@ def test_relaxation_in_time_against_the_closed_form(maxwell):
     assert np.max(np.abs(sim["u_mx"] - ref[:, 2])) < 1e-8
     assert sim.units["u_mx"] == "m"
     assert abs(sim["u_mx"][-1]) > 0.1 * F / K1  # the state did move
+
+
+# -- a pendulum with a Maxwell element to its tip: planar, reduced and spatial descriptions -------------
+# A uniform bar (m, L) hinged at its end hangs; the Maxwell element joins the ground point G to its tip. At
+# rest it has relaxed, so the bar hangs straight down; with a = dl/dtheta there and K = m g L/2,
+# I = m L^2/3: (I s^2 + K + k2 a^2)(c s + k2) = k2^2 a^2, i.e. I c s^3 + I k2 s^2 + c (K + k2 a^2) s + K k2 = 0.
+PL, PM, PG, GX, GZ = 0.8, 2.0, 9.81, 0.3, -1.2
+PENDULUM = {
+    2: f"""
+[mechanism]
+name = "maxwell_pendulum"
+[parameters]
+k2 = {K2}
+c = {C}
+[ground]
+O = [0, 0]
+G = [{GX}, {GZ}]
+[bodies.bar]
+mass = {PM}
+length = {PL}
+initial = {{ theta = -1.5 }}
+[joints.pin]
+type = "revolute"
+a = "ground.O"
+b = "bar.a"
+[test_maxwell.mx]
+a = "ground.G"
+b = "bar.b"
+free_length = 0.5
+[gravity]
+g = {PG}
+""",
+    3: f"""
+[mechanism]
+name = "maxwell_pendulum_3d"
+dimension = 3
+dof = 1
+[parameters]
+k2 = {K2}
+c = {C}
+[ground]
+O = [0, 0, 0]
+G = [{GX}, 0, {GZ}]
+[bodies.bar]
+mass = {PM}
+length = {PL}
+inertia = [0.01, {PM * PL * PL / 12}, {PM * PL * PL / 12}]
+initial = {{ x = 0.0, z = {-PL / 2}, rotation = [0, 1.5, 0] }}
+[joints.pin]
+type = "revolute"
+a = "ground.O"
+b = "bar.a"
+axis = [0, 1, 0]
+[test_maxwell.mx]
+a = "ground.G"
+b = "bar.b"
+free_length = 0.5
+[gravity]
+g = {PG}
+"""}
+
+
+@pytest.mark.parametrize("form", ["plane", "reduced", "space"])
+def test_pendulum_with_a_maxwell_element_in_every_form(maxwell, form):
+    from mechcont.mechanism import parse_description
+
+    mech = parse_description(PENDULUM[3 if form == "space" else 2])
+    model = mech.build_reduced() if form == "reduced" else mech.build()
+    x = find_equilibrium(model, guess=model.defaults())
+    tip, G = np.array([0.0, -PL]), np.array([GX, GZ])
+    a = (tip - G) @ np.array([PL, 0.0]) / np.linalg.norm(tip - G)   # dl/dtheta, the tip moving sideways
+    u = np.linalg.norm(tip - G) - 0.5
+    assert x[model.index("u_mx")] == pytest.approx(u, rel=1e-10)    # relaxed at the hanging pose
+    I, K = PM * PL * PL / 3, PM * PG * PL / 2
+    roots = np.roots([I * C, I * K2, C * (K + K2 * a * a), K * K2])
+    lam = dynamics_of(model).linearise(x).eigenvalues()
+    assert np.allclose(np.sort_complex(lam), np.sort_complex(roots), rtol=1e-9, atol=0)

@@ -10,7 +10,8 @@ the stiffness is still positive definite, and small damping can lower that flutt
 Per point: ``n_unstable_dynamic`` (eigenvalues with ``Re lambda > rtol * max |lambda|``; a zero
 eigenvalue, a neutral direction, counts as stable), ``leading_real`` (1/s, the largest real part)
 and ``leading_frequency`` (rad/s, ``|Im|`` of that eigenvalue: 0 for a real one, a divergence; >0 an
-oscillation, flutter when unstable). Cost: one linearisation (for a mechanism: an SVD of the
+oscillation, flutter when unstable; among eigenvalues whose real parts tie within the tolerance, as an
+undamped mechanism's all do, the lowest frequency). Cost: one linearisation (for a mechanism: an SVD of the
 constraint Jacobian for the allowed motions, one for the reactions, the compiled statics) and one
 dense eigenvalue problem of size ``2 dof + states`` per point.
 """
@@ -49,7 +50,11 @@ def _judge(lam: np.ndarray, rtol: float) -> DynamicStability:
     if lam.size == 0:
         return DynamicStability(lam, 0, float("nan"), float("nan"))
     tol = rtol * float(np.abs(lam).max())
-    lead = lam[0]  # LinearDynamics.eigenvalues: largest real part first, positive imaginary part first
+    # the largest real part; among those within rounding of it (an undamped mechanism's modes all sit on
+    # the imaginary axis), the slowest oscillation, so that the column does not jump between tied modes
+    top = lam.real.max()
+    tied = lam[lam.real >= top - tol]
+    lead = tied[np.argmin(np.abs(tied.imag))]
     return DynamicStability(lam, int(np.count_nonzero(lam.real > tol)), float(lead.real), float(abs(lead.imag)))
 
 

@@ -30,8 +30,12 @@ from ._run import (
                    "consistent set of stops in contact (at a limit, as the one-sided tangents decide) and each "
                    "direction is followed as --vary is pushed; a release onto an unstable branch is a non-smooth "
                    "fold (NSF), and where the mechanism lands is printed.")
+@click.option("--dynamic", is_flag=True,
+              help="Add the dynamic stability of each point (eigenvalues of the linearised equations of motion: "
+                   "mass, damping, tangent stiffness, element states): columns n_unstable_dynamic, leading_real "
+                   "(1/s) and leading_frequency (rad/s).")
 def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, out, plot, xname, yname,
-                     with_stops):
+                     with_stops, dynamic):
     """Continue equilibria of MODEL in --vary, both directions, within --bounds (with --stops, through
     the contacts and releases of the description's stops).
 
@@ -47,6 +51,8 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     holds, starts = held_states(holds, starts)
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_at(model, assignments(sets, "set"))
+    if dynamic and system.mechanics is None and system.ode is None:
+        raise InputError("--dynamic", f"{system.name} has no equations of motion (neither a mechanism nor an ODE)")
     stops = system.stops
     if with_stops:
         from ..analysis.stops import check_stop_lens
@@ -82,6 +88,14 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     # shown and plotted: the --start state, else (with --stops) the first stop's condition, else the first unknown
     stopped = [s.condition for s in stops if s.condition in branch.names] if with_stops else []
     first_state = next(iter(assignments(starts, "start")), None) or next(iter(stopped), None) or branch.unknowns[0]
+    statics = branch  # the branch as continued: the redundancy report reads its rows as full vectors
+    if dynamic:
+        from ..analysis.dynamic_stability import with_dynamic_stability
+
+        branch = with_dynamic_stability(system, branch)
+        if not quiet and len(branch):
+            n = int(sum(branch["n_unstable_dynamic"] > 0))
+            click.echo(f"dynamic stability: {n} of {len(branch)} points dynamically unstable")
     write_branch(branch, out, plot, xname or vary, yname or first_state, quiet)
     raise_held()  # a SIGTERM that ended the continuation: its branch is written, now the exit status says so
     if with_stops and not quiet:
@@ -92,7 +106,7 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     if not quiet and system.mechanics is not None and len(branch.values):
         from ..analysis.redundancy import redundancy_along
 
-        report = redundancy_along(system, branch)
+        report = redundancy_along(system, statics)
         if report.dropped or report.changes or report.states[0].indeterminate:
             click.echo("redundant constraints along the branch:")
             names = [""] * len(branch.values)

@@ -214,12 +214,12 @@ class MechanismDynamics:
         d, ns = len(Mr), len(Rs)
         A = np.zeros((2 * d + ns, 2 * d + ns))
         if d:
-            c, low = scipy.linalg.cho_factor(Mr)
+            # one solve for the three blocks (Mr is symmetric positive definite and small)
+            S = np.linalg.solve(Mr, np.hstack([Kr, Cr, Br]))
             A[:d, d:2 * d] = np.eye(d)
-            A[d:2 * d, :d] = -scipy.linalg.cho_solve((c, low), Kr)
-            A[d:2 * d, d:2 * d] = -scipy.linalg.cho_solve((c, low), Cr)
-            if ns:
-                A[d:2 * d, 2 * d:] = scipy.linalg.cho_solve((c, low), Br)
+            A[d:2 * d, :d] = -S[:, :d]
+            A[d:2 * d, d:2 * d] = -S[:, d:2 * d]
+            A[d:2 * d, 2 * d:] = S[:, 2 * d:]
         A[2 * d:, :d], A[2 * d:, d:2 * d], A[2 * d:, 2 * d:] = Rq, Rv, Rs
         names = (*(f"eta{i + 1}" for i in range(d)), *(f"eta{i + 1}_dot" for i in range(d)), *self.mech.element_states)
         return LinearDynamics(A, None, names)
@@ -230,9 +230,11 @@ class MechanismDynamics:
         derivatives along the allowed motions."""
         x = np.asarray(x, dtype=float)
         mech = self.mech
-        N = mech.allowed_motions(x)
+        U, sv, Vt, r = mech._decompose(x)  # one SVD of Phi_q for the allowed motions and the reactions
+        N = Vt[r:].T
+        lam = None if U is None else U[:, :r] @ ((Vt[:r] @ mech.applied_forces(x)) / sv[:r])
         M = mech.mass(x)
         C = mech.damping_matrix(x) + self.damping * M
-        K = mech.tangent_stiffness(x)
+        K = mech.tangent_stiffness(x, lam if lam is not None else np.zeros(0))
         Rq, Rv, Rs, dQs = mech.element_state_jacobians(x)
         return N.T @ M @ N, N.T @ C @ N, N.T @ K @ N, N.T @ dQs, Rq @ N, Rv @ N, Rs
