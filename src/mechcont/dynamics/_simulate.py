@@ -62,7 +62,10 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
              max_stop_events: int = 10_000, audit: bool = True, max_steps: int = MAX_STEPS) -> SimulationResult:
     """Simulate a mechanism in time (paper's state-space model, eqs. 1–5, for any mechanism).
 
-    The state is ``(q, qdot)`` (for the overcentre the paper's 12 states); accelerations come
+    The state is ``(q, qdot)`` (for the overcentre the paper's 12 states), followed by the force elements'
+    first-order states ``s`` where the model has any (integrated with their rates; the history has a column
+    for each, their start from ``x0``; the energy audit is then left out, and stops are not simulated with
+    them yet); accelerations come
     from the Udwadia–Kalaba fundamental equation (see :mod:`._udwadia_kalaba`), integrated
     by an adaptive explicit Runge–Kutta method (``RK45`` is Dormand–Prince, Matlab's ODE45).
 

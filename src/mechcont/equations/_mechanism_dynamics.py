@@ -114,12 +114,16 @@ class MechanismDynamics:
         if len(dep) == 0:
             return out
         cols = self._q[dep]
-        tol = 4 * np.finfo(float).eps * np.maximum(np.abs(out[cols]), self._qscale[dep])
+        size = np.maximum(np.abs(out[cols]), self._qscale[dep])
+        last = np.inf
         for _ in range(30):
             step = np.linalg.solve(self.mech.phi_q(out)[np.ix_(rows, dep)], -self.mech.phi(out)[rows])
             out[cols] += step
-            if np.all(np.abs(step) <= tol):
+            change = float(np.max(np.abs(step) / size))
+            # converged to rounding: a step of a few ulps, or one that no longer halves once below 1e-10
+            if change <= 4 * np.finfo(float).eps or (change < 1e-10 and change > 0.5 * last):
                 return out
+            last = change
         raise ConvergenceError(f"the dependent coordinates did not close the constraints at {qi}")
 
     def _velocities(self, x: np.ndarray, vi: np.ndarray) -> np.ndarray:
@@ -164,7 +168,9 @@ class MechanismDynamics:
         return self._configuration(qi, s, x)
 
     def rates(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
-        """``dz/dt = (v_i, qddot_i, r)`` (coordinate units per second, per second squared, state units per second)."""
+        """``dz/dt = (v_i, qddot_i, r)`` (coordinate units per second, per second squared, state units per second).
+        Raises :class:`~mechcont.errors.ConvergenceError` where the dependent coordinates cannot close the
+        constraints (``z`` too far from the reference configuration for this partition)."""
         qi, vi, s = self._split(z, x)
         indep, _, _ = self._partition(x)
         xx = self._configuration(qi, s, x)
