@@ -365,3 +365,47 @@ def test_branch_columns_for_an_ode_model():
     tol = 1e-9 * np.hypot(m, 2.5)
     assert np.array_equal(out["n_unstable_dynamic"], np.where(m > tol, 2.0, 0.0))
     assert out.unit("leading_real") == "1/s" and len(branch.names) + 3 == len(out.names)
+
+
+def test_nonlinear_rates_and_parameter_rates_of_the_damped_pendulum():
+    """``rates`` away from the equilibrium is the reduced equation of motion
+    ``(m L^2/3) theta'' = -m g (L/2) cos theta - T dl/dtheta``, ``T = c v + c2 v|v|``, ``v = l' theta'``, and
+    ``parameter_rates`` its derivative in ``c``: ``-v l' / (m L^2/3)``."""
+    model = load_model("tests/data/damped_pendulum.toml")
+    x = find_equilibrium(model, guess={"theta_bar": -1.5})
+    dyn = dynamics_of(model)
+    assert dyn.state_names == ("theta_bar", "theta_bar_dot")
+    m, L, g, c, c2 = 2.0, 1.0, 9.81, 4.0, 6.0
+    th, om = 0.4, -1.3
+    P = L * np.array([math.cos(th), math.sin(th)]) - np.array([0.3, 0.8])
+    dl = P @ (L * np.array([-math.sin(th), math.cos(th)])) / np.linalg.norm(P)
+    v = dl * om
+    acc = (-m * g * L / 2 * math.cos(th) - (c * v + c2 * v * abs(v)) * dl) / (m * L * L / 3)
+    f = dyn.rates(np.array([th, om]), x)
+    assert f == pytest.approx([om, acc], rel=1e-12)
+    dp = dyn.parameter_rates(np.array([th, om]), x, ["c"])
+    assert dp[:, 0] == pytest.approx([0.0, -v * dl / (m * L * L / 3)], rel=1e-8, abs=1e-12)
+
+
+def test_nonlinear_rates_of_the_closed_loop_conserve_energy(fourbar):
+    """The four-bar without damping conserves ``T + V`` along the minimal-coordinate ODE (the velocity-product
+    forces of its bars' frames and the dependent coordinates' Newton included), over a large swing."""
+    from scipy.integrate import solve_ivp
+
+    model, x = fourbar
+    dyn = MechanismDynamics(model, reference=x)
+    mech = model.mechanics
+
+    def energy(z):
+        y = dyn.full_vector(z, x)
+        qd = dyn.coordinate_velocities(z, x)
+        return 0.5 * qd @ mech.mass(y) @ qd + mech.potential_energy(y)
+
+    z0 = dyn.state_at(x)
+    z0[len(z0) // 2] = 3.0   # a kick of the independent coordinate's velocity
+    sol = solve_ivp(lambda t, z: dyn.rates(z, x), (0.0, 1.0), z0, rtol=1e-11, atol=1e-12, method="DOP853")
+    assert sol.success
+    E = np.array([energy(z) for z in sol.y.T])
+    swing = np.ptp(sol.y[0])
+    assert swing > 0.2   # a nonlinear motion, not a small oscillation
+    assert np.ptp(E) < 1e-8 * abs(E[0] - energy(dyn.state_at(x)))

@@ -167,6 +167,11 @@ class MechanismDynamics:
         qi, _, s = self._split(z, x)
         return self._configuration(qi, s, x)
 
+    def coordinate_velocities(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """Every coordinate's velocity at the state ``z`` (``Phi_q qdot = 0``), ordered like the coordinates."""
+        qi, vi, s = self._split(z, x)
+        return self._velocities(self._configuration(qi, s, x), vi)
+
     def rates(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
         """``dz/dt = (v_i, qddot_i, r)`` (coordinate units per second, per second squared, state units per second).
         Raises :class:`~mechcont.errors.ConvergenceError` where the dependent coordinates cannot close the
