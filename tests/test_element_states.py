@@ -232,3 +232,28 @@ def test_pendulum_with_a_maxwell_element_in_every_form(maxwell, form):
     roots = np.roots([I * C, I * K2, C * (K + K2 * a * a), K * K2])
     lam = dynamics_of(model).linearise(x).eigenvalues()
     assert np.allclose(np.sort_complex(lam), np.sort_complex(roots), rtol=1e-9, atol=0)
+
+
+def test_the_compiled_rates_and_their_cache_key():
+    """The rates and their exact derivatives are compiled with the model; the disk cache's key holds them
+    (two models that differ only in a rate never share compiled code), and a model without states keeps
+    the key it had before states existed (its cached code stays valid)."""
+    from mechcont.equations import MechanicalModel, velocity_symbol
+
+    q, s, k, c = (sp.Symbol(n, real=True) for n in ("q", "s", "k", "c"))
+    qd = velocity_symbol("q")
+    names = ["q", "s", "k", "c"]
+
+    def model(rate):
+        return MechanicalModel(names, ["q"], [], [-k * (q - s)], sp.Matrix([[2.0]]), state_rates={"s": rate})
+
+    a, b = model(k * (q - s) / c), model(k * (q - s) / c + qd)
+    assert a._content_digest() != b._content_digest()
+    plain = MechanicalModel(names, ["q"], [], [-k * (q - s)], sp.Matrix([[2.0]]))
+    again = MechanicalModel(names, ["q"], [], [-k * (q - s)], sp.Matrix([[2.0]]), state_rates={})
+    assert plain._content_digest() == again._content_digest() != a._content_digest()
+    x = np.array([0.3, 0.1, 50.0, 4.0])
+    assert b.element_state_rates(x, [0.7]) == pytest.approx([50.0 * 0.2 / 4.0 + 0.7], rel=1e-14)
+    Rq, Rv, Rs, dQs = b.element_state_jacobians(x, [0.7])
+    assert (Rq[0, 0], Rv[0, 0], Rs[0, 0], dQs[0, 0]) == pytest.approx((12.5, 1.0, -12.5, 50.0), rel=1e-14)
+    assert plain.element_state_rates(x).shape == (0,) and plain.element_state_jacobians(x)[3].shape == (1, 0)
