@@ -15,7 +15,7 @@ import csv
 
 import numpy as np
 import pytest
-from cli_helpers import make_runner
+from cli_helpers import make_runner, one_line_error
 
 EPS = 1e-6
 ZIEGLER = f"""
@@ -99,3 +99,64 @@ def test_continue_dynamic_writes_the_columns(tmp_path):
     plain = tmp_path / "plain.csv"
     assert run("continue", path, "--vary", "P", "--bounds", "P=0:1", "--out", plain).exit_code == 0
     assert "leading_real [1/s]" not in plain.read_text().splitlines()[0]
+
+
+SLIDER = """
+[mechanism]
+name = "msd"
+[parameters]
+m = 3.0
+k = { value = 1200.0, unit = "N/m", scale = 100.0 }
+c = 18.0
+[ground]
+O = [0, 0]
+S = [-1.0, 0]
+[bodies.block]
+mass = "m"
+inertia = 0.2
+initial = { x = 0.1, y = 0, theta = 0 }
+[joints.rail]
+type = "prismatic"
+a = "ground.O"
+b = "block.origin"
+[springs.spring]
+a = "ground.S"
+b = "block.origin"
+k = "k"
+free_length = 1.1
+[dampers.damper]
+a = "ground.S"
+b = "block.origin"
+c = "c"
+"""
+
+
+def test_continue_dynamic_with_mass_proportional_damping(tmp_path):
+    """A block (m) on a rail with a spring k and a damper c, plus mass-proportional damping d: its equation
+    is ``m x'' + (c + d m) x' + k x = 0``, so ``leading_real = -(c + d m)/(2 m)`` and ``leading_frequency =
+    sqrt(k/m - leading_real^2)`` while underdamped, along a branch in k."""
+    path = tmp_path / "msd.toml"
+    path.write_text(SLIDER)
+    out = tmp_path / "msd.csv"
+    run = make_runner()
+    res = run("continue", path, "--vary", "k", "--bounds", "k=500:2000", "--out", out, "--dynamic", "--damping", 2.0)
+    assert res.exit_code == 0, res.output
+    rows = list(csv.DictReader(out.open()))
+    k = np.array([float(r["k [N/m]"]) for r in rows])
+    assert k.min() < 600 and k.max() > 1900
+    sigma = -(18.0 + 2.0 * 3.0) / (2 * 3.0)
+    assert np.allclose([float(r["leading_real [1/s]"]) for r in rows], sigma, rtol=1e-12)
+    assert np.allclose([float(r["leading_frequency [rad/s]"]) for r in rows], np.sqrt(k / 3.0 - sigma ** 2),
+                       rtol=1e-10)
+    assert all(float(r["n_unstable_dynamic"]) == 0 for r in rows)
+
+
+@pytest.mark.parametrize("args, words", [(["--dynamic", "--damping", -1], ["--damping", "non-negative"]),
+                                         (["--damping", 1], ["--damping", "--dynamic"])])
+def test_bad_damping_is_one_line(tmp_path, args, words):
+    path = tmp_path / "msd.toml"
+    path.write_text(SLIDER)
+    out = tmp_path / "msd.csv"
+    res = make_runner()("continue", path, "--vary", "k", "--bounds", "k=500:2000", "--out", out, *args)
+    one_line_error(res, *words)
+    assert not out.exists()

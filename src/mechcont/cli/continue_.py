@@ -34,8 +34,10 @@ from ._run import (
               help="Add the dynamic stability of each point (eigenvalues of the linearised equations of motion: "
                    "mass, damping, tangent stiffness, element states): columns n_unstable_dynamic, leading_real "
                    "(1/s) and leading_frequency (rad/s).")
+@click.option("--damping", default=0.0, show_default=True,
+              help="Mass-proportional damping (1/s) added in the dynamic stability (--dynamic), as simulate's.")
 def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, out, plot, xname, yname,
-                     with_stops, dynamic):
+                     with_stops, dynamic, damping):
     """Continue equilibria of MODEL in --vary, both directions, within --bounds (with --stops, through
     the contacts and releases of the description's stops).
 
@@ -48,11 +50,17 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     from ._parse import assignments
 
     check_outputs(out, plot)
+    if damping and not dynamic:
+        raise InputError("--damping", "applies to the dynamic stability only: give --dynamic too")
+    if not (damping >= 0 and damping < float("inf")):
+        raise InputError("--damping", f"must be a non-negative number (1/s), got {damping}")
     holds, starts = held_states(holds, starts)
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_at(model, assignments(sets, "set"))
     if dynamic and system.mechanics is None and system.ode is None:
         raise InputError("--dynamic", f"{system.name} has no equations of motion (neither a mechanism nor an ODE)")
+    if damping and system.mechanics is None:
+        raise InputError("--damping", f"{system.name} is not a mechanism: mass-proportional damping needs masses")
     stops = system.stops
     if with_stops:
         from ..analysis.stops import check_stop_lens
@@ -92,7 +100,7 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     if dynamic:
         from ..analysis.dynamic_stability import with_dynamic_stability
 
-        branch = with_dynamic_stability(system, branch)
+        branch = with_dynamic_stability(system, branch, damping=damping)
         if not quiet and len(branch):
             n = int(sum(branch["n_unstable_dynamic"] > 0))
             click.echo(f"dynamic stability: {n} of {len(branch)} points dynamically unstable")
