@@ -257,3 +257,9 @@ def test_the_compiled_rates_and_their_cache_key():
     Rq, Rv, Rs, dQs = b.element_state_jacobians(x, [0.7])
     assert (Rq[0, 0], Rv[0, 0], Rs[0, 0], dQs[0, 0]) == pytest.approx((12.5, 1.0, -12.5, 50.0), rel=1e-14)
     assert plain.element_state_rates(x).shape == (0,) and plain.element_state_jacobians(x)[3].shape == (1, 0)
+    import pickle
+
+    for fresh in (model(k * (q - s) / c + qd), b):  # pickled before and after its rates were compiled
+        back = pickle.loads(pickle.dumps(fresh))
+        assert back.element_states == ("s",) and back._content_digest() == b._content_digest()
+        assert back.element_state_rates(x, [0.7]) == pytest.approx(b.element_state_rates(x, [0.7]), rel=1e-14)
