@@ -119,6 +119,10 @@ def test_static_deflection_and_the_state_as_a_variable(maxwell):
     assert "u_mx" in model.names and model.variable("u_mx").unit == "m"
     assert "rate_u_mx" in model.equation_names
     assert model.mechanics.element_states == ("u_mx",)
+    from mechcont.mechanism import parse_description
+
+    described = parse_description(BLOCK).summary()  # what `check` lists without generating: the same variables
+    assert described is not None and [v[0] for v in described[1]] == list(model.names)
     x = find_equilibrium(model)
     assert x[model.index("x_block")] == pytest.approx(F / K1, rel=1e-12)
     assert x[model.index("u_mx")] == pytest.approx(F / K1, rel=1e-12)  # the damper has relaxed: no tension
