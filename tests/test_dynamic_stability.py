@@ -409,3 +409,16 @@ def test_nonlinear_rates_of_the_closed_loop_conserve_energy(fourbar):
     swing = np.ptp(sol.y[0])
     assert swing > 0.2   # a nonlinear motion, not a small oscillation
     assert np.ptp(E) < 1e-8 * abs(E[0] - energy(dyn.state_at(x)))
+
+
+def test_over_constrained_spatial_loop_against_its_nonlinear_rates():
+    """The Bennett linkage (spatial, three redundant rows kept in its mechanics): the linearisation (null
+    space of all rows, minimum-norm reactions in the curvature term) and the differences of the nonlinear
+    minimal rates (the kept rows' KKT system, the dependent coordinates by Newton) agree; it oscillates."""
+    model = load_model("tests/data/spatial/bennett.toml")
+    d0 = model.defaults()
+    x = find_equilibrium(model, hold={"e1_crank": d0[model.index("e1_crank")]}, free=["M"], guess=d0)
+    assert np.max(np.abs(model.mechanics.phi(x))) < 1e-12   # every row, the dropped ones too
+    _fd_check(model, x, rtol=1e-6)
+    lam = dynamics_of(model).linearise(x).eigenvalues()
+    assert len(lam) == 2 and np.allclose(lam.real, 0.0, atol=1e-9 * abs(lam[0]))
