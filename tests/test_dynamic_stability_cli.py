@@ -149,6 +149,16 @@ def test_continue_dynamic_with_mass_proportional_damping(tmp_path):
     assert np.allclose([float(r["leading_frequency [rad/s]"]) for r in rows], np.sqrt(k / 3.0 - sigma ** 2),
                        rtol=1e-10)
     assert all(float(r["n_unstable_dynamic"]) == 0 for r in rows)
+    # the table is a branch of its model again (its points usable as --point sources): the added columns
+    # are left out of the variables when it is read
+    from mechcont.continuation import Branch
+    from mechcont.continuation._branch import check_branch_table
+    from mechcont.models import load_model
+
+    branch = Branch.read_csv(out)
+    model = load_model(str(path))
+    check_branch_table(branch, model, out)
+    assert list(branch.names) == list(model.names)
 
 
 @pytest.mark.parametrize("args, words", [(["--dynamic", "--damping", -1], ["--damping", "non-negative"]),

@@ -26,7 +26,8 @@ from ..equations import Model, as_model, dynamics_of
 
 __all__ = ["DynamicStability", "dynamic_stability", "with_dynamic_stability", "DYNAMIC_COLUMNS"]
 
-#: The columns :func:`with_dynamic_stability` adds, with their units.
+#: The columns :func:`with_dynamic_stability` adds, with their units (``Branch.read_csv`` leaves them out of
+#: the variables: :data:`~mechcont.continuation._branch.DERIVED_COLUMNS`).
 DYNAMIC_COLUMNS = {"n_unstable_dynamic": "", "leading_real": "1/s", "leading_frequency": "rad/s"}
 
 
