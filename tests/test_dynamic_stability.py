@@ -422,3 +422,22 @@ def test_over_constrained_spatial_loop_against_its_nonlinear_rates():
     _fd_check(model, x, rtol=1e-6)
     lam = dynamics_of(model).linearise(x).eigenvalues()
     assert len(lam) == 2 and np.allclose(lam.real, 0.0, atol=1e-9 * abs(lam[0]))
+
+
+def test_a_massless_motion_takes_the_descriptor_form():
+    """A mass m on a spring k and damper c, and a massless point on a spring k2 and damper c2: the reduced
+    mass is singular, so the linearisation is a descriptor pencil; its finite eigenvalues are the roots of
+    ``m s^2 + c s + k`` and the first-order ``c2 s + k2``."""
+    names = ["x1", "x2", "k", "c", "k2", "c2", "m"]
+    x1, x2, k, c, k2, c2, m = (sp.Symbol(n, real=True) for n in names)
+    Q = [-k * x1 - c * velocity_symbol("x1"), -k2 * x2 - c2 * velocity_symbol("x2")]
+    mech = MechanicalModel(names, ["x1", "x2"], [], Q, sp.diag(m, 0))
+    vs = [Variable(n, "state" if i < 2 else "parameter", v)
+          for i, (n, v) in enumerate(zip(names, [0.0, 0.0, 300.0, 6.0, 40.0, 8.0, 2.0]))]
+    model = as_model(EquationSystem("massless", vs, [sp.sympify(q).subs({velocity_symbol("x1"): 0,
+                                                                          velocity_symbol("x2"): 0}) for q in Q],
+                                    mechanics=mech))
+    lin = dynamics_of(model).linearise(model.defaults())
+    assert lin.E is not None
+    expected = np.concatenate([_roots(2.0, 6.0, 300.0), [-40.0 / 8.0]])
+    assert np.allclose(np.sort_complex(lin.eigenvalues()), np.sort_complex(expected), rtol=1e-10)

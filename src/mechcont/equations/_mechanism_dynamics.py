@@ -19,8 +19,10 @@ differentiating ``Phi(q(eta)) = 0`` twice gives ``Phi_q q'' = -Hess(Phi)[N, N]``
 lambda`` at the equilibrium), ``Br = N^T dQ/ds`` and ``R* = dr/d*``. The state ``(eta, eta', ds)``
 gives the explicit ``A`` (``E`` None: ``Mr`` is symmetric positive definite and as small as the
 number of degrees of freedom, so inverting it costs nothing and loses nothing; a descriptor form
-would only add infinite eigenvalues to filter). The velocity-product forces are quadratic in
-``qdot`` and drop out.
+would only add infinite eigenvalues to filter). Only where an allowed motion has no mass (the statics
+allows massless bodies) is ``Mr`` singular: then ``E = diag(I, Mr, I)`` with the undivided blocks, and
+the massless motions' infinite eigenvalues are left out by :meth:`~._dynamics.LinearDynamics.eigenvalues`.
+The velocity-product forces are quadratic in ``qdot`` and drop out.
 
 **Rates** (:meth:`MechanismDynamics.rates`): an explicit ODE in minimal coordinates by generalised
 coordinate partitioning at a reference equilibrium (the first ``x`` the dynamics is asked about, or
@@ -42,6 +44,12 @@ from ._dynamics import LinearDynamics
 from ._mechanics import constraint_rank
 
 __all__ = ["MechanismDynamics"]
+
+
+def _positive_definite(Mr: np.ndarray) -> bool:
+    """Whether the reduced mass is positive definite with every eigenvalue above 1e-12 of the largest."""
+    w = np.linalg.eigvalsh(0.5 * (Mr + Mr.T))
+    return bool(w[0] > 1e-12 * max(w[-1], 1e-300))
 
 #: Relative step of the central differences: ``eps^(1/3)`` balances their truncation error
 #: (``h^2 f'''/6``) against rounding (``eps f / h``), leaving about ``eps^(2/3)`` ~ 4e-11 relative.
@@ -219,21 +227,26 @@ class MechanismDynamics:
 
     def linearise(self, x: np.ndarray) -> LinearDynamics:
         """``A`` of the small motions ``(eta, eta', ds)`` about the equilibrium ``x`` (see the module
-        docstring), ``E`` None; the names ``eta1..``, ``eta1_dot..``, then the element states."""
+        docstring), ``E`` None (a descriptor ``E`` where a motion has no mass); the names ``eta1..``,
+        ``eta1_dot..``, then the element states."""
         mats = self.reduced_matrices(x)
         Mr, Cr, Kr, Br, Rq, Rv, Rs = mats
         d, ns = len(Mr), len(Rs)
         A = np.zeros((2 * d + ns, 2 * d + ns))
+        E = None
         if d:
-            # one solve for the three blocks (Mr is symmetric positive definite and small)
-            S = np.linalg.solve(Mr, np.hstack([Kr, Cr, Br]))
             A[:d, d:2 * d] = np.eye(d)
-            A[d:2 * d, :d] = -S[:, :d]
-            A[d:2 * d, d:2 * d] = -S[:, d:2 * d]
-            A[d:2 * d, 2 * d:] = S[:, 2 * d:]
+            if _positive_definite(Mr):
+                # one solve for the three blocks (Mr is symmetric positive definite and small)
+                S = np.linalg.solve(Mr, np.hstack([Kr, Cr, Br]))
+                A[d:2 * d, :d], A[d:2 * d, d:2 * d], A[d:2 * d, 2 * d:] = -S[:, :d], -S[:, d:2 * d], S[:, 2 * d:]
+            else:  # a motion without mass (the statics allows massless bodies): the descriptor form
+                E = np.eye(len(A))
+                E[d:2 * d, d:2 * d] = Mr
+                A[d:2 * d, :d], A[d:2 * d, d:2 * d], A[d:2 * d, 2 * d:] = -Kr, -Cr, Br
         A[2 * d:, :d], A[2 * d:, d:2 * d], A[2 * d:, 2 * d:] = Rq, Rv, Rs
         names = (*(f"eta{i + 1}" for i in range(d)), *(f"eta{i + 1}_dot" for i in range(d)), *self.mech.element_states)
-        return LinearDynamics(A, None, names)
+        return LinearDynamics(A, E, names)
 
     def reduced_matrices(self, x: np.ndarray):
         """``(Mr, Cr, Kr, Br, Rq N, Rv N, Rs)`` at the equilibrium ``x`` (see the module docstring): reduced
