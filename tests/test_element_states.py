@@ -267,3 +267,12 @@ def test_the_compiled_rates_and_their_cache_key():
         back = pickle.loads(pickle.dumps(fresh))
         assert back.element_states == ("s",) and back._content_digest() == b._content_digest()
         assert back.element_state_rates(x, [0.7]) == pytest.approx(b.element_state_rates(x, [0.7]), rel=1e-14)
+
+
+def test_a_state_name_that_clashes_is_refused(maxwell):
+    from mechcont.errors import InputError
+
+    clash = BLOCK.replace("F = 30.0\n", "F = 30.0\nu_mx = 1.0\n")
+    with pytest.raises(InputError) as err:
+        model_from_text(clash, "clash.toml")
+    assert err.value.field.endswith("states.u_mx") and "clashes" in str(err.value)

@@ -397,7 +397,7 @@ def _equilibrium(mech: Mechanism, coords: list[str], rows: Sequence[ConstraintRo
     clash = {n for n in names if names.count(n) > 1}
     if clash:
         first = sorted(clash)[0]
-        where = ("conditions" if first in conditions else "element state" if first in {s.name for s in states}
+        where = ("conditions" if first in conditions else "states" if first in {s.name for s in states}
                  else "parameters")
         raise InputError(f"{where}.{first}", "clashes with a generated coordinate or reaction name")
     return equilibrium, MechanicalModel(names, coords, [r.expr for r in rows], forces, mass, potential=potential,
