@@ -146,11 +146,12 @@ def test_linearisation_eigenvalues_against_the_characteristic_cubic(maxwell):
                        rtol=1e-7)
 
 
-def test_relaxation_in_time_against_the_closed_form(maxwell):
+@pytest.mark.parametrize("projection", [False, True])
+def test_relaxation_in_time_against_the_closed_form(maxwell, projection):
     model = model_from_text(BLOCK, "zener.toml")
     x0 = model.vector({"x_block": 0.0, "u_mx": 0.0})
     t = np.linspace(0.0, 0.5, 11)
-    sim = simulate(model, x0, (0.0, 0.5), rtol=1e-11, atol=1e-12, t_eval=t, method="DOP853")
+    sim = simulate(model, x0, (0.0, 0.5), rtol=1e-11, atol=1e-12, t_eval=t, method="DOP853", projection=projection)
     z_eq = np.array([F / K1, 0.0, F / K1])
     A = _closed_form_A()
     ref = np.array([z_eq + scipy.linalg.expm(A * ti) @ (np.zeros(3) - z_eq) for ti in t])
@@ -276,3 +277,23 @@ def test_a_state_name_that_clashes_is_refused(maxwell):
     with pytest.raises(InputError) as err:
         model_from_text(clash, "clash.toml")
     assert err.value.field.endswith("states.u_mx") and "clashes" in str(err.value)
+
+
+def test_an_event_sees_the_element_state(maxwell):
+    """A terminal event on the state (``u = 0.15 m``) stops the run when the closed form says it crosses."""
+    from scipy.optimize import brentq
+
+    model = model_from_text(BLOCK, "zener.toml")
+    iu = model.index("u_mx")
+
+    def reached(t, x, qd):
+        return x[iu] - 0.15
+    reached.terminal = True
+    reached.direction = 1
+    sim = simulate(model, model.vector({"x_block": 0.0, "u_mx": 0.0}), (0.0, 2.0), rtol=1e-11, atol=1e-12,
+                   method="DOP853", events=[reached])
+    z_eq = np.array([F / K1, 0.0, F / K1])
+    A = _closed_form_A()
+    t_cross = brentq(lambda t: (z_eq - scipy.linalg.expm(A * t) @ z_eq)[2] - 0.15, 0.01, 2.0, xtol=1e-14)
+    assert sim.t_events[0][0] == pytest.approx(t_cross, abs=1e-8)
+    assert sim["u_mx"][-1] == pytest.approx(0.15, abs=1e-9)
