@@ -297,3 +297,38 @@ def test_an_event_sees_the_element_state(maxwell):
     t_cross = brentq(lambda t: (z_eq - scipy.linalg.expm(A * t) @ z_eq)[2] - 0.15, 0.01, 2.0, xtol=1e-14)
     assert sim.t_events[0][0] == pytest.approx(t_cross, abs=1e-8)
     assert sim["u_mx"][-1] == pytest.approx(0.15, abs=1e-9)
+
+
+HELD = f"""
+[mechanism]
+name = "held"
+dof = 0
+[parameters]
+k2 = {K2}
+c = {C}
+[ground]
+O = [0, 0]
+S = [-1.0, 0]
+[bodies.block]
+mass = 1.0
+inertia = 0.1
+initial = {{ x = 0.3, y = 0, theta = 0 }}
+[joints.fix]
+type = "weld"
+a = "ground.O"
+b = "block.origin"
+[test_maxwell.mx]
+a = "ground.S"
+b = "block.origin"
+free_length = 0.8
+"""
+
+
+def test_relaxation_of_a_held_maxwell_element_is_exponential(maxwell):
+    """Both ends held 1 m apart (free length 0.8 m): from u = 0 the damper creeps as
+    ``u(t) = 0.2 (1 - exp(-k2 t / c))`` m and the tension ``k2 (0.2 - u)`` relaxes with it."""
+    model = model_from_text(HELD, "held.toml")
+    t = np.linspace(0.0, 0.4, 9)
+    sim = simulate(model, model.vector({"u_mx": 0.0}), (0.0, 0.4), rtol=1e-12, atol=1e-14, t_eval=t)
+    assert np.allclose(sim["u_mx"], 0.2 * (1 - np.exp(-K2 * t / C)), rtol=0, atol=1e-10)
+    assert np.allclose(sim["x_block"], 0.0, atol=1e-12)   # the weld holds: only the state moves
