@@ -18,6 +18,7 @@ from .downlock import downlock
 #: public name -> the module of this package that defines it
 _LAZY = {
     **dict.fromkeys(["DesignRegion", "DesignRow", "FoldLocus", "design_region", "fold_locus"], "design"),
+    **dict.fromkeys(["DynamicStability", "dynamic_stability", "with_dynamic_stability"], "dynamic_stability"),
     **dict.fromkeys(["DownlockResult", "downlock_condition", "downlock_point"], "downlock"),
     **dict.fromkeys(["RedundancyReport", "RedundancyState", "redundancy_along"], "redundancy"),
     **dict.fromkeys(["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stability_on_stops",
@@ -31,11 +32,13 @@ __all__ = ["equilibrium_family", "downlock", "downlock_point", "downlock_conditi
            "DesignRegion", "DesignRow", "FoldLocus", "DownlockResult", "UnlockFolds", "unlock_folds",
            "unlock_force_along", "with_unlock_columns", "redundancy_along", "RedundancyReport", "RedundancyState",
            "StopRun", "continuation_with_stops", "equilibrium_on_stops", "stability_on_stops",
-           "stops_in_contact", "OdeReport", "ode_report", "ode_equations"]
+           "stops_in_contact", "OdeReport", "ode_report", "ode_equations", "DynamicStability", "dynamic_stability",
+           "with_dynamic_stability"]
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     from .design import DesignRegion, DesignRow, FoldLocus, design_region, fold_locus
     from .downlock import DownlockResult, downlock_condition, downlock_point
+    from .dynamic_stability import DynamicStability, dynamic_stability, with_dynamic_stability
     from .ode_check import OdeReport, ode_equations, ode_report
     from .redundancy import RedundancyReport, RedundancyState, redundancy_along
     from .stops import StopRun, continuation_with_stops, equilibrium_on_stops, stability_on_stops, stops_in_contact

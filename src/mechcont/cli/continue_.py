@@ -33,8 +33,14 @@ from ._run import (
                    "fold (NSF), and where the mechanism lands is printed.")
 @click.option("--at", "at", default=None, metavar="P=V1,V2,...",
               help="Rows located exactly at these values of the --vary parameter P (SI units), labelled UZ.")
+@click.option("--dynamic", is_flag=True,
+              help="Add the dynamic stability of each point (eigenvalues of the linearised equations of motion: "
+                   "mass, damping, tangent stiffness, element states): columns n_unstable_dynamic, leading_real "
+                   "(1/s) and leading_frequency (rad/s).")
+@click.option("--damping", default=0.0, show_default=True,
+              help="Mass-proportional damping (1/s) added in the dynamic stability (--dynamic), as simulate's.")
 def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, out, plot, xname, yname,
-                     with_stops, at):
+                     with_stops, at, dynamic, damping):
     """Continue equilibria of MODEL in --vary, both directions, within --bounds (with --stops, through
     the contacts and releases of the description's stops).
 
@@ -50,9 +56,19 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     at_values = user_points(at, vary)
     if at_values and with_stops:
         raise InputError("--at", "is not available with --stops; continue without --stops to add UZ rows")
+    if damping and not dynamic:
+        raise InputError("--damping", "applies to the dynamic stability only: give --dynamic too")
+    if not (damping >= 0 and damping < float("inf")):
+        raise InputError("--damping", f"must be a non-negative number (1/s), got {damping}")
     holds, starts = held_states(holds, starts)
     options = continuation_options(bnds, ds, dsmax, max_steps)
     system = load_at(model, assignments(sets, "set"))
+    if system.ode is not None and not system.ode.algebraic:
+        dynamic = True  # an ODE file's stability is its dynamics': always the dynamic columns and Hopf points
+    if dynamic and system.mechanics is None and system.ode is None:
+        raise InputError("--dynamic", f"{system.name} has no equations of motion (neither a mechanism nor an ODE)")
+    if damping and system.mechanics is None:
+        raise InputError("--damping", f"{system.name} is not a mechanism: mass-proportional damping needs masses")
     stops = system.stops
     if with_stops:
         from ..analysis.stops import check_stop_lens
@@ -83,14 +99,23 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
         if stops and not quiet:
             click.echo(f"note: {system.name} has stops ({', '.join(s.name for s in stops)}); here they are free, "
                        "their reactions held at their values: --stops lets them make and lose contact")
-        # an ODE model's equilibria are watched for Hopf points (its eigenvalues at every point)
-        ode = getattr(system, "ode", None)
+        # an ODE model's equilibria, and a mechanism's with --dynamic, are watched for Hopf points
+        from ..equations import dynamics_of
+
+        hopf = False if not dynamic else (dynamics_of(system, damping=damping) if damping else True)
         branch = run_continuation(continuation, system, x0, vary, hold=holds, free=frees, options=options,
-                                  quiet=quiet, stop_on_signal=True, at=at_values,
-                                  hopf=ode is not None and not ode.algebraic)
+                                  quiet=quiet, stop_on_signal=True, at=at_values, hopf=hopf)
     # shown and plotted: the --start state, else (with --stops) the first stop's condition, else the first unknown
     stopped = [s.condition for s in stops if s.condition in branch.names] if with_stops else []
     first_state = next(iter(assignments(starts, "start")), None) or next(iter(stopped), None) or branch.unknowns[0]
+    statics = branch  # the branch as continued: the redundancy report reads its rows as full vectors
+    if dynamic:
+        from ..analysis.dynamic_stability import with_dynamic_stability
+
+        branch = with_dynamic_stability(system, branch, damping=damping)
+        if not quiet and len(branch):
+            n = int(sum(branch["n_unstable_dynamic"] > 0))
+            click.echo(f"dynamic stability: {n} of {len(branch)} points dynamically unstable")
     write_branch(branch, out, plot, xname or vary, yname or first_state, quiet)
     if not quiet:
         from ..outputs.tables import hopf_lines
@@ -110,7 +135,7 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     if not quiet and system.mechanics is not None and len(branch.values):
         from ..analysis.redundancy import redundancy_along
 
-        report = redundancy_along(system, branch)
+        report = redundancy_along(system, statics)
         if report.dropped or report.changes or report.states[0].indeterminate:
             click.echo("redundant constraints along the branch:")
             names = [""] * len(branch.values)

@@ -282,7 +282,7 @@ class Branch:
         """A branch from a table written by :meth:`to_csv` (or an older one without units).
 
         Variables are the columns other than ``s``, ``stability``, ``n_unstable``, ``label``
-        and ``vary``; units come from the headers. Special points are rebuilt from the
+        and ``vary`` and the :data:`DERIVED_COLUMNS` (left out); units come from the headers. Special points are rebuilt from the
         ``label`` column (``LP?`` is an approximate ``LP``), numbered as when written.
         Without ``n_unstable`` the ``stability`` words give 0/1 (-1 where unknown); without
         ``s``, the chord length of the rows stands in for the arclength. Raises
@@ -291,7 +291,7 @@ class Branch:
         rows, units = read_branch_table(path)
         if not rows:
             raise InputError("branch", f"'{path}' has no rows")
-        names = [n for n in rows[0] if n not in _EXTRA_COLUMNS]
+        names = [n for n in rows[0] if n not in _EXTRA_COLUMNS and n not in DERIVED_COLUMNS]
         values = np.array([[_number(path, i, n, r[n]) for n in names] for i, r in enumerate(rows)])
         if "s" in rows[0]:
             s = np.array([_number(path, i, "s", r["s"]) for i, r in enumerate(rows)])
@@ -307,6 +307,7 @@ class Branch:
                                      reason="marked approximate in the table")
                    for i, lab in enumerate(labels) if lab]
         vary = (rows[0].get("vary") or "").strip()
+        units = {n: u for n, u in units.items() if n not in DERIVED_COLUMNS}
         return cls(names, values, s, nu, labels, special, vary, (), model=model, units=units)
 
     def to_json(self, path: str | os.PathLike) -> Path:
@@ -328,6 +329,9 @@ class Branch:
 
 
 _EXTRA_COLUMNS = ("s", "stability", "n_unstable", "label", "vary")
+#: Columns an analysis appends after the variables (the dynamic stability's, ``continue --dynamic``):
+#: :meth:`Branch.read_csv` leaves them out of the variables, so such a table is a branch of its model again.
+DERIVED_COLUMNS = ("n_unstable_dynamic", "leading_real", "leading_frequency")
 
 
 def _hopf_fields(p: SpecialPoint) -> dict:

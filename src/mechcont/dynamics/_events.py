@@ -85,8 +85,8 @@ class EventTracker:
         return bool(self._fns)
 
     def _values(self, dyn, t, y):
-        x = dyn.full(t, y[: self.nq])
-        qd = y[self.nq:]
+        x = dyn.full_of(t, y)
+        qd = y[self.nq:2 * self.nq]
         return np.array([fn(t, x, qd) for fn in self._fns], float)
 
     def start(self, dyn, t, y) -> None:
@@ -116,7 +116,7 @@ class EventTracker:
                     return self._values(dyn, tt, sol(tt))[k]
                 te = brentq(g, t_old, t_new, xtol=1e-12 * max(1.0, abs(t_new)))
             self.t_events[k].append(te)
-            self.x_events[k].append(dyn.full(te, sol(te)[: self.nq]))
+            self.x_events[k].append(dyn.full_of(te, sol(te)))
             if self.terminal[k]:
                 t_stop = te if t_stop is None else min(t_stop, te)
         return t_stop
@@ -133,7 +133,7 @@ class EventTracker:
             up, down = a < 0 <= b, a > 0 >= b
             if (up and self.direction[k] >= 0) or (down and self.direction[k] <= 0):
                 self.t_events[k].append(t)
-                self.x_events[k].append(dyn.full(t, y[: self.nq]))
+                self.x_events[k].append(dyn.full_of(t, y))
                 t_stop = t if self.terminal[k] else t_stop
         return t_stop
 

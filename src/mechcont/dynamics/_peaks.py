@@ -83,16 +83,16 @@ class DenseHistory:
         y = self.state(t, k)
         system, dyn = self._parts[self._part[k]]
         nq = dyn.nq
-        values = np.array(dyn.full(t, y[:nq]), float).reshape(1, -1)
+        values = np.array(dyn.full_of(t, y), float).reshape(1, -1)
         if not full:
-            return values[0], y[nq:]
+            return values[0], y[nq:2 * nq]
         _fill_conditions(system, values)
         contacts = dyn.contacts
         active = None if contacts is None else list(contacts.active)
         fill_reactions(system, dyn, np.array([t]), y.reshape(1, -1), values, [self.segments[k][3]])
         if contacts is not None:
             contacts.active = active
-        return values[0], y[nq:]
+        return values[0], y[nq:2 * nq]
 
 
 def locate_peak(result, quantity: Callable[[np.ndarray, np.ndarray], float], *, rows: np.ndarray | None = None,

@@ -54,10 +54,10 @@ def fill_reactions(system, dyn, t: np.ndarray, y: np.ndarray, values: np.ndarray
         if known is not None and known[i] is not None and known[i][1] is not None:  # the integrator's solve here
             z, determinate = known[i][1], not dyn.indeterminate  # redundant rows: the dropped ones carry nothing
         else:
-            _, z, determinate = dyn.multipliers(ti, yi[:nq], yi[nq:])
+            _, z, determinate = dyn.multipliers(ti, yi[:nq], yi[nq:2 * nq], yi[2 * nq:])
         indeterminate += not determinate
         if dyn.kept is not None:  # the rows left out of the solve carried none: report the minimum-norm split
-            z = dyn.kept.minimum_norm(dyn.mech.phi_q(dyn.full(ti, yi[:nq])), z)
+            z = dyn.kept.minimum_norm(dyn.mech.phi_q(dyn.full_of(ti, yi)), z)
         if joint.size:
             values[i, joint] = -z[:nc]
         if contacts is not None and modes[i]:
@@ -72,5 +72,5 @@ def fill_reactions(system, dyn, t: np.ndarray, y: np.ndarray, values: np.ndarray
     if contacts is not None and contacts.law:
         idx = contacts.reaction[contacts.law.index]
         for i, (ti, yi) in enumerate(zip(t, y)):
-            values[i, idx] = contacts.penalized(dyn.full(ti, yi[:nq]), yi[nq:])[idx]
+            values[i, idx] = contacts.penalized(dyn.full_of(ti, yi), yi[nq:2 * nq])[idx]
     return indeterminate

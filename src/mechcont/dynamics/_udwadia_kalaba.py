@@ -145,7 +145,9 @@ def _mass_samples(mech, x: np.ndarray, q_index: np.ndarray, samples: int = 3) ->
 
 
 class ConstrainedDynamics:
-    """The first-order ODE ``y' = f(t, y)``, ``y = (q, qdot)``, of a mechanism.
+    """The first-order ODE ``y' = f(t, y)``, ``y = (q, qdot, s)``, of a mechanism (``s``: the first-order
+    states of its elements, :attr:`~mechcont.equations.MechanicalModel.element_states`, integrated with
+    their rates ``r(q, qdot, s)``; none for most mechanisms).
 
     Parameters
     ----------
@@ -176,6 +178,9 @@ class ConstrainedDynamics:
         self.mech = mech
         self.q_index = np.asarray(mech.q_index)
         self.nq = len(self.q_index)
+        #: Positions in ``x`` of the element states and their number (they follow ``(q, qdot)`` in ``y``).
+        self.s_index = np.asarray(getattr(mech, "s_index", np.zeros(0, np.intp)), dtype=np.intp)
+        self.ns = len(self.s_index)
         self.x = np.array(x, dtype=float)
         if self.x.shape != (len(system.names),):
             raise InputError("x0", f"needs {len(system.names)} values ordered like the model's names")
@@ -220,13 +225,25 @@ class ConstrainedDynamics:
         self.indeterminate = bool(dropped)
 
     # -- helpers -------------------------------------------------------------------------
-    def full(self, t: float, q: np.ndarray) -> np.ndarray:
-        """Full variable vector at time ``t`` with coordinates ``q`` and loads applied."""
+    def full(self, t: float, q: np.ndarray, s: np.ndarray | None = None) -> np.ndarray:
+        """Full variable vector at time ``t`` with coordinates ``q``, element states ``s`` (default: ``x``'s)
+        and loads applied."""
         x = self.x.copy()
         x[self.q_index] = q
+        if s is not None and self.ns:
+            x[self.s_index] = s
         for i, fn in self._loads:
             x[i] = fn(t)
         return x
+
+    def split(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(q, qdot, s)`` of a state ``y``."""
+        nq = self.nq
+        return y[:nq], y[nq:2 * nq], y[2 * nq:]
+
+    def full_of(self, t: float, y: np.ndarray) -> np.ndarray:
+        """Full variable vector at time ``t`` of the state ``y`` (coordinates and element states)."""
+        return self.full(t, y[:self.nq], y[2 * self.nq:])
 
     def mass_inv_sqrt(self, x: np.ndarray) -> np.ndarray:
         """``M^-1/2`` at ``x`` (cached when the mass matrix is constant)."""
@@ -276,13 +293,14 @@ class ConstrainedDynamics:
         out[self.mech.n_constraints:] = z[len(keep):]
         return out
 
-    def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        """Constrained accelerations at time ``t`` (the fundamental equation, stabilised).
+    def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray, s: np.ndarray | None = None) -> np.ndarray:
+        """Constrained accelerations at time ``t`` (the fundamental equation, stabilised); ``s``: the element
+        states (default ``x``'s).
 
         All ``nan`` when the state, a load or the forces are not finite: the integrator then
         rejects the step, shrinks it and reports where it failed.
         """
-        x = self.full(t, q)
+        x = self.full(t, q, s)
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(qd))):
             return np.full(self.nq, np.nan)
         A_joints, b_joints = self.joint_rows(x, qd)
@@ -297,7 +315,8 @@ class ConstrainedDynamics:
             A, b = self._solved_rows(x, qd, A_joints, b_joints)
             qdd, z = self._solve(x, Q, A, b)
             self.kept.rechosen(self._spread)
-        self._last = (t, np.array(q), np.array(qd), self._mode(), qdd, None if z is None else self._full_multipliers(z), Q)
+        self._last = (t, np.array(q), np.array(qd), self._mode(), qdd, None if z is None else self._full_multipliers(z), Q,
+                      None if s is None else np.array(s))
         return qdd
 
     def _solve(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
@@ -313,7 +332,8 @@ class ConstrainedDynamics:
     def _mode(self) -> tuple[int, ...]:
         return () if self.contacts is None else tuple(self.contacts.active)
 
-    def recall(self, t: float, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, np.ndarray] | None:
+    def recall(self, t: float, q: np.ndarray, qd: np.ndarray,
+               s: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None, np.ndarray] | None:
         """``(qddot, z, forces)`` of the last :meth:`acceleration` if it was made at exactly this state and
         contact set (the integrator's last evaluation of a step is at the step's end), else None: the
         history's reactions and energy bound reuse it instead of solving again. ``z`` (the multipliers) is
@@ -321,6 +341,8 @@ class ConstrainedDynamics:
         last = self._last
         if (last is None or last[0] != t or last[3] != self._mode() or not np.array_equal(last[1], q)
                 or not np.array_equal(last[2], qd)):
+            return None
+        if self.ns and (last[7] is None or s is None or not np.array_equal(last[7], s)):
             return None
         return last[4], last[5], last[6]
 
@@ -340,7 +362,8 @@ class ConstrainedDynamics:
             return None
         return (a + MA @ z, z) if with_multipliers else a + MA @ z
 
-    def multipliers(self, t: float, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
+    def multipliers(self, t: float, q: np.ndarray, qd: np.ndarray,
+                    s: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, bool]:
         """``(qddot, z, determinate)`` at time ``t``: the accelerations and the Lagrange multipliers ``z`` of
         the same solve, ``M qddot = forces + A^T z`` with ``A qddot = b`` (the joints' rows, then those of the
         stops in contact, :meth:`joint_rows` and :meth:`~._contact.StopConstraints.rows`).
@@ -353,11 +376,11 @@ class ConstrainedDynamics:
         contact reaction is ``+z``. ``determinate`` is False when ``A M^-1/2`` is rank deficient
         (redundant constraints): ``z`` is then the minimum-norm multiplier vector, one of many that
         give the same ``qddot`` (N, N m: units of each row's reaction)."""
-        known = self.recall(t, q, qd)
+        known = self.recall(t, q, qd, s)
         determinate = not self.indeterminate  # redundant rows: one split of indeterminate reactions
         if known is not None and known[1] is not None:
             return known[0], known[1], determinate
-        x = self.full(t, q)
+        x = self.full(t, q, s)
         A, b = self._solved_rows(x, qd, *self.joint_rows(x, qd))
         Q = self.forces(x, qd)
         if A.shape[0] and self._blocks is not None:  # the accelerations' own path: Cholesky of A M^-1 A^T
@@ -382,10 +405,14 @@ class ConstrainedDynamics:
         return a + Mis @ (Vt[:rank].T @ c), z, rank == A.shape[0] and determinate
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
-        """Right-hand side ``(qdot, qddot)`` of the first-order system."""
+        """Right-hand side ``(qdot, qddot, sdot)`` of the first-order system."""
         self.nfev += 1
-        q, qd = y[: self.nq], y[self.nq:]
-        return np.concatenate([qd, self.acceleration(t, q, qd)])
+        if not self.ns:
+            q, qd = y[: self.nq], y[self.nq:]
+            return np.concatenate([qd, self.acceleration(t, q, qd)])
+        q, qd, s = self.split(y)
+        qdd = self.acceleration(t, q, qd, s)
+        return np.concatenate([qd, qdd, self.mech.element_state_rates(self.full(t, q, s), qd)])
 
     # -- projection onto the constraint manifold (M-metric, like the fundamental equation) --
     def project(self, t: float, q: np.ndarray, qd: np.ndarray, tol: float = 1e-12,

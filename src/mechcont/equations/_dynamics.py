@@ -137,17 +137,21 @@ class OdeDynamics:
         return LinearDynamics(self.rates_jacobian(self.state_at(x), x), None, self.state_names)
 
 
-def dynamics_of(model: Model) -> Dynamics:
+def dynamics_of(model: Model, damping: float = 0.0) -> Dynamics:
     """The :class:`Dynamics` of ``model``: its own for an ODE model, its equations of motion for a
-    mechanism. Raises :class:`InputError` (field: the model's name) when it has none."""
+    mechanism, with ``damping`` (1/s) mass-proportional damping added to a mechanism's own (as the time
+    simulation's option; an ODE model takes none). Raises :class:`InputError` (field: the model's name)
+    when it has none."""
     if model.ode is not None:
+        if damping:
+            raise InputError("damping", f"{model.name} is an ODE system: mass-proportional damping needs masses")
         return OdeDynamics(model)
     if model.mechanics is not None:
         try:
             from ._mechanism_dynamics import MechanismDynamics
         except ImportError:  # pragma: no cover - until the mechanism dynamics land
             raise InputError(model.name, "dynamics of mechanisms are not available yet") from None
-        return MechanismDynamics(model)
+        return MechanismDynamics(model, damping=damping)
     raise InputError(model.name, "has neither rates (an ODE file) nor mechanics (a mechanism): no dynamics")
 
 

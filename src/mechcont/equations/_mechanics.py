@@ -261,6 +261,8 @@ class MechanicalModel:
                 raise InputError(str(sorted(map(str, bad))[0]), "used in an element state's rate but not a variable")
         self._syms, self._qs, self._qd = syms, qs, qd
         self.n_constraints = len(self.constraints)
+        #: Positions in ``x`` of the element states (in :attr:`element_states`' order).
+        self.s_index = np.array([self.names.index(n) for n in self.element_states], dtype=np.intp)
 
     # Compiled functions, in three groups each compiled (or loaded from the disk cache) on
     # first use of one of its members: assembly needs only the kinematics, stability the
@@ -268,7 +270,7 @@ class MechanicalModel:
     _GROUPS = {"_phi": "kinematics", "_phi_q": "kinematics", "_Q": "kinematics",
                "_statics": "statics", "_statics_layout": "statics", "_dQdq": "statics", "_phi_hess": "statics",
                "_gamma": "dynamics", "_dQdqd": "dynamics", "_M": "dynamics", "_inertial": "dynamics",
-               "_V": "dynamics"}
+               "_V": "dynamics", "_rates": "states", "_rates_jac": "states", "_dQds": "states"}
     _COMPILED = tuple(_GROUPS)
 
     #: The symbolic attributes, pickled apart (see :mod:`._deferred`).
@@ -287,7 +289,7 @@ class MechanicalModel:
 
     def _compile(self) -> None:
         """Compile (or load) every group: Phi, Phi_q, Q; the statics; gamma, dQ/dqdot, M."""
-        for group in ("kinematics", "statics", "dynamics"):
+        for group in ("kinematics", "statics", "dynamics", *(("states",) if self.element_states else ())):
             self._compile_group(group)
 
     def _compile_group(self, group: str) -> None:
@@ -314,6 +316,8 @@ class MechanicalModel:
                      *(_cache.expr_text(e) for e in s["forces"]), "mass",
                      *(f"{k}:{_cache.expr_text(e)}" for k, e in zip(*self._mass_entries())), "potential",
                      *(_cache.expr_text(e) for e in s["potential"])]
+            if self.element_states:  # only then: a model without states keeps its cached code
+                parts += ["states", " ".join(self.element_states), *(_cache.expr_text(e) for e in s["rates"])]
             for p in parts:
                 b = p.encode()
                 h.update(len(b).to_bytes(8, "little") + b)
@@ -335,12 +339,15 @@ class MechanicalModel:
         if sym is None:
             nq, ns, nc = len(self.coordinates), len(self._syms), len(self.constraints)
             V = getattr(self, "potential", None)  # None also for a model pickled before potentials were kept
+            nv = 0 if V is None else 1
             args, exprs = engine_arguments(self._syms + self._qd, [*self.constraints, *self.forces,
-                                                                   *([] if V is None else [V])])
+                                                                   *([] if V is None else [V]),
+                                                                   *(self.state_rates if self.element_states else [])])
             qs = [args[i] for i in self.q_index]
-            cons, forces, potential = exprs[:nc], exprs[nc:nc + nq], exprs[nc + nq:]
+            cons, forces, potential = exprs[:nc], exprs[nc:nc + nq], exprs[nc + nq:nc + nq + nv]
             sym = self.__dict__["_engine"] = {"args": args, "qs": qs, "qd": args[ns:ns + nq], "cons": cons,
-                                              "forces": forces, "potential": potential}
+                                              "forces": forces, "potential": potential,
+                                              "rates": exprs[nc + nq + nv:], "ss": [args[i] for i in self.s_index]}
         return sym
 
     def _phi_q_entries(self) -> tuple[list, list[bool]]:
@@ -360,6 +367,15 @@ class MechanicalModel:
         if group == "kinematics":
             return {"_phi": compile_values(args, cons), "_Q": compile_values(args, forces),
                     "_phi_q": compile_scattered(args, _flat(phi_q, (nc, nq)), [d for _, d in phi_q], (nc, nq))}
+        if group == "states":
+            # the element states' rates r(q, qdot, s) and their exact derivatives d r/d(q, qdot, s); dQ/ds
+            rates, ss, n_s = s["rates"], s["ss"], len(self.element_states)
+            drs = derivative_entries(rates, [*qs, *qd, *ss])
+            dqs = derivative_entries(forces, ss)
+            return {"_rates": compile_values(args, rates),
+                    "_rates_jac": compile_scattered(args, _flat(drs, (n_s, 2 * nq + n_s)), [d for _, d in drs],
+                                                    (n_s, 2 * nq + n_s)),
+                    "_dQds": compile_scattered(args, _flat(dqs, (nq, n_s)), [d for _, d in dqs], (nq, n_s))}
         if group == "statics":
             # Hessians of the constraints, for the curvature term sum_k lambda_k Hess(Phi_k)
             hess = [((k, i, j), d2) for (k, i), d in phi_q for (_, j), d2 in derivative_entries([d], qs, smooth[k])]
@@ -409,6 +425,7 @@ class MechanicalModel:
     def __setstate__(self, state):
         self.__dict__.update(state)
         self.__dict__.setdefault("element_states", ())  # pickled before element states existed
+        self.__dict__.setdefault("s_index", np.zeros(0, dtype=np.intp))
         if "n_constraints" not in state and "constraints" in state:  # pickled before the count was kept
             self.__dict__["n_constraints"] = len(state["constraints"])
 
@@ -456,6 +473,24 @@ class MechanicalModel:
         generated ``M(q)``; zero when ``M`` is constant (frames at the centres of gravity) or at rest.
         The equations of motion are ``M qddot = Q + inertial_forces + Phi_q^T lambda``."""
         return self._inertial(self._args(x, qdot))
+
+    def element_state_rates(self, x, qdot=None) -> np.ndarray:
+        """The element states' rates ``r(q, qdot, s)`` (each state's unit per second), in
+        :attr:`element_states`' order; empty without states."""
+        if not self.element_states:
+            return np.zeros(0)
+        return np.asarray(self._rates(self._args(x, qdot)), dtype=float).reshape(-1)
+
+    def element_state_jacobians(self, x, qdot=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Exact ``(dr/dq, dr/dqdot, dr/ds, dQ/ds)`` at ``x`` (and ``qdot``, default at rest): the rates'
+        derivatives, shapes (n_s, n_q) each of the first two and (n_s, n_s), and the generalised forces'
+        derivative in the states, (n_q, n_s)."""
+        nq, ns = len(self.coordinates), len(self.element_states)
+        if not ns:
+            return np.zeros((0, nq)), np.zeros((0, nq)), np.zeros((0, 0)), np.zeros((nq, 0))
+        a = self._args(x, qdot)
+        J = self._rates_jac(a)
+        return J[:, :nq], J[:, nq:2 * nq], J[:, 2 * nq:], self._dQds(a)
 
     def potential_energy(self, x) -> float:
         """Potential energy ``V`` (J) at the full variable vector ``x`` (0 when the model declares none,

@@ -36,10 +36,11 @@ from ._compiled import CoordinatesOf, DroppedResidual
 from ._conditions import condition_description, condition_rows, condition_scale, condition_targets
 from ._description import Mechanism
 from ._diagnose import check_assembled, least_squares_closure, loop_error, redundancy_error
+from ._element_states import collect_states, rest_rows, steady_states
 from ._expr import symbol
 from ._forces import loads
 from ._kinematics import ConstraintRow, Kinematics, place_along_joints
-from ._reduce import reduce_form
+from ._reduce import reduce_form, velocity_map
 from ._scene import scene_function
 from ._stops import stop_forces
 from ._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
@@ -148,6 +149,7 @@ class _Structure:
     conditions: list
     mechanics: MechanicalModel
     equilibrium: list[sp.Expr]
+    states: list = field(default_factory=list)  # the elements' first-order states (ElementState)
     variants: dict[tuple[int, ...], _Variant] = field(default_factory=dict)
 
     @property
@@ -163,7 +165,7 @@ class _Structure:
                 keep = [i for i in range(len(self.rows)) if i not in set(dependent)]
                 rows = [self.rows[i] for i in keep]
                 equilibrium, mechanics = _equilibrium(mech, self.coords, rows, self.forces, self.mass, self.cnames,
-                                                      potential=self.V)
+                                                      potential=self.V, states=self.states)
             else:
                 rows, equilibrium, mechanics = self.rows, self.equilibrium, self.mechanics
             out = self.variants[dependent] = _Variant(rows, [self.rows[i] for i in dependent], equilibrium, mechanics)
@@ -188,6 +190,7 @@ def _structure(mech: Mechanism, reduced: bool) -> _Structure:
     if reduced:
         coords, rows, forces, mass, subs = reduce_form(kin, rows, ld.V, ld.Q_nc, M)
         V = ld.V.xreplace(subs)
+        states = collect_states(kin, velocity_map(kin, subs)[2], subs)
         for k in mech.hold:
             if k not in coords:
                 raise InputError(f"assembly.hold.{k}", "is eliminated in the reduced form; hold a kept coordinate "
@@ -195,11 +198,13 @@ def _structure(mech: Mechanism, reduced: bool) -> _Structure:
     else:
         coords, mass, subs, V = list(kin.coords), M, {}, ld.V
         forces = [-sp.diff(ld.V, qi) + qnc for qi, qnc in zip(kin.q, ld.Q_nc)]
+        states = collect_states(kin)
     conditions = condition_rows(kin, subs)
     if mech.stops:
         forces = [f + g for f, g in zip(forces, stop_forces(mech, conditions, [symbol(c) for c in coords]))]
-    equilibrium, model = _equilibrium(mech, coords, rows, forces, mass, [c.name for c, _ in conditions], potential=V)
-    st = _Structure(kin, rows, ld.arrows, coords, forces, mass, subs, V, conditions, model, equilibrium)
+    equilibrium, model = _equilibrium(mech, coords, rows, forces, mass, [c.name for c, _ in conditions], potential=V,
+                                      states=states)
+    st = _Structure(kin, rows, ld.arrows, coords, forces, mass, subs, V, conditions, model, equilibrium, states)
     mech._generated[key] = st
     return st
 
@@ -218,7 +223,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
     # -- first assembly: consistent coordinates near the initial guess ------------------
     guess = _initial_guess(mech, kin, values)
     x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * (len(rows) + len(cnames))
-                 + [values[p.name] for p in mech.parameters])
+                 + [s.initial for s in st.states] + [values[p.name] for p in mech.parameters])
     free_q = np.array([c not in mech.hold for c in coords])
     x, ok = close_constraints(model.phi, model.phi_q, x, model.q_index, free_q,
                               scale=np.array([1.0 if c.startswith("theta") else Lc for c in coords]), weighted=False)
@@ -240,6 +245,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
         x = np.concatenate([x[:len(coords)], np.zeros(len(var.rows)), x[len(coords) + len(rows):]])
     rows, model = var.rows, var.mechanics
     nq = len(coords)
+    x = steady_states(model, x)  # before the reactions: the forces may use the states
     x[nq:nq + len(rows)] = model.multipliers(x)
     if var.condition_values is not None:  # each condition's value at the assembled configuration
         x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(var.condition_values(x), dtype=float).reshape(-1)
@@ -250,7 +256,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
     for r, v in zip(rows, x[nq:]):
         variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc,
                                   _reaction_text(r)))
-    variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc)
+    variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc, st.states)
     targets, downlock = condition_fields(mech, values)
     at = partial(value_fields, mech) if mech.conditions else None
     if var.model is not None:  # the same structure built before: new values, the same compiled code
@@ -259,8 +265,10 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
     system = EquationSystem(
         name=mech.name + ("_reduced" if reduced else ""),
         variables=variables,
-        equations=[*var.equilibrium, *(r.expr for r in rows), *(e - symbol(c.name) for c, e in st.conditions)],
-        equation_names=[*(_row_name(c) for c in coords), *(r.equation for r in rows), *(f"cond_{n}" for n in cnames)],
+        equations=[*var.equilibrium, *(r.expr for r in rows), *(e - symbol(c.name) for c, e in st.conditions),
+                   *rest_rows(st.states, coords)],
+        equation_names=[*(_row_name(c) for c in coords), *(r.equation for r in rows), *(f"cond_{n}" for n in cnames),
+                        *(f"rate_{s.name}" for s in st.states)],
         mechanics=model,
         description=(mech.description or f"generated from the description of {mech.name}")
         + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
@@ -285,11 +293,14 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
 
 
 def condition_and_parameter_variables(mech: Mechanism, conditions, condition_values, values: Mapping[str, float],
-                                      Lc: float, Fc: float) -> list[Variable]:
-    """The condition states (at ``condition_values``) and the parameters (at ``values``) as variables,
-    scaled by the typical length ``Lc`` (m) and force ``Fc`` (N); shared by planar and spatial builds."""
+                                      Lc: float, Fc: float, states: Sequence = ()) -> list[Variable]:
+    """The condition states (at ``condition_values``), the elements' first-order ``states`` (at the values
+    that follow, :class:`~.elements.ElementState`) and the parameters (at ``values``) as variables, scaled by
+    the typical length ``Lc`` (m) and force ``Fc`` (N); shared by planar and spatial builds."""
     out = [Variable(c.name, "state", float(v), c.value_unit, condition_scale(c, Lc, Fc), condition_description(c))
            for (c, _), v in zip(conditions, condition_values)]
+    out += [Variable(s.name, "state", float(v), s.unit, s.scale, s.description or "first-order state of an element")
+            for s, v in zip(states, list(condition_values)[len(conditions):])]
     for p in mech.parameters:
         val = values[p.name]
         out.append(Variable(p.name, "parameter", val, p.unit, _parameter_scale(p, val, Lc, Fc), p.description))
@@ -354,19 +365,23 @@ def summary(mech: Mechanism) -> tuple[str, list[tuple[str, str, str, str, float 
         out.append((c, "state", unit, text, None))
     out += [(r.reaction, "state", r.unit, _reaction_text(r), None) for r in kin.constraints()]
     out += [(c.name, "state", c.value_unit, condition_description(c), None) for c in mech.conditions]
+    out += [(s.name, "state", s.unit, s.description or "first-order state of an element", None)
+            for s in collect_states(kin)]
     out += [(p.name, "parameter", p.unit, p.description, float(p.value)) for p in mech.parameters]
     return mech.description or f"generated from the description of {mech.name}", out
 
 
 def _equilibrium(mech: Mechanism, coords: list[str], rows: Sequence[ConstraintRow], forces: list[sp.Expr],
                  mass: sp.Matrix, conditions: Sequence[str] = (), *,
-                 gradient=None, potential: sp.Expr | None = None) -> tuple[list[sp.Expr], MechanicalModel]:
+                 gradient=None, potential: sp.Expr | None = None,
+                 states: Sequence = ()) -> tuple[list[sp.Expr], MechanicalModel]:
     """Equilibrium rows ``Q - Phi_q^T lambda`` (at rest) and the compiled mechanical model.
 
     ``conditions`` are the names of the condition states (variables after the reactions;
     not coordinates of the mechanics). ``gradient(expr, symbols)`` differentiates the rows
     (default: SymPy, one coordinate at a time). ``potential``: the loads' potential energy ``V`` (J)
-    the mechanical model keeps for the time simulation's energy audit."""
+    the mechanical model keeps for the time simulation's energy audit. ``states``: the elements' first-order
+    states (:class:`~.elements.ElementState`, variables after the conditions; their rates go to the model)."""
     q = [symbol(c) for c in coords]
     at_rest = {velocity_symbol(c): 0 for c in coords}
     lam = [symbol(r.reaction) for r in rows]
@@ -378,13 +393,15 @@ def _equilibrium(mech: Mechanism, coords: list[str], rows: Sequence[ConstraintRo
         for qi, d in zip(used, ds):
             if d != 0:
                 equilibrium[index[qi]] -= d * lk
-    names = [*coords, *(r.reaction for r in rows), *conditions, *(p.name for p in mech.parameters)]
+    names = [*coords, *(r.reaction for r in rows), *conditions, *(s.name for s in states), *(p.name for p in mech.parameters)]
     clash = {n for n in names if names.count(n) > 1}
     if clash:
         first = sorted(clash)[0]
-        where = "conditions" if first in conditions else "parameters"
+        where = ("conditions" if first in conditions else "states" if first in {s.name for s in states}
+                 else "parameters")
         raise InputError(f"{where}.{first}", "clashes with a generated coordinate or reaction name")
-    return equilibrium, MechanicalModel(names, coords, [r.expr for r in rows], forces, mass, potential=potential)
+    return equilibrium, MechanicalModel(names, coords, [r.expr for r in rows], forces, mass, potential=potential,
+                                        state_rates={s.name: s.rate for s in states} or None)
 
 
 def _dropped_residual(system: EquationSystem, dropped: Sequence[ConstraintRow]) -> DroppedResidual:

@@ -26,7 +26,7 @@ import sympy as sp
 from ..equations import velocity_symbol
 from ._kinematics import ConstraintRow, Kinematics, pin_chain
 
-__all__ = ["tree_elimination", "reduce_form"]
+__all__ = ["tree_elimination", "reduce_form", "velocity_map"]
 
 
 def tree_elimination(kin: Kinematics) -> tuple[dict[sp.Symbol, sp.Expr], set[str]]:
@@ -52,6 +52,20 @@ def tree_elimination(kin: Kinematics) -> tuple[dict[sp.Symbol, sp.Expr], set[str
     return subs, tree
 
 
+def velocity_map(kin: Kinematics, subs: dict):
+    """``(kept, J, vel)`` of the substitution ``subs`` of the eliminated coordinates: the kept ``(name,
+    symbol)`` pairs, ``J = dq/dr`` (every coordinate by the kept ones) and the velocity symbols of every
+    coordinate written in the kept ones' (``qdot = J rdot``)."""
+    kept = [(n, s) for n, s in zip(kin.coords, kin.q) if s not in subs]
+    r = [s for _, s in kept]
+    q_of_r = [subs.get(s, s) for s in kin.q]
+    J = sp.Matrix([[sp.diff(qi, rj) for rj in r] for qi in q_of_r])
+    qd_full = [velocity_symbol(n) for n in kin.coords]
+    qd_r = [velocity_symbol(n) for n, _ in kept]
+    vel = {qd_full[i]: sum((J[i, j] * qd_r[j] for j in range(len(r))), sp.S.Zero) for i in range(len(kin.q))}
+    return kept, J, vel
+
+
 def reduce_form(kin: Kinematics, rows: list[ConstraintRow], V: sp.Expr, Q_nc: list[sp.Expr], M: sp.Matrix):
     """Apply :func:`tree_elimination`.
 
@@ -60,13 +74,8 @@ def reduce_form(kin: Kinematics, rows: list[ConstraintRow], V: sp.Expr, Q_nc: li
     symbols), the reduced mass matrix and the substitution of the eliminated coordinates.
     """
     subs, tree = tree_elimination(kin)
-    kept = [(n, s) for n, s in zip(kin.coords, kin.q) if s not in subs]
+    kept, J, vel = velocity_map(kin, subs)
     r = [s for _, s in kept]
-    q_of_r = [subs.get(s, s) for s in kin.q]
-    J = sp.Matrix([[sp.diff(qi, rj) for rj in r] for qi in q_of_r])
-    qd_full = [velocity_symbol(n) for n in kin.coords]
-    qd_r = [velocity_symbol(n) for n, _ in kept]
-    vel = {qd_full[i]: sum((J[i, j] * qd_r[j] for j in range(len(r))), sp.S.Zero) for i in range(len(kin.q))}
     V_r = V.xreplace(subs)
     Qnc_full = [e.xreplace(subs).xreplace(vel) for e in Q_nc]
     M_sub = M.xreplace(subs)

@@ -33,6 +33,7 @@ from ...equations._codegen import gradient
 from ...errors import InputError
 from .._assembly import DofReport, close_constraints, dof_report
 from .._conditions import condition_rows
+from .._element_states import collect_states, rest_rows, steady_states
 from .._expr import symbol
 from .._forces import loads
 from .._generate import (
@@ -182,6 +183,7 @@ class _Structure:
     mechanics: MechanicalModel    # every rigid row (dropped or not) a constraint, compliant rows springs
     elastic: sp.Expr
     condition_values: Callable[[np.ndarray], np.ndarray] | None
+    states: list = field(default_factory=list)  # the elements' first-order states (ElementState)
     variants: dict[tuple[int, ...], _Variant] = field(default_factory=dict)
 
     @property
@@ -207,7 +209,7 @@ class _Structure:
             # multiplier there would only bring rounding (down to subnormal numbers, slow to factorise)
             kept = [r for i, r in enumerate(self.rows) if i not in dropped]
             equilibrium, _ = _equilibrium(mech, self.coords, kept, self.forces, self.mass, self.cnames,
-                                          gradient=gradient)
+                                          gradient=gradient, states=self.states)
             eqs, names = [], []
             for i, r in enumerate(self.rows):
                 lam = symbol(r.reaction)
@@ -279,9 +281,10 @@ def _variant_model(mech: SpatialMechanism, st: _Structure, var: _Variant, variab
         system = EquationSystem(
             name=mech.name,
             variables=variables,
-            equations=[*var.equilibrium, *var.equations, *(e - symbol(c.name) for c, e in st.conditions)],
+            equations=[*var.equilibrium, *var.equations, *(e - symbol(c.name) for c, e in st.conditions),
+                       *rest_rows(st.states, st.coords)],
             equation_names=[*(_row_name(c) for c in st.coords), *var.equation_names,
-                            *(f"cond_{n}" for n in st.cnames)],
+                            *(f"cond_{n}" for n in st.cnames), *(f"rate_{s.name}" for s in st.states)],
             mechanics=st.mechanics,
             description=(mech.description or f"generated from the description of {mech.name}")
             + (f" [redundant constraint rows dropped: {', '.join(r.equation for r in dropped)}]" if dropped else ""),
@@ -320,19 +323,21 @@ def _structure(mech: SpatialMechanism) -> _Structure:
     if mech.stops:
         forces = [f + g for f, g in zip(forces, stop_forces(mech, conditions, kin.q, gradient=gradient))]
     cnames = [c.name for c, _ in conditions]
-    _, closure = _equilibrium(mech, coords, rows, forces, mass, cnames, gradient=gradient)
+    states = collect_states(kin)
+    _, closure = _equilibrium(mech, coords, rows, forces, mass, cnames, gradient=gradient, states=states)
     elastic = sum((r.expr ** 2 * r.stiffness / 2 for r in rows if r.stiffness is not None), sp.S.Zero)
     mech_forces = [f - d for f, d in zip(forces, gradient(elastic, kin.q))]
     rigid_rows = [r for r in rows if r.stiffness is None]
     mechanics = MechanicalModel(closure.names, coords, [r.expr for r in rigid_rows], mech_forces, mass,
-                                [r.equation for r in rigid_rows], potential=ld.V + elastic)
+                                [r.equation for r in rigid_rows], potential=ld.V + elastic,
+                                state_rates={s.name: s.rate for s in states} or None)
     condition_values = None
     if conditions:
         from ...equations._codegen import compile_dense
 
         condition_values = compile_dense([symbol(n) for n in closure.names], [e for _, e in conditions])
     st = mech._generated["spatial"] = _Structure(kin, rows, ld.arrows, coords, forces, mass, ld.V, conditions,
-                                                 closure, mechanics, elastic, condition_values)
+                                                 closure, mechanics, elastic, condition_values, states)
     return st
 
 
@@ -352,7 +357,7 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
     guess = _initial_guess(kin, values)
     nq = len(coords)
     x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * (len(rows) + len(cnames))
-                 + [values[p.name] for p in mech.parameters])
+                 + [s.initial for s in st.states] + [values[p.name] for p in mech.parameters])
     free_q = np.array([c not in mech.hold for c in coords])
     rigid = np.array([r.stiffness is None for r in rows])
     # closed relative to each row's size (a position weighs Lc, an Euler parameter 1), in any units
@@ -378,6 +383,7 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
     if dependent and mech.redundant != "drop":
         raise _redundancy_error(report, rows, list(dependent))
     var = st.variant(mech, dependent)
+    x = steady_states(st.mechanics, x)  # before the reactions: the forces may use the states
     x[nq:nq + len(rows)] = st.reactions(closure, x, dependent)
     if st.condition_values is not None:
         x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(st.condition_values(x), dtype=float).reshape(-1)
@@ -402,7 +408,7 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
             what = f"reaction of joint {r.joint} (on its second body)" + (
                 "; compliant: the joint deflects by reaction / stiffness" if r.stiffness is not None else "")
         variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc, what))
-    variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc)
+    variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc, st.states)
     targets, downlock = condition_fields(mech, values)
     at = partial(value_fields, mech) if mech.conditions else None
     return _variant_model(mech, st, var, variables, dof=report, conditions=targets, fields_at=at, **downlock)

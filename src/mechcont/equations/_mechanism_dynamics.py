@@ -1,0 +1,264 @@
+"""The dynamics of a mechanism: its equations of motion as a first-order system, and their linearisation.
+
+The equations of motion of a :class:`~._mechanics.MechanicalModel` are
+
+    M(q) qddot = Q(q, qdot, s) + h(q, qdot) - d M qdot + Phi_q^T mu,    Phi(q) = 0,    sdot = r(q, qdot, s)
+
+(``h`` the velocity-product inertial forces, ``d`` an optional mass-proportional damping in 1/s,
+``s`` the first-order element states; at rest ``mu = -lambda``, the statics' reactions).
+
+**Linearisation** (:meth:`MechanismDynamics.linearise`) about an equilibrium ``x``: with ``N`` an
+orthonormal basis of the null space of ``Phi_q`` (the allowed motions) and ``dq = N eta``,
+
+    Mr eta'' + Cr eta' + Kr eta = Br ds,     ds' = Rq N eta + Rv N eta' + Rs ds,
+
+``Mr = N^T M N``, ``Cr = N^T C N`` (``C = -dQ/dqdot + d M``), ``Kr = N^T K N`` with the exact tangent
+stiffness ``K = -dQ/dq + sum_k lambda_k Hess(Phi_k)`` (non-symmetric for non-conservative loads; the
+curvature term is the second derivative of ``Q`` along the curved constraint manifold:
+differentiating ``Phi(q(eta)) = 0`` twice gives ``Phi_q q'' = -Hess(Phi)[N, N]``, and ``Q = Phi_q^T
+lambda`` at the equilibrium), ``Br = N^T dQ/ds`` and ``R* = dr/d*``. The state ``(eta, eta', ds)``
+gives the explicit ``A`` (``E`` None: ``Mr`` is symmetric positive definite and as small as the
+number of degrees of freedom, so inverting it costs nothing and loses nothing; a descriptor form
+would only add infinite eigenvalues to filter). Only where an allowed motion has no mass (the statics
+allows massless bodies) is ``Mr`` singular: then ``E = diag(I, Mr, I)`` with the undivided blocks, and
+the massless motions' infinite eigenvalues are left out by :meth:`~._dynamics.LinearDynamics.eigenvalues`.
+The velocity-product forces are quadratic in ``qdot`` and drop out.
+
+**Rates** (:meth:`MechanismDynamics.rates`): an explicit ODE in minimal coordinates by generalised
+coordinate partitioning at a reference equilibrium (the first ``x`` the dynamics is asked about, or
+``reference``): the dependent coordinates are the pivot columns of a column-pivoted QR of ``Phi_q``
+with its columns scaled by the coordinates' typical magnitudes (unit-free), the rest independent;
+``z = (q_i, v_i, s)``. The dependent coordinates follow from ``Phi = 0`` by Newton, their velocities
+from ``Phi_q qdot = 0``, the accelerations from the constrained equations of motion (the KKT system).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import scipy.linalg
+
+from ..errors import ConvergenceError, InputError
+from ._dynamics import LinearDynamics
+from ._mechanics import constraint_rank
+
+__all__ = ["MechanismDynamics"]
+
+
+def _positive_definite(Mr: np.ndarray) -> bool:
+    """Whether the reduced mass is positive definite with every eigenvalue above 1e-12 of the largest."""
+    w = np.linalg.eigvalsh(0.5 * (Mr + Mr.T))
+    return bool(w[0] > 1e-12 * max(w[-1], 1e-300))
+
+#: Relative step of the central differences: ``eps^(1/3)`` balances their truncation error
+#: (``h^2 f'''/6``) against rounding (``eps f / h``), leaving about ``eps^(2/3)`` ~ 4e-11 relative.
+FD_STEP = float(np.finfo(float).eps) ** (1 / 3)
+
+
+class MechanismDynamics:
+    """The :class:`~._dynamics.Dynamics` of a mechanism model (``model.mechanics`` set).
+
+    ``damping``: mass-proportional (Rayleigh) damping ``d`` (1/s), the force ``-d M qdot`` the time
+    simulation adds with its ``damping`` option. ``reference``: the full vector whose configuration
+    chooses the coordinate partition of :meth:`rates` (default: the first ``x`` asked about).
+    """
+
+    def __init__(self, model, damping: float = 0.0, reference: np.ndarray | None = None):
+        mech = model.mechanics
+        if mech is None:
+            raise InputError(model.name, "has no mechanics: no equations of motion")
+        if not (np.isfinite(damping) and damping >= 0):
+            raise InputError("damping", "must be a non-negative number (1/s)")
+        self.model, self.mech, self.damping = model, mech, float(damping)
+        self._q = np.asarray(mech.q_index, dtype=np.intp)
+        self._s = np.asarray(getattr(mech, "s_index", np.zeros(0, np.intp)), dtype=np.intp)
+        scales = model.scales()
+        self._qscale = np.asarray(scales[self._q], dtype=float)
+        self._sscale = np.asarray(scales[self._s], dtype=float)
+        self._part: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        if reference is not None:
+            self._partition(np.asarray(reference, dtype=float))
+
+    # -- the partition ---------------------------------------------------------------------
+    def _partition(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(independent, dependent, kept rows)``: coordinate positions (into ``q``) and constraint rows."""
+        if self._part is None:
+            nq = len(self._q)
+            A = self.mech.phi_q(x)
+            if A.shape[0] == 0:
+                self._part = (np.arange(nq), np.zeros(0, np.intp), np.zeros(0, np.intp))
+            else:
+                B = A * self._qscale[None, :]
+                r = constraint_rank(B, np.linalg.svd(B, compute_uv=False))
+                _, _, piv = scipy.linalg.qr(B, mode="economic", pivoting=True)
+                dep = np.sort(piv[:r])
+                _, _, rows = scipy.linalg.qr(B[:, dep].T, mode="economic", pivoting=True)
+                self._part = (np.setdiff1d(np.arange(nq), dep), dep, np.sort(rows[:r]))
+        return self._part
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """``z``'s names: the independent coordinates, their velocities (``_dot``), the element states."""
+        indep, _, _ = self._partition(self.model.defaults())
+        coords = [self.mech.coordinates[i] for i in indep]
+        return (*coords, *(f"{c}_dot" for c in coords), *self.mech.element_states)
+
+    def _split(self, z: np.ndarray, x: np.ndarray):
+        indep, _, _ = self._partition(x)
+        n = len(indep)
+        z = np.asarray(z, dtype=float)
+        if z.shape != (2 * n + len(self._s),):
+            raise InputError("z", f"needs {2 * n + len(self._s)} values ({', '.join(self.state_names)})")
+        return z[:n], z[n:2 * n], z[2 * n:]
+
+    def _configuration(self, qi: np.ndarray, s: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """``x`` with the independent coordinates ``qi``, the dependent ones solved from ``Phi = 0`` (Newton
+        from ``x``'s own), and the states ``s``. Raises :class:`ConvergenceError` when Newton fails."""
+        indep, dep, rows = self._partition(x)
+        out = np.array(x, dtype=float)
+        out[self._q[indep]] = qi
+        out[self._s] = s
+        if len(dep) == 0:
+            return out
+        cols = self._q[dep]
+        size = np.maximum(np.abs(out[cols]), self._qscale[dep])
+        last = np.inf
+        for _ in range(30):
+            step = np.linalg.solve(self.mech.phi_q(out)[np.ix_(rows, dep)], -self.mech.phi(out)[rows])
+            out[cols] += step
+            change = float(np.max(np.abs(step) / size))
+            # converged to rounding: a step of a few ulps, or one that no longer halves once below 1e-10
+            if change <= 4 * np.finfo(float).eps or (change < 1e-10 and change > 0.5 * last):
+                return out
+            last = change
+        raise ConvergenceError(f"the dependent coordinates did not close the constraints at {qi}")
+
+    def _velocities(self, x: np.ndarray, vi: np.ndarray) -> np.ndarray:
+        """All coordinate velocities from the independent ones: ``Phi_q qdot = 0``."""
+        indep, dep, rows = self._partition(x)
+        qd = np.zeros(len(self._q))
+        qd[indep] = vi
+        if len(dep):
+            A = self.mech.phi_q(x)[rows]
+            qd[dep] = np.linalg.solve(A[:, dep], -A[:, indep] @ vi)
+        return qd
+
+    def accelerations(self, x: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        """Constrained accelerations ``qddot`` (all coordinates) at the configuration ``x`` with velocities
+        ``qd``, from the KKT system ``[M A^T; A 0] [qddot; -mu] = [F; gamma]`` (``F``: applied, inertial
+        and mass-proportional damping forces; ``A`` the kept rows of ``Phi_q``)."""
+        mech = self.mech
+        M = mech.mass(x)
+        F = mech.applied_forces(x, qd) + mech.inertial_forces(x, qd)
+        if self.damping:
+            F = F - self.damping * (M @ qd)
+        _, _, rows = self._partition(x)
+        if len(rows) == 0:
+            return np.linalg.solve(M, F)
+        A = mech.phi_q(x)[rows]
+        n, m = M.shape[0], len(rows)
+        K = np.zeros((n + m, n + m))
+        K[:n, :n], K[:n, n:], K[n:, :n] = M, A.T, A
+        return np.linalg.solve(K, np.concatenate([F, mech.gamma(x, qd)[rows]]))[:n]
+
+    # -- the Dynamics protocol --------------------------------------------------------------
+    def state_at(self, x: np.ndarray) -> np.ndarray:
+        """``z`` of the equilibrium ``x``: its independent coordinates, zero velocities, its element states."""
+        x = np.asarray(x, dtype=float)
+        indep, _, _ = self._partition(x)
+        return np.concatenate([x[self._q[indep]], np.zeros(len(indep)), x[self._s]])
+
+    def full_vector(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """``x`` with every coordinate (the dependent ones solved) and element state of ``z``; the
+        reactions and condition values are left at ``x``'s."""
+        qi, _, s = self._split(z, x)
+        return self._configuration(qi, s, x)
+
+    def coordinate_velocities(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """Every coordinate's velocity at the state ``z`` (``Phi_q qdot = 0``), ordered like the coordinates."""
+        qi, vi, s = self._split(z, x)
+        return self._velocities(self._configuration(qi, s, x), vi)
+
+    def rates(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """``dz/dt = (v_i, qddot_i, r)`` (coordinate units per second, per second squared, state units per second).
+        Raises :class:`~mechcont.errors.ConvergenceError` where the dependent coordinates cannot close the
+        constraints (``z`` too far from the reference configuration for this partition)."""
+        qi, vi, s = self._split(z, x)
+        indep, _, _ = self._partition(x)
+        xx = self._configuration(qi, s, x)
+        qd = self._velocities(xx, vi)
+        qdd = self.accelerations(xx, qd)
+        return np.concatenate([vi, qdd[indep], self.mech.element_state_rates(xx, qd)])
+
+    def _steps(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
+        indep, _, _ = self._partition(x)
+        typical = np.concatenate([self._qscale[indep], self._qscale[indep], self._sscale])  # velocities: per 1 s
+        return FD_STEP * np.maximum(np.abs(z), typical)
+
+    def rates_jacobian(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """``df/dz``: the kinematic rows ``d v_i/dz`` exact, the others by central differences (step
+        :data:`FD_STEP` times each component's magnitude or typical scale)."""
+        z = np.asarray(z, dtype=float)
+        n = len(self._partition(x)[0])
+        J = np.zeros((len(z), len(z)))
+        J[:n, n:2 * n] = np.eye(n)
+        for j, h in enumerate(self._steps(z, x)):
+            zp, zm = z.copy(), z.copy()
+            zp[j] += h
+            zm[j] -= h
+            J[n:, j] = (self.rates(zp, x)[n:] - self.rates(zm, x)[n:]) / (zp[j] - zm[j])
+        return J
+
+    def parameter_rates(self, z: np.ndarray, x: np.ndarray, names: Sequence[str]) -> np.ndarray:
+        """``df/dp`` for the named parameters by central differences (step :data:`FD_STEP` times the
+        parameter's magnitude or scale); the dependent coordinates re-solved at each."""
+        x = np.asarray(x, dtype=float)
+        scales = self.model.scales()
+        out = np.zeros((len(z), len(names)))
+        for k, name in enumerate(names):
+            i = self.model.index(name)
+            h = FD_STEP * max(abs(x[i]), scales[i])
+            xp, xm = x.copy(), x.copy()
+            xp[i] += h
+            xm[i] -= h
+            out[:, k] = (self.rates(z, xp) - self.rates(z, xm)) / (xp[i] - xm[i])
+        return out
+
+    def linearise(self, x: np.ndarray) -> LinearDynamics:
+        """``A`` of the small motions ``(eta, eta', ds)`` about the equilibrium ``x`` (see the module
+        docstring), ``E`` None (a descriptor ``E`` where a motion has no mass); the names ``eta1..``,
+        ``eta1_dot..``, then the element states."""
+        mats = self.reduced_matrices(x)
+        Mr, Cr, Kr, Br, Rq, Rv, Rs = mats
+        d, ns = len(Mr), len(Rs)
+        A = np.zeros((2 * d + ns, 2 * d + ns))
+        E = None
+        if d:
+            A[:d, d:2 * d] = np.eye(d)
+            if _positive_definite(Mr):
+                # one solve for the three blocks (Mr is symmetric positive definite and small)
+                S = np.linalg.solve(Mr, np.hstack([Kr, Cr, Br]))
+                A[d:2 * d, :d], A[d:2 * d, d:2 * d], A[d:2 * d, 2 * d:] = -S[:, :d], -S[:, d:2 * d], S[:, 2 * d:]
+            else:  # a motion without mass (the statics allows massless bodies): the descriptor form
+                E = np.eye(len(A))
+                E[d:2 * d, d:2 * d] = Mr
+                A[d:2 * d, :d], A[d:2 * d, d:2 * d], A[d:2 * d, 2 * d:] = -Kr, -Cr, Br
+        A[2 * d:, :d], A[2 * d:, d:2 * d], A[2 * d:, 2 * d:] = Rq, Rv, Rs
+        names = (*(f"eta{i + 1}" for i in range(d)), *(f"eta{i + 1}_dot" for i in range(d)), *self.mech.element_states)
+        return LinearDynamics(A, E, names)
+
+    def reduced_matrices(self, x: np.ndarray):
+        """``(Mr, Cr, Kr, Br, Rq N, Rv N, Rs)`` at the equilibrium ``x`` (see the module docstring): reduced
+        mass (kg, kg m^2), damping (N s/m ...), tangent stiffness (N/m ...), state forces, and the states' rates'
+        derivatives along the allowed motions."""
+        x = np.asarray(x, dtype=float)
+        mech = self.mech
+        U, sv, Vt, r = mech._decompose(x)  # one SVD of Phi_q for the allowed motions and the reactions
+        N = Vt[r:].T
+        lam = None if U is None else U[:, :r] @ ((Vt[:r] @ mech.applied_forces(x)) / sv[:r])
+        M = mech.mass(x)
+        C = mech.damping_matrix(x) + self.damping * M
+        K = mech.tangent_stiffness(x, lam if lam is not None else np.zeros(0))
+        Rq, Rv, Rs, dQs = mech.element_state_jacobians(x)
+        return N.T @ M @ N, N.T @ C @ N, N.T @ K @ N, N.T @ dQs, Rq @ N, Rv @ N, Rs
