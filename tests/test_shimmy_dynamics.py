@@ -1,7 +1,6 @@
 """Shimmy dynamics of a caster wheel with a stretched-string tyre, through the generated model's
 dynamics (``dynamics_of``): these need the generator to make each element state (the tyre's
-``y_NAME``) a variable of the system with its steady-state row and rate; they are skipped until it
-does (the built caster lacks ``y_nose``).
+``y_NAME``) a variable of the system with its steady-state row and rate.
 
 The caster wheel (tests/test_tyre.py's description): a wheel pinned to the ground at its centre of
 gravity O (polar inertia ``I`` about the pin), its contact point a caster length ``e`` behind the pin
@@ -50,7 +49,6 @@ from scipy.integrate import solve_ivp
 from test_tyre import CASTER3, CD, CS, SIGMA, E, I, K, hopf_speeds, text
 
 from mechcont.continuation import find_equilibrium
-from mechcont.errors import InputError
 from mechcont.mechanism import parse_description
 
 STEP = """
@@ -78,18 +76,6 @@ speed = "V"
 relaxation_length = {sigma}
 cornering_stiffness = {C}
 """
-
-
-def _states_generated() -> bool:
-    """Whether the generator makes the tyre's deflection a variable (the seam of helper mechdyn)."""
-    try:
-        return "y_nose" in parse_description(text()).build().names
-    except InputError:
-        return False
-
-
-pytestmark = pytest.mark.skipif(not _states_generated(),
-                                reason="the generator does not make element states (y_NAME) variables yet")
 
 
 def dynamics(model):
