@@ -140,6 +140,8 @@ class CheckReport:
     compliant: tuple[Quantity, ...] = ()
     #: the coordinates held at assembly (``[assembly] hold``)
     hold: tuple[str, ...] = ()
+    #: what is sound but likely not what was meant, one line each (a bar's point beyond its ends)
+    warnings: tuple[str, ...] = ()
 
     @property
     def ok(self) -> bool:
@@ -225,6 +227,9 @@ class CheckReport:
         out.append("continuation scales (SI, as system.scales()):")
         out += _table([(q.name, f"{_g(q.value)} {q.unit}".rstrip()) for q in self.scales])
         out.append("")
+        if self.warnings:
+            out.append(f"warnings: {len(self.warnings)}")
+            out += [f"  - {w}" for w in self.warnings]
         if self.findings:
             out.append(f"findings: {len(self.findings)}")
             out += [f"  - {f}" for f in self.findings]
@@ -449,7 +454,19 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         n_parameters=len(system.parameter_names), redundant=redundant, dropped_residual=dropped,
         closure=closure, eliminated_joints=eliminated, imbalance=imbalance, equilibrium_note=note,
         stability=stability, scales=scales, parameters=params, states=states, findings=tuple(findings),
-        system=system, x=x, x_equilibrium=xe, compliant=compliant, hold=mech.hold)
+        system=system, x=x, x_equilibrium=xe, compliant=compliant, hold=mech.hold,
+        warnings=_warnings(system, x))
+
+
+def _warnings(system: Model, x: np.ndarray) -> tuple[str, ...]:
+    """What is sound but likely not meant in the description ``system`` was built from, at the parameters of
+    ``x`` (:func:`~._bar_points.bar_point_warnings`)."""
+    from ._bar_points import bar_point_warnings
+
+    if system.mechanism is None:
+        return ()
+    values = {n: float(x[system.index(n)]) for n in system.parameter_names}
+    return bar_point_warnings(system.mechanism, values)
 
 
 def _compliant(system, x: np.ndarray) -> list[tuple[int, str, float]]:
