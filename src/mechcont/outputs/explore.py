@@ -150,6 +150,21 @@ def _within_budget(counts: Sequence[int], row_bytes: Sequence[float], budget: fl
     return [min(n, max(2, int(n * f))) for n in counts]
 
 
+def _document(branch, name: str, rows: np.ndarray) -> dict:
+    """The page's document of ``rows`` of ``branch`` (see :func:`page_data`; its ``note`` empty, its poses to come);
+    InputError naming the row and column of a value that is not finite."""
+    doc = {"name": name, "vary": branch.vary, "units": {n: branch.units.get(n, "") for n in branch.names},
+           "columns": {n: [float(v) for v in branch.column(n)[rows]] for n in branch.names},
+           "n_unstable": [int(v) for v in branch.n_unstable[rows]], "labels": [branch.labels[i] for i in rows],
+           "rows": [int(i) for i in rows], "special": _special(branch, rows), "note": ""}
+    for col, vals in doc["columns"].items():
+        bad = [i for i, v in enumerate(vals) if not math.isfinite(v)]
+        if bad:
+            raise InputError("branch", f"'{name}' row {doc['rows'][bad[0]]}, column {col}: {vals[bad[0]]} is "
+                                       "not a finite number")
+    return doc
+
+
 def _event_words(label: str) -> str:
     """A time history's event label without its numbers, for the diagram (``"impact fwd_stop 75.3 1/s; contact
     fwd_stop"`` -> ``"impact + contact fwd_stop"``); any other label as it is."""
@@ -251,27 +266,25 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
         probe = {n: 0 for n, _ in system.scene(first[0]).bars}
     sizes = [_row_bytes(branch, system, X, probe) for branch, _, X, _ in tables]
     caps = _within_budget([len(rows) for *_, rows in tables], sizes, float(budget))
-    out: list[dict] = []
-    all_scenes: list[list[Scene]] = []
-    for (branch, name, X, rows), cap in zip(tables, caps):
-        if cap < len(rows):
-            rows = _rows(branch, cap)
-        step = math.ceil(len(branch) / max(len(rows) - len(branch.special_points), 1))
-        why = f"; the page holds at most {budget / 1e6:.3g} MB" if cap < min(len(branch), int(max_rows)) else ""
-        note = (f"{len(rows)} of {len(branch)} rows shown (about every {step}th, every special point and event"
-                f"{why})" if len(rows) < len(branch) else "")
-        doc = {"name": name, "vary": branch.vary, "units": {n: branch.units.get(n, "") for n in branch.names},
-               "columns": {n: [float(v) for v in branch.column(n)[rows]] for n in branch.names},
-               "n_unstable": [int(v) for v in branch.n_unstable[rows]], "labels": [branch.labels[i] for i in rows],
-               "rows": [int(i) for i in rows], "special": _special(branch, rows), "note": note}
-        for col, vals in doc["columns"].items():
-            bad = [i for i, v in enumerate(vals) if not math.isfinite(v)]
-            if bad:
-                raise InputError("branch", f"'{name}' row {doc['rows'][bad[0]]}, column {col}: {vals[bad[0]]} is "
-                                           "not a finite number")
-        if system is not None and X is not None:
-            all_scenes.append([system.scene(x) for x in X[rows]])
-        out.append(doc)
+    for _ in range(8):  # the estimate per row, checked on the page's data and corrected if it was short
+        out: list[dict] = []
+        all_scenes: list[list[Scene]] = []
+        for (branch, name, X, rows), cap in zip(tables, caps):
+            out.append(_document(branch, name, _rows(branch, cap) if cap < len(rows) else rows))
+            if system is not None and X is not None:
+                all_scenes.append([system.scene(x) for x in X[out[-1]["rows"]]])
+        used = len(json.dumps(out, separators=(",", ":"))) + 160 * len(out) + sum(  # 160: the note to come
+            len(json.dumps(pose_json(s, probe), separators=(",", ":"))) + 1 for scenes in all_scenes for s in scenes)
+        if used <= budget or all(len(d["rows"]) <= len(d["special"]) + 2 for d in out):
+            break
+        shrink = min(0.97 * budget / used, 0.98)  # fewer rows each pass: rows come by whole steps
+        caps = [max(2, min(cap - 1, int(min(cap, len(d["rows"])) * shrink))) for cap, d in zip(caps, out)]
+    for (branch, _, _, rows), doc in zip(tables, out):
+        kept = len(doc["rows"])
+        if kept < len(branch):
+            step = math.ceil(len(branch) / max(kept - len(branch.special_points), 1))
+            why = f"; the page holds at most {budget / 1e6:.3g} MB" if kept < len(rows) else ""
+            doc["note"] = f"{kept} of {len(branch)} rows shown (one in {step}, every special point and event{why})"
     data: dict = {"title": title or (system.name if system is not None else ""), "branches": out, "bodies": [],
                   "axes": _default_axes(out[0], kinds) if out else ["", ""],
                   "dim": 2, "views": {}, "force_scale": 0.0, "symbol": 0.0, "view_axes": VIEW_AXES}
