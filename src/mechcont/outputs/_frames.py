@@ -212,17 +212,22 @@ def _html_class() -> type:
             import uuid
 
             from matplotlib import _animation_data as page
-            from matplotlib.animation import _embedded_frames
 
             modes = dict.fromkeys(("once_checked", "loop_checked", "reflect_checked"), "")
             modes[self.default_mode + "_checked"] = "checked"
             player = page.DISPLAY_TEMPLATE.format(id=uuid.uuid4().hex, Nframes=len(self._saved_frames),
-                                                  fill_frames=_embedded_frames(self._saved_frames, self.frame_format),
+                                                  fill_frames=_frames_js(self._saved_frames, self.frame_format),
                                                   interval=1000 // self.fps, **modes)
             with open(self.outfile, "w", encoding="utf-8") as f:
                 f.write(offline_player(page.JS_INCLUDE + page.STYLE_INCLUDE + player))
 
     return HtmlSink
+
+
+def _frames_js(frames: Sequence[str], fmt: str) -> str:
+    """The player's script lines filling its ``frames`` array with the base64 ``frames`` as ``data:`` URIs."""
+    return "\n" + "".join(f'  frames[{i}] = "data:image/{fmt};base64,' + data.replace("\n", "\\\n") + '"\n'
+                          for i, data in enumerate(frames))
 
 
 #: The player's button icons (Font Awesome's names in Matplotlib's page) as 16 x 16 SVG paths.
