@@ -134,7 +134,7 @@ def _row_bytes(branch, system, X: np.ndarray | None, index: Mapping[str, int], s
     most = 0
     for r in np.unique(np.linspace(0, len(branch) - 1, samples).round().astype(int)):
         size = len(json.dumps([float(v) for v in branch.values[r]], separators=(",", ":")))
-        if system is not None and X is not None:
+        if system is not None and system.scene is not None and X is not None:
             size += len(json.dumps(pose_json(system.scene(X[r]), index), separators=(",", ":")))
         most = max(most, size)
     return most + 8.0  # the row's n_unstable, label and index
