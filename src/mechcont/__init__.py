@@ -59,6 +59,9 @@ _LAZY = {
     "Branch": "mechcont.continuation",
     "SpecialPoint": "mechcont.continuation",
     "ValueEvent": "mechcont.continuation",
+    "cycles_from_hopf": "mechcont.continuation",
+    "cycles_from_samples": "mechcont.continuation",
+    "CycleBranch": "mechcont.continuation",
     # time simulation
     "simulate": "mechcont.dynamics",
     "sweep": "mechcont.dynamics",
@@ -95,7 +98,7 @@ __all__ = [
     "load_model", "model_names", "Mechanism", "load_description",
     "Model", "EquationSystem", "MechanicalModel", "StabilityResult", "Variable",
     "find_equilibrium", "continuation", "continue_folds", "switch_branch", "ContinuationOptions", "Branch",
-    "SpecialPoint", "ValueEvent",
+    "SpecialPoint", "ValueEvent", "cycles_from_hopf", "cycles_from_samples", "CycleBranch",
     "simulate", "sweep", "SimulationResult", "Status", "freefall", "critical_airspeed",
     "downlock", "DownlockResult", "downlock_condition", "unlock_folds", "continuation_with_stops", "equilibrium_on_stops",
     "equilibrium_family", "design_region", "fold_locus", "redundancy_along",
@@ -120,10 +123,13 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     from .continuation import (
         Branch,
         ContinuationOptions,
+        CycleBranch,
         SpecialPoint,
         ValueEvent,
         continuation,
         continue_folds,
+        cycles_from_hopf,
+        cycles_from_samples,
         find_equilibrium,
         switch_branch,
     )
