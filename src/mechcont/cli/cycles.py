@@ -2,12 +2,29 @@
 
 from __future__ import annotations
 
+import contextlib
+
 import click
 
 from ..errors import ConvergenceError, InputError
 from ._app import cli
 from ._parse import assignments, number
 from ._run import check_outputs, continuation_options, load_at, run_continuation
+
+
+#: Fields of the API's errors that name an option of this command.
+_OPTIONS = {"point": "--point", "branch": "--point", "ntst": "--ntst", "ncol": "--ncol", "bounds": "--bounds"}
+
+
+@contextlib.contextmanager
+def _as_option():
+    """Re-raise the API's :class:`InputError` naming a field this command sets as naming its option."""
+    try:
+        yield
+    except InputError as exc:
+        if exc.field not in _OPTIONS:
+            raise
+        raise InputError(_OPTIONS[exc.field], str(exc)[len(exc.field) + 2:]) from None
 
 
 def _at_values(items, vary: str) -> list[float]:
@@ -24,22 +41,24 @@ def _at_values(items, vary: str) -> list[float]:
 
 
 def hopf_row(system, point: str):
-    """The model vector of ``BRANCH.csv:HBn`` (a row labelled HB of a table of this model); one-line
+    """The model vector of ``BRANCH.csv:HBn`` (a row labelled HB of a table of this model) and the branch; one-line
     :class:`InputError` (field ``--point``) when the text, the table or the row is not that."""
     from ..continuation import Branch
 
     csv_path, sep, row = point.rpartition(":")
     if not sep or not csv_path or not row:
         raise InputError("--point", f"'{point}' is not BRANCH.csv:HBn (e.g. branch.csv:HB1)")
-    branch = Branch.read_csv(csv_path, model=system.name)
-    missing = [n for n in system.names if n not in branch.names]
-    if missing:
-        raise InputError("--point", f"'{csv_path}' lacks the column(s) {', '.join(missing)} of model '{system.name}'")
-    p = branch.point(row)
+    with _as_option():
+        branch = Branch.read_csv(csv_path, model=system.name)
+        missing = [n for n in system.names if n not in branch.names]
+        if missing:
+            raise InputError("--point", f"'{csv_path}' lacks the column(s) {', '.join(missing)} of model "
+                                        f"'{system.name}'")
+        p = branch.point(row)
     if p.label != "HB":
         raise InputError("--point", f"'{row}' of '{csv_path}' is {'labelled ' + p.label if p.label else 'not labelled'}"
                                     ", not a Hopf point (HB); the family of cycles starts at an HB row")
-    return system.vector({n: float(p[n]) for n in system.names}), csv_path, row
+    return system.vector({n: float(p[n]) for n in system.names}), branch
 
 
 @cli.command("cycles")
@@ -77,24 +96,25 @@ def cycles_command(model, point, vary, sets, bnds, at, ntst, ncol, ds, dsmax, ma
     check_outputs(out, plot)
     system = load_at(model, assignments(sets, "set"))
     system.index(vary)
-    x, _, _ = hopf_row(system, point)
+    x, branch = hopf_row(system, point)
     x = system.vector(assignments(sets, "set"), base=x)
     options = continuation_options(bnds, ds, dsmax, max_steps)
     values = _at_values(at, vary)
     try:
-        family = run_continuation(cycles_from_hopf, system, x, vary, options=options, ntst=ntst, ncol=ncol, at=values,
-                                  quiet=quiet, label="cycles")
+        with _as_option():
+            family = run_continuation(cycles_from_hopf, system, x, vary, options=options, ntst=ntst, ncol=ncol,
+                                      at=values, quiet=quiet, label="cycles")
         failure = None if family.status.success else family.message
     except ConvergenceError as exc:
         family, failure = exc.partial, str(exc)
         if family is None:
             raise
-    _write(family, out, plot, quiet)
+    _write(family, out, plot, quiet, branch if branch.vary == vary else None)
     if failure:
         raise ConvergenceError(failure)
 
 
-def _write(family, out, plot, quiet) -> None:
+def _write(family, out, plot, quiet, branch=None) -> None:
     from ..outputs.cycle_plots import amplitude_figure
     from ..outputs.plotting import save_figure
 
@@ -102,7 +122,7 @@ def _write(family, out, plot, quiet) -> None:
     if out:
         family.to_csv(out)
     if plot:
-        save_figure(amplitude_figure(family, title=f"{family.model}: cycles in {family.vary}"), plot)
+        save_figure(amplitude_figure(family, branch=branch, title=f"{family.model}: cycles in {family.vary}"), plot)
     if quiet:
         return
     rows = family.point_names()
