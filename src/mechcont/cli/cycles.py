@@ -11,7 +11,6 @@ from ._app import cli
 from ._parse import assignments, number
 from ._run import check_outputs, continuation_options, load_at, run_continuation
 
-
 #: Fields of the API's errors that name an option of this command.
 _OPTIONS = {"point": "--point", "branch": "--point", "ntst": "--ntst", "ncol": "--ncol", "bounds": "--bounds"}
 
