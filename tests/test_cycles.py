@@ -254,3 +254,32 @@ def test_a_family_that_cannot_start_raises_with_its_start():
     with pytest.raises(ConvergenceError, match="cannot start") as exc:
         cycles_from_hopf(m, m.defaults(), "mu", options=ContinuationOptions(ds=0.05, dsmin=0.05, dsmax=0.05))
     assert exc.value.partial is not None and exc.value.partial.labels == ["HB"]
+
+
+@pytest.mark.parametrize("ntst,ncol", [(7, 2), (12, 4), (5, 7)])
+def test_condensed_solve_equals_the_whole_sparse_system(ntst, ncol):
+    # the condensation of parameters solves the same linear system as the whole sparse Jacobian (SuperLU)
+    from scipy.sparse.linalg import splu
+
+    from mechcont.continuation._collocation import Mesh
+    from mechcont.continuation._cycle_system import CycleSystem, RateFunction, phase_reference
+
+    m = ode_model("vdp", {"x": 0.0, "y": 0.0}, {"mu": 1.0}, {"x": y, "y": (mu - x**2) * y - x})
+    system = CycleSystem(RateFunction(m, dynamics_of(m), "mu", m.defaults()), Mesh(ntst, ncol), np.ones(2), 1.0)
+    tau = system.mesh.times()
+    X = system.pack(2 * np.column_stack([np.cos(2 * np.pi * tau), -np.sin(2 * np.pi * tau)]), 6.6, 1.0)
+    rng = np.random.default_rng(1)
+    closing = system.row(rng.standard_normal(system.size))
+    res, J = system.linearise(X, phase_reference(system, X), closing, 0.3)
+    res2, lu = system.factored(X, phase_reference(system, X), closing, 0.3)
+    np.testing.assert_array_equal(res, res2)
+    b = rng.standard_normal(system.size)
+    d_sparse, d_condensed = splu(J.tocsc()).solve(b), lu.solve(b)
+    assert np.max(np.abs(d_condensed - d_sparse)) <= 1e-10 * np.max(np.abs(d_sparse))
+    np.testing.assert_allclose(J @ d_condensed, b, atol=1e-10 * np.max(np.abs(b)) * np.linalg.norm(J.toarray(), 1))
+    # the intervals' transfer matrices multiply to the monodromy matrix
+    Phi = lu.transfer()
+    M = np.eye(2)
+    for P in Phi:
+        M = P @ M
+    np.testing.assert_allclose(M, system.monodromy(X), rtol=1e-10, atol=1e-12)

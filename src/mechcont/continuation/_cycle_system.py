@@ -7,12 +7,12 @@ orbit, and one more row that closes the system: the pseudo-arclength hyperplane
 ``<t0, X - X_pred> = 0`` in the inner product ``<a, b> = int a_u . W b_u dtau + w_p a_p b_p`` (the period
 has weight 0, as AUTO's default THL(11) = 0), or ``p = p0`` to correct an orbit at a fixed parameter.
 
-Linear algebra: the Jacobian is assembled in compressed sparse columns (scipy.sparse) and factored by
-SuperLU (``scipy.sparse.linalg.splu``, COLAMD ordering): the collocation blocks are banded
-(``NCOL n`` rows by ``(NCOL + 1) n`` columns per interval) and the bordering rows/columns
-(periodicity, phase, arclength; T and p) are few, so the fill stays near linear in ``NTST`` and the
-work per Newton iteration is ``O(NTST (NCOL n)^3)``-ish, like AUTO's condensation of parameters
-(which eliminates each interval's inner nodes first) without its nested dissection.
+Linear algebra: Newton's systems are solved by condensation of parameters (AUTO's scheme,
+:mod:`._condensation`): each interval's inner nodes are eliminated by one small dense inverse
+(``NCOL n`` square), leaving a block-bidiagonal system in the ``NTST + 1`` mesh points, ``T`` and ``p``
+(``(NTST + 1) n + 2`` rows, one dense LU). Cost per factorisation ``O(NTST (NCOL n)^3 + (NTST n)^3)``; for the
+sizes of a cycle of a small system (NTST 20-100, n up to ~10) the first term dominates. :meth:`linearise`
+assembles the whole sparse Jacobian (compressed columns) for checking it against SuperLU.
 
 Floquet multipliers: the same collocation blocks, for fixed ``T`` and ``p``, map an interval's first
 node to its last (eliminating its inner nodes: ``Phi_j``, one small dense solve per interval); their
@@ -159,25 +159,34 @@ class CycleSystem:
         J = sps.csc_matrix((vals[self._order], self._indices, self._indptr), shape=(self.size, self.size))
         return res, J
 
+    def factored(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float):
+        """Residual and the factored Jacobian (:class:`~._condensation.CondensedLU`) of the BVP closed by
+        ``closing . X = target``; raises :class:`NewtonFailure` when not finite or singular."""
+        from ._condensation import CondensedLU
+
+        u, T, p, uc, du, F, Fz, Fp = self.collocation(X)
+        n, m, ntst = self.n, self.mesh.ncol, self.mesh.ntst
+        res = np.concatenate([(du - T * F).ravel(), u[-1] - u[0], [phase @ X[:-2], closing @ X - target]])
+        C = self.blocks(T, Fz).transpose(0, 1, 3, 2, 4).reshape(ntst, m * n, (m + 1) * n)
+        if not (np.all(np.isfinite(res)) and np.all(np.isfinite(C)) and np.all(np.isfinite(Fp))):
+            raise NewtonFailure("rates not finite along the orbit (outside the model's domain)")
+        try:
+            lu = CondensedLU(C, -F.reshape(ntst, m * n), -T * Fp.reshape(ntst, m * n), phase, closing, self.mesh, n)
+        except np.linalg.LinAlgError:
+            raise NewtonFailure("singular collocation Jacobian") from None
+        return res, lu
+
     def newton(self, X0: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, tol: float,
                max_iter: int):
         """Newton from ``X0`` on the BVP closed by ``closing . X = target``.
 
-        Returns ``(X, lu, iterations)`` (``lu`` the SuperLU factors of the last Jacobian, for the
-        tangent). Raises :class:`NewtonFailure` saying why when it does not converge.
+        Returns ``(X, lu, iterations)`` (``lu`` the factors of the last Jacobian, for the tangent).
+        Raises :class:`NewtonFailure` saying why when it does not converge.
         """
-        from scipy.sparse.linalg import splu
-
         X = np.array(X0, float)
         prev = math.inf
         for it in range(1, max_iter + 1):
-            res, J = self.linearise(X, phase, closing, target)
-            if not np.all(np.isfinite(res)) or not np.all(np.isfinite(J.data)):
-                raise NewtonFailure("rates not finite along the orbit (outside the model's domain)")
-            try:
-                lu = splu(J, permc_spec="COLAMD")
-            except RuntimeError:
-                raise NewtonFailure("singular collocation Jacobian") from None
+            res, lu = self.factored(X, phase, closing, target)
             dX = lu.solve(-res)
             step = float(np.max(np.abs(dX))) if np.all(np.isfinite(dX)) else math.inf
             if not math.isfinite(step):

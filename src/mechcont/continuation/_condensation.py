@@ -1,0 +1,103 @@
+r"""Condensation of parameters: the collocation Jacobian solved through its mesh points (AUTO's scheme).
+
+Interval ``j``'s ``NCOL n`` collocation rows involve only its own nodes — the first (mesh point
+``M_j``), the ``NCOL - 1`` inner ones ``I_j`` and the last (``M_(j+1)``) — and the period and the
+parameter. With ``S_j = [A_I | A_R]`` (the columns of the inner and last nodes, square) those rows give
+
+.. math::  [\delta I_j; \delta M_{j+1}] = S_j^{-1} (b_j - A_L \delta M_j - a_T \delta T - a_p \delta p),
+
+so the inner nodes are eliminated interval by interval (one small dense inverse each, all at once),
+and what is left is a system in the mesh points, ``T`` and ``p`` only: ``NTST`` block rows
+``dM_(j+1) + P_j dM_j + ... = w_j`` (a block-bidiagonal matrix, as in multiple shooting: the maps
+``-P_j`` are the intervals' transfer matrices, whose product is the monodromy matrix), periodicity,
+and the phase and closing rows with the inner nodes' part moved onto the mesh points. That system, of
+``(NTST + 1) n + 2`` rows, is factored once (dense LU); the inner nodes follow from the mesh points.
+Work per factorisation: ``NTST`` inverses of ``NCOL n`` square blocks and one LU of the reduced
+system, against the ``(NTST NCOL + 1) n + 2`` rows of the whole.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["CondensedLU"]
+
+
+class CondensedLU:
+    """The collocation Jacobian factored by condensation; :meth:`solve` solves it for any right-hand side.
+
+    ``C``: the intervals' collocation blocks (ntst, ncol n, (ncol + 1) n) over their nodes; ``aT``, ``ap``:
+    the T and p columns of the collocation rows (ntst, ncol n); ``phase``: the phase row over the nodes;
+    ``closing``: the closing row over all unknowns; ``mesh``: the collocation mesh (node indices).
+    Raises ``numpy.linalg.LinAlgError`` when a block or the reduced system is singular.
+    """
+
+    def __init__(self, C: np.ndarray, aT: np.ndarray, ap: np.ndarray, phase: np.ndarray, closing: np.ndarray,
+                 mesh, n: int):
+        import scipy.linalg
+
+        self.mesh, self.n = mesh, n
+        ntst, m = mesh.ntst, mesh.ncol
+        inner = (m - 1) * n
+        self.Sinv = np.linalg.inv(C[:, :, n:])  # (ntst, m n, m n): rows = [inner nodes; last node]
+        B = np.concatenate([C[:, :, :n], aT[:, :, None], ap[:, :, None]], axis=2)
+        self.Q = self.Sinv @ B  # (ntst, m n, n + 2): the first node's, T's and p's parts
+        nr = (ntst + 1) * n + 2
+        K = np.zeros((nr, nr))
+        blocks = np.arange(ntst)
+        rows = blocks[:, None] * n + np.arange(n)[None, :]  # interval j's reduced rows
+        for a in range(n):
+            K[rows[:, a], (blocks + 1) * n + a] = 1.0
+        K[rows[:, :, None], rows[:, None, :]] = self.Q[:, inner:, :n]  # P_R on M_j
+        K[rows, nr - 2] = self.Q[:, inner:, n]
+        K[rows, nr - 1] = self.Q[:, inner:, n + 1]
+        per = ntst * n + np.arange(n)
+        K[per, ntst * n + np.arange(n)] = 1.0
+        K[per, np.arange(n)] = -1.0
+        self._inner_idx = mesh.index[:, 1:m]  # (ntst, m - 1) node numbers
+        self._border = []
+        for r, row in ((nr - 2, np.concatenate([phase, [0.0, 0.0]])), (nr - 1, closing)):
+            nodes = row[:-2].reshape(mesh.n_nodes, n)
+            cI = nodes[self._inner_idx].reshape(ntst, inner)  # the inner nodes' coefficients
+            adj = np.einsum("ji,jik->jk", cI, self.Q[:, :inner, :])  # their part, moved to M_j, T, p
+            coefM = nodes[::m].copy()
+            coefM[:-1] -= adj[:, :n]
+            K[r, :nr - 2] = coefM.ravel()
+            K[r, nr - 2] = row[-2] - adj[:, n].sum()
+            K[r, nr - 1] = row[-1] - adj[:, n + 1].sum()
+            self._border.append(cI)
+        with np.errstate(all="ignore"):
+            self.lu = scipy.linalg.lu_factor(K, check_finite=False)
+        if not np.all(np.isfinite(self.lu[0])) or np.min(np.abs(np.diag(self.lu[0]))) == 0.0:
+            raise np.linalg.LinAlgError("singular collocation Jacobian")
+        self.nr = nr
+
+    def transfer(self) -> np.ndarray:
+        """The intervals' transfer matrices ``Phi_j`` (ntst, n, n): last node from the first, T and p held."""
+        inner = (self.mesh.ncol - 1) * self.n
+        return -self.Q[:, inner:, :self.n]
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        """The solution ``dX`` of ``J dX = b`` (``b`` ordered as the residual: collocation, periodicity, phase, closing)."""
+        import scipy.linalg
+
+        mesh, n = self.mesh, self.n
+        ntst, m = mesh.ntst, mesh.ncol
+        inner = (m - 1) * n
+        nc = ntst * m * n
+        w = np.einsum("jab,jb->ja", self.Sinv, b[:nc].reshape(ntst, m * n))  # (ntst, m n)
+        rhs = np.empty(self.nr)
+        rhs[:ntst * n] = w[:, inner:].ravel()
+        rhs[ntst * n:(ntst + 1) * n] = b[nc:nc + n]
+        for k, cI in enumerate(self._border):
+            rhs[self.nr - 2 + k] = b[nc + n + k] - float(np.sum(cI * w[:, :inner]))
+        red = scipy.linalg.lu_solve(self.lu, rhs, check_finite=False)
+        M = red[:-2].reshape(ntst + 1, n)
+        dT, dp = red[-2], red[-1]
+        Qi = self.Q[:, :inner, :]
+        inner_vals = (w[:, :inner] - np.einsum("jik,jk->ji", Qi[:, :, :n], M[:-1])
+                      - Qi[:, :, n] * dT - Qi[:, :, n + 1] * dp)
+        nodes = np.empty((mesh.n_nodes, n))
+        nodes[::m] = M
+        nodes[self._inner_idx] = inner_vals.reshape(ntst, m - 1, n)
+        return np.concatenate([nodes.ravel(), [dT, dp]])
