@@ -77,6 +77,14 @@ class CondensedLU:
         inner = (self.mesh.ncol - 1) * self.n
         return -self.Q[:, inner:, :self.n]
 
+    def multipliers(self) -> np.ndarray:
+        """The eigenvalues of the monodromy matrix (the transfer matrices' product), largest modulus first."""
+        M = np.eye(self.n)
+        for Phi in self.transfer():
+            M = Phi @ M
+        mu = np.linalg.eigvals(M)
+        return mu[np.argsort(-np.abs(mu), kind="stable")]
+
     def solve(self, b: np.ndarray) -> np.ndarray:
         """The solution ``dX`` of ``J dX = b`` (``b`` ordered as the residual: collocation, periodicity, phase, closing)."""
         import scipy.linalg

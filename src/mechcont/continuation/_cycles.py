@@ -169,7 +169,8 @@ class _Run:
         X, lu, iters = system.newton(pred, phase_reference(system, pred), closing, target, o.newton_tol,
                                      o.max_newton)
         t = system.tangent(lu, t0)
-        pt = _Point(system, X, t, nontrivial_multipliers(system.multipliers(X)))
+        # the multipliers from the last factors: their Jacobian is that of the converged orbit to within the tolerance
+        pt = _Point(system, X, t, nontrivial_multipliers(lu.multipliers()))
         pt.iterations = iters  # type: ignore[attr-defined]
         return pt
 
