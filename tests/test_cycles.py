@@ -283,3 +283,19 @@ def test_condensed_solve_equals_the_whole_sparse_system(ntst, ncol):
     for P in Phi:
         M = P @ M
     np.testing.assert_allclose(M, system.monodromy(X), rtol=1e-10, atol=1e-12)
+
+
+def test_mesh_adaptation_follows_a_relaxation_orbit():
+    # at mu = 3 the orbit of y' = (mu - x^2) y - x has fast jumps: a uniform mesh of 20 intervals is 1.5e-3 off in
+    # the period (against 200 uniform intervals, whose own error is below 1e-10), the adapted one 4e-6
+    m = ode_model("vdp", {"x": 0.0, "y": 0.0}, {"mu": 0.0}, {"x": y, "y": (mu - x**2) * y - x})
+    periods = {}
+    for ntst, adapt in ((200, 0), (20, 0), (20, 3)):
+        fam = cycles_from_hopf(m, m.defaults(), "mu", ntst=ntst, adapt=adapt, at=[3.0],
+                               options=ContinuationOptions(ds=0.05, dsmax=0.5, bounds={"mu": (-1.0, 3.2)}))
+        i = fam.row("UZ1")
+        periods[ntst, adapt] = fam.period[i]
+        if adapt:
+            assert fam.orbits[i][0].uniformity() > 3  # the intervals gathered where the orbit turns fast
+    uniform, adapted = (abs(periods[20, a] - periods[200, 0]) for a in (0, 3))
+    assert uniform > 1e-4 and adapted < uniform / 100
