@@ -54,8 +54,8 @@ class CycleBranch:
         Per row: ``(mesh, node values (n_nodes, n))`` in the rescaled time ``t / T``; :meth:`orbit` samples it.
     status, message:
         How the continuation ended (``completed``, or ``step size underflow`` with why).
-    x_base:
-        The model's full vector giving the other parameters.
+    x_base, names:
+        The model's full vector giving the other parameters, and its variables' names.
     """
 
     model: str
@@ -76,6 +76,7 @@ class CycleBranch:
     message: str = ""
     x_base: np.ndarray = field(default_factory=lambda: np.zeros(0))
     approximate: frozenset[int] = frozenset()
+    names: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return len(self.p)
@@ -167,15 +168,8 @@ class CycleBranch:
         times (s) and an array (samples + 1, n_variables)."""
         t, Z = self.orbit(i, samples)
         x = self.x_base.copy()
-        x[list(self._names_of(dynamics)).index(self.vary)] = self.p[i]
+        x[self.names.index(self.vary)] = self.p[i]
         return t, np.array([dynamics.full_vector(z, x) for z in Z])
-
-    @staticmethod
-    def _names_of(dynamics) -> tuple[str, ...]:
-        model = getattr(dynamics, "model", None)
-        if model is None:
-            raise InputError("dynamics", "needs the model behind the dynamics (dynamics.model) to name its variables")
-        return tuple(model.names)
 
     def __repr__(self) -> str:
         pts = ", ".join(n for n, _ in self.point_names()) or "none"
