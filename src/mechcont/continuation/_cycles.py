@@ -379,4 +379,5 @@ def _branch(model, run: _Run, status: Status, message: str) -> CycleBranch:
         state_names=names, state_units=units, p=np.array(p), period=np.array(period), minimum=np.array(lo),
         maximum=np.array(hi), multipliers=mus, n_unstable=np.array([int(np.sum(np.abs(m) > 1 + UNSTABLE)) for m in mus]),
         labels=[pt.label for pt in run.points], s=np.array(run.s), orbits=orbits, status=status, message=message,
-        x_base=rates.x_base.copy(), names=tuple(model.names), approximate=frozenset(i for i, pt in enumerate(run.points) if pt.approximate))
+        x_base=rates.x_base.copy(), names=tuple(model.names),
+        approximate=frozenset(i for i, pt in enumerate(run.points) if pt.approximate))
