@@ -299,3 +299,21 @@ def test_mesh_adaptation_follows_a_relaxation_orbit():
             assert fam.orbits[i][0].uniformity() > 3  # the intervals gathered where the orbit turns fast
     uniform, adapted = (abs(periods[20, a] - periods[200, 0]) for a in (0, 3))
     assert uniform > 1e-4 and adapted < uniform / 100
+
+
+def test_family_ends_at_a_period_bound_or_after_max_steps_and_runs_either_way_from_samples():
+    m = ode_model("vdp", {"x": 0.0, "y": 0.0}, {"mu": 1.0}, {"x": y, "y": (mu - x**2) * y - x})
+    fam1 = cycles_from_hopf(m, m.vector({"mu": 0.0}), "mu", at=[1.0], ntst=40,
+                            options=ContinuationOptions(ds=0.05, dsmax=0.5, bounds={"mu": (-1.0, 5.0)}))
+    t, Z = fam1.orbit(fam1.row("UZ1"), 800)
+    t = np.concatenate([t, t[1:] + t[-1]])  # two turns of the computed orbit at mu = 1, as a simulation gives them
+    Z = np.vstack([Z, Z[1:]])
+    up = cycles_from_samples(m, m.defaults(), t, Z, "mu", ntst=40,
+                             options=ContinuationOptions(ds=0.05, dsmax=0.5, bounds={"period": (0.0, 7.0)}))
+    assert up.labels[-1] == "EP" and up.period[-1] == pytest.approx(7.0, abs=1e-12) and up.p[-1] > 1.0
+    assert "reached a bound" in up.message
+    down = cycles_from_samples(m, m.defaults(), t, Z, "mu", ntst=40, direction=-1,
+                               options=ContinuationOptions(ds=0.05, dsmax=0.5, max_steps=3))
+    assert len(down) == 4 and down.p[-1] < 1.0 and down.labels[-1] == "EP"
+    assert down.message == "stopped after max_steps=3"
+    assert down.period[0] == pytest.approx(6.6632868593231302, abs=1e-7)  # ntst = 40: the collocation's own error

@@ -92,8 +92,9 @@ class CycleBranch:
         return self.n_unstable == 0
 
     def stability(self) -> list[str]:
-        """``stable`` / ``unstable`` per row (``neutral`` at the Hopf start, where the family is born)."""
-        return ["neutral" if lab == "HB" else "stable" if n == 0 else "unstable"
+        """``stable`` / ``unstable`` per row; ``neutral`` at a Hopf point (zero amplitude) and ``fold`` at a fold
+        of cycles (a second multiplier at 1: neither, as a fold of equilibria is written in a branch table)."""
+        return ["neutral" if lab == "HB" else "fold" if lab == "LPC" else "stable" if n == 0 else "unstable"
                 for n, lab in zip(self.n_unstable, self.labels)]
 
     def point_names(self) -> list[tuple[str, int]]:
