@@ -317,3 +317,36 @@ def test_family_ends_at_a_period_bound_or_after_max_steps_and_runs_either_way_fr
     assert len(down) == 4 and down.p[-1] < 1.0 and down.labels[-1] == "EP"
     assert down.message == "stopped after max_steps=3"
     assert down.period[0] == pytest.approx(6.6632868593231302, abs=1e-7)  # ntst = 40: the collocation's own error
+
+
+def test_rossler_period_doubling_checked_by_shooting():
+    # Roessler (a = b = 0.2): the period-1 cycle doubles near c = 2.832. The located PD orbit is checked by an
+    # independent formulation: the flow and its variational equations integrated over one period (solve_ivp)
+    from scipy.integrate import solve_ivp
+
+    z_ = sp.Symbol("z", real=True)
+    a, b, c = sp.symbols("a b c", real=True)
+    m = ode_model("ross", {"x": 0.0, "y": 0.0, "z": 0.0}, {"a": 0.2, "b": 0.2, "c": 2.5},
+                  {"x": -y - z_, "y": x + a * y, "z": b + z_ * (x - c)})
+    dyn = dynamics_of(m)
+    xv = m.defaults()
+    sim = solve_ivp(lambda _, u: dyn.rates(u, xv), (0.0, 100.0), [1.0, 1.0, 0.0], rtol=1e-10, atol=1e-10,
+                    dense_output=True)
+    ts = np.linspace(80.0, 100.0, 2000)
+    fam = cycles_from_samples(m, xv, ts, sim.sol(ts).T, "c", ntst=40,
+                              options=ContinuationOptions(ds=0.05, dsmax=0.2, bounds={"c": (2.5, 3.0)}))
+    k = fam.row("PD1")
+    cpd, T = fam.p[k], fam.period[k]
+    assert 2.8 < cpd < 2.86
+    z0 = fam.orbits[k][1][0]
+
+    def flow(_, v, c=cpd):  # the Roessler equations and their variational equations, typed again
+        px, py, pz = v[:3]
+        J = np.array([[0.0, -1.0, -1.0], [1.0, 0.2, 0.0], [pz, 0.0, px - c]])
+        return np.concatenate([[-py - pz, px + 0.2 * py, 0.2 + pz * (px - c)], (J @ v[3:].reshape(3, 3)).ravel()])
+
+    end = solve_ivp(flow, (0.0, T), np.concatenate([z0, np.eye(3).ravel()]), method="DOP853", rtol=1e-12,
+                    atol=1e-12).y[:, -1]
+    assert np.max(np.abs(end[:3] - z0)) < 1e-7  # the orbit closes
+    mus = np.linalg.eigvals(end[3:].reshape(3, 3))
+    assert np.min(np.abs(mus - 1.0)) < 1e-6 and np.min(np.abs(mus + 1.0)) < 1e-6
