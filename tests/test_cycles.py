@@ -350,3 +350,27 @@ def test_rossler_period_doubling_checked_by_shooting():
     assert np.max(np.abs(end[:3] - z0)) < 1e-7  # the orbit closes
     mus = np.linalg.eigvals(end[3:].reshape(3, 3))
     assert np.min(np.abs(mus - 1.0)) < 1e-6 and np.min(np.abs(mus + 1.0)) < 1e-6
+
+
+def test_any_dynamics_through_the_protocol_gives_the_same_family(monkeypatch):
+    # a mechanism's dynamics is evaluated point by point through the Dynamics protocol (no batch): same orbits
+    import mechcont.equations as eq
+
+    class Protocol:  # the protocol's members only, forwarding to the ODE's own dynamics
+        def __init__(self, model):
+            self._d = eq.OdeDynamics(model)
+            self.state_names = self._d.state_names
+
+        def __getattr__(self, name):
+            if name in ("state_at", "full_vector", "rates", "rates_jacobian", "parameter_rates", "linearise"):
+                return getattr(self._d, name)
+            raise AttributeError(name)
+
+    m = _stuart_landau()
+    opts = ContinuationOptions(ds=0.05, dsmax=0.2, bounds={"mu": (-1.0, 0.5)})
+    batch = cycles_from_hopf(m, m.defaults(), "mu", ntst=10, at=[0.3], options=opts)
+    monkeypatch.setattr(eq, "dynamics_of", Protocol)
+    each = cycles_from_hopf(m, m.defaults(), "mu", ntst=10, at=[0.3], options=opts)
+    assert each.labels == batch.labels
+    np.testing.assert_allclose(each.period, batch.period, rtol=1e-12)
+    np.testing.assert_allclose(each.maximum, batch.maximum, rtol=1e-10, atol=1e-12)
