@@ -18,9 +18,35 @@ system, against the ``(NTST NCOL + 1) n + 2`` rows of the whole.
 
 from __future__ import annotations
 
+import functools
+from dataclasses import dataclass
+
 import numpy as np
 
 __all__ = ["CondensedLU"]
+
+
+@dataclass(frozen=True)
+class _Pattern:
+    """Flat indices into the reduced matrix (row-major) of its fixed entries and of its interval blocks."""
+
+    ones: np.ndarray  # +1: M_(j+1) in interval j's rows, M_NTST in the periodicity rows
+    minus: np.ndarray  # -1: M_0 in the periodicity rows
+    P: np.ndarray  # interval j's rows: M_j's columns, then T's and p's, in the order of Q[j, inner:, :]
+    inner_nodes: np.ndarray  # (ntst, ncol - 1) node numbers of the inner nodes
+
+
+@functools.lru_cache(maxsize=32)
+def _pattern(ntst: int, m: int, n: int) -> _Pattern:
+    nr = (ntst + 1) * n + 2
+    j, a, b = np.meshgrid(np.arange(ntst), np.arange(n), np.arange(n + 2), indexing="ij")
+    row = j * n + a
+    col = np.where(b < n, j * n + b, nr - 2 + (b - n))
+    r1 = np.arange(ntst * n)
+    per = ntst * n + np.arange(n)
+    ones = np.concatenate([r1 * nr + (r1 + n), per * nr + per])
+    return _Pattern(ones, per * nr + np.arange(n), (row * nr + col).ravel(),
+                    np.arange(ntst)[:, None] * m + np.arange(1, m)[None, :])
 
 
 class CondensedLU:
@@ -43,29 +69,23 @@ class CondensedLU:
         B = np.concatenate([C[:, :, :n], aT[:, :, None], ap[:, :, None]], axis=2)
         self.Q = self.Sinv @ B  # (ntst, m n, n + 2): the first node's, T's and p's parts
         nr = (ntst + 1) * n + 2
-        K = np.zeros((nr, nr))
-        blocks = np.arange(ntst)
-        rows = blocks[:, None] * n + np.arange(n)[None, :]  # interval j's reduced rows
-        for a in range(n):
-            K[rows[:, a], (blocks + 1) * n + a] = 1.0
-        K[rows[:, :, None], rows[:, None, :]] = self.Q[:, inner:, :n]  # P_R on M_j
-        K[rows, nr - 2] = self.Q[:, inner:, n]
-        K[rows, nr - 1] = self.Q[:, inner:, n + 1]
-        per = ntst * n + np.arange(n)
-        K[per, ntst * n + np.arange(n)] = 1.0
-        K[per, np.arange(n)] = -1.0
-        self._inner_idx = mesh.index[:, 1:m]  # (ntst, m - 1) node numbers
-        self._border = []
-        for r, row in ((nr - 2, np.concatenate([phase, [0.0, 0.0]])), (nr - 1, closing)):
-            nodes = row[:-2].reshape(mesh.n_nodes, n)
-            cI = nodes[self._inner_idx].reshape(ntst, inner)  # the inner nodes' coefficients
-            adj = np.einsum("ji,jik->jk", cI, self.Q[:, :inner, :])  # their part, moved to M_j, T, p
-            coefM = nodes[::m].copy()
-            coefM[:-1] -= adj[:, :n]
-            K[r, :nr - 2] = coefM.ravel()
-            K[r, nr - 2] = row[-2] - adj[:, n].sum()
-            K[r, nr - 1] = row[-1] - adj[:, n + 1].sum()
-            self._border.append(cI)
+        pat = _pattern(ntst, m, n)
+        K = np.zeros(nr * nr)
+        K[pat.ones] = 1.0
+        K[pat.minus] = -1.0
+        K[pat.P] = self.Q[:, inner:, :].ravel()  # P_R on M_j, then the T and p columns
+        K = K.reshape(nr, nr)
+        self._inner_idx = pat.inner_nodes
+        rows = np.stack([np.concatenate([phase, [0.0, 0.0]]), closing])  # the phase and closing rows
+        nodes = rows[:, :-2].reshape(2, mesh.n_nodes, n)
+        cI = nodes[:, self._inner_idx].reshape(2, ntst, inner)  # the inner nodes' coefficients
+        adj = np.einsum("rji,jik->rjk", cI, self.Q[:, :inner, :])  # their part, moved to M_j, T, p
+        coefM = nodes[:, ::m].copy()
+        coefM[:, :-1] -= adj[:, :, :n]
+        K[nr - 2:, :nr - 2] = coefM.reshape(2, -1)
+        K[nr - 2:, nr - 2] = rows[:, -2] - adj[:, :, n].sum(axis=1)
+        K[nr - 2:, nr - 1] = rows[:, -1] - adj[:, :, n + 1].sum(axis=1)
+        self._border = cI
         with np.errstate(all="ignore"):
             self.lu = scipy.linalg.lu_factor(K, check_finite=False)
         if not np.all(np.isfinite(self.lu[0])) or np.min(np.abs(np.diag(self.lu[0]))) == 0.0:
@@ -97,8 +117,7 @@ class CondensedLU:
         rhs = np.empty(self.nr)
         rhs[:ntst * n] = w[:, inner:].ravel()
         rhs[ntst * n:(ntst + 1) * n] = b[nc:nc + n]
-        for k, cI in enumerate(self._border):
-            rhs[self.nr - 2 + k] = b[nc + n + k] - float(np.sum(cI * w[:, :inner]))
+        rhs[self.nr - 2:] = b[nc + n:nc + n + 2] - np.einsum("rji,ji->r", self._border, w[:, :inner])
         red = scipy.linalg.lu_solve(self.lu, rhs, check_finite=False)
         M = red[:-2].reshape(ntst + 1, n)
         dT, dp = red[-2], red[-1]
