@@ -83,6 +83,8 @@ def test_cycles_from_a_point_that_is_not_a_hopf_point_is_one_line(run, tmp_path)
     one_line_error(run("cycles", "sl", "--point", "nofile.csv", "--vary", "mu"), "--point")
     one_line_error(run("cycles", "sl", "--point", f"{table}:HB1", "--vary", "mu", "--at", "x=1"), "--at")
     one_line_error(run("cycles", "sl", "--point", f"{table}:HB1", "--vary", "mu", "--ncol", "1"), "ncol")
+    one_line_error(run("cycles", "sl", "--point", f"{table}:HB1", "--vary", "x"), "--vary", "not a parameter")
+    one_line_error(run("cycles", "sl", "--point", f"{table}:HB1", "--vary", "nu"), "nu")
     one_line_error(run("cycles", "sl", "--point", f"{table}:HB1", "--vary", "mu", "--out", tmp_path / "c.json"), "--out")
     assert not (tmp_path / "c.json").exists()
 

@@ -12,7 +12,8 @@ from ._parse import assignments, number
 from ._run import check_outputs, continuation_options, load_at, run_continuation
 
 #: Fields of the API's errors that name an option of this command.
-_OPTIONS = {"point": "--point", "branch": "--point", "ntst": "--ntst", "ncol": "--ncol", "bounds": "--bounds"}
+_OPTIONS = {"point": "--point", "branch": "--point", "ntst": "--ntst", "ncol": "--ncol", "bounds": "--bounds",
+            "vary": "--vary"}
 
 
 @contextlib.contextmanager

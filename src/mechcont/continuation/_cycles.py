@@ -86,6 +86,9 @@ def _system(model, vary: str, x: np.ndarray, ntst: int, ncol: int, options: Cont
     from ..equations import dynamics_of
 
     dyn = dynamics_of(model)
+    if vary not in model.names or vary in dyn.state_names:
+        raise InputError("vary", f"'{vary}' is not a parameter of '{model.name}'; the family is continued in a "
+                                 f"parameter, not in a state ({', '.join(dyn.state_names)})")
     rates = RateFunction(model, dyn, vary, x)
     names = set(model.names)
     scale = {**{n: model.variable(n).scale for n in dyn.state_names if n in names}, **options.scales}
