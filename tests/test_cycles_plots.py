@@ -49,3 +49,29 @@ def test_phase_portrait_closes_each_orbit_and_full_vectors_carry_the_parameter(f
     assert t[-1] == pytest.approx(fam.period[k]) and rows.shape == (41, len(m.names))
     assert np.all(rows[:, m.index("mu")] == fam.p[k])
     np.testing.assert_allclose(np.hypot(rows[:, 0], rows[:, 1]), 1.0, atol=1e-4)  # the fold's orbit: r = 1
+
+
+def test_animate_cycle_draws_one_period_of_full_vectors(family, overcentre, tmp_path):
+    # the plumbing of the animation: one frame per instant of the period, each drawn from dynamics.full_vector.
+    # A stand-in dynamics turns the orbit into poses of the overcentre (its bars' angles follow the orbit's x, y)
+    from mechcont.outputs.cycle_plots import animate_cycle
+
+    _, fam = family
+    base = overcentre.defaults()
+    seen = []
+
+    class Poses:
+        def full_vector(self, z, x):
+            seen.append(z.copy())
+            v = base.copy()
+            v[overcentre.index("theta1")] += 0.2 * z[0]
+            v[overcentre.index("theta2")] -= 0.2 * z[1]
+            return v
+
+    k = fam.row("LPC1")
+    n = animate_cycle(overcentre, Poses(), fam, k, tmp_path / "cycle.gif", frames=6, fps=6)
+    assert n == 6 and (tmp_path / "cycle.gif").stat().st_size > 1000
+    t, Z = fam.orbit(k, 6)
+    np.testing.assert_allclose(np.array(seen), Z, atol=1e-12)  # one period: the first instant again at the end
+    with pytest.raises(InputError, match="row"):
+        animate_cycle(overcentre, Poses(), fam, len(fam), tmp_path / "x.gif")

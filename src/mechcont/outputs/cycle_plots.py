@@ -124,4 +124,5 @@ def animate_cycle(system, dynamics, cycles, row: int, path: str | os.PathLike, *
     if not 0 <= row < len(cycles):
         raise InputError("row", f"row {row} out of range; the family has {len(cycles)} orbits (0..{len(cycles) - 1})")
     _, rows = cycles.full_vectors(dynamics, row, frames)
-    return animate(system, rows[:-1], path, fps=fps, vary=cycles.vary, **kwargs)
+    vary = cycles.vary if cycles.vary in system.names else None
+    return animate(system, rows[:-1], path, fps=fps, vary=vary, **kwargs)
