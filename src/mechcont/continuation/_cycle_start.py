@@ -80,7 +80,7 @@ def hopf_point(model, dynamics, x: np.ndarray, vary: str, tol: float = 1e-12, ma
     if not np.all(np.isfinite(z)):
         raise InputError("point", f"no equilibrium near the point at {vary} = {x[j]:.6g}: not a Hopf point")
     lam, q = _critical(dynamics.rates_jacobian(z, x))
-    if abs(lam.real) > 0.1 * abs(lam):
+    if abs(lam.real) > 0.5 * abs(lam):
         raise InputError("point", f"the eigenvalues nearest the imaginary axis are {lam.real:.4g} ± {abs(lam.imag):.4g}i:"
                                   " not a Hopf point (give the HB row of a continue table)")
     c = q.conj()  # normalisation c . q = 1 (c real part and imaginary part as two rows)
@@ -110,6 +110,8 @@ def hopf_point(model, dynamics, x: np.ndarray, vary: str, tol: float = 1e-12, ma
             break
         v = v + dv
         if np.max(np.abs(dv) / scale) < tol:
+            if abs(v[n] - x[j]) > 0.1 * max(abs(x[j]), model.variable(vary).scale):
+                break  # a Hopf point, but far from the point given: not this one
             xh = x.copy()
             xh[j] = v[n]
             xh = dynamics.full_vector(v[:n], xh)
