@@ -87,7 +87,8 @@ def cycles_command(model, point, vary, sets, bnds, at, ntst, ncol, ds, dsmax, ma
     non-trivial Floquet multiplier's modulus, stability and labels LPC (fold of cycles), PD
     (period doubling), NS (torus), UZ (--at) and EP (end).
 
-    Example: mechcont cycles ab.toml --point ab.csv:HB1 --vary D --bounds D=0:0.5 --out cycles.csv
+    Example: mechcont cycles examples/ab.toml --set B=17 --point ab.csv:HB1 --vary D --bounds D=0:0.2
+    --bounds period=0:100 --out cycles.csv
     """
     from ..continuation import cycles_from_hopf
 
