@@ -196,7 +196,8 @@ class _Run:
                 raise NewtonFailure(f"step size fell below dsmin={o.dsmin:g}: {why}")
 
     def remesh(self, cur: _Point) -> _Point:
-        """``cur`` on an adapted mesh (its orbit interpolated and corrected there), or ``cur`` when that fails."""
+        """``cur`` on an adapted mesh: its orbit and tangent interpolated there (as AUTO does; the next step's
+        corrector solves on the new mesh), its multipliers kept; ``cur`` itself when the mesh degenerates."""
         sys_ = cur.system
         u, T, p = sys_.split(cur.X)
         mesh = sys_.mesh.adapted(u)
@@ -207,10 +208,7 @@ class _Run:
         X = new_sys.pack(sys_.mesh.moved(u, mesh), T, p)
         t = new_sys.pack(sys_.mesh.moved(tu, mesh), tT, tp)
         t /= new_sys.norm(t)
-        try:
-            return self.solve(new_sys, X, t, 0.0)
-        except NewtonFailure:
-            return cur
+        return _Point(new_sys, X, t, cur.mu, cur.label, cur.approximate)
 
     # -- events ---------------------------------------------------------------------------------
     def events(self, cur: _Point, new: _Point, ds: float) -> list[tuple[float, _Point]]:
