@@ -377,3 +377,19 @@ def test_any_dynamics_through_the_protocol_gives_the_same_family(monkeypatch):
     assert each.labels == batch.labels
     np.testing.assert_allclose(each.period, batch.period, rtol=1e-12)
     np.testing.assert_allclose(each.maximum, batch.maximum, rtol=1e-10, atol=1e-12)
+
+
+def test_mesh_quadrature_mean_inner_product_and_phase_row():
+    from mechcont.continuation._collocation import Mesh
+
+    tau = np.sort(np.concatenate([[0.0, 1.0], np.random.default_rng(3).uniform(0.02, 0.98, 11)]))
+    mesh = Mesh(12, 5, tau)  # a non-uniform mesh
+    t = mesh.times()
+    u = np.column_stack([1.5 + np.cos(2 * np.pi * t), np.sin(2 * np.pi * t)])
+    np.testing.assert_allclose(mesh.mean(u), [1.5, 0.0], atol=1e-5)  # the interpolant's error: h^(NCOL+1)
+    w = np.column_stack([np.cos(2 * np.pi * t), 0 * t])
+    assert mesh.gram_row(w) @ u.ravel() == pytest.approx(0.5, abs=1e-5)  # integral of cos^2
+    # the phase row: integral of u . v' for v = u is 0 for a periodic u; for v = (sin, -cos) it is 2 pi (1/2 + 1/2)
+    assert mesh.phase_row(u) @ u.ravel() == pytest.approx(0.0, abs=1e-5)
+    v = np.column_stack([np.sin(2 * np.pi * t), -np.cos(2 * np.pi * t)])
+    assert mesh.phase_row(v) @ u.ravel() == pytest.approx(2 * np.pi, rel=1e-5)

@@ -120,6 +120,11 @@ class Mesh:
         wc, _ = self.at_collocation(w)
         return self._spread(wc * (self.h[:, None, None] * self.g[None, :, None]))
 
+    def mean(self, u: np.ndarray) -> np.ndarray:
+        """The orbit's time average over [0, 1] (Gauss quadrature on every interval), shape (n,)."""
+        uc, _ = self.at_collocation(u)
+        return np.einsum("j,k,jkn->n", self.h, self.g, uc)
+
     def phase_row(self, v: np.ndarray) -> np.ndarray:
         """``r`` with ``r . u = integral of u . v'`` over ``[0, 1]`` (exact: degree 2 NCOL - 1), ``v`` by its node values."""
         _, dv = self.at_collocation(v)

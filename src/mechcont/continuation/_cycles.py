@@ -68,7 +68,7 @@ def _ns(mu: np.ndarray) -> float:
 def _amplitude(pt: _Point) -> float:
     """The orbit's weighted L2 distance from its mean (0 for an equilibrium)."""
     u, _, _ = pt.system.split(pt.X)
-    dev = u - pt.system.mesh.evaluate(u, pt.system.mesh.collocation_times().ravel()).mean(axis=0)
+    dev = u - pt.system.mesh.mean(u)
     return math.sqrt(max(float(pt.system.mesh.gram_row(dev * pt.system.weights) @ dev.ravel()), 0.0))
 
 
@@ -343,7 +343,7 @@ def _hopf_end(model, pt: _Point, vary: str) -> tuple[_Point, str]:
     sys_ = pt.system
     u, T, p = sys_.split(pt.X)
     dyn, rates = sys_.rates.dynamics, sys_.rates
-    mean = sys_.mesh.evaluate(u, sys_.mesh.collocation_times().ravel()).mean(axis=0)
+    mean = sys_.mesh.mean(u)
     try:
         hopf = hopf_point(model, dyn, dyn.full_vector(mean, rates.x_at(p)), vary)
     except InputError:
