@@ -65,7 +65,7 @@ def static_reactions(model, x, held):
 def spring_laws(model, x, held):
     """``(deflection, reaction / stiffness)`` of each compliant row at ``x``: its residual ``Phi - lambda/k``
     with lambda = 0 is ``Phi``; ``lambda`` from :func:`static_reactions`; ``1/k`` from the row's Jacobian."""
-    from mechcont.mechanism._check import _compliant
+    from mechcont.mechanism import compliant_constraints as _compliant
 
     lam = static_reactions(model, x, held)
     y = np.array(x, float)
@@ -274,7 +274,7 @@ def test_bennett_linkage_compliant_and_unheld_starts_with_its_deflections_kept()
     nothing holds. Released under gravity, the compliant rows' deflections start with no acceleration
     (``Phi_c'' = Phi_c,q qddot`` at rest, relative to ``qddot``); from the kinematic assembly (deflections
     zero, unloaded) they snap."""
-    from mechcont.mechanism._check import _compliant
+    from mechcont.mechanism import compliant_constraints as _compliant
 
     model = load_model("tests/data/spatial/bennett_compliant.toml")
     q = [model.index(c) for c in model.mechanics.coordinates]

@@ -256,6 +256,7 @@ def _intervals(x, F):
             if pos[i]:
                 start = xc
             else:
+                assert start is not None  # F > 0 at x[i - 1]: its interval began there or before
                 out.append((float(start), float(xc)))
                 start = None
     if start is not None:

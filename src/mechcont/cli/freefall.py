@@ -44,10 +44,10 @@ def _lock(system, lock: tuple[str, ...], lock_condition: str | None):
     if bool(lock) == (lock_condition is not None):
         raise InputError("--lock", "give exactly one of --lock STOP (repeatable) and --lock-condition NAME=VALUE")
     if lock:
-        from ..dynamics.freefall import _lock_stops
+        from ..dynamics.freefall import find_lock_stops
 
         try:
-            _lock_stops(system, list(lock))
+            find_lock_stops(system, list(lock))
         except InputError as exc:
             raise _option_error(exc) from None
         return lock[0] if len(lock) == 1 else list(lock)
@@ -253,7 +253,7 @@ def _critical(system, start, lock, until, options, rng, tol, scanned, out_path, 
                     for v, crit in rows])
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
-        from ..dynamics.freefall import critical_figure
+        from ..outputs.critical_plots import critical_figure
         from ..outputs.plotting import save_figure
 
         fig = critical_figure([v for v, _ in rows], [c for _, c in rows], qs.value if qs is not None else math.nan,

@@ -9,12 +9,11 @@ from ._app import cli
 from ._parse import assignments, check_integration, integrator, integrator_options
 
 
-def _start(system, model: str, starts) -> tuple:
+def _start(system, starts) -> tuple:
     """The assembled start vector: ``--start`` coordinates or conditions held."""
-    from ..dynamics import assemble, check_simulable
+    from ..dynamics import assemble
 
     start = assignments(starts, "start")
-    check_simulable(system, model)
     for n in start:
         if n not in system.names:
             raise InputError("--start", f"{n} is not a variable of {system.name}; give a coordinate or a condition: "
@@ -73,7 +72,7 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     time and the stop's name, and the CSV has a row at each (its label column says which).
     """
     from .._io import check_output_path
-    from ..dynamics import check_duration
+    from ..dynamics import check_duration, check_simulable
     from ..models import model_at
     from ..outputs.plotting import FIGURE_SUFFIXES
 
@@ -82,8 +81,8 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     check_duration(until, "--until")
     solver = integrator(method, rtol, atol)
     system = model_at(model, assignments(settings, "set"))
-    x0, start = _start(system, model, starts)
-    coords = system.mechanics.coordinates
+    coords = check_simulable(system, model).coordinates
+    x0, start = _start(system, starts)
     if watch is None:
         watch = next(iter(start), coords[0])
     elif watch not in system.names and not (watch.endswith("_dot") and watch[:-4] in coords):
@@ -118,7 +117,7 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     if not result.success:
         click.echo(f"# warning: {result.message}")
     echo_balance(result)
-    from ..dynamics._stall import UNRESOLVED
+    from ..dynamics import UNRESOLVED
 
     unresolved = result.motion_warning.startswith(UNRESOLVED)
     if result.motion_warning and not unresolved:

@@ -16,7 +16,7 @@ from ._parse import assignments, named_as, renamed
 
 def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk, lock=(),
           until=None):
-    from ..analysis.study import StudySpec, parse_axis, parse_distribution
+    from ..analysis.study import Distribution, GridAxis, StudySpec, parse_axis, parse_distribution
 
     if spec_file is not None:
         if dists or grids:
@@ -34,6 +34,7 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
             raise InputError(option, f"'{item}' is not NAME=...")
         return name.strip(), rest
 
+    params: tuple[tuple[str, GridAxis | Distribution], ...]
     if grids:
         if sample is not None:
             raise InputError("--sample", "a --grid study takes every grid point; --sample is for --dist studies")

@@ -11,7 +11,8 @@ from ._contact import StopConstraints, StopEvent
 from ._events import Crossing
 from ._exudyn import exudyn_available, exudyn_overcentre
 from ._result import SimulationResult, SimulationStatus
-from ._simulate import assemble, simulate
+from ._simulate import METHODS, assemble, check_integrator, simulate
+from ._stall import UNRESOLVED
 from ._sweep import Jump, Ramp, SweepResult, parse_ramps, sweep, sweep_start
 from ._udwadia_kalaba import ConstrainedDynamics, fundamental_equation
 
@@ -19,4 +20,4 @@ __all__ = ["simulate", "assemble", "sweep", "sweep_start", "parse_ramps", "Ramp"
            "SimulationStatus", "Crossing", "ConstrainedDynamics", "fundamental_equation", "jump_gaps", "JumpGap",
            "branch_jump_gaps", "branch_differences",
            "gap_versus_rate", "RateGap", "exudyn_available", "exudyn_overcentre", "StopEvent",
-           "StopConstraints", "MAX_SECONDS", "check_duration", "check_simulable"]
+           "StopConstraints", "MAX_SECONDS", "check_duration", "check_simulable", "METHODS", "check_integrator", "UNRESOLVED"]

@@ -103,9 +103,9 @@ def assemble(system, values, hold: Sequence[str] = (), *, kinematic: bool = Fals
     x[dyn.q_index] = q
     if kinematic:
         return x
-    from ..mechanism._check import _compliant
+    from ..mechanism import compliant_constraints
 
-    springs = _compliant(system, x)
+    springs = compliant_constraints(system, x)
     if not springs:  # rigid: the kinematic assembly is the pose
         return x
     return _static_pose(system, dyn, x, mask, cond_rows, springs)

@@ -50,7 +50,7 @@ class DamperTension:
         return {n: float(np.linalg.norm(np.asarray(b) - np.asarray(a))) for n, (a, b) in ends.items()}
 
     def __call__(self, x: np.ndarray, qdot: np.ndarray) -> dict[str, float]:
-        from ..mechanism._values import evaluate
+        from ..mechanism import evaluate
 
         if not self.dampers:
             return {}

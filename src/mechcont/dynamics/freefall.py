@@ -23,7 +23,7 @@ from .._status import Status
 from ..equations import StopLimit
 from ..errors import InputError
 from ._budget import MAX_STEPS
-from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, critical_figure, quasi_static_critical
+from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, quasi_static_critical
 from ._dampers import DamperTension, damper_tensions
 from ._events import AtRestOnStops, ConditionCrossing, Crossing
 from ._peaks import Peak, locate_peaks
@@ -31,7 +31,7 @@ from ._poses import condition_value, held_pose, travel_of
 from ._result import SimulationResult
 
 __all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
-           "quasi_static_critical", "damper_tensions", "critical_figure", "travel_of", "condition_value", "held_pose"]
+           "quasi_static_critical", "damper_tensions", "travel_of", "condition_value", "held_pose"]
 
 #: Outcomes of a freefall run: locked; at rest short of locking; still moving at ``until`` (it may have
 #: struck the lock and left it); the integrator failed.
@@ -186,7 +186,7 @@ class FreefallResult:
         return lines
 
 
-def _lock_stops(system, lock) -> list[StopLimit] | None:
+def find_lock_stops(system, lock) -> list[StopLimit] | None:
     """The lock stops named by ``lock`` (a stop's name or a sequence of names), None for a lock condition."""
     from ..equations import as_model
 
@@ -209,7 +209,7 @@ def _lock_stops(system, lock) -> list[StopLimit] | None:
 def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None]:
     """``(stop, None)`` for a lock stop's name (the first of several), ``(None, (state, value))`` for a
     lock condition."""
-    stops = _lock_stops(system, lock)
+    stops = find_lock_stops(system, lock)
     if stops is not None:
         return stops[0], None
     try:
@@ -289,7 +289,7 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     if values:
         model = model.with_values(dict(values))
     stop, target = _lock_spec(model, lock)
-    lock_stops = _lock_stops(model, lock) or []
+    lock_stops = find_lock_stops(model, lock) or []
     if held_by is not None:
         guess = held_pose(model, start, held_by, guess=guess)
     x0 = assemble(model, dict(start) if guess is None else model.vector(dict(start), base=_states_of(model, guess)),

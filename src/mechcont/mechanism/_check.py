@@ -301,7 +301,7 @@ def _stored_build(name_or_path: str | Path, reduced: bool, overrides: Mapping[st
     """:func:`_build` of a description file, with the description's facts; kept in the disk cache
     (keyed by the file's name and full text, the form and the values), so a new process checking
     the same file neither reads it (SymPy) nor generates its equations again."""
-    from ..equations._stored import stored
+    from ..equations import stored
 
     path = find_description(name_or_path)
     if path is None:
@@ -452,7 +452,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         system=system, x=x, x_equilibrium=xe, compliant=compliant, hold=mech.hold)
 
 
-def _compliant(system, x: np.ndarray) -> list[tuple[int, str, float]]:
+def compliant_constraints(system, x: np.ndarray) -> list[tuple[int, str, float]]:
     """``(row, reaction, c)`` of each compliant constraint row ``Phi - lambda / k = 0``, found from the
     Jacobian (its own reaction enters with ``c = -1/k``); ``row`` indexes the system's equations."""
     nq = len(system.mechanics.coordinates)
@@ -469,7 +469,7 @@ def _compliant(system, x: np.ndarray) -> list[tuple[int, str, float]]:
 def _compliant_gap(system, x: np.ndarray) -> Quantity | None:
     """The compliant row farthest from its spring law at ``x`` (``|Phi - lambda / k|``, m or rad), if
     any is off by more than ``CLOSURE_TOL``; else None."""
-    rows = _compliant(system, x)
+    rows = compliant_constraints(system, x)
     if not rows:
         return None
     res = system.residual(x)
@@ -480,10 +480,10 @@ def _compliant_gap(system, x: np.ndarray) -> Quantity | None:
 
 
 def _compliant_rows(system, x: np.ndarray) -> tuple[Quantity, ...]:
-    """Each compliant constraint row (see :func:`_compliant`) as
+    """Each compliant constraint row (see :func:`compliant_constraints`) as
     ``Quantity(row, deflection, unit, "reaction ..., stiffness ...")``."""
     out = []
-    for i, r, c in _compliant(system, x):
+    for i, r, c in compliant_constraints(system, x):
         lam, unit = float(x[system.index(r)]), system.variable(r).unit
         k_unit = "N/m" if unit == "N" else "N m/rad"
         out.append(Quantity(system.equation_names[i], -c * lam, "m" if unit == "N" else "rad",

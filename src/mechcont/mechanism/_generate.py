@@ -168,7 +168,7 @@ class _Structure:
                 rows, equilibrium, mechanics = self.rows, self.equilibrium, self.mechanics
             out = self.variants[dependent] = _Variant(rows, [self.rows[i] for i in dependent], equilibrium, mechanics)
             if self.conditions:
-                from ..equations._codegen import compile_dense
+                from ..equations import compile_dense
 
                 out.condition_values = compile_dense([symbol(n) for n in mechanics.names],
                                                      [e for _, e in self.conditions])
@@ -389,12 +389,12 @@ def _equilibrium(mech: Mechanism, coords: list[str], rows: Sequence[ConstraintRo
 
 def _dropped_residual(system: EquationSystem, dropped: Sequence[ConstraintRow]) -> DroppedResidual:
     """The compiled residual of the ``dropped`` rows of ``system`` (see :class:`DroppedResidual`)."""
-    from ..equations._codegen import compile_dense
+    from ..equations import compile_dense
     return DroppedResidual(compile_dense(list(system.symbols), [r.expr for r in dropped]) if dropped else None)
 
 
 def _coordinates_of(kin: Kinematics | SpatialKinematics, system: EquationSystem, subs: dict) -> CoordinatesOf:
     """The compiled body coordinates of ``system`` (see :class:`CoordinatesOf`)."""
-    from ..equations._codegen import compile_dense
+    from ..equations import compile_dense
     exprs = [subs.get(s, s) for s in kin.q]
     return CoordinatesOf(tuple(kin.coords), compile_dense(list(system.symbols), exprs))

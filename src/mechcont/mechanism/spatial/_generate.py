@@ -28,8 +28,7 @@ from functools import partial
 import numpy as np
 import sympy as sp
 
-from ...equations import EquationSystem, MechanicalModel, Model, Variable
-from ...equations._codegen import gradient
+from ...equations import EquationSystem, MechanicalModel, Model, Variable, gradient
 from ...errors import InputError
 from .._assembly import DofReport, close_constraints, dof_report
 from .._conditions import condition_rows
@@ -328,7 +327,7 @@ def _structure(mech: SpatialMechanism) -> _Structure:
                                 [r.equation for r in rigid_rows], potential=ld.V + elastic)
     condition_values = None
     if conditions:
-        from ...equations._codegen import compile_dense
+        from ...equations import compile_dense
 
         condition_values = compile_dense([symbol(n) for n in closure.names], [e for _, e in conditions])
     st = mech._generated["spatial"] = _Structure(kin, rows, ld.arrows, coords, forces, mass, ld.V, conditions,
