@@ -182,7 +182,7 @@ def test_rigid_mechanisms_keep_their_kinematic_assembly(path, hold):
 def test_cli_simulate_and_freefall_start_from_the_static_pose(tmp_path):
     run = make_runner()
     first = {}
-    for cmd, opt in (("simulate", "--start"), ("freefall", "--from")):
+    for cmd, opt in (("simulate", "--start"), ("freefall", "--start")):
         out = tmp_path / f"{cmd}.csv"
         args = [cmd, LEG, opt, "angle=1.2", "--until", "0.001", "--out", out]
         res = run(*(args + (["--lock", "downlock"] if cmd == "freefall" else ["--no-progress"])))

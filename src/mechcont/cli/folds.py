@@ -24,7 +24,7 @@ from ._run import (
 @cli.command("folds")
 @click.argument("model")
 @common_options
-@click.option("--vary", required=True, metavar="P1", help="Parameter in which the fold is a turning point.")
+@click.option("--vary", required=True, metavar="P1", help="Continuation parameter: the fold is a turning point in it.")
 @click.option("--along", "second", default=None, metavar="P2",
               help="Second parameter, continued along the fold curve (required).")
 @click.option("--solve-for", "old_frees", multiple=True, hidden=True)  # the old spelling of --free here
