@@ -7,7 +7,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from .._status import Status
-from ..equations import EquationSystem, as_model
+from ..equations import EquationSystem, Model, takes_model
 from ..errors import ConvergenceError, InputError
 from ._branch import Branch, SpecialPoint
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent
@@ -130,7 +130,8 @@ def _run(problem: ContinuationProblem, system, u0, options, events, direction, v
                   units={v.name: v.unit for v in system.variables})
 
 
-def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
+@takes_model
+def continuation(system: Model, start, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
                  options: ContinuationOptions | None = None, direction: int = 0,
                  events: Sequence[Event] = (), progress: Callable[[int], None] | None = None) -> Branch:
     """Continue equilibria of ``system`` in the variable ``vary``.
@@ -178,7 +179,7 @@ def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str
         evs = _equilibrium_events(model, opts, evs_, moving=(*unknowns, vary_))
         return _run(problem, model, u0, opts, evs, sense, vary_, unknowns, progress=progress)
 
-    if as_model(system).reselect is not None:  # a choice of dropped rows made again along the branch
+    if system.reselect is not None:  # a choice of dropped rows made again along the branch
         from ._variants import across_variants
 
         return across_variants(piece, system, x0, vary, options, direction, events, unknowns)

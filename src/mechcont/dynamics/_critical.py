@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..equations import Model, takes_model
 from ..errors import InputError
 
 __all__ = ["CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical", "quasi_static_critical"]
@@ -121,7 +122,8 @@ class CriticalAirspeed:
         return lines
 
 
-def critical_airspeed(system, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
+@takes_model
+def critical_airspeed(system: Model, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
                       lock, until: float, values: Mapping[str, float] | None = None, extend: float = 4.0,
                       **options) -> CriticalAirspeed:
     """Bisect on freefall runs for the value of the parameter ``vary`` (an airspeed, m/s) in
@@ -136,10 +138,9 @@ def critical_airspeed(system, start: Mapping[str, float], vary: str, low: float,
     ``options`` go to :func:`~mechcont.dynamics.freefall.freefall`.
     Returns the :class:`CriticalAirspeed` whose ends ``locked`` and ``failed`` are runs made.
     """
-    from ..equations import as_model
     from .freefall import freefall
 
-    model = as_model(system)
+    model = system
     if vary not in model.names or model.variable(vary).kind != "parameter":
         raise InputError("critical", f"{vary} is not a parameter of {model.name}")
     if not (math.isfinite(low) and math.isfinite(high) and low < high):
@@ -215,7 +216,8 @@ class QuasiStaticCritical:
     branch: object
 
 
-def quasi_static_critical(system, travel: str, start_value: float, lock_value: float, vary: str, *,
+@takes_model
+def quasi_static_critical(system: Model, travel: str, start_value: float, lock_value: float, vary: str, *,
                           side: str = "min", values: Mapping[str, float] | None = None, samples: int = 17,
                           options=None) -> QuasiStaticCritical:
     """The airspeed ``vary`` at the extreme of the stall branch over the travel.
@@ -230,11 +232,9 @@ def quasi_static_critical(system, travel: str, start_value: float, lock_value: f
     a negative one reverses the airloads).
     """
     from ..continuation import ContinuationOptions, continuation, find_equilibrium, locate_fold
-    from ..equations import as_model
-
     if side not in ("min", "max"):
         raise InputError("side", f"must be 'min' or 'max', got {side!r}")
-    model = as_model(system)
+    model = system
     if values:
         model = model.with_values(dict(values))
     for n in (travel, vary):

@@ -28,7 +28,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 import sympy as sp
 
-from ..equations import DownlockFacts, EquationSystem, MechanicalModel, Model, StopLimit, ValueFields, Variable, velocity_symbol
+from ..equations import (
+    DamperFacts,
+    DownlockFacts,
+    EquationSystem,
+    MechanicalModel,
+    Model,
+    StopLimit,
+    ValueFields,
+    Variable,
+    velocity_symbol,
+)
 from ..errors import InputError
 from ..units import typical_scale
 from ._assembly import close_constraints, dof_report
@@ -252,7 +262,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
                                   _reaction_text(r)))
     variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc)
     targets, downlock = condition_fields(mech, values)
-    at = partial(value_fields, mech) if mech.conditions else None
+    at = partial(value_fields, mech) if mech.conditions or mech.dampers else None
     if var.model is not None:  # the same structure built before: new values, the same compiled code
         return var.model.evolve(variables=variables, dof=report, conditions=targets, fields_at=at, **downlock)
     dropped = var.dropped
@@ -298,14 +308,14 @@ def condition_and_parameter_variables(mech: Mechanism, conditions, condition_val
 
 def value_fields(mech: Mechanism, values: Mapping[str, float]) -> ValueFields:
     """The fields of a :class:`Model` of ``mech`` that depend on the parameter ``values``:
-    ``conditions`` and, when the description has them, the downlock and the stops
+    ``conditions`` and, when the description has them, the downlock, the stops and the dampers
     (:attr:`Model.fields_at` is this function bound to ``mech``)."""
     targets, downlock = condition_fields(mech, values)
     return {"conditions": targets, **downlock}
 
 
 def condition_fields(mech: Mechanism, values: Mapping[str, float]) -> tuple[dict, dict]:
-    """Each condition's target at ``values``, and the downlock and stop fields of a :class:`Model`
+    """Each condition's target at ``values``, and the downlock, stop and damper fields of a :class:`Model`
     (each only when the description has one)."""
     targets = condition_targets(mech, values)
     downlock: dict = {}
@@ -321,6 +331,11 @@ def condition_fields(mech: Mechanism, values: Mapping[str, float]) -> tuple[dict
                       *(evaluate(mech.value(f"stops.{s.name}.{k}"), values, f"stops.{s.name}.{k}")
                         if s.contact == "compliant" else 0.0 for k in ("stiffness", "damping")))
             for s in mech.stops)
+    if mech.dampers:
+        downlock["dampers"] = tuple(
+            DamperFacts(d.name, *(evaluate(mech.value(f"dampers.{d.name}.{k}"), values, f"dampers.{d.name}.{k}")
+                                  for k in ("c", "c2")))
+            for d in mech.dampers)
     return targets, downlock
 
 

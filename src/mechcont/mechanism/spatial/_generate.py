@@ -261,7 +261,7 @@ class _RowChoice:
         dropped = choose_dropped(st.mechanics.phi_q(x), st.protect)
         if dropped == self.dropped and not force:
             return None
-        keep = ("dof", "conditions", "fields_at", "downlock", "stops")
+        keep = ("dof", "conditions", "fields_at", "downlock", "stops", "dampers")
         new = model if dropped == self.dropped else _variant_model(
             self.mech, st, st.variant(self.mech, dropped), list(model.variables), **{k: getattr(model, k) for k in keep})
         nq = len(st.coords)
@@ -403,5 +403,5 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
         variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc, what))
     variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc)
     targets, downlock = condition_fields(mech, values)
-    at = partial(value_fields, mech) if mech.conditions else None
+    at = partial(value_fields, mech) if mech.conditions or mech.dampers else None
     return _variant_model(mech, st, var, variables, dof=report, conditions=targets, fields_at=at, **downlock)
