@@ -7,7 +7,7 @@ The package is callable: ``mechcont.continuation(system, x0, "F")`` is
 
 import sys
 import types
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from .._lazy import lazy_exports
 from ._api import continuation, continue_folds, locate_fold, switch_branch
@@ -70,7 +70,7 @@ __getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())
 class _CallablePackage(types.ModuleType):
     """This package's type: calling it calls :func:`continuation`."""
 
-    def __call__(self, *args, **kwargs):
+    def __call__(self, *args: Any, **kwargs: Any) -> Branch:
         return continuation(*args, **kwargs)
 
 

@@ -117,7 +117,7 @@ def write_json(path: str | os.PathLike, doc: dict) -> Path:
 
     from .._io import atomic_write
 
-    def write(tmp):
+    def write(tmp: str) -> None:
         with open(tmp, "w") as f:
             json.dump(doc, f, indent=1)
 

@@ -233,7 +233,7 @@ class Model(EquationSystem):
                 out[p] = float(expr.diff(symbols[p]).xreplace(subs))
         return out
 
-    def __setattr__(self, name: str, value) -> None:
+    def __setattr__(self, name: str, value: object) -> None:
         if name not in _declared(type(self)):
             raise AttributeError(f"{type(self).__name__} has no field {name!r}: a model's fields are declared "
                                  f"(make a copy with evolve(...) or declare the field)")

@@ -4,14 +4,18 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["critical_figure"]
 
 
 def critical_figure(dampings: Sequence[float], brackets: Sequence, quasi_static: float, *,
-                    damping_label: str = "damping", airspeed_label: str = "critical airspeed (m/s)", title: str = ""):
+                    damping_label: str = "damping", airspeed_label: str = "critical airspeed (m/s)", title: str = "") -> Figure:
     """Dynamic critical airspeed against damping, with the quasi-static prediction as a line.
 
     ``brackets``: per damping a :class:`CriticalAirspeed` or a pair ``(locked, failed)`` (values run): each
