@@ -85,7 +85,7 @@ class Constraint:
         return f"{self.quantity} {self.sense} {self.bound:g}"
 
 
-@dataclass
+@dataclass(frozen=True)
 class OptimumResult:
     """The outcome of :func:`optimize`.
 

@@ -23,7 +23,7 @@ from ..errors import InputError
 __all__ = ["CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical", "quasi_static_critical"]
 
 
-@dataclass
+@dataclass(frozen=True)
 class CriticalAirspeed:
     """The value of a parameter (an airspeed, m/s) where the freefall outcome changes, bracketed by runs.
 
@@ -199,7 +199,7 @@ def critical_airspeed(system: Model, start: Mapping[str, float], vary: str, low:
     return CriticalAirspeed(vary, a if lo_locks else b, b if lo_locks else a, runs, unsettled, stopped)
 
 
-@dataclass
+@dataclass(frozen=True)
 class QuasiStaticCritical:
     """The quasi-static predictor of the critical airspeed.
 

@@ -52,7 +52,7 @@ class StopLock:
     left: float | None = None
 
 
-@dataclass
+@dataclass(frozen=True)
 class FreefallResult:
     """The outcome of one freefall simulation.
 
