@@ -65,7 +65,7 @@ def static_reactions(model, x, held):
 def spring_laws(model, x, held):
     """``(deflection, reaction / stiffness)`` of each compliant row at ``x``: its residual ``Phi - lambda/k``
     with lambda = 0 is ``Phi``; ``lambda`` from :func:`static_reactions`; ``1/k`` from the row's Jacobian."""
-    from mechcont.mechanism._check import _compliant
+    from mechcont.mechanism import compliant_constraints as _compliant
 
     lam = static_reactions(model, x, held)
     y = np.array(x, float)
@@ -182,7 +182,7 @@ def test_rigid_mechanisms_keep_their_kinematic_assembly(path, hold):
 def test_cli_simulate_and_freefall_start_from_the_static_pose(tmp_path):
     run = make_runner()
     first = {}
-    for cmd, opt in (("simulate", "--start"), ("freefall", "--from")):
+    for cmd, opt in (("simulate", "--start"), ("freefall", "--start")):
         out = tmp_path / f"{cmd}.csv"
         args = [cmd, LEG, opt, "angle=1.2", "--until", "0.001", "--out", out]
         res = run(*(args + (["--lock", "downlock"] if cmd == "freefall" else ["--no-progress"])))
@@ -274,7 +274,7 @@ def test_bennett_linkage_compliant_and_unheld_starts_with_its_deflections_kept()
     nothing holds. Released under gravity, the compliant rows' deflections start with no acceleration
     (``Phi_c'' = Phi_c,q qddot`` at rest, relative to ``qddot``); from the kinematic assembly (deflections
     zero, unloaded) they snap."""
-    from mechcont.mechanism._check import _compliant
+    from mechcont.mechanism import compliant_constraints as _compliant
 
     model = load_model("tests/data/spatial/bennett_compliant.toml")
     q = [model.index(c) for c in model.mechanics.coordinates]

@@ -78,7 +78,7 @@ def run():
     (["--critical", "U=0:1e308"], ["--critical", "U = 1e+308", "not finite"]),
 ])
 def test_hostile_freefall_options_are_one_line(run, args, words):
-    result = run("freefall", PATH, "--from", "angle=1.0", "--lock", "downlock", "--until", "2", *args)
+    result = run("freefall", PATH, "--start", "angle=1.0", "--lock", "downlock", "--until", "2", *args)
     one_line_error(result, *words)
 
 
@@ -91,7 +91,7 @@ def test_hostile_freefall_options_are_one_line(run, args, words):
 def test_stiff_runs_end_with_one_line_naming_the_stiff_element(run, args, words, tmp_path):
     """Each of these ran for hours (an explicit method at the fastest time scale, 1e-11 s to 1e-300 s per step)."""
     out = tmp_path / "h.csv"
-    result = run("freefall", PATH, "--from", "angle=1.0", "--lock", "downlock", "--until", "5", "--out", out, *args)
+    result = run("freefall", PATH, "--start", "angle=1.0", "--lock", "downlock", "--until", "5", "--out", out, *args)
     one_line_error(result, *words)
     if args[0] != "--step-budget":
         assert out.exists() and "history up to there" in result.stderr  # the history up to the stop is kept

@@ -1,9 +1,16 @@
-"""One meaning per option name across the commands (issue 21, item 4), and the old spellings kept for scripts.
+"""One meaning per option name across the commands (issues 21, item 4, and 34, item 4), and the old spellings kept
+for scripts.
 
-``--free`` names a parameter solved for, ``--out`` a file, ``--quiet`` prints nothing but errors, in
-every command that has them; the spellings they replaced (``folds --free P2`` and ``--solve-for``,
-``design --x/--y``, ``paper``/``study --out DIR``, ``simulate``/``sweep``/``animate --quiet``) still work, hidden from the help.
+``--free`` names a parameter solved for, ``--out`` a file, ``--quiet`` prints nothing but errors, ``--start`` a state
+held at a value to find where a command starts (the first solution, the drawn equilibrium, the pose a simulation or
+freefall starts from at rest), ``--hold`` a state held during the analysis, ``--vary`` the continuation parameter (of
+the run, or of the branch read), ``--set`` a parameter's value, ``--point`` a row of a branch table, ``--branch`` a
+branch table, in every command that has them; the spellings they replaced (``folds --free P2`` and ``--solve-for``,
+``design --x/--y``, ``paper``/``study --out DIR``, ``simulate``/``sweep``/``animate --quiet``, ``freefall --from``,
+``study --analysis freefall --hold``) still work, hidden from the help.
 """
+
+import re
 
 import click
 import pytest
@@ -155,3 +162,85 @@ def test_set_moves_what_the_description_writes_in_parameters(run, tmp_path):
         assert R == pytest.approx(m * g * 0.5 / (2 * L), rel=1e-10)
     one_line_error(run("continue", "tests/data/spatial/pendulum_stop_3d.toml", "--stops", "--set", "d_mni=0.5",
                        "--vary", "g", "--bounds", "g=5:15"), "d_mni")
+
+
+#: option name -> what its help and metavar say in every command that shows it: one meaning each
+MEANINGS = {
+    "--start": ("a state held at a value to find where the command starts",
+                lambda p: p.multiple and p.metavar == "NAME=VALUE" and re.search(r"\bheld\b|\bhold\b", p.help, re.I)),
+    "--hold": ("a state held during the analysis",
+               lambda p: p.multiple and p.metavar.startswith("NAME") and re.search(r"\bheld\b", p.help)),
+    "--vary": ("the continuation parameter (of the run, or of the branch read)",
+               lambda p: not p.multiple and re.search(r"continu", p.help, re.I)),
+    "--set": ("a parameter's value, in SI units",
+              lambda p: p.multiple and p.metavar == "NAME=VALUE" and "SI units" in p.help),
+    "--point": ("a row of a branch table", lambda p: (p.metavar or "").startswith("BRANCH.csv:") and "branch" in p.help),
+    "--branch": ("a branch table (CSV)",
+                 lambda p: (p.metavar or "").endswith(".csv") and re.search(r"\bbranch\b", p.help, re.I)),
+}
+
+
+@pytest.mark.parametrize("option", sorted(MEANINGS))
+def test_start_hold_vary_set_point_branch_mean_one_thing(option):
+    meaning, check = MEANINGS[option]
+    shown = _visible_options()[option]
+    assert len(shown) >= 3, option  # shared by several commands: a name worth one meaning
+    wrong = [(command, p.metavar, p.help) for command, p in shown if not check(p)]
+    assert not wrong, f"{option} should be {meaning} in every command: {wrong}"
+
+
+def test_every_command_with_a_start_calls_it_start_and_from_is_hidden():
+    options = _visible_options()
+    assert {c for c, _ in options["--start"]} >= {"continue", "folds", "draw", "simulate", "sweep", "freefall", "study"}
+    assert "--from" not in options
+    _register()
+    hidden = {o for p in cli.commands["freefall"].params if isinstance(p, click.Option) and p.hidden for o in p.opts}
+    assert "--from" in hidden
+
+
+def test_the_meanings_tell_a_wrong_help_apart():
+    """The checks themselves: an option whose help says another thing fails its meaning."""
+    def option(name, help, metavar="NAME=VALUE", multiple=True):
+        return click.Option([name], multiple=multiple, metavar=metavar, help=help)
+
+    assert not MEANINGS["--start"][1](option("--start", "First value of the parameter sweep.", "VALUE", False))
+    assert not MEANINGS["--hold"][1](option("--hold", "Seconds to pause on each special point.", "SECONDS", False))
+    assert not MEANINGS["--vary"][1](option("--vary", "Parameter in which the fold is a turning point.", "P1", False))
+    assert not MEANINGS["--set"][1](option("--set", "Study folder.", "DIR", False))
+    assert not MEANINGS["--branch"][1](option("--branch", "Time history table.", "FILE.csv", False))
+
+
+PENDULUM = "tests/data/freefall_pendulum.toml"
+
+
+def test_freefall_start_and_its_old_spelling_from(run, tmp_path):
+    """``freefall --start`` is the retracted pose (as ``simulate --start``); ``--from``, its old spelling, gives the
+    same run; the two together, or an unknown name, are one line naming the spelling given."""
+    args = ("freefall", PENDULUM, "--lock", "downlock", "--until", 5, "--set", "U=15", "--set", "c=5")
+    new = run(*args, "--start", "angle=1", "--out", tmp_path / "new.csv")
+    old = run(*args, "--from", "angle=1", "--out", tmp_path / "old.csv")
+    assert new.exit_code == 0 and old.exit_code == 0, new.output + old.output
+    assert new.output.replace("new.csv", "old.csv") == old.output and "outcome: locked" in new.output and old.stderr == ""
+    assert (tmp_path / "new.csv").read_text() == (tmp_path / "old.csv").read_text()
+    one_line_error(run(*args, "--start", "angle=1", "--from", "angle=1"), "--start", "--from", "not both")
+    one_line_error(run(*args, "--start", "phi=1"), "--start", "phi is not")
+    one_line_error(run(*args, "--from", "phi=1"), "--from", "phi is not")
+    one_line_error(run(*args), "--start", "retracted pose")
+
+
+def test_study_freefall_start_and_its_old_spelling_hold(run, tmp_path):
+    """A freefall study's released pose is ``--start`` (``--hold``, a downlock condition elsewhere, its old spelling):
+    both give the same samples and outcomes; ``--start`` is refused where nothing is released."""
+    import pandas as pd
+
+    args = ("study", PENDULUM, "--analysis", "freefall", "--dist", "m=normal:6:0.4", "--n", 2, "--lock", "downlock",
+            "--until", 5, "--set", "U=15", "--set", "c=5", "--scheduler", "serial", "--quiet")
+    assert run(*args, "--start", "angle=1", "--dir", tmp_path / "new").exit_code == 0
+    assert run(*args, "--hold", "angle=1", "--dir", tmp_path / "old").exit_code == 0
+    new, old = (pd.read_parquet(tmp_path / k / "results.parquet") for k in ("new", "old"))
+    assert list(new["outcome"]) == list(old["outcome"]) and new["m"].tolist() == old["m"].tolist()
+    assert set(new["outcome"]) == {"locked"}
+    one_line_error(run(*args, "--start", "angle=1", "--hold", "angle=1", "--dir", tmp_path / "a"), "--start", "not both")
+    one_line_error(run(*args, "--start", "phi=1", "--dir", tmp_path / "b"), "--start", "phi is not")
+    one_line_error(run("study", PENDULUM, "--dist", "m=normal:6:0.4", "--n", 2, "--start", "angle=1", "--dir",
+                       tmp_path / "c"), "--start", "--analysis freefall")

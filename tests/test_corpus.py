@@ -163,7 +163,7 @@ def test_leg_falls_onto_its_lock():
     """freefall and simulate --stops: the time and speed of the impact and the lock's reaction."""
     path, run = CORPUS / "freefall_lock_leg.toml", make_runner()
     t_lock, speed, reaction = leg_fall(path)
-    r = run("freefall", path, "--from", "angle=0.3", "--lock", "downlock", "--until", "3")
+    r = run("freefall", path, "--start", "angle=0.3", "--lock", "downlock", "--until", "3")
     assert r.exit_code == 0, r.output
     assert "outcome: locked" in r.output
     assert _number(r"time to lock: (\S+) s", r.output) == pytest.approx(t_lock, rel=1e-5)

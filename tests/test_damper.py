@@ -135,3 +135,26 @@ def test_spatial_damper_takes_the_quadratic_term():
     c = float(c) if c[0].isdigit() else float(x[system.index(c)])  # a number or a parameter's name
     qd = np.random.default_rng(3).normal(size=len(system.mechanics.coordinates))
     _power_check(system, x, qd, name, c, 7000.0)
+
+
+def test_damper_tensions_are_compiled_into_the_model():
+    """A run's damper tensions come from the model's own dampers (``Model.dampers``, compiled from the description
+    when it was built): with the description taken away they still equal the closed form ``c v + c2 v |v|`` at
+    each row; the coefficients follow ``with_values``, and a row that carries other parameter values (a ramp) is
+    taken at those."""
+    from mechcont.dynamics.freefall import DamperTension, damper_tensions
+
+    system = load_model(PATH, c=3.0).with_values({"c2": 1.5})
+    assert [(d.name, d.c, d.c2) for d in system.dampers] == [("retraction", 3.0, 1.5)]
+    t = np.linspace(0.0, 1.0, 11)
+    x0 = assemble(system, {"theta_bar": THETA0}, hold=["theta_bar"])
+    sim = simulate(system, x0, (0.0, t[-1]), rtol=1e-10, atol=1e-12, t_eval=t)
+    bare = system.evolve(mechanism=None)  # as if the description were not at hand
+    T = damper_tensions(bare, sim)["retraction"]
+    expected = [tension(th, om, 3.0, 1.5)[0] for th, om in zip(sim["theta_bar"], sim["theta_bar_dot"])]
+    assert np.max(np.abs(expected)) > 1.0  # the damper strokes: the check can tell
+    assert np.allclose(T, expected, rtol=1e-6, atol=1e-9)
+    row = np.array(sim.values[6], dtype=float)
+    row[bare.index("c")] = 7.0
+    at_row = DamperTension(bare, sim.coordinates)(row, sim.qdot[6])["retraction"]
+    assert at_row == pytest.approx(tension(sim["theta_bar"][6], sim["theta_bar_dot"][6], 7.0, 1.5)[0], rel=1e-6)

@@ -216,7 +216,7 @@ def test_cli_prints_the_balance_in_one_line_and_warns_when_it_does_not_close(tmp
 def test_freefall_cli_prints_the_balance(tmp_path):
     from cli_helpers import make_runner
 
-    res = make_runner()("freefall", "examples/freefall_leg.toml", "--from", "angle=3.0", "--lock", "downlock",
+    res = make_runner()("freefall", "examples/freefall_leg.toml", "--start", "angle=3.0", "--lock", "downlock",
                         "--until", 2.0)
     assert res.exit_code == 0, res.output
     assert len([ln for ln in res.stdout.splitlines() if ln.startswith("# energy [J]: start")]) == 1

@@ -16,9 +16,10 @@ import math
 import pytest
 from scipy.integrate import solve_ivp
 
-from mechcont.dynamics.freefall import critical_airspeed, critical_figure, freefall, quasi_static_critical
+from mechcont.dynamics.freefall import critical_airspeed, freefall, quasi_static_critical
 from mechcont.errors import InputError
 from mechcont.models import load_model
+from mechcont.outputs.critical_plots import critical_figure
 
 PATH = "tests/data/freefall_pendulum.toml"
 M, L, G, BETA, RHO, CD, D = 10.0, 1.0, 9.81, 1.0, 1.225, 1.2, 0.2

@@ -21,7 +21,7 @@ def test_one_run_locks_and_reports(run, tmp_path):
     from mechcont.models import load_model
 
     out, fig = tmp_path / "h.csv", tmp_path / "h.png"
-    res = run("freefall", PATH, "--from", "angle=1", "--lock", "downlock", "--until", 5, "--set", "U=15",
+    res = run("freefall", PATH, "--start", "angle=1", "--lock", "downlock", "--until", 5, "--set", "U=15",
               "--set", "c=5", "--out", out, "--plot", fig)
     assert res.exit_code == 0, res.output
     lines = res.output.splitlines()
@@ -42,7 +42,7 @@ def test_one_run_locks_and_reports(run, tmp_path):
 
 
 def test_stall_is_reported_with_where_it_hangs(run):
-    res = run("freefall", PATH, "--from", "angle=1", "--lock", "downlock", "--until", 40, "--set", f"U={1.02 * U_C}",
+    res = run("freefall", PATH, "--start", "angle=1", "--lock", "downlock", "--until", 40, "--set", f"U={1.02 * U_C}",
               "--set", "c=20")
     assert res.exit_code == 0, res.output
     assert "outcome: at rest short of locking (lock: stop downlock)" in res.output
@@ -50,7 +50,7 @@ def test_stall_is_reported_with_where_it_hangs(run):
 
 def test_critical_airspeed_with_scan_writes_table_and_figure(run, tmp_path):
     out, fig = tmp_path / "c.csv", tmp_path / "c.png"
-    res = run("freefall", PATH, "--from", "angle=1", "--lock", "downlock", "--until", 30, "--critical", "U=24:30",
+    res = run("freefall", PATH, "--start", "angle=1", "--lock", "downlock", "--until", 30, "--critical", "U=24:30",
               "--tol", 0.05, "--scan", "c=2", "--out", out, "--plot", fig)
     assert res.exit_code == 0, res.output
     assert "fold of the stall branch" in res.output
@@ -71,20 +71,20 @@ def test_critical_airspeed_with_scan_writes_table_and_figure(run, tmp_path):
 
 
 @pytest.mark.parametrize("args, words", [
-    (["--from", "angle=1", "--until", 1], ["--lock", "exactly one"]),
-    (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--lock-condition", "angle=-0.5"], ["--lock"]),
-    (["--from", "angle=1", "--until", 1, "--lock", "nope"], ["--lock", "unknown stop 'nope'"]),
-    (["--from", "phi=1", "--until", 1, "--lock", "downlock"], ["--from", "phi is not"]),
-    (["--until", 1, "--lock", "downlock"], ["--from"]),
-    (["--from", "angle=1.2", "--until", 1, "--lock", "downlock"], ["--from", "past the limit of stop uplock"]),
-    (["--from", "angle=1", "--until", -1, "--lock", "downlock"], ["--until"]),
-    (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--critical", "U=30"], ["--critical", "NAME=LO:HI"]),
-    (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--critical", "V=1:2"], ["--critical", "V is not"]),
-    (["--from", "angle=1", "--until", 2, "--lock", "downlock", "--critical", "U=5:6"], ["--critical", "both ends"]),
-    (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--critical", "U=5:6", "--plot", "PLOT"],
+    (["--start", "angle=1", "--until", 1], ["--lock", "exactly one"]),
+    (["--start", "angle=1", "--until", 1, "--lock", "downlock", "--lock-condition", "angle=-0.5"], ["--lock"]),
+    (["--start", "angle=1", "--until", 1, "--lock", "nope"], ["--lock", "unknown stop 'nope'"]),
+    (["--start", "phi=1", "--until", 1, "--lock", "downlock"], ["--start", "phi is not"]),
+    (["--until", 1, "--lock", "downlock"], ["--start"]),
+    (["--start", "angle=1.2", "--until", 1, "--lock", "downlock"], ["--start", "past the limit of stop uplock"]),
+    (["--start", "angle=1", "--until", -1, "--lock", "downlock"], ["--until"]),
+    (["--start", "angle=1", "--until", 1, "--lock", "downlock", "--critical", "U=30"], ["--critical", "NAME=LO:HI"]),
+    (["--start", "angle=1", "--until", 1, "--lock", "downlock", "--critical", "V=1:2"], ["--critical", "V is not"]),
+    (["--start", "angle=1", "--until", 2, "--lock", "downlock", "--critical", "U=5:6"], ["--critical", "both ends"]),
+    (["--start", "angle=1", "--until", 1, "--lock", "downlock", "--critical", "U=5:6", "--plot", "PLOT"],
      ["--plot", "--scan"]),
-    (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--scan", "c=1,2"], ["--scan", "--critical"]),
-    (["--from", "angle=1", "--until", 1, "--lock", "downlock", "--held-by", "angle"], ["--held-by", "angle is not a parameter"]),
+    (["--start", "angle=1", "--until", 1, "--lock", "downlock", "--scan", "c=1,2"], ["--scan", "--critical"]),
+    (["--start", "angle=1", "--until", 1, "--lock", "downlock", "--held-by", "angle"], ["--held-by", "angle is not a parameter"]),
 ])
 def test_bad_input_is_one_line_and_writes_nothing(run, tmp_path, args, words):
     out, fig = tmp_path / "o.csv", tmp_path / "o.png"
@@ -98,7 +98,7 @@ def test_shipped_example_checks_clean_and_locks(run):
     res = run("check", "examples/freefall_leg.toml")
     assert res.exit_code == 0, res.output
     assert "findings: none" in res.output and "downlock  max of angle = 4.45 rad: in contact" in res.output
-    res = run("freefall", "examples/freefall_leg.toml", "--from", "angle=3.0", "--lock", "downlock", "--until", 5,
+    res = run("freefall", "examples/freefall_leg.toml", "--start", "angle=3.0", "--lock", "downlock", "--until", 5,
               "--set", "U=40")
     assert res.exit_code == 0, res.output
     assert "outcome: locked (lock: stop downlock)" in res.output
@@ -123,7 +123,7 @@ def test_held_by_on_a_rigid_leg_is_its_assembly_and_the_same_fall(run):
     held = find_equilibrium(model, hold={"angle": 1.0}, free=["U"], guess=x)
     assert held[model.index("U")] == pytest.approx(math.sqrt(10.0 * 9.81 / (1.225 * 1.2 * 0.2 / 2 * math.cos(1.0))),
                                                    rel=1e-9)
-    args = ["freefall", PATH, "--from", "angle=1", "--lock", "downlock", "--until", 5, "--set", "U=15"]
+    args = ["freefall", PATH, "--start", "angle=1", "--lock", "downlock", "--until", 5, "--set", "U=15"]
     plain, with_held = run(*args), run(*args, "--held-by", "U")
     assert plain.exit_code == 0 and with_held.exit_code == 0, with_held.output
 
@@ -147,7 +147,7 @@ def test_compliant_hinge_released_held_by_the_angle_or_by_the_actuator(run):
     from mechcont.models import load_model
 
     path = "tests/data/freefall_compliant_leg.toml"
-    args = ("freefall", path, "--from", "angle=1.2", "--lock", "downlock", "--until", "0.002")
+    args = ("freefall", path, "--start", "angle=1.2", "--lock", "downlock", "--until", "0.002")
     plain, held = run(*args), run(*args, "--held-by", "F_act")
     assert plain.exit_code == 0 and held.exit_code == 0, plain.output + held.output
     assert "compliant joints" not in plain.output + held.output

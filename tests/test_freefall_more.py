@@ -77,16 +77,16 @@ def test_cli_lock_repeatable_and_one_line_errors():
     from cli_helpers import make_runner, one_line_error
 
     run = make_runner()
-    r = run("freefall", TWO, "--from", "angle1=1", "--from", "angle2=1", "--lock", "lock1", "--lock", "lock2",
+    r = run("freefall", TWO, "--start", "angle1=1", "--start", "angle2=1", "--lock", "lock1", "--lock", "lock2",
             "--until", 3)
     assert r.exit_code == 0, r.output
     lib = freefall(load_model(TWO), {"angle1": BETA, "angle2": BETA}, lock=["lock1", "lock2"], until=3.0)
     (line,) = [ln for ln in r.output.splitlines() if ln.endswith(" s apart")]
     assert float(line.split()[1]) == pytest.approx(lib.lock_spread, rel=1e-5)
     assert "stop lock2: locked at " in r.output and "impact speed" in r.output
-    one_line_error(run("freefall", TWO, "--from", "angle1=1", "--lock", "lock1", "--lock", "lock9", "--until", 3),
+    one_line_error(run("freefall", TWO, "--start", "angle1=1", "--lock", "lock1", "--lock", "lock9", "--until", 3),
                    "--lock", "'lock9'", "lock1, lock2")
-    one_line_error(run("freefall", TWO, "--from", "angle1=1", "--lock", "lock1", "--lock-condition", "angle1=0",
+    one_line_error(run("freefall", TWO, "--start", "angle1=1", "--lock", "lock1", "--lock-condition", "angle1=0",
                        "--until", 3), "--lock", "exactly one")
 
 

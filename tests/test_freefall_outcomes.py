@@ -69,7 +69,7 @@ def test_nose_gear_at_125_leaves_its_downlock_and_is_still_moving(tmp_path):
 
     path = tmp_path / "nose_gear_freefall.toml"
     path.write_text(description_text())
-    res = make_runner()("freefall", path, "--from", f"fitting={THETA_UP}", "--lock", "downlock", "--until", 2.5,
+    res = make_runner()("freefall", path, "--start", f"fitting={THETA_UP}", "--lock", "downlock", "--until", 2.5,
                         "--set", "U=125")
     assert res.exit_code == 0, res.output
     lines = res.output.splitlines()

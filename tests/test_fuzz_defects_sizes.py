@@ -54,9 +54,9 @@ def test_limits_leave_the_shipped_descriptions_alone():
 def test_a_scan_of_1000_values_is_refused_before_any_run(tmp_path):
     values = ",".join(str(1 + i / 1000) for i in range(1000))
     t0 = time.perf_counter()
-    r = run("freefall", "nose_gear", "--from", "theta1=1", "--lock", "downlock", "--until", 1, "--critical", "U=0:100",
+    r = run("freefall", "nose_gear", "--start", "theta1=1", "--lock", "downlock", "--until", 1, "--critical", "U=0:100",
             "--scan", f"c={values}", "--out", tmp_path / "c.csv")
     one_line_error(r, "--scan", "1000 values", "at most 50", "--max-scan")
     assert time.perf_counter() - t0 < 10 and list(tmp_path.iterdir()) == []
-    r = run("freefall", "nose_gear", "--from", "theta1=1", "--until", 1, "--scan", "c=1,2", "--max-scan", "0")
+    r = run("freefall", "nose_gear", "--start", "theta1=1", "--until", 1, "--scan", "c=1,2", "--max-scan", "0")
     assert r.exit_code == 2 and "--max-scan" in r.output

@@ -57,7 +57,7 @@ def test_the_method_reaches_the_integrator(run):
 
 @pytest.mark.parametrize("method", ["DOP853", "Radau", "LSODA"])
 def test_freefall_method_and_atol_meet_the_energy_impact_speed(run, method):
-    res = run("freefall", PENDULUM, "--from", "angle=1", "--lock", "downlock", "--until", 3, "--set", "U=0",
+    res = run("freefall", PENDULUM, "--start", "angle=1", "--lock", "downlock", "--until", 3, "--set", "U=0",
               "--set", "c=0", "--method", method, "--atol", 1e-11)
     assert res.exit_code == 0, res.output
     (line,) = [ln for ln in res.output.splitlines() if ln.startswith("impact speed at the lock: ")]
@@ -82,7 +82,7 @@ COMMANDS = {
     "simulate": ("simulate", BAR, "--start", "theta_bar=0", "--until", 0.1, "--no-progress"),
     "sweep": ("sweep", "overcentre", "--start", "theta1=1.2", "--ramp", "F=-65:-66:1", "--watch", "theta1",
               "--no-progress"),
-    "freefall": ("freefall", PENDULUM, "--from", "angle=1", "--lock", "downlock", "--until", 0.1),
+    "freefall": ("freefall", PENDULUM, "--start", "angle=1", "--lock", "downlock", "--until", 0.1),
 }
 
 

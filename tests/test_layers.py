@@ -142,3 +142,227 @@ def test_the_contract_finds_an_upward_import(tmp_path):
         "equations/_model.py:4 imports analysis (equations may import only lower layers)",
         "mechanism/_lazy.py:2 imports analysis (mechanism may import only lower layers)",
     ]
+
+
+# -- private modules, circles, third-party libraries and file sizes (issue 34, item 6) ----------------------------
+def _private(part: str) -> bool:
+    return part.startswith("_") and not (part.startswith("__") and part.endswith("__"))
+
+
+def private_imports(root: Path) -> list[str]:
+    """Every import (anywhere in a file) of another package's private module or private name: ``from
+    ..continuation._branch import x`` or ``from ..equations import _deferred`` in ``mechanism``; a package
+    offers what others use in its ``__init__`` (or a public module). The top-level private modules
+    (``_io``, ``_dense``, ``_status``, ...) are the shared base layer, not another package's insides."""
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        rel = path.relative_to(root)
+        own = rel.parts[0] if len(rel.parts) > 1 else None
+        package = [root.name, *rel.parent.parts]
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom):
+                base = package[: len(package) - node.level + 1] if node.level else []
+                imported = [([*base, *(node.module.split(".") if node.module else [])], [a.name for a in node.names])]
+            elif isinstance(node, ast.Import):
+                imported = [(a.name.split("."), []) for a in node.names]
+            else:
+                continue
+            for module, names in imported:
+                if module[:1] != [root.name] or len(module) < 2 or not (root / module[1]).is_dir() or module[1] == own:
+                    continue
+                if any(_private(p) for p in module[2:]) or any(_private(n) for n in names):
+                    found.append(f"{rel}:{node.lineno} imports {'.'.join(module)} {names}")
+    return found
+
+
+def test_no_package_imports_another_packages_private_module():
+    assert private_imports(SRC) == []
+
+
+def test_the_private_import_rule_finds_them(tmp_path):
+    root = tmp_path / "mechcont"
+    for package in ("equations", "mechanism"):
+        (root / package).mkdir(parents=True)
+    (root / "_io.py").write_text("")
+    (root / "mechanism" / "a.py").write_text("from ..equations._codegen import f\nfrom ..equations import _deferred, g\n"
+                                             "from .._io import atomic_write\nfrom ._b import h\n"
+                                             "from .._version import __version__\n"
+                                             "def k():\n    import mechcont.equations._cache\n")
+    assert private_imports(root) == ["mechanism/a.py:1 imports mechcont.equations._codegen ['f']",
+                                     "mechanism/a.py:2 imports mechcont.equations ['_deferred', 'g']",
+                                     "mechanism/a.py:7 imports mechcont.equations._cache []"]
+
+
+def import_circles(root: Path) -> list[list[str]]:
+    """The import circles between the files of one package, each as its modules (sorted).
+
+    Counted at file level: an edge ``a -> b`` is an import of module ``b`` (of the same top-level package) that
+    runs when ``a`` is imported: a statement at module level, also inside ``if``/``try``/``with``, but not in a
+    function or class body (there it is a lazy dependency, taken on first use) nor under ``TYPE_CHECKING``.
+    ``from . import x`` and ``from .x import y`` are edges to ``x``; a circle is a strongly connected set."""
+    modules = {}
+    for path in root.rglob("*.py"):
+        parts = [root.name, *path.relative_to(root).with_suffix("").parts]
+        modules[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+
+    def runs_at_import(body):
+        for node in body:
+            if isinstance(node, (ast.Import, ast.ImportFrom)):
+                yield node
+            elif isinstance(node, ast.If):
+                test = node.test
+                if getattr(test, "id", getattr(test, "attr", None)) != "TYPE_CHECKING":
+                    yield from runs_at_import(node.body)
+                yield from runs_at_import(node.orelse)
+            elif isinstance(node, ast.Try):
+                for block in (node.body, *(h.body for h in node.handlers), node.orelse, node.finalbody):
+                    yield from runs_at_import(block)
+            elif isinstance(node, ast.With):
+                yield from runs_at_import(node.body)
+
+    edges: dict[str, set[str]] = {}
+    for name, path in modules.items():
+        package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+        out = edges.setdefault(name, set())
+        for node in runs_at_import(ast.parse(path.read_text(encoding="utf-8")).body):
+            if isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            else:
+                base = package[: len(package) - node.level + 1] if node.level else []
+                module = ".".join([*base, *(node.module.split(".") if node.module else [])])
+                targets = [f"{module}.{a.name}" if f"{module}.{a.name}" in modules else module for a in node.names]
+            for target in targets:
+                while target not in modules and "." in target:
+                    target = target.rsplit(".", 1)[0]
+                if target in modules and target != name and target.split(".")[:2] == name.split(".")[:2]:
+                    out.add(target)
+    # strongly connected components (Tarjan), iteratively
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    circles = []
+    for start in sorted(edges):
+        if start in index:
+            continue
+        work = [(start, iter(sorted(edges[start])))]
+        index[start] = low[start] = len(index)
+        stack.append(start)
+        while work:
+            node, children = work[-1]
+            child = next(children, None)
+            if child is not None:
+                if child not in index:
+                    index[child] = low[child] = len(index)
+                    stack.append(child)
+                    work.append((child, iter(sorted(edges[child]))))
+                elif child in stack:
+                    low[node] = min(low[node], index[child])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                component = []
+                while True:
+                    member = stack.pop()
+                    component.append(member)
+                    if member == node:
+                        break
+                if len(component) > 1:
+                    circles.append(sorted(component))
+    return circles
+
+
+def test_no_import_circle_between_the_files_of_a_package():
+    assert import_circles(SRC) == []
+
+
+def test_the_circle_finder_finds_one(tmp_path):
+    """The checker itself: a circle of module-level imports is found (through a package's ``__init__`` too);
+    one closed only inside a function or under ``TYPE_CHECKING`` is not a circle."""
+    root = tmp_path / "mechcont"
+    (root / "a" / "sub").mkdir(parents=True)
+    (root / "__init__.py").write_text("")
+    (root / "a" / "__init__.py").write_text("from .x import f\n")
+    (root / "a" / "x.py").write_text("from .sub import g\n\ndef f():\n    pass\n")
+    (root / "a" / "sub" / "__init__.py").write_text("from .y import g\n")
+    (root / "a" / "sub" / "y.py").write_text("from typing import TYPE_CHECKING\nfrom .. import x\n\ndef g():\n    pass\n")
+    (root / "a" / "z.py").write_text("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from .w import h\n"
+                                     "def k():\n    from .w import h\n")
+    (root / "a" / "w.py").write_text("from .z import k\n")
+    assert import_circles(root) == [["mechcont.a.sub", "mechcont.a.sub.y", "mechcont.a.x"]]
+
+
+#: third-party libraries and the packages that may import them (anywhere in a file): plotting draws outputs,
+#: SymPy/SymEngine build equations, click parses the command line
+THIRD_PARTY = {
+    "matplotlib": ("outputs", "paper"),
+    "sympy": ("equations", "mechanism", "models"),
+    "symengine": ("equations",),
+    "click": ("cli",),
+}
+
+
+def third_party_violations(root: Path) -> list[str]:
+    """Every import of a library of :data:`THIRD_PARTY` outside the packages allowed it."""
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        rel = path.relative_to(root)
+        own = rel.parts[0] if len(rel.parts) > 1 else rel.stem
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                libraries = [a.name.split(".")[0] for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+                libraries = [node.module.split(".")[0]]
+            else:
+                continue
+            for library in libraries:
+                if library in THIRD_PARTY and own not in THIRD_PARTY[library]:
+                    found.append(f"{rel}:{node.lineno} imports {library} (only {', '.join(THIRD_PARTY[library])})")
+    return found
+
+
+def test_third_party_libraries_stay_in_their_packages():
+    assert third_party_violations(SRC) == []
+
+
+def test_the_third_party_rule_finds_a_plot_in_dynamics(tmp_path):
+    root = tmp_path / "mechcont"
+    (root / "dynamics").mkdir(parents=True)
+    (root / "outputs").mkdir()
+    (root / "dynamics" / "a.py").write_text("def f():\n    import matplotlib.pyplot as plt\n")
+    (root / "dynamics" / "b.py").write_text("from sympy import Symbol\nimport numpy\n")
+    (root / "outputs" / "c.py").write_text("import matplotlib\n")
+    assert third_party_violations(root) == ["dynamics/a.py:2 imports matplotlib (only outputs, paper)",
+                                            "dynamics/b.py:1 imports sympy (only equations, mechanism, models)"]
+
+
+#: the limit on a source file's length (lines, blank and comment lines counted)
+MAX_LINES = 500
+#: the files over :data:`MAX_LINES` when the rule came (issue 34), with their lines then: a file may stay over the
+#: limit only while it is here, and may not grow. The list only shrinks: a file split below the limit must leave
+#: it, and :data:`LONG_FILES` may never hold a file that is not in :data:`LONG_FILES_AT_START` (never add to either).
+LONG_FILES_AT_START = {
+    "equations/_system.py": 663,
+    "outputs/drawing.py": 648,
+    "outputs/animation.py": 630,
+    "equations/_mechanics.py": 621,
+    "continuation/_palc.py": 552,
+    "equations/_cache.py": 528,
+}
+LONG_FILES = dict(LONG_FILES_AT_START)
+
+
+def _lines(path: Path) -> int:
+    return len(path.read_text(encoding="utf-8").splitlines())
+
+
+def test_no_file_over_500_lines_but_the_shrinking_allowlist():
+    assert LONG_FILES.keys() <= LONG_FILES_AT_START.keys(), "a file may leave LONG_FILES, never join it"
+    lines = {str(p.relative_to(SRC)): _lines(p) for p in sorted(SRC.rglob("*.py"))}
+    too_long = {f: n for f, n in lines.items() if n > MAX_LINES and f not in LONG_FILES}
+    assert not too_long, f"over {MAX_LINES} lines (split them: one job per module): {too_long}"
+    grown = {f: (lines[f], LONG_FILES[f]) for f in LONG_FILES if f in lines and lines[f] > LONG_FILES[f]}
+    assert not grown, f"allowed long files grew (lines now, allowed): {grown}"
+    short = [f for f in LONG_FILES if lines.get(f, 0) <= MAX_LINES]
+    assert not short, f"{short} no longer over {MAX_LINES} lines (or gone): remove them from LONG_FILES"

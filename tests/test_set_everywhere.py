@@ -82,7 +82,7 @@ COMMANDS = {
                  "sim.csv"),
     "sweep": (["sweep", "{model}", "--start", "theta_bar=0.2", "--ramp", "F=0:20:40", "--watch", "theta_bar",
                "--stops", "--out", "{out}"], "sw.csv"),
-    "freefall": (["freefall", "{model}", "--from", "angle=-0.3", "--lock", "top", "--until", "1", "--out", "{out}"],
+    "freefall": (["freefall", "{model}", "--start", "angle=-0.3", "--lock", "top", "--until", "1", "--out", "{out}"],
                  "ff.csv"),
     "draw": (["draw", "{model}", "--start", "theta_bar=0.2", "--free", "F", "--out", "{out}"], "w.png"),
 }
@@ -226,9 +226,9 @@ def test_study_follows_the_stop_limit(tmp_path):
 
 
 @pytest.mark.parametrize("args, words", [
-    (["freefall", "examples/freefall_leg.toml", "--from", "angle=3.0", "--lock", "downlock", "--until", "1",
+    (["freefall", "examples/freefall_leg.toml", "--start", "angle=3.0", "--lock", "downlock", "--until", "1",
       "--critical", "U=0:100", "--scan", "c_ret=-1,2"], ["--scan", "damping", "non-negative"]),
-    (["freefall", "examples/freefall_leg.toml", "--from", "angle=3.0", "--lock", "downlock", "--until", "1",
+    (["freefall", "examples/freefall_leg.toml", "--start", "angle=3.0", "--lock", "downlock", "--until", "1",
       "--critical", "U=0:100", "--scan", "U=1,2"], ["--scan", "U", "bisects"]),
     (["equations", "dual_sidestay_kinematics", "--set", "fwd_L1=-1.15"], ["--set", "fwd_L1", "positive"]),
     (["optimize", str(MODEL), "--minimize", "M0", "--design", "c_d=-1:2"], ["--design", "damping"]),

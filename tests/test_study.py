@@ -139,3 +139,20 @@ def test_probability_and_sensitivity(serial):
     # no effect: its coefficient is within the regression's sampling noise, 4 standard errors
     assert abs(ranking[-1].src) < 4 * np.sqrt((1 - r2) / len(df))
     assert ranking[0].spearman < -0.9  # more spring free length, less pull over centre
+
+
+def test_the_sampled_sensitivity_has_its_own_name():
+    """Two classes were named ``Sensitivity`` (the engine's exact derivatives, a study's regression): the study's
+    is ``SampledSensitivity`` (its old name kept as an alias), and the slope it reports is the regression's."""
+    import numpy as np
+    import pandas as pd
+
+    from mechcont.analysis.study import SampledSensitivity, Sensitivity, sensitivity
+    from mechcont.continuation import Sensitivity as Exact
+
+    assert SampledSensitivity.__name__ != Exact.__name__ and Sensitivity is SampledSensitivity
+    rng = np.random.default_rng(1)
+    a = rng.normal(size=200)
+    df = pd.DataFrame({"a": a, "downlock_force": 3.0 * a + 0.01 * rng.normal(size=200), "status": "converged"})
+    (only,), r2 = sensitivity(df, ["a"])
+    assert isinstance(only, SampledSensitivity) and only.slope == pytest.approx(3.0, rel=1e-2) and r2 > 0.99

@@ -133,7 +133,7 @@ def test_a_freefall_in_any_units(tmp_path, scale):
     run = make_runner()
 
     def fall(path, u):
-        r = run("freefall", path, "--from", "angle=3.0", "--lock", "downlock", "--until", "3", "--set", f"U={u}")
+        r = run("freefall", path, "--start", "angle=3.0", "--lock", "downlock", "--until", "3", "--set", f"U={u}")
         assert r.exit_code == 0, r.output
         assert "outcome: locked" in r.output
         return (_number(r"time to lock: (\S+) s", r.output), _number(r"impact speed at the lock: (\S+) rad/s", r.output),

@@ -18,6 +18,7 @@ import re
 import stat
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import overload
 
 from ._signals import process_state, raise_pending
 from .errors import InputError
@@ -55,6 +56,13 @@ def _folder_problem(folder: Path) -> str | None:
     return None
 
 
+@overload
+def check_output_path(path: str | os.PathLike, option: str, suffixes: Sequence[str] | None = None) -> Path: ...
+@overload
+def check_output_path(path: None, option: str, suffixes: Sequence[str] | None = None) -> None: ...
+@overload
+def check_output_path(path: str | os.PathLike | None, option: str,
+                      suffixes: Sequence[str] | None = None) -> Path | None: ...
 def check_output_path(path: str | os.PathLike | None, option: str,
                       suffixes: Sequence[str] | None = None) -> Path | None:
     """Check that the output file ``path`` (given by ``option``, e.g. ``"--out"``) can be written.

@@ -8,6 +8,7 @@ files written before the enum read back; :attr:`Status.message` explains it (sci
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from enum import StrEnum
 
 from .errors import InputError
@@ -59,7 +60,7 @@ class Status(StrEnum):
             raise InputError("status", f"unknown status '{value}'; valid: {', '.join(m.value for m in cls)}") from None
 
     @classmethod
-    def first_failure(cls, statuses) -> Status:
+    def first_failure(cls, statuses: Iterable[Status | str]) -> Status:
         """The status of a result made of parts (a branch's two directions): :attr:`COMPLETED`
         when every part completed, else the first part's that did not."""
         return next((s for s in map(cls.of, statuses) if s is not cls.COMPLETED), cls.COMPLETED)

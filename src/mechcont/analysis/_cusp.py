@@ -9,9 +9,16 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from ..continuation._fold_point import fold_scaling
-from ..continuation._scaling import equilibrate
-from ..continuation._sensitivity import Sensitivity, _columns, _solve, _state_table, _units, check_parameters
+from ..continuation import (
+    Sensitivity,
+    check_parameters,
+    derivative_units,
+    equilibrate,
+    fold_scaling,
+    solve_equilibrated,
+    state_table,
+    variable_indices,
+)
 from ..equations import Model
 from ..errors import ConvergenceError
 
@@ -54,7 +61,7 @@ class _Cusp:
 
     def __init__(self, system: Model, x: np.ndarray, states: Sequence[str], vary: str, second: str):
         self.system = system
-        self.s_idx = _columns(system, states)
+        self.s_idx = variable_indices(system, states)
         self.N, self.n = len(x), len(states)
         idx = np.concatenate([self.s_idx, [system.index(vary)]])
         _, col = fold_scaling(system, x, idx)
@@ -99,7 +106,7 @@ class _Cusp:
             K[:m, :m], K[:m, m] = A, JR[:, self.y]
             K[m:2 * m, :m], K[m:2 * m, m], K[m:2 * m, m + 1:] = M[:, self.z_idx], M[:, self.y], A * col
             K[2 * m, m + 1:] = ph
-            d = -_solve(K, res[:, None], np.zeros(2 * m + 1, dtype=bool), "cusp location")[:, 0]
+            d = -solve_equilibrated(K, res[:, None], np.zeros(2 * m + 1, dtype=bool), "cusp location")[:, 0]
             E[self.z_idx] += d[:m]
             E[self.y] += d[m]
             ph = ph + d[m + 1:]
@@ -142,7 +149,7 @@ def cusp_sensitivity(system: Model, x: np.ndarray, states: Sequence[str], vary: 
     E, phi = cusp.locate()
     R, JR = cusp.evaluate(E)
     A = JR[:, cusp.z_idx]
-    p_idx = _columns(system, params)
+    p_idx = variable_indices(system, params)
     row, col = equilibrate(A)
     u, _, _ = np.linalg.svd(A * row[:, None] * col)
     psi = row * u[:, -1]
@@ -156,10 +163,10 @@ def cusp_sensitivity(system: Model, x: np.ndarray, states: Sequence[str], vary: 
     K[2 * m, m + 1:] = ph / (col * col)  # |phi_hat|^2 with phi_hat = phi / col
     B = np.zeros((2 * m + 1, len(params)))
     B[:m], B[m:2 * m] = JR[:, p_idx], M[:, p_idx]
-    D = -_solve(K, B, np.zeros(2 * m + 1, dtype=bool), "cusp sensitivity")
+    D = -solve_equilibrated(K, B, np.zeros(2 * m + 1, dtype=bool), "cusp sensitivity")
     names = [*states, vary, second]
     rows = np.vstack([D[:cusp.n + 1], D[m]])
     xc = E[:cusp.N]
     return Sensitivity(second, float(xc[cusp.y]), system.variable(second).unit, "cusp",
-                       {p: float(d) for p, d in zip(params, exact)}, _units(system, second, params),
-                       _state_table(names, params, rows), xc.copy())
+                       {p: float(d) for p, d in zip(params, exact)}, derivative_units(system, second, params),
+                       state_table(names, params, rows), xc.copy())

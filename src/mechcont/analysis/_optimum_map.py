@@ -20,7 +20,7 @@ if TYPE_CHECKING:
 __all__ = ["OptimumMap", "optimum_map"]
 
 
-@dataclass
+@dataclass(frozen=True)
 class OptimumMap:
     """An optimum over two design parameters drawn on their design map.
 

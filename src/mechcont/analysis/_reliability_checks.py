@@ -44,7 +44,7 @@ class ImportanceSampling:
     hits: int = -1
 
 
-@dataclass
+@dataclass(frozen=True)
 class MonteCarlo:
     """A plain Monte Carlo estimate: ``failures`` of ``n`` solved samples (``failed`` not solved),
     ``probability = failures / n`` and its standard error ``sqrt(p (1 - p) / n)``."""

@@ -8,7 +8,7 @@ what a release or a cusp is belongs to this layer (stops, cusp conditions). Impo
 
 from __future__ import annotations
 
-from ..continuation._sensitivity import SPECIAL_POINTS
+from ..continuation import SPECIAL_POINTS
 
 
 def _release_or_cusp(*args):

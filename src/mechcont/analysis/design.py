@@ -31,7 +31,7 @@ from .downlock import downlock, downlock_condition, downlock_point, downlocked_p
 __all__ = ["FoldLocus", "DesignRow", "DesignRegion", "fold_locus", "design_region"]
 
 
-@dataclass
+@dataclass(frozen=True)
 class FoldLocus:
     """Folds of the downlock force with respect to a design parameter.
 
@@ -99,7 +99,7 @@ class DesignRow:
         return self.margin_to_zero if self.locks_unaided else -self.margin_to_zero
 
 
-@dataclass
+@dataclass(frozen=True)
 class DesignRegion:
     """Downlock force over a plane of two design parameters, the F = 0 boundary and the folds.
 
@@ -256,6 +256,7 @@ def _intervals(x, F):
             if pos[i]:
                 start = xc
             else:
+                assert start is not None  # F > 0 at x[i - 1]: its interval began there or before
                 out.append((float(start), float(xc)))
                 start = None
     if start is not None:

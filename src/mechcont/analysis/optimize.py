@@ -28,14 +28,19 @@ import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .._lazy import lazy_exports
 from ..equations import Model
 from ..errors import ConvergenceError, InputError
 from ._stop_quantities import stop_reactions
 from .sensitivity import Sensitivity, downlock_sensitivity, fold_sensitivity, write_json
 from .study._spec import Distribution
+
+if TYPE_CHECKING:
+    from ._optimum_map import OptimumMap, optimum_map
 
 __all__ = ["Constraint", "OptimumResult", "optimize", "QUANTITIES", "NOT_LOCKING", "BETA", "OptimumMap", "optimum_map"]
 
@@ -80,7 +85,7 @@ class Constraint:
         return f"{self.quantity} {self.sense} {self.bound:g}"
 
 
-@dataclass
+@dataclass(frozen=True)
 class OptimumResult:
     """The outcome of :func:`optimize`.
 
@@ -252,7 +257,7 @@ class _Quantities:
         if name == "fold_load":
             if self.fold is None:
                 raise InputError("fold_load", "needs a start fold (a point labelled LP of a branch)")
-            from ..continuation._move import move_point
+            from ..continuation import move_point
 
             x, states, vary = self.fold
             # followed from the last design to this one as a fold (never re-polished blindly: it could land on
@@ -489,5 +494,5 @@ def _multipliers(design, t, lo, hi, at, objective, constraints, g_scale, tol: fl
     return [(w, float(m) + 0.0) for w, m in zip(what, mu)]
 
 
-# the design map of an optimum builds on this module
-from ._optimum_map import OptimumMap, optimum_map  # noqa: E402
+# the design map of an optimum builds on this module (_optimum_map imports it): imported on first use
+__getattr__, __dir__ = lazy_exports(__package__, dict.fromkeys(["OptimumMap", "optimum_map"], "_optimum_map"), globals())

@@ -113,7 +113,7 @@ class Variables:
                          np.full(np.shape(u[..., j]), fr.std()) for j, fr in enumerate(self.frozen)]).T
 
 
-@dataclass
+@dataclass(frozen=True)
 class DesignPoint:
     """The most probable failure point found by :func:`form`.
 

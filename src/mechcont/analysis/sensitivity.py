@@ -14,19 +14,19 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..continuation import choose_unknowns
-from ..continuation._fold_point import polish_fold
-from ..continuation._sensitivity import (
+from ..continuation import (
     Sensitivity,
     check_parameters,
-    derivative_unit,
+    choose_unknowns,
     equilibrium_sensitivity,
     fold_sensitivity,
     point_sensitivity,
+    polish_fold,
     write_json,
 )
 from ..equations import Model
 from ..errors import InputError
+from ..units import derivative_unit
 from .unlock import B
 
 __all__ = ["Sensitivity", "equilibrium_sensitivity", "fold_sensitivity", "downlock_sensitivity", "point_sensitivity",

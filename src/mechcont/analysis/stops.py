@@ -40,9 +40,17 @@ from itertools import combinations
 import numpy as np
 
 from .._status import Status
-from ..continuation import Branch, ContinuationOptions, FoldEvent, SpecialPoint, ValueEvent, continuation, find_equilibrium
-from ..continuation._problem import choose_unknowns
-from ..continuation._variants import travel as _travel
+from ..continuation import (
+    Branch,
+    ContinuationOptions,
+    FoldEvent,
+    SpecialPoint,
+    ValueEvent,
+    choose_unknowns,
+    continuation,
+    find_equilibrium,
+)
+from ..continuation import travel as _travel
 from ..equations import Model, StopLimit
 from ..errors import ConvergenceError, InputError
 from ._stop_search import (

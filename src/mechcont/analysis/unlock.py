@@ -31,7 +31,7 @@ B = TypeVar("B", Branch, "DownlockResult")
 __all__ = ["UnlockFolds", "unlock_folds", "unlock_force_along", "with_unlock_columns"]
 
 
-@dataclass
+@dataclass(frozen=True)
 class UnlockFolds:
     """The folds that bound the locked state through a downlocked point.
 

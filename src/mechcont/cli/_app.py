@@ -15,6 +15,8 @@ import os
 import signal
 import sys
 import threading
+from collections.abc import Sequence
+from typing import Any
 
 import click
 
@@ -66,11 +68,12 @@ class _Group(click.Group):
         _register()
         return super().list_commands(ctx)
 
-    def main(self, args=None, prog_name=None, standalone_mode=True, **extra):
+    def main(self, args: Sequence[str] | None = None, prog_name: str | None = None, complete_var: str | None = None,
+             standalone_mode: bool = True, **extra: Any) -> Any:
         if not standalone_mode:
-            return super().main(args, prog_name, standalone_mode=False, **extra)
+            return super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
         try:
-            rv = super().main(args, prog_name, standalone_mode=False, **extra)
+            rv = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
             raise_pending()
             raise_held()
         except click.exceptions.Exit as exc:
@@ -97,7 +100,7 @@ class _Group(click.Group):
                 _fail_for_signal()
             # the file system refused (disk full, permissions changed during the run, ...)
             what = f"'{exc.filename}'" if exc.filename else "a file"
-            _fail(f"cannot write or read {what}: {exc.strerror or errno.errorcode.get(exc.errno, exc)}", 2)
+            _fail(f"cannot write or read {what}: {exc.strerror or errno.errorcode.get(exc.errno or -1, exc)}", 2)
         except Exception:
             # a signal that arrived while a library was mid-update (Matplotlib's transforms)
             # can surface as that library's error when it goes on: the signal is the cause

@@ -107,7 +107,7 @@ def integrator_options(f):
     """The integrator options of the time-simulation commands: ``--method``, ``--rtol``, ``--atol``."""
     import click
 
-    from ..dynamics._simulate import METHODS
+    from ..dynamics import METHODS
 
     opts = [click.option("--method", default=METHOD, show_default=True, metavar="|".join(METHODS),
                          help="Integrator method (SciPy's names; Radau, BDF or LSODA for a stiff mechanism)."),
@@ -122,7 +122,7 @@ def integrator_options(f):
 def integrator(method: str, rtol: float, atol: float) -> dict:
     """``{"method", "rtol", "atol"}`` checked (:func:`mechcont.dynamics._simulate.check_integrator`), an error
     naming the option."""
-    from ..dynamics._simulate import check_integrator
+    from ..dynamics import check_integrator
 
     with named_as({"method": "--method", "rtol": "--rtol", "atol": "--atol"}):
         check_integrator(method, rtol, atol)

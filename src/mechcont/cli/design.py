@@ -25,7 +25,8 @@ from .downlock import model_and_condition, warn
               help="Ranges of both design parameters (finite).")
 @click.option("--levels", default=11, show_default=True, type=int, help="Number of levels of the second parameter.")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Set a parameter (SI units, radians).")
-@click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE", help="Downlock condition (default: the model's).")
+@click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE",
+              help="Downlock condition: a state held at a value (default: the model's).")
 @click.option("--condition", default=None, metavar="NAME",
               help="Downlock condition: a condition declared under [conditions], held at its target.")
 @click.option("--force", default=None, metavar="NAME", help="The downlock force (default: the model's, F).")

@@ -135,16 +135,16 @@ def animate_command(model, branch_csv, out, fps, every, pause, old_hold, annotat
     if vary is not None:
         system.index(vary)
     frames = branch_frames(system, branch_csv)
-    if diagram is not None and diagram.strip().lower() == "none":
-        pair = None
-    else:
-        pair = _names(diagram, "diagram") or None
-        if pair is None:  # the continuation parameter against the first annotated state
-            x = vary or frames.vary
-            y = next((n for n in names if n != x and system.variable(n).kind == "state"), None)
-            pair = (x, y) if x and y else None
-        if pair is not None and len(pair) != 2:
+    pair: tuple[str, str] | None = None
+    if diagram is None:  # the continuation parameter against the first annotated state
+        x = vary or frames.vary
+        y = next((n for n in names if n != x and system.variable(n).kind == "state"), None)
+        pair = (x, y) if x and y else None
+    elif diagram.strip().lower() != "none":
+        given = _names(diagram, "diagram")
+        if len(given) != 2:
             raise InputError("diagram", f"give exactly two variable names X,Y (or none), not '{diagram}'")
+        pair = (given[0], given[1])
     total = len(frame_rows(frames, every))
     if old_hold is not None:  # said once the input is known good, so that an error stays one line
         click.echo("note: animate --hold SECONDS is now --pause SECONDS (--hold will be removed)", err=True)

@@ -13,8 +13,7 @@ def _system(model: str, reduced: bool, overrides: dict[str, float]):
     """A built-in model or description (see ``load_model``); ``reduced`` needs a description."""
     from ..equations import check_values_at
     from ..mechanism import find_description, load
-    from ..models import model_at
-    from ..models._registry import BUILTIN_MODELS, load_model
+    from ..models import BUILTIN_MODELS, load_model, model_at
 
     if not reduced:
         return model_at(model, overrides)

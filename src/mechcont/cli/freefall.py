@@ -9,7 +9,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import MAX_SCAN, assignments, check_count, check_integration, integrator, integrator_options, number
+from ._parse import MAX_SCAN, assignments, check_count, check_integration, integrator, integrator_options, number, renamed
 
 
 def _range(text: str | None, option: str) -> tuple[str, float, float] | None:
@@ -44,10 +44,10 @@ def _lock(system, lock: tuple[str, ...], lock_condition: str | None):
     if bool(lock) == (lock_condition is not None):
         raise InputError("--lock", "give exactly one of --lock STOP (repeatable) and --lock-condition NAME=VALUE")
     if lock:
-        from ..dynamics.freefall import _lock_stops
+        from ..dynamics.freefall import find_lock_stops
 
         try:
-            _lock_stops(system, list(lock))
+            find_lock_stops(system, list(lock))
         except InputError as exc:
             raise _option_error(exc) from None
         return lock[0] if len(lock) == 1 else list(lock)
@@ -58,9 +58,10 @@ def _lock(system, lock: tuple[str, ...], lock_condition: str | None):
     return name, value
 
 
-def _option_error(exc: InputError) -> InputError:
-    """An error from the library, named by the option that gave the value."""
-    option = {"x0": "--from", "rtol": "--rtol", "damping": "--damping", "lock": "--lock", "critical": "--critical",
+def _option_error(exc: InputError, start_option: str = "--start") -> InputError:
+    """An error from the library, named by the option that gave the value (``start_option``: the spelling of
+    ``--start`` given)."""
+    option = {"x0": start_option, "rtol": "--rtol", "damping": "--damping", "lock": "--lock", "critical": "--critical",
               "tol": "--tol", "until": "--until", "held_by": "--held-by",
               "rest_speed": "--rest-speed", "max_steps": "--step-budget"}.get(exc.field)
     return exc if option is None else InputError(option, str(exc).split(": ", 1)[-1])
@@ -68,12 +69,13 @@ def _option_error(exc: InputError) -> InputError:
 
 @cli.command("freefall")
 @click.argument("model")
-@click.option("--from", "starts", multiple=True, metavar="NAME=VALUE",
+@click.option("--start", "starts", multiple=True, metavar="NAME=VALUE",
               help="The retracted pose: coordinate or condition held while assembling (the uplock); released at rest.")
+@click.option("--from", "old_starts", multiple=True, hidden=True)  # its old spelling: --start names the start everywhere
 @click.option("--held-by", default=None, metavar="PARAM",
-              help="The retracted pose is the static equilibrium with the --from values held by PARAM (e.g. the "
+              help="The retracted pose is the static equilibrium with the --start values held by PARAM (e.g. the "
                    "retraction actuator's force) solved for, then released; without it compliant joints deflect as "
-                   "held by a reaction conjugate to each --from value.")
+                   "held by a reaction conjugate to each --start value.")
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
 @click.option("--lock", multiple=True, metavar="STOP",
               help="A lock stop (repeatable): locked when every one is in contact and at rest.")
@@ -99,11 +101,11 @@ def _option_error(exc: InputError) -> InputError:
 @click.option("--plot", default=None, metavar="FILE.png",
               help="The lock quantity against time (one run), or the critical value against the --scan parameter "
                    "with the quasi-static line.")
-def freefall_command(model, starts, held_by, settings, lock, lock_condition, until, critical, tol, scan, max_scan, damping,
-                     method, rtol, atol, step_budget, rest_speed, out, plot):
+def freefall_command(model, starts, old_starts, held_by, settings, lock, lock_condition, until, critical, tol, scan, max_scan,
+                     damping, method, rtol, atol, step_budget, rest_speed, out, plot):
     """Release MODEL at rest from the retracted pose and simulate it with its stops until it locks.
 
-    Example: mechcont freefall examples/freefall_leg.toml --from angle=3.0 --lock downlock
+    Example: mechcont freefall examples/freefall_leg.toml --start angle=3.0 --lock downlock
     --until 10 --set U=40
 
     Simulates until it locks (the run ends there) or reaches --until. Prints the outcome (locked;
@@ -126,9 +128,10 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     check_duration(until, "--until")
     solver = integrator(method, rtol, atol)
-    start = assignments(starts, "from")
+    starts, start_option = renamed(starts, old_starts, "--start", "--from")
+    start = assignments(starts, start_option[2:])
     if not start:
-        raise InputError("--from", "give the retracted pose, e.g. --from angle=1.2 (a coordinate or condition)")
+        raise InputError("--start", "give the retracted pose, e.g. --start angle=1.2 (a coordinate or condition)")
     rng, scanned = _range(critical, "--critical"), _scan(scan)
     check_count(len(scanned[1]) if scanned else 0, "--scan", max_scan, "--max-scan")
     if scanned is not None and rng is None:
@@ -139,7 +142,7 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
     check_simulable(system, model)
     for n in start:
         if n not in system.names or system.variable(n).kind != "state":
-            raise InputError("--from", f"{n} is not a coordinate or condition of {system.name}")
+            raise InputError(start_option, f"{n} is not a coordinate or condition of {system.name}")
     for n in [*([rng[0]] if rng else []), *([scanned[0]] if scanned else [])]:
         if n not in system.names or system.variable(n).kind != "parameter":
             raise InputError("--critical" if rng and n == rng[0] else "--scan",
@@ -164,7 +167,7 @@ def freefall_command(model, starts, held_by, settings, lock, lock_condition, unt
             else:
                 _critical(system, start, lock_spec, until, options, rng, tol, scanned, out_path, plot_path)
     except InputError as exc:
-        raise _option_error(exc) from None
+        raise _option_error(exc, start_option) from None
 
 
 def _one(system, start, lock, until, options, out_path, plot_path) -> None:
@@ -256,7 +259,7 @@ def _critical(system, start, lock, until, options, rng, tol, scanned, out_path, 
                     for v, crit in rows])
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
-        from ..dynamics.freefall import critical_figure
+        from ..outputs.critical_plots import critical_figure
         from ..outputs.plotting import save_figure
 
         fig = critical_figure([v for v, _ in rows], [c for _, c in rows], qs.value if qs is not None else math.nan,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from typing import Any
 
 import click
 
@@ -17,7 +18,7 @@ def models_command(as_json, names):
     from ..models import describe_model, model_names
 
     chosen = names or model_names()
-    doc = []
+    doc: list[dict[str, Any]] = []
     for name in chosen:
         s = describe_model(name)  # from the registry and the descriptions: nothing is compiled
         doc.append({

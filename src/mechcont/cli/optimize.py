@@ -145,8 +145,7 @@ def _fold(system, point: str):
     csv_path, sep, row = point.rpartition(":")
     if not sep or not csv_path or not row:
         raise InputError("--point", f"'{point}' is not BRANCH.csv:LPn (e.g. branch.csv:LP1)")
-    from ..continuation._branch import check_branch_table
-    from ..continuation._move import check_point
+    from ..continuation import check_branch_table, check_point
 
     branch = Branch.read_csv(csv_path, model=system.name)
     check_branch_table(branch, system, csv_path)

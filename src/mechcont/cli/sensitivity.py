@@ -94,9 +94,7 @@ def _downlock(system, params, values):
 
 def _at_point(system, point, params, values, holds, frees, keep, of):
     from ..analysis.sensitivity import point_sensitivity
-    from ..continuation import Branch, choose_unknowns
-    from ..continuation._branch import check_branch_table
-    from ..continuation._move import PointLost, check_point
+    from ..continuation import Branch, PointLost, check_branch_table, check_point, choose_unknowns
 
     csv_path, sep, row = point.rpartition(":")
     if not sep or not csv_path or not row:

@@ -9,12 +9,11 @@ from ._app import cli
 from ._parse import assignments, check_integration, integrator, integrator_options, named_as
 
 
-def _start(system, model: str, starts) -> tuple:
+def _start(system, starts) -> tuple:
     """The assembled start vector: ``--start`` coordinates or conditions held."""
-    from ..dynamics import assemble, check_simulable
+    from ..dynamics import assemble
 
     start = assignments(starts, "start")
-    check_simulable(system, model)
     for n in start:
         if n not in system.names:
             raise InputError("--start", f"{n} is not a variable of {system.name}; give a coordinate or a condition: "
@@ -76,7 +75,7 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     --start values replacing them; its CSV has t, the states and the parameters.
     """
     from .._io import check_output_path
-    from ..dynamics import check_duration
+    from ..dynamics import check_duration, check_simulable
     from ..models import model_at
     from ..outputs.plotting import FIGURE_SUFFIXES
 
@@ -88,8 +87,8 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     if system.ode is not None:
         return _simulate_ode(system, model, starts, until, watch, solver, step_budget, out_path, plot_path,
                              use_stops=use_stops, damping=damping, quiet=no_progress or old_quiet)
-    x0, start = _start(system, model, starts)
-    coords = system.mechanics.coordinates
+    coords = check_simulable(system, model).coordinates
+    x0, start = _start(system, starts)
     if watch is None:
         watch = next(iter(start), coords[0])
     elif watch not in system.names and not (watch.endswith("_dot") and watch[:-4] in coords):
@@ -124,7 +123,7 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
     if not result.success:
         click.echo(f"# warning: {result.message}")
     echo_balance(result)
-    from ..dynamics._stall import UNRESOLVED
+    from ..dynamics import UNRESOLVED
 
     unresolved = result.motion_warning.startswith(UNRESOLVED)
     if result.motion_warning and not unresolved:

@@ -16,7 +16,7 @@ from ._parse import assignments, named_as, renamed
 
 def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk, lock=(),
           until=None):
-    from ..analysis.study import StudySpec, parse_axis, parse_distribution
+    from ..analysis.study import Distribution, GridAxis, StudySpec, parse_axis, parse_distribution
 
     if spec_file is not None:
         if dists or grids:
@@ -34,6 +34,7 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
             raise InputError(option, f"'{item}' is not NAME=...")
         return name.strip(), rest
 
+    params: tuple[tuple[str, GridAxis | Distribution], ...]
     if grids:
         if sample is not None:
             raise InputError("--sample", "a --grid study takes every grid point; --sample is for --dist studies")
@@ -68,12 +69,15 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
               help="The study's settings from a TOML file instead of --dist/--grid/--n/--seed.")
 @click.option("--analysis", "analyses", multiple=True, type=click.Choice(["downlock", "unlock", "branch", "freefall"]),
               help="Per sample: the downlock force (default); the unlock folds and fold margin; a summary of "
-                   "the sample's own release run (branch); a freefall from --hold (the released pose) until --lock.")
+                   "the sample's own release run (branch); a freefall from --start (the released pose) until --lock.")
 @click.option("--lock", multiple=True, metavar="STOP", help="--analysis freefall: a lock stop (repeatable).")
 @click.option("--until", type=float, default=None, metavar="SECONDS", help="--analysis freefall: longest simulated time.")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Fix a parameter (SI units, radians).")
-@click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE", help="Downlock condition (default: the model's); "
-              "with --analysis freefall the released pose.")
+@click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE",
+              help="Downlock condition: a state held at a value (default: the model's).")
+@click.option("--start", "starts", multiple=True, metavar="NAME=VALUE",
+              help="--analysis freefall: the released pose, a coordinate or condition held while assembling "
+                   "(as freefall --start).")
 @click.option("--condition", default=None, metavar="NAME", help="Downlock condition: a declared [conditions] name.")
 @click.option("--force", default=None, metavar="NAME", help="The downlock force (default: the model's, F).")
 @click.option("--dir", "out_dir", default=None, metavar="DIR", help="Study folder (results.parquet, parts/, study.json); "
@@ -89,8 +93,8 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
               help="Refuse a study whose computing time, estimated from a few samples timed first, is longer.")
 @click.option("--verbose", is_flag=True, help="One line per chunk written.")
 @click.option("--quiet", is_flag=True, help="Print nothing but errors.")
-def study_command(model, dists, grids, sample, method, n, seed, spec_file, analyses, lock, until, sets, holds, condition,
-                  force, out_dir, old_out, resume, chunk, scheduler, workers, plot, max_hours, verbose, quiet):
+def study_command(model, dists, grids, sample, method, n, seed, spec_file, analyses, lock, until, sets, holds, starts,
+                  condition, force, out_dir, old_out, resume, chunk, scheduler, workers, plot, max_hours, verbose, quiet):
     """Sample MODEL's parameters and solve the downlock (and unlock folds) at every sample.
 
     Results go to --dir as Parquet, one part per chunk as soon as it is done, then
@@ -115,7 +119,13 @@ def study_command(model, dists, grids, sample, method, n, seed, spec_file, analy
     check_output_folder(out, option)
     if not (math.isfinite(max_hours) and 0 < max_hours <= 1e6):
         raise InputError("--max-hours", f"must be a number of hours, 0 < HOURS <= 1e6, got {max_hours:g}")
-    with named_as({"folder": option, "max_seconds": "--max-hours"}):
+    if starts:  # the released pose of a freefall study (its old spelling --hold still works)
+        if "freefall" not in analyses:
+            raise InputError("--start", "is the released pose of --analysis freefall (a downlock condition is --hold)")
+        if holds:
+            raise InputError("--start", "give the released pose by --start or its old spelling --hold, not both")
+        holds = starts
+    with named_as({"folder": option, "max_seconds": "--max-hours", **({"hold": "--start"} if starts else {})}):
         _study(model, dists, grids, sample, method, n, seed, spec_file, analyses, lock, until, sets, holds, condition,
                force, out, resume, chunk, scheduler, workers, plot, plot_path, verbose, quiet, max_hours * 3600.0)
 

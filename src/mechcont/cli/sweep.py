@@ -159,7 +159,7 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     system = model_at(model, assignments(settings, "set"))
     branch = _read_branch(branch_csv, system, segs[0].name, watch) if branch_csv is not None else None
     start = assignments(starts, "start")
-    check_simulable(system, model)
+    mechanics = check_simulable(system, model)
     if use_stops and not system.stops:
         raise InputError("--stops", f"{system.name} declares no stops ([stops.NAME] in the description)")
     x0 = sweep_start(system, start, segs, equilibrium=equilibrium and not use_stops, start_field="--start")
@@ -176,7 +176,7 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
         if exc.field != "x0":
             raise
         raise InputError("--start", str(exc)[len(exc.field) + 2:]) from None
-    if not system.mechanics.stability(x0).stable:  # said after sweep(), which reports bad input first
+    if not mechanics.stability(x0).stable:  # said after sweep(), which reports bad input first
         a = _shown(system, watch, x0[system.index(watch)])
         click.echo(f"warning: the sweep starts at an unstable equilibrium ({watch} = {a[0]:.6g} {a[1]}".rstrip()
                    + "): it leaves it at once; give a --start nearer a stable one", err=True)

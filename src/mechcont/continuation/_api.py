@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._status import Status
-from ..equations import EquationSystem, as_model
+from ..equations import EquationSystem, Model, takes_model
 from ..errors import ConvergenceError, InputError
 from ._branch import Branch, SpecialPoint
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent, ValueEvent
@@ -134,7 +134,8 @@ def _run(problem: ContinuationProblem, system, u0, options, events, direction, v
                   units={v.name: v.unit for v in system.variables})
 
 
-def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
+@takes_model
+def continuation(system: Model, start, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
                  options: ContinuationOptions | None = None, direction: int = 0,
                  events: Sequence[Event] = (), progress: Callable[[int], None] | None = None,
                  hopf: bool | Dynamics = False, at: Iterable[float] = ()) -> Branch:
@@ -187,7 +188,7 @@ def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str
         from ..equations import dynamics_of
         from ._hopf import HopfEvent
 
-        events.append(HopfEvent(dynamics_of(as_model(system)) if hopf is True else hopf, system))
+        events.append(HopfEvent(dynamics_of(system) if hopf is True else hopf, system))
 
     def piece(model, x, vary_, opts, sense, evs_):
         model.compile()
@@ -197,7 +198,7 @@ def continuation(system: EquationSystem, start, vary: str, *, hold: Iterable[str
         evs = _equilibrium_events(model, opts, evs_, moving=(*unknowns, vary_))
         return _run(problem, model, u0, opts, evs, sense, vary_, unknowns, progress=progress)
 
-    if as_model(system).reselect is not None:  # a choice of dropped rows made again along the branch
+    if system.reselect is not None:  # a choice of dropped rows made again along the branch
         from ._variants import across_variants
 
         return across_variants(piece, system, x0, vary, options, direction, events, unknowns)

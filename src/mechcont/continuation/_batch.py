@@ -34,7 +34,7 @@ __all__ = ["BatchSolution", "BatchFolds", "newton_batch", "fold_batch"]
 SINGULAR_CONDITION = 1e14
 
 
-@dataclass
+@dataclass(frozen=True)
 class BatchSolution:
     """Result of :func:`newton_batch`.
 
@@ -170,7 +170,7 @@ def newton_batch(system: EquationSystem, X0: np.ndarray, unknowns: Sequence[str]
     return BatchSolution(X, converged, iterations, reason)
 
 
-@dataclass
+@dataclass(frozen=True)
 class BatchFolds:
     """Result of :func:`fold_batch`.
 

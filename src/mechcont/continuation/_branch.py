@@ -292,13 +292,13 @@ class Branch:
         if not rows:
             raise InputError("branch", f"'{path}' has no rows")
         names = [n for n in rows[0] if n not in _EXTRA_COLUMNS and n not in DERIVED_COLUMNS]
-        values = np.array([[_number(path, i, n, r[n]) for n in names] for i, r in enumerate(rows)])
+        values = np.array([[cell_number(path, i, n, r[n]) for n in names] for i, r in enumerate(rows)])
         if "s" in rows[0]:
-            s = np.array([_number(path, i, "s", r["s"]) for i, r in enumerate(rows)])
+            s = np.array([cell_number(path, i, "s", r["s"]) for i, r in enumerate(rows)])
         else:
             s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(values, axis=0), axis=1))])
         words = {"stable": 0, "unstable": 1}
-        nu = [_count(path, i, r["n_unstable"]) if r.get("n_unstable", "").strip()
+        nu = [cell_count(path, i, r["n_unstable"]) if r.get("n_unstable", "").strip()
               else words.get(r.get("stability", ""), -1) for i, r in enumerate(rows)]
         tags = [(r.get("label") or "").strip() for r in rows]
         labels = [t.rstrip("?") for t in tags]
@@ -342,7 +342,7 @@ def _hopf_fields(p: SpecialPoint) -> dict:
     return {"frequency": h.frequency, "period": h.period, "l1": h.lyapunov, "criticality": h.criticality}
 
 
-def _number(path, row: int, column: str, text: str) -> float:
+def cell_number(path, row: int, column: str, text: str) -> float:
     """A cell as a float: finite, or ``nan`` (an analysis's column with no value at that row: a downlock
     table's unlock load where none was found; :func:`check_branch_table` refuses it in the model's
     variables); :class:`InputError` naming the file, row and column otherwise."""
@@ -357,7 +357,7 @@ def _number(path, row: int, column: str, text: str) -> float:
     return v
 
 
-def _count(path, row: int, text: str) -> int:
+def cell_count(path, row: int, text: str) -> int:
     """The ``n_unstable`` cell: an integer from -1 up; :class:`InputError` naming the row otherwise."""
     try:
         n = int(text)

@@ -189,7 +189,7 @@ class _FoldSystem:
         return self.evaluate(U)[1]
 
 
-@dataclass
+@dataclass(frozen=True)
 class FoldPoint:
     """A fold polished by :func:`polish_fold`.
 

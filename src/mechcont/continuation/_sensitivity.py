@@ -117,7 +117,7 @@ def write_json(path: str | os.PathLike, doc: dict) -> Path:
 
     from .._io import atomic_write
 
-    def write(tmp):
+    def write(tmp: str) -> None:
         with open(tmp, "w") as f:
             json.dump(doc, f, indent=1)
 
@@ -145,11 +145,12 @@ def check_parameters(system: EquationSystem, params: Iterable[str], excluded: It
     return params
 
 
-def _columns(system: EquationSystem, names: Sequence[str]) -> np.ndarray:
+def variable_indices(system: EquationSystem, names: Sequence[str]) -> np.ndarray:
+    """The indices of the variables ``names`` in ``system``'s vector (an integer array)."""
     return np.array([system.index(n) for n in names], dtype=np.intp)
 
 
-def _solve(A: np.ndarray, B: np.ndarray, reference: np.ndarray, what: str) -> np.ndarray:
+def solve_equilibrated(A: np.ndarray, B: np.ndarray, reference: np.ndarray, what: str) -> np.ndarray:
     """``A^-1 B`` on the equilibrated matrix (mixed units); :class:`ConvergenceError` when singular."""
     row, col = equilibrate(A, reference)
     As = A * row[:, None] * col
@@ -159,12 +160,14 @@ def _solve(A: np.ndarray, B: np.ndarray, reference: np.ndarray, what: str) -> np
     return col[:, None] * np.linalg.solve(As, row[:, None] * B)
 
 
-def _units(system: EquationSystem, quantity: str, params: Sequence[str]) -> dict[str, str]:
+def derivative_units(system: EquationSystem, quantity: str, params: Sequence[str]) -> dict[str, str]:
+    """``{parameter: unit of d quantity / d parameter}`` for each of ``params``."""
     u = system.variable(quantity).unit
     return {p: derivative_unit(u, system.variable(p).unit) for p in params}
 
 
-def _state_table(names: Sequence[str], params: Sequence[str], D: np.ndarray) -> dict[str, dict[str, float]]:
+def state_table(names: Sequence[str], params: Sequence[str], D: np.ndarray) -> dict[str, dict[str, float]]:
+    """``{parameter: {name: D[i, j]}}``: the derivatives ``D`` (rows ``names``, columns ``params``) as nested dicts."""
     return {p: {n: float(D[i, j]) for i, n in enumerate(names)} for j, p in enumerate(params)}
 
 
@@ -201,12 +204,12 @@ def equilibrium_sensitivity(system: EquationSystem, x: np.ndarray, unknowns: Seq
     params = check_parameters(system, params, unknowns)
     x = np.asarray(x, dtype=float)
     J = system.jacobian(x)
-    D = -_solve(J[:, _columns(system, unknowns)], J[:, _columns(system, params)], _radians(system, unknowns),
-                f"sensitivity of {quantity}")
+    D = -solve_equilibrated(J[:, variable_indices(system, unknowns)], J[:, variable_indices(system, params)],
+                            _radians(system, unknowns), f"sensitivity of {quantity}")
     q = unknowns.index(quantity)
     return Sensitivity(quantity, float(x[system.index(quantity)]), system.variable(quantity).unit, kind,
-                       {p: float(D[q, j]) for j, p in enumerate(params)}, _units(system, quantity, params),
-                       _state_table(unknowns, params, D), x.copy())
+                       {p: float(D[q, j]) for j, p in enumerate(params)}, derivative_units(system, quantity, params),
+                       state_table(unknowns, params, D), x.copy())
 
 
 def fold_sensitivity(system: EquationSystem, x: np.ndarray, states: Sequence[str], vary: str, params: Iterable[str],
@@ -241,15 +244,15 @@ def fold_sensitivity(system: EquationSystem, x: np.ndarray, states: Sequence[str
     x = np.asarray(x, dtype=float)
     if polish:
         x = polish_fold(system, x, states, vary, v0=null_vector).x
-    s_idx, lam = _columns(system, states), system.index(vary)
+    s_idx, lam = variable_indices(system, states), system.index(vary)
     v, w, _ = fold_quantities(system, x, s_idx, lam)
     J = system.jacobian(x)
-    p_idx = _columns(system, params)
+    p_idx = variable_indices(system, params)
     d_lam = -(w @ J[:, p_idx]) / (w @ J[:, lam])
     D = _fold_states_derivative(system, x, s_idx, lam, v, p_idx)
     return Sensitivity(vary, float(x[lam]), system.variable(vary).unit, "fold",
-                       {p: float(d) for p, d in zip(params, d_lam)}, _units(system, vary, params),
-                       _state_table([*states, vary], params, D), x)
+                       {p: float(d) for p, d in zip(params, d_lam)}, derivative_units(system, vary, params),
+                       state_table([*states, vary], params, D), x)
 
 
 def _fold_states_derivative(system: EquationSystem, x: np.ndarray, s_idx: np.ndarray, lam: int, v: np.ndarray,
@@ -276,7 +279,7 @@ def _fold_states_derivative(system: EquationSystem, x: np.ndarray, s_idx: np.nda
     B = np.zeros((2 * n + 1, len(p_idx)))
     B[:n], B[n:2 * n] = J[:, p_idx], H[:, p_idx]
     reference = np.concatenate([_radians(system, [system.names[i] for i in idx]), np.zeros(n, dtype=bool)])
-    return -_solve(A, B, reference, "fold sensitivity")[:n + 1]
+    return -solve_equilibrated(A, B, reference, "fold sensitivity")[:n + 1]
 
 
 #: Special points whose quantity a higher layer defines: a stop's release (``SR``: the load where its

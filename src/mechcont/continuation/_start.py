@@ -4,12 +4,16 @@ equilibrium from the values given, the states held to find it and the parameter 
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import InputError
 from ._newton import find_equilibrium
 from ._options import ContinuationOptions
+
+if TYPE_CHECKING:
+    from ..equations import EquationSystem
 
 __all__ = ["MAX_STEPS", "check_max_steps", "run_options", "start_point"]
 
@@ -46,7 +50,7 @@ def run_options(bounds: Mapping[str, tuple[float, float]] | None = None, *, ds: 
     return ContinuationOptions(**kw)
 
 
-def start_point(system, vary: str, *, values: Mapping[str, float] | None = None,
+def start_point(system: EquationSystem, vary: str, *, values: Mapping[str, float] | None = None,
                 start: Mapping[str, float] | None = None, free: Iterable[str] = (), hold: Iterable[str] = (),
                 start_field: str = "start", free_field: str = "free") -> np.ndarray:
     """The first equilibrium of a run in ``vary``: ``start`` states held at their values, ``vary`` (and ``free``) solved for.

@@ -12,7 +12,8 @@ from ._events import Crossing
 from ._exudyn import exudyn_available, exudyn_overcentre
 from ._ode import OdeHistory, ode_start, simulate_ode
 from ._result import SimulationResult, SimulationStatus
-from ._simulate import assemble, simulate
+from ._simulate import METHODS, assemble, check_integrator, simulate
+from ._stall import UNRESOLVED
 from ._sweep import Jump, Ramp, SweepResult, parse_ramps, sweep, sweep_start
 from ._udwadia_kalaba import ConstrainedDynamics, fundamental_equation
 
@@ -20,4 +21,5 @@ __all__ = ["simulate", "assemble", "sweep", "sweep_start", "parse_ramps", "Ramp"
            "SimulationStatus", "Crossing", "ConstrainedDynamics", "fundamental_equation", "jump_gaps", "JumpGap",
            "branch_jump_gaps", "branch_differences",
            "gap_versus_rate", "RateGap", "exudyn_available", "exudyn_overcentre", "StopEvent",
-           "StopConstraints", "MAX_SECONDS", "check_duration", "check_simulable", "OdeHistory", "ode_start", "simulate_ode"]
+           "StopConstraints", "MAX_SECONDS", "check_duration", "check_simulable", "OdeHistory", "ode_start", "simulate_ode",
+           "METHODS", "check_integrator", "UNRESOLVED"]

@@ -34,6 +34,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from ..equations import Model, takes_model
 from ..errors import InputError
 from ._udwadia_kalaba import ConstrainedDynamics
 
@@ -57,7 +58,8 @@ def initial_vector(system, x0) -> np.ndarray:
     return x
 
 
-def assemble(system, values, hold: Sequence[str] = (), *, kinematic: bool = False) -> np.ndarray:
+@takes_model
+def assemble(system: Model, values, hold: Sequence[str] = (), *, kinematic: bool = False) -> np.ndarray:
     """A full variable vector whose coordinates satisfy the constraints ``Phi = 0``, at rest in static
     equilibrium where joints are compliant.
 
@@ -103,9 +105,9 @@ def assemble(system, values, hold: Sequence[str] = (), *, kinematic: bool = Fals
     x[dyn.q_index] = q
     if kinematic:
         return x
-    from ..mechanism._check import _compliant
+    from ..mechanism import compliant_constraints
 
-    springs = _compliant(system, x)
+    springs = compliant_constraints(system, x)
     if not springs:  # rigid: the kinematic assembly is the pose
         return x
     return _static_pose(system, dyn, x, mask, cond_rows, springs)

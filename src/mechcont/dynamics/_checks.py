@@ -3,8 +3,12 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..equations import EquationSystem, Mechanics
 
 __all__ = ["MAX_SECONDS", "check_simulable", "check_duration"]
 
@@ -12,10 +16,12 @@ __all__ = ["MAX_SECONDS", "check_simulable", "check_duration"]
 MAX_SECONDS = 1e6
 
 
-def check_simulable(system, model: str) -> None:
-    """:class:`InputError` (field ``model``) unless ``system`` (loaded from ``model``) has mechanics to simulate."""
+def check_simulable(system: EquationSystem, model: str) -> Mechanics:
+    """``system.mechanics``, or :class:`InputError` (field ``model``) when ``system`` (loaded from ``model``) has
+    no mechanics to simulate."""
     if system.mechanics is None:
         raise InputError("model", f"'{model}' has no mechanics (masses, forces): it cannot be simulated")
+    return system.mechanics
 
 
 def check_duration(seconds: float, field: str = "until") -> float:

@@ -12,18 +12,18 @@ point). :meth:`CriticalAirspeed.compare` says whether the two differ by more tha
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..equations import Model, takes_model
 from ..errors import InputError
 
-__all__ = ["CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical", "quasi_static_critical",
-           "critical_figure"]
+__all__ = ["CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical", "quasi_static_critical"]
 
 
-@dataclass
+@dataclass(frozen=True)
 class CriticalAirspeed:
     """The value of a parameter (an airspeed, m/s) where the freefall outcome changes, bracketed by runs.
 
@@ -122,7 +122,8 @@ class CriticalAirspeed:
         return lines
 
 
-def critical_airspeed(system, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
+@takes_model
+def critical_airspeed(system: Model, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
                       lock, until: float, values: Mapping[str, float] | None = None, extend: float = 4.0,
                       **options) -> CriticalAirspeed:
     """Bisect on freefall runs for the value of the parameter ``vary`` (an airspeed, m/s) in
@@ -137,10 +138,9 @@ def critical_airspeed(system, start: Mapping[str, float], vary: str, low: float,
     ``options`` go to :func:`~mechcont.dynamics.freefall.freefall`.
     Returns the :class:`CriticalAirspeed` whose ends ``locked`` and ``failed`` are runs made.
     """
-    from ..equations import as_model
     from .freefall import freefall
 
-    model = as_model(system)
+    model = system
     if vary not in model.names or model.variable(vary).kind != "parameter":
         raise InputError("critical", f"{vary} is not a parameter of {model.name}")
     if not (math.isfinite(low) and math.isfinite(high) and low < high):
@@ -199,7 +199,7 @@ def critical_airspeed(system, start: Mapping[str, float], vary: str, low: float,
     return CriticalAirspeed(vary, a if lo_locks else b, b if lo_locks else a, runs, unsettled, stopped)
 
 
-@dataclass
+@dataclass(frozen=True)
 class QuasiStaticCritical:
     """The quasi-static predictor of the critical airspeed.
 
@@ -216,7 +216,8 @@ class QuasiStaticCritical:
     branch: object
 
 
-def quasi_static_critical(system, travel: str, start_value: float, lock_value: float, vary: str, *,
+@takes_model
+def quasi_static_critical(system: Model, travel: str, start_value: float, lock_value: float, vary: str, *,
                           side: str = "min", values: Mapping[str, float] | None = None, samples: int = 17,
                           options=None) -> QuasiStaticCritical:
     """The airspeed ``vary`` at the extreme of the stall branch over the travel.
@@ -231,11 +232,9 @@ def quasi_static_critical(system, travel: str, start_value: float, lock_value: f
     a negative one reverses the airloads).
     """
     from ..continuation import ContinuationOptions, continuation, find_equilibrium, locate_fold
-    from ..equations import as_model
-
     if side not in ("min", "max"):
         raise InputError("side", f"must be 'min' or 'max', got {side!r}")
-    model = as_model(system)
+    model = system
     if values:
         model = model.with_values(dict(values))
     for n in (travel, vary):
@@ -269,29 +268,3 @@ def quasi_static_critical(system, travel: str, start_value: float, lock_value: f
         if lo <= fx[model.index(travel)] <= hi:
             value, pose, fold = float(fx[iv]), float(fx[model.index(travel)]), True
     return QuasiStaticCritical(vary, value, pose, fold, branch)
-
-
-def critical_figure(dampings: Sequence[float], brackets: Sequence, quasi_static: float, *,
-                    damping_label: str = "damping", airspeed_label: str = "critical airspeed (m/s)", title: str = ""):
-    """Dynamic critical airspeed against damping, with the quasi-static prediction as a line.
-
-    ``brackets``: per damping a :class:`CriticalAirspeed` or a pair ``(locked, failed)`` (values run): each
-    drawn as its locking end with a bar to the failing end. Returns a Matplotlib figure (save it with
-    :func:`mechcont.outputs.plotting.save_figure`)."""
-    import matplotlib.pyplot as plt
-
-    pairs = np.array([(b.locked, b.failed) if isinstance(b, CriticalAirspeed) else tuple(b) for b in brackets],
-                     float).reshape(-1, 2)
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot(dampings, pairs[:, 0], "o-", label="dynamic: largest run that locked (bisection on time simulations)")
-    ax.vlines(dampings, pairs.min(axis=1), pairs.max(axis=1), color="C0", lw=3, alpha=0.4,
-              label="bracket to the run that did not lock")
-    ax.axhline(quasi_static, color="k", ls="--", label="quasi-static (fold of the stall branch)")
-    ax.set_xlabel(damping_label)
-    ax.set_ylabel(airspeed_label)
-    if all(d > 0 for d in dampings) and max(dampings) / min(dampings) > 20:
-        ax.set_xscale("log")
-    ax.legend()
-    ax.set_title(title)
-    fig.tight_layout()
-    return fig

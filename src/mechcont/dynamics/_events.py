@@ -77,9 +77,9 @@ class EventTracker:
                 raise InputError("events", "each event must be a Crossing or a callable g(t, x, qdot)")
         self.nq = nq
         self.n_names = len(system.names)
-        self.t_events = [[] for _ in self._fns]
-        self.x_events = [[] for _ in self._fns]
-        self._last = None
+        self.t_events: list[list[float]] = [[] for _ in self._fns]
+        self.x_events: list[list[np.ndarray]] = [[] for _ in self._fns]
+        self._last: np.ndarray | None = None  # the event values at the last accepted state (start() sets them)
 
     def __bool__(self):
         return bool(self._fns)
@@ -104,6 +104,7 @@ class EventTracker:
             return None
         g_new = self._values(dyn, t_new, y_new)
         g_old, self._last = self._last, g_new
+        assert g_old is not None, "EventTracker.start() first"
         t_stop = None
         for k, (a, b) in enumerate(zip(g_old, g_new)):
             up, down = a < 0 <= b, a > 0 >= b
@@ -127,6 +128,7 @@ class EventTracker:
         if not self._fns:
             return None
         before, after = self._last, self._values(dyn, t, y)
+        assert before is not None, "EventTracker.start() first"
         self._last = after
         t_stop = None
         for k, (a, b) in enumerate(zip(before, after)):

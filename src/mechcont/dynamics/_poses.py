@@ -7,12 +7,14 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from ..equations import Model, takes_model
 from ..errors import InputError
 
 __all__ = ["held_pose", "travel_of", "condition_value"]
 
 
-def held_pose(system, start: Mapping[str, float], held_by: str, *, values: Mapping[str, float] | None = None,
+@takes_model
+def held_pose(system: Model, start: Mapping[str, float], held_by: str, *, values: Mapping[str, float] | None = None,
               guess=None, steps: int = 8) -> np.ndarray:
     """The retracted pose as a static equilibrium: the ``start`` values held (SI, rad) and the parameter
     ``held_by`` (the force that holds the gear there, e.g. the retraction actuator's, N) solved for; then
@@ -26,10 +28,9 @@ def held_pose(system, start: Mapping[str, float], held_by: str, *, values: Mappi
     full vector; :class:`~mechcont.errors.InputError` naming ``held_by`` when it is not a parameter,
     :class:`~mechcont.errors.ConvergenceError` when no equilibrium is found on the way."""
     from ..continuation import find_equilibrium
-    from ..equations import as_model
     from ._simulate import assemble
 
-    model = as_model(system)
+    model = system
     if held_by not in model.names or model.variable(held_by).kind != "parameter":
         raise InputError("held_by", f"{held_by} is not a parameter of {model.name}; valid: "
                                     f"{', '.join(model.parameter_names)}")
@@ -48,16 +49,17 @@ def held_pose(system, start: Mapping[str, float], held_by: str, *, values: Mappi
     return x
 
 
-def travel_of(system, start: Mapping[str, float], lock, values: Mapping[str, float] | None = None) -> tuple[str, float, float]:
+@takes_model
+def travel_of(system: Model, start: Mapping[str, float], lock,
+              values: Mapping[str, float] | None = None) -> tuple[str, float, float]:
     """The travel of a freefall: ``(variable, value at the released pose, value at the lock)``.
 
     The variable is the lock stop's condition (the first of several; its limit is the lock value) or the lock
     condition's state; its start value is computed at the pose assembled from ``start``."""
-    from ..equations import as_model
     from ._simulate import assemble
     from .freefall import _lock_spec
 
-    model = as_model(system)
+    model = system
     if values:
         model = model.with_values(dict(values))
     stop, target = _lock_spec(model, lock)
@@ -66,12 +68,11 @@ def travel_of(system, start: Mapping[str, float], lock, values: Mapping[str, flo
     return name, condition_value(model, x0, name), end
 
 
-def condition_value(system, x, name: str) -> float:
+@takes_model
+def condition_value(system: Model, x, name: str) -> float:
     """The value of the coordinate or declared condition ``name`` at the full vector ``x`` (its unit),
     computed from the coordinates (a condition's own entry in ``x`` need not be up to date)."""
-    from ..equations import as_model
-
-    model = as_model(system)
+    model = system
     rows = list(model.equation_names or ())
     if f"cond_{name}" not in rows:
         return float(x[model.index(name)])

@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg import qr
 
-from ..mechanism.spatial._dropped import SWITCH_RATIO, _unit_rows
+from ..mechanism import SWITCH_RATIO, unit_rows
 
 __all__ = ["KeptRows", "SWITCH_RATIO"]
 
@@ -52,7 +52,7 @@ class KeptRows:
         self._time = 0.0
 
     def _choose(self, A: np.ndarray) -> None:
-        _, _, piv = qr(_unit_rows(A).T, mode="economic", pivoting=True)
+        _, _, piv = qr(unit_rows(A).T, mode="economic", pivoting=True)
         n = A.shape[0] - self.n_drop
         self.keep = np.sort(piv[:n])
         self.dropped = tuple(sorted(int(i) for i in piv[n:]))

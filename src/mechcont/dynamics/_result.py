@@ -197,7 +197,7 @@ class SimulationResult:
         if ``labels`` (one string per row) is given, a ``label`` column. Headers carry the
         units as branch tables do (``t [s]``, ``F [N]``, ``theta1_dot [rad/s]``). Written
         atomically; returns the path."""
-        from ..continuation._branch import unit_header
+        from ..continuation import unit_header
 
         if labels is not None and len(labels) != len(self.t):
             raise InputError("labels", f"needs one label per row ({len(self.t)})")

@@ -97,7 +97,7 @@ class Jump:
     t_end: float
 
 
-@dataclass
+@dataclass(frozen=True)
 class SweepResult:
     """A recorded sweep: the time history, its segments and the jumps found.
 

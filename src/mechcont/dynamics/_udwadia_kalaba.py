@@ -45,10 +45,9 @@ from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
-import sympy as sp
 from scipy.linalg.lapack import dpotrf, dpotrs
 
-from ..equations import as_model
+from ..equations import as_model, symbol_names
 from ..errors import InputError
 from ._mass import MassBlocks, inverse_sqrt
 from ._redundant import KeptRows
@@ -123,13 +122,6 @@ def fundamental_equation(M_inv_sqrt: np.ndarray, Q: np.ndarray, A: np.ndarray, b
     return a + M_inv_sqrt @ _pinv_apply(B, b - A @ a, spread)
 
 
-def _symbols_of(exprs) -> set[str]:
-    out: set[str] = set()
-    for e in exprs:
-        out |= {str(s) for s in sp.sympify(e, strict=True).free_symbols}
-    return out
-
-
 def _mass_samples(mech, x: np.ndarray, q_index: np.ndarray, samples: int = 3) -> tuple[np.ndarray, list[np.ndarray]]:
     """``M`` at ``x`` and at ``samples`` coordinate vectors moved at random (seeded) from it: a constant mass
     matrix is the same at all of them, and the union of their non-zero entries is ``M``'s pattern (an entry
@@ -194,7 +186,7 @@ class ConstrainedDynamics:
             raise InputError("damping", "must be a non-negative number (1/s)")
         self.damping = float(damping)
         loads = dict(loads or {})
-        rigid = _symbols_of([*mech.constraints, *mech.mass_matrix]) if loads else set()
+        rigid = symbol_names([*mech.constraints, *mech.mass_matrix]) if loads else set()
         for name, fn in loads.items():
             i = system.index(name)
             if i in set(self.q_index.tolist()):

@@ -20,10 +20,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._status import Status
-from ..equations import StopLimit
+from ..equations import Model, StopLimit, takes_model
 from ..errors import InputError
 from ._budget import MAX_STEPS
-from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, critical_figure, quasi_static_critical
+from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, quasi_static_critical
 from ._dampers import DamperTension, damper_tensions
 from ._events import AtRestOnStops, ConditionCrossing, Crossing
 from ._peaks import Peak, locate_peaks
@@ -31,7 +31,7 @@ from ._poses import condition_value, held_pose, travel_of
 from ._result import SimulationResult
 
 __all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
-           "quasi_static_critical", "damper_tensions", "critical_figure", "travel_of", "condition_value", "held_pose"]
+           "quasi_static_critical", "damper_tensions", "travel_of", "condition_value", "held_pose"]
 
 #: Outcomes of a freefall run: locked; at rest short of locking; still moving at ``until`` (it may have
 #: struck the lock and left it); the integrator failed.
@@ -52,7 +52,7 @@ class StopLock:
     left: float | None = None
 
 
-@dataclass
+@dataclass(frozen=True)
 class FreefallResult:
     """The outcome of one freefall simulation.
 
@@ -107,7 +107,7 @@ class FreefallResult:
             if t is None or not t.names:
                 self._peaks["dampers"] = {}
             else:
-                rows = damper_tensions(t.system, self.history, mechanism=t.mech)
+                rows = damper_tensions(t.system, self.history)
                 found = locate_peaks(self.history, lambda x, qd: [abs(v) for v in t(x, qd).values()], full=False,
                                      rows=np.abs(np.array([rows[n] for n in t.names])).T)
                 self._peaks["dampers"] = dict(zip(t.names, found))
@@ -186,17 +186,15 @@ class FreefallResult:
         return lines
 
 
-def _lock_stops(system, lock) -> list[StopLimit] | None:
+def find_lock_stops(system: Model, lock) -> list[StopLimit] | None:
     """The lock stops named by ``lock`` (a stop's name or a sequence of names), None for a lock condition."""
-    from ..equations import as_model
-
     if isinstance(lock, str):
         names = [lock]
     elif isinstance(lock, Sequence) and lock and all(isinstance(n, str) for n in lock):
         names = list(lock)
     else:
         return None
-    by_name = {s.name: s for s in as_model(system).stops}
+    by_name = {s.name: s for s in system.stops}
     for n in names:
         if n not in by_name:
             raise InputError("lock", f"unknown stop {n!r}; stops of {system.name}: "
@@ -209,7 +207,7 @@ def _lock_stops(system, lock) -> list[StopLimit] | None:
 def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None]:
     """``(stop, None)`` for a lock stop's name (the first of several), ``(None, (state, value))`` for a
     lock condition."""
-    stops = _lock_stops(system, lock)
+    stops = find_lock_stops(system, lock)
     if stops is not None:
         return stops[0], None
     try:
@@ -224,7 +222,8 @@ def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None
     return None, (str(name), value)
 
 
-def freefall(system, start: Mapping[str, float], *, lock, until: float, values: Mapping[str, float] | None = None,
+@takes_model
+def freefall(system: Model, start: Mapping[str, float], *, lock, until: float, values: Mapping[str, float] | None = None,
              damping: float = 0.0, rtol: float = 1e-8, atol: float = 1e-10, rest_speed: float = 1e-4,
              max_step: float = math.inf, guess=None, method: str = "RK45", end_at_lock: bool = False,
              held_by: str | None = None, audit: bool = True, max_steps: int | None = None) -> FreefallResult:
@@ -277,7 +276,6 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
     -------
     FreefallResult
     """
-    from ..equations import as_model
     from ._settle import SettledOffLock
     from ._simulate import assemble, simulate
 
@@ -285,11 +283,11 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         raise InputError("until", f"must be a positive number of seconds, got {until}")
     if not (math.isfinite(rest_speed) and rest_speed > 0):
         raise InputError("rest_speed", f"must be a positive finite speed (rad/s, m/s), got {rest_speed:g}")
-    model = as_model(system)
+    model = system
     if values:
         model = model.with_values(dict(values))
     stop, target = _lock_spec(model, lock)
-    lock_stops = _lock_stops(model, lock) or []
+    lock_stops = find_lock_stops(model, lock) or []
     if held_by is not None:
         guess = held_pose(model, start, held_by, guess=guess)
     x0 = assemble(model, dict(start) if guess is None else model.vector(dict(start), base=_states_of(model, guess)),
@@ -335,7 +333,7 @@ def freefall(system, start: Mapping[str, float], *, lock, until: float, values: 
         outcome = FAILED
     else:
         outcome, settling, decided = _unlocked_outcome(model, result, speed, rest_speed, lock_stops, per_stop)
-    tension = DamperTension(model, result.coordinates, mechanism=as_model(system).mechanism)  # made once
+    tension = DamperTension(model, result.coordinates)  # made once
     columns = {s.name: s.reaction for s in model.stops} if stops else {}
     return FreefallResult(outcome, lock_text, t_lock, impact, speed, result, per_stop, tension, columns,
                           settling, decided)

@@ -1,12 +1,19 @@
 """Equations: named algebraic systems with exact derivatives, and their mechanics."""
 
+from ._codegen import compile_dense, gradient, symbol_names
+from ._deferred import Apart
 from ._dynamics import Dynamics, LinearDynamics, OdeDynamics, OdeFacts, dynamics_of, ode_model
 from ._mechanics import MechanicalModel, StabilityResult, velocity_symbol
-from ._model import DownlockFacts, Model, StopLimit, ValueFields, as_model, at_values, check_values_at
+from ._model import DamperFacts, DownlockFacts, Model, StopLimit, ValueFields, as_model, at_values, check_values_at, takes_model
+from ._protocols import Mechanics
 from ._rates import branch_rates
 from ._scene import Scene
+from ._stored import stored
 from ._system import EquationSystem, Limit, Variable
 
-__all__ = ["EquationSystem", "Model", "StopLimit", "DownlockFacts", "ValueFields", "as_model", "at_values", "check_values_at",
+__all__ = ["EquationSystem", "Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "as_model", "at_values",
+           "check_values_at", "takes_model",
            "Variable", "Limit", "Dynamics", "LinearDynamics", "OdeDynamics", "OdeFacts", "dynamics_of", "ode_model",
-           "MechanicalModel", "StabilityResult", "velocity_symbol", "Scene", "branch_rates"]
+           "MechanicalModel", "Mechanics", "StabilityResult", "velocity_symbol", "Scene", "branch_rates",
+           # for the generators and the models: compiled code, parts pickled apart, the disk cache
+           "compile_dense", "gradient", "symbol_names", "Apart", "stored"]

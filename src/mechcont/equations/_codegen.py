@@ -32,7 +32,7 @@ from . import _cache
 if TYPE_CHECKING:
     import sympy as sp
 
-__all__ = ["to_engine", "derivative_entries", "is_smooth", "compile_dense", "compile_sparse", "CompiledFunction",
+__all__ = ["to_engine", "derivative_entries", "is_smooth", "compile_dense", "compile_sparse", "CompiledFunction", "symbol_names",
            "engine_arguments", "compile_values", "compile_scattered", "COUNTS", "DENSE_MAX", "backend"]
 
 #: Outputs up to this many entries are compiled whole (zeros included).
@@ -480,3 +480,13 @@ def sympy_symbols(names: Sequence[str]) -> list[sp.Symbol]:
     import sympy as sp
 
     return [sp.Symbol(n, real=True) for n in names]
+
+
+def symbol_names(exprs: Sequence) -> set[str]:
+    """The names of the free symbols of ``exprs`` (SymPy or SymEngine expressions, or numbers): what they depend on."""
+    import sympy as sp
+
+    out: set[str] = set()
+    for e in exprs:
+        out |= {str(s) for s in sp.sympify(e, strict=True).free_symbols}
+    return out

@@ -24,6 +24,7 @@ import stat
 import sys
 import time
 from collections.abc import Iterator
+from types import ModuleType
 
 from .._signals import process_state as holder_state
 from ..errors import InputError
@@ -121,7 +122,7 @@ def _folder(dir_fd: int) -> str:
         return "the cache folder"
 
 
-def _wait(fd: int, where: str, what: str, fcntl) -> bool:
+def _wait(fd: int, where: str, what: str, fcntl: ModuleType) -> bool:
     """Take the lock (True), or give up on a stale holder or the timeout with one line on stderr (False)."""
     timeout, notice = _seconds("MECHCONT_LOCK_TIMEOUT", TIMEOUT), _seconds("MECHCONT_LOCK_NOTICE", NOTICE)
     grace = min(STALE_GRACE, timeout / 4)

@@ -3,8 +3,8 @@
 :class:`Model` is an :class:`~mechcont.equations.EquationSystem` (the equations, their
 compiled derivatives, the mechanics, the scene, the value checks) plus the typed, optional
 facts about the mechanism behind it: its potential energy, the description it came from,
-its degrees of freedom, reactions, dropped redundant rows, declared conditions, stops and downlock
-(the last two as typed records: :class:`StopLimit`, :class:`DownlockFacts`).
+its degrees of freedom, reactions, dropped redundant rows, declared conditions, stops, dampers and downlock
+(the last three as typed records: :class:`StopLimit`, :class:`DamperFacts`, :class:`DownlockFacts`).
 Every field is declared and set when the model is made; nothing is attached afterwards
 (assigning any other attribute raises :class:`AttributeError`), so analyses read fields
 instead of probing for attributes. :meth:`~mechcont.equations.EquationSystem.with_values`
@@ -14,10 +14,11 @@ compiled code; pickling carries every field (the callables are picklable objects
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import MISSING, dataclass, field, fields
-from typing import TYPE_CHECKING, Protocol, TypedDict
+from typing import TYPE_CHECKING, Concatenate, ParamSpec, Protocol, TypedDict, TypeVar
 
 import numpy as np
 
@@ -30,7 +31,11 @@ if TYPE_CHECKING:
     from ._dynamics import OdeFacts
     from ._protocols import Description, DofFacts, Reselect
 
-__all__ = ["Model", "StopLimit", "DownlockFacts", "ValueFields", "as_model", "at_values", "check_values_at"]
+P = ParamSpec("P")
+R = TypeVar("R")
+
+__all__ = ["Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "as_model", "takes_model", "at_values",
+           "check_values_at"]
 
 
 class DownlockAssembly(Protocol):
@@ -89,12 +94,25 @@ class StopLimit:
         return self.side * (condition_value - self.limit)
 
 
+@dataclass(frozen=True)
+class DamperFacts:
+    """A damper of a model: its tension ``c v + c2 v |v|`` (N) with ``v`` the rate of its length (m/s), the
+    coefficients ``c`` (N s/m) and ``c2`` (N s^2/m^2) at the model's parameter values (written in parameters,
+    they follow :meth:`Model.with_values`). What a time simulation's damper tensions need of the description;
+    the scene draws the damper's ends (:attr:`~mechcont.equations.Scene.dampers`)."""
+
+    name: str
+    c: float
+    c2: float = 0.0
+
+
 class ValueFields(TypedDict, total=False):
     """The fields of a :class:`Model` that depend on its parameter values (what :attr:`Model.fields_at` gives)."""
 
     conditions: Mapping[str, float | None]
     downlock: DownlockFacts | None
     stops: tuple[StopLimit, ...]
+    dampers: tuple[DamperFacts, ...]
 
 
 @dataclass(eq=False)
@@ -126,9 +144,11 @@ class Model(EquationSystem):
         assembly), or None when the model declares none.
     stops:
         The stops (:class:`StopLimit`): one-sided limits of conditions with their contact reactions.
+    dampers:
+        The dampers (:class:`DamperFacts`): name and coefficients at the model's parameter values.
     fields_at:
         ``fields_at(values) -> ValueFields``: the fields that depend on the parameter values
-        (the conditions' targets, the downlock hold, the stops' limits), at ``values`` (all
+        (the conditions' targets, the downlock hold, the stops' limits, the dampers' coefficients), at ``values`` (all
         parameters, SI); :meth:`with_values` applies it. None when no field depends on them.
     reselect:
         For a model with dropped redundant rows whose choice depends on the configuration (a
@@ -152,6 +172,7 @@ class Model(EquationSystem):
     conditions: Mapping[str, float | None] = field(default_factory=dict)
     downlock: DownlockFacts | None = None
     stops: tuple[StopLimit, ...] = ()
+    dampers: tuple[DamperFacts, ...] = ()
     fields_at: Callable[[Mapping[str, float]], ValueFields] | None = field(default=None, repr=False)
     reselect: Reselect | None = field(default=None, repr=False)
     ode: OdeFacts | None = None
@@ -212,7 +233,7 @@ class Model(EquationSystem):
                 out[p] = float(expr.diff(symbols[p]).xreplace(subs))
         return out
 
-    def __setattr__(self, name: str, value) -> None:
+    def __setattr__(self, name: str, value: object) -> None:
         if name not in _declared(type(self)):
             raise AttributeError(f"{type(self).__name__} has no field {name!r}: a model's fields are declared "
                                  f"(make a copy with evolve(...) or declare the field)")
@@ -284,6 +305,18 @@ def as_model(system: EquationSystem) -> Model:
     :class:`EquationSystem`; everything below them takes the :class:`Model`.
     """
     return system if isinstance(system, Model) else Model.from_system(system)
+
+
+def takes_model(entry: Callable[Concatenate[Model, P], R]) -> Callable[Concatenate[EquationSystem, P], R]:
+    """Decorate a public entry of an analysis whose first argument is the model: it also accepts a
+    hand-formulated :class:`EquationSystem`, made a :class:`Model` here (:func:`as_model`), once, at the top;
+    everything below the entry takes the :class:`Model` and converts nothing."""
+
+    @functools.wraps(entry)
+    def wrapper(system: EquationSystem, /, *args: P.args, **kwargs: P.kwargs) -> R:
+        return entry(as_model(system), *args, **kwargs)
+
+    return wrapper
 
 
 def check_values_at(system: EquationSystem, values: Mapping[str, float], field: str = "values") -> None:

@@ -2,14 +2,19 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..errors import InputError
 
+if TYPE_CHECKING:
+    from ._system import EquationSystem
+
 __all__ = ["branch_rates"]
 
 
-def branch_rates(system, x: np.ndarray, vary: str) -> np.ndarray:
+def branch_rates(system: EquationSystem, x: np.ndarray, vary: str) -> np.ndarray:
     """``dx/d(vary)`` (full vector, ordered like ``system.names``) at the equilibrium ``x`` of a
     one-parameter family in which every state moves and every other parameter is held.
 

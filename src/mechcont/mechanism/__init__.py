@@ -31,7 +31,11 @@ _LAZY = {
                      "Polar", "Prismatic", "Revolute", "Slider", "Spring", "Weld", "coordinate_names"], "_description"),
     **dict.fromkeys(["load_description", "parse_description"], "_file"),
     **dict.fromkeys(["OdeSystem", "load_file", "parse_file"], "_ode_file"),
-    **dict.fromkeys(["builtin_descriptions", "find_description"], "_paths"),
+    **dict.fromkeys(["builtin_descriptions", "find_description", "read_description_bytes"], "_paths"),
+    # for the layers above: a compliant row's law, a parameter expression's value, the spatial row-switch test
+    **dict.fromkeys(["compliant_constraints"], "_check"),
+    **dict.fromkeys(["evaluate"], "_values"),
+    **dict.fromkeys(["SWITCH_RATIO", "unit_rows"], "spatial._dropped"),
 }
 
 __all__ = [
@@ -41,12 +45,13 @@ __all__ = [
     "Gravity", "PointForce", "Moment", "Drag", "CustomLoad", "Actuator", "Condition", "DownlockSpec",
     "coordinate_names",
     "assemble", "dof_report", "DofReport", "close_constraints", "check_report", "CheckReport",
+    "read_description_bytes", "compliant_constraints", "evaluate", "SWITCH_RATIO", "unit_rows",
 ]
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     from ..equations import Model
     from ._assembly import DofReport, assemble, close_constraints, dof_report
-    from ._check import CheckReport, check_report
+    from ._check import CheckReport, check_report, compliant_constraints
     from ._conditions import Condition, DownlockSpec
     from ._description import (
         Body,
@@ -68,8 +73,10 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     )
     from ._file import load_description, parse_description
     from ._ode_file import OdeSystem, load_file, parse_file
-    from ._paths import builtin_descriptions, find_description
+    from ._paths import builtin_descriptions, find_description, read_description_bytes
+    from ._values import evaluate
     from .elements import Actuator
+    from .spatial._dropped import SWITCH_RATIO, unit_rows
 
 
 __getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from ..equations import Model, StabilityResult, as_model
+from ..equations import Model, StabilityResult
 from ..errors import ConvergenceError, InputError, one_line
 from ._equilibrium import free_equilibrium
 from ._paths import find_description
@@ -310,7 +310,7 @@ def _stored_build(name_or_path: str | Path, reduced: bool, overrides: Mapping[st
     """:func:`_build` of a description file, with the description's facts; kept in the disk cache
     (keyed by the file's name and full text, the form and the values), so a new process checking
     the same file neither reads it (SymPy) nor generates its equations again."""
-    from ..equations._stored import stored
+    from ..equations import stored
 
     path = find_description(name_or_path)
     if path is None:
@@ -414,7 +414,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     imbalance = Quantity(system.equation_names[worst] if nq else "", float(np.abs(res[worst])) if nq else 0.0,
                          "N" if nq and system.variable(coord).unit == "m" else "N m")
     # relative to the reactions' size alone (a floor of 1 N would be a billion times too loose in km and grams)
-    reaction_scale = max([system.variable(n).scale for n in as_model(system).reaction_names], default=1.0)
+    reaction_scale = max([system.variable(n).scale for n in system.reaction_names], default=1.0)
     xe, stability = None, None
     at_rest = imbalance.value <= 1e-9 * reaction_scale
     if at_rest:
@@ -439,7 +439,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
                     f"with every coordinate free (largest move: {v.name} by {_show(float(move[i]), v.unit)})")
         except (ConvergenceError, InputError) as exc:
             note = f"no equilibrium found from the assembled configuration with every coordinate free: {exc}"
-            if not as_model(system).stops:  # with stops, the equilibrium may be one with a stop in contact
+            if not system.stops:  # with stops, the equilibrium may be one with a stop in contact
                 findings.append(f"no equilibrium found at these parameter values: {exc}")
     if xe is not None:
         stability = model.stability(xe)
@@ -462,16 +462,16 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         warnings=mech.warnings)
 
 
-def _compliant(system, x: np.ndarray) -> list[tuple[int, str, float]]:
+def compliant_constraints(system: Model, x: np.ndarray) -> list[tuple[int, str, float]]:
     """``(row, reaction, c)`` of each compliant constraint row ``Phi - lambda / k = 0``, found from the
     Jacobian (its own reaction enters with ``c = -1/k``); ``row`` indexes the system's equations."""
-    nq = len(system.mechanics.coordinates)
-    reactions = list(as_model(system).reaction_names)
-    if not reactions:
+    reactions = list(system.reaction_names)
+    if not reactions or system.mechanics is None:  # no reactions, or no coordinates to count the rows by
         return []
+    nq = len(system.mechanics.coordinates)
     J = system.jacobian(x)
     # a dropped row's equation (spatial: ``<row>_dropped``) holds its reaction at zero: no spring
-    dropped = {f"{d}_dropped" for d in as_model(system).dropped_constraints}
+    dropped = {f"{d}_dropped" for d in system.dropped_constraints}
     return [(nq + i, r, float(J[nq + i, system.index(r)])) for i, r in enumerate(reactions)
             if J[nq + i, system.index(r)] != 0 and system.equation_names[nq + i] not in dropped]
 
@@ -479,7 +479,7 @@ def _compliant(system, x: np.ndarray) -> list[tuple[int, str, float]]:
 def _compliant_gap(system, x: np.ndarray) -> Quantity | None:
     """The compliant row farthest from its spring law at ``x`` (``|Phi - lambda / k|``, m or rad), if
     any is off by more than ``CLOSURE_TOL``; else None."""
-    rows = _compliant(system, x)
+    rows = compliant_constraints(system, x)
     if not rows:
         return None
     res = system.residual(x)
@@ -490,10 +490,10 @@ def _compliant_gap(system, x: np.ndarray) -> Quantity | None:
 
 
 def _compliant_rows(system, x: np.ndarray) -> tuple[Quantity, ...]:
-    """Each compliant constraint row (see :func:`_compliant`) as
+    """Each compliant constraint row (see :func:`compliant_constraints`) as
     ``Quantity(row, deflection, unit, "reaction ..., stiffness ...")``."""
     out = []
-    for i, r, c in _compliant(system, x):
+    for i, r, c in compliant_constraints(system, x):
         lam, unit = float(x[system.index(r)]), system.variable(r).unit
         k_unit = "N/m" if unit == "N" else "N m/rad"
         out.append(Quantity(system.equation_names[i], -c * lam, "m" if unit == "N" else "rad",

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..equations import Scene, _deferred
+from ..equations import Apart, Scene
 
 __all__ = ["DroppedResidual", "CoordinatesOf", "GeneratedScene", "SpatialScene", "ValueCheck", "SCREEN_MARGIN"]
 
@@ -137,7 +137,7 @@ class SpatialScene:
 SCREEN_MARGIN = 1e-9
 
 
-class ValueCheck(_deferred.Apart):
+class ValueCheck(Apart):
     """``check(values)``: a description's physical checks at parameter ``values`` (the defaults where not given).
 
     The exact check (``exact(values)``: SymPy's correctly rounded values, the one-line

@@ -28,7 +28,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 import sympy as sp
 
-from ..equations import DownlockFacts, EquationSystem, MechanicalModel, Model, StopLimit, ValueFields, Variable, velocity_symbol
+from ..equations import (
+    DamperFacts,
+    DownlockFacts,
+    EquationSystem,
+    MechanicalModel,
+    Model,
+    StopLimit,
+    ValueFields,
+    Variable,
+    velocity_symbol,
+)
 from ..errors import InputError
 from ..units import typical_scale
 from ._assembly import close_constraints, dof_report
@@ -170,7 +180,7 @@ class _Structure:
                 rows, equilibrium, mechanics = self.rows, self.equilibrium, self.mechanics
             out = self.variants[dependent] = _Variant(rows, [self.rows[i] for i in dependent], equilibrium, mechanics)
             if self.conditions:
-                from ..equations._codegen import compile_dense
+                from ..equations import compile_dense
 
                 out.condition_values = compile_dense([symbol(n) for n in mechanics.names],
                                                      [e for _, e in self.conditions])
@@ -258,7 +268,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
                                   _reaction_text(r)))
     variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc, st.states)
     targets, downlock = condition_fields(mech, values)
-    at = partial(value_fields, mech) if mech.conditions else None
+    at = partial(value_fields, mech) if mech.conditions or mech.dampers else None
     if var.model is not None:  # the same structure built before: new values, the same compiled code
         return var.model.evolve(variables=variables, dof=report, conditions=targets, fields_at=at, **downlock)
     dropped = var.dropped
@@ -309,14 +319,14 @@ def condition_and_parameter_variables(mech: Mechanism, conditions, condition_val
 
 def value_fields(mech: Mechanism, values: Mapping[str, float]) -> ValueFields:
     """The fields of a :class:`Model` of ``mech`` that depend on the parameter ``values``:
-    ``conditions`` and, when the description has them, the downlock and the stops
+    ``conditions`` and, when the description has them, the downlock, the stops and the dampers
     (:attr:`Model.fields_at` is this function bound to ``mech``)."""
     targets, downlock = condition_fields(mech, values)
     return {"conditions": targets, **downlock}
 
 
 def condition_fields(mech: Mechanism, values: Mapping[str, float]) -> tuple[dict, dict]:
-    """Each condition's target at ``values``, and the downlock and stop fields of a :class:`Model`
+    """Each condition's target at ``values``, and the downlock, stop and damper fields of a :class:`Model`
     (each only when the description has one)."""
     targets = condition_targets(mech, values)
     downlock: dict = {}
@@ -332,6 +342,11 @@ def condition_fields(mech: Mechanism, values: Mapping[str, float]) -> tuple[dict
                       *(evaluate(mech.value(f"stops.{s.name}.{k}"), values, f"stops.{s.name}.{k}")
                         if s.contact == "compliant" else 0.0 for k in ("stiffness", "damping")))
             for s in mech.stops)
+    if mech.dampers:
+        downlock["dampers"] = tuple(
+            DamperFacts(d.name, *(evaluate(mech.value(f"dampers.{d.name}.{k}"), values, f"dampers.{d.name}.{k}")
+                                  for k in ("c", "c2")))
+            for d in mech.dampers)
     return targets, downlock
 
 
@@ -406,12 +421,12 @@ def _equilibrium(mech: Mechanism, coords: list[str], rows: Sequence[ConstraintRo
 
 def _dropped_residual(system: EquationSystem, dropped: Sequence[ConstraintRow]) -> DroppedResidual:
     """The compiled residual of the ``dropped`` rows of ``system`` (see :class:`DroppedResidual`)."""
-    from ..equations._codegen import compile_dense
+    from ..equations import compile_dense
     return DroppedResidual(compile_dense(list(system.symbols), [r.expr for r in dropped]) if dropped else None)
 
 
 def _coordinates_of(kin: Kinematics | SpatialKinematics, system: EquationSystem, subs: dict) -> CoordinatesOf:
     """The compiled body coordinates of ``system`` (see :class:`CoordinatesOf`)."""
-    from ..equations._codegen import compile_dense
+    from ..equations import compile_dense
     exprs = [subs.get(s, s) for s in kin.q]
     return CoordinatesOf(tuple(kin.coords), compile_dense(list(system.symbols), exprs))

@@ -7,8 +7,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import sympy as sp
 
-from ..equations import Scene
-from ..equations._codegen import compile_dense
+from ..equations import Scene, compile_dense
 from ._compiled import GeneratedScene
 from ._kinematics import Kinematics
 

@@ -181,7 +181,7 @@ def value_check(mech, exact, limits: list[Limit], vectors: list[list], perpendic
     the ``vectors`` (each a list of expressions, not all zero) and the ``perpendicular`` pairs
     (six expressions: two 3-vectors)). No screen when a quantity depends on more than the
     parameters or ``static_error`` (a defect that does not depend on the values)."""
-    from ..equations._codegen import compile_dense
+    from ..equations import compile_dense
     from ._compiled import ValueCheck
 
     names = [p.name for p in mech.parameters]

@@ -105,8 +105,8 @@ def describe_model(name: str | Path) -> ModelSummary:
     if key in _SUMMARIES:
         description, variables = _SUMMARIES[key]()
         return _summary(key, description, [(v.name, v.kind, v.unit, v.description, v.value) for v in variables])
-    from ..equations._stored import stored
-    from ..mechanism._paths import find_description
+    from ..equations import stored
+    from ..mechanism import find_description
 
     path = find_description(key)
     if path is None:
@@ -137,14 +137,14 @@ def _summary(key: str, description: str, rows) -> ModelSummary:
 
 def _read(path: Path) -> bytes:
     """The bytes of a description file (its key in the disk cache), or :class:`InputError`."""
-    from ..mechanism._paths import read_description_bytes
+    from ..mechanism import read_description_bytes
 
     return read_description_bytes(path)
 
 
 def model_names() -> list[str]:
     """Names accepted by :func:`load_model`: built-in models, then shipped description files."""
-    from ..mechanism._paths import builtin_descriptions
+    from ..mechanism import builtin_descriptions
 
     return [*BUILTIN_MODELS, *(f"{stem}.toml" for stem in builtin_descriptions())]
 
@@ -172,7 +172,7 @@ def model_from_text(text: str, filename: str) -> Model:
 
         return parse_file(text, filename).build()
 
-    from ..equations._stored import stored
+    from ..equations import stored
 
     return stored(lambda: _model_key(filename, text.encode(), {}), build,
                   valid=lambda obj: isinstance(obj, Model))
@@ -198,8 +198,8 @@ def load_model(name: str | Path, **overrides: float) -> Model:
     key = str(name)
     if key in BUILTIN_MODELS:
         return BUILTIN_MODELS[key][0](**overrides)
-    from ..equations._stored import stored
-    from ..mechanism._paths import find_description
+    from ..equations import stored
+    from ..mechanism import find_description
 
     path = find_description(key)
     if path is None:

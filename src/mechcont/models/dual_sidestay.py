@@ -123,7 +123,7 @@ def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> Mode
     process loads them with their compiled code from the disk cache (keyed by mechcont's source) when an earlier one built them.
     """
     if "system" not in _STRUCTURE:
-        from ..equations._stored import stored
+        from ..equations import stored
 
         _STRUCTURE["system"] = stored(lambda: ["dual_sidestay_kinematics structure"],
                                       lambda: _build(_variables(DEFAULT_GEOMETRY)),

@@ -293,7 +293,7 @@ def _structure() -> Model:
     equations again nor imports SymPy.
     """
     if "system" not in _STRUCTURE:
-        from ..equations._stored import stored
+        from ..equations import stored
 
         def derive() -> Model:
             system, V = _derive_structure()

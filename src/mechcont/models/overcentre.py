@@ -88,7 +88,7 @@ def build_overcentre(**overrides: float) -> Model:
     mechcont's source) when an earlier process built them; later calls only change the defaults.
     """
     if "base" not in _CACHE:
-        from ..equations._stored import stored
+        from ..equations import stored
 
         _CACHE["base"] = stored(lambda: ["overcentre", repr(sorted(DEFAULTS.items()))], lambda: _build(dict(DEFAULTS)),
                                 valid=lambda obj: isinstance(obj, Model) and obj.name == "overcentre")

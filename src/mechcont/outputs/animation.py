@@ -174,7 +174,8 @@ def _check_extra_cells(path: Path, r: int, s: str, n_unstable: str) -> None:
     """A branch table's ``s`` (arclength: a finite number) and ``n_unstable`` (a count of unstable
     directions, -1 for not evaluated) when present; InputError naming the row otherwise (the
     branch reader's own cell checks)."""
-    from ..continuation._branch import _count, _number
+    from ..continuation import cell_count as _count
+    from ..continuation import cell_number as _number
 
     if s and math.isnan(_number(path, r, "s", s)):
         raise InputError("branch", f"'{path}' row {r} (line {r + 2}), column s: {s!r} is not a finite number")

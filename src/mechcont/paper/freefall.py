@@ -193,8 +193,9 @@ def _figure(runs, path: Path) -> None:
 
 def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     """Dynamic critical airspeed of :data:`PENDULUM` against its damper, beside the closed-form fold."""
-    from ..dynamics.freefall import critical_figure, quasi_static_critical
+    from ..dynamics.freefall import quasi_static_critical
     from ..models import model_from_text
+    from ..outputs.critical_plots import critical_figure
     from ..outputs.plotting import save_figure
 
     system = model_from_text(PENDULUM, "freefall_pendulum.toml")

@@ -17,6 +17,7 @@ from ._execute import STUDY_EXTRA_HINT, ModelSource, StudyResult, load_study_mod
 from ._kernels import COLUMNS, check_spec, run_chunk
 from ._results import (
     FailureProbability,
+    SampledSensitivity,
     Sensitivity,
     failure_probability,
     grid_values,
@@ -31,4 +32,4 @@ from ._store import StudyStore
 __all__ = ["StudySpec", "Distribution", "GridAxis", "parse_distribution", "parse_axis", "ANALYSES", "SAMPLINGS",
            "run_study", "StudyResult", "ModelSource", "load_study_model", "STUDY_EXTRA_HINT", "run_chunk",
            "check_spec", "COLUMNS", "StudyStore", "read_results", "failure_probability", "FailureProbability",
-           "sensitivity", "Sensitivity", "grid_values", "study_spec_of", "study_report"]
+           "sensitivity", "SampledSensitivity", "Sensitivity", "grid_values", "study_spec_of", "study_report"]

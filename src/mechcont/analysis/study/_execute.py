@@ -106,7 +106,7 @@ def _samples(spec: StudySpec):
     return _SAMPLES[spec]
 
 
-@dataclass
+@dataclass(frozen=True)
 class StudyResult:
     """What :func:`run_study` did.
 

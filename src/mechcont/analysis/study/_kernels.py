@@ -36,8 +36,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..._status import Status
-from ...continuation import choose_unknowns
-from ...continuation._batch import fold_batch, newton_batch
+from ...continuation import choose_unknowns, fold_batch, newton_batch
 from ...errors import ConvergenceError, InputError
 from ..downlock import downlock_condition, downlock_point, downlocked_pose
 from ..unlock import RELEASE_FORCE_SPAN, unlock_folds
@@ -159,11 +158,11 @@ def _plan(system, spec: StudySpec) -> dict:
 
 
 def _check_freefall(system, spec: StudySpec) -> dict:
-    from ...dynamics.freefall import _lock_stops
+    from ...dynamics.freefall import find_lock_stops
 
     if system.mechanics is None:
         raise InputError("model", f"{spec.model} has no mechanics (masses, forces): it cannot be simulated")
-    _lock_stops(system, list(spec.lock))
+    find_lock_stops(system, list(spec.lock))
     for n, _ in spec.hold:
         if n not in system.names or system.variable(n).kind != "state":
             raise InputError("hold", f"{n} is not a coordinate or condition of {system.name} (the released pose)")

@@ -20,7 +20,8 @@ import numpy as np
 
 from ..._status import Status
 
-__all__ = ["read_results", "failure_probability", "FailureProbability", "sensitivity", "Sensitivity", "grid_values",
+__all__ = ["read_results", "failure_probability", "FailureProbability", "sensitivity", "SampledSensitivity",
+           "Sensitivity", "grid_values",
            "study_spec_of", "study_report"]
 
 
@@ -105,7 +106,7 @@ def failure_probability(df, confidence: float = 0.95) -> FailureProbability:
 
 
 @dataclass(frozen=True)
-class Sensitivity:
+class SampledSensitivity:
     """One sampled parameter's effect on an output.
 
     Attributes
@@ -126,10 +127,13 @@ class Sensitivity:
     spearman: float
 
 
-def sensitivity(df, names=None, output: str = "downlock_force") -> tuple[list[Sensitivity], float]:
+#: its name before issue 34 (the engine's :class:`mechcont.continuation.Sensitivity` is another thing)
+Sensitivity = SampledSensitivity
+
+def sensitivity(df, names=None, output: str = "downlock_force") -> tuple[list[SampledSensitivity], float]:
     """Rank the sampled parameters by their effect on ``output`` (converged samples only).
 
-    Returns ``(ranking, r2)``: :class:`Sensitivity` per parameter, largest ``|src|`` first, and
+    Returns ``(ranking, r2)``: :class:`SampledSensitivity` per parameter, largest ``|src|`` first, and
     the share of the output's variance that the linear model explains (near 1: the SRCs are
     the whole story; squared SRCs then add up to about ``r2``).
     """
@@ -151,7 +155,7 @@ def sensitivity(df, names=None, output: str = "downlock_force") -> tuple[list[Se
     out = []
     for j, n in enumerate(names):
         rho = float(spearmanr(X[:, j], y).statistic) if sx[j] > 0 and sy > 0 else float("nan")
-        out.append(Sensitivity(n, float(slopes[j] * sx[j] / sy) if sy > 0 else float("nan"), float(slopes[j]), rho))
+        out.append(SampledSensitivity(n, float(slopes[j] * sx[j] / sy) if sy > 0 else float("nan"), float(slopes[j]), rho))
     out.sort(key=lambda s: -abs(s.src) if np.isfinite(s.src) else 0.0)
     return out, r2
 

@@ -21,7 +21,7 @@ __all__ = ["SWITCH_RATIO", "conditioning", "choose_dropped"]
 SWITCH_RATIO = 0.05
 
 
-def _unit_rows(A: np.ndarray) -> np.ndarray:
+def unit_rows(A: np.ndarray) -> np.ndarray:
     norms = np.linalg.norm(A, axis=1)
     return A / np.where(norms > 0, norms, 1.0)[:, None]
 
@@ -33,7 +33,7 @@ def _rank(sv: np.ndarray, rtol: float = 1e-9) -> int:
 def conditioning(A: np.ndarray, dropped: Sequence[int]) -> float:
     """How far the rows of ``A`` left after ``dropped`` are from losing rank, relative to all of ``A``'s:
     ``sigma_min(kept) / sigma_rank(all)`` of the rows scaled to unit length, in [0, 1] (interlacing)."""
-    B = _unit_rows(A)
+    B = unit_rows(A)
     sv = np.linalg.svd(B, compute_uv=False)
     r = _rank(sv)
     if r == 0:
@@ -48,7 +48,7 @@ def choose_dropped(A: np.ndarray, protect: np.ndarray) -> tuple[int, ...]:
     pivoting of ``A^T`` (rows scaled to unit length) takes, one by one, the row farthest from the span
     of those taken; the rows left after ``rank`` are dropped. ``protect`` rows (the Euler-parameter
     normalisations, independent of everything else) are weighted so that they are taken first."""
-    B = _unit_rows(A) * np.where(protect, 10.0, 1.0)[:, None]
-    r = _rank(np.linalg.svd(_unit_rows(A), compute_uv=False))
+    B = unit_rows(A) * np.where(protect, 10.0, 1.0)[:, None]
+    r = _rank(np.linalg.svd(unit_rows(A), compute_uv=False))
     _, _, piv = qr(B.T, mode="economic", pivoting=True)
     return tuple(sorted(int(i) for i in piv[r:]))

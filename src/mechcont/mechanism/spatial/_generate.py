@@ -28,8 +28,7 @@ from functools import partial
 import numpy as np
 import sympy as sp
 
-from ...equations import EquationSystem, MechanicalModel, Model, Variable
-from ...equations._codegen import gradient
+from ...equations import EquationSystem, MechanicalModel, Model, Variable, gradient
 from ...errors import InputError
 from .._assembly import DofReport, close_constraints, dof_report
 from .._conditions import condition_rows
@@ -264,7 +263,7 @@ class _RowChoice:
         dropped = choose_dropped(st.mechanics.phi_q(x), st.protect)
         if dropped == self.dropped and not force:
             return None
-        keep = ("dof", "conditions", "fields_at", "downlock", "stops")
+        keep = ("dof", "conditions", "fields_at", "downlock", "stops", "dampers")
         new = model if dropped == self.dropped else _variant_model(
             self.mech, st, st.variant(self.mech, dropped), list(model.variables), **{k: getattr(model, k) for k in keep})
         nq = len(st.coords)
@@ -333,7 +332,7 @@ def _structure(mech: SpatialMechanism) -> _Structure:
                                 state_rates={s.name: s.rate for s in states} or None)
     condition_values = None
     if conditions:
-        from ...equations._codegen import compile_dense
+        from ...equations import compile_dense
 
         condition_values = compile_dense([symbol(n) for n in closure.names], [e for _, e in conditions])
     st = mech._generated["spatial"] = _Structure(kin, rows, ld.arrows, coords, forces, mass, ld.V, conditions,
@@ -410,5 +409,5 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
         variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc, what))
     variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc, st.states)
     targets, downlock = condition_fields(mech, values)
-    at = partial(value_fields, mech) if mech.conditions else None
+    at = partial(value_fields, mech) if mech.conditions or mech.dampers else None
     return _variant_model(mech, st, var, variables, dof=report, conditions=targets, fields_at=at, **downlock)

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ...equations._codegen import gradient
+from ...equations import gradient
 from .._expr import symbol
 from .._values import parameter_values
 from ..elements import element_rows

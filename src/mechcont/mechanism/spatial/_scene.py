@@ -6,7 +6,7 @@ from collections.abc import Sequence
 
 import sympy as sp
 
-from ...equations._codegen import compile_dense
+from ...equations import compile_dense
 from .._compiled import SpatialScene
 from ._kinematics import SpatialKinematics
 
