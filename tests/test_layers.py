@@ -346,7 +346,7 @@ LONG_FILES_AT_START = {
     "equations/_system.py": 663,
     "outputs/drawing.py": 648,
     "outputs/animation.py": 630,
-    "equations/_mechanics.py": 621,
+    "equations/_mechanics.py": 553,
     "continuation/_palc.py": 552,
     "equations/_cache.py": 528,
 }

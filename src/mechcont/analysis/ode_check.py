@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..equations import Model, dynamics_of
+from ..equations import Model, dynamics_of, ode_equations
 from ..errors import ConvergenceError, InputError
 
 __all__ = ["OdeReport", "ode_report", "ode_equations"]
@@ -97,8 +97,7 @@ def ode_report(model: Model) -> OdeReport:
     """Check the ODE ``model`` (``model.ode`` set) at its initial state (the file's values): the residual,
     the eigenvalues of ``df/du``, the equilibrium Newton reaches from there and its stability. Raises
     :class:`InputError` for a model that is not an ODE system."""
-    from ..continuation import find_equilibrium
-    from ..continuation._problem import unstable_rates
+    from ..continuation import find_equilibrium, unstable_rates
 
     facts = model.ode
     if facts is None:
@@ -132,22 +131,3 @@ def _eigenvalues(model: Model, x: np.ndarray) -> np.ndarray | None:
     with np.errstate(all="ignore"):
         lin = dynamics_of(model).linearise(x)
     return lin.eigenvalues() if np.all(np.isfinite(lin.A)) else None
-
-
-def ode_equations(model: Model, latex: bool = False) -> str:
-    """The ODE ``model``'s equations as text, ``du/dt = f`` (or ``0 = g``) per state, one a line; with
-    ``latex`` a LaTeX ``align`` environment."""
-    import sympy as sp
-
-    facts = model.ode
-    if facts is None:
-        raise InputError("model", f"{model.name} is not an ODE system ([system] file)")
-    if latex:
-        def lhs(n: str) -> str:
-            return "0" if facts.algebraic else f"\\frac{{d {sp.latex(sp.Symbol(n))}}}{{dt}}"
-
-        rows = [f"{lhs(n)} &= {sp.latex(e)}" for n, e in zip(facts.states, model.equations)]
-        return "\\begin{align}\n" + " \\\\\n".join(rows) + "\n\\end{align}"
-    if facts.algebraic:
-        return "\n".join(f"{n}: 0 = {sp.sstr(e)}" for n, e in zip(facts.states, model.equations))
-    return "\n".join(f"d{n}/dt = {sp.sstr(e)}" for n, e in zip(facts.states, model.equations))

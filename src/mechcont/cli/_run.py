@@ -16,7 +16,7 @@ __all__ = ["continuation_options", "solve_start", "write_branch", "common_option
 def mechanism_only(model: str, what: str) -> None:
     """Before any work: :class:`InputError` when MODEL is an ODE file (a ``[system]`` table), for which
     ``what`` (a command or option) makes no sense."""
-    from ..mechanism._paths import is_system_file
+    from ..mechanism import is_system_file
 
     if is_system_file(model):
         raise InputError("model", f"{what} is a mechanism analysis; {model} is an ODE system")

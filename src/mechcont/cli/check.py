@@ -63,8 +63,7 @@ def check_command(ctx, model, sets, reduced, plot, label_points, quiet):
     An ODE file ([system] table, docs/ode-format.md): its states, parameters and rates, the residual
     and the eigenvalues of df/du at the initial state, and the equilibrium Newton reaches from there.
     """
-    from ..mechanism import check_report
-    from ..mechanism._paths import is_system_file
+    from ..mechanism import check_report, is_system_file
 
     overrides = assignments(sets, "set")
     if is_system_file(model):

@@ -26,7 +26,7 @@ from ._run import (
 @click.argument("model")
 @common_options
 @click.option("--vary", default=None, metavar="P1",
-              help="Parameter in which the fold is a turning point (required without --point).")
+              help="Continuation parameter: the fold is a turning point in it (required without --point).")
 @click.option("--along", "second", default=None, metavar="P2",
               help="Second parameter, continued along the fold curve (required).")
 @click.option("--solve-for", "old_frees", multiple=True, hidden=True)  # the old spelling of --free here
@@ -102,9 +102,15 @@ def _from_point(system, point: str, given_vary, second: str, holds, frees, optio
                 fold_curves=()) -> None:
     """``folds --point BRANCH.csv:ROW --along P2``: the fold curve of an ``LP`` row, the Hopf curve of an
     ``HB`` row (with its stability chart as the plot)."""
-    from ..continuation import Branch, choose_unknowns, continue_folds, continue_hopf, locate_hopf
-    from ..continuation._branch import check_branch_table
-    from ..continuation._move import check_point
+    from ..continuation import (
+        Branch,
+        check_branch_table,
+        check_point,
+        choose_unknowns,
+        continue_folds,
+        continue_hopf,
+        locate_hopf,
+    )
 
     csv_path, sep, row = point.rpartition(":")
     if not sep or not csv_path or not row:
@@ -147,8 +153,7 @@ def _from_point(system, point: str, given_vary, second: str, holds, frees, optio
 
 def _fold_curve_table(path: str, system, p1: str, p2: str):
     """A fold-curve table for the stability chart: a branch table of ``system`` with both parameters."""
-    from ..continuation import Branch
-    from ..continuation._branch import check_branch_table
+    from ..continuation import Branch, check_branch_table
 
     curve = Branch.read_csv(path, model=system.name)
     check_branch_table(curve, system, path)

@@ -25,7 +25,7 @@ from ._linalg import DenseLU, LinearSolver, MinimumNorm
 from ._newton import find_equilibrium
 from ._options import ContinuationOptions
 from ._palc import BranchSteps, Termination
-from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns
+from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns, unstable_rates
 from ._scaling import equilibrate
 from ._start import MAX_STEPS, check_max_steps, run_options, start_point
 
@@ -52,7 +52,7 @@ __all__ = [
     "cell_count", "cell_number", "check_branch_table", "unit_header", "fold_scaling", "polish_fold", "equilibrate",
     "Sensitivity", "SPECIAL_POINTS", "check_parameters", "equilibrium_sensitivity", "fold_sensitivity", "point_sensitivity",
     "write_json", "variable_indices", "solve_equilibrated", "derivative_units", "state_table", "move_point", "check_point",
-    "PointLost", "travel", "fold_batch", "newton_batch",
+    "PointLost", "travel", "fold_batch", "newton_batch", "unstable_rates",
 ]
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs

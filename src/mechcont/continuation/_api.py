@@ -20,7 +20,7 @@ from ._palc import run_direction
 from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns
 
 if TYPE_CHECKING:
-    from ..equations._dynamics import Dynamics
+    from ..equations import Dynamics
 
 __all__ = ["continuation", "continue_folds", "locate_fold", "switch_branch"]
 

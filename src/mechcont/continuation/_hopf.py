@@ -16,8 +16,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from ..equations import EquationSystem
-from ..equations._dynamics import Dynamics
+from ..equations import Dynamics, EquationSystem
 from ..errors import ConvergenceError, InputError
 from ._events import Event, _secant
 from ._hopf_point import HopfPoint, HopfTest, first_lyapunov, polish_hopf

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..equations._dynamics import Dynamics, OdeDynamics
+from ..equations import Dynamics, OdeDynamics
 from ..errors import ConvergenceError
 
 __all__ = ["HopfPoint", "CriticalPair", "HopfTest", "bialternate_test", "first_lyapunov", "polish_hopf"]

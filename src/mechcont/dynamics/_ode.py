@@ -83,7 +83,7 @@ class OdeHistory:
     def to_csv(self, path: str | Path) -> Path:
         """Write ``t``, each state and each parameter as CSV, the headers with units as branch tables have
         them (``t [s]``, ``x [m]``); written atomically; returns the path."""
-        from ..continuation._branch import unit_header
+        from ..continuation import unit_header
 
         header = [unit_header("t", "s"), *(unit_header(n, u) for n, u in zip(self.names, self.units)),
                   *(unit_header(n, u) for n, _, u in self.parameters)]

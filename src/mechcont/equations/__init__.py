@@ -5,6 +5,7 @@ from ._deferred import Apart
 from ._dynamics import Dynamics, LinearDynamics, OdeDynamics, OdeFacts, dynamics_of, ode_model
 from ._mechanics import MechanicalModel, StabilityResult, velocity_symbol
 from ._model import DamperFacts, DownlockFacts, Model, StopLimit, ValueFields, as_model, at_values, check_values_at, takes_model
+from ._ode_text import ode_equations
 from ._protocols import Mechanics
 from ._rates import branch_rates
 from ._scene import Scene
@@ -14,6 +15,7 @@ from ._system import EquationSystem, Limit, Variable
 __all__ = ["EquationSystem", "Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "as_model", "at_values",
            "check_values_at", "takes_model",
            "Variable", "Limit", "Dynamics", "LinearDynamics", "OdeDynamics", "OdeFacts", "dynamics_of", "ode_model",
+           "ode_equations",
            "MechanicalModel", "Mechanics", "StabilityResult", "velocity_symbol", "Scene", "branch_rates",
            # for the generators and the models: compiled code, parts pickled apart, the disk cache
            "compile_dense", "gradient", "symbol_names", "Apart", "stored"]

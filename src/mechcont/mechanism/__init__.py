@@ -31,16 +31,16 @@ _LAZY = {
                      "Polar", "Prismatic", "Revolute", "Slider", "Spring", "Weld", "coordinate_names"], "_description"),
     **dict.fromkeys(["load_description", "parse_description"], "_file"),
     **dict.fromkeys(["OdeSystem", "load_file", "parse_file"], "_ode_file"),
-    **dict.fromkeys(["builtin_descriptions", "find_description", "read_description_bytes"], "_paths"),
+    **dict.fromkeys(["builtin_descriptions", "find_description", "read_description_bytes", "is_system_file"], "_paths"),
     # for the layers above: a compliant row's law, a parameter expression's value, the spatial row-switch test
-    **dict.fromkeys(["compliant_constraints"], "_check"),
+    **dict.fromkeys(["compliant_constraints"], "_compliant"),
     **dict.fromkeys(["evaluate"], "_values"),
     **dict.fromkeys(["SWITCH_RATIO", "unit_rows"], "spatial._dropped"),
 }
 
 __all__ = [
     "load", "load_description", "parse_description", "builtin_descriptions", "find_description",
-    "OdeSystem", "load_file", "parse_file",
+    "OdeSystem", "load_file", "parse_file", "is_system_file",
     "Mechanism", "Parameter", "Polar", "Body", "Revolute", "Slider", "Prismatic", "Weld", "Spring", "Damper",
     "Gravity", "PointForce", "Moment", "Drag", "CustomLoad", "Actuator", "Condition", "DownlockSpec",
     "coordinate_names",
@@ -51,7 +51,8 @@ __all__ = [
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     from ..equations import Model
     from ._assembly import DofReport, assemble, close_constraints, dof_report
-    from ._check import CheckReport, check_report, compliant_constraints
+    from ._check import CheckReport, check_report
+    from ._compliant import compliant_constraints
     from ._conditions import Condition, DownlockSpec
     from ._description import (
         Body,
@@ -73,7 +74,7 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
     )
     from ._file import load_description, parse_description
     from ._ode_file import OdeSystem, load_file, parse_file
-    from ._paths import builtin_descriptions, find_description, read_description_bytes
+    from ._paths import builtin_descriptions, find_description, is_system_file, read_description_bytes
     from ._values import evaluate
     from .elements import Actuator
     from .spatial._dropped import SWITCH_RATIO, unit_rows

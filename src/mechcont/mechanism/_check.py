@@ -32,6 +32,7 @@ import numpy as np
 
 from ..equations import Model, StabilityResult
 from ..errors import ConvergenceError, InputError, one_line
+from ._compliant import compliant_constraints
 from ._equilibrium import free_equilibrium
 from ._paths import find_description
 
@@ -460,20 +461,6 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         stability=stability, scales=scales, parameters=params, states=states, findings=tuple(findings),
         system=system, x=x, x_equilibrium=xe, compliant=compliant, hold=mech.hold,
         warnings=mech.warnings)
-
-
-def compliant_constraints(system: Model, x: np.ndarray) -> list[tuple[int, str, float]]:
-    """``(row, reaction, c)`` of each compliant constraint row ``Phi - lambda / k = 0``, found from the
-    Jacobian (its own reaction enters with ``c = -1/k``); ``row`` indexes the system's equations."""
-    reactions = list(system.reaction_names)
-    if not reactions or system.mechanics is None:  # no reactions, or no coordinates to count the rows by
-        return []
-    nq = len(system.mechanics.coordinates)
-    J = system.jacobian(x)
-    # a dropped row's equation (spatial: ``<row>_dropped``) holds its reaction at zero: no spring
-    dropped = {f"{d}_dropped" for d in system.dropped_constraints}
-    return [(nq + i, r, float(J[nq + i, system.index(r)])) for i, r in enumerate(reactions)
-            if J[nq + i, system.index(r)] != 0 and system.equation_names[nq + i] not in dropped]
 
 
 def _compliant_gap(system, x: np.ndarray) -> Quantity | None:

@@ -11,8 +11,7 @@ from ..equations import Model
 from ..errors import InputError
 
 if TYPE_CHECKING:
-    from ..mechanism import Mechanism
-    from ..mechanism._ode_file import OdeSystem
+    from ..mechanism import Mechanism, OdeSystem
 
 __all__ = ["BUILTIN_MODELS", "load_model", "model_at", "model_names", "describe_model", "ModelSummary"]
 
@@ -115,7 +114,7 @@ def describe_model(name: str | Path) -> ModelSummary:
     text = _read(path)
 
     def describe() -> ModelSummary:
-        from ..mechanism._ode_file import load_file
+        from ..mechanism import load_file
 
         found = load_file(path).summary()
         if found is None:
@@ -168,7 +167,7 @@ def model_from_text(text: str, filename: str) -> Model:
     """
 
     def build() -> Model:
-        from ..mechanism._ode_file import parse_file
+        from ..mechanism import parse_file
 
         return parse_file(text, filename).build()
 
@@ -208,7 +207,7 @@ def load_model(name: str | Path, **overrides: float) -> Model:
     values = {k: float(v) for k, v in overrides.items()}
 
     def build() -> Model:
-        from ..mechanism._ode_file import load_file
+        from ..mechanism import load_file
 
         # the description is parsed once per file text; its equations are generated and
         # compiled on its first build, and a build at other values reuses them (Mechanism.build);
