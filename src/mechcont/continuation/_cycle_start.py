@@ -72,7 +72,8 @@ def hopf_point(model, dynamics, x: np.ndarray, vary: str) -> HopfOrigin:
     found = locate_hopf(model, x, vary, dynamics=dynamics)
     xh = found.x
     if abs(xh[j] - x[j]) > 0.1 * max(abs(x[j]), model.variable(vary).scale):
-        raise InputError("point", f"the Hopf point nearest {vary} = {x[j]:.6g} lies at {xh[j]:.6g}, far from it: not a Hopf point")
+        raise InputError("point", f"the Hopf point nearest {vary} = {x[j]:.6g} lies at {xh[j]:.6g}, far from it: "
+                                  "not a Hopf point")
     z = dynamics.state_at(xh)
     lam, q = _critical(dynamics.rates_jacobian(z, xh))
     return HopfOrigin(z, xh, float(found.extra["hopf"].frequency), q)
