@@ -17,6 +17,7 @@ plane, to within a degree of alignment: a pose no gear reaches.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -141,9 +142,11 @@ def _row(k: float, stretch: float, run) -> str:
     return "| " + " | ".join(cells) + " |"
 
 
-def lines(timings: dict) -> list[str]:
-    """The summary lines of the dual-sidestay freefall (pose, model, the table against ``k_att`` and ``stretch``)."""
+def lines(timings: dict, out_dir: Path | None = None) -> list[str]:
+    """The summary lines of the dual-sidestay freefall (pose, model, the table against ``k_att`` and ``stretch``);
+    with ``out_dir``, its figure ``freefall_sidestay.png`` there (each pair's lock links against their stop)."""
     from ..equations import as_model
+    from ._freefall_figures import sidestay_figure
 
     with timed(timings, "freefall: dual-sidestay gear built, retracted quasi-statically"):
         model = as_model(freefall_gear())
@@ -158,6 +161,10 @@ def lines(timings: dict) -> list[str]:
             x = x_up if (k, st) == cases[0] else retracted(model, values=values, guess=x_up)
             runs.append((k, st, sidestay_freefall(model, x, values=values)))
     base = runs[0][2]
+    if out_dir is not None:
+        stops = {st.name: st for st in model.stops}
+        sidestay_figure(runs, {f"{n.split('_')[0]} pair": (stops[n].condition, stops[n].limit) for n in LOCKS},
+                        Path(out_dir) / "freefall_sidestay.png")
     p = model.as_dict(x_up)
     out = ["### Dual-sidestay main gear: freefall from gear up", "",
            "The generated gear (`examples/dual_sidestay.toml`: two sidestays with lock links, each pair with an "
@@ -183,6 +190,8 @@ def lines(timings: dict) -> list[str]:
            "|---|---|---|---|---|---|---|---|---|"]
     out += [_row(k, st, r) for k, st, r in runs]
     out += [""] + _findings(runs, base) + [""]
+    if out_dir is not None:
+        out += ["![dual-sidestay freefall: each lock-link pair against its stop](freefall_sidestay.png)", ""]
     return out
 
 
