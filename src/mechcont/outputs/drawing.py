@@ -523,15 +523,36 @@ def _with_vary(vary: str | None, annotate: Sequence[str]) -> tuple[str, ...]:
     return tuple(dict.fromkeys([*([vary] if vary else []), *annotate]))
 
 
-def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str, unknown: str = "") -> str:
-    """Text lines: each annotated variable (angles in degrees), stability (``unknown`` when not known) and label."""
+def _direction(u) -> str:
+    """Words for the unit vector ``u`` (2 or 3 components): ``up``, ``down``, ``left``, ``right`` in a plane when
+    within a degree of an axis, else its angle from +x; ``along (ux, uy, uz)`` in space."""
+    u = np.asarray(u, float)
+    if len(u) != 2:
+        return "along (" + ", ".join(f"{c:.2f}" for c in u) + ")"
+    angle = math.degrees(math.atan2(u[1], u[0]))
+    for target, word in ((90.0, "up"), (-90.0, "down"), (0.0, "right"), (180.0, "left"), (-180.0, "left")):
+        if abs(angle - target) < 1.0:
+            return word
+    return f"at {angle:.0f}° from +x"
+
+
+def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str, unknown: str = "",
+          forces: dict | None = None) -> str:
+    """Text lines: each annotated variable (angles in degrees), stability (``unknown`` when not known) and label.
+    A variable that is a drawn load of ``forces`` (``{name: force vector (N)}``) is printed signed with the
+    direction its positive value acts in (``F = -75.58 N (+ up)``): its arrow, unlabelled, shows where it acts."""
     lines = []
     for name in annotate:
         var, val = system.variable(name), float(x[system.index(name)])
         if var.unit == "rad":
             lines.append(f"{name} = {round(display(val, 'rad')[0], 2) + 0.0:.2f}°")   # no "-0.00°"
         else:
-            lines.append(f"{name} = {val:.4g} {var.unit}".rstrip())
+            line = f"{name} = {val:.4g} {var.unit}".rstrip()
+            v = None if forces is None else forces.get(name)
+            if v is not None and val != 0 and np.linalg.norm(v) > 0:
+                d = np.asarray(v, float) / val   # the direction of a positive value
+                line += f" (+ {_direction(d / np.linalg.norm(d))})"
+            lines.append(line)
     status = unknown if stable is None else ("stable" if stable else "unstable")
     if label.rstrip("0123456789?") == "LP":
         status = "fold"  # neutral: neither stable nor unstable (see Branch.stability_labels)
@@ -639,10 +660,12 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
 
         ax = Figure(figsize=figsize, layout="constrained").add_subplot()
     scene = scene_fn(x)
+    # a load that is also annotated is printed once, signed, in the note; its arrow shows where it acts
+    forces = {name: v for name, _, v in scene.forces if name in annotate}
     draw_scene(scene, ax, title=title or system.name, show_forces=show_forces, force_scale=force_scale,
-               labels=labels or label_points)
+               labels=labels or label_points, quiet_loads=list(forces))
     corner = _note_corner([scene], (*ax.get_xlim(), *ax.get_ylim()))
-    _put_note(ax, _note(system, x, annotate, stable, label), stable, corner)
+    _put_note(ax, _note(system, x, annotate, stable, label, forces=forces), stable, corner)
     if out is not None:
         _atomic_write(out, lambda tmp: ax.figure.savefig(tmp, format=out.suffix[1:].lower(), dpi=dpi))
     return ax

@@ -235,6 +235,14 @@ def _plot_fig11_projection(ax, res, xn: str, yn: str, title: str, hi, fc) -> Non
 
 def _plot_design(res, out_dir: Path) -> Path:
     """The design map: where the gear locks unaided (F > 0)."""
+    path = out_dir / "nose_gear_design.png"
+    _save(design_map_figure(res), path)
+    return path
+
+
+def design_map_figure(res):
+    """The nose gear's design map of the results ``res`` (:func:`~mechcont.paper.nose_gear.compute`): where the
+    gear locks unaided (F > 0). Returns the figure."""
     from matplotlib.figure import Figure
 
     from ..outputs.plotting import plot_design_region
@@ -243,6 +251,4 @@ def _plot_design(res, out_dir: Path) -> Path:
     ax = fig.add_subplot()
     plot_design_region(res.region, ax)
     ax.set_title("Design: where the gear locks unaided (F > 0)")
-    path = out_dir / "nose_gear_design.png"
-    _save(fig, path)
-    return path
+    return fig

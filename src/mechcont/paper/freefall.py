@@ -173,7 +173,7 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     """Dynamic critical airspeed of :data:`PENDULUM` against its damper, beside the closed-form fold."""
     from ..dynamics.freefall import critical_figure, quasi_static_critical
     from ..models import model_from_text
-    from ..outputs.plotting import save_figure
+    from ..outputs.plotting import legend_below, save_figure
 
     system = model_from_text(PENDULUM, "freefall_pendulum.toml")
     closed = math.sqrt(2 * 10.0 * 9.81 / (1.225 * 1.2 * 0.2 * 1.0))
@@ -189,9 +189,16 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     fig = critical_figure(DAMPERS, crits, qs.value, damping_label="damper c (N s/m)",
                           airspeed_label="critical airspeed U (m/s)",
                           title="Gear leg (pendulum) freefall: dynamic vs quasi-static")
+    fig.set_layout_engine("constrained")
+    fig.set_size_inches(6.4, 5.0)
+    legend_below(fig, ncols=1)   # in the axes it lay over the curves
     save_figure(fig, out_dir / "freefall_critical_vs_damping.png")
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)   # critical_figure makes it with pyplot
     lines = ["### Critical airspeed against damping (a gear leg with a closed-form fold)", "",
-             "A gear leg as a pendulum (`tests/data/freefall_pendulum.toml`: 10 kg, 1 m, released at 57 deg above "
+             "A gear leg as a pendulum (the description `freefall_pendulum`, `mechcont.paper.freefall.PENDULUM`: "
+             "10 kg, 1 m, released at 57 deg above "
              "the horizontal, locked at 57 deg below) falls against the drag of an upward airflow, which holds it up "
              "best at the horizontal: its stall equilibria fold at U_c = sqrt(2 m g / (rho C_D d L)) = "
              f"{closed:.4f} m/s. Continuation finds the fold at {qs.value:.4f} m/s. Bisection on freefall runs "
