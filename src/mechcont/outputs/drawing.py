@@ -31,7 +31,7 @@ from ..equations import Scene
 from ..errors import InputError
 from ..units import display
 
-__all__ = ["draw_scene", "draw", "default_annotate", "IMAGE_SUFFIXES"]
+__all__ = ["draw_scene", "draw", "label_scene", "default_annotate", "IMAGE_SUFFIXES"]
 
 IMAGE_SUFFIXES = (".png", ".svg", ".pdf")
 
@@ -275,7 +275,7 @@ def _draw_actuator(ax, name: str, a: np.ndarray, b: np.ndarray, tension: float, 
         sense = "tension" if tension > 0 else ("compression" if tension < 0 else "unloaded")
         at = a + 0.3 * length * t + 2.2 * width * nrm
         ax.text(at[0], at[1], f"{name} = {load_text(abs(tension), 'N')} {sense}", ha="center", va="center", fontsize=9,
-                color=colour, zorder=8, bbox=_LABEL_BOX)
+                color=colour, zorder=8, bbox=_LABEL_BOX, gid=f"load:{name}")
 
 
 def load_text(value: float, unit: str) -> str:
@@ -304,7 +304,8 @@ def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float, label: bo
     if not label:
         return
     at = p + 1.25 * r * np.array([math.cos(math.pi / 4), math.sin(math.pi / 4)])
-    ax.text(at[0], at[1], text, ha="left", va="bottom", fontsize=9, color=colour, zorder=8, bbox=_LABEL_BOX)
+    ax.text(at[0], at[1], text, ha="left", va="bottom", fontsize=9, color=colour, zorder=8, bbox=_LABEL_BOX,
+            gid=f"load:{name}")
 
 
 def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: float, label: bool = True):
@@ -314,7 +315,7 @@ def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: fl
         return
     if mag == 0 or scale == 0:
         ax.text(p[0], p[1] + 1.5 * h, text, ha="center", va="bottom", fontsize=9, color="#d62728", zorder=8,
-                bbox=_LABEL_BOX)
+                bbox=_LABEL_BOX, gid=f"load:{name}")
         return
     tip = p + v * scale
     ax.annotate("", xy=tip, xytext=p, zorder=7,
@@ -328,7 +329,8 @@ def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: fl
         ha, va = "center", ("bottom" if u[1] > 0 else "top")
     else:
         ha, va = ("left" if u[0] > 0 else "right"), "center"
-    ax.text(at[0], at[1], text, ha=ha, va=va, fontsize=9, color="#d62728", zorder=8, bbox=_LABEL_BOX)
+    ax.text(at[0], at[1], text, ha=ha, va=va, fontsize=9, color="#d62728", zorder=8, bbox=_LABEL_BOX,
+            gid=f"load:{name}")
 
 
 def _point_groups(points, size: float) -> list[tuple[np.ndarray, list[str]]]:
@@ -346,35 +348,40 @@ def _point_groups(points, size: float) -> list[tuple[np.ndarray, list[str]]]:
     return groups
 
 
-def _draw_labels(ax, scene: Scene, h: float, limits) -> None:
-    """Name every body at its centre and every named point of ``scene.points`` beside a dot.
+def label_scene(ax, scene: Scene) -> None:
+    """Name every body and every named point of ``scene`` on the laid-out axes ``ax``, and place the loads' value
+    labels again, all by :func:`mechcont.outputs._labels.place_labels`: each beside what it names, clear of the
+    other texts, inside the axes, covering as little of the drawing as it can, with a leader line when away from it
+    (the texts written at fixed offsets ran into each other: a moment's value over a body's name, the labels of
+    loads at one point over each other). Points closer than a thousandth of the view share one label."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    A body's centre is the mean of the distinct points of its first polyline (a bar's
-    midpoint). Points closer than a thousandth of the view share one label (``"crank.b,
-    coupler.a"``), placed away from the middle of the view.
-    """
+    from ._labels import Label, place_labels
+
+    fig = ax.figure
+    if not isinstance(fig.canvas, FigureCanvasAgg):
+        FigureCanvasAgg(fig)
+    fig.draw_without_rendering()   # the layout: labels are placed in pixels
+    renderer = fig.canvas.get_renderer()
+    to_data = ax.transData.inverted().transform
+    items = []
+    for t in list(ax.texts):
+        if str(t.get_gid() or "").startswith("load:"):
+            e = t.get_window_extent(renderer)
+            c = to_data(np.array([[(e.x0 + e.x1) / 2, (e.y0 + e.y1) / 2]]))[0]
+            items.append(Label(t.get_text(), (float(c[0]), float(c[1])), t.get_color(), gid=t.get_gid()))
+            t.remove()
     colours = body_colours([scene])
     seen: set[str] = set()
     for name, pts in scene.bars:
-        if name in seen:
-            continue
-        seen.add(name)
-        pts = np.unique(np.atleast_2d(np.asarray(pts, float)), axis=0)
-        c = pts.mean(axis=0)
-        ax.text(c[0], c[1], name, ha="center", va="center", fontsize=9, fontweight="bold",
-                color=colours[name], zorder=9, bbox=_LABEL_BOX, gid=f"body:{name}")
-    size = max(limits[1] - limits[0], limits[3] - limits[2])
-    middle = np.array([(limits[0] + limits[1]) / 2, (limits[2] + limits[3]) / 2])
-    groups = _point_groups(scene.points, size)
-    for p, names in groups:
+        if name not in seen:
+            seen.add(name)
+            c = np.unique(np.atleast_2d(np.asarray(pts, float)), axis=0).mean(axis=0)
+            items.append(Label(name, (float(c[0]), float(c[1])), colours[name], bold=True, gid=f"body:{name}"))
+    for p, names in _point_groups(scene.points, _size((*ax.get_xlim(), *ax.get_ylim()))):
         ax.plot(p[0], p[1], "o", color="black", markersize=2.5, zorder=7)
-        away = p - middle
-        n = np.hypot(*away)
-        u = away / n if n > 1e-9 * size else np.array([0.7071, 0.7071])
-        at = p + 1.2 * h * u
-        ax.text(at[0], at[1], ", ".join(names), ha="left" if u[0] >= 0 else "right",
-                va="bottom" if u[1] >= 0 else "top", fontsize=9, color="0.15", zorder=9, bbox=_LABEL_BOX,
-                gid=f"point:{names[0]}")
+        items.append(Label(", ".join(names), (float(p[0]), float(p[1])), gid=f"point:{names[0]}"))
+    place_labels(ax, items, renderer, avoid=_scene_samples(scene), fontsize=9)
 
 
 def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: bool = True,
@@ -461,9 +468,6 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
             _draw_force(ax, name, np.asarray(p, float), np.asarray(v, float), scale, h, label=name not in quiet)
         for name, p, value in scene.moments:
             _draw_moment(ax, name, np.asarray(p, float), float(value), h, label=name not in quiet)
-    if labels:
-        _draw_labels(ax, scene, h, limits)
-
     ax.set_xlim(limits[0], limits[1])
     ax.set_ylim(limits[2], limits[3])
     ax.set_aspect("equal", adjustable="box")
@@ -472,6 +476,8 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
     ax.grid(True, linewidth=0.3, alpha=0.5)
     if title:
         ax.set_title(title)
+    if labels:
+        label_scene(ax, scene)
     return ax
 
 
@@ -663,9 +669,11 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
     # a load that is also annotated is printed once, signed, in the note; its arrow shows where it acts
     forces = {name: v for name, _, v in scene.forces if name in annotate}
     draw_scene(scene, ax, title=title or system.name, show_forces=show_forces, force_scale=force_scale,
-               labels=labels or label_points, quiet_loads=list(forces))
+               quiet_loads=list(forces))
     corner = _note_corner([scene], (*ax.get_xlim(), *ax.get_ylim()))
     _put_note(ax, _note(system, x, annotate, stable, label, forces=forces), stable, corner)
+    if labels or label_points:
+        label_scene(ax, scene)   # after the note, which the labels then keep clear of
     if out is not None:
         _atomic_write(out, lambda tmp: ax.figure.savefig(tmp, format=out.suffix[1:].lower(), dpi=dpi))
     return ax

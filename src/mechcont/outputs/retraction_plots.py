@@ -152,5 +152,5 @@ def plot_unlock_with_stops(runs: dict, fold_curve=None, labels: dict | None = No
         ax.set_ylabel("unlock force, both pairs (N)")
         ax.set_title("two-parameter fold curve", fontsize=10)
         ax.grid(True, linewidth=0.3, alpha=0.5)
-    legend_below(fig, ncols=3)
+    legend_below(fig)
     return fig
