@@ -17,7 +17,7 @@ SECTIONS = [
     ("overcentre", "overcentre continuation and time simulations (Figs. 3b, 4a-c, 5a-c)"),
     ("dynamics", "overcentre dynamic models, jumps against folds (Fig. 3a, sweep rates)"),
     ("nose_gear", "nose landing gear downlock analysis (Figs. 7-11, design)"),
-    ("design_optimum", "reliability-based design: nose gear free length, lock stay unlock load (issue 24)"),
+    ("design_optimum", "reliability-based design: nose gear free length, lock stay unlock load"),
     ("freefall", "freefall: nose gear and dual-sidestay gear released from the uplock, outcome, loads, lock times"),
 ]
 #: Sections run only when named in --only (beyond the 2010 paper): module, title.

@@ -86,7 +86,7 @@ def sidestay_figure(runs, stops: dict[str, tuple[str, float]], path: Path) -> No
     aligned) against time, each run to its end; forward pair solid, aft dashed. Saved to ``path``."""
     from ..outputs.plotting import save_figure
 
-    fig, whole, near = _panels("Dual-sidestay gear freefall: both lock-link pairs onto their stops", 3.0, share=False)
+    fig, whole, near = _panels("Dual-sidestay gear freefall: both lock-link pairs onto their stops", 0.5, share=False)
     styles = {pair: ls for pair, ls in zip(stops, ("-", "--"))}
     colours = _colours(len(runs))
     first = min(e.time for _, _, r in runs for e in r.history.stop_events if e.kind == "impact") \
@@ -100,6 +100,8 @@ def sidestay_figure(runs, stops: dict[str, tuple[str, float]], path: Path) -> No
             near.plot(h.t, gap, styles[pair], color=colour, lw=1.3, label=label)
     end = max(float(r.history.t[-1]) for _, _, r in runs)
     whole.set_xlim(0.0, end)
-    near.set_xlim(max(0.0, first - 0.05), end)
+    # the strikes and the settling on the stops: from just before the first strike to past the last lock
+    last = max((r.time_to_lock for _, _, r in runs if r.time_to_lock is not None), default=end)
+    near.set_xlim(max(0.0, first - 0.005), min(end, last + 0.25 * (last - first) + 0.005))
     near.legend(loc="upper center", bbox_to_anchor=(0.5, -0.28), ncols=2, fontsize=7.5, frameon=False)
     save_figure(fig, path)

@@ -188,8 +188,8 @@ def lines(timings: dict, out_dir: Path | None = None) -> list[str]:
            f"both stops (restitution 0) until both pairs rest on their stops (RK45, rtol {RTOL:g}). Times from the "
            "release; a pair's first strike (and the lock links' angular speed then, deg/s) and when it comes to rest "
            "on its stop (strikes in brackets); the gap is aft minus fwd:", "",
-           "| k_att (N/m) | lock-spring stretch | outcome | fwd first strike (ms) | fwd locked (ms) | "
-           "aft first strike (ms) | aft locked (ms) | gap (ms) | peak actuator damper load (kN) |",
+           "| k_att (N/m) | lock-spring stretch | outcome | fwd first strike (ms, deg/s) | fwd locked (ms) | "
+           "aft first strike (ms, deg/s) | aft locked (ms) | gap (ms) | peak actuator damper load (kN) |",
            "|---|---|---|---|---|---|---|---|---|"]
     limits = {st.name: st.limit for st in model.stops}
     out += [_row(k, st, r, limits) for k, st, r in runs]
