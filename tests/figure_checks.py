@@ -187,7 +187,8 @@ def review_problems(fig, name: str, tolerance: float = 1.0) -> list[str]:
     - a text reaching outside the figure;
     - a legend over something drawn: a line's vertex or a point on one of its segments, a marker, a scatter point
       or a text of the same axes inside the legend's box (2-D axes);
-    - a marker cut by the axes' frame (its centre inside the axes less than its radius from an edge, clipped);
+    - a marker on the axes' frame (its centre inside the axes less than its radius from an edge: cut by the frame,
+      or drawn half over the spine when not clipped);
     - an axis with tick labels but no label, or a label without a unit in parentheses (colour bars included);
     - a 3-D surface whose faces have different numbers of vertices: Matplotlib pads them with uninitialised
       memory, whose projection can overflow (a RuntimeWarning on some runs, not others).
@@ -256,8 +257,8 @@ def review_problems(fig, name: str, tolerance: float = 1.0) -> list[str]:
                     problems.append(f"{name}: a leader line ({gid}) crosses the label '{t.get_text()}'")
         frame = ax.get_window_extent(renderer)
         for line in ax.get_lines():
-            if line.get_marker() in (None, "None", "", " ") or not line.get_visible() or not line.get_clip_on():
-                continue
+            if line.get_marker() in (None, "None", "", " ") or not line.get_visible():
+                continue   # (clipped, a marker on the frame is cut; unclipped, it lies half over the spine)
             r = 0.5 * line.get_markersize() * fig.dpi / 72.0
             px = line.get_transform().transform(np.asarray(line.get_xydata(), float))
             inside = _inside_axes(ax, px)

@@ -35,8 +35,9 @@ QUOTES: dict[str, tuple[str, str]] = {
     "first_strike_min_s": ("freefall", r"the first strike comes " + _N + r" to"),
     "first_strike_max_s": ("freefall", r"the first strike comes [-+0-9.]+ to " + _N + r" s after"),
 }
-#: A marked number in a document: its name and the text between the marks.
-MARK = re.compile(r"<!--run:(\w+)-->(.*?)<!--/run-->")
+#: A marked number in a document: its name (lower case: ``NAME`` in the docs that describe the marks is not one)
+#: and the text between the marks.
+MARK = re.compile(r"<!--run:([a-z0-9_]+)-->(.*?)<!--/run-->")
 
 
 def quoted(summary: str) -> dict[str, str]:
