@@ -3,7 +3,8 @@
 docs/dual-sidestay.md quoted 217 mm / 0.1 deg for the kinematic assembly at gear up where the run's summary.md
 printed 236 mm / 2.9 deg. Quoted numbers are now marked (``<!--run:NAME-->value<!--/run-->``) and filled from the
 run's summary by ``python -m mechcont.paper.doc_numbers DIR`` (:mod:`mechcont.paper.doc_numbers`); the slow test
-runs the section part they come from (the dual-sidestay freefall, about 25 s) and compares every marked number.
+runs the section part they come from (the dual-sidestay freefall: about 25 s with a warm disk cache, a minute or
+more when the gear is first built) and compares every marked number.
 """
 
 from __future__ import annotations

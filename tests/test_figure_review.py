@@ -7,10 +7,10 @@ labelled with its unit, no ragged 3-D surface (Matplotlib pads one with uninitia
 overflowed on some runs: the sections run with RuntimeWarnings as errors), no leader line through a label. A
 paper section also shows every figure it writes in its summary lines (``![...](file)``).
 
-Times on the 2-core machine, warm disk cache: overcentre about 10 s (its computation is cached per process,
-which other paper tests share); the rest under ``slow``: nose gear about 15 s, dynamics about 10 s, design_optimum
-about 10 s (a minute when the dual-sidestay gear is first built), freefall about 50 s, dual_sidestay (quick) about
-20 s, the documented commands about 30 s.
+Times measured on the shared 2-core machine (loaded, warm disk cache): overcentre about 16 s (its computation is
+cached per process, which other paper tests share); under ``slow``: nose gear 16 s, design_optimum 15 s (a minute
+more when the dual-sidestay gear is first built), dynamics 36 s, dual_sidestay (quick) 29 s, freefall 91 s (its
+bisections and damping study), the documented commands 50 s in all.
 """
 
 from __future__ import annotations
