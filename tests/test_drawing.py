@@ -518,7 +518,8 @@ def test_vary_on_the_cli(tmp_path, run, fourbar_branch):
 
 
 def test_labels_name_every_body_at_its_centre_and_every_named_point():
-    """labels=True: each body's name at its centre; every ground and body point labelled, coincident ones together."""
+    """labels=True: each body's name at its centre, or beside it with a leader line from the centre (placed clear of
+    the other labels); every ground and body point labelled, coincident ones together."""
     from mechcont.mechanism import load
 
     s = load("fourbar")
@@ -529,7 +530,10 @@ def test_labels_name_every_body_at_its_centre_and_every_named_point():
     for body in ("crank", "coupler", "rocker"):
         t = texts[f"body:{body}"]
         assert t.get_text() == body
-        assert t.get_position() == pytest.approx((co[f"x_{body}"], co[f"y_{body}"]), abs=1e-9)  # the bar's centre
+        centre = (co[f"x_{body}"], co[f"y_{body}"])   # the bar's centre
+        leaders = [ln for ln in ax.get_lines() if ln.get_gid() == f"leader:body:{body}"]
+        at = leaders[0].get_xydata()[0] if leaders else t.get_position()
+        assert tuple(at) == pytest.approx(centre, abs=1e-9)
     labels = [t.get_text() for g, t in texts.items() if g.startswith("point:")]
     assert sorted(labels) == sorted(["crank.a, ground.A", "crank.b, coupler.a", "coupler.b, rocker.b",
                                      "rocker.a, ground.D", "ground.S"])

@@ -17,7 +17,7 @@ SECTIONS = [
     ("overcentre", "overcentre continuation and time simulations (Figs. 3b, 4a-c, 5a-c)"),
     ("dynamics", "overcentre dynamic models, jumps against folds (Fig. 3a, sweep rates)"),
     ("nose_gear", "nose landing gear downlock analysis (Figs. 7-11, design)"),
-    ("design_optimum", "reliability-based design: nose gear free length, lock stay unlock load (issue 24)"),
+    ("design_optimum", "reliability-based design: nose gear free length, lock stay unlock load"),
     ("freefall", "freefall: nose gear and dual-sidestay gear released from the uplock, outcome, loads, lock times"),
 ]
 #: Sections run only when named in --only (beyond the 2010 paper): module, title.
@@ -40,12 +40,25 @@ def summary_header() -> list[str]:
 @click.option("--only", default=None,
               help="Comma-separated sections to run (default: the paper's; dual_sidestay only when named).")
 @click.option("--quiet", is_flag=True, help="Print nothing but errors.")
-def paper_command(out_dir, old_out, only, quiet):
+@click.option("--readme-images", "readme_dir", default=None, metavar="DIR",
+              help="Only draw the README's images (three of the paper's figures) into DIR, with readme-images.json "
+                   "recording what they show (the repository's: docs).")
+def paper_command(out_dir, old_out, only, quiet, readme_dir):
     """Reproduce the paper's analyses with the built-in models (figures, summary.md, timings.txt).
 
     summary.md holds the results only, so two runs give identical files; run times go to
     stdout and timings.txt. A progress line shows on a terminal (not with --quiet).
     """
+    if readme_dir is not None:
+        from .._io import check_output_folder
+        from ..paper.readme_images import write
+
+        folder = check_output_folder(readme_dir, "--readme-images")
+        folder.mkdir(parents=True, exist_ok=True)
+        for path in write(folder):
+            if not quiet:
+                click.echo(f"wrote {path}")
+        return
     names = [n for n, _ in SECTIONS]
     valid = names + [n for n, _ in EXTRA_SECTIONS]
     chosen = names if only is None else [n.strip() for n in only.split(",") if n.strip()]

@@ -2,10 +2,12 @@
 
 A greedy pass on a laid-out figure (positions in display pixels, so the result holds at any
 resolution): each label in turn goes to the candidate position of least cost on rings of
-directions around its anchor. A candidate is refused when its box leaves the axes or meets a
-text already there; its cost is its distance from the anchor plus a penalty for every drawn
-point (bars, springs, pins) it would cover. A label that ends up away from its anchor gets a thin
-leader line in its colour.
+directions around its anchor. A candidate is refused when its box leaves the axes, meets a
+text already there or covers another label's anchor or a leader line drawn before it; its cost is
+its distance from the anchor plus a penalty for every drawn point (bars, springs, pins) it would
+cover and a large one when its own leader line would cross a label already placed. The labels
+with the most anchors near theirs go first (they have the fewest free places). A label that ends
+up away from its anchor gets a thin leader line in its colour.
 """
 
 from __future__ import annotations
@@ -17,8 +19,8 @@ import numpy as np
 
 __all__ = ["Label", "place_labels", "text_boxes"]
 
-_DIRECTIONS = 16
-_COVER_PENALTY = 6.0   # pixels of distance one covered drawn point is worth
+_DIRECTIONS = 32
+_COVER_PENALTY = 20.0  # pixels of distance one covered drawn point is worth (away from a crowded drawing)
 _GAP = 2.0             # pixels kept free around every label
 
 
@@ -66,6 +68,15 @@ def _meets(boxes: np.ndarray, others: Sequence[np.ndarray]) -> np.ndarray:
     return hit
 
 
+def _crosses(anchor: np.ndarray, ends: np.ndarray, others: Sequence[np.ndarray]) -> np.ndarray:
+    """Whether the leader line from ``anchor`` to each of ``ends`` (m, 2) would cross any of ``others``."""
+    seg = anchor[None, None, :] + np.linspace(0.05, 0.95, 19)[None, :, None] * (ends - anchor)[:, None, :]
+    hit = np.zeros(len(ends), bool)
+    for o in others:
+        hit |= ((seg[..., 0] > o[0]) & (seg[..., 0] < o[2]) & (seg[..., 1] > o[1]) & (seg[..., 1] < o[3])).any(axis=1)
+    return hit
+
+
 def _candidates(anchor: np.ndarray, w: float, h: float, step: float, reach: float) -> tuple[np.ndarray, np.ndarray]:
     """Centres (m, 2) of boxes ``w`` x ``h`` px on rings around ``anchor`` (the box edge at the ring) and their
     distances from it, out to ``reach`` px; the first candidate is centred on the anchor itself."""
@@ -97,8 +108,14 @@ def place_labels(ax, labels: Sequence[Label], renderer, avoid=None, *, fontsize:
     to_data = ax.transData.inverted().transform
     pts = to_px(np.asarray(avoid, float).reshape(-1, 2)) if avoid is not None else np.zeros((0, 2))
     placed = text_boxes(ax, renderer)
-    out = []
-    for lab in labels:
+    # what no label may cover: every label's anchor (what it names) and the leader lines drawn so far
+    kept = to_px(np.array([lab.anchor for lab in labels], float).reshape(-1, 2))
+    # the most crowded anchors first: they have the fewest free places, which later labels would take
+    near = np.linalg.norm(kept[:, None, :] - kept[None, :, :], axis=2) < 0.15 * max(frame.width, frame.height)
+    order = sorted(range(len(labels)), key=lambda i: -int(near[i].sum()))
+    out: dict[int, object] = {}
+    for i in order:
+        lab = labels[i]
         t = ax.text(*lab.anchor, lab.text, ha="center", va="center", fontsize=fontsize, color=lab.colour,
                     fontweight="bold" if lab.bold else "normal", zorder=9, bbox=_LABEL_BOX, gid=lab.gid,
                     clip_on=False)
@@ -109,9 +126,12 @@ def place_labels(ax, labels: Sequence[Label], renderer, avoid=None, *, fontsize:
         centres, dist = _candidates(a, w, h, step=0.5 * h, reach=max(frame.width, frame.height))
         boxes = np.column_stack([centres[:, 0] - w / 2, centres[:, 1] - h / 2, centres[:, 0] + w / 2,
                                  centres[:, 1] + h / 2])
+        own = np.all(np.isclose(kept, a), axis=1)   # its own anchor it may sit on
         ok = ((boxes[:, 0] >= limit[0]) & (boxes[:, 2] <= limit[2]) & (boxes[:, 1] >= limit[1])
-              & (boxes[:, 3] <= limit[3]) & ~_meets(boxes, placed))
-        cost = dist + _COVER_PENALTY * _inside_count(boxes, pts)
+              & (boxes[:, 3] <= limit[3]) & ~_meets(boxes, placed) & (_inside_count(boxes, kept[~own]) == 0))
+        leader_ends = centres + np.clip(a - centres, -np.array([w / 2 - _GAP, h / 2 - _GAP]),
+                                        np.array([w / 2 - _GAP, h / 2 - _GAP]))   # as drawn below
+        cost = dist + _COVER_PENALTY * _inside_count(boxes, pts) + 1e3 * _crosses(a, leader_ends, placed)
         if not ok.any():  # nowhere free near the anchor: the least crowded place inside the axes
             ok = (boxes[:, 0] >= limit[0]) & (boxes[:, 2] <= limit[2]) & (boxes[:, 1] >= limit[1]) & (
                 boxes[:, 3] <= limit[3])
@@ -125,7 +145,9 @@ def place_labels(ax, labels: Sequence[Label], renderer, avoid=None, *, fontsize:
             half = np.array([w / 2 - _GAP, h / 2 - _GAP])
             end = c + np.clip(a - c, -half, half)      # the nearest point of the label's box
             ends = to_data(np.array([a, end]))
+            n = max(int(np.linalg.norm(end - a) / 3.0), 2)   # a point every 3 px: no label slips between them
+            kept = np.vstack([kept, a + np.linspace(0.05, 0.95, n)[:, None] * (end - a)])
             ax.add_line(Line2D(ends[:, 0], ends[:, 1], color=lab.colour, linewidth=0.8, zorder=8.5,
                                gid=f"leader:{lab.gid}" if lab.gid else "leader"))
-        out.append(t)
-    return out
+        out[i] = t
+    return [out[i] for i in range(len(labels))]

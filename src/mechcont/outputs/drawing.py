@@ -32,7 +32,7 @@ from ..equations import Scene
 from ..errors import InputError
 from ..units import display
 
-__all__ = ["draw_scene", "draw", "default_annotate", "IMAGE_SUFFIXES"]
+__all__ = ["draw_scene", "draw", "label_scene", "default_annotate", "IMAGE_SUFFIXES"]
 
 IMAGE_SUFFIXES = (".png", ".svg", ".pdf")
 
@@ -296,7 +296,7 @@ def _draw_actuator(ax, name: str, a: np.ndarray, b: np.ndarray, tension: float, 
         sense = "tension" if tension > 0 else ("compression" if tension < 0 else "unloaded")
         at = a + 0.3 * length * t + 2.2 * width * nrm
         ax.text(at[0], at[1], f"{name} = {load_text(abs(tension), 'N')} {sense}", ha="center", va="center", fontsize=9,
-                color=colour, zorder=8, bbox=_LABEL_BOX)
+                color=colour, zorder=8, bbox=_LABEL_BOX, gid=f"load:{name}")
 
 
 def load_text(value: float, unit: str) -> str:
@@ -325,7 +325,8 @@ def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float, label: bo
     if not label:
         return
     at = p + 1.25 * r * np.array([math.cos(math.pi / 4), math.sin(math.pi / 4)])
-    ax.text(at[0], at[1], text, ha="left", va="bottom", fontsize=9, color=colour, zorder=8, bbox=_LABEL_BOX)
+    ax.text(at[0], at[1], text, ha="left", va="bottom", fontsize=9, color=colour, zorder=8, bbox=_LABEL_BOX,
+            gid=f"load:{name}")
 
 
 def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: float, label: bool = True):
@@ -335,7 +336,7 @@ def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: fl
         return
     if mag == 0 or scale == 0:
         ax.text(p[0], p[1] + 1.5 * h, text, ha="center", va="bottom", fontsize=9, color="#d62728", zorder=8,
-                bbox=_LABEL_BOX)
+                bbox=_LABEL_BOX, gid=f"load:{name}")
         return
     tip = p + v * scale
     ax.annotate("", xy=tip, xytext=p, zorder=7,
@@ -349,7 +350,8 @@ def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: fl
         ha, va = "center", ("bottom" if u[1] > 0 else "top")
     else:
         ha, va = ("left" if u[0] > 0 else "right"), "center"
-    ax.text(at[0], at[1], text, ha=ha, va=va, fontsize=9, color="#d62728", zorder=8, bbox=_LABEL_BOX)
+    ax.text(at[0], at[1], text, ha=ha, va=va, fontsize=9, color="#d62728", zorder=8, bbox=_LABEL_BOX,
+            gid=f"load:{name}")
 
 
 def _point_groups(points, size: float) -> list[tuple[np.ndarray, list[str]]]:
@@ -367,35 +369,40 @@ def _point_groups(points, size: float) -> list[tuple[np.ndarray, list[str]]]:
     return groups
 
 
-def _draw_labels(ax, scene: Scene, h: float, limits) -> None:
-    """Name every body at its centre and every named point of ``scene.points`` beside a dot.
+def label_scene(ax, scene: Scene) -> None:
+    """Name every body and every named point of ``scene`` on the laid-out axes ``ax``, and place the loads' value
+    labels again, all by :func:`mechcont.outputs._labels.place_labels`: each beside what it names, clear of the
+    other texts, inside the axes, covering as little of the drawing as it can, with a leader line when away from it
+    (the texts written at fixed offsets ran into each other: a moment's value over a body's name, the labels of
+    loads at one point over each other). Points closer than a thousandth of the view share one label."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    A body's centre is the mean of the distinct points of its first polyline (a bar's
-    midpoint). Points closer than a thousandth of the view share one label (``"crank.b,
-    coupler.a"``), placed away from the middle of the view.
-    """
+    from ._labels import Label, place_labels
+
+    fig = ax.figure
+    if not isinstance(fig.canvas, FigureCanvasAgg):
+        FigureCanvasAgg(fig)
+    fig.draw_without_rendering()   # the layout: labels are placed in pixels
+    renderer = fig.canvas.get_renderer()
+    to_data = ax.transData.inverted().transform
+    items = []
+    for t in list(ax.texts):
+        if str(t.get_gid() or "").startswith("load:"):
+            e = t.get_window_extent(renderer)
+            c = to_data(np.array([[(e.x0 + e.x1) / 2, (e.y0 + e.y1) / 2]]))[0]
+            items.append(Label(t.get_text(), (float(c[0]), float(c[1])), t.get_color(), gid=t.get_gid()))
+            t.remove()
     colours = body_colours([scene])
     seen: set[str] = set()
     for name, pts in scene.bars:
-        if name in seen:
-            continue
-        seen.add(name)
-        pts = np.unique(np.atleast_2d(np.asarray(pts, float)), axis=0)
-        c = pts.mean(axis=0)
-        ax.text(c[0], c[1], name, ha="center", va="center", fontsize=9, fontweight="bold",
-                color=colours[name], zorder=9, bbox=_LABEL_BOX, gid=f"body:{name}")
-    size = max(limits[1] - limits[0], limits[3] - limits[2])
-    middle = np.array([(limits[0] + limits[1]) / 2, (limits[2] + limits[3]) / 2])
-    groups = _point_groups(scene.points, size)
-    for p, names in groups:
+        if name not in seen:
+            seen.add(name)
+            c = np.unique(np.atleast_2d(np.asarray(pts, float)), axis=0).mean(axis=0)
+            items.append(Label(name, (float(c[0]), float(c[1])), colours[name], bold=True, gid=f"body:{name}"))
+    for p, names in _point_groups(scene.points, _size((*ax.get_xlim(), *ax.get_ylim()))):
         ax.plot(p[0], p[1], "o", color="black", markersize=2.5, zorder=7)
-        away = p - middle
-        n = np.hypot(*away)
-        u = away / n if n > 1e-9 * size else np.array([0.7071, 0.7071])
-        at = p + 1.2 * h * u
-        ax.text(at[0], at[1], ", ".join(names), ha="left" if u[0] >= 0 else "right",
-                va="bottom" if u[1] >= 0 else "top", fontsize=9, color="0.15", zorder=9, bbox=_LABEL_BOX,
-                gid=f"point:{names[0]}")
+        items.append(Label(", ".join(names), (float(p[0]), float(p[1])), gid=f"point:{names[0]}"))
+    place_labels(ax, items, renderer, avoid=_scene_samples(scene), fontsize=9)
 
 
 def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: bool = True,
@@ -484,9 +491,6 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
             _draw_force(ax, name, np.asarray(p, float), np.asarray(v, float), scale, h, label=name not in quiet)
         for name, p, value in scene.moments:
             _draw_moment(ax, name, np.asarray(p, float), float(value), h, label=name not in quiet)
-    if labels:
-        _draw_labels(ax, scene, h, limits)
-
     ax.set_xlim(limits[0], limits[1])
     ax.set_ylim(limits[2], limits[3])
     ax.set_aspect("equal", adjustable="box")
@@ -495,6 +499,8 @@ def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: 
     ax.grid(True, linewidth=0.3, alpha=0.5)
     if title:
         ax.set_title(title)
+    if labels:
+        label_scene(ax, scene)
     return ax
 
 
@@ -546,15 +552,36 @@ def _with_vary(vary: str | None, annotate: Sequence[str]) -> tuple[str, ...]:
     return tuple(dict.fromkeys([*([vary] if vary else []), *annotate]))
 
 
-def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str, unknown: str = "") -> str:
-    """Text lines: each annotated variable (angles in degrees), stability (``unknown`` when not known) and label."""
+def _direction(u) -> str:
+    """Words for the unit vector ``u`` (2 or 3 components): ``up``, ``down``, ``left``, ``right`` in a plane when
+    within a degree of an axis, else its angle from +x; ``along (ux, uy, uz)`` in space."""
+    u = np.asarray(u, float)
+    if len(u) != 2:
+        return "along (" + ", ".join(f"{c:.2f}" for c in u) + ")"
+    angle = math.degrees(math.atan2(u[1], u[0]))
+    for target, word in ((90.0, "up"), (-90.0, "down"), (0.0, "right"), (180.0, "left"), (-180.0, "left")):
+        if abs(angle - target) < 1.0:
+            return word
+    return f"at {angle:.0f}° from +x"
+
+
+def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str, unknown: str = "",
+          forces: dict | None = None) -> str:
+    """Text lines: each annotated variable (angles in degrees), stability (``unknown`` when not known) and label.
+    A variable that is a drawn load of ``forces`` (``{name: force vector (N)}``) is printed signed with the
+    direction its positive value acts in (``F = -75.58 N (+ up)``): its arrow, unlabelled, shows where it acts."""
     lines = []
     for name in annotate:
         var, val = system.variable(name), float(x[system.index(name)])
         if var.unit == "rad":
             lines.append(f"{name} = {round(display(val, 'rad')[0], 2) + 0.0:.2f}°")   # no "-0.00°"
         else:
-            lines.append(f"{name} = {val:.4g} {var.unit}".rstrip())
+            line = f"{name} = {val:.4g} {var.unit}".rstrip()
+            v = None if forces is None else forces.get(name)
+            if v is not None and val != 0 and np.linalg.norm(v) > 0:
+                d = np.asarray(v, float) / val   # the direction of a positive value
+                line += f" (+ {_direction(d / np.linalg.norm(d))})"
+            lines.append(line)
     status = unknown if stable is None else ("stable" if stable else "unstable")
     if label.rstrip("0123456789?") == "LP":
         status = "fold"  # neutral: neither stable nor unstable (see Branch.stability_labels)
@@ -662,10 +689,14 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
 
         ax = Figure(figsize=figsize, layout="constrained").add_subplot()
     scene = scene_fn(x)
+    # a load that is also annotated is printed once, signed, in the note; its arrow shows where it acts
+    forces = {name: v for name, _, v in scene.forces if name in annotate}
     draw_scene(scene, ax, title=title or system.name, show_forces=show_forces, force_scale=force_scale,
-               labels=labels or label_points)
+               quiet_loads=list(forces))
     corner = _note_corner([scene], (*ax.get_xlim(), *ax.get_ylim()))
-    _put_note(ax, _note(system, x, annotate, stable, label), stable, corner)
+    _put_note(ax, _note(system, x, annotate, stable, label, forces=forces), stable, corner)
+    if labels or label_points:
+        label_scene(ax, scene)   # after the note, which the labels then keep clear of
     if out is not None:
         _atomic_write(out, lambda tmp: ax.figure.savefig(tmp, format=out.suffix[1:].lower(), dpi=dpi))
     return ax

@@ -166,7 +166,7 @@ def _loads_text(scene: Scene, show_forces: bool) -> str:
 def _draw_3d(ax, scene: Scene, box: np.ndarray, scale: float, show_forces: bool, title: str | None,
              colours: dict[str, str]):
     """Scene in Matplotlib 3-D axes ``ax`` within ``box`` (3, 2) m, equal scale on the three axes. Bodies are
-    named by their colour (the figure's legend); the loads' values are listed in a corner."""
+    named by their colour (the figure's legend); the loads' values are listed under the panel's title."""
     size = float(np.max(box[:, 1] - box[:, 0]))
     h = _d._SYMBOL * size
     for name, pts in scene.bars:
@@ -193,24 +193,23 @@ def _draw_3d(ax, scene: Scene, box: np.ndarray, scale: float, show_forces: bool,
             p, v = np.asarray(p, float), scale * np.asarray(f, float)
             if _norm(v) > 0:
                 ax.quiver(*p, *v, color="#d62728", linewidth=1.8, arrow_length_ratio=0.15)
-    loads = _loads_text(scene, show_forces)
-    if loads:
-        ax.text2D(0.0, 1.0, loads, transform=ax.transAxes, ha="left", va="top", fontsize=_FONT, color="#d62728",
-                  zorder=10, bbox=dict(boxstyle="round,pad=0.3", facecolor="white", edgecolor="0.6", alpha=0.9))
     ax.set_xlim(*box[0])
     ax.set_ylim(*box[1])
     ax.set_zlim(*box[2])
-    ax.set_box_aspect(tuple(box[:, 1] - box[:, 0]), zoom=0.85)   # room for the tick labels inside the panel
+    ax.set_box_aspect(tuple(box[:, 1] - box[:, 0]), zoom=1.0)
     ax.set_xlabel(_label_3d("x"), fontsize=_FONT)
     ax.set_ylabel(_label_3d("y"), fontsize=_FONT)
     ax.set_zlabel(_label_3d("z"), fontsize=_FONT)
     ax.tick_params(labelsize=_FONT)
     from matplotlib.ticker import MaxNLocator
 
-    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):   # few ticks: the 3-D panel is the smallest
-        axis.set_major_locator(MaxNLocator(4))
-    if title:
-        ax.set_title(title)
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):   # few ticks: at four, a short axis's labels ran together
+        axis.set_major_locator(MaxNLocator(3))
+    # the loads' values above the panel, under its title: a box in the panel's corner lay over the axes
+    loads = _loads_text(scene, show_forces).splitlines()
+    lines = [", ".join(loads[k:k + 2]) for k in range(0, len(loads), 2)]
+    if title or lines:
+        ax.set_title("\n".join([title or "", *lines]).strip("\n"), fontsize=_FONT + 1)
 
 
 def _draw_view(ax, scene: Scene, view: str, limits, scale: float, show_forces: bool, quiet_loads: Sequence[str] = (),
@@ -252,7 +251,12 @@ def spatial_layout(fig, views: Sequence[str] = _DEFAULT_VIEWS, limits: dict | No
     if limits is not None and slots == set(_GRID) and len(views) == 4 and {"front", "side"} <= set(limits):
         f, s = limits["front"], limits["side"]
         t = limits.get("top", (s[0], s[1], f[0], f[1]))   # top: x across, y up (y as wide as the front view)
-        gs = fig.add_gridspec(2, 2, width_ratios=(f[1] - f[0], s[1] - s[0]), height_ratios=(f[3] - f[2], t[3] - t[2]))
+        # the 3-D view's cell (below front, beside top) at least 0.9 of the side view's width and 0.6 of the front
+        # view's height: the front and top views keep their scale and alignment (anchored to the side view), the
+        # 3-D view gets room for its ticks (a narrow front view left it a thumbnail)
+        widths = (max(f[1] - f[0], 0.9 * (s[1] - s[0])), s[1] - s[0])
+        heights = (f[3] - f[2], max(t[3] - t[2], 0.6 * (f[3] - f[2])))
+        gs = fig.add_gridspec(2, 2, width_ratios=widths, height_ratios=heights)
         out = {}
         for v in views:
             r, c, anchor = _GRID["top" if v == "diagram" else v]
@@ -269,7 +273,8 @@ def layout_size(limits: dict, width: tuple[float, float] = (8.5, 13.0), height: 
     panels need at that height (within ``width``), room left for ticks, titles and the legend."""
     f, s = limits["front"], limits["side"]
     t = limits.get("top", (s[0], s[1], f[0], f[1]))
-    aspect = ((f[1] - f[0]) + (s[1] - s[0])) / max((f[3] - f[2]) + (t[3] - t[2]), 1e-12)
+    aspect = (max(f[1] - f[0], 0.9 * (s[1] - s[0])) + (s[1] - s[0])) / max(
+        (f[3] - f[2]) + max(t[3] - t[2], 0.6 * (f[3] - f[2])), 1e-12)   # the cells of spatial_layout
     return float(np.clip(aspect * (height - 2.2) + 1.6, *width)), height
 
 

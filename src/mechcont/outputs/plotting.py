@@ -20,7 +20,7 @@ from ..units import display, display_unit
 
 __all__ = ["plot_branch", "branch_figure", "plot_surface", "new_figure", "save_figure", "interval_states",
            "axis_values", "axis_label", "curve", "label_point", "nice_levels", "signed_levels",
-           "plot_design_region", "FIGURE_SUFFIXES"]
+           "plot_design_region", "legend_below", "FIGURE_SUFFIXES"]
 
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 _MARKERS = {"LP": ("o", "tab:red"), "BP": ("s", "tab:purple"), "CP": ("D", "tab:green"),
@@ -364,6 +364,19 @@ def plot_design_region(region, ax, *, force_name: str = "F"):
     ax.set_xlabel(f"{xn} ({region.units[0]})" if region.units[0] else xn)  # values as stored (SI)
     ax.set_ylabel(f"{yn} ({region.units[1]})" if region.units[1] else yn)
     ax.legend(loc="best", fontsize=9)
+
+
+def legend_below(fig, axes=None, *, ncols: int = 2, fontsize: float = 8):
+    """One legend for ``axes`` (default: every axes of ``fig``; one entry per label) below them, outside every
+    panel, where it hides no curve (``fig`` with the constrained layout, which makes room for it). Returns it."""
+    entries: dict[str, object] = {}
+    for ax in fig.axes if axes is None else axes:
+        for handle, text in zip(*ax.get_legend_handles_labels()):
+            entries.setdefault(text, handle)
+        if ax.get_legend() is not None:
+            ax.get_legend().remove()
+    return fig.legend(handles=list(entries.values()), labels=list(entries), loc="outside lower center",
+                      ncols=min(ncols, max(len(entries), 1)), fontsize=fontsize, frameon=False)
 
 
 def save_figure(fig, path: str | os.PathLike, dpi: int = 150, *, tight: bool = False) -> Path:

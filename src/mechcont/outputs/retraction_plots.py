@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from .plotting import new_figure
+from .plotting import legend_below, new_figure
 
 __all__ = ["plot_actuator_loads", "plot_lock_up", "plot_rigging", "plot_downlock", "plot_fold_curve"]
 
@@ -51,7 +51,7 @@ def plot_lock_up(plane_angles, lock_angles, retracted: float, current: float | N
     ax.set_xlabel("aft sidestay plane angle phi_aft (deg)")
     ax.set_ylabel("retraction angle at lock-up (deg)")
     ax.grid(True, linewidth=0.3, alpha=0.5)
-    ax.legend(fontsize=8, loc="lower right")
+    legend_below(fig)
     return fig
 
 
@@ -91,7 +91,7 @@ def plot_downlock(offsets, compliant, rigid, stiffness: float, side_load: float)
     ax.set_ylabel("lock-link tension (kN)")
     ax.set_title(f"downlock loads, {side_load / 1e3:.0f} kN side load + gravity", fontsize=10)
     ax.grid(True, linewidth=0.3, alpha=0.5)
-    ax.legend(fontsize=8, loc="best")
+    legend_below(fig)
     return fig
 
 
@@ -121,24 +121,25 @@ def plot_unlock_with_stops(runs: dict, fold_curve=None, labels: dict | None = No
         axes = fig.subplots(1, 2)
         ax = axes[0]
     colors = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd"]
+    marks = {"SR": ("s", "SR: a pair leaves its stop (open square)"), "LP": ("o", "LP: the links snap through (dot)")}
+    named: set[str] = set()
     for (force, run), c in zip(runs.items(), colors):
         b = run.branch
         F = b.values[:, b.names.index(force)]
         side = "aft" if force == "F_aft" else "fwd"
         psi = np.degrees(np.arcsin(np.clip(b.values[:, b.names.index(f"{side}_lock")], -1, 1)))
         ax.plot(psi, F, "-", color=c, label=(labels or {}).get(force, force) + f" ({side} links' angle)")
-        for p in b.special_points:
-            if p.label in ("SR", "LP"):
-                ax.plot(np.degrees(np.arcsin(p[f"{side}_lock"])), p[force], "o" if p.label == "LP" else "s",
-                        color=c, markersize=5, markerfacecolor="white" if p.label == "SR" else c)
-                ax.annotate(p.label, (np.degrees(np.arcsin(p[f"{side}_lock"])), p[force]), fontsize=7,
-                            xytext=(4, 4), textcoords="offset points")
+        for p in b.special_points:   # named once in the legend (labels beside them ran into each other)
+            if p.label in marks:
+                marker, what = marks[p.label]
+                ax.plot(np.degrees(np.arcsin(p[f"{side}_lock"])), p[force], marker, color=c, markersize=5,
+                        markerfacecolor="white" if p.label == "SR" else c, label=None if p.label in named else what)
+                named.add(p.label)
     ax.axvline(0.0, color="0.5", linestyle=":", linewidth=0.8)
     ax.set_xlabel("lock links' angle from aligned (deg, + overcentre)")
     ax.set_ylabel("unlock force (N)")
-    ax.set_title("unlock with overcentre stops (SR: leaves its stop, LP: unlocks)", fontsize=10)
+    ax.set_title("unlock with overcentre stops", fontsize=10)
     ax.grid(True, linewidth=0.3, alpha=0.5)
-    ax.legend(fontsize=7, loc="best")
     if fold_curve is not None:
         ax = axes[1]
         b = fold_curve
@@ -147,9 +148,9 @@ def plot_unlock_with_stops(runs: dict, fold_curve=None, labels: dict | None = No
         for p in b.special_points:
             if p.label == "CP":
                 ax.plot(p["stretch"], p["F_lock"], "k*", markersize=9, label="cusp (CP)")
-        ax.set_xlabel("lock spring free length / installed length (stretch)")
+        ax.set_xlabel("lock-spring stretch, free over installed length (1)")
         ax.set_ylabel("unlock force, both pairs (N)")
         ax.set_title("two-parameter fold curve", fontsize=10)
         ax.grid(True, linewidth=0.3, alpha=0.5)
-        ax.legend(fontsize=8, loc="best")
+    legend_below(fig)
     return fig

@@ -81,7 +81,7 @@ def plot_force_histogram(df, ax, column: str = "downlock_force"):
     ax.set_title(f"P(not locking unaided) = {fp.probability:.3g}\n95 % interval [{fp.low:.3g}, {fp.high:.3g}], "
                  f"{fp.samples} samples", fontsize=9)
     ax.set_xlabel(f"{column} (N)")
-    ax.set_ylabel("samples")
+    ax.set_ylabel("samples (count)")
     ax.legend(fontsize=8)
     return ax
 
@@ -96,7 +96,8 @@ def plot_sensitivity(df, ax, column: str = "downlock_force"):
     ax.barh(names, src, color=["tab:red" if v < 0 else "tab:blue" for v in src])
     ax.axvline(0.0, color="k", lw=0.8)
     ax.set_xlim(-1.05, 1.05)
-    ax.set_xlabel(f"standardised regression coefficient on {column}")
+    ax.set_xlabel(f"standardised regression coefficient on {column} (1)")
+    ax.set_ylabel("toleranced parameter (name)")
     ax.set_title(f"sensitivity (linear fit R² = {r2:.3f})", fontsize=9)
     return ax
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .plotting import new_figure, plot_branch
+from .plotting import legend_below, new_figure, plot_branch
 
 __all__ = ["plot_sweep", "sweep_figure"]
 
@@ -53,5 +53,5 @@ def sweep_figure(result, *, title: str, branch=None, degrees: bool | None = None
                     stability_legend=True, endpoints=False)
     plot_sweep(result, ax, degrees=degrees)
     ax.set_title(title, fontsize=10)
-    ax.legend(fontsize=8, loc="best")
+    legend_below(fig)   # in the axes it lay over the branch
     return fig

@@ -168,7 +168,10 @@ def _plot_fig11(res, out_dir: Path) -> Path:
         LU_.append(br["LU"][0])
     G, Y = np.meshgrid(grid, LU_)
     ax3.computed_zorder = False
-    ax3.plot_surface(G, Y, np.array(Fm), color="0.8", alpha=0.6, linewidth=0, zorder=1)
+    # every grid cell its own quadrilateral: with the default strides (50 rows and columns of a 60-column grid) the
+    # edge faces had more vertices than the others, and Matplotlib pads such ragged faces with uninitialised
+    # memory, whose projection overflowed (a RuntimeWarning on some runs)
+    ax3.plot_surface(G, Y, np.array(Fm), color="0.8", alpha=0.6, linewidth=0, zorder=1, rstride=1, cstride=1)
     hi = res.fig10
     fc = res.fig11_fold_curve
     hx, hy, hz, _ = curve(hi, "l_sp1", "LU", "F")
@@ -183,6 +186,12 @@ def _plot_fig11(res, out_dir: Path) -> Path:
     projections = [("l_sp1", "F", "(b) F vs l_sp1"), ("LU", "F", "(c) F vs LU"), ("l_sp1", "LU", "(d) LU vs l_sp1")]
     for k, (xn, yn, title) in enumerate(projections):
         _plot_fig11_projection(fig.add_subplot(2, 2, k + 2), res, xn, yn, title, hi, fc)
+    entries: dict[str, object] = {}   # one legend for the panels, below them: in a panel it hid the surface's curves
+    for ax in fig.axes[1:]:
+        for handle, text in zip(*ax.get_legend_handles_labels()):
+            entries.setdefault(text, handle)
+    fig.legend(handles=list(entries.values()), labels=list(entries), loc="outside lower center", ncols=len(entries),
+               fontsize=9, frameon=False)
     fig.suptitle("Fig. 11: limit points of F with respect to l_sp1, continued in LU")
     path = out_dir / "nose_gear_fig11.png"
     _save(fig, path)
@@ -222,11 +231,18 @@ def _plot_fig11_projection(ax, res, xn: str, yn: str, title: str, hi, fc) -> Non
     ax.set_xlabel(_lab(res, xn))
     ax.set_ylabel(_lab(res, yn))
     ax.set_title(title, fontsize=10)
-    ax.legend(fontsize=7, loc="lower left" if (xn, yn) != ("l_sp1", "LU") else "upper center")
 
 
 def _plot_design(res, out_dir: Path) -> Path:
     """The design map: where the gear locks unaided (F > 0)."""
+    path = out_dir / "nose_gear_design.png"
+    _save(design_map_figure(res), path)
+    return path
+
+
+def design_map_figure(res):
+    """The nose gear's design map of the results ``res`` (:func:`~mechcont.paper.nose_gear.compute`): where the
+    gear locks unaided (F > 0). Returns the figure."""
     from matplotlib.figure import Figure
 
     from ..outputs.plotting import plot_design_region
@@ -235,6 +251,4 @@ def _plot_design(res, out_dir: Path) -> Path:
     ax = fig.add_subplot()
     plot_design_region(res.region, ax)
     ax.set_title("Design: where the gear locks unaided (F > 0)")
-    path = out_dir / "nose_gear_design.png"
-    _save(fig, path)
-    return path
+    return fig

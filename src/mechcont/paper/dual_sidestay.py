@@ -159,7 +159,21 @@ def run(out_dir: Path, quiet: bool = False, timings: dict | None = None, quick: 
     lines += _downlock_part(out_dir, quick)
     lines.append(_fold_curve_part(out_dir, geo, base))
     lines += _generated_part(out_dir, geo, timings, quick)
-    return [*lines, ""]
+    shown = [*FIGURES, *([] if quick else [ANIMATION])]
+    return [*lines, "", *(f"![{what}]({name})" for name, what in shown), ""]
+
+
+#: The section's figures, shown in the summary in this order: file, what it shows.
+FIGURES = (("sidestay_actuator.png", "retraction actuator load and length"),
+           ("sidestay_down.png", "the gear down: three views and 3-D"),
+           ("sidestay_up.png", "the gear up: three views and 3-D"),
+           ("sidestay_lock_up.png", "lock-up angle against the aft sidestay plane angle"),
+           ("sidestay_rigging.png", "rigid downlock against rigging error"),
+           ("sidestay_downlock.png", "downlock loads, compliant and rigid sidestays"),
+           ("sidestay_fold_curve.png", "the lock-up fold continued in the aft lock-link length"),
+           ("sidestay_unlock.png", "unlock with overcentre stops and the unlock fold curve"),
+           ("sidestay_generated.png", "the generated gear held locked"))
+ANIMATION = ("sidestay_retraction.gif", "the retraction")
 
 
 def _deg(v: float) -> str:
@@ -178,11 +192,13 @@ def _retraction_part(out_dir: Path, geo, base, timings: dict, quick: bool) -> li
     loads = ret.loads
     save_figure(plot_actuator_loads(loads), out_dir / "sidestay_actuator.png")
     sys_ = ret.system
-    draw3d(sys_, ret.branch.values[0], out_dir / "sidestay_down.png", annotate=("theta",))
-    draw3d(sys_, ret.branch.values[-1], out_dir / "sidestay_up.png", annotate=("theta",))
+    with timed(timings, "dual_sidestay: 3-D drawings, gear down and up"):
+        draw3d(sys_, ret.branch.values[0], out_dir / "sidestay_down.png", annotate=("theta",))
+        draw3d(sys_, ret.branch.values[-1], out_dir / "sidestay_up.png", annotate=("theta",))
     if not quick:
-        animate(sys_, _fine(sys_, ret.branch, geo.retracted), out_dir / "sidestay_retraction.gif",
-                annotate=("theta",), diagram=("theta", "aft_J_z"), dpi=80)
+        with timed(timings, "dual_sidestay: retraction animation (GIF)"):
+            animate(sys_, _fine(sys_, ret.branch, geo.retracted), out_dir / "sidestay_retraction.gif",
+                    annotate=("theta",), diagram=("theta", "aft_J_z"), dpi=80)
     angles = PLANE_ANGLES[::3] if quick else PLANE_ANGLES
     with timed(timings, "dual_sidestay: lock-up scan"):
         phi, lock, runs = lock_up_scan(geo, angles, base=base)
@@ -292,8 +308,9 @@ def _generated_part(out_dir: Path, geo, timings: dict, quick: bool) -> list[str]
         unlock = unlock_study(gen, stretch=None if quick else (0.5, 1.0))
     save_figure(plot_unlock_with_stops(unlock.runs, unlock.fold_curve, UNLOCK_FORCES), out_dir / "sidestay_unlock.png")
     mid = held[len(held) // 2]
-    draw3d(gen.with_values({"k_att": mid.k_att}), mid.x, out_dir / "sidestay_generated.png",
-           annotate=("F_fwd", "F_aft"))
+    with timed(timings, "dual_sidestay: 3-D drawing of the generated gear"):
+        draw3d(gen.with_values({"k_att": mid.k_att}), mid.x, out_dir / "sidestay_generated.png",
+               annotate=("F_fwd", "F_aft"))
     n_coords = len(gen.mechanics.coordinates)
     return [f"- The same gear from its spatial description (examples/dual_sidestay.toml: {len(gen.mechanism.bodies)} "
             f"rigid bodies, {n_coords} coordinates, {len(gen.names) - len(gen.parameter_names)} unknowns, equations "

@@ -68,7 +68,7 @@ def _fig3(r04, b04, exu, gaps, path: Path) -> None:
     plot_sweep(r04, ax, degrees=True, label="Udwadia–Kalaba model (mechcont)")
     ax.set_xlabel("F (N)")
     ax.set_xlim(F_RANGE[0] - 5, F_RANGE[1] + 5)
-    ax.legend(fontsize=8, loc="center left")
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.11), ncols=2, frameon=False)  # off the curves
     ax.set_title(f"(a) Fig. 3a: two dynamic models, F from {F_START:g} N down to {F_RANGE[0]:g} N and up to "
                  f"{F_RANGE[1]:g} N at {RATE:g} N/s", fontsize=9)
     folds = {round(p["F"], 9): n for n, p in zip(b04.point_names(), b04.special_points) if p.label == "LP"}

@@ -22,9 +22,8 @@ import math
 import time
 from pathlib import Path
 
-import numpy as np
-
 from . import freefall_sidestay
+from ._freefall_figures import nose_gear_figure
 from ._timing import timed
 
 __all__ = ["run", "description_text", "AIRSPEEDS", "PENDULUM"]
@@ -170,33 +169,12 @@ def description_text() -> str:
     return text + _ELEMENTS
 
 
-def _figure(runs, path: Path) -> None:
-    from matplotlib.figure import Figure
-
-    from ..outputs.plotting import save_figure
-
-    fig = Figure(figsize=(6.5, 4))
-    ax = fig.add_subplot()
-    for U, r in runs:
-        h = r.history
-        ax.plot(h.t, np.degrees(h["fitting"]), label=f"U = {U:g} m/s ({r.outcome})")
-    ends = [r.time_to_lock for _, r in runs if r.time_to_lock is not None]
-    if ends:
-        ax.set_xlim(0.0, 1.6 * max(ends))
-    ax.set_xlabel("time since the uplock release (s)")
-    ax.set_ylabel("main fitting angle theta3 (deg)")
-    ax.set_title("Nose gear freefall: released at rest from the uplock")
-    ax.legend(loc="lower right")
-    fig.tight_layout()
-    save_figure(fig, path)
-
-
 def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     """Dynamic critical airspeed of :data:`PENDULUM` against its damper, beside the closed-form fold."""
     from ..dynamics.freefall import quasi_static_critical
     from ..models import model_from_text
     from ..outputs.critical_plots import critical_figure
-    from ..outputs.plotting import save_figure
+    from ..outputs.plotting import legend_below, save_figure
 
     system = model_from_text(PENDULUM, "freefall_pendulum.toml")
     closed = math.sqrt(2 * 10.0 * 9.81 / (1.225 * 1.2 * 0.2 * 1.0))
@@ -212,9 +190,16 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     fig = critical_figure(DAMPERS, crits, qs.value, damping_label="damper c (N s/m)",
                           airspeed_label="critical airspeed U (m/s)",
                           title="Gear leg (pendulum) freefall: dynamic vs quasi-static")
+    fig.set_layout_engine("constrained")
+    fig.set_size_inches(6.4, 5.0)
+    legend_below(fig, ncols=1)   # in the axes it lay over the curves
     save_figure(fig, out_dir / "freefall_critical_vs_damping.png")
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)   # critical_figure makes it with pyplot
     lines = ["### Critical airspeed against damping (a gear leg with a closed-form fold)", "",
-             "A gear leg as a pendulum (`tests/data/freefall_pendulum.toml`: 10 kg, 1 m, released at 57 deg above "
+             "A gear leg as a pendulum (the description `freefall_pendulum`, `mechcont.paper.freefall.PENDULUM`: "
+             "10 kg, 1 m, released at 57 deg above "
              "the horizontal, locked at 57 deg below) falls against the drag of an upward airflow, which holds it up "
              "best at the horizontal: its stall equilibria fold at U_c = sqrt(2 m g / (rho C_D d L)) = "
              f"{closed:.4f} m/s. Continuation finds the fold at {qs.value:.4f} m/s. Bisection on freefall runs "
@@ -259,7 +244,8 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
     for U in AIRSPEEDS:
         with timed(timings, f"freefall: nose gear at U = {U:g} m/s ({UNTIL:g} s simulated)"):
             runs.append((U, freefall(system, {"fitting": THETA_UP}, lock="downlock", until=UNTIL, values={"U": U})))
-    _figure(runs, out_dir / "freefall_nose_gear.png")
+    downlock = next(st for st in system.stops if st.name == "downlock")
+    nose_gear_figure(runs, downlock.limit, out_dir / "freefall_nose_gear.png")
     lines = ["## Freefall extension of the nose gear (beyond the 2010 paper)", "",
              f"The nose gear of Fig. 6 with its retraction actuator as a hydraulic damper (c = 2000 N s/m, "
              f"c2 = 5000 N s^2/m^2, from the airframe point (-0.3, 0.4) m to the drag-stay lug), an uplock at "
@@ -314,5 +300,5 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
                     "outcomes in the table and of the bracket's failing end say where the gear is at the end).")
     lines += ["", "![nose gear freefall](freefall_nose_gear.png)", ""]
     lines += _damping_study(out_dir, timings)
-    lines += freefall_sidestay.lines(timings)
+    lines += freefall_sidestay.lines(timings, out_dir)
     return lines

@@ -17,6 +17,7 @@ plane, to within a degree of alignment: a pose no gear reaches.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -121,8 +122,9 @@ def _deg(model, x, name: str) -> float:
     return math.degrees(math.asin(condition_value(model, x, name)))
 
 
-def _row(k: float, stretch: float, run) -> str:
-    """One table row: the outcome, each pair's first strike and lock, the gap, the peak loads."""
+def _row(k: float, stretch: float, run, limits: dict[str, float]) -> str:
+    """One table row: the outcome, each pair's first strike (time, the lock links' angular speed in deg/s) and
+    lock, the gap, the peak loads. ``limits``: each lock stop's limit (the sine of its angle past aligned)."""
     ev = run.history.stop_events
     first = {n: next((e for e in ev if e.stop == n and e.kind == "impact"), None) for n in LOCKS}
     strikes = {n: sum(1 for e in ev if e.stop == n and e.kind == "impact") for n in LOCKS}
@@ -133,7 +135,9 @@ def _row(k: float, stretch: float, run) -> str:
     cells = [f"{k:.0e}", f"{stretch:g}", run.outcome]
     for n in LOCKS:
         hit = first[n]
-        cells.append("-" if hit is None else f"{ms(hit.time)} ({hit.speed:.0f}/s)")
+        # the condition is the sine of the angle psi: psi' = (sin psi)' / cos psi, at the stop's angle
+        rate = None if hit is None else math.degrees(abs(hit.speed) / math.sqrt(1.0 - limits[n] ** 2))
+        cells.append("-" if hit is None else f"{ms(hit.time)} ({rate:.0f} deg/s)")
         cells.append(f"{ms(run.stops[n].time)} ({strikes[n]})")
     t_fwd, t_aft = (run.stops[n].time for n in LOCKS)
     cells.append("-" if t_fwd is None or t_aft is None else f"{1e3 * (t_aft - t_fwd):+.1f}")
@@ -141,9 +145,11 @@ def _row(k: float, stretch: float, run) -> str:
     return "| " + " | ".join(cells) + " |"
 
 
-def lines(timings: dict) -> list[str]:
-    """The summary lines of the dual-sidestay freefall (pose, model, the table against ``k_att`` and ``stretch``)."""
+def lines(timings: dict, out_dir: Path | None = None) -> list[str]:
+    """The summary lines of the dual-sidestay freefall (pose, model, the table against ``k_att`` and ``stretch``);
+    with ``out_dir``, its figure ``freefall_sidestay.png`` there (each pair's lock links against their stop)."""
     from ..equations import as_model
+    from ._freefall_figures import sidestay_figure
 
     with timed(timings, "freefall: dual-sidestay gear built, retracted quasi-statically"):
         model = as_model(freefall_gear())
@@ -158,6 +164,10 @@ def lines(timings: dict) -> list[str]:
             x = x_up if (k, st) == cases[0] else retracted(model, values=values, guess=x_up)
             runs.append((k, st, sidestay_freefall(model, x, values=values)))
     base = runs[0][2]
+    if out_dir is not None:
+        stops = {st.name: st for st in model.stops}
+        sidestay_figure(runs, {f"{n.split('_')[0]} pair": (stops[n].condition, stops[n].limit) for n in LOCKS},
+                        Path(out_dir) / "freefall_sidestay.png")
     p = model.as_dict(x_up)
     out = ["### Dual-sidestay main gear: freefall from gear up", "",
            "The generated gear (`examples/dual_sidestay.toml`: two sidestays with lock links, each pair with an "
@@ -176,13 +186,16 @@ def lines(timings: dict) -> list[str]:
            f"aft attachment damped ({100 * p['zeta_att']:.0f} % of critical for the aft upper arm on it: without "
            "structural damping its vibration never dies out and the aft pair chatters on its stop), simulated with "
            f"both stops (restitution 0) until both pairs rest on their stops (RK45, rtol {RTOL:g}). Times from the "
-           "release; a pair's first strike (its lock-link angle's rate, sine per second) and when it comes to rest "
+           "release; a pair's first strike (and the lock links' angular speed then, deg/s) and when it comes to rest "
            "on its stop (strikes in brackets); the gap is aft minus fwd:", "",
-           "| k_att (N/m) | lock-spring stretch | outcome | fwd first strike (ms) | fwd locked (ms) | "
-           "aft first strike (ms) | aft locked (ms) | gap (ms) | peak actuator damper load (kN) |",
+           "| k_att (N/m) | lock-spring stretch | outcome | fwd first strike (ms, deg/s) | fwd locked (ms) | "
+           "aft first strike (ms, deg/s) | aft locked (ms) | gap (ms) | peak actuator damper load (kN) |",
            "|---|---|---|---|---|---|---|---|---|"]
-    out += [_row(k, st, r) for k, st, r in runs]
+    limits = {st.name: st.limit for st in model.stops}
+    out += [_row(k, st, r, limits) for k, st, r in runs]
     out += [""] + _findings(runs, base) + [""]
+    if out_dir is not None:
+        out += ["![dual-sidestay freefall: each lock-link pair against its stop](freefall_sidestay.png)", ""]
     return out
 
 

@@ -203,7 +203,7 @@ def summary(res: NoseGearResults) -> list[str]:
             *_fig10_11_lines(res), *_design_lines(res),
             "", "![Fig. 7](nose_gear_fig7.png) ![Fig. 10](nose_gear_fig10.png)", "",
             "![Fig. 11](nose_gear_fig11.png)", "", "![Design](nose_gear_design.png)", "",
-            "Fig. 8 and 9: `nose_gear_fig8.png`, `nose_gear_fig9.png`.", ""]
+            "![Fig. 8](nose_gear_fig8.png) ![Fig. 9](nose_gear_fig9.png)", ""]
 
 
 def _fig7_lines(res: NoseGearResults) -> list[str]:

@@ -27,7 +27,7 @@ from ..analysis import equilibrium_family
 from ..continuation import ContinuationOptions, continuation, continue_folds, find_equilibrium
 from ..models import build_overcentre
 from ..models.overcentre import symmetric_cusp, symmetric_folds
-from ..outputs.plotting import curve, label_point, new_figure, plot_branch, plot_surface, save_figure
+from ..outputs.plotting import curve, label_point, legend_below, new_figure, plot_branch, plot_surface, save_figure
 
 __all__ = ["run", "compute", "branch", "hysteresis", "system", "F_RANGE", "F_EXAMPLE", "RATE", "C"]
 
@@ -156,6 +156,12 @@ def _sweep_on_branch(ax, b, sw, title: str) -> None:
 
 
 def _fig4a(r, path: Path) -> None:
+    save_figure(fig4a_figure(r), path, tight=True)   # a 3-D axes leaves its box's lower part empty at this view
+
+
+def fig4a_figure(r):
+    """Fig. 4a of :func:`compute`'s results ``r``: the sheets of equilibria over (F, LU), the fold curve and the two
+    time simulations (save it with ``tight=True``). Returns the figure."""
     fig, ax = new_figure(figsize=(7.6, 6.0), projection="3d")
     plot_surface(r["family"], "F", "LU", "theta1", folds=r["folds_4a"], ax=ax)
     # one style per simulation, one legend entry each
@@ -177,7 +183,17 @@ def _fig4a(r, path: Path) -> None:
     ax.view_init(elev=18, azim=-40)  # the pleat between the folds and the cusp in view
     ax.set_box_aspect(None, zoom=0.92)
     ax.set_title("Fig. 4a: equilibria over (F, LU), fold curve and two time simulations", fontsize=10)
-    save_figure(fig, path, tight=True)   # a 3-D axes leaves its box's lower part empty at this view
+    return fig
+
+
+def sweep_figure(r, LU: float):
+    """Fig. 4b (``LU`` = 2 m) or 4c (0.4 m) of :func:`compute`'s results ``r``: the time simulation on the
+    continuation branch. Returns the figure."""
+    tag = "4b" if LU == 2.0 else "4c"
+    fig, ax = new_figure(figsize=(6.4, 4.8))
+    _sweep_on_branch(ax, r[f"branch_{LU}"], r[f"sweep_{LU}"], f"Fig. {tag}: LU = {LU:g} m, time simulation (black) "
+                                                              "on the continuation branch (grey)")
+    return fig
 
 
 def _fig5(folds, out_dir: Path) -> None:
@@ -185,12 +201,15 @@ def _fig5(folds, out_dir: Path) -> None:
     plot_branch(folds, "LU", "theta1", ax=ax, z="F")
     LU, th, F, _ = curve(folds, "LU", "theta1", "F")
     (f0, _), (_, t1) = ax.get_zlim(), ax.get_ylim()
-    ax.plot(LU, th, np.full_like(LU, f0), color="0.6", lw=1.0, ls="--")  # shadows: Fig. 5b on the floor,
+    ax.plot(LU, th, np.full_like(LU, f0), color="0.6", lw=1.0, ls="--",  # shadows: Fig. 5b on the floor,
+            label="its projections: Fig. 5b on the floor, 5c on the back wall")
     ax.plot(LU, np.full_like(LU, t1), F, color="0.6", lw=1.0, ls="--")  # Fig. 5c on the back wall
     ax.set_zlim(f0, None)
     ax.set_ylim(None, t1)
     ax.view_init(elev=20, azim=-120)
     ax.set_title("Fig. 5a: fold curve in (LU, theta1, F)", fontsize=10)
+    _name_markers(ax)
+    legend_below(fig, ncols=1)
     save_figure(fig, out_dir / "fig5a_fold_curve.png")
     for tag, y in (("5b", "theta1"), ("5c", "F")):
         fig, ax = new_figure()
@@ -203,7 +222,23 @@ def _fig5(folds, out_dir: Path) -> None:
                         xytext=(0.97, 0.25), textcoords="axes fraction", ha="right", va="center", fontsize=8,
                         arrowprops=dict(arrowstyle="->", color="0.3", lw=0.8))
         ax.set_title(f"Fig. {tag}: fold curve, {y} vs LU", fontsize=10)
+        _name_markers(ax)
+        legend_below(fig)
         save_figure(fig, out_dir / f"fig{tag}_fold_{y}.png")
+
+
+def _name_markers(ax) -> None:
+    """Name the fold curve and the markers :func:`plot_branch` put on it (first of each kind) for the legend."""
+    names = {"x": "EP: end of the computation (the bound LU = 0.1 m)", "D": "CP: cusp, the folds meet",
+             "o": "F = 0 on the lower fold"}
+    curve_named = False
+    for line in ax.get_lines():
+        marker = line.get_marker()
+        if marker in names and line.get_linestyle() in ("None", ""):
+            line.set_label(names.pop(marker))
+        elif not curve_named and marker in ("None", "") and line.get_color() != "0.6":
+            line.set_label("fold curve")
+            curve_named = True
 
 
 def _downlock_length(folds) -> float:
@@ -253,11 +288,8 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
 
     _fig3b(b04, out_dir / "fig3b_overcentre_branch.png")
     _fig4a(r, out_dir / "fig4a_overcentre_surface.png")
-    for tag, b, LU in (("4b", b2, 2.0), ("4c", b04, 0.4)):
-        fig, ax = new_figure(figsize=(6.4, 4.8))
-        _sweep_on_branch(ax, b, r[f"sweep_{LU}"], f"Fig. {tag}: LU = {LU:g} m, time simulation (black) on "
-                                                  "the continuation branch (grey)")
-        save_figure(fig, out_dir / f"fig{tag}_overcentre_LU{LU:g}.png")
+    for tag, LU in (("4b", 2.0), ("4c", 0.4)):
+        save_figure(sweep_figure(r, LU), out_dir / f"fig{tag}_overcentre_LU{LU:g}.png")
     _fig5(folds, out_dir)
 
     eq2 = _equilibria_at(b2, F_EXAMPLE)
@@ -300,6 +332,8 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
                  "the mechanism downlocks with no applied force (paper: approximately 1.2 m).")
     lines += ["", "![Fig. 3b](fig3b_overcentre_branch.png)", "", "![Fig. 4a](fig4a_overcentre_surface.png)", "",
               "![Fig. 4b](fig4b_overcentre_LU2.png) ![Fig. 4c](fig4c_overcentre_LU0.4.png)", "",
-              "Figures 5a-c (`fig5a_fold_curve.png`, `fig5b_fold_theta1.png`, `fig5c_fold_F.png`): the fold curve "
-              "and its projections.", ""]
+              "Figures 5a-c: the fold curve in (LU, theta1, F) and its projections; it is computed from LU = 0.1 m "
+              "(its end, EP) to the cusp CP1.", "",
+              "![Fig. 5a](fig5a_fold_curve.png)", "",
+              "![Fig. 5b](fig5b_fold_theta1.png) ![Fig. 5c](fig5c_fold_F.png)", ""]
     return lines
