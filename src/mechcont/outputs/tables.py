@@ -13,7 +13,7 @@ from .._io import atomic_write
 from ..units import display, display_unit
 from .plotting import axis_label
 
-__all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "markdown_table", "write_records", "branch_value",
+__all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "write_text", "markdown_table", "write_records", "branch_value",
            "hopf_lines", "hopf_curve_lines", "heading", "special_table", "approximate_warnings", "jump_lines",
            "event_labels", "write_rows", "summary_rows"]
 
@@ -63,6 +63,15 @@ def write_rows(path: str | Path, header: list[str], rows) -> Path:
             w = csv.writer(fh, lineterminator="\n")
             w.writerow(header)
             w.writerows([repr(v) if isinstance(v, float) else v for v in row] for row in rows)
+
+    return atomic_write(path, write)
+
+
+def write_text(path: str | Path, text: str) -> Path:
+    """Write ``text`` (UTF-8) at ``path`` atomically (no partial file left on failure); returns the path."""
+
+    def write(tmp: str) -> None:
+        Path(tmp).write_text(text, encoding="utf-8")
 
     return atomic_write(path, write)
 

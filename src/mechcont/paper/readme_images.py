@@ -93,20 +93,15 @@ def fingerprint(fig) -> str:
 def write(folder) -> list[Path]:
     """Draw the README's images into ``folder`` (PNG, 150 dpi) and record their fingerprints in :data:`MANIFEST`
     there. Returns the files written."""
-    from .._io import atomic_write
     from ..outputs.plotting import save_figure
+    from ..outputs.tables import write_text
 
     folder = Path(folder)
     record, written = {}, []
     for name, (fig, tight) in figures().items():
         written.append(save_figure(fig, folder / name, tight=tight))
         record[name] = {"paper figure": README_IMAGES[name], "fingerprint": fingerprint(fig)}
-    text = json.dumps(record, indent=2, sort_keys=True) + "\n"
-
-    def put(tmp: str) -> None:
-        Path(tmp).write_text(text, encoding="utf-8")
-
-    written.append(atomic_write(folder / MANIFEST, put))
+    written.append(write_text(folder / MANIFEST, json.dumps(record, indent=2, sort_keys=True) + "\n"))
     return written
 
 
