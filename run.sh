@@ -6,9 +6,12 @@
 #   bash run.sh bench               run the benchmarks (median of repeated runs)
 #   bash run.sh lint                ruff on the sources, tests and benchmarks
 #   bash run.sh typecheck           mypy on src/ (configured in pyproject.toml)
-#   bash run.sh mechcont ARGS...    any CLI command
+#   bash run.sh mechcont ARGS...    any CLI command, run in the folder you call it from (so that the README's
+#                                   tour, run in a scratch folder, writes its files there, not in the repository)
 set -euo pipefail
+here=$PWD
 cd "$(dirname "$0")"
+root=$PWD
 PY=${PYTHON:-python3}
 if [ ! -x .venv/bin/python ]; then
   echo "run.sh: creating .venv and installing mechcont with its dependencies and compiling its corrector (first use only: about 1-3 minutes)" >&2
@@ -41,6 +44,6 @@ case "$cmd" in
   bench) exec .venv/bin/python benchmarks/run.py "$@" ;;
   lint) exec .venv/bin/ruff check src tests benchmarks "$@" ;;
   typecheck) exec .venv/bin/mypy "$@" ;;
-  mechcont) exec .venv/bin/mechcont "$@" ;;
+  mechcont) cd "$here" && exec "$root/.venv/bin/mechcont" "$@" ;;
   *) echo "run.sh: unknown command '$cmd' (use: paper, test, bench, lint, typecheck, mechcont)" >&2; exit 2 ;;
 esac

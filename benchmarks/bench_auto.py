@@ -27,7 +27,10 @@ Timings, each the median of ``--repeats`` interleaved rounds measured in this ru
   called in this process (model built before timing); per branch and per computed point;
 * whole process: ``auto branch.auto`` / ``auto folds.auto`` (AUTO's Python CLUI, the
   equations compiled before timing) against ``mechcont continue overcentre ... --bounds
-  F=-200:200`` / ``mechcont folds ...`` (compiled-code cache warm).
+  F=-200:200`` / ``mechcont folds ...`` (compiled-code cache warm);
+* periodic orbits: the family of AUTO's demo ``ab`` from its first Hopf point to D = 0.3
+  (NTST = 50, NCOL = 4; :mod:`_auto_ab`), AUTO's ``Total Time`` of that run against
+  :func:`mechcont.continuation.cycles_from_hopf` in this process.
 
 AUTO runs with ``OMP_NUM_THREADS=1`` and, for its Python CLUI, the interpreter running this
 script (first on ``PATH`` as ``python``), so both programs start the same Python and NumPy.
@@ -48,6 +51,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
+import _auto_ab  # noqa: E402
 from _bytecode import compile_sources  # noqa: E402
 
 HOW_TO_GET = ("bench_auto: AUTO_DIR is not set to a built AUTO-07p; get it from https://github.com/auto-07p/auto-07p "
@@ -173,8 +177,9 @@ def parse_auto_output(out: str) -> tuple[list[float], list[int], list[list[str]]
     times = [float(t) for t in re.findall(r"Total Time\s+(\S+)", out)]
     points = []
     for chunk in out.split("Total Time")[:-1]:
-        rows = re.findall(r"^\s+\d+\s+(\d+)\s+[A-Z]{2}\s+\d+\s", chunk, flags=re.M)
-        points.append(int(rows[-1]))
+        # a periodic run prints an unstable orbit's point number negative
+        rows = re.findall(r"^\s+-?\d+\s+(-?\d+)\s+[A-Z]{2}\s+\d+\s", chunk, flags=re.M)
+        points.append(abs(int(rows[-1])))
     results = [line.split()[1:] for line in out.splitlines() if line.startswith("RESULT")]
     return times, points, results
 
@@ -292,6 +297,12 @@ def main(argv=None) -> int:
             check = AutoRun(auto_dir, folder, "folds.auto", env)  # also compiles oc.exe (before any timing)
             ok &= _agree(f"AUTO {name}: LP (F)", our_lp, [f for f, _ in check.values("LP", fscale)])
             ok &= _agree(f"AUTO {name}: fold-curve ends (F)", our_ends, [f for f, _ in check.values("UZ", fscale)])
+        ab_folder = tmp / "ab"
+        _auto_ab.write_problem(ab_folder)
+        _, ab_family = _auto_ab.mechcont_family()
+        fam = ab_family()
+        check = AutoRun(auto_dir, ab_folder, "cycles.auto", env)  # also compiles ab.exe
+        ok &= _auto_ab.agree(check.results, fam, print)
         if not ok:
             print("AUTO and mechcont disagree: the comparison would not be of the same problem", file=sys.stderr)
             return 1
@@ -320,6 +331,10 @@ def main(argv=None) -> int:
                 auto_pts[f"fold curve {name}"] = [sum(r.run_points[2:])]
             ours_in["branch"].append(_median_in_process(branch_fn, 5))
             ours_in["fold curve"].append(_median_in_process(lambda: fold_fn(b), 5))
+            r = AutoRun(auto_dir, ab_folder, "cycles.auto", env)
+            auto_in.setdefault("cycles ab", []).append(r.run_times[1])
+            auto_pts["cycles ab"] = [r.run_points[1]]
+            ours_in.setdefault("cycles ab", []).append(_median_in_process(ab_family, 1))
         med = {k: statistics.median(v) for k, v in rows.items()}
         print(f"\nIn-process, median of {repeats} rounds (mechcont: median of 5 calls per round; AUTO: its Total Time, "
               "both runs of a continuation summed)")
@@ -334,6 +349,12 @@ def main(argv=None) -> int:
                 n = auto_pts[f"{work} {name}"][0]
                 print(f"| {work} | AUTO, {name} | {n} | {t * 1e3:.2f} | {t / n * 1e6:.1f} | "
                       f"{t_ours / t:.2f}× per {work}, {(t_ours / n_ours) / (t / n):.2f}× per point |")
+        t_ours, n_ours = statistics.median(ours_in["cycles ab"]), len(fam)
+        t = statistics.median(auto_in["cycles ab"])
+        n = auto_pts["cycles ab"][0]
+        print(f"| periodic orbits, ab | mechcont | {n_ours} | {t_ours * 1e3:.2f} | {t_ours / n_ours * 1e6:.1f} | |")
+        print(f"| periodic orbits, ab | AUTO | {n} | {t * 1e3:.2f} | {t / n * 1e6:.1f} | "
+              f"{t_ours / t:.2f}× per family, {(t_ours / n_ours) / (t / n):.2f}× per point |")
         print(f"\nWhole process, median of {repeats} rounds (start to exit; mechcont cache warm, AUTO's oc.exe built)")
         print("| command | time (s) | mechcont / this |")
         print("|---|---|---|")

@@ -91,3 +91,25 @@ def test_generated_fortran_compiles(bench, tmp_path):
     bench.write_problem(tmp_path, dict(zip(s.names, map(float, x0vec))), 1.0, 2.0, 2.0)
     proc = subprocess.run(["gfortran", "-c", "oc.f90", "-o", "oc.o"], cwd=tmp_path, capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
+
+
+def test_periodic_run_counts_unstable_points_and_the_ab_problem_is_written(bench, tmp_path):
+    # AUTO prints an unstable periodic orbit's point number negative; the family's last row counts
+    out = _OUTPUT.replace("   1   123  UZ    2", "   1  -123  UZ    2")
+    assert bench.parse_auto_output(out)[1] == [126, 123]
+    ab = bench._auto_ab
+    ab.write_problem(tmp_path)
+    assert "NTST=50, NCOL=4" in (tmp_path / "c.ab.po").read_text()
+    assert "UZSTOP={1: 0.3}" in (tmp_path / "c.ab.po").read_text()
+    assert "PAR(2) = 14.0D0" in (tmp_path / "ab.f90").read_text()
+    # the Hopf points the script picks from are those of the closed form, and mechcont locates them there
+    import numpy as np
+
+    from mechcont.continuation import hopf_point
+    from mechcont.equations import dynamics_of
+
+    m, _ = ab.mechcont_family()
+    for d, u1, u2 in ab.hopf_values():
+        h = hopf_point(m, dynamics_of(m), m.vector({"D": d * 1.001, "u1": u1, "u2": u2}), "D")
+        assert h.x[m.index("D")] == pytest.approx(d, rel=1e-12)
+        assert np.max(np.abs(np.linalg.eigvals(dynamics_of(m).rates_jacobian(h.z, h.x)).real)) < 1e-10

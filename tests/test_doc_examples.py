@@ -11,7 +11,10 @@ The convention (also in docs/development.md):
   before the commands after it run.
 
 A document's commands run in order in one temporary folder holding a copy of ``examples/``, so a
-later command reads an earlier one's output (``branch.csv``). A command fails the test on a
+later command reads an earlier one's output (``branch.csv``), as the README tells a reader to run its
+tour (in a scratch folder: the tour must leave the repository as it was, issue 37): every file a
+command names as its output is relative, stays inside that folder, and is written there, none in the
+repository. A command fails the test on a
 non-zero exit status, a traceback, or warning text on stdout or stderr (``warning``, a branch
 ``stopped after max_steps``, ``give bounds``).
 """
@@ -52,6 +55,20 @@ def examples(path: Path) -> list[tuple[str, str]]:
     return out
 
 
+#: The options whose value is a file or folder a command writes.
+OUTPUT_OPTIONS = ("--out", "--plot", "--dir")
+
+
+def outputs(words: list[str]) -> list[str]:
+    """The paths ``words`` (a command's arguments) name as outputs (``--out F``, ``--plot=F``, ``--dir D``)."""
+    out = []
+    for k, w in enumerate(words):
+        name, eq, value = w.partition("=")
+        if name in OUTPUT_OPTIONS:
+            out.append(value if eq else words[k + 1])
+    return out
+
+
 def _arguments(command: str) -> list[str]:
     """The argument list of one example command; refuses anything that is not a plain mechcont call."""
     words = shlex.split(command)
@@ -76,9 +93,47 @@ def test_the_readme_tours_every_command_in_runnable_blocks():
                 _arguments(text)
 
 
+def test_every_output_of_the_examples_stays_in_the_folder_they_run_in():
+    """Each output path is relative and never climbs out (no ``..``): run in a scratch folder, as the README's
+    tour says (its set-up block makes one with ``mktemp -d`` before the first command), nothing lands in the
+    repository."""
+    for path in DOCUMENTS:
+        for kind, text in examples(path):
+            if kind == "run":
+                for out in outputs(_arguments(text)):
+                    assert not Path(out).is_absolute() and ".." not in Path(out).parts, f"{path.name}: {text}"
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    tour = readme.index("```sh\nmechcont models")
+    setup = [body for lang, body in FENCE.findall(readme[:tour]) if lang == "bash"][-1]
+    assert "mktemp -d" in setup and 'cp -r "$repo/examples" .' in setup
+
+
+def test_run_sh_runs_mechcont_in_the_callers_folder(tmp_path):
+    """``bash run.sh mechcont ...`` from a scratch folder writes there: run.sh (copied beside a stand-in .venv whose
+    mechcont prints its working folder) runs the command in the folder it was called from, not its own."""
+    repo, scratch = tmp_path / "repo", tmp_path / "scratch"
+    (repo / ".venv" / "bin").mkdir(parents=True)
+    (repo / "src" / "mechcont" / "continuation").mkdir(parents=True)
+    scratch.mkdir()
+    for name in ("run.sh", "pyproject.toml", "setup.py", "src/mechcont/continuation/_ckernel.pyx"):
+        (repo / name).write_bytes((ROOT / name).read_bytes())
+    stub = repo / ".venv" / "bin" / "mechcont"
+    stub.write_text('#!/bin/sh\necho "in $PWD: $*"\n')
+    stub.chmod(0o755)
+    (repo / ".venv" / "bin" / "python").symlink_to(shutil.which("true") or "/bin/true")
+    for stamp in (".mechcont-installed", ".mechcont-bytecode"):
+        (repo / ".venv" / stamp).touch()
+    r = subprocess.run(["bash", str(repo / "run.sh"), "mechcont", "check", "x.toml"], cwd=scratch,
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == f"in {scratch}: check x.toml"
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("path", [d for d in DOCUMENTS if examples(d)], ids=lambda p: p.name)
 def test_every_command_example_runs_clean(path, tmp_path):
+    before = set(os.listdir(ROOT))
+    named: list[str] = []
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
     env = dict(os.environ, MPLBACKEND="Agg",
                PYTHONPATH=os.pathsep.join([str(Path(mechcont.__file__).parent.parent), os.environ.get("PYTHONPATH", "")]))
@@ -93,3 +148,7 @@ def test_every_command_example_runs_clean(path, tmp_path):
         assert r.returncode == 0, f"{path.name}: `{text}` exited {r.returncode}:\n{said[-3000:]}"
         bad = [ln for ln in said.splitlines() if WARNING.search(ln)]
         assert not bad, f"{path.name}: `{text}` printed:\n" + "\n".join(bad[:10])
+        named += outputs(_arguments(text))
+    # every output was written in the scratch folder, none in the repository
+    assert all((tmp_path / out).exists() for out in named), [out for out in named if not (tmp_path / out).exists()]
+    assert not {out for out in named if Path(out).parts[0] not in before and (ROOT / out).exists()}

@@ -242,3 +242,62 @@ def test_bad_tables_and_outputs(tables, tmp_path):
                    "not a number")
     one_line_error(run("explore", "overcentre", "--branch", tables["overcentre"], "--out", tmp_path), "--out")
     assert not (tmp_path / "a.html").exists()
+
+
+def test_a_long_table_is_thinned_to_the_size_budget_keeping_every_event(tables):
+    """The page's embedded data stays within its byte budget: the sweep (a time history with its JUMP events)
+    thinned evenly, every special point and the last row kept, the note saying why; the full table without one."""
+    system, sweep = load_model("overcentre"), Branch.read_csv(tables["sweep"])
+    full = explore_page(system, [tables["sweep"]])
+    budget = 60_000
+    page = explore_page(system, [tables["sweep"]], budget=budget)
+    data = json.dumps(_embedded(page)["branches"], separators=(",", ":"))
+    assert len(data) <= budget < len(json.dumps(_embedded(full)["branches"], separators=(",", ":")))
+    doc = _embedded(page)["branches"][0]
+    assert {doc["rows"][s["row"]] for s in doc["special"]} == {p.index for p in sweep.special_points}
+    assert doc["rows"][0] == 0 and doc["rows"][-1] == len(sweep) - 1
+    plain = sorted(set(doc["rows"]) - {p.index for p in sweep.special_points} - {len(sweep) - 1})
+    assert len(set(np.diff(plain))) == 1  # every k-th row
+    assert "rows shown" in doc["note"] and "0.06 MB" in doc["note"]
+    assert _embedded(full)["branches"][0]["rows"] == list(range(len(sweep)))
+    with pytest.raises(Exception, match="budget"):
+        page_data(system, [tables["sweep"]], budget=0)
+
+
+def test_event_labels_are_their_own_text_and_codes_are_numbered(tables, tmp_path):
+    """A time history's events keep their text (a repeated one numbered once, in brackets), the diagram gets
+    them without their numbers; codes (LP, JUMP) are numbered as the branch names them."""
+    sweep = Branch.read_csv(tables["sweep"])
+    doc = page_data("overcentre", [tables["sweep"]])["branches"][0]
+    assert [s["tag"] for s in doc["special"]] == [s["name"] for s in doc["special"]] == sweep.point_names()
+    text = tables["sweep"].read_text().splitlines()
+    header = text[0].split(",")
+    k = header.index("label")
+    rows = [line.split(",") for line in text[1:]]
+    events = ["impact fwd_stop 75.3032 1/s; contact fwd_stop", "release aft_stop", "release aft_stop",
+              "impact aft_stop 41.6839 1/s", "EVENT"]
+    for r, label in zip((3, 7, 9, 12, 15), events):
+        rows[r][k] = label
+    for r in range(len(rows)):
+        if r not in (3, 7, 9, 12, 15):
+            rows[r][k] = ""
+    path = tmp_path / "events.csv"
+    path.write_text("\n".join([text[0], *(",".join(r) for r in rows)]) + "\n")
+    special = page_data("overcentre", [path])["branches"][0]["special"]
+    assert [s["tag"] for s in special] == ["impact fwd_stop 75.3032 1/s; contact fwd_stop", "release aft_stop (1)",
+                                           "release aft_stop (2)", "impact aft_stop 41.6839 1/s", "EVENT1"]
+    assert [s["short"] for s in special] == ["impact + contact fwd_stop", "release aft_stop", "release aft_stop",
+                                             "impact aft_stop", "EVENT1"]
+    assert [s["name"] for s in special] == Branch.read_csv(path).point_names()
+
+
+def test_the_default_axes_of_a_spatial_gear_show_what_moves_most(tables):
+    """The dual-sidestay kinematics has no angle among its states: y is the coordinate that travels furthest
+    along the retraction (read from the table here), not the table's last column; planar, the first angle."""
+    branch = Branch.read_csv(tables["retraction"])
+    system = load_model("dual_sidestay_kinematics")
+    states = [v.name for v in system.variables if v.kind == "state" and v.unit == "m"]
+    travel = {n: float(np.ptp(branch.column(n))) for n in states}
+    assert page_data(system, [tables["retraction"]])["axes"] == ["theta", max(travel, key=travel.get)]
+    assert page_data("overcentre", [tables["overcentre"]])["axes"] == ["F", "theta1"]
+    assert page_data("nose_gear", [tables["downlock"]])["axes"][0] == "l_sp1"

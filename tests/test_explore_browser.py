@@ -40,8 +40,8 @@ def browser():
         b.close()
 
 
-def _open(browser, path):
-    page = browser.new_page(viewport={"width": 1500, "height": 1000})
+def _open(browser, path, size=(1500, 1000)):
+    page = browser.new_page(viewport={"width": size[0], "height": size[1]})
     errors: list[str] = []
     page.on("pageerror", lambda e: errors.append(str(e)))
     page.goto(path.as_uri())
@@ -140,10 +140,76 @@ def test_spatial_three_view(browser, tmp_path):
     assert result.exit_code == 0, result.output
     system, branch = load_model("dual_sidestay_kinematics"), Branch.read_csv(csv)
     write_explore(page_file, system, [csv])
-    page, errors = _open(browser, page_file)
+    page, errors = _open(browser, page_file, size=(1400, 900))
     page.click(".sp button[data-point='EP2']")
     _check_pose(page, system, branch["EP2"].x, views=("front", "side", "top"), axes=((1, 2), (0, 2), (0, 1)))
     assert "actuator" in page.inner_text("table.loads")
+    # at 1400 x 900 the three views stand beside the diagram and wholly in the window (issue 37: cut off below it)
+    diagram = page.locator("svg.diagram").bounding_box()
+    for view in ("front", "side", "top"):
+        box = page.locator(f"svg.mech[data-view='{view}']").bounding_box()
+        assert box["x"] >= diagram["x"] + diagram["width"], view
+        assert box["x"] + box["width"] <= 1400 and box["y"] + box["height"] <= 900, (view, box)
+    assert errors == []
+
+
+def _labels(page) -> list[dict]:
+    """The diagram's special-point labels: text, the box the browser draws (px) and the box of the page's label
+    model (``data-box``)."""
+    return page.evaluate("""() => Array.from(document.querySelectorAll('svg.diagram text.mcx-label')).map(t => {
+        const b = t.getBBox();
+        return {text: t.textContent, drawn: [b.x, b.y, b.x + b.width, b.y + b.height],
+                model: t.getAttribute('data-box').split(' ').map(Number)};})""")
+
+
+def test_crowded_event_labels_are_apart_inside_and_unmangled(browser, tmp_path):
+    """A bar bouncing on its stop (restitution 0.5: 15 impacts, 10 of them within 0.12 s) as a time history: each
+    event's diagram label is its words (no counter glued to its text, no numbers), drawn inside the plot frame,
+    and no two labels overlap (measured on the boxes the browser draws); the buttons carry the full event text."""
+    from pathlib import Path
+
+    csv, page_file = tmp_path / "drop.csv", tmp_path / "drop.html"
+    model = Path(__file__).parent / "data" / "bar_drop.toml"
+    result = run("simulate", model, "--start", "theta_bar=0", "--until", "2.6", "--stops", "--out", csv)
+    assert result.exit_code == 0, result.output
+    branch = Branch.read_csv(csv)
+    assert len(branch.special_points) >= 12
+    write_explore(page_file, model, [csv])
+    page, errors = _open(browser, page_file, size=(1400, 900))
+    labels = _labels(page)
+    assert len(labels) == len(branch.special_points)
+    assert {lab["text"] for lab in labels} == {"impact rest", "impact + contact rest"}
+    assert [b.inner_text() for b in page.query_selector_all(".sp button")] == [p.label for p in branch.special_points]
+    frame = [float(page.get_attribute("svg.diagram rect[stroke='#888']", k)) for k in ("x", "y", "width", "height")]
+    x0, y0, x1, y1 = frame[0], frame[1], frame[0] + frame[2], frame[1] + frame[3]
+    boxes = np.array([lab["drawn"] for lab in labels])
+    model_boxes = np.array([lab["model"] for lab in labels])
+    # the label model's boxes hold what is drawn (0.5 px for rounding), and lie inside the frame
+    assert np.all(model_boxes[:, :2] <= boxes[:, :2] + 0.5) and np.all(model_boxes[:, 2:] >= boxes[:, 2:] - 0.5)
+    assert np.all(boxes[:, 0] >= x0) and np.all(boxes[:, 2] <= x1) and np.all(boxes[:, 1] >= y0)
+    assert np.all(boxes[:, 3] <= y1)
+    for i in range(len(boxes)):
+        for j in range(i):
+            a, b = boxes[i], boxes[j]
+            apart = a[2] <= b[0] or b[2] <= a[0] or a[3] <= b[1] or b[3] <= a[1]
+            assert apart, (labels[i]["text"], a, labels[j]["text"], b)
+    assert errors == []
+
+
+def test_dragging_on_the_diagram_selects_no_text(browser, tmp_path):
+    csv, page_file = tmp_path / "branch.csv", tmp_path / "page.html"
+    result = run("continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F",
+                 "--bounds", "F=-100:120", "--out", csv)
+    assert result.exit_code == 0, result.output
+    write_explore(page_file, "overcentre", [csv])
+    page, errors = _open(browser, page_file)
+    box = page.locator("svg.diagram").bounding_box()
+    page.mouse.move(box["x"] + 5, box["y"] + 5)
+    page.mouse.down()
+    page.mouse.move(box["x"] + box["width"] - 5, box["y"] + box["height"] - 5, steps=10)
+    page.mouse.up()
+    assert page.evaluate("() => String(window.getSelection())") == ""
+    assert page.evaluate("() => getComputedStyle(document.querySelector('svg.diagram')).userSelect") == "none"
     assert errors == []
 
 

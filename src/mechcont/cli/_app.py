@@ -48,6 +48,7 @@ COMMAND_MODULES = {
     "draw": "draw", "equations": "equations", "explore": "explore", "folds": "folds", "freefall": "freefall",
     "models": "models", "optimize": "optimize", "paper": "paper", "sensitivity": "sensitivity",
     "simulate": "simulate", "study": "study", "sweep": "sweep",
+    "cycles": "cycles",
 }
 
 

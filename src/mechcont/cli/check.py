@@ -52,7 +52,9 @@ def check_command(ctx, model, sets, reduced, plot, label_points, quiet):
     the assembled configuration and at the equilibrium Newton reaches from it (angles in
     degrees), that equilibrium's stability and the continuation's variable scales.
 
-    Exit status: 0 when all is well; 1 when there are findings (a degree-of-freedom count
+    Warnings (sound, but likely not what was meant: a bar's point beyond its ends, measured from a
+    hinge as if the bar began there) are listed before the findings and do not change the exit
+    status. Exit status: 0 when all is well; 1 when there are findings (a degree-of-freedom count
     other than the declared dof, redundant constraints refused by redundant = "error", an
     open joint, no equilibrium found, no consistent set of stops in contact), listed at the
     end of the report (with --quiet: one line 'finding: ...' each on stderr); 2 for input
@@ -85,7 +87,9 @@ def check_command(ctx, model, sets, reduced, plot, label_points, quiet):
         click.echo(report.to_text(stops))
         if path is not None:
             click.echo(f"drawing: {path}")
-    elif report.findings:
+    else:
+        for warning in report.warnings:
+            click.echo(f"warning: {warning}", err=True)
         for finding in report.findings:
             click.echo(f"finding: {finding}", err=True)
     if report.findings:

@@ -10,6 +10,9 @@ import types
 
 from ._api import continuation, continue_folds, locate_fold, switch_branch
 from ._branch import Branch, SpecialPoint, read_branch_table, read_table
+from ._cycle_branch import CycleBranch
+from ._cycle_start import HopfOrigin, hopf_point
+from ._cycles import cycles_from_hopf, cycles_from_samples
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent, PointState, ValueEvent
 from ._folds import CuspEvent, FoldProblem
 from ._hopf import BogdanovTakensEvent, GeneralisedHopfEvent, HopfEvent, HopfProblem
@@ -28,7 +31,9 @@ __all__ = [
     "PointState", "ContinuationProblem", "EquilibriumProblem", "FoldProblem", "choose_unknowns",
     "Termination", "BranchSteps", "LinearSolver", "DenseLU", "MinimumNorm", "read_branch_table", "read_table",
     "MAX_STEPS", "check_max_steps", "run_options", "start_point", "HopfEvent", "HopfProblem", "HopfPoint",
-    "BogdanovTakensEvent", "GeneralisedHopfEvent", "continue_hopf", "locate_hopf",
+    "BogdanovTakensEvent", "GeneralisedHopfEvent", "continue_hopf", "locate_hopf", "CycleBranch", "HopfOrigin",
+    "hopf_point",
+    "cycles_from_hopf", "cycles_from_samples",
 ]
 
 

@@ -140,6 +140,8 @@ class CheckReport:
     compliant: tuple[Quantity, ...] = ()
     #: the coordinates held at assembly (``[assembly] hold``)
     hold: tuple[str, ...] = ()
+    #: what is sound but likely not what was meant, one line each (a bar's point beyond its ends)
+    warnings: tuple[str, ...] = ()
 
     @property
     def ok(self) -> bool:
@@ -225,6 +227,9 @@ class CheckReport:
         out.append("continuation scales (SI, as system.scales()):")
         out += _table([(q.name, f"{_g(q.value)} {q.unit}".rstrip()) for q in self.scales])
         out.append("")
+        if self.warnings:
+            out.append(f"warnings: {len(self.warnings)}")
+            out += [f"  - {w}" for w in self.warnings]
         if self.findings:
             out.append(f"findings: {len(self.findings)}")
             out += [f"  - {f}" for f in self.findings]
@@ -289,12 +294,16 @@ class _Facts(NamedTuple):
     joints: tuple[str, ...]
     hold: tuple[str, ...]
     normalisations: frozenset[str]   # constraint rows that are no joint's (see Mechanism.normalisation_rows)
+    warnings: tuple[str, ...] = ()   # sound but likely not meant (bar_point_warnings)
 
     @classmethod
-    def of(cls, mech: Mechanism) -> _Facts:
-        """The facts of ``mech``."""
+    def of(cls, mech: Mechanism, overrides: Mapping[str, float]) -> _Facts:
+        """The facts of ``mech`` at its parameter values with ``overrides`` (SI)."""
+        from ._bar_points import bar_point_warnings
+        from ._values import parameter_values
+
         return cls(mech.name, mech.description, mech.dof, tuple(j.name for j in mech.joints), tuple(mech.hold),
-                   mech.normalisation_rows())
+                   mech.normalisation_rows(), bar_point_warnings(mech, parameter_values(mech, overrides)))
 
 
 def _stored_build(name_or_path: str | Path, reduced: bool, overrides: Mapping[str, float]) -> tuple[Model, tuple, _Facts]:
@@ -320,9 +329,9 @@ def _stored_build(name_or_path: str | Path, reduced: bool, overrides: Mapping[st
 
         mech = load_description(path)
         system, findings, _ = _build(mech, reduced, values)
-        return system, tuple(findings), _Facts.of(mech)
+        return system, tuple(findings), _Facts.of(mech, values)
 
-    return stored(lambda: ["check build", path.name, text, f"reduced={reduced}", repr(sorted(values.items()))], build,
+    return stored(lambda: ["check build 2", path.name, text, f"reduced={reduced}", repr(sorted(values.items()))], build,
                   valid=lambda obj: isinstance(obj, tuple) and len(obj) == 3 and isinstance(obj[0], Model))
 
 
@@ -358,7 +367,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     else:
         source = mech_or_path.source[0] if isinstance(mech_or_path.source, tuple) else "(Python object)"
         system, found, _ = _build(mech_or_path, reduced, overrides)
-        mech = _Facts.of(mech_or_path)
+        mech = _Facts.of(mech_or_path, overrides)
     findings = list(found)
     intended = mech.dof
     x = system.defaults()
@@ -449,7 +458,8 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         n_parameters=len(system.parameter_names), redundant=redundant, dropped_residual=dropped,
         closure=closure, eliminated_joints=eliminated, imbalance=imbalance, equilibrium_note=note,
         stability=stability, scales=scales, parameters=params, states=states, findings=tuple(findings),
-        system=system, x=x, x_equilibrium=xe, compliant=compliant, hold=mech.hold)
+        system=system, x=x, x_equilibrium=xe, compliant=compliant, hold=mech.hold,
+        warnings=mech.warnings)
 
 
 def _compliant(system, x: np.ndarray) -> list[tuple[int, str, float]]:

@@ -10,7 +10,8 @@ _LAZY = {
     "plot_branch": "plotting", "plot_surface": "plotting", "new_figure": "plotting", "save_figure": "plotting",
     "plot_design_region": "plotting", "downlock_figure": "design_plots", "design_figure": "design_plots",
     "branch_figure": "plotting", "plot_sweep": "sweep_plots", "sweep_figure": "sweep_plots",
-    "history_figure": "history_plots",
+    "history_figure": "history_plots", "amplitude_figure": "cycle_plots", "plot_amplitude": "cycle_plots",
+    "phase_portrait": "cycle_plots", "animate_cycle": "cycle_plots",
 }
 
 __all__ = list(_LAZY)  # noqa: PLE0605 - the lazily exported names

@@ -22,8 +22,11 @@ _CSS = """
 #TOKEN h2{font-size:16px;margin:4px 0 6px}
 #TOKEN .row{display:flex;flex-wrap:wrap;gap:12px;align-items:flex-start}
 #TOKEN .panel{border:1px solid #ddd;border-radius:4px;padding:6px;background:#fff}
-#TOKEN svg{display:block;background:#fff}
+#TOKEN svg{display:block;background:#fff;-webkit-user-select:none;user-select:none}
+#TOKEN .sp,#TOKEN .vt,#TOKEN .legend{-webkit-user-select:none;user-select:none}
+#TOKEN .dg{box-sizing:content-box}
 #TOKEN .views{display:flex;flex-wrap:wrap;gap:4px}
+#TOKEN .views.d3{display:grid;grid-template-columns:auto auto}
 #TOKEN .vt{font-size:11px;color:#555;text-align:center}
 #TOKEN table{border-collapse:collapse;font-size:12px}
 #TOKEN td,#TOKEN th{padding:1px 6px;text-align:left;border-bottom:1px solid #eee}
@@ -44,7 +47,7 @@ _BODY = """
 <h2 class="title"></h2>
 <div class="notes note"></div>
 <div class="row">
- <div class="panel">
+ <div class="panel dg">
   <div>x <select class="xsel"></select> y <select class="ysel"></select>
    <span class="bsel-wrap">branch <select class="bsel"></select></span></div>
   <svg class="diagram"></svg>
@@ -96,6 +99,7 @@ xsel.value=D.axes[0];ysel.value=D.axes[1];
 B.forEach(function(br,k){h("option",{value:k},bsel,br.name);});
 if(B.length<2)q(".bsel-wrap").style.display="none";
 var W=C?430:560,H=C?300:400,ML=68,MR=14,MT=12,MB=42;
+q(".dg").style.width=W+"px";  // the special points' buttons wrap under the diagram, not across the page
 function ticks(lo,hi){var span=hi-lo,step=Math.pow(10,Math.floor(Math.log10(span/5)));
  [1,2,2.5,5,10].some(function(m){if(span/(step*m)<=6){step*=m;return true;}return false;});
  var t=[],v=Math.ceil(lo/step)*step;for(;v<=hi+1e-9*step;v+=step)t.push(Math.abs(v)<1e-12*step?0:v);return t;}
@@ -126,7 +130,7 @@ function drawDiagram(){
  el("text",{x:(ML+W-MR)/2,y:H-8,"text-anchor":"middle","font-size":"12"},g,axisLabel(xn));
  el("text",{x:14,y:(MT+H-MB)/2,"text-anchor":"middle","font-size":"12",transform:"rotate(-90 14 "+(MT+H-MB)/2+")"},g,
  axisLabel(yn));
- var px=[];
+ var px=[],marks=[];
  B.forEach(function(br,k){var X=br.columns[xn],Y=br.columns[yn];px.push(null);if(!X||!Y)return;
   var P=X.map(function(v,i){return [sx(shown(k,xn,v)),sy(shown(k,yn,Y[i]))];});px[k]=P;
   var colour=LINE[k%LINE.length],w=("t" in br.columns)?1.2:2,i=0,n=P.length;
@@ -137,9 +141,44 @@ function drawDiagram(){
   br.special.forEach(function(s){var m=MARK[s.label]||["star","#1f77b4"],p=P[s.row];
    var e=marker(svg,m[0],p[0],p[1],m[1],{"class":"mcx-sp","data-point":s.name,"data-branch":k,"data-row":s.row});
    e.style.cursor="pointer";el("title",{},e,br.name+": "+s.tag);
-   el("text",{x:p[0]+7,y:p[1]-6,"font-size":"11",fill:m[1]},svg,s.tag);});});
+   marks.push({x:p[0],y:p[1],text:s.short||s.tag,colour:m[1],b:k,row:s.row});});});
+ placeLabels(svg,marks,px);
  dg={px:px,svg:svg,cursor:el("circle",{r:7,fill:"none",stroke:"#ff7f0e","stroke-width":2.5,"class":"mcx-cursor"},svg)};
  placeCursor();}
+// Labels of the special points: each beside its marker, inside the plot frame, clear of every marker and of the
+// labels placed before it, covering as few of the branches' points as it can (the least-cost place on rings
+// around the marker); one placed away from its marker gets a leader line. Each label's box is kept in data-box.
+var LH=14,GAP=2;
+function placeLabels(svg,marks,px){
+ var frame=[ML,MT,W-MR,H-MB],cell=4,nx=Math.ceil(W/cell)+1,ny=Math.ceil(H/cell)+1,sum=new Float64Array((nx+1)*(ny+1));
+ function add(x,y){var i=Math.floor(x/cell),j=Math.floor(y/cell);if(i>=0&&j>=0&&i<nx&&j<ny)sum[(j+1)*(nx+1)+i+1]+=1;}
+ px.forEach(function(P){if(!P)return;for(var i=0;i<P.length;i++){add(P[i][0],P[i][1]);if(i+1<P.length){
+  var dx=P[i+1][0]-P[i][0],dy=P[i+1][1]-P[i][1],n=Math.min(200,Math.floor(Math.hypot(dx,dy)/cell));
+  for(var k=1;k<n;k++)add(P[i][0]+dx*k/n,P[i][1]+dy*k/n);}}});
+ for(var j=1;j<=ny;j++)for(var i=1;i<=nx;i++)sum[j*(nx+1)+i]+=sum[(j-1)*(nx+1)+i]+sum[j*(nx+1)+i-1]-sum[(j-1)*(nx+1)+i-1];
+ function covered(b){var i0=Math.max(0,Math.floor(b[0]/cell)),j0=Math.max(0,Math.floor(b[1]/cell)),
+  i1=Math.min(nx,Math.ceil(b[2]/cell)),j1=Math.min(ny,Math.ceil(b[3]/cell));if(i1<=i0||j1<=j0)return 0;
+  return sum[j1*(nx+1)+i1]-sum[j0*(nx+1)+i1]-sum[j1*(nx+1)+i0]+sum[j0*(nx+1)+i0];}
+ function meets(b,o){return b[0]<o[2]&&b[2]>o[0]&&b[1]<o[3]&&b[3]>o[1];}
+ var taken=marks.map(function(m){return [m.x-7,m.y-7,m.x+7,m.y+7];});
+ marks.forEach(function(m){
+  var t=el("text",{x:0,y:0,"font-size":"11",fill:m.colour,"class":"mcx-label","dominant-baseline":"central",
+   "text-anchor":"middle","data-branch":m.b,"data-row":m.row},svg,m.text);
+  var w=(t.getComputedTextLength&&t.getComputedTextLength())||6.5*m.text.length;w+=2*GAP;var hh=LH+2*GAP;
+  var best=null,bc=Infinity,fall=null,fc=Infinity;
+  for(var r=0;r<=Math.max(W,H);r+=(r?LH/2:8)){for(var d=0;d<(r?16:1);d++){var a=2*Math.PI*d/16,u=Math.cos(a),v=-Math.sin(a);
+   var cx=m.x+r*u+0.5*w*u,cy=m.y+r*v+0.5*hh*v,b=[cx-w/2,cy-hh/2,cx+w/2,cy+hh/2];
+   if(b[0]<frame[0]||b[2]>frame[2]||b[1]<frame[1]||b[3]>frame[3])continue;
+   var clash=taken.filter(function(o){return meets(b,o);}).length,cost=r+6*covered(b);
+   if(!clash&&cost<bc){bc=cost;best=[cx,cy,r];}
+   if(cost+1e6*clash<fc){fc=cost+1e6*clash;fall=[cx,cy,r];}}
+   if(best&&r>bc)break;}
+  var c=best||fall||[m.x,m.y-LH,0];
+  t.setAttribute("x",c[0]);t.setAttribute("y",c[1]);
+  var box=[c[0]-w/2,c[1]-hh/2,c[0]+w/2,c[1]+hh/2];taken.push(box);
+  t.setAttribute("data-box",box.map(function(v){return v.toFixed(1);}).join(" "));
+  if(c[2]>12){var ex=Math.max(box[0]+GAP,Math.min(box[2]-GAP,m.x)),ey=Math.max(box[1]+GAP,Math.min(box[3]-GAP,m.y));
+   svg.insertBefore(el("line",{x1:m.x,y1:m.y,x2:ex,y2:ey,stroke:m.colour,"stroke-width":0.8,"class":"mcx-leader"}),t);}});}
 function placeCursor(){if(!dg)return;var P=dg.px[cur.b],c=dg.cursor;
  if(!P){c.setAttribute("visibility","hidden");return;}
  c.setAttribute("visibility","visible");c.setAttribute("cx",P[cur.r][0]);c.setAttribute("cy",P[cur.r][1]);
@@ -174,7 +213,9 @@ D.bodies.forEach(function(b){var s=h("span",{},bodies);var i=h("i",{},s);i.style
 // ---------------------------------------------------------------- the mechanism
 var views=[];
 (function(){var box=q(".views"),names=(D.dim===3?["front","side","top"]:["plane"]).filter(function(v){return D.views[v];});
- var w=D.dim===3?(C?210:300):(C?330:460),hh=D.dim===3?(C?180:250):(C?280:390);
+ // spatial: the three views two by two, so that the mechanism stands beside the diagram (at 1400 x 900 too)
+ if(D.dim===3)box.className+=" d3";
+ var w=D.dim===3?(C?210:340):(C?330:460),hh=D.dim===3?(C?180:290):(C?280:390);
  var s=Math.min.apply(null,names.map(function(v){var lim=D.views[v];return Math.min(w/(lim[1]-lim[0]),hh/(lim[3]-lim[2]));}));
  names.forEach(function(v){var lim=D.views[v],wrap=h("div",{},box);
   var svg=el("svg",{width:w,height:hh,viewBox:"0 0 "+w+" "+hh,"class":"mech","data-view":v},wrap);

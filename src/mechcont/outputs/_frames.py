@@ -6,7 +6,8 @@ above all) is what makes a full redraw slow. :class:`Compositor` draws them once
 image, and per frame draws only the artists that change over a copy of it (blitting on the Agg
 canvas). The sinks take the frames as RGBA pixel arrays: a GIF is written by Pillow in one call
 with one palette for all frames, an HTML page by Matplotlib's ``HTMLWriter`` page with each
-frame encoded once as PNG, an MP4 by piping the pixels to ffmpeg.
+frame encoded once as PNG (made offline: its icons inline SVG, no stylesheet from a CDN), an MP4
+by piping the pixels to ffmpeg.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Compositor", "gif_duration_ms", "gif_frame", "write_gif", "html_sink", "mp4_sink"]
+__all__ = ["Compositor", "gif_duration_ms", "gif_frame", "write_gif", "html_sink", "mp4_sink", "offline_player"]
 
 
 class Compositor:
@@ -205,11 +206,61 @@ def _html_class() -> type:
                     return
                 self._saved_frames.append(data)
 
+        def finish(self) -> None:
+            """Write the page as ``HTMLWriter.finish`` does, offline: its player script and styles inline, its
+            buttons' icons inline SVG (:func:`offline_player`) instead of Font Awesome from a CDN."""
+            import uuid
+
+            from matplotlib import _animation_data as page
+
+            modes = dict.fromkeys(("once_checked", "loop_checked", "reflect_checked"), "")
+            modes[self.default_mode + "_checked"] = "checked"
+            player = page.DISPLAY_TEMPLATE.format(id=uuid.uuid4().hex, Nframes=len(self._saved_frames),
+                                                  fill_frames=_frames_js(self._saved_frames, self.frame_format),
+                                                  interval=1000 // self.fps, **modes)
+            with open(self.outfile, "w", encoding="utf-8") as f:
+                f.write(offline_player(page.JS_INCLUDE + page.STYLE_INCLUDE + player))
+
     return HtmlSink
 
 
+def _frames_js(frames: Sequence[str], fmt: str) -> str:
+    """The player's script lines filling its ``frames`` array with the base64 ``frames`` as ``data:`` URIs."""
+    return "\n" + "".join(f'  frames[{i}] = "data:image/{fmt};base64,' + data.replace("\n", "\\\n") + '"\n'
+                          for i, data in enumerate(frames))
+
+
+#: The player's button icons (Font Awesome's names in Matplotlib's page) as 16 x 16 SVG paths.
+_ICONS = {
+    "fa-minus": "M3 7h10v2H3z", "fa-plus": "M7 3h2v4h4v2H9v4H7V9H3V7h4z",
+    "fa-fast-backward": "M15 2L9 8l6 6zM9 2L3 8l6 6zM1 2h2v12H1z", "fa-step-backward": "M13 2L5 8l8 6zM3 2h2v12H3z",
+    "fa-play fa-flip-horizontal": "M12 2L2 8l10 6z", "fa-pause": "M3 2h4v12H3zM9 2h4v12H9z", "fa-play": "M4 2l10 6-10 6z",
+    "fa-step-forward": "M3 2l8 6-8 6zM11 2h2v12h-2z", "fa-fast-forward": "M1 2l6 6-6 6zM7 2l6 6-6 6zM13 2h2v12h-2z",
+}
+
+
+def offline_player(text: str) -> str:
+    """Matplotlib's animation page ``text`` made to work offline: a full HTML document without the stylesheet
+    ``<link>`` (Font Awesome from a CDN), each ``<i class="fa ...">`` icon an inline SVG (its title stays on
+    the button); a ``ValueError`` names an icon it does not know (a newer Matplotlib's)."""
+    import re
+
+    def icon(m: re.Match) -> str:
+        name = m.group(1).removeprefix("fa ").strip()
+        if name not in _ICONS:
+            raise ValueError(f"no offline icon for Matplotlib's {name!r}")
+        return (f'<svg width="14" height="14" viewBox="0 0 16 16" aria-hidden="true" style="vertical-align:middle">'
+                f'<path fill="currentColor" d="{_ICONS[name]}"/></svg>')
+
+    body = re.sub(r"<link\b[^>]*>", "", text)
+    body = re.sub(r'<i class="(fa [^"]+)"></i>', icon, body)
+    return ('<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>mechcont animation</title></head>'
+            f"<body>\n{body}\n</body></html>\n")
+
+
 def html_sink(fps: float):
-    """An ``HTMLWriter`` (frames embedded as PNG, at most 200 MB) with ``add(rgba, repeats)``."""
+    """An ``HTMLWriter`` (frames embedded as PNG, at most 200 MB) with ``add(rgba, repeats)``; its page works
+    offline (:func:`offline_player`)."""
     return _html_class()(fps=fps, embed_frames=True, embed_limit=200)
 
 

@@ -19,6 +19,8 @@ import hashlib
 import json
 import math
 import os
+import re
+from collections import Counter
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -29,11 +31,18 @@ from ..equations import Model, Scene
 from ..errors import InputError
 from . import drawing as _d
 
-__all__ = ["explore_page", "write_explore", "pose_json", "MAX_ROWS", "EXPLORE_SUFFIXES"]
+__all__ = ["explore_page", "write_explore", "pose_json", "MAX_ROWS", "PAGE_BUDGET", "EXPLORE_SUFFIXES"]
 
 EXPLORE_SUFFIXES = (".html",)
 #: Rows per branch embedded at most; a longer table is thinned (its special points always kept) and the page says so.
 MAX_ROWS = 3000
+#: Bytes of embedded data (columns and poses) a page holds at most: longer tables of a large mechanism (a spatial
+#: gear's time history, 10 kB a row) are thinned further to fit, every special point and event kept.
+PAGE_BUDGET = 4_000_000
+#: A special point's label that is a code (``LP``, ``JUMP``, a user event's name) is numbered along the branch.
+_CODE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+#: One stop event of a time history's label column (:func:`.tables.event_labels`): kind, stop, details.
+_STOP_EVENT = re.compile(r"(impact|contact|release) (\S+)(?: .*)?\Z")
 _EXTRA = ("s", "stability", "n_unstable", "label", "vary")
 
 
@@ -119,6 +128,56 @@ def _rows(branch, max_rows: int) -> np.ndarray:
     return np.array(sorted(keep))
 
 
+def _row_bytes(branch, system, X: np.ndarray | None, index: Mapping[str, int], samples: int = 5) -> float:
+    """Bytes one embedded row of ``branch`` takes in the page, its columns and, with a model, its pose: the most
+    of ``samples`` rows spread along it (a row at rest prints shorter numbers than one in motion)."""
+    most = 0
+    for r in np.unique(np.linspace(0, len(branch) - 1, samples).round().astype(int)):
+        size = len(json.dumps([float(v) for v in branch.values[r]], separators=(",", ":")))
+        if system is not None and system.scene is not None and X is not None:
+            size += len(json.dumps(pose_json(system.scene(X[r]), index), separators=(",", ":")))
+        most = max(most, size)
+    return most + 8.0  # the row's n_unstable, label and index
+
+
+def _within_budget(counts: Sequence[int], row_bytes: Sequence[float], budget: float) -> list[int]:
+    """Rows per branch (at least 2 each) so that ``sum(rows * row_bytes) <= budget`` where it can be, each branch
+    thinned by one factor; ``counts`` are the rows each has."""
+    total = sum(n * b for n, b in zip(counts, row_bytes))
+    if total <= budget:
+        return list(counts)
+    f = budget / total
+    return [min(n, max(2, int(n * f))) for n in counts]
+
+
+def _document(branch, name: str, rows: np.ndarray) -> dict:
+    """The page's document of ``rows`` of ``branch`` (see :func:`page_data`; its ``note`` empty, its poses to come);
+    InputError naming the row and column of a value that is not finite."""
+    doc = {"name": name, "vary": branch.vary, "units": {n: branch.units.get(n, "") for n in branch.names},
+           "columns": {n: [float(v) for v in branch.column(n)[rows]] for n in branch.names},
+           "n_unstable": [int(v) for v in branch.n_unstable[rows]], "labels": [branch.labels[i] for i in rows],
+           "rows": [int(i) for i in rows], "special": _special(branch, rows), "note": ""}
+    for col, vals in doc["columns"].items():
+        bad = [i for i, v in enumerate(vals) if not math.isfinite(v)]
+        if bad:
+            raise InputError("branch", f"'{name}' row {doc['rows'][bad[0]]}, column {col}: {vals[bad[0]]} is "
+                                       "not a finite number")
+    return doc
+
+
+def _event_words(label: str) -> str:
+    """A time history's event label without its numbers, for the diagram (``"impact fwd_stop 75.3 1/s; contact
+    fwd_stop"`` -> ``"impact + contact fwd_stop"``); any other label as it is."""
+    parts = [_STOP_EVENT.match(p) for p in label.split("; ")]
+    if not parts or not all(parts):
+        return label
+    kinds = [m.group(1) for m in parts if m]
+    stops = list(dict.fromkeys(m.group(2) for m in parts if m))
+    if len(stops) == 1:
+        return " + ".join(kinds) + " " + stops[0]
+    return "; ".join(f"{m.group(1)} {m.group(2)}" for m in parts if m)
+
+
 def _limits(scenes: Sequence[Scene], dim: int) -> tuple[float, dict]:
     """(force scale m/N, {view: (xmin, xmax, ymin, ymax)}) fixed over all ``scenes``."""
     if dim == 3:
@@ -131,29 +190,53 @@ def _limits(scenes: Sequence[Scene], dim: int) -> tuple[float, dict]:
 
 
 def _special(branch, rows: np.ndarray) -> list[dict]:
+    """The special points of ``branch`` for the page: ``name`` (``branch.point_names()``: ``LP1``, what
+    ``branch["LP1"]`` finds), ``tag`` (the buttons' text: the name of a code label, ``LP1``, ``LP2?`` when only
+    approximately located; an event's own text otherwise, numbered ``(2)`` only when it repeats), ``short``
+    (the diagram's label: an event without its numbers), ``label`` and ``row`` (index among the embedded rows)."""
     where = {int(r): k for k, r in enumerate(rows)}
-    return [{"name": name, "tag": name + ("" if p.located else "?"), "label": p.label, "row": where[p.index]}
-            for name, p in zip(branch.point_names(), branch.special_points)]
+    repeats = Counter(p.label for p in branch.special_points)
+    seen: Counter = Counter()
+    out = []
+    for name, p in zip(branch.point_names(), branch.special_points):
+        seen[p.label] += 1
+        if _CODE.match(p.label):
+            tag = short = name
+        else:
+            nth = f" ({seen[p.label]})" if repeats[p.label] > 1 else ""
+            tag, short = p.label + nth, _event_words(p.label)
+        approx = "" if p.located else "?"
+        out.append({"name": name, "tag": tag + approx, "short": short + approx, "label": p.label,
+                    "row": where[p.index]})
+    return out
 
 
-def _default_axes(doc: dict) -> list[str]:
+def _default_axes(doc: dict, kinds: Mapping[str, str] | None = None) -> list[str]:
     """The diagram's first axes: the continuation parameter (else the first changing column) against the
-    first changing angle (else the last changing column: a freed parameter, such as a downlock's force)."""
-    cols = doc["columns"]
-    changing = [n for n, v in cols.items() if np.ptp(v) > 1e-12 * max(1.0, float(np.max(np.abs(v))))] or list(cols)
+    first changing angle; else a changing force or moment the branch solved for (a parameter, such as a
+    downlock's force); else the coordinate that moves most (a spatial gear's point coordinates: the part
+    that travels furthest); else the last changing column. ``kinds`` maps a column to its variable's kind
+    (``"state"``, ``"parameter"``) when the model is known."""
+    cols, units = doc["columns"], doc["units"]
+    ptp = {n: float(np.ptp(v)) for n, v in cols.items()}
+    changing = [n for n, v in cols.items() if ptp[n] > 1e-12 * max(1.0, float(np.max(np.abs(v))))] or list(cols)
     x = doc["vary"] if doc["vary"] in cols else changing[0]
     rest = [n for n in changing if n != x] or [n for n in cols if n != x] or [x]
-    y = next((n for n in rest if doc["units"].get(n) == "rad"), rest[-1])  # else e.g. a downlock's force (last)
+    kind = (lambda n: kinds.get(n, "")) if kinds is not None else (lambda n: "")
+    angle = next((n for n in rest if units.get(n) == "rad"), None)
+    load = next((n for n in rest if units.get(n) in ("N", "N m") and kind(n) == "parameter"), None)
+    moves = [n for n in rest if units.get(n) == "m" and kind(n) in ("state", "")]
+    y = angle or load or (max(moves, key=lambda n: ptp[n]) if moves else rest[-1])
     return [x, y]
 
 
 def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None = None,
-              max_rows: int = MAX_ROWS, title: str | None = None) -> dict:
+              max_rows: int = MAX_ROWS, title: str | None = None, budget: float = PAGE_BUDGET) -> dict:
     """The JSON document the page embeds (see :func:`explore_page` for the arguments).
 
     ``branches[k]``: ``name``, ``columns`` (``{name: [values]}``, SI, the table's own columns),
-    ``units``, ``n_unstable`` (-1: not evaluated), ``labels``, ``special`` (``name``, ``tag``,
-    ``label``, ``row``), ``rows`` (the table rows embedded), ``note`` and, with a model, ``poses``
+    ``units``, ``n_unstable`` (-1: not evaluated), ``labels``, ``special`` (``name``, ``tag``, ``short``,
+    ``label``, ``row``: see :func:`_special`), ``rows`` (the table rows embedded), ``note`` and, with a model, ``poses``
     (:func:`pose_json` per embedded row). Top level: ``bodies`` (``[{name, colour}]``),
     ``dim`` (2 or 3), ``views`` (``{view: [xmin, xmax, ymin, ymax]}`` m; spatial views
     name the axes in ``view_axes``), ``force_scale`` (m/N), ``symbol`` (m).
@@ -162,37 +245,49 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
 
     if int(max_rows) < 2:
         raise InputError("--max-rows", f"must be at least 2, not {max_rows}")
+    if not budget > 0:
+        raise InputError("budget", f"must be a positive number of bytes, not {budget}")
     system = _model(model)
+    kinds = {v.name: v.kind for v in system.variables} if system is not None else None
     values = dict(values or {})
     if system is not None:
         for n in values:
             system.index(n)
         if system.scene is None and not (isinstance(system, Model) and system.ode is not None):  # an ODE: no drawing
             raise InputError("model", f"'{system.name}' has no drawing (its EquationSystem has no scene)")
-    drawn = system is not None and system.scene is not None
-    out: list[dict] = []
-    all_scenes: list[list[Scene]] = []
+    tables = []
     for k, source in enumerate(branches):
         branch, name = _branch(source, k)
-        rows = _rows(branch, int(max_rows))
-        note = (f"{len(rows)} of {len(branch)} rows shown (every {math.ceil(len(branch) / max_rows)}th and every "
-                "special point)" if len(rows) < len(branch) else "")
-        doc = {"name": name, "vary": branch.vary, "units": {n: branch.units.get(n, "") for n in branch.names},
-               "columns": {n: [float(v) for v in branch.column(n)[rows]] for n in branch.names},
-               "n_unstable": [int(v) for v in branch.n_unstable[rows]], "labels": [branch.labels[i] for i in rows],
-               "rows": [int(i) for i in rows], "special": _special(branch, rows), "note": note}
-        for col, vals in doc["columns"].items():
-            bad = [i for i, v in enumerate(vals) if not math.isfinite(v)]
-            if bad:
-                raise InputError("branch", f"'{name}' row {doc['rows'][bad[0]]}, column {col}: {vals[bad[0]]} is "
-                                           "not a finite number")
-        if system is not None:
-            X = _full_rows(system, branch, name, values)[rows]
-            if drawn:
-                all_scenes.append([system.scene(x) for x in X])
-        out.append(doc)
+        X = _full_rows(system, branch, name, values) if system is not None else None
+        tables.append((branch, name, X, _rows(branch, int(max_rows))))
+    probe: dict[str, int] = {}  # any body index: a pose's size does not depend on it
+    first = tables[0][2] if tables else None
+    drawn = system is not None and system.scene is not None  # an ODE model has no drawing
+    if drawn and first is not None:
+        probe = {n: 0 for n, _ in system.scene(first[0]).bars}
+    sizes = [_row_bytes(branch, system, X, probe) for branch, _, X, _ in tables]
+    caps = _within_budget([len(rows) for *_, rows in tables], sizes, float(budget))
+    for _ in range(8):  # the estimate per row, checked on the page's data and corrected if it was short
+        out: list[dict] = []
+        all_scenes: list[list[Scene]] = []
+        for (branch, name, X, rows), cap in zip(tables, caps):
+            out.append(_document(branch, name, _rows(branch, cap) if cap < len(rows) else rows))
+            if drawn and X is not None:
+                all_scenes.append([system.scene(x) for x in X[out[-1]["rows"]]])
+        used = len(json.dumps(out, separators=(",", ":"))) + 160 * len(out) + sum(  # 160: the note to come
+            len(json.dumps(pose_json(s, probe), separators=(",", ":"))) + 1 for scenes in all_scenes for s in scenes)
+        if used <= budget or all(len(d["rows"]) <= len(d["special"]) + 2 for d in out):
+            break
+        shrink = min(0.97 * budget / used, 0.98)  # fewer rows each pass: rows come by whole steps
+        caps = [max(2, min(cap - 1, int(min(cap, len(d["rows"])) * shrink))) for cap, d in zip(caps, out)]
+    for (branch, _, _, rows), doc in zip(tables, out):
+        kept = len(doc["rows"])
+        if kept < len(branch):
+            step = math.ceil(len(branch) / max(kept - len(branch.special_points), 1))
+            why = f"; the page holds at most {budget / 1e6:.3g} MB" if kept < len(rows) else ""
+            doc["note"] = f"{kept} of {len(branch)} rows shown (one in {step}, every special point and event{why})"
     data: dict = {"title": title or (system.name if system is not None else ""), "branches": out, "bodies": [],
-                  "axes": _default_axes(out[0]) if out else ["", ""],
+                  "axes": _default_axes(out[0], kinds) if out else ["", ""],
                   "dim": 2, "views": {}, "force_scale": 0.0, "symbol": 0.0, "view_axes": VIEW_AXES}
     if drawn:
         assert system is not None
@@ -211,7 +306,8 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
 
 
 def explore_page(model, branches: Sequence, *, values: Mapping[str, float] | None = None,
-                 max_rows: int = MAX_ROWS, title: str | None = None, compact: bool = False) -> str:
+                 max_rows: int = MAX_ROWS, title: str | None = None, compact: bool = False,
+                 budget: float = PAGE_BUDGET) -> str:
     """The explorer page (HTML text) of ``branches`` of ``model``.
 
     Parameters
@@ -228,6 +324,9 @@ def explore_page(model, branches: Sequence, *, values: Mapping[str, float] | Non
         ``{name: value}`` (SI) set on every row before drawing: variables a table lacks.
     max_rows:
         Rows per branch embedded at most (more are thinned, special points kept; the page says so).
+    budget:
+        Bytes of embedded data (columns and poses) at most [:data:`PAGE_BUDGET`]: the branches are thinned
+        further, by one factor, to fit it (every special point and event kept; the page says so).
     title:
         Page heading [the model's name].
     compact:
@@ -240,7 +339,7 @@ def explore_page(model, branches: Sequence, *, values: Mapping[str, float] | Non
     """
     from ._explore_page import render
 
-    data = page_data(model, branches, values=values, max_rows=max_rows, title=title)
+    data = page_data(model, branches, values=values, max_rows=max_rows, title=title, budget=budget)
     text = json.dumps(data, separators=(",", ":"), allow_nan=False)
     token = "mcx" + hashlib.sha1(text.encode()).hexdigest()[:10]
     return render(text, token, title=str(data["title"]), compact=compact)

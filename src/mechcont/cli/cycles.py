@@ -1,0 +1,137 @@
+"""``mechcont cycles``: the family of periodic orbits born at a Hopf point, continued in one parameter."""
+
+from __future__ import annotations
+
+import contextlib
+
+import click
+
+from ..errors import ConvergenceError, InputError
+from ._app import cli
+from ._parse import assignments, number
+from ._run import check_outputs, continuation_options, load_at, run_continuation
+
+#: Fields of the API's errors that name an option of this command.
+_OPTIONS = {"point": "--point", "branch": "--point", "ntst": "--ntst", "ncol": "--ncol", "bounds": "--bounds",
+            "vary": "--vary"}
+
+
+@contextlib.contextmanager
+def _as_option():
+    """Re-raise the API's :class:`InputError` naming a field this command sets as naming its option."""
+    try:
+        yield
+    except InputError as exc:
+        if exc.field not in _OPTIONS:
+            raise
+        raise InputError(_OPTIONS[exc.field], str(exc)[len(exc.field) + 2:]) from None
+
+
+def _at_values(items, vary: str) -> list[float]:
+    """``--at P=V1,V2`` -> ``[V1, V2]`` (the parameter must be the --vary one)."""
+    out: list[float] = []
+    for item in items:
+        name, sep, rest = item.partition("=")
+        if not sep or not name.strip() or not rest.strip():
+            raise InputError("--at", f"'{item}' is not P=V1,V2,... (e.g. {vary}=0.1,0.2)")
+        if name.strip() != vary:
+            raise InputError("--at", f"'{name.strip()}' is not the continued parameter; give {vary}=V1,V2,...")
+        out += [number(v.strip(), f"--at {vary}") for v in rest.split(",")]
+    return out
+
+
+def hopf_row(system, point: str):
+    """The model vector of ``BRANCH.csv:HBn`` (a row labelled HB of a table of this model) and the branch; one-line
+    :class:`InputError` (field ``--point``) when the text, the table or the row is not that."""
+    from ..continuation import Branch
+
+    csv_path, sep, row = point.rpartition(":")
+    if not sep or not csv_path or not row:
+        raise InputError("--point", f"'{point}' is not BRANCH.csv:HBn (e.g. branch.csv:HB1)")
+    with _as_option():
+        branch = Branch.read_csv(csv_path, model=system.name)
+        missing = [n for n in system.names if n not in branch.names]
+        if missing:
+            raise InputError("--point", f"'{csv_path}' lacks the column(s) {', '.join(missing)} of model "
+                                        f"'{system.name}'")
+        p = branch.point(row)
+    if p.label != "HB":
+        raise InputError("--point", f"'{row}' of '{csv_path}' is {'labelled ' + p.label if p.label else 'not labelled'}"
+                                    ", not a Hopf point (HB); the family of cycles starts at an HB row")
+    return system.vector({n: float(p[n]) for n in system.names}), branch
+
+
+@cli.command("cycles")
+@click.argument("model")
+@click.option("--point", required=True, metavar="BRANCH.csv:HBn",
+              help="The Hopf point the family starts at: a row labelled HB of a continue table (e.g. branch.csv:HB1).")
+@click.option("--vary", required=True, metavar="P", help="Parameter in which the family is continued.")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Parameter value (SI units, rad).")
+@click.option("--bounds", "bnds", multiple=True, metavar="NAME=LO:HI",
+              help="Stop where P (or the period, NAME=period, s) leaves [LO, HI].")
+@click.option("--at", "at", multiple=True, metavar="P=V1,V2,...",
+              help="Add orbits located exactly at these values of P (labelled UZ).")
+@click.option("--ntst", type=int, default=20, show_default=True, help="Mesh intervals per orbit.")
+@click.option("--ncol", type=int, default=4, show_default=True, help="Collocation points per interval (2..7).")
+@click.option("--ds", type=float, default=None, help="Initial step (the orbit's L2 norm and P's scale).")
+@click.option("--dsmax", type=float, default=None, help="Largest step.")
+@click.option("--max-steps", type=int, default=None, help="Most steps.")
+@click.option("--out", default=None, help="Table of the orbits: .csv.")
+@click.option("--plot", default=None, help="Amplitude diagram: .png, .svg or .pdf (max and min of a state against P).")
+@click.option("--quiet", is_flag=True, help="Print nothing but errors.")
+def cycles_command(model, point, vary, sets, bnds, at, ntst, ncol, ds, dsmax, max_steps, out, plot, quiet):
+    """Continue the periodic orbits born at the Hopf point --point in --vary (orthogonal collocation,
+    NTST intervals of NCOL Gauss points, mesh adaptation, Floquet multipliers).
+
+    The table has per orbit: P, the period (s), min and max of every state, the largest
+    non-trivial Floquet multiplier's modulus, stability and labels LPC (fold of cycles), PD
+    (period doubling), NS (torus), UZ (--at) and EP (end).
+
+    Example: mechcont cycles examples/ab.toml --set B=17 --point ab.csv:HB1 --vary D --bounds D=0:0.2
+    --bounds period=0:100 --out cycles.csv
+    """
+    from ..continuation import cycles_from_hopf
+
+    if out is not None and not str(out).lower().endswith(".csv"):
+        raise InputError("--out", f"'{out}': the table of cycles is written as .csv")
+    check_outputs(out, plot)
+    system = load_at(model, assignments(sets, "set"))
+    system.index(vary)
+    x, branch = hopf_row(system, point)
+    x = system.vector(assignments(sets, "set"), base=x)
+    options = continuation_options(bnds, ds, dsmax, max_steps)
+    values = _at_values(at, vary)
+    try:
+        with _as_option():
+            family = run_continuation(cycles_from_hopf, system, x, vary, options=options, ntst=ntst, ncol=ncol,
+                                      at=values, quiet=quiet, label="cycles")
+        failure = None if family.status.success else family.message
+    except ConvergenceError as exc:
+        family, failure = exc.partial, str(exc)
+        if family is None:
+            raise
+    _write(family, out, plot, quiet, branch if branch.vary == vary else None)
+    if failure:
+        raise ConvergenceError(failure)
+
+
+def _write(family, out, plot, quiet, branch=None) -> None:
+    from ..outputs.cycle_plots import amplitude_figure
+    from ..outputs.plotting import save_figure
+
+    check_outputs(out, plot)  # again: the folder may have changed during the run
+    if out:
+        family.to_csv(out)
+    if plot:
+        save_figure(amplitude_figure(family, branch=branch, title=f"{family.model}: cycles in {family.vary}"), plot)
+    if quiet:
+        return
+    rows = family.point_names()
+    click.echo(f"{'point':>6}  {family.vary:>12}  {'period [s]':>12}  {'floquet_max':>12}  stability")
+    stab, fmax = family.stability(), family.floquet_max
+    for name, i in rows:
+        click.echo(f"{name:>6}  {family.p[i]:12.6g}  {family.period[i]:12.6g}  {fmax[i]:12.6g}  {stab[i]}")
+    click.echo(f"{len(family)} orbits" + (f"; ends: {family.message}" if family.message else ""))
+    for path in (out, plot):
+        if path:
+            click.echo(f"wrote {path}")

@@ -1,0 +1,178 @@
+r"""Orthogonal collocation of periodic orbits (AUTO's scheme), on a mesh that adapts to the orbit.
+
+A periodic orbit of ``dz/dt = f(z; p)`` with period ``T`` is, in the rescaled time ``t / T`` on
+``[0, 1]``, a solution of the boundary-value problem
+
+.. math::  u'(\tau) = T f(u(\tau); p), \qquad u(1) = u(0), \qquad \int_0^1 u(\tau)\cdot v'(\tau)\,d\tau = 0,
+
+the last row (the integral phase condition) fixing the orbit's phase against a reference orbit ``v``.
+The mesh ``0 = tau_0 < ... < tau_NTST = 1`` splits ``[0, 1]`` into NTST intervals; on each, ``u`` is
+the polynomial of degree NCOL through its values at NCOL + 1 equally spaced nodes (Lagrange
+basis), and the differential equation holds at the NCOL Gauss–Legendre points of the interval.
+Neighbouring intervals share their end node, so ``u`` is continuous; the unknowns are the
+``NTST * NCOL + 1`` node values. At the mesh points the error is of order ``h^(2 NCOL)``
+(superconvergence of Gauss collocation), elsewhere ``h^(NCOL + 1)``.
+
+:class:`Mesh` holds the mesh and the fixed collocation matrices; it evaluates the orbit between
+nodes, forms integrals (Gauss quadrature, exact for the products of two of its polynomials), and
+moves an orbit to an adapted mesh that equidistributes ``|u^(NCOL+1)|^(1/(NCOL+1))`` (de Boor's
+criterion, as AUTO's IAD does).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+
+__all__ = ["Mesh", "gauss_legendre", "lagrange_matrices"]
+
+#: The collocation degrees AUTO allows (NCOL); above 7 the equally spaced nodes' basis loses accuracy.
+NCOL_RANGE = (2, 7)
+
+
+def gauss_legendre(m: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``m`` Gauss–Legendre points on ``[0, 1]`` (ascending) and their quadrature weights (sum 1)."""
+    x, w = np.polynomial.legendre.leggauss(m)
+    return (x + 1.0) / 2.0, w / 2.0
+
+
+def lagrange_matrices(nodes: np.ndarray, at: np.ndarray, derivative: int = 0) -> np.ndarray:
+    """``L[k, i]``: the ``derivative``-th derivative of the Lagrange polynomial of ``nodes[i]`` at ``at[k]``."""
+    nodes, at = np.asarray(nodes, float), np.asarray(at, float)
+    m = len(nodes)
+    out = np.empty((len(at), m))
+    for i in range(m):
+        others = np.delete(nodes, i)
+        coef = np.poly(others) / np.prod(nodes[i] - others)  # monomial coefficients, highest first
+        out[:, i] = np.polyval(np.polyder(coef, derivative) if derivative else coef, at)
+    return out
+
+
+@functools.lru_cache(maxsize=16)
+def _unit_interval(m: int):
+    """The unit interval's nodes, Gauss points and weights, the basis at the Gauss points (values,
+    derivatives) and the NCOL-th derivative (a constant) from the node values; read-only arrays."""
+    s = np.linspace(0.0, 1.0, m + 1)
+    c, g = gauss_legendre(m)
+    out = (s, c, g, lagrange_matrices(s, c), lagrange_matrices(s, c, 1), lagrange_matrices(s, np.zeros(1), m)[0])
+    for a in out:
+        a.flags.writeable = False
+    return out
+
+
+class Mesh:
+    """A collocation mesh: NTST intervals of ``[0, 1]``, NCOL + 1 equally spaced nodes and NCOL
+    Gauss points in each.
+
+    Attributes
+    ----------
+    tau:
+        The mesh points, shape (ntst + 1,), ``tau[0] = 0``, ``tau[-1] = 1``.
+    h:
+        Interval lengths, shape (ntst,).
+    Lc, Ld:
+        Values and first derivatives of the interval's Lagrange basis at its Gauss points (per
+        unit interval length), shape (ncol, ncol + 1).
+    g:
+        Gauss weights on the unit interval, shape (ncol,).
+    """
+
+    def __init__(self, ntst: int, ncol: int, tau: np.ndarray | None = None):
+        self.ntst, self.ncol = int(ntst), int(ncol)
+        self.tau = np.linspace(0.0, 1.0, self.ntst + 1) if tau is None else np.asarray(tau, float)
+        self.h = np.diff(self.tau)
+        m = self.ncol
+        self.s, self.c, self.g, self.Lc, self.Ld, self.Dm = _unit_interval(m)
+        #: node index of local node i of interval j
+        self.index = np.arange(self.ntst)[:, None] * m + np.arange(m + 1)[None, :]
+
+    @property
+    def n_nodes(self) -> int:
+        """NTST * NCOL + 1 nodes (the first and last are both kept: periodicity is an equation)."""
+        return self.ntst * self.ncol + 1
+
+    def times(self) -> np.ndarray:
+        """The nodes' rescaled times in ``[0, 1]``, shape (n_nodes,)."""
+        t = self.tau[:-1, None] + self.h[:, None] * self.s[None, :-1]
+        return np.append(t.ravel(), 1.0)
+
+    def collocation_times(self) -> np.ndarray:
+        """The Gauss points' rescaled times, shape (ntst, ncol)."""
+        return self.tau[:-1, None] + self.h[:, None] * self.c[None, :]
+
+    def blocks(self, u: np.ndarray) -> np.ndarray:
+        """The node values per interval, shape (ntst, ncol + 1, n), from node values (n_nodes, n)."""
+        return u[self.index]
+
+    def at_collocation(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(u, du/dtau)`` at the Gauss points, each shape (ntst, ncol, n)."""
+        b = self.blocks(u)
+        return (np.einsum("ki,jin->jkn", self.Lc, b),
+                np.einsum("ki,jin->jkn", self.Ld, b) / self.h[:, None, None])
+
+    def gram_row(self, w: np.ndarray) -> np.ndarray:
+        """``r`` with ``r . u = integral of u(tau) . w(tau) over [0, 1]`` for every orbit ``u`` on this mesh
+        (node values, flattened like ``u``); ``w`` given by its node values (n_nodes, n). Gauss
+        quadrature at the NCOL points: exact to degree 2 NCOL - 1, so this is the collocation's own
+        inner product (as AUTO's), not the exact integral of the two degree-NCOL polynomials."""
+        wc, _ = self.at_collocation(w)
+        return self._spread(wc * (self.h[:, None, None] * self.g[None, :, None]))
+
+    def mean(self, u: np.ndarray) -> np.ndarray:
+        """The orbit's time average over [0, 1] (Gauss quadrature on every interval), shape (n,)."""
+        uc, _ = self.at_collocation(u)
+        return np.einsum("j,k,jkn->n", self.h, self.g, uc)
+
+    def phase_row(self, v: np.ndarray) -> np.ndarray:
+        """``r`` with ``r . u = integral of u . v'`` over ``[0, 1]`` (exact: degree 2 NCOL - 1), ``v`` by its node values."""
+        _, dv = self.at_collocation(v)
+        return self._spread(dv * (self.h[:, None, None] * self.g[None, :, None]))
+
+    def _spread(self, a: np.ndarray) -> np.ndarray:
+        """Node-value coefficients of ``sum_jk a[j, k] . u(tau_jk)``, flattened (n_nodes * n,)."""
+        per = np.einsum("ki,jkn->jin", self.Lc, a)
+        out = np.zeros((self.n_nodes, a.shape[2]))
+        np.add.at(out, self.index, per)
+        return out.ravel()
+
+    def evaluate(self, u: np.ndarray, times: np.ndarray) -> np.ndarray:
+        """The orbit (node values (n_nodes, n)) at the rescaled ``times`` (wrapped into [0, 1]), shape (len(times), n)."""
+        t = np.mod(np.asarray(times, float), 1.0)
+        j = np.clip(np.searchsorted(self.tau, t, side="right") - 1, 0, self.ntst - 1)
+        local = (t - self.tau[j]) / self.h[j]
+        # the Lagrange basis at every point at once: prod over l != i of (x - s_l) / (s_i - s_l)
+        d = local[:, None] - self.s[None, :]
+        eye = np.eye(len(self.s), dtype=bool)
+        num = np.prod(np.where(eye[None, :, :], 1.0, d[:, None, :]), axis=2)
+        den = np.prod(np.where(eye, 1.0, self.s[:, None] - self.s[None, :]), axis=1)
+        return np.einsum("pi,pin->pn", num / den, self.blocks(u)[j])
+
+    def adapted(self, u: np.ndarray) -> Mesh:
+        """A mesh of the same size equidistributing ``|u^(NCOL+1)|^(1/(NCOL+1))`` for the orbit ``u``.
+
+        The NCOL-th derivative is constant on each interval; its jumps between neighbours (the orbit
+        is periodic: the last interval's neighbour is the first) divided by the mean of their
+        lengths estimate the (NCOL+1)-th derivative at each mesh point (de Boor, as AUTO does).
+        """
+        m = self.ncol
+        dm = np.einsum("i,jin->jn", self.Dm, self.blocks(u)) / self.h[:, None] ** m
+        nxt = np.roll(dm, -1, axis=0)
+        jump = np.linalg.norm(nxt - dm, axis=1) / (0.5 * (self.h + np.roll(self.h, -1)))  # at tau_(j+1)
+        per = 0.5 * (jump + np.roll(jump, 1))  # per interval: the mean of its two ends
+        density = per ** (1.0 / (m + 1))
+        density += 1e-3 * max(float(np.mean(density)), 1e-300)  # never an interval of zero weight
+        cum = np.concatenate([[0.0], np.cumsum(density * self.h)])
+        targets = np.linspace(0.0, cum[-1], self.ntst + 1)
+        tau = np.interp(targets, cum, self.tau)
+        tau[0], tau[-1] = 0.0, 1.0
+        return Mesh(self.ntst, self.ncol, tau)
+
+    def moved(self, u: np.ndarray, other: Mesh) -> np.ndarray:
+        """The orbit ``u`` (node values on this mesh) at the nodes of ``other``."""
+        return np.vstack([self.evaluate(u, other.times()[:-1]), u[-1:]])
+
+    def uniformity(self) -> float:
+        """Longest over shortest interval (1 for a uniform mesh)."""
+        return float(self.h.max() / self.h.min()) if math.isfinite(self.h.min()) and self.h.min() > 0 else math.inf

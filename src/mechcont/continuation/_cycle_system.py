@@ -1,0 +1,243 @@
+r"""The periodic boundary-value problem on a collocation mesh: residual, sparse Jacobian, Newton, tangent, Floquet.
+
+Unknowns ``X = (u_0, ..., u_N, T, p)``: the orbit's node values (:class:`~._collocation.Mesh`), the
+period (s) and the continuation parameter. Equations: collocation ``u'(tau_jk) = T f(u(tau_jk); p)``
+at every Gauss point, periodicity ``u_N = u_0``, the integral phase condition against a reference
+orbit, and one more row that closes the system: the pseudo-arclength hyperplane
+``<t0, X - X_pred> = 0`` in the inner product ``<a, b> = int a_u . W b_u dtau + w_p a_p b_p`` (the period
+has weight 0, as AUTO's default THL(11) = 0), or ``p = p0`` to correct an orbit at a fixed parameter.
+
+Linear algebra: Newton's systems are solved by condensation of parameters (AUTO's scheme,
+:mod:`._condensation`): each interval's inner nodes are eliminated by one small dense inverse
+(``NCOL n`` square), leaving a block-bidiagonal system in the ``NTST + 1`` mesh points, ``T`` and ``p``
+(``(NTST + 1) n + 2`` rows, one dense LU). Cost per factorisation ``O(NTST (NCOL n)^3 + (NTST n)^3)``; for the
+sizes of a cycle of a small system (NTST 20-100, n up to ~10) the first term dominates. :meth:`linearise`
+assembles the whole sparse Jacobian (compressed columns) for checking it against SuperLU.
+
+Floquet multipliers: the same collocation blocks, for fixed ``T`` and ``p``, map an interval's first
+node to its last (eliminating its inner nodes: ``Phi_j``, one small dense solve per interval); their
+product ``M = Phi_(NTST-1) ... Phi_0`` is the collocation's monodromy matrix, whose eigenvalues
+approximate the multipliers to the scheme's order. The one nearest 1 is the trivial multiplier (the
+orbit's own direction) and is excluded.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from ._collocation import Mesh
+
+__all__ = ["RateFunction", "CycleSystem", "NewtonFailure", "nontrivial_multipliers"]
+
+
+class NewtonFailure(Exception):
+    """The collocation corrector failed; the message says why."""
+
+
+class RateFunction:
+    """``f``, ``df/dz`` and ``df/dp`` at many states at once, for a model's :class:`~mechcont.equations.Dynamics`.
+
+    ``x_base``: the full vector giving every other parameter; ``vary``: the continuation parameter.
+    An ODE model (``OdeDynamics``) is evaluated in one call of its compiled batch function; any other
+    dynamics (a mechanism's) through the protocol, point by point.
+    """
+
+    def __init__(self, model, dynamics, vary: str, x_base: np.ndarray):
+        from ..equations import OdeDynamics
+
+        self.model, self.dynamics, self.vary = model, dynamics, vary
+        self.x_base = np.array(x_base, dtype=float)
+        self.p_index = model.index(vary)
+        self.n = len(dynamics.state_names)
+        self._batch = isinstance(dynamics, OdeDynamics) and hasattr(model, "residual_and_jacobian_batch")
+        if self._batch:
+            self._cols = np.array([model.index(s) for s in dynamics.state_names], dtype=np.intp)
+
+    def x_at(self, p: float) -> np.ndarray:
+        """The full vector with the continuation parameter at ``p``."""
+        x = self.x_base.copy()
+        x[self.p_index] = p
+        return x
+
+    def __call__(self, Z: np.ndarray, p: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(f, df/dz, df/dp)`` at the states ``Z`` (shape (P, n)): shapes (P, n), (P, n, n), (P, n)."""
+        Z = np.asarray(Z, float)
+        x = self.x_at(p)
+        if self._batch:
+            X = np.repeat(x[None, :], len(Z), axis=0)
+            X[:, self._cols] = Z
+            F, J = self.model.residual_and_jacobian_batch(X)
+            return F, J[:, :, self._cols], J[:, :, self.p_index]
+        dyn = self.dynamics
+        F = np.array([dyn.rates(z, x) for z in Z])
+        Fz = np.array([dyn.rates_jacobian(z, x) for z in Z])
+        Fp = np.array([dyn.parameter_rates(z, x, [self.vary])[:, 0] for z in Z])
+        return F, Fz, Fp
+
+
+class CycleSystem:
+    """The periodic BVP of ``rates`` on ``mesh``, with state weights ``weights`` (n,) and parameter weight ``p_weight``."""
+
+    def __init__(self, rates: RateFunction, mesh: Mesh, weights: np.ndarray, p_weight: float):
+        self.rates, self.mesh = rates, mesh
+        self.n = rates.n
+        self.weights = np.asarray(weights, float)
+        self.p_weight = float(p_weight)
+        self.size = mesh.n_nodes * self.n + 2
+        self._pattern()
+
+    # -- layout ------------------------------------------------------------------------------
+    def split(self, X: np.ndarray) -> tuple[np.ndarray, float, float]:
+        """``(u (n_nodes, n), T, p)`` of the unknowns."""
+        return X[:-2].reshape(self.mesh.n_nodes, self.n), float(X[-2]), float(X[-1])
+
+    @staticmethod
+    def pack(u: np.ndarray, T: float, p: float) -> np.ndarray:
+        """The unknowns from an orbit's node values, its period and the parameter."""
+        return np.concatenate([np.asarray(u, float).ravel(), [T, p]])
+
+    def row(self, t: np.ndarray) -> np.ndarray:
+        """``r`` with ``r . X = <t, X>`` (the weighted inner product; the period weighs 0)."""
+        tu, _, tp = self.split(t)
+        return np.concatenate([self.mesh.gram_row(tu * self.weights), [0.0, self.p_weight * tp]])
+
+    def norm(self, t: np.ndarray) -> float:
+        """``sqrt(<t, t>)``."""
+        return math.sqrt(max(float(self.row(t) @ t), 0.0))
+
+    def _pattern(self) -> None:
+        """Row and column indices of the sparse Jacobian's entries, fixed for a mesh size."""
+        m, n, ntst = self.mesh.ncol, self.n, self.mesh.ntst
+        nN = self.mesh.n_nodes * n
+        j, k, i, a, b = np.meshgrid(np.arange(ntst), np.arange(m), np.arange(m + 1), np.arange(n), np.arange(n),
+                                    indexing="ij")
+        rows = [((j * m + k) * n + a).ravel()]
+        cols = [((j * m + i) * n + b).ravel()]
+        colloc_rows = np.arange(ntst * m * n)
+        rows += [colloc_rows, colloc_rows]  # the T and p columns
+        cols += [np.full(ntst * m * n, nN), np.full(ntst * m * n, nN + 1)]
+        base = ntst * m * n
+        rows += [base + np.arange(n), base + np.arange(n)]  # periodicity: u_N - u_0
+        cols += [nN - n + np.arange(n), np.arange(n)]
+        rows += [np.full(nN, base + n), np.full(self.size, base + n + 1)]  # phase row, closing row (dense)
+        cols += [np.arange(nN), np.arange(self.size)]
+        r, c = np.concatenate(rows), np.concatenate(cols)
+        # every entry has its own (row, column): the CSC arrays are the entries in column-major order
+        self._order = np.lexsort((r, c))
+        self._indices = r[self._order].astype(np.int32)
+        self._indptr = np.concatenate([[0], np.cumsum(np.bincount(c, minlength=self.size))]).astype(np.int32)
+        self._eye = np.eye(n)
+
+    # -- evaluation ---------------------------------------------------------------------------
+    def collocation(self, X: np.ndarray):
+        """``(u, T, p, uc, du, F, Fz, Fp)`` at the Gauss points (arrays (ntst, ncol, ...))."""
+        u, T, p = self.split(X)
+        uc, du = self.mesh.at_collocation(u)
+        sh = uc.shape
+        F, Fz, Fp = self.rates(uc.reshape(-1, self.n), p)
+        return u, T, p, uc, du, F.reshape(sh), Fz.reshape(*sh, self.n), Fp.reshape(sh)
+
+    def blocks(self, T: float, Fz: np.ndarray) -> np.ndarray:
+        """``d(collocation)/d(nodes)`` per interval: shape (ntst, ncol, ncol + 1, n, n)."""
+        me = self.mesh
+        return (me.Ld[None, :, :, None, None] / me.h[:, None, None, None, None] * self._eye
+                - T * me.Lc[None, :, :, None, None] * Fz[:, :, None, :, :])
+
+    def linearise(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float):
+        """Residual and sparse (CSC) Jacobian of the BVP closed by ``closing . X = target``; ``phase`` the
+        phase condition's row over the nodes."""
+        import scipy.sparse as sps
+
+        u, T, p, uc, du, F, Fz, Fp = self.collocation(X)
+        n = self.n
+        res = np.concatenate([(du - T * F).ravel(), u[-1] - u[0], [phase @ X[:-2], closing @ X - target]])
+        vals = np.concatenate([self.blocks(T, Fz).ravel(), -F.ravel(), -T * Fp.ravel(), np.ones(n), -np.ones(n),
+                               phase, closing])
+        J = sps.csc_matrix((vals[self._order], self._indices, self._indptr), shape=(self.size, self.size))
+        return res, J
+
+    def factored(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float):
+        """Residual and the factored Jacobian (:class:`~._condensation.CondensedLU`) of the BVP closed by
+        ``closing . X = target``; raises :class:`NewtonFailure` when not finite or singular."""
+        from ._condensation import CondensedLU
+
+        u, T, p, uc, du, F, Fz, Fp = self.collocation(X)
+        n, m, ntst = self.n, self.mesh.ncol, self.mesh.ntst
+        res = np.concatenate([(du - T * F).ravel(), u[-1] - u[0], [phase @ X[:-2], closing @ X - target]])
+        C = self.blocks(T, Fz).transpose(0, 1, 3, 2, 4).reshape(ntst, m * n, (m + 1) * n)
+        if not (np.all(np.isfinite(res)) and np.all(np.isfinite(C)) and np.all(np.isfinite(Fp))):
+            raise NewtonFailure("rates not finite along the orbit (outside the model's domain)")
+        try:
+            lu = CondensedLU(C, -F.reshape(ntst, m * n), -T * Fp.reshape(ntst, m * n), phase, closing, self.mesh, n)
+        except np.linalg.LinAlgError:
+            raise NewtonFailure("singular collocation Jacobian") from None
+        return res, lu
+
+    def newton(self, X0: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, tol: float,
+               max_iter: int):
+        """Newton from ``X0`` on the BVP closed by ``closing . X = target``.
+
+        Returns ``(X, lu, iterations)`` (``lu`` the factors of the last Jacobian, for the tangent).
+        Raises :class:`NewtonFailure` saying why when it does not converge.
+        """
+        X = np.array(X0, float)
+        prev = math.inf
+        for it in range(1, max_iter + 1):
+            res, lu = self.factored(X, phase, closing, target)
+            dX = lu.solve(-res)
+            step = float(np.max(np.abs(dX))) if np.all(np.isfinite(dX)) else math.inf
+            if not math.isfinite(step):
+                raise NewtonFailure("singular collocation Jacobian")
+            X += dX
+            if step <= tol * max(1.0, float(np.max(np.abs(X)))):
+                return X, lu, it
+            if it > 2 and step > prev:
+                raise NewtonFailure(f"corrector diverging (correction {step:.3g} after {prev:.3g})")
+            prev = step
+        raise NewtonFailure(f"corrector needed more than {max_iter} iterations")
+
+    def tangent(self, lu, t_old: np.ndarray | None = None) -> np.ndarray:
+        """The unit tangent from the factors of ``[BVP Jacobian; closing row]``: the solution of ``A t = e_last``
+        normalised (for the arclength row ``<t_old, .>``, it points the way of ``t_old``)."""
+        e = np.zeros(self.size)
+        e[-1] = 1.0
+        t = lu.solve(e)
+        t /= self.norm(t)
+        if t_old is not None and self.row(t_old) @ t < 0:
+            t = -t
+        return t
+
+    # -- stability ------------------------------------------------------------------------------
+    def monodromy(self, X: np.ndarray) -> np.ndarray:
+        """The collocation's monodromy matrix (n, n) at the orbit ``X`` (see the module docstring)."""
+        u, T, p, uc, du, F, Fz, Fp = self.collocation(X)
+        m, n = self.mesh.ncol, self.n
+        C = self.blocks(T, Fz).transpose(0, 1, 3, 2, 4).reshape(self.mesh.ntst, m * n, (m + 1) * n)
+        S = np.linalg.solve(C[:, :, n:], C[:, :, :n])  # inner and last nodes from the first
+        M = np.eye(n)
+        for Phi in -S[:, -n:, :]:
+            M = Phi @ M
+        return M
+
+    def multipliers(self, X: np.ndarray) -> np.ndarray:
+        """All ``n`` Floquet multipliers (complex), largest modulus first."""
+        mu = np.linalg.eigvals(self.monodromy(X))
+        return mu[np.argsort(-np.abs(mu), kind="stable")]
+
+
+def nontrivial_multipliers(mu: np.ndarray | Sequence[complex]) -> np.ndarray:
+    """The multipliers without the trivial one (the one nearest 1), largest modulus first."""
+    arr = np.asarray(mu, complex)
+    if len(arr) == 0:
+        return arr
+    return np.delete(arr, int(np.argmin(np.abs(arr - 1.0))))
+
+
+def phase_reference(system: CycleSystem, X: np.ndarray) -> np.ndarray:
+    """The phase condition's row for the reference orbit ``X`` (its node values)."""
+    u, _, _ = system.split(X)
+    return system.mesh.phase_row(u)
+
