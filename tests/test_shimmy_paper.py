@@ -110,3 +110,23 @@ def test_simulation_from_a_small_disturbance_lands_on_the_continued_cycle(gear):
     assert sim.period == pytest.approx(cycles.period[row], rel=1e-4)
     # the cycle is no small-amplitude approximation: tens of degrees, saturated by the tyre
     assert math.degrees(cycles.maximum[row, k]) > 20.0
+
+
+def test_hopf_curve_computes_the_lyapunov_coefficient_once_per_point(gear, monkeypatch):
+    """On a mechanism ``l1`` costs about 490 evaluations of the rates (finite differences of their
+    Jacobian): the GH event and the table's column must share it, not compute it twice per point."""
+    from mechcont.continuation import _hopf
+
+    model, _, hopf = gear
+    calls = []
+    original = _hopf.first_lyapunov
+
+    def counting(*args, **kwargs):
+        calls.append(1)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(_hopf, "first_lyapunov", counting)
+    curve = continue_hopf(model, hopf[0], "V", "c_psi", options=ContinuationOptions(
+        ds=0.1, dsmax=1.0, max_steps=2, bounds={"V": (1.0, 100.0), "c_psi": (0.0, 100.0)},
+        scales={"V": 10.0, "c_psi": 10.0}))
+    assert len(calls) <= len(curve)
