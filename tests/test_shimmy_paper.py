@@ -16,6 +16,7 @@
   compliance contributes about (C/sigma)/k_lat = 6e-9 and m_lat omega^2/k_lat = 1e-7).
 * The brute-force grid (``stability_grid``, one eigenvalue evaluation per point) on either side of
   the example's Hopf curve points: stable on the side the curve's hatching says, shimmy on the other.
+* The summary paragraph: a design limit only where the grid confirms its stable side (stand-in results).
 * Slow: the cycles born at HB1 against a long time simulation at 60 m/s from a small disturbance
   (amplitude and period; the tolerances are in the test).
 """
@@ -130,3 +131,26 @@ def test_hopf_curve_computes_the_lyapunov_coefficient_once_per_point(gear, monke
         ds=0.1, dsmax=1.0, max_steps=2, bounds={"V": (1.0, 100.0), "c_psi": (0.0, 100.0)},
         scales={"V": 10.0, "c_psi": 10.0}))
     assert len(calls) <= len(curve)
+
+
+def test_the_finding_states_a_design_limit_only_where_the_grid_confirms_the_stable_side():
+    """The paragraph is written from the numbers: stand-in results (a straight Hopf curve from
+    (1 m/s, 1) to (100 m/s, 30)) give the limit read off the curve at 100 m/s; when the brute-force grid
+    shows shimmy above that limit too, no limit is claimed."""
+    import types
+
+    from mechcont.paper import _shimmy_figures as fg
+
+    hopf = types.SimpleNamespace(extra={"hopf": types.SimpleNamespace(lyapunov=-1.0, frequency=300.0)})
+    cols = {"V": np.array([1.0, 100.0]), "c_psi": np.array([1.0, 30.0]), "e": np.array([0.0, 0.25])}
+    curve = types.SimpleNamespace(column=cols.__getitem__)
+    cycles = types.SimpleNamespace(state_names=(an.TORSION,), stable=np.array([True, True]),
+                                   maximum=np.array([[0.0], [0.5]]), labels=["HB", ""], p=np.array([14.0, 20.0]))
+    design = {"V": 14.0, "c_psi": 10.0, "e": 0.1}
+    values = np.array([0.0, 50.0])
+    for above, claimed in ((-1.0, True), (1.0, False)):
+        grid = (np.array([1.0, 100.0]), values, np.array([[1.0, 1.0], [above, above]]))
+        text = " ".join(fg.finding(hopf, {"c_psi": curve, "e": curve}, {"c_psi": grid, "e": grid}, cycles, [], 100.0,
+                                   design))
+        assert ("at least 30.0 N m s/rad keeps the gear shimmy-free up to 100 m/s" in text) is claimed
+        assert "supercritical" in text and "no hysteresis" in text

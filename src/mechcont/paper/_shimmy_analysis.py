@@ -18,7 +18,7 @@ __all__ = ["CHART", "SIM_SPEEDS", "TORSION", "equilibria", "hopf_curve", "curve_
 #: The second parameter of each stability chart and its range (SI): damper rate (N m s/rad), caster (m).
 CHART = {"c_psi": (0.0, 100.0), "e": (0.0, 0.5)}
 #: The speeds (m/s) of the two time simulations that should land on the computed cycles.
-SIM_SPEEDS = (30.0, 60.0)
+SIM_SPEEDS = (40.0, 60.0)
 #: The torsion angle about the strut (the wheel's heading, rad): the amplitude shown.
 TORSION = "theta_wheel"
 #: Typical sizes that set the steps (the speed's own scale is 1 m/s: hundreds of steps to 100 m/s).

@@ -90,10 +90,13 @@ def finding(hopf, curves: dict, grids: dict, cycles, sims, top_speed: float, des
     stable = [i for i in range(len(cycles.p)) if cycles.stable[i]]
     kind = "supercritical" if h.lyapunov < 0 else "subcritical"
     grows = max(math.degrees(cycles.maximum[i, k]) for i in stable) if stable else math.nan
+    folds = [float(cycles.p[i]) for i, lab in enumerate(cycles.labels) if lab == "LPC"]
     onset = (f"The onset is {kind} (first Lyapunov coefficient {h.lyapunov:.3g}): "
              + ("the cycles born there are stable and grow from zero with the speed, so shimmy starts gently and stops "
-                "again when the aircraft slows below the Hopf speed (no hysteresis); the saturating tyre bounds them, "
-                f"at most {grows:.1f} deg of torsion up to {top_speed:g} m/s."
+                "again when the aircraft slows below the Hopf speed"
+                + (" (no fold of the cycles up to the end of the range: no hysteresis)" if not folds else
+                   f" (but the cycles fold at V = {', '.join(f'{v:.2f}' for v in folds)} m/s: a jump there)")
+                + f"; the saturating tyre bounds them, at most {grows:.1f} deg of torsion up to {top_speed:g} m/s."
                 if h.lyapunov < 0 else
                 "the cycles born there are unstable, so the gear can jump to a large cycle below the Hopf speed and "
                 "keeps shimmying when slowed back through it (hysteresis)."))
