@@ -23,6 +23,7 @@ SECTIONS = [
 #: Sections run only when named in --only (beyond the 2010 paper): module, title.
 EXTRA_SECTIONS = [
     ("dual_sidestay", "dual-sidestay main gear: retraction, actuator load, lock-up, downlock and unlock loads"),
+    ("shimmy", "nose-gear shimmy: stability charts by Hopf curves, limit cycles against speed, simulations onto them"),
 ]
 
 

@@ -154,6 +154,13 @@ class HopfProblem(ContinuationProblem):
     def lyapunov(self, x: np.ndarray) -> float:
         """``l1`` at the curve point ``x`` (0 where the critical pair is real or ``l1`` is undefined: the
         generalised-Hopf event skips zeros)."""
+        key = np.asarray(x, float).tobytes()
+        cache = self.__dict__.setdefault("_l1", {})
+        if key not in cache:  # the GH event and the table's column ask at the same points (costly on mechanisms)
+            cache[key] = self._lyapunov(x)
+        return cache[key]
+
+    def _lyapunov(self, x: np.ndarray) -> float:
         pair = self.test.pair(x)
         if not pair.complex:
             return 0.0

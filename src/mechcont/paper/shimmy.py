@@ -15,11 +15,11 @@ gives
 * :func:`stability_grid`: the leading real part over a grid of speed and one parameter, the
   brute-force chart to compare the Hopf curves with.
 
-Still to come for the ``paper --only shimmy`` section (issue 36, item 3): the Hopf curves over
-(speed, damper rate) and (speed, caster) by continuation of Hopf points, the limit-cycle amplitude
-against speed with the cycles' stability, time simulations landing on the cycles, the figures, the
-summary paragraph and the timing in ``docs/benchmarks.md``. The module has no ``run`` yet and the
-section is not registered in :mod:`mechcont.cli.paper`.
+* :func:`run`: the ``mechcont paper --only shimmy`` section: the equilibrium branch in speed with its
+  Hopf point, the Hopf curves over (speed, damper rate) and (speed, caster) with a brute-force check, the
+  limit cycles against speed with their Floquet stability, two time simulations landing on them, the
+  figures and the summary paragraph (computations in :mod:`._shimmy_analysis`, figures and words in
+  :mod:`._shimmy_figures`).
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["EXAMPLE", "SPEEDS", "DAMPER_RATES", "shimmy_mechanism", "gear_at", "leading_eigenvalue", "onset_speed",
-           "stability_grid"]
+           "stability_grid", "run"]
 
 #: The shipped description (in the repository, beside the other examples).
 EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "shimmy.toml"
@@ -104,3 +104,47 @@ def stability_grid(speeds, parameter: str, values, mech=None, **fixed: float) ->
     brute-force chart a continuation of Hopf points is compared with."""
     return np.array([[leading_eigenvalue(float(v), mech, **{**fixed, parameter: float(p)}).real for v in speeds]
                      for p in values])
+
+
+#: Points per axis of the coarse brute-force grid drawn under each stability chart (a check, not the chart).
+CHECK_GRID = 10
+
+
+def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[str]:
+    """Write the shimmy figures into ``out_dir``; return the summary's Markdown lines (run times into ``timings``)."""
+    from . import _shimmy_analysis as an
+    from . import _shimmy_figures as fg
+    from ._timing import timed
+
+    timings = {} if timings is None else timings
+    out_dir = Path(out_dir)
+    mech = shimmy_mechanism()
+    with timed(timings, "shimmy: equilibria in speed, Hopf point"):
+        model, x = gear_at(SPEEDS[0], mech)
+        branch = an.equilibria(model, x)
+        hopf = next(p for p in branch.special_points if p.label == "HB")
+    design = {n: float(hopf[n]) for n in ("V", "c_psi", "e")}
+    curves, grids, checks = {}, {}, {}
+    for param in an.CHART:
+        with timed(timings, f"shimmy: Hopf curve in speed and {param}"):
+            curves[param] = an.hopf_curve(model, hopf, param)
+        with timed(timings, f"shimmy: check of the {param} chart ({CHECK_GRID}^2 eigenvalue grid, curve points)"):
+            speeds = np.linspace(SPEEDS[0], SPEEDS[1], CHECK_GRID)
+            values = np.linspace(*an.CHART[param], CHECK_GRID)
+            grids[param] = (speeds, values, stability_grid(speeds, param, values, mech))
+            checks[param] = an.curve_check(model, curves[param], param, mech)
+    with timed(timings, "shimmy: limit cycles from HB1"):
+        cycles = an.shimmy_cycles(model, hopf)
+    with timed(timings, "shimmy: time simulations onto the cycles"):
+        sims = [an.simulate_onto(v, mech) for v in an.SIM_SPEEDS]
+    fg.chart_figure(curves, grids, design, out_dir / "shimmy_stability_chart.png")
+    fg.amplitude_diagram(branch, design["V"], cycles, sims, out_dir / "shimmy_amplitude.png")
+    onset = onset_speed(mech)
+    lines = ["## Nose-gear shimmy (after Thota, Krauskopf & Lowenberg 2009)", "",
+             *fg.finding(hopf, curves, grids, cycles, sims, SPEEDS[1], design),
+             f"- Checks: HB1 at {design['V']:.6f} m/s, by bisection of the leading eigenvalue "
+             f"{onset:.6f} m/s; along the Hopf curves the leading eigenvalue's |Re|/|Im| computed afresh is at most "
+             + ", ".join(f"{checks[p]:.1e} ({p})" for p in an.CHART) + ".",
+             "- Figures: `shimmy_stability_chart.png` (Hopf curves, hatched into the stable side, over a coarse "
+             "eigenvalue grid), `shimmy_amplitude.png` (torsion amplitude against speed).", ""]
+    return lines

@@ -1,0 +1,126 @@
+"""The shimmy section's computations: the Hopf point in speed, the Hopf curves, the cycles, the simulations.
+
+Everything here is the continuation answer and its independent checks; the figures and the summary
+paragraph are :mod:`._shimmy_figures`. Speeds in m/s, angles in rad, damper rates in N m s/rad.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .shimmy import SPEEDS, gear_at, leading_eigenvalue
+
+__all__ = ["CHART", "SIM_SPEEDS", "TORSION", "equilibria", "hopf_curve", "curve_check", "shimmy_cycles",
+           "simulate_onto", "CycleSimulation"]
+
+#: The second parameter of each stability chart and its range (SI): damper rate (N m s/rad), caster (m).
+CHART = {"c_psi": (0.0, 100.0), "e": (0.0, 0.5)}
+#: The speeds (m/s) of the two time simulations that should land on the computed cycles.
+SIM_SPEEDS = (40.0, 60.0)
+#: The torsion angle about the strut (the wheel's heading, rad): the amplitude shown.
+TORSION = "theta_wheel"
+#: Typical sizes that set the steps (the speed's own scale is 1 m/s: hundreds of steps to 100 m/s).
+_SCALES = {"V": 10.0, "c_psi": 10.0, "e": 0.05}
+
+
+def _options(**bounds):
+    from ..continuation import ContinuationOptions
+
+    return ContinuationOptions(ds=0.1, dsmax=1.0, bounds=bounds, scales=_SCALES)
+
+
+def equilibria(model, x):
+    """Straight running continued in the speed ``V`` over :data:`SPEEDS` from the equilibrium ``x``, with
+    Hopf points (``HB``) located: a :class:`~mechcont.continuation.Branch`."""
+    from ..continuation import continuation
+
+    return continuation(model, x, "V", options=_options(V=SPEEDS), hopf=True)
+
+
+def hopf_curve(model, hopf, parameter: str):
+    """The Hopf curve through the point ``hopf`` (labelled ``HB`` in ``V``) in (``V``, ``parameter``),
+    both ways, bounded by :data:`SPEEDS` and :data:`CHART`: a Branch with ``omega``, ``l1`` and the stable side."""
+    from ..continuation import continue_hopf
+
+    return continue_hopf(model, hopf, "V", parameter, options=_options(V=SPEEDS, **{parameter: CHART[parameter]}))
+
+
+def curve_check(model, curve, parameter: str, mech=None) -> float:
+    """The largest ``|Re lambda| / |Im lambda|`` of the leading eigenvalue, computed afresh (one
+    linearisation of the gear built at the point's speed and ``parameter``) at each point of the Hopf
+    ``curve``: 0 on an exact Hopf curve, about the Newton tolerance in practice."""
+    worst = 0.0
+    for x in curve.values:
+        lam = leading_eigenvalue(float(x[model.index("V")]), mech, **{parameter: float(x[model.index(parameter)])})
+        worst = max(worst, abs(lam.real) / max(abs(lam.imag), 1e-300))
+    return worst
+
+
+def shimmy_cycles(model, hopf, at=SIM_SPEEDS):
+    """The limit cycles born at the Hopf point ``hopf`` (a Branch row labelled ``HB``), continued in ``V``
+    up to :data:`SPEEDS`'s end, rows located at the speeds ``at``: a
+    :class:`~mechcont.continuation.CycleBranch` (Floquet multipliers, stability per row)."""
+    from ..continuation import ContinuationOptions, cycles_from_hopf
+
+    options = ContinuationOptions(ds=0.1, dsmax=20.0, max_steps=80, bounds={"V": SPEEDS}, scales={"V": 10.0})
+    return cycles_from_hopf(model, hopf.x, "V", options=options, ntst=10, ncol=4, at=at)
+
+
+@dataclass(frozen=True)
+class CycleSimulation:
+    """A time simulation of the gear from a small disturbance, read as a periodic motion at its end.
+
+    ``speed`` (m/s), ``disturbance`` (rad, the initial torsion angle), ``until`` (s, simulated);
+    ``amplitude`` (rad): the largest torsion angle over the last period; ``period`` (s): between the last
+    two upward zero crossings of the torsion angle; ``remaining`` (rad): the transient still to decay,
+    estimated from the last three crests as a geometric series (a motion approaching a stable cycle
+    closes the gap by the leading Floquet multiplier each period); ``t``, ``torsion``: the samples (s, rad)."""
+
+    speed: float
+    disturbance: float
+    until: float
+    amplitude: float
+    period: float
+    remaining: float
+    t: np.ndarray
+    torsion: np.ndarray
+
+
+def simulate_onto(speed: float, mech=None, disturbance: float = 0.01, until: float = 2.0, rtol: float = 1e-8,
+                  **values: float) -> CycleSimulation:
+    """Integrate the gear's equations of motion (the model's minimal-coordinate rates,
+    :func:`~mechcont.equations.dynamics_of`, DOP853 at ``rtol``) at ``speed`` (m/s) from straight running
+    with the torsion angle set to ``disturbance`` (rad) for ``until`` seconds; the motion's amplitude and
+    period at its end (:class:`CycleSimulation`). A growing motion has not settled: the caller compares."""
+    from scipy.integrate import solve_ivp
+
+    from ..equations import dynamics_of
+
+    model, x = gear_at(speed, mech, **values)
+    dyn = dynamics_of(model)
+    z0 = np.array(dyn.state_at(x), float)
+    k = dyn.state_names.index(TORSION)
+    z0[k] = disturbance
+    sol = solve_ivp(lambda _t, z: dyn.rates(z, x), (0.0, until), z0, method="DOP853", rtol=rtol,
+                    atol=1e-10, dense_output=True)
+    # sampled finely from the integrator's interpolant (about 200 samples per period of 19 ms)
+    t = np.linspace(0.0, until, int(until * 1e4) + 1)
+    th = sol.sol(t)[k]
+    up = np.nonzero((th[:-1] < 0) & (th[1:] >= 0))[0]
+    cross = t[up] - th[up] * (t[up + 1] - t[up]) / (th[up + 1] - th[up])
+    period = float(cross[-1] - cross[-2])
+    crests = [_crest(t, th, cross[j], cross[j + 1]) for j in range(len(cross) - 4, len(cross) - 1)]
+    d1, d2 = crests[1] - crests[0], crests[2] - crests[1]
+    ratio = min(abs(d2 / d1), 0.99) if d1 != 0 else 0.0
+    remaining = abs(d2) * ratio / (1 - ratio)
+    return CycleSimulation(speed, disturbance, until, crests[-1], period, remaining, t, th)
+
+
+def _crest(t: np.ndarray, th: np.ndarray, t0: float, t1: float) -> float:
+    """The largest sample of ``th`` between ``t0`` and ``t1``, polished by a parabola through it and its neighbours."""
+    inside = np.flatnonzero((t >= t0) & (t <= t1))
+    i = int(inside[np.argmax(th[inside])])
+    a, b, c = th[i - 1], th[i], th[i + 1]
+    return float(b + 0.125 * (a - c) ** 2 / (2 * b - a - c)) if 2 * b - a - c > 0 else float(b)
