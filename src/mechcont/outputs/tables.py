@@ -13,9 +13,9 @@ from .._io import atomic_write
 from ..units import display, display_unit
 from .plotting import axis_label
 
-__all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "write_text", "markdown_table", "write_records", "branch_value",
+__all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "markdown_table", "write_records", "branch_value",
            "hopf_lines", "hopf_curve_lines", "heading", "special_table", "approximate_warnings", "jump_lines",
-           "event_labels", "write_rows", "summary_rows"]
+           "event_labels", "write_rows", "summary_rows", "write_text"]
 
 #: A branch is written as CSV or JSON (by suffix).
 BRANCH_SUFFIXES = (".csv", ".json")
