@@ -288,7 +288,8 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
         tables.append((branch, name, X, _rows(branch, int(max_rows))))
         cycles.append(None)
     if paired:
-        raise InputError("orbits", f"{len(paired)} orbit table(s) more than cycles tables without orbits")
+        raise InputError("orbits", f"{len(paired)} orbit table(s) beyond the cycles tables (mechcont cycles --out) "
+                                   "without orbits to pair with")
 
     def frame(k: int, row: int) -> list:  # one period of a cycle row: its scenes (drawn) or its states' values
         cyc = cycles[k]
