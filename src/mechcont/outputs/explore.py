@@ -19,8 +19,6 @@ import hashlib
 import json
 import math
 import os
-import re
-from collections import Counter
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -31,6 +29,7 @@ from .._io import atomic_write
 from ..equations import Model, Scene
 from ..errors import InputError
 from . import drawing as _d
+from ._explore_points import default_axes, special_points
 
 __all__ = ["explore_page", "write_explore", "pose_json", "MAX_ROWS", "PAGE_BUDGET", "EXPLORE_SUFFIXES"]
 
@@ -40,10 +39,6 @@ MAX_ROWS = 3000
 #: Bytes of embedded data (columns and poses) a page holds at most: longer tables of a large mechanism (a spatial
 #: gear's time history, 10 kB a row) are thinned further to fit, every special point and event kept.
 PAGE_BUDGET = 4_000_000
-#: A special point's label that is a code (``LP``, ``JUMP``, a user event's name) is numbered along the branch.
-_CODE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-#: One stop event of a time history's label column (:func:`.tables.event_labels`): kind, stop, details.
-_STOP_EVENT = re.compile(r"(impact|contact|release) (\S+)(?: .*)?\Z")
 _EXTRA = ("s", "stability", "n_unstable", "label", "vary")
 #: The scene names a tyre's contact point ``"tyre NAME"`` (:meth:`mechcont.mechanism.elements.tyre.Tyre.draw`).
 _TYRE = "tyre "
@@ -163,26 +158,13 @@ def _document(branch, name: str, rows: np.ndarray) -> dict:
     doc = {"name": name, "vary": branch.vary, "units": {n: branch.units.get(n, "") for n in branch.names},
            "columns": {n: [float(v) for v in branch.column(n)[rows]] for n in branch.names},
            "n_unstable": [int(v) for v in branch.n_unstable[rows]], "labels": [branch.labels[i] for i in rows],
-           "rows": [int(i) for i in rows], "special": _special(branch, rows), "note": ""}
+           "rows": [int(i) for i in rows], "special": special_points(branch, rows), "note": ""}
     for col, vals in doc["columns"].items():
         bad = [i for i, v in enumerate(vals) if not math.isfinite(v)]
         if bad:
             raise InputError("branch", f"'{name}' row {doc['rows'][bad[0]]}, column {col}: {vals[bad[0]]} is "
                                        "not a finite number")
     return doc
-
-
-def _event_words(label: str) -> str:
-    """A time history's event label without its numbers, for the diagram (``"impact fwd_stop 75.3 1/s; contact
-    fwd_stop"`` -> ``"impact + contact fwd_stop"``); any other label as it is."""
-    parts = [_STOP_EVENT.match(p) for p in label.split("; ")]
-    if not parts or not all(parts):
-        return label
-    kinds = [m.group(1) for m in parts if m]
-    stops = list(dict.fromkeys(m.group(2) for m in parts if m))
-    if len(stops) == 1:
-        return " + ".join(kinds) + " " + stops[0]
-    return "; ".join(f"{m.group(1)} {m.group(2)}" for m in parts if m)
 
 
 def _limits(scenes: Sequence[Scene], dim: int) -> tuple[float, dict]:
@@ -196,50 +178,6 @@ def _limits(scenes: Sequence[Scene], dim: int) -> tuple[float, dict]:
     return scale, {"plane": _d._limits(_d._union(_d._bounds(s, scale, True) for s in scenes))}
 
 
-def _special(branch, rows: np.ndarray) -> list[dict]:
-    """The special points of ``branch`` for the page: ``name`` (``branch.point_names()``: ``LP1``, what
-    ``branch["LP1"]`` finds), ``tag`` (the buttons' text: the name of a code label, ``LP1``, ``LP2?`` when only
-    approximately located; an event's own text otherwise, numbered ``(2)`` only when it repeats), ``short``
-    (the diagram's label: an event without its numbers), ``label`` and ``row`` (index among the embedded rows)."""
-    where = {int(r): k for k, r in enumerate(rows)}
-    repeats = Counter(p.label for p in branch.special_points)
-    seen: Counter = Counter()
-    out = []
-    for name, p in zip(branch.point_names(), branch.special_points):
-        seen[p.label] += 1
-        if _CODE.match(p.label):
-            tag = short = name
-        else:
-            nth = f" ({seen[p.label]})" if repeats[p.label] > 1 else ""
-            tag, short = p.label + nth, _event_words(p.label)
-        approx = "" if p.located else "?"
-        out.append({"name": name, "tag": tag + approx, "short": short + approx, "label": p.label,
-                    "row": where[p.index]})
-    return out
-
-
-def _default_axes(doc: dict, kinds: Mapping[str, str] | None = None, cycle=None) -> list[str]:
-    """The diagram's first axes: the continuation parameter (else the first changing column) against the
-    first changing angle; else a changing force or moment the branch solved for (a parameter, such as a
-    downlock's force); else the coordinate that moves most (a spatial gear's point coordinates: the part
-    that travels furthest); else the last changing column. ``kinds`` maps a column to its variable's kind
-    (``"state"``, ``"parameter"``) when the model is known. A family of cycles (``cycle``): its parameter
-    against its first state (drawn as the max and min over each orbit)."""
-    if cycle is not None and cycle.states:
-        return [doc["vary"], cycle.states[0]]
-    cols, units = doc["columns"], doc["units"]
-    ptp = {n: float(np.ptp(v)) for n, v in cols.items()}
-    changing = [n for n, v in cols.items() if ptp[n] > 1e-12 * max(1.0, float(np.max(np.abs(v))))] or list(cols)
-    x = doc["vary"] if doc["vary"] in cols else changing[0]
-    rest = [n for n in changing if n != x] or [n for n in cols if n != x] or [x]
-    kind = (lambda n: kinds.get(n, "")) if kinds is not None else (lambda n: "")
-    angle = next((n for n in rest if units.get(n) == "rad"), None)
-    load = next((n for n in rest if units.get(n) in ("N", "N m") and kind(n) == "parameter"), None)
-    moves = [n for n in rest if units.get(n) == "m" and kind(n) in ("state", "")]
-    y = angle or load or (max(moves, key=lambda n: ptp[n]) if moves else rest[-1])
-    return [x, y]
-
-
 def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None = None,
               max_rows: int = MAX_ROWS, title: str | None = None, budget: float = PAGE_BUDGET,
               orbits: Sequence = ()) -> dict:
@@ -247,7 +185,8 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
 
     ``branches[k]``: ``name``, ``columns`` (``{name: [values]}``, SI, the table's own columns),
     ``units``, ``n_unstable`` (-1: not evaluated), ``labels``, ``special`` (``name``, ``tag``, ``short``,
-    ``label``, ``row``: see :func:`_special`), ``rows`` (the table rows embedded), ``note`` and, with a model, ``poses``
+    ``label``, ``row``: see :func:`._explore_points.special_points`), ``rows`` (the table rows embedded), ``note``
+    and, with a model, ``poses``
     (:func:`pose_json` per embedded row). A family of cycles also has ``cycle`` (``states``: those with
     ``min_X``/``max_X`` columns) and, with its orbits, per embedded row one period as
     :data:`._explore_cycles.PAGE_FRAMES` instants: ``poses`` (a list of poses per row) when the model is drawn,
@@ -360,7 +299,7 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
         elif not drawn:
             doc["orbits"], doc["cycle"]["orbit_states"] = per, states
     data: dict = {"title": title or (system.name if system is not None else ""), "branches": out, "bodies": [],
-                  "axes": _default_axes(out[0], kinds, cycles[0]) if out else ["", ""],
+                  "axes": default_axes(out[0], kinds, cycles[0]) if out else ["", ""],
                   "dim": 2, "views": {}, "force_scale": 0.0, "symbol": 0.0, "view_axes": VIEW_AXES}
     flat = [s for scenes in all_scenes for s in scenes] if drawn else []
     if flat:
