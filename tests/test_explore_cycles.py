@@ -207,3 +207,67 @@ def test_bad_orbit_tables_and_paths_are_one_line_errors(ab, tmp_path):
             "--orbits", tmp_path / "o.txt")
     one_line_error(r, "--orbits")
     assert not (tmp_path / "x.html").exists()
+
+
+def _browser_page():
+    """The page at ``path`` in headless Chromium (tests/test_explore_browser.py's set-up); skipped without one."""
+    import shutil
+
+    chromium = next((p for p in map(shutil.which, ("chromium", "chromium-browser")) if p), None)
+    if chromium is None:
+        pytest.skip("no Chromium on PATH")
+    sync_api = pytest.importorskip("playwright.sync_api")
+    from test_explore_browser import ARGS
+
+    return sync_api, chromium, ARGS
+
+
+def test_in_a_browser_the_family_is_two_curves_with_labelled_markers_and_a_row_plays_its_period(ab, shimmy, tmp_path):
+    model, d = shimmy
+    pages = {"ab": tmp_path / "ab.html", "shimmy": tmp_path / "shimmy.html"}
+    assert run("explore", "examples/ab.toml", "--set", "B=17", "--branch", ab / "ab.csv", "--branch",
+               ab / "cycles.csv", "--orbits", ab / "orbits.csv", "--out", pages["ab"]).exit_code == 0
+    assert run("explore", "examples/shimmy.toml", "--branch", d / "cycles.csv", "--orbits", d / "orbits.csv",
+               "--out", pages["shimmy"]).exit_code == 0
+    sync_api, chromium, args = _browser_page()
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=chromium, args=args)
+        page = browser.new_page(viewport={"width": 1500, "height": 1000})
+        errors: list[str] = []
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(pages["ab"].as_uri())
+        page.wait_for_selector("[data-ready='1']", timeout=15000)
+        # the family's markers sit on its max and its min curve, labelled once as the branch's points are
+        for name in ("HB1", "EP1"):
+            curves = {e.get_attribute("data-curve") for e in
+                      page.query_selector_all(f".diagram .mcx-sp[data-branch='1'][data-point='{name}']")}
+            assert curves == {"max", "min"}, name
+        labels = [e.text_content() for e in page.query_selector_all(".diagram .mcx-label[data-branch='1']")]
+        assert sorted(labels) == ["EP1", "HB1"]
+        assert {e.get_attribute("data-curve") for e in
+                page.query_selector_all(".diagram polyline[data-branch='1']")} == {"max", "min"}
+        page.click(".sp button[data-branch='1'][data-point='EP1']")
+        orbit = page.wait_for_selector("[data-kind='orbit']")
+        pts = np.array([[float(v) for v in s.split()] for s in orbit.get_attribute("data-xy").split(";")])
+        table = Branch.read_csv(ab / "cycles.csv")
+        row = table.point("EP1").index
+        assert pts[:, 0].max() == pytest.approx(table.column("max_u1")[row], rel=1e-2)
+        seen = set()
+        for _ in range(4):  # the dot runs round the orbit
+            page.wait_for_timeout(120)
+            seen.add(page.get_attribute(".mcx-now", "data-frame"))
+        assert len(seen) > 1
+        # the shimmy gear: a row plays its 24 poses in turn, each with the tyre's contact and the rotary elements
+        page.goto(pages["shimmy"].as_uri())
+        page.wait_for_selector("[data-ready='1']", timeout=15000)
+        page.click(".sp button[data-point='EP1']")
+        frames = set()
+        for _ in range(5):
+            page.wait_for_timeout(150)
+            frames.add(page.get_attribute("svg.mech", "data-frame"))
+            assert page.query_selector_all("svg.mech [data-kind='contact']")
+            kinds = {e.get_attribute("data-coil") for e in page.query_selector_all("svg.mech [data-kind='coil']")}
+            assert kinds == {"spring", "damper"}
+        assert len(frames) > 2
+        assert errors == []
+        browser.close()
