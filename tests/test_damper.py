@@ -74,10 +74,13 @@ def test_damper_exerts_nothing_at_rest():
     y = free.vector({n: v for n, v in zip(damped.names, x) if n not in ("c", "c2")})
     assert np.allclose(damped.mechanics.applied_forces(x), free.mechanics.applied_forces(y), rtol=0, atol=1e-12)
     assert np.allclose(damped.residual(x), free.residual(y), rtol=0, atol=1e-12)
-    # and the force is that of gravity alone: moment -m g (L/2) cos theta about O
+    # and the force is that of gravity alone: moment -m g (L/2) cos theta about O (the generalised forces act at
+    # the bar's frame, its centre: their moment about O adds r x F, r the frame's position from O = (0, 0))
     Q = damped.mechanics.applied_forces(x)
-    theta_index = damped.mechanics.coordinates.index("theta_bar")
-    assert Q[theta_index] == pytest.approx(-M * G_ * L / 2 * math.cos(0.7), rel=1e-12)
+    k = {c: damped.mechanics.coordinates.index(c) for c in ("x_bar", "y_bar", "theta_bar")}
+    r = x[[damped.index("x_bar"), damped.index("y_bar")]]
+    moment_O = Q[k["theta_bar"]] + r[0] * Q[k["y_bar"]] - r[1] * Q[k["x_bar"]]
+    assert moment_O == pytest.approx(-M * G_ * L / 2 * math.cos(0.7), rel=1e-12)
     assert Q[damped.mechanics.coordinates.index("y_bar")] == pytest.approx(-M * G_, rel=1e-12)
 
 

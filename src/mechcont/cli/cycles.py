@@ -77,9 +77,12 @@ def hopf_row(system, point: str):
 @click.option("--dsmax", type=float, default=None, help="Largest step.")
 @click.option("--max-steps", type=int, default=None, help="Most steps.")
 @click.option("--out", default=None, help="Table of the orbits: .csv.")
+@click.option("--orbits", "orbits", default=None, metavar="FILE.csv",
+              help="Table of one period of every orbit as the model's full vectors (for mechcont explore --orbits).")
 @click.option("--plot", default=None, help="Amplitude diagram: .png, .svg or .pdf (max and min of a state against P).")
 @click.option("--quiet", is_flag=True, help="Print nothing but errors.")
-def cycles_command(model, point, vary, sets, bnds, at, ntst, ncol, ds, dsmax, max_steps, out, plot, quiet):
+def cycles_command(model, point, vary, sets, bnds, at, ntst, ncol, ds, dsmax, max_steps, out, orbits, plot,
+                   quiet):
     """Continue the periodic orbits born at the Hopf point --point in --vary (orthogonal collocation,
     NTST intervals of NCOL Gauss points, mesh adaptation, Floquet multipliers).
 
@@ -95,6 +98,7 @@ def cycles_command(model, point, vary, sets, bnds, at, ntst, ncol, ds, dsmax, ma
     if out is not None and not str(out).lower().endswith(".csv"):
         raise InputError("--out", f"'{out}': the table of cycles is written as .csv")
     check_outputs(out, plot)
+    _check_orbits(orbits)
     system = load_at(model, assignments(sets, "set"))
     system.index(vary)
     x, branch = hopf_row(system, point)
@@ -111,8 +115,22 @@ def cycles_command(model, point, vary, sets, bnds, at, ntst, ncol, ds, dsmax, ma
         if family is None:
             raise
     _write(family, out, plot, quiet, branch if branch.vary == vary else None)
+    if orbits:
+        from ..outputs.cycle_orbits import write_orbits
+
+        _check_orbits(orbits)
+        write_orbits(family, system, orbits)
+        if not quiet:
+            click.echo(f"wrote {orbits}")
     if failure:
         raise ConvergenceError(failure)
+
+
+def _check_orbits(path) -> None:
+    """Check the --orbits table's path (a .csv, its folder writable) before any work."""
+    from .._io import check_output_path
+
+    check_output_path(path, "--orbits", (".csv",))
 
 
 def _write(family, out, plot, quiet, branch=None) -> None:

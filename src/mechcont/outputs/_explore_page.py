@@ -74,7 +74,7 @@ var root=document.getElementById("TOKEN");
 var D=JSON.parse(root.querySelector("script.mcx-data").textContent);
 var NS="http://www.w3.org/2000/svg", C=D.compact;
 var MARK={LP:["circle","#d62728"],BP:["square","#9467bd"],CP:["diamond","#2ca02c"],EP:["cross","#666666"],UZ:["triangle",
- "#ff7f0e"]};
+ "#ff7f0e"],LPC:["circle","#d62728"],PD:["square","#9467bd"],NS:["diamond","#2ca02c"],HB:["star","#1f77b4"]};
 var LINE=["#000000","#1f77b4","#ff7f0e","#2ca02c","#9467bd","#8c564b","#e377c2","#7f7f7f"];
 var B=D.branches, cur={b:0,r:0}, fixed={b:0,r:0}, dg=null;
 function q(s){return root.querySelector(s);}
@@ -86,13 +86,16 @@ function fmt(v){if(!isFinite(v))return String(v);var a=Math.abs(v);
  return (a!==0&&(a>=1e6||a<1e-3))?v.toExponential(4):String(+v.toPrecision(6));}
 function load(v,u){var a=Math.abs(v);if(a>=1e6)return fmt(v/1e6)+" M"+u;if(a>=1e3)return fmt(v/1e3)+" k"+u;return fmt(v)+" "+u;}
 function unit(b,n){return (B[b].units&&B[b].units[n])||"";}
+// a family of cycles draws a state as its max and min over each orbit (columns max_X, min_X)
+function amp(br,n){return br.cycle&&br.cycle.states.indexOf(n)>=0?[br.columns["max_"+n],br.columns["min_"+n]]:null;}
 function shown(b,n,v){return unit(b,n)==="rad"?v*180/Math.PI:v;}
 function axisLabel(n){var u="";for(var k=0;k<B.length;k++)if(unit(k,n)){u=unit(k,n);break;}
  return u==="rad"?n+" (deg)":(u?n+" ("+u+")":n);}
 function xy(p){return p.join(" ");}
 function xys(ps){return ps.map(xy).join(";");}
 // ---------------------------------------------------------------- the diagram
-var cols=[];B.forEach(function(br){Object.keys(br.columns).forEach(function(n){if(cols.indexOf(n)<0)cols.push(n);});});
+var cols=[];B.forEach(function(br){Object.keys(br.columns).concat(br.cycle?br.cycle.states:[]).forEach(function(n){
+ if(cols.indexOf(n)<0)cols.push(n);});});
 var xsel=q(".xsel"),ysel=q(".ysel"),bsel=q(".bsel");
 cols.forEach(function(n){h("option",{value:n},xsel,axisLabel(n));h("option",{value:n},ysel,axisLabel(n));});
 xsel.value=D.axes[0];ysel.value=D.axes[1];
@@ -103,8 +106,8 @@ q(".dg").style.width=W+"px";  // the special points' buttons wrap under the diag
 function ticks(lo,hi){var span=hi-lo,step=Math.pow(10,Math.floor(Math.log10(span/5)));
  [1,2,2.5,5,10].some(function(m){if(span/(step*m)<=6){step*=m;return true;}return false;});
  var t=[],v=Math.ceil(lo/step)*step;for(;v<=hi+1e-9*step;v+=step)t.push(Math.abs(v)<1e-12*step?0:v);return t;}
-function range(n){var lo=Infinity,hi=-Infinity;B.forEach(function(br,k){var c=br.columns[n];if(!c)return;
- c.forEach(function(v){v=shown(k,n,v);if(v<lo)lo=v;if(v>hi)hi=v;});});
+function range(n){var lo=Infinity,hi=-Infinity;B.forEach(function(br,k){var a=amp(br,n);
+ (a||[br.columns[n]]).forEach(function(c){if(!c)return;c.forEach(function(v){v=shown(k,n,v);if(v<lo)lo=v;if(v>hi)hi=v;});});});
  if(!(hi>lo)){var d=Math.abs(lo)*0.05||1;lo-=d;hi+=d;}var p=0.04*(hi-lo);return [lo-p,hi+p];}
 function segClass(br,i){var a=br.n_unstable[i],b=br.n_unstable[i+1],la=br.labels[i],lb=br.labels[i+1];
  return ((a>0&&b>0)||(a>0&&lb==="LP")||(b>0&&la==="LP"))?"u":"s";}
@@ -112,6 +115,8 @@ function marker(g,kind,x,y,colour,at){var s=5,e;
  if(kind==="square")e=el("rect",{x:x-s,y:y-s,width:2*s,height:2*s},g);
  else if(kind==="diamond")e=el("polygon",{points:[x,y-s-1,x+s+1,y,x,y+s+1,x-s-1,y].join(" ")},g);
  else if(kind==="triangle")e=el("polygon",{points:[x,y-s-1,x+s,y+s,x-s,y+s].join(" ")},g);
+ else if(kind==="star"){var p=[];for(var k=0;k<10;k++){var a=Math.PI*k/5-Math.PI/2,r=k%2?0.45*(s+2):s+2;
+  p.push(x+r*Math.cos(a),y+r*Math.sin(a));}e=el("polygon",{points:p.join(" ")},g);}
  else if(kind==="cross")e=el("path",{d:"M"+(x-s)+" "+(y-s)+"L"+(x+s)+" "+(y+s)+"M"+(x-s)+" "+(y+s)+"L"+(x+s)+" "+(y-s)},g);
  else e=el("circle",{cx:x,cy:y,r:s},g);
  e.setAttribute("fill",kind==="cross"?"none":"#fff");e.setAttribute("stroke",colour);e.setAttribute("stroke-width","2");
@@ -130,20 +135,23 @@ function drawDiagram(){
  el("text",{x:(ML+W-MR)/2,y:H-8,"text-anchor":"middle","font-size":"12"},g,axisLabel(xn));
  el("text",{x:14,y:(MT+H-MB)/2,"text-anchor":"middle","font-size":"12",transform:"rotate(-90 14 "+(MT+H-MB)/2+")"},g,
  axisLabel(yn));
- var px=[],marks=[];
- B.forEach(function(br,k){var X=br.columns[xn],Y=br.columns[yn];px.push(null);if(!X||!Y)return;
-  var P=X.map(function(v,i){return [sx(shown(k,xn,v)),sy(shown(k,yn,Y[i]))];});px[k]=P;
+ var px=[],marks=[],low=[];
+ B.forEach(function(br,k){var X=br.columns[xn],a=amp(br,yn),Ys=a||[br.columns[yn]];px.push(null);low.push(null);
+  if(!X||!Ys[0])return;
+  Ys.forEach(function(Y,e){
+  var P=X.map(function(v,i){return [sx(shown(k,xn,v)),sy(shown(k,yn,Y[i]))];});if(e)low[k]=P;else px[k]=P;
   var colour=LINE[k%LINE.length],w=("t" in br.columns)?1.2:2,i=0,n=P.length;
   while(i<n-1){var c=segClass(br,i),j=i;while(j<n-1&&segClass(br,j)===c)j++;
    el("polyline",{points:P.slice(i,j+1).map(xy).join(" "),fill:"none",stroke:colour,"stroke-width":w,
-    "stroke-dasharray":c==="u"?"6 4":"none","data-branch":k},svg);i=j;}
+    "stroke-dasharray":c==="u"?"6 4":"none","data-branch":k,"data-curve":a?(e?"min":"max"):"value"},svg);i=j;}
   if(n===1)el("circle",{cx:P[0][0],cy:P[0][1],r:2,fill:colour},svg);
   br.special.forEach(function(s){var m=MARK[s.label]||["star","#1f77b4"],p=P[s.row];
-   var e=marker(svg,m[0],p[0],p[1],m[1],{"class":"mcx-sp","data-point":s.name,"data-branch":k,"data-row":s.row});
-   e.style.cursor="pointer";el("title",{},e,br.name+": "+s.tag);
-   marks.push({x:p[0],y:p[1],text:s.short||s.tag,colour:m[1],b:k,row:s.row});});});
- placeLabels(svg,marks,px);
- dg={px:px,svg:svg,cursor:el("circle",{r:7,fill:"none",stroke:"#ff7f0e","stroke-width":2.5,"class":"mcx-cursor"},svg)};
+   var at={"class":"mcx-sp","data-point":s.name,"data-branch":k,"data-row":s.row};if(a)at["data-curve"]=e?"min":"max";
+   var q=marker(svg,m[0],p[0],p[1],m[1],at);
+   q.style.cursor="pointer";el("title",{},q,br.name+": "+s.tag);
+   if(!e)marks.push({x:p[0],y:p[1],text:s.short||s.tag,colour:m[1],b:k,row:s.row});});});});
+ placeLabels(svg,marks,px.concat(low));
+ dg={px:px,low:low,svg:svg,cursor:el("circle",{r:7,fill:"none",stroke:"#ff7f0e","stroke-width":2.5,"class":"mcx-cursor"},svg)};
  placeCursor();}
 // Labels of the special points: each beside its marker, inside the plot frame, clear of every marker and of the
 // labels placed before it, covering as few of the branches' points as it can (the least-cost place on rings
@@ -184,7 +192,7 @@ function placeCursor(){if(!dg)return;var P=dg.px[cur.b],c=dg.cursor;
  c.setAttribute("visibility","visible");c.setAttribute("cx",P[cur.r][0]);c.setAttribute("cy",P[cur.r][1]);
  c.setAttribute("data-branch",cur.b);c.setAttribute("data-row",cur.r);}
 function nearest(ev){var r=dg.svg.getBoundingClientRect(),x=(ev.clientX-r.left)*W/r.width,y=(ev.clientY-r.top)*H/r.height;
- var best=null,bd=30*30;dg.px.forEach(function(P,k){if(!P)return;P.forEach(function(p,i){
+ var best=null,bd=30*30;dg.px.concat(dg.low).forEach(function(P,j){if(!P)return;var k=j%B.length;P.forEach(function(p,i){
   var d=(p[0]-x)*(p[0]-x)+(p[1]-y)*(p[1]-y);if(d<bd){bd=d;best={b:k,r:i};}});});return best;}
 var svgD=q(".diagram");
 svgD.addEventListener("mousemove",function(ev){var n=nearest(ev);if(n)show(n.b,n.r);});
@@ -235,6 +243,17 @@ function arrow(g,a,b,colour,at){var dx=b[0]-a[0],dy=b[1]-a[1],L=Math.hypot(dx,dy
  for(var n in at)e.setAttribute(n,at[n]);
  el("polygon",{points:[b[0],b[1],b[0]-ux*k-uy*k*0.4,b[1]-uy*k+ux*k*0.4,b[0]-ux*k+uy*k*0.4,b[1]-uy*k-ux*k*0.4].join(" "),
  fill:colour},g);}
+// a rotary element at its joint, as drawing.py's _draw_coil draws it: a torsion spring as a spiral of two and a half
+// turns from 0.55 h out to 1.6 h, a rotary damper as a 200-degree arc of radius 3 h with a dashpot across its top
+function coil(g,V,it,h){var c=V.P(it[1]),P=function(x,y){return [c[0]+x,c[1]-y];},p=[],k;
+ var at={fill:"none","stroke-width":1.3,"data-kind":"coil","data-coil":it[2],"data-name":it[0],"data-xy":xy(it[1])};
+ if(it[2]==="spring"){for(k=0;k<=120;k++){var f=5*Math.PI*k/120,r=h*(0.55+1.05*k/120);p.push(P(r*Math.cos(f),r*Math.sin(f)));}
+  at.stroke="#ff7f0e";at.points=p.map(function(q){return q.join(",");}).join(" ");el("polyline",at,g);return;}
+ var R=3*h;for(k=0;k<=60;k++){var a=(-10+200*k/60)*Math.PI/180;p.push(P(R*Math.cos(a),R*Math.sin(a)));}
+ at.stroke="#8c564b";at.points=p.map(function(q){return q.join(",");}).join(" ");el("polyline",at,g);
+ var s={stroke:"#8c564b",fill:"none","stroke-width":1.3};
+ el("polyline",Object.assign({points:[P(-0.5*h,R-0.45*h),P(-0.5*h,R+0.45*h)].join(" ")},s),g);
+ el("polyline",Object.assign({points:[P(0.7*h,R+0.6*h),P(-0.2*h,R+0.6*h),P(-0.2*h,R-0.6*h),P(0.7*h,R-0.6*h)].join(" ")},s),g);}
 function drawView(V,pose){var svg=V.svg,hs=V.hs;svg.innerHTML="";var g=el("g",{},svg);
  pose.sliders.forEach(function(it){var p=V.P(it[0]),d=V.V(it[1]),L=Math.hypot(d[0],d[1]);if(L<1e-9)return;var u=[d[0]/L,
  d[1]/L],n=[-u[1],u[0]];
@@ -257,6 +276,7 @@ function drawView(V,pose){var svg=V.svg,hs=V.hs;svg.innerHTML="";var g=el("g",{}
   "stroke-width":3,"stroke-dasharray":"8 3","data-kind":"damper","data-name":it[0],"data-xy":xys([it[1],it[2]])},g);});
  pose.actuators.forEach(function(it){var a=V.P(it[1]),b=V.P(it[2]);el("line",{x1:a[0],y1:a[1],x2:b[0],y2:b[1],stroke:"#6a3d9a",
   "stroke-width":4,"data-kind":"actuator","data-name":it[0],"data-xy":xys([it[1],it[2]])},g);});
+ (pose.coils||[]).forEach(function(it){coil(g,V,it,hs);});
  pose.bars.forEach(function(it){var b=D.bodies[it[0]];
   el("polyline",{points:pts(it[1],V),fill:"none",stroke:b.colour,"stroke-width":C?5:6,"stroke-linecap":"round",
    "stroke-linejoin":"round","data-kind":"bar","data-body":b.name,"data-xy":xys(it[1])},g);});
@@ -265,6 +285,9 @@ function drawView(V,pose){var svg=V.svg,hs=V.hs;svg.innerHTML="";var g=el("g",{}
  pose.pins.concat(pose.grounds,pose.sliders.map(function(s){return s[0];})).forEach(function(p){var a=V.P(p);
   el("circle",{cx:a[0],cy:a[1],r:Math.max(2,0.45*hs),fill:"#fff",stroke:"#000","stroke-width":1.2,"data-kind":"pin",
  "data-xy":xy(p)},g);});
+ (pose.contacts||[]).forEach(function(it){var a=V.P(it[1]),s=Math.max(2.5,0.6*hs);
+  el("rect",{x:a[0]-s,y:a[1]-s,width:2*s,height:2*s,fill:"#222",stroke:"#222","data-kind":"contact","data-name":it[0],
+   "data-xy":xy(it[1])},g,undefined);});
  pose.forces.forEach(function(it){var a=V.P(it[1]),f=V.V(it[2]),sc=D.force_scale;
   arrow(g,a,[a[0]+sc*f[0],a[1]+sc*f[1]],"#d62728",{"data-kind":"force","data-name":it[0],"data-xy":xys([it[1],it[2]])});});
  pose.moments.forEach(function(it){var a=V.P(it[1]),m=(typeof it[2]==="number")?it[2]:V.ax[4]*it[2][3-V.ax[0]-V.ax[1]];
@@ -282,7 +305,7 @@ function drawTables(b,r){var br=B[b],t=q(".values");t.innerHTML="";
  Object.keys(br.columns).forEach(function(n){var tr=h("tr",{"data-name":n},t),u=unit(b,n);h("td",{},tr,n);
   h("td",{"class":"n","data-value":String(br.columns[n][r])},tr,fmt(shown(b,n,br.columns[n][r])));h("td",{},tr,
  u==="rad"?"deg":u);});
- var L=q(".loads");L.innerHTML="";if(!br.poses)return;var pose=br.poses[r],rows=[];
+ var L=q(".loads");L.innerHTML="";if(!br.poses)return;var pose=br.cycle?br.poses[r][0]:br.poses[r],rows=[];
  pose.forces.forEach(function(it){var m=Math.hypot.apply(null,it[2]);rows.push([it[0],load(m,"N"),
  "("+it[2].map(fmt).join(", ")+") N"]);});
  pose.moments.forEach(function(it){var v=it[2];rows.push([it[0],(typeof v==="number")?load(v,
@@ -293,8 +316,9 @@ function drawTables(b,r){var br=B[b],t=q(".values");t.innerHTML="";
  if(!rows.length)return;var th=h("tr",{},L);h("th",{},th,"load");h("th",{},th,"magnitude");h("th",{},th,"");
  rows.forEach(function(rw){var tr=h("tr",{"class":"load"},L);rw.forEach(function(c,i){h("td",{"class":i===1?"n":""},tr,c);});});}
 // ---------------------------------------------------------------- selection
-function show(b,r){cur={b:b,r:r};var br=B[b];
- if(br.poses)views.forEach(function(V){drawView(V,br.poses[r]);});
+var play=null;
+function show(b,r){cur={b:b,r:r};var br=B[b];if(play){clearInterval(play);play=null;}
+ if(br.cycle)period(b,r);else if(br.poses)views.forEach(function(V){drawView(V,br.poses[r]);});
  var sp=br.special.filter(function(s){return s.row===r;}).map(function(s){return s.tag;}).join(", ");
  var st=q(".status");st.textContent=(B.length>1?br.name+", ":"")+"row "+br.rows[r]+(sp?": "+sp:"")+(word(br,
  r)?" \u2014 "+word(br,r):"");
@@ -303,10 +327,34 @@ function show(b,r){cur={b:b,r:r};var br=B[b];
  drawTables(b,r);placeCursor();
  root.querySelectorAll(".sp button").forEach(function(e){
   e.className=(+e.getAttribute("data-branch")===b&&+e.getAttribute("data-row")===r)?"on":"";});}
+// one period of a cycle row: the mechanism's poses played in turn (two seconds a period), or an ODE's phase portrait
+function period(b,r){var br=B[b],T=br.columns.period[r],n=br.cycle.frames,k=0,st=q(".views");
+ if(br.poses){var step=function(){views.forEach(function(V){drawView(V,br.poses[r][k]);V.svg.setAttribute("data-frame",k);
+   V.svg.setAttribute("data-t",String(T*k/n));});k=(k+1)%n;};step();play=setInterval(step,2000/n);return;}
+ views.forEach(function(V){V.svg.innerHTML="";});var old=st.querySelector(".phase");if(old)st.removeChild(old);
+ if(!br.orbits)return;var O=br.orbits[r],S=br.cycle.orbit_states,w=C?330:460,hh=C?280:390,m=56;
+ var ia=0,ib=S.length>1?1:-1,val=function(p,i){return i<0?T*O.indexOf(p)/n:p[i];};
+ var xs=O.map(function(p){return val(p,ia);}),ys=O.map(function(p){return val(p,ib);});
+ var x0=Math.min.apply(null,xs),x1=Math.max.apply(null,xs),y0=Math.min.apply(null,ys),y1=Math.max.apply(null,ys);
+ if(!(x1>x0)){x0-=1e-9;x1+=1e-9;}if(!(y1>y0)){y0-=1e-9;y1+=1e-9;}
+ var sx=function(v){return m+(v-x0)/(x1-x0)*(w-m-10);},sy=function(v){return hh-m+(y0-v)/(y1-y0)*(hh-m-10);};
+ var wrap=h("div",{"class":"phase"},st),svg=el("svg",{width:w,height:hh,viewBox:"0 0 "+w+" "+hh,"class":"phase-portrait"},wrap);
+ var g=el("g",{"font-size":"11",fill:"#333"},svg);el("rect",{x:m,y:10,width:w-m-10,height:hh-m-10,fill:"none",stroke:"#888"},g);
+ ticks(x0,x1).forEach(function(v){el("text",{x:sx(v),y:hh-m+14,"text-anchor":"middle"},g,fmt(v));});
+ ticks(y0,y1).forEach(function(v){el("text",{x:m-3,y:sy(v)+4,"text-anchor":"end"},g,fmt(v));});
+ el("text",{x:(m+w)/2,y:hh-8,"text-anchor":"middle"},g,ib<0?"t (s)":axisLabel(S[ia]));
+ el("text",{x:12,y:hh/2,"text-anchor":"middle",transform:"rotate(-90 12 "+hh/2+")"},g,axisLabel(S[ib<0?ia:ib]));
+ el("polygon",{points:xs.map(function(v,i){return sx(v)+","+sy(ys[i]);}).join(" "),fill:"none",stroke:"#1f77b4",
+  "stroke-width":1.6,"data-kind":"orbit","data-xy":O.map(function(p){return p.join(" ");}).join(";")},svg);
+ h("div",{"class":"vt"},wrap,"phase portrait of the orbit, one period T = "+fmt(T)+" s");
+ var dot=el("circle",{r:4,fill:"#ff7f0e","class":"mcx-now"},svg);
+ var step2=function(){dot.setAttribute("cx",sx(xs[k]));dot.setAttribute("cy",sy(ys[k]));dot.setAttribute("data-frame",k);
+  k=(k+1)%n;};step2();play=setInterval(step2,2000/n);}
 function fix(b,r){fixed={b:b,r:r};if(+bsel.value!==b)bsel.value=b;slider.max=B[b].rows.length-1;slider.value=r;show(b,r);}
 q(".title").textContent=D.title;
 var notes=B.filter(function(br){return br.note;}).map(function(br){return br.name+": "+br.note;});
-if(!D.bodies.length)notes.push("no mechanism to draw: the diagram only");q(".notes").textContent=notes.join("; ");
+if(!D.bodies.length)notes.push(B.some(function(br){return br.orbits;})?"no mechanism to draw: a cycle row shows its "+
+ "orbit's phase portrait":"no mechanism to draw: the diagram only");q(".notes").textContent=notes.join("; ");
 drawDiagram();
 var first=B[0].special.filter(function(s){return s.label!=="EP";}).concat(B[0].special)[0];
 fix(0,first?first.row:0);  // the first fold, cusp or event: the point a reader looks at first

@@ -19,10 +19,9 @@ import hashlib
 import json
 import math
 import os
-import re
-from collections import Counter
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -30,6 +29,7 @@ from .._io import atomic_write
 from ..equations import Model, Scene
 from ..errors import InputError
 from . import drawing as _d
+from ._explore_points import default_axes, special_points
 
 __all__ = ["explore_page", "write_explore", "pose_json", "MAX_ROWS", "PAGE_BUDGET", "EXPLORE_SUFFIXES"]
 
@@ -39,11 +39,9 @@ MAX_ROWS = 3000
 #: Bytes of embedded data (columns and poses) a page holds at most: longer tables of a large mechanism (a spatial
 #: gear's time history, 10 kB a row) are thinned further to fit, every special point and event kept.
 PAGE_BUDGET = 4_000_000
-#: A special point's label that is a code (``LP``, ``JUMP``, a user event's name) is numbered along the branch.
-_CODE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-#: One stop event of a time history's label column (:func:`.tables.event_labels`): kind, stop, details.
-_STOP_EVENT = re.compile(r"(impact|contact|release) (\S+)(?: .*)?\Z")
 _EXTRA = ("s", "stability", "n_unstable", "label", "vary")
+#: The scene names a tyre's contact point ``"tyre NAME"`` (:meth:`mechcont.mechanism.elements.tyre.Tyre.draw`).
+_TYRE = "tyre "
 
 
 def _xy(p) -> list[float]:
@@ -56,7 +54,9 @@ def pose_json(scene: Scene, bodies: Mapping[str, int]) -> dict:
     ``dampers`` ``[[name, a, b]]``, ``slots`` (pin-in-slot joints) ``[[name, start, end]]``,
     ``actuators`` ``[[name, a, b, tension N]]``, ``forces`` ``[[name, point,
     vector N]]``, ``moments`` ``[[name, point, value N m (a 3-vector in 3-D)]]``, ``axes`` ``[[name, point,
-    unit axis]]``. ``bodies`` maps a body name to its index in the page's body list."""
+    unit axis]]``, ``coils`` (torsion springs and rotary dampers) ``[[name, centre, "spring" | "damper"]]``,
+    ``contacts`` (tyres' contact points) ``[[name, point]]``. ``bodies`` maps a body name to its index in the page's
+    body list."""
     return {
         "bars": [[bodies[n], [_xy(p) for p in np.atleast_2d(np.asarray(pts, float))]] for n, pts in scene.bars],
         "pins": [_xy(p) for p in scene.pins], "grounds": [_xy(p) for p in scene.grounds],
@@ -69,6 +69,8 @@ def pose_json(scene: Scene, bodies: Mapping[str, int]) -> dict:
         "forces": [[n, _xy(p), _xy(f)] for n, p, f in scene.forces],
         "moments": [[n, _xy(p), _xy(m) if np.ndim(m) else float(m)] for n, p, m in scene.moments],
         "axes": [[n, _xy(p), _xy(u)] for n, p, u in scene.joint_axes],
+        "coils": [[n, _xy(p), str(kind)] for n, p, kind in scene.coils],
+        "contacts": [[n[len(_TYRE):], _xy(p)] for n, p in scene.points if n.startswith(_TYRE)],
     }
 
 
@@ -156,26 +158,13 @@ def _document(branch, name: str, rows: np.ndarray) -> dict:
     doc = {"name": name, "vary": branch.vary, "units": {n: branch.units.get(n, "") for n in branch.names},
            "columns": {n: [float(v) for v in branch.column(n)[rows]] for n in branch.names},
            "n_unstable": [int(v) for v in branch.n_unstable[rows]], "labels": [branch.labels[i] for i in rows],
-           "rows": [int(i) for i in rows], "special": _special(branch, rows), "note": ""}
+           "rows": [int(i) for i in rows], "special": special_points(branch, rows), "note": ""}
     for col, vals in doc["columns"].items():
         bad = [i for i, v in enumerate(vals) if not math.isfinite(v)]
         if bad:
             raise InputError("branch", f"'{name}' row {doc['rows'][bad[0]]}, column {col}: {vals[bad[0]]} is "
                                        "not a finite number")
     return doc
-
-
-def _event_words(label: str) -> str:
-    """A time history's event label without its numbers, for the diagram (``"impact fwd_stop 75.3 1/s; contact
-    fwd_stop"`` -> ``"impact + contact fwd_stop"``); any other label as it is."""
-    parts = [_STOP_EVENT.match(p) for p in label.split("; ")]
-    if not parts or not all(parts):
-        return label
-    kinds = [m.group(1) for m in parts if m]
-    stops = list(dict.fromkeys(m.group(2) for m in parts if m))
-    if len(stops) == 1:
-        return " + ".join(kinds) + " " + stops[0]
-    return "; ".join(f"{m.group(1)} {m.group(2)}" for m in parts if m)
 
 
 def _limits(scenes: Sequence[Scene], dim: int) -> tuple[float, dict]:
@@ -189,58 +178,23 @@ def _limits(scenes: Sequence[Scene], dim: int) -> tuple[float, dict]:
     return scale, {"plane": _d._limits(_d._union(_d._bounds(s, scale, True) for s in scenes))}
 
 
-def _special(branch, rows: np.ndarray) -> list[dict]:
-    """The special points of ``branch`` for the page: ``name`` (``branch.point_names()``: ``LP1``, what
-    ``branch["LP1"]`` finds), ``tag`` (the buttons' text: the name of a code label, ``LP1``, ``LP2?`` when only
-    approximately located; an event's own text otherwise, numbered ``(2)`` only when it repeats), ``short``
-    (the diagram's label: an event without its numbers), ``label`` and ``row`` (index among the embedded rows)."""
-    where = {int(r): k for k, r in enumerate(rows)}
-    repeats = Counter(p.label for p in branch.special_points)
-    seen: Counter = Counter()
-    out = []
-    for name, p in zip(branch.point_names(), branch.special_points):
-        seen[p.label] += 1
-        if _CODE.match(p.label):
-            tag = short = name
-        else:
-            nth = f" ({seen[p.label]})" if repeats[p.label] > 1 else ""
-            tag, short = p.label + nth, _event_words(p.label)
-        approx = "" if p.located else "?"
-        out.append({"name": name, "tag": tag + approx, "short": short + approx, "label": p.label,
-                    "row": where[p.index]})
-    return out
-
-
-def _default_axes(doc: dict, kinds: Mapping[str, str] | None = None) -> list[str]:
-    """The diagram's first axes: the continuation parameter (else the first changing column) against the
-    first changing angle; else a changing force or moment the branch solved for (a parameter, such as a
-    downlock's force); else the coordinate that moves most (a spatial gear's point coordinates: the part
-    that travels furthest); else the last changing column. ``kinds`` maps a column to its variable's kind
-    (``"state"``, ``"parameter"``) when the model is known."""
-    cols, units = doc["columns"], doc["units"]
-    ptp = {n: float(np.ptp(v)) for n, v in cols.items()}
-    changing = [n for n, v in cols.items() if ptp[n] > 1e-12 * max(1.0, float(np.max(np.abs(v))))] or list(cols)
-    x = doc["vary"] if doc["vary"] in cols else changing[0]
-    rest = [n for n in changing if n != x] or [n for n in cols if n != x] or [x]
-    kind = (lambda n: kinds.get(n, "")) if kinds is not None else (lambda n: "")
-    angle = next((n for n in rest if units.get(n) == "rad"), None)
-    load = next((n for n in rest if units.get(n) in ("N", "N m") and kind(n) == "parameter"), None)
-    moves = [n for n in rest if units.get(n) == "m" and kind(n) in ("state", "")]
-    y = angle or load or (max(moves, key=lambda n: ptp[n]) if moves else rest[-1])
-    return [x, y]
-
-
 def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None = None,
-              max_rows: int = MAX_ROWS, title: str | None = None, budget: float = PAGE_BUDGET) -> dict:
+              max_rows: int = MAX_ROWS, title: str | None = None, budget: float = PAGE_BUDGET,
+              orbits: Sequence = ()) -> dict:
     """The JSON document the page embeds (see :func:`explore_page` for the arguments).
 
     ``branches[k]``: ``name``, ``columns`` (``{name: [values]}``, SI, the table's own columns),
     ``units``, ``n_unstable`` (-1: not evaluated), ``labels``, ``special`` (``name``, ``tag``, ``short``,
-    ``label``, ``row``: see :func:`_special`), ``rows`` (the table rows embedded), ``note`` and, with a model, ``poses``
-    (:func:`pose_json` per embedded row). Top level: ``bodies`` (``[{name, colour}]``),
+    ``label``, ``row``: see :func:`._explore_points.special_points`), ``rows`` (the table rows embedded), ``note``
+    and, with a model, ``poses``
+    (:func:`pose_json` per embedded row). A family of cycles also has ``cycle`` (``states``: those with
+    ``min_X``/``max_X`` columns) and, with its orbits, per embedded row one period as
+    :data:`._explore_cycles.PAGE_FRAMES` instants: ``poses`` (a list of poses per row) when the model is drawn,
+    else ``orbits`` (per row, per instant the states' values, SI). Top level: ``bodies`` (``[{name, colour}]``),
     ``dim`` (2 or 3), ``views`` (``{view: [xmin, xmax, ymin, ymax]}`` m; spatial views
     name the axes in ``view_axes``), ``force_scale`` (m/N), ``symbol`` (m).
     """
+    from ._explore_cycles import ORBIT_POINTS, PAGE_FRAMES, CycleTable, cycle_table, has_orbits
     from ._explore_page import VIEW_AXES
 
     if int(max_rows) < 2:
@@ -255,27 +209,75 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
             system.index(n)
         if system.scene is None and not (isinstance(system, Model) and system.ode is not None):  # an ODE: no drawing
             raise InputError("model", f"'{system.name}' has no drawing (its EquationSystem has no scene)")
-    tables = []
+    drawn = system is not None and system.scene is not None  # an ODE model has no drawing
+    states = list(system.ode.states) if isinstance(system, Model) and system.ode is not None else []
+    tables: list[tuple[Any, str, np.ndarray | None, np.ndarray]] = []
+    cycles: list[CycleTable | None] = []
+    paired = list(orbits)
     for k, source in enumerate(branches):
+        cyc = cycle_table(source, k, None, system, values, _full_rows)
+        if cyc is not None and cyc.orbit is None and paired and not has_orbits(source):
+            cyc = cycle_table(source, k, paired.pop(0), system, values, _full_rows)
+        if cyc is not None:
+            tables.append((cyc.branch, cyc.name, None, _rows(cyc.branch, int(max_rows))))
+            cycles.append(cyc)
+            continue
         branch, name = _branch(source, k)
         X = _full_rows(system, branch, name, values) if system is not None else None
         tables.append((branch, name, X, _rows(branch, int(max_rows))))
+        cycles.append(None)
+    if paired:
+        raise InputError("orbits", f"{len(paired)} orbit table(s) beyond the cycles tables (mechcont cycles --out) "
+                                   "without orbits to pair with")
+
+    def frame(k: int, row: int) -> list:  # one period of a cycle row: its scenes (drawn) or its states' values
+        cyc = cycles[k]
+        assert cyc is not None and cyc.orbit is not None and system is not None
+        X = cyc.orbit(row, PAGE_FRAMES if drawn else ORBIT_POINTS)
+        if drawn:
+            return [system.scene(x) for x in X]
+        return [[float(v) for v in x[[system.index(s) for s in states]]] for x in X]
+
+    def sample(k: int):  # a full vector of table k, for the size of a pose
+        cyc, X = cycles[k], tables[k][2]
+        if cyc is None:
+            return None if X is None else X[0]
+        return cyc.orbit(0, 1)[0] if cyc.orbit is not None else None
+
     probe: dict[str, int] = {}  # any body index: a pose's size does not depend on it
-    first = tables[0][2] if tables else None
-    drawn = system is not None and system.scene is not None  # an ODE model has no drawing
+    first = next((x for x in (sample(k) for k in range(len(tables))) if x is not None), None) if system else None
     if drawn and first is not None:
-        probe = {n: 0 for n, _ in system.scene(first[0]).bars}
-    sizes = [_row_bytes(branch, system, X, probe) for branch, _, X, _ in tables]
+        probe = {n: 0 for n, _ in system.scene(first).bars}
+
+    def cycle_bytes(k: int) -> float:  # one row's period in the page
+        cyc = cycles[k]
+        if cyc is None or cyc.orbit is None or system is None:
+            return 0.0
+        f = frame(k, len(tables[k][0]) // 2)
+        return float(sum(len(json.dumps(pose_json(s, probe) if drawn else s, separators=(",", ":"))) + 1 for s in f))
+
+    sizes = [_row_bytes(branch, system if X is not None else None, X, probe) + cycle_bytes(k)
+             for k, (branch, _, X, _) in enumerate(tables)]
     caps = _within_budget([len(rows) for *_, rows in tables], sizes, float(budget))
     for _ in range(8):  # the estimate per row, checked on the page's data and corrected if it was short
         out: list[dict] = []
         all_scenes: list[list[Scene]] = []
-        for (branch, name, X, rows), cap in zip(tables, caps):
+        periods: list[list] = []
+        for k, ((branch, name, X, rows), cap) in enumerate(zip(tables, caps)):
             out.append(_document(branch, name, _rows(branch, cap) if cap < len(rows) else rows))
+            per: list = []
+            cyc = cycles[k]
+            if cyc is not None and cyc.orbit is not None and system is not None:
+                per = [frame(k, r) for r in out[-1]["rows"]]
+            periods.append(per)
             if drawn and X is not None:
                 all_scenes.append([system.scene(x) for x in X[out[-1]["rows"]]])
+            elif drawn:
+                all_scenes.append([s for f in per for s in f])
         used = len(json.dumps(out, separators=(",", ":"))) + 160 * len(out) + sum(  # 160: the note to come
             len(json.dumps(pose_json(s, probe), separators=(",", ":"))) + 1 for scenes in all_scenes for s in scenes)
+        if not drawn:
+            used += sum(len(json.dumps(per, separators=(",", ":"))) for per in periods)
         if used <= budget or all(len(d["rows"]) <= len(d["special"]) + 2 for d in out):
             break
         shrink = min(0.97 * budget / used, 0.98)  # fewer rows each pass: rows come by whole steps
@@ -286,12 +288,22 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
             step = math.ceil(len(branch) / max(kept - len(branch.special_points), 1))
             why = f"; the page holds at most {budget / 1e6:.3g} MB" if kept < len(rows) else ""
             doc["note"] = f"{kept} of {len(branch)} rows shown (one in {step}, every special point and event{why})"
+    for cyc, doc, per in zip(cycles, out, periods):
+        if cyc is None:
+            continue
+        doc["cycle"] = {"states": cyc.states, "frames": len(per[0]) if per else 0}
+        doc["units"].update({s: doc["units"].get("max_" + s, "") for s in cyc.states})
+        if not per:
+            doc["note"] = "; ".join(filter(None, [doc["note"], "the orbits are not in this table (write them with "
+                                                  "mechcont cycles --orbits FILE.csv and give it with --orbits)"]))
+        elif not drawn:
+            doc["orbits"], doc["cycle"]["orbit_states"] = per, states
     data: dict = {"title": title or (system.name if system is not None else ""), "branches": out, "bodies": [],
-                  "axes": _default_axes(out[0], kinds) if out else ["", ""],
+                  "axes": default_axes(out[0], kinds, cycles[0]) if out else ["", ""],
                   "dim": 2, "views": {}, "force_scale": 0.0, "symbol": 0.0, "view_axes": VIEW_AXES}
-    if drawn:
+    flat = [s for scenes in all_scenes for s in scenes] if drawn else []
+    if flat:
         assert system is not None
-        flat = [s for scenes in all_scenes for s in scenes]
         colours = _d.body_colours(flat)
         index = {n: i for i, n in enumerate(colours)}
         dim = flat[0].dimension
@@ -300,14 +312,17 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
         data.update(bodies=[{"name": n, "colour": c} for n, c in colours.items()], dim=dim, force_scale=scale,
                     views={v: [float(t) for t in lim] for v, lim in views.items()}, symbol=_d._SYMBOL * size,
                     model=system.name)
-        for doc, scenes in zip(out, all_scenes):
-            doc["poses"] = [pose_json(s, index) for s in scenes]
+        for doc, scenes, per in zip(out, all_scenes, periods):
+            if per:
+                doc["poses"] = [[pose_json(s, index) for s in f] for f in per]
+            elif "cycle" not in doc:
+                doc["poses"] = [pose_json(s, index) for s in scenes]
     return data
 
 
 def explore_page(model, branches: Sequence, *, values: Mapping[str, float] | None = None,
                  max_rows: int = MAX_ROWS, title: str | None = None, compact: bool = False,
-                 budget: float = PAGE_BUDGET) -> str:
+                 budget: float = PAGE_BUDGET, orbits: Sequence = ()) -> str:
     """The explorer page (HTML text) of ``branches`` of ``model``.
 
     Parameters
@@ -319,7 +334,11 @@ def explore_page(model, branches: Sequence, *, values: Mapping[str, float] | Non
     branches:
         Branch, fold-curve or time-history CSV paths (``mechcont continue``/``folds``/
         ``downlock``/``sweep``/``simulate --out``) or :class:`~mechcont.continuation.Branch` objects.
-        Each table must hold every variable of the model (or get it from ``values``).
+        Each table must hold every variable of the model (or get it from ``values``). A family of
+        cycles: a :class:`~mechcont.continuation.CycleBranch` (with its orbits) or a cycles table
+        (``mechcont cycles --out``), drawn as its amplitude; a row of it plays one period of the orbit.
+    orbits:
+        Orbit tables (``mechcont cycles --orbits``), one per cycles CSV in ``branches``, in their order.
     values:
         ``{name: value}`` (SI) set on every row before drawing: variables a table lacks.
     max_rows:
@@ -339,7 +358,7 @@ def explore_page(model, branches: Sequence, *, values: Mapping[str, float] | Non
     """
     from ._explore_page import render
 
-    data = page_data(model, branches, values=values, max_rows=max_rows, title=title, budget=budget)
+    data = page_data(model, branches, values=values, max_rows=max_rows, title=title, budget=budget, orbits=orbits)
     text = json.dumps(data, separators=(",", ":"), allow_nan=False)
     token = "mcx" + hashlib.sha1(text.encode()).hexdigest()[:10]
     return render(text, token, title=str(data["title"]), compact=compact)

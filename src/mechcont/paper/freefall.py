@@ -111,17 +111,18 @@ c = { value = 0.0, unit = "N s/m", description = "damper coefficient" }
 O = [0, 0]
 G = [0, "2*L"]
 
+# leg is a bar (it has a length): its frame origin is its centre, its ends leg.a (the hinge) and leg.b, so its
+# points are measured from the centre (`mechcont check` warns about a point beyond a bar's ends).
 [bodies.leg]
 mass = "m"
-cg = ["L/2", 0]
 length = "L"
-points = { tip = ["L", 0] }   # hinged at its frame origin: the tip is at L from the hinge
+points = { tip = ["L/2", 0] }   # its end b: L from the hinge a
 initial = { theta = 0.3 }
 
 [joints.pin]
 type = "revolute"
 a = "ground.O"
-b = "leg.origin"
+b = "leg.a"
 
 [dampers.retraction]
 a = "ground.G"
@@ -134,7 +135,7 @@ g = "g"
 [loads.air]
 type = "drag"
 body = "leg"
-start = "origin"
+start = "a"
 end = "tip"
 
 [conditions]
