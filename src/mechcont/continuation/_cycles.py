@@ -56,7 +56,8 @@ def _check_options(ntst: int, ncol: int, adapt: int) -> None:
         raise InputError("adapt", f"must be an integer >= 0 (steps between mesh adaptations; 0: never), got {adapt!r}")
 
 
-def _system(model, vary: str, x: np.ndarray, ntst: int, ncol: int, options: ContinuationOptions):
+def _system(model, vary: str, x: np.ndarray, ntst: int, ncol: int, options: ContinuationOptions,
+            omega: float = 1.0):
     from ..equations import dynamics_of
 
     dyn = dynamics_of(model)
@@ -64,11 +65,20 @@ def _system(model, vary: str, x: np.ndarray, ntst: int, ncol: int, options: Cont
         raise InputError("vary", f"'{vary}' is not a parameter of '{model.name}'; the family is continued in a "
                                  f"parameter, not in a state ({', '.join(dyn.state_names)})")
     rates = RateFunction(model, dyn, vary, x)
-    names = set(model.names)
-    scale = {**{n: model.variable(n).scale for n in dyn.state_names if n in names}, **options.scales}
-    w = np.array([1.0 / scale.get(n, 1.0) ** 2 for n in dyn.state_names])
     p_scale = options.scales.get(vary, model.variable(vary).scale)
-    return dyn, CycleSystem(rates, Mesh(ntst, ncol), w, 1.0 / p_scale ** 2)
+    return dyn, CycleSystem(rates, Mesh(ntst, ncol), _weights(model, dyn, options, omega), 1.0 / p_scale ** 2)
+
+
+def _weights(model, dyn, options: ContinuationOptions, omega: float) -> np.ndarray:
+    """The states' weights in the orbit's norm: 1 / scale^2 (the model's scales, options.scales over them)."""
+    names = set(model.names)
+    scale = {n: model.variable(n).scale for n in dyn.state_names if n in names}
+    # a mechanism's velocity states (q_dot) are no variables: on a cycle of angular frequency omega they swing
+    # omega times their coordinate's amplitude, so that is their scale (else they swamp the orbit's norm)
+    scale.update({n: model.variable(n[:-4]).scale * omega for n in dyn.state_names
+                  if n not in names and n.endswith("_dot") and n[:-4] in names})
+    scale.update(options.scales)
+    return np.array([1.0 / scale.get(n, 1.0) ** 2 for n in dyn.state_names])
 
 
 def cycles_from_hopf(model, x: np.ndarray, vary: str, *, options: ContinuationOptions | None = None, ntst: int = 20,
@@ -88,6 +98,7 @@ def cycles_from_hopf(model, x: np.ndarray, vary: str, *, options: ContinuationOp
     _check_options(ntst, ncol, adapt)
     dyn, system = _system(model, vary, x, ntst, ncol, options)
     hopf = hopf_point(model, dyn, x, vary)
+    system = CycleSystem(system.rates, system.mesh, _weights(model, dyn, options, hopf.omega), system.p_weight)
     system.rates.x_base = hopf.x.copy()
     start = hopf_start(system, hopf)
     return continue_cycles(model, system, start, vary, options, at=at, adapt=adapt, progress=progress,
