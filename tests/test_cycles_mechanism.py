@@ -49,5 +49,7 @@ def test_caster_cycle_from_its_hopf_speed_matches_a_long_simulation_and_keeps_it
     assert phis.shape[1] > 0 and np.max(np.abs(phis)) < 1e-10  # the caster's pin: the swivel on the strut
     vel = np.array([mech.phi_q(f) @ dyn.coordinate_velocities(z, xv) for f, z in zip(full, u)])
     assert np.max(np.abs(vel)) < 1e-9
-    for mu in fam.multipliers[1:]:
-        assert np.min(np.abs(mu - 1.0)) > 1e-3 or fam.labels[fam.multipliers.index(mu)] == "LPC"
+    # away from the Hopf speed (where the critical pair's multiplier tends to 1) no spurious multiplier at 1 from the
+    # constraints: the non-trivial ones are those of psi, psi_dot, y (Floquet of the independent 3-state caster)
+    assert len(fam.multipliers[i]) == len(dyn.state_names) - 1
+    assert np.min(np.abs(fam.multipliers[i] - 1.0)) > 1e-2
