@@ -24,6 +24,8 @@ FOLD_MULTIPLIER_MAX = 0.1
 #: (relative change of the parameter) / (relative growth of the period) below HOMOCLINIC_RATIO end the family
 HOMOCLINIC_RATIO = 1e-5
 HOMOCLINIC_STEPS = 3
+#: a family from a Hopf point whose parameter has not moved after this many steps is vertical (l1 = 0)
+VERTICAL_STEPS = 5
 
 
 @dataclass

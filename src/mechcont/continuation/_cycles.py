@@ -34,6 +34,7 @@ from ._cycle_tests import (
     HOPF_AMPLITUDE,
     ON_CIRCLE,
     UNSTABLE,
+    VERTICAL_STEPS,
     _amplitude,
     _fold_confirmed,
     _ns,
@@ -321,6 +322,10 @@ def continue_cycles(model, system: CycleSystem, start: CycleStart, vary: str, op
         steps += 1
         if progress is not None:
             progress(1)
+        if start.label == "HB" and steps == VERTICAL_STEPS and _vertical(run, system.p_weight):
+            msg = (f"the family cannot start: it does not leave {vary} = {X0[-1]:.8g} in {steps} steps while its "
+                   f"orbits grow (a degenerate Hopf point: first Lyapunov coefficient 0, a vertical family)")
+            raise ConvergenceError(msg, partial=_branch(model, run, Status.STEP_UNDERFLOW, msg))
         if homoclinic >= HOMOCLINIC_STEPS:
             _, T, p = cur.system.split(cur.X)
             message = (f"period growing without bound: approaching a homoclinic orbit at {vary} = {p:.8g} "
@@ -329,6 +334,13 @@ def continue_cycles(model, system: CycleSystem, start: CycleStart, vary: str, op
     if not run.points[-1].label:
         run.points[-1].label = "EP"
     return _branch(model, run, status, message)
+
+
+def _vertical(run: _Run, p_weight: float) -> bool:
+    """True when no orbit so far has moved the parameter from the start's by more than 1e-9 of its scale."""
+    p = np.array([pt.X[-1] for pt in run.points])
+    scale = max(abs(p[0]), 1.0 / math.sqrt(p_weight) if p_weight > 0 else 0.0, 1e-300)
+    return bool(np.max(np.abs(p - p[0])) <= 1e-9 * scale)
 
 
 def _hopf_end(model, pt: _Point, vary: str) -> tuple[_Point, str]:
