@@ -31,9 +31,14 @@ def _domain():
     return ode_model("dom", {"x": 0.0, "y": 0.0}, {"mu": 0.0}, {"x": x * g - y, "y": y * g + x})
 
 
+def _centre():
+    """A linear centre at mu = 0: every orbit of its family has mu = 0 (l1 = 0, a degenerate Hopf point)."""
+    return ode_model("centre", {"x": 0.0, "y": 0.0}, {"mu": 0.0}, {"x": mu * x - y, "y": x + mu * y})
+
+
 @pytest.fixture
 def run(monkeypatch):
-    models = {"sl": _sl(), "dom": _domain()}
+    models = {"sl": _sl(), "dom": _domain(), "centre": _centre()}
     monkeypatch.setattr("mechcont.cli.cycles.load_at", lambda name, values: models[name].with_values(values))
     return make_runner()
 
@@ -99,3 +104,14 @@ def test_a_family_whose_collocation_fails_keeps_what_it_computed(run, tmp_path):
     assert len(rows) > 2 and rows[0][header.index("label")] == "HB"
     radius = [float(row[header.index("max_x")]) for row in rows]
     assert max(radius) < 0.0101  # the family stops where its rates end
+
+
+def test_a_degenerate_hopf_point_whose_family_is_vertical_cannot_start(run, tmp_path):
+    table = _table(tmp_path / "b.csv", _centre())
+    out = tmp_path / "c.csv"
+    r = run("cycles", "centre", "--point", f"{table}:HB1", "--vary", "mu", "--bounds", "mu=-1:1", "--out", out,
+            "--quiet")
+    one_line_error(r, "cannot start", "does not leave mu = 0", "degenerate Hopf point")
+    header, rows = _read(out)
+    assert rows[0][header.index("label")] == "HB"
+    assert all(abs(float(row[header.index("mu")])) < 1e-12 for row in rows)

@@ -117,8 +117,7 @@ class Mesh:
         (node values, flattened like ``u``); ``w`` given by its node values (n_nodes, n). Gauss
         quadrature at the NCOL points: exact to degree 2 NCOL - 1, so this is the collocation's own
         inner product (as AUTO's), not the exact integral of the two degree-NCOL polynomials."""
-        wc, _ = self.at_collocation(w)
-        return self._spread(wc * (self.h[:, None, None] * self.g[None, :, None]))
+        return np.asarray(self._gram @ w).ravel()
 
     def mean(self, u: np.ndarray) -> np.ndarray:
         """The orbit's time average over [0, 1] (Gauss quadrature on every interval), shape (n,)."""
@@ -127,15 +126,27 @@ class Mesh:
 
     def phase_row(self, v: np.ndarray) -> np.ndarray:
         """``r`` with ``r . u = integral of u . v'`` over ``[0, 1]`` (exact: degree 2 NCOL - 1), ``v`` by its node values."""
-        _, dv = self.at_collocation(v)
-        return self._spread(dv * (self.h[:, None, None] * self.g[None, :, None]))
+        return np.asarray(self._phase @ v).ravel()
 
-    def _spread(self, a: np.ndarray) -> np.ndarray:
-        """Node-value coefficients of ``sum_jk a[j, k] . u(tau_jk)``, flattened (n_nodes * n,)."""
-        per = np.einsum("ki,jkn->jin", self.Lc, a)
-        out = np.zeros((self.n_nodes, a.shape[2]))
-        np.add.at(out, self.index, per)
-        return out.ravel()
+    def _node_matrix(self, left: np.ndarray, right: np.ndarray) -> object:
+        """The sparse (n_nodes, n_nodes) matrix with ``sum_k g_k left[k, a] right[j, k, b]`` between the nodes ``a``, ``b``
+        of each interval ``j`` (summed where intervals share a node); built once per mesh, so that each quadrature
+        row is one sparse product."""
+        import scipy.sparse as sps
+
+        local = np.einsum("k,ka,jkb->jab", self.g, left, right)
+        a = np.broadcast_to(self.index[:, :, None], local.shape)
+        b = np.broadcast_to(self.index[:, None, :], local.shape)
+        return sps.csr_matrix((local.ravel(), (a.ravel(), b.ravel())), shape=(self.n_nodes, self.n_nodes))
+
+    @functools.cached_property
+    def _gram(self):
+        return self._node_matrix(self.Lc, self.h[:, None, None] * self.Lc[None, :, :])
+
+    @functools.cached_property
+    def _phase(self):
+        # int u . v' over an interval of length h: h sum_k g_k u(c_k) . (Ld v)(c_k) / h
+        return self._node_matrix(self.Lc, np.broadcast_to(self.Ld, (self.ntst, *self.Ld.shape)))
 
     def evaluate(self, u: np.ndarray, times: np.ndarray) -> np.ndarray:
         """The orbit (node values (n_nodes, n)) at the rescaled ``times`` (wrapped into [0, 1]), shape (len(times), n)."""

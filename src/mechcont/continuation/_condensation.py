@@ -22,8 +22,11 @@ import functools
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg.lapack
 
 __all__ = ["CondensedLU"]
+
+_GETRF, _GETRS = scipy.linalg.lapack.dgetrf, scipy.linalg.lapack.dgetrs
 
 
 @dataclass(frozen=True)
@@ -60,8 +63,6 @@ class CondensedLU:
 
     def __init__(self, C: np.ndarray, aT: np.ndarray, ap: np.ndarray, phase: np.ndarray, closing: np.ndarray,
                  mesh, n: int):
-        import scipy.linalg
-
         self.mesh, self.n = mesh, n
         ntst, m = mesh.ntst, mesh.ncol
         inner = (m - 1) * n
@@ -86,10 +87,11 @@ class CondensedLU:
         K[nr - 2:, nr - 2] = rows[:, -2] - adj[:, :, n].sum(axis=1)
         K[nr - 2:, nr - 1] = rows[:, -1] - adj[:, :, n + 1].sum(axis=1)
         self._border = cI
-        with np.errstate(all="ignore"):
-            self.lu = scipy.linalg.lu_factor(K, check_finite=False)
-        if not np.all(np.isfinite(self.lu[0])) or np.min(np.abs(np.diag(self.lu[0]))) == 0.0:
+        with np.errstate(all="ignore"):  # LAPACK's getrf directly: scipy's lu_factor wrapper costs as much as the LU
+            lu, piv, info = _GETRF(K, overwrite_a=1)
+        if info != 0 or not np.all(np.isfinite(lu)):
             raise np.linalg.LinAlgError("singular collocation Jacobian")
+        self.lu = (lu, piv)
         self.nr = nr
 
     def transfer(self) -> np.ndarray:
@@ -107,8 +109,6 @@ class CondensedLU:
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         """The solution ``dX`` of ``J dX = b`` (``b`` ordered as the residual: collocation, periodicity, phase, closing)."""
-        import scipy.linalg
-
         mesh, n = self.mesh, self.n
         ntst, m = mesh.ntst, mesh.ncol
         inner = (m - 1) * n
@@ -118,7 +118,7 @@ class CondensedLU:
         rhs[:ntst * n] = w[:, inner:].ravel()
         rhs[ntst * n:(ntst + 1) * n] = b[nc:nc + n]
         rhs[self.nr - 2:] = b[nc + n:nc + n + 2] - np.einsum("rji,ji->r", self._border, w[:, :inner])
-        red = scipy.linalg.lu_solve(self.lu, rhs, check_finite=False)
+        red, _ = _GETRS(self.lu[0], self.lu[1], rhs)
         M = red[:-2].reshape(ntst + 1, n)
         dT, dp = red[-2], red[-1]
         Qi = self.Q[:, :inner, :]

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -30,47 +29,23 @@ from ._collocation import NCOL_RANGE, Mesh
 from ._cycle_branch import CycleBranch
 from ._cycle_start import CycleStart, hopf_point, hopf_start, samples_start
 from ._cycle_system import CycleSystem, NewtonFailure, RateFunction, nontrivial_multipliers, phase_reference
+from ._cycle_tests import (
+    HOMOCLINIC_STEPS,
+    HOPF_AMPLITUDE,
+    ON_CIRCLE,
+    UNSTABLE,
+    VERTICAL_STEPS,
+    _amplitude,
+    _fold_confirmed,
+    _ns,
+    _pd,
+    _period_runs_away,
+    _Point,
+)
 from ._options import ContinuationOptions
 from ._palc import StepSizeController
 
 __all__ = ["continue_cycles", "cycles_from_hopf", "cycles_from_samples"]
-
-#: |mu| beyond 1 + this counts as unstable (the collocation's multipliers are accurate to its order)
-UNSTABLE = 1e-6
-#: a located PD/NS must have its multiplier(s) this close to the unit circle, else it is not labelled
-ON_CIRCLE = 1e-4
-#: at a fold of cycles a second multiplier is 1; a turn whose nearest is further from 1 than this, at an orbit
-#: smaller than HOPF_AMPLITUDE times the family's largest, is the family arriving at a Hopf point
-FOLD_MULTIPLIER = 1e-3
-HOPF_AMPLITUDE = 0.1
-
-
-@dataclass
-class _Point:
-    system: CycleSystem
-    X: np.ndarray
-    t: np.ndarray
-    mu: np.ndarray  # non-trivial multipliers
-    label: str = ""
-    approximate: bool = False
-
-
-def _pd(mu: np.ndarray) -> float:
-    real_neg = mu[(mu.imag == 0) & (mu.real < 0)].real
-    return float(np.prod(1.0 + real_neg)) if len(real_neg) else 1.0
-
-
-def _ns(mu: np.ndarray) -> float:
-    pairs = mu[mu.imag > 0]
-    return float(np.prod(np.abs(pairs) - 1.0)) if len(pairs) else 1.0
-
-
-def _amplitude(pt: _Point) -> float:
-    """The orbit's weighted L2 distance from its mean (0 for an equilibrium)."""
-    u, _, _ = pt.system.split(pt.X)
-    dev = u - pt.system.mesh.mean(u)
-    return math.sqrt(max(float(pt.system.mesh.gram_row(dev * pt.system.weights) @ dev.ravel()), 0.0))
-
 
 def _check_options(ntst: int, ncol: int, adapt: int) -> None:
     if not (isinstance(ntst, int) and ntst >= 2):
@@ -82,7 +57,8 @@ def _check_options(ntst: int, ncol: int, adapt: int) -> None:
         raise InputError("adapt", f"must be an integer >= 0 (steps between mesh adaptations; 0: never), got {adapt!r}")
 
 
-def _system(model, vary: str, x: np.ndarray, ntst: int, ncol: int, options: ContinuationOptions):
+def _system(model, vary: str, x: np.ndarray, ntst: int, ncol: int, options: ContinuationOptions,
+            omega: float = 1.0):
     from ..equations import dynamics_of
 
     dyn = dynamics_of(model)
@@ -90,11 +66,20 @@ def _system(model, vary: str, x: np.ndarray, ntst: int, ncol: int, options: Cont
         raise InputError("vary", f"'{vary}' is not a parameter of '{model.name}'; the family is continued in a "
                                  f"parameter, not in a state ({', '.join(dyn.state_names)})")
     rates = RateFunction(model, dyn, vary, x)
-    names = set(model.names)
-    scale = {**{n: model.variable(n).scale for n in dyn.state_names if n in names}, **options.scales}
-    w = np.array([1.0 / scale.get(n, 1.0) ** 2 for n in dyn.state_names])
     p_scale = options.scales.get(vary, model.variable(vary).scale)
-    return dyn, CycleSystem(rates, Mesh(ntst, ncol), w, 1.0 / p_scale ** 2)
+    return dyn, CycleSystem(rates, Mesh(ntst, ncol), _weights(model, dyn, options, omega), 1.0 / p_scale ** 2)
+
+
+def _weights(model, dyn, options: ContinuationOptions, omega: float) -> np.ndarray:
+    """The states' weights in the orbit's norm: 1 / scale^2 (the model's scales, options.scales over them)."""
+    names = set(model.names)
+    scale = {n: model.variable(n).scale for n in dyn.state_names if n in names}
+    # a mechanism's velocity states (q_dot) are no variables: on a cycle of angular frequency omega they swing
+    # omega times their coordinate's amplitude, so that is their scale (else they swamp the orbit's norm)
+    scale.update({n: model.variable(n[:-4]).scale * omega for n in dyn.state_names
+                  if n not in names and n.endswith("_dot") and n[:-4] in names})
+    scale.update(options.scales)
+    return np.array([1.0 / scale.get(n, 1.0) ** 2 for n in dyn.state_names])
 
 
 def cycles_from_hopf(model, x: np.ndarray, vary: str, *, options: ContinuationOptions | None = None, ntst: int = 20,
@@ -114,6 +99,7 @@ def cycles_from_hopf(model, x: np.ndarray, vary: str, *, options: ContinuationOp
     _check_options(ntst, ncol, adapt)
     dyn, system = _system(model, vary, x, ntst, ncol, options)
     hopf = hopf_point(model, dyn, x, vary)
+    system = CycleSystem(system.rates, system.mesh, _weights(model, dyn, options, hopf.omega), system.p_weight)
     system.rates.x_base = hopf.x.copy()
     start = hopf_start(system, hopf)
     return continue_cycles(model, system, start, vary, options, at=at, adapt=adapt, progress=progress,
@@ -173,7 +159,8 @@ class _Run:
                                      o.max_newton)
         t = system.tangent(lu, t0)
         # the multipliers from the last factors: their Jacobian is that of the converged orbit to within the tolerance
-        pt = _Point(system, X, t, nontrivial_multipliers(lu.multipliers()))
+        mu = lu.multipliers()
+        pt = _Point(system, X, t, nontrivial_multipliers(mu), trivial=complex(mu[np.argmin(np.abs(mu - 1.0))]))
         pt.iterations = iters  # type: ignore[attr-defined]
         return pt
 
@@ -208,7 +195,7 @@ class _Run:
         X = new_sys.pack(sys_.mesh.moved(u, mesh), T, p)
         t = new_sys.pack(sys_.mesh.moved(tu, mesh), tT, tp)
         t /= new_sys.norm(t)
-        return _Point(new_sys, X, t, cur.mu, cur.label, cur.approximate)
+        return _Point(new_sys, X, t, cur.mu, cur.label, cur.approximate, cur.trivial)
 
     # -- events ---------------------------------------------------------------------------------
     def events(self, cur: _Point, new: _Point, ds: float) -> list[tuple[float, _Point]]:
@@ -244,14 +231,15 @@ class _Run:
                 sigma = brentq(g, 0.0, ds, xtol=1e-13 * max(ds, 1e-6), fa=a, fb=b)
                 pt = cache[sigma] if sigma in cache else self.solve(cur.system, cur.X, cur.t, sigma)
             except (NewtonFailure, ValueError, RuntimeError):
-                sigma, pt = ds, _Point(new.system, new.X, new.t, new.mu, approximate=True)
+                sigma, pt = ds, _Point(new.system, new.X, new.t, new.mu, approximate=True, trivial=new.trivial)
             if label == "PD" and not np.any((pt.mu.imag == 0) & (np.abs(pt.mu + 1) < ON_CIRCLE)):
                 continue  # a pair of real multipliers met on the negative axis: not a crossing of -1
             if label == "NS" and not np.any((pt.mu.imag > 0) & (np.abs(np.abs(pt.mu) - 1) < ON_CIRCLE)):
                 continue  # a real pair became complex inside the circle: not a torus bifurcation
             pt.label = label
-            if label == "LPC" and (len(pt.mu) == 0 or np.min(np.abs(pt.mu - 1)) > FOLD_MULTIPLIER) \
-                    and _amplitude(pt) < HOPF_AMPLITUDE * self.max_amplitude:
+            if label == "LPC" and not _fold_confirmed(pt):
+                if _amplitude(pt) >= HOPF_AMPLITUDE * self.max_amplitude:
+                    continue  # the parameter's tangent changed sign without a fold (noise where D barely moves)
                 # the family turned without a second multiplier at 1, its orbit shrunk to nearly a point:
                 # it passed through a Hopf point (where its amplitude changes sign) and ends there
                 pt.label = "HB"
@@ -291,7 +279,7 @@ def continue_cycles(model, system: CycleSystem, start: CycleStart, vary: str, op
     run.points.append(cur)
     run.s.append(0.0)
     status, message = Status.COMPLETED, ""
-    steps, s_cur = 0, 0.0
+    steps, s_cur, homoclinic = 0, 0.0, 0
     while True:
         if steps >= options.max_steps:
             message = f"stopped after max_steps={options.max_steps}"
@@ -329,13 +317,30 @@ def continue_cycles(model, system: CycleSystem, start: CycleStart, vary: str, op
         run.points.append(new)
         s_cur += ds
         run.s.append(s_cur)
+        homoclinic = homoclinic + 1 if _period_runs_away(cur, new, system.p_weight) else 0
         cur = new
         steps += 1
         if progress is not None:
             progress(1)
+        if start.label == "HB" and steps == VERTICAL_STEPS and _vertical(run, system.p_weight):
+            msg = (f"the family cannot start: it does not leave {vary} = {X0[-1]:.8g} in {steps} steps while its "
+                   f"orbits grow (a degenerate Hopf point: first Lyapunov coefficient 0, a vertical family)")
+            raise ConvergenceError(msg, partial=_branch(model, run, Status.STEP_UNDERFLOW, msg))
+        if homoclinic >= HOMOCLINIC_STEPS:
+            _, T, p = cur.system.split(cur.X)
+            message = (f"period growing without bound: approaching a homoclinic orbit at {vary} = {p:.8g} "
+                       f"(period {T:.6g} s)")
+            break
     if not run.points[-1].label:
         run.points[-1].label = "EP"
     return _branch(model, run, status, message)
+
+
+def _vertical(run: _Run, p_weight: float) -> bool:
+    """True when no orbit so far has moved the parameter from the start's by more than 1e-9 of its scale."""
+    p = np.array([pt.X[-1] for pt in run.points])
+    scale = max(abs(p[0]), 1.0 / math.sqrt(p_weight) if p_weight > 0 else 0.0, 1e-300)
+    return bool(np.max(np.abs(p - p[0])) <= 1e-9 * scale)
 
 
 def _hopf_end(model, pt: _Point, vary: str) -> tuple[_Point, str]:

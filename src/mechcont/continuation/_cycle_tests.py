@@ -1,0 +1,80 @@
+"""What the continuation of cycles measures between orbits: the test functions of folds, period doublings and
+tori, the confirmation of a located fold, the amplitude, and the signs of a family approaching a homoclinic orbit."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._cycle_system import CycleSystem
+
+#: |mu| beyond 1 + this counts as unstable (the collocation's multipliers are accurate to its order)
+UNSTABLE = 1e-6
+#: a located PD/NS must have its multiplier(s) this close to the unit circle, else it is not labelled
+ON_CIRCLE = 1e-4
+#: at a fold of cycles a second multiplier is 1; a turn whose nearest is further from 1 than this, at an orbit
+#: smaller than HOPF_AMPLITUDE times the family's largest, is the family arriving at a Hopf point
+FOLD_MULTIPLIER = 1e-3
+HOPF_AMPLITUDE = 0.1
+#: the largest tolerance on the second multiplier of a fold, however inaccurate the multipliers
+FOLD_MULTIPLIER_MAX = 0.1
+#: towards a homoclinic orbit the period grows while the parameter stops: HOMOCLINIC_STEPS consecutive steps with
+#: (relative change of the parameter) / (relative growth of the period) below HOMOCLINIC_RATIO end the family
+HOMOCLINIC_RATIO = 1e-5
+HOMOCLINIC_STEPS = 3
+#: a family from a Hopf point whose parameter has not moved after this many steps is vertical (l1 = 0)
+VERTICAL_STEPS = 5
+
+
+@dataclass
+class _Point:
+    system: CycleSystem
+    X: np.ndarray
+    t: np.ndarray
+    mu: np.ndarray  # non-trivial multipliers
+    label: str = ""
+    approximate: bool = False
+    trivial: complex = 1.0  # the trivial multiplier as computed: its distance from 1 is the multipliers' error
+
+
+def _pd(mu: np.ndarray) -> float:
+    real_neg = mu[(mu.imag == 0) & (mu.real < 0)].real
+    return float(np.prod(1.0 + real_neg)) if len(real_neg) else 1.0
+
+
+def _ns(mu: np.ndarray) -> float:
+    pairs = mu[mu.imag > 0]
+    return float(np.prod(np.abs(pairs) - 1.0)) if len(pairs) else 1.0
+
+
+def _period_runs_away(a: _Point, b: _Point, p_weight: float) -> bool:
+    """True when the period grows from ``a`` to ``b`` while the parameter hardly moves (HOMOCLINIC_RATIO): the
+    family approaching a homoclinic orbit, where the period tends to infinity at a finite parameter value."""
+    Ta, pa, Tb, pb = a.X[-2], a.X[-1], b.X[-2], b.X[-1]
+    if not (Tb > Ta > 0):
+        return False
+    scale = max(abs(pa), 1.0 / math.sqrt(p_weight) if p_weight > 0 else 0.0, 1e-300)
+    return abs(pb - pa) / scale < HOMOCLINIC_RATIO * (Tb - Ta) / Ta
+
+
+def _fold_confirmed(pt: _Point) -> bool:
+    """True when a second multiplier of ``pt`` is at 1 to within the multipliers' accuracy.
+
+    The trivial multiplier is exactly 1 in exact arithmetic: its computed distance from 1 is the collocation's
+    (and the monodromy product's) error. At a fold the trivial one and the second one form a Jordan block, which
+    turns an error ``e`` of the matrix into a split of ``sqrt(e)``: the tolerance is the larger of
+    FOLD_MULTIPLIER and ten times that square root (at most FOLD_MULTIPLIER_MAX).
+    """
+    if len(pt.mu) == 0:
+        return False
+    tol = min(max(FOLD_MULTIPLIER, 10.0 * math.sqrt(abs(pt.trivial - 1.0))), FOLD_MULTIPLIER_MAX)
+    return bool(np.min(np.abs(pt.mu - 1.0)) <= tol)
+
+
+def _amplitude(pt: _Point) -> float:
+    """The orbit's weighted L2 distance from its mean (0 for an equilibrium)."""
+    u, _, _ = pt.system.split(pt.X)
+    dev = u - pt.system.mesh.mean(u)
+    return math.sqrt(max(float(pt.system.mesh.gram_row(dev * pt.system.weights) @ dev.ravel()), 0.0))
