@@ -238,7 +238,7 @@ def test_not_a_hopf_point_and_bad_samples_are_one_line_errors():
     with pytest.raises(InputError, match="not a Hopf point"):
         hopf_point(m, dynamics_of(m), m.defaults(), "mu")
     sl = _stuart_landau()
-    with pytest.raises(InputError, match="lies at 0: not this point"):  # its Hopf point is at mu = 0, far from 0.8
+    with pytest.raises(InputError, match="lies at 0, far from it: not a Hopf point"):  # its Hopf point: mu = 0
         hopf_point(sl, dynamics_of(sl), sl.vector({"mu": 0.8}), "mu")
     assert hopf_point(sl, dynamics_of(sl), sl.vector({"mu": 0.05}), "mu").x[sl.index("mu")] == pytest.approx(0, abs=1e-14)
     t = np.linspace(0, 1.0, 50)  # a third of a turn: no return to the section

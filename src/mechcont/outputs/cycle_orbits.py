@@ -28,7 +28,7 @@ def write_orbits(cycles, system, path: str | os.PathLike, samples: int = ORBIT_S
     ``system``) at ``samples`` + 1 equally spaced instants as full vectors (SI, radians); returns the path."""
     import csv
 
-    from ..continuation._branch import unit_header
+    from ..continuation import unit_header
     from ..equations import dynamics_of
 
     dyn = dynamics_of(system)
