@@ -59,6 +59,8 @@ def _positive_definite(Mr: np.ndarray) -> bool:
 #: still contracts the error by that factor (three digits or more), and the loop's tests stop at rounding as
 #: before; it saves a compiled call and a factorisation per call of the rates (a time simulation's inner loop).
 _CHORD = 1e-3
+#: A Newton step of at most this many ulps (relative) has converged to rounding.
+_ULPS = 4 * float(np.finfo(float).eps)
 
 
 def _solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -109,6 +111,7 @@ class MechanismDynamics:
         self._qscale = np.asarray(scales[self._q], dtype=float)
         self._sscale = np.asarray(scales[self._s], dtype=float)
         self._part: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._cols: tuple[np.ndarray, np.ndarray] = (np.zeros(0, np.intp), np.zeros(0, np.intp))
         if reference is not None:
             self._partition(np.asarray(reference, dtype=float))
 
@@ -127,6 +130,8 @@ class MechanismDynamics:
                 dep = np.sort(piv[:r])
                 _, _, rows = scipy.linalg.qr(B[:, dep].T, mode="economic", pivoting=True)
                 self._part = (np.setdiff1d(np.arange(nq), dep), dep, np.sort(rows[:r]))
+            # the independent and dependent coordinates' positions in the full vector
+            self._cols = (self._q[self._part[0]], self._q[self._part[1]])
         return self._part
 
     @property
@@ -148,12 +153,12 @@ class MechanismDynamics:
         """``x`` with the independent coordinates ``qi``, the dependent ones solved from ``Phi = 0`` (Newton
         from ``x``'s own), and the states ``s``. Raises :class:`ConvergenceError` when Newton fails."""
         indep, dep, rows = self._partition(x)
+        icols, cols = self._cols
         out = np.array(x, dtype=float)
-        out[self._q[indep]] = qi
+        out[icols] = qi
         out[self._s] = s
         if len(dep) == 0:
             return out
-        cols = self._q[dep]
         size = np.maximum(np.abs(out[cols]), self._qscale[dep])
         last, lu = np.inf, None
         for _ in range(30):
@@ -166,7 +171,7 @@ class MechanismDynamics:
             out[cols] += step
             change = float(np.max(np.abs(step) / size))
             # converged to rounding: a step of a few ulps, or one that no longer halves once below 1e-10
-            if change <= 4 * np.finfo(float).eps or (change < 1e-10 and change > 0.5 * last):
+            if change <= _ULPS or (change < 1e-10 and change > 0.5 * last):
                 return out
             last = change
         raise ConvergenceError(f"the dependent coordinates did not close the constraints at {qi}")
@@ -277,7 +282,7 @@ class MechanismDynamics:
             step = np.linalg.solve(A, -res[res.any(axis=1)][:, :, None])[:, :, 0]
             out[active[:, None], cols[None, :]] += step
             change = np.max(np.abs(step) / size[active], axis=1)
-            done = (change <= 4 * np.finfo(float).eps) | ((change < 1e-10) & (change > 0.5 * last[active]))
+            done = (change <= _ULPS) | ((change < 1e-10) & (change > 0.5 * last[active]))
             last[active] = change
             active = active[~done]
             if len(active) == 0:
