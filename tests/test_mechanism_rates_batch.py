@@ -155,3 +155,28 @@ def test_lyapunov_coefficient_takes_its_derivatives_in_one_batch_with_the_same_v
     l1_plain = first_lyapunov(_PointByPoint(dyn), x, omega)[0]
     assert l1_batch == pytest.approx(l1_plain, rel=1e-6)
     assert l1_batch != 0.0
+
+
+def test_shimmy_simulation_keeps_interpolants_only_at_its_end_with_solve_ivps_values():
+    """``simulate_onto`` steps DOP853 itself and builds the interpolants (three more rates per step) only
+    over the last ``WINDOW`` seconds: its samples there must be solve_ivp's dense output of the same
+    integration (the same steps: equal to rounding, 1e-12 rad), and start within one step of the window."""
+    from scipy.integrate import solve_ivp
+
+    from mechcont.equations import dynamics_of
+    from mechcont.paper import _shimmy_analysis as an
+    from mechcont.paper.shimmy import shimmy_mechanism
+
+    mech = shimmy_mechanism()
+    until = 0.3
+    sim = an.simulate_onto(60.0, mech, until=until)
+    model, x = gear_at(60.0, mech)
+    dyn = dynamics_of(model)
+    z0 = np.array(dyn.state_at(x), float)
+    k = dyn.state_names.index(an.TORSION)
+    z0[k] = sim.disturbance
+    ref = solve_ivp(lambda _t, z: dyn.rates(z, x), (0.0, until), z0, method="DOP853", rtol=1e-8, atol=1e-10,
+                    dense_output=True)
+    assert np.max(np.abs(sim.torsion - ref.sol(sim.t)[k])) < 1e-12
+    steps = np.diff(ref.t)
+    assert until - an.WINDOW - steps.max() <= sim.t[0] <= until - an.WINDOW + 1e-4
