@@ -19,11 +19,11 @@ SECTIONS = [
     ("nose_gear", "nose landing gear downlock analysis (Figs. 7-11, design)"),
     ("design_optimum", "reliability-based design: nose gear free length, lock stay unlock load"),
     ("freefall", "freefall: nose gear and dual-sidestay gear released from the uplock, outcome, loads, lock times"),
+    ("shimmy", "nose-gear shimmy: stability charts by Hopf curves, limit cycles against speed, simulations onto them"),
 ]
 #: Sections run only when named in --only (beyond the 2010 paper): module, title.
 EXTRA_SECTIONS = [
     ("dual_sidestay", "dual-sidestay main gear: retraction, actuator load, lock-up, downlock and unlock loads"),
-    ("shimmy", "nose-gear shimmy: stability charts by Hopf curves, limit cycles against speed, simulations onto them"),
 ]
 
 

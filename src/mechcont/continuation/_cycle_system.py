@@ -42,7 +42,8 @@ class RateFunction:
 
     ``x_base``: the full vector giving every other parameter; ``vary``: the continuation parameter.
     An ODE model (``OdeDynamics``) is evaluated in one call of its compiled batch function; any other
-    dynamics (a mechanism's) through the protocol, point by point.
+    dynamics through the protocol: all states at once where it offers ``rates_batch``,
+    ``rates_jacobian_batch`` and ``parameter_rates_batch`` (a mechanism's), else point by point.
     """
 
     def __init__(self, model, dynamics, vary: str, x_base: np.ndarray):
@@ -55,6 +56,8 @@ class RateFunction:
         self._batch = isinstance(dynamics, OdeDynamics) and hasattr(model, "residual_and_jacobian_batch")
         if self._batch:
             self._cols = np.array([model.index(s) for s in dynamics.state_names], dtype=np.intp)
+        self._dyn_batch = all(hasattr(dynamics, m) for m in
+                              ("rates_batch", "rates_jacobian_batch", "parameter_rates_batch"))
 
     def x_at(self, p: float) -> np.ndarray:
         """The full vector with the continuation parameter at ``p``."""
@@ -72,6 +75,9 @@ class RateFunction:
             F, J = self.model.residual_and_jacobian_batch(X)
             return F, J[:, :, self._cols], J[:, :, self.p_index]
         dyn = self.dynamics
+        if self._dyn_batch:
+            return (dyn.rates_batch(Z, x), dyn.rates_jacobian_batch(Z, x),
+                    dyn.parameter_rates_batch(Z, x, [self.vary])[:, :, 0])
         F = np.array([dyn.rates(z, x) for z in Z])
         Fz = np.array([dyn.rates_jacobian(z, x) for z in Z])
         Fp = np.array([dyn.parameter_rates(z, x, [self.vary])[:, 0] for z in Z])

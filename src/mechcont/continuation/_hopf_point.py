@@ -304,16 +304,21 @@ def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None)
     exact = isinstance(dyn, OdeDynamics) and system is not None
     cols = np.array([system.index(n) for n in dyn.state_names]) if exact else None
 
-    def H(z, a):  # d(J a)/dz at state z: the matrix b -> B_z(a, b)
+    def H(pairs):  # [d(J a)/dz at state z for (z, a) in pairs]: the matrices b -> B_z(a, b)
         if exact:
-            full = np.zeros(len(x))
-            full[cols] = a
-            return system.jacobian_derivative(dyn.full_vector(z, x), full)[:, cols]
-        h = _EPS ** (1 / 3) * max(1.0, float(np.max(np.abs(z)))) / max(float(np.max(np.abs(a))), _EPS)
-        return (np.asarray(dyn.rates_jacobian(z + h * a, x)) - np.asarray(dyn.rates_jacobian(z - h * a, x))) / (2 * h)
-
-    def B(a, b):  # complex bilinear form at the equilibrium
-        return H(z0, a.real) @ b + 1j * (H(z0, a.imag) @ b)
+            out = []
+            for z, a in pairs:
+                full = np.zeros(len(x))
+                full[cols] = a
+                out.append(system.jacobian_derivative(dyn.full_vector(z, x), full)[:, cols])
+            return out
+        hs = [_EPS ** (1 / 3) * max(1.0, float(np.max(np.abs(z)))) / max(float(np.max(np.abs(a))), _EPS)
+              for z, a in pairs]
+        states = [w for (z, a), h in zip(pairs, hs) for w in (z + h * a, z - h * a)]
+        batch = getattr(dyn, "rates_jacobian_batch", None)  # all the Jacobians in one call where offered
+        J = (np.asarray(batch(np.array(states), x), float) if batch is not None
+             else [np.asarray(dyn.rates_jacobian(w, x), float) for w in states])
+        return [(J[2 * i] - J[2 * i + 1]) / (2 * h) for i, h in enumerate(hs)]
 
     lam, V = np.linalg.eig(A)
     q = V[:, int(np.argmin(np.abs(lam - 1j * omega)))]
@@ -323,29 +328,39 @@ def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None)
     p = p / np.conj(np.vdot(p, q))
     a, b = q.real, q.imag
 
-    def S(z):
-        return H(z, a) @ a + H(z, b) @ b
-
     # Richardson's extrapolation of central differences (error O(h^4)): for the exact B, h = eps^(1/5) balances
     # rounding (eps / h) and truncation (h^4) near 1e-13; for a B itself from differences (noise ~ eps^(2/3)),
     # h = eps^(1/6) balances them near 1e-8
     step = _EPS ** (1 / 5) if exact else _EPS ** (1 / 6)
     scale = max(1.0, float(np.max(np.abs(z0))))
+    # every derivative l1 needs, taken at once: B at z0 along a and b (B(qb, .) = B(q, .) with b negated),
+    # and S(z) = B_z(a, a) + B_z(b, b) at z0 +- h d, z0 +- 2 h d for d = a, b (for C)
+    centres = []
+    for d in (a, b):
+        nd = float(np.max(np.abs(d)))
+        if nd > 0:
+            h = step * scale / nd
+            centres += [(d, k, h, z0 + k * h * d, z0 - k * h * d) for k in (1, 2)]
+    Hs = H([(z0, a), (z0, b)] + [(zc, v) for *_, zp, zm in centres for zc in (zp, zm) for v in (a, b)])
+    Ha, Hb = Hs[0], Hs[1]
+    Sv = [Hs[2 + 2 * i] @ a + Hs[3 + 2 * i] @ b for i in range(2 * len(centres))]
+
+    def B(conj, v):  # the complex bilinear form at the equilibrium, B(q, v) or (conj) B(qb, v)
+        return Ha @ v + (-1j if conj else 1j) * (Hb @ v)
 
     def D(d):
-        nd = float(np.max(np.abs(d)))
-        if nd == 0:
+        rows = [i for i, c in enumerate(centres) if c[0] is d]
+        if not rows:
             return np.zeros(len(z0))
-        h = step * scale / nd
-        central = [(S(z0 + k * h * d) - S(z0 - k * h * d)) / (2 * k * h) for k in (1, 2)]
+        central = [(Sv[2 * i] - Sv[2 * i + 1]) / (2 * centres[i][1] * centres[i][2]) for i in rows]
         return (4 * central[0] - central[1]) / 3
 
     C = D(a) + 1j * D(b)
     qb = np.conj(q)
     n = len(z0)
-    h11 = np.linalg.solve(A, B(q, qb))
-    h20 = np.linalg.solve(2j * omega * np.eye(n) - A, B(q, q))
-    l1 = float(np.real(np.vdot(p, C) - 2 * np.vdot(p, B(q, h11)) + np.vdot(p, B(qb, h20))) / (2 * omega))
+    h11 = np.linalg.solve(A, B(False, qb))
+    h20 = np.linalg.solve(2j * omega * np.eye(n) - A, B(False, q))
+    l1 = float(np.real(np.vdot(p, C) - 2 * np.vdot(p, B(False, h11)) + np.vdot(p, B(True, h20))) / (2 * omega))
     method = ("exact second derivatives, third by extrapolated central differences" if exact
               else "finite differences of the rates' Jacobian")
     return l1, q, method

@@ -356,6 +356,35 @@ class MechanicalModel:
         ``Qdot`` ((m, n_q)): array (m, n_q), one call into the compiled code."""
         return self._Q.batch(np.hstack([np.asarray(X, float), np.asarray(Qdot, float)]))
 
+    def _batch_args(self, X, Qdot=None) -> np.ndarray:
+        X = np.asarray(X, float)
+        if Qdot is None:
+            return np.hstack([X, np.zeros((len(X), len(self.coordinates)))])
+        return np.hstack([X, np.asarray(Qdot, float)])
+
+    def phi_batch(self, X) -> np.ndarray:
+        """:meth:`phi` at every row of ``X`` ((m, n_variables)): array (m, n_constraints), one compiled call."""
+        return self._phi.batch(self._batch_args(X))
+
+    def phi_q_batch(self, X) -> np.ndarray:
+        """:meth:`phi_q` at every row of ``X``: array (m, n_constraints, n_q), one compiled call."""
+        return self._phi_q.batch(self._batch_args(X))
+
+    def motion_terms(self, x, qdot) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """What the equations of motion need at ``x`` with the velocities ``qdot``, from one argument vector:
+        ``(M, Q + inertial_forces, gamma, element_state_rates)`` (see those methods for units and shapes)."""
+        a = self._args(x, qdot)
+        r = np.asarray(self._rates(a), float).reshape(-1) if self.element_states else np.zeros(0)
+        return self._M(a), self._Q(a) + self._inertial(a), self._gamma(a), r
+
+    def motion_terms_batch(self, X, Qdot) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`motion_terms` at every row of ``X`` with the velocities ``Qdot``: arrays (m, n_q, n_q),
+        (m, n_q), (m, n_constraints), (m, n_s), one compiled call each."""
+        a = self._batch_args(X, Qdot)
+        m = len(a)
+        r = self._rates.batch(a).reshape(m, -1) if self.element_states else np.zeros((m, 0))
+        return self._M.batch(a), self._Q.batch(a) + self._inertial.batch(a), self._gamma.batch(a), r
+
     def damping_matrix(self, x, qdot=None) -> np.ndarray:
         """-dQ/dqdot, shape (n_q, n_q) (N s/m)."""
         return -self._dQdqd(self._args(x, qdot))

@@ -38,6 +38,9 @@ from collections.abc import Sequence
 
 import numpy as np
 import scipy.linalg
+from scipy.linalg.lapack import dgesv as _dgesv
+from scipy.linalg.lapack import dgetrf as _dgetrf
+from scipy.linalg.lapack import dgetrs as _dgetrs
 
 from ..errors import ConvergenceError, InputError
 from ._dynamics import LinearDynamics
@@ -50,6 +53,37 @@ def _positive_definite(Mr: np.ndarray) -> bool:
     """Whether the reduced mass is positive definite with every eigenvalue above 1e-12 of the largest."""
     w = np.linalg.eigvalsh(0.5 * (Mr + Mr.T))
     return bool(w[0] > 1e-12 * max(w[-1], 1e-300))
+
+#: Below this relative Newton step the factors of the previous iterate's constraint Jacobian are reused (a
+#: chord step): that Jacobian differs from the current one by about the relative step, so each chord step
+#: still contracts the error by that factor (three digits or more), and the loop's tests stop at rounding as
+#: before; it saves a compiled call and a factorisation per call of the rates (a time simulation's inner loop).
+_CHORD = 1e-3
+#: A Newton step of at most this many ulps (relative) has converged to rounding.
+_ULPS = 4 * float(np.finfo(float).eps)
+
+
+def _solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``A^-1 b`` by LAPACK's ``dgesv`` (``np.linalg.solve`` costs three times as much on these small
+    systems, the rates' inner loop); raises ``numpy.linalg.LinAlgError`` when ``A`` is singular."""
+    _, _, sol, info = _dgesv(A, b)
+    if info:
+        raise np.linalg.LinAlgError("singular matrix")
+    return sol
+
+
+def _factor(A: np.ndarray):
+    """LU factors of ``A`` (``dgetrf``) for :func:`_lu_solve`; raises ``LinAlgError`` when singular."""
+    lu, piv, info = _dgetrf(A)
+    if info:
+        raise np.linalg.LinAlgError("singular matrix")
+    return lu, piv
+
+
+def _lu_solve(lu, b: np.ndarray) -> np.ndarray:
+    """``A^-1 b`` from :func:`_factor`'s factors."""
+    return _dgetrs(lu[0], lu[1], b)[0]
+
 
 #: Relative step of the central differences: ``eps^(1/3)`` balances their truncation error
 #: (``h^2 f'''/6``) against rounding (``eps f / h``), leaving about ``eps^(2/3)`` ~ 4e-11 relative.
@@ -77,6 +111,7 @@ class MechanismDynamics:
         self._qscale = np.asarray(scales[self._q], dtype=float)
         self._sscale = np.asarray(scales[self._s], dtype=float)
         self._part: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._cols: tuple[np.ndarray, np.ndarray] = (np.zeros(0, np.intp), np.zeros(0, np.intp))
         if reference is not None:
             self._partition(np.asarray(reference, dtype=float))
 
@@ -95,6 +130,8 @@ class MechanismDynamics:
                 dep = np.sort(piv[:r])
                 _, _, rows = scipy.linalg.qr(B[:, dep].T, mode="economic", pivoting=True)
                 self._part = (np.setdiff1d(np.arange(nq), dep), dep, np.sort(rows[:r]))
+            # the independent and dependent coordinates' positions in the full vector
+            self._cols = (self._q[self._part[0]], self._q[self._part[1]])
         return self._part
 
     @property
@@ -116,51 +153,60 @@ class MechanismDynamics:
         """``x`` with the independent coordinates ``qi``, the dependent ones solved from ``Phi = 0`` (Newton
         from ``x``'s own), and the states ``s``. Raises :class:`ConvergenceError` when Newton fails."""
         indep, dep, rows = self._partition(x)
+        icols, cols = self._cols
         out = np.array(x, dtype=float)
-        out[self._q[indep]] = qi
+        out[icols] = qi
         out[self._s] = s
         if len(dep) == 0:
             return out
-        cols = self._q[dep]
         size = np.maximum(np.abs(out[cols]), self._qscale[dep])
-        last = np.inf
+        last, lu = np.inf, None
         for _ in range(30):
-            step = np.linalg.solve(self.mech.phi_q(out)[np.ix_(rows, dep)], -self.mech.phi(out)[rows])
+            res = self.mech.phi(out)[rows]
+            if not res.any():  # closed exactly (linear constraints after one step): the step would be zero
+                return out
+            if lu is None or last > _CHORD:
+                lu = _factor(self.mech.phi_q(out)[rows][:, dep])
+            step = _lu_solve(lu, -res)
             out[cols] += step
             change = float(np.max(np.abs(step) / size))
             # converged to rounding: a step of a few ulps, or one that no longer halves once below 1e-10
-            if change <= 4 * np.finfo(float).eps or (change < 1e-10 and change > 0.5 * last):
+            if change <= _ULPS or (change < 1e-10 and change > 0.5 * last):
                 return out
             last = change
         raise ConvergenceError(f"the dependent coordinates did not close the constraints at {qi}")
 
-    def _velocities(self, x: np.ndarray, vi: np.ndarray) -> np.ndarray:
-        """All coordinate velocities from the independent ones: ``Phi_q qdot = 0``."""
+    def _velocities(self, x: np.ndarray, vi: np.ndarray, A: np.ndarray | None = None) -> np.ndarray:
+        """All coordinate velocities from the independent ones: ``Phi_q qdot = 0`` (``A``: the kept rows of
+        ``Phi_q`` at ``x`` when already evaluated)."""
         indep, dep, rows = self._partition(x)
         qd = np.zeros(len(self._q))
         qd[indep] = vi
         if len(dep):
-            A = self.mech.phi_q(x)[rows]
-            qd[dep] = np.linalg.solve(A[:, dep], -A[:, indep] @ vi)
+            if A is None:
+                A = self.mech.phi_q(x)[rows]
+            qd[dep] = _solve(A[:, dep], -A[:, indep] @ vi)
         return qd
 
     def accelerations(self, x: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Constrained accelerations ``qddot`` (all coordinates) at the configuration ``x`` with velocities
         ``qd``, from the KKT system ``[M A^T; A 0] [qddot; -mu] = [F; gamma]`` (``F``: applied, inertial
         and mass-proportional damping forces; ``A`` the kept rows of ``Phi_q``)."""
-        mech = self.mech
-        M = mech.mass(x)
-        F = mech.applied_forces(x, qd) + mech.inertial_forces(x, qd)
+        _, _, rows = self._partition(x)
+        M, F, gamma, _ = self.mech.motion_terms(x, qd)
+        return self._solve_kkt(M, F, gamma, self.mech.phi_q(x)[rows] if len(rows) else None, qd)
+
+    def _solve_kkt(self, M, F, gamma, A, qd) -> np.ndarray:
+        """``qddot`` from the KKT system (``A`` the kept rows of ``Phi_q``, None without constraints)."""
         if self.damping:
             F = F - self.damping * (M @ qd)
-        _, _, rows = self._partition(x)
-        if len(rows) == 0:
-            return np.linalg.solve(M, F)
-        A = mech.phi_q(x)[rows]
+        if A is None:
+            return _solve(M, F)
+        _, _, rows = self._part  # type: ignore[misc]
         n, m = M.shape[0], len(rows)
         K = np.zeros((n + m, n + m))
         K[:n, :n], K[:n, n:], K[n:, :n] = M, A.T, A
-        return np.linalg.solve(K, np.concatenate([F, mech.gamma(x, qd)[rows]]))[:n]
+        return _solve(K, np.concatenate([F, gamma[rows]]))[:n]
 
     # -- the Dynamics protocol --------------------------------------------------------------
     def state_at(self, x: np.ndarray) -> np.ndarray:
@@ -185,11 +231,13 @@ class MechanismDynamics:
         Raises :class:`~mechcont.errors.ConvergenceError` where the dependent coordinates cannot close the
         constraints (``z`` too far from the reference configuration for this partition)."""
         qi, vi, s = self._split(z, x)
-        indep, _, _ = self._partition(x)
+        indep, _, rows = self._partition(x)
         xx = self._configuration(qi, s, x)
-        qd = self._velocities(xx, vi)
-        qdd = self.accelerations(xx, qd)
-        return np.concatenate([vi, qdd[indep], self.mech.element_state_rates(xx, qd)])
+        A = self.mech.phi_q(xx)[rows] if len(rows) else None  # once, for the velocities and the KKT system
+        qd = self._velocities(xx, vi, A)
+        M, F, gamma, r = self.mech.motion_terms(xx, qd)
+        qdd = self._solve_kkt(M, F, gamma, A, qd)
+        return np.concatenate([vi, qdd[indep], r])
 
     def _steps(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
         indep, _, _ = self._partition(x)
@@ -198,31 +246,111 @@ class MechanismDynamics:
 
     def rates_jacobian(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
         """``df/dz``: the kinematic rows ``d v_i/dz`` exact, the others by central differences (step
-        :data:`FD_STEP` times each component's magnitude or typical scale)."""
-        z = np.asarray(z, dtype=float)
-        n = len(self._partition(x)[0])
-        J = np.zeros((len(z), len(z)))
-        J[:n, n:2 * n] = np.eye(n)
-        for j, h in enumerate(self._steps(z, x)):
-            zp, zm = z.copy(), z.copy()
-            zp[j] += h
-            zm[j] -= h
-            J[n:, j] = (self.rates(zp, x)[n:] - self.rates(zm, x)[n:]) / (zp[j] - zm[j])
-        return J
+        :data:`FD_STEP` times each component's magnitude or typical scale), all ``2 len(z)`` rates in one
+        :meth:`rates_batch`."""
+        self._split(z, x)
+        return self.rates_jacobian_batch(np.asarray(z, dtype=float)[None, :], x)[0]
 
     def parameter_rates(self, z: np.ndarray, x: np.ndarray, names: Sequence[str]) -> np.ndarray:
         """``df/dp`` for the named parameters by central differences (step :data:`FD_STEP` times the
         parameter's magnitude or scale); the dependent coordinates re-solved at each."""
+        self._split(z, x)
+        return self.parameter_rates_batch(np.asarray(z, dtype=float)[None, :], x, names)[0]
+
+    # -- many states at once (the periodic orbits' collocation points, the Jacobians' differences) --
+    def _configuration_batch(self, QI: np.ndarray, S: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """:meth:`_configuration` at every row of ``QI``, ``S``: the full vectors (m, n_variables). The same
+        Newton iteration row by row (a row leaves the loop when its own test passes), each iteration one
+        compiled call and one stacked solve for the rows still iterating."""
+        indep, dep, rows = self._partition(x)
+        out = np.repeat(np.asarray(x, dtype=float)[None, :], len(QI), axis=0)
+        out[:, self._q[indep]] = QI
+        out[:, self._s] = S
+        if len(dep) == 0 or len(out) == 0:
+            return out
+        mech, cols = self.mech, self._q[dep]
+        size = np.maximum(np.abs(out[:, cols]), self._qscale[dep])
+        last = np.full(len(out), np.inf)
+        active = np.arange(len(out))
+        for _ in range(30):
+            res = mech.phi_batch(out[active])[:, rows]
+            active = active[res.any(axis=1)]  # closed exactly: the step would be zero (as in _configuration)
+            if len(active) == 0:
+                return out
+            Xa = out[active]
+            A = mech.phi_q_batch(Xa)[:, rows][:, :, dep]
+            step = np.linalg.solve(A, -res[res.any(axis=1)][:, :, None])[:, :, 0]
+            out[active[:, None], cols[None, :]] += step
+            change = np.max(np.abs(step) / size[active], axis=1)
+            done = (change <= _ULPS) | ((change < 1e-10) & (change > 0.5 * last[active]))
+            last[active] = change
+            active = active[~done]
+            if len(active) == 0:
+                return out
+        raise ConvergenceError(f"the dependent coordinates did not close the constraints at {QI[active[0]]}")
+
+    def rates_batch(self, Z: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """:meth:`rates` at every row of ``Z`` ((m, len(state_names))): array (m, len(state_names)), equal to
+        the point-by-point rates to rounding; a few compiled calls and stacked solves for all rows."""
+        Z = np.asarray(Z, dtype=float)
+        indep, dep, rows = self._partition(x)
+        n, ns = len(indep), len(self._s)
+        if Z.ndim != 2 or Z.shape[1] != 2 * n + ns:
+            raise InputError("Z", f"needs rows of {2 * n + ns} values ({', '.join(self.state_names)})")
+        mech = self.mech
+        VI = Z[:, n:2 * n]
+        XX = self._configuration_batch(Z[:, :n], Z[:, 2 * n:], x)
+        QD = np.zeros((len(Z), len(self._q)))
+        QD[:, indep] = VI
+        A = mech.phi_q_batch(XX)[:, rows] if len(rows) else None
+        if A is not None and len(dep):
+            QD[:, dep] = np.linalg.solve(A[:, :, dep], -(A[:, :, indep] @ VI[:, :, None]))[:, :, 0]
+        M, F, G, R = mech.motion_terms_batch(XX, QD)
+        if self.damping:
+            F = F - self.damping * (M @ QD[:, :, None])[:, :, 0]
+        if A is None:
+            QDD = np.linalg.solve(M, F[:, :, None])[:, :, 0]
+        else:
+            nq, m = M.shape[1], len(rows)
+            K = np.zeros((len(Z), nq + m, nq + m))
+            K[:, :nq, :nq], K[:, :nq, nq:], K[:, nq:, :nq] = M, A.transpose(0, 2, 1), A
+            rhs = np.concatenate([F, G[:, rows]], axis=1)
+            QDD = np.linalg.solve(K, rhs[:, :, None])[:, :nq, 0]
+        return np.concatenate([VI, QDD[:, indep], R], axis=1)
+
+    def rates_jacobian_batch(self, Z: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """:meth:`rates_jacobian` at every row of ``Z``: array (m, n_z, n_z); the ``2 m n_z`` differenced
+        rates in one :meth:`rates_batch`."""
+        Z = np.asarray(Z, dtype=float)
+        n = len(self._partition(x)[0])
+        m, nz = Z.shape
+        H = np.array([self._steps(z, x) for z in Z]).reshape(m, nz)
+        Zp = np.repeat(Z[:, None, :], nz, axis=1)
+        Zm = Zp.copy()
+        j = np.arange(nz)
+        Zp[:, j, j] += H
+        Zm[:, j, j] -= H
+        R = self.rates_batch(np.concatenate([Zp.reshape(-1, nz), Zm.reshape(-1, nz)]), x).reshape(2, m, nz, nz)
+        J = np.zeros((m, nz, nz))
+        J[:, :n, n:2 * n] = np.eye(n)
+        # J[k, :, j] = (f(zp_j) - f(zm_j)) / (zp_j - zm_j): R[., k, j, :] holds f at the j-th shifted state
+        J[:, n:, :] = ((R[0] - R[1]) / (Zp[:, j, j] - Zm[:, j, j])[:, :, None]).transpose(0, 2, 1)[:, n:, :]
+        return J
+
+    def parameter_rates_batch(self, Z: np.ndarray, x: np.ndarray, names: Sequence[str]) -> np.ndarray:
+        """:meth:`parameter_rates` at every row of ``Z``: array (m, n_z, len(names)); two :meth:`rates_batch`
+        per parameter."""
         x = np.asarray(x, dtype=float)
+        Z = np.asarray(Z, dtype=float)
         scales = self.model.scales()
-        out = np.zeros((len(z), len(names)))
+        out = np.zeros((*Z.shape, len(names)))
         for k, name in enumerate(names):
             i = self.model.index(name)
             h = FD_STEP * max(abs(x[i]), scales[i])
             xp, xm = x.copy(), x.copy()
             xp[i] += h
             xm[i] -= h
-            out[:, k] = (self.rates(z, xp) - self.rates(z, xm)) / (xp[i] - xm[i])
+            out[:, :, k] = (self.rates_batch(Z, xp) - self.rates_batch(Z, xm)) / (xp[i] - xm[i])
         return out
 
     def linearise(self, x: np.ndarray) -> LinearDynamics:

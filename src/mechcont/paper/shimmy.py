@@ -15,11 +15,11 @@ gives
 * :func:`stability_grid`: the leading real part over a grid of speed and one parameter, the
   brute-force chart to compare the Hopf curves with.
 
-* :func:`run`: the ``mechcont paper --only shimmy`` section: the equilibrium branch in speed with its
-  Hopf point, the Hopf curves over (speed, damper rate) and (speed, caster) with a brute-force check, the
-  limit cycles against speed with their Floquet stability, two time simulations landing on them, the
-  figures and the summary paragraph (computations in :mod:`._shimmy_analysis`, figures and words in
-  :mod:`._shimmy_figures`).
+* :func:`run`: the ``mechcont paper`` shimmy section (in the default run; ``--only shimmy`` alone): the
+  equilibrium branch in speed with its Hopf point, the Hopf curves over (speed, damper rate) and
+  (speed, caster) with a brute-force check, the limit cycles against speed with their Floquet
+  stability, two time simulations landing on them, the figures and the summary paragraph
+  (computations in :mod:`._shimmy_analysis`, figures and words in :mod:`._shimmy_figures`).
 """
 
 from __future__ import annotations
