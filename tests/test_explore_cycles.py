@@ -127,7 +127,10 @@ def test_the_shimmy_family_plays_one_period_of_the_gear_with_its_tyre_and_rotary
         assert len(poses) == 24
         here = np.flatnonzero(rows == row)
         th_all = orbits.column("theta_wheel")[here]
-        assert np.ptp(th_all) <= table.column("max_theta_wheel")[row] - table.column("min_theta_wheel")[row] + 1e-12
+        # the table's extremes are the mesh nodes'; between them the collocation polynomial may reach further, by
+        # the collocation's accuracy (the same 1e-3 of the amplitude as the ODE orbits above)
+        table_span = table.column("max_theta_wheel")[row] - table.column("min_theta_wheel")[row]
+        assert abs(np.ptp(th_all) - table_span) <= 1e-3 * table_span + 1e-12
         thetas = []
         for pose in poses:
             (name, contact), = pose["contacts"]

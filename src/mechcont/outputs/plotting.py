@@ -39,9 +39,9 @@ def _is_angle(branch, name: str) -> bool:
 
 
 def axis_label(name: str, unit: str) -> str:
-    """``"F (N)"``; an angle (``rad``) is labelled in degrees, ``"theta1 (deg)"``; no unit: the name."""
-    unit = display_unit(unit)
-    return f"{name} ({unit})" if unit else name
+    """``"F (N)"``; an angle (``rad``) is labelled in degrees, ``"theta1 (deg)"``; a quantity without a unit (an
+    ODE file's state or parameter written without one) is labelled dimensionless, ``"u1 (1)"``."""
+    return f"{name} ({display_unit(unit) or '1'})"
 
 
 def axis_values(branch, name: str) -> tuple[np.ndarray, str]:
