@@ -94,15 +94,21 @@ def load_description(name_or_path: str | Path) -> Mechanism:
     Raises :class:`InputError` (``file:line: key: what is wrong``) for a missing file,
     malformed TOML, unknown keys, wrong types and unknown references.
     """
+    text, path = read_text(name_or_path)
+    return parse_description(text, path.name)
+
+
+def read_text(name_or_path: str | Path) -> tuple[str, Path]:
+    """The text of a description file (or of a shipped one by stem) and its path. Raises :class:`InputError`
+    for a missing file, one over the size limit or one that is not UTF-8."""
     path = find_description(name_or_path)
     if path is None:
         valid = ", ".join(builtin_descriptions())
         raise InputError(str(name_or_path), f"no such description file (.toml) or shipped description ({valid})")
     try:
-        text = read_description_bytes(path).decode("utf-8")
+        return read_description_bytes(path).decode("utf-8"), path
     except UnicodeDecodeError as exc:
         raise InputError(str(path), f"cannot read the file ({exc.__class__.__name__})") from None
-    return parse_description(text, path.name)
 
 
 #: Most entries of one table (``[parameters]``, ``[bodies]``, a body's points, ...), and of ``[parameters]``.

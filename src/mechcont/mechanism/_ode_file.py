@@ -24,8 +24,7 @@ from typing import TYPE_CHECKING
 from ..errors import InputError, one_line
 from ._elements import Parameter
 from ._expr import FUNCTIONS, symbol, to_expr
-from ._file import _only, _parameters, _table, _text, description_from_data, locate_error, read_toml
-from ._paths import builtin_descriptions, find_description, read_description_bytes
+from ._file import _only, _parameters, _table, _text, description_from_data, locate_error, read_text, read_toml
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -90,14 +89,7 @@ class OdeSystem:
 def load_file(name_or_path: str | Path) -> Mechanism | OdeSystem:
     """Read a description file (or a shipped one by stem): an :class:`OdeSystem` when it has a
     ``[system]`` table, a mechanism description otherwise. Raises :class:`InputError`."""
-    path = find_description(name_or_path)
-    if path is None:
-        valid = ", ".join(builtin_descriptions())
-        raise InputError(str(name_or_path), f"no such description file (.toml) or shipped description ({valid})")
-    try:
-        text = read_description_bytes(path).decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise InputError(str(path), f"cannot read the file ({exc.__class__.__name__})") from None
+    text, path = read_text(name_or_path)
     return parse_file(text, path.name)
 
 
