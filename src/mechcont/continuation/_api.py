@@ -44,6 +44,19 @@ class _Equilibria(EquilibriumProblem):
         return self.u_of(fp.x), {"null_vector": fp.v, "status": "located", **fp.precision()}
 
 
+def _curve_unknowns(system: EquationSystem, point, vary: str, free: str, hold: Iterable[str],
+                    free_extra: Iterable[str]) -> list[str]:
+    """The unknowns of a two-parameter curve through ``point`` (a fold or Hopf point): its branch's lens (the
+    point's own, else from ``hold``/``free_extra``), without ``vary`` and the second parameter ``free``. Raises
+    :class:`InputError` when ``free`` was one of the branch's unknowns."""
+    states = (point.unknowns if isinstance(point, SpecialPoint) else None) or choose_unknowns(
+        system, hold=hold, free=free_extra, exclude=[vary])
+    states = [s for s in states if s != free]
+    if len(states) != system.n_equations:
+        raise InputError(free, "is one of the unknowns of the branch; choose a parameter that was held")
+    return states
+
+
 def _start_vector(system: EquationSystem, start) -> np.ndarray:
     if isinstance(start, SpecialPoint):
         return np.array(start.x, float)
@@ -269,11 +282,7 @@ def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: 
     options = options or ContinuationOptions()
     system.compile()
     system.index(free)
-    states = (fold.unknowns if isinstance(fold, SpecialPoint) else None) or choose_unknowns(
-        system, hold=hold, free=free_extra, exclude=[vary])
-    states = [s for s in states if s != free]
-    if len(states) != system.n_equations:
-        raise InputError(free, "is one of the unknowns of the branch; choose a parameter that was held")
+    states = _curve_unknowns(system, fold, vary, free, hold, free_extra)
     x0 = _start_vector(system, fold)
     problem = None
     if isinstance(fold, SpecialPoint) and fold.located and fold.vary == vary:

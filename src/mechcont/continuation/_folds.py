@@ -38,6 +38,19 @@ class CuspEvent(Event):
         return problem.quadratic_coefficient(state.u, state.jac)
 
 
+def curve_states(states: Iterable[str], p1: str, p2: str, pair: str, point: str) -> list[str]:
+    """``states`` as a list, checked as the unknowns of a two-parameter curve in ``p1`` and ``p2`` (``pair``:
+    what the two are called, ``"fold parameters"``; ``point``: what is continued, ``"fold"``): neither
+    parameter solved for, the two different."""
+    states = list(states)
+    for p in (p1, p2):
+        if p in states:
+            raise InputError(p, f"is solved for; the two {pair} must not be unknowns")
+    if p1 == p2:
+        raise InputError(p2, f"the second parameter must differ from the {point}'s parameter")
+    return states
+
+
 class FoldProblem(ContinuationProblem):
     """The fold curve of ``system`` in parameters ``(p1, p2)`` as a continuation problem.
 
@@ -68,12 +81,7 @@ class FoldProblem(ContinuationProblem):
     def __init__(self, system: EquationSystem, x_fold: np.ndarray, p1: str, p2: str, states: Iterable[str],
                  scales=None):
         self.system = system.compile()
-        states = list(states)
-        for p in (p1, p2):
-            if p in states:
-                raise InputError(p, "is solved for; the two fold parameters must not be unknowns")
-        if p1 == p2:
-            raise InputError(p2, "the second parameter must differ from the fold's parameter")
+        states = curve_states(states, p1, p2, "fold parameters", "fold")
         self.states = states
         self.p1, self.p2 = p1, p2
         self.idx_vars = np.array([system.index(n) for n in [*states, p1, p2]])

@@ -17,8 +17,9 @@ from collections.abc import Iterable
 import numpy as np
 
 from ..equations import Dynamics, EquationSystem
-from ..errors import ConvergenceError, InputError
+from ..errors import ConvergenceError
 from ._events import Event, _secant
+from ._folds import curve_states
 from ._hopf_point import HopfPoint, HopfTest, first_lyapunov, polish_hopf
 from ._problem import ContinuationProblem
 
@@ -113,12 +114,7 @@ class HopfProblem(ContinuationProblem):
     def __init__(self, system: EquationSystem, x_hopf: np.ndarray, p1: str, p2: str, states: Iterable[str],
                  test: HopfTest, scales=None):
         self.system = system.compile()
-        states = list(states)
-        for p in (p1, p2):
-            if p in states:
-                raise InputError(p, "is solved for; the two Hopf-curve parameters must not be unknowns")
-        if p1 == p2:
-            raise InputError(p2, "the second parameter must differ from the Hopf point's parameter")
+        states = curve_states(states, p1, p2, "Hopf-curve parameters", "Hopf point")
         self.states, self.p1, self.p2, self.test = states, p1, p2, test
         self.idx_vars = np.array([system.index(n) for n in [*states, p1, p2]])
         self.idx = self.idx_vars

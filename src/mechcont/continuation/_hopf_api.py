@@ -9,7 +9,7 @@ import numpy as np
 
 from ..equations import EquationSystem, as_model, dynamics_of
 from ..errors import ConvergenceError, InputError
-from ._api import _bound_events, _limit_events, _run, _start_vector
+from ._api import _bound_events, _curve_unknowns, _limit_events, _run, _start_vector
 from ._branch import Branch, SpecialPoint
 from ._hopf import HopfProblem, hopf_point_of
 from ._hopf_point import HopfTest, polish_hopf
@@ -72,11 +72,7 @@ def continue_hopf(system: EquationSystem, hopf, vary: str, free: str, *, hold: I
     options = options or ContinuationOptions()
     system.compile()
     system.index(free)
-    states = (hopf.unknowns if isinstance(hopf, SpecialPoint) else None) or choose_unknowns(
-        system, hold=hold, free=free_extra, exclude=[vary])
-    states = [s for s in states if s != free]
-    if len(states) != system.n_equations:
-        raise InputError(free, "is one of the unknowns of the branch; choose a parameter that was held")
+    states = _curve_unknowns(system, hopf, vary, free, hold, free_extra)
     dyn = dynamics or dynamics_of(as_model(system))
     start = locate_hopf(system, hopf, vary, dynamics=dyn) if not isinstance(hopf, SpecialPoint) else (
         hopf if hopf.located and "hopf" in hopf.extra else
