@@ -121,9 +121,9 @@ def hopf_lines(branch) -> list[str]:
         hopf = p.extra.get("hopf")
         if p.label != "HB" or hopf is None:
             continue
-        out.append(f"{name} at {v} = {branch_value(branch, v, p.values[v]):.10g} {unit}: omega = "
-                   f"{hopf.frequency:.10g} rad/s (period {hopf.period:.6g} s), l1 = {hopf.lyapunov:.6g}: "
-                   f"{hopf.criticality}".replace("  ", " "))
+        where = f"{branch_value(branch, v, p.values[v]):.10g}" + (f" {unit}" if unit else "")
+        out.append(f"{name} at {v} = {where}: omega = {hopf.frequency:.10g} rad/s (period {hopf.period:.6g} s), "
+                   f"l1 = {hopf.lyapunov:.6g}: {hopf.criticality}")
     return out
 
 
