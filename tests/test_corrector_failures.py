@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from mechcont.continuation import ContinuationOptions, DenseLU
-from mechcont.continuation._palc import _NOT_FINITE, PseudoArclength
+from mechcont.continuation._corrector import _NOT_FINITE, PseudoArclength
 from mechcont.continuation._problem import ContinuationProblem
 
 

@@ -95,7 +95,7 @@ def test_corrector_never_accepts_on_a_growing_correction():
     corrections grow must not be accepted while they are above the rounding noise, even where the
     residual passes its tolerance (5e-11 < 1e-10): q/(1-q) < 0 there must not read as converged."""
     from mechcont.continuation import ContinuationOptions
-    from mechcont.continuation._palc import PseudoArclength
+    from mechcont.continuation._corrector import PseudoArclength
 
     eng = PseudoArclength(_Overshooting(1.0), ContinuationOptions())
     z, reason, _ = eng.correct(np.array([1.0 + 5e-11, 0.0]), np.array([0.0, 1.0]))
@@ -108,7 +108,7 @@ def test_corrector_accepts_a_point_whose_corrections_are_rounding_noise():
     double precision allows (here within a few units in the last place of the solution), and the
     same overshooting iteration that is refused above the floor is accepted there."""
     from mechcont.continuation import ContinuationOptions
-    from mechcont.continuation._palc import PseudoArclength
+    from mechcont.continuation._corrector import PseudoArclength
 
     eng = PseudoArclength(_Overshooting(1e7), ContinuationOptions())
     z, _, _ = eng.correct(np.array([1e7 + 3e-9, 0.0]), np.array([0.0, 1.0]))

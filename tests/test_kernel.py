@@ -16,9 +16,9 @@ import sympy as sp
 from mechcont import EquationSystem, Variable
 from mechcont.continuation import ContinuationOptions, _kernel, continuation, find_equilibrium
 from mechcont.continuation._api import _Equilibria
+from mechcont.continuation._corrector import PseudoArclength
 from mechcont.continuation._events import BranchPointEvent
 from mechcont.continuation._newton import residual_met
-from mechcont.continuation._palc import PseudoArclength
 from mechcont.models import build_overcentre, load_model
 from mechcont.models.nose_gear import build_nose_gear
 

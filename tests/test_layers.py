@@ -345,7 +345,6 @@ MAX_LINES = 500
 LONG_FILES_AT_START = {
     "equations/_system.py": 663,
     "outputs/animation.py": 630,
-    "continuation/_palc.py": 552,
     "equations/_cache.py": 528,
 }
 LONG_FILES = dict(LONG_FILES_AT_START)

@@ -68,7 +68,7 @@ class Event:
     def locate(self, stepper, problem: ContinuationProblem, cur: PointState, ds: float, v0: float, v1: float):
         """The zero of :meth:`value` between ``cur`` (sigma = 0) and the accepted step (sigma = ``ds``).
 
-        ``stepper`` is the :class:`~mechcont.continuation._palc.PseudoArclength` that took
+        ``stepper`` is the :class:`~mechcont.continuation._corrector.PseudoArclength` that took
         the step; ``v0``/``v1`` are the values at both ends (of opposite signs). Returns
         ``(sigma, state, info)`` with ``info["status"]`` ``"located"`` (Brent's method on
         sigma, each trial point corrected onto the branch) or ``"approximate"`` (the secant

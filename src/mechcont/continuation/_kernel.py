@@ -1,7 +1,7 @@
 """Which corrector a branch runs: the compiled one (``_ckernel``) where it applies, else Python.
 
 The compiled corrector (:mod:`._ckernel`, built from Cython by ``pip install`` when a C
-compiler is present) takes a whole step of :class:`~._palc.PseudoArclength` in one call:
+compiler is present) takes a whole step of :class:`~._corrector.PseudoArclength` in one call:
 predictor, Newton on the bordered system, the new tangent and the branch-point test
 function. It applies to problems of at most ``MAX_SIZE`` unknowns solved with the default
 dense LU: an equilibrium problem's compiled model is called from C, and so is a fold
