@@ -67,7 +67,7 @@ def test_the_locked_leg_releases_where_its_reaction_reaches_zero():
     x, _ = equilibrium_on_stops(m, m.defaults())
     run = continuation_with_stops(m, x, "Q", direction=0, options=ContinuationOptions(bounds={"Q": (0.0, 1000.0)}))
     (sr,) = run.branch.special("SR")
-    assert sr.extra["stop"] == "downlock" and sr["Q"] == pytest.approx(dV(DOWN, Q=0.0), rel=1e-9)
+    assert sr.stop == "downlock" and sr["Q"] == pytest.approx(dV(DOWN, Q=0.0), rel=1e-9)
 
 
 def test_nothing_consistent_says_what_was_tried():

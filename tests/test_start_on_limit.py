@@ -92,7 +92,7 @@ def test_a_start_on_the_seat_keeps_the_release(sign):
     for start in (x0, equilibrium_on_stops(m, x0)[0], at_rest):
         run = continuation_with_stops(m, start, "F", direction=0, options=_lever_bounds(sign))
         sr = _only(run.branch, "SR")
-        assert sr["F"] == pytest.approx(sign * F_R, rel=1e-9) and sr.extra["stop"] == "seat"
+        assert sr["F"] == pytest.approx(sign * F_R, rel=1e-9) and sr.stop == "seat"
         assert abs(sr["R_seat"]) < 1e-9 and sr.unknowns is not None and "R_seat" in sr.unknowns
         assert not run.branch.special("SC") and not run.branch.special("NSF")
         assert [s[:2] for s in run.switches] == [("SR", "seat")]
@@ -113,16 +113,18 @@ def test_a_start_on_the_latch_keeps_the_non_smooth_fold_and_the_jump(sign):
     assert m.as_dict(x0)["F"] == pytest.approx(sign * F_NSF, rel=1e-12)
     run = continuation_with_stops(m, x0, "F", direction=0, options=TOGGLE_BOUNDS)
     nsf = _only(run.branch, "NSF")
-    assert nsf["F"] == pytest.approx(sign * F_NSF, rel=1e-9) and nsf.extra["stop"] == "latch"
-    assert nsf.extra["jump"] is True and nsf.extra["landing_stable"] is True and nsf.extra["landing_contact"] == ()
-    land = dict(zip(run.branch.names, nsf.extra["landing"]))
+    fold = nsf.nonsmooth
+    assert nsf["F"] == pytest.approx(sign * F_NSF, rel=1e-9) and nsf.stop == "latch" and fold is not None
+    assert fold.jump is True and fold.landing is not None and fold.landing.stable is True and fold.landing.contact == ()
+    land = dict(zip(run.branch.names, fold.landing.x))
     assert land["theta_lever"] == pytest.approx(THETA_LAND, abs=1e-9) and land["F"] == pytest.approx(sign * F_NSF)
     # the same as from the lever at rest on its latch, away from the limit
     rest, contact = equilibrium_on_stops(m, m.defaults())
     assert contact == ["latch"] and m.as_dict(rest)["R_latch"] == pytest.approx(M0 - _dV(LATCH), rel=1e-10)
     away = _only(continuation_with_stops(m, rest, "F", direction=0, options=TOGGLE_BOUNDS).branch, "NSF")
     assert away["F"] == pytest.approx(nsf["F"], rel=1e-9)
-    assert away.extra["landing"] == pytest.approx(nsf.extra["landing"], abs=1e-8)
+    assert away.nonsmooth is not None and away.nonsmooth.landing is not None
+    assert away.nonsmooth.landing.x == pytest.approx(fold.landing.x, abs=1e-8)
 
 
 def _point(output, label, column=1):

@@ -1,13 +1,23 @@
 """One status vocabulary (Status) and typed special points: the words of before still read and compare."""
 
 import json
+from dataclasses import FrozenInstanceError, replace
 
 import numpy as np
 import pytest
 
 import mechcont
 from mechcont._status import Status
-from mechcont.continuation import Branch, ContinuationOptions, SpecialPoint, Termination, continuation, find_equilibrium
+from mechcont.continuation import (
+    Branch,
+    ContinuationOptions,
+    Landing,
+    NonSmoothFold,
+    SpecialPoint,
+    Termination,
+    continuation,
+    find_equilibrium,
+)
 from mechcont.dynamics import SimulationStatus
 from mechcont.errors import InputError
 from mechcont.models import build_overcentre
@@ -43,7 +53,7 @@ def test_an_info_dict_fills_the_typed_fields():
                      "null_vector": v, "residual": 1e-15, "stop": "top"})
     assert p.status is Status.APPROXIMATE and not p.located and p.tag == "LP?" and p.reason == "no polish"
     assert p.vary == "F" and p.unknowns == ("a",) and p.null_vector is v and p.residual == 1e-15
-    assert p.singular_value is None and p.extra == {"stop": "top"}
+    assert p.singular_value is None and p.stop == "top" and p.extra == {}
     info = p.info  # the compatibility view: typed fields when set, then what analyses added
     assert info["status"] == "approximate" and info["unknowns"] == ("a",) and info["stop"] == "top"
     assert "singular_value" not in info and info.get("singular_value") is None
@@ -51,6 +61,25 @@ def test_an_info_dict_fills_the_typed_fields():
         info["status"] = "located"  # type: ignore[index]
     again = _point(info=info)
     assert again.info == info and again.status is p.status
+
+
+def test_a_non_smooth_fold_is_typed_and_its_flat_keys_read_back_into_it():
+    x_land = np.array([0.1, 2.0])
+    fold = NonSmoothFold("top", "F", 2.0, -1, True, Landing(x_land, ("seat",), False))
+    p = SpecialPoint("NSF", 3, np.array([1.0, 2.0]), ("a", "F"), nonsmooth=fold, extra={"note": 1})
+    assert p.stop == "top" and p.nonsmooth is fold and p.extra == {"note": 1}
+    # the view of before (the JSON writes its scalars): stop, the parameter's value, sign, jump, landing...
+    assert dict(p.info) == {"status": "located", "note": 1, "stop": "top", "F": 2.0, "sign": -1, "jump": True,
+                            "landing": x_land, "landing_contact": ("seat",), "landing_stable": False}
+    # rebuilt from that view with its record, the flat keys are not kept twice in extra
+    again = SpecialPoint("NSF", 3, p.x, p.names, info=p.info, nonsmooth=fold)
+    assert again.extra == {"note": 1} and again.stop == "top"
+    # a fold's stop wins over the stop of the switch point it was found at
+    assert SpecialPoint("NSF", 3, p.x, p.names, info={"stop": "seat"}, nonsmooth=fold).stop == "top"
+    no_jump = replace(fold, jump=False, landing=None)
+    assert replace(p, nonsmooth=no_jump).info["landing"] is None and p.nonsmooth is fold
+    with pytest.raises(FrozenInstanceError):
+        p.label = "LP"  # type: ignore[misc]
 
 
 def test_a_point_without_data_is_located_and_its_keywords_win():

@@ -68,7 +68,7 @@ def test_release_then_fold(pendulum):
     assert [s[:2] for s in run.switches] == [("SR", "rest")]
     assert run.contact == [("rest",), ()]
     sr = run.branch[run.branch.special_points[0].label + "1"]
-    assert sr.label == "SR" and sr.info["stop"] == "rest"
+    assert sr.label == "SR" and sr.stop == "rest" and sr.info["stop"] == "rest"
     assert sr["T"] == pytest.approx(M * G * L / 2 * math.cos(THETA0), rel=1e-9)
     assert abs(sr["R_rest"]) < 1e-9
     lp = run.first_fold()

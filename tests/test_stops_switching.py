@@ -46,13 +46,20 @@ def _on_limit(m):
 
 def _check_landing(run, theta, contact):
     (nsf,) = run.branch.special("NSF")
-    assert nsf["T"] == pytest.approx(T_NSF, rel=1e-9) and abs(nsf["R_top"]) < 1e-9 and nsf.info["stop"] == "top"
-    land = nsf.info["landing"]
-    assert land is not None and nsf.info["landing_stable"] is True
-    d = dict(zip(run.branch.names, land))
+    assert nsf["T"] == pytest.approx(T_NSF, rel=1e-9) and abs(nsf["R_top"]) < 1e-9 and nsf.stop == "top"
+    fold = nsf.nonsmooth
+    assert fold is not None and fold.jump is True and fold.sign in (1, -1)
+    assert fold.vary == "T" and fold.value == pytest.approx(nsf["T"], rel=1e-15)
+    land = fold.landing
+    assert land is not None and land.stable is True
+    d = dict(zip(run.branch.names, land.x))
     assert d["T"] == pytest.approx(T_NSF, rel=1e-12)
     assert d["theta_bar"] == pytest.approx(theta, abs=1e-9)
-    assert tuple(nsf.info["landing_contact"]) == contact
+    assert land.contact == contact
+    # the flat keys of before (the JSON's, the info view's) say the same
+    info = nsf.info
+    assert info["stop"] == "top" and info["jump"] is True and info["landing_stable"] is True
+    assert info["T"] == fold.value and info["landing"] is land.x and info["landing_contact"] == contact
     return d
 
 

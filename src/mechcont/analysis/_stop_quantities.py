@@ -107,7 +107,8 @@ def stop_unlock_sensitivity(system: Model, values: Mapping[str, float], force: s
         if not releases:
             raise InputError("unlock_force", f"a non-smooth fold at {force} = {p[force]:.6g} without a release before it")
         last = max(releases, key=lambda q: q[force])
-        return release_sensitivity(system, last.x, last.extra["stop"], force, params)
+        assert last.stop is not None  # an SR point names its stop
+        return release_sensitivity(system, last.x, last.stop, force, params)
     unknowns = list(p.unknowns)
     held = [c.condition for c in system.stops if c.condition not in unknowns]
     return through_limits(system, params, held, lambda names: fold_sensitivity(system, p.x, unknowns, force, names,

@@ -94,12 +94,13 @@ def stop_unlock(system: Model, x: np.ndarray, force: str, *, max_steps: int = 40
                              .replace(" ;", ";"))
             continue
         releases = [q for q in b.special("SR") if min(F0, p[force]) <= q[force] <= max(F0, p[force])]
-        rel = "; ".join(f"stop {q.extra['stop']} releases at {force} = {q[force]:.6g} {unit} (SR)" for q in releases)
+        rel = "; ".join(f"stop {q.stop} releases at {force} = {q[force]:.6g} {unit} (SR)" for q in releases)
         what = f"{'a non-smooth fold (NSF): the release is the snap' if p.label == 'NSF' else 'a fold (LP)'}"
         land = ""
-        if p.label == "NSF" and p.extra.get("landing") is not None:
-            on = ", ".join(p.extra["landing_contact"]) or "no stop"
-            land = f", the mechanism lands on {on} ({'stable' if p.extra['landing_stable'] else 'UNSTABLE'})"
+        landing = p.nonsmooth.landing if p.label == "NSF" and p.nonsmooth is not None else None
+        if landing is not None:
+            on = ", ".join(landing.contact) or "no stop"
+            land = f", the mechanism lands on {on} ({'stable' if landing.stable else 'UNSTABLE'})"
         notes.append(f"{side} {force}: {rel + '; then ' if rel else ''}{what} at {force} = {p[force]:.6g} {unit}{land}")
     warnings = early_stops(b, f"release run in {force}")
     return UnlockFolds(force, F0, stable, below, above, b, notes, warnings)
@@ -120,13 +121,14 @@ def landing_after_unlock(system: Model, x: np.ndarray, unlock: UnlockFolds, span
     except (ConvergenceError, InputError):
         return ""
     nsf = next((q for q in run.branch.special("NSF") if abs(q[f] - p[f]) <= 1e-6 * max(abs(p[f]), sc)), None)
-    if nsf is None or nsf.extra.get("landing") is None:
+    landing = None if nsf is None or nsf.nonsmooth is None else nsf.nonsmooth.landing
+    if landing is None:
         return f"the lock snaps at {f} = {p[f]:.6g}; no equilibrium at that {f} catches it within the release run"
-    at = dict(zip(run.branch.names, nsf.extra["landing"]))
-    on = ", ".join(nsf.extra["landing_contact"]) or "no stop"
+    at = dict(zip(run.branch.names, landing.x))
+    on = ", ".join(landing.contact) or "no stop"
     names = system.mechanics.coordinates if system.mechanics is not None else system.state_names
     moved = max(names, key=lambda n: abs(at[n] - p[n]) / system.variable(n).scale)  # the coordinate that jumps most
-    how = "stable" if nsf.extra["landing_stable"] else "UNSTABLE"
+    how = "stable" if landing.stable else "UNSTABLE"
     unit = system.variable(moved).unit
 
     return (f"the lock snaps at {f} = {p[f]:.6g} {system.variable(f).unit} and lands on {on} ({how}; {moved} from "

@@ -14,7 +14,7 @@ the one-sided tangents choose (the same choice decides a start exactly on a limi
 switch itself and keeps its label: ``SR`` or ``NSF``). Where no set
 continues, the switch is a non-smooth fold (``NSF``: e.g. a release onto an unstable free branch,
 a snap-through); the branch goes on through it like through a smooth fold, and the ``NSF`` point
-says where the mechanism lands (``extra["landing"]``). The pieces are joined into one
+says where the mechanism lands (its :class:`~mechcont.continuation.NonSmoothFold`'s ``landing``). The pieces are joined into one
 :class:`~mechcont.continuation.Branch`: its points carry
 the full variable vector (the conditions and reactions are columns), ``SC``/``SR`` label the
 switches, ``LP`` the folds of the piece they lie on (each keeps its own lens in
@@ -44,6 +44,8 @@ from ..continuation import (
     Branch,
     ContinuationOptions,
     FoldEvent,
+    Landing,
+    NonSmoothFold,
     SpecialPoint,
     ValueEvent,
     choose_unknowns,
@@ -212,7 +214,7 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
     run = StopRun(branch=None)  # type: ignore[arg-type]
     sign = direction
     arriving: set[str] | None = None   # the set of the piece that ended at x (None at the start)
-    folds: dict[int, dict] = {}         # switch number (-1: the start) -> the NSF's info
+    folds: dict[int, NonSmoothFold] = {}  # switch number (-1: the start) -> the NSF there
     released: list[str] = []            # the stops released at the start itself (an SR there)
     run.message = ""
     for _ in range(max_switches + 1):
@@ -231,8 +233,8 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
                 came = arriving if arriving is not None else (back[0] if back else None)
                 through = [a for a in back if a != came]
                 stable = came is not None and stability_on_stops(system, x, sorted(came)).n_unstable == 0
-                folds[len(run.switches) - 1] = {"stop": ", ".join(sorted(undecided)), vary: float(x[system.index(vary)]),
-                                                "sign": sign, "jumps": stable, "n_unstable": 0 if stable else 1}
+                folds[len(run.switches) - 1] = NonSmoothFold(", ".join(sorted(undecided)), vary,
+                                                             float(x[system.index(vary)]), sign, stable)
                 if run.switches:
                     lab, name, i = run.switches[-1]
                     run.switches[-1] = ("NSF", name, i)
@@ -258,16 +260,16 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
         run.directions.append(sign)
         last = len(piece) - 1 if sign > 0 else 0  # a branch's rows run in increasing arclength
         end = next((p for p in piece.special_points if p.index == last and p.label in ("SC", "SR")), None)
-        if end is None or "stop" not in end.extra:
+        if end is None or end.stop is None:
             # the piece's own "+: "/"-: " says its sense; the run's is the one it was started in
             why = "; ".join(m.split(": ", 1)[-1] for m in piece.message.split("; ")) if piece.message else ""
             run.message = f"{'+' if direction > 0 else '-'}: {why or f'ended: {piece.status}'}"
             break
-        run.switches.append((end.label, end.extra["stop"], -1))
+        run.switches.append((end.label, end.stop, -1))
         arriving = set(active)
         sign = _travel(piece, vary, sign)
         x = piece.values[last]
-        undecided = _at_switch(system, x, st) | {end.extra["stop"]}
+        undecided = _at_switch(system, x, st) | {end.stop}
     else:
         run.message = (f"stopped after {max_switches} contact changes at {vary} = {x[system.index(vary)]:.6g} "
                        "(the contact keeps switching there)")
@@ -356,7 +358,7 @@ def _start_release(system: Model, run: StopRun, vary: str, released: Sequence[st
     by_name = {s.name: s for s in system.stops}
     swap = {by_name[n].condition: by_name[n].reaction for n in released}
     unknowns = [swap.get(n, n) for n in p0.unknowns]
-    return SpecialPoint("SR", 0, x0, p0.names, None, {"stop": ", ".join(released)}, status=Status.LOCATED,
+    return SpecialPoint("SR", 0, x0, p0.names, None, stop=", ".join(released), status=Status.LOCATED,
                         vary=vary, unknowns=unknowns)
 
 
@@ -375,10 +377,10 @@ def _contact_stability(system: Model, piece: Branch, contact: Sequence[str]) -> 
     return piece.replace(n_unstable=[stability_on_stops(system, x, contact).n_unstable for x in piece.values])
 
 
-def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun, folds: Mapping[int, dict],
+def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun, folds: Mapping[int, NonSmoothFold],
           start: SpecialPoint | None = None) -> tuple[Branch, list[int]]:
     """One branch of the pieces in travel order; each switch row appears once (the end of its piece), labelled
-    with its switch's label (``NSF`` with its ``folds`` info), the release at the start ``start`` (if any) first;
+    with its switch's label (``NSF`` with its fold of ``folds``), the release at the start ``start`` (if any) first;
     and the piece of each row."""
     rows: list[np.ndarray] = []
     s: list[float] = []
@@ -393,7 +395,7 @@ def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun, folds: M
     if -1 in folds and pieces:   # a non-smooth fold at the start itself
         p0 = pieces[0]
         j0 = 0 if run.directions[0] > 0 else len(p0) - 1
-        special.append(SpecialPoint("NSF", 0, p0.values[j0].copy(), p0.names, None, dict(folds[-1])))
+        special.append(SpecialPoint("NSF", 0, p0.values[j0].copy(), p0.names, None, nonsmooth=folds[-1]))
     for i, (p, sign) in enumerate(zip(pieces, run.directions)):
         order = list(range(len(p))) if sign > 0 else list(range(len(p) - 1, -1, -1))
         pos = {j: k for k, j in enumerate(order)}
@@ -411,21 +413,22 @@ def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun, folds: M
             if k < first:
                 continue
             idx = base + k
-            label, info = sp_.label, dict(sp_.info)
+            label, fold = sp_.label, None
             if sp_.label in ("SC", "SR") and k == len(order) - 1 and k_switch < len(run.switches):
                 label, name, _ = run.switches[k_switch]
                 run.switches[k_switch] = (label, name, idx)
-                info.update(folds.get(k_switch, {}))
+                fold = folds.get(k_switch)
                 labels[idx] = label
                 k_switch += 1
-            special.append(SpecialPoint(label, idx, sp_.x.copy(), sp_.names, sp_.tangent, info))
+            special.append(replace(sp_, label=label, index=idx, x=sp_.x.copy(), extra=dict(sp_.extra),
+                                   nonsmooth=fold, stop=sp_.stop if fold is None else fold.stop))
         offset = s[-1] if s else 0.0
     if -1 in folds and rows:   # the start belongs to the set the mechanism rests on, not to the one through the fold
-        labels[0], stab[0] = "NSF", folds[-1]["n_unstable"]
-        run.switches.insert(0, ("NSF", folds[-1]["stop"], 0))
+        labels[0], stab[0] = "NSF", 0 if folds[-1].jump else 1
+        run.switches.insert(0, ("NSF", folds[-1].stop, 0))
     elif start is not None and rows:
         labels[0] = "SR"
-        run.switches.insert(0, ("SR", start.extra["stop"], 0))
+        run.switches.insert(0, ("SR", start.stop or "", 0))
     unknowns = pieces[0].unknowns if pieces else ()
     status = pieces[-1].status if pieces else Status.FAILED
     branch = Branch(system.names, np.array(rows), s, stab, labels, special, vary, unknowns, status, run.message,
@@ -436,17 +439,16 @@ def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun, folds: M
 def _land(system: Model, run: StopRun, row_piece: list[int], vary: str, hold: list[str], free: list[str],
           stops: Sequence[StopLimit]) -> None:
     """Where the mechanism lands after each ``NSF`` it reached stable: the first equilibrium further along
-    the branch at the fold's value of ``vary``, solved on that piece's contact set (``info`` of the point)."""
+    the branch at the fold's value of ``vary``, solved on that piece's contact set (the ``landing`` of the
+    point's :class:`~mechcont.continuation.NonSmoothFold`)."""
     b = run.branch
     col = b.values[:, b.names.index(vary)] if len(b) else np.zeros(0)
-    for p in b.special_points:
-        if p.label != "NSF":
+    landed: dict[int, SpecialPoint] = {}  # position among the special points -> the NSF with its landing
+    for k, p in enumerate(b.special_points):
+        fold = p.nonsmooth
+        if p.label != "NSF" or fold is None or not fold.jump:
             continue
-        p.extra.pop("n_unstable", None)
-        p.extra.update(jump=p.extra.pop("jumps", False), landing=None, landing_contact=None, landing_stable=None)
-        if not p.extra["jump"]:
-            continue
-        v, sign = p.extra[vary], p.extra["sign"]
+        v, sign = fold.value, fold.sign
         ahead = (col - v) * sign
         j = next((j for j in range(p.index + 2, len(b)) if ahead[j] >= 0 > ahead[j - 1]), None)
         if j is None:
@@ -469,7 +471,9 @@ def _land(system: Model, run: StopRun, row_piece: list[int], vary: str, hold: li
         except ConvergenceError:
             continue
         stable = stability_on_stops(system, x, list(active)).n_unstable == 0 if system.mechanics is not None else None
-        p.extra.update(landing=x, landing_contact=tuple(active), landing_stable=stable)
+        landed[k] = replace(p, nonsmooth=replace(fold, landing=Landing(x, tuple(active), stable)))
+    if landed:
+        run.branch = run.branch.replace(special_points=[landed.get(k, p) for k, p in enumerate(b.special_points)])
 
 
 def _both_ways(system: Model, down: StopRun, up: StopRun) -> StopRun:

@@ -27,6 +27,7 @@ from ._options import ContinuationOptions
 from ._palc import BranchSteps, Termination
 from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns, unstable_rates
 from ._scaling import equilibrate
+from ._special_point import Landing, NonSmoothFold
 from ._start import MAX_STEPS, check_max_steps, run_options, start_point
 
 #: names for the layers above imported from their modules on first use: sensitivities, moving a point, batches
@@ -41,7 +42,8 @@ _LAZY = {
 
 __all__ = [
     "continuation", "continue_folds", "switch_branch", "locate_fold", "find_equilibrium", "ContinuationOptions", "Branch",
-    "SpecialPoint", "Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "CuspEvent",
+    "SpecialPoint", "NonSmoothFold", "Landing",
+    "Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "CuspEvent",
     "PointState", "ContinuationProblem", "EquilibriumProblem", "FoldProblem", "choose_unknowns",
     "Termination", "BranchSteps", "LinearSolver", "DenseLU", "MinimumNorm", "read_branch_table", "read_table",
     "MAX_STEPS", "check_max_steps", "run_options", "start_point", "HopfEvent", "HopfProblem", "HopfPoint",

@@ -1,4 +1,9 @@
-"""A labelled point of a branch (:class:`SpecialPoint`): a fold, a branch point, a cusp, an end or an event."""
+"""A labelled point of a branch (:class:`SpecialPoint`): a fold, a branch point, a cusp, an end or an event.
+
+What a stop adds to its points is typed: the stop(s) switching at ``SC``/``SR``/``NSF``
+(:attr:`SpecialPoint.stop`), and at a non-smooth fold a :class:`NonSmoothFold` with, when the
+mechanism jumps there and comes to rest, its :class:`Landing`.
+"""
 
 from __future__ import annotations
 
@@ -10,13 +15,55 @@ import numpy as np
 
 from .._status import Status
 
-__all__ = ["SpecialPoint"]
+__all__ = ["SpecialPoint", "NonSmoothFold", "Landing"]
 
 #: How many values a :class:`SpecialPoint`'s repr shows.
 _REPR_VALUES = 60
 
 
-@dataclass(init=False)
+@dataclass(frozen=True)
+class Landing:
+    """Where the mechanism comes to rest after jumping at a non-smooth fold.
+
+    ``x`` the full variable vector of the equilibrium it lands on (SI units, ordered like the
+    branch's names), at the fold's value of the continuation parameter, further along the branch;
+    ``contact`` the stops in contact there; ``stable`` whether it is stable there (None for a model
+    without mechanics).
+    """
+
+    x: np.ndarray
+    contact: tuple[str, ...]
+    stable: bool | None
+
+
+@dataclass(frozen=True)
+class NonSmoothFold:
+    """What an ``NSF`` point (a contact switch where no contact set continues the branch) carries.
+
+    ``stop`` the stop(s) switching there (comma-joined); ``vary`` the continuation parameter and
+    ``value`` its value there (SI); ``sign`` the sense (+1/-1) ``vary`` was pushed in arriving;
+    ``jump`` True when the mechanism arrived stable, so it jumps there as ``vary`` goes on;
+    ``landing`` where it lands (None when it does not jump, or no equilibrium was found further along
+    the branch at ``value``).
+    """
+
+    stop: str
+    vary: str
+    value: float
+    sign: int
+    jump: bool
+    landing: Landing | None = None
+
+    def fields(self) -> dict:
+        """The fold as the flat keys of before (:attr:`SpecialPoint.info`, the JSON): ``{vary: value}``,
+        ``sign``, ``jump``, ``landing`` (its ``x``), ``landing_contact``, ``landing_stable``."""
+        land = self.landing
+        return {self.vary: self.value, "sign": self.sign, "jump": self.jump,
+                "landing": None if land is None else land.x, "landing_contact": None if land is None else land.contact,
+                "landing_stable": None if land is None else land.stable}
+
+
+@dataclass(init=False, frozen=True)
 class SpecialPoint:
     """A labelled point of a branch (AUTO's vocabulary).
 
@@ -49,8 +96,13 @@ class SpecialPoint:
         for (None for a point read from a table).
     null_vector:
         The null vector over :attr:`unknowns`' states at a fold (None elsewhere).
+    stop:
+        The stop(s) whose contact switches at an ``SC``, ``SR`` or ``NSF`` point (comma-joined; None
+        elsewhere).
+    nonsmooth:
+        At an ``NSF`` point its :class:`NonSmoothFold` (None elsewhere).
     extra:
-        What an analysis adds (a stop's name, where the mechanism lands, dropped rows...).
+        What an analysis adds otherwise (a bound's name, dropped rows, a Hopf point's data...).
     info:
         All of the above as one read-only dict (the keys of before: ``"status"``,
         ``"null_vector"``, ``"residual"``, ...); pass ``info=`` to the constructor to fill
@@ -69,34 +121,44 @@ class SpecialPoint:
     vary: str | None
     unknowns: tuple[str, ...] | None
     null_vector: np.ndarray | None
+    stop: str | None
+    nonsmooth: NonSmoothFold | None
     extra: dict
 
     def __init__(self, label: str, index: int, x: np.ndarray, names: tuple[str, ...], tangent: np.ndarray | None = None,
                  info: Mapping | None = None, *, status: Status | str | None = None, reason: str | None = None,
                  residual: float | None = None, singular_value: float | None = None, vary: str | None = None,
                  unknowns: Sequence[str] | None = None, null_vector: np.ndarray | None = None,
-                 extra: Mapping | None = None):
+                 stop: str | None = None, nonsmooth: NonSmoothFold | None = None, extra: Mapping | None = None):
         rest = dict(info or {})
         typed = {k: rest.pop(k, None) for k in _TYPED}
-        self.label, self.index, self.x, self.names, self.tangent = label, index, x, names, tangent
-        self.status = Status.of(status or typed["status"] or Status.LOCATED)
-        self.reason = str(reason if reason is not None else typed["reason"] or "")
-        self.residual = _first(residual, typed["residual"])
-        self.singular_value = _first(singular_value, typed["singular_value"])
-        self.vary = _first(vary, typed["vary"])
+        if nonsmooth is not None:  # its flat keys (an NSF point's info passed back in) are the record's
+            for k in nonsmooth.fields():
+                rest.pop(k, None)
         lens = _first(unknowns, typed["unknowns"])
-        self.unknowns = None if lens is None else tuple(lens)
-        self.null_vector = _first(null_vector, typed["null_vector"])
-        self.extra = {**rest, **(extra or {})}
+        fields = {"label": label, "index": index, "x": x, "names": names, "tangent": tangent,
+                  "status": Status.of(status or typed["status"] or Status.LOCATED),
+                  "reason": str(reason if reason is not None else typed["reason"] or ""),
+                  "residual": _first(residual, typed["residual"]),
+                  "singular_value": _first(singular_value, typed["singular_value"]),
+                  "vary": _first(vary, typed["vary"]), "unknowns": None if lens is None else tuple(lens),
+                  "null_vector": _first(null_vector, typed["null_vector"]),
+                  "stop": _first(stop, None if nonsmooth is None else nonsmooth.stop, typed["stop"]),
+                  "nonsmooth": nonsmooth, "extra": {**rest, **(extra or {})}}
+        for k, v in fields.items():  # frozen: the one place its fields are set
+            object.__setattr__(self, k, v)
 
     @property
     def info(self) -> Mapping:
         """The point's data as a read-only dict (the compatibility view of the typed fields and
-        :attr:`extra`): ``"status"`` always, the other typed fields when set."""
+        :attr:`extra`): ``"status"`` always, the other typed fields when set, then :attr:`extra`,
+        ``"stop"`` and a non-smooth fold's keys (:meth:`NonSmoothFold.fields`)."""
         typed = {"status": self.status, "reason": self.reason or None, "null_vector": self.null_vector,
                  "residual": self.residual, "singular_value": self.singular_value, "unknowns": self.unknowns,
                  "vary": self.vary}
-        return MappingProxyType({**{k: v for k, v in typed.items() if v is not None}, **self.extra})
+        stop = {} if self.stop is None else {"stop": self.stop}
+        fold = {} if self.nonsmooth is None else self.nonsmooth.fields()
+        return MappingProxyType({**{k: v for k, v in typed.items() if v is not None}, **self.extra, **stop, **fold})
 
     @property
     def values(self) -> dict[str, float]:
@@ -142,7 +204,7 @@ class SpecialPoint:
 
 
 #: The keys of an ``info`` dict that are typed fields of a :class:`SpecialPoint`.
-_TYPED = ("status", "reason", "residual", "singular_value", "vary", "unknowns", "null_vector")
+_TYPED = ("status", "reason", "residual", "singular_value", "vary", "unknowns", "null_vector", "stop")
 
 
 def _first(*values):

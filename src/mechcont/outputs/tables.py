@@ -160,15 +160,16 @@ def jump_lines(branch, vary: str, y: str) -> list[str]:
     names = dict(zip((id(p) for p in branch.special_points), branch.point_names()))
     for p in branch.special("NSF"):
         at_fold = branch_value(branch, vary, p[vary])
-        head = f"{names[id(p)]}: non-smooth fold at {heading(branch, vary)} = {at_fold:.10g} (stop {p.extra['stop']})"
-        land = p.extra.get("landing")
+        head = f"{names[id(p)]}: non-smooth fold at {heading(branch, vary)} = {at_fold:.10g} (stop {p.stop})"
+        fold = p.nonsmooth
+        land = None if fold is None else fold.landing
         if land is not None:
-            at = dict(zip(branch.names, land))
-            on = ", ".join(p.extra["landing_contact"]) or "none"
-            how = "stable" if p.extra["landing_stable"] else "UNSTABLE"
+            at = dict(zip(branch.names, land.x))
+            on = ", ".join(land.contact) or "none"
+            how = "stable" if land.stable else "UNSTABLE"
             out.append(f"{head}: the mechanism jumps and lands at {heading(branch, y)} = "
                        f"{branch_value(branch, y, at[y]):.10g} (stops in contact: {on}; {how})")
-        elif p.extra.get("jump"):
+        elif fold is not None and fold.jump:
             out.append(f"{head}: the mechanism jumps; no equilibrium at that {vary} further along the branch "
                        "catches it within the bounds")
         else:

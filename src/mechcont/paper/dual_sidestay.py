@@ -401,7 +401,7 @@ class UnlockStudy:
     def release(self, force: str) -> dict[str, float]:
         """``{stop: force (N) at which it leaves its stop}`` along the run of ``force``."""
         b = self.runs[force].branch
-        return {p.info["stop"]: p[force] for p in b.special_points if p.label == "SR"}
+        return {p.stop: p[force] for p in b.special_points if p.label == "SR"}
 
     def unlock(self, force: str) -> float:
         """The unlock load (N): ``force`` at the run's first fold; nan when none up to the bound."""
