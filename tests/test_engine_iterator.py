@@ -7,6 +7,7 @@ from mechcont.continuation import (
     BranchSteps,
     ContinuationOptions,
     DenseLU,
+    EngineSettings,
     MinimumNorm,
     Termination,
     continuation,
@@ -49,6 +50,31 @@ def test_runaway_branch_names_the_growing_variable(start):
     assert b.status == "completed" and "max_steps=60" in b.message
     assert "may grow without bound" in b.message and "--bounds" in b.message
     assert b.special("EP")[0].info["reason"] == "max_steps"
+
+
+def test_the_hint_names_what_a_user_changes(start):
+    s, x0 = start
+    b = continuation(s, x0, "F", direction=-1, options=ContinuationOptions(max_steps=60, dsmax=1.0))
+    assert "--bounds F=LO:HI" in b.message and "bounds={'F': (LO, HI)}" in b.message
+    assert "ContinuationOptions" not in b.message
+
+
+def test_the_engine_settings_are_apart_from_the_options_and_still_steer_the_steps(start):
+    """The engine's internals live in EngineSettings (options.engine): a smaller largest turn of the
+    tangent takes more, shorter steps, and the folds, polished, do not move."""
+    s, x0 = start
+    with pytest.raises(TypeError):
+        ContinuationOptions(max_angle=0.1)  # type: ignore[call-arg]
+    with pytest.raises(InputError, match="max_contraction"):
+        EngineSettings(max_contraction=1.5)
+    with pytest.raises(InputError, match="engine"):
+        ContinuationOptions(engine={"max_angle": 0.1})  # type: ignore[arg-type]
+    bounds = {"theta1": (-1.2, 1.2)}
+    coarse = continuation(s, x0, "F", options=ContinuationOptions(bounds=bounds))
+    fine = continuation(s, x0, "F", options=ContinuationOptions(bounds=bounds, engine=EngineSettings(max_angle=0.02)))
+    assert len(fine) > 2 * len(coarse)
+    assert sorted(p["F"] for p in fine.special("LP")) == pytest.approx(FOLDS, rel=1e-9)
+    assert sorted(p["F"] for p in coarse.special("LP")) == pytest.approx(FOLDS, rel=1e-9)
 
 
 def test_step_underflow_is_a_failure_with_a_reason():

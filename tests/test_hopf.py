@@ -109,7 +109,7 @@ def test_user_points_are_rows_exactly_at_the_values():
     assert [p.label for p in br.special_points if p.label == "UZ"] == ["UZ"] * 3
     for p, v in zip(uz, at):
         assert p["D"] == pytest.approx(v, rel=4e-16, abs=0) and p.located
-        assert np.max(np.abs(m.residual(p.x))) < ContinuationOptions().residual_tol  # the engine's own points' tolerance
+        assert np.max(np.abs(m.residual(p.x))) < ContinuationOptions().engine.residual_tol  # the engine's own points' tolerance
     with pytest.raises(InputError, match="at"):
         continuation(m, m.vector({}), "D", at=[math.nan])
 

@@ -54,6 +54,17 @@ def _stepper(s, x, vary, options=None):
     return PseudoArclength(problem, options), problem
 
 
+def test_a_problem_hands_its_compiled_model_by_name():
+    from mechcont.continuation._problem import CompiledModel
+
+    s = build_overcentre(LU=0.4)
+    x = find_equilibrium(s, hold={"theta1": 0.3}, free=["F"])
+    _, problem = _stepper(s, x, "F")
+    m = problem.compiled_model()
+    assert isinstance(m, CompiledModel) and m.fold is None and m.base is problem.base
+    assert np.array_equal(m.idx, problem.idx) and m.n_out >= len(problem.scale) - 1
+
+
 @needs_kernel
 def test_a_step_on_the_circle_lands_on_the_hyperplane_with_the_exact_tangent(monkeypatch):
     # x^2 + p^2 = 1 from (1, 0), tangent (0, 1), sigma = 0.1: the hyperplane p = 0.1 cuts it at x = sqrt(0.99)

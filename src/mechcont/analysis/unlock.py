@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, TypeVar
 
 import numpy as np
 
-from ..continuation import Branch, ContinuationOptions, FoldEvent, SpecialPoint, continuation
+from ..continuation import Branch, ContinuationOptions, EngineSettings, FoldEvent, SpecialPoint, continuation
 from ..equations import Model
 from ..errors import ConvergenceError, InputError
 from ._runs import early_stops
@@ -113,8 +113,8 @@ def _release_options(system: Model, x: np.ndarray, released, force: str, max_ste
     for n, span in ((force, RELEASE_FORCE_SPAN), *((n, RELEASE_STATE_SPAN) for n in released)):
         v, sc = x[system.index(n)], system.variable(n).scale
         b.setdefault(n, (v - span * sc, v + span * sc))
-    return ContinuationOptions(ds=RELEASE_DS, dsmax=RELEASE_DSMAX, max_angle=RELEASE_MAX_ANGLE, max_steps=max_steps,
-                               bounds=b, detect_folds=False, stability=stability)
+    return ContinuationOptions(ds=RELEASE_DS, dsmax=RELEASE_DSMAX, max_steps=max_steps, bounds=b, detect_folds=False,
+                               stability=stability, engine=EngineSettings(max_angle=RELEASE_MAX_ANGLE))
 
 
 def unlock_folds(system: Model, x: np.ndarray, force: str, released=(), *, max_steps: int = 400,

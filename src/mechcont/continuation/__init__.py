@@ -23,7 +23,7 @@ from ._hopf_api import continue_hopf, locate_hopf
 from ._hopf_point import HopfPoint
 from ._linalg import DenseLU, LinearSolver, MinimumNorm
 from ._newton import find_equilibrium
-from ._options import ContinuationOptions
+from ._options import ContinuationOptions, EngineSettings
 from ._palc import BranchSteps, Termination
 from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns, unstable_rates
 from ._scaling import equilibrate
@@ -41,7 +41,8 @@ _LAZY = {
 }
 
 __all__ = [
-    "continuation", "continue_folds", "switch_branch", "locate_fold", "find_equilibrium", "ContinuationOptions", "Branch",
+    "continuation", "continue_folds", "switch_branch", "locate_fold", "find_equilibrium", "ContinuationOptions", "EngineSettings",
+    "Branch",
     "SpecialPoint", "NonSmoothFold", "Landing",
     "Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "CuspEvent",
     "PointState", "ContinuationProblem", "EquilibriumProblem", "FoldProblem", "choose_unknowns",

@@ -98,7 +98,7 @@ def _check_start(system, problem: ContinuationProblem, u0, options, start_x):
     r, J = problem.evaluate(u0)
     # relative to the sizes of each row's terms (residual_met's floor): the same mechanism written in
     # millimetres and grams has rows a million times larger, solved just as well
-    if not np.all(np.isfinite(r)) or not residual_met(r, J, u0, 1e3 * options.residual_tol):
+    if not np.all(np.isfinite(r)) or not residual_met(r, J, u0, 1e3 * options.engine.residual_tol):
         raise InputError("start", f"is not an equilibrium of {system.name} (largest residual {np.max(np.abs(r)):.3g}, "
                                   "above the rounding of its terms); start from a solved point: hold a state at a "
                                   "value (--start NAME=VALUE) to find one")
@@ -128,11 +128,11 @@ def _run(problem: ContinuationProblem, system, u0, options, events, direction, v
         p = parts[-1]
         take(p, range(len(p.states) - 1, 0 if 1 in parts else -1, -1), -1)
     if 1 in parts:
-        p = parts[1]
+        p, k0 = parts[1], len(rows)
+        take(p, range(len(p.states)), 1)
         if -1 in parts and parts[-1].labels[0] and not p.labels[0]:
             # the start's own label (e.g. EP: started on a bound) was found going backwards
-            p.labels[0], p.info[0] = parts[-1].labels[0], parts[-1].info[0]
-        take(p, range(len(p.states)), 1)
+            labels[k0], infos[k0] = parts[-1].labels[0], parts[-1].info[0]
     values = np.array([st.x for st in rows])
     # the whole branch's stability in one batch
     stab = problem.stability_batch(np.array([st.u for st in rows])) if options.stability else [-1] * len(rows)

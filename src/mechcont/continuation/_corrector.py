@@ -124,7 +124,7 @@ class PseudoArclength:
         if self.kernel is not None:
             code, iters, z, jac, t, sign, logdet = self.kernel.step(z0, t0, sigma, z_start)
             if code:
-                return None, iters, _WORDS.get(_kernel.CODE_NAMES[code], _too_many(self.options.max_newton))
+                return None, iters, _WORDS.get(_kernel.CODE_NAMES[code], _too_many(self.options.engine.max_newton))
             # BranchPointEvent's value from the tangent system's factors
             return self.state(z, t, jac, branch_point_test(sign, logdet, len(z))), iters, ""
         z, jac, iters = self.correct(z0 + sigma * t0, t0, z_start)
@@ -177,7 +177,7 @@ class PseudoArclength:
         return self._correct(z_pred, t0, z_start, self._solve)
 
     def _correct(self, z_pred, t0, z_start, solve):
-        o = self.options
+        o = self.options.engine
         tol, D, evaluate = o.newton_tol, self.D, self.problem.evaluate
         z = np.array(z_pred if z_start is None else z_start, dtype=float)
         A = np.empty((self.n + 1, self.n + 1))

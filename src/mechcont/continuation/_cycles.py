@@ -122,7 +122,7 @@ def cycles_from_samples(model, x: np.ndarray, t: np.ndarray, Z: np.ndarray, vary
     if direction not in (1, -1):
         raise InputError("direction", f"must be +1 or -1, got {direction!r}")
     _, system = _system(model, vary, x, ntst, ncol, options)
-    start = samples_start(system, t, Z, x, tol=options.newton_tol, max_iter=max(options.max_newton, 20))
+    start = samples_start(system, t, Z, x, tol=options.engine.newton_tol, max_iter=max(options.engine.max_newton, 20))
     return continue_cycles(model, system, start, vary, options, at=at, adapt=adapt, progress=progress,
                            direction=direction)
 
@@ -155,8 +155,8 @@ class _Run:
         if closing is None or target is None:
             closing = system.row(t0)
             target = float(closing @ pred)
-        X, lu, iters = system.newton(pred, phase_reference(system, pred), closing, target, o.newton_tol,
-                                     o.max_newton)
+        X, lu, iters = system.newton(pred, phase_reference(system, pred), closing, target, o.engine.newton_tol,
+                                     o.engine.max_newton)
         t = system.tangent(lu, t0)
         # the multipliers from the last factors: their Jacobian is that of the converged orbit to within the tolerance
         mu = lu.multipliers()
@@ -172,7 +172,7 @@ class _Run:
             try:
                 new = self.solve(sys_, cur.X, cur.t, ds)
                 cosang = float(sys_.row(cur.t) @ new.t)
-                if cosang >= math.cos(o.max_angle):
+                if cosang >= math.cos(o.engine.max_angle):
                     self.control.accept(new.iterations)  # type: ignore[attr-defined]
                     new.ds = ds  # type: ignore[attr-defined]
                     return new
@@ -262,8 +262,8 @@ def continue_cycles(model, system: CycleSystem, start: CycleStart, vary: str, op
         closing = np.zeros(system.size)
         closing[-1] = 1.0
         try:
-            X0, lu, _ = system.newton(X0, phase_reference(system, X0), closing, float(X0[-1]), options.newton_tol,
-                                      options.max_newton)
+            X0, lu, _ = system.newton(X0, phase_reference(system, X0), closing, float(X0[-1]), options.engine.newton_tol,
+                                      options.engine.max_newton)
         except NewtonFailure as exc:
             raise ConvergenceError(f"the start orbit does not converge: {exc}") from None
         t0 = direction * system.tangent(lu)

@@ -189,13 +189,13 @@ def solve_at_value(stepper, problem: ContinuationProblem, cur, ds, v0, v1, index
     A[-1, k] = 1.0
     b = np.empty(stepper.n + 1)
     options = stepper.options
-    for _ in range(options.max_newton + 2):
+    for _ in range(options.engine.max_newton + 2):
         r, jac = stepper.evaluate(z)
         if not math.isfinite(r.sum()):
             return None
         b[:-1] = -r
         b[-1] = target - z[k]
-        if residual_met(r, jac, z, options.residual_tol) and abs(b[-1]) < 1e-15 * max(1.0, abs(target)):
+        if residual_met(r, jac, z, options.engine.residual_tol) and abs(b[-1]) < 1e-15 * max(1.0, abs(target)):
             try:
                 return stepper.state(z, stepper.tangent(z, cur.tangent, jac), jac)
             except np.linalg.LinAlgError:
@@ -205,7 +205,7 @@ def solve_at_value(stepper, problem: ContinuationProblem, cur, ds, v0, v1, index
         if dz is None:
             return None
         z = z + dz
-        if np.abs(dz).max() < options.newton_tol:
+        if np.abs(dz).max() < options.engine.newton_tol:
             z[k] = target
     return None
 

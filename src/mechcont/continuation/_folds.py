@@ -23,7 +23,7 @@ from ..errors import InputError
 from ._events import Event
 from ._fold_point import _SOLVER, _norm, _null_vectors, _oriented_coefficient, fold_scaling
 from ._newton import residual_met
-from ._problem import ContinuationProblem, choose_unknowns
+from ._problem import CompiledFold, CompiledModel, ContinuationProblem, choose_unknowns
 
 __all__ = ["FoldProblem", "CuspEvent", "fold_states"]
 
@@ -160,15 +160,12 @@ class FoldProblem(ContinuationProblem):
         out[n] = np.bincount(c, weights=w, minlength=len(self.idx_vars))
         return res, out
 
-    def compiled_model(self):
+    def compiled_model(self) -> CompiledModel | None:
         """The pieces of :meth:`evaluate` for the compiled corrector (:mod:`._kernel`), or None.
 
-        ``(fn, n_out, src, base, idx, fold)``: the equilibrium rows as
+        A :class:`~._problem.CompiledModel`: the equilibrium rows as
         :meth:`EquilibriumProblem.compiled_model <._problem.EquilibriumProblem.compiled_model>`,
-        and ``fold``, what the fold condition's row needs: this ``evaluate`` (called where
-        ``A`` is exactly singular), the compiled second derivatives ``(fn2, n_out2, src2)`` of
-        the entries that enter ``dA``, with their equation ``i``, state position ``pos``,
-        column ``c`` and factor ``R_i C_pos``, and ``R C`` and ``log N``.
+        and ``fold``, what the fold condition's row needs (:class:`~._problem.CompiledFold`).
         """
         gather = self.view.gather_parts()
         values, keep, i, pos, c, factor = self._layout()
@@ -176,8 +173,9 @@ class FoldProblem(ContinuationProblem):
         if gather is None or second is None:
             return None
         fn2, n_out2, src2 = second
-        fold = (self.evaluate, fn2, n_out2, src2[keep], i, pos, c, factor, self._rowcol, self._log_norm)
-        return (*gather, self.base, self.idx_vars, fold)
+        fold = CompiledFold(self.evaluate, fn2, n_out2, src2[keep], i, pos, c, factor, self._rowcol, self._log_norm)
+        fn, n_out, src = gather
+        return CompiledModel(fn, n_out, src, self.base, self.idx_vars, fold)
 
     def residual(self, u):
         return self.evaluate(u)[0]

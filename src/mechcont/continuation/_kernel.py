@@ -20,6 +20,7 @@ from typing import Any
 
 from ._linalg import DenseLU
 from ._options import ContinuationOptions
+from ._problem import CompiledModel
 
 __all__ = ["AVAILABLE", "CODE_NAMES", "bordered_newton"]
 
@@ -39,7 +40,7 @@ CODE_NAMES: dict[int, str] = {} if _ck is None else {code: name for name, code i
 def bordered_newton(problem, scale, options: ContinuationOptions):
     """A compiled stepper (``_ckernel.BorderedNewton``) for ``problem``, or None where it does not apply.
 
-    Where ``problem.compiled_model()`` gives ``(fn, n_out, src, base, idx, fold)`` (see
+    Where ``problem.compiled_model()`` gives a :class:`~._problem.CompiledModel` (see
     :meth:`~._problem.EquilibriumProblem.compiled_model` and
     :meth:`~._folds.FoldProblem.compiled_model`) the model is called from C; where it gives
     None (the protocol's default) ``problem.evaluate`` is called back. ``scale`` are the unknowns' scales
@@ -50,7 +51,10 @@ def bordered_newton(problem, scale, options: ContinuationOptions):
     if type(options.linear_solver) is not DenseLU or len(scale) > _ck.MAX_SIZE:
         return None
     # a problem written to the protocol without subclassing it may lack the hook: no compiled model
-    parts = getattr(problem, "compiled_model", lambda: None)()
-    fn, n_out, src, base, idx, fold = (problem.evaluate, 0, None, None, None, None) if parts is None else parts
-    return _ck.BorderedNewton(fn, n_out, src, base, idx, scale, options.newton_tol, options.residual_tol,
-                              options.max_newton, options.max_contraction, fold)
+    m: CompiledModel | None = getattr(problem, "compiled_model", lambda: None)()
+    e = options.engine
+    if m is None:  # the loop compiled, the model called back
+        return _ck.BorderedNewton(problem.evaluate, 0, None, None, None, scale, e.newton_tol, e.residual_tol,
+                                  e.max_newton, e.max_contraction, None)
+    return _ck.BorderedNewton(m.fn, m.n_out, m.src, m.base, m.idx, scale, e.newton_tol, e.residual_tol, e.max_newton,
+                              e.max_contraction, m.fold)

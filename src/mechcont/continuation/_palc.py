@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import math
 import signal
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from enum import Enum
+from typing import Any
 
 import numpy as np
 
@@ -68,31 +69,33 @@ class StepSizeController:
 
     def reject(self) -> bool:
         """Shrink after a rejected step; False when the step fell below ``dsmin``."""
-        self.ds *= self.options.shrink
+        self.ds *= self.options.engine.shrink
         return self.ds >= self.options.dsmin
 
     def retry_short_of(self, sigma: float) -> bool:
         """Retry with half the distance to a discontinuity at ``sigma``; False below ``dsmin``."""
         o = self.options
-        self.ds = max(0.5 * sigma, o.shrink * o.dsmin)
+        self.ds = max(0.5 * sigma, o.engine.shrink * o.dsmin)
         return self.ds >= o.dsmin
 
     def accept(self, iterations: int) -> None:
         """Adapt after an accepted step whose corrector took ``iterations``."""
         o = self.options
         if iterations <= 3:
-            self.ds = min(self.ds * o.grow, o.dsmax)
+            self.ds = min(self.ds * o.engine.grow, o.dsmax)
         elif iterations >= 6:
-            self.ds = max(self.ds * o.shrink, o.dsmin)
+            self.ds = max(self.ds * o.engine.shrink, o.dsmin)
 
 
-@dataclass
+@dataclass(frozen=True)
 class RecordedPoint:
-    """A point of a branch as the iterator yields it: state, label, info, arclength."""
+    """A point of a branch as the iterator yields it: its :class:`PointState`, its label (``""`` for a plain
+    step, ``"LP"``, ``"EP"``, an event's name...), what its event adds (``{"status": "located", "stop": ...}``,
+    the keys :class:`~._special_point.SpecialPoint` reads) and its arclength ``s`` from the start (scaled)."""
 
     state: PointState
     label: str = ""
-    info: dict = field(default_factory=dict)
+    info: Mapping[str, Any] = field(default_factory=dict)
     s: float = 0.0
 
 
@@ -175,7 +178,7 @@ class BranchSteps(Iterator[RecordedPoint]):
             new, iters, reason = eng.step(cur.z, cur.tangent, ds)
             if new is not None:
                 angle = math.acos(min(1.0, max(-1.0, float(new.tangent @ cur.tangent))))
-                if angle <= self.options.max_angle:
+                if angle <= self.options.engine.max_angle:
                     break
                 reason = f"tangent turned by {math.degrees(angle):.1f} deg"
             if not self.control.reject():
@@ -282,18 +285,20 @@ def _refined(eng: PseudoArclength, problem: ContinuationProblem, cur: PointState
     return float(cur.tangent @ (st.z - cur.z)), st, {**info, **extra}
 
 
-@dataclass
+@dataclass(frozen=True)
 class DirectionResult:
-    """Points of one continuation direction (start point first)."""
+    """Points of one continuation direction (start point first), row by row: ``states``, their number of
+    unstable directions (``stability``, -1 when not computed), ``labels``, ``info`` (as
+    :attr:`RecordedPoint.info`) and scaled ``arclength``; and how the direction ended."""
 
-    states: list = field(default_factory=list)
-    stability: list = field(default_factory=list)
-    labels: list = field(default_factory=list)
-    info: list = field(default_factory=list)
-    arclength: list = field(default_factory=list)
-    status: Status = Status.COMPLETED
-    message: str = ""
-    termination: Termination | None = None
+    states: tuple[PointState, ...]
+    stability: tuple[int, ...]
+    labels: tuple[str, ...]
+    info: tuple[Mapping[str, Any], ...]
+    arclength: tuple[float, ...]
+    status: Status
+    message: str
+    termination: Termination
 
 
 def run_direction(problem: ContinuationProblem, u0: np.ndarray, direction: int, options: ContinuationOptions, events: list[Event],
@@ -307,23 +312,24 @@ def run_direction(problem: ContinuationProblem, u0: np.ndarray, direction: int, 
     with ``status`` / ``message`` / ``termination`` saying why it ended.
     """
     steps = BranchSteps(problem, u0, direction, options, events, tangent0)
-    res = DirectionResult()
+    states: list[PointState] = []
+    labels: list[str] = []
+    info: list[Mapping[str, Any]] = []
+    arclength: list[float] = []
     for point in steps:
-        res.states.append(point.state)
-        res.labels.append(point.label)
-        res.info.append(point.info)
-        res.arclength.append(point.s)
+        states.append(point.state)
+        labels.append(point.label)
+        info.append(point.info)
+        arclength.append(point.s)
         if progress is not None and not point.label and point.s > 0:
             progress(1)
     # one batch for the whole direction: a point's stability plays no part in the stepping
-    res.stability = (problem.stability_batch(np.array([st.u for st in res.states])) if options.stability and stability
-                     else [-1] * len(res.states))
+    stab = (problem.stability_batch(np.array([st.u for st in states])) if options.stability and stability
+            else [-1] * len(states))
     assert steps.termination is not None  # the iterator stops only after setting it
-    res.termination = steps.termination
-    res.status = steps.termination.status
-    res.message = steps.message
     if steps.end_label:
-        res.labels[-1] = res.labels[-1] or steps.end_label
+        labels[-1] = labels[-1] or steps.end_label
     if steps.end_info:
-        res.info[-1] = {**res.info[-1], **steps.end_info}
-    return res
+        info[-1] = {**info[-1], **steps.end_info}
+    return DirectionResult(tuple(states), tuple(stab), tuple(labels), tuple(info), tuple(arclength),
+                           steps.termination.status, steps.message, steps.termination)

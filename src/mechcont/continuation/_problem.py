@@ -11,15 +11,51 @@ two-parameter fold problem (:mod:`._folds`) is handed to the very same engine.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
-from typing import Protocol
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from typing import Any, NamedTuple, Protocol
 
 import numpy as np
 
 from ..equations import EquationSystem, Model
 from ..errors import InputError
 
-__all__ = ["ContinuationProblem", "EquilibriumProblem", "choose_unknowns"]
+__all__ = ["ContinuationProblem", "EquilibriumProblem", "choose_unknowns", "CompiledModel", "CompiledFold"]
+
+
+class CompiledFold(NamedTuple):
+    """What a fold curve's extra row needs in the compiled corrector (:meth:`~._folds.FoldProblem.compiled_model`):
+    the problem's ``evaluate`` (called where the state Jacobian is exactly singular), the compiled second
+    derivatives ``(fn2, n_out2, src2)`` of the entries that enter ``dA``, with their equation ``i``, state
+    position ``pos``, column ``c`` and factor ``R_i C_pos``, and the equilibration's ``rowcol`` (``R C``) and
+    ``log_norm`` (``log N``)."""
+
+    evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+    fn2: Any
+    n_out2: int
+    src2: np.ndarray
+    i: np.ndarray
+    pos: np.ndarray
+    c: np.ndarray
+    factor: np.ndarray
+    rowcol: np.ndarray
+    log_norm: float
+
+
+class CompiledModel(NamedTuple):
+    """A problem's model as the compiled corrector (:mod:`._kernel`) calls it from C.
+
+    ``fn`` the compiled residual-and-Jacobian function of the full variable vector (SymEngine's),
+    writing ``n_out`` values; ``src`` where the residuals and then the Jacobian's columns of the
+    unknowns (``idx``, column by column) are read among them; ``base`` the full vector the unknowns
+    are written into; ``fold`` a fold curve's extra row (:class:`CompiledFold`), None for equilibria.
+    """
+
+    fn: Any
+    n_out: int
+    src: np.ndarray
+    base: np.ndarray
+    idx: np.ndarray
+    fold: CompiledFold | None = None
 
 
 class ContinuationProblem(Protocol):
@@ -79,7 +115,7 @@ class ContinuationProblem(Protocol):
         """Extra events particular to this problem (e.g. cusp detection)."""
         return []
 
-    def compiled_model(self) -> tuple | None:
+    def compiled_model(self) -> CompiledModel | None:
         """The problem's compiled model for the compiled corrector (:mod:`._kernel`), or None: then
         the corrector calls :meth:`evaluate` (see :meth:`EquilibriumProblem.compiled_model`)."""
         return None
@@ -176,17 +212,14 @@ class EquilibriumProblem(ContinuationProblem):
         x[self.idx] = u
         return self._columns.residual_and_jacobian(x)
 
-    def compiled_model(self):
-        """``(fn, n_out, src, base, idx, None)`` for the compiled corrector (:mod:`._kernel`), or None.
-
-        ``fn`` is the compiled residual-and-Jacobian function of the full variable vector,
-        writing ``n_out`` values; ``src`` says where the residuals and then the Jacobian's
-        columns of the unknowns (``idx``, column by column) are read among them. (The last
-        entry is a fold curve's extra row, :meth:`FoldProblem.compiled_model
-        <._folds.FoldProblem.compiled_model>`.)
-        """
+    def compiled_model(self) -> CompiledModel | None:
+        """The :class:`CompiledModel` of the equilibrium rows for the compiled corrector (:mod:`._kernel`),
+        or None when nothing is compiled (a constant model)."""
         gather = self._columns.gather_parts()
-        return None if gather is None else (*gather, self.base, self.idx, None)
+        if gather is None:
+            return None
+        fn, n_out, src = gather
+        return CompiledModel(fn, n_out, src, self.base, np.asarray(self.idx))
 
     def stability(self, u) -> int:
         if self._stability and self._ode:

@@ -63,7 +63,7 @@ def _one_way(run, system, x0: np.ndarray, vary: str, sign: int, options, events)
     model, x, budget = system, x0, options.max_steps
     message = ""
     r = model.residual(x)
-    if model.reselect.quality(x) < 0 or not np.max(np.abs(r), initial=0.0) <= 1e3 * options.residual_tol:
+    if model.reselect.quality(x) < 0 or not np.max(np.abs(r), initial=0.0) <= 1e3 * options.engine.residual_tol:
         # a start the system's choice does not suit, or one solved by another variant (the end of a
         # branch that switched): the choice made here, the reactions solved again
         model, x = model.reselect.switch(model, x, force=True)
