@@ -8,6 +8,7 @@ their own reason, exactly as through the checked solver.
 import numpy as np
 import pytest
 
+from mechcont._status import Status
 from mechcont.continuation import ContinuationOptions, DenseLU
 from mechcont.continuation._corrector import _NOT_FINITE, PseudoArclength
 from mechcont.continuation._problem import ContinuationProblem
@@ -42,6 +43,7 @@ def test_corrector_converges_and_names_each_failure(solver):
     assert z is not None and z[0] ** 2 + z[1] ** 2 == pytest.approx(1.0, abs=1e-12) and z[1] == pytest.approx(0.1)
     # predictor beyond x = 2: the residual is NaN
     assert eng.correct(np.array([3.0, 0.0]), np.array([1.0, 0.0]))[:2] == (None, _NOT_FINITE)
+    assert eng.correct(np.array([3.0, 0.0]), np.array([1.0, 0.0]))[1] is Status.NOT_FINITE
     # at (0, 1) with the border along x: [[0, 2], [1, 0]] is regular, but a border along p makes
     # [[0, 2], [0, 1]] exactly singular
     assert eng.correct(np.array([0.0, 1.0]), np.array([0.0, 1.0]))[:2] == (None, "singular bordered Jacobian")

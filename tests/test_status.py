@@ -63,6 +63,19 @@ def test_an_info_dict_fills_the_typed_fields():
     assert again.info == info and again.status is p.status
 
 
+def test_freefall_outcomes_and_the_correctors_reasons_are_statuses():
+    from mechcont.dynamics import freefall as ff
+
+    assert (ff.LOCKED, ff.AT_REST, ff.MOVING, ff.FAILED) == (Status.LOCKED, Status.AT_REST, Status.STILL_MOVING,
+                                                            Status.FAILED)
+    assert [Status.of(w) for w in ("locked", "at rest", "still moving")] == [ff.LOCKED, ff.AT_REST, ff.MOVING]
+    assert ff.MOVING.success and not Status.FAILED.success
+    # a step rejected for a non-finite residual says so in the words of before, as a Status
+    why = Status.of("residual not finite (outside the model's domain)")
+    assert why is Status.NOT_FINITE and not why.success and "not finite" in why.message
+    assert f"{Status.SINGULAR}; more" == "singular bordered Jacobian; more"
+
+
 def test_a_non_smooth_fold_is_typed_and_its_flat_keys_read_back_into_it():
     x_land = np.array([0.1, 2.0])
     fold = NonSmoothFold("top", "F", 2.0, -1, True, Landing(x_land, ("seat",), False))

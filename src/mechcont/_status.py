@@ -1,4 +1,4 @@
-"""One status vocabulary for every result: branches, special points, simulations, studies.
+"""One status vocabulary for every result: branches, special points, simulations, freefalls, studies, rejected steps.
 
 A :class:`Status` is a ``str`` (its value is the word tables, JSON files and messages have
 always shown: ``"completed"``, ``"located"``...), so ``branch.status == "completed"`` holds and
@@ -19,10 +19,14 @@ __all__ = ["Status"]
 class Status(StrEnum):
     """How a computation ended, or how well a point is known.
 
-    Branches (and fold curves): :attr:`COMPLETED`, :attr:`STEP_UNDERFLOW`, :attr:`FAILED`.
+    Branches (and fold curves): :attr:`COMPLETED`, :attr:`STEP_UNDERFLOW`, :attr:`FAILED` (which
+    :class:`~mechcont.continuation.Termination` of a direction gives which: its ``status``).
     Special points: :attr:`LOCATED`, :attr:`APPROXIMATE`. Time simulations: :attr:`FINISHED`,
-    :attr:`EVENT`, :attr:`FAILED`. Study samples: :attr:`CONVERGED`, :attr:`FAILED`; a study's
-    release run also :attr:`STOPPED_EARLY`.
+    :attr:`EVENT`, :attr:`FAILED`. Freefall outcomes: :attr:`LOCKED`, :attr:`AT_REST`,
+    :attr:`STILL_MOVING`, :attr:`FAILED`. Study samples: :attr:`CONVERGED`, :attr:`FAILED`; a
+    study's release run also :attr:`STOPPED_EARLY`. A corrector's rejected step (its reason, in
+    a branch's message when the step size underflows): :attr:`NOT_FINITE`, :attr:`SINGULAR`,
+    :attr:`TOO_SLOW`, :attr:`SINGULAR_TANGENT` (too many iterations says how many, in its own words).
     """
 
     COMPLETED = "completed"
@@ -33,6 +37,13 @@ class Status(StrEnum):
     EVENT = "event"
     CONVERGED = "converged"
     STOPPED_EARLY = "stopped early"
+    LOCKED = "locked"
+    AT_REST = "at rest"
+    STILL_MOVING = "still moving"
+    NOT_FINITE = "residual not finite (outside the model's domain)"
+    SINGULAR = "singular bordered Jacobian"
+    TOO_SLOW = "corrector converging too slowly"
+    SINGULAR_TANGENT = "singular tangent system"
     FAILED = "failed"
 
     # equal to its word, so it must hash like it too (sets and dict keys of old strings)
@@ -75,6 +86,14 @@ _MESSAGES = {
     Status.EVENT: "A terminal event occurred.",
     Status.CONVERGED: "Every analysis of the sample converged.",
     Status.STOPPED_EARLY: "The run stopped before its end (see its notes).",
+    Status.LOCKED: "The freefall ended with the gear locked.",
+    Status.AT_REST: "The freefall came to rest short of locking.",
+    Status.STILL_MOVING: "The freefall was still moving at its end time (it may have struck the lock and left it).",
+    Status.NOT_FINITE: "A corrector step was rejected: the residual is not finite (outside the model's domain).",
+    Status.SINGULAR: "A corrector step was rejected: the bordered Jacobian is singular.",
+    Status.TOO_SLOW: "A corrector step was rejected: its corrections did not contract (another branch near?).",
+    Status.SINGULAR_TANGENT: "A step was rejected: the tangent system is singular.",
     Status.FAILED: "The computation failed; its own message says where and why.",
 }
-_SUCCESS = frozenset({Status.COMPLETED, Status.LOCATED, Status.FINISHED, Status.EVENT, Status.CONVERGED})
+_SUCCESS = frozenset({Status.COMPLETED, Status.LOCATED, Status.FINISHED, Status.EVENT, Status.CONVERGED, Status.LOCKED,
+                      Status.AT_REST, Status.STILL_MOVING})

@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from .. import _dense
+from .._status import Status
 from . import _kernel
 from ._events import PointState, branch_point_test
 from ._linalg import DenseLU
@@ -24,10 +25,8 @@ __all__ = ["PseudoArclength"]
 
 _add, _max = np.add.reduce, np.maximum.reduce
 # why a correction failed, in the same words from both correctors
-_NOT_FINITE = "residual not finite (outside the model's domain)"
-_SINGULAR = "singular bordered Jacobian"
-_TOO_SLOW = "corrector converging too slowly"
-_SINGULAR_TANGENT = "singular tangent system"
+_NOT_FINITE, _SINGULAR, _TOO_SLOW = Status.NOT_FINITE, Status.SINGULAR, Status.TOO_SLOW
+_SINGULAR_TANGENT = Status.SINGULAR_TANGENT
 _WORDS = {"not_finite": _NOT_FINITE, "singular": _SINGULAR, "too_slow": _TOO_SLOW, "singular_tangent": _SINGULAR_TANGENT}
 
 

@@ -35,7 +35,7 @@ __all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critic
 
 #: Outcomes of a freefall run: locked; at rest short of locking; still moving at ``until`` (it may have
 #: struck the lock and left it); the integrator failed.
-LOCKED, AT_REST, MOVING, FAILED = "locked", "at rest", "still moving", "failed"
+LOCKED, AT_REST, MOVING, FAILED = Status.LOCKED, Status.AT_REST, Status.STILL_MOVING, Status.FAILED
 
 
 @dataclass(frozen=True)
@@ -59,8 +59,8 @@ class FreefallResult:
     Attributes
     ----------
     outcome:
-        ``"locked"``, ``"at rest"`` (short of locking), ``"still moving"`` (at ``until``; it may have
-        struck the lock and left it: see ``stops``) or ``"failed"`` (the integrator failed).
+        A :class:`~mechcont._status.Status`: ``"locked"``, ``"at rest"`` (short of locking), ``"still moving"``
+        (at ``until``; it may have struck the lock and left it: see ``stops``) or ``"failed"`` (the integrator failed).
     lock:
         What counted as locked: ``"stop NAME"`` or ``"NAME = VALUE"``.
     time_to_lock:
@@ -150,7 +150,7 @@ class FreefallResult:
         where it is: the columns ``show`` (default every coordinate)."""
         units = units or {}
         t_end = float(self.history.t[-1])
-        what = {AT_REST: "at rest short of locking", MOVING: f"still moving at t = {t_end:.6g} s"}
+        what: dict[str, str] = {AT_REST: "at rest short of locking", MOVING: f"still moving at t = {t_end:.6g} s"}
         lines = [f"outcome: {what.get(self.outcome, self.outcome)} (lock: {self.lock})"]
         if self.outcome == AT_REST and self.settling:
             lines.append(f"at rest: {self.settling}")
@@ -340,7 +340,7 @@ def freefall(system: Model, start: Mapping[str, float], *, lock, until: float, v
 
 
 def _unlocked_outcome(model, result: SimulationResult, speed: float, rest_speed: float,
-                      lock_stops: Sequence[StopLimit], per_stop: Mapping[str, StopLock]) -> tuple[str, str, bool]:
+                      lock_stops: Sequence[StopLimit], per_stop: Mapping[str, StopLock]) -> tuple[Status, str, bool]:
     """``(outcome, why, decided)`` of a run that ran to its end without locking: at rest only at a stable
     equilibrium with nothing on the way (:func:`~._settle.settled`); a slow run elsewhere creeps (still
     moving, undecided), as does one bouncing on a lock that would hold (its static reaction positive)."""

@@ -178,7 +178,7 @@ def _freefall_chunk(system, spec: StudySpec, S: np.ndarray, start: int, stop: in
 
     pose = _check_freefall(system, spec)
     m = len(S)
-    status, reason = np.full(m, "converged", dtype=object), np.full(m, "", dtype=object)
+    status, reason = np.full(m, _CONVERGED, dtype=object), np.full(m, "", dtype=object)
     outcome = np.full(m, "", dtype=object)
     locked = np.zeros(m, dtype=bool)
     t_lock, impact, spread = np.full(m, np.nan), np.full(m, np.nan), np.full(m, np.nan)
@@ -188,16 +188,16 @@ def _freefall_chunk(system, spec: StudySpec, S: np.ndarray, start: int, stop: in
         values = {**dict(spec.values), **{n: float(v) for n, v in zip(spec.names, S[i])}}
         why = _valid(system, values)
         if why:
-            status[i], reason[i] = "failed", why
+            status[i], reason[i] = _FAILED, why
             continue
         try:
             run = freefall(system, pose, lock=lock, until=spec.until, values=values)
         except (ConvergenceError, InputError) as exc:
-            status[i], reason[i] = "failed", f"freefall: {exc}"
+            status[i], reason[i] = _FAILED, f"freefall: {exc}"
             continue
-        outcome[i], locked[i] = run.outcome, run.locked
-        if run.outcome == "failed":
-            status[i], reason[i] = "failed", f"freefall: {run.history.message}"
+        outcome[i], locked[i] = Status.of(run.outcome).value, run.locked  # plain text, as the status
+        if run.outcome == Status.FAILED:
+            status[i], reason[i] = _FAILED, f"freefall: {run.history.message}"
         for arr, v in ((t_lock, run.time_to_lock), (impact, run.impact_speed), (spread, run.lock_spread)):
             arr[i] = np.nan if v is None else v
     return {"sample": np.arange(start, stop, dtype=np.int64), **{n: S[:, j] for j, n in enumerate(spec.names)},
