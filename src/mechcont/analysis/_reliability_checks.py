@@ -27,7 +27,7 @@ __all__ = ["ImportanceSampling", "MonteCarlo", "importance_sampling", "monte_car
 MC_EVENTS = 10
 
 
-@dataclass
+@dataclass(frozen=True)
 class ImportanceSampling:
     """An importance-sampling estimate: ``probability`` of failure, its coefficient of variation ``cov``,
     ``n`` samples (``failed`` of which could not be solved and were left out), ``seconds``; ``event`` the

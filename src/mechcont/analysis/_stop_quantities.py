@@ -15,6 +15,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import replace
 
 import numpy as np
 
@@ -83,8 +84,7 @@ def preload_sensitivity(system: Model, values: Mapping[str, float], reaction: st
     unknowns = choose_unknowns(system, hold=list(hold), free=free)
     s = through_limits(system, params, hold,
                        lambda names: equilibrium_sensitivity(system, x, unknowns, names, reaction, kind="preload"))
-    s.point = s.point or "lock at rest, all stops held"
-    return s
+    return replace(s, point=s.point or "lock at rest, all stops held")
 
 
 def stop_unlock_sensitivity(system: Model, values: Mapping[str, float], force: str,

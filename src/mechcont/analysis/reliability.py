@@ -248,7 +248,7 @@ def sorm_breitung(beta: float, kappa: np.ndarray) -> float:
     return float(norm.cdf(-beta) * factor) if beta >= 0 else float(1.0 - norm.cdf(beta) * factor)
 
 
-@dataclass
+@dataclass(frozen=True)
 class ReliabilityResult:
     """The outcome of :func:`reliability`: FORM, SORM and the importance-sampling check.
 
@@ -430,7 +430,5 @@ def downlock_reliability(spec: StudySpec, *, n: int | None = None, seed: int | N
     result = reliability(limit, variables, evaluate=evaluate, n=spec.n if n is None else n,
                          seed=spec.seed if seed is None else seed, limit_state="downlock_force" +
                          (f" - {threshold:g}" if threshold else ""))
-    if result.sampling is not None:
-        result.sampling.ran_on = ran_on[0]
-    result.units = {k: system.variable(k).unit for k in names}
-    return result
+    sampling = None if result.sampling is None else replace(result.sampling, ran_on=ran_on[0])
+    return replace(result, sampling=sampling, units={k: system.variable(k).unit for k in names})

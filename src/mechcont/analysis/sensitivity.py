@@ -70,9 +70,7 @@ def _switch_or_cusp(system: Model, x: np.ndarray, params: Iterable[str], vary: s
         if values:
             x = system.vector(values, base=x)
             system.check_limits(x)
-        sens = release_sensitivity(system, x, stop, vary, params)
-        sens.point = f"{label}: release of stop {stop}"
-        return sens
+        return replace(release_sensitivity(system, x, stop, vary, params), point=f"{label}: release of stop {stop}")
     lens = list(unknowns or info.get("unknowns") or [])
     if len(lens) != system.n_equations + 1:
         raise InputError("unknowns", "a cusp's unknowns are the fold's states and then its parameter (a fold "
@@ -167,8 +165,7 @@ def release_sensitivity(system: Model, x: np.ndarray, stop: str, vary: str, para
 
     sens = through_limits(system, params, hold,
                           lambda names: equilibrium_sensitivity(system, x, unknowns, names, vary, kind="release"))
-    sens.point = sens.point or f"release of stop {stop}"
-    return sens
+    return replace(sens, point=sens.point or f"release of stop {stop}")
 
 
 def margin_sensitivity(system: Model, design: str, params: Iterable[str],

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import click
 
 from ..errors import InputError
@@ -68,8 +70,7 @@ def sensitivity_command(model, point, downlock, params_text, sets, holds, frees,
     click.echo(sens.table())
     if out:
         check_output_path(out, "--out", (".json",))  # again: the folder may have changed meanwhile
-        sens.point = "downlock" if downlock else point.rpartition(":")[2]
-        sens.to_json(out)
+        replace(sens, point="downlock" if downlock else point.rpartition(":")[2]).to_json(out)
         click.echo(f"wrote {out}")
 
 

@@ -47,7 +47,7 @@ __all__ = ["Sensitivity", "equilibrium_sensitivity", "fold_sensitivity", "point_
 _SINGULAR = 1e13
 
 
-@dataclass
+@dataclass(frozen=True)
 class Sensitivity:
     """Derivatives of one quantity with respect to parameters, exact at a solved point.
 
@@ -86,7 +86,8 @@ class Sensitivity:
     point: str = ""
 
     def __post_init__(self) -> None:
-        self.derivatives = {p: float(d) + 0.0 for p, d in self.derivatives.items()}  # -0.0 (an exact zero) prints as 0
+        # -0.0 (an exact zero) prints as 0; frozen: set once here
+        object.__setattr__(self, "derivatives", {p: float(d) + 0.0 for p, d in self.derivatives.items()})
 
     def __getitem__(self, name: str) -> float:
         try:
