@@ -445,8 +445,7 @@ def _land(system: Model, run: StopRun, row_piece: list[int], vary: str, hold: li
     col = b.values[:, b.names.index(vary)] if len(b) else np.zeros(0)
     landed: dict[int, SpecialPoint] = {}  # position among the special points -> the NSF with its landing
     for k, p in enumerate(b.special_points):
-        fold = p.nonsmooth
-        if p.label != "NSF" or fold is None or not fold.jump:
+        if p.label != "NSF" or (fold := p.nonsmooth) is None or not fold.jump:
             continue
         v, sign = fold.value, fold.sign
         ahead = (col - v) * sign
@@ -472,8 +471,7 @@ def _land(system: Model, run: StopRun, row_piece: list[int], vary: str, hold: li
             continue
         stable = stability_on_stops(system, x, list(active)).n_unstable == 0 if system.mechanics is not None else None
         landed[k] = replace(p, nonsmooth=replace(fold, landing=Landing(x, tuple(active), stable)))
-    if landed:
-        run.branch = run.branch.replace(special_points=[landed.get(k, p) for k, p in enumerate(b.special_points)])
+    run.branch = run.branch.replace(special_points=[landed.get(k, p) for k, p in enumerate(b.special_points)])
 
 
 def _both_ways(system: Model, down: StopRun, up: StopRun) -> StopRun:
