@@ -13,9 +13,10 @@ from __future__ import annotations
 import math
 import signal
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from enum import Enum
-from typing import Any
+from types import MappingProxyType
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -87,15 +88,15 @@ class StepSizeController:
             self.ds = max(self.ds * o.engine.shrink, o.dsmin)
 
 
-@dataclass(frozen=True)
-class RecordedPoint:
+class RecordedPoint(NamedTuple):
     """A point of a branch as the iterator yields it: its :class:`PointState`, its label (``""`` for a plain
     step, ``"LP"``, ``"EP"``, an event's name...), what its event adds (``{"status": "located", "stop": ...}``,
-    the keys :class:`~._special_point.SpecialPoint` reads) and its arclength ``s`` from the start (scaled)."""
+    the keys :class:`~._special_point.SpecialPoint` reads) and its arclength ``s`` from the start (scaled).
+    Immutable; a tuple (one is made per step: a frozen dataclass costs twice as much to make)."""
 
     state: PointState
     label: str = ""
-    info: Mapping[str, Any] = field(default_factory=dict)
+    info: Mapping[str, Any] = MappingProxyType({})
     s: float = 0.0
 
 
