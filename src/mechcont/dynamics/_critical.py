@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..equations import Model, takes_model
+from ..equations import Model
 from ..errors import InputError
 
 __all__ = ["CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical", "quasi_static_critical"]
@@ -122,7 +122,6 @@ class CriticalAirspeed:
         return lines
 
 
-@takes_model
 def critical_airspeed(system: Model, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
                       lock, until: float, values: Mapping[str, float] | None = None, extend: float = 4.0,
                       **options) -> CriticalAirspeed:
@@ -216,7 +215,6 @@ class QuasiStaticCritical:
     branch: object
 
 
-@takes_model
 def quasi_static_critical(system: Model, travel: str, start_value: float, lock_value: float, vary: str, *,
                           side: str = "min", values: Mapping[str, float] | None = None, samples: int = 17,
                           options=None) -> QuasiStaticCritical:

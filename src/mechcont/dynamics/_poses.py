@@ -7,13 +7,12 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ..equations import Model, takes_model
+from ..equations import Model
 from ..errors import InputError
 
 __all__ = ["held_pose", "travel_of", "condition_value"]
 
 
-@takes_model
 def held_pose(system: Model, start: Mapping[str, float], held_by: str, *, values: Mapping[str, float] | None = None,
               guess=None, steps: int = 8) -> np.ndarray:
     """The retracted pose as a static equilibrium: the ``start`` values held (SI, rad) and the parameter
@@ -49,7 +48,6 @@ def held_pose(system: Model, start: Mapping[str, float], held_by: str, *, values
     return x
 
 
-@takes_model
 def travel_of(system: Model, start: Mapping[str, float], lock,
               values: Mapping[str, float] | None = None) -> tuple[str, float, float]:
     """The travel of a freefall: ``(variable, value at the released pose, value at the lock)``.
@@ -68,7 +66,6 @@ def travel_of(system: Model, start: Mapping[str, float], lock,
     return name, condition_value(model, x0, name), end
 
 
-@takes_model
 def condition_value(system: Model, x, name: str) -> float:
     """The value of the coordinate or declared condition ``name`` at the full vector ``x`` (its unit),
     computed from the coordinates (a condition's own entry in ``x`` need not be up to date)."""

@@ -13,7 +13,12 @@ the redundant rows out, :mod:`._redundant`; their self-stresses are taken out he
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+
+if TYPE_CHECKING:
+    from ..equations import Model
 
 __all__ = ["fill_reactions"]
 
@@ -35,15 +40,12 @@ def _elastic_rows(system, nq_rows: int, names: list[str]) -> list[tuple[int, int
     return out
 
 
-def fill_reactions(system, dyn, t: np.ndarray, y: np.ndarray, values: np.ndarray, modes, known=None) -> int:
+def fill_reactions(system: Model, dyn, t: np.ndarray, y: np.ndarray, values: np.ndarray, modes, known=None) -> int:
     """Write the live reactions into ``values`` (rows like ``t``, ``y``; ``modes``: the stops in contact at
     each row; ``known``: per row, the integrator's own solve there, :meth:`~._udwadia_kalaba.ConstrainedDynamics.recall`,
     or None). Returns the number of rows whose joint reactions are minimum-norm (redundant constraints)."""
-    from ..equations import as_model
-
-    model = as_model(system)
     nq, nc = dyn.nq, dyn.mech.n_constraints
-    names = list(model.reaction_names)
+    names = list(system.reaction_names)
     joint = np.array([system.index(n) for n in names[:nc]], dtype=int) if len(names) >= nc else np.zeros(0, int)
     elastic = _elastic_rows(system, nq, names[nc:]) if len(names) > nc else []
     contacts = dyn.contacts

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
@@ -20,6 +21,9 @@ from ._reactions import fill_reactions
 from ._result import SimulationResult
 from ._stall import motion_warning
 from ._udwadia_kalaba import ConstrainedDynamics
+
+if TYPE_CHECKING:
+    from ..equations import Model
 
 __all__ = ["simulate", "initial_vector", "assemble", "check_integrator", "METHODS"]  # assemble, initial_vector from ._assembly
 
@@ -344,12 +348,10 @@ def _mode(contacts) -> tuple[int, ...]:
     return () if contacts is None else tuple(contacts.active)
 
 
-def _rest_height(system, rtol: float, atol) -> float:
+def _rest_height(system: Model, rtol: float, atol) -> float:
     """Smallest rebound height (condition units) the integrator resolves: its error on a gap near
     the limit, ``atol + rtol |limit|`` (at least 1e-12)."""
-    from ..equations import as_model
-
-    limits = [abs(float(s.limit)) for s in as_model(system).stops] or [0.0]
+    limits = [abs(float(s.limit)) for s in system.stops] or [0.0]
     return max(float(np.min(atol)) + rtol * max(limits), 1e-12)
 
 

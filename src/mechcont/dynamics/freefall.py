@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._status import Status
-from ..equations import Model, StopLimit, takes_model
+from ..equations import Model, StopLimit
 from ..errors import InputError
 from ._budget import MAX_STEPS
 from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, quasi_static_critical
@@ -222,7 +222,6 @@ def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None
     return None, (str(name), value)
 
 
-@takes_model
 def freefall(system: Model, start: Mapping[str, float], *, lock, until: float, values: Mapping[str, float] | None = None,
              damping: float = 0.0, rtol: float = 1e-8, atol: float = 1e-10, rest_speed: float = 1e-4,
              max_step: float = math.inf, guess=None, method: str = "RK45", end_at_lock: bool = False,
