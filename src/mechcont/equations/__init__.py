@@ -10,7 +10,8 @@ from ._protocols import Mechanics
 from ._rates import branch_rates
 from ._scene import Scene
 from ._stored import stored
-from ._system import EquationSystem, Limit, Variable
+from ._system import EquationSystem
+from ._variables import Limit, Variable
 
 __all__ = ["EquationSystem", "Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "at_values",
            "check_values_at",
