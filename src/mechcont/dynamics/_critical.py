@@ -19,6 +19,7 @@ import numpy as np
 
 from ..equations import Model
 from ..errors import InputError
+from ._freefall import MOVING, freefall
 
 __all__ = ["CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical", "quasi_static_critical"]
 
@@ -88,8 +89,6 @@ class CriticalAirspeed:
     def undecided(self) -> bool:
         """True when the failing end was *still moving* at ``until``: a longer simulation might lock it, so
         the critical value may lie beyond the bracket."""
-        from .freefall import MOVING
-
         return self.outcome(self.failed) == MOVING or bool(self.unsettled)
 
     def contradicts(self, quasi_static: float) -> bool:
@@ -137,8 +136,6 @@ def critical_airspeed(system: Model, start: Mapping[str, float], vary: str, low:
     ``options`` go to :func:`~mechcont.dynamics.freefall.freefall`.
     Returns the :class:`CriticalAirspeed` whose ends ``locked`` and ``failed`` are runs made.
     """
-    from .freefall import freefall
-
     model = system
     if vary not in model.names or model.variable(vary).kind != "parameter":
         raise InputError("critical", f"{vary} is not a parameter of {model.name}")

@@ -1,4 +1,4 @@
-"""Freefall extension: released at rest from the uplock, does the gear fall out and lock?
+"""One freefall run: released at rest from the uplock, does the gear fall out and lock?
 
 :func:`freefall` simulates a mechanism with its stops from rest in the retracted pose (an uplock
 release) until it locks (the lock stop in contact and at rest, or a lock condition reached), and
@@ -7,8 +7,9 @@ back on the uplock); or still moving at the end of the run (e.g. it struck the l
 again); with the time to lock, the impact speed at the lock, the peak damper tensions and the peak
 stop reactions.
 
-:func:`critical_airspeed` and :func:`quasi_static_critical` (in :mod:`._critical`, exported here) bracket
-the airspeed where the outcome changes by runs, beside its quasi-static predictor.
+The run and its result, apart from :mod:`.freefall` (the public module, which also gathers the poses and the
+critical airspeed built on runs): :mod:`._critical` calls :func:`freefall`, so it cannot be in a module that
+imports :mod:`._critical`.
 """
 
 from __future__ import annotations
@@ -23,15 +24,13 @@ from .._status import Status
 from ..equations import Model, StopLimit
 from ..errors import InputError
 from ._budget import MAX_STEPS
-from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, quasi_static_critical
 from ._dampers import DamperTension, damper_tensions
 from ._events import AtRestOnStops, ConditionCrossing, Crossing
 from ._peaks import Peak, locate_peaks
-from ._poses import condition_value, held_pose, travel_of
+from ._poses import find_lock_stops, held_pose, lock_spec
 from ._result import SimulationResult
 
-__all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
-           "quasi_static_critical", "damper_tensions", "travel_of", "condition_value", "held_pose"]
+__all__ = ["FreefallResult", "StopLock", "freefall", "LOCKED", "AT_REST", "MOVING", "FAILED"]
 
 #: Outcomes of a freefall run: locked; at rest short of locking; still moving at ``until`` (it may have
 #: struck the lock and left it); the integrator failed.
@@ -186,42 +185,6 @@ class FreefallResult:
         return lines
 
 
-def find_lock_stops(system: Model, lock) -> list[StopLimit] | None:
-    """The lock stops named by ``lock`` (a stop's name or a sequence of names), None for a lock condition."""
-    if isinstance(lock, str):
-        names = [lock]
-    elif isinstance(lock, Sequence) and lock and all(isinstance(n, str) for n in lock):
-        names = list(lock)
-    else:
-        return None
-    by_name = {s.name: s for s in system.stops}
-    for n in names:
-        if n not in by_name:
-            raise InputError("lock", f"unknown stop {n!r}; stops of {system.name}: "
-                                     f"{', '.join(by_name) or 'none (declare [stops.NAME] in the description)'}")
-    if len(set(names)) != len(names):
-        raise InputError("lock", f"stop {next(n for n in names if names.count(n) > 1)!r} is named twice")
-    return [by_name[n] for n in names]
-
-
-def _lock_spec(system, lock) -> tuple[StopLimit | None, tuple[str, float] | None]:
-    """``(stop, None)`` for a lock stop's name (the first of several), ``(None, (state, value))`` for a
-    lock condition."""
-    stops = find_lock_stops(system, lock)
-    if stops is not None:
-        return stops[0], None
-    try:
-        name, value = lock
-        value = float(value)
-    except (TypeError, ValueError):
-        raise InputError("lock", "give a stop's name or (condition, value)") from None
-    if name not in system.names or system.variable(name).kind != "state":
-        raise InputError("lock", f"{name} is not a state of {system.name} (a coordinate or a condition)")
-    if not math.isfinite(value):
-        raise InputError("lock", f"the lock value must be finite, got {value}")
-    return None, (str(name), value)
-
-
 def freefall(system: Model, start: Mapping[str, float], *, lock, until: float, values: Mapping[str, float] | None = None,
              damping: float = 0.0, rtol: float = 1e-8, atol: float = 1e-10, rest_speed: float = 1e-4,
              max_step: float = math.inf, guess=None, method: str = "RK45", end_at_lock: bool = False,
@@ -285,7 +248,7 @@ def freefall(system: Model, start: Mapping[str, float], *, lock, until: float, v
     model = system
     if values:
         model = model.with_values(dict(values))
-    stop, target = _lock_spec(model, lock)
+    stop, target = lock_spec(model, lock)
     lock_stops = find_lock_stops(model, lock) or []
     if held_by is not None:
         guess = held_pose(model, start, held_by, guess=guess)

@@ -1,4 +1,5 @@
-"""Live reactions of a time history: every reaction column at every row from the equations of motion.
+"""The columns a time history's rows derive from their state: the declared conditions' values
+(:func:`fill_conditions`) and the live reactions (:func:`fill_reactions`), each at every row.
 
 A joint's reaction ``R_*``/``T_*`` (and a length-mode actuator's tension) is the Lagrange multiplier of
 its constraint row in ``M qddot = Q + Phi_q^T z`` with ``Phi_q qddot = b``, from the same solve as the
@@ -20,7 +21,7 @@ import numpy as np
 if TYPE_CHECKING:
     from ..equations import Model
 
-__all__ = ["fill_reactions"]
+__all__ = ["fill_conditions", "fill_reactions"]
 
 
 def _elastic_rows(system, nq_rows: int, names: list[str]) -> list[tuple[int, int, float]]:
@@ -76,3 +77,15 @@ def fill_reactions(system: Model, dyn, t: np.ndarray, y: np.ndarray, values: np.
         for i, (ti, yi) in enumerate(zip(t, y)):
             values[i, idx] = contacts.penalized(dyn.full_of(ti, yi), yi[nq:2 * nq])[idx]
     return indeterminate
+
+
+def fill_conditions(system: Model, values: np.ndarray) -> None:
+    """The description's conditions (rows ``cond_NAME: c(q) - NAME``) evaluated at every saved row."""
+    rows = [(k, system.index(r[5:])) for k, r in enumerate(getattr(system, "equation_names", ()))
+            if r.startswith("cond_") and r[5:] in system.names]
+    if not rows:
+        return
+    k, j = (np.array(v) for v in zip(*rows))
+    for x in values:
+        x[j] = 0.0
+        x[j] = system.residual(x)[k]

@@ -17,7 +17,7 @@ from ._contact import MAX_EVENTS_AT_ONCE
 from ._energy import EnergyLedger, energy_columns
 from ._events import EventTracker
 from ._peaks import DenseHistory
-from ._reactions import fill_reactions
+from ._reactions import fill_conditions, fill_reactions
 from ._result import SimulationResult
 from ._stall import motion_warning
 from ._udwadia_kalaba import ConstrainedDynamics
@@ -76,7 +76,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     Parameters
     ----------
     system:
-        An :class:`~mechcont.equations.EquationSystem` with ``mechanics``.
+        A :class:`~mechcont.equations.Model` with ``mechanics``.
     x0:
         Start: full variable vector or ``{name: value}`` (coordinates and parameters, SI).
         The coordinates are first projected onto ``Phi = 0`` (minimum-kinetic-energy
@@ -358,7 +358,7 @@ def _rest_height(system: Model, rtol: float, atol) -> float:
 def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="", modes=None, known=None) -> SimulationResult:
     nq = dyn.nq
     values = np.array([dyn.full_of(ti, yi) for ti, yi in zip(t, y)]).reshape(-1, len(system.names))
-    _fill_conditions(system, values)
+    fill_conditions(system, values)
     modes = modes if modes is not None else [()] * len(t)
     indeterminate = fill_reactions(system, dyn, t, y, values, modes, known)
     stop_events = _stop_events(dyn.contacts, t) if dyn.contacts is not None else []
@@ -373,18 +373,6 @@ def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="", mode
                             t_events=t_events, x_events=x_events, nfev=dyn.nfev, detail=detail, stop_events=stop_events,
                             indeterminate_rows=indeterminate,
                             units={v.name: v.unit for v in system.variables})
-
-
-def _fill_conditions(system, values) -> None:
-    """The description's conditions (rows ``cond_NAME: c(q) - NAME``) evaluated at every saved row."""
-    rows = [(k, system.index(r[5:])) for k, r in enumerate(getattr(system, "equation_names", ()))
-            if r.startswith("cond_") and r[5:] in system.names]
-    if not rows:
-        return
-    k, j = (np.array(v) for v in zip(*rows))
-    for x in values:
-        x[j] = 0.0
-        x[j] = system.residual(x)[k]
 
 
 def _stop_events(contacts, t) -> list:

@@ -144,7 +144,7 @@ class ConstrainedDynamics:
     Parameters
     ----------
     system:
-        An :class:`~mechcont.equations.EquationSystem` with ``mechanics`` set.
+        A :class:`~mechcont.equations.Model` with ``mechanics`` set.
     x:
         Full variable vector (ordered like ``system.names``) holding the parameter values;
         its coordinate entries are ignored.
