@@ -115,10 +115,9 @@ def sidestay_freefall(until: float = 0.05):
     """The dual-sidestay gear's freefall (63 coordinates, both lock stops, the retraction actuator as a damper,
     aft attachment 5e7 N/m) released at gear up, simulated for ``until`` s: a callable for the timing (the
     model and its retracted pose made before)."""
-    from mechcont.equations import as_model
     from mechcont.paper import freefall_sidestay as fs
 
-    model = as_model(fs.freefall_gear())
+    model = fs.freefall_gear()
     x = fs.retracted(model)
     return lambda: fs.sidestay_freefall(model, x, until=until)
 

@@ -9,7 +9,7 @@ import math
 import pytest
 from cli_helpers import make_runner, one_line_error
 
-import mechcont.dynamics.freefall as ff
+import mechcont.dynamics._critical as critical
 from mechcont.dynamics.freefall import CriticalAirspeed, critical_airspeed
 from mechcont.models import load_model
 
@@ -36,7 +36,7 @@ def _stand_in(monkeypatch, undecided_band=0.0, calls=None):
             calls.append((v, until))
             assert len(calls) < 500, "the bisection does not stop"
         return _Run(v < TRUTH, abs(v - TRUTH) >= undecided_band)
-    monkeypatch.setattr(ff, "freefall", fake)
+    monkeypatch.setattr(critical, "freefall", fake)  # the runs the bisection makes
 
 
 def test_a_tolerance_below_the_floats_resolution_stops_there_and_says_so(pendulum, monkeypatch):

@@ -32,7 +32,7 @@ from scipy.optimize import brentq
 
 from mechcont.analysis import dynamic_stability
 from mechcont.continuation import find_equilibrium
-from mechcont.equations import EquationSystem, MechanicalModel, Variable, as_model, dynamics_of, velocity_symbol
+from mechcont.equations import MechanicalModel, Model, Variable, dynamics_of, velocity_symbol
 from mechcont.equations._mechanism_dynamics import MechanismDynamics
 from mechcont.models import load_model, model_from_text
 
@@ -247,7 +247,7 @@ def ziegler(k=1.0, m=1.0, l=1.0, c=0.0, P=0.0):
     mech = MechanicalModel(names, [str(s) for s in q], cons, Q, Mm)
     values = [0, l, math.pi / 2, 0, 2 * l, math.pi / 2, 0, 0, 0, 0, P, k, c, m, l]
     vs = [Variable(n, "state" if i < 10 else "parameter", float(v)) for i, (n, v) in enumerate(zip(names, values))]
-    system = as_model(EquationSystem("ziegler", vs, [*eq, *cons], mechanics=mech))
+    system = Model("ziegler", vs, [*eq, *cons], mechanics=mech)
     return system, find_equilibrium(system)
 
 
@@ -434,9 +434,8 @@ def test_a_massless_motion_takes_the_descriptor_form():
     mech = MechanicalModel(names, ["x1", "x2"], [], Q, sp.diag(m, 0))
     vs = [Variable(n, "state" if i < 2 else "parameter", v)
           for i, (n, v) in enumerate(zip(names, [0.0, 0.0, 300.0, 6.0, 40.0, 8.0, 2.0]))]
-    model = as_model(EquationSystem("massless", vs, [sp.sympify(q).subs({velocity_symbol("x1"): 0,
-                                                                          velocity_symbol("x2"): 0}) for q in Q],
-                                    mechanics=mech))
+    model = Model("massless", vs, [sp.sympify(q).subs({velocity_symbol("x1"): 0, velocity_symbol("x2"): 0}) for q in Q],
+                  mechanics=mech)
     lin = dynamics_of(model).linearise(model.defaults())
     assert lin.E is not None
     expected = np.concatenate([_roots(2.0, 6.0, 300.0), [-40.0 / 8.0]])

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from mechcont import EquationSystem, Variable
+from mechcont import Model, Variable
 from mechcont.continuation import ContinuationOptions, ValueEvent, continuation, continue_folds, find_equilibrium
 from mechcont.errors import ConvergenceError, InputError
 
@@ -12,7 +12,7 @@ from mechcont.errors import ConvergenceError, InputError
 def make(name, exprs, states, params):
     vs = [Variable(n, "state", v) for n, v in states.items()] + [Variable(n, "parameter", v) for n, v in params.items()]
     sym = {v.name: v.symbol for v in vs}
-    return EquationSystem(name, vs, [e(sym) for e in exprs]).compile()
+    return Model(name, vs, [e(sym) for e in exprs]).compile()
 
 
 def test_circle_has_two_folds_located_exactly():

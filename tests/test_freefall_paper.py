@@ -82,10 +82,9 @@ def test_dual_sidestay_retracted_pose_is_the_quasi_static_one(section):
     folded, and the attachment deflected by its force over its stiffness (the compliant joint's law, from the
     pose's reaction and the attachment point's position, to 1e-6)."""
     from mechcont.dynamics.freefall import condition_value
-    from mechcont.equations import as_model
     from mechcont.paper import freefall_sidestay as fs
 
-    model = as_model(fs.freefall_gear())
+    model = fs.freefall_gear()
     x = fs.retracted(model)
     assert condition_value(model, x, "theta") == pytest.approx(fs.SIDESTAY_UP, abs=1e-9)
     assert np.max(np.abs(model.mechanics.phi(x))) < 1e-9
@@ -102,10 +101,9 @@ def test_held_pose_is_the_equilibrium_whatever_the_path_and_not_the_kinematic_as
     1e-8; the kinematic assembly at the same theta drags the compliant attachment a hundred millimetres."""
     from mechcont.continuation import find_equilibrium
     from mechcont.dynamics.freefall import held_pose
-    from mechcont.equations import as_model
     from mechcont.paper import freefall_sidestay as fs
 
-    model = as_model(fs.freefall_gear())
+    model = fs.freefall_gear()
     x = held_pose(model, {"theta": fs.SIDESTAY_UP}, "F_act")
     y = None
     for t in np.linspace(0.05, fs.SIDESTAY_UP, 13):

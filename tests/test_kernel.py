@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from mechcont import EquationSystem, Variable
+from mechcont import Model, Variable
 from mechcont.continuation import ContinuationOptions, _kernel, continuation, find_equilibrium
 from mechcont.continuation._api import _Equilibria
 from mechcont.continuation._corrector import PseudoArclength
@@ -28,7 +28,7 @@ needs_kernel = pytest.mark.skipif(not _kernel.AVAILABLE, reason="the compiled co
 def make(name, exprs, states, params):
     vs = [Variable(n, "state", v) for n, v in states.items()] + [Variable(n, "parameter", v) for n, v in params.items()]
     sym = {v.name: v.symbol for v in vs}
-    return EquationSystem(name, vs, [e(sym) for e in exprs]).compile()
+    return Model(name, vs, [e(sym) for e in exprs]).compile()
 
 
 def both(monkeypatch, run):

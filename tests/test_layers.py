@@ -193,13 +193,15 @@ def test_the_private_import_rule_finds_them(tmp_path):
                                      "mechanism/a.py:7 imports mechcont.equations._cache []"]
 
 
-def import_circles(root: Path) -> list[list[str]]:
+def import_circles(root: Path, lazy: bool = False) -> list[list[str]]:
     """The import circles between the files of one package, each as its modules (sorted).
 
     Counted at file level: an edge ``a -> b`` is an import of module ``b`` (of the same top-level package) that
     runs when ``a`` is imported: a statement at module level, also inside ``if``/``try``/``with``, but not in a
     function or class body (there it is a lazy dependency, taken on first use) nor under ``TYPE_CHECKING``.
-    ``from . import x`` and ``from .x import y`` are edges to ``x``; a circle is a strongly connected set."""
+    ``from . import x`` and ``from .x import y`` are edges to ``x``; a circle is a strongly connected set.
+    With ``lazy`` the imports in function and class bodies are edges too (not those under ``TYPE_CHECKING``): a
+    circle closed only on first use is still two modules that each need the other."""
     modules = {}
     for path in root.rglob("*.py"):
         parts = [root.name, *path.relative_to(root).with_suffix("").parts]
@@ -219,6 +221,10 @@ def import_circles(root: Path) -> list[list[str]]:
                     yield from runs_at_import(block)
             elif isinstance(node, ast.With):
                 yield from runs_at_import(node.body)
+            elif lazy and isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                for inner in ast.walk(node):
+                    if isinstance(inner, (ast.Import, ast.ImportFrom)):
+                        yield inner
 
     edges: dict[str, set[str]] = {}
     for name, path in modules.items():
@@ -277,6 +283,18 @@ def test_no_import_circle_between_the_files_of_a_package():
     assert import_circles(SRC) == []
 
 
+#: the packages whose files still close an import circle through an import inside a function (issue 34: 11 such
+#: circles; equations and dynamics have none since); the set only shrinks, never add to it
+LAZY_CIRCLES_LEFT = {"analysis", "continuation", "mechanism", "models", "outputs", "paper"}
+
+
+def test_no_import_circle_on_first_use_outside_the_packages_left():
+    """Counting the imports inside functions too, a circle stays inside the packages of :data:`LAZY_CIRCLES_LEFT`
+    (one to be removed by moving code where it belongs, not by hiding an import in a function)."""
+    packages = {circle[0].split(".")[1] for circle in import_circles(SRC, lazy=True)}
+    assert packages <= LAZY_CIRCLES_LEFT, f"import circles (lazy imports counted) in {packages - LAZY_CIRCLES_LEFT}"
+
+
 def test_the_circle_finder_finds_one(tmp_path):
     """The checker itself: a circle of module-level imports is found (through a package's ``__init__`` too);
     one closed only inside a function or under ``TYPE_CHECKING`` is not a circle."""
@@ -291,6 +309,8 @@ def test_the_circle_finder_finds_one(tmp_path):
                                      "def k():\n    from .w import h\n")
     (root / "a" / "w.py").write_text("from .z import k\n")
     assert import_circles(root) == [["mechcont.a.sub", "mechcont.a.sub.y", "mechcont.a.x"]]
+    assert import_circles(root, lazy=True) == [["mechcont.a.sub", "mechcont.a.sub.y", "mechcont.a.x"],
+                                               ["mechcont.a.w", "mechcont.a.z"]]
 
 
 #: third-party libraries and the packages that may import them (anywhere in a file): plotting draws outputs,
@@ -342,11 +362,7 @@ MAX_LINES = 500
 #: the files over :data:`MAX_LINES` when the rule came (issue 34), with their lines then: a file may stay over the
 #: limit only while it is here, and may not grow. The list only shrinks: a file split below the limit must leave
 #: it, and :data:`LONG_FILES` may never hold a file that is not in :data:`LONG_FILES_AT_START` (never add to either).
-LONG_FILES_AT_START = {
-    "equations/_system.py": 663,
-    "outputs/animation.py": 630,
-    "equations/_cache.py": 528,
-}
+LONG_FILES_AT_START: dict[str, int] = {}
 LONG_FILES = dict(LONG_FILES_AT_START)
 
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from mechcont import EquationSystem, MechanicalModel, Variable
+from mechcont import MechanicalModel, Model, Variable
 from mechcont.continuation import ContinuationOptions, continuation, switch_branch
 
 
@@ -21,7 +21,7 @@ def buckling_column():
     V = k * th ** 2 / 2 + m * g * L * sp.cos(th)
     Q = -sp.diff(V, th)
     mech = MechanicalModel([v.name for v in vs], ["th"], [], [Q], sp.Matrix([[m * L ** 2]]))
-    return EquationSystem("column", vs, [Q], mechanics=mech).compile()
+    return Model("column", vs, [Q], mechanics=mech).compile()
 
 
 def test_stability_changes_exactly_at_the_branch_point():

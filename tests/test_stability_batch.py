@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from mechcont import EquationSystem, MechanicalModel, Variable
+from mechcont import MechanicalModel, Model, Variable
 from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium
 from mechcont.models import load_model
 
@@ -53,7 +53,7 @@ def _follower_pendulum():
           Variable("P", "parameter", 0.0, "N"), Variable("k", "parameter", 10.0, "N m/rad"),
           Variable("m", "parameter", 1.0, "kg"), Variable("L", "parameter", 1.0, "m")]
     mech = MechanicalModel(names, ["th1", "th2"], [], Q, M)
-    return EquationSystem("ziegler", vs, Q, mechanics=mech).compile()
+    return Model("ziegler", vs, Q, mechanics=mech).compile()
 
 
 def test_non_conservative_flutter_counts():
@@ -71,7 +71,7 @@ def test_no_constraints_and_empty_input():
           Variable("m", "parameter", 5.0, "kg"), Variable("g", "parameter", 9.81, "m/s^2"),
           Variable("L", "parameter", 1.0, "m")]
     mech = MechanicalModel([v.name for v in vs], ["th"], [], [Q], sp.Matrix([[m * L ** 2]]))
-    s = EquationSystem("column", vs, [Q], mechanics=mech).compile()
+    s = Model("column", vs, [Q], mechanics=mech).compile()
     X = np.array([s.vector({"th": t, "m": mm}) for t in np.linspace(-2, 2, 9) for mm in (1.0, 10.0, 10.19, 15.0)])
     counts = mech.count_unstable(X)
     assert np.array_equal(counts, _one_by_one(mech, X))

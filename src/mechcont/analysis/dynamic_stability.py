@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..equations import Model, as_model, dynamics_of
+from ..equations import Model, dynamics_of
 
 __all__ = ["DynamicStability", "dynamic_stability", "with_dynamic_stability", "DYNAMIC_COLUMNS"]
 
@@ -68,12 +68,8 @@ def dynamic_stability(model: Model, x: np.ndarray, *, damping: float = 0.0, rtol
     axis to about 1e-15 of their size). Raises :class:`~mechcont.errors.InputError` for a model without
     dynamics.
     """
-    dyn = _dynamics(as_model(model), damping)
+    dyn = dynamics_of(model, damping=damping)
     return _judge(dyn.linearise(np.asarray(x, dtype=float)).eigenvalues(), rtol)
-
-
-def _dynamics(model: Model, damping: float):
-    return dynamics_of(model, damping=damping)
 
 
 def with_dynamic_stability(model: Model, branch, *, damping: float = 0.0, rtol: float = 1e-9):
@@ -81,8 +77,7 @@ def with_dynamic_stability(model: Model, branch, *, damping: float = 0.0, rtol: 
     :data:`DYNAMIC_COLUMNS` added: per point the number of unstable eigenvalues of the linearised dynamics,
     the leading eigenvalue's real part (1/s) and its frequency ``|Im|`` (rad/s); see the module docstring.
     One linearisation and one dense eigenvalue problem per point. ``branch`` itself is unchanged."""
-    model = as_model(model)
-    dyn = _dynamics(model, damping)
+    dyn = dynamics_of(model, damping=damping)
     X = np.column_stack([branch.column(n) for n in model.names]) if len(branch) else np.zeros((0, len(model.names)))
     rows = [_judge(dyn.linearise(x).eigenvalues(), rtol) for x in X]
     columns = {"n_unstable_dynamic": np.array([r.n_unstable for r in rows], dtype=float),

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._status import Status
-from ..equations import EquationSystem, Model, takes_model
+from ..equations import EquationSystem, Model
 from ..errors import ConvergenceError, InputError
 from ._branch import Branch, SpecialPoint
 from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent, ValueEvent
@@ -147,7 +147,6 @@ def _run(problem: ContinuationProblem, system, u0, options, events, direction, v
                   units={v.name: v.unit for v in system.variables})
 
 
-@takes_model
 def continuation(system: Model, start, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
                  options: ContinuationOptions | None = None, direction: int = 0,
                  events: Sequence[Event] = (), progress: Callable[[int], None] | None = None,

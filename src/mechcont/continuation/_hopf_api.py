@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..equations import EquationSystem, as_model, dynamics_of
+from ..equations import Model, dynamics_of
 from ..errors import ConvergenceError, InputError
 from ._api import _bound_events, _curve_unknowns, _limit_events, _run, _start_vector
 from ._branch import Branch, SpecialPoint
@@ -22,7 +22,7 @@ __all__ = ["locate_hopf", "continue_hopf", "HOPF_COLUMNS"]
 HOPF_COLUMNS = {"omega": "rad/s", "l1": "", "n_unstable_other": ""}
 
 
-def locate_hopf(system: EquationSystem, point, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
+def locate_hopf(system: Model, point, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
                 dynamics=None) -> SpecialPoint:
     """A Hopf point in ``vary`` polished to machine precision from a nearby ``point``.
 
@@ -37,7 +37,7 @@ def locate_hopf(system: EquationSystem, point, vary: str, *, hold: Iterable[str]
     x0 = _start_vector(system, point)
     unknowns = (point.unknowns if isinstance(point, SpecialPoint) else None) or choose_unknowns(
         system, hold=hold, free=free, exclude=[vary])
-    test = HopfTest(dynamics or dynamics_of(as_model(system)), system)
+    test = HopfTest(dynamics or dynamics_of(system), system)
     problem = EquilibriumProblem(system, x0, vary, list(unknowns), stability=False)
     try:
         u, pair, res = polish_hopf(test, problem, problem.u_of(x0))
@@ -51,7 +51,7 @@ def locate_hopf(system: EquationSystem, point, vary: str, *, hold: Iterable[str]
                         extra={"hopf": hopf_point_of(test, x, pair, res)})
 
 
-def continue_hopf(system: EquationSystem, hopf, vary: str, free: str, *, hold: Iterable[str] = (),
+def continue_hopf(system: Model, hopf, vary: str, free: str, *, hold: Iterable[str] = (),
                   free_extra: Iterable[str] = (), options: ContinuationOptions | None = None, direction: int = 0,
                   dynamics=None, progress: Callable[[int], None] | None = None) -> Branch:
     """Continue a Hopf point of equilibria in two parameters: the Hopf curve, with ``BT`` and ``GH``.
@@ -73,7 +73,7 @@ def continue_hopf(system: EquationSystem, hopf, vary: str, free: str, *, hold: I
     system.compile()
     system.index(free)
     states = _curve_unknowns(system, hopf, vary, free, hold, free_extra)
-    dyn = dynamics or dynamics_of(as_model(system))
+    dyn = dynamics or dynamics_of(system)
     start = locate_hopf(system, hopf, vary, dynamics=dyn) if not isinstance(hopf, SpecialPoint) else (
         hopf if hopf.located and "hopf" in hopf.extra else
         locate_hopf(system, SpecialPoint("HB", 0, np.array(hopf.x, float), system.names, unknowns=tuple(states),

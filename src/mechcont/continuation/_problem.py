@@ -222,7 +222,7 @@ class EquilibriumProblem(ContinuationProblem):
         return CompiledModel(fn, n_out, src, self.base, np.asarray(self.idx))
 
     def stability(self, u) -> int:
-        if self._stability and self._ode:
+        if self._stability and self._ode and isinstance(self.system, Model):  # _ode: a Model's facts
             return unstable_rates(self.system, self.full(u))
         mechanics = self.system.mechanics
         if not self._stability or mechanics is None:
@@ -240,13 +240,13 @@ class EquilibriumProblem(ContinuationProblem):
         return mechanics.count_unstable(X).tolist()
 
 
-def unstable_rates(model: EquationSystem, x: np.ndarray, rtol: float = 1e-9) -> int:
+def unstable_rates(model: Model, x: np.ndarray, rtol: float = 1e-9) -> int:
     """The number of eigenvalues of an ODE model's ``df/du`` at the full vector ``x`` with a positive real
     part (the dimension of the unstable manifold of the equilibrium there); a real part within ``rtol``
     of the largest eigenvalue's modulus counts as zero (neutral: a fold, a Hopf point)."""
-    from ..equations import as_model, dynamics_of
+    from ..equations import dynamics_of
 
-    lam = dynamics_of(as_model(model)).linearise(x).eigenvalues()
+    lam = dynamics_of(model).linearise(x).eigenvalues()
     if not len(lam):
         return 0
     tol = rtol * max(float(np.abs(lam).max()), 1e-300)

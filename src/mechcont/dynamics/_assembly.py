@@ -34,7 +34,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..equations import Model, takes_model
+from ..equations import Model
 from ..errors import InputError
 from ._udwadia_kalaba import ConstrainedDynamics
 
@@ -58,7 +58,6 @@ def initial_vector(system, x0) -> np.ndarray:
     return x
 
 
-@takes_model
 def assemble(system: Model, values, hold: Sequence[str] = (), *, kinematic: bool = False) -> np.ndarray:
     """A full variable vector whose coordinates satisfy the constraints ``Phi = 0``, at rest in static
     equilibrium where joints are compliant.

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 from ..errors import InputError
 
 if TYPE_CHECKING:
-    from ..equations import EquationSystem, Mechanics
+    from ..equations import Mechanics, Model
 
 __all__ = ["MAX_SECONDS", "check_simulable", "check_duration"]
 
@@ -16,7 +16,7 @@ __all__ = ["MAX_SECONDS", "check_simulable", "check_duration"]
 MAX_SECONDS = 1e6
 
 
-def check_simulable(system: EquationSystem, model: str) -> Mechanics:
+def check_simulable(system: Model, model: str) -> Mechanics:
     """``system.mechanics``, or :class:`InputError` (field ``model``) when ``system`` (loaded from ``model``) has
     no mechanics to simulate."""
     if system.mechanics is None:

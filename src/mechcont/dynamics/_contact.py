@@ -39,6 +39,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -46,6 +47,9 @@ from .._roots import brentq
 from ..errors import InputError
 from ._compliant import CompliantLaw
 from ._udwadia_kalaba import fundamental_equation
+
+if TYPE_CHECKING:
+    from ..equations import Model
 
 __all__ = ["StopEvent", "StopConstraints"]
 
@@ -94,10 +98,8 @@ class StopEvent:
         return f"t = {self.time:.9g} s  {self.kind:<7s}  {self.stop}{what}"
 
 
-def _stops_of(system, names: Iterable[str] | None):
-    from ..equations import as_model
-
-    have = as_model(system).stops
+def _stops_of(system: Model, names: Iterable[str] | None):
+    have = system.stops
     if names is None:
         return list(have)
     by_name = {s.name: s for s in have}
@@ -110,11 +112,9 @@ def _stops_of(system, names: Iterable[str] | None):
     return out
 
 
-def _restitution(system, name: str) -> float:
+def _restitution(system: Model, name: str) -> float:
     """The ``restitution`` of stop ``name`` (its :class:`~mechcont.equations.StopLimit`'s, 0 by default)."""
-    from ..equations import as_model
-
-    for s in as_model(system).stops:
+    for s in system.stops:
         if s.name == name:
             return float(s.restitution)
     return 0.0
@@ -137,7 +137,7 @@ class StopConstraints:
         into contact (see the module docstring).
     """
 
-    def __init__(self, system, dyn, names: Iterable[str] | None = None, rest_height: float = 1e-9):
+    def __init__(self, system: Model, dyn, names: Iterable[str] | None = None, rest_height: float = 1e-9):
         self.system, self.dyn = system, dyn
         self.stops = _stops_of(system, names)
         if not self.stops:

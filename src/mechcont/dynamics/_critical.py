@@ -17,8 +17,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..equations import Model, takes_model
+from ..equations import Model
 from ..errors import InputError
+from ._freefall import MOVING, freefall
 
 __all__ = ["CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical", "quasi_static_critical"]
 
@@ -88,8 +89,6 @@ class CriticalAirspeed:
     def undecided(self) -> bool:
         """True when the failing end was *still moving* at ``until``: a longer simulation might lock it, so
         the critical value may lie beyond the bracket."""
-        from .freefall import MOVING
-
         return self.outcome(self.failed) == MOVING or bool(self.unsettled)
 
     def contradicts(self, quasi_static: float) -> bool:
@@ -122,7 +121,6 @@ class CriticalAirspeed:
         return lines
 
 
-@takes_model
 def critical_airspeed(system: Model, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
                       lock, until: float, values: Mapping[str, float] | None = None, extend: float = 4.0,
                       **options) -> CriticalAirspeed:
@@ -138,8 +136,6 @@ def critical_airspeed(system: Model, start: Mapping[str, float], vary: str, low:
     ``options`` go to :func:`~mechcont.dynamics.freefall.freefall`.
     Returns the :class:`CriticalAirspeed` whose ends ``locked`` and ``failed`` are runs made.
     """
-    from .freefall import freefall
-
     model = system
     if vary not in model.names or model.variable(vary).kind != "parameter":
         raise InputError("critical", f"{vary} is not a parameter of {model.name}")
@@ -216,7 +212,6 @@ class QuasiStaticCritical:
     branch: object
 
 
-@takes_model
 def quasi_static_critical(system: Model, travel: str, start_value: float, lock_value: float, vary: str, *,
                           side: str = "min", values: Mapping[str, float] | None = None, samples: int = 17,
                           options=None) -> QuasiStaticCritical:

@@ -19,6 +19,8 @@ from functools import partial
 
 import numpy as np
 
+from ._reactions import fill_conditions, fill_reactions
+
 __all__ = ["Peak", "DenseHistory", "locate_peak", "locate_peaks"]
 
 #: Points per step scanned before the bounded search (ends included), and how many of the rows' largest
@@ -76,9 +78,6 @@ class DenseHistory:
         """``(full variable vector, qdot)`` at ``t`` as a history row has them: coordinates, parameters, the
         description's conditions and the live reactions of the joints and, with stops simulated, of the stops
         (``full=False``: only the coordinates and parameters)."""
-        from ._reactions import fill_reactions
-        from ._simulate import _fill_conditions
-
         k = self.segment_at(t) if segment is None else segment
         y = self.state(t, k)
         system, dyn = self._parts[self._part[k]]
@@ -86,7 +85,7 @@ class DenseHistory:
         values = np.array(dyn.full_of(t, y), float).reshape(1, -1)
         if not full:
             return values[0], y[nq:2 * nq]
-        _fill_conditions(system, values)
+        fill_conditions(system, values)
         contacts = dyn.contacts
         active = None if contacts is None else list(contacts.active)
         fill_reactions(system, dyn, np.array([t]), y.reshape(1, -1), values, [self.segments[k][3]])

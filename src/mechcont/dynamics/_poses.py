@@ -1,19 +1,20 @@
 """Poses of a freefall: the retracted pose held by a force (:func:`held_pose`), the travel from it to the
-lock (:func:`travel_of`) and a condition's value at a pose (:func:`condition_value`)."""
+lock (:func:`travel_of`), a condition's value at a pose (:func:`condition_value`) and the lock itself, a
+stop or a condition's value (:func:`find_lock_stops`, :func:`lock_spec`)."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import math
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..equations import Model, takes_model
+from ..equations import Model, StopLimit
 from ..errors import InputError
 
-__all__ = ["held_pose", "travel_of", "condition_value"]
+__all__ = ["held_pose", "travel_of", "condition_value", "find_lock_stops", "lock_spec"]
 
 
-@takes_model
 def held_pose(system: Model, start: Mapping[str, float], held_by: str, *, values: Mapping[str, float] | None = None,
               guess=None, steps: int = 8) -> np.ndarray:
     """The retracted pose as a static equilibrium: the ``start`` values held (SI, rad) and the parameter
@@ -49,7 +50,6 @@ def held_pose(system: Model, start: Mapping[str, float], held_by: str, *, values
     return x
 
 
-@takes_model
 def travel_of(system: Model, start: Mapping[str, float], lock,
               values: Mapping[str, float] | None = None) -> tuple[str, float, float]:
     """The travel of a freefall: ``(variable, value at the released pose, value at the lock)``.
@@ -57,18 +57,16 @@ def travel_of(system: Model, start: Mapping[str, float], lock,
     The variable is the lock stop's condition (the first of several; its limit is the lock value) or the lock
     condition's state; its start value is computed at the pose assembled from ``start``."""
     from ._simulate import assemble
-    from .freefall import _lock_spec
 
     model = system
     if values:
         model = model.with_values(dict(values))
-    stop, target = _lock_spec(model, lock)
+    stop, target = lock_spec(model, lock)
     name, end = (stop.condition, float(stop.limit)) if stop is not None else target  # type: ignore[misc]
     x0 = assemble(model, dict(start), hold=list(start))
     return name, condition_value(model, x0, name), end
 
 
-@takes_model
 def condition_value(system: Model, x, name: str) -> float:
     """The value of the coordinate or declared condition ``name`` at the full vector ``x`` (its unit),
     computed from the coordinates (a condition's own entry in ``x`` need not be up to date)."""
@@ -79,3 +77,39 @@ def condition_value(system: Model, x, name: str) -> float:
     y = np.array(x, float)
     y[model.index(name)] = 0.0
     return float(model.residual(y)[rows.index(f"cond_{name}")])
+
+
+def find_lock_stops(system: Model, lock) -> list[StopLimit] | None:
+    """The lock stops named by ``lock`` (a stop's name or a sequence of names), None for a lock condition."""
+    if isinstance(lock, str):
+        names = [lock]
+    elif isinstance(lock, Sequence) and lock and all(isinstance(n, str) for n in lock):
+        names = list(lock)
+    else:
+        return None
+    by_name = {s.name: s for s in system.stops}
+    for n in names:
+        if n not in by_name:
+            raise InputError("lock", f"unknown stop {n!r}; stops of {system.name}: "
+                                     f"{', '.join(by_name) or 'none (declare [stops.NAME] in the description)'}")
+    if len(set(names)) != len(names):
+        raise InputError("lock", f"stop {next(n for n in names if names.count(n) > 1)!r} is named twice")
+    return [by_name[n] for n in names]
+
+
+def lock_spec(system: Model, lock) -> tuple[StopLimit | None, tuple[str, float] | None]:
+    """``(stop, None)`` for a lock stop's name (the first of several), ``(None, (state, value))`` for a
+    lock condition."""
+    stops = find_lock_stops(system, lock)
+    if stops is not None:
+        return stops[0], None
+    try:
+        name, value = lock
+        value = float(value)
+    except (TypeError, ValueError):
+        raise InputError("lock", "give a stop's name or (condition, value)") from None
+    if name not in system.names or system.variable(name).kind != "state":
+        raise InputError("lock", f"{name} is not a state of {system.name} (a coordinate or a condition)")
+    if not math.isfinite(value):
+        raise InputError("lock", f"the lock value must be finite, got {value}")
+    return None, (str(name), value)

@@ -1,4 +1,5 @@
-"""Live reactions of a time history: every reaction column at every row from the equations of motion.
+"""The columns a time history's rows derive from their state: the declared conditions' values
+(:func:`fill_conditions`) and the live reactions (:func:`fill_reactions`), each at every row.
 
 A joint's reaction ``R_*``/``T_*`` (and a length-mode actuator's tension) is the Lagrange multiplier of
 its constraint row in ``M qddot = Q + Phi_q^T z`` with ``Phi_q qddot = b``, from the same solve as the
@@ -13,9 +14,14 @@ the redundant rows out, :mod:`._redundant`; their self-stresses are taken out he
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-__all__ = ["fill_reactions"]
+if TYPE_CHECKING:
+    from ..equations import Model
+
+__all__ = ["fill_conditions", "fill_reactions"]
 
 
 def _elastic_rows(system, nq_rows: int, names: list[str]) -> list[tuple[int, int, float]]:
@@ -35,15 +41,12 @@ def _elastic_rows(system, nq_rows: int, names: list[str]) -> list[tuple[int, int
     return out
 
 
-def fill_reactions(system, dyn, t: np.ndarray, y: np.ndarray, values: np.ndarray, modes, known=None) -> int:
+def fill_reactions(system: Model, dyn, t: np.ndarray, y: np.ndarray, values: np.ndarray, modes, known=None) -> int:
     """Write the live reactions into ``values`` (rows like ``t``, ``y``; ``modes``: the stops in contact at
     each row; ``known``: per row, the integrator's own solve there, :meth:`~._udwadia_kalaba.ConstrainedDynamics.recall`,
     or None). Returns the number of rows whose joint reactions are minimum-norm (redundant constraints)."""
-    from ..equations import as_model
-
-    model = as_model(system)
     nq, nc = dyn.nq, dyn.mech.n_constraints
-    names = list(model.reaction_names)
+    names = list(system.reaction_names)
     joint = np.array([system.index(n) for n in names[:nc]], dtype=int) if len(names) >= nc else np.zeros(0, int)
     elastic = _elastic_rows(system, nq, names[nc:]) if len(names) > nc else []
     contacts = dyn.contacts
@@ -74,3 +77,15 @@ def fill_reactions(system, dyn, t: np.ndarray, y: np.ndarray, values: np.ndarray
         for i, (ti, yi) in enumerate(zip(t, y)):
             values[i, idx] = contacts.penalized(dyn.full_of(ti, yi), yi[nq:2 * nq])[idx]
     return indeterminate
+
+
+def fill_conditions(system: Model, values: np.ndarray) -> None:
+    """The description's conditions (rows ``cond_NAME: c(q) - NAME``) evaluated at every saved row."""
+    rows = [(k, system.index(r[5:])) for k, r in enumerate(getattr(system, "equation_names", ()))
+            if r.startswith("cond_") and r[5:] in system.names]
+    if not rows:
+        return
+    k, j = (np.array(v) for v in zip(*rows))
+    for x in values:
+        x[j] = 0.0
+        x[j] = system.residual(x)[k]

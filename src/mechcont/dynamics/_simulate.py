@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
@@ -16,10 +17,13 @@ from ._contact import MAX_EVENTS_AT_ONCE
 from ._energy import EnergyLedger, energy_columns
 from ._events import EventTracker
 from ._peaks import DenseHistory
-from ._reactions import fill_reactions
+from ._reactions import fill_conditions, fill_reactions
 from ._result import SimulationResult
 from ._stall import motion_warning
 from ._udwadia_kalaba import ConstrainedDynamics
+
+if TYPE_CHECKING:
+    from ..equations import Model
 
 __all__ = ["simulate", "initial_vector", "assemble", "check_integrator", "METHODS"]  # assemble, initial_vector from ._assembly
 
@@ -72,7 +76,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     Parameters
     ----------
     system:
-        An :class:`~mechcont.equations.EquationSystem` with ``mechanics``.
+        A :class:`~mechcont.equations.Model` with ``mechanics``.
     x0:
         Start: full variable vector or ``{name: value}`` (coordinates and parameters, SI).
         The coordinates are first projected onto ``Phi = 0`` (minimum-kinetic-energy
@@ -344,19 +348,17 @@ def _mode(contacts) -> tuple[int, ...]:
     return () if contacts is None else tuple(contacts.active)
 
 
-def _rest_height(system, rtol: float, atol) -> float:
+def _rest_height(system: Model, rtol: float, atol) -> float:
     """Smallest rebound height (condition units) the integrator resolves: its error on a gap near
     the limit, ``atol + rtol |limit|`` (at least 1e-12)."""
-    from ..equations import as_model
-
-    limits = [abs(float(s.limit)) for s in as_model(system).stops] or [0.0]
+    limits = [abs(float(s.limit)) for s in system.stops] or [0.0]
     return max(float(np.min(atol)) + rtol * max(limits), 1e-12)
 
 
 def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="", modes=None, known=None) -> SimulationResult:
     nq = dyn.nq
     values = np.array([dyn.full_of(ti, yi) for ti, yi in zip(t, y)]).reshape(-1, len(system.names))
-    _fill_conditions(system, values)
+    fill_conditions(system, values)
     modes = modes if modes is not None else [()] * len(t)
     indeterminate = fill_reactions(system, dyn, t, y, values, modes, known)
     stop_events = _stop_events(dyn.contacts, t) if dyn.contacts is not None else []
@@ -371,18 +373,6 @@ def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="", mode
                             t_events=t_events, x_events=x_events, nfev=dyn.nfev, detail=detail, stop_events=stop_events,
                             indeterminate_rows=indeterminate,
                             units={v.name: v.unit for v in system.variables})
-
-
-def _fill_conditions(system, values) -> None:
-    """The description's conditions (rows ``cond_NAME: c(q) - NAME``) evaluated at every saved row."""
-    rows = [(k, system.index(r[5:])) for k, r in enumerate(getattr(system, "equation_names", ()))
-            if r.startswith("cond_") and r[5:] in system.names]
-    if not rows:
-        return
-    k, j = (np.array(v) for v in zip(*rows))
-    for x in values:
-        x[j] = 0.0
-        x[j] = system.residual(x)[k]
 
 
 def _stop_events(contacts, t) -> list:

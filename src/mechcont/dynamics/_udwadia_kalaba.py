@@ -47,7 +47,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.linalg.lapack import dpotrf, dpotrs
 
-from ..equations import as_model, symbol_names
+from ..equations import symbol_names
 from ..errors import InputError
 from ._mass import MassBlocks, inverse_sqrt
 from ._redundant import KeptRows
@@ -144,7 +144,7 @@ class ConstrainedDynamics:
     Parameters
     ----------
     system:
-        An :class:`~mechcont.equations.EquationSystem` with ``mechanics`` set.
+        A :class:`~mechcont.equations.Model` with ``mechanics`` set.
     x:
         Full variable vector (ordered like ``system.names``) holding the parameter values;
         its coordinate entries are ignored.
@@ -208,7 +208,7 @@ class ConstrainedDynamics:
         # the redundant rows the mechanics still holds (a spatial model keeps every rigid row; a planar one
         # has left its dropped rows out already): that many are left out of each solve
         names = set(mech.constraint_names or ())
-        dropped = as_model(system).dropped_constraints
+        dropped = system.dropped_constraints
         n_drop = sum(r in names for r in dropped)
         #: The joint rows solved with when the model has redundant rows (:class:`~._redundant.KeptRows`), or None.
         self.kept: KeptRows | None = KeptRows(n_drop) if n_drop else None

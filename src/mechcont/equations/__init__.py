@@ -4,16 +4,17 @@ from ._codegen import compile_dense, gradient, symbol_names
 from ._deferred import Apart
 from ._dynamics import Dynamics, LinearDynamics, OdeDynamics, OdeFacts, dynamics_of, ode_model
 from ._mechanics import MechanicalModel, StabilityResult, velocity_symbol
-from ._model import DamperFacts, DownlockFacts, Model, StopLimit, ValueFields, as_model, at_values, check_values_at, takes_model
+from ._model import DamperFacts, DownlockFacts, Model, StopLimit, ValueFields, at_values, check_values_at
 from ._ode_text import ode_equations
 from ._protocols import Mechanics
 from ._rates import branch_rates
 from ._scene import Scene
 from ._stored import stored
-from ._system import EquationSystem, Limit, Variable
+from ._system import EquationSystem
+from ._variables import Limit, Variable
 
-__all__ = ["EquationSystem", "Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "as_model", "at_values",
-           "check_values_at", "takes_model",
+__all__ = ["EquationSystem", "Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "at_values",
+           "check_values_at",
            "Variable", "Limit", "Dynamics", "LinearDynamics", "OdeDynamics", "OdeFacts", "dynamics_of", "ode_model",
            "ode_equations",
            "MechanicalModel", "Mechanics", "StabilityResult", "velocity_symbol", "Scene", "branch_rates",

@@ -8,9 +8,9 @@ by a hash of everything they are made from:
 * the symbolic content: the variables (names, assumptions) and the expressions, written
   losslessly (SymPy ``srepr``; SymEngine expressions with every float in hexadecimal), so
   two models that differ anywhere, even in a float's last bit, never share an entry;
-* the code that turns them into functions: the source of ``_codegen.py``, ``_system.py``,
-  ``_mechanics.py`` and this module (a change there invalidates every entry), the mechcont,
-  SymPy, SymEngine and Python versions, the code-generation backend and the platform.
+* the code that turns them into functions: the source of the modules that compile (a change
+  there invalidates every entry), the mechcont, SymPy, SymEngine and Python versions, the
+  code-generation backend and the platform (:mod:`._cache_key` makes the key).
 
 Where: ``$MECHCONT_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/mechcont`` or the platform's
 user cache directory (``~/.cache/mechcont``, ``~/Library/Caches/mechcont``). The entry of
@@ -68,7 +68,6 @@ import hashlib
 import hmac
 import os
 import pickle
-import platform
 import re
 import stat
 import sys
@@ -79,6 +78,8 @@ from typing import TypeVar
 # imported with the module, not on first use: a process that drops its privileges (or whose source tree
 # becomes unreadable) after start-up still builds and cleans entries
 from .._signals import process_state
+from ._backend import backend
+from ._cache_key import cache_key, digest, expr_text
 from ._lock import build_lock
 
 __all__ = ["cache_dir", "enabled", "cache_key", "cached", "load", "store", "load_or_build", "digest", "expr_text",
@@ -87,7 +88,6 @@ __all__ = ["cache_dir", "enabled", "cache_key", "cached", "load", "store", "load
 T = TypeVar("T")
 
 _MAGIC = b"mechcont-compiled-cache 2\n"
-_FORMAT = "2"
 _TAG_SIZE = 32
 _SECRET_NAME = "hmac-key"
 _SECRET_SIZE = 32
@@ -98,7 +98,6 @@ _KEY = re.compile(r"[0-9a-f]{64}")
 #: unusable), ``writes`` (entries stored). For tests and benchmarks.
 STATS = {"hits": 0, "misses": 0, "writes": 0}
 _OFF = {"", "0", "false", "no", "off"}
-_environment: str | None = None
 _SUPPORTED = hasattr(os, "geteuid") and hasattr(os, "O_NOFOLLOW") and os.open in os.supports_dir_fd
 _DIR_FLAGS = os.O_RDONLY | getattr(os, "O_DIRECTORY", 0) | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
 _FILE_FLAGS = (os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
@@ -129,84 +128,6 @@ def cache_dir() -> Path | None:
     if sys.platform == "darwin":
         return Path.home() / "Library" / "Caches" / "mechcont"
     return Path.home() / ".cache" / "mechcont"
-
-
-def _environment_text() -> str:
-    """Everything besides the symbolic content that decides what compiled code is."""
-    global _environment
-    if _environment is None:
-        import numpy
-        import symengine
-        import sympy
-
-        from .._version import __version__
-        from ._codegen import backend
-
-        here = Path(__file__).parent
-        h = hashlib.sha256()
-        for name in ("_codegen.py", "_system.py", "_mechanics.py", "_cache.py"):
-            try:
-                h.update((here / name).read_bytes())
-            except OSError:  # pragma: no cover - installed without sources
-                h.update(name.encode())
-        _environment = "\n".join([
-            _FORMAT, __version__, h.hexdigest(), f"sympy {sympy.__version__}", f"symengine {symengine.__version__}",
-            f"numpy {numpy.__version__.split('.')[0]}", f"python {sys.version_info[:2]}", f"backend {backend()}",
-            f"{sys.platform} {platform.machine()} {sys.byteorder}",
-        ])
-    return _environment
-
-
-def _engine_text(e) -> str:
-    """Lossless text of a SymEngine expression.
-
-    ``str`` is exact for integers, rationals and names but rounds floats, so every float is
-    first replaced by a symbol named after its exact (hexadecimal) value; the walk that finds
-    them visits each distinct sub-expression once.
-    """
-    import symengine as se
-
-    floats = {}
-    seen = set()
-    todo = [e]
-    while todo:
-        node = todo.pop()
-        if isinstance(node, se.RealDouble):
-            floats[node] = se.Symbol(f"__float({float(node).hex()})")
-            continue
-        for a in node.args:
-            if a not in seen:
-                seen.add(a)
-                todo.append(a)
-    if floats:
-        e = e.xreplace(floats)
-    return f"{type(e).__name__}:{e}"
-
-
-def expr_text(e) -> str:
-    """Lossless, deterministic text of a SymPy or SymEngine expression (for cache keys)."""
-    import sympy as sp
-
-    if isinstance(e, sp.Basic):
-        return sp.srepr(e)
-    if isinstance(e, (int, float, str)):
-        return repr(e)
-    return _engine_text(e)
-
-
-def digest(head: bytes, parts: Iterable[str | bytes]) -> str:
-    """SHA-256 (hex) of ``head`` and then ``parts``, each preceded by its length (unambiguous)."""
-    h = hashlib.sha256(head)
-    for p in parts:
-        b = p if isinstance(p, bytes) else p.encode("utf-8", "surrogatepass")
-        h.update(len(b).to_bytes(8, "little"))
-        h.update(b)
-    return h.hexdigest()
-
-
-def cache_key(parts: Iterable[str | bytes]) -> str:
-    """SHA-256 (hex) of ``parts`` (separated unambiguously) and the environment."""
-    return digest(_environment_text().encode(), parts)
 
 
 class _Untrusted(Exception):
@@ -473,8 +394,6 @@ def cached(parts: Iterable[str | bytes] | Callable[[], Iterable[str | bytes]], b
     ``valid(obj)`` may reject a loaded object (then it is rebuilt and the entry rewritten).
     With caching off, just ``build()``.
     """
-    from ._codegen import backend
-
     if not enabled() or backend() != "llvm":  # the interpreted backend's code is rebuilt on loading anyway
         return build()
     return load_or_build(cache_key(parts() if callable(parts) else parts), build, valid)
@@ -495,8 +414,6 @@ def load_or_build(key: str, build: Callable[[], T], valid: Callable[[object], bo
             return obj
         STATS["misses"] += 1
         obj = build()
-        from ._codegen import backend
-
         if backend() == "llvm":
             store(key, obj)
     return obj

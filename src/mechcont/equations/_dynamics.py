@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 from ..errors import InputError
+from ._linear_dynamics import LinearDynamics
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -28,38 +29,6 @@ if TYPE_CHECKING:
     from ._model import Model
 
 __all__ = ["LinearDynamics", "Dynamics", "OdeFacts", "OdeDynamics", "dynamics_of", "ode_model"]
-
-
-@dataclass(frozen=True)
-class LinearDynamics:
-    """Small motions ``dz`` about an equilibrium: ``E d(dz)/dt = A dz``.
-
-    Attributes
-    ----------
-    A:
-        The state matrix (1/s in the rates' units), shape (n, n).
-    E:
-        The descriptor matrix, or None for the identity (an explicit ODE).
-    names:
-        The name of each state component (``z``'s order).
-    """
-
-    A: np.ndarray
-    E: np.ndarray | None
-    names: tuple[str, ...]
-
-    def eigenvalues(self) -> np.ndarray:
-        """The finite eigenvalues ``lambda`` (1/s) of ``A v = lambda E v``, largest real part first."""
-        if self.E is None:
-            lam = np.linalg.eigvals(self.A)
-        else:
-            import scipy.linalg
-
-            alpha, beta = scipy.linalg.eig(self.A, self.E, right=False, homogeneous_eigvals=True)
-            scale = np.maximum(np.abs(alpha), 1.0) * np.finfo(float).eps * max(1.0, np.linalg.norm(self.E, 1))
-            finite = np.abs(beta) > scale
-            lam = alpha[finite] / beta[finite]
-        return lam[np.lexsort((-lam.imag, -lam.real))]
 
 
 class Dynamics(Protocol):
@@ -147,10 +116,8 @@ def dynamics_of(model: Model, damping: float = 0.0) -> Dynamics:
             raise InputError("damping", f"{model.name} is an ODE system: mass-proportional damping needs masses")
         return OdeDynamics(model)
     if model.mechanics is not None:
-        try:
-            from ._mechanism_dynamics import MechanismDynamics
-        except ImportError:  # pragma: no cover - until the mechanism dynamics land
-            raise InputError(model.name, "dynamics of mechanisms are not available yet") from None
+        from ._mechanism_dynamics import MechanismDynamics  # on first use: SciPy's linear algebra
+
         return MechanismDynamics(model, damping=damping)
     raise InputError(model.name, "has neither rates (an ODE file) nor mechanics (a mechanism): no dynamics")
 
@@ -165,7 +132,7 @@ def ode_model(name: str, states: Mapping[str, float], parameters: Mapping[str, f
     whose residual is ``f`` and whose ``ode`` field says which variables are the states.
     """
     from ._model import Model
-    from ._system import Variable
+    from ._variables import Variable
 
     units = dict(units or {})
     if list(rates) != list(states):

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..errors import InputError
 from . import _cache, _codegen, _deferred, _stability
+from ._cache_key import expr_text
 from ._codegen import compile_scattered, compile_values, derivative_entries, engine_arguments, is_smooth
 from ._layout import _flat, _Part, _StaticsLayout  # noqa: F401 (_StaticsLayout: pickles of compiled groups name it here)
 from ._stability import StabilityResult, constraint_rank  # noqa: F401 (public here too)
@@ -181,12 +182,12 @@ class MechanicalModel:
             s = self._symbolic()
             h = hashlib.sha256()
             parts = [f"{len(s['args'])} {len(self.coordinates)}", " ".join(map(str, self.q_index)),
-                     *(_cache.expr_text(e) for e in s["cons"]), "forces",
-                     *(_cache.expr_text(e) for e in s["forces"]), "mass",
-                     *(f"{k}:{_cache.expr_text(e)}" for k, e in zip(*self._mass_entries())), "potential",
-                     *(_cache.expr_text(e) for e in s["potential"])]
+                     *(expr_text(e) for e in s["cons"]), "forces",
+                     *(expr_text(e) for e in s["forces"]), "mass",
+                     *(f"{k}:{expr_text(e)}" for k, e in zip(*self._mass_entries())), "potential",
+                     *(expr_text(e) for e in s["potential"])]
             if self.element_states:  # only then: a model without states keeps its cached code
-                parts += ["states", " ".join(self.element_states), *(_cache.expr_text(e) for e in s["rates"])]
+                parts += ["states", " ".join(self.element_states), *(expr_text(e) for e in s["rates"])]
             for p in parts:
                 b = p.encode()
                 h.update(len(b).to_bytes(8, "little") + b)

@@ -43,7 +43,7 @@ from scipy.linalg.lapack import dgetrf as _dgetrf
 from scipy.linalg.lapack import dgetrs as _dgetrs
 
 from ..errors import ConvergenceError, InputError
-from ._dynamics import LinearDynamics
+from ._linear_dynamics import LinearDynamics
 from ._mechanics import constraint_rank
 
 __all__ = ["MechanismDynamics"]

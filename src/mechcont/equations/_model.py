@@ -14,11 +14,10 @@ compiled code; pickling carries every field (the callables are picklable objects
 
 from __future__ import annotations
 
-import functools
 import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import MISSING, dataclass, field, fields
-from typing import TYPE_CHECKING, Concatenate, ParamSpec, Protocol, TypedDict, TypeVar
+from typing import TYPE_CHECKING, Protocol, TypedDict
 
 import numpy as np
 
@@ -31,11 +30,7 @@ if TYPE_CHECKING:
     from ._dynamics import OdeFacts
     from ._protocols import Description, DofFacts, Reselect
 
-P = ParamSpec("P")
-R = TypeVar("R")
-
-__all__ = ["Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "as_model", "takes_model", "at_values",
-           "check_values_at"]
+__all__ = ["Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "at_values", "check_values_at"]
 
 
 class DownlockAssembly(Protocol):
@@ -298,27 +293,6 @@ def _declared(cls: type) -> frozenset[str]:
     return names
 
 
-def as_model(system: EquationSystem) -> Model:
-    """``system`` itself if it is a :class:`Model`, else a model of it with no facts beyond its equations.
-
-    For the public entries of the analyses, which also accept a hand-formulated
-    :class:`EquationSystem`; everything below them takes the :class:`Model`.
-    """
-    return system if isinstance(system, Model) else Model.from_system(system)
-
-
-def takes_model(entry: Callable[Concatenate[Model, P], R]) -> Callable[Concatenate[EquationSystem, P], R]:
-    """Decorate a public entry of an analysis whose first argument is the model: it also accepts a
-    hand-formulated :class:`EquationSystem`, made a :class:`Model` here (:func:`as_model`), once, at the top;
-    everything below the entry takes the :class:`Model` and converts nothing."""
-
-    @functools.wraps(entry)
-    def wrapper(system: EquationSystem, /, *args: P.args, **kwargs: P.kwargs) -> R:
-        return entry(as_model(system), *args, **kwargs)
-
-    return wrapper
-
-
 def check_values_at(system: EquationSystem, values: Mapping[str, float], field: str = "values") -> None:
     """Check ``values`` (SI, rad) for ``system`` as every option that gives values does (``--set``,
     ``--scan``, ``--design``, ``--dist``, ``--params``): each name a variable of the model (a state's value is
@@ -351,14 +325,13 @@ def check_values_at(system: EquationSystem, values: Mapping[str, float], field: 
         raise InputError(field, str(exc)) from None
 
 
-def at_values(system: EquationSystem, values: Mapping[str, float] | None, field: str = "values") -> Model:
+def at_values(model: Model, values: Mapping[str, float] | None, field: str = "values") -> Model:
     """The model at ``values`` (SI, rad): the one way a value reaches a model in mechcont.
 
     ``values`` are checked (:func:`check_values_at`, errors naming ``field``), then
     :meth:`Model.with_values`: the parameters take their values and everything written in them
     follows (a stop's limit, a condition's target, the downlock hold); a state's value is the guess
-    the solves start from. Returns ``system`` as a :class:`Model` when ``values`` is empty."""
-    model = as_model(system)
+    the solves start from. Returns ``model`` itself when ``values`` is empty."""
     if not values:
         return model
     check_values_at(model, values, field)

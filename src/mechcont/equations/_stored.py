@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import TypeVar
 
 from . import _cache
+from ._cache_key import digest
 
 __all__ = ["stored", "stored_key"]
 
@@ -89,7 +90,7 @@ def _environment() -> bytes:
 
 def stored_key(parts: Iterable[str | bytes]) -> str:
     """SHA-256 (hex) of ``parts`` (separated unambiguously), mechcont's source and the environment."""
-    return _cache.digest(b"mechcont stored object\n" + _environment(), parts)
+    return digest(b"mechcont stored object\n" + _environment(), parts)
 
 
 def stored(parts: Callable[[], Iterable[str | bytes]], build: Callable[[], T], valid: Callable[[object], bool]) -> T:

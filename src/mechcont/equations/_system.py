@@ -17,102 +17,17 @@ import numpy as np
 
 from ..errors import InputError
 from . import _cache, _deferred
-from ._codegen import (
-    CompiledFunction,
-    compile_dense,
-    compile_scattered,
-    compile_values,
-    derivative_entries,
-    engine_arguments,
-    is_smooth,
-)
+from ._cache_key import expr_text
+from ._codegen import CompiledFunction, compile_dense, engine_arguments
+from ._compiled import ColumnView, generate_code
+from ._variables import Limit, Variable
 
 if TYPE_CHECKING:
     import sympy as sp
 
     from ._protocols import Mechanics, SceneFunction, ValueCheck
 
-__all__ = ["Variable", "Limit", "EquationSystem", "ColumnView"]
-
-
-@dataclass(frozen=True)
-class Variable:
-    """One named quantity of a model.
-
-    Parameters
-    ----------
-    name:
-        Identifier used everywhere (CLI, tables, API), e.g. ``"theta1"``.
-    kind:
-        ``"state"`` (solved for by default) or ``"parameter"`` (held by default).
-    value:
-        Default value for a parameter, initial guess for a state (SI units, radians).
-    unit:
-        SI unit string for display, e.g. ``"N"``, ``"m"``, ``"rad"``.
-    scale:
-        Typical magnitude, used to weight the arclength so that newtons and radians
-        are comparable. Must be positive.
-    description:
-        A short human-readable meaning.
-    """
-
-    name: str
-    kind: str = "state"
-    value: float = 0.0
-    unit: str = ""
-    scale: float = 1.0
-    description: str = ""
-
-    def __post_init__(self):
-        if not self.name.isidentifier():
-            raise InputError(self.name, "variable names must be identifiers (letters, digits, underscore)")
-        if self.kind not in ("state", "parameter"):
-            raise InputError(self.name, f"kind must be 'state' or 'parameter', not {self.kind!r}")
-        if not (self.scale > 0 and math.isfinite(self.scale)):
-            raise InputError(self.name, f"scale must be a positive number, not {self.scale!r}")
-
-    @property
-    def symbol(self) -> sp.Symbol:
-        """The SymPy symbol of this variable (real)."""
-        import sympy as sp
-
-        return sp.Symbol(self.name, real=True)
-
-
-@dataclass(frozen=True)
-class Limit(_deferred.Apart):
-    """A physical range of a model: ``expr > 0`` (``strict``) or ``expr >= 0``.
-
-    ``expr`` is a SymPy expression in the variables' symbols (usually parameters only: a
-    length, a mass, a stiffness, written as the description gives them). Solves refuse
-    values outside every limit, and continuation ends at the edge (``EP``) of a limit that
-    the continued or freed parameters move.
-
-    Parameters
-    ----------
-    name:
-        Where the quantity comes from, e.g. ``"bodies.1.length"`` or ``"L1"``.
-    expr:
-        The quantity, in SI units.
-    strict:
-        True when the quantity must be positive, False when zero is allowed.
-    description:
-        What it is, with its unit, e.g. ``"length (m)"``.
-    """
-
-    name: str
-    expr: sp.Expr
-    strict: bool = True
-    description: str = ""
-
-    # pickled apart: a loaded limit checks values through the system's compiled code (see _deferred)
-    _APART = ("expr",)
-
-    def message(self, value: float) -> str:
-        """The one-line reason a value violates (or reaches the edge of) this limit."""
-        what = self.description or "value"
-        return f"{what} must be {'positive' if self.strict else 'non-negative'}, got {value:g}"
-
+__all__ = ["EquationSystem"]
 
 
 @dataclass
@@ -319,9 +234,9 @@ class EquationSystem:
                         and obj["hess_values"].n_args == n and len(obj["hess_j"]) == obj["hess_values"].n_out)
 
         def key():  # the compiled form itself: positional arguments, SymEngine equations
-            return ["system", part, str(n), *(_cache.expr_text(e) for e in eqs)]
+            return ["system", part, str(n), *(expr_text(e) for e in eqs)]
 
-        return _cache.cached(key, lambda: _generate_code(sym, part), valid)
+        return _cache.cached(key, lambda: generate_code(sym, part), valid)
 
     def limit_values(self, x: np.ndarray) -> np.ndarray:
         """Value of every :attr:`limits` quantity at the full vector ``x`` (SI units)."""
@@ -561,103 +476,3 @@ class EquationSystem:
 
 
 _deferred.defaults_off_the_class(EquationSystem)
-
-
-class ColumnView:
-    """Residual and some Jacobian columns of an :class:`EquationSystem`, from one compiled call.
-
-    ``view.residual_and_jacobian(x)`` is ``(G(x), dG/dx[:, columns])`` and
-    ``view.jacobian_derivative(x, v)`` is ``system.jacobian_derivative(x, v)[:, columns]``,
-    the same values (bit for bit: the same compiled code, and the same sums in the same
-    order), without building and then discarding the other columns. Built by
-    :meth:`EquationSystem.columns`; the second derivatives are compiled on first use.
-    """
-
-    def __init__(self, system: EquationSystem, columns: Sequence[int] | np.ndarray):
-        self.system = system.compile()
-        self.columns = np.asarray(columns, dtype=np.intp).reshape(-1)
-        if len(set(self.columns.tolist())) != len(self.columns):  # not np.unique: it imports numpy.ma (10 ms)
-            raise ValueError("ColumnView: the columns must be distinct")
-        n_eq, n = system.n_equations, len(system.names)
-        # column by column: the arrays come out in Fortran order, as ``J[:, columns]`` makes
-        # them (the layout decides the summation order of later reductions and products)
-        self.n_eq, self._shape = n_eq, (len(self.columns), n_eq)
-        flat = n_eq + (self.columns[:, None] + np.arange(n_eq, dtype=np.intp) * n).reshape(-1)
-        self._res_jac = system._code["res_jac"].gather(np.concatenate([np.arange(n_eq, dtype=np.intp), flat]))
-        self._hess: tuple | None = None
-        self._bins: np.ndarray | None = None
-
-    def residual_and_jacobian(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``(G(x), dG/dx[:, columns])`` at the full vector ``x`` (the Jacobian in Fortran order)."""
-        out = self._res_jac(x)
-        return out[:self.n_eq], out[self.n_eq:].reshape(self._shape).T
-
-    def gather_parts(self):
-        """``(fn, n_out, src)`` of :meth:`residual_and_jacobian`: the compiled function, how many
-        values it writes, and where each output entry reads them (``n_out``: a structural zero);
-        None when nothing is compiled (a constant model)."""
-        return self._res_jac.parts()
-
-    def second_derivative_entries(self):
-        """The non-zero second derivatives ``d2 G_i / dx_j dx_k`` with ``k`` among the columns.
-
-        Returns ``(values, i, j, c)``: ``values(x)`` computes them (one compiled call), ``i``
-        the equation, ``j`` the full variable index, ``c`` the position of ``k`` in
-        :attr:`columns`. ``d/dx (J v)[i, columns[c]]`` is the sum of ``values * v[j]`` over
-        the entries with that ``(i, c)``, added in this order (see :meth:`jacobian_derivative`).
-        """
-        if self._hess is None:
-            code = self.system.compile(second_derivatives=True)._code
-            n = len(self.system.names)
-            where = np.full(n, -1, dtype=np.intp)
-            where[self.columns] = np.arange(len(self.columns), dtype=np.intp)
-            i, k = np.divmod(code["hess_ik"], n)
-            keep = np.flatnonzero(where[k] >= 0)  # entries of other columns only fill bins dropped anyway
-            self._hess = (code["hess_values"].gather(keep), i[keep], code["hess_j"][keep], where[k[keep]])
-        return self._hess
-
-    def jacobian_derivative(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """``d/dx (J(x) v)[:, columns]`` (Fortran order), ``v`` a full-length vector (see
-        :meth:`EquationSystem.jacobian_derivative`)."""
-        values, i, j, c = self.second_derivative_entries()
-        if self._bins is None:
-            self._bins = c * self.n_eq + i
-        w = values(x) * np.asarray(v)[j]
-        return np.bincount(self._bins, weights=w, minlength=self._shape[0] * self._shape[1]).reshape(self._shape).T
-
-
-#: LLVM optimisation level of the compiled second derivatives (the residual and Jacobian use 3).
-SECOND_DERIVATIVES_OPT_LEVEL = 0
-
-
-def _generate_code(sym: dict, part: str) -> dict:
-    """Differentiate exactly (SymEngine) and compile one part; see :meth:`EquationSystem.compile`.
-
-    ``sym`` holds the positional argument symbols ``syms`` and the equations ``eqs`` in them
-    (:func:`~mechcont.equations._codegen.engine_arguments`); the Jacobian's entries are
-    kept there for the other part.
-    """
-    syms, eqs = sym["syms"], sym["eqs"]
-    n_eq, n = len(eqs), len(syms)
-    if "jac" not in sym:
-        sym["smooth"] = [is_smooth(e) for e in eqs]
-        sym["jac"] = derivative_entries(eqs, syms, sym["smooth"])
-    jac_entries, smooth = sym["jac"], sym["smooth"]
-    if part == "residual_jacobian":
-        # residual and Jacobian in one compiled function: they share sub-expressions and the
-        # engine always needs both (one call instead of two per Newton iteration). Only the
-        # Jacobian's non-zero entries are compiled, at their flat positions.
-        jac_pos = np.array([i * n + j for (i, j), _ in jac_entries], dtype=np.intp)
-        flat = np.concatenate([np.arange(n_eq, dtype=np.intp), n_eq + jac_pos])
-        return {"res_jac": compile_scattered(syms, flat, [*eqs, *(d for _, d in jac_entries)], (n_eq + n_eq * n,))}
-    hess_idx, hess_expr = [], []
-    for (i, j), d in jac_entries:
-        for (_, k), d2 in derivative_entries([d], syms, smooth[i]):
-            hess_idx.append((i, j, k))
-            hess_expr.append(d2)
-    h = np.array(hess_idx, dtype=np.intp).reshape(-1, 3)
-    # LLVM's optimisation of these long expressions (every product rule twice) costs 5x the
-    # compilation (0.6 s vs 0.13 s on the nose gear) for code 1.5x faster, a difference lost
-    # in a fold system's linear algebra (< 1 % of the nose gear's fold locus)
-    return {"hess_values": compile_values(syms, hess_expr, opt_level=SECOND_DERIVATIVES_OPT_LEVEL),
-            "hess_j": h[:, 1], "hess_ik": h[:, 0] * n + h[:, 2]}

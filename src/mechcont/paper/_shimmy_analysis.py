@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .shimmy import SPEEDS, gear_at, leading_eigenvalue
+from ._shimmy_gear import SPEEDS, gear_at, leading_eigenvalue
 
 __all__ = ["CHART", "SIM_SPEEDS", "TORSION", "equilibria", "hopf_curve", "curve_check", "shimmy_cycles",
            "simulate_onto", "CycleSimulation"]

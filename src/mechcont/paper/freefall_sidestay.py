@@ -18,10 +18,14 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ._timing import timed
+
+if TYPE_CHECKING:
+    from ..equations import Model
 
 __all__ = ["SIDESTAY_UP", "LOCKS", "description_text", "freefall_gear", "retracted", "kinematic_offset",
            "sidestay_freefall", "lines"]
@@ -45,7 +49,7 @@ def description_text() -> str:
     return dual_sidestay_description()
 
 
-def freefall_gear():
+def freefall_gear() -> Model:
     """The generated gear's model (:func:`~mechcont.paper.dual_sidestay.generated_gear`: built once, then from
     the disk cache, the entry the dual-sidestay section and ``load_model`` of the example share)."""
     from .dual_sidestay import generated_gear
@@ -53,8 +57,8 @@ def freefall_gear():
     return generated_gear()
 
 
-def retracted(system, theta_up: float = SIDESTAY_UP, steps: int = STEPS, values=None, guess=None) -> np.ndarray:
-    """The gear ``system`` retracted quasi-statically to ``theta_up`` (rad) and released there.
+def retracted(model: Model, theta_up: float = SIDESTAY_UP, steps: int = STEPS, values=None, guess=None) -> np.ndarray:
+    """The gear ``model`` retracted quasi-statically to ``theta_up`` (rad) and released there.
 
     :func:`~mechcont.dynamics.freefall.held_pose` (what ``mechcont freefall --held-by F_act`` does): the
     equilibria with ``theta`` held and the actuator force ``F_act`` solved for, followed from gear down in
@@ -62,10 +66,8 @@ def retracted(system, theta_up: float = SIDESTAY_UP, steps: int = STEPS, values=
     parameter set); ``F_act`` is then back at its value, 0 (the hydraulics failed). ``values`` override
     parameters. Returns the full vector; :class:`~mechcont.errors.InputError` when a stop is violated there."""
     from ..dynamics.freefall import condition_value, held_pose
-    from ..equations import as_model
     from ..errors import InputError
 
-    model = as_model(system)
     if values:
         model = model.with_values(dict(values))
     x = held_pose(model, {"theta": theta_up}, "F_act", guess=guess, steps=steps)
@@ -77,22 +79,22 @@ def retracted(system, theta_up: float = SIDESTAY_UP, steps: int = STEPS, values=
     return x
 
 
-def attachment_offset(system, x) -> float:
-    """How far (m) the aft upper arm's attachment point is from its airframe point ``A_aft`` (the model's own
-    description's ground point) at ``x``."""
-    bars = dict(system.scene(x).bars)
-    return float(np.linalg.norm(bars["aft_upper"][0] - np.asarray(system.mechanism.ground["A_aft"], float)))
+def attachment_offset(model: Model, x) -> float:
+    """How far (m) the aft upper arm's attachment point is from its airframe point ``A_aft`` at ``x`` (both from
+    the model's scene, which names every ground point ``ground.NAME``)."""
+    scene = model.scene(x) if model.scene is not None else None
+    if scene is None:
+        raise TypeError(f"model '{model.name}' has no scene to measure the aft attachment in")
+    return float(np.linalg.norm(dict(scene.bars)["aft_upper"][0] - np.asarray(dict(scene.points)["ground.A_aft"])))
 
 
-def kinematic_offset(system, theta_up: float = SIDESTAY_UP, steps: int = STEPS) -> tuple[float, float]:
+def kinematic_offset(model: Model, theta_up: float = SIDESTAY_UP, steps: int = STEPS) -> tuple[float, float]:
     """The gear assembled kinematically (:func:`~mechcont.dynamics.assemble` with ``kinematic=True``, ``theta``
     held, from gear down in ``steps`` steps) at ``theta_up``: ``(attachment offset (m), aft lock condition)``. The assembly moves
     every coordinate the joints do not fix, the compliant attachment's too."""
     from ..dynamics import assemble
     from ..dynamics.freefall import condition_value
-    from ..equations import as_model
 
-    model = as_model(system)
     x = assemble(model, {"theta": 0.0}, hold=["theta"], kinematic=True)
     for t in np.linspace(0.0, theta_up, steps + 1)[1:]:
         x = assemble(model, model.vector({"theta": float(t)}, base=x), hold=["theta"], kinematic=True)
@@ -148,11 +150,10 @@ def _row(k: float, stretch: float, run, limits: dict[str, float]) -> str:
 def lines(timings: dict, out_dir: Path | None = None) -> list[str]:
     """The summary lines of the dual-sidestay freefall (pose, model, the table against ``k_att`` and ``stretch``);
     with ``out_dir``, its figure ``freefall_sidestay.png`` there (each pair's lock links against their stop)."""
-    from ..equations import as_model
     from ._freefall_figures import sidestay_figure
 
     with timed(timings, "freefall: dual-sidestay gear built, retracted quasi-statically"):
-        model = as_model(freefall_gear())
+        model = freefall_gear()
         x_up = retracted(model)
     with timed(timings, "freefall: dual-sidestay gear assembled kinematically"):
         offset, aft_kin = kinematic_offset(model)
