@@ -8,7 +8,8 @@ A torsion spring between bodies ``a`` and ``b`` (either may be ``"ground"``) sto
 about the axis of the revolute or cylindrical joint ``joint``, see :mod:`._rotary`), ``angle`` its
 free relative angle (rad), ``k`` (N m/rad). The moment it exerts on ``b`` is ``-k (phi - angle)``
 about the axis (and the opposite on ``a``). It is drawn as a coil at the joint, not as a line
-between two points: its "ends" sit on one pin, so it declares none (:meth:`Element.ends`).
+between two points: its "ends" sit on one pin, so it has no line of action
+(:meth:`Element.line_of_action`, None) and no drawing anchors (:meth:`Element.ends`).
 """
 
 from __future__ import annotations

@@ -6,12 +6,12 @@ moment (N m) that the body of ``a`` exerts on the body of ``b`` along that row's
 A joint's vectors (``axis``, ``axis_a``, ``axis_b``) are given in the design pose, where every
 body frame is parallel to the ground frame: the same vector then holds in both bodies' frames.
 Rows "normal to an axis" ``u`` use the directions ``f``, ``g`` of
-:func:`._rotation.perpendiculars` (right-handed ``(f, g, u)``; axis x: f = y, g = z; axis y:
+:func:`.._rotation.perpendiculars` (right-handed ``(f, g, u)``; axis x: f = y, g = z; axis y:
 f = z, g = x; axis z: f = x, g = y), fixed in ``a``'s body: ``R_<name>_1`` acts along ``f``,
 ``R_<name>_2`` along ``g``, and ``T_<name>_1``, ``T_<name>_2`` keep ``f``, ``g`` of ``a``
 perpendicular to the axis of ``b``.
 
-A joint type is one module of :mod:`..joints` with one class (a :class:`~...._plugin.PlugIn` of the
+A joint type is one module of :mod:`..joints` with one class (a :class:`~..._plugin.PlugIn` of the
 family ``"joints"`` in space, written against ``SpatialKinematics``): its TOML ``kind`` and keys,
 its rows (:meth:`SpatialJoint.rows`), whether it makes ``a`` and ``b`` coincide (used to place
 bodies for the first assembly) and the axes drawn. Setting ``kind`` registers it in
