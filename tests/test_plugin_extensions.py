@@ -1,7 +1,8 @@
 """The two measured extensions of issue 34, each one module registered through the plug-in mechanism
 (``tests/plugins``): a rotary spring (an element whose two points sit on one pin) and a follower load
 (a force fixed in a body), read from a description file in the plane and in space and checked against
-the closed-form equilibrium of a pendulum pinned at its end ``a``.
+the closed-form equilibrium of a pendulum pinned at its end ``a``; and a condition kind defined in a
+test, read by its class.
 
 Pendulum of mass ``m``, length ``L``, angle ``theta`` from +x, gravity ``g`` along -y: potential
 ``m g L/2 sin theta``. A rotary spring ``k`` about the pin adds ``k/2 theta^2``: equilibrium
@@ -19,6 +20,7 @@ import numpy as np
 import pytest
 
 from mechcont.continuation import find_equilibrium
+from mechcont.errors import InputError
 from mechcont.mechanism import parse_description
 from mechcont.mechanism._plugin import registry
 
@@ -122,9 +124,48 @@ def test_a_follower_load_module_meets_the_closed_form(follower, space):
 
 def test_the_extensions_are_read_from_the_registry_and_unknown_without_it():
     """Without the module, the tables are refused by name (nothing else knows them)."""
-    from mechcont.errors import InputError
-
     with pytest.raises(InputError, match="test_follower"):
         parse_description(PENDULUM.format(**PLANE, extra=FOLLOWER[2]))
     with pytest.raises(InputError, match="test_rotary_springs"):
         parse_description(PENDULUM.format(**PLANE, extra=SPRING[2]))
+
+
+@pytest.fixture
+def height_condition():
+    """A condition kind ``test_height`` (the second coordinate of a point, m), defined here only."""
+    from dataclasses import dataclass
+    from typing import ClassVar
+
+    from mechcont.mechanism._conditions import Condition
+
+    @dataclass(frozen=True)
+    class Height(Condition):
+        point: str = ""
+
+        kind: ClassVar[str] = "test_height"
+        UNIT: ClassVar[str] = "m"
+        KEYS: ClassVar[frozenset[str]] = frozenset({"point"})
+
+        def check(self, mech) -> None:
+            mech.point_ref(self.point, self.field("point"))
+
+        def expression(self, kin):
+            return kin.point(self.point)[1]
+
+    try:
+        yield Height
+    finally:
+        registry("conditions", "plane").pop("test_height", None)
+
+
+def test_a_condition_kind_is_one_registered_class(height_condition):
+    """Read from ``[conditions.NAME] type = ...`` by its class (no switch on the kind): the tip's height
+    ``L sin theta`` of the hanging pendulum (theta = -pi/2), with its unit."""
+    text = PENDULUM.format(**PLANE, extra='[conditions.tip]\ntype = "test_height"\npoint = "bar.b"')
+    model = parse_description(text).build()
+    y = find_equilibrium(model)
+    assert y[model.index("theta_bar")] == pytest.approx(-math.pi / 2, abs=1e-10)
+    assert y[model.index("tip")] == pytest.approx(-L, rel=1e-10)
+    assert model.variable("tip").unit == "m"
+    with pytest.raises(InputError, match="conditions.tip.point"):
+        parse_description(text.replace('point = "bar.b"', 'point = "bar.nowhere"')).build()
