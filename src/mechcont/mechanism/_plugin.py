@@ -92,6 +92,9 @@ class Kinematics(Protocol):
         """The rotation (rad) of the frame of ``b`` relative to that of ``a`` (point references),
         about ``axis`` (design pose; in space only, where it is required)."""
 
+    def body_mass(self, b: Any) -> sp.Expr:
+        """Mass (kg) of the body ``b``."""
+
     def force_work(self, P: sp.Matrix, f: sp.Matrix) -> list[sp.Expr]:
         """Generalised forces (one per coordinate) of the force ``f`` (N) at ``P``: ``f . dP/dq``."""
 
