@@ -19,6 +19,7 @@ import pytest
 from mechcont import mechanism
 from mechcont.mechanism import _expr, _file, parse_description
 from mechcont.mechanism._description import Damper, Gravity, Spring
+from mechcont.mechanism._plugin import registry
 
 DOC_PATH = Path(__file__).resolve().parent.parent / "docs" / "mechanism-format.md"
 DOC = DOC_PATH.read_text(encoding="utf-8")
@@ -81,11 +82,13 @@ def test_every_key_of_the_plain_tables_is_documented_in_its_section(path):
     assert not missing, f"[{path}] keys missing from docs/mechanism-format.md: {missing}"
 
 
-@pytest.mark.parametrize("table, registry", [("joints", "_JOINTS"), ("loads", "_LOADS")])
-def test_every_type_and_its_keys_are_documented(table, registry):
+@pytest.mark.parametrize("table", ["joints", "loads", "conditions"])
+def test_every_type_and_its_keys_are_documented(table):
+    """Every plug-in registered for the plane (:func:`mechcont.mechanism._plugin.registry`, the one the
+    file reader reads) has its ``type`` and keys in its table's section."""
     text = table_section(table)
     assert documented("type", text)
-    for kind, (_cls, keys) in getattr(_file, registry).items():
+    for kind, (_cls, keys) in registry(table, "plane").keyed().items():
         assert f'"{kind}"' in text, f"[{table}.NAME] type {kind!r} not documented"
         missing = sorted(k for k in keys if not documented(k, text))
         assert not missing, f"[{table}.NAME] type {kind!r}: keys missing from the doc: {missing}"
@@ -150,8 +153,8 @@ def _rows(text: str) -> dict[str, list[list[str]]]:
 
 
 @pytest.mark.parametrize("table, classes", [
-    ("joints", [cls for cls, _ in _file._JOINTS.values()]),
-    ("loads", [cls for cls, _ in _file._LOADS.values()]),
+    ("joints", list(registry("joints", "plane").values())),
+    ("loads", list(registry("loads", "plane").values())),
     ("springs", [Spring]), ("dampers", [Damper]), ("gravity", [Gravity]),
 ])
 def test_documented_defaults_are_the_element_classes_defaults(table, classes):

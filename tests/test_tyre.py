@@ -33,7 +33,7 @@ from mechcont.equations import velocity_symbol
 from mechcont.errors import InputError
 from mechcont.mechanism import parse_description
 from mechcont.mechanism._forces import loads
-from mechcont.mechanism._kinematics import Kinematics
+from mechcont.mechanism._kinematics import PlanarKinematics
 from mechcont.mechanism.spatial._kinematics import SpatialKinematics
 
 E, SIGMA, CS, I, K, CD = 0.1, 0.3, 1800.0, 0.5, 20.0, 2.0
@@ -135,7 +135,7 @@ Y = sp.Symbol("y_nose", real=True)
 def planar_parts(extra="", **kw):
     """(kinematics, rate, Q (full planar coordinates)) of the caster's tyre alone, parameters substituted."""
     mech = parse_description(text(extra=extra, **kw))
-    kin = Kinematics(mech)
+    kin = PlanarKinematics(mech)
     tyre = tyre_of(mech)
     (state,) = tyre.states(kin)
     from mechcont.mechanism.loads import Loads
@@ -227,7 +227,7 @@ def test_saturating_force_has_the_linear_slope_and_its_bound():
 def _caster_matrix(V_, c=CD):
     """A of (psi, omega, y) linearised from the element expressions (the pin holds x = y = 0)."""
     mech = parse_description(text(V=V_, c=c))
-    kin = Kinematics(mech)
+    kin = PlanarKinematics(mech)
     ld = loads(kin)
     at = at_values(mech, V=V_, c=c)
     th, om = sp.Symbol("theta_wheel", real=True), velocity_symbol("theta_wheel")
@@ -270,7 +270,7 @@ def test_element_linearisation_has_the_caster_cubic_and_its_hopf_speeds():
 def test_spatial_tyre_agrees_with_the_planar_one():
     mech2, mech3 = parse_description(text(extra="pneumatic_trail = 0.03\nmax_force = 900.0")), \
         parse_description(text(CASTER3, extra="pneumatic_trail = 0.03\nmax_force = 900.0"))
-    kin2, kin3 = Kinematics(mech2), SpatialKinematics(mech3)
+    kin2, kin3 = PlanarKinematics(mech2), SpatialKinematics(mech3)
     rates, works = [], []
     psi, w, y = 0.35, -1.3, 0.012
     for mech, kin in ((mech2, kin2), (mech3, kin3)):

@@ -66,7 +66,7 @@ class _Named(Protocol):
 
 
 class _Joint(_Named, Protocol):
-    """What a description asks of any joint, planar or spatial (see :mod:`.joints`, :mod:`.spatial._joints`)."""
+    """What a description asks of any joint, planar or spatial (see :mod:`.joints`, :mod:`.spatial.joints`)."""
 
     @property
     def a(self) -> str:
@@ -79,7 +79,7 @@ class _Joint(_Named, Protocol):
     def check(self, mech) -> None:
         """Check its references against ``mech``."""
 
-    def values(self) -> Iterator[tuple[str, Value]]:
+    def values(self, mech) -> Iterator[tuple[str, Value]]:
         """Its (key path, raw value) pairs."""
 
 
@@ -316,7 +316,7 @@ class Mechanism(Generic[JointT, BodyT]):
         for gname, gp in self.ground.items():
             yield from self.vector_values(f"ground.{gname}", gp)
         for j in self.joints:
-            yield from j.values()
+            yield from j.values(self)
         if self.gravity is not None:
             yield from self.gravity.values(self)
         for ld in self.loads:
@@ -331,15 +331,12 @@ class Mechanism(Generic[JointT, BodyT]):
         for k, v in self.hold.items():
             yield f"assembly.hold.{k}", v
         for c in self.conditions:
-            if c.kind == "expression" and c.expr is not None:
-                yield f"conditions.{c.name}.expr", c.expr
-            if c.target is not None:
-                yield f"conditions.{c.name}.target", c.target
+            yield from c.values(self)
 
     def kinematics_class(self) -> type:
-        """The kinematics strategy of this space (:class:`~._kinematics.Kinematics`: x, y, theta per body)."""
-        from ._kinematics import Kinematics
-        return Kinematics
+        """The kinematics strategy of this space (:class:`~._kinematics.PlanarKinematics`: x, y, theta per body)."""
+        from ._kinematics import PlanarKinematics
+        return PlanarKinematics
 
     def normalisation_rows(self) -> frozenset[str]:
         """The names of the constraint rows that normalise coordinates (no joint's): none in the plane."""

@@ -13,7 +13,7 @@ from ..equations import MechanicalModel
 from ..errors import InputError
 from ._description import Mechanism
 from ._expr import float_value, symbol
-from ._kinematics import ConstraintRow, Kinematics
+from ._kinematics import ConstraintRow, PlanarKinematics
 
 __all__ = ["least_squares_closure", "loop_error", "redundancy_error", "check_assembled"]
 
@@ -85,10 +85,12 @@ def loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray) -> I
                       f"lengths{held}: it misses by {gap:.4g} m at best")
 
 
-def check_assembled(mech: Mechanism, kin: Kinematics, model: MechanicalModel, x: np.ndarray, subs: dict,
+def check_assembled(mech: Mechanism, kin: PlanarKinematics, model: MechanicalModel, x: np.ndarray, subs: dict,
                      Lc: float, coords: list[str], rows: list[ConstraintRow], cnames: list[str]) -> None:
     """InputError naming what makes the assembled configuration degenerate: a spring, damper or
-    actuator whose ends coincide (its direction, and so its force, is undefined), or a load,
+    actuator whose line of action has coincident points (its direction, and so its force, is
+    undefined; :meth:`~._plugin.PlugIn.line_of_action`, not the drawing anchors), a distance
+    condition between coincident points, or a load,
     reaction or condition that is not finite there."""
     at = {symbol(n): float(v) for n, v in zip(model.names, x)}
 
@@ -97,19 +99,21 @@ def check_assembled(mech: Mechanism, kin: Kinematics, model: MechanicalModel, x:
 
     where = "; move an end point or assemble elsewhere (bodies' initial, [assembly] hold)"
     for el in mech.force_elements():
-        if len(el.ends()) == 2:
-            a, b = el.ends()
+        line = el.line_of_action()  # not its drawing anchors: a rotary element's ends may share a pin
+        if line is not None:
+            a, b = line
             d = kin.point(b) - kin.point(a)
             gap = math.hypot(number(d[0]), number(d[1]))
             if not gap > 1e-9 * Lc:
                 raise InputError(el.field(), f"its ends {a} and {b} coincide at the assembled configuration "
                                              f"(distance {gap:.3g} m): the direction of its force is undefined there{where}")
     for cond in mech.conditions:
-        if cond.kind == "distance":  # |b - a| has no derivative where a = b (a NaN Jacobian)
-            d = kin.point(cond.points[1]) - kin.point(cond.points[0])
+        line = cond.line_of_action()  # a distance: |b - a| has no derivative where a = b (a NaN Jacobian)
+        if line is not None:
+            d = kin.point(line[1]) - kin.point(line[0])
             gap = math.hypot(number(d[0]), number(d[1]))
             if not gap > 1e-9 * Lc:
-                raise InputError(f"conditions.{cond.name}", f"its points {cond.points[0]} and {cond.points[1]} coincide "
+                raise InputError(f"conditions.{cond.name}", f"its points {line[0]} and {line[1]} coincide "
                                                             f"at the assembled configuration (distance {gap:.3g} m): the "
                                                             f"distance has no derivative there{where}")
     for ld in mech.loads:

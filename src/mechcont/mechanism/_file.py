@@ -54,26 +54,22 @@ from ._bodies import PointSpec
 from ._conditions import conditions_from_table, downlock_from_table
 from ._description import Body, Gravity, Mechanism, Parameter, Polar
 from ._paths import MAX_TEXT, builtin_descriptions, find_description, read_description_bytes
+from ._plugin import Registry, registry
 from .elements import ELEMENT_TYPES, Element
-from .joints import joint_keys
-from .loads import Load, load_keys
+from .loads import Load
 
 __all__ = ["load_description", "parse_description", "read_toml", "description_from_data",
            "builtin_descriptions", "find_description", "locate_error"]
 
 
-#: ``type`` -> (joint class, keys): every registered planar joint (:mod:`.joints`).
-_JOINTS = joint_keys()
-#: ``type`` -> (load class, keys): every load registered for planar mechanisms (:mod:`.loads`).
-_LOADS = load_keys("plane")
 #: The top-level tables besides those of the force elements (:data:`~.elements.ELEMENT_TYPES`, read
 #: at parse time: an element kind registered later is read too).
 _OTHER_SECTIONS = {"mechanism", "parameters", "ground", "bodies", "joints", "gravity", "loads", "assembly", "conditions"}
 #: The top-level tables of a description with the element kinds shipped with mechcont.
 _SECTIONS = _OTHER_SECTIONS | set(ELEMENT_TYPES)
-#: The keys accepted in each table other than ``[joints.NAME]``/``[loads.NAME]`` (whose keys,
-#: per ``type``, are in ``_JOINTS``/``_LOADS``), by key path; ``NAME`` stands for a user's name
-#: (the force elements' keys are those of their classes).
+#: The keys accepted in each table other than ``[joints.NAME]``, ``[loads.NAME]``, ``[conditions.NAME]``
+#: (whose keys, per ``type``, are their classes', in the registries of :mod:`._plugin`), by key path;
+#: ``NAME`` stands for a user's name (the force elements' keys are those of their classes).
 #: The parser checks against these sets and docs/mechanism-format.md is tested against them.
 KEYS: dict[str, frozenset[str]] = {
     "mechanism": frozenset({"name", "description", "dimension", "dof", "redundant", "downlock"}),
@@ -221,16 +217,16 @@ def _short(v) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-def _typed(spec, field: str, table: str, registry: Mapping) -> tuple[str, type]:
-    """Check a ``[table.NAME]`` entry with a ``type`` from ``registry`` and only its keys."""
+def _typed(spec, field: str, table: str, plugins: Registry) -> Any:
+    """The class of a ``[table.NAME]`` entry with a ``type`` from the registry ``plugins``, its keys checked."""
     if not isinstance(spec, Mapping):
         raise InputError(field, f"must be a table [{table}.NAME]")
     kind = spec.get("type")
-    if not isinstance(kind, str) or kind not in registry:
-        raise InputError(field + ".type", f"must be one of {', '.join(registry)}, got {kind!r}")
-    cls, keys = registry[kind]
-    _only(spec, keys | {"type"}, field)
-    return kind, cls
+    if not isinstance(kind, str) or kind not in plugins:
+        raise InputError(field + ".type", f"must be one of {', '.join(plugins)}, got {kind!r}")
+    cls = plugins[kind]
+    _only(spec, cls.table_keys() | {"type"}, field)
+    return cls
 
 
 def _require(tab: Mapping, keys: list[str], field: str) -> None:
@@ -269,15 +265,14 @@ def _direction(v, field: str):
     return _pair(v, field) if isinstance(v, list) else v
 
 
-def loads_from_table(data: Mapping, registry: Mapping[str, tuple[type[Load], frozenset[str]]],
-                     vector: Callable[[Any, str], Any], space: str) -> list[Load]:
-    """The ``[loads.NAME]`` tables, each read by the class its ``type`` names in ``registry``
-    (``vector(value, field)`` reads a vector of the description's ``space``)."""
+def loads_from_table(data: Mapping, vector: Callable[[Any, str], Any], space: str) -> list[Load]:
+    """The ``[loads.NAME]`` tables, each read by the class its ``type`` names in the loads registered
+    for ``space`` (``vector(value, field)`` reads a vector of that space)."""
     out = []
     for lname, spec in _entries(data, "loads"):
         f = f"loads.{lname}"
-        kind, _ = _typed(spec, f, "loads", registry)
-        out.append(registry[kind][0].from_table(lname, {k: v for k, v in spec.items() if k != "type"}, f, vector, space))
+        cls = _typed(spec, f, "loads", registry("loads", space))
+        out.append(cls.from_table(lname, {k: v for k, v in spec.items() if k != "type"}, f, vector, space))
     return out
 
 
@@ -347,29 +342,28 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
 @dataclass(frozen=True)
 class Reader:
     """How the tables that differ in the plane and in space are read: the description class and
-    its ``space`` (the load registry's key), a vector (``vector(value, field)``), a load's
-    direction, a body (``body(name, spec, field)``), the joint registry (``type`` -> (class, keys),
-    each class with ``from_table``) and gravity (``gravity(table)``)."""
+    its ``space`` (the key of the joint and load registries, :func:`._plugin.registry`), a vector
+    (``vector(value, field)``), a load's direction, a body (``body(name, spec, field)``) and gravity
+    (``gravity(table)``)."""
 
     mechanism: type[Mechanism]
     vector: Callable[[Any, str], Any]
     direction: Callable[[Any, str], Any]
     body: Callable[[str, Mapping, str], Any]
-    joints: Mapping[str, tuple[Any, frozenset[str]]]
     gravity: Callable[[Mapping], Any]
 
     def read(self, data: Mapping, common: dict) -> Mechanism:
         """The mechanism of the parsed TOML ``data`` with the ``common`` keywords (:func:`_common`)."""
         ground = {k: self.vector(v, f"ground.{k}") for k, v in _table(data, "ground", "ground").items()}
         bodies = [self.body(name, spec, f"bodies.{name}") for name, spec in _entries(data, "bodies")]
+        space = self.mechanism.space
         joints = []
         for jname, spec in _entries(data, "joints"):
             f = f"joints.{jname}"
-            kind, _ = _typed(spec, f, "joints", self.joints)
-            joints.append(self.joints[kind][0].from_table(jname, {k: v for k, v in spec.items() if k != "type"}, f))
+            cls = _typed(spec, f, "joints", registry("joints", space))
+            joints.append(cls.from_table(jname, {k: v for k, v in spec.items() if k != "type"}, f))
         gravity = self.gravity(_table(data, "gravity", "gravity")) if "gravity" in data else None
-        space = self.mechanism.space
-        loads = loads_from_table(data, load_keys(space), self.direction, space)
+        loads = loads_from_table(data, self.direction, space)
         return self.mechanism(bodies=bodies, joints=joints, ground=ground, loads=loads, gravity=gravity, **common)
 
 
@@ -403,7 +397,7 @@ def _spatial_reader() -> Reader:
 
 #: ``[mechanism] dimension`` -> the reader of the rest of the file (the spatial one imported on first use).
 _READERS: dict[int, Callable[[], Reader]] = {
-    2: lambda: Reader(Mechanism, _pair, _direction, _body, _JOINTS, _gravity), 3: _spatial_reader}
+    2: lambda: Reader(Mechanism, _pair, _direction, _body, _gravity), 3: _spatial_reader}
 
 
 # -- locating keys in the text ----------------------------------------------------------------

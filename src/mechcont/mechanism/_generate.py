@@ -49,7 +49,7 @@ from ._diagnose import check_assembled, least_squares_closure, loop_error, redun
 from ._element_states import collect_states, rest_rows, steady_states
 from ._expr import symbol
 from ._forces import loads
-from ._kinematics import ConstraintRow, Kinematics, place_along_joints
+from ._kinematics import ConstraintRow, PlanarKinematics, place_along_joints
 from ._reduce import reduce_form, velocity_map
 from ._scene import scene_function
 from ._stops import stop_forces
@@ -110,7 +110,7 @@ def _parameter_scale(p, value: float, Lc: float, Fc: float) -> float:
     return abs(value) if value != 0 and math.isfinite(value) else 1.0
 
 
-def _initial_guess(mech: Mechanism, kin: Kinematics, values: dict[str, float]) -> dict[str, float]:
+def _initial_guess(mech: Mechanism, kin: PlanarKinematics, values: dict[str, float]) -> dict[str, float]:
     """Approximate coordinates: the given initial values, bodies placed along pin chains."""
     guess: dict[str, float] = {}
     placed = {"ground"}
@@ -148,7 +148,7 @@ class _Structure:
     build at other values generates and compiles nothing: only the assembly (initial guess,
     loop closure, reactions, condition values, scales) is redone."""
 
-    kin: Kinematics
+    kin: PlanarKinematics
     rows: list[ConstraintRow]
     arrows: list
     coords: list[str]
@@ -193,7 +193,7 @@ def _structure(mech: Mechanism, reduced: bool) -> _Structure:
     st = mech._generated.get(key)
     if st is not None:
         return st
-    kin = Kinematics(mech)
+    kin = PlanarKinematics(mech)
     rows = kin.constraints()
     ld = loads(kin)
     M = kin.mass_matrix()
@@ -373,7 +373,7 @@ def summary(mech: Mechanism) -> tuple[str, list[tuple[str, str, str, str, float 
     """
     if mech.redundant == "drop":
         return None
-    kin = Kinematics(mech)
+    kin = PlanarKinematics(mech)
     out: list[tuple[str, str, str, str, float | None]] = []
     for c in kin.coords:
         unit, _, text = _coordinate_unit_text(c)
@@ -425,7 +425,7 @@ def _dropped_residual(system: EquationSystem, dropped: Sequence[ConstraintRow]) 
     return DroppedResidual(compile_dense(list(system.symbols), [r.expr for r in dropped]) if dropped else None)
 
 
-def _coordinates_of(kin: Kinematics | SpatialKinematics, system: EquationSystem, subs: dict) -> CoordinatesOf:
+def _coordinates_of(kin: PlanarKinematics | SpatialKinematics, system: EquationSystem, subs: dict) -> CoordinatesOf:
     """The compiled body coordinates of ``system`` (see :class:`CoordinatesOf`)."""
     from ..equations import compile_dense
     exprs = [subs.get(s, s) for s in kin.q]

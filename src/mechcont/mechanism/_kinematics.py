@@ -9,16 +9,18 @@ so that the multiplier of a joint is the force the body of ``a`` exerts on the b
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 import sympy as sp
 
 from ._bodies import SpatialBody
 from ._description import Body, Mechanism, Polar, coordinate_names
 from ._expr import symbol
+from ._plugin import Kinematics
 from .elements import element_rows
 from .joints import ConstraintRow
 
-__all__ = ["Kinematics", "ConstraintRow", "kinematics_of", "pin_chain", "place_along_joints"]
+__all__ = ["PlanarKinematics", "ConstraintRow", "kinematics_of", "pin_chain", "place_along_joints"]
 
 
 def _rot(theta: sp.Expr, p: sp.Matrix) -> sp.Matrix:
@@ -26,8 +28,11 @@ def _rot(theta: sp.Expr, p: sp.Matrix) -> sp.Matrix:
     return sp.Matrix([c * p[0] - s * p[1], s * p[0] + c * p[1]])
 
 
-class Kinematics:
-    """Symbols and symbolic geometry of ``mech`` (built once per :meth:`Mechanism.build`)."""
+class PlanarKinematics:
+    """Symbols and symbolic geometry of a planar ``mech`` (built once per :meth:`Mechanism.build`): the
+    planar strategy of the :class:`~._plugin.Kinematics` protocol."""
+
+    dimension = 2
 
     def __init__(self, mech: Mechanism):
         self.mech = mech
@@ -70,9 +75,27 @@ class Kinematics:
         body = ref.split(".")[0]
         return sp.S.Zero if body == "ground" else self.body_q[body][2]
 
+    def turn(self, ref: str, v: sp.Matrix) -> sp.Matrix:
+        """The body vector ``v`` of the frame ``ref`` belongs to, in global axes."""
+        return _rot(self.angle(ref), sp.Matrix(v))
+
+    def relative_rotation(self, a: str, b: str, axis: sp.Matrix | None = None) -> sp.Expr:
+        """The rotation (rad) of the frame of ``b`` relative to that of ``a``: ``theta_b - theta_a``
+        (``axis`` is the plane's normal, not needed)."""
+        return self.angle(b) - self.angle(a)
+
     def cg(self, body: str) -> sp.Matrix:
         """Global position of the centre of gravity of ``body``."""
         return self.point(f"{body}.cg")
+
+    def moment_anchor(self, body: str) -> sp.Matrix:
+        """Where a moment on ``body`` is drawn: its first pin or weld to the ground, else its frame origin."""
+        for j in self.mech.joints:
+            if j.COINCIDENT:
+                for here, there in ((j.a, j.b), (j.b, j.a)):
+                    if here.split(".")[0] == "ground" and there.split(".")[0] == body:
+                        return self.point(there)
+        return self.point(f"{body}.origin")
 
     def origin(self, body: str) -> list[sp.Symbol]:
         """The coordinates of ``body``'s frame origin: ``x``, ``y`` (m)."""
@@ -83,7 +106,7 @@ class Kinematics:
         d = self.point(b) - self.point(a)
         return sp.sqrt(d[0] ** 2 + d[1] ** 2)
 
-    def direction(self, field: str, raw) -> sp.Matrix:
+    def direction(self, field: str, raw: Any) -> sp.Matrix:
         """The unit vector of the direction at key path ``field``: its ``[x, y]`` normalised, or
         ``(cos, sin)`` of an angle (rad) (``raw``, the value as described, tells which)."""
         m = self.mech
@@ -93,7 +116,7 @@ class Kinematics:
         a = m.value(field)
         return sp.Matrix([sp.cos(a), sp.sin(a)])
 
-    def force_work(self, P: sp.Matrix, f: sp.Matrix, theta=sp.S.Zero, moment=0) -> list[sp.Expr]:
+    def force_work(self, P: sp.Matrix, f: sp.Matrix, theta: sp.Expr = sp.S.Zero, moment: sp.Expr = 0) -> list[sp.Expr]:
         """Generalised forces (one per coordinate) of the force ``f`` (N) at ``P`` and the moment
         ``moment`` (N m) on the frame at angle ``theta``: ``f . dP/dq + moment dtheta/dq``."""
         return [f[0] * sp.diff(P[0], qi) + f[1] * sp.diff(P[1], qi) + moment * sp.diff(theta, qi) for qi in self.q]
@@ -130,8 +153,8 @@ class Kinematics:
         return self.body_mass(b) * self.mech.value(f + ".length") ** 2 / 12
 
 
-def kinematics_of(mech: Mechanism):
-    """The kinematics of ``mech`` (:class:`Kinematics` in the plane, its spatial twin in space: the
+def kinematics_of(mech: Mechanism) -> Kinematics:
+    """The kinematics of ``mech`` (:class:`PlanarKinematics` in the plane, its spatial twin in space: the
     description's :meth:`~Mechanism.kinematics_class`), made once per description (it depends on no
     value) and kept with its generated structures."""
     kin = mech._generated.get("kinematics")
@@ -164,7 +187,7 @@ def pin_chain(mech: Mechanism, placed: set[str]):
             changed = True
 
 
-def place_along_joints(kin, placed: set[str], guess: dict[str, float], values: Mapping[str, float]) -> None:
+def place_along_joints(kin: Kinematics, placed: set[str], guess: dict[str, float], values: Mapping[str, float]) -> None:
     """Move the frame origin of each body reached from the ``placed`` ones through coincident
     joints (:func:`pin_chain`) so that the joint's two points meet, its orientation in ``guess``
     kept: updates ``guess`` (coordinate name -> value) for the kinematics ``kin``, planar or spatial.

@@ -24,12 +24,12 @@ from __future__ import annotations
 import sympy as sp
 
 from ..equations import velocity_symbol
-from ._kinematics import ConstraintRow, Kinematics, pin_chain
+from ._kinematics import ConstraintRow, PlanarKinematics, pin_chain
 
 __all__ = ["tree_elimination", "reduce_form", "velocity_map"]
 
 
-def tree_elimination(kin: Kinematics) -> tuple[dict[sp.Symbol, sp.Expr], set[str]]:
+def tree_elimination(kin: PlanarKinematics) -> tuple[dict[sp.Symbol, sp.Expr], set[str]]:
     """Coordinates fixed by a spanning tree of pins from the ground.
 
     Returns ``(substitution, tree_joints)``: each eliminated coordinate symbol mapped to its
@@ -52,7 +52,7 @@ def tree_elimination(kin: Kinematics) -> tuple[dict[sp.Symbol, sp.Expr], set[str
     return subs, tree
 
 
-def velocity_map(kin: Kinematics, subs: dict):
+def velocity_map(kin: PlanarKinematics, subs: dict):
     """``(kept, J, vel)`` of the substitution ``subs`` of the eliminated coordinates: the kept ``(name,
     symbol)`` pairs, ``J = dq/dr`` (every coordinate by the kept ones) and the velocity symbols of every
     coordinate written in the kept ones' (``qdot = J rdot``)."""
@@ -66,7 +66,7 @@ def velocity_map(kin: Kinematics, subs: dict):
     return kept, J, vel
 
 
-def reduce_form(kin: Kinematics, rows: list[ConstraintRow], V: sp.Expr, Q_nc: list[sp.Expr], M: sp.Matrix):
+def reduce_form(kin: PlanarKinematics, rows: list[ConstraintRow], V: sp.Expr, Q_nc: list[sp.Expr], M: sp.Matrix):
     """Apply :func:`tree_elimination`.
 
     Returns ``(coords, rows, forces, mass, subs)``: kept coordinate names, remaining

@@ -9,12 +9,12 @@ import sympy as sp
 
 from ..equations import Scene, compile_dense
 from ._compiled import GeneratedScene
-from ._kinematics import Kinematics
+from ._kinematics import PlanarKinematics
 
 __all__ = ["scene_function"]
 
 
-def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
+def scene_function(kin: PlanarKinematics, arrows, symbols: Sequence[sp.Symbol],
                    subs: dict | None = None) -> Callable[[np.ndarray], Scene]:
     """Compile ``scene(x) -> Scene`` for a system whose variables have ``symbols``.
 
@@ -51,14 +51,7 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
             add("bar", b.name, [pt(n) for n in names] + ([pt(names[0])] if len(names) > 2 else []))
     for j in mech.joints:
         j.draw(kin, add)
-    pinned: dict[str, str] = {}        # body -> its first point pinned or welded to the ground
-    ground_joints: set[str] = set()
-    for j in mech.joints:
-        if j.COINCIDENT:
-            for here, there in ((j.a, j.b), (j.b, j.a)):
-                if here.split(".")[0] == "ground":
-                    ground_joints.add(here)
-                    pinned.setdefault(there.split(".")[0], there)
+    ground_joints = {here for j in mech.joints if j.COINCIDENT for here in (j.a, j.b) if here.split(".")[0] == "ground"}
     anchors: list[str] = []
     for el in mech.force_elements():
         el.draw(kin, add)
@@ -69,7 +62,7 @@ def scene_function(kin: Kinematics, arrows, symbols: Sequence[sp.Symbol],
     for kind, name, P, F in arrows:
         add(kind, name, [P, F])
     for ld in mech.loads:
-        ld.draw(kin, add, pinned)
+        ld.draw(kin, add)
     for b in mech.bodies:
         names = mech.point_names(b.name)
         off_origin = any(c != 0 for c in kin.local_point(b.name, "cg"))

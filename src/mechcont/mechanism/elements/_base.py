@@ -5,7 +5,8 @@ A force element is an entry ``[TABLE.NAME]`` of a description file (``[springs.N
 maths written once against the kinematics object (``kin.point``, ``kin.distance``, ``kin.q``,
 ...). An element class gives
 
-* ``table``: its table name (setting it registers the class in :data:`ELEMENT_TYPES`);
+* ``table``: its table name (setting it registers the class in :data:`ELEMENT_TYPES`, the
+  ``"elements"`` registry of :mod:`.._plugin`, shared by both spaces);
   ``KEYS``: the keys of its table; ``REQUIRED``: the keys a file must give; ``TEXT_KEYS``: the
   keys that are free text; :meth:`~Element.from_table`: the element of one parsed table;
 * :meth:`~Element.check`: its references, with one-line errors naming the key;
@@ -18,8 +19,13 @@ maths written once against the kinematics object (``kin.point``, ``kin.distance`
 * :meth:`~Element.states`: its first-order states (:class:`ElementState`, a tyre's lateral
   deflection), if any: each becomes a variable of the generated system held at its steady state
   in continuation, and is integrated or linearised with the coordinates in dynamics;
-* :meth:`~Element.ends`: the point references it attaches to; :meth:`~Element.draw`: its
-  drawing primitives.
+* :meth:`~Element.ends`: the point references it is drawn from (a ground one is drawn as an
+  anchor); :meth:`~Element.line_of_action`: the two points whose line its force acts along, if
+  any (the assembly diagnostics refuse a configuration where they coincide; a rotary element has
+  none); :meth:`~Element.draw`: its drawing primitives.
+
+The class is a :class:`~.._plugin.PlugIn` of the family ``"elements"``: its maths is written
+against the :class:`~.._plugin.Kinematics` protocol, so that it serves both spaces.
 
 The description keeps the built-in kinds in their own fields (``springs``, ``dampers``,
 ``actuators``) and any other registered kind in ``elements``; :meth:`Mechanism.force_elements`
@@ -28,24 +34,23 @@ gives them all. Adding an element kind is adding one module to this package with
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import sympy as sp
 
 from ...errors import InputError
+from .._plugin import Draw, Kinematics, PlugIn, Registry, registry
 
 if TYPE_CHECKING:
     from .._description import Mechanism
-    from ..loads import Loads
+    from ..joints import ConstraintRow
 
 __all__ = ["Element", "ElementState", "TwoPointElement", "ELEMENT_TYPES", "element_rows"]
 
-#: table name (``"springs"``, ...) -> element class, in registration order.
-ELEMENT_TYPES: dict[str, type[Element]] = {}
-#: ``add(kind, name, points)``: one drawing primitive (see the scene functions).
-Draw = Callable[[str, str, list[sp.Matrix]], None]
+#: table name (``"springs"``, ...) -> element class, in registration order (both spaces share it).
+ELEMENT_TYPES: Registry = registry("elements", "plane")
 
 
 @dataclass(frozen=True)
@@ -66,27 +71,18 @@ class ElementState:
     description: str = ""
 
 
-class Element:
+class Element(PlugIn[Kinematics]):
     """Base of the force elements (see the module docstring for the protocol).
 
     Subclasses are frozen dataclasses whose first field is ``name``."""
 
     name: str
+    FAMILY: ClassVar[str] = "elements"
+    KEY: ClassVar[str] = "table"
     table: ClassVar[str] = ""
-    KEYS: ClassVar[frozenset[str]] = frozenset()
-    REQUIRED: ClassVar[tuple[str, ...]] = ()
     TEXT_KEYS: ClassVar[tuple[str, ...]] = ()
     LENGTH_KEYS: ClassVar[tuple[str, ...]] = ()
     STIFFNESS_KEYS: ClassVar[tuple[str, ...]] = ()
-
-    def __init_subclass__(cls, **kwargs):
-        super().__init_subclass__(**kwargs)
-        table = cls.__dict__.get("table")
-        if table:
-            known = ELEMENT_TYPES.get(table)
-            if known is not None and known.__qualname__ != cls.__qualname__:
-                raise TypeError(f"element table {table!r} registered twice ({known.__name__}, {cls.__name__})")
-            ELEMENT_TYPES[table] = cls
 
     @classmethod
     def required_message(cls, key: str) -> str:
@@ -107,39 +103,18 @@ class Element:
                 raise InputError(f"{field}.{k}", f"must be a string, got {spec[k]!r}")
         return cls(name, **spec)  # type: ignore[call-arg]
 
-    def field(self, key: str = "") -> str:
-        """The key path of this element (or of its ``key``)."""
-        return f"{self.table}.{self.name}" + (f".{key}" if key else "")
-
-    def check(self, mech: Mechanism) -> None:
-        """Check the references against ``mech`` (a one-line InputError naming the key)."""
-
-    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
-        """Every (key path, raw value) of the element that is a number or an expression."""
-        return iter(())
+    def section(self) -> str:
+        """Its table (``"springs"``, ...)."""
+        return self.table
 
     def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
         """``(key path, strict, what)``: values that must be positive (strict) or non-negative
         (``solve``: values given for one analysis rather than the file's defaults)."""
         return []
 
-    def apply(self, kin, out: Loads) -> None:
-        """Add the element's potential and generalised forces in the coordinates of ``kin`` to ``out``."""
-
-    def rows(self, kin) -> list:
-        """The element's constraint rows (:class:`~.._kinematics.ConstraintRow`) in the coordinates of ``kin``."""
-        return []
-
-    def states(self, kin) -> tuple[ElementState, ...]:
+    def states(self, kin: Kinematics) -> tuple[ElementState, ...]:
         """The element's first-order states in the coordinates of ``kin`` (none by default)."""
         return ()
-
-    def ends(self) -> tuple[str, ...]:
-        """The point references the element attaches to (a ground one is drawn as an anchor)."""
-        return ()
-
-    def draw(self, kin, add: Draw) -> None:
-        """Add the element's drawing primitives."""
 
 
 class TwoPointElement(Element):
@@ -158,11 +133,15 @@ class TwoPointElement(Element):
         """``a`` and ``b``."""
         return (self.a, self.b)
 
-    def draw(self, kin, add: Draw) -> None:
+    def line_of_action(self) -> tuple[str, str] | None:
+        """Its force acts along ``a`` - ``b``."""
+        return (self.a, self.b)
+
+    def draw(self, kin: Kinematics, add: Draw) -> None:
         """A ``DRAWN`` primitive from ``a`` to ``b``."""
         add(self.DRAWN, self.name, [kin.point(self.a), kin.point(self.b)])
 
 
-def element_rows(kin) -> list:
+def element_rows(kin: Kinematics) -> list[ConstraintRow]:
     """The constraint rows of every force element of the mechanism of ``kin``, in declaration order."""
     return [r for el in kin.mech.force_elements() for r in el.rows(kin)]

@@ -4,8 +4,7 @@ relative angle of two bodies, its rate, their checks and their drawing.
 In the plane the relative angle is ``theta_b - theta_a`` (rad, counter-clockwise positive; the
 ground's angle is 0). In space it is the rotation of ``b`` relative to ``a`` about the axis of a
 named revolute or cylindrical joint (``joint``), right-handed about that axis as the joint gives it
-(design pose): with ``(f, g, u)`` the joint's right-handed frame (:func:`..spatial._rotation.perpendiculars`),
-``f_a = A_a f``, ``f_b = A_b f`` and ``u_a = A_a u``,
+(design pose): the kinematics' ``relative_rotation`` (:meth:`..spatial._kinematics.SpatialKinematics.relative_rotation`),
 
     phi = atan2(u_a . (f_a x f_b), f_a . f_b),
 
@@ -16,10 +15,28 @@ this is exactly the rotation about it; it is smooth for ``|phi| < pi``.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Protocol
+
 import sympy as sp
 
 from ...equations import velocity_symbol
 from ...errors import InputError
+
+if TYPE_CHECKING:
+    from .._description import Mechanism
+    from .._plugin import Kinematics
+
+
+class Rotary(Protocol):
+    """A rotary element: bodies ``a``, ``b`` (or ``"ground"``) and the joint it acts about."""
+
+    @property
+    def a(self) -> str: ...
+    @property
+    def b(self) -> str: ...
+    @property
+    def joint(self) -> str | None: ...
+    def field(self, key: str = "") -> str: ...
 
 __all__ = ["relative_angle", "angle_rate", "check_bodies", "pivot", "AXIS_JOINTS"]
 
@@ -31,7 +48,7 @@ def _bodies(joint) -> set[str]:
     return {joint.a.split(".")[0], joint.b.split(".")[0]}
 
 
-def check_bodies(el, mech) -> None:
+def check_bodies(el: Rotary, mech: Mechanism) -> None:
     """``el.a`` and ``el.b`` must be bodies of ``mech`` (or ``"ground"``), different; ``el.joint``,
     required in space, a joint of ``mech`` joining them (in space with an ``axis``). One-line
     InputErrors naming the key."""
@@ -59,24 +76,17 @@ def check_bodies(el, mech) -> None:
                                             f"axis ({', '.join(AXIS_JOINTS)})")
 
 
-def _joint(el, mech):
+def _joint(el: Rotary, mech: Mechanism):
     return next(j for j in mech.joints if j.name == el.joint)
 
 
-def relative_angle(el, kin) -> sp.Expr:
+def relative_angle(el: Rotary, kin: Kinematics) -> sp.Expr:
     """The rotation (rad) of body ``el.b`` relative to ``el.a`` (see the module docstring)."""
-    mech = kin.mech
-    if mech.space != "space":
-        return kin.angle(f"{el.b}.origin") - kin.angle(f"{el.a}.origin")
-    from ..spatial._rotation import cross, dot, perpendiculars
-
-    joint = _joint(el, mech)
-    u, f, _ = perpendiculars(joint.vector(kin, "axis"), kin.defaults)
-    fa, fb, ua = kin.turn(f"{el.a}.origin", f), kin.turn(f"{el.b}.origin", f), kin.turn(f"{el.a}.origin", u)
-    return sp.atan2(dot(ua, cross(fa, fb)), dot(fa, fb))
+    axis = _joint(el, kin.mech).vector(kin, "axis") if kin.dimension == 3 else None
+    return kin.relative_rotation(f"{el.a}.origin", f"{el.b}.origin", axis)
 
 
-def angle_rate(angle: sp.Expr, kin) -> tuple[list[sp.Expr], sp.Expr]:
+def angle_rate(angle: sp.Expr, kin: Kinematics) -> tuple[list[sp.Expr], sp.Expr]:
     """``(d angle/dq, d angle/dt)``: the gradient in the coordinates of ``kin`` and the rate (rad/s)
     in their velocity symbols."""
     grad = [sp.diff(angle, qi) for qi in kin.q]
@@ -84,7 +94,7 @@ def angle_rate(angle: sp.Expr, kin) -> tuple[list[sp.Expr], sp.Expr]:
     return grad, rate
 
 
-def pivot(el, kin) -> sp.Matrix:
+def pivot(el: Rotary, kin: Kinematics) -> sp.Matrix:
     """Where a rotary element is drawn: its joint's point ``b``, else the first pin or weld joining
     ``a`` and ``b``, else the origin of body ``b`` (of ``a`` when ``b`` is the ground)."""
     mech = kin.mech

@@ -18,14 +18,18 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
 from ...errors import InputError
 from .._expr import Value
+from .._plugin import Kinematics
 from ..joints import ConstraintRow
-from ._base import TwoPointElement
+from ._base import Draw, TwoPointElement
+
+if TYPE_CHECKING:
+    from ..loads import Loads
 
 __all__ = ["Actuator"]
 
@@ -84,7 +88,7 @@ class Actuator(TwoPointElement):
         """A given length is positive."""
         return [(self.field("length"), True, "actuator length (m)")] if self.length is not None else []
 
-    def length_in(self, kin) -> sp.Expr:
+    def length_in(self, kin: Kinematics) -> sp.Expr:
         """``|P_b - P_a|`` (m) in the coordinates of ``kin``."""
         d = kin.point(self.b) - kin.point(self.a)
         return sp.sqrt(sum((c ** 2 for c in d), sp.S.Zero))
@@ -95,19 +99,19 @@ class Actuator(TwoPointElement):
             return mech.value(self.field("force"))
         return sp.Symbol(f"T_{self.name}", real=True)
 
-    def apply(self, kin, out) -> None:
+    def apply(self, kin: Kinematics, out: Loads) -> None:
         """Force mode: the potential ``F l`` (J)."""
         if self.mode == "force":
             out.V += kin.mech.value(self.field("force")) * self.length_in(kin)
 
-    def rows(self, kin) -> list:
+    def rows(self, kin: Kinematics) -> list:
         """Length mode: the row ``l - L`` (m), reaction ``T_<NAME>`` (N)."""
         if self.mode != "length":
             return []
         L = kin.mech.value(self.field("length"))
         return [ConstraintRow(self.name, f"{self.name}_length", f"T_{self.name}", "N", self.length_in(kin) - L)]
 
-    def draw(self, kin, add) -> None:
+    def draw(self, kin: Kinematics, add: Draw) -> None:
         """Its ends, then its tension as the vector ``(T, 0, ...)`` (N)."""
         tension = sp.Matrix([self.tension(kin.mech)] + [0] * (len(kin.mech.AXES) - 1))
         add(self.DRAWN, self.name, [kin.point(self.a), kin.point(self.b), tension])

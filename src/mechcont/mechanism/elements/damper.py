@@ -15,13 +15,17 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
 from ...equations import velocity_symbol
 from .._expr import Value
+from .._plugin import Kinematics
 from ._base import TwoPointElement
+
+if TYPE_CHECKING:
+    from ..loads import Loads
 
 __all__ = ["Damper", "damper_tension"]
 
@@ -57,7 +61,7 @@ class Damper(TwoPointElement):
         """Both coefficients non-negative."""
         return [(self.field("c"), False, "damping (N s/m)"), (self.field("c2"), False, "quadratic damping (N s^2/m^2)")]
 
-    def apply(self, kin, out) -> None:
+    def apply(self, kin: Kinematics, out: Loads) -> None:
         """Generalised forces ``-T dl/dq`` with ``v = dl/dq . qdot`` (the velocity symbols of ``kin.coords``)."""
         length = kin.distance(self.a, self.b)
         grad = [sp.diff(length, qi) for qi in kin.q]

@@ -4,10 +4,14 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from .._expr import Value
+from .._plugin import Kinematics
 from ._base import TwoPointElement
+
+if TYPE_CHECKING:
+    from ..loads import Loads
 
 __all__ = ["Spring"]
 
@@ -43,7 +47,7 @@ class Spring(TwoPointElement):
         (it disconnects the spring, as in the paper's Fig. 7, "no spring load")."""
         return [(self.field("k"), not solve, "stiffness (N/m)"), (self.field("free_length"), True, "free length (m)")]
 
-    def apply(self, kin, out) -> None:
+    def apply(self, kin: Kinematics, out: Loads) -> None:
         """Potential ``preload*l + k/2 (l - free_length)^2`` (J)."""
         v = kin.mech.value
         k, l0, pre = v(self.field("k")), v(self.field("free_length")), v(self.field("preload"))

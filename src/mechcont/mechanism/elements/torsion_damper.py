@@ -13,12 +13,16 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from .._expr import Value
+from .._plugin import Kinematics
 from ._base import Draw, Element
 from ._rotary import angle_rate, check_bodies, pivot, relative_angle
 from .damper import damper_tension
+
+if TYPE_CHECKING:
+    from ..loads import Loads
 
 __all__ = ["TorsionDamper"]
 
@@ -54,13 +58,13 @@ class TorsionDamper(Element):
         return [(self.field("c"), False, "torsional damping (N m s/rad)"),
                 (self.field("c2"), False, "quadratic torsional damping (N m s^2/rad^2)")]
 
-    def apply(self, kin, out) -> None:
+    def apply(self, kin: Kinematics, out: Loads) -> None:
         """Generalised forces ``-(c w + c2 w |w|) dphi/dq``, ``w = dphi/dq . qdot``."""
         grad, rate = angle_rate(relative_angle(self, kin), kin)
         v = kin.mech.value
         moment = damper_tension(v(self.field("c")), v(self.field("c2")), rate)
         out.add([-moment * g for g in grad])
 
-    def draw(self, kin, add: Draw) -> None:
+    def draw(self, kin: Kinematics, add: Draw) -> None:
         """A rotary dashpot (``torsion_damper``) at the joint between ``a`` and ``b``."""
         add("torsion_damper", self.name, [pivot(self, kin)])

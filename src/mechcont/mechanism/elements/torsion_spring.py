@@ -8,18 +8,23 @@ A torsion spring between bodies ``a`` and ``b`` (either may be ``"ground"``) sto
 about the axis of the revolute or cylindrical joint ``joint``, see :mod:`._rotary`), ``angle`` its
 free relative angle (rad), ``k`` (N m/rad). The moment it exerts on ``b`` is ``-k (phi - angle)``
 about the axis (and the opposite on ``a``). It is drawn as a coil at the joint, not as a line
-between two points: its "ends" sit on one pin, so it declares none (:meth:`Element.ends`).
+between two points: its "ends" sit on one pin, so it has no line of action
+(:meth:`Element.line_of_action`, None) and no drawing anchors (:meth:`Element.ends`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from .._expr import Value
+from .._plugin import Kinematics
 from ._base import Draw, Element
 from ._rotary import check_bodies, pivot, relative_angle
+
+if TYPE_CHECKING:
+    from ..loads import Loads
 
 __all__ = ["TorsionSpring"]
 
@@ -54,11 +59,11 @@ class TorsionSpring(Element):
         """A non-negative stiffness."""
         return [(self.field("k"), False, "torsional stiffness (N m/rad)")]
 
-    def apply(self, kin, out) -> None:
+    def apply(self, kin: Kinematics, out: Loads) -> None:
         """Potential ``k/2 (phi - angle)^2`` (J)."""
         v = kin.mech.value
         out.V += v(self.field("k")) / 2 * (relative_angle(self, kin) - v(self.field("angle"))) ** 2
 
-    def draw(self, kin, add: Draw) -> None:
+    def draw(self, kin: Kinematics, add: Draw) -> None:
         """A coil (``torsion_spring``) at the joint between ``a`` and ``b``."""
         add("torsion_spring", self.name, [pivot(self, kin)])

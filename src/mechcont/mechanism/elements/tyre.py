@@ -55,14 +55,18 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
 from ...equations import velocity_symbol
 from ...errors import InputError
 from .._expr import Value, symbol
+from .._plugin import Kinematics
 from ._base import Draw, Element, ElementState
+
+if TYPE_CHECKING:
+    from ..loads import Loads
 
 __all__ = ["Tyre"]
 
@@ -125,21 +129,20 @@ class Tyre(Element):
         return out
 
     # -- geometry ------------------------------------------------------------------------
-    def _axes(self, kin) -> tuple[sp.Matrix, sp.Matrix]:
+    def _axes(self, kin: Kinematics) -> tuple[sp.Matrix, sp.Matrix]:
         """Heading ``h`` and lateral axis ``l`` (unit, global, in the ground plane)."""
-        if kin.mech.space != "space":
-            th = kin.angle(self.point)
-            return sp.Matrix([sp.cos(th), sp.sin(th)]), sp.Matrix([-sp.sin(th), sp.cos(th)])
-        x = kin.turn(self.point, sp.Matrix([1, 0, 0]))
+        x = kin.turn(self.point, sp.Matrix([1, 0, 0][:kin.dimension]))
+        if kin.dimension == 2:
+            return x, sp.Matrix([-x[1], x[0]])
         n = sp.sqrt(x[0] ** 2 + x[1] ** 2)
         return sp.Matrix([x[0] / n, x[1] / n, 0]), sp.Matrix([-x[1] / n, x[0] / n, 0])
 
-    def _ground_velocity(self, kin) -> sp.Matrix:
+    def _ground_velocity(self, kin: Kinematics) -> sp.Matrix:
         """The mechanism's velocity relative to the ground, ``V e_x``, in the kinematics' dimension."""
         V = kin.mech.value(self.field("speed"))
         return sp.Matrix([V, 0, 0][:3 if kin.mech.space == "space" else 2])
 
-    def lateral_velocity(self, kin) -> sp.Expr:
+    def lateral_velocity(self, kin: Kinematics) -> sp.Expr:
         """``v_lat`` (m/s): the contact point's velocity relative to the ground along the lateral axis,
         in the coordinates and their velocity symbols."""
         P = kin.point(self.point)
@@ -148,7 +151,7 @@ class Tyre(Element):
                         for c in P])
         return (vP + self._ground_velocity(kin)).dot(lat)
 
-    def side_force(self, kin) -> sp.Expr:
+    def side_force(self, kin: Kinematics) -> sp.Expr:
         """``F(y)`` (N) along the lateral axis: ``C y/sigma``, or ``F_max tanh(C y/(sigma F_max))``."""
         v = kin.mech.value
         C, sigma = v(self.field("cornering_stiffness")), v(self.field("relaxation_length"))
@@ -158,12 +161,12 @@ class Tyre(Element):
         Fmax = v(self.field("max_force"))
         return Fmax * sp.tanh(C * y / (sigma * Fmax))
 
-    def _force_point(self, kin) -> sp.Matrix:
+    def _force_point(self, kin: Kinematics) -> sp.Matrix:
         h, _ = self._axes(kin)
         return kin.point(self.point) - kin.mech.value(self.field("pneumatic_trail")) * h
 
     # -- the protocol ----------------------------------------------------------------------
-    def states(self, kin) -> tuple[ElementState, ...]:
+    def states(self, kin: Kinematics) -> tuple[ElementState, ...]:
         """``y_<name>`` (m): ``dy/dt = -v_lat - (V/sigma) y``."""
         v = kin.mech.value
         rate = -self.lateral_velocity(kin) - v(self.field("speed")) / v(self.field("relaxation_length")) * symbol(self.state)
@@ -176,12 +179,12 @@ class Tyre(Element):
                                          f"{self.speed}, relaxation length {self.relaxation_length}; + to the wheel's "
                                          "left)"),)
 
-    def apply(self, kin, out) -> None:
+    def apply(self, kin: Kinematics, out: Loads) -> None:
         """The side force ``F(y) l`` at the (trailed) contact point: generalised forces ``F l . dP/dq``."""
         _, lat = self._axes(kin)
         out.add(kin.force_work(self._force_point(kin), self.side_force(kin) * lat))
 
-    def draw(self, kin, add: Draw) -> None:
+    def draw(self, kin: Kinematics, add: Draw) -> None:
         """The contact point (named after the tyre) and the side force (N) as an arrow at the trailed point."""
         _, lat = self._axes(kin)
         add("point", f"tyre {self.name}", [kin.point(self.point)])

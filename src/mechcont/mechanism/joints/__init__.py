@@ -21,11 +21,10 @@ __all__ = ["JOINT_TYPES", "ConstraintRow", "PlanarJoint", "Revolute", "Slider", 
 for _info in pkgutil.iter_modules(__path__):
     if not _info.name.startswith("_"):
         importlib.import_module(f"{__name__}.{_info.name}")
-_added = {kind: cls for kind, cls in JOINT_TYPES.items() if cls not in (Revolute, Slider, Prismatic, Weld)}
-JOINT_TYPES.clear()  # the historical order first, then the joints added since (alphabetically by module)
-JOINT_TYPES.update({cls.kind: cls for cls in (Revolute, Slider, Prismatic, Weld)}, **_added)
+# the historical order first, then the joints added since (alphabetically by module)
+JOINT_TYPES.first([cls.kind for cls in (Revolute, Slider, Prismatic, Weld)])
 
 
 def joint_keys() -> dict[str, tuple[type[PlanarJoint], frozenset[str]]]:
     """``type`` -> (joint class, the keys of its table besides ``type``), every registered joint."""
-    return {kind: (cls, cls.KEYS) for kind, cls in JOINT_TYPES.items()}
+    return JOINT_TYPES.keyed()

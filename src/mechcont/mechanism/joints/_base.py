@@ -6,7 +6,8 @@ multiplier is the force (N) or moment (N m) that the body of ``a`` exerts on the
 along that row's direction. A joint class gives
 
 * ``kind``: its ``type`` in a description file (setting it registers the class in
-  :data:`JOINT_TYPES`); ``KEYS``, ``REQUIRED``: its table's keys besides ``type``;
+  :data:`JOINT_TYPES`, the planar ``"joints"`` registry of :mod:`.._plugin`); ``KEYS``,
+  ``REQUIRED``: its table's keys besides ``type``;
   ``VALUES``: the keys holding numbers or expressions (parsed over the parameters);
 * :meth:`~PlanarJoint.check`: the point references, with one-line errors naming the key;
 * :meth:`~PlanarJoint.rows`: its constraint rows against the planar kinematics (``kin.point``,
@@ -17,29 +18,30 @@ along that row's direction. A joint class gives
 * :meth:`~PlanarJoint.draw`: its drawing primitives; :meth:`~PlanarJoint.limits`: the
   physical ranges of its values.
 
-Adding a joint type is adding one module to this package with one such class.
+The class is a :class:`~.._plugin.PlugIn` of the family ``"joints"`` written against the planar
+kinematics (``PlugIn[PlanarKinematics]``). Adding a joint type is adding one module to this
+package with one such class.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
 import sympy as sp
 
 from ...errors import InputError
+from .._plugin import Draw, PlugIn, Registry, registry
 
 if TYPE_CHECKING:
     from .._description import Mechanism
-    from .._kinematics import Kinematics
+    from .._kinematics import PlanarKinematics
 
 __all__ = ["ConstraintRow", "PlanarJoint", "JOINT_TYPES", "Draw", "check_points", "point_rows", "line_row", "angle_row"]
 
-#: ``add(kind, name, points)``: one drawing primitive (see :func:`mechcont.mechanism._scene.scene_function`).
-Draw = Callable[[str, str, list[sp.Matrix]], None]
 #: TOML ``type`` -> planar joint class, in registration order.
-JOINT_TYPES: dict[str, type[PlanarJoint]] = {}
+JOINT_TYPES: Registry = registry("joints", "plane")
 
 
 @dataclass(frozen=True)
@@ -53,7 +55,7 @@ class ConstraintRow:
     expr: sp.Expr
 
 
-class PlanarJoint:
+class PlanarJoint(PlugIn["PlanarKinematics"]):
     """Base of the planar joints (see the module docstring for the protocol).
 
     Subclasses are frozen dataclasses whose first field is ``name``; ``a`` and ``b`` are the
@@ -62,6 +64,8 @@ class PlanarJoint:
     name: str
     a: str
     b: str
+    FAMILY: ClassVar[str] = "joints"
+    SPACES: ClassVar[tuple[str, ...]] = ("plane",)
     kind: ClassVar[str] = ""
     KEYS: ClassVar[frozenset[str]] = frozenset({"a", "b"})
     REQUIRED: ClassVar[tuple[str, ...]] = ("a", "b")
@@ -69,14 +73,6 @@ class PlanarJoint:
     #: Keys of the joint's vectors that must not be zero (none so far in the plane).
     VECTORS: ClassVar[tuple[str, ...]] = ()
     COINCIDENT: ClassVar[bool] = False
-
-    def __init_subclass__(cls, **kwargs):
-        super().__init_subclass__(**kwargs)
-        kind = cls.__dict__.get("kind")
-        if kind:
-            if kind in JOINT_TYPES and JOINT_TYPES[kind].__qualname__ != cls.__qualname__:
-                raise TypeError(f"joint type {kind!r} registered twice ({JOINT_TYPES[kind].__name__}, {cls.__name__})")
-            JOINT_TYPES[kind] = cls
 
     @classmethod
     def from_table(cls, name: str, spec: Mapping, field: str) -> PlanarJoint:
@@ -94,12 +90,12 @@ class PlanarJoint:
         """Check the point references against ``mech`` (a one-line InputError naming the key)."""
         check_points(self.name, self.refs(), mech)
 
-    def values(self) -> Iterator[tuple[str, object]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, object]]:
         """Every (key path, raw value) of the joint that is a number or an expression."""
         for key in self.VALUES:
             yield f"joints.{self.name}.{key}", getattr(self, key)
 
-    def value(self, kin: Kinematics, key: str) -> sp.Expr:
+    def value(self, kin: PlanarKinematics, key: str) -> sp.Expr:
         """The parsed expression of the joint's value ``key``."""
         return kin.mech.value(f"joints.{self.name}.{key}")
 
@@ -107,18 +103,15 @@ class PlanarJoint:
         """Whether either side is a ground point."""
         return "ground" in (self.a.split(".")[0], self.b.split(".")[0])
 
-    def locked_angle(self, kin: Kinematics) -> sp.Expr | None:
+    def locked_angle(self, kin: PlanarKinematics) -> sp.Expr | None:
         """The fixed ``theta_b - theta_a`` (rad) of a coincident joint that locks rotation, else None."""
         return None
 
-    def rows(self, kin: Kinematics) -> list[ConstraintRow]:
+    def rows(self, kin: PlanarKinematics) -> list[ConstraintRow]:
         """The joint's constraint rows in the coordinates of ``kin``."""
         raise NotImplementedError
 
-    def draw(self, kin: Kinematics, add: Draw) -> None:
-        """Add the joint's drawing primitives (default: none)."""
-
-    def limits(self, kin: Kinematics) -> list[tuple[str, sp.Expr, bool, str]]:
+    def limits(self, kin: PlanarKinematics) -> list[tuple[str, sp.Expr, bool, str]]:
         """``(key path, quantity, strict, what)``: quantities that must be positive (strict) or non-negative."""
         return []
 
@@ -139,21 +132,21 @@ def check_points(name: str, refs: list[tuple[str, str]], mech: Mechanism) -> Non
         raise InputError(f"joints.{name}", "joins a body to itself")
 
 
-def point_rows(joint: PlanarJoint, kin: Kinematics) -> list[ConstraintRow]:
+def point_rows(joint: PlanarJoint, kin: PlanarKinematics) -> list[ConstraintRow]:
     """``a - b = 0``: reactions ``R_<name>_x``, ``R_<name>_y`` (N, global axes)."""
     n = joint.name
     d = kin.point(joint.a) - kin.point(joint.b)
     return [ConstraintRow(n, f"{n}_x", f"R_{n}_x", "N", d[0]), ConstraintRow(n, f"{n}_y", f"R_{n}_y", "N", d[1])]
 
 
-def line_row(joint: PlanarJoint, kin: Kinematics, phi: sp.Expr) -> ConstraintRow:
+def line_row(joint: PlanarJoint, kin: PlanarKinematics, phi: sp.Expr) -> ConstraintRow:
     """``b`` on the line through ``a`` at global angle ``phi``: reaction ``R_<name>`` (N) along its left normal."""
     n = joint.name
     normal = sp.Matrix([-sp.sin(phi), sp.cos(phi)])
     return ConstraintRow(n, f"{n}_n", f"R_{n}", "N", normal.dot(kin.point(joint.a) - kin.point(joint.b)))
 
 
-def angle_row(joint: PlanarJoint, kin: Kinematics, relative: sp.Expr) -> ConstraintRow:
+def angle_row(joint: PlanarJoint, kin: PlanarKinematics, relative: sp.Expr) -> ConstraintRow:
     """``theta_a + relative - theta_b = 0``: reaction ``T_<name>`` (N m, on ``b``'s body)."""
     n = joint.name
     return ConstraintRow(n, f"{n}_angle", f"T_{n}", "N m", kin.angle(joint.a) + relative - kin.angle(joint.b))

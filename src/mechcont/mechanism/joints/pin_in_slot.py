@@ -17,12 +17,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import sympy as sp
 
 from ...errors import InputError
 from ._base import ConstraintRow, Draw, PlanarJoint, check_points
+
+if TYPE_CHECKING:
+    from .._kinematics import PlanarKinematics
 
 __all__ = ["PinInSlot"]
 
@@ -72,26 +75,26 @@ class PinInSlot(PlanarJoint):
         if slot[0] == slot[1]:
             raise InputError(f + ".slot", f"needs two different points, got {slot[0]} twice")
 
-    def _local_direction(self, kin) -> sp.Matrix:
+    def _local_direction(self, kin: PlanarKinematics) -> sp.Matrix:
         """``end - start`` in the slot body's frame (m): depends on the parameters only."""
         body = self.slot[0].split(".")[0]
         frame = {} if body == "ground" else dict.fromkeys(kin.body_q[body], 0)
         return (kin.point(self.slot[1]) - kin.point(self.slot[0])).xreplace(frame)
 
-    def length(self, kin) -> sp.Expr:
+    def length(self, kin: PlanarKinematics) -> sp.Expr:
         """Length (m) of the slot."""
         d = self._local_direction(kin)
         return sp.sqrt(d[0] ** 2 + d[1] ** 2)
 
-    def rows(self, kin) -> list[ConstraintRow]:
+    def rows(self, kin: PlanarKinematics) -> list[ConstraintRow]:
         d = (kin.point(self.slot[1]) - kin.point(self.slot[0])) / self.length(kin)
         normal = sp.Matrix([-d[1], d[0]])
         n = self.name
         return [ConstraintRow(n, f"{n}_n", f"R_{n}", "N", normal.dot(kin.point(self.slot[0]) - kin.point(self.pin)))]
 
-    def draw(self, kin, add: Draw) -> None:
+    def draw(self, kin: PlanarKinematics, add: Draw) -> None:
         add("slot", self.name, [kin.point(self.slot[0]), kin.point(self.slot[1])])
         add("pin", self.name, [kin.point(self.pin)])
 
-    def limits(self, kin) -> list[tuple[str, sp.Expr, bool, str]]:
+    def limits(self, kin: PlanarKinematics) -> list[tuple[str, sp.Expr, bool, str]]:
         return [(f"joints.{self.name}.slot", self.length(kin), True, "slot length (m)")]

@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import sympy as sp
 
 from .._expr import Value
 from ._base import ConstraintRow, Draw, PlanarJoint, angle_row, line_row
 from .slider import draw_slider
+
+if TYPE_CHECKING:
+    from .._kinematics import PlanarKinematics
 
 __all__ = ["Prismatic"]
 
@@ -28,12 +31,12 @@ class Prismatic(PlanarJoint):
     KEYS: ClassVar[frozenset[str]] = frozenset({"a", "b", "angle", "relative_angle"})
     VALUES: ClassVar[tuple[str, ...]] = ("angle", "relative_angle")
 
-    def line_angle(self, kin) -> sp.Expr:
+    def line_angle(self, kin: PlanarKinematics) -> sp.Expr:
         """Global angle (rad) of the line."""
         return kin.angle(self.a) + self.value(kin, "angle")
 
-    def rows(self, kin) -> list[ConstraintRow]:
+    def rows(self, kin: PlanarKinematics) -> list[ConstraintRow]:
         return [line_row(self, kin, self.line_angle(kin)), angle_row(self, kin, self.value(kin, "relative_angle"))]
 
-    def draw(self, kin, add: Draw) -> None:
+    def draw(self, kin: PlanarKinematics, add: Draw) -> None:
         draw_slider(self, kin, add)

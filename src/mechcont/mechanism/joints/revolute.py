@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 from ._base import ConstraintRow, Draw, PlanarJoint, point_rows
+
+if TYPE_CHECKING:
+    from .._kinematics import PlanarKinematics
 
 __all__ = ["Revolute"]
 
@@ -21,8 +24,8 @@ class Revolute(PlanarJoint):
     kind: ClassVar[str] = "revolute"
     COINCIDENT: ClassVar[bool] = True
 
-    def rows(self, kin) -> list[ConstraintRow]:
+    def rows(self, kin: PlanarKinematics) -> list[ConstraintRow]:
         return point_rows(self, kin)
 
-    def draw(self, kin, add: Draw) -> None:
+    def draw(self, kin: PlanarKinematics, add: Draw) -> None:
         add("ground" if self.grounded() else "pin", self.name, [kin.point(self.b)])

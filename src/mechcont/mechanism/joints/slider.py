@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import sympy as sp
 
 from .._expr import Value
 from ._base import ConstraintRow, Draw, PlanarJoint, line_row
+
+if TYPE_CHECKING:
+    from .._kinematics import PlanarKinematics
+    from .prismatic import Prismatic
 
 __all__ = ["Slider", "draw_slider"]
 
@@ -27,18 +31,18 @@ class Slider(PlanarJoint):
     KEYS: ClassVar[frozenset[str]] = frozenset({"a", "b", "angle"})
     VALUES: ClassVar[tuple[str, ...]] = ("angle",)
 
-    def line_angle(self, kin) -> sp.Expr:
+    def line_angle(self, kin: PlanarKinematics) -> sp.Expr:
         """Global angle (rad) of the line."""
         return kin.angle(self.a) + self.value(kin, "angle")
 
-    def rows(self, kin) -> list[ConstraintRow]:
+    def rows(self, kin: PlanarKinematics) -> list[ConstraintRow]:
         return [line_row(self, kin, self.line_angle(kin))]
 
-    def draw(self, kin, add: Draw) -> None:
+    def draw(self, kin: PlanarKinematics, add: Draw) -> None:
         draw_slider(self, kin, add)
 
 
-def draw_slider(joint, kin, add: Draw) -> None:
+def draw_slider(joint: Slider | Prismatic, kin: PlanarKinematics, add: Draw) -> None:
     """A block at ``b`` on a guide along the joint's line (``joint.line_angle``)."""
     phi = joint.line_angle(kin)
     add("slider", joint.name, [kin.point(joint.b), sp.Matrix([sp.cos(phi), sp.sin(phi)])])

@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import sympy as sp
 
 from .._expr import Value
 from ._base import ConstraintRow, Draw, PlanarJoint, angle_row, point_rows
+
+if TYPE_CHECKING:
+    from .._kinematics import PlanarKinematics
 
 __all__ = ["Weld"]
 
@@ -27,11 +30,11 @@ class Weld(PlanarJoint):
     VALUES: ClassVar[tuple[str, ...]] = ("angle",)
     COINCIDENT: ClassVar[bool] = True
 
-    def locked_angle(self, kin) -> sp.Expr:
+    def locked_angle(self, kin: PlanarKinematics) -> sp.Expr:
         return self.value(kin, "angle")
 
-    def rows(self, kin) -> list[ConstraintRow]:
+    def rows(self, kin: PlanarKinematics) -> list[ConstraintRow]:
         return [*point_rows(self, kin), angle_row(self, kin, self.locked_angle(kin))]
 
-    def draw(self, kin, add: Draw) -> None:
+    def draw(self, kin: PlanarKinematics, add: Draw) -> None:
         add("ground" if self.grounded() else "pin", self.name, [kin.point(self.b)])

@@ -23,6 +23,5 @@ __all__ = ["LOAD_TYPES", "Load", "Loads", "load_keys", "PointForce", "Moment", "
 for _info in pkgutil.iter_modules(__path__):
     if not _info.name.startswith("_"):
         importlib.import_module(f"{__name__}.{_info.name}")
-_FIRST = ("force", "moment", "drag", "custom")
-for _space, _types in LOAD_TYPES.items():  # the historical order first, then the loads added since
-    LOAD_TYPES[_space] = {**{k: _types[k] for k in _FIRST if k in _types}, **_types}
+for _types in LOAD_TYPES.values():  # the historical order first, then the loads added since
+    _types.first(("force", "moment", "drag", "custom"))

@@ -3,19 +3,23 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
 from .._expr import Value
-from ._base import Draw, Load, Loads, check_at_point
+from ._base import Draw, K, Load, Loads, check_at_point
+
+if TYPE_CHECKING:
+    from .._kinematics import PlanarKinematics
+    from ..spatial._kinematics import SpatialKinematics
 
 __all__ = ["CustomLoad", "SpatialCustomLoad"]
 
 
-class _Custom(Load):
+class _Custom(Load[K]):
     """What the custom loads share: a point, and their expressions (the ``COORDINATE_KEYS``)."""
 
     at: str
@@ -32,7 +36,7 @@ class _Custom(Load):
 
 
 @dataclass(frozen=True)
-class CustomLoad(_Custom):
+class CustomLoad(_Custom["PlanarKinematics"]):
     """A user-defined load: force ``(fx, fy)`` (N, global axes) at point ``at`` and a moment
     (N m) on that point's body; expressions may use parameters and coordinates."""
 
@@ -46,7 +50,7 @@ class CustomLoad(_Custom):
     KEYS: ClassVar[frozenset[str]] = frozenset({"at", "fx", "fy", "moment"})
     COORDINATE_KEYS: ClassVar[tuple[str, ...]] = ("fx", "fy", "moment")
 
-    def apply(self, kin, out: Loads) -> None:
+    def apply(self, kin: PlanarKinematics, out: Loads) -> None:
         """Virtual work ``f . dP/dq + M dtheta/dq``; its force drawn at its point."""
         mech = kin.mech
         P = kin.point(self.at)
@@ -54,7 +58,7 @@ class CustomLoad(_Custom):
         out.add(kin.force_work(P, force, kin.angle(self.at), mech.value(self.field("moment"))))
         out.arrow(self.name, P, force)
 
-    def draw(self, kin, add: Draw, pinned: Mapping[str, str]) -> None:
+    def draw(self, kin: PlanarKinematics, add: Draw) -> None:
         """A moment that is not identically zero is drawn around its point."""
         M = sp.sympify(kin.mech.value(self.field("moment")), strict=True)
         if M != 0:
@@ -62,7 +66,7 @@ class CustomLoad(_Custom):
 
 
 @dataclass(frozen=True)
-class SpatialCustomLoad(_Custom):
+class SpatialCustomLoad(_Custom["SpatialKinematics"]):
     """A user-defined load: force ``(fx, fy, fz)`` (N, global axes) at point ``at`` and moment
     ``(mx, my, mz)`` (N m, global axes) on that point's body; expressions may use the
     parameters and the coordinates."""
@@ -81,8 +85,8 @@ class SpatialCustomLoad(_Custom):
     KEYS: ClassVar[frozenset[str]] = frozenset({"at", "fx", "fy", "fz", "mx", "my", "mz"})
     COORDINATE_KEYS: ClassVar[tuple[str, ...]] = ("fx", "fy", "fz", "mx", "my", "mz")
 
-    def apply(self, kin, out: Loads) -> None:
-        """Virtual work of the force at its point and ``2 E^T m`` of the moment; its force drawn at its point."""
+    def apply(self, kin: SpatialKinematics, out: Loads) -> None:
+        """Virtual work of the force at its point and ``2 E^T m of the moment; its force drawn at its point."""
         mech = kin.mech
         P = kin.point(self.at)
         force = sp.Matrix([mech.value(self.field(k)) for k in ("fx", "fy", "fz")])

@@ -4,13 +4,17 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
 from ...errors import InputError
 from .._expr import Value
-from ._base import Load, Loads, check_on_body
+from ._base import K, Load, Loads, check_on_body
+
+if TYPE_CHECKING:
+    from .._kinematics import PlanarKinematics
+    from ..spatial._kinematics import SpatialKinematics
 
 __all__ = ["Drag", "SpatialDrag", "DRAG_SMOOTHING"]
 
@@ -19,7 +23,7 @@ DRAG_SMOOTHING = 1e-6
 _LIMITS = (("rho", False, "air density (kg/m^3)"), ("d", True, "diameter (m)"), ("CD", False, "drag coefficient"))
 
 
-class _Segment(Load):
+class _Segment(Load[K]):
     """What the drags share: a body, two of its points, air density, diameter and coefficient."""
 
     body: str
@@ -41,7 +45,7 @@ class _Segment(Load):
 
 
 @dataclass(frozen=True)
-class Drag(_Segment):
+class Drag(_Segment["PlanarKinematics"]):
     """Aerodynamic drag on the segment from point ``start`` to point ``end`` of ``body``.
 
     Cross-flow model of the paper's eq. 12: with the air velocity ``U (cos alpha, sin alpha)``
@@ -76,7 +80,7 @@ class Drag(_Segment):
         if self.static_error():
             raise InputError(self.field("end"), "the drag segment needs two different points")
 
-    def apply(self, kin, out: Loads) -> None:
+    def apply(self, kin: PlanarKinematics, out: Loads) -> None:
         """Generalised forces of the drag force at the segment's midpoint; drawn there."""
         mech = kin.mech
         rho, U, alpha, d, CD = (mech.value(self.field(a)) for a in ("rho", "U", "alpha", "d", "CD"))
@@ -93,7 +97,7 @@ class Drag(_Segment):
 
 
 @dataclass(frozen=True)
-class SpatialDrag(_Segment):
+class SpatialDrag(_Segment["SpatialKinematics"]):
     """Aerodynamic cross-flow drag on the segment from point ``start`` to point ``end`` of ``body``.
 
     With the air velocity ``U * direction / |direction|`` (m/s), the segment ``D = P_end -
@@ -135,7 +139,7 @@ class SpatialDrag(_Segment):
         """The air's direction must not be zero."""
         return [self.field("direction")]
 
-    def apply(self, kin, out: Loads) -> None:
+    def apply(self, kin: SpatialKinematics, out: Loads) -> None:
         """Generalised forces of the drag force at the segment's midpoint; drawn there."""
         from ..spatial._rotation import dot
 

@@ -7,13 +7,14 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._expr import Value
+from .._plugin import Kinematics
 from ._base import Load, Loads, check_at_point
 
 __all__ = ["PointForce"]
 
 
 @dataclass(frozen=True)
-class PointForce(Load):
+class PointForce(Load[Kinematics]):
     """A force of fixed global direction at a point: ``magnitude * direction/|direction|`` (N).
 
     ``direction`` is a 2-vector or an angle (rad) in the plane, a 3-vector in space (required
@@ -53,7 +54,7 @@ class PointForce(Load):
         """A direction given as a vector must not be zero."""
         return [self.field("direction")] if isinstance(self.direction, (tuple, list)) else []
 
-    def apply(self, kin, out: Loads) -> None:
+    def apply(self, kin: Kinematics, out: Loads) -> None:
         """Potential ``-F u . P``; drawn as its force vector at its point."""
         F = kin.mech.value(self.field("magnitude"))
         u = kin.direction(self.field("direction"), self.direction)

@@ -9,6 +9,7 @@ from typing import Any, ClassVar
 import sympy as sp
 
 from .._expr import Value
+from .._plugin import Kinematics
 from ._base import Loads
 
 __all__ = ["Gravity", "SpatialGravity"]
@@ -19,7 +20,7 @@ class _Gravity:
 
     SPACES: ClassVar[tuple[str, ...]] = ("plane",)
 
-    def acceleration(self, kin) -> sp.Matrix:
+    def acceleration(self, kin: Kinematics) -> sp.Matrix:
         """The acceleration vector (m/s^2) in global axes."""
         raise NotImplementedError
 
@@ -27,7 +28,7 @@ class _Gravity:
         """Key paths of its vectors that must not be zero."""
         return []
 
-    def apply(self, kin, out: Loads) -> None:
+    def apply(self, kin: Kinematics, out: Loads) -> None:
         """Add the potential of every body's weight."""
         gvec = self.acceleration(kin)
         for b in kin.mech.bodies:
@@ -46,7 +47,7 @@ class Gravity(_Gravity):
         yield "gravity.g", self.g
         yield "gravity.angle", self.angle
 
-    def acceleration(self, kin) -> sp.Matrix:
+    def acceleration(self, kin: Kinematics) -> sp.Matrix:
         """``g (cos angle, sin angle)``."""
         g, ang = kin.mech.value("gravity.g"), kin.mech.value("gravity.angle")
         return sp.Matrix([g * sp.cos(ang), g * sp.sin(ang)])
@@ -70,6 +71,6 @@ class SpatialGravity(_Gravity):
         """The direction must not be zero."""
         return ["gravity.direction"]
 
-    def acceleration(self, kin) -> sp.Matrix:
+    def acceleration(self, kin: Kinematics) -> sp.Matrix:
         """``g direction / |direction|``."""
         return kin.mech.value("gravity.g") * kin.direction("gravity.direction", self.direction)

@@ -2,20 +2,24 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
 from .._expr import Value
 from ._base import Draw, Load, Loads, check_on_body
 
+if TYPE_CHECKING:
+    from .._kinematics import PlanarKinematics
+    from ..spatial._kinematics import SpatialKinematics
+
 __all__ = ["Moment", "SpatialMoment"]
 
 
 @dataclass(frozen=True)
-class Moment(Load):
+class Moment(Load["PlanarKinematics"]):
     """A pure moment (N m, counter-clockwise positive) on a body; conservative (potential ``-M theta``)."""
 
     name: str
@@ -34,18 +38,17 @@ class Moment(Load):
         """Its magnitude."""
         yield self.field("magnitude"), self.magnitude
 
-    def apply(self, kin, out: Loads) -> None:
+    def apply(self, kin: PlanarKinematics, out: Loads) -> None:
         """Potential ``-M theta`` of its body."""
         out.V -= kin.mech.value(self.field("magnitude")) * kin.body_q[self.body][2]
 
-    def draw(self, kin, add: Draw, pinned: Mapping[str, str]) -> None:
+    def draw(self, kin: PlanarKinematics, add: Draw) -> None:
         """Drawn around the body's pin to the ground if it has one, else around the body's origin."""
-        at = pinned.get(self.body, f"{self.body}.origin")
-        add("moment", self.name, [kin.point(at), sp.Matrix([kin.mech.value(self.field("magnitude")), 0])])
+        add("moment", self.name, [kin.moment_anchor(self.body), sp.Matrix([kin.mech.value(self.field("magnitude")), 0])])
 
 
 @dataclass(frozen=True)
-class SpatialMoment(Load):
+class SpatialMoment(Load["SpatialKinematics"]):
     """A pure moment ``magnitude`` (N m) about the fixed global ``axis`` (right-hand rule) on a body."""
 
     name: str
@@ -72,7 +75,7 @@ class SpatialMoment(Load):
         """The axis must not be zero."""
         return [self.field("axis")]
 
-    def apply(self, kin, out: Loads) -> None:
+    def apply(self, kin: SpatialKinematics, out: Loads) -> None:
         """Generalised forces ``2 E^T n`` on the body's Euler parameters (a moment of fixed direction
         does no work that a potential could give); drawn at the body's first ground joint."""
         n = kin.mech.value(self.field("magnitude")) * kin.direction(self.field("axis"), self.axis)

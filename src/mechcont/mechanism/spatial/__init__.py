@@ -6,7 +6,7 @@ kind of :class:`~mechcont.equations.EquationSystem` as a planar description: coo
 (frame origin and Euler parameters per body), joint reactions as named unknowns, exact
 Jacobians, the mechanics for stability and time simulation, a 3-D drawing scene. Redundant
 (over-constrained) closures are reported with their joints, and made determinate by a joint
-``stiffness`` (see :mod:`._joints`).
+``stiffness`` (see :mod:`.joints`).
 """
 
 from ._description import (
@@ -17,7 +17,7 @@ from ._description import (
     SpatialMoment,
     spatial_coordinate_names,
 )
-from ._joints import (
+from .joints import (
     JOINT_TYPES,
     Cylindrical,
     Inline,

@@ -25,7 +25,7 @@ from .._bodies import INERTIA_KEYS, SpatialBody
 from .._description import Mechanism
 from .._expr import Value
 from ..loads import SpatialCustomLoad, SpatialDrag, SpatialGravity, SpatialMoment
-from ._joints import SpatialJoint
+from .joints import SpatialJoint
 
 __all__ = ["SpatialBody", "SpatialGravity", "SpatialMoment", "SpatialCustomLoad", "SpatialDrag", "SpatialMechanism",
            "spatial_coordinate_names", "INERTIA_KEYS"]
@@ -46,14 +46,14 @@ class SpatialMechanism(Mechanism[SpatialJoint, SpatialBody]):
     """A spatial mechanism: everything needed to generate its equations.
 
     Same fields and validation as :class:`~mechcont.mechanism.Mechanism` (``parameters``,
-    ``bodies`` of :class:`SpatialBody`, ``joints`` of the :mod:`._joints` classes, ``ground``
+    ``bodies`` of :class:`SpatialBody`, ``joints`` of the :mod:`.joints` classes, ``ground``
     points ``{name: (x, y, z)}``, ``springs``, ``dampers``, ``actuators``, ``loads`` of
     :class:`~mechcont.mechanism.PointForce` (3-vector ``direction``), :class:`SpatialMoment`
     :class:`SpatialDrag` and :class:`SpatialCustomLoad`, ``gravity`` a :class:`SpatialGravity`, ``conditions``,
     ``dof``, ``redundant``, ``hold``, ``downlock``). ``redundant = "drop"`` removes dependent
     rows (reactions then indeterminate: one particular solution, the dropped rows chosen again
     along a branch where the kept ones lose rank); a joint ``stiffness`` makes
-    them determinate instead (see :mod:`._joints`).
+    them determinate instead (see :mod:`.joints`).
     """
 
     dimension = 3
@@ -70,7 +70,7 @@ class SpatialMechanism(Mechanism[SpatialJoint, SpatialBody]):
                 raise InputError(f"joints.{j.name}", "names starting with 'norm_' are reserved for the Euler-parameter "
                                                      "normalisation rows (norm_<body>); rename the joint")
             if not isinstance(j, SpatialJoint):
-                from ._joints import JOINT_TYPES
+                from .joints import JOINT_TYPES
                 raise InputError(f"joints.{j.name}", f"{type(j).__name__} is a planar joint; a spatial mechanism "
                                                      f"takes {', '.join(JOINT_TYPES)} joints")
         if self.gravity is not None and self.space not in self.gravity.SPACES:

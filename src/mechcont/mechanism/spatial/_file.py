@@ -26,17 +26,12 @@ from collections.abc import Mapping
 
 from ...errors import InputError
 from .._file import Reader, _only, _require, _table, _text
-from ..loads import SpatialGravity, load_keys
+from ..loads import SpatialGravity
 from ._description import SpatialBody, SpatialMechanism
-from ._joints import JOINT_TYPES, joint_keys
-from ._joints import vector3 as _triple
+from .joints import vector3 as _triple
 
-__all__ = ["READER", "SPATIAL_KEYS", "SPATIAL_JOINTS", "SPATIAL_LOADS"]
+__all__ = ["READER", "SPATIAL_KEYS"]
 
-#: ``type`` -> (class, keys) of ``[joints.NAME]`` in a spatial file.
-SPATIAL_JOINTS = {kind: (cls, joint_keys(cls) - {"type"}) for kind, cls in JOINT_TYPES.items()}
-#: ``type`` -> (class, keys) of ``[loads.NAME]`` in a spatial file.
-SPATIAL_LOADS = load_keys("space")
 #: Keys of the other spatial tables, by key path (``NAME`` stands for a user's name).
 SPATIAL_KEYS: dict[str, frozenset[str]] = {
     "bodies.NAME": frozenset({"mass", "length", "inertia", "cg", "points", "initial", "description"}),
@@ -70,4 +65,4 @@ def _gravity(table: Mapping) -> SpatialGravity:
 
 
 #: How the spatial tables are read (see :class:`~.._file.Reader`).
-READER = Reader(SpatialMechanism, _triple, _triple, _body, SPATIAL_JOINTS, _gravity)
+READER = Reader(SpatialMechanism, _triple, _triple, _body, _gravity)

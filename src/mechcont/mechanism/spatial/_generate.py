@@ -51,10 +51,10 @@ from .._stops import stop_forces
 from .._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
 from ._description import SpatialMechanism
 from ._dropped import SWITCH_RATIO, choose_dropped, conditioning
-from ._joints import SpatialRow
 from ._kinematics import SpatialKinematics
 from ._rotation import quaternion_from_rotation_vector
 from ._scene import spatial_scene_function
+from .joints import SpatialRow
 
 __all__ = ["generate"]
 
@@ -387,8 +387,9 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
     if st.condition_values is not None:
         x[nq + len(rows):nq + len(rows) + len(cnames)] = np.asarray(st.condition_values(x), dtype=float).reshape(-1)
     for cond, value in zip(mech.conditions, x[nq + len(rows):nq + len(rows) + len(cnames)]):
-        if cond.kind == "distance" and not value > 1e-9 * Lc:  # |b - a| has no derivative where a = b
-            raise InputError(f"conditions.{cond.name}", f"its points {cond.points[0]} and {cond.points[1]} coincide at "
+        line = cond.line_of_action()  # a distance |b - a|: no derivative where a = b
+        if line is not None and not value > 1e-9 * Lc:
+            raise InputError(f"conditions.{cond.name}", f"its points {line[0]} and {line[1]} coincide at "
                                                         f"the assembled configuration (distance {value:.3g} m): the "
                                                         "distance has no derivative there; move a point or assemble "
                                                         "elsewhere (bodies' initial, [assembly] hold)")

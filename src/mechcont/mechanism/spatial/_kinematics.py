@@ -12,6 +12,8 @@ that keeps ``|e| = 1`` and makes ``M`` positive definite.
 
 from __future__ import annotations
 
+from typing import Any
+
 import sympy as sp
 
 from ...equations import gradient
@@ -19,8 +21,8 @@ from .._expr import symbol
 from .._values import parameter_values
 from ..elements import element_rows
 from ._description import INERTIA_KEYS, SpatialBody, SpatialMechanism, normalisation_row
-from ._joints import SpatialRow
-from ._rotation import body_omega_matrix, dot, matvec, norm, omega_matrix, rotation_matrix
+from ._rotation import body_omega_matrix, cross, dot, matvec, norm, omega_matrix, perpendiculars, rotation_matrix
+from .joints import SpatialRow
 
 __all__ = ["SpatialKinematics"]
 
@@ -83,6 +85,17 @@ class SpatialKinematics:
         body = ref.split(".")[0]
         return sp.Matrix(v) if body == "ground" else matvec(self._A[body], v)
 
+    def relative_rotation(self, a: str, b: str, axis: sp.Matrix | None = None) -> sp.Expr:
+        """The rotation (rad) of the frame of ``b`` relative to that of ``a`` (point references) about
+        ``axis`` (design pose), right-handed: with ``(f, g, u)`` the axis' right-handed frame
+        (:func:`._rotation.perpendiculars`), ``f_a = A_a f``, ``f_b = A_b f``, ``u_a = A_a u``,
+        ``atan2(u_a . (f_a x f_b), f_a . f_b)``: zero in the design pose, smooth for ``|phi| < pi``."""
+        if axis is None:
+            raise ValueError("a spatial relative rotation needs its axis")
+        u, f, _ = perpendiculars(axis, self.defaults)
+        fa, fb, ua = self.turn(a, f), self.turn(b, f), self.turn(a, u)
+        return sp.atan2(dot(ua, cross(fa, fb)), dot(fa, fb))
+
     def cg(self, body: str) -> sp.Matrix:
         """Global position of the centre of gravity of ``body``."""
         return self.point(f"{body}.cg")
@@ -95,7 +108,7 @@ class SpatialKinematics:
         """Distance (m) between the point references ``a`` and ``b``."""
         return norm(self.point(b) - self.point(a))
 
-    def direction(self, field: str, raw=None) -> sp.Matrix:
+    def direction(self, field: str, raw: Any = None) -> sp.Matrix:
         """The unit vector of the direction ``[x, y, z]`` at key path ``field``."""
         return _unit(sp.Matrix([self.mech.value(f"{field}.{c}") for c in "xyz"]))
 

@@ -41,13 +41,9 @@ def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.
         else:
             names = list(b.points) or ["origin"]
             add("bar", b.name, [pt(n) for n in names] + ([pt(names[0])] if len(names) > 2 else []))
-    ground_refs: set[str] = set()
+    ground_refs = {r for j in mech.joints for r in (j.a, j.b) if r.startswith("ground.")}
     for j in mech.joints:
-        ground = "ground" in (j.a.split(".")[0], j.b.split(".")[0])
-        ground_refs.update(r for r in (j.a, j.b) if r.startswith("ground."))
-        add("ground" if ground else "pin", j.name, [kin.point(j.b)])
-        for axis in j.drawn_axes(kin):
-            add("axis", j.name, [kin.point(j.b), axis])
+        j.draw(kin, add)
     for el in mech.force_elements():
         el.draw(kin, add)
     anchors: list[str] = []
