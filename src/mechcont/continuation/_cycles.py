@@ -11,7 +11,8 @@ mesh is re-equidistributed and the current orbit corrected on it.
 Test functions between consecutive orbits, zeros located inside the step: ``LPC`` the tangent's
 parameter component (Brent's method on the step length); ``PD`` the product of ``1 + mu`` over the
 real negative multipliers; ``NS`` the product of ``|mu| - 1`` over the complex pairs (each checked
-at the located orbit: a multiplier at -1, a pair on the unit circle); ``UZ`` and the bounds (``EP``)
+at the located orbit: a multiplier at -1, a pair on the unit circle, and the trivial multiplier at 1, without
+which the multipliers are too inaccurate to tell); ``UZ`` and the bounds (``EP``)
 the parameter (or period) minus the value, solved exactly with the parameter held.
 """
 
@@ -232,6 +233,8 @@ class _Run:
                 pt = cache[sigma] if sigma in cache else self.solve(cur.system, cur.X, cur.t, sigma)
             except (NewtonFailure, ValueError, RuntimeError):
                 sigma, pt = ds, _Point(new.system, new.X, new.t, new.mu, approximate=True, trivial=new.trivial)
+            if label in ("PD", "NS") and not abs(pt.trivial - 1.0) < ON_CIRCLE:
+                continue  # the trivial multiplier is not 1: the multipliers are not accurate enough to tell
             if label == "PD" and not np.any((pt.mu.imag == 0) & (np.abs(pt.mu + 1) < ON_CIRCLE)):
                 continue  # a pair of real multipliers met on the negative axis: not a crossing of -1
             if label == "NS" and not np.any((pt.mu.imag > 0) & (np.abs(np.abs(pt.mu) - 1) < ON_CIRCLE)):
