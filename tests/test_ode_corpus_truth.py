@@ -214,3 +214,34 @@ def test_the_pair_sum_gradient_is_its_derivative_and_finite_at_a_jordan_block():
     x0 = bt.vector({"x": 0.0, "y": 0.0, "b1": 0.0, "b2": 0.0})
     # g = -x on the whole plane y = 0 (trace of [[0, 1], [b2 + 2x, -x]]): dg/dx = -1, dg/dy = 0, dg/db = 0
     assert test.gradient(x0, np.arange(4), test.pair(x0)) == pytest.approx([-1.0, 0.0, 0.0, 0.0], abs=1e-12)
+
+
+def test_a_canard_explosion_is_not_taken_for_a_homoclinic_orbit(run, tmp_path):
+    """FitzHugh-Nagumo has one equilibrium, never a saddle (the v-nullcline's slope 1 - v^2 stays below 1/b), so
+    no homoclinic orbit: through its canard explosion the period triples while I moves in its 7th digit, but the
+    orbit grows with it. The family goes on to the second Hopf point."""
+    a, b, eps = 0.7, 0.8, 0.08
+    branch = _continue(run, tmp_path, "fitzhugh_nagumo", "I", 0, 1.5)
+    cycles = tmp_path / "c.csv"
+    result = _ok(run("cycles", ODE / "fitzhugh_nagumo.toml", "--point", f"{branch}:HB1", "--vary", "I",
+                     "--bounds", "I=0:1.5", "--ntst", "60", "--out", cycles))
+    assert "homoclinic" not in result.output
+    rows = _rows(cycles)
+    assert max(_col(r, "period") for r in rows) > 60.0  # through the explosion
+    v = math.sqrt(1 - eps * b)
+    assert rows[-1]["label"] == "HB" and _col(rows[-1], "I") == pytest.approx(v**3 / 3 - v + (v + a) / b, rel=1e-6)
+
+
+def test_lorenz_cycles_end_at_the_homoclinic_explosion(run, tmp_path):
+    """The unstable cycles born at the subcritical Hopf point grow towards the homoclinic orbit of the origin at
+    r = 13.9266 (Sparrow 1982, The Lorenz equations, sec. 3)."""
+    branch = _continue(run, tmp_path, "lorenz", "r", 10, 30)
+    cycles = tmp_path / "c.csv"
+    result = _ok(run("cycles", ODE / "lorenz.toml", "--point", f"{branch}:HB1", "--vary", "r", "--bounds", "r=10:30",
+                     "--bounds", "period=0:50", "--out", cycles))
+    assert "approaching a homoclinic orbit" in result.output
+    rows = _rows(cycles)
+    assert _col(rows[-1], "r") == pytest.approx(13.9266, abs=1e-4)
+    # saddle cycles; the first, 2e-5 from the Hopf point, has its unstable multiplier within 1 + 1e-6 (the
+    # documented margin of "stable") of the circle
+    assert all(r["stability"] == "unstable" for r in rows[2:])
