@@ -320,6 +320,22 @@ def _relative_residual(r, J, u, problem, pair: CriticalPair) -> float:
     return float(max(rows.max(initial=0.0), abs(pair.g) / size))
 
 
+def _state_scales(dynamics: Dynamics, system, omega: float) -> np.ndarray:
+    """Each state's typical size: its variable's scale in ``system``; a velocity state ``NAME_dot`` that is no
+    variable (a mechanism's), its coordinate's scale times ``omega`` (rad/s); else 1."""
+    if system is None:
+        return np.ones(len(dynamics.state_names))
+    known = dict(zip(system.names, np.abs(np.asarray(system.scales(), float))))
+
+    def scale(n: str) -> float:
+        if n in known:
+            return float(known[n]) or 1.0
+        if n.endswith("_dot") and n[:-4] in known:
+            return (float(known[n[:-4]]) or 1.0) * max(omega, _EPS)
+        return 1.0
+    return np.array([scale(n) for n in dynamics.state_names])
+
+
 def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None) -> tuple[float, np.ndarray, str]:
     """The first Lyapunov coefficient at the Hopf point ``x`` of frequency ``omega`` (rad/s).
 
@@ -332,7 +348,9 @@ def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None)
     ``system``) ``B`` is exact (the generated second derivatives) and ``C`` Richardson-extrapolated
     central differences of ``B`` (step ``eps^(1/5)``: about 1e-13 relative); otherwise ``B`` is central
     differences of the rates' Jacobian (step ``eps^(1/3)``) and ``C`` extrapolated central differences of
-    that (step ``eps^(1/6)``: about 1e-8 relative).
+    that (step ``eps^(1/6)``: about 1e-8 relative). The steps are relative to each state's scale
+    (:func:`_state_scales`): a mechanism's velocity states swing ``omega`` times their coordinates, and a step
+    sized by them would move the coordinates, where the nonlinearity is, by almost nothing.
     ``C(q,q,qb) = D_a S + i D_b S`` with ``q = a + i b`` and ``S(z) = B_z(a,a) + B_z(b,b)`` (real), by
     trilinearity and symmetry. Returns ``(l1, q, method)``.
     """
@@ -341,6 +359,7 @@ def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None)
     A = np.asarray(dyn.rates_jacobian(z0, x), float)
     exact = isinstance(dyn, OdeDynamics) and system is not None
     cols = np.array([system.index(n) for n in dyn.state_names]) if exact else None
+    sc = _state_scales(dyn, system, omega)
 
     def H(pairs):  # [d(J a)/dz at state z for (z, a) in pairs]: the matrices b -> B_z(a, b)
         if exact:
@@ -350,7 +369,7 @@ def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None)
                 full[cols] = a
                 out.append(system.jacobian_derivative(dyn.full_vector(z, x), full)[:, cols])
             return out
-        hs = [_EPS ** (1 / 3) * max(1.0, float(np.max(np.abs(z)))) / max(float(np.max(np.abs(a))), _EPS)
+        hs = [_EPS ** (1 / 3) * max(1.0, float(np.max(np.abs(z) / sc))) / max(float(np.max(np.abs(a) / sc)), _EPS)
               for z, a in pairs]
         states = [w for (z, a), h in zip(pairs, hs) for w in (z + h * a, z - h * a)]
         batch = getattr(dyn, "rates_jacobian_batch", None)  # all the Jacobians in one call where offered
@@ -370,12 +389,12 @@ def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None)
     # rounding (eps / h) and truncation (h^4) near 1e-13; for a B itself from differences (noise ~ eps^(2/3)),
     # h = eps^(1/6) balances them near 1e-8
     step = _EPS ** (1 / 5) if exact else _EPS ** (1 / 6)
-    scale = max(1.0, float(np.max(np.abs(z0))))
+    scale = max(1.0, float(np.max(np.abs(z0) / sc)))
     # every derivative l1 needs, taken at once: B at z0 along a and b (B(qb, .) = B(q, .) with b negated),
     # and S(z) = B_z(a, a) + B_z(b, b) at z0 +- h d, z0 +- 2 h d for d = a, b (for C)
     centres = []
     for d in (a, b):
-        nd = float(np.max(np.abs(d)))
+        nd = float(np.max(np.abs(d) / sc))
         if nd > 0:
             h = step * scale / nd
             centres += [(d, k, h, z0 + k * h * d, z0 - k * h * d) for k in (1, 2)]

@@ -1,0 +1,83 @@
+"""A castering wheel with a torsion spring, a rotary damper and a linear stretched-string tyre with pneumatic trail
+(tests/data/caster_tyre*.toml, written from docs/mechanism-format.md), through `continue --dynamic`, against its
+linear stability derived from the physics.
+
+Swivel angle psi about the fixed pivot, contact point e behind it, side force F = C y / sigma acting e + t behind
+the pivot along the lateral axis (moment -(e + t) F), deflection rate dy/dt = e psi' + V sin psi - (V / sigma) y:
+
+    I psi'' + c psi' + k psi + (e + t) C y / sigma = 0,    dy/dt = e psi' + V sin psi - V y / sigma.
+
+Linearised, the characteristic polynomial is the cubic I s^3 + (c + I V/sigma) s^2 + (k + c V/sigma + e (e + t) C /
+sigma) s + V (k + (e + t) C) / sigma; Routh-Hurwitz puts the Hopf speed where a2 a1 = a3 a0, omega^2 = a1 / a3. The
+only nonlinearity is V sin psi, so Kuznetsov's l1 is Re(conj(p_y) (-V |q_psi|^2 q_psi)) / (2 omega) (B = 0).
+The same wheel in millimetres and grams, and with its pivot and body frame moved, gives the same answers.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from cli_helpers import make_runner
+from scipy.optimize import brentq
+
+DATA = Path(__file__).resolve().parent / "data"
+I_W, C_D, K, E, T_P, SIGMA, C_Y = 0.5, 2.0, 2000.0, 0.1, 0.02, 0.3, 5.0e4
+
+
+def _truth(scale_len: float = 1.0, scale_mass: float = 1.0):
+    """(V_H, omega, l1) in the file's units: lengths times ``scale_len``, masses times ``scale_mass``."""
+    def cubic(V):
+        return [I_W, C_D + I_W * V / SIGMA, K + C_D * V / SIGMA + E * (E + T_P) * C_Y / SIGMA, V * (K + (E + T_P) * C_Y) / SIGMA]
+
+    def hurwitz(V):
+        a3, a2, a1, a0 = cubic(V)
+        return a2 * a1 - a3 * a0
+
+    V = brentq(hurwitz, 0.1, 10.0, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+    omega = math.sqrt(cubic(V)[2] / I_W)
+    # l1 in the file's units: states psi (rad), psi' (rad/s), y (length unit)
+    L, M = scale_len, scale_mass
+    i, c, k, e, t, s, C, v = I_W * M * L**2, C_D * M * L**2, K * M * L**2, E * L, T_P * L, SIGMA * L, C_Y * M * L, V * L
+    A = np.array([[0, 1, 0], [-k / i, -c / i, -(e + t) * C / (s * i)], [v, e, -v / s]])
+    lam, R = np.linalg.eig(A)
+    q = R[:, np.argmin(abs(lam - 1j * omega))]
+    q /= np.linalg.norm(q)
+    lamT, W = np.linalg.eig(A.T)
+    p = W[:, np.argmin(abs(lamT + 1j * omega))]
+    p /= np.conj(np.vdot(p, q))
+    l1 = float(np.real(np.conj(p[2]) * (-v * abs(q[0]) ** 2 * q[0]))) / (2 * omega)
+    return V * L, omega, l1
+
+
+@pytest.fixture(scope="module")
+def run():
+    return make_runner()
+
+
+def _hb(run, tmp_path, name, lo, hi):
+    out = tmp_path / f"{name}.csv"
+    res = run("continue", DATA / f"{name}.toml", "--vary", "V", "--bounds", f"V={lo}:{hi}", "--dynamic", "--out", out)
+    assert res.exit_code == 0, res.output
+    with open(out, newline="") as fh:
+        (row,) = [r for r in csv.DictReader(fh) if r["label"] == "HB"]
+    line = next(ln for ln in res.output.splitlines() if ln.startswith("HB1 at"))
+    return float(row[next(k for k in row if k.startswith("V "))]), float(row["leading_frequency [rad/s]"]), \
+        float(line.split("l1 = ")[1].split(":")[0]), line
+
+
+@pytest.mark.parametrize("name, length, mass, l1_tol", [
+    ("caster_tyre", 1.0, 1.0, 1e-4),            # measured 6e-6 (the old steps, sized by psi', 1.1e-2)
+    ("caster_tyre_mm_g", 1e3, 1e3, 2e-3),       # measured 4e-4 (1.1e-2): the dependent coordinates' Newton noise
+    ("caster_tyre_moved", 1.0, 1.0, 2e-3),      # measured 2e-4 (1.2e-2)
+])
+def test_shimmy_onset_speed_frequency_and_lyapunov_coefficient(run, tmp_path, name, length, mass, l1_tol):
+    V, omega, l1 = _truth(length, mass)
+    got_V, got_omega, got_l1, line = _hb(run, tmp_path, name, 0.5 * length, 50 * length)
+    assert got_V == pytest.approx(V, rel=1e-10)
+    assert got_omega == pytest.approx(omega, rel=1e-10)
+    assert got_l1 == pytest.approx(l1, rel=l1_tol)  # printed to 6 digits
+    assert "supercritical" in line
