@@ -245,3 +245,22 @@ def test_lorenz_cycles_end_at_the_homoclinic_explosion(run, tmp_path):
     # saddle cycles; the first, 2e-5 from the Hopf point, has its unstable multiplier within 1 + 1e-6 (the
     # documented margin of "stable") of the circle
     assert all(r["stability"] == "unstable" for r in rows[2:])
+
+
+def test_the_brusselator_in_thousandths_gives_the_same_hopf_point_and_cycles(run, tmp_path):
+    """States and a in units 1000 times smaller: the same Hopf point and period, orbits 1000 times larger. (The
+    states' default arclength scale of 1 took 2000 steps of 0.1 to reach b = 1.7 and never found the Hopf point.)"""
+    found = {}
+    for name in ("brusselator", "brusselator_mm"):
+        branch = _continue(run, tmp_path, name, "b", 1.5, 3)
+        (hb,) = _labelled(_rows(branch), "HB")
+        assert _col(hb, "b") == pytest.approx(2.0, rel=1e-12)
+        cycles = tmp_path / f"{name}_c.csv"
+        _ok(run("cycles", ODE / f"{name}.toml", "--point", f"{branch}:HB1", "--vary", "b", "--bounds", "b=1.5:3",
+                "--at", "b=2.5", "--out", cycles))
+        (found[name],) = _labelled(_rows(cycles), "UZ")
+    si, mm = found["brusselator"], found["brusselator_mm"]
+    assert _col(mm, "period") == pytest.approx(_col(si, "period"), rel=1e-8)  # meshes differ: O(h^8) each
+    assert _col(mm, "floquet_max") == pytest.approx(_col(si, "floquet_max"), rel=1e-6)
+    for key in ("max_u", "min_u", "max_v", "min_v"):  # sampled at each mesh's own nodes
+        assert _col(mm, key) == pytest.approx(1000 * _col(si, key), rel=1e-3)
