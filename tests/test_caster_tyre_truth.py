@@ -81,3 +81,40 @@ def test_shimmy_onset_speed_frequency_and_lyapunov_coefficient(run, tmp_path, na
     assert got_omega == pytest.approx(omega, rel=1e-10)
     assert got_l1 == pytest.approx(l1, rel=l1_tol)  # printed to 6 digits
     assert "supercritical" in line
+
+
+def test_saturating_tyre_cycles_against_an_integration_of_the_physics(run, tmp_path):
+    """With F = F_max tanh(C y / (sigma F_max)) the Hopf point is the same and the stable cycles at V = 3 and 6 m/s
+    are those a long integration of the equations above settles on; the table's velocity columns carry rad/s."""
+    from scipy.integrate import solve_ivp
+
+    branch = tmp_path / "b.csv"
+    res = run("continue", DATA / "caster_tyre_saturating.toml", "--vary", "V", "--bounds", "V=0.5:10", "--dynamic",
+              "--out", branch)
+    assert res.exit_code == 0, res.output
+    cycles = tmp_path / "c.csv"
+    res = run("cycles", DATA / "caster_tyre_saturating.toml", "--point", f"{branch}:HB1", "--vary", "V",
+              "--bounds", "V=0.5:10", "--at", "V=3,6", "--out", cycles)
+    assert res.exit_code == 0, res.output
+    with open(cycles, newline="") as fh:
+        rows = [r for r in csv.DictReader(fh) if r["label"] == "UZ"]
+    assert "max_theta_wheel_dot [rad/s]" in rows[0]
+    f_max = 2000.0
+    for row in rows:
+        V = float(row["V [m/s]"])
+
+        def rhs(_, z, V=V):
+            psi, w, y = z
+            F = f_max * math.tanh(C_Y * y / (SIGMA * f_max))
+            return [w, (-K * psi - C_D * w - (E + T_P) * F) / I_W, E * w + V * math.sin(psi) - V * y / SIGMA]
+        turn = lambda _, z: z[1]  # noqa: E731
+        turn.direction = -1
+        # the transient coarsely (the multiplier 0.86 per 0.09 s leaves ~1e-13 of it after 16 s), then finely
+        z = solve_ivp(rhs, [0, 16], [0.05, 0, 0], method="DOP853", rtol=1e-8, atol=1e-10).y[:, -1]
+        sol = solve_ivp(rhs, [0, 0.3], z, method="DOP853", rtol=1e-12, atol=1e-13, events=turn, dense_output=True)
+        t0, t1 = sol.t_events[0][-2:]
+        psi = sol.sol(np.linspace(t0, t1, 20001))[0]
+        assert float(row["period [s]"]) == pytest.approx(t1 - t0, rel=1e-7)
+        # the table's max is over the nodes and collocation points (about 2 pi / 160 apart): within 1 - cos of that
+        assert float(row["max_theta_wheel [rad]"]) == pytest.approx(psi.max(), rel=1e-3)
+        assert row["stability"] == "stable"

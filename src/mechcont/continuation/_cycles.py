@@ -371,7 +371,10 @@ def _branch(model, run: _Run, status: Status, message: str) -> CycleBranch:
     dyn = rates.dynamics
     names = tuple(dyn.state_names)
     known = set(model.names)
-    units = tuple(model.variable(n).unit if n in known else "" for n in names)
+    # a mechanism's velocity state (q_dot, no variable) in its coordinate's unit per second, as simulate's tables
+    units = tuple(model.variable(n).unit if n in known else
+                  (f"{model.variable(n[:-4]).unit or '1'}/s" if n.endswith("_dot") and n[:-4] in known else "")
+                  for n in names)
     p, period, lo, hi, orbits = [], [], [], [], []
     for pt in run.points:
         u, T, pv = pt.system.split(pt.X)
