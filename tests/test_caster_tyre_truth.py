@@ -118,3 +118,28 @@ def test_saturating_tyre_cycles_against_an_integration_of_the_physics(run, tmp_p
         # the table's max is over the nodes and collocation points (about 2 pi / 160 apart): within 1 - cos of that
         assert float(row["max_theta_wheel [rad]"]) == pytest.approx(psi.max(), rel=1e-3)
         assert row["stability"] == "stable"
+
+
+def test_simulate_writes_the_history_of_a_mechanism_with_a_tyre(run, tmp_path):
+    """`simulate --out` on a mechanism with element states (no energy audit: the tyre's deflection stores and
+    dissipates energy the audit does not count) writes its table, exit 0 (it stopped at 'this history has no energy
+    audit', exit 2, nothing written), and the swivel angle follows an integration of the physics."""
+    from scipy.integrate import solve_ivp
+
+    out = tmp_path / "sim.csv"
+    res = run("simulate", DATA / "caster_tyre_saturating.toml", "--set", "V=3", "--start", "theta_wheel=0.05",
+              "--until", "0.2", "--method", "Radau", "--rtol", "1e-10", "--atol", "1e-12", "--out", out)
+    assert res.exit_code == 0, res.output
+    assert "no energy balance" in res.output
+    with open(out, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    t = np.array([float(r["t [s]"]) for r in rows])
+    theta = np.array([float(r["theta_wheel [rad]"]) for r in rows])
+    f_max, V = 2000.0, 3.0
+
+    def rhs(_, z):
+        psi, w, y = z
+        F = f_max * math.tanh(C_Y * y / (SIGMA * f_max))
+        return [w, (-K * psi - C_D * w - (E + T_P) * F) / I_W, E * w + V * math.sin(psi) - V * y / SIGMA]
+    truth = solve_ivp(rhs, [0, t[-1]], [0.05, 0.0, 0.0], method="DOP853", rtol=1e-12, atol=1e-13, t_eval=t).y[0]
+    assert np.max(np.abs(theta - truth)) < 1e-8  # measured 1e-12 at 0.5 s (the tolerances asked: 1e-10)
