@@ -240,12 +240,18 @@ class _Run:
             if label == "NS" and not np.any((pt.mu.imag > 0) & (np.abs(np.abs(pt.mu) - 1) < ON_CIRCLE)):
                 continue  # a real pair became complex inside the circle: not a torus bifurcation
             pt.label = label
-            if label == "LPC" and not _fold_confirmed(pt):
-                if _amplitude(pt) >= HOPF_AMPLITUDE * self.max_amplitude:
-                    continue  # the parameter's tangent changed sign without a fold (noise where D barely moves)
-                # the family turned without a second multiplier at 1, its orbit shrunk to nearly a point:
-                # it passed through a Hopf point (where its amplitude changes sign) and ends there
-                pt.label = "HB"
+            if label == "LPC":
+                small = _amplitude(pt) < HOPF_AMPLITUDE * self.max_amplitude
+                # the orbit shrunk to nearly a point, far smaller than its neighbour: the family passed through a
+                # Hopf point (where its amplitude changes sign), whatever the multipliers say (a planar cycle's one
+                # non-trivial multiplier also tends to 1 there)
+                through = small and _amplitude(pt) < HOPF_AMPLITUDE * max(_amplitude(cur), _amplitude(new))
+                if not through and not _fold_confirmed(pt):
+                    if not small:
+                        continue  # the parameter's tangent changed sign without a fold (noise where D barely moves)
+                    through = True  # the family turned without a second multiplier at 1, its orbit nearly a point
+                if through:
+                    pt.label = "HB"  # the family ends there
             found.append((sigma, pt))
         return sorted(found, key=lambda f: f[0])
 
