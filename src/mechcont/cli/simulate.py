@@ -26,7 +26,12 @@ def _start(system, starts) -> tuple:
 
 def echo_balance(result) -> None:
     """Print the history's energy balance in one line; warn (one line, stderr) when its residual
-    exceeds what the integrator's tolerance explains (:attr:`~mechcont.dynamics.EnergyBalance.bound`)."""
+    exceeds what the integrator's tolerance explains (:attr:`~mechcont.dynamics.EnergyBalance.bound`). A history
+    without the audit (a mechanism with element states: a tyre's deflection) says so instead."""
+    if not result.energy:
+        click.echo("# no energy balance: the element states (a tyre's deflection) store and dissipate energy the "
+                   "audit does not count")
+        return
     b = result.balance
     click.echo(f"# {b.describe()}")
     if not b.closes and not result.integrator_failure:  # a failed run's own line says why it stopped

@@ -24,6 +24,10 @@ FOLD_MULTIPLIER_MAX = 0.1
 #: (relative change of the parameter) / (relative growth of the period) below HOMOCLINIC_RATIO end the family
 HOMOCLINIC_RATIO = 1e-5
 HOMOCLINIC_STEPS = 3
+#: ... and the orbit's extent (each state's max - min) changing by less than this times the period's relative growth:
+#: towards a homoclinic orbit the orbit converges to the loop while the period diverges; in a canard explosion
+#: (FitzHugh-Nagumo) the parameter also stops while the period grows, but the orbit grows with it
+HOMOCLINIC_SHAPE = 0.1
 #: a family from a Hopf point whose parameter has not moved after this many steps is vertical (l1 = 0)
 VERTICAL_STEPS = 5
 
@@ -50,13 +54,24 @@ def _ns(mu: np.ndarray) -> float:
 
 
 def _period_runs_away(a: _Point, b: _Point, p_weight: float) -> bool:
-    """True when the period grows from ``a`` to ``b`` while the parameter hardly moves (HOMOCLINIC_RATIO): the
-    family approaching a homoclinic orbit, where the period tends to infinity at a finite parameter value."""
+    """True when the period grows from ``a`` to ``b`` while the parameter hardly moves (HOMOCLINIC_RATIO) and the
+    orbit's extent hardly changes (HOMOCLINIC_SHAPE): the family approaching a homoclinic orbit, where the period
+    tends to infinity at a finite parameter value and the orbit to the homoclinic loop."""
     Ta, pa, Tb, pb = a.X[-2], a.X[-1], b.X[-2], b.X[-1]
     if not (Tb > Ta > 0):
         return False
     scale = max(abs(pa), 1.0 / math.sqrt(p_weight) if p_weight > 0 else 0.0, 1e-300)
-    return abs(pb - pa) / scale < HOMOCLINIC_RATIO * (Tb - Ta) / Ta
+    growth = (Tb - Ta) / Ta
+    if not abs(pb - pa) / scale < HOMOCLINIC_RATIO * growth:
+        return False
+    ea, eb = _extent(a), _extent(b)
+    return float(np.linalg.norm(eb - ea)) < HOMOCLINIC_SHAPE * growth * float(np.linalg.norm(ea))
+
+
+def _extent(pt: _Point) -> np.ndarray:
+    """Each state's max - min over the orbit's nodes, times its weight."""
+    u, _, _ = pt.system.split(pt.X)
+    return (u.max(axis=0) - u.min(axis=0)) * np.sqrt(pt.system.weights)
 
 
 def _fold_confirmed(pt: _Point) -> bool:

@@ -11,7 +11,8 @@ mesh is re-equidistributed and the current orbit corrected on it.
 Test functions between consecutive orbits, zeros located inside the step: ``LPC`` the tangent's
 parameter component (Brent's method on the step length); ``PD`` the product of ``1 + mu`` over the
 real negative multipliers; ``NS`` the product of ``|mu| - 1`` over the complex pairs (each checked
-at the located orbit: a multiplier at -1, a pair on the unit circle); ``UZ`` and the bounds (``EP``)
+at the located orbit: a multiplier at -1, a pair on the unit circle, and the trivial multiplier at 1, without
+which the multipliers are too inaccurate to tell); ``UZ`` and the bounds (``EP``)
 the parameter (or period) minus the value, solved exactly with the parameter held.
 """
 
@@ -232,17 +233,25 @@ class _Run:
                 pt = cache[sigma] if sigma in cache else self.solve(cur.system, cur.X, cur.t, sigma)
             except (NewtonFailure, ValueError, RuntimeError):
                 sigma, pt = ds, _Point(new.system, new.X, new.t, new.mu, approximate=True, trivial=new.trivial)
+            if label in ("PD", "NS") and not abs(pt.trivial - 1.0) < ON_CIRCLE:
+                continue  # the trivial multiplier is not 1: the multipliers are not accurate enough to tell
             if label == "PD" and not np.any((pt.mu.imag == 0) & (np.abs(pt.mu + 1) < ON_CIRCLE)):
                 continue  # a pair of real multipliers met on the negative axis: not a crossing of -1
             if label == "NS" and not np.any((pt.mu.imag > 0) & (np.abs(np.abs(pt.mu) - 1) < ON_CIRCLE)):
                 continue  # a real pair became complex inside the circle: not a torus bifurcation
             pt.label = label
-            if label == "LPC" and not _fold_confirmed(pt):
-                if _amplitude(pt) >= HOPF_AMPLITUDE * self.max_amplitude:
-                    continue  # the parameter's tangent changed sign without a fold (noise where D barely moves)
-                # the family turned without a second multiplier at 1, its orbit shrunk to nearly a point:
-                # it passed through a Hopf point (where its amplitude changes sign) and ends there
-                pt.label = "HB"
+            if label == "LPC":
+                small = _amplitude(pt) < HOPF_AMPLITUDE * self.max_amplitude
+                # the orbit shrunk to nearly a point, far smaller than its neighbour: the family passed through a
+                # Hopf point (where its amplitude changes sign), whatever the multipliers say (a planar cycle's one
+                # non-trivial multiplier also tends to 1 there)
+                through = small and _amplitude(pt) < HOPF_AMPLITUDE * max(_amplitude(cur), _amplitude(new))
+                if not through and not _fold_confirmed(pt):
+                    if not small:
+                        continue  # the parameter's tangent changed sign without a fold (noise where D barely moves)
+                    through = True  # the family turned without a second multiplier at 1, its orbit nearly a point
+                if through:
+                    pt.label = "HB"  # the family ends there
             found.append((sigma, pt))
         return sorted(found, key=lambda f: f[0])
 
@@ -368,7 +377,10 @@ def _branch(model, run: _Run, status: Status, message: str) -> CycleBranch:
     dyn = rates.dynamics
     names = tuple(dyn.state_names)
     known = set(model.names)
-    units = tuple(model.variable(n).unit if n in known else "" for n in names)
+    # a mechanism's velocity state (q_dot, no variable) in its coordinate's unit per second, as simulate's tables
+    units = tuple(model.variable(n).unit if n in known else
+                  (f"{model.variable(n[:-4]).unit or '1'}/s" if n.endswith("_dot") and n[:-4] in known else "")
+                  for n in names)
     p, period, lo, hi, orbits = [], [], [], [], []
     for pt in run.points:
         u, T, pv = pt.system.split(pt.X)

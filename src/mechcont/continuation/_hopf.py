@@ -23,6 +23,9 @@ from ._folds import curve_states
 from ._hopf_point import HopfPoint, HopfTest, first_lyapunov, polish_hopf
 from ._problem import ContinuationProblem
 
+#: omega / |A| below which the pair is taken as a Bogdanov-Takens point's Jordan block (no l1 there)
+_BT_OMEGA = 1e-6
+
 __all__ = ["HopfEvent", "HopfProblem", "BogdanovTakensEvent", "GeneralisedHopfEvent", "hopf_point_of"]
 
 
@@ -158,7 +161,9 @@ class HopfProblem(ContinuationProblem):
 
     def _lyapunov(self, x: np.ndarray) -> float:
         pair = self.test.pair(x)
-        if not pair.complex:
+        # at a Bogdanov-Takens point the pair is a Jordan block, split by rounding into omega ~ sqrt(eps) |A|
+        # of either sign of kappa, where l1 (~ 1/omega) is rounding too: not a sign change of GH's
+        if not pair.complex or pair.omega <= _BT_OMEGA * max(float(np.linalg.norm(pair.A, 1)), np.finfo(float).tiny):
             return 0.0
         try:
             l1 = first_lyapunov(self.test.dynamics, x, pair.omega, self.test.system)[0]

@@ -14,7 +14,10 @@ its linearisation ``E dz/dt = A dz`` and nothing else, so it serves ODE models a
 * **Location**: Newton on the minimally extended system ``G(u, p) = 0, g(u, p) = lambda_1 + lambda_2
   = 0`` (square in the branch's unknowns and parameter), with ``dg/dx`` from eigenvalue perturbation
   ``d lambda = w^H (dA - lambda dE) v / (w^H E v)``: exact for ODE models (the model's generated second
-  derivatives contract ``dA v``), central differences of the linearisation otherwise.
+  derivatives contract ``dA v``), central differences of the linearisation otherwise. Without ``E`` the
+  pair's sum is differentiated as a whole, ``dg = trace(P dA)`` with ``P`` the spectral projector onto
+  the pair's invariant plane (from an ordered Schur form): finite through a Bogdanov–Takens point, where
+  the pair is a Jordan block and each eigenvalue's own derivative (``w^H v = 0``) is not.
 """
 
 from __future__ import annotations
@@ -188,20 +191,22 @@ class HopfTest:
                             int(np.sum(others.real > 0)))
 
     def gradient(self, x: np.ndarray, columns: Sequence[int] | np.ndarray, pair: CriticalPair) -> np.ndarray:
-        """``dg/dx`` over the full-vector columns ``columns`` (``g = lambda_1 + lambda_2``), as a real row;
-        not finite where the pair is defective (``w^H E v = 0``, a Bogdanov–Takens point), which the
-        correctors take as a failed point."""
+        """``dg/dx`` over the full-vector columns ``columns`` (``g = lambda_1 + lambda_2``), as a real row.
+        Without ``E`` it is finite through a Bogdanov–Takens point (:func:`_pair_plane`); with ``E`` it is
+        not finite where the pair is defective (``w^H E v = 0``), which the correctors take as a failed point."""
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             return self._gradient(x, np.asarray(columns, dtype=np.intp), pair)
 
     def _gradient(self, x: np.ndarray, cols: np.ndarray, pair: CriticalPair) -> np.ndarray:
         out = np.zeros(len(cols), dtype=complex)
+        plane = _pair_plane(pair) if pair.E is None else None
         # a conjugate pair's second gradient is the conjugate of the first: their sum is twice its real part
-        conjugate = pair.lam[0].imag != 0 and pair.lam[1] == np.conj(pair.lam[0])
+        conjugate = plane is None and pair.lam[0].imag != 0 and pair.lam[1] == np.conj(pair.lam[0])
+        right, left = plane if plane is not None else (pair.right, pair.left)
         for k in range(1 if conjugate else 2):
-            lam, v, w = pair.lam[k], pair.right[:, k], pair.left[:, k]
+            lam, v, w = pair.lam[k], right[:, k], left[:, k]
             Ev = v if pair.E is None else pair.E @ v
-            den = np.vdot(w, Ev)
+            den = 1.0 if plane is not None else np.vdot(w, Ev)
             if self._ode:
                 def dAv(part):
                     full = np.zeros(len(x))
@@ -229,6 +234,39 @@ class HopfTest:
             M = dA if lins[0].E is None else dA - lam * (np.asarray(lins[0].E) - np.asarray(lins[1].E)) / (2 * h)
             out[n] = np.vdot(w, M @ v)
         return out
+
+
+def _pair_plane(pair: CriticalPair) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(V, W)`` (n, 2) with ``W^H V = I`` and ``V W^H`` the spectral projector of ``pair.A`` onto the
+    critical pair's invariant plane, so that ``d(lambda_1 + lambda_2) = sum_k W_k^H dA V_k``; None when an
+    ordered Schur form does not split the pair from the other eigenvalues (the pair's own eigenvectors
+    serve then).
+
+    ``V`` is the leading block ``Q_1`` of the Schur form ``A = Q [[T11, T12], [0, T22]] Q^H`` with the pair
+    in ``T11``, and ``W = Q_1 + Q_2 X^H`` with ``T11 X - X T22 = T12``: smooth where the pair is a Jordan
+    block (a Bogdanov-Takens point), as long as it stays apart from the other eigenvalues."""
+    import scipy.linalg
+
+    A, lam = pair.A, pair.lam
+    n = len(A)
+    every = np.linalg.eigvals(A)
+    near = np.minimum(np.abs(every - lam[0]), np.abs(every - lam[1]))
+    order = np.argsort(near)
+    gap = float(near[order[2]]) if n > 2 else math.inf
+    if not gap > 0:
+        return None
+    T, Q, sdim = scipy.linalg.schur(A.astype(complex), output="complex",
+                                    sort=lambda z: min(abs(z - lam[0]), abs(z - lam[1])) < 0.5 * gap)
+    if sdim != 2:
+        return None
+    V = Q[:, :2]
+    if n == 2:
+        return V, V
+    try:
+        X = scipy.linalg.solve_sylvester(T[:2, :2], -T[2:, 2:], T[:2, 2:])
+    except (np.linalg.LinAlgError, ValueError):
+        return None
+    return V, V + Q[:, 2:] @ X.conj().T
 
 
 def polish_hopf(test: HopfTest, problem, u0: np.ndarray, max_iter: int = 30):
@@ -282,6 +320,22 @@ def _relative_residual(r, J, u, problem, pair: CriticalPair) -> float:
     return float(max(rows.max(initial=0.0), abs(pair.g) / size))
 
 
+def _state_scales(dynamics: Dynamics, system, omega: float) -> np.ndarray:
+    """Each state's typical size: its variable's scale in ``system``; a velocity state ``NAME_dot`` that is no
+    variable (a mechanism's), its coordinate's scale times ``omega`` (rad/s); else 1."""
+    if system is None:
+        return np.ones(len(dynamics.state_names))
+    known = dict(zip(system.names, np.abs(np.asarray(system.scales(), float))))
+
+    def scale(n: str) -> float:
+        if n in known:
+            return float(known[n]) or 1.0
+        if n.endswith("_dot") and n[:-4] in known:
+            return (float(known[n[:-4]]) or 1.0) * max(omega, _EPS)
+        return 1.0
+    return np.array([scale(n) for n in dynamics.state_names])
+
+
 def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None) -> tuple[float, np.ndarray, str]:
     """The first Lyapunov coefficient at the Hopf point ``x`` of frequency ``omega`` (rad/s).
 
@@ -294,7 +348,9 @@ def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None)
     ``system``) ``B`` is exact (the generated second derivatives) and ``C`` Richardson-extrapolated
     central differences of ``B`` (step ``eps^(1/5)``: about 1e-13 relative); otherwise ``B`` is central
     differences of the rates' Jacobian (step ``eps^(1/3)``) and ``C`` extrapolated central differences of
-    that (step ``eps^(1/6)``: about 1e-8 relative).
+    that (step ``eps^(1/6)``: about 1e-8 relative). The steps are relative to each state's scale
+    (:func:`_state_scales`): a mechanism's velocity states swing ``omega`` times their coordinates, and a step
+    sized by them would move the coordinates, where the nonlinearity is, by almost nothing.
     ``C(q,q,qb) = D_a S + i D_b S`` with ``q = a + i b`` and ``S(z) = B_z(a,a) + B_z(b,b)`` (real), by
     trilinearity and symmetry. Returns ``(l1, q, method)``.
     """
@@ -303,6 +359,7 @@ def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None)
     A = np.asarray(dyn.rates_jacobian(z0, x), float)
     exact = isinstance(dyn, OdeDynamics) and system is not None
     cols = np.array([system.index(n) for n in dyn.state_names]) if exact else None
+    sc = _state_scales(dyn, system, omega)
 
     def H(pairs):  # [d(J a)/dz at state z for (z, a) in pairs]: the matrices b -> B_z(a, b)
         if exact:
@@ -312,7 +369,7 @@ def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None)
                 full[cols] = a
                 out.append(system.jacobian_derivative(dyn.full_vector(z, x), full)[:, cols])
             return out
-        hs = [_EPS ** (1 / 3) * max(1.0, float(np.max(np.abs(z)))) / max(float(np.max(np.abs(a))), _EPS)
+        hs = [_EPS ** (1 / 3) * max(1.0, float(np.max(np.abs(z) / sc))) / max(float(np.max(np.abs(a) / sc)), _EPS)
               for z, a in pairs]
         states = [w for (z, a), h in zip(pairs, hs) for w in (z + h * a, z - h * a)]
         batch = getattr(dyn, "rates_jacobian_batch", None)  # all the Jacobians in one call where offered
@@ -332,12 +389,12 @@ def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None)
     # rounding (eps / h) and truncation (h^4) near 1e-13; for a B itself from differences (noise ~ eps^(2/3)),
     # h = eps^(1/6) balances them near 1e-8
     step = _EPS ** (1 / 5) if exact else _EPS ** (1 / 6)
-    scale = max(1.0, float(np.max(np.abs(z0))))
+    scale = max(1.0, float(np.max(np.abs(z0) / sc)))
     # every derivative l1 needs, taken at once: B at z0 along a and b (B(qb, .) = B(q, .) with b negated),
     # and S(z) = B_z(a, a) + B_z(b, b) at z0 +- h d, z0 +- 2 h d for d = a, b (for C)
     centres = []
     for d in (a, b):
-        nd = float(np.max(np.abs(d)))
+        nd = float(np.max(np.abs(d) / sc))
         if nd > 0:
             h = step * scale / nd
             centres += [(d, k, h, z0 + k * h * d, z0 - k * h * d) for k in (1, 2)]

@@ -138,7 +138,10 @@ def ode_model(name: str, states: Mapping[str, float], parameters: Mapping[str, f
     if list(rates) != list(states):
         missing = [s for s in states if s not in rates] or [r for r in rates if r not in states]
         raise InputError(f"rates.{missing[0]}" if missing else "rates", "give one rate per state, in the states' order")
-    variables = [Variable(n, "state", float(v), units.get(n, "")) for n, v in states.items()]
+    # a state's typical size is its initial value's (at least 1), as a parameter's: the same system written in
+    # millimetres then takes the same steps as in metres
+    variables = [Variable(n, "state", float(v), units.get(n, ""), scale=max(abs(float(v)), 1.0))
+                 for n, v in states.items()]
     variables += [Variable(n, "parameter", float(v), units.get(n, ""), scale=max(abs(float(v)), 1.0))
                   for n, v in parameters.items()]
     eq_names = tuple(n if algebraic else f"d{n}/dt" for n in states)
