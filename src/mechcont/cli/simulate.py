@@ -26,7 +26,12 @@ def _start(system, starts) -> tuple:
 
 def echo_balance(result) -> None:
     """Print the history's energy balance in one line; warn (one line, stderr) when its residual
-    exceeds what the integrator's tolerance explains (:attr:`~mechcont.dynamics.EnergyBalance.bound`)."""
+    exceeds what the integrator's tolerance explains (:attr:`~mechcont.dynamics.EnergyBalance.bound`); a history
+    without the audit (a mechanism with first-order element states: a tyre) says so instead."""
+    if not result.energy:
+        click.echo("# no energy audit: the element states (a tyre's deflection) store and dissipate energy it does "
+                   "not count")
+        return
     b = result.balance
     click.echo(f"# {b.describe()}")
     if not b.closes and not result.integrator_failure:  # a failed run's own line says why it stopped
