@@ -248,3 +248,69 @@ def test_a_family_reaching_where_the_rates_fail_ends_there_keeping_its_orbits(mo
     radius = np.sqrt(np.max(fam.maximum[:, :2] ** 2, axis=1))
     assert 0.05 < radius.max() <= 0.1
     np.testing.assert_allclose(fam.maximum[1:, 0], np.sqrt(fam.p[1:]), rtol=1e-6)
+
+
+SPATIAL = Path(__file__).parent / "data" / "spatial" / "fourbar_shimmy_3d.toml"
+
+
+def _rotation(e0, e1, e2, e3):
+    """Rotation matrices (m, 3, 3) of Euler parameters (arrays)."""
+    return np.moveaxis(np.array([
+        [1 - 2 * (e2 * e2 + e3 * e3), 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2)],
+        [2 * (e1 * e2 + e0 * e3), 1 - 2 * (e1 * e1 + e3 * e3), 2 * (e2 * e3 - e0 * e1)],
+        [2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), 1 - 2 * (e1 * e1 + e2 * e2)]]), -1, 0)
+
+
+def _closure_3d(get) -> float:
+    """The largest gap (m, or 1 for the axes and norms) of the spatial linkage from its coordinates ``get(name)``:
+    the four pins as in :func:`_closure`, each body's z axis on the global z (the revolute axes), unit Euler
+    parameters."""
+    bodies = {}
+    gaps = []
+    for b in ("wheel", "crank", "coupler"):
+        e = [get(f"e{k}_{b}") for k in range(4)]
+        gaps.append(sum(c * c for c in e) - 1.0)
+        R = _rotation(*e)
+        gaps += [R[:, 0, 2], R[:, 1, 2]]
+        bodies[b] = (np.stack([get(f"x_{b}"), get(f"y_{b}"), get(f"z_{b}")], axis=1), R)
+
+    def point(b, p):
+        o, R = bodies[b]
+        return o + R @ np.array(p, float)
+
+    gaps += list((point("wheel", [0, 0, 0])).T)
+    gaps += list((point("wheel", [0, ref.RA, 0]) - point("coupler", [-0.5 * ref.B, 0, 0])).T)
+    gaps += list((point("coupler", [0.5 * ref.B, 0, 0]) - point("crank", [0.5 * ref.A, 0, 0])).T)
+    gaps += list((point("crank", [-0.5 * ref.A, 0, 0]) - np.array([ref.BX, 0.0, 0.0])).T)
+    return float(max(np.max(np.abs(g)) for g in gaps))
+
+
+@pytest.mark.slow
+def test_spatial_closed_loop_has_the_planar_hopf_speeds_and_cycle_with_every_row_closed(truth, tmp_path):
+    """The same linkage in a spatial description (Euler parameters, the loop's out-of-plane rows redundant and
+    dropped): its dynamic stability near the Hopf speeds (the Hopf test's gradient differences the linearisation
+    off the constraint manifold, where the dropped rows turn independent), its Hopf speeds and its cycle at V = 2
+    m/s are the planar reference's, and every written instant closes the loop."""
+    speeds, omegas, cycles = truth
+    run = make_runner()
+    b, c, o = tmp_path / "b.csv", tmp_path / "c.csv", tmp_path / "o.csv"
+    r = run("continue", SPATIAL, "--vary", "V", "--bounds", "V=0.3:20", "--dynamic", "--out", b, "--quiet")
+    assert r.exit_code == 0, r.output
+    hb = [row for row in _rows(b) if row["label"].startswith("HB")]
+    assert len(hb) == 2
+    for row, v, w in zip(hb, speeds, omegas):
+        assert float(row["V [m/s]"]) == pytest.approx(v, rel=1e-8)
+        assert float(row["leading_frequency [rad/s]"]) == pytest.approx(w, rel=1e-8)
+    r = run("cycles", SPATIAL, "--point", f"{b}:HB1", "--vary", "V", "--bounds", "V=0.5:2.1", "--at", "V=2",
+            "--out", c, "--orbits", o, "--quiet")
+    assert r.exit_code == 0, r.output
+    rows = _rows(c)
+    (uz,) = [row for row in rows if row["label"] == "UZ"]
+    period, lo, hi, mu = cycles[2.0]
+    assert float(uz["period [s]"]) == pytest.approx(period, rel=1e-7)
+    assert float(uz["floquet_max"]) == pytest.approx(abs(mu[1]), abs=1e-6)
+    assert uz["stability"] == "stable"
+    orb = _rows(o)
+    assert len(orb) == 49 * len(rows)
+    unit = {"x": " [m]", "y": " [m]", "z": " [m]"}
+    assert _closure_3d(lambda name: np.array([float(row[name + unit.get(name[0], "")]) for row in orb])) < 1e-10
