@@ -28,6 +28,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ..errors import ConvergenceError
 from ._collocation import Mesh
 
 __all__ = ["RateFunction", "CycleSystem", "NewtonFailure", "nontrivial_multipliers"]
@@ -167,10 +168,16 @@ class CycleSystem:
 
     def factored(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float):
         """Residual and the factored Jacobian (:class:`~._condensation.CondensedLU`) of the BVP closed by
-        ``closing . X = target``; raises :class:`NewtonFailure` when not finite or singular."""
+        ``closing . X = target``; raises :class:`NewtonFailure` when not finite or singular, or where the rates
+        cannot be evaluated (a closed loop that does not assemble at a state of the orbit)."""
         from ._condensation import CondensedLU
 
-        u, T, p, uc, du, F, Fz, Fp = self.collocation(X)
+        try:
+            u, T, p, uc, du, F, Fz, Fp = self.collocation(X)
+        except (ConvergenceError, np.linalg.LinAlgError) as exc:
+            # a mechanism's dependent coordinates not closing its loops (past a toggle position) at an orbit the
+            # predictor proposed: a failed correction, which the step control answers with a shorter step
+            raise NewtonFailure(f"the rates fail along the orbit: {exc}") from None
         n, m, ntst = self.n, self.mesh.ncol, self.mesh.ntst
         res = np.concatenate([(du - T * F).ravel(), u[-1] - u[0], [phase @ X[:-2], closing @ X - target]])
         C = self.blocks(T, Fz).transpose(0, 1, 3, 2, 4).reshape(ntst, m * n, (m + 1) * n)

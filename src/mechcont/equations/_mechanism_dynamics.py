@@ -383,6 +383,11 @@ class MechanismDynamics:
         x = np.asarray(x, dtype=float)
         mech = self.mech
         U, sv, Vt, r = mech._decompose(x)  # one SVD of Phi_q for the allowed motions and the reactions
+        if U is not None:
+            # off the constraint manifold (a linearisation differenced in a coordinate: the Hopf test's gradient)
+            # redundant rows turn independent by the size of the step; held at the partition's rank, the allowed
+            # motions and the reactions vary smoothly instead of losing a dimension
+            r = min(r, len(self._partition(x)[2]))
         N = Vt[r:].T
         lam = None if U is None else U[:, :r] @ ((Vt[:r] @ mech.applied_forces(x)) / sv[:r])
         M = mech.mass(x)
