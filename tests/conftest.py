@@ -26,15 +26,29 @@ def overcentre():
     return build_overcentre()
 
 
-#: The longest files (measured alone with a fresh cache on the 2-core machine: 20-100 s of CPU each, most
-#: others a few seconds), collected first. With ``--dist loadfile`` (run.sh) each pytest-xdist worker takes
-#: the next file in collection order, so a long file collected last ran alone on one core at the end while
-#: the other idled. All but test_doc_examples start by building the generated dual-sidestay gear (one
-#: disk-cache entry; a second process waits for the first's build): it is second, so the other worker
-#: starts on work of its own while the first builds the gear.
-LONGEST_FIRST = ["test_dsopt.py", "test_doc_examples.py", "test_dual_sidestay.py", "test_physical_limits.py",
-                 "test_freefall_paper.py", "test_dual_sidestay_generated.py", "test_freefall_more.py",
-                 "test_assembly_compliance.py", "test_dynamics_inertial.py", "test_freefall.py"]
+#: The longest files, longest first as far as it matters (most others take a few seconds of CPU), collected
+#: first. With ``--dist loadfile`` (run.sh) each pytest-xdist worker takes the next file in collection order,
+#: so a long file collected last ran alone on one core at the end while the other idled. Measured 2026-11-29
+#: one file at a time (-n 0) on the shared machine: the documentation's commands and the freefall section
+#: (test_freefall_paper, and again in test_figure_review) take the most; from test_paper on, 13-40 s of CPU
+#: each. Most of the dual-sidestay files start by building the generated dual-sidestay gear (one disk-cache
+#: entry; a second process waits for the first's build): test_doc_examples, which does not, is second, so the
+#: other worker starts on work of its own while the first builds the gear.
+LONGEST_FIRST = ["test_dsopt.py", "test_doc_examples.py", "test_freefall_paper.py", "test_figure_review.py",
+                 "test_freefall_more.py", "test_dual_sidestay_generated.py", "test_dynamics_inertial.py",
+                 "test_dual_sidestay.py", "test_paper.py", "test_assembly_compliance.py", "test_freefall.py",
+                 "test_spatial_planar.py", "test_redundancy_switch.py", "test_dynamics_paper.py", "test_study_cli.py",
+                 "test_reliability.py", "test_paper_animation.py", "test_spatial_cli.py", "test_nose_gear_paper.py",
+                 "test_model.py"]
+
+
+def pytest_configure(config):
+    """Keep the collection order (LONGEST_FIRST) for ``--dist loadfile``: pytest-xdist (3.6 and later) otherwise
+    sorts the files by their number of tests (``--loadscope-reorder``, on by default), which put long files of one
+    to six tests (the freefall section, the paper's animation) last, where one ran alone on one core while the
+    other idled."""
+    if hasattr(config.option, "loadscopereorder"):
+        config.option.loadscopereorder = False
 
 
 @pytest.hookimpl(trylast=True)  # after pytest's own reordering for shared fixtures
