@@ -14,6 +14,7 @@ makes (the section's summary lines hold the dual-sidestay freefall's), rather th
 from __future__ import annotations
 
 import re
+import shlex
 from pathlib import Path
 
 import pytest
@@ -38,7 +39,10 @@ FALL = ("# energy [J]: start -1602.89, kinetic 2.60352e-07, potential -19821.9, 
 TOUR = ("overcentre: 73 points in F\npoint             F (N)    theta1 (deg)  stability\n"
         "EP1                 120     80.32517727     stable\nLP1        -75.58066788     49.93474965       fold\n"
         "LP2         95.20066788    -49.93474965       fold\n")
-PRINTED = {"freefall": SUMMARY, "check_locked": CHECK, "freefall_sidestay_cli": FALL, "tour_continue": TOUR}
+OPTIMUM = ("converged: Optimization terminated successfully (3 iterations, 3 solves)\nLU = 1.2692029 m\n"
+           "  beta(not locking) = 4.753424309\n")
+PRINTED = {"freefall": SUMMARY, "check_locked": CHECK, "freefall_sidestay_cli": FALL, "tour_continue": TOUR,
+           "optimize_nose_gear": OPTIMUM}
 
 
 def test_marked_numbers_are_filled_from_the_summary_and_differences_reported():
@@ -67,15 +71,22 @@ def test_a_number_derived_from_the_printed_ones_is_shown_as_the_document_writes_
     assert values["fall_residual_j"] == "0.009" and values["fall_bound_j"] == "32"
     assert values["fall_actuator_kn"] == "45.4" and values["fall_actuator_s"] == "0.58"
     assert values["tour_lp1_n"] == "\u221275.58" and values["tour_lp2_n"] == "+95.20"
+    assert values["optimum_nose_lu_m"] == "1.2692" and values["optimum_nose_iterations"] == "3"
     moved = {**PRINTED, "check_locked": CHECK.replace("3.164e-05", "6.164e-05")}   # |(-18.61, 61.64, -19.44)| = 67
     assert quoted(moved)["locked_deflection_um"] == "67"
 
 
 def test_the_quoted_commands_are_the_documented_ones():
-    """Each command of COMMANDS is shown in a document as it is run (its lines joined over the backslashes)."""
-    shown = " ".join(w for path in DOCUMENTS for w in re.sub(r"\\\n", " ", path.read_text(encoding="utf-8")).split())
+    """Each command of COMMANDS is shown in a document as it is run: a line of a code block (joined over its
+    backslashes, a comment after `` #`` dropped) with the same arguments."""
+    shown = set()
+    for path in DOCUMENTS:
+        for block in re.findall(r"^```\w*\n(.*?)^```", path.read_text(encoding="utf-8"), re.S | re.M):
+            for line in re.sub(r"\\\n\s*", " ", block).splitlines():
+                if line.startswith("mechcont "):
+                    shown.add(tuple(shlex.split(line.split(" #")[0])[1:]))
     for source, args in COMMANDS.items():
-        assert "mechcont " + " ".join(args) in shown, source
+        assert args in shown, source
 
 
 def test_the_fill_command_refuses_a_folder_without_a_summary(tmp_path, capsys):

@@ -60,6 +60,9 @@ class Quote(NamedTuple):
 #: scratch folder holding a copy of the repository's ``examples/`` (as a document shows it:
 #: ``tests/test_doc_numbers.py`` checks they are there).
 COMMANDS: dict[str, tuple[str, ...]] = {
+    "optimize_nose_gear": ("optimize", "nose_gear", "--maximize", "LU", "--design", "LU=1.2:1.4", "--dist",
+                           "LU=normal:1.3:0.01", "--dist", "l_sp1=truncnormal:0.1:0.005:0.09:0.11", "--constraint",
+                           "P(not locking) <= 1e-6"),
     "tour_continue": ("continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--bounds",
                       "F=-100:120", "--out", "branch.csv", "--plot", "branch.png"),
     "check_locked": ("check", "examples/dual_sidestay_locked.toml"),
@@ -86,6 +89,9 @@ QUOTES: dict[str, Quote] = {
     # the README tour's branch of the overcentre mechanism: its two folds
     "tour_lp1_n": Quote("tour_continue", r"\nLP1\s+" + _N, _shown(1.0, ".2f", minus="\u2212")),
     "tour_lp2_n": Quote("tour_continue", r"\nLP2\s+" + _N, _shown(1.0, "+.2f")),
+    # the nose gear's longest free length at P(not locking) <= 1e-6 (docs/reliability.md)
+    "optimum_nose_lu_m": Quote("optimize_nose_gear", r"\nLU = " + _N + " m", _shown(1.0, ".4f")),
+    "optimum_nose_iterations": Quote("optimize_nose_gear", r"\(([0-9]+) iterations"),
     # mechcont check examples/dual_sidestay_locked.toml: the compliant attachment's deflection and reaction
     # (their lengths: the check prints the components) and the retraction angle
     "locked_theta_deg": Quote("check_locked", r"\n  theta\s+" + _N + r" deg", _shown(1.0, ".3f", minus="\u2212")),
