@@ -41,8 +41,12 @@ TOUR = ("overcentre: 73 points in F\npoint             F (N)    theta1 (deg)  st
         "LP2         95.20066788    -49.93474965       fold\n")
 OPTIMUM = ("converged: Optimization terminated successfully (3 iterations, 3 solves)\nLU = 1.2692029 m\n"
            "  beta(not locking) = 4.753424309\n")
+DS_OPTIMUM = ("converged: Optimization terminated successfully (14 iterations, 19 solves)\n"
+              "unlock_force = 72.36004747 N\n  k_lock = 3947.131936 N/m\n  stretch = 0.8363771622\n"
+              "  beta(not locking) = 4.753424309\n  P(not locking) = 1e-06\n"
+              "active: beta(not locking) >= 4.75342 (multiplier 2.61789)\n")
 PRINTED = {"freefall": SUMMARY, "check_locked": CHECK, "freefall_sidestay_cli": FALL, "tour_continue": TOUR,
-           "optimize_nose_gear": OPTIMUM}
+           "optimize_nose_gear": OPTIMUM, "optimize_dual_sidestay": DS_OPTIMUM}
 
 
 def test_marked_numbers_are_filled_from_the_summary_and_differences_reported():
@@ -72,6 +76,8 @@ def test_a_number_derived_from_the_printed_ones_is_shown_as_the_document_writes_
     assert values["fall_actuator_kn"] == "45.4" and values["fall_actuator_s"] == "0.58"
     assert values["tour_lp1_n"] == "\u221275.58" and values["tour_lp2_n"] == "+95.20"
     assert values["optimum_nose_lu_m"] == "1.2692" and values["optimum_nose_iterations"] == "3"
+    assert [values[f"ds_optimum_{n}"] for n in ("unlock_n", "k_lock", "stretch", "beta", "iterations", "multiplier")] \
+        == ["72.36", "3947.1", "0.83638", "4.75342", "14", "2.62"]
     moved = {**PRINTED, "check_locked": CHECK.replace("3.164e-05", "6.164e-05")}   # |(-18.61, 61.64, -19.44)| = 67
     assert quoted(moved)["locked_deflection_um"] == "67"
 

@@ -63,6 +63,10 @@ COMMANDS: dict[str, tuple[str, ...]] = {
     "optimize_nose_gear": ("optimize", "nose_gear", "--maximize", "LU", "--design", "LU=1.2:1.4", "--dist",
                            "LU=normal:1.3:0.01", "--dist", "l_sp1=truncnormal:0.1:0.005:0.09:0.11", "--constraint",
                            "P(not locking) <= 1e-6"),
+    "optimize_dual_sidestay": ("optimize", "examples/dual_sidestay.toml", "--minimize", "unlock_force", "--force",
+                               "F_lock", "--design", "k_lock=1000:16000", "--design", "stretch=0.5:0.85", "--dist",
+                               "k_lock=normal:8000:200", "--dist", "stretch=normal:0.7:0.005", "--constraint",
+                               "P(not locking) <= 1e-6", "--set", "k_lock=2000", "--set", "stretch=0.5"),
     "tour_continue": ("continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--bounds",
                       "F=-100:120", "--out", "branch.csv", "--plot", "branch.png"),
     "check_locked": ("check", "examples/dual_sidestay_locked.toml"),
@@ -92,6 +96,13 @@ QUOTES: dict[str, Quote] = {
     # the nose gear's longest free length at P(not locking) <= 1e-6 (docs/reliability.md)
     "optimum_nose_lu_m": Quote("optimize_nose_gear", r"\nLU = " + _N + " m", _shown(1.0, ".4f")),
     "optimum_nose_iterations": Quote("optimize_nose_gear", r"\(([0-9]+) iterations"),
+    # the dual-sidestay gear's least unlock load at P(not locking) <= 1e-6 (docs/reliability.md)
+    "ds_optimum_unlock_n": Quote("optimize_dual_sidestay", r"unlock_force = " + _N + " N", _shown(1.0, ".2f")),
+    "ds_optimum_k_lock": Quote("optimize_dual_sidestay", r"\n  k_lock = " + _N + " N/m", _shown(1.0, ".1f")),
+    "ds_optimum_stretch": Quote("optimize_dual_sidestay", r"\n  stretch = " + _N, _shown(1.0, ".5f")),
+    "ds_optimum_beta": Quote("optimize_dual_sidestay", r"beta\(not locking\) = " + _N, _shown(1.0, ".5f")),
+    "ds_optimum_iterations": Quote("optimize_dual_sidestay", r"\(([0-9]+) iterations"),
+    "ds_optimum_multiplier": Quote("optimize_dual_sidestay", r"\(multiplier " + _N + r"\)", _shown(1.0, ".2f")),
     # mechcont check examples/dual_sidestay_locked.toml: the compliant attachment's deflection and reaction
     # (their lengths: the check prints the components) and the retraction angle
     "locked_theta_deg": Quote("check_locked", r"\n  theta\s+" + _N + r" deg", _shown(1.0, ".3f", minus="\u2212")),
