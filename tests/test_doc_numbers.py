@@ -1,19 +1,25 @@
-"""Issue 37, item 6: the numbers the docs quote from a ``mechcont paper`` run are the run's.
+"""Issue 37, item 6: the numbers the docs quote from a run (a ``mechcont paper`` section or a documented command)
+are the run's.
 
 docs/dual-sidestay.md quoted 217 mm / 0.1 deg for the kinematic assembly at gear up where the run's summary.md
 printed 236 mm / 2.9 deg. Quoted numbers are now marked (``<!--run:NAME-->value<!--/run-->``) and filled from the
-run's summary by ``python -m mechcont.paper.doc_numbers DIR`` (:mod:`mechcont.paper.doc_numbers`); the slow test
-runs the section part they come from (the dual-sidestay freefall: about 25 s with a warm disk cache, a minute or
-more when the gear is first built) and compares every marked number.
+run's summary and the documented commands' output by ``python -m mechcont.paper.doc_numbers DIR``
+(:mod:`mechcont.paper.doc_numbers`). The slow tests run each source afresh and compare every marked number: the
+documented commands here (``mechcont check`` of the locked gear and the documented ``mechcont freefall`` of the
+dual-sidestay gear, 10-30 s each; the README tour's ``continue``, a second or two); the freefall section in
+tests/test_figure_review.py (``test_the_docs_quote_what_the_freefall_section_prints``), on the run its figure review
+makes (the section's summary lines hold the dual-sidestay freefall's), rather than a second one.
 """
 
 from __future__ import annotations
 
+import re
+import shlex
 from pathlib import Path
 
 import pytest
 
-from mechcont.paper.doc_numbers import MARK, QUOTES, fill, main, mismatches, quoted
+from mechcont.paper.doc_numbers import COMMANDS, MARK, QUOTES, command_outputs, fill, main, mismatches, quoted
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCUMENTS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
@@ -22,26 +28,78 @@ SUMMARY = ("Assembled kinematically ... the aft upper arm ends 236 mm off its ai
            "and the lock links are folded fwd -26.6 deg, aft -12.0 deg from aligned ...\n"
            "Both sidestays lock in every run, in either order, 9.5 to 33.3 ms apart; the nominal gear has locked "
            "1.607 s after the release. The fall itself ...: the first strike comes 1.588 to 1.590 s after the release")
+#: Excerpts of the two commands' output, as they print it (the check's deflection lines abridged).
+CHECK = ("  aft_A_x  -1.861e-05 m  reaction R_aft_A_x = -930.462 N, stiffness 5e+07 N/m\n"
+         "  aft_A_y  3.164e-05 m   reaction R_aft_A_y = 1581.92 N, stiffness 5e+07 N/m\n"
+         "  aft_A_z  -1.944e-05 m  reaction R_aft_A_z = -972.163 N, stiffness 5e+07 N/m\n"
+         "...\n  theta             -0.0070 deg       -0.0070 deg       condition theta: retraction angle\n")
+FALL = ("# energy [J]: start -1602.89, kinetic 2.60352e-07, potential -19821.9, dissipated 18219, external work "
+        "-6.14293e-06, residual -0.00907 (worst 0.0092, bound 32.4)\n"
+        "peak damper tension actuator: 45365.1 N at t = 0.576333 s\n")
+TOUR = ("overcentre: 73 points in F\npoint             F (N)    theta1 (deg)  stability\n"
+        "EP1                 120     80.32517727     stable\nLP1        -75.58066788     49.93474965       fold\n"
+        "LP2         95.20066788    -49.93474965       fold\n")
+OPTIMUM = ("converged: Optimization terminated successfully (3 iterations, 3 solves)\nLU = 1.2692029 m\n"
+           "  beta(not locking) = 4.753424309\n")
+DS_OPTIMUM = ("converged: Optimization terminated successfully (14 iterations, 19 solves)\n"
+              "unlock_force = 72.36004747 N\n  k_lock = 3947.131936 N/m\n  stretch = 0.8363771622\n"
+              "  beta(not locking) = 4.753424309\n  P(not locking) = 1e-06\n"
+              "active: beta(not locking) >= 4.75342 (multiplier 2.61789)\n")
+PRINTED = {"freefall": SUMMARY, "check_locked": CHECK, "freefall_sidestay_cli": FALL, "tour_continue": TOUR,
+           "optimize_nose_gear": OPTIMUM, "optimize_dual_sidestay": DS_OPTIMUM}
 
 
 def test_marked_numbers_are_filled_from_the_summary_and_differences_reported():
-    values = quoted(SUMMARY)
-    assert set(values) == set(QUOTES)   # every pattern finds its number in a summary written as the run writes it
+    values = quoted(PRINTED)
+    assert set(values) == set(QUOTES)   # every pattern finds its number in a text written as the run writes it
     assert values["kinematic_offset_mm"] == "236" and values["lock_gap_max_ms"] == "33.3"
     text = "off by <!--run:kinematic_offset_mm-->217<!--/run--> mm, <!--run:kinematic_aft_deg-->0.1<!--/run--> deg"
-    assert mismatches(text, SUMMARY) == [("kinematic_offset_mm", "217", "236"), ("kinematic_aft_deg", "0.1", "2.9")]
-    filled = fill(text, SUMMARY)
+    assert mismatches(text, PRINTED) == [("kinematic_offset_mm", "217", "236"), ("kinematic_aft_deg", "0.1", "2.9")]
+    filled = fill(text, PRINTED)
     assert filled == "off by <!--run:kinematic_offset_mm-->236<!--/run--> mm, <!--run:kinematic_aft_deg-->2.9<!--/run--> deg"
-    assert mismatches(filled, SUMMARY) == []
+    assert mismatches(filled, PRINTED) == []
     with pytest.raises(KeyError, match="no_such_number"):
-        fill("<!--run:no_such_number-->1<!--/run-->", SUMMARY)
+        fill("<!--run:no_such_number-->1<!--/run-->", PRINTED)
+    assert quoted({"check_locked": CHECK}).keys() == {n for n, q in QUOTES.items() if q.source == "check_locked"}
+
+
+def test_a_number_derived_from_the_printed_ones_is_shown_as_the_document_writes_it():
+    """The check prints the attachment's deflection and reaction by component; the docs quote their lengths
+    (|(-18.61, 31.64, -19.44)| um = 41.5 um, |(-930.5, 1581.9, -972.2)| N = 2077 N), the energy released as the
+    start's energy less the end's potential (-1602.89 + 19821.9 J = 18.2 kJ), a small number with a short
+    exponent and the document's minus sign."""
+    values = quoted(PRINTED)
+    assert values["locked_deflection_um"] == "42" and values["locked_reaction_kn"] == "2.08"
+    assert values["locked_theta_deg"] == "\u22120.007"
+    assert values["fall_released_kj"] == "18" and values["fall_kinetic_j"] == "2.6e-7"
+    assert values["fall_residual_j"] == "0.009" and values["fall_bound_j"] == "32"
+    assert values["fall_actuator_kn"] == "45.4" and values["fall_actuator_s"] == "0.58"
+    assert values["tour_lp1_n"] == "\u221275.58" and values["tour_lp2_n"] == "+95.20"
+    assert values["optimum_nose_lu_m"] == "1.2692" and values["optimum_nose_iterations"] == "3"
+    assert [values[f"ds_optimum_{n}"] for n in ("unlock_n", "k_lock", "stretch", "beta", "iterations", "multiplier")] \
+        == ["72.36", "3947.1", "0.83638", "4.75342", "14", "2.62"]
+    moved = {**PRINTED, "check_locked": CHECK.replace("3.164e-05", "6.164e-05")}   # |(-18.61, 61.64, -19.44)| = 67
+    assert quoted(moved)["locked_deflection_um"] == "67"
+
+
+def test_the_quoted_commands_are_the_documented_ones():
+    """Each command of COMMANDS is shown in a document as it is run: a line of a code block (joined over its
+    backslashes, a comment after `` #`` dropped) with the same arguments."""
+    shown = set()
+    for path in DOCUMENTS:
+        for block in re.findall(r"^```\w*\n(.*?)^```", path.read_text(encoding="utf-8"), re.S | re.M):
+            for line in re.sub(r"\\\n\s*", " ", block).splitlines():
+                if line.startswith("mechcont "):
+                    shown.add(tuple(shlex.split(line.split(" #")[0])[1:]))
+    for source, args in COMMANDS.items():
+        assert args in shown, source
 
 
 def test_the_fill_command_refuses_a_folder_without_a_summary(tmp_path, capsys):
     assert main([str(tmp_path / "missing")]) == 2
     assert "no summary.md" in capsys.readouterr().err
     doc = tmp_path / "doc.md"
-    doc.write_text("<!--run:nominal_lock_s-->9<!--/run--> s\n", encoding="utf-8")
+    doc.write_text("<!--run:nominal_lock_s-->9<!--/run--> s\n", encoding="utf-8")   # no command quoted: none run
     (tmp_path / "summary.md").write_text(SUMMARY, encoding="utf-8")
     assert main([str(tmp_path), str(doc)]) == 0
     assert doc.read_text(encoding="utf-8") == "<!--run:nominal_lock_s-->1.607<!--/run--> s\n"
@@ -53,12 +111,18 @@ def test_every_quoted_number_is_marked_and_every_mark_is_known():
     assert set(marks) == set(QUOTES), (set(QUOTES) - set(marks), set(marks) - set(QUOTES))
 
 
-@pytest.mark.slow
-def test_the_docs_quote_what_the_run_prints():
-    """The dual-sidestay freefall's summary lines, computed afresh, print every marked number as the docs quote it."""
-    from mechcont.paper import freefall_sidestay
+def _wrong(printed: dict[str, str]) -> list[tuple]:
+    """The marked numbers of the documents from the sources in ``printed`` that are not what they print."""
+    names = {n for n, q in QUOTES.items() if q.source in printed}
+    return [(path.name, *m) for path in DOCUMENTS for m in mismatches(path.read_text(encoding="utf-8"), printed)
+            if m[0] in names]
 
-    summary = "\n".join(freefall_sidestay.lines({}))
-    assert set(quoted(summary)) == set(QUOTES)
-    wrong = [(path.name, *m) for path in DOCUMENTS for m in mismatches(path.read_text(encoding="utf-8"), summary)]
+
+@pytest.mark.slow
+@pytest.mark.parametrize("source", sorted(COMMANDS))
+def test_the_docs_quote_what_the_documented_command_prints(source):
+    """The documented command, run afresh from the repository's root, prints every number the docs quote from it."""
+    printed = command_outputs(ROOT, [source])
+    assert set(quoted(printed)) == {n for n, q in QUOTES.items() if q.source == source}
+    wrong = _wrong(printed)
     assert not wrong, f"quoted numbers that are not the run's (fill them: python -m mechcont.paper.doc_numbers): {wrong}"

@@ -5,19 +5,28 @@ scales every pixel measure alike) and :func:`figure_checks.review_problems` meas
 no text outside the figure, no legend over a curve, a marker or a text, no marker cut by the frame, every axis
 labelled with its unit, no ragged 3-D surface (Matplotlib pads one with uninitialised memory, whose projection
 overflowed on some runs: the sections run with RuntimeWarnings as errors), no leader line through a label. A
-paper section also shows every figure it writes in its summary lines (``![...](file)``).
+paper section also shows every figure it writes in its summary lines (``![...](file)``). An animation is reviewed
+in its first, middle and last frames, each on the animation's own figure with that frame's artists drawn.
 
 Times measured on the shared 2-core machine (loaded, warm disk cache): overcentre about 16 s (its computation is
 cached per process, which other paper tests share); under ``slow``: nose gear 16 s, design_optimum 15 s (a minute
 more when the dual-sidestay gear is first built), dynamics 36 s, dual_sidestay (quick) 29 s, freefall 91 s (its
-bisections and damping study), the documented commands 50 s in all.
+bisections and damping study), the documented commands 50 s in all. A section runs once per process
+(:func:`section_run`): the check of the numbers the docs quote from the freefall section reads that run's summary
+lines (0.1 s of CPU) instead of computing the dual-sidestay freefall table again (30 s of CPU). The paper's GIF
+frames: 15 s of CPU (the retraction continued and animated); the README's commands with its GIF's frames: 17 s.
 """
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import importlib
 import re
 import shutil
+import tempfile
+import warnings
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
@@ -29,9 +38,9 @@ DPI = 50
 IMAGE = re.compile(r"!\[[^\]]*\]\(([^)\s]+)\)")
 
 
-@pytest.fixture
-def captured(monkeypatch):
-    """``{file name: figure}`` of every figure saved while the test runs (written at :data:`DPI`)."""
+@contextlib.contextmanager
+def capturing():
+    """Context: ``{file name: figure}`` of every figure saved inside it (written at :data:`DPI`)."""
     import matplotlib.figure
 
     figures: dict[str, object] = {}
@@ -44,8 +53,99 @@ def captured(monkeypatch):
         kwargs["dpi"] = DPI
         return save(self, fname, *args, **kwargs)
 
-    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", savefig)
-    return figures
+    with _patched(matplotlib.figure.Figure, "savefig", savefig):
+        yield figures
+
+
+def sampled_frames(n: int) -> list[int]:
+    """The frames of an ``n``-frame animation reviewed: the first, the middle and the last."""
+    return sorted({0, n // 2, n - 1})
+
+
+@contextlib.contextmanager
+def reviewing_animations():
+    """Context: ``{file name: [problems]}`` of every animation written inside it (``animate``: GIF, HTML or MP4),
+    its :func:`sampled_frames` reviewed as drawn: the animation's own Matplotlib figure with the frame's artists in
+    it, measured by :func:`figure_checks.review_problems` after the frame is written and before the next is drawn
+    (a full draw of the figure, which the next frame's fixed image overwrites)."""
+    from mechcont.outputs import animation
+
+    found: dict[str, list[str]] = {}
+    current = [""]
+    animate, frame_pixels = animation.animate, animation._frame_pixels
+
+    def named(system, branch, path, *args, **kwargs):
+        current[0] = Path(str(path)).name
+        found[current[0]] = []
+        return animate(system, branch, path, *args, **kwargs)
+
+    def reviewed(renderer, n, **kwargs):
+        sample = sampled_frames(n)
+        for k, rgba in enumerate(frame_pixels(renderer, n, **kwargs)):
+            yield rgba
+            if k in sample:
+                found[current[0]] += review_problems(renderer.fig, f"{current[0]} frame {k + 1} of {n}")
+
+    with _patched(animation, "animate", named), _patched(animation, "_frame_pixels", reviewed):
+        yield found
+
+
+@contextlib.contextmanager
+def _patched(owner, name: str, value):
+    """Context: ``owner.name`` is ``value`` inside, as it was after."""
+    was = getattr(owner, name)
+    setattr(owner, name, value)
+    try:
+        yield
+    finally:
+        setattr(owner, name, was)
+
+
+@pytest.fixture
+def captured():
+    """``{file name: figure}`` of every figure saved while the test runs (:func:`capturing`)."""
+    with capturing() as figures:
+        yield figures
+
+
+@pytest.fixture
+def animations():
+    """``{file name: [problems]}`` of every animation written while the test runs (:func:`reviewing_animations`)."""
+    with reviewing_animations() as found:
+        yield found
+
+
+@dataclass(frozen=True)
+class SectionRun:
+    """A paper section run once: its summary ``lines``, ``timings``, the files it ``wrote`` (figures and GIFs),
+    those it saved through Matplotlib (``saved``), the animations whose frames were reviewed (``animated``) and the
+    ``problems`` the review finds."""
+
+    lines: list
+    timings: dict
+    written: set
+    saved: set
+    animated: set
+    problems: list
+
+
+@functools.cache
+def section_run(section: str) -> SectionRun:
+    """The paper section ``section`` run once per test process (its figure review and the check of the numbers the
+    docs quote from its summary share it) into a scratch folder, with RuntimeWarnings as errors (Matplotlib's
+    "overflow encountered in dot", issue 37, item 8); every figure reviewed as it stands when the run ends, every
+    animation frame by frame."""
+    module = importlib.import_module(f"mechcont.paper.{section}")
+    options = {"quick": True} if section == "dual_sidestay" else {}   # the same figures, fewer scan points, no GIF
+    timings: dict[str, float] = {}
+    with tempfile.TemporaryDirectory(prefix=f"mechcont-review-{section}-") as folder:
+        with warnings.catch_warnings(), capturing() as figures, reviewing_animations() as animations:
+            warnings.simplefilter("error", RuntimeWarning)
+            lines = module.run(Path(folder), True, timings, **options)
+            problems = [p for name, fig in sorted(figures.items()) for p in review_problems(fig, name)]
+        written = {p.name for p in Path(folder).iterdir() if p.suffix in (".png", ".gif")}
+    problems += [p for name in sorted(animations) for p in animations[name]]
+    return SectionRun(lines, timings, written, set(figures), set(animations), problems)
 
 
 SECTIONS = [pytest.param("overcentre"),
@@ -53,22 +153,49 @@ SECTIONS = [pytest.param("overcentre"),
                                                                  "dual_sidestay"))]
 
 
-@pytest.mark.filterwarnings("error::RuntimeWarning")   # Matplotlib's "overflow encountered in dot" (issue 37, item 8)
 @pytest.mark.parametrize("section", SECTIONS)
-def test_every_figure_of_a_paper_section_passes_the_review_and_is_shown(section, tmp_path, captured):
-    module = importlib.import_module(f"mechcont.paper.{section}")
-    options = {"quick": True} if section == "dual_sidestay" else {}   # the same figures, fewer scan points, no GIF
-    timings: dict[str, float] = {}
-    lines = module.run(tmp_path, True, timings, **options)
+def test_every_figure_of_a_paper_section_passes_the_review_and_is_shown(section):
+    run = section_run(section)
     if section == "dual_sidestay":   # the drawings' time is in timings.txt (it was left out: 17 s of the section)
         assert {"dual_sidestay: 3-D drawings, gear down and up",
-                "dual_sidestay: 3-D drawing of the generated gear"} <= set(timings)
-    written = {p.name for p in tmp_path.iterdir() if p.suffix in (".png", ".gif")}
-    assert written and set(captured) >= {n for n in written if n.endswith(".png")}
-    problems = [p for name, fig in sorted(captured.items()) for p in review_problems(fig, name)]
-    assert not problems, "\n".join(problems)
-    shown = set(IMAGE.findall("\n".join(lines)))
-    assert written <= shown, f"named or written but not shown in the summary: {sorted(written - shown)}"
+                "dual_sidestay: 3-D drawing of the generated gear"} <= set(run.timings)
+    assert run.written and run.saved >= {n for n in run.written if n.endswith(".png")}
+    assert run.animated == {n for n in run.written if n.endswith(".gif")}   # each GIF's frames were reviewed
+    assert not run.problems, "\n".join(run.problems)
+    shown = set(IMAGE.findall("\n".join(run.lines)))
+    assert run.written <= shown, f"named or written but not shown in the summary: {sorted(run.written - shown)}"
+
+
+@pytest.mark.slow
+def test_the_docs_quote_what_the_freefall_section_prints():
+    """Every number the docs quote from the freefall section (the dual-sidestay freefall's summary lines; see
+    tests/test_doc_numbers.py) is what the section's run prints: the run the review above makes, not another."""
+    from test_doc_numbers import DOCUMENTS
+
+    from mechcont.paper.doc_numbers import QUOTES, mismatches, quoted
+
+    printed = {"freefall": "\n".join(section_run("freefall").lines)}
+    assert set(quoted(printed)) == {n for n, q in QUOTES.items() if q.source == "freefall"}
+    wrong = [(path.name, *m) for path in DOCUMENTS for m in mismatches(path.read_text(encoding="utf-8"), printed)
+             if m[0] in QUOTES and QUOTES[m[0]].source == "freefall"]
+    assert not wrong, f"quoted numbers that are not the run's (fill them: python -m mechcont.paper.doc_numbers): {wrong}"
+
+
+@pytest.mark.slow
+def test_every_sampled_frame_of_the_papers_retraction_gif_passes_the_review(tmp_path):
+    """The paper's GIF (``sidestay_retraction.gif``, the dual-sidestay section's full run; its quick run above draws
+    no GIF): the retraction continued and animated as the section does (``dual_sidestay.retraction_animation``), the
+    first, middle and last frames reviewed. About 15 s warm."""
+    from mechcont.models.dual_sidestay import build_dual_sidestay_kinematics
+    from mechcont.models.dual_sidestay_geometry import DEFAULT_GEOMETRY
+    from mechcont.paper import dual_sidestay
+
+    ret = dual_sidestay.retraction(DEFAULT_GEOMETRY, base=build_dual_sidestay_kinematics(DEFAULT_GEOMETRY))
+    with warnings.catch_warnings(), reviewing_animations() as animations:
+        warnings.simplefilter("error", RuntimeWarning)
+        n = dual_sidestay.retraction_animation(ret, DEFAULT_GEOMETRY, tmp_path / dual_sidestay.ANIMATION[0])
+    assert n > 3 and list(animations) == [dual_sidestay.ANIMATION[0]]
+    assert not animations[dual_sidestay.ANIMATION[0]], "\n".join(animations[dual_sidestay.ANIMATION[0]])
 
 
 def _figure_commands():
@@ -85,7 +212,7 @@ def _figure_commands():
 
 
 def _writes_figure(args) -> bool:
-    return "--plot" in args or (args[0] == "draw")
+    return "--plot" in args or args[0] in ("draw", "animate")
 
 
 def _needed(command: str, runs) -> bool:
@@ -102,9 +229,9 @@ def _needed(command: str, runs) -> bool:
 @pytest.mark.slow
 @pytest.mark.parametrize("document,steps", _figure_commands(), ids=lambda v: v.name if isinstance(v, Path) else "")
 def test_every_figure_of_the_documented_commands_passes_the_review(document, steps, tmp_path, captured,
-                                                                   monkeypatch):
+                                                                   animations, monkeypatch):
     from click.testing import CliRunner
-    from test_doc_examples import _arguments
+    from test_doc_examples import _arguments, outputs
 
     from mechcont.cli._app import _register, cli
 
@@ -119,8 +246,39 @@ def test_every_figure_of_the_documented_commands_passes_the_review(document, ste
         r = CliRunner().invoke(cli, _arguments(text))
         assert r.exit_code == 0, f"{document.name}: `{text}`: {r.output[-2000:]}"
     assert captured, f"{document.name}: no figure drawn"
+    animated = {o for k, t in steps if k == "run" and _arguments(t)[0] == "animate" for o in outputs(_arguments(t))}
+    assert set(animations) == {Path(o).name for o in animated}   # each animation's frames were reviewed
     problems = [p for name, fig in sorted(captured.items()) for p in review_problems(fig, name)]
+    problems += [p for name in sorted(animations) for p in animations[name]]
     assert not problems, "\n".join(problems)
+
+
+def test_the_sampled_frames_of_an_animation_are_reviewed_as_drawn(overcentre, tmp_path, animations, monkeypatch):
+    """A GIF of the overcentre mechanism along a short branch: its first, middle and last frames are reviewed, each
+    with its own artists: a label pushed out of the figure in the middle frame only is found there and in no other
+    frame, and the GIF still holds every frame."""
+    from figure_checks import gif_frames
+
+    from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium
+    from mechcont.outputs import animation
+
+    x0 = find_equilibrium(overcentre, hold={"theta1": 0.3}, free=["F"])
+    branch = continuation(overcentre, x0, "F", options=ContinuationOptions(bounds={"F": (-40.0, 0.0)}, max_steps=6))
+    n = len(animation.frame_rows(animation.branch_frames(overcentre, branch)))
+    render = animation._Renderer.render
+
+    def stray_label(self, k):   # the middle frame writes a label beyond the figure's right edge
+        out = render(self, k)
+        if k == n // 2:
+            self._current.append(self.axes[0].text(1.6, 0.5, "stray", transform=self.axes[0].transAxes))
+            out.append(self._current[-1])
+        return out
+
+    monkeypatch.setattr(animation._Renderer, "render", stray_label)
+    assert animation.animate(overcentre, branch, tmp_path / "stray.gif", hold=0.0) == n >= 5
+    assert list(animations) == ["stray.gif"] and len(animations["stray.gif"]) == 1, animations
+    assert f"frame {n // 2 + 1} of {n}" in animations["stray.gif"][0] and "stray" in animations["stray.gif"][0]
+    assert gif_frames(tmp_path / "stray.gif") == n
 
 
 def test_an_annotated_load_is_printed_once_with_its_sign_and_direction(overcentre, tmp_path):

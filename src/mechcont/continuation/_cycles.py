@@ -26,6 +26,7 @@ import numpy as np
 from .._roots import brentq
 from .._status import Status
 from ..errors import ConvergenceError, InputError
+from ..units import derivative_unit
 from ._collocation import NCOL_RANGE, Mesh
 from ._cycle_branch import CycleBranch
 from ._cycle_start import CycleStart, hopf_point, hopf_start, samples_start
@@ -377,10 +378,10 @@ def _branch(model, run: _Run, status: Status, message: str) -> CycleBranch:
     dyn = rates.dynamics
     names = tuple(dyn.state_names)
     known = set(model.names)
-    # a mechanism's velocity state (q_dot, no variable) in its coordinate's unit per second, as simulate's tables
-    units = tuple(model.variable(n).unit if n in known else
-                  (f"{model.variable(n[:-4]).unit or '1'}/s" if n.endswith("_dot") and n[:-4] in known else "")
-                  for n in names)
+    # a mechanism's velocity state (q_dot, no variable of its own) is in its coordinate's unit per second
+    units = tuple(model.variable(n).unit if n in known
+                  else derivative_unit(model.variable(n[:-4]).unit, "s") if n.endswith("_dot") and n[:-4] in known
+                  else "" for n in names)
     p, period, lo, hi, orbits = [], [], [], [], []
     for pt in run.points:
         u, T, pv = pt.system.split(pt.X)

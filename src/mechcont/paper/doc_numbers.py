@@ -1,79 +1,188 @@
-"""Numbers the docs quote from a ``mechcont paper`` run, filled in from the run's ``summary.md``.
+"""Numbers the docs quote from a run, filled in from what the run prints.
 
 A quoted number is written in a document between two HTML comments naming what it is (invisible once the
 Markdown is rendered)::
 
     the aft upper arm <!--run:kinematic_offset_mm-->236<!--/run--> mm off its airframe point
 
-:data:`QUOTES` says where each named number stands in ``summary.md`` (a regular expression whose first group is
-the number as printed). ``python -m mechcont.paper.doc_numbers DIR [FILE ...]`` fills every marked number of the
-files (default: ``README.md`` and ``docs/*.md`` of the current folder) from ``DIR/summary.md``;
-:func:`mismatches` lists the ones that differ (``tests/test_doc_numbers.py`` asks for none against a fresh run of
-the sections the quotes come from).
+:data:`QUOTES` says where each named number stands in the printed text of its source (a regular expression) and
+how the document shows it: the source is a ``mechcont paper`` section (its lines of ``summary.md``) or one of the
+documented commands of :data:`COMMANDS` (what it prints). ``python -m mechcont.paper.doc_numbers DIR [FILE ...]``
+fills every marked number of the files (default: ``README.md`` and ``docs/*.md`` of the current folder, the
+repository's root, whose ``examples/`` the commands read) from ``DIR/summary.md`` and the commands' output; :func:`mismatches`
+lists the ones that differ (``tests/test_doc_numbers.py`` asks for none against fresh runs of the sources).
 """
 
 from __future__ import annotations
 
+import math
 import re
+import subprocess
 import sys
+from collections.abc import Callable, Mapping
 from pathlib import Path
+from typing import NamedTuple
 
-__all__ = ["QUOTES", "MARK", "quoted", "fill", "mismatches", "main"]
+__all__ = ["QUOTES", "COMMANDS", "MARK", "Quote", "quoted", "fill", "mismatches", "command_outputs", "main"]
 
 _N = r"([-+]?[0-9][0-9.,e+-]*)"
-#: ``{name: (section, pattern)}``: the ``mechcont paper`` section whose summary prints the number, and where.
-QUOTES: dict[str, tuple[str, str]] = {
-    "kinematic_offset_mm": ("freefall", r"the aft upper arm ends " + _N + r" mm off its airframe point"),
-    "kinematic_aft_deg": ("freefall", r"seen in their fold plane, " + _N + r" deg from aligned"),
-    "released_deflection_um": ("freefall", r"the attachment deflects " + _N + r" um under its load"),
-    "released_fwd_deg": ("freefall", r"folded fwd " + _N + r" deg, aft"),
-    "released_aft_deg": ("freefall", r"folded fwd [-+0-9.]+ deg, aft " + _N + r" deg"),
-    "lock_gap_min_ms": ("freefall", r"Both sidestays lock in every run, [^,]+, " + _N + r" to"),
-    "lock_gap_max_ms": ("freefall", r"Both sidestays lock in every run, [^,]+, [-+0-9.]+ to " + _N + r" ms apart"),
-    "lock_order": ("freefall", r"Both sidestays lock in every run, ([^,]+),"),
-    "nominal_lock_s": ("freefall", r"the nominal gear has locked " + _N + r" s after"),
-    "first_strike_min_s": ("freefall", r"the first strike comes " + _N + r" to"),
-    "first_strike_max_s": ("freefall", r"the first strike comes [-+0-9.]+ to " + _N + r" s after"),
+
+
+def _printed(m: re.Match) -> str:
+    """The number as printed (a trailing full stop or comma is the sentence's)."""
+    return m.group(1).rstrip(".,")
+
+
+def _shown(scale: float, fmt: str, *, of: Callable[..., float] = lambda v, *_: v, absolute: bool = False,
+           minus: str = "-") -> Callable[[re.Match], str]:
+    """A reader of a match: ``of`` its numbers (default: the first; ``math.hypot``: the length of the vector they
+    are) times ``scale``, formatted with ``fmt`` (``absolute``: its magnitude; ``minus``: the sign the document
+    writes, e.g. U+2212; an exponent without its leading zeros, ``2.6e-7``)."""
+    def show(m: re.Match) -> str:
+        v = scale * of(*(float(g.rstrip(".,")) for g in m.groups()))
+        text = format(abs(v) if absolute else v, fmt)
+        text = re.sub(r"e([-+])0*(\d)", lambda e: "e" + e.group(1).replace("+", "") + e.group(2), text)
+        return text.replace("-", minus, 1) if text.startswith("-") else text
+    return show
+
+
+class Quote(NamedTuple):
+    """Where a quoted number comes from: ``source`` (a ``mechcont paper`` section, or a key of
+    :data:`COMMANDS`), ``pattern`` (a regular expression on the source's printed text; its groups are the
+    numbers), ``shown`` (the text the document writes, from the match)."""
+
+    source: str
+    pattern: str
+    shown: Callable[[re.Match], str] = _printed
+
+
+#: The documented commands whose printed numbers the docs quote: ``{source: mechcont arguments}``, each run in a
+#: scratch folder holding a copy of the repository's ``examples/`` (as a document shows it:
+#: ``tests/test_doc_numbers.py`` checks they are there).
+COMMANDS: dict[str, tuple[str, ...]] = {
+    "optimize_nose_gear": ("optimize", "nose_gear", "--maximize", "LU", "--design", "LU=1.2:1.4", "--dist",
+                           "LU=normal:1.3:0.01", "--dist", "l_sp1=truncnormal:0.1:0.005:0.09:0.11", "--constraint",
+                           "P(not locking) <= 1e-6"),
+    "optimize_dual_sidestay": ("optimize", "examples/dual_sidestay.toml", "--minimize", "unlock_force", "--force",
+                               "F_lock", "--design", "k_lock=1000:16000", "--design", "stretch=0.5:0.85", "--dist",
+                               "k_lock=normal:8000:200", "--dist", "stretch=normal:0.7:0.005", "--constraint",
+                               "P(not locking) <= 1e-6", "--set", "k_lock=2000", "--set", "stretch=0.5"),
+    "tour_continue": ("continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--bounds",
+                      "F=-100:120", "--out", "branch.csv", "--plot", "branch.png"),
+    "check_locked": ("check", "examples/dual_sidestay_locked.toml"),
+    "freefall_sidestay_cli": ("freefall", "examples/dual_sidestay.toml", "--start", "theta=1.4835298641951802",
+                              "--held-by", "F_act", "--lock", "fwd_stop", "--lock", "aft_stop", "--until", "3",
+                              "--rtol", "1e-6"),
+}
+_DEFLECTION = r"aft_A_x\s+([-+0-9.e]+) m.*\n\s*aft_A_y\s+([-+0-9.e]+) m.*\n\s*aft_A_z\s+([-+0-9.e]+) m"
+_REACTION = r"R_aft_A_x = ([-+0-9.e]+) N.*\n.*R_aft_A_y = ([-+0-9.e]+) N.*\n.*R_aft_A_z = ([-+0-9.e]+) N"
+#: ``{name: Quote}``: every number the docs quote from a run.
+QUOTES: dict[str, Quote] = {
+    "kinematic_offset_mm": Quote("freefall", r"the aft upper arm ends " + _N + r" mm off its airframe point"),
+    "kinematic_aft_deg": Quote("freefall", r"seen in their fold plane, " + _N + r" deg from aligned"),
+    "released_deflection_um": Quote("freefall", r"the attachment deflects " + _N + r" um under its load"),
+    "released_fwd_deg": Quote("freefall", r"folded fwd " + _N + r" deg, aft"),
+    "released_aft_deg": Quote("freefall", r"folded fwd [-+0-9.]+ deg, aft " + _N + r" deg"),
+    "lock_gap_min_ms": Quote("freefall", r"Both sidestays lock in every run, [^,]+, " + _N + r" to"),
+    "lock_gap_max_ms": Quote("freefall", r"Both sidestays lock in every run, [^,]+, [-+0-9.]+ to " + _N
+                             + r" ms apart"),
+    "lock_order": Quote("freefall", r"Both sidestays lock in every run, ([^,]+),"),
+    "nominal_lock_s": Quote("freefall", r"the nominal gear has locked " + _N + r" s after"),
+    "first_strike_min_s": Quote("freefall", r"the first strike comes " + _N + r" to"),
+    "first_strike_max_s": Quote("freefall", r"the first strike comes [-+0-9.]+ to " + _N + r" s after"),
+    # the README tour's branch of the overcentre mechanism: its two folds
+    "tour_lp1_n": Quote("tour_continue", r"\nLP1\s+" + _N, _shown(1.0, ".2f", minus="\u2212")),
+    "tour_lp2_n": Quote("tour_continue", r"\nLP2\s+" + _N, _shown(1.0, "+.2f")),
+    # the nose gear's longest free length at P(not locking) <= 1e-6 (docs/reliability.md)
+    "optimum_nose_lu_m": Quote("optimize_nose_gear", r"\nLU = " + _N + " m", _shown(1.0, ".4f")),
+    "optimum_nose_iterations": Quote("optimize_nose_gear", r"\(([0-9]+) iterations"),
+    # the dual-sidestay gear's least unlock load at P(not locking) <= 1e-6 (docs/reliability.md)
+    "ds_optimum_unlock_n": Quote("optimize_dual_sidestay", r"unlock_force = " + _N + " N", _shown(1.0, ".2f")),
+    "ds_optimum_k_lock": Quote("optimize_dual_sidestay", r"\n  k_lock = " + _N + " N/m", _shown(1.0, ".1f")),
+    "ds_optimum_stretch": Quote("optimize_dual_sidestay", r"\n  stretch = " + _N, _shown(1.0, ".5f")),
+    "ds_optimum_beta": Quote("optimize_dual_sidestay", r"beta\(not locking\) = " + _N, _shown(1.0, ".5f")),
+    "ds_optimum_iterations": Quote("optimize_dual_sidestay", r"\(([0-9]+) iterations"),
+    "ds_optimum_multiplier": Quote("optimize_dual_sidestay", r"\(multiplier " + _N + r"\)", _shown(1.0, ".2f")),
+    # mechcont check examples/dual_sidestay_locked.toml: the compliant attachment's deflection and reaction
+    # (their lengths: the check prints the components) and the retraction angle
+    "locked_theta_deg": Quote("check_locked", r"\n  theta\s+" + _N + r" deg", _shown(1.0, ".3f", minus="\u2212")),
+    "locked_deflection_um": Quote("check_locked", _DEFLECTION, _shown(1e6, ".0f", of=math.hypot)),
+    "locked_reaction_kn": Quote("check_locked", _REACTION, _shown(1e-3, ".2f", of=math.hypot)),
+    # mechcont freefall examples/dual_sidestay.toml ...: the energy balance and the actuator damper's peak
+    "fall_released_kj": Quote("freefall_sidestay_cli", r"# energy \[J\]: start " + _N + " .*potential " + _N,
+                              _shown(1e-3, ".0f", of=lambda start, end: start - end)),   # released at rest
+    "fall_kinetic_j": Quote("freefall_sidestay_cli", r"# energy \[J\]: .*kinetic " + _N, _shown(1.0, ".1e")),
+    "fall_residual_j": Quote("freefall_sidestay_cli", r"# energy \[J\]: .*residual " + _N,
+                             _shown(1.0, ".1g", absolute=True)),
+    "fall_bound_j": Quote("freefall_sidestay_cli", r"# energy \[J\]: .*bound " + _N + r"\)", _shown(1.0, ".0f")),
+    "fall_actuator_kn": Quote("freefall_sidestay_cli", r"peak damper tension actuator: " + _N + " N",
+                              _shown(1e-3, ".1f")),
+    "fall_actuator_s": Quote("freefall_sidestay_cli", r"peak damper tension actuator: [-+0-9.e]+ N at t = " + _N
+                             + " s", _shown(1.0, ".2f")),
 }
 #: A marked number in a document: its name (lower case: ``NAME`` in the docs that describe the marks is not one)
 #: and the text between the marks.
 MARK = re.compile(r"<!--run:([a-z0-9_]+)-->(.*?)<!--/run-->")
 
 
-def quoted(summary: str) -> dict[str, str]:
-    """``{name: the number as summary.md prints it}`` for every name of :data:`QUOTES` found in ``summary``."""
+def quoted(printed: Mapping[str, str]) -> dict[str, str]:
+    """``{name: the number as the document shows it}`` for every name of :data:`QUOTES` whose source's printed
+    text (``printed``: ``{source: text}``, a paper section's ``summary.md`` lines or a command's output) holds it."""
     out = {}
-    for name, (_, pattern) in QUOTES.items():
-        m = re.search(pattern, summary)
+    for name, quote in QUOTES.items():
+        m = re.search(quote.pattern, printed.get(quote.source, ""))
         if m:
-            out[name] = m.group(1).rstrip(".,")
+            out[name] = quote.shown(m)
     return out
 
 
-def fill(text: str, summary: str) -> str:
-    """``text`` with every marked number replaced by the summary's. Raises ``KeyError`` naming a mark that
-    :data:`QUOTES` does not know or the summary does not print."""
-    values = quoted(summary)
+def fill(text: str, printed: Mapping[str, str]) -> str:
+    """``text`` with every marked number replaced by the run's (``printed`` as for :func:`quoted`). Raises
+    ``KeyError`` naming a mark that :data:`QUOTES` does not know or whose source does not print it."""
+    values = quoted(printed)
 
     def one(m: re.Match) -> str:
         if m.group(1) not in values:
-            raise KeyError(f"{m.group(1)}: not in QUOTES or not printed in this summary")
+            raise KeyError(f"{m.group(1)}: not in QUOTES or not printed by its source")
         return f"<!--run:{m.group(1)}-->{values[m.group(1)]}<!--/run-->"
 
     return MARK.sub(one, text)
 
 
-def mismatches(text: str, summary: str) -> list[tuple[str, str, str | None]]:
-    """``[(name, quoted, printed)]`` for every marked number of ``text`` that is not what ``summary`` prints
-    (``printed`` None: the summary does not print it)."""
-    values = quoted(summary)
+def mismatches(text: str, printed: Mapping[str, str]) -> list[tuple[str, str, str | None]]:
+    """``[(name, quoted, printed)]`` for every marked number of ``text`` that is not what its source prints
+    (``printed`` None: the source does not print it, or was not run)."""
+    values = quoted(printed)
     return [(m.group(1), m.group(2), values.get(m.group(1))) for m in MARK.finditer(text)
             if values.get(m.group(1)) != m.group(2)]
 
 
+def command_outputs(root: Path, sources=None) -> dict[str, str]:
+    """``{source: what the command prints}`` for the :data:`COMMANDS` named in ``sources`` (default: all), each
+    run as ``python -m mechcont ARGS`` in a scratch folder holding a copy of ``root/examples`` (``root``: the
+    repository's root; the files a command writes go there, and are removed). Raises ``RuntimeError`` naming a
+    command that fails."""
+    import shutil
+    import tempfile
+
+    out = {}
+    with tempfile.TemporaryDirectory(prefix="mechcont-doc-numbers-") as scratch:
+        shutil.copytree(Path(root) / "examples", Path(scratch) / "examples")
+        for source in COMMANDS if sources is None else sources:
+            r = subprocess.run([sys.executable, "-m", "mechcont", *COMMANDS[source]], cwd=scratch,
+                               capture_output=True, text=True)
+            if r.returncode:
+                raise RuntimeError(f"mechcont {' '.join(COMMANDS[source])}: exit {r.returncode}: "
+                                   f"{r.stderr.strip()[-500:]}")
+            out[source] = r.stdout
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
-    """``python -m mechcont.paper.doc_numbers DIR [FILE ...]``: fill the marked numbers of the files from
-    ``DIR/summary.md``; prints each file changed. Returns the exit status (2 on bad input)."""
+    """``python -m mechcont.paper.doc_numbers DIR [FILE ...]``, run from the repository's root: fill the marked
+    numbers of the files from ``DIR/summary.md`` (every paper section's) and from the output of the
+    :data:`COMMANDS` (run on a copy of ``examples/`` of this folder); prints each file changed. Returns the exit
+    status (2 on bad input)."""
     args = sys.argv[1:] if argv is None else argv
     if not args:
         print("usage: python -m mechcont.paper.doc_numbers PAPER_DIR [FILE ...]", file=sys.stderr)
@@ -84,10 +193,17 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{args[0]}: no summary.md there ({e.strerror})", file=sys.stderr)
         return 2
     files = [Path(a) for a in args[1:]] or [Path("README.md"), *sorted(Path("docs").glob("*.md"))]
-    for path in files:
-        text = path.read_text(encoding="utf-8")
+    texts = {path: path.read_text(encoding="utf-8") for path in files}
+    wanted = {QUOTES[m.group(1)].source for t in texts.values() for m in MARK.finditer(t) if m.group(1) in QUOTES}
+    printed = {q.source: summary for q in QUOTES.values() if q.source not in COMMANDS}
+    try:
+        printed.update(command_outputs(Path.cwd(), sorted(wanted & set(COMMANDS))))
+    except RuntimeError as e:
+        print(e, file=sys.stderr)
+        return 2
+    for path, text in texts.items():
         try:
-            new = fill(text, summary)
+            new = fill(text, printed)
         except KeyError as e:
             print(f"{path}: {e.args[0]}", file=sys.stderr)
             return 2

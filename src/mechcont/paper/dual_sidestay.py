@@ -180,9 +180,17 @@ def _deg(v: float) -> str:
     return f"{math.degrees(v):.1f}"
 
 
+def retraction_animation(ret, geo, path: Path) -> int:
+    """Write the section's animation of the retraction ``ret`` (of the geometry ``geo``) to ``path`` (GIF): the gear
+    in three views and 3-D beside the branch; returns the number of frames."""
+    from ..outputs.animation import animate
+
+    return animate(ret.system, _fine(ret.system, ret.branch, geo.retracted), path, annotate=("theta",),
+                   diagram=("theta", "aft_J_z"), dpi=80)
+
+
 def _retraction_part(out_dir: Path, geo, base, timings: dict, quick: bool) -> list[str]:
     """The retraction's actuator load, drawings and animation, and the lock-up against the aft plane angle."""
-    from ..outputs.animation import animate
     from ..outputs.drawing3d import draw3d
     from ..outputs.plotting import save_figure
     from ..outputs.retraction_plots import plot_actuator_loads, plot_lock_up
@@ -197,8 +205,7 @@ def _retraction_part(out_dir: Path, geo, base, timings: dict, quick: bool) -> li
         draw3d(sys_, ret.branch.values[-1], out_dir / "sidestay_up.png", annotate=("theta",))
     if not quick:
         with timed(timings, "dual_sidestay: retraction animation (GIF)"):
-            animate(sys_, _fine(sys_, ret.branch, geo.retracted), out_dir / "sidestay_retraction.gif",
-                    annotate=("theta",), diagram=("theta", "aft_J_z"), dpi=80)
+            retraction_animation(ret, geo, out_dir / ANIMATION[0])
     angles = PLANE_ANGLES[::3] if quick else PLANE_ANGLES
     with timed(timings, "dual_sidestay: lock-up scan"):
         phi, lock, runs = lock_up_scan(geo, angles, base=base)
