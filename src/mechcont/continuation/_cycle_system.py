@@ -8,11 +8,11 @@ orbit, and one more row that closes the system: the pseudo-arclength hyperplane
 has weight 0, as AUTO's default THL(11) = 0), or ``p = p0`` to correct an orbit at a fixed parameter.
 
 Linear algebra: Newton's systems are solved by condensation of parameters (AUTO's scheme,
-:mod:`._condensation`): each interval's inner nodes are eliminated by one small dense inverse
-(``NCOL n`` square), leaving a block-bidiagonal system in the ``NTST + 1`` mesh points, ``T`` and ``p``
-(``(NTST + 1) n + 2`` rows, one dense LU). Cost per factorisation ``O(NTST (NCOL n)^3 + (NTST n)^3)``; for the
-sizes of a cycle of a small system (NTST 20-100, n up to ~10) the first term dominates. :meth:`linearise`
-assembles the whole sparse Jacobian (compressed columns) for checking it against SuperLU.
+:mod:`._condensation`): each interval's inner nodes are eliminated by one small dense solve
+(``NCOL n`` square, all intervals stacked, the residual with them), leaving a block-bidiagonal system in
+the ``NTST + 1`` mesh points, ``T`` and ``p`` (``(NTST + 1) n + 2`` rows, one dense LU). Cost per factorisation
+``O(NTST (NCOL n)^3 + (NTST n)^3)``; for the sizes of a cycle of a small system (NTST 20-100, n up to ~10) the
+first term dominates. :meth:`linearise` assembles the whole sparse Jacobian (compressed columns) for checking it against SuperLU.
 
 Floquet multipliers: the same collocation blocks, for fixed ``T`` and ``p``, map an interval's first
 node to its last (eliminating its inner nodes: ``Phi_j``, one small dense solve per interval); their
