@@ -15,6 +15,12 @@ and the phase and closing rows with the inner nodes' part moved onto the mesh po
 ``(NTST + 1) n + 2`` rows, is factored once (dense LU); the inner nodes follow from the mesh points.
 Work per factorisation: ``NTST`` solves with ``NCOL n`` square blocks and one LU of the reduced
 system, against the ``(NTST NCOL + 1) n + 2`` rows of the whole.
+
+Where the optional extension :mod:`._ccondense` was built (``_kernel.condensation()``), the same steps
+run there in C loops: the blocks' LU, the reduced matrix's assembly, its factorisation by an elimination
+that keeps its block structure (``O(NTST n^3)``), and the back-substitution; else NumPy's stacked solve and
+LAPACK's dense LU (also with ``MECHCONT_PURE_PYTHON=1``). The two agree to rounding
+(``tests/test_condensation_kernel.py``).
 """
 
 from __future__ import annotations
@@ -25,6 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg.lapack
+
+from . import _kernel
 
 __all__ = ["Border", "CondensedLU", "product"]
 
@@ -89,7 +97,8 @@ class CondensedLU:
     ncol n); ``border``: the phase and closing rows (:class:`Border`); ``mesh``: the collocation mesh (node
     indices); ``rhs``: optionally the collocation part of a right-hand side (ntst, ncol n), eliminated in the
     same solves (its condensed form is :attr:`w`, for :meth:`solve`).
-    Raises ``numpy.linalg.LinAlgError`` when a block or the reduced system is singular.
+    Raises ``numpy.linalg.LinAlgError`` when a block or the reduced system is singular. ``S`` may be overwritten
+    by its factors (the compiled path; the condensation owns the blocks it is given).
     """
 
     def __init__(self, S: np.ndarray, L: np.ndarray, aT: np.ndarray, ap: np.ndarray, border: Border, mesh, n: int,
@@ -103,30 +112,52 @@ class CondensedLU:
         W[:, :, n + 1] = ap
         if rhs is not None:
             W[:, :, n + 2] = rhs
+        nr = (ntst + 1) * n + 2
+        self.nr = nr
+        self._border = border.inner
+        self._inner_idx = _pattern(ntst, m, n).inner_nodes
+        self._cc = _kernel.condensation()
+        if self._cc is not None:
+            self._factor_compiled(S, W, border, rhs is not None)
+            return
         Y = np.linalg.solve(S, W)  # rows = [inner nodes; last node]
         self._S = S
         self.Q = Y[:, :, :n + 2]  # (ntst, m n, n + 2): the first node's, T's and p's parts
         #: the condensed collocation right-hand side ``S_j^-1 b_j`` (ntst, m n) of ``rhs``, or None
         self.w = Y[:, :, n + 2] if rhs is not None else None
-        nr = (ntst + 1) * n + 2
         pat = _pattern(ntst, m, n)
         K = pat.template.copy()
         K[pat.P] = self.Q[:, inner:, :].ravel()  # P_R on M_j, then the T and p columns
         K = K.reshape(nr, nr)
-        self._inner_idx = pat.inner_nodes
         # the phase and closing rows: their inner nodes' part moved to M_j, T and p
         adj = border.inner @ self.Q[:, :inner, :]  # (ntst, 2, n + 2)
         coefM = K[nr - 2:, :nr - 2].reshape(2, ntst + 1, n)
         coefM[:] = border.mesh_points
         coefM[:, :-1] -= adj[:, :, :n].transpose(1, 0, 2)
         K[nr - 2:, nr - 2:] = border.TP - adj[:, :, n:].sum(axis=0)
-        self._border = border.inner
         # LAPACK's getrf directly: scipy's lu_factor wrapper costs as much as the LU
         lu, piv, info = _GETRF(K, overwrite_a=1)
         if info != 0 or not math.isfinite(float(lu.sum())):
             raise np.linalg.LinAlgError("singular collocation Jacobian")
         self.lu = (lu, piv)
-        self.nr = nr
+
+    def _factor_compiled(self, S: np.ndarray, W: np.ndarray, border: Border, has_rhs: bool) -> None:
+        # the same factorisation in C (:mod:`._ccondense`): the blocks' LU kept for :meth:`solve`, the reduced
+        # system by the structured elimination; S is a copy of the Jacobian's values, overwritten by its factors
+        cc, n, nr = self._cc, self.n, self.nr
+        S = np.ascontiguousarray(S)
+        piv = np.empty(S.shape[:2], np.intc)
+        if cc.block_factor_solve(S, piv, W) >= 0:
+            raise np.linalg.LinAlgError("singular collocation Jacobian")
+        self._S, self._piv, self._W = S, piv, W
+        self.Q = W[:, :, :n + 2]
+        self.w = W[:, :, n + 2] if has_rhs else None
+        K = np.zeros((nr, nr))
+        cc.reduced_matrix(W, border.inner, border.mesh_points, np.ascontiguousarray(border.TP), K, n)
+        rpiv = np.empty(nr, np.intc)
+        if cc.reduced_factor(K, rpiv, n) != 0:
+            raise np.linalg.LinAlgError("singular collocation Jacobian")
+        self.lu = (K, rpiv)
 
     def transfer(self) -> np.ndarray:
         """The intervals' transfer matrices ``Phi_j`` (ntst, n, n): last node from the first, T and p held."""
@@ -150,7 +181,19 @@ class CondensedLU:
         nc = ntst * m * n
         if w is None:
             bc = b[:nc].reshape(ntst, m * n)
-            w = np.linalg.solve(self._S, bc[:, :, None])[:, :, 0] if bc.any() else np.zeros((ntst, m * n))
+            if not bc.any():
+                w = np.zeros((ntst, m * n))
+            elif self._cc is not None:
+                w = np.array(bc)[:, :, None]
+                self._cc.block_solve(self._S, self._piv, w)
+                w = w[:, :, 0]
+            else:
+                w = np.linalg.solve(self._S, bc[:, :, None])[:, :, 0]
+        if self._cc is not None:
+            out = np.empty(mesh.n_nodes * n + 2)
+            self._cc.expand(self._W, self._border, self.lu[0], self.lu[1], w, np.ascontiguousarray(b, float), out,
+                            m, n)
+            return out
         rhs = np.empty(self.nr)
         rhs[:ntst * n] = w[:, inner:].ravel()
         rhs[ntst * n:(ntst + 1) * n] = b[nc:nc + n]

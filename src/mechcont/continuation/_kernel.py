@@ -21,12 +21,18 @@ from typing import Any
 from ._linalg import DenseLU
 from ._options import ContinuationOptions
 
-__all__ = ["AVAILABLE", "CODE_NAMES", "bordered_newton"]
+__all__ = ["AVAILABLE", "CODE_NAMES", "bordered_newton", "condensation"]
 
 _ck: Any = None
 try:
     _ck = importlib.import_module("mechcont.continuation._ckernel")
 except ImportError:  # not built (no C compiler at install): the Python corrector runs
+    pass
+
+_cc: Any = None
+try:  # the collocation's condensation of parameters, compiled (built beside _ckernel)
+    _cc = importlib.import_module("mechcont.continuation._ccondense")
+except ImportError:
     pass
 
 #: Whether the compiled corrector was built on this machine.
@@ -54,3 +60,11 @@ def bordered_newton(problem, scale, options: ContinuationOptions):
     fn, n_out, src, base, idx, fold = (problem.evaluate, 0, None, None, None, None) if parts is None else parts
     return _ck.BorderedNewton(fn, n_out, src, base, idx, scale, options.newton_tol, options.residual_tol,
                               options.max_newton, options.max_contraction, fold)
+
+
+def condensation():
+    """The compiled condensation of parameters (module ``_ccondense``), or None where it was not built or
+    ``MECHCONT_PURE_PYTHON`` is set (then :mod:`._condensation` runs NumPy and LAPACK)."""
+    if _cc is None or os.environ.get("MECHCONT_PURE_PYTHON", "") not in ("", "0"):
+        return None
+    return _cc
