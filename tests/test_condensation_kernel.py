@@ -175,3 +175,26 @@ def test_families_and_newton_steps_agree_in_both_paths(monkeypatch, case):
         assert np.max(np.abs(dc - dp)) <= 1e-12 * np.max(np.abs(dp))
         assert np.max(np.abs(pc - pp)) <= 1e-12 * np.max(np.abs(pp))
         np.testing.assert_allclose(mc, mp, rtol=0, atol=1e-12 * np.max(np.abs(mp)))
+
+
+@needs_kernel
+@pytest.mark.parametrize("ntst,ncol,n", [(7, 2, 2), (5, 4, 3), (3, 7, 1)])
+def test_collocation_blocks_are_the_sparse_jacobians_blocks(monkeypatch, ntst, ncol, n):
+    # the blocks the condensation takes (compiled and NumPy) against CycleSystem.blocks, which the sparse Jacobian
+    # (linearise) is built from: d(collocation at Gauss point k)/d(node i) per interval
+    from mechcont.continuation._condensation import collocation_blocks
+
+    rng = np.random.default_rng(ntst)
+    model = _stuart_landau() if n == 2 else ode_model("lin", {f"z{i}": 0.0 for i in range(n)}, {"mu": 0.0},
+                                                      {f"z{i}": sp.Symbol(f"z{i}", real=True) for i in range(n)})
+    vary = "mu"
+    system = CycleSystem(RateFunction(model, dynamics_of(model), vary, model.defaults()), Mesh(ntst, ncol),
+                         np.ones(n), 1.0)
+    Fz, T = rng.standard_normal((ntst, ncol, n, n)), 4.2
+    (Sc, Lc), (Sp, Lp) = both(monkeypatch, lambda: collocation_blocks(system._D, system.mesh.Lc, Fz, T))
+    ref = system.blocks(T, Fz)  # (ntst, ncol, ncol + 1, n, n)
+    ref_S = ref[:, :, 1:].transpose(0, 1, 3, 2, 4).reshape(ntst, ncol * n, ncol * n)
+    ref_L = ref[:, :, 0].reshape(ntst, ncol * n, n)
+    for S, L in ((Sc, Lc), (Sp, Lp)):
+        scale = np.max(np.abs(ref))
+        assert np.max(np.abs(S - ref_S)) <= 4 * EPS * scale and np.max(np.abs(L - ref_L)) <= 4 * EPS * scale

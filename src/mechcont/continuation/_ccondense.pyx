@@ -98,6 +98,32 @@ cdef void _lu_solve(const double *A, const int *piv, double *B, Py_ssize_t m, Py
             bk[c] *= t
 
 
+def collocation_blocks(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, const double[:, :, :, ::1] Fz, double T,
+                       double[:, :, ::1] S, double[:, :, ::1] L):
+    """The intervals' collocation blocks into ``S`` (ntst, ncol n, ncol n: inner and last nodes) and ``L`` (ntst,
+    ncol n, n: first node): ``D[j, k, a, i, b] - T Lc[k, i] Fz[j, k, a, b]`` for Gauss point ``k``, node ``i``
+    (``D`` the fixed part d/dtau, (ntst, ncol, n, ncol + 1, n); ``Lc`` the basis at the Gauss points; ``Fz`` the
+    rates' Jacobian at them, (ntst, ncol, n, n))."""
+    cdef Py_ssize_t ntst = D.shape[0], m = D.shape[1], n = D.shape[2], j, k, a, i, b
+    cdef double c
+    if (D.shape[3] != m + 1 or D.shape[4] != n or Lc.shape[0] != m or Lc.shape[1] != m + 1
+            or Fz.shape[0] != ntst or Fz.shape[1] != m or Fz.shape[2] != n or Fz.shape[3] != n
+            or S.shape[0] != ntst or S.shape[1] != m * n or S.shape[2] != m * n
+            or L.shape[0] != ntst or L.shape[1] != m * n or L.shape[2] != n):
+        raise ValueError("collocation block shapes disagree")
+    with nogil:
+        for j in range(ntst):
+            for k in range(m):
+                for a in range(n):
+                    for i in range(m + 1):
+                        c = T * Lc[k, i]
+                        for b in range(n):
+                            if i == 0:
+                                L[j, k * n + a, b] = D[j, k, a, 0, b] - c * Fz[j, k, a, b]
+                            else:
+                                S[j, k * n + a, (i - 1) * n + b] = D[j, k, a, i, b] - c * Fz[j, k, a, b]
+
+
 def block_factor_solve(double[:, :, ::1] S, int[:, ::1] piv, double[:, :, ::1] W):
     """Each block ``S[j]`` (square) LU-factored in place (pivots in ``piv[j]``) and ``W[j]`` overwritten by
     ``S[j]^-1 W[j]``. Returns -1, or the first singular block's index."""

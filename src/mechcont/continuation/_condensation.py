@@ -34,7 +34,7 @@ import scipy.linalg.lapack
 
 from . import _kernel
 
-__all__ = ["Border", "CondensedLU", "product"]
+__all__ = ["Border", "CondensedLU", "collocation_blocks", "product"]
 
 _GETRF, _GETRS = scipy.linalg.lapack.dgetrf, scipy.linalg.lapack.dgetrs
 
@@ -72,6 +72,22 @@ def product(Phi: np.ndarray) -> np.ndarray:
         if odd is not None:
             Phi = np.concatenate([Phi, odd])
     return Phi[0]
+
+
+def collocation_blocks(D: np.ndarray, Lc: np.ndarray, Fz: np.ndarray, T: float) -> tuple[np.ndarray, np.ndarray]:
+    """The intervals' collocation blocks as :class:`CondensedLU` takes them: over their inner and last nodes (ntst,
+    ncol n, ncol n) and over their first node (ntst, ncol n, n), ``D - T Lc Fz`` from the fixed part ``D`` (d/dtau,
+    (ntst, ncol, n, ncol + 1, n)), the Lagrange basis at the Gauss points ``Lc`` (ncol, ncol + 1) and the rates'
+    Jacobian ``Fz`` at them (ntst, ncol, n, n); ``T`` the period (s)."""
+    ntst, m, n = D.shape[0], D.shape[1], D.shape[2]
+    cc = _kernel.condensation()
+    if cc is not None:
+        S, L = np.empty((ntst, m * n, m * n)), np.empty((ntst, m * n, n))
+        cc.collocation_blocks(np.ascontiguousarray(D, float), np.ascontiguousarray(Lc, float),
+                              np.ascontiguousarray(Fz, float), float(T), S, L)
+        return S, L
+    C = D - (T * Lc[None, :, None, :, None]) * Fz[:, :, :, None, :]  # (ntst, ncol, n, ncol + 1, n)
+    return C[:, :, :, 1:, :].reshape(ntst, m * n, m * n), C[:, :, :, 0, :].reshape(ntst, m * n, n)
 
 
 class Border:

@@ -98,7 +98,6 @@ class CycleSystem:
         # the collocation blocks' fixed part d/dtau, in the condensation's layout (ntst, ncol, n, ncol + 1, n)
         self._D = (mesh.Ld[None, :, None, :, None] / mesh.h[:, None, None, None, None]
                    * np.eye(n)[None, None, :, None, :])
-        self._Lc = mesh.Lc[None, :, None, :, None]
         self._ncol_n = m * n
 
     # -- layout ------------------------------------------------------------------------------
@@ -160,9 +159,9 @@ class CycleSystem:
     def condensation_blocks(self, T: float, Fz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The intervals' collocation blocks as the condensation takes them: over their inner and last nodes
         (ntst, ncol n, ncol n), and over their first node (ntst, ncol n, n)."""
-        C = self._D - (T * self._Lc) * Fz[:, :, :, None, :]  # (ntst, ncol, n, ncol + 1, n)
-        ntst, mn, n = self.mesh.ntst, self._ncol_n, self.n
-        return C[:, :, :, 1:, :].reshape(ntst, mn, mn), C[:, :, :, 0, :].reshape(ntst, mn, n)
+        from ._condensation import collocation_blocks
+
+        return collocation_blocks(self._D, self.mesh.Lc, Fz, T)
 
     def residual(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, colloc) -> np.ndarray:
         """The BVP's residual from ``colloc = self.collocation(X)``: collocation, periodicity, phase, closing."""
