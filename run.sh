@@ -19,8 +19,10 @@ if [ ! -x .venv/bin/python ]; then
 fi
 stamp=.venv/.mechcont-installed
 kernel=src/mechcont/continuation/_ckernel.pyx  # the compiled corrector, built by the install (setup.py)
-if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ] || [ setup.py -nt "$stamp" ] || [ "$kernel" -nt "$stamp" ]; then
-  [ -f "$stamp" ] && echo "run.sh: pyproject.toml, setup.py or $kernel changed: updating .venv" >&2
+kernel2=src/mechcont/continuation/_ccondense.pyx  # the collocation's condensation, built beside it
+if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ] || [ setup.py -nt "$stamp" ] || [ "$kernel" -nt "$stamp" ] ||
+   [ "$kernel2" -nt "$stamp" ]; then
+  [ -f "$stamp" ] && echo "run.sh: pyproject.toml, setup.py, $kernel or $kernel2 changed: updating .venv" >&2
   .venv/bin/python -m pip install --quiet --upgrade pip
   .venv/bin/python -m pip install --quiet -e ".[test]"
   touch "$stamp"

@@ -53,10 +53,14 @@ def lagrange_matrices(nodes: np.ndarray, at: np.ndarray, derivative: int = 0) ->
 @functools.lru_cache(maxsize=16)
 def _unit_interval(m: int):
     """The unit interval's nodes, Gauss points and weights, the basis at the Gauss points (values,
-    derivatives) and the NCOL-th derivative (a constant) from the node values; read-only arrays."""
+    derivatives), the NCOL-th derivative (a constant) from the node values, the values and derivatives
+    stacked (2 NCOL, NCOL + 1), and the Gauss-quadrature matrices between node values ``G[a, b] = sum_k g_k
+    Lc[k, a] Lc[k, b]`` and ``P[a, b] = sum_k g_k Lc[k, a] Ld[k, b]``; read-only arrays."""
     s = np.linspace(0.0, 1.0, m + 1)
     c, g = gauss_legendre(m)
-    out = (s, c, g, lagrange_matrices(s, c), lagrange_matrices(s, c, 1), lagrange_matrices(s, np.zeros(1), m)[0])
+    Lc, Ld = lagrange_matrices(s, c), lagrange_matrices(s, c, 1)
+    out = (s, c, g, Lc, Ld, lagrange_matrices(s, np.zeros(1), m)[0], np.vstack([Lc, Ld]),
+           (Lc.T * g) @ Lc, (Lc.T * g) @ Ld)
     for a in out:
         a.flags.writeable = False
     return out
@@ -84,9 +88,10 @@ class Mesh:
         self.tau = np.linspace(0.0, 1.0, self.ntst + 1) if tau is None else np.asarray(tau, float)
         self.h = np.diff(self.tau)
         m = self.ncol
-        self.s, self.c, self.g, self.Lc, self.Ld, self.Dm = _unit_interval(m)
+        self.s, self.c, self.g, self.Lc, self.Ld, self.Dm, self._L2, self._G, self._P = _unit_interval(m)
         #: node index of local node i of interval j
         self.index = np.arange(self.ntst)[:, None] * m + np.arange(m + 1)[None, :]
+        self._index_t = np.ascontiguousarray(self.index.T)
 
     @property
     def n_nodes(self) -> int:
@@ -108,16 +113,23 @@ class Mesh:
 
     def at_collocation(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(u, du/dtau)`` at the Gauss points, each shape (ntst, ncol, n)."""
-        b = self.blocks(u)
-        return (np.einsum("ki,jin->jkn", self.Lc, b),
-                np.einsum("ki,jin->jkn", self.Ld, b) / self.h[:, None, None])
+        both = self._local(self._L2, u)  # values and derivatives in one product
+        m = self.ncol
+        return both[:, :m], both[:, m:] / self.h[:, None, None]
+
+    def _local(self, A: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """``A @ (interval j's node values)`` for every interval, shape (ntst, len(A), n): one matrix product of
+        ``A`` with all intervals' node values side by side (a stack of small products costs far more)."""
+        n = u.shape[1]
+        out = A @ u[self._index_t].reshape(self.ncol + 1, -1)  # (len(A), ntst n)
+        return out.reshape(len(A), self.ntst, n).transpose(1, 0, 2)
 
     def gram_row(self, w: np.ndarray) -> np.ndarray:
         """``r`` with ``r . u = integral of u(tau) . w(tau) over [0, 1]`` for every orbit ``u`` on this mesh
         (node values, flattened like ``u``); ``w`` given by its node values (n_nodes, n). Gauss
         quadrature at the NCOL points: exact to degree 2 NCOL - 1, so this is the collocation's own
         inner product (as AUTO's), not the exact integral of the two degree-NCOL polynomials."""
-        return np.asarray(self._gram @ w).ravel()
+        return self._to_nodes(self.h[:, None, None] * self._local(self._G, w))
 
     def mean(self, u: np.ndarray) -> np.ndarray:
         """The orbit's time average over [0, 1] (Gauss quadrature on every interval), shape (n,)."""
@@ -126,27 +138,18 @@ class Mesh:
 
     def phase_row(self, v: np.ndarray) -> np.ndarray:
         """``r`` with ``r . u = integral of u . v'`` over ``[0, 1]`` (exact: degree 2 NCOL - 1), ``v`` by its node values."""
-        return np.asarray(self._phase @ v).ravel()
-
-    def _node_matrix(self, left: np.ndarray, right: np.ndarray) -> object:
-        """The sparse (n_nodes, n_nodes) matrix with ``sum_k g_k left[k, a] right[j, k, b]`` between the nodes ``a``, ``b``
-        of each interval ``j`` (summed where intervals share a node); built once per mesh, so that each quadrature
-        row is one sparse product."""
-        import scipy.sparse as sps
-
-        local = np.einsum("k,ka,jkb->jab", self.g, left, right)
-        a = np.broadcast_to(self.index[:, :, None], local.shape)
-        b = np.broadcast_to(self.index[:, None, :], local.shape)
-        return sps.csr_matrix((local.ravel(), (a.ravel(), b.ravel())), shape=(self.n_nodes, self.n_nodes))
-
-    @functools.cached_property
-    def _gram(self):
-        return self._node_matrix(self.Lc, self.h[:, None, None] * self.Lc[None, :, :])
-
-    @functools.cached_property
-    def _phase(self):
         # int u . v' over an interval of length h: h sum_k g_k u(c_k) . (Ld v)(c_k) / h
-        return self._node_matrix(self.Lc, np.broadcast_to(self.Ld, (self.ntst, *self.Ld.shape)))
+        return self._to_nodes(self._local(self._P, v))
+
+    def _to_nodes(self, local: np.ndarray) -> np.ndarray:
+        """Per-interval node rows (ntst, ncol + 1, n) summed onto the nodes (neighbours share their end node),
+        flattened like the orbit's node values."""
+        m, n = self.ncol, local.shape[2]
+        r = np.empty((self.n_nodes, n))
+        r[:-1] = local[:, :m].reshape(-1, n)  # each interval's nodes but its last: every node but the final once
+        r[-1] = 0.0
+        r[m::m] += local[:, m]
+        return r.ravel()
 
     def evaluate(self, u: np.ndarray, times: np.ndarray) -> np.ndarray:
         """The orbit (node values (n_nodes, n)) at the rescaled ``times`` (wrapped into [0, 1]), shape (len(times), n)."""

@@ -8,11 +8,11 @@ orbit, and one more row that closes the system: the pseudo-arclength hyperplane
 has weight 0, as AUTO's default THL(11) = 0), or ``p = p0`` to correct an orbit at a fixed parameter.
 
 Linear algebra: Newton's systems are solved by condensation of parameters (AUTO's scheme,
-:mod:`._condensation`): each interval's inner nodes are eliminated by one small dense inverse
-(``NCOL n`` square), leaving a block-bidiagonal system in the ``NTST + 1`` mesh points, ``T`` and ``p``
-(``(NTST + 1) n + 2`` rows, one dense LU). Cost per factorisation ``O(NTST (NCOL n)^3 + (NTST n)^3)``; for the
-sizes of a cycle of a small system (NTST 20-100, n up to ~10) the first term dominates. :meth:`linearise`
-assembles the whole sparse Jacobian (compressed columns) for checking it against SuperLU.
+:mod:`._condensation`): each interval's inner nodes are eliminated by one small dense solve
+(``NCOL n`` square, all intervals stacked, the residual with them), leaving a block-bidiagonal system in
+the ``NTST + 1`` mesh points, ``T`` and ``p`` (``(NTST + 1) n + 2`` rows, one dense LU). Cost per factorisation
+``O(NTST (NCOL n)^3 + (NTST n)^3)``; for the sizes of a cycle of a small system (NTST 20-100, n up to ~10) the
+first term dominates. :meth:`linearise` assembles the whole sparse Jacobian (compressed columns) for checking it against SuperLU.
 
 Floquet multipliers: the same collocation blocks, for fixed ``T`` and ``p``, map an interval's first
 node to its last (eliminating its inner nodes: ``Phi_j``, one small dense solve per interval); their
@@ -94,7 +94,12 @@ class CycleSystem:
         self.weights = np.asarray(weights, float)
         self.p_weight = float(p_weight)
         self.size = mesh.n_nodes * self.n + 2
-        self._pattern()
+        self._indices: np.ndarray | None = None  # the sparse Jacobian's pattern, made by linearise when first asked
+        m, n = mesh.ncol, self.n
+        # the collocation blocks' fixed part d/dtau, in the condensation's layout (ntst, ncol, n, ncol + 1, n)
+        self._D = (mesh.Ld[None, :, None, :, None] / mesh.h[:, None, None, None, None]
+                   * np.eye(n)[None, None, :, None, :])
+        self._ncol_n = m * n
 
     # -- layout ------------------------------------------------------------------------------
     def split(self, X: np.ndarray) -> tuple[np.ndarray, float, float]:
@@ -136,7 +141,6 @@ class CycleSystem:
         self._order = np.lexsort((r, c))
         self._indices = r[self._order].astype(np.int32)
         self._indptr = np.concatenate([[0], np.cumsum(np.bincount(c, minlength=self.size))]).astype(np.int32)
-        self._eye = np.eye(n)
 
     # -- evaluation ---------------------------------------------------------------------------
     def collocation(self, X: np.ndarray):
@@ -150,41 +154,69 @@ class CycleSystem:
     def blocks(self, T: float, Fz: np.ndarray) -> np.ndarray:
         """``d(collocation)/d(nodes)`` per interval: shape (ntst, ncol, ncol + 1, n, n)."""
         me = self.mesh
-        return (me.Ld[None, :, :, None, None] / me.h[:, None, None, None, None] * self._eye
+        return (me.Ld[None, :, :, None, None] / me.h[:, None, None, None, None] * np.eye(self.n)
                 - T * me.Lc[None, :, :, None, None] * Fz[:, :, None, :, :])
+
+    def condensation_blocks(self, T: float, Fz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The intervals' collocation blocks as the condensation takes them: over their inner and last nodes
+        (ntst, ncol n, ncol n), and over their first node (ntst, ncol n, n)."""
+        from ._condensation import collocation_blocks
+
+        return collocation_blocks(self._D, self.mesh.Lc, Fz, T)
+
+    def residual(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, colloc) -> np.ndarray:
+        """The BVP's residual from ``colloc = self.collocation(X)``: collocation, periodicity, phase, closing."""
+        u, T, p, uc, du, F, Fz, Fp = colloc
+        nc = self.mesh.ntst * self._ncol_n
+        res = np.empty(self.size)
+        np.subtract(du, T * F, out=res[:nc].reshape(du.shape))
+        res[nc:nc + self.n] = u[-1] - u[0]
+        res[-2] = phase @ X[:-2]
+        res[-1] = closing @ X - target
+        return res
 
     def linearise(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float):
         """Residual and sparse (CSC) Jacobian of the BVP closed by ``closing . X = target``; ``phase`` the
         phase condition's row over the nodes."""
         import scipy.sparse as sps
 
-        u, T, p, uc, du, F, Fz, Fp = self.collocation(X)
+        if self._indices is None:
+            self._pattern()
+        colloc = self.collocation(X)
+        u, T, p, uc, du, F, Fz, Fp = colloc
         n = self.n
-        res = np.concatenate([(du - T * F).ravel(), u[-1] - u[0], [phase @ X[:-2], closing @ X - target]])
+        res = self.residual(X, phase, closing, target, colloc)
         vals = np.concatenate([self.blocks(T, Fz).ravel(), -F.ravel(), -T * Fp.ravel(), np.ones(n), -np.ones(n),
                                phase, closing])
         J = sps.csc_matrix((vals[self._order], self._indices, self._indptr), shape=(self.size, self.size))
         return res, J
 
-    def factored(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float):
+    def factored(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, border=None):
         """Residual and the factored Jacobian (:class:`~._condensation.CondensedLU`) of the BVP closed by
-        ``closing . X = target``; raises :class:`NewtonFailure` when not finite or singular, or where the rates
-        cannot be evaluated (a closed loop that does not assemble at a state of the orbit)."""
-        from ._condensation import CondensedLU
+        ``closing . X = target``, the residual's collocation part already condensed (``lu.w`` for ``-res``);
+        ``border``: the rows ``phase`` and ``closing`` prepared (:class:`~._condensation.Border`), when known.
+        Raises :class:`NewtonFailure` when not finite or singular, or where the rates cannot be evaluated (a
+        closed loop that does not assemble at a state of the orbit)."""
+        from ._condensation import Border, CondensedLU
 
         try:
-            u, T, p, uc, du, F, Fz, Fp = self.collocation(X)
+            colloc = self.collocation(X)
         except (ConvergenceError, np.linalg.LinAlgError) as exc:
             # a mechanism's dependent coordinates not closing its loops (past a toggle position) at an orbit the
             # predictor proposed: a failed correction, which the step control answers with a shorter step
             raise NewtonFailure(f"the rates fail along the orbit: {exc}") from None
-        n, m, ntst = self.n, self.mesh.ncol, self.mesh.ntst
-        res = np.concatenate([(du - T * F).ravel(), u[-1] - u[0], [phase @ X[:-2], closing @ X - target]])
-        C = self.blocks(T, Fz).transpose(0, 1, 3, 2, 4).reshape(ntst, m * n, (m + 1) * n)
-        if not (np.all(np.isfinite(res)) and np.all(np.isfinite(C)) and np.all(np.isfinite(Fp))):
+        u, T, p, uc, du, F, Fz, Fp = colloc
+        ntst, mn = self.mesh.ntst, self._ncol_n
+        res = self.residual(X, phase, closing, target, colloc)
+        # one sum is not finite when any term is not (or when they overflow it, which is no orbit either)
+        if not math.isfinite(float(res.sum() + Fz.sum() + Fp.sum())):
             raise NewtonFailure("rates not finite along the orbit (outside the model's domain)")
+        S, L = self.condensation_blocks(T, Fz)
         try:
-            lu = CondensedLU(C, -F.reshape(ntst, m * n), -T * Fp.reshape(ntst, m * n), phase, closing, self.mesh, n)
+            if border is None:
+                border = Border(phase, closing, self.mesh, self.n)
+            lu = CondensedLU(S, L, -F.reshape(ntst, mn), -T * Fp.reshape(ntst, mn), border, self.mesh, self.n,
+                             rhs=-res[:ntst * mn].reshape(ntst, mn))
         except np.linalg.LinAlgError:
             raise NewtonFailure("singular collocation Jacobian") from None
         return res, lu
@@ -193,19 +225,25 @@ class CycleSystem:
                max_iter: int):
         """Newton from ``X0`` on the BVP closed by ``closing . X = target``.
 
-        Returns ``(X, lu, iterations)`` (``lu`` the factors of the last Jacobian, for the tangent).
+        Converged when a correction is below ``tol`` (relative to the largest unknown). Returns ``(X, lu,
+        iterations)`` (``lu`` the factors of the last Jacobian, for the tangent and the multipliers: of a point
+        within ``tol`` of ``X``).
         Raises :class:`NewtonFailure` saying why when it does not converge.
         """
+        from ._condensation import Border
+
         X = np.array(X0, float)
         prev = math.inf
+        border = Border(phase, closing, self.mesh, self.n)
         for it in range(1, max_iter + 1):
-            res, lu = self.factored(X, phase, closing, target)
-            dX = lu.solve(-res)
-            step = float(np.max(np.abs(dX))) if np.all(np.isfinite(dX)) else math.inf
+            res, lu = self.factored(X, phase, closing, target, border)
+            dX = lu.solve(-res, lu.w)
+            step = float(np.max(np.abs(dX)))  # nan when any entry is
             if not math.isfinite(step):
                 raise NewtonFailure("singular collocation Jacobian")
             X += dX
-            if step <= tol * max(1.0, float(np.max(np.abs(X)))):
+            tol_x = tol * max(1.0, float(np.max(np.abs(X))))
+            if step <= tol_x:
                 return X, lu, it
             if it > 2 and step > prev:
                 raise NewtonFailure(f"corrector diverging (correction {step:.3g} after {prev:.3g})")
@@ -226,14 +264,12 @@ class CycleSystem:
     # -- stability ------------------------------------------------------------------------------
     def monodromy(self, X: np.ndarray) -> np.ndarray:
         """The collocation's monodromy matrix (n, n) at the orbit ``X`` (see the module docstring)."""
+        from ._condensation import product
+
         u, T, p, uc, du, F, Fz, Fp = self.collocation(X)
-        m, n = self.mesh.ncol, self.n
-        C = self.blocks(T, Fz).transpose(0, 1, 3, 2, 4).reshape(self.mesh.ntst, m * n, (m + 1) * n)
-        S = np.linalg.solve(C[:, :, n:], C[:, :, :n])  # inner and last nodes from the first
-        M = np.eye(n)
-        for Phi in -S[:, -n:, :]:
-            M = Phi @ M
-        return M
+        S, L = self.condensation_blocks(T, Fz)
+        n = self.n
+        return product(-np.linalg.solve(S, L)[:, -n:, :])  # the last node from the first, per interval
 
     def multipliers(self, X: np.ndarray) -> np.ndarray:
         """All ``n`` Floquet multipliers (complex), largest modulus first."""

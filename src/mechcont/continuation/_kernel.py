@@ -22,12 +22,18 @@ from ._linalg import DenseLU
 from ._options import ContinuationOptions
 from ._problem import CompiledModel
 
-__all__ = ["AVAILABLE", "CODE_NAMES", "bordered_newton"]
+__all__ = ["AVAILABLE", "CODE_NAMES", "bordered_newton", "condensation"]
 
 _ck: Any = None
 try:
     _ck = importlib.import_module("mechcont.continuation._ckernel")
 except ImportError:  # not built (no C compiler at install): the Python corrector runs
+    pass
+
+_cc: Any = None
+try:  # the collocation's condensation of parameters, compiled (built beside _ckernel)
+    _cc = importlib.import_module("mechcont.continuation._ccondense")
+except ImportError:
     pass
 
 #: Whether the compiled corrector was built on this machine.
@@ -58,3 +64,11 @@ def bordered_newton(problem, scale, options: ContinuationOptions):
                                   e.max_newton, e.max_contraction, None)
     return _ck.BorderedNewton(m.fn, m.n_out, m.src, m.base, m.idx, scale, e.newton_tol, e.residual_tol, e.max_newton,
                               e.max_contraction, m.fold)
+
+
+def condensation():
+    """The compiled condensation of parameters (module ``_ccondense``), or None where it was not built or
+    ``MECHCONT_PURE_PYTHON`` is set (then :mod:`._condensation` runs NumPy and LAPACK)."""
+    if _cc is None or os.environ.get("MECHCONT_PURE_PYTHON", "") not in ("", "0"):
+        return None
+    return _cc
