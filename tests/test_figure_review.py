@@ -10,11 +10,12 @@ in its first, middle and last frames, each on the animation's own figure with th
 
 Times measured on the shared 2-core machine (loaded, warm disk cache): overcentre about 16 s (its computation is
 cached per process, which other paper tests share); under ``slow``: nose gear 16 s, design_optimum 15 s (a minute
-more when the dual-sidestay gear is first built), dynamics 36 s, dual_sidestay (quick) 29 s, freefall 91 s (its
-bisections and damping study), the documented commands 50 s in all. A section runs once per process
-(:func:`section_run`): the check of the numbers the docs quote from the freefall section reads that run's summary
-lines (0.1 s of CPU) instead of computing the dual-sidestay freefall table again (30 s of CPU). The paper's GIF
-frames: 15 s of CPU (the retraction continued and animated); the README's commands with its GIF's frames: 17 s.
+more when the dual-sidestay gear is first built), dynamics 36 s, dual_sidestay (quick) 29 s, shimmy 32-46 s (its
+time simulations 20 s), freefall 91 s (its bisections and damping study), the documented commands 50 s in all. A
+section runs once per process (:func:`section_run`): the check of the numbers the docs quote from the freefall
+section reads that run's summary lines (0.1 s of CPU) instead of computing the dual-sidestay freefall table again
+(30 s of CPU). The paper's GIF frames: 15 s of CPU (the retraction continued and animated); the README's commands
+with its GIF's frames: 17 s.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from figure_checks import review_problems
+from figure_checks import drawn, review_problems
 
 ROOT = Path(__file__).resolve().parent.parent
 #: Written at this resolution: enough for every measure, a quarter of the pixels of 100 dpi.
@@ -150,7 +151,7 @@ def section_run(section: str) -> SectionRun:
 
 SECTIONS = [pytest.param("overcentre"),
             *(pytest.param(s, marks=pytest.mark.slow) for s in ("nose_gear", "dynamics", "design_optimum", "freefall",
-                                                                 "dual_sidestay"))]
+                                                                 "dual_sidestay", "shimmy"))]
 
 
 @pytest.mark.parametrize("section", SECTIONS)
@@ -392,3 +393,78 @@ def test_the_sidestay_table_gives_strike_speeds_in_degrees_per_second():
     psi = [math.asin(limit + rate * dt) for dt in (-h, h)]
     expected = math.degrees((psi[1] - psi[0]) / (2 * h))
     assert cells[3] == f"{1e3 * t0:.1f} ({expected:.0f} deg/s)"
+
+
+def test_the_stability_chart_of_a_hopf_point_passes_the_review(tmp_path, captured, monkeypatch):
+    """docs/reference.md's `folds MODEL --point BRANCH.csv:HB1 --along P2 --plot chart.png` (no runnable block
+    draws it), on the README's ab model: the words ``stable`` and ``unstable`` overlapped each other beside the
+    curve's middle and the legend lay in the axes; now each word is in its own side's largest empty area, the
+    legend below the axes, and the chart passes the review. About 5 s."""
+    from click.testing import CliRunner
+
+    from mechcont.cli._app import _register, cli
+
+    shutil.copytree(ROOT / "examples", tmp_path / "examples")
+    monkeypatch.chdir(tmp_path)
+    _register()
+    for args in (["continue", "examples/ab.toml", "--set", "B=17", "--vary", "D", "--bounds", "D=0:0.2", "--out",
+                  "ab.csv"],
+                 ["folds", "examples/ab.toml", "--set", "B=17", "--point", "ab.csv:HB1", "--along", "B", "--bounds",
+                  "B=10:20", "--out", "hopf.csv", "--plot", "chart.png"]):
+        r = CliRunner().invoke(cli, args)
+        assert r.exit_code == 0, r.output[-2000:]
+    fig = captured["chart.png"]
+    (ax,) = fig.axes
+    assert {t.get_text() for t in ax.texts} >= {"stable", "unstable"}
+    assert ax.get_legend() is None and fig.legends   # below the axes
+    problems = review_problems(fig, "chart.png")
+    assert not problems, "\n".join(problems)
+
+
+def test_side_words_go_to_the_middle_of_the_largest_empty_area_of_their_side():
+    """A boundary y = x across the unit square (first side above it): each word lands on its own side, inside
+    the axes, clear of a large marker put at the upper triangle's centroid and clear of the boundary, and, with
+    the marker there, away from the centroid; with a coarse grid of small dots everywhere, the words still find
+    a gap between them."""
+    import numpy as np
+    from matplotlib.figure import Figure
+
+    from mechcont.outputs._regions import label_sides
+
+    def figure(dots: bool):
+        fig = Figure(figsize=(5, 4), dpi=100, layout="constrained")
+        ax = fig.add_subplot()
+        ax.plot([0, 1], [0, 1], "-", color="tab:blue", label="boundary")
+        ax.plot([1 / 3], [2 / 3], "*", ms=30, color="k", label="marker")
+        if dots:
+            g = np.linspace(0.05, 0.95, 10)
+            ax.plot(*np.meshgrid(g, g), ".", ms=3, color="0.5")
+        ax.set_xlim(0, 1)
+        ax.set_ylim(0, 1)
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+        t = np.linspace(0, 1, 50)
+        words = label_sides(ax, np.column_stack([t, t]), np.tile([-1.0, 1.0], (50, 1)), np.ones(50, bool),
+                            (("above", "g"), ("below", "r")))
+        return fig, ax, words
+
+    for dots in (False, True):
+        fig, ax, words = figure(dots)
+        assert [w.get_text() for w in words] == ["above", "below"]
+        (xa, ya), (xb, yb) = (w.get_position() for w in words)
+        assert ya > xa and yb < xb
+        assert np.hypot(xa - 1 / 3, ya - 2 / 3) > 0.1   # not on the marker
+        assert not review_problems(fig, f"sides (dots: {dots})")
+        renderer = drawn(fig)
+        marker = ax.transData.transform([[1 / 3, 2 / 3]])[0]
+        for w in words:
+            e = w.get_window_extent(renderer)
+            assert ax.bbox.x0 <= e.x0 and e.x1 <= ax.bbox.x1 and ax.bbox.y0 <= e.y0 and e.y1 <= ax.bbox.y1
+            corners = np.array([[e.x0, e.y0], [e.x1, e.y1], [e.x0, e.y1], [e.x1, e.y0]])
+            data = ax.transData.inverted().transform(corners)
+            assert np.all(np.sign(data[:, 1] - data[:, 0]) == np.sign(w.get_position()[1] - w.get_position()[0]))
+            assert not (e.x0 - 15 < marker[0] < e.x1 + 15 and e.y0 - 15 < marker[1] < e.y1 + 15)
+            if dots:
+                grid = np.meshgrid(*[np.linspace(0.05, 0.95, 10)] * 2)
+                g = ax.transData.transform(np.column_stack([a.ravel() for a in grid]))
+                assert not np.any((g[:, 0] > e.x0) & (g[:, 0] < e.x1) & (g[:, 1] > e.y0) & (g[:, 1] < e.y1))

@@ -15,12 +15,16 @@ import numpy as np
 
 from ..errors import InputError
 from ..units import display
-from .plotting import axis_label, label_point, new_figure, plot_branch
+from .plotting import axis_label, label_point, legend_below, new_figure, plot_branch
 
 __all__ = ["plot_amplitude", "amplitude_figure", "phase_portrait", "animate_cycle"]
 
 _MARKERS = {"LPC": ("o", "tab:red"), "PD": ("s", "tab:purple"), "NS": ("D", "tab:green"), "UZ": ("^", "tab:orange"),
             "HB": ("*", "tab:blue"), "EP": ("x", "0.4")}
+#: What each marker means, in the legend.
+_MEANING = {"LPC": "LPC: fold of the cycles", "PD": "PD: period doubling", "NS": "NS: torus (Neimark-Sacker)",
+            "UZ": "UZ: orbit at a requested value", "HB": "HB: Hopf point (amplitude 0)",
+            "EP": "EP: end of the computed family"}
 
 
 def _shown(values, unit: str):
@@ -38,14 +42,17 @@ def _state(cycles, state: str | None) -> int:
 def plot_amplitude(cycles, state: str | None = None, ax=None, *, branch=None, color="tab:blue"):
     """Draw the max and min of ``state`` (default: the first) over each orbit of ``cycles`` (a
     :class:`~mechcont.continuation.CycleBranch`) against its parameter, stable solid and unstable dashed,
-    labelled orbits marked; ``branch``: the equilibrium :class:`~mechcont.continuation.Branch` drawn
-    beneath (its stability as it has it). Returns the axes."""
+    labelled orbits marked (each kind named in the legend); ``branch``: the equilibrium
+    :class:`~mechcont.continuation.Branch` drawn beneath (its stability as it has it). No legend: the caller
+    adds it (:func:`~mechcont.outputs.plotting.legend_below`, below the axes, where it hides nothing). Returns
+    the axes."""
     if ax is None:
         _, ax = new_figure()
     k = _state(cycles, state)
     name, unit = cycles.state_names[k], cycles.state_units[k]
     if branch is not None:
-        plot_branch(branch, cycles.vary, name, ax=ax, color="k", lw=1.2, endpoints=False)
+        plot_branch(branch, cycles.vary, name, ax=ax, color="k", label="equilibria", lw=1.2, endpoints=False,
+                    stability_legend=True)
     p = _shown(cycles.p, cycles.vary_unit)
     # the interval between rows i and i + 1 is drawn in the style of the orbit it reaches
     states = cycles.stable[1:] if len(p) > 1 else cycles.stable
@@ -62,17 +69,19 @@ def plot_amplitude(cycles, state: str | None = None, ax=None, *, branch=None, co
                 start = i
     ymax, ymin = _shown(cycles.maximum[:, k], unit), _shown(cycles.minimum[:, k], unit)
     box = (float(p.min()), float(p.max()), float(ymin.min()), float(ymax.max()))
+    named: set[str] = set()
     for pname, i in cycles.point_names():
         lab = cycles.labels[i]
         marker, mc = _MARKERS.get(lab, ("*", "tab:blue"))
-        for y in (ymax[i], ymin[i]):
-            ax.plot([p[i]], [y], marker, color=mc, ms=6, mew=1.5, mfc="none" if lab != "EP" else mc)
+        meaning = None if lab in named else _MEANING.get(lab, lab)
+        named.add(lab)
+        for y, name_it in ((ymax[i], meaning), (ymin[i], None)):
+            ax.plot([p[i]], [y], marker, color=mc, ms=6, mew=1.5, mfc="none" if lab != "EP" else mc, label=name_it)
         if lab not in ("EP", "HB"):
             label_point(ax, float(p[i]), float(ymax[i]), pname + ("?" if i in cycles.approximate else ""), box, color=mc)
     ax.set_xlabel(axis_label(cycles.vary, cycles.vary_unit))
     ax.set_ylabel(axis_label(name, unit) + ": max and min over the orbit")
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize=8)
     return ax
 
 
@@ -82,6 +91,7 @@ def amplitude_figure(cycles, state: str | None = None, *, branch=None, title: st
     plot_amplitude(cycles, state, ax=ax, branch=branch)
     if title:
         ax.set_title(title)
+    legend_below(fig, ncols=2)
     return fig
 
 

@@ -5,7 +5,9 @@ equilibrium's critical eigenvalue pair crosses the imaginary axis. Where no othe
 (column ``n_unstable_other`` = 0) crossing it changes the equilibrium's stability: short hatch marks on
 the curve point into the stable side (columns ``stable_<p>``, the direction into which the pair turns
 stable), the engineer's way of drawing a stability boundary, with the words ``stable`` and
-``unstable`` on either side. Past a Bogdanov–Takens point (``BT``) the curve goes on as neutral saddles
+``unstable`` on either side, each in the middle of its side's largest empty area
+(:func:`label_stable_sides`, once the figure is laid out; the legend goes below the axes, where it
+hides nothing). Past a Bogdanov–Takens point (``BT``) the curve goes on as neutral saddles
 (no boundary: dotted); ``GH`` marks where the cycles born at the curve change from stable to unstable.
 Fold curves (``LP``), given too, are drawn dashed.
 """
@@ -16,9 +18,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .plotting import axis_values, label_point, new_figure
+from .plotting import axis_values, label_point, legend_below, new_figure
 
-__all__ = ["stability_chart", "plot_stability_chart"]
+__all__ = ["stability_chart", "plot_stability_chart", "label_stable_sides"]
 
 _POINT_STYLE = {"BT": ("s", "tab:purple"), "GH": ("D", "tab:green"), "CP": ("D", "tab:olive"), "EP": ("x", "0.4")}
 #: Hatch length as a fraction of the axes.
@@ -28,7 +30,8 @@ _HATCH = 0.025
 def plot_stability_chart(ax, hopf_curves: Sequence, x: str, y: str, folds: Sequence = ()) -> None:
     """Draw ``hopf_curves`` (branches from :func:`~mechcont.continuation.continue_hopf`) and ``folds``
     (from :func:`~mechcont.continuation.continue_folds`) on ``ax`` with ``x``, ``y`` the two parameters;
-    axes labelled with their units (angles in degrees)."""
+    axes labelled with their units (angles in degrees). No legend and no side words: the caller adds the legend
+    (:func:`~mechcont.outputs.plotting.legend_below`), then :func:`label_stable_sides` on the laid-out figure."""
     xlabel = ylabel = ""
     spans = []
     for b in [*hopf_curves, *folds]:
@@ -62,22 +65,55 @@ def plot_stability_chart(ax, hopf_curves: Sequence, x: str, y: str, folds: Seque
                 label_point(ax, xs[i], ys[i], name, box, color=style[1])
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    ax.legend(loc="best", fontsize=8)
 
 
-def _hatch(ax, b, x: str, y: str, xs, ys, hopf, spans) -> None:
-    """Hatch marks into the stable side where crossing the curve changes stability, and the words."""
+def _stable_directions(b, x: str, y: str, hopf, spans):
+    """``(ux, uy, ok)``: the unit direction into the stable side at each point of Hopf curve ``b`` (per span of
+    the drawn box, ``spans`` in data units) and where it is a stability boundary (``None`` without the columns)."""
     cx, cy = f"stable_{x}", f"stable_{y}"
     if cx not in b.names or cy not in b.names:
-        return
+        return None
     others = b.column("n_unstable_other") if "n_unstable_other" in b.names else np.zeros(len(b))
     dx, dy = b.column(cx) * spans[0], b.column(cy) * spans[1]  # per axes fraction: d/d(x / span)
     norm = np.hypot(dx, dy)
     ok = hopf & (others == 0) & np.isfinite(norm) & (norm > 0)
+    return dx / np.where(norm > 0, norm, 1.0), dy / np.where(norm > 0, norm, 1.0), ok
+
+
+def label_stable_sides(ax, hopf_curves: Sequence, x: str, y: str) -> list:
+    """Write ``stable`` and ``unstable`` on the two sides of the Hopf ``hopf_curves`` drawn on ``ax`` by
+    :func:`plot_stability_chart` (call it once the figure has its legend and layout): each in the middle of its
+    side's largest empty area (:func:`~mechcont.outputs._regions.label_sides`). Returns the texts written."""
+    from ._regions import label_sides
+
+    points, normals, valid = [], [], []
+    for b in hopf_curves:
+        xs, ys = axis_values(b, x)[0], axis_values(b, y)[0]
+        omega = b.column("omega") if "omega" in b.names else np.ones(len(b))
+        # the direction is in parameter units per span; (xs, ys) may be shown in degrees: scale it alike
+        sx = (np.nanmax(xs) - np.nanmin(xs)) or 1.0
+        sy = (np.nanmax(ys) - np.nanmin(ys)) or 1.0
+        dirs = _stable_directions(b, x, y, np.isfinite(omega), (sx, sy))
+        if dirs is None:
+            continue
+        points.append(np.column_stack([xs, ys]))
+        normals.append(np.column_stack([dirs[0] * sx, dirs[1] * sy]))
+        valid.append(dirs[2])
+    if not points:
+        return []
+    return label_sides(ax, np.vstack(points), np.vstack(normals), np.concatenate(valid),
+                       (("stable", "tab:green"), ("unstable", "tab:red")))
+
+
+def _hatch(ax, b, x: str, y: str, xs, ys, hopf, spans) -> None:
+    """Hatch marks into the stable side where crossing the curve changes stability."""
+    dirs = _stable_directions(b, x, y, hopf, spans)
+    if dirs is None:
+        return
+    ux, uy, ok = dirs
     idx = np.flatnonzero(ok)
     if len(idx) == 0:
         return
-    ux, uy = dx / np.where(norm > 0, norm, 1.0), dy / np.where(norm > 0, norm, 1.0)
     # evenly along the drawn curve (in axes fractions), not per computed point: steps crowd where the curve bends
     run = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(xs) / spans[0], np.diff(ys) / spans[1]))])
     targets = np.arange(0.0, run[idx[-1]] + 1e-12, 1.5 * _HATCH)
@@ -85,11 +121,6 @@ def _hatch(ax, b, x: str, y: str, xs, ys, hopf, spans) -> None:
     for i in marks:
         ax.plot([xs[i], xs[i] + _HATCH * ux[i] * spans[0]], [ys[i], ys[i] + _HATCH * uy[i] * spans[1]],
                 "-", color="tab:blue", lw=0.8)
-    mid = idx[np.argmin(np.abs(run[idx] - 0.5 * (run[idx[0]] + run[idx[-1]])))]
-    for word, sgn, color in (("stable", 1.0, "tab:green"), ("unstable", -1.0, "tab:red")):
-        ax.text(xs[mid] + sgn * 3 * _HATCH * ux[mid] * spans[0], ys[mid] + sgn * 3 * _HATCH * uy[mid] * spans[1],
-                word, color=color, fontsize=9, ha="center", va="center",
-                bbox=dict(boxstyle="round,pad=0.2", facecolor="white", edgecolor="none", alpha=0.8))
 
 
 def stability_chart(hopf_curves: Sequence, x: str, y: str, folds: Sequence = (), *, title: str | None = None):
@@ -98,4 +129,6 @@ def stability_chart(hopf_curves: Sequence, x: str, y: str, folds: Sequence = (),
     plot_stability_chart(ax, hopf_curves, x, y, folds)
     if title:
         ax.set_title(title)
+    legend_below(fig, ncols=3)
+    label_stable_sides(ax, hopf_curves, x, y)
     return fig

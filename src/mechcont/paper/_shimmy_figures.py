@@ -23,38 +23,42 @@ def limit_on_curve(curve, parameter: str, speed: float) -> float:
 
 
 def chart_figure(curves: dict, grids: dict, design: dict, path: Path) -> None:
-    """The two stability charts side by side: each Hopf curve (hatched into the stable side), the coarse
-    brute-force check (dots: green stable, red shimmy), the example's design point."""
-    import matplotlib.pyplot as plt
+    """The two stability charts side by side: each Hopf curve (hatched into the stable side, the words
+    ``stable`` and ``unstable`` in the middle of each side's largest empty area), the coarse brute-force check
+    (dots: green stable, red shimmy), the example's design point; one legend below both panels, where it hides
+    nothing."""
+    from matplotlib.figure import Figure
 
-    from ..outputs.plotting import save_figure
-    from ..outputs.stability_chart import plot_stability_chart
+    from ..outputs.plotting import legend_below, save_figure
+    from ..outputs.stability_chart import label_stable_sides, plot_stability_chart
 
-    fig, axes = plt.subplots(1, len(curves), figsize=(6.0 * len(curves), 4.8))
-    for ax, (param, curve) in zip(np.atleast_1d(axes), curves.items()):
+    fig = Figure(figsize=(6.0 * len(curves), 5.2), layout="constrained")
+    axes = fig.subplots(1, len(curves), squeeze=False)[0]
+    for ax, (param, curve) in zip(axes, curves.items()):
         speeds, values, re = grids[param]
         vv, pp = np.meshgrid(speeds, values)
         stable = re < 0
         ax.plot(vv[stable], pp[stable], ".", color="tab:green", ms=3, label="eigenvalues: stable")
         ax.plot(vv[~stable], pp[~stable], ".", color="tab:red", ms=3, label="eigenvalues: shimmy")
+        # drawn before the chart, so that the side words keep clear of it
+        ax.plot([design["V"]], [design[param]], "*", color="k", ms=10, zorder=5, label="HB1 of the example")
         plot_stability_chart(ax, [curve], "V", param)
-        ax.plot([design["V"]], [design[param]], "*", color="k", ms=10, label="HB1 of the example")
         ax.set_title(f"speed x {_NAMES[param]}")
-        ax.legend(loc="best", fontsize=7)
-    save_figure(fig, path, tight=True)
-    plt.close(fig)
+    legend_below(fig, axes, ncols=4)
+    for ax, (param, curve) in zip(axes, curves.items()):
+        label_stable_sides(ax, [curve], "V", param)
+    save_figure(fig, path)   # (not cropped: a crop re-runs the constrained layout in the smaller page)
 
 
 def amplitude_diagram(branch, hopf_speed: float, cycles, sims, path: Path) -> None:
-    """Torsion amplitude (deg) against speed: the straight running (0, stable solid, shimmying dashed),
-    the cycles (stable solid, unstable dashed), the simulations' end amplitudes (markers)."""
-    import matplotlib.pyplot as plt
-
+    """Torsion amplitude (deg) against speed: the straight running (0, stable solid, shimmying dashed), the onset
+    at the Hopf point (labelled with its speed), the cycles (stable solid, unstable dashed), the simulations' end
+    amplitudes (markers); the legend below the axes, where it hides nothing."""
     from ..outputs.cycle_plots import plot_amplitude
-    from ..outputs.plotting import save_figure
+    from ..outputs.plotting import label_point, legend_below, new_figure, save_figure
     from ._shimmy_analysis import TORSION
 
-    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    fig, ax = new_figure(figsize=(6.5, 5.0))
     V = branch.column("V")
     ax.plot(V[V <= hopf_speed], 0 * V[V <= hopf_speed], "-", color="k", lw=1.4, label="straight running, stable")
     ax.plot(V[V >= hopf_speed], 0 * V[V >= hopf_speed], "--", color="k", lw=1.4, label="straight running, shimmy")
@@ -62,11 +66,13 @@ def amplitude_diagram(branch, hopf_speed: float, cycles, sims, path: Path) -> No
     for s in sims:
         ax.plot([s.speed], [math.degrees(s.amplitude)], "o", mfc="none", color="tab:red", ms=9,
                 label="time simulation (end)" if s is sims[0] else None)
+    top = float(np.max(np.abs(np.degrees(cycles.maximum[:, cycles.state_names.index(TORSION)]))))
+    label_point(ax, hopf_speed, 0.0, f"shimmy onset (HB1)\nV = {hopf_speed:.2f} m/s", (V.min(), V.max(), -top, top),
+                color="tab:blue", fontsize=9, background=True)
     ax.set_xlabel("speed V (m/s)")
-    ax.set_ylabel("torsion angle about the strut (deg): max and min over the cycle")
-    ax.legend(loc="best", fontsize=8)
-    save_figure(fig, path, tight=True)
-    plt.close(fig)
+    ax.set_ylabel("torsion angle about the strut (deg),\nmax and min over the cycle")
+    legend_below(fig, ncols=2)
+    save_figure(fig, path)   # (not cropped: a crop re-runs the constrained layout in the smaller page)
 
 
 def _stable_above(grid, limit: float) -> bool:

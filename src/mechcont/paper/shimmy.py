@@ -81,6 +81,8 @@ def run(out_dir: Path, quiet: bool = True, timings: dict | None = None) -> list[
              f"- Checks: HB1 at {design['V']:.6f} m/s, by bisection of the leading eigenvalue "
              f"{onset:.6f} m/s; along the Hopf curves the leading eigenvalue's |Re|/|Im| computed afresh is at most "
              + ", ".join(f"{checks[p]:.1e} ({p})" for p in an.CHART) + ".",
-             "- Figures: `shimmy_stability_chart.png` (Hopf curves, hatched into the stable side, over a coarse "
-             "eigenvalue grid), `shimmy_amplitude.png` (torsion amplitude against speed).", ""]
+             "",
+             "![shimmy stability charts: Hopf curves hatched into the stable side, over a coarse eigenvalue grid]"
+             "(shimmy_stability_chart.png)", "",
+             "![torsion amplitude of the shimmy cycles against speed](shimmy_amplitude.png)", ""]
     return lines
