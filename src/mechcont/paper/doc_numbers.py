@@ -11,6 +11,12 @@ documented commands of :data:`COMMANDS` (what it prints). ``python -m mechcont.p
 fills every marked number of the files (default: ``README.md`` and ``docs/*.md`` of the current folder, the
 repository's root, whose ``examples/`` the commands read) from ``DIR/summary.md`` and the commands' output; :func:`mismatches`
 lists the ones that differ (``tests/test_doc_numbers.py`` asks for none against fresh runs of the sources).
+
+A code block that shows what a command of :data:`COMMANDS` prints (a transcript, where a mark would show as text)
+is named by an HTML comment on the line before its fence, ``<!--transcript:SOURCE-->``; :func:`transcript_mismatches`
+finds each of its lines among the command's output lines, in order (the text alike up to spaces, ``...`` standing
+for any text), and each number in it the printed one to the precision the document shows (half a unit of its last
+digit).
 """
 
 from __future__ import annotations
@@ -23,7 +29,8 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ["QUOTES", "COMMANDS", "MARK", "Quote", "quoted", "fill", "mismatches", "command_outputs", "main"]
+__all__ = ["QUOTES", "COMMANDS", "MARK", "TRANSCRIPT", "Quote", "quoted", "fill", "mismatches", "transcript_mismatches",
+           "command_outputs", "main"]
 
 _N = r"([-+]?[0-9][0-9.,e+-]*)"
 
@@ -73,6 +80,16 @@ COMMANDS: dict[str, tuple[str, ...]] = {
     "freefall_sidestay_cli": ("freefall", "examples/dual_sidestay.toml", "--start", "theta=1.4835298641951802",
                               "--held-by", "F_act", "--lock", "fwd_stop", "--lock", "aft_stop", "--until", "3",
                               "--rtol", "1e-6"),
+    "continue_ab": ("continue", "examples/ab.toml", "--vary", "D", "--bounds", "D=0:0.2", "--out", "ab.csv", "--plot",
+                    "ab.png"),
+    "study_tolerances": ("study", "nose_gear", "--dist", "LU=normal:1.3:0.01", "--dist",
+                         "l_sp1=truncnormal:0.1:0.005:0.09:0.11", "--n", "10000", "--seed", "1", "--dir", "tolerances",
+                         "--plot", "tolerances.png"),
+    "freefall_leg": ("freefall", "examples/freefall_leg.toml", "--start", "angle=3.0", "--lock", "downlock", "--until",
+                     "10", "--set", "U=40"),
+    "study_rare": ("study", "nose_gear", "--dist", "LU=normal:1.2696:0.01", "--dist",
+                   "l_sp1=truncnormal:0.1:0.005:0.09:0.11", "--method", "form", "--n", "10000", "--scheduler", "serial",
+                   "--dir", "rare"),
 }
 _DEFLECTION = r"aft_A_x\s+([-+0-9.e]+) m.*\n\s*aft_A_y\s+([-+0-9.e]+) m.*\n\s*aft_A_z\s+([-+0-9.e]+) m"
 _REACTION = r"R_aft_A_x = ([-+0-9.e]+) N.*\n.*R_aft_A_y = ([-+0-9.e]+) N.*\n.*R_aft_A_z = ([-+0-9.e]+) N"
@@ -157,6 +174,59 @@ def mismatches(text: str, printed: Mapping[str, str]) -> list[tuple[str, str, st
             if values.get(m.group(1)) != m.group(2)]
 
 
+#: A transcript in a document: the source its comment names and the code block's text.
+TRANSCRIPT = re.compile(r"<!--transcript:([a-z0-9_]+)-->[ \t]*\n```\w*\n(.*?)^```", re.S | re.M)
+#: A number in a transcript line (not the digit of a name such as ``HB1`` or ``l_sp1``).
+_NUMBER = re.compile(r"(?<![\w.])[-+]?[0-9]+(?:\.[0-9]+)?(?:[eE][-+]?[0-9]+)?(?!\w)")
+
+
+def _unit(shown: str) -> float:
+    """The unit of the last digit of a number as written (``1.21504e-06``: 1e-11; ``0.9963``: 1e-4; ``13``: 1)."""
+    mantissa, _, exponent = shown.lower().partition("e")
+    decimals = len(mantissa.partition(".")[2])
+    return 10.0 ** (int(exponent or 0) - decimals)
+
+
+def _line_pattern(line: str) -> re.Pattern:
+    """A transcript line as a pattern on a printed line: its numbers captured, ``...`` any text, spaces any."""
+    parts, at = [], 0
+    for m in re.finditer(r"\.\.\.|" + _NUMBER.pattern + r"|\s+", line):
+        parts.append(re.escape(line[at:m.start()]))
+        token = m.group(0)
+        parts.append(".*?" if token == "..." else r"\s+" if token.isspace() else "(" + _NUMBER.pattern + ")")
+        at = m.end()
+    parts.append(re.escape(line[at:]))
+    return re.compile("".join(parts))
+
+
+def transcript_mismatches(text: str, printed: Mapping[str, str]) -> list[tuple[str, str, str]]:
+    """``[(source, line, what the run prints instead)]`` for every line of a transcript of ``text`` (code blocks
+    marked ``<!--transcript:SOURCE-->``, ``printed`` as for :func:`quoted`) that its command does not print: no
+    output line with its text after the one the previous line matched (``what``: ``not printed``, or ``not run``),
+    or a number further from the printed one than half a unit of its last shown digit (``what``: the printed
+    line). A line that is only ``...`` stands for lines left out."""
+    out = []
+    for block in TRANSCRIPT.finditer(text):
+        source = block.group(1)
+        if source not in printed:
+            out.append((source, block.group(2).strip().splitlines()[0], "not run"))
+            continue
+        lines, at = [ln.strip() for ln in printed[source].splitlines()], 0
+        for line in (ln.strip() for ln in block.group(2).splitlines()):
+            if line in ("", "..."):
+                continue
+            pattern, shown = _line_pattern(line), _NUMBER.findall(line)
+            hit = next((i for i in range(at, len(lines)) if pattern.fullmatch(lines[i])), None)
+            if hit is None:
+                out.append((source, line, "not printed"))
+                continue
+            at = hit + 1
+            runs = pattern.fullmatch(lines[hit]).groups()   # type: ignore[union-attr]
+            if any(abs(float(s) - float(r)) > 0.5 * _unit(s) * (1 + 1e-9) for s, r in zip(shown, runs)):
+                out.append((source, line, lines[hit]))
+    return out
+
+
 def command_outputs(root: Path, sources=None) -> dict[str, str]:
     """``{source: what the command prints}`` for the :data:`COMMANDS` named in ``sources`` (default: all), each
     run as ``python -m mechcont ARGS`` in a scratch folder holding a copy of ``root/examples`` (``root``: the
@@ -181,8 +251,9 @@ def command_outputs(root: Path, sources=None) -> dict[str, str]:
 def main(argv: list[str] | None = None) -> int:
     """``python -m mechcont.paper.doc_numbers DIR [FILE ...]``, run from the repository's root: fill the marked
     numbers of the files from ``DIR/summary.md`` (every paper section's) and from the output of the
-    :data:`COMMANDS` (run on a copy of ``examples/`` of this folder); prints each file changed. Returns the exit
-    status (2 on bad input)."""
+    :data:`COMMANDS` (run on a copy of ``examples/`` of this folder); prints each file changed, and each transcript
+    line the run does not print (:func:`transcript_mismatches`; those are left to the writer). Returns the exit
+    status (1: a transcript differs; 2 on bad input)."""
     args = sys.argv[1:] if argv is None else argv
     if not args:
         print("usage: python -m mechcont.paper.doc_numbers PAPER_DIR [FILE ...]", file=sys.stderr)
@@ -195,6 +266,7 @@ def main(argv: list[str] | None = None) -> int:
     files = [Path(a) for a in args[1:]] or [Path("README.md"), *sorted(Path("docs").glob("*.md"))]
     texts = {path: path.read_text(encoding="utf-8") for path in files}
     wanted = {QUOTES[m.group(1)].source for t in texts.values() for m in MARK.finditer(t) if m.group(1) in QUOTES}
+    wanted |= {m.group(1) for t in texts.values() for m in TRANSCRIPT.finditer(t)}
     printed = {q.source: summary for q in QUOTES.values() if q.source not in COMMANDS}
     try:
         printed.update(command_outputs(Path.cwd(), sorted(wanted & set(COMMANDS))))
@@ -210,7 +282,10 @@ def main(argv: list[str] | None = None) -> int:
         if new != text:
             path.write_text(new, encoding="utf-8")
             print(f"filled {path}")
-    return 0
+    stale = [(path, *m) for path, text in texts.items() for m in transcript_mismatches(text, printed)]
+    for path, source, line, run in stale:   # a transcript's text is the writer's: shown, not rewritten
+        print(f"{path}: transcript of {source}: {line!r}: the run prints {run!r}", file=sys.stderr)
+    return 1 if stale else 0
 
 
 if __name__ == "__main__":
