@@ -80,6 +80,9 @@ COMMANDS: dict[str, tuple[str, ...]] = {
     "freefall_sidestay_cli": ("freefall", "examples/dual_sidestay.toml", "--start", "theta=1.4835298641951802",
                               "--held-by", "F_act", "--lock", "fwd_stop", "--lock", "aft_stop", "--until", "3",
                               "--rtol", "1e-6"),
+    "optimize_lockstay": ("optimize", "lockstay.toml", "--minimize", "unlock_force", "--design", "LU=0.5:0.7", "--design",
+                          "k=10000:30000", "--dist", "LU=normal:0.6:0.005", "--dist", "k=normal:20000:1500",
+                          "--constraint", "P(not locking) <= 1e-6"),
     "continue_ab": ("continue", "examples/ab.toml", "--vary", "D", "--bounds", "D=0:0.2", "--out", "ab.csv", "--plot",
                     "ab.png"),
     "study_tolerances": ("study", "nose_gear", "--dist", "LU=normal:1.3:0.01", "--dist",
@@ -120,6 +123,12 @@ QUOTES: dict[str, Quote] = {
     "ds_optimum_beta": Quote("optimize_dual_sidestay", r"beta\(not locking\) = " + _N, _shown(1.0, ".5f")),
     "ds_optimum_iterations": Quote("optimize_dual_sidestay", r"\(([0-9]+) iterations"),
     "ds_optimum_multiplier": Quote("optimize_dual_sidestay", r"\(multiplier " + _N + r"\)", _shown(1.0, ".2f")),
+    # the lock stay's least unlock load at P(not locking) <= 1e-6 (docs/reliability.md)
+    "lockstay_optimum_unlock_n": Quote("optimize_lockstay", r"unlock_force = " + _N + " N", _shown(1.0, ".0f")),
+    "lockstay_optimum_k": Quote("optimize_lockstay", r"\n  k = " + _N + " N/m", _shown(1.0, ".0f")),
+    "lockstay_optimum_lu_m": Quote("optimize_lockstay", r"\n  LU = " + _N + " m", _shown(1.0, ".5f")),
+    "lockstay_optimum_multiplier": Quote("optimize_lockstay", r"beta\(not locking\) >= [0-9.]+ \(multiplier " + _N,
+                                         _shown(1.0, ".1f")),
     # mechcont check examples/dual_sidestay_locked.toml: the compliant attachment's deflection and reaction
     # (their lengths: the check prints the components) and the retraction angle
     "locked_theta_deg": Quote("check_locked", r"\n  theta\s+" + _N + r" deg", _shown(1.0, ".3f", minus="\u2212")),
