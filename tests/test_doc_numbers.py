@@ -65,9 +65,18 @@ DS_OPTIMUM = ("converged: Optimization terminated successfully (14 iterations, 1
 LOCKSTAY = ("converged: Optimization terminated successfully (4 iterations, 4 solves)\nunlock_force = 363.1575518 N\n"
             "  LU = 0.5989687468 m\n  k = 10000 N/m\n  beta(not locking) = 4.753424309\n"
             "active: beta(not locking) >= 4.75342 (multiplier 28.2445); k >= 10000 (multiplier 0.0523043)\n")
+#: The reliability-based design section's summary lines (abridged).
+DESIGN = ("* Nose gear, tolerances ...: the longest nominal lock-spring free length is LU = 1.269202900 m (beta = 4.75342, "
+          "P = 1e-06; 3 iterations); its nominal downlock force is 202.55 N.\n"
+          "* Lock stay, tolerances LU normal, ...: the least unlock load is 363.158 N at k = 10000.0 N/m and "
+          "LU = 0.598968747 m (nominal downlock force 185.57 N; 4 iterations). Active: beta(not locking) >= 4.75342 "
+          "(multiplier 28.24); k >= 10000 (multiplier 0.0523); ...\n\n"
+          "* Dual-sidestay gear (...): the least unlock load of both pairs together is 102.491 N at k_lock = 2001.3 N/m "
+          "and stretch = 0.500000, with each stop's preload at rest at least 20 N m (fwd 20.0000, ...). The "
+          "description's springs (k_lock = 8000 N/m, stretch = 0.7) need 199.3 N ...\n")
 PRINTED = {"freefall": SUMMARY, "check_locked": CHECK, "freefall_sidestay_cli": FALL, "tour_continue": TOUR,
            "optimize_nose_gear": OPTIMUM, "optimize_dual_sidestay": DS_OPTIMUM,
-           "optimize_lockstay": LOCKSTAY}
+           "optimize_lockstay": LOCKSTAY, "design_optimum": DESIGN}
 
 
 def test_marked_numbers_are_filled_from_the_summary_and_differences_reported():
@@ -101,6 +110,9 @@ def test_a_number_derived_from_the_printed_ones_is_shown_as_the_document_writes_
         == ["72.36", "3947.1", "0.83638", "4.75342", "14", "2.62"]
     assert [values[f"lockstay_optimum_{n}"] for n in ("unlock_n", "k", "lu_m", "multiplier")] \
         == ["363", "10000", "0.59897", "28.2"]
+    assert [values[f"paper_{n}"] for n in ("nose_lu_m", "nose_force_n", "stay_unlock_n", "stay_k", "stay_lu_m",
+                                           "stay_multiplier", "ds_unlock_n", "ds_k_lock", "ds_stretch")] \
+        == ["1.269203", "202.55", "363.158", "10000", "0.598969", "28.24", "102.49", "2001.3", "0.5"]
     moved = {**PRINTED, "check_locked": CHECK.replace("3.164e-05", "6.164e-05")}   # |(-18.61, 61.64, -19.44)| = 67
     assert quoted(moved)["locked_deflection_um"] == "67"
 

@@ -110,6 +110,21 @@ QUOTES: dict[str, Quote] = {
     "nominal_lock_s": Quote("freefall", r"the nominal gear has locked " + _N + r" s after"),
     "first_strike_min_s": Quote("freefall", r"the first strike comes " + _N + r" to"),
     "first_strike_max_s": Quote("freefall", r"the first strike comes [-+0-9.]+ to " + _N + r" s after"),
+    # the reliability-based design section: the nose gear's, the lock stay's and the dual-sidestay gear's optima
+    "paper_nose_lu_m": Quote("design_optimum", r"lock-spring free length is LU = " + _N + " m", _shown(1.0, ".6f")),
+    "paper_nose_force_n": Quote("design_optimum", r"its nominal downlock force is " + _N + " N", _shown(1.0, ".2f")),
+    "paper_stay_unlock_n": Quote("design_optimum", r"Lock stay, .*? the least unlock load is " + _N + " N",
+                                 _shown(1.0, ".3f")),
+    "paper_stay_k": Quote("design_optimum", r"Lock stay, .*? N at k = " + _N + " N/m", _shown(1.0, ".0f")),
+    "paper_stay_lu_m": Quote("design_optimum", r"Lock stay, .*? N/m and LU = " + _N + " m", _shown(1.0, ".6f")),
+    "paper_stay_multiplier": Quote("design_optimum", r"Lock stay, .*?beta\(not locking\) >= [0-9.]+ \(multiplier "
+                                   + _N + r"\)", _shown(1.0, ".2f")),
+    "paper_ds_unlock_n": Quote("design_optimum", r"unlock load of both pairs together is " + _N + " N",
+                               _shown(1.0, ".2f")),
+    "paper_ds_k_lock": Quote("design_optimum", r"both pairs together is [0-9.]+ N at k_lock = " + _N + " N/m",
+                             _shown(1.0, ".1f")),
+    "paper_ds_stretch": Quote("design_optimum", r"both pairs together is .*? N/m and stretch = " + _N + ", with",
+                              _shown(1.0, "g")),
     # the README tour's branch of the overcentre mechanism: its two folds
     "tour_lp1_n": Quote("tour_continue", r"\nLP1\s+" + _N, _shown(1.0, ".2f", minus="\u2212")),
     "tour_lp2_n": Quote("tour_continue", r"\nLP2\s+" + _N, _shown(1.0, "+.2f")),
