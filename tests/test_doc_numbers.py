@@ -73,10 +73,15 @@ DESIGN = ("* Nose gear, tolerances ...: the longest nominal lock-spring free len
           "(multiplier 28.24); k >= 10000 (multiplier 0.0523); ...\n\n"
           "* Dual-sidestay gear (...): the least unlock load of both pairs together is 102.491 N at k_lock = 2001.3 N/m "
           "and stretch = 0.500000, with each stop's preload at rest at least 20 N m (fwd 20.0000, ...). The "
-          "description's springs (k_lock = 8000 N/m, stretch = 0.7) need 199.3 N ...\n")
+          "description's springs (k_lock = 8000 N/m, stretch = 0.7) need 199.3 N with preloads fwd 61.7, aft 70.5 N m. "
+          "...\n")
+DS_PRELOAD = ("converged: Optimization terminated successfully (7 iterations, 7 solves)\nunlock_force = 102.4914221 N\n"
+              "  k_lock = 2001.323877 N/m\n  stretch = 0.5\n  R_fwd_stop = 20 N m\n  R_aft_stop = 37.46775086 N m\n"
+              "active: R_fwd_stop >= 20 (multiplier 2.22666); stretch >= 0.5 (multiplier 4.52694)\n")
 PRINTED = {"freefall": SUMMARY, "check_locked": CHECK, "freefall_sidestay_cli": FALL, "tour_continue": TOUR,
            "optimize_nose_gear": OPTIMUM, "optimize_dual_sidestay": DS_OPTIMUM,
-           "optimize_lockstay": LOCKSTAY, "design_optimum": DESIGN}
+           "optimize_lockstay": LOCKSTAY, "design_optimum": DESIGN,
+           "optimize_ds_preload": DS_PRELOAD}
 
 
 def test_marked_numbers_are_filled_from_the_summary_and_differences_reported():
@@ -113,6 +118,10 @@ def test_a_number_derived_from_the_printed_ones_is_shown_as_the_document_writes_
     assert [values[f"paper_{n}"] for n in ("nose_lu_m", "nose_force_n", "stay_unlock_n", "stay_k", "stay_lu_m",
                                            "stay_multiplier", "ds_unlock_n", "ds_k_lock", "ds_stretch")] \
         == ["1.269203", "202.55", "363.158", "10000", "0.598969", "28.24", "102.49", "2001.3", "0.5"]
+    assert [values[f"paper_ds_nominal_{n}"] for n in ("unlock_n", "fwd_nm", "aft_nm")] == ["199.3", "61.7", "70.5"]
+    assert [values[f"ds_preload_{n}"] for n in ("unlock_n", "k_lock", "stretch", "iterations", "aft_nm",
+                                                "fwd_multiplier", "stretch_multiplier")] \
+        == ["102.49", "2001.3", "0.5", "7", "37.47", "2.23", "4.53"]
     moved = {**PRINTED, "check_locked": CHECK.replace("3.164e-05", "6.164e-05")}   # |(-18.61, 61.64, -19.44)| = 67
     assert quoted(moved)["locked_deflection_um"] == "67"
 
