@@ -26,6 +26,7 @@ from pathlib import Path
 import pytest
 
 from mechcont.paper.doc_numbers import (
+    BLOCK_MARK,
     COMMANDS,
     MARK,
     QUOTES,
@@ -78,10 +79,13 @@ DESIGN = ("* Nose gear, tolerances ...: the longest nominal lock-spring free len
 DS_PRELOAD = ("converged: Optimization terminated successfully (7 iterations, 7 solves)\nunlock_force = 102.4914221 N\n"
               "  k_lock = 2001.323877 N/m\n  stretch = 0.5\n  R_fwd_stop = 20 N m\n  R_aft_stop = 37.46775086 N m\n"
               "active: R_fwd_stop >= 20 (multiplier 2.22666); stretch >= 0.5 (multiplier 4.52694)\n")
+FOLDS = ("overcentre: 57 points in LU\npoint            LU (m)           F (N)    theta1 (deg)  stability\n"
+         "EP1                 0.1    -135.6962354     66.07878176          -\n"
+         "CP1                 1.5            9.81 6.422336365e-15          -\n")
 PRINTED = {"freefall": SUMMARY, "check_locked": CHECK, "freefall_sidestay_cli": FALL, "tour_continue": TOUR,
            "optimize_nose_gear": OPTIMUM, "optimize_dual_sidestay": DS_OPTIMUM,
            "optimize_lockstay": LOCKSTAY, "design_optimum": DESIGN,
-           "optimize_ds_preload": DS_PRELOAD}
+           "optimize_ds_preload": DS_PRELOAD, "tour_folds": FOLDS}
 
 
 def test_marked_numbers_are_filled_from_the_summary_and_differences_reported():
@@ -96,6 +100,19 @@ def test_marked_numbers_are_filled_from_the_summary_and_differences_reported():
     with pytest.raises(KeyError, match="no_such_number"):
         fill("<!--run:no_such_number-->1<!--/run-->", PRINTED)
     assert quoted({"check_locked": CHECK}).keys() == {n for n, q in QUOTES.items() if q.source == "check_locked"}
+
+
+def test_a_number_in_a_code_block_is_named_before_its_fence_with_the_text_around_it():
+    """``<!--block:NAME TEXT-->``: the code block after it holds TEXT with the run's number (README's Python example
+    names the cusp of the overcentre's folds in a comment); fill rewrites that number only."""
+    doc = ("<!--block:tour_cusp_lu_m LU={},-->\n```python\nx = 1.25\nfolds['CP1']   # CP at row ..., LU=1.25, ...)\n```\n")
+    assert quoted(PRINTED)["tour_cusp_lu_m"] == "1.5"
+    assert mismatches(doc, PRINTED) == [("tour_cusp_lu_m", "1.25", "1.5")]
+    filled = fill(doc, PRINTED)
+    assert filled == doc.replace("LU=1.25", "LU=1.5") and mismatches(filled, PRINTED) == []
+    assert mismatches(doc.replace("LU=1.25,", "LU 1.25,"), PRINTED)[0][1] == "no 'LU={},' in the block"
+    with pytest.raises(KeyError, match="its code block has no 'LU="):
+        fill(doc.replace("LU=1.25,", "LU 1.25,"), PRINTED)
 
 
 def test_a_number_derived_from_the_printed_ones_is_shown_as_the_document_writes_it():
@@ -189,7 +206,8 @@ def test_the_fill_command_refuses_a_folder_without_a_summary(tmp_path, capsys):
 
 def test_every_quoted_number_is_marked_and_every_mark_is_known():
     """The docs mark every number of :data:`QUOTES` somewhere, and name no number QUOTES does not know."""
-    marks = [m.group(1) for path in DOCUMENTS for m in MARK.finditer(path.read_text(encoding="utf-8"))]
+    marks = [m.group(1) for path in DOCUMENTS for mark in (MARK, BLOCK_MARK)
+             for m in mark.finditer(path.read_text(encoding="utf-8"))]
     assert set(marks) == set(QUOTES), (set(QUOTES) - set(marks), set(marks) - set(QUOTES))
 
 

@@ -12,6 +12,8 @@ fills every marked number of the files (default: ``README.md`` and ``docs/*.md``
 repository's root, whose ``examples/`` the commands read) from ``DIR/summary.md`` and the commands' output; :func:`mismatches`
 lists the ones that differ (``tests/test_doc_numbers.py`` asks for none against fresh runs of the sources).
 
+A number inside a code block (a comment of a Python example) is named by an HTML comment before the fence with the
+text around it, ``<!--block:NAME LU={},-->``: the block holds that text with the number the run prints.
 A code block that shows what a command of :data:`COMMANDS` prints (a transcript, where a mark would show as text)
 is named by an HTML comment on the line before its fence, ``<!--transcript:SOURCE-->``; :func:`transcript_mismatches`
 finds each of its lines among the command's output lines, in order (the text alike up to spaces, ``...`` standing
@@ -29,8 +31,8 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ["QUOTES", "COMMANDS", "MARK", "TRANSCRIPT", "Quote", "quoted", "fill", "mismatches", "transcript_mismatches",
-           "command_outputs", "main"]
+__all__ = ["QUOTES", "COMMANDS", "MARK", "BLOCK_MARK", "TRANSCRIPT", "Quote", "quoted", "fill", "block_fill",
+           "mismatches", "transcript_mismatches", "command_outputs", "main"]
 
 _N = r"([-+]?[0-9][0-9.,e+-]*)"
 
@@ -83,6 +85,8 @@ COMMANDS: dict[str, tuple[str, ...]] = {
     "optimize_ds_preload": ("optimize", "examples/dual_sidestay.toml", "--minimize", "unlock_force", "--force", "F_lock",
                             "--design", "k_lock=1000:16000", "--design", "stretch=0.5:0.85", "--constraint",
                             "stop_preload >= 20"),
+    "tour_folds": ("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--along", "LU",
+                   "--bounds", "F=-200:200", "--bounds", "LU=0.1:2", "--out", "folds.csv"),
     "optimize_lockstay": ("optimize", "lockstay.toml", "--minimize", "unlock_force", "--design", "LU=0.5:0.7", "--design",
                           "k=10000:30000", "--dist", "LU=normal:0.6:0.005", "--dist", "k=normal:20000:1500",
                           "--constraint", "P(not locking) <= 1e-6"),
@@ -147,6 +151,7 @@ QUOTES: dict[str, Quote] = {
     # the README tour's branch of the overcentre mechanism: its two folds
     "tour_lp1_n": Quote("tour_continue", r"\nLP1\s+" + _N, _shown(1.0, ".2f", minus="\u2212")),
     "tour_lp2_n": Quote("tour_continue", r"\nLP2\s+" + _N, _shown(1.0, "+.2f")),
+    "tour_cusp_lu_m": Quote("tour_folds", r"\nCP1\s+" + _N, _shown(1.0, ".4g")),
     # the nose gear's longest free length at P(not locking) <= 1e-6 (docs/reliability.md)
     "optimum_nose_lu_m": Quote("optimize_nose_gear", r"\nLU = " + _N + " m", _shown(1.0, ".4f")),
     "optimum_nose_iterations": Quote("optimize_nose_gear", r"\(([0-9]+) iterations"),
@@ -206,15 +211,43 @@ def fill(text: str, printed: Mapping[str, str]) -> str:
             raise KeyError(f"{m.group(1)}: not in QUOTES or not printed by its source")
         return f"<!--run:{m.group(1)}-->{values[m.group(1)]}<!--/run-->"
 
-    return MARK.sub(one, text)
+    return block_fill(MARK.sub(one, text), values)
 
 
 def mismatches(text: str, printed: Mapping[str, str]) -> list[tuple[str, str, str | None]]:
     """``[(name, quoted, printed)]`` for every marked number of ``text`` that is not what its source prints
     (``printed`` None: the source does not print it, or was not run)."""
     values = quoted(printed)
-    return [(m.group(1), m.group(2), values.get(m.group(1))) for m in MARK.finditer(text)
-            if values.get(m.group(1)) != m.group(2)]
+    shown = [(m.group(1), m.group(2)) for m in MARK.finditer(text)]
+    for m in BLOCK_MARK.finditer(text):   # a number in a code block: the text its mark names, in the block
+        found = _in_block(m.group(2)).search(m.group(3))
+        shown.append((m.group(1), found.group(1) if found else f"no {m.group(2)!r} in the block"))
+    return [(name, value, values.get(name)) for name, value in shown if values.get(name) != value]
+
+
+#: A number quoted inside a code block (where a mark would show as text): an HTML comment before the fence names it
+#: and the text around it, ``<!--block:NAME TEXT-->`` with ``{}`` in TEXT for the number (``LU={}``).
+BLOCK_MARK = re.compile(r"<!--block:([a-z0-9_]+) (.*?)-->[ \t]*\n(```\w*\n.*?^```)", re.S | re.M)
+
+
+def _in_block(template: str) -> re.Pattern:
+    """TEXT of a block mark as a pattern: the number in its place (captured), the rest as written."""
+    before, _, after = template.partition("{}")
+    return re.compile(re.escape(before) + r"([-+\u2212]?[0-9][0-9.e+-]*)" + re.escape(after))
+
+
+def block_fill(text: str, values: Mapping[str, str]) -> str:
+    """``text`` with the number of every block mark replaced by ``values[NAME]`` (as :func:`quoted` gives it)."""
+    def one(m: re.Match) -> str:
+        if m.group(1) not in values:
+            raise KeyError(f"{m.group(1)}: not in QUOTES or not printed by its source")
+        pattern = _in_block(m.group(2))
+        if not pattern.search(m.group(3)):
+            raise KeyError(f"{m.group(1)}: its code block has no {m.group(2)!r}")
+        block = pattern.sub(lambda b: m.group(2).replace("{}", values[m.group(1)]), m.group(3), count=1)
+        return m.group(0)[:m.start(3) - m.start(0)] + block
+
+    return BLOCK_MARK.sub(one, text)
 
 
 #: A transcript in a document: the source its comment names and the code block's text.
@@ -308,7 +341,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     files = [Path(a) for a in args[1:]] or [Path("README.md"), *sorted(Path("docs").glob("*.md"))]
     texts = {path: path.read_text(encoding="utf-8") for path in files}
-    wanted = {QUOTES[m.group(1)].source for t in texts.values() for m in MARK.finditer(t) if m.group(1) in QUOTES}
+    wanted = {QUOTES[m.group(1)].source for t in texts.values() for mark in (MARK, BLOCK_MARK)
+              for m in mark.finditer(t) if m.group(1) in QUOTES}
     wanted |= {m.group(1) for t in texts.values() for m in TRANSCRIPT.finditer(t)}
     printed = {q.source: summary for q in QUOTES.values() if q.source not in COMMANDS}
     try:
