@@ -82,10 +82,15 @@ DS_PRELOAD = ("converged: Optimization terminated successfully (7 iterations, 7 
 FOLDS = ("overcentre: 57 points in LU\npoint            LU (m)           F (N)    theta1 (deg)  stability\n"
          "EP1                 0.1    -135.6962354     66.07878176          -\n"
          "CP1                 1.5            9.81 6.422336365e-15          -\n")
+REL = ("FORM: beta = 1.68933, P(downlock_force <= 0) = 0.0455781 (4 iterations, 9 solves)\n"
+       "SORM (Breitung): P = 0.0453002\n")
+RARE = ("FORM: beta = 4.71391, P(downlock_force <= 0) = 1.21504e-06 (7 iterations, 13 solves)\n"
+        "SORM (Breitung): P = 1.18719e-06\n")
 PRINTED = {"freefall": SUMMARY, "check_locked": CHECK, "freefall_sidestay_cli": FALL, "tour_continue": TOUR,
            "optimize_nose_gear": OPTIMUM, "optimize_dual_sidestay": DS_OPTIMUM,
            "optimize_lockstay": LOCKSTAY, "design_optimum": DESIGN,
-           "optimize_ds_preload": DS_PRELOAD, "tour_folds": FOLDS}
+           "optimize_ds_preload": DS_PRELOAD, "tour_folds": FOLDS, "study_rel": REL,
+           "study_rare": RARE}
 
 
 def test_marked_numbers_are_filled_from_the_summary_and_differences_reported():
@@ -139,6 +144,8 @@ def test_a_number_derived_from_the_printed_ones_is_shown_as_the_document_writes_
     assert [values[f"ds_preload_{n}"] for n in ("unlock_n", "k_lock", "stretch", "iterations", "aft_nm",
                                                 "fwd_multiplier", "stretch_multiplier")] \
         == ["102.49", "2001.3", "0.5", "7", "37.47", "2.23", "4.53"]
+    assert [values[n] for n in ("rel_beta", "rel_p_form", "rel_p_sorm", "rare_beta", "rare_p_form", "rare_p_sorm")] \
+        == ["1.689", "0.04558", "0.0453", "4.714", "1.215·10⁻⁶", "1.187·10⁻⁶"]
     moved = {**PRINTED, "check_locked": CHECK.replace("3.164e-05", "6.164e-05")}   # |(-18.61, 61.64, -19.44)| = 67
     assert quoted(moved)["locked_deflection_um"] == "67"
 
@@ -178,7 +185,8 @@ def test_every_transcript_names_a_documented_command_and_every_command_is_quoted
     assert set(transcripts) <= set(COMMANDS), set(transcripts) - set(COMMANDS)
     assert set(COMMANDS) == set(transcripts) | {q.source for q in QUOTES.values() if q.source in COMMANDS}
     texts = "".join(path.read_text(encoding="utf-8") for path in DOCUMENTS)
-    assert texts.count("<!--transcript:") == len(transcripts)   # each directly before its block's fence
+    assert len(re.findall(r"<!--transcript:[a-z0-9_]+-->", texts)) == len(transcripts)   # each right before a fence
+    assert len(re.findall(r"<!--block:[a-z0-9_]+ ", texts)) == len(list(BLOCK_MARK.finditer(texts)))
 
 
 def test_the_quoted_commands_are_the_documented_ones():

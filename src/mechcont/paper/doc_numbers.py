@@ -55,6 +55,14 @@ def _shown(scale: float, fmt: str, *, of: Callable[..., float] = lambda v, *_: v
     return show
 
 
+def _times_ten(digits: int) -> Callable[[re.Match], str]:
+    """A reader of a match: its first number to ``digits`` significant digits as a table writes it, ``1.215·10⁻⁶``."""
+    def show(m: re.Match) -> str:
+        mantissa, exponent = format(float(_printed(m)), f".{digits - 1}e").split("e")
+        return f"{mantissa}·10" + str(int(exponent)).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    return show
+
+
 class Quote(NamedTuple):
     """Where a quoted number comes from: ``source`` (a ``mechcont paper`` section, or a key of
     :data:`COMMANDS`), ``pattern`` (a regular expression on the source's printed text; its groups are the
@@ -97,6 +105,8 @@ COMMANDS: dict[str, tuple[str, ...]] = {
                          "--plot", "tolerances.png"),
     "freefall_leg": ("freefall", "examples/freefall_leg.toml", "--start", "angle=3.0", "--lock", "downlock", "--until",
                      "10", "--set", "U=40"),
+    "study_rel": ("study", "nose_gear", "--dist", "LU=normal:1.3:0.01", "--dist", "l_sp1=truncnormal:0.1:0.005:0.09:0.11",
+                  "--method", "form", "--n", "2000", "--seed", "1", "--scheduler", "serial", "--dir", "rel"),
     "study_rare": ("study", "nose_gear", "--dist", "LU=normal:1.2696:0.01", "--dist",
                    "l_sp1=truncnormal:0.1:0.005:0.09:0.11", "--method", "form", "--n", "10000", "--scheduler", "serial",
                    "--dir", "rare"),
@@ -148,6 +158,13 @@ QUOTES: dict[str, Quote] = {
                                        _shown(1.0, ".2f")),
     "ds_preload_stretch_multiplier": Quote("optimize_ds_preload", r"stretch >= [0-9.]+ \(multiplier " + _N + r"\)",
                                            _shown(1.0, ".2f")),
+    # FORM and SORM of the nose gear's tolerances, and with the free length 30 mm shorter (docs/reliability.md)
+    "rel_beta": Quote("study_rel", r"FORM: beta = " + _N, _shown(1.0, ".3f")),
+    "rel_p_form": Quote("study_rel", r"P\(downlock_force <= 0\) = " + _N, _shown(1.0, ".4g")),
+    "rel_p_sorm": Quote("study_rel", r"SORM \(Breitung\): P = " + _N, _shown(1.0, ".3g")),
+    "rare_beta": Quote("study_rare", r"FORM: beta = " + _N, _shown(1.0, ".3f")),
+    "rare_p_form": Quote("study_rare", r"P\(downlock_force <= 0\) = " + _N, _times_ten(4)),
+    "rare_p_sorm": Quote("study_rare", r"SORM \(Breitung\): P = " + _N, _times_ten(4)),
     # the README tour's branch of the overcentre mechanism: its two folds
     "tour_lp1_n": Quote("tour_continue", r"\nLP1\s+" + _N, _shown(1.0, ".2f", minus="\u2212")),
     "tour_lp2_n": Quote("tour_continue", r"\nLP2\s+" + _N, _shown(1.0, "+.2f")),
