@@ -5,10 +5,11 @@ docs/dual-sidestay.md quoted 217 mm / 0.1 deg for the kinematic assembly at gear
 printed 236 mm / 2.9 deg. Quoted numbers are now marked (``<!--run:NAME-->value<!--/run-->``) and filled from the
 run's summary and the documented commands' output by ``python -m mechcont.paper.doc_numbers DIR``
 (:mod:`mechcont.paper.doc_numbers`). The slow tests run each source afresh and compare every marked number: the
-documented commands here (``mechcont check`` of the locked gear and the documented ``mechcont freefall`` of the
-dual-sidestay gear, 10-30 s each; the README tour's ``continue``, a second or two); the freefall section in
-tests/test_figure_review.py (``test_the_docs_quote_what_the_freefall_section_prints``), on the run its figure review
-makes (the section's summary lines hold the dual-sidestay freefall's), rather than a second one.
+documented commands here (one test each: the dual-sidestay ones 10-30 s of CPU with the model built, the nose
+gear's studies and optimum, ab, the freefall leg and the lock stay 5-18 s, the tolerance study on its two local
+workers 30 s, the README tour's ``continue`` and ``folds`` a few seconds); the quoted paper sections (freefall,
+design_optimum) in tests/test_figure_review.py (``test_the_docs_quote_what_the_section_prints``), on the run its
+figure review makes, rather than a second one.
 
 A code block showing a command's output (a transcript, where a mark would show as text) is named by
 ``<!--transcript:SOURCE-->`` before its fence; its every line is checked against what the command prints, number by
@@ -210,6 +211,10 @@ def test_the_fill_command_refuses_a_folder_without_a_summary(tmp_path, capsys):
     (tmp_path / "summary.md").write_text(SUMMARY, encoding="utf-8")
     assert main([str(tmp_path), str(doc)]) == 0
     assert doc.read_text(encoding="utf-8") == "<!--run:nominal_lock_s-->1.607<!--/run--> s\n"
+    capsys.readouterr()
+    doc.write_text("<!--transcript:no_such_command-->\n```\nP = 1\n```\n", encoding="utf-8")   # nothing to run
+    assert main([str(tmp_path), str(doc)]) == 1
+    assert "transcript of no_such_command: 'P = 1': the run prints 'not run'" in capsys.readouterr().err
 
 
 def test_every_quoted_number_is_marked_and_every_mark_is_known():
