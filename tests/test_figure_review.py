@@ -168,17 +168,20 @@ def test_every_figure_of_a_paper_section_passes_the_review_and_is_shown(section)
 
 
 @pytest.mark.slow
-def test_the_docs_quote_what_the_freefall_section_prints():
-    """Every number the docs quote from the freefall section (the dual-sidestay freefall's summary lines; see
-    tests/test_doc_numbers.py) is what the section's run prints: the run the review above makes, not another."""
+@pytest.mark.parametrize("section", ["freefall", "design_optimum"])
+def test_the_docs_quote_what_the_section_prints(section):
+    """Every number the docs quote from a paper section (the freefall's: the dual-sidestay freefall's summary lines;
+    the reliability-based optima; see tests/test_doc_numbers.py) is what the section's run prints: the run the
+    review above makes, not another."""
     from test_doc_numbers import DOCUMENTS
 
-    from mechcont.paper.doc_numbers import QUOTES, mismatches, quoted
+    from mechcont.paper.doc_numbers import COMMANDS, QUOTES, mismatches, quoted
 
-    printed = {"freefall": "\n".join(section_run("freefall").lines)}
-    assert set(quoted(printed)) == {n for n, q in QUOTES.items() if q.source == "freefall"}
+    assert {q.source for q in QUOTES.values()} - set(COMMANDS) == {"freefall", "design_optimum"}   # each checked
+    printed = {section: "\n".join(section_run(section).lines)}
+    assert set(quoted(printed)) == {n for n, q in QUOTES.items() if q.source == section}
     wrong = [(path.name, *m) for path in DOCUMENTS for m in mismatches(path.read_text(encoding="utf-8"), printed)
-             if m[0] in QUOTES and QUOTES[m[0]].source == "freefall"]
+             if m[0] in QUOTES and QUOTES[m[0]].source == section]
     assert not wrong, f"quoted numbers that are not the run's (fill them: python -m mechcont.paper.doc_numbers): {wrong}"
 
 
