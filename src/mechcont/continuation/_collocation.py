@@ -66,6 +66,16 @@ def _unit_interval(m: int):
     return out
 
 
+@functools.lru_cache(maxsize=16)
+def _denominators(m: int) -> np.ndarray:
+    """``prod over l != i of (s_i - s_l)`` for the unit interval's NCOL + 1 equally spaced nodes ``s``: the Lagrange
+    basis's denominators, shape (ncol + 1,), read-only."""
+    s = np.linspace(0.0, 1.0, m + 1)
+    den = np.array([np.prod(s[i] - np.delete(s, i)) for i in range(m + 1)])
+    den.flags.writeable = False
+    return den
+
+
 class Mesh:
     """A collocation mesh: NTST intervals of ``[0, 1]``, NCOL + 1 equally spaced nodes and NCOL
     Gauss points in each.
@@ -156,12 +166,14 @@ class Mesh:
         t = np.mod(np.asarray(times, float), 1.0)
         j = np.clip(np.searchsorted(self.tau, t, side="right") - 1, 0, self.ntst - 1)
         local = (t - self.tau[j]) / self.h[j]
-        # the Lagrange basis at every point at once: prod over l != i of (x - s_l) / (s_i - s_l)
+        # the Lagrange basis at every point at once: prod over l != i of (x - s_l) / (s_i - s_l), the products over
+        # l < i and l > i by running products from either end
         d = local[:, None] - self.s[None, :]
-        eye = np.eye(len(self.s), dtype=bool)
-        num = np.prod(np.where(eye[None, :, :], 1.0, d[:, None, :]), axis=2)
-        den = np.prod(np.where(eye, 1.0, self.s[:, None] - self.s[None, :]), axis=1)
-        return np.einsum("pi,pin->pn", num / den, self.blocks(u)[j])
+        one = np.ones((len(t), 1))
+        left = np.cumprod(np.hstack([one, d[:, :-1]]), axis=1)
+        right = np.cumprod(np.hstack([one, d[:, :0:-1]]), axis=1)[:, ::-1]
+        basis = left * right / _denominators(self.ncol)
+        return np.einsum("pi,pin->pn", basis, u[self.index[j]])
 
     def adapted(self, u: np.ndarray) -> Mesh:
         """A mesh of the same size equidistributing ``|u^(NCOL+1)|^(1/(NCOL+1))`` for the orbit ``u``.
@@ -171,7 +183,7 @@ class Mesh:
         lengths estimate the (NCOL+1)-th derivative at each mesh point (de Boor, as AUTO does).
         """
         m = self.ncol
-        dm = np.einsum("i,jin->jn", self.Dm, self.blocks(u)) / self.h[:, None] ** m
+        dm = (self.Dm @ u[self._index_t].reshape(m + 1, -1)).reshape(self.ntst, -1) / self.h[:, None] ** m
         nxt = np.roll(dm, -1, axis=0)
         jump = np.linalg.norm(nxt - dm, axis=1) / (0.5 * (self.h + np.roll(self.h, -1)))  # at tau_(j+1)
         per = 0.5 * (jump + np.roll(jump, 1))  # per interval: the mean of its two ends

@@ -253,13 +253,21 @@ class CycleSystem:
     def tangent(self, lu, t_old: np.ndarray | None = None) -> np.ndarray:
         """The unit tangent from the factors of ``[BVP Jacobian; closing row]``: the solution of ``A t = e_last``
         normalised (for the arclength row ``<t_old, .>``, it points the way of ``t_old``)."""
+        return self.tangent_and_row(lu, None if t_old is None else self.row(t_old))[0]
+
+    def tangent_and_row(self, lu, row_old: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`tangent` and its :meth:`row` (one Gram product for both); ``row_old``: the previous tangent's row,
+        whose direction the tangent keeps."""
         e = np.zeros(self.size)
         e[-1] = 1.0
         t = lu.solve(e)
-        t /= self.norm(t)
-        if t_old is not None and self.row(t_old) @ t < 0:
-            t = -t
-        return t
+        r = self.row(t)
+        scale = 1.0 / math.sqrt(max(float(r @ t), 0.0))
+        t *= scale
+        r *= scale
+        if row_old is not None and row_old @ t < 0:
+            t, r = -t, -r
+        return t, r
 
     # -- stability ------------------------------------------------------------------------------
     def monodromy(self, X: np.ndarray) -> np.ndarray:

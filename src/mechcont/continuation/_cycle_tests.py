@@ -41,6 +41,13 @@ class _Point:
     label: str = ""
     approximate: bool = False
     trivial: complex = 1.0  # the trivial multiplier as computed: its distance from 1 is the multipliers' error
+    r: np.ndarray | None = None  # system.row(t), kept: the next step's arclength row and the tangents' angle
+
+    def row(self) -> np.ndarray:
+        """``r`` with ``r . X = <t, X>`` on this point's system (computed once)."""
+        if self.r is None:
+            self.r = self.system.row(self.t)
+        return self.r
 
 
 def _pd(mu: np.ndarray) -> float:
@@ -91,5 +98,9 @@ def _fold_confirmed(pt: _Point) -> bool:
 def _amplitude(pt: _Point) -> float:
     """The orbit's weighted L2 distance from its mean (0 for an equilibrium)."""
     u, _, _ = pt.system.split(pt.X)
-    dev = u - pt.system.mesh.mean(u)
-    return math.sqrt(max(float(pt.system.mesh.gram_row(dev * pt.system.weights) @ dev.ravel()), 0.0))
+    me = pt.system.mesh
+    uc, _ = me.at_collocation(u)
+    # the Gauss quadrature of the mesh's inner product (Mesh.gram_row) at the Gauss points' values, read once
+    quad = me.h[:, None] * me.g[None, :]
+    dev = uc - np.einsum("jk,jkn->n", quad, uc)
+    return math.sqrt(max(float(np.einsum("jk,jkn,n->", quad, dev * dev, pt.system.weights)), 0.0))

@@ -149,31 +149,32 @@ class _Run:
         self.values += [("UZ", -1, float(v)) for v in at]
 
     # -- one orbit ------------------------------------------------------------------------------
-    def solve(self, system: CycleSystem, X0: np.ndarray, t0: np.ndarray, sigma: float,
-              closing: np.ndarray | None = None, target: float | None = None) -> _Point:
-        """The orbit on the hyperplane ``<t0, X - X0> = sigma`` (or ``closing . X = target``), its tangent and multipliers."""
-        o = self.options
-        pred = X0 + sigma * t0
+    def solve(self, cur: _Point, X0: np.ndarray, sigma: float, closing: np.ndarray | None = None,
+              target: float | None = None) -> _Point:
+        """The orbit on ``cur``'s system on the hyperplane ``<cur.t, X - X0> = sigma`` (or ``closing . X = target``),
+        its tangent (pointing the way of ``cur.t``) and multipliers."""
+        o, system, row0 = self.options, cur.system, cur.row()
+        pred = X0 + sigma * cur.t
         if closing is None or target is None:
-            closing = system.row(t0)
+            closing = row0
             target = float(closing @ pred)
         X, lu, iters = system.newton(pred, phase_reference(system, pred), closing, target, o.engine.newton_tol,
                                      o.engine.max_newton)
-        t = system.tangent(lu, t0)
+        t, r = system.tangent_and_row(lu, row0)
         # the multipliers from the last factors: their Jacobian is that of the converged orbit to within the tolerance
         mu = lu.multipliers()
-        pt = _Point(system, X, t, nontrivial_multipliers(mu), trivial=complex(mu[np.argmin(np.abs(mu - 1.0))]))
+        pt = _Point(system, X, t, nontrivial_multipliers(mu), trivial=complex(mu[np.argmin(np.abs(mu - 1.0))]), r=r)
         pt.iterations = iters  # type: ignore[attr-defined]
         return pt
 
     def step(self, cur: _Point) -> _Point:
         """One accepted step from ``cur`` (the step size adapted); raises :class:`NewtonFailure` below ``dsmin``."""
-        o, sys_ = self.options, cur.system
+        o = self.options
         while True:
             ds = self.control.ds
             try:
-                new = self.solve(sys_, cur.X, cur.t, ds)
-                cosang = float(sys_.row(cur.t) @ new.t)
+                new = self.solve(cur, cur.X, ds)
+                cosang = float(cur.row() @ new.t)
                 if cosang >= math.cos(o.engine.max_angle):
                     self.control.accept(new.iterations)  # type: ignore[attr-defined]
                     new.ds = ds  # type: ignore[attr-defined]
@@ -194,10 +195,13 @@ class _Run:
             return cur
         new_sys = CycleSystem(sys_.rates, mesh, sys_.weights, sys_.p_weight)
         tu, tT, tp = sys_.split(cur.t)
-        X = new_sys.pack(sys_.mesh.moved(u, mesh), T, p)
-        t = new_sys.pack(sys_.mesh.moved(tu, mesh), tT, tp)
-        t /= new_sys.norm(t)
-        return _Point(new_sys, X, t, cur.mu, cur.label, cur.approximate, cur.trivial)
+        n = u.shape[1]
+        both = sys_.mesh.moved(np.hstack([u, tu]), mesh)  # one Lagrange basis for the orbit and its tangent
+        X = new_sys.pack(both[:, :n], T, p)
+        t = new_sys.pack(both[:, n:], tT, tp)
+        r = new_sys.row(t)
+        scale = 1.0 / math.sqrt(max(float(r @ t), 0.0))
+        return _Point(new_sys, X, t * scale, cur.mu, cur.label, cur.approximate, cur.trivial, r=r * scale)
 
     # -- events ---------------------------------------------------------------------------------
     def events(self, cur: _Point, new: _Point, ds: float) -> list[tuple[float, _Point]]:
@@ -211,10 +215,9 @@ class _Run:
             closing[idx] = 1.0
             w = a / (a - b)
             try:
-                pt = self.solve(cur.system, (1 - w) * cur.X + w * new.X, cur.t, 0.0, closing, v)
+                pt = self.solve(cur, (1 - w) * cur.X + w * new.X, 0.0, closing, v)
             except NewtonFailure:
                 continue
-            pt.t = pt.t if cur.system.row(cur.t) @ pt.t > 0 else -pt.t
             pt.label = label
             found.append((w * ds, pt))
         tests: list[tuple[str, Callable[[_Point], float]]] = [("LPC", lambda q: float(q.t[-1])), ("PD", lambda q: _pd(q.mu)),
@@ -226,14 +229,14 @@ class _Run:
             cache: dict[float, _Point] = {}
 
             def g(sigma, fn=fn, cache=cache):
-                cache[sigma] = self.solve(cur.system, cur.X, cur.t, sigma)
+                cache[sigma] = self.solve(cur, cur.X, sigma)
                 return fn(cache[sigma])
 
             try:
                 sigma = brentq(g, 0.0, ds, xtol=1e-13 * max(ds, 1e-6), fa=a, fb=b)
-                pt = cache[sigma] if sigma in cache else self.solve(cur.system, cur.X, cur.t, sigma)
+                pt = cache[sigma] if sigma in cache else self.solve(cur, cur.X, sigma)
             except (NewtonFailure, ValueError, RuntimeError):
-                sigma, pt = ds, _Point(new.system, new.X, new.t, new.mu, approximate=True, trivial=new.trivial)
+                sigma, pt = ds, _Point(new.system, new.X, new.t, new.mu, approximate=True, trivial=new.trivial, r=new.r)
             if label in ("PD", "NS") and not abs(pt.trivial - 1.0) < ON_CIRCLE:
                 continue  # the trivial multiplier is not 1: the multipliers are not accurate enough to tell
             if label == "PD" and not np.any((pt.mu.imag == 0) & (np.abs(pt.mu + 1) < ON_CIRCLE)):
@@ -307,7 +310,7 @@ def continue_cycles(model, system: CycleSystem, start: CycleStart, vary: str, op
             status = Status.STEP_UNDERFLOW
             break
         # at a Hopf start the critical pair sits on the unit circle: no crossing is counted from there
-        ref = _Point(cur.system, cur.X, cur.t, new.mu) if start.label == "HB" and steps == 0 else cur
+        ref = _Point(cur.system, cur.X, cur.t, new.mu, r=cur.r) if start.label == "HB" and steps == 0 else cur
         ds = new.ds  # type: ignore[attr-defined]
         ended = False
         for sigma, pt in run.events(ref, new, ds):
