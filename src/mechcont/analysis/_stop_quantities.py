@@ -23,6 +23,7 @@ from ..continuation import choose_unknowns, find_equilibrium
 from ..equations import Model
 from ..errors import InputError
 from .sensitivity import Sensitivity, equilibrium_sensitivity, fold_sensitivity, release_sensitivity, through_limits
+from .stop_lock import locked_on_stops, stop_unlock
 
 __all__ = ["stop_reactions", "preload_sensitivity", "stop_unlock_sensitivity"]
 
@@ -44,8 +45,6 @@ def preload_sensitivity(system: Model, values: Mapping[str, float], reaction: st
     hold = {s.condition: float(s.limit) for s in stops}
     free = [s.reaction for s in stops]
     if guess is None:
-        from .stop_lock import locked_on_stops
-
         guess, _ = locked_on_stops(system, values)
     x = find_equilibrium(system, values=dict(values), hold=hold, free=free, guess=guess)
     unknowns = choose_unknowns(system, hold=list(hold), free=free)
@@ -60,8 +59,6 @@ def stop_unlock_sensitivity(system: Model, values: Mapping[str, float], force: s
     fold, :func:`~mechcont.analysis.stop_lock.stop_unlock`) and its derivatives by ``params``. Raises
     :class:`InputError` when the release run finds no fold (the notes say why). The model is taken at ``values``
     (:meth:`~mechcont.equations.Model.with_values`: a stop's limit written in a parameter follows it)."""
-    from .stop_lock import locked_on_stops, stop_unlock
-
     system = system.with_values(dict(values)) if values else system
     x, _ = locked_on_stops(system, values)
     found = stop_unlock(system, x, force, stability=False, both=False)

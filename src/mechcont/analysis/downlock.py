@@ -27,7 +27,8 @@ from ..equations import Model
 from ..errors import InputError
 from ._downlock_point import DownlockResult, downlock_condition, downlock_point, downlocked_pose
 from ._runs import early_stops
-from .unlock import unlock_folds
+from .sensitivity import with_sensitivity_columns
+from .unlock import unlock_folds, with_unlock_columns
 
 __all__ = ["downlock", "downlock_table", "downlock_point", "downlock_condition", "downlocked_pose", "DownlockResult"]
 
@@ -143,9 +144,6 @@ def downlock_table(system: Model, vary: str, bounds: Mapping[str, tuple[float, f
     (:func:`~mechcont.analysis.sensitivity.with_sensitivity_columns`). ``options`` are :func:`downlock`'s.
     Raises :class:`InputError` (field ``params``) for a ``sensitivity`` name that is not a parameter held
     along the branch."""
-    from .sensitivity import with_sensitivity_columns
-    from .unlock import with_unlock_columns
-
     result = downlock(system, vary, bounds, **options)
     result = with_unlock_columns(system, result, result.force, released=list(result.condition))
     params = list(sensitivity)
