@@ -278,3 +278,20 @@ def test_lock_up_fold_curve_points_are_lock_link_alignments(base):
         assert paper.lock_misfit(system.as_dict(x), "aft", geo, knee_hint=hint) == pytest.approx(0.0, abs=1e-8)
     th, l4 = curve.values[:, system.index("theta")], curve.values[:, system.index("aft_L4")]
     assert np.ptp(l4) > 0.05 and np.ptp(th) > math.radians(1.0)
+
+
+def test_the_model_is_rebuilt_from_its_description(base):
+    """The model's description (``mechanism``) holds the geometry it was built from and builds the same gear at
+    other values: the gear-down knee of the rebuilt model solves the rebuilt equations."""
+    from dataclasses import replace
+
+    from mechcont.models.dual_sidestay import geometry_of
+    from mechcont.models.overcentre import build_overcentre
+
+    assert geometry_of(base) is DEFAULT_GEOMETRY
+    geo = DEFAULT_GEOMETRY.with_aft_plane(DEFAULT_GEOMETRY.aft.phi + 0.05)
+    moved = replace(base.mechanism, geometry=geo).build(delta=DEFAULT_GEOMETRY.delta + 0.01)
+    assert geometry_of(moved) is geo and moved.variable("delta").value == pytest.approx(DEFAULT_GEOMETRY.delta + 0.01)
+    assert np.max(np.abs(moved.residual(moved.defaults()))) < 1e-9   # gear-down pose of geo, delta moved: theta = 0
+    with pytest.raises(TypeError, match="GearGeometry"):
+        geometry_of(build_overcentre())

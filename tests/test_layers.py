@@ -284,8 +284,9 @@ def test_no_import_circle_between_the_files_of_a_package():
 
 
 #: the packages whose files still close an import circle through an import inside a function (issue 34: 11 such
-#: circles; equations and dynamics have none since); the set only shrinks, never add to it
-LAZY_CIRCLES_LEFT = {"analysis", "continuation", "mechanism", "models", "outputs", "paper"}
+#: circles; 1 left: mechanism's descriptions, whose build methods call the generators that read them); the set
+#: only shrinks, never add to it
+LAZY_CIRCLES_LEFT = {"mechanism"}
 
 
 def test_no_import_circle_on_first_use_outside_the_packages_left():

@@ -14,7 +14,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 import numpy as np
@@ -22,47 +22,15 @@ import numpy as np
 from ..continuation import choose_unknowns, find_equilibrium
 from ..equations import Model
 from ..errors import InputError
-from .sensitivity import Sensitivity, equilibrium_sensitivity, fold_sensitivity, release_sensitivity
+from .sensitivity import Sensitivity, equilibrium_sensitivity, fold_sensitivity, release_sensitivity, through_limits
+from .stop_lock import locked_on_stops, stop_unlock
 
-__all__ = ["stop_reactions", "preload_sensitivity", "stop_unlock_sensitivity", "through_limits"]
+__all__ = ["stop_reactions", "preload_sensitivity", "stop_unlock_sensitivity"]
 
 
 def stop_reactions(system: Model) -> dict[str, str]:
     """``{reaction name: stop name}`` of the model's stops (empty for a model without stops)."""
     return {s.reaction: s.name for s in system.stops}
-
-
-def through_limits(system: Model, params: Iterable[str], held: Iterable[str],
-                   compute: Callable[[list[str]], Sensitivity], *, targets: bool = False) -> Sensitivity:
-    """A sensitivity by ``params`` of a quantity solved with the conditions ``held`` at their stops' limits (or,
-    ``targets``, at their declared targets: the downlock hold), each the function of the parameters its
-    description writes (:meth:`~mechcont.equations.Model.limit_derivatives`, ``target_derivatives``):
-    ``compute(names)`` differentiates by ``names`` (``params`` and the held conditions that depend on them), and
-    ``dq/dp = dq/dp|held + sum_c dq/dc dc/dp``. A stop's limit is then a parameter like any other (its
-    derivative is not 0). Returns the :class:`Sensitivity` by ``params`` alone."""
-    params, held = list(params), set(held)
-    if targets:
-        grads = {c: system.target_derivatives(c, params) for c in held if c in system.conditions and c not in params}
-    else:
-        grads = {s.condition: system.limit_derivatives(s.name, params) for s in system.stops
-                 if s.condition in held and s.condition not in params}
-    grads = {c: g for c, g in grads.items() if any(g.values())}
-    sens = compute([*params, *grads])
-    if not grads:
-        return sens
-    d = sens.derivatives
-    for p in params:
-        d[p] = d[p] + sum(d[c] * g[p] for c, g in grads.items())
-    for p in params:
-        if p in sens.states:
-            row = sens.states[p]
-            for u in row:
-                row[u] = row[u] + sum(sens.states[c].get(u, 0.0) * g[p] for c, g in grads.items())
-    for c in grads:
-        d.pop(c, None)
-        sens.units.pop(c, None)
-        sens.states.pop(c, None)
-    return sens
 
 
 def preload_sensitivity(system: Model, values: Mapping[str, float], reaction: str, params: Sequence[str],
@@ -77,8 +45,6 @@ def preload_sensitivity(system: Model, values: Mapping[str, float], reaction: st
     hold = {s.condition: float(s.limit) for s in stops}
     free = [s.reaction for s in stops]
     if guess is None:
-        from .stop_lock import locked_on_stops
-
         guess, _ = locked_on_stops(system, values)
     x = find_equilibrium(system, values=dict(values), hold=hold, free=free, guess=guess)
     unknowns = choose_unknowns(system, hold=list(hold), free=free)
@@ -93,8 +59,6 @@ def stop_unlock_sensitivity(system: Model, values: Mapping[str, float], force: s
     fold, :func:`~mechcont.analysis.stop_lock.stop_unlock`) and its derivatives by ``params``. Raises
     :class:`InputError` when the release run finds no fold (the notes say why). The model is taken at ``values``
     (:meth:`~mechcont.equations.Model.with_values`: a stop's limit written in a parameter follows it)."""
-    from .stop_lock import locked_on_stops, stop_unlock
-
     system = system.with_values(dict(values)) if values else system
     x, _ = locked_on_stops(system, values)
     found = stop_unlock(system, x, force, stability=False, both=False)

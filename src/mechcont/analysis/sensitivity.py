@@ -9,7 +9,7 @@ are in SI units per SI unit (``N/(N/m)`` for a force by a stiffness); angles in 
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import replace
 
 import numpy as np
@@ -27,6 +27,7 @@ from ..continuation import (
 from ..equations import Model
 from ..errors import InputError
 from ..units import derivative_unit
+from ._downlock_point import DownlockResult, downlock_condition, downlock_point
 from .unlock import B
 
 __all__ = ["Sensitivity", "equilibrium_sensitivity", "fold_sensitivity", "downlock_sensitivity", "point_sensitivity",
@@ -44,16 +45,13 @@ def downlock_sensitivity(system: Model, params: Iterable[str], values: Mapping[s
     held and the force among the unknowns. Returns a :class:`Sensitivity` of kind
     ``"downlock"`` (N per unit of each parameter).
     """
-    from .downlock import downlock_condition, downlock_point
-
     if values:  # the model at the values: a hold target written in parameters follows them
         system = system.with_values({k: v for k, v in values.items() if system.variable(k).kind == "parameter"})
     h, f = downlock_condition(system, hold, force, condition=condition)
     if x is None:
         x = downlock_point(system, values, hold=h, force=f)
     unknowns = choose_unknowns(system, hold=h, free=[f])
-    from ._stop_quantities import through_limits  # a hold target written in parameters moves with them
-
+    # a hold target written in parameters moves with them
     return through_limits(system, params, [] if hold else h, targets=True,
                           compute=lambda names: equilibrium_sensitivity(system, x, unknowns, names, f, kind="downlock"))
 
@@ -101,8 +99,6 @@ def with_sensitivity_columns(system: Model, result: B, params: Iterable[str], of
     with the continuation parameter held (:func:`equilibrium_sensitivity` at each row). The
     units of the new columns are those of the derivatives (``N/(N/m)``).
     """
-    from .downlock import DownlockResult
-
     branch = result.branch if isinstance(result, DownlockResult) else result
     of = of or (result.force if isinstance(result, DownlockResult) else None)
     if of is None:
@@ -161,7 +157,7 @@ def release_sensitivity(system: Model, x: np.ndarray, stop: str, vary: str, para
 
         x = find_equilibrium(system, hold=hold, free=free, guess=x)
     unknowns = choose_unknowns(system, hold=list(hold), free=free)
-    from ._stop_quantities import through_limits  # a limit written in parameters moves the held conditions
+    # a limit written in parameters moves the held conditions
 
     sens = through_limits(system, params, hold,
                           lambda names: equilibrium_sensitivity(system, x, unknowns, names, vary, kind="release"))
@@ -189,8 +185,6 @@ def margin_sensitivity(system: Model, design: str, params: Iterable[str],
     ``design``); :class:`InputError` when there is no fold or crossing in ``bounds``.
     """
     from ..continuation import find_equilibrium
-    from .downlock import downlock_condition, downlock_point
-
     if kind not in ("fold", "lock"):
         raise InputError("kind", f"'{kind}' is not a margin; valid: fold, lock")
     h, f = downlock_condition(system, hold, force, condition=condition)
@@ -229,8 +223,6 @@ def margin_sensitivity(system: Model, design: str, params: Iterable[str],
 def _nearest(system, design, values, kind, bounds, h, f, x0) -> float:
     """The fold (extremum of ``f`` in ``design``) or ``f = 0`` crossing nearest ``x0``, by continuation in ``f``."""
     from ..continuation import ContinuationOptions, continuation
-    from .downlock import downlock_point
-
     if bounds is None:
         raise InputError("bounds", f"give the range of {design} to look for the {kind} margin in (or 'at')")
     lo, hi = map(float, bounds)
@@ -252,3 +244,36 @@ def _nearest(system, design, values, kind, bounds, h, f, x0) -> float:
 
 # the cusp's location lives in its own module (it uses the helpers above); re-exported here
 from ._cusp import cusp_sensitivity  # noqa: E402
+
+
+def through_limits(system: Model, params: Iterable[str], held: Iterable[str],
+                   compute: Callable[[list[str]], Sensitivity], *, targets: bool = False) -> Sensitivity:
+    """A sensitivity by ``params`` of a quantity solved with the conditions ``held`` at their stops' limits (or,
+    ``targets``, at their declared targets: the downlock hold), each the function of the parameters its
+    description writes (:meth:`~mechcont.equations.Model.limit_derivatives`, ``target_derivatives``):
+    ``compute(names)`` differentiates by ``names`` (``params`` and the held conditions that depend on them), and
+    ``dq/dp = dq/dp|held + sum_c dq/dc dc/dp``. A stop's limit is then a parameter like any other (its
+    derivative is not 0). Returns the :class:`Sensitivity` by ``params`` alone."""
+    params, held = list(params), set(held)
+    if targets:
+        grads = {c: system.target_derivatives(c, params) for c in held if c in system.conditions and c not in params}
+    else:
+        grads = {s.condition: system.limit_derivatives(s.name, params) for s in system.stops
+                 if s.condition in held and s.condition not in params}
+    grads = {c: g for c, g in grads.items() if any(g.values())}
+    sens = compute([*params, *grads])
+    if not grads:
+        return sens
+    d = sens.derivatives
+    for p in params:
+        d[p] = d[p] + sum(d[c] * g[p] for c, g in grads.items())
+    for p in params:
+        if p in sens.states:
+            row = sens.states[p]
+            for u in row:
+                row[u] = row[u] + sum(sens.states[c].get(u, 0.0) * g[p] for c, g in grads.items())
+    for c in grads:
+        d.pop(c, None)
+        sens.units.pop(c, None)
+        sens.states.pop(c, None)
+    return sens

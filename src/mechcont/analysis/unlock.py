@@ -13,17 +13,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, TypeVar
+from typing import TypeVar
 
 import numpy as np
 
 from ..continuation import Branch, ContinuationOptions, EngineSettings, FoldEvent, SpecialPoint, continuation
 from ..equations import Model
 from ..errors import ConvergenceError, InputError
+from ._downlock_point import DownlockResult
 from ._runs import early_stops
-
-if TYPE_CHECKING:
-    from .downlock import DownlockResult
 
 #: A branch, or a downlock result holding one (the functions that add columns give back the same kind).
 B = TypeVar("B", Branch, "DownlockResult")
@@ -217,8 +215,6 @@ def with_unlock_columns(system: Model, result: B, force: str, released=()) -> B:
     force (the paper's unlock direction); ``unlock_<F>_decreasing``: the one reached by decreasing
     it; a column only when some point has that fold (see :func:`unlock_force_along`).
     """
-    from .downlock import DownlockResult  # (downlock imports this module)
-
     if not isinstance(result, DownlockResult):
         above, below, _ = unlock_force_along(system, result, force, released)
         return result.with_columns(*_unlock_columns(force, above, below))

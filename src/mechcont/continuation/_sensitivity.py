@@ -28,6 +28,7 @@ import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -38,7 +39,9 @@ from ._fold_point import fold_quantities, fold_scaling, polish_fold
 from ._move import move_point
 from ._problem import choose_unknowns
 from ._scaling import equilibrate
-from ._special_point import SpecialPoint
+
+if TYPE_CHECKING:
+    from ._special_point import SpecialPoint
 
 __all__ = ["Sensitivity", "equilibrium_sensitivity", "fold_sensitivity", "point_sensitivity", "derivative_unit",
            "check_parameters", "write_json"]
@@ -311,15 +314,17 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
     with its lens), never re-solved blindly from the old row; :class:`~._move.PointLost` (an
     :class:`InputError`) in one line when the point ends on the way (a fold past a cusp).
     """
-    sp = point if isinstance(point, SpecialPoint) else None
-    x = np.asarray(point.x if isinstance(point, SpecialPoint) else point, dtype=float)
+    # a bare vector (array, list) or a recorded point, told apart without importing the point's class, whose
+    # ``sensitivity`` method calls this function
+    sp: SpecialPoint | None = None if isinstance(point, (np.ndarray, Sequence)) else point
+    x = np.asarray(point if sp is None else sp.x, dtype=float)
     if x.shape != (len(system.names),):
         raise InputError("point", f"has {x.size} values; model '{system.name}' has {len(system.names)} variables")
     vary = vary or (sp.vary if sp else None)
     if not vary:
         raise InputError("vary", "the point does not say its continuation parameter; give it")
     system.variable(vary)
-    label = label if label is not None else (point.label if isinstance(point, SpecialPoint) else "")
+    label = label if label is not None else (sp.label if sp is not None else "")
     of = of or vary
     if of == vary and label in ("SR", "NSF", "CP"):
         handler = SPECIAL_POINTS.get(label)

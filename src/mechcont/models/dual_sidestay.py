@@ -23,18 +23,20 @@ Loads (gravity of the fitting and wheels and of the sidestay arms) enter only th
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..equations import EquationSystem, Limit, Model, Scene, Variable, branch_rates
-from .dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry, rotation
+from .dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry, rotation, trunnion_axis
 
 if TYPE_CHECKING:
     import sympy as sp
 
-__all__ = ["build_dual_sidestay_kinematics", "geometry_of", "geometry_values", "points_at", "gear_scene", "loaded_scene",
+__all__ = ["build_dual_sidestay_kinematics", "GearDescription",
+           "geometry_of", "geometry_values", "points_at", "gear_scene", "loaded_scene",
            "actuator_tension", "gravity_rate", "start_values", "actuator_length_rate", "SIDES", "POINTS"]
 
 SIDES = ("fwd", "aft")
@@ -112,6 +114,21 @@ def _geometry_description(name: str) -> str:
     return f"{text}, {axis}" if axis else text
 
 
+@dataclass(frozen=True)
+class GearDescription:
+    """The description a model of :func:`build_dual_sidestay_kinematics` is built from (its ``mechanism``): the
+    gear's :class:`GearGeometry`; :meth:`build` builds the model again at other parameter values."""
+
+    geometry: GearGeometry
+    name: str = "dual_sidestay_kinematics"
+
+    def build(self, **overrides: float) -> Model:
+        """The retraction kinematics of this gear at the parameter values ``overrides`` (SI; the others at its
+        geometry's)."""
+        model = build_dual_sidestay_kinematics(self.geometry)
+        return model.with_values(overrides) if overrides else model
+
+
 def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> Model:
     """The compiled retraction kinematics (12 states ``fwd_K_x .. aft_J_z`` in m; parameters
     ``theta`` (rad), ``delta`` (rad) and per sidestay ``A``, ``n``, ``B0``, ``P0`` vectors and
@@ -119,7 +136,7 @@ def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> Mode
 
     The scene draws the gear in 3-D (fitting, arms, lock links, actuator, weight). The
     equations are generated and compiled once per process; another ``geo`` only changes the
-    defaults and the model's ``mechanism`` (``geo``: the description it is built from). A new
+    defaults and the model's ``mechanism`` (a :class:`GearDescription` of ``geo``). A new
     process loads them with their compiled code from the disk cache (keyed by mechcont's source) when an earlier one built them.
     """
     if "system" not in _STRUCTURE:
@@ -129,7 +146,7 @@ def build_dual_sidestay_kinematics(geo: GearGeometry = DEFAULT_GEOMETRY) -> Mode
                                       lambda: _build(_variables(DEFAULT_GEOMETRY)),
                                       valid=lambda obj: isinstance(obj, EquationSystem)
                                       and obj.name == "dual_sidestay_kinematics")
-    model = Model.from_system(_STRUCTURE["system"].evolve(variables=_variables(geo)), mechanism=geo)
+    model = Model.from_system(_STRUCTURE["system"].evolve(variables=_variables(geo)), mechanism=GearDescription(geo))
     return model.evolve(scene=partial(loaded_scene, model))
 
 
@@ -173,10 +190,10 @@ def _build(variables: list[Variable]) -> EquationSystem:
 
 def geometry_of(system: Model) -> GearGeometry:
     """The :class:`GearGeometry` a model of :func:`build_dual_sidestay_kinematics` was built from."""
-    geo = system.mechanism
-    if not isinstance(geo, GearGeometry):
+    description = system.mechanism
+    if not isinstance(description, GearDescription):
         raise TypeError(f"model '{system.name}' is not built from a GearGeometry (build_dual_sidestay_kinematics)")
-    return geo
+    return description.geometry
 
 
 def points_at(system: Model, x: np.ndarray) -> dict[str, np.ndarray]:
@@ -184,8 +201,6 @@ def points_at(system: Model, x: np.ndarray) -> dict[str, np.ndarray]:
     ``C``/``D``, and per side ``<side>_A``, ``_B``, ``_P``, ``_K``, ``_J``."""
     v = system.as_dict(x)
     geo = geometry_of(system)
-    from .dual_sidestay_geometry import trunnion_axis
-
     R = rotation(trunnion_axis(v["delta"]), v["theta"])
     out = {"O": np.zeros(3), "axle": R @ geo.axle, "cg": R @ geo.cg, "C": np.asarray(geo.actuator_airframe, float),
            "D": R @ geo.actuator_lug}
@@ -203,8 +218,6 @@ def gear_scene(system: Model, x: np.ndarray, actuator_tension: float = 0.0) -> S
     in N, positive pulling), the fitting's weight, the trunnion and hinge axes."""
     p = points_at(system, np.asarray(x, float))
     geo = geometry_of(system)
-    from .dual_sidestay_geometry import trunnion_axis
-
     v = system.as_dict(x)
     e = trunnion_axis(v["delta"])
     t_fwd, t_aft = 0.35 * e, -0.35 * e
@@ -235,8 +248,6 @@ def _arm_mid_z_rate(system, x, dx, side: str, a: str, b: str) -> float:
             return 0.0
         if pt == "B":  # on the fitting: rotates with theta
             v = system.as_dict(x)
-            from .dual_sidestay_geometry import trunnion_axis
-
             e = trunnion_axis(v["delta"])
             B = points_at(system, x)[f"{side}_B"]
             return float(np.cross(e, B)[2] * dx[system.index("theta")])
@@ -249,8 +260,6 @@ def gravity_rate(system: Model, x: np.ndarray, dx: np.ndarray, arms: bool = True
     """dV/d(theta) of gravity (J/rad) for the rate ``dx``: the fitting with wheels at its cg and, with
     ``arms``, each sidestay arm's mass at its middle (lock links massless)."""
     geo = geometry_of(system)
-    from .dual_sidestay_geometry import trunnion_axis
-
     e = trunnion_axis(system.as_dict(x)["delta"])
     cg = points_at(system, x)["cg"]
     dv = geo.fitting_mass * geo.g * float(np.cross(e, cg)[2]) * dx[system.index("theta")]
@@ -263,8 +272,6 @@ def gravity_rate(system: Model, x: np.ndarray, dx: np.ndarray, arms: bool = True
 
 def actuator_length_rate(system, x: np.ndarray, dx: np.ndarray) -> tuple[float, float]:
     """Retraction actuator length (m) between its airframe end C and fitting lug D, and its rate (m/rad)."""
-    from .dual_sidestay_geometry import trunnion_axis
-
     p = points_at(system, x)
     d = p["D"] - p["C"]
     ell = float(np.linalg.norm(d))

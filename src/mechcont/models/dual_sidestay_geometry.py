@@ -23,12 +23,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
-
-if TYPE_CHECKING:
-    from ..equations import Model
 
 __all__ = ["Sidestay", "GearGeometry", "DEFAULT_GEOMETRY", "rotation", "trunnion_axis"]
 
@@ -184,19 +180,6 @@ class GearGeometry:
     def trunnion(self) -> np.ndarray:
         """Unit trunnion axis (positive rotation retracts inboard)."""
         return trunnion_axis(self.delta)
-
-    @property
-    def name(self) -> str:
-        """The name of the model built from it (a geometry is the description of the hand-formulated gear)."""
-        return "dual_sidestay_kinematics"
-
-    def build(self, **overrides: float) -> Model:
-        """The retraction kinematics of this gear (:func:`~mechcont.models.dual_sidestay.build_dual_sidestay_kinematics`)
-        at the parameter values ``overrides`` (SI; the others at this geometry's)."""
-        from .dual_sidestay import build_dual_sidestay_kinematics
-
-        model = build_dual_sidestay_kinematics(self)
-        return model.with_values(overrides) if overrides else model
 
     def with_aft_plane(self, phi: float) -> GearGeometry:
         """The same gear with the aft sidestay's plane angle ``phi`` (rad)."""

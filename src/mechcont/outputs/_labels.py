@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._symbols import _LABEL_BOX
+
 __all__ = ["Label", "place_labels", "text_boxes"]
 
 _DIRECTIONS = 32
@@ -99,8 +101,6 @@ def place_labels(ax, labels: Sequence[Label], renderer, avoid=None, *, fontsize:
     Returns the :class:`matplotlib.text.Text` artists, in the order of ``labels``.
     """
     from matplotlib.lines import Line2D
-
-    from .drawing import _LABEL_BOX
 
     frame = ax.get_window_extent(renderer)
     limit = np.array([frame.x0, frame.y0, frame.x1, frame.y1])

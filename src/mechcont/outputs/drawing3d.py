@@ -32,7 +32,7 @@ import numpy as np
 
 from ..equations import Scene
 from ..errors import InputError
-from . import drawing as _d
+from . import _drawing_parts as _d
 
 __all__ = ["VIEWS", "is_spatial", "project", "draw_scene3d", "draw3d", "spatial_layout", "layout_size", "legend",
            "label_views"]

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ._nose_gear_settings import FIG7_RATE, L_SP1_RANGE, LU_RANGE, MISRIG
+
 __all__ = ["_plot_all"]
 
 
@@ -56,7 +58,6 @@ def _plot_fig7(res, out_dir: Path) -> Path:
     from matplotlib.figure import Figure
 
     from ..outputs.plotting import interval_states
-    from .nose_gear import FIG7_RATE
 
     fig = Figure(figsize=(5.8, 4.2), layout="constrained")
     ax = fig.add_subplot()
@@ -85,7 +86,6 @@ def _plot_fig8(res, out_dir: Path) -> Path:
     from matplotlib.figure import Figure
 
     from ..outputs.plotting import curve
-    from .nose_gear import MISRIG
 
     fig = Figure(figsize=(5.8, 4.2), layout="constrained")
     ax = fig.add_subplot()
@@ -132,7 +132,6 @@ def _plot_fig10(res, out_dir: Path) -> Path:
     from matplotlib.figure import Figure
 
     from ..outputs.plotting import label_point
-    from .nose_gear import L_SP1_RANGE
 
     fig = Figure(figsize=(5.8, 4.2), layout="constrained")
     ax = fig.add_subplot()
@@ -155,7 +154,6 @@ def _plot_fig11(res, out_dir: Path) -> Path:
     from matplotlib.figure import Figure
 
     from ..outputs.plotting import curve
-    from .nose_gear import L_SP1_RANGE
 
     fig = Figure(figsize=(10, 8), layout="constrained")
     ax3 = fig.add_subplot(2, 2, 1, projection="3d")
@@ -202,7 +200,6 @@ def _plot_fig11_projection(ax, res, xn: str, yn: str, title: str, hi, fc) -> Non
     """One projection of Fig. 11 (``yn`` against ``xn``): the LU = 1.3 m curve ``hi``, the fold locus
     ``fc`` with its cusp and, in the (l_sp1, F) plane, the surface's curves."""
     from ..outputs.plotting import label_point
-    from .nose_gear import LU_RANGE
 
     if (xn, yn) == ("l_sp1", "F"):
         for j, br in enumerate(res.fig11_surface):

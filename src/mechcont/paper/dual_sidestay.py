@@ -22,6 +22,7 @@ from ..analysis.retraction import ActuatorLoads, actuator_loads, first_fold
 from ..continuation import Branch, ContinuationOptions, continuation, continue_folds
 from ..equations import Model
 from ..models.dual_sidestay import (
+    GearDescription,
     actuator_length_rate,
     build_dual_sidestay_kinematics,
     geometry_values,
@@ -81,7 +82,7 @@ def retraction(geo: GearGeometry = DEFAULT_GEOMETRY, *, base=None, max_steps: in
     first fold (lock-up) or the gear-up position.
     """
     base = base or build_dual_sidestay_kinematics(geo)
-    system = base.with_values(geometry_values(geo)).evolve(mechanism=geo)
+    system = base.with_values(geometry_values(geo)).evolve(mechanism=GearDescription(geo))
     system = system.evolve(scene=partial(loaded_scene, system))
     x0 = system.vector(start_values(geo), base=system.defaults())
     branch = continuation(system, x0, "theta", direction=1,

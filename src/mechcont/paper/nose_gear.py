@@ -24,6 +24,15 @@ from typing import TYPE_CHECKING, TypeVar
 import numpy as np
 
 from ._nose_gear_figures import _plot_all
+from ._nose_gear_settings import (
+    DOWNLOCK_DAMPING,
+    DOWNLOCK_RATE,
+    FIG7_DAMPING,
+    FIG7_RATE,
+    L_SP1_RANGE,
+    LU_RANGE,
+    MISRIG,
+)
 from ._timing import timed
 
 if TYPE_CHECKING:
@@ -35,13 +44,6 @@ if TYPE_CHECKING:
 T = TypeVar("T")
 
 __all__ = ["run", "compute", "NoseGearResults", "fit_residual"]
-
-L_SP1_RANGE = (-0.175, 0.175)  # the attachment anywhere on lock link 1 (L4 = 0.35 m)
-LU_RANGE = (1.25, 1.35)
-FIG7_RATE, FIG7_DAMPING = 20.0, 5.0  # N/s and 1/s of the Fig. 7 time simulation
-DOWNLOCK_RATE, DOWNLOCK_DAMPING = 2.0, 20.0  # N/s and 1/s of the slow downlock ramp
-MISRIG = -0.0005  # m: lock-link lug short of the aligned position (Fig. 8 variant)
-
 
 def fit_residual(x, y, degree: int) -> float:
     """RMS residual of a least-squares polynomial fit of ``degree``, relative to the range of ``y``."""
