@@ -36,7 +36,8 @@ def overcentre():
 #: other worker starts on work of its own while the first builds the gear.
 LONGEST_FIRST = ["test_dsopt.py", "test_doc_examples.py", "test_freefall_paper.py", "test_figure_review.py",
                  "test_freefall_more.py", "test_dual_sidestay_generated.py", "test_dynamics_inertial.py",
-                 "test_dual_sidestay.py", "test_doc_numbers.py", "test_paper.py", "test_assembly_compliance.py", "test_freefall.py",
+                 "test_dual_sidestay.py", "test_doc_numbers.py", "test_paper.py", "test_assembly_compliance.py",
+                 "test_freefall.py",
                  "test_spatial_planar.py", "test_redundancy_switch.py", "test_dynamics_paper.py", "test_study_cli.py",
                  "test_reliability.py", "test_paper_animation.py", "test_spatial_cli.py", "test_nose_gear_paper.py",
                  "test_model.py"]
