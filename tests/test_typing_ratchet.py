@@ -18,11 +18,11 @@ SRC = ROOT / "src"
 FLOOR = {
     "mechcont", "mechcont.__main__", "mechcont._io", "mechcont._lazy", "mechcont._roots", "mechcont._status",
     "mechcont._version", "mechcont.analysis", "mechcont.analysis._cusp", "mechcont.analysis._stop_quantities",
-    "mechcont.analysis.ode_check", "mechcont.analysis.study", "mechcont.cli", "mechcont.cli._commands",
+    "mechcont.analysis.ode_check", "mechcont.analysis.study", "mechcont.cli", "mechcont.cli._commands", "mechcont.cli.freefall",
     "mechcont.continuation", "mechcont.continuation._batch", "mechcont.continuation._cycle_tests",
     "mechcont.continuation._linalg", "mechcont.continuation._options", "mechcont.continuation._scaling",
     "mechcont.continuation._sensitivity", "mechcont.continuation._start", "mechcont.dynamics",
-    "mechcont.dynamics._checks", "mechcont.dynamics._events", "mechcont.dynamics._redundant",
+    "mechcont.dynamics._checks", "mechcont.dynamics._critical_scan", "mechcont.dynamics._events", "mechcont.dynamics._redundant",
     "mechcont.dynamics._simulate", "mechcont.dynamics._udwadia_kalaba", "mechcont.dynamics.freefall", "mechcont.equations",
     "mechcont.equations._backend", "mechcont.equations._dynamics", "mechcont.equations._linear_dynamics",
     "mechcont.equations._lock", "mechcont.equations._model", "mechcont.equations._ode_text",
