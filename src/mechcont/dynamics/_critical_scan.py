@@ -10,14 +10,10 @@ from typing import Any
 
 from ..equations import Model
 from ..errors import InputError
-from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, quasi_static_critical
+from ._critical import CriticalAirspeed, Lock, QuasiStaticCritical, critical_airspeed, quasi_static_critical
 from ._poses import travel_of
 
 __all__ = ["CriticalScan", "critical_scan"]
-
-#: What :func:`~mechcont.dynamics.freefall.freefall` takes as its lock: a stop's name, several, or a condition's
-#: ``(name, value)``.
-Lock = str | Sequence[str] | tuple[str, float]
 
 
 @dataclass(frozen=True)
