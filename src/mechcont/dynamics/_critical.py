@@ -12,7 +12,7 @@ point). :meth:`CriticalAirspeed.compare` says whether the two differ by more tha
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -21,13 +21,10 @@ import numpy as np
 from ..equations import Model
 from ..errors import InputError
 from ._freefall import MOVING, freefall
+from ._poses import Lock
 
 if TYPE_CHECKING:
     from ..continuation import ContinuationOptions
-
-#: What :func:`~mechcont.dynamics.freefall.freefall` takes as its lock: a stop's name, several, or a condition's
-#: ``(name, value)``.
-Lock = str | Sequence[str] | tuple[str, float]
 
 __all__ = ["CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical", "quasi_static_critical"]
 

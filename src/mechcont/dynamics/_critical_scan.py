@@ -10,8 +10,8 @@ from typing import Any
 
 from ..equations import Model
 from ..errors import InputError
-from ._critical import CriticalAirspeed, Lock, QuasiStaticCritical, critical_airspeed, quasi_static_critical
-from ._poses import travel_of
+from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, quasi_static_critical
+from ._poses import Lock, travel_of
 
 __all__ = ["CriticalScan", "critical_scan"]
 
