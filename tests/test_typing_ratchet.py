@@ -25,7 +25,7 @@ FLOOR = {
     "mechcont.dynamics", "mechcont.dynamics._budget", "mechcont.dynamics._checks", "mechcont.dynamics._compliant",
     "mechcont.dynamics._critical", "mechcont.dynamics._critical_scan", "mechcont.dynamics._dampers",
     "mechcont.dynamics._events", "mechcont.dynamics._freefall", "mechcont.dynamics._jumps",
-    "mechcont.dynamics._mass", "mechcont.dynamics._poses", "mechcont.dynamics._reactions",
+    "mechcont.dynamics._mass", "mechcont.dynamics._ode", "mechcont.dynamics._poses", "mechcont.dynamics._reactions",
     "mechcont.dynamics._redundant", "mechcont.dynamics._simulate", "mechcont.dynamics._stall",
     "mechcont.dynamics._udwadia_kalaba", "mechcont.dynamics.freefall", "mechcont.equations",
     "mechcont.equations._backend", "mechcont.equations._dynamics", "mechcont.equations._linear_dynamics",
