@@ -3,13 +3,20 @@ of locking, or still moving at --until; the critical airspeed bracketed by runs,
 
 from __future__ import annotations
 
-import math
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 
 from ..errors import InputError
 from ._app import cli
 from ._parse import MAX_SCAN, assignments, check_count, check_integration, integrator, integrator_options, number, renamed
+
+if TYPE_CHECKING:
+    from ..equations import Model
+
+#: A freefall's lock: a stop, several stops, or a condition's (name, value).
+LockSpec = str | list[str] | tuple[str, float]
 
 
 def _range(text: str | None, option: str) -> tuple[str, float, float] | None:
@@ -39,7 +46,7 @@ def _scan(text: str | None) -> tuple[str, list[float]] | None:
     return name, [number(v, f"--scan {name}") for v in items]
 
 
-def _lock(system, lock: tuple[str, ...], lock_condition: str | None):
+def _lock(system: Model, lock: tuple[str, ...], lock_condition: str | None) -> LockSpec:
     """The lock of :func:`~mechcont.dynamics.freefall.freefall` from the two options (exactly one; --lock repeatable)."""
     if bool(lock) == (lock_condition is not None):
         raise InputError("--lock", "give exactly one of --lock STOP (repeatable) and --lock-condition NAME=VALUE")
@@ -101,8 +108,11 @@ def _option_error(exc: InputError, start_option: str = "--start") -> InputError:
 @click.option("--plot", default=None, metavar="FILE.png",
               help="The lock quantity against time (one run), or the critical value against the --scan parameter "
                    "with the quasi-static line.")
-def freefall_command(model, starts, old_starts, held_by, settings, lock, lock_condition, until, critical, tol, scan, max_scan,
-                     damping, method, rtol, atol, step_budget, rest_speed, out, plot):
+def freefall_command(model: str, starts: tuple[str, ...], old_starts: tuple[str, ...], held_by: str | None,
+                     settings: tuple[str, ...], lock: tuple[str, ...], lock_condition: str | None, until: float,
+                     critical: str | None, tol: float | None, scan: str | None, max_scan: int, damping: float,
+                     method: str, rtol: float, atol: float, step_budget: int, rest_speed: float, out: str | None,
+                     plot: str | None) -> None:
     """Release MODEL at rest from the retracted pose and simulate it with its stops until it locks.
 
     Example: mechcont freefall examples/freefall_leg.toml --start angle=3.0 --lock downlock
@@ -170,7 +180,8 @@ def freefall_command(model, starts, old_starts, held_by, settings, lock, lock_co
         raise _option_error(exc, start_option) from None
 
 
-def _one(system, start, lock, until, options, out_path, plot_path) -> None:
+def _one(system: Model, start: dict[str, float], lock: LockSpec, until: float, options: dict[str, Any],
+         out_path: Path | None, plot_path: Path | None) -> None:
     from ..dynamics.freefall import freefall
     from .simulate import echo_balance
 
@@ -206,63 +217,27 @@ def _one(system, start, lock, until, options, out_path, plot_path) -> None:
     check_integration(h, options["method"], [str(p) for p in (out_path, plot_path) if p is not None])
 
 
-def _critical(system, start, lock, until, options, rng, tol, scanned, out_path, plot_path) -> None:
-    from ..dynamics.freefall import critical_airspeed, quasi_static_critical, travel_of
+def _critical(system: Model, start: dict[str, float], lock: LockSpec, until: float, options: dict[str, Any],
+              rng: tuple[str, float, float], tol: float | None, scanned: tuple[str, list[float]] | None,
+              out_path: Path | None, plot_path: Path | None) -> None:
+    from ..dynamics.freefall import critical_scan
 
     vary, low, high = rng
-    tol = (high - low) / 1000.0 if tol is None else tol
-    unit = system.variable(vary).unit
-    name, values = scanned if scanned is not None else (None, [math.nan])
-    rows = []
-    for v in values:
-        extra = {name: v} if name is not None else {}
-        crit = critical_airspeed(system, start, vary, low, high, tol=tol, lock=lock, until=until, values=extra,
-                                 **options)
-        where = f"{name} = {v:g}: " if name is not None else ""
-        for line in crit.describe(unit):
-            click.echo(where + line)
-        if crit.unsettled:
-            click.echo(f"warning: {where}the bracket could not be narrowed further: a run stayed undecided "
-                       f"({crit.stopped})")
-        elif crit.undecided:
-            click.echo(f"warning: {where}the failing end {vary} = {crit.failed:.6g} was still moving at {until:g} s: "
-                       "a longer --until may lock it")
-        rows.append((v, crit))
-    travel, begin, end = travel_of(system, start, lock)
-    side = "min" if rows[0][1].locks_below else "max"
-    try:
-        qs = quasi_static_critical(system, travel, begin, end, vary, side=side)
-    except InputError as exc:
-        qs = None
-        click.echo(f"quasi-static: {str(exc).split(': ', 1)[-1]}")
-    if qs is not None:
-        kind = f"fold of the stall branch at {travel} = {qs.pose:.6g}" if qs.fold else f"at the end {travel} = {qs.pose:.6g}"
-        click.echo(f"quasi-static critical {vary} = {qs.value:.6g} {unit} ({kind})")
-        for v, crit in rows:
-            where = f"{name} = {v:g}: " if name is not None else ""
-            diff, significant = crit.compare(qs.value)
-            verdict = "significant" if significant else "not significant (within the bracket's width)"
-            if crit.contradicts(qs.value):
-                verdict = "contradicts the statics"
-                click.echo(f"warning: {where}a run that did not lock, {vary} = {crit.failed:.9g} {unit}, lies on the "
-                           f"side of the quasi-static {qs.value:.9g} {unit} where the gear has no equilibrium to hang "
-                           "in: it had not finished (give a longer --until); the bracket does not hold the critical "
-                           "value")
-            click.echo(f"{where}dynamic - quasi-static = {diff:+.4g} {unit} ({diff / qs.value:+.3%}; from the run "
-                       f"that locked, bracket width {crit.width:.3g} {unit}): {verdict}".replace(" ;", ";"))
+    scan = critical_scan(system, start, vary, low, high, lock=lock, until=until, tol=tol, scan=scanned, **options)
+    for line in scan.describe():
+        click.echo(line)
     if out_path is not None:
         from ..outputs.tables import write_rows
 
-        write_rows(out_path, [*([name] if name else []), f"locked_{vary} [{unit}]", f"failed_{vary} [{unit}]",
-                              f"quasi_static_{vary} [{unit}]"],
-                   [[*([v] if name else []), crit.locked, crit.failed, qs.value if qs is not None else math.nan]
-                    for v, crit in rows])
+        write_rows(out_path, scan.header(), scan.rows())
         click.echo(f"wrote {out_path}")
     if plot_path is not None:
         from ..outputs.critical_plots import critical_figure
         from ..outputs.plotting import save_figure
 
-        fig = critical_figure([v for v, _ in rows], [c for _, c in rows], qs.value if qs is not None else math.nan,
+        name, unit = scan.scan, scan.unit
+        assert name is not None  # the figure is against the --scan parameter (checked above)
+        fig = critical_figure(list(scan.values), list(scan.brackets), scan.quasi_static_value,
                               damping_label=f"{name} ({system.variable(name).unit})".replace(" ()", ""),
                               airspeed_label=f"critical {vary} ({unit})".replace(" ()", ""),
                               title=f"{system.name}: freefall critical {vary} (runs of {until:g} s)")

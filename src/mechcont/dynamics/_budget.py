@@ -12,8 +12,13 @@ linearised equations of motion falls when it is reduced.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from ..equations import Model
+    from ._udwadia_kalaba import ConstrainedDynamics
 
 __all__ = ["StepBudget", "stiffest", "MAX_STEPS", "CHECK_EVERY"]
 
@@ -37,7 +42,7 @@ class StepBudget:
         self.h = math.nan
         self.over = 0  # consecutive checks whose projection passed the budget
 
-    def exceeded(self, t: float, dyn, y: np.ndarray) -> bool:
+    def exceeded(self, t: float, dyn: ConstrainedDynamics, y: np.ndarray) -> bool:
         """Count one accepted step ending at ``(t, y)`` (s, state); True when the steps themselves reach the budget,
         or the projection passes it and either the step is held by stability (the step times the fastest rate of
         the linearised equations above 1: a stiff mode, which an explicit method never outgrows) or it has passed
@@ -64,7 +69,7 @@ class StepBudget:
         return self.n + (self.t1 - t) / self.h if self.h > 0 else math.inf
 
 
-def _fastest_rate(dyn, t: float, y: np.ndarray) -> float:
+def _fastest_rate(dyn: ConstrainedDynamics, t: float, y: np.ndarray) -> float:
     """Largest |eigenvalue| (1/s) of the linearised state equations at ``(t, y)`` (central differences)."""
     n = len(y)
     J = np.empty((n, n))
@@ -79,7 +84,7 @@ def _fastest_rate(dyn, t: float, y: np.ndarray) -> float:
     return float(np.max(np.abs(np.linalg.eigvals(J)), initial=0.0))
 
 
-def stiffest(system, dyn, t: float, y: np.ndarray) -> str:
+def stiffest(system: Model, dyn: ConstrainedDynamics, t: float, y: np.ndarray) -> str:
     """What sets the fastest time scale at ``(t, y)``: ``"the damping option (D 1/s)"`` when its rate dominates,
     else the parameters (up to three) whose change by a factor 1e3 either way lowers the fastest rate most (a
     damper's ``c`` made smaller, a mass made larger: ``"c = 1e+12 N s/m, m = 10 kg"``), with the rate. Returns a

@@ -13,9 +13,15 @@ Undamped, it stores the energy ``k p^2 / 2``.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..equations import StopLimit
 
 __all__ = ["CompliantLaw"]
 
@@ -27,7 +33,7 @@ class CompliantLaw:
     their coefficients.
     """
 
-    def __init__(self, stops):
+    def __init__(self, stops: Sequence[StopLimit]) -> None:
         self.index = [k for k, s in enumerate(stops) if s.contact == "compliant"]
         self.stiffness = np.array([float(stops[k].stiffness) for k in self.index])
         self.damping = np.array([float(stops[k].damping) for k in self.index])

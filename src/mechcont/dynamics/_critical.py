@@ -14,12 +14,17 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..equations import Model
 from ..errors import InputError
 from ._freefall import MOVING, freefall
+from ._poses import Lock
+
+if TYPE_CHECKING:
+    from ..continuation import ContinuationOptions
 
 __all__ = ["CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical", "quasi_static_critical"]
 
@@ -122,8 +127,8 @@ class CriticalAirspeed:
 
 
 def critical_airspeed(system: Model, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
-                      lock, until: float, values: Mapping[str, float] | None = None, extend: float = 4.0,
-                      **options) -> CriticalAirspeed:
+                      lock: Lock, until: float, values: Mapping[str, float] | None = None, extend: float = 4.0,
+                      **options: Any) -> CriticalAirspeed:
     """Bisect on freefall runs for the value of the parameter ``vary`` (an airspeed, m/s) in
     ``[low, high]`` where the outcome changes between locked and not locked.
 
@@ -214,7 +219,7 @@ class QuasiStaticCritical:
 
 def quasi_static_critical(system: Model, travel: str, start_value: float, lock_value: float, vary: str, *,
                           side: str = "min", values: Mapping[str, float] | None = None, samples: int = 17,
-                          options=None) -> QuasiStaticCritical:
+                          options: ContinuationOptions | None = None) -> QuasiStaticCritical:
     """The airspeed ``vary`` at the extreme of the stall branch over the travel.
 
     The equilibria along the travel ``travel`` (a coordinate or condition, from ``start_value``

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -37,7 +38,7 @@ class DamperTension:
     ``{damper: T}`` for a full row ``x`` and the velocities of ``coordinates`` (as :func:`damper_tensions`;
     ``names`` the dampers, empty when the model has none or no scene to measure their lengths)."""
 
-    def __init__(self, system: Model, coordinates, h: float = 1e-7) -> None:
+    def __init__(self, system: Model, coordinates: Sequence[str], h: float = 1e-7) -> None:
         self.dampers: tuple[DamperFacts, ...] = system.dampers if system.scene is not None else ()
         self.names = [d.name for d in self.dampers]
         self.system, self.h = system, h
@@ -47,7 +48,7 @@ class DamperTension:
         # the coefficients per parameter vector (a sweep ramps parameters in time): the model's at its own values
         self.coefficients: dict[tuple, tuple[DamperFacts, ...]] = {own: self.dampers}
 
-    def _lengths(self, x) -> dict[str, float]:
+    def _lengths(self, x: np.ndarray) -> dict[str, float]:
         assert self.system.scene is not None  # no dampers without a scene (__init__)
         ends = {name: (a, b) for name, a, b in self.system.scene(x).dampers}
         return {n: float(np.linalg.norm(np.asarray(b) - np.asarray(a))) for n, (a, b) in ends.items()}

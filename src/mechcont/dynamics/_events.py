@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -11,11 +12,21 @@ from .._roots import brentq
 from ..equations import StopLimit
 from ..errors import InputError
 
+if TYPE_CHECKING:
+    from scipy.integrate import DenseOutput
+
+    from ..equations import Model
+    from ._contact import StopConstraints
+    from ._udwadia_kalaba import ConstrainedDynamics
+
 __all__ = ["Crossing", "EventTracker", "AtRestOnStops", "ConditionCrossing", "LOCK_GAP"]
 
 #: A lock stop counts as on its limit within this gap (condition units) for the end of a run at the lock: far
 #: below any gap a free stop has at rest, far above the contact's drift.
 LOCK_GAP = 1e-6
+
+#: ``g(t, x, qdot) -> value``: an event's function of the time (s), the full variable vector and the coordinate rates.
+EventCallable = Callable[[float, np.ndarray, np.ndarray], float]
 
 
 @dataclass(frozen=True)
@@ -39,9 +50,21 @@ class Crossing:
     direction: int = 0
     terminal: bool = False
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.direction not in (-1, 0, 1):
             raise InputError("direction", "must be -1, 0 or +1")
+
+
+#: An event of :func:`~mechcont.dynamics.simulate`: a :class:`Crossing` or a callable ``g(t, x, qdot)`` (optional
+#: attributes ``terminal``, ``direction``, method ``bind(dyn)``).
+EventFunction = Crossing | EventCallable
+
+
+def _level(i: int, value: float, rates: bool) -> EventCallable:
+    """``g(t, x, qdot)``: entry ``i`` of ``qdot`` (``rates``) or of ``x``, less ``value``."""
+    if rates:
+        return lambda t, x, qd: qd[i] - value
+    return lambda t, x, qd: x[i] - value
 
 
 class EventTracker:
@@ -53,17 +76,19 @@ class EventTracker:
     stops in contact reads ``dyn.contacts``).
     """
 
-    def __init__(self, events, system, coordinates):
-        self._fns, self.terminal, self.direction = [], [], []
+    def __init__(self, events: Sequence[EventFunction] | None, system: Model, coordinates: Sequence[str]) -> None:
+        self._fns: list[EventCallable] = []
+        self.terminal: list[bool] = []
+        self.direction: list[int] = []
         nq = len(coordinates)
         for ev in events or ():
             if isinstance(ev, Crossing):
                 if ev.name in system.names:
                     i = system.index(ev.name)
-                    fn = (lambda t, x, qd, i=i, v=ev.value: x[i] - v)
+                    fn = _level(i, ev.value, rates=False)
                 elif ev.name.endswith("_dot") and ev.name[:-4] in coordinates:
                     j = list(coordinates).index(ev.name[:-4])
-                    fn = (lambda t, x, qd, j=j, v=ev.value: qd[j] - v)
+                    fn = _level(j, ev.value, rates=True)
                 else:
                     raise InputError(ev.name, "event quantity is not a variable or <coordinate>_dot of the model")
                 self._fns.append(fn)
@@ -81,15 +106,15 @@ class EventTracker:
         self.x_events: list[list[np.ndarray]] = [[] for _ in self._fns]
         self._last: np.ndarray | None = None  # the event values at the last accepted state (start() sets them)
 
-    def __bool__(self):
+    def __bool__(self) -> bool:
         return bool(self._fns)
 
-    def _values(self, dyn, t, y):
+    def _values(self, dyn: ConstrainedDynamics, t: float, y: np.ndarray) -> np.ndarray:
         x = dyn.full_of(t, y)
         qd = y[self.nq:2 * self.nq]
         return np.array([fn(t, x, qd) for fn in self._fns], float)
 
-    def start(self, dyn, t, y) -> None:
+    def start(self, dyn: ConstrainedDynamics, t: float, y: np.ndarray) -> None:
         """Record the event values at the initial state."""
         for fn in self._fns:
             bind = getattr(fn, "bind", None)
@@ -98,7 +123,8 @@ class EventTracker:
         if self._fns:
             self._last = self._values(dyn, t, y)
 
-    def step(self, dyn, t_old, t_new, y_new, sol) -> float | None:
+    def step(self, dyn: ConstrainedDynamics, t_old: float, t_new: float, y_new: np.ndarray,
+             sol: DenseOutput) -> float | None:
         """Check the step ``[t_old, t_new]``; returns the terminal time if one fired, else None."""
         if not self._fns:
             return None
@@ -113,7 +139,7 @@ class EventTracker:
             if b == 0:
                 te = t_new
             else:
-                def g(tt, k=k):
+                def g(tt: float, k: int = k) -> float:
                     return self._values(dyn, tt, sol(tt))[k]
                 te = brentq(g, t_old, t_new, xtol=1e-12 * max(1.0, abs(t_new)))
             self.t_events[k].append(te)
@@ -122,7 +148,7 @@ class EventTracker:
                 t_stop = te if t_stop is None else min(t_stop, te)
         return t_stop
 
-    def jump(self, dyn, t, y) -> float | None:
+    def jump(self, dyn: ConstrainedDynamics, t: float, y: np.ndarray) -> float | None:
         """Restart after a velocity jump at ``t`` (an impact) to the state ``y``: an event whose value the jump
         carried across zero (in its direction) occurs at ``t``. Returns ``t`` if a terminal one did, else None."""
         if not self._fns:
@@ -139,7 +165,7 @@ class EventTracker:
                 t_stop = t if self.terminal[k] else t_stop
         return t_stop
 
-    def results(self):
+    def results(self) -> tuple[list[np.ndarray], list[np.ndarray]]:
         """``(t_events, x_events)``: lists of arrays, one per event."""
         n = len(self._fns)
         return ([np.array(self.t_events[k]) for k in range(n)],
@@ -154,23 +180,23 @@ class AtRestOnStops:
 
     terminal, direction = True, -1
 
-    def __init__(self, model, stops: Sequence[StopLimit], rest_speed: float):
+    def __init__(self, model: Model, stops: Sequence[StopLimit], rest_speed: float) -> None:
         rows = list(model.equation_names)
         self.names = [s.name for s in stops]
-        self.contacts = None
+        self.contacts: StopConstraints | None = None
         self.model, self.rest_speed = model, rest_speed
         self.rows = np.array([rows.index(f"cond_{s.condition}") for s in stops])
         self.index = np.array([model.index(s.condition) for s in stops])
         self.side = np.array([float(s.side) for s in stops])
         self.limit = np.array([float(s.limit) for s in stops])
 
-    def bind(self, dyn) -> None:
+    def bind(self, dyn: ConstrainedDynamics) -> None:
         """Read the stops in contact from the simulation's ``dyn.contacts``."""
         self.contacts = dyn.contacts
         if self.contacts is not None:
             self.stop_index = [self.contacts.names.index(n) for n in self.names]
 
-    def __call__(self, t, x, qd) -> float:
+    def __call__(self, t: float, x: np.ndarray, qd: np.ndarray) -> float:
         c = self.contacts
         if c is not None and not all(k in c.active or k in c.pressed for k in self.stop_index):
             return 1.0
@@ -189,12 +215,12 @@ class ConditionCrossing:
 
     terminal = True
 
-    def __init__(self, model, name: str, value: float, direction: int):
+    def __init__(self, model: Model, name: str, value: float, direction: int) -> None:
         self.model, self.value, self.direction = model, value, direction
         self.row = list(model.equation_names).index(f"cond_{name}")
         self.index = model.index(name)
 
-    def __call__(self, t, x, qd) -> float:
+    def __call__(self, t: float, x: np.ndarray, qd: np.ndarray) -> float:
         y = np.array(x, float)
         y[self.index] = 0.0
         return float(self.model.residual(y)[self.row]) - self.value

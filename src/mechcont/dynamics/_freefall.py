@@ -27,7 +27,7 @@ from ._budget import MAX_STEPS
 from ._dampers import DamperTension, damper_tensions
 from ._events import AtRestOnStops, ConditionCrossing, Crossing
 from ._peaks import Peak, locate_peaks
-from ._poses import find_lock_stops, held_pose, lock_spec
+from ._poses import Lock, find_lock_stops, held_pose, lock_spec
 from ._result import SimulationResult
 
 __all__ = ["FreefallResult", "StopLock", "freefall", "LOCKED", "AT_REST", "MOVING", "FAILED"]
@@ -185,9 +185,9 @@ class FreefallResult:
         return lines
 
 
-def freefall(system: Model, start: Mapping[str, float], *, lock, until: float, values: Mapping[str, float] | None = None,
+def freefall(system: Model, start: Mapping[str, float], *, lock: Lock, until: float, values: Mapping[str, float] | None = None,
              damping: float = 0.0, rtol: float = 1e-8, atol: float = 1e-10, rest_speed: float = 1e-4,
-             max_step: float = math.inf, guess=None, method: str = "RK45", end_at_lock: bool = False,
+             max_step: float = math.inf, guess: np.ndarray | None = None, method: str = "RK45", end_at_lock: bool = False,
              held_by: str | None = None, audit: bool = True, max_steps: int | None = None) -> FreefallResult:
     """Release ``system`` at rest in the pose ``start`` and simulate it with its stops until it locks.
 
@@ -301,7 +301,7 @@ def freefall(system: Model, start: Mapping[str, float], *, lock, until: float, v
                           settling, decided)
 
 
-def _unlocked_outcome(model, result: SimulationResult, speed: float, rest_speed: float,
+def _unlocked_outcome(model: Model, result: SimulationResult, speed: float, rest_speed: float,
                       lock_stops: Sequence[StopLimit], per_stop: Mapping[str, StopLock]) -> tuple[Status, str, bool]:
     """``(outcome, why, decided)`` of a run that ran to its end without locking: at rest only at a stable
     equilibrium with nothing on the way (:func:`~._settle.settled`); a slow run elsewhere creeps (still
@@ -339,7 +339,7 @@ def _turned_back(result: SimulationResult, stop: StopLimit) -> bool:
     return k < len(gap) - 1 and gap[-1] - gap[k] > 1e-9 * (1.0 + abs(float(stop.limit)))
 
 
-def _check_forces(model, x0: np.ndarray, values) -> None:
+def _check_forces(model: Model, x0: np.ndarray, values: Mapping[str, float] | None) -> None:
     """:class:`InputError` (field ``values``) when the forces on the released pose are not finite numbers (a
     parameter so large that a force overflows, e.g. an airspeed of 1e308 in a quadratic drag)."""
     mech = model.mechanics
@@ -353,7 +353,7 @@ def _check_forces(model, x0: np.ndarray, values) -> None:
                                    "that a force overflows): use values of physical size")
 
 
-def _states_of(model, guess) -> np.ndarray:
+def _states_of(model: Model, guess: np.ndarray) -> np.ndarray:
     """The model's defaults (its parameter values) with the states of the full vector ``guess``."""
     x, g = model.defaults(), np.asarray(guess, float)
     if g.shape != x.shape:
@@ -375,7 +375,7 @@ def _stop_lock(result: SimulationResult, name: str, at_rest: bool) -> StopLock:
     return StopLock(name, evs[-1].time if on and at_rest else None, first.speed if first is not None else None, left)
 
 
-def _rate(model, result: SimulationResult, name: str, i: int) -> float:
+def _rate(model: Model, result: SimulationResult, name: str, i: int) -> float:
     """d(name)/dt at row ``i``: a coordinate's velocity, or a condition's ``grad c . qdot``."""
     if name in result.coordinates:
         return float(result.qdot[i, result.coordinates.index(name)])

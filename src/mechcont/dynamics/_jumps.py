@@ -14,6 +14,7 @@ passes through ``value`` (e.g. a lock-link angle passing 180 degrees).
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,7 +33,7 @@ class JumpWindow:
     i_end: int
 
 
-def _cross_time(t, f, i):
+def _cross_time(t: np.ndarray, f: np.ndarray, i: int) -> float:
     """Time where f (linear between samples i and i+1) crosses zero."""
     a, b = f[i], f[i + 1]
     if b == a:
@@ -57,7 +58,7 @@ def _fast_intervals(rate: np.ndarray, thr: float) -> list[tuple[int, int]]:
 
 def find_jump_windows(t: np.ndarray, w: np.ndarray, wdot: np.ndarray, lo: int, hi: int, *, span: float,
                       threshold: float | None = None, factor: float = 10.0, min_change: float = 0.05,
-                      crossings=None) -> tuple[list[JumpWindow], float]:
+                      crossings: Iterable[float] | None = None) -> tuple[list[JumpWindow], float]:
     """Jumps of ``w`` among the samples ``lo..hi`` (inclusive) of one sweep segment.
 
     Parameters
@@ -106,7 +107,7 @@ def find_jump_windows(t: np.ndarray, w: np.ndarray, wdot: np.ndarray, lo: int, h
         for tc in crossings:
             if not tt[0] <= tc <= tt[-1]:
                 continue
-            k = int(min(max(np.searchsorted(tt, tc) - 1, 0), len(tt) - 2))  # sample step holding tc
+            k = min(max(int(np.searchsorted(tt, tc)) - 1, 0), len(tt) - 2)  # sample step holding tc
             enclosing = [(i, j) for i, j in merged if i <= k + 1 and k <= j]
             i, j = enclosing[0] if enclosing else (k, k + 1)
             ts = _cross_time(tt, np.abs(rr) - thr, i - 1) if enclosing and i > 0 else float(tt[i])

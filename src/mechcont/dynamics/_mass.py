@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from ..errors import InputError
@@ -33,7 +35,7 @@ class MassBlocks:
 
     ``pattern`` is the set of ``(i, j)`` positions that may be non-zero (from the symbolic matrix)."""
 
-    def __init__(self, n: int, pattern) -> None:
+    def __init__(self, n: int, pattern: Sequence[Sequence[int]]) -> None:
         parent = list(range(n))
 
         def root(i: int) -> int:

@@ -89,7 +89,7 @@ class OdeHistory:
                   *(unit_header(n, u) for n, _, u in self.parameters)]
         constants = [repr(float(v)) for _, v, _ in self.parameters]
 
-        def write(tmp):
+        def write(tmp: str) -> None:
             with open(tmp, "w", newline="") as fh:
                 w = csv.writer(fh, lineterminator="\n")
                 w.writerow(header)
@@ -134,7 +134,7 @@ def simulate_ode(model: Model, x0: np.ndarray, t_span: tuple[float, float], *, m
         raise InputError("x0", f"the rates of {model.name} are not finite at the initial state")
     nfev = 0
 
-    def fun(_t, z):
+    def fun(_t: float, z: np.ndarray) -> np.ndarray:
         nonlocal nfev
         nfev += 1
         return dyn.rates(z, x)

@@ -13,13 +13,19 @@ from __future__ import annotations
 
 import bisect
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from functools import partial
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ._reactions import fill_conditions, fill_reactions
+
+if TYPE_CHECKING:
+    from ..equations import Model
+    from ._result import SimulationResult
+    from ._udwadia_kalaba import ConstrainedDynamics
 
 __all__ = ["Peak", "DenseHistory", "locate_peak", "locate_peaks"]
 
@@ -44,13 +50,16 @@ class DenseHistory:
     (an impact's velocity jump between them). Several simulations in sequence (a sweep's phases) are
     :meth:`joined`: each step keeps the dynamics it was integrated with."""
 
-    def __init__(self, system, dyn, segments) -> None:
+    def __init__(self, system: Model | None, dyn: ConstrainedDynamics | None,
+                 segments: Iterable[tuple[float, float, Any, tuple[int, ...]]]) -> None:
         self.segments = list(segments)
-        self._parts, self._part = [(system, dyn)], [0] * len(self.segments)
+        # (None, None: the empty history :meth:`joined` starts from)
+        self._parts: list[tuple[Model, ConstrainedDynamics]] = [] if system is None or dyn is None else [(system, dyn)]
+        self._part = [0] * len(self.segments)
         self._ends = [s[1] for s in self.segments]
 
     @classmethod
-    def joined(cls, histories) -> DenseHistory:
+    def joined(cls, histories: Iterable[DenseHistory]) -> DenseHistory:
         """One dense output of consecutive simulations' (``histories`` in time order)."""
         out = cls(None, None, [])
         out._parts = []
@@ -87,14 +96,14 @@ class DenseHistory:
             return values[0], y[nq:2 * nq]
         fill_conditions(system, values)
         contacts = dyn.contacts
-        active = None if contacts is None else list(contacts.active)
+        active = [] if contacts is None else list(contacts.active)
         fill_reactions(system, dyn, np.array([t]), y.reshape(1, -1), values, [self.segments[k][3]])
         if contacts is not None:
             contacts.active = active
         return values[0], y[nq:2 * nq]
 
 
-def locate_peak(result, quantity: Callable[[np.ndarray, np.ndarray], float], *, rows: np.ndarray | None = None,
+def locate_peak(result: SimulationResult, quantity: Callable[[np.ndarray, np.ndarray], float], *, rows: np.ndarray | None = None,
                 full: bool = True) -> Peak:
     """The largest value of ``quantity(x, qdot)`` (``x`` a full row of ``result``, its unit) over ``result``,
     located on its dense output, and the time (s) where it occurs (:func:`locate_peaks` for one quantity)."""
@@ -102,7 +111,7 @@ def locate_peak(result, quantity: Callable[[np.ndarray, np.ndarray], float], *, 
                         full=full)[0]
 
 
-def locate_peaks(result, quantities: Callable[[np.ndarray, np.ndarray], Sequence[float]], *,
+def locate_peaks(result: SimulationResult, quantities: Callable[[np.ndarray, np.ndarray], Sequence[float]], *,
                  rows: np.ndarray | None = None, full: bool = True) -> list[Peak]:
     """The largest value of each of ``quantities(x, qdot)`` (m values of a full row ``x`` of ``result``, their
     units) over ``result``, located on its dense output, with the time (s) of each; the evaluations at the

@@ -6,17 +6,22 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from typing import cast
 
 import numpy as np
 
 from ..equations import Model, StopLimit
 from ..errors import InputError
 
+#: What :func:`~mechcont.dynamics.freefall.freefall` takes as its lock: a stop's name, several, or a condition's
+#: ``(name, value)``.
+Lock = str | Sequence[str] | tuple[str, float]
+
 __all__ = ["held_pose", "travel_of", "condition_value", "find_lock_stops", "lock_spec"]
 
 
 def held_pose(system: Model, start: Mapping[str, float], held_by: str, *, values: Mapping[str, float] | None = None,
-              guess=None, steps: int = 8) -> np.ndarray:
+              guess: np.ndarray | None = None, steps: int = 8) -> np.ndarray:
     """The retracted pose as a static equilibrium: the ``start`` values held (SI, rad) and the parameter
     ``held_by`` (the force that holds the gear there, e.g. the retraction actuator's, N) solved for; then
     ``held_by`` is set back to its value (the model's, or ``values``'): the gear released at rest.
@@ -50,7 +55,7 @@ def held_pose(system: Model, start: Mapping[str, float], held_by: str, *, values
     return x
 
 
-def travel_of(system: Model, start: Mapping[str, float], lock,
+def travel_of(system: Model, start: Mapping[str, float], lock: Lock,
               values: Mapping[str, float] | None = None) -> tuple[str, float, float]:
     """The travel of a freefall: ``(variable, value at the released pose, value at the lock)``.
 
@@ -67,7 +72,7 @@ def travel_of(system: Model, start: Mapping[str, float], lock,
     return name, condition_value(model, x0, name), end
 
 
-def condition_value(system: Model, x, name: str) -> float:
+def condition_value(system: Model, x: np.ndarray, name: str) -> float:
     """The value of the coordinate or declared condition ``name`` at the full vector ``x`` (its unit),
     computed from the coordinates (a condition's own entry in ``x`` need not be up to date)."""
     model = system
@@ -79,12 +84,12 @@ def condition_value(system: Model, x, name: str) -> float:
     return float(model.residual(y)[rows.index(f"cond_{name}")])
 
 
-def find_lock_stops(system: Model, lock) -> list[StopLimit] | None:
+def find_lock_stops(system: Model, lock: Lock) -> list[StopLimit] | None:
     """The lock stops named by ``lock`` (a stop's name or a sequence of names), None for a lock condition."""
     if isinstance(lock, str):
         names = [lock]
     elif isinstance(lock, Sequence) and lock and all(isinstance(n, str) for n in lock):
-        names = list(lock)
+        names = [str(n) for n in lock]
     else:
         return None
     by_name = {s.name: s for s in system.stops}
@@ -97,14 +102,14 @@ def find_lock_stops(system: Model, lock) -> list[StopLimit] | None:
     return [by_name[n] for n in names]
 
 
-def lock_spec(system: Model, lock) -> tuple[StopLimit | None, tuple[str, float] | None]:
+def lock_spec(system: Model, lock: Lock) -> tuple[StopLimit | None, tuple[str, float] | None]:
     """``(stop, None)`` for a lock stop's name (the first of several), ``(None, (state, value))`` for a
     lock condition."""
     stops = find_lock_stops(system, lock)
     if stops is not None:
         return stops[0], None
     try:
-        name, value = lock
+        name, value = cast("tuple[str, float]", lock)  # checked here: a user may pass anything
         value = float(value)
     except (TypeError, ValueError):
         raise InputError("lock", "give a stop's name or (condition, value)") from None

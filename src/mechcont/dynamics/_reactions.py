@@ -14,17 +14,19 @@ the redundant rows out, :mod:`._redundant`; their self-stresses are taken out he
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 if TYPE_CHECKING:
     from ..equations import Model
+    from ._udwadia_kalaba import ConstrainedDynamics
 
 __all__ = ["fill_conditions", "fill_reactions"]
 
 
-def _elastic_rows(system, nq_rows: int, names: list[str]) -> list[tuple[int, int, float]]:
+def _elastic_rows(system: Model, nq_rows: int, names: list[str]) -> list[tuple[int, int, float]]:
     """``(variable index, row index, d row / d reaction)`` of the reactions ``names`` whose row (after the
     ``nq_rows`` equilibrium rows) is linear in them: a compliant row ``Phi - lambda / k``."""
     if not names:
@@ -41,7 +43,8 @@ def _elastic_rows(system, nq_rows: int, names: list[str]) -> list[tuple[int, int
     return out
 
 
-def fill_reactions(system: Model, dyn, t: np.ndarray, y: np.ndarray, values: np.ndarray, modes, known=None) -> int:
+def fill_reactions(system: Model, dyn: ConstrainedDynamics, t: np.ndarray, y: np.ndarray, values: np.ndarray,
+                   modes: Sequence[tuple[int, ...]], known: Sequence[Any] | None = None) -> int:
     """Write the live reactions into ``values`` (rows like ``t``, ``y``; ``modes``: the stops in contact at
     each row; ``known``: per row, the integrator's own solve there, :meth:`~._udwadia_kalaba.ConstrainedDynamics.recall`,
     or None). Returns the number of rows whose joint reactions are minimum-norm (redundant constraints)."""

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
+from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, DenseOutput, OdeSolver, Radau
 
 from .._status import Status
 from ..errors import InputError
@@ -24,6 +24,9 @@ from ._udwadia_kalaba import ConstrainedDynamics
 
 if TYPE_CHECKING:
     from ..equations import Model
+    from ._budget import StepBudget
+    from ._contact import StopConstraints, StopEvent
+    from ._events import EventFunction
 
 __all__ = ["simulate", "initial_vector", "assemble", "check_integrator", "METHODS"]  # assemble, initial_vector from ._assembly
 
@@ -33,7 +36,8 @@ _ASSEMBLY_TOL = 1e-6
 METHODS = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 
 
-def _velocities(system, qdot0, coordinates) -> np.ndarray:
+def _velocities(system: Model, qdot0: Mapping[str, float] | Sequence[float] | np.ndarray | None,
+                coordinates: Sequence[str]) -> np.ndarray:
     nq = len(coordinates)
     if qdot0 is None:
         return np.zeros(nq)
@@ -57,11 +61,12 @@ _RTOL = (1e-13, 0.1)
 _ATOL = (1e-15, 1.0)
 
 
-def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
+def simulate(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float], t_span: tuple[float, float], *,
+             qdot0: Mapping[str, float] | Sequence[float] | np.ndarray | None = None,
              loads: Mapping[str, Callable[[float], float]] | None = None, method: str = "RK45",
              rtol: float = 1e-6, atol: float = 1e-9, baumgarte: tuple[float, float] | None = (10.0, 10.0),
              projection: bool = False, damping: float = 0.0, max_step: float = math.inf,
-             t_eval: Sequence[float] | None = None, events: Sequence | None = None,
+             t_eval: Sequence[float] | np.ndarray | None = None, events: Sequence[EventFunction] | None = None,
              progress: Callable[[float], None] | None = None, stops: bool | Sequence[str] = False,
              max_stop_events: int = 10_000, audit: bool = True, max_steps: int = MAX_STEPS) -> SimulationResult:
     """Simulate a mechanism in time (paper's state-space model, eqs. 1–5, for any mechanism).
@@ -225,7 +230,7 @@ def simulate(system, x0, t_span: tuple[float, float], *, qdot0=None,
     return result
 
 
-def _budget(t0: float, t1: float, max_steps: int):
+def _budget(t0: float, t1: float, max_steps: int) -> StepBudget:
     """The run's :class:`~._budget.StepBudget`; :class:`InputError` unless ``max_steps`` is a positive integer."""
     from ._budget import StepBudget
 
@@ -234,7 +239,7 @@ def _budget(t0: float, t1: float, max_steps: int):
     return StepBudget(t0, t1, int(max_steps))
 
 
-def _over_budget(system, dyn, budget, t: float, y: np.ndarray, method: str) -> str:
+def _over_budget(system: Model, dyn: ConstrainedDynamics, budget: StepBudget, t: float, y: np.ndarray, method: str) -> str:
     """The one-line message of a run ended by its step budget: where, the step size, the stiff element."""
     from ._budget import stiffest
 
@@ -243,7 +248,8 @@ def _over_budget(system, dyn, budget, t: float, y: np.ndarray, method: str) -> s
             f"there, set by {stiffest(system, dyn, t, y)}; use method Radau (implicit) or raise the budget.")
 
 
-def _checked_options(method: str, t_span, rtol: float, atol, max_step: float, projection: bool):
+def _checked_options(method: str, t_span: tuple[float, float], rtol: float, atol: float | np.ndarray, max_step: float,
+                     projection: bool) -> tuple[float, float, type[OdeSolver]]:
     """``(t0, t1, solver class)`` of :func:`simulate`'s options; :class:`InputError` naming a bad one."""
     check_integrator(method, rtol, atol)
     try:
@@ -260,7 +266,7 @@ def _checked_options(method: str, t_span, rtol: float, atol, max_step: float, pr
     return t0, t1, cls
 
 
-def check_integrator(method: str, rtol: float, atol) -> None:
+def check_integrator(method: str, rtol: float, atol: float | Sequence[float] | np.ndarray) -> None:
     """Check an integrator choice: ``method`` one of :data:`METHODS`, ``rtol`` (relative) within
     ``[1e-13, 0.1]``, ``atol`` (absolute, in each state's unit; a number or one per state) within
     ``[1e-15, 1]``: tolerances that double precision can meet; :class:`InputError` naming ``method``,
@@ -277,7 +283,8 @@ def check_integrator(method: str, rtol: float, atol) -> None:
                                  f"tolerance, in each state's unit), got {atol}")
 
 
-def _start_state(system, dyn, t0: float, x: np.ndarray, qdot0, coords) -> np.ndarray:
+def _start_state(system: Model, dyn: ConstrainedDynamics, t0: float, x: np.ndarray,
+                 qdot0: Mapping[str, float] | Sequence[float] | np.ndarray | None, coords: Sequence[str]) -> np.ndarray:
     """``(q, qdot)`` at ``t0``: ``x``'s coordinates (assembled, else :class:`InputError`) and ``qdot0``,
     projected onto the constraints and their rates."""
     phi0 = dyn.mech.phi(dyn.full(t0, x[dyn.q_index]))
@@ -292,7 +299,8 @@ class _History:
     """The rows :func:`simulate` keeps: every accepted step, or the ``t_eval`` times (interpolated on the
     step's dense output), and a row at each event; with the stops in contact at each row."""
 
-    def __init__(self, t0: float, y0: np.ndarray, t1: float, t_eval, contacts, ledger: EnergyLedger) -> None:
+    def __init__(self, t0: float, y0: np.ndarray, t1: float, t_eval: Sequence[float] | np.ndarray | None,
+                 contacts: StopConstraints | None, ledger: EnergyLedger) -> None:
         self.times = None if t_eval is None else np.asarray(t_eval, float)
         if self.times is not None and (self.times.ndim != 1 or np.any(np.diff(self.times) < 0)
                                        or self.times[0] < t0 or self.times[-1] > t1):
@@ -308,7 +316,7 @@ class _History:
         self.known: list = [None] * len(self.ts)  # each row's multipliers, when the integrator solved there
         self.jumps: list[int] = []  # the rows just after a stop event
 
-    def step(self, sol, t_old: float, t_new: float, y_new: np.ndarray, t_end: float, ends_at_event: bool) -> None:
+    def step(self, sol: DenseOutput, t_old: float, t_new: float, y_new: np.ndarray, t_end: float, ends_at_event: bool) -> None:
         """The rows of a step from ``t_old`` that ended at ``t_end`` (``t_new`` unless an event came first),
         and the step's energy integrals (on its dense output ``sol``) up to each."""
         ts, ys, times = self.ts, self.ys, self.times
@@ -344,18 +352,20 @@ class _History:
         self.known.append(None)
 
 
-def _mode(contacts) -> tuple[int, ...]:
+def _mode(contacts: StopConstraints | None) -> tuple[int, ...]:
     return () if contacts is None else tuple(contacts.active)
 
 
-def _rest_height(system: Model, rtol: float, atol) -> float:
+def _rest_height(system: Model, rtol: float, atol: float | np.ndarray) -> float:
     """Smallest rebound height (condition units) the integrator resolves: its error on a gap near
     the limit, ``atol + rtol |limit|`` (at least 1e-12)."""
     limits = [abs(float(s.limit)) for s in system.stops] or [0.0]
     return max(float(np.min(atol)) + rtol * max(limits), 1e-12)
 
 
-def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="", modes=None, known=None) -> SimulationResult:
+def _assemble_result(system: Model, dyn: ConstrainedDynamics, coords: tuple[str, ...], t: np.ndarray, y: np.ndarray,
+                     status: Status, tracker: EventTracker, detail: str = "", modes: list[tuple[int, ...]] | None = None,
+                     known: list[Any] | None = None) -> SimulationResult:
     nq = dyn.nq
     values = np.array([dyn.full_of(ti, yi) for ti, yi in zip(t, y)]).reshape(-1, len(system.names))
     fill_conditions(system, values)
@@ -375,7 +385,7 @@ def _assemble_result(system, dyn, coords, t, y, status, tracker, detail="", mode
                             units={v.name: v.unit for v in system.variables})
 
 
-def _stop_events(contacts, t) -> list:
+def _stop_events(contacts: StopConstraints, t: np.ndarray) -> list[StopEvent]:
     """The stop events with their row numbers."""
     from dataclasses import replace
 

@@ -8,7 +8,13 @@ reads the accepted steps, the energy audit and the redundant rows' choices of a 
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+
+if TYPE_CHECKING:
+    from ._result import SimulationResult
+    from ._udwadia_kalaba import ConstrainedDynamics
 
 __all__ = ["motion_warning", "UNRESOLVED"]
 
@@ -38,7 +44,7 @@ def _collapse(t: np.ndarray) -> tuple[float, float, float] | None:
     return float(at[k]), first, float(np.median(h[k:]))
 
 
-def motion_warning(result, dyn) -> str:
+def motion_warning(result: SimulationResult, dyn: ConstrainedDynamics) -> str:
     """One line (empty when there is nothing to say) for a finished history ``result`` of the dynamics
     ``dyn``: the redundant rows that could not be resolved (their choice changing at most steps, or
     every choice rank deficient: a mechanism locked at a singular configuration), or the steps that

@@ -53,6 +53,7 @@ from ._mass import MassBlocks, inverse_sqrt
 from ._redundant import KeptRows
 
 if TYPE_CHECKING:
+    from ..equations import Mechanics, Model
     from ._contact import StopConstraints
 
 __all__ = ["fundamental_equation", "inverse_sqrt", "MassBlocks", "ConstrainedDynamics"]
@@ -122,7 +123,7 @@ def fundamental_equation(M_inv_sqrt: np.ndarray, Q: np.ndarray, A: np.ndarray, b
     return a + M_inv_sqrt @ _pinv_apply(B, b - A @ a, spread)
 
 
-def _mass_samples(mech, x: np.ndarray, q_index: np.ndarray, samples: int = 3) -> tuple[np.ndarray, list[np.ndarray]]:
+def _mass_samples(mech: Mechanics, x: np.ndarray, q_index: np.ndarray, samples: int = 3) -> tuple[np.ndarray, list[np.ndarray]]:
     """``M`` at ``x`` and at ``samples`` coordinate vectors moved at random (seeded) from it: a constant mass
     matrix is the same at all of them, and the union of their non-zero entries is ``M``'s pattern (an entry
     that is not identically zero vanishes at random points with probability 0). Numerical, so that the
@@ -161,8 +162,8 @@ class ConstrainedDynamics:
         constraints is taken up by the joint reactions, so it does no work against them.
     """
 
-    def __init__(self, system, x: np.ndarray, loads: Mapping[str, Callable[[float], float]] | None = None,
-                 baumgarte: tuple[float, float] | None = (10.0, 10.0), damping: float = 0.0):
+    def __init__(self, system: Model, x: np.ndarray, loads: Mapping[str, Callable[[float], float]] | None = None,
+                 baumgarte: tuple[float, float] | None = (10.0, 10.0), damping: float = 0.0) -> None:
         mech = system.mechanics
         if mech is None:
             raise InputError(system.name, "model has no mechanics (coordinates, constraints, masses); cannot simulate")
@@ -265,7 +266,7 @@ class ConstrainedDynamics:
             b = b - 2.0 * self.alpha * (A @ qd) - self.beta**2 * self.mech.phi(x)
         return A, b
 
-    def _solved_rows(self, x: np.ndarray, qd: np.ndarray, A: np.ndarray, b: np.ndarray):
+    def _solved_rows(self, x: np.ndarray, qd: np.ndarray, A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The rows a solve uses: the joints' (those kept, with redundant rows: :attr:`kept`), then the stops'."""
         if self.kept is not None and A.shape[0]:
             keep = self.kept.select(A)
@@ -339,7 +340,7 @@ class ConstrainedDynamics:
         return last[4], last[5], last[6]
 
     def _by_inverse(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray, with_multipliers: bool = False,
-                    spread: list[float] | None = None):
+                    spread: list[float] | None = None) -> np.ndarray | tuple[np.ndarray, np.ndarray] | None:
         """The fundamental equation through ``M^-1`` (block by block) when ``A`` has full row rank:
         ``M^-1/2 (A M^-1/2)^+ r = M^-1 A^T (A M^-1 A^T)^-1 r``, the same matrix ``A M^-1 A^T`` and rank test
         as :func:`fundamental_equation`'s Cholesky path, without the eigen-decomposition of ``M``. None

@@ -11,6 +11,8 @@ import numpy as np
 from ._scene import Scene
 
 if TYPE_CHECKING:
+    import sympy as sp
+
     from ._mechanics import StabilityResult
     from ._model import Model
 
@@ -42,6 +44,22 @@ class Mechanics(Protocol):
     def constraint_names(self) -> tuple[str, ...] | None:
         """Name of each constraint, or None when they are the model's rows after the equilibrium rows."""
 
+    @property
+    def constraints(self) -> list[sp.Expr]:
+        """The constraints ``Phi_k`` as SymPy expressions in the variables (and the velocity symbols)."""
+
+    @property
+    def mass_matrix(self) -> sp.Matrix:
+        """The mass matrix ``M(q)`` as a SymPy matrix (n_q x n_q; kg, kg m^2)."""
+
+    @property
+    def element_states(self) -> tuple[str, ...]:
+        """Names of the force elements' first-order states (a tyre's lateral deflection); empty for most."""
+
+    @property
+    def s_index(self) -> np.ndarray:
+        """Positions of the element states in ``x`` (in :attr:`element_states`' order)."""
+
     def phi(self, x: np.ndarray, qdot: np.ndarray | None = None) -> np.ndarray:
         """Constraint residuals."""
 
@@ -59,6 +77,12 @@ class Mechanics(Protocol):
 
     def mass(self, x: np.ndarray) -> np.ndarray:
         """Mass matrix ``M(q)`` (kg, kg m^2)."""
+
+    def inertial_forces(self, x: np.ndarray, qdot: np.ndarray) -> np.ndarray:
+        """Velocity-product (centrifugal, Coriolis, gyroscopic) generalised forces (N, N m); zero at rest."""
+
+    def element_state_rates(self, x: np.ndarray, qdot: np.ndarray | None = None) -> np.ndarray:
+        """The element states' rates (each state's unit per second), in :attr:`element_states`' order."""
 
     def multipliers(self, x: np.ndarray) -> np.ndarray:
         """Constraint reactions ``lambda`` with ``Phi_q^T lambda = Q`` (least squares)."""

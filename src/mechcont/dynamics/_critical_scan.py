@@ -1,0 +1,136 @@
+"""The critical airspeed of a freefall over a scan of another parameter (a damper's coefficient), each bracket of
+runs beside the one quasi-static predictor: what ``mechcont freefall --critical --scan`` reports and tabulates."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from ..equations import Model
+from ..errors import InputError
+from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, quasi_static_critical
+from ._poses import Lock, travel_of
+
+__all__ = ["CriticalScan", "critical_scan"]
+
+
+@dataclass(frozen=True)
+class CriticalScan:
+    """Critical values of ``vary`` (an airspeed, m/s) bracketed by runs at each value of ``scan``, and the
+    quasi-static predictor beside them.
+
+    Attributes
+    ----------
+    vary, unit:
+        The parameter bisected and its unit.
+    until:
+        The length of each run (s).
+    scan:
+        The parameter scanned, or None (one bracket; ``values`` is then ``(nan,)``).
+    values:
+        The values of ``scan`` (its unit), one per bracket.
+    brackets:
+        The :class:`~mechcont.dynamics.freefall.CriticalAirspeed` at each value.
+    travel:
+        The travel variable the quasi-static predictor is continued in.
+    quasi_static:
+        The :class:`~mechcont.dynamics.freefall.QuasiStaticCritical` (at the model's own value of ``scan``), or
+        None when it could not be found; ``quasi_static_failure`` then says why.
+    """
+
+    vary: str
+    unit: str
+    until: float
+    scan: str | None
+    values: tuple[float, ...]
+    brackets: tuple[CriticalAirspeed, ...]
+    travel: str
+    quasi_static: QuasiStaticCritical | None
+    quasi_static_failure: str = ""
+
+    @property
+    def quasi_static_value(self) -> float:
+        """The quasi-static critical value (units of ``vary``); nan when it could not be found."""
+        return self.quasi_static.value if self.quasi_static is not None else math.nan
+
+    def _where(self, value: float) -> str:
+        return f"{self.scan} = {value:g}: " if self.scan is not None else ""
+
+    def describe(self) -> list[str]:
+        """Readable lines: each bracket with its warnings (a run left undecided, a failing end still moving),
+        then the quasi-static value and, for each bracket, the dynamic minus the quasi-static value and whether
+        it exceeds the bracket's width (or contradicts the statics: a run that did not lock where the gear
+        has no equilibrium to hang in had not finished)."""
+        vary, unit, lines = self.vary, self.unit, []
+        for v, crit in zip(self.values, self.brackets):
+            where = self._where(v)
+            lines += [where + line for line in crit.describe(unit)]
+            if crit.unsettled:
+                lines.append(f"warning: {where}the bracket could not be narrowed further: a run stayed undecided "
+                             f"({crit.stopped})")
+            elif crit.undecided:
+                lines.append(f"warning: {where}the failing end {vary} = {crit.failed:.6g} was still moving at "
+                             f"{self.until:g} s: a longer --until may lock it")
+        qs = self.quasi_static
+        if qs is None:
+            lines.append(f"quasi-static: {self.quasi_static_failure}")
+            return lines
+        kind = (f"fold of the stall branch at {self.travel} = {qs.pose:.6g}" if qs.fold
+                else f"at the end {self.travel} = {qs.pose:.6g}")
+        lines.append(f"quasi-static critical {vary} = {qs.value:.6g} {unit} ({kind})")
+        for v, crit in zip(self.values, self.brackets):
+            where = self._where(v)
+            diff, significant = crit.compare(qs.value)
+            verdict = "significant" if significant else "not significant (within the bracket's width)"
+            if crit.contradicts(qs.value):
+                verdict = "contradicts the statics"
+                lines.append(f"warning: {where}a run that did not lock, {vary} = {crit.failed:.9g} {unit}, lies on "
+                             f"the side of the quasi-static {qs.value:.9g} {unit} where the gear has no equilibrium "
+                             "to hang in: it had not finished (give a longer --until); the bracket does not hold the "
+                             "critical value")
+            lines.append(f"{where}dynamic - quasi-static = {diff:+.4g} {unit} ({diff / qs.value:+.3%}; from the run "
+                         f"that locked, bracket width {crit.width:.3g} {unit}): {verdict}".replace(" ;", ";"))
+        return lines
+
+    def header(self) -> list[str]:
+        """The table's column names, units in brackets: the scanned parameter (if any), then the locked and the
+        failed end of each bracket and the quasi-static value."""
+        u = self.unit
+        return [*([self.scan] if self.scan else []), f"locked_{self.vary} [{u}]", f"failed_{self.vary} [{u}]",
+                f"quasi_static_{self.vary} [{u}]"]
+
+    def rows(self) -> list[list[float]]:
+        """One row per bracket, ordered like :meth:`header`."""
+        return [[*([v] if self.scan else []), crit.locked, crit.failed, self.quasi_static_value]
+                for v, crit in zip(self.values, self.brackets)]
+
+
+def critical_scan(system: Model, start: Mapping[str, float], vary: str, low: float, high: float, *, lock: Lock,
+                  until: float, tol: float | None = None, scan: tuple[str, Sequence[float]] | None = None,
+                  **options: Any) -> CriticalScan:
+    """The critical value of the parameter ``vary`` (an airspeed, m/s) in ``[low, high]`` bracketed by freefall
+    runs (:func:`~mechcont.dynamics.freefall.critical_airspeed`, ``tol`` in units of ``vary``, default
+    ``(high - low) / 1000``), at each value of ``scan = (parameter, values)`` (e.g. a damper's coefficient) or
+    once, and the quasi-static predictor (:func:`~mechcont.dynamics.freefall.quasi_static_critical` on the
+    travel from ``start`` to ``lock``, on the side where the first bracket's values lock); ``until`` (s) and
+    ``options`` go to each run. An :class:`InputError` of the predictor is kept as
+    :attr:`CriticalScan.quasi_static_failure`; the brackets' errors are raised.
+    Returns the :class:`CriticalScan`."""
+    tol = (high - low) / 1000.0 if tol is None else tol
+    name, values = scan if scan is not None else (None, [math.nan])
+    brackets = []
+    for v in values:
+        extra = {name: v} if name is not None else {}
+        brackets.append(critical_airspeed(system, start, vary, low, high, tol=tol, lock=lock, until=until,
+                                          values=extra, **options))
+    travel, begin, end = travel_of(system, start, lock)
+    side = "min" if brackets[0].locks_below else "max"
+    qs, failure = None, ""
+    try:
+        qs = quasi_static_critical(system, travel, begin, end, vary, side=side)
+    except InputError as exc:
+        failure = str(exc).split(": ", 1)[-1]
+    return CriticalScan(vary, system.variable(vary).unit, until, name, tuple(float(v) for v in values),
+                        tuple(brackets), travel, qs, failure)

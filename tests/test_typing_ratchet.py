@@ -1,0 +1,96 @@
+"""The mypy ratchet (issue 34): the modules checked with ``disallow_untyped_defs`` may only grow.
+
+A module leaves the list only by someone deleting it from pyproject.toml (mypy then stops checking it and
+its functions can lose their annotations unnoticed): the list here is the floor, and every module whose
+functions are all annotated must be on the list, so that annotating one makes it join."""
+
+from __future__ import annotations
+
+import ast
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+SRC = ROOT / "src"
+
+#: The floor: each of these is checked with disallow_untyped_defs (add, never remove; a module that is split or
+#: renamed is replaced by its successors).
+FLOOR = {
+    "mechcont", "mechcont.__main__", "mechcont._io", "mechcont._lazy", "mechcont._roots", "mechcont._status",
+    "mechcont._version", "mechcont.analysis", "mechcont.analysis._cusp", "mechcont.analysis._stop_quantities",
+    "mechcont.analysis.ode_check", "mechcont.analysis.study", "mechcont.cli", "mechcont.cli._commands",
+    "mechcont.cli.freefall", "mechcont.continuation", "mechcont.continuation._batch",
+    "mechcont.continuation._cycle_tests", "mechcont.continuation._linalg", "mechcont.continuation._options",
+    "mechcont.continuation._scaling", "mechcont.continuation._sensitivity", "mechcont.continuation._start",
+    "mechcont.dynamics", "mechcont.dynamics._budget", "mechcont.dynamics._checks", "mechcont.dynamics._compliant",
+    "mechcont.dynamics._critical", "mechcont.dynamics._critical_scan", "mechcont.dynamics._dampers",
+    "mechcont.dynamics._events", "mechcont.dynamics._freefall", "mechcont.dynamics._jumps",
+    "mechcont.dynamics._mass", "mechcont.dynamics._ode", "mechcont.dynamics._peaks", "mechcont.dynamics._poses",
+    "mechcont.dynamics._reactions", "mechcont.dynamics._redundant", "mechcont.dynamics._simulate",
+    "mechcont.dynamics._stall", "mechcont.dynamics._udwadia_kalaba", "mechcont.dynamics.freefall",
+    "mechcont.equations", "mechcont.equations._backend", "mechcont.equations._dynamics",
+    "mechcont.equations._linear_dynamics", "mechcont.equations._lock", "mechcont.equations._model",
+    "mechcont.equations._ode_text", "mechcont.equations._protocols", "mechcont.equations._rates",
+    "mechcont.equations._scene", "mechcont.equations._stored", "mechcont.errors", "mechcont.mechanism",
+    "mechcont.mechanism._compliant", "mechcont.mechanism._condition_kinds", "mechcont.mechanism._elements",
+    "mechcont.mechanism._expr", "mechcont.mechanism._ode_file", "mechcont.mechanism._paths",
+    "mechcont.mechanism.elements", "mechcont.mechanism.elements._base", "mechcont.mechanism.joints",
+    "mechcont.mechanism.joints._base", "mechcont.mechanism.joints.prismatic", "mechcont.mechanism.joints.revolute",
+    "mechcont.mechanism.joints.slider", "mechcont.mechanism.joints.weld", "mechcont.mechanism.loads",
+    "mechcont.mechanism.loads._base", "mechcont.mechanism.spatial", "mechcont.mechanism.spatial._dropped",
+    "mechcont.mechanism.spatial._file", "mechcont.mechanism.spatial._kinematics",
+    "mechcont.mechanism.spatial._rotation", "mechcont.mechanism.spatial.joints",
+    "mechcont.mechanism.spatial.joints.cylindrical", "mechcont.mechanism.spatial.joints.inline",
+    "mechcont.mechanism.spatial.joints.prismatic", "mechcont.mechanism.spatial.joints.revolute",
+    "mechcont.mechanism.spatial.joints.spherical", "mechcont.mechanism.spatial.joints.universal",
+    "mechcont.mechanism.spatial.joints.weld", "mechcont.models", "mechcont.models.dual_sidestay_geometry",
+    "mechcont.models.overcentre_scene", "mechcont.outputs._explore_page", "mechcont.outputs.critical_plots",
+    "mechcont.paper", "mechcont.paper._timing", "mechcont.paper.shimmy", "mechcont.units",
+}
+
+
+def _typed_modules() -> set[str]:
+    """The modules of every pyproject override that sets disallow_untyped_defs."""
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    out: set[str] = set()
+    for override in config["tool"]["mypy"].get("overrides", []):
+        if override.get("disallow_untyped_defs"):
+            modules = override["module"]
+            out.update([modules] if isinstance(modules, str) else modules)
+    return out
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(SRC).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _fully_annotated(path: Path) -> bool:
+    """Every function has a return annotation and every parameter (but self/cls) an annotation."""
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            args = [*node.args.posonlyargs, *node.args.args, *node.args.kwonlyargs,
+                    *([node.args.vararg] if node.args.vararg else []), *([node.args.kwarg] if node.args.kwarg else [])]
+            if node.returns is None and node.name != "__init__":
+                return False
+            if any(a.annotation is None and a.arg not in ("self", "cls") for a in args):
+                return False
+            if node.name == "__init__" and node.returns is None and not any(a.annotation for a in args):
+                return False
+    return True
+
+
+def test_the_list_only_grows():
+    modules = {_module_name(p) for p in (SRC / "mechcont").rglob("*.py")}
+    missing = sorted(m for m in FLOOR if m not in modules)
+    assert not missing, f"modules of the ratchet floor no longer exist (put their successors in FLOOR): {missing}"
+    dropped = sorted(FLOOR - _typed_modules())
+    assert not dropped, f"left the disallow_untyped_defs list of pyproject.toml (it may only grow): {dropped}"
+
+
+def test_every_annotated_module_is_on_the_list():
+    typed = _typed_modules()
+    unlisted = sorted(m for p in (SRC / "mechcont").rglob("*.py")
+                      if (m := _module_name(p)) not in typed and _fully_annotated(p))
+    assert not unlisted, (f"fully annotated but not checked: add them to the disallow_untyped_defs list of "
+                          f"pyproject.toml and to FLOOR here: {unlisted}")
