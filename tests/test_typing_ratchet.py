@@ -18,6 +18,7 @@ SRC = ROOT / "src"
 FLOOR = {
     "mechcont", "mechcont.__main__", "mechcont._io", "mechcont._lazy", "mechcont._roots", "mechcont._status",
     "mechcont._version", "mechcont.analysis", "mechcont.analysis._cusp", "mechcont.analysis._stop_quantities",
+    "mechcont.analysis.downlock", "mechcont.paper._nose_gear_settings",
     "mechcont.analysis.ode_check", "mechcont.analysis.study", "mechcont.cli", "mechcont.cli._commands",
     "mechcont.cli.freefall", "mechcont.continuation", "mechcont.continuation._batch",
     "mechcont.continuation._cycle_tests", "mechcont.continuation._linalg", "mechcont.continuation._options",
