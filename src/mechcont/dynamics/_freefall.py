@@ -1,11 +1,5 @@
-"""One freefall run: released at rest from the uplock, does the gear fall out and lock?
-
-:func:`freefall` simulates a mechanism with its stops from rest in the retracted pose (an uplock
-release) until it locks (the lock stop in contact and at rest, or a lock condition reached), and
-reports how it ended: locked; at rest short of locking (it hangs in an intermediate equilibrium, or
-back on the uplock); or still moving at the end of the run (e.g. it struck the lock and left it
-again); with the time to lock, the impact speed at the lock, the peak damper tensions and the peak
-stop reactions.
+"""One freefall run (:func:`freefall`) and its result (:class:`FreefallResult`): what a run reports is described
+in :mod:`.freefall`, the public module.
 
 The run and its result, apart from :mod:`.freefall` (the public module, which also gathers the poses and the
 critical airspeed built on runs): :mod:`._critical` calls :func:`freefall`, so it cannot be in a module that
