@@ -44,6 +44,7 @@ from ._cycle_tests import (
     _period_runs_away,
     _Point,
 )
+from ._hopf_point import state_scales
 from ._options import ContinuationOptions
 from ._palc import StepSizeController
 
@@ -73,15 +74,10 @@ def _system(model, vary: str, x: np.ndarray, ntst: int, ncol: int, options: Cont
 
 
 def _weights(model, dyn, options: ContinuationOptions, omega: float) -> np.ndarray:
-    """The states' weights in the orbit's norm: 1 / scale^2 (the model's scales, options.scales over them)."""
-    names = set(model.names)
-    scale = {n: model.variable(n).scale for n in dyn.state_names if n in names}
-    # a mechanism's velocity states (q_dot) are no variables: on a cycle of angular frequency omega they swing
-    # omega times their coordinate's amplitude, so that is their scale (else they swamp the orbit's norm)
-    scale.update({n: model.variable(n[:-4]).scale * omega for n in dyn.state_names
-                  if n not in names and n.endswith("_dot") and n[:-4] in names})
-    scale.update(options.scales)
-    return np.array([1.0 / scale.get(n, 1.0) ** 2 for n in dyn.state_names])
+    """The states' weights in the orbit's norm: 1 / scale^2 (:func:`~._hopf_point.state_scales`, options.scales
+    over them); without the velocity states' factor omega they would swamp the norm."""
+    scale = state_scales(dyn, model, omega)
+    return np.array([1.0 / options.scales.get(n, s) ** 2 for n, s in zip(dyn.state_names, scale)])
 
 
 def cycles_from_hopf(model, x: np.ndarray, vary: str, *, options: ContinuationOptions | None = None, ntst: int = 20,
@@ -93,7 +89,8 @@ def cycles_from_hopf(model, x: np.ndarray, vary: str, *, options: ContinuationOp
     collocation points each; ``at``: values of ``vary`` where rows are located exactly (``UZ``);
     ``adapt``: steps between mesh adaptations. ``options``: step control (``ds``, ``dsmin``, ``dsmax``, in
     the orbit's L2 norm and the parameter's scale), ``max_steps``, ``bounds`` (on ``vary`` and/or ``period``),
-    ``newton_tol``, ``max_newton``, ``max_angle``. Returns a :class:`CycleBranch` (first row ``HB``).
+    and its ``engine`` settings (``newton_tol``, ``max_newton``, ``max_angle``). Returns a :class:`CycleBranch`
+    (first row ``HB``).
     Raises :class:`InputError` when ``x`` is not near a Hopf point, :class:`ConvergenceError` (with the
     start in ``partial``) when the family cannot start.
     """

@@ -320,9 +320,10 @@ def _relative_residual(r, J, u, problem, pair: CriticalPair) -> float:
     return float(max(rows.max(initial=0.0), abs(pair.g) / size))
 
 
-def _state_scales(dynamics: Dynamics, system, omega: float) -> np.ndarray:
-    """Each state's typical size: its variable's scale in ``system``; a velocity state ``NAME_dot`` that is no
-    variable (a mechanism's), its coordinate's scale times ``omega`` (rad/s); else 1."""
+def state_scales(dynamics: Dynamics, system, omega: float) -> np.ndarray:
+    """Each state's typical size near a Hopf point or on a cycle of angular frequency ``omega`` (rad/s): its
+    variable's scale in ``system``; a velocity state ``NAME_dot`` that is no variable (a mechanism's), its
+    coordinate's scale times ``omega`` (it swings ``omega`` times its coordinate's amplitude); else 1."""
     if system is None:
         return np.ones(len(dynamics.state_names))
     known = dict(zip(system.names, np.abs(np.asarray(system.scales(), float))))
@@ -349,7 +350,7 @@ def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None)
     central differences of ``B`` (step ``eps^(1/5)``: about 1e-13 relative); otherwise ``B`` is central
     differences of the rates' Jacobian (step ``eps^(1/3)``) and ``C`` extrapolated central differences of
     that (step ``eps^(1/6)``: about 1e-8 relative). The steps are relative to each state's scale
-    (:func:`_state_scales`): a mechanism's velocity states swing ``omega`` times their coordinates, and a step
+    (:func:`state_scales`): a mechanism's velocity states swing ``omega`` times their coordinates, and a step
     sized by them would move the coordinates, where the nonlinearity is, by almost nothing.
     ``C(q,q,qb) = D_a S + i D_b S`` with ``q = a + i b`` and ``S(z) = B_z(a,a) + B_z(b,b)`` (real), by
     trilinearity and symmetry. Returns ``(l1, q, method)``.
@@ -359,7 +360,7 @@ def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None)
     A = np.asarray(dyn.rates_jacobian(z0, x), float)
     exact = isinstance(dyn, OdeDynamics) and system is not None
     cols = np.array([system.index(n) for n in dyn.state_names]) if exact else None
-    sc = _state_scales(dyn, system, omega)
+    sc = state_scales(dyn, system, omega)
 
     def H(pairs):  # [d(J a)/dz at state z for (z, a) in pairs]: the matrices b -> B_z(a, b)
         if exact:
