@@ -33,14 +33,22 @@ def _line(ax, xs, ys, **kw):
 
     return _add(ax, Line2D(np.asarray(xs, float), np.asarray(ys, float), **kw))
 
-def _zigzag(a: np.ndarray, b: np.ndarray, width: float) -> np.ndarray:
-    """Polyline of a spring from ``a`` to ``b``: straight leads, ``_COILS`` coils of ``width``."""
+def _along(a: np.ndarray, b: np.ndarray) -> tuple[float, np.ndarray, np.ndarray] | None:
+    """The segment ``a`` -> ``b``: its length, unit direction and left normal; None when it has no length."""
     d = b - a
     length = float(np.hypot(*d))
     if length < 1e-12:
-        return np.array([a, b])
+        return None
     t = d / length
-    nrm = np.array([-t[1], t[0]])
+    return length, t, np.array([-t[1], t[0]])
+
+
+def _zigzag(a: np.ndarray, b: np.ndarray, width: float) -> np.ndarray:
+    """Polyline of a spring from ``a`` to ``b``: straight leads, ``_COILS`` coils of ``width``."""
+    frame = _along(a, b)
+    if frame is None:
+        return np.array([a, b])
+    length, t, nrm = frame
     s = np.linspace(0.2, 0.8, 2 * _COILS + 1)
     offsets = np.zeros_like(s)
     offsets[1:-1:2], offsets[2:-1:2] = width, -width
@@ -132,12 +140,10 @@ def _draw_pin(ax, p: np.ndarray, h: float):
 
 def _draw_damper(ax, name: str, a: np.ndarray, b: np.ndarray, width: float):
     """Dashpot from ``a`` to ``b``: a cylinder open towards ``b`` and a piston on a rod."""
-    d = b - a
-    length = float(np.hypot(*d))
-    if length < 1e-12:
+    frame = _along(a, b)
+    if frame is None:
         return
-    t = d / length
-    nrm = np.array([-t[1], t[0]])
+    length, t, nrm = frame
 
     def at(s: float, w: float) -> np.ndarray:
         return a + s * length * t + w * width * nrm
@@ -175,12 +181,10 @@ def _draw_actuator(ax, name: str, a: np.ndarray, b: np.ndarray, tension: float, 
     labelled with its load in N (tension: pulls its ends together; compression: pushes)."""
     from matplotlib.patches import Polygon
 
-    d = b - a
-    length = float(np.hypot(*d))
-    if length < 1e-12:
+    frame = _along(a, b)
+    if frame is None:
         return
-    t = d / length
-    nrm = np.array([-t[1], t[0]])
+    length, t, nrm = frame
     colour = "#6a3d9a"
     barrel = [a + w * width * nrm + s * length * t for s, w in ((0, 1), (0.55, 1), (0.55, -1), (0, -1))]
     _add(ax, Polygon(np.array(barrel), closed=True, facecolor="#cab2d6", edgecolor=colour, linewidth=1.3,
