@@ -9,6 +9,7 @@ reasons. The corrector's failure words are here: both correctors report them.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -28,6 +29,10 @@ _add, _max = np.add.reduce, np.maximum.reduce
 _NOT_FINITE, _SINGULAR, _TOO_SLOW = Status.NOT_FINITE, Status.SINGULAR, Status.TOO_SLOW
 _SINGULAR_TANGENT = Status.SINGULAR_TANGENT
 _WORDS = {"not_finite": _NOT_FINITE, "singular": _SINGULAR, "too_slow": _TOO_SLOW, "singular_tangent": _SINGULAR_TANGENT}
+
+
+#: What the corrector returns: ``(z, scaled Jacobian, iterations)``, or ``(None, why it failed, iterations)``
+Correction = tuple[np.ndarray, np.ndarray, int] | tuple[None, str, int]
 
 
 def _too_many(max_newton: int) -> str:
@@ -75,7 +80,7 @@ class PseudoArclength:
     solved by ``options.linear_solver``.
     """
 
-    def __init__(self, problem: ContinuationProblem, options: ContinuationOptions):
+    def __init__(self, problem: ContinuationProblem, options: ContinuationOptions) -> None:
         self.problem = problem
         self.options = options
         self.solver = options.linear_solver
@@ -93,27 +98,29 @@ class PseudoArclength:
         self.kernel = _kernel.bordered_newton(problem, self.D, options)
 
     # -- evaluation in scaled coordinates -----------------------------------------------
-    def G(self, z):
+    def G(self, z: np.ndarray) -> np.ndarray:
         """Residual at the scaled point ``z``."""
         return self.problem.residual(z * self.D)
 
-    def Gz(self, z):
+    def Gz(self, z: np.ndarray) -> np.ndarray:
         """Jacobian with respect to the scaled unknowns, dG/dz = dG/du D."""
         return self.problem.jacobian(z * self.D) * self.D
 
-    def evaluate(self, z):
+    def evaluate(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Residual and scaled Jacobian at ``z`` in one model evaluation."""
         r, J = self.problem.evaluate(z * self.D)
         return r, J * self.D
 
-    def state(self, z, tangent, jac=None, bp_test: float | None = None) -> PointState:
+    def state(self, z: np.ndarray, tangent: np.ndarray, jac: np.ndarray | None = None,
+              bp_test: float | None = None) -> PointState:
         """The :class:`PointState` events see at ``z`` with unit ``tangent`` (``bp_test``: the
         branch-point test function when already known)."""
         u = z * self.D
         return PointState(z=z, u=u, tangent=tangent, jac=self.Gz(z) if jac is None else jac, x=self.problem.full(u),
                           bp_test=bp_test)
 
-    def step(self, z0, t0, sigma, z_start=None):
+    def step(self, z0: np.ndarray, t0: np.ndarray, sigma: float,
+             z_start: np.ndarray | None = None) -> tuple[PointState | None, int, str]:
         """Predict ``z0 + sigma t0``, correct (from ``z_start`` if given) and take the new tangent.
 
         Returns ``(state, iterations, "")`` with the new point's :class:`PointState`, or
@@ -121,14 +128,16 @@ class PseudoArclength:
         corrector takes the whole step in one call where it applies (:mod:`._kernel`).
         """
         if self.kernel is not None:
-            code, iters, z, jac, t, sign, logdet = self.kernel.step(z0, t0, sigma, z_start)
-            if code:
-                return None, iters, _WORDS.get(_kernel.CODE_NAMES[code], _too_many(self.options.engine.max_newton))
+            out = self.kernel.step(z0, t0, sigma, z_start)
+            if out[2] is None:  # a non-zero code: no arrays
+                return None, out[1], _WORDS.get(_kernel.CODE_NAMES[out[0]], _too_many(self.options.engine.max_newton))
+            _, iters, z, jac, t, sign, logdet = out
             # BranchPointEvent's value from the tangent system's factors
             return self.state(z, t, jac, branch_point_test(sign, logdet, len(z))), iters, ""
-        z, jac, iters = self.correct(z0 + sigma * t0, t0, z_start)
-        if z is None:
-            return None, iters, jac
+        corrected = self.correct(z0 + sigma * t0, t0, z_start)
+        if corrected[0] is None:
+            return None, corrected[2], corrected[1]
+        z, jac, iters = corrected
         try:
             t = self.tangent(z, t0, jac)
         except np.linalg.LinAlgError:
@@ -136,7 +145,7 @@ class PseudoArclength:
         return self.state(z, t, jac), iters, ""
 
     # -- tangent --------------------------------------------------------------------
-    def initial_tangent(self, z, direction: int) -> np.ndarray:
+    def initial_tangent(self, z: np.ndarray, direction: int) -> np.ndarray:
         """Null vector of G_z at ``z`` oriented so the parameter increases (direction=+1)."""
         _, _, vt = _dense.svd(self.Gz(z))
         t = vt[-1]
@@ -144,7 +153,7 @@ class PseudoArclength:
         ref = t[p] if abs(t[p]) > 1e-12 else t[np.argmax(np.abs(t))]
         return t * (direction * np.sign(ref) or 1.0)
 
-    def tangent(self, z, border, jac=None) -> np.ndarray:
+    def tangent(self, z: np.ndarray, border: np.ndarray, jac: np.ndarray | None = None) -> np.ndarray:
         """Unit tangent at ``z`` from [G_z; border^T] t = e_(n+1), oriented along ``border``."""
         jac = self.Gz(z) if jac is None else jac
         A = self._A_tangent if self._dense else np.empty((self.n + 1, self.n + 1))
@@ -163,7 +172,7 @@ class PseudoArclength:
         return t if t @ border > 0 else -t
 
     # -- corrector --------------------------------------------------------------------
-    def correct(self, z_pred, t0, z_start=None):
+    def correct(self, z_pred: np.ndarray, t0: np.ndarray, z_start: np.ndarray | None = None) -> Correction:
         """Newton on [G(z); t0.(z - z_pred)] = 0 from ``z_start`` (default ``z_pred``).
 
         Returns ``(z, jac, iterations)`` or ``(None, reason, iterations)``; a lagging
@@ -175,7 +184,8 @@ class PseudoArclength:
                 return self._correct(z_pred, t0, z_start, _dense.solve_raw)
         return self._correct(z_pred, t0, z_start, self._solve)
 
-    def _correct(self, z_pred, t0, z_start, solve):
+    def _correct(self, z_pred: np.ndarray, t0: np.ndarray, z_start: np.ndarray | None,
+                 solve: Callable[[np.ndarray, np.ndarray], np.ndarray | None]) -> Correction:
         o = self.options.engine
         tol, D, evaluate = o.newton_tol, self.D, self.problem.evaluate
         z = np.array(z_pred if z_start is None else z_start, dtype=float)
@@ -236,7 +246,7 @@ class PseudoArclength:
             prev = step
         return None, _too_many(o.max_newton), o.max_newton
 
-    def point_at(self, z0, t0, sigma, z_start=None):
+    def point_at(self, z0: np.ndarray, t0: np.ndarray, sigma: float, z_start: np.ndarray | None = None) -> PointState:
         """The branch point on the hyperplane at distance ``sigma`` along ``t0`` from ``z0``
         (Newton starts at ``z_start``, by default the predictor ``z0 + sigma t0``)."""
         st, _, why = self.step(z0, t0, sigma, z_start)

@@ -13,12 +13,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .. import _dense
 from .._roots import brentq
 from ._problem import ContinuationProblem
+
+if TYPE_CHECKING:
+    from ..equations import EquationSystem
+    from ._corrector import PseudoArclength
 
 __all__ = ["Event", "FoldEvent", "BranchPointEvent", "BoundEvent", "LimitEvent", "ValueEvent", "PointState"]
 
@@ -41,6 +46,11 @@ class PointState:
     bp_test: float | None = None
 
 
+#: What :meth:`Event.locate` returns: the step position ``sigma`` (scaled arclength from the step's start), the
+#: point there (None when not even the secant estimate converges) and its info (``{"status": ...}``)
+Hit = tuple[float, PointState | None, dict[str, Any]]
+
+
 class Event:
     """Base class: ``value(problem, state)`` changes sign at the event."""
 
@@ -57,15 +67,16 @@ class Event:
     def value(self, problem: ContinuationProblem, state: PointState) -> float:  # pragma: no cover - interface
         raise NotImplementedError
 
-    def refine(self, problem: ContinuationProblem, state: PointState):
+    def refine(self, problem: ContinuationProblem, state: PointState) -> tuple[np.ndarray, dict[str, Any]] | None:
         """Optionally improve a located point; returns ``(u, info)`` or ``None``."""
         return None
 
-    def point_info(self) -> dict:
+    def point_info(self) -> dict[str, Any]:
         """Extra information recorded with the special point (e.g. why a branch ended)."""
         return {}
 
-    def locate(self, stepper, problem: ContinuationProblem, cur: PointState, ds: float, v0: float, v1: float):
+    def locate(self, stepper: PseudoArclength, problem: ContinuationProblem, cur: PointState, ds: float, v0: float,
+               v1: float) -> Hit:
         """The zero of :meth:`value` between ``cur`` (sigma = 0) and the accepted step (sigma = ``ds``).
 
         ``stepper`` is the :class:`~mechcont.continuation._corrector.PseudoArclength` that took
@@ -80,7 +91,7 @@ class Event:
         """
         cache: dict[float, PointState] = {0.0: cur}
 
-        def f(sigma):
+        def f(sigma: float) -> float:
             near = min(cache, key=lambda s: abs(s - sigma))
             st = stepper.point_at(cur.z, cur.tangent, sigma, cache[near].z + (sigma - near) * cur.tangent)
             cache[sigma] = st
@@ -95,7 +106,7 @@ class Event:
         return sigma, st, {"status": "located"}
 
 
-def _secant(stepper, cur: PointState, ds: float, v0: float, v1: float, reason: str | None = None):
+def _secant(stepper: PseudoArclength, cur: PointState, ds: float, v0: float, v1: float, reason: str | None = None) -> Hit:
     """The point at the secant estimate of a zero, marked approximate (``None`` if it fails)."""
     sigma = ds * v0 / (v0 - v1)
     info = {"status": "approximate", **({"reason": reason} if reason else {})}
@@ -110,13 +121,14 @@ class FoldEvent(Event):
 
     label = "LP"
 
-    def value(self, problem: ContinuationProblem, state):
+    def value(self, problem: ContinuationProblem, state: PointState) -> float:
         return float(state.tangent[problem.param_index])
 
-    def refine(self, problem: ContinuationProblem, state):
+    def refine(self, problem: ContinuationProblem, state: PointState) -> tuple[np.ndarray, dict[str, Any]] | None:
         return problem.refine_fold(state)
 
-    def locate(self, stepper, problem: ContinuationProblem, cur, ds, v0, v1):
+    def locate(self, stepper: PseudoArclength, problem: ContinuationProblem, cur: PointState, ds: float, v0: float,
+               v1: float) -> Hit:
         """A secant guess: close enough for the fold polish (:meth:`refine`) that follows."""
         hit = _secant(stepper, cur, ds, v0, v1)
         return hit if hit[1] is not None else super().locate(stepper, problem, cur, ds, v0, v1)
@@ -135,7 +147,7 @@ class BranchPointEvent(Event):
     label = "BP"
     continuous = True
 
-    def value(self, problem: ContinuationProblem, state):
+    def value(self, problem: ContinuationProblem, state: PointState) -> float:
         if state.bp_test is not None:
             return state.bp_test
         A = np.empty((len(state.tangent), len(state.tangent)))
@@ -155,17 +167,18 @@ class BoundEvent(Event):
     label = "EP"
     stop = True
 
-    def __init__(self, name: str, index: int, bound: float, side: int = 1):
+    def __init__(self, name: str, index: int, bound: float, side: int = 1) -> None:
         self.name, self.index, self.bound, self.side = name, index, bound, side
         self.scale = max(1.0, abs(bound))
 
-    def value(self, problem: ContinuationProblem, state):
+    def value(self, problem: ContinuationProblem, state: PointState) -> float:
         return float(self.side * (state.x[self.index] - self.bound))
 
-    def point_info(self) -> dict:
+    def point_info(self) -> dict[str, Any]:
         return {"bound_of": self.name, "bound": self.bound}
 
-    def locate(self, stepper, problem: ContinuationProblem, cur, ds, v0, v1):
+    def locate(self, stepper: PseudoArclength, problem: ContinuationProblem, cur: PointState, ds: float, v0: float,
+               v1: float) -> Hit:
         """Newton on ``[G; x_k - bound] = 0`` when the bounded name is an unknown, else Brent."""
         st = solve_at_value(stepper, problem, cur, ds, v0, v1, self.index, self.bound)
         if st is not None:
@@ -173,7 +186,8 @@ class BoundEvent(Event):
         return super().locate(stepper, problem, cur, ds, v0, v1)
 
 
-def solve_at_value(stepper, problem: ContinuationProblem, cur, ds, v0, v1, index: int, target: float):
+def solve_at_value(stepper: PseudoArclength, problem: ContinuationProblem, cur: PointState, ds: float, v0: float,
+                   v1: float, index: int, target: float) -> PointState | None:
     """The branch point where the full variable ``index`` equals ``target`` (SI), by Newton on
     ``[G; x_k - target] = 0`` from the secant guess within the step, or None when that variable is not an
     unknown of ``problem`` or Newton fails."""
@@ -221,15 +235,15 @@ class LimitEvent(Event):
     label = "EP"
     stop = True
 
-    def __init__(self, system, index: int):
+    def __init__(self, system: EquationSystem, index: int) -> None:
         self.system, self.index = system, index
         self.limit = system.limits[index]
         self.name = self.limit.name
 
-    def value(self, problem: ContinuationProblem, state):
+    def value(self, problem: ContinuationProblem, state: PointState) -> float:
         return float(self.system.limit_values(state.x)[self.index])
 
-    def point_info(self) -> dict:
+    def point_info(self) -> dict[str, Any]:
         what = self.limit.description or self.name
         return {"limit": self.name, "reason": f"physical limit: {self.name} ({what}) reaches 0"}
 
@@ -249,16 +263,17 @@ class ValueEvent(Event):
         End the branch there.
     """
 
-    def __init__(self, name: str, target: float, label: str = "UZ", stop: bool = False):
+    def __init__(self, name: str, target: float, label: str = "UZ", stop: bool = False) -> None:
         self.name, self.target, self.label, self.stop = name, float(target), label, stop
         self._index: int | None = None
 
-    def value(self, problem: ContinuationProblem, state):
+    def value(self, problem: ContinuationProblem, state: PointState) -> float:
         if self._index is None:
             self._index = problem.system.index(self.name)
         return float(state.x[self._index] - self.target)
 
-    def locate(self, stepper, problem: ContinuationProblem, cur, ds, v0, v1):
+    def locate(self, stepper: PseudoArclength, problem: ContinuationProblem, cur: PointState, ds: float, v0: float,
+               v1: float) -> Hit:
         """Exactly at ``target`` when ``name`` is an unknown of the branch (Newton on ``[G; x - target]``),
         else Brent's method on the step."""
         if self._index is None:

@@ -16,13 +16,15 @@ from __future__ import annotations
 
 import importlib
 import os
-from typing import Any
+from typing import Any, Protocol
+
+import numpy as np
 
 from ._linalg import DenseLU
 from ._options import ContinuationOptions
-from ._problem import CompiledModel
+from ._problem import CompiledModel, ContinuationProblem
 
-__all__ = ["AVAILABLE", "CODE_NAMES", "bordered_newton", "condensation"]
+__all__ = ["AVAILABLE", "CODE_NAMES", "CompiledStepper", "StepResult", "bordered_newton", "condensation"]
 
 _ck: Any = None
 try:
@@ -43,7 +45,23 @@ AVAILABLE = _ck is not None
 CODE_NAMES: dict[int, str] = {} if _ck is None else {code: name for name, code in _ck.CODES.items()}
 
 
-def bordered_newton(problem, scale, options: ContinuationOptions):
+#: What :meth:`CompiledStepper.step` returns: ``(code, iterations, z, jac, tangent, det_sign, log_det)`` on
+#: convergence (code 0), ``(code, iterations, None, None, None, 0.0, 0.0)`` otherwise
+StepResult = (tuple[int, int, np.ndarray, np.ndarray, np.ndarray, float, float]
+              | tuple[int, int, None, None, None, float, float])
+
+
+class CompiledStepper(Protocol):
+    """The compiled corrector (``_ckernel.BorderedNewton``): one whole step of
+    :class:`~._corrector.PseudoArclength` per call."""
+
+    def step(self, z0: np.ndarray, t0: np.ndarray, sigma: float, z_start: np.ndarray | None = None) -> StepResult:
+        """Predict ``z0 + sigma t0``, correct, and take the new tangent: see :data:`StepResult`."""
+        ...
+
+
+def bordered_newton(problem: ContinuationProblem, scale: np.ndarray,
+                    options: ContinuationOptions) -> CompiledStepper | None:
     """A compiled stepper (``_ckernel.BorderedNewton``) for ``problem``, or None where it does not apply.
 
     Where ``problem.compiled_model()`` gives a :class:`~._problem.CompiledModel` (see
@@ -66,7 +84,7 @@ def bordered_newton(problem, scale, options: ContinuationOptions):
                               e.max_contraction, m.fold)
 
 
-def condensation():
+def condensation() -> Any:
     """The compiled condensation of parameters (module ``_ccondense``), or None where it was not built or
     ``MECHCONT_PURE_PYTHON`` is set (then :mod:`._condensation` runs NumPy and LAPACK)."""
     if _cc is None or os.environ.get("MECHCONT_PURE_PYTHON", "") not in ("", "0"):

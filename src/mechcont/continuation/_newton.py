@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 
 import numpy as np
 
@@ -33,7 +33,8 @@ def residual_met(r: np.ndarray, J: np.ndarray, u: np.ndarray, tol: float) -> boo
     return bool(np.all(size <= np.maximum(tol, floor)))
 
 
-def step_noise(solve, A: np.ndarray, J: np.ndarray, u: np.ndarray) -> float:
+def step_noise(solve: Callable[[np.ndarray, np.ndarray], np.ndarray | None], A: np.ndarray, J: np.ndarray,
+               u: np.ndarray) -> float:
     """Largest change of a Newton step that rounding of the residual alone can cause.
 
     At a solution a residual row cannot be computed better than the rounding of its terms,
@@ -59,8 +60,9 @@ def step_noise(solve, A: np.ndarray, J: np.ndarray, u: np.ndarray) -> float:
     return noise
 
 
-def newton_square(fun, jac, u0: np.ndarray, *, tol: float = 1e-10, residual_tol: float = 1e-10,
-                  max_iter: int = 50, scale: np.ndarray | None = None, names=None):
+def newton_square(fun: Callable[[np.ndarray], np.ndarray], jac: Callable[[np.ndarray], np.ndarray], u0: np.ndarray, *,
+                  tol: float = 1e-10, residual_tol: float = 1e-10, max_iter: int = 50,
+                  scale: np.ndarray | None = None) -> tuple[np.ndarray, int]:
     """Damped Newton for a square system ``fun(u) = 0``.
 
     The full Newton step is tried first and halved while it does not reduce the residual
@@ -168,12 +170,12 @@ def find_equilibrium(system: EquationSystem, values: Mapping[str, float] | None 
     unknowns = choose_unknowns(system, hold=hold, free=free)
     idx = np.array([system.index(n) for n in unknowns])
 
-    def fun(u):
+    def fun(u: np.ndarray) -> np.ndarray:
         y = x.copy()
         y[idx] = u
         return system.residual(y)
 
-    def jac(u):
+    def jac(u: np.ndarray) -> np.ndarray:
         y = x.copy()
         y[idx] = u
         return system.jacobian(y)[:, idx]

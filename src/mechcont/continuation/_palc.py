@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 import signal
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from enum import Enum
 from types import MappingProxyType
@@ -23,7 +23,7 @@ import numpy as np
 from .._signals import stopping
 from .._status import Status
 from ._corrector import PseudoArclength
-from ._events import Event, PointState
+from ._events import Event, Hit, PointState
 from ._options import ContinuationOptions
 from ._problem import ContinuationProblem
 
@@ -64,7 +64,7 @@ class StepSizeController:
     returns False once it falls below ``dsmin``.
     """
 
-    def __init__(self, options: ContinuationOptions):
+    def __init__(self, options: ContinuationOptions) -> None:
         self.options = options
         self.ds = options.ds
 
@@ -100,7 +100,7 @@ class RecordedPoint(NamedTuple):
     s: float = 0.0
 
 
-def _describe(problem: ContinuationProblem, x) -> str:
+def _describe(problem: ContinuationProblem, x: np.ndarray) -> str:
     names, idx = problem.names, problem.idx
     if idx is None:
         return ""
@@ -133,7 +133,7 @@ class BranchSteps(Iterator[RecordedPoint]):
     """
 
     def __init__(self, problem: ContinuationProblem, u0: np.ndarray, direction: int, options: ContinuationOptions,
-                 events: list[Event], tangent0: np.ndarray | None = None):
+                 events: list[Event], tangent0: np.ndarray | None = None) -> None:
         self.problem, self.options, self.events = problem, options, list(events)
         self.stepper = PseudoArclength(problem, options)
         self.control = StepSizeController(options)
@@ -147,7 +147,7 @@ class BranchSteps(Iterator[RecordedPoint]):
         self.termination: Termination | None = None
         self.message = ""
         self.end_label = ""
-        self.end_info: dict = {}
+        self.end_info: dict[str, Any] = {}
         self._queue: list[RecordedPoint] = [RecordedPoint(self.current)]
 
     def __next__(self) -> RecordedPoint:
@@ -158,7 +158,7 @@ class BranchSteps(Iterator[RecordedPoint]):
         return self._queue.pop(0)
 
     # -- one accepted step ------------------------------------------------------------
-    def _end(self, how: Termination, message: str, label: str = "", info: dict | None = None) -> None:
+    def _end(self, how: Termination, message: str, label: str = "", info: dict[str, Any] | None = None) -> None:
         self.termination, self.message = how, message
         self.end_label, self.end_info = label, info or {}
 
@@ -232,7 +232,8 @@ class BranchSteps(Iterator[RecordedPoint]):
         self._end(Termination.START_ON_BOUND, f"start lies on the bound of {ev.name or ev.label}", ev.label,
                   {"bound_of": ev.name, **ev.point_info()})
 
-    def _events_in_step(self, cur: PointState, ds: float, new_values: list[float]):
+    def _events_in_step(self, cur: PointState, ds: float,
+                        new_values: list[float]) -> tuple[list[tuple[Event, Hit]], float | None]:
         """Events whose sign changes within the step, located and polished.
 
         Returns ``(hits, jumped)``: ``hits`` a list of ``(event, (sigma, state, info))``;
@@ -240,7 +241,7 @@ class BranchSteps(Iterator[RecordedPoint]):
         landed on another branch), else None.
         """
         eng, problem = self.stepper, self.problem
-        hits: list = []
+        hits: list[tuple[Event, Hit]] = []
         for ev, v0, v1 in zip(self.events, self.values, new_values):
             if v0 == 0 or v1 == 0 or (v0 > 0) == (v1 > 0):
                 continue
@@ -271,14 +272,16 @@ class BranchSteps(Iterator[RecordedPoint]):
         return hits, None
 
 
-def _refined(eng: PseudoArclength, problem: ContinuationProblem, cur: PointState, ev: Event, hit):
+def _refined(eng: PseudoArclength, problem: ContinuationProblem, cur: PointState, ev: Event, hit: Hit) -> Hit:
     """``hit`` after the event's own polish (folds), with its step position recomputed.
 
     The polish can move a point well along the step when the located guess was rough, so
     ordering the step's events (a bound before a fold beyond it) must use the final point.
     """
     sigma, st, info = hit
-    refined = ev.refine(problem, st) if st is not None else None
+    if st is None:
+        return hit
+    refined = ev.refine(problem, st)
     if refined is None:
         return hit
     u_ref, extra = refined
@@ -303,7 +306,8 @@ class DirectionResult:
 
 
 def run_direction(problem: ContinuationProblem, u0: np.ndarray, direction: int, options: ContinuationOptions, events: list[Event],
-                  tangent0: np.ndarray | None = None, progress=None, stability: bool = True) -> DirectionResult:
+                  tangent0: np.ndarray | None = None, progress: Callable[[int], object] | None = None,
+                  stability: bool = True) -> DirectionResult:
     """Continue from ``u0`` (a converged point) in one direction: the driver of :class:`BranchSteps`.
 
     ``direction`` +1 follows increasing continuation parameter initially, -1 decreasing.

@@ -12,12 +12,15 @@ two-parameter fold problem (:mod:`._folds`) is handed to the very same engine.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from typing import Any, NamedTuple, Protocol
+from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
 
 import numpy as np
 
 from ..equations import EquationSystem, Model
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ._events import Event, PointState
 
 __all__ = ["ContinuationProblem", "EquilibriumProblem", "choose_unknowns", "CompiledModel", "CompiledFold"]
 
@@ -111,7 +114,7 @@ class ContinuationProblem(Protocol):
         """:meth:`stability` at every row of ``U`` (override when a batch is cheaper)."""
         return [self.stability(u) for u in U]
 
-    def test_functions(self) -> list:
+    def test_functions(self) -> list[Event]:
         """Extra events particular to this problem (e.g. cusp detection)."""
         return []
 
@@ -120,7 +123,7 @@ class ContinuationProblem(Protocol):
         the corrector calls :meth:`evaluate` (see :meth:`EquilibriumProblem.compiled_model`)."""
         return None
 
-    def refine_fold(self, state) -> tuple[np.ndarray, dict] | None:
+    def refine_fold(self, state: PointState) -> tuple[np.ndarray, dict[str, Any]] | None:
         """Polish a fold found at ``state``: ``(u, info)`` with ``info["status"]``, or None
         when the problem has no fold polish (the located guess then stays approximate)."""
         return None
@@ -201,13 +204,13 @@ class EquilibriumProblem(ContinuationProblem):
         x[self.idx] = u
         return x
 
-    def residual(self, u):
+    def residual(self, u: np.ndarray) -> np.ndarray:
         return self.system.residual(self.full(u))
 
-    def jacobian(self, u):
+    def jacobian(self, u: np.ndarray) -> np.ndarray:
         return self._columns.residual_and_jacobian(self.full(u))[1]
 
-    def evaluate(self, u):
+    def evaluate(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         x = self.base.copy()  # self.full(u), inline: this runs at every Newton iteration
         x[self.idx] = u
         return self._columns.residual_and_jacobian(x)
@@ -221,7 +224,7 @@ class EquilibriumProblem(ContinuationProblem):
         fn, n_out, src = gather
         return CompiledModel(fn, n_out, src, self.base, np.asarray(self.idx))
 
-    def stability(self, u) -> int:
+    def stability(self, u: np.ndarray) -> int:
         if self._stability and self._ode and isinstance(self.system, Model):  # _ode: a Model's facts
             return unstable_rates(self.system, self.full(u))
         mechanics = self.system.mechanics
@@ -229,7 +232,7 @@ class EquilibriumProblem(ContinuationProblem):
             return -1
         return mechanics.stability(self.full(u)).n_unstable
 
-    def stability_batch(self, U) -> list[int]:
+    def stability_batch(self, U: np.ndarray) -> list[int]:
         if self._stability and self._ode:
             return [self.stability(u) for u in U]
         mechanics = self.system.mechanics
