@@ -12,7 +12,7 @@ import pytest
 from cli_helpers import make_runner, one_line_error
 
 from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium
-from mechcont.continuation import _branch as branch_module
+from mechcont.continuation import _table as table_module
 
 FILE = __file__.rsplit("/", 1)[0] + "/data/brace_lock.toml"
 
@@ -94,10 +94,10 @@ def test_limits_decided_before_reading(table, tmp_path, monkeypatch):
     wide = tmp_path / "wide.csv"
     wide.write_text(",".join(f"c{i}" for i in range(100_000)) + "\n")
     one_line_error(_sens(wide, name), "line 1", "columns")
-    monkeypatch.setattr(branch_module, "MAX_TABLE_BYTES", 1000)
+    monkeypatch.setattr(table_module, "MAX_TABLE_BYTES", 1000)
     one_line_error(_sens(path, name), "bytes")
-    monkeypatch.setattr(branch_module, "MAX_TABLE_BYTES", 64 * 2**20)
-    monkeypatch.setattr(branch_module, "MAX_TABLE_ROWS", 5)
+    monkeypatch.setattr(table_module, "MAX_TABLE_BYTES", 64 * 2**20)
+    monkeypatch.setattr(table_module, "MAX_TABLE_ROWS", 5)
     one_line_error(_sens(path, name), "rows")
 
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 
@@ -11,22 +11,28 @@ from .._status import Status
 from ..equations import EquationSystem, Model
 from ..errors import ConvergenceError, InputError
 from ._branch import Branch, SpecialPoint
-from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent, ValueEvent
+from ._events import BoundEvent, BranchPointEvent, Event, FoldEvent, LimitEvent, PointState, ValueEvent
 from ._fold_point import fold_quantities, polish_fold, refine_fold
 from ._folds import FoldProblem
 from ._newton import residual_met
 from ._options import ContinuationOptions
-from ._palc import run_direction
+from ._palc import DirectionResult, run_direction
 from ._problem import ContinuationProblem, EquilibriumProblem, choose_unknowns
 
 if TYPE_CHECKING:
+    import numpy.typing as npt  # (17 ms to import: for the type checker only)
+
     from ..equations import Dynamics
+
+    #: A point to start from: a :class:`SpecialPoint`, ``{name: value}`` (SI; the others at their defaults) or a
+    #: full vector ordered like the system's names
+    Start: TypeAlias = SpecialPoint | Mapping[str, float] | npt.ArrayLike
 
 __all__ = ["continuation", "continue_folds", "locate_fold", "switch_branch"]
 
 
 class _Equilibria(EquilibriumProblem):
-    def refine_fold(self, state):
+    def refine_fold(self, state: PointState) -> tuple[np.ndarray, dict[str, Any]]:
         """The fold polished to machine precision, or the located guess marked approximate.
 
         The null vector's first guess is the branch tangent's states part (exact at the fold;
@@ -44,7 +50,7 @@ class _Equilibria(EquilibriumProblem):
         return self.u_of(fp.x), {"null_vector": fp.v, "status": "located", **fp.precision()}
 
 
-def _curve_unknowns(system: EquationSystem, point, vary: str, free: str, hold: Iterable[str],
+def _curve_unknowns(system: EquationSystem, point: Start, vary: str, free: str, hold: Iterable[str],
                     free_extra: Iterable[str]) -> list[str]:
     """The unknowns of a two-parameter curve through ``point`` (a fold or Hopf point): its branch's lens (the
     point's own, else from ``hold``/``free_extra``), without ``vary`` and the second parameter ``free``. Raises
@@ -57,7 +63,7 @@ def _curve_unknowns(system: EquationSystem, point, vary: str, free: str, hold: I
     return states
 
 
-def _start_vector(system: EquationSystem, start) -> np.ndarray:
+def _start_vector(system: EquationSystem, start: Start) -> np.ndarray:
     if isinstance(start, SpecialPoint):
         return np.array(start.x, float)
     if isinstance(start, Mapping):
@@ -84,7 +90,8 @@ def _limit_events(system: EquationSystem, moving: Iterable[str]) -> list[Event]:
     return [LimitEvent(system, i) for i in system.limits_of(params)]
 
 
-def _equilibrium_events(system, options: ContinuationOptions, events, moving: Iterable[str] = ()) -> list[Event]:
+def _equilibrium_events(system: EquationSystem, options: ContinuationOptions, events: Iterable[Event],
+                        moving: Iterable[str] = ()) -> list[Event]:
     evs: list[Event] = []
     if options.detect_folds:
         evs.append(FoldEvent())
@@ -93,7 +100,8 @@ def _equilibrium_events(system, options: ContinuationOptions, events, moving: It
     return evs + list(events) + _bound_events(system, options) + _limit_events(system, moving)
 
 
-def _check_start(system, problem: ContinuationProblem, u0, options, start_x):
+def _check_start(system: EquationSystem, problem: ContinuationProblem, u0: np.ndarray, options: ContinuationOptions,
+                 start_x: np.ndarray) -> None:
     system.check_limits(start_x)
     r, J = problem.evaluate(u0)
     # relative to the sizes of each row's terms (residual_met's floor): the same mechanism written in
@@ -108,16 +116,20 @@ def _check_start(system, problem: ContinuationProblem, u0, options, start_x):
             raise InputError(name, f"start value {v:.6g} lies outside its bounds {lo:g}:{hi:g}")
 
 
-def _run(problem: ContinuationProblem, system, u0, options, events, direction, vary, unknowns, tangent0=None,
-         progress=None) -> Branch:
+def _run(problem: ContinuationProblem, system: EquationSystem, u0: np.ndarray, options: ContinuationOptions,
+         events: list[Event], direction: int, vary: str, unknowns: Sequence[str], tangent0: np.ndarray | None = None,
+         progress: Callable[[int], object] | None = None) -> Branch:
     if direction not in (-1, 0, 1):
         raise InputError("direction", f"must be -1, 0 (both) or +1, got {direction!r}")
     dirs = [direction] if direction else [-1, 1]
     parts = {d: run_direction(problem, u0, d, options, events, tangent0=tangent0, progress=progress, stability=False)
              for d in dirs}
-    rows, labels, infos, s = [], [], [], []
+    rows: list[PointState] = []
+    labels: list[str] = []
+    infos: list[Mapping[str, Any]] = []
+    s: list[float] = []
 
-    def take(p, indices, sign):
+    def take(p: DirectionResult, indices: Iterable[int], sign: int) -> None:
         for i in indices:
             rows.append(p.states[i])
             labels.append(p.labels[i])
@@ -147,7 +159,7 @@ def _run(problem: ContinuationProblem, system, u0, options, events, direction, v
                   units={v.name: v.unit for v in system.variables})
 
 
-def continuation(system: Model, start, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
+def continuation(system: Model, start: Start, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
                  options: ContinuationOptions | None = None, direction: int = 0,
                  events: Sequence[Event] = (), progress: Callable[[int], None] | None = None,
                  hopf: bool | Dynamics = False, at: Iterable[float] = ()) -> Branch:
@@ -202,7 +214,8 @@ def continuation(system: Model, start, vary: str, *, hold: Iterable[str] = (), f
 
         events.append(HopfEvent(dynamics_of(system) if hopf is True else hopf, system))
 
-    def piece(model, x, vary_, opts, sense, evs_):
+    def piece(model: Model, x: np.ndarray, vary_: str, opts: ContinuationOptions, sense: int,
+              evs_: Sequence[Event]) -> Branch:
         model.compile()
         problem = _Equilibria(model, x, vary_, unknowns, scales=opts.scales, stability=opts.stability)
         u0 = problem.u_of(x)
@@ -228,7 +241,8 @@ def _user_points(vary: str, at: Iterable[float]) -> list[Event]:
     return evs
 
 
-def locate_fold(system: EquationSystem, point, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = ()):
+def locate_fold(system: EquationSystem, point: Start, vary: str, *, hold: Iterable[str] = (),
+                free: Iterable[str] = ()) -> tuple[np.ndarray, np.ndarray, float]:
     """Polish an approximate fold in ``vary`` to machine precision.
 
     ``point`` is a full vector, dict or :class:`SpecialPoint` near a fold. Returns
@@ -244,7 +258,7 @@ def locate_fold(system: EquationSystem, point, vary: str, *, hold: Iterable[str]
     return x, v, a
 
 
-def continue_folds(system: EquationSystem, fold, vary: str, free: str, *, hold: Iterable[str] = (),
+def continue_folds(system: EquationSystem, fold: Start, vary: str, free: str, *, hold: Iterable[str] = (),
                    free_extra: Iterable[str] = (), options: ContinuationOptions | None = None,
                    direction: int = 0, stop_at_cusp: bool = False,
                    progress: Callable[[int], None] | None = None) -> Branch:
@@ -351,7 +365,7 @@ def switch_branch(system: EquationSystem, bp: SpecialPoint, *, options: Continua
     w = U[:, -1]
     x = problem.full(u0)
 
-    def second(a, b):  # w^T G_zz[a, b] in scaled variables
+    def second(a: np.ndarray, b: np.ndarray) -> float:  # w^T G_zz[a, b] in scaled variables
         va = np.zeros(len(x))
         va[problem.idx] = D * a
         return float(w @ (system.jacobian_derivative(x, va)[:, problem.idx] * D) @ b)

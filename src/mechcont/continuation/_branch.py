@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
+from typing import IO, TYPE_CHECKING, Any, TypedDict, Unpack
 
 import numpy as np
 
@@ -12,9 +13,35 @@ from .._io import atomic_write, read_csv_header
 from .._status import Status
 from ..errors import InputError
 from ._special_point import SpecialPoint
+from ._table import cell_count, cell_number, read_branch_table, read_table, unit_header
+
+if TYPE_CHECKING:
+    import numpy.typing as npt  # (17 ms to import: for the type checker only)
+    import pandas as pd
+
+    from ..equations import EquationSystem
+    from ._sensitivity import Sensitivity
 
 __all__ = ["Branch", "SpecialPoint", "unit_header", "read_csv_header", "read_branch_table", "read_table",
-           "check_branch_table"]
+           "check_branch_table", "cell_count", "cell_number"]
+
+
+class _Fields(TypedDict, total=False):
+    """The constructor's arguments :meth:`Branch.replace` may change."""
+
+    names: Iterable[str]
+    values: npt.ArrayLike
+    s: npt.ArrayLike
+    n_unstable: npt.ArrayLike
+    labels: Iterable[str]
+    special_points: Iterable[SpecialPoint]
+    vary: str
+    unknowns: Iterable[str]
+    status: Status | str
+    message: str
+    model: str
+    units: Mapping[str, str] | None
+
 
 class Branch:
     """A continued branch of solutions.
@@ -50,8 +77,10 @@ class Branch:
         joined by ``"; "``. A text status given to the constructor is read as its Status.
     """
 
-    def __init__(self, names, values, s, n_unstable, labels, special_points, vary, unknowns,
-                 status="completed", message="", model="", units=None):
+    def __init__(self, names: Iterable[str], values: npt.ArrayLike, s: npt.ArrayLike, n_unstable: npt.ArrayLike,
+                 labels: Iterable[str], special_points: Iterable[SpecialPoint], vary: str, unknowns: Iterable[str],
+                 status: Status | str = "completed", message: str = "", model: str = "",
+                 units: Mapping[str, str] | None = None) -> None:
         self.names = tuple(names)
         self.values = np.asarray(values, dtype=float).reshape(-1, len(self.names))
         self.s = np.asarray(s, dtype=float)
@@ -67,23 +96,24 @@ class Branch:
         self.special_points.sort(key=lambda p: p.index)  # arclength order: the numbering's order
         self._col = {n: i for i, n in enumerate(self.names)}  # set last: the branch is complete (see __setattr__)
 
-    def __setattr__(self, name: str, value) -> None:
+    def __setattr__(self, name: str, value: object) -> None:
         if "_col" in self.__dict__:
             raise AttributeError(f"a Branch is not changed once made (setting {name!r}); make a changed copy with "
                                  "replace(...) or with_columns(...)")
         object.__setattr__(self, name, value)
 
-    def replace(self, **changes) -> Branch:
+    def replace(self, **changes: Unpack[_Fields]) -> Branch:
         """A new branch with the constructor's arguments in ``changes`` replaced (``message``, ``units``, ...);
         the arrays and the special points are shared with this one (nothing is copied)."""
-        args = {"names": self.names, "values": self.values, "s": self.s, "n_unstable": self.n_unstable,
-                "labels": self.labels, "special_points": self.special_points, "vary": self.vary,
-                "unknowns": self.unknowns, "status": self.status, "message": self.message, "model": self.model,
-                "units": self.units}
+        args: _Fields = {"names": self.names, "values": self.values, "s": self.s, "n_unstable": self.n_unstable,
+                         "labels": self.labels, "special_points": self.special_points, "vary": self.vary,
+                         "unknowns": self.unknowns, "status": self.status, "message": self.message,
+                         "model": self.model, "units": self.units}
         unknown = set(changes) - set(args)
         if unknown:
             raise TypeError(f"Branch.replace() got unknown field(s) {', '.join(sorted(unknown))}")
-        return Branch(**{**args, **changes})
+        args.update(changes)
+        return Branch(**args)
 
     def with_columns(self, columns: Mapping[str, np.ndarray], units: Mapping[str, str] | None = None) -> Branch:
         """A new branch with ``columns`` (``{name: values per row}``) appended after this one's, in ``units``
@@ -100,7 +130,8 @@ class Branch:
     @property
     def stable(self) -> np.ndarray:
         """Boolean array: True where the point is stable (no unstable direction)."""
-        return self.n_unstable == 0
+        stable: np.ndarray = self.n_unstable == 0  # (NumPy's stubs type a comparison of arrays as Any)
+        return stable
 
     @property
     def success(self) -> bool:
@@ -136,8 +167,11 @@ class Branch:
         self.column(name)
         return self.units.get(name, "")
 
-    def __getitem__(self, key: str):
-        """``branch["theta1"]`` -> column; ``branch["LP1"]`` -> first fold (SpecialPoint)."""
+    def __getitem__(self, key: str) -> Any:
+        """``branch["theta1"]`` -> column; ``branch["LP1"]`` -> first fold (SpecialPoint).
+
+        Typed ``Any``: which of the two it is depends on the key's text; :meth:`column` and :meth:`point` are the
+        typed spellings."""
         if key in self._col:
             return self.column(key)
         label = key.rstrip("0123456789")
@@ -175,8 +209,8 @@ class Branch:
         found = [p for p in self.special_points if p.index == i]
         return found[0] if found else SpecialPoint(self.labels[i], i, self.values[i].copy(), self.names)
 
-    def sensitivity(self, system, point: str | int, params, *, of: str | None = None, keep: str | None = None,
-                    values=None):
+    def sensitivity(self, system: EquationSystem, point: str | int, params: Iterable[str], *, of: str | None = None,
+                    keep: str | None = None, values: Mapping[str, float] | None = None) -> Sensitivity:
         """Exact derivatives of a point's quantity with respect to ``params`` (SI units per SI unit).
 
         ``point``: as :meth:`point` takes it. The quantity is ``of`` (an unknown of the
@@ -222,7 +256,7 @@ class Branch:
                 out[p.index] = p.tag
         return out
 
-    def to_records(self) -> list[dict]:
+    def to_records(self) -> list[dict[str, Any]]:
         """One dict per point: every variable, ``s``, ``stability``, ``n_unstable``, ``label``, ``vary``.
 
         ``label`` carries a ``?`` for a special point that is only approximate.
@@ -235,7 +269,7 @@ class Branch:
             for i, (row, s) in enumerate(zip(self.values, self.s))
         ]
 
-    def to_frame(self):
+    def to_frame(self) -> pd.DataFrame:
         """The table as a pandas DataFrame (``pip install mechcont[tables]``).
 
         Columns as in :meth:`to_records` (plain names, SI values, angles in rad);
@@ -257,7 +291,7 @@ class Branch:
         ``label``, ``vary``."""
         return [unit_header(n, self.units.get(n, "")) for n in self.names] + list(_EXTRA_COLUMNS)
 
-    def to_csv(self, path: str | os.PathLike) -> Path:
+    def to_csv(self, path: str | os.PathLike[str]) -> Path:
         """Write the table as CSV: one column per variable with its unit in the header
         (``F [N]``, ``theta1 [rad]``: values in SI units, angles in radians), then ``s``
         (scaled arclength, dimensionless), ``stability`` (``stable``/``unstable``/``fold``),
@@ -269,7 +303,7 @@ class Branch:
 
         import csv  # csv and json are imported where used: a run that writes no table does without
 
-        def write(f):
+        def write(f: IO[str]) -> None:
             w = csv.writer(f, lineterminator="\n")
             w.writerow(self.csv_header())
             for r in recs:
@@ -278,7 +312,7 @@ class Branch:
         return _atomic_write(path, write)
 
     @classmethod
-    def read_csv(cls, path: str | os.PathLike, *, model: str = "") -> Branch:
+    def read_csv(cls, path: str | os.PathLike[str], *, model: str = "") -> Branch:
         """A branch from a table written by :meth:`to_csv` (or an older one without units).
 
         Variables are the columns other than ``s``, ``stability``, ``n_unstable``, ``label``
@@ -310,7 +344,7 @@ class Branch:
         units = {n: u for n, u in units.items() if n not in DERIVED_COLUMNS}
         return cls(names, values, s, nu, labels, special, vary, (), model=model, units=units)
 
-    def to_json(self, path: str | os.PathLike) -> Path:
+    def to_json(self, path: str | os.PathLike[str]) -> Path:
         """Write the branch as JSON: metadata, columns, special points."""
         doc = {
             "model": self.model, "vary": self.vary, "unknowns": list(self.unknowns), "status": self.status,
@@ -334,7 +368,7 @@ _EXTRA_COLUMNS = ("s", "stability", "n_unstable", "label", "vary")
 DERIVED_COLUMNS = ("n_unstable_dynamic", "leading_real", "leading_frequency")
 
 
-def _hopf_fields(p: SpecialPoint) -> dict:
+def _hopf_fields(p: SpecialPoint) -> dict[str, Any]:
     """A Hopf point's frequency (rad/s), period (s), ``l1`` and criticality for the JSON; ``{}`` elsewhere."""
     h = p.extra.get("hopf")
     if h is None:
@@ -342,113 +376,7 @@ def _hopf_fields(p: SpecialPoint) -> dict:
     return {"frequency": h.frequency, "period": h.period, "l1": h.lyapunov, "criticality": h.criticality}
 
 
-def cell_number(path, row: int, column: str, text: str) -> float:
-    """A cell as a float: finite, or ``nan`` (an analysis's column with no value at that row: a downlock
-    table's unlock load where none was found; :func:`check_branch_table` refuses it in the model's
-    variables); :class:`InputError` naming the file, row and column otherwise."""
-    try:
-        v = float(text)
-    except (TypeError, ValueError):
-        raise InputError("branch", f"'{path}' row {row} (line {row + 2}), column {column}: not a number: "
-                                   f"{text!r}") from None
-    if np.isinf(v):
-        raise InputError("branch", f"'{path}' row {row} (line {row + 2}), column {column}: {text!r} is not a "
-                                   "finite number")
-    return v
-
-
-def cell_count(path, row: int, text: str) -> int:
-    """The ``n_unstable`` cell: an integer from -1 up; :class:`InputError` naming the row otherwise."""
-    try:
-        n = int(text)
-    except ValueError:
-        n = -2
-    if n < -1:
-        raise InputError("branch", f"'{path}' row {row} (line {row + 2}), column n_unstable: {text!r} is not a "
-                                   "count (an integer >= -1)")
-    return n
-
-
-def unit_header(name: str, unit: str) -> str:
-    """A CSV column header: ``"F [N]"``, or ``"label"`` for a column without a unit."""
-    return f"{name} [{unit}]" if unit else name
-
-
-#: Limits of a branch table, decided before reading it (a table mechcont writes is far below them).
-MAX_TABLE_BYTES = 64 * 2**20
-MAX_TABLE_COLUMNS = 4096
-MAX_TABLE_ROWS = 200_000
-
-
-def read_table(path: str | os.PathLike) -> tuple[list[str], list[list[str]]]:
-    """The header and the rows (lists of cell texts) of a CSV branch or sweep table, read strictly.
-
-    Only a regular file is opened (not a FIFO, a device such as ``/dev/zero`` or a folder); its
-    size (at most :data:`MAX_TABLE_BYTES`), its header's columns (at most
-    :data:`MAX_TABLE_COLUMNS`, each named once) and its rows (at most :data:`MAX_TABLE_ROWS`, each
-    with as many cells as the header) are checked as it is read, so nothing unbounded is read.
-    Raises :class:`InputError` (field ``branch``) in one line naming the file, the line and what
-    would be valid.
-    """
-    import csv
-    import stat
-
-    try:
-        st = os.stat(path)
-    except OSError as exc:
-        raise InputError("branch", f"cannot read '{path}': {exc.strerror or exc}") from None
-    if not stat.S_ISREG(st.st_mode):
-        raise InputError("branch", f"'{path}' is not a regular file (a FIFO, device or folder); give a CSV table "
-                                   "written by continue, folds, downlock or sweep")
-    if st.st_size > MAX_TABLE_BYTES:
-        raise InputError("branch", f"'{path}' has {st.st_size} bytes; a branch table may have at most "
-                                   f"{MAX_TABLE_BYTES} bytes")
-    try:
-        with open(path, newline="", encoding="utf-8") as fh:
-            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):  # replaced between the stat and the open
-                raise InputError("branch", f"'{path}' is not a regular file")
-            text = fh.read(MAX_TABLE_BYTES + 1)
-        if len(text) > MAX_TABLE_BYTES:
-            raise InputError("branch", f"'{path}' has more than {MAX_TABLE_BYTES} bytes")
-        first = text.split("\n", 1)[0]
-        if first.count(",") >= MAX_TABLE_COLUMNS:
-            raise InputError("branch", f"'{path}' line 1: more than {MAX_TABLE_COLUMNS} columns")
-        reader = csv.reader(text.splitlines())
-        header = next(reader, [])
-        rows: list[list[str]] = []
-        for line, row in enumerate(reader, start=2):
-            if len(row) != len(header):
-                raise InputError("branch", f"'{path}' line {line}: {len(row)} cells for the {len(header)} columns "
-                                           "of the header")
-            if len(rows) == MAX_TABLE_ROWS:
-                raise InputError("branch", f"'{path}' has more than {MAX_TABLE_ROWS} rows")
-            rows.append(row)
-    except (OSError, UnicodeDecodeError, csv.Error) as exc:
-        raise InputError("branch", f"cannot read '{path}': {getattr(exc, 'strerror', None) or exc}") from None
-    if not header:
-        raise InputError("branch", f"'{path}' is empty; a branch table starts with a header line")
-    names = [read_csv_header(h)[0] for h in header]
-    repeated = list(dict.fromkeys(h for h, n in zip(header, names) if names.count(n) > 1))
-    if repeated:
-        raise InputError("branch", f"'{path}' line 1: the column(s) {', '.join(map(repr, repeated))} name a "
-                                   "variable more than once; each column may appear once")
-    return header, rows
-
-
-def read_branch_table(path: str | os.PathLike) -> tuple[list[dict[str, str]], dict[str, str]]:
-    """Read a branch (or sweep) CSV strictly (:func:`read_table`): rows as ``{name: text}`` keyed by plain
-    names, and ``{name: unit}``.
-
-    Headers ``F [N]`` give name ``F`` and unit ``N``; tables written before units (bare
-    names) read the same, with no units.
-    """
-    header, raw = read_table(path)
-    pairs = [read_csv_header(h) for h in header]
-    rows = [dict(zip((n for n, _ in pairs), row)) for row in raw]
-    return rows, {n: u for n, u in pairs if u}
-
-
-def check_branch_table(branch: Branch, system, path: str | os.PathLike) -> None:
+def check_branch_table(branch: Branch, system: EquationSystem, path: str | os.PathLike[str]) -> None:
     """Check a table read by :meth:`Branch.read_csv` against the model ``system``: its columns are exactly
     the model's variables (none missing, none unknown), each header's unit is the model's, every value
     is finite and the rows are in arclength order. Raises :class:`InputError` (field ``branch``) in one
@@ -480,9 +408,9 @@ def check_branch_table(branch: Branch, system, path: str | os.PathLike) -> None:
                                    "order (s must be finite and non-decreasing)")
 
 
-def _atomic_write(path, writer) -> Path:
+def _atomic_write(path: str | os.PathLike[str], writer: Callable[[IO[str]], object]) -> Path:
     """Write text through ``writer(file)`` without leaving a partial file on failure."""
-    def write(tmp):
+    def write(tmp: str) -> None:
         with open(tmp, "w", newline="") as f:
             writer(f)
 

@@ -15,7 +15,7 @@ The fold curve in two parameters is :mod:`._folds`.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -74,7 +74,8 @@ def _null_vectors(Js: np.ndarray, row: np.ndarray | None = None,
 
 
 def fold_quantities(system: EquationSystem, x: np.ndarray, state_idx: np.ndarray, param_index: int,
-                    v: np.ndarray | None = None, scaling: tuple[np.ndarray, np.ndarray] | None = None):
+                    v: np.ndarray | None = None,
+                    scaling: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray, float]:
     """Right/left null vectors and the normalised quadratic coefficient at a fold.
 
     Returns ``(v, w, a)``: ``v`` spans ker G_s, ``w`` spans ker G_s^T, oriented so that
@@ -96,12 +97,18 @@ def fold_quantities(system: EquationSystem, x: np.ndarray, state_idx: np.ndarray
     return _oriented_coefficient(v, w, J[:, param_index], system.jacobian_derivative(x, vf)[:, state_idx])
 
 
-def _oriented_coefficient(v, w, Jp, Hs):
+def _oriented_coefficient(v: np.ndarray, w: np.ndarray, Jp: np.ndarray,
+                          Hs: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
     """``(v, w, a)`` of :func:`fold_quantities` from ``w``, ``dG/dp1`` and ``Hs = d(G_s v)/ds``."""
     if w @ Jp < 0:
         w = -w
     a = float(w @ (Hs @ v)) / (v @ v)
     return v, w, a
+
+
+#: :meth:`_FoldSystem._second_derivative_layout`: the compiled second derivatives ``values(x)``, where each
+#: reads the null vector, where it adds in the flattened output, and that output's size
+_SecondLayout = tuple[Callable[[np.ndarray], np.ndarray], np.ndarray, np.ndarray, int]
 
 
 class _FoldSystem:
@@ -121,25 +128,26 @@ class _FoldSystem:
     evaluating the point again.
     """
 
-    def __init__(self, system: EquationSystem, base: np.ndarray, idx_vars: np.ndarray, state_pos, col_states) -> None:
+    def __init__(self, system: EquationSystem, base: np.ndarray, idx_vars: np.ndarray, state_pos: np.ndarray,
+                 col_states: np.ndarray) -> None:
         self.base, self.idx_vars = base, idx_vars
         self.nv, self.n = len(idx_vars), len(state_pos)
         # the states' columns: a slice when they come first (always, here): the same values and
         # layout as fancy indexing, one copy fewer per evaluation
         pos = np.asarray(state_pos, dtype=np.intp)
-        self.state_pos = slice(0, len(pos)) if np.array_equal(pos, np.arange(len(pos))) else pos
+        self.state_pos: slice | np.ndarray = slice(0, len(pos)) if np.array_equal(pos, np.arange(len(pos))) else pos
         self.state_idx = idx_vars[pos]
         self.col = np.asarray(col_states, dtype=float)
         self.view = system.columns(idx_vars)  # only the unknowns' columns of J and of d(J v)/dx are formed
-        self._second: tuple | None = None
+        self._second: _SecondLayout | None = None
 
-    def full(self, U):
+    def full(self, U: np.ndarray) -> np.ndarray:
         """The full variable vector at ``U``."""
         x = self.base.copy()
         x[self.idx_vars] = U[:self.nv]
         return x
 
-    def evaluate(self, U):
+    def evaluate(self, U: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Residual (2n+1) and Jacobian (2n+1, nv+n) at ``U``."""
         nv, n, col = self.nv, self.n, self.col
         x = self.base.copy()  # self.full(U), inline: this runs at every Newton iteration
@@ -167,7 +175,7 @@ class _FoldSystem:
         out[2 * n, nv:] = vh
         return res, out
 
-    def _second_derivative_layout(self):
+    def _second_derivative_layout(self) -> _SecondLayout:
         """``(values, v_at, bins, size)``: the view's second derivatives, where each entry reads
         the null vector (``v_at``: position among the states, ``n`` for a zero) and where it
         adds in the flattened output (row ``n + i``, column ``c``)."""
@@ -177,14 +185,14 @@ class _FoldSystem:
         at[self.state_idx] = np.arange(n, dtype=np.intp)
         return values, at[j], (n + i) * (nv + n) + c, (2 * n + 1) * (nv + n)
 
-    def residual(self, U):
+    def residual(self, U: np.ndarray) -> np.ndarray:
         """Residual (2n+1) at ``U``."""
         x = self.full(U)
         vh = U[self.nv:]
         r, J = self.view.residual_and_jacobian(x)
         return np.concatenate([r, (J[:, self.state_pos] * self.col) @ vh, [0.5 * (vh @ vh - 1.0)]])
 
-    def jacobian(self, U):
+    def jacobian(self, U: np.ndarray) -> np.ndarray:
         """Jacobian (2n+1, nv+n) at ``U``."""
         return self.evaluate(U)[1]
 
@@ -220,7 +228,7 @@ class FoldPoint:
     singular_value: float
     iterations: int
 
-    def precision(self) -> dict:
+    def precision(self) -> dict[str, float]:
         """``{"residual": ..., "singular_value": ...}`` for a special point's info."""
         return {"residual": self.residual, "singular_value": self.singular_value}
 
@@ -325,7 +333,8 @@ def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], pa
                            f"{np.linalg.norm(rows * F):.3g})", partial=full(U))
 
 
-def refine_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], param: str, tol: float = 1e-11):
+def refine_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], param: str,
+                tol: float = 1e-11) -> tuple[np.ndarray, np.ndarray]:
     """Polish an approximate fold in ``param``: ``(x, v)`` of :func:`polish_fold`.
 
     Returns the full vector at the fold and the normalised null vector over the states.

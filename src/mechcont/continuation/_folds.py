@@ -13,14 +13,15 @@ disappear there.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
+from typing import Any, Protocol
 
 import numpy as np
 
 from .. import _dense
 from ..equations import EquationSystem
 from ..errors import InputError
-from ._events import Event
+from ._events import Event, PointState
 from ._fold_point import _SOLVER, _norm, _null_vectors, _oriented_coefficient, fold_scaling
 from ._newton import residual_met
 from ._problem import CompiledFold, CompiledModel, ContinuationProblem, choose_unknowns
@@ -28,12 +29,28 @@ from ._problem import CompiledFold, CompiledModel, ContinuationProblem, choose_u
 __all__ = ["FoldProblem", "CuspEvent", "fold_states"]
 
 
+class _SecondDerivatives(Protocol):
+    """The compiled second derivatives of a column view (``ColumnView.second_derivative_entries()[0]``)."""
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        """Their values at the full vector ``x``."""
+        ...
+
+    def parts(self) -> tuple[Any, int, np.ndarray] | None:
+        """``(fn, n_out, src)`` for the compiled corrector (``fn`` SymEngine's), None without compiled code."""
+        ...
+
+
+#: :meth:`FoldProblem._layout`: ``(values, keep, i, pos, c, factor)``
+_AdjugateLayout = tuple[_SecondDerivatives, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+
 class CuspEvent(Event):
     """Cusp (``CP``) on a fold curve: the quadratic coefficient of the fold changes sign."""
 
     label = "CP"
 
-    def value(self, problem: ContinuationProblem, state):
+    def value(self, problem: ContinuationProblem, state: PointState) -> float:
         assert isinstance(problem, FoldProblem), "a cusp is an event of fold curves (FoldProblem.test_functions)"
         return problem.quadratic_coefficient(state.u, state.jac)
 
@@ -79,7 +96,7 @@ class FoldProblem(ContinuationProblem):
     """
 
     def __init__(self, system: EquationSystem, x_fold: np.ndarray, p1: str, p2: str, states: Iterable[str],
-                 scales=None):
+                 scales: Mapping[str, float] | None = None) -> None:
         self.system = system.compile()
         states = curve_states(states, p1, p2, "fold parameters", "fold")
         self.states = states
@@ -99,7 +116,7 @@ class FoldProblem(ContinuationProblem):
         self._e_last[n] = 1.0
         self.base = x_fold.copy()
         self.view = system.columns(self.idx_vars)
-        self._adjugate_layout: tuple | None = None
+        self._adjugate_layout: _AdjugateLayout | None = None
         self.u0 = x_fold[self.idx_vars].copy()
         self.names = (*states, p1, p2)
         self.param_index = len(states) + 1
@@ -109,13 +126,13 @@ class FoldProblem(ContinuationProblem):
         self.scale = sc[self.idx_vars]
         self.idx = self.idx_vars  # for messages
 
-    def full(self, u):
+    def full(self, u: np.ndarray) -> np.ndarray:
         """The full variable vector at ``u``."""
         x = self.base.copy()
         x[self.idx_vars] = u
         return x
 
-    def _layout(self):
+    def _layout(self) -> _AdjugateLayout:
         """The view's second derivatives ``d2 G_i / ds_j dx_c`` with ``s_j`` a state: ``(values,
         keep, i, pos, c)`` (``keep`` selects them among all entries, ``pos`` is ``j``'s position
         among the states) and the factor ``R_i C_pos`` of each in ``dA/dx_c``."""
@@ -142,7 +159,7 @@ class FoldProblem(ContinuationProblem):
         unitary = _dense.slogdet(U)[0] * _dense.slogdet(Vt)[0]
         return 0.0, unitary * (Vt.T * others) @ U.T
 
-    def evaluate(self, u):
+    def evaluate(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Residual (n + 1) and Jacobian (n + 1, n + 2) at ``u``."""
         x = self.base.copy()
         x[self.idx_vars] = u
@@ -177,19 +194,19 @@ class FoldProblem(ContinuationProblem):
         fn, n_out, src = gather
         return CompiledModel(fn, n_out, src, self.base, self.idx_vars, fold)
 
-    def residual(self, u):
+    def residual(self, u: np.ndarray) -> np.ndarray:
         return self.evaluate(u)[0]
 
-    def jacobian(self, u):
+    def jacobian(self, u: np.ndarray) -> np.ndarray:
         return self.evaluate(u)[1]
 
-    def solves(self, u, tol: float = 1e-10) -> bool:
+    def solves(self, u: np.ndarray, tol: float = 1e-10) -> bool:
         """Whether ``u`` solves the fold system: equilibrium rows and the fold condition each below
         ``tol`` or their floating-point floor."""
         res, out = self.evaluate(u)
         return bool(np.isfinite(res).all() and residual_met(res, out, u, tol))
 
-    def quadratic_coefficient(self, u, jac: np.ndarray | None = None) -> float:
+    def quadratic_coefficient(self, u: np.ndarray, jac: np.ndarray | None = None) -> float:
         """Normalised ``a = w^T G_ss[v, v]`` at the fold-curve point ``u``.
 
         ``jac``: the scaled Jacobian of the fold system the corrector returned with ``u``
@@ -220,10 +237,10 @@ class FoldProblem(ContinuationProblem):
         w = row * y[:n]
         return float(w @ (H @ v)) / (_norm(w) * (v @ v))
 
-    def test_functions(self):
+    def test_functions(self) -> list[Event]:
         return [CuspEvent()]
 
 
-def fold_states(system: EquationSystem, vary: str, hold=(), free=()) -> list[str]:
+def fold_states(system: EquationSystem, vary: str, hold: Iterable[str] = (), free: Iterable[str] = ()) -> list[str]:
     """Unknown state names of a fold in ``vary`` (the lens of the equilibrium branch)."""
     return choose_unknowns(system, hold=hold, free=free, exclude=[vary])

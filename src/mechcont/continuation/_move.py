@@ -62,14 +62,15 @@ class MovedPoint:
         self.x, self.v, self.steps, self.coefficient = x, v, steps, coefficient
 
 
-def _fold_at(system, x, states, vary, v):
+def _fold_at(system: EquationSystem, x: np.ndarray, states: Sequence[str], vary: str,
+             v: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, float]:
     fp = polish_fold(system, x, states, vary, v0=v)
     idx = np.array([system.index(n) for n in states])
     _, _, a = fold_quantities(system, fp.x, idx, system.index(vary), v=fp.v)
     return fp.x, fp.v, a
 
 
-def _equilibrium_at(system, x, solved):
+def _equilibrium_at(system: EquationSystem, x: np.ndarray, solved: Sequence[str]) -> np.ndarray:
     from ._newton import find_equilibrium
 
     held = {n: float(x[system.index(n)]) for n in system.state_names if n not in solved}
@@ -107,8 +108,9 @@ def move_point(system: EquationSystem, x: np.ndarray, values: Mapping[str, float
     fold = vary is not None
     solve_idx = np.array([system.index(n) for n in solved], dtype=np.intp)
     scale = _scales(system, x, solve_idx)
-    v, a0 = None, None
-    if fold:
+    v: np.ndarray | None = None
+    a0: float | None = None
+    if vary is not None:
         x, v, a0 = _fold_at(system, x, list(states or ()), vary, null_vector)
     if np.array_equal(old, new):
         return MovedPoint(x, v, 0, a0)
@@ -124,8 +126,10 @@ def move_point(system: EquationSystem, x: np.ndarray, values: Mapping[str, float
         t1 = min(1.0, t + h)
         trial = x.copy()
         trial[idx] = old + t1 * (new - old)
+        vy: np.ndarray | None
+        a: float | None
         try:
-            if fold:
+            if vary is not None:
                 y, vy, a = _fold_at(system, trial, list(states or ()), vary, v)
             else:
                 y, vy, a = _equilibrium_at(system, trial, solved), None, None
@@ -170,7 +174,8 @@ def check_point(system: EquationSystem, x: np.ndarray, *, label: str, vary: str,
         _check_point(system, x, label, vary, states, name)
 
 
-def _check_point(system, x, label, vary, states, name) -> None:
+def _check_point(system: EquationSystem, x: np.ndarray, label: str, vary: str, states: Sequence[str],
+                 name: str) -> None:
     r = system.residual(x)
     J = system.jacobian(x)
     # each equation's terms measured with the variables' column scales (radians 1): J x would call an angle of

@@ -7,13 +7,18 @@ mechanism jumps there and comes to rest, its :class:`Landing`.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
 from .._status import Status
+
+if TYPE_CHECKING:
+    from ..equations import EquationSystem
+    from ._sensitivity import Sensitivity
 
 __all__ = ["SpecialPoint", "NonSmoothFold", "Landing"]
 
@@ -54,7 +59,7 @@ class NonSmoothFold:
     jump: bool
     landing: Landing | None = None
 
-    def fields(self) -> dict:
+    def fields(self) -> dict[str, Any]:
         """The fold as the flat keys of before (:attr:`SpecialPoint.info`, the JSON): ``{vary: value}``,
         ``sign``, ``jump``, ``landing`` (its ``x``), ``landing_contact``, ``landing_stable``."""
         land = self.landing
@@ -123,13 +128,14 @@ class SpecialPoint:
     null_vector: np.ndarray | None
     stop: str | None
     nonsmooth: NonSmoothFold | None
-    extra: dict
+    extra: dict[str, Any]
 
     def __init__(self, label: str, index: int, x: np.ndarray, names: tuple[str, ...], tangent: np.ndarray | None = None,
-                 info: Mapping | None = None, *, status: Status | str | None = None, reason: str | None = None,
+                 info: Mapping[str, Any] | None = None, *, status: Status | str | None = None, reason: str | None = None,
                  residual: float | None = None, singular_value: float | None = None, vary: str | None = None,
                  unknowns: Sequence[str] | None = None, null_vector: np.ndarray | None = None,
-                 stop: str | None = None, nonsmooth: NonSmoothFold | None = None, extra: Mapping | None = None):
+                 stop: str | None = None, nonsmooth: NonSmoothFold | None = None,
+                 extra: Mapping[str, Any] | None = None) -> None:
         rest = dict(info or {})
         typed = {k: rest.pop(k, None) for k in _TYPED}
         if nonsmooth is not None:  # its flat keys (an NSF point's info passed back in) are the record's
@@ -149,7 +155,7 @@ class SpecialPoint:
             object.__setattr__(self, k, v)
 
     @property
-    def info(self) -> Mapping:
+    def info(self) -> Mapping[str, Any]:
         """The point's data as a read-only dict (the compatibility view of the typed fields and
         :attr:`extra`): ``"status"`` always, the other typed fields when set, then :attr:`extra`,
         ``"stop"`` and a non-smooth fold's keys (:meth:`NonSmoothFold.fields`)."""
@@ -186,8 +192,9 @@ class SpecialPoint:
         rest = f", ... ({more} more; .values has all)" if more > 0 else ""
         return f"SpecialPoint({self.tag} at row {self.index}, {self.status}: {shown}{rest})"
 
-    def sensitivity(self, system, params, *, of: str | None = None, keep: str | None = None, vary: str | None = None,
-                    values=None):
+    def sensitivity(self, system: EquationSystem, params: Iterable[str], *, of: str | None = None,
+                    keep: str | None = None, vary: str | None = None,
+                    values: Mapping[str, float] | None = None) -> Sensitivity:
         """Exact derivatives of this point's quantity with respect to ``params`` (SI units per SI unit).
 
         At a fold (``LP``) the fold load (the continuation parameter's value there); elsewhere
@@ -207,6 +214,9 @@ class SpecialPoint:
 _TYPED = ("status", "reason", "residual", "singular_value", "vary", "unknowns", "null_vector", "stop")
 
 
-def _first(*values):
+_T = TypeVar("_T")
+
+
+def _first(*values: _T | None) -> _T | None:
     """The first of ``values`` that is not None (None when all are)."""
     return next((v for v in values if v is not None), None)

@@ -16,19 +16,38 @@ part in the range of ``Phi_q``) is continuous.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import replace
+from typing import Any, Protocol
 
 import numpy as np
 
 from .._status import Status
-from ._branch import Branch
-from ._events import Event
+from ..equations import Model
+from ._branch import Branch, SpecialPoint
+from ._events import Event, PointState
+from ._options import ContinuationOptions
 from ._problem import ContinuationProblem
 
 __all__: list[str] = []
 
 #: Largest number of switches in one direction (a choice that keeps flipping is reported).
 MAX_SWITCHES = 50
+
+#: One piece: ``run(model, x, vary, options, direction, events)``, a branch of one direction from ``x``
+PieceRunner = Callable[[Model, np.ndarray, str, ContinuationOptions, int, list[Event]], Branch]
+#: One direction: its pieces ``(branch, sign)`` in travel order, its status and message
+Half = tuple[list[tuple[Branch, int]], Status, str]
+#: A row of joined pieces: ``(x, s, n_unstable, label, special point or None)``
+Record = tuple[np.ndarray, float, int, str, SpecialPoint | None]
+
+
+class _Quality(Protocol):
+    """What :class:`_Reselect` reads of a model's ``reselect``."""
+
+    def quality(self, x: np.ndarray) -> float:
+        """Positive while the model's dropped rows suit the full vector ``x``."""
+        ...
 
 
 class _Reselect(Event):
@@ -37,13 +56,13 @@ class _Reselect(Event):
     label = "RC"
     stop = True
 
-    def __init__(self, reselect):
+    def __init__(self, reselect: _Quality) -> None:
         self.reselect = reselect
 
-    def value(self, problem: ContinuationProblem, state) -> float:
+    def value(self, problem: ContinuationProblem, state: PointState) -> float:
         return float(self.reselect.quality(state.x))
 
-    def point_info(self) -> dict:
+    def point_info(self) -> dict[str, Any]:
         return {"reason": "redundant rows to drop chosen again"}
 
 
@@ -57,27 +76,33 @@ def travel(branch: Branch, vary: str, sign: int) -> int:
     return 1 if col[-1] > col[-2] else -1
 
 
-def _one_way(run, system, x0: np.ndarray, vary: str, sign: int, options, events) -> tuple[list, str, str]:
+def _one_way(run: PieceRunner, system: Model, x0: np.ndarray, vary: str, sign: int, options: ContinuationOptions,
+             events: Sequence[Event]) -> Half:
     """The pieces ``(branch, sign)`` of one direction in travel order, its status and message."""
     pieces: list[tuple[Branch, int]] = []
     model, x, budget = system, x0, options.max_steps
     message = ""
     r = model.residual(x)
-    if model.reselect.quality(x) < 0 or not np.max(np.abs(r), initial=0.0) <= 1e3 * options.engine.residual_tol:
+    reselect = model.reselect
+    assert reselect is not None, "continued across variants: a model with a reselect"
+    if reselect.quality(x) < 0 or not np.max(np.abs(r), initial=0.0) <= 1e3 * options.engine.residual_tol:
         # a start the system's choice does not suit, or one solved by another variant (the end of a
         # branch that switched): the choice made here, the reactions solved again
-        model, x = model.reselect.switch(model, x, force=True)
+        forced = reselect.switch(model, x, force=True)
+        assert forced is not None, "a forced switch returns the model chosen"
+        model, x = forced
     for _ in range(MAX_SWITCHES + 1):
         extra = [_Reselect(model.reselect)] if model.reselect is not None else []
         piece = run(model, x, vary, replace(options, max_steps=budget), sign, [*events, *extra])
         pieces.append((piece, sign))
         last = len(piece) - 1 if sign > 0 else 0   # a branch's rows run in increasing arclength
         budget -= len(piece) - 1
-        if piece.labels[last] != "RC" or budget <= 0:
+        reselect = model.reselect
+        if piece.labels[last] != "RC" or budget <= 0 or reselect is None:
             message = piece.message
             break
         before = tuple(model.dropped_constraints)
-        out = model.reselect.switch(model, piece.values[last])
+        out = reselect.switch(model, piece.values[last])
         if out is None:  # the best choice is the one in use: go on without the check
             model, x = model.evolve(reselect=None), piece.values[last]
         else:
@@ -92,10 +117,10 @@ def _one_way(run, system, x0: np.ndarray, vary: str, sign: int, options, events)
     return pieces, status, message
 
 
-def _records(pieces: list[tuple[Branch, int]]):
+def _records(pieces: list[tuple[Branch, int]]) -> list[Record]:
     """Rows of the pieces in travel order: ``(x, s, n_unstable, label, special point or None)``; each
     switch row once (the end of its piece)."""
-    out = []
+    out: list[Record] = []
     offset = 0.0
     for i, (p, sign) in enumerate(pieces):
         order = list(range(len(p))) if sign > 0 else list(range(len(p) - 1, -1, -1))
@@ -109,10 +134,10 @@ def _records(pieces: list[tuple[Branch, int]]):
     return out
 
 
-def join_variants(system, halves: dict[int, tuple[list, str, str]], vary: str, unknowns) -> Branch:
+def join_variants(system: Model, halves: dict[int, Half], vary: str, unknowns: Sequence[str]) -> Branch:
     """One branch of the pieces of each direction (``{-1: ..., +1: ...}``): the decreasing one reversed,
     the shared start once."""
-    rows: list[tuple] = []
+    rows: list[Record] = []
     if -1 in halves:
         back = _records(halves[-1][0])
         rows += [(x, -s, n, lab, sp) for x, s, n, lab, sp in reversed(back[1:] if 1 in halves else back)]
@@ -137,7 +162,8 @@ def join_variants(system, halves: dict[int, tuple[list, str, str]], vary: str, u
                   units={v.name: v.unit for v in system.variables})
 
 
-def across_variants(run, system, x0: np.ndarray, vary: str, options, direction: int, events, unknowns) -> Branch:
+def across_variants(run: PieceRunner, system: Model, x0: np.ndarray, vary: str, options: ContinuationOptions,
+                    direction: int, events: Sequence[Event], unknowns: Sequence[str]) -> Branch:
     """Continue in ``vary`` from ``x0`` with ``run(model, x, vary, options, direction, events) -> Branch``
     (one piece, one direction), switching variants where ``system.reselect`` says (see the module)."""
     dirs = [direction] if direction else [-1, 1]
