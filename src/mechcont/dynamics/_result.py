@@ -125,12 +125,12 @@ class SimulationResult:
             i = self.names.index(quantity)
 
             def fn(x: np.ndarray, qd: np.ndarray) -> float:
-                return x[i]
+                return float(x[i])
         elif quantity.endswith("_dot") and quantity[:-4] in self.coordinates:
             j = self.coordinates.index(quantity[:-4])
 
             def fn(x: np.ndarray, qd: np.ndarray) -> float:
-                return qd[j]
+                return float(qd[j])
         else:
             raise InputError(quantity, f"not a column with a peak; valid: {', '.join(self.columns)}")
         return locate_peak(self, (lambda x, qd: abs(fn(x, qd))) if absolute else fn)
