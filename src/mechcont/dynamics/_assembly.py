@@ -44,7 +44,7 @@ __all__ = ["initial_vector", "assemble"]
 _RCOND = 1e-12
 
 
-def initial_vector(system, x0) -> np.ndarray:
+def initial_vector(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float]) -> np.ndarray:
     """Full variable vector from an array (ordered like ``system.names``) or a ``{name: value}`` mapping.
 
     A mapping overrides the model's default values by name.
@@ -58,7 +58,8 @@ def initial_vector(system, x0) -> np.ndarray:
     return x
 
 
-def assemble(system: Model, values, hold: Sequence[str] = (), *, kinematic: bool = False) -> np.ndarray:
+def assemble(system: Model, values: np.ndarray | Mapping[str, float] | Sequence[float], hold: Sequence[str] = (), *,
+             kinematic: bool = False) -> np.ndarray:
     """A full variable vector whose coordinates satisfy the constraints ``Phi = 0``, at rest in static
     equilibrium where joints are compliant.
 
@@ -112,7 +113,8 @@ def assemble(system: Model, values, hold: Sequence[str] = (), *, kinematic: bool
     return _static_pose(system, dyn, x, mask, cond_rows, springs)
 
 
-def _hold_conditions(system, dyn, x, rows, free, tol: float = 1e-12, max_iter: int = 30) -> np.ndarray:
+def _hold_conditions(system: Model, dyn: ConstrainedDynamics, x: np.ndarray, rows: list[int], free: np.ndarray,
+                     tol: float = 1e-12, max_iter: int = 30) -> np.ndarray:
     """``x`` with its ``free`` coordinates moved (Gauss–Newton, minimum-kinetic-energy steps) so that
     the joints close and the condition rows ``c(q) - NAME`` (``NAME`` at its value in ``x``) vanish."""
     x = np.array(x, float)
@@ -120,7 +122,7 @@ def _hold_conditions(system, dyn, x, rows, free, tol: float = 1e-12, max_iter: i
     scale = system.scales()[dyn.q_index]
     nphi = len(dyn.mech.phi(x))
 
-    def size(J):  # each row's size at the coordinates' scales: the tests hold in any units
+    def size(J: np.ndarray) -> np.ndarray:  # each row's size at the coordinates' scales: the tests hold in any units
         return (np.abs(np.vstack([dyn.mech.phi_q(x).reshape(-1, dyn.nq), J[rows][:, dyn.q_index]])) * scale).sum(axis=1)
 
     for _ in range(max_iter):
@@ -140,8 +142,8 @@ def _hold_conditions(system, dyn, x, rows, free, tol: float = 1e-12, max_iter: i
     return x
 
 
-def _static_pose(system, dyn: ConstrainedDynamics, x: np.ndarray, held: np.ndarray, cond_rows: list[int],
-                 springs) -> np.ndarray:
+def _static_pose(system: Model, dyn: ConstrainedDynamics, x: np.ndarray, held: np.ndarray, cond_rows: list[int],
+                 springs: list[tuple[int, str, float]]) -> np.ndarray:
     """The kinematically assembled ``x`` (held coordinates ``held``, a mask over the coordinates; held
     condition rows ``cond_rows``) moved to the static pose with the compliant rows ``springs`` (``(row,
     reaction, -1/k)`` of the static system) at their loaded deflection (see the module)."""
@@ -178,7 +180,7 @@ class _Statics:
     the held condition rows ``cond_rows`` and the compliant rows ``spring_rows`` of ``system``'s equations;
     ``q0`` (set by the caller) is the kinematic assembly the held values and the unheld motions keep."""
 
-    def __init__(self, system, dyn: ConstrainedDynamics, held: np.ndarray, cond_rows: list[int],
+    def __init__(self, system: Model, dyn: ConstrainedDynamics, held: np.ndarray, cond_rows: list[int],
                  spring_rows: list[int]) -> None:
         self.system, self.dyn, self.mech = system, dyn, dyn.mech
         self.held_idx, self.cond_rows, self.spring_rows = np.flatnonzero(held), cond_rows, spring_rows

@@ -3,13 +3,18 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import InputError
 from ._sweep import SweepResult, sweep
+
+if TYPE_CHECKING:
+    from ..continuation import Branch
+    from ..equations import Model
 
 __all__ = ["JumpGap", "jump_gaps", "branch_jump_gaps", "branch_differences", "RateGap", "gap_versus_rate"]
 
@@ -49,7 +54,7 @@ def jump_gaps(result: SweepResult, fold_values: Sequence[float]) -> list[JumpGap
     return out
 
 
-def branch_jump_gaps(result: SweepResult, branch) -> list[tuple[str, JumpGap]]:
+def branch_jump_gaps(result: SweepResult, branch: Branch) -> list[tuple[str, JumpGap]]:
     """Each jump of ``result`` paired with the fold (``LP``) of a continuation ``branch`` in the ramped
     parameter that it follows: ``(fold name as the branch numbers it, e.g. "LP2", gap)``, one per jump.
 
@@ -62,7 +67,7 @@ def branch_jump_gaps(result: SweepResult, branch) -> list[tuple[str, JumpGap]]:
     return [(next(n for n, v in folds if v == g.fold_value), g) for g in jump_gaps(result, [v for _, v in folds])]
 
 
-def branch_differences(system, branch, ignore: Sequence[str] = ()) -> list[tuple[str, float, float]]:
+def branch_differences(system: Model, branch: Branch, ignore: Sequence[str] = ()) -> list[tuple[str, float, float]]:
     """The parameters of ``system`` (not in ``ignore``) whose value on ``branch`` differs from the system's
     and changes the equilibrium equations at the branch's points: ``(name, on branch, system's)``.
 
@@ -98,8 +103,9 @@ class RateGap:
     seconds: float
 
 
-def gap_versus_rate(system, x0, parameter: str, start: float, stop: float, rates: Sequence[float],
-                    fold_value: float, *, watch: str, **sweep_options) -> list[RateGap]:
+def gap_versus_rate(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float], parameter: str, start: float,
+                    stop: float, rates: Sequence[float], fold_value: float, *, watch: str,
+                    **sweep_options: Any) -> list[RateGap]:
     """Sweep ``parameter`` from ``start`` to ``stop`` at each rate; gap of the first jump to the fold.
 
     Returns one :class:`RateGap` per rate (``nan`` when no jump was found). Slow passage

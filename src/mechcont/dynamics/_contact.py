@@ -49,7 +49,10 @@ from ._compliant import CompliantLaw
 from ._udwadia_kalaba import fundamental_equation
 
 if TYPE_CHECKING:
-    from ..equations import Model
+    from scipy.integrate import DenseOutput
+
+    from ..equations import Model, StopLimit
+    from ._udwadia_kalaba import ConstrainedDynamics
 
 __all__ = ["StopEvent", "StopConstraints"]
 
@@ -98,7 +101,7 @@ class StopEvent:
         return f"t = {self.time:.9g} s  {self.kind:<7s}  {self.stop}{what}"
 
 
-def _stops_of(system: Model, names: Iterable[str] | None):
+def _stops_of(system: Model, names: Iterable[str] | None) -> list[StopLimit]:
     have = system.stops
     if names is None:
         return list(have)
@@ -137,7 +140,8 @@ class StopConstraints:
         into contact (see the module docstring).
     """
 
-    def __init__(self, system: Model, dyn, names: Iterable[str] | None = None, rest_height: float = 1e-9):
+    def __init__(self, system: Model, dyn: ConstrainedDynamics, names: Iterable[str] | None = None,
+                 rest_height: float = 1e-9) -> None:
         self.system, self.dyn = system, dyn
         self.stops = _stops_of(system, names)
         if not self.stops:
@@ -201,7 +205,8 @@ class StopConstraints:
         return y
 
     # -- the equations of motion with the stops in contact ------------------------------------
-    def rows(self, x: np.ndarray, qd: np.ndarray, A: np.ndarray, b: np.ndarray, which=None):
+    def rows(self, x: np.ndarray, qd: np.ndarray, A: np.ndarray, b: np.ndarray,
+             which: Iterable[int] | None = None) -> tuple[np.ndarray, np.ndarray]:
         """``(A, b)`` of the acceleration-level constraints with the rows of the stops ``which``
         (default: those in contact) appended, Baumgarte-stabilised like the joints."""
         which = self.active if which is None else list(which)
@@ -214,7 +219,7 @@ class StopConstraints:
             bs = bs - 2.0 * dyn.alpha * (G @ qd) - dyn.beta**2 * self.gaps(x)[which]
         return np.vstack([A, G]), np.concatenate([b, bs])
 
-    def reactions(self, t: float, y: np.ndarray, which=None) -> np.ndarray:
+    def reactions(self, t: float, y: np.ndarray, which: Iterable[int] | None = None) -> np.ndarray:
         """Contact reactions (units of ``R_NAME``) of the stops ``which`` (default: in contact),
         the multipliers of their rows in ``M qddot = Q + A^T z``."""
         which = self.active if which is None else list(which)
@@ -299,7 +304,7 @@ class StopConstraints:
         dv = fundamental_equation(dyn.mass_inv_sqrt(x), np.zeros(dyn.nq), A, want - A @ qd)
         return np.concatenate([q, qd + dv])
 
-    def locate(self, t_old: float, t_new: float, y_new: np.ndarray, sol) -> tuple[float, int] | None:
+    def locate(self, t_old: float, t_new: float, y_new: np.ndarray, sol: DenseOutput) -> tuple[float, int] | None:
         """The first stop event in the step ``[t_old, t_new]``: ``(time, stop index)``, or None.
 
         A free stop's gap going from > 0 to <= 0, or a contact's reaction from > 0 to <= 0; the
@@ -313,13 +318,14 @@ class StopConstraints:
         best: tuple[float, int] | None = None
         xtol = 1e-13 * max(1.0, abs(t_new))
 
-        def gap(tt, k):
+        def gap(tt: float, k: int) -> float:
             return float(self.gaps(dyn.full(tt, sol(tt)[: dyn.nq]))[k])
 
         for k in range(len(self.stops)):
             a = t_old
             if k in self.soft:  # the penetration's sign changes: into contact, or out
-                def f(tt, k=k):  # > 0 across: out of a pressed stop, into a free one (fixed during locate)
+                # > 0 across: out of a pressed stop, into a free one (fixed during locate)
+                def f(tt: float, k: int = k, /) -> float:
                     return gap(tt, k) if k in self.pressed else -gap(tt, k)
                 if not (f(t_new) > 0):
                     continue
@@ -331,10 +337,10 @@ class StopConstraints:
                     continue
                 j = self.active.index(k)
 
-                def f(tt, j=j):
+                def f(tt: float, j: int = j, /) -> float:
                     return float(self.reactions(tt, sol(tt))[j])
             else:
-                def f(tt, k=k):
+                def f(tt: float, k: int = k, /) -> float:
                     return gap(tt, k)
                 if k in self._fresh:
                     if g_new[k] > 0:
@@ -354,9 +360,9 @@ class StopConstraints:
             self._fresh = {k for k in self._fresh if g_new[k] <= 0}
         return best
 
-    def _top(self, t_old: float, t_new: float, sol, k: int) -> float:
+    def _top(self, t_old: float, t_new: float, sol: DenseOutput, k: int) -> float:
         """When the gap rate of stop ``k`` changes from + to - in the step (else ``t_old``)."""
-        def rate(tt):
+        def rate(tt: float) -> float:
             return float(self.rates(tt, sol(tt))[k])
         if rate(t_old) > 0 > rate(t_new):
             return brentq(rate, t_old, t_new, xtol=1e-13 * max(1.0, abs(t_new)))

@@ -40,9 +40,16 @@ of one right-hand side.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from scipy.integrate import DenseOutput
+
+    from ._udwadia_kalaba import ConstrainedDynamics
 
 __all__ = ["EnergyLedger", "EnergyBalance", "ENERGY_COLUMNS", "energy_columns", "BOUND_FACTOR"]
 
@@ -66,7 +73,8 @@ class EnergyLedger:
     (:meth:`step_error`). ``rtol``, ``atol``: the integrator's tolerances (``atol`` scalar or per state).
     ``active`` False: nothing is integrated (a run whose balance nobody reads: a bisection's)."""
 
-    def __init__(self, dyn, rtol: float, atol, method: str = "RK45", active: bool = True) -> None:
+    def __init__(self, dyn: ConstrainedDynamics, rtol: float, atol: float | Sequence[float] | np.ndarray, method: str = "RK45",
+                 active: bool = True) -> None:
         self.dyn = dyn
         self.active = active
         self.nodes, self.weights = _RULES[4 if method == "DOP853" else 3]
@@ -109,7 +117,7 @@ class EnergyLedger:
             p_stop = float(contacts.law.reactions(contacts.gaps(x)[idx], rate) @ rate)
         return np.array([p_diss, float(qd @ Q0), p_stop])
 
-    def integral(self, sol, a: float, b: float) -> np.ndarray:
+    def integral(self, sol: DenseOutput, a: float, b: float) -> np.ndarray:
         """The powers integrated from ``a`` to ``b`` on the dense output ``sol`` (J): :meth:`powers` at the
         Gauss points, the applied forces of all of them in one call of the compiled code."""
         if b <= a or not self.active:
@@ -128,7 +136,7 @@ class EnergyLedger:
             P = np.stack([-np.einsum("ij,ij->i", qd, Qv - Q0), np.einsum("ij,ij->i", qd, Q0), np.zeros(len(ts))], axis=1)
         return h * (self.weights @ P)
 
-    def advance(self, sol, a: float, b: float) -> None:
+    def advance(self, sol: DenseOutput, a: float, b: float) -> None:
         """Add the integrals over the step ``[a, b]``."""
         self.acc = self.acc + self.integral(sol, a, b)
 
@@ -138,7 +146,7 @@ class EnergyLedger:
             self.explained += self.step_error(t, y)
 
 
-def energy_columns(dyn, y: np.ndarray, values: np.ndarray, work: np.ndarray, jumps: list[int],
+def energy_columns(dyn: ConstrainedDynamics, y: np.ndarray, values: np.ndarray, work: np.ndarray, jumps: list[int],
                    y0: np.ndarray, t0: float) -> dict[str, np.ndarray]:
     """The audit's columns (J) at the saved rows.
 
@@ -148,7 +156,8 @@ def energy_columns(dyn, y: np.ndarray, values: np.ndarray, work: np.ndarray, jum
     mech, nq = dyn.mech, dyn.nq
     contacts = dyn.contacts
 
-    def state(yi, xi):  # (E_kin, E_pot, V): E_pot less V is what the compliant stops store
+    # (E_kin, E_pot, V): E_pot less V is what the compliant stops store
+    def state(yi: np.ndarray, xi: np.ndarray) -> tuple[float, float, float]:
         v = mech.potential_energy(xi)
         e_pot = v
         if contacts is not None and contacts.law:

@@ -11,10 +11,15 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from exudyn import MainSystem
+    from exudyn.exudynCPP import MarkerIndex, ObjectIndex
 
 __all__ = ["exudyn_available", "exudyn_overcentre", "solve_fixed_step"]
 
@@ -30,7 +35,7 @@ def exudyn_available() -> bool:
     return True
 
 
-def solve_fixed_step(mbs, t_end: float, h: float, spectral_radius: float = 1.0, newton_tol: float = 1e-12) -> None:
+def solve_fixed_step(mbs: MainSystem, t_end: float, h: float, spectral_radius: float = 1.0, newton_tol: float = 1e-12) -> None:
     """Assemble the Exudyn system ``mbs`` and integrate it to ``t_end`` (s) in fixed steps ``h`` (s) by its
     generalized-alpha method (``spectral_radius`` 1: the trapezoidal rule), Newton to ``newton_tol``
     (relative and absolute), quietly, sensors stored every step."""
@@ -117,10 +122,10 @@ def exudyn_overcentre(params: Mapping[str, float], theta1_0: float, force: Calla
         bodies.append(mbs.AddObject(ObjectRigidBody2D(nodeNumber=nd, mass=mass, inertia=mass * length**2 / 12)))
     b1, b2 = bodies
 
-    def rigid(body, x):
+    def rigid(body: ObjectIndex, x: float) -> MarkerIndex:
         return mbs.AddMarker(MarkerBodyRigid(bodyNumber=body, localPosition=[x, 0, 0]))
 
-    def point(body, x):
+    def point(body: ObjectIndex, x: float) -> MarkerIndex:
         return mbs.AddMarker(MarkerBodyPosition(bodyNumber=body, localPosition=[x, 0, 0]))
 
     origin = rigid(ground, 0.0)

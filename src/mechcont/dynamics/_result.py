@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import csv
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -15,6 +15,10 @@ from .._io import atomic_write
 from .._status import Status
 from ..errors import InputError
 from ._energy import EnergyBalance
+
+if TYPE_CHECKING:
+    from ._contact import StopEvent
+    from ._peaks import DenseHistory, Peak
 
 __all__ = ["SimulationStatus", "SimulationResult"]
 
@@ -95,20 +99,20 @@ class SimulationResult:
     x_events: list[np.ndarray] = field(default_factory=list)
     nfev: int = 0
     detail: str = ""
-    units: dict = field(default_factory=dict)
-    stop_events: list = field(default_factory=list)
-    energy: dict = field(default_factory=dict)
+    units: dict[str, str] = field(default_factory=dict)
+    stop_events: list[StopEvent] = field(default_factory=list)
+    energy: dict[str, np.ndarray] = field(default_factory=dict)
     energy_tolerance: float = math.nan
     indeterminate_rows: int = 0
     integrator_failure: str = ""
     motion_warning: str = ""
-    dense: Any = field(default=None, repr=False, compare=False)
+    dense: DenseHistory | None = field(default=None, repr=False, compare=False)
 
-    def __getstate__(self):
+    def __getstate__(self) -> dict[str, Any]:
         """Pickled without the dense output (the interpolants and the model's compiled dynamics)."""
         return {**self.__dict__, "dense": None}
 
-    def peak(self, quantity, *, absolute: bool = False):
+    def peak(self, quantity: str | Callable[[np.ndarray, np.ndarray], float], *, absolute: bool = False) -> Peak:
         """The largest value of a column (``"R_downlock"``, ``"theta_dot"``, a condition; its unit) or of a
         callable ``quantity(x, qdot)`` (``x`` a full row), of its magnitude with ``absolute``, located on
         the integrator's dense output, not sampled at the rows: a :class:`~._peaks.Peak` (``value``, and
@@ -120,13 +124,13 @@ class SimulationResult:
         elif quantity in self.names:
             i = self.names.index(quantity)
 
-            def fn(x, qd):
-                return x[i]
+            def fn(x: np.ndarray, qd: np.ndarray) -> float:
+                return float(x[i])
         elif quantity.endswith("_dot") and quantity[:-4] in self.coordinates:
             j = self.coordinates.index(quantity[:-4])
 
-            def fn(x, qd):
-                return qd[j]
+            def fn(x: np.ndarray, qd: np.ndarray) -> float:
+                return float(qd[j])
         else:
             raise InputError(quantity, f"not a column with a peak; valid: {', '.join(self.columns)}")
         return locate_peak(self, (lambda x, qd: abs(fn(x, qd))) if absolute else fn)
@@ -202,7 +206,7 @@ class SimulationResult:
         if labels is not None and len(labels) != len(self.t):
             raise InputError("labels", f"needs one label per row ({len(self.t)})")
 
-        def write(tmp):
+        def write(tmp: str) -> None:
             with open(tmp, "w", newline="") as fh:
                 w = csv.writer(fh, lineterminator="\n")
                 w.writerow([unit_header(c, self.unit(c)) for c in ("t", *self.columns)]

@@ -11,12 +11,19 @@ positive, so the stop holds once the bounces decay) or may have left for good (i
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..equations import StopLimit
 from ..errors import ConvergenceError, InputError
+from ._checks import check_simulable
 from ._events import LOCK_GAP
+
+if TYPE_CHECKING:
+    from ..equations import Model
+    from ._contact import StopConstraints
+    from ._udwadia_kalaba import ConstrainedDynamics
 
 __all__ = ["Settling", "settled", "lock_reactions"]
 
@@ -27,11 +34,11 @@ _SAMPLES = 33
 class Settling:
     """The verdict of :func:`settled`: ``at_rest`` and, either way, ``why`` (one phrase with numbers)."""
 
-    def __init__(self, at_rest: bool, why: str, distance: float = float("nan")):
+    def __init__(self, at_rest: bool, why: str, distance: float = float("nan")) -> None:
         self.at_rest, self.why, self.distance = at_rest, why, distance
 
 
-def settled(model, x_end: np.ndarray, touching: Sequence[StopLimit]) -> Settling:
+def settled(model: Model, x_end: np.ndarray, touching: Sequence[StopLimit]) -> Settling:
     """Whether the full vector ``x_end`` (a run's end, nearly at rest) lies at a stable equilibrium.
 
     The equilibrium is solved from ``x_end`` (Newton) with the stops ``touching`` held at their limits
@@ -42,7 +49,7 @@ def settled(model, x_end: np.ndarray, touching: Sequence[StopLimit]) -> Settling
     whose ``distance`` is the largest coordinate change to that equilibrium (rad, m)."""
     from ..continuation import find_equilibrium
 
-    mech = model.mechanics
+    mech = check_simulable(model, model.name)
     x = np.array(x_end, float)
     stops = list(model.stops)
     for s in stops:
@@ -76,7 +83,7 @@ def settled(model, x_end: np.ndarray, touching: Sequence[StopLimit]) -> Settling
     return Settling(True, f"at a stable equilibrium {distance:.3g} away", distance)
 
 
-def lock_reactions(model, stops: Sequence[StopLimit], x_end: np.ndarray) -> np.ndarray | None:
+def lock_reactions(model: Model, stops: Sequence[StopLimit], x_end: np.ndarray) -> np.ndarray | None:
     """The static reactions (units of each ``R_NAME``) of the lock ``stops`` all held at their limits, solved
     from ``x_end``; None when that equilibrium cannot be found. Positive: the locked state exists, so a gear
     that struck the lock and bounced off comes back and its bounces decay onto it."""
@@ -104,18 +111,18 @@ class SettledOffLock:
 
     terminal, direction = True, -1
 
-    def __init__(self, model, lock_stops: Sequence[StopLimit], rest_speed: float):
+    def __init__(self, model: Model, lock_stops: Sequence[StopLimit], rest_speed: float) -> None:
         self.model, self.rest_speed = model, rest_speed
         self.lock = {s.name for s in lock_stops}
-        self.contacts = None
+        self.contacts: StopConstraints | None = None
         self.t_settled: float | None = None
         self.next_check = 0.0
 
-    def bind(self, dyn) -> None:
+    def bind(self, dyn: ConstrainedDynamics) -> None:
         """Read the stops in contact from the simulation's ``dyn.contacts``."""
         self.contacts = dyn.contacts
 
-    def __call__(self, t, x, qd) -> float:
+    def __call__(self, t: float, x: np.ndarray, qd: np.ndarray) -> float:
         if self.t_settled is not None:
             return -1.0 if t >= self.t_settled else 1.0
         if t < self.next_check or float(np.max(np.abs(qd), initial=0.0)) > self.rest_speed:

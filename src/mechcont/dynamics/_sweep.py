@@ -13,6 +13,7 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING, TypeAlias
 
 import numpy as np
 
@@ -23,6 +24,12 @@ from ._jumps import find_jump_windows
 from ._peaks import DenseHistory
 from ._result import SimulationResult
 from ._simulate import assemble, initial_vector, simulate
+
+if TYPE_CHECKING:
+    from typing_extensions import TypeIs
+
+    from ..equations import Model
+    from ._contact import StopEvent
 
 __all__ = ["Ramp", "Jump", "SweepResult", "sweep", "parse_ramps", "sweep_start"]
 
@@ -45,7 +52,7 @@ class Ramp:
     stop: float
     rate: float
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if not (math.isfinite(self.start) and math.isfinite(self.stop)):
             raise InputError("ramp", f"{self.name}: start and stop must be finite numbers")
         if not (math.isfinite(self.rate) and self.rate > 0):
@@ -91,8 +98,8 @@ class Jump:
     time: float
     segment: int
     direction: int
-    before: dict
-    after: dict
+    before: dict[str, float]
+    after: dict[str, float]
     t_start: float
     t_end: float
 
@@ -131,7 +138,7 @@ class SweepResult:
         return self.simulation[name]
 
     @property
-    def stop_events(self) -> list:
+    def stop_events(self) -> list[StopEvent]:
         """The stop events (:class:`~._contact.StopEvent`) of a sweep with stops, in time order."""
         return self.simulation.stop_events
 
@@ -165,7 +172,18 @@ class SweepResult:
         return self.simulation.to_csv(path, labels)
 
 
-def parse_ramps(ramp) -> tuple[Ramp, ...]:
+#: What :func:`parse_ramps` reads: a :class:`Ramp`, a sequence of them or of ``(name, from, to, rate)`` tuples, or a
+#: mapping ``{name: (from, to, rate)}`` / ``{name: [(from, to, rate), ...]}``.
+RampSpec: TypeAlias = (Ramp | Sequence[Ramp | tuple[str, float, float, float]]
+                       | Mapping[str, Sequence[float] | Sequence[Sequence[float]]])
+
+
+def _one_segment(spec: Sequence[float] | Sequence[Sequence[float]]) -> TypeIs[Sequence[float]]:
+    """True for one segment ``(from, to, rate)`` of a ramp mapping's value, False for a sequence of them."""
+    return not (len(spec) and isinstance(spec[0], (tuple, list)))
+
+
+def parse_ramps(ramp: RampSpec) -> tuple[Ramp, ...]:
     """Normalise a ramp description to a tuple of :class:`Ramp`.
 
     Accepts a :class:`Ramp`, a sequence of ``Ramp`` or ``(name, from, to, rate)`` tuples, or a
@@ -177,17 +195,17 @@ def parse_ramps(ramp) -> tuple[Ramp, ...]:
         return (ramp,)
     if isinstance(ramp, Mapping):
         for name, spec in ramp.items():
-            segs = spec if (len(spec) and isinstance(spec[0], (tuple, list))) else [spec]
+            segs = [spec] if _one_segment(spec) else spec
             for seg in segs:
                 if len(seg) != 3:
                     raise InputError("ramp", f"{name}: give (from, to, rate)")
                 out.append(Ramp(name, float(seg[0]), float(seg[1]), float(seg[2])))
     elif isinstance(ramp, Sequence):
-        for seg in ramp:
-            if isinstance(seg, Ramp):
-                out.append(seg)
-            elif len(seg) == 4:
-                out.append(Ramp(str(seg[0]), float(seg[1]), float(seg[2]), float(seg[3])))
+        for item in ramp:
+            if isinstance(item, Ramp):
+                out.append(item)
+            elif len(item) == 4:
+                out.append(Ramp(str(item[0]), float(item[1]), float(item[2]), float(item[3])))
             else:
                 raise InputError("ramp", "give Ramp objects or (name, from, to, rate) tuples")
     if not out:
@@ -195,7 +213,7 @@ def parse_ramps(ramp) -> tuple[Ramp, ...]:
     return tuple(out)
 
 
-def sweep_start(system, start: Mapping[str, float], ramps: Sequence[Ramp], *, equilibrium: bool = True,
+def sweep_start(system: Model, start: Mapping[str, float], ramps: Sequence[Ramp], *, equilibrium: bool = True,
                 start_field: str = "x0") -> np.ndarray:
     """The state a sweep of ``ramps`` starts from: the mechanism assembled with the ``start`` coordinates
     or conditions held and each ramped parameter at its first segment's start value; with
@@ -217,7 +235,7 @@ def sweep_start(system, start: Mapping[str, float], ramps: Sequence[Ramp], *, eq
     return x0
 
 
-def _schedule(ramps: Sequence[Ramp], settle: float):
+def _schedule(ramps: Sequence[Ramp], settle: float) -> tuple[np.ndarray, dict[str, Callable[[float], float]]]:
     """Segment time windows and a piecewise-linear load function per ramped parameter."""
     times, t = [], settle
     for r in ramps:
@@ -230,7 +248,7 @@ def _schedule(ramps: Sequence[Ramp], settle: float):
     return np.array(times, float).reshape(-1, 2), loads
 
 
-def _piecewise(segs):
+def _piecewise(segs: Sequence[tuple[float, float, float, float]]) -> Callable[[float], float]:
     """Load function: linear within each segment, held between and after them."""
     def value(t: float) -> float:
         v = segs[0][2]
@@ -248,8 +266,9 @@ def _piecewise(segs):
 MAX_RAMP_SCALES = 1e6
 
 
-def sweep(system, x0, ramp, *, watch: str, damping: float = 0.0, settle: float = 0.0,
-          through: float | None = None, rate_threshold: float | None = None, stop_on_jump: bool = False,
+def sweep(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float], ramp: RampSpec, *, watch: str,
+          damping: float = 0.0, settle: float = 0.0, through: float | None = None, rate_threshold: float | None = None,
+          stop_on_jump: bool = False,
           method: str = "RK45", rtol: float = 1e-6, atol: float = 1e-8, max_step: float | None = None,
           baumgarte: tuple[float, float] | None = (10.0, 10.0),
           progress: Callable[[float], None] | None = None, stops: bool | Sequence[str] = False) -> SweepResult:
@@ -381,6 +400,7 @@ def _concatenate(parts: list[SimulationResult]) -> SimulationResult:
         stop_events += [replace(ev, row=ev.row + offset - 1) for ev in p.stop_events
                         if not (ev.kind == "contact" and ev.time == p.t[0] and ev.stop in still)]
         offset += len(p.t) - 1
+    dense = [p.dense for p in parts if p.dense]
     return SimulationResult(
         t=np.concatenate([p.t[k] for p, k in zip(parts, keep)]),
         values=np.concatenate([p.values[k] for p, k in zip(parts, keep)]),
@@ -392,10 +412,10 @@ def _concatenate(parts: list[SimulationResult]) -> SimulationResult:
         x_events=[np.concatenate([p.x_events[i] for p in parts]) for i in range(n_ev)],
         nfev=sum(p.nfev for p in parts), detail=parts[-1].detail, units=first.units, stop_events=stop_events,
         integrator_failure=parts[-1].integrator_failure,
-        dense=DenseHistory.joined([p.dense for p in parts]) if all(p.dense for p in parts) else None)
+        dense=DenseHistory.joined(dense) if len(dense) == len(parts) else None)
 
 
-def _reaction_indices(system, stops) -> list[int]:
+def _reaction_indices(system: Model, stops: bool | Sequence[str]) -> list[int]:
     """Indices of the reactions of the simulated stops (none without stops)."""
     if not stops:
         return []
@@ -413,5 +433,5 @@ def _in_contact_at_end(part: SimulationResult) -> set[str]:
     return {n for n, on in state.items() if on}
 
 
-def _coords_at(sim: SimulationResult, i: int) -> dict:
+def _coords_at(sim: SimulationResult, i: int) -> dict[str, float]:
     return {c: float(sim[c][i]) for c in sim.coordinates}

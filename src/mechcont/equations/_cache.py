@@ -73,7 +73,7 @@ import stat
 import sys
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
-from typing import TypeVar
+from typing import Any, TypeVar
 
 # imported with the module, not on first use: a process that drops its privileges (or whose source tree
 # becomes unreadable) after start-up still builds and cleans entries
@@ -321,7 +321,7 @@ def _decode(data: bytes, key: str, secret: bytes) -> memoryview | None:
     return payload if hmac.compare_digest(tag, _tag(secret, header, payload)) else None
 
 
-def load(key: str):
+def load(key: str) -> Any:  # whatever was stored: the callers' `valid` checks it
     """The object stored under ``key``, or None (absent, untrusted, unverified, corrupt, caching off)."""
     with _shard(key, create=False) as found:
         if found is None:
@@ -336,7 +336,7 @@ def load(key: str):
         return None
 
 
-def store(key: str, obj) -> bool:
+def store(key: str, obj: object) -> bool:
     """Write ``obj`` under ``key`` atomically; False (and no error) if it cannot or may not be written."""
     try:
         payload = pickle.dumps(obj, protocol=pickle.HIGHEST_PROTOCOL)

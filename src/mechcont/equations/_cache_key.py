@@ -13,8 +13,13 @@ import platform
 import sys
 from collections.abc import Iterable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ._backend import backend
+
+if TYPE_CHECKING:
+    import symengine as se
+    import sympy as sp
 
 __all__ = ["cache_key", "digest", "expr_text"]
 
@@ -51,7 +56,7 @@ def _environment_text() -> str:
     return _environment
 
 
-def _engine_text(e) -> str:
+def _engine_text(e: se.Basic) -> str:
     """Lossless text of a SymEngine expression.
 
     ``str`` is exact for integers, rationals and names but rounds floats, so every float is
@@ -77,7 +82,7 @@ def _engine_text(e) -> str:
     return f"{type(e).__name__}:{e}"
 
 
-def expr_text(e) -> str:
+def expr_text(e: sp.Basic | se.Basic | float | str) -> str:
     """Lossless, deterministic text of a SymPy or SymEngine expression (for cache keys)."""
     import sympy as sp
 

@@ -21,14 +21,15 @@ there first.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, TypeAlias, overload
 
 import numpy as np
+import numpy.typing as npt
 import symengine as se
 
 from . import _cache
-from ._backend import backend
+from ._backend import Kernel, backend
 from ._cache_key import expr_text
 
 if TYPE_CHECKING:
@@ -43,14 +44,26 @@ DENSE_MAX = 4096
 #: generates none). For tests and benchmarks.
 COUNTS = {"compiled": 0}
 
-def to_engine(exprs):
+
+#: What an interpreted function is compiled again from on unpickling (its positional argument symbols and its
+#: expressions), and a non-zero entry of a derivative (its index and its expression); SymEngine's.
+Source: TypeAlias = tuple[list[se.Symbol], list[se.Basic]]
+Entry: TypeAlias = tuple[tuple[int, int], se.Basic]
+
+
+@overload
+def to_engine(exprs: list[sp.Basic] | tuple[sp.Basic, ...]) -> list[se.Basic]: ...
+@overload
+def to_engine(exprs: sp.Basic) -> se.Basic: ...
+def to_engine(exprs: sp.Basic | list[sp.Basic] | tuple[sp.Basic, ...]) -> se.Basic | list[se.Basic]:
     """Convert SymPy expressions (or a single one) to SymEngine."""
     if isinstance(exprs, (list, tuple)):
         return [se.sympify(e) for e in exprs]
     return se.sympify(exprs)
 
 
-def engine_arguments(args: Sequence, exprs: Sequence = ()) -> tuple[list, list]:
+def engine_arguments(args: Sequence[sp.Basic | se.Basic], exprs: Sequence[sp.Basic | se.Basic] = ()
+                     ) -> tuple[list[se.Symbol], list[se.Basic]]:
     """Positional argument symbols ``mcarg_0, mcarg_1, ...`` for ``args``, and ``exprs`` in them.
 
     SymEngine's common sub-expression elimination names its temporaries ``x0, x1, ...``, so a
@@ -63,7 +76,7 @@ def engine_arguments(args: Sequence, exprs: Sequence = ()) -> tuple[list, list]:
     return safe, _rename(to_engine(list(exprs)), dict(zip(args, safe)))
 
 
-def _rename(exprs: list, mapping: dict) -> list:
+def _rename(exprs: list[se.Basic], mapping: dict[se.Basic, se.Basic]) -> list[se.Basic]:
     """``exprs`` with symbols replaced by ``mapping``: one call into SymEngine for all of them."""
     mapping = {a: b for a, b in mapping.items() if a != b}
     if not exprs or not mapping:
@@ -71,7 +84,7 @@ def _rename(exprs: list, mapping: dict) -> list:
     return list(se.DenseMatrix(len(exprs), 1, exprs).xreplace(mapping))
 
 
-def _diff(e, a):
+def _diff(e: se.Basic, a: se.Symbol) -> se.Basic:
     """d e / d a, with |u|' = sign(u) u' and sign' = 0 (SymEngine leaves both unevaluated).
 
     Absolute values appear where a length is computed from parameters (sqrt(L^2) of a
@@ -98,7 +111,7 @@ def _diff(e, a):
     return d
 
 
-def gradient(expr, symbols: Sequence[sp.Symbol]) -> list[sp.Expr]:
+def gradient(expr: sp.Expr, symbols: Sequence[sp.Symbol]) -> list[sp.Expr]:
     """``[d expr / d s for s in symbols]`` as SymPy expressions, differentiated in SymEngine.
 
     Exact, like ``sympy.diff``, and much faster on the long expressions of spatial mechanisms.
@@ -124,7 +137,7 @@ def gradient(expr, symbols: Sequence[sp.Symbol]) -> list[sp.Expr]:
     return out
 
 
-def _extremum_derivative(f, var):
+def _extremum_derivative(f: se.Basic, var: se.Symbol) -> se.Basic:
     """d Max(u_i)/d var (or Min): u_k' where u_k is the first argument attaining the extremum."""
     better = se.Ge if isinstance(f, se.Max) else se.Le
     args = list(f.args)
@@ -142,7 +155,7 @@ _SMOOTH_TYPES = frozenset({
 })
 
 
-def is_smooth(e) -> bool:
+def is_smooth(e: se.Basic) -> bool:
     """True when SymEngine differentiates ``e`` (and its derivatives) in closed form.
 
     Walks each distinct sub-expression once. False (a derivative must be checked for
@@ -162,7 +175,8 @@ def is_smooth(e) -> bool:
     return True
 
 
-def derivative_entries(exprs: Sequence, args: Sequence, smooth=None) -> list[tuple[tuple[int, int], object]]:
+def derivative_entries(exprs: Sequence[se.Basic], args: Sequence[se.Symbol],
+                       smooth: bool | Sequence[bool] | None = None) -> list[Entry]:
     """Non-zero entries ``((i, j), d expr_i / d arg_j)`` of the Jacobian of ``exprs``.
 
     SymEngine expressions and symbols. Only the arguments an expression contains are tried
@@ -172,7 +186,7 @@ def derivative_entries(exprs: Sequence, args: Sequence, smooth=None) -> list[tup
     which expressions differentiate in closed form, so that their derivatives need no search
     for unevaluated parts (``Abs``, ``sign``, ``Max``, ``Min``: see :func:`_diff`).
     """
-    positions: dict = {}
+    positions: dict[se.Symbol, list[int]] = {}
     for j, a in enumerate(args):
         positions.setdefault(a, []).append(j)
     if smooth is None:
@@ -204,12 +218,14 @@ class CompiledFunction:
 
     __slots__ = ("_fn", "n_args", "shape", "size", "idx", "n_out", "_source", "_argshape", "_flat")
 
-    def __new__(cls, fn, n_args: int, shape: tuple[int, ...], idx: np.ndarray | None = None, source=None):
+    def __new__(cls, fn: Kernel | None, n_args: int, shape: tuple[int, ...], idx: np.ndarray | None = None,
+                source: Source | None = None) -> CompiledFunction:
         if cls is CompiledFunction:
             cls = _Constant if fn is None else (_Dense if idx is None else _Scattered)
         return object.__new__(cls)
 
-    def __init__(self, fn, n_args: int, shape: tuple[int, ...], idx: np.ndarray | None = None, source=None):
+    def __init__(self, fn: Kernel | None, n_args: int, shape: tuple[int, ...], idx: np.ndarray | None = None,
+                 source: Source | None = None) -> None:
         self._fn = fn
         self.n_args = int(n_args)
         self.shape = tuple(int(s) for s in shape)
@@ -220,16 +236,16 @@ class CompiledFunction:
         self._argshape = (self.n_args,)
         self._flat = len(self.shape) == 1
 
-    def _check(self, x) -> np.ndarray:
+    def _check(self, x: npt.ArrayLike) -> np.ndarray:
         x = np.ascontiguousarray(x, dtype=float)
         if x.shape != self._argshape:
             raise ValueError(f"expected {self.n_args} values, got shape {x.shape}")
         return x
 
-    def __call__(self, x) -> np.ndarray:  # pragma: no cover - every instance is of a subclass
+    def __call__(self, x: npt.ArrayLike) -> np.ndarray:  # pragma: no cover - every instance is of a subclass
         raise NotImplementedError
 
-    def values(self, x) -> np.ndarray:
+    def values(self, x: npt.ArrayLike) -> np.ndarray:
         """The ``n_out`` computed values at ``x``, unscattered."""
         x = self._check(x)
         vals = np.empty(self.n_out)
@@ -237,7 +253,7 @@ class CompiledFunction:
             self._fn.unsafe_real(x, vals)
         return vals
 
-    def batch(self, X) -> np.ndarray:
+    def batch(self, X: npt.ArrayLike) -> np.ndarray:
         """``f`` at every row of ``X`` (shape ``(m, n_args)``): array ``(m, *shape)``.
 
         One call into the compiled code, which runs the same machine code row by row, so
@@ -258,7 +274,7 @@ class CompiledFunction:
         out[:, self.idx] = vals
         return out.reshape((m, *self.shape))
 
-    def gather(self, positions) -> _Gather:
+    def gather(self, positions: npt.ArrayLike) -> _Gather:
         """``g(x) = f(x).reshape(-1)[positions]``, without forming the whole output (the same values).
 
         For the hot loops that need a few entries of a large output (the Jacobian's columns of
@@ -273,7 +289,8 @@ class CompiledFunction:
         src[self.idx] = np.arange(self.n_out, dtype=np.intp)
         return _Gather(self._fn, self._argshape, self.n_out, src[pos])
 
-    def __reduce__(self):
+    def __reduce__(self) -> tuple[Callable[..., CompiledFunction], tuple[Kernel | None, int, tuple[int, ...],
+                                                                          np.ndarray | None, Source | None]]:
         fn = self._fn if self._source is None else None
         return _restore, (fn, self.n_args, self.shape, self.idx, self._source)
 
@@ -286,8 +303,9 @@ class _Dense(CompiledFunction):
     """Every entry of the output computed, in order."""
 
     __slots__ = ()
+    _fn: Kernel  # never None: CompiledFunction(None, ...) is a _Constant
 
-    def __call__(self, x) -> np.ndarray:
+    def __call__(self, x: npt.ArrayLike) -> np.ndarray:
         x = np.ascontiguousarray(x, dtype=float)
         if x.shape != self._argshape:
             raise ValueError(f"expected {self.n_args} values, got shape {x.shape}")
@@ -302,8 +320,9 @@ class _Scattered(CompiledFunction):
     """The non-zero entries computed and scattered into zeros."""
 
     __slots__ = ()
+    _fn: Kernel  # never None: CompiledFunction(None, ...) is a _Constant
 
-    def __call__(self, x) -> np.ndarray:
+    def __call__(self, x: npt.ArrayLike) -> np.ndarray:
         x = np.ascontiguousarray(x, dtype=float)
         if x.shape != self._argshape:
             raise ValueError(f"expected {self.n_args} values, got shape {x.shape}")
@@ -319,7 +338,7 @@ class _Constant(CompiledFunction):
 
     __slots__ = ()
 
-    def __call__(self, x) -> np.ndarray:
+    def __call__(self, x: npt.ArrayLike) -> np.ndarray:
         self._check(x)
         return np.zeros(self.shape)
 
@@ -329,10 +348,10 @@ class _Gather:
 
     __slots__ = ("_fn", "_argshape", "_n_out", "_src")
 
-    def __init__(self, fn, argshape: tuple[int, ...], n_out: int, src: np.ndarray):
+    def __init__(self, fn: Kernel | None, argshape: tuple[int, ...], n_out: int, src: np.ndarray) -> None:
         self._fn, self._argshape, self._n_out, self._src = fn, argshape, n_out, src
 
-    def __call__(self, x) -> np.ndarray:
+    def __call__(self, x: npt.ArrayLike) -> np.ndarray:
         # attribute checks first: the loops that call this pass their own float vectors, and
         # ascontiguousarray costs as much as the compiled code on a small model
         if type(x) is not np.ndarray or x.dtype != _FLOAT or x.shape != self._argshape or x.strides != _STRIDE:
@@ -344,7 +363,7 @@ class _Gather:
             self._fn.unsafe_real(x, vals)  # safe: x has the length checked above; it writes n_out values
         return vals.take(self._src)
 
-    def parts(self):
+    def parts(self) -> tuple[Kernel, int, np.ndarray] | None:
         """``(fn, n_out, src)``: the compiled function (SymEngine), the values it writes, and the
         entry each output reads (``n_out``: the extra zero); None without compiled code."""
         return None if self._fn is None else (self._fn, self._n_out, self._src)
@@ -353,14 +372,15 @@ class _Gather:
 _FLOAT, _STRIDE = np.dtype(float), (np.dtype(float).itemsize,)
 
 
-def _restore(fn, n_args, shape, idx, source) -> CompiledFunction:
+def _restore(fn: Kernel | None, n_args: int, shape: tuple[int, ...], idx: np.ndarray | None,
+             source: Source | None) -> CompiledFunction:
     """Unpickle a :class:`CompiledFunction` (compiling again only without machine code)."""
     if fn is None and source is not None:
         fn = _lambdify(*source)[0]
     return CompiledFunction(fn, n_args, shape, idx, source)
 
 
-def _lambdify(args, exprs, opt_level: int = 3):
+def _lambdify(args: Sequence[se.Symbol], exprs: Sequence[se.Basic], opt_level: int = 3) -> tuple[Kernel, Source | None]:
     """(SymEngine Lambdify of ``exprs`` in the positional ``args``, the source to keep or None)."""
     COUNTS["compiled"] += 1
     if backend() == "llvm":
@@ -368,7 +388,7 @@ def _lambdify(args, exprs, opt_level: int = 3):
     return se.Lambdify(args, exprs, backend=backend(), cse=True), (list(args), list(exprs))
 
 
-def compile_values(args: Sequence, exprs: Sequence, shape: tuple[int, ...] | None = None,
+def compile_values(args: Sequence[se.Symbol], exprs: Sequence[se.Basic], shape: tuple[int, ...] | None = None,
                    idx: np.ndarray | None = None, opt_level: int = 3) -> CompiledFunction:
     """Compile SymEngine ``exprs`` in the positional ``args`` (see :func:`engine_arguments`).
 
@@ -390,7 +410,8 @@ def _compile_whole(flat: np.ndarray, size: int) -> bool:
     return size <= DENSE_MAX or 2 * len(flat) >= size
 
 
-def compile_scattered(args: Sequence, flat: np.ndarray, exprs: Sequence, shape: tuple[int, ...]) -> CompiledFunction:
+def compile_scattered(args: Sequence[se.Symbol], flat: npt.ArrayLike, exprs: Sequence[se.Basic],
+                      shape: tuple[int, ...]) -> CompiledFunction:
     """Compile the entries ``exprs`` at flat positions ``flat`` of an output of ``shape`` (zeros elsewhere).
 
     Positional SymEngine ``args`` (see :func:`engine_arguments`); no cache. Small or dense
@@ -408,11 +429,12 @@ def compile_scattered(args: Sequence, flat: np.ndarray, exprs: Sequence, shape: 
     return compile_values(args, exprs, shape, flat)
 
 
-def _key_parts(kind: str, args: Sequence, exprs: Sequence, extra: str = "") -> list[str]:
+def _key_parts(kind: str, args: Sequence[se.Symbol], exprs: Sequence[se.Basic], extra: str = "") -> list[str]:
     return [kind, extra, "\x1f".join(str(a) for a in args), *(expr_text(e) for e in exprs)]
 
 
-def compile_dense(args: Sequence, exprs: Sequence, *, cache: bool = True) -> CompiledFunction:
+def compile_dense(args: Sequence[sp.Basic | se.Basic], exprs: Sequence[sp.Basic | se.Basic], *,
+                  cache: bool = True) -> CompiledFunction:
     """Compile expressions into ``f(x) -> ndarray`` with one entry per expression.
 
     ``args`` are SymPy or SymEngine symbols; ``x`` is a 1-D float array ordered like them.
@@ -420,7 +442,7 @@ def compile_dense(args: Sequence, exprs: Sequence, *, cache: bool = True) -> Com
     """
     safe, exprs = engine_arguments(args, exprs)
 
-    def build():
+    def build() -> CompiledFunction:
         return compile_values(safe, exprs)
 
     if not cache or not exprs:
@@ -428,7 +450,8 @@ def compile_dense(args: Sequence, exprs: Sequence, *, cache: bool = True) -> Com
     return _cache.cached(_key_parts("dense", safe, exprs), build, _valid(len(safe), (len(exprs),)))
 
 
-def compile_sparse(args: Sequence, entries: Sequence[tuple[tuple[int, ...], object]], shape: tuple[int, ...], *,
+def compile_sparse(args: Sequence[sp.Basic | se.Basic], entries: Sequence[tuple[tuple[int, ...], sp.Basic | se.Basic]],
+                   shape: tuple[int, ...], *,
                    cache: bool = True) -> CompiledFunction:
     """Compile the non-zero entries of an array into ``f(x) -> ndarray`` of ``shape``.
 
@@ -444,7 +467,7 @@ def compile_sparse(args: Sequence, entries: Sequence[tuple[tuple[int, ...], obje
         flat = np.zeros(0, dtype=np.intp)
     safe, exprs = engine_arguments(args, [e for _, e in entries])
 
-    def build():
+    def build() -> CompiledFunction:
         return compile_scattered(safe, flat, exprs, shape)
 
     if not cache or not exprs:
@@ -453,9 +476,9 @@ def compile_sparse(args: Sequence, entries: Sequence[tuple[tuple[int, ...], obje
                          _valid(len(safe), shape))
 
 
-def _valid(n_args: int, shape: tuple[int, ...]):
+def _valid(n_args: int, shape: tuple[int, ...]) -> Callable[[object], bool]:
     """A check that a cached object is a compiled function of the expected signature."""
-    def check(obj) -> bool:
+    def check(obj: object) -> bool:
         return isinstance(obj, CompiledFunction) and obj.n_args == n_args and obj.shape == tuple(shape)
     return check
 
@@ -467,7 +490,7 @@ def sympy_symbols(names: Sequence[str]) -> list[sp.Symbol]:
     return [sp.Symbol(n, real=True) for n in names]
 
 
-def symbol_names(exprs: Sequence) -> set[str]:
+def symbol_names(exprs: Sequence[sp.Basic | se.Basic | float]) -> set[str]:
     """The names of the free symbols of ``exprs`` (SymPy or SymEngine expressions, or numbers): what they depend on."""
     import sympy as sp
 

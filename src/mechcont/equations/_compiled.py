@@ -10,11 +10,12 @@ model means. Its source is part of the disk cache's key (:mod:`._cache`), as :mo
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ._codegen import compile_scattered, compile_values, derivative_entries, is_smooth
+from ._backend import Kernel
+from ._codegen import CompiledFunction, _Gather, compile_scattered, compile_values, derivative_entries, is_smooth
 
 if TYPE_CHECKING:
     from ._system import EquationSystem
@@ -32,7 +33,7 @@ class ColumnView:
     :meth:`EquationSystem.columns`; the second derivatives are compiled on first use.
     """
 
-    def __init__(self, system: EquationSystem, columns: Sequence[int] | np.ndarray):
+    def __init__(self, system: EquationSystem, columns: Sequence[int] | np.ndarray) -> None:
         self.system = system.compile()
         self.columns = np.asarray(columns, dtype=np.intp).reshape(-1)
         if len(set(self.columns.tolist())) != len(self.columns):  # not np.unique: it imports numpy.ma (10 ms)
@@ -42,8 +43,8 @@ class ColumnView:
         # them (the layout decides the summation order of later reductions and products)
         self.n_eq, self._shape = n_eq, (len(self.columns), n_eq)
         flat = n_eq + (self.columns[:, None] + np.arange(n_eq, dtype=np.intp) * n).reshape(-1)
-        self._res_jac = system._code["res_jac"].gather(np.concatenate([np.arange(n_eq, dtype=np.intp), flat]))
-        self._hess: tuple | None = None
+        self._res_jac: _Gather = system._code["res_jac"].gather(np.concatenate([np.arange(n_eq, dtype=np.intp), flat]))
+        self._hess: tuple[_Gather, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._bins: np.ndarray | None = None
 
     def residual_and_jacobian(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -51,13 +52,13 @@ class ColumnView:
         out = self._res_jac(x)
         return out[:self.n_eq], out[self.n_eq:].reshape(self._shape).T
 
-    def gather_parts(self):
+    def gather_parts(self) -> tuple[Kernel, int, np.ndarray] | None:
         """``(fn, n_out, src)`` of :meth:`residual_and_jacobian`: the compiled function, how many
         values it writes, and where each output entry reads them (``n_out``: a structural zero);
         None when nothing is compiled (a constant model)."""
         return self._res_jac.parts()
 
-    def second_derivative_entries(self):
+    def second_derivative_entries(self) -> tuple[_Gather, np.ndarray, np.ndarray, np.ndarray]:
         """The non-zero second derivatives ``d2 G_i / dx_j dx_k`` with ``k`` among the columns.
 
         Returns ``(values, i, j, c)``: ``values(x)`` computes them (one compiled call), ``i``
@@ -89,7 +90,7 @@ class ColumnView:
 SECOND_DERIVATIVES_OPT_LEVEL = 0
 
 
-def generate_code(sym: dict, part: str) -> dict:
+def generate_code(sym: dict[str, Any], part: str) -> dict[str, CompiledFunction | np.ndarray]:
     """Differentiate exactly (SymEngine) and compile one part; see :meth:`EquationSystem.compile`.
 
     ``sym`` holds the positional argument symbols ``syms`` and the equations ``eqs`` in them

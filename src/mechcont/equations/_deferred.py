@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import io
 import pickle
+from typing import IO, Any
 
 __all__ = ["needs_heavy", "pack", "materialize", "defaults_off_the_class", "Apart", "DEFERRED", "HEAVY"]
 
@@ -27,24 +28,24 @@ HEAVY = ("sympy",)
 class _Recorder(pickle.Pickler):
     """A pickler that notes the modules of the classes and functions it pickles."""
 
-    def __init__(self, file):
+    def __init__(self, file: IO[bytes]) -> None:
         super().__init__(file, protocol=pickle.HIGHEST_PROTOCOL)
         self.modules: set[str] = set()
 
-    def reducer_override(self, obj):
+    def reducer_override(self, obj: object) -> Any:
         module = getattr(obj, "__module__", None) if isinstance(obj, type) or callable(obj) else None
         self.modules.add(module if isinstance(module, str) else type(obj).__module__)
         return NotImplemented
 
 
-def needs_heavy(value) -> bool:
+def needs_heavy(value: object) -> bool:
     """True when unpickling ``value`` would import one of :data:`HEAVY` (raises if it does not pickle)."""
     rec = _Recorder(io.BytesIO())
     rec.dump(value)
     return any(m == h or m.startswith(h + ".") for m in rec.modules for h in HEAVY)
 
 
-def pack(values: dict) -> bytes:
+def pack(values: dict[str, object]) -> bytes:
     """``values`` (attribute name -> value) as the inner pickle :func:`materialize` reads."""
     return pickle.dumps(values, protocol=pickle.HIGHEST_PROTOCOL)
 
@@ -63,7 +64,7 @@ def defaults_off_the_class(cls: type) -> None:
             delattr(cls, f.name)
 
 
-def materialize(obj, name: str):
+def materialize(obj: object, name: str) -> Any:
     """The attribute ``name`` of ``obj`` from its inner pickle (unpickled once, into ``obj.__dict__``).
 
     Raises :class:`AttributeError` when ``obj`` has no inner pickle or it does not hold ``name``.
@@ -84,17 +85,17 @@ class Apart:
 
     _APART: tuple[str, ...] = ()
 
-    def __getstate__(self) -> dict:
+    def __getstate__(self) -> dict[str, object]:
         state = dict(self.__dict__)
         apart = {k: state.pop(k) for k in self._APART if k in state}
         if apart:
             state[DEFERRED] = pack(apart)
         return state
 
-    def __setstate__(self, state: dict) -> None:
+    def __setstate__(self, state: dict[str, object]) -> None:
         self.__dict__.update(state)
 
-    def __getattr__(self, name: str):
+    def __getattr__(self, name: str) -> Any:
         # reached only for attributes missing from the instance: those still in the inner pickle
         if name.startswith("__"):
             raise AttributeError(name)

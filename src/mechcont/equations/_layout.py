@@ -4,12 +4,15 @@ views of a compiled function's output as one dense array (``_Part``): the bookke
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
+
 import numpy as np
+import numpy.typing as npt
 
 __all__ = ["_flat", "_StaticsLayout", "_Part"]
 
 
-def _flat(entries, shape: tuple[int, ...]) -> np.ndarray:
+def _flat(entries: Sequence[tuple[tuple[int, ...], object]], shape: tuple[int, ...]) -> np.ndarray:
     """Flat (C-order) positions in an array of ``shape`` of the indices of ``(index, expr)`` entries."""
     if not entries:
         return np.zeros(0, dtype=np.intp)
@@ -26,7 +29,8 @@ class _StaticsLayout:
     Hessians contracted with the multipliers by ``bincount``; no Python loop over positions.
     """
 
-    def __init__(self, nc: int, nq: int, a_pos, dq_pos, hess_k, hess_ij, dense: bool):
+    def __init__(self, nc: int, nq: int, a_pos: npt.ArrayLike, dq_pos: npt.ArrayLike, hess_k: npt.ArrayLike,
+                 hess_ij: npt.ArrayLike, dense: bool) -> None:
         self.nc, self.nq, self.dense = nc, nq, dense
         self.a_pos, self.dq_pos = np.asarray(a_pos, np.intp), np.asarray(dq_pos, np.intp)
         self.hess_k, self.hess_ij = np.asarray(hess_k, np.intp), np.asarray(hess_ij, np.intp)
@@ -101,11 +105,12 @@ class _Part:
     """``f(x) -> ndarray``: a slice of another compiled function's values, scattered into ``shape``
     (or, with ``pos`` None, the slice itself reshaped)."""
 
-    def __init__(self, source, part: slice, pos: np.ndarray | None, shape: tuple[int, ...]):
+    def __init__(self, source: Callable[[npt.ArrayLike], np.ndarray], part: slice, pos: np.ndarray | None,
+                 shape: tuple[int, ...]) -> None:
         self.source, self.part, self.shape = source, part, tuple(shape)
         self.pos = None if pos is None else np.asarray(pos, np.intp)
 
-    def __call__(self, x) -> np.ndarray:
+    def __call__(self, x: npt.ArrayLike) -> np.ndarray:
         if self.pos is None:
             return self.source(x)[self.part].reshape(self.shape)
         out = np.zeros(int(np.prod(self.shape, dtype=np.int64)))

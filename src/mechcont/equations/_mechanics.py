@@ -17,18 +17,19 @@ constraint-curvature term is what hand-made codes forget.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import InputError
 from . import _cache, _codegen, _deferred, _stability
 from ._cache_key import expr_text
-from ._codegen import compile_scattered, compile_values, derivative_entries, engine_arguments, is_smooth
+from ._codegen import CompiledFunction, compile_scattered, compile_values, derivative_entries, engine_arguments, is_smooth
 from ._layout import _flat, _Part, _StaticsLayout  # noqa: F401 (_StaticsLayout: pickles of compiled groups name it here)
 from ._stability import StabilityResult, constraint_rank  # noqa: F401 (public here too)
 
 if TYPE_CHECKING:
+    import symengine as se
     import sympy as sp
 
 __all__ = ["MechanicalModel", "StabilityResult", "velocity_symbol"]
@@ -41,7 +42,8 @@ def velocity_symbol(name: str) -> sp.Symbol:
     return sp.Symbol(f"{name}_dot", real=True)
 
 
-def _velocity_product_forces(keys, m_exprs, qs, qd) -> list:
+def _velocity_product_forces(keys: Sequence[tuple[int, int]], m_exprs: Sequence[se.Basic], qs: Sequence[se.Symbol],
+                             qd: Sequence[se.Symbol]) -> list[se.Basic]:
     """SymEngine expressions of ``h(q, qdot) = -(Mdot qdot - 1/2 d(qdot^T M qdot)/dq)``, the velocity-product
     terms of Lagrange's equations for ``T = 1/2 qdot^T M(q) qdot`` (``keys``: the positions of ``M``'s
     non-zero entries ``m_exprs``, both triangles). Component ``i`` is ``-sum_jk c_ijk qdot_j qdot_k`` with
@@ -92,7 +94,7 @@ class MechanicalModel:
 
     def __init__(self, names: Sequence[str], coordinates: Sequence[str], constraints: Sequence[sp.Expr],
                  forces: Sequence[sp.Expr], mass_matrix: sp.Matrix, constraint_names: Sequence[str] | None = None,
-                 potential: sp.Expr | None = None, state_rates: Mapping[str, sp.Expr] | None = None):
+                 potential: sp.Expr | None = None, state_rates: Mapping[str, sp.Expr] | None = None) -> None:
         import sympy as sp
 
         self.names = tuple(names)
@@ -142,11 +144,27 @@ class MechanicalModel:
                "_gamma": "dynamics", "_dQdqd": "dynamics", "_M": "dynamics", "_inertial": "dynamics",
                "_V": "dynamics", "_rates": "states", "_rates_jac": "states", "_dQds": "states"}
     _COMPILED = tuple(_GROUPS)
+    # their types (declared only: each is missing from the instance until its group is made, see __getattr__)
+    _phi: CompiledFunction
+    _phi_q: CompiledFunction
+    _Q: CompiledFunction
+    _statics: CompiledFunction
+    _statics_layout: _StaticsLayout
+    _dQdq: _Part
+    _phi_hess: _Part
+    _gamma: CompiledFunction
+    _dQdqd: CompiledFunction
+    _M: CompiledFunction
+    _inertial: CompiledFunction
+    _V: CompiledFunction
+    _rates: CompiledFunction
+    _rates_jac: CompiledFunction
+    _dQds: CompiledFunction
 
     #: The symbolic attributes, pickled apart (see :mod:`._deferred`).
     _SYMBOLIC = ("constraints", "forces", "mass_matrix", "potential", "state_rates", "_syms", "_qs", "_qd")
 
-    def __getattr__(self, name):
+    def __getattr__(self, name: str) -> Any:
         # only reached for missing attributes: the compiled functions, built on first use, and
         # a loaded model's symbolic attributes
         group = MechanicalModel._GROUPS.get(name)
@@ -167,7 +185,7 @@ class MechanicalModel:
         if all(n in self.__dict__ for n in names):  # all: a model pickled before a member was added builds it
             return
 
-        def valid(obj) -> bool:
+        def valid(obj: object) -> bool:
             return isinstance(obj, dict) and set(obj) == set(names)
 
         code = _cache.cached(["mechanics", group, self._content_digest()], lambda: self._build_group(group), valid)
@@ -283,7 +301,7 @@ class MechanicalModel:
                 "_inertial": compile_values(args, _velocity_product_forces(keys, m_exprs, qs, qd)),
                 "_V": compile_values(args, s["potential"] or [se.Integer(0)])}
 
-    def __getstate__(self):
+    def __getstate__(self) -> dict[str, Any]:
         """Picklable state: every compiled group built so far, and the symbolic model as an inner
         pickle (unpickled on first use: stability and simulation need only the compiled code)."""
         state = {k: v for k, v in self.__dict__.items() if k != "_engine" and k not in self._SYMBOLIC}
@@ -292,7 +310,7 @@ class MechanicalModel:
         state.setdefault("n_constraints", len(self.constraints))
         return state
 
-    def __setstate__(self, state):
+    def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
         self.__dict__.setdefault("element_states", ())  # pickled before element states existed
         self.__dict__.setdefault("s_index", np.zeros(0, dtype=np.intp))
@@ -300,7 +318,7 @@ class MechanicalModel:
             self.__dict__["n_constraints"] = len(state["constraints"])
 
     # -- numeric evaluation (x: full variable vector, qdot: coordinate velocities) ---------
-    def _args(self, x, qdot=None):
+    def _args(self, x: np.ndarray, qdot: np.ndarray | None = None) -> np.ndarray:
         if qdot is None:  # at rest: x then zeros (one allocation; this runs at every point of a branch)
             x = np.asarray(x, float)
             a = np.zeros(len(x) + len(self.coordinates))
@@ -308,49 +326,49 @@ class MechanicalModel:
             return a
         return np.concatenate([np.asarray(x, float), np.asarray(qdot, float)])
 
-    def phi(self, x, qdot=None) -> np.ndarray:
+    def phi(self, x: np.ndarray, qdot: np.ndarray | None = None) -> np.ndarray:
         """Constraint residuals Phi (units of each constraint, usually m)."""
         return self._phi(self._args(x, qdot))
 
-    def phi_q(self, x) -> np.ndarray:
+    def phi_q(self, x: np.ndarray) -> np.ndarray:
         """Constraint Jacobian dPhi/dq, shape (n_constraints, n_q)."""
         return self._phi_q(self._args(x))
 
-    def gamma(self, x, qdot) -> np.ndarray:
+    def gamma(self, x: np.ndarray, qdot: np.ndarray) -> np.ndarray:
         """Right-hand side of the acceleration-level constraints Phi_q qddot = gamma."""
         return self._gamma(self._args(x, qdot))
 
-    def applied_forces(self, x, qdot=None) -> np.ndarray:
+    def applied_forces(self, x: np.ndarray, qdot: np.ndarray | None = None) -> np.ndarray:
         """Generalised applied forces Q(q, qdot) (N or N m per coordinate)."""
         return self._Q(self._args(x, qdot))
 
-    def applied_forces_batch(self, X, Qdot) -> np.ndarray:
+    def applied_forces_batch(self, X: np.ndarray, Qdot: np.ndarray) -> np.ndarray:
         """:meth:`applied_forces` at every row of ``X`` (full vectors, (m, n_variables)) with the velocities
         ``Qdot`` ((m, n_q)): array (m, n_q), one call into the compiled code."""
         return self._Q.batch(np.hstack([np.asarray(X, float), np.asarray(Qdot, float)]))
 
-    def _batch_args(self, X, Qdot=None) -> np.ndarray:
+    def _batch_args(self, X: np.ndarray, Qdot: np.ndarray | None = None) -> np.ndarray:
         X = np.asarray(X, float)
         if Qdot is None:
             return np.hstack([X, np.zeros((len(X), len(self.coordinates)))])
         return np.hstack([X, np.asarray(Qdot, float)])
 
-    def phi_batch(self, X) -> np.ndarray:
+    def phi_batch(self, X: np.ndarray) -> np.ndarray:
         """:meth:`phi` at every row of ``X`` ((m, n_variables)): array (m, n_constraints), one compiled call."""
         return self._phi.batch(self._batch_args(X))
 
-    def phi_q_batch(self, X) -> np.ndarray:
+    def phi_q_batch(self, X: np.ndarray) -> np.ndarray:
         """:meth:`phi_q` at every row of ``X``: array (m, n_constraints, n_q), one compiled call."""
         return self._phi_q.batch(self._batch_args(X))
 
-    def motion_terms(self, x, qdot) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def motion_terms(self, x: np.ndarray, qdot: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """What the equations of motion need at ``x`` with the velocities ``qdot``, from one argument vector:
         ``(M, Q + inertial_forces, gamma, element_state_rates)`` (see those methods for units and shapes)."""
         a = self._args(x, qdot)
         r = np.asarray(self._rates(a), float).reshape(-1) if self.element_states else np.zeros(0)
         return self._M(a), self._Q(a) + self._inertial(a), self._gamma(a), r
 
-    def motion_terms_batch(self, X, Qdot) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def motion_terms_batch(self, X: np.ndarray, Qdot: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`motion_terms` at every row of ``X`` with the velocities ``Qdot``: arrays (m, n_q, n_q),
         (m, n_q), (m, n_constraints), (m, n_s), one compiled call each."""
         a = self._batch_args(X, Qdot)
@@ -358,29 +376,30 @@ class MechanicalModel:
         r = self._rates.batch(a).reshape(m, -1) if self.element_states else np.zeros((m, 0))
         return self._M.batch(a), self._Q.batch(a) + self._inertial.batch(a), self._gamma.batch(a), r
 
-    def damping_matrix(self, x, qdot=None) -> np.ndarray:
+    def damping_matrix(self, x: np.ndarray, qdot: np.ndarray | None = None) -> np.ndarray:
         """-dQ/dqdot, shape (n_q, n_q) (N s/m)."""
         return -self._dQdqd(self._args(x, qdot))
 
-    def mass(self, x) -> np.ndarray:
+    def mass(self, x: np.ndarray) -> np.ndarray:
         """Mass matrix M(q), shape (n_q, n_q) (kg, kg m^2)."""
         return self._M(self._args(x))
 
-    def inertial_forces(self, x, qdot) -> np.ndarray:
+    def inertial_forces(self, x: np.ndarray, qdot: np.ndarray) -> np.ndarray:
         """Velocity-product (centrifugal, Coriolis, gyroscopic) generalised forces
         ``-(Mdot qdot - 1/2 d(qdot^T M qdot)/dq)`` (N or N m per coordinate), exact from the
         generated ``M(q)``; zero when ``M`` is constant (frames at the centres of gravity) or at rest.
         The equations of motion are ``M qddot = Q + inertial_forces + Phi_q^T lambda``."""
         return self._inertial(self._args(x, qdot))
 
-    def element_state_rates(self, x, qdot=None) -> np.ndarray:
+    def element_state_rates(self, x: np.ndarray, qdot: np.ndarray | None = None) -> np.ndarray:
         """The element states' rates ``r(q, qdot, s)`` (each state's unit per second), in
         :attr:`element_states`' order; empty without states."""
         if not self.element_states:
             return np.zeros(0)
         return np.asarray(self._rates(self._args(x, qdot)), dtype=float).reshape(-1)
 
-    def element_state_jacobians(self, x, qdot=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def element_state_jacobians(self, x: np.ndarray,
+                                qdot: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Exact ``(dr/dq, dr/dqdot, dr/ds, dQ/ds)`` at ``x`` (and ``qdot``, default at rest): the rates'
         derivatives, shapes (n_s, n_q) each of the first two and (n_s, n_s), and the generalised forces'
         derivative in the states, (n_q, n_s)."""
@@ -391,12 +410,12 @@ class MechanicalModel:
         J = self._rates_jac(a)
         return J[:, :nq], J[:, nq:2 * nq], J[:, 2 * nq:], self._dQds(a)
 
-    def potential_energy(self, x) -> float:
+    def potential_energy(self, x: np.ndarray) -> float:
         """Potential energy ``V`` (J) at the full variable vector ``x`` (0 when the model declares none,
         see :attr:`has_potential`)."""
         return float(self._V(self._args(x))[0])
 
-    def _decompose(self, x, rtol: float = 1e-10):
+    def _decompose(self, x: np.ndarray, rtol: float = 1e-10) -> tuple[np.ndarray | None, np.ndarray, np.ndarray, int]:
         """SVD of Phi_q: (U, singular values, V^T, rank) — shared by multipliers and Z."""
         A = self.phi_q(x)
         if A.shape[0] == 0:
@@ -404,7 +423,7 @@ class MechanicalModel:
         U, sv, Vt = np.linalg.svd(A)
         return U, sv, Vt, constraint_rank(A, sv, rtol)
 
-    def multipliers(self, x) -> np.ndarray:
+    def multipliers(self, x: np.ndarray) -> np.ndarray:
         """Constraint reactions lambda solving Phi_q^T lambda = Q in the least-squares sense.
 
         With redundant constraints the minimum-norm solution is returned.
@@ -415,20 +434,20 @@ class MechanicalModel:
         Q = self.applied_forces(x)
         return U[:, :r] @ ((Vt[:r] @ Q) / sv[:r])
 
-    def tangent_stiffness(self, x, multipliers=None) -> np.ndarray:
+    def tangent_stiffness(self, x: np.ndarray, multipliers: np.ndarray | None = None) -> np.ndarray:
         """K = -dQ/dq + sum_k lambda_k Hess(Phi_k) at rest, shape (n_q, n_q)."""
         lam = self.multipliers(x) if multipliers is None else np.asarray(multipliers)
         return self._statics_layout.stiffness(self._statics(self._args(x)), lam)
 
-    def allowed_motions(self, x, rtol: float = 1e-10) -> np.ndarray:
+    def allowed_motions(self, x: np.ndarray, rtol: float = 1e-10) -> np.ndarray:
         """Orthonormal basis Z of the null space of Phi_q: the motions the joints allow."""
         _, _, Vt, r = self._decompose(x, rtol)
         return Vt[r:].T
 
-    def stability(self, x, rtol: float = 1e-9, held: np.ndarray | None = None) -> StabilityResult:
+    def stability(self, x: np.ndarray, rtol: float = 1e-9, held: np.ndarray | None = None) -> StabilityResult:
         """Physical stability of the equilibrium at ``x`` (see :func:`._stability.stability`)."""
         return _stability.stability(self, x, rtol, held)
 
-    def count_unstable(self, X, rtol: float = 1e-9) -> np.ndarray:
+    def count_unstable(self, X: np.ndarray, rtol: float = 1e-9) -> np.ndarray:
         """Number of unstable directions at every row of ``X`` (see :func:`._stability.count_unstable`)."""
         return _stability.count_unstable(self, X, rtol)

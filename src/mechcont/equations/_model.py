@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import MISSING, dataclass, field, fields
-from typing import TYPE_CHECKING, Protocol, TypedDict
+from typing import TYPE_CHECKING, Any, Protocol, TypedDict
 
 import numpy as np
 
@@ -234,7 +234,7 @@ class Model(EquationSystem):
                                  f"(make a copy with evolve(...) or declare the field)")
         object.__setattr__(self, name, value)
 
-    def compiled_state(self) -> dict:
+    def compiled_state(self) -> dict[str, Any]:
         """:meth:`EquationSystem.compiled_state` plus every other field of the model (``"fields"``).
 
         The fields' callables (scene, value checks, coordinates, ...) are picklable objects, so the
@@ -246,7 +246,7 @@ class Model(EquationSystem):
         return state
 
     @classmethod
-    def from_compiled_state(cls, state: dict) -> Model:
+    def from_compiled_state(cls, state: dict[str, Any]) -> Model:
         """A :class:`Model` from :meth:`compiled_state` (validated, nothing compiled again)."""
         system = EquationSystem.from_compiled_state(state)
         given = dict(state.get("fields", {}))

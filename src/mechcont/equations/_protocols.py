@@ -72,6 +72,12 @@ class Mechanics(Protocol):
     def applied_forces(self, x: np.ndarray, qdot: np.ndarray | None = None) -> np.ndarray:
         """Generalised applied forces ``Q`` (N, N m)."""
 
+    def applied_forces_batch(self, X: np.ndarray, Qdot: np.ndarray) -> np.ndarray:
+        """:meth:`applied_forces` at every row of ``X`` (full vectors) with the velocities ``Qdot``: (m, n_q)."""
+
+    def potential_energy(self, x: np.ndarray) -> float:
+        """Potential energy ``V`` (J) of the conservative forces (0 when the model declares none)."""
+
     def damping_matrix(self, x: np.ndarray, qdot: np.ndarray | None = None) -> np.ndarray:
         """``-dQ/dqdot`` (N s/m)."""
 

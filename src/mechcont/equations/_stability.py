@@ -44,7 +44,7 @@ class StabilityResult:
         return self.n_unstable == 0
 
 
-def stability(mech: MechanicalModel, x, rtol: float = 1e-9, held: np.ndarray | None = None) -> StabilityResult:
+def stability(mech: MechanicalModel, x: np.ndarray, rtol: float = 1e-9, held: np.ndarray | None = None) -> StabilityResult:
     """Physical stability of the equilibrium at ``x`` (a full variable vector).
 
     ``held`` (optional, shape (k, n_q)): gradients of further relations held fixed, e.g. a
@@ -97,7 +97,7 @@ def stability(mech: MechanicalModel, x, rtol: float = 1e-9, held: np.ndarray | N
     unstable = (mu.real < -tol) | (np.abs(mu.imag) > tol)
     return StabilityResult(int(np.sum(unstable)), mu, False)
 
-def count_unstable(mech: MechanicalModel, X, rtol: float = 1e-9) -> np.ndarray:
+def count_unstable(mech: MechanicalModel, X: np.ndarray, rtol: float = 1e-9) -> np.ndarray:
     """Number of unstable directions at every row of ``X`` (full vectors, shape (m, n_variables)).
 
     The same counts as :meth:`stability` (``n_unstable``) row by row, at a fraction

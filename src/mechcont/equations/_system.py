@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Self
+from typing import TYPE_CHECKING, Any, Self
 
 import numpy as np
 
@@ -78,7 +78,7 @@ class EquationSystem:
     check_values: ValueCheck | None = None
     limits: Sequence[Limit] = ()
     # compiled code, filled on first use and shared by copies (with_values, load_model)
-    _code: dict = field(default_factory=dict, init=False, repr=False)
+    _code: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
     # derived in __post_init__ from the variables (their names never change)
     names: tuple[str, ...] = field(init=False, repr=False, compare=False)
     symbols: tuple[sp.Symbol, ...] = field(init=False, repr=False, compare=False)
@@ -86,7 +86,7 @@ class EquationSystem:
     #: fields that did not pickle and were reset to their defaults when this copy was unpickled
     unpickled_without: tuple[str, ...] = field(default_factory=tuple, init=False, repr=False, compare=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         import sympy as sp
 
         self.variables = tuple(self.variables)
@@ -172,7 +172,7 @@ class EquationSystem:
         return self.evolve(variables=tuple(replace(v, value=float(values[v.name])) if v.name in values else v
                                            for v in self.variables))
 
-    def evolve(self, **changes) -> Self:
+    def evolve(self, **changes: Any) -> Self:
         """A copy with some declared fields replaced, sharing the compiled code (nothing is rebuilt).
 
         ``variables`` may change values, scales, units and descriptions but not names or kinds
@@ -216,7 +216,7 @@ class EquationSystem:
             self._code.pop("_symbolic", None)  # both parts made: the SymEngine form is no longer needed
         return self
 
-    def _cached_code(self, part: str) -> dict:
+    def _cached_code(self, part: str) -> dict[str, Any]:
         """One compiled part (``residual_jacobian`` or ``second_derivatives``), from the disk cache or made."""
         sym = self._code.get("_symbolic")
         if sym is None:  # SymEngine form, kept for the other part (shared by copies, never pickled)
@@ -225,15 +225,15 @@ class EquationSystem:
         syms, eqs = sym["syms"], sym["eqs"]
         n_eq, n = len(eqs), len(syms)
         if part == "residual_jacobian":
-            def valid(obj) -> bool:
+            def valid(obj: object) -> bool:
                 return (isinstance(obj, dict) and set(obj) == {"res_jac"} and isinstance(obj["res_jac"], CompiledFunction)
                         and obj["res_jac"].n_args == n and obj["res_jac"].shape == (n_eq + n_eq * n,))
         else:
-            def valid(obj) -> bool:
+            def valid(obj: object) -> bool:
                 return (isinstance(obj, dict) and set(obj) == {"hess_values", "hess_j", "hess_ik"}
                         and obj["hess_values"].n_args == n and len(obj["hess_j"]) == obj["hess_values"].n_out)
 
-        def key():  # the compiled form itself: positional arguments, SymEngine equations
+        def key() -> list[str]:  # the compiled form itself: positional arguments, SymEngine equations
             return ["system", part, str(n), *(expr_text(e) for e in eqs)]
 
         return _cache.cached(key, lambda: generate_code(sym, part), valid)
@@ -303,7 +303,7 @@ class EquationSystem:
         columns. Views are kept with the compiled code (shared by copies), one per set of columns.
         """
         key = tuple(int(c) for c in np.asarray(columns).reshape(-1))
-        views = self._code.setdefault("_views", {})
+        views: dict[tuple[int, ...], ColumnView] = self._code.setdefault("_views", {})
         view = views.get(key)
         if view is None:
             view = views[key] = ColumnView(self, key)
@@ -335,7 +335,7 @@ class EquationSystem:
         return out[:, :n_eq], out[:, n_eq:].reshape(len(X), n_eq, len(self.names))
 
     # -- pickling: the compiled numeric core ------------------------------------------
-    def compiled_state(self) -> dict:
+    def compiled_state(self) -> dict[str, Any]:
         """The compiled numeric core as plain picklable data (see :meth:`from_compiled_state`).
 
         Compiles whatever is not compiled yet (residual and Jacobian, second derivatives,
@@ -361,7 +361,7 @@ class EquationSystem:
                 "code": {k: v for k, v in self._code.items() if not k.startswith("_")}}
 
     @classmethod
-    def from_compiled_state(cls, state: dict) -> EquationSystem:
+    def from_compiled_state(cls, state: dict[str, Any]) -> EquationSystem:
         """An :class:`EquationSystem` from :meth:`compiled_state` (validated, nothing compiled again)."""
         if not isinstance(state, dict) or state.get("format") != 1:
             raise ValueError("not a compiled state of an EquationSystem (format 1)")
@@ -371,7 +371,7 @@ class EquationSystem:
         system._code.update(state["code"])
         return system
 
-    def __getstate__(self) -> dict:
+    def __getstate__(self) -> dict[str, Any]:
         """Pickle: the compiled numeric core (:meth:`compiled_state`) plus every other attribute that pickles.
 
         A field that does not pickle (a closure given as ``scene`` or ``check_values``) is
@@ -401,7 +401,7 @@ class EquationSystem:
         state["deferred_keys"], state["deferred"] = tuple(apart), _deferred.pack(apart)
         return state
 
-    def __setstate__(self, state: dict) -> None:
+    def __setstate__(self, state: dict[str, Any]) -> None:
         from dataclasses import MISSING, fields
 
         if state.get("format") != 1:
@@ -430,7 +430,7 @@ class EquationSystem:
                     d[f.name] = f.default_factory()
         d["unpickled_without"] = omitted
 
-    def __getattr__(self, name: str):
+    def __getattr__(self, name: str) -> Any:
         # reached only for attributes missing from the instance: a loaded system's symbolic
         # parts (kept apart when pickled) and its symbols, made on first use
         if name == "symbols" and "variables" in self.__dict__:

@@ -48,7 +48,7 @@ class Variable:
     scale: float = 1.0
     description: str = ""
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if not self.name.isidentifier():
             raise InputError(self.name, "variable names must be identifiers (letters, digits, underscore)")
         if self.kind not in ("state", "parameter"):
