@@ -25,6 +25,9 @@ import functools
 import math
 
 import numpy as np
+import numpy.typing as npt
+
+from . import _kernel
 
 __all__ = ["Mesh", "gauss_legendre", "lagrange_matrices"]
 
@@ -102,6 +105,7 @@ class Mesh:
         #: node index of local node i of interval j
         self.index = np.arange(self.ntst)[:, None] * m + np.arange(m + 1)[None, :]
         self._index_t = np.ascontiguousarray(self.index.T)
+        self._ones = np.ones(self.ntst)
 
     @property
     def n_nodes(self) -> int:
@@ -139,7 +143,7 @@ class Mesh:
         (node values, flattened like ``u``); ``w`` given by its node values (n_nodes, n). Gauss
         quadrature at the NCOL points: exact to degree 2 NCOL - 1, so this is the collocation's own
         inner product (as AUTO's), not the exact integral of the two degree-NCOL polynomials."""
-        return self._to_nodes(self.h[:, None, None] * self._local(self._G, w))
+        return self._interval_rows(self._G, self.h, w)
 
     def mean(self, u: np.ndarray) -> np.ndarray:
         """The orbit's time average over [0, 1] (Gauss quadrature on every interval), shape (n,)."""
@@ -149,7 +153,17 @@ class Mesh:
     def phase_row(self, v: np.ndarray) -> np.ndarray:
         """``r`` with ``r . u = integral of u . v'`` over ``[0, 1]`` (exact: degree 2 NCOL - 1), ``v`` by its node values."""
         # int u . v' over an interval of length h: h sum_k g_k u(c_k) . (Ld v)(c_k) / h
-        return self._to_nodes(self._local(self._P, v))
+        return self._interval_rows(self._P, self._ones, v)
+
+    def _interval_rows(self, A: npt.NDArray[np.float64], c: npt.NDArray[np.float64],
+                       w: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """``c_j A (interval j's node values of w)`` summed onto the nodes, flattened like ``w`` (n_nodes, n)."""
+        cc = _kernel.condensation()
+        if cc is None:
+            return self._to_nodes(c[:, None, None] * self._local(A, w))
+        out = np.empty((self.n_nodes, w.shape[1]))
+        cc.interval_rows(A, c, w, out)
+        return out.ravel()
 
     def _to_nodes(self, local: np.ndarray) -> np.ndarray:
         """Per-interval node rows (ntst, ncol + 1, n) summed onto the nodes (neighbours share their end node),

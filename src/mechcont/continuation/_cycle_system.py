@@ -25,13 +25,19 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from ..errors import ConvergenceError
+from . import _kernel
 from ._collocation import Mesh
+from ._condensation import Border, CondensedLU, collocation_blocks, product
 
 __all__ = ["RateFunction", "CycleSystem", "NewtonFailure", "nontrivial_multipliers"]
+
+
+_NOT_FINITE = "rates not finite along the orbit (outside the model's domain)"
 
 
 class NewtonFailure(Exception):
@@ -57,6 +63,12 @@ class RateFunction:
         self._batch = isinstance(dynamics, OdeDynamics) and hasattr(model, "residual_and_jacobian_batch")
         if self._batch:
             self._cols = np.array([model.index(s) for s in dynamics.state_names], dtype=np.intp)
+            first = int(self._cols[0]) if self.n else 0
+            # the states as a slice where they are consecutive variables (as an ODE's are): the Jacobian's
+            # columns a view, not a copy
+            self._cols_slice: slice | None = (slice(first, first + self.n)
+                                              if np.array_equal(self._cols, np.arange(first, first + self.n)) else None)
+            self._rows = np.zeros((0, len(self.x_base)))  # the full vectors at the states of the last call
         self._dyn_batch = all(hasattr(dynamics, m) for m in
                               ("rates_batch", "rates_jacobian_batch", "parameter_rates_batch"))
 
@@ -71,10 +83,14 @@ class RateFunction:
         Z = np.asarray(Z, float)
         x = self.x_at(p)
         if self._batch:
-            X = np.repeat(x[None, :], len(Z), axis=0)
-            X[:, self._cols] = Z
+            X = self._rows
+            if X.shape[0] != len(Z):
+                X = self._rows = np.empty((len(Z), len(x)))
+            X[:] = x
+            cols = self._cols if self._cols_slice is None else self._cols_slice
+            X[:, cols] = Z
             F, J = self.model.residual_and_jacobian_batch(X)
-            return F, J[:, :, self._cols], J[:, :, self.p_index]
+            return F, J[:, :, cols], J[:, :, self.p_index]
         dyn = self.dynamics
         if self._dyn_batch:
             return (dyn.rates_batch(Z, x), dyn.rates_jacobian_batch(Z, x),
@@ -160,8 +176,6 @@ class CycleSystem:
     def condensation_blocks(self, T: float, Fz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The intervals' collocation blocks as the condensation takes them: over their inner and last nodes
         (ntst, ncol n, ncol n), and over their first node (ntst, ncol n, n)."""
-        from ._condensation import collocation_blocks
-
         return collocation_blocks(self._D, self.mesh.Lc, Fz, T)
 
     def residual(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, colloc) -> np.ndarray:
@@ -197,9 +211,12 @@ class CycleSystem:
         ``border``: the rows ``phase`` and ``closing`` prepared (:class:`~._condensation.Border`), when known.
         Raises :class:`NewtonFailure` when not finite or singular, or where the rates cannot be evaluated (a
         closed loop that does not assemble at a state of the orbit)."""
-        from ._condensation import Border, CondensedLU
-
+        if border is None:
+            border = Border(phase, closing, self.mesh, self.n)
+        cc = _kernel.condensation()
         try:
+            if cc is not None:
+                return self._factored_compiled(cc, X, target, border)
             colloc = self.collocation(X)
         except (ConvergenceError, np.linalg.LinAlgError) as exc:
             # a mechanism's dependent coordinates not closing its loops (past a toggle position) at an orbit the
@@ -210,15 +227,31 @@ class CycleSystem:
         res = self.residual(X, phase, closing, target, colloc)
         # one sum is not finite when any term is not (or when they overflow it, which is no orbit either)
         if not math.isfinite(float(res.sum() + Fz.sum() + Fp.sum())):
-            raise NewtonFailure("rates not finite along the orbit (outside the model's domain)")
+            raise NewtonFailure(_NOT_FINITE)
         S, L = self.condensation_blocks(T, Fz)
         try:
-            if border is None:
-                border = Border(phase, closing, self.mesh, self.n)
             lu = CondensedLU(S, L, -F.reshape(ntst, mn), -T * Fp.reshape(ntst, mn), border, self.mesh, self.n,
                              rhs=-res[:ntst * mn].reshape(ntst, mn))
         except np.linalg.LinAlgError:
             raise NewtonFailure("singular collocation Jacobian") from None
+        return res, lu
+
+    def _factored_compiled(self, cc: Any, X: np.ndarray, target: float, border: Border) -> tuple[np.ndarray, CondensedLU]:
+        """:meth:`factored` by the compiled condensation: the rates at the Gauss points, then residual, blocks and
+        factors in one call (:meth:`~._condensation.CondensedLU.with_residual`)."""
+        u, T, p = self.split(X)
+        uc, du = self.mesh.at_collocation(u)
+        ntst, mn = self.mesh.ntst, self._ncol_n
+        F, Fz, Fp = self.rates(uc.reshape(-1, self.n), p)
+        res = np.empty(self.size)
+        try:
+            lu = CondensedLU.with_residual(cc, self._D, self.mesh.Lc, Fz.reshape(ntst, self.mesh.ncol, self.n, self.n),
+                                           F.reshape(ntst, mn), Fp.reshape(ntst, mn), du.reshape(ntst, mn), X, target,
+                                           T, border, self.mesh, self.n, res)
+        except np.linalg.LinAlgError:
+            raise NewtonFailure("singular collocation Jacobian") from None
+        if lu is None:
+            raise NewtonFailure(_NOT_FINITE)
         return res, lu
 
     def newton(self, X0: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, tol: float,
@@ -230,8 +263,6 @@ class CycleSystem:
         within ``tol`` of ``X``).
         Raises :class:`NewtonFailure` saying why when it does not converge.
         """
-        from ._condensation import Border
-
         X = np.array(X0, float)
         prev = math.inf
         border = Border(phase, closing, self.mesh, self.n)
@@ -272,8 +303,6 @@ class CycleSystem:
     # -- stability ------------------------------------------------------------------------------
     def monodromy(self, X: np.ndarray) -> np.ndarray:
         """The collocation's monodromy matrix (n, n) at the orbit ``X`` (see the module docstring)."""
-        from ._condensation import product
-
         u, T, p, uc, du, F, Fz, Fp = self.collocation(X)
         S, L = self.condensation_blocks(T, Fz)
         n = self.n
