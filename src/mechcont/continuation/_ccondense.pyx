@@ -337,7 +337,7 @@ def expand(double[:, :, ::1] Y, double[:, :, ::1] binner, double[:, ::1] K, int[
 
 
 def factor_residual(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, const double[:, :, :, :] Fz,
-                    const double[:, :] F, const double[:, :] Fp, const double[:, :] du, const double[::1] X,
+                    const double[:, :, :] F, const double[:, :, :] Fp, const double[:, :, :] du, const double[::1] X,
                     double phase_value, double closing_value, double T, double[:, :, ::1] binner,
                     double[:, :, ::1] mesh_points, double[:, ::1] TP,
                     double[:, :, ::1] S, int[:, ::1] piv, double[:, :, ::1] W, double[:, ::1] K, int[::1] rpiv,
@@ -346,16 +346,16 @@ def factor_residual(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, co
     periodicity ``X``'s last node minus its first, the phase and closing rows' values as given), the collocation
     blocks (as :func:`collocation_blocks`) into ``S`` and ``W[:, :, :n]``, ``W``'s T, p and right-hand-side columns
     (``-F``, ``-T Fp``, ``-res``), the blocks factored and solved (:func:`block_factor_solve`), the reduced matrix
-    (:func:`reduced_matrix`, ``K`` zeroed here) factored (:func:`reduced_factor`). ``F``, ``Fp``, ``du``: (ntst, ncol n) at the Gauss points;
-    ``Fz`` (ntst, ncol, n, n). Returns 0, 1 when the residual or the rates' derivatives are not finite (nothing
+    (:func:`reduced_matrix`, ``K`` zeroed here) factored (:func:`reduced_factor`). ``F``, ``Fp``, ``du``: (ntst,
+    ncol, n) at the Gauss points, ``Fz`` (ntst, ncol, n, n), any strides. Returns 0, 1 when the residual or the rates' derivatives are not finite (nothing
     factored), 2 when a block or the reduced system is singular (or its factors not finite)."""
     cdef Py_ssize_t ntst = D.shape[0], m = D.shape[1], n = D.shape[2], mn = m * n, nc = ntst * mn
     cdef Py_ssize_t nr = K.shape[0], size = X.shape[0]
     cdef int status
     if (D.shape[3] != m + 1 or D.shape[4] != n or Lc.shape[0] != m or Lc.shape[1] != m + 1
             or Fz.shape[0] != ntst or Fz.shape[1] != m or Fz.shape[2] != n or Fz.shape[3] != n
-            or F.shape[0] != ntst or F.shape[1] != mn or Fp.shape[0] != ntst or Fp.shape[1] != mn
-            or du.shape[0] != ntst or du.shape[1] != mn or S.shape[0] != ntst or S.shape[1] != mn
+            or F.shape[0] != ntst or F.shape[1] != m or F.shape[2] != n or Fp.shape[0] != ntst or Fp.shape[1] != m
+            or Fp.shape[2] != n or du.shape[0] != ntst or du.shape[1] != m or du.shape[2] != n or S.shape[0] != ntst or S.shape[1] != mn
             or S.shape[2] != mn or W.shape[0] != ntst or W.shape[1] != mn or W.shape[2] != n + 3
             or piv.shape[0] != ntst or piv.shape[1] != mn or nr != (ntst + 1) * n + 2 or K.shape[1] != nr
             or rpiv.shape[0] != nr or res.shape[0] != size or size != (ntst * m + 1) * n + 2):
@@ -372,7 +372,8 @@ def factor_residual(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, co
 
 
 cdef int _residual_blocks(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, const double[:, :, :, :] Fz,
-                          const double[:, :] F, const double[:, :] Fp, const double[:, :] du, const double[::1] X,
+                          const double[:, :, :] F, const double[:, :, :] Fp, const double[:, :, :] du,
+                          const double[::1] X,
                           double phase_value, double closing_value, double T, double[:, :, ::1] S,
                           int[:, ::1] piv, double[:, :, ::1] W, double[:, ::1] K, double[::1] res) noexcept nogil:
     # factor_residual's work up to the reduced matrix: 0, 1 (not finite) or 2 (a singular block)
@@ -380,15 +381,15 @@ cdef int _residual_blocks(const double[:, :, :, :, ::1] D, const double[:, ::1] 
     cdef Py_ssize_t nr = K.shape[0], size = X.shape[0], nn = size - 2, j, k, a, i, b, r
     cdef double c, total = 0.0, t
     for j in range(ntst):
-        for r in range(mn):
-            t = du[j, r] - T * F[j, r]
-            res[j * mn + r] = t
-            total += t + Fp[j, r]
-            W[j, r, n] = -F[j, r]
-            W[j, r, n + 1] = -T * Fp[j, r]
-            W[j, r, n + 2] = -t
         for k in range(m):
             for a in range(n):
+                r = k * n + a
+                t = du[j, k, a] - T * F[j, k, a]
+                res[j * mn + r] = t
+                total += t + Fp[j, k, a]
+                W[j, r, n] = -F[j, k, a]
+                W[j, r, n + 1] = -T * Fp[j, k, a]
+                W[j, r, n + 2] = -t
                 for b in range(n):
                     total += Fz[j, k, a, b]
     for a in range(n):
@@ -462,3 +463,46 @@ def transfer_product(const double[:, :, ::1] Y, int n, double[:, ::1] M):
             for a in range(n):
                 for b in range(n):
                     M[a, b] = tmp[a, b]
+
+
+def lagrange_values(const double[:, :] u, const double[::1] tau, const double[::1] s, const double[::1] den,
+                    const double[::1] t, double[:, ::1] out):
+    """The orbit ``u`` (node values, ntst ncol + 1 rows) at the rescaled times ``t`` (in [0, 1]) into ``out`` (len(t),
+    n): :meth:`~._collocation.Mesh.evaluate`'s sums, ``tau`` the mesh, ``s`` the unit interval's nodes and ``den``
+    the basis's denominators (:func:`~._collocation._denominators`)."""
+    cdef Py_ssize_t ntst = tau.shape[0] - 1, m = s.shape[0] - 1, n = u.shape[1], p, j, lo, hi, mid, i, l, a
+    cdef double x, local, left, right, v
+    cdef double b[16]
+    if m + 1 > 16 or den.shape[0] != m + 1 or u.shape[0] != ntst * m + 1 or out.shape[0] != t.shape[0] \
+            or out.shape[1] != n or ntst < 1:
+        raise ValueError("evaluation shapes disagree")
+    with nogil:
+        for p in range(t.shape[0]):
+            x = t[p]
+            lo = 0  # the first mesh point above x (numpy's searchsorted, side="right")
+            hi = ntst + 1
+            while lo < hi:
+                mid = (lo + hi) // 2
+                if tau[mid] <= x:
+                    lo = mid + 1
+                else:
+                    hi = mid
+            j = lo - 1
+            if j < 0:
+                j = 0
+            elif j > ntst - 1:
+                j = ntst - 1
+            local = (x - tau[j]) / (tau[j + 1] - tau[j])
+            for i in range(m + 1):
+                left = 1.0
+                for l in range(i):
+                    left = left * (local - s[l])
+                right = 1.0
+                for l in range(m, i, -1):
+                    right = right * (local - s[l])
+                b[i] = left * right / den[i]
+            for a in range(n):
+                v = 0.0
+                for i in range(m + 1):
+                    v += b[i] * u[j * m + i, a]
+                out[p, a] = v

@@ -131,6 +131,13 @@ class Mesh:
         m = self.ncol
         return both[:, :m], both[:, m:] / self.h[:, None, None]
 
+    def values_and_derivatives(self, u: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """The orbit's values and derivatives (d/dtau per unit interval length, not yet divided by ``h``) at the Gauss
+        points from its node values ``u`` (n_nodes, n): shape (2 ncol, ntst n), row ``k`` / ``ncol + k`` Gauss point
+        ``k``'s, interval ``j``'s in columns ``j n .. j n + n - 1`` (:meth:`at_collocation` is this product, arranged
+        per interval)."""
+        return self._L2 @ u[self._index_t].reshape(self.ncol + 1, -1)
+
     def _local(self, A: np.ndarray, u: np.ndarray) -> np.ndarray:
         """``A @ (interval j's node values)`` for every interval, shape (ntst, len(A), n): one matrix product of
         ``A`` with all intervals' node values side by side (a stack of small products costs far more)."""
@@ -178,6 +185,11 @@ class Mesh:
     def evaluate(self, u: np.ndarray, times: np.ndarray) -> np.ndarray:
         """The orbit (node values (n_nodes, n)) at the rescaled ``times`` (wrapped into [0, 1]), shape (len(times), n)."""
         t = np.mod(np.asarray(times, float), 1.0)
+        cc = _kernel.condensation()
+        if cc is not None:  # the same basis and sums, one compiled call
+            out = np.empty((len(t), u.shape[1]))
+            cc.lagrange_values(u, self.tau, self.s, _denominators(self.ncol), t, out)
+            return out
         j = np.clip(np.searchsorted(self.tau, t, side="right") - 1, 0, self.ntst - 1)
         local = (t - self.tau[j]) / self.h[j]
         # the Lagrange basis at every point at once: prod over l != i of (x - s_l) / (s_i - s_l), the products over

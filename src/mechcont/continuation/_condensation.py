@@ -169,8 +169,8 @@ class CondensedLU:
                       res: np.ndarray) -> CondensedLU | None:
         """The compiled path's whole Newton iteration in one call (``_ccondense.factor_residual``): the BVP's residual
         into ``res`` and the factors of its Jacobian, as ``CondensedLU(*collocation_blocks(D, Lc, Fz, T), -F, -T Fp,
-        border, mesh, n, rhs=-res's collocation part)`` gives them. ``F``, ``Fp``, ``du``: (ntst, ncol n) at the
-        Gauss points, ``Fz`` (ntst, ncol, n, n); ``T`` the period (s); ``X`` the unknowns; ``target`` the closing
+        border, mesh, n, rhs=-res's collocation part)`` gives them. ``F``, ``Fp``, ``du``: (ntst, ncol, n) at the
+        Gauss points, ``Fz`` (ntst, ncol, n, n), any strides; ``T`` the period (s); ``X`` the unknowns; ``target`` the closing
         row's value. Returns None when the residual or the rates' derivatives are not finite; raises
         ``numpy.linalg.LinAlgError`` when a block or the reduced system is singular."""
         ntst, m = mesh.ntst, mesh.ncol

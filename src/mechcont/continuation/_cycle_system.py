@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
+from types import ModuleType
 
 import numpy as np
 
@@ -236,18 +236,26 @@ class CycleSystem:
             raise NewtonFailure("singular collocation Jacobian") from None
         return res, lu
 
-    def _factored_compiled(self, cc: Any, X: np.ndarray, target: float, border: Border) -> tuple[np.ndarray, CondensedLU]:
-        """:meth:`factored` by the compiled condensation: the rates at the Gauss points, then residual, blocks and
-        factors in one call (:meth:`~._condensation.CondensedLU.with_residual`)."""
-        u, T, p = self.split(X)
-        uc, du = self.mesh.at_collocation(u)
-        ntst, mn = self.mesh.ntst, self._ncol_n
-        F, Fz, Fp = self.rates(uc.reshape(-1, self.n), p)
+    def _factored_compiled(self, cc: ModuleType, X: np.ndarray, target: float,
+                           border: Border) -> tuple[np.ndarray, CondensedLU]:
+        """:meth:`factored` by the compiled condensation: the orbit at the Gauss points, the rates there, then
+        residual, blocks and factors in one call (:meth:`~._condensation.CondensedLU.with_residual`).
+
+        The Gauss points are taken in the order of the basis's product (point, then interval), the rates evaluated
+        in that order and handed over as strided views, without copies; the values are those of
+        :meth:`collocation` (the same product, and the rates row by row)."""
+        me, n = self.mesh, self.n
+        m, ntst = me.ncol, me.ntst
+        Y = me.values_and_derivatives(X[:-2].reshape(me.n_nodes, n))  # (2 ncol, ntst n)
+        T = float(X[-2])
+        F, Fz, Fp = self.rates(Y[:m].reshape(m * ntst, n), float(X[-1]))
+        du = Y[m:].reshape(m, ntst, n) / me.h[:, None]
         res = np.empty(self.size)
         try:
-            lu = CondensedLU.with_residual(cc, self._D, self.mesh.Lc, Fz.reshape(ntst, self.mesh.ncol, self.n, self.n),
-                                           F.reshape(ntst, mn), Fp.reshape(ntst, mn), du.reshape(ntst, mn), X, target,
-                                           T, border, self.mesh, self.n, res)
+            lu = CondensedLU.with_residual(cc, self._D, me.Lc, Fz.reshape(m, ntst, n, n).transpose(1, 0, 2, 3),
+                                           F.reshape(m, ntst, n).transpose(1, 0, 2),
+                                           Fp.reshape(m, ntst, n).transpose(1, 0, 2), du.transpose(1, 0, 2), X, target,
+                                           T, border, me, n, res)
         except np.linalg.LinAlgError:
             raise NewtonFailure("singular collocation Jacobian") from None
         if lu is None:
@@ -269,11 +277,11 @@ class CycleSystem:
         for it in range(1, max_iter + 1):
             res, lu = self.factored(X, phase, closing, target, border)
             dX = lu.solve(-res, lu.w)
-            step = float(np.max(np.abs(dX)))  # nan when any entry is
+            step = float(np.abs(dX).max())  # nan when any entry is
             if not math.isfinite(step):
                 raise NewtonFailure("singular collocation Jacobian")
             X += dX
-            tol_x = tol * max(1.0, float(np.max(np.abs(X))))
+            tol_x = tol * max(1.0, float(np.abs(X).max()))
             if step <= tol_x:
                 return X, lu, it
             if it > 2 and step > prev:
