@@ -53,8 +53,12 @@ def lagrange_matrices(nodes: np.ndarray, at: np.ndarray, derivative: int = 0) ->
     return out
 
 
+_Arrays9 = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                 np.ndarray]
+
+
 @functools.lru_cache(maxsize=16)
-def _unit_interval(m: int):
+def _unit_interval(m: int) -> _Arrays9:
     """The unit interval's nodes, Gauss points and weights, the basis at the Gauss points (values,
     derivatives), the NCOL-th derivative (a constant) from the node values, the values and derivatives
     stacked (2 NCOL, NCOL + 1), and the Gauss-quadrature matrices between node values ``G[a, b] = sum_k g_k
@@ -96,7 +100,7 @@ class Mesh:
         Gauss weights on the unit interval, shape (ncol,).
     """
 
-    def __init__(self, ntst: int, ncol: int, tau: np.ndarray | None = None):
+    def __init__(self, ntst: int, ncol: int, tau: np.ndarray | None = None) -> None:
         self.ntst, self.ncol = int(ntst), int(ncol)
         self.tau = np.linspace(0.0, 1.0, self.ntst + 1) if tau is None else np.asarray(tau, float)
         self.h = np.diff(self.tau)

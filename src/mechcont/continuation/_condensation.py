@@ -29,11 +29,13 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
+from types import ModuleType
 
 import numpy as np
 import scipy.linalg.lapack
 
 from . import _kernel
+from ._collocation import Mesh
 
 __all__ = ["Border", "CondensedLU", "collocation_blocks", "product"]
 
@@ -96,7 +98,7 @@ class Border:
     once for all the factorisations of a Newton solve: the inner nodes' coefficients, per interval (ntst, 2,
     (ncol - 1) n), and the mesh points', T's and p's."""
 
-    def __init__(self, phase: np.ndarray, closing: np.ndarray, mesh, n: int):
+    def __init__(self, phase: np.ndarray, closing: np.ndarray, mesh: Mesh, n: int) -> None:
         m, ntst = mesh.ncol, mesh.ntst
         #: the rows themselves (contiguous), for the residual computed with the factorisation
         self.phase, self.closing = np.ascontiguousarray(phase, float), np.ascontiguousarray(closing, float)
@@ -123,8 +125,8 @@ class CondensedLU:
     by its factors (the compiled path; the condensation owns the blocks it is given).
     """
 
-    def __init__(self, S: np.ndarray, L: np.ndarray, aT: np.ndarray, ap: np.ndarray, border: Border, mesh, n: int,
-                 rhs: np.ndarray | None = None):
+    def __init__(self, S: np.ndarray, L: np.ndarray, aT: np.ndarray, ap: np.ndarray, border: Border, mesh: Mesh, n: int,
+                 rhs: np.ndarray | None = None) -> None:
         self.mesh, self.n = mesh, n
         ntst, m = mesh.ntst, mesh.ncol
         inner = (m - 1) * n
@@ -164,8 +166,8 @@ class CondensedLU:
         self.lu = (lu, piv)
 
     @classmethod
-    def with_residual(cls, cc, D: np.ndarray, Lc: np.ndarray, Fz: np.ndarray, F: np.ndarray, Fp: np.ndarray,
-                      du: np.ndarray, X: np.ndarray, target: float, T: float, border: Border, mesh, n: int,
+    def with_residual(cls, cc: ModuleType, D: np.ndarray, Lc: np.ndarray, Fz: np.ndarray, F: np.ndarray, Fp: np.ndarray,
+                      du: np.ndarray, X: np.ndarray, target: float, T: float, border: Border, mesh: Mesh, n: int,
                       res: np.ndarray) -> CondensedLU | None:
         """The compiled path's whole Newton iteration in one call (``_ccondense.factor_residual``): the BVP's residual
         into ``res`` and the factors of its Jacobian, as ``CondensedLU(*collocation_blocks(D, Lc, Fz, T), -F, -T Fp,
@@ -202,7 +204,7 @@ class CondensedLU:
         # system by the structured elimination; S is a copy of the Jacobian's values, overwritten by its factors
         cc, n, nr = self._cc, self.n, self.nr
         S = np.ascontiguousarray(S)
-        piv = np.empty(S.shape[:2], np.intc)
+        piv: np.ndarray = np.empty(S.shape[:2], np.intc)
         if cc.block_factor_solve(S, piv, W) >= 0:
             raise np.linalg.LinAlgError("singular collocation Jacobian")
         self._S, self._piv, self._W = S, piv, W

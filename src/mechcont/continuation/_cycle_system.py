@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from types import ModuleType
+from typing import TYPE_CHECKING, Protocol, cast
 
 import numpy as np
 
@@ -34,7 +35,25 @@ from . import _kernel
 from ._collocation import Mesh
 from ._condensation import Border, CondensedLU, collocation_blocks, product
 
+if TYPE_CHECKING:
+    import scipy.sparse
+
+    from ..equations import Dynamics, Model
+
 __all__ = ["RateFunction", "CycleSystem", "NewtonFailure", "nontrivial_multipliers"]
+
+#: :meth:`CycleSystem.collocation`'s ``(u, T, p, uc, du, F, Fz, Fp)``
+Collocation = tuple[np.ndarray, float, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+
+class _BatchDynamics(Protocol):
+    """Dynamics that evaluate at many states at once (a mechanism's)."""
+
+    def rates_batch(self, Z: np.ndarray, x: np.ndarray) -> np.ndarray: ...
+
+    def rates_jacobian_batch(self, Z: np.ndarray, x: np.ndarray) -> np.ndarray: ...
+
+    def parameter_rates_batch(self, Z: np.ndarray, x: np.ndarray, names: Sequence[str]) -> np.ndarray: ...
 
 
 _NOT_FINITE = "rates not finite along the orbit (outside the model's domain)"
@@ -53,7 +72,7 @@ class RateFunction:
     ``rates_jacobian_batch`` and ``parameter_rates_batch`` (a mechanism's), else point by point.
     """
 
-    def __init__(self, model, dynamics, vary: str, x_base: np.ndarray):
+    def __init__(self, model: Model, dynamics: Dynamics, vary: str, x_base: np.ndarray) -> None:
         from ..equations import OdeDynamics
 
         self.model, self.dynamics, self.vary = model, dynamics, vary
@@ -93,8 +112,9 @@ class RateFunction:
             return F, J[:, :, cols], J[:, :, self.p_index]
         dyn = self.dynamics
         if self._dyn_batch:
-            return (dyn.rates_batch(Z, x), dyn.rates_jacobian_batch(Z, x),
-                    dyn.parameter_rates_batch(Z, x, [self.vary])[:, :, 0])
+            bd = cast(_BatchDynamics, dyn)
+            return (bd.rates_batch(Z, x), bd.rates_jacobian_batch(Z, x),
+                    bd.parameter_rates_batch(Z, x, [self.vary])[:, :, 0])
         F = np.array([dyn.rates(z, x) for z in Z])
         Fz = np.array([dyn.rates_jacobian(z, x) for z in Z])
         Fp = np.array([dyn.parameter_rates(z, x, [self.vary])[:, 0] for z in Z])
@@ -104,7 +124,7 @@ class RateFunction:
 class CycleSystem:
     """The periodic BVP of ``rates`` on ``mesh``, with state weights ``weights`` (n,) and parameter weight ``p_weight``."""
 
-    def __init__(self, rates: RateFunction, mesh: Mesh, weights: np.ndarray, p_weight: float):
+    def __init__(self, rates: RateFunction, mesh: Mesh, weights: np.ndarray, p_weight: float) -> None:
         self.rates, self.mesh = rates, mesh
         self.n = rates.n
         self.weights = np.asarray(weights, float)
@@ -159,7 +179,7 @@ class CycleSystem:
         self._indptr = np.concatenate([[0], np.cumsum(np.bincount(c, minlength=self.size))]).astype(np.int32)
 
     # -- evaluation ---------------------------------------------------------------------------
-    def collocation(self, X: np.ndarray):
+    def collocation(self, X: np.ndarray) -> Collocation:
         """``(u, T, p, uc, du, F, Fz, Fp)`` at the Gauss points (arrays (ntst, ncol, ...))."""
         u, T, p = self.split(X)
         uc, du = self.mesh.at_collocation(u)
@@ -178,7 +198,8 @@ class CycleSystem:
         (ntst, ncol n, ncol n), and over their first node (ntst, ncol n, n)."""
         return collocation_blocks(self._D, self.mesh.Lc, Fz, T)
 
-    def residual(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, colloc) -> np.ndarray:
+    def residual(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float,
+                 colloc: Collocation) -> np.ndarray:
         """The BVP's residual from ``colloc = self.collocation(X)``: collocation, periodicity, phase, closing."""
         u, T, p, uc, du, F, Fz, Fp = colloc
         nc = self.mesh.ntst * self._ncol_n
@@ -189,7 +210,8 @@ class CycleSystem:
         res[-1] = closing @ X - target
         return res
 
-    def linearise(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float):
+    def linearise(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray,
+                  target: float) -> tuple[np.ndarray, scipy.sparse.csc_matrix]:
         """Residual and sparse (CSC) Jacobian of the BVP closed by ``closing . X = target``; ``phase`` the
         phase condition's row over the nodes."""
         import scipy.sparse as sps
@@ -205,7 +227,8 @@ class CycleSystem:
         J = sps.csc_matrix((vals[self._order], self._indices, self._indptr), shape=(self.size, self.size))
         return res, J
 
-    def factored(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, border=None):
+    def factored(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float,
+                 border: Border | None = None) -> tuple[np.ndarray, CondensedLU]:
         """Residual and the factored Jacobian (:class:`~._condensation.CondensedLU`) of the BVP closed by
         ``closing . X = target``, the residual's collocation part already condensed (``lu.w`` for ``-res``);
         ``border``: the rows ``phase`` and ``closing`` prepared (:class:`~._condensation.Border`), when known.
@@ -263,7 +286,7 @@ class CycleSystem:
         return res, lu
 
     def newton(self, X0: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, tol: float,
-               max_iter: int):
+               max_iter: int) -> tuple[np.ndarray, CondensedLU, int]:
         """Newton from ``X0`` on the BVP closed by ``closing . X = target``.
 
         Converged when a correction is below ``tol`` (relative to the largest unknown). Returns ``(X, lu,
@@ -289,12 +312,12 @@ class CycleSystem:
             prev = step
         raise NewtonFailure(f"corrector needed more than {max_iter} iterations")
 
-    def tangent(self, lu, t_old: np.ndarray | None = None) -> np.ndarray:
+    def tangent(self, lu: CondensedLU, t_old: np.ndarray | None = None) -> np.ndarray:
         """The unit tangent from the factors of ``[BVP Jacobian; closing row]``: the solution of ``A t = e_last``
         normalised (for the arclength row ``<t_old, .>``, it points the way of ``t_old``)."""
         return self.tangent_and_row(lu, None if t_old is None else self.row(t_old))[0]
 
-    def tangent_and_row(self, lu, row_old: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def tangent_and_row(self, lu: CondensedLU, row_old: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`tangent` and its :meth:`row` (one Gram product for both); ``row_old``: the previous tangent's row,
         whose direction the tangent keeps."""
         e = np.zeros(self.size)
