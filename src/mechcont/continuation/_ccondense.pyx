@@ -303,95 +303,112 @@ def expand(double[:, :, ::1] Y, double[:, :, ::1] binner, double[:, ::1] K, int[
     """The whole solution into ``out`` (nodes, then T, p) of ``J x = b`` from the factors: the reduced right-hand side
     from ``w`` (the condensed collocation part, ntst x ncol n) and ``b``'s periodicity, phase and closing rows,
     the reduced solve, and the inner nodes from the mesh points."""
+    cdef double[::1] red = np.empty(K.shape[0])
+    with nogil:
+        _expand(Y, binner, K, piv, w, b, 1.0, out, ncol, n, red)
+
+
+cdef void _expand(const double[:, :, ::1] Y, const double[:, :, ::1] binner, double[:, ::1] K, int[::1] piv,
+                  const double[:, :] w, const double[::1] b, double sign, double[::1] out, Py_ssize_t ncol,
+                  Py_ssize_t n, double[::1] red) noexcept nogil:
+    # expand's work for the right-hand side ``sign b`` (sign +-1: exact), ``red`` the reduced system's scratch
     cdef Py_ssize_t ntst = Y.shape[0], mn = Y.shape[1], inner = mn - n, nr = K.shape[0]
     cdef Py_ssize_t nc = ntst * mn, j, a, s, i
     cdef double dT, dp, t
-    cdef double[::1] red = np.empty(nr)
-    with nogil:
-        for j in range(ntst):
-            for a in range(n):
-                red[j * n + a] = w[j, inner + a]
+    for j in range(ntst):
         for a in range(n):
-            red[ntst * n + a] = b[nc + a]
-        for s in range(2):
-            t = b[nc + n + s]
-            for j in range(ntst):
-                for i in range(inner):
-                    t -= binner[j, s, i] * w[j, i]
-            red[nr - 2 + s] = t
-        _reduced_solve(K, piv, n, red)
-        dT = red[nr - 2]
-        dp = red[nr - 1]
+            red[j * n + a] = w[j, inner + a]
+    for a in range(n):
+        red[ntst * n + a] = sign * b[nc + a]
+    for s in range(2):
+        t = sign * b[nc + n + s]
         for j in range(ntst):
-            for a in range(n):
-                out[j * ncol * n + a] = red[j * n + a]
             for i in range(inner):
-                t = w[j, i] - Y[j, i, n] * dT - Y[j, i, n + 1] * dp
-                for a in range(n):
-                    t -= Y[j, i, a] * red[j * n + a]
-                out[j * ncol * n + n + i] = t
+                t -= binner[j, s, i] * w[j, i]
+        red[nr - 2 + s] = t
+    _reduced_solve(K, piv, n, red)
+    dT = red[nr - 2]
+    dp = red[nr - 1]
+    for j in range(ntst):
         for a in range(n):
-            out[ntst * ncol * n + a] = red[ntst * n + a]
-        out[out.shape[0] - 2] = dT
-        out[out.shape[0] - 1] = dp
+            out[j * ncol * n + a] = red[j * n + a]
+        for i in range(inner):
+            t = w[j, i] - Y[j, i, n] * dT - Y[j, i, n + 1] * dp
+            for a in range(n):
+                t -= Y[j, i, a] * red[j * n + a]
+            out[j * ncol * n + n + i] = t
+    for a in range(n):
+        out[ntst * ncol * n + a] = red[ntst * n + a]
+    out[out.shape[0] - 2] = dT
+    out[out.shape[0] - 1] = dp
 
 
-def factor_residual(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, const double[:, :, :, :] Fz,
-                    const double[:, :, :] F, const double[:, :, :] Fp, const double[:, :, :] du, const double[::1] X,
+def factor_residual(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, const double[:, :, :] Fz,
+                    const double[:, :] F, const double[:, :] Fp, const double[:, :] Y, const double[::1] h,
+                    const double[::1] X,
                     double phase_value, double closing_value, double T, double[:, :, ::1] binner,
                     double[:, :, ::1] mesh_points, double[:, ::1] TP,
                     double[:, :, ::1] S, int[:, ::1] piv, double[:, :, ::1] W, double[:, ::1] K, int[::1] rpiv,
-                    double[::1] res):
+                    double[::1] res, double[::1] dX):
     """One Newton iteration's linear algebra in one call: the BVP's residual into ``res`` (collocation ``du - T F``,
     periodicity ``X``'s last node minus its first, the phase and closing rows' values as given), the collocation
     blocks (as :func:`collocation_blocks`) into ``S`` and ``W[:, :, :n]``, ``W``'s T, p and right-hand-side columns
     (``-F``, ``-T Fp``, ``-res``), the blocks factored and solved (:func:`block_factor_solve`), the reduced matrix
-    (:func:`reduced_matrix`, ``K`` zeroed here) factored (:func:`reduced_factor`). ``F``, ``Fp``, ``du``: (ntst,
-    ncol, n) at the Gauss points, ``Fz`` (ntst, ncol, n, n), any strides. Returns 0, 1 when the residual or the rates' derivatives are not finite (nothing
-    factored), 2 when a block or the reduced system is singular (or its factors not finite)."""
+    (:func:`reduced_matrix`, ``K`` zeroed here) factored (:func:`reduced_factor`). The Gauss points in the order of
+    :meth:`~._collocation.Mesh.values_and_derivatives` (point ``k`` of interval ``j`` in row ``k ntst + j``):
+    ``F``, ``Fp`` (ncol ntst, n) and ``Fz`` (ncol ntst, n, n) there, any strides; ``Y`` that method's values and
+    derivatives (2 ncol, ntst n), ``du = Y[ncol + k, j n + a] / h[j]``. The Newton correction, the solution of
+    ``J dX = -res`` (:func:`expand`), into ``dX``. Returns 0, 1 when the residual or the rates' derivatives are not
+    finite (nothing factored), 2 when a block or the reduced system is singular (or its factors not finite)."""
     cdef Py_ssize_t ntst = D.shape[0], m = D.shape[1], n = D.shape[2], mn = m * n, nc = ntst * mn
     cdef Py_ssize_t nr = K.shape[0], size = X.shape[0]
     cdef int status
     if (D.shape[3] != m + 1 or D.shape[4] != n or Lc.shape[0] != m or Lc.shape[1] != m + 1
-            or Fz.shape[0] != ntst or Fz.shape[1] != m or Fz.shape[2] != n or Fz.shape[3] != n
-            or F.shape[0] != ntst or F.shape[1] != m or F.shape[2] != n or Fp.shape[0] != ntst or Fp.shape[1] != m
-            or Fp.shape[2] != n or du.shape[0] != ntst or du.shape[1] != m or du.shape[2] != n or S.shape[0] != ntst or S.shape[1] != mn
+            or Fz.shape[0] != ntst * m or Fz.shape[1] != n or Fz.shape[2] != n or F.shape[0] != ntst * m
+            or F.shape[1] != n or Fp.shape[0] != ntst * m or Fp.shape[1] != n or Y.shape[0] != 2 * m
+            or Y.shape[1] != ntst * n or h.shape[0] != ntst or S.shape[0] != ntst or S.shape[1] != mn
             or S.shape[2] != mn or W.shape[0] != ntst or W.shape[1] != mn or W.shape[2] != n + 3
             or piv.shape[0] != ntst or piv.shape[1] != mn or nr != (ntst + 1) * n + 2 or K.shape[1] != nr
-            or rpiv.shape[0] != nr or res.shape[0] != size or size != (ntst * m + 1) * n + 2):
+            or rpiv.shape[0] != nr or res.shape[0] != size or size != (ntst * m + 1) * n + 2
+            or dX.shape[0] != size):
         raise ValueError("collocation system shapes disagree")
     with nogil:
-        status = _residual_blocks(D, Lc, Fz, F, Fp, du, X, phase_value, closing_value, T, S, piv, W, K, res)
+        status = _residual_blocks(D, Lc, Fz, F, Fp, Y, h, X, phase_value, closing_value, T, S, piv, W, K, res)
     if status:
         return status
     reduced_matrix(W, binner, mesh_points, TP, K, <int>n)
+    cdef double[::1] red = np.empty(nr)
+    cdef const double[:, :] w = W[:, :, n + 2]
     with nogil:
         if _reduced_factor(K, rpiv, n) != 0:
             status = 2
+        else:
+            _expand(W, binner, K, rpiv, w, res, -1.0, dX, m, n, red)
     return status
 
 
-cdef int _residual_blocks(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, const double[:, :, :, :] Fz,
-                          const double[:, :, :] F, const double[:, :, :] Fp, const double[:, :, :] du,
+cdef int _residual_blocks(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, const double[:, :, :] Fz,
+                          const double[:, :] F, const double[:, :] Fp, const double[:, :] Y, const double[::1] h,
                           const double[::1] X,
                           double phase_value, double closing_value, double T, double[:, :, ::1] S,
                           int[:, ::1] piv, double[:, :, ::1] W, double[:, ::1] K, double[::1] res) noexcept nogil:
     # factor_residual's work up to the reduced matrix: 0, 1 (not finite) or 2 (a singular block)
     cdef Py_ssize_t ntst = D.shape[0], m = D.shape[1], n = D.shape[2], mn = m * n, nc = ntst * mn
-    cdef Py_ssize_t nr = K.shape[0], size = X.shape[0], nn = size - 2, j, k, a, i, b, r
+    cdef Py_ssize_t nr = K.shape[0], size = X.shape[0], nn = size - 2, j, k, a, i, b, r, q
     cdef double c, total = 0.0, t
     for j in range(ntst):
         for k in range(m):
+            q = k * ntst + j
             for a in range(n):
                 r = k * n + a
-                t = du[j, k, a] - T * F[j, k, a]
+                t = Y[m + k, j * n + a] / h[j] - T * F[q, a]
                 res[j * mn + r] = t
-                total += t + Fp[j, k, a]
-                W[j, r, n] = -F[j, k, a]
-                W[j, r, n + 1] = -T * Fp[j, k, a]
+                total += t + Fp[q, a]
+                W[j, r, n] = -F[q, a]
+                W[j, r, n + 1] = -T * Fp[q, a]
                 W[j, r, n + 2] = -t
                 for b in range(n):
-                    total += Fz[j, k, a, b]
+                    total += Fz[q, a, b]
     for a in range(n):
         res[nc + a] = X[nn - n + a] - X[a]
         total += res[nc + a]
@@ -407,9 +424,9 @@ cdef int _residual_blocks(const double[:, :, :, :, ::1] D, const double[:, ::1] 
                     c = T * Lc[k, i]
                     for b in range(n):
                         if i == 0:
-                            W[j, k * n + a, b] = D[j, k, a, 0, b] - c * Fz[j, k, a, b]
+                            W[j, k * n + a, b] = D[j, k, a, 0, b] - c * Fz[k * ntst + j, a, b]
                         else:
-                            S[j, k * n + a, (i - 1) * n + b] = D[j, k, a, i, b] - c * Fz[j, k, a, b]
+                            S[j, k * n + a, (i - 1) * n + b] = D[j, k, a, i, b] - c * Fz[k * ntst + j, a, b]
     for j in range(ntst):
         if _lu(&S[j, 0, 0], &piv[j, 0], mn):
             return 2

@@ -166,14 +166,17 @@ class CondensedLU:
         self.lu = (lu, piv)
 
     @classmethod
-    def with_residual(cls, cc: ModuleType, D: np.ndarray, Lc: np.ndarray, Fz: np.ndarray, F: np.ndarray, Fp: np.ndarray,
-                      du: np.ndarray, X: np.ndarray, target: float, T: float, border: Border, mesh: Mesh, n: int,
-                      res: np.ndarray) -> CondensedLU | None:
+    def with_residual(cls, cc: ModuleType, D: np.ndarray, Fz: np.ndarray, F: np.ndarray, Fp: np.ndarray,
+                      Y: np.ndarray, X: np.ndarray, target: float, border: Border, mesh: Mesh, n: int,
+                      res: np.ndarray, dX: np.ndarray) -> CondensedLU | None:
         """The compiled path's whole Newton iteration in one call (``_ccondense.factor_residual``): the BVP's residual
         into ``res`` and the factors of its Jacobian, as ``CondensedLU(*collocation_blocks(D, Lc, Fz, T), -F, -T Fp,
-        border, mesh, n, rhs=-res's collocation part)`` gives them. ``F``, ``Fp``, ``du``: (ntst, ncol, n) at the
-        Gauss points, ``Fz`` (ntst, ncol, n, n), any strides; ``T`` the period (s); ``X`` the unknowns; ``target`` the closing
-        row's value. Returns None when the residual or the rates' derivatives are not finite; raises
+        border, mesh, n, rhs=-res's collocation part)`` gives them. The Gauss points in the order of
+        :meth:`~._collocation.Mesh.values_and_derivatives` (point ``k`` of interval ``j`` in row ``k ntst + j``):
+        ``F``, ``Fp`` (ncol ntst, n) and ``Fz`` (ncol ntst, n, n) there, any strides; ``Y`` that method's product
+        (the derivatives divided by the intervals' lengths here); ``X`` the unknowns (``X[-2]`` the period ``T``, s);
+        ``target`` the closing row's value. The Newton correction, ``solve(-res, w)``, into ``dX`` in the same call. Returns
+        None when the residual or the rates' derivatives are not finite; raises
         ``numpy.linalg.LinAlgError`` when a block or the reduced system is singular."""
         ntst, m = mesh.ntst, mesh.ncol
         mn, nr = m * n, (ntst + 1) * n + 2
@@ -185,8 +188,9 @@ class CondensedLU:
         # the phase and closing rows' values as NumPy's path computes them (its dot products' order of summation)
         phase_value = float(border.phase @ X[:-2])
         closing_value = float(border.closing @ X) - target
-        status = cc.factor_residual(D, Lc, Fz, F, Fp, du, X, phase_value, closing_value, float(T), border.inner,
-                                    border.mesh_points, border.TP, S, piv, W, K, rpiv, res)
+        status = cc.factor_residual(D, mesh.Lc, Fz, F, Fp, Y, mesh.h, X, phase_value, closing_value, float(X[-2]),
+                                    border.inner,
+                                    border.mesh_points, border.TP, S, piv, W, K, rpiv, res, dX)
         if status == 1:
             return None
         if status:

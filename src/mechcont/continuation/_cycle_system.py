@@ -239,7 +239,8 @@ class CycleSystem:
         cc = _kernel.condensation()
         try:
             if cc is not None:
-                return self._factored_compiled(cc, X, target, border)
+                res, lu, _ = self._factored_compiled(cc, X, target, border)
+                return res, lu
             colloc = self.collocation(X)
         except (ConvergenceError, np.linalg.LinAlgError) as exc:
             # a mechanism's dependent coordinates not closing its loops (past a toggle position) at an orbit the
@@ -260,30 +261,33 @@ class CycleSystem:
         return res, lu
 
     def _factored_compiled(self, cc: ModuleType, X: np.ndarray, target: float,
-                           border: Border) -> tuple[np.ndarray, CondensedLU]:
-        """:meth:`factored` by the compiled condensation: the orbit at the Gauss points, the rates there, then
-        residual, blocks and factors in one call (:meth:`~._condensation.CondensedLU.with_residual`).
+                           border: Border) -> tuple[np.ndarray, CondensedLU, np.ndarray]:
+        """:meth:`factored` by the compiled condensation, and the Newton correction ``dX``: the orbit at the Gauss
+        points, the rates there, then residual, blocks, factors and correction in one call
+        (:meth:`~._condensation.CondensedLU.with_residual`).
 
         The Gauss points are taken in the order of the basis's product (point, then interval), the rates evaluated
         in that order and handed over as strided views, without copies; the values are those of
         :meth:`collocation` (the same product, and the rates row by row)."""
         me, n = self.mesh, self.n
-        m, ntst = me.ncol, me.ntst
         Y = me.values_and_derivatives(X[:-2].reshape(me.n_nodes, n))  # (2 ncol, ntst n)
-        T = float(X[-2])
-        F, Fz, Fp = self.rates(Y[:m].reshape(m * ntst, n), float(X[-1]))
-        du = Y[m:].reshape(m, ntst, n) / me.h[:, None]
-        res = np.empty(self.size)
+        F, Fz, Fp = self.rates(Y[:me.ncol].reshape(-1, n), float(X[-1]))
+        res, dX = np.empty(self.size), np.empty(self.size)
         try:
-            lu = CondensedLU.with_residual(cc, self._D, me.Lc, Fz.reshape(m, ntst, n, n).transpose(1, 0, 2, 3),
-                                           F.reshape(m, ntst, n).transpose(1, 0, 2),
-                                           Fp.reshape(m, ntst, n).transpose(1, 0, 2), du.transpose(1, 0, 2), X, target,
-                                           T, border, me, n, res)
+            lu = CondensedLU.with_residual(cc, self._D, Fz, F, Fp, Y, X, target, border, me, n, res, dX)
         except np.linalg.LinAlgError:
             raise NewtonFailure("singular collocation Jacobian") from None
         if lu is None:
             raise NewtonFailure(_NOT_FINITE)
-        return res, lu
+        return res, lu, dX
+
+    def _iterate_compiled(self, cc: ModuleType, X: np.ndarray, target: float,
+                          border: Border) -> tuple[np.ndarray, CondensedLU, np.ndarray]:
+        """:meth:`_factored_compiled` with :meth:`factored`'s failures (the rates not evaluable along the orbit)."""
+        try:
+            return self._factored_compiled(cc, X, target, border)
+        except (ConvergenceError, np.linalg.LinAlgError) as exc:
+            raise NewtonFailure(f"the rates fail along the orbit: {exc}") from None
 
     def newton(self, X0: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, tol: float,
                max_iter: int) -> tuple[np.ndarray, CondensedLU, int]:
@@ -297,9 +301,13 @@ class CycleSystem:
         X = np.array(X0, float)
         prev = math.inf
         border = Border(phase, closing, self.mesh, self.n)
+        cc = _kernel.condensation()
         for it in range(1, max_iter + 1):
-            res, lu = self.factored(X, phase, closing, target, border)
-            dX = lu.solve(-res, lu.w)
+            if cc is None:
+                res, lu = self.factored(X, phase, closing, target, border)
+                dX = lu.solve(-res, lu.w)
+            else:
+                _, lu, dX = self._iterate_compiled(cc, X, target, border)
             step = float(np.abs(dX).max())  # nan when any entry is
             if not math.isfinite(step):
                 raise NewtonFailure("singular collocation Jacobian")
