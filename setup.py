@@ -18,7 +18,7 @@ def extensions() -> list:
     try:
         from Cython.Build import cythonize
 
-        flags = ["-O2"] if os.name != "nt" else []
+        flags = ["-O3"] if os.name != "nt" else []
         exts = [Extension(f"mechcont.continuation.{name}", [pyx], extra_compile_args=flags, optional=True)
                 for name, pyx in PYX.items()]
         return cythonize(exts, quiet=True, language_level=3)

@@ -2,7 +2,7 @@
 
 Optional: runs only when ``AUTO_DIR`` names a built AUTO-07p (``$AUTO_DIR/bin/auto`` and
 ``$AUTO_DIR/lib/*.o``); without it, prints one line saying how to get AUTO and exits 0.
-Run: ``AUTO_DIR=/path/to/auto-07p python benchmarks/bench_auto.py [--repeats N]``.
+Run: ``AUTO_DIR=/path/to/auto-07p python benchmarks/bench_auto.py [--repeats N] [--cycles-only]``.
 
 The overcentre is written as an AUTO algebraic problem (IPS = 0, six unknowns
 ``x1, y1, theta1, x2, y2, theta2``, PAR(1) the force, PAR(2) = LU; the equations below are
@@ -30,7 +30,8 @@ Timings, each the median of ``--repeats`` interleaved rounds measured in this ru
   F=-200:200`` / ``mechcont folds ...`` (compiled-code cache warm);
 * periodic orbits: the family of AUTO's demo ``ab`` from its first Hopf point to D = 0.3
   (NTST = 50, NCOL = 4; :mod:`_auto_ab`), AUTO's ``Total Time`` of that run against
-  :func:`mechcont.continuation.cycles_from_hopf` in this process.
+  :func:`mechcont.continuation.cycles_from_hopf` in this process (``--cycles-only``: this alone, the two
+  alternated round by round, mechcont's CPU time printed beside its wall time).
 
 AUTO runs with ``OMP_NUM_THREADS=1`` and, for its Python CLUI, the interpreter running this
 script (first on ``PATH`` as ``python``), so both programs start the same Python and NumPy.
@@ -264,15 +265,65 @@ def _median_in_process(fn, repeats: int) -> float:
     return statistics.median(times)
 
 
+def _auto_env(tmp: Path, auto_dir: Path) -> dict[str, str]:
+    """The environment of AUTO's runs: its ``python`` this interpreter (a symlink in ``tmp/bin``), one thread."""
+    (tmp / "bin").mkdir()
+    (tmp / "bin" / "python").symlink_to(sys.executable)
+    return {**os.environ, "AUTO_DIR": str(auto_dir), "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg",
+            "PATH": f"{tmp / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}"}
+
+
+def _cycles_only(auto_dir: Path, repeats: int) -> int:
+    """``--cycles-only``: ab's periodic family, checked, then AUTO's run and mechcont's call alternated ``repeats``
+    times (mechcont: wall and CPU time of one call per round after a warm-up, garbage collection off)."""
+    tmp = Path(tempfile.mkdtemp(prefix="mechcont-bench-auto-"))
+    try:
+        env = _auto_env(tmp, auto_dir)
+        folder = tmp / "ab"
+        _auto_ab.write_problem(folder)
+        _, family = _auto_ab.mechcont_family()
+        fam = family()
+        check = AutoRun(auto_dir, folder, "cycles.auto", env)
+        if not _auto_ab.agree(check.results, fam, print):
+            print("AUTO and mechcont disagree: the comparison would not be of the same problem", file=sys.stderr)
+            return 1
+        auto, wall, cpu = [], [], []
+        for _ in range(repeats):
+            r = AutoRun(auto_dir, folder, "cycles.auto", env)
+            auto.append(r.run_times[1])
+            gc.collect()
+            gc.disable()
+            try:
+                t0, c0 = time.perf_counter(), time.process_time()
+                family()
+                wall.append(time.perf_counter() - t0)
+                cpu.append(time.process_time() - c0)
+            finally:
+                gc.enable()
+        t, t_ours = statistics.median(auto), statistics.median(wall)
+        print(f"\nPeriodic orbits of ab, median of {repeats} alternated rounds (wall time; mechcont's CPU time beside it)")
+        print("| program | orbits | time (ms) | mechcont / AUTO |")
+        print("|---|---|---|---|")
+        print(f"| mechcont | {len(fam)} | {t_ours * 1e3:.1f} (CPU {statistics.median(cpu) * 1e3:.1f}) | |")
+        print(f"| AUTO | {check.run_points[1]} | {t * 1e3:.1f} | {t_ours / t:.2f}× per family |")
+        return 0
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=7, help="rounds (median reported; at least 5)")
+    ap.add_argument("--cycles-only", action="store_true",
+                    help="only the periodic orbits of ab: AUTO's run and mechcont's call alternated, nothing else")
     args = ap.parse_args(argv)
     auto_dir = Path(os.environ.get("AUTO_DIR", "")) if os.environ.get("AUTO_DIR") else None
     if auto_dir is None or not (auto_dir / "bin" / "auto").is_file() or not list((auto_dir / "lib").glob("*.o")):
         print(HOW_TO_GET)
         return 0
     repeats = max(args.repeats, 5)
+    if args.cycles_only:
+        return _cycles_only(auto_dir, repeats)
     s, x0vec, branch_fn, fold_fn = mechcont_problem()
     x0 = dict(zip(s.names, map(float, x0vec)))
     b = branch_fn()
@@ -283,10 +334,7 @@ def main(argv=None) -> int:
     try:
         # $AUTO_DIR/bin/auto runs the first `python` on PATH: make it this interpreter (no shim in
         # between, the same start-up and NumPy as mechcont's processes)
-        (tmp / "bin").mkdir()
-        (tmp / "bin" / "python").symlink_to(sys.executable)
-        env = {**os.environ, "AUTO_DIR": str(auto_dir), "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg",
-               "PATH": f"{tmp / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}"}
+        env = _auto_env(tmp, auto_dir)
         folders = {}
         ok = True
         print(f"Same problem? (folds of the branch in F at LU = {LU} m; fold-curve ends at LU = {LU_BOUNDS[0]} m; N)")

@@ -198,3 +198,21 @@ def test_collocation_blocks_are_the_sparse_jacobians_blocks(monkeypatch, ntst, n
     for S, L in ((Sc, Lc), (Sp, Lp)):
         scale = np.max(np.abs(ref))
         assert np.max(np.abs(S - ref_S)) <= 4 * EPS * scale and np.max(np.abs(L - ref_L)) <= 4 * EPS * scale
+
+
+@needs_kernel
+@pytest.mark.parametrize("ntst,ncol,n", [(50, 4, 2), (7, 2, 3), (3, 7, 1)])
+def test_mesh_rows_and_evaluation_agree_in_both_paths(monkeypatch, ntst, ncol, n):
+    # the compiled Gram and phase rows (interval_rows) and evaluation between nodes (lagrange_values) against NumPy's,
+    # on a non-uniform mesh, and the Gram row against the quadrature it stands for (the Gauss points' values)
+    rng = np.random.default_rng(ntst + ncol)
+    mesh = Mesh(ntst, ncol, np.sort(np.r_[0.0, rng.uniform(0, 1, ntst - 1), 1.0]))
+    u, w = rng.standard_normal((mesh.n_nodes, n)), rng.standard_normal((mesh.n_nodes, n))
+    t = np.r_[rng.uniform(-1.0, 2.0, 200), mesh.tau]
+    compiled, python = both(monkeypatch, lambda: (mesh.gram_row(w), mesh.phase_row(w), mesh.evaluate(u, t)))
+    for c, p in zip(compiled, python):
+        assert np.max(np.abs(c - p)) <= 1e-13 * np.max(np.abs(p))
+    uc, _ = mesh.at_collocation(u)
+    wc, _ = mesh.at_collocation(w)
+    quad = np.einsum("j,k,jkn,jkn->", mesh.h, mesh.g, uc, wc)
+    assert compiled[0] @ u.ravel() == pytest.approx(quad, rel=1e-12, abs=1e-14)

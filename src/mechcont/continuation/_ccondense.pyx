@@ -303,34 +303,223 @@ def expand(double[:, :, ::1] Y, double[:, :, ::1] binner, double[:, ::1] K, int[
     """The whole solution into ``out`` (nodes, then T, p) of ``J x = b`` from the factors: the reduced right-hand side
     from ``w`` (the condensed collocation part, ntst x ncol n) and ``b``'s periodicity, phase and closing rows,
     the reduced solve, and the inner nodes from the mesh points."""
+    cdef double[::1] red = np.empty(K.shape[0])
+    with nogil:
+        _expand(Y, binner, K, piv, w, b, 1.0, out, ncol, n, red)
+
+
+cdef void _expand(const double[:, :, ::1] Y, const double[:, :, ::1] binner, double[:, ::1] K, int[::1] piv,
+                  const double[:, :] w, const double[::1] b, double sign, double[::1] out, Py_ssize_t ncol,
+                  Py_ssize_t n, double[::1] red) noexcept nogil:
+    # expand's work for the right-hand side ``sign b`` (sign +-1: exact), ``red`` the reduced system's scratch
     cdef Py_ssize_t ntst = Y.shape[0], mn = Y.shape[1], inner = mn - n, nr = K.shape[0]
     cdef Py_ssize_t nc = ntst * mn, j, a, s, i
     cdef double dT, dp, t
-    cdef double[::1] red = np.empty(nr)
-    with nogil:
-        for j in range(ntst):
-            for a in range(n):
-                red[j * n + a] = w[j, inner + a]
+    for j in range(ntst):
         for a in range(n):
-            red[ntst * n + a] = b[nc + a]
-        for s in range(2):
-            t = b[nc + n + s]
-            for j in range(ntst):
-                for i in range(inner):
-                    t -= binner[j, s, i] * w[j, i]
-            red[nr - 2 + s] = t
-        _reduced_solve(K, piv, n, red)
-        dT = red[nr - 2]
-        dp = red[nr - 1]
+            red[j * n + a] = w[j, inner + a]
+    for a in range(n):
+        red[ntst * n + a] = sign * b[nc + a]
+    for s in range(2):
+        t = sign * b[nc + n + s]
         for j in range(ntst):
-            for a in range(n):
-                out[j * ncol * n + a] = red[j * n + a]
             for i in range(inner):
-                t = w[j, i] - Y[j, i, n] * dT - Y[j, i, n + 1] * dp
-                for a in range(n):
-                    t -= Y[j, i, a] * red[j * n + a]
-                out[j * ncol * n + n + i] = t
+                t -= binner[j, s, i] * w[j, i]
+        red[nr - 2 + s] = t
+    _reduced_solve(K, piv, n, red)
+    dT = red[nr - 2]
+    dp = red[nr - 1]
+    for j in range(ntst):
         for a in range(n):
-            out[ntst * ncol * n + a] = red[ntst * n + a]
-        out[out.shape[0] - 2] = dT
-        out[out.shape[0] - 1] = dp
+            out[j * ncol * n + a] = red[j * n + a]
+        for i in range(inner):
+            t = w[j, i] - Y[j, i, n] * dT - Y[j, i, n + 1] * dp
+            for a in range(n):
+                t -= Y[j, i, a] * red[j * n + a]
+            out[j * ncol * n + n + i] = t
+    for a in range(n):
+        out[ntst * ncol * n + a] = red[ntst * n + a]
+    out[out.shape[0] - 2] = dT
+    out[out.shape[0] - 1] = dp
+
+
+def factor_residual(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, const double[:, :, :] Fz,
+                    const double[:, :] F, const double[:, :] Fp, const double[:, :] Y, const double[::1] h,
+                    const double[::1] X,
+                    double phase_value, double closing_value, double T, double[:, :, ::1] binner,
+                    double[:, :, ::1] mesh_points, double[:, ::1] TP,
+                    double[:, :, ::1] S, int[:, ::1] piv, double[:, :, ::1] W, double[:, ::1] K, int[::1] rpiv,
+                    double[::1] res, double[::1] dX):
+    """One Newton iteration's linear algebra in one call: the BVP's residual into ``res`` (collocation ``du - T F``,
+    periodicity ``X``'s last node minus its first, the phase and closing rows' values as given), the collocation
+    blocks (as :func:`collocation_blocks`) into ``S`` and ``W[:, :, :n]``, ``W``'s T, p and right-hand-side columns
+    (``-F``, ``-T Fp``, ``-res``), the blocks factored and solved (:func:`block_factor_solve`), the reduced matrix
+    (:func:`reduced_matrix`, ``K`` zeroed here) factored (:func:`reduced_factor`). The Gauss points in the order of
+    :meth:`~._collocation.Mesh.values_and_derivatives` (point ``k`` of interval ``j`` in row ``k ntst + j``):
+    ``F``, ``Fp`` (ncol ntst, n) and ``Fz`` (ncol ntst, n, n) there, any strides; ``Y`` that method's values and
+    derivatives (2 ncol, ntst n), ``du = Y[ncol + k, j n + a] / h[j]``. The Newton correction, the solution of
+    ``J dX = -res`` (:func:`expand`), into ``dX``. Returns 0, 1 when the residual or the rates' derivatives are not
+    finite (nothing factored), 2 when a block or the reduced system is singular (or its factors not finite)."""
+    cdef Py_ssize_t ntst = D.shape[0], m = D.shape[1], n = D.shape[2], mn = m * n, nc = ntst * mn
+    cdef Py_ssize_t nr = K.shape[0], size = X.shape[0]
+    cdef int status
+    if (D.shape[3] != m + 1 or D.shape[4] != n or Lc.shape[0] != m or Lc.shape[1] != m + 1
+            or Fz.shape[0] != ntst * m or Fz.shape[1] != n or Fz.shape[2] != n or F.shape[0] != ntst * m
+            or F.shape[1] != n or Fp.shape[0] != ntst * m or Fp.shape[1] != n or Y.shape[0] != 2 * m
+            or Y.shape[1] != ntst * n or h.shape[0] != ntst or S.shape[0] != ntst or S.shape[1] != mn
+            or S.shape[2] != mn or W.shape[0] != ntst or W.shape[1] != mn or W.shape[2] != n + 3
+            or piv.shape[0] != ntst or piv.shape[1] != mn or nr != (ntst + 1) * n + 2 or K.shape[1] != nr
+            or rpiv.shape[0] != nr or res.shape[0] != size or size != (ntst * m + 1) * n + 2
+            or dX.shape[0] != size):
+        raise ValueError("collocation system shapes disagree")
+    with nogil:
+        status = _residual_blocks(D, Lc, Fz, F, Fp, Y, h, X, phase_value, closing_value, T, S, piv, W, K, res)
+    if status:
+        return status
+    reduced_matrix(W, binner, mesh_points, TP, K, <int>n)
+    cdef double[::1] red = np.empty(nr)
+    cdef const double[:, :] w = W[:, :, n + 2]
+    with nogil:
+        if _reduced_factor(K, rpiv, n) != 0:
+            status = 2
+        else:
+            _expand(W, binner, K, rpiv, w, res, -1.0, dX, m, n, red)
+    return status
+
+
+cdef int _residual_blocks(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, const double[:, :, :] Fz,
+                          const double[:, :] F, const double[:, :] Fp, const double[:, :] Y, const double[::1] h,
+                          const double[::1] X,
+                          double phase_value, double closing_value, double T, double[:, :, ::1] S,
+                          int[:, ::1] piv, double[:, :, ::1] W, double[:, ::1] K, double[::1] res) noexcept nogil:
+    # factor_residual's work up to the reduced matrix: 0, 1 (not finite) or 2 (a singular block)
+    cdef Py_ssize_t ntst = D.shape[0], m = D.shape[1], n = D.shape[2], mn = m * n, nc = ntst * mn
+    cdef Py_ssize_t nr = K.shape[0], size = X.shape[0], nn = size - 2, j, k, a, i, b, r, q
+    cdef double c, total = 0.0, t
+    for j in range(ntst):
+        for k in range(m):
+            q = k * ntst + j
+            for a in range(n):
+                r = k * n + a
+                t = Y[m + k, j * n + a] / h[j] - T * F[q, a]
+                res[j * mn + r] = t
+                total += t + Fp[q, a]
+                W[j, r, n] = -F[q, a]
+                W[j, r, n + 1] = -T * Fp[q, a]
+                W[j, r, n + 2] = -t
+                for b in range(n):
+                    total += Fz[q, a, b]
+    for a in range(n):
+        res[nc + a] = X[nn - n + a] - X[a]
+        total += res[nc + a]
+    res[size - 2] = phase_value
+    res[size - 1] = closing_value
+    total += phase_value + closing_value
+    if not isfinite(total):
+        return 1
+    for j in range(ntst):
+        for k in range(m):
+            for a in range(n):
+                for i in range(m + 1):
+                    c = T * Lc[k, i]
+                    for b in range(n):
+                        if i == 0:
+                            W[j, k * n + a, b] = D[j, k, a, 0, b] - c * Fz[k * ntst + j, a, b]
+                        else:
+                            S[j, k * n + a, (i - 1) * n + b] = D[j, k, a, i, b] - c * Fz[k * ntst + j, a, b]
+    for j in range(ntst):
+        if _lu(&S[j, 0, 0], &piv[j, 0], mn):
+            return 2
+        _lu_solve(&S[j, 0, 0], &piv[j, 0], &W[j, 0, 0], mn, n + 3)
+    for i in range(nr):
+        for b in range(nr):
+            K[i, b] = 0.0
+    return 0
+
+
+def interval_rows(const double[:, ::1] A, const double[::1] c, const double[:, :] w, double[:, ::1] out):
+    """``out`` (ntst ncol + 1, n) = the per-interval rows ``c_j A (interval j's node values of w)`` summed onto the
+    nodes (neighbours share their end node): :meth:`~._collocation.Mesh.gram_row` and ``phase_row``'s sums, with
+    ``A`` (ncol + 1 square) their quadrature matrix."""
+    cdef Py_ssize_t ntst = c.shape[0], m = A.shape[0] - 1, n = w.shape[1], j, a, b, q
+    cdef double s
+    if A.shape[1] != m + 1 or w.shape[0] != ntst * m + 1 or out.shape[0] != w.shape[0] or out.shape[1] != n:
+        raise ValueError("interval rows' shapes disagree")
+    with nogil:
+        for q in range(n):
+            for a in range(w.shape[0]):
+                out[a, q] = 0.0
+        for j in range(ntst):
+            for a in range(m + 1):
+                for q in range(n):
+                    s = 0.0
+                    for b in range(m + 1):
+                        s += A[a, b] * w[j * m + b, q]
+                    out[j * m + a, q] += c[j] * s
+
+
+def transfer_product(const double[:, :, ::1] Y, int n, double[:, ::1] M):
+    """``M`` (n, n) = ``Phi_(ntst-1) ... Phi_0``, the monodromy matrix, from the condensed first-node columns ``Y``
+    (ntst, ncol n, >= n): ``Phi_j = -Y[j, last node's rows, :n]``."""
+    cdef Py_ssize_t ntst = Y.shape[0], inner = Y.shape[1] - n, j, a, b, k
+    cdef double s
+    cdef double[:, ::1] tmp = np.empty((n, n))
+    if M.shape[0] != n or M.shape[1] != n or Y.shape[2] < n or inner < 0:
+        raise ValueError("transfer shapes disagree")
+    with nogil:
+        for a in range(n):
+            for b in range(n):
+                M[a, b] = -Y[0, inner + a, b]
+        for j in range(1, ntst):
+            for a in range(n):
+                for b in range(n):
+                    s = 0.0
+                    for k in range(n):
+                        s -= Y[j, inner + a, k] * M[k, b]
+                    tmp[a, b] = s
+            for a in range(n):
+                for b in range(n):
+                    M[a, b] = tmp[a, b]
+
+
+def lagrange_values(const double[:, :] u, const double[::1] tau, const double[::1] s, const double[::1] den,
+                    const double[::1] t, double[:, ::1] out):
+    """The orbit ``u`` (node values, ntst ncol + 1 rows) at the rescaled times ``t`` (in [0, 1]) into ``out`` (len(t),
+    n): :meth:`~._collocation.Mesh.evaluate`'s sums, ``tau`` the mesh, ``s`` the unit interval's nodes and ``den``
+    the basis's denominators (:func:`~._collocation._denominators`)."""
+    cdef Py_ssize_t ntst = tau.shape[0] - 1, m = s.shape[0] - 1, n = u.shape[1], p, j, lo, hi, mid, i, l, a
+    cdef double x, local, left, right, v
+    cdef double b[16]
+    if m + 1 > 16 or den.shape[0] != m + 1 or u.shape[0] != ntst * m + 1 or out.shape[0] != t.shape[0] \
+            or out.shape[1] != n or ntst < 1:
+        raise ValueError("evaluation shapes disagree")
+    with nogil:
+        for p in range(t.shape[0]):
+            x = t[p]
+            lo = 0  # the first mesh point above x (numpy's searchsorted, side="right")
+            hi = ntst + 1
+            while lo < hi:
+                mid = (lo + hi) // 2
+                if tau[mid] <= x:
+                    lo = mid + 1
+                else:
+                    hi = mid
+            j = lo - 1
+            if j < 0:
+                j = 0
+            elif j > ntst - 1:
+                j = ntst - 1
+            local = (x - tau[j]) / (tau[j + 1] - tau[j])
+            for i in range(m + 1):
+                left = 1.0
+                for l in range(i):
+                    left = left * (local - s[l])
+                right = 1.0
+                for l in range(m, i, -1):
+                    right = right * (local - s[l])
+                b[i] = left * right / den[i]
+            for a in range(n):
+                v = 0.0
+                for i in range(m + 1):
+                    v += b[i] * u[j * m + i, a]
+                out[p, a] = v

@@ -25,6 +25,9 @@ import functools
 import math
 
 import numpy as np
+import numpy.typing as npt
+
+from . import _kernel
 
 __all__ = ["Mesh", "gauss_legendre", "lagrange_matrices"]
 
@@ -50,8 +53,12 @@ def lagrange_matrices(nodes: np.ndarray, at: np.ndarray, derivative: int = 0) ->
     return out
 
 
+_Arrays9 = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                 np.ndarray]
+
+
 @functools.lru_cache(maxsize=16)
-def _unit_interval(m: int):
+def _unit_interval(m: int) -> _Arrays9:
     """The unit interval's nodes, Gauss points and weights, the basis at the Gauss points (values,
     derivatives), the NCOL-th derivative (a constant) from the node values, the values and derivatives
     stacked (2 NCOL, NCOL + 1), and the Gauss-quadrature matrices between node values ``G[a, b] = sum_k g_k
@@ -93,7 +100,7 @@ class Mesh:
         Gauss weights on the unit interval, shape (ncol,).
     """
 
-    def __init__(self, ntst: int, ncol: int, tau: np.ndarray | None = None):
+    def __init__(self, ntst: int, ncol: int, tau: np.ndarray | None = None) -> None:
         self.ntst, self.ncol = int(ntst), int(ncol)
         self.tau = np.linspace(0.0, 1.0, self.ntst + 1) if tau is None else np.asarray(tau, float)
         self.h = np.diff(self.tau)
@@ -102,6 +109,7 @@ class Mesh:
         #: node index of local node i of interval j
         self.index = np.arange(self.ntst)[:, None] * m + np.arange(m + 1)[None, :]
         self._index_t = np.ascontiguousarray(self.index.T)
+        self._ones = np.ones(self.ntst)
 
     @property
     def n_nodes(self) -> int:
@@ -127,6 +135,13 @@ class Mesh:
         m = self.ncol
         return both[:, :m], both[:, m:] / self.h[:, None, None]
 
+    def values_and_derivatives(self, u: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """The orbit's values and derivatives (d/dtau per unit interval length, not yet divided by ``h``) at the Gauss
+        points from its node values ``u`` (n_nodes, n): shape (2 ncol, ntst n), row ``k`` / ``ncol + k`` Gauss point
+        ``k``'s, interval ``j``'s in columns ``j n .. j n + n - 1`` (:meth:`at_collocation` is this product, arranged
+        per interval)."""
+        return self._L2 @ u[self._index_t].reshape(self.ncol + 1, -1)
+
     def _local(self, A: np.ndarray, u: np.ndarray) -> np.ndarray:
         """``A @ (interval j's node values)`` for every interval, shape (ntst, len(A), n): one matrix product of
         ``A`` with all intervals' node values side by side (a stack of small products costs far more)."""
@@ -139,7 +154,7 @@ class Mesh:
         (node values, flattened like ``u``); ``w`` given by its node values (n_nodes, n). Gauss
         quadrature at the NCOL points: exact to degree 2 NCOL - 1, so this is the collocation's own
         inner product (as AUTO's), not the exact integral of the two degree-NCOL polynomials."""
-        return self._to_nodes(self.h[:, None, None] * self._local(self._G, w))
+        return self._interval_rows(self._G, self.h, w)
 
     def mean(self, u: np.ndarray) -> np.ndarray:
         """The orbit's time average over [0, 1] (Gauss quadrature on every interval), shape (n,)."""
@@ -149,7 +164,17 @@ class Mesh:
     def phase_row(self, v: np.ndarray) -> np.ndarray:
         """``r`` with ``r . u = integral of u . v'`` over ``[0, 1]`` (exact: degree 2 NCOL - 1), ``v`` by its node values."""
         # int u . v' over an interval of length h: h sum_k g_k u(c_k) . (Ld v)(c_k) / h
-        return self._to_nodes(self._local(self._P, v))
+        return self._interval_rows(self._P, self._ones, v)
+
+    def _interval_rows(self, A: npt.NDArray[np.float64], c: npt.NDArray[np.float64],
+                       w: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """``c_j A (interval j's node values of w)`` summed onto the nodes, flattened like ``w`` (n_nodes, n)."""
+        cc = _kernel.condensation()
+        if cc is None:
+            return self._to_nodes(c[:, None, None] * self._local(A, w))
+        out = np.empty((self.n_nodes, w.shape[1]))
+        cc.interval_rows(A, c, w, out)
+        return out.ravel()
 
     def _to_nodes(self, local: np.ndarray) -> np.ndarray:
         """Per-interval node rows (ntst, ncol + 1, n) summed onto the nodes (neighbours share their end node),
@@ -164,6 +189,11 @@ class Mesh:
     def evaluate(self, u: np.ndarray, times: np.ndarray) -> np.ndarray:
         """The orbit (node values (n_nodes, n)) at the rescaled ``times`` (wrapped into [0, 1]), shape (len(times), n)."""
         t = np.mod(np.asarray(times, float), 1.0)
+        cc = _kernel.condensation()
+        if cc is not None:  # the same basis and sums, one compiled call
+            out = np.empty((len(t), u.shape[1]))
+            cc.lagrange_values(u, self.tau, self.s, _denominators(self.ncol), t, out)
+            return out
         j = np.clip(np.searchsorted(self.tau, t, side="right") - 1, 0, self.ntst - 1)
         local = (t - self.tau[j]) / self.h[j]
         # the Lagrange basis at every point at once: prod over l != i of (x - s_l) / (s_i - s_l), the products over

@@ -18,8 +18,9 @@ system, against the ``(NTST NCOL + 1) n + 2`` rows of the whole.
 
 Where the optional extension :mod:`._ccondense` was built (``_kernel.condensation()``), the same steps
 run there in C loops: the blocks' LU, the reduced matrix's assembly, its factorisation by an elimination
-that keeps its block structure (``O(NTST n^3)``), and the back-substitution; else NumPy's stacked solve and
-LAPACK's dense LU (also with ``MECHCONT_PURE_PYTHON=1``). The two agree to rounding
+that keeps its block structure (``O(NTST n^3)``), and the back-substitution; a Newton iteration's residual,
+blocks and factors are one call there (:meth:`CondensedLU.with_residual`), and the monodromy matrix one more;
+else NumPy's stacked solve and LAPACK's dense LU (also with ``MECHCONT_PURE_PYTHON=1``). The two agree to rounding
 (``tests/test_condensation_kernel.py``).
 """
 
@@ -28,11 +29,13 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
+from types import ModuleType
 
 import numpy as np
 import scipy.linalg.lapack
 
 from . import _kernel
+from ._collocation import Mesh
 
 __all__ = ["Border", "CondensedLU", "collocation_blocks", "product"]
 
@@ -95,14 +98,19 @@ class Border:
     once for all the factorisations of a Newton solve: the inner nodes' coefficients, per interval (ntst, 2,
     (ncol - 1) n), and the mesh points', T's and p's."""
 
-    def __init__(self, phase: np.ndarray, closing: np.ndarray, mesh, n: int):
+    def __init__(self, phase: np.ndarray, closing: np.ndarray, mesh: Mesh, n: int) -> None:
         m, ntst = mesh.ncol, mesh.ntst
-        rows = np.stack([np.concatenate([phase, [0.0, 0.0]]), closing])
-        nodes = rows[:, :-2].reshape(2, mesh.n_nodes, n)
-        inner_idx = _pattern(ntst, m, n).inner_nodes
-        self.inner = np.ascontiguousarray(nodes[:, inner_idx].reshape(2, ntst, (m - 1) * n).transpose(1, 0, 2))
-        self.mesh_points = np.ascontiguousarray(nodes[:, ::m])  # (2, ntst + 1, n)
-        self.TP = rows[:, -2:]
+        #: the rows themselves (contiguous), for the residual computed with the factorisation
+        self.phase, self.closing = np.ascontiguousarray(phase, float), np.ascontiguousarray(closing, float)
+        # each interval's nodes but its last, side by side (slices: no gathering): its first node, then the inner ones
+        rows = (self.phase[:-n].reshape(ntst, m * n), self.closing[:-2 - n].reshape(ntst, m * n))
+        self.inner = np.empty((ntst, 2, (m - 1) * n))
+        self.mesh_points = np.empty((2, ntst + 1, n))
+        for s, (r, last) in enumerate(zip(rows, (self.phase[-n:], self.closing[-2 - n:-2]))):
+            self.inner[:, s] = r[:, n:]
+            self.mesh_points[s, :-1] = r[:, :n]
+            self.mesh_points[s, -1] = last
+        self.TP = np.array([[0.0, 0.0], self.closing[-2:]])
 
 
 class CondensedLU:
@@ -117,8 +125,8 @@ class CondensedLU:
     by its factors (the compiled path; the condensation owns the blocks it is given).
     """
 
-    def __init__(self, S: np.ndarray, L: np.ndarray, aT: np.ndarray, ap: np.ndarray, border: Border, mesh, n: int,
-                 rhs: np.ndarray | None = None):
+    def __init__(self, S: np.ndarray, L: np.ndarray, aT: np.ndarray, ap: np.ndarray, border: Border, mesh: Mesh, n: int,
+                 rhs: np.ndarray | None = None) -> None:
         self.mesh, self.n = mesh, n
         ntst, m = mesh.ntst, mesh.ncol
         inner = (m - 1) * n
@@ -157,12 +165,50 @@ class CondensedLU:
             raise np.linalg.LinAlgError("singular collocation Jacobian")
         self.lu = (lu, piv)
 
+    @classmethod
+    def with_residual(cls, cc: ModuleType, D: np.ndarray, Fz: np.ndarray, F: np.ndarray, Fp: np.ndarray,
+                      Y: np.ndarray, X: np.ndarray, target: float, border: Border, mesh: Mesh, n: int,
+                      res: np.ndarray, dX: np.ndarray) -> CondensedLU | None:
+        """The compiled path's whole Newton iteration in one call (``_ccondense.factor_residual``): the BVP's residual
+        into ``res`` and the factors of its Jacobian, as ``CondensedLU(*collocation_blocks(D, Lc, Fz, T), -F, -T Fp,
+        border, mesh, n, rhs=-res's collocation part)`` gives them. The Gauss points in the order of
+        :meth:`~._collocation.Mesh.values_and_derivatives` (point ``k`` of interval ``j`` in row ``k ntst + j``):
+        ``F``, ``Fp`` (ncol ntst, n) and ``Fz`` (ncol ntst, n, n) there, any strides; ``Y`` that method's product
+        (the derivatives divided by the intervals' lengths here); ``X`` the unknowns (``X[-2]`` the period ``T``, s);
+        ``target`` the closing row's value. The Newton correction, ``solve(-res, w)``, into ``dX`` in the same call. Returns
+        None when the residual or the rates' derivatives are not finite; raises
+        ``numpy.linalg.LinAlgError`` when a block or the reduced system is singular."""
+        ntst, m = mesh.ntst, mesh.ncol
+        mn, nr = m * n, (ntst + 1) * n + 2
+        S = np.empty((ntst, mn, mn))
+        W = np.empty((ntst, mn, n + 3))
+        piv = np.empty((ntst, mn), np.intc)
+        K = np.empty((nr, nr))
+        rpiv = np.empty(nr, np.intc)
+        # the phase and closing rows' values as NumPy's path computes them (its dot products' order of summation)
+        phase_value = float(border.phase @ X[:-2])
+        closing_value = float(border.closing @ X) - target
+        status = cc.factor_residual(D, mesh.Lc, Fz, F, Fp, Y, mesh.h, X, phase_value, closing_value, float(X[-2]),
+                                    border.inner,
+                                    border.mesh_points, border.TP, S, piv, W, K, rpiv, res, dX)
+        if status == 1:
+            return None
+        if status:
+            raise np.linalg.LinAlgError("singular collocation Jacobian")
+        self = cls.__new__(cls)
+        self.mesh, self.n, self.nr = mesh, n, nr
+        self._border, self._inner_idx, self._cc = border.inner, _pattern(ntst, m, n).inner_nodes, cc
+        self._S, self._piv, self._W = S, piv, W
+        self.Q, self.w = W[:, :, :n + 2], W[:, :, n + 2]
+        self.lu = (K, rpiv)
+        return self
+
     def _factor_compiled(self, S: np.ndarray, W: np.ndarray, border: Border, has_rhs: bool) -> None:
         # the same factorisation in C (:mod:`._ccondense`): the blocks' LU kept for :meth:`solve`, the reduced
         # system by the structured elimination; S is a copy of the Jacobian's values, overwritten by its factors
         cc, n, nr = self._cc, self.n, self.nr
         S = np.ascontiguousarray(S)
-        piv = np.empty(S.shape[:2], np.intc)
+        piv: np.ndarray = np.empty(S.shape[:2], np.intc)
         if cc.block_factor_solve(S, piv, W) >= 0:
             raise np.linalg.LinAlgError("singular collocation Jacobian")
         self._S, self._piv, self._W = S, piv, W
@@ -182,7 +228,12 @@ class CondensedLU:
 
     def multipliers(self) -> np.ndarray:
         """The eigenvalues of the monodromy matrix (the transfer matrices' product), largest modulus first."""
-        mu = np.linalg.eigvals(product(self.transfer()))
+        if self._cc is not None:
+            M = np.empty((self.n, self.n))
+            self._cc.transfer_product(self._W, self.n, M)  # the product in one call, in order
+        else:
+            M = product(self.transfer())
+        mu = np.linalg.eigvals(M)
         return mu[np.argsort(-np.abs(mu), kind="stable")]
 
     def solve(self, b: np.ndarray, w: np.ndarray | None = None) -> np.ndarray:

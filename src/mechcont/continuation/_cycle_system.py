@@ -25,13 +25,38 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from types import ModuleType
+from typing import TYPE_CHECKING, Protocol, cast
 
 import numpy as np
 
 from ..errors import ConvergenceError
+from . import _kernel
 from ._collocation import Mesh
+from ._condensation import Border, CondensedLU, collocation_blocks, product
+
+if TYPE_CHECKING:
+    import scipy.sparse
+
+    from ..equations import Dynamics, Model
 
 __all__ = ["RateFunction", "CycleSystem", "NewtonFailure", "nontrivial_multipliers"]
+
+#: :meth:`CycleSystem.collocation`'s ``(u, T, p, uc, du, F, Fz, Fp)``
+Collocation = tuple[np.ndarray, float, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+
+class _BatchDynamics(Protocol):
+    """Dynamics that evaluate at many states at once (a mechanism's)."""
+
+    def rates_batch(self, Z: np.ndarray, x: np.ndarray) -> np.ndarray: ...
+
+    def rates_jacobian_batch(self, Z: np.ndarray, x: np.ndarray) -> np.ndarray: ...
+
+    def parameter_rates_batch(self, Z: np.ndarray, x: np.ndarray, names: Sequence[str]) -> np.ndarray: ...
+
+
+_NOT_FINITE = "rates not finite along the orbit (outside the model's domain)"
 
 
 class NewtonFailure(Exception):
@@ -47,7 +72,7 @@ class RateFunction:
     ``rates_jacobian_batch`` and ``parameter_rates_batch`` (a mechanism's), else point by point.
     """
 
-    def __init__(self, model, dynamics, vary: str, x_base: np.ndarray):
+    def __init__(self, model: Model, dynamics: Dynamics, vary: str, x_base: np.ndarray) -> None:
         from ..equations import OdeDynamics
 
         self.model, self.dynamics, self.vary = model, dynamics, vary
@@ -57,6 +82,12 @@ class RateFunction:
         self._batch = isinstance(dynamics, OdeDynamics) and hasattr(model, "residual_and_jacobian_batch")
         if self._batch:
             self._cols = np.array([model.index(s) for s in dynamics.state_names], dtype=np.intp)
+            first = int(self._cols[0]) if self.n else 0
+            # the states as a slice where they are consecutive variables (as an ODE's are): the Jacobian's
+            # columns a view, not a copy
+            self._cols_slice: slice | None = (slice(first, first + self.n)
+                                              if np.array_equal(self._cols, np.arange(first, first + self.n)) else None)
+            self._rows = np.zeros((0, len(self.x_base)))  # the full vectors at the states of the last call
         self._dyn_batch = all(hasattr(dynamics, m) for m in
                               ("rates_batch", "rates_jacobian_batch", "parameter_rates_batch"))
 
@@ -71,14 +102,19 @@ class RateFunction:
         Z = np.asarray(Z, float)
         x = self.x_at(p)
         if self._batch:
-            X = np.repeat(x[None, :], len(Z), axis=0)
-            X[:, self._cols] = Z
+            X = self._rows
+            if X.shape[0] != len(Z):
+                X = self._rows = np.empty((len(Z), len(x)))
+            X[:] = x
+            cols = self._cols if self._cols_slice is None else self._cols_slice
+            X[:, cols] = Z
             F, J = self.model.residual_and_jacobian_batch(X)
-            return F, J[:, :, self._cols], J[:, :, self.p_index]
+            return F, J[:, :, cols], J[:, :, self.p_index]
         dyn = self.dynamics
         if self._dyn_batch:
-            return (dyn.rates_batch(Z, x), dyn.rates_jacobian_batch(Z, x),
-                    dyn.parameter_rates_batch(Z, x, [self.vary])[:, :, 0])
+            bd = cast(_BatchDynamics, dyn)
+            return (bd.rates_batch(Z, x), bd.rates_jacobian_batch(Z, x),
+                    bd.parameter_rates_batch(Z, x, [self.vary])[:, :, 0])
         F = np.array([dyn.rates(z, x) for z in Z])
         Fz = np.array([dyn.rates_jacobian(z, x) for z in Z])
         Fp = np.array([dyn.parameter_rates(z, x, [self.vary])[:, 0] for z in Z])
@@ -88,7 +124,7 @@ class RateFunction:
 class CycleSystem:
     """The periodic BVP of ``rates`` on ``mesh``, with state weights ``weights`` (n,) and parameter weight ``p_weight``."""
 
-    def __init__(self, rates: RateFunction, mesh: Mesh, weights: np.ndarray, p_weight: float):
+    def __init__(self, rates: RateFunction, mesh: Mesh, weights: np.ndarray, p_weight: float) -> None:
         self.rates, self.mesh = rates, mesh
         self.n = rates.n
         self.weights = np.asarray(weights, float)
@@ -143,7 +179,7 @@ class CycleSystem:
         self._indptr = np.concatenate([[0], np.cumsum(np.bincount(c, minlength=self.size))]).astype(np.int32)
 
     # -- evaluation ---------------------------------------------------------------------------
-    def collocation(self, X: np.ndarray):
+    def collocation(self, X: np.ndarray) -> Collocation:
         """``(u, T, p, uc, du, F, Fz, Fp)`` at the Gauss points (arrays (ntst, ncol, ...))."""
         u, T, p = self.split(X)
         uc, du = self.mesh.at_collocation(u)
@@ -160,11 +196,10 @@ class CycleSystem:
     def condensation_blocks(self, T: float, Fz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The intervals' collocation blocks as the condensation takes them: over their inner and last nodes
         (ntst, ncol n, ncol n), and over their first node (ntst, ncol n, n)."""
-        from ._condensation import collocation_blocks
-
         return collocation_blocks(self._D, self.mesh.Lc, Fz, T)
 
-    def residual(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, colloc) -> np.ndarray:
+    def residual(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float,
+                 colloc: Collocation) -> np.ndarray:
         """The BVP's residual from ``colloc = self.collocation(X)``: collocation, periodicity, phase, closing."""
         u, T, p, uc, du, F, Fz, Fp = colloc
         nc = self.mesh.ntst * self._ncol_n
@@ -175,7 +210,8 @@ class CycleSystem:
         res[-1] = closing @ X - target
         return res
 
-    def linearise(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float):
+    def linearise(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray,
+                  target: float) -> tuple[np.ndarray, scipy.sparse.csc_matrix]:
         """Residual and sparse (CSC) Jacobian of the BVP closed by ``closing . X = target``; ``phase`` the
         phase condition's row over the nodes."""
         import scipy.sparse as sps
@@ -191,15 +227,20 @@ class CycleSystem:
         J = sps.csc_matrix((vals[self._order], self._indices, self._indptr), shape=(self.size, self.size))
         return res, J
 
-    def factored(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, border=None):
+    def factored(self, X: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float,
+                 border: Border | None = None) -> tuple[np.ndarray, CondensedLU]:
         """Residual and the factored Jacobian (:class:`~._condensation.CondensedLU`) of the BVP closed by
         ``closing . X = target``, the residual's collocation part already condensed (``lu.w`` for ``-res``);
         ``border``: the rows ``phase`` and ``closing`` prepared (:class:`~._condensation.Border`), when known.
         Raises :class:`NewtonFailure` when not finite or singular, or where the rates cannot be evaluated (a
         closed loop that does not assemble at a state of the orbit)."""
-        from ._condensation import Border, CondensedLU
-
+        if border is None:
+            border = Border(phase, closing, self.mesh, self.n)
+        cc = _kernel.condensation()
         try:
+            if cc is not None:
+                res, lu, _ = self._factored_compiled(cc, X, target, border)
+                return res, lu
             colloc = self.collocation(X)
         except (ConvergenceError, np.linalg.LinAlgError) as exc:
             # a mechanism's dependent coordinates not closing its loops (past a toggle position) at an orbit the
@@ -210,19 +251,46 @@ class CycleSystem:
         res = self.residual(X, phase, closing, target, colloc)
         # one sum is not finite when any term is not (or when they overflow it, which is no orbit either)
         if not math.isfinite(float(res.sum() + Fz.sum() + Fp.sum())):
-            raise NewtonFailure("rates not finite along the orbit (outside the model's domain)")
+            raise NewtonFailure(_NOT_FINITE)
         S, L = self.condensation_blocks(T, Fz)
         try:
-            if border is None:
-                border = Border(phase, closing, self.mesh, self.n)
             lu = CondensedLU(S, L, -F.reshape(ntst, mn), -T * Fp.reshape(ntst, mn), border, self.mesh, self.n,
                              rhs=-res[:ntst * mn].reshape(ntst, mn))
         except np.linalg.LinAlgError:
             raise NewtonFailure("singular collocation Jacobian") from None
         return res, lu
 
+    def _factored_compiled(self, cc: ModuleType, X: np.ndarray, target: float,
+                           border: Border) -> tuple[np.ndarray, CondensedLU, np.ndarray]:
+        """:meth:`factored` by the compiled condensation, and the Newton correction ``dX``: the orbit at the Gauss
+        points, the rates there, then residual, blocks, factors and correction in one call
+        (:meth:`~._condensation.CondensedLU.with_residual`).
+
+        The Gauss points are taken in the order of the basis's product (point, then interval), the rates evaluated
+        in that order and handed over as strided views, without copies; the values are those of
+        :meth:`collocation` (the same product, and the rates row by row)."""
+        me, n = self.mesh, self.n
+        Y = me.values_and_derivatives(X[:-2].reshape(me.n_nodes, n))  # (2 ncol, ntst n)
+        F, Fz, Fp = self.rates(Y[:me.ncol].reshape(-1, n), float(X[-1]))
+        res, dX = np.empty(self.size), np.empty(self.size)
+        try:
+            lu = CondensedLU.with_residual(cc, self._D, Fz, F, Fp, Y, X, target, border, me, n, res, dX)
+        except np.linalg.LinAlgError:
+            raise NewtonFailure("singular collocation Jacobian") from None
+        if lu is None:
+            raise NewtonFailure(_NOT_FINITE)
+        return res, lu, dX
+
+    def _iterate_compiled(self, cc: ModuleType, X: np.ndarray, target: float,
+                          border: Border) -> tuple[np.ndarray, CondensedLU, np.ndarray]:
+        """:meth:`_factored_compiled` with :meth:`factored`'s failures (the rates not evaluable along the orbit)."""
+        try:
+            return self._factored_compiled(cc, X, target, border)
+        except (ConvergenceError, np.linalg.LinAlgError) as exc:
+            raise NewtonFailure(f"the rates fail along the orbit: {exc}") from None
+
     def newton(self, X0: np.ndarray, phase: np.ndarray, closing: np.ndarray, target: float, tol: float,
-               max_iter: int):
+               max_iter: int) -> tuple[np.ndarray, CondensedLU, int]:
         """Newton from ``X0`` on the BVP closed by ``closing . X = target``.
 
         Converged when a correction is below ``tol`` (relative to the largest unknown). Returns ``(X, lu,
@@ -230,19 +298,21 @@ class CycleSystem:
         within ``tol`` of ``X``).
         Raises :class:`NewtonFailure` saying why when it does not converge.
         """
-        from ._condensation import Border
-
         X = np.array(X0, float)
         prev = math.inf
         border = Border(phase, closing, self.mesh, self.n)
+        cc = _kernel.condensation()
         for it in range(1, max_iter + 1):
-            res, lu = self.factored(X, phase, closing, target, border)
-            dX = lu.solve(-res, lu.w)
-            step = float(np.max(np.abs(dX)))  # nan when any entry is
+            if cc is None:
+                res, lu = self.factored(X, phase, closing, target, border)
+                dX = lu.solve(-res, lu.w)
+            else:
+                _, lu, dX = self._iterate_compiled(cc, X, target, border)
+            step = float(np.abs(dX).max())  # nan when any entry is
             if not math.isfinite(step):
                 raise NewtonFailure("singular collocation Jacobian")
             X += dX
-            tol_x = tol * max(1.0, float(np.max(np.abs(X))))
+            tol_x = tol * max(1.0, float(np.abs(X).max()))
             if step <= tol_x:
                 return X, lu, it
             if it > 2 and step > prev:
@@ -250,12 +320,12 @@ class CycleSystem:
             prev = step
         raise NewtonFailure(f"corrector needed more than {max_iter} iterations")
 
-    def tangent(self, lu, t_old: np.ndarray | None = None) -> np.ndarray:
+    def tangent(self, lu: CondensedLU, t_old: np.ndarray | None = None) -> np.ndarray:
         """The unit tangent from the factors of ``[BVP Jacobian; closing row]``: the solution of ``A t = e_last``
         normalised (for the arclength row ``<t_old, .>``, it points the way of ``t_old``)."""
         return self.tangent_and_row(lu, None if t_old is None else self.row(t_old))[0]
 
-    def tangent_and_row(self, lu, row_old: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def tangent_and_row(self, lu: CondensedLU, row_old: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`tangent` and its :meth:`row` (one Gram product for both); ``row_old``: the previous tangent's row,
         whose direction the tangent keeps."""
         e = np.zeros(self.size)
@@ -272,8 +342,6 @@ class CycleSystem:
     # -- stability ------------------------------------------------------------------------------
     def monodromy(self, X: np.ndarray) -> np.ndarray:
         """The collocation's monodromy matrix (n, n) at the orbit ``X`` (see the module docstring)."""
-        from ._condensation import product
-
         u, T, p, uc, du, F, Fz, Fp = self.collocation(X)
         S, L = self.condensation_blocks(T, Fz)
         n = self.n

@@ -386,11 +386,13 @@ def _branch(model, run: _Run, status: Status, message: str) -> CycleBranch:
     for pt in run.points:
         u, T, pv = pt.system.split(pt.X)
         uc, _ = pt.system.mesh.at_collocation(u)
-        every = np.vstack([u, uc.reshape(-1, u.shape[1])])
+        # each state's values in one contiguous row: a reduction along the rows of the tall (points, n) array strides
+        # through memory and costs several times more
+        every = np.vstack([u, uc.reshape(-1, u.shape[1])]).T.copy()
         p.append(pv)
         period.append(T)
-        lo.append(every.min(axis=0))
-        hi.append(every.max(axis=0))
+        lo.append(every.min(axis=1))
+        hi.append(every.max(axis=1))
         orbits.append((pt.system.mesh, u.copy()))
     mus = [pt.mu for pt in run.points]
     return CycleBranch(
