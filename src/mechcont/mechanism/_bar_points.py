@@ -14,7 +14,7 @@ import math
 from collections.abc import Mapping
 
 from ._bodies import Polar
-from ._values import evaluate
+from ._expr import evaluate
 
 __all__ = ["bar_point_warnings"]
 

@@ -14,14 +14,32 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import InputError
-from ._expr import FUNCTIONS, Value
+from ._expr import FUNCTIONS, Value, evaluate
 
 __all__ = ["Polar", "Body", "SpatialBody", "INERTIA_KEYS", "BUILTIN_POINTS", "BAR_POINTS", "BRANCH_COLUMNS",
-           "check_inertia"]
+           "check_inertia", "coordinate_names", "spatial_coordinate_names", "normalisation_row"]
 
 Vector = tuple[Value, Value, Value]
 #: Components of a full inertia tensor, in the order of ``inertia = [...]`` with six values.
 INERTIA_KEYS = ("xx", "yy", "zz", "xy", "xz", "yz")
+
+
+def coordinate_names(body: str) -> tuple[str, str, str]:
+    """The names of a body's coordinates: ``x1, y1, theta1`` for ``"1"``, ``x_b, y_b, theta_b`` for ``"b"``."""
+    if body.isdigit():
+        return f"x{body}", f"y{body}", f"theta{body}"
+    return f"x_{body}", f"y_{body}", f"theta_{body}"
+
+
+def normalisation_row(body: str) -> str:
+    """The name of ``body``'s Euler-parameter normalisation row (and its joint)."""
+    return f"norm_{body}"
+
+
+def spatial_coordinate_names(body: str) -> tuple[str, ...]:
+    """``x_b, y_b, z_b, e0_b, e1_b, e2_b, e3_b`` for body ``b`` (``x1, y1, z1, e0_1, ...`` for ``"1"``)."""
+    sep = "" if body.isdigit() else "_"
+    return (f"x{sep}{body}", f"y{sep}{body}", f"z{sep}{body}", *(f"e{i}_{body}" for i in range(4)))
 
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*|[0-9]+")
@@ -248,8 +266,6 @@ def check_inertia(mech, values: Mapping[str, float], field: str, n: int) -> None
     """An inertia tensor about the CG must be positive definite and its principal moments obey the
     triangle inequality (each at most the sum of the other two: a real body's mass distribution)."""
     import numpy as np
-
-    from ._values import evaluate
 
     keys = ("xx", "yy", "zz", "xy", "xz", "yz")[:n]
     v = dict(zip(keys, (evaluate(mech.value(f"{field}.{k}"), values, f"{field}.{k}") for k in keys)))

@@ -22,9 +22,9 @@ Conventions (SI units, radians):
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar, Generic, Protocol, TypeVar
+from typing import TYPE_CHECKING, ClassVar, Generic, Protocol, Self, TypeVar
 
 import sympy as sp
 
@@ -35,10 +35,14 @@ from ._bodies import (
     _check_name,
     _check_variable_name,
     _RigidBody,
+    coordinate_names,
 )
 from ._conditions import Condition, DownlockSpec, check_conditions
 from ._elements import Parameter, StopReaction
 from ._expr import Value, symbol, to_expr
+from ._kinematics import PlanarKinematics
+from ._locate import locate_error
+from ._plugin import Kinematics
 from ._stops import stop_reaction_unit
 from .elements import Actuator, Damper, Element, Spring, Stop
 from .joints import PlanarJoint, Prismatic, Revolute, Slider, Weld
@@ -86,13 +90,6 @@ class _Joint(_Named, Protocol):
 #: The joint and body types of a description: planar (:class:`PlanarJoint`, :class:`Body`) or spatial.
 JointT = TypeVar("JointT", bound=_Joint)
 BodyT = TypeVar("BodyT", bound=_RigidBody)
-
-
-def coordinate_names(body: str) -> tuple[str, str, str]:
-    """The names of a body's coordinates: ``x1, y1, theta1`` for ``"1"``, ``x_b, y_b, theta_b`` for ``"b"``."""
-    if body.isdigit():
-        return f"x{body}", f"y{body}", f"theta{body}"
-    return f"x_{body}", f"y_{body}", f"theta_{body}"
 
 
 @dataclass
@@ -333,10 +330,17 @@ class Mechanism(Generic[JointT, BodyT]):
         for c in self.conditions:
             yield from c.values(self)
 
-    def kinematics_class(self) -> type:
+    def kinematics_class(self) -> Callable[[Self], Kinematics]:
         """The kinematics strategy of this space (:class:`~._kinematics.PlanarKinematics`: x, y, theta per body)."""
-        from ._kinematics import PlanarKinematics
         return PlanarKinematics
+
+    def kinematics(self) -> Kinematics:
+        """The kinematics of this description (:meth:`kinematics_class`), made once (it depends on no value) and
+        kept with the generated structures."""
+        kin = self._generated.get("kinematics")
+        if kin is None:
+            kin = self._generated["kinematics"] = self.kinematics_class()(self)
+        return kin
 
     def normalisation_rows(self) -> frozenset[str]:
         """The names of the constraint rows that normalise coordinates (no joint's): none in the plane."""
@@ -427,12 +431,12 @@ class Mechanism(Generic[JointT, BodyT]):
         return self._generate(overrides, reduced=True)
 
     def _generator(self):
-        """The function that generates this kind of mechanism's equations."""
+        """The function that generates this kind of mechanism's equations (imported on the first build: reading
+        or checking a description needs neither the generator nor what it compiles with)."""
         from ._generate import generate
         return generate
 
     def _generate(self, overrides: dict, reduced: bool) -> Model:
-        from ._file import locate_error
         try:
             return self._generator()(self, overrides, reduced=reduced)
         except InputError as exc:

@@ -5,15 +5,18 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
 
 from ..equations import MechanicalModel
 from ..errors import InputError
-from ._description import Mechanism
 from ._expr import float_value, symbol
 from ._kinematics import ConstraintRow, PlanarKinematics
+
+if TYPE_CHECKING:
+    from ._description import Mechanism
 
 __all__ = ["least_squares_closure", "loop_error", "redundancy_error", "check_assembled"]
 

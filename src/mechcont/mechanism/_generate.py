@@ -44,7 +44,6 @@ from ..units import typical_scale
 from ._assembly import close_constraints, dof_report
 from ._compiled import CoordinatesOf, DroppedResidual
 from ._conditions import condition_description, condition_rows, condition_scale, condition_targets
-from ._description import Mechanism
 from ._diagnose import check_assembled, least_squares_closure, loop_error, redundancy_error
 from ._element_states import collect_states, rest_rows, steady_states
 from ._expr import symbol
@@ -56,6 +55,7 @@ from ._stops import stop_forces
 from ._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
 
 if TYPE_CHECKING:
+    from ._description import Mechanism
     from .spatial._kinematics import SpatialKinematics
 
 __all__ = ["generate"]

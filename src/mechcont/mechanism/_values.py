@@ -5,16 +5,19 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
 
 from ..equations import Limit
 from ..errors import InputError
-from ._description import Mechanism
-from ._expr import float_value
+from ._expr import _finite, evaluate, float_value
 
-__all__ = ["parameter_values", "check_values", "check_finite", "check_stop_limits", "physical_limits", "evaluate",
+if TYPE_CHECKING:
+    from ._description import Mechanism
+
+__all__ = ["parameter_values", "check_values", "check_finite", "check_stop_limits", "physical_limits",
            "value_check", "check_vectors",
            "vector_fields", "analysis_value_check"]
 
@@ -29,35 +32,6 @@ def parameter_values(mech: Mechanism, overrides: Mapping[str, float]) -> dict[st
             raise InputError(k, f"must be a finite number, got {v!r}")
         values[k] = float(v)
     return values
-
-
-def evaluate(expr: sp.Expr, values: Mapping[str, float], field: str) -> float:
-    """Numeric value of a parameter-only expression; InputError if it is not finite and real.
-
-    The value is first computed in floating point (:func:`float_value`: an overflow such as
-    ``exp(exp(exp(L)))`` is refused at once instead of being computed to arbitrary
-    precision), then, when finite, by SymPy as before (correctly rounded).
-    """
-    subs = {s: values[s.name] for s in expr.free_symbols if s.name in values}
-    if len(subs) < len(expr.free_symbols):
-        raise InputError(field, f"{expr} depends on more than the parameters")
-    _finite(expr, float_value(expr, subs), field)
-    try:
-        out = float(expr.xreplace(subs))
-    except TypeError:
-        raise InputError(field, f"{expr} is not a real number with the given parameters") from None
-    if not math.isfinite(out):
-        raise InputError(field, f"evaluates to {out} with the given parameters")
-    return out
-
-
-def _finite(expr: sp.Expr, quick: float, field: str) -> None:
-    """InputError unless the floating-point value ``quick`` of ``expr`` is finite."""
-    if math.isnan(quick):
-        raise InputError(field, f"{expr} is not a real number with the given parameters (a division by zero, the "
-                                "square root or logarithm of a negative number, asin or acos beyond +-1?)")
-    if not math.isfinite(quick):
-        raise InputError(field, f"{expr} overflows the floating-point range with the given parameters")
 
 
 def check_finite(mech: Mechanism, values: Mapping[str, float]) -> None:
@@ -113,8 +87,7 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
         for field, strict, what in ld.limits():
             need(field, strict, what)
     if mech.joints:
-        from ._kinematics import kinematics_of
-        kin = kinematics_of(mech)
+        kin = mech.kinematics()
         out += [Limit(f, e, strict, what) for j in mech.joints for f, e, strict, what in j.limits(kin)]
     return out
 

@@ -63,6 +63,7 @@ from ...equations import velocity_symbol
 from ...errors import InputError
 from .._expr import Value, symbol
 from .._plugin import Kinematics
+from .._values import parameter_values
 from ._base import Draw, Element, ElementState
 
 if TYPE_CHECKING:
@@ -170,8 +171,6 @@ class Tyre(Element):
         """``y_<name>`` (m): ``dy/dt = -v_lat - (V/sigma) y``."""
         v = kin.mech.value
         rate = -self.lateral_velocity(kin) - v(self.field("speed")) / v(self.field("relaxation_length")) * symbol(self.state)
-        from .._values import parameter_values
-
         at = {symbol(k): val for k, val in parameter_values(kin.mech, {}).items()}
         sigma = abs(float(sp.sympify(v(self.field("relaxation_length"))).xreplace(at)))
         return (ElementState(self.state, "m", rate, scale=sigma / 10 or 1.0, initial=0.0,

@@ -24,6 +24,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
@@ -49,12 +50,14 @@ from .._generate import (
 from .._kinematics import place_along_joints
 from .._stops import stop_forces
 from .._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
-from ._description import SpatialMechanism
 from ._dropped import SWITCH_RATIO, choose_dropped, conditioning
 from ._kinematics import SpatialKinematics
 from ._rotation import quaternion_from_rotation_vector
 from ._scene import spatial_scene_function
 from .joints import SpatialRow
+
+if TYPE_CHECKING:
+    from ._description import SpatialMechanism
 
 __all__ = ["generate"]
 
