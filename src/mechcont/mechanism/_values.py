@@ -80,15 +80,9 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
             need(f + ".length", True, "length (m)")
         for field, what in b.inertia_limits():
             need(field, True, what)
-    for el in mech.force_elements():
-        for field, strict, what in el.limits(solve):
-            need(field, strict, what)
-    for ld in mech.loads:
-        for field, strict, what in ld.limits():
-            need(field, strict, what)
-    if mech.joints:
-        kin = mech.kinematics()
-        out += [Limit(f, e, strict, what) for j in mech.joints for f, e, strict, what in j.limits(kin)]
+    kin = mech.kinematics()
+    for plugin in (*mech.force_elements(), *mech.loads, *mech.joints):
+        out += plugin.limits(kin, solve)
     return out
 
 

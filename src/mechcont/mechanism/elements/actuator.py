@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
+from ...equations import Limit
 from ...errors import InputError
 from .._expr import Value
 from .._plugin import Kinematics
@@ -84,9 +85,9 @@ class Actuator(TwoPointElement):
             if getattr(self, key) is not None:
                 yield self.field(key), getattr(self, key)
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """A given length is positive."""
-        return [(self.field("length"), True, "actuator length (m)")] if self.length is not None else []
+        return [self.value_limit(kin, "length", True, "actuator length (m)")] if self.length is not None else []
 
     def length_in(self, kin: Kinematics) -> sp.Expr:
         """``|P_b - P_a|`` (m) in the coordinates of ``kin``."""

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
-from ...equations import velocity_symbol
+from ...equations import Limit, velocity_symbol
 from .._expr import Value
 from .._plugin import Kinematics
 from ._base import TwoPointElement
@@ -57,9 +57,10 @@ class Damper(TwoPointElement):
         yield self.field("c"), self.c
         yield self.field("c2"), self.c2
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """Both coefficients non-negative."""
-        return [(self.field("c"), False, "damping (N s/m)"), (self.field("c2"), False, "quadratic damping (N s^2/m^2)")]
+        return [self.value_limit(kin, "c", False, "damping (N s/m)"),
+                self.value_limit(kin, "c2", False, "quadratic damping (N s^2/m^2)")]
 
     def apply(self, kin: Kinematics, out: Loads) -> None:
         """Generalised forces ``-T dl/dq`` with ``v = dl/dq . qdot`` (the velocity symbols of ``kin.coords``)."""

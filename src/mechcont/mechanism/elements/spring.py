@@ -6,6 +6,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from ...equations import Limit
 from .._expr import Value
 from .._plugin import Kinematics
 from ._base import TwoPointElement
@@ -42,10 +43,11 @@ class Spring(TwoPointElement):
         yield self.field("free_length"), self.free_length
         yield self.field("preload"), self.preload
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """A positive free length; a positive stiffness in the file, zero allowed for an analysis
         (it disconnects the spring, as in the paper's Fig. 7, "no spring load")."""
-        return [(self.field("k"), not solve, "stiffness (N/m)"), (self.field("free_length"), True, "free length (m)")]
+        return [self.value_limit(kin, "k", not solve, "stiffness (N/m)"),
+                self.value_limit(kin, "free_length", True, "free length (m)")]
 
     def apply(self, kin: Kinematics, out: Loads) -> None:
         """Potential ``preload*l + k/2 (l - free_length)^2`` (J)."""

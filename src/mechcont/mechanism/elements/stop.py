@@ -12,8 +12,10 @@ from typing import Any, ClassVar
 
 import sympy as sp
 
+from ...equations import Limit
 from ...errors import InputError
 from .._expr import Value, symbol
+from .._plugin import Kinematics
 from ._base import Element
 
 __all__ = ["Stop", "STOP_KEYS", "CONTACT_MODELS"]
@@ -125,12 +127,12 @@ class Stop(Element):
             yield self.field("stiffness"), self.stiffness
             yield self.field("damping"), self.damping
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """A compliant stop's stiffness (> 0) and damping (>= 0)."""
         if self.contact != "compliant":
             return []
-        return [(self.field("stiffness"), True, "contact stiffness (per unit of the condition)"),
-                (self.field("damping"), False, "contact damping (per unit of the condition's rate)")]
+        return [self.value_limit(kin, "stiffness", True, "contact stiffness (per unit of the condition)"),
+                self.value_limit(kin, "damping", False, "contact damping (per unit of the condition's rate)")]
 
     def generalised_force(self, c: sp.Expr, q: Sequence[sp.Symbol], gradient=None) -> list[sp.Expr]:
         """``side R dc/dq`` per coordinate ``q`` for its condition ``c(q, p)`` (``gradient(expr, symbols)``

@@ -15,6 +15,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from ...equations import Limit
 from .._expr import Value
 from .._plugin import Kinematics
 from ._base import Draw, Element
@@ -53,10 +54,10 @@ class TorsionDamper(Element):
         yield self.field("c"), self.c
         yield self.field("c2"), self.c2
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """Both coefficients non-negative."""
-        return [(self.field("c"), False, "torsional damping (N m s/rad)"),
-                (self.field("c2"), False, "quadratic torsional damping (N m s^2/rad^2)")]
+        return [self.value_limit(kin, "c", False, "torsional damping (N m s/rad)"),
+                self.value_limit(kin, "c2", False, "quadratic torsional damping (N m s^2/rad^2)")]
 
     def apply(self, kin: Kinematics, out: Loads) -> None:
         """Generalised forces ``-(c w + c2 w |w|) dphi/dq``, ``w = dphi/dq . qdot``."""

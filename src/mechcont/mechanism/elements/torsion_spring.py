@@ -18,6 +18,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from ...equations import Limit
 from .._expr import Value
 from .._plugin import Kinematics
 from ._base import Draw, Element
@@ -55,9 +56,9 @@ class TorsionSpring(Element):
         yield self.field("k"), self.k
         yield self.field("angle"), self.angle
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """A non-negative stiffness."""
-        return [(self.field("k"), False, "torsional stiffness (N m/rad)")]
+        return [self.value_limit(kin, "k", False, "torsional stiffness (N m/rad)")]
 
     def apply(self, kin: Kinematics, out: Loads) -> None:
         """Potential ``k/2 (phi - angle)^2`` (J)."""

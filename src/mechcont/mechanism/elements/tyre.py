@@ -59,7 +59,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
-from ...equations import velocity_symbol
+from ...equations import Limit, velocity_symbol
 from ...errors import InputError
 from .._expr import Value, symbol
 from .._plugin import Kinematics
@@ -120,13 +120,13 @@ class Tyre(Element):
             if value is not None:
                 yield self.field(key), value
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """A positive speed and relaxation length (and maximum force), a non-negative cornering stiffness."""
-        out = [(self.field("speed"), True, "speed (m/s; at rest the tyre's deflection is undetermined)"),
-               (self.field("relaxation_length"), True, "relaxation length (m)"),
-               (self.field("cornering_stiffness"), False, "cornering stiffness (N/rad)")]
+        out = [self.value_limit(kin, "speed", True, "speed (m/s; at rest the tyre's deflection is undetermined)"),
+               self.value_limit(kin, "relaxation_length", True, "relaxation length (m)"),
+               self.value_limit(kin, "cornering_stiffness", False, "cornering stiffness (N/rad)")]
         if self.max_force is not None:
-            out.append((self.field("max_force"), True, "maximum side force (N)"))
+            out.append(self.value_limit(kin, "max_force", True, "maximum side force (N)"))
         return out
 
     # -- geometry ------------------------------------------------------------------------

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 import sympy as sp
 
+from ...equations import Limit
 from ...errors import InputError
 from ._base import ConstraintRow, Draw, PlanarJoint, check_points
 
@@ -96,5 +97,6 @@ class PinInSlot(PlanarJoint):
         add("slot", self.name, [kin.point(self.slot[0]), kin.point(self.slot[1])])
         add("pin", self.name, [kin.point(self.pin)])
 
-    def limits(self, kin: PlanarKinematics) -> list[tuple[str, sp.Expr, bool, str]]:
-        return [(f"joints.{self.name}.slot", self.length(kin), True, "slot length (m)")]
+    def limits(self, kin: PlanarKinematics, solve: bool) -> list[Limit]:
+        """A positive slot length."""
+        return [Limit(self.field("slot"), self.length(kin), True, "slot length (m)")]

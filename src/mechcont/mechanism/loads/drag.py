@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
+from ...equations import Limit
 from ...errors import InputError
 from .._expr import Value
 from ._base import K, Load, Loads, check_on_body
@@ -35,9 +36,9 @@ class _Segment(Load[K]):
         """Its body and its two points must exist."""
         check_on_body(self, self.body, mech, ("start", "end"))
 
-    def limits(self) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: K, solve: bool) -> list[Limit]:
         """Air density and drag coefficient non-negative, diameter positive."""
-        return [(self.field(key), strict, what) for key, strict, what in _LIMITS]
+        return [self.value_limit(kin, key, strict, what) for key, strict, what in _LIMITS]
 
     def static_error(self) -> bool:
         """A segment from a point to itself."""

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
+from ....equations import Limit
 from ....errors import InputError
 from ..._expr import Value
 from ..._plugin import Draw, PlugIn, Registry, registry
@@ -120,14 +121,12 @@ class SpatialJoint(PlugIn["SpatialKinematics"]):
         """Check the point references ``a``, ``b`` against ``mech`` (a one-line InputError naming the key)."""
         check_points(self.name, [("a", self.a), ("b", self.b)], mech)
 
-    def limits(self, kin: SpatialKinematics) -> list[tuple[str, sp.Expr, bool, str]]:
-        """``(key path, quantity, strict, what)``: the stiffnesses given must be positive."""
-        out = []
-        for key, what in (("stiffness", "joint stiffness (N/m)"),
-                          ("rotational_stiffness", "joint rotational stiffness (N m/rad)")):
-            if getattr(self, key) is not None:
-                out.append((f"joints.{self.name}.{key}", kin.mech.value(f"joints.{self.name}.{key}"), True, what))
-        return out
+    def limits(self, kin: SpatialKinematics, solve: bool) -> list[Limit]:
+        """The stiffnesses given must be positive."""
+        return [self.value_limit(kin, key, True, what)
+                for key, what in (("stiffness", "joint stiffness (N/m)"),
+                                  ("rotational_stiffness", "joint rotational stiffness (N m/rad)"))
+                if getattr(self, key) is not None]
 
     def perpendicular(self, mech) -> list[list[sp.Expr]]:
         """Pairs of vectors (six expressions) that must be perpendicular (default: none)."""
