@@ -47,6 +47,13 @@ FLOOR = {
     "mechcont.mechanism.spatial.joints.weld", "mechcont.models", "mechcont.models.dual_sidestay_geometry",
     "mechcont.models.overcentre_scene", "mechcont.outputs._explore_page", "mechcont.outputs.critical_plots",
     "mechcont.paper", "mechcont.paper._timing", "mechcont.paper.shimmy", "mechcont.units",
+    "mechcont.mechanism._element_states", "mechcont.mechanism._forces", "mechcont.mechanism._stops",
+    "mechcont.mechanism.elements._rotary", "mechcont.mechanism.elements.actuator",
+    "mechcont.mechanism.elements.damper", "mechcont.mechanism.elements.spring", "mechcont.mechanism.elements.stop",
+    "mechcont.mechanism.elements.torsion_damper", "mechcont.mechanism.elements.torsion_spring",
+    "mechcont.mechanism.elements.tyre", "mechcont.mechanism.joints.pin_in_slot", "mechcont.mechanism.loads.custom",
+    "mechcont.mechanism.loads.drag", "mechcont.mechanism.loads.force", "mechcont.mechanism.loads.gravity",
+    "mechcont.mechanism.loads.moment", "mechcont.mechanism.spatial.joints._base",
 }
 
 

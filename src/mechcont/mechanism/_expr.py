@@ -23,17 +23,19 @@ from __future__ import annotations
 import ast
 import math
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 
 import mpmath
 import sympy as sp
 
 from ..errors import InputError
 
-__all__ = ["Value", "to_expr", "float_value", "evaluate", "symbol", "FUNCTIONS",
+__all__ = ["Value", "to_expr", "float_value", "evaluate", "symbol", "Gradient", "FUNCTIONS",
            "MAX_LENGTH", "MAX_NODES", "MAX_DEPTH", "MAX_EXPONENT"]
 
 Value = float | int | str
+#: ``gradient(expr, symbols)``: the derivatives of ``expr`` by each of ``symbols`` (SymPy's, or the equations' own).
+Gradient = Callable[[sp.Expr, Sequence[sp.Symbol]], list[sp.Expr]]
 
 #: Functions and constants allowed in expressions of a description file.
 FUNCTIONS = {

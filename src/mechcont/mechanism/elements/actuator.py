@@ -30,6 +30,7 @@ from ..joints import ConstraintRow
 from ._base import Draw, TwoPointElement
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from ..loads import Loads
 
 __all__ = ["Actuator"]
@@ -66,7 +67,7 @@ class Actuator(TwoPointElement):
         """The ends are point references."""
         return "is required (a point reference '<body>.<point>' or 'ground.<point>')"
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """Exactly one of force and length; two different points on two different bodies."""
         f = self.field()
         if (self.force is None) == (self.length is None):
@@ -79,7 +80,7 @@ class Actuator(TwoPointElement):
             raise InputError(f + ".b", f"both ends are on {self.a.split('.')[0]!r}: an actuator joins two bodies "
                                        "(or a body and the ground)")
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its force or its length."""
         for key in ("force", "length"):
             if getattr(self, key) is not None:
@@ -94,7 +95,7 @@ class Actuator(TwoPointElement):
         d = kin.point(self.b) - kin.point(self.a)
         return sp.sqrt(sum((c ** 2 for c in d), sp.S.Zero))
 
-    def tension(self, mech) -> sp.Expr:
+    def tension(self, mech: Mechanism) -> sp.Expr:
         """The actuator tension (N) as an expression in the system's variables."""
         if self.mode == "force":
             return mech.value(self.field("force"))

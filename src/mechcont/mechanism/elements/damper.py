@@ -25,12 +25,13 @@ from .._plugin import Kinematics
 from ._base import TwoPointElement
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from ..loads import Loads
 
 __all__ = ["Damper", "damper_tension"]
 
 
-def damper_tension(c, c2, rate) -> sp.Expr:
+def damper_tension(c: sp.Expr, c2: sp.Expr, rate: sp.Expr) -> sp.Expr:
     """Tension ``c v + c2 v |v|`` (N) of a damper stroking at ``rate`` = ``v`` (m/s)."""
     return c * rate + c2 * rate * sp.Abs(rate)
 
@@ -52,7 +53,7 @@ class Damper(TwoPointElement):
     REQUIRED: ClassVar[tuple[str, ...]] = ("a", "b", "c")
     DRAWN: ClassVar[str] = "damper"
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its linear and quadratic damping."""
         yield self.field("c"), self.c
         yield self.field("c2"), self.c2

@@ -12,6 +12,7 @@ from .._plugin import Kinematics
 from ._base import TwoPointElement
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from ..loads import Loads
 
 __all__ = ["Spring"]
@@ -37,7 +38,7 @@ class Spring(TwoPointElement):
     STIFFNESS_KEYS: ClassVar[tuple[str, ...]] = ("k",)
     DRAWN: ClassVar[str] = "spring"
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its stiffness, free length and preload."""
         yield self.field("k"), self.k
         yield self.field("free_length"), self.free_length

@@ -23,6 +23,7 @@ from ._rotary import angle_rate, check_bodies, pivot, relative_angle
 from .damper import damper_tension
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from ..loads import Loads
 
 __all__ = ["TorsionDamper"]
@@ -45,11 +46,11 @@ class TorsionDamper(Element):
     REQUIRED: ClassVar[tuple[str, ...]] = ("a", "b", "c")
     TEXT_KEYS: ClassVar[tuple[str, ...]] = ("a", "b", "joint")
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """``a``, ``b`` bodies (or the ground), ``joint`` (required in space) joining them."""
         check_bodies(self, mech)
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its linear and quadratic damping."""
         yield self.field("c"), self.c
         yield self.field("c2"), self.c2

@@ -25,6 +25,7 @@ from ._base import Draw, Element
 from ._rotary import check_bodies, pivot, relative_angle
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from ..loads import Loads
 
 __all__ = ["TorsionSpring"]
@@ -47,11 +48,11 @@ class TorsionSpring(Element):
     REQUIRED: ClassVar[tuple[str, ...]] = ("a", "b", "k")
     TEXT_KEYS: ClassVar[tuple[str, ...]] = ("a", "b", "joint")
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """``a``, ``b`` bodies (or the ground), ``joint`` (required in space) joining them."""
         check_bodies(self, mech)
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its stiffness and free angle."""
         yield self.field("k"), self.k
         yield self.field("angle"), self.angle

@@ -67,6 +67,7 @@ from .._values import parameter_values
 from ._base import Draw, Element, ElementState
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from ..loads import Loads
 
 __all__ = ["Tyre"]
@@ -103,7 +104,7 @@ class Tyre(Element):
         """The contact point reference ``"<body>.<point>"`` (``at`` may name the point alone)."""
         return self.at if "." in self.at else f"{self.body}.{self.at}"
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """``body`` a body (not the ground), ``at`` a point on it."""
         if self.body == "ground":
             raise InputError(self.field("body"), "a tyre rolls on the ground: give the wheel's body, not \"ground\"")
@@ -113,7 +114,7 @@ class Tyre(Element):
         if body != self.body:
             raise InputError(self.field("at"), f"the contact point must be on the tyre's body {self.body!r}, got {self.at!r}")
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its speed, relaxation length, cornering stiffness, and the optional maximum force and trail."""
         for key in ("speed", "relaxation_length", "cornering_stiffness", "max_force", "pneumatic_trail"):
             value = getattr(self, key)

@@ -26,6 +26,7 @@ from ...errors import InputError
 from ._base import ConstraintRow, Draw, PlanarJoint, check_points
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from .._kinematics import PlanarKinematics
 
 __all__ = ["PinInSlot"]
@@ -54,7 +55,7 @@ class PinInSlot(PlanarJoint):
         slot = spec["slot"]
         return cls(name, spec["pin"], tuple(slot) if isinstance(slot, list) else slot)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         # side a is the slot's start (its body exerts the reaction), side b the pin; a malformed
         # slot is reported by check(), so nothing is indexed here that may not exist
         ok = isinstance(self.slot, (tuple, list)) and len(self.slot) == 2
@@ -64,7 +65,7 @@ class PinInSlot(PlanarJoint):
     def refs(self) -> list[tuple[str, str]]:
         return [("slot", self.slot[0]), ("pin", self.pin), ("slot", self.slot[1])]
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         f = f"joints.{self.name}"
         slot = self.slot
         if not (isinstance(slot, (tuple, list)) and len(slot) == 2 and all(isinstance(s, str) for s in slot)):

@@ -14,6 +14,7 @@ from .._expr import Value
 from ._base import K, Load, Loads, check_on_body
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from .._kinematics import PlanarKinematics
     from ..spatial._kinematics import SpatialKinematics
 
@@ -32,7 +33,7 @@ class _Segment(Load[K]):
     end: str
     REQUIRED: ClassVar[tuple[str, ...]] = ("body",)
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """Its body and its two points must exist."""
         check_on_body(self, self.body, mech, ("start", "end"))
 
@@ -71,12 +72,12 @@ class Drag(_Segment["PlanarKinematics"]):
     kind: ClassVar[str] = "drag"
     KEYS: ClassVar[frozenset[str]] = frozenset({"body", "rho", "U", "alpha", "d", "CD", "start", "end"})
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """``rho``, ``U``, ``alpha``, ``d``, ``CD``."""
         for key in ("rho", "U", "alpha", "d", "CD"):
             yield self.field(key), getattr(self, key)
 
-    def check_values(self, mech, values: Mapping[str, float]) -> None:
+    def check_values(self, mech: Mechanism, values: Mapping[str, float]) -> None:
         """The segment needs two points (checked with the values, as a planar description always was)."""
         if self.static_error():
             raise InputError(self.field("end"), "the drag segment needs two different points")
@@ -124,13 +125,13 @@ class SpatialDrag(_Segment["SpatialKinematics"]):
     REQUIRED: ClassVar[tuple[str, ...]] = ("body", "direction")
     VECTORS: ClassVar[tuple[str, ...]] = ("direction",)
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """Its body and two different points of it."""
         super().check(mech)
         if self.static_error():
             raise InputError(self.field("end"), "the drag segment needs two different points")
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """``rho``, ``U``, ``d``, ``CD`` and the air's direction."""
         for key in ("rho", "U", "d", "CD"):
             yield self.field(key), getattr(self, key)

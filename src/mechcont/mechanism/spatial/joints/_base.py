@@ -57,7 +57,7 @@ class SpatialRow(ConstraintRow):
     stiffness: sp.Expr | None = None
 
 
-def vector3(v, field: str) -> tuple:
+def vector3(v: Any, field: str) -> tuple[Any, ...]:
     """A 3-vector ``[x, y, z]`` of a description file (a one-line InputError naming ``field`` otherwise)."""
     if not isinstance(v, list) or len(v) != 3:
         raise InputError(field, f"must be a 3-vector [x, y, z], got {v!r}")
@@ -128,11 +128,11 @@ class SpatialJoint(PlugIn["SpatialKinematics"]):
                                   ("rotational_stiffness", "joint rotational stiffness (N m/rad)"))
                 if getattr(self, key) is not None]
 
-    def perpendicular(self, mech) -> list[list[sp.Expr]]:
+    def perpendicular(self, mech: Mechanism) -> list[list[sp.Expr]]:
         """Pairs of vectors (six expressions) that must be perpendicular (default: none)."""
         return []
 
-    def check_values(self, mech, values) -> None:
+    def check_values(self, mech: Mechanism, values: Mapping[str, float]) -> None:
         """Reject values impossible for this joint at the parameter ``values`` (default: none)."""
 
     def vector(self, kin: SpatialKinematics, key: str) -> sp.Matrix:
