@@ -54,6 +54,9 @@ FLOOR = {
     "mechcont.mechanism.elements.tyre", "mechcont.mechanism.joints.pin_in_slot", "mechcont.mechanism.loads.custom",
     "mechcont.mechanism.loads.drag", "mechcont.mechanism.loads.force", "mechcont.mechanism.loads.gravity",
     "mechcont.mechanism.loads.moment", "mechcont.mechanism.spatial.joints._base",
+    "mechcont.mechanism._bodies", "mechcont.mechanism._description", "mechcont.mechanism._file",
+    "mechcont.mechanism._locate", "mechcont.mechanism._plugin", "mechcont.mechanism._tables",
+    "mechcont.mechanism.spatial._description",
 }
 
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar, Generic, Protocol, Self, TypeVar
+from typing import TYPE_CHECKING, Any, ClassVar, Generic, Protocol, Self, TypeVar
 
 import sympy as sp
 
@@ -80,10 +80,10 @@ class _Joint(_Named, Protocol):
     def b(self) -> str:
         """The point reference of side b."""
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """Check its references against ``mech``."""
 
-    def values(self, mech) -> Iterator[tuple[str, Value]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Value]]:
         """Its (key path, raw value) pairs."""
 
 
@@ -156,7 +156,7 @@ class Mechanism(Generic[JointT, BodyT]):
     dof: int = 1
     hold: Mapping[str, Value] = field(default_factory=dict)
     description: str = ""
-    source: object | None = field(default=None, repr=False)
+    source: tuple[str, str] | None = field(default=None, repr=False)
     redundant: str = "error"
     conditions: Sequence[Condition] = ()
     actuators: Sequence[Actuator] = ()
@@ -183,7 +183,7 @@ class Mechanism(Generic[JointT, BodyT]):
     #: counter-clockwise (in the plane).
     COLLINEAR_NORMAL: ClassVar[bool] = False
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         self.parameters = tuple(self.parameters)
         self.bodies = tuple(self.bodies)
         self.joints = tuple(self.joints)
@@ -262,8 +262,8 @@ class Mechanism(Generic[JointT, BodyT]):
                 seen[it.name] = group
         # parse every value once: unknown parameters are reported now, with the key path
         self._exprs: dict[str, sp.Expr] = {}
-        for p, v in self._values():
-            self._exprs[p] = self.expr(v, p)
+        for key, v in self._values():
+            self._exprs[key] = self.expr(v, key)
         for j in self.joints:
             j.check(self)
         for el in self.force_elements():
@@ -292,7 +292,7 @@ class Mechanism(Generic[JointT, BodyT]):
                 raise InputError(f"loads.{getattr(ld, 'name', '?')}", self._UNKNOWN_LOAD.format(type(ld).__name__))
             ld.check(self)
 
-    def direction_values(self, field: str, v) -> list[tuple[str, Value]]:
+    def direction_values(self, field: str, v: Any) -> list[tuple[str, Value]]:
         """The (key path, raw value) of a direction: ``[x, y]`` or an angle (rad)."""
         if not isinstance(v, (tuple, list)):
             return [(field, v)]
@@ -300,13 +300,13 @@ class Mechanism(Generic[JointT, BodyT]):
             raise InputError(field, "a direction is [x, y] or an angle (rad)")
         return [(f"{field}.x", v[0]), (f"{field}.y", v[1])]
 
-    def vector_values(self, field: str, v) -> list[tuple[str, Value]]:
+    def vector_values(self, field: str, v: Any) -> list[tuple[str, Value]]:
         """The (key path, raw value) of each component of the vector ``v`` (``[x, y]``)."""
         if not isinstance(v, (tuple, list)) or len(v) != len(self.AXES):
             raise InputError(field, f"must be a {len(self.AXES)}-vector [{', '.join(self.AXES)}], got {v!r}")
         return [(f"{field}.{c}", comp) for c, comp in zip(self.AXES, v)]
 
-    def _values(self):
+    def _values(self) -> Iterator[tuple[str, Any]]:
         """Every (key path, raw value) of the description that is a number or expression."""
         for b in self.bodies:
             yield from b.values(self)
@@ -320,7 +320,7 @@ class Mechanism(Generic[JointT, BodyT]):
             yield from ld.values(self)
         yield from self._common_values()
 
-    def _common_values(self):
+    def _common_values(self) -> Iterator[tuple[str, Any]]:
         """The (key path, raw value) pairs of the elements planar and spatial descriptions share:
         force elements (stops included), held coordinates and conditions."""
         for el in self.force_elements():
@@ -430,7 +430,7 @@ class Mechanism(Generic[JointT, BodyT]):
         """Generate the reduced static system (see :mod:`mechcont.mechanism._reduce`)."""
         return self._generate(overrides, reduced=True)
 
-    def _generator(self):
+    def _generator(self) -> Callable[..., Model]:
         """The function that generates this kind of mechanism's equations (imported on the first build: reading
         or checking a description needs neither the generator nor what it compiles with)."""
         from ._generate import generate

@@ -46,6 +46,7 @@ import sys
 import tomllib
 from collections.abc import Callable, Mapping
 from pathlib import Path
+from typing import Any
 
 from ..errors import InputError, one_line
 from ._bodies import PointSpec
@@ -111,7 +112,7 @@ MAX_ENTRIES, MAX_PARAMETERS = 500, 2000
 MAX_ARRAY = 100
 
 
-def _check_sizes(v, field: str) -> None:
+def _check_sizes(v: object, field: str) -> None:
     """InputError naming the first table or array of the parsed ``v`` beyond its limit (decided before any
     work: a description of 100,000 parameters or points would take minutes to build)."""
     if isinstance(v, Mapping):
@@ -175,7 +176,7 @@ def description_from_data(data: Mapping, text: str, filename: str) -> Mechanism:
 
 
 # -- building objects from the parsed tables ---------------------------------------------------
-def _printable(v):
+def _printable(v: Any) -> Any:
     """``v`` (parsed TOML) with every string's line breaks, escape sequences and other control
     characters escaped (:func:`~mechcont.errors.one_line`): text from a description is printed to
     terminals and written to tables, where it must not forge lines or drive the terminal."""
@@ -188,13 +189,13 @@ def _printable(v):
     return v
 
 
-def _pair(v, field: str):
+def _pair(v: Any, field: str) -> tuple[Any, ...]:
     if not isinstance(v, list) or len(v) != 2:
         raise InputError(field, f"must be a pair [x, y], got {v!r}")
     return tuple(v)
 
 
-def _direction(v, field: str):
+def _direction(v: Any, field: str) -> Any:
     """A planar vector ``[x, y]``, or an angle (rad) where a direction may be one."""
     return _pair(v, field) if isinstance(v, list) else v
 

@@ -9,7 +9,7 @@ from ..errors import InputError
 __all__ = ["locate_error", "key_at"]
 
 
-def locate_error(source, exc: InputError) -> InputError:
+def locate_error(source: tuple[str, str] | None, exc: InputError) -> InputError:
     """Re-issue ``exc`` (whose field is a key path) with the file name and line of that key."""
     if source is None or not isinstance(exc, InputError):
         return exc

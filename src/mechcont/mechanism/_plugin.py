@@ -168,7 +168,7 @@ class PlugIn(Generic[K]):
     KEYS: ClassVar[frozenset[str]] = frozenset()
     REQUIRED: ClassVar[tuple[str, ...]] = ()
 
-    def __init_subclass__(cls, **kwargs: Any):
+    def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
         key = cls.__dict__.get(cls.KEY)
         if key:

@@ -41,12 +41,12 @@ def _entries(data: Mapping, section: str) -> list[tuple[str, Mapping]]:
     return out
 
 
-def _short(v) -> str:
+def _short(v: object) -> str:
     text = repr(v)
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-def _typed(spec, field: str, table: str, plugins: Registry) -> Any:
+def _typed(spec: object, field: str, table: str, plugins: Registry) -> Any:
     """The class of a ``[table.NAME]`` entry with a ``type`` from the registry ``plugins``, its keys checked."""
     if not isinstance(spec, Mapping):
         raise InputError(field, f"must be a table [{table}.NAME]")
@@ -64,7 +64,7 @@ def _require(tab: Mapping, keys: list[str], field: str) -> None:
             raise InputError(f"{field}.{k}", "is required")
 
 
-def _text(v, field: str) -> str:
+def _text(v: object, field: str) -> str:
     if not isinstance(v, str):
         raise InputError(field, f"must be a string, got {v!r}")
     return v

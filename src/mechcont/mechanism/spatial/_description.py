@@ -21,7 +21,7 @@ Conventions (SI units, radians):
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Self
+from typing import TYPE_CHECKING, Any, Self
 
 from ...errors import InputError
 from .._bodies import INERTIA_KEYS, SpatialBody, normalisation_row, spatial_coordinate_names
@@ -31,6 +31,9 @@ from .._plugin import Kinematics
 from ..loads import SpatialCustomLoad, SpatialDrag, SpatialGravity, SpatialMoment
 from ._kinematics import SpatialKinematics
 from .joints import JOINT_TYPES, SpatialJoint
+
+if TYPE_CHECKING:
+    from ...equations import Model
 
 __all__ = ["SpatialBody", "SpatialGravity", "SpatialMoment", "SpatialCustomLoad", "SpatialDrag", "SpatialMechanism",
            "spatial_coordinate_names", "INERTIA_KEYS"]
@@ -85,10 +88,10 @@ class SpatialMechanism(Mechanism[SpatialJoint, SpatialBody]):
         """None: a spatial description's variables are read from a build."""
         return None
 
-    def direction_values(self, field: str, v) -> list[tuple[str, Value]]:
+    def direction_values(self, field: str, v: Any) -> list[tuple[str, Value]]:
         """The (key path, raw value) of each component of a direction ``[x, y, z]``."""
         return self.vector_values(field, v)
 
-    def _generator(self):
+    def _generator(self) -> Callable[..., Model]:
         from ._generate import generate
         return generate
