@@ -57,6 +57,11 @@ FLOOR = {
     "mechcont.mechanism._bodies", "mechcont.mechanism._description", "mechcont.mechanism._file",
     "mechcont.mechanism._locate", "mechcont.mechanism._plugin", "mechcont.mechanism._tables",
     "mechcont.mechanism.spatial._description",
+    "mechcont.mechanism._assembly", "mechcont.mechanism._bar_points", "mechcont.mechanism._check",
+    "mechcont.mechanism._compiled", "mechcont.mechanism._conditions", "mechcont.mechanism._diagnose",
+    "mechcont.mechanism._equilibrium", "mechcont.mechanism._generate", "mechcont.mechanism._kinematics",
+    "mechcont.mechanism._reduce", "mechcont.mechanism._scene", "mechcont.mechanism._values",
+    "mechcont.mechanism.spatial._generate", "mechcont.mechanism.spatial._scene",
 }
 
 

@@ -120,7 +120,7 @@ def conditions_from_table(tab: Mapping, field: str = "conditions") -> list[Condi
     return out
 
 
-def downlock_from_table(spec, field: str = "mechanism.downlock") -> DownlockSpec:
+def downlock_from_table(spec: object, field: str = "mechanism.downlock") -> DownlockSpec:
     """``downlock = {condition = "NAME", force = "F"}`` -> :class:`DownlockSpec` (keys checked)."""
     if not isinstance(spec, Mapping):
         raise InputError(field, f"must be a table {{condition = \"NAME\", force = \"F\"}}, got {spec!r}")

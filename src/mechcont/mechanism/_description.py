@@ -72,6 +72,9 @@ class _Named(Protocol):
 class _Joint(_Named, Protocol):
     """What a description asks of any joint, planar or spatial (see :mod:`.joints`, :mod:`.spatial.joints`)."""
 
+    #: Whether it makes its points ``a`` and ``b`` coincide (a pin, a weld: it places one body from the other).
+    COINCIDENT: ClassVar[bool]
+
     @property
     def a(self) -> str:
         """The point reference of side a."""
@@ -80,10 +83,10 @@ class _Joint(_Named, Protocol):
     def b(self) -> str:
         """The point reference of side b."""
 
-    def check(self, mech: Mechanism) -> None:
+    def check(self, mech: Mechanism[Any, Any]) -> None:
         """Check its references against ``mech``."""
 
-    def values(self, mech: Mechanism) -> Iterator[tuple[str, Value]]:
+    def values(self, mech: Mechanism[Any, Any]) -> Iterator[tuple[str, Value]]:
         """Its (key path, raw value) pairs."""
 
 
@@ -151,7 +154,7 @@ class Mechanism(Generic[JointT, BodyT]):
     ground: Mapping[str, tuple[Value, Value]] = field(default_factory=dict)
     springs: Sequence[Spring] = ()
     dampers: Sequence[Damper] = ()
-    loads: Sequence[Load] = ()
+    loads: Sequence[Load[Any]] = ()
     gravity: Gravity | SpatialGravity | None = None
     dof: int = 1
     hold: Mapping[str, Value] = field(default_factory=dict)
@@ -164,7 +167,7 @@ class Mechanism(Generic[JointT, BodyT]):
     stops: Sequence[Stop] = ()
     elements: Sequence[Element] = ()
     # the value-independent part of each generated form, made by the first build (never pickled)
-    _generated: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+    _generated: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     #: 2 for a planar mechanism, 3 for a spatial one (for readers of a description; the code asks
     #: :attr:`space`, :attr:`AXES` and the kinematics instead).
@@ -199,12 +202,12 @@ class Mechanism(Generic[JointT, BodyT]):
                                           s.reaction_description) for s in self.stops))
         self._validate()
 
-    def __getstate__(self) -> dict:
+    def __getstate__(self) -> dict[str, Any]:
         # the generated structures hold compiled code and the models made from them: a pickled
         # description is the description only (a copy generates its own on first build)
         return {k: v for k, v in self.__dict__.items() if k != "_generated"}
 
-    def __setstate__(self, state: dict) -> None:
+    def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
         self.__dict__["_generated"] = {}
 
@@ -436,7 +439,7 @@ class Mechanism(Generic[JointT, BodyT]):
         from ._generate import generate
         return generate
 
-    def _generate(self, overrides: dict, reduced: bool) -> Model:
+    def _generate(self, overrides: Mapping[str, float], reduced: bool) -> Model:
         try:
             return self._generator()(self, overrides, reduced=reduced)
         except InputError as exc:

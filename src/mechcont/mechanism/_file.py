@@ -82,7 +82,7 @@ KEYS: dict[str, frozenset[str]] = {
 }
 
 
-def load_description(name_or_path: str | Path) -> Mechanism:
+def load_description(name_or_path: str | Path) -> Mechanism[Any, Any]:
     """Read and validate a mechanism description file (or a shipped one by stem).
 
     Returns a :class:`Mechanism`; call ``.build(**overrides)`` for its equations.
@@ -129,20 +129,20 @@ def _check_sizes(v: object, field: str) -> None:
             _check_sizes(x, field)
 
 
-def parse_description(text: str, filename: str = "<string>") -> Mechanism:
+def parse_description(text: str, filename: str = "<string>") -> Mechanism[Any, Any]:
     """Parse description ``text`` (TOML); ``filename`` is used in error messages. Sizes are checked first:
     at most :data:`MAX_TEXT` characters, :data:`MAX_ENTRIES` entries in a table (:data:`MAX_PARAMETERS`
     parameters) and :data:`MAX_ARRAY` values in an array."""
     return description_from_data(read_toml(text, filename), text, filename)
 
 
-def read_toml(text: str, filename: str) -> dict:
+def read_toml(text: str, filename: str) -> dict[str, Any]:
     """The parsed TOML of a description ``text`` (every string made printable), its sizes checked
     (:func:`parse_description`); :class:`InputError` with the file name and line otherwise."""
     if len(text) > MAX_TEXT:
         raise InputError(filename, f"is {len(text)} characters long; a description takes at most {MAX_TEXT}")
     try:
-        data = _printable(tomllib.loads(text))
+        data: dict[str, Any] = _printable(tomllib.loads(text))
     except (RecursionError, MemoryError):
         raise InputError(filename, "nested too deeply (arrays or inline tables inside each other); "
                                    "a description needs at most a few levels") from None
@@ -162,7 +162,7 @@ def read_toml(text: str, filename: str) -> dict:
     return data
 
 
-def description_from_data(data: Mapping, text: str, filename: str) -> Mechanism:
+def description_from_data(data: Mapping[str, Any], text: str, filename: str) -> Mechanism[Any, Any]:
     """The :class:`Mechanism` of the parsed TOML ``data`` (:func:`read_toml`) of ``text``."""
     if "system" in data:
         raise InputError(f"{filename}: system", "this file is an ODE system ([system] table), not a mechanism "
@@ -200,7 +200,7 @@ def _direction(v: Any, field: str) -> Any:
     return _pair(v, field) if isinstance(v, list) else v
 
 
-def _parameters(data: Mapping, section: str = "parameters") -> list[Parameter]:
+def _parameters(data: Mapping[str, Any], section: str = "parameters") -> list[Parameter]:
     """The ``[parameters]`` table (or another ``section`` of that form, an ODE file's ``[states]``):
     ``NAME = value`` or ``NAME = {value, unit, description, scale}``."""
     params = []
@@ -227,7 +227,7 @@ def _parameters(data: Mapping, section: str = "parameters") -> list[Parameter]:
     return params
 
 
-def _force_elements(data: Mapping) -> dict[str, list[Element]]:
+def _force_elements(data: Mapping[str, Any]) -> dict[str, list[Element]]:
     """The tables of every registered force element (:data:`~.elements.ELEMENT_TYPES`), each entry
     read by its class, as the keyword arguments of a description (``springs=[...]``, ...; the kinds
     without a field of their own in ``elements``)."""
@@ -238,7 +238,7 @@ def _force_elements(data: Mapping) -> dict[str, list[Element]]:
     return out
 
 
-def _common(data: Mapping, head: Mapping, filename: str) -> dict:
+def _common(data: Mapping[str, Any], head: Mapping[str, Any], filename: str) -> dict[str, Any]:
     """The keyword arguments both planar and spatial mechanisms take from a file."""
     assembly = _table(data, "assembly", "assembly")
     _only(assembly, KEYS["assembly"], "assembly")
@@ -253,7 +253,7 @@ def _common(data: Mapping, head: Mapping, filename: str) -> dict:
         downlock=downlock_from_table(head["downlock"]) if "downlock" in head else None)
 
 
-def _mechanism(data: Mapping, filename: str) -> Mechanism:
+def _mechanism(data: Mapping[str, Any], filename: str) -> Mechanism[Any, Any]:
     _only(data, _OTHER_SECTIONS | set(ELEMENT_TYPES), "")
     head = _table(data, "mechanism", "mechanism")
     _only(head, KEYS["mechanism"], "mechanism")
@@ -263,7 +263,7 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
     return _READERS[dimension]().read(data, _common(data, head, filename))
 
 
-def _body(name: str, spec: Mapping, f: str) -> Body:
+def _body(name: str, spec: Mapping[str, Any], f: str) -> Body:
     """A planar ``[bodies.NAME]`` table."""
     _only(spec, KEYS["bodies.NAME"], f)
     _require(spec, ["mass"], f)
@@ -280,7 +280,7 @@ def _body(name: str, spec: Mapping, f: str) -> Body:
                 points, dict(initial), _text(spec.get("description", ""), f + ".description"))
 
 
-def _gravity(table: Mapping) -> Gravity:
+def _gravity(table: Mapping[str, Any]) -> Gravity:
     """The planar ``[gravity]`` table."""
     _only(table, KEYS["gravity"], "gravity")
     return Gravity(**table)

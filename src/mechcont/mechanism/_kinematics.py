@@ -8,7 +8,7 @@ so that the multiplier of a joint is the force the body of ``a`` exerts on the b
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from typing import TYPE_CHECKING, Any
 
 import sympy as sp
@@ -20,7 +20,7 @@ from .elements import element_rows
 from .joints import ConstraintRow
 
 if TYPE_CHECKING:
-    from ._description import Mechanism
+    from ._description import JointT, Mechanism
 
 __all__ = ["PlanarKinematics", "ConstraintRow", "pin_chain", "place_along_joints"]
 
@@ -155,7 +155,7 @@ class PlanarKinematics:
         return self.body_mass(b) * self.mech.value(f + ".length") ** 2 / 12
 
 
-def pin_chain(mech: Mechanism, placed: set[str]):
+def pin_chain(mech: Mechanism[JointT, Any], placed: set[str]) -> Iterator[tuple[JointT, str, str, str]]:
     """Walk coincident joints (pins, welds) outward from the ``placed`` bodies (``"ground"`` included).
 
     Yields ``(joint, known_ref, new_ref, new_body)`` for each joint that places a new body

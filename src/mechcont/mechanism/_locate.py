@@ -30,7 +30,7 @@ def _line_of(text: str, path: list[str]) -> int | None:
     path = [p for p in path if p]
     best_line, best_depth = None, -1
     header: list[str] = []
-    header_counts: dict[tuple, int] = {}
+    header_counts: dict[tuple[str, ...], int] = {}
     for no, raw in enumerate(text.splitlines(), start=1):
         line = raw.split("#", 1)[0].strip()
         m = re.match(r"^\[\[?([^\]]+)\]\]?$", line)

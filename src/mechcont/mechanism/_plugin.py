@@ -55,7 +55,7 @@ class Kinematics(Protocol):
     components in global axes."""
 
     @property
-    def mech(self) -> Mechanism:
+    def mech(self) -> Mechanism[Any, Any]:
         """The description."""
 
     @property
@@ -188,10 +188,10 @@ class PlugIn(Generic[K]):
         """The key path of this plug-in (or of its ``key``)."""
         return f"{self.section()}.{self.name}" + (f".{key}" if key else "")
 
-    def check(self, mech: Mechanism) -> None:
+    def check(self, mech: Mechanism[Any, Any]) -> None:
         """Check the references against ``mech`` (a one-line InputError naming the key)."""
 
-    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism[Any, Any]) -> Iterator[tuple[str, Any]]:
         """Every (key path, raw value) that is a number or an expression."""
         return iter(())
 
@@ -208,7 +208,7 @@ class PlugIn(Generic[K]):
         field = self.field(key)
         return Limit(field, kin.mech.value(field), strict, what)
 
-    def check_values(self, mech: Mechanism, values: Mapping[str, float]) -> None:
+    def check_values(self, mech: Mechanism[Any, Any], values: Mapping[str, float]) -> None:
         """Reject values impossible for it at the parameter ``values`` (one-line InputError)."""
 
     def rows(self, kin: K) -> Sequence[ConstraintRow]:

@@ -17,20 +17,20 @@ if TYPE_CHECKING:
 __all__ = ["Reader", "loads_from_table"]
 
 
-def _table(data: Mapping, key: str, field: str) -> Mapping:
+def _table(data: Mapping[str, Any], key: str, field: str) -> Mapping[str, Any]:
     v = data.get(key, {})
     if not isinstance(v, Mapping):
         raise InputError(field, f"must be a table ([{field}]), got {type(v).__name__}")
     return v
 
 
-def _only(tab: Mapping, allowed: set[str] | frozenset[str], field: str) -> None:
+def _only(tab: Mapping[str, Any], allowed: set[str] | frozenset[str], field: str) -> None:
     for k in tab:
         if k not in allowed:
             raise InputError(f"{field}.{k}" if field else k, f"unknown key; valid keys: {', '.join(sorted(allowed))}")
 
 
-def _entries(data: Mapping, section: str) -> list[tuple[str, Mapping]]:
+def _entries(data: Mapping[str, Any], section: str) -> list[tuple[str, Mapping[str, Any]]]:
     """The ``[section.NAME]`` entries of ``section``, each checked to be a table."""
     out = []
     for name, spec in _table(data, section, section).items():
@@ -58,7 +58,7 @@ def _typed(spec: object, field: str, table: str, plugins: Registry) -> Any:
     return cls
 
 
-def _require(tab: Mapping, keys: list[str], field: str) -> None:
+def _require(tab: Mapping[str, Any], keys: list[str], field: str) -> None:
     for k in keys:
         if k not in tab:
             raise InputError(f"{field}.{k}", "is required")
@@ -70,7 +70,7 @@ def _text(v: object, field: str) -> str:
     return v
 
 
-def loads_from_table(data: Mapping, vector: Callable[[Any, str], Any], space: str) -> list[Load]:
+def loads_from_table(data: Mapping[str, Any], vector: Callable[[Any, str], Any], space: str) -> list[Load[Any]]:
     """The ``[loads.NAME]`` tables, each read by the class its ``type`` names in the loads registered
     for ``space`` (``vector(value, field)`` reads a vector of that space)."""
     out = []
@@ -88,13 +88,13 @@ class Reader:
     (``vector(value, field)``), a load's direction, a body (``body(name, spec, field)``) and gravity
     (``gravity(table)``)."""
 
-    mechanism: type[Mechanism]
+    mechanism: type[Mechanism[Any, Any]]
     vector: Callable[[Any, str], Any]
     direction: Callable[[Any, str], Any]
-    body: Callable[[str, Mapping, str], Any]
-    gravity: Callable[[Mapping], Any]
+    body: Callable[[str, Mapping[str, Any], str], Any]
+    gravity: Callable[[Mapping[str, Any]], Any]
 
-    def read(self, data: Mapping, common: dict) -> Mechanism:
+    def read(self, data: Mapping[str, Any], common: dict[str, Any]) -> Mechanism[Any, Any]:
         """The mechanism of the parsed TOML ``data`` with the ``common`` keywords (:func:`_common`)."""
         ground = {k: self.vector(v, f"ground.{k}") for k, v in _table(data, "ground", "ground").items()}
         bodies = [self.body(name, spec, f"bodies.{name}") for name, spec in _entries(data, "bodies")]

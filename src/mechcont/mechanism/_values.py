@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from functools import partial
 from typing import TYPE_CHECKING
 
@@ -15,6 +15,7 @@ from ..errors import InputError
 from ._expr import _finite, evaluate, float_value
 
 if TYPE_CHECKING:
+    from ._compiled import ValueCheck
     from ._description import Mechanism
 
 __all__ = ["parameter_values", "check_values", "check_finite", "check_stop_limits", "physical_limits",
@@ -43,7 +44,7 @@ def check_finite(mech: Mechanism, values: Mapping[str, float]) -> None:
             _finite(expr, float_value(expr, num), field)
 
 
-def check_stop_limits(mech, values: Mapping[str, float]) -> None:
+def check_stop_limits(mech: Mechanism, values: Mapping[str, float]) -> None:
     """A condition with both a min and a max stop needs ``min <= max`` at ``values`` (else no
     configuration satisfies both); one-line InputError naming the max stop."""
     lows = {s.condition: s for s in mech.stops if s.side > 0}
@@ -117,7 +118,7 @@ def vector_fields(mech: Mechanism) -> list[str]:
     return fields + [f"joints.{j.name}.{k}" for j in mech.joints for k in j.VECTORS]
 
 
-def analysis_value_check(mech: Mechanism):
+def analysis_value_check(mech: Mechanism) -> ValueCheck:
     """``check(values)`` of :func:`check_values` for an analysis (the defaults where not given, a zero
     stiffness allowed), screened by compiled code (see :class:`~mechcont.mechanism._compiled.ValueCheck`):
     the same limits, vectors and perpendicular axes."""
@@ -141,8 +142,9 @@ def check_vectors(mech: Mechanism, values: Mapping[str, float], fields: Sequence
             raise InputError(f, "must not be the zero vector")
 
 
-def value_check(mech, exact, limits: list[Limit], vectors: list[list], perpendicular: Sequence[list] = (),
-                static_error: bool = False):
+def value_check(mech: Mechanism, exact: Callable[[dict[str, float]], None], limits: list[Limit],
+                vectors: list[list[sp.Expr]], perpendicular: Sequence[list[sp.Expr]] = (),
+                static_error: bool = False) -> ValueCheck:
     """A :class:`~mechcont.mechanism._compiled.ValueCheck` of ``mech``: ``exact(values)`` screened by
     its quantities compiled (the description's numbers in the parameters alone, the ``limits``,
     the ``vectors`` (each a list of expressions, not all zero) and the ``perpendicular`` pairs

@@ -21,10 +21,10 @@ the build pose and again along a branch where the kept rows lose rank (:class:`_
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from functools import partial
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import sympy as sp
@@ -130,7 +130,7 @@ def _misfit_error(mech: SpatialMechanism, rows: list[SpatialRow], phi: np.ndarra
                              "(joints.NAME.stiffness, N/m) so it deflects")
 
 
-def _joints_only(names) -> list[str]:
+def _joints_only(names: Iterable[str]) -> list[str]:
     """The joint names among row owners (the normalisation rows ``norm_<body>`` left out)."""
     return [n for n in names if not n.startswith("norm_")]
 
@@ -276,7 +276,7 @@ class _RowChoice:
 
 
 def _variant_model(mech: SpatialMechanism, st: _Structure, var: _Variant, variables: list[Variable],
-                   **fields_) -> Model:
+                   **fields_: Any) -> Model:
     """A copy of ``var``'s model with ``variables`` and the model ``fields_`` (built and kept on first use)."""
     if var.model is None:
         dropped = [st.rows[i] for i in var.dropped]
