@@ -62,6 +62,7 @@ FLOOR = {
     "mechcont.mechanism._equilibrium", "mechcont.mechanism._generate", "mechcont.mechanism._kinematics",
     "mechcont.mechanism._reduce", "mechcont.mechanism._scene", "mechcont.mechanism._values",
     "mechcont.mechanism.spatial._generate", "mechcont.mechanism.spatial._scene",
+    "mechcont.paper._shimmy_gear", "mechcont.paper.doc_numbers", "mechcont.paper.freefall",
 }
 
 
