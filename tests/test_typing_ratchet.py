@@ -63,6 +63,7 @@ FLOOR = {
     "mechcont.mechanism._reduce", "mechcont.mechanism._scene", "mechcont.mechanism._values",
     "mechcont.mechanism.spatial._generate", "mechcont.mechanism.spatial._scene",
     "mechcont.paper._shimmy_gear", "mechcont.paper.doc_numbers", "mechcont.paper.freefall",
+    "mechcont.paper.design_optimum",
 }
 
 
