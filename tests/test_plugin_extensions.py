@@ -122,6 +122,86 @@ def test_a_follower_load_module_meets_the_closed_form(follower, space):
                                    [-3.0 * math.sin(0.7), 3.0 * math.cos(0.7) - M * G, 3.0 * L / 2], rtol=1e-12)
 
 
+@pytest.mark.parametrize("space", [PLANE, SPACE], ids=["plane", "space"])
+def test_a_plug_in_limit_is_enforced_by_its_key_path(rotary_spring, space):
+    """The rotary spring's one limit (stiffness >= 0, given through the plug-in signature ``limits(kin, solve)``)
+    is the model's, named by its key path: a negative stiffness is refused, zero is allowed."""
+    mech = parse_description(PENDULUM.format(**space, extra=SPRING[space["dimension"]]))
+    model = mech.build()
+    (limit,) = [lim for lim in model.limits if lim.name == "test_rotary_springs.coil.k"]
+    assert not limit.strict and limit.description == "rotary stiffness (N m/rad)"
+    with pytest.raises(InputError, match=r"test_rotary_springs\.coil\.k.*non-negative, got -1"):
+        mech.build(k=-1.0)
+    with pytest.raises(InputError, match=r"test_rotary_springs\.coil\.k"):
+        model.check_limits(model.vector({"k": -1.0}))
+    model.check_limits(model.vector({"k": 0.0}))
+
+
+def test_every_plug_in_has_the_one_limits_signature():
+    """Elements, loads and joints of both spaces (and conditions) answer ``limits(kin, solve)`` with
+    :class:`~mechcont.equations.Limit` records (issue 34: three signatures before)."""
+    import inspect
+
+    import mechcont.mechanism.spatial  # noqa: F401 (registers the spatial joints)
+    from mechcont.equations import Limit
+    from mechcont.mechanism import parse_description as parse
+    from mechcont.mechanism._plugin import PlugIn
+
+    classes = {cls for family in ("elements", "loads", "joints", "conditions") for space in ("plane", "space")
+               for cls in registry(family, space).values()}
+    assert len(classes) > 20
+    for cls in classes:
+        assert issubclass(cls, PlugIn)
+        assert list(inspect.signature(cls.limits).parameters) == ["self", "kin", "solve"], cls.__name__
+    # one of each kind, through the one call: a drag load, a pin-in-slot joint, a spring
+    mech = parse(SLOT)
+    kin = mech.kinematics()
+    found = {lim.name: lim for p in (*mech.force_elements(), *mech.loads, *mech.joints) for lim in p.limits(kin, True)}
+    assert all(isinstance(lim, Limit) for lim in found.values())
+    assert {"springs.s.k", "springs.s.free_length", "loads.air.d", "loads.air.rho", "loads.air.CD",
+            "joints.guide.slot"} <= found.keys()
+    assert not found["springs.s.k"].strict  # zero allowed for an analysis (solve)
+    assert float(found["joints.guide.slot"].expr) == pytest.approx(0.5)  # |(0.3, 0.4)|
+
+
+#: a crank whose pin runs in a ground slot, with a spring and a drag load: one plug-in with limits of each kind
+SLOT = """
+[mechanism]
+name = "slot"
+[ground]
+O = [0, 0]
+S0 = [0.5, 0]
+S1 = [0.8, 0.4]
+[bodies.crank]
+mass = 1.0
+length = 0.6
+initial = { x = 0.3, theta = 0.0 }
+[joints.pivot]
+type = "revolute"
+a = "ground.O"
+b = "crank.a"
+[joints.guide]
+type = "pin_in_slot"
+pin = "crank.b"
+slot = ["ground.S0", "ground.S1"]
+[springs.s]
+a = "ground.O"
+b = "crank.b"
+k = 10.0
+free_length = 0.5
+[loads.air]
+type = "drag"
+body = "crank"
+start = "a"
+end = "b"
+rho = 1.2
+U = 10.0
+alpha = 0.0
+d = 0.05
+CD = 1.0
+"""
+
+
 def test_the_extensions_are_read_from_the_registry_and_unknown_without_it():
     """Without the module, the tables are refused by name (nothing else knows them)."""
     with pytest.raises(InputError, match="test_follower"):

@@ -54,6 +54,23 @@ FLOOR = {
     "mechcont.mechanism.spatial.joints.weld", "mechcont.models", "mechcont.models.dual_sidestay_geometry",
     "mechcont.models.overcentre_scene", "mechcont.outputs._explore_page", "mechcont.outputs.critical_plots",
     "mechcont.paper", "mechcont.paper._timing", "mechcont.paper.shimmy", "mechcont.units",
+    "mechcont.mechanism._element_states", "mechcont.mechanism._forces", "mechcont.mechanism._stops",
+    "mechcont.mechanism.elements._rotary", "mechcont.mechanism.elements.actuator",
+    "mechcont.mechanism.elements.damper", "mechcont.mechanism.elements.spring", "mechcont.mechanism.elements.stop",
+    "mechcont.mechanism.elements.torsion_damper", "mechcont.mechanism.elements.torsion_spring",
+    "mechcont.mechanism.elements.tyre", "mechcont.mechanism.joints.pin_in_slot", "mechcont.mechanism.loads.custom",
+    "mechcont.mechanism.loads.drag", "mechcont.mechanism.loads.force", "mechcont.mechanism.loads.gravity",
+    "mechcont.mechanism.loads.moment", "mechcont.mechanism.spatial.joints._base",
+    "mechcont.mechanism._bodies", "mechcont.mechanism._description", "mechcont.mechanism._file",
+    "mechcont.mechanism._locate", "mechcont.mechanism._plugin", "mechcont.mechanism._tables",
+    "mechcont.mechanism.spatial._description",
+    "mechcont.mechanism._assembly", "mechcont.mechanism._bar_points", "mechcont.mechanism._check",
+    "mechcont.mechanism._compiled", "mechcont.mechanism._conditions", "mechcont.mechanism._diagnose",
+    "mechcont.mechanism._equilibrium", "mechcont.mechanism._generate", "mechcont.mechanism._kinematics",
+    "mechcont.mechanism._reduce", "mechcont.mechanism._scene", "mechcont.mechanism._values",
+    "mechcont.mechanism.spatial._generate", "mechcont.mechanism.spatial._scene",
+    "mechcont.paper._shimmy_gear", "mechcont.paper.doc_numbers", "mechcont.paper.freefall",
+    "mechcont.paper.design_optimum",
 }
 
 

@@ -16,6 +16,7 @@ from typing import Any, ClassVar
 
 import sympy as sp
 
+from mechcont.equations import Limit
 from mechcont.mechanism._plugin import Draw, Kinematics
 from mechcont.mechanism.elements import TwoPointElement
 from mechcont.mechanism.loads import Loads
@@ -43,6 +44,10 @@ class RotarySpring(TwoPointElement):
         yield self.field("angle"), self.angle
         if mech.space == "space":
             yield from mech.vector_values(self.field("axis"), list(self.axis))
+
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
+        """A non-negative stiffness (the one signature of every plug-in's limits)."""
+        return [self.value_limit(kin, "k", False, "rotary stiffness (N m/rad)")]
 
     def line_of_action(self) -> tuple[str, str] | None:
         """None: a moment about the pin, along no line (its two points coincide)."""

@@ -34,7 +34,7 @@ _LAZY = {
     **dict.fromkeys(["builtin_descriptions", "find_description", "read_description_bytes", "is_system_file"], "_paths"),
     # for the layers above: a compliant row's law, a parameter expression's value, the spatial row-switch test
     **dict.fromkeys(["compliant_constraints"], "_compliant"),
-    **dict.fromkeys(["evaluate"], "_values"),
+    **dict.fromkeys(["evaluate"], "_expr"),
     **dict.fromkeys(["SWITCH_RATIO", "unit_rows"], "spatial._dropped"),
 }
 
@@ -72,10 +72,10 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
         Weld,
         coordinate_names,
     )
+    from ._expr import evaluate
     from ._file import load_description, parse_description
     from ._ode_file import OdeSystem, load_file, parse_file
     from ._paths import builtin_descriptions, find_description, is_system_file, read_description_bytes
-    from ._values import evaluate
     from .elements import Actuator
     from .spatial._dropped import SWITCH_RATIO, unit_rows
 

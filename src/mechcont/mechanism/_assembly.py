@@ -12,7 +12,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,7 +23,8 @@ from ..errors import ConvergenceError, InputError
 __all__ = ["close_constraints", "dof_report", "DofReport", "assemble"]
 
 
-def close_constraints(phi, phi_q, x: np.ndarray, q_index: np.ndarray, free: np.ndarray, *,
+def close_constraints(phi: Callable[[np.ndarray], np.ndarray], phi_q: Callable[[np.ndarray], np.ndarray],
+                      x: np.ndarray, q_index: np.ndarray, free: np.ndarray, *,
                       tol: float = 1e-12, max_iter: int = 60,
                       scale: np.ndarray | None = None, weighted: bool = True) -> tuple[np.ndarray, bool]:
     """Minimise ``|Phi|`` over the coordinates ``free`` (positions in ``q_index``) from ``x``.
@@ -61,7 +62,8 @@ def close_constraints(phi, phi_q, x: np.ndarray, q_index: np.ndarray, free: np.n
     size = np.ones(len(q_index)) if scale is None else np.asarray(scale, dtype=float)
     weight = size if weighted else np.ones(len(q_index))
 
-    def target(y):  # tol per row: absolute, or relative to the row's size in the coordinates' units
+    # tol per row: absolute, or relative to the row's size in the coordinates' units
+    def target(y: np.ndarray) -> float | np.ndarray:
         return tol if scale is None else tol * (np.abs(phi_q(y)) * size).sum(axis=1)
 
     r = phi(x)

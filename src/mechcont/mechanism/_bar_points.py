@@ -12,9 +12,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 from ._bodies import Polar
-from ._values import evaluate
+from ._expr import evaluate
+
+if TYPE_CHECKING:
+    from ._description import Mechanism
 
 __all__ = ["bar_point_warnings"]
 
@@ -22,7 +26,7 @@ __all__ = ["bar_point_warnings"]
 _BEYOND = 1e-9
 
 
-def bar_point_warnings(mech, values: Mapping[str, float]) -> tuple[str, ...]:
+def bar_point_warnings(mech: Mechanism, values: Mapping[str, float]) -> tuple[str, ...]:
     """One line per declared point or centre of gravity (planar or spatial) of a bar (a body with a
     ``length``) lying beyond the bar's ends along its axis at the parameter ``values`` (the file's own
     units), saying where it is (in bar lengths from the bar's centre, so in any units) and what the

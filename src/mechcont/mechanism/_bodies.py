@@ -11,17 +11,38 @@ import keyword
 import re
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError
-from ._expr import FUNCTIONS, Value
+from ._expr import FUNCTIONS, Value, evaluate
+
+if TYPE_CHECKING:
+    from ._description import Mechanism
 
 __all__ = ["Polar", "Body", "SpatialBody", "INERTIA_KEYS", "BUILTIN_POINTS", "BAR_POINTS", "BRANCH_COLUMNS",
-           "check_inertia"]
+           "check_inertia", "coordinate_names", "spatial_coordinate_names", "normalisation_row"]
 
 Vector = tuple[Value, Value, Value]
 #: Components of a full inertia tensor, in the order of ``inertia = [...]`` with six values.
 INERTIA_KEYS = ("xx", "yy", "zz", "xy", "xz", "yz")
+
+
+def coordinate_names(body: str) -> tuple[str, str, str]:
+    """The names of a body's coordinates: ``x1, y1, theta1`` for ``"1"``, ``x_b, y_b, theta_b`` for ``"b"``."""
+    if body.isdigit():
+        return f"x{body}", f"y{body}", f"theta{body}"
+    return f"x_{body}", f"y_{body}", f"theta_{body}"
+
+
+def normalisation_row(body: str) -> str:
+    """The name of ``body``'s Euler-parameter normalisation row (and its joint)."""
+    return f"norm_{body}"
+
+
+def spatial_coordinate_names(body: str) -> tuple[str, ...]:
+    """``x_b, y_b, z_b, e0_b, e1_b, e2_b, e3_b`` for body ``b`` (``x1, y1, z1, e0_1, ...`` for ``"1"``)."""
+    sep = "" if body.isdigit() else "_"
+    return (f"x{sep}{body}", f"y{sep}{body}", f"z{sep}{body}", *(f"e{i}_{body}" for i in range(4)))
 
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*|[0-9]+")
@@ -87,7 +108,7 @@ class _RigidBody:
         """The key path of the body's ``key``."""
         return f"bodies.{self.name}.{key}"
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Every (key path, raw value) of the body that is a number or an expression."""
         yield self.field("mass"), self.mass
         if self.length is not None:
@@ -104,16 +125,16 @@ class _RigidBody:
             yield from self._point_values(mech, self.field(f"points.{pn}"), ps)
         yield from self._initial_values(mech)
 
-    def _inertia_values(self, mech) -> Iterator[tuple[str, Any]]:
+    def _inertia_values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         raise NotImplementedError
 
-    def _point_values(self, mech, field: str, spec) -> Iterator[tuple[str, Any]]:
+    def _point_values(self, mech: Mechanism, field: str, spec: object) -> Iterator[tuple[str, Any]]:
         raise NotImplementedError
 
-    def _initial_values(self, mech) -> Iterator[tuple[str, Any]]:
+    def _initial_values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         raise NotImplementedError
 
-    def check_values(self, mech, values: Mapping[str, float]) -> None:
+    def check_values(self, mech: Mechanism, values: Mapping[str, float]) -> None:
         """Reject values impossible for this body at the parameter ``values`` (default: none)."""
 
 
@@ -154,11 +175,11 @@ class Body(_RigidBody):
         """``(key path, what)`` of the inertia given, which must be positive."""
         return [(self.field("inertia"), "inertia (kg m^2)")] if self.inertia is not None else []
 
-    def _inertia_values(self, mech) -> Iterator[tuple[str, Any]]:
+    def _inertia_values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         if self.inertia is not None:
             yield self.field("inertia"), self.inertia
 
-    def _point_values(self, mech, field: str, spec) -> Iterator[tuple[str, Any]]:
+    def _point_values(self, mech: Mechanism, field: str, spec: object) -> Iterator[tuple[str, Any]]:
         if isinstance(spec, Polar):
             yield f"{field}.r", spec.r
             yield f"{field}.angle", spec.angle
@@ -168,7 +189,7 @@ class Body(_RigidBody):
         yield f"{field}.x", spec[0]
         yield f"{field}.y", spec[1]
 
-    def _initial_values(self, mech) -> Iterator[tuple[str, Any]]:
+    def _initial_values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         for k, v in self.initial.items():
             if k not in ("x", "y", "theta"):
                 raise InputError(self.field(f"initial.{k}"), "initial values are x, y, theta")
@@ -217,7 +238,7 @@ class SpatialBody(_RigidBody):
             return []
         return [(self.field(f"inertia.{k}"), "principal moment of inertia (kg m^2)") for k in ("xx", "yy", "zz")]
 
-    def _inertia_values(self, mech) -> Iterator[tuple[str, Any]]:
+    def _inertia_values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         if self.inertia is None:
             return
         if isinstance(self.inertia, (str, int, float)) or len(self.inertia) not in (3, 6):
@@ -225,10 +246,10 @@ class SpatialBody(_RigidBody):
         for key, v in zip(INERTIA_KEYS, self.inertia):
             yield self.field(f"inertia.{key}"), v
 
-    def _point_values(self, mech, field: str, spec) -> Iterator[tuple[str, Any]]:
+    def _point_values(self, mech: Mechanism, field: str, spec: object) -> Iterator[tuple[str, Any]]:
         yield from mech.vector_values(field, spec)
 
-    def _initial_values(self, mech) -> Iterator[tuple[str, Any]]:
+    def _initial_values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         for k, v in self.initial.items():
             if k == "rotation":
                 yield from mech.vector_values(self.field("initial.rotation"), v)
@@ -238,18 +259,16 @@ class SpatialBody(_RigidBody):
                 raise InputError(self.field(f"initial.{k}"), "initial values are x, y, z (m) and rotation = [rx, ry, rz] "
                                                              "(rad)")
 
-    def check_values(self, mech, values: Mapping[str, float]) -> None:
+    def check_values(self, mech: Mechanism, values: Mapping[str, float]) -> None:
         """An inertia tensor given must be positive definite and obey the triangle inequality."""
         if self.inertia is not None:
             check_inertia(mech, values, self.field("inertia"), len(self.inertia))
 
 
-def check_inertia(mech, values: Mapping[str, float], field: str, n: int) -> None:
+def check_inertia(mech: Mechanism, values: Mapping[str, float], field: str, n: int) -> None:
     """An inertia tensor about the CG must be positive definite and its principal moments obey the
     triangle inequality (each at most the sum of the other two: a real body's mass distribution)."""
     import numpy as np
-
-    from ._values import evaluate
 
     keys = ("xx", "yy", "zz", "xy", "xz", "yz")[:n]
     v = dict(zip(keys, (evaluate(mech.value(f"{field}.{k}"), values, f"{field}.{k}") for k in keys)))

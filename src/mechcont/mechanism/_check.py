@@ -23,7 +23,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
@@ -252,8 +252,9 @@ def _show(v: float | None, unit: str) -> str:
     return f"{v:.6g} {unit}".rstrip()
 
 
-def _table(rows) -> list[str]:
-    rows = [tuple(str(c) for c in r) for r in rows]
+def _table(entries: Iterable[Sequence[object]]) -> list[str]:
+    """The ``entries`` as indented lines, their columns but the last aligned."""
+    rows = [tuple(str(c) for c in r) for r in entries]
     if not rows:
         return ["  (none)"]
     n = max(len(r) for r in rows)
@@ -265,7 +266,7 @@ def _table(rows) -> list[str]:
 _DOF = re.compile(r"has (\d+) degree\(s\) of freedom, intended")
 
 
-def _build(mech: Mechanism, reduced: bool, overrides: Mapping[str, float]):
+def _build(mech: Mechanism, reduced: bool, overrides: Mapping[str, float]) -> tuple[Model, list[str], Mechanism]:
     """Build ``mech``; a wrong dof count or a refused redundancy becomes a finding and a rebuild."""
     findings: list[str] = []
     for _ in range(3):
@@ -307,7 +308,8 @@ class _Facts(NamedTuple):
                    mech.normalisation_rows(), bar_point_warnings(mech, parameter_values(mech, overrides)))
 
 
-def _stored_build(name_or_path: str | Path, reduced: bool, overrides: Mapping[str, float]) -> tuple[Model, tuple, _Facts]:
+def _stored_build(name_or_path: str | Path, reduced: bool,
+                  overrides: Mapping[str, float]) -> tuple[Model, tuple[str, ...], _Facts]:
     """:func:`_build` of a description file, with the description's facts; kept in the disk cache
     (keyed by the file's name and full text, the form and the values), so a new process checking
     the same file neither reads it (SymPy) nor generates its equations again."""
@@ -325,7 +327,7 @@ def _stored_build(name_or_path: str | Path, reduced: bool, overrides: Mapping[st
         raise InputError(str(path), f"cannot read the file ({exc.__class__.__name__})") from None
     values = {k: float(v) for k, v in overrides.items()}
 
-    def build() -> tuple[Model, tuple, _Facts]:
+    def build() -> tuple[Model, tuple[str, ...], _Facts]:
         from ._file import load_description
 
         mech = load_description(path)
@@ -362,6 +364,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         Any other reason the description cannot be read or built (e.g. a loop that
         cannot close), as :meth:`Mechanism.build` raises it.
     """
+    found: Sequence[str]
     if isinstance(mech_or_path, (str, Path)):
         source = str(find_description(mech_or_path))
         system, found, mech = _stored_build(mech_or_path, reduced, overrides)
@@ -463,7 +466,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         warnings=mech.warnings)
 
 
-def _compliant_gap(system, x: np.ndarray) -> Quantity | None:
+def _compliant_gap(system: Model, x: np.ndarray) -> Quantity | None:
     """The compliant row farthest from its spring law at ``x`` (``|Phi - lambda / k|``, m or rad), if
     any is off by more than ``CLOSURE_TOL``; else None."""
     rows = compliant_constraints(system, x)
@@ -476,7 +479,7 @@ def _compliant_gap(system, x: np.ndarray) -> Quantity | None:
     return Quantity(system.equation_names[i], float(abs(res[i])), "m" if system.variable(r).unit == "N" else "rad")
 
 
-def _compliant_rows(system, x: np.ndarray) -> tuple[Quantity, ...]:
+def _compliant_rows(system: Model, x: np.ndarray) -> tuple[Quantity, ...]:
     """Each compliant constraint row (see :func:`compliant_constraints`) as
     ``Quantity(row, deflection, unit, "reaction ..., stiffness ...")``."""
     out = []

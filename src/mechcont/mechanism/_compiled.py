@@ -7,7 +7,7 @@ disk cache finds their classes without importing SymPy.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -155,18 +155,20 @@ class ValueCheck(Apart):
 
     _APART = ("exact",)
 
-    def __init__(self, names, defaults, screen, groups, exact):
+    def __init__(self, names: Sequence[str], defaults: Sequence[float],
+                 screen: Callable[[np.ndarray], np.ndarray] | np.ndarray | None, groups: Sequence[tuple[str, int]],
+                 exact: Callable[[dict[str, float]], None]) -> None:
         self.names, self.defaults = tuple(names), tuple(float(d) for d in defaults)
         self.screen, self.groups = screen, tuple(groups)
         self.exact = exact
 
-    def __call__(self, values) -> None:
+    def __call__(self, values: Mapping[str, float]) -> None:
         """Raise :class:`~mechcont.errors.InputError` for physically impossible ``values`` ({name: SI value})."""
         full = {n: float(values.get(n, d)) for n, d in zip(self.names, self.defaults)}
         if not self.clears(full):
             self.exact(full)
 
-    def clears(self, full) -> bool:
+    def clears(self, full: Mapping[str, float]) -> bool:
         """True when the screen shows every check passing at ``full`` (all parameters) by a clear margin."""
         if self.screen is None:
             return False

@@ -45,6 +45,7 @@ from ._condition_kinds import (
     DistanceCondition,
     ExpressionCondition,
 )
+from ._expr import evaluate
 from ._plugin import Kinematics
 
 if TYPE_CHECKING:
@@ -119,7 +120,7 @@ def conditions_from_table(tab: Mapping, field: str = "conditions") -> list[Condi
     return out
 
 
-def downlock_from_table(spec, field: str = "mechanism.downlock") -> DownlockSpec:
+def downlock_from_table(spec: object, field: str = "mechanism.downlock") -> DownlockSpec:
     """``downlock = {condition = "NAME", force = "F"}`` -> :class:`DownlockSpec` (keys checked)."""
     if not isinstance(spec, Mapping):
         raise InputError(field, f"must be a table {{condition = \"NAME\", force = \"F\"}}, got {spec!r}")
@@ -145,8 +146,6 @@ def condition_scale(cond: Condition, Lc: float, Fc: float) -> float:
 
 def condition_targets(mech: Mechanism, values: Mapping[str, float]) -> dict[str, float | None]:
     """Each condition's target at the parameter ``values`` (0 by default; None for a distance without one)."""
-    from ._values import evaluate
-
     out: dict[str, float | None] = {}
     for c in mech.conditions:
         f = f"conditions.{c.name}.target"

@@ -22,9 +22,9 @@ Conventions (SI units, radians):
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar, Generic, Protocol, TypeVar
+from typing import TYPE_CHECKING, Any, ClassVar, Generic, Protocol, Self, TypeVar
 
 import sympy as sp
 
@@ -35,10 +35,14 @@ from ._bodies import (
     _check_name,
     _check_variable_name,
     _RigidBody,
+    coordinate_names,
 )
 from ._conditions import Condition, DownlockSpec, check_conditions
 from ._elements import Parameter, StopReaction
 from ._expr import Value, symbol, to_expr
+from ._kinematics import PlanarKinematics
+from ._locate import locate_error
+from ._plugin import Kinematics
 from ._stops import stop_reaction_unit
 from .elements import Actuator, Damper, Element, Spring, Stop
 from .joints import PlanarJoint, Prismatic, Revolute, Slider, Weld
@@ -68,6 +72,9 @@ class _Named(Protocol):
 class _Joint(_Named, Protocol):
     """What a description asks of any joint, planar or spatial (see :mod:`.joints`, :mod:`.spatial.joints`)."""
 
+    #: Whether it makes its points ``a`` and ``b`` coincide (a pin, a weld: it places one body from the other).
+    COINCIDENT: ClassVar[bool]
+
     @property
     def a(self) -> str:
         """The point reference of side a."""
@@ -76,23 +83,16 @@ class _Joint(_Named, Protocol):
     def b(self) -> str:
         """The point reference of side b."""
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism[Any, Any]) -> None:
         """Check its references against ``mech``."""
 
-    def values(self, mech) -> Iterator[tuple[str, Value]]:
+    def values(self, mech: Mechanism[Any, Any]) -> Iterator[tuple[str, Value]]:
         """Its (key path, raw value) pairs."""
 
 
 #: The joint and body types of a description: planar (:class:`PlanarJoint`, :class:`Body`) or spatial.
 JointT = TypeVar("JointT", bound=_Joint)
 BodyT = TypeVar("BodyT", bound=_RigidBody)
-
-
-def coordinate_names(body: str) -> tuple[str, str, str]:
-    """The names of a body's coordinates: ``x1, y1, theta1`` for ``"1"``, ``x_b, y_b, theta_b`` for ``"b"``."""
-    if body.isdigit():
-        return f"x{body}", f"y{body}", f"theta{body}"
-    return f"x_{body}", f"y_{body}", f"theta_{body}"
 
 
 @dataclass
@@ -154,12 +154,12 @@ class Mechanism(Generic[JointT, BodyT]):
     ground: Mapping[str, tuple[Value, Value]] = field(default_factory=dict)
     springs: Sequence[Spring] = ()
     dampers: Sequence[Damper] = ()
-    loads: Sequence[Load] = ()
+    loads: Sequence[Load[Any]] = ()
     gravity: Gravity | SpatialGravity | None = None
     dof: int = 1
     hold: Mapping[str, Value] = field(default_factory=dict)
     description: str = ""
-    source: object | None = field(default=None, repr=False)
+    source: tuple[str, str] | None = field(default=None, repr=False)
     redundant: str = "error"
     conditions: Sequence[Condition] = ()
     actuators: Sequence[Actuator] = ()
@@ -167,7 +167,7 @@ class Mechanism(Generic[JointT, BodyT]):
     stops: Sequence[Stop] = ()
     elements: Sequence[Element] = ()
     # the value-independent part of each generated form, made by the first build (never pickled)
-    _generated: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+    _generated: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     #: 2 for a planar mechanism, 3 for a spatial one (for readers of a description; the code asks
     #: :attr:`space`, :attr:`AXES` and the kinematics instead).
@@ -186,7 +186,7 @@ class Mechanism(Generic[JointT, BodyT]):
     #: counter-clockwise (in the plane).
     COLLINEAR_NORMAL: ClassVar[bool] = False
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         self.parameters = tuple(self.parameters)
         self.bodies = tuple(self.bodies)
         self.joints = tuple(self.joints)
@@ -202,12 +202,12 @@ class Mechanism(Generic[JointT, BodyT]):
                                           s.reaction_description) for s in self.stops))
         self._validate()
 
-    def __getstate__(self) -> dict:
+    def __getstate__(self) -> dict[str, Any]:
         # the generated structures hold compiled code and the models made from them: a pickled
         # description is the description only (a copy generates its own on first build)
         return {k: v for k, v in self.__dict__.items() if k != "_generated"}
 
-    def __setstate__(self, state: dict) -> None:
+    def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
         self.__dict__["_generated"] = {}
 
@@ -265,8 +265,8 @@ class Mechanism(Generic[JointT, BodyT]):
                 seen[it.name] = group
         # parse every value once: unknown parameters are reported now, with the key path
         self._exprs: dict[str, sp.Expr] = {}
-        for p, v in self._values():
-            self._exprs[p] = self.expr(v, p)
+        for key, v in self._values():
+            self._exprs[key] = self.expr(v, key)
         for j in self.joints:
             j.check(self)
         for el in self.force_elements():
@@ -295,7 +295,7 @@ class Mechanism(Generic[JointT, BodyT]):
                 raise InputError(f"loads.{getattr(ld, 'name', '?')}", self._UNKNOWN_LOAD.format(type(ld).__name__))
             ld.check(self)
 
-    def direction_values(self, field: str, v) -> list[tuple[str, Value]]:
+    def direction_values(self, field: str, v: Any) -> list[tuple[str, Value]]:
         """The (key path, raw value) of a direction: ``[x, y]`` or an angle (rad)."""
         if not isinstance(v, (tuple, list)):
             return [(field, v)]
@@ -303,13 +303,13 @@ class Mechanism(Generic[JointT, BodyT]):
             raise InputError(field, "a direction is [x, y] or an angle (rad)")
         return [(f"{field}.x", v[0]), (f"{field}.y", v[1])]
 
-    def vector_values(self, field: str, v) -> list[tuple[str, Value]]:
+    def vector_values(self, field: str, v: Any) -> list[tuple[str, Value]]:
         """The (key path, raw value) of each component of the vector ``v`` (``[x, y]``)."""
         if not isinstance(v, (tuple, list)) or len(v) != len(self.AXES):
             raise InputError(field, f"must be a {len(self.AXES)}-vector [{', '.join(self.AXES)}], got {v!r}")
         return [(f"{field}.{c}", comp) for c, comp in zip(self.AXES, v)]
 
-    def _values(self):
+    def _values(self) -> Iterator[tuple[str, Any]]:
         """Every (key path, raw value) of the description that is a number or expression."""
         for b in self.bodies:
             yield from b.values(self)
@@ -323,7 +323,7 @@ class Mechanism(Generic[JointT, BodyT]):
             yield from ld.values(self)
         yield from self._common_values()
 
-    def _common_values(self):
+    def _common_values(self) -> Iterator[tuple[str, Any]]:
         """The (key path, raw value) pairs of the elements planar and spatial descriptions share:
         force elements (stops included), held coordinates and conditions."""
         for el in self.force_elements():
@@ -333,10 +333,17 @@ class Mechanism(Generic[JointT, BodyT]):
         for c in self.conditions:
             yield from c.values(self)
 
-    def kinematics_class(self) -> type:
+    def kinematics_class(self) -> Callable[[Self], Kinematics]:
         """The kinematics strategy of this space (:class:`~._kinematics.PlanarKinematics`: x, y, theta per body)."""
-        from ._kinematics import PlanarKinematics
         return PlanarKinematics
+
+    def kinematics(self) -> Kinematics:
+        """The kinematics of this description (:meth:`kinematics_class`), made once (it depends on no value) and
+        kept with the generated structures."""
+        kin = self._generated.get("kinematics")
+        if kin is None:
+            kin = self._generated["kinematics"] = self.kinematics_class()(self)
+        return kin
 
     def normalisation_rows(self) -> frozenset[str]:
         """The names of the constraint rows that normalise coordinates (no joint's): none in the plane."""
@@ -426,13 +433,13 @@ class Mechanism(Generic[JointT, BodyT]):
         """Generate the reduced static system (see :mod:`mechcont.mechanism._reduce`)."""
         return self._generate(overrides, reduced=True)
 
-    def _generator(self):
-        """The function that generates this kind of mechanism's equations."""
+    def _generator(self) -> Callable[..., Model]:
+        """The function that generates this kind of mechanism's equations (imported on the first build: reading
+        or checking a description needs neither the generator nor what it compiles with)."""
         from ._generate import generate
         return generate
 
-    def _generate(self, overrides: dict, reduced: bool) -> Model:
-        from ._file import locate_error
+    def _generate(self, overrides: Mapping[str, float], reduced: bool) -> Model:
         try:
             return self._generator()(self, overrides, reduced=reduced)
         except InputError as exc:

@@ -5,15 +5,19 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
 
 from ..equations import MechanicalModel
 from ..errors import InputError
-from ._description import Mechanism
 from ._expr import float_value, symbol
 from ._kinematics import ConstraintRow, PlanarKinematics
+
+if TYPE_CHECKING:
+    from ._assembly import DofReport
+    from ._description import Mechanism
 
 __all__ = ["least_squares_closure", "loop_error", "redundancy_error", "check_assembled"]
 
@@ -24,12 +28,12 @@ def least_squares_closure(model: MechanicalModel, x: np.ndarray, free_q: np.ndar
     idx = model.q_index[free_q]
     cols = np.flatnonzero(free_q)
 
-    def fun(u):
+    def fun(u: np.ndarray) -> np.ndarray:
         y = x.copy()
         y[idx] = u
         return model.phi(y)
 
-    def jac(u):
+    def jac(u: np.ndarray) -> np.ndarray:
         y = x.copy()
         y[idx] = u
         return model.phi_q(y)[:, cols]
@@ -94,7 +98,7 @@ def check_assembled(mech: Mechanism, kin: PlanarKinematics, model: MechanicalMod
     reaction or condition that is not finite there."""
     at = {symbol(n): float(v) for n, v in zip(model.names, x)}
 
-    def number(expr) -> float:
+    def number(expr: sp.Expr) -> float:
         return float_value(sp.sympify(expr, strict=True).xreplace(subs), at)
 
     where = "; move an end point or assemble elsewhere (bodies' initial, [assembly] hold)"
@@ -139,7 +143,7 @@ def check_assembled(mech: Mechanism, kin: PlanarKinematics, model: MechanicalMod
                                      f"points that carry a force coincide, or a load divides by zero){where}")
 
 
-def redundancy_error(mech: Mechanism, rows: list[ConstraintRow], report) -> InputError:
+def redundancy_error(mech: Mechanism, rows: list[ConstraintRow], report: DofReport) -> InputError:
     """One line: how many constraints are redundant, which joints, and what to do."""
     n = len(report.dependent)
     groups = "; ".join(f"{rows[i].equation} is implied by joints {', '.join(g[1:]) or '(none)'}"

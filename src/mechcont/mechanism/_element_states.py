@@ -9,7 +9,8 @@ the dynamic analyses.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
@@ -18,10 +19,15 @@ from ..equations import velocity_symbol
 from ..errors import InputError
 from .elements._base import ElementState
 
+if TYPE_CHECKING:
+    from ..equations import MechanicalModel
+    from ._plugin import Kinematics
+
 __all__ = ["collect_states", "rest_rows", "steady_states"]
 
 
-def collect_states(kin, vel: dict | None = None, subs: dict | None = None) -> list[ElementState]:
+def collect_states(kin: Kinematics, vel: Mapping[sp.Symbol, sp.Expr] | None = None,
+                   subs: Mapping[sp.Symbol, sp.Expr] | None = None) -> list[ElementState]:
     """Every force element's states in the coordinates of ``kin``; with the reduced form's substitution
     ``subs`` of the eliminated coordinates and ``vel`` of their velocities, in the kept ones'."""
     out: list[ElementState] = []
@@ -46,7 +52,7 @@ def rest_rows(states: Sequence[ElementState], coords: Sequence[str]) -> list[sp.
     return [s.rate.xreplace(at_rest) for s in states]
 
 
-def steady_states(mech, x: np.ndarray, max_iter: int = 30) -> np.ndarray:
+def steady_states(mech: MechanicalModel, x: np.ndarray, max_iter: int = 30) -> np.ndarray:
     """``x`` with the element states of the mechanical model ``mech`` at their steady state at rest
     (Newton on ``r(q, 0, s) = 0`` with the exact ``dr/ds``); ``x`` itself when it has none or when
     ``dr/ds`` is singular (the solve of the whole system decides then)."""

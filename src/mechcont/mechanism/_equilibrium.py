@@ -11,10 +11,15 @@ then polishes it. "No equilibrium" is said only with what was tried and the resi
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..errors import ConvergenceError
 from ._assembly import assemble
+
+if TYPE_CHECKING:
+    from ..equations import Model
 
 __all__ = ["free_equilibrium"]
 
@@ -22,12 +27,12 @@ __all__ = ["free_equilibrium"]
 _MAX_NFEV = 2000
 
 
-def _tolerance(system) -> float:
+def _tolerance(system: Model) -> float:
     """The largest residual (N, N m, m, rad) accepted as an equilibrium: :func:`assemble`'s own test."""
     return 1e-8 * max(1.0, float(np.max(np.abs(system.scales()))))
 
 
-def free_equilibrium(system, x: np.ndarray) -> tuple[np.ndarray, str]:
+def free_equilibrium(system: Model, x: np.ndarray) -> tuple[np.ndarray, str]:
     """An equilibrium of ``system`` near the assembled full vector ``x`` (SI), every state free.
 
     Returns ``(x_equilibrium, how)``: the full vector and how it was found ("Newton" or "a trust-region
@@ -71,9 +76,10 @@ def free_equilibrium(system, x: np.ndarray) -> tuple[np.ndarray, str]:
     return candidate, how
 
 
-def _dof(system, x: np.ndarray) -> int:
+def _dof(system: Model, x: np.ndarray) -> int:
     """Coordinates less the rank of the rigid constraint rows at ``x`` (singular values above 1e-9 of the largest)."""
     mech = system.mechanics
+    assert mech is not None  # a description's build: its coordinates' mechanics
     A = mech.phi_q(x)
     if A.size == 0:
         return len(mech.q_index)

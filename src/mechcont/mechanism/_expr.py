@@ -23,16 +23,19 @@ from __future__ import annotations
 import ast
 import math
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 
 import mpmath
 import sympy as sp
 
 from ..errors import InputError
 
-__all__ = ["Value", "to_expr", "float_value", "symbol", "FUNCTIONS", "MAX_LENGTH", "MAX_NODES", "MAX_DEPTH", "MAX_EXPONENT"]
+__all__ = ["Value", "to_expr", "float_value", "evaluate", "symbol", "Gradient", "FUNCTIONS",
+           "MAX_LENGTH", "MAX_NODES", "MAX_DEPTH", "MAX_EXPONENT"]
 
 Value = float | int | str
+#: ``gradient(expr, symbols)``: the derivatives of ``expr`` by each of ``symbols`` (SymPy's, or the equations' own).
+Gradient = Callable[[sp.Expr, Sequence[sp.Symbol]], list[sp.Expr]]
 
 #: Functions and constants allowed in expressions of a description file.
 FUNCTIONS = {
@@ -353,3 +356,32 @@ def float_value(expr: sp.Expr, values: Mapping[sp.Symbol, float]) -> float:
         return math.inf
     except (ValueError, ZeroDivisionError, TypeError):
         return math.nan
+
+
+def evaluate(expr: sp.Expr, values: Mapping[str, float], field: str) -> float:
+    """Numeric value of a parameter-only expression; InputError if it is not finite and real.
+
+    The value is first computed in floating point (:func:`float_value`: an overflow such as
+    ``exp(exp(exp(L)))`` is refused at once instead of being computed to arbitrary
+    precision), then, when finite, by SymPy as before (correctly rounded).
+    """
+    subs = {s: values[s.name] for s in expr.free_symbols if s.name in values}
+    if len(subs) < len(expr.free_symbols):
+        raise InputError(field, f"{expr} depends on more than the parameters")
+    _finite(expr, float_value(expr, subs), field)
+    try:
+        out = float(expr.xreplace(subs))
+    except TypeError:
+        raise InputError(field, f"{expr} is not a real number with the given parameters") from None
+    if not math.isfinite(out):
+        raise InputError(field, f"evaluates to {out} with the given parameters")
+    return out
+
+
+def _finite(expr: sp.Expr, quick: float, field: str) -> None:
+    """InputError unless the floating-point value ``quick`` of ``expr`` is finite."""
+    if math.isnan(quick):
+        raise InputError(field, f"{expr} is not a real number with the given parameters (a division by zero, the "
+                                "square root or logarithm of a negative number, asin or acos beyond +-1?)")
+    if not math.isfinite(quick):
+        raise InputError(field, f"{expr} overflows the floating-point range with the given parameters")

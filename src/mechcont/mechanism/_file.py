@@ -45,7 +45,6 @@ import re
 import sys
 import tomllib
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -53,13 +52,13 @@ from ..errors import InputError, one_line
 from ._bodies import PointSpec
 from ._conditions import conditions_from_table, downlock_from_table
 from ._description import Body, Gravity, Mechanism, Parameter, Polar
+from ._locate import key_at, locate_error
 from ._paths import MAX_TEXT, builtin_descriptions, find_description, read_description_bytes
-from ._plugin import Registry, registry
+from ._tables import Reader, _entries, _only, _require, _short, _table, _text
 from .elements import ELEMENT_TYPES, Element
-from .loads import Load
 
 __all__ = ["load_description", "parse_description", "read_toml", "description_from_data",
-           "builtin_descriptions", "find_description", "locate_error"]
+           "builtin_descriptions", "find_description"]
 
 
 #: The top-level tables besides those of the force elements (:data:`~.elements.ELEMENT_TYPES`, read
@@ -83,7 +82,7 @@ KEYS: dict[str, frozenset[str]] = {
 }
 
 
-def load_description(name_or_path: str | Path) -> Mechanism:
+def load_description(name_or_path: str | Path) -> Mechanism[Any, Any]:
     """Read and validate a mechanism description file (or a shipped one by stem).
 
     Returns a :class:`Mechanism`; call ``.build(**overrides)`` for its equations.
@@ -113,7 +112,7 @@ MAX_ENTRIES, MAX_PARAMETERS = 500, 2000
 MAX_ARRAY = 100
 
 
-def _check_sizes(v, field: str) -> None:
+def _check_sizes(v: object, field: str) -> None:
     """InputError naming the first table or array of the parsed ``v`` beyond its limit (decided before any
     work: a description of 100,000 parameters or points would take minutes to build)."""
     if isinstance(v, Mapping):
@@ -130,20 +129,20 @@ def _check_sizes(v, field: str) -> None:
             _check_sizes(x, field)
 
 
-def parse_description(text: str, filename: str = "<string>") -> Mechanism:
+def parse_description(text: str, filename: str = "<string>") -> Mechanism[Any, Any]:
     """Parse description ``text`` (TOML); ``filename`` is used in error messages. Sizes are checked first:
     at most :data:`MAX_TEXT` characters, :data:`MAX_ENTRIES` entries in a table (:data:`MAX_PARAMETERS`
     parameters) and :data:`MAX_ARRAY` values in an array."""
     return description_from_data(read_toml(text, filename), text, filename)
 
 
-def read_toml(text: str, filename: str) -> dict:
+def read_toml(text: str, filename: str) -> dict[str, Any]:
     """The parsed TOML of a description ``text`` (every string made printable), its sizes checked
     (:func:`parse_description`); :class:`InputError` with the file name and line otherwise."""
     if len(text) > MAX_TEXT:
         raise InputError(filename, f"is {len(text)} characters long; a description takes at most {MAX_TEXT}")
     try:
-        data = _printable(tomllib.loads(text))
+        data: dict[str, Any] = _printable(tomllib.loads(text))
     except (RecursionError, MemoryError):
         raise InputError(filename, "nested too deeply (arrays or inline tables inside each other); "
                                    "a description needs at most a few levels") from None
@@ -151,7 +150,7 @@ def read_toml(text: str, filename: str) -> dict:
         msg = str(exc)
         m = re.search(r"line (\d+)", msg)
         line = int(m.group(1)) if m else None
-        key = _key_at(text, line) if line else "?"
+        key = key_at(text, line) if line else "?"
         raise InputError(f"{filename}:{line}: {key}", f"malformed TOML: {re.sub(r' [(]at .*[)]$', '', msg)}") from None
     except ValueError as exc:  # Python refuses to convert an integer of more than 4300 digits
         raise InputError(filename, f"a number the TOML reader refuses ({exc.args[0].split(';')[0]}); "
@@ -163,7 +162,7 @@ def read_toml(text: str, filename: str) -> dict:
     return data
 
 
-def description_from_data(data: Mapping, text: str, filename: str) -> Mechanism:
+def description_from_data(data: Mapping[str, Any], text: str, filename: str) -> Mechanism[Any, Any]:
     """The :class:`Mechanism` of the parsed TOML ``data`` (:func:`read_toml`) of ``text``."""
     if "system" in data:
         raise InputError(f"{filename}: system", "this file is an ODE system ([system] table), not a mechanism "
@@ -176,66 +175,8 @@ def description_from_data(data: Mapping, text: str, filename: str) -> Mechanism:
     return mech
 
 
-def locate_error(source, exc: InputError) -> InputError:
-    """Re-issue ``exc`` (whose field is a key path) with the file name and line of that key."""
-    if source is None or not isinstance(exc, InputError):
-        return exc
-    filename, text = source
-    message = str(exc)[len(exc.field) + 2:]
-    line = _line_of(text, exc.field.split("."))
-    where = f"{filename}:{line}" if line else filename
-    return InputError(f"{where}: {exc.field}", message)
-
-
 # -- building objects from the parsed tables ---------------------------------------------------
-def _table(data: Mapping, key: str, field: str) -> Mapping:
-    v = data.get(key, {})
-    if not isinstance(v, Mapping):
-        raise InputError(field, f"must be a table ([{field}]), got {type(v).__name__}")
-    return v
-
-
-def _only(tab: Mapping, allowed: set[str] | frozenset[str], field: str) -> None:
-    for k in tab:
-        if k not in allowed:
-            raise InputError(f"{field}.{k}" if field else k, f"unknown key; valid keys: {', '.join(sorted(allowed))}")
-
-
-def _entries(data: Mapping, section: str) -> list[tuple[str, Mapping]]:
-    """The ``[section.NAME]`` entries of ``section``, each checked to be a table."""
-    out = []
-    for name, spec in _table(data, section, section).items():
-        if not isinstance(spec, Mapping):
-            raise InputError(f"{section}.{name}", f"must be a table [{section}.{name}] of keys, "
-                                                  f"got {type(spec).__name__} {_short(spec)}")
-        out.append((name, spec))
-    return out
-
-
-def _short(v) -> str:
-    text = repr(v)
-    return text if len(text) <= 40 else text[:37] + "..."
-
-
-def _typed(spec, field: str, table: str, plugins: Registry) -> Any:
-    """The class of a ``[table.NAME]`` entry with a ``type`` from the registry ``plugins``, its keys checked."""
-    if not isinstance(spec, Mapping):
-        raise InputError(field, f"must be a table [{table}.NAME]")
-    kind = spec.get("type")
-    if not isinstance(kind, str) or kind not in plugins:
-        raise InputError(field + ".type", f"must be one of {', '.join(plugins)}, got {kind!r}")
-    cls = plugins[kind]
-    _only(spec, cls.table_keys() | {"type"}, field)
-    return cls
-
-
-def _require(tab: Mapping, keys: list[str], field: str) -> None:
-    for k in keys:
-        if k not in tab:
-            raise InputError(f"{field}.{k}", "is required")
-
-
-def _printable(v):
+def _printable(v: Any) -> Any:
     """``v`` (parsed TOML) with every string's line breaks, escape sequences and other control
     characters escaped (:func:`~mechcont.errors.one_line`): text from a description is printed to
     terminals and written to tables, where it must not forge lines or drive the terminal."""
@@ -248,35 +189,18 @@ def _printable(v):
     return v
 
 
-def _text(v, field: str) -> str:
-    if not isinstance(v, str):
-        raise InputError(field, f"must be a string, got {v!r}")
-    return v
-
-
-def _pair(v, field: str):
+def _pair(v: Any, field: str) -> tuple[Any, ...]:
     if not isinstance(v, list) or len(v) != 2:
         raise InputError(field, f"must be a pair [x, y], got {v!r}")
     return tuple(v)
 
 
-def _direction(v, field: str):
+def _direction(v: Any, field: str) -> Any:
     """A planar vector ``[x, y]``, or an angle (rad) where a direction may be one."""
     return _pair(v, field) if isinstance(v, list) else v
 
 
-def loads_from_table(data: Mapping, vector: Callable[[Any, str], Any], space: str) -> list[Load]:
-    """The ``[loads.NAME]`` tables, each read by the class its ``type`` names in the loads registered
-    for ``space`` (``vector(value, field)`` reads a vector of that space)."""
-    out = []
-    for lname, spec in _entries(data, "loads"):
-        f = f"loads.{lname}"
-        cls = _typed(spec, f, "loads", registry("loads", space))
-        out.append(cls.from_table(lname, {k: v for k, v in spec.items() if k != "type"}, f, vector, space))
-    return out
-
-
-def _parameters(data: Mapping, section: str = "parameters") -> list[Parameter]:
+def _parameters(data: Mapping[str, Any], section: str = "parameters") -> list[Parameter]:
     """The ``[parameters]`` table (or another ``section`` of that form, an ODE file's ``[states]``):
     ``NAME = value`` or ``NAME = {value, unit, description, scale}``."""
     params = []
@@ -303,7 +227,7 @@ def _parameters(data: Mapping, section: str = "parameters") -> list[Parameter]:
     return params
 
 
-def _force_elements(data: Mapping) -> dict[str, list[Element]]:
+def _force_elements(data: Mapping[str, Any]) -> dict[str, list[Element]]:
     """The tables of every registered force element (:data:`~.elements.ELEMENT_TYPES`), each entry
     read by its class, as the keyword arguments of a description (``springs=[...]``, ...; the kinds
     without a field of their own in ``elements``)."""
@@ -314,7 +238,7 @@ def _force_elements(data: Mapping) -> dict[str, list[Element]]:
     return out
 
 
-def _common(data: Mapping, head: Mapping, filename: str) -> dict:
+def _common(data: Mapping[str, Any], head: Mapping[str, Any], filename: str) -> dict[str, Any]:
     """The keyword arguments both planar and spatial mechanisms take from a file."""
     assembly = _table(data, "assembly", "assembly")
     _only(assembly, KEYS["assembly"], "assembly")
@@ -329,7 +253,7 @@ def _common(data: Mapping, head: Mapping, filename: str) -> dict:
         downlock=downlock_from_table(head["downlock"]) if "downlock" in head else None)
 
 
-def _mechanism(data: Mapping, filename: str) -> Mechanism:
+def _mechanism(data: Mapping[str, Any], filename: str) -> Mechanism[Any, Any]:
     _only(data, _OTHER_SECTIONS | set(ELEMENT_TYPES), "")
     head = _table(data, "mechanism", "mechanism")
     _only(head, KEYS["mechanism"], "mechanism")
@@ -339,35 +263,7 @@ def _mechanism(data: Mapping, filename: str) -> Mechanism:
     return _READERS[dimension]().read(data, _common(data, head, filename))
 
 
-@dataclass(frozen=True)
-class Reader:
-    """How the tables that differ in the plane and in space are read: the description class and
-    its ``space`` (the key of the joint and load registries, :func:`._plugin.registry`), a vector
-    (``vector(value, field)``), a load's direction, a body (``body(name, spec, field)``) and gravity
-    (``gravity(table)``)."""
-
-    mechanism: type[Mechanism]
-    vector: Callable[[Any, str], Any]
-    direction: Callable[[Any, str], Any]
-    body: Callable[[str, Mapping, str], Any]
-    gravity: Callable[[Mapping], Any]
-
-    def read(self, data: Mapping, common: dict) -> Mechanism:
-        """The mechanism of the parsed TOML ``data`` with the ``common`` keywords (:func:`_common`)."""
-        ground = {k: self.vector(v, f"ground.{k}") for k, v in _table(data, "ground", "ground").items()}
-        bodies = [self.body(name, spec, f"bodies.{name}") for name, spec in _entries(data, "bodies")]
-        space = self.mechanism.space
-        joints = []
-        for jname, spec in _entries(data, "joints"):
-            f = f"joints.{jname}"
-            cls = _typed(spec, f, "joints", registry("joints", space))
-            joints.append(cls.from_table(jname, {k: v for k, v in spec.items() if k != "type"}, f))
-        gravity = self.gravity(_table(data, "gravity", "gravity")) if "gravity" in data else None
-        loads = loads_from_table(data, self.direction, space)
-        return self.mechanism(bodies=bodies, joints=joints, ground=ground, loads=loads, gravity=gravity, **common)
-
-
-def _body(name: str, spec: Mapping, f: str) -> Body:
+def _body(name: str, spec: Mapping[str, Any], f: str) -> Body:
     """A planar ``[bodies.NAME]`` table."""
     _only(spec, KEYS["bodies.NAME"], f)
     _require(spec, ["mass"], f)
@@ -384,7 +280,7 @@ def _body(name: str, spec: Mapping, f: str) -> Body:
                 points, dict(initial), _text(spec.get("description", ""), f + ".description"))
 
 
-def _gravity(table: Mapping) -> Gravity:
+def _gravity(table: Mapping[str, Any]) -> Gravity:
     """The planar ``[gravity]`` table."""
     _only(table, KEYS["gravity"], "gravity")
     return Gravity(**table)
@@ -398,55 +294,3 @@ def _spatial_reader() -> Reader:
 #: ``[mechanism] dimension`` -> the reader of the rest of the file (the spatial one imported on first use).
 _READERS: dict[int, Callable[[], Reader]] = {
     2: lambda: Reader(Mechanism, _pair, _direction, _body, _gravity), 3: _spatial_reader}
-
-
-# -- locating keys in the text ----------------------------------------------------------------
-def _split_key(key: str) -> list[str]:
-    parts = re.findall(r'"[^"]*"|\'[^\']*\'|[^.\s]+', key)
-    return [p.strip("\"'") for p in parts]
-
-
-def _line_of(text: str, path: list[str]) -> int | None:
-    """1-based line of the key ``path`` (e.g. ``["bodies", "1", "mass"]``), best effort."""
-    path = [p for p in path if p]
-    best_line, best_depth = None, -1
-    header: list[str] = []
-    header_counts: dict[tuple, int] = {}
-    for no, raw in enumerate(text.splitlines(), start=1):
-        line = raw.split("#", 1)[0].strip()
-        m = re.match(r"^\[\[?([^\]]+)\]\]?$", line)
-        if m:
-            header = _split_key(m.group(1))
-            header_counts[tuple(header)] = header_counts.get(tuple(header), 0) + 1
-            if header == path[:len(header)] and len(header) > best_depth:
-                best_line, best_depth = no, len(header)
-            continue
-        m = re.match(r"^([^=]+?)\s*=", line)
-        if not m:
-            continue
-        full = header + _split_key(m.group(1))
-        depth = 0
-        while depth < min(len(full), len(path)) and full[depth] == path[depth]:
-            depth += 1
-        if depth == len(full) and depth > best_depth:
-            best_line, best_depth = no, depth
-        # inline tables: the rest of the path appears on this line (points = {spring = [...]})
-        if depth == len(full) and depth < len(path) and all(p in raw for p in path[depth:]):
-            best_line, best_depth = no, len(path)
-    return best_line
-
-
-def _key_at(text: str, line: int) -> str:
-    """The table and key written on 1-based ``line`` of ``text`` (for syntax errors)."""
-    header = ""
-    lines = text.splitlines()
-    for raw in lines[:line]:
-        s = raw.split("#", 1)[0].strip()
-        m = re.match(r"^\[\[?([^\]]+)\]\]?$", s)
-        if m:
-            header = m.group(1).strip()
-    if 0 < line <= len(lines):
-        m = re.match(r"^\s*([^=\[]+?)\s*=", lines[line - 1])
-        if m:
-            return f"{header}.{m.group(1).strip()}" if header else m.group(1).strip()
-    return header or "(top level)"

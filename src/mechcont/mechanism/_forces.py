@@ -10,14 +10,19 @@ planar pure moments whose magnitudes are parameters) enter through the potential
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import sympy as sp
 
 from .loads import DRAG_SMOOTHING, Loads
 
+if TYPE_CHECKING:
+    from ._plugin import Kinematics
+
 __all__ = ["Loads", "loads", "DRAG_SMOOTHING"]
 
 
-def loads(kin) -> Loads:
+def loads(kin: Kinematics) -> Loads:
     """Collect every load of the mechanism of ``kin`` (planar or spatial kinematics; see the module docstring)."""
     mech = kin.mech
     out = Loads(sp.S.Zero, [sp.S.Zero] * len(kin.q), [])

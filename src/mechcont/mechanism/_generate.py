@@ -20,7 +20,7 @@ the inter-link forces as unknowns, as in the paper. The reduced form is describe
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import partial
 from typing import TYPE_CHECKING
@@ -44,10 +44,9 @@ from ..units import typical_scale
 from ._assembly import close_constraints, dof_report
 from ._compiled import CoordinatesOf, DroppedResidual
 from ._conditions import condition_description, condition_rows, condition_scale, condition_targets
-from ._description import Mechanism
 from ._diagnose import check_assembled, least_squares_closure, loop_error, redundancy_error
 from ._element_states import collect_states, rest_rows, steady_states
-from ._expr import symbol
+from ._expr import Gradient, symbol
 from ._forces import loads
 from ._kinematics import ConstraintRow, PlanarKinematics, place_along_joints
 from ._reduce import reduce_form, velocity_map
@@ -56,6 +55,10 @@ from ._stops import stop_forces
 from ._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
 
 if TYPE_CHECKING:
+    from ._conditions import Condition
+    from ._description import Mechanism
+    from ._elements import Parameter
+    from .elements._base import ElementState
     from .spatial._kinematics import SpatialKinematics
 
 __all__ = ["generate"]
@@ -101,7 +104,7 @@ def load_forces(mech: Mechanism, values: Mapping[str, float]) -> list[float]:
             if ld.FORCE_KEY is not None]
 
 
-def _parameter_scale(p, value: float, Lc: float, Fc: float) -> float:
+def _parameter_scale(p: Parameter, value: float, Lc: float, Fc: float) -> float:
     if p.scale is not None:
         return float(p.scale)
     typical = typical_scale(p.unit, Lc, Fc)  # "mm", "kN" and "g mm/s^2" are a length and a force too
@@ -302,8 +305,9 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
     return var.model.evolve()  # a copy: the kept model is never handed out (compiled on first numeric use)
 
 
-def condition_and_parameter_variables(mech: Mechanism, conditions, condition_values, values: Mapping[str, float],
-                                      Lc: float, Fc: float, states: Sequence = ()) -> list[Variable]:
+def condition_and_parameter_variables(mech: Mechanism, conditions: Sequence[tuple[Condition, sp.Expr]],
+                                      condition_values: Iterable[float], values: Mapping[str, float],
+                                      Lc: float, Fc: float, states: Sequence[ElementState] = ()) -> list[Variable]:
     """The condition states (at ``condition_values``), the elements' first-order ``states`` (at the values
     that follow, :class:`~.elements.ElementState`) and the parameters (at ``values``) as variables, scaled by
     the typical length ``Lc`` (m) and force ``Fc`` (N); shared by planar and spatial builds."""
@@ -388,7 +392,7 @@ def summary(mech: Mechanism) -> tuple[str, list[tuple[str, str, str, str, float 
 
 def _equilibrium(mech: Mechanism, coords: list[str], rows: Sequence[ConstraintRow], forces: list[sp.Expr],
                  mass: sp.Matrix, conditions: Sequence[str] = (), *,
-                 gradient=None, potential: sp.Expr | None = None,
+                 gradient: Gradient | None = None, potential: sp.Expr | None = None,
                  states: Sequence = ()) -> tuple[list[sp.Expr], MechanicalModel]:
     """Equilibrium rows ``Q - Phi_q^T lambda`` (at rest) and the compiled mechanical model.
 

@@ -8,19 +8,21 @@ so that the multiplier of a joint is the force the body of ``a`` exerts on the b
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Iterator, Mapping
+from typing import TYPE_CHECKING, Any
 
 import sympy as sp
 
-from ._bodies import SpatialBody
-from ._description import Body, Mechanism, Polar, coordinate_names
-from ._expr import symbol
+from ._bodies import Body, Polar, SpatialBody, coordinate_names
+from ._expr import evaluate, symbol
 from ._plugin import Kinematics
 from .elements import element_rows
 from .joints import ConstraintRow
 
-__all__ = ["PlanarKinematics", "ConstraintRow", "kinematics_of", "pin_chain", "place_along_joints"]
+if TYPE_CHECKING:
+    from ._description import JointT, Mechanism
+
+__all__ = ["PlanarKinematics", "ConstraintRow", "pin_chain", "place_along_joints"]
 
 
 def _rot(theta: sp.Expr, p: sp.Matrix) -> sp.Matrix:
@@ -153,17 +155,7 @@ class PlanarKinematics:
         return self.body_mass(b) * self.mech.value(f + ".length") ** 2 / 12
 
 
-def kinematics_of(mech: Mechanism) -> Kinematics:
-    """The kinematics of ``mech`` (:class:`PlanarKinematics` in the plane, its spatial twin in space: the
-    description's :meth:`~Mechanism.kinematics_class`), made once per description (it depends on no
-    value) and kept with its generated structures."""
-    kin = mech._generated.get("kinematics")
-    if kin is None:
-        kin = mech._generated["kinematics"] = mech.kinematics_class()(mech)
-    return kin
-
-
-def pin_chain(mech: Mechanism, placed: set[str]):
+def pin_chain(mech: Mechanism[JointT, Any], placed: set[str]) -> Iterator[tuple[JointT, str, str, str]]:
     """Walk coincident joints (pins, welds) outward from the ``placed`` bodies (``"ground"`` included).
 
     Yields ``(joint, known_ref, new_ref, new_body)`` for each joint that places a new body
@@ -193,8 +185,6 @@ def place_along_joints(kin: Kinematics, placed: set[str], guess: dict[str, float
     kept: updates ``guess`` (coordinate name -> value) for the kinematics ``kin``, planar or spatial.
     The held coordinates (``[assembly] hold``, at the parameter ``values``) are set first and keep
     their values: placing a body by a joint must not move them."""
-    from ._values import evaluate
-
     mech = kin.mech
     held = {k: evaluate(mech.value(f"assembly.hold.{k}"), values, f"assembly.hold.{k}") for k in mech.hold}
     guess.update(held)

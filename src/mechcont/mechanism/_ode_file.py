@@ -24,7 +24,9 @@ from typing import TYPE_CHECKING
 from ..errors import InputError, one_line
 from ._elements import Parameter
 from ._expr import FUNCTIONS, symbol, to_expr
-from ._file import _only, _parameters, _table, _text, description_from_data, locate_error, read_text, read_toml
+from ._file import _parameters, description_from_data, read_text, read_toml
+from ._locate import locate_error
+from ._tables import _only, _table, _text
 
 if TYPE_CHECKING:
     import sympy as sp

@@ -11,7 +11,8 @@ Every plug-in class derives from :class:`PlugIn` and has the same shape:
   :func:`registry` ``(FAMILY, space)`` for each of its ``SPACES``; ``KEYS``/``REQUIRED``: the keys
   of its table;
 * :meth:`~PlugIn.check` (references), :meth:`~PlugIn.values` (numbers and expressions by key
-  path), :meth:`~PlugIn.check_values` (values impossible for it);
+  path), :meth:`~PlugIn.limits` (the physical ranges of its quantities, each a
+  :class:`~mechcont.equations.Limit`), :meth:`~PlugIn.check_values` (values impossible for it);
 * :meth:`~PlugIn.rows` (constraint rows, each with its reaction) and :meth:`~PlugIn.apply`
   (potential and generalised forces), written once against a :class:`Kinematics`;
 * :meth:`~PlugIn.ends` (the points to draw it from: a ground one is drawn as an anchor),
@@ -31,6 +32,8 @@ from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, ClassVar, Generic, Protocol, TypeVar
 
 import sympy as sp
+
+from ..equations import Limit
 
 if TYPE_CHECKING:
     from ._description import Mechanism
@@ -52,7 +55,7 @@ class Kinematics(Protocol):
     components in global axes."""
 
     @property
-    def mech(self) -> Mechanism:
+    def mech(self) -> Mechanism[Any, Any]:
         """The description."""
 
     @property
@@ -165,7 +168,7 @@ class PlugIn(Generic[K]):
     KEYS: ClassVar[frozenset[str]] = frozenset()
     REQUIRED: ClassVar[tuple[str, ...]] = ()
 
-    def __init_subclass__(cls, **kwargs: Any):
+    def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
         key = cls.__dict__.get(cls.KEY)
         if key:
@@ -185,14 +188,27 @@ class PlugIn(Generic[K]):
         """The key path of this plug-in (or of its ``key``)."""
         return f"{self.section()}.{self.name}" + (f".{key}" if key else "")
 
-    def check(self, mech: Mechanism) -> None:
+    def check(self, mech: Mechanism[Any, Any]) -> None:
         """Check the references against ``mech`` (a one-line InputError naming the key)."""
 
-    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism[Any, Any]) -> Iterator[tuple[str, Any]]:
         """Every (key path, raw value) that is a number or an expression."""
         return iter(())
 
-    def check_values(self, mech: Mechanism, values: Mapping[str, float]) -> None:
+    def limits(self, kin: K, solve: bool) -> list[Limit]:
+        """The physical ranges of its quantities in the coordinates of ``kin`` (none by default): each a
+        :class:`~mechcont.equations.Limit` named by its key path, the quantity positive (``strict``) or
+        non-negative. ``solve``: the values are given for one analysis rather than being the file's
+        defaults (a spring's stiffness may then be zero)."""
+        return []
+
+    def value_limit(self, kin: K, key: str, strict: bool, what: str) -> Limit:
+        """The :class:`~mechcont.equations.Limit` of its value at ``key``: positive (``strict``) or
+        non-negative; ``what`` names the quantity with its unit (``"stiffness (N/m)"``)."""
+        field = self.field(key)
+        return Limit(field, kin.mech.value(field), strict, what)
+
+    def check_values(self, mech: Mechanism[Any, Any], values: Mapping[str, float]) -> None:
         """Reject values impossible for it at the parameter ``values`` (one-line InputError)."""
 
     def rows(self, kin: K) -> Sequence[ConstraintRow]:

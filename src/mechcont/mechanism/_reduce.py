@@ -21,6 +21,8 @@ reduced form is the same motion as the full form's.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import sympy as sp
 
 from ..equations import velocity_symbol
@@ -52,7 +54,8 @@ def tree_elimination(kin: PlanarKinematics) -> tuple[dict[sp.Symbol, sp.Expr], s
     return subs, tree
 
 
-def velocity_map(kin: PlanarKinematics, subs: dict):
+def velocity_map(kin: PlanarKinematics, subs: Mapping[sp.Symbol, sp.Expr]
+                 ) -> tuple[list[tuple[str, sp.Symbol]], sp.Matrix, dict[sp.Symbol, sp.Expr]]:
     """``(kept, J, vel)`` of the substitution ``subs`` of the eliminated coordinates: the kept ``(name,
     symbol)`` pairs, ``J = dq/dr`` (every coordinate by the kept ones) and the velocity symbols of every
     coordinate written in the kept ones' (``qdot = J rdot``)."""
@@ -66,7 +69,8 @@ def velocity_map(kin: PlanarKinematics, subs: dict):
     return kept, J, vel
 
 
-def reduce_form(kin: PlanarKinematics, rows: list[ConstraintRow], V: sp.Expr, Q_nc: list[sp.Expr], M: sp.Matrix):
+def reduce_form(kin: PlanarKinematics, rows: list[ConstraintRow], V: sp.Expr, Q_nc: list[sp.Expr], M: sp.Matrix
+                ) -> tuple[list[str], list[ConstraintRow], list[sp.Expr], sp.Matrix, dict[sp.Symbol, sp.Expr]]:
     """Apply :func:`tree_elimination`.
 
     Returns ``(coords, rows, forces, mass, subs)``: kept coordinate names, remaining

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 import sympy as sp
@@ -14,8 +14,9 @@ from ._kinematics import PlanarKinematics
 __all__ = ["scene_function"]
 
 
-def scene_function(kin: PlanarKinematics, arrows, symbols: Sequence[sp.Symbol],
-                   subs: dict | None = None) -> Callable[[np.ndarray], Scene]:
+def scene_function(kin: PlanarKinematics, arrows: Sequence[tuple[str, str, sp.Matrix, sp.Matrix]],
+                   symbols: Sequence[sp.Symbol],
+                   subs: Mapping[sp.Symbol, sp.Expr] | None = None) -> Callable[[np.ndarray], Scene]:
     """Compile ``scene(x) -> Scene`` for a system whose variables have ``symbols``.
 
     ``subs`` maps eliminated coordinates to expressions in the system's variables (reduced
@@ -34,7 +35,7 @@ def scene_function(kin: PlanarKinematics, arrows, symbols: Sequence[sp.Symbol],
     items: list[tuple[str, str, object]] = []  # (kind, name, extra)
     exprs: list[sp.Expr] = []
 
-    def add(kind: str, name: str, pts: list[sp.Matrix], extra=None) -> None:
+    def add(kind: str, name: str, pts: list[sp.Matrix], extra: object = None) -> None:
         items.append((kind, name, (len(pts), extra)))
         for p in pts:
             exprs.extend([p[0], p[1]])

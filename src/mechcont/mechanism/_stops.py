@@ -22,10 +22,16 @@ two as the reaction reaches zero (the stop releases) or the condition reaches it
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import sympy as sp
 
+from ._expr import Gradient
 from .elements.stop import STOP_KEYS, Stop
+
+if TYPE_CHECKING:
+    from ._conditions import Condition
+    from ._description import Mechanism
 
 __all__ = ["Stop", "STOP_KEYS", "stop_reaction_unit", "stop_forces"]
 
@@ -36,7 +42,8 @@ def stop_reaction_unit(condition_unit: str) -> str:
     return {"": "N m", "rad": "N m", "m": "N"}.get(u, f"J/({u})")
 
 
-def stop_forces(mech, conditions, q: Sequence[sp.Symbol], gradient=None) -> list[sp.Expr]:
+def stop_forces(mech: Mechanism, conditions: Sequence[tuple[Condition, sp.Expr]], q: Sequence[sp.Symbol],
+                gradient: Gradient | None = None) -> list[sp.Expr]:
     """``sum_s side_s R_s dc_s/dq`` per coordinate: the stops' generalised forces
     (:meth:`~.elements.stop.Stop.generalised_force` of each).
 

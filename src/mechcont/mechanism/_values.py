@@ -3,18 +3,22 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
 
 from ..equations import Limit
 from ..errors import InputError
-from ._description import Mechanism
-from ._expr import float_value
+from ._expr import _finite, evaluate, float_value
 
-__all__ = ["parameter_values", "check_values", "check_finite", "check_stop_limits", "physical_limits", "evaluate",
+if TYPE_CHECKING:
+    from ._compiled import ValueCheck
+    from ._description import Mechanism
+
+__all__ = ["parameter_values", "check_values", "check_finite", "check_stop_limits", "physical_limits",
            "value_check", "check_vectors",
            "vector_fields", "analysis_value_check"]
 
@@ -31,35 +35,6 @@ def parameter_values(mech: Mechanism, overrides: Mapping[str, float]) -> dict[st
     return values
 
 
-def evaluate(expr: sp.Expr, values: Mapping[str, float], field: str) -> float:
-    """Numeric value of a parameter-only expression; InputError if it is not finite and real.
-
-    The value is first computed in floating point (:func:`float_value`: an overflow such as
-    ``exp(exp(exp(L)))`` is refused at once instead of being computed to arbitrary
-    precision), then, when finite, by SymPy as before (correctly rounded).
-    """
-    subs = {s: values[s.name] for s in expr.free_symbols if s.name in values}
-    if len(subs) < len(expr.free_symbols):
-        raise InputError(field, f"{expr} depends on more than the parameters")
-    _finite(expr, float_value(expr, subs), field)
-    try:
-        out = float(expr.xreplace(subs))
-    except TypeError:
-        raise InputError(field, f"{expr} is not a real number with the given parameters") from None
-    if not math.isfinite(out):
-        raise InputError(field, f"evaluates to {out} with the given parameters")
-    return out
-
-
-def _finite(expr: sp.Expr, quick: float, field: str) -> None:
-    """InputError unless the floating-point value ``quick`` of ``expr`` is finite."""
-    if math.isnan(quick):
-        raise InputError(field, f"{expr} is not a real number with the given parameters (a division by zero, the "
-                                "square root or logarithm of a negative number, asin or acos beyond +-1?)")
-    if not math.isfinite(quick):
-        raise InputError(field, f"{expr} overflows the floating-point range with the given parameters")
-
-
 def check_finite(mech: Mechanism, values: Mapping[str, float]) -> None:
     """Every value of the description in the parameters alone must be a finite real number at
     ``values`` (floating-point evaluation: quick, and never an arbitrary-precision blow-up)."""
@@ -69,7 +44,7 @@ def check_finite(mech: Mechanism, values: Mapping[str, float]) -> None:
             _finite(expr, float_value(expr, num), field)
 
 
-def check_stop_limits(mech, values: Mapping[str, float]) -> None:
+def check_stop_limits(mech: Mechanism, values: Mapping[str, float]) -> None:
     """A condition with both a min and a max stop needs ``min <= max`` at ``values`` (else no
     configuration satisfies both); one-line InputError naming the max stop."""
     lows = {s.condition: s for s in mech.stops if s.side > 0}
@@ -106,16 +81,9 @@ def physical_limits(mech: Mechanism, *, solve: bool = True) -> list[Limit]:
             need(f + ".length", True, "length (m)")
         for field, what in b.inertia_limits():
             need(field, True, what)
-    for el in mech.force_elements():
-        for field, strict, what in el.limits(solve):
-            need(field, strict, what)
-    for ld in mech.loads:
-        for field, strict, what in ld.limits():
-            need(field, strict, what)
-    if mech.joints:
-        from ._kinematics import kinematics_of
-        kin = kinematics_of(mech)
-        out += [Limit(f, e, strict, what) for j in mech.joints for f, e, strict, what in j.limits(kin)]
+    kin = mech.kinematics()
+    for plugin in (*mech.force_elements(), *mech.loads, *mech.joints):
+        out += plugin.limits(kin, solve)
     return out
 
 
@@ -150,7 +118,7 @@ def vector_fields(mech: Mechanism) -> list[str]:
     return fields + [f"joints.{j.name}.{k}" for j in mech.joints for k in j.VECTORS]
 
 
-def analysis_value_check(mech: Mechanism):
+def analysis_value_check(mech: Mechanism) -> ValueCheck:
     """``check(values)`` of :func:`check_values` for an analysis (the defaults where not given, a zero
     stiffness allowed), screened by compiled code (see :class:`~mechcont.mechanism._compiled.ValueCheck`):
     the same limits, vectors and perpendicular axes."""
@@ -174,8 +142,9 @@ def check_vectors(mech: Mechanism, values: Mapping[str, float], fields: Sequence
             raise InputError(f, "must not be the zero vector")
 
 
-def value_check(mech, exact, limits: list[Limit], vectors: list[list], perpendicular: Sequence[list] = (),
-                static_error: bool = False):
+def value_check(mech: Mechanism, exact: Callable[[dict[str, float]], None], limits: list[Limit],
+                vectors: list[list[sp.Expr]], perpendicular: Sequence[list[sp.Expr]] = (),
+                static_error: bool = False) -> ValueCheck:
     """A :class:`~mechcont.mechanism._compiled.ValueCheck` of ``mech``: ``exact(values)`` screened by
     its quantities compiled (the description's numbers in the parameters alone, the ``limits``,
     the ``vectors`` (each a list of expressions, not all zero) and the ``perpendicular`` pairs

@@ -7,12 +7,18 @@ Apart from :mod:`.shimmy` (the section, :func:`~.shimmy.run`): the section's com
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from functools import cache
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..equations import Model
+    from ..mechanism import Mechanism
 
 __all__ = ["EXAMPLE", "SPEEDS", "DAMPER_RATES", "shimmy_mechanism", "gear_at", "leading_eigenvalue", "onset_speed",
            "stability_grid"]
@@ -25,7 +31,7 @@ DAMPER_RATES = (0.0, 100.0)
 
 
 @cache
-def shimmy_mechanism(path: str | None = None):
+def shimmy_mechanism(path: str | None = None) -> Mechanism[Any, Any]:
     """The parsed gear description (``examples/shimmy.toml`` by default; ``path`` another file)."""
     from ..mechanism import parse_description
 
@@ -35,7 +41,7 @@ def shimmy_mechanism(path: str | None = None):
     return parse_description(file.read_text(encoding="utf-8"), str(file))
 
 
-def gear_at(speed: float, mech=None, **values: float):
+def gear_at(speed: float, mech: Mechanism[Any, Any] | None = None, **values: float) -> tuple[Model, np.ndarray]:
     """The gear running straight at ``speed`` (m/s), other parameters at ``values`` (SI): ``(model, x)``,
     ``x`` the equilibrium (the full variable vector; the tyre's deflection at its steady state)."""
     from ..continuation import find_equilibrium
@@ -45,7 +51,7 @@ def gear_at(speed: float, mech=None, **values: float):
     return model, find_equilibrium(model)
 
 
-def leading_eigenvalue(speed: float, mech=None, **values: float) -> complex:
+def leading_eigenvalue(speed: float, mech: Mechanism[Any, Any] | None = None, **values: float) -> complex:
     """The eigenvalue (1/s) of the gear's linearised dynamics at straight running at ``speed`` (m/s)
     with the largest real part (of a complex pair, the one with positive imaginary part)."""
     from ..equations import dynamics_of
@@ -56,7 +62,8 @@ def leading_eigenvalue(speed: float, mech=None, **values: float) -> complex:
     return complex(top[np.argmax(top.imag)])
 
 
-def onset_speed(mech=None, speeds: tuple[float, float] = SPEEDS, samples: int = 12, tol: float = 1e-6,
+def onset_speed(mech: Mechanism[Any, Any] | None = None, speeds: tuple[float, float] = SPEEDS, samples: int = 12,
+                tol: float = 1e-6,
                 **values: float) -> float | None:
     """The lowest speed (m/s) in ``speeds`` where the leading eigenvalue's real part turns positive: the
     first of ``samples`` equally spaced speeds where it is positive brackets it with the previous one,
@@ -80,7 +87,8 @@ def onset_speed(mech=None, speeds: tuple[float, float] = SPEEDS, samples: int = 
     return 0.5 * (lo + hi)
 
 
-def stability_grid(speeds, parameter: str, values, mech=None, **fixed: float) -> np.ndarray:
+def stability_grid(speeds: Iterable[float], parameter: str, values: Iterable[float], mech: Mechanism[Any, Any] | None = None,
+                   **fixed: float) -> np.ndarray:
     """The leading eigenvalue's real part (1/s) at straight running over ``speeds`` (m/s) x the
     ``values`` of ``parameter`` (SI), other parameters at ``fixed``: array (len(values), len(speeds)),
     positive where the gear shimmies. One linearisation per point (about 10 ms on this gear): the

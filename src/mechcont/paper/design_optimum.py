@@ -18,6 +18,7 @@ the probability), a few seconds together (the dual-sidestay optimum about 2 s).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -26,11 +27,14 @@ from typing import TYPE_CHECKING
 from ._timing import timed
 
 if TYPE_CHECKING:
-    from ..analysis.optimize import OptimumMap, OptimumResult
+    from ..analysis.optimize import Constraint, OptimumMap, OptimumResult
+    from ..analysis.study import Distribution
 
 __all__ = ["P_MAX", "NOSE_TOLERANCES", "STAY_TOLERANCES", "NOSE_BOUNDS", "STAY_BOUNDS", "DS_BOUNDS", "DS_MARGIN",
            "DS_FORCE", "dual_sidestay_optimum", "compute", "run"]
 
+#: ``{name: (kind, parameters (SI), unit)}``: the tolerances of a design's quantities (see :data:`NOSE_TOLERANCES`).
+Tolerances = Mapping[str, tuple[str, tuple[float, ...], str]]
 #: The probability of not locking unaided that both designs allow.
 P_MAX = 1e-6
 #: ``{name: (kind, parameters)}`` (SI): the issue's tolerances of the nose gear; LU's centre moves with the design.
@@ -63,13 +67,13 @@ class DesignOptima:
     sidestay_nominal: dict[str, float] | None = None
 
 
-def _random(tolerances):
+def _random(tolerances: Tolerances) -> dict[str, Distribution]:
     from ..analysis.study import Distribution
 
     return {n: Distribution(kind, params) for n, (kind, params, _) in tolerances.items()}
 
 
-def _constraint():
+def _constraint() -> list[Constraint]:
     from ..analysis.optimize import Constraint
 
     return [Constraint.parse(f"P(not locking) <= {P_MAX:g}")]
@@ -101,7 +105,7 @@ def compute() -> DesignOptima:
     return DesignOptima(nose, nose_force, stay, stay_force, stay_map, seconds, sidestay, nominal)
 
 
-def dual_sidestay_optimum(margin: float = DS_MARGIN):
+def dual_sidestay_optimum(margin: float = DS_MARGIN) -> tuple[OptimumResult, dict[str, float]]:
     """The dual-sidestay gear's lock springs with the least unlock load (:data:`DS_FORCE`, N) with each stop's
     preload at rest at least ``margin`` (N m), over :data:`DS_BOUNDS`. Returns ``(OptimumResult, nominal)``,
     ``nominal`` the unlock load and preloads at the description's springs (``{name: value}``, SI)."""
@@ -118,8 +122,8 @@ def dual_sidestay_optimum(margin: float = DS_MARGIN):
     return best, nominal
 
 
-def _tolerances(tolerances) -> str:
-    def one(name, kind, p, unit):
+def _tolerances(tolerances: Tolerances) -> str:
+    def one(name: str, kind: str, p: tuple[float, ...], unit: str) -> str:
         if kind == "normal":
             return f"{name} normal, standard deviation {p[1]:g} {unit}"
         return (f"{name} truncated normal, standard deviation {p[1]:g} {unit} within {p[2] - p[0]:+g}..{p[3] - p[0]:+g} "

@@ -27,7 +27,7 @@ import math
 import re
 import subprocess
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import NamedTuple
 
@@ -320,7 +320,7 @@ def transcript_mismatches(text: str, printed: Mapping[str, str]) -> list[tuple[s
     return out
 
 
-def command_outputs(root: Path, sources=None) -> dict[str, str]:
+def command_outputs(root: Path, sources: Iterable[str] | None = None) -> dict[str, str]:
     """``{source: what the command prints}`` for the :data:`COMMANDS` named in ``sources`` (default: all), each
     run as ``python -m mechcont ARGS`` in a scratch folder holding a copy of ``root/examples`` (``root``: the
     repository's root; the files a command writes go there, and are removed). Raises ``RuntimeError`` naming a

@@ -20,11 +20,17 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from . import freefall_sidestay
 from ._freefall_figures import nose_gear_figure
 from ._timing import timed
+
+if TYPE_CHECKING:
+    from ..dynamics.freefall import CriticalAirspeed
+    from ..equations import Model
 
 __all__ = ["run", "description_text", "AIRSPEEDS", "PENDULUM"]
 
@@ -218,7 +224,8 @@ def _damping_study(out_dir: Path, timings: dict) -> list[str]:
     return lines
 
 
-def _bisect(system, start, vary: str, bracket, fallback, **options):
+def _bisect(system: Model, start: Mapping[str, float], vary: str, bracket: tuple[float, float],
+            fallback: tuple[float, float], **options: Any) -> CriticalAirspeed:
     """:func:`~mechcont.dynamics.freefall.critical_airspeed` in ``bracket`` (runs ended at the lock), or in the
     wider ``fallback`` when the outcome does not change across ``bracket``."""
     from ..dynamics.freefall import critical_airspeed

@@ -107,11 +107,6 @@ class Element(PlugIn[Kinematics]):
         """Its table (``"springs"``, ...)."""
         return self.table
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
-        """``(key path, strict, what)``: values that must be positive (strict) or non-negative
-        (``solve``: values given for one analysis rather than the file's defaults)."""
-        return []
-
     def states(self, kin: Kinematics) -> tuple[ElementState, ...]:
         """The element's first-order states in the coordinates of ``kin`` (none by default)."""
         return ()

@@ -15,7 +15,7 @@ this is exactly the rotation about it; it is smooth for ``|phi| < pi``.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import sympy as sp
 
@@ -25,6 +25,8 @@ from ...errors import InputError
 if TYPE_CHECKING:
     from .._description import Mechanism
     from .._plugin import Kinematics
+    from ..joints import PlanarJoint
+    from ..spatial.joints import SpatialJoint
 
 
 class Rotary(Protocol):
@@ -44,7 +46,8 @@ __all__ = ["relative_angle", "angle_rate", "check_bodies", "pivot", "AXIS_JOINTS
 AXIS_JOINTS = ("revolute", "cylindrical")
 
 
-def _bodies(joint) -> set[str]:
+def _bodies(joint: PlanarJoint | SpatialJoint) -> set[str]:
+    """The bodies (or ``"ground"``) of the joint's two sides."""
     return {joint.a.split(".")[0], joint.b.split(".")[0]}
 
 
@@ -76,7 +79,9 @@ def check_bodies(el: Rotary, mech: Mechanism) -> None:
                                             f"axis ({', '.join(AXIS_JOINTS)})")
 
 
-def _joint(el: Rotary, mech: Mechanism):
+def _joint(el: Rotary, mech: Mechanism) -> Any:
+    """The joint ``el`` acts about (planar or spatial: the description's own joint type, which a bare
+    :class:`Mechanism` leaves open; in space its ``vector(kin, "axis")`` is read)."""
     return next(j for j in mech.joints if j.name == el.joint)
 
 

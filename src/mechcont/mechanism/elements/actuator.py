@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
+from ...equations import Limit
 from ...errors import InputError
 from .._expr import Value
 from .._plugin import Kinematics
@@ -29,6 +30,7 @@ from ..joints import ConstraintRow
 from ._base import Draw, TwoPointElement
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from ..loads import Loads
 
 __all__ = ["Actuator"]
@@ -65,7 +67,7 @@ class Actuator(TwoPointElement):
         """The ends are point references."""
         return "is required (a point reference '<body>.<point>' or 'ground.<point>')"
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """Exactly one of force and length; two different points on two different bodies."""
         f = self.field()
         if (self.force is None) == (self.length is None):
@@ -78,22 +80,22 @@ class Actuator(TwoPointElement):
             raise InputError(f + ".b", f"both ends are on {self.a.split('.')[0]!r}: an actuator joins two bodies "
                                        "(or a body and the ground)")
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its force or its length."""
         for key in ("force", "length"):
             if getattr(self, key) is not None:
                 yield self.field(key), getattr(self, key)
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """A given length is positive."""
-        return [(self.field("length"), True, "actuator length (m)")] if self.length is not None else []
+        return [self.value_limit(kin, "length", True, "actuator length (m)")] if self.length is not None else []
 
     def length_in(self, kin: Kinematics) -> sp.Expr:
         """``|P_b - P_a|`` (m) in the coordinates of ``kin``."""
         d = kin.point(self.b) - kin.point(self.a)
         return sp.sqrt(sum((c ** 2 for c in d), sp.S.Zero))
 
-    def tension(self, mech) -> sp.Expr:
+    def tension(self, mech: Mechanism) -> sp.Expr:
         """The actuator tension (N) as an expression in the system's variables."""
         if self.mode == "force":
             return mech.value(self.field("force"))

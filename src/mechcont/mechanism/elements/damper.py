@@ -19,18 +19,19 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
-from ...equations import velocity_symbol
+from ...equations import Limit, velocity_symbol
 from .._expr import Value
 from .._plugin import Kinematics
 from ._base import TwoPointElement
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from ..loads import Loads
 
 __all__ = ["Damper", "damper_tension"]
 
 
-def damper_tension(c, c2, rate) -> sp.Expr:
+def damper_tension(c: sp.Expr, c2: sp.Expr, rate: sp.Expr) -> sp.Expr:
     """Tension ``c v + c2 v |v|`` (N) of a damper stroking at ``rate`` = ``v`` (m/s)."""
     return c * rate + c2 * rate * sp.Abs(rate)
 
@@ -52,14 +53,15 @@ class Damper(TwoPointElement):
     REQUIRED: ClassVar[tuple[str, ...]] = ("a", "b", "c")
     DRAWN: ClassVar[str] = "damper"
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its linear and quadratic damping."""
         yield self.field("c"), self.c
         yield self.field("c2"), self.c2
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """Both coefficients non-negative."""
-        return [(self.field("c"), False, "damping (N s/m)"), (self.field("c2"), False, "quadratic damping (N s^2/m^2)")]
+        return [self.value_limit(kin, "c", False, "damping (N s/m)"),
+                self.value_limit(kin, "c2", False, "quadratic damping (N s^2/m^2)")]
 
     def apply(self, kin: Kinematics, out: Loads) -> None:
         """Generalised forces ``-T dl/dq`` with ``v = dl/dq . qdot`` (the velocity symbols of ``kin.coords``)."""

@@ -6,11 +6,13 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from ...equations import Limit
 from .._expr import Value
 from .._plugin import Kinematics
 from ._base import TwoPointElement
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from ..loads import Loads
 
 __all__ = ["Spring"]
@@ -36,16 +38,17 @@ class Spring(TwoPointElement):
     STIFFNESS_KEYS: ClassVar[tuple[str, ...]] = ("k",)
     DRAWN: ClassVar[str] = "spring"
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its stiffness, free length and preload."""
         yield self.field("k"), self.k
         yield self.field("free_length"), self.free_length
         yield self.field("preload"), self.preload
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """A positive free length; a positive stiffness in the file, zero allowed for an analysis
         (it disconnects the spring, as in the paper's Fig. 7, "no spring load")."""
-        return [(self.field("k"), not solve, "stiffness (N/m)"), (self.field("free_length"), True, "free length (m)")]
+        return [self.value_limit(kin, "k", not solve, "stiffness (N/m)"),
+                self.value_limit(kin, "free_length", True, "free length (m)")]
 
     def apply(self, kin: Kinematics, out: Loads) -> None:
         """Potential ``preload*l + k/2 (l - free_length)^2`` (J)."""

@@ -8,13 +8,18 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
+from ...equations import Limit
 from ...errors import InputError
-from .._expr import Value, symbol
+from .._expr import Gradient, Value, symbol
+from .._plugin import Kinematics
 from ._base import Element
+
+if TYPE_CHECKING:
+    from .._description import Mechanism
 
 __all__ = ["Stop", "STOP_KEYS", "CONTACT_MODELS"]
 
@@ -105,7 +110,7 @@ class Stop(Element):
         return cls(name, spec["condition"], limit, 1 if sides[0] == "min" else -1, desc, float(e),
                    *_contact_model(spec, f))
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """It names a declared condition; at most one stop per condition side (the first declared keeps it)."""
         f = self.field()
         names = [c.name for c in mech.conditions]
@@ -118,21 +123,21 @@ class Stop(Element):
         if first is not self:
             raise InputError(f, f"the condition {self.condition!r} already has a {self.key} stop ({first.name})")
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its limit and, for a compliant stop, its stiffness and damping."""
         yield self.field(self.key), self.limit
         if self.contact == "compliant":
             yield self.field("stiffness"), self.stiffness
             yield self.field("damping"), self.damping
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """A compliant stop's stiffness (> 0) and damping (>= 0)."""
         if self.contact != "compliant":
             return []
-        return [(self.field("stiffness"), True, "contact stiffness (per unit of the condition)"),
-                (self.field("damping"), False, "contact damping (per unit of the condition's rate)")]
+        return [self.value_limit(kin, "stiffness", True, "contact stiffness (per unit of the condition)"),
+                self.value_limit(kin, "damping", False, "contact damping (per unit of the condition's rate)")]
 
-    def generalised_force(self, c: sp.Expr, q: Sequence[sp.Symbol], gradient=None) -> list[sp.Expr]:
+    def generalised_force(self, c: sp.Expr, q: Sequence[sp.Symbol], gradient: Gradient | None = None) -> list[sp.Expr]:
         """``side R dc/dq`` per coordinate ``q`` for its condition ``c(q, p)`` (``gradient(expr, symbols)``
         differentiates; default SymPy). Its force is along its condition, so the generators add it once
         the conditions are written in the generated coordinates (the reduced form's included)."""

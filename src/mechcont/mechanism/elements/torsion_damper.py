@@ -15,6 +15,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from ...equations import Limit
 from .._expr import Value
 from .._plugin import Kinematics
 from ._base import Draw, Element
@@ -22,6 +23,7 @@ from ._rotary import angle_rate, check_bodies, pivot, relative_angle
 from .damper import damper_tension
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from ..loads import Loads
 
 __all__ = ["TorsionDamper"]
@@ -44,19 +46,19 @@ class TorsionDamper(Element):
     REQUIRED: ClassVar[tuple[str, ...]] = ("a", "b", "c")
     TEXT_KEYS: ClassVar[tuple[str, ...]] = ("a", "b", "joint")
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """``a``, ``b`` bodies (or the ground), ``joint`` (required in space) joining them."""
         check_bodies(self, mech)
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its linear and quadratic damping."""
         yield self.field("c"), self.c
         yield self.field("c2"), self.c2
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """Both coefficients non-negative."""
-        return [(self.field("c"), False, "torsional damping (N m s/rad)"),
-                (self.field("c2"), False, "quadratic torsional damping (N m s^2/rad^2)")]
+        return [self.value_limit(kin, "c", False, "torsional damping (N m s/rad)"),
+                self.value_limit(kin, "c2", False, "quadratic torsional damping (N m s^2/rad^2)")]
 
     def apply(self, kin: Kinematics, out: Loads) -> None:
         """Generalised forces ``-(c w + c2 w |w|) dphi/dq``, ``w = dphi/dq . qdot``."""

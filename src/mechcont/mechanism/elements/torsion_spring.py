@@ -18,12 +18,14 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from ...equations import Limit
 from .._expr import Value
 from .._plugin import Kinematics
 from ._base import Draw, Element
 from ._rotary import check_bodies, pivot, relative_angle
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from ..loads import Loads
 
 __all__ = ["TorsionSpring"]
@@ -46,18 +48,18 @@ class TorsionSpring(Element):
     REQUIRED: ClassVar[tuple[str, ...]] = ("a", "b", "k")
     TEXT_KEYS: ClassVar[tuple[str, ...]] = ("a", "b", "joint")
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """``a``, ``b`` bodies (or the ground), ``joint`` (required in space) joining them."""
         check_bodies(self, mech)
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its stiffness and free angle."""
         yield self.field("k"), self.k
         yield self.field("angle"), self.angle
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """A non-negative stiffness."""
-        return [(self.field("k"), False, "torsional stiffness (N m/rad)")]
+        return [self.value_limit(kin, "k", False, "torsional stiffness (N m/rad)")]
 
     def apply(self, kin: Kinematics, out: Loads) -> None:
         """Potential ``k/2 (phi - angle)^2`` (J)."""

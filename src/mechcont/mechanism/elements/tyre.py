@@ -59,13 +59,15 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
-from ...equations import velocity_symbol
+from ...equations import Limit, velocity_symbol
 from ...errors import InputError
 from .._expr import Value, symbol
 from .._plugin import Kinematics
+from .._values import parameter_values
 from ._base import Draw, Element, ElementState
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from ..loads import Loads
 
 __all__ = ["Tyre"]
@@ -102,7 +104,7 @@ class Tyre(Element):
         """The contact point reference ``"<body>.<point>"`` (``at`` may name the point alone)."""
         return self.at if "." in self.at else f"{self.body}.{self.at}"
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """``body`` a body (not the ground), ``at`` a point on it."""
         if self.body == "ground":
             raise InputError(self.field("body"), "a tyre rolls on the ground: give the wheel's body, not \"ground\"")
@@ -112,20 +114,20 @@ class Tyre(Element):
         if body != self.body:
             raise InputError(self.field("at"), f"the contact point must be on the tyre's body {self.body!r}, got {self.at!r}")
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its speed, relaxation length, cornering stiffness, and the optional maximum force and trail."""
         for key in ("speed", "relaxation_length", "cornering_stiffness", "max_force", "pneumatic_trail"):
             value = getattr(self, key)
             if value is not None:
                 yield self.field(key), value
 
-    def limits(self, solve: bool) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: Kinematics, solve: bool) -> list[Limit]:
         """A positive speed and relaxation length (and maximum force), a non-negative cornering stiffness."""
-        out = [(self.field("speed"), True, "speed (m/s; at rest the tyre's deflection is undetermined)"),
-               (self.field("relaxation_length"), True, "relaxation length (m)"),
-               (self.field("cornering_stiffness"), False, "cornering stiffness (N/rad)")]
+        out = [self.value_limit(kin, "speed", True, "speed (m/s; at rest the tyre's deflection is undetermined)"),
+               self.value_limit(kin, "relaxation_length", True, "relaxation length (m)"),
+               self.value_limit(kin, "cornering_stiffness", False, "cornering stiffness (N/rad)")]
         if self.max_force is not None:
-            out.append((self.field("max_force"), True, "maximum side force (N)"))
+            out.append(self.value_limit(kin, "max_force", True, "maximum side force (N)"))
         return out
 
     # -- geometry ------------------------------------------------------------------------
@@ -170,8 +172,6 @@ class Tyre(Element):
         """``y_<name>`` (m): ``dy/dt = -v_lat - (V/sigma) y``."""
         v = kin.mech.value
         rate = -self.lateral_velocity(kin) - v(self.field("speed")) / v(self.field("relaxation_length")) * symbol(self.state)
-        from .._values import parameter_values
-
         at = {symbol(k): val for k, val in parameter_values(kin.mech, {}).items()}
         sigma = abs(float(sp.sympify(v(self.field("relaxation_length"))).xreplace(at)))
         return (ElementState(self.state, "m", rate, scale=sigma / 10 or 1.0, initial=0.0,

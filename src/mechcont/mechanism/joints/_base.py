@@ -111,10 +111,6 @@ class PlanarJoint(PlugIn["PlanarKinematics"]):
         """The joint's constraint rows in the coordinates of ``kin``."""
         raise NotImplementedError
 
-    def limits(self, kin: PlanarKinematics) -> list[tuple[str, sp.Expr, bool, str]]:
-        """``(key path, quantity, strict, what)``: quantities that must be positive (strict) or non-negative."""
-        return []
-
     def perpendicular(self, mech: Mechanism) -> list[list[sp.Expr]]:
         """Pairs of vectors (six expressions) that must be perpendicular (default: none)."""
         return []

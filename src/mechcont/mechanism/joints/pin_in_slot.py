@@ -21,10 +21,12 @@ from typing import TYPE_CHECKING, ClassVar
 
 import sympy as sp
 
+from ...equations import Limit
 from ...errors import InputError
 from ._base import ConstraintRow, Draw, PlanarJoint, check_points
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from .._kinematics import PlanarKinematics
 
 __all__ = ["PinInSlot"]
@@ -53,7 +55,7 @@ class PinInSlot(PlanarJoint):
         slot = spec["slot"]
         return cls(name, spec["pin"], tuple(slot) if isinstance(slot, list) else slot)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         # side a is the slot's start (its body exerts the reaction), side b the pin; a malformed
         # slot is reported by check(), so nothing is indexed here that may not exist
         ok = isinstance(self.slot, (tuple, list)) and len(self.slot) == 2
@@ -63,7 +65,7 @@ class PinInSlot(PlanarJoint):
     def refs(self) -> list[tuple[str, str]]:
         return [("slot", self.slot[0]), ("pin", self.pin), ("slot", self.slot[1])]
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         f = f"joints.{self.name}"
         slot = self.slot
         if not (isinstance(slot, (tuple, list)) and len(slot) == 2 and all(isinstance(s, str) for s in slot)):
@@ -96,5 +98,6 @@ class PinInSlot(PlanarJoint):
         add("slot", self.name, [kin.point(self.slot[0]), kin.point(self.slot[1])])
         add("pin", self.name, [kin.point(self.pin)])
 
-    def limits(self, kin: PlanarKinematics) -> list[tuple[str, sp.Expr, bool, str]]:
-        return [(f"joints.{self.name}.slot", self.length(kin), True, "slot length (m)")]
+    def limits(self, kin: PlanarKinematics, solve: bool) -> list[Limit]:
+        """A positive slot length."""
+        return [Limit(self.field("slot"), self.length(kin), True, "slot length (m)")]

@@ -92,10 +92,6 @@ class Load(PlugIn[K]):
         kw = {k: (vector(v, f"{field}.{k}") if k in cls.VECTORS else v) for k, v in spec.items()}
         return cls(name, **kw)  # type: ignore[call-arg]
 
-    def limits(self) -> list[tuple[str, bool, str]]:
-        """``(key path, strict, what)``: values that must be positive (strict) or non-negative."""
-        return []
-
     def vectors(self) -> list[str]:
         """Key paths of the load's vectors that must not be zero (components ``.x``, ``.y`` (, ``.z``))."""
         return []

@@ -13,6 +13,7 @@ from .._expr import Value
 from ._base import Draw, K, Load, Loads, check_at_point
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from .._kinematics import PlanarKinematics
     from ..spatial._kinematics import SpatialKinematics
 
@@ -25,11 +26,11 @@ class _Custom(Load[K]):
     at: str
     REQUIRED: ClassVar[tuple[str, ...]] = ("at",)
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """Its point must be a body point."""
         check_at_point(self, self.at, mech)
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its force and moment components."""
         for key in self.COORDINATE_KEYS:
             yield self.field(key), getattr(self, key)

@@ -8,11 +8,13 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
+from ...equations import Limit
 from ...errors import InputError
 from .._expr import Value
 from ._base import K, Load, Loads, check_on_body
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from .._kinematics import PlanarKinematics
     from ..spatial._kinematics import SpatialKinematics
 
@@ -31,13 +33,13 @@ class _Segment(Load[K]):
     end: str
     REQUIRED: ClassVar[tuple[str, ...]] = ("body",)
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """Its body and its two points must exist."""
         check_on_body(self, self.body, mech, ("start", "end"))
 
-    def limits(self) -> list[tuple[str, bool, str]]:
+    def limits(self, kin: K, solve: bool) -> list[Limit]:
         """Air density and drag coefficient non-negative, diameter positive."""
-        return [(self.field(key), strict, what) for key, strict, what in _LIMITS]
+        return [self.value_limit(kin, key, strict, what) for key, strict, what in _LIMITS]
 
     def static_error(self) -> bool:
         """A segment from a point to itself."""
@@ -70,12 +72,12 @@ class Drag(_Segment["PlanarKinematics"]):
     kind: ClassVar[str] = "drag"
     KEYS: ClassVar[frozenset[str]] = frozenset({"body", "rho", "U", "alpha", "d", "CD", "start", "end"})
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """``rho``, ``U``, ``alpha``, ``d``, ``CD``."""
         for key in ("rho", "U", "alpha", "d", "CD"):
             yield self.field(key), getattr(self, key)
 
-    def check_values(self, mech, values: Mapping[str, float]) -> None:
+    def check_values(self, mech: Mechanism, values: Mapping[str, float]) -> None:
         """The segment needs two points (checked with the values, as a planar description always was)."""
         if self.static_error():
             raise InputError(self.field("end"), "the drag segment needs two different points")
@@ -123,13 +125,13 @@ class SpatialDrag(_Segment["SpatialKinematics"]):
     REQUIRED: ClassVar[tuple[str, ...]] = ("body", "direction")
     VECTORS: ClassVar[tuple[str, ...]] = ("direction",)
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """Its body and two different points of it."""
         super().check(mech)
         if self.static_error():
             raise InputError(self.field("end"), "the drag segment needs two different points")
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """``rho``, ``U``, ``d``, ``CD`` and the air's direction."""
         for key in ("rho", "U", "d", "CD"):
             yield self.field(key), getattr(self, key)

@@ -4,11 +4,14 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from .._expr import Value
 from .._plugin import Kinematics
 from ._base import Load, Loads, check_at_point
+
+if TYPE_CHECKING:
+    from .._description import Mechanism
 
 __all__ = ["PointForce"]
 
@@ -41,11 +44,11 @@ class PointForce(Load[Kinematics]):
         """``at`` and ``magnitude``; in space also ``direction``."""
         return cls._REQUIRED[space]
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """Its point must be a body point."""
         check_at_point(self, self.at, mech)
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its magnitude and direction (components, or an angle in the plane)."""
         yield self.field("magnitude"), self.magnitude
         yield from mech.direction_values(self.field("direction"), self.direction)

@@ -4,13 +4,16 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
 from .._expr import Value
 from .._plugin import Kinematics
 from ._base import Loads
+
+if TYPE_CHECKING:
+    from .._description import Mechanism
 
 __all__ = ["Gravity", "SpatialGravity"]
 
@@ -42,7 +45,7 @@ class Gravity(_Gravity):
     g: Value = "g"
     angle: Value = -sp.pi / 2
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """``g`` and ``angle``."""
         yield "gravity.g", self.g
         yield "gravity.angle", self.angle
@@ -62,7 +65,7 @@ class SpatialGravity(_Gravity):
 
     SPACES: ClassVar[tuple[str, ...]] = ("space",)
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """``g`` and the direction."""
         yield "gravity.g", self.g
         yield from mech.vector_values("gravity.direction", self.direction)

@@ -12,6 +12,7 @@ from .._expr import Value
 from ._base import Draw, Load, Loads, check_on_body
 
 if TYPE_CHECKING:
+    from .._description import Mechanism
     from .._kinematics import PlanarKinematics
     from ..spatial._kinematics import SpatialKinematics
 
@@ -30,11 +31,11 @@ class Moment(Load["PlanarKinematics"]):
     KEYS: ClassVar[frozenset[str]] = frozenset({"body", "magnitude"})
     REQUIRED: ClassVar[tuple[str, ...]] = ("body", "magnitude")
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """Its body must exist."""
         check_on_body(self, self.body, mech)
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its magnitude."""
         yield self.field("magnitude"), self.magnitude
 
@@ -62,11 +63,11 @@ class SpatialMoment(Load["SpatialKinematics"]):
     REQUIRED: ClassVar[tuple[str, ...]] = ("body", "magnitude", "axis")
     VECTORS: ClassVar[tuple[str, ...]] = ("axis",)
 
-    def check(self, mech) -> None:
+    def check(self, mech: Mechanism) -> None:
         """Its body must exist."""
         check_on_body(self, self.body, mech)
 
-    def values(self, mech) -> Iterator[tuple[str, Any]]:
+    def values(self, mech: Mechanism) -> Iterator[tuple[str, Any]]:
         """Its magnitude and axis."""
         yield self.field("magnitude"), self.magnitude
         yield from mech.vector_values(self.field("axis"), self.axis)

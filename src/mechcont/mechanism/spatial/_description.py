@@ -20,26 +20,23 @@ Conventions (SI units, radians):
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, Self
+
 from ...errors import InputError
-from .._bodies import INERTIA_KEYS, SpatialBody
+from .._bodies import INERTIA_KEYS, SpatialBody, normalisation_row, spatial_coordinate_names
 from .._description import Mechanism
 from .._expr import Value
+from .._plugin import Kinematics
 from ..loads import SpatialCustomLoad, SpatialDrag, SpatialGravity, SpatialMoment
-from .joints import SpatialJoint
+from ._kinematics import SpatialKinematics
+from .joints import JOINT_TYPES, SpatialJoint
+
+if TYPE_CHECKING:
+    from ...equations import Model
 
 __all__ = ["SpatialBody", "SpatialGravity", "SpatialMoment", "SpatialCustomLoad", "SpatialDrag", "SpatialMechanism",
            "spatial_coordinate_names", "INERTIA_KEYS"]
-
-
-def normalisation_row(body: str) -> str:
-    """The name of ``body``'s Euler-parameter normalisation row (and its joint)."""
-    return f"norm_{body}"
-
-
-def spatial_coordinate_names(body: str) -> tuple[str, ...]:
-    """``x_b, y_b, z_b, e0_b, e1_b, e2_b, e3_b`` for body ``b`` (``x1, y1, z1, e0_1, ...`` for ``"1"``)."""
-    sep = "" if body.isdigit() else "_"
-    return (f"x{sep}{body}", f"y{sep}{body}", f"z{sep}{body}", *(f"e{i}_{body}" for i in range(4)))
 
 
 class SpatialMechanism(Mechanism[SpatialJoint, SpatialBody]):
@@ -70,7 +67,6 @@ class SpatialMechanism(Mechanism[SpatialJoint, SpatialBody]):
                 raise InputError(f"joints.{j.name}", "names starting with 'norm_' are reserved for the Euler-parameter "
                                                      "normalisation rows (norm_<body>); rename the joint")
             if not isinstance(j, SpatialJoint):
-                from .joints import JOINT_TYPES
                 raise InputError(f"joints.{j.name}", f"{type(j).__name__} is a planar joint; a spatial mechanism "
                                                      f"takes {', '.join(JOINT_TYPES)} joints")
         if self.gravity is not None and self.space not in self.gravity.SPACES:
@@ -80,9 +76,8 @@ class SpatialMechanism(Mechanism[SpatialJoint, SpatialBody]):
     def _coordinate_names(self, body: str) -> tuple[str, ...]:
         return spatial_coordinate_names(body)
 
-    def kinematics_class(self) -> type:
+    def kinematics_class(self) -> Callable[[Self], Kinematics]:
         """The kinematics strategy of space (:class:`._kinematics.SpatialKinematics`: origin and Euler parameters)."""
-        from ._kinematics import SpatialKinematics
         return SpatialKinematics
 
     def normalisation_rows(self) -> frozenset[str]:
@@ -93,10 +88,10 @@ class SpatialMechanism(Mechanism[SpatialJoint, SpatialBody]):
         """None: a spatial description's variables are read from a build."""
         return None
 
-    def direction_values(self, field: str, v) -> list[tuple[str, Value]]:
+    def direction_values(self, field: str, v: Any) -> list[tuple[str, Value]]:
         """The (key path, raw value) of each component of a direction ``[x, y, z]``."""
         return self.vector_values(field, v)
 
-    def _generator(self):
+    def _generator(self) -> Callable[..., Model]:
         from ._generate import generate
         return generate

@@ -25,7 +25,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from ...errors import InputError
-from .._file import Reader, _only, _require, _table, _text
+from .._tables import Reader, _only, _require, _table, _text
 from ..loads import SpatialGravity
 from ._description import SpatialBody, SpatialMechanism
 from .joints import vector3 as _triple

@@ -21,9 +21,10 @@ the build pose and again along a branch where the kept rows lose rank (:class:`_
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from functools import partial
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import sympy as sp
@@ -49,12 +50,14 @@ from .._generate import (
 from .._kinematics import place_along_joints
 from .._stops import stop_forces
 from .._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
-from ._description import SpatialMechanism
 from ._dropped import SWITCH_RATIO, choose_dropped, conditioning
 from ._kinematics import SpatialKinematics
 from ._rotation import quaternion_from_rotation_vector
 from ._scene import spatial_scene_function
 from .joints import SpatialRow
+
+if TYPE_CHECKING:
+    from ._description import SpatialMechanism
 
 __all__ = ["generate"]
 
@@ -127,7 +130,7 @@ def _misfit_error(mech: SpatialMechanism, rows: list[SpatialRow], phi: np.ndarra
                              "(joints.NAME.stiffness, N/m) so it deflects")
 
 
-def _joints_only(names) -> list[str]:
+def _joints_only(names: Iterable[str]) -> list[str]:
     """The joint names among row owners (the normalisation rows ``norm_<body>`` left out)."""
     return [n for n in names if not n.startswith("norm_")]
 
@@ -273,7 +276,7 @@ class _RowChoice:
 
 
 def _variant_model(mech: SpatialMechanism, st: _Structure, var: _Variant, variables: list[Variable],
-                   **fields_) -> Model:
+                   **fields_: Any) -> Model:
     """A copy of ``var``'s model with ``variables`` and the model ``fields_`` (built and kept on first use)."""
     if var.model is None:
         dropped = [st.rows[i] for i in var.dropped]

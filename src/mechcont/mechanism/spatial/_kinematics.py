@@ -12,17 +12,20 @@ that keeps ``|e| = 1`` and makes ``M`` positive definite.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import sympy as sp
 
 from ...equations import gradient
+from .._bodies import INERTIA_KEYS, SpatialBody, normalisation_row
 from .._expr import symbol
 from .._values import parameter_values
 from ..elements import element_rows
-from ._description import INERTIA_KEYS, SpatialBody, SpatialMechanism, normalisation_row
 from ._rotation import body_omega_matrix, cross, dot, matvec, norm, omega_matrix, perpendiculars, rotation_matrix
 from .joints import SpatialRow
+
+if TYPE_CHECKING:
+    from ._description import SpatialMechanism
 
 __all__ = ["SpatialKinematics"]
 

@@ -13,7 +13,8 @@ from ._kinematics import SpatialKinematics
 __all__ = ["spatial_scene_function", "SpatialScene"]
 
 
-def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.Symbol]) -> SpatialScene:
+def spatial_scene_function(kin: SpatialKinematics, arrows: Sequence[tuple[str, str, sp.Matrix, sp.Matrix]],
+                           symbols: Sequence[sp.Symbol]) -> SpatialScene:
     """Compile ``scene(x) -> Scene`` (3-vectors, m, N, N m) for the spatial mechanism of ``kin``.
 
     A bar is drawn from ``a`` to ``b`` (a triangle through each declared point); another body
@@ -32,7 +33,7 @@ def spatial_scene_function(kin: SpatialKinematics, arrows, symbols: Sequence[sp.
             exprs.extend(list(p))
 
     for b in mech.bodies:
-        def pt(p, _b=b.name):
+        def pt(p: str, _b: str = b.name) -> sp.Matrix:
             return kin.point(f"{_b}.{p}")
         if b.length is not None:
             add("bar", b.name, [pt("a"), pt("b")])

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import sympy as sp
 
+from ....equations import Limit
 from ....errors import InputError
 from ..._expr import Value
 from ..._plugin import Draw, PlugIn, Registry, registry
@@ -56,7 +57,7 @@ class SpatialRow(ConstraintRow):
     stiffness: sp.Expr | None = None
 
 
-def vector3(v, field: str) -> tuple:
+def vector3(v: Any, field: str) -> tuple[Any, ...]:
     """A 3-vector ``[x, y, z]`` of a description file (a one-line InputError naming ``field`` otherwise)."""
     if not isinstance(v, list) or len(v) != 3:
         raise InputError(field, f"must be a 3-vector [x, y, z], got {v!r}")
@@ -120,20 +121,18 @@ class SpatialJoint(PlugIn["SpatialKinematics"]):
         """Check the point references ``a``, ``b`` against ``mech`` (a one-line InputError naming the key)."""
         check_points(self.name, [("a", self.a), ("b", self.b)], mech)
 
-    def limits(self, kin: SpatialKinematics) -> list[tuple[str, sp.Expr, bool, str]]:
-        """``(key path, quantity, strict, what)``: the stiffnesses given must be positive."""
-        out = []
-        for key, what in (("stiffness", "joint stiffness (N/m)"),
-                          ("rotational_stiffness", "joint rotational stiffness (N m/rad)")):
-            if getattr(self, key) is not None:
-                out.append((f"joints.{self.name}.{key}", kin.mech.value(f"joints.{self.name}.{key}"), True, what))
-        return out
+    def limits(self, kin: SpatialKinematics, solve: bool) -> list[Limit]:
+        """The stiffnesses given must be positive."""
+        return [self.value_limit(kin, key, True, what)
+                for key, what in (("stiffness", "joint stiffness (N/m)"),
+                                  ("rotational_stiffness", "joint rotational stiffness (N m/rad)"))
+                if getattr(self, key) is not None]
 
-    def perpendicular(self, mech) -> list[list[sp.Expr]]:
+    def perpendicular(self, mech: Mechanism) -> list[list[sp.Expr]]:
         """Pairs of vectors (six expressions) that must be perpendicular (default: none)."""
         return []
 
-    def check_values(self, mech, values) -> None:
+    def check_values(self, mech: Mechanism, values: Mapping[str, float]) -> None:
         """Reject values impossible for this joint at the parameter ``values`` (default: none)."""
 
     def vector(self, kin: SpatialKinematics, key: str) -> sp.Matrix:

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, ClassVar
 import sympy as sp
 
 from ....errors import InputError
+from ..._expr import evaluate
 from .._rotation import perpendiculars
 from ._base import SpatialJoint, SpatialRow, Vector
 
@@ -37,8 +38,6 @@ class Universal(SpatialJoint):
 
     def check_values(self, mech: Mechanism, values: Mapping[str, float]) -> None:
         """``axis_a`` perpendicular to ``axis_b`` at ``values`` (one-line InputError)."""
-        from ..._values import evaluate
-
         a = [evaluate(mech.value(f"joints.{self.name}.axis_a.{c}"), values, "") for c in "xyz"]
         b = [evaluate(mech.value(f"joints.{self.name}.axis_b.{c}"), values, "") for c in "xyz"]
         c = sum(p * q for p, q in zip(a, b)) / (sum(p * p for p in a) * sum(q * q for q in b)) ** 0.5
