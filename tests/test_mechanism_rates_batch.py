@@ -121,11 +121,15 @@ def test_cycle_rate_function_uses_the_batch_with_the_same_values(shimmy):
 
 
 class _Counting(_PointByPoint):
-    """The protocol with the batched Jacobian too, counting the calls of each."""
+    """The protocol with the batched rates and Jacobian too, counting the calls of each."""
 
     def __init__(self, dyn):
         super().__init__(dyn)
-        self.calls = {"rates_jacobian": 0, "rates_jacobian_batch": 0}
+        self.calls = {"rates_jacobian": 0, "rates_jacobian_batch": 0, "rates_batch": 0}
+
+    def rates_batch(self, Z, x):
+        self.calls["rates_batch"] += 1
+        return self._dyn.rates_batch(Z, x)
 
     def rates_jacobian(self, z, x):
         self.calls["rates_jacobian"] += 1
@@ -136,11 +140,12 @@ class _Counting(_PointByPoint):
         return self._dyn.rates_jacobian_batch(Z, x)
 
 
-def test_lyapunov_coefficient_takes_its_derivatives_in_one_batch_with_the_same_value(shimmy):
-    """``first_lyapunov`` on a mechanism: every Jacobian its finite differences need (36) in one batched
-    call where the dynamics offers it, and the same ``l1`` as Jacobian by Jacobian. The differences of
-    differences amplify a rounding difference of the rates (1e-16) to about eps^(1/3)^-1 eps^(1/6)^-1
-    eps ~ 1e-8 relative: 1e-6 relative. The point is the gear's Hopf point (its speed and frequency from
+def test_lyapunov_coefficient_takes_its_rates_in_two_batches_with_the_same_value(shimmy):
+    """``first_lyapunov`` on a mechanism: the rates its directional differences need in two batched calls
+    where the dynamics offers them (the second and third derivatives along q's parts, then the products with
+    h11 and h20), one Jacobian, and the same ``l1`` as rate by rate. The third differences amplify a
+    rounding difference of the rates (1e-16) to about eps / eps^(3/7) ~ 1e-9 relative: 1e-6 relative. The point
+    is the gear's Hopf point (its speed and frequency from
     the linearisation's leading pair, bisected by ``onset_speed``)."""
     from mechcont.continuation._hopf_point import first_lyapunov
     from mechcont.paper.shimmy import onset_speed
@@ -151,7 +156,7 @@ def test_lyapunov_coefficient_takes_its_derivatives_in_one_batch_with_the_same_v
     omega = float(np.max(np.abs(lam[np.argsort(-lam.real)[:2]].imag)))
     counting = _Counting(dyn)
     l1_batch = first_lyapunov(counting, x, omega)[0]
-    assert counting.calls == {"rates_jacobian": 1, "rates_jacobian_batch": 1}
+    assert counting.calls == {"rates_jacobian": 1, "rates_jacobian_batch": 0, "rates_batch": 2}
     l1_plain = first_lyapunov(_PointByPoint(dyn), x, omega)[0]
     assert l1_batch == pytest.approx(l1_plain, rel=1e-6)
     assert l1_batch != 0.0

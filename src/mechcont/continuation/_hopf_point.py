@@ -12,12 +12,16 @@ its linearisation ``E dz/dt = A dz`` and nothing else, so it serves ODE models a
   ``|lambda_1 + lambda_2|``; its product ``kappa = lambda_1 lambda_2`` is ``omega^2 > 0`` at a Hopf
   point and ``-kappa^2 < 0`` at a neutral saddle, which is dropped.
 * **Location**: Newton on the minimally extended system ``G(u, p) = 0, g(u, p) = lambda_1 + lambda_2
-  = 0`` (square in the branch's unknowns and parameter), with ``dg/dx`` from eigenvalue perturbation
-  ``d lambda = w^H (dA - lambda dE) v / (w^H E v)``: exact for ODE models (the model's generated second
-  derivatives contract ``dA v``), central differences of the linearisation otherwise. Without ``E`` the
-  pair's sum is differentiated as a whole, ``dg = trace(P dA)`` with ``P`` the spectral projector onto
-  the pair's invariant plane (from an ordered Schur form): finite through a Bogdanov–Takens point, where
-  the pair is a Jordan block and each eigenvalue's own derivative (``w^H v = 0``) is not.
+  = 0`` (square in the branch's unknowns and parameter), each step bordered (:func:`polish_hopf`): ``g``'s
+  slope is needed along two directions only, from eigenvalue perturbation ``d lambda = w^H (dA - lambda dE)
+  v / (w^H E v)``: exact for ODE models (the model's generated second derivatives contract ``dA v``),
+  central differences of the linearisation otherwise (a mechanism's in one batch,
+  ``MechanismDynamics.linearise_near``). Where the pair comes near a Jordan block its sum is differentiated
+  as a whole on its invariant plane: ``dg = trace(P dA)`` with ``P`` the spectral projector from an ordered
+  Schur form, or for a pencil ``(A, E)`` from an ordered QZ form and the generalised Sylvester equations
+  that split its deflating subspaces: finite through a Bogdanov–Takens point, where each eigenvalue's own
+  derivative (``w^H E v = 0``) is not.
+* **l1**: :mod:`._lyapunov`.
 """
 
 from __future__ import annotations
@@ -29,10 +33,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..equations import Dynamics, OdeDynamics
+from ..equations import Dynamics, EquationSystem, OdeDynamics
 from ..errors import ConvergenceError
+from ._hopf_plane import CriticalPair, contractions
+from ._lyapunov import first_lyapunov, state_scales
+from ._problem import ContinuationProblem
 
-__all__ = ["HopfPoint", "CriticalPair", "HopfTest", "bialternate_test", "first_lyapunov", "polish_hopf"]
+__all__ = ["HopfPoint", "CriticalPair", "HopfTest", "bialternate_test", "first_lyapunov", "polish_hopf", "state_scales"]
 
 _EPS = np.finfo(float).eps
 
@@ -106,42 +113,6 @@ def _pairs(n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.triu_indices(n, 1)
 
 
-@dataclass(frozen=True)
-class CriticalPair:
-    """The eigenvalue pair nearest to summing to zero, with what its gradient needs.
-
-    ``lam``: the two eigenvalues (1/s; ``lam[0]`` with ``Im >= 0`` for a complex pair); ``right``,
-    ``left``: their right and left eigenvectors (columns); ``A``, ``E``: the pencil (``E`` None: identity).
-    """
-
-    lam: np.ndarray
-    right: np.ndarray
-    left: np.ndarray
-    A: np.ndarray
-    E: np.ndarray | None
-    n_others_unstable: int
-
-    @property
-    def g(self) -> float:
-        """``lambda_1 + lambda_2`` (1/s): zero at a Hopf point."""
-        return float((self.lam[0] + self.lam[1]).real)
-
-    @property
-    def kappa(self) -> float:
-        """``lambda_1 lambda_2`` (1/s^2): ``omega^2`` at a Hopf point, negative at a neutral saddle."""
-        return float((self.lam[0] * self.lam[1]).real)
-
-    @property
-    def complex(self) -> bool:
-        """True for a complex-conjugate pair (a Hopf point when ``g = 0``)."""
-        return self.kappa > 0 and abs(self.lam[0].imag) > 0
-
-    @property
-    def omega(self) -> float:
-        """``|Im lambda|`` (rad/s) of a complex pair, else 0."""
-        return abs(float(self.lam[0].imag)) if self.complex else 0.0
-
-
 class HopfTest:
     """The Hopf quantities of a model's dynamics at full vectors ``x``.
 
@@ -149,14 +120,14 @@ class HopfTest:
     model's equation system (its generated second derivatives give exact gradients for an ODE model).
     """
 
-    def __init__(self, dynamics: Dynamics, system=None):
+    def __init__(self, dynamics: Dynamics, system: EquationSystem | None = None) -> None:
         self.dynamics = dynamics
         self.system = system
-        self._ode = isinstance(dynamics, OdeDynamics) and system is not None
+        self._exact = system if isinstance(dynamics, OdeDynamics) else None
         # each variable's typical size (the model's scales): the finite-difference steps' unit
         self._scales = None if system is None else np.abs(np.asarray(system.scales(), float))
-        if self._ode:
-            self._cols = np.array([system.index(n) for n in dynamics.state_names], dtype=np.intp)
+        self._cols = (np.zeros(0, np.intp) if self._exact is None else
+                      np.array([self._exact.index(n) for n in dynamics.state_names], dtype=np.intp))
 
     def test_value(self, x: np.ndarray) -> float:
         """:func:`bialternate_test` of the linearisation's eigenvalues at ``x``."""
@@ -165,7 +136,11 @@ class HopfTest:
     def pair(self, x: np.ndarray) -> CriticalPair:
         """The :class:`CriticalPair` at ``x``."""
         lin = self.dynamics.linearise(x)
-        A, E = np.asarray(lin.A, float), None if lin.E is None else np.asarray(lin.E, float)
+        return self._pair_of(np.asarray(lin.A, float), None if lin.E is None else np.asarray(lin.E, float))
+
+    @staticmethod
+    def _pair_of(A: np.ndarray, E: np.ndarray | None) -> CriticalPair:
+        """The :class:`CriticalPair` of the pencil ``(A, E)`` (``E`` None: the identity)."""
         if E is None:
             # the left eigenvectors are the rows of V^-1 (w_k^H v_k = 1): one LAPACK call fewer than scipy's
             lam, vr = np.linalg.eig(A)
@@ -188,110 +163,162 @@ class HopfTest:
             a, b = b, a
         others = np.delete(lam, [a, b])
         return CriticalPair(np.array([lam[a], lam[b]]), vr[:, [a, b]], vl[:, [a, b]], A, E,
-                            int(np.sum(others.real > 0)))
+                            int(np.sum(others.real > 0)), lam)
 
     def gradient(self, x: np.ndarray, columns: Sequence[int] | np.ndarray, pair: CriticalPair) -> np.ndarray:
         """``dg/dx`` over the full-vector columns ``columns`` (``g = lambda_1 + lambda_2``), as a real row.
         Without ``E`` it is finite through a Bogdanov–Takens point (:func:`_pair_plane`); with ``E`` it is
         not finite where the pair is defective (``w^H E v = 0``), which the correctors take as a failed point."""
+        cols = np.asarray(columns, dtype=np.intp)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            return self._gradient(x, np.asarray(columns, dtype=np.intp), pair)
+            if self._exact is not None:
+                return self._exact_gradient(x, cols, pair)
+            return self._fd_derivatives(x, cols, np.eye(len(cols)), pair)
 
-    def _gradient(self, x: np.ndarray, cols: np.ndarray, pair: CriticalPair) -> np.ndarray:
+    def derivatives(self, x: np.ndarray, columns: Sequence[int] | np.ndarray, directions: np.ndarray,
+                    pair: CriticalPair) -> np.ndarray:
+        """``d g(x + s d) / ds`` at ``s = 0`` for each row ``d`` of ``directions`` (values over the full-vector
+        columns ``columns``, in the variables' units): one value per row, ``gradient . d`` without the whole
+        gradient. A mechanism's takes two linearisations per direction (central differences, all in one batch
+        where the dynamics offer ``linearise_near``), where the gradient takes two per column."""
+        cols = np.asarray(columns, dtype=np.intp)
+        directions = np.atleast_2d(np.asarray(directions, dtype=float))
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            if self._exact is not None:
+                return directions @ self._exact_gradient(x, cols, pair)
+            return self._fd_derivatives(x, cols, directions, pair)
+
+    def _exact_gradient(self, x: np.ndarray, cols: np.ndarray, pair: CriticalPair) -> np.ndarray:
+        """The ODE model's gradient: ``w^H (dA v)`` with ``dA v`` from the generated second derivatives."""
+        system = self._exact
+        assert system is not None
+        terms, conjugate = contractions(pair)
         out = np.zeros(len(cols), dtype=complex)
-        plane = _pair_plane(pair) if pair.E is None else None
-        # a conjugate pair's second gradient is the conjugate of the first: their sum is twice its real part
-        conjugate = plane is None and pair.lam[0].imag != 0 and pair.lam[1] == np.conj(pair.lam[0])
-        right, left = plane if plane is not None else (pair.right, pair.left)
-        for k in range(1 if conjugate else 2):
-            lam, v, w = pair.lam[k], right[:, k], left[:, k]
-            Ev = v if pair.E is None else pair.E @ v
-            den = 1.0 if plane is not None else np.vdot(w, Ev)
-            if self._ode:
-                def dAv(part):
-                    full = np.zeros(len(x))
-                    full[self._cols] = part
-                    return self.system.jacobian_derivative(x, full)[:, cols]
 
-                out += (np.conj(w) @ (dAv(v.real) + 1j * dAv(v.imag))) / den
-            else:
-                out += self._fd_gradient(x, cols, lam, v, w) / den
+        def dAv(part: np.ndarray) -> np.ndarray:
+            full = np.zeros(len(x))
+            full[self._cols] = part
+            return np.asarray(system.jacobian_derivative(x, full), float)[:, cols]
+
+        for v, w, _ in terms:  # an ODE model has no E
+            out += np.conj(w) @ (dAv(v.real) + 1j * dAv(v.imag))
         return 2 * out.real if conjugate else out.real
 
-    def _fd_gradient(self, x, cols, lam, v, w) -> np.ndarray:
-        """``w^H (dA - lam dE) v`` per column by central differences (step ``eps^(1/3)`` of the column's
-        value or typical size, whichever is larger: truncation and rounding errors balance at ``eps^(2/3)``,
-        about 4e-11 relative)."""
-        out = np.zeros(len(cols), dtype=complex)
-        for n, c in enumerate(cols):
-            h = _EPS ** (1 / 3) * (max(self._scales[c] if self._scales is not None else 1.0, abs(x[c])) or 1.0)
-            lins = []
-            for sgn in (1.0, -1.0):
-                xs = np.array(x, float)
-                xs[c] += sgn * h
-                lins.append(self.dynamics.linearise(xs))
-            dA = (np.asarray(lins[0].A) - np.asarray(lins[1].A)) / (2 * h)
-            M = dA if lins[0].E is None else dA - lam * (np.asarray(lins[0].E) - np.asarray(lins[1].E)) / (2 * h)
-            out[n] = np.vdot(w, M @ v)
-        return out
+    def _fd_derivatives(self, x: np.ndarray, cols: np.ndarray, directions: np.ndarray,
+                        pair: CriticalPair) -> np.ndarray:
+        """``w^H (dA - lam dE) v`` along each direction by central differences of the linearisation (the steps:
+        :meth:`_stencil`)."""
+        h, moving, X = self._stencil(x, cols, directions)
+        if len(moving) == 0:
+            return np.zeros(len(directions))
+        A, E = self._linearisations(x, X, pair.E is not None)
+        return self._contract(pair, A, E, h, moving, len(directions))
+
+    def _stencil(self, x: np.ndarray, cols: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, np.ndarray,
+                                                                                        np.ndarray]:
+        """``(h, moving, X)``: the steps of the directions that move anything, their positions, and the full
+        vectors ``x + h d`` then ``x - h d``. The step moves the direction's largest component (relative to its
+        column's value or typical size, whichever is larger) by ``eps^(1/3)`` of that size, so that truncation
+        and rounding errors balance at ``eps^(2/3)``, about 4e-11 relative (for a unit direction, the step of
+        that column alone)."""
+        size = np.abs(np.asarray(x, float)[cols])
+        if self._scales is not None:
+            size = np.maximum(self._scales[cols], size)
+        size = np.where(size > 0, size, 1.0)
+        reach = np.max(np.abs(directions) / size, axis=1, initial=0.0)
+        moving = np.flatnonzero(reach > 0)
+        h = _EPS ** (1 / 3) / reach[moving]
+        m = len(moving)
+        X = np.repeat(np.asarray(x, float)[None, :], 2 * m, axis=0)
+        X[:m, cols] += h[:, None] * directions[moving]
+        X[m:, cols] -= h[:, None] * directions[moving]
+        return h, moving, X
+
+    @staticmethod
+    def _contract(pair: CriticalPair, A: np.ndarray, E: np.ndarray | None, h: np.ndarray, moving: np.ndarray,
+                  n: int) -> np.ndarray:
+        """The slopes of ``g`` from the linearisations ``A`` (and ``E``) at :meth:`_stencil`'s points."""
+        m = len(moving)
+        dA = (A[:m] - A[m:]) / (2 * h)[:, None, None]
+        dE = None if E is None else (E[:m] - E[m:]) / (2 * h)[:, None, None]
+        out = np.zeros(n, dtype=complex)
+        terms, conjugate = contractions(pair)
+        for v, w, u in terms:
+            out[moving] += np.conj(w) @ dA @ v
+            if dE is not None and u is not None:
+                out[moving] -= np.conj(w) @ dE @ u
+        return 2 * out.real if conjugate else out.real
+
+    def pair_and_derivatives(self, x: np.ndarray, columns: Sequence[int] | np.ndarray,
+                             directions: np.ndarray) -> tuple[CriticalPair, np.ndarray]:
+        """``(pair(x), derivatives(x, columns, directions, pair))``, where the dynamics offer ``linearise_near``
+        with ``x``'s own linearisation in the same batch as the differenced ones (one set of compiled calls)."""
+        near = getattr(self.dynamics, "linearise_near", None)
+        if near is None or self._exact is not None:
+            pair = self.pair(x)
+            return pair, self.derivatives(x, columns, directions, pair)
+        cols = np.asarray(columns, dtype=np.intp)
+        directions = np.atleast_2d(np.asarray(directions, dtype=float))
+        h, moving, X = self._stencil(x, cols, directions)
+        A, E = near(x, np.vstack([np.asarray(x, float)[None, :], X]), None)
+        A, E = np.asarray(A, float), None if E is None else np.asarray(E, float)
+        pair = self._pair_of(A[0], None if E is None else E[0])
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            return pair, self._contract(pair, A[1:], None if E is None else E[1:], h, moving, len(directions))
+
+    def _linearisations(self, x: np.ndarray, X: np.ndarray, descriptor: bool) -> tuple[np.ndarray, np.ndarray | None]:
+        """``(A, E)`` stacked at the rows of ``X`` (near ``x``): the dynamics' ``linearise_near`` where it has
+        one (a mechanism's, in a basis that moves smoothly from ``x``'s), else one ``linearise`` per row."""
+        near = getattr(self.dynamics, "linearise_near", None)
+        if near is not None:
+            A, E = near(x, X, descriptor)
+            return np.asarray(A, float), None if E is None else np.asarray(E, float)
+        lins = [self.dynamics.linearise(xi) for xi in X]
+        A = np.array([np.asarray(lin.A, float) for lin in lins])
+        if not descriptor:
+            return A, None
+        eye = np.eye(A.shape[1])
+        return A, np.array([eye if lin.E is None else np.asarray(lin.E, float) for lin in lins])
 
 
-def _pair_plane(pair: CriticalPair) -> tuple[np.ndarray, np.ndarray] | None:
-    """``(V, W)`` (n, 2) with ``W^H V = I`` and ``V W^H`` the spectral projector of ``pair.A`` onto the
-    critical pair's invariant plane, so that ``d(lambda_1 + lambda_2) = sum_k W_k^H dA V_k``; None when an
-    ordered Schur form does not split the pair from the other eigenvalues (the pair's own eigenvectors
-    serve then).
-
-    ``V`` is the leading block ``Q_1`` of the Schur form ``A = Q [[T11, T12], [0, T22]] Q^H`` with the pair
-    in ``T11``, and ``W = Q_1 + Q_2 X^H`` with ``T11 X - X T22 = T12``: smooth where the pair is a Jordan
-    block (a Bogdanov-Takens point), as long as it stays apart from the other eigenvalues."""
-    import scipy.linalg
-
-    A, lam = pair.A, pair.lam
-    n = len(A)
-    every = np.linalg.eigvals(A)
-    near = np.minimum(np.abs(every - lam[0]), np.abs(every - lam[1]))
-    order = np.argsort(near)
-    gap = float(near[order[2]]) if n > 2 else math.inf
-    if not gap > 0:
-        return None
-    T, Q, sdim = scipy.linalg.schur(A.astype(complex), output="complex",
-                                    sort=lambda z: min(abs(z - lam[0]), abs(z - lam[1])) < 0.5 * gap)
-    if sdim != 2:
-        return None
-    V = Q[:, :2]
-    if n == 2:
-        return V, V
-    try:
-        X = scipy.linalg.solve_sylvester(T[:2, :2], -T[2:, 2:], T[:2, 2:])
-    except (np.linalg.LinAlgError, ValueError):
-        return None
-    return V, V + Q[:, 2:] @ X.conj().T
-
-
-def polish_hopf(test: HopfTest, problem, u0: np.ndarray, max_iter: int = 30):
+def polish_hopf(test: HopfTest, problem: ContinuationProblem, u0: np.ndarray,
+                max_iter: int = 30) -> tuple[np.ndarray, CriticalPair, float]:
     """Newton on ``G(u) = 0, lambda_1 + lambda_2 = 0`` from ``u0`` (the unknowns of the equilibrium
     ``problem``, its parameter among them), in ``problem.scale``'s units.
+
+    Each step is the bordered solution of the extended system: ``dz = dz0 + t phi`` with ``phi`` the null
+    vector of ``G``'s Jacobian and ``dz0`` its least-norm step, ``t`` from ``g``'s row, which is needed only
+    along ``dz0`` and ``phi`` (:meth:`HopfTest.derivatives`: two directional derivatives of the linearisation
+    instead of one per unknown); the same step as a solve with the whole row.
 
     Returns ``(u, pair, residual)``: the located unknowns, the :class:`CriticalPair` there and the
     largest relative residual. Raises :class:`ConvergenceError` when Newton does not converge.
     """
+    import scipy.linalg
+
+    idx = problem.idx
+    assert idx is not None, "a Hopf point is located on an equilibrium problem (full-vector columns)"
     D = np.asarray(problem.scale, float)
     z = np.asarray(u0, float) / D
+    n = len(z) - 1
     last = math.inf
     for _ in range(max_iter):
         u = z * D
         x = problem.full(u)
         r, J = problem.evaluate(u)
-        pair = test.pair(x)
-        if not (np.isfinite(r).all() and np.isfinite(pair.g)):
+        if not np.isfinite(r).all():
             raise ConvergenceError("the Hopf system left the model's domain (a residual not finite)", partial=None)
-        M = np.vstack([J * D, test.gradient(x, problem.idx, pair) * D])
-        F = np.append(r, pair.g)
-        try:
-            dz = np.linalg.solve(M, -F)
-        except np.linalg.LinAlgError:
-            raise ConvergenceError("the Hopf system is singular there", partial=None) from None
+        Q, R = np.linalg.qr((J * D).T, mode="complete")
+        if not np.all(np.abs(np.diag(R)) > 0):
+            raise ConvergenceError("the Hopf system is singular there", partial=None)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            dz0 = Q[:, :n] @ scipy.linalg.solve_triangular(R[:n], -r, trans="T")
+            phi = Q[:, n]
+        pair, slope = test.pair_and_derivatives(x, idx, np.vstack([dz0, phi]) * D)
+        if not np.isfinite(pair.g):
+            raise ConvergenceError("the Hopf system left the model's domain (a residual not finite)", partial=None)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            dz = dz0 + (-(pair.g + slope[0]) / slope[1]) * phi
         step = float(np.max(np.abs(dz)))
         if not math.isfinite(step):
             raise ConvergenceError("the Hopf system is singular there", partial=None)
@@ -311,114 +338,11 @@ def polish_hopf(test: HopfTest, problem, u0: np.ndarray, max_iter: int = 30):
                            "iterations)", partial=None)
 
 
-def _relative_residual(r, J, u, problem, pair: CriticalPair) -> float:
+def _relative_residual(r: np.ndarray, J: np.ndarray, u: np.ndarray, problem: ContinuationProblem,
+                       pair: CriticalPair) -> float:
     """The largest of each equilibrium row's residual over the size of its terms, and ``|g| / |lambda|``."""
     D = np.abs(np.asarray(problem.scale, float))
     terms = np.abs(J) @ np.maximum(np.abs(u), D) + np.abs(r)
     rows = np.abs(r) / np.maximum(terms, np.finfo(float).tiny)
     size = max(abs(pair.lam[0]), abs(pair.lam[1]), np.finfo(float).tiny)
     return float(max(rows.max(initial=0.0), abs(pair.g) / size))
-
-
-def state_scales(dynamics: Dynamics, system, omega: float) -> np.ndarray:
-    """Each state's typical size near a Hopf point or on a cycle of angular frequency ``omega`` (rad/s): its
-    variable's scale in ``system``; a velocity state ``NAME_dot`` that is no variable (a mechanism's), its
-    coordinate's scale times ``omega`` (it swings ``omega`` times its coordinate's amplitude); else 1."""
-    if system is None:
-        return np.ones(len(dynamics.state_names))
-    known = dict(zip(system.names, np.abs(np.asarray(system.scales(), float))))
-
-    def scale(n: str) -> float:
-        if n in known:
-            return float(known[n]) or 1.0
-        if n.endswith("_dot") and n[:-4] in known:
-            return (float(known[n[:-4]]) or 1.0) * max(omega, _EPS)
-        return 1.0
-    return np.array([scale(n) for n in dynamics.state_names])
-
-
-def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system=None) -> tuple[float, np.ndarray, str]:
-    """The first Lyapunov coefficient at the Hopf point ``x`` of frequency ``omega`` (rad/s).
-
-    Kuznetsov's invariant formula (Elements of Applied Bifurcation Theory, 3rd ed., eq. (3.20)):
-
-        l1 = Re( <p, C(q,q,qb)> - 2 <p, B(q, A^-1 B(q,qb))> + <p, B(qb, (2 i omega - A)^-1 B(q,q))> ) / (2 omega)
-
-    with ``A q = i omega q``, ``A^T p = -i omega p``, ``<q, q> = 1``, ``<p, q> = 1`` (``<a, b> = a^H b``),
-    ``B``, ``C`` the second and third derivatives of the rates ``f(z)``. For an ODE model (with its
-    ``system``) ``B`` is exact (the generated second derivatives) and ``C`` Richardson-extrapolated
-    central differences of ``B`` (step ``eps^(1/5)``: about 1e-13 relative); otherwise ``B`` is central
-    differences of the rates' Jacobian (step ``eps^(1/3)``) and ``C`` extrapolated central differences of
-    that (step ``eps^(1/6)``: about 1e-8 relative). The steps are relative to each state's scale
-    (:func:`state_scales`): a mechanism's velocity states swing ``omega`` times their coordinates, and a step
-    sized by them would move the coordinates, where the nonlinearity is, by almost nothing.
-    ``C(q,q,qb) = D_a S + i D_b S`` with ``q = a + i b`` and ``S(z) = B_z(a,a) + B_z(b,b)`` (real), by
-    trilinearity and symmetry. Returns ``(l1, q, method)``.
-    """
-    dyn = dynamics
-    z0 = dyn.state_at(x)
-    A = np.asarray(dyn.rates_jacobian(z0, x), float)
-    exact = isinstance(dyn, OdeDynamics) and system is not None
-    cols = np.array([system.index(n) for n in dyn.state_names]) if exact else None
-    sc = state_scales(dyn, system, omega)
-
-    def H(pairs):  # [d(J a)/dz at state z for (z, a) in pairs]: the matrices b -> B_z(a, b)
-        if exact:
-            out = []
-            for z, a in pairs:
-                full = np.zeros(len(x))
-                full[cols] = a
-                out.append(system.jacobian_derivative(dyn.full_vector(z, x), full)[:, cols])
-            return out
-        hs = [_EPS ** (1 / 3) * max(1.0, float(np.max(np.abs(z) / sc))) / max(float(np.max(np.abs(a) / sc)), _EPS)
-              for z, a in pairs]
-        states = [w for (z, a), h in zip(pairs, hs) for w in (z + h * a, z - h * a)]
-        batch = getattr(dyn, "rates_jacobian_batch", None)  # all the Jacobians in one call where offered
-        J = (np.asarray(batch(np.array(states), x), float) if batch is not None
-             else [np.asarray(dyn.rates_jacobian(w, x), float) for w in states])
-        return [(J[2 * i] - J[2 * i + 1]) / (2 * h) for i, h in enumerate(hs)]
-
-    lam, V = np.linalg.eig(A)
-    q = V[:, int(np.argmin(np.abs(lam - 1j * omega)))]
-    q = q / np.linalg.norm(q)
-    lamT, W = np.linalg.eig(A.T)
-    p = W[:, int(np.argmin(np.abs(lamT + 1j * omega)))]
-    p = p / np.conj(np.vdot(p, q))
-    a, b = q.real, q.imag
-
-    # Richardson's extrapolation of central differences (error O(h^4)): for the exact B, h = eps^(1/5) balances
-    # rounding (eps / h) and truncation (h^4) near 1e-13; for a B itself from differences (noise ~ eps^(2/3)),
-    # h = eps^(1/6) balances them near 1e-8
-    step = _EPS ** (1 / 5) if exact else _EPS ** (1 / 6)
-    scale = max(1.0, float(np.max(np.abs(z0) / sc)))
-    # every derivative l1 needs, taken at once: B at z0 along a and b (B(qb, .) = B(q, .) with b negated),
-    # and S(z) = B_z(a, a) + B_z(b, b) at z0 +- h d, z0 +- 2 h d for d = a, b (for C)
-    centres = []
-    for d in (a, b):
-        nd = float(np.max(np.abs(d) / sc))
-        if nd > 0:
-            h = step * scale / nd
-            centres += [(d, k, h, z0 + k * h * d, z0 - k * h * d) for k in (1, 2)]
-    Hs = H([(z0, a), (z0, b)] + [(zc, v) for *_, zp, zm in centres for zc in (zp, zm) for v in (a, b)])
-    Ha, Hb = Hs[0], Hs[1]
-    Sv = [Hs[2 + 2 * i] @ a + Hs[3 + 2 * i] @ b for i in range(2 * len(centres))]
-
-    def B(conj, v):  # the complex bilinear form at the equilibrium, B(q, v) or (conj) B(qb, v)
-        return Ha @ v + (-1j if conj else 1j) * (Hb @ v)
-
-    def D(d):
-        rows = [i for i, c in enumerate(centres) if c[0] is d]
-        if not rows:
-            return np.zeros(len(z0))
-        central = [(Sv[2 * i] - Sv[2 * i + 1]) / (2 * centres[i][1] * centres[i][2]) for i in rows]
-        return (4 * central[0] - central[1]) / 3
-
-    C = D(a) + 1j * D(b)
-    qb = np.conj(q)
-    n = len(z0)
-    h11 = np.linalg.solve(A, B(False, qb))
-    h20 = np.linalg.solve(2j * omega * np.eye(n) - A, B(False, q))
-    l1 = float(np.real(np.vdot(p, C) - 2 * np.vdot(p, B(False, h11)) + np.vdot(p, B(True, h20))) / (2 * omega))
-    method = ("exact second derivatives, third by extrapolated central differences" if exact
-              else "finite differences of the rates' Jacobian")
-    return l1, q, method

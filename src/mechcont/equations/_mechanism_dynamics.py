@@ -35,6 +35,7 @@ from ``Phi_q qdot = 0``, the accelerations from the constrained equations of mot
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 import scipy.linalg
@@ -44,7 +45,10 @@ from scipy.linalg.lapack import dgetrs as _dgetrs
 
 from ..errors import ConvergenceError, InputError
 from ._linear_dynamics import LinearDynamics
-from ._mechanics import constraint_rank
+from ._mechanics import MechanicalModel, constraint_rank
+
+if TYPE_CHECKING:
+    from ._model import Model
 
 __all__ = ["MechanismDynamics"]
 
@@ -72,7 +76,7 @@ def _solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     return sol
 
 
-def _factor(A: np.ndarray):
+def _factor(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """LU factors of ``A`` (``dgetrf``) for :func:`_lu_solve`; raises ``LinAlgError`` when singular."""
     lu, piv, info = _dgetrf(A)
     if info:
@@ -80,7 +84,7 @@ def _factor(A: np.ndarray):
     return lu, piv
 
 
-def _lu_solve(lu, b: np.ndarray) -> np.ndarray:
+def _lu_solve(lu: tuple[np.ndarray, np.ndarray], b: np.ndarray) -> np.ndarray:
     """``A^-1 b`` from :func:`_factor`'s factors."""
     return _dgetrs(lu[0], lu[1], b)[0]
 
@@ -98,12 +102,14 @@ class MechanismDynamics:
     chooses the coordinate partition of :meth:`rates` (default: the first ``x`` asked about).
     """
 
-    def __init__(self, model, damping: float = 0.0, reference: np.ndarray | None = None):
-        mech = model.mechanics
-        if mech is None:
+    def __init__(self, model: Model, damping: float = 0.0, reference: np.ndarray | None = None) -> None:
+        if model.mechanics is None:
             raise InputError(model.name, "has no mechanics: no equations of motion")
         if not (np.isfinite(damping) and damping >= 0):
             raise InputError("damping", "must be a non-negative number (1/s)")
+        # the equations of motion need the compiled model itself (its batches, motion terms, statics layout), more
+        # than the Mechanics protocol offers: a model's mechanics is a MechanicalModel
+        mech = cast(MechanicalModel, model.mechanics)
         self.model, self.mech, self.damping = model, mech, float(damping)
         self._q = np.asarray(mech.q_index, dtype=np.intp)
         self._s = np.asarray(getattr(mech, "s_index", np.zeros(0, np.intp)), dtype=np.intp)
@@ -141,7 +147,7 @@ class MechanismDynamics:
         coords = [self.mech.coordinates[i] for i in indep]
         return (*coords, *(f"{c}_dot" for c in coords), *self.mech.element_states)
 
-    def _split(self, z: np.ndarray, x: np.ndarray):
+    def _split(self, z: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         indep, _, _ = self._partition(x)
         n = len(indep)
         z = np.asarray(z, dtype=float)
@@ -196,7 +202,8 @@ class MechanismDynamics:
         M, F, gamma, _ = self.mech.motion_terms(x, qd)
         return self._solve_kkt(M, F, gamma, self.mech.phi_q(x)[rows] if len(rows) else None, qd)
 
-    def _solve_kkt(self, M, F, gamma, A, qd) -> np.ndarray:
+    def _solve_kkt(self, M: np.ndarray, F: np.ndarray, gamma: np.ndarray, A: np.ndarray | None,
+                   qd: np.ndarray) -> np.ndarray:
         """``qddot`` from the KKT system (``A`` the kept rows of ``Phi_q``, None without constraints)."""
         if self.damping:
             F = F - self.damping * (M @ qd)
@@ -357,41 +364,97 @@ class MechanismDynamics:
         """``A`` of the small motions ``(eta, eta', ds)`` about the equilibrium ``x`` (see the module
         docstring), ``E`` None (a descriptor ``E`` where a motion has no mass); the names ``eta1..``,
         ``eta1_dot..``, then the element states."""
-        mats = self.reduced_matrices(x)
+        A, E = self._state_matrices(self._reduced(np.asarray(x, dtype=float)[None, :]), None)
+        return LinearDynamics(A[0], None if E is None else E[0], self._linear_names(A.shape[1]))
+
+    def linearise_near(self, x: np.ndarray, X: np.ndarray,
+                       descriptor: bool | None = None) -> tuple[np.ndarray, np.ndarray | None]:
+        """``(A, E)`` of the small motions about each row of ``X`` (full vectors near the equilibrium ``x``,
+        shape (m, n_variables)): arrays (m, n, n), ``E`` None unless ``descriptor`` (then the undivided
+        blocks, as :meth:`linearise` makes them where a motion has no mass; None: as :meth:`linearise` decides,
+        the descriptor form for all rows where any row's reduced mass is singular).
+
+        The allowed motions at each row are ``x``'s (the basis :meth:`linearise` uses there) projected onto
+        the row's null space of ``Phi_q``: a basis that moves smoothly with the row, so that differences of
+        these matrices are derivatives of ``x``'s linearisation (each row's own singular vectors need not be
+        continuous where the null space has more than one dimension). All rows in a few compiled calls and
+        stacked factorisations (the Hopf system's directional derivatives)."""
+        X = np.asarray(X, dtype=float)
+        both = self._reduced(np.vstack([np.asarray(x, dtype=float)[None, :], X]), project=True)
+        return self._state_matrices(tuple(part[1:] for part in both), descriptor)
+
+    def _linear_names(self, n: int) -> tuple[str, ...]:
+        d = (n - len(self._s)) // 2
+        return (*(f"eta{i + 1}" for i in range(d)), *(f"eta{i + 1}_dot" for i in range(d)), *self.mech.element_states)
+
+    @staticmethod
+    def _state_matrices(mats: tuple[np.ndarray, ...], descriptor: bool | None) -> tuple[np.ndarray, np.ndarray | None]:
+        """``(A, E)`` stacked from :meth:`_reduced`'s matrices: the explicit form where every reduced mass is
+        positive definite (``descriptor`` None) or when ``descriptor`` is False, else the descriptor form."""
         Mr, Cr, Kr, Br, Rq, Rv, Rs = mats
-        d, ns = len(Mr), len(Rs)
-        A = np.zeros((2 * d + ns, 2 * d + ns))
+        m, d, ns = len(Mr), Mr.shape[1], Rs.shape[1]
+        A = np.zeros((m, 2 * d + ns, 2 * d + ns))
         E = None
         if d:
-            A[:d, d:2 * d] = np.eye(d)
-            if _positive_definite(Mr):
+            A[:, :d, d:2 * d] = np.eye(d)
+            if descriptor is None:
+                descriptor = not all(_positive_definite(M) for M in Mr)
+            if not descriptor:
                 # one solve for the three blocks (Mr is symmetric positive definite and small)
-                S = np.linalg.solve(Mr, np.hstack([Kr, Cr, Br]))
-                A[d:2 * d, :d], A[d:2 * d, d:2 * d], A[d:2 * d, 2 * d:] = -S[:, :d], -S[:, d:2 * d], S[:, 2 * d:]
+                S = np.linalg.solve(Mr, np.concatenate([Kr, Cr, Br], axis=2))
+                A[:, d:2 * d, :d], A[:, d:2 * d, d:2 * d], A[:, d:2 * d, 2 * d:] = (
+                    -S[:, :, :d], -S[:, :, d:2 * d], S[:, :, 2 * d:])
             else:  # a motion without mass (the statics allows massless bodies): the descriptor form
-                E = np.eye(len(A))
-                E[d:2 * d, d:2 * d] = Mr
-                A[d:2 * d, :d], A[d:2 * d, d:2 * d], A[d:2 * d, 2 * d:] = -Kr, -Cr, Br
-        A[2 * d:, :d], A[2 * d:, d:2 * d], A[2 * d:, 2 * d:] = Rq, Rv, Rs
-        names = (*(f"eta{i + 1}" for i in range(d)), *(f"eta{i + 1}_dot" for i in range(d)), *self.mech.element_states)
-        return LinearDynamics(A, E, names)
+                E = np.repeat(np.eye(2 * d + ns)[None], m, axis=0)
+                E[:, d:2 * d, d:2 * d] = Mr
+                A[:, d:2 * d, :d], A[:, d:2 * d, d:2 * d], A[:, d:2 * d, 2 * d:] = -Kr, -Cr, Br
+        A[:, 2 * d:, :d], A[:, 2 * d:, d:2 * d], A[:, 2 * d:, 2 * d:] = Rq, Rv, Rs
+        return A, E
 
-    def reduced_matrices(self, x: np.ndarray):
+    def reduced_matrices(self, x: np.ndarray) -> tuple[np.ndarray, ...]:
         """``(Mr, Cr, Kr, Br, Rq N, Rv N, Rs)`` at the equilibrium ``x`` (see the module docstring): reduced
         mass (kg, kg m^2), damping (N s/m ...), tangent stiffness (N/m ...), state forces, and the states' rates'
         derivatives along the allowed motions."""
-        x = np.asarray(x, dtype=float)
+        return tuple(part[0] for part in self._reduced(np.asarray(x, dtype=float)[None, :]))
+
+    def _reduced(self, X: np.ndarray, project: bool = False) -> tuple[np.ndarray, ...]:
+        """:meth:`reduced_matrices` at every row of ``X`` (m, n_variables), stacked: one compiled call per
+        group of terms (the statics' ``Phi_q``, ``Q``, ``dQ/dq`` and constraint Hessians in one). ``project``:
+        every row's allowed motions are the first row's projected onto its own (:meth:`linearise_near`)."""
         mech = self.mech
-        U, sv, Vt, r = mech._decompose(x)  # one SVD of Phi_q for the allowed motions and the reactions
-        if U is not None:
+        m, nq = len(X), len(self._q)
+        args = mech._batch_args(X)
+        layout = mech._statics_layout
+        vals = np.asarray(mech._statics.batch(args), dtype=float).reshape(m, -1)
+        P = layout.constraint_jacobians(vals)
+        if P.shape[1] == 0:
+            N = np.repeat(np.eye(nq)[None], m, axis=0)
+            lam = np.zeros((m, 0))
+        else:
+            U, sv, Vt = np.linalg.svd(P)  # the allowed motions and the reactions
+            Q = vals[:, layout.q_slice]
             # off the constraint manifold (a linearisation differenced in a coordinate: the Hopf test's gradient)
             # redundant rows turn independent by the size of the step; held at the partition's rank, the allowed
             # motions and the reactions vary smoothly instead of losing a dimension
-            r = min(r, len(self._partition(x)[2]))
-        N = Vt[r:].T
-        lam = None if U is None else U[:, :r] @ ((Vt[:r] @ mech.applied_forces(x)) / sv[:r])
-        M = mech.mass(x)
-        C = mech.damping_matrix(x) + self.damping * M
-        K = mech.tangent_stiffness(x, lam if lam is not None else np.zeros(0))
-        Rq, Rv, Rs, dQs = mech.element_state_jacobians(x)
-        return N.T @ M @ N, N.T @ C @ N, N.T @ K @ N, N.T @ dQs, Rq @ N, Rv @ N, Rs
+            kept = len(self._partition(X[0])[2])
+            ranks = [min(constraint_rank(P[i], sv[i]), kept) for i in range(m)]
+            lam = np.array([U[i, :, :r] @ ((Vt[i, :r] @ Q[i]) / sv[i, :r]) for i, r in enumerate(ranks)])
+            if project:
+                N0 = Vt[0, ranks[0]:].T
+                N = np.array([N0 - Vt[i, :r].T @ (Vt[i, :r] @ N0) for i, r in enumerate(ranks)])
+            elif len(set(ranks)) == 1:
+                N = Vt[:, ranks[0]:].transpose(0, 2, 1)
+            else:
+                raise ConvergenceError("the constraints' rank changes between the points linearised together")
+        M = mech._M.batch(args)
+        C = -mech._dQdqd.batch(args) + self.damping * M
+        K = layout.stiffnesses(vals, lam)
+        ns = len(self._s)
+        if ns:
+            J = mech._rates_jac.batch(args).reshape(m, ns, 2 * nq + ns)
+            dQs = mech._dQds.batch(args).reshape(m, nq, ns)
+        else:
+            J, dQs = np.zeros((m, 0, 2 * nq)), np.zeros((m, nq, 0))
+        Nt = N.transpose(0, 2, 1)
+        return (Nt @ M @ N, Nt @ C @ N, Nt @ K @ N, Nt @ dQs, J[:, :, :nq] @ N, J[:, :, nq:2 * nq] @ N,
+                J[:, :, 2 * nq:])

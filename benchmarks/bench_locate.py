@@ -1,0 +1,109 @@
+"""Fold location against Hopf location (issue 35: "Hopf location as fast as LP location"), CPU time.
+
+Each case polishes one special point of a branch continued once outside the timing, from two starts: the
+branch row before the point (what the branch's event does, from its secant guess's neighbourhood) and the
+located point itself (the floor: the iterations that only confirm). Models, by number of unknowns (the
+branch's states and the varied parameter):
+
+* AUTO's ``ab`` (``examples/ab.toml`` with beta = 1: two folds and a Hopf point on one branch in D), 3;
+* the caster wheel with a first-order tyre (``tests/data/caster_tyre.toml``, Hopf in V), 7;
+* the paper's overcentre (``build_overcentre(LU=0.1)``, fold in F), 17 variables;
+* the caster steered through a four-bar (``tests/data/fourbar_shimmy.toml``, Hopf in V), a closed loop;
+* the shimmy gear (``examples/shimmy.toml``, Hopf in V), 23 variables.
+
+``python benchmarks/bench_locate.py [--repeats N]`` prints a table (median and minimum CPU time of the
+repeats, ``time.process_time``, after one warm-up call); ``benchmarks/run.py -k locate`` times the same
+cases by wall time.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def _starts(branch, label: str):
+    """``(row before, located)`` of the first point labelled ``label`` on ``branch``: SpecialPoints with its lens."""
+    from mechcont.continuation import SpecialPoint
+
+    sp = next(p for p in branch.special_points if p.label == label)
+    before = SpecialPoint(label, 0, branch.values[sp.index - 1].copy(), sp.names, unknowns=sp.unknowns,
+                          vary=sp.vary)
+    return before, sp
+
+
+def cases():
+    from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium, locate_fold, locate_hopf
+    from mechcont.models import build_overcentre, load_model
+
+    out = []
+
+    def hopf_cases(name, model, branch, vary):
+        before, at = _starts(branch, "HB")
+        n = len(at.unknowns) + 1
+        out.append((f"{name}: locate_hopf from the row before ({n} unknowns)",
+                    lambda: locate_hopf(model, before, vary), 10))
+        out.append((f"{name}: locate_hopf from HB1 ({n} unknowns)", lambda: locate_hopf(model, at, vary), 10))
+
+    def fold_cases(name, model, branch, vary):
+        before, at = _starts(branch, "LP")
+        n = len(at.unknowns) + 1
+        out.append((f"{name}: locate_fold from the row before ({n} unknowns)",
+                    lambda: locate_fold(model, before, vary), 10))
+        out.append((f"{name}: locate_fold from LP1 ({n} unknowns)", lambda: locate_fold(model, at, vary), 10))
+
+    ab = load_model(str(ROOT / "examples" / "ab.toml"), beta=1.0)
+    b = continuation(ab, ab.vector({}), "D", hopf=True,
+                     options=ContinuationOptions(bounds={"D": (0.0, 0.2), "u2": (-1.0, 10.0)}))
+    fold_cases("ab (beta = 1)", ab, b, "D")
+    hopf_cases("ab (beta = 1)", ab, b, "D")
+
+    caster = load_model(str(ROOT / "tests" / "data" / "caster_tyre.toml"))
+    b = continuation(caster, find_equilibrium(caster), "V", hopf=True,
+                     options=ContinuationOptions(bounds={"V": (0.5, 50.0)}))
+    hopf_cases("caster_tyre", caster, b, "V")
+
+    oc = build_overcentre(LU=0.1)
+    b = continuation(oc, find_equilibrium(oc, hold={"theta1": 0.3}, free=["F"]), "F",
+                     options=ContinuationOptions(bounds={"theta1": (-1.4, 1.4)}))
+    fold_cases("overcentre (LU = 0.1)", oc, b, "F")
+
+    fourbar = load_model(str(ROOT / "tests" / "data" / "fourbar_shimmy.toml"))
+    b = continuation(fourbar, find_equilibrium(fourbar), "V", hopf=True,
+                     options=ContinuationOptions(bounds={"V": (0.3, 20.0)}))
+    hopf_cases("fourbar_shimmy", fourbar, b, "V")
+
+    from mechcont.paper import _shimmy_analysis as an
+    from mechcont.paper.shimmy import gear_at
+
+    gear, x1 = gear_at(1.0)
+    hopf_cases("shimmy gear", gear, an.equilibria(gear, x1), "V")
+    return out
+
+
+def _table(repeats: int) -> str:
+    import statistics
+    import time
+
+    rows = []
+    for name, fn, _ in cases():
+        fn()  # warm-up: the compiled second derivatives, the partition
+        times = []
+        for _ in range(repeats):
+            t = time.process_time()
+            fn()
+            times.append(time.process_time() - t)
+        rows.append((name, statistics.median(times), min(times)))
+    w = max(len(r[0]) for r in rows)
+    lines = [f"| {'case':<{w}} | median (ms) | min (ms) |", f"|{'-' * (w + 2)}|-------------|----------|"]
+    lines += [f"| {n:<{w}} | {med * 1e3:>11.2f} | {mn * 1e3:>8.2f} |" for n, med, mn in rows]
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    import argparse
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=15)
+    print(_table(ap.parse_args().repeats))

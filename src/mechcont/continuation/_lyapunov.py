@@ -1,0 +1,261 @@
+"""The first Lyapunov coefficient of a Hopf point, and the states' typical sizes its differences are taken in.
+
+Kuznetsov's invariant formula (Elements of Applied Bifurcation Theory, 3rd ed., eq. (3.20)):
+
+    l1 = Re( <p, C(q,q,qb)> - 2 <p, B(q, A^-1 B(q,qb))> + <p, B(qb, (2 i omega - A)^-1 B(q,q))> ) / (2 omega)
+
+with ``A q = i omega q``, ``A^T p = -i omega p``, ``<q, q> = 1``, ``<p, q> = 1`` (``<a, b> = a^H b``), ``B``,
+``C`` the second and third derivatives of the rates ``f(z)``. Two ways to the derivatives:
+
+* an ODE model with its equation system: ``B`` exact (the generated second derivatives), ``C``
+  Richardson-extrapolated central differences of ``B`` (step ``eps^(1/5)``: about 1e-13 relative);
+* any other dynamics (a mechanism's rates in minimal coordinates): the rates alone, along a few directions.
+  With ``q = a + i b`` (its phase turned so that ``a`` and ``b`` are equally long in the states' scales),
+  ``B(q, qb) = Q(a) + Q(b)``, ``B(q, q) = Q(a) - Q(b) + 2 i B(a, b)`` and ``C(q, q, qb) = c(a) + C(a, b, b) +
+  i (C(a, a, b) + c(b))``, where ``Q(d) = B(d, d)`` and ``c(d) = C(d, d, d)`` are second and third derivatives
+  of ``f`` along one direction and the mixed terms follow by polarisation (``4 B(u, v) = Q(u + v) - Q(u - v)``,
+  ``6 C(a, b, b) = c(a + b) + c(a - b) - 2 c(a)``, ``6 C(a, a, b) = c(a + b) - c(a - b) - 2 c(b)``). ``Q`` by
+  Richardson-extrapolated central second differences (step ``eps^(1/6)`` of the states' scales: rounding and
+  truncation balance near ``eps^(2/3)``, 4e-11), ``c`` by extrapolated central third differences (step
+  ``eps^(1/7)``: near ``eps^(4/7)``, 1e-9): about a hundred rates in two batches, where differences of
+  differenced Jacobians took nearly four times as many and were noisy at 1e-5 (a Jacobian's differencing
+  noise, ``eps^(2/3)``, divided by the second step).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..equations import Dynamics, EquationSystem, OdeDynamics
+
+__all__ = ["first_lyapunov", "state_scales"]
+
+_EPS = float(np.finfo(float).eps)
+
+
+def state_scales(dynamics: Dynamics, system: EquationSystem | None, omega: float) -> np.ndarray:
+    """Each state's typical size near a Hopf point or on a cycle of angular frequency ``omega`` (rad/s): its
+    variable's scale in ``system``; a velocity state ``NAME_dot`` that is no variable (a mechanism's), its
+    coordinate's scale times ``omega`` (it swings ``omega`` times its coordinate's amplitude); else 1."""
+    if system is None:
+        return np.ones(len(dynamics.state_names))
+    known = dict(zip(system.names, np.abs(np.asarray(system.scales(), float))))
+
+    def scale(n: str) -> float:
+        if n in known:
+            return float(known[n]) or 1.0
+        if n.endswith("_dot") and n[:-4] in known:
+            return (float(known[n[:-4]]) or 1.0) * max(omega, _EPS)
+        return 1.0
+    return np.array([scale(n) for n in dynamics.state_names])
+
+
+def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float,
+                   system: EquationSystem | None = None) -> tuple[float, np.ndarray, str]:
+    """The first Lyapunov coefficient at the Hopf point ``x`` of frequency ``omega`` (rad/s), by the module's
+    formula: exact second derivatives for an ODE model with its ``system``, directional differences of the
+    rates otherwise. The steps are relative to each state's scale (:func:`state_scales`): a mechanism's
+    velocity states swing ``omega`` times their coordinates, and a step sized by them would move the
+    coordinates, where the nonlinearity is, by almost nothing.
+
+    Returns ``(l1, q, method)``: ``l1`` in 1/s per squared state unit (negative: supercritical), the
+    eigenvector ``q`` (``A q = i omega q``, ``|q| = 1``) and how the derivatives were taken."""
+    dyn = dynamics
+    z0 = dyn.state_at(x)
+    A = np.asarray(dyn.rates_jacobian(z0, x), float)
+    sc = state_scales(dyn, system, omega)
+    lam, V = np.linalg.eig(A)
+    q = V[:, int(np.argmin(np.abs(lam - 1j * omega)))]
+    q = q / np.linalg.norm(q)
+    lamT, W = np.linalg.eig(A.T)
+    p = W[:, int(np.argmin(np.abs(lamT + 1j * omega)))]
+    p = p / np.conj(np.vdot(p, q))
+    terms: _Terms
+    if isinstance(dyn, OdeDynamics) and system is not None:
+        terms = _exact_terms(dyn, system, x, z0, sc, q)
+        method = "exact second derivatives, third by extrapolated central differences"
+    else:
+        terms = _DifferenceTerms(dyn, x, z0, sc, q)
+        method = "finite differences of the rates along directions (second and third, extrapolated)"
+    n = len(z0)
+    h11 = np.linalg.solve(A, terms.b_q_qb)
+    h20 = np.linalg.solve(2j * omega * np.eye(n) - A, terms.b_q_q)
+    b_q_h11, b_qb_h20 = terms.products(h11, h20)
+    l1 = float(np.real(np.vdot(p, terms.c) - 2 * np.vdot(p, b_q_h11) + np.vdot(p, b_qb_h20)) / (2 * omega))
+    return l1, q, method
+
+
+class _Terms:
+    """What the formula needs of the derivatives: ``b_q_qb = B(q, qb)``, ``b_q_q = B(q, q)``, ``c = C(q, q, qb)``
+    and :meth:`products`."""
+
+    b_q_qb: np.ndarray
+    b_q_q: np.ndarray
+    c: np.ndarray
+
+    def products(self, h11: np.ndarray, h20: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(B(q, h11), B(qb, h20))``."""
+        raise NotImplementedError
+
+
+class _ExactTerms(_Terms):
+    """The terms from the matrices ``Ha = B(a, .)``, ``Hb = B(b, .)`` (``q = a + i b``) and ``C``."""
+
+    def __init__(self, Ha: np.ndarray, Hb: np.ndarray, q: np.ndarray, c: np.ndarray) -> None:
+        self.Ha, self.Hb, self.c = Ha, Hb, c
+        self.b_q_qb, self.b_q_q = self._b(np.conj(q), False), self._b(q, False)
+
+    def _b(self, v: np.ndarray, conj: bool) -> np.ndarray:
+        """``B(q, v)``, or ``B(qb, v)`` with ``conj``."""
+        return np.asarray(self.Ha @ v + (-1j if conj else 1j) * (self.Hb @ v))
+
+    def products(self, h11: np.ndarray, h20: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return self._b(h11, False), self._b(h20, True)
+
+
+def _exact_terms(dyn: OdeDynamics, system: EquationSystem, x: np.ndarray, z0: np.ndarray, sc: np.ndarray,
+                 q: np.ndarray) -> _ExactTerms:
+    """``(B(q, .), C(q, q, qb))`` of an ODE model: ``B`` from the generated second derivatives, ``C`` from
+    Richardson-extrapolated central differences of ``S(z) = B_z(a, a) + B_z(b, b)`` along ``a`` and ``b``
+    (``C(q,q,qb) = D_a S + i D_b S`` by trilinearity and symmetry)."""
+    cols = np.array([system.index(n) for n in dyn.state_names])
+    a, b = q.real, q.imag
+
+    def H(pairs: list[tuple[np.ndarray, np.ndarray]]) -> list[np.ndarray]:
+        # [d(J a)/dz at state z for (z, a) in pairs]: the matrices b -> B_z(a, b)
+        out = []
+        for z, d in pairs:
+            full = np.zeros(len(x))
+            full[cols] = d
+            out.append(np.asarray(system.jacobian_derivative(dyn.full_vector(z, x), full), float)[:, cols])
+        return out
+
+    # Richardson's extrapolation of central differences (error O(h^4)): h = eps^(1/5) balances rounding
+    # (eps / h) and truncation (h^4) near 1e-13
+    step = _EPS ** (1 / 5)
+    scale = max(1.0, float(np.max(np.abs(z0) / sc)))
+    # every derivative l1 needs, taken at once: B at z0 along a and b (B(qb, .) = B(q, .) with b negated),
+    # and S(z) = B_z(a, a) + B_z(b, b) at z0 +- h d, z0 +- 2 h d for d = a, b (for C)
+    centres: list[tuple[np.ndarray, int, float, np.ndarray, np.ndarray]] = []
+    for d in (a, b):
+        nd = float(np.max(np.abs(d) / sc))
+        if nd > 0:
+            h = step * scale / nd
+            centres += [(d, k, h, z0 + k * h * d, z0 - k * h * d) for k in (1, 2)]
+    Hs = H([(z0, a), (z0, b)] + [(zc, v) for *_, zp, zm in centres for zc in (zp, zm) for v in (a, b)])
+    Sv = [Hs[2 + 2 * i] @ a + Hs[3 + 2 * i] @ b for i in range(2 * len(centres))]
+
+    def D(d: np.ndarray) -> np.ndarray:
+        rows = [i for i, c in enumerate(centres) if c[0] is d]
+        if not rows:
+            return np.zeros(len(z0))
+        central = [(Sv[2 * i] - Sv[2 * i + 1]) / (2 * centres[i][1] * centres[i][2]) for i in rows]
+        return np.asarray((4 * central[0] - central[1]) / 3)
+
+    return _ExactTerms(Hs[0], Hs[1], q, D(a) + 1j * D(b))
+
+
+class _Directional:
+    """Second and third derivatives of the rates at ``z0`` along given directions, from the rates alone: ``Q(d) =
+    f''[d, d]`` and ``c(d) = f'''[d, d, d]`` (Richardson-extrapolated central differences, all the directions
+    of one call in one batch of rates)."""
+
+    def __init__(self, dyn: Dynamics, x: np.ndarray, z0: np.ndarray, sc: np.ndarray) -> None:
+        self.dyn, self.x, self.z0, self.sc = dyn, x, z0, sc
+        self.unit = max(1.0, float(np.max(np.abs(z0) / sc)))  # the steps' unit: the state's size in its scales
+        self._f0: np.ndarray | None = None
+
+    def _rates(self, Z: np.ndarray) -> np.ndarray:
+        batch = getattr(self.dyn, "rates_batch", None)
+        if batch is not None:
+            return np.asarray(batch(Z, self.x), float)
+        return np.array([np.asarray(self.dyn.rates(z, self.x), float) for z in Z])
+
+    def forms(self, second: list[np.ndarray], third: list[np.ndarray]) -> tuple[list[np.ndarray], list[np.ndarray]]:
+        """``([Q(d) for d in second], [c(d) for d in third])``."""
+        h2, h3 = _EPS ** (1 / 6) * self.unit, _EPS ** (1 / 7) * self.unit
+        # a direction that is not finite (h11 where A is singular, at a Bogdanov-Takens point) gives NaN: l1 undefined
+        norms2 = [float(np.max(np.abs(d) / self.sc)) if np.all(np.isfinite(d)) else math.nan for d in second]
+        norms3 = [float(np.max(np.abs(d) / self.sc)) if np.all(np.isfinite(d)) else math.nan for d in third]
+        rows = [] if self._f0 is not None else [self.z0]
+        for d, nd in zip(second, norms2):
+            if nd > 0:
+                rows += [self.z0 + k * h2 * d / nd for k in (1, -1, 2, -2)]
+        for d, nd in zip(third, norms3):
+            if nd > 0:
+                rows += [self.z0 + k * h3 * d / nd for k in (1, -1, 2, -2, 4, -4)]
+        F = self._rates(np.array(rows)) if rows else np.zeros((0, len(self.z0)))
+        if self._f0 is None:
+            self._f0, F = F[0], F[1:]
+        f0, i = self._f0, 0
+        Qs: list[np.ndarray] = []
+        for nd in norms2:
+            if not nd > 0:
+                Qs.append(np.full(len(self.z0), 0.0 if nd == 0 else math.nan))
+                continue
+            p1, m1, p2, m2 = F[i:i + 4]
+            i += 4
+            d_h, d_2h = (p1 + m1 - 2 * f0) / h2 ** 2, (p2 + m2 - 2 * f0) / (2 * h2) ** 2
+            Qs.append((4 * d_h - d_2h) / 3 * nd ** 2)
+        cs: list[np.ndarray] = []
+        for nd in norms3:
+            if not nd > 0:
+                cs.append(np.full(len(self.z0), 0.0 if nd == 0 else math.nan))
+                continue
+            p1, m1, p2, m2, p4, m4 = F[i:i + 6]
+            i += 6
+            t_h = (p2 - 2 * p1 + 2 * m1 - m2) / (2 * h3 ** 3)
+            t_2h = (p4 - 2 * p2 + 2 * m2 - m4) / (2 * (2 * h3) ** 3)
+            cs.append((4 * t_h - t_2h) / 3 * nd ** 3)
+        return Qs, cs
+
+
+class _DifferenceTerms(_Terms):
+    """The terms from the rates alone (the module docstring's second way): ``q`` turned to ``q' = turn q`` with
+    its real and imaginary parts ``a``, ``b`` equally long in the states' scales (l1 does not depend on ``q``'s
+    phase; the polarisation's differences then cancel no more than ``a``'s or ``b``'s own size), the terms
+    turned back (``B(q, v) = B(q', v) conj(turn)``, ``B(qb, v) = B(qb', v) turn``, ``C(q, q, qb) = C' conj(turn)``)."""
+
+    def __init__(self, dyn: Dynamics, x: np.ndarray, z0: np.ndarray, sc: np.ndarray, q: np.ndarray) -> None:
+        qs = q / sc
+        square = complex(np.sum(qs * qs))
+        self.turn = complex(np.exp(0.5j * (0.5 * np.pi - np.angle(square)))) if square != 0 else 1.0 + 0j
+        a, b = np.real(q * self.turn), np.imag(q * self.turn)
+        self.forms, self.a, self.b = _Directional(dyn, x, z0, sc), a, b
+        (Qa, Qb, Qp, Qm), (ca, cb, cp, cm) = self.forms.forms([a, b, a + b, a - b], [a, b, a + b, a - b])
+        back = self.turn.conjugate()
+        self.b_q_qb = Qa + Qb + 0j  # B(q', qb') = B(q, qb)
+        self.b_q_q = (Qa - Qb + 0.5j * (Qp - Qm)) * back ** 2  # B(q', q') = Q(a) - Q(b) + 2 i B(a, b)
+        c_abb, c_aab = (cp + cm - 2 * ca) / 6, (cp - cm - 2 * cb) / 6
+        self.c = ((ca + c_abb) + 1j * (c_aab + cb)) * back
+
+    def products(self, h11: np.ndarray, h20: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``B(a, .)`` and ``B(b, .)`` of ``h11`` (real) and of ``h20``'s real and imaginary parts, by
+        polarisation ``4 s B(u, w) = Q(u + s w) - Q(u - s w)`` with ``s w`` as long as ``u``: one batch."""
+        sc = self.forms.sc
+        parts = [(u, w) for w in (np.real(h11), np.real(h20), np.imag(h20)) for u in (self.a, self.b)]
+        dirs: list[np.ndarray] = []
+        scales: list[float] = []
+        for u, w in parts:
+            nw = float(np.max(np.abs(w) / sc)) if np.all(np.isfinite(w)) else math.nan
+            with np.errstate(over="ignore", divide="ignore"):
+                s = float(np.max(np.abs(u) / sc)) / nw if nw > 0 else 0.0 if nw == 0 else math.nan
+            s = 0.0 if s == math.inf else s  # w below the smallest normal number: B(u, w) is 0 to rounding
+            scales.append(s)
+            if s > 0:
+                dirs += [u + s * w, u - s * w]
+        Qs, _ = self.forms.forms(dirs, [])
+        B, i = [], 0
+        for s in scales:
+            if s > 0:
+                B.append((Qs[i] - Qs[i + 1]) / (4 * s))
+                i += 2
+            else:
+                B.append(np.full(len(sc), 0.0 if s == 0 else math.nan))
+        a_h11, b_h11, a_r, b_r, a_i, b_i = B
+        # B(q', h11) = B(a, h11) + i B(b, h11); B(qb', h20) = B(a, h20) - i B(b, h20), h20 = r + i m
+        b_q_h11 = (a_h11 + 1j * b_h11) * self.turn.conjugate()
+        b_qb_h20 = ((a_r + 1j * a_i) - 1j * (b_r + 1j * b_i)) * self.turn
+        return b_q_h11, b_qb_h20
