@@ -220,7 +220,8 @@ def margin_sensitivity(system: Model, design: str, params: Iterable[str],
                        f"{'fold' if kind == 'fold' else f + ' = 0'} at {design} = {xc:.10g}")
 
 
-def _nearest(system, design, values, kind, bounds, h, f, x0) -> float:
+def _nearest(system: Model, design: str, values: Mapping[str, float], kind: str, bounds: tuple[float, float] | None,
+             h: Mapping[str, float], f: str, x0: float) -> float:
     """The fold (extremum of ``f`` in ``design``) or ``f = 0`` crossing nearest ``x0``, by continuation in ``f``."""
     from ..continuation import ContinuationOptions, continuation
     if bounds is None:
