@@ -54,6 +54,8 @@ FLOOR = {
     "mechcont.mechanism.spatial.joints.spherical", "mechcont.mechanism.spatial.joints.universal",
     "mechcont.mechanism.spatial.joints.weld", "mechcont.models", "mechcont.models.dual_sidestay_geometry",
     "mechcont.models.overcentre_scene", "mechcont.outputs._explore_page", "mechcont.outputs.critical_plots",
+    "mechcont.models._registry", "mechcont.models.dual_sidestay", "mechcont.models.dual_sidestay_description",
+    "mechcont.models.nose_gear", "mechcont.models.nose_gear_geometry", "mechcont.models.overcentre",
     "mechcont.paper", "mechcont.paper._timing", "mechcont.paper.shimmy", "mechcont.units",
 }
 
