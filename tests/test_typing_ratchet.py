@@ -18,6 +18,7 @@ SRC = ROOT / "src"
 FLOOR = {
     "mechcont", "mechcont.__main__", "mechcont._io", "mechcont._lazy", "mechcont._roots", "mechcont._status",
     "mechcont._version", "mechcont.analysis", "mechcont.analysis._cusp", "mechcont.analysis._stop_quantities",
+    "mechcont._dense", "mechcont._progress", "mechcont._signals",
     "mechcont.analysis.downlock", "mechcont.paper._nose_gear_settings",
     "mechcont.analysis._downlock_point", "mechcont.analysis._optimum_map", "mechcont.analysis._reliability_checks",
     "mechcont.analysis._runs", "mechcont.analysis._slsqp", "mechcont.analysis._special_points",
