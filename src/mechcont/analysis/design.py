@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..continuation import Branch, ContinuationOptions, continuation, continue_folds
+from ..continuation import Branch, ContinuationOptions, SpecialPoint, continuation, continue_folds
 from ..equations import Model
 from ..errors import ConvergenceError, InputError
 from ._runs import early_stops
@@ -50,7 +50,7 @@ class FoldLocus:
     warnings: list[str] = field(default_factory=list)
 
     @property
-    def cusps(self) -> list:
+    def cusps(self) -> list[SpecialPoint]:
         """Cusp points (``CP``) of the fold curve."""
         return [] if self.curve is None else self.curve.special("CP")
 
@@ -131,7 +131,7 @@ class DesignRegion:
     units: tuple[str, str, str] = ("", "", "N")  # of x, y and the force
     warnings: list[str] = field(default_factory=list)  # runs that stopped short: where and why
 
-    def table(self) -> list[dict]:
+    def table(self) -> list[dict[str, float | str]]:
         """The design table as records (one per level), numbers in SI units named in the headings.
 
         Columns: the level of y; the force at the design x and its slope dF/dx; whether the

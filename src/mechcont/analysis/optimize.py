@@ -121,13 +121,13 @@ class OptimumResult:
     message: str
     units: dict[str, str] = field(default_factory=dict)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, object]:
         """JSON-ready: design, objective, value, quantities, active (with multipliers), iterations, units."""
         return {"design": self.design, "objective": self.objective, "value": self.value, "quantities": self.quantities,
                 "active": [{"constraint": c, "multiplier": m} for c, m in self.active], "iterations": self.iterations,
                 "evaluations": self.evaluations, "success": self.success, "message": self.message, "units": self.units}
 
-    def to_json(self, path: str | os.PathLike) -> None:
+    def to_json(self, path: str | os.PathLike[str]) -> None:
         """Write :meth:`to_dict` as JSON, atomically."""
         write_json(path, self.to_dict())
 
@@ -158,7 +158,7 @@ class _Quantities:
         self.random = dict(random or {})
         self.u_star: dict[str | None, np.ndarray] = {}  # the last design point of each limit state: the next FORM starts there
         self.unlock_x: np.ndarray | None = None
-        self.cache: dict[tuple, dict[str, tuple[float, np.ndarray]]] = {}
+        self.cache: dict[tuple[float, ...], dict[str, tuple[float, np.ndarray]]] = {}
         self.evaluations = 0
 
     def at(self, z: np.ndarray, names: Sequence[str]) -> dict[str, tuple[float, np.ndarray]]:
@@ -370,7 +370,8 @@ def optimize(system: Model, objective: str, bounds: Mapping[str, tuple[float, fl
     sign = -1.0 if maximize else 1.0
 
     def phys(t: np.ndarray) -> np.ndarray:
-        return lo + (hi - lo) * np.asarray(t, float)
+        z: np.ndarray = lo + (hi - lo) * np.asarray(t, float)  # (NumPy's stubs type this product as Any)
+        return z
 
     start = q.at(z0, names)
     f_scale = max(abs(start[objective][0]), 1e-12)
@@ -387,7 +388,8 @@ def optimize(system: Model, objective: str, bounds: Mapping[str, tuple[float, fl
             return side * (q.at(phys(t), names)[c.quantity][0] - c.bound) / g_scale[i]
 
         def jac(t: np.ndarray) -> np.ndarray:
-            return side * q.at(phys(t), names)[c.quantity][1] * (hi - lo) / g_scale[i]
+            g: np.ndarray = side * q.at(phys(t), names)[c.quantity][1] * (hi - lo) / g_scale[i]
+            return g
 
         return {"type": "ineq", "fun": value, "jac": jac}
 
