@@ -32,6 +32,7 @@ FLOOR = {
     "mechcont.outputs", "mechcont.outputs.cycle_plots", "mechcont.outputs.design_plots",
     "mechcont.outputs.history_plots", "mechcont.outputs.sweep_plots",
     "mechcont.outputs.retraction_plots",
+    "mechcont.outputs._branch_frames",
     "mechcont.analysis.study._estimate", "mechcont.analysis.study._execute", "mechcont.analysis.study._kernels",
     "mechcont.analysis.study._results", "mechcont.analysis.study._spec", "mechcont.analysis.study._store",
     "mechcont.analysis.ode_check", "mechcont.analysis.study", "mechcont.cli", "mechcont.cli._commands",
