@@ -36,9 +36,9 @@ def _plain(A: np.ndarray) -> bool:
     return _umath_linalg is not None and type(A) is np.ndarray and A.dtype == np.float64 and A.ndim == 2
 
 
-def _in_state(extobj, gufunc, *args, signature: str):
+def _in_state(extobj: object, gufunc: np.ufunc, *args: np.ndarray, signature: str) -> Any:
     """``gufunc(*args)`` in the floating-point error state ``extobj`` (made once: entering np.errstate
-    costs a fifth of a small SVD)."""
+    costs a fifth of a small SVD): its output, an array or a tuple of arrays (as the kernel has one or more)."""
     token = _extobj_contextvar.set(extobj)
     try:
         return gufunc(*args, signature=signature)
@@ -46,8 +46,9 @@ def _in_state(extobj, gufunc, *args, signature: str):
         _extobj_contextvar.reset(token)
 
 
-def _svd_call(gufunc, A: np.ndarray, signature: str):
-    """``gufunc(A)`` in the error state numpy.linalg.svd uses (non-convergence raises LinAlgError)."""
+def _svd_call(gufunc: np.ufunc, A: np.ndarray, signature: str) -> Any:
+    """``gufunc(A)`` in the error state numpy.linalg.svd uses (non-convergence raises LinAlgError): the singular
+    values, or ``(U, s, V^T)``, as the kernel gives them."""
     if _svd_errors is not None:
         return _in_state(_svd_errors, gufunc, A, signature=signature)
     with np.errstate(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore"):
@@ -104,7 +105,7 @@ class quiet:
     def __enter__(self) -> None:
         self._token = _extobj_contextvar.set(_quiet) if _quiet is not None else None
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         if self._token is not None:
             _extobj_contextvar.reset(self._token)
 

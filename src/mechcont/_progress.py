@@ -68,7 +68,7 @@ class Progress:
         self._last = now
         self._write(self.line(now - self.t0))
 
-    def __call__(self, *args) -> None:
+    def __call__(self, *args: float) -> None:
         """As a callback: ``progress(n)`` advances by ``n``; ``progress()`` by one."""
         self.update(args[0] if args else 1)
 
@@ -99,5 +99,5 @@ class Progress:
     def __enter__(self) -> Progress:
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()

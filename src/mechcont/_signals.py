@@ -16,6 +16,8 @@ import contextlib
 import os
 import signal
 from collections.abc import Callable, Iterator
+from types import FrameType
+from typing import NoReturn
 
 __all__ = ["Terminated", "record", "raise_pending", "clear", "pending", "install", "process_state", "TERMINATING",
            "stop_gracefully", "stopping", "raise_held"]
@@ -61,7 +63,8 @@ def raise_pending() -> None:
         raise Terminated(signum) if signum in TERMINATING else KeyboardInterrupt()
 
 
-def _terminate(signum, frame):
+def _terminate(signum: int, frame: FrameType | None) -> None:
+    """The SIGTERM/SIGHUP handler: records the signal; raises :class:`Terminated` unless inside :func:`stop_gracefully`."""
     record(signum)
     if not _GRACEFUL:
         raise Terminated(signum)
@@ -98,7 +101,8 @@ def raise_held() -> None:
         raise Terminated(signum)
 
 
-def _interrupt(signum, frame):
+def _interrupt(signum: int, frame: FrameType | None) -> NoReturn:
+    """The SIGINT handler: records the signal and raises ``KeyboardInterrupt``."""
     record(signum)
     raise KeyboardInterrupt()
 

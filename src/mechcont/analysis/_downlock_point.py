@@ -15,6 +15,7 @@ from ..equations import Model
 from ..errors import ConvergenceError, InputError
 
 if TYPE_CHECKING:
+    from ..continuation import Sensitivity
     from .unlock import UnlockFolds
 
 __all__ = ["DownlockResult", "downlock_condition", "downlocked_pose", "downlock_point"]
@@ -52,7 +53,7 @@ class DownlockResult:
     lock_stops: tuple[str, ...] = ()
 
     def sensitivity(self, system: Model, point: str | int, params: Iterable[str], *, of: str | None = None,
-                    keep: str | None = None, values: Mapping[str, float] | None = None):
+                    keep: str | None = None, values: Mapping[str, float] | None = None) -> Sensitivity:
         """:meth:`Branch.sensitivity <mechcont.continuation.Branch.sensitivity>` of the branch, of the downlock
         force unless ``of`` names another unknown."""
         return self.branch.sensitivity(system, point, params, of=of or self.force, keep=keep, values=values)

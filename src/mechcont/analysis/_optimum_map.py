@@ -102,7 +102,10 @@ def optimum_map(system: Model, result: OptimumResult, bounds: Mapping[str, tuple
     return OptimumMap(region, opt, curves, notes)
 
 
-def _traced_boundary(system, c, what, design, bounds, values, random, opt, n, notes):
+def _traced_boundary(system: Model, c: Constraint, what: str, design: Sequence[str],
+                     bounds: Mapping[str, tuple[float, float]], values: Mapping[str, float],
+                     random: Mapping[str, Distribution] | None, opt: tuple[float, float], n: int,
+                     notes: list[str]) -> list[tuple[str, np.ndarray, np.ndarray]]:
     """The curve ``c.quantity = c.bound`` through the optimum ``opt``, traced on the exact gradients.
 
     One design parameter is solved for (the one the quantity changes most across its range, at

@@ -18,8 +18,12 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .reliability import Variables
 
 __all__ = ["ImportanceSampling", "MonteCarlo", "importance_sampling", "monte_carlo", "MC_EVENTS"]
 
@@ -57,7 +61,7 @@ class MonteCarlo:
     seconds: float
 
 
-def importance_sampling(evaluate: Callable[[np.ndarray], np.ndarray], variables, u_star: np.ndarray, n: int,
+def importance_sampling(evaluate: Callable[[np.ndarray], np.ndarray], variables: Variables, u_star: np.ndarray, n: int,
                         seed: int = 0, *, safe: bool = False) -> ImportanceSampling:
     """``P(g <= 0)`` from ``n`` samples ``u ~ N(u*, I)`` weighted by ``phi(u) / phi(u - u*)``.
 
@@ -83,7 +87,7 @@ def importance_sampling(evaluate: Callable[[np.ndarray], np.ndarray], variables,
                               hits=int(inside.sum()))
 
 
-def monte_carlo(evaluate: Callable[[np.ndarray], np.ndarray], variables, n: int, seed: int = 0) -> MonteCarlo:
+def monte_carlo(evaluate: Callable[[np.ndarray], np.ndarray], variables: Variables, n: int, seed: int = 0) -> MonteCarlo:
     """``P(g <= 0)`` from ``n`` samples of the distributions themselves (``u ~ N(0, I)``, seeded)."""
     t0 = time.perf_counter()
     U = np.random.Generator(np.random.PCG64(seed)).standard_normal((n, len(variables.names)))

@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..continuation import Branch
 
 __all__ = ["early_stops"]
 
 
-def early_stops(branch, what: str, show: Iterable[str] = ()) -> list[str]:
+def early_stops(branch: Branch | None, what: str, show: Iterable[str] = ()) -> list[str]:
     """One line per end of ``branch`` that is not a bound or a requested stop.
 
     A direction that failed (``status`` not ``"completed"``, e.g. a step-size underflow) or

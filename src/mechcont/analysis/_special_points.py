@@ -8,13 +8,23 @@ what a release or a cusp is belongs to this layer (stops, cusp conditions). Impo
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
 from ..continuation import SPECIAL_POINTS
 
+if TYPE_CHECKING:
+    from ..continuation import Sensitivity
+    from ..equations import Model
 
-def _release_or_cusp(*args):
+
+def _release_or_cusp(system: Model, x: np.ndarray, params: Iterable[str], vary: str, label: str, info: dict[str, Any],
+                     unknowns: Sequence[str] | None, values: Mapping[str, float] | None) -> Sensitivity:
     from .sensitivity import _switch_or_cusp
 
-    return _switch_or_cusp(*args)
+    return _switch_or_cusp(system, x, params, vary, label, info, unknowns, values)
 
 
 SPECIAL_POINTS.setdefault("SR", _release_or_cusp)

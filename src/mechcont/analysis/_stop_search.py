@@ -11,13 +11,13 @@ a contact set (:func:`stability_on_stops`) are shared with the continuation thro
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Container, Iterable, Mapping, Sequence
 from itertools import combinations
 
 import numpy as np
 
 from ..continuation import find_equilibrium
-from ..equations import Model, StopLimit
+from ..equations import Model, StabilityResult, StopLimit
 from ..errors import ConvergenceError, InputError
 
 __all__ = ["GAP_TOL", "equilibrium_on_stops", "stops_in_contact", "check_stop_lens", "stability_on_stops",
@@ -74,7 +74,7 @@ def contact_lens(stops: Sequence[StopLimit], active: Iterable[str], hold: Iterab
     return hold_, free_
 
 
-def with_contacts(system: Model, x: np.ndarray, stops, active) -> np.ndarray:
+def with_contacts(system: Model, x: np.ndarray, stops: Iterable[StopLimit], active: Container[str]) -> np.ndarray:
     """``x`` with the active stops' conditions exactly at their limits and the free stops' reactions 0."""
     y = np.array(x, dtype=float)
     for s in stops:
@@ -137,7 +137,9 @@ def equilibrium_on_stops(system: Model, guess: np.ndarray | Mapping[str, float],
     return x, found
 
 
-def _active_set(system, guess, values, hold, free, stops, contact) -> tuple[np.ndarray, list[str]]:
+def _active_set(system: Model, guess: np.ndarray | Mapping[str, float], values: Mapping[str, float] | None,
+                hold: Mapping[str, float] | None, free: Iterable[str], stops: Iterable[str] | None,
+                contact: Iterable[str] | None) -> tuple[np.ndarray, list[str]]:
     """:func:`equilibrium_on_stops`' active-set method from one guess and first contact set.
 
     First the small active-set walk (add the stop most past its limit, else release the reaction
@@ -186,7 +188,8 @@ def _compatible(stops: Sequence[StopLimit], chosen: Iterable[str]) -> bool:
     return True
 
 
-def _solve_set(system: Model, x: np.ndarray, active: set[str], values, hold, free,
+def _solve_set(system: Model, x: np.ndarray, active: set[str], values: Mapping[str, float] | None,
+               hold: Mapping[str, float] | None, free: Iterable[str],
                stops: Sequence[StopLimit]) -> tuple[np.ndarray | None, str | None, str | None, str]:
     """The equilibrium with the stops ``active`` in contact (conditions held at their limits, reactions freed),
     the others free (reactions 0), from ``x``: ``(y, most past free stop, most pulling stop, why)``, ``why`` ""
@@ -218,7 +221,7 @@ def _solve_set(system: Model, x: np.ndarray, active: set[str], values, hold, fre
     return y, None, None, ""
 
 
-def stability_on_stops(system: Model, x: np.ndarray, contact: Iterable[str]):
+def stability_on_stops(system: Model, x: np.ndarray, contact: Iterable[str]) -> StabilityResult:
     """Physical stability at the full vector ``x`` with the stops ``contact`` (names) in contact.
 
     A stop that pushes (reaction > 0) forbids motion across it, so its condition's gradient (the

@@ -17,12 +17,12 @@ is named, with where and why, in :attr:`DesignRegion.warnings`.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..continuation import Branch, ContinuationOptions, continuation, continue_folds
+from ..continuation import Branch, ContinuationOptions, SpecialPoint, continuation, continue_folds
 from ..equations import Model
 from ..errors import ConvergenceError, InputError
 from ._runs import early_stops
@@ -50,7 +50,7 @@ class FoldLocus:
     warnings: list[str] = field(default_factory=list)
 
     @property
-    def cusps(self) -> list:
+    def cusps(self) -> list[SpecialPoint]:
         """Cusp points (``CP``) of the fold curve."""
         return [] if self.curve is None else self.curve.special("CP")
 
@@ -131,7 +131,7 @@ class DesignRegion:
     units: tuple[str, str, str] = ("", "", "N")  # of x, y and the force
     warnings: list[str] = field(default_factory=list)  # runs that stopped short: where and why
 
-    def table(self) -> list[dict]:
+    def table(self) -> list[dict[str, float | str]]:
         """The design table as records (one per level), numbers in SI units named in the headings.
 
         Columns: the level of y; the force at the design x and its slope dF/dx; whether the
@@ -145,7 +145,7 @@ class DesignRegion:
         x0 = f"{self.design[0]:g} {self.units[0]}".strip()
         slope_unit = f" ({self.units[2]}/{self.units[0]})" if self.units[0] else ""
 
-        def dist(v):
+        def dist(v: float) -> str | float:
             return "none" if not np.isfinite(v) else float(v)
 
         out = []
@@ -164,7 +164,8 @@ class DesignRegion:
         return out
 
 
-def _options(bounds, scale_span, max_steps=2000):
+def _options(bounds: Mapping[str, tuple[float, float]], scale_span: float,
+             max_steps: int = 2000) -> ContinuationOptions:
     return ContinuationOptions(ds=0.02, dsmin=1e-9, dsmax=max(0.02, min(0.5, scale_span)), bounds=bounds,
                                max_steps=max_steps)
 
@@ -215,7 +216,8 @@ def fold_locus(system: Model, design: str, second: str, bounds: Mapping[str, tup
     return FoldLocus(br, curve, warnings)
 
 
-def _slope(system, vals, x_name, x0, xb, h, f):
+def _slope(system: Model, vals: Mapping[str, float], x_name: str, x0: float, xb: tuple[float, float],
+           h: Mapping[str, float], f: str) -> float:
     """dF/dx (N per unit of x) at x0 by a central difference of two downlock solves (step 1e-6 x scale)."""
     step = 1e-6 * system.variable(x_name).scale
     a, b = max(x0 - step, xb[0]), min(x0 + step, xb[1])
@@ -226,13 +228,14 @@ def _slope(system, vals, x_name, x0, xb, h, f):
     return float((Fb - Fa) / (b - a))
 
 
-def _refined(system, intervals, vals, x_name, xb, h, f):
+def _refined(system: Model, intervals: Iterable[tuple[float, float]], vals: Mapping[str, float], x_name: str,
+             xb: tuple[float, float], h: Mapping[str, float], f: str) -> tuple[tuple[float, float], ...]:
     """The interior ends of ``intervals`` (F = 0 crossings) solved exactly: F held at 0, x freed."""
     from ..continuation import find_equilibrium
 
     base = downlocked_pose(system)
 
-    def crossing(xc):
+    def crossing(xc: float) -> float:
         if not xb[0] < xc < xb[1]:
             return xc
         v = {**vals, x_name: xc, f: 0.0}
@@ -246,7 +249,7 @@ def _refined(system, intervals, vals, x_name, xb, h, f):
     return tuple((crossing(a), crossing(b)) for a, b in intervals)
 
 
-def _intervals(x, F):
+def _intervals(x: np.ndarray, F: np.ndarray) -> tuple[tuple[float, float], ...]:
     """Intervals of x where F > 0 (linear interpolation of the crossings)."""
     pos = F > 0
     out, start = [], (x[0] if pos[0] else None)
@@ -268,7 +271,7 @@ def design_region(system: Model, x_name: str, y_name: str, *,
                   x_bounds: tuple[float, float], y_levels: Sequence[float] | np.ndarray,
                   values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
                   force: str | None = None, n_x: int = 121, condition: str | None = None,
-                  max_steps: int = 2000, progress=None) -> DesignRegion:
+                  max_steps: int = 2000, progress: Callable[[], object] | None = None) -> DesignRegion:
     """Downlock force over the (x, y) design plane, the F = 0 boundary, folds and margins.
 
     Parameters
@@ -365,7 +368,9 @@ def design_region(system: Model, x_name: str, y_name: str, *,
                         warnings)
 
 
-def _zero_force_boundary(system, x_name, y_name, xb, yb, grid, levels, fmap, values, h, f, max_steps=2000):
+def _zero_force_boundary(system: Model, x_name: str, y_name: str, xb: tuple[float, float], yb: tuple[float, float],
+                         grid: np.ndarray, levels: np.ndarray, fmap: np.ndarray, values: Mapping[str, float],
+                         h: Mapping[str, float], f: str, max_steps: int = 2000) -> tuple[Branch | None, list[str]]:
     """Continue the curve F = 0 in the (x, y) plane from a sign change of the force map.
 
     The start is solved on the level where the map changes sign (y held there, x solved

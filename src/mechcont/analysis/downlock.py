@@ -34,7 +34,8 @@ __all__ = ["downlock", "downlock_table", "downlock_point", "downlock_condition",
 
 
 def design_bounds(system: Model, vary: str, bounds: Mapping[str, tuple[float, float]] | None,
-                  options: ContinuationOptions | None, values: Mapping[str, float] | None) -> tuple[dict, float]:
+                  options: ContinuationOptions | None,
+                  values: Mapping[str, float] | None) -> tuple[dict[str, tuple[float, float]], float]:
     """The bounds of a run in the design parameter ``vary`` (``options``' merged with ``bounds``) and its start
     value; :class:`InputError` for an unknown name, no range for ``vary`` or a start outside it."""
     all_bounds = dict(options.bounds) if options is not None else {}

@@ -19,10 +19,14 @@ dense eigenvalue problem of size ``2 dof + states`` per point.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..equations import Model, dynamics_of
+
+if TYPE_CHECKING:
+    from ..continuation import Branch
 
 __all__ = ["DynamicStability", "dynamic_stability", "with_dynamic_stability", "DYNAMIC_COLUMNS"]
 
@@ -72,7 +76,7 @@ def dynamic_stability(model: Model, x: np.ndarray, *, damping: float = 0.0, rtol
     return _judge(dyn.linearise(np.asarray(x, dtype=float)).eigenvalues(), rtol)
 
 
-def with_dynamic_stability(model: Model, branch, *, damping: float = 0.0, rtol: float = 1e-9):
+def with_dynamic_stability(model: Model, branch: Branch, *, damping: float = 0.0, rtol: float = 1e-9) -> Branch:
     """``branch`` (a :class:`~mechcont.continuation.Branch` of ``model``) with the columns of
     :data:`DYNAMIC_COLUMNS` added: per point the number of unstable eigenvalues of the linearised dynamics,
     the leading eigenvalue's real part (1/s) and its frequency ``|Im|`` (rad/s); see the module docstring.

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -35,12 +35,16 @@ import numpy as np
 from .._lazy import lazy_exports
 from ..equations import Model
 from ..errors import ConvergenceError, InputError
+from ._slsqp import Inequality, better, multipliers, start_points
 from ._stop_quantities import stop_reactions
 from .sensitivity import Sensitivity, downlock_sensitivity, fold_sensitivity, write_json
 from .study._spec import Distribution
 
 if TYPE_CHECKING:
+    import os
+
     from ._optimum_map import OptimumMap, optimum_map
+    from .reliability import LimitState, Variables
 
 __all__ = ["Constraint", "OptimumResult", "optimize", "QUANTITIES", "NOT_LOCKING", "BETA", "OptimumMap", "optimum_map"]
 
@@ -117,13 +121,13 @@ class OptimumResult:
     message: str
     units: dict[str, str] = field(default_factory=dict)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, object]:
         """JSON-ready: design, objective, value, quantities, active (with multipliers), iterations, units."""
         return {"design": self.design, "objective": self.objective, "value": self.value, "quantities": self.quantities,
                 "active": [{"constraint": c, "multiplier": m} for c, m in self.active], "iterations": self.iterations,
                 "evaluations": self.evaluations, "success": self.success, "message": self.message, "units": self.units}
 
-    def to_json(self, path) -> None:
+    def to_json(self, path: str | os.PathLike[str]) -> None:
         """Write :meth:`to_dict` as JSON, atomically."""
         write_json(path, self.to_dict())
 
@@ -154,7 +158,7 @@ class _Quantities:
         self.random = dict(random or {})
         self.u_star: dict[str | None, np.ndarray] = {}  # the last design point of each limit state: the next FORM starts there
         self.unlock_x: np.ndarray | None = None
-        self.cache: dict[tuple, dict[str, tuple[float, np.ndarray]]] = {}
+        self.cache: dict[tuple[float, ...], dict[str, tuple[float, np.ndarray]]] = {}
         self.evaluations = 0
 
     def at(self, z: np.ndarray, names: Sequence[str]) -> dict[str, tuple[float, np.ndarray]]:
@@ -219,18 +223,19 @@ class _Quantities:
             where = ", ".join(f"{k} = {v:.6g}" for k, v in vals.items() if k in self.design)
             self._preload(next(iter(self.reactions)), vals, where)
 
-        def weakest(at, params):
+        def weakest(at: Mapping[str, float], params: Sequence[str]) -> Sensitivity:
             """The smallest stop reaction at rest at ``at``, differentiated by ``params``."""
             return min((preload_sensitivity(self.system, at, r, params, guess=self.rest) for r in self.reactions),
                        key=lambda q: q.value)
 
-        def limit(x):
+        def limit(x: np.ndarray) -> tuple[float, np.ndarray]:
             s = weakest({**fixed, **dict(zip(names, map(float, x)))}, names)
             return s.value, np.array([s[n] for n in names])
 
         return self._form("stops", limit, variables, fixed, lambda at: weakest(at, wrt))
 
-    def _form(self, key, limit, variables, fixed, sensitivity) -> tuple[float, np.ndarray]:
+    def _form(self, key: str | None, limit: LimitState, variables: Variables, fixed: Mapping[str, float],
+              sensitivity: Callable[[dict[str, float]], Sensitivity]) -> tuple[float, np.ndarray]:
         """FORM of one limit state (warm-started from its last design point, ``key``) and d beta / d design."""
         from .reliability import form
 
@@ -364,38 +369,40 @@ def optimize(system: Model, objective: str, bounds: Mapping[str, tuple[float, fl
     names = list(dict.fromkeys([objective, *(c.quantity for c in constraints)]))
     sign = -1.0 if maximize else 1.0
 
-    def phys(t):
-        return lo + (hi - lo) * np.asarray(t, float)
+    def phys(t: np.ndarray) -> np.ndarray:
+        z: np.ndarray = lo + (hi - lo) * np.asarray(t, float)  # (NumPy's stubs type this product as Any)
+        return z
 
     start = q.at(z0, names)
     f_scale = max(abs(start[objective][0]), 1e-12)
     g_scale = [max(abs(c.bound), abs(start[c.quantity][0]), 1e-12) for c in constraints]
 
-    def fun(t):
+    def fun(t: np.ndarray) -> tuple[float, np.ndarray]:
         v, g = q.at(phys(t), names)[objective]
         return sign * v / f_scale, sign * g * (hi - lo) / f_scale
 
-    def cons(i, c):
+    def cons(i: int, c: Constraint) -> Inequality:
         side = 1.0 if c.sense == ">=" else -1.0
 
-        def value(t):
+        def value(t: np.ndarray) -> float:
             return side * (q.at(phys(t), names)[c.quantity][0] - c.bound) / g_scale[i]
 
-        def jac(t):
-            return side * q.at(phys(t), names)[c.quantity][1] * (hi - lo) / g_scale[i]
+        def jac(t: np.ndarray) -> np.ndarray:
+            g: np.ndarray = side * q.at(phys(t), names)[c.quantity][1] * (hi - lo) / g_scale[i]
+            return g
 
         return {"type": "ineq", "fun": value, "jac": jac}
 
     slsqp = [cons(i, c) for i, c in enumerate(constraints)]
     res, lost = None, None
-    for t0 in _starts(z0, lo, hi, starts):
+    for t0 in start_points(z0, lo, hi, starts):
         try:
             r = minimize(fun, t0, jac=True, method="SLSQP", bounds=[(0.0, 1.0)] * len(design), constraints=slsqp,
                          options={"maxiter": max_iter, "ftol": tol})
         except InputError as exc:
             lost = exc  # from this start the optimiser went where a quantity does not exist: that start is lost
             continue
-        if res is None or _better(r, res, slsqp):
+        if res is None or better(r, res, slsqp):
             res = r
     if res is None:
         assert lost is not None
@@ -403,7 +410,7 @@ def optimize(system: Model, objective: str, bounds: Mapping[str, tuple[float, fl
     t = np.clip(res.x, 0.0, 1.0)
     z = phys(t)
     at = q.at(z, names)
-    active = _multipliers(design, t, lo, hi, at, objective, constraints, g_scale)
+    active = multipliers(design, t, lo, hi, at, objective, constraints, g_scale)
     units = {n: system.variable(n).unit for n in design}
     units.update({n: ("N" if n in QUANTITIES else "" if n == BETA else system.variable(n).unit) for n in names})
     if fold is not None and "fold_load" in names and q.fold is not None:
@@ -431,27 +438,6 @@ def _stop_constraints(system: Model, constraints: Sequence[Constraint]) -> list[
     return out
 
 
-def _starts(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, n: int):
-    """The scaled start points: the given design, then (``n`` > 1) an ``n``-per-axis grid over the bounds."""
-    if n < 1:
-        raise InputError("starts", f"must be a positive whole number, got {n}")
-    yield (z0 - lo) / (hi - lo)
-    if n > 1:
-        import itertools
-
-        for t in itertools.product(np.linspace(0.0, 1.0, n), repeat=len(z0)):
-            yield np.array(t)
-
-
-def _better(r, best, constraints, tol: float = 1e-6) -> bool:
-    """Is SLSQP result ``r`` better than ``best``: feasible (to ``tol`` of the scaled constraints) first, then lower."""
-    def feasible(res):
-        return bool(res.success) and all(c["fun"](np.clip(res.x, 0.0, 1.0)) >= -tol for c in constraints)
-
-    fr, fb = feasible(r), feasible(best)
-    return fr and (not fb or float(r.fun) < float(best.fun) - 1e-12 * max(1.0, abs(float(best.fun))))
-
-
 def _reliability_constraints(system: Model, constraints: Sequence[Constraint],
                              random: Mapping[str, Distribution] | None) -> list[Constraint]:
     """``P(not locking) <= p`` as ``beta(not locking) >= Phi^-1(1 - p)``; the distributions checked."""
@@ -470,28 +456,6 @@ def _reliability_constraints(system: Model, constraints: Sequence[Constraint],
         if system.variable(n).kind != "parameter":
             raise InputError(n, f"only parameters can have a distribution; valid: {', '.join(system.parameter_names)}")
     return out
-
-
-def _multipliers(design, t, lo, hi, at, objective, constraints, g_scale, tol: float = 1e-6) -> list[tuple[str, float]]:
-    """Active constraints and bounds with ``mu`` solving ``grad f = sum mu_i grad g_i`` (least squares).
-
-    ``mu_i = d f* / d b_i``: the change of the optimum per unit of the bound ``b_i``.
-    """
-    rows, what = [], []
-    for i, c in enumerate(constraints):
-        v, g = at[c.quantity]
-        if abs(v - c.bound) <= tol * g_scale[i]:
-            rows.append(g)
-            what.append(str(c))
-    for j, n in enumerate(design):
-        for side, edge, sense in ((t[j] <= tol, lo[j], ">="), (t[j] >= 1 - tol, hi[j], "<=")):
-            if side:
-                rows.append(np.eye(len(design))[j])
-                what.append(f"{n} {sense} {edge:g}")
-    if not rows:
-        return []
-    mu, *_ = np.linalg.lstsq(np.array(rows).T, at[objective][1], rcond=None)
-    return [(w, float(m) + 0.0) for w, m in zip(what, mu)]
 
 
 # the design map of an optimum builds on this module (_optimum_map imports it): imported on first use

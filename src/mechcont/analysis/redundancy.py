@@ -22,11 +22,15 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..equations import Model
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..continuation import Branch
 
 __all__ = ["redundancy_along", "RedundancyReport", "RedundancyState"]
 
@@ -86,7 +90,7 @@ def _row_joint(name: str) -> str:
     return name.rsplit("_", 1)[0]
 
 
-def redundancy_along(system: Model, branch, *, rtol: float = 1e-9) -> RedundancyReport:
+def redundancy_along(system: Model, branch: Branch, *, rtol: float = 1e-9) -> RedundancyReport:
     """The constraint rank, degrees of freedom and statically indeterminate reactions at every point
     of ``branch`` (a :class:`~mechcont.continuation.Branch` of ``system``), see the module docstring.
 

@@ -28,6 +28,7 @@ import math
 import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -36,6 +37,12 @@ from ..errors import ConvergenceError, InputError
 from ._reliability_checks import ImportanceSampling, MonteCarlo, form_findings, importance_sampling, monte_carlo
 from .sensitivity import write_json
 from .study._spec import Distribution, StudySpec
+
+if TYPE_CHECKING:
+    from scipy.stats.distributions import rv_frozen
+
+    from ..equations import Model
+    from .study import ModelSource
 
 __all__ = ["Variables", "DesignPoint", "ImportanceSampling", "MonteCarlo", "ReliabilityResult", "form", "sorm_breitung",
            "importance_sampling", "monte_carlo", "reliability", "downlock_limit_state", "downlock_reliability"]
@@ -52,7 +59,8 @@ U_LIMIT = 1000.0
 LimitState = Callable[[np.ndarray], tuple[float, np.ndarray]]
 
 
-def _frozen(d: Distribution):
+def _frozen(d: Distribution) -> rv_frozen:
+    """SciPy's frozen distribution of ``d``."""
     from scipy import stats
 
     p = d.fields
@@ -150,7 +158,7 @@ def form(limit: LimitState, variables: Variables, *, u0: np.ndarray | None = Non
     u = np.zeros(n) if u0 is None else np.asarray(u0, dtype=float).copy()
     count = [0]
 
-    def at(u):
+    def at(u: np.ndarray) -> tuple[np.ndarray, float, np.ndarray, np.ndarray]:
         count[0] += 1
         x = variables.x(u)
         g, gx = limit(x)
@@ -225,7 +233,7 @@ def curvatures(limit: LimitState, variables: Variables, point: DesignPoint, h: f
     if n == 1:
         return np.zeros(0)
 
-    def grad_u(u):
+    def grad_u(u: np.ndarray) -> np.ndarray:
         return np.asarray(limit(variables.x(u))[1], dtype=float) * variables.dx_du(u)
 
     H = np.column_stack([(grad_u(point.u + h * e) - grad_u(point.u - h * e)) / (2 * h) for e in np.eye(n)])
@@ -355,7 +363,7 @@ def reliability(limit: LimitState, variables: Variables, *, evaluate: Callable[[
 
 
 # -- the downlock force as the limit state ---------------------------------------------------------
-def downlock_limit_state(system, names: Sequence[str], values: Mapping[str, float] | None = None, *,
+def downlock_limit_state(system: Model, names: Sequence[str], values: Mapping[str, float] | None = None, *,
                          hold: Mapping[str, float] | None = None, force: str | None = None,
                          condition: str | None = None, threshold: float = 0.0) -> LimitState:
     """``x -> (F(x) - threshold, dF/dx)``: the downlock force (N) at the values ``x`` of ``names``, exact gradient.
@@ -366,7 +374,7 @@ def downlock_limit_state(system, names: Sequence[str], values: Mapping[str, floa
 
     names, fixed = list(names), dict(values or {})
 
-    def limit(x):
+    def limit(x: np.ndarray) -> tuple[float, np.ndarray]:
         s = downlock_sensitivity(system, names, {**fixed, **{n: float(v) for n, v in zip(names, x)}}, hold=hold,
                                  force=force, condition=condition)
         return s.value - threshold, np.array([s[n] for n in names])
@@ -374,7 +382,7 @@ def downlock_limit_state(system, names: Sequence[str], values: Mapping[str, floa
     return limit
 
 
-def _is_chunk(source, spec: StudySpec, S: np.ndarray) -> np.ndarray:
+def _is_chunk(source: ModelSource, spec: StudySpec, S: np.ndarray) -> np.ndarray:
     """The downlock force at the rows ``S`` (a chunk of a study's samples); ``nan`` where a solve failed."""
     from .study import load_study_model, run_chunk
 
@@ -383,10 +391,10 @@ def _is_chunk(source, spec: StudySpec, S: np.ndarray) -> np.ndarray:
     return np.where(cols["status"] == Status.CONVERGED, cols["downlock_force"], np.nan).astype(float)
 
 
-def _study_evaluate(spec: StudySpec, source, scheduler: str | None, workers: int | None, ran_on: list[str],
+def _study_evaluate(spec: StudySpec, source: ModelSource, scheduler: str | None, workers: int | None, ran_on: list[str],
                     threshold: float) -> Callable[[np.ndarray], np.ndarray]:
     """``X -> F(X) - threshold`` by the studies' batched chunks, in this process or on Dask."""
-    def evaluate(X):
+    def evaluate(X: np.ndarray) -> np.ndarray:
         parts = [X[i:i + spec.chunk] for i in range(0, len(X), spec.chunk)]
         if scheduler is None or len(parts) <= 1:
             return np.concatenate([_is_chunk(source, spec, S) for S in parts]) - threshold

@@ -20,11 +20,15 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..equations import branch_rates  # re-exported here, where it is used most
+from ..equations import Model, branch_rates  # re-exported here, where it is used most
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..continuation import Branch
 
 __all__ = ["branch_rates", "ActuatorLoads", "actuator_loads", "first_fold"]
 
@@ -61,7 +65,7 @@ class ActuatorLoads:
         return float(np.max(np.abs(self.tension)))
 
 
-def actuator_loads(system, rows: np.ndarray, vary: str,
+def actuator_loads(system: Model, rows: np.ndarray, vary: str,
                    potential_rate: Callable[[np.ndarray, np.ndarray], float],
                    length_and_rate: Callable[[np.ndarray, np.ndarray], tuple[float, float]]) -> ActuatorLoads:
     """Actuator load, length and efficiency along branch ``rows`` by virtual work.
@@ -69,7 +73,7 @@ def actuator_loads(system, rows: np.ndarray, vary: str,
     Parameters
     ----------
     system:
-        The equation system of the branch.
+        The model of the branch.
     rows:
         Branch points (full vectors), ordered along the branch and free of folds.
     vary:
@@ -104,7 +108,7 @@ def actuator_loads(system, rows: np.ndarray, vary: str,
     return ActuatorLoads(s, length, tension, eff)
 
 
-def first_fold(branch, vary: str) -> float | None:
+def first_fold(branch: Branch, vary: str) -> float | None:
     """Value of ``vary`` at the first fold (``LP``) of ``branch`` met from its start, else ``None``.
 
     A fold of a kinematic branch in its driving coordinate is a lock-up: the mechanism cannot

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -56,7 +57,7 @@ def downlock_sensitivity(system: Model, params: Iterable[str], values: Mapping[s
                           compute=lambda names: equilibrium_sensitivity(system, x, unknowns, names, f, kind="downlock"))
 
 
-def _switch_or_cusp(system: Model, x: np.ndarray, params: Iterable[str], vary: str, label: str, info: dict,
+def _switch_or_cusp(system: Model, x: np.ndarray, params: Iterable[str], vary: str, label: str, info: dict[str, Any],
                     unknowns: Sequence[str] | None, values: Mapping[str, float] | None) -> Sensitivity:
     """:func:`point_sensitivity` at a stop's release (``SR``) or a fold curve's cusp (``CP``): the
     handler :mod:`mechcont.analysis` registers for those labels (:data:`SPECIAL_POINTS`)."""
@@ -220,7 +221,8 @@ def margin_sensitivity(system: Model, design: str, params: Iterable[str],
                        f"{'fold' if kind == 'fold' else f + ' = 0'} at {design} = {xc:.10g}")
 
 
-def _nearest(system, design, values, kind, bounds, h, f, x0) -> float:
+def _nearest(system: Model, design: str, values: Mapping[str, float], kind: str, bounds: tuple[float, float] | None,
+             h: Mapping[str, float], f: str, x0: float) -> float:
     """The fold (extremum of ``f`` in ``design``) or ``f = 0`` crossing nearest ``x0``, by continuation in ``f``."""
     from ..continuation import ContinuationOptions, continuation
     if bounds is None:

@@ -27,9 +27,9 @@ by adding the most violated stop or releasing the most negative reaction until n
 active-set method), and when that cycles or a solve diverges, by trying every other contact set in turn.
 """
 
-# Why one module of about 490 lines: the continuation with its switches and the joining of its pieces
+# Why one module of about 480 lines: the continuation with its switches and the joining of its pieces
 # are one algorithm over the same state (the pieces, the switches, the folds); the equilibrium on the
-# stops, their lens and the stability on a contact set are in _stop_search.py.
+# stops, their lens and the stability on a contact set are in _stop_search.py, its events in _stop_events.py.
 
 from __future__ import annotations
 
@@ -43,11 +43,9 @@ from .._status import Status
 from ..continuation import (
     Branch,
     ContinuationOptions,
-    FoldEvent,
     Landing,
     NonSmoothFold,
     SpecialPoint,
-    ValueEvent,
     choose_unknowns,
     continuation,
     find_equilibrium,
@@ -55,6 +53,7 @@ from ..continuation import (
 from ..continuation import travel as _travel
 from ..equations import Model, StopLimit
 from ..errors import ConvergenceError, InputError
+from ._stop_events import FirstFold, StopEvent
 from ._stop_search import (
     GAP_TOL,
     check_stop_lens,
@@ -68,6 +67,7 @@ from ._stop_search import (
 
 __all__ = ["StopRun", "continuation_with_stops", "equilibrium_on_stops", "stops_in_contact", "check_stop_lens",
            "stability_on_stops", "GAP_TOL"]
+
 
 @dataclass
 class StopRun:
@@ -101,31 +101,6 @@ class StopRun:
     def first_fold(self) -> SpecialPoint | None:
         """The first fold along the run from its start, smooth (``LP``) or not (``NSF``), or None."""
         return next((p for p in self.branch.special_points if p.label in ("LP", "NSF")), None)
-
-
-class _StopEvent(ValueEvent):
-    """Contact (``SC``: a free condition reaches its limit) or release (``SR``: a reaction reaches 0); ends a piece."""
-
-    def __init__(self, stop: StopLimit, in_contact: bool):
-        if in_contact:
-            super().__init__(stop.reaction, 0.0, label="SR", stop=True)
-        else:
-            super().__init__(stop.condition, stop.limit, label="SC", stop=True)
-        self.stop_name, self.side = stop.name, (1 if in_contact else stop.side)
-
-    def value(self, problem, state) -> float:
-        # positive on the allowed side (reaction >= 0, condition on its side of the limit), so a piece
-        # that starts at a switch and leaves the allowed side at once ends as "start on a bound"
-        return self.side * super().value(problem, state)
-
-    def point_info(self) -> dict:
-        return {"stop": self.stop_name}
-
-
-class _FirstFold(FoldEvent):
-    """A fold that ends the run (``stop_at_fold``)."""
-
-    stop = True
 
 
 def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, direction: int = 1,
@@ -248,7 +223,7 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
                     break
                 active, sign = through[0], -sign
         x = with_contacts(system, x, st, active)
-        events = [_StopEvent(s, s.name in active) for s in st] + ([_FirstFold()] if stop_at_fold else [])
+        events = [StopEvent(s, s.name in active) for s in st] + ([FirstFold()] if stop_at_fold else [])
         hold_k, free_k = contact_lens(st, active, hold, free)
         # with stops in contact the stability holds them (below): the free mechanics' is not computed
         piece = continuation(system, x, vary, hold=hold_k, free=free_k, direction=sign, events=events,
@@ -362,7 +337,8 @@ def _start_release(system: Model, run: StopRun, vary: str, released: Sequence[st
                         vary=vary, unknowns=unknowns)
 
 
-def _single(system: Model, x: np.ndarray, vary: str, hold, free, stops, active) -> Branch:
+def _single(system: Model, x: np.ndarray, vary: str, hold: list[str], free: list[str], stops: Sequence[StopLimit],
+            active: set[str]) -> Branch:
     """A one-row branch at ``x`` (a run that ends where it starts: a non-smooth fold at the start)."""
     hold_k, free_k = contact_lens(stops, active, hold, free)
     unknowns = tuple(choose_unknowns(system, hold_k, free_k, exclude=[vary]))

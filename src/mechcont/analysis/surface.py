@@ -8,7 +8,7 @@ on one sheet of solutions.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import replace
 
 import numpy as np
@@ -23,13 +23,14 @@ __all__ = ["equilibrium_family"]
 def equilibrium_family(system: Model, start: np.ndarray, vary: str, family: str,
                        values: Sequence[float], *, hold: Iterable[str] = (), free: Iterable[str] = (),
                        options: ContinuationOptions | None = None, move_hold: Iterable[str] | None = None,
-                       move_free: Iterable[str] | None = None, progress=None) -> list[Branch]:
+                       move_free: Iterable[str] | None = None,
+                       progress: Callable[[int, int], object] | None = None) -> list[Branch]:
     """Branches in ``vary`` at each value of ``family`` (a surface of equilibria).
 
     Parameters
     ----------
     system:
-        The equation system.
+        The model.
     start:
         A converged full vector at ``family = values[0]`` (or near it).
     vary:

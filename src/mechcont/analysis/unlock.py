@@ -11,7 +11,7 @@ the lock cannot carry the force and the mechanism snaps. Those folds are the *un
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TypeVar
 
@@ -104,7 +104,7 @@ RELEASE_FORCE_SPAN, RELEASE_STATE_SPAN = 50.0, 2.0
 RELEASE_DS, RELEASE_DSMAX, RELEASE_MAX_ANGLE = 0.1, 0.1 * RELEASE_FORCE_SPAN, 0.2
 
 
-def _release_options(system: Model, x: np.ndarray, released, force: str, max_steps: int,
+def _release_options(system: Model, x: np.ndarray, released: Iterable[str], force: str, max_steps: int,
                      bounds: Mapping[str, tuple[float, float]] | None, stability: bool = True) -> ContinuationOptions:
     """Steps and bounds of the release run (see :data:`RELEASE_FORCE_SPAN`); ``bounds`` take precedence."""
     b = dict(bounds or {})
@@ -115,7 +115,7 @@ def _release_options(system: Model, x: np.ndarray, released, force: str, max_ste
                                stability=stability, engine=EngineSettings(max_angle=RELEASE_MAX_ANGLE))
 
 
-def unlock_folds(system: Model, x: np.ndarray, force: str, released=(), *, max_steps: int = 400,
+def unlock_folds(system: Model, x: np.ndarray, force: str, released: Sequence[str] = (), *, max_steps: int = 400,
                  bounds: Mapping[str, tuple[float, float]] | None = None, stability: bool = True) -> UnlockFolds:
     """The folds bounding the locked state through the downlocked point ``x``.
 
@@ -177,7 +177,7 @@ def unlock_folds(system: Model, x: np.ndarray, force: str, released=(), *, max_s
     return UnlockFolds(force, F0, stable, below, above, branch, notes, warnings)
 
 
-def unlock_force_along(system: Model, branch: Branch, force: str, released=(), *, max_steps: int = 400,
+def unlock_force_along(system: Model, branch: Branch, force: str, released: Sequence[str] = (), *, max_steps: int = 400,
                        known: UnlockFolds | None = None) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """The unlock folds (N) at every point of a downlock ``branch``, each from its own release run.
 
@@ -206,7 +206,7 @@ def unlock_force_along(system: Model, branch: Branch, force: str, released=(), *
     return above, below, warnings
 
 
-def with_unlock_columns(system: Model, result: B, force: str, released=()) -> B:
+def with_unlock_columns(system: Model, result: B, force: str, released: Sequence[str] = ()) -> B:
     """A new ``result`` with the unlock folds (N) of every point as extra columns of its branch.
 
     ``result`` is a :class:`~mechcont.continuation.Branch` or a

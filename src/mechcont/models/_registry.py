@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..equations import Model
+from ..equations import Model, Variable
 from ..errors import InputError
 
 if TYPE_CHECKING:
@@ -51,19 +51,19 @@ BUILTIN_MODELS: dict[str, tuple[Callable[..., Model], str]] = {
 }
 
 
-def _overcentre_summary():
+def _overcentre_summary() -> tuple[str, list[Variable]]:
     from .overcentre import DEFAULTS, DESCRIPTION, _variables
 
     return DESCRIPTION, _variables(dict(DEFAULTS))
 
 
-def _nose_gear_summary():
+def _nose_gear_summary() -> tuple[str, list[Variable]]:
     from .nose_gear import DESCRIPTION, summary_variables
 
     return DESCRIPTION, summary_variables()
 
 
-def _dual_sidestay_summary():
+def _dual_sidestay_summary() -> tuple[str, list[Variable]]:
     from .dual_sidestay import DESCRIPTION, _variables
     from .dual_sidestay_geometry import DEFAULT_GEOMETRY
 
@@ -71,7 +71,7 @@ def _dual_sidestay_summary():
 
 
 #: What each built-in model declares, without generating its equations: (description, variables).
-_SUMMARIES: dict[str, Callable[[], tuple[str, list]]] = {
+_SUMMARIES: dict[str, Callable[[], tuple[str, list[Variable]]]] = {
     "overcentre": _overcentre_summary,
     "nose_gear": _nose_gear_summary,
     "dual_sidestay_kinematics": _dual_sidestay_summary,
@@ -127,11 +127,13 @@ def describe_model(name: str | Path) -> ModelSummary:
                   valid=lambda obj: isinstance(obj, ModelSummary) and obj.name == key)
 
 
-def _summary(key: str, description: str, rows) -> ModelSummary:
-    """A :class:`ModelSummary` from rows ``(name, kind, unit, description, value)``."""
+def _summary(key: str, description: str, rows: Sequence[tuple[str, str, str, str, float | None]]) -> ModelSummary:
+    """A :class:`ModelSummary` from rows ``(name, kind, unit, description, value)`` (a state's value None; a
+    parameter's is its default, nan if it had none)."""
     states = tuple((n, u, d) for n, kind, u, d, _ in rows if kind == "state")
     return ModelSummary(key, description, len(states), states,
-                        tuple((n, float(v), u, d) for n, kind, u, d, v in rows if kind == "parameter"))
+                        tuple((n, float("nan") if v is None else float(v), u, d)
+                              for n, kind, u, d, v in rows if kind == "parameter"))
 
 
 def _read(path: Path) -> bytes:

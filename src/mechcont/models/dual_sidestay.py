@@ -67,7 +67,8 @@ def start_values(geo: GearGeometry) -> dict[str, float]:
     return out
 
 
-def _rodrigues(axis: sp.Matrix, angle) -> sp.Matrix:
+def _rodrigues(axis: sp.Matrix, angle: sp.Expr) -> sp.Matrix:
+    """The rotation matrix by ``angle`` (rad) about the unit ``axis`` (Rodrigues' formula), symbolic."""
     import sympy as sp
 
     k = sp.Matrix([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
@@ -164,7 +165,7 @@ def _build(variables: list[Variable]) -> EquationSystem:
     axis = sp.Matrix([-sp.cos(s["delta"]), 0, -sp.sin(s["delta"])])
     R = _rodrigues(axis, s["theta"])
 
-    def vec(prefix):
+    def vec(prefix: str) -> sp.Matrix:
         return sp.Matrix([s[n] for n in _vec(prefix)])
 
     eqs, names = [], []
@@ -241,7 +242,7 @@ def gear_scene(system: Model, x: np.ndarray, actuator_tension: float = 0.0) -> S
     return sc
 
 
-def _arm_mid_z_rate(system, x, dx, side: str, a: str, b: str) -> float:
+def _arm_mid_z_rate(system: Model, x: np.ndarray, dx: np.ndarray, side: str, a: str, b: str) -> float:
     """Rate of the z of the middle of the segment between points ``a`` and ``b`` of ``side``."""
     def z_rate(pt: str) -> float:
         if pt == "A":
@@ -270,7 +271,7 @@ def gravity_rate(system: Model, x: np.ndarray, dx: np.ndarray, arms: bool = True
     return dv
 
 
-def actuator_length_rate(system, x: np.ndarray, dx: np.ndarray) -> tuple[float, float]:
+def actuator_length_rate(system: Model, x: np.ndarray, dx: np.ndarray) -> tuple[float, float]:
     """Retraction actuator length (m) between its airframe end C and fitting lug D, and its rate (m/rad)."""
     p = points_at(system, x)
     d = p["D"] - p["C"]
@@ -279,7 +280,7 @@ def actuator_length_rate(system, x: np.ndarray, dx: np.ndarray) -> tuple[float, 
     return ell, float(d @ np.cross(e, p["D"]) / ell * dx[system.index("theta")])
 
 
-def actuator_tension(system, x: np.ndarray) -> float:
+def actuator_tension(system: Model, x: np.ndarray) -> float:
     """Quasi-static retraction actuator load (N, + tension) at ``x`` by virtual work (gravity of the fitting and
     the arms); ``nan`` at a fold, where the mechanism cannot be driven by ``theta``."""
     from ..errors import InputError
@@ -291,7 +292,7 @@ def actuator_tension(system, x: np.ndarray) -> float:
     return -gravity_rate(system, x, dx) / actuator_length_rate(system, x, dx)[1]
 
 
-def loaded_scene(system, x: np.ndarray) -> Scene:
+def loaded_scene(system: Model, x: np.ndarray) -> Scene:
     """:func:`gear_scene` with the actuator's quasi-static load (0 drawn at a fold)."""
     t = actuator_tension(system, x)
     return gear_scene(system, x, 0.0 if not np.isfinite(t) else t)

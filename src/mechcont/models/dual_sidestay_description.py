@@ -74,11 +74,13 @@ def _num(x: float) -> str:
     return repr(float(f"{float(x):.12g}"))
 
 
-def _v(a) -> str:
+def _v(a: np.ndarray) -> str:
+    """A vector (m) as a TOML array of rounded numbers (:func:`_num`)."""
     return "[" + ", ".join(_num(c) for c in np.asarray(a, float)) + "]"
 
 
-def _unit(a) -> np.ndarray:
+def _unit(a: np.ndarray) -> np.ndarray:
+    """``a`` divided by its length."""
     a = np.asarray(a, float)
     return a / np.linalg.norm(a)
 

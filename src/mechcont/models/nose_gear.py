@@ -55,9 +55,10 @@ simulation come from it.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from functools import partial
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, overload
 
 import numpy as np
 
@@ -74,7 +75,11 @@ COORDINATES = tuple(f"{c}{i}" for i in range(1, 6) for c in ("x", "y", "theta"))
 FORCES = ("R12x", "R12y", "R14x", "R14y", "R23x", "R23y", "R45x", "R45y", "R53x", "R53y")
 
 
-def overcentre_angle(theta4, theta5):
+@overload
+def overcentre_angle(theta4: float, theta5: float) -> float: ...
+@overload
+def overcentre_angle(theta4: np.ndarray, theta5: np.ndarray) -> np.ndarray: ...
+def overcentre_angle(theta4: float | np.ndarray, theta5: float | np.ndarray) -> float | np.ndarray:
     """The angle between the lock links at their joint J (rad): ``pi + theta4 - theta5``.
 
     ``pi`` when aligned; larger when J lies above the line from the knee to the lug P5.
@@ -83,17 +88,19 @@ def overcentre_angle(theta4, theta5):
     return np.pi + np.asarray(theta4) - np.asarray(theta5)
 
 
-def _cross(a, b):
+def _cross(a: sp.Matrix, b: sp.Matrix) -> sp.Expr:
+    """The z component of the cross product of two plane vectors."""
     return a[0] * b[1] - a[1] * b[0]
 
 
-def _e(a):
+def _e(a: sp.Expr) -> sp.Matrix:
+    """The unit vector at the angle ``a`` (rad) from +x."""
     import sympy as sp
 
     return sp.Matrix([sp.cos(a), sp.sin(a)])
 
 
-def _points(s):
+def _points(s: Mapping[str, sp.Symbol]) -> tuple[dict[int, sp.Matrix], dict[int, sp.Matrix], dict[str, sp.Matrix]]:
     """Every named point of the gear, each expressed on its own body's coordinates."""
     import sympy as sp
 
@@ -111,7 +118,8 @@ def _points(s):
     }
 
 
-def _constraints(s, P):
+def _constraints(s: Mapping[str, sp.Symbol], P: Mapping[str, sp.Matrix]) -> tuple[list[sp.Expr], list[str]]:
+    """The 14 pin rows (m) and their names."""
     import sympy as sp
 
     A = sp.Matrix([s["Ax"], s["Ay"]])
@@ -125,7 +133,8 @@ def _constraints(s, P):
     return rows, labels
 
 
-def _spring(s, P):
+def _spring(s: Mapping[str, sp.Symbol], P: Mapping[str, sp.Matrix]) -> tuple[sp.Matrix, sp.Expr]:
+    """The lock-link spring's vector from its end on bar 4 to its end on bar 3, and its length (m)."""
     import sympy as sp
 
     dvec = P["S3"] - P["S4"]
@@ -133,13 +142,16 @@ def _spring(s, P):
     return dvec, length
 
 
-def _drag(s):
+def _drag(s: Mapping[str, sp.Symbol]) -> sp.Expr:
+    """The aerodynamic drag moment on the main fitting (N m, counter-clockwise)."""
     import sympy as sp
 
     return s["rho"] / 4 * (s["U"] * sp.cos(s["alpha"] - s["theta3"] + sp.pi / 2)) ** 2 * s["d"] * s["L3"] ** 2 * s["CD"]
 
 
-def _equilibrium(s, G, P):
+def _equilibrium(s: Mapping[str, sp.Symbol], G: Mapping[int, sp.Matrix],
+                 P: Mapping[str, sp.Matrix]) -> tuple[list[sp.Expr], list[str]]:
+    """The 11 equilibrium rows (N, N m) of the bars, with their names."""
     import sympy as sp
 
     R = {n: sp.Matrix([s[f"{n}x"], s[f"{n}y"]]) for n in ("R12", "R14", "R23", "R45", "R53")}
@@ -169,7 +181,9 @@ def _equilibrium(s, G, P):
     return rows, labels
 
 
-def _mechanics(names, s, G, P, constraints):
+def _mechanics(names: Sequence[str], s: Mapping[str, sp.Symbol], G: Mapping[int, sp.Matrix], P: Mapping[str, sp.Matrix],
+               constraints: list[sp.Expr]) -> tuple[MechanicalModel, sp.Expr]:
+    """The gear's mechanics (masses, forces, potential energy with F's work) and its potential energy (J)."""
     import sympy as sp
 
     q = [s[n] for n in COORDINATES]
@@ -188,11 +202,11 @@ def _mechanics(names, s, G, P, constraints):
     return MechanicalModel(names, COORDINATES, constraints, forces, sp.diag(*inertia), potential=V), V
 
 
-def _scene(names: tuple[str, ...], x) -> Scene:
+def _scene(names: tuple[str, ...], x: np.ndarray) -> Scene:
     """Drawing primitives of the gear at the full variable vector ``x`` (m, N), variables ``names``."""
     v = dict(zip(names, np.asarray(x, float)))
 
-    def e(a):
+    def e(a: float) -> np.ndarray:
         return np.array([math.cos(a), math.sin(a)])
 
     G = {i: np.array([v[f"x{i}"], v[f"y{i}"]]) for i in range(1, 6)}
@@ -224,7 +238,7 @@ _NON_NEGATIVE = ("m1", "m2", "m3", "m4", "m5", "k", "c", "c3", "rho", "CD", "g")
 _GEOMETRY = ("Ax", "Ay", "L1", "L2", "L3", "L4", "L5", "L32", "psi1", "L35", "psi2")
 
 
-def check_values(values) -> None:
+def check_values(values: Mapping[str, float]) -> None:
     """Raise :class:`InputError` naming the first parameter of ``values`` (SI) outside its valid range.
 
     Lengths (m) must be positive; masses (kg), stiffness (N/m), damping, air density, drag
@@ -240,7 +254,8 @@ def check_values(values) -> None:
             raise InputError(n, f"must not be negative, got {v:g}")
 
 
-def _assemble_downlocked(system: EquationSystem, downlocked: np.ndarray, values, hold=None) -> np.ndarray:
+def _assemble_downlocked(system: EquationSystem, downlocked: np.ndarray, values: Mapping[str, float],
+                         hold: Mapping[str, float] | None = None) -> np.ndarray:
     """Full vector at ``values`` (SI) with the lock links at the held theta4, assembled in closed form.
 
     A guess for Newton (the inter-link forces and F are those of the default pose ``downlocked``).

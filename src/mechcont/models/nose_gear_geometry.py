@@ -141,7 +141,8 @@ def _e(a: float) -> np.ndarray:
     return np.array([math.cos(a), math.sin(a)])
 
 
-def _circle_intersection(P, r1, Q, r2, side: int) -> np.ndarray:
+def _circle_intersection(P: tuple[float, float] | np.ndarray, r1: float, Q: tuple[float, float] | np.ndarray, r2: float,
+                         side: int) -> np.ndarray:
     """Point at distance r1 from P and r2 from Q, on the left (side=+1) of P->Q or the right."""
     dvec = np.asarray(Q, float) - np.asarray(P, float)
     dist = float(np.hypot(*dvec))
@@ -247,7 +248,7 @@ def downlocked_pose(p: Mapping[str, float], theta4: float = 0.0) -> dict[str, fl
     """
     from .._roots import brentq
 
-    def gap(t3):
+    def gap(t3: float) -> float:
         try:
             _, K = _knee(p, t3)
         except InputError:

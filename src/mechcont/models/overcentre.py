@@ -33,6 +33,7 @@ case), and the lower fold crossing ``F = 0`` near ``LU = 1.2 m``.
 from __future__ import annotations
 
 import math
+from typing import overload
 
 import numpy as np
 
@@ -162,12 +163,21 @@ def _build(p: dict) -> Model:
 # dV/dtheta = 0 gives F(theta) below; dF/dtheta = k sec^2(theta) (LU - L cos^3(theta)), so the
 # folds sit at cos^3(theta) = LU/L and V'' = L cos(theta) dF/dtheta fixes the stability.
 
-def symmetric_force(theta1: float | np.ndarray, L: float, m1: float, m2: float, g: float, k: float, LU: float):
+@overload
+def symmetric_force(theta1: float, L: float, m1: float, m2: float, g: float, k: float, LU: float) -> float: ...
+@overload
+def symmetric_force(theta1: np.ndarray, L: float, m1: float, m2: float, g: float, k: float, LU: float) -> np.ndarray: ...
+def symmetric_force(theta1: float | np.ndarray, L: float, m1: float, m2: float, g: float, k: float,
+                    LU: float) -> float | np.ndarray:
     """Equilibrium force F (N) at bar angle ``theta1`` (rad) for the symmetric overcentre."""
     return (m1 + m2) * g / 2 - k * (L * np.cos(theta1) - LU) * np.tan(theta1)
 
 
-def symmetric_stable(theta1: float | np.ndarray, L: float, LU: float):
+@overload
+def symmetric_stable(theta1: float, L: float, LU: float) -> np.bool_: ...
+@overload
+def symmetric_stable(theta1: np.ndarray, L: float, LU: float) -> np.ndarray: ...
+def symmetric_stable(theta1: float | np.ndarray, L: float, LU: float) -> np.bool_ | np.ndarray:
     """True where the symmetric equilibrium at ``theta1`` (|theta1| < pi/2) is stable: V'' > 0."""
     return LU - L * np.cos(theta1) ** 3 > 0
 

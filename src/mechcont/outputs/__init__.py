@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+from typing import Any
 
 _LAZY = {
     "draw_scene": "drawing", "draw": "drawing", "animate": "animation", "branch_frames": "animation",
@@ -17,7 +18,7 @@ _LAZY = {
 __all__ = list(_LAZY)  # noqa: PLE0605 - the lazily exported names
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> Any:  # any of the lazily exported functions and classes
     module = _LAZY.get(name)
     if module is None:
         raise AttributeError(f"module 'mechcont.outputs' has no attribute {name!r}")

@@ -9,14 +9,19 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .._io import read_csv_header
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..continuation import Branch
+    from ..equations import Model
 
 __all__ = ["BranchFrames", "branch_frames"]
 
@@ -97,7 +102,7 @@ def _numbered(labels: Sequence[str]) -> list[str]:
 _STABILITY_WORDS = {"stable": True, "unstable": False, "fold": None, "": None}
 
 
-def _columns(path: Path, header: list[str], system) -> dict[str, tuple[str, float]]:
+def _columns(path: Path, header: list[str], system: Model) -> dict[str, tuple[str, float]]:
     """``{name: (header, factor to SI)}`` from headers ``name [unit]`` (or bare names, as
     tables were written before units). A unit must be the model's; an angle may be in ``deg``."""
     out: dict[str, tuple[str, float]] = {}
@@ -115,7 +120,8 @@ def _columns(path: Path, header: list[str], system) -> dict[str, tuple[str, floa
     return out
 
 
-def _read_csv(system, path: Path) -> BranchFrames:
+def _read_csv(system: Model, path: Path) -> BranchFrames:
+    """The rows of the branch table at ``path`` (units read from its headers, see :func:`_columns`)."""
     from ..continuation import read_table
 
     header, raw = read_table(path)  # strict: a regular file, bounded, each column once, full rows
@@ -137,7 +143,7 @@ def _read_csv(system, path: Path) -> BranchFrames:
             if not math.isfinite(values[r, c]):
                 raise InputError("branch", f"'{path}' line {r + 2}, column {key}: {row[key]!r} is not a finite number")
 
-    def cell(row, name):
+    def cell(row: Mapping[str, str], name: str) -> str:
         key = cols.get(name, (name, 1.0))[0]
         return (row.get(key) or "").strip()
 
@@ -170,7 +176,7 @@ def _check_extra_cells(path: Path, r: int, s: str, n_unstable: str) -> None:
         _count(path, r, n_unstable)
 
 
-def _changing_parameter(system, values: np.ndarray) -> str | None:
+def _changing_parameter(system: Model, values: np.ndarray) -> str | None:
     """The only parameter whose column is not constant along ``values``, else ``None``."""
     changing = []
     for i, v in enumerate(system.variables):
@@ -180,7 +186,8 @@ def _changing_parameter(system, values: np.ndarray) -> str | None:
     return changing[0] if len(changing) == 1 else None
 
 
-def branch_frames(system, source) -> BranchFrames:
+def branch_frames(system: Model, source: BranchFrames | Branch | str | os.PathLike | np.ndarray | Sequence[Sequence[float]]
+                  ) -> BranchFrames:
     """The rows of a branch to _d.draw, from any of the forms a branch comes in.
 
     Parameters

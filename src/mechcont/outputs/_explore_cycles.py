@@ -11,14 +11,21 @@ or an ODE's phase portrait.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..continuation import Branch, CycleBranch
+    from ..equations import Model
+
+    #: explore's reader of a table's full vectors: ``(model, table, its name, values) -> rows`` (SI)
+    FullRows = Callable[[Model, Branch, str, Mapping[str, float]], np.ndarray]
 
 __all__ = ["CycleTable", "cycle_table", "is_cycles", "has_orbits", "PAGE_FRAMES", "ORBIT_POINTS"]
 
@@ -35,20 +42,20 @@ class CycleTable:
     the orbit of a table row at ``n`` instants equally spaced in time (fewer when the orbit table has fewer; SI;
     None without orbits)."""
 
-    branch: Any
+    branch: Branch
     name: str
     states: list[str]
     orbit: Callable[[int, int], np.ndarray] | None
 
 
-def is_cycles(branch) -> bool:
+def is_cycles(branch: Branch) -> bool:
     """True when ``branch`` (a :class:`Branch` read from a CSV) is a cycles table: a ``period`` column and a
     ``min_X``/``max_X`` pair."""
     names = set(branch.names)
     return "period" in names and any(n.startswith("max_") and "min_" + n[4:] in names for n in names)
 
 
-def has_orbits(source) -> bool:
+def has_orbits(source: object) -> bool:
     """True for a family of cycles that carries its orbits (a :class:`~mechcont.continuation.CycleBranch`)."""
     return hasattr(source, "orbits") and hasattr(source, "full_vectors")
 
@@ -59,7 +66,8 @@ def _frames(n: int, k: int) -> np.ndarray:
     return np.unique(np.round(np.linspace(0, n - 1, min(k, n - 1) + 1)).astype(int))[:-1]
 
 
-def _from_family(family, system, index: int) -> CycleTable:
+def _from_family(family: CycleBranch, system: Model | None, index: int) -> CycleTable:
+    """The page's table of a computed family of cycles (its orbits from the family itself, given the model)."""
     from .._status import Status
     from ..continuation import Branch, SpecialPoint
 
@@ -85,7 +93,8 @@ def _from_family(family, system, index: int) -> CycleTable:
     return CycleTable(branch, f"cycles {index + 1}", list(family.state_names), orbit)
 
 
-def _from_csv(branch, name: str, orbits: str | os.PathLike | None, system, values, full_rows) -> CycleTable:
+def _from_csv(branch: Branch, name: str, orbits: str | os.PathLike | None, system: Model | None,
+              values: Mapping[str, float], full_rows: FullRows) -> CycleTable:
     """A cycles table read as ``branch``; ``orbits`` its orbit table (or None); ``full_rows`` explore's
     reader of a table's full vectors."""
     from .cycle_orbits import read_orbits
@@ -111,7 +120,8 @@ def _from_csv(branch, name: str, orbits: str | os.PathLike | None, system, value
     return CycleTable(branch, name, states, orbit)
 
 
-def cycle_table(source, index: int, orbits, system, values, full_rows) -> CycleTable | None:
+def cycle_table(source: CycleBranch | Branch | str | os.PathLike, index: int, orbits: str | os.PathLike | None,
+                system: Model | None, values: Mapping[str, float], full_rows: FullRows) -> CycleTable | None:
     """``source`` (a :class:`CycleBranch`, or a CSV path or :class:`Branch` that is a cycles table) for the page,
     with ``orbits`` (an orbit table path, or None); None when ``source`` is not a family of cycles."""
     from ..continuation import Branch, CycleBranch

@@ -5,8 +5,13 @@ from __future__ import annotations
 import re
 from collections import Counter
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from ..continuation import Branch
+    from ._explore_cycles import CycleTable
 
 __all__ = ["special_points", "default_axes", "event_words"]
 
@@ -28,7 +33,7 @@ def event_words(label: str) -> str:
     return "; ".join(f"{m.group(1)} {m.group(2)}" for m in parts if m)
 
 
-def special_points(branch, rows: np.ndarray) -> list[dict]:
+def special_points(branch: Branch, rows: np.ndarray) -> list[dict]:
     """The special points of ``branch`` for the page: ``name`` (``branch.point_names()``: ``LP1``, what
     ``branch["LP1"]`` finds), ``tag`` (the buttons' text: the name of a code label, ``LP1``, ``LP2?`` when only
     approximately located; an event's own text otherwise, numbered ``(2)`` only when it repeats), ``short``
@@ -50,7 +55,7 @@ def special_points(branch, rows: np.ndarray) -> list[dict]:
     return out
 
 
-def default_axes(doc: dict, kinds: Mapping[str, str] | None = None, cycle=None) -> list[str]:
+def default_axes(doc: dict, kinds: Mapping[str, str] | None = None, cycle: CycleTable | None = None) -> list[str]:
     """The diagram's first axes: the continuation parameter (else the first changing column) against the
     first changing angle; else a changing force or moment the branch solved for (a parameter, such as a
     downlock's force); else the coordinate that moves most (a spatial gear's point coordinates: the part

@@ -11,11 +11,16 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .._io import atomic_write
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..continuation import Branch, CycleBranch
+    from ..equations import Model
 
 __all__ = ["write_orbits", "read_orbits", "ORBIT_SAMPLES"]
 
@@ -23,7 +28,7 @@ __all__ = ["write_orbits", "read_orbits", "ORBIT_SAMPLES"]
 ORBIT_SAMPLES = 48
 
 
-def write_orbits(cycles, system, path: str | os.PathLike, samples: int = ORBIT_SAMPLES) -> Path:
+def write_orbits(cycles: CycleBranch, system: Model, path: str | os.PathLike, samples: int = ORBIT_SAMPLES) -> Path:
     """Write one period of every orbit of ``cycles`` (a :class:`~mechcont.continuation.CycleBranch` of
     ``system``) at ``samples`` + 1 equally spaced instants as full vectors (SI, radians); returns the path."""
     import csv
@@ -36,7 +41,7 @@ def write_orbits(cycles, system, path: str | os.PathLike, samples: int = ORBIT_S
     header = ["row", "t [s]"] + [unit_header(n, units[n]) for n in system.names]
     blocks = [(i, *cycles.full_vectors(dyn, i, samples)) for i in range(len(cycles))]
 
-    def write(tmp):
+    def write(tmp: str) -> None:
         with open(tmp, "w", newline="") as f:
             w = csv.writer(f, lineterminator="\n")
             w.writerow(header)
@@ -47,7 +52,7 @@ def write_orbits(cycles, system, path: str | os.PathLike, samples: int = ORBIT_S
     return atomic_write(path, write)
 
 
-def read_orbits(path: str | os.PathLike):
+def read_orbits(path: str | os.PathLike) -> tuple[Branch, dict[int, np.ndarray]]:
     """The orbit table at ``path`` as a :class:`~mechcont.continuation.Branch` (columns ``row``, ``t`` and the
     model's variables) and ``{cycles row: table rows}``; one-line :class:`InputError` (field ``orbits``) when it
     is not an orbit table."""

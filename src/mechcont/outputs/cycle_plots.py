@@ -10,12 +10,20 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import InputError
 from ..units import display
 from .plotting import axis_label, label_point, legend_below, new_figure, plot_branch
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from ..continuation import Branch, CycleBranch
+    from ..equations import Dynamics, Model
 
 __all__ = ["plot_amplitude", "amplitude_figure", "phase_portrait", "animate_cycle"]
 
@@ -27,11 +35,13 @@ _MEANING = {"LPC": "LPC: fold of the cycles", "PD": "PD: period doubling", "NS":
             "EP": "EP: end of the computed family"}
 
 
-def _shown(values, unit: str):
+def _shown(values: np.ndarray | Sequence[float], unit: str) -> np.ndarray:
+    """``values`` (SI) as drawn: an angle (``rad``) in degrees."""
     return display(np.asarray(values, float), unit)[0] if unit == "rad" else np.asarray(values, float)
 
 
-def _state(cycles, state: str | None) -> int:
+def _state(cycles: CycleBranch, state: str | None) -> int:
+    """The index of ``state`` among the cycles' states (the first for None); :class:`InputError` naming them."""
     if state is None:
         return 0
     if state not in cycles.state_names:
@@ -39,7 +49,8 @@ def _state(cycles, state: str | None) -> int:
     return cycles.state_names.index(state)
 
 
-def plot_amplitude(cycles, state: str | None = None, ax=None, *, branch=None, color="tab:blue"):
+def plot_amplitude(cycles: CycleBranch, state: str | None = None, ax: Axes | None = None, *, branch: Branch | None = None,
+                   color: str = "tab:blue") -> Axes:
     """Draw the max and min of ``state`` (default: the first) over each orbit of ``cycles`` (a
     :class:`~mechcont.continuation.CycleBranch`) against its parameter, stable solid and unstable dashed,
     labelled orbits marked (each kind named in the legend); ``branch``: the equilibrium
@@ -85,7 +96,8 @@ def plot_amplitude(cycles, state: str | None = None, ax=None, *, branch=None, co
     return ax
 
 
-def amplitude_figure(cycles, state: str | None = None, *, branch=None, title: str | None = None):
+def amplitude_figure(cycles: CycleBranch, state: str | None = None, *, branch: Branch | None = None,
+                     title: str | None = None) -> Figure:
     """A new figure of :func:`plot_amplitude`, titled ``title``."""
     fig, ax = new_figure()
     plot_amplitude(cycles, state, ax=ax, branch=branch)
@@ -95,7 +107,8 @@ def amplitude_figure(cycles, state: str | None = None, *, branch=None, title: st
     return fig
 
 
-def phase_portrait(cycles, rows: Sequence[int] | None = None, states: tuple[str, str] | None = None, ax=None):
+def phase_portrait(cycles: CycleBranch, rows: Sequence[int] | None = None, states: tuple[str, str] | None = None,
+                   ax: Axes | None = None) -> Axes:
     """Draw the orbits of ``rows`` (default: up to 8 spread along the family, labelled ones first) in the plane of
     two ``states`` (default: the first two), each closed over one period; stable solid, unstable dashed."""
     if ax is None:
@@ -123,8 +136,8 @@ def phase_portrait(cycles, rows: Sequence[int] | None = None, states: tuple[str,
     return ax
 
 
-def animate_cycle(system, dynamics, cycles, row: int, path: str | os.PathLike, *, frames: int = 48,
-                  fps: float | None = None, **kwargs) -> int:
+def animate_cycle(system: Model, dynamics: Dynamics, cycles: CycleBranch, row: int, path: str | os.PathLike, *,
+                  frames: int = 48, fps: float | None = None, **kwargs: Any) -> int:
     """Animate one period of the orbit of ``row`` of ``cycles`` on the model's drawing (``system`` with a
     scene; ``dynamics`` its :class:`~mechcont.equations.Dynamics`, whose ``full_vector`` gives each frame's
     variables): ``frames`` instants equally spaced in time. Writes ``path`` (.gif, .mp4, .html) through

@@ -3,15 +3,24 @@ design map of where a gear locks unaided. Headless (:class:`matplotlib.figure.Fi
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..units import display
 from .plotting import axis_label, curve, new_figure, plot_design_region
 
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from ..analysis.design import DesignRegion
+    from ..analysis.optimize import OptimumMap
+    from ..continuation import Branch
+
 __all__ = ["downlock_figure", "design_figure", "optimum_figure"]
 
 
-def downlock_figure(branch, vary: str, force: str, *, held: str, title: str):
+def downlock_figure(branch: Branch, vary: str, force: str, *, held: str, title: str) -> Figure:
     """The downlock force ``force`` (N) against ``vary`` along a downlock ``branch``.
 
     The continuation's points are joined smoothly (:func:`~.plotting.curve`; angles in
@@ -38,7 +47,7 @@ def downlock_figure(branch, vary: str, force: str, *, held: str, title: str):
     return fig
 
 
-def design_figure(region, *, force_name: str = "F", title: str):
+def design_figure(region: DesignRegion, *, force_name: str = "F", title: str) -> Figure:
     """The design map of a :class:`~mechcont.analysis.design.DesignRegion` (see
     :func:`~.plotting.plot_design_region`: force contours, the F = 0 boundary, folds, the
     design point with its force and signed lock margin). Returns the figure."""
@@ -51,7 +60,7 @@ def design_figure(region, *, force_name: str = "F", title: str):
     return fig
 
 
-def optimum_figure(omap, *, force_name: str = "F", title: str, value_text: str = ""):
+def optimum_figure(omap: OptimumMap, *, force_name: str = "F", title: str, value_text: str = "") -> Figure:
     """An :class:`~mechcont.analysis.optimize.OptimumMap`: the design map (:func:`design_figure`'s), each active
     constraint's boundary dashed and the optimum as a filled diamond (``value_text`` beside its legend entry,
     e.g. ``"LU = 1.29 m"``). The view reaches a little beyond the design bounds, hatched there, so that a bound

@@ -2,18 +2,26 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..units import display
 from .plotting import axis_label, new_figure
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from ..dynamics import OdeHistory, SimulationResult
 
 __all__ = ["history_figure"]
 
 _EVENT_STYLE = {"impact": ("v", "tab:red"), "contact": ("o", "tab:green"), "release": ("^", "tab:blue")}
 
 
-def history_figure(result, watch: str, *, title: str | None = None):
-    """A figure of column ``watch`` of a :class:`~mechcont.dynamics.SimulationResult` against time (s);
+def history_figure(result: SimulationResult | OdeHistory, watch: str, *, title: str | None = None) -> Figure:
+    """A figure of column ``watch`` of a :class:`~mechcont.dynamics.SimulationResult` (or an ODE's
+    :class:`~mechcont.dynamics.OdeHistory`) against time (s);
     angles (rad) shown in degrees; each stop event marked (impact, contact, release)."""
     unit = result.unit(watch)
     y, shown = display(np.asarray(result[watch], dtype=float), unit)

@@ -3,15 +3,34 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from .plotting import legend_below, new_figure
 
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from ..analysis.retraction import ActuatorLoads
+    from ..analysis.stops import StopRun
+    from ..continuation import Branch
+
+#: A sequence of numbers (SI) as the figures take them: an array or a list.
+_Values = np.ndarray | Sequence[float]
+
+
+class _PairTensions(Protocol):
+    """A downlock of the two sidestays: each lock-link pair's tension ``{side: N}`` (the paper's ``DownlockLoads``)."""
+
+    @property
+    def tension(self) -> Mapping[str, float]: ...
+
 __all__ = ["plot_actuator_loads", "plot_lock_up", "plot_rigging", "plot_downlock", "plot_fold_curve"]
 
 
-def plot_actuator_loads(loads, title: str = "retraction actuator"):
+def plot_actuator_loads(loads: ActuatorLoads, title: str = "retraction actuator") -> Figure:
     """Two panels against the retraction angle (deg): actuator load (kN, + tension) and length (m).
 
     ``loads`` is an :class:`~mechcont.analysis.retraction.ActuatorLoads`; returns the figure.
@@ -33,7 +52,7 @@ def plot_actuator_loads(loads, title: str = "retraction actuator"):
     return fig
 
 
-def plot_lock_up(plane_angles, lock_angles, retracted: float, current: float | None = None):
+def plot_lock_up(plane_angles: _Values, lock_angles: _Values, retracted: float, current: float | None = None) -> Figure:
     """Retraction angle (deg) at which the gear locks up against the aft sidestay plane angle (deg).
 
     ``lock_angles`` holds ``nan`` where the gear retracts fully (to ``retracted``, rad), drawn
@@ -55,7 +74,7 @@ def plot_lock_up(plane_angles, lock_angles, retracted: float, current: float | N
     return fig
 
 
-def plot_rigging(offsets, aft_angles, fwd_angle: float, misfit):
+def plot_rigging(offsets: _Values, aft_angles: _Values, fwd_angle: float, misfit: _Values) -> Figure:
     """Rigid downlock against rigging error: the aft lock links' misfit (mm) at the forward links' alignment
     and the alignment angles (deg) against the aft attachment offset (mm)."""
     from matplotlib.figure import Figure
@@ -77,7 +96,8 @@ def plot_rigging(offsets, aft_angles, fwd_angle: float, misfit):
     return fig
 
 
-def plot_downlock(offsets, compliant, rigid, stiffness: float, side_load: float):
+def plot_downlock(offsets: _Values, compliant: Sequence[_PairTensions], rigid: Sequence[_PairTensions], stiffness: float,
+                  side_load: float) -> Figure:
     """Lock-link tension (kN) of each pair against the aft attachment offset (mm), compliant (lines) and rigid
     (markers) sidestays; ``compliant``/``rigid`` are lists of ``DownlockLoads``."""
     fig, ax = new_figure((6.5, 4.5))
@@ -95,7 +115,7 @@ def plot_downlock(offsets, compliant, rigid, stiffness: float, side_load: float)
     return fig
 
 
-def plot_fold_curve(lengths, angles, retracted: float, nominal: float, plane_angle: float):
+def plot_fold_curve(lengths: _Values, angles: _Values, retracted: float, nominal: float, plane_angle: float) -> Figure:
     """Two-parameter fold curve: the lock-up angle (deg) against the aft first lock-link length (m), with the
     gear-up angle and the nominal length marked."""
     fig, ax = new_figure((6.5, 4.5))
@@ -110,7 +130,8 @@ def plot_fold_curve(lengths, angles, retracted: float, nominal: float, plane_ang
     return fig
 
 
-def plot_unlock_with_stops(runs: dict, fold_curve=None, labels: dict | None = None):
+def plot_unlock_with_stops(runs: Mapping[str, StopRun], fold_curve: Branch | None = None,
+                           labels: Mapping[str, str] | None = None) -> Figure:
     """Unlock with overcentre stops: (left) each unlock force (N) against its lock links' angle from
     aligned (deg, + overcentre), releases (SR) and unlock folds (LP) marked; (right) the unlock fold of
     both pairs together against the lock-spring stretch, cusps (CP) marked. ``runs`` maps the force name

@@ -15,10 +15,18 @@ Fold curves (``LP``), given too, are drawn dashed.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .plotting import axis_values, label_point, legend_below, new_figure
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from matplotlib.text import Text
+
+    from ..continuation import Branch
 
 __all__ = ["stability_chart", "plot_stability_chart", "label_stable_sides"]
 
@@ -27,7 +35,7 @@ _POINT_STYLE = {"BT": ("s", "tab:purple"), "GH": ("D", "tab:green"), "CP": ("D",
 _HATCH = 0.025
 
 
-def plot_stability_chart(ax, hopf_curves: Sequence, x: str, y: str, folds: Sequence = ()) -> None:
+def plot_stability_chart(ax: Axes, hopf_curves: Sequence[Branch], x: str, y: str, folds: Sequence[Branch] = ()) -> None:
     """Draw ``hopf_curves`` (branches from :func:`~mechcont.continuation.continue_hopf`) and ``folds``
     (from :func:`~mechcont.continuation.continue_folds`) on ``ax`` with ``x``, ``y`` the two parameters;
     axes labelled with their units (angles in degrees). No legend and no side words: the caller adds the legend
@@ -67,7 +75,8 @@ def plot_stability_chart(ax, hopf_curves: Sequence, x: str, y: str, folds: Seque
     ax.set_ylabel(ylabel)
 
 
-def _stable_directions(b, x: str, y: str, hopf, spans):
+def _stable_directions(b: Branch, x: str, y: str, hopf: np.ndarray,
+                       spans: tuple[float, float]) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """``(ux, uy, ok)``: the unit direction into the stable side at each point of Hopf curve ``b`` (per span of
     the drawn box, ``spans`` in data units) and where it is a stability boundary (``None`` without the columns)."""
     cx, cy = f"stable_{x}", f"stable_{y}"
@@ -80,7 +89,7 @@ def _stable_directions(b, x: str, y: str, hopf, spans):
     return dx / np.where(norm > 0, norm, 1.0), dy / np.where(norm > 0, norm, 1.0), ok
 
 
-def label_stable_sides(ax, hopf_curves: Sequence, x: str, y: str) -> list:
+def label_stable_sides(ax: Axes, hopf_curves: Sequence[Branch], x: str, y: str) -> list[Text]:
     """Write ``stable`` and ``unstable`` on the two sides of the Hopf ``hopf_curves`` drawn on ``ax`` by
     :func:`plot_stability_chart` (call it once the figure has its legend and layout): each in the middle of its
     side's largest empty area (:func:`~mechcont.outputs._regions.label_sides`). Returns the texts written."""
@@ -105,7 +114,8 @@ def label_stable_sides(ax, hopf_curves: Sequence, x: str, y: str) -> list:
                        (("stable", "tab:green"), ("unstable", "tab:red")))
 
 
-def _hatch(ax, b, x: str, y: str, xs, ys, hopf, spans) -> None:
+def _hatch(ax: Axes, b: Branch, x: str, y: str, xs: np.ndarray, ys: np.ndarray, hopf: np.ndarray,
+           spans: tuple[float, float]) -> None:
     """Hatch marks into the stable side where crossing the curve changes stability."""
     dirs = _stable_directions(b, x, y, hopf, spans)
     if dirs is None:
@@ -123,7 +133,8 @@ def _hatch(ax, b, x: str, y: str, xs, ys, hopf, spans) -> None:
                 "-", color="tab:blue", lw=0.8)
 
 
-def stability_chart(hopf_curves: Sequence, x: str, y: str, folds: Sequence = (), *, title: str | None = None):
+def stability_chart(hopf_curves: Sequence[Branch], x: str, y: str, folds: Sequence[Branch] = (), *,
+                    title: str | None = None) -> Figure:
     """A new figure of the stability chart (:func:`plot_stability_chart`) titled ``title``."""
     fig, ax = new_figure()
     plot_stability_chart(ax, hopf_curves, x, y, folds)

@@ -2,15 +2,24 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .plotting import legend_below, new_figure, plot_branch
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from ..continuation import Branch
+    from ..dynamics import SweepResult
+
 __all__ = ["plot_sweep", "sweep_figure"]
 
 
-def plot_sweep(result, ax=None, *, color: str = "k", label: str | None = "time simulation",
-               arrows: bool = True, degrees: bool | None = None):
+def plot_sweep(result: SweepResult, ax: Axes | None = None, *, color: str = "k", label: str | None = "time simulation",
+               arrows: bool = True, degrees: bool | None = None) -> Axes:
     """Draw a sweep as (ramped parameter, watched coordinate) curves, jumps as arrows.
 
     Intended over continuation branches (grey) as in the paper's Figures 3 and 4. Axes are
@@ -40,7 +49,7 @@ def plot_sweep(result, ax=None, *, color: str = "k", label: str | None = "time s
     return ax
 
 
-def sweep_figure(result, *, title: str, branch=None, degrees: bool | None = None):
+def sweep_figure(result: SweepResult, *, title: str, branch: Branch | None = None, degrees: bool | None = None) -> Figure:
     """A sweep (:class:`~mechcont.dynamics.SweepResult`) as a figure, over ``branch`` when given.
 
     The continuation branch is drawn wide and grey (stable solid, unstable dashed, with a

@@ -7,11 +7,17 @@ from __future__ import annotations
 
 import io
 import math
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .._io import atomic_write
 from ..units import display, display_unit
 from .plotting import axis_label
+
+if TYPE_CHECKING:
+    from ..continuation import Branch
+    from ..dynamics import SimulationResult
 
 __all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "markdown_table", "write_records", "branch_value",
            "hopf_lines", "hopf_curve_lines", "heading", "special_table", "approximate_warnings", "jump_lines",
@@ -23,7 +29,7 @@ BRANCH_SUFFIXES = (".csv", ".json")
 RECORD_SUFFIXES = (".csv", ".md")
 
 
-def write_branch_table(branch, path: str | Path) -> Path:
+def write_branch_table(branch: Branch, path: str | Path) -> Path:
     """Write ``branch`` to ``path`` as JSON when its suffix is ``.json`` (any case), else as CSV; returns the path."""
     path = Path(path)
     (branch.to_json if path.suffix.lower() == ".json" else branch.to_csv)(path)
@@ -54,7 +60,7 @@ def write_records(records: list[dict], path: str | Path) -> Path:
     return atomic_write(path, lambda tmp: Path(tmp).write_text(buf.getvalue(), encoding="utf-8"))
 
 
-def write_rows(path: str | Path, header: list[str], rows) -> Path:
+def write_rows(path: str | Path, header: list[str], rows: Iterable[Sequence[object]]) -> Path:
     """Write a CSV of ``header`` and ``rows`` (numbers written in full, ``repr``; ``nan`` as ``nan``), atomically."""
     import csv
 
@@ -82,17 +88,17 @@ def summary_rows(n: int, about: int = 10) -> list[int]:
     return list(range(0, n, step)) + ([n - 1] if (n - 1) % step else [])
 
 
-def branch_value(branch, name: str, value: float) -> float:
+def branch_value(branch: Branch, name: str, value: float) -> float:
     """``value`` of column ``name`` of ``branch`` as shown in tables: angles (``rad``) in degrees, else SI."""
     return display(value, branch.units.get(name, ""))[0]
 
 
-def heading(branch, name: str) -> str:
+def heading(branch: Branch, name: str) -> str:
     """A column heading with its display unit: ``F (N)``, ``theta1 (deg)``, ``s``."""
     return axis_label(name, branch.units.get(name, ""))
 
 
-def special_table(branch, cols=None) -> str:
+def special_table(branch: Branch, cols: Sequence[str] | None = None) -> str:
     """A plain-text table of the special points of a branch (columns ``cols``).
 
     Points are named as everywhere else (:meth:`Branch.point_names`, numbered along the
@@ -111,7 +117,7 @@ def special_table(branch, cols=None) -> str:
     return "\n".join(lines)
 
 
-def hopf_lines(branch) -> list[str]:
+def hopf_lines(branch: Branch) -> list[str]:
     """One line per Hopf point (``HB``) of ``branch`` carrying its payload: where, the frequency (rad/s)
     and period (s), the first Lyapunov coefficient and what it means for the cycles born there."""
     out = []
@@ -127,7 +133,7 @@ def hopf_lines(branch) -> list[str]:
     return out
 
 
-def hopf_curve_lines(curve) -> list[str]:
+def hopf_curve_lines(curve: Branch) -> list[str]:
     """One line per special point of a Hopf curve (:func:`~mechcont.continuation.continue_hopf`): its ``omega``
     (rad/s) and ``l1`` there, and what a ``BT`` or ``GH`` point means."""
     meaning = {"BT": "Bogdanov-Takens: omega reaches 0, the Hopf curve meets a fold curve",
@@ -141,7 +147,7 @@ def hopf_curve_lines(curve) -> list[str]:
     return out
 
 
-def approximate_warnings(branch) -> list[str]:
+def approximate_warnings(branch: Branch) -> list[str]:
     """One line per special point of ``branch`` that was detected but not located: where, and why."""
     out = []
     for name, p in zip(branch.point_names(), branch.special_points):
@@ -154,7 +160,7 @@ def approximate_warnings(branch) -> list[str]:
     return out
 
 
-def jump_lines(branch, vary: str, y: str) -> list[str]:
+def jump_lines(branch: Branch, vary: str, y: str) -> list[str]:
     """One line per non-smooth fold (``NSF``) of a branch with stops: the load, and where the mechanism lands."""
     out = []
     names = dict(zip((id(p) for p in branch.special_points), branch.point_names()))
@@ -177,7 +183,7 @@ def jump_lines(branch, vary: str, y: str) -> list[str]:
     return out
 
 
-def event_labels(result, units: dict) -> list[str]:
+def event_labels(result: SimulationResult, units: Mapping[str, str]) -> list[str]:
     """One label per row of a time history (its CSV's label column): the stop events at that row,
     ``"impact rest 5.24 rad/s; contact rest"``; ``units`` maps a stop's name to its condition's unit."""
     labels = [""] * len(result.t)

@@ -12,12 +12,16 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ...errors import InputError
 from ._kernels import run_chunk
 from ._spec import StudySpec
+
+if TYPE_CHECKING:
+    from ...equations import Model
 
 __all__ = ["Estimate", "estimate_study", "check_cost", "MAX_SECONDS", "PILOT_SAMPLES", "PILOT_SECONDS", "duration"]
 
@@ -52,7 +56,7 @@ def duration(seconds: float) -> str:
     return f"{seconds * 1e6:.3g} us"
 
 
-def estimate_study(system, spec: StudySpec, samples: np.ndarray, todo_rows: np.ndarray,
+def estimate_study(system: Model, spec: StudySpec, samples: np.ndarray, todo_rows: np.ndarray,
                    max_seconds: float = MAX_SECONDS) -> Estimate | None:
     """The estimated computing time of the rows ``todo_rows`` of ``samples`` (None when there are at most
     :data:`PILOT_SAMPLES`): a pilot on the first of them, grown until its estimate is within

@@ -25,9 +25,10 @@ from __future__ import annotations
 import contextlib
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -36,6 +37,14 @@ from ._estimate import MAX_SECONDS, PILOT_SAMPLES, Estimate, check_cost, estimat
 from ._kernels import check_spec, result_columns, run_chunk
 from ._spec import StudySpec
 from ._store import StudyStore
+
+if TYPE_CHECKING:
+    import socket
+
+    import pandas as pd
+    from distributed import Client
+
+    from ...equations import Model
 
 __all__ = ["run_study", "StudyResult", "ModelSource", "load_study_model", "STUDY_EXTRA_HINT"]
 
@@ -64,10 +73,10 @@ class ModelSource:
         return cls(str(model), Path(path).read_text(encoding="utf-8"))
 
 
-_LOADED: dict[ModelSource, object] = {}
+_LOADED: dict[ModelSource, Model] = {}
 
 
-def load_study_model(source: ModelSource):
+def load_study_model(source: ModelSource) -> Model:
     """The compiled model of ``source``, loaded once per process (a worker keeps it for every chunk)."""
     if source not in _LOADED:
         from ...models import load_model
@@ -95,10 +104,10 @@ def _chunk_task(source: ModelSource, spec: StudySpec, k: int) -> tuple[int, dict
     return k, cols, time.perf_counter() - t0
 
 
-_SAMPLES: dict[StudySpec, object] = {}
+_SAMPLES: dict[StudySpec, np.ndarray] = {}
 
 
-def _samples(spec: StudySpec):
+def _samples(spec: StudySpec) -> np.ndarray:
     """All samples of ``spec``, drawn once per process."""
     if spec not in _SAMPLES:
         _SAMPLES.clear()
@@ -132,14 +141,14 @@ class StudyResult:
     samples: int
     ran_on: str = "this process"
 
-    def frame(self):
+    def frame(self) -> pd.DataFrame:
         """The results as a :class:`pandas.DataFrame` (units in ``.attrs["units"]``)."""
         from ._results import read_results
 
         return read_results(self.results)
 
 
-def _units(system, spec: StudySpec) -> dict[str, str]:
+def _units(system: Model, spec: StudySpec) -> dict[str, str]:
     return {n: system.variable(n).unit for n in spec.names}
 
 
@@ -277,7 +286,7 @@ def _probe_scheduler(address: str) -> None:
 MAX_HANDSHAKE = 65536
 
 
-def _read_handshake(sock, address: str) -> None:
+def _read_handshake(sock: socket.socket, address: str) -> None:
     """Read the scheduler's first message whole, within :data:`SCHEDULER_TIMEOUT` in all: an 8-byte length,
     at most :data:`MAX_HANDSHAKE`, then that many bytes. Dask reads a length it is sent without bound (a
     fake server announcing 2^62 bytes made it allocate them, or wait for them forever)."""
@@ -306,7 +315,7 @@ def _read_handshake(sock, address: str) -> None:
 
 
 @contextlib.contextmanager
-def _dask_client(scheduler: str, workers: int | None):
+def _dask_client(scheduler: str, workers: int | None) -> Iterator[Client]:
     """A :class:`dask.distributed.Client` of a new local cluster (``"local"``) or of the scheduler at an address."""
     try:
         from dask.distributed import Client, LocalCluster
@@ -337,7 +346,8 @@ def _dask_client(scheduler: str, workers: int | None):
             cluster.close()
 
 
-def _run_dask(client, spec, source, todo, finished) -> None:
+def _run_dask(client: Client, spec: StudySpec, source: ModelSource, todo: Sequence[int],
+              finished: Callable[[int, dict, float], None]) -> None:
     from dask.distributed import as_completed
 
     # the spec and the model's source go to every worker once; tasks refer to them

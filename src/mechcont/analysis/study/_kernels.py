@@ -33,14 +33,21 @@ stops the chunk.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..._status import Status
 from ...continuation import choose_unknowns, fold_batch, newton_batch
 from ...errors import ConvergenceError, InputError
 from ..downlock import downlock_condition, downlock_point, downlocked_pose
-from ..unlock import RELEASE_FORCE_SPAN, unlock_folds
+from ..unlock import RELEASE_FORCE_SPAN, UnlockFolds, unlock_folds
 from ._spec import StudySpec
+
+if TYPE_CHECKING:
+    from ...continuation import Branch
+    from ...equations import Model
 
 __all__ = ["run_chunk", "check_spec", "result_columns", "COLUMNS", "MAX_MOVE"]
 
@@ -91,7 +98,7 @@ def result_columns(spec: StudySpec) -> list[str]:
             *(_UNLOCK if "unlock" in spec.analyses else ()), *(_BRANCH if "branch" in spec.analyses else ())]
 
 
-def check_spec(system, spec: StudySpec) -> tuple[dict, str | None]:
+def check_spec(system: Model, spec: StudySpec) -> tuple[dict, str | None]:
     """Check ``spec`` against the model before any work: every name known and a parameter
     that may be set, the downlock condition resolvable (the freefall's pose and lock stops). Returns
     ``(hold, force)`` (a freefall study: ``(released pose, None)``)."""
@@ -112,7 +119,7 @@ def check_spec(system, spec: StudySpec) -> tuple[dict, str | None]:
     return h, f
 
 
-def _check_values(system, spec: StudySpec) -> None:
+def _check_values(system: Model, spec: StudySpec) -> None:
     """The ``--set`` values and each distribution's centre checked as ``--set`` values are
     (:func:`~mechcont.equations.check_values_at`); a sample out of range (a grid may cross the model's
     range on purpose, a distribution's tail) later fails alone, with the reason."""
@@ -130,7 +137,7 @@ def _check_values(system, spec: StudySpec) -> None:
 CHUNK_MEMORY = 2 * 1024**3
 
 
-def _check_chunk_memory(system, spec: StudySpec) -> None:
+def _check_chunk_memory(system: Model, spec: StudySpec) -> None:
     """InputError when a chunk's batched solves would need more than :data:`CHUNK_MEMORY`: per sample
     about three Jacobians of the (fold-augmented, for ``unlock``) system, 8 bytes a number."""
     n_eq, n_var = len(system.equations), len(system.names)
@@ -141,7 +148,7 @@ def _check_chunk_memory(system, spec: StudySpec) -> None:
                                   f"the batched solves of this model; give at most {CHUNK_MEMORY // per_row} (--chunk)")
 
 
-def _plan(system, spec: StudySpec) -> dict:
+def _plan(system: Model, spec: StudySpec) -> dict:
     """What every sample of a downlock chunk shares: the condition, the start, the unknowns (``system``: the
     model at the study's ``--set`` values)."""
     h, f = check_spec(system, spec)
@@ -157,7 +164,7 @@ def _plan(system, spec: StudySpec) -> dict:
                                   if v.kind == "state" and v.unit in ("rad", "m")], dtype=int)}
 
 
-def _check_freefall(system, spec: StudySpec) -> dict:
+def _check_freefall(system: Model, spec: StudySpec) -> dict:
     from ...dynamics.freefall import find_lock_stops
 
     if system.mechanics is None:
@@ -172,7 +179,7 @@ def _check_freefall(system, spec: StudySpec) -> dict:
     return dict(spec.hold)
 
 
-def _freefall_chunk(system, spec: StudySpec, S: np.ndarray, start: int, stop: int) -> dict:
+def _freefall_chunk(system: Model, spec: StudySpec, S: np.ndarray, start: int, stop: int) -> dict:
     """The ``freefall`` analysis of the samples ``S`` (rows ``start:stop`` of the study)."""
     from ...dynamics.freefall import freefall
 
@@ -205,7 +212,7 @@ def _freefall_chunk(system, spec: StudySpec, S: np.ndarray, start: int, stop: in
             "impact_speed": impact, "lock_spread": spread}
 
 
-def _valid(system, values: dict) -> str:
+def _valid(system: Model, values: dict) -> str:
     """The one-line reason ``values`` are outside the model's valid range (as ``--set`` checks them), or ""."""
     from ...equations import check_values_at
 
@@ -216,7 +223,7 @@ def _valid(system, values: dict) -> str:
     return ""
 
 
-def run_chunk(system, spec: StudySpec, k: int, samples: np.ndarray | None = None) -> dict:
+def run_chunk(system: Model, spec: StudySpec, k: int, samples: np.ndarray | None = None) -> dict:
     """The analyses of chunk ``k`` of ``spec`` on ``system``: ``{column: array}``, one row per sample.
 
     ``samples`` (all of the study's, from :meth:`StudySpec.samples`) saves drawing them again.
@@ -286,7 +293,8 @@ _BRANCH = ("branch_points", "branch_folds", "branch_unstable_points", "branch_fo
            "branch_status", "branch_note")
 
 
-def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = True) -> dict:
+def _unlock_columns(system: Model, X: np.ndarray, F: np.ndarray, status: np.ndarray, reason: np.ndarray, f: str,
+                    released: Sequence[str], batched: bool = True) -> dict:
     """The unlock columns of a chunk: the first converged row's release run, the others' folds polished all at
     once from it (:func:`fold_batch`), a row whose batched fold cannot be trusted run alone."""
     # longer than 60 lines: the chunk's thirteen result columns are filled in place by both paths (a
@@ -301,7 +309,7 @@ def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = T
     branch_note = np.full(m, "", dtype=object)
     path = np.full(m, "", dtype=object)
 
-    def single(i):
+    def single(i: int) -> UnlockFolds | None:
         path[i] = "single"
         try:
             u = unlock_folds(system, X[i], f, released=released)
@@ -335,7 +343,7 @@ def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = T
         sides = [] if ref is None or ref.warnings else [
             (p, out, sign) for p, out, sign in ((ref.above, above, 1), (ref.below, below, -1)) if p is not None]
         # (a chunk of one converged sample has only its reference: nothing to batch)
-        if not len(rest) or not batched or not sides or any(not p.located for p, _, _ in sides):
+        if ref is None or not len(rest) or not batched or not sides or any(not p.located for p, _, _ in sides):
             ok[:] = False
         else:
             missing = [n for n in ref.notes if n.startswith("no fold")]
@@ -345,6 +353,7 @@ def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = T
                            dtype=int)
             scales = system.scales()
             for p, out, sign in sides:
+                assert p.null_vector is not None  # a located fold of a run carries its null vector
                 G = np.tile(p.x, (len(rest), 1))
                 G[:, params] = X[rest][:, params]
                 fb = fold_batch(system, G, p.null_vector, list(system.state_names), f)
@@ -367,7 +376,7 @@ def _unlock_columns(system, X, F, status, reason, f, released, batched: bool = T
             "branch_status": how, "branch_note": branch_note}
 
 
-def _unstable_points(b) -> int:
+def _unstable_points(b: Branch) -> int:
     """Points of the release run with an unstable direction; a fold point (its stability is
     ``fold``: a zero eigenvalue, neither stable nor unstable) is not one."""
     unstable = np.asarray(b.n_unstable) > 0
@@ -375,7 +384,7 @@ def _unstable_points(b) -> int:
     return int(np.sum(unstable))
 
 
-def _force_range(system, b, f: str, x: np.ndarray) -> tuple[tuple[float, float], str]:
+def _force_range(system: Model, b: Branch, f: str, x: np.ndarray) -> tuple[tuple[float, float], str]:
     """``((low, high), note)``: the force range of the release run ``b`` from the downlocked point ``x``;
     an end where the run stopped at its own bound on the force is no force of the mechanism: nan, and the note says so."""
     Fb = np.asarray(b[f], dtype=float)

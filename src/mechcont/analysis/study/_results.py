@@ -13,19 +13,27 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..._status import Status
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from ._execute import StudyResult
+    from ._spec import StudySpec
 
 __all__ = ["read_results", "failure_probability", "FailureProbability", "sensitivity", "SampledSensitivity",
            "Sensitivity", "grid_values",
            "study_spec_of", "study_report"]
 
 
-def read_results(path: str | Path):
+def read_results(path: str | Path) -> pd.DataFrame:
     """A study's ``results.parquet`` (or one part) as a :class:`pandas.DataFrame`.
 
     ``.attrs["units"]`` maps each column to its unit, ``.attrs["study"]`` is the spec
@@ -45,7 +53,7 @@ def read_results(path: str | Path):
     return df
 
 
-def study_spec_of(df):
+def study_spec_of(df: pd.DataFrame) -> StudySpec:
     """The :class:`~mechcont.analysis.study.StudySpec` a results frame was made with."""
     from ._spec import StudySpec
 
@@ -88,7 +96,7 @@ class FailureProbability:
                 f"{100 * self.confidence:g} % Clopper-Pearson interval [{self.low:.4g}, {self.high:.4g}]{extra}")
 
 
-def failure_probability(df, confidence: float = 0.95) -> FailureProbability:
+def failure_probability(df: pd.DataFrame, confidence: float = 0.95) -> FailureProbability:
     """Probability that a sample does not lock unaided (downlock force <= 0 N), or for a freefall study
     that its freefall fails to lock (column ``locked`` False), with its exact interval."""
     from scipy.stats import binomtest
@@ -130,7 +138,8 @@ class SampledSensitivity:
 #: its name before issue 34 (the engine's :class:`mechcont.continuation.Sensitivity` is another thing)
 Sensitivity = SampledSensitivity
 
-def sensitivity(df, names=None, output: str = "downlock_force") -> tuple[list[SampledSensitivity], float]:
+def sensitivity(df: pd.DataFrame, names: Sequence[str] | None = None,
+                output: str = "downlock_force") -> tuple[list[SampledSensitivity], float]:
     """Rank the sampled parameters by their effect on ``output`` (converged samples only).
 
     Returns ``(ranking, r2)``: :class:`SampledSensitivity` per parameter, largest ``|src|`` first, and
@@ -160,7 +169,7 @@ def sensitivity(df, names=None, output: str = "downlock_force") -> tuple[list[Sa
     return out, r2
 
 
-def grid_values(df, column: str) -> np.ndarray:
+def grid_values(df: pd.DataFrame, column: str) -> np.ndarray:
     """A grid study's ``column`` with one axis per sampled parameter (in the spec's order)."""
     shape = df.attrs.get("grid_shape")
     if shape is None:
@@ -169,7 +178,7 @@ def grid_values(df, column: str) -> np.ndarray:
     return df[column].to_numpy()[order].reshape(shape)
 
 
-def study_report(df, spec, result, seconds: float) -> tuple[list[str], list[str]]:
+def study_report(df: pd.DataFrame, spec: StudySpec, result: StudyResult, seconds: float) -> tuple[list[str], list[str]]:
     """``(lines, warnings)`` summing up a study: samples and where they ran, the probability of not
     locking, unlock folds and release runs found, the sensitivity ranking (SI units per SI unit) and
     the results' path; ``warnings``: the three commonest reasons samples failed, with their counts."""

@@ -63,7 +63,7 @@ class Distribution:
     kind: str
     args: tuple[float, ...]
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.kind not in _FIELDS:
             raise InputError("distribution", f"unknown distribution '{self.kind}'; valid: {', '.join(_FIELDS)}")
         names = _FIELDS[self.kind]
@@ -112,7 +112,7 @@ class GridAxis:
     high: float
     n: int
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if not 1 <= self.n <= 100_000:
             raise InputError("grid", f"the number of values must be 1..100000, got {self.n}")
         if self.n > 1 and not self.low < self.high:
@@ -214,7 +214,7 @@ class StudySpec:
     lock: tuple[str, ...] = ()
     until: float = 0.0
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.sampling not in SAMPLINGS:
             raise InputError("sampling", f"unknown sampling '{self.sampling}'; valid: {', '.join(SAMPLINGS)}")
         if not self.parameters:
@@ -384,13 +384,13 @@ class StudySpec:
             else:
                 parsed.append((str(name), parse_distribution(d, label)))
 
-        def pairs(key):
+        def pairs(key: str) -> tuple[tuple[str, float], ...]:
             table = data.get(key, {})
             if not isinstance(table, Mapping):
                 raise InputError(f"{where}.{key}", "must be a table NAME = VALUE")
             return tuple((str(k), finite_number(v, f"{where}.{key}.{k}")) for k, v in table.items())
 
-        def whole(key, default):
+        def whole(key: str, default: int) -> int:
             v = data.get(key, default)
             if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v) or v != int(v):
                 raise InputError(f"{where}.{key}", f"must be a whole number, got {v!r}")
@@ -442,7 +442,8 @@ class StudySpec:
         return replace(self, model_hash=actual)
 
 
-def _text(v, where: str) -> str | None:
+def _text(v: object, where: str) -> str | None:
+    """``v`` (a value of a spec file) as a name, None for none; :class:`InputError` naming ``where`` otherwise."""
     if v is None:
         return None
     if not isinstance(v, str) or not v.isidentifier():
@@ -450,7 +451,9 @@ def _text(v, where: str) -> str | None:
     return v
 
 
-def _from_table(d: Mapping, label: str, sampling: str):
+def _from_table(d: Mapping, label: str, sampling: str) -> GridAxis | Distribution:
+    """A sampled parameter's table (``low``/``high``/``n`` of a grid, ``distribution`` and its fields) as its axis or
+    distribution; :class:`InputError` naming the key that is wrong."""
     if sampling == "grid":
         allowed = ("low", "high", "n")
         for k in d:

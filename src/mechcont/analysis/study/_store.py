@@ -21,6 +21,7 @@ from __future__ import annotations
 import hashlib
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -28,6 +29,9 @@ from ..._io import atomic_write
 from ...errors import InputError
 from ._kernels import COLUMNS
 from ._spec import StudySpec
+
+if TYPE_CHECKING:
+    import pyarrow as pa
 
 __all__ = ["StudyStore", "to_arrow", "settings_hash"]
 
@@ -40,7 +44,7 @@ def settings_hash(spec: StudySpec) -> str:
     return hashlib.sha256(json.dumps(spec.to_mapping()).encode("utf-8")).hexdigest()
 
 
-def to_arrow(columns: dict, spec: StudySpec, units: dict[str, str]):
+def to_arrow(columns: dict, spec: StudySpec, units: dict[str, str]) -> pa.Table:
     """A :class:`pyarrow.Table` of one chunk's ``columns`` with units and meanings in its metadata."""
     import pyarrow as pa
 
