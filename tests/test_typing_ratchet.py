@@ -47,6 +47,9 @@ FLOOR = {
     "mechcont.mechanism.spatial.joints.weld", "mechcont.models", "mechcont.models.dual_sidestay_geometry",
     "mechcont.models.overcentre_scene", "mechcont.outputs._explore_page", "mechcont.outputs.critical_plots",
     "mechcont.paper", "mechcont.paper._timing", "mechcont.paper.shimmy", "mechcont.units",
+    # the library functions the commands call (issue 34, item 4)
+    "mechcont.analysis.design_sensitivity", "mechcont.analysis.rest_on_stops", "mechcont.continuation.branch_rows",
+    "mechcont.dynamics._held_differences", "mechcont.paper.sections",
 }
 
 
