@@ -136,6 +136,29 @@ def test_paper_run_writes_the_summary_of_its_sections(tmp_path, monkeypatch):
             chosen_sections(bad)
 
 
+def test_one_parser_per_pattern():
+    from mechcont.cli._parse import assignments, at_values, bounds, branch_row, named_item, span
+
+    assert named_item(" k = 3", "--set", "NAME=VALUE") == ("k", " 3")
+    assert assignments(["k=3", "LU=0.4"], "set") == {"k": 3.0, "LU": 0.4}
+    assert bounds(["F=:1", "x=-2:"]) == {"F": (-math.inf, 1.0), "x": (-2.0, math.inf)}
+    assert span("U=20:80", "--critical") == ("U", 20.0, 80.0)
+    assert at_values(["D=0.1,0.2", "D=0.3"], "D") == (0.1, 0.2, 0.3)
+    assert branch_row("dir:with:colon/b.csv:LP1") == ("dir:with:colon/b.csv", "LP1")
+    for call, field in ((lambda: named_item("=3", "--set", "NAME=VALUE"), "--set"),
+                        (lambda: span("U=20:", "--critical"), "--critical U"),  # a range that must be finite
+                        (lambda: span("U=80:20", "--critical"), "--critical U"),
+                        (lambda: bounds(["k=1:2"], "--design") and bounds(["k=2:1"], "--design"), "--design k"),
+                        (lambda: at_values(["F=1"], "D"), "--at"),
+                        (lambda: at_values(["D="], "D"), "--at"),
+                        (lambda: at_values(["D=1,x"], "D"), "--at D"),
+                        (lambda: branch_row("b.csv"), "--point"),
+                        (lambda: branch_row("b.csv:"), "--point")):
+        with pytest.raises(InputError) as info:
+            call()
+        assert info.value.field == field, (info.value.field, field)
+
+
 def test_read_branch_row_is_the_run_s_point(overcentre, tmp_path):
     """A row read back from a written table is the run's point (the fold LP1 at the run's fold load, the unknowns the
     run solved for) and passes its own check; a row that claims to be a fold and is not fails it; a table whose vary

@@ -47,9 +47,14 @@ FLOOR = {
     "mechcont.mechanism.spatial.joints.weld", "mechcont.models", "mechcont.models.dual_sidestay_geometry",
     "mechcont.models.overcentre_scene", "mechcont.outputs._explore_page", "mechcont.outputs.critical_plots",
     "mechcont.paper", "mechcont.paper._timing", "mechcont.paper.shimmy", "mechcont.units",
-    # the library functions the commands call (issue 34, item 4)
-    "mechcont.analysis.design_sensitivity", "mechcont.analysis.rest_on_stops", "mechcont.continuation.branch_rows",
-    "mechcont.dynamics._held_differences", "mechcont.paper.sections",
+    # the command line and the library functions its commands call (issue 34, items 3 and 4)
+    "mechcont.cli._app", "mechcont.cli._parse", "mechcont.cli._run", "mechcont.cli.check", "mechcont.cli.continue_",
+    "mechcont.cli.cycles", "mechcont.cli.design", "mechcont.cli.downlock", "mechcont.cli.draw",
+    "mechcont.cli.equations", "mechcont.cli.explore", "mechcont.cli.folds", "mechcont.cli.models",
+    "mechcont.cli.optimize", "mechcont.cli.paper", "mechcont.cli.sensitivity", "mechcont.cli.simulate",
+    "mechcont.cli.study", "mechcont.cli.sweep", "mechcont.analysis.design_sensitivity",
+    "mechcont.analysis.rest_on_stops", "mechcont.continuation.branch_rows", "mechcont.dynamics._held_differences",
+    "mechcont.paper.sections",
 }
 
 
