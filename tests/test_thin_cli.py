@@ -51,6 +51,17 @@ def test_stops_at_rest_lifted_off_the_stop(pendulum):
     assert "free, angle = " in rest.lines()[1]
 
 
+def test_stops_at_rest_without_an_equilibrium_is_a_finding(pendulum):
+    """T above a: no angle balances gravity (a cos(theta) < T), and on the stop the reaction would pull."""
+    from mechcont.analysis.rest_on_stops import stops_at_rest
+
+    torn = pendulum.with_values({"T": 1.2 * A})
+    rest = stops_at_rest(torn, torn.defaults())
+    assert rest.failure.startswith("no equilibrium with a consistent set of stops in contact")
+    assert rest.x is None and rest.stops == () and not rest.stable
+    assert rest.lines()[1:] == [f"  {rest.failure}"]
+
+
 def test_start_on_stops_rests_on_the_stop(pendulum):
     from mechcont.analysis.rest_on_stops import start_on_stops
 
