@@ -282,3 +282,20 @@ def test_draw_and_animate_errors_name_their_option(run, tmp_path):
     one_line_error(run("animate", "overcentre", "--branch", branch, "--every", "0", "--out", gif), "--every")
     one_line_error(run("animate", "overcentre", "--branch", branch, "--diagram", "F", "--out", gif), "--diagram")
     assert not png.exists() and not gif.exists()
+
+
+def test_sensitivity_hold_takes_the_value_continue_held_it_at(run, tmp_path):
+    """``--hold NAME=VALUE`` means in sensitivity what it means in continue: the state held on the branch at VALUE
+    (it took only NAME); the derivatives are those of ``--hold NAME``, and a VALUE the row does not have is refused."""
+    import json
+
+    branch = tmp_path / "b.csv"
+    assert run("continue", "nose_gear", "--free", "F", "--vary", "LU", "--bounds", "LU=1.25:1.35", "--hold",
+               "theta4=0.01", "--out", branch, "--quiet").exit_code == 0
+    args = ("sensitivity", "nose_gear", "--point", f"{branch}:3", "--free", "F", "--params", "k", "--of", "F")
+    for hold, name in (("theta4=0.01", "v"), ("theta4", "n")):
+        r = run(*args, "--hold", hold, "--out", tmp_path / f"{name}.json")
+        assert r.exit_code == 0, r.output
+    v, n = (json.loads((tmp_path / f"{k}.json").read_text()) for k in ("v", "n"))
+    assert v["k"] == pytest.approx(n["k"], rel=1e-12) and v["k"] != 0
+    one_line_error(run(*args, "--hold", "theta4=0.02"), "--hold", "theta4 is 0.01")

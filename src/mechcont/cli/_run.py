@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, TypeVar
 import click
 
 from ..errors import InputError
-from ._parse import assignments, at_values, bounds
+from ._parse import assignments, bounds
 
 if TYPE_CHECKING:
     import numpy as np
@@ -63,12 +63,6 @@ def common_options(f: F) -> F:
     for o in reversed(opts):
         f = o(f)
     return f
-
-
-def user_points(items: Iterable[str], vary: str) -> tuple[float, ...]:
-    """``--at P=V1,V2,...`` (:func:`mechcont.cli._parse.at_values`): the values of ``vary`` at which to add ``UZ``
-    rows; ``()`` when not given."""
-    return at_values(items, vary)
 
 
 def continuation_options(bnds: Iterable[str], ds: float | None, dsmax: float | None,

@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 
 from ._app import cli
+from ._parse import at_values as parse_at
 from ._run import (
     check_outputs,
     common_options,
@@ -13,7 +14,6 @@ from ._run import (
     load_at,
     run_continuation,
     solve_start,
-    user_points,
     write_branch,
 )
 
@@ -56,7 +56,7 @@ def continue_command(model: str, sets: tuple[str, ...], starts: tuple[str, ...],
     from ._parse import assignments
 
     check_outputs(out, plot)
-    at_values = user_points(at, vary)
+    at_values = parse_at(at, vary)
     if at_values and with_stops:
         raise InputError("--at", "is not available with --stops; continue without --stops to add UZ rows")
     if damping and not dynamic:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING
@@ -34,7 +35,8 @@ _OPTIONS = ("params", "keep", "set", "point", "of")
 @click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
               help="Change a held value first (SI units, rad); the point is followed there from its own values "
                    "(one line when it ends on the way, e.g. a fold past its cusp).")
-@click.option("--hold", "holds", multiple=True, metavar="NAME", help="States held on the branch (as given to continue).")
+@click.option("--hold", "holds", multiple=True, metavar="NAME[=VALUE]",
+              help="States held on the branch (as given to continue; a VALUE must be the row's).")
 @click.option("--free", "frees", multiple=True, metavar="NAME",
               help="Parameters solved for on the branch (as given to continue).")
 @click.option("--keep", metavar="STATE",
@@ -111,9 +113,15 @@ def _at_point(system: Model, point: str, params: Sequence[str], values: Mapping[
     from ..analysis.sensitivity import point_sensitivity
     from ..continuation import PointLost
     from ..continuation.branch_rows import read_branch_row
+    from ._run import held_states
 
     csv_path, row = branch_row(point)
-    found = read_branch_row(system, csv_path, row, hold=holds, free=frees)
+    names, with_values = held_states(holds, ())
+    found = read_branch_row(system, csv_path, row, hold=names, free=frees)
+    for name, value in assignments(with_values, "hold").items():  # held there: the row has that value
+        if name in system.names and not math.isclose(found.point[name], value, rel_tol=1e-9, abs_tol=1e-12):
+            raise InputError("--hold", f"{name} is {found.point[name]:.10g} at {found.name}, not {value:g}: give "
+                                       "the value it was held at on the branch, or the name alone")
     vary, lens = found.vary, list(found.unknowns)
     if of is not None and of != vary and of not in lens:
         raise InputError("--of", f"'{of}' is not solved for on the branch; one of: {', '.join([vary, *lens])}")
