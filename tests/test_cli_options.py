@@ -175,6 +175,8 @@ MEANINGS = {
     "--set": ("a parameter's value, in SI units",
               lambda p: p.multiple and p.metavar == "NAME=VALUE" and "SI units" in p.help),
     "--point": ("a row of a branch table", lambda p: (p.metavar or "").startswith("BRANCH.csv:") and "branch" in p.help),
+    "--bounds": ("a variable's range NAME=LO:HI",
+                 lambda p: p.multiple and p.metavar == "NAME=LO:HI"),
     "--branch": ("a branch table (CSV)",
                  lambda p: (p.metavar or "").endswith(".csv") and re.search(r"\bbranch\b", p.help, re.I)),
 }
@@ -244,3 +246,56 @@ def test_study_freefall_start_and_its_old_spelling_hold(run, tmp_path):
     one_line_error(run(*args, "--start", "phi=1", "--dir", tmp_path / "b"), "--start", "phi is not")
     one_line_error(run("study", PENDULUM, "--dist", "m=normal:6:0.4", "--n", 2, "--start", "angle=1", "--dir",
                        tmp_path / "c"), "--start", "--analysis freefall")
+
+
+def test_at_is_one_repeatable_option_in_continue_and_cycles(run, tmp_path):
+    """``--at P=V1,V2,...`` means the same in both commands (one parser, ``cli/_parse.at_values``): repeatable, the
+    values of the --vary parameter; given twice it adds the values of both (it kept only the last)."""
+    shown = _visible_options()["--at"]
+    assert {c for c, _ in shown} == {"continue", "cycles"}
+    assert all(p.multiple and p.metavar == "P=V1,V2,..." for _, p in shown)
+    args = ("continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--bounds",
+            "F=-100:100", "--quiet")
+    twice, once = tmp_path / "twice.csv", tmp_path / "once.csv"
+    assert run(*args, "--at", "F=-20", "--at", "F=30", "--out", twice).exit_code == 0
+    assert run(*args, "--at", "F=-20,30", "--out", once).exit_code == 0
+
+    def uz(path):
+        rows, _ = read_branch_table(path)
+        return sorted(float(r["F"]) for r in rows if r["label"] == "UZ")
+
+    assert uz(twice) == uz(once) and len(uz(once)) >= 2  # the branch may pass a value more than once (folds)
+    assert {round(v, 9) for v in uz(once)} == {-20.0, 30.0}
+    one_line_error(run(*args, "--at", "F=1", "--at", "LU=1"), "--at", "the values are of the --vary parameter, F")
+
+
+def test_draw_and_animate_errors_name_their_option(run, tmp_path):
+    """A bad --point, --vary, --every or --diagram is one line naming the option typed (they named a bare field)."""
+    png = tmp_path / "p.png"
+    one_line_error(run("draw", "overcentre", "--point", "nocolon", "--out", png), "--point", "BRANCH.csv:ROW")
+    one_line_error(run("draw", "overcentre", "--point", "b.csv:LP1", "--set", "LU=0.4", "--out", png), "--point")
+    one_line_error(run("draw", "overcentre", "--vary", "F", "--out", png), "--vary", "with --point")
+    branch = tmp_path / "b.csv"
+    assert run("continue", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--vary", "F", "--bounds",
+               "F=-50:50", "--max-steps", "20", "--out", branch, "--quiet").exit_code == 0
+    gif = tmp_path / "a.gif"
+    one_line_error(run("animate", "overcentre", "--branch", branch, "--every", "0", "--out", gif), "--every")
+    one_line_error(run("animate", "overcentre", "--branch", branch, "--diagram", "F", "--out", gif), "--diagram")
+    assert not png.exists() and not gif.exists()
+
+
+def test_sensitivity_hold_takes_the_value_continue_held_it_at(run, tmp_path):
+    """``--hold NAME=VALUE`` means in sensitivity what it means in continue: the state held on the branch at VALUE
+    (it took only NAME); the derivatives are those of ``--hold NAME``, and a VALUE the row does not have is refused."""
+    import json
+
+    branch = tmp_path / "b.csv"
+    assert run("continue", "nose_gear", "--free", "F", "--vary", "LU", "--bounds", "LU=1.25:1.35", "--hold",
+               "theta4=0.01", "--out", branch, "--quiet").exit_code == 0
+    args = ("sensitivity", "nose_gear", "--point", f"{branch}:3", "--free", "F", "--params", "k", "--of", "F")
+    for hold, name in (("theta4=0.01", "v"), ("theta4", "n")):
+        r = run(*args, "--hold", hold, "--out", tmp_path / f"{name}.json")
+        assert r.exit_code == 0, r.output
+    v, n = (json.loads((tmp_path / f"{k}.json").read_text()) for k in ("v", "n"))
+    assert v["k"] == pytest.approx(n["k"], rel=1e-12) and v["k"] != 0
+    one_line_error(run(*args, "--hold", "theta4=0.02"), "--hold", "theta4 is 0.01")

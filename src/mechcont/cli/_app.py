@@ -15,8 +15,8 @@ import os
 import signal
 import sys
 import threading
-from collections.abc import Sequence
-from typing import Any
+from collections.abc import Callable, Sequence
+from typing import Any, NoReturn
 
 import click
 
@@ -24,19 +24,19 @@ from .._signals import TERMINATING, Terminated, clear, install, pending, raise_h
 from ..errors import MechcontError, one_line
 
 
-def _fail(message: str, status: int):
+def _fail(message: str, status: int) -> NoReturn:
     click.echo(f"error: {one_line(message)}", err=True)
     sys.exit(status)
 
 
-def _fail_for_signal():
+def _fail_for_signal() -> NoReturn:
     signum = pending()
     if signum in TERMINATING:
         _fail_terminated(signum)
     _fail("interrupted", 130)
 
 
-def _fail_terminated(signum: int):
+def _fail_terminated(signum: int) -> NoReturn:
     """``error: terminated`` (SIGTERM) or ``error: hung up`` (SIGHUP), exit status 128 + the signal."""
     _fail("hung up" if signum == getattr(signal, "SIGHUP", None) else "terminated", 128 + signum)
 
@@ -58,13 +58,13 @@ class _Group(click.Group):
     """Every failure the user can fix is one line on stderr and exit status 2; each command's
     module is imported on first use (:data:`COMMAND_MODULES`)."""
 
-    def get_command(self, ctx, cmd_name):
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
         module = COMMAND_MODULES.get(cmd_name)
         if cmd_name not in self.commands and module is not None:
             importlib.import_module(f"{__package__}.{module}")
         return super().get_command(ctx, cmd_name)
 
-    def list_commands(self, ctx):
+    def list_commands(self, ctx: click.Context) -> list[str]:
         _register()
         return super().list_commands(ctx)
 
@@ -114,7 +114,7 @@ class _Group(click.Group):
 @click.version_option(package_name="mechcont")
 @click.option("--no-cache", is_flag=True,
               help="Neither read nor write the disk cache of compiled equations (as MECHCONT_NO_CACHE=1).")
-def cli(no_cache):
+def cli(no_cache: bool) -> None:
     """mechcont: numerical continuation for quasi-static mechanisms (landing gear).
 
     Models are built-in names (see `mechcont models`) or mechanism description files
@@ -125,14 +125,15 @@ def cli(no_cache):
         os.environ["MECHCONT_NO_CACHE"] = "1"
 
 
-def _register():
+def _register() -> None:
     """Import every command module (each adds itself to ``cli`` on import): for the command list
     and for tests that look commands up in ``cli.commands``."""
     for module in sorted(set(COMMAND_MODULES.values())):
         importlib.import_module(f"{__package__}.{module}")
 
 
-def _signal_aware_unraisable_hook(previous):
+def _signal_aware_unraisable_hook(
+        previous: Callable[[sys.UnraisableHookArgs], object]) -> Callable[[sys.UnraisableHookArgs], None]:
     """A ``sys.unraisablehook`` that stays quiet about the signal exceptions of :func:`main`.
 
     A signal that lands in a callback whose exceptions Python cannot raise (a weakref
@@ -141,7 +142,7 @@ def _signal_aware_unraisable_hook(previous):
     it again at the next safe point, so nothing is lost by not printing it; every other
     unraisable exception goes to ``previous``."""
 
-    def hook(unraisable):
+    def hook(unraisable: sys.UnraisableHookArgs) -> None:
         if isinstance(unraisable.exc_value, (Terminated, KeyboardInterrupt)):
             return
         previous(unraisable)
@@ -170,7 +171,7 @@ def _pause_gc() -> None:
     timer.start()
 
 
-def main(argv=None):
+def main(argv: Sequence[str] | None = None) -> None:
     """Entry point of the ``mechcont`` console script (SIGTERM and SIGHUP unwind as :class:`Terminated`)."""
     _pause_gc()
     clear()

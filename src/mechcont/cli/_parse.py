@@ -3,13 +3,31 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
+from typing import TYPE_CHECKING, TypedDict, TypeVar
 
 from ..errors import InputError, finite_number
 
-__all__ = ["assignments", "bounds", "names", "number", "renamed", "named_as", "integrator_options", "integrator",
-           "check_count", "MAX_SCAN"]
+if TYPE_CHECKING:
+    from ..dynamics import OdeHistory, SimulationResult
+    from ..equations import Model
+
+__all__ = ["assignments", "bounds", "names", "number", "renamed", "named_as", "integrator_options", "integrator", "Integrator",
+           "check_count", "MAX_SCAN", "named_item", "branch_row", "at_values", "span"]
+
+#: An option's value whichever its type (:func:`renamed`).
+T = TypeVar("T")
+class Integrator(TypedDict):
+    """The integrator settings of a time simulation (:func:`integrator`), passed on as keywords."""
+
+    method: str
+    rtol: float
+    atol: float
+
+
+#: A click command function (:func:`integrator_options`).
+F = TypeVar("F", bound=Callable[..., object])
 
 #: Most values of a scan (``freefall --scan``: each repeats a bisection of runs) unless raised by its option.
 MAX_SCAN = 50
@@ -24,33 +42,71 @@ def number(text: str, field: str) -> float:
     return finite_number(text, field)
 
 
+def named_item(item: str, option: str, form: str) -> tuple[str, str]:
+    """``"NAME=REST"`` -> ``("NAME", "REST")``, the one split of every ``NAME=...`` option (``--set``, ``--start``,
+    ``--hold``, ``--bounds``, ``--dist``, ``--grid``, ``--ramp``, ``--at``, ...); :class:`InputError` naming
+    ``option`` ("'ITEM' is not ``form``") when there is no ``=`` or no name."""
+    name, sep, rest = item.partition("=")
+    if not sep or not name.strip():
+        raise InputError(option, f"'{item}' is not {form}")
+    return name.strip(), rest
+
+
 def assignments(items: Iterable[str], option: str) -> dict[str, float]:
     """``["k=127", "LU=0.4"]`` -> ``{"k": 127.0, "LU": 0.4}``; errors name the option and item."""
     out: dict[str, float] = {}
     for item in items:
-        name, sep, value = item.partition("=")
-        name = name.strip()
-        if not sep or not name:
-            raise InputError(f"--{option}", f"'{item}' is not NAME=VALUE")
+        name, value = named_item(item, f"--{option}", "NAME=VALUE")
         out[name] = number(value.strip(), f"--{option} {name}")
     return out
 
 
-def bounds(items: Iterable[str]) -> dict[str, tuple[float, float]]:
-    """``["F=-100:100"]`` -> ``{"F": (-100.0, 100.0)}``; an empty side means unbounded."""
+def span(item: str, option: str, *, unbounded: bool = False) -> tuple[str, float, float]:
+    """``"F=-100:100"`` -> ``("F", -100.0, 100.0)``: a range ``NAME=LO:HI`` (``--bounds``, ``--design``,
+    ``--critical``); with ``unbounded`` an empty side is -inf or inf. :class:`InputError` naming ``option`` for
+    another form, and naming ``option NAME`` for a side that is not a number or an empty or inverted range."""
+    name, rng = named_item(item, option, "NAME=LO:HI")
+    lo, colon, hi = rng.partition(":")
+    if not colon:
+        raise InputError(option, f"'{item}' is not NAME=LO:HI")
+    low = -math.inf if unbounded and lo.strip() == "" else number(lo.strip(), f"{option} {name}")
+    high = math.inf if unbounded and hi.strip() == "" else number(hi.strip(), f"{option} {name}")
+    if not low < high:
+        raise InputError(f"{option} {name}", f"empty or inverted interval {lo}:{hi}; need LO < HI")
+    return name, low, high
+
+
+def bounds(items: Iterable[str], option: str = "--bounds") -> dict[str, tuple[float, float]]:
+    """``["F=-100:100"]`` -> ``{"F": (-100.0, 100.0)}``; an empty side means unbounded (:func:`span`)."""
     out: dict[str, tuple[float, float]] = {}
     for item in items:
-        name, sep, rng = item.partition("=")
-        name = name.strip()
-        lo, colon, hi = rng.partition(":")
-        if not sep or not name or not colon:
-            raise InputError("--bounds", f"'{item}' is not NAME=LO:HI")
-        low = -math.inf if lo.strip() == "" else number(lo.strip(), f"--bounds {name}")
-        high = math.inf if hi.strip() == "" else number(hi.strip(), f"--bounds {name}")
-        if not low < high:
-            raise InputError(f"--bounds {name}", f"empty or inverted interval {lo}:{hi}; need LO < HI")
+        name, low, high = span(item, option, unbounded=True)
         out[name] = (low, high)
     return out
+
+
+def at_values(items: Iterable[str], vary: str) -> tuple[float, ...]:
+    """``--at P=V1,V2,...`` (repeatable): the values (SI units) of the continuation parameter ``vary`` at which
+    rows or orbits are located exactly (``UZ``), in the order given; ``()`` when none. :class:`InputError` (field
+    ``--at``) for another form, another parameter than ``vary`` or a value that is not a finite number."""
+    out: list[float] = []
+    for item in items:
+        name, values = named_item(item, "--at", f"P=V1,V2,... (e.g. --at {vary}=0.1,0.2)")
+        if not values.strip():
+            raise InputError("--at", f"'{item}' is not P=V1,V2,... (e.g. --at {vary}=0.1,0.2)")
+        if name != vary:
+            raise InputError("--at", f"names '{name}'; the values are of the --vary parameter, {vary}")
+        out += [number(v.strip(), f"--at {vary}") for v in values.split(",")]
+    return tuple(out)
+
+
+def branch_row(text: str, option: str = "--point", example: str = "ROW (e.g. branch.csv:LP1)") -> tuple[str, str]:
+    """``"branch.csv:LP1"`` -> ``("branch.csv", "LP1")``: a row of a branch table (``--point``), split at its last
+    colon; :class:`InputError` naming ``option`` ("'TEXT' is not BRANCH.csv:``example``") without a path or a row."""
+    path, sep, row = text.rpartition(":")
+    if not sep or not path or not row:
+        raise InputError(option, f"'{text}' is not BRANCH.csv:{example}")
+    return path, row
 
 
 def check_count(count: int, option: str, limit: int, raise_option: str, what: str = "values") -> None:
@@ -71,7 +127,7 @@ def names(text: str | None, option: str) -> tuple[str, ...]:
     return out
 
 
-def freed_parameters(system, frees: Iterable[str], option: str = "--free") -> list[str]:
+def freed_parameters(system: Model, frees: Iterable[str], option: str = "--free") -> list[str]:
     """``frees`` checked: each a parameter of ``system`` (a state is always solved for, so freeing
     one would be silently ignored)."""
     out = list(frees)
@@ -82,7 +138,7 @@ def freed_parameters(system, frees: Iterable[str], option: str = "--free") -> li
     return out
 
 
-def renamed(value, old_value, option: str, old: str):
+def renamed(value: T, old_value: T, option: str, old: str) -> tuple[T, str]:
     """``(value, the spelling given)`` of an option that also takes its old spelling ``old`` (a hidden alias kept
     for scripts): the one given, or ``value`` (its default) when neither; InputError when both are given."""
     given_old = old_value not in (None, (), False)
@@ -103,7 +159,7 @@ def named_as(options: Mapping[str, str]) -> Iterator[None]:
         raise InputError(options[exc.field], str(exc)[len(exc.field) + 2:]) from None
 
 
-def integrator_options(f):
+def integrator_options(f: F) -> F:
     """The integrator options of the time-simulation commands: ``--method``, ``--rtol``, ``--atol``."""
     import click
 
@@ -119,7 +175,7 @@ def integrator_options(f):
     return f
 
 
-def integrator(method: str, rtol: float, atol: float) -> dict:
+def integrator(method: str, rtol: float, atol: float) -> Integrator:
     """``{"method", "rtol", "atol"}`` checked (:func:`mechcont.dynamics._simulate.check_integrator`), an error
     naming the option."""
     from ..dynamics import check_integrator
@@ -129,7 +185,7 @@ def integrator(method: str, rtol: float, atol: float) -> dict:
     return {"method": method, "rtol": rtol, "atol": atol}
 
 
-def check_integration(result, method: str, written: Iterable[str] = ()) -> None:
+def check_integration(result: SimulationResult | OdeHistory, method: str, written: Iterable[str] = ()) -> None:
     """After a time simulation's outputs are written: where its integrator stopped early (the tolerance
     cannot be met there, or the forces blew up), a :class:`~mechcont.errors.ConvergenceError` (one line,
     exit status 2) saying when, why, what to change and which files hold the history up to there."""

@@ -2,12 +2,25 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, TypeVar
 
 import click
 
 from ..errors import InputError
 from ._parse import assignments, bounds
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from ..continuation import Branch, ContinuationOptions
+    from ..equations import Model
+
+#: What a continuation run returns (:func:`run_continuation`).
+R = TypeVar("R")
+#: A click command function (:func:`common_options`).
+F = TypeVar("F", bound=Callable[..., object])
 
 __all__ = ["continuation_options", "solve_start", "write_branch", "common_options", "check_outputs", "run_continuation",
            "mechanism_only"]
@@ -32,7 +45,7 @@ def check_outputs(out: str | None, plot: str | None) -> None:
     check_output_path(plot, "--plot", FIGURE_SUFFIXES)
 
 
-def common_options(f):
+def common_options(f: F) -> F:
     """Options shared by `continue` and `folds`."""
     opts = [
         click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Parameter value (SI units, rad)."),
@@ -52,35 +65,21 @@ def common_options(f):
     return f
 
 
-def user_points(text: str | None, vary: str) -> tuple[float, ...]:
-    """``--at P=V1,V2,...``: the values (SI units) of the continuation parameter ``vary`` at which to add
-    ``UZ`` rows; ``()`` when not given. Raises :class:`InputError` (field ``--at``) for another name or a
-    value that is not a finite number."""
-    from ..errors import InputError, finite_number
-
-    if not text:
-        return ()
-    name, sep, values = text.partition("=")
-    if not sep or not values.strip():
-        raise InputError("--at", f"'{text}' is not P=V1,V2,... (e.g. --at {vary}=0.1,0.2)")
-    if name.strip() != vary:
-        raise InputError("--at", f"names '{name.strip()}'; the values are of the --vary parameter, {vary}")
-    return tuple(finite_number(v.strip(), "--at") for v in values.split(","))
-
-
-def continuation_options(bnds, ds, dsmax, max_steps):
+def continuation_options(bnds: Iterable[str], ds: float | None, dsmax: float | None,
+                         max_steps: int | None) -> ContinuationOptions:
     """ContinuationOptions from the CLI values (:func:`mechcont.continuation.run_options`)."""
     from ..continuation import run_options
 
     return run_options(bounds(bnds), ds=ds, dsmax=dsmax, max_steps=max_steps, max_steps_field="--max-steps")
 
 
-def held_states(holds, starts) -> tuple[tuple[str, ...], tuple[str, ...]]:
+def held_states(holds: Iterable[str], starts: Sequence[str]) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """``--hold NAME`` or ``--hold NAME=VALUE`` (one meaning in every command: a held state; with a value it
     is held at that value, which then also finds the first solution, as ``--start NAME=VALUE`` does).
     Returns ``(held names, --start items)``; a state given a value by both options is an error."""
-    names, given = [], {item.partition("=")[0].strip() for item in starts}
-    extra = []
+    names: list[str] = []
+    given = {item.partition("=")[0].strip() for item in starts}
+    extra: list[str] = []
     for item in holds:
         name, sep, _ = item.partition("=")
         name = name.strip()
@@ -93,7 +92,7 @@ def held_states(holds, starts) -> tuple[tuple[str, ...], tuple[str, ...]]:
     return tuple(names), (*starts, *extra)
 
 
-def load_at(model: str, values: Mapping[str, float]):
+def load_at(model: str, values: Mapping[str, float]) -> Model:
     """MODEL (a built-in name or a description file) at the ``--set`` ``values``: the one entry every
     command takes (:func:`mechcont.models.model_at`), so that what it writes in parameters (a stop's
     limit, a condition's target, the downlock hold, geometry, element values) follows them."""
@@ -102,7 +101,8 @@ def load_at(model: str, values: Mapping[str, float]):
     return model_at(model, values, field="--set")
 
 
-def solve_start(system, sets, starts, vary, frees, holds):
+def solve_start(system: Model, sets: Iterable[str], starts: Iterable[str], vary: str, frees: Iterable[str],
+                holds: Iterable[str]) -> npt.NDArray[np.float64]:
     """The first equilibrium (:func:`mechcont.continuation.start_point`): ``--start`` states held, ``vary`` solved for."""
     from ..continuation import start_point
 
@@ -110,8 +110,8 @@ def solve_start(system, sets, starts, vary, frees, holds):
                        hold=holds, start_field="--start", free_field="--free")
 
 
-def run_continuation(fn, *args, quiet: bool = False, label: str = "continuation", stop_on_signal: bool = False,
-                     **kwargs):
+def run_continuation(fn: Callable[..., R], *args: object, quiet: bool = False, label: str = "continuation",
+                     stop_on_signal: bool = False, **kwargs: object) -> R:
     """``fn(*args, progress=..., **kwargs)`` with a progress line (accepted steps) on a terminal.
 
     With ``stop_on_signal``, SIGTERM or SIGHUP ends the continuation where it is (the branch so far, its
@@ -127,7 +127,8 @@ def run_continuation(fn, *args, quiet: bool = False, label: str = "continuation"
         return fn(*args, progress=bar if bar.enabled else None, **kwargs)
 
 
-def write_branch(branch, out: str | None, plot: str | None, x: str, y: str, quiet: bool, extra=()):
+def write_branch(branch: Branch, out: str | None, plot: str | None, x: str, y: str, quiet: bool,
+                 extra: Sequence[str] = ()) -> None:
     """Write the branch table (CSV or JSON by suffix) and the plot, checking paths first."""
     from ..outputs.plotting import branch_figure, save_figure
     from ..outputs.tables import approximate_warnings, special_table, write_branch_table

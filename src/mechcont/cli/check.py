@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -11,24 +10,8 @@ from ..errors import InputError
 from ._app import cli
 from ._parse import assignments
 
-
-def _plot_path(text: str) -> Path:
-    """The --plot file, checked before any work: a known image suffix in a writable folder."""
-    from ..outputs.drawing import IMAGE_SUFFIXES
-
-    path = Path(text)
-    if path.suffix.lower() not in IMAGE_SUFFIXES:
-        raise InputError("--plot", f"unknown file type '{path.suffix or path.name}'; valid: {', '.join(IMAGE_SUFFIXES)}")
-    parent = path.parent
-    if not parent.exists():
-        raise InputError("--plot", f"folder '{parent}' does not exist")
-    if not parent.is_dir():
-        raise InputError("--plot", f"'{parent}' is not a folder")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError("--plot", f"folder '{parent}' is not writable")
-    if path.is_dir():
-        raise InputError("--plot", f"'{path}' is a folder, not a file")
-    return path
+if TYPE_CHECKING:
+    from ..mechanism import CheckReport
 
 
 @cli.command("check")
@@ -42,7 +25,8 @@ def _plot_path(text: str) -> Path:
 @click.option("--label-points", is_flag=True, help="With --plot of a spatial mechanism: name every point too.")
 @click.option("--quiet", is_flag=True, help="Print nothing but errors and findings (on stderr).")
 @click.pass_context
-def check_command(ctx, model, sets, reduced, plot, label_points, quiet):
+def check_command(ctx: click.Context, model: str, sets: tuple[str, ...], reduced: bool, plot: str | None,
+                  label_points: bool, quiet: bool) -> None:
     """Check the mechanism description MODEL (a .toml file, or the stem of a shipped one:
     overcentre means overcentre.toml, not the hand-formulated model).
 
@@ -68,7 +52,12 @@ def check_command(ctx, model, sets, reduced, plot, label_points, quiet):
     overrides = assignments(sets, "set")
     if is_system_file(model):
         return _check_ode(ctx, model, overrides, reduced=reduced, plot=plot, quiet=quiet)
-    path = _plot_path(plot) if plot is not None else None
+    path = None
+    if plot is not None:  # checked before any work
+        from .._io import check_output_path
+        from ..outputs.drawing import IMAGE_SUFFIXES
+
+        path = check_output_path(plot, "--plot", IMAGE_SUFFIXES)
     if overrides:
         _check_values(model, overrides)
     report = check_report(model, reduced=reduced, **overrides)
@@ -112,41 +101,19 @@ def _check_values(model: str, values: dict[str, float]) -> None:
     check_values_at(system, values, "--set")
 
 
-def _stops_text(report) -> tuple[str, str]:
-    """The stops section: the equilibrium with a consistent set of stops in contact, found from the
-    assembled configuration (empty when the mechanism has no stops); and a finding when there is none."""
-    from ..analysis import equilibrium_on_stops, stability_on_stops
-    from ..errors import ConvergenceError
+def _stops_text(report: CheckReport) -> tuple[str, str]:
+    """The stops section (:func:`mechcont.analysis.rest_on_stops.stops_at_rest` from the assembled configuration;
+    empty when the mechanism has no stops), and a finding when there is no equilibrium on them."""
+    from ..analysis.rest_on_stops import stops_at_rest
 
-    system = report.system
-    stops = system.stops
-    if not stops:
+    if not report.system.stops:
         return "", ""
-    out = ["stops (one-sided limits of conditions; the equilibrium above leaves them free), the equilibrium with "
-           "those in contact that push:"]
-    try:
-        x, contact = equilibrium_on_stops(system, report.x, stable=True)
-    except (ConvergenceError, InputError) as exc:
-        why = f"no equilibrium with a consistent set of stops in contact: {exc}"
-        return "\n".join(out + [f"  {why}"]), why
-    width = max(len(s.name) for s in stops)
-    for s in stops:
-        c = system.variable(s.condition)
-        bound = f"{s.key} of {s.condition} = {s.limit:.6g}{' ' + c.unit if c.unit else ''}"
-        if s.name in contact:
-            R = system.variable(s.reaction)
-            state = f"in contact, reaction {s.reaction} = {x[system.index(s.reaction)]:.6g} {R.unit}"
-        else:
-            value = x[system.index(s.condition)]
-            state = f"free, {s.condition} = {value:.6g} ({s.gap(value):.3g} from it)"
-        out.append(f"  {s.name:<{width}}  {bound}: {state}")
-    st = stability_on_stops(system, x, contact)
-    out.append(f"  stability there (a stop in contact holds its condition): "
-               f"{'stable' if st.stable else f'UNSTABLE in {st.n_unstable} direction(s)'}")
-    return "\n".join(out), ""
+    rest = stops_at_rest(report.system, report.x)
+    return "\n".join(rest.lines()), rest.failure
 
 
-def _check_ode(ctx, model: str, overrides: dict[str, float], *, reduced: bool, plot: str | None, quiet: bool) -> None:
+def _check_ode(ctx: click.Context, model: str, overrides: dict[str, float], *, reduced: bool, plot: str | None,
+               quiet: bool) -> None:
     """``check`` of an ODE file (:func:`mechcont.analysis.ode_check.ode_report`); exit status 1 with findings."""
     from ..analysis.ode_check import ode_report
     from ..models import model_at

@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 
 from ._app import cli
+from ._parse import at_values as parse_at
 from ._run import (
     check_outputs,
     common_options,
@@ -13,7 +14,6 @@ from ._run import (
     load_at,
     run_continuation,
     solve_start,
-    user_points,
     write_branch,
 )
 
@@ -31,7 +31,7 @@ from ._run import (
                    "consistent set of stops in contact (at a limit, as the one-sided tangents decide) and each "
                    "direction is followed as --vary is pushed; a release onto an unstable branch is a non-smooth "
                    "fold (NSF), and where the mechanism lands is printed.")
-@click.option("--at", "at", default=None, metavar="P=V1,V2,...",
+@click.option("--at", "at", multiple=True, metavar="P=V1,V2,...",
               help="Rows located exactly at these values of the --vary parameter P (SI units), labelled UZ.")
 @click.option("--dynamic", is_flag=True,
               help="Add the dynamic stability of each point (eigenvalues of the linearised equations of motion: "
@@ -39,8 +39,11 @@ from ._run import (
                    "(1/s) and leading_frequency (rad/s).")
 @click.option("--damping", default=0.0, show_default=True,
               help="Mass-proportional damping (1/s) added in the dynamic stability (--dynamic), as simulate's.")
-def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, out, plot, xname, yname,
-                     with_stops, at, dynamic, damping):
+def continue_command(model: str, sets: tuple[str, ...], starts: tuple[str, ...], holds: tuple[str, ...],
+                     frees: tuple[str, ...], bnds: tuple[str, ...], ds: float | None, dsmax: float | None,
+                     max_steps: int | None, quiet: bool, vary: str, out: str | None, plot: str | None,
+                     xname: str | None, yname: str | None, with_stops: bool, at: tuple[str, ...], dynamic: bool,
+                     damping: float) -> None:
     """Continue equilibria of MODEL in --vary, both directions, within --bounds (with --stops, through
     the contacts and releases of the description's stops).
 
@@ -53,7 +56,7 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
     from ._parse import assignments
 
     check_outputs(out, plot)
-    at_values = user_points(at, vary)
+    at_values = parse_at(at, vary)
     if at_values and with_stops:
         raise InputError("--at", "is not available with --stops; continue without --stops to add UZ rows")
     if damping and not dynamic:
@@ -78,18 +81,11 @@ def continue_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_ste
                                         "(condition, min or max) in its description")
         check_stop_lens(system, vary, holds, frees)
     if with_stops:
-        from ..analysis import continuation_with_stops, equilibrium_on_stops
-        from ..errors import ConvergenceError
+        from ..analysis import continuation_with_stops
+        from ..analysis.rest_on_stops import start_on_stops
 
-        try:
-            x0 = solve_start(system, sets, starts, vary, frees, holds)
-        except ConvergenceError:
-            # free of its stops the mechanism may have no equilibrium near its pose (a lock held on a stop):
-            # with nothing held, the stops' active-set search starts from the description's configuration
-            if starts or holds:
-                raise
-            x0 = system.vector(assignments(sets, "set"))
-        x0, _ = equilibrium_on_stops(system, x0, hold={h: x0[system.index(h)] for h in holds}, free=frees)
+        x0 = start_on_stops(system, vary, values=assignments(sets, "set"), start=assignments(starts, "start"),
+                            hold=holds, free=frees, start_field="--start", free_field="--free").x
     else:
         x0 = solve_start(system, sets, starts, vary, frees, holds)
     if with_stops:

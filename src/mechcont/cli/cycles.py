@@ -3,13 +3,22 @@
 from __future__ import annotations
 
 import contextlib
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 import click
 
 from ..errors import ConvergenceError, InputError
 from ._app import cli
-from ._parse import assignments, number
+from ._parse import assignments, at_values, branch_row
 from ._run import check_outputs, continuation_options, load_at, run_continuation
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from ..continuation import Branch, CycleBranch
+    from ..equations import Model
 
 #: Fields of the API's errors that name an option of this command.
 _OPTIONS = {"point": "--point", "branch": "--point", "ntst": "--ntst", "ncol": "--ncol", "bounds": "--bounds",
@@ -17,7 +26,7 @@ _OPTIONS = {"point": "--point", "branch": "--point", "ntst": "--ntst", "ncol": "
 
 
 @contextlib.contextmanager
-def _as_option():
+def _as_option() -> Iterator[None]:
     """Re-raise the API's :class:`InputError` naming a field this command sets as naming its option."""
     try:
         yield
@@ -27,27 +36,12 @@ def _as_option():
         raise InputError(_OPTIONS[exc.field], str(exc)[len(exc.field) + 2:]) from None
 
 
-def _at_values(items, vary: str) -> list[float]:
-    """``--at P=V1,V2`` -> ``[V1, V2]`` (the parameter must be the --vary one)."""
-    out: list[float] = []
-    for item in items:
-        name, sep, rest = item.partition("=")
-        if not sep or not name.strip() or not rest.strip():
-            raise InputError("--at", f"'{item}' is not P=V1,V2,... (e.g. {vary}=0.1,0.2)")
-        if name.strip() != vary:
-            raise InputError("--at", f"'{name.strip()}' is not the continued parameter; give {vary}=V1,V2,...")
-        out += [number(v.strip(), f"--at {vary}") for v in rest.split(",")]
-    return out
-
-
-def hopf_row(system, point: str):
+def hopf_row(system: Model, point: str) -> tuple[npt.NDArray[np.float64], Branch]:
     """The model vector of ``BRANCH.csv:HBn`` (a row labelled HB of a table of this model) and the branch; one-line
     :class:`InputError` (field ``--point``) when the text, the table or the row is not that."""
     from ..continuation import Branch
 
-    csv_path, sep, row = point.rpartition(":")
-    if not sep or not csv_path or not row:
-        raise InputError("--point", f"'{point}' is not BRANCH.csv:HBn (e.g. branch.csv:HB1)")
+    csv_path, row = branch_row(point, "--point", "HBn (e.g. branch.csv:HB1)")
     with _as_option():
         branch = Branch.read_csv(csv_path, model=system.name)
         missing = [n for n in system.names if n not in branch.names]
@@ -81,8 +75,9 @@ def hopf_row(system, point: str):
               help="Table of one period of every orbit as the model's full vectors (for mechcont explore --orbits).")
 @click.option("--plot", default=None, help="Amplitude diagram: .png, .svg or .pdf (max and min of a state against P).")
 @click.option("--quiet", is_flag=True, help="Print nothing but errors.")
-def cycles_command(model, point, vary, sets, bnds, at, ntst, ncol, ds, dsmax, max_steps, out, orbits, plot,
-                   quiet):
+def cycles_command(model: str, point: str, vary: str, sets: tuple[str, ...], bnds: tuple[str, ...],
+                   at: tuple[str, ...], ntst: int, ncol: int, ds: float | None, dsmax: float | None,
+                   max_steps: int | None, out: str | None, orbits: str | None, plot: str | None, quiet: bool) -> None:
     """Continue the periodic orbits born at the Hopf point --point in --vary (orthogonal collocation,
     NTST intervals of NCOL Gauss points, mesh adaptation, Floquet multipliers).
 
@@ -104,16 +99,18 @@ def cycles_command(model, point, vary, sets, bnds, at, ntst, ncol, ds, dsmax, ma
     x, branch = hopf_row(system, point)
     x = system.vector(assignments(sets, "set"), base=x)
     options = continuation_options(bnds, ds, dsmax, max_steps)
-    values = _at_values(at, vary)
+    values = at_values(at, vary)
     try:
         with _as_option():
             family = run_continuation(cycles_from_hopf, system, x, vary, options=options, ntst=ntst, ncol=ncol,
                                       at=values, quiet=quiet, label="cycles")
         failure = None if family.status.success else family.message
     except ConvergenceError as exc:
-        family, failure = exc.partial, str(exc)
-        if family is None:
+        from ..continuation import CycleBranch
+
+        if not isinstance(exc.partial, CycleBranch):  # no orbit continued: nothing to write
             raise
+        family, failure = exc.partial, str(exc)
     _write(family, out, plot, quiet, branch if branch.vary == vary else None)
     if orbits:
         from ..outputs.cycle_orbits import write_orbits
@@ -126,16 +123,19 @@ def cycles_command(model, point, vary, sets, bnds, at, ntst, ncol, ds, dsmax, ma
         raise ConvergenceError(failure)
 
 
-def _check_orbits(path) -> None:
+def _check_orbits(path: str | None) -> None:
     """Check the --orbits table's path (a .csv, its folder writable) before any work."""
     from .._io import check_output_path
 
     check_output_path(path, "--orbits", (".csv",))
 
 
-def _write(family, out, plot, quiet, branch=None) -> None:
+def _write(family: CycleBranch, out: str | None, plot: str | None, quiet: bool,
+           branch: Branch | None = None) -> None:
+    """The family's table (``--out``), amplitude diagram (``--plot``) and its orbits printed one a line."""
     from ..outputs.cycle_plots import amplitude_figure
     from ..outputs.plotting import save_figure
+    from ..outputs.tables import cycle_lines
 
     check_outputs(out, plot)  # again: the folder may have changed during the run
     if out:
@@ -144,12 +144,8 @@ def _write(family, out, plot, quiet, branch=None) -> None:
         save_figure(amplitude_figure(family, branch=branch, title=f"{family.model}: cycles in {family.vary}"), plot)
     if quiet:
         return
-    rows = family.point_names()
-    click.echo(f"{'point':>6}  {family.vary:>12}  {'period [s]':>12}  {'floquet_max':>12}  stability")
-    stab, fmax = family.stability(), family.floquet_max
-    for name, i in rows:
-        click.echo(f"{name:>6}  {family.p[i]:12.6g}  {family.period[i]:12.6g}  {fmax[i]:12.6g}  {stab[i]}")
-    click.echo(f"{len(family)} orbits" + (f"; ends: {family.message}" if family.message else ""))
+    for line in cycle_lines(family):
+        click.echo(line)
     for path in (out, plot):
         if path:
             click.echo(f"wrote {path}")

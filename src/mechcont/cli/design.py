@@ -6,7 +6,7 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, names, renamed
+from ._parse import assignments, named_as, names, renamed
 from ._parse import bounds as parse_bounds
 from ._run import load_at
 from .downlock import model_and_condition, warn
@@ -36,8 +36,10 @@ from .downlock import model_and_condition, warn
 @click.option("--sensitivity", "sens_text", default=None, metavar="NAMES",
               help="Comma-separated parameters: per level, exact derivatives of the force at the design --vary value "
                    "and of the lock and fold margins (SI units).")
-def design_command(model, x_name, y_name, old_x, old_y, bounds_, levels, sets, holds, condition, force, max_steps, out,
-                   plot, sens_text):
+def design_command(model: str, x_name: str | None, y_name: str | None, old_x: str | None, old_y: str | None,
+                   bounds_: tuple[str, ...], levels: int, sets: tuple[str, ...], holds: tuple[str, ...],
+                   condition: str | None, force: str | None, max_steps: int, out: str | None, plot: str | None,
+                   sens_text: str | None) -> None:
     """Where MODEL's downlock force is positive over (--vary, --across), the margin to the folds, as a table and a plot.
 
     The lock margin is signed: positive when the design locks unaided (by that much of --vary
@@ -79,7 +81,10 @@ def design_command(model, x_name, y_name, old_x, old_y, bounds_, levels, sets, h
     system, h, f = model_and_condition(load_at(model, values), holds, force, condition)
     for n in (*values, x_name, y_name):
         system.variable(n)
-    sens_params = _checked_sensitivity(system, names(sens_text, "sensitivity"), h, f)
+    from ..analysis.design_sensitivity import check_design_parameters, design_sensitivity
+
+    with named_as({"params": "--sensitivity"}):
+        sens_params = check_design_parameters(system, names(sens_text, "sensitivity"), h, f)
     from .._progress import Progress
 
     with Progress("design", total=levels + 2, unit="runs") as bar:
@@ -89,8 +94,10 @@ def design_command(model, x_name, y_name, old_x, old_y, bounds_, levels, sets, h
                                max_steps=max_steps, progress=bar.update if bar.enabled else None)
     records = region.table()
     if sens_params:
-        notes = _add_sensitivity(system, region, records, sens_params, values, h, f)
-        warn(notes)
+        sens = design_sensitivity(system, region, sens_params, values, hold=h, force=f)
+        for rec, derivatives in zip(records, sens.rows):
+            rec.update({k: "none" if v is None else v for k, v in derivatives.items()})
+        warn(sens.notes)
     click.echo(markdown_table(records))
     warn(region.warnings)
     if region.folds is not None:
@@ -106,50 +113,3 @@ def design_command(model, x_name, y_name, old_x, old_y, bounds_, levels, sets, h
         fig = design_figure(region, force_name=f, title=f"{system.name}: where the gear locks unaided ({f} > 0)")
         save_figure(fig, plot_path, dpi=120)
         click.echo(f"wrote {plot_path}")
-
-
-def _checked_sensitivity(system, params, hold, force) -> list[str]:
-    """The --sensitivity names, each a held parameter of the downlock solve (else a one-line error)."""
-    if not params:
-        return []
-    from ..analysis.sensitivity import check_parameters
-    from ..continuation import choose_unknowns
-
-    try:
-        return check_parameters(system, params, [*choose_unknowns(system, hold=hold, free=[force])])
-    except InputError as exc:
-        raise InputError("--sensitivity", str(exc)[len(exc.field) + 2:]) from None
-
-
-def _add_sensitivity(system, region, records, params, values, hold, force) -> list[str]:
-    """Per level (in place): d<force>/dp at the design x, d(lock margin)/dp and d(margin to fold)/dp (SI), or
-    "none" where the level has no F = 0 crossing or fold; returns notes on what could not be solved."""
-    from ..analysis.sensitivity import derivative_unit, downlock_sensitivity, margin_sensitivity
-    from ..errors import ConvergenceError
-
-    xn, yn = region.x_name, region.y_name
-    x0, (lo, hi) = region.design[0], (float(region.x[0]), float(region.x[-1]))
-    ux, uf = region.units[0], region.units[2]
-    notes = []
-    for rec, row in zip(records, region.rows):
-        at = {**values, xn: x0, yn: row.level}
-        crossings = [e for iv in row.locking_intervals for e in iv if lo < e < hi]
-        targets = (("force", None, uf), ("lock margin", min(crossings, key=lambda c: abs(c - x0), default=None), ux),
-                   ("margin to fold", min(row.folds, key=lambda c: abs(c - x0), default=None), ux))
-        for what, near, unit in targets:
-            try:
-                if what == "force":
-                    s = downlock_sensitivity(system, params, at, hold=hold, force=force)
-                elif near is None:
-                    s = None
-                else:
-                    s = margin_sensitivity(system, xn, params, at, kind="lock" if what == "lock margin" else "fold",
-                                           at=near, hold=hold, force=force)
-            except (ConvergenceError, InputError) as exc:
-                notes.append(f"{yn} = {row.level:g}: the sensitivity of the {what} is unknown: {exc}")
-                s = None
-            for p in params:
-                u = derivative_unit(unit, system.variable(p).unit)
-                head = f"d{force}/d{p} at {xn}={x0:g}" if what == "force" else f"d({what})/d{p}"
-                rec[f"{head} ({u})"] = s[p] if s is not None else "none"
-    return notes

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
@@ -16,10 +18,12 @@ from ._parse import bounds as parse_bounds
 from ._run import load_at
 
 if TYPE_CHECKING:
+    from ..continuation import Branch
     from ..equations import Model
 
 
-def model_and_condition(system: Model, holds, force: str | None, condition: str | None = None):
+def model_and_condition(system: Model, holds: Iterable[str], force: str | None,
+                        condition: str | None = None) -> tuple[Model, dict[str, float], str]:
     """``system`` and its downlock condition (``--hold``/``--condition``/``--force`` or the model's own)."""
     from ..analysis.downlock import downlock_condition
 
@@ -38,7 +42,7 @@ def _or_none(value: float) -> str:
     return f"{value:12.6g}" if value == value else f"{'none':>12}"
 
 
-def warn(lines) -> None:
+def warn(lines: Iterable[str]) -> None:
     """Each line on stderr as ``warning: ...`` (runs that stopped short: where and why)."""
     for line in lines:
         click.echo(f"warning: {line}", err=True)
@@ -63,8 +67,9 @@ def warn(lines) -> None:
               help="Comma-separated parameters: exact d<FORCE>_d<NAME> columns per point (SI units).")
 @click.option("--release-span", "span", type=float, default=None, metavar="N",
               help="A lock on stops: how far each release run pushes the --force, in its scales [50].")
-def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force, max_steps, out, plot, sens_text,
-                     span):
+def downlock_command(model: str, vary: str, bounds_: tuple[str, ...], frees: tuple[str, ...], sets: tuple[str, ...],
+                     holds: tuple[str, ...], condition: str | None, force: str | None, max_steps: int | None,
+                     out: str | None, plot: str | None, sens_text: str | None, span: float | None) -> None:
     """Downlock force of MODEL (built-in name or description .toml) as a function of --vary.
 
     The lock links are held aligned (e.g. theta4 = 0, overcentre angle 180 deg, or the
@@ -144,7 +149,8 @@ def downlock_command(model, vary, bounds_, frees, sets, holds, condition, force,
     _write(branch, out_path, plot_path, vary, f, held, f"{system.name}: downlock force vs {vary}")
 
 
-def _write(branch, out_path, plot_path, vary: str, force: str, held: str, title: str) -> None:
+def _write(branch: Branch, out_path: Path | None, plot_path: Path | None, vary: str, force: str, held: str,
+           title: str) -> None:
     """The branch's table (``--out``) and figure of the force against ``vary`` (``--plot``), each when asked."""
     from ..outputs.tables import write_branch_table
 
@@ -159,7 +165,9 @@ def _write(branch, out_path, plot_path, vary: str, force: str, held: str, title:
         click.echo(f"wrote {plot_path}")
 
 
-def _on_stops(system, vary, bnds, frees, values, force, max_steps, out_path, plot_path, span=None) -> None:
+def _on_stops(system: Model, vary: str, bnds: Mapping[str, tuple[float, float]], frees: Sequence[str],
+              values: Mapping[str, float], force: str | None, max_steps: int | None, out_path: Path | None,
+              plot_path: Path | None, span: float | None = None) -> None:
     """``downlock`` on a description with stops: the lock rests on them (:mod:`mechcont.analysis.stop_lock`);
     ``span``: how far each release run pushes the force (its scales; default the library's)."""
     import math

@@ -7,22 +7,8 @@ import click
 from .._io import check_output_path
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, freed_parameters, names
-
-
-def _model(name: str, values: dict[str, float] | None = None):
-    """MODEL at the ``--set`` ``values`` (:func:`mechcont.models.model_at`, the one entry of every command)."""
-    from ..models import model_at
-
-    return model_at(name, values, field="--set")
-
-
-def _assignments(items, field: str) -> dict[str, float]:
-    return assignments(items, field)
-
-
-def _names(text: str | None, field: str) -> tuple[str, ...]:
-    return names(text, field)
+from ._parse import assignments, branch_row, freed_parameters, names
+from ._run import load_at
 
 
 @cli.command("draw")
@@ -42,7 +28,8 @@ def _names(text: str | None, field: str) -> tuple[str, ...]:
 @click.option("--label-points", is_flag=True, help="Name the described points too (bodies are named in any case "
                                                    "in a spatial drawing).")
 @click.option("--out", required=True, metavar="FILE", help="Output .png, .svg or .pdf.")
-def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, label_points, out):
+def draw_command(model: str, sets: tuple[str, ...], starts: tuple[str, ...], frees: tuple[str, ...], point: str | None,
+                 annotate: str | None, vary: str | None, no_forces: bool, label_points: bool, out: str) -> None:
     """Draw MODEL (a built-in name or a description .toml) at one equilibrium or at a branch point.
 
     The equilibrium is solved at the --set values with the --start states held and the
@@ -56,31 +43,30 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, l
 
     path = check_output_path(out, "--out", IMAGE_SUFFIXES)
     if point is not None and (sets or starts or frees):
-        raise InputError("point", "a branch point fixes every value; do not combine it with --set/--start/--free")
-    system = _model(model, _assignments(sets, "set"))
-    names = _names(annotate, "annotate") or default_annotate(system)
+        raise InputError("--point", "a branch point fixes every value; do not combine it with --set/--start/--free")
+    system = load_at(model, assignments(sets, "set"))
+    shown = names(annotate, "annotate") or default_annotate(system)
     if vary is not None:
         if point is None:
-            raise InputError("vary", "names the continuation parameter of a branch; use it with --point")
+            raise InputError("--vary", "names the continuation parameter of a branch; use it with --point")
         system.index(vary)
-    stable, label = None, ""
+    stable: bool | None = None
+    label = ""
     if point is not None:
-        csv_path, sep, row = point.rpartition(":")
-        if not sep or not csv_path or not row:
-            raise InputError("point", f"'{point}' is not BRANCH.csv:ROW")
+        csv_path, row = branch_row(point, "--point", "ROW")
         frames = branch_frames(system, csv_path)
         i = frames.row(row)
         x, stable, label = frames.values[i], frames.stable[i], frames.numbered_labels[i]
         lead = vary or frames.vary
-        names = tuple(dict.fromkeys([*([lead] if lead else []), *names]))
+        shown = tuple(dict.fromkeys([*([lead] if lead else []), *shown]))
     else:
         from ..continuation import find_equilibrium
 
-        x = find_equilibrium(system, values=_assignments(sets, "set"), hold=_assignments(starts, "start"),
+        x = find_equilibrium(system, values=assignments(sets, "set"), hold=assignments(starts, "start"),
                              free=freed_parameters(system, frees))
         if system.mechanics is not None:
             stable = bool(system.mechanics.stability(x).stable)
-    draw(system, x, path, annotate=names, stable=stable, label=label, show_forces=not no_forces,
+    draw(system, x, path, annotate=shown, stable=stable, label=label, show_forces=not no_forces,
          label_points=label_points)
     click.echo(str(path))
 
@@ -107,8 +93,9 @@ def draw_command(model, sets, starts, frees, point, annotate, vary, no_forces, l
 @click.option("--no-forces", is_flag=True, help="Do not draw the applied forces and moments.")
 @click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
 @click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
-def animate_command(model, branch_csv, out, fps, every, pause, old_hold, annotate, vary, diagram, no_forces, no_progress,
-                    old_quiet):
+def animate_command(model: str, branch_csv: str, out: str, fps: float | None, every: int, pause: float,
+                    old_hold: float | None, annotate: str | None, vary: str | None, diagram: str | None,
+                    no_forces: bool, no_progress: bool, old_quiet: bool) -> None:
     """Animate MODEL along a branch CSV (columns: variables, s, stability, label).
 
     Each frame prints the continuation parameter (--vary), the --annotate variables (angles
@@ -129,26 +116,26 @@ def animate_command(model, branch_csv, out, fps, every, pause, old_hold, annotat
     # --hold names a held state in continue, folds and sensitivity (one meaning per option): the old spelling still works
     pause = check_hold(pause, "--pause") if old_hold is None else check_hold(old_hold, "--hold")
     if every < 1:
-        raise InputError("every", f"must be an integer >= 1, not {every}")
-    system = _model(model)
-    names = _names(annotate, "annotate") or default_annotate(system)
+        raise InputError("--every", f"must be an integer >= 1, not {every}")
+    system = load_at(model, {})
+    shown = names(annotate, "annotate") or default_annotate(system)
     if vary is not None:
         system.index(vary)
     frames = branch_frames(system, branch_csv)
     pair: tuple[str, str] | None = None
     if diagram is None:  # the continuation parameter against the first annotated state
         x = vary or frames.vary
-        y = next((n for n in names if n != x and system.variable(n).kind == "state"), None)
+        y = next((n for n in shown if n != x and system.variable(n).kind == "state"), None)
         pair = (x, y) if x and y else None
     elif diagram.strip().lower() != "none":
-        given = _names(diagram, "diagram")
+        given = names(diagram, "diagram")
         if len(given) != 2:
-            raise InputError("diagram", f"give exactly two variable names X,Y (or none), not '{diagram}'")
+            raise InputError("--diagram", f"give exactly two variable names X,Y (or none), not '{diagram}'")
         pair = (given[0], given[1])
     total = len(frame_rows(frames, every))
     if old_hold is not None:  # said once the input is known good, so that an error stays one line
         click.echo("note: animate --hold SECONDS is now --pause SECONDS (--hold will be removed)", err=True)
     with Progress("animation", total=total, unit="frames", quiet=no_progress or old_quiet) as bar:
-        n = animate(system, frames, path, fps=fps, every=every, annotate=names, vary=vary, diagram=pair,
+        n = animate(system, frames, path, fps=fps, every=every, annotate=shown, vary=vary, diagram=pair,
                     show_forces=not no_forces, hold=pause, on_frame=bar.update if bar.enabled else None)
     click.echo(f"{path} ({n} frames)")

@@ -2,14 +2,19 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import click
 
 from ..errors import InputError
 from ._app import cli
 from ._parse import assignments
 
+if TYPE_CHECKING:
+    from ..equations import Model
 
-def _system(model: str, reduced: bool, overrides: dict[str, float]):
+
+def _system(model: str, reduced: bool, overrides: dict[str, float]) -> Model:
     """A built-in model or description (see ``load_model``); ``reduced`` needs a description."""
     from ..equations import check_values_at
     from ..mechanism import find_description, load
@@ -35,7 +40,7 @@ def _system(model: str, reduced: bool, overrides: dict[str, float]):
                                                "and their reactions eliminated.")
 @click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
 @click.option("--shared", is_flag=True, help="Name repeated sub-expressions (w0, w1, ...) and list them first.")
-def equations_command(model: str, latex: bool, reduced: bool, settings: tuple[str, ...], shared: bool):
+def equations_command(model: str, latex: bool, reduced: bool, settings: tuple[str, ...], shared: bool) -> None:
     """Print the equations G(x) = 0 of MODEL: a built-in model name (overcentre), a shipped
     description stem (e.g. fourbar) or a mechanism description file (.toml)."""
     system = _system(model, reduced, assignments(settings, "set"))
@@ -56,7 +61,7 @@ def equations_command(model: str, latex: bool, reduced: bool, settings: tuple[st
     click.echo(system.pretty(shared=shared))
 
 
-def _header(system) -> None:
+def _header(system: Model) -> None:
     """The description, states and parameters of ``system`` as comment lines."""
     if system.description:
         click.echo(f"# {system.description}")

@@ -21,7 +21,8 @@ from ._parse import assignments
 @click.option("--max-rows", type=int, default=None, metavar="N",
               help="Rows per branch embedded at most; a longer table is thinned, special points kept [3000].")
 @click.option("--out", required=True, metavar="FILE.html", help="The page to write (.html).")
-def explore_command(model, branches, orbits, sets, max_rows, out):
+def explore_command(model: str, branches: tuple[str, ...], orbits: tuple[str, ...], sets: tuple[str, ...],
+                    max_rows: int | None, out: str) -> None:
     """Write one HTML page to explore the branches of MODEL in a browser, offline.
 
     The bifurcation diagram (any two columns on the axes, stable solid, unstable dashed,

@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import click
-import numpy as np
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, renamed
+from ._parse import assignments, branch_row, named_as, renamed
 from ._run import (
     check_outputs,
     common_options,
@@ -20,6 +21,10 @@ from ._run import (
     solve_start,
     write_branch,
 )
+
+if TYPE_CHECKING:
+    from ..continuation import Branch, ContinuationOptions
+    from ..equations import Model
 
 
 @cli.command("folds")
@@ -40,8 +45,11 @@ from ._run import (
                    "(HBn, continued as a Hopf curve with BT and GH); its vary column gives P1.")
 @click.option("--fold-curve", "fold_curves", multiple=True, metavar="CURVE.csv",
               help="With --point HBn and --plot: a fold curve table (written by folds) drawn on the stability chart.")
-def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps, quiet, vary, second, old_frees, which,
-                  out, plot, point, fold_curves):
+def folds_command(model: str, sets: tuple[str, ...], starts: tuple[str, ...], holds: tuple[str, ...],
+                  frees: tuple[str, ...], bnds: tuple[str, ...], ds: float | None, dsmax: float | None,
+                  max_steps: int | None, quiet: bool, vary: str | None, second: str | None,
+                  old_frees: tuple[str, ...], which: int, out: str | None, plot: str | None, point: str | None,
+                  fold_curves: tuple[str, ...]) -> None:
     """Locate fold number --fold of the branch in --vary, then continue it in --along.
 
     --free names a parameter solved for on the branch, as in `continue`. Scripts written before
@@ -98,41 +106,29 @@ def folds_command(model, sets, starts, holds, frees, bnds, ds, dsmax, max_steps,
     write_branch(curve, out, plot, second, vary, quiet, extra=shown)
 
 
-def _from_point(system, point: str, given_vary, second: str, holds, frees, options, out, plot, quiet,
-                fold_curves=()) -> None:
+def _from_point(system: Model, point: str, given_vary: str | None, second: str, holds: Sequence[str],
+                frees: Sequence[str], options: ContinuationOptions, out: str | None, plot: str | None, quiet: bool,
+                fold_curves: Sequence[str] = ()) -> None:
     """``folds --point BRANCH.csv:ROW --along P2``: the fold curve of an ``LP`` row, the Hopf curve of an
     ``HB`` row (with its stability chart as the plot)."""
-    from ..continuation import (
-        Branch,
-        check_branch_table,
-        check_point,
-        choose_unknowns,
-        continue_folds,
-        continue_hopf,
-        locate_hopf,
-    )
+    from ..continuation import continue_folds, continue_hopf
+    from ..continuation.branch_rows import read_branch_row
 
-    csv_path, sep, row = point.rpartition(":")
-    if not sep or not csv_path or not row:
-        raise InputError("--point", f"'{point}' is not BRANCH.csv:ROW (e.g. branch.csv:HB1)")
-    branch = Branch.read_csv(csv_path, model=system.name)
-    check_branch_table(branch, system, csv_path)
-    if not branch.vary or branch.vary not in system.names:
-        raise InputError("--point", f"'{csv_path}' is not a branch table of model '{system.name}' (with its vary "
-                                    "column)")
-    vary = branch.vary
+    csv_path, row = branch_row(point, "--point", "ROW (e.g. branch.csv:HB1)")
+    with named_as({"point": "--point"}):
+        found = read_branch_row(system, csv_path, row, hold=holds, free=frees)
+    vary = found.vary
     if given_vary is not None and given_vary != vary:
         raise InputError("--vary", f"is {given_vary}, but '{csv_path}' was continued in {vary}; leave --vary out with "
                                    "--point")
     if vary == second:
         raise InputError("--along", f"is the branch's own parameter {vary}; choose a second parameter")
-    p = branch.point(row)
-    states = choose_unknowns(system, hold=holds, free=frees, exclude=[vary])
+    p = found.point
     folds = [_fold_curve_table(path, system, vary, second) for path in fold_curves]
     if p.label == "LP":
         if folds:
             raise InputError("--fold-curve", "is drawn on a Hopf point's stability chart; this point is a fold")
-        check_point(system, p.x, label="LP", vary=vary, states=states, name=f"{csv_path}:{row}")
+        found.check(system, "LP")
         curve = run_continuation(continue_folds, system, p.x, vary, second, hold=holds, free_extra=frees,
                                  options=options, quiet=quiet, label="fold curve")
         write_branch(curve, out, plot, second, vary, quiet)
@@ -140,18 +136,15 @@ def _from_point(system, point: str, given_vary, second: str, holds, frees, optio
     if p.label != "HB":
         raise InputError("--point", f"'{row}' is labelled '{p.label or 'nothing'}'; give a fold (LPn) or a Hopf "
                                     "point (HBn)")
-    check_point(system, p.x, label="HB", vary=vary, states=states, name=f"{csv_path}:{row}")
-    hb = locate_hopf(system, p.x, vary, hold=holds, free=frees)
-    moved = np.max(np.abs(hb.x - p.x) / np.maximum(system.scales(), np.abs(p.x)))
-    if moved > 1e-6:
-        raise InputError("--point", f"{csv_path}:{row} is not a Hopf point: the nearest one lies at {vary} = "
-                                    f"{hb[vary]:.10g}")
+    found.check(system, "HB")
+    with named_as({"point": "--point"}):
+        hb = found.hopf(system, hold=holds, free=frees)
     curve = run_continuation(continue_hopf, system, hb, vary, second, options=options, quiet=quiet,
                              label="Hopf curve")
     _write_hopf_curve(curve, out, plot, second, vary, quiet, folds)
 
 
-def _fold_curve_table(path: str, system, p1: str, p2: str):
+def _fold_curve_table(path: str, system: Model, p1: str, p2: str) -> Branch:
     """A fold-curve table for the stability chart: a branch table of ``system`` with both parameters."""
     from ..continuation import Branch, check_branch_table
 
@@ -163,7 +156,8 @@ def _fold_curve_table(path: str, system, p1: str, p2: str):
     return curve
 
 
-def _write_hopf_curve(curve, out, plot, x: str, y: str, quiet: bool, folds=()) -> None:
+def _write_hopf_curve(curve: Branch, out: str | None, plot: str | None, x: str, y: str, quiet: bool,
+                      folds: Sequence[Branch] = ()) -> None:
     """The Hopf curve's table, its stability chart, and its special points with omega and l1."""
     from ..outputs.plotting import save_figure
     from ..outputs.stability_chart import stability_chart

@@ -10,7 +10,18 @@ import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import MAX_SCAN, assignments, check_count, check_integration, integrator, integrator_options, number, renamed
+from ._parse import (
+    MAX_SCAN,
+    assignments,
+    check_count,
+    check_integration,
+    integrator,
+    integrator_options,
+    named_item,
+    number,
+    renamed,
+    span,
+)
 
 if TYPE_CHECKING:
     from ..equations import Model
@@ -20,28 +31,17 @@ LockSpec = str | list[str] | tuple[str, float]
 
 
 def _range(text: str | None, option: str) -> tuple[str, float, float] | None:
-    """``"U=20:80"`` -> ``("U", 20.0, 80.0)``."""
-    if text is None:
-        return None
-    name, sep, rng = text.partition("=")
-    lo, colon, hi = rng.partition(":")
-    name = name.strip()
-    if not sep or not name or not colon:
-        raise InputError(option, f"'{text}' is not NAME=LO:HI")
-    low, high = number(lo.strip(), f"{option} {name}"), number(hi.strip(), f"{option} {name}")
-    if not low < high:
-        raise InputError(option, f"needs LO < HI, got {lo}:{hi}")
-    return name, low, high
+    """``"U=20:80"`` -> ``("U", 20.0, 80.0)`` (:func:`mechcont.cli._parse.span`, both ends finite)."""
+    return None if text is None else span(text, option)
 
 
 def _scan(text: str | None) -> tuple[str, list[float]] | None:
     """``"c=1,10,100"`` -> ``("c", [1.0, 10.0, 100.0])``."""
     if text is None:
         return None
-    name, sep, vals = text.partition("=")
-    name = name.strip()
+    name, vals = named_item(text, "--scan", "NAME=V1,V2,...")
     items = [v.strip() for v in vals.split(",") if v.strip()]
-    if not sep or not name or not items:
+    if not items:
         raise InputError("--scan", f"'{text}' is not NAME=V1,V2,...")
     return name, [number(v, f"--scan {name}") for v in items]
 

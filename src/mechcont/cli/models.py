@@ -13,7 +13,7 @@ from ._app import cli
 @cli.command("models")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 @click.argument("names", nargs=-1)
-def models_command(as_json, names):
+def models_command(as_json: bool, names: tuple[str, ...]) -> None:
     """List models (or show NAMES) with states, parameters, defaults and units."""
     from ..models import describe_model, model_names
 

@@ -3,12 +3,23 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, bounds
+from ._parse import assignments, bounds, branch_row, named_as, named_item
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from ..analysis.optimize import Constraint, OptimumResult
+    from ..analysis.study import Distribution
+    from ..equations import Model
 
 
 @cli.command("optimize")
@@ -38,8 +49,9 @@ from ._parse import assignments, bounds
 @click.option("--plot", default=None, metavar="FILE",
               help="With two --design parameters: the optimum on their design map, with the active constraints' "
                    "boundaries (.png, .svg, .pdf).")
-def optimize_command(model, minimize_, maximize_, designs, constraints, dists, sets, force, point, max_iter, starts,
-                     out, plot):
+def optimize_command(model: str, minimize_: str | None, maximize_: str | None, designs: tuple[str, ...],
+                     constraints: tuple[str, ...], dists: tuple[str, ...], sets: tuple[str, ...], force: str | None,
+                     point: str | None, max_iter: int, starts: int, out: str | None, plot: str | None) -> None:
     """Minimise or maximise a quantity over the --design parameters within their bounds, under --constraint.
 
     SLSQP on exact gradients (implicit-function theorem). Prints the optimum, the active
@@ -66,12 +78,10 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
 
     check_output_path(out, "--out", (".json",))
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
-    if (minimize_ is None) == (maximize_ is None):
+    objective = minimize_ if maximize_ is None else maximize_
+    if objective is None or (minimize_ is not None and maximize_ is not None):
         raise InputError("--minimize", "give exactly one of --minimize QUANTITY or --maximize QUANTITY")
-    try:
-        design = bounds(designs)
-    except InputError as exc:
-        raise InputError(exc.field.replace("--bounds", "--design"), str(exc)[len(exc.field) + 2:]) from None
+    design = bounds(designs, "--design")
     values = assignments(sets, "set")
     if plot_path is not None and len(design) != 2:
         raise InputError("--plot", f"a design map needs exactly two --design parameters, got {len(design)}")
@@ -91,7 +101,7 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
         parsed = [Constraint.parse(c) for c in constraints]
         if random and not any(c.quantity == NOT_LOCKING for c in parsed):
             raise InputError("--dist", f"tolerances are for a constraint '{NOT_LOCKING} <= P'; none is given")
-        result = optimize(system, minimize_ or maximize_, design, maximize=maximize_ is not None, constraints=parsed,
+        result = optimize(system, objective, design, maximize=maximize_ is not None, constraints=parsed,
                           values=values, fold=fold, max_iter=max_iter, random=random, starts=starts, force=force)
     except InputError as exc:
         if exc.field in ("constraint", "dist"):
@@ -109,7 +119,9 @@ def optimize_command(model, minimize_, maximize_, designs, constraints, dists, s
         click.echo(f"warning: the optimiser did not converge: {result.message}", err=True)
 
 
-def _plot(system, result, sense, design, constraints, values, random, path) -> None:
+def _plot(system: Model, result: OptimumResult, sense: str, design: Mapping[str, tuple[float, float]],
+          constraints: Sequence[Constraint], values: Mapping[str, float], random: Mapping[str, Distribution],
+          path: Path) -> None:
     """The optimum on the design map of its two design parameters, written to ``path``."""
     from ..analysis.optimize import optimum_map
     from ..outputs.design_plots import optimum_figure
@@ -125,35 +137,27 @@ def _plot(system, result, sense, design, constraints, values, random, path) -> N
     click.echo(f"wrote {path}")
 
 
-def _distributions(dists) -> dict:
+def _distributions(dists: Sequence[str]) -> dict[str, Distribution]:
+    """``--dist NAME=KIND:...`` items -> ``{NAME: Distribution}`` (each name once)."""
     from ..analysis.study import parse_distribution
 
-    out = {}
+    out: dict[str, Distribution] = {}
     for item in dists:
-        name, sep, rest = item.partition("=")
-        if not sep or not name.strip():
-            raise InputError("--dist", f"'{item}' is not NAME=KIND:... (e.g. LU=normal:1.3:0.01)")
-        if name.strip() in out:
-            raise InputError("--dist", f"{name.strip()} has two distributions")
-        out[name.strip()] = parse_distribution(rest, f"--dist {name.strip()}")
+        name, rest = named_item(item, "--dist", "NAME=KIND:... (e.g. LU=normal:1.3:0.01)")
+        if name in out:
+            raise InputError("--dist", f"{name} has two distributions")
+        out[name] = parse_distribution(rest, f"--dist {name}")
     return out
 
 
-def _fold(system, point: str):
-    from ..continuation import Branch, choose_unknowns
+def _fold(system: Model, point: str) -> tuple[npt.NDArray[np.float64], list[str], str]:
+    """``--point BRANCH.csv:LPn``: the fold's full vector, the states solved for there and the branch's parameter."""
+    from ..continuation.branch_rows import read_branch_row
 
-    csv_path, sep, row = point.rpartition(":")
-    if not sep or not csv_path or not row:
-        raise InputError("--point", f"'{point}' is not BRANCH.csv:LPn (e.g. branch.csv:LP1)")
-    from ..continuation import check_branch_table, check_point
-
-    branch = Branch.read_csv(csv_path, model=system.name)
-    check_branch_table(branch, system, csv_path)
-    if not branch.vary or branch.vary not in system.names:
-        raise InputError("--point", f"'{csv_path}' is not a branch table of model '{system.name}' (with its vary column)")
-    p = branch.point(row)
-    if p.label != "LP":
+    csv_path, row = branch_row(point, "--point", "LPn (e.g. branch.csv:LP1)")
+    with named_as({"point": "--point"}):
+        found = read_branch_row(system, csv_path, row)
+    if found.point.label != "LP":
         raise InputError("--point", f"'{row}' is not a fold; fold_load follows a point labelled LP")
-    states = choose_unknowns(system, exclude=[branch.vary])
-    check_point(system, p.x, label="LP", vary=branch.vary, states=states, name=f"{csv_path}:{row}")
-    return p.x, states, branch.vary
+    found.check(system, "LP")
+    return found.point.x, list(found.unknowns), found.vary

@@ -2,14 +2,25 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import TYPE_CHECKING
+
 import click
 
 from ..errors import InputError
 from ._app import cli
-from ._parse import assignments, check_integration, integrator, integrator_options, named_as
+from ._parse import Integrator, assignments, check_integration, integrator, integrator_options, named_as
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from ..dynamics import SimulationResult
+    from ..equations import Model
 
 
-def _start(system, starts) -> tuple:
+def _start(system: Model, starts: tuple[str, ...],
+           coords: tuple[str, ...]) -> tuple[npt.NDArray[np.float64], dict[str, float]]:
     """The assembled start vector: ``--start`` coordinates or conditions held."""
     from ..dynamics import assemble
 
@@ -17,14 +28,14 @@ def _start(system, starts) -> tuple:
     for n in start:
         if n not in system.names:
             raise InputError("--start", f"{n} is not a variable of {system.name}; give a coordinate or a condition: "
-                                        + ", ".join(_holdable(system)))
+                                        + ", ".join(_holdable(system, coords)))
     try:
         return assemble(system, start, hold=list(start)), start
     except InputError as exc:
         raise InputError("--start", str(exc).split(": ", 1)[-1]) from None
 
 
-def echo_balance(result) -> None:
+def echo_balance(result: SimulationResult) -> None:
     """Print the history's energy balance in one line; warn (one line, stderr) when its residual
     exceeds what the integrator's tolerance explains (:attr:`~mechcont.dynamics.EnergyBalance.bound`). A history
     without the audit (a mechanism with element states: a tyre's deflection) says so instead."""
@@ -40,9 +51,9 @@ def echo_balance(result) -> None:
                    err=True)
 
 
-def _holdable(system) -> list[str]:
+def _holdable(system: Model, coords: tuple[str, ...]) -> list[str]:
     """The names ``--start`` accepts: coordinates and conditions."""
-    return [*system.mechanics.coordinates, *(r[5:] for r in system.equation_names if r.startswith("cond_"))]
+    return [*coords, *(r[5:] for r in system.equation_names if r.startswith("cond_"))]
 
 
 @cli.command("simulate")
@@ -65,8 +76,9 @@ def _holdable(system) -> list[str]:
 @click.option("--plot", default=None, metavar="FILE.png", help="Plot WATCH against time, stop events marked.")
 @click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
 @click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
-def simulate_command(model, settings, starts, until, use_stops, watch, damping, method, rtol, atol, step_budget, out, plot,
-                     no_progress, old_quiet):
+def simulate_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...], until: float, use_stops: bool,
+                     watch: str | None, damping: float, method: str, rtol: float, atol: float, step_budget: int,
+                     out: str | None, plot: str | None, no_progress: bool, old_quiet: bool) -> None:
     """Simulate MODEL in time from rest in the pose assembled with the --start values held.
 
     Example: mechcont simulate tests/data/bar_drop.toml --start theta_bar=0 --until 3 --stops
@@ -93,7 +105,7 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
         return _simulate_ode(system, model, starts, until, watch, solver, step_budget, out_path, plot_path,
                              use_stops=use_stops, damping=damping, quiet=no_progress or old_quiet)
     coords = check_simulable(system, model).coordinates
-    x0, start = _start(system, starts)
+    x0, start = _start(system, starts, coords)
     if watch is None:
         watch = next(iter(start), coords[0])
     elif watch not in system.names and not (watch.endswith("_dot") and watch[:-4] in coords):
@@ -155,8 +167,9 @@ def simulate_command(model, settings, starts, until, use_stops, watch, damping, 
         raise InputError("redundant", result.motion_warning)
 
 
-def _simulate_ode(system, model: str, starts, until: float, watch, solver: dict, step_budget: int, out_path, plot_path,
-                  *, use_stops: bool, damping: float, quiet: bool) -> None:
+def _simulate_ode(system: Model, model: str, starts: tuple[str, ...], until: float, watch: str | None,
+                  solver: Integrator, step_budget: int, out_path: Path | None, plot_path: Path | None, *,
+                  use_stops: bool, damping: float, quiet: bool) -> None:
     """``simulate`` of an ODE file: du/dt = f(u, p) from the file's initial states (``--start`` replacing them)."""
     from .._progress import Progress
     from ..dynamics import ode_start, simulate_ode
@@ -164,6 +177,7 @@ def _simulate_ode(system, model: str, starts, until: float, watch, solver: dict,
     for given, option in ((use_stops, "--stops"), (damping != 0.0, "--damping")):
         if given:
             raise InputError(option, f"is a mechanism option; {model} is an ODE system")
+    assert system.ode is not None  # the caller's branch: an ODE file
     x0 = ode_start(system, assignments(starts, "start"))
     states = system.ode.states
     watch = watch or next(iter(assignments(starts, "start")), states[0])

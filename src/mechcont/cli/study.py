@@ -4,18 +4,37 @@ from __future__ import annotations
 
 import math
 import sys
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Protocol
 
 import click
 
 from ..errors import InputError
 from ..units import derivative_unit as per_unit  # noqa: F401 - the slope's unit, by the name it had here
 from ._app import cli
-from ._parse import assignments, named_as, renamed
+from ._parse import assignments, named_as, named_item, renamed
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from ..analysis.study import StudyResult, StudySpec
 
 
-def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds, condition, force, chunk, lock=(),
-          until=None):
+class _Estimate(Protocol):
+    """What the study's cost estimate offers the command (:func:`mechcont.analysis.study.run_study`'s on_estimate)."""
+
+    @property
+    def seconds(self) -> float: ...
+
+    def describe(self) -> str: ...
+
+
+def _spec(model: str, sample: str | None, n: int | None, seed: int, dists: Sequence[str], grids: Sequence[str],
+          spec_file: str | None, analyses: Sequence[str], sets: Sequence[str], holds: Sequence[str],
+          condition: str | None, force: str | None, chunk: int | None, lock: Sequence[str] = (),
+          until: float | None = None) -> StudySpec:
+    """The study's :class:`~mechcont.analysis.study.StudySpec` from the --spec file or the options."""
     from ..analysis.study import Distribution, GridAxis, StudySpec, parse_axis, parse_distribution
 
     if spec_file is not None:
@@ -28,11 +47,8 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
         raise InputError("--dist", "give the sampled parameters: --dist NAME=normal:MEAN:SD (or uniform:LO:HI, "
                                    "truncnormal:MEAN:SD:LO:HI) or --grid NAME=LO:HI:N")
 
-    def split(item, option):
-        name, sep, rest = item.partition("=")
-        if not sep or not name.strip():
-            raise InputError(option, f"'{item}' is not NAME=...")
-        return name.strip(), rest
+    def split(item: str, option: str) -> tuple[str, str]:
+        return named_item(item, option, "NAME=...")
 
     params: tuple[tuple[str, GridAxis | Distribution], ...]
     if grids:
@@ -93,8 +109,12 @@ def _spec(model, sample, n, seed, dists, grids, spec_file, analyses, sets, holds
               help="Refuse a study whose computing time, estimated from a few samples timed first, is longer.")
 @click.option("--verbose", is_flag=True, help="One line per chunk written.")
 @click.option("--quiet", is_flag=True, help="Print nothing but errors.")
-def study_command(model, dists, grids, sample, method, n, seed, spec_file, analyses, lock, until, sets, holds, starts,
-                  condition, force, out_dir, old_out, resume, chunk, scheduler, workers, plot, max_hours, verbose, quiet):
+def study_command(model: str, dists: tuple[str, ...], grids: tuple[str, ...], sample: str | None, method: str,
+                  n: int | None, seed: int, spec_file: str | None, analyses: tuple[str, ...], lock: tuple[str, ...],
+                  until: float | None, sets: tuple[str, ...], holds: tuple[str, ...], starts: tuple[str, ...],
+                  condition: str | None, force: str | None, out_dir: str | None, old_out: str | None, resume: bool,
+                  chunk: int | None, scheduler: str, workers: int | None, plot: str | None, max_hours: float,
+                  verbose: bool, quiet: bool) -> None:
     """Sample MODEL's parameters and solve the downlock (and unlock folds) at every sample.
 
     Results go to --dir as Parquet, one part per chunk as soon as it is done, then
@@ -130,8 +150,11 @@ def study_command(model, dists, grids, sample, method, n, seed, spec_file, analy
                force, out, resume, chunk, scheduler, workers, plot, plot_path, verbose, quiet, max_hours * 3600.0)
 
 
-def _study(model, dists, grids, sample, method, n, seed, spec_file, analyses, lock, until, sets, holds, condition,
-           force, out, resume, chunk, scheduler, workers, plot, plot_path, verbose, quiet, max_seconds) -> None:
+def _study(model: str, dists: Sequence[str], grids: Sequence[str], sample: str | None, method: str, n: int | None,
+           seed: int, spec_file: str | None, analyses: Sequence[str], lock: Sequence[str], until: float | None,
+           sets: Sequence[str], holds: Sequence[str], condition: str | None, force: str | None, out: str,
+           resume: bool, chunk: int | None, scheduler: str, workers: int | None, plot: str | None,
+           plot_path: Path | None, verbose: bool, quiet: bool, max_seconds: float) -> None:
     """The study, its inputs checked for the folder and the figure."""
     import time
 
@@ -161,12 +184,12 @@ def _study(model, dists, grids, sample, method, n, seed, spec_file, analyses, lo
     where = None if scheduler == "serial" else scheduler
     from .._progress import Progress
 
-    def chunk_line(k, seconds):
+    def chunk_line(k: int, seconds: float) -> None:
         if verbose:
             click.echo(f"chunk {k} written ({seconds:.3g} s)")
             sys.stdout.flush()
 
-    def estimate_line(est):
+    def estimate_line(est: _Estimate) -> None:
         if not quiet and est.seconds >= 60:  # a study of a minute or more says what it is in for
             click.echo(f"study: {est.describe()}")
             sys.stdout.flush()
@@ -189,8 +212,10 @@ def _study(model, dists, grids, sample, method, n, seed, spec_file, analyses, lo
             click.echo(f"wrote {plot_path}")
 
 
-def _form(model, dists, grids, sample, n, seed, spec_file, analyses, sets, holds, condition, force, out, resume,
-          chunk, scheduler, workers, plot, quiet) -> None:
+def _form(model: str, dists: Sequence[str], grids: Sequence[str], sample: str | None, n: int | None, seed: int,
+          spec_file: str | None, analyses: Sequence[str], sets: Sequence[str], holds: Sequence[str],
+          condition: str | None, force: str | None, out: str, resume: bool, chunk: int | None, scheduler: str,
+          workers: int | None, plot: str | None, quiet: bool) -> None:
     """``--method form``: FORM, SORM and importance sampling; DIR/reliability.json."""
     from ..analysis.reliability import DEFAULT_SAMPLES, downlock_reliability
 
@@ -225,7 +250,8 @@ def _hint() -> str:
     return STUDY_EXTRA_HINT
 
 
-def _report(df, spec, result, seconds) -> None:
+def _report(df: pd.DataFrame, spec: StudySpec, result: StudyResult, seconds: float) -> None:
+    """The study's summary lines (:func:`mechcont.analysis.study.study_report`), its warnings on stderr."""
     from ..analysis.study import study_report
 
     lines, warnings = study_report(df, spec, result, seconds)

@@ -2,22 +2,32 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+from typing import TYPE_CHECKING
+
 import click
 
 from ..errors import InputError
 from ..units import display
 from ._app import cli
-from ._parse import assignments, check_integration, integrator, integrator_options, number
+from ._parse import assignments, check_integration, integrator, integrator_options, named_item, number
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from ..continuation import Branch
+    from ..dynamics import SweepResult
+    from ..equations import Model
 
 
-def _ramps(items) -> list[tuple[str, float, float, float]]:
+def _ramps(items: Iterable[str]) -> list[tuple[str, float, float, float]]:
     """``["F=60:-90:2"]`` -> ``[("F", 60.0, -90.0, 2.0)]``."""
     out = []
     for item in items:
-        name, sep, spec = item.partition("=")
-        name = name.strip()
+        name, spec = named_item(item, "--ramp", "NAME=FROM:TO:RATE")
         parts = spec.split(":")
-        if not sep or not name or len(parts) != 3:
+        if len(parts) != 3:
             raise InputError("--ramp", f"'{item}' is not NAME=FROM:TO:RATE")
         a, b, r = (number(p.strip(), f"--ramp {name}") for p in parts)
         out.append((name, a, b, r))
@@ -26,12 +36,12 @@ def _ramps(items) -> list[tuple[str, float, float, float]]:
     return out
 
 
-def _shown(system, name: str, value: float) -> tuple[float, str]:
+def _shown(system: Model, name: str, value: float) -> tuple[float, str]:
     """A value and its unit as printed: angles in degrees."""
     return display(value, system.variable(name).unit)
 
 
-def _read_branch(path, system, parameter: str, watch: str):
+def _read_branch(path: str, system: Model, parameter: str) -> Branch:
     """The --branch table: a branch of this model continued in the ramped ``parameter``."""
     from ..continuation import Branch
 
@@ -45,25 +55,19 @@ def _read_branch(path, system, parameter: str, watch: str):
     return branch
 
 
-def _other_values(branch, system, ramped) -> list[str]:
+def _other_values(branch: Branch, system: Model, ramped: Iterable[str]) -> list[str]:
     """The parameters (not ramped) whose value on the --branch differs from the sweep's, in the equations:
-    ``["l0 = 0.6 m (sweep 0.5 m)"]`` (:func:`mechcont.dynamics.branch_differences`)."""
-    import numpy as np
+    ``["l0 = 0.6 m (sweep 0.5 m)"]`` (:func:`mechcont.dynamics.held_branch_differences`)."""
+    from ..dynamics import held_branch_differences
 
-    from ..dynamics import branch_differences
-
-    # a stop's reaction, or a parameter that moves along the branch, is solved for there (not a value it was
-    # continued at): only the parameters held along the whole branch are compared
-    solved = {s.reaction for s in system.stops}
-    solved |= {n for n in system.parameter_names if np.ptp(np.asarray(branch[n], dtype=float)) > 0}
     out = []
-    for n, on_branch, here in branch_differences(system, branch, ignore=[*ramped, *solved]):
+    for n, on_branch, here in held_branch_differences(system, branch, ramped):
         a, b = _shown(system, n, on_branch), _shown(system, n, here)
         out.append(f"{n} = {a[0]:.6g} {a[1]} (sweep {b[0]:.6g} {b[1]})".replace(" )", ")"))
     return out
 
 
-def _start_on_stops(system, x0):
+def _start_on_stops(system: Model, x0: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
     """With --stops the sweep starts from the equilibrium nearest the assembled start with a consistent set of
     stops in contact (:func:`mechcont.analysis.equilibrium_on_stops`), so the simulation starts where the
     stops allow; one line naming --start when there is none."""
@@ -79,7 +83,7 @@ def _start_on_stops(system, x0):
     return x
 
 
-def _gaps(result, branch) -> list[str]:
+def _gaps(result: SweepResult, branch: Branch | None) -> list[str]:
     """Per jump: "; 4.8 N past LP2 (F = -75.58 N)", the gap to the fold it follows (empty without a branch)."""
     if branch is None:
         return []
@@ -94,7 +98,7 @@ def _gaps(result, branch) -> list[str]:
     return out
 
 
-def _print_stop_loads(system, result) -> None:
+def _print_stop_loads(system: Model, result: SweepResult) -> None:
     """One line per stop event of a sweep with stops: time, kind, stop and the ramped load there."""
     name = result.ramps[0].name
     unit = system.variable(name).unit
@@ -133,8 +137,10 @@ def _print_stop_loads(system, result) -> None:
                    "ramped load at each contact and release.")
 @click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
 @click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
-def sweep_command(model, settings, starts, ramps, watch, damping, settle, equilibrium, through, method, rtol, atol, out, plot,
-                  branch_csv, use_stops, no_progress, old_quiet):
+def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...], ramps: tuple[str, ...], watch: str,
+                  damping: float, settle: float, equilibrium: bool, through: float | None, method: str, rtol: float,
+                  atol: float, out: str | None, plot: str | None, branch_csv: str | None, use_stops: bool,
+                  no_progress: bool, old_quiet: bool) -> None:
     """Ramp loads of MODEL slowly in a time simulation and report where WATCH jumps.
 
     Example: mechcont sweep overcentre --set LU=0.4 --set c=50 --start theta1=1.2
@@ -157,7 +163,7 @@ def sweep_command(model, settings, starts, ramps, watch, damping, settle, equili
     solver = integrator(method, rtol, atol)
     segs = parse_ramps(_ramps(ramps))
     system = model_at(model, assignments(settings, "set"))
-    branch = _read_branch(branch_csv, system, segs[0].name, watch) if branch_csv is not None else None
+    branch = _read_branch(branch_csv, system, segs[0].name) if branch_csv is not None else None
     start = assignments(starts, "start")
     mechanics = check_simulable(system, model)
     if use_stops and not system.stops:

@@ -10,6 +10,7 @@ from ._compare import JumpGap, RateGap, branch_differences, branch_jump_gaps, ga
 from ._contact import StopConstraints, StopEvent
 from ._events import Crossing
 from ._exudyn import exudyn_available, exudyn_overcentre
+from ._held_differences import held_branch_differences
 from ._ode import OdeHistory, ode_start, simulate_ode
 from ._result import SimulationResult, SimulationStatus
 from ._simulate import METHODS, assemble, check_integrator, simulate
@@ -22,4 +23,4 @@ __all__ = ["simulate", "assemble", "sweep", "sweep_start", "parse_ramps", "Ramp"
            "branch_jump_gaps", "branch_differences",
            "gap_versus_rate", "RateGap", "exudyn_available", "exudyn_overcentre", "StopEvent",
            "StopConstraints", "MAX_SECONDS", "check_duration", "check_simulable", "OdeHistory", "ode_start", "simulate_ode",
-           "METHODS", "check_integrator", "UNRESOLVED"]
+           "METHODS", "check_integrator", "UNRESOLVED", "held_branch_differences"]

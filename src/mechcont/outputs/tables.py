@@ -16,12 +16,12 @@ from ..units import display, display_unit
 from .plotting import axis_label
 
 if TYPE_CHECKING:
-    from ..continuation import Branch
+    from ..continuation import Branch, CycleBranch
     from ..dynamics import SimulationResult
 
 __all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "markdown_table", "write_records", "branch_value",
            "hopf_lines", "hopf_curve_lines", "heading", "special_table", "approximate_warnings", "jump_lines",
-           "event_labels", "write_rows", "summary_rows", "write_text"]
+           "event_labels", "write_rows", "summary_rows", "write_text", "cycle_lines"]
 
 #: A branch is written as CSV or JSON (by suffix).
 BRANCH_SUFFIXES = (".csv", ".json")
@@ -192,3 +192,16 @@ def event_labels(result: SimulationResult, units: Mapping[str, str]) -> list[str
         text = f"{ev.kind} {ev.stop}" + (f" {ev.speed:.6g} {rate}" if ev.kind == "impact" else "")
         labels[ev.row] = f"{labels[ev.row]}; {text}" if labels[ev.row] else text
     return labels
+
+
+def cycle_lines(family: CycleBranch) -> list[str]:
+    """The orbits of a family of cycles as ``mechcont cycles`` prints them: a heading, one line per named orbit (its
+    point name, the parameter, the period in s, the largest non-trivial Floquet multiplier's modulus, stability) and
+    the count, with why the family ends."""
+    out = [f"{'point':>6}  {family.vary:>12}  {'period [s]':>12}  {'floquet_max':>12}  stability"]
+    stab, fmax = family.stability(), family.floquet_max
+    for name, i in family.point_names():
+        out.append(f"{name:>6}  {family.p[i]:12.6g}  {family.period[i]:12.6g}  {fmax[i]:12.6g}  {stab[i]}")
+    out.append(f"{len(family)} orbits" + (f"; ends: {family.message}" if family.message else ""))
+    return out
+
