@@ -80,3 +80,15 @@ def test_undamped_column_has_no_hopf_noise(run, tmp_path):
         P = float(row["P [N]"])
         if abs(P - P_flutter) > 1e-3:
             assert (float(row["n_unstable_dynamic"]) == 2) == (P > P_flutter), row
+
+
+def test_flutter_load_in_mm_and_g(run, tmp_path):
+    """The same column written in mm and g (a force in g mm/s^2 = 1e-6 N) flutters at the same load."""
+    out = tmp_path / "mm.csv"
+    r = run("continue", DATA / "ziegler_mm_g.toml", "--vary", "P", "--bounds", "P=0:3e6", "--dynamic",
+            "--set", "c=5e7", "--out", out)
+    assert r.exit_code == 0, r.output
+    (hb,) = [row for row in _rows(out) if row["label"] == "HB"]
+    P, omega = _flutter(0.05)
+    assert float(hb["P [g mm/s^2]"]) * 1e-6 == pytest.approx(P, abs=1e-9)
+    assert float(hb["leading_frequency [rad/s]"]) == pytest.approx(omega, abs=1e-9)

@@ -152,3 +152,13 @@ def test_bad_input_is_one_line(run, rm, tmp_path):
     one_line_error(run("folds", DATA / "rosenzweig.toml", "--point", f"{rm / 'b.csv'}:EP1", "--along", "b",
                        "--out", out), "EP1")
     assert not out.exists()
+
+
+def test_cycles_at_a_value_never_reached_says_so(run, rm, tmp_path):
+    """`continue --at` outside the bounds warns that no UZ row exists; `cycles --at` was silent."""
+    out = tmp_path / "c.csv"
+    r = run("cycles", DATA / "rosenzweig.toml", "--point", f"{rm / 'b.csv'}:HB1", "--vary", "K", "--bounds", "K=1:1.8",
+            "--at", "K=5", "--out", out)
+    assert r.exit_code == 0, r.output
+    assert "warning: --at K=5: the family does not reach it (no UZ row)" in r.stderr
+    assert not [row for row in _rows(out) if row["label"] == "UZ"]
