@@ -162,3 +162,20 @@ def test_cycles_at_a_value_never_reached_says_so(run, rm, tmp_path):
     assert r.exit_code == 0, r.output
     assert "warning: --at K=5: the family does not reach it (no UZ row)" in r.stderr
     assert not [row for row in _rows(out) if row["label"] == "UZ"]
+
+
+def test_sensitivity_at_a_hopf_point_points_to_the_hopf_curve(run, rm):
+    """It said '--keep: the point is not a fold: name the state that defines it', though keeping a state is not
+    the Hopf condition."""
+    one_line_error(run("sensitivity", DATA / "rosenzweig.toml", "--point", f"{rm / 'b.csv'}:HB1", "--params", "b"),
+                   "Hopf point (HB)", "--along")
+
+
+def test_sensitivity_of_the_cusp_fold(run, tmp_path):
+    """b* = 2 (a/3)^(3/2) at LP1 (u = -1, a = 3): db*/da = (a/3)^(1/2) = 1."""
+    r = run("continue", DATA / "cusp.toml", "--vary", "b", "--bounds", "b=-3:3", "--out", tmp_path / "b.csv")
+    assert r.exit_code == 0, r.output
+    r = run("sensitivity", DATA / "cusp.toml", "--point", f"{tmp_path / 'b.csv'}:LP1", "--params", "a")
+    assert r.exit_code == 0, r.output
+    (line,) = [ln.split() for ln in r.stdout.splitlines() if ln.split()[:1] == ["a"]]
+    assert float(line[1]) == pytest.approx(1.0, abs=1e-9)
