@@ -119,6 +119,10 @@ def cycles_command(model: str, point: str, vary: str, sets: tuple[str, ...], bnd
         write_orbits(family, system, orbits)
         if not quiet:
             click.echo(f"wrote {orbits}")
+    found = [float(v) for v, lab in zip(family.p, family.labels) if lab == "UZ"]
+    for v in values:  # as continue: a value the family never reached (outside its bounds) has no row
+        if not any(abs(f - v) <= 1e-9 * max(1.0, abs(v)) for f in found):
+            click.echo(f"warning: --at {vary}={v:g}: the family does not reach it (no UZ row)", err=True)
     if failure:
         raise ConvergenceError(failure)
 

@@ -338,6 +338,9 @@ def point_sensitivity(system: EquationSystem, point: SpecialPoint | np.ndarray, 
         solved = lens
     elif fold:
         solved = [*lens, vary]
+    elif keep is None and label == "HB":  # keeping a state there is not the Hopf condition: not its sensitivity
+        raise InputError("point", f"a Hopf point (HB): the sensitivity of {vary} there is the slope of its Hopf "
+                                  f"curve, mechcont folds MODEL --point BRANCH.csv:HB1 --along P2")
     elif keep is None:
         raise InputError("keep", f"the point is not a fold: name the state that defines it (kept at its value there, "
                                  f"{vary} solved for); one of: {', '.join(lens)}")

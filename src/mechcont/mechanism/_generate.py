@@ -53,6 +53,7 @@ from ._reduce import reduce_form, velocity_map
 from ._scene import scene_function
 from ._stops import stop_forces
 from ._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
+from .elements.torsion_spring import TorsionSpring
 
 if TYPE_CHECKING:
     from ._conditions import Condition
@@ -73,11 +74,16 @@ def _row_name(coord: str) -> str:
     return f"Q_{coord}"  # pragma: no cover - coordinates always start with x, y or theta
 
 
-def _scales(mech: Mechanism, values: dict[str, float]) -> tuple[float, float]:
-    """Typical length (m) and force (N) of the mechanism at ``values``."""
+def _scales(mech: Mechanism, values: dict[str, float], kin: PlanarKinematics | None = None) -> tuple[float, float]:
+    """Typical length (m) and force (N) of the mechanism at ``values``. Where the file states no length (no bar,
+    no spring length), the largest distance between two points of one body (with ``kin``); where it states no
+    force, the torsion springs' moment per radian over that length: a file of general bodies and torsion springs
+    (Ziegler's column) then steps alike in m and kg as in mm and g."""
     lengths = [abs(evaluate(mech.value(f"bodies.{b.name}.length"), values, "")) for b in mech.bodies
                if b.length is not None]
     lengths += [abs(evaluate(mech.value(el.field(k)), values, "")) for el in mech.force_elements() for k in el.LENGTH_KEYS]
+    if kin is not None and not any(v > 0 for v in lengths):
+        lengths = _point_spans(mech, kin, values)
     Lc = max([v for v in lengths if v > 0], default=1.0)
     forces = []
     if mech.gravity is not None:
@@ -90,7 +96,21 @@ def _scales(mech: Mechanism, values: dict[str, float]) -> tuple[float, float]:
                                       "force or load above 1e308): write them in a unit that keeps them finite")
     # the largest force the file states; a floor only when it states none (a floor under stated forces would
     # swamp them in a file written in km and grams)
+    if not any(f > 0 for f in forces):
+        forces = [abs(evaluate(mech.value(el.field("k")), values, "")) / Lc for el in mech.force_elements()
+                  if isinstance(el, TorsionSpring)]
     return Lc, max([f for f in forces if f > 0], default=1e-3)
+
+
+def _point_spans(mech: Mechanism, kin: PlanarKinematics, values: Mapping[str, float]) -> list[float]:
+    """The largest distance (m) between two points of each body at ``values``."""
+    at = {symbol(k): v for k, v in values.items()}
+    spans = []
+    for b in mech.bodies:
+        pts = np.array([[float(c.xreplace(at)) for c in kin.local_point(b.name, p)] for p in mech.point_names(b.name)])
+        if len(pts) > 1:
+            spans.append(float(np.max(np.linalg.norm(pts[:, None, :] - pts[None, :, :], axis=-1))))
+    return spans
 
 
 def element_forces(mech: Mechanism, values: Mapping[str, float], Lc: float) -> list[float]:
@@ -232,7 +252,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
     check_values(mech, values)
     st = _structure(mech, reduced)
     kin, coords, rows, cnames, model = st.kin, st.coords, st.rows, st.cnames, st.mechanics
-    Lc, Fc = _scales(mech, values)
+    Lc, Fc = _scales(mech, values, kin)
     # -- first assembly: consistent coordinates near the initial guess ------------------
     guess = _initial_guess(mech, kin, values)
     x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * (len(rows) + len(cnames))
