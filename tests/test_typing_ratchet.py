@@ -71,6 +71,8 @@ FLOOR = {
     "mechcont.mechanism.spatial._generate", "mechcont.mechanism.spatial._scene",
     "mechcont.paper._shimmy_gear", "mechcont.paper.doc_numbers", "mechcont.paper.freefall",
     "mechcont.paper.design_optimum",
+    "mechcont.continuation._cycle_branch", "mechcont.continuation._cycle_start", "mechcont.continuation._cycles",
+    "mechcont.continuation._fold_point", "mechcont.continuation._folds", "mechcont.continuation._problem",
 }
 
 
