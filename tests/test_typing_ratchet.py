@@ -32,7 +32,8 @@ FLOOR = {
     "mechcont.equations", "mechcont.equations._backend", "mechcont.equations._dynamics",
     "mechcont.equations._linear_dynamics", "mechcont.equations._lock", "mechcont.equations._model",
     "mechcont.dynamics._assembly", "mechcont.dynamics._compare", "mechcont.dynamics._contact",
-    "mechcont.dynamics._energy", "mechcont.dynamics._exudyn", "mechcont.dynamics._result", "mechcont.dynamics._settle",
+    "mechcont.dynamics._energy", "mechcont.dynamics._exudyn", "mechcont.dynamics._result",
+    "mechcont.dynamics._settle",
     "mechcont.dynamics._sweep",
     "mechcont.equations._cache", "mechcont.equations._cache_key", "mechcont.equations._codegen",
     "mechcont.equations._compiled", "mechcont.equations._deferred", "mechcont.equations._layout",
@@ -73,6 +74,10 @@ FLOOR = {
     "mechcont.paper.design_optimum",
     "mechcont.continuation._cycle_branch", "mechcont.continuation._cycle_start", "mechcont.continuation._cycles",
     "mechcont.continuation._fold_point", "mechcont.continuation._folds", "mechcont.continuation._problem",
+    "mechcont.paper._freefall_figures", "mechcont.paper._shimmy_analysis", "mechcont.paper._shimmy_figures",
+    "mechcont.paper.dynamics", "mechcont.paper.overcentre", "mechcont.paper.readme_images",
+    "mechcont.paper._dual_sidestay_rigging", "mechcont.paper._nose_gear_figures",
+    "mechcont.paper.dual_sidestay", "mechcont.paper.freefall_sidestay", "mechcont.paper.nose_gear",
 }
 
 
