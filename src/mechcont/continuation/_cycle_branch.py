@@ -93,7 +93,8 @@ class CycleBranch:
     @property
     def stable(self) -> np.ndarray:
         """Per row: True where every non-trivial multiplier lies inside the unit circle."""
-        return self.n_unstable == 0
+        stable: np.ndarray = self.n_unstable == 0
+        return stable
 
     def stability(self) -> list[str]:
         """``stable`` / ``unstable`` per row; ``neutral`` at a Hopf point (zero amplitude) and ``fold`` at a fold
@@ -144,7 +145,7 @@ class CycleBranch:
         units = self.units()
         return [unit_header(n, units[n]) for n in self.columns()] + ["n_unstable", "stability", "label", "s"]
 
-    def to_csv(self, path: str | os.PathLike) -> Path:
+    def to_csv(self, path: str | os.PathLike[str]) -> Path:
         """Write the table (SI units; one row per orbit, in arclength order); nothing is left half-written."""
         import csv
 
