@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -13,6 +14,9 @@ from .._status import Status
 from ..errors import InputError
 from ._branch import unit_header
 from ._collocation import Mesh
+
+if TYPE_CHECKING:
+    from ..equations import Dynamics
 
 __all__ = ["CycleBranch", "CYCLE_LABELS"]
 
@@ -89,7 +93,8 @@ class CycleBranch:
     @property
     def stable(self) -> np.ndarray:
         """Per row: True where every non-trivial multiplier lies inside the unit circle."""
-        return self.n_unstable == 0
+        stable: np.ndarray = self.n_unstable == 0
+        return stable
 
     def stability(self) -> list[str]:
         """``stable`` / ``unstable`` per row; ``neutral`` at a Hopf point (zero amplitude) and ``fold`` at a fold
@@ -140,14 +145,14 @@ class CycleBranch:
         units = self.units()
         return [unit_header(n, units[n]) for n in self.columns()] + ["n_unstable", "stability", "label", "s"]
 
-    def to_csv(self, path: str | os.PathLike) -> Path:
+    def to_csv(self, path: str | os.PathLike[str]) -> Path:
         """Write the table (SI units; one row per orbit, in arclength order); nothing is left half-written."""
         import csv
 
         cols = list(self.columns().values())
         stab, labels = self.stability(), self.row_labels()
 
-        def write(tmp):
+        def write(tmp: str) -> None:
             with open(tmp, "w", newline="") as f:
                 w = csv.writer(f, lineterminator="\n")
                 w.writerow(self.csv_header())
@@ -164,7 +169,7 @@ class CycleBranch:
         Z = mesh.evaluate(u, tau[:-1])
         return tau * self.period[i], np.vstack([Z, u[-1:]])
 
-    def full_vectors(self, dynamics, i: int, samples: int = 60) -> tuple[np.ndarray, np.ndarray]:
+    def full_vectors(self, dynamics: Dynamics, i: int, samples: int = 60) -> tuple[np.ndarray, np.ndarray]:
         """Row ``i``'s orbit as the model's full vectors (``dynamics.full_vector``), for drawings and animations:
         times (s) and an array (samples + 1, n_variables)."""
         t, Z = self.orbit(i, samples)

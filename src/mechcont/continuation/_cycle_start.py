@@ -12,12 +12,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import ConvergenceError, InputError
 from ._collocation import Mesh
 from ._cycle_system import CycleSystem, NewtonFailure, phase_reference
+
+if TYPE_CHECKING:
+    from ..equations import Dynamics, Model
 
 __all__ = ["CycleStart", "HopfOrigin", "hopf_point", "hopf_start", "samples_start", "period_from_samples"]
 
@@ -58,7 +62,7 @@ def _critical(A: np.ndarray) -> tuple[complex, np.ndarray]:
     return complex(lam[i]), V[:, i] / np.linalg.norm(V[:, i])
 
 
-def hopf_point(model, dynamics, x: np.ndarray, vary: str) -> HopfOrigin:
+def hopf_point(model: Model, dynamics: Dynamics, x: np.ndarray, vary: str) -> HopfOrigin:
     """The Hopf point nearest the full vector ``x`` (on or near an equilibrium branch in ``vary``), located by
     :func:`~._hopf_api.locate_hopf` (to machine precision), with the critical eigenvector of the rates'
     Jacobian there. Raises :class:`InputError` (field ``point``) when there is none nearby: not a Hopf point.

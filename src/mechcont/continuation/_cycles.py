@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -48,6 +49,9 @@ from ._hopf_point import state_scales
 from ._options import ContinuationOptions
 from ._palc import StepSizeController
 
+if TYPE_CHECKING:
+    from ..equations import Dynamics, Model
+
 __all__ = ["continue_cycles", "cycles_from_hopf", "cycles_from_samples"]
 
 def _check_options(ntst: int, ncol: int, adapt: int) -> None:
@@ -60,8 +64,8 @@ def _check_options(ntst: int, ncol: int, adapt: int) -> None:
         raise InputError("adapt", f"must be an integer >= 0 (steps between mesh adaptations; 0: never), got {adapt!r}")
 
 
-def _system(model, vary: str, x: np.ndarray, ntst: int, ncol: int, options: ContinuationOptions,
-            omega: float = 1.0):
+def _system(model: Model, vary: str, x: np.ndarray, ntst: int, ncol: int, options: ContinuationOptions,
+            omega: float = 1.0) -> tuple[Dynamics, CycleSystem]:
     from ..equations import dynamics_of
 
     dyn = dynamics_of(model)
@@ -73,15 +77,16 @@ def _system(model, vary: str, x: np.ndarray, ntst: int, ncol: int, options: Cont
     return dyn, CycleSystem(rates, Mesh(ntst, ncol), _weights(model, dyn, options, omega), 1.0 / p_scale ** 2)
 
 
-def _weights(model, dyn, options: ContinuationOptions, omega: float) -> np.ndarray:
+def _weights(model: Model, dyn: Dynamics, options: ContinuationOptions, omega: float) -> np.ndarray:
     """The states' weights in the orbit's norm: 1 / scale^2 (:func:`~._hopf_point.state_scales`, options.scales
     over them); without the velocity states' factor omega they would swamp the norm."""
     scale = state_scales(dyn, model, omega)
     return np.array([1.0 / options.scales.get(n, s) ** 2 for n, s in zip(dyn.state_names, scale)])
 
 
-def cycles_from_hopf(model, x: np.ndarray, vary: str, *, options: ContinuationOptions | None = None, ntst: int = 20,
-                     ncol: int = 4, at: Sequence[float] = (), adapt: int = 3, progress: Callable | None = None) -> CycleBranch:
+def cycles_from_hopf(model: Model, x: np.ndarray, vary: str, *, options: ContinuationOptions | None = None, ntst: int = 20,
+                     ncol: int = 4, at: Sequence[float] = (), adapt: int = 3,
+                     progress: Callable[[int], object] | None = None) -> CycleBranch:
     """The family of periodic orbits born at the Hopf point near the full vector ``x``, continued in ``vary``.
 
     ``x``: a model vector on (or near) an equilibrium branch at a Hopf point (an ``HB`` row); it is
@@ -105,9 +110,9 @@ def cycles_from_hopf(model, x: np.ndarray, vary: str, *, options: ContinuationOp
                            hopf_eigenvalues=np.linalg.eigvals(dyn.rates_jacobian(hopf.z, hopf.x)))
 
 
-def cycles_from_samples(model, x: np.ndarray, t: np.ndarray, Z: np.ndarray, vary: str, *,
+def cycles_from_samples(model: Model, x: np.ndarray, t: np.ndarray, Z: np.ndarray, vary: str, *,
                         options: ContinuationOptions | None = None, ntst: int = 20, ncol: int = 4, direction: int = 1,
-                        at: Sequence[float] = (), adapt: int = 3, progress: Callable | None = None) -> CycleBranch:
+                        at: Sequence[float] = (), adapt: int = 3, progress: Callable[[int], object] | None = None) -> CycleBranch:
     """The family through a periodic solution of a time simulation, continued in ``vary``.
 
     ``x``: the model's full vector of the simulation (its parameters); ``t`` (s) and ``Z`` (states,
@@ -129,7 +134,7 @@ def cycles_from_samples(model, x: np.ndarray, t: np.ndarray, Z: np.ndarray, vary
 class _Run:
     """One continuation of a family (the state of :func:`continue_cycles`)."""
 
-    def __init__(self, system: CycleSystem, options: ContinuationOptions, at: Sequence[float], adapt: int):
+    def __init__(self, system: CycleSystem, options: ContinuationOptions, at: Sequence[float], adapt: int) -> None:
         self.system, self.options, self.adapt = system, options, adapt
         self.control = StepSizeController(options)
         self.points: list[_Point] = []
@@ -225,7 +230,7 @@ class _Run:
                 continue
             cache: dict[float, _Point] = {}
 
-            def g(sigma, fn=fn, cache=cache):
+            def g(sigma: float, fn: Callable[[_Point], float] = fn, cache: dict[float, _Point] = cache) -> float:
                 cache[sigma] = self.solve(cur, cur.X, sigma)
                 return fn(cache[sigma])
 
@@ -257,8 +262,8 @@ class _Run:
         return sorted(found, key=lambda f: f[0])
 
 
-def continue_cycles(model, system: CycleSystem, start: CycleStart, vary: str, options: ContinuationOptions, *,
-                    at: Sequence[float] = (), adapt: int = 3, progress: Callable | None = None, direction: int = 1,
+def continue_cycles(model: Model, system: CycleSystem, start: CycleStart, vary: str, options: ContinuationOptions, *,
+                    at: Sequence[float] = (), adapt: int = 3, progress: Callable[[int], object] | None = None, direction: int = 1,
                     hopf_eigenvalues: np.ndarray | None = None) -> CycleBranch:
     """Continue the family from ``start`` on ``system`` (see :func:`cycles_from_hopf`); returns the :class:`CycleBranch`.
 
@@ -353,7 +358,7 @@ def _vertical(run: _Run, p_weight: float) -> bool:
     return bool(np.max(np.abs(p - p[0])) <= 1e-9 * scale)
 
 
-def _hopf_end(model, pt: _Point, vary: str) -> tuple[_Point, str]:
+def _hopf_end(model: Model, pt: _Point, vary: str) -> tuple[_Point, str]:
     """The Hopf point a family arrives at (its zero-amplitude orbit), refined from the near-point orbit ``pt``."""
     sys_ = pt.system
     u, T, p = sys_.split(pt.X)
@@ -372,7 +377,7 @@ def _hopf_end(model, pt: _Point, vary: str) -> tuple[_Point, str]:
     return end, f"reached a Hopf point at {vary} = {X[-1]:.6g} (period {X[-2]:.6g} s): the family ends there"
 
 
-def _branch(model, run: _Run, status: Status, message: str) -> CycleBranch:
+def _branch(model: Model, run: _Run, status: Status, message: str) -> CycleBranch:
     """The :class:`CycleBranch` of the points computed so far."""
     rates = run.system.rates
     dyn = rates.dynamics

@@ -245,7 +245,8 @@ class _InverseSolve:
         self.inverse = inverse
 
     def __call__(self, _A: np.ndarray, b: np.ndarray) -> np.ndarray:
-        return self.inverse @ b
+        x: np.ndarray = self.inverse @ b
+        return x
 
 
 def polish_fold(system: EquationSystem, x: np.ndarray, states: Iterable[str], param: str, tol: float = 1e-11,

@@ -235,7 +235,7 @@ class FoldProblem(ContinuationProblem):
         if y is None or not math.isfinite(np.add.reduce(y, None)):
             return _oriented_coefficient(v, _null_vectors(Js, row, self.col)[1], Jp, H)[2]
         w = row * y[:n]
-        return float(w @ (H @ v)) / (_norm(w) * (v @ v))
+        return float(w @ (H @ v)) / (_norm(w) * float(v @ v))
 
     def test_functions(self) -> list[Event]:
         return [CuspEvent()]

@@ -177,7 +177,7 @@ class EquilibriumProblem(ContinuationProblem):
     """
 
     def __init__(self, system: EquationSystem, base: np.ndarray, vary: str, unknowns: Sequence[str],
-                 scales: Mapping[str, float] | None = None, stability: bool = True):
+                 scales: Mapping[str, float] | None = None, stability: bool = True) -> None:
         self.system = system.compile()
         self.base = np.array(base, dtype=float)
         if vary in unknowns:
@@ -240,7 +240,8 @@ class EquilibriumProblem(ContinuationProblem):
             return [-1] * len(U)
         X = np.tile(self.base, (len(U), 1))
         X[:, self.idx] = U
-        return mechanics.count_unstable(X).tolist()
+        counts: list[int] = mechanics.count_unstable(X).tolist()
+        return counts
 
 
 def unstable_rates(model: Model, x: np.ndarray, rtol: float = 1e-9) -> int:

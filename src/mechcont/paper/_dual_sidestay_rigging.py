@@ -4,7 +4,9 @@ loads a misrigged pair carries when both are forced to lock (:func:`downlock_loa
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,7 +18,7 @@ __all__ = ["lock_misfit", "alignment_angle", "rigging_scan", "downlock_loads", "
            "SIDE_LOAD"]
 
 
-def _knee(A, n, L1, B, L2, hint):
+def _knee(A: np.ndarray, n: np.ndarray, L1: float, B: np.ndarray, L2: float, hint: np.ndarray) -> np.ndarray | None:
     """Knee (m): on the circle of radius L1 about A in the plane through A normal to n, at L2 from B; of the
     two solutions the one nearer ``hint``. ``None`` when the arms cannot reach."""
     h = float((B - A) @ n)
@@ -35,7 +37,8 @@ def _knee(A, n, L1, B, L2, hint):
     return min(cands, key=lambda k: float(np.linalg.norm(k - hint)))
 
 
-def lock_misfit(values: dict, side: str, geo: GearGeometry = DEFAULT_GEOMETRY, knee_hint=None) -> float:
+def lock_misfit(values: dict, side: str, geo: GearGeometry = DEFAULT_GEOMETRY,
+                knee_hint: np.ndarray | None = None) -> float:
     """How far (m) the ``side`` lock links are from alignment at the parameter ``values`` (``theta`` ...):
     |K - P'| - (L4 + sqrt(L5^2 - d^2)), with the knee K solved in closed form, P' the lug P projected onto
     the fold plane and d its distance from it. Negative: slack (the links can fold); zero: aligned;
@@ -45,7 +48,7 @@ def lock_misfit(values: dict, side: str, geo: GearGeometry = DEFAULT_GEOMETRY, k
 
     R = rotation(trunnion_axis(values["delta"]), values["theta"])
 
-    def vec(name):
+    def vec(name: str) -> np.ndarray:
         return np.array([values[f"{side}_{name}_{c}"] for c in "xyz"])
 
     A, n = vec("A"), vec("n")
@@ -60,7 +63,7 @@ def lock_misfit(values: dict, side: str, geo: GearGeometry = DEFAULT_GEOMETRY, k
 
 
 def alignment_angle(values: dict, side: str, geo: GearGeometry = DEFAULT_GEOMETRY,
-                    window=(-0.0087, 0.0175)) -> float:
+                    window: tuple[float, float] = (-0.0087, 0.0175)) -> float:
     """Retraction angle (rad) near gear down at which the ``side`` lock links are aligned (misfit 0): the
     sign change nearest gear down on a 0.01 deg grid over ``window`` (rad; default -0.5 to 1 deg), polished by Brent's method.
 
@@ -85,7 +88,8 @@ def alignment_angle(values: dict, side: str, geo: GearGeometry = DEFAULT_GEOMETR
     return float(brentq(g, grid[k], grid[k + 1], xtol=1e-15))
 
 
-def rigging_scan(offsets, geo: GearGeometry = DEFAULT_GEOMETRY):
+def rigging_scan(offsets: Iterable[float],
+                 geo: GearGeometry = DEFAULT_GEOMETRY) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Rigging tolerance of the rigid downlock: the aft airframe attachment moved by each of ``offsets`` (m)
     along its stay line (towards the fitting positive), all lengths unchanged.
 
@@ -123,7 +127,7 @@ class DownlockLoads:
     misfit: dict
 
 
-def _g(values, side, theta, stretch, geo):
+def _g(values: dict[str, float], side: str, theta: float, stretch: float, geo: GearGeometry) -> float:
     return lock_misfit({**values, "theta": theta, f"{side}_L1": values[f"{side}_L1"] + stretch}, side, geo)
 
 
@@ -158,41 +162,40 @@ def downlock_loads(offset: float = 0.0, stiffness: float | None = STAY_STIFFNESS
     e = trunnion_axis(geo.delta)
     sides = ("fwd", "aft")
 
-    def dV(theta):  # J/rad: the weight of the fitting and wheels and the side load, about the trunnion axis
+    def dV(theta: float) -> float:  # J/rad: the weight of the fitting and wheels and the side load, about the trunnion axis
         from ..models.dual_sidestay_geometry import rotation
 
         R = rotation(e, theta)
         return (geo.fitting_mass * geo.g * float(np.cross(e, R @ geo.cg)[2])
                 - side_load * float(np.cross(e, R @ geo.axle)[1]))
 
-    def d(f, k, z):
+    def d(f: Callable[[float], float], k: int, z: Sequence[float]) -> float:
         zp, zm = list(z), list(z)
         zp[k] += h
         zm[k] -= h
         return (f(*zp) - f(*zm)) / (2 * h)
 
-    rigid = stiffness is None
     for active in (sides, ("fwd",), ("aft",)):
-        if rigid:
+        if stiffness is None:  # rigid
             if len(active) == 2:
                 continue   # a rigid gear settles where the first pair aligns; both only by exact rigging
             side = active[0]
             theta = alignment_angle(values, side, geo)
-            lam = -dV(theta) / d(lambda t, side=side: _g(values, side, t, 0.0, geo), 0, [theta])
+            tension = -dV(theta) / d(functools.partial(_g, values, side, stretch=0.0, geo=geo), 0, [theta])
             other = [s for s in sides if s != side][0]
-            mis = _g(values, other, theta, 0.0, geo)
-            if lam >= 0 and mis <= 1e-12:
-                return DownlockLoads(theta, {side: lam, other: 0.0}, {s: 0.0 for s in sides},
-                                     {side: 0.0, other: mis})
+            slack = _g(values, other, theta, 0.0, geo)
+            if tension >= 0 and slack <= 1e-12:
+                return DownlockLoads(theta, {side: tension, other: 0.0}, {s: 0.0 for s in sides},
+                                     {side: 0.0, other: slack})
             continue
 
-        def kkt(z, active=active):
+        def kkt(z: np.ndarray, active: tuple[str, ...] = active) -> list[float]:
             theta, st = z[0], dict(zip(sides, z[1:3]))
             lam = dict(zip(active, z[3:]))
-            rows = [dV(theta) + sum(lam[s] * d(lambda t, s=s: _g(values, s, t, st[s], geo), 0, [theta])
+            rows = [dV(theta) + sum(lam[s] * d(functools.partial(_g, values, s, stretch=st[s], geo=geo), 0, [theta])
                                     for s in active)]
             for s in sides:
-                grad = d(lambda u, s=s: _g(values, s, theta, u, geo), 0, [st[s]]) if s in active else 0.0
+                grad = d(functools.partial(_g, values, s, theta, geo=geo), 0, [st[s]]) if s in active else 0.0
                 rows.append(st[s] * stiffness + lam.get(s, 0.0) * grad)
             rows += [_g(values, s, theta, st[s], geo) * 1e3 for s in active]
             return rows

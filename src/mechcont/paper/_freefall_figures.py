@@ -10,9 +10,19 @@ before the stop, where a run that fails to lock hovers short of it.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from matplotlib.typing import ColorType
+
+    from ..dynamics import SimulationResult
+    from ..dynamics.freefall import FreefallResult
 
 __all__ = ["nose_gear_figure", "sidestay_figure"]
 
@@ -20,13 +30,13 @@ __all__ = ["nose_gear_figure", "sidestay_figure"]
 _FAILED = "tab:red"
 
 
-def _colours(n: int):
+def _colours(n: int) -> list[ColorType]:
     from matplotlib import colormaps
 
     return [colormaps["viridis"](v) for v in np.linspace(0.0, 0.85, max(n, 1))]
 
 
-def _gap_deg(history, condition: str, limit: float, sine: bool = False) -> np.ndarray:
+def _gap_deg(history: SimulationResult, condition: str, limit: float, sine: bool = False) -> np.ndarray:
     """The lock links' angle from their stop (deg, < 0 short of it) along ``history``: ``condition`` (rad, or the
     sine of the angle with ``sine``) less the stop's ``limit`` (same kind)."""
     v = np.asarray(history[condition], float)
@@ -35,7 +45,7 @@ def _gap_deg(history, condition: str, limit: float, sine: bool = False) -> np.nd
     return np.degrees(v - limit)
 
 
-def _panels(title: str, zoom: float, share: bool = True):
+def _panels(title: str, zoom: float, share: bool = True) -> tuple[Figure, Axes, Axes]:
     """A figure with the whole fall above and the last ``zoom`` degrees before the stop below (the same time
     axis with ``share``; else the lower panel's own, to enlarge the strikes)."""
     from matplotlib.figure import Figure
@@ -54,7 +64,7 @@ def _panels(title: str, zoom: float, share: bool = True):
     return fig, whole, near
 
 
-def nose_gear_figure(runs, over: float, path: Path) -> None:
+def nose_gear_figure(runs: Sequence[tuple[float, FreefallResult]], over: float, path: Path) -> None:
     """The nose gear's freefall runs ``[(U m/s, FreefallResult)]``: the lock links' overcentre angle from their
     stop (``over`` rad past aligned) against time, each run to its end; the runs that do not lock in red. Saved
     to ``path``."""
@@ -66,21 +76,21 @@ def nose_gear_figure(runs, over: float, path: Path) -> None:
         h = r.history
         gap = _gap_deg(h, "overcentre", over)
         if r.locked:
-            style = dict(color=next(colours), lw=1.4)
+            colour, lw = next(colours), 1.4
             what = f"locked at {r.time_to_lock:.2f} s"
         else:
             tail = gap[h.t >= h.t[-1] - 0.5]
-            style = dict(color=_FAILED, lw=2.2)
+            colour, lw = _FAILED, 2.2
             what = f"{r.outcome}: {-tail.max():.2f} to {-tail.min():.2f} deg short of the stop at the end"
         label = f"U = {U:g} m/s, {what}"
-        whole.plot(h.t, gap, label=label, **style)
-        near.plot(h.t, gap, label=label, **style)
+        whole.plot(h.t, gap, label=label, color=colour, lw=lw)
+        near.plot(h.t, gap, label=label, color=colour, lw=lw)
     whole.set_xlim(0.0, max(float(r.history.t[-1]) for _, r in runs))
     near.legend(loc="upper center", bbox_to_anchor=(0.5, -0.28), ncols=2, fontsize=8, frameon=False)
     save_figure(fig, path)
 
 
-def sidestay_figure(runs, stops: dict[str, tuple[str, float]], path: Path) -> None:
+def sidestay_figure(runs: Sequence[tuple[float, float, FreefallResult]], stops: dict[str, tuple[str, float]], path: Path) -> None:
     """The dual-sidestay gear's freefall runs ``[(k_att N/m, stretch, FreefallResult)]``: each lock-link pair's
     angle from its stop (``stops``: ``{pair: (condition, limit)}``, conditions and limits sines of the angle past
     aligned) against time, each run to its end; forward pair solid, aft dashed. Saved to ``path``."""

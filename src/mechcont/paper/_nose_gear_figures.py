@@ -4,21 +4,40 @@ region, each drawn from the section's results (:class:`~mechcont.paper.nose_gear
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
 from ._nose_gear_settings import FIG7_RATE, L_SP1_RANGE, LU_RANGE, MISRIG
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+
+    from ..continuation import Branch
+    from ..dynamics import SweepResult
+    from .nose_gear import NoseGearResults
+
 __all__ = ["_plot_all"]
 
+T = TypeVar("T")
 
-def _save(fig, path):
+
+def _done(value: T | None, what: str) -> T:
+    """``value``, a result :func:`~.nose_gear.run` computed (its field ``what``); RuntimeError when it was not run."""
+    if value is None:
+        raise RuntimeError(f"the nose-gear results have no {what}: run() computes it")
+    return value
+
+
+def _save(fig: Figure, path: Path) -> None:
     from ..outputs.plotting import save_figure
 
     save_figure(fig, path)
 
 
-def _oc_curve(branch_or_sweep, dense: bool = True):
+def _oc_curve(branch_or_sweep: Branch | SweepResult, dense: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """(F, overcentre angle in deg) along a branch (smooth, with per-sample stability) or a sweep."""
     from ..models.nose_gear import overcentre_angle
     from ..outputs.plotting import curve
@@ -29,7 +48,7 @@ def _oc_curve(branch_or_sweep, dense: bool = True):
     return F, np.degrees(overcentre_angle(np.radians(t4), np.radians(t5)))
 
 
-def _line(ax, branch, x, y, *args, **kw):
+def _line(ax: Axes, branch: Branch, x: str, y: str, *args: str, **kw: Any) -> list[Line2D]:
     """``y`` against ``x`` along ``branch`` as a smooth curve through the continuation's points."""
     from ..outputs.plotting import curve
 
@@ -37,34 +56,33 @@ def _line(ax, branch, x, y, *args, **kw):
     return ax.plot(xs, ys, *args, **kw)
 
 
-def _unit(res, name: str) -> str:
-    return res.system.variable(name).unit
+def _unit(res: NoseGearResults, name: str) -> str:
+    return _done(res.system, "system").variable(name).unit
 
 
-def _lab(res, name: str, what: str = "") -> str:
+def _lab(res: NoseGearResults, name: str, what: str = "") -> str:
     """An axis label: ``what`` then the name with its display unit."""
     from ..outputs.plotting import axis_label
 
     return f"{what} {axis_label(name, _unit(res, name))}".strip()
 
 
-def _plot_all(res, out_dir: Path) -> list[Path]:
+def _plot_all(res: NoseGearResults, out_dir: Path) -> list[Path]:
     """Figs. 7-11 of the paper and the design map, each a PNG in ``out_dir``; their paths."""
     return [f(res, out_dir) for f in (_plot_fig7, _plot_fig8, _plot_fig9, _plot_fig10, _plot_fig11, _plot_design)]
 
 
-def _plot_fig7(res, out_dir: Path) -> Path:
+def _plot_fig7(res: NoseGearResults, out_dir: Path) -> Path:
     """Fig. 7: the continuation (black) over the slow time simulation (light grey), as in the paper."""
     from matplotlib.figure import Figure
 
     from ..outputs.plotting import interval_states
-
     fig = Figure(figsize=(5.8, 4.2), layout="constrained")
     ax = fig.add_subplot()
     if res.fig7_sweep is not None:
         ax.plot(*_oc_curve(res.fig7_sweep, dense=False), color="0.75", lw=4,
                 label=f"time simulation (F ramped at {FIG7_RATE:g} N/s)")
-    b = res.fig7_branch
+    b = _done(res.fig7_branch, "fig7_branch")
     F, oc = _oc_curve(b)
     states = np.repeat(interval_states(b), (len(F) - 1) // max(len(b) - 1, 1))
     for state, style, word in ((0, "-", "stable"), (1, "--", "unstable")):
@@ -81,16 +99,15 @@ def _plot_fig7(res, out_dir: Path) -> Path:
     return path
 
 
-def _plot_fig8(res, out_dir: Path) -> Path:
+def _plot_fig8(res: NoseGearResults, out_dir: Path) -> Path:
     """Fig. 8: the change of the downlock force with the airspeed, aligned and mis-rigged."""
     from matplotlib.figure import Figure
 
     from ..outputs.plotting import curve
-
     fig = Figure(figsize=(5.8, 4.2), layout="constrained")
     ax = fig.add_subplot()
-    for br, text in ((res.fig8_aligned, "aligned at theta4 = 0 (default rig)"),
-                     (res.fig8_misrigged, f"lug {abs(MISRIG) * 1e3:.1f} mm short of aligned")):
+    for br, text in ((_done(res.fig8_aligned, "fig8_aligned"), "aligned at theta4 = 0 (default rig)"),
+                     (_done(res.fig8_misrigged, "fig8_misrigged"), f"lug {abs(MISRIG) * 1e3:.1f} mm short of aligned")):
         U, Fb, _ = curve(br, "U", "F")
         ax.plot(U, Fb - br["F"][np.argmin(br["U"])], label=text)
     ax.set_xlabel(_lab(res, "U", "airspeed"))
@@ -102,16 +119,15 @@ def _plot_fig8(res, out_dir: Path) -> Path:
     return path
 
 
-def _plot_fig9(res, out_dir: Path) -> Path:
+def _plot_fig9(res: NoseGearResults, out_dir: Path) -> Path:
     """Fig. 9: the downlock force against the spring length and stiffness."""
     from matplotlib.figure import Figure
     from matplotlib.ticker import MaxNLocator
 
     from ..outputs.plotting import curve
-
     fig = Figure(figsize=(9, 3.8), layout="constrained")
     axs = fig.subplots(1, 2)
-    _line(axs[0], res.fig9_LU, "LU", "F", "k-")
+    _line(axs[0], _done(res.fig9_LU, "fig9_LU"), "LU", "F", "k-")
     axs[0].set_xlabel(_lab(res, "LU", "unstrained spring length"))
     kk = res.fig9_k
     kx, kF, _ = curve(kk, "k", "F")
@@ -127,17 +143,17 @@ def _plot_fig9(res, out_dir: Path) -> Path:
     return path
 
 
-def _plot_fig10(res, out_dir: Path) -> Path:
+def _plot_fig10(res: NoseGearResults, out_dir: Path) -> Path:
     """Fig. 10: the downlock force against the spring attachment, its extremum marked."""
     from matplotlib.figure import Figure
 
     from ..outputs.plotting import label_point
-
     fig = Figure(figsize=(5.8, 4.2), layout="constrained")
     ax = fig.add_subplot()
-    _line(ax, res.fig10, "l_sp1", "F", "k-")
-    box = (*L_SP1_RANGE, float(res.fig10["F"].min()), float(res.fig10["F"].max()))
-    for p in res.fig11_force_branch.special("LP"):
+    fig10 = _done(res.fig10, "fig10")
+    _line(ax, fig10, "l_sp1", "F", "k-")
+    box = (*L_SP1_RANGE, float(fig10["F"].min()), float(fig10["F"].max()))
+    for p in _done(res.fig11_force_branch, "fig11_force_branch").special("LP"):
         ax.plot(p["l_sp1"], p["F"], "o", color="darkorange")
         label_point(ax, p["l_sp1"], p["F"], f"extremum {p['F']:.1f} N", box, color="darkorange")
     ax.axhline(0, color="0.6", lw=0.6)
@@ -149,12 +165,11 @@ def _plot_fig10(res, out_dir: Path) -> Path:
     return path
 
 
-def _plot_fig11(res, out_dir: Path) -> Path:
+def _plot_fig11(res: NoseGearResults, out_dir: Path) -> Path:
     """Fig. 11: the surface of equilibria, the LU = 1.3 m curve and the fold locus, in 3-D and three projections."""
     from matplotlib.figure import Figure
 
     from ..outputs.plotting import curve
-
     fig = Figure(figsize=(10, 8), layout="constrained")
     ax3 = fig.add_subplot(2, 2, 1, projection="3d")
     LU_, Fm = [], []
@@ -170,7 +185,7 @@ def _plot_fig11(res, out_dir: Path) -> Path:
     # edge faces had more vertices than the others, and Matplotlib pads such ragged faces with uninitialised
     # memory, whose projection overflowed (a RuntimeWarning on some runs)
     ax3.plot_surface(G, Y, np.array(Fm), color="0.8", alpha=0.6, linewidth=0, zorder=1, rstride=1, cstride=1)
-    hi = res.fig10
+    hi = _done(res.fig10, "fig10")
     fc = res.fig11_fold_curve
     hx, hy, hz, _ = curve(hi, "l_sp1", "LU", "F")
     ax3.plot(hx, hy, hz, "k-", lw=2, zorder=3)
@@ -196,7 +211,8 @@ def _plot_fig11(res, out_dir: Path) -> Path:
     return path
 
 
-def _plot_fig11_projection(ax, res, xn: str, yn: str, title: str, hi, fc) -> None:
+def _plot_fig11_projection(ax: Axes, res: NoseGearResults, xn: str, yn: str, title: str, hi: Branch,
+                           fc: Branch | None) -> None:
     """One projection of Fig. 11 (``yn`` against ``xn``): the LU = 1.3 m curve ``hi``, the fold locus
     ``fc`` with its cusp and, in the (l_sp1, F) plane, the surface's curves."""
     from ..outputs.plotting import label_point
@@ -230,14 +246,14 @@ def _plot_fig11_projection(ax, res, xn: str, yn: str, title: str, hi, fc) -> Non
     ax.set_title(title, fontsize=10)
 
 
-def _plot_design(res, out_dir: Path) -> Path:
+def _plot_design(res: NoseGearResults, out_dir: Path) -> Path:
     """The design map: where the gear locks unaided (F > 0)."""
     path = out_dir / "nose_gear_design.png"
     _save(design_map_figure(res), path)
     return path
 
 
-def design_map_figure(res):
+def design_map_figure(res: NoseGearResults) -> Figure:
     """The nose gear's design map of the results ``res`` (:func:`~mechcont.paper.nose_gear.compute`): where the
     gear locks unaided (F > 0). Returns the figure."""
     from matplotlib.figure import Figure

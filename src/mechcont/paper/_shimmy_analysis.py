@@ -6,11 +6,18 @@ paragraph are :mod:`._shimmy_figures`. Speeds in m/s, angles in rad, damper rate
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ._shimmy_gear import SPEEDS, gear_at, leading_eigenvalue
+
+if TYPE_CHECKING:
+    from ..continuation import Branch, ContinuationOptions, CycleBranch, SpecialPoint
+    from ..equations import Model
+    from ..mechanism import Mechanism
 
 __all__ = ["CHART", "SIM_SPEEDS", "TORSION", "equilibria", "hopf_curve", "curve_check", "shimmy_cycles",
            "simulate_onto", "CycleSimulation"]
@@ -28,13 +35,13 @@ WINDOW = 0.2
 _SCALES = {"V": 10.0, "c_psi": 10.0, "e": 0.05}
 
 
-def _options(**bounds):
+def _options(**bounds: tuple[float, float]) -> ContinuationOptions:
     from ..continuation import ContinuationOptions
 
     return ContinuationOptions(ds=0.1, dsmax=1.0, bounds=bounds, scales=_SCALES)
 
 
-def equilibria(model, x):
+def equilibria(model: Model, x: np.ndarray) -> Branch:
     """Straight running continued in the speed ``V`` over :data:`SPEEDS` from the equilibrium ``x``, with
     Hopf points (``HB``) located: a :class:`~mechcont.continuation.Branch`."""
     from ..continuation import continuation
@@ -42,7 +49,7 @@ def equilibria(model, x):
     return continuation(model, x, "V", options=_options(V=SPEEDS), hopf=True)
 
 
-def hopf_curve(model, hopf, parameter: str):
+def hopf_curve(model: Model, hopf: SpecialPoint, parameter: str) -> Branch:
     """The Hopf curve through the point ``hopf`` (labelled ``HB`` in ``V``) in (``V``, ``parameter``),
     both ways, bounded by :data:`SPEEDS` and :data:`CHART`: a Branch with ``omega``, ``l1`` and the stable side."""
     from ..continuation import continue_hopf
@@ -50,7 +57,7 @@ def hopf_curve(model, hopf, parameter: str):
     return continue_hopf(model, hopf, "V", parameter, options=_options(V=SPEEDS, **{parameter: CHART[parameter]}))
 
 
-def curve_check(model, curve, parameter: str, mech=None) -> float:
+def curve_check(model: Model, curve: Branch, parameter: str, mech: Mechanism[Any, Any] | None = None) -> float:
     """The largest ``|Re lambda| / |Im lambda|`` of the leading eigenvalue, computed afresh (one
     linearisation of the gear built at the point's speed and ``parameter``) at each point of the Hopf
     ``curve``: 0 on an exact Hopf curve, about the Newton tolerance in practice."""
@@ -61,7 +68,7 @@ def curve_check(model, curve, parameter: str, mech=None) -> float:
     return worst
 
 
-def shimmy_cycles(model, hopf, at=SIM_SPEEDS):
+def shimmy_cycles(model: Model, hopf: SpecialPoint, at: Sequence[float] = SIM_SPEEDS) -> CycleBranch:
     """The limit cycles born at the Hopf point ``hopf`` (a Branch row labelled ``HB``), continued in ``V``
     up to :data:`SPEEDS`'s end, rows located at the speeds ``at``: a
     :class:`~mechcont.continuation.CycleBranch` (Floquet multipliers, stability per row)."""
@@ -92,8 +99,8 @@ class CycleSimulation:
     torsion: np.ndarray
 
 
-def simulate_onto(speed: float, mech=None, disturbance: float = 0.01, until: float = 2.0, rtol: float = 1e-8,
-                  **values: float) -> CycleSimulation:
+def simulate_onto(speed: float, mech: Mechanism[Any, Any] | None = None, disturbance: float = 0.01, until: float = 2.0,
+                  rtol: float = 1e-8, **values: float) -> CycleSimulation:
     """Integrate the gear's equations of motion (the model's minimal-coordinate rates,
     :func:`~mechcont.equations.dynamics_of`, DOP853 at ``rtol``) at ``speed`` (m/s) from straight running
     with the torsion angle set to ``disturbance`` (rad) for ``until`` seconds; the motion's amplitude and

@@ -3,16 +3,22 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from ..continuation import Branch, CycleBranch, SpecialPoint
+    from ._shimmy_analysis import CycleSimulation
 
 __all__ = ["chart_figure", "amplitude_diagram", "finding", "limit_on_curve"]
 
 _NAMES = {"c_psi": "shimmy damper rate", "e": "caster length"}
 
 
-def limit_on_curve(curve, parameter: str, speed: float) -> float:
+def limit_on_curve(curve: Branch, parameter: str, speed: float) -> float:
     """The value of ``parameter`` (SI) where the Hopf ``curve`` meets ``speed`` (m/s), interpolated between its
     two points around it (NaN when the curve does not reach that speed)."""
     V, p = curve.column("V"), curve.column(parameter)
@@ -50,7 +56,8 @@ def chart_figure(curves: dict, grids: dict, design: dict, path: Path) -> None:
     save_figure(fig, path)   # (not cropped: a crop re-runs the constrained layout in the smaller page)
 
 
-def amplitude_diagram(branch, hopf_speed: float, cycles, sims, path: Path) -> None:
+def amplitude_diagram(branch: Branch, hopf_speed: float, cycles: CycleBranch, sims: Sequence[CycleSimulation],
+                      path: Path) -> None:
     """Torsion amplitude (deg) against speed: the straight running (0, stable solid, shimmying dashed), the onset
     at the Hopf point (labelled with its speed), the cycles (stable solid, unstable dashed), the simulations' end
     amplitudes (markers); the legend below the axes, where it hides nothing."""
@@ -75,14 +82,15 @@ def amplitude_diagram(branch, hopf_speed: float, cycles, sims, path: Path) -> No
     save_figure(fig, path)   # (not cropped: a crop re-runs the constrained layout in the smaller page)
 
 
-def _stable_above(grid, limit: float) -> bool:
+def _stable_above(grid: tuple[np.ndarray, np.ndarray, np.ndarray], limit: float) -> bool:
     """Whether every point of the brute-force ``grid`` (speeds, values, leading real parts) whose value
     exceeds ``limit`` is stable: the side of the Hopf curve a design limit claims."""
     _, values, re = grid
     return bool(np.all(re[values > limit] < 0))
 
 
-def finding(hopf, curves: dict, grids: dict, cycles, sims, top_speed: float, design: dict) -> list[str]:
+def finding(hopf: SpecialPoint, curves: dict, grids: dict, cycles: CycleBranch, sims: Sequence[CycleSimulation],
+            top_speed: float, design: dict) -> list[str]:
     """The summary's paragraph and its numbers (Markdown lines), every figure computed; a design limit
     (damper rate, caster) is stated only where the brute-force ``grids`` confirm the stable side."""
     from ._shimmy_analysis import TORSION

@@ -12,6 +12,7 @@ representative A320-class geometry of :mod:`mechcont.models.dual_sidestay_geomet
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
@@ -73,7 +74,7 @@ class Retraction:
     lock_member: str | None = None
 
 
-def retraction(geo: GearGeometry = DEFAULT_GEOMETRY, *, base=None, max_steps: int = 300,
+def retraction(geo: GearGeometry = DEFAULT_GEOMETRY, *, base: Model | None = None, max_steps: int = 300,
                arms: bool = True) -> Retraction:
     """Continue the gear from down (theta = 0) towards ``geo.retracted`` in the retraction angle.
 
@@ -104,7 +105,8 @@ def retraction(geo: GearGeometry = DEFAULT_GEOMETRY, *, base=None, max_steps: in
     return Retraction(system, branch, lock, loads)
 
 
-def lock_up_fold_curve(geo: GearGeometry, *, base=None, span=(0.5, 2.0), max_steps: int = 300):
+def lock_up_fold_curve(geo: GearGeometry, *, base: Model | None = None, span: tuple[float, float] = (0.5, 2.0),
+                       max_steps: int = 300) -> tuple[Model, Branch]:
     """The lock-up fold of ``geo``'s retraction continued in two parameters, ``theta`` and the aft first
     lock-link length ``aft_L4`` (within ``span`` times its nominal value). Returns ``(system, curve)``: the
     equation system with ``geo``'s values and the fold-curve Branch (CP at cusps).
@@ -124,7 +126,8 @@ def lock_up_fold_curve(geo: GearGeometry, *, base=None, span=(0.5, 2.0), max_ste
     return ret.system, continue_folds(ret.system, lp, "theta", "aft_L4", options=opts)
 
 
-def lock_up_scan(geo: GearGeometry = DEFAULT_GEOMETRY, angles=PLANE_ANGLES, *, base=None,
+def lock_up_scan(geo: GearGeometry = DEFAULT_GEOMETRY, angles: Sequence[float] | np.ndarray = PLANE_ANGLES, *,
+                 base: Model | None = None,
                  max_steps: int = 300) -> tuple[np.ndarray, np.ndarray, list[Retraction]]:
     """Lock-up angle (rad, ``nan`` = retracts fully) for each aft sidestay plane angle in ``angles`` (rad)."""
     base = base or build_dual_sidestay_kinematics(geo)
@@ -137,7 +140,7 @@ def lock_up_scan(geo: GearGeometry = DEFAULT_GEOMETRY, angles=PLANE_ANGLES, *, b
 ANIMATION_FRAMES = 48
 
 
-def _fine(system, branch: Branch, retracted: float) -> Branch:
+def _fine(system: Model, branch: Branch, retracted: float) -> Branch:
     """``branch`` continued again from its first row with steps short enough for :data:`ANIMATION_FRAMES` rows
     (a step moves theta by at most the step length), for a smooth animation."""
     opts = ContinuationOptions(bounds={"theta": (-0.01, retracted)}, dsmax=retracted / ANIMATION_FRAMES,
@@ -181,7 +184,7 @@ def _deg(v: float) -> str:
     return f"{math.degrees(v):.1f}"
 
 
-def retraction_animation(ret, geo, path: Path) -> int:
+def retraction_animation(ret: Retraction, geo: GearGeometry, path: Path) -> int:
     """Write the section's animation of the retraction ``ret`` (of the geometry ``geo``) to ``path`` (GIF): the gear
     in three views and 3-D beside the branch; returns the number of frames."""
     from ..outputs.animation import animate
@@ -190,7 +193,7 @@ def retraction_animation(ret, geo, path: Path) -> int:
                    diagram=("theta", "aft_J_z"), dpi=80)
 
 
-def _retraction_part(out_dir: Path, geo, base, timings: dict, quick: bool) -> list[str]:
+def _retraction_part(out_dir: Path, geo: GearGeometry, base: Model, timings: dict, quick: bool) -> list[str]:
     """The retraction's actuator load, drawings and animation, and the lock-up against the aft plane angle."""
     from ..outputs.drawing3d import draw3d
     from ..outputs.plotting import save_figure
@@ -233,7 +236,7 @@ def _retraction_part(out_dir: Path, geo, base, timings: dict, quick: bool) -> li
             "passively and only their arms' weight changes with the plane."]
 
 
-def _rigging_part(out_dir: Path, geo, quick: bool) -> list[str]:
+def _rigging_part(out_dir: Path, geo: GearGeometry, quick: bool) -> list[str]:
     """The rigid downlock's sensitivity to the aft attachment's rigging."""
     from ..outputs.plotting import save_figure
     from ..outputs.retraction_plots import plot_rigging
@@ -280,7 +283,7 @@ def _downlock_part(out_dir: Path, quick: bool) -> list[str]:
             "modelled: loads are at lock-link alignment.)"]
 
 
-def _fold_curve_part(out_dir: Path, geo, base) -> str:
+def _fold_curve_part(out_dir: Path, geo: GearGeometry, base: Model) -> str:
     """The lock-up fold continued in the retraction angle and the aft first lock-link length."""
     from ..outputs.plotting import save_figure
     from ..outputs.retraction_plots import plot_fold_curve
@@ -302,8 +305,9 @@ def _fold_curve_part(out_dir: Path, geo, base) -> str:
             "sidestay_fold_curve.png.")
 
 
-def _generated_part(out_dir: Path, geo, timings: dict, quick: bool) -> list[str]:
+def _generated_part(out_dir: Path, geo: GearGeometry, timings: dict, quick: bool) -> list[str]:
     """The gear from its spatial description: held locked with a compliant attachment, and unlocked on its stops."""
+    from ..mechanism import Mechanism
     from ..outputs.drawing3d import draw3d
     from ..outputs.plotting import save_figure
     from ..outputs.retraction_plots import plot_unlock_with_stops
@@ -319,11 +323,14 @@ def _generated_part(out_dir: Path, geo, timings: dict, quick: bool) -> list[str]
     with timed(timings, "dual_sidestay: 3-D drawing of the generated gear"):
         draw3d(gen.with_values({"k_att": mid.k_att}), mid.x, out_dir / "sidestay_generated.png",
                annotate=("F_fwd", "F_aft"))
-    n_coords = len(gen.mechanics.coordinates)
-    return [f"- The same gear from its spatial description (examples/dual_sidestay.toml: {len(gen.mechanism.bodies)} "
+    mech, mechanics, dof = gen.mechanism, gen.mechanics, gen.dof
+    if not isinstance(mech, Mechanism) or mechanics is None or dof is None:  # a generated model has all three
+        raise TypeError(f"model '{gen.name}' is not generated from a mechanism description")
+    n_coords = len(mechanics.coordinates)
+    return [f"- The same gear from its spatial description (examples/dual_sidestay.toml: {len(mech.bodies)} "
             f"rigid bodies, {n_coords} coordinates, {len(gen.names) - len(gen.parameter_names)} unknowns, equations "
             "generated; lock springs; tests/test_dual_sidestay_generated.py checks its retraction against the hand "
-            f"model to 1e-9): {gen.dof.dof} degree of freedom, no redundant row while the lock links are free. "
+            f"model to 1e-9): {dof.dof} degree of freedom, no redundant row while the lock links are free. "
             "Holding both lock-link pairs aligned adds two conditions to one degree of freedom: with rigid "
             "attachments there is no solution (the rigging misfit above); with the aft airframe attachment "
             "compliant every reaction is determinate: "
@@ -336,7 +343,7 @@ def _generated_part(out_dir: Path, geo, timings: dict, quick: bool) -> list[str]
             _unlock_line(unlock, gen)]
 
 
-def _unlock_line(study: UnlockStudy, gen) -> str:
+def _unlock_line(study: UnlockStudy, gen: Model) -> str:
     """The summary line of the unlock study (numbers in N, N m, deg)."""
     R = study.contact
     parts = []
@@ -417,7 +424,8 @@ class UnlockStudy:
         return float(lp[force]) if lp is not None else float("nan")
 
 
-def unlock_study(gen, *, force_bound: float = 1000.0, stretch=(0.5, 1.0)) -> UnlockStudy:
+def unlock_study(gen: Model, *, force_bound: float = 1000.0,
+                 stretch: tuple[float, float] | None = (0.5, 1.0)) -> UnlockStudy:
     """Unlock the generated gear ``gen`` with each of :data:`UNLOCK_FORCES` (N) and continue the joint unlock
     fold in the lock-spring ``stretch`` over ``stretch`` (None: no fold curve).
 
@@ -442,7 +450,7 @@ def unlock_study(gen, *, force_bound: float = 1000.0, stretch=(0.5, 1.0)) -> Unl
                        runs, curve)
 
 
-def generated_gear(geo: GearGeometry = DEFAULT_GEOMETRY):
+def generated_gear(geo: GearGeometry = DEFAULT_GEOMETRY) -> Model:
     """The gear generated from its spatial description (:mod:`mechcont.models.dual_sidestay_description`),
     compliant aft attachment.
 
@@ -454,7 +462,7 @@ def generated_gear(geo: GearGeometry = DEFAULT_GEOMETRY):
     return model_from_text(dual_sidestay_description(geo), "dual_sidestay.toml")
 
 
-def locked_gear(system, stiffnesses) -> list[LockedGear]:
+def locked_gear(system: Model, stiffnesses: Iterable[float]) -> list[LockedGear]:
     """Hold both lock-link pairs of the generated ``system`` aligned (conditions ``fwd_lock = aft_lock = 0``) and
     solve for the two forces ``F_fwd``, ``F_aft`` at each aft attachment stiffness (N/m). With one degree of
     freedom the two alignments are two conditions: the attachment's deflection takes up the rigging misfit."""

@@ -17,7 +17,9 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,6 +28,10 @@ from ..models.overcentre import symmetric_folds
 from ..outputs.sweep_plots import plot_sweep
 from ._timing import timed
 from .overcentre import F_RANGE, F_START, RATE, C, branch, hysteresis, sweep_duration, system
+
+if TYPE_CHECKING:
+    from ..continuation import Branch
+    from ..dynamics import JumpGap, SweepResult
 
 __all__ = ["run"]
 
@@ -40,7 +46,7 @@ def _crossings(F: np.ndarray, theta1: np.ndarray) -> list[float]:
     return [float(F[k] + (F[k + 1] - F[k]) * theta1[k] / (theta1[k] - theta1[k + 1])) for k in i]
 
 
-def _exudyn_loop(r04):
+def _exudyn_loop(r04: SweepResult) -> tuple[np.ndarray, np.ndarray, float] | None:
     """The same sweep in Exudyn (h = 10 ms, trapezoidal): (F, theta1, run time s), or None if not installed."""
     from ..dynamics import exudyn_available, exudyn_overcentre
 
@@ -54,7 +60,8 @@ def _exudyn_loop(r04):
     return np.interp(t, t_rec, F_rec), th, time.perf_counter() - t0
 
 
-def _fig3(r04, b04, exu, gaps, path: Path) -> None:
+def _fig3(r04: SweepResult, b04: Branch, exu: tuple[np.ndarray, np.ndarray, float] | None,
+          gaps: Sequence[JumpGap], path: Path) -> None:
     """(a) the two dynamic models alone, as the paper's Fig. 3a; (b, c) each jump on the branch."""
     from matplotlib.figure import Figure
 
@@ -100,7 +107,7 @@ def _fig3(r04, b04, exu, gaps, path: Path) -> None:
     save_figure(fig, path)
 
 
-def _gap_figure(rates, g, path: Path) -> None:
+def _gap_figure(rates: Sequence[float], g: np.ndarray, path: Path) -> None:
     from ..outputs.plotting import new_figure, save_figure
 
     fig, ax = new_figure()

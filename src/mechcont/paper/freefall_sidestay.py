@@ -17,15 +17,20 @@ plane, to within a degree of alignment: a pose no gear reaches.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ._timing import timed
 
 if TYPE_CHECKING:
+    from ..dynamics.freefall import FreefallResult
     from ..equations import Model
+
+#: A run of the table: (k_att N/m, lock-spring stretch, its freefall).
+Run = tuple[float, float, "FreefallResult"]
 
 __all__ = ["SIDESTAY_UP", "LOCKS", "description_text", "freefall_gear", "retracted", "kinematic_offset",
            "sidestay_freefall", "lines"]
@@ -57,7 +62,8 @@ def freefall_gear() -> Model:
     return generated_gear()
 
 
-def retracted(model: Model, theta_up: float = SIDESTAY_UP, steps: int = STEPS, values=None, guess=None) -> np.ndarray:
+def retracted(model: Model, theta_up: float = SIDESTAY_UP, steps: int = STEPS, values: Mapping[str, float] | None = None,
+              guess: np.ndarray | None = None) -> np.ndarray:
     """The gear ``model`` retracted quasi-statically to ``theta_up`` (rad) and released there.
 
     :func:`~mechcont.dynamics.freefall.held_pose` (what ``mechcont freefall --held-by F_act`` does): the
@@ -79,7 +85,7 @@ def retracted(model: Model, theta_up: float = SIDESTAY_UP, steps: int = STEPS, v
     return x
 
 
-def attachment_offset(model: Model, x) -> float:
+def attachment_offset(model: Model, x: np.ndarray) -> float:
     """How far (m) the aft upper arm's attachment point is from its airframe point ``A_aft`` at ``x`` (both from
     the model's scene, which names every ground point ``ground.NAME``)."""
     scene = model.scene(x) if model.scene is not None else None
@@ -101,7 +107,8 @@ def kinematic_offset(model: Model, theta_up: float = SIDESTAY_UP, steps: int = S
     return attachment_offset(model, x), condition_value(model, x, "aft_lock")
 
 
-def sidestay_freefall(system, x_up, values=None, until: float = UNTIL, **options):
+def sidestay_freefall(system: Model, x_up: np.ndarray, values: Mapping[str, float] | None = None, until: float = UNTIL,
+                      **options: Any) -> FreefallResult:
     """The gear released at rest at ``x_up`` (:func:`retracted`) and simulated with its stops until both
     lock-link pairs rest on their stops (the run ends there) or ``until`` s. ``values`` override parameters
     (e.g. ``k_att`` N/m, ``stretch``); ``options`` go to :func:`~mechcont.dynamics.freefall.freefall`.
@@ -117,21 +124,21 @@ def sidestay_freefall(system, x_up, values=None, until: float = UNTIL, **options
                     **options)
 
 
-def _deg(model, x, name: str) -> float:
+def _deg(model: Model, x: np.ndarray, name: str) -> float:
     """A lock-link pair's angle from aligned in its fold plane (deg), from its condition (a sine)."""
     from ..dynamics.freefall import condition_value
 
     return math.degrees(math.asin(condition_value(model, x, name)))
 
 
-def _row(k: float, stretch: float, run, limits: dict[str, float]) -> str:
+def _row(k: float, stretch: float, run: FreefallResult, limits: dict[str, float]) -> str:
     """One table row: the outcome, each pair's first strike (time, the lock links' angular speed in deg/s) and
     lock, the gap, the peak loads. ``limits``: each lock stop's limit (the sine of its angle past aligned)."""
     ev = run.history.stop_events
     first = {n: next((e for e in ev if e.stop == n and e.kind == "impact"), None) for n in LOCKS}
     strikes = {n: sum(1 for e in ev if e.stop == n and e.kind == "impact") for n in LOCKS}
 
-    def ms(t):
+    def ms(t: float | None) -> str:
         return "-" if t is None else f"{1e3 * t:.1f}"
 
     cells = [f"{k:.0e}", f"{stretch:g}", run.outcome]
@@ -158,7 +165,7 @@ def lines(timings: dict, out_dir: Path | None = None) -> list[str]:
     with timed(timings, "freefall: dual-sidestay gear assembled kinematically"):
         offset, aft_kin = kinematic_offset(model)
     cases = [(K_ATT[0], STRETCH[1])] + [(k, STRETCH[1]) for k in K_ATT[1:]] + [(K_ATT[0], s) for s in STRETCH if s != STRETCH[1]]
-    runs = []
+    runs: list[Run] = []
     for k, st in cases:
         values = {"k_att": k, "stretch": st}
         with timed(timings, f"freefall: dual-sidestay gear, k_att = {k:.0e} N/m, stretch {st:g}"):
@@ -200,7 +207,7 @@ def lines(timings: dict, out_dir: Path | None = None) -> list[str]:
     return out
 
 
-def _findings(runs, base) -> list[str]:
+def _findings(runs: Sequence[Run], base: FreefallResult) -> list[str]:
     """What the table says, in words (from the runs, not assumed)."""
     locked = [r for _, _, r in runs if r.locked]
     if len(locked) < len(runs):
@@ -209,7 +216,7 @@ def _findings(runs, base) -> list[str]:
             f"k_att = {k:.0e} N/m, stretch {st:g}: {r.outcome}, "
             + ", ".join(f"{n.split('_')[0]} pair {'locked' if r.stops[n].time is not None else 'not locked'}"
                         for n in LOCKS) for k, st, r in failed) + "."]
-    gaps = [r.stops[LOCKS[1]].time - r.stops[LOCKS[0]].time for r in locked]
+    gaps = [_lock_time(r, LOCKS[1]) - _lock_time(r, LOCKS[0]) for r in locked]
     order = "the forward pair first" if all(g > 0 for g in gaps) else (
         "the aft pair first" if all(g < 0 for g in gaps) else "in either order")
     first = [min(e.time for e in r.history.stop_events if e.kind == "impact") for r in locked]
@@ -223,17 +230,25 @@ def _findings(runs, base) -> list[str]:
             "brackets. " + _changes(runs)]
 
 
-def _changes(runs) -> str:
+def _lock_time(run: FreefallResult, stop: str) -> float:
+    """When (s) the lock ``stop`` came to rest in ``run``, a run that locked (where every lock stop has its time)."""
+    t = run.stops[stop].time
+    if t is None:
+        raise ValueError(f"the lock stop {stop} has no lock time in a run that locked")
+    return t
+
+
+def _changes(runs: Sequence[Run]) -> str:
     """The lock times and strike counts of each variant against the nominal run (the first)."""
     k0, s0, base = runs[0]
 
-    def strikes(r):
+    def strikes(r: FreefallResult) -> int:
         return sum(1 for e in r.history.stop_events if e.kind == "impact")
 
     parts = []
     for k, st, r in runs[1:]:
         what = f"k_att = {k:.0e} N/m" if k != k0 else f"stretch {st:g}"
-        moves = ", ".join(f"{n.split('_')[0]} lock {1e3 * (r.stops[n].time - base.stops[n].time):+.1f} ms"
-                          for n in LOCKS if r.stops[n].time is not None and base.stops[n].time is not None)
+        moves = ", ".join(f"{n.split('_')[0]} lock {1e3 * (t - t0):+.1f} ms" for n in LOCKS
+                          if (t := r.stops[n].time) is not None and (t0 := base.stops[n].time) is not None)
         parts.append(f"{what}: {moves}, {strikes(r)} strikes in all")
     return f"Against the nominal gear ({strikes(base)} strikes in all): " + "; ".join(parts) + "."

@@ -17,13 +17,14 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, TypeVar
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._nose_gear_figures import _plot_all
+from ._nose_gear_figures import _done, _plot_all
 from ._nose_gear_settings import (
     DOWNLOCK_DAMPING,
     DOWNLOCK_RATE,
@@ -36,16 +37,16 @@ from ._nose_gear_settings import (
 from ._timing import timed
 
 if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
     from ..analysis.design import DesignRegion
     from ..continuation import Branch
     from ..dynamics import SweepResult
     from ..equations import Model
 
-T = TypeVar("T")
-
 __all__ = ["run", "compute", "NoseGearResults", "fit_residual"]
 
-def fit_residual(x, y, degree: int) -> float:
+def fit_residual(x: ArrayLike, y: ArrayLike, degree: int) -> float:
     """RMS residual of a least-squares polynomial fit of ``degree``, relative to the range of ``y``."""
     x, y = np.asarray(x, float), np.asarray(y, float)
     c = np.polyfit(x, y, degree)
@@ -78,39 +79,32 @@ class NoseGearResults:
     timings: dict[str, float] = field(default_factory=dict)
 
 
-def _done(value: T | None, what: str) -> T:
-    """``value``, a result :func:`run` computed (its step ``what``); RuntimeError when it was not run."""
-    if value is None:
-        raise RuntimeError(f"the nose-gear results have no {what}: run() computes it")
-    return value
-
-
-def _downlocked(system) -> np.ndarray:
+def _downlocked(system: Model) -> np.ndarray:
     """The nose gear's downlocked pose at its defaults (full vector)."""
     assert system.downlock is not None and system.downlock.pose is not None  # build_nose_gear declares it
     return system.downlock.pose
 
 
-def _fig7(res):
+def _fig7(res: NoseGearResults) -> None:
     from ..continuation import ContinuationOptions, continuation, find_equilibrium
 
-    sy = res.system
+    sy = _done(res.system, "system")
     x0 = find_equilibrium(sy, values={"k": 0.0, "U": 0.0}, hold={"theta4": 0.0}, free=["F"], guess=_downlocked(sy))
     opts = ContinuationOptions(ds=0.05, dsmax=0.3, bounds={"F": (-400.0, 400.0), "theta4": (-0.5, 0.5)})
     res.fig7_branch = continuation(sy, x0, "F", options=opts)
 
 
-def _fig7_dynamic(res):
+def _fig7_dynamic(res: NoseGearResults) -> None:
     from ..continuation import find_equilibrium
     from ..dynamics import sweep
     from ..models.nose_gear import overcentre_angle
 
-    sy = res.system
+    sy = _done(res.system, "system")
     x0 = find_equilibrium(sy, values={"k": 0.0, "U": 0.0, "F": 300.0}, guess=_downlocked(sy))
     sw = sweep(sy, x0, {"F": [(300.0, -300.0, FIG7_RATE), (-300.0, 300.0, FIG7_RATE)]}, watch="theta4",
                damping=FIG7_DAMPING)
     res.fig7_sweep = sw
-    b = res.fig7_branch
+    b = _done(res.fig7_branch, "fig7_branch")
     order = np.argsort(b["F"])
     oc_b = overcentre_angle(b["theta4"], b["theta5"])[order]
     oc_s = overcentre_angle(sw["theta4"], sw["theta5"])
@@ -119,45 +113,45 @@ def _fig7_dynamic(res):
     res.fig7_max_angle_gap = float(np.max(np.abs(np.interp(Fs[inside], b["F"][order], oc_b) - oc_s[inside])))
 
 
-def _downlock_sweep(res):
+def _downlock_sweep(res: NoseGearResults) -> None:
     from ..continuation import find_equilibrium
     from ..dynamics import sweep
 
-    sy = res.system
+    sy = _done(res.system, "system")
     x0 = find_equilibrium(sy, values={"F": 150.0}, guess=_downlocked(sy))
     sw = sweep(sy, x0, {"F": [(150.0, 0.0, DOWNLOCK_RATE)]}, watch="theta4", through=0.0, damping=DOWNLOCK_DAMPING)
     res.sweep_downlock_force = float(sw.jumps[0].value) if sw.jumps else float("nan")
 
 
-def _fig8(res):
+def _fig8(res: NoseGearResults) -> None:
     from ..analysis.downlock import downlock
     from ..models.nose_gear_geometry import aligned_lock_lug, defaults
 
-    sy = res.system
+    sy = _done(res.system, "system")
     res.fig8_aligned = downlock(sy, "U", {"U": (0.0, 100.0)}, unlock=False).branch  # the paper's figures need no unlock folds
     L35, psi2 = aligned_lock_lug(defaults(), offset=MISRIG)
     res.fig8_misrig_values = {"L35": L35, "psi2": psi2}
     res.fig8_misrigged = downlock(sy, "U", {"U": (0.0, 100.0)}, values=res.fig8_misrig_values, unlock=False).branch
 
 
-def _fig9(res):
+def _fig9(res: NoseGearResults) -> None:
     from ..analysis.downlock import downlock
 
-    res.fig9_LU = downlock(res.system, "LU", {"LU": (1.2, 1.4)}, unlock=False).branch
-    res.fig9_k = downlock(res.system, "k", {"k": (0.0, 40000.0)}, unlock=False).branch
+    res.fig9_LU = downlock(_done(res.system, "system"), "LU", {"LU": (1.2, 1.4)}, unlock=False).branch
+    res.fig9_k = downlock(_done(res.system, "system"), "k", {"k": (0.0, 40000.0)}, unlock=False).branch
 
 
-def _fig10(res):
+def _fig10(res: NoseGearResults) -> None:
     from ..analysis.downlock import downlock
 
-    res.fig10 = downlock(res.system, "l_sp1", {"l_sp1": L_SP1_RANGE}, unlock=False).branch
+    res.fig10 = downlock(_done(res.system, "system"), "l_sp1", {"l_sp1": L_SP1_RANGE}, unlock=False).branch
 
 
-def _fig11(res):
+def _fig11(res: NoseGearResults) -> None:
     from ..analysis.design import fold_locus
     from ..analysis.downlock import downlock
 
-    sy = res.system
+    sy = _done(res.system, "system")
     fl = fold_locus(sy, "l_sp1", "LU", {"l_sp1": L_SP1_RANGE, "LU": LU_RANGE})
     res.fig11_force_branch, res.fig11_fold_curve = fl.branch, fl.curve
     res.fig11_levels = np.round(np.linspace(LU_RANGE[0], LU_RANGE[1], 21), 10)
@@ -165,16 +159,18 @@ def _fig11(res):
                          for v in res.fig11_levels]
 
 
-def _design(res):
+def _design(res: NoseGearResults) -> None:
     from ..analysis.design import design_region
 
-    res.region = design_region(res.system, "l_sp1", "LU", x_bounds=L_SP1_RANGE, y_levels=np.linspace(*LU_RANGE, 11))
+    res.region = design_region(_done(res.system, "system"), "l_sp1", "LU", x_bounds=L_SP1_RANGE,
+                               y_levels=np.linspace(*LU_RANGE, 11))
 
 
 _STEPS = ("fig7", "fig7_dynamic", "downlock_sweep", "fig8", "fig9", "fig10", "fig11", "design")
 
 
-def compute(system=None, *, dynamic: bool = True, on_step=None) -> NoseGearResults:
+def compute(system: Model | None = None, *, dynamic: bool = True,
+            on_step: Callable[[], object] | None = None) -> NoseGearResults:
     """Run every nose-gear analysis (Figs. 7–11, design region); timings in ``res.timings`` (s).
 
     ``system`` defaults to :func:`~mechcont.models.nose_gear.build_nose_gear` (); with
@@ -185,8 +181,8 @@ def compute(system=None, *, dynamic: bool = True, on_step=None) -> NoseGearResul
 
     res = NoseGearResults(system=None)
     with timed(res.timings, "build"):
-        res.system = system or build_nose_gear()
-    res.downlock_force = float(res.system.as_dict(_downlocked(res.system))["F"])
+        res.system = model = system or build_nose_gear()
+    res.downlock_force = float(model.as_dict(_downlocked(model))["F"])
     steps = {"fig7": _fig7, "fig7_dynamic": _fig7_dynamic, "downlock_sweep": _downlock_sweep, "fig8": _fig8,
              "fig9": _fig9, "fig10": _fig10, "fig11": _fig11, "design": _design}
     for name in _STEPS:

@@ -18,8 +18,9 @@ branches and sweeps at LU = 0.4 and 2 m are shared with :mod:`mechcont.paper.dyn
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
 from pathlib import Path
-from typing import Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -28,6 +29,14 @@ from ..continuation import ContinuationOptions, continuation, continue_folds, fi
 from ..models import build_overcentre
 from ..models.overcentre import symmetric_cusp, symmetric_folds
 from ..outputs.plotting import curve, label_point, legend_below, new_figure, plot_branch, plot_surface, save_figure
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from ..continuation import Branch
+    from ..dynamics import SweepResult
+    from ..equations import Model
 
 __all__ = ["run", "compute", "branch", "hysteresis", "system", "F_RANGE", "F_EXAMPLE", "RATE", "C"]
 
@@ -42,7 +51,7 @@ _GUESS = {0.4: 1.35, 2.0: 0.5}  # rad: theta1 near the upper equilibrium at F_ST
 
 
 @functools.cache
-def system(LU: float):
+def system(LU: float) -> Model:
     """The overcentre at ``LU`` (m) with the damper ``C`` (used by the time simulations only)."""
     return build_overcentre(LU=LU, c=C)
 
@@ -53,20 +62,20 @@ def _start(LU: float) -> np.ndarray:
     return find_equilibrium(system(LU), values={"F": F_START}, guess={"theta1": th, "theta2": np.pi - th})
 
 
-def _options(**bounds) -> ContinuationOptions:
+def _options(**bounds: tuple[float, float]) -> ContinuationOptions:
     return ContinuationOptions(bounds={"F": F_RANGE, "theta1": (-THETA_LIMIT, THETA_LIMIT), **bounds}, max_steps=2000)
 
 
 @functools.cache
-def branch(LU: float):
+def branch(LU: float) -> Branch:
     """The continuation branch at ``LU`` over :data:`F_RANGE`, from the upper equilibrium at 60 N."""
     return continuation(system(LU), _start(LU), "F", options=_options())
 
 
-_SWEEPS: dict = {}
+_SWEEPS: dict[float, SweepResult] = {}
 
 
-def hysteresis(LU: float, progress=None):
+def hysteresis(LU: float, progress: Callable[[float], None] | None = None) -> SweepResult:
     """The quasi-static time simulation at ``LU``: F from 60 N down to -90 N, then up to 110 N, at 1 N/s.
 
     Computed once per process (``progress(t)`` gets the simulated time, s, while it runs).
@@ -85,16 +94,15 @@ def sweep_duration() -> float:
     return (abs(F_START - F_RANGE[0]) + abs(F_RANGE[1] - F_RANGE[0])) / RATE
 
 
-def compute(progress=None) -> dict:
+def compute(progress: Callable[[float], None] | None = None) -> dict[str, Any]:
     """All overcentre results: branches and sweeps at LU = 0.4 and 2 m, the LU family, fold curves.
 
     ``progress(t)`` receives the seconds simulated so far by both time simulations.
     """
-    out = {"system": system(0.4)}
+    out: dict[str, Any] = {"system": system(0.4)}
     for k, LU in enumerate((0.4, 2.0)):
         out[f"branch_{LU}"] = branch(LU)
-        done = k * sweep_duration()
-        out[f"sweep_{LU}"] = hysteresis(LU, None if progress is None else (lambda t, d=done: progress(d + t)))
+        out[f"sweep_{LU}"] = hysteresis(LU, None if progress is None else _after(progress, k * sweep_duration()))
     lp = branch(0.4).special("LP")[0]
     base = build_overcentre()
     x0 = find_equilibrium(base, values={"LU": LU_LEVELS[0], "F": F_START}, guess={"theta1": 1.35, "theta2": 1.79})
@@ -106,8 +114,13 @@ def compute(progress=None) -> dict:
     return out
 
 
+def _after(progress: Callable[[float], None], done: float) -> Callable[[float], None]:
+    """``progress`` told the seconds simulated by this sweep after the ``done`` seconds (s) of those before."""
+    return lambda t: progress(done + t)
+
+
 # -- figures ----------------------------------------------------------------------------------
-def _equilibria_at(b, F: float) -> list[tuple[float, bool]]:
+def _equilibria_at(b: Branch, F: float) -> list[tuple[float, bool]]:
     """``(theta1 in deg, stable)`` of every equilibrium of branch ``b`` at load ``F`` (N)."""
     Fd, th, sd = curve(b, "F", "theta1")
     s = np.asarray(b.s)
@@ -119,7 +132,7 @@ def _equilibria_at(b, F: float) -> list[tuple[float, bool]]:
     return out
 
 
-def _fig3b(b, path: Path) -> None:
+def _fig3b(b: Branch, path: Path) -> None:
     fig, ax = new_figure(figsize=(6.4, 4.8))
     plot_branch(b, "F", "theta1", ax=ax, stability_legend=True, label="continuation", endpoints=False)
     ax.axvline(F_EXAMPLE, color="0.55", lw=0.8, ls=":")
@@ -137,7 +150,7 @@ def _fig3b(b, path: Path) -> None:
     save_figure(fig, path)
 
 
-def _sweep_on_branch(ax, b, sw, title: str) -> None:
+def _sweep_on_branch(ax: Axes, b: Branch, sw: SweepResult, title: str) -> None:
     from ..outputs.sweep_plots import plot_sweep
 
     plot_branch(b, "F", "theta1", ax=ax, color="0.7", lw=3.5, label="continuation", stability_legend=True,
@@ -155,11 +168,11 @@ def _sweep_on_branch(ax, b, sw, title: str) -> None:
               bbox_to_anchor=None if not b.special("LP") else (0.12, 0.2))
 
 
-def _fig4a(r, path: Path) -> None:
+def _fig4a(r: dict[str, Any], path: Path) -> None:
     save_figure(fig4a_figure(r), path, tight=True)   # a 3-D axes leaves its box's lower part empty at this view
 
 
-def fig4a_figure(r):
+def fig4a_figure(r: dict[str, Any]) -> Figure:
     """Fig. 4a of :func:`compute`'s results ``r``: the sheets of equilibria over (F, LU), the fold curve and the two
     time simulations (save it with ``tight=True``). Returns the figure."""
     fig, ax = new_figure(figsize=(7.6, 6.0), projection="3d")
@@ -186,7 +199,7 @@ def fig4a_figure(r):
     return fig
 
 
-def sweep_figure(r, LU: float):
+def sweep_figure(r: dict[str, Any], LU: float) -> Figure:
     """Fig. 4b (``LU`` = 2 m) or 4c (0.4 m) of :func:`compute`'s results ``r``: the time simulation on the
     continuation branch. Returns the figure."""
     tag = "4b" if LU == 2.0 else "4c"
@@ -196,7 +209,7 @@ def sweep_figure(r, LU: float):
     return fig
 
 
-def _fig5(folds, out_dir: Path) -> None:
+def _fig5(folds: Branch, out_dir: Path) -> None:
     fig, ax = new_figure(figsize=(6.5, 5), projection="3d")
     plot_branch(folds, "LU", "theta1", ax=ax, z="F")
     LU, th, F, _ = curve(folds, "LU", "theta1", "F")
@@ -227,7 +240,7 @@ def _fig5(folds, out_dir: Path) -> None:
         save_figure(fig, out_dir / f"fig{tag}_fold_{y}.png")
 
 
-def _name_markers(ax) -> None:
+def _name_markers(ax: Axes) -> None:
     """Name the fold curve and the markers :func:`plot_branch` put on it (first of each kind) for the legend."""
     names = {"x": "EP: end of the computation (the bound LU = 0.1 m)", "D": "CP: cusp, the folds meet",
              "o": "F = 0 on the lower fold"}
@@ -241,25 +254,25 @@ def _name_markers(ax) -> None:
             curve_named = True
 
 
-def _downlock_length(folds) -> float:
+def _downlock_length(folds: Branch) -> float:
     """LU (m) where the lower fold (theta1 > 0) of the fold curve crosses F = 0 (on its drawn spline)."""
     F, LU, th, _ = curve(folds, "F", "LU", "theta1")
     k = np.flatnonzero((th[:-1] > 0) & (th[1:] > 0) & (np.sign(F[:-1]) != np.sign(F[1:])))[0]
     return float(LU[k] + (LU[k + 1] - LU[k]) * F[k] / (F[k] - F[k + 1]))
 
 
-def _downlock_length_exact(p) -> float:
+def _downlock_length_exact(p: dict[str, float]) -> float:
     """The same from the closed form of the symmetric mechanism."""
     from scipy.optimize import brentq
 
-    def lower(LU):
+    def lower(LU: float) -> float:
         return symmetric_folds(p["L1"], p["m1"], p["m2"], p["g"], p["k"], LU)[1][1]
 
     return float(brentq(lower, 0.5, 1.49, xtol=1e-12))
 
 
 # -- summary ----------------------------------------------------------------------------------
-def _fold_check(b, LU, p) -> list[str]:
+def _fold_check(b: Branch, LU: float, p: dict[str, float]) -> list[str]:
     lines = []
     expected = symmetric_folds(p["L1"], p["m1"], p["m2"], p["g"], p["k"], LU)
     got = sorted(((q, n) for q, n in zip(b.special_points, b.point_names()) if q.label == "LP"),

@@ -12,9 +12,16 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.artist import Artist
+    from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike
 
 __all__ = ["README_IMAGES", "MANIFEST", "figures", "fingerprint", "write", "stale"]
 
@@ -26,7 +33,7 @@ README_IMAGES = {"fig4c_sweep_on_branch.png": "fig4c_overcentre_LU0.4.png",
 MANIFEST = "readme-images.json"
 
 
-def figures() -> dict[str, tuple[object, bool]]:
+def figures() -> dict[str, tuple[Figure, bool]]:
     """``{README image file: (figure, tight)}``: the figures drawn as ``mechcont paper`` draws them (``tight``: saved
     cropped to what is drawn, as the paper saves Fig. 4a)."""
     from . import nose_gear, overcentre
@@ -38,7 +45,7 @@ def figures() -> dict[str, tuple[object, bool]]:
             "nose_gear_design.png": (design_map_figure(nose_gear.compute(dynamic=False)), False)}
 
 
-def _rounded(values) -> bytes:
+def _rounded(values: ArrayLike) -> bytes:
     """``values`` (any numeric array) rounded to three significant digits, as bytes (NaN and infinities kept)."""
     a = np.asarray(values, float).ravel()
     out = a.copy()
@@ -48,7 +55,7 @@ def _rounded(values) -> bytes:
     return np.round(out, 12).tobytes()
 
 
-def _content(artist) -> list[bytes]:
+def _content(artist: Artist) -> list[bytes]:
     """What ``artist`` draws, in data coordinates (never pixels: those depend on the fonts and the layout)."""
     from matplotlib.collections import Collection
     from matplotlib.colors import to_rgba_array
@@ -78,7 +85,7 @@ def _content(artist) -> list[bytes]:
     return out
 
 
-def fingerprint(fig) -> str:
+def fingerprint(fig: Figure) -> str:
     """A hash (hex) of what ``fig`` draws: every visible artist's kind, label, text, data (three significant
     digits), colours, line style and marker, in drawing order, after a draw (3-D projections, tick labels)."""
     fig.draw_without_rendering()
@@ -90,7 +97,7 @@ def fingerprint(fig) -> str:
     return h.hexdigest()
 
 
-def write(folder) -> list[Path]:
+def write(folder: str | os.PathLike[str]) -> list[Path]:
     """Draw the README's images into ``folder`` (PNG, 150 dpi) and record their fingerprints in :data:`MANIFEST`
     there. Returns the files written."""
     from ..outputs.plotting import save_figure
@@ -105,7 +112,7 @@ def write(folder) -> list[Path]:
     return written
 
 
-def stale(folder) -> list[str]:
+def stale(folder: str | os.PathLike[str]) -> list[str]:
     """The README images in ``folder`` whose recorded fingerprint is not that of the figure drawn now (or that are
     missing): empty when the images are current."""
     folder = Path(folder)
