@@ -146,7 +146,7 @@ BAD = [
      ["equations", "not both"]),
     ("neither rates nor equations", _HEAD + '[states]\nu1 = 0.0\n', ["rates", "missing"]),
     ("unknown function", _HEAD + '[states]\nu1 = 0.0\n[rates]\nu1 = "foo(u1)"\n', ["rates.u1", "unknown function 'foo'"]),
-    ("unknown symbol", _HEAD + '[states]\nu1 = 0.0\n[rates]\nu1 = "u1 + q"\n', ["rates.u1", "unknown name 'q'"]),
+    ("unknown symbol", _HEAD + '[states]\nu1 = 0.0\n[rates]\nu1 = "u1 + q"\n', ["rates.u1", "unknown name 'q'", "[parameters] or [states]"]),
     ("a state also a parameter", _HEAD + '[states]\nD = 0.0\n[rates]\nD = "-D"\n', ["states.D", "also a parameter"]),
     ("non-numeric state", _HEAD + '[states]\nu1 = "one"\n[rates]\nu1 = "-u1"\n', ["states.u1", "must be a number"]),
     ("non-numeric parameter", '[system]\nname = "s"\n[parameters]\nD = [1, 2]\n[states]\nu1 = 0.0\n[rates]\nu1 = "-u1"\n',
