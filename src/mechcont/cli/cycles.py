@@ -111,7 +111,14 @@ def cycles_command(model: str, point: str, vary: str, sets: tuple[str, ...], bnd
         if not isinstance(exc.partial, CycleBranch):  # no orbit continued: nothing to write
             raise
         family, failure = exc.partial, str(exc)
-    _write(family, out, plot, quiet, branch if branch.vary == vary else None)
+    shown = branch if branch.vary == vary else None
+    if plot and shown is not None and "n_unstable_dynamic" not in shown.names:
+        from ..analysis import with_dynamic_stability
+
+        # the equilibria drawn beneath the cycles as their dynamics judge them (a mechanism's table holds its
+        # static stability unless written by continue --dynamic): the family is born where that changes
+        shown = with_dynamic_stability(system, shown)
+    _write(family, out, plot, quiet, shown)
     if orbits:
         from ..outputs.cycle_orbits import write_orbits
 

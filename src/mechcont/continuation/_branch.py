@@ -307,7 +307,7 @@ class Branch:
             w = csv.writer(f, lineterminator="\n")
             w.writerow(self.csv_header())
             for r in recs:
-                w.writerow([repr(r[k]) if isinstance(r[k], float) else r[k] for k in keys])
+                w.writerow([_cell(k, r[k]) for k in keys])
 
         return _atomic_write(path, write)
 
@@ -366,6 +366,15 @@ _EXTRA_COLUMNS = ("s", "stability", "n_unstable", "label", "vary")
 #: Columns an analysis appends after the variables (the dynamic stability's, ``continue --dynamic``):
 #: :meth:`Branch.read_csv` leaves them out of the variables, so such a table is a branch of its model again.
 DERIVED_COLUMNS = ("n_unstable_dynamic", "leading_real", "leading_frequency")
+#: Columns holding a count, written as integers (the values of a branch are floats).
+COUNT_COLUMNS = frozenset({"n_unstable_dynamic"})
+
+
+def _cell(name: str, value: Any) -> Any:
+    """A table cell: a float by ``repr`` (it reads back exactly), a count column's value as an integer."""
+    if name in COUNT_COLUMNS and np.isfinite(value):
+        return int(value)
+    return repr(value) if isinstance(value, float) else value
 
 
 def _hopf_fields(p: SpecialPoint) -> dict[str, Any]:

@@ -98,7 +98,7 @@ class _Refused(Exception):
         self.what, self.hint = what, hint
 
 
-def to_expr(value: Value, field: str, known: Mapping[str, sp.Symbol]) -> sp.Expr:
+def to_expr(value: Value, field: str, known: Mapping[str, sp.Symbol], declare: str = "[parameters]") -> sp.Expr:
     """Parse a number or expression string into a SymPy expression over ``known`` symbols.
 
     Parameters
@@ -110,6 +110,9 @@ def to_expr(value: Value, field: str, known: Mapping[str, sp.Symbol]) -> sp.Expr
         Where the value comes from (e.g. ``"bodies.crank.length"``), used in errors.
     known:
         The names that may appear, mapped to their symbols.
+    declare:
+        Where the file declares such names, for the error on an unknown one (an ODE file's rates may
+        use its ``[parameters]`` and its ``[states]``).
 
     Returns
     -------
@@ -157,7 +160,7 @@ def to_expr(value: Value, field: str, known: Mapping[str, sp.Symbol]) -> sp.Expr
     except _Refused as exc:
         raise InputError(field, f"{exc.what} in {_show(value)}; {exc.hint}") from None
     except _UnknownName as exc:
-        raise InputError(field, f"unknown name '{exc}' in {_show(value)}; declare it under [parameters]") from None
+        raise InputError(field, f"unknown name '{exc}' in {_show(value)}; declare it under {declare}") from None
     except _UnknownFunction as exc:
         raise InputError(field, f"unknown function '{exc}' in {_show(value)}; "
                                 f"allowed: {', '.join(sorted(FUNCTIONS))}") from None

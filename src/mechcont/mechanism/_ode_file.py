@@ -154,5 +154,5 @@ def _system(data: Mapping, filename: str) -> OdeSystem:
         if n not in table:
             what = f"d{n}/dt" if not algebraic else "a residual"
             raise InputError(f"{section}.{n}", f"missing: give {what} for the state {n} ({n} = \"expression\")")
-        rates.append(to_expr(table[n], f"{section}.{n}", known))
+        rates.append(to_expr(table[n], f"{section}.{n}", known, "[parameters] or [states]"))
     return OdeSystem(name, description, tuple(states), tuple(params), tuple(rates), algebraic)

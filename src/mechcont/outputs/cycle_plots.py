@@ -54,7 +54,10 @@ def plot_amplitude(cycles: CycleBranch, state: str | None = None, ax: Axes | Non
     """Draw the max and min of ``state`` (default: the first) over each orbit of ``cycles`` (a
     :class:`~mechcont.continuation.CycleBranch`) against its parameter, stable solid and unstable dashed,
     labelled orbits marked (each kind named in the legend); ``branch``: the equilibrium
-    :class:`~mechcont.continuation.Branch` drawn beneath (its stability as it has it). No legend: the caller
+    :class:`~mechcont.continuation.Branch` drawn beneath, stable solid and unstable dashed by its dynamic
+    stability where it has the column ``n_unstable_dynamic`` (``continue --dynamic``,
+    :func:`~mechcont.analysis.with_dynamic_stability`: a cycle is born where the equilibria lose *dynamic*
+    stability, which the static judgement of a mechanism does not see), else as it has it. No legend: the caller
     adds it (:func:`~mechcont.outputs.plotting.legend_below`, below the axes, where it hides nothing). Returns
     the axes."""
     if ax is None:
@@ -62,6 +65,8 @@ def plot_amplitude(cycles: CycleBranch, state: str | None = None, ax: Axes | Non
     k = _state(cycles, state)
     name, unit = cycles.state_names[k], cycles.state_units[k]
     if branch is not None:
+        if "n_unstable_dynamic" in branch.names:
+            branch = branch.replace(n_unstable=branch.column("n_unstable_dynamic").astype(int))
         plot_branch(branch, cycles.vary, name, ax=ax, color="k", label="equilibria", lw=1.2, endpoints=False,
                     stability_legend=True)
     p = _shown(cycles.p, cycles.vary_unit)
