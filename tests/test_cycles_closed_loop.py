@@ -314,3 +314,28 @@ def test_spatial_closed_loop_has_the_planar_hopf_speeds_and_cycle_with_every_row
     assert len(orb) == 49 * len(rows)
     unit = {"x": " [m]", "y": " [m]", "z": " [m]"}
     assert _closure_3d(lambda name: np.array([float(row[name + unit.get(name[0], "")]) for row in orb])) < 1e-10
+
+
+def test_cycles_table_has_the_extremes_of_the_dependent_coordinates_too(cli, truth):
+    """The crank's and the coupler's angles are dependent coordinates (the wheel's is the state): their extremes
+    over each orbit are columns of the table too. Truth: the wheel sweeps [lo, hi] of the reference cycle, so a
+    loop angle sweeps its image under the reference's closed-form kinematics (the crank's is not monotone: it
+    turns inside the sweep)."""
+    _, _, cycles = truth
+    uz = [r for r in _rows(cli["cycles"]) if r["label"] == "UZ"]
+    for r, V in zip(uz, SPEEDS):
+        period, lo, hi, _ = cycles[V]
+        psi = np.linspace(lo, hi, 2001)
+        rate = max(abs(float(r["min_theta_wheel_dot [rad/s]"])), abs(float(r["max_theta_wheel_dot [rad/s]"])))
+        for k, name in ((0, "theta_crank"), (1, "theta_coupler")):
+            kin = np.array([ref.kinematics(p) for p in psi])
+            angle, slope, curve = kin[:, k], kin[:, k + 2], kin[:, k + 4]
+            # sampled at the nodes and Gauss points (gaps below T/100): an extreme at the sweep's end is off by
+            # the wheel's 5e-5 rad times the slope, one inside it by half its curvature times the half gap squared
+            tol = 5e-5 * float(np.max(np.abs(slope))) + 0.5 * float(np.max(np.abs(curve))) * (
+                rate * period / 200) ** 2 + 1e-9
+            assert float(r[f"min_{name} [rad]"]) == pytest.approx(angle.min(), abs=tol)
+            assert float(r[f"max_{name} [rad]"]) == pytest.approx(angle.max(), abs=tol)
+    # the pinned wheel's position is a dependent coordinate that does not move
+    for r in uz:
+        assert abs(float(r["min_x_wheel [m]"])) < 1e-12 and abs(float(r["max_x_wheel [m]"])) < 1e-12

@@ -60,6 +60,10 @@ class CycleBranch:
         How the continuation ended (``completed``, or ``step size underflow`` with why).
     x_base, names:
         The model's full vector giving the other parameters, and its variables' names.
+    coordinate_names, coordinate_units, coordinate_minimum, coordinate_maximum:
+        A closed-loop mechanism's coordinates that are not states (the dependent ones: a four-bar's coupler
+        and crank when the wheel is the state), their units, and per row their smallest and largest value
+        over the same instants as the states'; empty for an ODE or an open chain.
     """
 
     model: str
@@ -81,6 +85,10 @@ class CycleBranch:
     x_base: np.ndarray = field(default_factory=lambda: np.zeros(0))
     approximate: frozenset[int] = frozenset()
     names: tuple[str, ...] = ()
+    coordinate_names: tuple[str, ...] = ()
+    coordinate_units: tuple[str, ...] = ()
+    coordinate_minimum: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    coordinate_maximum: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
     def __len__(self) -> int:
         return len(self.p)
@@ -120,18 +128,22 @@ class CycleBranch:
         return found[name]
 
     def columns(self) -> dict[str, np.ndarray]:
-        """The table's numeric columns by name: the parameter, ``period``, ``min_X``/``max_X`` per state, ``floquet_max``."""
+        """The table's numeric columns by name: the parameter, ``period``, ``min_X``/``max_X`` per state and per
+        dependent coordinate, ``floquet_max``."""
         cols = {self.vary: self.p, "period": self.period}
         for k, name in enumerate(self.state_names):
             cols[f"min_{name}"] = self.minimum[:, k]
             cols[f"max_{name}"] = self.maximum[:, k]
+        for k, name in enumerate(self.coordinate_names):
+            cols[f"min_{name}"] = self.coordinate_minimum[:, k]
+            cols[f"max_{name}"] = self.coordinate_maximum[:, k]
         cols["floquet_max"] = self.floquet_max
         return cols
 
     def units(self) -> dict[str, str]:
         """``{column: SI unit}`` of :meth:`columns`."""
         out = {self.vary: self.vary_unit, "period": "s", "floquet_max": ""}
-        for name, unit in zip(self.state_names, self.state_units):
+        for name, unit in zip(self.state_names + self.coordinate_names, self.state_units + self.coordinate_units):
             out[f"min_{name}"] = out[f"max_{name}"] = unit
         return out
 

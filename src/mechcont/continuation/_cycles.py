@@ -388,6 +388,14 @@ def _branch(model: Model, run: _Run, status: Status, message: str) -> CycleBranc
                   else derivative_unit(model.variable(n[:-4]).unit, "s") if n.endswith("_dot") and n[:-4] in known
                   else "" for n in names)
     p, period, lo, hi, orbits = [], [], [], [], []
+    # a closed loop's dependent coordinates (not states) get their extremes too: the wheel's steer angle when the
+    # partition chose the crank
+    full = getattr(dyn, "full_vectors", None)
+    mech = model.mechanics
+    dep_names = tuple(c for c in mech.coordinates if c not in names) if full is not None and mech is not None else ()
+    deps = [model.index(c) for c in dep_names]
+    dlo: list[np.ndarray] = []
+    dhi: list[np.ndarray] = []
     for pt in run.points:
         u, T, pv = pt.system.split(pt.X)
         uc, _ = pt.system.mesh.at_collocation(u)
@@ -399,11 +407,18 @@ def _branch(model: Model, run: _Run, status: Status, message: str) -> CycleBranc
         lo.append(every.min(axis=1))
         hi.append(every.max(axis=1))
         orbits.append((pt.system.mesh, u.copy()))
+        if deps and full is not None:
+            X = full(every.T, rates.x_at(pv))[:, deps]
+            dlo.append(X.min(axis=0))
+            dhi.append(X.max(axis=0))
     mus = [pt.mu for pt in run.points]
     return CycleBranch(
         model=getattr(model, "name", ""), vary=rates.vary, vary_unit=model.variable(rates.vary).unit,
         state_names=names, state_units=units, p=np.array(p), period=np.array(period), minimum=np.array(lo),
         maximum=np.array(hi), multipliers=mus, n_unstable=np.array([int(np.sum(np.abs(m) > 1 + UNSTABLE)) for m in mus]),
         labels=[pt.label for pt in run.points], s=np.array(run.s), orbits=orbits, status=status, message=message,
-        x_base=rates.x_base.copy(), names=tuple(model.names),
+        x_base=rates.x_base.copy(), names=tuple(model.names), coordinate_names=dep_names,
+        coordinate_units=tuple(model.variable(c).unit for c in dep_names),
+        coordinate_minimum=np.array(dlo).reshape(len(dlo), len(deps)),
+        coordinate_maximum=np.array(dhi).reshape(len(dhi), len(deps)),
         approximate=frozenset(i for i, pt in enumerate(run.points) if pt.approximate))

@@ -296,6 +296,16 @@ class MechanismDynamics:
                 return out
         raise ConvergenceError(f"the dependent coordinates did not close the constraints at {QI[active[0]]}")
 
+    def full_vectors(self, Z: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """:meth:`full_vector` at every row of ``Z`` ((m, len(state_names))): array (m, n_variables), every
+        coordinate (the dependent ones solved, one stacked Newton iteration for all rows) and element state."""
+        Z = np.asarray(Z, dtype=float)
+        indep, _, _ = self._partition(x)
+        n, ns = len(indep), len(self._s)
+        if Z.ndim != 2 or Z.shape[1] != 2 * n + ns:
+            raise InputError("Z", f"needs rows of {2 * n + ns} values ({', '.join(self.state_names)})")
+        return self._configuration_batch(Z[:, :n], Z[:, 2 * n:], x)
+
     def rates_batch(self, Z: np.ndarray, x: np.ndarray) -> np.ndarray:
         """:meth:`rates` at every row of ``Z`` ((m, len(state_names))): array (m, len(state_names)), equal to
         the point-by-point rates to rounding; a few compiled calls and stacked solves for all rows."""
