@@ -20,6 +20,16 @@ if "MECHCONT_CACHE_DIR" not in os.environ:
 
 
 @pytest.fixture(scope="session")
+def shared(tmp_path_factory):
+    """A :class:`session_store.SessionStore`: a long computation several test files check, run once per session
+    however many pytest-xdist workers ask for it (in the session's temporary folder, which the workers share)."""
+    from session_store import SessionStore
+
+    base = tmp_path_factory.getbasetemp()
+    return SessionStore(base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base)
+
+
+@pytest.fixture(scope="session")
 def overcentre():
     from mechcont.models import build_overcentre
 
