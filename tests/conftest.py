@@ -20,6 +20,16 @@ if "MECHCONT_CACHE_DIR" not in os.environ:
 
 
 @pytest.fixture(scope="session")
+def shared(tmp_path_factory):
+    """A :class:`session_store.SessionStore`: a long computation several test files check, run once per session
+    however many pytest-xdist workers ask for it (in the session's temporary folder, which the workers share)."""
+    from session_store import SessionStore
+
+    base = tmp_path_factory.getbasetemp()
+    return SessionStore(base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base)
+
+
+@pytest.fixture(scope="session")
 def overcentre():
     from mechcont.models import build_overcentre
 
@@ -28,16 +38,18 @@ def overcentre():
 
 #: The longest files, longest first as far as it matters (most others take a few seconds of CPU), collected
 #: first. With ``--dist loadfile`` (run.sh) each pytest-xdist worker takes the next file in collection order,
-#: so a long file collected last ran alone on one core at the end while the other idled. Measured 2026-11-29
-#: one file at a time (-n 0) on the shared machine: the documentation's commands and the freefall section
-#: (test_freefall_paper, and again in test_figure_review) take the most; from test_paper on, 13-40 s of CPU
-#: each. Most of the dual-sidestay files start by building the generated dual-sidestay gear (one disk-cache
-#: entry; a second process waits for the first's build): test_doc_examples, which does not, is second, so the
-#: other worker starts on work of its own while the first builds the gear.
-LONGEST_FIRST = ["test_dsopt.py", "test_doc_examples.py", "test_freefall_paper.py", "test_figure_review.py",
-                 "test_freefall_more.py", "test_dual_sidestay_generated.py", "test_dynamics_inertial.py",
-                 "test_dual_sidestay.py", "test_doc_numbers.py", "test_paper.py", "test_assembly_compliance.py",
-                 "test_freefall.py",
+#: so a long file collected last ran alone on one core at the end while the other idled. Measured 2026-11-28/29
+#: (the whole suite on two workers, moderately loaded machine): the documentation's commands (README 146 s,
+#: docs/*.md 190 s: two files, so that they run side by side), test_dsopt (its first build of the generated
+#: dual-sidestay gear, 106 s, and the optimum), test_figure_review (the paper sections, the freefall's 47-102 s
+#: run once per session for it and test_freefall_paper: the ``shared`` fixture), then 45-60 s each. Most of the
+#: dual-sidestay files start by building the generated dual-sidestay gear (one disk-cache entry; a second process
+#: waits for the first's build): test_doc_examples_docs, which needs it only in its last document
+#: (reliability.md), is second, so the other worker starts on work of its own while the first builds the gear.
+LONGEST_FIRST = ["test_dsopt.py", "test_doc_examples_docs.py", "test_doc_examples.py", "test_figure_review.py",
+                 "test_freefall_paper.py", "test_freefall_more.py", "test_dynamics_inertial.py",
+                 "test_dual_sidestay_generated.py", "test_dual_sidestay.py", "test_paper.py",
+                 "test_assembly_compliance.py", "test_freefall.py", "test_doc_numbers.py",
                  "test_spatial_planar.py", "test_redundancy_switch.py", "test_dynamics_paper.py", "test_study_cli.py",
                  "test_reliability.py", "test_paper_animation.py", "test_spatial_cli.py", "test_nose_gear_paper.py",
                  "test_model.py"]

@@ -5,11 +5,10 @@ docs/dual-sidestay.md quoted 217 mm / 0.1 deg for the kinematic assembly at gear
 printed 236 mm / 2.9 deg. Quoted numbers are now marked (``<!--run:NAME-->value<!--/run-->``) and filled from the
 run's summary and the documented commands' output by ``python -m mechcont.paper.doc_numbers DIR``
 (:mod:`mechcont.paper.doc_numbers`). The slow tests run each source afresh and compare every marked number: the
-documented commands here (one test each: the dual-sidestay ones 10-30 s of CPU with the model built, the nose
-gear's studies and optimum, ab, the freefall leg and the lock stay 5-18 s, the tolerance study on its two local
-workers 30 s, the README tour's ``continue`` and ``folds`` a few seconds); the quoted paper sections (freefall,
-design_optimum) in tests/test_figure_review.py (``test_the_docs_quote_what_the_section_prints``), on the run its
-figure review makes, rather than a second one.
+documented commands that a runnable block shows on the run tests/test_doc_examples.py makes of them (each ran
+here a second time: 5-30 s of CPU each, about 100 s in all), the one no runnable block shows (the dual-sidestay
+freefall) here; the quoted paper sections (freefall, design_optimum) in tests/test_figure_review.py
+(``test_the_docs_quote_what_the_section_prints``), on the run its figure review makes, rather than a second one.
 
 A code block showing a command's output (a transcript, where a mark would show as text) is named by
 ``<!--transcript:SOURCE-->`` before its fence; its every line is checked against what the command prints, number by
@@ -25,6 +24,7 @@ import shlex
 from pathlib import Path
 
 import pytest
+from test_doc_examples import _arguments, examples, outputs, quoted_here, quoted_wrong
 
 from mechcont.paper.doc_numbers import (
     BLOCK_MARK,
@@ -236,21 +236,32 @@ def test_no_mark_is_inside_code_where_it_would_show_as_text():
     assert not shown, shown
 
 
-def _wrong(printed: dict[str, str]) -> list[tuple]:
-    """The marked numbers of the documents from the sources in ``printed`` that are not what they print."""
-    names = {n for n, q in QUOTES.items() if q.source in printed}
-    texts = {path.name: path.read_text(encoding="utf-8") for path in DOCUMENTS}
-    return [(name, *m) for name, text in texts.items() for m in mismatches(text, printed) if m[0] in names] \
-        + [(name, *m) for name, text in texts.items() for m in transcript_mismatches(text, printed) if m[0] in printed]
+#: The commands of COMMANDS that a document runs (a line of a ```sh block, run by
+#: tests/test_doc_examples.py, which checks the numbers quoted from them on that run), and the others.
+RUN_BY_EXAMPLES = {source for path in DOCUMENTS for source in quoted_here(path).values()}
+NOT_RUN_BY_EXAMPLES = sorted(set(COMMANDS) - RUN_BY_EXAMPLES)
+
+
+def test_a_command_run_by_the_examples_prints_there_what_it_prints_afresh():
+    """The numbers of a command that a document runs are checked on the examples' run of it (in the document's
+    scratch folder, after the commands before it): no earlier command writes a file it names, so that run is the
+    command run afresh, as :func:`~mechcont.paper.doc_numbers.command_outputs` runs it (a copy of ``examples/``)."""
+    assert RUN_BY_EXAMPLES and NOT_RUN_BY_EXAMPLES == ["freefall_sidestay_cli"]
+    for path in DOCUMENTS:
+        steps = examples(path)
+        for k in quoted_here(path):
+            earlier = {out for kind, text in steps[:k] if kind == "run" for out in outputs(_arguments(text))}
+            earlier |= {text.split("\n", 1)[0] for kind, text in steps[:k] if kind == "file"}
+            assert not earlier & set(COMMANDS[quoted_here(path)[k]]), (path.name, steps[k][1])
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("source", sorted(COMMANDS))
+@pytest.mark.parametrize("source", NOT_RUN_BY_EXAMPLES)
 def test_the_docs_quote_what_the_documented_command_prints(source):
-    """The documented command, run afresh from the repository's root, prints every number the docs quote from it
-    and every line of its transcripts."""
+    """The documented command that no runnable block runs (see the test above), run afresh from the repository's
+    root, prints every number the docs quote from it and every line of its transcripts."""
     printed = command_outputs(ROOT, [source])
     assert set(quoted(printed)) == {n for n, q in QUOTES.items() if q.source == source}
-    wrong = _wrong(printed)
+    wrong = quoted_wrong(printed)
     assert not wrong, ("quoted numbers and transcript lines that are not the run's (fill the marks: "
                        f"python -m mechcont.paper.doc_numbers): {wrong}")

@@ -131,9 +131,12 @@ def test_gear_drawing_three_view(run_default, tmp_path):
 
 
 @pytest.mark.slow
-def test_paper_section_quick(tmp_path):
-    lines = paper.run(tmp_path, quick=True)
-    text = "\n".join(lines)
+def test_paper_section_quick(shared):
+    """The section's quick run: the one tests/test_figure_review.py reviews, made once per session."""
+    from test_figure_review import section_run
+
+    run = section_run("dual_sidestay", shared)
+    text = "\n".join(run.lines)
     assert "mechanical efficiency" in text and "kN" in text and "locks at theta" in text
     # the generated gear, both lock-link pairs held: the locked-in load grows with the attachment stiffness
     held = re.findall(r"attachment reaction ([0-9.]+) kN, deflection ([0-9.]+) mm", text)
@@ -143,7 +146,7 @@ def test_paper_section_quick(tmp_path):
     for name in ("sidestay_actuator.png", "sidestay_down.png", "sidestay_up.png", "sidestay_lock_up.png",
                  "sidestay_rigging.png", "sidestay_downlock.png", "sidestay_fold_curve.png",
                  "sidestay_generated.png"):
-        assert (tmp_path / name).stat().st_size > 0
+        assert run.sizes[name] > 0
 
 
 def test_cli_continue_draw_animate_the_spatial_gear(tmp_path):

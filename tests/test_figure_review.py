@@ -12,10 +12,12 @@ Times measured on the shared 2-core machine (loaded, warm disk cache): overcentr
 cached per process, which other paper tests share); under ``slow``: nose gear 16 s, design_optimum 15 s (a minute
 more when the dual-sidestay gear is first built), dynamics 36 s, dual_sidestay (quick) 29 s, shimmy 32-46 s (its
 time simulations 20 s), freefall 91 s (its bisections and damping study), the documented commands 50 s in all. A
-section runs once per process (:func:`section_run`): the check of the numbers the docs quote from the freefall
-section reads that run's summary lines (0.1 s of CPU) instead of computing the dual-sidestay freefall table again
-(30 s of CPU). The paper's GIF frames: 15 s of CPU (the retraction continued and animated); the README's commands
-with its GIF's frames: 17 s.
+section runs once per test session, in whichever worker process asks first (:func:`section_run`): the check of the
+numbers the docs quote from the freefall section reads that run's summary lines (0.1 s of CPU) instead of computing
+the dual-sidestay freefall table again (30 s of CPU), and tests/test_freefall_paper.py and
+tests/test_dual_sidestay.py check the summaries of the freefall and dual_sidestay (quick) runs made here (they ran
+each section again, 90 s and 29 s). The paper's GIF frames: 15 s of CPU (the retraction continued and animated);
+the README's commands with its GIF's frames: 17 s.
 """
 
 from __future__ import annotations
@@ -118,24 +120,30 @@ def animations():
 
 @dataclass(frozen=True)
 class SectionRun:
-    """A paper section run once: its summary ``lines``, ``timings``, the files it ``wrote`` (figures and GIFs),
-    those it saved through Matplotlib (``saved``), the animations whose frames were reviewed (``animated``) and the
-    ``problems`` the review finds."""
+    """A paper section run once: its summary ``lines``, ``timings``, the files it ``wrote`` (figures and GIFs) and
+    their ``sizes`` (bytes), those it saved through Matplotlib (``saved``), the animations whose frames were reviewed
+    (``animated``) and the ``problems`` the review finds."""
 
     lines: list
     timings: dict
     written: set
+    sizes: dict
     saved: set
     animated: set
     problems: list
 
 
-@functools.cache
-def section_run(section: str) -> SectionRun:
-    """The paper section ``section`` run once per test process (its figure review and the check of the numbers the
-    docs quote from its summary share it) into a scratch folder, with RuntimeWarnings as errors (Matplotlib's
-    "overflow encountered in dot", issue 37, item 8); every figure reviewed as it stands when the run ends, every
-    animation frame by frame."""
+def section_run(section: str, shared) -> SectionRun:
+    """The paper section ``section`` run once per test session (``shared``: conftest.py's fixture; its figure review
+    here, the check of the numbers the docs quote from its summary, and the checks of its summary in
+    tests/test_freefall_paper.py and tests/test_dual_sidestay.py share it, whichever worker process asks first
+    running it) into a scratch folder, with RuntimeWarnings as errors (Matplotlib's "overflow encountered in dot",
+    issue 37, item 8); every figure reviewed as it stands when the run ends, every animation frame by frame."""
+    return shared.get(f"section-{section}", functools.partial(_section_run, section))
+
+
+def _section_run(section: str) -> SectionRun:
+    """The paper section ``section`` run into a scratch folder and reviewed (see :func:`section_run`)."""
     module = importlib.import_module(f"mechcont.paper.{section}")
     options = {"quick": True} if section == "dual_sidestay" else {}   # the same figures, fewer scan points, no GIF
     timings: dict[str, float] = {}
@@ -144,9 +152,9 @@ def section_run(section: str) -> SectionRun:
             warnings.simplefilter("error", RuntimeWarning)
             lines = module.run(Path(folder), True, timings, **options)
             problems = [p for name, fig in sorted(figures.items()) for p in review_problems(fig, name)]
-        written = {p.name for p in Path(folder).iterdir() if p.suffix in (".png", ".gif")}
+        sizes = {p.name: p.stat().st_size for p in Path(folder).iterdir() if p.suffix in (".png", ".gif")}
     problems += [p for name in sorted(animations) for p in animations[name]]
-    return SectionRun(lines, timings, written, set(figures), set(animations), problems)
+    return SectionRun(lines, timings, set(sizes), sizes, set(figures), set(animations), problems)
 
 
 SECTIONS = [pytest.param("overcentre"),
@@ -155,8 +163,8 @@ SECTIONS = [pytest.param("overcentre"),
 
 
 @pytest.mark.parametrize("section", SECTIONS)
-def test_every_figure_of_a_paper_section_passes_the_review_and_is_shown(section):
-    run = section_run(section)
+def test_every_figure_of_a_paper_section_passes_the_review_and_is_shown(section, shared):
+    run = section_run(section, shared)
     if section == "dual_sidestay":   # the drawings' time is in timings.txt (it was left out: 17 s of the section)
         assert {"dual_sidestay: 3-D drawings, gear down and up",
                 "dual_sidestay: 3-D drawing of the generated gear"} <= set(run.timings)
@@ -169,7 +177,7 @@ def test_every_figure_of_a_paper_section_passes_the_review_and_is_shown(section)
 
 @pytest.mark.slow
 @pytest.mark.parametrize("section", ["freefall", "design_optimum"])
-def test_the_docs_quote_what_the_section_prints(section):
+def test_the_docs_quote_what_the_section_prints(section, shared):
     """Every number the docs quote from a paper section (the freefall's: the dual-sidestay freefall's summary lines;
     the reliability-based optima; see tests/test_doc_numbers.py) is what the section's run prints: the run the
     review above makes, not another."""
@@ -178,7 +186,7 @@ def test_the_docs_quote_what_the_section_prints(section):
     from mechcont.paper.doc_numbers import COMMANDS, QUOTES, mismatches, quoted
 
     assert {q.source for q in QUOTES.values()} - set(COMMANDS) == {"freefall", "design_optimum"}   # each checked
-    printed = {section: "\n".join(section_run(section).lines)}
+    printed = {section: "\n".join(section_run(section, shared).lines)}
     assert set(quoted(printed)) == {n for n, q in QUOTES.items() if q.source == section}
     wrong = [(path.name, *m) for path in DOCUMENTS for m in mismatches(path.read_text(encoding="utf-8"), printed)
              if m[0] in QUOTES and QUOTES[m[0]].source == section]

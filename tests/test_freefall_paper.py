@@ -1,12 +1,12 @@
 """The freefall section of ``mechcont paper`` (issue 23, item 6): the nose gear, the damping study and the
-dual-sidestay gear from gear up. The section runs once (module fixture); its summary is checked here."""
+dual-sidestay gear from gear up. The section runs once per session (tests/test_figure_review.py's section_run,
+shared with its figure review); its summary is checked here."""
 
 import math
 import re
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
 from mechcont.analysis import equilibrium_on_stops
 from mechcont.dynamics.freefall import freefall
@@ -28,26 +28,26 @@ def test_nose_gear_locks_from_the_uplock_and_rests_with_the_static_reaction():
 
 
 @pytest.fixture(scope="module")
-def section(tmp_path_factory):
-    from mechcont.cli._app import _register, cli
+def section(shared):
+    """The freefall section's run and its summary text: the run tests/test_figure_review.py reviews, made once per
+    session (``mechcont paper --only`` itself, which writes the same lines to summary.md after a header, is
+    tests/test_paper.py's)."""
+    from test_figure_review import section_run
 
-    _register()
-    out = tmp_path_factory.mktemp("freefall")
-    res = CliRunner().invoke(cli, ["paper", "--out", str(out), "--only", "freefall", "--quiet"])
-    assert res.exit_code == 0, res.output
-    return out, (out / "summary.md").read_text()
+    run = section_run("freefall", shared)
+    return run, "\n".join(run.lines)
 
 
 @pytest.mark.slow
 def test_paper_section_reports_the_critical_airspeed(section):
-    out, text = section
+    run, text = section
     assert "## Freefall extension of the nose gear" in text and "| 125 | still moving |" in text
     sr = float(text.split("releases (SR) at U = ")[1].split()[0])
     low = float(text.split("largest airspeed run that locked, ")[1].split()[0])
     high = float(text.split("the smallest that did not, ")[1].split()[0])
     assert low <= sr <= high  # a run locks exactly when its contact reaction is positive: below SR
-    assert (out / "freefall_nose_gear.png").stat().st_size > 0
-    assert (out / "freefall_critical_vs_damping.png").stat().st_size > 0
+    assert run.sizes["freefall_nose_gear.png"] > 0
+    assert run.sizes["freefall_critical_vs_damping.png"] > 0
 
 
 def _sidestay_rows(text):
