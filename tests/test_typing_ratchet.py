@@ -249,6 +249,7 @@ FLOOR = {
     "mechcont.outputs._labels",
     "mechcont.outputs._regions",
     "mechcont.outputs._symbols",
+    "mechcont.outputs.animation",
     "mechcont.outputs.critical_plots",
     "mechcont.outputs.cycle_orbits",
     "mechcont.outputs.cycle_plots",
