@@ -256,6 +256,7 @@ FLOOR = {
     "mechcont.outputs.design_plots",
     "mechcont.outputs.drawing",
     "mechcont.outputs.drawing3d",
+    "mechcont.outputs.explore",
     "mechcont.outputs.history_plots",
     "mechcont.outputs.retraction_plots",
     "mechcont.outputs.stability_chart",
