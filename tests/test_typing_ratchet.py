@@ -258,6 +258,7 @@ FLOOR = {
     "mechcont.outputs.drawing3d",
     "mechcont.outputs.explore",
     "mechcont.outputs.history_plots",
+    "mechcont.outputs.plotting",
     "mechcont.outputs.retraction_plots",
     "mechcont.outputs.stability_chart",
     "mechcont.outputs.study_plots",

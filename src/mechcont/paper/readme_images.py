@@ -13,8 +13,12 @@ from __future__ import annotations
 import hashlib
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["README_IMAGES", "MANIFEST", "figures", "fingerprint", "write", "stale"]
 
@@ -26,7 +30,7 @@ README_IMAGES = {"fig4c_sweep_on_branch.png": "fig4c_overcentre_LU0.4.png",
 MANIFEST = "readme-images.json"
 
 
-def figures() -> dict[str, tuple[object, bool]]:
+def figures() -> dict[str, tuple[Figure, bool]]:
     """``{README image file: (figure, tight)}``: the figures drawn as ``mechcont paper`` draws them (``tight``: saved
     cropped to what is drawn, as the paper saves Fig. 4a)."""
     from . import nose_gear, overcentre
