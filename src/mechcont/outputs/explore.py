@@ -269,12 +269,12 @@ def page_data(model: EquationSystem | str | Path | None, branches: Sequence[_Sou
              for k, (branch, _, X, _) in enumerate(tables)]
     caps = _within_budget([len(rows) for *_, rows in tables], sizes, float(budget))
     for _ in range(8):  # the estimate per row, checked on the page's data and corrected if it was short
-        out: list[dict] = []
+        out: list[dict[str, Any]] = []
         all_scenes: list[list[Scene]] = []
-        periods: list[list] = []
+        periods: list[list[list[Any]]] = []
         for k, ((branch, name, X, rows), cap) in enumerate(zip(tables, caps)):
             out.append(_document(branch, name, _rows(branch, cap) if cap < len(rows) else rows))
-            per: list = []
+            per: list[list[Any]] = []
             cyc = cycles[k]
             if cyc is not None and cyc.orbit is not None and system is not None:
                 per = [frame(k, r) for r in out[-1]["rows"]]
@@ -307,7 +307,7 @@ def page_data(model: EquationSystem | str | Path | None, branches: Sequence[_Sou
                                                   "mechcont cycles --orbits FILE.csv and give it with --orbits)"]))
         elif not drawn:
             doc["orbits"], doc["cycle"]["orbit_states"] = per, states
-    data: dict = {"title": title or (system.name if system is not None else ""), "branches": out, "bodies": [],
+    data: dict[str, Any] = {"title": title or (system.name if system is not None else ""), "branches": out, "bodies": [],
                   "axes": default_axes(out[0], kinds, cycles[0]) if out else ["", ""],
                   "dim": 2, "views": {}, "force_scale": 0.0, "symbol": 0.0, "view_axes": VIEW_AXES}
     flat = [s for scenes in all_scenes for s in scenes] if drawn else []
