@@ -187,6 +187,22 @@ def test_a_family_from_python_embeds_the_same_periods_and_the_budget_thins_rows_
     assert len(json.dumps(s, separators=(",", ":"))) <= 3.5 * one + 2000
 
 
+def test_a_family_with_an_equation_system_alone_is_refused_naming_it(shimmy):
+    """A family's orbits need the model's dynamics: an equation system alone (no rates, no mechanics) is refused
+    with an InputError naming it (it was an AttributeError)."""
+    from mechcont.continuation import ContinuationOptions, cycles_from_hopf
+    from mechcont.equations import EquationSystem
+    from mechcont.errors import InputError
+
+    model, d = shimmy
+    branch = Branch.read_csv(d / "branch.csv")
+    x = model.vector({n: float(branch.point("HB1")[n]) for n in model.names})
+    fam = cycles_from_hopf(model, x, "V", options=ContinuationOptions(max_steps=2), ntst=10)
+    plain = EquationSystem(model.name, model.variables, model.equations, scene=model.scene)
+    with pytest.raises(InputError, match="no dynamics"):
+        page_data(plain, [fam])
+
+
 def test_the_pose_json_carries_coils_and_tyre_contacts(shimmy):
     model, _ = shimmy
     x = model.defaults()

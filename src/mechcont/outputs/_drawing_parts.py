@@ -6,10 +6,12 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
 
 from .._io import atomic_write
 from ..equations import Scene
@@ -37,6 +39,12 @@ from ._symbols import (  # noqa: F401 (the symbols' names, used here and by draw
     load_text,
     slider_span,
 )
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.backends.backend_agg import RendererAgg
+
+    from ..equations import EquationSystem
 
 __all__ = ["draw_scene", "label_scene", "default_annotate", "body_colours", "IMAGE_SUFFIXES"]
 
@@ -125,7 +133,7 @@ def _checked_extent(bounds: tuple[float, ...]) -> tuple[float, ...]:
 
 # -- primitives ----------------------------------------------------------------------------
 
-def _point_groups(points, size: float) -> list[tuple[np.ndarray, list[str]]]:
+def _point_groups(points: Iterable[tuple[str, npt.ArrayLike]], size: float) -> list[tuple[np.ndarray, list[str]]]:
     """Named ``points`` grouped where they lie within a thousandth of ``size`` (m) of each other:
     ``[(position, [names])]``, in the order they first appear."""
     groups: list[tuple[np.ndarray, list[str]]] = []
@@ -140,21 +148,15 @@ def _point_groups(points, size: float) -> list[tuple[np.ndarray, list[str]]]:
     return groups
 
 
-def label_scene(ax, scene: Scene) -> None:
+def label_scene(ax: Axes, scene: Scene) -> None:
     """Name every body and every named point of ``scene`` on the laid-out axes ``ax``, and place the loads' value
     labels again, all by :func:`mechcont.outputs._labels.place_labels`: each beside what it names, clear of the
     other texts, inside the axes, covering as little of the drawing as it can, with a leader line when away from it
     (the texts written at fixed offsets ran into each other: a moment's value over a body's name, the labels of
     loads at one point over each other). Points closer than a thousandth of the view share one label."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-
     from ._labels import Label, place_labels
 
-    fig = ax.figure
-    if not isinstance(fig.canvas, FigureCanvasAgg):
-        FigureCanvasAgg(fig)
-    fig.draw_without_rendering()   # the layout: labels are placed in pixels
-    renderer = fig.canvas.get_renderer()
+    renderer = _laid_out(ax)
     to_data = ax.transData.inverted().transform
     items = []
     for t in list(ax.texts):
@@ -176,10 +178,22 @@ def label_scene(ax, scene: Scene) -> None:
     place_labels(ax, items, renderer, avoid=_scene_samples(scene), fontsize=9)
 
 
-def draw_scene(scene: Scene, ax=None, *, title: str | None = None, show_forces: bool = True,
+def _laid_out(ax: Axes) -> RendererAgg:
+    """Lay out the figure of ``ax`` (on an Agg canvas) and return its renderer, to measure texts in pixels."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = ax.get_figure()
+    assert isinstance(fig, Figure), "labels are placed on axes of a figure, not of a subfigure"
+    canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
+    fig.draw_without_rendering()   # the layout: labels are placed in pixels
+    return canvas.get_renderer()
+
+
+def draw_scene(scene: Scene, ax: Axes | None = None, *, title: str | None = None, show_forces: bool = True,
                force_scale: float | None = None, limits: tuple[float, float, float, float] | None = None,
-               labels: bool = False, slider_spans: Sequence | None = None, quiet_loads: Iterable[str] = (),
-               colours: dict[str, str] | None = None):
+               labels: bool = False, slider_spans: Sequence[tuple[npt.ArrayLike, npt.ArrayLike]] | None = None,
+               quiet_loads: Iterable[str] = (), colours: dict[str, str] | None = None) -> Axes:
     """Draw one :class:`Scene` on matplotlib axes.
 
     Parameters
@@ -291,7 +305,7 @@ def _atomic_write(path: Path, write: Callable[[str], None]) -> None:
     atomic_write(path, write)
 
 
-def _check_x(system, x) -> np.ndarray:
+def _check_x(system: EquationSystem, x: npt.ArrayLike) -> np.ndarray:
     x = np.asarray(x, dtype=float)
     if x.shape != (len(system.names),):
         raise InputError("x", f"expected {len(system.names)} values ordered like the names of '{system.name}', "
@@ -302,13 +316,13 @@ def _check_x(system, x) -> np.ndarray:
     return x
 
 
-def _scene_of(system) -> Callable[[np.ndarray], Scene]:
+def _scene_of(system: EquationSystem) -> Callable[[np.ndarray], Scene]:
     if system.scene is None:
         raise InputError("model", f"'{system.name}' has no drawing (its EquationSystem has no scene)")
     return system.scene
 
 
-def default_annotate(system) -> tuple[str, ...]:
+def default_annotate(system: EquationSystem) -> tuple[str, ...]:
     """Variables printed on a drawing when none are asked for: ``F`` and ``theta1`` where the
     model has them, else its first angle state (e.g. ``theta_crank``), else nothing."""
     names = tuple(n for n in _DEFAULT_ANNOTATE if n in system.names)
@@ -323,7 +337,7 @@ def _with_vary(vary: str | None, annotate: Sequence[str]) -> tuple[str, ...]:
     return tuple(dict.fromkeys([*([vary] if vary else []), *annotate]))
 
 
-def _direction(u) -> str:
+def _direction(u: npt.ArrayLike) -> str:
     """Words for the unit vector ``u`` (2 or 3 components): ``up``, ``down``, ``left``, ``right`` in a plane when
     within a degree of an axis, else its angle from +x; ``along (ux, uy, uz)`` in space."""
     u = np.asarray(u, float)
@@ -336,8 +350,8 @@ def _direction(u) -> str:
     return f"at {angle:.0f}° from +x"
 
 
-def _note(system, x: np.ndarray, annotate: Sequence[str], stable, label: str, unknown: str = "",
-          forces: dict | None = None) -> str:
+def _note(system: EquationSystem, x: np.ndarray, annotate: Sequence[str], stable: bool | None, label: str,
+          unknown: str = "", forces: Mapping[str, npt.ArrayLike] | None = None) -> str:
     """Text lines: each annotated variable (angles in degrees), stability (``unknown`` when not known) and label.
     A variable that is a drawn load of ``forces`` (``{name: force vector (N)}``) is printed signed with the
     direction its positive value acts in (``F = -75.58 N (+ up)``): its arrow, unlabelled, shows where it acts."""
@@ -378,7 +392,7 @@ def _scene_samples(scene: Scene) -> np.ndarray:
     return np.vstack(pts) if pts else np.zeros((0, 2))
 
 
-def _note_corner(scenes: Sequence[Scene], limits) -> tuple[float, float, str, str]:
+def _note_corner(scenes: Sequence[Scene], limits: Sequence[float]) -> tuple[float, float, str, str]:
     """The corner of the view (axes fraction, alignment) that the fewest drawn points fall into.
 
     A corner box is 40 % of the width by 30 % of the height; ties go to top-left, then
@@ -391,7 +405,8 @@ def _note_corner(scenes: Sequence[Scene], limits) -> tuple[float, float, str, st
     return _CORNERS[int(np.argmin(counts))]
 
 
-def _put_note(ax, text: str, stable, corner=_CORNERS[0]) -> None:
+def _put_note(ax: Axes, text: str, stable: bool | None,
+              corner: tuple[float, float, str, str] = _CORNERS[0]) -> None:
     if not text:
         return
     colour = "white" if stable is None else ("#e5f5e0" if stable else "#fde0dd")

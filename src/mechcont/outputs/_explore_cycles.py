@@ -22,10 +22,10 @@ from ..errors import InputError
 
 if TYPE_CHECKING:
     from ..continuation import Branch, CycleBranch
-    from ..equations import Model
+    from ..equations import EquationSystem
 
     #: explore's reader of a table's full vectors: ``(model, table, its name, values) -> rows`` (SI)
-    FullRows = Callable[[Model, Branch, str, Mapping[str, float]], np.ndarray]
+    FullRows = Callable[[EquationSystem, Branch, str, Mapping[str, float]], np.ndarray]
 
 __all__ = ["CycleTable", "cycle_table", "is_cycles", "has_orbits", "PAGE_FRAMES", "ORBIT_POINTS"]
 
@@ -66,7 +66,7 @@ def _frames(n: int, k: int) -> np.ndarray:
     return np.unique(np.round(np.linspace(0, n - 1, min(k, n - 1) + 1)).astype(int))[:-1]
 
 
-def _from_family(family: CycleBranch, system: Model | None, index: int) -> CycleTable:
+def _from_family(family: CycleBranch, system: EquationSystem | None, index: int) -> CycleTable:
     """The page's table of a computed family of cycles (its orbits from the family itself, given the model)."""
     from .._status import Status
     from ..continuation import Branch, SpecialPoint
@@ -81,8 +81,10 @@ def _from_family(family: CycleBranch, system: Model | None, index: int) -> Cycle
                     model=family.model, units={n: units[n] for n in names})
     orbit = None
     if system is not None:
-        from ..equations import dynamics_of
+        from ..equations import Model, dynamics_of
 
+        if not isinstance(system, Model):   # an equation system alone: no rates, no mechanics
+            raise InputError(system.name, "has neither rates (an ODE file) nor mechanics (a mechanism): no dynamics")
         dyn = dynamics_of(system)
         if tuple(family.names) != tuple(system.names):
             raise InputError("branch", f"the cycles of '{family.model}' are not of model '{system.name}'")
@@ -93,7 +95,7 @@ def _from_family(family: CycleBranch, system: Model | None, index: int) -> Cycle
     return CycleTable(branch, f"cycles {index + 1}", list(family.state_names), orbit)
 
 
-def _from_csv(branch: Branch, name: str, orbits: str | os.PathLike | None, system: Model | None,
+def _from_csv(branch: Branch, name: str, orbits: str | os.PathLike | None, system: EquationSystem | None,
               values: Mapping[str, float], full_rows: FullRows) -> CycleTable:
     """A cycles table read as ``branch``; ``orbits`` its orbit table (or None); ``full_rows`` explore's
     reader of a table's full vectors."""
@@ -121,7 +123,7 @@ def _from_csv(branch: Branch, name: str, orbits: str | os.PathLike | None, syste
 
 
 def cycle_table(source: CycleBranch | Branch | str | os.PathLike, index: int, orbits: str | os.PathLike | None,
-                system: Model | None, values: Mapping[str, float], full_rows: FullRows) -> CycleTable | None:
+                system: EquationSystem | None, values: Mapping[str, float], full_rows: FullRows) -> CycleTable | None:
     """``source`` (a :class:`CycleBranch`, or a CSV path or :class:`Branch` that is a cycles table) for the page,
     with ``orbits`` (an orbit table path, or None); None when ``source`` is not a family of cycles."""
     from ..continuation import Branch, CycleBranch

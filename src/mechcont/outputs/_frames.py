@@ -17,10 +17,19 @@ import functools
 import io
 import math
 import subprocess
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from contextlib import AbstractContextManager
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.artist import Artist
+    from matplotlib.axes import Axes
+    from matplotlib.backend_bases import RendererBase
+    from matplotlib.figure import Figure
+    from PIL.Image import Image
 
 __all__ = ["Compositor", "gif_duration_ms", "gif_frame", "write_gif", "html_sink", "mp4_sink", "offline_player"]
 
@@ -38,21 +47,21 @@ class Compositor:
         so each frame draws such an axes with its fixed parts switched off.
     """
 
-    def __init__(self, fig, content_axes: Sequence = ()):
+    def __init__(self, fig: Figure, content_axes: Sequence[Axes] = ()) -> None:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
         self.fig = fig
         self.canvas = FigureCanvasAgg(fig)
         self.content_axes = list(content_axes)
-        self._background = None
+        self._background: object | None = None  # the Agg canvas's saved region
 
-    def draw_background(self, hidden: Sequence) -> None:
+    def draw_background(self, hidden: Sequence[Artist]) -> None:
         """Draw and keep the fixed image: the figure without the ``hidden`` artists."""
         with _hidden(hidden):
             self.canvas.draw()
         self._background = self.canvas.copy_from_bbox(self.fig.bbox)
 
-    def order(self, artists: Sequence) -> list:
+    def order(self, artists: Sequence[Artist]) -> list[Artist]:
         """``artists`` in the order a full draw paints them: axes by axes, by zorder, ties in the order they
         were added (an axes' legend comes after its artists of equal zorder); a content axes stands for all
         its artists."""
@@ -63,7 +72,7 @@ class Compositor:
         return sorted(chosen, key=lambda a: (axes.index(a.axes) if a.axes in axes else len(axes), a.zorder,
                                              rank.get(id(a), -1)))
 
-    def frame(self, artists: Sequence) -> np.ndarray:
+    def frame(self, artists: Sequence[Artist]) -> np.ndarray:
         """The RGBA pixels (height, width, 4; uint8) of the fixed image with ``artists`` drawn over it: a view
         of the canvas, valid until the next frame is drawn."""
         if self._background is None:
@@ -86,20 +95,20 @@ class Compositor:
 class _hidden:
     """Context: ``artists`` invisible inside, as they were after."""
 
-    def __init__(self, artists: Sequence):
+    def __init__(self, artists: Sequence[Artist]) -> None:
         self.artists = list(artists)
         self.was = [a.get_visible() for a in self.artists]
 
-    def __enter__(self):
+    def __enter__(self) -> None:
         for a in self.artists:
             a.set_visible(False)
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> None:
         for a, v in zip(self.artists, self.was):
             a.set_visible(v)
 
 
-def _draw_content(ax, renderer) -> None:
+def _draw_content(ax: Axes, renderer: RendererBase) -> None:
     """Draw a 3-D axes' artists only (projected and depth-sorted by its ``draw``): background patch, panes,
     grid, ticks and title switched off, as they are already in the fixed image."""
     ax.set_axis_off()
@@ -116,7 +125,7 @@ def gif_duration_ms(fps: float, hold: float) -> int:
     return 10 * math.ceil(round(100.0 / fps + 100.0 * hold, 6))
 
 
-def gif_frame(rgba: np.ndarray):
+def gif_frame(rgba: np.ndarray) -> Image:
     """An opaque RGBA frame as a Pillow RGB image (a copy), as :func:`write_gif` takes it."""
     from PIL import Image
 
@@ -130,7 +139,7 @@ _EXACT_COLOURS = 64
 _NEAR = 10
 
 
-def write_gif(path: str | Path, frames: Sequence, durations: Sequence[int]) -> None:
+def write_gif(path: str | Path, frames: Sequence[Image], durations: Sequence[int]) -> None:
     """Write ``frames`` (Pillow RGB images of one size) as a looping GIF, frame ``k`` shown ``durations[k]`` ms.
 
     All frames share one palette: quantizing each frame on its own is most of a GIF's writing time,
@@ -181,8 +190,18 @@ def _png_base64(rgba: np.ndarray) -> str:
     return base64.encodebytes(buf.getvalue()).decode("ascii")
 
 
+class FrameSink(Protocol):
+    """A Matplotlib movie writer fed with ready pixels: inside ``saving(fig, outfile, dpi)``, ``add(rgba, repeats)``
+    appends a frame (RGBA pixels of the figure's size) ``repeats`` times."""
+
+    def saving(self, fig: Figure, outfile: str | Path, dpi: float | None, *args: Any,
+               **kwargs: Any) -> AbstractContextManager[object]: ...
+
+    def add(self, rgba: np.ndarray, repeats: int = 1) -> None: ...
+
+
 @functools.cache
-def _html_class() -> type:
+def _html_class() -> Callable[..., FrameSink]:
     from matplotlib import animation
 
     class HtmlSink(animation.HTMLWriter):
@@ -245,7 +264,7 @@ def offline_player(text: str) -> str:
     the button); a ``ValueError`` names an icon it does not know (a newer Matplotlib's)."""
     import re
 
-    def icon(m: re.Match) -> str:
+    def icon(m: re.Match[str]) -> str:
         name = m.group(1).removeprefix("fa ").strip()
         if name not in _ICONS:
             raise ValueError(f"no offline icon for Matplotlib's {name!r}")
@@ -258,14 +277,14 @@ def offline_player(text: str) -> str:
             f"<body>\n{body}\n</body></html>\n")
 
 
-def html_sink(fps: float):
+def html_sink(fps: float) -> FrameSink:
     """An ``HTMLWriter`` (frames embedded as PNG, at most 200 MB) with ``add(rgba, repeats)``; its page works
     offline (:func:`offline_player`)."""
     return _html_class()(fps=fps, embed_frames=True, embed_limit=200)
 
 
 @functools.cache
-def _mp4_class() -> type:
+def _mp4_class() -> Callable[..., FrameSink]:
     from matplotlib import animation
 
     class Mp4Sink(animation.FFMpegWriter):
@@ -286,6 +305,6 @@ def _mp4_class() -> type:
     return Mp4Sink
 
 
-def mp4_sink(fps: float):
+def mp4_sink(fps: float) -> FrameSink:
     """An ``FFMpegWriter`` (rgba frames through a pipe) with ``add(rgba, repeats)``."""
     return _mp4_class()(fps=fps)

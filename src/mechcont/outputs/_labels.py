@@ -14,10 +14,18 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
 
 from ._symbols import _LABEL_BOX
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.backend_bases import RendererBase
+    from matplotlib.text import Text
+    from matplotlib.typing import ColorType
 
 __all__ = ["Label", "place_labels", "text_boxes"]
 
@@ -32,17 +40,17 @@ class Label:
 
     text: str
     anchor: tuple[float, float]
-    colour: str = "0.15"
+    colour: ColorType = "0.15"
     bold: bool = False
     gid: str | None = None
 
 
-def text_boxes(ax, renderer) -> list[np.ndarray]:
+def text_boxes(ax: Axes, renderer: RendererBase) -> list[np.ndarray]:
     """Pixel boxes ``[x0, y0, x1, y1]`` of the non-empty visible texts on ``ax`` (with their frames)."""
     return [_box(t, renderer) for t in ax.texts if t.get_visible() and t.get_text().strip()]
 
 
-def _box(t, renderer) -> np.ndarray:
+def _box(t: Text, renderer: RendererBase) -> np.ndarray:
     """Pixel box ``[x0, y0, x1, y1]`` of text ``t`` with its frame (sized now: a frame is sized when drawn)."""
     patch = t.get_bbox_patch()
     if patch is None:
@@ -93,7 +101,8 @@ def _candidates(anchor: np.ndarray, w: float, h: float, step: float, reach: floa
     return np.vstack(centres), np.concatenate(dist)
 
 
-def place_labels(ax, labels: Sequence[Label], renderer, avoid=None, *, fontsize: float = 9.0) -> list:
+def place_labels(ax: Axes, labels: Sequence[Label], renderer: RendererBase, avoid: npt.ArrayLike | None = None, *,
+                 fontsize: float = 9.0) -> list[Text]:
     """Put ``labels`` on the laid-out axes ``ax``: each beside its anchor, clear of the texts already on ``ax``
     and of the labels placed before it, inside the axes, covering as few of the ``avoid`` data points (k, 2)
     as it can; a label away from its anchor is joined to it by a leader line.
@@ -113,7 +122,7 @@ def place_labels(ax, labels: Sequence[Label], renderer, avoid=None, *, fontsize:
     # the most crowded anchors first: they have the fewest free places, which later labels would take
     near = np.linalg.norm(kept[:, None, :] - kept[None, :, :], axis=2) < 0.15 * max(frame.width, frame.height)
     order = sorted(range(len(labels)), key=lambda i: -int(near[i].sum()))
-    out: dict[int, object] = {}
+    out: dict[int, Text] = {}
     for i in order:
         lab = labels[i]
         t = ax.text(*lab.anchor, lab.text, ha="center", va="center", fontsize=fontsize, color=lab.colour,
@@ -139,7 +148,8 @@ def place_labels(ax, labels: Sequence[Label], renderer, avoid=None, *, fontsize:
             ok = ok if ok.any() else np.ones(len(boxes), bool)
         k = int(np.argmin(np.where(ok, cost, np.inf)))
         c = centres[k]
-        t.set_position(tuple(lab.anchor) if dist[k] == 0 else tuple(to_data(c.reshape(1, 2))[0]))
+        x, y = lab.anchor if dist[k] == 0 else to_data(c.reshape(1, 2))[0]
+        t.set_position((float(x), float(y)))
         placed.append(boxes[k])
         if dist[k] > 0:
             half = np.array([w / 2 - _GAP, h / 2 - _GAP])

@@ -12,8 +12,14 @@ the other side and the frame: the middle of the side's largest empty area.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.text import Text
 
 __all__ = ["label_sides"]
 
@@ -22,7 +28,7 @@ _GAP = 3.0             # pixels kept free around a word
 _SMALL_MARKER = 4.0    # markers at most this size (pt) may be given up
 
 
-def _taken(ax, cells: np.ndarray, shape: tuple[int, int], small: bool) -> np.ndarray:
+def _taken(ax: Axes, cells: np.ndarray, shape: tuple[int, int], small: bool) -> np.ndarray:
     """Which ``cells`` (pixel centres, n x 2) a line, a marker (the small ones when ``small``) or a text of ``ax``
     covers, as a grid of ``shape``."""
     from matplotlib.backends.backend_agg import RendererAgg
@@ -34,7 +40,7 @@ def _taken(ax, cells: np.ndarray, shape: tuple[int, int], small: bool) -> np.nda
     tree = cKDTree(cells)
     hit = np.zeros(len(cells), bool)
 
-    def near(px, r):
+    def near(px: np.ndarray, r: float) -> None:
         for idx in tree.query_ball_point(px, r):
             hit[idx] = True
 
@@ -62,17 +68,20 @@ def _taken(ax, cells: np.ndarray, shape: tuple[int, int], small: bool) -> np.nda
     return hit.reshape(shape)
 
 
-def label_sides(ax, points, normals, valid, words: Sequence[tuple[str, str]], *, fontsize: float = 9.0) -> list:
+def label_sides(ax: Axes, points: npt.ArrayLike, normals: npt.ArrayLike, valid: npt.ArrayLike,
+                words: Sequence[tuple[str, str]], *, fontsize: float = 9.0) -> list[Text]:
     """Write ``words`` = ``[(first side's word, colour), (second side's word, colour)]`` on ``ax``, each in the
     middle of the largest empty area of its side of the boundary through ``points`` (data, n x 2; ``normals``:
     n x 2 in data units, pointing into the first side; ``valid``: where the point bounds the two sides). Call
     it on the finished axes (legend and layout done). Returns the words' texts (a word with no free place is
     left out)."""
     from matplotlib.backends.backend_agg import RendererAgg
+    from matplotlib.figure import Figure
     from scipy.ndimage import distance_transform_edt, minimum_filter
     from scipy.spatial import cKDTree
 
     fig = ax.figure
+    assert isinstance(fig, Figure), "label_sides needs axes on a figure, not on a subfigure"
     fig.draw_without_rendering()
     frame = ax.bbox
     nx, ny = max(int(frame.width / _CELL), 2), max(int(frame.height / _CELL), 2)

@@ -6,10 +6,19 @@ symbol size."""
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
+import numpy.typing as npt
 
 from ..equations import Scene
+
+if TYPE_CHECKING:
+    from matplotlib.artist import Artist
+    from matplotlib.axes import Axes
+    from matplotlib.lines import Line2D
+
+    _A = TypeVar("_A", bound=Artist)
 
 _COILS = 6           # zig-zag coils per spring, whatever its length
 _LABEL_BOX = dict(boxstyle="square,pad=0.1", facecolor="white", edgecolor="none", alpha=0.75)
@@ -21,13 +30,14 @@ def _moment_radius(h: float) -> float:
     return 2.2 * h
 
 
-def _add(ax, artist):
+def _add(ax: Axes, artist: _A) -> _A:
     """Put ``artist`` on ``ax`` without widening the data limits: :func:`draw_scene` always sets the view
     itself, and measuring a curved patch's extent costs more than drawing it (an animation adds hundreds)."""
-    return ax.add_artist(artist)
+    ax.add_artist(artist)
+    return artist
 
 
-def _line(ax, xs, ys, **kw):
+def _line(ax: Axes, xs: npt.ArrayLike, ys: npt.ArrayLike, **kw: Any) -> Line2D:
     """A polyline on ``ax`` (as ``ax.plot(xs, ys, **kw)`` draws it when given its colour), see :func:`_add`."""
     from matplotlib.lines import Line2D
 
@@ -56,7 +66,8 @@ def _zigzag(a: np.ndarray, b: np.ndarray, width: float) -> np.ndarray:
     return np.vstack([a, coil, b])
 
 
-def _hatched_strip(ax, start: np.ndarray, end: np.ndarray, normal: np.ndarray, depth: float, zorder: float):
+def _hatched_strip(ax: Axes, start: np.ndarray, end: np.ndarray, normal: np.ndarray, depth: float,
+                   zorder: float) -> None:
     from matplotlib.patches import Polygon
 
     quad = np.array([start, end, end + depth * normal, start + depth * normal])
@@ -66,7 +77,7 @@ def _hatched_strip(ax, start: np.ndarray, end: np.ndarray, normal: np.ndarray, d
     _line(ax, [start[0], end[0]], [start[1], end[1]], color="0.2", linewidth=1.2, zorder=zorder)
 
 
-def _draw_ground(ax, p: np.ndarray, h: float, down=(0.0, -1.0), gid: str | None = None):
+def _draw_ground(ax: Axes, p: np.ndarray, h: float, down: npt.ArrayLike = (0.0, -1.0), gid: str | None = None) -> None:
     """Triangle on a hatched strip below ``p``; "below" is the unit vector ``down``."""
     from matplotlib.patches import Polygon
 
@@ -94,18 +105,20 @@ def _anchor_down(p: np.ndarray, scene: Scene) -> np.ndarray:
     return -pull / n if n > 1e-9 else np.array([0.0, -1.0])
 
 
-def _unit(direction) -> np.ndarray:
+def _unit(direction: npt.ArrayLike) -> np.ndarray:
     u = np.asarray(direction, float)
     return u / np.hypot(*u) if np.hypot(*u) > 0 else np.array([1.0, 0.0])
 
 
-def slider_span(p: np.ndarray, direction, h: float, travel: tuple[float, float] = (0.0, 0.0)):
+def slider_span(p: np.ndarray, direction: npt.ArrayLike, h: float,
+                travel: tuple[float, float] = (0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
     """Ends of a slider's guide: ``travel`` (min, max distance along the guide from ``p``) and 4 h more each way."""
     u = _unit(direction)
     return p + (travel[0] - 4.0 * h) * u, p + (travel[1] + 4.0 * h) * u
 
 
-def _draw_slider(ax, p: np.ndarray, direction: np.ndarray, h: float, span=None):
+def _draw_slider(ax: Axes, p: np.ndarray, direction: np.ndarray, h: float,
+                 span: tuple[npt.ArrayLike, npt.ArrayLike] | None = None) -> None:
     """A block in a slot: two guide lines along ``span`` (default a short one around ``p``), fixed to
     the ground by a hatched cap at each end. Drawn locally, so bars elsewhere never cross it."""
     from matplotlib.patches import Polygon
@@ -124,7 +137,7 @@ def _draw_slider(ax, p: np.ndarray, direction: np.ndarray, h: float, span=None):
     _add(ax, Polygon(block, closed=True, facecolor="0.75", edgecolor="0.2", linewidth=1.0, zorder=3))
 
 
-def _draw_slot(ax, name: str, a: np.ndarray, b: np.ndarray):
+def _draw_slot(ax: Axes, name: str, a: np.ndarray, b: np.ndarray) -> None:
     """A straight slot cut in a body: a dark channel with a light floor from ``a`` to ``b``, inside the
     body's bar (drawn 6 points wide) and under the pin."""
     for width, colour, z in ((4.0, "0.2", 5.2), (2.0, "white", 5.3)):
@@ -132,13 +145,13 @@ def _draw_slot(ax, name: str, a: np.ndarray, b: np.ndarray):
               gid="slot", label=f"slot {name}")
 
 
-def _draw_pin(ax, p: np.ndarray, h: float):
+def _draw_pin(ax: Axes, p: np.ndarray, h: float) -> None:
     from matplotlib.patches import Circle
 
     _add(ax, Circle((float(p[0]), float(p[1])), 0.45 * h, facecolor="white", edgecolor="black", linewidth=1.2, zorder=6))
 
 
-def _draw_damper(ax, name: str, a: np.ndarray, b: np.ndarray, width: float):
+def _draw_damper(ax: Axes, name: str, a: np.ndarray, b: np.ndarray, width: float) -> None:
     """Dashpot from ``a`` to ``b``: a cylinder open towards ``b`` and a piston on a rod."""
     frame = _along(a, b)
     if frame is None:
@@ -148,7 +161,7 @@ def _draw_damper(ax, name: str, a: np.ndarray, b: np.ndarray, width: float):
     def at(s: float, w: float) -> np.ndarray:
         return a + s * length * t + w * width * nrm
 
-    kw = dict(color="#8c564b", linewidth=1.3, zorder=4)
+    kw: dict[str, Any] = dict(color="#8c564b", linewidth=1.3, zorder=4)
     cyl = np.array([at(0.6, 1), at(0.3, 1), at(0.3, -1), at(0.6, -1)])
     _line(ax, *np.array([a, at(0.3, 0)]).T, label=name, **kw)
     _line(ax, *cyl.T, **kw)
@@ -156,7 +169,7 @@ def _draw_damper(ax, name: str, a: np.ndarray, b: np.ndarray, width: float):
     _line(ax, *np.array([at(0.5, 0), b]).T, **kw)
 
 
-def _draw_coil(ax, name: str, p: np.ndarray, kind: str, h: float):
+def _draw_coil(ax: Axes, name: str, p: np.ndarray, kind: str, h: float) -> None:
     """A rotary element at the joint ``p``: a torsion spring (``kind`` ``"spring"``) as a spiral of
     two and a half turns from the pin out to ``1.6 h``; a rotary damper as a 200-degree arc of radius
     ``3 h`` (outside a moment's arrow) (open below, clear of a ground symbol) with a dashpot across its middle."""
@@ -168,7 +181,7 @@ def _draw_coil(ax, name: str, p: np.ndarray, kind: str, h: float):
         return
     r = 3.0 * h
     phi = np.radians(np.linspace(-10.0, 190.0, 61))
-    kw = dict(color="#8c564b", linewidth=1.3, zorder=4)
+    kw: dict[str, Any] = dict(color="#8c564b", linewidth=1.3, zorder=4)
     _line(ax, p[0] + r * np.cos(phi), p[1] + r * np.sin(phi), label=name, gid=f"coil:{name}", **kw)
     top = p + np.array([0.0, r])
     _line(ax, [top[0] - 0.5 * h, top[0] - 0.5 * h], [top[1] - 0.45 * h, top[1] + 0.45 * h], **kw)
@@ -176,7 +189,8 @@ def _draw_coil(ax, name: str, p: np.ndarray, kind: str, h: float):
     _line(ax, cup[:, 0], cup[:, 1], **kw)
 
 
-def _draw_actuator(ax, name: str, a: np.ndarray, b: np.ndarray, tension: float, width: float, label: bool):
+def _draw_actuator(ax: Axes, name: str, a: np.ndarray, b: np.ndarray, tension: float, width: float,
+                   label: bool) -> None:
     """Actuator from ``a`` to ``b``: a closed cylinder from ``a`` and a thinner rod to ``b``,
     labelled with its load in N (tension: pulls its ends together; compression: pushes)."""
     from matplotlib.patches import Polygon
@@ -207,7 +221,7 @@ def load_text(value: float, unit: str) -> str:
     return f"{value:.3g} {unit}"
 
 
-def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float, label: bool = True):
+def _draw_moment(ax: Axes, name: str, p: np.ndarray, value: float, h: float, label: bool = True) -> None:
     """Curved arrow of 270 degrees around ``p`` (open below): counter-clockwise if ``value`` > 0; label |value| in N m."""
     text = f"{name} = {load_text(abs(value), 'N m')}"
     r = _moment_radius(h)
@@ -229,7 +243,8 @@ def _draw_moment(ax, name: str, p: np.ndarray, value: float, h: float, label: bo
             gid=f"load:{name}")
 
 
-def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: float, label: bool = True):
+def _draw_force(ax: Axes, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: float,
+                label: bool = True) -> None:
     mag = float(np.hypot(*v))
     text = f"{name} = {load_text(mag, 'N')}"
     if not label and (mag == 0 or scale == 0):
@@ -239,7 +254,7 @@ def _draw_force(ax, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: fl
                 bbox=_LABEL_BOX, gid=f"load:{name}")
         return
     tip = p + v * scale
-    ax.annotate("", xy=tip, xytext=p, zorder=7,
+    ax.annotate("", xy=(float(tip[0]), float(tip[1])), xytext=(float(p[0]), float(p[1])), zorder=7,
                 arrowprops=dict(arrowstyle="-|>", color="#d62728", linewidth=1.8, mutation_scale=14,
                                 shrinkA=0, shrinkB=0))
     if not label:

@@ -15,7 +15,8 @@ import contextlib
 import math
 import os
 import shutil
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from typing import TYPE_CHECKING, Literal, overload
 
 import numpy as np
 
@@ -24,6 +25,22 @@ from ..units import display_scale, display_unit
 from . import _frames as _f
 from . import drawing as _d
 from ._branch_frames import BranchFrames, branch_frames
+
+if TYPE_CHECKING:
+    from matplotlib.artist import Artist
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from matplotlib.legend import Legend
+    from matplotlib.lines import Line2D
+    from PIL.Image import Image
+
+    from ..continuation import Branch
+    from ..equations import EquationSystem, Model, Scene
+
+    #: The diagram's marker of the current point and the branch's (x, y) in display units, per row.
+    _Marker = tuple[Line2D, np.ndarray, np.ndarray]
+    #: What :func:`animate` takes as a branch (see :func:`branch_frames`).
+    _BranchSource = BranchFrames | Branch | str | os.PathLike[str] | np.ndarray | Sequence[Sequence[float]]
 
 __all__ = ["animate", "BranchFrames", "branch_frames", "check_fps", "check_hold", "frame_rows", "default_fps",
            "ANIMATION_SUFFIXES", "FPS_RANGE", "MIN_DURATION", "MAX_FPS", "HOLD"]
@@ -36,7 +53,7 @@ ANIMATION_SUFFIXES = (".gif", ".mp4", ".html")
 FPS_RANGE = (0.01, 100.0)
 
 
-def check_fps(fps) -> float:
+def check_fps(fps: object) -> float:
     """``fps`` as a float within :data:`FPS_RANGE`, else :class:`InputError`."""
     lo, hi = FPS_RANGE
     if isinstance(fps, bool) or not isinstance(fps, (int, float)) or not math.isfinite(fps) or fps <= 0:
@@ -47,7 +64,7 @@ def check_fps(fps) -> float:
     return float(fps)
 
 
-def check_hold(seconds, field: str = "hold") -> float:
+def check_hold(seconds: object, field: str = "hold") -> float:
     """``seconds`` (the extra time on each special point) as a float in 0..60, else :class:`InputError` naming ``field``."""
     if not (isinstance(seconds, (int, float)) and not isinstance(seconds, bool) and math.isfinite(seconds)
             and 0 <= seconds <= 60):
@@ -92,7 +109,7 @@ def _diagram_states(frames: BranchFrames) -> np.ndarray:
     return out
 
 
-def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
+def _diagram(ax: Axes, system: EquationSystem, frames: BranchFrames, names: tuple[str, str]) -> _Marker:
     """Branch projected on ``names`` (x, y): stable solid, unstable dashed, labels marked."""
     (xn, yn) = names
     xs, ys = (frames.values[:, system.index(n)] for n in names)
@@ -124,7 +141,7 @@ def _diagram(ax, system, frames: BranchFrames, names: tuple[str, str]):
     return marker, xs, ys
 
 
-def _unknown(system) -> str:
+def _unknown(system: EquationSystem) -> str:
     """What a frame says of a row whose stability is not known: a model without a potential energy
     (a kinematic one) has none to speak of; another was continued without evaluating it."""
     from ..equations import Model
@@ -134,7 +151,7 @@ def _unknown(system) -> str:
     return "kinematic: no stability"  # (a drawing-only object has no mechanics either)
 
 
-def _slider_spans(scenes, h: float):
+def _slider_spans(scenes: Sequence[Scene], h: float) -> list[tuple[np.ndarray, np.ndarray]] | None:
     """Per slider, its guide over the whole travel of the animation (the same in every frame)."""
     if not scenes or not scenes[0].sliders:
         return None
@@ -148,7 +165,7 @@ def _slider_spans(scenes, h: float):
     return spans
 
 
-def _added(axes, draw: Callable[[], object]) -> list:
+def _added(axes: Sequence[Axes], draw: Callable[[], object]) -> list[Artist]:
     """Call ``draw()`` and return the artists it added to ``axes``."""
     before = {id(c) for ax in axes for c in ax.get_children()}
     draw()
@@ -163,38 +180,47 @@ class _Renderer:
     ``content_axes`` are 3-D axes (see :class:`~mechcont.outputs._frames.Compositor`).
     """
 
-    def __init__(self, fig, axes, draw: Callable[[int], None], marker=None, content_axes=()):
+    def __init__(self, fig: Figure, axes: Iterable[Axes], draw: Callable[[int], None], marker: _Marker | None = None,
+                 content_axes: Iterable[Axes] = ()) -> None:
         self.fig, self.axes, self._draw, self.marker = fig, list(axes), draw, marker
         self.content_axes = list(content_axes)
-        self.over: list = []  # the artists of the frame drawn to lay the figure out
+        self.over: list[Artist] = []  # the artists of the frame drawn to lay the figure out
         self.legend_over_marker = True  # False once the marker is known never to pass under the legend
-        self._current: list = []
+        self._current: list[Artist] = []
 
-    def render(self, k: int) -> list:
+    def render(self, k: int) -> list[Artist]:
         for a in self._current:
             a.remove()
         self._current = _added(self.axes, lambda: self._draw(k))
         over = list(self._current)
         if self.marker is not None:
-            legend = self.marker[0].axes.get_legend() if self.legend_over_marker else None
+            legend = self.diagram_legend() if self.legend_over_marker else None
             over += [self.marker[0], *([legend] if legend is not None else [])]
         return over
 
+    def diagram_legend(self) -> Legend | None:
+        """The legend of the diagram the marker is on (None without a marker or a legend)."""
+        ax = None if self.marker is None else self.marker[0].axes
+        return None if ax is None else ax.get_legend()
+
     def marker_meets_legend(self) -> bool:
         """Whether the diagram's marker, at any row, overlaps its legend (which is then redrawn over it)."""
-        if self.marker is None or self.marker[0].axes.get_legend() is None:
+        legend = self.diagram_legend()
+        if self.marker is None or legend is None:
             return False
         line, xs, ys = self.marker
         ax = line.axes
-        box = ax.get_legend().get_window_extent()
+        assert ax is not None   # the marker was plotted on the diagram's axes
+        box = legend.get_window_extent()
         r = 0.5 * line.get_markersize() * self.fig.dpi / 72.0 + 2.0  # pixels, with a margin for antialiasing
         px = ax.transData.transform(np.column_stack([xs, ys]))
         return bool(np.any((px[:, 0] > box.x0 - r) & (px[:, 0] < box.x1 + r) & (px[:, 1] > box.y0 - r)
                            & (px[:, 1] < box.y1 + r)))
 
 
-def _planar_renderer(system, frames, rows, scenes, annotate, labels, *, title, show_forces, diagram, figsize,
-                     dpi) -> _Renderer:
+def _planar_renderer(system: Model, frames: BranchFrames, rows: Sequence[int], scenes: Sequence[Scene],
+                     annotate: Sequence[str], labels: Sequence[str], *, title: str | None, show_forces: bool,
+                     diagram: tuple[str, str] | None, figsize: tuple[float, float] | None, dpi: int) -> _Renderer:
     """The figure of a planar mechanism and its frames (one fixed view, optional diagram)."""
     scale = _d._default_force_scale(scenes)
     limits = _d._limits(_d._union(_d._bounds(s, scale, show_forces) for s in scenes))
@@ -213,7 +239,7 @@ def _planar_renderer(system, frames, rows, scenes, annotate, labels, *, title, s
     marker = None
     if diagram:
         ax, dax = fig.subplots(1, 2, width_ratios=(mech_w, 6.0))
-        marker = _diagram(dax, system, frames, tuple(diagram))
+        marker = _diagram(dax, system, frames, (diagram[0], diagram[1]))
     else:
         ax = fig.add_subplot()
 
@@ -230,8 +256,9 @@ def _planar_renderer(system, frames, rows, scenes, annotate, labels, *, title, s
     return _Renderer(fig, [ax], draw, marker)
 
 
-def _spatial_renderer(system, frames, rows, scenes, annotate, labels, *, title, show_forces, diagram, figsize,
-                      dpi) -> _Renderer:
+def _spatial_renderer(system: Model, frames: BranchFrames, rows: Sequence[int], scenes: Sequence[Scene],
+                      annotate: Sequence[str], labels: Sequence[str], *, title: str | None, show_forces: bool,
+                      diagram: tuple[str, str] | None, figsize: tuple[float, float] | None, dpi: int) -> _Renderer:
     """The figure of a spatial mechanism and its frames: front, side, top and 3-D views (fixed for every
     frame) and, with ``diagram``, the branch with the current point in place of the top view."""
     from matplotlib.figure import Figure
@@ -244,7 +271,7 @@ def _spatial_renderer(system, frames, rows, scenes, annotate, labels, *, title, 
     fig = Figure(figsize=figsize or _d3.layout_size(frame.limits, (wide, max(wide, 13.0)), max(9.5, 950.0 / dpi)),
                  dpi=dpi, layout="constrained")
     axes = _d3.spatial_layout(fig, views, frame.limits)
-    marker = _diagram(axes.pop("diagram"), system, frames, tuple(diagram)) if diagram else None
+    marker = _diagram(axes.pop("diagram"), system, frames, (diagram[0], diagram[1])) if diagram else None
     fig.suptitle(title or system.name)  # once: the layout places it
     _d3.legend(fig, frame.colours, scenes[0])   # bodies named by colour: the same in every frame
     corner = _d._note_corner([_d3.project(s, "front") for s in scenes], frame.limits["front"])
@@ -261,7 +288,7 @@ def _spatial_renderer(system, frames, rows, scenes, annotate, labels, *, title, 
     return _Renderer(fig, axes.values(), draw, marker, content_axes=[axes["3d"]])
 
 
-def animate(system, branch, path: str | os.PathLike, fps: float | None = None, every: int = 1,
+def animate(system: Model, branch: _BranchSource, path: str | os.PathLike[str], fps: float | None = None, every: int = 1,
             annotate: Sequence[str] = _d._DEFAULT_ANNOTATE, *, vary: str | None = None, title: str | None = None,
             show_forces: bool = True,
             diagram: tuple[str, str] | None = None, figsize: tuple[float, float] | None = None,
@@ -345,7 +372,7 @@ def animate(system, branch, path: str | os.PathLike, fps: float | None = None, e
 
     def write(tmp: str) -> None:
         sink = None if suffix == ".gif" else _f.html_sink(fps) if suffix in (".html", ".htm") else _f.mp4_sink(fps)
-        images: list = []
+        images: list[Image] = []
         # sink.setup may round an MP4's size to even pixels: before the fixed image is drawn
         with contextlib.nullcontext() if sink is None else sink.saving(renderer.fig, tmp, dpi):
             for k, rgba in enumerate(_frame_pixels(renderer, len(rows))):
@@ -368,8 +395,9 @@ def _ffmpeg_available() -> bool:
     return bool(animation.writers.is_available("ffmpeg"))
 
 
-def _renderer(scene_fn, system, frames: BranchFrames, rows: Sequence[int], annotate: Sequence[str], *, title,
-              show_forces, diagram, figsize, dpi) -> _Renderer:
+def _renderer(scene_fn: Callable[[np.ndarray], Scene], system: Model, frames: BranchFrames, rows: Sequence[int],
+              annotate: Sequence[str], *, title: str | None, show_forces: bool, diagram: tuple[str, str] | None,
+              figsize: tuple[float, float] | None, dpi: int) -> _Renderer:
     """The laid-out figure of an animation and its frames (planar or spatial), first frame drawn."""
     scenes = [scene_fn(frames.values[i]) for i in rows]
     from .drawing3d import is_spatial
@@ -385,11 +413,11 @@ def _renderer(scene_fn, system, frames: BranchFrames, rows: Sequence[int], annot
         _pin_legend(ax)
     if renderer.marker is not None and not renderer.marker_meets_legend():  # the legend stays in the fixed image
         renderer.legend_over_marker = False
-        renderer.over = [a for a in renderer.over if a is not renderer.marker[0].axes.get_legend()]
+        renderer.over = [a for a in renderer.over if a is not renderer.diagram_legend()]
     return renderer
 
 
-def _pin_legend(ax) -> None:
+def _pin_legend(ax: Axes) -> None:
     """Keep ``ax``'s legend where ``loc="best"`` put it: searching the best place again costs more
     than drawing the rest of a frame, and the branch it avoids does not change."""
     legend = ax.get_legend()
@@ -399,7 +427,12 @@ def _pin_legend(ax) -> None:
     legend.set_loc(((box.x0 - anchor.x0) / anchor.width, (box.y0 - anchor.y0) / anchor.height))
 
 
-def _frame_pixels(renderer: _Renderer, n: int, *, check: bool = False):
+@overload
+def _frame_pixels(renderer: _Renderer, n: int, *, check: Literal[False] = False) -> Iterator[np.ndarray]: ...
+@overload
+def _frame_pixels(renderer: _Renderer, n: int, *, check: Literal[True]) -> Iterator[tuple[np.ndarray, np.ndarray]]: ...
+def _frame_pixels(renderer: _Renderer, n: int, *,
+                  check: bool = False) -> Iterator[np.ndarray] | Iterator[tuple[np.ndarray, np.ndarray]]:
     """RGBA pixels of frames ``0..n-1`` (each valid until the next is drawn): the fixed parts drawn once,
     each frame's own artists over them. With ``check``, pairs ``(blitted, full redraw)`` instead (tests)."""
     comp = _f.Compositor(renderer.fig, renderer.content_axes)

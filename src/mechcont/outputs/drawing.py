@@ -22,6 +22,9 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy.typing as npt
 
 from ._drawing_parts import (  # noqa: F401 (the parts' names, used here and by animation and explore as drawing's)
     _ARROW,
@@ -53,13 +56,20 @@ from ._drawing_parts import (  # noqa: F401 (the parts' names, used here and by 
 )
 from .drawing3d import draw3d, is_spatial
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from ..continuation import SpecialPoint
+    from ..equations import EquationSystem
+
 __all__ = ["draw_scene", "draw", "label_scene", "default_annotate", "IMAGE_SUFFIXES"]
 
 
-def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: str | None = None,
-         show_forces: bool = True, force_scale: float | None = None, annotate: Sequence[str] = (),
-         stable: bool | None = None, label: str = "", figsize: tuple[float, float] = (6, 4.5), dpi: int = 120,
-         labels: bool = False, label_points: bool = False):
+def draw(system: EquationSystem, x: npt.ArrayLike | SpecialPoint, path: str | os.PathLike[str] | None = None, *,
+         ax: Axes | None = None, title: str | None = None, show_forces: bool = True, force_scale: float | None = None,
+         annotate: Sequence[str] = (), stable: bool | None = None, label: str = "",
+         figsize: tuple[float, float] = (6, 4.5), dpi: int = 120, labels: bool = False,
+         label_points: bool = False) -> Axes | dict[str, Axes]:
     """Draw ``system`` at the full variable vector ``x`` and optionally save it.
 
     Parameters
@@ -109,9 +119,9 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
 
         return draw3d(system, x, path, title=title, show_forces=show_forces, annotate=annotate, stable=stable,
                       label=label, dpi=dpi, label_points=label_points)
-    if ax is None:
-        from matplotlib.figure import Figure
+    from matplotlib.figure import Figure
 
+    if ax is None:
         ax = Figure(figsize=figsize, layout="constrained").add_subplot()
     scene = scene_fn(x)
     # a load that is also annotated is printed once, signed, in the note; its arrow shows where it acts
@@ -123,5 +133,7 @@ def draw(system, x, path: str | os.PathLike | None = None, *, ax=None, title: st
     if labels or label_points:
         label_scene(ax, scene)   # after the note, which the labels then keep clear of
     if out is not None:
-        _atomic_write(out, lambda tmp: ax.figure.savefig(tmp, format=out.suffix[1:].lower(), dpi=dpi))
+        fig = ax.get_figure()
+        assert isinstance(fig, Figure), "draw saves the figure of axes on a figure, not on a subfigure"
+        _atomic_write(out, lambda tmp: fig.savefig(tmp, format=out.suffix[1:].lower(), dpi=dpi))
     return ax

@@ -25,14 +25,23 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
-from typing import Any
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import numpy.typing as npt
 
 from ..equations import Scene
 from ..errors import InputError
 from . import _drawing_parts as _d
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from mpl_toolkits.mplot3d import Axes3D
+
+    from ..continuation import SpecialPoint
+    from ..equations import EquationSystem
 
 __all__ = ["VIEWS", "is_spatial", "project", "draw_scene3d", "draw3d", "spatial_layout", "layout_size", "legend",
            "label_views"]
@@ -66,7 +75,7 @@ def project(scene: Scene, view: str) -> Scene:
     h, v, n = _check_view(view)
     sign = 1.0 if (h, v, n) in ((1, 2, 0), (2, 0, 1), (0, 1, 2)) else -1.0   # e_h x e_v = sign * e_n
 
-    def p2(p) -> np.ndarray:
+    def p2(p: npt.ArrayLike) -> np.ndarray:
         p = np.asarray(p, float)
         return p[..., [h, v]].copy()
 
@@ -86,7 +95,7 @@ def project(scene: Scene, view: str) -> Scene:
     return out
 
 
-def _norm(v) -> float:
+def _norm(v: npt.ArrayLike) -> float:
     return float(np.linalg.norm(np.asarray(v, float)))
 
 
@@ -98,7 +107,8 @@ def _force_scale(scenes: Sequence[Scene]) -> float:
     return _d._ARROW * max(size, 1e-12) / fmax if fmax > 0 else 0.0
 
 
-def _view_limits(scenes: Sequence[Scene], view: str, scale: float, show_forces: bool):
+def _view_limits(scenes: Sequence[Scene], view: str, scale: float,
+                 show_forces: bool) -> tuple[float, float, float, float]:
     return _d._limits(_d._union(_d._bounds(project(s, view), scale, show_forces) for s in scenes))
 
 
@@ -113,7 +123,7 @@ def _box3d(scenes: Sequence[Scene], scale: float, show_forces: bool) -> np.ndarr
     return np.column_stack([lo - pad, hi + pad])
 
 
-def _axis_lines(scene: Scene, view: str | None, length: float):
+def _axis_lines(scene: Scene, view: str | None, length: float) -> list[tuple[np.ndarray, np.ndarray]]:
     """Segments (a, b) of the joint axes, projected into ``view`` (or 3-D when None); end-on ones dropped."""
     out = []
     for _, p, axis in scene.joint_axes:
@@ -163,8 +173,8 @@ def _loads_text(scene: Scene, show_forces: bool) -> str:
     return "\n".join(lines)
 
 
-def _draw_3d(ax, scene: Scene, box: np.ndarray, scale: float, show_forces: bool, title: str | None,
-             colours: dict[str, str]):
+def _draw_3d(ax: Axes3D, scene: Scene, box: np.ndarray, scale: float, show_forces: bool, title: str | None,
+             colours: dict[str, str]) -> None:
     """Scene in Matplotlib 3-D axes ``ax`` within ``box`` (3, 2) m, equal scale on the three axes. Bodies are
     named by their colour (the figure's legend); the loads' values are listed under the panel's title."""
     size = float(np.max(box[:, 1] - box[:, 0]))
@@ -212,8 +222,8 @@ def _draw_3d(ax, scene: Scene, box: np.ndarray, scale: float, show_forces: bool,
         ax.set_title("\n".join([title or "", *lines]).strip("\n"), fontsize=_FONT + 1)
 
 
-def _draw_view(ax, scene: Scene, view: str, limits, scale: float, show_forces: bool, quiet_loads: Sequence[str] = (),
-               colours: dict[str, str] | None = None):
+def _draw_view(ax: Axes, scene: Scene, view: str, limits: tuple[float, float, float, float], scale: float,
+               show_forces: bool, quiet_loads: Sequence[str] = (), colours: dict[str, str] | None = None) -> None:
     h_i, v_i, n_i = VIEWS[view]
     flat = project(scene, view)
     # a projected load is a component, not the load: its arrow is drawn, its value is printed in the 3-D view
@@ -233,7 +243,8 @@ def _draw_view(ax, scene: Scene, view: str, limits, scale: float, show_forces: b
 _GRID = {"front": (0, 0, "SE"), "side": (0, 1, "SW"), "3d": (1, 0, "C"), "top": (1, 1, "NW")}
 
 
-def spatial_layout(fig, views: Sequence[str] = _DEFAULT_VIEWS, limits: dict | None = None):
+def spatial_layout(fig: Figure, views: Sequence[str] = _DEFAULT_VIEWS,
+                   limits: dict[str, tuple[float, float, float, float]] | None = None) -> dict[str, Axes]:
     """Axes for ``views`` on ``fig``: ``{view: axes}``, the 3-D one with a 3-D projection.
 
     With the four default views (in any order; ``"diagram"`` may stand for ``top``) and the
@@ -257,7 +268,7 @@ def spatial_layout(fig, views: Sequence[str] = _DEFAULT_VIEWS, limits: dict | No
         widths = (max(f[1] - f[0], 0.9 * (s[1] - s[0])), s[1] - s[0])
         heights = (f[3] - f[2], max(t[3] - t[2], 0.6 * (f[3] - f[2])))
         gs = fig.add_gridspec(2, 2, width_ratios=widths, height_ratios=heights)
-        out = {}
+        out: dict[str, Axes] = {}
         for v in views:
             r, c, anchor = _GRID["top" if v == "diagram" else v]
             out[v] = fig.add_subplot(gs[r, c], **kw.get(v, {}))
@@ -268,7 +279,8 @@ def spatial_layout(fig, views: Sequence[str] = _DEFAULT_VIEWS, limits: dict | No
     return {v: fig.add_subplot(rows, cols, k + 1, **kw.get(v, {})) for k, v in enumerate(views)}
 
 
-def layout_size(limits: dict, width: tuple[float, float] = (8.5, 13.0), height: float = 9.5) -> tuple[float, float]:
+def layout_size(limits: dict[str, tuple[float, float, float, float]], width: tuple[float, float] = (8.5, 13.0),
+                height: float = 9.5) -> tuple[float, float]:
     """Figure size (in) of the default four-view layout of views with ``limits``: ``height`` tall, as wide as the
     panels need at that height (within ``width``), room left for ticks, titles and the legend."""
     f, s = limits["front"], limits["side"]
@@ -278,13 +290,13 @@ def layout_size(limits: dict, width: tuple[float, float] = (8.5, 13.0), height: 
     return float(np.clip(aspect * (height - 2.2) + 1.6, *width)), height
 
 
-def legend(fig, colours: dict[str, str], scene: Scene) -> None:
+def legend(fig: Figure, colours: dict[str, str], scene: Scene) -> None:
     """One legend below the panels: a line per body in its colour, and the spring, damper, actuator and load
     symbols the scene has."""
     from matplotlib.lines import Line2D
 
     handles = [Line2D([], [], color=c, linewidth=5, solid_capstyle="round", label=n) for n, c in colours.items()]
-    extra: tuple[tuple[str, str, Any, float, Sequence], ...] = (
+    extra: tuple[tuple[str, str, Any, float, Sequence[object]], ...] = (
         ("springs", "#ff7f0e", "-", 1.3, scene.springs), ("dampers", "#8c564b", "--", 2.0, scene.dampers),
         ("rotary springs, dampers (at their joint)", "#ff7f0e", ":", 1.3, scene.coils),
              ("actuators", "#6a3d9a", "-", 5, scene.actuators), ("loads", "#d62728", "-", 1.8, scene.forces),
@@ -295,19 +307,13 @@ def legend(fig, colours: dict[str, str], scene: Scene) -> None:
     fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 6), fontsize=_FONT, frameon=False)
 
 
-def label_views(axes: dict, scene: Scene, *, bodies: bool = True, label_points: bool = False) -> None:
+def label_views(axes: dict[str, Axes], scene: Scene, *, bodies: bool = True, label_points: bool = False) -> None:
     """Name the bodies (with ``bodies``) and the named points (with ``label_points``) in each orthographic view of the laid-out
     figure of ``axes``: beside what they name, clear of each other and of the drawing where there is room,
     inside the axes, with leader lines (see :mod:`mechcont.outputs._labels`)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-
     from ._labels import Label, place_labels
 
-    fig = next(iter(axes.values())).figure
-    if not isinstance(fig.canvas, FigureCanvasAgg):
-        FigureCanvasAgg(fig)
-    fig.draw_without_rendering()   # the layout: label positions are measured in pixels
-    renderer = fig.canvas.get_renderer()
+    renderer = _d._laid_out(next(iter(axes.values())))   # label positions are measured in pixels
     colours = _d.body_colours([scene])
     for view, ax in axes.items():
         if view not in VIEWS:
@@ -327,14 +333,14 @@ def _stacked(names: Sequence[str]) -> str:
     return ",\n".join(", ".join(names[k:k + 2]) for k in range(0, len(names), 2))
 
 
-def _first_of_each(bars):
-    seen: dict = {}
+def _first_of_each(bars: Iterable[tuple[str, np.ndarray]]) -> list[tuple[str, np.ndarray]]:
+    seen: dict[str, np.ndarray] = {}
     for name, pts in bars:
         seen.setdefault(name, pts)
     return list(seen.items())
 
 
-def _body_anchor(pts) -> tuple[float, float]:
+def _body_anchor(pts: npt.ArrayLike) -> tuple[float, float]:
     """The middle of the longest segment of a body's polyline (on the body, where it is easiest to see)."""
     pts = np.atleast_2d(np.asarray(pts, float))
     if len(pts) < 2:
@@ -347,7 +353,8 @@ def _body_anchor(pts) -> tuple[float, float]:
 class _Frame:
     """Fixed views (limits, force scale, body colours) shared by every scene of a drawing or an animation."""
 
-    def __init__(self, scenes: Sequence[Scene], views: Sequence[str], show_forces: bool, force_scale=None):
+    def __init__(self, scenes: Sequence[Scene], views: Sequence[str], show_forces: bool,
+                 force_scale: float | None = None) -> None:
         if not scenes or not all(is_spatial(s) for s in scenes):
             raise InputError("scene", "a spatial drawing needs scenes with 3-D coordinates")
         self.scale = _force_scale(scenes) if force_scale is None else float(force_scale)
@@ -359,7 +366,8 @@ class _Frame:
         self.show_forces = show_forces
         self.colours = _d.body_colours(scenes)
 
-    def render(self, axes: dict, scene: Scene, *, title: str | None, quiet_loads=(), clear: bool = True):
+    def render(self, axes: dict[str, Axes], scene: Scene, *, title: str | None, quiet_loads: Sequence[str] = (),
+               clear: bool = True) -> None:
         """Draw ``scene`` in every view of ``axes`` (bodies unnamed: see :func:`label_views`); ``clear=False``
         keeps what they hold (an animation removes its previous frame's artists itself and keeps the axes,
         ticks and all)."""
@@ -374,8 +382,9 @@ class _Frame:
             next(iter(axes.values())).figure.suptitle(title)
 
 
-def _compose(scene: Scene, fig, views, title, show_forces, force_scale, labels, label_points,
-             note: tuple[str, bool | None] | None = None) -> dict:
+def _compose(scene: Scene, fig: Figure | None, views: Sequence[str], title: str | None, show_forces: bool,
+             force_scale: float | None, labels: bool, label_points: bool,
+             note: tuple[str, bool | None] | None = None) -> dict[str, Axes]:
     """The whole spatial drawing on ``fig`` (a new sized one when None): views, legend, note, labels."""
     frame = _Frame([scene], views, show_forces, force_scale)
     if fig is None:
@@ -397,9 +406,9 @@ def _compose(scene: Scene, fig, views, title, show_forces, force_scale, labels, 
     return axes
 
 
-def draw_scene3d(scene: Scene, fig=None, *, views: Sequence[str] = _DEFAULT_VIEWS, title: str | None = None,
-                 show_forces: bool = True, force_scale: float | None = None, labels: bool = True,
-                 label_points: bool = False) -> dict:
+def draw_scene3d(scene: Scene, fig: Figure | None = None, *, views: Sequence[str] = _DEFAULT_VIEWS,
+                 title: str | None = None, show_forces: bool = True, force_scale: float | None = None,
+                 labels: bool = True, label_points: bool = False) -> dict[str, Axes]:
     """Draw a spatial :class:`Scene` as orthographic views and a 3-D view on one figure.
 
     Parameters
@@ -429,10 +438,10 @@ def draw_scene3d(scene: Scene, fig=None, *, views: Sequence[str] = _DEFAULT_VIEW
     return _compose(scene, fig, views, title, show_forces, force_scale, labels, label_points)
 
 
-def draw3d(system, x, path: str | os.PathLike | None = None, *, views: Sequence[str] = _DEFAULT_VIEWS,
-           title: str | None = None, show_forces: bool = True, annotate: Sequence[str] = (),
-           stable: bool | None = None, label: str = "", dpi: int = 100, labels: bool = True,
-           label_points: bool = False) -> dict:
+def draw3d(system: EquationSystem, x: npt.ArrayLike | SpecialPoint, path: str | os.PathLike[str] | None = None, *,
+           views: Sequence[str] = _DEFAULT_VIEWS, title: str | None = None, show_forces: bool = True,
+           annotate: Sequence[str] = (), stable: bool | None = None, label: str = "", dpi: int = 100,
+           labels: bool = True, label_points: bool = False) -> dict[str, Axes]:
     """Draw a spatial ``system`` at the full variable vector ``x`` (three-view + 3-D) and optionally save it.
 
     Like :func:`mechcont.outputs.drawing.draw` (same ``x``, ``annotate``, ``stable``,
@@ -449,6 +458,8 @@ def draw3d(system, x, path: str | os.PathLike | None = None, *, views: Sequence[
     InputError
         No scene, a planar scene, a wrong-length or non-finite ``x``, an unknown name, view or suffix.
     """
+    from matplotlib.figure import Figure
+
     out = _d._check_out(path, _d.IMAGE_SUFFIXES) if path is not None else None
     scene_fn = _d._scene_of(system)
     if hasattr(x, "x") and hasattr(x, "label"):
@@ -460,6 +471,7 @@ def draw3d(system, x, path: str | os.PathLike | None = None, *, views: Sequence[
     axes = _compose(scene_fn(x), None, views, title or system.name, show_forces, None, labels, label_points,
                     note=(_d._note(system, x, annotate, stable, label), stable))
     if out is not None:
-        fig = next(iter(axes.values())).figure
+        fig = next(iter(axes.values())).get_figure()
+        assert isinstance(fig, Figure)   # the new figure of _compose
         _d._atomic_write(out, lambda tmp: fig.savefig(tmp, format=out.suffix[1:].lower(), dpi=dpi))
     return axes

@@ -21,15 +21,22 @@ import math
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
+import numpy.typing as npt
 
 from .._io import atomic_write
-from ..equations import Model, Scene
+from ..equations import EquationSystem, Model, Scene
 from ..errors import InputError
 from . import drawing as _d
 from ._explore_points import default_axes, special_points
+
+if TYPE_CHECKING:
+    from ..continuation import Branch, CycleBranch
+
+    #: A table the page shows: a branch, fold-curve, time-history or cycles CSV path, a Branch or a CycleBranch.
+    _Source: TypeAlias = Branch | CycleBranch | str | os.PathLike[str]
 
 __all__ = ["explore_page", "write_explore", "pose_json", "MAX_ROWS", "PAGE_BUDGET", "EXPLORE_SUFFIXES"]
 
@@ -44,11 +51,11 @@ _EXTRA = ("s", "stability", "n_unstable", "label", "vary")
 _TYRE = "tyre "
 
 
-def _xy(p) -> list[float]:
+def _xy(p: npt.ArrayLike) -> list[float]:
     return [float(v) for v in np.asarray(p, float).ravel()]
 
 
-def pose_json(scene: Scene, bodies: Mapping[str, int]) -> dict:
+def pose_json(scene: Scene, bodies: Mapping[str, int]) -> dict[str, list[Any]]:
     """One pose as JSON-ready lists (metres, N, N m): ``bars`` ``[[body index, [[x, y(, z)], ...]], ...]``,
     ``pins``/``grounds``/``anchors`` ``[[x, y], ...]``, ``sliders`` ``[[point, direction]]``, ``springs``/
     ``dampers`` ``[[name, a, b]]``, ``slots`` (pin-in-slot joints) ``[[name, start, end]]``,
@@ -74,15 +81,15 @@ def pose_json(scene: Scene, bodies: Mapping[str, int]) -> dict:
     }
 
 
-def _model(model):
-    if model is None or hasattr(model, "names"):
+def _model(model: EquationSystem | str | Path | None) -> EquationSystem | None:
+    if model is None or isinstance(model, EquationSystem):
         return model
     from ..models import load_model
 
     return load_model(model)
 
 
-def _branch(source, index: int):
+def _branch(source: object, index: int) -> tuple[Branch, str]:
     from ..continuation import Branch
 
     if isinstance(source, Branch):
@@ -92,7 +99,7 @@ def _branch(source, index: int):
     raise InputError("branch", f"expected a branch CSV path or a Branch, not {type(source).__name__}")
 
 
-def _full_rows(system, branch, name: str, values: Mapping[str, float]) -> np.ndarray:
+def _full_rows(system: EquationSystem, branch: Branch, name: str, values: Mapping[str, float]) -> np.ndarray:
     """The model's full variable vectors at every row of ``branch`` (SI; ``values`` on every row)."""
     X = np.empty((len(branch), len(system.names)))
     missing = []
@@ -120,7 +127,7 @@ def _full_rows(system, branch, name: str, values: Mapping[str, float]) -> np.nda
     return X
 
 
-def _rows(branch, max_rows: int) -> np.ndarray:
+def _rows(branch: Branch, max_rows: int) -> np.ndarray:
     """Rows embedded: all, or every k-th, the last and every special row when more than ``max_rows``."""
     n = len(branch)
     if n <= max_rows:
@@ -130,7 +137,8 @@ def _rows(branch, max_rows: int) -> np.ndarray:
     return np.array(sorted(keep))
 
 
-def _row_bytes(branch, system, X: np.ndarray | None, index: Mapping[str, int], samples: int = 5) -> float:
+def _row_bytes(branch: Branch, system: EquationSystem | None, X: np.ndarray | None, index: Mapping[str, int],
+               samples: int = 5) -> float:
     """Bytes one embedded row of ``branch`` takes in the page, its columns and, with a model, its pose: the most
     of ``samples`` rows spread along it (a row at rest prints shorter numbers than one in motion)."""
     most = 0
@@ -152,10 +160,10 @@ def _within_budget(counts: Sequence[int], row_bytes: Sequence[float], budget: fl
     return [min(n, max(2, int(n * f))) for n in counts]
 
 
-def _document(branch, name: str, rows: np.ndarray) -> dict:
+def _document(branch: Branch, name: str, rows: np.ndarray) -> dict[str, Any]:
     """The page's document of ``rows`` of ``branch`` (see :func:`page_data`; its ``note`` empty, its poses to come);
     InputError naming the row and column of a value that is not finite."""
-    doc = {"name": name, "vary": branch.vary, "units": {n: branch.units.get(n, "") for n in branch.names},
+    doc: dict[str, Any] = {"name": name, "vary": branch.vary, "units": {n: branch.units.get(n, "") for n in branch.names},
            "columns": {n: [float(v) for v in branch.column(n)[rows]] for n in branch.names},
            "n_unstable": [int(v) for v in branch.n_unstable[rows]], "labels": [branch.labels[i] for i in rows],
            "rows": [int(i) for i in rows], "special": special_points(branch, rows), "note": ""}
@@ -167,7 +175,7 @@ def _document(branch, name: str, rows: np.ndarray) -> dict:
     return doc
 
 
-def _limits(scenes: Sequence[Scene], dim: int) -> tuple[float, dict]:
+def _limits(scenes: Sequence[Scene], dim: int) -> tuple[float, dict[str, tuple[float, float, float, float]]]:
     """(force scale m/N, {view: (xmin, xmax, ymin, ymax)}) fixed over all ``scenes``."""
     if dim == 3:
         from . import drawing3d as _d3
@@ -178,9 +186,9 @@ def _limits(scenes: Sequence[Scene], dim: int) -> tuple[float, dict]:
     return scale, {"plane": _d._limits(_d._union(_d._bounds(s, scale, True) for s in scenes))}
 
 
-def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None = None,
-              max_rows: int = MAX_ROWS, title: str | None = None, budget: float = PAGE_BUDGET,
-              orbits: Sequence = ()) -> dict:
+def page_data(model: EquationSystem | str | Path | None, branches: Sequence[_Source], *,
+              values: Mapping[str, float] | None = None, max_rows: int = MAX_ROWS, title: str | None = None,
+              budget: float = PAGE_BUDGET, orbits: Sequence[str | os.PathLike[str]] = ()) -> dict[str, Any]:
     """The JSON document the page embeds (see :func:`explore_page` for the arguments).
 
     ``branches[k]``: ``name``, ``columns`` (``{name: [values]}``, SI, the table's own columns),
@@ -209,7 +217,8 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
             system.index(n)
         if system.scene is None and not (isinstance(system, Model) and system.ode is not None):  # an ODE: no drawing
             raise InputError("model", f"'{system.name}' has no drawing (its EquationSystem has no scene)")
-    drawn = system is not None and system.scene is not None  # an ODE model has no drawing
+    scene_fn = system.scene if system is not None else None
+    drawn = scene_fn is not None  # an ODE model has no drawing
     states = list(system.ode.states) if isinstance(system, Model) and system.ode is not None else []
     tables: list[tuple[Any, str, np.ndarray | None, np.ndarray]] = []
     cycles: list[CycleTable | None] = []
@@ -230,15 +239,15 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
         raise InputError("orbits", f"{len(paired)} orbit table(s) beyond the cycles tables (mechcont cycles --out) "
                                    "without orbits to pair with")
 
-    def frame(k: int, row: int) -> list:  # one period of a cycle row: its scenes (drawn) or its states' values
+    def frame(k: int, row: int) -> list[Any]:  # one period of a cycle row: its scenes (drawn) or its states' values
         cyc = cycles[k]
         assert cyc is not None and cyc.orbit is not None and system is not None
         X = cyc.orbit(row, PAGE_FRAMES if drawn else ORBIT_POINTS)
-        if drawn:
-            return [system.scene(x) for x in X]
+        if scene_fn is not None:   # drawn
+            return [scene_fn(x) for x in X]
         return [[float(v) for v in x[[system.index(s) for s in states]]] for x in X]
 
-    def sample(k: int):  # a full vector of table k, for the size of a pose
+    def sample(k: int) -> np.ndarray | None:  # a full vector of table k, for the size of a pose
         cyc, X = cycles[k], tables[k][2]
         if cyc is None:
             return None if X is None else X[0]
@@ -246,8 +255,8 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
 
     probe: dict[str, int] = {}  # any body index: a pose's size does not depend on it
     first = next((x for x in (sample(k) for k in range(len(tables))) if x is not None), None) if system else None
-    if drawn and first is not None:
-        probe = {n: 0 for n, _ in system.scene(first).bars}
+    if scene_fn is not None and first is not None:   # drawn
+        probe = {n: 0 for n, _ in scene_fn(first).bars}
 
     def cycle_bytes(k: int) -> float:  # one row's period in the page
         cyc = cycles[k]
@@ -260,18 +269,18 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
              for k, (branch, _, X, _) in enumerate(tables)]
     caps = _within_budget([len(rows) for *_, rows in tables], sizes, float(budget))
     for _ in range(8):  # the estimate per row, checked on the page's data and corrected if it was short
-        out: list[dict] = []
+        out: list[dict[str, Any]] = []
         all_scenes: list[list[Scene]] = []
-        periods: list[list] = []
+        periods: list[list[list[Any]]] = []
         for k, ((branch, name, X, rows), cap) in enumerate(zip(tables, caps)):
             out.append(_document(branch, name, _rows(branch, cap) if cap < len(rows) else rows))
-            per: list = []
+            per: list[list[Any]] = []
             cyc = cycles[k]
             if cyc is not None and cyc.orbit is not None and system is not None:
                 per = [frame(k, r) for r in out[-1]["rows"]]
             periods.append(per)
-            if drawn and X is not None:
-                all_scenes.append([system.scene(x) for x in X[out[-1]["rows"]]])
+            if scene_fn is not None and X is not None:   # drawn
+                all_scenes.append([scene_fn(x) for x in X[out[-1]["rows"]]])
             elif drawn:
                 all_scenes.append([s for f in per for s in f])
         used = len(json.dumps(out, separators=(",", ":"))) + 160 * len(out) + sum(  # 160: the note to come
@@ -298,7 +307,7 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
                                                   "mechcont cycles --orbits FILE.csv and give it with --orbits)"]))
         elif not drawn:
             doc["orbits"], doc["cycle"]["orbit_states"] = per, states
-    data: dict = {"title": title or (system.name if system is not None else ""), "branches": out, "bodies": [],
+    data: dict[str, Any] = {"title": title or (system.name if system is not None else ""), "branches": out, "bodies": [],
                   "axes": default_axes(out[0], kinds, cycles[0]) if out else ["", ""],
                   "dim": 2, "views": {}, "force_scale": 0.0, "symbol": 0.0, "view_axes": VIEW_AXES}
     flat = [s for scenes in all_scenes for s in scenes] if drawn else []
@@ -320,9 +329,10 @@ def page_data(model, branches: Sequence, *, values: Mapping[str, float] | None =
     return data
 
 
-def explore_page(model, branches: Sequence, *, values: Mapping[str, float] | None = None,
-                 max_rows: int = MAX_ROWS, title: str | None = None, compact: bool = False,
-                 budget: float = PAGE_BUDGET, orbits: Sequence = ()) -> str:
+def explore_page(model: EquationSystem | str | Path | None, branches: Sequence[_Source], *,
+                 values: Mapping[str, float] | None = None, max_rows: int = MAX_ROWS, title: str | None = None,
+                 compact: bool = False, budget: float = PAGE_BUDGET,
+                 orbits: Sequence[str | os.PathLike[str]] = ()) -> str:
     """The explorer page (HTML text) of ``branches`` of ``model``.
 
     Parameters
@@ -364,7 +374,8 @@ def explore_page(model, branches: Sequence, *, values: Mapping[str, float] | Non
     return render(text, token, title=str(data["title"]), compact=compact)
 
 
-def write_explore(path: str | os.PathLike, model, branches: Sequence, **options) -> Path:
+def write_explore(path: str | os.PathLike[str], model: EquationSystem | str | Path | None, branches: Sequence[_Source],
+                  **options: Any) -> Path:
     """Write :func:`explore_page` to ``path`` (``.html``) atomically; returns the path. ``options``
     as :func:`explore_page` takes them."""
     from .._io import check_output_path
@@ -380,7 +391,7 @@ def write_explore(path: str | os.PathLike, model, branches: Sequence, **options)
     return atomic_write(out, write)
 
 
-def branch_html(branch) -> str:
+def branch_html(branch: Branch) -> str:
     """Jupyter's view of a :class:`~mechcont.continuation.Branch`: the explorer page (compact, at most 600
     rows) in an ``iframe``, with the mechanism drawn when the branch's ``model`` loads as a model of
     its variables (else the diagram alone). ``import mechcont`` registers it with IPython's HTML

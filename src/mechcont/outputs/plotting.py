@@ -9,14 +9,27 @@ lazily and only through :class:`matplotlib.figure.Figure`, so everything runs he
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal, overload
 
 import numpy as np
 
 from .._io import atomic_write
 from ..errors import InputError
 from ..units import display, display_unit
+
+if TYPE_CHECKING:
+    from matplotlib.artist import Artist
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from matplotlib.legend import Legend
+    from matplotlib.transforms import Bbox
+    from matplotlib.typing import ColorType
+    from mpl_toolkits.mplot3d import Axes3D
+
+    from ..analysis.design import DesignRegion
+    from ..continuation import Branch
 
 __all__ = ["plot_branch", "branch_figure", "plot_surface", "new_figure", "save_figure", "interval_states",
            "axis_values", "axis_label", "curve", "label_point", "nice_levels", "signed_levels",
@@ -31,7 +44,7 @@ _ANGLE_HINTS = ("theta", "psi", "alpha", "angle")
 PER_STEP = 8
 
 
-def _is_angle(branch, name: str) -> bool:
+def _is_angle(branch: Branch, name: str) -> bool:
     units = getattr(branch, "units", None) or {}
     if name in units:
         return units[name] == "rad"
@@ -44,7 +57,7 @@ def axis_label(name: str, unit: str) -> str:
     return f"{name} ({display_unit(unit) or '1'})"
 
 
-def axis_values(branch, name: str) -> tuple[np.ndarray, str]:
+def axis_values(branch: Branch, name: str) -> tuple[np.ndarray, str]:
     """Values of ``name`` along ``branch`` for display (degrees for angles) and an axis label."""
     v = branch.column(name)
     units = getattr(branch, "units", None) or {}
@@ -60,7 +73,7 @@ def _dense_s(s: np.ndarray, per_step: int) -> np.ndarray:
     return np.append(inner, s[-1])
 
 
-def curve(branch, *names: str, per_step: int = PER_STEP) -> tuple[np.ndarray, ...]:
+def curve(branch: Branch, *names: str, per_step: int = PER_STEP) -> tuple[np.ndarray, ...]:
     """Columns ``names`` of ``branch`` as smooth curves for drawing (display units: angles in degrees).
 
     The continuation's own points are kept and joined by a cubic spline in the branch's
@@ -80,7 +93,7 @@ def curve(branch, *names: str, per_step: int = PER_STEP) -> tuple[np.ndarray, ..
     return (*dense.T, sd)
 
 
-def interval_states(branch) -> np.ndarray:
+def interval_states(branch: Branch) -> np.ndarray:
     """Stability per interval between rows: 0 stable, 1 unstable, 2 not evaluated.
 
     Where the two ends differ the change is at a special point (a fold): the interval takes
@@ -96,7 +109,7 @@ def interval_states(branch) -> np.ndarray:
     return out
 
 
-def label_point(ax, x: float, y: float, text: str, box: tuple[float, float, float, float], color="k",
+def label_point(ax: Axes, x: float, y: float, text: str, box: tuple[float, float, float, float], color: ColorType = "k",
                 fontsize: float = 8, background: bool = False) -> None:
     """Write ``text`` beside the point (x, y) on the side facing the middle of ``box``
     (``xmin, xmax, ymin, ymax`` of what is drawn), so that it stays inside the axes;
@@ -111,7 +124,13 @@ def label_point(ax, x: float, y: float, text: str, box: tuple[float, float, floa
                 if background else None)
 
 
-def new_figure(figsize=(6.0, 4.5), projection: str | None = None):
+@overload
+def new_figure(figsize: tuple[float, float] = ..., projection: None = None) -> tuple[Figure, Axes]: ...
+@overload
+def new_figure(figsize: tuple[float, float] = ..., *, projection: Literal["3d"]) -> tuple[Figure, Axes3D]: ...
+@overload
+def new_figure(figsize: tuple[float, float] = ..., projection: str | None = None) -> tuple[Figure, Axes]: ...
+def new_figure(figsize: tuple[float, float] = (6.0, 4.5), projection: str | None = None) -> tuple[Figure, Axes]:
     """A headless figure and one axes (``projection="3d"`` for surfaces)."""
     from matplotlib.figure import Figure
 
@@ -120,7 +139,7 @@ def new_figure(figsize=(6.0, 4.5), projection: str | None = None):
     return fig, ax
 
 
-def _interval_runs(states: np.ndarray):
+def _interval_runs(states: np.ndarray) -> Iterator[tuple[int, int, int]]:
     """``(i, j, state)``: rows i..j joined by intervals of one state (consecutive runs share a row)."""
     if len(states) == 0:
         yield 0, 0, 2
@@ -135,9 +154,9 @@ def _interval_runs(states: np.ndarray):
 _STATE_WORDS = {0: "stable", 1: "unstable", 2: None}
 
 
-def plot_branch(branch, x: str, y: str, ax=None, *, color="k", label: str | None = None,
-                special: bool = True, z: str | None = None, lw: float = 1.6, stability_legend: bool = False,
-                endpoints: bool = True):
+def plot_branch(branch: Branch, x: str, y: str, ax: Axes | None = None, *, color: ColorType = "k",
+                label: str | None = None, special: bool = True, z: str | None = None, lw: float = 1.6,
+                stability_legend: bool = False, endpoints: bool = True) -> Axes:
     """Draw ``y`` against ``x`` (and ``z`` on 3-D axes) along a branch.
 
     Parameters
@@ -209,11 +228,13 @@ def plot_branch(branch, x: str, y: str, ax=None, *, color="k", label: str | None
                 if z is None:
                     label_point(ax, pos[0], pos[1], text, box, color=mc)
                 else:
-                    ax.text(*pos, f" {text}", fontsize=8, color=mc)
+                    ax3: Axes3D = ax   # with z, 3-D axes
+                    ax3.text(*pos, f" {text}", fontsize=8, color=mc)
     ax.set_xlabel(xl)
     ax.set_ylabel(yl)
     if z:
-        ax.set_zlabel(zl)
+        axz: Axes3D = ax   # with z, 3-D axes
+        axz.set_zlabel(zl)
     ax.grid(True, alpha=0.3)
     return ax
 
@@ -222,7 +243,7 @@ def plot_branch(branch, x: str, y: str, ax=None, *, color="k", label: str | None
 SHEET_COLOURS = {0: (0.72, 0.72, 0.72), 1: (0.93, 0.55, 0.50), 2: (0.72, 0.72, 0.72)}
 
 
-def branch_figure(branch, x: str, y: str, *, title: str | None = None):
+def branch_figure(branch: Branch, x: str, y: str, *, title: str | None = None) -> Figure:
     """A new figure of ``y`` against ``x`` along ``branch`` (:func:`plot_branch`), titled ``title``."""
     fig, ax = new_figure()
     plot_branch(branch, x, y, ax=ax)
@@ -231,7 +252,7 @@ def branch_figure(branch, x: str, y: str, *, title: str | None = None):
     return fig
 
 
-def _sheet_samples(b, names, samples: int):
+def _sheet_samples(b: Branch, names: Sequence[str], samples: int) -> tuple[np.ndarray, np.ndarray]:
     """Member ``b`` resampled at ``samples`` points of its normalised arclength: (3, samples) values
     (display units) and the stability state (0/1/2) of each sample."""
     *cols, sd = curve(b, *names)
@@ -245,8 +266,9 @@ def _sheet_samples(b, names, samples: int):
     return vals, (states[k] if len(states) else np.full(samples, 2))
 
 
-def plot_surface(branches: Sequence, x: str, y: str, z: str, folds=None, ax=None, *, highlight=None,
-                 stability: bool = True, samples: int = 240, alpha: float = 0.8, member_lines: bool = False):
+def plot_surface(branches: Sequence[Branch], x: str, y: str, z: str, folds: Branch | None = None,
+                 ax: Axes3D | None = None, *, highlight: Branch | None = None, stability: bool = True,
+                 samples: int = 240, alpha: float = 0.8, member_lines: bool = False) -> Axes3D:
     """A surface of equilibria from a family of branches, with the fold curve on it.
 
     ``branches`` are one-parameter branches computed at successive values of a second
@@ -316,7 +338,7 @@ def signed_levels(limit: float, finest: float = float("nan")) -> np.ndarray:
     return np.concatenate([-pos[::-1], [0.0], pos])
 
 
-def plot_design_region(region, ax, *, force_name: str = "F"):
+def plot_design_region(region: DesignRegion, ax: Axes, *, force_name: str = "F") -> None:
     """Draw a :class:`~mechcont.analysis.design.DesignRegion` on a matplotlib axis.
 
     Filled contours of the downlock force (N, blue where it is positive: locks unaided) on
@@ -366,31 +388,32 @@ def plot_design_region(region, ax, *, force_name: str = "F"):
     ax.legend(loc="best", fontsize=9)
 
 
-def legend_below(fig, axes=None, *, ncols: int = 2, fontsize: float = 8):
+def legend_below(fig: Figure, axes: Iterable[Axes] | None = None, *, ncols: int = 2, fontsize: float = 8) -> Legend:
     """One legend for ``axes`` (default: every axes of ``fig``; one entry per label) below them, outside every
     panel, where it hides no curve (``fig`` with the constrained layout, which makes room for it). Returns it."""
     entries: dict[str, object] = {}
     for ax in fig.axes if axes is None else axes:
         for handle, text in zip(*ax.get_legend_handles_labels()):
             entries.setdefault(text, handle)
-        if ax.get_legend() is not None:
-            ax.get_legend().remove()
+        legend = ax.get_legend()
+        if legend is not None:
+            legend.remove()
     return fig.legend(handles=list(entries.values()), labels=list(entries), loc="outside lower center",
                       ncols=min(ncols, max(len(entries), 1)), fontsize=fontsize, frameon=False)
 
 
-def save_figure(fig, path: str | os.PathLike, dpi: int = 150, *, tight: bool = False) -> Path:
+def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 150, *, tight: bool = False) -> Path:
     """Save ``fig`` as PNG, SVG or PDF (by suffix) through a temporary file; returns the path. ``tight`` crops the
     page to what is drawn (with a small margin)."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in FIGURE_SUFFIXES:
         raise InputError(str(path), f"unknown figure type '{suffix}'; use one of {', '.join(FIGURE_SUFFIXES)}")
-    crop = {"bbox_inches": _drawn_box(fig), "pad_inches": 0.0} if tight else {}
+    crop: dict[str, Any] = {"bbox_inches": _drawn_box(fig), "pad_inches": 0.0} if tight else {}
     return atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=suffix[1:], **crop))
 
 
-def _drawn_box(fig, pad: float = 0.1):
+def _drawn_box(fig: Figure, pad: float = 0.1) -> Bbox:
     """The box (in) around what ``fig`` draws, ``pad`` in wider: a 2-D axes' tight box, a 3-D axes' axes (panes,
     ticks, labels), title and legend, not its whole square box, whose corners a perspective view leaves empty."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -400,7 +423,10 @@ def _drawn_box(fig, pad: float = 0.1):
     fig.draw_without_rendering()
     boxes = []
     for ax in fig.axes:
-        parts = [ax.xaxis, ax.yaxis, ax.zaxis, ax.title, ax.get_legend()] if ax.name == "3d" else [ax]
+        parts: list[Artist | None] = [ax]
+        if ax.name == "3d":
+            ax3: Axes3D = ax
+            parts = [ax3.xaxis, ax3.yaxis, ax3.zaxis, ax3.title, ax3.get_legend()]
         boxes += [p.get_tightbbox(renderer) for p in parts if p is not None]
     boxes += [t.get_window_extent(renderer) for t in fig.texts if t.get_text()]
     box = Bbox.union([b for b in boxes if b is not None and b.width > 0])

@@ -24,18 +24,20 @@ from ..units import display_scale
 from .plotting import axis_label
 
 if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.axes import Axes
     from matplotlib.typing import LineStyleType
 
 __all__ = ["plot_study", "plot_response_surface", "plot_force_histogram", "plot_sensitivity"]
 
 
-def _axis(df, name: str) -> tuple[float, str]:
+def _axis(df: pd.DataFrame, name: str) -> tuple[float, str]:
     """Display factor and axis label of the column ``name`` (degrees for radians)."""
     unit = df.attrs.get("units", {}).get(name, "")
     return display_scale(unit), axis_label(name, unit)
 
 
-def plot_response_surface(df, ax, column: str = "downlock_force"):
+def plot_response_surface(df: pd.DataFrame, ax: Axes, column: str = "downlock_force") -> Axes:
     """Contour map of ``column`` over a 2-D grid study, the 0 line and the fold curve (dF/dx = 0)."""
     from ..analysis.study import grid_values, study_spec_of
 
@@ -67,15 +69,16 @@ def plot_response_surface(df, ax, column: str = "downlock_force"):
     return ax
 
 
-def plot_force_histogram(df, ax, column: str = "downlock_force"):
+def plot_force_histogram(df: pd.DataFrame, ax: Axes, column: str = "downlock_force") -> Axes:
     """Histogram of ``column`` over the converged samples, ``F = 0`` marked, P(not locking) in the title."""
     from ..analysis.study import failure_probability
 
     ok = (df["status"] == Status.CONVERGED).to_numpy()
     F = df[column].to_numpy()[ok]
     bins = max(10, min(80, int(np.sqrt(len(F)))))
-    ax.hist(F[F > 0], bins=np.histogram_bin_edges(F, bins), color="tab:blue", label="locks unaided (F > 0)")
-    ax.hist(F[F <= 0], bins=np.histogram_bin_edges(F, bins), color="tab:red", label="does not (F <= 0)")
+    edges = np.histogram_bin_edges(F, bins).tolist()   # one set of bins for both sides
+    ax.hist(F[F > 0], bins=edges, color="tab:blue", label="locks unaided (F > 0)")
+    ax.hist(F[F <= 0], bins=edges, color="tab:red", label="does not (F <= 0)")
     ax.axvline(0.0, color="k", lw=1.5)
     fp = failure_probability(df)
     ax.set_title(f"P(not locking unaided) = {fp.probability:.3g}\n95 % interval [{fp.low:.3g}, {fp.high:.3g}], "
@@ -86,7 +89,7 @@ def plot_force_histogram(df, ax, column: str = "downlock_force"):
     return ax
 
 
-def plot_sensitivity(df, ax, column: str = "downlock_force"):
+def plot_sensitivity(df: pd.DataFrame, ax: Axes, column: str = "downlock_force") -> Axes:
     """Horizontal bars of the standardised regression coefficients, largest on top."""
     from ..analysis.study import sensitivity, study_spec_of
 
@@ -102,7 +105,7 @@ def plot_sensitivity(df, ax, column: str = "downlock_force"):
     return ax
 
 
-def plot_study(df, path: str | os.PathLike, dpi: int = 120) -> Path:
+def plot_study(df: pd.DataFrame, path: str | os.PathLike[str], dpi: int = 120) -> Path:
     """The study's figure (see the module docstring), written atomically to ``path`` (.png/.svg/.pdf)."""
     import matplotlib
 
