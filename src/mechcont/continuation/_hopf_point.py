@@ -42,6 +42,9 @@ from ._problem import ContinuationProblem
 __all__ = ["HopfPoint", "CriticalPair", "HopfTest", "bialternate_test", "first_lyapunov", "polish_hopf", "state_scales"]
 
 _EPS = np.finfo(float).eps
+#: Newton on the Hopf system stops where the step (in the problem's scaled unknowns) is below this times
+#: max(1, |z|): the located point is then within that of the solution
+_NEWTON_TOL = 1e-14
 
 
 @dataclass(frozen=True)
@@ -294,6 +297,14 @@ def polish_hopf(test: HopfTest, problem: ContinuationProblem, u0: np.ndarray,
     along ``dz0`` and ``phi`` (:meth:`HopfTest.derivatives`: two directional derivatives of the linearisation
     instead of one per unknown); the same step as a solve with the whole row.
 
+    It stops where the step is below :data:`_NEWTON_TOL` (1e-14) times ``max(1, |z|)`` in the scaled unknowns
+    ``z = u / problem.scale``, or stalls below 1e-10 (the step no longer halves: the derivatives' noise floor),
+    and returns the stepped point, evaluated once more for its residual and pair. Two shortcuts that change
+    the result by rounding only: a step below 1e-14 itself, or a stalled one, returns the point it was taken
+    from (its residuals and pair already at hand); and where quadratic convergence (``e_{k+1} = C e_k^2``,
+    ``C`` from the last two steps, the last below 1e-6 times ``max(1, |z|)``) puts the next step below 1e-14,
+    the stepped point is returned without the iteration that would confirm it.
+
     Returns ``(u, pair, residual)``: the located unknowns, the :class:`CriticalPair` there and the
     largest relative residual. Raises :class:`ConvergenceError` when Newton does not converge.
     """
@@ -325,20 +336,36 @@ def polish_hopf(test: HopfTest, problem: ContinuationProblem, u0: np.ndarray,
         step = float(np.max(np.abs(dz)))
         if not math.isfinite(step):
             raise ConvergenceError("the Hopf system is singular there", partial=None)
+        tol = _NEWTON_TOL * max(1.0, float(np.max(np.abs(z + dz))))
+        if step < _NEWTON_TOL or (step >= 0.5 * last and step < 1e-10):
+            # z is within rounding of the solution (1e-14 in the scaled unknowns, or the steps' noise floor, where
+            # they no longer halve): z itself is returned, with its residuals and pair already at hand
+            return u, pair, _converged(r, J, u, problem, pair)
         z = z + dz
-        if step < 1e-14 * max(1.0, float(np.max(np.abs(z)))) or (step >= 0.5 * last and step < 1e-10):
+        # stepped to within the tolerance, or (quadratic convergence, e_{k+1} = C e_k^2 with C = step / last^2,
+        # trusted once the steps are below 1e-6 of the unknowns) to within rounding, 1e-14 in the scaled
+        # unknowns, of the solution: the new z is returned, only its residuals and pair are needed
+        if step < tol or (last < math.inf and step < 1e8 * tol and step ** 3 < _NEWTON_TOL * last ** 2):
             u = z * D
-            x = problem.full(u)
             r, J = problem.evaluate(u)
-            pair = test.pair(x)
-            residual = _relative_residual(r, J, u, problem, pair)
-            if not residual <= 1e-8:  # the steps stalled away from a solution (or at a non-finite one)
-                raise ConvergenceError(f"the Hopf system stalled at a relative residual of {residual:.3g}",
+            if not np.isfinite(r).all():
+                raise ConvergenceError("the Hopf system left the model's domain (a residual not finite)",
                                        partial=None)
-            return u, pair, residual
+            pair = test.pair(problem.full(u))
+            return u, pair, _converged(r, J, u, problem, pair)
         last = step
     raise ConvergenceError(f"the Hopf system did not converge from the detected point (after {max_iter} Newton "
                            "iterations)", partial=None)
+
+
+def _converged(r: np.ndarray, J: np.ndarray, u: np.ndarray, problem: ContinuationProblem,
+               pair: CriticalPair) -> float:
+    """The located point's :func:`_relative_residual`; raises :class:`ConvergenceError` where it is above 1e-8
+    (the steps stalled away from a solution, or at a non-finite one)."""
+    residual = _relative_residual(r, J, u, problem, pair)
+    if not residual <= 1e-8:
+        raise ConvergenceError(f"the Hopf system stalled at a relative residual of {residual:.3g}", partial=None)
+    return residual
 
 
 def _relative_residual(r: np.ndarray, J: np.ndarray, u: np.ndarray, problem: ContinuationProblem,

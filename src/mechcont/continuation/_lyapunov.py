@@ -176,40 +176,41 @@ class _Directional:
     def forms(self, second: list[np.ndarray], third: list[np.ndarray]) -> tuple[list[np.ndarray], list[np.ndarray]]:
         """``([Q(d) for d in second], [c(d) for d in third])``."""
         h2, h3 = _EPS ** (1 / 6) * self.unit, _EPS ** (1 / 7) * self.unit
-        # a direction that is not finite (h11 where A is singular, at a Bogdanov-Takens point) gives NaN: l1 undefined
-        norms2 = [float(np.max(np.abs(d) / self.sc)) if np.all(np.isfinite(d)) else math.nan for d in second]
-        norms3 = [float(np.max(np.abs(d) / self.sc)) if np.all(np.isfinite(d)) else math.nan for d in third]
-        rows = [] if self._f0 is not None else [self.z0]
-        for d, nd in zip(second, norms2):
-            if nd > 0:
-                rows += [self.z0 + k * h2 * d / nd for k in (1, -1, 2, -2)]
-        for d, nd in zip(third, norms3):
-            if nd > 0:
-                rows += [self.z0 + k * h3 * d / nd for k in (1, -1, 2, -2, 4, -4)]
-        F = self._rates(np.array(rows)) if rows else np.zeros((0, len(self.z0)))
+        n = len(self.z0)
+        D2 = np.asarray(second, float).reshape(len(second), n)
+        D3 = np.asarray(third, float).reshape(len(third), n)
+        # each direction's size in the states' scales; one that is not finite (h11 where A is singular, at a
+        # Bogdanov-Takens point) gives NaN: l1 undefined
+        norms2, norms3 = self._norms(D2), self._norms(D3)
+        use2, use3 = norms2 > 0, norms3 > 0
+        # the stencils' rows: z0 + k h d / |d| for k = 1, -1, 2, -2 (second) and 1, -1, 2, -2, 4, -4 (third)
+        rows = [self.z0[None, :]] if self._f0 is None else []
+        for D, norms, use, h, ks in ((D2, norms2, use2, h2, (1, -1, 2, -2)), (D3, norms3, use3, h3, (1, -1, 2, -2, 4, -4))):
+            kh = (np.array(ks, float) * h)[None, :, None]
+            rows.append((self.z0 + kh * D[use][:, None, :] / norms[use][:, None, None]).reshape(-1, n))
+        Z = np.concatenate(rows)
+        F = self._rates(Z) if len(Z) else np.zeros((0, n))
         if self._f0 is None:
             self._f0, F = F[0], F[1:]
-        f0, i = self._f0, 0
-        Qs: list[np.ndarray] = []
-        for nd in norms2:
-            if not nd > 0:
-                Qs.append(np.full(len(self.z0), 0.0 if nd == 0 else math.nan))
-                continue
-            p1, m1, p2, m2 = F[i:i + 4]
-            i += 4
-            d_h, d_2h = (p1 + m1 - 2 * f0) / h2 ** 2, (p2 + m2 - 2 * f0) / (2 * h2) ** 2
-            Qs.append((4 * d_h - d_2h) / 3 * nd ** 2)
-        cs: list[np.ndarray] = []
-        for nd in norms3:
-            if not nd > 0:
-                cs.append(np.full(len(self.z0), 0.0 if nd == 0 else math.nan))
-                continue
-            p1, m1, p2, m2, p4, m4 = F[i:i + 6]
-            i += 6
-            t_h = (p2 - 2 * p1 + 2 * m1 - m2) / (2 * h3 ** 3)
-            t_2h = (p4 - 2 * p2 + 2 * m2 - m4) / (2 * (2 * h3) ** 3)
-            cs.append((4 * t_h - t_2h) / 3 * nd ** 3)
-        return Qs, cs
+        f0 = self._f0
+        k2 = int(np.count_nonzero(use2))
+        P2, P3 = F[:4 * k2].reshape(k2, 4, n), F[4 * k2:].reshape(-1, 6, n)
+        # Richardson's extrapolation of the central second and third differences at h and 2 h
+        d_h = (P2[:, 0] + P2[:, 1] - 2 * f0) / h2 ** 2
+        d_2h = (P2[:, 2] + P2[:, 3] - 2 * f0) / (2 * h2) ** 2
+        t_h = (P3[:, 2] - 2 * P3[:, 0] + 2 * P3[:, 1] - P3[:, 3]) / (2 * h3 ** 3)
+        t_2h = (P3[:, 4] - 2 * P3[:, 2] + 2 * P3[:, 3] - P3[:, 5]) / (2 * (2 * h3) ** 3)
+        Q = np.where(np.isnan(norms2)[:, None], math.nan, 0.0) * np.ones((len(D2), n))
+        Q[use2] = (4 * d_h - d_2h) / 3 * norms2[use2][:, None] ** 2
+        C = np.where(np.isnan(norms3)[:, None], math.nan, 0.0) * np.ones((len(D3), n))
+        C[use3] = (4 * t_h - t_2h) / 3 * norms3[use3][:, None] ** 3
+        return list(Q), list(C)
+
+    def _norms(self, D: np.ndarray) -> np.ndarray:
+        """Each row's largest component relative to the states' scales; NaN for a row that is not finite."""
+        with np.errstate(invalid="ignore"):
+            norms = np.max(np.abs(D) / self.sc, axis=1, initial=0.0)
+        return np.where(np.isfinite(D).all(axis=1), norms, math.nan)
 
 
 class _DifferenceTerms(_Terms):
