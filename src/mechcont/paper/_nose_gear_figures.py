@@ -39,10 +39,11 @@ def _save(fig: Figure, path: Path) -> None:
 
 def _oc_curve(branch_or_sweep: Branch | SweepResult, dense: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """(F, overcentre angle in deg) along a branch (smooth, with per-sample stability) or a sweep."""
+    from ..continuation import Branch
     from ..models.nose_gear import overcentre_angle
     from ..outputs.plotting import curve
 
-    if not dense:
+    if not dense or not isinstance(branch_or_sweep, Branch):  # a sweep's samples are drawn as they are
         return branch_or_sweep["F"], np.degrees(overcentre_angle(branch_or_sweep["theta4"], branch_or_sweep["theta5"]))
     F, t4, t5, _ = curve(branch_or_sweep, "F", "theta4", "theta5")
     return F, np.degrees(overcentre_angle(np.radians(t4), np.radians(t5)))
@@ -129,7 +130,7 @@ def _plot_fig9(res: NoseGearResults, out_dir: Path) -> Path:
     axs = fig.subplots(1, 2)
     _line(axs[0], _done(res.fig9_LU, "fig9_LU"), "LU", "F", "k-")
     axs[0].set_xlabel(_lab(res, "LU", "unstrained spring length"))
-    kk = res.fig9_k
+    kk = _done(res.fig9_k, "fig9_k")
     kx, kF, _ = curve(kk, "k", "F")
     axs[1].plot(kx / 1e3, kF, "k-")
     axs[1].set_xlabel("spring stiffness k (kN/m)")
@@ -262,6 +263,6 @@ def design_map_figure(res: NoseGearResults) -> Figure:
 
     fig = Figure(figsize=(6.8, 4.6), layout="constrained")
     ax = fig.add_subplot()
-    plot_design_region(res.region, ax)
+    plot_design_region(_done(res.region, "region"), ax)
     ax.set_title("Design: where the gear locks unaided (F > 0)")
     return fig
