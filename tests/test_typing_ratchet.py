@@ -95,6 +95,8 @@ FLOOR = {
     "mechcont.continuation._events",
     "mechcont.continuation._fold_point",
     "mechcont.continuation._folds",
+    "mechcont.continuation._hopf",
+    "mechcont.continuation._hopf_api",
     "mechcont.continuation._hopf_plane",
     "mechcont.continuation._hopf_point",
     "mechcont.continuation._kernel",

@@ -12,16 +12,21 @@ and generalised-Hopf (``GH``: ``l1`` changes sign) events.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..equations import Dynamics, EquationSystem
 from ..errors import ConvergenceError
-from ._events import Event, _secant
+from ._events import Event, Hit, PointState, _secant
 from ._folds import curve_states
+from ._hopf_plane import CriticalPair
 from ._hopf_point import HopfPoint, HopfTest, first_lyapunov, polish_hopf
 from ._problem import ContinuationProblem
+
+if TYPE_CHECKING:
+    from ._corrector import PseudoArclength
 
 #: omega / |A| below which the pair is taken as a Bogdanov-Takens point's Jordan block (no l1 there)
 _BT_OMEGA = 1e-6
@@ -29,7 +34,7 @@ _BT_OMEGA = 1e-6
 __all__ = ["HopfEvent", "HopfProblem", "BogdanovTakensEvent", "GeneralisedHopfEvent", "hopf_point_of"]
 
 
-def hopf_point_of(test: HopfTest, x: np.ndarray, pair, residual: float) -> HopfPoint:
+def hopf_point_of(test: HopfTest, x: np.ndarray, pair: CriticalPair, residual: float) -> HopfPoint:
     """The :class:`HopfPoint` payload at the located Hopf point ``x`` with its critical ``pair``."""
     omega = pair.omega
     l1, q, method = first_lyapunov(test.dynamics, x, omega, test.system)
@@ -46,13 +51,14 @@ class HopfEvent(Event):
 
     label = "HB"
 
-    def __init__(self, dynamics: Dynamics, system=None):
+    def __init__(self, dynamics: Dynamics, system: EquationSystem | None = None) -> None:
         self.test = HopfTest(dynamics, system)
 
-    def value(self, problem: ContinuationProblem, state) -> float:
+    def value(self, problem: ContinuationProblem, state: PointState) -> float:
         return self.test.test_value(state.x)
 
-    def locate(self, stepper, problem: ContinuationProblem, cur, ds, v0, v1):
+    def locate(self, stepper: PseudoArclength, problem: ContinuationProblem, cur: PointState, ds: float, v0: float,
+               v1: float) -> Hit:
         """The secant guess on the test function, polished on the extended system; a neutral saddle
         gives no point (``state`` None). When the polish fails, Brent's method on the test function
         gives the point, marked approximate."""
@@ -88,7 +94,7 @@ class BogdanovTakensEvent(Event):
 
     label = "BT"
 
-    def value(self, problem: ContinuationProblem, state) -> float:
+    def value(self, problem: ContinuationProblem, state: PointState) -> float:
         assert isinstance(problem, HopfProblem), "BT is an event of Hopf curves"
         return problem.test.pair(state.x).kappa
 
@@ -99,7 +105,7 @@ class GeneralisedHopfEvent(Event):
 
     label = "GH"
 
-    def value(self, problem: ContinuationProblem, state) -> float:
+    def value(self, problem: ContinuationProblem, state: PointState) -> float:
         assert isinstance(problem, HopfProblem), "GH is an event of Hopf curves"
         return problem.lyapunov(state.x)
 
@@ -115,7 +121,7 @@ class HopfProblem(ContinuationProblem):
     """
 
     def __init__(self, system: EquationSystem, x_hopf: np.ndarray, p1: str, p2: str, states: Iterable[str],
-                 test: HopfTest, scales=None):
+                 test: HopfTest, scales: Mapping[str, float] | None = None) -> None:
         self.system = system.compile()
         states = curve_states(states, p1, p2, "Hopf-curve parameters", "Hopf point")
         self.states, self.p1, self.p2, self.test = states, p1, p2, test
@@ -131,23 +137,23 @@ class HopfProblem(ContinuationProblem):
             sc[system.index(name)] = v
         self.scale = sc[self.idx_vars]
 
-    def full(self, u):
+    def full(self, u: np.ndarray) -> np.ndarray:
         """The full variable vector at ``u``."""
         x = self.base.copy()
         x[self.idx_vars] = u
         return x
 
-    def evaluate(self, u):
+    def evaluate(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Residual (n + 1) and Jacobian (n + 1, n + 2) at ``u``."""
         x = self.full(u)
         r, J = self.view.residual_and_jacobian(x)
         pair = self.test.pair(x)
         return np.append(r, pair.g), np.vstack([J, self.test.gradient(x, self.idx_vars, pair)])
 
-    def residual(self, u):
+    def residual(self, u: np.ndarray) -> np.ndarray:
         return self.evaluate(u)[0]
 
-    def jacobian(self, u):
+    def jacobian(self, u: np.ndarray) -> np.ndarray:
         return self.evaluate(u)[1]
 
     def lyapunov(self, x: np.ndarray) -> float:
@@ -186,5 +192,5 @@ class HopfProblem(ContinuationProblem):
         d = grad[n:] - y @ J[:, n:]
         return -float(d[0]), -float(d[1]), pair.n_others_unstable
 
-    def test_functions(self):
+    def test_functions(self) -> list[Event]:
         return [BogdanovTakensEvent(), GeneralisedHopfEvent()]

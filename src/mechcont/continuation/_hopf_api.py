@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..equations import Model, dynamics_of
+from ..equations import Dynamics, Model, dynamics_of
 from ..errors import ConvergenceError, InputError
 from ._api import _bound_events, _curve_unknowns, _limit_events, _run, _start_vector
 from ._branch import Branch, SpecialPoint
@@ -16,14 +17,17 @@ from ._hopf_point import HopfTest, polish_hopf
 from ._options import ContinuationOptions
 from ._problem import EquilibriumProblem, choose_unknowns
 
+if TYPE_CHECKING:
+    from ._api import Start
+
 __all__ = ["locate_hopf", "continue_hopf", "HOPF_COLUMNS"]
 
 #: The columns a Hopf curve's table adds after the model's variables, with their units.
 HOPF_COLUMNS = {"omega": "rad/s", "l1": "", "n_unstable_other": ""}
 
 
-def locate_hopf(system: Model, point, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
-                dynamics=None) -> SpecialPoint:
+def locate_hopf(system: Model, point: Start, vary: str, *, hold: Iterable[str] = (), free: Iterable[str] = (),
+                dynamics: Dynamics | None = None) -> SpecialPoint:
     """A Hopf point in ``vary`` polished to machine precision from a nearby ``point``.
 
     ``point``: a full vector, ``{name: value}`` or :class:`SpecialPoint` (its lens is reused);
@@ -51,9 +55,9 @@ def locate_hopf(system: Model, point, vary: str, *, hold: Iterable[str] = (), fr
                         extra={"hopf": hopf_point_of(test, x, pair, res)})
 
 
-def continue_hopf(system: Model, hopf, vary: str, free: str, *, hold: Iterable[str] = (),
+def continue_hopf(system: Model, hopf: Start, vary: str, free: str, *, hold: Iterable[str] = (),
                   free_extra: Iterable[str] = (), options: ContinuationOptions | None = None, direction: int = 0,
-                  dynamics=None, progress: Callable[[int], None] | None = None) -> Branch:
+                  dynamics: Dynamics | None = None, progress: Callable[[int], None] | None = None) -> Branch:
     """Continue a Hopf point of equilibria in two parameters: the Hopf curve, with ``BT`` and ``GH``.
 
     ``hopf``: a point labelled ``HB`` (its lens is reused) or a vector/dict near one; ``vary``: the
