@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -162,7 +163,7 @@ def with_stop_unlock_column(system: Model, result: DownlockResult, force: str,
 
 
 def downlock_on_stops_table(system: Model, vary: str, bounds: Mapping[str, tuple[float, float]] | None = None,
-                            **options) -> tuple[DownlockResult, np.ndarray]:
+                            **options: Any) -> tuple[DownlockResult, np.ndarray]:
     """:func:`downlock_on_stops` (``options`` are its) with the unlock load of every row as a column
     (:func:`with_stop_unlock_column`): the table ``mechcont downlock`` writes for a lock on stops, and the
     unlock loads (unit of the force; nan where a row has none)."""
