@@ -10,7 +10,9 @@ how the document shows it: the source is a ``mechcont paper`` section (its lines
 documented commands of :data:`COMMANDS` (what it prints). ``python -m mechcont.paper.doc_numbers DIR [FILE ...]``
 fills every marked number of the files (default: ``README.md`` and ``docs/*.md`` of the current folder, the
 repository's root, whose ``examples/`` the commands read) from ``DIR/summary.md`` and the commands' output; :func:`mismatches`
-lists the ones that differ (``tests/test_doc_numbers.py`` asks for none against fresh runs of the sources).
+lists the ones that differ (``tests/test_doc_numbers.py`` asks for none: against the paper sections' run of the
+session and the documented commands' output from the test suite's run of the documents' examples, a command no
+example runs run afresh).
 
 A number inside a code block (a comment of a Python example) is named by an HTML comment before the fence with the
 text around it, ``<!--block:NAME LU={},-->``: the block holds that text with the number the run prints.
