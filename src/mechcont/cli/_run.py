@@ -151,3 +151,12 @@ def write_branch(branch: Branch, out: str | None, plot: str | None, x: str, y: s
         click.echo(f"warning: {branch.message}", err=True)
     for line in approximate_warnings(branch):
         click.echo(f"warning: {line}", err=True)
+
+
+def warn_unreached(asked: Iterable[float], found: Iterable[float], vary: str, what: str) -> None:
+    """Warn (stderr) of each ``--at`` value of ``vary`` with no UZ row among ``found`` (the UZ rows' values): the
+    ``what`` (branch, family) never reached it, being outside its bounds."""
+    found = list(found)
+    for v in asked:
+        if not any(abs(f - v) <= 1e-9 * max(1.0, abs(v)) for f in found):
+            click.echo(f"warning: --at {vary}={v:g}: the {what} does not reach it (no UZ row)", err=True)

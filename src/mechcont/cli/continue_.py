@@ -14,6 +14,7 @@ from ._run import (
     load_at,
     run_continuation,
     solve_start,
+    warn_unreached,
     write_branch,
 )
 
@@ -118,10 +119,7 @@ def continue_command(model: str, sets: tuple[str, ...], starts: tuple[str, ...],
 
         for line in hopf_lines(branch):
             click.echo(line)
-    found = [p[vary] for p in branch.special("UZ")]
-    for v in at_values:  # a value the branch never reached (outside its bounds) has no row: say so
-        if not any(abs(f - v) <= 1e-9 * max(1.0, abs(v)) for f in found):
-            click.echo(f"warning: --at {vary}={v:g}: the branch does not reach it (no UZ row)", err=True)
+    warn_unreached(at_values, [p[vary] for p in branch.special("UZ")], vary, "branch")
     raise_held()  # a SIGTERM that ended the continuation: its branch is written, now the exit status says so
     if with_stops and not quiet:
         from ..outputs.tables import jump_lines

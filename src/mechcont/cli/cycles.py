@@ -11,7 +11,7 @@ import click
 from ..errors import ConvergenceError, InputError
 from ._app import cli
 from ._parse import assignments, at_values, branch_row
-from ._run import check_outputs, continuation_options, load_at, run_continuation
+from ._run import check_outputs, continuation_options, load_at, run_continuation, warn_unreached
 
 if TYPE_CHECKING:
     import numpy as np
@@ -126,10 +126,7 @@ def cycles_command(model: str, point: str, vary: str, sets: tuple[str, ...], bnd
         write_orbits(family, system, orbits)
         if not quiet:
             click.echo(f"wrote {orbits}")
-    found = [float(v) for v, lab in zip(family.p, family.labels) if lab == "UZ"]
-    for v in values:  # as continue: a value the family never reached (outside its bounds) has no row
-        if not any(abs(f - v) <= 1e-9 * max(1.0, abs(v)) for f in found):
-            click.echo(f"warning: --at {vary}={v:g}: the family does not reach it (no UZ row)", err=True)
+    warn_unreached(values, [float(v) for v, lab in zip(family.p, family.labels) if lab == "UZ"], vary, "family")
     if failure:
         raise ConvergenceError(failure)
 
