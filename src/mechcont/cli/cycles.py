@@ -39,16 +39,12 @@ def _as_option() -> Iterator[None]:
 def hopf_row(system: Model, point: str) -> tuple[npt.NDArray[np.float64], Branch]:
     """The model vector of ``BRANCH.csv:HBn`` (a row labelled HB of a table of this model) and the branch; one-line
     :class:`InputError` (field ``--point``) when the text, the table or the row is not that."""
-    from ..continuation import Branch
+    from ..continuation.branch_rows import read_branch_row
 
     csv_path, row = branch_row(point, "--point", "HBn (e.g. branch.csv:HB1)")
     with _as_option():
-        branch = Branch.read_csv(csv_path, model=system.name)
-        missing = [n for n in system.names if n not in branch.names]
-        if missing:
-            raise InputError("--point", f"'{csv_path}' lacks the column(s) {', '.join(missing)} of model "
-                                        f"'{system.name}'")
-        p = branch.point(row)
+        found = read_branch_row(system, csv_path, row)
+    branch, p = found.branch, found.point
     if p.label != "HB":
         raise InputError("--point", f"'{row}' of '{csv_path}' is {'labelled ' + p.label if p.label else 'not labelled'}"
                                     ", not a Hopf point (HB); the family of cycles starts at an HB row")
