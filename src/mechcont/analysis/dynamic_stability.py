@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..equations import Model, dynamics_of
+from ..equations import NEUTRAL_RTOL, Model, dynamics_of
 
 if TYPE_CHECKING:
     from ..continuation import Branch
@@ -63,7 +63,7 @@ def _judge(lam: np.ndarray, rtol: float) -> DynamicStability:
     return DynamicStability(lam, int(np.count_nonzero(lam.real > tol)), float(lead.real), float(abs(lead.imag)))
 
 
-def dynamic_stability(model: Model, x: np.ndarray, *, damping: float = 0.0, rtol: float = 1e-9) -> DynamicStability:
+def dynamic_stability(model: Model, x: np.ndarray, *, damping: float = 0.0, rtol: float = NEUTRAL_RTOL) -> DynamicStability:
     """The dynamic stability of the equilibrium ``x`` (a full vector of ``model``, SI).
 
     ``damping``: mass-proportional damping (1/s) added to a mechanism's own (as the time simulation's
@@ -76,7 +76,7 @@ def dynamic_stability(model: Model, x: np.ndarray, *, damping: float = 0.0, rtol
     return _judge(dyn.linearise(np.asarray(x, dtype=float)).eigenvalues(), rtol)
 
 
-def with_dynamic_stability(model: Model, branch: Branch, *, damping: float = 0.0, rtol: float = 1e-9) -> Branch:
+def with_dynamic_stability(model: Model, branch: Branch, *, damping: float = 0.0, rtol: float = NEUTRAL_RTOL) -> Branch:
     """``branch`` (a :class:`~mechcont.continuation.Branch` of ``model``) with the columns of
     :data:`DYNAMIC_COLUMNS` added: per point the number of unstable eigenvalues of the linearised dynamics,
     the leading eigenvalue's real part (1/s) and its frequency ``|Im|`` (rad/s); see the module docstring.

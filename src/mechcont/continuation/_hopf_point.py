@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..equations import Dynamics, EquationSystem, OdeDynamics
+from ..equations import NEUTRAL_RTOL, Dynamics, EquationSystem, OdeDynamics
 from ..errors import ConvergenceError
 from ._hopf_plane import CriticalPair, contractions
 from ._lyapunov import first_lyapunov, state_scales
@@ -96,7 +96,7 @@ def bialternate_test(lam: np.ndarray) -> float:
     """``sign(psi) |psi|^(1/m)`` with ``psi = prod_{i<j} (lambda_i + lambda_j)`` over the ``m`` pairs of the
     eigenvalues ``lam`` (1/s): continuous in the matrix, zero at Hopf points and neutral saddles.
 
-    Zero when a sum is within rounding of zero (at most 1e-9 of the largest ``|lambda|``: an undamped
+    Zero when a sum is within rounding of zero (at most NEUTRAL_RTOL = 1e-9 of the largest ``|lambda|``: an undamped
     mechanism's pairs ``+-i omega`` at every point). ``psi`` is real (the sums of conjugate pairs pair
     up); its sign is ``(-1)^k`` with ``k pi`` the sum of the sums' arguments."""
     lam = np.asarray(lam, dtype=complex)
@@ -105,9 +105,9 @@ def bialternate_test(lam: np.ndarray) -> float:
     i, j = _pairs(len(lam))
     s = lam[i] + lam[j]
     mag = np.abs(s)
-    # a sum at rounding (|s| <= 1e-9 max|lambda|, n_unstable_dynamic's zero) is zero: an undamped mechanism's
+    # a sum at rounding (|s| <= NEUTRAL_RTOL max|lambda|, n_unstable_dynamic's zero) is zero: an undamped mechanism's
     # pairs +-i omega sum to noise of either sign at every point, which would be a Hopf point at every step
-    if not np.all(mag > 1e-9 * float(np.max(np.abs(lam)))):
+    if not np.all(mag > NEUTRAL_RTOL * float(np.max(np.abs(lam)))):
         return 0.0
     k = int(round(float(np.sum(np.angle(s))) / math.pi))
     return (-1.0 if k % 2 else 1.0) * float(np.exp(np.mean(np.log(mag))))

@@ -3,6 +3,7 @@
 from ._codegen import compile_dense, gradient, symbol_names
 from ._deferred import Apart
 from ._dynamics import Dynamics, LinearDynamics, OdeDynamics, OdeFacts, dynamics_of, ode_model
+from ._linear_dynamics import NEUTRAL_RTOL
 from ._mechanics import MechanicalModel, StabilityResult, velocity_symbol
 from ._model import DamperFacts, DownlockFacts, Model, StopLimit, ValueFields, at_values, check_values_at
 from ._ode_text import ode_equations
@@ -15,7 +16,8 @@ from ._variables import Limit, Variable
 
 __all__ = ["EquationSystem", "Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "at_values",
            "check_values_at",
-           "Variable", "Limit", "Dynamics", "LinearDynamics", "OdeDynamics", "OdeFacts", "dynamics_of", "ode_model",
+           "Variable", "Limit", "Dynamics", "LinearDynamics", "NEUTRAL_RTOL", "OdeDynamics", "OdeFacts", "dynamics_of",
+           "ode_model",
            "ode_equations",
            "MechanicalModel", "Mechanics", "StabilityResult", "velocity_symbol", "Scene", "branch_rates",
            # for the generators and the models: compiled code, parts pickled apart, the disk cache

@@ -11,7 +11,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["LinearDynamics"]
+__all__ = ["LinearDynamics", "NEUTRAL_RTOL"]
+
+#: An eigenvalue's real part (or a sum of two eigenvalues) at most this times the largest ``|lambda|`` is rounding,
+#: i.e. zero: the linearisation of an undamped conservative mechanism has its eigenvalues on the imaginary axis to
+#: about 1e-15 of their size. The zero of ``n_unstable_dynamic`` and of the Hopf test function.
+NEUTRAL_RTOL = 1e-9
 
 
 @dataclass(frozen=True)
