@@ -365,7 +365,8 @@ def test_any_dynamics_through_the_protocol_gives_the_same_family(monkeypatch):
             self.state_names = self._d.state_names
 
         def __getattr__(self, name):
-            if name in ("state_at", "full_vector", "rates", "rates_jacobian", "parameter_rates", "linearise"):
+            if name in ("state_at", "full_vector", "full_vectors", "rates", "rates_jacobian", "parameter_rates",
+                        "linearise"):
                 return getattr(self._d, name)
             raise AttributeError(name)
 

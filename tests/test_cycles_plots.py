@@ -52,7 +52,7 @@ def test_phase_portrait_closes_each_orbit_and_full_vectors_carry_the_parameter(f
 
 
 def test_animate_cycle_draws_one_period_of_full_vectors(family, overcentre, tmp_path):
-    # the plumbing of the animation: one frame per instant of the period, each drawn from dynamics.full_vector.
+    # the plumbing of the animation: one frame per instant of the period, each drawn from dynamics.full_vectors.
     # A stand-in dynamics turns the orbit into poses of the overcentre (its bars' angles follow the orbit's x, y)
     from mechcont.outputs.cycle_plots import animate_cycle
 
@@ -67,6 +67,9 @@ def test_animate_cycle_draws_one_period_of_full_vectors(family, overcentre, tmp_
             v[overcentre.index("theta1")] += 0.2 * z[0]
             v[overcentre.index("theta2")] -= 0.2 * z[1]
             return v
+
+        def full_vectors(self, Z, x):
+            return np.array([self.full_vector(z, x) for z in Z])
 
     k = fam.row("LPC1")
     n = animate_cycle(overcentre, Poses(), fam, k, tmp_path / "cycle.gif", frames=6, fps=6)

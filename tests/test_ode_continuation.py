@@ -161,3 +161,20 @@ def test_an_algebraic_system_folds_at_mu_zero_exactly_and_has_no_stability(tmp_p
     assert len(lp) == 1
     assert abs(lp[0].x[model.index("mu")]) < 1e-12 and abs(lp[0].x[model.index("x")]) < 1e-6
     assert np.all(branch.n_unstable == -1)  # AUTO's IPS = 0: no dynamics, so no stability
+
+
+def test_ode_full_vectors_are_full_vector_row_by_row():
+    # the Dynamics protocol's batch: every row the point-by-point full vector, the parameters kept
+    from mechcont.equations import OdeDynamics
+    from mechcont.errors import InputError
+    m = load_model(str(EXAMPLES / "ab.toml"))
+    dyn = OdeDynamics(m)
+    x = m.defaults()
+    x[m.index("D")] = 0.17
+    Z = np.random.default_rng(5).normal(size=(7, len(dyn.state_names)))
+    rows = dyn.full_vectors(Z, x)
+    assert rows.shape == (7, len(m.names))
+    for z, row in zip(Z, rows):
+        np.testing.assert_array_equal(row, dyn.full_vector(z, x))
+    with pytest.raises(InputError, match="Z"):
+        dyn.full_vectors(np.zeros((2, len(dyn.state_names) + 1)), x)

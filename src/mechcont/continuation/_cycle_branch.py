@@ -182,14 +182,12 @@ class CycleBranch:
         return tau * self.period[i], np.vstack([Z, u[-1:]])
 
     def full_vectors(self, dynamics: Dynamics, i: int, samples: int = 60) -> tuple[np.ndarray, np.ndarray]:
-        """Row ``i``'s orbit as the model's full vectors (``dynamics.full_vector``; all instants in one call where
-        the dynamics has ``full_vectors``, a mechanism's), for drawings and animations: times (s) and an array
-        (samples + 1, n_variables)."""
+        """Row ``i``'s orbit as the model's full vectors (``dynamics.full_vectors``, all instants in one call), for
+        drawings and animations: times (s) and an array (samples + 1, n_variables)."""
         t, Z = self.orbit(i, samples)
         x = self.x_base.copy()
         x[self.names.index(self.vary)] = self.p[i]
-        batch = getattr(dynamics, "full_vectors", None)
-        return t, batch(Z, x) if batch is not None else np.array([dynamics.full_vector(z, x) for z in Z])
+        return t, dynamics.full_vectors(Z, x)
 
     def __repr__(self) -> str:
         pts = ", ".join(n for n, _ in self.point_names()) or "none"

@@ -390,9 +390,8 @@ def _branch(model: Model, run: _Run, status: Status, message: str) -> CycleBranc
     p, period, lo, hi, orbits = [], [], [], [], []
     # a closed loop's dependent coordinates (not states) get their extremes too: the wheel's steer angle when the
     # partition chose the crank
-    full = getattr(dyn, "full_vectors", None)
     mech = model.mechanics
-    dep_names = tuple(c for c in mech.coordinates if c not in names) if full is not None and mech is not None else ()
+    dep_names = tuple(c for c in mech.coordinates if c not in names) if mech is not None else ()
     deps = [model.index(c) for c in dep_names]
     dlo: list[np.ndarray] = []
     dhi: list[np.ndarray] = []
@@ -407,8 +406,8 @@ def _branch(model: Model, run: _Run, status: Status, message: str) -> CycleBranc
         lo.append(every.min(axis=1))
         hi.append(every.max(axis=1))
         orbits.append((pt.system.mesh, u.copy()))
-        if deps and full is not None:
-            X = full(every.T, rates.x_at(pv))[:, deps]
+        if deps:
+            X = dyn.full_vectors(every.T, rates.x_at(pv))[:, deps]
             dlo.append(X.min(axis=0))
             dhi.append(X.max(axis=0))
     mus = [pt.mu for pt in run.points]

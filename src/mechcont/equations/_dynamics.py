@@ -44,6 +44,9 @@ class Dynamics(Protocol):
     def full_vector(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
         """The model's full vector at state ``z`` (parameters from ``x``), for tables and drawings."""
 
+    def full_vectors(self, Z: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """:meth:`full_vector` at every row of ``Z`` ((m, len(state_names))): array (m, n_variables)."""
+
     def rates(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
         """``f(z; x)``, the state's time derivative."""
 
@@ -86,6 +89,15 @@ class OdeDynamics:
         """``x`` with its states replaced by ``z``."""
         out = np.array(x, dtype=float)
         out[self._cols] = z
+        return out
+
+    def full_vectors(self, Z: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """``x`` repeated once per row of ``Z`` ((m, len(state_names))), its states replaced by the row's."""
+        Z = np.asarray(Z, dtype=float)
+        if Z.ndim != 2 or Z.shape[1] != len(self._cols):
+            raise InputError("Z", f"needs rows of {len(self._cols)} values ({', '.join(self.state_names)})")
+        out = np.repeat(np.asarray(x, dtype=float)[None, :], len(Z), axis=0)
+        out[:, self._cols] = Z
         return out
 
     def rates(self, z: np.ndarray, x: np.ndarray) -> np.ndarray:
