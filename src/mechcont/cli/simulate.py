@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 
 import click
 
+from ..equations import velocity_coordinate
 from ..errors import InputError
 from ._app import cli
 from ._parse import Integrator, assignments, check_integration, integrator, integrator_options, named_as
@@ -108,7 +109,7 @@ def simulate_command(model: str, settings: tuple[str, ...], starts: tuple[str, .
     x0, start = _start(system, starts, coords)
     if watch is None:
         watch = next(iter(start), coords[0])
-    elif watch not in system.names and not (watch.endswith("_dot") and watch[:-4] in coords):
+    elif watch not in system.names and velocity_coordinate(watch, coords) is None:
         raise InputError("--watch", f"{watch} is not a column of {system.name}; give a variable or <coordinate>_dot")
     stops = system.stops
     if use_stops and not stops:

@@ -26,6 +26,7 @@ import numpy as np
 
 from .._roots import brentq
 from .._status import Status
+from ..equations import velocity_coordinate
 from ..errors import ConvergenceError, InputError
 from ..units import derivative_unit
 from ._collocation import NCOL_RANGE, Mesh
@@ -385,7 +386,7 @@ def _branch(model: Model, run: _Run, status: Status, message: str) -> CycleBranc
     known = set(model.names)
     # a mechanism's velocity state (q_dot, no variable of its own) is in its coordinate's unit per second
     units = tuple(model.variable(n).unit if n in known
-                  else derivative_unit(model.variable(n[:-4]).unit, "s") if n.endswith("_dot") and n[:-4] in known
+                  else derivative_unit(model.variable(c).unit, "s") if (c := velocity_coordinate(n, known))
                   else "" for n in names)
     p, period, lo, hi, orbits = [], [], [], [], []
     # a closed loop's dependent coordinates (not states) get their extremes too: the wheel's steer angle when the

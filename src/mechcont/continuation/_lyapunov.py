@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from ..equations import Dynamics, EquationSystem, OdeDynamics
+from ..equations import Dynamics, EquationSystem, OdeDynamics, velocity_coordinate
 
 __all__ = ["first_lyapunov", "state_scales"]
 
@@ -46,8 +46,8 @@ def state_scales(dynamics: Dynamics, system: EquationSystem | None, omega: float
     def scale(n: str) -> float:
         if n in known:
             return float(known[n]) or 1.0
-        if n.endswith("_dot") and n[:-4] in known:
-            return (float(known[n[:-4]]) or 1.0) * max(omega, _EPS)
+        if (c := velocity_coordinate(n, known)) is not None:
+            return (float(known[c]) or 1.0) * max(omega, _EPS)
         return 1.0
     return np.array([scale(n) for n in dynamics.state_names])
 

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._roots import brentq
-from ..equations import StopLimit
+from ..equations import StopLimit, velocity_coordinate
 from ..errors import InputError
 
 if TYPE_CHECKING:
@@ -86,8 +86,8 @@ class EventTracker:
                 if ev.name in system.names:
                     i = system.index(ev.name)
                     fn = _level(i, ev.value, rates=False)
-                elif ev.name.endswith("_dot") and ev.name[:-4] in coordinates:
-                    j = list(coordinates).index(ev.name[:-4])
+                elif (c := velocity_coordinate(ev.name, coordinates)) is not None:
+                    j = list(coordinates).index(c)
                     fn = _level(j, ev.value, rates=True)
                 else:
                     raise InputError(ev.name, "event quantity is not a variable or <coordinate>_dot of the model")

@@ -13,6 +13,7 @@ import numpy as np
 
 from .._io import atomic_write
 from .._status import Status
+from ..equations import velocity_coordinate, velocity_name
 from ..errors import InputError
 from ._energy import EnergyBalance
 
@@ -126,8 +127,8 @@ class SimulationResult:
 
             def fn(x: np.ndarray, qd: np.ndarray) -> float:
                 return float(x[i])
-        elif quantity.endswith("_dot") and quantity[:-4] in self.coordinates:
-            j = self.coordinates.index(quantity[:-4])
+        elif (c := velocity_coordinate(quantity, self.coordinates)) is not None:
+            j = self.coordinates.index(c)
 
             def fn(x: np.ndarray, qd: np.ndarray) -> float:
                 return float(qd[j])
@@ -141,8 +142,8 @@ class SimulationResult:
             return "s"
         if column in self.energy:
             return "J"
-        if column.endswith("_dot") and column[:-4] in self.coordinates:
-            u = self.units.get(column[:-4], "")
+        if (c := velocity_coordinate(column, self.coordinates)) is not None:
+            u = self.units.get(c, "")
             return f"{u}/s" if u else "1/s"
         return self.units.get(column, "")
 
@@ -160,7 +161,7 @@ class SimulationResult:
     @property
     def columns(self) -> tuple[str, ...]:
         """All column names: ``names``, the velocity columns ``<coordinate>_dot``, then the energy audit's."""
-        return self.names + tuple(f"{c}_dot" for c in self.coordinates) + tuple(self.energy)
+        return self.names + tuple(velocity_name(c) for c in self.coordinates) + tuple(self.energy)
 
     @property
     def balance(self) -> EnergyBalance:
@@ -177,8 +178,8 @@ class SimulationResult:
             return self.t
         if name in self.names:
             return self.values[:, self.names.index(name)]
-        if name.endswith("_dot") and name[:-4] in self.coordinates:
-            return self.qdot[:, self.coordinates.index(name[:-4])]
+        if (c := velocity_coordinate(name, self.coordinates)) is not None:
+            return self.qdot[:, self.coordinates.index(c)]
         if name in self.energy:
             return self.energy[name]
         raise InputError(name, f"not a column; valid: t, {', '.join(self.columns)}")
@@ -190,7 +191,7 @@ class SimulationResult:
         """Row ``i`` as ``{column: value}``."""
         row = {"t": float(self.t[i])}
         row.update({n: float(v) for n, v in zip(self.names, self.values[i])})
-        row.update({f"{c}_dot": float(v) for c, v in zip(self.coordinates, self.qdot[i])})
+        row.update({velocity_name(c): float(v) for c, v in zip(self.coordinates, self.qdot[i])})
         row.update({c: float(v[i]) for c, v in self.energy.items()})
         return row
 

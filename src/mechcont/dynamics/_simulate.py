@@ -10,6 +10,7 @@ import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, DenseOutput, OdeSolver, Radau
 
 from .._status import Status
+from ..equations import velocity_coordinate
 from ..errors import InputError
 from ._assembly import assemble, initial_vector
 from ._budget import MAX_STEPS
@@ -44,7 +45,7 @@ def _velocities(system: Model, qdot0: Mapping[str, float] | Sequence[float] | np
     if isinstance(qdot0, Mapping):
         qd = np.zeros(nq)
         for k, v in qdot0.items():
-            name = k[:-4] if k.endswith("_dot") else k
+            name = velocity_coordinate(k, coordinates) or k
             if name not in coordinates:
                 raise InputError(k, f"not a coordinate; valid: {', '.join(coordinates)}")
             qd[coordinates.index(name)] = float(v)

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, TypeAlias
 import numpy as np
 
 from .._status import Status
+from ..equations import velocity_name
 from ..errors import InputError
 from ._events import Crossing
 from ._jumps import find_jump_windows
@@ -367,7 +368,7 @@ def sweep(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float],
         if part.status is not Status.FINISHED:
             break
     sim = _concatenate(parts)
-    t, w, wdot = sim.t, sim[watch], sim[f"{watch}_dot"]
+    t, w, wdot = sim.t, sim[watch], sim[velocity_name(watch)]
     in_sweep = t >= settle
     span = float(np.ptp(w[in_sweep])) if in_sweep.any() else 0.0
     crossings = sim.t_events[0] if through is not None else None

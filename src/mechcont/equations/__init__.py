@@ -13,12 +13,14 @@ from ._scene import Scene
 from ._stored import stored
 from ._system import EquationSystem
 from ._variables import Limit, Variable
+from ._velocity_names import VELOCITY_SUFFIX, velocity_coordinate, velocity_name
 
 __all__ = ["EquationSystem", "Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "at_values",
            "check_values_at",
            "Variable", "Limit", "Dynamics", "LinearDynamics", "NEUTRAL_RTOL", "OdeDynamics", "OdeFacts", "dynamics_of",
            "ode_model",
            "ode_equations",
-           "MechanicalModel", "Mechanics", "StabilityResult", "velocity_symbol", "Scene", "branch_rates",
+           "MechanicalModel", "Mechanics", "StabilityResult", "velocity_symbol", "VELOCITY_SUFFIX", "velocity_name",
+           "velocity_coordinate", "Scene", "branch_rates",
            # for the generators and the models: compiled code, parts pickled apart, the disk cache
            "compile_dense", "gradient", "symbol_names", "Apart", "stored"]

@@ -27,6 +27,7 @@ from ._cache_key import expr_text
 from ._codegen import CompiledFunction, compile_scattered, compile_values, derivative_entries, engine_arguments, is_smooth
 from ._layout import _flat, _Part, _StaticsLayout  # noqa: F401 (_StaticsLayout: pickles of compiled groups name it here)
 from ._stability import StabilityResult, constraint_rank  # noqa: F401 (public here too)
+from ._velocity_names import velocity_name
 
 if TYPE_CHECKING:
     import symengine as se
@@ -39,7 +40,7 @@ def velocity_symbol(name: str) -> sp.Symbol:
     """The symbol standing for the time derivative of coordinate ``name`` (``name_dot``)."""
     import sympy as sp
 
-    return sp.Symbol(f"{name}_dot", real=True)
+    return sp.Symbol(velocity_name(name), real=True)
 
 
 def _velocity_product_forces(keys: Sequence[tuple[int, int]], m_exprs: Sequence[se.Basic], qs: Sequence[se.Symbol],

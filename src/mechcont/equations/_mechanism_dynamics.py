@@ -46,6 +46,7 @@ from scipy.linalg.lapack import dgetrs as _dgetrs
 from ..errors import ConvergenceError, InputError
 from ._linear_dynamics import LinearDynamics
 from ._mechanics import MechanicalModel, constraint_rank
+from ._velocity_names import velocity_name
 
 if TYPE_CHECKING:
     from ._model import Model
@@ -145,7 +146,7 @@ class MechanismDynamics:
         """``z``'s names: the independent coordinates, their velocities (``_dot``), the element states."""
         indep, _, _ = self._partition(self.model.defaults())
         coords = [self.mech.coordinates[i] for i in indep]
-        return (*coords, *(f"{c}_dot" for c in coords), *self.mech.element_states)
+        return (*coords, *(velocity_name(c) for c in coords), *self.mech.element_states)
 
     def _split(self, z: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         indep, _, _ = self._partition(x)
@@ -395,7 +396,8 @@ class MechanismDynamics:
 
     def _linear_names(self, n: int) -> tuple[str, ...]:
         d = (n - len(self._s)) // 2
-        return (*(f"eta{i + 1}" for i in range(d)), *(f"eta{i + 1}_dot" for i in range(d)), *self.mech.element_states)
+        return (*(f"eta{i + 1}" for i in range(d)), *(velocity_name(f"eta{i + 1}") for i in range(d)),
+                *self.mech.element_states)
 
     @staticmethod
     def _state_matrices(mats: tuple[np.ndarray, ...], descriptor: bool | None) -> tuple[np.ndarray, np.ndarray | None]:

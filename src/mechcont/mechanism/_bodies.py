@@ -13,6 +13,7 @@ from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from ..equations import VELOCITY_SUFFIX
 from ..errors import InputError
 from ._expr import FUNCTIONS, Value, evaluate
 
@@ -71,7 +72,7 @@ def _check_variable_name(name: str, field: str, what: str) -> None:
     if name in BRANCH_COLUMNS:
         raise InputError(field, f"'{name}' is reserved: every branch table has a column of that name "
                                 f"({', '.join(BRANCH_COLUMNS)}); rename the {what}")
-    if name.endswith("_dot"):
+    if name.endswith(VELOCITY_SUFFIX):
         raise InputError(field, f"names ending in '_dot' are reserved for the velocities of the time simulation "
                                 f"(theta1_dot); rename the {what}")
     if keyword.iskeyword(name):  # the compiled code names every variable: a keyword cannot be one
