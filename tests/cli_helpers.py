@@ -1,4 +1,7 @@
-"""Shared by the CLI tests: invoking mechcont and checking its one-line errors."""
+"""Shared by the CLI tests: invoking mechcont, checking its one-line errors, reading the tables it writes."""
+
+import csv
+from pathlib import Path
 
 from click.testing import CliRunner
 
@@ -20,3 +23,9 @@ def one_line_error(result, *words):
     assert "Traceback" not in result.output
     for w in words:
         assert w in lines[0], lines[0]
+
+
+def csv_rows(path: str | Path) -> list[dict[str, str]]:
+    """The rows of the CSV table at ``path`` as ``{column: text}``."""
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))

@@ -6,12 +6,11 @@ test_fresh_dynamics_mechanism)."""
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_helpers import make_runner
+from cli_helpers import csv_rows, make_runner
 from test_fresh_dynamics_mechanism import _A, _flutter
 
 import mechcont.outputs.cycle_plots as cycle_plots
@@ -20,17 +19,13 @@ DATA = Path(__file__).parent / "data" / "fresh" / "ziegler_pivot.toml"
 C = 0.05
 
 
-def _rows(path: Path) -> list[dict[str, str]]:
-    with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
-
 
 def test_cycles_plot_draws_the_equilibria_by_their_dynamic_stability(tmp_path, monkeypatch):
     run = make_runner()
     table = tmp_path / "z.csv"
     r = run("continue", DATA, "--vary", "P", "--bounds", "P=0:3", "--set", f"c={C}", "--out", table, "--dynamic")
     assert r.exit_code == 0, r.output
-    rows = _rows(table)
+    rows = csv_rows(table)
     assert {row["n_unstable_dynamic"] for row in rows} == {"0", "2"}  # a count, written as one (was 0.0 / 2.0)
     P_rows = np.array([float(row["P [N]"]) for row in rows])
     static = np.array([row["stability"] for row in rows])

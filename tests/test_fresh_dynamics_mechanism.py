@@ -6,12 +6,11 @@ destabilisation paradox, below the undamped (7/2 - sqrt 2) k/l)."""
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_helpers import make_runner
+from cli_helpers import csv_rows, make_runner
 from scipy.optimize import brentq
 
 DATA = Path(__file__).parent / "data" / "fresh"
@@ -33,10 +32,6 @@ def _flutter(c: float) -> tuple[float, float]:
     return P, float(abs(ev[np.argmin(abs(ev.real))].imag))
 
 
-def _rows(path: Path) -> list[dict[str, str]]:
-    with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
-
 
 @pytest.fixture(scope="module")
 def run():
@@ -51,7 +46,7 @@ def test_damped_flutter_load_and_frequency(run, tmp_path, frame):
     r = run("continue", DATA / f"ziegler_{frame}.toml", "--vary", "P", "--bounds", "P=0:3", "--dynamic",
             "--set", "c=0.05", "--out", out)
     assert r.exit_code == 0, r.output
-    rows = _rows(out)
+    rows = csv_rows(out)
     hb = [row for row in rows if row["label"] == "HB"]
     P, omega = _flutter(0.05)
     assert len(hb) == 1
@@ -67,7 +62,7 @@ def test_undamped_column_has_no_hopf_noise(run, tmp_path):
     out = tmp_path / "z0.csv"
     r = run("continue", DATA / "ziegler_pivot.toml", "--vary", "P", "--bounds", "P=0:3", "--dynamic", "--out", out)
     assert r.exit_code == 0, r.output
-    rows = _rows(out)
+    rows = csv_rows(out)
     assert not [row for row in rows if row["label"].startswith("HB")]
     # the onset of flutter is still in the counts: between the two points that bracket the collision
     def discriminant(P: float) -> float:  # of det(K - w^2 M) = 0 in w^2: the two frequencies collide at zero
@@ -88,7 +83,7 @@ def test_flutter_load_in_mm_and_g(run, tmp_path):
     r = run("continue", DATA / "ziegler_mm_g.toml", "--vary", "P", "--bounds", "P=0:3e6", "--dynamic",
             "--set", "c=5e7", "--out", out)
     assert r.exit_code == 0, r.output
-    (hb,) = [row for row in _rows(out) if row["label"] == "HB"]
+    (hb,) = [row for row in csv_rows(out) if row["label"] == "HB"]
     P, omega = _flutter(0.05)
     assert float(hb["P [g mm/s^2]"]) * 1e-6 == pytest.approx(P, abs=1e-9)
     assert float(hb["leading_frequency [rad/s]"]) == pytest.approx(omega, abs=1e-9)

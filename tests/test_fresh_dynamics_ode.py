@@ -6,21 +6,16 @@ and the cusp u^3 - a u - b."""
 
 from __future__ import annotations
 
-import csv
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_helpers import make_runner, one_line_error
+from cli_helpers import csv_rows, make_runner, one_line_error
 from scipy.integrate import quad, solve_ivp
 
 DATA = Path(__file__).parent / "data" / "fresh"
 
-
-def _rows(path: Path) -> list[dict[str, str]]:
-    with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
 
 
 @pytest.fixture(scope="module")
@@ -40,9 +35,9 @@ def lpc(run, tmp_path_factory):
 
 
 def test_hopf_point_and_cycles_with_a_fold(lpc):
-    hb = [row for row in _rows(lpc / "b.csv") if row["label"] == "HB"]
+    hb = [row for row in csv_rows(lpc / "b.csv") if row["label"] == "HB"]
     assert len(hb) == 1 and abs(float(hb[0]["mu [1/s]"])) < 1e-12
-    rows = _rows(lpc / "c.csv")
+    rows = csv_rows(lpc / "c.csv")
     fold = [row for row in rows if row["label"] == "LPC"]
     assert len(fold) == 1 and float(fold[0]["mu [1/s]"]) == pytest.approx(-1.0, abs=1e-8)
     assert float(fold[0]["max_x"]) == pytest.approx(1.0, abs=1e-8)
@@ -62,7 +57,7 @@ def test_simulation_converges_onto_the_outer_cycle(run, tmp_path):
     r = run("simulate", DATA / "hopf_lpc.toml", "--set", "mu=0.5", "--start", "x=0.3", "--until", "30",
             "--rtol", "1e-11", "--atol", "1e-12", "--out", out)
     assert r.exit_code == 0, r.output
-    last = _rows(out)[-1]
+    last = csv_rows(out)[-1]
     assert math.hypot(float(last["x"]), float(last["y"])) == pytest.approx(math.sqrt(1 + math.sqrt(1.5)), abs=1e-8)
 
 
@@ -84,12 +79,12 @@ def rm(run, tmp_path_factory):
 
 
 def test_rosenzweig_hopf_point_cycle_and_curve(run, rm):
-    hb = [row for row in _rows(rm / "b.csv") if row["label"] == "HB"]
+    hb = [row for row in csv_rows(rm / "b.csv") if row["label"] == "HB"]
     assert len(hb) == 1 and float(hb[0]["K"]) == pytest.approx(5 / 3, abs=1e-10)
     r = run("cycles", DATA / "rosenzweig.toml", "--point", f"{rm / 'b.csv'}:HB1", "--vary", "K", "--bounds", "K=1:3",
             "--at", "K=2", "--out", rm / "c.csv")
     assert r.exit_code == 0, r.output
-    (uz,) = [row for row in _rows(rm / "c.csv") if row["label"] == "UZ"]
+    (uz,) = [row for row in csv_rows(rm / "c.csv") if row["label"] == "UZ"]
 
     def f(t, u):
         x, y = u
@@ -114,7 +109,7 @@ def test_rosenzweig_hopf_point_cycle_and_curve(run, rm):
     r = run("folds", DATA / "rosenzweig.toml", "--point", f"{rm / 'b.csv'}:HB1", "--along", "b", "--bounds", "b=1:4",
             "--bounds", "K=0.5:10", "--out", rm / "h.csv")
     assert r.exit_code == 0, r.output
-    for row in _rows(rm / "h.csv"):
+    for row in csv_rows(rm / "h.csv"):
         K, b = float(row["K"]), float(row["b"])
         xs = 0.5 / (b - 0.5)
         ys = (1 - xs / K) * (1 + xs)
@@ -125,12 +120,12 @@ def test_rosenzweig_hopf_point_cycle_and_curve(run, rm):
 def test_cusp_fold_curve(run, tmp_path):
     r = run("continue", DATA / "cusp.toml", "--vary", "b", "--bounds", "b=-3:3", "--out", tmp_path / "b.csv")
     assert r.exit_code == 0, r.output
-    lp = [row for row in _rows(tmp_path / "b.csv") if row["label"] == "LP"]
+    lp = [row for row in csv_rows(tmp_path / "b.csv") if row["label"] == "LP"]
     assert sorted(float(row["b"]) for row in lp) == pytest.approx([-2.0, 2.0], abs=1e-10)
     r = run("folds", DATA / "cusp.toml", "--point", f"{tmp_path / 'b.csv'}:LP1", "--along", "a", "--bounds", "a=-1:4",
             "--bounds", "b=-4:4", "--out", tmp_path / "f.csv")
     assert r.exit_code == 0, r.output
-    rows = _rows(tmp_path / "f.csv")
+    rows = csv_rows(tmp_path / "f.csv")
     for row in rows:
         u, a, b = float(row["u"]), float(row["a"]), float(row["b"])
         assert 3 * u * u == pytest.approx(a, abs=1e-10) and b == pytest.approx(-2 * u**3, abs=1e-10)
@@ -161,7 +156,7 @@ def test_cycles_at_a_value_never_reached_says_so(run, rm, tmp_path):
             "--at", "K=5", "--out", out)
     assert r.exit_code == 0, r.output
     assert "warning: --at K=5: the family does not reach it (no UZ row)" in r.stderr
-    assert not [row for row in _rows(out) if row["label"] == "UZ"]
+    assert not [row for row in csv_rows(out) if row["label"] == "UZ"]
 
 
 def test_sensitivity_at_a_hopf_point_points_to_the_hopf_curve(run, rm):
