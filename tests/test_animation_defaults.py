@@ -19,7 +19,7 @@ from PIL import Image  # noqa: E402
 
 from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium  # noqa: E402
 from mechcont.models import build_overcentre  # noqa: E402
-from mechcont.outputs import _frames, drawing  # noqa: E402
+from mechcont.outputs import _drawing_parts, _frames, drawing  # noqa: E402
 from mechcont.outputs import animation as anim  # noqa: E402
 from mechcont.outputs.animation import HOLD, MIN_DURATION, animate, branch_frames, frame_rows  # noqa: E402
 
@@ -58,7 +58,7 @@ def test_no_label_over_the_mechanism_and_a_local_slider_guide(overcentre, branch
     """The force printed in the note is not written again beside its arrow; the slider guide spans the
     slider's travel, not the view."""
     texts = []
-    real = drawing.draw_scene
+    real = _drawing_parts.draw_scene
 
     def spy(scene, ax, **kw):
         out = real(scene, ax, **kw)
@@ -66,13 +66,13 @@ def test_no_label_over_the_mechanism_and_a_local_slider_guide(overcentre, branch
         guides = [ln for ln in ax.lines if ln.get_gid() == "slider-guide"]
         xs = np.concatenate([ln.get_xdata() for ln in guides])
         travel = [float(s.sliders[0][0][0]) for s in scenes]
-        h = drawing._SYMBOL * max(np.diff(ax.get_xlim())[0], np.diff(ax.get_ylim())[0])
+        h = _drawing_parts._SYMBOL * max(np.diff(ax.get_xlim())[0], np.diff(ax.get_ylim())[0])
         assert xs.min() >= min(travel) - 4.5 * h and xs.max() <= max(travel) + 4.5 * h
         return out
 
     rows = frame_rows(branch_frames(overcentre, branch), 10)
     scenes = [overcentre.scene(branch.values[i]) for i in rows]
-    monkeypatch.setattr(drawing, "draw_scene", spy)
+    monkeypatch.setattr(_drawing_parts, "draw_scene", spy)
     import tempfile
 
     with tempfile.TemporaryDirectory() as d:
@@ -113,7 +113,7 @@ def test_cli_animation_is_quiet_off_a_terminal(tmp_path, branch):
 def _renderer(system, branch, every, diagram, **kw):
     frames = anim.branch_frames(system, branch)
     rows = anim.frame_rows(frames, every)
-    annotate = drawing._with_vary(frames.vary, drawing.default_annotate(system))
+    annotate = _drawing_parts._with_vary(frames.vary, drawing.default_annotate(system))
     r = anim._renderer(system.scene, system, frames, rows, annotate, title=None, show_forces=True, diagram=diagram,
                        **{"figsize": None, "dpi": 100, **kw})
     return frames, rows, r

@@ -478,12 +478,12 @@ def test_frame_of_a_fourbar_branch_prints_the_continuation_parameter(tmp_path, f
 @pytest.mark.slow
 def test_animation_frames_print_vary_units_stability_and_label(tmp_path, fourbar_branch, monkeypatch):
     """Every frame's note: the branch's vary (N m), the annotated angle (degrees), stability, label."""
-    import mechcont.outputs.drawing as drawing
+    import mechcont.outputs._drawing_parts as parts
 
     system, branch = fourbar_branch
     notes = []
-    real = drawing._put_note
-    monkeypatch.setattr(drawing, "_put_note", lambda ax, text, *a: (notes.append(text), real(ax, text, *a)))
+    real = parts._put_note
+    monkeypatch.setattr(parts, "_put_note", lambda ax, text, *a: (notes.append(text), real(ax, text, *a)))
     csv_path = branch.to_csv(tmp_path / "fb.csv")
     frames = branch_frames(system, csv_path)
     assert frames.vary == "T" and branch_frames(system, branch).vary == "T"   # CSV: the one changing parameter

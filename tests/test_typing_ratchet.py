@@ -59,6 +59,7 @@ STRICT_FLOOR = {
     "mechcont.equations._protocols",
     "mechcont.equations._system",
     "mechcont.equations._variables",
+    "mechcont.equations._velocity_names",
     "mechcont.errors",
     "mechcont.mechanism",
     "mechcont.mechanism._description",
@@ -68,8 +69,10 @@ STRICT_FLOOR = {
     "mechcont.mechanism.spatial._description",
     "mechcont.outputs",
     "mechcont.outputs.animation",
+    "mechcont.outputs.drawing",
     "mechcont.outputs.drawing3d",
     "mechcont.outputs.explore",
+    "mechcont.outputs.plotting",
 }
 
 

@@ -22,8 +22,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..units import display_scale, display_unit
+from . import _drawing_parts as _d
 from . import _frames as _f
-from . import drawing as _d
 from ._branch_frames import BranchFrames, branch_frames
 
 if TYPE_CHECKING:

@@ -26,33 +26,20 @@ from typing import TYPE_CHECKING
 
 import numpy.typing as npt
 
-from ._drawing_parts import (  # noqa: F401 (the parts' names, used here and by animation and explore as drawing's)
-    _ARROW,
-    _DEFAULT_ANNOTATE,
-    _PAD,
-    _SYMBOL,
+from ._drawing_parts import (
     IMAGE_SUFFIXES,
     _atomic_write,
-    _bounds,
     _check_out,
     _check_x,
-    _default_force_scale,
-    _limits,
     _note,
     _note_corner,
-    _point_groups,
     _put_note,
     _scene_of,
-    _scene_samples,
-    _size,
-    _union,
-    _with_vary,
     body_colours,
     default_annotate,
     draw_scene,
     label_scene,
     load_text,
-    slider_span,
 )
 from .drawing3d import draw3d, is_spatial
 
@@ -62,7 +49,7 @@ if TYPE_CHECKING:
     from ..continuation import SpecialPoint
     from ..equations import EquationSystem
 
-__all__ = ["draw_scene", "draw", "label_scene", "default_annotate", "IMAGE_SUFFIXES"]
+__all__ = ["draw_scene", "draw", "label_scene", "default_annotate", "IMAGE_SUFFIXES", "body_colours", "load_text"]
 
 
 def draw(system: EquationSystem, x: npt.ArrayLike | SpecialPoint, path: str | os.PathLike[str] | None = None, *,

@@ -29,7 +29,7 @@ import numpy.typing as npt
 from .._io import atomic_write
 from ..equations import EquationSystem, Model, Scene
 from ..errors import InputError
-from . import drawing as _d
+from . import _drawing_parts as _d
 from ._explore_points import default_axes, special_points
 
 if TYPE_CHECKING:

@@ -45,7 +45,7 @@ PER_STEP = 8
 
 
 def _is_angle(branch: Branch, name: str) -> bool:
-    units = getattr(branch, "units", None) or {}
+    units: dict[str, str] = getattr(branch, "units", None) or {}
     if name in units:
         return units[name] == "rad"
     return name.startswith(_ANGLE_HINTS)
@@ -419,7 +419,8 @@ def _drawn_box(fig: Figure, pad: float = 0.1) -> Bbox:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.transforms import Bbox
 
-    renderer = FigureCanvasAgg(fig).get_renderer() if not hasattr(fig.canvas, "get_renderer") else fig.canvas.get_renderer()
+    canvas = fig.canvas if hasattr(fig.canvas, "get_renderer") else FigureCanvasAgg(fig)
+    renderer = canvas.get_renderer()
     fig.draw_without_rendering()
     boxes = []
     for ax in fig.axes:
