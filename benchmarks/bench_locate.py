@@ -11,6 +11,11 @@ branch's states and the varied parameter):
 * the caster steered through a four-bar (``tests/data/fourbar_shimmy.toml``, Hopf in V), a closed loop;
 * the shimmy gear (``examples/shimmy.toml``, Hopf in V), 23 variables.
 
+Each Hopf case is timed three ways: ``locate_hopf`` as a branch's ``HB`` row carries it (the point, its frequency
+and its first Lyapunov coefficient ``l1``), the location alone (the extended system's Newton polish, what
+AUTO's ``HB`` location does: ``l1`` is classification) and ``l1`` alone at the located point (as a fold's
+location carries its quadratic coefficient, which costs one contraction of the second derivatives).
+
 ``python benchmarks/bench_locate.py [--repeats N]`` prints a table (median and minimum CPU time of the
 repeats, ``time.process_time``, after one warm-up call); ``benchmarks/run.py -k locate`` times the same
 cases by wall time.
@@ -33,6 +38,31 @@ def _starts(branch, label: str):
     return before, sp
 
 
+def _location(model, point, vary: str):
+    """What ``locate_hopf(model, point, vary)`` does before its ``l1``: the Newton polish of the extended system."""
+    from mechcont.continuation._hopf_point import HopfTest, polish_hopf
+    from mechcont.continuation._problem import EquilibriumProblem
+    from mechcont.equations import dynamics_of
+
+    test = HopfTest(dynamics_of(model), model)
+    problem = EquilibriumProblem(model, point.x, vary, list(point.unknowns), stability=False)
+    return polish_hopf(test, problem, problem.u_of(point.x))
+
+
+def _l1_at(model, point, vary: str):
+    """A call of what ``locate_hopf`` adds to the location at the located ``point``: its frequency, ``l1`` and
+    eigenvector (``hopf_point_of``)."""
+    from mechcont.continuation import locate_hopf
+    from mechcont.continuation._hopf import hopf_point_of
+    from mechcont.continuation._hopf_point import HopfTest
+    from mechcont.equations import dynamics_of
+
+    hb = locate_hopf(model, point, vary)
+    test = HopfTest(dynamics_of(model), model)
+    pair = test.pair(hb.x)
+    return lambda: hopf_point_of(test, hb.x, pair, hb.residual)
+
+
 def cases():
     from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium, locate_fold, locate_hopf
     from mechcont.models import build_overcentre, load_model
@@ -45,6 +75,10 @@ def cases():
         out.append((f"{name}: locate_hopf from the row before ({n} unknowns)",
                     lambda: locate_hopf(model, before, vary), 10))
         out.append((f"{name}: locate_hopf from HB1 ({n} unknowns)", lambda: locate_hopf(model, at, vary), 10))
+        out.append((f"{name}: location alone from the row before ({n} unknowns)",
+                    lambda: _location(model, before, vary), 10))
+        out.append((f"{name}: location alone from HB1 ({n} unknowns)", lambda: _location(model, at, vary), 10))
+        out.append((f"{name}: l1 alone at HB1 ({n} unknowns)", _l1_at(model, at, vary), 10))
 
     def fold_cases(name, model, branch, vary):
         before, at = _starts(branch, "LP")

@@ -54,9 +54,22 @@ __all__ = ["MechanismDynamics"]
 
 
 def _positive_definite(Mr: np.ndarray) -> bool:
-    """Whether the reduced mass is positive definite with every eigenvalue above 1e-12 of the largest."""
-    w = np.linalg.eigvalsh(0.5 * (Mr + Mr.T))
-    return bool(w[0] > 1e-12 * max(w[-1], 1e-300))
+    """Whether every reduced mass of the stack ``Mr`` (m, d, d) is positive definite with every eigenvalue above
+    1e-12 of its largest (one stacked eigenvalue call)."""
+    w = np.linalg.eigvalsh(0.5 * (Mr + Mr.transpose(0, 2, 1)))
+    return bool(np.all(w[:, 0] > 1e-12 * np.maximum(w[:, -1], 1e-300)))
+
+
+def _ranks(P: np.ndarray, sv: np.ndarray, kept: int) -> np.ndarray:
+    """Each row's :func:`constraint_rank` of the stacked constraint Jacobians ``P`` with singular values ``sv``,
+    at most ``kept``: decided for all rows at once where each is full rank or its small singular values are
+    zeros to rounding (the usual case: no rescaled decomposition), row by row otherwise."""
+    top = np.maximum(sv[:, 0], 1e-300)[:, None]
+    r = np.count_nonzero(sv > 1e-10 * top, axis=1)
+    small = (sv > 1e-14 * top) & (np.arange(sv.shape[1])[None, :] >= r[:, None])
+    if small.any():
+        r = np.array([constraint_rank(P[i], sv[i]) for i in range(len(P))])
+    return np.minimum(r, kept)
 
 #: Below this relative Newton step the factors of the previous iterate's constraint Jacobian are reused (a
 #: chord step): that Jacobian differs from the current one by about the relative step, so each chord step
@@ -408,7 +421,7 @@ class MechanismDynamics:
         if d:
             A[:, :d, d:2 * d] = np.eye(d)
             if descriptor is None:
-                descriptor = not all(_positive_definite(M) for M in Mr)
+                descriptor = not _positive_definite(Mr)
             if not descriptor:
                 # one solve for the three blocks (Mr is symmetric positive definite and small)
                 S = np.linalg.solve(Mr, np.concatenate([Kr, Cr, Br], axis=2))
@@ -446,14 +459,20 @@ class MechanismDynamics:
             # off the constraint manifold (a linearisation differenced in a coordinate: the Hopf test's gradient)
             # redundant rows turn independent by the size of the step; held at the partition's rank, the allowed
             # motions and the reactions vary smoothly instead of losing a dimension
-            kept = len(self._partition(X[0])[2])
-            ranks = [min(constraint_rank(P[i], sv[i]), kept) for i in range(m)]
-            lam = np.array([U[i, :, :r] @ ((Vt[i, :r] @ Q[i]) / sv[i, :r]) for i, r in enumerate(ranks)])
-            if project:
-                N0 = Vt[0, ranks[0]:].T
-                N = np.array([N0 - Vt[i, :r].T @ (Vt[i, :r] @ N0) for i, r in enumerate(ranks)])
-            elif len(set(ranks)) == 1:
-                N = Vt[:, ranks[0]:].transpose(0, 2, 1)
+            ranks = _ranks(P, sv, len(self._partition(X[0])[2]))
+            r = int(ranks[0])
+            if np.all(ranks == r):  # every row at one rank (the usual case): stacked products
+                V = Vt[:, :r]
+                lam = (U[:, :, :r] @ ((V @ Q[:, :, None])[:, :, 0] / sv[:, :r])[:, :, None])[:, :, 0]
+                if project:
+                    N0 = Vt[0, r:].T
+                    N = N0[None] - V.transpose(0, 2, 1) @ (V @ N0)
+                else:
+                    N = Vt[:, r:].transpose(0, 2, 1)
+            elif project:
+                lam = np.array([U[i, :, :k] @ ((Vt[i, :k] @ Q[i]) / sv[i, :k]) for i, k in enumerate(ranks)])
+                N0 = Vt[0, r:].T
+                N = np.array([N0 - Vt[i, :k].T @ (Vt[i, :k] @ N0) for i, k in enumerate(ranks)])
             else:
                 raise ConvergenceError("the constraints' rank changes between the points linearised together")
         M = mech._M.batch(args)
