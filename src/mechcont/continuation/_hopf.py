@@ -22,7 +22,7 @@ from ..errors import ConvergenceError
 from ._events import Event, Hit, PointState, _secant
 from ._folds import curve_states
 from ._hopf_plane import CriticalPair
-from ._hopf_point import HopfPoint, HopfTest, first_lyapunov, polish_hopf
+from ._hopf_point import HopfPoint, HopfTest, first_lyapunov, polish_hopf, secant_fraction
 from ._problem import ContinuationProblem
 
 if TYPE_CHECKING:
@@ -59,10 +59,11 @@ class HopfEvent(Event):
 
     def locate(self, stepper: PseudoArclength, problem: ContinuationProblem, cur: PointState, ds: float, v0: float,
                v1: float) -> Hit:
-        """The secant guess on the test function, polished on the extended system; a neutral saddle
-        gives no point (``state`` None). When the polish fails, Brent's method on the test function
-        gives the point, marked approximate."""
-        sigma, st, info = _secant(stepper, cur, ds, v0, v1)
+        """The secant guess on the test function's product ``psi`` (:func:`secant_fraction`), polished on the
+        extended system; a neutral saddle gives no point (``state`` None). When the polish fails, Brent's method
+        on the test function gives the point, marked approximate."""
+        frac = secant_fraction(v0, v1, self.test.pairs)
+        sigma, st, info = _secant(stepper, cur, ds, frac, frac - 1.0)
         if st is not None:
             try:
                 u, pair, res = polish_hopf(self.test, problem, st.u)
