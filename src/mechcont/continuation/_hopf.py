@@ -37,7 +37,7 @@ __all__ = ["HopfEvent", "HopfProblem", "BogdanovTakensEvent", "GeneralisedHopfEv
 def hopf_point_of(test: HopfTest, x: np.ndarray, pair: CriticalPair, residual: float) -> HopfPoint:
     """The :class:`HopfPoint` payload at the located Hopf point ``x`` with its critical ``pair``."""
     omega = pair.omega
-    l1, q, method = first_lyapunov(test.dynamics, x, omega, test.system)
+    l1, q, method = first_lyapunov(test.dynamics, x, omega, test.system, pair)
     return HopfPoint(omega, l1, q, tuple(test.dynamics.state_names), residual, method)
 
 
@@ -73,7 +73,7 @@ class HopfEvent(Event):
                     if not pair.complex:
                         return sigma, None, {"status": "neutral saddle"}
                     st = stepper.state(z, stepper.tangent(z, cur.tangent))
-                    hopf = hopf_point_of(self.test, st.x, pair, res)
+                    hopf = hopf_point_of(self.test, problem.full(u), pair, res)  # where the pair is
                     return sigma, st, {"status": "located", "residual": res, "hopf": hopf}
                 reason = "the Hopf system converged outside the step"
             except (ConvergenceError, np.linalg.LinAlgError) as exc:
@@ -173,7 +173,7 @@ class HopfProblem(ContinuationProblem):
         if not pair.complex or pair.omega <= _BT_OMEGA * max(float(np.linalg.norm(pair.A, 1)), np.finfo(float).tiny):
             return 0.0
         try:
-            l1 = first_lyapunov(self.test.dynamics, x, pair.omega, self.test.system)[0]
+            l1 = first_lyapunov(self.test.dynamics, x, pair.omega, self.test.system, pair)[0]
         except np.linalg.LinAlgError:  # A singular: a Bogdanov-Takens point, where l1 is not defined
             return 0.0
         return l1 if math.isfinite(l1) else 0.0

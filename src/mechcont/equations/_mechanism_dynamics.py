@@ -131,6 +131,10 @@ class MechanismDynamics:
         self._sscale = np.asarray(scales[self._s], dtype=float)
         self._part: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self._cols: tuple[np.ndarray, np.ndarray] = (np.zeros(0, np.intp), np.zeros(0, np.intp))
+        # the full vectors last linearised (the first row of each of the last few _reduced) and their allowed
+        # motions N, for linearisation_basis: a Hopf point's l1 takes the critical pair's linearisation there
+        # instead of differencing the rates again
+        self._bases: dict[bytes, np.ndarray] = {}
         if reference is not None:
             self._partition(np.asarray(reference, dtype=float))
 
@@ -406,6 +410,26 @@ class MechanismDynamics:
         both = self._reduced(np.vstack([np.asarray(x, dtype=float)[None, :], X]), project=True)
         return self._state_matrices(tuple(part[1:] for part in both), descriptor)
 
+    def linearisation_basis(self, x: np.ndarray) -> np.ndarray | None:
+        """``T`` with ``dz = T (eta, eta', ds)``: the state ``z`` (:attr:`state_names`) of the small motions
+        that :meth:`linearise` describes in ``(eta, eta', ds)`` about the equilibrium ``x``, so that ``df/dz =
+        T A T^-1`` (``A`` its explicit matrix). Known only for the last few ``x`` linearised (:meth:`linearise`,
+        or the first row of :meth:`linearise_near`), bit for bit: None for any other (the allowed motions' basis
+        is not unique where there are several, so it is never recomputed to go with a matrix made earlier)."""
+        x = np.asarray(x, dtype=float)
+        N = self._bases.get(x.tobytes())
+        if N is None:
+            return None
+        indep, _, _ = self._partition(x)
+        NI = N[indep]
+        d, ns = NI.shape[1], len(self._s)
+        if NI.shape[0] != d:
+            return None
+        T = np.zeros((2 * d + ns, 2 * d + ns))
+        T[:d, :d] = T[d:2 * d, d:2 * d] = NI
+        T[2 * d:, 2 * d:] = np.eye(ns)
+        return T
+
     def _linear_names(self, n: int) -> tuple[str, ...]:
         d = (n - len(self._s)) // 2
         return (*(f"eta{i + 1}" for i in range(d)), *(f"eta{i + 1}_dot" for i in range(d)), *self.mech.element_states)
@@ -475,6 +499,9 @@ class MechanismDynamics:
                 N = np.array([N0 - Vt[i, :k].T @ (Vt[i, :k] @ N0) for i, k in enumerate(ranks)])
             else:
                 raise ConvergenceError("the constraints' rank changes between the points linearised together")
+        if len(self._bases) >= 4:
+            del self._bases[next(iter(self._bases))]
+        self._bases[X[0].tobytes()] = N[0]
         M = mech._M.batch(args)
         C = -mech._dQdqd.batch(args) + self.damping * M
         K = layout.stiffnesses(vals, lam)
