@@ -407,7 +407,12 @@ class MechanismDynamics:
         continuous where the null space has more than one dimension). All rows in a few compiled calls and
         stacked factorisations (the Hopf system's directional derivatives)."""
         X = np.asarray(X, dtype=float)
-        both = self._reduced(np.vstack([np.asarray(x, dtype=float)[None, :], X]), project=True)
+        x = np.asarray(x, dtype=float)
+        if len(X) and X[0].tobytes() == x.tobytes():
+            # x's own linearisation asked for too (a Hopf polish's): its row is the reference as it stands, the
+            # same matrices as with x stacked before it once more
+            return self._state_matrices(self._reduced(X, project=True), descriptor)
+        both = self._reduced(np.vstack([x[None, :], X]), project=True)
         return self._state_matrices(tuple(part[1:] for part in both), descriptor)
 
     def linearisation_basis(self, x: np.ndarray) -> np.ndarray | None:
