@@ -46,30 +46,13 @@ from scipy.linalg.lapack import dgetrs as _dgetrs
 from ..errors import ConvergenceError, InputError
 from ._linear_dynamics import LinearDynamics
 from ._mechanics import MechanicalModel, constraint_rank
+from ._stacked_linear import stacked_ranks, state_matrices
 
 if TYPE_CHECKING:
     from ._model import Model
 
 __all__ = ["MechanismDynamics"]
 
-
-def _positive_definite(Mr: np.ndarray) -> bool:
-    """Whether every reduced mass of the stack ``Mr`` (m, d, d) is positive definite with every eigenvalue above
-    1e-12 of its largest (one stacked eigenvalue call)."""
-    w = np.linalg.eigvalsh(0.5 * (Mr + Mr.transpose(0, 2, 1)))
-    return bool(np.all(w[:, 0] > 1e-12 * np.maximum(w[:, -1], 1e-300)))
-
-
-def _ranks(P: np.ndarray, sv: np.ndarray, kept: int) -> np.ndarray:
-    """Each row's :func:`constraint_rank` of the stacked constraint Jacobians ``P`` with singular values ``sv``,
-    at most ``kept``: decided for all rows at once where each is full rank or its small singular values are
-    zeros to rounding (the usual case: no rescaled decomposition), row by row otherwise."""
-    top = np.maximum(sv[:, 0], 1e-300)[:, None]
-    r = np.count_nonzero(sv > 1e-10 * top, axis=1)
-    small = (sv > 1e-14 * top) & (np.arange(sv.shape[1])[None, :] >= r[:, None])
-    if small.any():
-        r = np.array([constraint_rank(P[i], sv[i]) for i in range(len(P))])
-    return np.minimum(r, kept)
 
 #: Below this relative Newton step the factors of the previous iterate's constraint Jacobian are reused (a
 #: chord step): that Jacobian differs from the current one by about the relative step, so each chord step
@@ -391,7 +374,7 @@ class MechanismDynamics:
         """``A`` of the small motions ``(eta, eta', ds)`` about the equilibrium ``x`` (see the module
         docstring), ``E`` None (a descriptor ``E`` where a motion has no mass); the names ``eta1..``,
         ``eta1_dot..``, then the element states."""
-        A, E = self._state_matrices(self._reduced(np.asarray(x, dtype=float)[None, :]), None)
+        A, E = state_matrices(self._reduced(np.asarray(x, dtype=float)[None, :]), None)
         return LinearDynamics(A[0], None if E is None else E[0], self._linear_names(A.shape[1]))
 
     def linearise_near(self, x: np.ndarray, X: np.ndarray,
@@ -411,9 +394,9 @@ class MechanismDynamics:
         if len(X) and X[0].tobytes() == x.tobytes():
             # x's own linearisation asked for too (a Hopf polish's): its row is the reference as it stands, the
             # same matrices as with x stacked before it once more
-            return self._state_matrices(self._reduced(X, project=True), descriptor)
+            return state_matrices(self._reduced(X, project=True), descriptor)
         both = self._reduced(np.vstack([x[None, :], X]), project=True)
-        return self._state_matrices(tuple(part[1:] for part in both), descriptor)
+        return state_matrices(tuple(part[1:] for part in both), descriptor)
 
     def linearisation_basis(self, x: np.ndarray) -> np.ndarray | None:
         """``T`` with ``dz = T (eta, eta', ds)``: the state ``z`` (:attr:`state_names`) of the small motions
@@ -438,30 +421,6 @@ class MechanismDynamics:
     def _linear_names(self, n: int) -> tuple[str, ...]:
         d = (n - len(self._s)) // 2
         return (*(f"eta{i + 1}" for i in range(d)), *(f"eta{i + 1}_dot" for i in range(d)), *self.mech.element_states)
-
-    @staticmethod
-    def _state_matrices(mats: tuple[np.ndarray, ...], descriptor: bool | None) -> tuple[np.ndarray, np.ndarray | None]:
-        """``(A, E)`` stacked from :meth:`_reduced`'s matrices: the explicit form where every reduced mass is
-        positive definite (``descriptor`` None) or when ``descriptor`` is False, else the descriptor form."""
-        Mr, Cr, Kr, Br, Rq, Rv, Rs = mats
-        m, d, ns = len(Mr), Mr.shape[1], Rs.shape[1]
-        A = np.zeros((m, 2 * d + ns, 2 * d + ns))
-        E = None
-        if d:
-            A[:, :d, d:2 * d] = np.eye(d)
-            if descriptor is None:
-                descriptor = not _positive_definite(Mr)
-            if not descriptor:
-                # one solve for the three blocks (Mr is symmetric positive definite and small)
-                S = np.linalg.solve(Mr, np.concatenate([Kr, Cr, Br], axis=2))
-                A[:, d:2 * d, :d], A[:, d:2 * d, d:2 * d], A[:, d:2 * d, 2 * d:] = (
-                    -S[:, :, :d], -S[:, :, d:2 * d], S[:, :, 2 * d:])
-            else:  # a motion without mass (the statics allows massless bodies): the descriptor form
-                E = np.repeat(np.eye(2 * d + ns)[None], m, axis=0)
-                E[:, d:2 * d, d:2 * d] = Mr
-                A[:, d:2 * d, :d], A[:, d:2 * d, d:2 * d], A[:, d:2 * d, 2 * d:] = -Kr, -Cr, Br
-        A[:, 2 * d:, :d], A[:, 2 * d:, d:2 * d], A[:, 2 * d:, 2 * d:] = Rq, Rv, Rs
-        return A, E
 
     def reduced_matrices(self, x: np.ndarray) -> tuple[np.ndarray, ...]:
         """``(Mr, Cr, Kr, Br, Rq N, Rv N, Rs)`` at the equilibrium ``x`` (see the module docstring): reduced
@@ -488,7 +447,7 @@ class MechanismDynamics:
             # off the constraint manifold (a linearisation differenced in a coordinate: the Hopf test's gradient)
             # redundant rows turn independent by the size of the step; held at the partition's rank, the allowed
             # motions and the reactions vary smoothly instead of losing a dimension
-            ranks = _ranks(P, sv, len(self._partition(X[0])[2]))
+            ranks = stacked_ranks(P, sv, len(self._partition(X[0])[2]))
             r = int(ranks[0])
             if np.all(ranks == r):  # every row at one rank (the usual case): stacked products
                 V = Vt[:, :r]
