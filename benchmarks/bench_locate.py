@@ -11,6 +11,16 @@ branch's states and the varied parameter):
 * the caster steered through a four-bar (``tests/data/fourbar_shimmy.toml``, Hopf in V), a closed loop;
 * the shimmy gear (``examples/shimmy.toml``, Hopf in V), 23 variables.
 
+Each model is also continued once with its events' polish calls recorded, and the polish an ``LP`` or ``HB`` event
+makes from its secant guess (``polish_fold`` with the branch tangent as the null vector's guess; ``polish_hopf``,
+then ``l1``) is timed from the same start with the same arguments: what the branch itself spends per point, like
+for like.
+
+Each Hopf case is timed three ways: ``locate_hopf`` as a branch's ``HB`` row carries it (the point, its frequency
+and its first Lyapunov coefficient ``l1``), the location alone (the extended system's Newton polish, what
+AUTO's ``HB`` location does: ``l1`` is classification) and ``l1`` alone at the located point (as a fold's
+location carries its quadratic coefficient, which costs one contraction of the second derivatives).
+
 ``python benchmarks/bench_locate.py [--repeats N]`` prints a table (median and minimum CPU time of the
 repeats, ``time.process_time``, after one warm-up call); ``benchmarks/run.py -k locate`` times the same
 cases by wall time.
@@ -18,6 +28,7 @@ cases by wall time.
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -33,11 +44,80 @@ def _starts(branch, label: str):
     return before, sp
 
 
+@contextmanager
+def _recording():
+    """While open, every ``polish_fold`` and ``polish_hopf`` an event of a branch makes is recorded with a copy of
+    its arguments and its result: ``{"fold": [(args, kwargs, result)], "hopf": [...]}``."""
+    import mechcont.continuation._api as api
+    import mechcont.continuation._hopf as hopf
+
+    calls = {"fold": [], "hopf": []}
+    fold, hopf_polish = api.polish_fold, hopf.polish_hopf
+
+    def recorder(kind, fn):
+        def call(*args, **kwargs):
+            kept = tuple(a.copy() if hasattr(a, "copy") and hasattr(a, "shape") else a for a in args)
+            out = fn(*args, **kwargs)
+            calls[kind].append((kept, kwargs, out))
+            return out
+        return call
+
+    api.polish_fold, hopf.polish_hopf = recorder("fold", fold), recorder("hopf", hopf_polish)
+    try:
+        yield calls
+    finally:
+        api.polish_fold, hopf.polish_hopf = fold, hopf_polish
+
+
+def _location(model, point, vary: str):
+    """What ``locate_hopf(model, point, vary)`` does before its ``l1``: the Newton polish of the extended system."""
+    from mechcont.continuation._hopf_point import HopfTest, polish_hopf
+    from mechcont.continuation._problem import EquilibriumProblem
+    from mechcont.equations import dynamics_of
+
+    test = HopfTest(dynamics_of(model), model)
+    problem = EquilibriumProblem(model, point.x, vary, list(point.unknowns), stability=False)
+    return polish_hopf(test, problem, problem.u_of(point.x))
+
+
+def _l1_at(model, point, vary: str):
+    """A call of what ``locate_hopf`` adds to the location at the located ``point``: its frequency, ``l1`` and
+    eigenvector (``hopf_point_of``)."""
+    from mechcont.continuation import locate_hopf
+    from mechcont.continuation._hopf import hopf_point_of
+    from mechcont.continuation._hopf_point import HopfTest
+    from mechcont.equations import dynamics_of
+
+    hb = locate_hopf(model, point, vary)
+    test = HopfTest(dynamics_of(model), model)
+    pair = test.pair(hb.x)
+    return lambda: hopf_point_of(test, hb.x, pair, hb.residual)
+
+
 def cases():
     from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium, locate_fold, locate_hopf
+    from mechcont.continuation._fold_point import polish_fold
+    from mechcont.continuation._hopf import hopf_point_of
+    from mechcont.continuation._hopf_point import polish_hopf
     from mechcont.models import build_overcentre, load_model
 
     out = []
+
+    def event_cases(name, calls, n):
+        if calls["fold"]:
+            fargs, fkwargs, _ = calls["fold"][0]
+            out.append((f"{name}: LP event's polish from its secant guess ({n} unknowns)",
+                        lambda: polish_fold(*fargs, **fkwargs), 10))
+        hb = [c for c in calls["hopf"] if c[2][1].complex]  # not a neutral saddle's
+        if hb:
+            args, kwargs, _ = hb[0]
+            out.append((f"{name}: HB event's polish from its secant guess ({n} unknowns)",
+                        lambda: polish_hopf(*args, **kwargs), 10))
+
+            def with_l1():
+                u, pair, res = polish_hopf(*args, **kwargs)
+                return hopf_point_of(args[0], args[1].full(u), pair, res)
+            out.append((f"{name}: HB event's polish and l1 ({n} unknowns)", with_l1, 10))
 
     def hopf_cases(name, model, branch, vary):
         before, at = _starts(branch, "HB")
@@ -45,6 +125,10 @@ def cases():
         out.append((f"{name}: locate_hopf from the row before ({n} unknowns)",
                     lambda: locate_hopf(model, before, vary), 10))
         out.append((f"{name}: locate_hopf from HB1 ({n} unknowns)", lambda: locate_hopf(model, at, vary), 10))
+        out.append((f"{name}: location alone from the row before ({n} unknowns)",
+                    lambda: _location(model, before, vary), 10))
+        out.append((f"{name}: location alone from HB1 ({n} unknowns)", lambda: _location(model, at, vary), 10))
+        out.append((f"{name}: l1 alone at HB1 ({n} unknowns)", _l1_at(model, at, vary), 10))
 
     def fold_cases(name, model, branch, vary):
         before, at = _starts(branch, "LP")
@@ -54,31 +138,42 @@ def cases():
         out.append((f"{name}: locate_fold from LP1 ({n} unknowns)", lambda: locate_fold(model, at, vary), 10))
 
     ab = load_model(str(ROOT / "examples" / "ab.toml"), beta=1.0)
-    b = continuation(ab, ab.vector({}), "D", hopf=True,
-                     options=ContinuationOptions(bounds={"D": (0.0, 0.2), "u2": (-1.0, 10.0)}))
+    with _recording() as calls:
+        b = continuation(ab, ab.vector({}), "D", hopf=True,
+                         options=ContinuationOptions(bounds={"D": (0.0, 0.2), "u2": (-1.0, 10.0)}))
+    event_cases("ab (beta = 1)", calls, 3)
     fold_cases("ab (beta = 1)", ab, b, "D")
     hopf_cases("ab (beta = 1)", ab, b, "D")
 
     caster = load_model(str(ROOT / "tests" / "data" / "caster_tyre.toml"))
-    b = continuation(caster, find_equilibrium(caster), "V", hopf=True,
-                     options=ContinuationOptions(bounds={"V": (0.5, 50.0)}))
+    with _recording() as calls:
+        b = continuation(caster, find_equilibrium(caster), "V", hopf=True,
+                         options=ContinuationOptions(bounds={"V": (0.5, 50.0)}))
+    event_cases("caster_tyre", calls, 7)
     hopf_cases("caster_tyre", caster, b, "V")
 
     oc = build_overcentre(LU=0.1)
-    b = continuation(oc, find_equilibrium(oc, hold={"theta1": 0.3}, free=["F"]), "F",
-                     options=ContinuationOptions(bounds={"theta1": (-1.4, 1.4)}))
+    with _recording() as calls:
+        b = continuation(oc, find_equilibrium(oc, hold={"theta1": 0.3}, free=["F"]), "F",
+                         options=ContinuationOptions(bounds={"theta1": (-1.4, 1.4)}))
+    event_cases("overcentre (LU = 0.1)", calls, 7)
     fold_cases("overcentre (LU = 0.1)", oc, b, "F")
 
     fourbar = load_model(str(ROOT / "tests" / "data" / "fourbar_shimmy.toml"))
-    b = continuation(fourbar, find_equilibrium(fourbar), "V", hopf=True,
-                     options=ContinuationOptions(bounds={"V": (0.3, 20.0)}))
+    with _recording() as calls:
+        b = continuation(fourbar, find_equilibrium(fourbar), "V", hopf=True,
+                         options=ContinuationOptions(bounds={"V": (0.3, 20.0)}))
+    event_cases("fourbar_shimmy", calls, 19)
     hopf_cases("fourbar_shimmy", fourbar, b, "V")
 
     from mechcont.paper import _shimmy_analysis as an
     from mechcont.paper.shimmy import gear_at
 
     gear, x1 = gear_at(1.0)
-    hopf_cases("shimmy gear", gear, an.equilibria(gear, x1), "V")
+    with _recording() as calls:
+        b = an.equilibria(gear, x1)
+    event_cases("shimmy gear", calls, 12)
+    hopf_cases("shimmy gear", gear, b, "V")
     return out
 
 

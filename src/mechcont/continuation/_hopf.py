@@ -22,7 +22,7 @@ from ..errors import ConvergenceError
 from ._events import Event, Hit, PointState, _secant
 from ._folds import curve_states
 from ._hopf_plane import CriticalPair
-from ._hopf_point import HopfPoint, HopfTest, first_lyapunov, polish_hopf
+from ._hopf_point import HopfPoint, HopfTest, first_lyapunov, polish_hopf, secant_fraction
 from ._problem import ContinuationProblem
 
 if TYPE_CHECKING:
@@ -37,7 +37,7 @@ __all__ = ["HopfEvent", "HopfProblem", "BogdanovTakensEvent", "GeneralisedHopfEv
 def hopf_point_of(test: HopfTest, x: np.ndarray, pair: CriticalPair, residual: float) -> HopfPoint:
     """The :class:`HopfPoint` payload at the located Hopf point ``x`` with its critical ``pair``."""
     omega = pair.omega
-    l1, q, method = first_lyapunov(test.dynamics, x, omega, test.system)
+    l1, q, method = first_lyapunov(test.dynamics, x, omega, test.system, pair)
     return HopfPoint(omega, l1, q, tuple(test.dynamics.state_names), residual, method)
 
 
@@ -59,10 +59,11 @@ class HopfEvent(Event):
 
     def locate(self, stepper: PseudoArclength, problem: ContinuationProblem, cur: PointState, ds: float, v0: float,
                v1: float) -> Hit:
-        """The secant guess on the test function, polished on the extended system; a neutral saddle
-        gives no point (``state`` None). When the polish fails, Brent's method on the test function
-        gives the point, marked approximate."""
-        sigma, st, info = _secant(stepper, cur, ds, v0, v1)
+        """The secant guess on the test function's product ``psi`` (:func:`secant_fraction`), polished on the
+        extended system; a neutral saddle gives no point (``state`` None). When the polish fails, Brent's method
+        on the test function gives the point, marked approximate."""
+        frac = secant_fraction(v0, v1, self.test.pairs)
+        sigma, st, info = _secant(stepper, cur, ds, frac, frac - 1.0)
         if st is not None:
             try:
                 u, pair, res = polish_hopf(self.test, problem, st.u)
@@ -72,7 +73,7 @@ class HopfEvent(Event):
                     if not pair.complex:
                         return sigma, None, {"status": "neutral saddle"}
                     st = stepper.state(z, stepper.tangent(z, cur.tangent))
-                    hopf = hopf_point_of(self.test, st.x, pair, res)
+                    hopf = hopf_point_of(self.test, problem.full(u), pair, res)  # where the pair is
                     return sigma, st, {"status": "located", "residual": res, "hopf": hopf}
                 reason = "the Hopf system converged outside the step"
             except (ConvergenceError, np.linalg.LinAlgError) as exc:
@@ -172,7 +173,7 @@ class HopfProblem(ContinuationProblem):
         if not pair.complex or pair.omega <= _BT_OMEGA * max(float(np.linalg.norm(pair.A, 1)), np.finfo(float).tiny):
             return 0.0
         try:
-            l1 = first_lyapunov(self.test.dynamics, x, pair.omega, self.test.system)[0]
+            l1 = first_lyapunov(self.test.dynamics, x, pair.omega, self.test.system, pair)[0]
         except np.linalg.LinAlgError:  # A singular: a Bogdanov-Takens point, where l1 is not defined
             return 0.0
         return l1 if math.isfinite(l1) else 0.0

@@ -39,7 +39,8 @@ from ._hopf_plane import CriticalPair, contractions
 from ._lyapunov import first_lyapunov, state_scales
 from ._problem import ContinuationProblem
 
-__all__ = ["HopfPoint", "CriticalPair", "HopfTest", "bialternate_test", "first_lyapunov", "polish_hopf", "state_scales"]
+__all__ = ["HopfPoint", "CriticalPair", "HopfTest", "bialternate_test", "first_lyapunov", "polish_hopf",
+           "secant_fraction", "state_scales"]
 
 _EPS = np.finfo(float).eps
 #: Newton on the Hopf system stops where the step (in the problem's scaled unknowns) is below this times
@@ -113,6 +114,21 @@ def bialternate_test(lam: np.ndarray) -> float:
     return (-1.0 if k % 2 else 1.0) * float(np.exp(np.mean(np.log(mag))))
 
 
+def secant_fraction(v0: float, v1: float, pairs: int) -> float:
+    """Where between two points, as a fraction of the way from the first, the Hopf point lies that their
+    :func:`bialternate_test` values ``v0``, ``v1`` (of opposite signs) bracket, ``pairs`` the number of eigenvalue
+    pairs ``m`` the values were taken over: the secant's zero of ``sign(v) |v|^m = psi``, not of ``v``.
+
+    ``psi`` is the product of the pair sums, smooth with a simple zero where the critical pair's sum ``g`` has one
+    (the other sums change slowly), so its secant errs by the square of the step, as a fold's does; ``v``'s own
+    secant does not (``|v| ~ |g|^(1/m)``: near the zero ``v`` is all curvature, and its secant lands about
+    midway). The ratio ``(|v1| / |v0|)^m`` is formed from logarithms (``m`` is 10 for 5 states)."""
+    if v0 == 0.0 or v1 == 0.0 or (v0 > 0) == (v1 > 0) or pairs < 1:
+        return v0 / (v0 - v1) if v0 != v1 else 0.5
+    t = pairs * (math.log(abs(v1)) - math.log(abs(v0)))
+    return 1.0 / (1.0 + math.exp(min(t, 700.0)))
+
+
 @functools.lru_cache(maxsize=32)
 def _pairs(n: int) -> tuple[np.ndarray, np.ndarray]:
     """``np.triu_indices(n, 1)``, kept: it costs more than the eigenvalues of a small system."""
@@ -134,10 +150,14 @@ class HopfTest:
         self._scales = None if system is None else np.abs(np.asarray(system.scales(), float))
         self._cols = (np.zeros(0, np.intp) if self._exact is None else
                       np.array([self._exact.index(n) for n in dynamics.state_names], dtype=np.intp))
+        #: the number of eigenvalue pairs the last :meth:`test_value` was taken over (:func:`secant_fraction`'s)
+        self.pairs = 0
 
     def test_value(self, x: np.ndarray) -> float:
         """:func:`bialternate_test` of the linearisation's eigenvalues at ``x``."""
-        return bialternate_test(self.dynamics.linearise(x).eigenvalues())
+        lam = self.dynamics.linearise(x).eigenvalues()
+        self.pairs = len(lam) * (len(lam) - 1) // 2
+        return bialternate_test(lam)
 
     def pair(self, x: np.ndarray) -> CriticalPair:
         """The :class:`CriticalPair` at ``x``."""

@@ -5,7 +5,9 @@ Kuznetsov's invariant formula (Elements of Applied Bifurcation Theory, 3rd ed., 
     l1 = Re( <p, C(q,q,qb)> - 2 <p, B(q, A^-1 B(q,qb))> + <p, B(qb, (2 i omega - A)^-1 B(q,q))> ) / (2 omega)
 
 with ``A q = i omega q``, ``A^T p = -i omega p``, ``<q, q> = 1``, ``<p, q> = 1`` (``<a, b> = a^H b``), ``B``,
-``C`` the second and third derivatives of the rates ``f(z)``. Two ways to the derivatives:
+``C`` the second and third derivatives of the rates ``f(z)``. ``A``, ``q`` and ``p`` come from the critical pair of
+the Hopf point's linearisation where it is at hand (:func:`critical_vectors`: a mechanism's turned from its allowed
+motions into ``z``), else from the rates' Jacobian. Two ways to the derivatives:
 
 * an ODE model with its equation system: ``B`` exact (the generated second derivatives), ``C``
   Richardson-extrapolated central differences of ``B`` (step ``eps^(1/5)``: about 1e-13 relative);
@@ -29,8 +31,9 @@ import math
 import numpy as np
 
 from ..equations import Dynamics, EquationSystem, OdeDynamics, velocity_coordinate
+from ._hopf_plane import CriticalPair
 
-__all__ = ["first_lyapunov", "state_scales"]
+__all__ = ["critical_vectors", "first_lyapunov", "state_scales"]
 
 _EPS = float(np.finfo(float).eps)
 
@@ -52,26 +55,64 @@ def state_scales(dynamics: Dynamics, system: EquationSystem | None, omega: float
     return np.array([scale(n) for n in dynamics.state_names])
 
 
-def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float,
-                   system: EquationSystem | None = None) -> tuple[float, np.ndarray, str]:
+def critical_vectors(dynamics: Dynamics, x: np.ndarray,
+                     pair: CriticalPair) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """``(A, q, p)`` of :func:`first_lyapunov` from the critical ``pair`` of the linearisation at ``x`` (``pair.lam[0]
+    = i omega``): ``A = df/dz`` (the rates' state ``z``), ``A q = i omega q`` with ``|q| = 1`` (its largest
+    component real and positive), ``A^T p = -i omega p`` with ``<p, q> = 1``. The pair's own matrix and
+    eigenvectors, turned into ``z`` (an ODE model's linearisation is in ``z`` already; a mechanism's is in
+    ``(eta, eta', ds)``, turned by its :meth:`~mechcont.equations.MechanismDynamics.linearisation_basis`): exact
+    derivatives where the rates' Jacobian would be differenced, and no eigenvalue problem solved again. None
+    where that cannot be done (a descriptor pencil, a pair that is not complex, dynamics that do not say their
+    basis at ``x``)."""
+    if pair.E is not None or not pair.complex:
+        return None
+    A, v, w = np.asarray(pair.A, float), pair.right[:, 0], pair.left[:, 0]
+    if not isinstance(dynamics, OdeDynamics):
+        basis = getattr(dynamics, "linearisation_basis", None)
+        T = None if basis is None else basis(x)
+        if T is None or T.shape != A.shape:
+            return None
+        try:
+            # T A T^-1, T v and T^-H w: the same matrix and eigenvectors in the rates' state
+            A = np.linalg.solve(T.T, (T @ A).T).T
+            v, w = T @ v, np.linalg.solve(T.conj().T, w)
+        except np.linalg.LinAlgError:
+            return None
+    big = v[int(np.argmax(np.abs(v)))]
+    q = v * (abs(big) / big) / np.linalg.norm(v)
+    p = w / np.conj(np.vdot(w, q))
+    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(p))):
+        return None
+    return A, q, p
+
+
+def first_lyapunov(dynamics: Dynamics, x: np.ndarray, omega: float, system: EquationSystem | None = None,
+                   pair: CriticalPair | None = None) -> tuple[float, np.ndarray, str]:
     """The first Lyapunov coefficient at the Hopf point ``x`` of frequency ``omega`` (rad/s), by the module's
     formula: exact second derivatives for an ODE model with its ``system``, directional differences of the
     rates otherwise. The steps are relative to each state's scale (:func:`state_scales`): a mechanism's
     velocity states swing ``omega`` times their coordinates, and a step sized by them would move the
-    coordinates, where the nonlinearity is, by almost nothing.
+    coordinates, where the nonlinearity is, by almost nothing. ``pair``: the critical pair of the linearisation
+    at ``x`` where already at hand, whose matrix and eigenvectors are then used (:func:`critical_vectors`)
+    instead of the rates' Jacobian and its eigenvectors.
 
     Returns ``(l1, q, method)``: ``l1`` in 1/s per squared state unit (negative: supercritical), the
     eigenvector ``q`` (``A q = i omega q``, ``|q| = 1``) and how the derivatives were taken."""
     dyn = dynamics
     z0 = dyn.state_at(x)
-    A = np.asarray(dyn.rates_jacobian(z0, x), float)
     sc = state_scales(dyn, system, omega)
-    lam, V = np.linalg.eig(A)
-    q = V[:, int(np.argmin(np.abs(lam - 1j * omega)))]
-    q = q / np.linalg.norm(q)
-    lamT, W = np.linalg.eig(A.T)
-    p = W[:, int(np.argmin(np.abs(lamT + 1j * omega)))]
-    p = p / np.conj(np.vdot(p, q))
+    known = None if pair is None else critical_vectors(dyn, x, pair)
+    if known is not None:
+        A, q, p = known
+    else:
+        A = np.asarray(dyn.rates_jacobian(z0, x), float)
+        lam, V = np.linalg.eig(A)
+        q = V[:, int(np.argmin(np.abs(lam - 1j * omega)))]
+        q = q / np.linalg.norm(q)
+        lamT, W = np.linalg.eig(A.T)
+        p = W[:, int(np.argmin(np.abs(lamT + 1j * omega)))]
+        p = p / np.conj(np.vdot(p, q))
     terms: _Terms
     if isinstance(dyn, OdeDynamics) and system is not None:
         terms = _exact_terms(dyn, system, x, z0, sc, q)

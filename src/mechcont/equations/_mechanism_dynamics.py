@@ -46,6 +46,7 @@ from scipy.linalg.lapack import dgetrs as _dgetrs
 from ..errors import ConvergenceError, InputError
 from ._linear_dynamics import LinearDynamics
 from ._mechanics import MechanicalModel, constraint_rank
+from ._stacked_linear import stacked_ranks, state_matrices
 from ._velocity_names import velocity_name
 
 if TYPE_CHECKING:
@@ -53,11 +54,6 @@ if TYPE_CHECKING:
 
 __all__ = ["MechanismDynamics"]
 
-
-def _positive_definite(Mr: np.ndarray) -> bool:
-    """Whether the reduced mass is positive definite with every eigenvalue above 1e-12 of the largest."""
-    w = np.linalg.eigvalsh(0.5 * (Mr + Mr.T))
-    return bool(w[0] > 1e-12 * max(w[-1], 1e-300))
 
 #: Below this relative Newton step the factors of the previous iterate's constraint Jacobian are reused (a
 #: chord step): that Jacobian differs from the current one by about the relative step, so each chord step
@@ -119,6 +115,10 @@ class MechanismDynamics:
         self._sscale = np.asarray(scales[self._s], dtype=float)
         self._part: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self._cols: tuple[np.ndarray, np.ndarray] = (np.zeros(0, np.intp), np.zeros(0, np.intp))
+        # the full vectors last linearised (the first row of each of the last few _reduced) and their allowed
+        # motions N, for linearisation_basis: a Hopf point's l1 takes the critical pair's linearisation there
+        # instead of differencing the rates again
+        self._bases: dict[bytes, np.ndarray] = {}
         if reference is not None:
             self._partition(np.asarray(reference, dtype=float))
 
@@ -375,7 +375,7 @@ class MechanismDynamics:
         """``A`` of the small motions ``(eta, eta', ds)`` about the equilibrium ``x`` (see the module
         docstring), ``E`` None (a descriptor ``E`` where a motion has no mass); the names ``eta1..``,
         ``eta1_dot..``, then the element states."""
-        A, E = self._state_matrices(self._reduced(np.asarray(x, dtype=float)[None, :]), None)
+        A, E = state_matrices(self._reduced(np.asarray(x, dtype=float)[None, :]), None)
         return LinearDynamics(A[0], None if E is None else E[0], self._linear_names(A.shape[1]))
 
     def linearise_near(self, x: np.ndarray, X: np.ndarray,
@@ -391,37 +391,38 @@ class MechanismDynamics:
         continuous where the null space has more than one dimension). All rows in a few compiled calls and
         stacked factorisations (the Hopf system's directional derivatives)."""
         X = np.asarray(X, dtype=float)
-        both = self._reduced(np.vstack([np.asarray(x, dtype=float)[None, :], X]), project=True)
-        return self._state_matrices(tuple(part[1:] for part in both), descriptor)
+        x = np.asarray(x, dtype=float)
+        if len(X) and X[0].tobytes() == x.tobytes():
+            # x's own linearisation asked for too (a Hopf polish's): its row is the reference as it stands, the
+            # same matrices as with x stacked before it once more
+            return state_matrices(self._reduced(X, project=True), descriptor)
+        both = self._reduced(np.vstack([x[None, :], X]), project=True)
+        return state_matrices(tuple(part[1:] for part in both), descriptor)
+
+    def linearisation_basis(self, x: np.ndarray) -> np.ndarray | None:
+        """``T`` with ``dz = T (eta, eta', ds)``: the state ``z`` (:attr:`state_names`) of the small motions
+        that :meth:`linearise` describes in ``(eta, eta', ds)`` about the equilibrium ``x``, so that ``df/dz =
+        T A T^-1`` (``A`` its explicit matrix). Known only for the last few ``x`` linearised (:meth:`linearise`,
+        or the first row of :meth:`linearise_near`), bit for bit: None for any other (the allowed motions' basis
+        is not unique where there are several, so it is never recomputed to go with a matrix made earlier)."""
+        x = np.asarray(x, dtype=float)
+        N = self._bases.get(x.tobytes())
+        if N is None:
+            return None
+        indep, _, _ = self._partition(x)
+        NI = N[indep]
+        d, ns = NI.shape[1], len(self._s)
+        if NI.shape[0] != d:
+            return None
+        T = np.zeros((2 * d + ns, 2 * d + ns))
+        T[:d, :d] = T[d:2 * d, d:2 * d] = NI
+        T[2 * d:, 2 * d:] = np.eye(ns)
+        return T
 
     def _linear_names(self, n: int) -> tuple[str, ...]:
         d = (n - len(self._s)) // 2
         return (*(f"eta{i + 1}" for i in range(d)), *(velocity_name(f"eta{i + 1}") for i in range(d)),
                 *self.mech.element_states)
-
-    @staticmethod
-    def _state_matrices(mats: tuple[np.ndarray, ...], descriptor: bool | None) -> tuple[np.ndarray, np.ndarray | None]:
-        """``(A, E)`` stacked from :meth:`_reduced`'s matrices: the explicit form where every reduced mass is
-        positive definite (``descriptor`` None) or when ``descriptor`` is False, else the descriptor form."""
-        Mr, Cr, Kr, Br, Rq, Rv, Rs = mats
-        m, d, ns = len(Mr), Mr.shape[1], Rs.shape[1]
-        A = np.zeros((m, 2 * d + ns, 2 * d + ns))
-        E = None
-        if d:
-            A[:, :d, d:2 * d] = np.eye(d)
-            if descriptor is None:
-                descriptor = not all(_positive_definite(M) for M in Mr)
-            if not descriptor:
-                # one solve for the three blocks (Mr is symmetric positive definite and small)
-                S = np.linalg.solve(Mr, np.concatenate([Kr, Cr, Br], axis=2))
-                A[:, d:2 * d, :d], A[:, d:2 * d, d:2 * d], A[:, d:2 * d, 2 * d:] = (
-                    -S[:, :, :d], -S[:, :, d:2 * d], S[:, :, 2 * d:])
-            else:  # a motion without mass (the statics allows massless bodies): the descriptor form
-                E = np.repeat(np.eye(2 * d + ns)[None], m, axis=0)
-                E[:, d:2 * d, d:2 * d] = Mr
-                A[:, d:2 * d, :d], A[:, d:2 * d, d:2 * d], A[:, d:2 * d, 2 * d:] = -Kr, -Cr, Br
-        A[:, 2 * d:, :d], A[:, 2 * d:, d:2 * d], A[:, 2 * d:, 2 * d:] = Rq, Rv, Rs
-        return A, E
 
     def reduced_matrices(self, x: np.ndarray) -> tuple[np.ndarray, ...]:
         """``(Mr, Cr, Kr, Br, Rq N, Rv N, Rs)`` at the equilibrium ``x`` (see the module docstring): reduced
@@ -448,16 +449,25 @@ class MechanismDynamics:
             # off the constraint manifold (a linearisation differenced in a coordinate: the Hopf test's gradient)
             # redundant rows turn independent by the size of the step; held at the partition's rank, the allowed
             # motions and the reactions vary smoothly instead of losing a dimension
-            kept = len(self._partition(X[0])[2])
-            ranks = [min(constraint_rank(P[i], sv[i]), kept) for i in range(m)]
-            lam = np.array([U[i, :, :r] @ ((Vt[i, :r] @ Q[i]) / sv[i, :r]) for i, r in enumerate(ranks)])
-            if project:
-                N0 = Vt[0, ranks[0]:].T
-                N = np.array([N0 - Vt[i, :r].T @ (Vt[i, :r] @ N0) for i, r in enumerate(ranks)])
-            elif len(set(ranks)) == 1:
-                N = Vt[:, ranks[0]:].transpose(0, 2, 1)
+            ranks = stacked_ranks(P, sv, len(self._partition(X[0])[2]))
+            r = int(ranks[0])
+            if np.all(ranks == r):  # every row at one rank (the usual case): stacked products
+                V = Vt[:, :r]
+                lam = (U[:, :, :r] @ ((V @ Q[:, :, None])[:, :, 0] / sv[:, :r])[:, :, None])[:, :, 0]
+                if project:
+                    N0 = Vt[0, r:].T
+                    N = N0[None] - V.transpose(0, 2, 1) @ (V @ N0)
+                else:
+                    N = Vt[:, r:].transpose(0, 2, 1)
+            elif project:
+                lam = np.array([U[i, :, :k] @ ((Vt[i, :k] @ Q[i]) / sv[i, :k]) for i, k in enumerate(ranks)])
+                N0 = Vt[0, r:].T
+                N = np.array([N0 - Vt[i, :k].T @ (Vt[i, :k] @ N0) for i, k in enumerate(ranks)])
             else:
                 raise ConvergenceError("the constraints' rank changes between the points linearised together")
+        if len(self._bases) >= 4:
+            del self._bases[next(iter(self._bases))]
+        self._bases[X[0].tobytes()] = N[0]
         M = mech._M.batch(args)
         C = -mech._dQdqd.batch(args) + self.damping * M
         K = layout.stiffnesses(vals, lam)
