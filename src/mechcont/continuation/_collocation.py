@@ -83,6 +83,17 @@ def _denominators(m: int) -> np.ndarray:
     return den
 
 
+@functools.lru_cache(maxsize=16)
+def _layout(ntst: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A mesh's node indices per interval (ntst, ncol + 1), the same transposed (contiguous), and ones (ntst,):
+    read-only, shared by the meshes of one size (an adapted mesh has its predecessor's)."""
+    index = np.arange(ntst)[:, None] * m + np.arange(m + 1)[None, :]
+    out = (index, np.ascontiguousarray(index.T), np.ones(ntst))
+    for a in out:
+        a.flags.writeable = False
+    return out
+
+
 class Mesh:
     """A collocation mesh: NTST intervals of ``[0, 1]``, NCOL + 1 equally spaced nodes and NCOL
     Gauss points in each.
@@ -106,10 +117,8 @@ class Mesh:
         self.h = np.diff(self.tau)
         m = self.ncol
         self.s, self.c, self.g, self.Lc, self.Ld, self.Dm, self._L2, self._G, self._P = _unit_interval(m)
-        #: node index of local node i of interval j
-        self.index = np.arange(self.ntst)[:, None] * m + np.arange(m + 1)[None, :]
-        self._index_t = np.ascontiguousarray(self.index.T)
-        self._ones = np.ones(self.ntst)
+        #: node index of local node i of interval j (read-only)
+        self.index, self._index_t, self._ones = _layout(self.ntst, m)
 
     @property
     def n_nodes(self) -> int:
@@ -141,6 +150,20 @@ class Mesh:
         ``k``'s, interval ``j``'s in columns ``j n .. j n + n - 1`` (:meth:`at_collocation` is this product, arranged
         per interval)."""
         return self._L2 @ u[self._index_t].reshape(self.ncol + 1, -1)
+
+    def gauss_values(self, u: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """The orbit's values at the Gauss points from its node values ``u`` (n_nodes, n): shape (ncol, ntst, n), point
+        ``k`` of interval ``j`` at ``[k, j]`` (the first half of :meth:`values_and_derivatives`)."""
+        return (self.Lc @ u[self._index_t].reshape(self.ncol + 1, -1)).reshape(self.ncol, self.ntst, -1)
+
+    def quadrature(self) -> npt.NDArray[np.float64]:
+        """The Gauss quadrature's weights of the whole mesh, ``g_k h_j`` at ``[k, j]`` (ncol, ntst): the weights of
+        :meth:`gauss_values`' points in the integral over [0, 1] (read-only, made once per mesh)."""
+        q = getattr(self, "_quadrature", None)
+        if q is None:
+            q = self._quadrature = self.g[:, None] * self.h[None, :]
+            q.flags.writeable = False
+        return q
 
     def _local(self, A: np.ndarray, u: np.ndarray) -> np.ndarray:
         """``A @ (interval j's node values)`` for every interval, shape (ntst, len(A), n): one matrix product of
@@ -212,11 +235,20 @@ class Mesh:
         is periodic: the last interval's neighbour is the first) divided by the mean of their
         lengths estimate the (NCOL+1)-th derivative at each mesh point (de Boor, as AUTO does).
         """
-        m = self.ncol
-        dm = (self.Dm @ u[self._index_t].reshape(m + 1, -1)).reshape(self.ntst, -1) / self.h[:, None] ** m
-        nxt = np.roll(dm, -1, axis=0)
-        jump = np.linalg.norm(nxt - dm, axis=1) / (0.5 * (self.h + np.roll(self.h, -1)))  # at tau_(j+1)
-        per = 0.5 * (jump + np.roll(jump, 1))  # per interval: the mean of its two ends
+        m, h = self.ncol, self.h
+        dm = (self.Dm @ u[self._index_t].reshape(m + 1, -1)).reshape(self.ntst, -1) / h[:, None] ** m
+        # the neighbour of each interval and mesh point by slices (np.roll's copies cost more than the arithmetic)
+        diff = np.empty_like(dm)
+        np.subtract(dm[1:], dm[:-1], out=diff[:-1])
+        np.subtract(dm[:1], dm[-1:], out=diff[-1:])
+        both = np.empty_like(h)
+        np.add(h[:-1], h[1:], out=both[:-1])
+        both[-1] = h[-1] + h[0]
+        jump = np.sqrt(np.add.reduce(diff * diff, axis=1)) / (0.5 * both)  # at tau_(j+1)
+        per = np.empty_like(jump)  # per interval: the mean of its two ends
+        np.add(jump[1:], jump[:-1], out=per[1:])
+        per[0] = jump[0] + jump[-1]
+        per *= 0.5
         density = per ** (1.0 / (m + 1))
         density += 1e-3 * max(float(np.mean(density)), 1e-300)  # never an interval of zero weight
         cum = np.concatenate([[0.0], np.cumsum(density * self.h)])

@@ -165,7 +165,8 @@ class _Run:
         t, r = system.tangent_and_row(lu, row0)
         # the multipliers from the last factors: their Jacobian is that of the converged orbit to within the tolerance
         mu = lu.multipliers()
-        pt = _Point(system, X, t, nontrivial_multipliers(mu), trivial=complex(mu[np.argmin(np.abs(mu - 1.0))]), r=r)
+        k = int(np.argmin(np.abs(mu - 1.0)))  # the trivial one (nontrivial_multipliers' choice)
+        pt = _Point(system, X, t, np.concatenate((mu[:k], mu[k + 1:])), trivial=complex(mu[k]), r=r)
         pt.iterations = iters  # type: ignore[attr-defined]
         return pt
 
