@@ -43,6 +43,9 @@ class _Point:
     trivial: complex = 1.0  # the trivial multiplier as computed: its distance from 1 is the multipliers' error
     r: np.ndarray | None = None  # system.row(t), kept: the next step's arclength row and the tangents' angle
     amplitude: float | None = None  # _amplitude's, kept
+    #: the tangent's rate of turn along the family, d t / d s (the curvature vector), from the step that found this
+    #: point: the next step's predictor's second-order term; None at a start
+    curvature: np.ndarray | None = None
 
     def row(self) -> np.ndarray:
         """``r`` with ``r . X = <t, X>`` on this point's system (computed once)."""
