@@ -324,16 +324,16 @@ class _CycleTimes:
         print(f"\nPeriodic orbits of ab (HB1 to D = 0.3, NTST = {_auto_ab.NTST}, NCOL = {_auto_ab.NCOL}), median of "
               f"{len(self.auto_wall)} alternated rounds. Wall: AUTO's Total Time, mechcont's call. CPU: AUTO's program "
               "(its process), mechcont's call (this process)")
-        print("| program, settings | orbits | Newton iterations (per solve) | wall (ms) | CPU (ms) | CPU per orbit (ms) "
+        print("| program, settings | orbits | Newton iterations (per orbit) | wall (ms) | CPU (ms) | CPU per orbit (ms) "
               "| vs AUTO per family: wall, CPU |")
         print("|---|---|---|---|---|---|---|")
-        it, solves = self.auto_iterations
-        print(f"| AUTO, its demo's EPSL = EPSU = 1e-7, Jacobian by differences | {an} | {it} ({it / solves:.1f}) | "
+        it, _ = self.auto_iterations
+        print(f"| AUTO, its demo's EPSL = EPSU = 1e-7, Jacobian by differences | {an} | {it} ({it / an:.1f}) | "
               f"{aw * 1e3:.1f} | {ac * 1e3:.1f} | {ac / an * 1e3:.2f} | |")
         for name, fam in self.results.items():
             w, c = med(self.wall[name]), med(self.cpu[name])
-            it, solves = self.iterations[name]
-            print(f"| {name} | {len(fam)} | {it} ({it / solves:.1f}) | {w * 1e3:.1f} | {c * 1e3:.1f} | "
+            it, _ = self.iterations[name]
+            print(f"| {name} | {len(fam)} | {it} ({it / len(fam):.1f}) | {w * 1e3:.1f} | {c * 1e3:.1f} | "
                   f"{c / len(fam) * 1e3:.2f} | {w / aw:.2f}×, {c / ac:.2f}× |")
 
 
