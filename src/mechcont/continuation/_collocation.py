@@ -248,11 +248,12 @@ class Mesh:
         x2 = (t[(i + 1) % P] - t[i] + 0.5) % 1.0 - 0.5
         q0, q2 = (v0 - v1) / x0, (v2 - v1) / x2  # p(x) = v1 + b x + a x^2: b + a x0 = q0, b + a x2 = q2
         a = (q2 - q0) / (x2 - x0)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x = np.where(a != 0, -(q0 - a * x0) / (2 * a), 0.0)
-        x = np.clip(np.nan_to_num(x), x0, x2)
-        v = self.evaluate(u, t[i] + x)[np.arange(2 * n), kk]
-        return np.minimum(v1[:n], v[:n]), np.maximum(v1[n:], v[n:])
+        x = np.zeros(2 * n)  # the vertex, -b / (2 a), within the neighbours (the sample itself where the parabola is flat)
+        np.divide(q0 - a * x0, -2.0 * a, out=x, where=a != 0)
+        np.clip(x, x0, x2, out=x)
+        x += t[i]
+        v = self.evaluate(u, x)[np.arange(2 * n), kk]
+        return np.fmin(v1[:n], v[:n]), np.fmax(v1[n:], v[n:])  # fmin, fmax: a value that is not finite never counts
 
     def _time_order(self) -> tuple[npt.NDArray[np.intp], npt.NDArray[np.float64]]:
         """The nodes but the last (time 1 is time 0) and then the Gauss points (interval by interval): the order that
