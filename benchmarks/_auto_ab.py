@@ -14,6 +14,7 @@ to agree.
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 B, BETA = 14.0, 3.0
@@ -82,11 +83,22 @@ UZSTOP={{1: {d_end!r}}}
 """
 
 SCRIPT = """\
+import resource
+
+
+def cpu():
+    # the CPU time of the finished child processes: AUTO's compiled program, run once per run()
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 eq = run(e='ab', c='ab.eq')
 for p in eq('HB'):
     print('RESULT HB', repr(float(p['PAR(1)'])))
 hb = [p for p in eq('HB') if abs(p['PAR(1)'] - {d_hb!r}) < 1e-3][0]
+c0 = cpu()
 po = run(hb, e='ab', c='ab.po')
+print('RESULT CPU', repr(cpu() - c0))
 for p in po('LP'):
     print('RESULT LPC', repr(float(p['PAR(1)'])), repr(float(p['PAR(11)'])))
 for p in po('UZ'):
@@ -115,11 +127,19 @@ def write_problem(folder: Path) -> None:
     (folder / "cycles.auto").write_text(SCRIPT.format(d_hb=hopf_values()[0][0]))
 
 
-def mechcont_family():
-    """The model and the timed function (the family from the first Hopf point to D = 0.3)."""
+#: mechcont's settings compared with AUTO, by label: its defaults (``newton_tol`` 1e-10, the largest Newton correction
+#: relative to the largest unknown) and AUTO's demo's tolerance (EPSL = EPSU = 1e-7 on the relative corrections of
+#: the parameter and the orbit); mechcont's Jacobian stays exact (AUTO's demo differences its own, JAC = 0)
+SETTINGS: dict[str, float | None] = {"mechcont, its defaults (Newton to 1e-10)": None,
+                                     "mechcont, AUTO's tolerance (Newton to 1e-7)": 1e-7}
+
+
+def mechcont_family(newton_tol: float | None = None):
+    """The model and the timed function (the family from the first Hopf point to D = 0.3); ``newton_tol``: the
+    corrector's tolerance (None: mechcont's default)."""
     import sympy as sp
 
-    from mechcont.continuation import ContinuationOptions, cycles_from_hopf
+    from mechcont.continuation import ContinuationOptions, EngineSettings, cycles_from_hopf
     from mechcont.equations import ode_model
 
     u1, u2, D, Bs, beta = sp.symbols("u1 u2 D B beta", real=True)
@@ -128,7 +148,8 @@ def mechcont_family():
                   {"u1": -u1 + D * (1 - u1) * e, "u2": -u2 + D * Bs * (1 - u1) * e - beta * u2})
     d, a, b = hopf_values()[0]
     x = m.vector({"D": d, "u1": a, "u2": b})
-    opts = ContinuationOptions(ds=0.01, dsmax=0.5, bounds={"D": (0.0, D_END)})
+    engine = EngineSettings() if newton_tol is None else EngineSettings(newton_tol=newton_tol)
+    opts = ContinuationOptions(ds=0.01, dsmax=0.5, bounds={"D": (0.0, D_END)}, engine=engine)
 
     def family():
         return cycles_from_hopf(m, x, "D", ntst=NTST, ncol=NCOL, options=opts)
@@ -136,8 +157,45 @@ def mechcont_family():
     return m, family
 
 
-def agree(results: list[list[str]], fam, say) -> bool:
-    """Check AUTO's ``RESULT`` lines against mechcont's family ``fam``; ``say(line)`` prints. True when they agree."""
+def auto_cpu(results: list[list[str]]) -> float:
+    """The CPU time (s, user + system) of AUTO's program in the periodic run, from the script's ``RESULT CPU`` line."""
+    return next(float(r[1]) for r in results if r[0] == "CPU")
+
+
+def auto_iterations(diagnostics: str) -> tuple[int, int]:
+    """``(Newton iterations, orbits)`` of an AUTO run from its diagnostics file (``fort.9``, IID = 2): the rows of its
+    iteration tables with IT >= 1 (IT 0 is the predicted orbit; the iterations of locating a special point count
+    too), and its ``Iterations :`` lines (one per accepted orbit)."""
+    iterations = len(re.findall(r"^\s+-?\d+\s+-?\d+\s+([1-9]\d*)\s+\S+\s+\S+\s*$", diagnostics, flags=re.M))
+    return iterations, len(re.findall(r"Iterations\s+:", diagnostics))
+
+
+def mechcont_iterations(family) -> tuple[object, int, int]:
+    """``(family(), Newton iterations, solves)``: one call of ``family`` with the collocation corrector's iterations
+    counted (every Newton solve of the call: the steps, the rejected ones and the located special points)."""
+    from mechcont.continuation import _cycle_system
+
+    newton = _cycle_system.CycleSystem.newton
+    counts = [0, 0]
+
+    def counted(self, *args, **kwargs):
+        out = newton(self, *args, **kwargs)
+        counts[0] += out[2]
+        counts[1] += 1
+        return out
+
+    _cycle_system.CycleSystem.newton = counted
+    try:
+        fam = family()
+    finally:
+        _cycle_system.CycleSystem.newton = newton
+    return fam, counts[0], counts[1]
+
+
+def agree(results: list[list[str]], fam, say, name: str = "mechcont") -> bool:
+    """Check AUTO's ``RESULT`` lines against mechcont's family ``fam`` (from the settings ``name``, for the printed
+    lines): the Hopf points (AUTO's against the closed form; the family starts at the first), the fold of cycles
+    (D, period) and the period at D = 0.3, to REL_TOL; ``say(line)`` prints. True when they agree."""
     ok = True
     theirs = sorted(float(r[1]) for r in results if r[0] == "HB")
     ours = sorted(h[0] for h in hopf_values())
@@ -145,11 +203,15 @@ def agree(results: list[list[str]], fam, say) -> bool:
     say(f"  ab HB (D): closed form {', '.join(f'{v:.10g}' for v in ours)} | AUTO {', '.join(f'{v:.10g}' for v in theirs)}"
         f"  {'agree' if same else 'DISAGREE'}")
     ok &= same
+    start = float(fam.p[0])
+    same = fam.labels[0] == "HB" and abs(start - ours[0]) <= 1e-6 * ours[0]
+    say(f"  ab first orbit ({name}): {fam.labels[0]} at D = {start:.10g}  {'agree' if same else 'DISAGREE'}")
+    ok &= same
     for kind, label in (("LPC", "LPC"), ("UZ", "EP")):
         rows = [(float(r[1]), float(r[2])) for r in results if r[0] == kind]
         mine = [(float(fam.p[i]), float(fam.period[i])) for n, i in fam.point_names() if fam.labels[i] == label]
         same = len(rows) == len(mine) and all(abs(a - c) <= REL_TOL * abs(c) and abs(b - d) <= REL_TOL * abs(d)
                                               for (a, b), (c, d) in zip(rows, mine))
-        say(f"  ab {kind} (D, period): mechcont {mine} | AUTO {rows}  {'agree' if same else 'DISAGREE'}")
+        say(f"  ab {kind} (D, period): {name} {mine} | AUTO {rows}  {'agree' if same else 'DISAGREE'}")
         ok &= same
     return ok

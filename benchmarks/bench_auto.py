@@ -29,9 +29,12 @@ Timings, each the median of ``--repeats`` interleaved rounds measured in this ru
   equations compiled before timing) against ``mechcont continue overcentre ... --bounds
   F=-200:200`` / ``mechcont folds ...`` (compiled-code cache warm);
 * periodic orbits: the family of AUTO's demo ``ab`` from its first Hopf point to D = 0.3
-  (NTST = 50, NCOL = 4; :mod:`_auto_ab`), AUTO's ``Total Time`` of that run against
-  :func:`mechcont.continuation.cycles_from_hopf` in this process (``--cycles-only``: this alone, the two
-  alternated round by round, mechcont's CPU time printed beside its wall time).
+  (NTST = 50, NCOL = 4; :mod:`_auto_ab`), in rounds of their own: AUTO's run (its ``Total Time``, wall, and the
+  CPU time of its program) against :func:`mechcont.continuation.cycles_from_hopf` in this process (wall and CPU
+  time) at two settings, each checked against AUTO's results first: mechcont's defaults (Newton to 1e-10) and
+  AUTO's demo's tolerance (Newton to 1e-7, as its EPSL = EPSU); with the Newton iterations of each program
+  (AUTO's counted in its diagnostics file). CPU time is the fairer figure on a shared machine (a program waiting
+  for a core counts in the wall time). ``--cycles-only``: this alone.
 
 AUTO runs with ``OMP_NUM_THREADS=1`` and, for its Python CLUI, the interpreter running this
 script (first on ``PATH`` as ``python``), so both programs start the same Python and NumPy.
@@ -273,39 +276,79 @@ def _auto_env(tmp: Path, auto_dir: Path) -> dict[str, str]:
             "PATH": f"{tmp / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}"}
 
 
-def _cycles_only(auto_dir: Path, repeats: int) -> int:
-    """``--cycles-only``: ab's periodic family, checked, then AUTO's run and mechcont's call alternated ``repeats``
-    times (mechcont: wall and CPU time of one call per round after a warm-up, garbage collection off)."""
-    tmp = Path(tempfile.mkdtemp(prefix="mechcont-bench-auto-"))
-    try:
-        env = _auto_env(tmp, auto_dir)
-        folder = tmp / "ab"
+class _CycleTimes:
+    """The periodic orbits of ``ab`` in both programs, checked, then timed in alternated rounds: each round AUTO's
+    periodic run (its ``Total Time``, wall, and its program's CPU time), then one call of mechcont's family at each of
+    :data:`_auto_ab.SETTINGS` (wall and CPU time, garbage collection off, after a warm-up call)."""
+
+    def __init__(self, auto_dir: Path, folder: Path, env: dict[str, str]) -> None:
+        self.auto_dir, self.folder, self.env = auto_dir, folder, env
         _auto_ab.write_problem(folder)
-        _, family = _auto_ab.mechcont_family()
-        fam = family()
-        check = AutoRun(auto_dir, folder, "cycles.auto", env)
-        if not _auto_ab.agree(check.results, fam, print):
-            print("AUTO and mechcont disagree: the comparison would not be of the same problem", file=sys.stderr)
-            return 1
-        auto, wall, cpu = [], [], []
-        for _ in range(repeats):
-            r = AutoRun(auto_dir, folder, "cycles.auto", env)
-            auto.append(r.run_times[1])
+        self.families = {name: _auto_ab.mechcont_family(tol)[1] for name, tol in _auto_ab.SETTINGS.items()}
+        for fn in self.families.values():
+            fn()  # warm-up: compiled code, caches
+        counted = {name: _auto_ab.mechcont_iterations(fn) for name, fn in self.families.items()}
+        self.results = {name: c[0] for name, c in counted.items()}
+        self.iterations = {name: c[1:] for name, c in counted.items()}
+        self.check = AutoRun(auto_dir, folder, "cycles.auto", env)  # also compiles ab.exe
+        self.auto_iterations = _auto_ab.auto_iterations((folder / "fort.9").read_text())
+        self.auto_wall: list[float] = []
+        self.auto_cpu: list[float] = []
+        self.wall: dict[str, list[float]] = {name: [] for name in self.families}
+        self.cpu: dict[str, list[float]] = {name: [] for name in self.families}
+
+    def agree(self) -> bool:
+        """Every setting's family agrees with AUTO's (:func:`_auto_ab.agree`), the lines printed."""
+        return all([_auto_ab.agree(self.check.results, fam, print, name) for name, fam in self.results.items()])
+
+    def round(self) -> None:
+        """One round: AUTO's run, then mechcont's family at each setting."""
+        r = AutoRun(self.auto_dir, self.folder, "cycles.auto", self.env)
+        self.auto_wall.append(r.run_times[1])
+        self.auto_cpu.append(_auto_ab.auto_cpu(r.results))
+        for name, fn in self.families.items():
             gc.collect()
             gc.disable()
             try:
                 t0, c0 = time.perf_counter(), time.process_time()
-                family()
-                wall.append(time.perf_counter() - t0)
-                cpu.append(time.process_time() - c0)
+                fn()
+                self.wall[name].append(time.perf_counter() - t0)
+                self.cpu[name].append(time.process_time() - c0)
             finally:
                 gc.enable()
-        t, t_ours = statistics.median(auto), statistics.median(wall)
-        print(f"\nPeriodic orbits of ab, median of {repeats} alternated rounds (wall time; mechcont's CPU time beside it)")
-        print("| program | orbits | time (ms) | mechcont / AUTO |")
-        print("|---|---|---|---|")
-        print(f"| mechcont | {len(fam)} | {t_ours * 1e3:.1f} (CPU {statistics.median(cpu) * 1e3:.1f}) | |")
-        print(f"| AUTO | {check.run_points[1]} | {t * 1e3:.1f} | {t_ours / t:.2f}× per family |")
+
+    def report(self) -> None:
+        """The table: medians of the rounds, per family and per orbit, mechcont against AUTO in wall and CPU time."""
+        med = statistics.median
+        aw, ac, an = med(self.auto_wall), med(self.auto_cpu), self.check.run_points[1]
+        print(f"\nPeriodic orbits of ab (HB1 to D = 0.3, NTST = {_auto_ab.NTST}, NCOL = {_auto_ab.NCOL}), median of "
+              f"{len(self.auto_wall)} alternated rounds. Wall: AUTO's Total Time, mechcont's call. CPU: AUTO's program "
+              "(its process), mechcont's call (this process)")
+        print("| program, settings | orbits | Newton iterations (per orbit) | wall (ms) | CPU (ms) | CPU per orbit (ms) "
+              "| vs AUTO per family: wall, CPU |")
+        print("|---|---|---|---|---|---|---|")
+        it, _ = self.auto_iterations
+        print(f"| AUTO, its demo's EPSL = EPSU = 1e-7, Jacobian by differences | {an} | {it} ({it / an:.1f}) | "
+              f"{aw * 1e3:.1f} | {ac * 1e3:.1f} | {ac / an * 1e3:.2f} | |")
+        for name, fam in self.results.items():
+            w, c = med(self.wall[name]), med(self.cpu[name])
+            it, _ = self.iterations[name]
+            print(f"| {name} | {len(fam)} | {it} ({it / len(fam):.1f}) | {w * 1e3:.1f} | {c * 1e3:.1f} | "
+                  f"{c / len(fam) * 1e3:.2f} | {w / aw:.2f}×, {c / ac:.2f}× |")
+
+
+def _cycles_only(auto_dir: Path, repeats: int) -> int:
+    """``--cycles-only``: ab's periodic family, checked, then AUTO's run and mechcont's calls alternated ``repeats``
+    times (:class:`_CycleTimes`)."""
+    tmp = Path(tempfile.mkdtemp(prefix="mechcont-bench-auto-"))
+    try:
+        cycles = _CycleTimes(auto_dir, tmp / "ab", _auto_env(tmp, auto_dir))
+        if not cycles.agree():
+            print("AUTO and mechcont disagree: the comparison would not be of the same problem", file=sys.stderr)
+            return 1
+        for _ in range(repeats):
+            cycles.round()
+        cycles.report()
         return 0
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
@@ -345,12 +388,8 @@ def main(argv=None) -> int:
             check = AutoRun(auto_dir, folder, "folds.auto", env)  # also compiles oc.exe (before any timing)
             ok &= _agree(f"AUTO {name}: LP (F)", our_lp, [f for f, _ in check.values("LP", fscale)])
             ok &= _agree(f"AUTO {name}: fold-curve ends (F)", our_ends, [f for f, _ in check.values("UZ", fscale)])
-        ab_folder = tmp / "ab"
-        _auto_ab.write_problem(ab_folder)
-        _, ab_family = _auto_ab.mechcont_family()
-        fam = ab_family()
-        check = AutoRun(auto_dir, ab_folder, "cycles.auto", env)  # also compiles ab.exe
-        ok &= _auto_ab.agree(check.results, fam, print)
+        cycles = _CycleTimes(auto_dir, tmp / "ab", env)
+        ok &= cycles.agree()
         if not ok:
             print("AUTO and mechcont disagree: the comparison would not be of the same problem", file=sys.stderr)
             return 1
@@ -379,10 +418,7 @@ def main(argv=None) -> int:
                 auto_pts[f"fold curve {name}"] = [sum(r.run_points[2:])]
             ours_in["branch"].append(_median_in_process(branch_fn, 5))
             ours_in["fold curve"].append(_median_in_process(lambda: fold_fn(b), 5))
-            r = AutoRun(auto_dir, ab_folder, "cycles.auto", env)
-            auto_in.setdefault("cycles ab", []).append(r.run_times[1])
-            auto_pts["cycles ab"] = [r.run_points[1]]
-            ours_in.setdefault("cycles ab", []).append(_median_in_process(ab_family, 1))
+            cycles.round()
         med = {k: statistics.median(v) for k, v in rows.items()}
         print(f"\nIn-process, median of {repeats} rounds (mechcont: median of 5 calls per round; AUTO: its Total Time, "
               "both runs of a continuation summed)")
@@ -397,12 +433,7 @@ def main(argv=None) -> int:
                 n = auto_pts[f"{work} {name}"][0]
                 print(f"| {work} | AUTO, {name} | {n} | {t * 1e3:.2f} | {t / n * 1e6:.1f} | "
                       f"{t_ours / t:.2f}× per {work}, {(t_ours / n_ours) / (t / n):.2f}× per point |")
-        t_ours, n_ours = statistics.median(ours_in["cycles ab"]), len(fam)
-        t = statistics.median(auto_in["cycles ab"])
-        n = auto_pts["cycles ab"][0]
-        print(f"| periodic orbits, ab | mechcont | {n_ours} | {t_ours * 1e3:.2f} | {t_ours / n_ours * 1e6:.1f} | |")
-        print(f"| periodic orbits, ab | AUTO | {n} | {t * 1e3:.2f} | {t / n * 1e6:.1f} | "
-              f"{t_ours / t:.2f}× per family, {(t_ours / n_ours) / (t / n):.2f}× per point |")
+        cycles.report()
         print(f"\nWhole process, median of {repeats} rounds (start to exit; mechcont cache warm, AUTO's oc.exe built)")
         print("| command | time (s) | mechcont / this |")
         print("|---|---|---|")

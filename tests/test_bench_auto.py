@@ -113,3 +113,70 @@ def test_periodic_run_counts_unstable_points_and_the_ab_problem_is_written(bench
         h = hopf_point(m, dynamics_of(m), m.vector({"D": d * 1.001, "u1": u1, "u2": u2}), "D")
         assert h.x[m.index("D")] == pytest.approx(d, rel=1e-12)
         assert np.max(np.abs(np.linalg.eigvals(dynamics_of(m).rates_jacobian(h.z, h.x)).real)) < 1e-10
+
+
+# a stretch of AUTO-07p's diagnostics file (fort.9, IID = 2) of ab's periodic run: an orbit, then the location of
+# the fold of cycles (its secant iterations, each with its Newton iterations), then the located orbit's summary
+_DIAGNOSTICS = """\
+  BR    PT  IT         PAR           L2-NORM
+   2    61   0        1.61694E-01   2.00370E+00
+   2    61   1        1.61697E-01   2.00293E+00
+   2    61   2        1.61697E-01   2.00293E+00
+   2    61   3        1.61697E-01   2.00293E+00
+   2    61         Multipliers:     Stable:   1
+   2    61         Multiplier  1    1.00000E+00   0.00000E+00  Abs. Val.   1.00000E+00
+
+  BR    PT  TY  LAB    PAR(1)        L2-NORM       MAX U(1)      MAX U(2)       PERIOD
+  -2    61        0   1.61697E-01   2.00293E+00   9.44429E-01   4.84104E+00   7.15029E+00
+
+   2    61         Iterations   :   3
+   2    61         Next Step    :   2.25000E-02
+===============================================
+
+  BR    PT  IT         PAR           L2-NORM
+   2    62   0        1.61693E-01   2.00656E+00
+   2    62   1        1.61696E-01   2.00592E+00
+   2    62   2        1.61696E-01   2.00591E+00
+   2    62         Fold Function    2.66254E-05
+ ==> Location of special point :  Iteration   0  Step size =  -4.94435E-03
+===============================================
+
+  BR    PT  IT         PAR           L2-NORM
+   2    62   0        1.61696E-01   2.00524E+00
+   2    62   1        1.61696E-01   2.00529E+00
+ ==> Location of special point :  Convergence.   Step size =  -5.93400E-08
+
+  BR    PT  TY  LAB    PAR(1)        L2-NORM       MAX U(1)      MAX U(2)       PERIOD
+  -2    62  LP    5   1.61696E-01   2.00528E+00   9.49792E-01   4.95064E+00   7.11375E+00
+
+   2    62         Iterations   :   2
+"""
+
+
+def test_auto_iterations_counts_newton_rows_and_orbits(bench):
+    # 3 + 2 + 1 rows with IT >= 1 (the IT 0 rows are the predicted orbits; summaries and multipliers are no
+    # iterations); two accepted orbits
+    assert bench._auto_ab.auto_iterations(_DIAGNOSTICS) == (6, 2)
+
+
+def test_ab_script_measures_autos_cpu_time_and_both_settings_agree_with_auto(bench, tmp_path):
+    """The script prints the periodic run's CPU time (its program's, from the children's resource usage), and
+    mechcont's family at its defaults and at AUTO's tolerance both agree with AUTO-07p's printed results (its run of
+    2026-11-29: Hopf points, fold of cycles, period at D = 0.3; AUTO converges to 1e-7, hence REL_TOL 1e-5)."""
+    ab = bench._auto_ab
+    ab.write_problem(tmp_path)
+    script = (tmp_path / "cycles.auto").read_text()
+    assert "RUSAGE_CHILDREN" in script and script.index("c0 = cpu()") < script.index("po = run(") < \
+        script.index("RESULT CPU")
+    auto = [["HB", "0.16504204529"], ["HB", "0.33655036532"], ["CPU", "0.059889"],
+            ["LPC", "0.1616961289", "7.1137548044"], ["UZ", "0.30000000192", "1.6092335179"]]
+    assert ab.auto_cpu(auto) == pytest.approx(0.059889, rel=1e-12)
+    assert sorted(ab.SETTINGS.values(), key=lambda v: v or 0.0) == [None, 1e-7]
+    lines: list[str] = []
+    for name, tol in ab.SETTINGS.items():
+        _, family = ab.mechcont_family(tol)
+        fam, iterations, solves = ab.mechcont_iterations(family)
+        assert ab.agree(auto, fam, lines.append, name), lines
+        assert solves >= len(fam) - 1 and iterations >= 2 * solves  # every orbit but the start corrected
+    wrong = [r if r[0] != "UZ" else ["UZ", "0.3", "1.6093"] for r in auto]
+    assert not ab.agree(wrong, fam, lines.append)  # a period 6e-5 off is no agreement

@@ -216,3 +216,24 @@ def test_mesh_rows_and_evaluation_agree_in_both_paths(monkeypatch, ntst, ncol, n
     wc, _ = mesh.at_collocation(w)
     quad = np.einsum("j,k,jkn,jkn->", mesh.h, mesh.g, uc, wc)
     assert compiled[0] @ u.ravel() == pytest.approx(quad, rel=1e-12, abs=1e-14)
+
+
+@needs_kernel
+def test_compiled_iteration_returns_the_newton_tests_norms():
+    """The compiled iteration hands back the correction's largest |dX_i| and the corrected orbit's largest |X_i + dX_i|
+    (the Newton loop's two tests) with the correction itself."""
+    model, family = _ab()
+    fam = family()
+    i = len(fam.p) // 2
+    mesh, u = fam.orbits[i]
+    system = CycleSystem(RateFunction(model, dynamics_of(model), "D", fam.x_base), mesh, np.ones(u.shape[1]), 1.0)
+    rng = np.random.default_rng(3)
+    X = system.pack(u, float(fam.period[i]), float(fam.p[i])) * (1 + 1e-3 * rng.standard_normal(system.size))
+    closing = system.row(rng.standard_normal(system.size))
+    border = Border(phase_reference(system, X), closing, mesh, system.n)
+    _, lu, dX, norms = system._factored_compiled(_kernel.condensation(), X, float(closing @ X) + 1e-3, border)
+    assert norms[0] == pytest.approx(np.abs(dX).max(), rel=1e-15) and norms[0] > 0
+    assert norms[1] == pytest.approx(np.abs(X + dX).max(), rel=1e-15)
+    # the same correction as the NumPy path's solve from the same factors
+    res, _ = system.factored(X, border.phase, closing, float(closing @ X) + 1e-3, border)
+    np.testing.assert_allclose(dX, lu.solve(-res, lu.w), rtol=0, atol=1e-12 * np.abs(dX).max())

@@ -394,3 +394,60 @@ def test_mesh_quadrature_mean_inner_product_and_phase_row():
     assert mesh.phase_row(u) @ u.ravel() == pytest.approx(0.0, abs=1e-5)
     v = np.column_stack([np.sin(2 * np.pi * t), -np.cos(2 * np.pi * t)])
     assert mesh.phase_row(v) @ u.ravel() == pytest.approx(2 * np.pi, rel=1e-5)
+
+
+def test_predictor_is_second_order_along_the_family(monkeypatch):
+    """Each step predicts ``X + sigma t + sigma^2/2 dt/ds`` (the tangent's turn estimated from the last step): on the
+    Stuart-Landau family (radius sqrt(mu): a curved family in (orbit, mu)) at equal steps, the prediction lands an
+    order of magnitude nearer the corrected orbit than the tangent's alone (its error sigma^2/2 times the curvature),
+    and the family stays on its closed form."""
+    from mechcont.continuation import _cycle_system, _cycle_tests
+
+    newton = _cycle_system.CycleSystem.newton
+
+    def run():
+        errors = []
+
+        def recording(self, X0, *args):
+            out = newton(self, X0, *args)
+            errors.append(float(np.max(np.abs(out[0][:-2] - X0[:-2]))))  # the orbit's move from its prediction
+            return out
+
+        monkeypatch.setattr(_cycle_system.CycleSystem, "newton", recording)
+        m = _stuart_landau()
+        # equal steps (dsmin = dsmax = ds), no mesh adaptation: the same sigma and mesh for every step
+        fam = cycles_from_hopf(m, m.vector({"mu": 0.0}), "mu", adapt=0, options=ContinuationOptions(
+            ds=0.04, dsmin=0.04, dsmax=0.04, bounds={"mu": (-1.0, 0.6)}))
+        return fam, np.array(errors[2:-1])  # the steps from a point with a turn (not the start's or the bound's)
+
+    fam, second = run()
+    monkeypatch.setattr(_cycle_tests._Point, "curvature", property(lambda self: None, lambda self, value: None))
+    _, first = run()
+    assert len(second) == len(first) > 20
+    assert np.median(second) < 0.1 * np.median(first)
+    inner = [i for i, lab in enumerate(fam.labels) if not lab]
+    for i in inner:
+        assert _mesh_radius(fam, i) == pytest.approx(math.sqrt(fam.p[i]), rel=1e-9)
+        assert fam.period[i] == pytest.approx(np.pi, rel=1e-9)
+
+
+def test_orbit_extremes_are_refined_between_the_nodes():
+    """Mesh.extremes: the table's min_X/max_X. On a coarse uneven mesh the nodes and Gauss points of cos(2 pi tau),
+    sin(2 pi tau) miss the extremes +-1 by up to d^2 (2 pi)^2 / 8 (d their spacing); refined between them, the
+    polynomial's own extremes (a dense sampling's) are found to 1e-5 (the refined samples' spacing, 2 / 23^2 of an
+    interval of up to 0.24: (9e-4)^2 (2 pi)^2 / 8 = 4e-6)."""
+    from mechcont.continuation._collocation import Mesh
+
+    tau = np.array([0.0, 0.07, 0.2, 0.41, 0.5, 0.66, 0.9, 1.0])
+    mesh = Mesh(7, 2, tau)
+    t = mesh.times()
+    u = np.column_stack([np.cos(2 * np.pi * t + 0.3), np.sin(2 * np.pi * t + 0.3)])
+    uc, _ = mesh.at_collocation(u)
+    every = np.vstack([u, uc.reshape(-1, 2)])
+    lo, hi = mesh.extremes(u)
+    fine = mesh.evaluate(u, np.linspace(0.0, 1.0, 100001))  # the polynomial's own extremes, sampled densely
+    np.testing.assert_allclose(hi, fine.max(axis=0), rtol=0, atol=1e-5)
+    np.testing.assert_allclose(lo, fine.min(axis=0), rtol=0, atol=1e-5)
+    assert np.max(np.abs(every.max(axis=0) - fine.max(axis=0))) > 5e-5  # the samples alone miss by far more
+    np.testing.assert_allclose(hi, 1.0, atol=0.02)  # degree 2 on intervals up to 0.24 long: its interpolation error
+    np.testing.assert_allclose(lo, -1.0, atol=0.02)

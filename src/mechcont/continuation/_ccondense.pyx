@@ -23,6 +23,8 @@ with ``MECHCONT_PURE_PYTHON=1``, :mod:`._condensation` runs NumPy and LAPACK.
 """
 
 from libc.math cimport fabs, isfinite
+from libc.stdlib cimport free, malloc
+from libc.string cimport memset
 
 import numpy as np
 
@@ -154,10 +156,16 @@ def reduced_matrix(double[:, :, ::1] Y, double[:, :, ::1] binner, double[:, :, :
     """The reduced matrix into ``K`` (zeros, ``(ntst + 1) n + 2`` square) from ``Y`` (ntst, ncol n, >= n + 2), the
     condensed first node's, T's and p's columns, and the border rows (:class:`~._condensation.Border`'s ``inner``,
     ``mesh_points``, ``TP``)."""
+    with nogil:
+        _reduced_matrix(Y, binner, mesh_points, TP, K, n)
+
+
+cdef void _reduced_matrix(const double[:, :, ::1] Y, const double[:, :, ::1] binner, const double[:, :, ::1] mesh_points,
+                          const double[:, ::1] TP, double[:, ::1] K, Py_ssize_t n) noexcept nogil:
     cdef Py_ssize_t ntst = Y.shape[0], mn = Y.shape[1], inner = mn - n, nr = K.shape[0]
     cdef Py_ssize_t j, a, b, s, i
     cdef double t
-    with nogil:
+    if True:
         for j in range(ntst):
             for a in range(n):
                 for b in range(n):
@@ -266,10 +274,10 @@ cdef inline void _eliminate(double[:, ::1] K, Py_ssize_t i, Py_ssize_t k, double
 def reduced_solve(double[:, ::1] K, int[::1] piv, int n, double[::1] b):
     """``b`` overwritten by the solution of the reduced system from :func:`reduced_factor`'s factors."""
     with nogil:
-        _reduced_solve(K, piv, n, b)
+        _reduced_solve(K, piv, n, &b[0])
 
 
-cdef void _reduced_solve(double[:, ::1] K, int[::1] piv, Py_ssize_t n, double[::1] b) noexcept nogil:
+cdef void _reduced_solve(double[:, ::1] K, int[::1] piv, Py_ssize_t n, double *b) noexcept nogil:
     cdef Py_ssize_t nr = K.shape[0], last = nr - 2 - n, k, i, c, p, re, ce, lo
     cdef double t
     if True:
@@ -305,12 +313,12 @@ def expand(double[:, :, ::1] Y, double[:, :, ::1] binner, double[:, ::1] K, int[
     the reduced solve, and the inner nodes from the mesh points."""
     cdef double[::1] red = np.empty(K.shape[0])
     with nogil:
-        _expand(Y, binner, K, piv, w, b, 1.0, out, ncol, n, red)
+        _expand(Y, binner, K, piv, w, b, 1.0, out, ncol, n, &red[0])
 
 
 cdef void _expand(const double[:, :, ::1] Y, const double[:, :, ::1] binner, double[:, ::1] K, int[::1] piv,
                   const double[:, :] w, const double[::1] b, double sign, double[::1] out, Py_ssize_t ncol,
-                  Py_ssize_t n, double[::1] red) noexcept nogil:
+                  Py_ssize_t n, double *red) noexcept nogil:
     # expand's work for the right-hand side ``sign b`` (sign +-1: exact), ``red`` the reduced system's scratch
     cdef Py_ssize_t ntst = Y.shape[0], mn = Y.shape[1], inner = mn - n, nr = K.shape[0]
     cdef Py_ssize_t nc = ntst * mn, j, a, s, i
@@ -343,59 +351,82 @@ cdef void _expand(const double[:, :, ::1] Y, const double[:, :, ::1] binner, dou
     out[out.shape[0] - 1] = dp
 
 
-def factor_residual(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, const double[:, :, :] Fz,
+def factor_residual(const double[:, ::1] Ld, const double[:, ::1] Lc, const double[:, :, :] Fz,
                     const double[:, :] F, const double[:, :] Fp, const double[:, :] Y, const double[::1] h,
                     const double[::1] X,
                     double phase_value, double closing_value, double T, double[:, :, ::1] binner,
                     double[:, :, ::1] mesh_points, double[:, ::1] TP,
                     double[:, :, ::1] S, int[:, ::1] piv, double[:, :, ::1] W, double[:, ::1] K, int[::1] rpiv,
-                    double[::1] res, double[::1] dX):
+                    double[::1] res, double[::1] dX, double[::1] norms):
     """One Newton iteration's linear algebra in one call: the BVP's residual into ``res`` (collocation ``du - T F``,
     periodicity ``X``'s last node minus its first, the phase and closing rows' values as given), the collocation
-    blocks (as :func:`collocation_blocks`) into ``S`` and ``W[:, :, :n]``, ``W``'s T, p and right-hand-side columns
+    blocks (as :func:`collocation_blocks`, their fixed part ``Ld[k, i] / h[j]`` on the diagonal of the n x n block
+    of Gauss point ``k`` and node ``i`` of interval ``j``: ``Ld`` the basis's derivatives at the Gauss points (ncol,
+    ncol + 1), ``h`` the intervals' lengths) into ``S`` and ``W[:, :, :n]``, ``W``'s T, p and right-hand-side columns
     (``-F``, ``-T Fp``, ``-res``), the blocks factored and solved (:func:`block_factor_solve`), the reduced matrix
     (:func:`reduced_matrix`, ``K`` zeroed here) factored (:func:`reduced_factor`). The Gauss points in the order of
     :meth:`~._collocation.Mesh.values_and_derivatives` (point ``k`` of interval ``j`` in row ``k ntst + j``):
     ``F``, ``Fp`` (ncol ntst, n) and ``Fz`` (ncol ntst, n, n) there, any strides; ``Y`` that method's values and
     derivatives (2 ncol, ntst n), ``du = Y[ncol + k, j n + a] / h[j]``. The Newton correction, the solution of
-    ``J dX = -res`` (:func:`expand`), into ``dX``. Returns 0, 1 when the residual or the rates' derivatives are not
-    finite (nothing factored), 2 when a block or the reduced system is singular (or its factors not finite)."""
-    cdef Py_ssize_t ntst = D.shape[0], m = D.shape[1], n = D.shape[2], mn = m * n, nc = ntst * mn
+    ``J dX = -res`` (:func:`expand`), into ``dX``; into ``norms`` (2,) the correction's largest ``|dX_i|`` (NaN when
+    any is) and the corrected unknowns' largest ``|X_i + dX_i|`` (the Newton loop's tests). Returns 0, 1 when the
+    residual or the rates' derivatives are not finite (nothing factored), 2 when a block or the reduced system is
+    singular (or its factors not finite)."""
+    cdef Py_ssize_t ntst = h.shape[0], m = Ld.shape[0], n = F.shape[1], mn = m * n, nc = ntst * mn
     cdef Py_ssize_t nr = K.shape[0], size = X.shape[0]
     cdef int status
-    if (D.shape[3] != m + 1 or D.shape[4] != n or Lc.shape[0] != m or Lc.shape[1] != m + 1
+    cdef double *red
+    if (Ld.shape[1] != m + 1 or Lc.shape[0] != m or Lc.shape[1] != m + 1
             or Fz.shape[0] != ntst * m or Fz.shape[1] != n or Fz.shape[2] != n or F.shape[0] != ntst * m
-            or F.shape[1] != n or Fp.shape[0] != ntst * m or Fp.shape[1] != n or Y.shape[0] != 2 * m
-            or Y.shape[1] != ntst * n or h.shape[0] != ntst or S.shape[0] != ntst or S.shape[1] != mn
+            or Fp.shape[0] != ntst * m or Fp.shape[1] != n or Y.shape[0] != 2 * m
+            or Y.shape[1] != ntst * n or S.shape[0] != ntst or S.shape[1] != mn
             or S.shape[2] != mn or W.shape[0] != ntst or W.shape[1] != mn or W.shape[2] != n + 3
             or piv.shape[0] != ntst or piv.shape[1] != mn or nr != (ntst + 1) * n + 2 or K.shape[1] != nr
             or rpiv.shape[0] != nr or res.shape[0] != size or size != (ntst * m + 1) * n + 2
-            or dX.shape[0] != size):
+            or dX.shape[0] != size or norms.shape[0] != 2):
         raise ValueError("collocation system shapes disagree")
-    with nogil:
-        status = _residual_blocks(D, Lc, Fz, F, Fp, Y, h, X, phase_value, closing_value, T, S, piv, W, K, res)
-    if status:
-        return status
-    reduced_matrix(W, binner, mesh_points, TP, K, <int>n)
-    cdef double[::1] red = np.empty(nr)
     cdef const double[:, :] w = W[:, :, n + 2]
+    cdef Py_ssize_t i
+    cdef double a, step = 0.0, big = 0.0
     with nogil:
-        if _reduced_factor(K, rpiv, n) != 0:
-            status = 2
-        else:
-            _expand(W, binner, K, rpiv, w, res, -1.0, dX, m, n, red)
+        status = _residual_blocks(Ld, Lc, Fz, F, Fp, Y, h, X, phase_value, closing_value, T, S, piv, W, K, res)
+        if status == 0:
+            _reduced_matrix(W, binner, mesh_points, TP, K, n)
+            if _reduced_factor(K, rpiv, n) != 0:
+                status = 2
+            else:
+                red = <double *> malloc(nr * sizeof(double))
+                if red == NULL:
+                    status = 3
+                else:
+                    _expand(W, binner, K, rpiv, w, res, -1.0, dX, m, n, red)
+                    free(red)
+                    for i in range(size):
+                        a = fabs(dX[i])
+                        if not a <= step:  # larger, or NaN (which then stays)
+                            step = a
+                            if a != a:
+                                break
+                        a = fabs(X[i] + dX[i])
+                        if a > big:
+                            big = a
+                    norms[0] = step
+                    norms[1] = big
+    if status == 3:
+        raise MemoryError()
     return status
 
 
-cdef int _residual_blocks(const double[:, :, :, :, ::1] D, const double[:, ::1] Lc, const double[:, :, :] Fz,
+cdef int _residual_blocks(const double[:, ::1] Ld, const double[:, ::1] Lc, const double[:, :, :] Fz,
                           const double[:, :] F, const double[:, :] Fp, const double[:, :] Y, const double[::1] h,
                           const double[::1] X,
                           double phase_value, double closing_value, double T, double[:, :, ::1] S,
                           int[:, ::1] piv, double[:, :, ::1] W, double[:, ::1] K, double[::1] res) noexcept nogil:
     # factor_residual's work up to the reduced matrix: 0, 1 (not finite) or 2 (a singular block)
-    cdef Py_ssize_t ntst = D.shape[0], m = D.shape[1], n = D.shape[2], mn = m * n, nc = ntst * mn
+    cdef Py_ssize_t ntst = h.shape[0], m = Ld.shape[0], n = F.shape[1], mn = m * n, nc = ntst * mn
     cdef Py_ssize_t nr = K.shape[0], size = X.shape[0], nn = size - 2, j, k, a, i, b, r, q
-    cdef double c, total = 0.0, t
+    cdef double c, d, total = 0.0, t
+    cdef double *row
     for j in range(ntst):
         for k in range(m):
             q = k * ntst + j
@@ -417,23 +448,24 @@ cdef int _residual_blocks(const double[:, :, :, :, ::1] D, const double[:, ::1] 
     total += phase_value + closing_value
     if not isfinite(total):
         return 1
+    # the blocks D - T Lc Fz, D the fixed part d/dtau: Ld[k, i] / h[j] times the identity (its off-diagonal zeros
+    # minus T Lc Fz as NumPy's broadcast of the identity gives them)
     for j in range(ntst):
         for k in range(m):
+            q = k * ntst + j
             for a in range(n):
+                r = k * n + a
                 for i in range(m + 1):
                     c = T * Lc[k, i]
+                    d = Ld[k, i] / h[j]
+                    row = &W[j, r, 0] if i == 0 else &S[j, r, (i - 1) * n]
                     for b in range(n):
-                        if i == 0:
-                            W[j, k * n + a, b] = D[j, k, a, 0, b] - c * Fz[k * ntst + j, a, b]
-                        else:
-                            S[j, k * n + a, (i - 1) * n + b] = D[j, k, a, i, b] - c * Fz[k * ntst + j, a, b]
+                        row[b] = (d if a == b else 0.0) - c * Fz[q, a, b]
     for j in range(ntst):
         if _lu(&S[j, 0, 0], &piv[j, 0], mn):
             return 2
         _lu_solve(&S[j, 0, 0], &piv[j, 0], &W[j, 0, 0], mn, n + 3)
-    for i in range(nr):
-        for b in range(nr):
-            K[i, b] = 0.0
+    memset(&K[0, 0], 0, nr * nr * sizeof(double))
     return 0
 
 

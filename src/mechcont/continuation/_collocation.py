@@ -83,6 +83,17 @@ def _denominators(m: int) -> np.ndarray:
     return den
 
 
+@functools.lru_cache(maxsize=16)
+def _layout(ntst: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A mesh's node indices per interval (ntst, ncol + 1), the same transposed (contiguous), and ones (ntst,):
+    read-only, shared by the meshes of one size (an adapted mesh has its predecessor's)."""
+    index = np.arange(ntst)[:, None] * m + np.arange(m + 1)[None, :]
+    out = (index, np.ascontiguousarray(index.T), np.ones(ntst))
+    for a in out:
+        a.flags.writeable = False
+    return out
+
+
 class Mesh:
     """A collocation mesh: NTST intervals of ``[0, 1]``, NCOL + 1 equally spaced nodes and NCOL
     Gauss points in each.
@@ -106,10 +117,8 @@ class Mesh:
         self.h = np.diff(self.tau)
         m = self.ncol
         self.s, self.c, self.g, self.Lc, self.Ld, self.Dm, self._L2, self._G, self._P = _unit_interval(m)
-        #: node index of local node i of interval j
-        self.index = np.arange(self.ntst)[:, None] * m + np.arange(m + 1)[None, :]
-        self._index_t = np.ascontiguousarray(self.index.T)
-        self._ones = np.ones(self.ntst)
+        #: node index of local node i of interval j (read-only)
+        self.index, self._index_t, self._ones = _layout(self.ntst, m)
 
     @property
     def n_nodes(self) -> int:
@@ -141,6 +150,20 @@ class Mesh:
         ``k``'s, interval ``j``'s in columns ``j n .. j n + n - 1`` (:meth:`at_collocation` is this product, arranged
         per interval)."""
         return self._L2 @ u[self._index_t].reshape(self.ncol + 1, -1)
+
+    def gauss_values(self, u: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """The orbit's values at the Gauss points from its node values ``u`` (n_nodes, n): shape (ncol, ntst, n), point
+        ``k`` of interval ``j`` at ``[k, j]`` (the first half of :meth:`values_and_derivatives`)."""
+        return (self.Lc @ u[self._index_t].reshape(self.ncol + 1, -1)).reshape(self.ncol, self.ntst, -1)
+
+    def quadrature(self) -> npt.NDArray[np.float64]:
+        """The Gauss quadrature's weights of the whole mesh, ``g_k h_j`` at ``[k, j]`` (ncol, ntst): the weights of
+        :meth:`gauss_values`' points in the integral over [0, 1] (read-only, made once per mesh)."""
+        q = getattr(self, "_quadrature", None)
+        if q is None:
+            q = self._quadrature = self.g[:, None] * self.h[None, :]
+            q.flags.writeable = False
+        return q
 
     def _local(self, A: np.ndarray, u: np.ndarray) -> np.ndarray:
         """``A @ (interval j's node values)`` for every interval, shape (ntst, len(A), n): one matrix product of
@@ -205,6 +228,43 @@ class Mesh:
         basis = left * right / _denominators(self.ncol)
         return np.einsum("pi,pin->pn", basis, u[self.index[j]])
 
+    def extremes(self, u: npt.NDArray[np.float64]) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """Each state's smallest and largest value over the orbit ``u`` (node values (n_nodes, n)): shapes (n,), (n,).
+
+        The extremes over the nodes and Gauss points, refined: through each extreme sample and its neighbours in time a
+        parabola, whose vertex's time the orbit is evaluated at (the larger, or smaller, of the two values counts).
+        Between samples a distance ``d`` apart the samples alone miss a smooth extreme by up to ``|u''| d^2 / 8``,
+        which depends on where the adapted mesh happens to put them (1e-4 of a relaxation orbit's amplitude at 20
+        intervals); the vertex's time is off by ``O(d^2)``, the value there by the square of that."""
+        n = u.shape[1]
+        order, t = self._time_order()
+        every = np.vstack([u[:-1], self.gauss_values(u).transpose(1, 0, 2).reshape(-1, n)])[order]  # (P, n) in time
+        P = len(t)
+        k = np.arange(n)
+        i = np.concatenate([every.argmin(axis=0), every.argmax(axis=0)])  # (2n,): state k's min, then its max
+        kk = np.concatenate([k, k])
+        v0, v1, v2 = every[(i - 1) % P, kk], every[i, kk], every[(i + 1) % P, kk]
+        x0 = (t[(i - 1) % P] - t[i] + 0.5) % 1.0 - 0.5  # the neighbours' times from the sample's (the orbit is periodic)
+        x2 = (t[(i + 1) % P] - t[i] + 0.5) % 1.0 - 0.5
+        q0, q2 = (v0 - v1) / x0, (v2 - v1) / x2  # p(x) = v1 + b x + a x^2: b + a x0 = q0, b + a x2 = q2
+        a = (q2 - q0) / (x2 - x0)
+        x = np.zeros(2 * n)  # the vertex, -b / (2 a), within the neighbours (the sample itself where the parabola is flat)
+        np.divide(q0 - a * x0, -2.0 * a, out=x, where=a != 0)
+        np.clip(x, x0, x2, out=x)
+        x += t[i]
+        v = self.evaluate(u, x)[np.arange(2 * n), kk]
+        return np.fmin(v1[:n], v[:n]), np.fmax(v1[n:], v[n:])  # fmin, fmax: a value that is not finite never counts
+
+    def _time_order(self) -> tuple[npt.NDArray[np.intp], npt.NDArray[np.float64]]:
+        """The nodes but the last (time 1 is time 0) and then the Gauss points (interval by interval): the order that
+        sorts them in time, and their sorted times in [0, 1). Made once per mesh."""
+        cached = getattr(self, "_order", None)
+        if cached is None:
+            times = np.concatenate([self.times()[:-1], self.collocation_times().ravel()])
+            order = np.argsort(times, kind="stable")
+            cached = self._order = (order, times[order])
+        return cached
+
     def adapted(self, u: np.ndarray) -> Mesh:
         """A mesh of the same size equidistributing ``|u^(NCOL+1)|^(1/(NCOL+1))`` for the orbit ``u``.
 
@@ -212,11 +272,20 @@ class Mesh:
         is periodic: the last interval's neighbour is the first) divided by the mean of their
         lengths estimate the (NCOL+1)-th derivative at each mesh point (de Boor, as AUTO does).
         """
-        m = self.ncol
-        dm = (self.Dm @ u[self._index_t].reshape(m + 1, -1)).reshape(self.ntst, -1) / self.h[:, None] ** m
-        nxt = np.roll(dm, -1, axis=0)
-        jump = np.linalg.norm(nxt - dm, axis=1) / (0.5 * (self.h + np.roll(self.h, -1)))  # at tau_(j+1)
-        per = 0.5 * (jump + np.roll(jump, 1))  # per interval: the mean of its two ends
+        m, h = self.ncol, self.h
+        dm = (self.Dm @ u[self._index_t].reshape(m + 1, -1)).reshape(self.ntst, -1) / h[:, None] ** m
+        # the neighbour of each interval and mesh point by slices (np.roll's copies cost more than the arithmetic)
+        diff = np.empty_like(dm)
+        np.subtract(dm[1:], dm[:-1], out=diff[:-1])
+        np.subtract(dm[:1], dm[-1:], out=diff[-1:])
+        both = np.empty_like(h)
+        np.add(h[:-1], h[1:], out=both[:-1])
+        both[-1] = h[-1] + h[0]
+        jump = np.sqrt(np.add.reduce(diff * diff, axis=1)) / (0.5 * both)  # at tau_(j+1)
+        per = np.empty_like(jump)  # per interval: the mean of its two ends
+        np.add(jump[1:], jump[:-1], out=per[1:])
+        per[0] = jump[0] + jump[-1]
+        per *= 0.5
         density = per ** (1.0 / (m + 1))
         density += 1e-3 * max(float(np.mean(density)), 1e-300)  # never an interval of zero weight
         cum = np.concatenate([[0.0], np.cumsum(density * self.h)])

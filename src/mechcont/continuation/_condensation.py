@@ -39,7 +39,7 @@ from ._collocation import Mesh
 
 __all__ = ["Border", "CondensedLU", "collocation_blocks", "product"]
 
-_GETRF, _GETRS = scipy.linalg.lapack.dgetrf, scipy.linalg.lapack.dgetrs
+_GETRF, _GETRS, _GEEV = scipy.linalg.lapack.dgetrf, scipy.linalg.lapack.dgetrs, scipy.linalg.lapack.dgeev
 
 
 @dataclass(frozen=True)
@@ -166,16 +166,18 @@ class CondensedLU:
         self.lu = (lu, piv)
 
     @classmethod
-    def with_residual(cls, cc: ModuleType, D: np.ndarray, Fz: np.ndarray, F: np.ndarray, Fp: np.ndarray,
+    def with_residual(cls, cc: ModuleType, Fz: np.ndarray, F: np.ndarray, Fp: np.ndarray,
                       Y: np.ndarray, X: np.ndarray, target: float, border: Border, mesh: Mesh, n: int,
-                      res: np.ndarray, dX: np.ndarray) -> CondensedLU | None:
+                      res: np.ndarray, dX: np.ndarray, norms: np.ndarray) -> CondensedLU | None:
         """The compiled path's whole Newton iteration in one call (``_ccondense.factor_residual``): the BVP's residual
         into ``res`` and the factors of its Jacobian, as ``CondensedLU(*collocation_blocks(D, Lc, Fz, T), -F, -T Fp,
-        border, mesh, n, rhs=-res's collocation part)`` gives them. The Gauss points in the order of
+        border, mesh, n, rhs=-res's collocation part)`` gives them (``D`` the blocks' fixed part, made there from the
+        mesh's ``Ld`` and ``h``). The Gauss points in the order of
         :meth:`~._collocation.Mesh.values_and_derivatives` (point ``k`` of interval ``j`` in row ``k ntst + j``):
         ``F``, ``Fp`` (ncol ntst, n) and ``Fz`` (ncol ntst, n, n) there, any strides; ``Y`` that method's product
         (the derivatives divided by the intervals' lengths here); ``X`` the unknowns (``X[-2]`` the period ``T``, s);
-        ``target`` the closing row's value. The Newton correction, ``solve(-res, w)``, into ``dX`` in the same call. Returns
+        ``target`` the closing row's value. The Newton correction, ``solve(-res, w)``, into ``dX`` in the same call, and
+        into ``norms`` (2,) its largest ``|dX_i|`` (NaN when any is) and the largest ``|X_i + dX_i|``. Returns
         None when the residual or the rates' derivatives are not finite; raises
         ``numpy.linalg.LinAlgError`` when a block or the reduced system is singular."""
         ntst, m = mesh.ntst, mesh.ncol
@@ -188,9 +190,9 @@ class CondensedLU:
         # the phase and closing rows' values as NumPy's path computes them (its dot products' order of summation)
         phase_value = float(border.phase @ X[:-2])
         closing_value = float(border.closing @ X) - target
-        status = cc.factor_residual(D, mesh.Lc, Fz, F, Fp, Y, mesh.h, X, phase_value, closing_value, float(X[-2]),
+        status = cc.factor_residual(mesh.Ld, mesh.Lc, Fz, F, Fp, Y, mesh.h, X, phase_value, closing_value, float(X[-2]),
                                     border.inner,
-                                    border.mesh_points, border.TP, S, piv, W, K, rpiv, res, dX)
+                                    border.mesh_points, border.TP, S, piv, W, K, rpiv, res, dX, norms)
         if status == 1:
             return None
         if status:
@@ -227,13 +229,17 @@ class CondensedLU:
         return -self.Q[:, inner:, :self.n]
 
     def multipliers(self) -> np.ndarray:
-        """The eigenvalues of the monodromy matrix (the transfer matrices' product), largest modulus first."""
+        """The eigenvalues of the monodromy matrix (the transfer matrices' product), complex, largest modulus first."""
         if self._cc is not None:
             M = np.empty((self.n, self.n))
             self._cc.transfer_product(self._W, self.n, M)  # the product in one call, in order
         else:
             M = product(self.transfer())
-        mu = np.linalg.eigvals(M)
+        # LAPACK's dgeev, as numpy.linalg.eigvals calls it, without that wrapper's checks (five times the call)
+        wr, wi, _, _, info = _GEEV(M, compute_vl=0, compute_vr=0)
+        if info != 0:
+            raise np.linalg.LinAlgError("the monodromy matrix's eigenvalues did not converge")
+        mu = wr + 1j * wi
         return mu[np.argsort(-np.abs(mu), kind="stable")]
 
     def solve(self, b: np.ndarray, w: np.ndarray | None = None) -> np.ndarray:

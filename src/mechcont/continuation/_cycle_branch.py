@@ -44,7 +44,8 @@ class CycleBranch:
     p, period:
         Per row: the parameter's value (SI) and the period ``T`` (s).
     minimum, maximum:
-        Per row and state: the orbit's smallest and largest value (over its nodes and collocation points).
+        Per row and state: the orbit's smallest and largest value (over its nodes and collocation points, each refined
+        between them: :meth:`~._collocation.Mesh.extremes`).
     multipliers:
         Per row: the non-trivial Floquet multipliers (complex, largest modulus first).
     n_unstable:

@@ -131,11 +131,19 @@ class CycleSystem:
         self.p_weight = float(p_weight)
         self.size = mesh.n_nodes * self.n + 2
         self._indices: np.ndarray | None = None  # the sparse Jacobian's pattern, made by linearise when first asked
-        m, n = mesh.ncol, self.n
-        # the collocation blocks' fixed part d/dtau, in the condensation's layout (ntst, ncol, n, ncol + 1, n)
-        self._D = (mesh.Ld[None, :, None, :, None] / mesh.h[:, None, None, None, None]
-                   * np.eye(n)[None, None, :, None, :])
-        self._ncol_n = m * n
+        self._ncol_n = mesh.ncol * self.n
+        self._D_array: np.ndarray | None = None
+
+    @property
+    def _D(self) -> np.ndarray:
+        """The collocation blocks' fixed part d/dtau in the condensation's layout (ntst, ncol, n, ncol + 1, n), made
+        when first asked (the compiled Newton iteration makes it from the mesh itself: a remeshed system never needs
+        it there)."""
+        if self._D_array is None:
+            me = self.mesh
+            self._D_array = (me.Ld[None, :, None, :, None] / me.h[:, None, None, None, None]
+                             * np.eye(self.n)[None, None, :, None, :])
+        return self._D_array
 
     # -- layout ------------------------------------------------------------------------------
     def split(self, X: np.ndarray) -> tuple[np.ndarray, float, float]:
@@ -239,7 +247,7 @@ class CycleSystem:
         cc = _kernel.condensation()
         try:
             if cc is not None:
-                res, lu, _ = self._factored_compiled(cc, X, target, border)
+                res, lu, _, _ = self._factored_compiled(cc, X, target, border)
                 return res, lu
             colloc = self.collocation(X)
         except (ConvergenceError, np.linalg.LinAlgError) as exc:
@@ -261,8 +269,9 @@ class CycleSystem:
         return res, lu
 
     def _factored_compiled(self, cc: ModuleType, X: np.ndarray, target: float,
-                           border: Border) -> tuple[np.ndarray, CondensedLU, np.ndarray]:
-        """:meth:`factored` by the compiled condensation, and the Newton correction ``dX``: the orbit at the Gauss
+                           border: Border) -> tuple[np.ndarray, CondensedLU, np.ndarray, np.ndarray]:
+        """:meth:`factored` by the compiled condensation, the Newton correction ``dX`` and ``(max |dX_i|, max |X_i +
+        dX_i|)`` (:meth:`~._condensation.CondensedLU.with_residual`'s ``norms``): the orbit at the Gauss
         points, the rates there, then residual, blocks, factors and correction in one call
         (:meth:`~._condensation.CondensedLU.with_residual`).
 
@@ -272,17 +281,17 @@ class CycleSystem:
         me, n = self.mesh, self.n
         Y = me.values_and_derivatives(X[:-2].reshape(me.n_nodes, n))  # (2 ncol, ntst n)
         F, Fz, Fp = self.rates(Y[:me.ncol].reshape(-1, n), float(X[-1]))
-        res, dX = np.empty(self.size), np.empty(self.size)
+        res, dX, norms = np.empty(self.size), np.empty(self.size), np.empty(2)
         try:
-            lu = CondensedLU.with_residual(cc, self._D, Fz, F, Fp, Y, X, target, border, me, n, res, dX)
+            lu = CondensedLU.with_residual(cc, Fz, F, Fp, Y, X, target, border, me, n, res, dX, norms)
         except np.linalg.LinAlgError:
             raise NewtonFailure("singular collocation Jacobian") from None
         if lu is None:
             raise NewtonFailure(_NOT_FINITE)
-        return res, lu, dX
+        return res, lu, dX, norms
 
     def _iterate_compiled(self, cc: ModuleType, X: np.ndarray, target: float,
-                          border: Border) -> tuple[np.ndarray, CondensedLU, np.ndarray]:
+                          border: Border) -> tuple[np.ndarray, CondensedLU, np.ndarray, np.ndarray]:
         """:meth:`_factored_compiled` with :meth:`factored`'s failures (the rates not evaluable along the orbit)."""
         try:
             return self._factored_compiled(cc, X, target, border)
@@ -306,13 +315,15 @@ class CycleSystem:
             if cc is None:
                 res, lu = self.factored(X, phase, closing, target, border)
                 dX = lu.solve(-res, lu.w)
+                step = float(np.abs(dX).max())  # nan when any entry is
+                big = float(np.abs(X + dX).max())
             else:
-                _, lu, dX = self._iterate_compiled(cc, X, target, border)
-            step = float(np.abs(dX).max())  # nan when any entry is
+                _, lu, dX, norms = self._iterate_compiled(cc, X, target, border)
+                step, big = float(norms[0]), float(norms[1])
             if not math.isfinite(step):
                 raise NewtonFailure("singular collocation Jacobian")
             X += dX
-            tol_x = tol * max(1.0, float(np.abs(X).max()))
+            tol_x = tol * max(1.0, big)
             if step <= tol_x:
                 return X, lu, it
             if it > 2 and step > prev:

@@ -42,6 +42,10 @@ class _Point:
     approximate: bool = False
     trivial: complex = 1.0  # the trivial multiplier as computed: its distance from 1 is the multipliers' error
     r: np.ndarray | None = None  # system.row(t), kept: the next step's arclength row and the tangents' angle
+    amplitude: float | None = None  # _amplitude's, kept
+    #: the tangent's rate of turn along the family, d t / d s (the curvature vector), from the step that found this
+    #: point: the next step's predictor's second-order term; None at a start
+    curvature: np.ndarray | None = None
 
     def row(self) -> np.ndarray:
         """``r`` with ``r . X = <t, X>`` on this point's system (computed once)."""
@@ -96,11 +100,12 @@ def _fold_confirmed(pt: _Point) -> bool:
 
 
 def _amplitude(pt: _Point) -> float:
-    """The orbit's weighted L2 distance from its mean (0 for an equilibrium)."""
-    u, _, _ = pt.system.split(pt.X)
-    me = pt.system.mesh
-    uc, _ = me.at_collocation(u)
-    # the Gauss quadrature of the mesh's inner product (Mesh.gram_row) at the Gauss points' values, read once
-    quad = me.h[:, None] * me.g[None, :]
-    dev = uc - np.einsum("jk,jkn->n", quad, uc)
-    return math.sqrt(max(float(np.einsum("jk,jkn,n->", quad, dev * dev, pt.system.weights)), 0.0))
+    """The orbit's weighted L2 distance from its mean (0 for an equilibrium); computed once per point."""
+    if pt.amplitude is None:
+        me, n = pt.system.mesh, pt.system.n
+        # the Gauss quadrature of the mesh's inner product (Mesh.gram_row) at the Gauss points' values
+        V = me.gauss_values(pt.X[:-2].reshape(-1, n))
+        q = me.quadrature()[:, :, None]
+        dev = V - np.add.reduce(q * V, axis=(0, 1))
+        pt.amplitude = math.sqrt(max(float(np.add.reduce(q * dev * dev, axis=(0, 1)) @ pt.system.weights), 0.0))
+    return pt.amplitude
