@@ -21,11 +21,12 @@ FILE = Path(__file__).parent / "data" / "fresh" / "toggle_lock.toml"
 A, K, SX, SY, L0, P, DELTA, OPEN = 0.4, 1000.0, 0.4, -0.25, 0.1, 300.0, 0.05, 1.0
 
 
-def _F(t: float) -> float:
-    """The unlock moment (N m) that holds the links free of the stops at theta_l1 = t (rad): dV/dt."""
+def _F(t: float, k: float = K, p: float = P) -> float:
+    """The unlock moment (N m) that holds the links free of the stops at theta_l1 = t (rad): dV/dt, with the
+    spring's stiffness k (N/m) and the push p (N)."""
     bx, by = A * np.cos(t), A * np.sin(t)
     d = np.hypot(bx - SX, by - SY)
-    return float(K * (d - L0) * ((bx - SX) * -by + (by - SY) * bx) / d - 2 * A * P * np.sin(t))
+    return float(k * (d - L0) * ((bx - SX) * -by + (by - SY) * bx) / d - 2 * A * p * np.sin(t))
 
 
 @pytest.fixture(scope="module")
