@@ -25,6 +25,7 @@ import numpy as np
 from ..continuation import Branch, ContinuationOptions, SpecialPoint, continuation, continue_folds
 from ..equations import Model
 from ..errors import ConvergenceError, InputError
+from ..units import derivative_unit
 from ._runs import early_stops
 from .downlock import downlock, downlock_condition, downlock_point, downlocked_pose
 
@@ -143,7 +144,7 @@ class DesignRegion:
         ux, uy, uf = (f" ({u})" if u else "" for u in self.units)
         x = self.x_name
         x0 = f"{self.design[0]:g} {self.units[0]}".strip()
-        slope_unit = f" ({self.units[2]}/{self.units[0]})" if self.units[0] else ""
+        slope_unit = f" ({derivative_unit(self.units[2], self.units[0])})" if self.units[0] else ""
 
         def dist(v: float) -> str | float:
             return "none" if not np.isfinite(v) else float(v)

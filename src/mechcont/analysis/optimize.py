@@ -297,6 +297,19 @@ class _Quantities:
                                 null_vector=folds.above.null_vector)
 
 
+def _force_unit(system: Model, q: _Quantities, name: str) -> str:
+    """The unit of the quantity ``name`` (``downlock_force``, ``unlock_force``): its force parameter's, which may
+    be a moment (N m) or written in other units; ``"N"`` when the model names no such force."""
+    from .downlock import downlock_condition
+    from .stop_lock import lock_force
+
+    try:
+        force = lock_force(system, q.force) if name == "unlock_force" and q.reactions else downlock_condition(system)[1]
+        return system.variable(force).unit
+    except (InputError, KeyError):
+        return "N"
+
+
 def optimize(system: Model, objective: str, bounds: Mapping[str, tuple[float, float]], *,
              maximize: bool = False, constraints: Sequence[Constraint] = (), values: Mapping[str, float] | None = None,
              fold: tuple[np.ndarray, Sequence[str], str] | None = None, max_iter: int = 100,
@@ -412,7 +425,8 @@ def optimize(system: Model, objective: str, bounds: Mapping[str, tuple[float, fl
     at = q.at(z, names)
     active = multipliers(design, t, lo, hi, at, objective, constraints, g_scale)
     units = {n: system.variable(n).unit for n in design}
-    units.update({n: ("N" if n in QUANTITIES else "" if n == BETA else system.variable(n).unit) for n in names})
+    units.update({n: (_force_unit(system, q, n) if n in QUANTITIES else "" if n == BETA else system.variable(n).unit)
+                  for n in names})
     if fold is not None and "fold_load" in names and q.fold is not None:
         units["fold_load"] = system.variable(q.fold[2]).unit
     quantities = {n: float(at[n][0]) for n in names}

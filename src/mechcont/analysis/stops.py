@@ -167,16 +167,22 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
     # the landings) is in the helpers below
     hold, free = list(hold), list(free)
     contact = None if contact is None else list(contact)
-    if direction == 0:
-        down = continuation_with_stops(system, start, vary, direction=-1, hold=hold, free=free, stops=stops,
-                                       contact=contact, options=options, stop_at_fold=stop_at_fold,
-                                       max_switches=max_switches, progress=progress)
-        up = continuation_with_stops(system, start, vary, direction=1, hold=hold, free=free, stops=stops,
-                                     contact=contact, options=options, stop_at_fold=stop_at_fold,
-                                     max_switches=max_switches, progress=progress)
-        return _both_ways(system, down, up)
-    if direction not in (-1, 1):
+    if direction not in (-1, 0, 1):
         raise InputError("direction", f"must be +1, -1 or 0 (both ways, each pushed from the start), got {direction!r}")
+    runs = [_one_way(system, start, vary, d, hold, free, stops, contact, options, stop_at_fold, max_switches, progress)
+            for d in ((-1, 1) if direction == 0 else (direction,))]
+    # the landings once the run is whole: a mechanism jumping back along one half may land on the other
+    run, row_piece = runs[0] if direction else _both_ways(system, runs[0], runs[1])
+    _land(system, run, row_piece, vary, hold, free, named_stops(system, stops))
+    return run
+
+
+def _one_way(system: Model, start: np.ndarray, vary: str, direction: int, hold: list[str], free: list[str],
+             stops: Iterable[str] | None, contact: list[str] | None, options: ContinuationOptions | None,
+             stop_at_fold: bool, max_switches: int,
+             progress: Callable[[int], None] | None) -> tuple[StopRun, list[int]]:
+    """:func:`continuation_with_stops` pushed one way (``direction`` +1 or -1), without the landings: the run
+    and the piece of each of its rows."""
     st = named_stops(system, stops)
     check_stop_lens(system, vary, hold, free, [s.name for s in st])
     options = options or ContinuationOptions()
@@ -207,9 +213,12 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
                 back = _continuing_sets(system, x, vary, -sign, st, active, undecided, hold, free)
                 came = arriving if arriving is not None else (back[0] if back else None)
                 through = [a for a in back if a != came]
-                stable = came is not None and stability_on_stops(system, x, sorted(came)).n_unstable == 0
+                stable = came is not None and _stable_on(system, x, came)
+                # a stable piece leaving the fold reaches it too when pushed in sign: its mechanism jumps, backwards
+                behind = not stable and arriving is not None and bool(through) and _stable_on(system, x, through[0])
                 folds[len(run.switches) - 1] = NonSmoothFold(", ".join(sorted(undecided)), vary,
-                                                             float(x[system.index(vary)]), sign, stable)
+                                                             float(x[system.index(vary)]), sign, stable or behind,
+                                                             behind=behind)
                 if run.switches:
                     lab, name, i = run.switches[-1]
                     run.switches[-1] = ("NSF", name, i)
@@ -249,8 +258,12 @@ def continuation_with_stops(system: Model, start: np.ndarray, vary: str, *, dire
         run.message = (f"stopped after {max_switches} contact changes at {vary} = {x[system.index(vary)]:.6g} "
                        "(the contact keeps switching there)")
     run.branch, row_piece = _join(system, run.pieces, vary, run, folds, _start_release(system, run, vary, released))
-    _land(system, run, row_piece, vary, hold, free, st)
-    return run
+    return run, row_piece
+
+
+def _stable_on(system: Model, x: np.ndarray, contact: Iterable[str]) -> bool:
+    """Whether the equilibrium ``x`` is stable with the stops ``contact`` in contact (holding their conditions)."""
+    return stability_on_stops(system, x, sorted(contact)).n_unstable == 0
 
 
 def _check_start_contacts(system: Model, x: np.ndarray, stops: Sequence[StopLimit], active: set[str],
@@ -425,16 +438,18 @@ def _land(system: Model, run: StopRun, row_piece: list[int], vary: str, hold: li
             continue
         v, sign = fold.value, fold.sign
         ahead = (col - v) * sign
-        j = next((j for j in range(p.index + 2, len(b)) if ahead[j] >= 0 > ahead[j - 1]), None)
+        step = -1 if fold.behind else 1    # the jumping mechanism moves along the run, or back along it
+        rows = range(p.index - 2, -1, -1) if fold.behind else range(p.index + 2, len(b))
+        j = next((j for j in rows if ahead[j] >= 0 > ahead[j - step]), None)
         if j is None:
             note = (f"the mechanism jumps at the non-smooth fold ({vary} = {v:.6g}); no equilibrium at that "
-                    f"{vary} further along the branch, within its bounds")
+                    f"{vary} {'back' if fold.behind else 'further'} along the branch, within its bounds")
             run.message = f"{run.message}; {note}" if run.message else note
             run.branch = run.branch.replace(message=run.message)
             continue
         active = run.contact[row_piece[j]]
-        w = ahead[j] / (ahead[j] - ahead[j - 1])
-        guess = w * b.values[j - 1] + (1 - w) * b.values[j]
+        w = ahead[j] / (ahead[j] - ahead[j - step])
+        guess = w * b.values[j - step] + (1 - w) * b.values[j]
         guess[system.index(vary)] = v
         hold_k, free_k = contact_lens(stops, active, hold, free)
         held = {n: float(guess[system.index(n)]) for n in hold_k if system.variable(n).kind == "state"}
@@ -450,15 +465,21 @@ def _land(system: Model, run: StopRun, row_piece: list[int], vary: str, hold: li
     run.branch = run.branch.replace(special_points=[landed.get(k, p) for k, p in enumerate(b.special_points)])
 
 
-def _both_ways(system: Model, down: StopRun, up: StopRun) -> StopRun:
-    """The decreasing run reversed, then the increasing one (the shared start once), as one run."""
+def _both_ways(system: Model, down_run: tuple[StopRun, list[int]],
+               up_run: tuple[StopRun, list[int]]) -> tuple[StopRun, list[int]]:
+    """The decreasing run reversed, then the increasing one (the shared start once), as one run, with the
+    piece of each row. The decreasing run's non-smooth folds are turned with its rows: a mechanism that
+    jumps further along it jumps back along the joined run."""
+    (down, down_rows), (up, up_rows) = down_run, up_run
     bd, bu = down.branch, up.branch
     n = len(bd)
     rows = np.vstack([bd.values[::-1], bu.values[1:]])
     s = np.concatenate([-bd.s[::-1], bu.s[1:]])
     stab = np.concatenate([bd.n_unstable[::-1], bu.n_unstable[1:]])
     labels = list(bd.labels[::-1]) + list(bu.labels[1:])
-    special = [replace(p, index=n - 1 - p.index, extra=dict(p.extra)) for p in reversed(bd.special_points)]
+    special = [replace(p, index=n - 1 - p.index, extra=dict(p.extra),
+                       nonsmooth=None if p.nonsmooth is None else replace(p.nonsmooth, behind=not p.nonsmooth.behind))
+               for p in reversed(bd.special_points)]
     # the start's own points (a release or a non-smooth fold exactly there) may come from either run: once each
     at_start = {p.label for p in bd.special_points if p.index == 0}
     special += [replace(p, index=n - 1 + p.index, extra=dict(p.extra)) for p in bu.special_points
@@ -472,5 +493,6 @@ def _both_ways(system: Model, down: StopRun, up: StopRun) -> StopRun:
     first = {lab for lab, _, i in down.switches if i == 0}
     switches = ([(lab, name, n - 1 - i) for lab, name, i in reversed(down.switches)]
                 + [(lab, name, n - 1 + i) for lab, name, i in up.switches if i > 0 or lab not in first])
+    row_piece = down_rows[::-1] + [len(down.pieces) + i for i in up_rows[1:]]
     return StopRun(branch, down.pieces + up.pieces, down.contact + up.contact, switches, message,
-                   down.directions + up.directions)
+                   down.directions + up.directions), row_piece

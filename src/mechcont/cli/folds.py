@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
@@ -77,7 +78,8 @@ def folds_command(model: str, sets: tuple[str, ...], starts: tuple[str, ...], ho
         raise InputError("--fold-curve", "is drawn on the stability chart: give it with --point BRANCH.csv:HBn and "
                                          "--plot")
     if point is not None:
-        _from_point(system, point, vary, second, holds, frees, options, out, plot, quiet, fold_curves)
+        _from_point(system, point, vary, second, holds, frees, options, out, plot, quiet, fold_curves,
+                    assignments(sets, "set"))
         return
     if vary is None:
         raise InputError("--vary", "give the parameter in which the fold is a turning point (e.g. --vary F), or "
@@ -108,10 +110,12 @@ def folds_command(model: str, sets: tuple[str, ...], starts: tuple[str, ...], ho
 
 def _from_point(system: Model, point: str, given_vary: str | None, second: str, holds: Sequence[str],
                 frees: Sequence[str], options: ContinuationOptions, out: str | None, plot: str | None, quiet: bool,
-                fold_curves: Sequence[str] = ()) -> None:
+                fold_curves: Sequence[str] = (), values: Mapping[str, float] | None = None) -> None:
     """``folds --point BRANCH.csv:ROW --along P2``: the fold curve of an ``LP`` row, the Hopf curve of an
-    ``HB`` row (with its stability chart as the plot)."""
-    from ..continuation import continue_folds, continue_hopf
+    ``HB`` row (with its stability chart as the plot). ``values``: the --set parameters; where one differs from
+    the row's, the point is first moved there (a fold followed as a fold, a Hopf point located from the row at
+    those values), as ``cycles`` and ``sensitivity`` take a row to their --set values."""
+    from ..continuation import continue_folds, continue_hopf, locate_hopf, move_point
     from ..continuation.branch_rows import read_branch_row
 
     csv_path, row = branch_row(point, "--point", "ROW (e.g. branch.csv:HB1)")
@@ -124,12 +128,19 @@ def _from_point(system: Model, point: str, given_vary: str | None, second: str, 
     if vary == second:
         raise InputError("--along", f"is the branch's own parameter {vary}; choose a second parameter")
     p = found.point
+    changed = {n: v for n, v in (values or {}).items() if system.variable(n).kind == "parameter" and n != vary
+               and not math.isclose(p[n], v, rel_tol=1e-12, abs_tol=1e-300)}
     folds = [_fold_curve_table(path, system, vary, second) for path in fold_curves]
     if p.label == "LP":
         if folds:
             raise InputError("--fold-curve", "is drawn on a Hopf point's stability chart; this point is a fold")
         found.check(system, "LP")
-        curve = run_continuation(continue_folds, system, p.x, vary, second, hold=holds, free_extra=frees,
+        x = p.x
+        if changed:
+            with named_as({"set": "--set", "point": "--point"}):
+                x = move_point(system, x, changed, solved=[*found.unknowns, vary], vary=vary, states=found.unknowns,
+                               name=row).x
+        curve = run_continuation(continue_folds, system, x, vary, second, hold=holds, free_extra=frees,
                                  options=options, quiet=quiet, label="fold curve")
         write_branch(curve, out, plot, second, vary, quiet)
         return
@@ -138,7 +149,8 @@ def _from_point(system: Model, point: str, given_vary: str | None, second: str, 
                                     "point (HBn)")
     found.check(system, "HB")
     with named_as({"point": "--point"}):
-        hb = found.hopf(system, hold=holds, free=frees)
+        hb = (locate_hopf(system, system.vector(changed, base=p.x), vary, hold=holds, free=frees) if changed
+              else found.hopf(system, hold=holds, free=frees))
     curve = run_continuation(continue_hopf, system, hb, vary, second, options=options, quiet=quiet,
                              label="Hopf curve")
     _write_hopf_curve(curve, out, plot, second, vary, quiet, folds)

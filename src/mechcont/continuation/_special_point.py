@@ -47,9 +47,12 @@ class NonSmoothFold:
 
     ``stop`` the stop(s) switching there (comma-joined); ``vary`` the continuation parameter and
     ``value`` its value there (SI); ``sign`` the sense (+1/-1) ``vary`` was pushed in arriving;
-    ``jump`` True when the mechanism arrived stable, so it jumps there as ``vary`` goes on;
-    ``landing`` where it lands (None when it does not jump, or no equilibrium was found further along
-    the branch at ``value``).
+    ``jump`` True when a stable mechanism reaches it as ``vary`` is pushed in ``sign``: the piece the
+    run arrived on is stable, or the piece it leaves on is (both pieces end there and exist on the same
+    side of ``value``, so which one the run walked first does not change the physics); ``behind`` True
+    when the stable piece is the one the run leaves on, so the mechanism jumps back along the run (its
+    landing is searched before the fold's row, not after it); ``landing`` where it lands (None when
+    it does not jump, or no equilibrium was found along the branch at ``value``).
     """
 
     stop: str
@@ -58,6 +61,7 @@ class NonSmoothFold:
     sign: int
     jump: bool
     landing: Landing | None = None
+    behind: bool = False
 
     def fields(self) -> dict[str, Any]:
         """The fold as the flat keys of before (:attr:`SpecialPoint.info`, the JSON): ``{vary: value}``,

@@ -89,16 +89,23 @@ class EnergyLedger:
         integrator keeps each state's local error near ``atol + rtol |y_i|``, and the energy moves by
         ``dE/dy_i`` per unit of it: the momentum ``M qdot`` for the velocities; for the coordinates, along
         the motions the joints allow, the net generalised force ``M qddot`` (applied and inertial forces
-        less what the constraints take: a position error across the constraints is drift, which the
-        constraint forces, doing no work, pull back). ``sum |dE/dy_i| (atol_i + rtol |y_i|)``."""
+        less what the constraints take), and across the constraints the constraint force
+        ``M qddot - Q``: a position error there is drift, which the stabilised constraint forces pull back,
+        and the potential at the drifted position differs by that force times it (a lock resting on its
+        stop: ``M qddot`` is zero, the stop's reaction is not). ``sum |dE/dy_i| (atol_i + rtol |y_i|)``."""
         dyn, nq = self.dyn, self.dyn.nq
         q, qd = y[:nq], y[nq:]
         x = dyn.full(t, q)
         tol = self.atol + self.rtol * np.abs(y)
         known = dyn.recall(t, q, qd)  # the step's last evaluation, at its end
-        qdd = dyn.acceleration(t, q, qd) if known is None else known[0]
+        if known is None:
+            dyn.acceleration(t, q, qd)
+            known = dyn.recall(t, q, qd)
         M = dyn.mech.mass(x)
-        return float(np.abs(M @ qdd) @ tol[:nq] + np.abs(M @ qd) @ tol[nq:])
+        if known is None:   # an evaluation that is not kept (element states): the net force alone
+            return float(np.abs(M @ dyn.acceleration(t, q, qd)) @ tol[:nq] + np.abs(M @ qd) @ tol[nq:])
+        net = M @ known[0]
+        return float((np.abs(net) + np.abs(net - known[2])) @ tol[:nq] + np.abs(M @ qd) @ tol[nq:])
 
     def powers(self, t: float, y: np.ndarray) -> np.ndarray:
         """``[dissipated, rest-force, compliant-stop]`` powers (W) at ``(t, y)``."""

@@ -50,7 +50,10 @@ def _typed(spec: object, field: str, table: str, plugins: Registry) -> Any:
     """The class of a ``[table.NAME]`` entry with a ``type`` from the registry ``plugins``, its keys checked."""
     if not isinstance(spec, Mapping):
         raise InputError(field, f"must be a table [{table}.NAME]")
-    kind = spec.get("type")
+    if "type" not in spec:
+        others = f" (the table has {', '.join(spec)})" if spec else ""
+        raise InputError(field + ".type", f"missing: give type = one of {', '.join(plugins)}{others}")
+    kind = spec["type"]
     if not isinstance(kind, str) or kind not in plugins:
         raise InputError(field + ".type", f"must be one of {', '.join(plugins)}, got {kind!r}")
     cls = plugins[kind]

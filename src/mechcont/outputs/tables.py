@@ -176,7 +176,8 @@ def jump_lines(branch: Branch, vary: str, y: str) -> list[str]:
             out.append(f"{head}: the mechanism jumps and lands at {heading(branch, y)} = "
                        f"{branch_value(branch, y, at[y]):.10g} (stops in contact: {on}; {how})")
         elif fold is not None and fold.jump:
-            out.append(f"{head}: the mechanism jumps; no equilibrium at that {vary} further along the branch "
+            where = "back" if fold.behind else "further"
+            out.append(f"{head}: the mechanism jumps; no equilibrium at that {vary} {where} along the branch "
                        "catches it within the bounds")
         else:
             out.append(f"{head}: reached along an unstable branch (nothing jumps there)")
