@@ -327,6 +327,14 @@ def _mechcont(*args, cwd):
                             stderr=subprocess.PIPE, text=True)
 
 
+def _mapped(proc) -> str:
+    """The paths of the files ``proc`` has mapped (/proc/PID/maps), "" once it has ended."""
+    try:
+        return Path(f"/proc/{proc.pid}/maps").read_text()
+    except OSError:
+        return ""
+
+
 def _wait_for(predicate, proc, timeout):
     t0 = time.monotonic()
     while time.monotonic() - t0 < timeout:
@@ -362,7 +370,12 @@ def test_ctrl_c_during_a_sweep_is_one_line(tmp_path):
     # the slow second segment at time steps of 1/400 of the first: about a minute of simulation
     proc = _mechcont(*SWEEP, "--ramp", "F=-65:-90:1", "--ramp", "F=-90:100:0.01", "--out", out, cwd=tmp_path)
     try:
-        time.sleep(4.0)  # imports, assembly, then the time simulation
+        if Path("/proc/self/maps").exists():  # waits for the event: the time integrator's library mapped in (the
+            # command's first use of it), then a moment into the assembly and the minute-long simulation
+            assert _wait_for(lambda: "scipy/integrate" in _mapped(proc), proc, 120), proc.communicate()
+            time.sleep(0.5)
+        else:  # no /proc: imports, assembly, then the time simulation
+            time.sleep(4.0)
         assert proc.poll() is None, proc.communicate()
         proc.send_signal(signal.SIGINT)
         _, err = proc.communicate(timeout=60)

@@ -34,10 +34,17 @@ def optimum():
     return dual_sidestay_optimum()
 
 
-def _at_rest(gear, k, stretch):
-    """Reactions (N m) and unlock load (N) from the locked state and its release run, no gradient involved."""
+def _reactions(gear, k, stretch):
+    """The stop reactions (N m) of the locked state, no gradient involved, with that state and its stops in contact
+    (the release run of :func:`_at_rest` is not made: a root search on a reaction needs none)."""
     x, contact = locked_on_stops(gear, {"k_lock": k, "stretch": stretch})
     R_fwd, R_aft = (float(x[gear.index(f"R_{s}")]) if s in contact else 0.0 for s in ("fwd_stop", "aft_stop"))
+    return R_fwd, R_aft, x, contact
+
+
+def _at_rest(gear, k, stretch):
+    """Reactions (N m) and unlock load (N) from the locked state and its release run, no gradient involved."""
+    R_fwd, R_aft, x, contact = _reactions(gear, k, stretch)
     if len(contact) < 2:  # a pair off its stop: not locked on both, no unlock load to compare
         return R_fwd, R_aft, float("nan")
     return R_fwd, R_aft, float(stop_unlock(gear, x, DS_FORCE, stability=False, both=False).unlock_force)
@@ -88,14 +95,14 @@ def test_optimum_resolved_without_gradients(gear, optimum):
     lo = DS_BOUNDS["stretch"][0]
 
     def fwd_excess(k):
-        return _at_rest(gear, k, lo)[0] - DS_MARGIN
+        return _reactions(gear, k, lo)[0] - DS_MARGIN
 
     k = brentq(fwd_excess, 1500.0, 3000.0, xtol=1e-9, rtol=1e-13)
     assert res.design["k_lock"] == pytest.approx(k, rel=1e-6)
     assert res.value == pytest.approx(_at_rest(gear, k, lo)[2], rel=1e-6)
     # further along the preload bound (more stretch, solved for k) the unlock load is higher
     for st in (0.55, 0.65):
-        kk = brentq(lambda v, st=st: _at_rest(gear, v, st)[0] - DS_MARGIN, 1000.0, 8000.0, xtol=1e-6)
+        kk = brentq(lambda v, st=st: _reactions(gear, v, st)[0] - DS_MARGIN, 1000.0, 8000.0, xtol=1e-6)
         assert _at_rest(gear, kk, st)[2] > res.value
 
 
@@ -104,10 +111,10 @@ def test_optimum_beats_a_grid(gear, optimum):
     feasible = 0
     for k in (1000.0, 2500.0, 4000.0, 8000.0):
         for st in (0.5, 0.6, 0.75):
-            R_fwd, R_aft, unlock = _at_rest(gear, k, st)
-            if min(R_fwd, R_aft) >= DS_MARGIN:
+            R_fwd, R_aft, x, contact = _reactions(gear, k, st)
+            if min(R_fwd, R_aft) >= DS_MARGIN:  # both reactions positive: both pairs on their stops
                 feasible += 1
-                assert unlock >= res.value
+                assert float(stop_unlock(gear, x, DS_FORCE, stability=False, both=False).unlock_force) >= res.value
     assert feasible >= 4
 
 

@@ -133,8 +133,12 @@ def test_quasi_static_critical_is_the_closed_form_fold():
 
 
 def test_overdamped_critical_airspeed_converges_to_the_quasi_static_fold():
+    """The runs end once locked or at rest short of the lock (``end_at_lock``, as the freefall command's): the
+    outcome of the run to ``until`` (test_a_run_ended_at_the_lock_has_the_lock_of_the_full_run; the light
+    damping test below runs its bracket's ends again to the end)."""
     system = load_model(PATH, c=20.0)
-    crit = critical_airspeed(system, {"angle": BETA}, "U", 25.0, 27.0, tol=2e-3, lock="downlock", until=200.0)
+    crit = critical_airspeed(system, {"angle": BETA}, "U", 25.0, 27.0, tol=2e-3, lock="downlock", until=200.0,
+                             end_at_lock=True)
     assert crit.locks_below and 0 < crit.width <= 2e-3 and (crit.low, crit.high) == (crit.locked, crit.failed)
     assert crit.locked == pytest.approx(U_C, rel=1e-3)
     assert not crit.compare(U_C)[1]  # within the bracket's width of the fold: not a significant difference
@@ -142,9 +146,11 @@ def test_overdamped_critical_airspeed_converges_to_the_quasi_static_fold():
 
 def test_light_damping_critical_airspeed_matches_the_reduced_equation():
     """With little damping the momentum carries the gear over the fold: a margin above U_c that the
-    independent integrator reproduces to the bisection tolerance."""
+    independent integrator reproduces to the bisection tolerance. The bisection's runs end once locked or at
+    rest (``end_at_lock``, as the freefall command's); the two ends are run again to ``until`` without it."""
     system = load_model(PATH, c=2.0)
-    crit = critical_airspeed(system, {"angle": BETA}, "U", 24.0, 30.0, tol=2e-3, lock="downlock", until=30.0)
+    crit = critical_airspeed(system, {"angle": BETA}, "U", 24.0, 30.0, tol=2e-3, lock="downlock", until=30.0,
+                             end_at_lock=True)
     ref = reduced_critical(2.0, 30.0, 24.0, 30.0, 1e-4)
     assert crit.low - 1e-4 <= ref <= crit.high + 1e-4 and crit.width <= 2e-3
     assert crit.locked > 1.02 * U_C  # the momentum margin shows

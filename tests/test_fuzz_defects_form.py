@@ -227,6 +227,12 @@ def test_a_fake_scheduler_announcing_a_huge_frame(tmp_path, monkeypatch, announc
                 "--scheduler", f"tcp://127.0.0.1:{server.getsockname()[1]}", "--dir", tmp_path / "s")
         elapsed = time.perf_counter() - t0
     finally:
+        # close() alone does not wake the thread blocked in accept() (it waited out join's 5 s);
+        # shutdown() makes that accept() fail at once
+        try:
+            server.shutdown(socket.SHUT_RDWR)
+        except OSError:
+            pass
         server.close()
         for c in conns:
             c.close()

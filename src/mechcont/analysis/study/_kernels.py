@@ -28,7 +28,8 @@ stops the chunk.
 * ``freefall`` (alone: no downlock solve): every sample released at rest from the retracted pose
   (the spec's ``hold``) and simulated with its stops (:func:`mechcont.dynamics.freefall.freefall`):
   its outcome, ``locked`` (every lock stop in contact at rest), the time to lock and the impact
-  speed; an integrator failure is a failed sample.
+  speed; a run ends once locked, or at rest short of the lock at a stable equilibrium (``end_at_lock``:
+  nothing more can change), else at ``until``; an integrator failure is a failed sample.
 """
 
 from __future__ import annotations
@@ -198,7 +199,9 @@ def _freefall_chunk(system: Model, spec: StudySpec, S: np.ndarray, start: int, s
             status[i], reason[i] = _FAILED, why
             continue
         try:
-            run = freefall(system, pose, lock=lock, until=spec.until, values=values)
+            # ended once locked (or at rest where nothing more can change), as the freefall command's runs:
+            # the columns read are those of the run to until, which would only repeat the locked state
+            run = freefall(system, pose, lock=lock, until=spec.until, values=values, end_at_lock=True)
         except (ConvergenceError, InputError) as exc:
             status[i], reason[i] = _FAILED, f"freefall: {exc}"
             continue
