@@ -46,12 +46,15 @@ def overcentre():
 #: dual-sidestay files start by building the generated dual-sidestay gear (one disk-cache entry; a second process
 #: waits for the first's build): test_doc_examples_docs, which needs it only in its last document
 #: (reliability.md), is second, so the other worker starts on work of its own while the first builds the gear.
+#: test_freefall_paper right after test_figure_review: both ask for the freefall section, which test_figure_review
+#: reviews last, so that the other worker computes it meanwhile. test_paper, test_dynamics_paper and
+#: test_paper_animation read the runs test_figure_review makes (sections, the paper's GIF): later, in name order.
 LONGEST_FIRST = ["test_dsopt.py", "test_doc_examples_docs.py", "test_doc_examples.py", "test_figure_review.py",
                  "test_freefall_paper.py", "test_freefall_more.py", "test_dynamics_inertial.py",
-                 "test_dual_sidestay_generated.py", "test_dual_sidestay.py", "test_paper.py",
+                 "test_dual_sidestay_generated.py", "test_dual_sidestay.py",
                  "test_assembly_compliance.py", "test_freefall.py", "test_doc_numbers.py",
-                 "test_spatial_planar.py", "test_redundancy_switch.py", "test_dynamics_paper.py", "test_study_cli.py",
-                 "test_reliability.py", "test_paper_animation.py", "test_spatial_cli.py", "test_nose_gear_paper.py",
+                 "test_spatial_planar.py", "test_redundancy_switch.py", "test_study_cli.py",
+                 "test_reliability.py", "test_spatial_cli.py", "test_nose_gear_paper.py",
                  "test_model.py"]
 
 

@@ -28,6 +28,12 @@ class SessionStore:
     def __init__(self, root: Path):
         self.root = Path(root)
         self._here: dict[str, Any] = {}
+        self._computed: set[str] = set()
+
+    def computed_here(self, key: str) -> bool:
+        """Whether this process computed the result under ``key`` (not read it from another's): a test may then
+        compare it with what it computes itself exactly, as the same code on the same inputs in one process."""
+        return key in self._computed
 
     def get(self, key: str, compute: Callable[[], Any]) -> Any:
         """``compute()`` (picklable) as first computed in this session under ``key`` (a file-name-safe word)."""
@@ -39,6 +45,7 @@ class SessionStore:
                 value = pickle.loads(path.read_bytes())
             else:
                 value = compute()
+                self._computed.add(key)
                 partial = path.with_suffix(f".{os.getpid()}.part")
                 partial.write_bytes(pickle.dumps(value))
                 partial.replace(path)

@@ -1,29 +1,24 @@
-"""The `mechcont paper` dynamics section: figures written, jumps past the folds, gap law."""
+"""The `mechcont paper` dynamics section: figures written, jumps past the folds, gap law. The section's run is the
+one tests/test_figure_review.py reviews (``section_run``: made once per session); its outputs are checked here."""
 
 import re
 
 import pytest
 
-from mechcont.paper import dynamics
-
 
 @pytest.mark.slow
-def test_paper_dynamics_section(tmp_path, monkeypatch):
-    from figure_checks import check_figure
+def test_paper_dynamics_section(shared):
+    from test_figure_review import section_run
 
-    import mechcont.outputs.plotting as plotting
-
-    figs, save = [], plotting.save_figure
-    monkeypatch.setattr(plotting, "save_figure", lambda fig, path, dpi=150: (figs.append((fig, path)), save(fig, path)))
-    lines = dynamics.run(tmp_path, quiet=True)
-    for fig, path in figs:  # units on every axis, legends only for what is drawn, labels inside the axes
-        check_figure(fig, path.name)
+    run = section_run("dynamics", shared)
+    lines = run.lines
+    assert run.checks == [], "\n".join(run.checks)  # units on every axis, legends only for what is drawn, labels inside
     text = "\n".join(lines)
     for name in ("dynamics_fig3_sweep_vs_continuation.png", "dynamics_gap_vs_rate.png"):
-        assert (tmp_path / name).stat().st_size > 1000
+        assert run.sizes[name] > 1000
         assert f"({name})" in text
     # Fig. 4b,c (the sweeps on their branches) belong to the overcentre section; this one points there
-    assert "fig4b_overcentre_LU2.png" in text and not (tmp_path / "dynamics_fig4bc.png").exists()
+    assert "fig4b_overcentre_LU2.png" in text and "dynamics_fig4bc.png" not in run.written
     rows = [ln for ln in lines if ln.startswith("| 1 (") or ln.startswith("| 2 (")]
     assert len(rows) == 2 and all(r.rstrip().endswith("| yes |") for r in rows)
     # each jump names its fold as the branch (and every figure) numbers it

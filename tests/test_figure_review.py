@@ -16,8 +16,12 @@ section runs once per test session, in whichever worker process asks first (:fun
 numbers the docs quote from the freefall section reads that run's summary lines (0.1 s of CPU) instead of computing
 the dual-sidestay freefall table again (30 s of CPU), and tests/test_freefall_paper.py and
 tests/test_dual_sidestay.py check the summaries of the freefall and dual_sidestay (quick) runs made here (they ran
-each section again, 90 s and 29 s). The paper's GIF frames: 15 s of CPU (the retraction continued and animated);
-the README's commands with its GIF's frames: 17 s.
+each section again, 90 s and 29 s), tests/test_paper.py those of the overcentre and design_optimum runs (and compares
+the overcentre's with its own run of `mechcont paper`) and tests/test_dynamics_paper.py the dynamics run's, each
+figure of those two checked by figure_checks.check_figure in the run (they ran each section again: 8 s of CPU each
+and the overcentre's twice). The paper's GIF frames: 15 s of CPU (the retraction continued and animated), written
+once per session (:func:`retraction_gif`) for the review here and tests/test_paper_animation.py's frame count (which
+animated the retraction again, 12 s); the README's commands with its GIF's frames: 17 s.
 """
 
 from __future__ import annotations
@@ -42,8 +46,9 @@ IMAGE = re.compile(r"!\[[^\]]*\]\(([^)\s]+)\)")
 
 
 @contextlib.contextmanager
-def capturing():
-    """Context: ``{file name: figure}`` of every figure saved inside it (written at :data:`DPI`)."""
+def capturing(order: list | None = None):
+    """Context: ``{file name: figure}`` of every figure saved inside it (written at :data:`DPI`); ``order``, if given,
+    gets each saved file's name as it is saved (a name saved twice, twice)."""
     import matplotlib.figure
 
     figures: dict[str, object] = {}
@@ -52,7 +57,10 @@ def capturing():
     def savefig(self, fname, *args, **kwargs):
         name = Path(str(fname)).name
         m = re.match(r"^\.(.+)\.mechcont-\d+-", name)   # atomic_write's temporary file: .<stem>.mechcont-<pid>-…
-        figures[(m.group(1) + Path(name).suffix) if m else name] = self
+        name = (m.group(1) + Path(name).suffix) if m else name
+        figures[name] = self
+        if order is not None:
+            order.append(name)
         kwargs["dpi"] = DPI
         return save(self, fname, *args, **kwargs)
 
@@ -118,19 +126,30 @@ def animations():
         yield found
 
 
+#: The sections whose figures :func:`figure_checks.check_figure` checks in the run (tests/test_paper.py and
+#: tests/test_dynamics_paper.py read what it finds).
+CHECKED = ("overcentre", "dynamics")
+
+
 @dataclass(frozen=True)
 class SectionRun:
-    """A paper section run once: its summary ``lines``, ``timings``, the files it ``wrote`` (figures and GIFs) and
-    their ``sizes`` (bytes), those it saved through Matplotlib (``saved``), the animations whose frames were reviewed
-    (``animated``) and the ``problems`` the review finds."""
+    """A paper section run once: its summary ``lines``, ``timings``, the files it ``wrote`` (figures and GIFs), their
+    ``sizes`` (bytes) and first bytes (``heads``, the file type's signature), those it saved through Matplotlib
+    (``saved``; ``saves``: each save's file name in order), the animations whose frames were reviewed (``animated``),
+    the ``problems`` the review finds and, for a section of :data:`CHECKED`, those :func:`figure_checks.check_figure`
+    finds (``checks``: units on every axis, legends naming only what is drawn, texts inside their axes; checked as the
+    figures stand after the run; ``None`` for another section)."""
 
     lines: list
     timings: dict
     written: set
     sizes: dict
+    heads: dict
     saved: set
+    saves: list
     animated: set
     problems: list
+    checks: list
 
 
 def section_run(section: str, shared) -> SectionRun:
@@ -147,19 +166,37 @@ def _section_run(section: str) -> SectionRun:
     module = importlib.import_module(f"mechcont.paper.{section}")
     options = {"quick": True} if section == "dual_sidestay" else {}   # the same figures, fewer scan points, no GIF
     timings: dict[str, float] = {}
+    saves: list[str] = []
     with tempfile.TemporaryDirectory(prefix=f"mechcont-review-{section}-") as folder:
-        with warnings.catch_warnings(), capturing() as figures, reviewing_animations() as animations:
+        with warnings.catch_warnings(), capturing(saves) as figures, reviewing_animations() as animations:
             warnings.simplefilter("error", RuntimeWarning)
             lines = module.run(Path(folder), True, timings, **options)
             problems = [p for name, fig in sorted(figures.items()) for p in review_problems(fig, name)]
-        sizes = {p.name: p.stat().st_size for p in Path(folder).iterdir() if p.suffix in (".png", ".gif")}
+            checks = [c for name, fig in sorted(figures.items()) for c in _checked(fig, name)] if section in CHECKED else None
+        files = [p for p in Path(folder).iterdir() if p.suffix in (".png", ".gif")]
+        sizes = {p.name: p.stat().st_size for p in files}
+        heads = {p.name: p.read_bytes()[:8] for p in files}
     problems += [p for name in sorted(animations) for p in animations[name]]
-    return SectionRun(lines, timings, set(sizes), sizes, set(figures), set(animations), problems)
+    return SectionRun(lines, timings, set(sizes), sizes, heads, set(figures), saves, set(animations), problems, checks)
 
 
+def _checked(fig, name: str) -> list[str]:
+    """What :func:`figure_checks.check_figure` finds wrong in ``fig`` (its first failure), as a list."""
+    from figure_checks import check_figure
+
+    try:
+        check_figure(fig, name)
+    except AssertionError as e:
+        return [str(e)]
+    return []
+
+
+#: The freefall section last: tests/test_freefall_paper.py, collected right after this file (conftest.py), asks for
+#: it too, so that with two pytest-xdist workers the other worker computes it while this one reviews the rest (when
+#: it came fifth, this worker reached it first and the other waited for it, or the other way round).
 SECTIONS = [pytest.param("overcentre"),
-            *(pytest.param(s, marks=pytest.mark.slow) for s in ("nose_gear", "dynamics", "design_optimum", "freefall",
-                                                                 "dual_sidestay", "shimmy"))]
+            *(pytest.param(s, marks=pytest.mark.slow) for s in ("nose_gear", "dynamics", "design_optimum",
+                                                                 "dual_sidestay", "shimmy", "freefall"))]
 
 
 @pytest.mark.parametrize("section", SECTIONS)
@@ -193,21 +230,51 @@ def test_the_docs_quote_what_the_section_prints(section, shared):
     assert not wrong, f"quoted numbers that are not the run's (fill them: python -m mechcont.paper.doc_numbers): {wrong}"
 
 
-@pytest.mark.slow
-def test_every_sampled_frame_of_the_papers_retraction_gif_passes_the_review(tmp_path):
-    """The paper's GIF (``sidestay_retraction.gif``, the dual-sidestay section's full run; its quick run above draws
-    no GIF): the retraction continued and animated as the section does (``dual_sidestay.retraction_animation``), the
-    first, middle and last frames reviewed. About 15 s warm."""
+@dataclass(frozen=True)
+class GifRun:
+    """The paper's retraction GIF written once: the frames ``animate`` reported (``n``), those in the file
+    (``frames``), the animations whose frames were reviewed (``animated``, file names) and what the review found in
+    each (``problems``)."""
+
+    n: int
+    frames: int
+    animated: list
+    problems: dict
+
+
+def retraction_gif(shared) -> GifRun:
+    """The paper's GIF (``sidestay_retraction.gif``, the dual-sidestay section's full run; its quick run draws no GIF)
+    written once per test session (``shared``: conftest.py's fixture; this file's review and
+    tests/test_paper_animation.py's frame count share it): the retraction continued and animated as the section does
+    (``dual_sidestay.retraction_animation``), with RuntimeWarnings as errors, its sampled frames reviewed."""
+    return shared.get("retraction-gif", _retraction_gif)
+
+
+def _retraction_gif() -> GifRun:
+    """The paper's GIF written into a scratch folder and reviewed (see :func:`retraction_gif`)."""
+    from figure_checks import gif_frames
+
     from mechcont.models.dual_sidestay import build_dual_sidestay_kinematics
     from mechcont.models.dual_sidestay_geometry import DEFAULT_GEOMETRY
     from mechcont.paper import dual_sidestay
 
     ret = dual_sidestay.retraction(DEFAULT_GEOMETRY, base=build_dual_sidestay_kinematics(DEFAULT_GEOMETRY))
-    with warnings.catch_warnings(), reviewing_animations() as animations:
-        warnings.simplefilter("error", RuntimeWarning)
-        n = dual_sidestay.retraction_animation(ret, DEFAULT_GEOMETRY, tmp_path / dual_sidestay.ANIMATION[0])
-    assert n > 3 and list(animations) == [dual_sidestay.ANIMATION[0]]
-    assert not animations[dual_sidestay.ANIMATION[0]], "\n".join(animations[dual_sidestay.ANIMATION[0]])
+    with tempfile.TemporaryDirectory(prefix="mechcont-review-gif-") as folder:
+        path = Path(folder) / dual_sidestay.ANIMATION[0]
+        with warnings.catch_warnings(), reviewing_animations() as animations:
+            warnings.simplefilter("error", RuntimeWarning)
+            n = dual_sidestay.retraction_animation(ret, DEFAULT_GEOMETRY, path)
+        return GifRun(n, gif_frames(path), list(animations), animations)
+
+
+@pytest.mark.slow
+def test_every_sampled_frame_of_the_papers_retraction_gif_passes_the_review(shared):
+    """The paper's GIF (:func:`retraction_gif`): the first, middle and last frames reviewed. About 15 s warm."""
+    from mechcont.paper import dual_sidestay
+
+    gif = retraction_gif(shared)
+    assert gif.n > 3 and gif.animated == [dual_sidestay.ANIMATION[0]]
+    assert not gif.problems[dual_sidestay.ANIMATION[0]], "\n".join(gif.problems[dual_sidestay.ANIMATION[0]])
 
 
 def _figure_commands():

@@ -1,4 +1,8 @@
-"""`mechcont paper`: figures and a summary whose numbers agree with the closed form."""
+"""`mechcont paper`: figures and a summary whose numbers agree with the closed form.
+
+The command runs end to end here (``paper_dir``: the overcentre section, every cache of it cleared first; again only
+when the session's review run of the section was made in another process); the sections' other checks read the runs
+tests/test_figure_review.py makes once per session (``section_run``)."""
 
 import re
 
@@ -8,8 +12,24 @@ from click.testing import CliRunner
 from mechcont.cli._app import _register, cli
 
 
+def _clear_overcentre_caches():
+    """Forget the overcentre section's results computed in this process (its next run computes everything again)."""
+    from mechcont.paper import overcentre
+
+    for f in (overcentre.system, overcentre._start, overcentre.branch):
+        f.cache_clear()
+    overcentre._SWEEPS.clear()
+
+
 @pytest.fixture(scope="module")
-def paper_dir(tmp_path_factory):
+def paper_dir(tmp_path_factory, shared):
+    """`mechcont paper --only overcentre` run in full: every result of the section computed afresh, after the
+    session's review run of the section (``section_run``) was made, in this process or another (the former the run
+    test_summary_is_the_same_on_every_run compares with)."""
+    from test_figure_review import section_run
+
+    section_run("overcentre", shared)
+    _clear_overcentre_caches()
     _register()
     out = tmp_path_factory.mktemp("paper")
     r = CliRunner().invoke(cli, ["paper", "--out", str(out), "--only", "overcentre", "--quiet"])
@@ -43,18 +63,24 @@ def test_unknown_section_is_an_error(tmp_path):
     assert not (tmp_path / "p").exists()
 
 
-def test_summary_is_the_same_on_every_run(paper_dir, tmp_path):
-    """summary.md holds results only: a second run (caches cleared, so everything is recomputed) gives the same
-    bytes; run times go to timings.txt; no Python True/False in the prose."""
-    from mechcont.paper import overcentre
+def test_summary_is_the_same_on_every_run(paper_dir, shared, tmp_path):
+    """summary.md holds results only: a second run in this process, each computing everything itself, gives the
+    same bytes (floats are compared bit for bit only within one process): the session's review run of the section
+    when this process made it (before the command's run cleared every cache), else the command run again with the
+    caches cleared; run times go to timings.txt; no Python True/False in the prose."""
+    from test_figure_review import section_run
+
+    from mechcont.paper.sections import summary_header
 
     text = (paper_dir / "summary.md").read_text()
     assert "computed in" not in text and " took " not in text
     assert not re.search(r"\b(True|False|None|nan)\b", text)
     assert (paper_dir / "timings.txt").read_text().startswith("run times")
-    for f in (overcentre.system, overcentre._start, overcentre.branch):
-        f.cache_clear()
-    overcentre._SWEEPS.clear()
+    if shared.computed_here("section-overcentre"):
+        other = "\n".join([*summary_header(), *section_run("overcentre", shared).lines]).rstrip("\n") + "\n"
+        assert (paper_dir / "summary.md").read_bytes() == other.encode()
+        return
+    _clear_overcentre_caches()
     _register()
     r = CliRunner().invoke(cli, ["paper", "--out", str(tmp_path), "--only", "overcentre", "--quiet"])
     assert r.exit_code == 0, r.output
@@ -73,22 +99,14 @@ def test_fig3b_shows_the_bistability_at_20_newtons(paper_dir):
     assert "At F = 20 N the equilibria are theta1 = -73.6 deg (stable), -4.2 deg (unstable), 75.4 deg (stable)" in text
 
 
-def test_overcentre_figures_have_units_honest_legends_and_labels_inside(tmp_path, monkeypatch):
-    from figure_checks import check_figure
+def test_overcentre_figures_have_units_honest_legends_and_labels_inside(shared):
+    """Each figure of the section's run (the session's review run) saved once under its own name, and
+    :func:`figure_checks.check_figure` finds nothing wrong in any."""
+    from test_figure_review import section_run
 
-    from mechcont.paper import dynamics, overcentre
-
-    figs = []
-    for mod in (overcentre, dynamics):
-        monkeypatch.setattr(mod, "save_figure", lambda fig, path, **kw: figs.append((fig, path.name)), raising=False)
-    import mechcont.outputs.plotting as plotting
-
-    monkeypatch.setattr(plotting, "save_figure", lambda fig, path, **kw: figs.append((fig, path.name)))
-    overcentre.run(tmp_path)
-    names = [n for _, n in figs]
-    assert len(set(names)) == len(names) >= 7
-    for fig, name in figs:
-        check_figure(fig, name)
+    run = section_run("overcentre", shared)
+    assert len(set(run.saves)) == len(run.saves) >= 7
+    assert run.checks == [], "\n".join(run.checks)
 
 
 def test_fig4a_shows_two_time_simulations_apart_and_no_empty_band(paper_dir, monkeypatch):
@@ -117,10 +135,12 @@ def test_fig4a_shows_two_time_simulations_apart_and_no_empty_band(paper_dir, mon
     assert len(ink) - 1 - rows[-1] < 0.04 * len(ink)   # no empty band at the bottom (was ~100 px of 900)
 
 
-def test_design_optimum_section_numbers_resolve(tmp_path):
-    """The reliability-based design section: each optimum re-analysed on its own at the printed design (FORM afresh
-    with the tolerances centred there gives P = 1e-6; the unlock fold and the downlock force re-solved)."""
+def test_design_optimum_section_numbers_resolve(shared):
+    """The reliability-based design section (the session's run of it, tests/test_figure_review.py's
+    ``section_run``): each optimum re-analysed on its own at the printed design (FORM afresh with the tolerances
+    centred there gives P = 1e-6; the unlock fold and the downlock force re-solved)."""
     from scipy.stats import norm
+    from test_figure_review import section_run
 
     from mechcont.analysis.downlock import downlock_condition, downlock_point
     from mechcont.analysis.reliability import Variables, downlock_limit_state, form
@@ -128,11 +148,9 @@ def test_design_optimum_section_numbers_resolve(tmp_path):
     from mechcont.analysis.unlock import unlock_folds
     from mechcont.models import load_model
 
-    _register()
-    r = CliRunner().invoke(cli, ["paper", "--out", str(tmp_path), "--only", "design_optimum", "--quiet"])
-    assert r.exit_code == 0, r.output
-    text = (tmp_path / "summary.md").read_text()
-    assert (tmp_path / "design_optimum_lockstay.png").read_bytes().startswith(b"\x89PNG")
+    run = section_run("design_optimum", shared)
+    text = "\n".join(run.lines)
+    assert run.heads["design_optimum_lockstay.png"].startswith(b"\x89PNG")
     target = norm.isf(1e-6)
 
     nose = load_model("nose_gear")

@@ -1,5 +1,6 @@
 """The paper's retraction animation (issue 25): smooth (>= 48 frames), the branch panel with the current point,
-the stability and label text on every frame."""
+the stability and label text on every frame. The GIF itself is the one tests/test_figure_review.py reviews
+(``retraction_gif``: ``dual_sidestay.retraction_animation`` run once per session); here its frames are counted."""
 
 from __future__ import annotations
 
@@ -8,14 +9,13 @@ import matplotlib
 matplotlib.use("Agg")
 
 import numpy as np  # noqa: E402
-from figure_checks import gif_frames  # noqa: E402
 
 from mechcont.models.dual_sidestay_geometry import DEFAULT_GEOMETRY  # noqa: E402
 from mechcont.outputs import animation as _a  # noqa: E402
 from mechcont.paper.dual_sidestay import ANIMATION_FRAMES, _fine, retraction  # noqa: E402
 
 
-def test_retraction_animation_has_enough_frames_a_branch_panel_and_status_text(tmp_path):
+def test_retraction_animation_has_enough_frames_a_branch_panel_and_status_text(shared):
     ret = retraction()
     fine = _fine(ret.system, ret.branch, DEFAULT_GEOMETRY.retracted)
     theta = fine.values[:, ret.system.index("theta")]
@@ -35,6 +35,7 @@ def test_retraction_animation_has_enough_frames_a_branch_panel_and_status_text(t
         notes = [t.get_text() for t in renderer.axes[0].texts if "theta =" in t.get_text()]
         assert len(notes) == 1 and "kinematic: no stability" in notes[0]
     assert notes[0].endswith("EP1")
-    out = tmp_path / "r.gif"
-    n = _a.animate(ret.system, fine, out, annotate=("theta",), diagram=("theta", "aft_J_z"), dpi=40)
-    assert n == gif_frames(out) == len(theta)
+    from test_figure_review import retraction_gif
+
+    gif = retraction_gif(shared)   # the paper's GIF: one frame per row of the fine branch
+    assert gif.n == gif.frames == len(theta)

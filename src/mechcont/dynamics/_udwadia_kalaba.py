@@ -80,9 +80,10 @@ def _cholesky_solve(G: np.ndarray, r: np.ndarray, spread: list[float] | None = N
             spread.append(0.0)
         return None
     d = np.abs(c.diagonal())
+    lo, hi = d.min(), d.max()
     if spread is not None:
-        spread.append(float(d.min() / d.max()))
-    if not d.min() > 1e-6 * d.max():
+        spread.append(float(lo / hi))
+    if not lo > 1e-6 * hi:
         return None
     z, _ = dpotrs(c, r, lower=1)
     return z
@@ -294,12 +295,14 @@ class ConstrainedDynamics:
         rejects the step, shrinks it and reports where it failed.
         """
         x = self.full(t, q, s)
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(qd))):
+        # the arrays' own .all(): numpy.all's dispatch cost more than the test on these short vectors (it ran
+        # five times per evaluation of the rates)
+        if not (np.isfinite(x).all() and np.isfinite(qd).all()):
             return np.full(self.nq, np.nan)
         A_joints, b_joints = self.joint_rows(x, qd)
         A, b = self._solved_rows(x, qd, A_joints, b_joints)
         Q = self.forces(x, qd)
-        if not (np.all(np.isfinite(Q)) and np.all(np.isfinite(A)) and np.all(np.isfinite(b))):
+        if not (np.isfinite(Q).all() and np.isfinite(A).all() and np.isfinite(b).all()):
             return np.full(self.nq, np.nan)
         qdd, z = self._solve(x, Q, A, b)
         # the kept rows' conditioning, read off the solve's own Cholesky factor: where they lose rank along
