@@ -10,7 +10,9 @@ The convention (also in docs/development.md):
 - a ```` ```toml ```` block whose first line is ``# file: NAME.toml`` is written to NAME.toml
   before the commands after it run.
 
-A document's commands run in order in one temporary folder holding a copy of ``examples/``, so a
+A document's commands run in order in one temporary folder holding a copy of ``examples/`` (once per test
+session, each command a process of its own: tests/doc_runs.py, whose run the numbers quoted from the commands and
+the review of their figures are checked on too), so a
 later command reads an earlier one's output (``branch.csv``), as the README tells a reader to run its
 tour (in a scratch folder: the tour must leave the repository as it was, issue 37): every file a
 command names as its output is relative, stays inside that folder, and is written there, none in the
@@ -21,25 +23,20 @@ non-zero exit status, a traceback, or warning text on stdout or stderr (``warnin
 
 from __future__ import annotations
 
-import os
 import re
 import shlex
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
-import mechcont
 from mechcont.paper.doc_numbers import COMMANDS, QUOTES, mismatches, quoted, transcript_mismatches
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCUMENTS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 WARNING = re.compile(r"(?i)\bwarning\b|traceback|stopped after max_steps|give bounds")
 FENCE = re.compile(r"^```(\w*)[^\n]*\n(.*?)^```", re.S | re.M)
-#: Runs ``mechcont ARGS`` in this interpreter with this checkout's mechcont first on the path.
-MECHCONT = [sys.executable, "-c", "import sys; sys.argv[0] = 'mechcont'; from mechcont.cli import main; main()"]
 
 
 def examples(path: Path) -> list[tuple[str, str]]:
@@ -147,43 +144,46 @@ def test_run_sh_runs_mechcont_in_the_callers_folder(tmp_path):
     assert r.stdout.strip() == f"in {scratch}: check x.toml"
 
 
+#: The documents whose examples this file runs: the README's tour and the reference's (the others:
+#: tests/test_doc_examples_docs.py, a file of its own so that the two run side by side on two pytest-xdist workers;
+#: these two documents' runs take about as long as the other five's: 155 s and 209 s, the five 316 s in all, run one
+#: after another in one process on the loaded machine, warm disk cache, 2026-11-29).
+HERE = [ROOT / "README.md", ROOT / "docs" / "reference.md"]
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("path", [ROOT / "README.md"], ids=lambda p: p.name)
-def test_every_command_example_runs_clean(path, tmp_path):
-    """The README's tour (docs/*.md: tests/test_doc_examples_docs.py, a file of its own so that the two run side by
-    side on two pytest-xdist workers, 150 s and 190 s on the shared machine): :func:`run_examples`."""
-    run_examples(path, tmp_path)
+@pytest.mark.parametrize("path", HERE, ids=lambda p: p.name)
+def test_every_command_example_runs_clean(path, shared):
+    """The README's tour and the reference's examples: :func:`check_examples`."""
+    check_examples(path, shared)
 
 
-def run_examples(path: Path, tmp_path: Path) -> None:
-    """Run the examples of ``path`` in ``tmp_path``: each command runs clean, writes its outputs in the scratch
-    folder; and what a command of :data:`~mechcont.paper.doc_numbers.COMMANDS` prints is every number the docs quote
-    from it and every line of its transcripts (tests/test_doc_numbers.py; checked on this run rather than on a second
-    run of the same command)."""
-    before = set(os.listdir(ROOT))
+def check_examples(path: Path, shared) -> None:
+    """The examples of ``path`` as they ran in this session (:func:`doc_runs.document_run`, in a scratch folder):
+    each command runs clean, writes its outputs in the scratch folder; and what a command of
+    :data:`~mechcont.paper.doc_numbers.COMMANDS` prints is every number the docs quote from it and every line of its
+    transcripts (tests/test_doc_numbers.py; checked on this run rather than on a second run of the same command)."""
+    from doc_runs import document_run
+
+    run = document_run(path, shared)
     named: list[str] = []
     printed: dict[str, str] = {}
     sources = quoted_here(path)
-    shutil.copytree(ROOT / "examples", tmp_path / "examples")
-    env = dict(os.environ, MPLBACKEND="Agg",
-               PYTHONPATH=os.pathsep.join([str(Path(mechcont.__file__).parent.parent), os.environ.get("PYTHONPATH", "")]))
-    for k, (kind, text) in enumerate(examples(path)):
+    for k, ((kind, text), command) in enumerate(zip(run.steps, run.commands)):
         if kind == "file":
-            name, body = text.split("\n", 1)
-            (tmp_path / name).write_text(body, encoding="utf-8")
             continue
-        r = subprocess.run(MECHCONT + _arguments(text), cwd=tmp_path, env=env, capture_output=True, text=True,
-                           timeout=900)
-        said = r.stdout + r.stderr
-        assert r.returncode == 0, f"{path.name}: `{text}` exited {r.returncode}:\n{said[-3000:]}"
+        assert command is not None, f"{path.name}: `{text}` not run"
+        said = command.stdout + command.stderr
+        assert command.returncode == 0, f"{path.name}: `{text}` exited {command.returncode}:\n{said[-3000:]}"
         bad = [ln for ln in said.splitlines() if WARNING.search(ln)]
         assert not bad, f"{path.name}: `{text}` printed:\n" + "\n".join(bad[:10])
-        named += outputs(_arguments(text))
+        named += outputs(list(command.args))
         if k in sources:
-            printed[sources[k]] = r.stdout
+            printed[sources[k]] = command.stdout
+    assert any(c.fresh for c in run.ran()) or not run.ran()   # at least one command of each started afresh
     # every output was written in the scratch folder, none in the repository
-    assert all((tmp_path / out).exists() for out in named), [out for out in named if not (tmp_path / out).exists()]
-    assert not {out for out in named if Path(out).parts[0] not in before and (ROOT / out).exists()}
+    assert all((run.folder / out).exists() for out in named), [out for out in named if not (run.folder / out).exists()]
+    assert not run.in_repository, run.in_repository
     assert set(quoted(printed)) == {n for n, q in QUOTES.items() if q.source in printed}
     wrong = quoted_wrong(printed)
     assert not wrong, ("quoted numbers and transcript lines that are not the run's (fill the marks: "

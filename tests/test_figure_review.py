@@ -11,7 +11,8 @@ in its first, middle and last frames, each on the animation's own figure with th
 Times measured on the shared 2-core machine (loaded, warm disk cache): overcentre about 16 s (its computation is
 cached per process, which other paper tests share); under ``slow``: nose gear 16 s, design_optimum 15 s (a minute
 more when the dual-sidestay gear is first built), dynamics 36 s, dual_sidestay (quick) 29 s, shimmy 32-46 s (its
-time simulations 20 s), freefall 91 s (its bisections and damping study), the documented commands 50 s in all. A
+time simulations 20 s), freefall 91 s (its bisections and damping study); the documented commands are reviewed on
+the session's run of the documents' examples (tests/doc_runs.py), which tests/test_doc_examples.py checks. A
 section runs once per test session, in whichever worker process asks first (:func:`section_run`): the check of the
 numbers the docs quote from the freefall section reads that run's summary lines (0.1 s of CPU) instead of computing
 the dual-sidestay freefall table again (30 s of CPU), and tests/test_freefall_paper.py and
@@ -21,7 +22,7 @@ the overcentre's with its own run of `mechcont paper`) and tests/test_dynamics_p
 figure of those two checked by figure_checks.check_figure in the run (they ran each section again: 8 s of CPU each
 and the overcentre's twice). The paper's GIF frames: 15 s of CPU (the retraction continued and animated), written
 once per session (:func:`retraction_gif`) for the review here and tests/test_paper_animation.py's frame count (which
-animated the retraction again, 12 s); the README's commands with its GIF's frames: 17 s.
+animated the retraction again, 12 s).
 """
 
 from __future__ import annotations
@@ -277,58 +278,35 @@ def test_every_sampled_frame_of_the_papers_retraction_gif_passes_the_review(shar
     assert not gif.problems[dual_sidestay.ANIMATION[0]], "\n".join(gif.problems[dual_sidestay.ANIMATION[0]])
 
 
-def _figure_commands():
-    """``[(document, [commands up to and including each that writes a figure])]`` of the README and docs."""
+def _figure_documents() -> list[Path]:
+    """The README and docs whose examples draw a figure (``--plot``, ``draw``, ``animate``)."""
+    from doc_runs import writes_figure
     from test_doc_examples import DOCUMENTS, _arguments, examples
 
-    out = []
-    for path in DOCUMENTS:
-        steps = examples(path)
-        runs = [(k, t) for k, t in steps if k == "file" or _writes_figure(_arguments(t))] if steps else []
-        if any(k == "run" for k, _ in runs):
-            out.append((path, [(k, t) for k, t in steps if k == "file" or _needed(t, runs)]))
-    return out
-
-
-def _writes_figure(args) -> bool:
-    return "--plot" in args or args[0] in ("draw", "animate")
-
-
-def _needed(command: str, runs) -> bool:
-    """A command that writes a figure, or writes a file (``--out X``) one of them reads."""
-    from test_doc_examples import _arguments
-
-    args = _arguments(command)
-    if _writes_figure(args):
-        return True
-    outs = [args[k + 1] for k, a in enumerate(args[:-1]) if a == "--out"]
-    return any(o in t for o in outs for k, t in runs if k == "run")
+    return [path for path in DOCUMENTS
+            if any(kind == "run" and writes_figure(_arguments(text)) for kind, text in examples(path))]
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("document,steps", _figure_commands(), ids=lambda v: v.name if isinstance(v, Path) else "")
-def test_every_figure_of_the_documented_commands_passes_the_review(document, steps, tmp_path, captured,
-                                                                   animations, monkeypatch):
-    from click.testing import CliRunner
-    from test_doc_examples import _arguments, outputs
+@pytest.mark.parametrize("document", _figure_documents(), ids=lambda p: p.name)
+def test_every_figure_of_the_documented_commands_passes_the_review(document, shared):
+    """Every figure a document's commands draw, on the session's run of its examples (``doc_runs.document_run``,
+    whose commands tests/test_doc_examples.py checks run clean): each figure a command saves through Matplotlib is
+    reviewed in the command's process once it has run, at the figure's dpi, an animation's sampled frames as drawn
+    (:func:`reviewing_animations`). Each command that draws has its figures reviewed (it runs in a forked process,
+    where the review is), its animations among them."""
+    from doc_runs import document_run, writes_figure
+    from test_doc_examples import outputs
 
-    from mechcont.cli._app import _register, cli
-
-    shutil.copytree(ROOT / "examples", tmp_path / "examples")
-    monkeypatch.chdir(tmp_path)
-    _register()
-    for kind, text in steps:
-        if kind == "file":
-            name, body = text.split("\n", 1)
-            (tmp_path / name).write_text(body, encoding="utf-8")
-            continue
-        r = CliRunner().invoke(cli, _arguments(text))
-        assert r.exit_code == 0, f"{document.name}: `{text}`: {r.output[-2000:]}"
-    assert captured, f"{document.name}: no figure drawn"
-    animated = {o for k, t in steps if k == "run" and _arguments(t)[0] == "animate" for o in outputs(_arguments(t))}
-    assert set(animations) == {Path(o).name for o in animated}   # each animation's frames were reviewed
-    problems = [p for name, fig in sorted(captured.items()) for p in review_problems(fig, name)]
-    problems += [p for name in sorted(animations) for p in animations[name]]
+    run = document_run(document, shared)
+    failed = [(c.text, c.returncode, c.stderr[-2000:]) for c in run.ran() if c.returncode]
+    assert not failed and len(run.ran()) == sum(kind == "run" for kind, _ in run.steps), failed
+    for command in run.ran():
+        if writes_figure(list(command.args)):
+            assert not command.fresh and command.figures, f"{document.name}: `{command.text}`: no figure reviewed"
+        if command.args[0] == "animate":   # each animation's frames were reviewed
+            assert {Path(o).name for o in outputs(list(command.args))} <= set(command.figures), command.text
+    problems = [p for command in run.ran() for name, found in sorted(command.figures.items()) for p in found]
     assert not problems, "\n".join(problems)
 
 
