@@ -161,3 +161,35 @@ def test_damper_tensions_are_compiled_into_the_model():
     row[bare.index("c")] = 7.0
     at_row = DamperTension(bare, sim.coordinates)(row, sim.qdot[6])["retraction"]
     assert at_row == pytest.approx(tension(sim["theta_bar"][6], sim["theta_bar_dot"][6], 7.0, 1.5)[0], rel=1e-6)
+
+
+def test_damper_coefficients_are_not_evaluated_again_for_each_contact_reaction():
+    """A stop's contact reaction changes at every row in contact; the damper coefficients depend on the description's
+    parameters only, so rows differing in a reaction reuse them (the model's value fields are not evaluated again),
+    while a row with another damper coefficient is still taken at it."""
+    from mechcont.dynamics.freefall import DamperTension
+
+    model = load_model("tests/data/freefall_pendulum.toml", c=3.0)
+    real = model.fields_at
+    assert real is not None and model.stops
+    calls = []
+
+    def counting(values):
+        calls.append(dict(values))
+        return real(values)
+
+    system = model.evolve(fields_at=counting)
+    tension_of = DamperTension(system, system.mechanics.coordinates)
+    x = system.defaults()
+    qd = np.array([0.4])
+    first = tension_of(x, qd)
+    assert abs(first["retraction"]) > 0
+    for k, stop in enumerate(system.stops):
+        row = x.copy()
+        row[system.index(stop.reaction)] = 1234.5 * (k + 1)
+        assert tension_of(row, qd) == first
+    assert calls == []
+    row = x.copy()
+    row[system.index("c")] = 6.0
+    assert tension_of(row, qd)["retraction"] == pytest.approx(2 * first["retraction"], rel=1e-12)
+    assert len(calls) == 1 and not any(s.reaction in calls[0] for s in system.stops)

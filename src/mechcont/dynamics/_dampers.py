@@ -42,9 +42,13 @@ class DamperTension:
         self.dampers: tuple[DamperFacts, ...] = system.dampers if system.scene is not None else ()
         self.names = [d.name for d in self.dampers]
         self.system, self.h = system, h
-        self.params = [v.name for v in system.variables if v.kind == "parameter"]
+        # the coefficients depend on the description's parameters only; a stop's contact reaction is a parameter of
+        # the equations too but changes at every row in contact, and would make every row a new key (and a new
+        # evaluation of the model's value fields)
+        reactions = {s.reaction for s in system.stops}
+        self.params = [v.name for v in system.variables if v.kind == "parameter" and v.name not in reactions]
         self.q_index = np.array([system.index(c) for c in coordinates], dtype=int)
-        own = tuple(float(v.value) for v in system.variables if v.kind == "parameter")
+        own = tuple(float(system.variable(n).value) for n in self.params)
         # the coefficients per parameter vector (a sweep ramps parameters in time): the model's at its own values
         self.coefficients: dict[tuple, tuple[DamperFacts, ...]] = {own: self.dampers}
 
