@@ -49,7 +49,9 @@ def test_each_shared_option_name_has_one_meaning():
     assert {c for c, _ in options["--x"]} == {"continue"}  # a plot axis; design's parameters are --vary/--across
     assert {c for c, _ in options["--across"]} == {"design"}
     assert {c for c, _ in options["--dir"]} == {"paper", "study"}
-    assert {c for c, _ in options["--no-progress"]} == {"simulate", "sweep", "animate"}
+    assert {c for c, _ in options["--no-progress"]} == {"simulate", "sweep", "animate", "freefall"}
+    for command, p in options["--no-progress"]:
+        assert (p.help or "").startswith("No progress bar"), (command, p.help)
     assert "--solve-for" not in options
     # --method names the numerical method a command computes with, its values listed: the integrator of the time
     # simulations (SciPy's names), the reliability method of study; --rtol/--atol are the integrator's tolerances

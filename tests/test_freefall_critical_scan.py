@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from mechcont.dynamics.freefall import critical_airspeed, critical_scan
+from mechcont.dynamics.freefall import bisection_runs, critical_airspeed, critical_scan
 from mechcont.models import load_model
 
 PATH = "tests/data/freefall_pendulum.toml"
@@ -27,10 +27,13 @@ def scan(model):
 
 def test_each_bracket_is_the_critical_airspeed_at_that_value(model, scan):
     (bracket,) = scan.brackets
+    calls = []
     direct = critical_airspeed(model, {"angle": 1.0}, "U", 24.0, 30.0, tol=0.5, lock="downlock", until=30.0,
-                               values={"c": 20.0}, **OPTIONS)
+                               values={"c": 20.0}, progress=lambda: calls.append(1), **OPTIONS)
     assert (bracket.locked, bracket.failed) == pytest.approx((direct.locked, direct.failed), rel=1e-12)
     assert 0 < bracket.width <= 0.5 and bracket.locks_below
+    # the progress callback counts the runs: both ends and one per halving of 6 m/s down to 0.5 (12 -> 1: 4 halvings)
+    assert not direct.unsettled and len(calls) == len(direct.runs) == bisection_runs(24.0, 30.0, 0.5) == 6
 
 
 def test_quasi_static_predictor_is_the_closed_form_and_the_comparison_follows(scan):

@@ -108,11 +108,12 @@ def _option_error(exc: InputError, start_option: str = "--start") -> InputError:
 @click.option("--plot", default=None, metavar="FILE.png",
               help="The lock quantity against time (one run), or the critical value against the --scan parameter "
                    "with the quasi-static line.")
+@click.option("--no-progress", is_flag=True, help="No progress bar for --critical's runs (the results are printed).")
 def freefall_command(model: str, starts: tuple[str, ...], old_starts: tuple[str, ...], held_by: str | None,
                      settings: tuple[str, ...], lock: tuple[str, ...], lock_condition: str | None, until: float,
                      critical: str | None, tol: float | None, scan: str | None, max_scan: int, damping: float,
                      method: str, rtol: float, atol: float, step_budget: int, rest_speed: float, out: str | None,
-                     plot: str | None) -> None:
+                     plot: str | None, no_progress: bool) -> None:
     """Release MODEL at rest from the retracted pose and simulate it with its stops until it locks.
 
     Example: mechcont freefall examples/freefall_leg.toml --start angle=3.0 --lock downlock
@@ -175,7 +176,8 @@ def freefall_command(model: str, starts: tuple[str, ...], old_starts: tuple[str,
             if rng is None:
                 _one(system, start, lock_spec, until, options, out_path, plot_path)
             else:
-                _critical(system, start, lock_spec, until, options, rng, tol, scanned, out_path, plot_path)
+                _critical(system, start, lock_spec, until, options, rng, tol, scanned, out_path, plot_path,
+                          quiet=no_progress)
     except InputError as exc:
         raise _option_error(exc, start_option) from None
 
@@ -219,11 +221,16 @@ def _one(system: Model, start: dict[str, float], lock: LockSpec, until: float, o
 
 def _critical(system: Model, start: dict[str, float], lock: LockSpec, until: float, options: dict[str, Any],
               rng: tuple[str, float, float], tol: float | None, scanned: tuple[str, list[float]] | None,
-              out_path: Path | None, plot_path: Path | None) -> None:
-    from ..dynamics.freefall import critical_scan
+              out_path: Path | None, plot_path: Path | None, *, quiet: bool = False) -> None:
+    from .._progress import Progress
+    from ..dynamics.freefall import bisection_runs, critical_scan
 
     vary, low, high = rng
-    scan = critical_scan(system, start, vary, low, high, lock=lock, until=until, tol=tol, scan=scanned, **options)
+    tol = (high - low) / 1000.0 if tol is None else tol
+    total = bisection_runs(low, high, tol) * (len(scanned[1]) if scanned else 1)
+    with Progress(f"freefall --critical {vary}", total=total, unit="runs", quiet=quiet) as bar:
+        scan = critical_scan(system, start, vary, low, high, lock=lock, until=until, tol=tol, scan=scanned,
+                             progress=bar.update if bar.enabled else None, **options)
     for line in scan.describe():
         click.echo(line)
     if out_path is not None:

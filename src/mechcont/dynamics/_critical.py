@@ -12,7 +12,7 @@ point). :meth:`CriticalAirspeed.compare` says whether the two differ by more tha
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -26,7 +26,7 @@ from ._poses import Lock
 if TYPE_CHECKING:
     from ..continuation import ContinuationOptions
 
-__all__ = ["CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical", "quasi_static_critical"]
+__all__ = ["CriticalAirspeed", "critical_airspeed", "bisection_runs", "QuasiStaticCritical", "quasi_static_critical"]
 
 
 @dataclass(frozen=True)
@@ -126,9 +126,15 @@ class CriticalAirspeed:
         return lines
 
 
+def bisection_runs(low: float, high: float, tol: float) -> int:
+    """How many runs :func:`critical_airspeed` makes on ``[low, high]`` to a bracket of width ``tol`` when every
+    run is decided the first time: its two ends, then one per halving, ``ceil(log2((high - low) / tol))``."""
+    return 2 + max(0, math.ceil(math.log2((high - low) / tol)))
+
+
 def critical_airspeed(system: Model, start: Mapping[str, float], vary: str, low: float, high: float, *, tol: float,
                       lock: Lock, until: float, values: Mapping[str, float] | None = None, extend: float = 4.0,
-                      **options: Any) -> CriticalAirspeed:
+                      progress: Callable[[], None] | None = None, **options: Any) -> CriticalAirspeed:
     """Bisect on freefall runs for the value of the parameter ``vary`` (an airspeed, m/s) in
     ``[low, high]`` where the outcome changes between locked and not locked.
 
@@ -138,7 +144,8 @@ def critical_airspeed(system: Model, start: Mapping[str, float], vary: str, low:
     fold's ghost, bouncing on a lock that would hold) is run again for ``extend`` times as long; still
     undecided, the bisection stops there (:attr:`CriticalAirspeed.unsettled`) with the bracket it has, which
     holds the critical value, rather than guess. An end that stays undecided is an :class:`InputError`.
-    ``options`` go to :func:`~mechcont.dynamics.freefall.freefall`.
+    ``options`` go to :func:`~mechcont.dynamics.freefall.freefall`; ``progress()`` is called after each value's
+    run (a progress bar's count: :func:`bisection_runs` of them, and one per undecided end or value run longer).
     Returns the :class:`CriticalAirspeed` whose ends ``locked`` and ``failed`` are runs made.
     """
     model = system
@@ -167,6 +174,8 @@ def critical_airspeed(system: Model, start: Mapping[str, float], vary: str, low:
             if r.decided:
                 break
         runs.append((v, r.outcome))
+        if progress is not None:
+            progress()
         return r.locked if r.decided else None
 
     lo_locks, hi_locks = locks(low), locks(high)

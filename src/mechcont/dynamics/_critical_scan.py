@@ -4,7 +4,7 @@ runs beside the one quasi-static predictor: what ``mechcont freefall --critical 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -109,13 +109,14 @@ class CriticalScan:
 
 def critical_scan(system: Model, start: Mapping[str, float], vary: str, low: float, high: float, *, lock: Lock,
                   until: float, tol: float | None = None, scan: tuple[str, Sequence[float]] | None = None,
-                  **options: Any) -> CriticalScan:
+                  progress: Callable[[], None] | None = None, **options: Any) -> CriticalScan:
     """The critical value of the parameter ``vary`` (an airspeed, m/s) in ``[low, high]`` bracketed by freefall
     runs (:func:`~mechcont.dynamics.freefall.critical_airspeed`, ``tol`` in units of ``vary``, default
     ``(high - low) / 1000``), at each value of ``scan = (parameter, values)`` (e.g. a damper's coefficient) or
     once, and the quasi-static predictor (:func:`~mechcont.dynamics.freefall.quasi_static_critical` on the
     travel from ``start`` to ``lock``, on the side where the first bracket's values lock); ``until`` (s) and
-    ``options`` go to each run. An :class:`InputError` of the predictor is kept as
+    ``options`` go to each run, ``progress()`` is called after each (:func:`~._critical.critical_airspeed`). An
+    :class:`InputError` of the predictor is kept as
     :attr:`CriticalScan.quasi_static_failure`; the brackets' errors are raised.
     Returns the :class:`CriticalScan`."""
     tol = (high - low) / 1000.0 if tol is None else tol
@@ -124,7 +125,7 @@ def critical_scan(system: Model, start: Mapping[str, float], vary: str, low: flo
     for v in values:
         extra = {name: v} if name is not None else {}
         brackets.append(critical_airspeed(system, start, vary, low, high, tol=tol, lock=lock, until=until,
-                                          values=extra, **options))
+                                          values=extra, progress=progress, **options))
     travel, begin, end = travel_of(system, start, lock)
     side = "min" if brackets[0].locks_below else "max"
     qs, failure = None, ""

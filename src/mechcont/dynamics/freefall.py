@@ -15,12 +15,13 @@ This module is the freefall's public face; the work is in :mod:`._freefall` (one
 (the released pose, the travel, the lock), :mod:`._critical` (on runs), :mod:`._critical_scan` and :mod:`._dampers`.
 """
 
-from ._critical import CriticalAirspeed, QuasiStaticCritical, critical_airspeed, quasi_static_critical
+from ._critical import CriticalAirspeed, QuasiStaticCritical, bisection_runs, critical_airspeed, quasi_static_critical
 from ._critical_scan import CriticalScan, critical_scan
 from ._dampers import DamperTension, damper_tensions
 from ._freefall import AT_REST, FAILED, LOCKED, MOVING, FreefallResult, StopLock, freefall
 from ._poses import condition_value, find_lock_stops, held_pose, travel_of
 
-__all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critical_airspeed", "QuasiStaticCritical",
-           "quasi_static_critical", "CriticalScan", "critical_scan", "damper_tensions", "DamperTension", "travel_of",
-           "condition_value", "held_pose", "find_lock_stops", "LOCKED", "AT_REST", "MOVING", "FAILED"]
+__all__ = ["FreefallResult", "StopLock", "freefall", "CriticalAirspeed", "critical_airspeed", "bisection_runs",
+           "QuasiStaticCritical", "quasi_static_critical", "CriticalScan", "critical_scan", "damper_tensions",
+           "DamperTension", "travel_of", "condition_value", "held_pose", "find_lock_stops", "LOCKED", "AT_REST",
+           "MOVING", "FAILED"]
