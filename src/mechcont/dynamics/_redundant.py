@@ -9,7 +9,7 @@ near-dependent rows are inverted, their inconsistent Baumgarte terms divided by 
 accelerations of 1e6 and more, the integrator rejects step after step, and the motion crawls and
 loses energy (the Bricard loop stalled at 0.38 s).
 
-Here, as in the statics (:mod:`mechcont.mechanism.spatial._dropped`), the rank is structural: the
+Here, as in the statics (:mod:`mechcont.mechanism._dropped_rows`), the rank is structural: the
 model says how many rows are redundant (``Model.dropped_constraints``), and that many are left out
 of the solve, chosen by QR with column pivoting of the rows scaled to unit length (the rows farthest
 from the span of those taken are kept). The kept rows are independent, so the solve is the regular

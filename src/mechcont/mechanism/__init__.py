@@ -35,7 +35,7 @@ _LAZY = {
     # for the layers above: a compliant row's law, a parameter expression's value, the spatial row-switch test
     **dict.fromkeys(["compliant_constraints"], "_compliant"),
     **dict.fromkeys(["evaluate"], "_expr"),
-    **dict.fromkeys(["SWITCH_RATIO", "unit_rows"], "spatial._dropped"),
+    **dict.fromkeys(["SWITCH_RATIO", "unit_rows"], "_dropped_rows"),
 }
 
 __all__ = [
@@ -72,12 +72,12 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
         Weld,
         coordinate_names,
     )
+    from ._dropped_rows import SWITCH_RATIO, unit_rows
     from ._expr import evaluate
     from ._file import load_description, parse_description
     from ._ode_file import OdeSystem, load_file, parse_file
     from ._paths import builtin_descriptions, find_description, is_system_file, read_description_bytes
     from .elements import Actuator
-    from .spatial._dropped import SWITCH_RATIO, unit_rows
 
 
 __getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())

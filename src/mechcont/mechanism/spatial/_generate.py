@@ -33,6 +33,7 @@ from ...equations import EquationSystem, MechanicalModel, Model, Variable, gradi
 from ...errors import InputError
 from .._assembly import DofReport, close_constraints, dof_report
 from .._conditions import condition_rows
+from .._dropped_rows import SWITCH_RATIO, choose_dropped, conditioning
 from .._element_states import collect_states, rest_rows, steady_states
 from .._expr import symbol
 from .._forces import loads
@@ -50,7 +51,6 @@ from .._generate import (
 from .._kinematics import place_along_joints
 from .._stops import stop_forces
 from .._values import analysis_value_check, check_values, evaluate, parameter_values, physical_limits
-from ._dropped import SWITCH_RATIO, choose_dropped, conditioning
 from ._kinematics import SpatialKinematics
 from ._rotation import quaternion_from_rotation_vector
 from ._scene import spatial_scene_function

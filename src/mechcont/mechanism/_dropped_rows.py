@@ -1,5 +1,5 @@
-"""Which redundant rigid rows of a spatial closure to drop, and how well the kept ones are
-conditioned (rows scaled to unit length; see :class:`._generate._RowChoice` for why the choice
+"""Which redundant rigid rows of a (spatial) closure to drop, and how well the kept ones are
+conditioned (rows scaled to unit length; see :class:`.spatial._generate._RowChoice` for why the choice
 is made again along a branch)."""
 
 from __future__ import annotations
