@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Self
 import numpy as np
 
 from ..errors import InputError
-from . import _cache, _deferred
+from . import _cache, _compiled, _deferred
 from ._cache_key import expr_text
 from ._codegen import CompiledFunction, compile_dense, engine_arguments
 from ._compiled import ColumnView, generate_code
@@ -250,7 +250,10 @@ class EquationSystem:
         sym = self._engine_form()
         if "texts" not in sym:
             sym["texts"] = [expr_text(e) for e in sym["eqs"]]
-        return ["system", part, str(len(sym["syms"])), *sym["texts"]]
+        # the chunking decides the compiled functions (and their values' last bits): an entry made
+        # with another limit is not this one
+        chunk = [f"chunk={_compiled.SECOND_DERIVATIVES_CHUNK}"] if part == "second_derivatives" else []
+        return ["system", part, str(len(sym["syms"])), *chunk, *sym["texts"]]
 
     def limit_values(self, x: np.ndarray) -> np.ndarray:
         """Value of every :attr:`limits` quantity at the full vector ``x`` (SI units)."""
