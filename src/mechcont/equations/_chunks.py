@@ -2,7 +2,7 @@
 
 SymEngine's common sub-expression elimination grows faster than linearly with the number of expressions
 it is given, and LLVM's compile time with the length of one function: a large model's second derivatives
-(the dual-sidestay gear's 19,871 entries) compile in about half the time as eight functions, which run
+(the dual-sidestay gear's 19,871 entries) compile in about half the time as four functions, which run
 slower per call (sub-expressions shared between chunks are computed in each). :func:`compile_chunked` makes
 them; :class:`ChunkedKernel` is what the one compiled function would have been (a :class:`Kernel`, also
 callable from C through :meth:`ChunkedKernel.as_ctypes`), so every caller of the values is unchanged.

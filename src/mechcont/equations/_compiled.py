@@ -91,12 +91,13 @@ class ColumnView:
 SECOND_DERIVATIVES_OPT_LEVEL = 0
 #: Most second-derivative entries compiled as one function; more are compiled as several
 #: (:func:`~mechcont.equations._chunks.compile_chunked`). SymEngine's CSE and LLVM cost more than
-#: linearly in a function's length: the dual-sidestay gear's 19,871 entries compile in 15-17 s CPU as
-#: eight functions against 28-31 s as one. The price is per call (each chunk computes again the
-#: sub-expressions it shares with others: 620-920 against 340-580 us, same process, loaded machine), paid
-#: back only after some 50,000 calls, and the compile is paid again whenever the equations change. Every model below
-#: this size (four-bar, shimmy, nose gear) keeps one function, its compiled code unchanged.
-SECOND_DERIVATIVES_CHUNK = 2500
+#: linearly in a function's length: the dual-sidestay gear's 19,871 entries compile in 19-21 s CPU as four
+#: functions against 29-39 s as one. The price is per call: each chunk computes again the sub-expressions
+#: it shares with the others (500-680 against 340-420 us, same process, loaded machine). Chunks of 2,500
+#: compiled a little faster (15-18 s) but cost 580-920 us per call; this size halves the compile for a
+#: smaller per-call price. Every model below it (four-bar, shimmy, nose gear) keeps one function, its
+#: compiled code unchanged.
+SECOND_DERIVATIVES_CHUNK = 5000
 
 
 def generate_code(sym: dict[str, Any], part: str) -> dict[str, CompiledFunction | np.ndarray]:
