@@ -16,7 +16,9 @@ Targets (issue "Compile once, start fast"): 86 unknowns (16 bars) <= 2 s, 166 un
 build time against unknowns) <= 2.
 
 ``python benchmarks/bench_build.py [N ...]`` prints the table and the fitted exponent
-(default N = 4 8 16 32); ``cases()`` serves ``benchmarks/run.py``.
+(default N = 4 8 16 32); ``python benchmarks/bench_build.py --models [SRC]`` the cold and cached
+start of the shipped models as a fresh process builds them through the disk cache (:data:`MODELS`;
+``SRC``: another checkout's ``src`` to compare with); ``cases()`` serves ``benchmarks/run.py``.
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ import shutil
 import sys
 import tempfile
 import time
+from collections.abc import Iterable
 
 import numpy as np
 
@@ -219,7 +222,84 @@ def cases():
     ]
 
 
+#: The models ``--models`` builds: what users and the test suite build through the disk cache.
+MODELS = ("examples/dual_sidestay.toml", "examples/shimmy.toml", "nose_gear", "fourbar.toml")
+
+_MODEL_SCRIPT = r"""
+import json, sys, time
+import numpy as np
+from mechcont.models import load_model
+
+def clocks():
+    return time.process_time(), time.perf_counter()
+
+c0, w0 = clocks()
+m = load_model(sys.argv[1])
+c1, w1 = clocks()
+x = m.defaults()
+m.residual_and_jacobian(x)
+if m.mechanics is not None:
+    m.mechanics.stability(x)
+c2, w2 = clocks()
+v = np.linspace(-1.0, 1.0, len(x))
+m.jacobian_derivative(x, v)
+c3, w3 = clocks()
+X = x + 1e-3 * np.random.default_rng(0).standard_normal((200, len(x)))
+t = time.process_time()
+for y in X:
+    m.residual_and_jacobian(y)
+rj = (time.process_time() - t) / len(X)
+t = time.process_time()
+for y in X:
+    m.jacobian_derivative(y, v)
+jd = (time.process_time() - t) / len(X)
+print(json.dumps({"n": len(m.names), "build": [c1 - c0, w1 - w0], "ready": [c2 - c0, w2 - w0],
+                  "second": [c3 - c2, w3 - w2], "res_jac_us": rj * 1e6, "jac_deriv_us": jd * 1e6}))
+"""
+
+
+def model_builds(models: Iterable[str] = MODELS, src: str | None = None) -> list[tuple[str, dict, dict]]:
+    """Cold and cached start of each model as a fresh process runs it (``load_model`` through a fresh disk cache,
+    then the same in a second process): per model ``(name, cold, cached)``, each a dict of CPU and wall
+    seconds (``build``: ``load_model``; ``ready``: also the first residual, Jacobian and stability;
+    ``second``: the first second derivatives after that, what a fold needs) and the per-call CPU cost of
+    the residual and Jacobian and of the second derivatives (microseconds). ``src``: the package source
+    to run (another checkout's ``src``, to compare), default this one's."""
+    import json
+    import subprocess
+
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    src = src or os.path.join(root, "src")
+    out = []
+    for name in models:
+        path = os.path.join(root, name) if name.startswith("examples/") else name
+        with tempfile.TemporaryDirectory(prefix="mechcont-bench-cache-") as cache:
+            env = {**os.environ, "PYTHONPATH": src, "MECHCONT_CACHE_DIR": cache, "MECHCONT_NO_CACHE": "",
+                   "OPENBLAS_NUM_THREADS": "1"}
+            runs = [json.loads(subprocess.run([sys.executable, "-c", _MODEL_SCRIPT, path], env=env, check=True,
+                                              capture_output=True, text=True).stdout.strip().splitlines()[-1])
+                    for _ in range(2)]
+        out.append((name, runs[0], runs[1]))
+    return out
+
+
+def print_model_builds(src: str | None = None) -> None:
+    """The table of :func:`model_builds` (CPU seconds, wall in brackets: the machine may be shared)."""
+    print("| model | unknowns | cold build (s) | cold ready (s) | first 2nd derivs (s) | cached ready (s) "
+          "| cached 2nd derivs (s) | res+Jac per call (us) | 2nd derivs per call (us) |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for name, cold, warm in model_builds(src=src):
+        def f(d: dict, k: str) -> str:
+            return f"{d[k][0]:.2f} ({d[k][1]:.2f})"
+        print(f"| {name} | {cold['n']} | {f(cold, 'build')} | {f(cold, 'ready')} | {f(cold, 'second')} | "
+              f"{f(warm, 'ready')} | {f(warm, 'second')} | {cold['res_jac_us']:.1f} | {cold['jac_deriv_us']:.1f} |",
+              flush=True)
+
+
 def main(argv: list[str]) -> int:
+    if argv[:1] == ["--models"]:
+        print_model_builds(argv[1] if len(argv) > 1 else None)
+        return 0
     sizes = [int(a) for a in argv] or [4, 8, 16, 32]
     from mechcont.mechanism import load_description, parse_description
 

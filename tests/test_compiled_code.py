@@ -284,6 +284,38 @@ def test_second_process_starts_from_the_cache(tmp_path):
     assert fresh["fp"] == first["fp"] and fresh["stats"] == {"hits": 0, "misses": 0, "writes": 0}
 
 
+_LATER = """
+import json, sys, numpy as np
+from mechcont.equations import _cache, _codegen
+from mechcont.models import load_model
+m = load_model("fourbar.toml")
+before = {"second": "hess_values" in m._code, "statics": "_statics" in vars(m.mechanics),
+          "compiled": _codegen.COUNTS["compiled"]}
+x = m.defaults() + np.linspace(-0.01, 0.01, len(m.names))
+qd = np.linspace(0.5, -0.5, len(m.mechanics.coordinates))
+fp = [a.tobytes().hex() for a in (*m.residual_and_jacobian(x), m.jacobian_derivative(x, np.linspace(-1, 1, len(x))),
+                                  m.mechanics.stability(x).eigenvalues, m.mechanics.mass(x), m.mechanics.gamma(x, qd))]
+print(json.dumps({"before": before, "fp": fp, "compiled": _codegen.COUNTS["compiled"], "stats": _cache.STATS,
+                  "sympy": "sympy" in sys.modules}))
+"""
+
+
+def test_a_stored_model_leaves_its_second_derivatives_to_first_use_and_a_later_process_loads_them(tmp_path):
+    """A model built and kept in the disk cache has no second derivatives (nor mechanics groups) compiled
+    until used: a build that never needs them never pays for them. Compiled on first use, they go to the
+    cache under the key kept with the stored model, so a second process loads them (compiling nothing,
+    importing no SymPy), bit-identical to a process without any cache."""
+    env = {"MECHCONT_CACHE_DIR": str(tmp_path / "cache"), "MECHCONT_NO_CACHE": ""}
+    first = _run(_LATER, env)
+    assert first["before"]["second"] is False and first["before"]["statics"] is False
+    assert first["compiled"] >= first["before"]["compiled"] + 2  # compiled on first use
+    second = _run(_LATER, env)
+    assert second["before"]["compiled"] == 0 and second["compiled"] == 0 and second["stats"]["misses"] == 0
+    assert not second["sympy"] and second["fp"] == first["fp"]
+    fresh = _run(_LATER, {"MECHCONT_NO_CACHE": "1"})
+    assert fresh["fp"] == first["fp"] and fresh["before"]["second"] is False
+
+
 def test_concurrent_processes_share_one_cache_safely(tmp_path):
     """Three processes compile the same models into one empty cache at once: all succeed, all agree."""
     env = {**os.environ, "MECHCONT_CACHE_DIR": str(tmp_path / "cache"), "MECHCONT_NO_CACHE": ""}

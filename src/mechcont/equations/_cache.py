@@ -387,16 +387,18 @@ def _remove_stale(shard_fd: int) -> None:
 
 
 def cached(parts: Iterable[str | bytes] | Callable[[], Iterable[str | bytes]], build: Callable[[], T],
-           valid: Callable[[object], bool] | None = None) -> T:
+           valid: Callable[[object], bool] | None = None, *, key: str | None = None) -> T:
     """``build()``, or its result stored by an earlier process under the key of ``parts``.
 
     ``parts`` may be a callable returning them (called only when caching is on).
     ``valid(obj)`` may reject a loaded object (then it is rebuilt and the entry rewritten).
-    With caching off, just ``build()``.
+    ``key``: the entry's key, :func:`cache_key` of ``parts`` made by an earlier process and
+    kept with a stored model (then ``parts`` is not called: making the key imports SymPy, and
+    a loaded model's parts are SymPy expressions). With caching off, just ``build()``.
     """
     if not enabled() or backend() != "llvm":  # the interpreted backend's code is rebuilt on loading anyway
         return build()
-    return load_or_build(cache_key(parts() if callable(parts) else parts), build, valid)
+    return load_or_build(key or cache_key(parts() if callable(parts) else parts), build, valid)
 
 
 def load_or_build(key: str, build: Callable[[], T], valid: Callable[[object], bool] | None = None) -> T:

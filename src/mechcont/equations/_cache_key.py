@@ -26,7 +26,7 @@ __all__ = ["cache_key", "digest", "expr_text"]
 #: The entries' format (a new one invalidates every entry).
 _FORMAT = "2"
 #: The modules whose source decides what compiled code is.
-SOURCES = ("_codegen.py", "_system.py", "_compiled.py", "_variables.py", "_mechanics.py", "_cache.py",
+SOURCES = ("_codegen.py", "_system.py", "_compiled.py", "_chunks.py", "_variables.py", "_mechanics.py", "_cache.py",
            "_cache_key.py", "_backend.py")
 _environment: str | None = None
 

@@ -15,12 +15,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ._backend import Kernel
-from ._codegen import CompiledFunction, _Gather, compile_scattered, compile_values, derivative_entries, is_smooth
+from ._chunks import compile_chunked
+from ._codegen import CompiledFunction, _Gather, compile_scattered, derivative_entries, is_smooth
 
 if TYPE_CHECKING:
     from ._system import EquationSystem
 
-__all__ = ["ColumnView", "generate_code", "SECOND_DERIVATIVES_OPT_LEVEL"]
+__all__ = ["ColumnView", "generate_code", "SECOND_DERIVATIVES_OPT_LEVEL", "SECOND_DERIVATIVES_CHUNK"]
 
 
 class ColumnView:
@@ -88,6 +89,15 @@ class ColumnView:
 
 #: LLVM optimisation level of the compiled second derivatives (the residual and Jacobian use 3).
 SECOND_DERIVATIVES_OPT_LEVEL = 0
+#: Most second-derivative entries compiled as one function; more are compiled as several
+#: (:func:`~mechcont.equations._chunks.compile_chunked`). SymEngine's CSE and LLVM cost more than
+#: linearly in a function's length: the dual-sidestay gear's 19,871 entries compile in 19-21 s CPU as four
+#: functions against 29-39 s as one. The price is per call: each chunk computes again the sub-expressions
+#: it shares with the others (500-680 against 340-420 us, same process, loaded machine). Chunks of 2,500
+#: compiled a little faster (15-18 s) but cost 580-920 us per call; this size halves the compile for a
+#: smaller per-call price. Every model below it (four-bar, shimmy, nose gear) keeps one function, its
+#: compiled code unchanged.
+SECOND_DERIVATIVES_CHUNK = 5000
 
 
 def generate_code(sym: dict[str, Any], part: str) -> dict[str, CompiledFunction | np.ndarray]:
@@ -119,5 +129,5 @@ def generate_code(sym: dict[str, Any], part: str) -> dict[str, CompiledFunction 
     # LLVM's optimisation of these long expressions (every product rule twice) costs 5x the
     # compilation (0.6 s vs 0.13 s on the nose gear) for code 1.5x faster, a difference lost
     # in a fold system's linear algebra (< 1 % of the nose gear's fold locus)
-    return {"hess_values": compile_values(syms, hess_expr, opt_level=SECOND_DERIVATIVES_OPT_LEVEL),
+    return {"hess_values": compile_chunked(syms, hess_expr, SECOND_DERIVATIVES_CHUNK, opt_level=SECOND_DERIVATIVES_OPT_LEVEL),
             "hess_j": h[:, 1], "hess_ik": h[:, 0] * n + h[:, 2]}

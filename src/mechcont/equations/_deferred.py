@@ -13,11 +13,15 @@ instance). An attribute set on the instance since (a copy's own value) is kept.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import pickle
+from collections.abc import Iterator
+from contextvars import ContextVar
 from typing import IO, Any
 
-__all__ = ["needs_heavy", "pack", "materialize", "defaults_off_the_class", "Apart", "DEFERRED", "HEAVY"]
+__all__ = ["needs_heavy", "pack", "materialize", "defaults_off_the_class", "Apart", "DEFERRED", "HEAVY",
+           "compiling_later", "later"]
 
 #: The instance attribute that holds the inner pickle until it is needed.
 DEFERRED = "_deferred_symbolic"
@@ -100,3 +104,24 @@ class Apart:
         if name.startswith("__"):
             raise AttributeError(name)
         return materialize(self, name)
+
+
+_LATER: ContextVar[bool] = ContextVar("mechcont_compile_later", default=False)
+
+
+@contextlib.contextmanager
+def later() -> Iterator[None]:
+    """While active, a model pickled for the disk cache leaves the parts it has not compiled yet (second
+    derivatives, the mechanics' groups) to be compiled on first use, keeping their entries' keys
+    (see :meth:`~mechcont.equations.EquationSystem.compiled_state`); any other pickle (a model sent
+    to another process) holds every part compiled."""
+    token = _LATER.set(True)
+    try:
+        yield
+    finally:
+        _LATER.reset(token)
+
+
+def compiling_later() -> bool:
+    """True inside :func:`later`."""
+    return _LATER.get()

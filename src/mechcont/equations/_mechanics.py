@@ -178,18 +178,34 @@ class MechanicalModel:
 
     def _compile(self) -> None:
         """Compile (or load) every group: Phi, Phi_q, Q; the statics; gamma, dQ/dqdot, M."""
+        self.compile_all(later=False)
+
+    def compile_all(self, later: bool) -> None:
+        """Compile (or load) every group; with ``later``, keep the disk-cache key of each group not compiled
+        yet instead (a copy loaded from the cache compiles or loads it on first use, by that key)."""
         for group in ("kinematics", "statics", "dynamics", *(("states",) if self.element_states else ())):
-            self._compile_group(group)
+            if not later:
+                self._compile_group(group)
+            elif not self._has_group(group) and group not in self.__dict__.get("_group_keys", {}):
+                self.__dict__.setdefault("_group_keys", {})[group] = _cache.cache_key(self._group_key_parts(group))
+
+    def _has_group(self, group: str) -> bool:
+        # all: a model pickled before a member was added builds it
+        return all(n in self.__dict__ for n, g in MechanicalModel._GROUPS.items() if g == group)
+
+    def _group_key_parts(self, group: str) -> list[str]:
+        return ["mechanics", group, self._content_digest()]
 
     def _compile_group(self, group: str) -> None:
-        names = [n for n, g in MechanicalModel._GROUPS.items() if g == group]
-        if all(n in self.__dict__ for n in names):  # all: a model pickled before a member was added builds it
+        if self._has_group(group):
             return
+        names = [n for n, g in MechanicalModel._GROUPS.items() if g == group]
 
         def valid(obj: object) -> bool:
             return isinstance(obj, dict) and set(obj) == set(names)
 
-        code = _cache.cached(["mechanics", group, self._content_digest()], lambda: self._build_group(group), valid)
+        code = _cache.cached(lambda: self._group_key_parts(group), lambda: self._build_group(group), valid,
+                             key=self.__dict__.get("_group_keys", {}).get(group))
         self.__dict__.update(code)
 
     def _content_digest(self) -> str:

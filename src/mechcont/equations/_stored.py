@@ -25,7 +25,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import TypeVar
 
-from . import _cache
+from . import _cache, _deferred
 from ._cache_key import digest
 
 __all__ = ["stored", "stored_key"]
@@ -103,4 +103,5 @@ def stored(parts: Callable[[], Iterable[str | bytes]], build: Callable[[], T], v
     """
     if not _cache.enabled():
         return build()
-    return _cache.load_or_build(stored_key(parts()), build, valid)
+    with _deferred.later():  # parts a later use may never need are compiled then, and cached then
+        return _cache.load_or_build(stored_key(parts()), build, valid)

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Self
 import numpy as np
 
 from ..errors import InputError
-from . import _cache, _deferred
+from . import _cache, _compiled, _deferred
 from ._cache_key import expr_text
 from ._codegen import CompiledFunction, compile_dense, engine_arguments
 from ._compiled import ColumnView, generate_code
@@ -217,13 +217,12 @@ class EquationSystem:
         return self
 
     def _cached_code(self, part: str) -> dict[str, Any]:
-        """One compiled part (``residual_jacobian`` or ``second_derivatives``), from the disk cache or made."""
-        sym = self._code.get("_symbolic")
-        if sym is None:  # SymEngine form, kept for the other part (shared by copies, never pickled)
-            syms, eqs = engine_arguments(self.symbols, self.equations)
-            sym = self._code["_symbolic"] = {"syms": syms, "eqs": eqs}
-        syms, eqs = sym["syms"], sym["eqs"]
-        n_eq, n = len(eqs), len(syms)
+        """One compiled part (``residual_jacobian`` or ``second_derivatives``), from the disk cache or made.
+
+        A model loaded from the disk cache before its second derivatives were compiled holds
+        their entry's key (``second_derivatives_key``, see :meth:`compiled_state`): looked up
+        with it, they come from the cache without the SymPy equations the key is made from."""
+        n_eq, n = self.n_equations, len(self.names)
         if part == "residual_jacobian":
             def valid(obj: object) -> bool:
                 return (isinstance(obj, dict) and set(obj) == {"res_jac"} and isinstance(obj["res_jac"], CompiledFunction)
@@ -233,10 +232,28 @@ class EquationSystem:
                 return (isinstance(obj, dict) and set(obj) == {"hess_values", "hess_j", "hess_ik"}
                         and obj["hess_values"].n_args == n and len(obj["hess_j"]) == obj["hess_values"].n_out)
 
-        def key() -> list[str]:  # the compiled form itself: positional arguments, SymEngine equations
-            return ["system", part, str(n), *(expr_text(e) for e in eqs)]
+        return _cache.cached(lambda: self._key_parts(part), lambda: generate_code(self._engine_form(), part), valid,
+                             key=self._code.get(f"{part}_key"))
 
-        return _cache.cached(key, lambda: generate_code(sym, part), valid)
+    def _engine_form(self) -> dict[str, Any]:
+        """The SymEngine form the parts are compiled from (positional argument symbols ``syms``, equations
+        ``eqs``), made once and kept for the other part (shared by copies, never pickled)."""
+        sym = self._code.get("_symbolic")
+        if sym is None:
+            syms, eqs = engine_arguments(self.symbols, self.equations)
+            sym = self._code["_symbolic"] = {"syms": syms, "eqs": eqs}
+        return sym
+
+    def _key_parts(self, part: str) -> list[str]:
+        """What a part's disk-cache entry is keyed by: the compiled form itself (positional arguments,
+        SymEngine equations; their text made once for both parts)."""
+        sym = self._engine_form()
+        if "texts" not in sym:
+            sym["texts"] = [expr_text(e) for e in sym["eqs"]]
+        # the chunking decides the compiled functions (and their values' last bits): an entry made
+        # with another limit is not this one
+        chunk = [f"chunk={_compiled.SECOND_DERIVATIVES_CHUNK}"] if part == "second_derivatives" else []
+        return ["system", part, str(len(sym["syms"])), *chunk, *sym["texts"]]
 
     def limit_values(self, x: np.ndarray) -> np.ndarray:
         """Value of every :attr:`limits` quantity at the full vector ``x`` (SI units)."""
@@ -340,21 +357,29 @@ class EquationSystem:
 
         Compiles whatever is not compiled yet (residual and Jacobian, second derivatives,
         limits, every part of the mechanics), so a process that loads the state compiles
-        nothing. Included: name, variables, equations and their names, description, limits,
-        the :class:`~mechcont.equations.MechanicalModel` (its symbolic model and compiled
-        functions) and the compiled functions. Not included: the other fields (``scene``,
+        nothing; except while a built model is kept in the disk cache
+        (:func:`~mechcont.equations._deferred.compiling_later`: :func:`~mechcont.equations.stored`),
+        when the second derivatives and the mechanics' groups not compiled yet stay so and their
+        entries' keys are kept instead: a process that loads the model and needs them takes them
+        from the disk cache, where the first process that compiled them put them. Included: name,
+        variables, equations and their names, description, limits, the
+        :class:`~mechcont.equations.MechanicalModel` (its symbolic model and compiled functions)
+        and the compiled functions. Not included: the other fields (``scene``,
         ``check_values``); :meth:`mechcont.equations.Model.compiled_state` adds them and a
         model's own fields, and pickling the system itself keeps every field that pickles
         (see :meth:`__getstate__`).
         """
         from ._mechanics import MechanicalModel
 
-        self.compile(second_derivatives=True)
+        later = _deferred.compiling_later()
+        self.compile(second_derivatives=not later)
+        if later and "hess_values" not in self._code and "second_derivatives_key" not in self._code:
+            self._code["second_derivatives_key"] = _cache.cache_key(self._key_parts("second_derivatives"))
         if self.limits and "limits" not in self._code:
             self._code["limits"] = compile_dense(self.symbols, [lim.expr for lim in self.limits])
         self._limit_uses()
         if isinstance(self.mechanics, MechanicalModel):
-            self.mechanics._compile()
+            self.mechanics.compile_all(later)
         return {"format": 1, "name": self.name, "variables": tuple(self.variables), "equations": tuple(self.equations),
                 "equation_names": tuple(self.equation_names), "description": self.description,
                 "limits": tuple(self.limits), "mechanics": self.mechanics,
