@@ -21,7 +21,7 @@ from .._status import Status
 from ..equations import velocity_name
 from ..errors import InputError
 from ._events import Crossing
-from ._jumps import find_jump_windows
+from ._jumps import find_jump_windows, find_runaway
 from ._peaks import DenseHistory
 from ._result import SimulationResult
 from ._simulate import assemble, initial_vector, simulate
@@ -111,6 +111,9 @@ class SweepResult:
 
     ``result["theta1"]`` etc. give columns as in :class:`SimulationResult`;
     :meth:`curve` gives one segment as (parameter, watched) arrays for plotting over a branch.
+    ``runaway`` is the fast motion of ``watch`` that had not settled when the sweep ended (a crank
+    spinning away past its last fold; :func:`._jumps.find_runaway`): ``value`` is the load where it
+    started, ``after`` the coordinates at the end; None when the sweep ended at rest.
     """
 
     simulation: SimulationResult
@@ -119,6 +122,7 @@ class SweepResult:
     watch: str
     jumps: list[Jump]
     threshold: list[float]
+    runaway: Jump | None = None
 
     @property
     def t(self) -> np.ndarray:
@@ -370,7 +374,10 @@ def sweep(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float],
     sim = _concatenate(parts)
     t, w, wdot = sim.t, sim[watch], sim[velocity_name(watch)]
     in_sweep = t >= settle
-    span = float(np.ptp(w[in_sweep])) if in_sweep.any() else 0.0
+    runaway = _runaway(sim, watch, ramps, seg_times, loads, np.flatnonzero(in_sweep))
+    # a runaway's unbounded span is no scale for the quasi-static rate: the span before it is
+    span = float(np.ptp(w[in_sweep & (t <= (math.inf if runaway is None else runaway.t_start))])) \
+        if in_sweep.any() else 0.0
     crossings = sim.t_events[0] if through is not None else None
     jumps, thresholds = [], []
     for k, ((a, b), r) in enumerate(zip(seg_times, ramps)):
@@ -386,8 +393,43 @@ def sweep(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float],
                 parameter=r.name, value=loads[r.name](win.time), time=win.time, segment=k,
                 direction=r.direction, before=_coords_at(sim, win.i_start), after=_coords_at(sim, win.i_end),
                 t_start=win.t_start, t_end=win.t_end))
+    if runaway is not None:
+        jumps, runaway = _runaway_from_jumps(jumps, runaway, sim)
     return SweepResult(simulation=sim, ramps=ramps, segment_times=seg_times, watch=watch, jumps=jumps,
-                       threshold=thresholds)
+                       threshold=thresholds, runaway=runaway)
+
+
+def _runaway_from_jumps(jumps: list[Jump], runaway: Jump, sim: SimulationResult) -> tuple[list[Jump], Jump]:
+    """The jumps found at the quasi-static rate scale that run on to the end of the sweep (one per segment the
+    runaway crosses, each ending where the next begins) are the runaway's start: it starts with the first of
+    them. Returns the other jumps and the runaway."""
+    end, first = float(sim.t[-1]), None
+    for j in reversed(jumps):
+        if j.t_end < end:
+            break
+        first, end = j, j.t_start
+    if first is None:
+        return jumps, runaway
+    kept = [j for j in jumps if j.t_end < first.t_start]
+    return kept, (runaway if runaway.t_start < first.t_start else replace(first, after=runaway.after,
+                                                                             t_end=runaway.t_end))
+
+
+def _runaway(sim: SimulationResult, watch: str, ramps: Sequence[Ramp], seg_times: np.ndarray,
+             loads: Mapping[str, Callable[[float], float]], idx: np.ndarray) -> Jump | None:
+    """The runaway of ``watch`` at the end of the samples ``idx`` (the sweep after settling) as a
+    :class:`Jump` timed where it started, or None (:func:`._jumps.find_runaway`)."""
+    if idx.size < 3 or sim.status is not Status.FINISHED:  # stopped at an event or failed: no end reached
+        return None
+    win = find_runaway(sim.t, sim[watch], sim[velocity_name(watch)], int(idx[0]), int(idx[-1]),
+                       duration=ramps[-1].duration)
+    if win is None:
+        return None
+    k = min(int(np.searchsorted(seg_times[:, 1], win.time)), len(ramps) - 1)  # the segment it started in
+    r = ramps[k]
+    return Jump(parameter=r.name, value=loads[r.name](win.time), time=win.time, segment=k, direction=r.direction,
+                before=_coords_at(sim, win.i_start), after=_coords_at(sim, win.i_end), t_start=win.t_start,
+                t_end=win.t_end)
 
 
 def _concatenate(parts: list[SimulationResult]) -> SimulationResult:
