@@ -9,7 +9,9 @@ rate ``span(w) / duration`` of the segment (``span`` over the whole sweep), so a
 response never qualifies; above-threshold intervals separated by short pauses (overshoot
 and ringing after the jump) are merged, and a jump must change ``w`` by at least
 ``min_change`` of its span. With ``through=value`` the jump is instead timed where ``w``
-passes through ``value`` (e.g. a lock-link angle passing 180 degrees).
+passes through ``value`` (e.g. a lock-link angle passing 180 degrees). A runaway (a fast motion
+that never settles, whose span would inflate that threshold without bound) is found by
+:func:`find_runaway` on a rate scale it does not move.
 """
 
 from __future__ import annotations
