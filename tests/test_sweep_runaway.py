@@ -6,6 +6,7 @@ and spins on for ever. The old jump threshold, 10 x span / duration, grew with t
 never reached.
 """
 
+import csv
 import math
 
 import numpy as np
@@ -71,11 +72,16 @@ def test_synthetic_runaway_is_timed_where_it_starts_and_a_settling_jump_is_no_ru
     assert 4.8 < jump.t_start < 5.0 < jump.t_end < 5.2
 
 
-def test_sweep_command_reports_the_runaway():
+def test_sweep_command_reports_the_runaway(tmp_path):
+    out = tmp_path / "sweep.csv"
     res = make_runner()("sweep", BAR, "--start", "theta_bar=-1", "--ramp", "M=3:7:0.5", "--watch", "theta_bar",
-                        "--no-progress")
+                        "--no-progress", "--out", str(out))
     assert res.exit_code == 0, res.output
     assert "no jump" not in res.output
     (line,) = [ln for ln in res.output.splitlines() if ln.startswith("runaway")]
     load = float(line.split("M = ")[1].split()[0])
     assert M_FOLD < load < M_FOLD + 1.0 and "had not settled" in line
+    rows = list(csv.reader(out.open()))
+    (marked,) = [r for r in rows[1:] if r[-1] == "RUNAWAY"]  # the last sample before it: at most one time step
+    # (1/400 of the 8 s segment) earlier, 0.02 s x 0.5 N m/s = 0.01 N m
+    assert float(marked[rows[0].index("M [N m]")]) == pytest.approx(load - 0.005, abs=0.0051)

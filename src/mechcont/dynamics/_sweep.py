@@ -130,12 +130,14 @@ class SweepResult:
     def to_csv(self, path: str | Path) -> Path:
         """Write the time history as CSV: ``t``, the variables, the velocities and a ``label``
         column marking ``JUMP`` on the last sample before each jump's fast motion (so
-        ``mechcont draw MODEL --point sweep.csv:JUMP1`` draws the mechanism as it lets go).
-        Returns the path."""
+        ``mechcont draw MODEL --point sweep.csv:JUMP1`` draws the mechanism as it lets go) and
+        ``RUNAWAY`` on the last sample before the runaway. Returns the path."""
         labels = [""] * len(self.t)
         for j in self.jumps:
             i = max(int(np.searchsorted(self.t, j.t_start, side="right")) - 1, 0)
             labels[i] = "JUMP"
+        if self.runaway is not None:
+            labels[max(int(np.searchsorted(self.t, self.runaway.t_start, side="right")) - 1, 0)] = "RUNAWAY"
         return self.simulation.to_csv(path, labels)
 
 
@@ -269,26 +271,31 @@ def sweep(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float],
     sim = _concatenate(parts)
     t, w, wdot = sim.t, sim[watch], sim[velocity_name(watch)]
     in_sweep = t >= settle
-    runaway = _runaway(sim, watch, ramps, seg_times, loads, np.flatnonzero(in_sweep))
-    # a runaway's unbounded span is no scale for the quasi-static rate: the span before it is
-    span = float(np.ptp(w[in_sweep & (t <= (math.inf if runaway is None else runaway.t_start))])) \
-        if in_sweep.any() else 0.0
     crossings = sim.t_events[0] if through is not None else None
-    jumps, thresholds = [], []
-    for k, ((a, b), r) in enumerate(zip(seg_times, ramps)):
-        idx = np.flatnonzero((t >= a) & (t <= b))
-        if idx.size < 2:
-            thresholds.append(float("nan"))
-            continue
-        windows, thr = find_jump_windows(t, w, wdot, int(idx[0]), int(idx[-1]), span=span,
-                                         threshold=rate_threshold, crossings=crossings)
-        thresholds.append(thr)
-        for win in windows:
-            jumps.append(Jump(
-                parameter=r.name, value=loads[r.name](win.time), time=win.time, segment=k,
-                direction=r.direction, before=_coords_at(sim, win.i_start), after=_coords_at(sim, win.i_end),
-                t_start=win.t_start, t_end=win.t_end))
-    if runaway is not None:
+
+    def found(span: float) -> tuple[list[Jump], list[float]]:
+        jumps, thresholds = [], []
+        for k, ((a, b), r) in enumerate(zip(seg_times, ramps)):
+            idx = np.flatnonzero((t >= a) & (t <= b))
+            if idx.size < 2:
+                thresholds.append(float("nan"))
+                continue
+            windows, thr = find_jump_windows(t, w, wdot, int(idx[0]), int(idx[-1]), span=span,
+                                             threshold=rate_threshold, crossings=crossings)
+            thresholds.append(thr)
+            jumps += [Jump(parameter=r.name, value=loads[r.name](win.time), time=win.time, segment=k,
+                           direction=r.direction, before=_coords_at(sim, win.i_start), after=_coords_at(sim, win.i_end),
+                           t_start=win.t_start, t_end=win.t_end) for win in windows]
+        return jumps, thresholds
+
+    jumps, thresholds = found(float(np.ptp(w[in_sweep])) if in_sweep.any() else 0.0)
+    # a fast motion at the end that this threshold catches is a jump (still in flight, maybe); a runaway's own
+    # span inflates it out of reach, so only a runaway that no jump found overlaps counts
+    runaway = _runaway(sim, watch, ramps, seg_times, loads, np.flatnonzero(in_sweep))
+    if runaway is not None and jumps and jumps[-1].t_end >= runaway.t_start:
+        runaway = None
+    if runaway is not None:  # the quasi-static rate's scale is the span before it
+        jumps, thresholds = found(float(np.ptp(w[in_sweep & (t <= runaway.t_start)])))
         jumps, runaway = _runaway_from_jumps(jumps, runaway, sim)
     return SweepResult(simulation=sim, ramps=ramps, segment_times=seg_times, watch=watch, jumps=jumps,
                        threshold=thresholds, runaway=runaway)
