@@ -45,6 +45,7 @@ def test_one_jump_per_sweep_just_past_the_lower_fold(slow_sweeps):
         assert j.value < F_fold  # after passing the fold (F decreasing)
         assert j.before["theta1"] < th_fold < r["theta1"][0]  # left the branch beyond the fold angle
         assert j.after["theta1"] < -1.0  # landed on the other side (stable branch theta1 < -acos(LU/L))
+        assert r.runaway is None  # it settled there: a jump, not a runaway
     # the slowest sweep is within 2 % of the fold load
     assert abs(slow_sweeps[0.125].jumps[0].value - F_fold) < 0.02 * abs(F_fold)
 
@@ -66,6 +67,7 @@ def test_down_then_up_sweep_makes_the_hysteresis_loop(oc04):
     x0 = on_upper_branch(oc04, -65.0, 0.4)
     r = sweep(oc04, x0, {"F": [(-65.0, -90.0, 1.0), (-90.0, 110.0, 4.0)]}, watch="theta1")
     assert [j.segment for j in r.jumps] == [0, 1]
+    assert r.runaway is None  # the up jump still ringing at the sweep's end lands on a branch visited before
     down, up = r.jumps
     assert down.direction == -1 and F_lower - 8 < down.value < F_lower
     assert up.direction == 1 and F_upper < up.value < F_upper + 15

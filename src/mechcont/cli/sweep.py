@@ -194,7 +194,7 @@ def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...]
                f"{sim.nfev} evaluations; max constraint drift {sim.constraint_drift:.2e}")
     if not sim.success:
         click.echo(f"# warning: {sim.message}")
-    if not result.jumps:
+    if not result.jumps and result.runaway is None:
         click.echo(f"no jump of {watch} detected")
     gaps = _gaps(result, branch)
     if use_stops:
@@ -205,6 +205,12 @@ def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...]
         click.echo(f"jump {i}: {j.parameter} = {j.value:.6g} {system.variable(j.parameter).unit} ({word}, segment "
                    f"{j.segment + 1}) at t = {j.time:.4g} s; {watch} {a[0]:.6g} -> {b[0]:.6g} {a[1]}".rstrip()
                    + (gaps[i - 1] if gaps else ""))
+    if (run := result.runaway) is not None:
+        a, b = _shown(system, watch, run.before[watch]), _shown(system, watch, run.after[watch])
+        click.echo(f"runaway: {watch} left the equilibrium at {run.parameter} = {run.value:.6g} "
+                   f"{system.variable(run.parameter).unit} ({'increasing' if run.direction > 0 else 'decreasing'}, "
+                   f"segment {run.segment + 1}) at t = {run.time:.4g} s and had not settled when the sweep ended; "
+                   f"{watch} {a[0]:.6g} -> {b[0]:.6g} {a[1]}".rstrip())
     if branch is not None and not branch.special("LP"):
         click.echo(f"the branch has no fold in {segs[0].name}: no jump is expected" + (
             "" if not result.jumps else f", yet {len(result.jumps)} were found (check --set against the branch)"))

@@ -9,7 +9,9 @@ rate ``span(w) / duration`` of the segment (``span`` over the whole sweep), so a
 response never qualifies; above-threshold intervals separated by short pauses (overshoot
 and ringing after the jump) are merged, and a jump must change ``w`` by at least
 ``min_change`` of its span. With ``through=value`` the jump is instead timed where ``w``
-passes through ``value`` (e.g. a lock-link angle passing 180 degrees).
+passes through ``value`` (e.g. a lock-link angle passing 180 degrees). A runaway (a fast motion
+that never settles, whose span would inflate that threshold without bound) is found by
+:func:`find_runaway` on a rate scale it does not move.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["JumpWindow", "find_jump_windows"]
+__all__ = ["JumpWindow", "find_jump_windows", "find_runaway"]
 
 
 @dataclass(frozen=True)
@@ -114,3 +116,54 @@ def find_jump_windows(t: np.ndarray, w: np.ndarray, wdot: np.ndarray, lo: int, h
             out.append(JumpWindow(float(tc), min(ts, float(tc)), max(float(tt[j]), float(tc)),
                                   lo + max(i - 1, 0), lo + j))
     return out, thr
+
+
+def _time_weighted_median(t: np.ndarray, x: np.ndarray) -> float:
+    """Median of ``x`` over time: each sample weighted by half the time to its neighbours (s)."""
+    weights = np.gradient(t) if len(t) > 1 else np.ones(1)
+    order = np.argsort(x)
+    cum = np.cumsum(weights[order])
+    return float(x[order][min(int(np.searchsorted(cum, 0.5 * cum[-1])), len(x) - 1)])
+
+
+def find_runaway(t: np.ndarray, w: np.ndarray, wdot: np.ndarray, lo: int, hi: int, *, duration: float,
+                 factor: float = 10.0, min_change: float = 0.05) -> JumpWindow | None:
+    """A runaway of ``w`` at the end of the samples ``lo..hi`` (inclusive): a fast motion that never settles.
+
+    A runaway (a crank spinning away past its last fold) inflates the span of ``w`` without bound, so the
+    rate threshold of :func:`find_jump_windows` (``span / duration``) may never be reached. Here the rate
+    scale is the median of ``|dw/dt|`` over time, which the runaway does not move while it lasts less
+    than half of the record: the motion is fast where ``|dw/dt|`` exceeds ``factor`` times that median
+    (pauses merged as for jumps), and a runaway is a fast interval that reaches the last sample and
+    changes ``w`` by at least ``min_change`` of its span over the record and by more than the span of
+    everything before it (a jump lands among the equilibria the sweep visits; a runaway leaves them all
+    behind, as a crank turning over does). It must not have settled: over
+    its last tenth ``w`` still moves faster than the jumps' threshold with the span before it,
+    ``factor * span / duration`` (``duration``, s, of the sweep's last segment), so a quasi-static
+    response that steepens towards the end of a sweep is no runaway.
+
+    Returns the runaway's window (``time`` and ``t_start`` where it started, s; ``t_end`` the last
+    sample) or None.
+    """
+    tt, ww, rr = t[lo:hi + 1], w[lo:hi + 1], np.abs(wdot[lo:hi + 1])
+    span = float(np.ptp(ww)) if len(ww) else 0.0
+    if len(tt) < 3 or span <= 0:
+        return None
+    scale = _time_weighted_median(tt, rr)
+    thr = factor * max(scale, 1e-9 * span / float(tt[-1] - tt[0]))  # a record at rest: its noise is no runaway
+    fast = _fast_intervals(rr, thr)
+    if not fast or fast[-1][1] != len(tt) - 1:
+        return None
+    i, j = fast[-1]
+    for pi, pj in reversed(fast[:-1]):  # the pauses of the motion (a crank slowing at each turn) joined
+        if tt[i] - tt[pj] > tt[j] - tt[i]:
+            break
+        i = pi
+    before = float(np.ptp(ww[:i + 1]))
+    if abs(ww[j] - ww[i]) < max(min_change * span, before):
+        return None
+    k = min(int(np.searchsorted(tt, tt[j] - 0.1 * (tt[j] - tt[i]))), j - 1)  # the last tenth of it
+    if abs(ww[j] - ww[k]) / (tt[j] - tt[k]) <= factor * before / duration:
+        return None
+    ts = _cross_time(tt, rr - thr, i - 1) if i > 0 else float(tt[i])
+    return JumpWindow(ts, ts, float(tt[j]), lo + max(i - 1, 0), lo + j)

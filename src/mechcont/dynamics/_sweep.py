@@ -13,7 +13,7 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, TypeAlias
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -21,59 +21,21 @@ from .._status import Status
 from ..equations import velocity_name
 from ..errors import InputError
 from ._events import Crossing
-from ._jumps import find_jump_windows
+from ._jumps import find_jump_windows, find_runaway
 from ._peaks import DenseHistory
+from ._ramps import MAX_SWEEP_SECONDS, Ramp, RampSpec, _schedule, parse_ramps
 from ._result import SimulationResult
 from ._simulate import assemble, initial_vector, simulate
 
 if TYPE_CHECKING:
-    from typing_extensions import TypeIs
 
     from ..equations import Model
     from ._contact import StopEvent
 
 __all__ = ["Ramp", "Jump", "SweepResult", "sweep", "parse_ramps", "sweep_start"]
 
-
-#: Longest time (s) a sweep may simulate (about 11.6 days of slowly ramped loads).
-MAX_SWEEP_SECONDS = 1e6
 #: Most integration steps a sweep may need (its length over the largest time step).
 MAX_SWEEP_STEPS = 1e6
-
-
-@dataclass(frozen=True)
-class Ramp:
-    """One sweep segment: parameter ``name`` goes linearly from ``start`` to ``stop``.
-
-    ``rate`` is the speed of the ramp, positive, in units of the parameter per second.
-    """
-
-    name: str
-    start: float
-    stop: float
-    rate: float
-
-    def __post_init__(self) -> None:
-        if not (math.isfinite(self.start) and math.isfinite(self.stop)):
-            raise InputError("ramp", f"{self.name}: start and stop must be finite numbers")
-        if not (math.isfinite(self.rate) and self.rate > 0):
-            raise InputError("ramp", f"{self.name}: rate must be a positive number (units per second)")
-        if self.start == self.stop:
-            raise InputError("ramp", f"{self.name}: start and stop must differ")
-        if self.duration > MAX_SWEEP_SECONDS:
-            raise InputError("ramp", f"{self.name}: at {self.rate:g} per second the segment {self.start:g} -> "
-                                     f"{self.stop:g} lasts {self.duration:.3g} s; at most {MAX_SWEEP_SECONDS:g} s "
-                                     f"may be simulated: raise the rate")
-
-    @property
-    def duration(self) -> float:
-        """Time the segment takes (s)."""
-        return abs(self.stop - self.start) / self.rate
-
-    @property
-    def direction(self) -> int:
-        """+1 for an increasing ramp, -1 for a decreasing one."""
-        return 1 if self.stop > self.start else -1
 
 
 @dataclass(frozen=True)
@@ -111,6 +73,9 @@ class SweepResult:
 
     ``result["theta1"]`` etc. give columns as in :class:`SimulationResult`;
     :meth:`curve` gives one segment as (parameter, watched) arrays for plotting over a branch.
+    ``runaway`` is the fast motion of ``watch`` that had not settled when the sweep ended (a crank
+    spinning away past its last fold; :func:`._jumps.find_runaway`): ``value`` is the load where it
+    started, ``after`` the coordinates at the end; None when the sweep ended at rest.
     """
 
     simulation: SimulationResult
@@ -119,6 +84,7 @@ class SweepResult:
     watch: str
     jumps: list[Jump]
     threshold: list[float]
+    runaway: Jump | None = None
 
     @property
     def t(self) -> np.ndarray:
@@ -164,54 +130,15 @@ class SweepResult:
     def to_csv(self, path: str | Path) -> Path:
         """Write the time history as CSV: ``t``, the variables, the velocities and a ``label``
         column marking ``JUMP`` on the last sample before each jump's fast motion (so
-        ``mechcont draw MODEL --point sweep.csv:JUMP1`` draws the mechanism as it lets go).
-        Returns the path."""
+        ``mechcont draw MODEL --point sweep.csv:JUMP1`` draws the mechanism as it lets go) and
+        ``RUNAWAY`` on the last sample before the runaway. Returns the path."""
         labels = [""] * len(self.t)
         for j in self.jumps:
             i = max(int(np.searchsorted(self.t, j.t_start, side="right")) - 1, 0)
             labels[i] = "JUMP"
+        if self.runaway is not None:
+            labels[max(int(np.searchsorted(self.t, self.runaway.t_start, side="right")) - 1, 0)] = "RUNAWAY"
         return self.simulation.to_csv(path, labels)
-
-
-#: What :func:`parse_ramps` reads: a :class:`Ramp`, a sequence of them or of ``(name, from, to, rate)`` tuples, or a
-#: mapping ``{name: (from, to, rate)}`` / ``{name: [(from, to, rate), ...]}``.
-RampSpec: TypeAlias = (Ramp | Sequence[Ramp | tuple[str, float, float, float]]
-                       | Mapping[str, Sequence[float] | Sequence[Sequence[float]]])
-
-
-def _one_segment(spec: Sequence[float] | Sequence[Sequence[float]]) -> TypeIs[Sequence[float]]:
-    """True for one segment ``(from, to, rate)`` of a ramp mapping's value, False for a sequence of them."""
-    return not (len(spec) and isinstance(spec[0], (tuple, list)))
-
-
-def parse_ramps(ramp: RampSpec) -> tuple[Ramp, ...]:
-    """Normalise a ramp description to a tuple of :class:`Ramp`.
-
-    Accepts a :class:`Ramp`, a sequence of ``Ramp`` or ``(name, from, to, rate)`` tuples, or a
-    mapping ``{name: (from, to, rate)}`` / ``{name: [(from, to, rate), ...]}`` (segments in
-    order).
-    """
-    out: list[Ramp] = []
-    if isinstance(ramp, Ramp):
-        return (ramp,)
-    if isinstance(ramp, Mapping):
-        for name, spec in ramp.items():
-            segs = [spec] if _one_segment(spec) else spec
-            for seg in segs:
-                if len(seg) != 3:
-                    raise InputError("ramp", f"{name}: give (from, to, rate)")
-                out.append(Ramp(name, float(seg[0]), float(seg[1]), float(seg[2])))
-    elif isinstance(ramp, Sequence):
-        for item in ramp:
-            if isinstance(item, Ramp):
-                out.append(item)
-            elif len(item) == 4:
-                out.append(Ramp(str(item[0]), float(item[1]), float(item[2]), float(item[3])))
-            else:
-                raise InputError("ramp", "give Ramp objects or (name, from, to, rate) tuples")
-    if not out:
-        raise InputError("ramp", "at least one segment (name, from, to, rate) is needed")
-    return tuple(out)
 
 
 def sweep_start(system: Model, start: Mapping[str, float], ramps: Sequence[Ramp], *, equilibrium: bool = True,
@@ -234,33 +161,6 @@ def sweep_start(system: Model, start: Mapping[str, float], ramps: Sequence[Ramp]
 
         x0 = find_equilibrium(system, values={n: x0[system.index(n)] for n in system.parameter_names}, guess=x0)
     return x0
-
-
-def _schedule(ramps: Sequence[Ramp], settle: float) -> tuple[np.ndarray, dict[str, Callable[[float], float]]]:
-    """Segment time windows and a piecewise-linear load function per ramped parameter."""
-    times, t = [], settle
-    for r in ramps:
-        times.append((t, t + r.duration))
-        t += r.duration
-    loads: dict[str, Callable[[float], float]] = {}
-    for name in dict.fromkeys(r.name for r in ramps):
-        segs = tuple((a, b, r.start, r.stop) for (a, b), r in zip(times, ramps) if r.name == name)
-        loads[name] = _piecewise(segs)
-    return np.array(times, float).reshape(-1, 2), loads
-
-
-def _piecewise(segs: Sequence[tuple[float, float, float, float]]) -> Callable[[float], float]:
-    """Load function: linear within each segment, held between and after them."""
-    def value(t: float) -> float:
-        v = segs[0][2]
-        for a, b, v0, v1 in segs:
-            if t < a:
-                return v
-            if t <= b:
-                return v0 + (t - a) * (v1 - v0) / (b - a)
-            v = v1
-        return v
-    return value
 
 
 #: A ramped parameter stays within this many of its scales (``system.scales()``) of zero.
@@ -317,7 +217,8 @@ def sweep(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float],
     Returns
     -------
     SweepResult
-        The record, its segments and the detected :class:`Jump` list (jump loads).
+        The record, its segments and the detected :class:`Jump` list (jump loads), and its
+        ``runaway`` (a motion of ``watch`` that had not settled by the end, or None).
     """
     ramps = parse_ramps(ramp)
     for r in ramps:
@@ -370,24 +271,67 @@ def sweep(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float],
     sim = _concatenate(parts)
     t, w, wdot = sim.t, sim[watch], sim[velocity_name(watch)]
     in_sweep = t >= settle
-    span = float(np.ptp(w[in_sweep])) if in_sweep.any() else 0.0
     crossings = sim.t_events[0] if through is not None else None
-    jumps, thresholds = [], []
-    for k, ((a, b), r) in enumerate(zip(seg_times, ramps)):
-        idx = np.flatnonzero((t >= a) & (t <= b))
-        if idx.size < 2:
-            thresholds.append(float("nan"))
-            continue
-        windows, thr = find_jump_windows(t, w, wdot, int(idx[0]), int(idx[-1]), span=span,
-                                         threshold=rate_threshold, crossings=crossings)
-        thresholds.append(thr)
-        for win in windows:
-            jumps.append(Jump(
-                parameter=r.name, value=loads[r.name](win.time), time=win.time, segment=k,
-                direction=r.direction, before=_coords_at(sim, win.i_start), after=_coords_at(sim, win.i_end),
-                t_start=win.t_start, t_end=win.t_end))
+
+    def found(span: float) -> tuple[list[Jump], list[float]]:
+        jumps, thresholds = [], []
+        for k, ((a, b), r) in enumerate(zip(seg_times, ramps)):
+            idx = np.flatnonzero((t >= a) & (t <= b))
+            if idx.size < 2:
+                thresholds.append(float("nan"))
+                continue
+            windows, thr = find_jump_windows(t, w, wdot, int(idx[0]), int(idx[-1]), span=span,
+                                             threshold=rate_threshold, crossings=crossings)
+            thresholds.append(thr)
+            jumps += [Jump(parameter=r.name, value=loads[r.name](win.time), time=win.time, segment=k,
+                           direction=r.direction, before=_coords_at(sim, win.i_start), after=_coords_at(sim, win.i_end),
+                           t_start=win.t_start, t_end=win.t_end) for win in windows]
+        return jumps, thresholds
+
+    jumps, thresholds = found(float(np.ptp(w[in_sweep])) if in_sweep.any() else 0.0)
+    # a fast motion at the end that this threshold catches is a jump (still in flight, maybe); a runaway's own
+    # span inflates it out of reach, so only a runaway that no jump found overlaps counts
+    runaway = _runaway(sim, watch, ramps, seg_times, loads, np.flatnonzero(in_sweep))
+    if runaway is not None and jumps and jumps[-1].t_end >= runaway.t_start:
+        runaway = None
+    if runaway is not None:  # the quasi-static rate's scale is the span before it
+        jumps, thresholds = found(float(np.ptp(w[in_sweep & (t <= runaway.t_start)])))
+        jumps, runaway = _runaway_from_jumps(jumps, runaway, sim)
     return SweepResult(simulation=sim, ramps=ramps, segment_times=seg_times, watch=watch, jumps=jumps,
-                       threshold=thresholds)
+                       threshold=thresholds, runaway=runaway)
+
+
+def _runaway_from_jumps(jumps: list[Jump], runaway: Jump, sim: SimulationResult) -> tuple[list[Jump], Jump]:
+    """The jumps found at the quasi-static rate scale that run on to the end of the sweep (one per segment the
+    runaway crosses, each ending where the next begins) are the runaway's start: it starts with the first of
+    them. Returns the other jumps and the runaway."""
+    end, first = float(sim.t[-1]), None
+    for j in reversed(jumps):
+        if j.t_end < end:
+            break
+        first, end = j, j.t_start
+    if first is None:
+        return jumps, runaway
+    kept = [j for j in jumps if j.t_end < first.t_start]
+    return kept, (runaway if runaway.t_start < first.t_start else replace(first, after=runaway.after,
+                                                                             t_end=runaway.t_end))
+
+
+def _runaway(sim: SimulationResult, watch: str, ramps: Sequence[Ramp], seg_times: np.ndarray,
+             loads: Mapping[str, Callable[[float], float]], idx: np.ndarray) -> Jump | None:
+    """The runaway of ``watch`` at the end of the samples ``idx`` (the sweep after settling) as a
+    :class:`Jump` timed where it started, or None (:func:`._jumps.find_runaway`)."""
+    if idx.size < 3 or sim.status is not Status.FINISHED:  # stopped at an event or failed: no end reached
+        return None
+    win = find_runaway(sim.t, sim[watch], sim[velocity_name(watch)], int(idx[0]), int(idx[-1]),
+                       duration=ramps[-1].duration)
+    if win is None:
+        return None
+    k = min(int(np.searchsorted(seg_times[:, 1], win.time)), len(ramps) - 1)  # the segment it started in
+    r = ramps[k]
+    return Jump(parameter=r.name, value=loads[r.name](win.time), time=win.time, segment=k, direction=r.direction,
+                before=_coords_at(sim, win.i_start), after=_coords_at(sim, win.i_end), t_start=win.t_start,
+                t_end=win.t_end)
 
 
 def _concatenate(parts: list[SimulationResult]) -> SimulationResult:
