@@ -6,8 +6,8 @@ with the model built and one warm-up call before timing. ``python benchmarks/ben
 machine) per family and per orbit, the orbits' count, the fold of cycles (D, period) and the period at D = 0.3; with
 ``--profile``, the 25 most expensive functions of one call (cProfile, cumulative); with ``--both``, the compiled
 condensation (``_ccondense``) and NumPy's (``MECHCONT_PURE_PYTHON=1``) in alternate calls of this process, each
-with its own row (the fairest comparison on a shared machine, whose load moves between processes). AUTO-07p took 111 ms of its
-``Total Time`` for its 150 orbits of this family on the development machine (idle; ``bench_auto.py`` measures both).
+with its own row (the fairest comparison on a shared machine, whose load moves between processes). AUTO-07p's own time for its
+150 orbits of this family is measured beside mechcont's by ``bench_auto.py --cycles-only`` (docs/benchmarks.md).
 Also a case of ``benchmarks/run.py`` (wall time there).
 """
 

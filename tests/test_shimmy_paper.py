@@ -114,8 +114,8 @@ def test_simulation_from_a_small_disturbance_lands_on_the_continued_cycle(gear):
 
 
 def test_hopf_curve_computes_the_lyapunov_coefficient_once_per_point(gear, monkeypatch):
-    """On a mechanism ``l1`` costs about 490 evaluations of the rates (finite differences of their
-    Jacobian): the GH event and the table's column must share it, not compute it twice per point."""
+    """On a mechanism ``l1`` costs two dependent batches of rates (third differences along directions): the GH event
+    and the table's column must share it, not compute it twice per point."""
     from mechcont.continuation import _hopf
 
     model, _, hopf = gear
