@@ -217,11 +217,9 @@ class EquationSystem:
         return self
 
     def _cached_code(self, part: str) -> dict[str, Any]:
-        """One compiled part (``residual_jacobian`` or ``second_derivatives``), from the disk cache or made.
-
-        A model loaded from the disk cache before its second derivatives were compiled holds
-        their entry's key (``second_derivatives_key``, see :meth:`compiled_state`): looked up
-        with it, they come from the cache without the SymPy equations the key is made from."""
+        """One compiled part (``residual_jacobian`` or ``second_derivatives``), from the disk cache or made. A model
+        loaded from the cache before its second derivatives were compiled holds their entry's key (``second_derivatives_key``,
+        :meth:`compiled_state`): with it they come from the cache without the SymPy equations the key is made from."""
         n_eq, n = self.n_equations, len(self.names)
         if part == "residual_jacobian":
             def valid(obj: object) -> bool:
@@ -245,13 +243,11 @@ class EquationSystem:
         return sym
 
     def _key_parts(self, part: str) -> list[str]:
-        """What a part's disk-cache entry is keyed by: the compiled form itself (positional arguments,
-        SymEngine equations; their text made once for both parts)."""
+        """A part's disk-cache key: the compiled form (positional arguments, SymEngine equations' text, made once)."""
         sym = self._engine_form()
         if "texts" not in sym:
             sym["texts"] = [expr_text(e) for e in sym["eqs"]]
-        # the chunking decides the compiled functions (and their values' last bits): an entry made
-        # with another limit is not this one
+        # the chunking decides the compiled functions (their values' last bits): another limit's entry is not this
         chunk = [f"chunk={_compiled.SECOND_DERIVATIVES_CHUNK}"] if part == "second_derivatives" else []
         return ["system", part, str(len(sym["syms"])), *chunk, *sym["texts"]]
 
