@@ -21,7 +21,7 @@ from .._status import Status
 from ..equations import velocity_name
 from ..errors import InputError
 from ._events import Crossing
-from ._jumps import find_jump_windows, find_runaway
+from ._jumps import JumpWindow, find_jump_windows, find_runaway
 from ._peaks import DenseHistory
 from ._ramps import MAX_SWEEP_SECONDS, Ramp, RampSpec, _schedule, parse_ramps
 from ._result import SimulationResult
@@ -283,9 +283,7 @@ def sweep(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float],
             windows, thr = find_jump_windows(t, w, wdot, int(idx[0]), int(idx[-1]), span=span,
                                              threshold=rate_threshold, crossings=crossings)
             thresholds.append(thr)
-            jumps += [Jump(parameter=r.name, value=loads[r.name](win.time), time=win.time, segment=k,
-                           direction=r.direction, before=_coords_at(sim, win.i_start), after=_coords_at(sim, win.i_end),
-                           t_start=win.t_start, t_end=win.t_end) for win in windows]
+            jumps += [_jump(sim, r, k, loads, win) for win in windows]
         return jumps, thresholds
 
     jumps, thresholds = found(float(np.ptp(w[in_sweep])) if in_sweep.any() else 0.0)
@@ -328,7 +326,13 @@ def _runaway(sim: SimulationResult, watch: str, ramps: Sequence[Ramp], seg_times
     if win is None:
         return None
     k = min(int(np.searchsorted(seg_times[:, 1], win.time)), len(ramps) - 1)  # the segment it started in
-    r = ramps[k]
+    return _jump(sim, ramps[k], k, loads, win)
+
+
+def _jump(sim: SimulationResult, r: Ramp, k: int, loads: Mapping[str, Callable[[float], float]],
+          win: JumpWindow) -> Jump:
+    """The :class:`Jump` of the fast motion ``win`` in segment ``k`` (ramp ``r``): its load from the schedule
+    ``loads``, the coordinates where it starts and ends."""
     return Jump(parameter=r.name, value=loads[r.name](win.time), time=win.time, segment=k, direction=r.direction,
                 before=_coords_at(sim, win.i_start), after=_coords_at(sim, win.i_end), t_start=win.t_start,
                 t_end=win.t_end)
