@@ -137,42 +137,40 @@ def cases():
                     lambda: locate_fold(model, before, vary), 10))
         out.append((f"{name}: locate_fold from LP1 ({n} unknowns)", lambda: locate_fold(model, at, vary), 10))
 
+    def recorded(name, unknowns, run):
+        """The branch ``run()`` continues, its events' polish calls recorded as cases."""
+        with _recording() as calls:
+            b = run()
+        event_cases(name, calls, unknowns)
+        return b
+
     ab = load_model(str(ROOT / "examples" / "ab.toml"), beta=1.0)
-    with _recording() as calls:
-        b = continuation(ab, ab.vector({}), "D", hopf=True,
-                         options=ContinuationOptions(bounds={"D": (0.0, 0.2), "u2": (-1.0, 10.0)}))
-    event_cases("ab (beta = 1)", calls, 3)
+    b = recorded("ab (beta = 1)", 3, lambda: continuation(
+        ab, ab.vector({}), "D", hopf=True, options=ContinuationOptions(bounds={"D": (0.0, 0.2), "u2": (-1.0, 10.0)})))
     fold_cases("ab (beta = 1)", ab, b, "D")
     hopf_cases("ab (beta = 1)", ab, b, "D")
 
     caster = load_model(str(ROOT / "tests" / "data" / "caster_tyre.toml"))
-    with _recording() as calls:
-        b = continuation(caster, find_equilibrium(caster), "V", hopf=True,
-                         options=ContinuationOptions(bounds={"V": (0.5, 50.0)}))
-    event_cases("caster_tyre", calls, 7)
+    b = recorded("caster_tyre", 7, lambda: continuation(
+        caster, find_equilibrium(caster), "V", hopf=True, options=ContinuationOptions(bounds={"V": (0.5, 50.0)})))
     hopf_cases("caster_tyre", caster, b, "V")
 
     oc = build_overcentre(LU=0.1)
-    with _recording() as calls:
-        b = continuation(oc, find_equilibrium(oc, hold={"theta1": 0.3}, free=["F"]), "F",
-                         options=ContinuationOptions(bounds={"theta1": (-1.4, 1.4)}))
-    event_cases("overcentre (LU = 0.1)", calls, 7)
+    b = recorded("overcentre (LU = 0.1)", 7, lambda: continuation(
+        oc, find_equilibrium(oc, hold={"theta1": 0.3}, free=["F"]), "F",
+        options=ContinuationOptions(bounds={"theta1": (-1.4, 1.4)})))
     fold_cases("overcentre (LU = 0.1)", oc, b, "F")
 
     fourbar = load_model(str(ROOT / "tests" / "data" / "fourbar_shimmy.toml"))
-    with _recording() as calls:
-        b = continuation(fourbar, find_equilibrium(fourbar), "V", hopf=True,
-                         options=ContinuationOptions(bounds={"V": (0.3, 20.0)}))
-    event_cases("fourbar_shimmy", calls, 19)
+    b = recorded("fourbar_shimmy", 19, lambda: continuation(
+        fourbar, find_equilibrium(fourbar), "V", hopf=True, options=ContinuationOptions(bounds={"V": (0.3, 20.0)})))
     hopf_cases("fourbar_shimmy", fourbar, b, "V")
 
     from mechcont.paper import _shimmy_analysis as an
     from mechcont.paper.shimmy import gear_at
 
     gear, x1 = gear_at(1.0)
-    with _recording() as calls:
-        b = an.equilibria(gear, x1)
-    event_cases("shimmy gear", calls, 12)
+    b = recorded("shimmy gear", 12, lambda: an.equilibria(gear, x1))
     hopf_cases("shimmy gear", gear, b, "V")
     return out
 
