@@ -40,7 +40,7 @@ if TYPE_CHECKING:
 
     from ..equations import Dynamics, Model
 
-__all__ = ["RateFunction", "CycleSystem", "NewtonFailure", "nontrivial_multipliers"]
+__all__ = ["RateFunction", "CycleSystem", "NewtonFailure", "nontrivial_multipliers", "split_multipliers"]
 
 #: :meth:`CycleSystem.collocation`'s ``(u, T, p, uc, du, F, Fz, Fp)``
 Collocation = tuple[np.ndarray, float, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
@@ -365,11 +365,15 @@ class CycleSystem:
 
 
 def nontrivial_multipliers(mu: np.ndarray | Sequence[complex]) -> np.ndarray:
-    """The multipliers without the trivial one (the one nearest 1), largest modulus first."""
+    """The multipliers without the trivial one (the one nearest 1), in their given order."""
     arr = np.asarray(mu, complex)
-    if len(arr) == 0:
-        return arr
-    return np.delete(arr, int(np.argmin(np.abs(arr - 1.0))))
+    return arr if len(arr) == 0 else split_multipliers(arr)[1]
+
+
+def split_multipliers(mu: np.ndarray) -> tuple[complex, np.ndarray]:
+    """``(trivial, others)``: of the (non-empty) multipliers ``mu``, the one nearest 1 and the rest in their order."""
+    k = int(np.argmin(np.abs(mu - 1.0)))
+    return complex(mu[k]), np.concatenate((mu[:k], mu[k + 1:]))
 
 
 def phase_reference(system: CycleSystem, X: np.ndarray) -> np.ndarray:

@@ -32,7 +32,7 @@ from ..units import derivative_unit
 from ._collocation import NCOL_RANGE, Mesh
 from ._cycle_branch import CycleBranch
 from ._cycle_start import CycleStart, hopf_point, hopf_start, samples_start
-from ._cycle_system import CycleSystem, NewtonFailure, RateFunction, nontrivial_multipliers, phase_reference
+from ._cycle_system import CycleSystem, NewtonFailure, RateFunction, nontrivial_multipliers, phase_reference, split_multipliers
 from ._cycle_tests import (
     HOMOCLINIC_STEPS,
     HOPF_AMPLITUDE,
@@ -173,8 +173,8 @@ class _Run:
         t, r = system.tangent_and_row(lu, row0)
         # the multipliers from the last factors: their Jacobian is that of the converged orbit to within the tolerance
         mu = lu.multipliers()
-        k = int(np.argmin(np.abs(mu - 1.0)))  # the trivial one (nontrivial_multipliers' choice)
-        pt = _Point(system, X, t, np.concatenate((mu[:k], mu[k + 1:])), trivial=complex(mu[k]), r=r)
+        trivial, others = split_multipliers(mu)
+        pt = _Point(system, X, t, others, trivial=trivial, r=r)
         pt.iterations = iters  # type: ignore[attr-defined]
         return pt
 
@@ -421,8 +421,8 @@ def _branch(model: Model, run: _Run, status: Status, message: str) -> CycleBranc
         hi.append(largest)
         orbits.append((pt.system.mesh, u.copy()))
         if deps:
-            uc, _ = pt.system.mesh.at_collocation(u)
-            every = np.vstack([u, uc.reshape(-1, u.shape[1])])
+            # the nodes and Gauss points (their order does not matter to an extreme; no derivatives needed)
+            every = np.vstack([u, pt.system.mesh.gauss_values(u).reshape(-1, u.shape[1])])
             X = dyn.full_vectors(every, rates.x_at(pv))[:, deps]
             dlo.append(X.min(axis=0))
             dhi.append(X.max(axis=0))
