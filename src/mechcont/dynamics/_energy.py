@@ -98,12 +98,12 @@ class EnergyLedger:
         x = dyn.full(t, q)
         tol = self.atol + self.rtol * np.abs(y)
         known = dyn.recall(t, q, qd)  # the step's last evaluation, at its end
-        if known is None:
-            dyn.acceleration(t, q, qd)
-            known = dyn.recall(t, q, qd)
         M = dyn.mech.mass(x)
-        if known is None:   # an evaluation that is not kept (element states): the net force alone
-            return float(np.abs(M @ dyn.acceleration(t, q, qd)) @ tol[:nq] + np.abs(M @ qd) @ tol[nq:])
+        if known is None:
+            qdd = dyn.acceleration(t, q, qd)
+            known = dyn.recall(t, q, qd)
+            if known is None:  # an evaluation that is not kept (element states): the net force alone
+                return float(np.abs(M @ qdd) @ tol[:nq] + np.abs(M @ qd) @ tol[nq:])
         net = M @ known[0]
         return float((np.abs(net) + np.abs(net - known[2])) @ tol[:nq] + np.abs(M @ qd) @ tol[nq:])
 
