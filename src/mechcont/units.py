@@ -1,17 +1,22 @@
-"""The one display rule for units: SI inside, radians inside; angles shown in degrees.
+"""The one display rule for units: radians inside, angles shown in degrees; and the unit system of a description.
 
 Every table, summary line, axis and warning shows a value through :func:`display`, so the rule
-(``rad`` is shown as ``deg``, everything else as it is) is written once.
+(``rad`` is shown as ``deg``, everything else as it is) is written once. A description written in other
+units (millimetres and grams, ...) declares them (``[mechanism] units``, a :class:`UnitSystem`), and every
+name it generates is labelled through :meth:`UnitSystem.label`: ``"N"`` becomes ``"g mm/s^2"``, so a label
+always says the unit its value is in.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import TypeVar
 
 import numpy as np
 
-__all__ = ["display", "display_unit", "display_scale", "shown", "derivative_unit", "dimension", "typical_scale"]
+__all__ = ["display", "display_unit", "display_scale", "shown", "derivative_unit", "dimension", "typical_scale",
+           "UnitSystem", "SI", "LENGTH_UNITS", "MASS_UNITS"]
 
 V = TypeVar("V", float, np.ndarray)
 
@@ -104,3 +109,69 @@ def typical_scale(unit: str, length: float, force: float) -> float | None:
     if "rad" in label.replace("/", " ").split():
         return None
     return {(1, 0, 0): length, (1, 1, -2): force, (2, 1, -2): force * length}.get(dimension(label) or (0, 0, 0))
+
+
+#: the length and mass units a description may declare, with their size in metres and kilograms
+LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "km": 1e3, "um": 1e-6, "\u00b5m": 1e-6}
+MASS_UNITS = {"kg": 1.0, "g": 1e-3, "t": 1e3, "mg": 1e-6}
+
+
+def _angle_power(unit: str) -> int:
+    """How many times ``rad`` divides (negative) or multiplies a label such as ``"N m/rad"``."""
+    num, _, den = unit.replace("*", " ").replace("(", " ").replace(")", " ").partition("/")
+    return num.split().count("rad") - den.split().count("rad")
+
+
+@dataclass(frozen=True)
+class UnitSystem:
+    """The consistent units a description's numbers are in: ``length`` (a key of :data:`LENGTH_UNITS`),
+    ``mass`` (a key of :data:`MASS_UNITS`), seconds and radians; force is then mass length/s^2 and
+    energy (a moment) force length. The default is SI (m, kg)."""
+
+    length: str = "m"
+    mass: str = "kg"
+
+    @property
+    def is_si(self) -> bool:
+        """True for metres and kilograms (the labels are then SI's own: N, N m, J)."""
+        return self.length == "m" and self.mass == "kg"
+
+    @property
+    def newtons(self) -> bool:
+        """True when the system's force is exactly a newton (mm with t, m with kg): forces are labelled
+        ``N``, moments ``N mm``, stiffnesses ``N/mm`` (a mass or an inertia keeps ``t``, ``t mm^2``)."""
+        return math.isclose(MASS_UNITS[self.mass] * LENGTH_UNITS[self.length], 1.0, rel_tol=1e-12)
+
+    def label(self, si: str) -> str:
+        """The label in this system of a quantity whose SI label is ``si``: for mm and g, ``"N"`` ->
+        ``"g mm/s^2"``, ``"N m/rad"`` -> ``"g mm^2/(s^2 rad)"``, ``"m/s"`` -> ``"mm/s"``, ``"rad"`` and
+        ``""`` unchanged; for mm and t, ``"N"`` stays and ``"J"`` -> ``"N mm"``. In SI ``si`` itself.
+        A label :func:`dimension` cannot read is returned unchanged."""
+        dim = dimension(si)
+        if self.is_si or dim is None or dim == (0, 0, 0):
+            return si
+        return self.of(dim, _angle_power(si))
+
+    def of(self, dim: tuple[int, int, int], angle: int = 0) -> str:
+        """The label of dimension ``dim`` (length, mass, time exponents) times ``rad^angle`` in this
+        system (see :meth:`label`); ``"1"`` for a pure number."""
+        length, mass, time = dim
+        factors: list[tuple[str, int]]
+        if self.newtons and mass != 0 and time < 0:  # N, N mm, N/mm, N s/mm: what users of mm/t expect
+            factors = [("N", mass), (self.length, length - mass), ("s", time + 2 * mass)]
+        else:
+            factors = [(self.mass, mass), (self.length, length), ("s", time)]
+        factors.append(("rad", angle))
+        num = [n if e == 1 else f"{n}^{e}" for n, e in factors if e > 0]
+        den = [n if e == -1 else f"{n}^{-e}" for n, e in factors if e < 0]
+        if not den:
+            return " ".join(num) or "1"
+        below = den[0] if len(den) == 1 else f"({' '.join(den)})"
+        return f"{' '.join(num) or '1'}/{below}"
+
+    def __str__(self) -> str:
+        return f"{self.length}, {self.mass}, s"
+
+
+#: metres, kilograms, seconds
+SI = UnitSystem()

@@ -7,7 +7,8 @@ dimension length^a mass^b time^c is multiplied by ``L^a M^b``; an expression str
 literals must be pure factors, as in ``"0.55*L"``). A number under a key this helper does not know is an
 error, so a description it cannot rewrite is never rewritten wrongly. With ``labels``, each declared unit is
 relabelled in the new units (``"m"`` -> ``"mm"``, ``"N"`` -> ``"g mm/s^2"``): labels never convert a value, so
-the file is what a user working in those units would write.
+the file is what a user working in those units would write; a scaling with named units (:data:`NAMES`) also
+declares them (``[mechanism] units``), so the generated names' headers say them too.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from mechcont.units import dimension
 LENGTH, MASS, FORCE, MOMENT, NONE = (1, 0, 0), (0, 1, 0), (1, 1, -2), (2, 1, -2), (0, 0, 0)
 #: the unit names of the scalings the tests use: (length factor, mass factor) -> (length label, mass label)
 NAMES = {(1e3, 1e3): ("mm", "g"), (1e3, 1.0): ("mm", "kg"), (1e-3, 1.0): ("km", "kg"), (1e6, 1.0): ("um", "kg"),
+         (1e3, 1e-3): ("mm", "t"),
          (1.0, 1.0): ("m", "kg")}
 
 
@@ -98,7 +100,9 @@ def scale_description(doc: Mapping, L: float, M: float, labels: bool = False) ->
     conditions = _condition_dims(doc)
     out: dict = {}
     for table, body in doc.items():
-        if table == "mechanism" or table == "conditions" and not any("target" in c for c in body.values()):
+        if table == "mechanism" and labels and (L, M) in NAMES:  # declared, so the generated names say them
+            out[table] = dict(body, units=dict(zip(("length", "mass"), NAMES[(L, M)])))
+        elif table == "mechanism" or table == "conditions" and not any("target" in c for c in body.values()):
             out[table] = body
         elif table == "parameters":
             new = {}

@@ -45,9 +45,11 @@ def echo_balance(result: SimulationResult) -> None:
                    "audit does not count")
         return
     b = result.balance
-    click.echo(f"# {b.describe()}")
+    unit = result.energy_unit
+    click.echo(f"# {b.describe(unit)}")
     if not b.closes and not result.integrator_failure:  # a failed run's own line says why it stopped
-        click.echo(f"warning: the energy balance does not close: residual {b.worst:.3g} J exceeds the {b.bound:.3g} J "
+        click.echo(f"warning: the energy balance does not close: residual {b.worst:.3g} {unit} exceeds the "
+                   f"{b.bound:.3g} {unit} "
                    "the integrator's tolerances explain; tighten --rtol, or the model's forces and masses disagree",
                    err=True)
 

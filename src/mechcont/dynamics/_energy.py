@@ -220,11 +220,12 @@ class EnergyBalance:
         """True when the worst residual is within :attr:`bound`."""
         return self.worst <= self.bound
 
-    def describe(self) -> str:
+    def describe(self, unit: str = "J") -> str:
         """One line: ``energy [J]: start 10, kinetic 1.2, potential 3.4, dissipated 5.6, external work 0.2,
         residual 1e-07 (worst 2e-07, bound 3e-05)``: the end of the history (E_kin + E_pot + dissipated
-        - external work = start + residual)."""
-        return (f"energy [J]: start {self.E0:.6g}, kinetic {self.E_kin:.6g}, potential {self.E_pot:.6g}, "
+        - external work = start + residual), its energies in ``unit`` (the history's
+        :attr:`~._result.SimulationResult.energy_unit`)."""
+        return (f"energy [{unit}]: start {self.E0:.6g}, kinetic {self.E_kin:.6g}, potential {self.E_pot:.6g}, "
                 f"dissipated {self.E_diss:.6g}, external work {self.W_ext:.6g}, residual {self.residual:.3g} "
                 f"(worst {self.worst:.3g}, bound {self.bound:.3g})")
 

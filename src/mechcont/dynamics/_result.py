@@ -61,7 +61,10 @@ class SimulationResult:
     detail:
         Where and why the integrator stopped, when it failed (time and the solver's message).
     units:
-        ``{name: SI unit}`` of the variables (written into the CSV headers).
+        ``{name: unit}`` of the variables (written into the CSV headers), each in the model's units.
+    energy_unit:
+        The unit of the energy audit's columns: ``"J"``, or the description's energy unit
+        (``"g mm^2/s^2"`` for a file in mm and g, :class:`~mechcont.units.UnitSystem`).
     stop_events:
         With stops simulated: every :class:`~._contact.StopEvent` (impact, contact, release) in
         time order, each with the index of its history row.
@@ -108,6 +111,7 @@ class SimulationResult:
     integrator_failure: str = ""
     motion_warning: str = ""
     dense: DenseHistory | None = field(default=None, repr=False, compare=False)
+    energy_unit: str = "J"
 
     def __getstate__(self) -> dict[str, Any]:
         """Pickled without the dense output (the interpolants and the model's compiled dynamics)."""
@@ -137,11 +141,12 @@ class SimulationResult:
         return locate_peak(self, (lambda x, qd: abs(fn(x, qd))) if absolute else fn)
 
     def unit(self, column: str) -> str:
-        """SI unit of a column (``t``: s; ``<coordinate>_dot``: its unit per second; ``""`` if none)."""
+        """Unit of a column (``t``: s; ``<coordinate>_dot``: its unit per second; the energy audit's:
+        :attr:`energy_unit`; ``""`` if none)."""
         if column == "t":
             return "s"
         if column in self.energy:
-            return "J"
+            return self.energy_unit
         if (c := velocity_coordinate(column, self.coordinates)) is not None:
             u = self.units.get(c, "")
             return f"{u}/s" if u else "1/s"

@@ -12,6 +12,7 @@ from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, DenseOutput, OdeSolv
 from .._status import Status
 from ..equations import velocity_coordinate
 from ..errors import InputError
+from ..units import SI
 from ._assembly import assemble, initial_vector
 from ._budget import MAX_STEPS
 from ._contact import MAX_EVENTS_AT_ONCE
@@ -383,7 +384,8 @@ def _assemble_result(system: Model, dyn: ConstrainedDynamics, coords: tuple[str,
                             status=status, constraint_drift=drift, velocity_drift=vdrift,
                             t_events=t_events, x_events=x_events, nfev=dyn.nfev, detail=detail, stop_events=stop_events,
                             indeterminate_rows=indeterminate,
-                            units={v.name: v.unit for v in system.variables})
+                            units={v.name: v.unit for v in system.variables},
+                            energy_unit=getattr(system.mechanism, "units", SI).label("J"))
 
 
 def _stop_events(contacts: StopConstraints, t: np.ndarray) -> list[StopEvent]:

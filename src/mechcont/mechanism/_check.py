@@ -32,6 +32,7 @@ import numpy as np
 
 from ..equations import Model, StabilityResult
 from ..errors import ConvergenceError, InputError, one_line
+from ..units import SI, UnitSystem
 from ._compliant import compliant_constraints
 from ._equilibrium import free_equilibrium
 from ._paths import find_description
@@ -225,7 +226,7 @@ class CheckReport:
             rows.append((*cells, s.description))
         out += _table(rows)
         out.append("")
-        out.append("continuation scales (SI, as system.scales()):")
+        out.append("continuation scales (each in its variable's unit, as system.scales()):")
         out += _table([(q.name, f"{_g(q.value)} {q.unit}".rstrip()) for q in self.scales])
         out.append("")
         if self.warnings:
@@ -297,6 +298,7 @@ class _Facts(NamedTuple):
     hold: tuple[str, ...]
     normalisations: frozenset[str]   # constraint rows that are no joint's (see Mechanism.normalisation_rows)
     warnings: tuple[str, ...] = ()   # sound but likely not meant (bar_point_warnings)
+    units: UnitSystem = SI           # the units the description's numbers are in
 
     @classmethod
     def of(cls, mech: Mechanism, overrides: Mapping[str, float]) -> _Facts:
@@ -305,7 +307,8 @@ class _Facts(NamedTuple):
         from ._values import parameter_values
 
         return cls(mech.name, mech.description, mech.dof, tuple(j.name for j in mech.joints), tuple(mech.hold),
-                   mech.normalisation_rows(), bar_point_warnings(mech, parameter_values(mech, overrides)))
+                   mech.normalisation_rows(), bar_point_warnings(mech, parameter_values(mech, overrides)),
+                   mech.units)
 
 
 def _stored_build(name_or_path: str | Path, reduced: bool,
@@ -391,7 +394,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         if eq in normalisations:
             continue
         joint, kind = eq.rsplit("_", 1)
-        unit = "rad" if kind == "angle" or kind.startswith("rot") else "m"
+        unit = "rad" if kind == "angle" or kind.startswith("rot") else mech.units.label("m")
         gaps[(joint, unit)] = max(gaps.get((joint, unit), 0.0), float(r))
     closure = tuple(Quantity(j, v, u) for (j, u), v in gaps.items())
     kept = {j for j, _ in gaps}
@@ -400,10 +403,11 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     # among the constraints either, and is reported with its deflections instead
     eliminated = tuple(j for j in mech.joints if j not in kept and j not in dropped_joints) if reduced else ()
     # a gap in metres against the mechanism's length (its position scale): the same closure in any units
-    length = max([float(sc) for sc, v in zip(system.scales(), system.variables) if v.kind == "state" and v.unit == "m"],
+    metre = mech.units.label("m")
+    length = max([float(sc) for sc, v in zip(system.scales(), system.variables) if v.kind == "state" and v.unit == metre],
                  default=1.0)
     for q in closure:
-        if not q.value <= CLOSURE_TOL * (length if q.unit == "m" else 1.0):
+        if not q.value <= CLOSURE_TOL * (length if q.unit == metre else 1.0):
             findings.append(f"joint {q.name} is open by {q.value:.3g} {q.unit} at the assembled configuration")
     dropped = system.dropped_residual(x) if system.dropped_constraints and system.dropped_residual else None
     if dropped is not None and not dropped <= CLOSURE_TOL:
@@ -416,7 +420,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     worst = int(np.argmax(np.abs(res))) if nq else 0
     coord = model.coordinates[worst] if nq else ""
     imbalance = Quantity(system.equation_names[worst] if nq else "", float(np.abs(res[worst])) if nq else 0.0,
-                         "N" if nq and system.variable(coord).unit == "m" else "N m")
+                         mech.units.label("N" if nq and system.variable(coord).unit == metre else "N m"))
     # relative to the reactions' size alone (a floor of 1 N would be a billion times too loose in km and grams)
     reaction_scale = max([system.variable(n).scale for n in system.reaction_names], default=1.0)
     xe, stability = None, None
@@ -425,7 +429,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         imbalance = imbalance._replace(value=0.0)
         # a compliant row holds only where its deflection is its reaction over its stiffness; the
         # assembly closed it as if rigid, so with a reaction it is not yet in equilibrium
-        spring = _compliant_gap(system, x)
+        spring = _compliant_gap(system, x, mech.units)
         if spring is not None:
             imbalance, at_rest = spring, False
     if at_rest:
@@ -448,7 +452,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
     if xe is not None:
         stability = model.stability(xe)
 
-    compliant = _compliant_rows(system, x if xe is None else xe)
+    compliant = _compliant_rows(system, x if xe is None else xe, mech.units)
     variables = system.variables
     states = tuple(State(v.name, float(x[i]), None if xe is None else float(xe[i]), v.unit, v.description)
                    for i, v in enumerate(variables) if v.kind == "state")
@@ -466,9 +470,9 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
         warnings=mech.warnings)
 
 
-def _compliant_gap(system: Model, x: np.ndarray) -> Quantity | None:
-    """The compliant row farthest from its spring law at ``x`` (``|Phi - lambda / k|``, m or rad), if
-    any is off by more than ``CLOSURE_TOL``; else None."""
+def _compliant_gap(system: Model, x: np.ndarray, units: UnitSystem) -> Quantity | None:
+    """The compliant row farthest from its spring law at ``x`` (``|Phi - lambda / k|``, a length in
+    ``units`` or rad), if any is off by more than ``CLOSURE_TOL``; else None."""
     rows = compliant_constraints(system, x)
     if not rows:
         return None
@@ -476,16 +480,18 @@ def _compliant_gap(system: Model, x: np.ndarray) -> Quantity | None:
     i, r, _ = max(rows, key=lambda row: abs(res[row[0]]))
     if not abs(res[i]) > CLOSURE_TOL:
         return None
-    return Quantity(system.equation_names[i], float(abs(res[i])), "m" if system.variable(r).unit == "N" else "rad")
+    force = system.variable(r).unit == units.label("N")
+    return Quantity(system.equation_names[i], float(abs(res[i])), units.label("m") if force else "rad")
 
 
-def _compliant_rows(system: Model, x: np.ndarray) -> tuple[Quantity, ...]:
+def _compliant_rows(system: Model, x: np.ndarray, units: UnitSystem) -> tuple[Quantity, ...]:
     """Each compliant constraint row (see :func:`compliant_constraints`) as
-    ``Quantity(row, deflection, unit, "reaction ..., stiffness ...")``."""
+    ``Quantity(row, deflection, unit, "reaction ..., stiffness ...")``, labelled in ``units``."""
     out = []
     for i, r, c in compliant_constraints(system, x):
         lam, unit = float(x[system.index(r)]), system.variable(r).unit
-        k_unit = "N/m" if unit == "N" else "N m/rad"
-        out.append(Quantity(system.equation_names[i], -c * lam, "m" if unit == "N" else "rad",
+        force = unit == units.label("N")
+        k_unit = units.label("N/m" if force else "N m/rad")
+        out.append(Quantity(system.equation_names[i], -c * lam, units.label("m") if force else "rad",
                             f"reaction {r} = {lam:.6g} {unit}, stiffness {-1 / c:.4g} {k_unit}"))
     return tuple(out)

@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Any, ClassVar, Generic, Protocol, Self, TypeVa
 import sympy as sp
 
 from ..errors import InputError
+from ..units import SI, UnitSystem
 from ._bodies import (
     Body,
     Polar,
@@ -139,6 +140,10 @@ class Mechanism(Generic[JointT, BodyT]):
     stops:
         One-sided limits of conditions (:mod:`._stops`); each adds the contact reaction parameter
         ``R_<stop>`` (default 0) to :attr:`parameters`.
+    units:
+        The units every number of the description is in (``[mechanism] units``; SI by default): the
+        generated names (coordinates, reactions, condition values, ...) are labelled in them
+        (:meth:`unit`).
 
     Raises
     ------
@@ -166,6 +171,7 @@ class Mechanism(Generic[JointT, BodyT]):
     downlock: DownlockSpec | None = None
     stops: Sequence[Stop] = ()
     elements: Sequence[Element] = ()
+    units: UnitSystem = SI
     # the value-independent part of each generated form, made by the first build (never pickled)
     _generated: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
@@ -196,11 +202,21 @@ class Mechanism(Generic[JointT, BodyT]):
         self.conditions, self.actuators = tuple(self.conditions), tuple(self.actuators)
         self.stops, self.elements = tuple(self.stops), tuple(self.elements)
         # a copy (dataclasses.replace) passes the generated reactions back in: made anew here
-        units = {c.name: c.value_unit for c in self.conditions}
+        units = {c.name: self.condition_unit(c) for c in self.conditions}
         self.parameters = (*(p for p in self.parameters if not p.GENERATED),
-                           *(StopReaction(s.reaction, 0.0, stop_reaction_unit(units.get(s.condition, "")),
+                           *(StopReaction(s.reaction, 0.0, stop_reaction_unit(units.get(s.condition, ""), self.units),
                                           s.reaction_description) for s in self.stops))
         self._validate()
+
+    def unit(self, si: str) -> str:
+        """The label, in the description's :attr:`units`, of a generated quantity whose SI label is ``si``
+        (``"N"`` -> ``"g mm/s^2"`` in mm and g; ``si`` itself in SI)."""
+        return self.units.label(si)
+
+    def condition_unit(self, cond: Condition) -> str:
+        """The unit of condition ``cond``'s value: an expression's as declared, a built-in kind's (a
+        distance, an angle) in the description's :attr:`units`."""
+        return cond.value_unit if cond.kind == "expression" else self.unit(cond.value_unit)
 
     def __getstate__(self) -> dict[str, Any]:
         # the generated structures hold compiled code and the models made from them: a pickled

@@ -49,6 +49,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, one_line
+from ..units import LENGTH_UNITS, MASS_UNITS, UnitSystem
 from ._bodies import PointSpec
 from ._conditions import conditions_from_table, downlock_from_table
 from ._description import Body, Gravity, Mechanism, Parameter, Polar
@@ -71,8 +72,9 @@ _SECTIONS = _OTHER_SECTIONS | set(ELEMENT_TYPES)
 #: ``NAME`` stands for a user's name (the force elements' keys are those of their classes).
 #: The parser checks against these sets and docs/mechanism-format.md is tested against them.
 KEYS: dict[str, frozenset[str]] = {
-    "mechanism": frozenset({"name", "description", "dimension", "dof", "redundant", "downlock"}),
+    "mechanism": frozenset({"name", "description", "dimension", "dof", "redundant", "downlock", "units"}),
     "mechanism.downlock": frozenset({"condition", "force"}),
+    "mechanism.units": frozenset({"length", "mass"}),
     "parameters.NAME": frozenset({"value", "unit", "description", "scale"}),
     "bodies.NAME": frozenset({"mass", "length", "inertia", "cg", "points", "initial", "description"}),
     "bodies.NAME.points.NAME": frozenset({"r", "angle"}),
@@ -250,7 +252,22 @@ def _common(data: Mapping[str, Any], head: Mapping[str, Any], filename: str) -> 
         description=_text(head.get("description", ""), "mechanism.description"),
         redundant=head.get("redundant", "error"),
         conditions=conditions_from_table(_table(data, "conditions", "conditions")),
-        downlock=downlock_from_table(head["downlock"]) if "downlock" in head else None)
+        downlock=downlock_from_table(head["downlock"]) if "downlock" in head else None,
+        units=_units(_table(head, "units", "mechanism.units")))
+
+
+def _units(table: Mapping[str, Any]) -> UnitSystem:
+    """The ``[mechanism] units = { length = "mm", mass = "g" }`` table: the units the file's numbers are in
+    (each key optional, SI by default)."""
+    _only(table, KEYS["mechanism.units"], "mechanism.units")
+    out = {}
+    for key, valid in (("length", LENGTH_UNITS), ("mass", MASS_UNITS)):
+        if key in table:
+            if table[key] not in valid:
+                raise InputError(f"mechanism.units.{key}", f"must be one of {', '.join(map(repr, valid))}, "
+                                                            f"got {table[key]!r}")
+            out[key] = table[key]
+    return UnitSystem(**out)
 
 
 def _mechanism(data: Mapping[str, Any], filename: str) -> Mechanism[Any, Any]:

@@ -285,9 +285,10 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
     check_assembled(mech, kin, model, x, st.subs, Lc, coords, rows, cnames)
     variables = []
     for c, v in zip(coords, x):
-        variables.append(Variable(c, "state", float(v), *_coordinate_unit_text(c, Lc)))
+        unit, scale, text = _coordinate_unit_text(c, Lc)
+        variables.append(Variable(c, "state", float(v), mech.unit(unit), scale, text))
     for r, v in zip(rows, x[nq:]):
-        variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc,
+        variables.append(Variable(r.reaction, "state", float(v), mech.unit(r.unit), Fc * Lc if r.unit == "N m" else Fc,
                                   _reaction_text(r)))
     variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc, st.states)
     targets, downlock = condition_fields(mech, values)
@@ -330,10 +331,12 @@ def condition_and_parameter_variables(mech: Mechanism, conditions: Sequence[tupl
                                       Lc: float, Fc: float, states: Sequence[ElementState] = ()) -> list[Variable]:
     """The condition states (at ``condition_values``), the elements' first-order ``states`` (at the values
     that follow, :class:`~.elements.ElementState`) and the parameters (at ``values``) as variables, scaled by
-    the typical length ``Lc`` (m) and force ``Fc`` (N); shared by planar and spatial builds."""
-    out = [Variable(c.name, "state", float(v), c.value_unit, condition_scale(c, Lc, Fc), condition_description(c))
-           for (c, _), v in zip(conditions, condition_values)]
-    out += [Variable(s.name, "state", float(v), s.unit, s.scale, s.description or "first-order state of an element")
+    the typical length ``Lc`` and force ``Fc`` (the description's units); shared by planar and spatial builds.
+    Each generated name's unit is in the description's units (:meth:`~.Mechanism.unit`)."""
+    out = [Variable(c.name, "state", float(v), mech.condition_unit(c), condition_scale(c, Lc, Fc),
+                    condition_description(c)) for (c, _), v in zip(conditions, condition_values)]
+    out += [Variable(s.name, "state", float(v), mech.unit(s.unit), s.scale,
+                     s.description or "first-order state of an element")
             for s, v in zip(states, list(condition_values)[len(conditions):])]
     for p in mech.parameters:
         val = values[p.name]
@@ -401,10 +404,10 @@ def summary(mech: Mechanism) -> tuple[str, list[tuple[str, str, str, str, float 
     out: list[tuple[str, str, str, str, float | None]] = []
     for c in kin.coords:
         unit, _, text = _coordinate_unit_text(c)
-        out.append((c, "state", unit, text, None))
-    out += [(r.reaction, "state", r.unit, _reaction_text(r), None) for r in kin.constraints()]
-    out += [(c.name, "state", c.value_unit, condition_description(c), None) for c in mech.conditions]
-    out += [(s.name, "state", s.unit, s.description or "first-order state of an element", None)
+        out.append((c, "state", mech.unit(unit), text, None))
+    out += [(r.reaction, "state", mech.unit(r.unit), _reaction_text(r), None) for r in kin.constraints()]
+    out += [(c.name, "state", mech.condition_unit(c), condition_description(c), None) for c in mech.conditions]
+    out += [(s.name, "state", mech.unit(s.unit), s.description or "first-order state of an element", None)
             for s in collect_states(kin)]
     out += [(p.name, "parameter", p.unit, p.description, float(p.value)) for p in mech.parameters]
     return mech.description or f"generated from the description of {mech.name}", out

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING
 
 import sympy as sp
 
+from ..units import SI, UnitSystem, dimension
 from ._expr import Gradient
 from .elements.stop import STOP_KEYS, Stop
 
@@ -36,10 +37,14 @@ if TYPE_CHECKING:
 __all__ = ["Stop", "STOP_KEYS", "stop_reaction_unit", "stop_forces"]
 
 
-def stop_reaction_unit(condition_unit: str) -> str:
-    """Unit of a stop reaction on a condition of unit ``condition_unit``: energy per unit of the condition."""
+def stop_reaction_unit(condition_unit: str, units: UnitSystem = SI) -> str:
+    """Unit of a stop reaction on a condition of unit ``condition_unit``: energy per unit of the condition,
+    in ``units`` (a moment on an angle or a number, a force on a length; ``J/(u)`` for a label it cannot read)."""
     u = condition_unit.strip()
-    return {"": "N m", "rad": "N m", "m": "N"}.get(u, f"J/({u})")
+    dim = dimension(u)
+    if units.is_si or dim is None:
+        return {"": "N m", "rad": "N m", "m": "N"}.get(u, f"{units.label('J')}/({u})")
+    return units.of((2 - dim[0], 1 - dim[1], -2 - dim[2]))
 
 
 def stop_forces(mech: Mechanism, conditions: Sequence[tuple[Condition, sp.Expr]], q: Sequence[sp.Symbol],

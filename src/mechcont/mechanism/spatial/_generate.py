@@ -392,14 +392,14 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
     for cond, value in zip(mech.conditions, x[nq + len(rows):nq + len(rows) + len(cnames)]):
         line = cond.line_of_action()  # a distance |b - a|: no derivative where a = b
         if line is not None and not value > 1e-9 * Lc:
-            raise InputError(f"conditions.{cond.name}", f"its points {line[0]} and {line[1]} coincide at "
-                                                        f"the assembled configuration (distance {value:.3g} m): the "
-                                                        "distance has no derivative there; move a point or assemble "
+            raise InputError(f"conditions.{cond.name}", f"its points {line[0]} and {line[1]} coincide at the "
+                                                        f"assembled configuration (distance {value:.3g} {mech.unit('m')}): "
+                                                        "the distance has no derivative there; move a point or assemble "
                                                         "elsewhere (bodies' initial, [assembly] hold)")
     variables = []
     for c, v in zip(coords, x):
         euler = c.startswith("e")
-        variables.append(Variable(c, "state", float(v), "" if euler else "m", 1.0 if euler else Lc,
+        variables.append(Variable(c, "state", float(v), "" if euler else mech.unit("m"), 1.0 if euler else Lc,
                                   "Euler parameter of a body's orientation" if euler
                                   else f"{c[0]} position of a body's frame origin"))
     for r, v in zip(rows, x[nq:]):
@@ -410,7 +410,8 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
         else:
             what = f"reaction of joint {r.joint} (on its second body)" + (
                 "; compliant: the joint deflects by reaction / stiffness" if r.stiffness is not None else "")
-        variables.append(Variable(r.reaction, "state", float(v), r.unit, Fc * Lc if r.unit == "N m" else Fc, what))
+        variables.append(Variable(r.reaction, "state", float(v), mech.unit(r.unit), Fc * Lc if r.unit == "N m" else Fc,
+                                  what))
     variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc, st.states)
     targets, downlock = condition_fields(mech, values)
     at = partial(value_fields, mech) if mech.conditions or mech.dampers else None

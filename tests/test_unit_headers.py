@@ -1,0 +1,172 @@
+"""A description written in other units says so in every header: the generated names (coordinates,
+reactions, velocities, the energy audit) are labelled in the units their values are in.
+
+Truth: the overcentre (src/mechcont/data/overcentre.toml) written in SI and again in mm and g (and in mm
+and t, where a force is a newton) by tests/corpus/scaling.py, which declares the new units
+(``[mechanism] units``). The same command on both files must write tables whose every column agrees
+after each value is converted to SI by its own header's unit, read here by an independent parser (a
+small table of prefixes and base units, not mechcont's). A header that named SI for a value in mm would
+be off by 1e3 and fail. Tolerances: continuation and folds are solved to Newton's tolerance relative to
+each variable's scale, which scales with the units (1e-9 of the largest magnitude of its kind: a reaction
+that is zero in truth is the rounding of the other forces); a simulation (rtol 1e-8, its error growing
+over its steps) is compared at the instants both histories have, its start and end, to 1e-6.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from cli_helpers import csv_rows, make_runner
+from corpus.scaling import write_scaled
+
+ROOT = Path(__file__).parents[1]
+OVERCENTRE = ROOT / "src" / "mechcont" / "data" / "overcentre.toml"
+#: base symbols as (factor to SI, (length, mass, time, angle) exponents)
+_BASE = {"m": (1.0, (1, 0, 0, 0)), "g": (1e-3, (0, 1, 0, 0)), "t": (1e3, (0, 1, 0, 0)), "s": (1.0, (0, 0, 1, 0)),
+         "N": (1.0, (1, 1, -2, 0)), "J": (1.0, (2, 1, -2, 0)), "rad": (1.0, (0, 0, 0, 1)), "1": (1.0, (0, 0, 0, 0))}
+_PREFIX = {"": 1.0, "k": 1e3, "c": 1e-2, "m": 1e-3, "u": 1e-6}
+
+
+def _token(tok: str) -> tuple[float, tuple[int, ...]]:
+    name, _, power = tok.partition("^")
+    n = int(power) if power else 1
+    for pre, f in _PREFIX.items():
+        if name.startswith(pre) and name[len(pre):] in _BASE:
+            base, dim = _BASE[name[len(pre):]]
+            return (f * base) ** n, tuple(d * n for d in dim)
+    raise AssertionError(f"unit symbol {tok!r} does not parse")
+
+
+def si(unit: str) -> tuple[float, tuple[int, ...]]:
+    """The factor to SI and the (length, mass, time, angle) exponents of a header's unit, e.g.
+    ``"g mm^2/(s^2 rad)"`` -> (1e-9, (2, 1, -2, -1)). Fails on a unit it cannot read."""
+    num, _, den = unit.partition("/")
+    assert "/" not in den.strip("()"), f"{unit!r}: one '/' and a parenthesised denominator"
+    factor, dim = 1.0, [0, 0, 0, 0]
+    for part, sign in ((num, 1), (den.strip("()"), -1)):
+        for tok in part.split():
+            f, d = _token(tok)
+            factor *= f ** sign
+            dim = [a + sign * b for a, b in zip(dim, d)]
+    return factor, tuple(dim)
+
+
+def _columns(path: Path) -> dict[str, tuple[str, np.ndarray | list[str]]]:
+    """``{name: (unit, values)}`` of a CSV table with ``name [unit]`` headers (text columns as text)."""
+    rows = csv_rows(path)
+    out: dict[str, tuple[str, np.ndarray | list[str]]] = {}
+    for head in rows[0]:
+        m = re.fullmatch(r"(\S+) \[(.+)\]", head)
+        name, unit = (m.group(1), m.group(2)) if m else (head, "")
+        texts = [r[head] for r in rows]
+        try:
+            out[name] = (unit, np.array([float(x) for x in texts]))
+        except ValueError:
+            out[name] = (unit, texts)
+    return out
+
+
+def assert_same_tables(si_path: Path, other_path: Path, rtol: float, rows: slice = slice(None)) -> None:
+    """Every column of both tables (their ``rows``) agrees once converted to SI by its header's unit; the
+    headers name the same physical dimension and parse as units."""
+    a, b = _columns(si_path), _columns(other_path)
+    assert list(a) == list(b)
+    a = {k: (u, v[rows]) for k, (u, v) in a.items()}
+    b = {k: (u, v[rows]) for k, (u, v) in b.items()}
+    converted = {}
+    for name, (ua, va) in a.items():
+        ub, vb = b[name]
+        if isinstance(va, list) or isinstance(vb, list):
+            assert va == vb, name
+            continue
+        assert len(va) == len(vb), name
+        fa, da = si(ua) if ua else (1.0, (0, 0, 0, 0))
+        fb, db = si(ub) if ub else (1.0, (0, 0, 0, 0))
+        assert da == db, f"{name}: [{ua}] and [{ub}] are different quantities"
+        converted[name] = (da, va * fa, vb * fb, f"{name} [{ua}] vs [{ub}]")
+    # a value is exact to the rounding of the largest of its kind (a reaction that is zero in truth is
+    # rounding noise of the other forces)
+    sizes: dict[tuple[int, ...], float] = {}
+    for dim, x, _, _ in converted.values():
+        sizes[dim] = max(sizes.get(dim, 0.0), float(np.max(np.abs(x), initial=0.0)))
+    # at a fold the critical eigenvalue is zero: whether it counts as unstable there is rounding's choice
+    exact = np.array([not str(label).startswith("LP") for label in a.get("label", ("", []))[1]] or [True] * len(x))
+    for name, (dim, x, y, what) in converted.items():
+        keep = exact if name == "n_unstable" else np.ones(len(x), bool)
+        np.testing.assert_allclose(y[keep], x[keep], rtol=0, atol=rtol * sizes[dim] + 1e-300, err_msg=what)
+
+
+def test_the_header_parser():
+    """The test's own reader of units: a few labels and their SI factors by hand."""
+    assert si("mm") == (1e-3, (1, 0, 0, 0))
+    f, d = si("g mm^2/(s^2 rad)")
+    assert math.isclose(f, 1e-9) and d == (2, 1, -2, -1)
+    f, d = si("N mm/rad")
+    assert math.isclose(f, 1e-3) and d == (2, 1, -2, -1)
+    with pytest.raises(AssertionError):
+        si("N/(N/m)")
+
+
+@pytest.fixture(scope="module")
+def overcentres(tmp_path_factory):
+    """The overcentre in SI, in mm and g, and in mm and t: ``{name: (path, force factor from SI)}``."""
+    d = tmp_path_factory.mktemp("units")
+    return {"si": (write_scaled(OVERCENTRE, d / "si.toml", 1.0, 1.0), 1.0),
+            "mm-g": (write_scaled(OVERCENTRE, d / "mmg.toml", 1e3, 1e3, labels=True), 1e6),
+            "mm-t": (write_scaled(OVERCENTRE, d / "mmt.toml", 1e3, 1e-3, labels=True), 1.0)}
+
+
+@pytest.mark.parametrize("units", ["mm-g", "mm-t"])
+def test_continue_tables_agree_by_their_headers(overcentres, tmp_path, units):
+    """`continue` in F: every column (coordinates, reactions, parameters, arclength, labels) of the
+    file in other units is the SI table's once read in its own headers' units."""
+    run = make_runner()
+    out = {}
+    for name in ("si", units):
+        path, force = overcentres[name]
+        out[name] = tmp_path / f"{name}.csv"
+        r = run("continue", path, "--start", "theta1=0.3", "--vary", "F", "--bounds",
+                f"F={-100 * force}:{120 * force}", "--out", out[name])
+        assert r.exit_code == 0, r.output
+    assert_same_tables(out["si"], out[units], rtol=1e-9)
+    heads = _columns(out[units])
+    assert heads["R_pin_x"][0] == ("g mm/s^2" if units == "mm-g" else "N") and heads["x1"][0] == "mm"
+
+
+def test_fold_tables_agree_by_their_headers(overcentres, tmp_path):
+    """`folds`: the overcentre's first fold continued in LU, in SI and in mm and g."""
+    run = make_runner()
+    out = {}
+    for name in ("si", "mm-g"):
+        path, force = overcentres[name]
+        length = 1.0 if name == "si" else 1e3
+        out[name] = tmp_path / f"{name}.csv"
+        r = run("folds", path, "--start", "theta1=0.3", "--vary", "F", "--along", "LU",
+                "--bounds", f"LU={0.1 * length}:{2 * length}", "--bounds", f"F={-300 * force}:{300 * force}",
+                "--out", out[name])
+        assert r.exit_code == 0, r.output
+    assert_same_tables(out["si"], out["mm-g"], rtol=1e-9)
+
+
+def test_simulate_tables_agree_by_their_headers(overcentres, tmp_path):
+    """`simulate`: the history (coordinates, reactions, velocities, the energy audit) of a fall from
+    theta1 = 1.2 rad, in SI and in mm and g; the printed energy line names the file's unit."""
+    run = make_runner()
+    out, printed = {}, {}
+    for name in ("si", "mm-g"):
+        path, _ = overcentres[name]
+        out[name] = tmp_path / f"{name}.csv"
+        r = run("simulate", path, "--start", "theta1=1.2", "--until", "0.5", "--out", out[name], "--no-progress")
+        assert r.exit_code == 0, r.output
+        printed[name] = r.output
+    # the integrator's steps depend on the numbers' sizes (its first step, an absolute tolerance): the rows
+    # at the same instants are the first and the last (t = 0 and 0.5 s)
+    assert_same_tables(out["si"], out["mm-g"], rtol=1e-6, rows=slice(0, 1))
+    assert_same_tables(out["si"], out["mm-g"], rtol=1e-6, rows=slice(-1, None))
+    heads = _columns(out["mm-g"])
+    assert heads["E_kin"][0] == "g mm^2/s^2" and heads["x1_dot"][0] == "mm/s"
+    assert "energy [g mm^2/s^2]:" in printed["mm-g"] and "energy [J]:" in printed["si"]
