@@ -170,3 +170,73 @@ def test_simulate_tables_agree_by_their_headers(overcentres, tmp_path):
     heads = _columns(out["mm-g"])
     assert heads["E_kin"][0] == "g mm^2/s^2" and heads["x1_dot"][0] == "mm/s"
     assert "energy [g mm^2/s^2]:" in printed["mm-g"] and "energy [J]:" in printed["si"]
+
+
+#: SI labels the generated names carry, with their (length, mass, time) dimension
+SI_LABELS = {"m": (1, 0, 0), "N": (1, 1, -2), "N m": (2, 1, -2), "J": (2, 1, -2), "m/s": (1, 0, -1),
+             "N/m": (0, 1, -2), "N m/rad": (2, 1, -2), "kg m^2": (2, 1, 0), "N s/m": (0, 1, -1), "kg": (0, 1, 0),
+             "N m s/rad": (2, 1, -1), "m/s^2": (1, 0, -2), "1/m": (-1, 0, 0)}
+
+
+@pytest.mark.parametrize(("length", "mass", "L", "M"), [("mm", "g", 1e-3, 1e-3), ("mm", "t", 1e-3, 1e3),
+                                                         ("km", "kg", 1e3, 1.0), ("um", "mg", 1e-6, 1e-6)])
+def test_a_label_in_other_units_is_worth_what_a_number_in_them_is(length, mass, L, M):
+    """A quantity of dimension length^a mass^b time^c written in units of ``L`` metres and ``M`` kilograms is
+    the SI number / (L^a M^b): its label's SI factor (read by this test's parser) must be L^a M^b, with the
+    same dimension and the same power of rad."""
+    from mechcont.units import UnitSystem
+
+    units = UnitSystem(length, mass)
+    for si_label, (a, b, c) in SI_LABELS.items():
+        label = units.label(si_label)
+        factor, dim = si(label)
+        assert math.isclose(factor, L ** a * M ** b, rel_tol=1e-12), (si_label, label)
+        assert dim == (a, b, c, si_label.count("rad") * -1), (si_label, label)
+    assert units.label("rad") == "rad" and units.label("") == "" and units.label("rad/s") == "rad/s"
+
+
+def test_newtons_where_the_units_make_them():
+    """mm and t: a force is exactly a newton, so the labels say N, N mm, N/mm; a mass stays t."""
+    from mechcont.units import UnitSystem
+
+    units = UnitSystem("mm", "t")
+    assert [units.label(u) for u in ("N", "N m", "N/m", "kg", "kg m^2", "N s/m")] == \
+        ["N", "N mm", "N/mm", "t", "t mm^2", "N s/mm"]
+
+
+@pytest.mark.parametrize(("units", "words"), [
+    ('{ length = "inch" }', ["mechanism.units.length", "'mm'"]),
+    ('{ mass = 3 }', ["mechanism.units.mass", "'kg'"]),
+    ('{ time = "ms" }', ["mechanism.units.time", "unknown key", "length, mass"]),
+    ('"mm"', ["mechanism.units", "must be a table"]),
+])
+def test_bad_units_are_one_line(tmp_path, units, words):
+    """A declaration of units mechcont does not know is refused in one line naming the key, exit 2."""
+    from cli_helpers import one_line_error
+
+    text = OVERCENTRE.read_text().replace("[mechanism]\n", f"[mechanism]\nunits = {units}\n", 1)
+    assert text != OVERCENTRE.read_text()
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    one_line_error(make_runner()("check", path), *words)
+
+
+def test_drawings_and_the_explorer_say_the_units(overcentres, tmp_path):
+    """The drawing's axes and load labels, and the explorer's, in the file's units: mm, g mm/s^2."""
+    from mechcont.mechanism import load
+    from mechcont.outputs.drawing import draw_scene
+    from mechcont.outputs.explore import page_data
+
+    path, force = overcentres["mm-g"]
+    model = load(path, F=5.0 * force)
+    ax = draw_scene(model.scene(model.defaults()))
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("x (mm)", "y (mm)")
+    texts = [t.get_text() for t in ax.texts]
+    assert "F = 5e+06 g mm/s^2" in texts, texts  # 5 N in g mm/s^2, no SI prefix on grams
+    branch = tmp_path / "b.csv"
+    r = make_runner()("continue", path, "--start", "theta1=0.3", "--vary", "F", "--bounds",
+                      f"F={-100 * force}:{120 * force}", "--out", branch)
+    assert r.exit_code == 0, r.output
+    data = page_data(model, [branch])
+    assert data["load_units"] == ["mm", "g mm/s^2", "g mm^2/s^2"]
+    assert data["branches"][0]["units"]["x1"] == "mm"

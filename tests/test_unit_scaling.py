@@ -132,13 +132,18 @@ def test_a_freefall_in_any_units(tmp_path, scale):
     L, M = scale
     run = make_runner()
 
-    def fall(path, u):
+    def fall(path, u, force, energy):
         r = run("freefall", path, "--start", "angle=3.0", "--lock", "downlock", "--until", "3", "--set", f"U={u}")
         assert r.exit_code == 0, r.output
         assert "outcome: locked" in r.output
+        # each printed value names the unit it is in: the file's (declared) units
         return (_number(r"time to lock: (\S+) s", r.output), _number(r"impact speed at the lock: (\S+) rad/s", r.output),
-                _number(r"peak stop reaction downlock: (\S+)", r.output))
+                _number(r"peak stop reaction downlock: (\S+)", r.output),
+                _number(rf"peak damper tension actuator: (\S+) {re.escape(force)} at", r.output),
+                _number(rf"# energy \[{re.escape(energy)}\]: start (\S+),", r.output))
 
-    si = fall(write_scaled(ROOT / "examples" / "freefall_leg.toml", tmp_path / "si.toml", 1.0, 1.0), 40.0)
-    new = fall(write_scaled(ROOT / "examples" / "freefall_leg.toml", tmp_path / "new.toml", L, M, labels=True), 40.0 * L)
-    assert np.allclose(new, np.array(si) * [1.0, 1.0, L * L * M], rtol=1e-5, atol=0)  # printed to 6 digits
+    si = fall(write_scaled(ROOT / "examples" / "freefall_leg.toml", tmp_path / "si.toml", 1.0, 1.0), 40.0, "N", "J")
+    named = {(1e3, 1e3): ("g mm/s^2", "g mm^2/s^2"), (1e-3, 1.0): ("kg km/s^2", "kg km^2/s^2")}[scale]
+    new = fall(write_scaled(ROOT / "examples" / "freefall_leg.toml", tmp_path / "new.toml", L, M, labels=True), 40.0 * L,
+               *named)
+    assert np.allclose(new, np.array(si) * [1.0, 1.0, L * L * M, L * M, L * L * M], rtol=1e-5, atol=0)  # 6 digits

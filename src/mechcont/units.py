@@ -16,7 +16,7 @@ from typing import TypeVar
 import numpy as np
 
 __all__ = ["display", "display_unit", "display_scale", "shown", "derivative_unit", "dimension", "typical_scale",
-           "UnitSystem", "SI", "LENGTH_UNITS", "MASS_UNITS"]
+           "UnitSystem", "SI", "LENGTH_UNITS", "MASS_UNITS", "units_of"]
 
 V = TypeVar("V", float, np.ndarray)
 
@@ -175,3 +175,10 @@ class UnitSystem:
 
 #: metres, kilograms, seconds
 SI = UnitSystem()
+
+
+def units_of(model: object) -> UnitSystem:
+    """The units of the description ``model`` (a :class:`~mechcont.equations.Model`) was generated from
+    (its ``mechanism.units``); SI for a built-in or hand-formulated model."""
+    units = getattr(getattr(model, "mechanism", None), "units", SI)
+    return units if isinstance(units, UnitSystem) else SI

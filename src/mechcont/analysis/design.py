@@ -25,7 +25,7 @@ import numpy as np
 from ..continuation import Branch, ContinuationOptions, SpecialPoint, continuation, continue_folds
 from ..equations import Model
 from ..errors import ConvergenceError, InputError
-from ..units import derivative_unit
+from ..units import derivative_unit, units_of
 from ._runs import early_stops
 from .downlock import downlock, downlock_condition, downlock_point, downlocked_pose
 
@@ -364,7 +364,7 @@ def design_region(system: Model, x_name: str, y_name: str, *,
         warnings.append(f"the fold locus from {y_name} = {y_mid:g} is unknown: {exc}")
     if progress is not None:
         progress()
-    units = (system.variable(x_name).unit, system.variable(y_name).unit, system.variable(f).unit or "N")
+    units = (system.variable(x_name).unit, system.variable(y_name).unit, system.variable(f).unit or units_of(system).label("N"))
     return DesignRegion(x_name, y_name, grid, y_levels, force_map, boundary, locus, rows, (x0, y_mid), units,
                         warnings)
 

@@ -35,6 +35,7 @@ import numpy as np
 from .._lazy import lazy_exports
 from ..equations import Model
 from ..errors import ConvergenceError, InputError
+from ..units import units_of
 from ._slsqp import Inequality, better, multipliers, start_points
 from ._stop_quantities import stop_reactions
 from .sensitivity import Sensitivity, downlock_sensitivity, fold_sensitivity, write_json
@@ -299,7 +300,8 @@ class _Quantities:
 
 def _force_unit(system: Model, q: _Quantities, name: str) -> str:
     """The unit of the quantity ``name`` (``downlock_force``, ``unlock_force``): its force parameter's, which may
-    be a moment (N m) or written in other units; ``"N"`` when the model names no such force."""
+    be a moment (N m) or written in other units; the model's force unit (``"N"`` in SI) when it names no such
+    force."""
     from .downlock import downlock_condition
     from .stop_lock import lock_force
 
@@ -307,7 +309,7 @@ def _force_unit(system: Model, q: _Quantities, name: str) -> str:
         force = lock_force(system, q.force) if name == "unlock_force" and q.reactions else downlock_condition(system)[1]
         return system.variable(force).unit
     except (InputError, KeyError):
-        return "N"
+        return units_of(system).label("N")
 
 
 def optimize(system: Model, objective: str, bounds: Mapping[str, tuple[float, float]], *,

@@ -102,7 +102,8 @@ def design_command(model: str, x_name: str | None, y_name: str | None, old_x: st
     warn(region.warnings)
     if region.folds is not None:
         for p in region.folds.cusps:
-            click.echo(f"cusp: {y_name} = {p[y_name]:.6g}, {x_name} = {p[x_name]:.6g}, {f} = {p[f]:.6g} N")
+            click.echo(f"cusp: {y_name} = {p[y_name]:.6g}, {x_name} = {p[x_name]:.6g}, "
+                       f"{f} = {p[f]:.6g} {system.variable(f).unit}".rstrip())
     if out_path is not None:
         write_records(records, out_path)
         click.echo(f"wrote {out_path}")

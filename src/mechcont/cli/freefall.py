@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from ..errors import InputError
+from ..units import units_of
 from ._app import cli
 from ._parse import (
     MAX_SCAN,
@@ -195,7 +196,7 @@ def _one(system: Model, start: dict[str, float], lock: LockSpec, until: float, o
     units = {s.reaction: system.variable(s.reaction).unit for s in system.stops}
     units = {**{s.name: units[s.reaction] for s in system.stops},
              **{f"{s.name}_rate": f"{system.variable(s.condition).unit or '1'}/s" for s in system.stops},
-             "lock_rate": f"{system.variable(watch).unit or '1'}/s"}
+             "lock_rate": f"{system.variable(watch).unit or '1'}/s", "damper": units_of(system).label("N")}
     click.echo(f"# {system.name}: released at rest from {', '.join(f'{k} = {v:g}' for k, v in start.items())}; "
                f"{h.t[-1]:.6g} s simulated, {len(h)} rows")
     if not h.success:

@@ -404,7 +404,8 @@ def check_branch_table(branch: Branch, system: EquationSystem, path: str | os.Pa
         want = system.variable(n).unit
         if u != want:
             raise InputError("branch", f"'{path}' column '{unit_header(n, u)}': the unit of {n} in model "
-                                       f"'{system.name}' is '{want or 'none'}', not '{u}' (values are SI)")
+                                       f"'{system.name}' is '{want or 'none'}', not '{u}' (a table's values are in "
+                                       "its model's units)")
     bad = np.argwhere(~np.isfinite(branch.values))
     if len(bad):
         r, c = (int(i) for i in bad[0])

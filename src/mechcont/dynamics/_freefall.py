@@ -139,7 +139,8 @@ class FreefallResult:
 
     def describe(self, units: Mapping[str, str] | None = None, show: Sequence[str] = ()) -> list[str]:
         """Readable lines: outcome, time to lock, impact speed, peak loads (``units`` of the
-        stop reactions and the lock quantity's rate, by name); a run that did not lock ends with
+        stop reactions and the lock quantity's rate, by name, and of the dampers' tensions under
+        ``"damper"``, default N); a run that did not lock ends with
         where it is: the columns ``show`` (default every coordinate)."""
         units = units or {}
         t_end = float(self.history.t[-1])
@@ -168,7 +169,7 @@ class FreefallResult:
             if left is not None:
                 lines.append(f"left the lock stop at {left:.6g} s (it did not hold)")
         for name, p in self.damper_peaks.items():
-            lines.append(f"peak damper tension {name}: {p.value:.6g} N at t = {p.time:.6g} s")
+            lines.append(f"peak damper tension {name}: {p.value:.6g} {units.get('damper', 'N')} at t = {p.time:.6g} s")
         for name, p in self.reaction_peaks.items():
             u = f" {units[name]}" if units.get(name) else ""
             lines.append(f"peak stop reaction {name}: {p.value:.6g}{u}" + (f" at t = {p.time:.6g} s" if p.value > 0 else ""))

@@ -12,7 +12,7 @@ from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, DenseOutput, OdeSolv
 from .._status import Status
 from ..equations import velocity_coordinate
 from ..errors import InputError
-from ..units import SI
+from ..units import units_of
 from ._assembly import assemble, initial_vector
 from ._budget import MAX_STEPS
 from ._contact import MAX_EVENTS_AT_ONCE
@@ -385,7 +385,7 @@ def _assemble_result(system: Model, dyn: ConstrainedDynamics, coords: tuple[str,
                             t_events=t_events, x_events=x_events, nfev=dyn.nfev, detail=detail, stop_events=stop_events,
                             indeterminate_rows=indeterminate,
                             units={v.name: v.unit for v in system.variables},
-                            energy_unit=getattr(system.mechanism, "units", SI).label("J"))
+                            energy_unit=units_of(system).label("J"))
 
 
 def _stop_events(contacts: StopConstraints, t: np.ndarray) -> list[StopEvent]:

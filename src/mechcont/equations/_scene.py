@@ -3,7 +3,8 @@
 Models (hand-formulated or generated) provide ``scene(x) -> Scene`` for a full variable
 vector ``x``; :mod:`mechcont.outputs.drawing` turns scenes into pictures and animations.
 All coordinates are in metres in the plane of the mechanism; forces in newtons; moments in
-newton metres, counter-clockwise positive.
+newton metres, counter-clockwise positive; or, for a description written in other units, in those
+(:attr:`Scene.units`, which the drawings label).
 
 A spatial mechanism fills the same fields with 3-vectors (x, y, z in metres; a moment is then
 a 3-vector in N m) and may list its joint axes in ``joint_axes``;
@@ -16,6 +17,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from ..units import SI, UnitSystem
 
 __all__ = ["Scene"]
 
@@ -62,6 +65,8 @@ class Scene:
     coils:
         ``(name, centre, kind)``: a rotary element at a joint, ``kind`` ``"spring"`` (a torsion
         spring, drawn as a coil around ``centre``) or ``"damper"`` (a rotary dashpot).
+    units:
+        The units the lengths and loads are in (SI, or a description's declared units).
     """
 
     bars: list[tuple[str, np.ndarray]] = field(default_factory=list)
@@ -78,6 +83,7 @@ class Scene:
     joint_axes: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
     slots: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
     coils: list[tuple[str, np.ndarray, str]] = field(default_factory=list)
+    units: UnitSystem = SI
 
     @property
     def dimension(self) -> int:

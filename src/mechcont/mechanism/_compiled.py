@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..equations import Apart, Scene
+from ..units import SI, UnitSystem
 
 __all__ = ["DroppedResidual", "CoordinatesOf", "GeneratedScene", "SpatialScene", "ValueCheck", "SCREEN_MARGIN"]
 
@@ -47,16 +48,17 @@ class GeneratedScene:
     """``scene(x) -> Scene`` of a generated mechanism (see :func:`scene_function`); picklable.
 
     ``items`` lists ``(kind, name, (number of points, extra))`` in the order of the compiled
-    function ``fn``'s output pairs.
+    function ``fn``'s output pairs; ``units`` the description's (the scenes' lengths and loads are in them).
     """
 
     items: tuple
     fn: Callable[[np.ndarray], np.ndarray]
+    units: UnitSystem = SI
 
     def __call__(self, x: np.ndarray) -> Scene:
         """Drawing primitives at the full variable vector ``x`` (m, N)."""
         flat = np.asarray(self.fn(np.asarray(x, dtype=float)), dtype=float).reshape(-1, 2)
-        out, i = Scene(), 0
+        out, i = Scene(units=self.units), 0
         for kind, name, (n, _) in self.items:
             pts = flat[i:i + n]
             i += n
@@ -94,15 +96,16 @@ class SpatialScene:
     """``scene(x) -> Scene`` (3-D) of a generated spatial mechanism; picklable.
 
     ``items`` lists ``(kind, name, number of points)`` in the order of the compiled function
-    ``fn``'s output triples (see :func:`spatial_scene_function`)."""
+    ``fn``'s output triples (see :func:`spatial_scene_function`); ``units`` the description's."""
 
     items: tuple
     fn: Callable[[np.ndarray], np.ndarray]
+    units: UnitSystem = SI
 
     def __call__(self, x: np.ndarray) -> Scene:
         """Drawing primitives (3-D) at the full variable vector ``x``."""
         flat = np.asarray(self.fn(np.asarray(x, dtype=float)), dtype=float).reshape(-1, 3)
-        out, i = Scene(), 0
+        out, i = Scene(units=self.units), 0
         for kind, name, n in self.items:
             pts = flat[i:i + n].copy()
             i += n

@@ -26,7 +26,7 @@ def scene_function(kin: PlanarKinematics, arrows: Sequence[tuple[str, str, sp.Ma
     body's pin to the ground if it has one, else around the body's origin).
     Each force element draws itself (:meth:`~.elements.Element.draw`); the ground points they attach
     to (and no pin or weld does) are anchors. Actuators carry their tension (N): the force
-    parameter, or the reaction ``T_<name>``.
+    parameter, or the reaction ``T_<name>``. Lengths and loads are in the description's units (``Scene.units``).
     ``Scene.points`` names, for labels, every ground point and every named body point: the
     ends ``a``/``b`` and declared points of a bar (and its ``cg`` when off the centre), the
     declared points, ``origin`` and ``cg`` of any other body (``cg`` when off the origin).
@@ -74,4 +74,4 @@ def scene_function(kin: PlanarKinematics, arrows: Sequence[tuple[str, str, sp.Ma
     for gname in mech.ground:
         add("point", f"ground.{gname}", [kin.point(f"ground.{gname}")])
     exprs = [sp.sympify(e, strict=True).xreplace(subs) for e in exprs]
-    return GeneratedScene(tuple(items), compile_dense(list(symbols), exprs))
+    return GeneratedScene(tuple(items), compile_dense(list(symbols), exprs), kin.mech.units)

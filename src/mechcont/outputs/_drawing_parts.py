@@ -199,7 +199,8 @@ def draw_scene(scene: Scene, ax: Axes | None = None, *, title: str | None = None
     Parameters
     ----------
     scene:
-        The primitives, coordinates in metres, forces in newtons.
+        The primitives, coordinates in metres, forces in newtons (or in the scene's :attr:`~Scene.units`,
+        which label the axes and the loads).
     ax:
         Axes to draw on; a new figure (Agg canvas) is made when omitted.
     title:
@@ -241,6 +242,7 @@ def draw_scene(scene: Scene, ax: Axes | None = None, *, title: str | None = None
     if limits is None:
         limits = _limits(_bounds(scene, scale, show_forces))
     h = _SYMBOL * max(limits[1] - limits[0], limits[3] - limits[2])
+    force = scene.units.label("N")
 
     for k, (p, direction) in enumerate(scene.sliders):
         _draw_slider(ax, np.asarray(p, float), direction, h, None if slider_spans is None else slider_spans[k])
@@ -258,7 +260,7 @@ def draw_scene(scene: Scene, ax: Axes | None = None, *, title: str | None = None
         _draw_coil(ax, name, np.asarray(p, float), kind, h)
     for name, a, b, tension in scene.actuators:
         _draw_actuator(ax, name, np.asarray(a, float), np.asarray(b, float), float(tension), 0.8 * h,
-                       show_forces and name not in set(quiet_loads))
+                       show_forces and name not in set(quiet_loads), force)
     colours = {**body_colours([scene]), **(colours or {})}
     for name, pts in scene.bars:
         pts = np.atleast_2d(np.asarray(pts, float))
@@ -273,14 +275,17 @@ def draw_scene(scene: Scene, ax: Axes | None = None, *, title: str | None = None
     if show_forces:
         quiet = set(quiet_loads)
         for name, p, v in scene.forces:
-            _draw_force(ax, name, np.asarray(p, float), np.asarray(v, float), scale, h, label=name not in quiet)
+            _draw_force(ax, name, np.asarray(p, float), np.asarray(v, float), scale, h, label=name not in quiet,
+                        unit=force)
         for name, p, value in scene.moments:
-            _draw_moment(ax, name, np.asarray(p, float), float(value), h, label=name not in quiet)
+            _draw_moment(ax, name, np.asarray(p, float), float(value), h, label=name not in quiet,
+                         unit=scene.units.label("N m"))
     ax.set_xlim(limits[0], limits[1])
     ax.set_ylim(limits[2], limits[3])
     ax.set_aspect("equal", adjustable="box")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
+    length = scene.units.label("m")
+    ax.set_xlabel(f"x ({length})")
+    ax.set_ylabel(f"y ({length})")
     ax.grid(True, linewidth=0.3, alpha=0.5)
     if title:
         ax.set_title(title)

@@ -84,7 +84,8 @@ function h(tag,at,parent,text){var e=document.createElement(tag);for(var k in at
  if(text!==undefined)e.textContent=text;if(parent)parent.appendChild(e);return e;}
 function fmt(v){if(!isFinite(v))return String(v);var a=Math.abs(v);
  return (a!==0&&(a>=1e6||a<1e-3))?v.toExponential(4):String(+v.toPrecision(6));}
-function load(v,u){var a=Math.abs(v);if(a>=1e6)return fmt(v/1e6)+" M"+u;if(a>=1e3)return fmt(v/1e3)+" k"+u;return fmt(v)+" "+u;}
+function load(v,u){var a=Math.abs(v);if(u.split(" ")[0]!=="N")return fmt(v)+" "+u;
+ if(a>=1e6)return fmt(v/1e6)+" M"+u;if(a>=1e3)return fmt(v/1e3)+" k"+u;return fmt(v)+" "+u;}
 function unit(b,n){return (B[b].units&&B[b].units[n])||"";}
 // a family of cycles draws a state as its max and min over each orbit (columns max_X, min_X)
 function amp(br,n){return br.cycle&&br.cycle.states.indexOf(n)>=0?[br.columns["max_"+n],br.columns["min_"+n]]:null;}
@@ -228,7 +229,7 @@ var views=[];
  names.forEach(function(v){var lim=D.views[v],wrap=h("div",{},box);
   var svg=el("svg",{width:w,height:hh,viewBox:"0 0 "+w+" "+hh,"class":"mech","data-view":v},wrap);
   var ax=D.dim===3?D.view_axes[v]:[0,1,"x","y",1];
-  h("div",{"class":"vt"},wrap,(D.dim===3?v+" view: ":"")+ax[2]+" right, "+ax[3]+" up (m)");
+  h("div",{"class":"vt"},wrap,(D.dim===3?v+" view: ":"")+ax[2]+" right, "+ax[3]+" up ("+D.load_units[0]+")");
   var ox=(w-s*(lim[1]-lim[0]))/2,oy=(hh-s*(lim[3]-lim[2]))/2;
   views.push({name:v,svg:svg,ax:ax,s:s,hs:D.symbol*s,
    P:function(p){return [ox+(p[ax[0]]-lim[0])*s,oy+(lim[3]-p[ax[1]])*s];},
@@ -306,12 +307,13 @@ function drawTables(b,r){var br=B[b],t=q(".values");t.innerHTML="";
   h("td",{"class":"n","data-value":String(br.columns[n][r])},tr,fmt(shown(b,n,br.columns[n][r])));h("td",{},tr,
  u==="rad"?"deg":u);});
  var L=q(".loads");L.innerHTML="";if(!br.poses)return;var pose=br.cycle?br.poses[r][0]:br.poses[r],rows=[];
- pose.forces.forEach(function(it){var m=Math.hypot.apply(null,it[2]);rows.push([it[0],load(m,"N"),
- "("+it[2].map(fmt).join(", ")+") N"]);});
+ var fu=D.load_units[1],mu=D.load_units[2];
+ pose.forces.forEach(function(it){var m=Math.hypot.apply(null,it[2]);rows.push([it[0],load(m,fu),
+ "("+it[2].map(fmt).join(", ")+") "+fu]);});
  pose.moments.forEach(function(it){var v=it[2];rows.push([it[0],(typeof v==="number")?load(v,
- "N m"):load(Math.hypot.apply(null,v),"N m"),
-  (typeof v==="number")?"counter-clockwise +":"("+v.map(fmt).join(", ")+") N m"]);});
- pose.actuators.forEach(function(it){rows.push([it[0],load(Math.abs(it[3]),"N"),
+ mu):load(Math.hypot.apply(null,v),mu),
+  (typeof v==="number")?"counter-clockwise +":"("+v.map(fmt).join(", ")+") "+mu]);});
+ pose.actuators.forEach(function(it){rows.push([it[0],load(Math.abs(it[3]),fu),
  it[3]>0?"tension":(it[3]<0?"compression":"unloaded")]);});
  if(!rows.length)return;var th=h("tr",{},L);h("th",{},th,"load");h("th",{},th,"magnitude");h("th",{},th,"");
  rows.forEach(function(rw){var tr=h("tr",{"class":"load"},L);rw.forEach(function(c,i){h("td",{"class":i===1?"n":""},tr,c);});});}

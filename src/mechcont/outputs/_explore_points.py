@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..units import dimension
+
 if TYPE_CHECKING:
     from ..continuation import Branch
     from ._explore_cycles import CycleTable
@@ -71,7 +73,8 @@ def default_axes(doc: dict, kinds: Mapping[str, str] | None = None, cycle: Cycle
     rest = [n for n in changing if n != x] or [n for n in cols if n != x] or [x]
     kind = (lambda n: kinds.get(n, "")) if kinds is not None else (lambda n: "")
     angle = next((n for n in rest if units.get(n) == "rad"), None)
-    load = next((n for n in rest if units.get(n) in ("N", "N m") and kind(n) == "parameter"), None)
-    moves = [n for n in rest if units.get(n) == "m" and kind(n) in ("state", "")]
+    load = next((n for n in rest if dimension(units.get(n, "")) in ((1, 1, -2), (2, 1, -2)) and kind(n) == "parameter"),
+                None)  # a force or a moment, in any units
+    moves = [n for n in rest if dimension(units.get(n, "")) == (1, 0, 0) and kind(n) in ("state", "")]
     y = angle or load or (max(moves, key=lambda n: ptp[n]) if moves else rest[-1])
     return [x, y]

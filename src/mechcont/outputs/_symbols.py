@@ -190,9 +190,9 @@ def _draw_coil(ax: Axes, name: str, p: np.ndarray, kind: str, h: float) -> None:
 
 
 def _draw_actuator(ax: Axes, name: str, a: np.ndarray, b: np.ndarray, tension: float, width: float,
-                   label: bool) -> None:
+                   label: bool, unit: str = "N") -> None:
     """Actuator from ``a`` to ``b``: a closed cylinder from ``a`` and a thinner rod to ``b``,
-    labelled with its load in N (tension: pulls its ends together; compression: pushes)."""
+    labelled with its load in ``unit`` (tension: pulls its ends together; compression: pushes)."""
     from matplotlib.patches import Polygon
 
     frame = _along(a, b)
@@ -209,21 +209,24 @@ def _draw_actuator(ax: Axes, name: str, a: np.ndarray, b: np.ndarray, tension: f
     if label:
         sense = "tension" if tension > 0 else ("compression" if tension < 0 else "unloaded")
         at = a + 0.3 * length * t + 2.2 * width * nrm
-        ax.text(at[0], at[1], f"{name} = {load_text(abs(tension), 'N')} {sense}", ha="center", va="center", fontsize=9,
+        ax.text(at[0], at[1], f"{name} = {load_text(abs(tension), unit)} {sense}", ha="center", va="center", fontsize=9,
                 color=colour, zorder=8, bbox=_LABEL_BOX, gid=f"load:{name}")
 
 
 def load_text(value: float, unit: str) -> str:
-    """A load for a label, three significant digits with an SI prefix: ``9.69 kN``, ``12.5 N m``, ``1.2 MN``."""
+    """A load for a label, three significant digits with an SI prefix on newtons: ``9.69 kN``, ``12.5 N m``,
+    ``1.2 MN``, ``3.4 kN mm``; a load in other units (``"g mm/s^2"``) without one: ``1.2e+09 g mm/s^2``."""
     for factor, prefix in ((1e6, "M"), (1e3, "k")):
-        if abs(value) >= factor:
+        if abs(value) >= factor and unit.split(" ")[0] == "N":
             return f"{value / factor:.3g} {prefix}{unit}"
     return f"{value:.3g} {unit}"
 
 
-def _draw_moment(ax: Axes, name: str, p: np.ndarray, value: float, h: float, label: bool = True) -> None:
-    """Curved arrow of 270 degrees around ``p`` (open below): counter-clockwise if ``value`` > 0; label |value| in N m."""
-    text = f"{name} = {load_text(abs(value), 'N m')}"
+def _draw_moment(ax: Axes, name: str, p: np.ndarray, value: float, h: float, label: bool = True,
+                 unit: str = "N m") -> None:
+    """Curved arrow of 270 degrees around ``p`` (open below): counter-clockwise if ``value`` > 0; label |value| in
+    ``unit``."""
+    text = f"{name} = {load_text(abs(value), unit)}"
     r = _moment_radius(h)
     colour = "#d62728"
     if value != 0:
@@ -244,9 +247,9 @@ def _draw_moment(ax: Axes, name: str, p: np.ndarray, value: float, h: float, lab
 
 
 def _draw_force(ax: Axes, name: str, p: np.ndarray, v: np.ndarray, scale: float, h: float,
-                label: bool = True) -> None:
+                label: bool = True, unit: str = "N") -> None:
     mag = float(np.hypot(*v))
-    text = f"{name} = {load_text(mag, 'N')}"
+    text = f"{name} = {load_text(mag, unit)}"
     if not label and (mag == 0 or scale == 0):
         return
     if mag == 0 or scale == 0:

@@ -21,7 +21,7 @@ __all__ = ["downlock_figure", "design_figure", "optimum_figure"]
 
 
 def downlock_figure(branch: Branch, vary: str, force: str, *, held: str, title: str) -> Figure:
-    """The downlock force ``force`` (N) against ``vary`` along a downlock ``branch``.
+    """The downlock force ``force`` (its unit, the branch's) against ``vary`` along a downlock ``branch``.
 
     The continuation's points are joined smoothly (:func:`~.plotting.curve`; angles in
     degrees); when the branch has an ``unlock_<force>`` column (the unlock fold of each
@@ -30,6 +30,7 @@ def downlock_figure(branch: Branch, vary: str, force: str, *, held: str, title: 
     """
     fig, ax = new_figure(figsize=(5.5, 4))
     unit = (getattr(branch, "units", None) or {}).get(vary, "")
+    funit = (getattr(branch, "units", None) or {}).get(force, "")
     cx, cF, _ = curve(branch, vary, force)
     ax.plot(cx, cF, "k-", label=f"downlock force ({held})")
     unlock_col = f"unlock_{force}"
@@ -38,9 +39,9 @@ def downlock_figure(branch: Branch, vary: str, force: str, *, held: str, title: 
         ax.plot(display(np.asarray(xs, dtype=float), unit)[0], branch[unlock_col], "--", color="tab:red",
                 label=f"unlock fold ({force} increasing)")
         ax.legend(loc="best", fontsize=8)
-        ax.set_ylabel(f"{force} (N)")
+        ax.set_ylabel(axis_label(force, funit))
     else:
-        ax.set_ylabel(f"downlock force {force} (N)")
+        ax.set_ylabel(axis_label(f"downlock force {force}", funit))
     ax.axhline(0.0, color="0.6", lw=0.8)
     ax.set_xlabel(axis_label(vary, unit))
     ax.set_title(title)

@@ -79,7 +79,7 @@ def project(scene: Scene, view: str) -> Scene:
         p = np.asarray(p, float)
         return p[..., [h, v]].copy()
 
-    out = Scene()
+    out = Scene(units=scene.units)
     out.bars = [(name, p2(pts)) for name, pts in scene.bars]
     out.pins = [p2(p) for p in scene.pins]
     out.grounds = [p2(p) for p in scene.grounds]
@@ -141,8 +141,8 @@ def _axis_lines(scene: Scene, view: str | None, length: float) -> list[tuple[np.
     return out
 
 
-def _label_3d(text: str) -> str:
-    return f"{text} (m)"
+def _label_3d(text: str, scene: Scene) -> str:
+    return f"{text} ({scene.units.label('m')})"
 
 
 def _zigzag3d(a: np.ndarray, b: np.ndarray, width: float, coils: int = 6) -> np.ndarray:
@@ -165,11 +165,12 @@ def _loads_text(scene: Scene, show_forces: bool) -> str:
     """The loads of ``scene`` as text lines (``W = 11.3 kN``, ``actuator = 17.3 kN compression``)."""
     if not show_forces:
         return ""
-    lines = [f"{name} = {_d.load_text(_norm(f), 'N')}" for name, _, f in scene.forces]
-    lines += [f"{name} = {_d.load_text(_norm(m), 'N m')}" for name, _, m in scene.moments]
+    force, moment = scene.units.label("N"), scene.units.label("N m")
+    lines = [f"{name} = {_d.load_text(_norm(f), force)}" for name, _, f in scene.forces]
+    lines += [f"{name} = {_d.load_text(_norm(m), moment)}" for name, _, m in scene.moments]
     for name, _, _, tension in scene.actuators:
         sense = "tension" if tension > 0 else ("compression" if tension < 0 else "unloaded")
-        lines.append(f"{name} = {_d.load_text(abs(tension), 'N')} {sense}")
+        lines.append(f"{name} = {_d.load_text(abs(tension), force)} {sense}")
     return "\n".join(lines)
 
 
@@ -207,9 +208,9 @@ def _draw_3d(ax: Axes3D, scene: Scene, box: np.ndarray, scale: float, show_force
     ax.set_ylim(*box[1])
     ax.set_zlim(*box[2])
     ax.set_box_aspect(tuple(box[:, 1] - box[:, 0]), zoom=1.0)
-    ax.set_xlabel(_label_3d("x"), fontsize=_FONT)
-    ax.set_ylabel(_label_3d("y"), fontsize=_FONT)
-    ax.set_zlabel(_label_3d("z"), fontsize=_FONT)
+    ax.set_xlabel(_label_3d("x", scene), fontsize=_FONT)
+    ax.set_ylabel(_label_3d("y", scene), fontsize=_FONT)
+    ax.set_zlabel(_label_3d("z", scene), fontsize=_FONT)
     ax.tick_params(labelsize=_FONT)
     from matplotlib.ticker import MaxNLocator
 
@@ -234,8 +235,8 @@ def _draw_view(ax: Axes, scene: Scene, view: str, limits: tuple[float, float, fl
     h = _d._SYMBOL * max(limits[1] - limits[0], limits[3] - limits[2])
     for a, b in _axis_lines(scene, view, 6 * h):
         ax.plot(*np.array([a, b]).T, color="0.3", linewidth=1.0, linestyle="-.", zorder=6.5, gid="joint-axis")
-    ax.set_xlabel(f"{_AXIS[h_i]} (m)")
-    ax.set_ylabel(f"{_AXIS[v_i]} (m)")
+    ax.set_xlabel(f"{_AXIS[h_i]} ({scene.units.label('m')})")
+    ax.set_ylabel(f"{_AXIS[v_i]} ({scene.units.label('m')})")
 
 
 #: Where each view of the default layout sits (row, column) and which corner of its cell it hugs: front and side

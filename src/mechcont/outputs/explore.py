@@ -200,7 +200,8 @@ def page_data(model: EquationSystem | str | Path | None, branches: Sequence[_Sou
     :data:`._explore_cycles.PAGE_FRAMES` instants: ``poses`` (a list of poses per row) when the model is drawn,
     else ``orbits`` (per row, per instant the states' values, SI). Top level: ``bodies`` (``[{name, colour}]``),
     ``dim`` (2 or 3), ``views`` (``{view: [xmin, xmax, ymin, ymax]}`` m; spatial views
-    name the axes in ``view_axes``), ``force_scale`` (m/N), ``symbol`` (m).
+    name the axes in ``view_axes``), ``force_scale`` (m/N), ``symbol`` (m), ``load_units`` (the units of the
+    poses' lengths, forces and moments: ``["m", "N", "N m"]``, or the description's, ``["mm", "g mm/s^2", ...]``).
     """
     from ._explore_cycles import ORBIT_POINTS, PAGE_FRAMES, CycleTable, cycle_table, has_orbits
     from ._explore_page import VIEW_AXES
@@ -309,7 +310,8 @@ def page_data(model: EquationSystem | str | Path | None, branches: Sequence[_Sou
             doc["orbits"], doc["cycle"]["orbit_states"] = per, states
     data: dict[str, Any] = {"title": title or (system.name if system is not None else ""), "branches": out, "bodies": [],
                   "axes": default_axes(out[0], kinds, cycles[0]) if out else ["", ""],
-                  "dim": 2, "views": {}, "force_scale": 0.0, "symbol": 0.0, "view_axes": VIEW_AXES}
+                  "dim": 2, "views": {}, "force_scale": 0.0, "symbol": 0.0, "view_axes": VIEW_AXES,
+                  "load_units": ["m", "N", "N m"]}
     flat = [s for scenes in all_scenes for s in scenes] if drawn else []
     if flat:
         assert system is not None
@@ -320,7 +322,7 @@ def page_data(model: EquationSystem | str | Path | None, branches: Sequence[_Sou
         size = max(max(v[1] - v[0], v[3] - v[2]) for v in views.values())
         data.update(bodies=[{"name": n, "colour": c} for n, c in colours.items()], dim=dim, force_scale=scale,
                     views={v: [float(t) for t in lim] for v, lim in views.items()}, symbol=_d._SYMBOL * size,
-                    model=system.name)
+                    model=system.name, load_units=[flat[0].units.label(u) for u in ("m", "N", "N m")])
         for doc, scenes, per in zip(out, all_scenes, periods):
             if per:
                 doc["poses"] = [[pose_json(s, index) for s in f] for f in per]

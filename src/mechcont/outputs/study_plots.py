@@ -49,7 +49,7 @@ def plot_response_surface(df: pd.DataFrame, ax: Axes, column: str = "downlock_fo
     x, y = xa.values() * fx, ya.values() * fy
     lim = np.nanmax(np.abs(Z)) if np.isfinite(Z).any() else 1.0
     cs = ax.contourf(x, y, Z.T, levels=21, cmap="RdBu", vmin=-lim, vmax=lim)
-    ax.figure.colorbar(cs, ax=ax, label=f"{column} (N)")
+    ax.figure.colorbar(cs, ax=ax, label=_axis(df, column)[1])
     handles: list[tuple[str, LineStyleType, str]] = []  # (colour, line style, legend text)
     if np.nanmin(Z) < 0 < np.nanmax(Z):
         ax.contour(x, y, Z.T, levels=[0.0], colors="k", linewidths=2)
@@ -83,7 +83,7 @@ def plot_force_histogram(df: pd.DataFrame, ax: Axes, column: str = "downlock_for
     fp = failure_probability(df)
     ax.set_title(f"P(not locking unaided) = {fp.probability:.3g}\n95 % interval [{fp.low:.3g}, {fp.high:.3g}], "
                  f"{fp.samples} samples", fontsize=9)
-    ax.set_xlabel(f"{column} (N)")
+    ax.set_xlabel(_axis(df, column)[1])
     ax.set_ylabel("samples (count)")
     ax.legend(fontsize=8)
     return ax
@@ -128,7 +128,7 @@ def plot_study(df: pd.DataFrame, path: str | os.PathLike[str], dpi: int = 120) -
         ax.plot(df.loc[ok, name] * f, df.loc[ok, "downlock_force"], "k.-")
         ax.axhline(0.0, color="tab:red", lw=1)
         ax.set_xlabel(label)
-        ax.set_ylabel("downlock_force (N)")
+        ax.set_ylabel(_axis(df, "downlock_force")[1])
         ax.set_title(f"{spec.model}: downlock force (locks unaided above the red line)", fontsize=10)
     elif spec.sampling != "grid":
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.5), width_ratios=(1.4, 1))

@@ -33,8 +33,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ...errors import InputError
+from ...units import units_of
 from ._estimate import MAX_SECONDS, PILOT_SAMPLES, Estimate, check_cost, estimate_study
-from ._kernels import check_spec, result_columns, run_chunk
+from ._kernels import COLUMNS, check_spec, result_columns, run_chunk
 from ._spec import StudySpec
 from ._store import StudyStore
 
@@ -149,7 +150,9 @@ class StudyResult:
 
 
 def _units(system: Model, spec: StudySpec) -> dict[str, str]:
-    return {n: system.variable(n).unit for n in spec.names}
+    # the force columns in the description's units (g mm/s^2 for a file in mm and g), the others as COLUMNS says
+    forces = {n: units_of(system).label(u) for n, (u, _) in COLUMNS.items() if u == "N"}
+    return {**forces, **{n: system.variable(n).unit for n in spec.names}}
 
 
 def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, scheduler: str | None = None,

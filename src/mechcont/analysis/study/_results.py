@@ -202,7 +202,7 @@ def study_report(df: pd.DataFrame, spec: StudySpec, result: StudyResult, seconds
         lines.append(f"sensitivity of the downlock force (standardised regression coefficients, linear fit R^2 = {r2:.4f}):")
         units = df.attrs.get("units", {})
         for s in ranking:
-            unit = derivative_unit("N", units.get(s.name, ""))
+            unit = derivative_unit(units.get("downlock_force", "N"), units.get(s.name, ""))
             lines.append(f"  {s.name:>10}  SRC {s.src:+.4f}  slope {s.slope:+.6g} {unit}  Spearman {s.spearman:+.4f}")
     lines.append(f"wrote {result.results}")
     return lines, warnings

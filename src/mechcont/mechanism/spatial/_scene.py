@@ -62,4 +62,5 @@ def spatial_scene_function(kin: SpatialKinematics, arrows: Sequence[tuple[str, s
             add("point", f"{b.name}.{pn}", [kin.point(f"{b.name}.{pn}")])
     for gname in mech.ground:
         add("point", f"ground.{gname}", [kin.point(f"ground.{gname}")])
-    return SpatialScene(tuple(items), compile_dense(list(symbols), [sp.sympify(e, strict=True) for e in exprs]))
+    return SpatialScene(tuple(items), compile_dense(list(symbols), [sp.sympify(e, strict=True) for e in exprs]),
+                        kin.mech.units)
