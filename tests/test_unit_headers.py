@@ -23,6 +23,8 @@ import pytest
 from cli_helpers import csv_rows, make_runner
 from corpus.scaling import write_scaled
 
+from mechcont.units import dimension
+
 ROOT = Path(__file__).parents[1]
 OVERCENTRE = ROOT / "src" / "mechcont" / "data" / "overcentre.toml"
 #: base symbols as (factor to SI, (length, mass, time, angle) exponents)
@@ -31,27 +33,44 @@ _BASE = {"m": (1.0, (1, 0, 0, 0)), "g": (1e-3, (0, 1, 0, 0)), "t": (1e3, (0, 1, 
 _PREFIX = {"": 1.0, "k": 1e3, "c": 1e-2, "m": 1e-3, "u": 1e-6}
 
 
-def _token(tok: str) -> tuple[float, tuple[int, ...]]:
+def _token(tok: str) -> tuple[float, list[int]]:
     name, _, power = tok.partition("^")
     n = int(power) if power else 1
     for pre, f in _PREFIX.items():
         if name.startswith(pre) and name[len(pre):] in _BASE:
             base, dim = _BASE[name[len(pre):]]
-            return (f * base) ** n, tuple(d * n for d in dim)
+            return (f * base) ** n, [d * n for d in dim]
     raise AssertionError(f"unit symbol {tok!r} does not parse")
 
 
 def si(unit: str) -> tuple[float, tuple[int, ...]]:
     """The factor to SI and the (length, mass, time, angle) exponents of a header's unit, e.g.
-    ``"g mm^2/(s^2 rad)"`` -> (1e-9, (2, 1, -2, -1)). Fails on a unit it cannot read."""
-    num, _, den = unit.partition("/")
-    assert "/" not in den.strip("()"), f"{unit!r}: one '/' and a parenthesised denominator"
-    factor, dim = 1.0, [0, 0, 0, 0]
-    for part, sign in ((num, 1), (den.strip("()"), -1)):
-        for tok in part.split():
-            f, d = _token(tok)
-            factor *= f ** sign
-            dim = [a + sign * b for a, b in zip(dim, d)]
+    ``"g mm^2/(s^2 rad)"`` -> (1e-9, (2, 1, -2, -1)): the factors before the first ``/`` outside
+    parentheses over those after it, a parenthesised group read the same way. Fails on a unit it cannot read."""
+    groups: list[str] = []
+
+    def hide(m: re.Match) -> str:  # innermost groups first, each replaced by a placeholder
+        groups.append(m.group(1))
+        return f"@{len(groups) - 1}"
+
+    text = unit
+    while "(" in text:
+        new = re.sub(r"\(([^()]*)\)", hide, text)
+        assert new != text, f"{unit!r}: unbalanced parentheses"
+        text = new
+    assert ")" not in text, f"{unit!r}: unbalanced parentheses"
+
+    def quotient(t: str) -> tuple[float, list[int]]:
+        num, _, den = t.partition("/")
+        factor, dim = 1.0, [0, 0, 0, 0]
+        for part, sign in ((num, 1), (den, -1)):
+            for tok in part.split():
+                f, d = quotient(groups[int(tok[1:])]) if tok.startswith("@") else _token(tok)
+                factor *= f ** sign
+                dim = [a + sign * b for a, b in zip(dim, d)]
+        return factor, dim
+
+    factor, dim = quotient(text)
     return factor, tuple(dim)
 
 
@@ -107,8 +126,11 @@ def test_the_header_parser():
     assert math.isclose(f, 1e-9) and d == (2, 1, -2, -1)
     f, d = si("N mm/rad")
     assert math.isclose(f, 1e-3) and d == (2, 1, -2, -1)
+    f, d = si("(g mm/s^2)/(g/s^2)")
+    assert math.isclose(f, 1e-3) and d == (1, 0, 0, 0)
+    assert si("N/(N/m)") == (1.0, (1, 0, 0, 0))
     with pytest.raises(AssertionError):
-        si("N/(N/m)")
+        si("N/(N/m")
 
 
 @pytest.fixture(scope="module")
@@ -120,18 +142,23 @@ def overcentres(tmp_path_factory):
             "mm-t": (write_scaled(OVERCENTRE, d / "mmt.toml", 1e3, 1e-3, labels=True), 1.0)}
 
 
-@pytest.mark.parametrize("units", ["mm-g", "mm-t"])
-def test_continue_tables_agree_by_their_headers(overcentres, tmp_path, units):
-    """`continue` in F: every column (coordinates, reactions, parameters, arclength, labels) of the
-    file in other units is the SI table's once read in its own headers' units."""
-    run = make_runner()
-    out = {}
-    for name in ("si", units):
-        path, force = overcentres[name]
-        out[name] = tmp_path / f"{name}.csv"
+@pytest.fixture(scope="module")
+def branches(overcentres, tmp_path_factory):
+    """`continue` in F of each overcentre: ``{name: branch table}``."""
+    d, run, out = tmp_path_factory.mktemp("branches"), make_runner(), {}
+    for name, (path, force) in overcentres.items():
+        out[name] = d / f"{name}.csv"
         r = run("continue", path, "--start", "theta1=0.3", "--vary", "F", "--bounds",
                 f"F={-100 * force}:{120 * force}", "--out", out[name])
         assert r.exit_code == 0, r.output
+    return out
+
+
+@pytest.mark.parametrize("units", ["mm-g", "mm-t"])
+def test_continue_tables_agree_by_their_headers(branches, units):
+    """`continue` in F: every column (coordinates, reactions, parameters, arclength, labels) of the
+    file in other units is the SI table's once read in its own headers' units."""
+    out = branches
     assert_same_tables(out["si"], out[units], rtol=1e-9)
     heads = _columns(out[units])
     assert heads["R_pin_x"][0] == ("g mm/s^2" if units == "mm-g" else "N") and heads["x1"][0] == "mm"
@@ -221,7 +248,27 @@ def test_bad_units_are_one_line(tmp_path, units, words):
     one_line_error(make_runner()("check", path), *words)
 
 
-def test_drawings_and_the_explorer_say_the_units(overcentres, tmp_path):
+def test_sensitivities_agree_by_their_units(overcentres, branches, tmp_path):
+    """`sensitivity` at the fold LP1: each derivative (printed and in the JSON) names a unit that parses, and
+    converted by it to SI is the SI file's (the derivatives are exact: to 1e-8)."""
+    import json
+
+    run, found = make_runner(), {}
+    for name in ("si", "mm-g"):
+        out = tmp_path / f"{name}.json"
+        r = run("sensitivity", overcentres[name][0], "--point", f"{branches[name]}:LP1", "--params", "LU,k,m1",
+                "--out", out)
+        assert r.exit_code == 0, r.output
+        found[name] = json.loads(out.read_text())
+    for p in ("LU", "k", "m1"):
+        (fa, da), (fb, db) = si(found["si"]["units"][p]), si(found["mm-g"]["units"][p])
+        assert da == db, p
+        assert dimension(found["mm-g"]["units"][p]) == db[:3], p  # mechcont's own reader agrees
+        assert found["mm-g"][p] * fb == pytest.approx(found["si"][p] * fa, rel=1e-8), p
+    assert found["mm-g"]["units"]["LU"] == "mm g/(s^2 mm)"
+
+
+def test_drawings_and_the_explorer_say_the_units(overcentres, branches):
     """The drawing's axes and load labels, and the explorer's, in the file's units: mm, g mm/s^2."""
     from mechcont.mechanism import load
     from mechcont.outputs.drawing import draw_scene
@@ -233,10 +280,6 @@ def test_drawings_and_the_explorer_say_the_units(overcentres, tmp_path):
     assert (ax.get_xlabel(), ax.get_ylabel()) == ("x (mm)", "y (mm)")
     texts = [t.get_text() for t in ax.texts]
     assert "F = 5e+06 g mm/s^2" in texts, texts  # 5 N in g mm/s^2, no SI prefix on grams
-    branch = tmp_path / "b.csv"
-    r = make_runner()("continue", path, "--start", "theta1=0.3", "--vary", "F", "--bounds",
-                      f"F={-100 * force}:{120 * force}", "--out", branch)
-    assert r.exit_code == 0, r.output
-    data = page_data(model, [branch])
+    data = page_data(model, [branches["mm-g"]])
     assert data["load_units"] == ["mm", "g mm/s^2", "g mm^2/s^2"]
     assert data["branches"][0]["units"]["x1"] == "mm"

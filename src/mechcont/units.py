@@ -50,13 +50,18 @@ def shown(value: float, unit: str, fmt: str = ".6g") -> str:
 
 def derivative_unit(of: str, by: str) -> str:
     """The unit of ``d(of)/d(by)``: ``"N/m"``, ``"N/(N/m)"``, ``"1/m"``, ``"1"`` when they cancel; ``of`` when
-    ``by`` has no unit (a dimensionless parameter)."""
+    ``by`` has no unit (a dimensionless parameter); a quotient ``of`` divided by a product ``by`` keeps one
+    ``/``: ``"g mm/s^2"`` by ``"mm"`` is ``"g mm/(s^2 mm)"``, by a quotient both are grouped,
+    ``"(g mm/s^2)/(g/s^2)"`` (as :func:`dimension` reads them)."""
     if of == by:
         return "1"
     if not by:
         return of
+    num, slash, below = of.partition("/")
+    if slash and "/" not in by and not any(c in of + by for c in "()*"):
+        return f"{num or '1'}/({below.strip()} {by})"
     den = f"({by})" if any(c in by for c in "/* ") else by
-    return f"{of or '1'}/{den}"
+    return f"{f'({of})' if '/' in of else of or '1'}/{den}"
 
 
 #: the base of each unit symbol a description's labels use, as exponents of (length, mass, time); a
@@ -82,18 +87,60 @@ def _symbol(token: str) -> tuple[int, int, int] | None:
 def dimension(unit: str) -> tuple[int, int, int] | None:
     """The exponents ``(length, mass, time)`` of a unit label such as ``"N m/rad"``, ``"mm"`` or ``"g mm/s^2"``.
 
-    Products are written with spaces or ``*``, one ``/`` divides by everything after it; a prefix
-    (``mm``, ``km``, ``um``, ``kg``, ``kN`` ...) is part of the label, not of the dimension: a label never
-    converts a value. Returns None for a label it cannot read (a dimensionless ``""`` is ``(0, 0, 0)``).
+    Products are written with spaces or ``*``, one ``/`` divides by everything after it, a parenthesised
+    group is one factor (``"N/(N/m)"``, ``"(g mm/s^2)/(g/s^2)"``); a prefix (``mm``, ``km``, ``um``,
+    ``kg``, ``kN`` ...) is part of the label, not of the dimension: a label never converts a value.
+    Returns None for a label it cannot read (a dimensionless ``""`` is ``(0, 0, 0)``).
     """
-    num, _, den = unit.replace("*", " ").partition("/")
+    return _quotient(unit.replace("*", " "), 0)
+
+
+def _quotient(text: str, depth: int) -> tuple[int, int, int] | None:
+    """:func:`dimension` of ``text``: its factors before the first ``/`` outside parentheses over those after."""
+    level, cut = 0, -1
+    for i, c in enumerate(text):
+        level += (c == "(") - (c == ")")
+        if level < 0:
+            return None
+        if c == "/" and level == 0 and cut < 0:
+            cut = i
+    if level != 0 or depth > 8:
+        return None
+    num, den = (text, "") if cut < 0 else (text[:cut], text[cut + 1:])
     total = [0, 0, 0]
-    for part, sign in ((num, 1), (den.replace("(", " ").replace(")", " "), -1)):
-        for token in part.split():
-            d = _symbol(token)
-            if d is None:
-                return None
-            total = [t + sign * e for t, e in zip(total, d)]
+    for part, sign in ((num, 1), (den, -1)):
+        d = _product(part, depth)
+        if d is None:
+            return None
+        total = [t + sign * e for t, e in zip(total, d)]
+    return (total[0], total[1], total[2])
+
+
+def _product(text: str, depth: int) -> tuple[int, int, int] | None:
+    """The dimension of a product of symbols and parenthesised groups (no ``/`` outside the groups)."""
+    total, level, start = [0, 0, 0], 0, 0
+    factors = []
+    for i, c in enumerate(text + " "):
+        if c == "(":
+            if level == 0:
+                factors.append(text[start:i])
+                start = i
+            level += 1
+        elif c == ")":
+            level -= 1
+            if level == 0:
+                factors.append(text[start:i + 1])
+                start = i + 1
+        elif c == " " and level == 0:
+            factors.append(text[start:i])
+            start = i + 1
+    for f in (f.strip() for f in factors):
+        if not f:
+            continue
+        d = _quotient(f[1:-1], depth + 1) if f.startswith("(") else _symbol(f)
+        if d is None:
+            return None
+        total = [t + e for t, e in zip(total, d)]
     return (total[0], total[1], total[2])
 
 

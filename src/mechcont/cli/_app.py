@@ -118,7 +118,8 @@ def cli(no_cache: bool) -> None:
     """mechcont: numerical continuation for quasi-static mechanisms (landing gear).
 
     Models are built-in names (see `mechcont models`) or mechanism description files
-    (.toml). Values are SI units, angles in radians. Compiled equations are cached on disk
+    (.toml). Values are SI units (or the units a file declares, [mechanism] units, which
+    every header then names), angles in radians. Compiled equations are cached on disk
     (MECHCONT_CACHE_DIR, default the user cache folder) so the next run starts fast.
     """
     if no_cache:

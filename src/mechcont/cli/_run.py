@@ -48,7 +48,8 @@ def check_outputs(out: str | None, plot: str | None) -> None:
 def common_options(f: F) -> F:
     """Options shared by `continue` and `folds`."""
     opts = [
-        click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Parameter value (SI units, rad)."),
+        click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+                     help="Parameter value (SI units, or the units the file declares; angles in rad)."),
         click.option("--start", "starts", multiple=True, metavar="NAME=VALUE",
                      help="State held at a value to find the first solution (the --vary name is free then)."),
         click.option("--hold", "holds", multiple=True, metavar="NAME[=VALUE]",

@@ -16,7 +16,8 @@ if TYPE_CHECKING:
 
 @cli.command("check")
 @click.argument("model")
-@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units, radians).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="Override a parameter (SI units, or the units the file declares; angles in rad).")
 @click.option("--reduced", is_flag=True, help="Check the reduced form (tree coordinates and their reactions "
                                                "eliminated).")
 @click.option("--plot", default=None, metavar="FILE",

@@ -56,7 +56,8 @@ def hopf_row(system: Model, point: str) -> tuple[npt.NDArray[np.float64], Branch
 @click.option("--point", required=True, metavar="BRANCH.csv:HBn",
               help="The Hopf point the family starts at: a row labelled HB of a continue table (e.g. branch.csv:HB1).")
 @click.option("--vary", required=True, metavar="P", help="Parameter in which the family is continued.")
-@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Parameter value (SI units, rad).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="Parameter value (SI units, or the units the file declares; angles in rad).")
 @click.option("--bounds", "bnds", multiple=True, metavar="NAME=LO:HI",
               help="Stop where P (or the period, NAME=period, s) leaves [LO, HI].")
 @click.option("--at", "at", multiple=True, metavar="P=V1,V2,...",

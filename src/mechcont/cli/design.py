@@ -24,7 +24,8 @@ from .downlock import model_and_condition, warn
 @click.option("--bounds", "bounds_", multiple=True, required=True, metavar="NAME=LO:HI",
               help="Ranges of both design parameters (finite).")
 @click.option("--levels", default=11, show_default=True, type=int, help="Number of levels of the second parameter.")
-@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Set a parameter (SI units, radians).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="Set a parameter (SI units, or the units the file declares; angles in rad).")
 @click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE",
               help="Downlock condition: a state held at a value (default: the model's).")
 @click.option("--condition", default=None, metavar="NAME",

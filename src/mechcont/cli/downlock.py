@@ -54,7 +54,8 @@ def warn(lines: Iterable[str]) -> None:
 @click.option("--bounds", "bounds_", multiple=True, metavar="NAME=LO:HI",
               help="Range of a variable; required for --vary.")
 @click.option("--free", "frees", multiple=True, metavar="NAME", help="A further parameter solved for.")
-@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Set a parameter (SI units, radians).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="Set a parameter (SI units, or the units the file declares; angles in rad).")
 @click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE",
               help="Downlock condition: held lock-link state (default: the model's, theta4=0 for nose_gear).")
 @click.option("--condition", default=None, metavar="NAME",

@@ -13,7 +13,8 @@ from ._run import load_at
 
 @cli.command("draw")
 @click.argument("model")
-@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Set a parameter (SI units, radians).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="Set a parameter (SI units, or the units the file declares; angles in rad).")
 @click.option("--start", "starts", multiple=True, metavar="NAME=VALUE",
               help="Hold a state at a value while solving (use with --free).")
 @click.option("--free", "frees", multiple=True, metavar="NAME", help="A parameter solved for instead (e.g. F).")

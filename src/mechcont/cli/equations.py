@@ -38,7 +38,8 @@ def _system(model: str, reduced: bool, overrides: dict[str, float]) -> Model:
 @click.option("--latex", is_flag=True, help="Print a LaTeX align environment instead of plain text.")
 @click.option("--reduced", is_flag=True, help="The reduced form (description files only): tree coordinates "
                                                "and their reactions eliminated.")
-@click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
+@click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
+              help="Override a parameter (SI units, or the units the file declares; angles in rad).")
 @click.option("--shared", is_flag=True, help="Name repeated sub-expressions (w0, w1, ...) and list them first.")
 def equations_command(model: str, latex: bool, reduced: bool, settings: tuple[str, ...], shared: bool) -> None:
     """Print the equations G(x) = 0 of MODEL: a built-in model name (overcentre), a shipped

@@ -84,7 +84,8 @@ def _option_error(exc: InputError, start_option: str = "--start") -> InputError:
               help="The retracted pose is the static equilibrium with the --start values held by PARAM (e.g. the "
                    "retraction actuator's force) solved for, then released; without it compliant joints deflect as "
                    "held by a reaction conjugate to each --start value.")
-@click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
+@click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
+              help="Override a parameter (SI units, or the units the file declares; angles in rad).")
 @click.option("--lock", multiple=True, metavar="STOP",
               help="A lock stop (repeatable): locked when every one is in contact and at rest.")
 @click.option("--lock-condition", default=None, metavar="NAME=VALUE",

@@ -37,7 +37,8 @@ if TYPE_CHECKING:
 @click.option("--dist", "dists", multiple=True, metavar="NAME=KIND:...",
               help="A toleranced parameter for P(not locking): normal:MEAN:SD, uniform:LO:HI or "
                    "truncnormal:MEAN:SD:LO:HI (SI); on a --design parameter it moves with the design value.")
-@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Another parameter's value (SI units, rad).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="Another parameter's value (SI units, or the units the file declares; angles in rad).")
 @click.option("--force", "force", default=None, metavar="NAME",
               help="For unlock_force of a lock on stops: the force that opens it (default the model's downlock force).")
 @click.option("--point", metavar="BRANCH.csv:LPn", help="For fold_load: the start fold, a point of a branch table.")

@@ -54,8 +54,8 @@ def sensitivity_command(model: str, point: str | None, downlock: bool, params_te
     At a fold (e.g. --point branch.csv:LP1) the quantity is the fold load: the value of the
     branch's continuation parameter there. Elsewhere on a branch it is the continuation
     parameter at the --keep state held at its value, or the unknown --of. With --downlock it
-    is the downlock force. SI units per SI unit; JSON {"LU": ..., "k": ..., "units": {...},
-    "quantity": {...}}.
+    is the downlock force. Each derivative is in the quantity's unit per the parameter's; JSON
+    {"LU": ..., "k": ..., "units": {...}, "quantity": {...}}.
 
     Example: mechcont sensitivity overcentre --point branch.csv:LP1 --params LU,k --out s.json
     """

@@ -61,7 +61,8 @@ def _holdable(system: Model, coords: tuple[str, ...]) -> list[str]:
 
 @cli.command("simulate")
 @click.argument("model")
-@click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
+@click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
+              help="Override a parameter (SI units, or the units the file declares; angles in rad).")
 @click.option("--start", "starts", multiple=True, metavar="NAME=VALUE",
               help="Starting coordinate or condition, held while the mechanism is assembled (e.g. theta1=1.2); "
                    "the simulation starts at rest there.")

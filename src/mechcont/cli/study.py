@@ -88,7 +88,8 @@ def _spec(model: str, sample: str | None, n: int | None, seed: int, dists: Seque
                    "the sample's own release run (branch); a freefall from --start (the released pose) until --lock.")
 @click.option("--lock", multiple=True, metavar="STOP", help="--analysis freefall: a lock stop (repeatable).")
 @click.option("--until", type=float, default=None, metavar="SECONDS", help="--analysis freefall: longest simulated time.")
-@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE", help="Fix a parameter (SI units, radians).")
+@click.option("--set", "sets", multiple=True, metavar="NAME=VALUE",
+              help="Fix a parameter (SI units, or the units the file declares; angles in rad).")
 @click.option("--hold", "holds", multiple=True, metavar="NAME=VALUE",
               help="Downlock condition: a state held at a value (default: the model's).")
 @click.option("--start", "starts", multiple=True, metavar="NAME=VALUE",

@@ -115,7 +115,8 @@ def _print_stop_loads(system: Model, result: SweepResult) -> None:
 
 @cli.command("sweep")
 @click.argument("model")
-@click.option("--set", "settings", multiple=True, metavar="NAME=VALUE", help="Override a parameter (SI units).")
+@click.option("--set", "settings", multiple=True, metavar="NAME=VALUE",
+              help="Override a parameter (SI units, or the units the file declares; angles in rad).")
 @click.option("--start", "starts", multiple=True, metavar="NAME=VALUE",
               help="Starting coordinate, held while the mechanism is assembled (e.g. theta1=1.2).")
 @click.option("--ramp", "ramps", multiple=True, metavar="NAME=FROM:TO:RATE",
