@@ -283,3 +283,20 @@ def test_drawings_and_the_explorer_say_the_units(overcentres, branches):
     data = page_data(model, [branches["mm-g"]])
     assert data["load_units"] == ["mm", "g mm/s^2", "g mm^2/s^2"]
     assert data["branches"][0]["units"]["x1"] == "mm"
+
+
+def test_check_warns_of_parameters_labelled_in_undeclared_units(overcentres, tmp_path):
+    """A file whose parameters say mm but that declares no units gets one warning naming the parameter and
+    the declaration; declared, or in SI, it gets none."""
+    run = make_runner()
+    path, _ = overcentres["mm-g"]
+    undeclared = tmp_path / "undeclared.toml"
+    undeclared.write_text(re.sub(r"^units = .*\n", "", path.read_text(), flags=re.M))
+    assert "units" not in undeclared.read_text().split("[parameters]")[0]
+    r = run("check", undeclared)
+    assert r.exit_code == 0, r.output
+    (line,) = [ln for ln in r.output.splitlines() if "labelled" in ln]
+    assert "parameters.L1 is labelled 'mm'" in line and "units = { length" in line
+    for good in (path, overcentres["si"][0]):
+        r = run("check", good)
+        assert r.exit_code == 0 and "labelled" not in r.output, r.output

@@ -16,7 +16,7 @@ from typing import TypeVar
 import numpy as np
 
 __all__ = ["display", "display_unit", "display_scale", "shown", "derivative_unit", "dimension", "typical_scale",
-           "UnitSystem", "SI", "LENGTH_UNITS", "MASS_UNITS", "units_of"]
+           "UnitSystem", "SI", "LENGTH_UNITS", "MASS_UNITS", "units_of", "undeclared_label"]
 
 V = TypeVar("V", float, np.ndarray)
 
@@ -222,6 +222,17 @@ class UnitSystem:
 
 #: metres, kilograms, seconds
 SI = UnitSystem()
+
+
+def undeclared_label(label: str, units: UnitSystem) -> str | None:
+    """The first length or mass symbol of the label ``label`` that is not ``units``' own (``"mm"`` in a
+    description declared, or by default, in metres), or None: a parameter labelled in units the description
+    does not declare, so its generated names' labels would not be the units its numbers are in."""
+    for token in label.replace("/", " ").replace("*", " ").replace("(", " ").replace(")", " ").split():
+        name = token.partition("^")[0]
+        if name in LENGTH_UNITS and name != units.length or name in MASS_UNITS and name != units.mass:
+            return name
+    return None
 
 
 def units_of(model: object) -> UnitSystem:

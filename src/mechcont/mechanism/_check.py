@@ -32,7 +32,7 @@ import numpy as np
 
 from ..equations import Model, StabilityResult
 from ..errors import ConvergenceError, InputError, one_line
-from ..units import SI, UnitSystem
+from ..units import SI, UnitSystem, undeclared_label
 from ._compliant import compliant_constraints
 from ._equilibrium import free_equilibrium
 from ._paths import find_description
@@ -307,8 +307,21 @@ class _Facts(NamedTuple):
         from ._values import parameter_values
 
         return cls(mech.name, mech.description, mech.dof, tuple(j.name for j in mech.joints), tuple(mech.hold),
-                   mech.normalisation_rows(), bar_point_warnings(mech, parameter_values(mech, overrides)),
-                   mech.units)
+                   mech.normalisation_rows(),
+                   bar_point_warnings(mech, parameter_values(mech, overrides)) + _unit_warnings(mech), mech.units)
+
+
+def _unit_warnings(mech: Mechanism) -> tuple[str, ...]:
+    """One line for the first parameter labelled in a length or mass unit the description does not declare
+    (``"mm"`` without ``[mechanism] units``): its generated names would be labelled in the declared units."""
+    for p in mech.parameters:
+        found = undeclared_label(p.unit, mech.units)
+        if found is not None:
+            return (f"parameters.{p.name} is labelled '{p.unit}' but the description's units are {mech.units} "
+                    f"([mechanism] units, SI by default): the generated names (coordinates, reactions) are labelled "
+                    f"in those; if its numbers are in {found}, declare it (e.g. units = {{ length = \"mm\", "
+                    f"mass = \"g\" }})",)
+    return ()
 
 
 def _stored_build(name_or_path: str | Path, reduced: bool,
