@@ -300,3 +300,34 @@ def test_check_warns_of_parameters_labelled_in_undeclared_units(overcentres, tmp
     for good in (path, overcentres["si"][0]):
         r = run("check", good)
         assert r.exit_code == 0 and "labelled" not in r.output, r.output
+
+
+def test_design_tables_agree_by_their_headers(tmp_path):
+    """`design` on the pendulum downlock (tests/data/pendulum_downlock.toml: F = M0 - m g L/2 cos 0.3, a
+    moment) in SI and in mm and g: every number of every column, read in its header's unit, is the SI
+    table's (the lengths where F > 0 are printed to 4 digits, the rest to 1e-9); and an interval that
+    ends at its bound ends there in both (its end at the rounding of the bound is no F = 0 crossing)."""
+    run = make_runner()
+    src = ROOT / "tests" / "data" / "pendulum_downlock.toml"
+    tables = {}
+    for name, L, M in (("si", 1.0, 1.0), ("mm-g", 1e3, 1e3)):
+        path = write_scaled(src, tmp_path / f"{name}.toml", L, M, labels=True)
+        moment = L * L * M
+        out = tmp_path / f"{name}.csv"
+        r = run("design", path, "--bounds", f"L={0.5 * L}:{1.5 * L}", "--bounds", f"M0={10 * moment}:{20 * moment}",
+                "--levels", "3", "--out", out)
+        assert r.exit_code == 0, r.output
+        tables[name] = csv_rows(out)
+    a, b = tables["si"], tables["mm-g"]
+    assert len(a) == len(b) == 3
+    for ha, hb in zip(a[0], b[0]):
+        ua, ub = (re.search(r"\(([^()]*(?:\([^()]*\)[^()]*)*)\)$", h) for h in (ha, hb))
+        (fa, da), (fb, db) = (si(u.group(1)) if u else (1.0, (0, 0, 0, 0)) for u in (ua, ub))
+        assert da == db, (ha, hb)
+        for ra, rb in zip(a, b):
+            na = [float(v) for v in re.findall(r"[-+]?\d[\d.]*(?:e[-+]?\d+)?", ra[ha].replace("..", " "))]
+            nb = [float(v) for v in re.findall(r"[-+]?\d[\d.]*(?:e[-+]?\d+)?", rb[hb].replace("..", " "))]
+            assert len(na) == len(nb), (ha, ra[ha], rb[hb])
+            rel = 5e-4 if ".." in ra[ha] else 1e-9
+            for x, y in zip(na, nb):
+                assert y * fb == pytest.approx(x * fa, rel=rel, abs=1e-12), (ha, ra[ha], rb[hb])

@@ -216,6 +216,15 @@ class UnitSystem:
         below = den[0] if len(den) == 1 else f"({' '.join(den)})"
         return f"{' '.join(num) or '1'}/{below}"
 
+    def from_si(self, unit: str) -> float:
+        """How many of this system's units make one SI unit of the quantity labelled ``unit`` (by its
+        dimension, :func:`dimension`): 1e6 for a force in mm and g (1 N = 1e6 g mm/s^2), 1 in SI or for a
+        label it cannot read. An absolute number in SI (a default bound) is worth this many in the file's units."""
+        dim = dimension(unit)
+        if dim is None:
+            return 1.0
+        return 1.0 / (LENGTH_UNITS[self.length] ** dim[0] * MASS_UNITS[self.mass] ** dim[1])
+
     def __str__(self) -> str:
         return f"{self.length}, {self.mass}, s"
 

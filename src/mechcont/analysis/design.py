@@ -173,7 +173,7 @@ def _options(bounds: Mapping[str, tuple[float, float]], scale_span: float,
 
 def fold_locus(system: Model, design: str, second: str, bounds: Mapping[str, tuple[float, float]], *,
                values: Mapping[str, float] | None = None, hold: Mapping[str, float] | None = None,
-               force: str | None = None, force_bounds: tuple[float, float] = (-1e4, 1e4),
+               force: str | None = None, force_bounds: tuple[float, float] | None = None,
                condition: str | None = None, max_steps: int = 2000) -> FoldLocus:
     """Extrema of the downlock force in ``design`` (folds) and their locus in ``second``.
 
@@ -190,7 +190,7 @@ def fold_locus(system: Model, design: str, second: str, bounds: Mapping[str, tup
     values, hold, force, condition:
         Start parameter values and the downlock condition (see :func:`downlock`).
     force_bounds:
-        Range of the force (N) along the branch.
+        Range of the force along the branch; default +-1e4 N (N m for a moment) in the description's units.
     max_steps:
         Most continuation steps each way, for both runs.
 
@@ -205,6 +205,9 @@ def fold_locus(system: Model, design: str, second: str, bounds: Mapping[str, tup
         if n not in bounds:
             raise InputError("bounds", f"give a range for {n}")
     x0 = downlock_point(system, values, hold=h, force=f)
+    if force_bounds is None:
+        big = 1e4 * units_of(system).from_si(system.variable(f).unit)
+        force_bounds = (-big, big)
     opts = _options({design: bounds[design], f: force_bounds}, 0.5, max_steps)
     br = continuation(system, x0, f, hold=list(h), free=[design], options=opts)
     warnings = early_stops(br, f"force branch in {f} ({design} solved for)", show=(design,))
@@ -236,8 +239,10 @@ def _refined(system: Model, intervals: Iterable[tuple[float, float]], vals: Mapp
 
     base = downlocked_pose(system)
 
+    edge = 1e-9 * (xb[1] - xb[0])  # a branch's end at its bound, to rounding (1499.9999999999998 of 1500), is no crossing
+
     def crossing(xc: float) -> float:
-        if not xb[0] < xc < xb[1]:
+        if not xb[0] + edge < xc < xb[1] - edge:
             return xc
         v = {**vals, x_name: xc, f: 0.0}
         try:
@@ -318,6 +323,7 @@ def design_region(system: Model, x_name: str, y_name: str, *,
         vals = {**values, y_name: float(yv), x_name: x0}
         # the model at this level: a hold target (or a stop's limit) written in the level's parameter follows it
         level = system.with_values({y_name: float(yv)})
+        big = 1e6 * units_of(system).from_si(system.variable(f).unit)  # 1e6 N (N m) in the file's units
         hl = h if hold else downlock_condition(level, None, force, condition=condition)[0]
         run = downlock(level, x_name, {x_name: (lo, hi)}, values=vals, hold=hl, force=f, unlock=False,
                        max_steps=max_steps)
@@ -329,7 +335,7 @@ def design_region(system: Model, x_name: str, y_name: str, *,
         # extrema of F(x): folds of the force branch with x solved for
         try:
             fl = continuation(level, downlock_point(level, vals, hold=hl, force=f), f, hold=list(hl), free=[x_name],
-                              options=_options({x_name: (lo, hi), f: (-1e6, 1e6)}, 0.5, max_steps))
+                              options=_options({x_name: (lo, hi), f: (-big, big)}, 0.5, max_steps))
             folds = tuple(sorted(p[x_name] for p in fl.special("LP")))
             warnings += [f"{y_name} = {yv:g}: {w}" for w in early_stops(fl, f"force branch in {f} ({x_name} solved "
                                                                             f"for, to find the folds)", show=(x_name,))]
@@ -343,7 +349,8 @@ def design_region(system: Model, x_name: str, y_name: str, *,
         slope = _slope(level, vals, x_name, x0, (lo, hi), hl, f)
         margin = min((abs(x0 - v) for v in folds), default=float("nan"))
         intervals = _refined(level, _intervals(xs, Fs), vals, x_name, (lo, hi), hl, f)
-        crossings = [e for iv in intervals for e in iv if lo < e < hi]
+        edge = 1e-9 * (hi - lo)  # an interval's end at a bound, to rounding, is no crossing of F = 0
+        crossings = [e for iv in intervals for e in iv if lo + edge < e < hi - edge]
         to_zero = min((abs(x0 - c) for c in crossings), default=float("nan"))
         rows.append(DesignRow(float(yv), F0, intervals, folds, margin, to_zero, slope))
         if progress is not None:
@@ -364,7 +371,8 @@ def design_region(system: Model, x_name: str, y_name: str, *,
         warnings.append(f"the fold locus from {y_name} = {y_mid:g} is unknown: {exc}")
     if progress is not None:
         progress()
-    units = (system.variable(x_name).unit, system.variable(y_name).unit, system.variable(f).unit or units_of(system).label("N"))
+    units = (system.variable(x_name).unit, system.variable(y_name).unit,
+             system.variable(f).unit or units_of(system).label("N"))
     return DesignRegion(x_name, y_name, grid, y_levels, force_map, boundary, locus, rows, (x0, y_mid), units,
                         warnings)
 

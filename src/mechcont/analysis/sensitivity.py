@@ -27,7 +27,7 @@ from ..continuation import (
 )
 from ..equations import Model
 from ..errors import InputError
-from ..units import derivative_unit
+from ..units import derivative_unit, units_of
 from ._downlock_point import DownlockResult, downlock_condition, downlock_point
 from .unlock import B
 
@@ -228,7 +228,8 @@ def _nearest(system: Model, design: str, values: Mapping[str, float], kind: str,
     if bounds is None:
         raise InputError("bounds", f"give the range of {design} to look for the {kind} margin in (or 'at')")
     lo, hi = map(float, bounds)
-    opts = ContinuationOptions(ds=0.02, dsmin=1e-9, dsmax=0.5, bounds={design: (lo, hi), f: (-1e6, 1e6)},
+    big = 1e6 * units_of(system).from_si(system.variable(f).unit)  # 1e6 N (N m) in the file's units
+    opts = ContinuationOptions(ds=0.02, dsmin=1e-9, dsmax=0.5, bounds={design: (lo, hi), f: (-big, big)},
                                max_steps=2000)
     br = continuation(system, downlock_point(system, {**values, design: min(max(x0, lo), hi)}, hold=h, force=f), f,
                       hold=list(h), free=[design], options=opts)
