@@ -331,3 +331,21 @@ def test_design_tables_agree_by_their_headers(tmp_path):
             rel = 5e-4 if ".." in ra[ha] else 1e-9
             for x, y in zip(na, nb):
                 assert y * fb == pytest.approx(x * fa, rel=rel, abs=1e-12), (ha, ra[ha], rb[hb])
+
+
+def test_a_study_labels_its_force_in_the_force_parameters_unit(tmp_path):
+    """`study` of the pendulum downlock (a moment, F = M0 - m g L/2 cos 0.3) in mm and g: its downlock_force
+    column is labelled as F is (g mm^2/s^2, which the old table called N) and is the SI answer in it."""
+    pytest.importorskip("pyarrow")
+    from mechcont.analysis.study import read_results
+
+    src = ROOT / "tests" / "data" / "pendulum_downlock.toml"
+    path = write_scaled(src, tmp_path / "mmg.toml", 1e3, 1e3, labels=True)
+    r = make_runner()("study", path, "--grid", "M0=1e10:2e10:2", "--dir", tmp_path / "st")
+    assert r.exit_code == 0, r.output
+    df = read_results(tmp_path / "st" / "results.parquet")
+    unit = df.attrs["units"]["downlock_force"]
+    factor, dim = si(unit)
+    assert dim == (2, 1, -2, 0), unit
+    truth = np.array([10.0, 20.0]) - 2.0 * 9.81 * 0.5 * math.cos(0.3)  # N m, in SI
+    np.testing.assert_allclose(df["downlock_force"].to_numpy() * factor, truth, rtol=1e-9)

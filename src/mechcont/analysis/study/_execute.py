@@ -149,9 +149,11 @@ class StudyResult:
         return read_results(self.results)
 
 
-def _units(system: Model, spec: StudySpec) -> dict[str, str]:
-    # the force columns in the description's units (g mm/s^2 for a file in mm and g), the others as COLUMNS says
-    forces = {n: units_of(system).label(u) for n, (u, _) in COLUMNS.items() if u == "N"}
+def _units(system: Model, spec: StudySpec, force: str | None) -> dict[str, str]:
+    # the force columns in the downlock force's own unit (N, or N m for a moment, or g mm/s^2 for a file in mm
+    # and g), the others as COLUMNS says
+    unit = system.variable(force).unit if force is not None else ""
+    forces = {n: unit or units_of(system).label(u) for n, (u, _) in COLUMNS.items() if u == "N"}
     return {**forces, **{n: system.variable(n).unit for n in spec.names}}
 
 
@@ -207,8 +209,8 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
     spec = spec.with_model_hash()
     source = ModelSource.of(spec.model)
     system = load_study_model(source)
-    check_spec(system, spec)
-    units = _units(system, spec)
+    _, force = check_spec(system, spec)
+    units = _units(system, spec, force)
     store = StudyStore(folder, spec, resume=resume)
     for k, why in store.verify(result_columns(spec)).items():
         if on_warning is not None:
