@@ -349,3 +349,19 @@ def test_a_study_labels_its_force_in_the_force_parameters_unit(tmp_path):
     assert dim == (2, 1, -2, 0), unit
     truth = np.array([10.0, 20.0]) - 2.0 * 9.81 * 0.5 * math.cos(0.3)  # N m, in SI
     np.testing.assert_allclose(df["downlock_force"].to_numpy() * factor, truth, rtol=1e-9)
+
+
+def test_a_loop_that_cannot_close_says_its_gap_in_the_files_length(tmp_path):
+    """The fourbar with its ground link d = 2.0 m (a + b + c = 1.7 m) misses by 0.3 m; written in mm and g
+    the message says 300 mm."""
+    from mechcont.errors import InputError
+    from mechcont.mechanism import find_description, load_description
+
+    src = tmp_path / "bad.toml"
+    src.write_text(find_description("fourbar").read_text().replace("d = { value = 0.7", "d = { value = 2.0")
+                   .replace("[assembly]\nhold = { theta_crank = 1.2 }", ""))
+    path = write_scaled(src, tmp_path / "mmg.toml", 1e3, 1e3, labels=True)
+    with pytest.raises(InputError) as info:
+        load_description(path).build()
+    gap = float(re.search(r"misses by ([0-9.eE+-]+) mm at best", str(info.value)).group(1))
+    assert gap == pytest.approx(300.0, rel=1e-6)

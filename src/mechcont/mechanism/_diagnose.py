@@ -54,8 +54,8 @@ def loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray) -> I
     if actuators:  # a length-mode actuator that cannot reach its length: name it, not a joint
         held = f" with held {', '.join(f'{k} = {v}' for k, v in mech.hold.items())}" if mech.hold else ""
         return InputError(f"actuators.{max(actuators, key=actuators.__getitem__)}.length",
-                          f"cannot be met{held}: the loop through the actuator misses by {sum(gaps.values()):.4g} m "
-                          f"at best")
+                          f"cannot be met{held}: the loop through the actuator misses by {sum(gaps.values()):.4g} "
+                          f"{mech.unit('m')} at best")
     joint = next(j for j in mech.joints if j.name == worst)
     start, goal = joint.a.split(".")[0], joint.b.split(".")[0]
     edges = [(j.name, j.a.split(".")[0], j.b.split(".")[0]) for j in mech.joints if j.name != worst]
@@ -70,7 +70,7 @@ def loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray) -> I
                     todo.append(v)
     held = f" with held {', '.join(f'{k} = {v}' for k, v in mech.hold.items())}" if mech.hold else ""
     if goal not in prev:
-        return InputError(f"joints.{worst}", f"cannot be satisfied{held}: gap {gaps[worst]:.4g} m")
+        return InputError(f"joints.{worst}", f"cannot be satisfied{held}: gap {gaps[worst]:.4g} {mech.unit('m')}")
     bodies, joints, node = [goal], [], goal
     step = prev[node]
     while step is not None:
@@ -86,7 +86,7 @@ def loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray) -> I
     loop = " - ".join([*bodies, bodies[0]])
     return InputError(f"joints.{worst}",
                       f"the loop {loop} (joints {', '.join(joints)}) cannot close with the given "
-                      f"lengths{held}: it misses by {gap:.4g} m at best")
+                      f"lengths{held}: it misses by {gap:.4g} {mech.unit('m')} at best")
 
 
 def check_assembled(mech: Mechanism, kin: PlanarKinematics, model: MechanicalModel, x: np.ndarray, subs: dict,
@@ -110,15 +110,17 @@ def check_assembled(mech: Mechanism, kin: PlanarKinematics, model: MechanicalMod
             gap = math.hypot(number(d[0]), number(d[1]))
             if not gap > 1e-9 * Lc:
                 raise InputError(el.field(), f"its ends {a} and {b} coincide at the assembled configuration "
-                                             f"(distance {gap:.3g} m): the direction of its force is undefined there{where}")
+                                             f"(distance {gap:.3g} {mech.unit('m')}): the direction of its force is "
+                                             f"undefined there{where}")
     for cond in mech.conditions:
         line = cond.line_of_action()  # a distance: |b - a| has no derivative where a = b (a NaN Jacobian)
         if line is not None:
             d = kin.point(line[1]) - kin.point(line[0])
             gap = math.hypot(number(d[0]), number(d[1]))
             if not gap > 1e-9 * Lc:
-                raise InputError(f"conditions.{cond.name}", f"its points {line[0]} and {line[1]} coincide "
-                                                            f"at the assembled configuration (distance {gap:.3g} m): the "
+                raise InputError(f"conditions.{cond.name}", f"its points {line[0]} and {line[1]} coincide at the "
+                                                            f"assembled configuration (distance {gap:.3g} "
+                                                            f"{mech.unit('m')}): the "
                                                             f"distance has no derivative there{where}")
     for ld in mech.loads:
         for key in ld.COORDINATE_KEYS:  # the expressions in the coordinates
