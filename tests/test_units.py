@@ -30,3 +30,16 @@ def test_shown_writes_the_value_with_its_display_unit():
 def test_the_unit_of_a_derivative():
     assert [derivative_unit("N", u) for u in ("m", "N/m", "N m", "", "N")] == ["N/m", "N/(N/m)", "N/(N m)", "N", "1"]
     assert derivative_unit("", "m") == "1/m"
+
+
+def test_a_derivative_of_a_quotient_reads_back_as_its_unit():
+    """A force in g mm/s^2 per mm keeps one '/', per a stiffness both are grouped; dimension() reads them
+    (by hand: (1,1,-2) - (1,0,0) = (0,1,-2); (1,1,-2) - (0,1,-2) = (1,0,0)), and a grouped denominator too."""
+    from mechcont.units import dimension
+
+    assert derivative_unit("g mm/s^2", "mm") == "g mm/(s^2 mm)"
+    assert derivative_unit("g mm/s^2", "g/s^2") == "(g mm/s^2)/(g/s^2)"
+    assert dimension("g mm/(s^2 mm)") == (0, 1, -2)
+    assert dimension("(g mm/s^2)/(g/s^2)") == (1, 0, 0)
+    assert dimension("N/(N/m)") == (1, 0, 0) and dimension("N m/(N/m)") == (2, 0, 0)
+    assert dimension("N/(m") is None and dimension("N)/m(") is None

@@ -153,7 +153,7 @@ def typical_scale(unit: str, length: float, force: float) -> float | None:
     label = unit.replace("*", " ").replace(".", " ").strip()
     if label == "rad":
         return 1.0
-    if "rad" in label.replace("/", " ").split():
+    if "rad" in label.replace("/", " ").replace("(", " ").replace(")", " ").split():
         return None
     return {(1, 0, 0): length, (1, 1, -2): force, (2, 1, -2): force * length}.get(dimension(label) or (0, 0, 0))
 
