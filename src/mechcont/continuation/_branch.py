@@ -69,7 +69,8 @@ class Branch:
     vary, unknowns:
         The continuation parameter and the names solved for.
     units:
-        ``{name: SI unit}`` (angles ``rad``); written into the CSV headers (``F [N]``), the
+        ``{name: unit}``, the unit each column's values are in (SI, or the units its description
+        declares; angles ``rad``); written into the CSV headers (``F [N]``, ``x1 [mm]``), the
         JSON ``units`` map and :meth:`to_frame`'s ``attrs``.
     status, message:
         A :class:`~mechcont._status.Status` (a ``str``): ``"completed"`` (hit a bound or max
@@ -117,7 +118,7 @@ class Branch:
 
     def with_columns(self, columns: Mapping[str, np.ndarray], units: Mapping[str, str] | None = None) -> Branch:
         """A new branch with ``columns`` (``{name: values per row}``) appended after this one's, in ``units``
-        (``{name: SI unit}``); this branch itself is unchanged."""
+        (``{name: unit}``); this branch itself is unchanged."""
         if not columns:
             return self.replace()
         new = np.column_stack([self.values, *(np.asarray(c, dtype=float) for c in columns.values())])
@@ -293,7 +294,7 @@ class Branch:
 
     def to_csv(self, path: str | os.PathLike[str]) -> Path:
         """Write the table as CSV: one column per variable with its unit in the header
-        (``F [N]``, ``theta1 [rad]``: values in SI units, angles in radians), then ``s``
+        (``F [N]``, ``theta1 [rad]``: values in SI units or the description's, angles in radians), then ``s``
         (scaled arclength, dimensionless), ``stability`` (``stable``/``unstable``/``fold``),
         ``n_unstable``, ``label`` (``LP``, ``LP?``...; numbered by row order: the second
         ``LP`` row is ``LP2``) and ``vary`` (the continuation parameter's name, repeated so

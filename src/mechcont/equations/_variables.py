@@ -33,7 +33,8 @@ class Variable:
     value:
         Default value for a parameter, initial guess for a state (SI units, radians).
     unit:
-        SI unit string for display, e.g. ``"N"``, ``"m"``, ``"rad"``.
+        The unit its values are in, for display and headers: SI (``"N"``, ``"m"``, ``"rad"``), or a
+        description's declared units (``"g mm/s^2"``, ``"mm"``; :class:`~mechcont.units.UnitSystem`).
     scale:
         Typical magnitude, used to weight the arclength so that newtons and radians
         are comparable. Must be positive.
