@@ -14,6 +14,8 @@ from typing import NamedTuple
 
 import numpy as np
 from scipy.linalg.lapack import dgesdd as _dgesdd
+from scipy.linalg.lapack import dgesv as _dgesv
+from scipy.linalg.lapack import dsyevd as _dsyevd
 
 from ._stability import constraint_rank
 
@@ -25,8 +27,27 @@ def positive_definite(Mr: np.ndarray) -> bool:
     1e-12 of its largest (one stacked eigenvalue call; none for one degree of freedom, whose mass is its
     eigenvalue)."""
     # the eigenvalues of the lower triangles: Mr = N^T M N is symmetric to rounding
-    w = Mr[:, 0] if Mr.shape[1] == 1 else np.linalg.eigvalsh(Mr)
+    if Mr.shape[1] == 1:
+        w = Mr[:, 0]
+    elif len(Mr) == 1:  # one matrix (a single linearisation): LAPACK's dsyevd, as np.linalg.eigvalsh calls it
+        w1, _, info = _dsyevd(Mr[0], compute_v=0, lower=1)
+        if info:
+            raise np.linalg.LinAlgError("Eigenvalues did not converge")
+        w = w1[None]
+    else:
+        w = np.linalg.eigvalsh(Mr)
     return bool(np.all(w[:, 0] > 1e-12 * np.maximum(w[:, -1], 1e-300)))
+
+
+def _solve(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """``np.linalg.solve(A, B)`` of the stacks ``A`` (m, n, n) and ``B`` (m, n, k); a stack of one by LAPACK's
+    ``dgesv`` called directly (what ``np.linalg.solve`` calls, without its stacked-call overhead)."""
+    if len(A) != 1:
+        return np.linalg.solve(A, B)
+    _, _, X, info = _dgesv(A[0], B[0])
+    if info:
+        raise np.linalg.LinAlgError("Singular matrix")
+    return X[None]
 
 
 def stacked_ranks(P: np.ndarray, sv: np.ndarray, kept: int) -> np.ndarray:
@@ -162,7 +183,7 @@ def state_matrices(red: Reduced, descriptor: bool | None) -> tuple[np.ndarray, n
         if not descriptor:
             # one solve for the three blocks (Mr is symmetric positive definite and small); one degree of freedom:
             # a division, what the solve's LU does for one unknown
-            A[:, d:2 * d] = rows / red.Mr if d == 1 else np.linalg.solve(red.Mr, rows)
+            A[:, d:2 * d] = rows / red.Mr if d == 1 else _solve(red.Mr, rows)
         else:  # a motion without mass (the statics allows massless bodies): the descriptor form, undivided
             E = np.repeat(np.eye(2 * d + ns)[None], m, axis=0)
             E[:, d:2 * d, d:2 * d] = red.Mr
