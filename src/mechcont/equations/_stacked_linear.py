@@ -73,13 +73,14 @@ def _svd(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def motions_and_reactions(P: np.ndarray, Q: np.ndarray, kept: int, project: bool) -> tuple[np.ndarray, np.ndarray]:
     """``(N, lam)`` of every row of the stacked constraint Jacobians ``P`` (m, n_c, n_q) with the forces ``Q``
-    (m, n_q): an orthonormal basis ``N`` (m, n_q, d) of each row's allowed motions (the null space of its
-    ``Phi_q``) and the reactions ``lam`` (m, n_c), the least-squares solution of ``Phi_q^T lam = Q`` (the
-    least-norm one where rows are redundant), the rank held at most ``kept`` (the partition's).
+    (m, n_q): a basis ``N`` (m, n_q, d) of each row's allowed motions (the null space of its ``Phi_q``) and the
+    reactions ``lam`` (m, n_c), the least-squares solution of ``Phi_q^T lam = Q`` (the least-norm one where rows
+    are redundant), the rank held at most ``kept`` (the partition's).
 
-    ``project`` False: each row's ``N`` is its own right singular vectors beyond the rank. True: the first row's,
-    projected onto each row's null space (a basis that moves smoothly with the row, for differences of the
-    linearisation). Raises :class:`~mechcont.errors.ConvergenceError` where the rank differs between rows and
+    ``project`` False: each row's ``N`` is its own right singular vectors beyond the rank (orthonormal). True:
+    the first row's, projected onto each row's null space (a basis that moves smoothly with the row, for
+    differences of the linearisation; orthonormal at the first row, to second order in the rows' distance
+    elsewhere). Raises :class:`~mechcont.errors.ConvergenceError` where the rank differs between rows and
     ``project`` is False.
 
     The usual case (the first row of full row rank and every other row close enough to it that its rank cannot
@@ -119,7 +120,7 @@ def motions_and_reactions(P: np.ndarray, Q: np.ndarray, kept: int, project: bool
         lam = (U[:, :, :r] @ ((V @ Q[:, :, None])[:, :, 0] / sv[:, :r])[:, :, None])[:, :, 0]
         if not project:
             return Vt[:, r:].transpose(0, 2, 1), lam
-        N0 = Vt[0, r:].T
+        N0 = Vt0[r:].T  # the first row's as in every other case (any basis of a row space gives one projection)
         return N0[None] - V.transpose(0, 2, 1) @ (V @ N0), lam
     if not project:
         raise ConvergenceError("the constraints' rank changes between the points linearised together")
@@ -127,7 +128,7 @@ def motions_and_reactions(P: np.ndarray, Q: np.ndarray, kept: int, project: bool
     # rows turn independent by the size of the step; held at the first row's rank, the allowed motions and the
     # reactions vary smoothly instead of losing a dimension
     lam = np.array([U[i, :, :k] @ ((Vt[i, :k] @ Q[i]) / sv[i, :k]) for i, k in enumerate(ranks)])
-    N0 = Vt[0, r:].T
+    N0 = Vt0[r:].T
     return np.array([N0 - Vt[i, :k].T @ (Vt[i, :k] @ N0) for i, k in enumerate(ranks)]), lam
 
 
