@@ -17,6 +17,7 @@ from scipy.linalg.lapack import dgesdd as _dgesdd
 from scipy.linalg.lapack import dgesv as _dgesv
 from scipy.linalg.lapack import dsyevd as _dsyevd
 
+from ..errors import ConvergenceError
 from ._stability import constraint_rank
 
 __all__ = ["Reduced", "motions_and_reactions", "positive_definite", "reduced_blocks", "stacked_ranks", "state_matrices"]
@@ -90,8 +91,6 @@ def motions_and_reactions(P: np.ndarray, Q: np.ndarray, kept: int, project: bool
     every row (``N_i = N_0 - W_i^T (W_i W_i^T)^-1 W_i N_0``, ``lam_i = U S^-1 (W_i W_i^T)^-1 W_i Q_i``) are as
     well conditioned as the decomposition itself: the same matrices as each row's own decomposition, to
     rounding. Otherwise each row is decomposed."""
-    from ..errors import ConvergenceError
-
     m, nc, nq = P.shape
     if nc == 0 or m == 0:  # no constraints: every motion allowed, no reactions
         return np.repeat(np.eye(nq)[None], m, axis=0), np.zeros((m, nc))
