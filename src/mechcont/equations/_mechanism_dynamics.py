@@ -46,7 +46,7 @@ from scipy.linalg.lapack import dgetrs as _dgetrs
 from ..errors import ConvergenceError, InputError
 from ._linear_dynamics import LinearDynamics
 from ._mechanics import MechanicalModel, constraint_rank
-from ._stacked_linear import stacked_ranks, state_matrices
+from ._stacked_linear import Reduced, motions_and_reactions, reduced_blocks, state_matrices
 from ._velocity_names import velocity_name
 
 if TYPE_CHECKING:
@@ -119,6 +119,7 @@ class MechanismDynamics:
         # motions N, for linearisation_basis: a Hopf point's l1 takes the critical pair's linearisation there
         # instead of differencing the rates again
         self._bases: dict[bytes, np.ndarray] = {}
+        self._names: dict[int, tuple[str, ...]] = {}  # linearise's state names, by size
         if reference is not None:
             self._partition(np.asarray(reference, dtype=float))
 
@@ -397,7 +398,7 @@ class MechanismDynamics:
             # same matrices as with x stacked before it once more
             return state_matrices(self._reduced(X, project=True), descriptor)
         both = self._reduced(np.vstack([x[None, :], X]), project=True)
-        return state_matrices(tuple(part[1:] for part in both), descriptor)
+        return state_matrices(both.rows(1), descriptor)
 
     def linearisation_basis(self, x: np.ndarray) -> np.ndarray | None:
         """``T`` with ``dz = T (eta, eta', ds)``: the state ``z`` (:attr:`state_names`) of the small motions
@@ -420,17 +421,20 @@ class MechanismDynamics:
         return T
 
     def _linear_names(self, n: int) -> tuple[str, ...]:
-        d = (n - len(self._s)) // 2
-        return (*(f"eta{i + 1}" for i in range(d)), *(velocity_name(f"eta{i + 1}") for i in range(d)),
-                *self.mech.element_states)
+        names = self._names.get(n)
+        if names is None:
+            d = (n - len(self._s)) // 2
+            names = self._names[n] = (*(f"eta{i + 1}" for i in range(d)),
+                                      *(velocity_name(f"eta{i + 1}") for i in range(d)), *self.mech.element_states)
+        return names
 
     def reduced_matrices(self, x: np.ndarray) -> tuple[np.ndarray, ...]:
         """``(Mr, Cr, Kr, Br, Rq N, Rv N, Rs)`` at the equilibrium ``x`` (see the module docstring): reduced
         mass (kg, kg m^2), damping (N s/m ...), tangent stiffness (N/m ...), state forces, and the states' rates'
         derivatives along the allowed motions."""
-        return tuple(part[0] for part in self._reduced(np.asarray(x, dtype=float)[None, :]))
+        return tuple(part[0] for part in self._reduced(np.asarray(x, dtype=float)[None, :]).matrices())
 
-    def _reduced(self, X: np.ndarray, project: bool = False) -> tuple[np.ndarray, ...]:
+    def _reduced(self, X: np.ndarray, project: bool = False) -> Reduced:
         """:meth:`reduced_matrices` at every row of ``X`` (m, n_variables), stacked: one compiled call per
         group of terms (the statics' ``Phi_q``, ``Q``, ``dQ/dq`` and constraint Hessians in one). ``project``:
         every row's allowed motions are the first row's projected onto its own (:meth:`linearise_near`)."""
@@ -439,44 +443,19 @@ class MechanismDynamics:
         args = mech._batch_args(X)
         layout = mech._statics_layout
         vals = np.asarray(mech._statics.batch(args), dtype=float).reshape(m, -1)
-        P = layout.constraint_jacobians(vals)
-        if P.shape[1] == 0:
-            N = np.repeat(np.eye(nq)[None], m, axis=0)
-            lam = np.zeros((m, 0))
-        else:
-            U, sv, Vt = np.linalg.svd(P)  # the allowed motions and the reactions
-            Q = vals[:, layout.q_slice]
-            # off the constraint manifold (a linearisation differenced in a coordinate: the Hopf test's gradient)
-            # redundant rows turn independent by the size of the step; held at the partition's rank, the allowed
-            # motions and the reactions vary smoothly instead of losing a dimension
-            ranks = stacked_ranks(P, sv, len(self._partition(X[0])[2]))
-            r = int(ranks[0])
-            if np.all(ranks == r):  # every row at one rank (the usual case): stacked products
-                V = Vt[:, :r]
-                lam = (U[:, :, :r] @ ((V @ Q[:, :, None])[:, :, 0] / sv[:, :r])[:, :, None])[:, :, 0]
-                if project:
-                    N0 = Vt[0, r:].T
-                    N = N0[None] - V.transpose(0, 2, 1) @ (V @ N0)
-                else:
-                    N = Vt[:, r:].transpose(0, 2, 1)
-            elif project:
-                lam = np.array([U[i, :, :k] @ ((Vt[i, :k] @ Q[i]) / sv[i, :k]) for i, k in enumerate(ranks)])
-                N0 = Vt[0, r:].T
-                N = np.array([N0 - Vt[i, :k].T @ (Vt[i, :k] @ N0) for i, k in enumerate(ranks)])
-            else:
-                raise ConvergenceError("the constraints' rank changes between the points linearised together")
+        N, lam = motions_and_reactions(layout.constraint_jacobians(vals), vals[:, layout.q_slice],
+                                       len(self._partition(X[0])[2]), project)
         if len(self._bases) >= 4:
             del self._bases[next(iter(self._bases))]
         self._bases[X[0].tobytes()] = N[0]
         M = mech._M.batch(args)
-        C = -mech._dQdqd.batch(args) + self.damping * M
-        K = layout.stiffnesses(vals, lam)
+        negC = mech._dQdqd.batch(args)  # -C = dQ/dqdot - d M
+        if self.damping:
+            negC = negC - self.damping * M
         ns = len(self._s)
         if ns:
             J = mech._rates_jac.batch(args).reshape(m, ns, 2 * nq + ns)
             dQs = mech._dQds.batch(args).reshape(m, nq, ns)
         else:
             J, dQs = np.zeros((m, 0, 2 * nq)), np.zeros((m, nq, 0))
-        Nt = N.transpose(0, 2, 1)
-        return (Nt @ M @ N, Nt @ C @ N, Nt @ K @ N, Nt @ dQs, J[:, :, :nq] @ N, J[:, :, nq:2 * nq] @ N,
-                J[:, :, 2 * nq:])
+        return reduced_blocks(N, M, negC, -layout.stiffnesses(vals, lam), dQs, J)
