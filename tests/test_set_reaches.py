@@ -1,0 +1,63 @@
+"""Values given for one analysis reach every part of it (the audit of ``--set`` and the analyses' own values on
+description files; tests/test_set_everywhere.py compares each command's ``--set`` with the edited file).
+
+tests/data/freefall_pendulum.toml: a bar of length L hinged at O, its drag at its midpoint and a damper to the
+ground point (0, 2 L) written in L; the equilibria it hangs in satisfy cos(theta) = m g / (k U^2) with
+k = rho C_D d L / 2, so the stall branch folds at theta = 0, U_c = sqrt(2 m g / (rho C_D d L)) (tests/test_freefall.py).
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from cli_helpers import make_runner
+
+from mechcont.dynamics.freefall import critical_scan
+from mechcont.models import model_at
+
+PATH = "tests/data/freefall_pendulum.toml"
+run = make_runner()
+
+
+def fold_speed(L: float = 1.0, d: float = 0.2, m: float = 10.0) -> float:
+    """The closed-form quasi-static critical airspeed U_c (m/s)."""
+    return math.sqrt(2 * m * 9.81 / (1.225 * 1.2 * d * L))
+
+
+def test_a_scanned_length_moves_the_quasi_static_predictor():
+    """freefall --critical --scan L: the quasi-static critical airspeed beside each bracket is the one at that
+    scanned length (it was the model's own, L = 1, beside every bracket: 23.106 m/s at L = 1.5, where the truth is
+    18.866 m/s, and the comparison then said the runs "contradict the statics")."""
+    system = model_at(PATH, {"d": 0.25})
+    lengths = [1.0, 1.5]
+    # one run at each end of a bracket wide enough to hold both critical values: the predictor is what is checked
+    scan = critical_scan(system, {"angle": 1.0}, "U", 15.0, 32.0, lock="downlock", until=30.0, tol=17.0,
+                         scan=("L", lengths), end_at_lock=True)
+    truth = [fold_speed(L, d=0.25) for L in lengths]
+    assert [row[3] for row in scan.rows()] == [pytest.approx(u, rel=1e-9) for u in truth]
+    assert scan.quasi_static_values == tuple(pytest.approx(u, rel=1e-9) for u in truth)
+    assert all(q is not None and q.fold and abs(q.pose) < 1e-9 for q in scan.quasi_static)
+    lines = scan.describe()
+    for L, u in zip(lengths, truth):
+        (line,) = [ln for ln in lines if ln.startswith(f"L = {L:g}: quasi-static critical U = ")]
+        assert float(line.split(" = ")[2].split()[0]) == pytest.approx(u, rel=1e-6)  # printed to 6 digits
+        (diff,) = [ln for ln in lines if ln.startswith(f"L = {L:g}: dynamic - quasi-static = ")]
+        bracket = scan.brackets[lengths.index(L)]
+        assert float(diff.split(" = ")[2].split()[0]) == pytest.approx(bracket.locked - u, rel=1e-3)
+
+
+def test_the_critical_figure_draws_a_predictor_per_scanned_value():
+    """critical_figure: one quasi-static value per scanned value (a length) is a line through them; one value, or
+    the same at every scanned value (a damping), is the horizontal line."""
+    import numpy as np
+
+    from mechcont.outputs.critical_plots import critical_figure
+
+    brackets = [(24.3, 24.6), (19.8, 20.0)]
+    truth = [fold_speed(1.0, d=0.25), fold_speed(1.5, d=0.25)]
+    for qs, drawn in ((truth, truth), (truth[0], [truth[0]] * 2), ([truth[0]] * 2, [truth[0]] * 2)):
+        fig = critical_figure([1.0, 1.5], brackets, qs)
+        (line,) = [ln for ln in fig.axes[0].get_lines() if ln.get_label().startswith("quasi-static")]
+        y = np.asarray(line.get_ydata(), dtype=float)
+        assert np.allclose(y, drawn[0] if np.ptp(drawn) == 0 else drawn, rtol=1e-12), (qs, y)
