@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from cli_helpers import make_runner
+from cli_helpers import make_runner, one_line_error
 
 from mechcont.dynamics.freefall import critical_scan
 from mechcont.models import model_at
@@ -45,6 +45,29 @@ def test_a_scanned_length_moves_the_quasi_static_predictor():
         (diff,) = [ln for ln in lines if ln.startswith(f"L = {L:g}: dynamic - quasi-static = ")]
         bracket = scan.brackets[lengths.index(L)]
         assert float(diff.split(" = ")[2].split()[0]) == pytest.approx(bracket.locked - u, rel=1e-3)
+
+
+LOCK = "tests/data/spring_lock.toml"  # a bar on a max stop at c_max
+
+
+def test_a_value_varied_in_time_that_moves_a_stop_is_refused(tmp_path):
+    """sweep --stops --ramp c_max (the stop's limit): the bar stayed on the stop at the model's 0.3 rad while the
+    table's c_max column ramped to 0.1; now one line naming --ramp's field and nothing written. A time simulation
+    keeps its stops fixed (simulate's loads alike); a stop's parameter is given by --set."""
+    from mechcont.dynamics import simulate
+    from mechcont.errors import InputError
+
+    out = tmp_path / "sw.csv"
+    r = run("sweep", LOCK, "--start", "theta_bar=0.2", "--ramp", "c_max=0.3:0.1:1", "--watch", "theta_bar", "--stops",
+            "--out", out)
+    one_line_error(r, "ramp", "c_max moves stop top", "--set")
+    assert not out.exists()
+    system = model_at(LOCK, {"c_max": 0.25})
+    with pytest.raises(InputError, match=r"^loads: c_max moves stop top"):
+        simulate(system, system.defaults(), (0.0, 0.1), loads={"c_max": lambda t: 0.25 - t}, stops=True)
+    ok = run("sweep", LOCK, "--start", "theta_bar=0.2", "--ramp", "c_max=0.3:0.1:1", "--watch", "theta_bar",
+             "--no-equilibrium")
+    assert ok.exit_code == 0, ok.output  # without --stops the stops are not simulated: nothing moves them
 
 
 def test_the_critical_figure_draws_a_predictor_per_scanned_value():
