@@ -9,9 +9,10 @@ k = rho C_D d L / 2, so the stall branch folds at theta = 0, U_c = sqrt(2 m g / 
 from __future__ import annotations
 
 import math
+import re
 
 import pytest
-from cli_helpers import make_runner, one_line_error
+from cli_helpers import csv_rows, make_runner, one_line_error
 
 from mechcont.dynamics.freefall import critical_scan
 from mechcont.models import model_at
@@ -84,3 +85,57 @@ def test_the_critical_figure_draws_a_predictor_per_scanned_value():
         (line,) = [ln for ln in fig.axes[0].get_lines() if ln.get_label().startswith("quasi-static")]
         y = np.asarray(line.get_ydata(), dtype=float)
         assert np.allclose(y, drawn[0] if np.ptp(drawn) == 0 else drawn, rtol=1e-12), (qs, y)
+
+
+def _column(rows: list[dict[str, str]], name: str) -> list[float]:
+    (key,) = [k for k in rows[0] if k.split(" [")[0] == name]
+    return [float(row[key]) for row in rows]
+
+
+def test_set_length_reaches_the_fold_its_curve_and_its_sensitivities(tmp_path):
+    """--set L (the bar's length, and the points written in it: the drag's end L/2, the damper's anchor 2 L):
+    the fold of continue, the fold curve of folds --point moved to other --set values than the row's, and the
+    sensitivities of sensitivity --point there, against U_c = sqrt(2 m g / (rho C_D d L))."""
+    table = tmp_path / "b.csv"
+    r = run("continue", PATH, "--set", "L=1.5", "--vary", "U", "--start", "angle=-0.5", "--bounds", "U=0:60",
+            "--out", table, "--quiet")
+    assert r.exit_code == 0, r.output
+    rows = csv_rows(table)
+    (lp,) = [row for row in rows if row["label"] == "LP"]
+    assert float(lp["U [m/s]"]) == pytest.approx(fold_speed(L=1.5), rel=1e-9)
+    curve = tmp_path / "f.csv"
+    r = run("folds", PATH, "--point", f"{table}:LP1", "--along", "m", "--set", "L=2", "--set", "d=0.3",
+            "--bounds", "m=5:20", "--out", curve, "--quiet")
+    assert r.exit_code == 0, r.output
+    rows = csv_rows(curve)
+    assert len(rows) > 5 and set(_column(rows, "L")) == {2.0} and set(_column(rows, "d")) == {0.3}
+    for m, U in zip(_column(rows, "m"), _column(rows, "U")):
+        assert U == pytest.approx(fold_speed(L=2.0, d=0.3, m=m), rel=1e-9)
+    r = run("sensitivity", PATH, "--point", f"{table}:LP1", "--params", "m,L,d", "--set", "L=2")
+    assert r.exit_code == 0, r.output
+    U = fold_speed(L=2.0)
+    assert float(re.search(r"at U = (\S+) m/s", r.output).group(1)) == pytest.approx(U, rel=1e-9)
+    for name, value in (("m", 10.0), ("L", 2.0), ("d", 0.2)):  # U ~ sqrt(m / (d L)): dU/dp = +-U / (2 p)
+        got = float(re.search(rf"^\s+{name}\s+(\S+)", r.output, re.M).group(1))
+        assert got == pytest.approx((1 if name == "m" else -1) * U / (2 * value), rel=1e-8), name
+
+
+def test_cycles_start_at_the_hopf_point_of_the_set_damping(tmp_path):
+    """cycles --point HB1 --set c: the row is at c = 0.05, the family is born at the Hopf point of c = 0.08
+    (the damped Ziegler column's flutter load and period, from its linearisation by numpy)."""
+    from test_fresh_dynamics_mechanism import _flutter
+
+    data = "tests/data/fresh/ziegler_pivot.toml"
+    table = tmp_path / "z.csv"
+    r = run("continue", data, "--vary", "P", "--bounds", "P=0:3", "--set", "c=0.05", "--dynamic", "--out", table,
+            "--quiet")
+    assert r.exit_code == 0, r.output
+    out = tmp_path / "c.csv"
+    r = run("cycles", data, "--set", "c=0.08", "--point", f"{table}:HB1", "--vary", "P", "--bounds", "P=1:2",
+            "--max-steps", "2", "--out", out, "--quiet")
+    assert r.exit_code == 0, r.output
+    (hb,) = [row for row in csv_rows(out) if row["label"] == "HB"]
+    P, omega = _flutter(0.08)
+    assert abs(P - _flutter(0.05)[0]) > 1e-3  # the damping moves the Hopf point
+    assert float(hb["P [N]"]) == pytest.approx(P, rel=1e-9)
+    assert float(hb["period [s]"]) == pytest.approx(2 * math.pi / omega, rel=1e-8)
