@@ -38,8 +38,9 @@ def test_each_bracket_is_the_critical_airspeed_at_that_value(model, scan):
 
 def test_quasi_static_predictor_is_the_closed_form_and_the_comparison_follows(scan):
     assert scan.travel == "angle" and scan.unit == "m/s"
-    assert scan.quasi_static is not None and scan.quasi_static.fold
-    assert scan.quasi_static_value == pytest.approx(U_C, rel=1e-9)
+    (predictor,) = scan.quasi_static
+    assert predictor is not None and predictor.fold
+    assert scan.quasi_static_values == (pytest.approx(U_C, rel=1e-9),)
     (bracket,) = scan.brackets
     # heavily damped (c = 20): the gear creeps through the fold, the dynamic value is the quasi-static one
     assert bracket.locked < U_C < bracket.failed

@@ -5,8 +5,10 @@ run 0.1-1 s). Checked in a fresh interpreter, the commands run in-process.
 
 With a warm disk cache a command starts like a compiled tool: the built-in models and the
 description files load their structure and compiled code from it, so no command imports
-SymPy (0.5 s), the readers or generators of descriptions, or SciPy modules it does not call;
-and an edited description never reuses the entry of its old text."""
+SymPy (0.5 s), the readers or generators of descriptions, or SciPy modules it does not call (a
+``--set`` on a description included: what the description writes in parameters, a stop's limit or a
+condition's target, comes from the model's compiled numeric form); and an edited description never
+reuses the entry of its old text."""
 
 from __future__ import annotations
 
@@ -70,6 +72,7 @@ def test_one_blas_thread_by_default_and_the_users_choice_kept():
 
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+SPRING_LOCK = Path(__file__).resolve().parent / "data" / "spring_lock.toml"
 #: what a command with a warm cache must not import (unless it plots, which none of these does)
 NOT_WARM = ["sympy", "matplotlib", "pandas", "scipy.integrate", "scipy.optimize", "scipy.interpolate", "scipy.sparse",
             "scipy.special", "mechcont.mechanism._description", "mechcont.mechanism._generate",
@@ -119,6 +122,12 @@ def test_with_a_warm_cache_no_command_imports_sympy_or_what_it_does_not_call():
         # a time simulation (its redundant-row choice is the statics' own, which lived in the spatial package, whose
         # description imports SymPy); it integrates, so SciPy's integrator and what it imports are its own
         ["freefall", str(EXAMPLES / "freefall_leg.toml"), "--start", "angle=3.0", "--lock", "downlock", "--until", "2"],
+        # --set on a description with a stop, a condition's target and a damper written in parameters: the values
+        # those fields take at the --set values (Model.fields_at) and their derivatives (a held target's, for the
+        # sensitivity) come from the model's compiled numeric form, not from the description's SymPy expressions
+        ["continue", str(SPRING_LOCK), "--set", "c_max=0.25", "--set", "k=25", "--vary", "F", "--stops", "--start",
+         "angle=0.2", "--bounds", "F=0:20", "--bounds", "theta_bar=-1:1", "--quiet"],
+        ["sensitivity", str(SPRING_LOCK), "--downlock", "--params", "c_max,h", "--set", "c_max=0.25"],
     ]
     integrates = {"scipy.integrate", "scipy.optimize", "scipy.interpolate", "scipy.sparse", "scipy.special"}
     # one process runs them all first and fills the cache (the session's cache: warm after one run; a fresh

@@ -246,7 +246,7 @@ def _critical(system: Model, start: dict[str, float], lock: LockSpec, until: flo
 
         name, unit = scan.scan, scan.unit
         assert name is not None  # the figure is against the --scan parameter (checked above)
-        fig = critical_figure(list(scan.values), list(scan.brackets), scan.quasi_static_value,
+        fig = critical_figure(list(scan.values), list(scan.brackets), list(scan.quasi_static_values),
                               damping_label=f"{name} ({system.variable(name).unit})".replace(" ()", ""),
                               airspeed_label=f"critical {vary} ({unit})".replace(" ()", ""),
                               title=f"{system.name}: freefall critical {vary} (runs of {until:g} s)")

@@ -36,8 +36,9 @@ class CriticalScan:
     travel:
         The travel variable the quasi-static predictor is continued in.
     quasi_static:
-        The :class:`~mechcont.dynamics.freefall.QuasiStaticCritical` (at the model's own value of ``scan``), or
-        None when it could not be found; ``quasi_static_failure`` then says why.
+        At each value of ``scan`` (the statics may depend on it: a length, a mass, a stop's limit), the
+        :class:`~mechcont.dynamics.freefall.QuasiStaticCritical`, or None when it could not be found;
+        ``quasi_static_failure`` then says why.
     """
 
     vary: str
@@ -47,16 +48,29 @@ class CriticalScan:
     values: tuple[float, ...]
     brackets: tuple[CriticalAirspeed, ...]
     travel: str
-    quasi_static: QuasiStaticCritical | None
-    quasi_static_failure: str = ""
+    quasi_static: tuple[QuasiStaticCritical | None, ...]
+    quasi_static_failure: tuple[str, ...] = ()
 
     @property
-    def quasi_static_value(self) -> float:
-        """The quasi-static critical value (units of ``vary``); nan when it could not be found."""
-        return self.quasi_static.value if self.quasi_static is not None else math.nan
+    def quasi_static_values(self) -> tuple[float, ...]:
+        """The quasi-static critical value at each value of ``scan`` (units of ``vary``); nan where it could not
+        be found."""
+        return tuple(q.value if q is not None else math.nan for q in self.quasi_static)
 
     def _where(self, value: float) -> str:
         return f"{self.scan} = {value:g}: " if self.scan is not None else ""
+
+    def _one_predictor(self) -> bool:
+        """Whether the predictor is the same at every value of ``scan`` (a damping: the statics do not see it)."""
+        first = self.quasi_static[0]
+
+        def same(q: QuasiStaticCritical | None) -> bool:
+            if q is None or first is None:
+                return q is first
+            return (q.fold == first.fold and math.isclose(q.value, first.value, rel_tol=1e-9)
+                    and math.isclose(q.pose, first.pose, rel_tol=1e-9, abs_tol=1e-9))
+
+        return all(same(q) for q in self.quasi_static) and len(set(self.quasi_static_failure)) <= 1
 
     def describe(self) -> list[str]:
         """Readable lines: each bracket with its warnings (a run left undecided, a failing end still moving),
@@ -73,14 +87,20 @@ class CriticalScan:
             elif crit.undecided:
                 lines.append(f"warning: {where}the failing end {vary} = {crit.failed:.6g} was still moving at "
                              f"{self.until:g} s: a longer --until may lock it")
-        qs = self.quasi_static
-        if qs is None:
-            lines.append(f"quasi-static: {self.quasi_static_failure}")
-            return lines
-        kind = (f"fold of the stall branch at {self.travel} = {qs.pose:.6g}" if qs.fold
-                else f"at the end {self.travel} = {qs.pose:.6g}")
-        lines.append(f"quasi-static critical {vary} = {qs.value:.6g} {unit} ({kind})")
-        for v, crit in zip(self.values, self.brackets):
+        one = self._one_predictor()
+        for v, qs, failure in zip(self.values, self.quasi_static, self.quasi_static_failure):
+            where = "" if one else self._where(v)
+            if qs is None:
+                lines.append(f"{where}quasi-static: {failure}")
+            else:
+                kind = (f"fold of the stall branch at {self.travel} = {qs.pose:.6g}" if qs.fold
+                        else f"at the end {self.travel} = {qs.pose:.6g}")
+                lines.append(f"{where}quasi-static critical {vary} = {qs.value:.6g} {unit} ({kind})")
+            if one:
+                break
+        for v, crit, qs in zip(self.values, self.brackets, self.quasi_static):
+            if qs is None:
+                continue
             where = self._where(v)
             diff, significant = crit.compare(qs.value)
             verdict = "significant" if significant else "not significant (within the bracket's width)"
@@ -103,8 +123,8 @@ class CriticalScan:
 
     def rows(self) -> list[list[float]]:
         """One row per bracket, ordered like :meth:`header`."""
-        return [[*([v] if self.scan else []), crit.locked, crit.failed, self.quasi_static_value]
-                for v, crit in zip(self.values, self.brackets)]
+        return [[*([v] if self.scan else []), crit.locked, crit.failed, qs]
+                for v, crit, qs in zip(self.values, self.brackets, self.quasi_static_values)]
 
 
 def critical_scan(system: Model, start: Mapping[str, float], vary: str, low: float, high: float, *, lock: Lock,
@@ -113,25 +133,29 @@ def critical_scan(system: Model, start: Mapping[str, float], vary: str, low: flo
     """The critical value of the parameter ``vary`` (an airspeed, m/s) in ``[low, high]`` bracketed by freefall
     runs (:func:`~mechcont.dynamics.freefall.critical_airspeed`, ``tol`` in units of ``vary``, default
     ``(high - low) / 1000``), at each value of ``scan = (parameter, values)`` (e.g. a damper's coefficient) or
-    once, and the quasi-static predictor (:func:`~mechcont.dynamics.freefall.quasi_static_critical` on the
-    travel from ``start`` to ``lock``, on the side where the first bracket's values lock); ``until`` (s) and
-    ``options`` go to each run, ``progress()`` is called after each (:func:`~._critical.critical_airspeed`). An
-    :class:`InputError` of the predictor is kept as
+    once, and the quasi-static predictor at each (:func:`~mechcont.dynamics.freefall.quasi_static_critical` on the
+    travel from ``start`` to ``lock`` of the model at that value, on the side where its bracket's values lock);
+    ``until`` (s) and ``options`` go to each run, ``progress()`` is called after each
+    (:func:`~._critical.critical_airspeed`). An :class:`InputError` of a predictor is kept in
     :attr:`CriticalScan.quasi_static_failure`; the brackets' errors are raised.
     Returns the :class:`CriticalScan`."""
     tol = (high - low) / 1000.0 if tol is None else tol
     name, values = scan if scan is not None else (None, [math.nan])
-    brackets = []
+    brackets, predictors, failures = [], [], []
+    travel = ""
     for v in values:
         extra = {name: v} if name is not None else {}
-        brackets.append(critical_airspeed(system, start, vary, low, high, tol=tol, lock=lock, until=until,
-                                          values=extra, progress=progress, **options))
-    travel, begin, end = travel_of(system, start, lock)
-    side = "min" if brackets[0].locks_below else "max"
-    qs, failure = None, ""
-    try:
-        qs = quasi_static_critical(system, travel, begin, end, vary, side=side)
-    except InputError as exc:
-        failure = str(exc).split(": ", 1)[-1]
+        crit = critical_airspeed(system, start, vary, low, high, tol=tol, lock=lock, until=until, values=extra,
+                                 progress=progress, **options)
+        brackets.append(crit)
+        at = system.with_values(extra) if extra else system  # the statics at the scanned value (a length, a limit)
+        travel, begin, end = travel_of(at, start, lock)
+        qs, failure = None, ""
+        try:
+            qs = quasi_static_critical(at, travel, begin, end, vary, side="min" if crit.locks_below else "max")
+        except InputError as exc:
+            failure = str(exc).split(": ", 1)[-1]
+        predictors.append(qs)
+        failures.append(failure)
     return CriticalScan(vary, system.variable(vary).unit, until, name, tuple(float(v) for v in values),
-                        tuple(brackets), travel, qs, failure)
+                        tuple(brackets), travel, tuple(predictors), tuple(failures))

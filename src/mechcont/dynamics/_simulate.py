@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -155,6 +155,8 @@ def simulate(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[floa
         if stops:
             raise InputError("stops", "stops are not simulated together with first-order element states "
                                       f"({', '.join(dyn.mech.element_states)}) yet; simulate without --stops")
+    if stops and loads:
+        check_fixed_stops(system, loads, stops, "loads")
     if stops:
         from ._contact import StopConstraints
 
@@ -230,6 +232,25 @@ def simulate(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[floa
     result.integrator_failure = failure
     result.motion_warning = motion_warning(result, dyn)
     return result
+
+
+def check_fixed_stops(system: Model, varied: Iterable[str], stops: bool | Sequence[str], field: str) -> None:
+    """:class:`InputError` naming ``field`` when a parameter ``varied`` in time (a load, a ramp) is one a simulated
+    stop's limit (or a compliant stop's stiffness or damping) is written in: a time simulation keeps each stop
+    where the model's values put it (impacts on a fixed stop), so the stop would silently stay there while the
+    parameter's column says otherwise. ``stops``: True (all the model's) or the names of those simulated."""
+    varied = set(varied)
+    if not stops:
+        return
+    for s in system.stops:
+        if not isinstance(stops, bool) and s.name not in stops:
+            continue
+        for key in (s.key, *(("stiffness", "damping") if s.contact == "compliant" else ())):
+            used = sorted(system.written_in(f"stops.{s.name}.{key}") & varied)
+            if used:
+                raise InputError(field, f"{used[0]} moves stop {s.name} (its {key} is written in {used[0]}), which a "
+                                        "time simulation keeps where the model's values put it; give "
+                                        f"{used[0]} a value (--set) instead of varying it in time")
 
 
 def _budget(t0: float, t1: float, max_steps: int) -> StepBudget:

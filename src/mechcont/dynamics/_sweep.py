@@ -25,7 +25,7 @@ from ._jumps import JumpWindow, find_jump_windows, find_runaway
 from ._peaks import DenseHistory
 from ._ramps import MAX_SWEEP_SECONDS, Ramp, RampSpec, _schedule, parse_ramps
 from ._result import SimulationResult
-from ._simulate import assemble, initial_vector, simulate
+from ._simulate import assemble, check_fixed_stops, initial_vector, simulate
 
 if TYPE_CHECKING:
 
@@ -228,6 +228,8 @@ def sweep(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float],
             unit = system.variable(r.name).unit
             raise InputError("ramp", f"{r.name}: {r.start:g} -> {r.stop:g} goes beyond {reach:g} {unit} ({MAX_RAMP_SCALES:g} "
                                      f"times its scale), where no simulation of the mechanism can follow")
+    if stops:
+        check_fixed_stops(system, [r.name for r in ramps], stops, "ramp")
     coords = [system.names[i] for i in system.mechanics.q_index] if system.mechanics is not None else []
     if watch not in coords:
         raise InputError("watch", f"must be a coordinate of the model; valid: {', '.join(coords)}")

@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     from ._dynamics import OdeFacts
     from ._protocols import Description, DofFacts, Reselect
 
-__all__ = ["Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "at_values", "check_values_at"]
+__all__ = ["Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "FieldsAt", "at_values", "check_values_at"]
 
 
 class DownlockAssembly(Protocol):
@@ -110,6 +110,20 @@ class ValueFields(TypedDict, total=False):
     dampers: tuple[DamperFacts, ...]
 
 
+class FieldsAt(Protocol):
+    """What :attr:`Model.fields_at` is: the fields that depend on the parameter values, at ``values`` (every
+    parameter, SI), and of the values it computes (key paths of the description, e.g.
+    ``"stops.top.max"``), the parameters each is written in and its exact derivatives at ``values``
+    (each None for a key path it does not compute)."""
+
+    def __call__(self, values: Mapping[str, float], /) -> ValueFields: ...
+
+    def written_in(self, field: str, /) -> frozenset[str] | None: ...
+
+    def derivatives(self, field: str, params: Iterable[str], values: Mapping[str, float], /
+                    ) -> dict[str, float] | None: ...
+
+
 @dataclass(eq=False)
 class Model(EquationSystem):
     """An :class:`EquationSystem` with the declared facts of the mechanism behind it.
@@ -142,9 +156,10 @@ class Model(EquationSystem):
     dampers:
         The dampers (:class:`DamperFacts`): name and coefficients at the model's parameter values.
     fields_at:
-        ``fields_at(values) -> ValueFields``: the fields that depend on the parameter values
+        ``fields_at(values) -> ValueFields`` (a :class:`FieldsAt`): the fields that depend on the parameter values
         (the conditions' targets, the downlock hold, the stops' limits, the dampers' coefficients), at ``values`` (all
-        parameters, SI); :meth:`with_values` applies it. None when no field depends on them.
+        parameters, SI); :meth:`with_values` applies it, :meth:`written_in` and :meth:`value_derivatives` ask it
+        first (compiled where the model was built: no SymPy). None when no field depends on them.
     reselect:
         For a model with dropped redundant rows whose choice depends on the configuration (a
         spatial ``redundant = "drop"`` mechanism): an object with ``quality(x) -> float``
@@ -168,7 +183,7 @@ class Model(EquationSystem):
     downlock: DownlockFacts | None = None
     stops: tuple[StopLimit, ...] = ()
     dampers: tuple[DamperFacts, ...] = ()
-    fields_at: Callable[[Mapping[str, float]], ValueFields] | None = field(default=None, repr=False)
+    fields_at: FieldsAt | None = field(default=None, repr=False)
     reselect: Reselect | None = field(default=None, repr=False)
     ode: OdeFacts | None = None
 
@@ -199,6 +214,10 @@ class Model(EquationSystem):
     def written_in(self, field: str) -> frozenset[str]:
         """The parameters the description's value at key path ``field`` is written in (empty for a number, an
         unknown key path or a model without a description's expressions)."""
+        if self.fields_at is not None:
+            found = self.fields_at.written_in(field)
+            if found is not None:
+                return found
         value = getattr(self.mechanism, "value", None)
         try:
             expr = value(field) if value is not None else None
@@ -211,6 +230,11 @@ class Model(EquationSystem):
         in parameters) at the model's parameter values, exact (the expression differentiated); 0 for a
         parameter it does not use, and for every parameter of a model without a description's expressions."""
         params = list(params)
+        if self.fields_at is not None:
+            at = {v.name: v.value for v in self.variables if v.kind == "parameter"}
+            found = self.fields_at.derivatives(field, params, at)
+            if found is not None:
+                return found
         out = dict.fromkeys(params, 0.0)
         value = getattr(self.mechanism, "value", None)
         if value is None:

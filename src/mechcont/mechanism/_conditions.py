@@ -45,7 +45,6 @@ from ._condition_kinds import (
     DistanceCondition,
     ExpressionCondition,
 )
-from ._expr import evaluate
 from ._plugin import Kinematics
 
 if TYPE_CHECKING:
@@ -142,15 +141,6 @@ def condition_rows(kin: Kinematics, subs: Mapping) -> list[tuple[Condition, sp.E
 def condition_scale(cond: Condition, Lc: float, Fc: float) -> float:
     """Typical magnitude of the condition's value: 1 (rad, sine), ``Lc`` (m), ``Fc`` (N), ``Fc Lc`` (N m)."""
     return typical_scale(cond.value_unit, Lc, Fc) or 1.0
-
-
-def condition_targets(mech: Mechanism, values: Mapping[str, float]) -> dict[str, float | None]:
-    """Each condition's target at the parameter ``values`` (0 by default; None for a distance without one)."""
-    out: dict[str, float | None] = {}
-    for c in mech.conditions:
-        f = f"conditions.{c.name}.target"
-        out[c.name] = evaluate(mech.value(f), values, f) if c.target is not None else c.default_target()
-    return out
 
 
 def condition_description(cond: Condition) -> str:

@@ -29,6 +29,7 @@ import mpmath
 import sympy as sp
 
 from ..errors import InputError
+from ._numeric import numeric_value
 
 __all__ = ["Value", "to_expr", "float_value", "evaluate", "symbol", "Gradient", "FUNCTIONS",
            "MAX_LENGTH", "MAX_NODES", "MAX_DEPTH", "MAX_EXPONENT"]
@@ -315,50 +316,19 @@ def _in_range(expr: sp.Expr) -> sp.Expr:
     return expr
 
 
-#: Float versions of the functions SymPy may leave in a parsed expression.
-_MATH: dict[object, Callable[..., float]] = {
-    sp.sin: math.sin, sp.cos: math.cos, sp.tan: math.tan, sp.asin: math.asin, sp.acos: math.acos,
-    sp.atan: math.atan, sp.atan2: math.atan2, sp.sinh: math.sinh, sp.cosh: math.cosh, sp.tanh: math.tanh,
-    sp.exp: math.exp, sp.Abs: abs, sp.Min: min, sp.Max: max,
-    sp.sign: lambda u: math.copysign(1.0, u) if u else 0.0,
-    sp.log: lambda u, *b: math.log(u) / (math.log(b[0]) if b else 1.0),
-}
-
-
 def float_value(expr: sp.Expr, values: Mapping[sp.Symbol, float]) -> float:
-    """The value of ``expr`` in double-precision arithmetic, bottom-up, at the symbol ``values``.
+    """The value of ``expr`` in double-precision arithmetic, bottom-up, at the symbol ``values``
+    (its :func:`~._numeric.numeric_value` program).
 
     Overflow gives ``inf`` and a domain error (``sqrt(-1)``, ``acos(2)``) ``nan``, at once:
     unlike SymPy's arbitrary-precision evaluation, which may take hours on
     ``exp(exp(exp(100)))``, this never computes a number beyond the floating-point range.
     Raises TypeError if a free symbol has no value.
     """
-    if expr.is_Symbol:
-        if expr not in values:
-            raise TypeError(f"no value for {expr}")
-        return float(values[expr])
-    if expr.is_Number or expr.is_NumberSymbol:
-        return float(expr)
-    args = [float_value(a, values) for a in expr.args]
-    if not all(math.isfinite(a) for a in args):
-        return math.nan if any(math.isnan(a) for a in args) else math.inf
     try:
-        if expr.is_Add:
-            return math.fsum(args)
-        if expr.is_Mul:
-            return math.prod(args)
-        if expr.is_Pow:
-            return math.pow(*args)
-        fn = _MATH.get(expr.func)
-        if fn is not None:
-            return float(fn(*args))
-        # any other function SymPy produced (cot, acot, ...): evaluated at float arguments
-        out = complex(expr.func(*(sp.Float(a) for a in args)))
-        return out.real if out.imag == 0 else math.nan
-    except OverflowError:
-        return math.inf
-    except (ValueError, ZeroDivisionError, TypeError):
-        return math.nan
+        return numeric_value(expr)({s.name: v for s, v in values.items()})
+    except KeyError as exc:
+        raise TypeError(f"no value for {exc.args[0]}") from None
 
 
 def evaluate(expr: sp.Expr, values: Mapping[str, float], field: str) -> float:

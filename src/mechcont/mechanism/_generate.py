@@ -22,20 +22,15 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
 
 from ..equations import (
-    DamperFacts,
-    DownlockFacts,
     EquationSystem,
     MechanicalModel,
     Model,
-    StopLimit,
-    ValueFields,
     Variable,
     velocity_symbol,
 )
@@ -43,12 +38,13 @@ from ..errors import InputError
 from ..units import typical_scale
 from ._assembly import close_constraints, dof_report
 from ._compiled import CoordinatesOf, DroppedResidual
-from ._conditions import condition_description, condition_rows, condition_scale, condition_targets
+from ._conditions import condition_description, condition_rows, condition_scale
 from ._diagnose import check_assembled, least_squares_closure, loop_error, redundancy_error
 from ._element_states import collect_states, rest_rows, steady_states
 from ._expr import Gradient, symbol
 from ._forces import loads
 from ._kinematics import ConstraintRow, PlanarKinematics, place_along_joints
+from ._numeric import ValueFieldsAt, value_fields_at
 from ._reduce import reduce_form, velocity_map
 from ._scene import scene_function
 from ._stops import stop_forces
@@ -291,8 +287,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
         variables.append(Variable(r.reaction, "state", float(v), mech.unit(r.unit), Fc * Lc if r.unit == "N m" else Fc,
                                   _reaction_text(r)))
     variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc, st.states)
-    targets, downlock = condition_fields(mech, values)
-    at = partial(value_fields, mech) if mech.conditions or mech.dampers else None
+    targets, downlock, at = fields_at_values(mech, values)
     if var.model is not None:  # the same structure built before: new values, the same compiled code
         return var.model.evolve(variables=variables, dof=report, conditions=targets, fields_at=at, **downlock)
     dropped = var.dropped
@@ -326,6 +321,18 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
     return var.model.evolve()  # a copy: the kept model is never handed out (compiled on first numeric use)
 
 
+def fields_at_values(mech: Mechanism, values: Mapping[str, float]) -> tuple[Mapping[str, float | None], dict,
+                                                                             ValueFieldsAt | None]:
+    """Each condition's target at the parameter ``values`` (SI), the downlock, stop and damper fields of a
+    :class:`Model` there (each only when the description has one), and the model's ``fields_at`` (None when no
+    field depends on the values): the fields computed by the compiled ``fields_at`` itself, so that a build at
+    ``values`` and :meth:`Model.with_values` give the same numbers."""
+    at = value_fields_at(mech)
+    fields = at(values)
+    rest = {k: v for k, v in fields.items() if k != "conditions"}
+    return fields["conditions"], rest, at if mech.conditions or mech.dampers else None
+
+
 def condition_and_parameter_variables(mech: Mechanism, conditions: Sequence[tuple[Condition, sp.Expr]],
                                       condition_values: Iterable[float], values: Mapping[str, float],
                                       Lc: float, Fc: float, states: Sequence[ElementState] = ()) -> list[Variable]:
@@ -342,39 +349,6 @@ def condition_and_parameter_variables(mech: Mechanism, conditions: Sequence[tupl
         val = values[p.name]
         out.append(Variable(p.name, "parameter", val, p.unit, _parameter_scale(p, val, Lc, Fc), p.description))
     return out
-
-
-def value_fields(mech: Mechanism, values: Mapping[str, float]) -> ValueFields:
-    """The fields of a :class:`Model` of ``mech`` that depend on the parameter ``values``:
-    ``conditions`` and, when the description has them, the downlock, the stops and the dampers
-    (:attr:`Model.fields_at` is this function bound to ``mech``)."""
-    targets, downlock = condition_fields(mech, values)
-    return {"conditions": targets, **downlock}
-
-
-def condition_fields(mech: Mechanism, values: Mapping[str, float]) -> tuple[dict, dict]:
-    """Each condition's target at ``values``, and the downlock, stop and damper fields of a :class:`Model`
-    (each only when the description has one)."""
-    targets = condition_targets(mech, values)
-    downlock: dict = {}
-    if mech.downlock is not None:
-        target = targets[mech.downlock.condition]
-        assert target is not None  # the parser refuses a downlock condition without a target
-        downlock["downlock"] = DownlockFacts({mech.downlock.condition: target}, mech.downlock.force)
-    if mech.stops:
-        downlock["stops"] = tuple(
-            StopLimit(s.name, s.condition, s.reaction, s.side,
-                      evaluate(mech.value(f"stops.{s.name}.{s.key}"), values,
-                               f"stops.{s.name}"), s.restitution, s.contact,
-                      *(evaluate(mech.value(f"stops.{s.name}.{k}"), values, f"stops.{s.name}.{k}")
-                        if s.contact == "compliant" else 0.0 for k in ("stiffness", "damping")))
-            for s in mech.stops)
-    if mech.dampers:
-        downlock["dampers"] = tuple(
-            DamperFacts(d.name, *(evaluate(mech.value(f"dampers.{d.name}.{k}"), values, f"dampers.{d.name}.{k}")
-                                  for k in ("c", "c2")))
-            for d in mech.dampers)
-    return targets, downlock
 
 
 def _coordinate_unit_text(coord: str, Lc: float = 1.0) -> tuple[str, float, str]:

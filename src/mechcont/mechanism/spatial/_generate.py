@@ -23,7 +23,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
-from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -43,10 +42,9 @@ from .._generate import (
     _equilibrium,
     _scales,
     condition_and_parameter_variables,
-    condition_fields,
     element_forces,
+    fields_at_values,
     load_forces,
-    value_fields,
 )
 from .._kinematics import place_along_joints
 from .._stops import stop_forces
@@ -413,6 +411,5 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
         variables.append(Variable(r.reaction, "state", float(v), mech.unit(r.unit), Fc * Lc if r.unit == "N m" else Fc,
                                   what))
     variables += condition_and_parameter_variables(mech, st.conditions, x[nq + len(rows):], values, Lc, Fc, st.states)
-    targets, downlock = condition_fields(mech, values)
-    at = partial(value_fields, mech) if mech.conditions or mech.dampers else None
+    targets, downlock, at = fields_at_values(mech, values)
     return _variant_model(mech, st, var, variables, dof=report, conditions=targets, fields_at=at, **downlock)
