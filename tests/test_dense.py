@@ -48,3 +48,12 @@ def test_eig_and_complex_inverse_same_bits_as_numpy(n):
     A[1, 1] = np.nan
     with pytest.raises(np.linalg.LinAlgError):
         _dense.eig(A)
+
+
+@pytest.mark.parametrize("shape", [(2, 1), (7, 6), (20, 19), (5, 2)])
+def test_complete_qr_same_bits_as_numpy(shape):
+    rng = np.random.default_rng(shape[0])
+    for _ in range(10):
+        A = rng.normal(size=shape) * 10.0 ** rng.uniform(-5, 5, size=(1, shape[1]))
+        for got, expected in zip(_dense.qr_complete(A), np.linalg.qr(A, mode="complete")):
+            assert np.array_equal(got, expected)

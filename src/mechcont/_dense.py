@@ -1,4 +1,4 @@
-"""``numpy.linalg.svd``, ``eig``, ``slogdet`` and ``solve`` of one small real matrix, without the wrappers' per-call checks.
+"""``numpy.linalg`` svd, eig, qr, slogdet and solve of one small real matrix, without the wrappers' per-call checks.
 
 The continuation loop takes an SVD (stability, null vectors) and a log-determinant
 (branch-point test) at every point of a branch, on matrices of a few dozen entries, where
@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["svd", "singular_values", "eig", "slogdet", "solve", "inverse", "quiet", "solve_raw", "RAW_SOLVE"]
+__all__ = ["svd", "singular_values", "eig", "qr_complete", "slogdet", "solve", "inverse", "quiet", "solve_raw", "RAW_SOLVE"]
 
 _umath_linalg: Any
 try:  # NumPy >= 2 (private names: any other NumPy falls back to the public functions)
@@ -22,16 +22,19 @@ try:  # NumPy >= 2 (private names: any other NumPy falls back to the public func
     from numpy.linalg._linalg import (  # type: ignore[attr-defined]
         _raise_linalgerror_eigenvalues_nonconvergence as _eig_failed,
     )
+    from numpy.linalg._linalg import _raise_linalgerror_qr as _qr_failed  # type: ignore[attr-defined]
     from numpy.linalg._linalg import _raise_linalgerror_svd_nonconvergence as _svd_failed  # type: ignore[attr-defined]
 except ImportError:  # pragma: no cover
     _umath_linalg = None
 _svd_errors: Any = None
 _eig_errors: Any = None
+_qr_errors: Any = None
 try:  # the error state numpy.linalg.svd enters, made once (entering np.errstate costs a fifth of a small SVD)
     from numpy._core._ufunc_config import _extobj_contextvar, _make_extobj  # type: ignore[attr-defined]
 
     _svd_errors = _make_extobj(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore")
     _eig_errors = _make_extobj(call=_eig_failed, invalid="call", over="ignore", divide="ignore", under="ignore")
+    _qr_errors = _make_extobj(call=_qr_failed, invalid="call", over="ignore", divide="ignore", under="ignore")
     _quiet = _make_extobj(invalid="ignore", over="ignore", divide="ignore", under="ignore")
 except Exception:  # noqa: BLE001  # pragma: no cover - another NumPy: np.errstate below
     _svd_errors = _quiet = None
@@ -86,6 +89,18 @@ def eig(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         raise np.linalg.LinAlgError("Array must not contain infs or NaNs")
     out: tuple[np.ndarray, np.ndarray] = _in_state(_eig_errors, _umath_linalg.eig, A, signature="d->DD")
     return out
+
+
+def qr_complete(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``numpy.linalg.qr(A, mode="complete")`` of a real matrix with more rows than columns: ``(Q, R)``, ``Q`` square
+    and orthogonal, ``R`` upper triangular with ``A``'s shape; LinAlgError if it fails."""
+    if _qr_errors is None or not _plain(A) or A.shape[0] <= A.shape[1]:
+        Q, R = np.linalg.qr(A, mode="complete")
+        return Q, R
+    a = A.copy()  # overwritten by the Householder vectors and R
+    tau = _in_state(_qr_errors, _umath_linalg.qr_r_raw, a, signature="d->d")
+    Q = _in_state(_qr_errors, _umath_linalg.qr_complete, a, tau, signature="dd->d")
+    return Q, np.triu(a)
 
 
 def slogdet(A: np.ndarray) -> tuple[float, float]:

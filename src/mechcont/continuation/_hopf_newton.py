@@ -121,14 +121,16 @@ def _square_step(test: HopfTest, x: np.ndarray, idx: np.ndarray, r: np.ndarray, 
 def _bordered_step(test: HopfTest, x: np.ndarray, idx: np.ndarray, r: np.ndarray, J: np.ndarray,
                    D: np.ndarray) -> tuple[CriticalPair, np.ndarray]:
     """``(pair, dz)``: the step ``dz0 + t phi`` (the module's second way), ``dz0`` and ``phi`` from the QR
-    factorisation of ``(J D)^T``."""
-    import scipy.linalg
-
+    factorisation ``(J D)^T = Q R``: ``phi = Q_n``, ``dz0 = Q_1 R_1^-T (-r)``."""
     n = len(r)
-    Q, R = np.linalg.qr((J * D).T, mode="complete")
-    if not np.all(np.abs(np.diag(R)) > 0):
+    Q, R = _dense.qr_complete(np.ascontiguousarray((J * D).T))
+    R1 = R[:n]
+    if not np.all(np.abs(R1.diagonal()) > 0):
         raise ConvergenceError("the Hopf system is singular there", partial=None)
-    dz0 = Q[:, :n] @ scipy.linalg.solve_triangular(R[:n], -r, trans="T")
+    y = _dense.solve(np.ascontiguousarray(R1.T), -r)  # R_1^T is lower triangular
+    if y is None:
+        raise ConvergenceError("the Hopf system is singular there", partial=None)
+    dz0 = Q[:, :n] @ y
     phi = Q[:, n]
     pair, slope = test.pair_and_derivatives(x, idx, np.vstack([dz0, phi]) * D)
     if not np.isfinite(pair.g):
