@@ -177,13 +177,11 @@ def _exact_terms(dyn: OdeDynamics, system: EquationSystem, x: np.ndarray, z0: np
     # (eps / h) and truncation (h^4) near 1e-13
     step = _EPS ** (1 / 5)
     scale = max(1.0, float(np.max(np.abs(z0) / sc)))
-    # the points: z0, then z0 + k h d, z0 - k h d for k = 1, 2 and each of d = a, b that is not zero
-    moved: list[tuple[np.ndarray, float]] = []
-    for d in (a, b):
-        nd = float(np.max(np.abs(d) / sc))
-        moved.append((d, step * scale / nd if nd > 0 else 0.0))
-    Z = [z0] + [z0 + s * kk * h * d for d, h in moved if h > 0 for kk in (1, 2) for s in (1, -1)]
-    V = _at_rows(values, dyn.full_vectors(np.array(Z), x))
+    # the points: z0, then z0 + h d, z0 - h d, z0 + 2 h d, z0 - 2 h d for each of d = a, b that is not zero
+    nd = np.max(np.abs(np.vstack([a, b])) / sc, axis=1)
+    moved = [(d, step * scale / float(size) if size > 0 else 0.0) for d, size in zip((a, b), nd)]
+    Z = np.vstack([z0[None, :]] + [z0 + np.array([h, -h, 2 * h, -2 * h])[:, None] * d for d, h in moved if h > 0])
+    V = _at_rows(values, dyn.full_vectors(Z, x))
     # B at z0 along a and b: Ha[i, k] = sum_j d2 f_i / dz_j dz_k a_j
     bins = i * n + k
     Ha = np.bincount(bins, weights=V[0] * a0, minlength=n * n).reshape(n, n)
