@@ -87,13 +87,14 @@ def critical_pair(A: np.ndarray, E: np.ndarray | None) -> CriticalPair:
             lam, vr, vl = lam[::-1], vr[:, ::-1], vl[:, ::-1]
         return CriticalPair(lam, vr, vl, A, E, 0, lam)
     i, j = pair_indices(n)
-    k = int(np.argmin(np.abs(lam[i] + lam[j])))
+    k = int(np.abs(lam[i] + lam[j]).argmin())
     a, b = int(i[k]), int(j[k])
     if lam[a].imag < lam[b].imag:
         a, b = b, a
-    unstable = lam.real > 0
-    others = int(np.count_nonzero(unstable)) - int(unstable[a]) - int(unstable[b])
-    return CriticalPair(lam[[a, b]], vr[:, [a, b]], vl[:, [a, b]], A, E, others, lam)
+    ab = [a, b]
+    crit = lam[ab]
+    others = int(np.count_nonzero(lam.real > 0)) - int(np.count_nonzero(crit.real > 0))
+    return CriticalPair(crit, vr[:, ab], vl[:, ab], A, E, others, lam)
 
 
 #: One term of ``dg = sum_k w_k^H dA v_k - w_k^H dE u_k``: ``(v_k, w_k, u_k)``, ``u_k`` None without ``E``.
