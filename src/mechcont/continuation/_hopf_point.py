@@ -2,7 +2,8 @@
 the frequency and the first Lyapunov coefficient.
 
 Everything here asks the model's :class:`~mechcont.equations.Dynamics` (``dynamics_of(model)``) for
-its linearisation ``E dz/dt = A dz`` and nothing else, so it serves ODE models and mechanisms alike.
+its linearisation ``E dz/dt = A dz`` and nothing else, so it serves ODE models and mechanisms alike (an ODE
+model's polish reads ``A`` off the equilibrium Jacobian it evaluates anyway: :meth:`HopfTest.state_positions`).
 
 * **Detection**: the bialternate-product test function ``psi = prod_{i<j} (lambda_i + lambda_j)``
   (the determinant of ``2A (.) I``, computed from the eigenvalues) changes sign where a complex pair
@@ -12,13 +13,13 @@ its linearisation ``E dz/dt = A dz`` and nothing else, so it serves ODE models a
   ``|lambda_1 + lambda_2|``; its product ``kappa = lambda_1 lambda_2`` is ``omega^2 > 0`` at a Hopf
   point and ``-kappa^2 < 0`` at a neutral saddle, which is dropped.
 * **Location**: Newton on the minimally extended system ``G(u, p) = 0, g(u, p) = lambda_1 + lambda_2
-  = 0`` (square in the branch's unknowns and parameter), each step bordered (:func:`polish_hopf`): ``g``'s
-  slope is needed along two directions only, from eigenvalue perturbation ``d lambda = w^H (dA - lambda dE)
-  v / (w^H E v)``: exact for ODE models (the model's generated second derivatives contract ``dA v``),
-  central differences of the linearisation otherwise (a mechanism's in one batch,
-  ``MechanismDynamics.linearise_near``). Where the pair comes near a Jordan block its sum is differentiated
-  as a whole on its invariant plane: ``dg = trace(P dA)`` with ``P`` the spectral projector from an ordered
-  Schur form, or for a pencil ``(A, E)`` from an ordered QZ form and the generalised Sylvester equations
+  = 0`` (square in the branch's unknowns and parameter; :func:`polish_hopf`, :mod:`._hopf_newton`), ``g``'s slope
+  from eigenvalue perturbation ``d lambda = w^H (dA - lambda dE) v / (w^H E v)``: for an ODE model its whole
+  gradient, exact (one call of the generated second derivatives), and each step one square solve; otherwise
+  each step bordered, the slope needed along two directions only, by central differences of the linearisation (a
+  mechanism's in one batch, ``MechanismDynamics.linearise_near``). Where the pair comes near a Jordan block its sum
+  is differentiated as a whole on its invariant plane: ``dg = trace(P dA)`` with ``P`` the spectral projector from
+  an ordered Schur form, or for a pencil ``(A, E)`` from an ordered QZ form and the generalised Sylvester equations
   that split its deflating subspaces: finite through a Bogdanov–Takens point, where each eigenvalue's own
   derivative (``w^H E v = 0``) is not.
 * **l1**: :mod:`._lyapunov`.
