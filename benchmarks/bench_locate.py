@@ -23,7 +23,10 @@ location carries its quadratic coefficient, which costs one contraction of the s
 
 ``python benchmarks/bench_locate.py [--repeats N]`` prints a table (median and minimum CPU time of the
 repeats, ``time.process_time``, after one warm-up call); ``benchmarks/run.py -k locate`` times the same
-cases by wall time.
+cases by wall time. ``--interleaved N`` also times, on ``ab``, the ``LP`` event's polish, the ``HB`` event's and the
+``HB`` event's with ``l1`` in turn (10 calls each, ``N`` rounds) and prints the medians of the per-round ratios
+``HB / LP`` and ``(HB + l1) / LP``: on a shared machine the load moves all three alike within a round, so the ratio
+is steadier than the table's separate medians.
 """
 
 from __future__ import annotations
@@ -194,9 +197,38 @@ def _table(repeats: int) -> str:
     return "\n".join(lines)
 
 
+def _interleaved(rounds: int) -> str:
+    """The medians of the per-round ratios of the ``ab`` events' polishes (``--interleaved``)."""
+    import statistics
+    import time
+
+    fns = {name: fn for name, fn, _ in cases() if name.startswith("ab (beta = 1):") and "event" in name}
+    lp, hb, hb_l1 = (next(f for n, f in fns.items() if key in n) for key in
+                     ("LP event's polish", "HB event's polish from", "HB event's polish and l1"))
+    times: dict[str, list[float]] = {"LP": [], "HB": [], "HB + l1": []}
+    for f in (lp, hb, hb_l1):
+        f()
+    for _ in range(rounds):
+        for key, f in (("LP", lp), ("HB", hb), ("HB + l1", hb_l1)):
+            t = time.process_time()
+            for _ in range(10):
+                f()
+            times[key].append((time.process_time() - t) / 10)
+    ratio = statistics.median(h / l for h, l in zip(times["HB"], times["LP"]))
+    ratio_l1 = statistics.median(h / l for h, l in zip(times["HB + l1"], times["LP"]))
+    lines = [f"ab, interleaved ({rounds} rounds of 10 calls each): " + ", ".join(
+        f"{k} median {statistics.median(v) * 1e3:.3f} ms (min {min(v) * 1e3:.3f})" for k, v in times.items())]
+    lines.append(f"HB / LP {ratio:.2f}, (HB + l1) / LP {ratio_l1:.2f} (medians of the per-round ratios)")
+    return "\n".join(lines)
+
+
 if __name__ == "__main__":
     import argparse
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=15)
-    print(_table(ap.parse_args().repeats))
+    ap.add_argument("--interleaved", type=int, default=0, metavar="ROUNDS")
+    args = ap.parse_args()
+    print(_table(args.repeats))
+    if args.interleaved:
+        print(_interleaved(args.interleaved))

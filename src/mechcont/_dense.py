@@ -1,4 +1,4 @@
-"""``numpy.linalg.svd``, ``slogdet`` and ``solve`` of one small real matrix, without the wrappers' per-call checks.
+"""``numpy.linalg`` svd, eig, qr, slogdet and solve of one small real matrix, without the wrappers' per-call checks.
 
 The continuation loop takes an SVD (stability, null vectors) and a log-determinant
 (branch-point test) at every point of a branch, on matrices of a few dozen entries, where
@@ -14,19 +14,27 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["svd", "singular_values", "slogdet", "solve", "inverse", "quiet", "solve_raw", "RAW_SOLVE"]
+__all__ = ["svd", "singular_values", "eig", "qr_complete", "slogdet", "solve", "inverse", "quiet", "solve_raw", "RAW_SOLVE"]
 
 _umath_linalg: Any
 try:  # NumPy >= 2 (private names: any other NumPy falls back to the public functions)
     from numpy.linalg import _umath_linalg
+    from numpy.linalg._linalg import (  # type: ignore[attr-defined]
+        _raise_linalgerror_eigenvalues_nonconvergence as _eig_failed,
+    )
+    from numpy.linalg._linalg import _raise_linalgerror_qr as _qr_failed  # type: ignore[attr-defined]
     from numpy.linalg._linalg import _raise_linalgerror_svd_nonconvergence as _svd_failed  # type: ignore[attr-defined]
 except ImportError:  # pragma: no cover
     _umath_linalg = None
 _svd_errors: Any = None
+_eig_errors: Any = None
+_qr_errors: Any = None
 try:  # the error state numpy.linalg.svd enters, made once (entering np.errstate costs a fifth of a small SVD)
     from numpy._core._ufunc_config import _extobj_contextvar, _make_extobj  # type: ignore[attr-defined]
 
     _svd_errors = _make_extobj(call=_svd_failed, invalid="call", over="ignore", divide="ignore", under="ignore")
+    _eig_errors = _make_extobj(call=_eig_failed, invalid="call", over="ignore", divide="ignore", under="ignore")
+    _qr_errors = _make_extobj(call=_qr_failed, invalid="call", over="ignore", divide="ignore", under="ignore")
     _quiet = _make_extobj(invalid="ignore", over="ignore", divide="ignore", under="ignore")
 except Exception:  # noqa: BLE001  # pragma: no cover - another NumPy: np.errstate below
     _svd_errors = _quiet = None
@@ -68,6 +76,31 @@ def singular_values(A: np.ndarray) -> np.ndarray:
     if not _plain(A) or 0 in A.shape:
         return np.linalg.svd(A, compute_uv=False)
     return _svd_call(_umath_linalg.svd, A, "d->d")
+
+
+def eig(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``numpy.linalg.eig(A)`` of a square real matrix, always complex: ``(eigenvalues, right eigenvectors as
+    columns)`` (NumPy's own result turns both real where every eigenvalue is; the values are the same);
+    LinAlgError if it fails or ``A`` is not finite."""
+    if _eig_errors is None or not _plain(A) or A.shape[0] != A.shape[1]:
+        lam, V = np.linalg.eig(A)
+        return lam.astype(complex), V.astype(complex)
+    if not np.isfinite(np.add.reduce(A, None)):
+        raise np.linalg.LinAlgError("Array must not contain infs or NaNs")
+    out: tuple[np.ndarray, np.ndarray] = _in_state(_eig_errors, _umath_linalg.eig, A, signature="d->DD")
+    return out
+
+
+def qr_complete(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``numpy.linalg.qr(A, mode="complete")`` of a real matrix with more rows than columns: ``(Q, R)``, ``Q`` square
+    and orthogonal, ``R`` upper triangular with ``A``'s shape; LinAlgError if it fails."""
+    if _qr_errors is None or not _plain(A) or A.shape[0] <= A.shape[1]:
+        Q, R = np.linalg.qr(A, mode="complete")
+        return Q, R
+    a = A.copy()  # overwritten by the Householder vectors and R
+    tau = _in_state(_qr_errors, _umath_linalg.qr_r_raw, a, signature="d->d")
+    Q = _in_state(_qr_errors, _umath_linalg.qr_complete, a, tau, signature="dd->d")
+    return Q, np.triu(a)
 
 
 def slogdet(A: np.ndarray) -> tuple[float, float]:
@@ -122,11 +155,15 @@ def solve_raw(A: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def inverse(A: np.ndarray) -> np.ndarray | None:
-    """``numpy.linalg.inv(A)`` of a square matrix, or None when it is singular or not finite: for a
-    Newton iteration that solves with one matrix several times (a product per solve)."""
-    if _quiet is None or not _plain(A):
+    """``numpy.linalg.inv(A)`` of a square real or complex matrix, or None when it is singular or not finite: for a
+    Newton iteration that solves with one matrix several times (a product per solve), or the left eigenvectors
+    from the right ones."""
+    if type(A) is np.ndarray and A.dtype == np.complex128 and A.ndim == 2 and _umath_linalg is not None \
+            and _quiet is not None:
+        Ai = _in_state(_quiet, _umath_linalg.inv, A, signature="D->D")
+    elif _quiet is None or not _plain(A):
         try:
-            Ai = np.linalg.inv(np.asarray(A, float))
+            Ai = np.linalg.inv(np.asarray(A, float) if not np.iscomplexobj(A) else np.asarray(A, complex))
         except np.linalg.LinAlgError:
             return None
     else:

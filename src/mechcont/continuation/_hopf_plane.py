@@ -5,12 +5,16 @@ invariant plane (ordered Schur form of ``A``) or its deflating subspaces (ordere
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CriticalPair", "contractions"]
+from .. import _dense
+from ..errors import ConvergenceError
+
+__all__ = ["CriticalPair", "contractions", "critical_pair", "pair_indices"]
 
 
 @dataclass(frozen=True)
@@ -52,6 +56,47 @@ class CriticalPair:
         return abs(float(self.lam[0].imag)) if self.complex else 0.0
 
 
+@functools.lru_cache(maxsize=32)
+def pair_indices(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """``np.triu_indices(n, 1)``, kept: it costs more than the eigenvalues of a small system."""
+    return np.triu_indices(n, 1)
+
+
+def critical_pair(A: np.ndarray, E: np.ndarray | None) -> CriticalPair:
+    """The :class:`CriticalPair` of the pencil ``(A, E)`` (``E`` None: the identity; both real, (n, n)): the pair of
+    finite eigenvalues whose sum is nearest to zero. Raises :class:`ConvergenceError` where fewer than two are
+    finite, LinAlgError where the eigenvalues cannot be computed."""
+    if E is None:
+        # LAPACK's kernel without numpy.linalg.eig's wrapper; the left eigenvectors are the rows of V^-1 (w_k^H v_k =
+        # 1): one LAPACK call fewer than scipy's. NaN where V is singular (a defective matrix, at a Bogdanov-Takens
+        # point): no gradient from the eigenvectors there
+        lam, vr = _dense.eig(A)
+        inv = _dense.inverse(vr)
+        vl = np.full_like(vr, np.nan) if inv is None else inv.conj().T
+    else:
+        import scipy.linalg
+
+        lam, vl, vr = scipy.linalg.eig(A, E, left=True, right=True)
+        finite = np.isfinite(lam)
+        lam, vl, vr = lam[finite], vl[:, finite], vr[:, finite]
+    n = len(lam)
+    if n < 2:
+        raise ConvergenceError("the dynamics have fewer than two finite eigenvalues: no Hopf point", partial=None)
+    if n == 2:  # one pair (no search, and no fancy indexing: a small system's eigenvalues cost less than those)
+        if lam[0].imag < lam[1].imag:
+            lam, vr, vl = lam[::-1], vr[:, ::-1], vl[:, ::-1]
+        return CriticalPair(lam, vr, vl, A, E, 0, lam)
+    i, j = pair_indices(n)
+    k = int(np.abs(lam[i] + lam[j]).argmin())
+    a, b = int(i[k]), int(j[k])
+    if lam[a].imag < lam[b].imag:
+        a, b = b, a
+    ab = [a, b]
+    crit = lam[ab]
+    others = int(np.count_nonzero(lam.real > 0)) - int(np.count_nonzero(crit.real > 0))
+    return CriticalPair(crit, vr[:, ab], vl[:, ab], A, E, others, lam)
+
+
 #: One term of ``dg = sum_k w_k^H dA v_k - w_k^H dE u_k``: ``(v_k, w_k, u_k)``, ``u_k`` None without ``E``.
 _Term = tuple[np.ndarray, np.ndarray, np.ndarray | None]
 
@@ -65,8 +110,9 @@ def contractions(pair: CriticalPair) -> tuple[list[_Term], bool]:
     if pair.E is None:
         # a pair well apart (|lambda_1 - lambda_2| >= 1e-3 |A|): its eigenvectors' derivatives are good to
         # eps |A| / |lambda_1 - lambda_2| <= 2e-13, and cost no ordered Schur form
-        apart = abs(pair.lam[0] - pair.lam[1]) >= 1e-3 * float(np.linalg.norm(pair.A, 1))
-        plane = None if apart and np.all(np.isfinite(pair.left)) else _pair_plane(pair)
+        # (np.linalg.norm(A, 1), the largest column sum, without its wrapper)
+        apart = abs(pair.lam[0] - pair.lam[1]) >= 1e-3 * float(np.abs(pair.A).sum(axis=0).max(initial=0.0))
+        plane = None if apart and np.isfinite(np.add.reduce(pair.left, None)) else _pair_plane(pair)
         if plane is not None:
             return [(plane[0][:, k], plane[1][:, k], None) for k in range(2)], False
     else:

@@ -2,7 +2,8 @@
 the frequency and the first Lyapunov coefficient.
 
 Everything here asks the model's :class:`~mechcont.equations.Dynamics` (``dynamics_of(model)``) for
-its linearisation ``E dz/dt = A dz`` and nothing else, so it serves ODE models and mechanisms alike.
+its linearisation ``E dz/dt = A dz`` and nothing else, so it serves ODE models and mechanisms alike (an ODE
+model's polish reads ``A`` off the equilibrium Jacobian it evaluates anyway: :meth:`HopfTest.state_positions`).
 
 * **Detection**: the bialternate-product test function ``psi = prod_{i<j} (lambda_i + lambda_j)``
   (the determinant of ``2A (.) I``, computed from the eigenvalues) changes sign where a complex pair
@@ -12,13 +13,13 @@ its linearisation ``E dz/dt = A dz`` and nothing else, so it serves ODE models a
   ``|lambda_1 + lambda_2|``; its product ``kappa = lambda_1 lambda_2`` is ``omega^2 > 0`` at a Hopf
   point and ``-kappa^2 < 0`` at a neutral saddle, which is dropped.
 * **Location**: Newton on the minimally extended system ``G(u, p) = 0, g(u, p) = lambda_1 + lambda_2
-  = 0`` (square in the branch's unknowns and parameter), each step bordered (:func:`polish_hopf`): ``g``'s
-  slope is needed along two directions only, from eigenvalue perturbation ``d lambda = w^H (dA - lambda dE)
-  v / (w^H E v)``: exact for ODE models (the model's generated second derivatives contract ``dA v``),
-  central differences of the linearisation otherwise (a mechanism's in one batch,
-  ``MechanismDynamics.linearise_near``). Where the pair comes near a Jordan block its sum is differentiated
-  as a whole on its invariant plane: ``dg = trace(P dA)`` with ``P`` the spectral projector from an ordered
-  Schur form, or for a pencil ``(A, E)`` from an ordered QZ form and the generalised Sylvester equations
+  = 0`` (square in the branch's unknowns and parameter; :func:`polish_hopf`, :mod:`._hopf_newton`), ``g``'s slope
+  from eigenvalue perturbation ``d lambda = w^H (dA - lambda dE) v / (w^H E v)``: for an ODE model its whole
+  gradient, exact (one call of the generated second derivatives), and each step one square solve; otherwise
+  each step bordered, the slope needed along two directions only, by central differences of the linearisation (a
+  mechanism's in one batch, ``MechanismDynamics.linearise_near``). Where the pair comes near a Jordan block its sum
+  is differentiated as a whole on its invariant plane: ``dg = trace(P dA)`` with ``P`` the spectral projector from
+  an ordered Schur form, or for a pencil ``(A, E)`` from an ordered QZ form and the generalised Sylvester equations
   that split its deflating subspaces: finite through a Bogdanov–Takens point, where each eigenvalue's own
   derivative (``w^H E v = 0``) is not.
 * **l1**: :mod:`._lyapunov`.
@@ -26,26 +27,23 @@ its linearisation ``E dz/dt = A dz`` and nothing else, so it serves ODE models a
 
 from __future__ import annotations
 
-import functools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _dense
 from ..equations import NEUTRAL_RTOL, Dynamics, EquationSystem, OdeDynamics
-from ..errors import ConvergenceError
-from ._hopf_plane import CriticalPair, contractions
+from ._hopf_newton import polish_hopf
+from ._hopf_plane import CriticalPair, contractions, critical_pair, pair_indices
 from ._lyapunov import first_lyapunov, state_scales
-from ._problem import ContinuationProblem
+from ._problem import ContinuationProblem, EquilibriumProblem
 
 __all__ = ["HopfPoint", "CriticalPair", "HopfTest", "bialternate_test", "first_lyapunov", "polish_hopf",
            "secant_fraction", "state_scales"]
 
 _EPS = np.finfo(float).eps
-#: Newton on the Hopf system stops where the step (in the problem's scaled unknowns) is below this times
-#: max(1, |z|): the located point is then within that of the solution
-_NEWTON_TOL = 1e-14
 
 
 @dataclass(frozen=True)
@@ -103,7 +101,7 @@ def bialternate_test(lam: np.ndarray) -> float:
     lam = np.asarray(lam, dtype=complex)
     if len(lam) < 2:
         return 1.0
-    i, j = _pairs(len(lam))
+    i, j = pair_indices(len(lam))
     s = lam[i] + lam[j]
     mag = np.abs(s)
     # a sum at rounding (|s| <= NEUTRAL_RTOL max|lambda|, n_unstable_dynamic's zero) is zero: an undamped mechanism's
@@ -129,12 +127,6 @@ def secant_fraction(v0: float, v1: float, pairs: int) -> float:
     return 1.0 / (1.0 + math.exp(min(t, 700.0)))
 
 
-@functools.lru_cache(maxsize=32)
-def _pairs(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """``np.triu_indices(n, 1)``, kept: it costs more than the eigenvalues of a small system."""
-    return np.triu_indices(n, 1)
-
-
 class HopfTest:
     """The Hopf quantities of a model's dynamics at full vectors ``x``.
 
@@ -150,6 +142,7 @@ class HopfTest:
         self._scales = None if system is None else np.abs(np.asarray(system.scales(), float))
         self._cols = (np.zeros(0, np.intp) if self._exact is None else
                       np.array([self._exact.index(n) for n in dynamics.state_names], dtype=np.intp))
+        self._second: tuple[Callable[[np.ndarray], np.ndarray], np.ndarray, np.ndarray, int] | None = None
         #: the number of eigenvalue pairs the last :meth:`test_value` was taken over (:func:`secant_fraction`'s)
         self.pairs = 0
 
@@ -167,36 +160,14 @@ class HopfTest:
     @staticmethod
     def _pair_of(A: np.ndarray, E: np.ndarray | None) -> CriticalPair:
         """The :class:`CriticalPair` of the pencil ``(A, E)`` (``E`` None: the identity)."""
-        if E is None:
-            # the left eigenvectors are the rows of V^-1 (w_k^H v_k = 1): one LAPACK call fewer than scipy's
-            lam, vr = np.linalg.eig(A)
-            try:
-                vl = np.linalg.inv(vr).conj().T
-            except np.linalg.LinAlgError:  # a defective matrix (at a Bogdanov-Takens point): no gradient there
-                vl = np.full_like(vr, np.nan)
-        else:
-            import scipy.linalg
-
-            lam, vl, vr = scipy.linalg.eig(A, E, left=True, right=True)
-        finite = np.isfinite(lam)
-        lam, vl, vr = lam[finite], vl[:, finite], vr[:, finite]
-        if len(lam) < 2:
-            raise ConvergenceError("the dynamics have fewer than two finite eigenvalues: no Hopf point", partial=None)
-        i, j = _pairs(len(lam))
-        k = int(np.argmin(np.abs(lam[i] + lam[j])))
-        a, b = int(i[k]), int(j[k])
-        if lam[a].imag < lam[b].imag:
-            a, b = b, a
-        others = np.delete(lam, [a, b])
-        return CriticalPair(np.array([lam[a], lam[b]]), vr[:, [a, b]], vl[:, [a, b]], A, E,
-                            int(np.sum(others.real > 0)), lam)
+        return critical_pair(A, E)
 
     def gradient(self, x: np.ndarray, columns: Sequence[int] | np.ndarray, pair: CriticalPair) -> np.ndarray:
         """``dg/dx`` over the full-vector columns ``columns`` (``g = lambda_1 + lambda_2``), as a real row.
         Without ``E`` it is finite through a Bogdanov–Takens point (:func:`_pair_plane`); with ``E`` it is
         not finite where the pair is defective (``w^H E v = 0``), which the correctors take as a failed point."""
         cols = np.asarray(columns, dtype=np.intp)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        with _dense.quiet():
             if self._exact is not None:
                 return self._exact_gradient(x, cols, pair)
             return self._fd_derivatives(x, cols, np.eye(len(cols)), pair)
@@ -209,26 +180,45 @@ class HopfTest:
         where the dynamics offer ``linearise_near``), where the gradient takes two per column."""
         cols = np.asarray(columns, dtype=np.intp)
         directions = np.atleast_2d(np.asarray(directions, dtype=float))
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        with _dense.quiet():
             if self._exact is not None:
                 return directions @ self._exact_gradient(x, cols, pair)
             return self._fd_derivatives(x, cols, directions, pair)
 
-    def _exact_gradient(self, x: np.ndarray, cols: np.ndarray, pair: CriticalPair) -> np.ndarray:
-        """The ODE model's gradient: ``w^H (dA v)`` with ``dA v`` from the generated second derivatives."""
+    def state_positions(self, problem: ContinuationProblem) -> np.ndarray | None:
+        """Where the dynamics' states are among ``problem``'s unknowns, when ``problem.evaluate``'s Jacobian holds the
+        linearisation: an ODE model's equilibrium problem on the same system with every state among its unknowns (or
+        its parameter), whose Jacobian's state columns are ``A = df/dz`` exactly. None otherwise."""
         system = self._exact
-        assert system is not None
+        if (system is None or not isinstance(problem, EquilibriumProblem) or problem.system is not system
+                or getattr(self.dynamics, "model", None) is not system or problem.idx is None):
+            return None
+        where = {int(c): k for k, c in enumerate(problem.idx)}
+        if not all(int(c) in where for c in self._cols):
+            return None
+        return np.array([where[int(c)] for c in self._cols], dtype=np.intp)
+
+    def _exact_gradient(self, x: np.ndarray, cols: np.ndarray, pair: CriticalPair) -> np.ndarray:
+        """The ODE model's gradient ``sum_k w_k^H (dA v_k)`` (:func:`contractions`' terms), with ``dA v`` from the
+        generated second derivatives: ``d2 f_i / dz_j dx_c`` weighted by ``Re(conj(w_i) v_j)`` summed over the terms,
+        one compiled call for the real and imaginary parts alike."""
+        if self._second is None:
+            system = self._exact
+            assert system is not None
+            nv, n = len(system.names), len(self._cols)
+            fn, i, j, k = system.columns(np.arange(nv)).second_derivative_entries()
+            at = np.full(nv, n, dtype=np.intp)  # the state's position, n (a zero weight) for other variables
+            at[self._cols] = np.arange(n, dtype=np.intp)
+            self._second = (fn, i * (n + 1) + at[j], k, nv)
+        values, flat, c, nv = self._second
+        n = len(self._cols)
         terms, conjugate = contractions(pair)
-        out = np.zeros(len(cols), dtype=complex)
-
-        def dAv(part: np.ndarray) -> np.ndarray:
-            full = np.zeros(len(x))
-            full[self._cols] = part
-            return np.asarray(system.jacobian_derivative(x, full), float)[:, cols]
-
+        M = np.zeros((n, n + 1))  # Re(conj(w_i) v_j), a zero column for the other variables
         for v, w, _ in terms:  # an ODE model has no E
-            out += np.conj(w) @ (dAv(v.real) + 1j * dAv(v.imag))
-        return 2 * out.real if conjugate else out.real
+            M[:, :n] += (w.conj()[:, None] * v).real
+        if conjugate:
+            M *= 2.0
+        return np.bincount(c, weights=values(x) * M.ravel()[flat], minlength=nv)[cols]
 
     def _fd_derivatives(self, x: np.ndarray, cols: np.ndarray, directions: np.ndarray,
                         pair: CriticalPair) -> np.ndarray:
@@ -289,7 +279,7 @@ class HopfTest:
         A, E = near(x, np.vstack([np.asarray(x, float)[None, :], X]), None)
         A, E = np.asarray(A, float), None if E is None else np.asarray(E, float)
         pair = self._pair_of(A[0], None if E is None else E[0])
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        with _dense.quiet():
             return pair, self._contract(pair, A[1:], None if E is None else E[1:], h, moving, len(directions))
 
     def _linearisations(self, x: np.ndarray, X: np.ndarray, descriptor: bool) -> tuple[np.ndarray, np.ndarray | None]:
@@ -307,92 +297,3 @@ class HopfTest:
         return A, np.array([eye if lin.E is None else np.asarray(lin.E, float) for lin in lins])
 
 
-def polish_hopf(test: HopfTest, problem: ContinuationProblem, u0: np.ndarray,
-                max_iter: int = 30) -> tuple[np.ndarray, CriticalPair, float]:
-    """Newton on ``G(u) = 0, lambda_1 + lambda_2 = 0`` from ``u0`` (the unknowns of the equilibrium
-    ``problem``, its parameter among them), in ``problem.scale``'s units.
-
-    Each step is the bordered solution of the extended system: ``dz = dz0 + t phi`` with ``phi`` the null
-    vector of ``G``'s Jacobian and ``dz0`` its least-norm step, ``t`` from ``g``'s row, which is needed only
-    along ``dz0`` and ``phi`` (:meth:`HopfTest.derivatives`: two directional derivatives of the linearisation
-    instead of one per unknown); the same step as a solve with the whole row.
-
-    It stops where the step is below :data:`_NEWTON_TOL` (1e-14) times ``max(1, |z|)`` in the scaled unknowns
-    ``z = u / problem.scale``, or stalls below 1e-10 (the step no longer halves: the derivatives' noise floor),
-    and returns the stepped point, evaluated once more for its residual and pair. Two shortcuts that change
-    the result by rounding only: a step below 1e-14 itself, or a stalled one, returns the point it was taken
-    from (its residuals and pair already at hand); and where quadratic convergence (``e_{k+1} = C e_k^2``,
-    ``C`` from the last two steps, the last below 1e-6 times ``max(1, |z|)``) puts the next step below 1e-14,
-    the stepped point is returned without the iteration that would confirm it.
-
-    Returns ``(u, pair, residual)``: the located unknowns, the :class:`CriticalPair` there and the
-    largest relative residual. Raises :class:`ConvergenceError` when Newton does not converge.
-    """
-    import scipy.linalg
-
-    idx = problem.idx
-    assert idx is not None, "a Hopf point is located on an equilibrium problem (full-vector columns)"
-    D = np.asarray(problem.scale, float)
-    z = np.asarray(u0, float) / D
-    n = len(z) - 1
-    last = math.inf
-    for _ in range(max_iter):
-        u = z * D
-        x = problem.full(u)
-        r, J = problem.evaluate(u)
-        if not np.isfinite(r).all():
-            raise ConvergenceError("the Hopf system left the model's domain (a residual not finite)", partial=None)
-        Q, R = np.linalg.qr((J * D).T, mode="complete")
-        if not np.all(np.abs(np.diag(R)) > 0):
-            raise ConvergenceError("the Hopf system is singular there", partial=None)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            dz0 = Q[:, :n] @ scipy.linalg.solve_triangular(R[:n], -r, trans="T")
-            phi = Q[:, n]
-        pair, slope = test.pair_and_derivatives(x, idx, np.vstack([dz0, phi]) * D)
-        if not np.isfinite(pair.g):
-            raise ConvergenceError("the Hopf system left the model's domain (a residual not finite)", partial=None)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            dz = dz0 + (-(pair.g + slope[0]) / slope[1]) * phi
-        step = float(np.max(np.abs(dz)))
-        if not math.isfinite(step):
-            raise ConvergenceError("the Hopf system is singular there", partial=None)
-        tol = _NEWTON_TOL * max(1.0, float(np.max(np.abs(z + dz))))
-        if step < _NEWTON_TOL or (step >= 0.5 * last and step < 1e-10):
-            # z is within rounding of the solution (1e-14 in the scaled unknowns, or the steps' noise floor, where
-            # they no longer halve): z itself is returned, with its residuals and pair already at hand
-            return u, pair, _converged(r, J, u, problem, pair)
-        z = z + dz
-        # stepped to within the tolerance, or (quadratic convergence, e_{k+1} = C e_k^2 with C = step / last^2,
-        # trusted once the steps are below 1e-6 of the unknowns) to within rounding, 1e-14 in the scaled
-        # unknowns, of the solution: the new z is returned, only its residuals and pair are needed
-        if step < tol or (last < math.inf and step < 1e8 * tol and step ** 3 < _NEWTON_TOL * last ** 2):
-            u = z * D
-            r, J = problem.evaluate(u)
-            if not np.isfinite(r).all():
-                raise ConvergenceError("the Hopf system left the model's domain (a residual not finite)",
-                                       partial=None)
-            pair = test.pair(problem.full(u))
-            return u, pair, _converged(r, J, u, problem, pair)
-        last = step
-    raise ConvergenceError(f"the Hopf system did not converge from the detected point (after {max_iter} Newton "
-                           "iterations)", partial=None)
-
-
-def _converged(r: np.ndarray, J: np.ndarray, u: np.ndarray, problem: ContinuationProblem,
-               pair: CriticalPair) -> float:
-    """The located point's :func:`_relative_residual`; raises :class:`ConvergenceError` where it is above 1e-8
-    (the steps stalled away from a solution, or at a non-finite one)."""
-    residual = _relative_residual(r, J, u, problem, pair)
-    if not residual <= 1e-8:
-        raise ConvergenceError(f"the Hopf system stalled at a relative residual of {residual:.3g}", partial=None)
-    return residual
-
-
-def _relative_residual(r: np.ndarray, J: np.ndarray, u: np.ndarray, problem: ContinuationProblem,
-                       pair: CriticalPair) -> float:
-    """The largest of each equilibrium row's residual over the size of its terms, and ``|g| / |lambda|``."""
-    D = np.abs(np.asarray(problem.scale, float))
-    terms = np.abs(J) @ np.maximum(np.abs(u), D) + np.abs(r)
-    rows = np.abs(r) / np.maximum(terms, np.finfo(float).tiny)
-    size = max(abs(pair.lam[0]), abs(pair.lam[1]), np.finfo(float).tiny)
-    return float(max(rows.max(initial=0.0), abs(pair.g) / size))

@@ -27,6 +27,7 @@ motions into ``z``), else from the rates' Jacobian. Two ways to the derivatives:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -160,42 +161,66 @@ def _exact_terms(dyn: OdeDynamics, system: EquationSystem, x: np.ndarray, z0: np
                  q: np.ndarray) -> _ExactTerms:
     """``(B(q, .), C(q, q, qb))`` of an ODE model: ``B`` from the generated second derivatives, ``C`` from
     Richardson-extrapolated central differences of ``S(z) = B_z(a, a) + B_z(b, b)`` along ``a`` and ``b``
-    (``C(q,q,qb) = D_a S + i D_b S`` by trilinearity and symmetry)."""
-    cols = np.array([system.index(n) for n in dyn.state_names])
+    (``C(q,q,qb) = D_a S + i D_b S`` by trilinearity and symmetry). The second derivatives ``d2 f_i / dz_j dz_k``
+    (the states' entries, :meth:`~mechcont.equations.ColumnView.second_derivative_entries`) are computed once per
+    point, at ``z0`` and the eight points of the stencils, and contracted with ``a`` and ``b`` as arrays."""
+    cols = np.array([system.index(n) for n in dyn.state_names], dtype=np.intp)
+    n, nv = len(cols), len(system.names)
+    values, i, j, k = system.columns(cols).second_derivative_entries()
+    at = np.full(nv, n, dtype=np.intp)  # the state's position, n (a zero) for the other variables
+    at[cols] = np.arange(n, dtype=np.intp)
+    jz = at[j]
     a, b = q.real, q.imag
-
-    def H(pairs: list[tuple[np.ndarray, np.ndarray]]) -> list[np.ndarray]:
-        # [d(J a)/dz at state z for (z, a) in pairs]: the matrices b -> B_z(a, b)
-        out = []
-        for z, d in pairs:
-            full = np.zeros(len(x))
-            full[cols] = d
-            out.append(np.asarray(system.jacobian_derivative(dyn.full_vector(z, x), full), float)[:, cols])
-        return out
+    a0, b0 = np.append(a, 0.0)[jz], np.append(b, 0.0)[jz]
 
     # Richardson's extrapolation of central differences (error O(h^4)): h = eps^(1/5) balances rounding
     # (eps / h) and truncation (h^4) near 1e-13
     step = _EPS ** (1 / 5)
     scale = max(1.0, float(np.max(np.abs(z0) / sc)))
-    # every derivative l1 needs, taken at once: B at z0 along a and b (B(qb, .) = B(q, .) with b negated),
-    # and S(z) = B_z(a, a) + B_z(b, b) at z0 +- h d, z0 +- 2 h d for d = a, b (for C)
-    centres: list[tuple[np.ndarray, int, float, np.ndarray, np.ndarray]] = []
-    for d in (a, b):
-        nd = float(np.max(np.abs(d) / sc))
-        if nd > 0:
-            h = step * scale / nd
-            centres += [(d, k, h, z0 + k * h * d, z0 - k * h * d) for k in (1, 2)]
-    Hs = H([(z0, a), (z0, b)] + [(zc, v) for *_, zp, zm in centres for zc in (zp, zm) for v in (a, b)])
-    Sv = [Hs[2 + 2 * i] @ a + Hs[3 + 2 * i] @ b for i in range(2 * len(centres))]
+    # the points: z0, then z0 + h d, z0 - h d, z0 + 2 h d, z0 - 2 h d for each of d = a, b that is not zero
+    nd = np.max(np.abs(np.vstack([a, b])) / sc, axis=1)
+    moved = [(d, step * scale / float(size) if size > 0 else 0.0) for d, size in zip((a, b), nd)]
+    Z = np.vstack([z0[None, :]] + [z0 + np.array([h, -h, 2 * h, -2 * h])[:, None] * d for d, h in moved if h > 0])
+    V = _at_rows(values, dyn.full_vectors(Z, x))
+    # B at z0 along a and b: Ha[i, k] = sum_j d2 f_i / dz_j dz_k a_j
+    bins = i * n + k
+    Ha = np.bincount(bins, weights=V[0] * a0, minlength=n * n).reshape(n, n)
+    Hb = np.bincount(bins, weights=V[0] * b0, minlength=n * n).reshape(n, n)
+    # S(z)_i = B_z(a, a)_i + B_z(b, b)_i at the stencils' points, one bincount over all of them
+    weight = a0 * a[k] + b0 * b[k]
+    m = len(Z) - 1
+    S = np.bincount((np.arange(m)[:, None] * n + i).ravel(), weights=(V[1:] * weight).ravel(),
+                    minlength=m * n).reshape(m, n)
 
-    def D(d: np.ndarray) -> np.ndarray:
-        rows = [i for i, c in enumerate(centres) if c[0] is d]
-        if not rows:
-            return np.zeros(len(z0))
-        central = [(Sv[2 * i] - Sv[2 * i + 1]) / (2 * centres[i][1] * centres[i][2]) for i in rows]
+    def D(rows: int, h: float) -> np.ndarray:
+        # rows: S at +h, -h, +2h, -2h
+        central = [(S[rows] - S[rows + 1]) / (2 * h), (S[rows + 2] - S[rows + 3]) / (4 * h)]
         return np.asarray((4 * central[0] - central[1]) / 3)
 
-    return _ExactTerms(Hs[0], Hs[1], q, D(a) + 1j * D(b))
+    Da, Db, r = np.zeros(n), np.zeros(n), 0
+    for which, (_, h) in enumerate(moved):
+        if h > 0:
+            if which == 0:
+                Da = D(r, h)
+            else:
+                Db = D(r, h)
+            r += 4
+    return _ExactTerms(Ha, Hb, q, Da + 1j * Db)
+
+
+def _at_rows(values: Callable[[np.ndarray], np.ndarray], X: np.ndarray) -> np.ndarray:
+    """``values(X[r])`` for each row of ``X`` (a :meth:`~mechcont.equations.ColumnView.second_derivative_entries`
+    gather), in one call of the compiled code where its parts are at hand (the same values, row by row)."""
+    parts = getattr(values, "parts", lambda: None)()
+    if parts is None:
+        return np.array([values(row) for row in X])
+    fn, n_out, src = parts
+    m = len(X)
+    out = np.zeros((m, n_out + 1))  # the last column stays 0: structural zeros read it
+    vals = np.empty(m * n_out)
+    fn.unsafe_eval(np.ascontiguousarray(X, dtype=float), vals, m)
+    out[:, :n_out] = vals.reshape(m, n_out)
+    return out[:, src]
 
 
 class _Directional:
