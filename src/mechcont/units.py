@@ -247,5 +247,6 @@ def undeclared_label(label: str, units: UnitSystem) -> str | None:
 def units_of(model: object) -> UnitSystem:
     """The units of the description ``model`` (a :class:`~mechcont.equations.Model`) was generated from
     (its ``mechanism.units``); SI for a built-in or hand-formulated model."""
-    units = getattr(getattr(model, "mechanism", None), "units", SI)
-    return units if isinstance(units, UnitSystem) else SI
+    from .equations import Model  # the equations import this module
+
+    return model.mechanism.units if isinstance(model, Model) and model.mechanism is not None else SI
