@@ -35,9 +35,10 @@ __all__ = ["SCHEDULERS", "CLUSTER_START_SECONDS", "Choice", "cluster_threshold",
 
 #: The schedulers named by a word; anything else must be a Dask scheduler's address.
 SCHEDULERS = ("auto", "local", "serial")
-#: What a local cluster costs before it computes at this process's rate, s: on the shared 2-core machine
-#: starting two workers took 2-4 s, and each worker's first 1000-sample chunk of the nose gear took
-#: 7.8-8.7 s against 0.24 s in this process (a fresh process importing mechcont and loading the model).
+#: What a local cluster costs before it computes at this process's rate, s: about 4.5 s on the idle 2-core
+#: machine (docs/benchmarks.md); when it is shared, starting two workers took 2-4 s and each worker's first
+#: 1000-sample chunk of the nose gear 7.8-8.7 s against 0.24 s in this process (a fresh process importing
+#: mechcont, loading the model and compiling its lazily compiled parts).
 CLUSTER_START_SECONDS = 10.0
 #: A scheduler's address: ``[SCHEME://]HOST:PORT`` (which schemes are served is the connection's check).
 _ADDRESS = re.compile(r"(?:[A-Za-z][A-Za-z0-9+.-]*://)?[^\s:/]+:\d+|(?:[A-Za-z][A-Za-z0-9+.-]*://)?\[[0-9A-Fa-f:.]+\]:\d+")
