@@ -95,10 +95,10 @@ def run_parts(parts: Mapping[int, int], here: Callable[[int], float], there: Cal
     """Compute the ``parts`` (``{part: its samples}``, in order) where ``scheduler`` says; return where they ran.
 
     ``here(k)`` computes part ``k`` in this process and returns the seconds its computing took (what is done
-    here wherever the part is computed, writing it, not counted), ``there(client, ks)`` the parts ``ks`` on a
-    Dask client;
-    ``before()`` is called once before the first part is computed (after a cluster given by name or address has
-    started, so that a scheduler that cannot be reached stops the run before anything is written).
+    here wherever the part is computed, writing it, not counted); ``there(client, ks)`` computes the parts ``ks``
+    on a Dask client; ``before()`` is called once before the first part is computed (after a cluster given by
+    name or address has started, so that a scheduler that cannot be reached stops the run before anything is
+    written; with ``"auto"`` the first part is computed, and written, before a cluster is started).
     ``scheduler``: ``None`` or ``"serial"`` (this process), ``"local"`` (a local cluster of ``workers`` worker
     processes; this process when one part is to do), ``"auto"`` (see the module's docstring) or an address.
     Returns ``"this process"``, ``"a local cluster of 2 worker processes"``, the address, or with ``"auto"`` the
