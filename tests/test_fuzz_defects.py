@@ -329,9 +329,9 @@ def test_a_scheduler_that_accepts_and_never_answers(tmp_path, monkeypatch):
     import socket
     import threading
 
-    from mechcont.analysis.study import _execute
+    from mechcont.analysis.study import _dask
 
-    monkeypatch.setattr(_execute, "SCHEDULER_TIMEOUT", 2.0)
+    monkeypatch.setattr(_dask, "SCHEDULER_TIMEOUT", 2.0)
     server = socket.socket()
     server.bind(("127.0.0.1", 0))
     server.listen(4)
@@ -433,7 +433,7 @@ def test_animate_refuses_duplicated_columns(tmp_path, overcentre_branch):
 def test_the_scheduler_probe_accepts_a_real_dask_scheduler():
     """The handshake probe that bounds the wait must let a real scheduler through at once."""
     distributed = pytest.importorskip("dask.distributed")
-    from mechcont.analysis.study._execute import _probe_scheduler
+    from mechcont.analysis.study._dask import _probe_scheduler
 
     with distributed.LocalCluster(n_workers=0, processes=True, dashboard_address=None, silence_logs=50) as cluster:
         assert cluster.scheduler_address.startswith("tcp://")

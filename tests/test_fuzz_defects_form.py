@@ -201,9 +201,9 @@ def test_max_hours_must_be_a_positive_number(tmp_path, hours):
 def test_a_fake_scheduler_announcing_a_huge_frame(tmp_path, monkeypatch, announced):
     """It accepts, sends a frame length of 2^62 bytes (MemoryError in Dask's read) or 1 GiB (then nothing:
     Dask waited for it forever): one line, at once."""
-    from mechcont.analysis.study import _execute
+    from mechcont.analysis.study import _dask
 
-    monkeypatch.setattr(_execute, "SCHEDULER_TIMEOUT", 2.0)
+    monkeypatch.setattr(_dask, "SCHEDULER_TIMEOUT", 2.0)
     server = socket.socket()
     server.bind(("127.0.0.1", 0))
     server.listen(8)

@@ -110,20 +110,54 @@ def test_killed_study_resumes_losing_and_recomputing_nothing(tmp_path, uninterru
 
 
 # -- a real local cluster ---------------------------------------------------------------------
+CLUSTER_SPEC = StudySpec("nose_gear", "mc", (("L4", Distribution("uniform", (0.26, 0.44))),
+                                             ("LU", Distribution("normal", (1.3, 0.01))),
+                                             ("k", Distribution("uniform", (-2000.0, 40000.0)))), n=240, seed=2, chunk=30)
+
+
+@pytest.fixture(scope="module")
+def serial_run(tmp_path_factory):
+    """The cluster tests' reference: the study in this process, with batched rows, stragglers and failed samples."""
+    serial = run_study(CLUSTER_SPEC, tmp_path_factory.mktemp("serial") / "s")
+    a = serial.frame()
+    assert {"batched", "single"} <= set(a["path"]) and (a["status"] == "failed").any()
+    return serial, a
+
+
+def test_auto_in_this_process_equals_serial(tmp_path, serial_run):
+    """A study too small for a cluster: ``scheduler="auto"`` runs every chunk here, in order, and gives the serial
+    run's table (rtol 1e-9: the solves converge to 1e-10 relative or better)."""
+    serial, a = serial_run
+    auto = run_study(CLUSTER_SPEC, tmp_path / "auto", scheduler="auto", workers=2)
+    assert auto.computed == serial.computed == list(range(CLUSTER_SPEC.n_chunks))
+    assert auto.ran_on.startswith("this process (auto: 210 samples left") and serial.ran_on == "this process"
+    assert_frames_close(auto.frame(), a, rtol=1e-9, atol=1e-9)
+
+
 @pytest.mark.slow
-def test_local_cluster_equals_serial(tmp_path):
+def test_local_cluster_equals_serial(tmp_path, serial_run):
     """Two worker processes of a dask.distributed LocalCluster give the serial run's results (to the
     solves' rounding), batched rows, stragglers solved alone and failed samples alike."""
     pytest.importorskip("dask.distributed")
-    spec = StudySpec("nose_gear", "mc", (("L4", Distribution("uniform", (0.26, 0.44))),
-                                         ("LU", Distribution("normal", (1.3, 0.01))),
-                                         ("k", Distribution("uniform", (-2000.0, 40000.0)))), n=240, seed=2, chunk=30)
-    serial = run_study(spec, tmp_path / "serial")
-    cluster = run_study(spec, tmp_path / "cluster", scheduler="local", workers=2)
+    serial, a = serial_run
+    cluster = run_study(CLUSTER_SPEC, tmp_path / "cluster", scheduler="local", workers=2)
     assert cluster.computed and sorted(cluster.computed) == serial.computed
-    a, b = serial.frame(), cluster.frame()
-    assert {"batched", "single"} <= set(a["path"]) and (a["status"] == "failed").any()
-    assert_frames_close(b, a, rtol=1e-9, atol=1e-9)
+    assert_frames_close(cluster.frame(), a, rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.slow
+def test_auto_on_a_local_cluster_equals_serial(tmp_path, serial_run, monkeypatch):
+    """``scheduler="auto"`` when the cluster pays off (its start taken as free): the first chunk in this process,
+    the others on two worker processes, the serial run's results (to the solves' rounding)."""
+    pytest.importorskip("dask.distributed")
+    from mechcont.analysis.study import _schedule
+
+    monkeypatch.setattr(_schedule, "CLUSTER_START_SECONDS", 0.0)
+    serial, a = serial_run
+    auto = run_study(CLUSTER_SPEC, tmp_path / "auto", scheduler="auto", workers=2)
+    assert auto.computed[0] == 0 and sorted(auto.computed) == serial.computed
+    assert auto.ran_on.startswith("this process, then a local cluster of 2 worker processes (auto: 210 samples left")
+    assert_frames_close(auto.frame(), a, rtol=1e-9, atol=1e-9)
 
 
 # -- the design map ---------------------------------------------------------------------------

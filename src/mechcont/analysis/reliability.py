@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 import os
+import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
@@ -39,6 +40,7 @@ from .sensitivity import write_json
 from .study._spec import Distribution, StudySpec
 
 if TYPE_CHECKING:
+    from distributed import Client
     from scipy.stats.distributions import rv_frozen
 
     from ..equations import Model
@@ -393,20 +395,26 @@ def _is_chunk(source: ModelSource, spec: StudySpec, S: np.ndarray) -> np.ndarray
 
 def _study_evaluate(spec: StudySpec, source: ModelSource, scheduler: str | None, workers: int | None, ran_on: list[str],
                     threshold: float) -> Callable[[np.ndarray], np.ndarray]:
-    """``X -> F(X) - threshold`` by the studies' batched chunks, in this process or on Dask."""
+    """``X -> F(X) - threshold`` by the studies' batched chunks, where ``scheduler`` says
+    (:func:`mechcont.analysis.study.run_parts`; ``ran_on[0]`` says where the last call ran)."""
     def evaluate(X: np.ndarray) -> np.ndarray:
-        parts = [X[i:i + spec.chunk] for i in range(0, len(X), spec.chunk)]
-        if scheduler is None or len(parts) <= 1:
-            return np.concatenate([_is_chunk(source, spec, S) for S in parts]) - threshold
-        from .study._execute import _dask_client
+        from .study import run_parts
 
-        with _dask_client(scheduler, workers) as client:
+        parts = [X[i:i + spec.chunk] for i in range(0, len(X), spec.chunk)]
+        out: dict[int, np.ndarray] = {}
+
+        def here(k: int) -> float:
+            t = time.perf_counter()
+            out[k] = _is_chunk(source, spec, parts[k])
+            return time.perf_counter() - t
+
+        def there(client: Client, ks: Sequence[int]) -> None:
             shipped_source, shipped_spec = client.scatter([source, spec], broadcast=True)
-            futures = [client.submit(_is_chunk, shipped_source, shipped_spec, S, pure=False) for S in parts]
-            out = client.gather(futures)
-        ran_on[0] = (f"a local cluster of {workers or os.cpu_count()} worker processes" if scheduler == "local"
-                     else scheduler)
-        return np.concatenate(out) - threshold
+            futures = [client.submit(_is_chunk, shipped_source, shipped_spec, parts[k], pure=False) for k in ks]
+            out.update(zip(ks, client.gather(futures)))
+
+        ran_on[0] = run_parts({k: len(S) for k, S in enumerate(parts)}, here, there, scheduler, workers)
+        return np.concatenate([out[k] for k in range(len(parts))]) - threshold
 
     return evaluate
 
@@ -419,9 +427,12 @@ def downlock_reliability(spec: StudySpec, *, n: int | None = None, seed: int | N
     the other parameters at the spec's ``values``; ``n`` importance samples (default the
     spec's ``n``; 0 for none) drawn with ``seed`` (default the spec's), solved in chunks of
     the spec's ``chunk`` as a study solves them: in this process (``scheduler=None``), on a
-    local Dask cluster (``"local"``) or at a scheduler's address.
+    local Dask cluster (``"local"``), at a scheduler's address, or ``"auto"`` (a local cluster only when the
+    samples' computing, timed on their first chunk, would pay for its start: :func:`mechcont.analysis.study.run_parts`).
     """
-    from .study import ModelSource, check_spec, load_study_model
+    from .study import ModelSource, check_scheduler, check_spec, load_study_model
+
+    check_scheduler(scheduler, workers)
 
     if spec.sampling == "grid":
         raise InputError("--method", "form needs distributions (--dist), not a grid")

@@ -102,8 +102,9 @@ def _spec(model: str, sample: str | None, n: int | None, seed: int, dists: Seque
 @click.option("--out", "old_out", default=None, hidden=True)  # its spelling before --out meant a file everywhere else
 @click.option("--resume", is_flag=True, help="Continue the study in --dir: finished chunks are kept, not recomputed.")
 @click.option("--chunk", type=int, default=None, help="Samples per task and per written part (default by analysis).")
-@click.option("--scheduler", default="local", show_default=True, metavar="local|serial|ADDRESS",
-              help="Where chunks run: a local cluster of worker processes, this process, or a Dask scheduler.")
+@click.option("--scheduler", default="auto", show_default=True, metavar="auto|local|serial|ADDRESS",
+              help="Where chunks run: auto (the first chunk here, timed; a local cluster only when the work left "
+                   "pays for its start), a local cluster of worker processes, this process, or a Dask scheduler.")
 @click.option("--workers", type=int, default=None, help="Worker processes of the local cluster (default: cores).")
 @click.option("--plot", default=None, metavar="FILE", help="Figure: contour map (2-D grid) or histogram and sensitivities.")
 @click.option("--max-hours", type=float, default=1.0, show_default=True, metavar="HOURS",
@@ -133,6 +134,9 @@ def study_command(model: str, dists: tuple[str, ...], grids: tuple[str, ...], sa
 
     if method not in ("sampling", "form"):
         raise InputError("--method", f"unknown method '{method}'; valid: sampling, form")
+    from ..analysis.study import check_scheduler
+
+    check_scheduler(scheduler)  # a misspelt scheduler is refused before anything runs, whichever path uses it
     plot_path = check_output_path(plot, "--plot", FIGURE_SUFFIXES)
     out, option = renamed(out_dir, old_out, "--dir", "--out")
     if out is None:
@@ -182,7 +186,6 @@ def _study(model: str, dists: Sequence[str], grids: Sequence[str], sample: str |
         raise InputError("--plot", "a freefall study has no figure; read its results.parquet (column locked)")
     if plot_path is not None and spec.sampling == "grid" and len(spec.parameters) > 2:
         raise InputError("--plot", f"a grid over {len(spec.parameters)} parameters has no figure; use one or two --grid")
-    where = None if scheduler == "serial" else scheduler
     from .._progress import Progress
 
     def chunk_line(k: int, seconds: float) -> None:
@@ -197,7 +200,7 @@ def _study(model: str, dists: Sequence[str], grids: Sequence[str], sample: str |
 
     t0 = time.perf_counter()
     with Progress("study", total=spec.size, unit="samples", quiet=quiet) as bar:
-        result = st.run_study(spec, out, resume=resume, scheduler=where, workers=workers,
+        result = st.run_study(spec, out, resume=resume, scheduler=scheduler, workers=workers,
                               progress=bar.update if bar.enabled else None, on_chunk=chunk_line,
                               on_warning=lambda line: click.echo(f"warning: {line}", err=True),
                               max_seconds=max_seconds, on_estimate=estimate_line)
@@ -233,8 +236,7 @@ def _form(model: str, dists: Sequence[str], grids: Sequence[str], sample: str | 
     if spec.sampling == "grid":
         raise InputError("--spec", "--method form needs distributions, not a grid")
     samples = spec.n if n is None else n  # the spec keeps at least 1 sample; 0 here means no sampling check
-    result = downlock_reliability(spec, n=samples, scheduler=None if scheduler == "serial" else scheduler,
-                                  workers=workers)
+    result = downlock_reliability(spec, n=samples, scheduler=scheduler, workers=workers)
     Path(out).mkdir(parents=True, exist_ok=True)
     path = Path(out) / "reliability.json"
     result.to_json(path)

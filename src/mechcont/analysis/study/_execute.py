@@ -2,9 +2,12 @@
 
 :func:`run_study` computes the chunks not yet on disk (see :class:`StudyStore`), writes each
 as soon as it is done, and combines them into ``results.parquet`` at the end. Where the
-chunks run:
+chunks run (:func:`~._schedule.run_parts`):
 
-* ``scheduler=None``: in this process, one after the other;
+* ``scheduler=None`` (or ``"serial"``): in this process, one after the other;
+* ``scheduler="auto"``: the first chunk in this process, timed; the others on a local cluster
+  only when the computing left, estimated from it, would pay for the cluster's start
+  (see :mod:`._schedule`), else here too;
 * ``scheduler="local"``: a :class:`dask.distributed.LocalCluster` of worker processes
   (one thread each, ``workers`` of them, default one per core), started and stopped here
   (not when one chunk is left to compute: that runs in this process);
@@ -17,15 +20,14 @@ the model on its first task (from the disk cache of compiled code where it has o
 chunk of the default size takes >= 0.1 s, well above Dask's ~1 ms per task), results come
 back as plain arrays and are written by this process only, so workers need no access to the
 study folder. Every chunk runs the same :func:`run_chunk` on the same compiled code wherever
-it runs, so the results are the same bits.
+it runs, so the results agree whichever scheduler ran them (to the solves' rounding: another
+process may sit on another BLAS kernel).
 """
 
 from __future__ import annotations
 
-import contextlib
-import os
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -34,24 +36,20 @@ import numpy as np
 
 from ...errors import InputError
 from ...units import units_of
+from ._dask import STUDY_EXTRA_HINT
 from ._estimate import MAX_SECONDS, PILOT_SAMPLES, Estimate, check_cost, estimate_study
 from ._kernels import COLUMNS, check_spec, result_columns, run_chunk
+from ._schedule import check_scheduler, run_parts
 from ._spec import StudySpec
 from ._store import StudyStore
 
 if TYPE_CHECKING:
-    import socket
-
     import pandas as pd
     from distributed import Client
 
     from ...equations import Model
 
-__all__ = ["run_study", "StudyResult", "ModelSource", "load_study_model", "STUDY_EXTRA_HINT"]
-
-#: What to tell a user whose installation lacks the study's dependencies.
-STUDY_EXTRA_HINT = "install the study extra: pip install 'mechcont[study]' (pyarrow and dask[distributed])"
-
+__all__ = ["run_study", "StudyResult", "ModelSource", "load_study_model"]
 
 @dataclass(frozen=True)
 class ModelSource:
@@ -173,8 +171,9 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
     resume:
         Continue the study already in ``folder`` (same spec): finished chunks are kept.
     scheduler:
-        ``None`` (this process), ``"local"`` (a local cluster of worker processes) or a Dask
-        scheduler's address.
+        ``None`` or ``"serial"`` (this process), ``"auto"`` (the first chunk here, timed, the others on a
+        local cluster only when the computing left would pay for its start: :mod:`._schedule`),
+        ``"local"`` (a local cluster of worker processes) or a Dask scheduler's address.
     workers:
         Worker processes of the local cluster (default: the number of cores).
     progress:
@@ -198,10 +197,11 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
     Raises
     ------
     InputError
-        Unknown names, a folder holding another study, a spec that does not fit the model, an
+        Unknown names, an unknown scheduler, a folder holding another study, a spec that does not fit the model, an
         estimate above ``max_seconds``: all before anything is written.
     """
     t0 = time.perf_counter()
+    check_scheduler(scheduler, workers)
     try:
         import pyarrow  # noqa: F401
     except ImportError:
@@ -234,121 +234,26 @@ def run_study(spec: StudySpec, folder: str | Path, *, resume: bool = False, sche
         if on_chunk is not None:
             on_chunk(k, seconds)
 
-    if scheduler == "local" and len(todo) <= 1:
-        scheduler = None  # one chunk: starting a cluster would only cost time
-    if todo and scheduler is not None:
-        with _dask_client(scheduler, workers) as client:  # reached before anything is written
-            done = store.open()
-            _run_dask(client, spec, source, [k for k in todo if k not in done], finished)
-    else:
-        done = store.open()
-        samples = _samples(spec)
-        for k in todo:
-            t = time.perf_counter()
-            cols = run_chunk(system, spec, k, samples=samples)
-            finished(k, cols, time.perf_counter() - t)
+    samples = _samples(spec)
+    done: set[int] = set()
+
+    def opened() -> None:
+        done.update(store.open())
+
+    def here(k: int) -> float:
+        t = time.perf_counter()
+        cols = run_chunk(system, spec, k, samples=samples)
+        seconds = time.perf_counter() - t
+        finished(k, cols, seconds)
+        return seconds
+
+    def there(client: Client, ks: Sequence[int]) -> None:
+        _run_dask(client, spec, source, [k for k in ks if k not in done], finished)
+
+    ran_on = run_parts({k: len(range(*spec.chunk_rows(k))) for k in todo}, here, there, scheduler, workers, opened)
     store.combine()
-    ran_on = "this process" if scheduler is None or not todo else (
-        f"a local cluster of {workers or os.cpu_count()} worker processes" if scheduler == "local" else scheduler)
     return StudyResult(store.folder, store.results, computed, sorted(done), time.perf_counter() - t0, spec.size,
                        ran_on)
-
-
-#: Seconds a Dask scheduler has to accept the connection and to say its first word.
-SCHEDULER_TIMEOUT = 10.0
-
-
-def _probe_scheduler(address: str) -> None:
-    """InputError unless ``address`` is a ``tcp://`` (or bare ``HOST:PORT``) address of a server that
-    accepts a connection and sends its handshake within :data:`SCHEDULER_TIMEOUT`.
-
-    Dask's own connect waits for the handshake without a time limit, so a server that accepts and
-    never answers would hang the study; a scheduler sends its handshake at once."""
-    import socket
-
-    from distributed.comm.addressing import parse_address, parse_host_port
-
-    try:
-        scheme, location = parse_address(address, strict=False)
-        host, port = parse_host_port(location)
-    except (ValueError, TypeError) as exc:
-        raise InputError("--scheduler", f"{address!r} is not a scheduler address tcp://HOST:PORT ({exc})") from None
-    if scheme != "tcp":
-        raise InputError("--scheduler", f"only tcp:// scheduler addresses are supported (tls:// needs certificates, "
-                                        f"ucx:// a UCX installation), got {address!r}")
-    try:
-        with socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT) as sock:
-            _read_handshake(sock, address)
-    except TimeoutError:
-        raise InputError("--scheduler", f"the server at {address!r} did not answer within {SCHEDULER_TIMEOUT:g} s: "
-                                        "not a Dask scheduler, or one that hangs") from None
-    except OSError as exc:
-        raise InputError("--scheduler", f"cannot reach the Dask scheduler at {address!r}: "
-                                        f"{exc.strerror or exc}") from None
-
-
-#: Largest handshake accepted from a scheduler, bytes (a real one sends about 60).
-MAX_HANDSHAKE = 65536
-
-
-def _read_handshake(sock: socket.socket, address: str) -> None:
-    """Read the scheduler's first message whole, within :data:`SCHEDULER_TIMEOUT` in all: an 8-byte length,
-    at most :data:`MAX_HANDSHAKE`, then that many bytes. Dask reads a length it is sent without bound (a
-    fake server announcing 2^62 bytes made it allocate them, or wait for them forever)."""
-    import struct
-
-    deadline = time.monotonic() + SCHEDULER_TIMEOUT
-
-    def read(n: int) -> bytes:
-        data = b""
-        while len(data) < n:
-            left = deadline - time.monotonic()
-            if left <= 0:
-                raise TimeoutError
-            sock.settimeout(left)
-            chunk = sock.recv(n - len(data))
-            if not chunk:
-                raise InputError("--scheduler", f"the server at {address!r} closed the connection: not a Dask scheduler")
-            data += chunk
-        return data
-
-    (size,) = struct.unpack("<Q", read(8))
-    if size > MAX_HANDSHAKE:
-        raise InputError("--scheduler", f"the server at {address!r} announced a first message of {size} bytes (a "
-                                        f"scheduler's is under {MAX_HANDSHAKE}): not a Dask scheduler")
-    read(size)
-
-
-@contextlib.contextmanager
-def _dask_client(scheduler: str, workers: int | None) -> Iterator[Client]:
-    """A :class:`dask.distributed.Client` of a new local cluster (``"local"``) or of the scheduler at an address."""
-    try:
-        from dask.distributed import Client, LocalCluster
-    except ImportError:
-        raise InputError("--scheduler", f"running on Dask needs dask.distributed; {STUDY_EXTRA_HINT}") from None
-    cluster = None
-    if scheduler == "local":
-        n = workers or os.cpu_count() or 1
-        if not 1 <= n <= 256:
-            raise InputError("--workers", f"must be 1..256, got {n}")
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=50)
-        client = Client(cluster)
-    else:
-        _probe_scheduler(scheduler)
-        try:
-            client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
-        except MemoryError:  # a server that answered the probe like a scheduler, then announced a huge frame
-            raise InputError("--scheduler", f"the server at {scheduler!r} announced a message too large to read: not "
-                                            "a Dask scheduler") from None
-        except (OSError, TimeoutError, ValueError, TypeError) as exc:
-            raise InputError("--scheduler", f"cannot reach the Dask scheduler at {scheduler!r}: {exc}") from None
-    try:
-        yield client
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
 
 
 def _run_dask(client: Client, spec: StudySpec, source: ModelSource, todo: Sequence[int],
