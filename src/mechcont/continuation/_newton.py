@@ -26,7 +26,7 @@ SINGULAR_CONDITION = 1e14
 _ESTIMATE_MARGIN = 10.0
 
 _NOT_FIXED = "the held/freed choice does not fix the configuration here; hold a different state or free a different parameter"
-_GETRF, _GETRS, _GECON = scipy.linalg.lapack.dgetrf, scipy.linalg.lapack.dgetrs, scipy.linalg.lapack.dgecon
+_GETRF, _GECON = scipy.linalg.lapack.dgetrf, scipy.linalg.lapack.dgecon
 
 
 def residual_met(r: np.ndarray, J: np.ndarray, u: np.ndarray, tol: float) -> bool:
@@ -113,10 +113,10 @@ def newton_square(fun: Callable[[np.ndarray], np.ndarray], jac: Callable[[np.nda
     (:func:`step_noise`: an ill-conditioned system, e.g. a very stiff joint compliance,
     whose steps stall there).
 
-    The step is solved with the LU factors of that equilibrated Jacobian, whose condition
-    number LAPACK estimates from them (``dgecon``, a few solves); only when the estimate comes
-    within :data:`_ESTIMATE_MARGIN` times the size of :data:`SINGULAR_CONDITION` is the exact
-    2-norm condition number computed (an SVD), and the Jacobian refused above it.
+    The condition number of that equilibrated Jacobian is estimated from its LU factors
+    (LAPACK's ``dgecon``, a few solves); only when the estimate comes within
+    :data:`_ESTIMATE_MARGIN` ``n`` times of :data:`SINGULAR_CONDITION` is the exact 2-norm
+    condition number computed (an SVD), and the Jacobian refused above it.
     ``names`` (of the unknowns, optional) serve the error message.
 
     Returns ``(u, iterations)``. Raises :class:`ConvergenceError` (with ``partial`` = the
@@ -136,8 +136,7 @@ def newton_square(fun: Callable[[np.ndarray], np.ndarray], jac: Callable[[np.nda
         # convergence test then treat equations in N, N m and m alike
         row = np.abs(J * scale).max(axis=1)
         row[~(row > 0)] = 1.0
-        rs = r / row
-        norm = np.linalg.norm(rs)
+        norm = np.linalg.norm(r / row)
         A = J * scale / row[:, None]
         du = why = None
         if np.isfinite(np.add.reduce(A, None)) and np.isfinite(norm):
@@ -146,11 +145,8 @@ def newton_square(fun: Callable[[np.ndarray], np.ndarray], jac: Callable[[np.nda
                 rcond, _ = _GECON(lu, np.abs(A).sum(axis=0).max())
                 if rcond < trip:  # possibly singular: the SVD decides (the estimate passing needs none)
                     why = _singular(A, J, r, it, names)
-                if why is None:
-                    du, _ = _GETRS(lu, piv, -rs)
-                    du *= scale
-                    if not np.isfinite(np.add.reduce(du)):
-                        du = None
+                if why is None:  # the step itself from J, as it always was: the iterates do not move
+                    du = _dense.solve(J, -r)
         if du is None:
             why = why or _singular(A, J, r, it, names) or (
                 f"singular Jacobian at iteration {it} (a zero pivot or a non-finite step): {_NOT_FIXED}")
