@@ -22,7 +22,7 @@ _ROUNDING = np.finfo(float).eps
 #: unknowns' scales) above which :func:`newton_square` calls it singular.
 SINGULAR_CONDITION = 1e14
 #: How far below the 1-norm condition number LAPACK's estimate (``dgecon``) may fall: it is a lower bound, in
-#: practice within a factor 3 (Higham, Accuracy and Stability of Numerical Algorithms, sec. 15.3).
+#: practice rarely by more than a factor 3 (Higham, Accuracy and Stability of Numerical Algorithms, ch. 15).
 _ESTIMATE_MARGIN = 10.0
 
 _NOT_FIXED = "the held/freed choice does not fix the configuration here; hold a different state or free a different parameter"
