@@ -10,7 +10,7 @@ from derivative_checks import check_derivatives
 
 from mechcont.continuation import ContinuationOptions, _kernel, continuation, continue_folds, find_equilibrium
 from mechcont.equations import _codegen, _compiled
-from mechcont.equations._chunks import ChunkedKernel
+from mechcont.equations._chunks import ChunkedKernel, distinct
 from mechcont.mechanism import load
 from mechcont.models import build_overcentre, overcentre
 
@@ -46,7 +46,15 @@ def test_split_second_derivatives_equal_the_whole_to_rounding_and_finite_differe
     fn_w, fn_s = whole._code["hess_values"], split._code["hess_values"]
     assert not isinstance(fn_w._fn, ChunkedKernel)
     assert isinstance(fn_s._fn, ChunkedKernel) and fn_s.n_out == fn_w.n_out
-    assert len(fn_s._fn.kernels) == -(-fn_w.n_out // 7) > 2
+    # each distinct expression compiled once: d2G_i/dx_j dx_k and d2G_i/dx_k dx_j are one (symmetry)
+    h = whole._code
+    pairs = {(int(j), int(ik)) for j, ik in zip(h["hess_j"], h["hess_ik"])}
+    n = len(whole.names)
+    mirrored = sum((int(ik) % n, int(ik) // n * n + int(j)) in pairs for j, ik in zip(h["hess_j"], h["hess_ik"])
+                   if int(j) != int(ik) % n)
+    computed = fn_s._fn.bounds[-1]
+    assert mirrored > 0 and computed <= fn_w.n_out - mirrored // 2
+    assert len(fn_s._fn.kernels) == -(-computed // 7) > 2
     rng = np.random.default_rng(3)
     X = np.array([_point(whole, s) for s in range(4)])
     for x in X:
@@ -60,6 +68,18 @@ def test_split_second_derivatives_equal_the_whole_to_rounding_and_finite_differe
     again = pickle.loads(pickle.dumps(fn_s))
     assert np.array_equal(again(X[0]), fn_s(X[0]))
     check_derivatives(split)
+
+
+def test_distinct_keeps_each_expression_once_in_order_of_first_appearance():
+    """The gather reproduces the list exactly (structural equality), and no two kept expressions are equal."""
+    import symengine as se
+
+    x, y = se.symbols("x y")
+    exprs = [x * y, se.sin(x), y * x, 2 * x, se.sin(x), x + 1, 2 * x]
+    unique, gather = distinct(exprs)
+    assert unique == [x * y, se.sin(x), 2 * x, x + 1]
+    assert gather.tolist() == [0, 1, 0, 2, 1, 3, 2]
+    assert all(exprs[i] == unique[g] for i, g in enumerate(gather))
 
 
 def test_the_c_entry_point_writes_every_chunk_in_place(pair):

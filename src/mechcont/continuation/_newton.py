@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
+import scipy.linalg.lapack  # already imported with the package (._condensation): costs nothing here
 
 from .. import _dense
 from ..equations import EquationSystem
@@ -17,6 +18,15 @@ _FLOOR = 100 * np.finfo(float).eps
 #: Rounding of one evaluation of a residual row, relative to the sum of its terms' sizes:
 #: the noise model of :func:`step_noise` (the floor of :func:`residual_met` is a generous 100x that).
 _ROUNDING = np.finfo(float).eps
+#: Condition number (2-norm) of the equilibrated Jacobian (rows over the size of their terms, columns times the
+#: unknowns' scales) above which :func:`newton_square` calls it singular.
+SINGULAR_CONDITION = 1e14
+#: How far below the 1-norm condition number LAPACK's estimate (``dgecon``) may fall: it is a lower bound, in
+#: practice rarely by more than a factor 3 (Higham, Accuracy and Stability of Numerical Algorithms, ch. 15).
+_ESTIMATE_MARGIN = 10.0
+
+_NOT_FIXED = "the held/freed choice does not fix the configuration here; hold a different state or free a different parameter"
+_GETRF, _GECON = scipy.linalg.lapack.dgetrf, scipy.linalg.lapack.dgecon
 
 
 def residual_met(r: np.ndarray, J: np.ndarray, u: np.ndarray, tol: float) -> bool:
@@ -60,9 +70,37 @@ def step_noise(solve: Callable[[np.ndarray, np.ndarray], np.ndarray | None], A: 
     return noise
 
 
+def _singular(A: np.ndarray, J: np.ndarray, r: np.ndarray, it: int, names: Sequence[str]) -> str | None:
+    """Why the step cannot be trusted at iteration ``it`` (a one-line message), or None when it can.
+
+    ``A`` is the equilibrated Jacobian (its 2-norm condition number, from an SVD, is what is tested
+    against :data:`SINGULAR_CONDITION`), ``J`` the raw one and ``r`` the residual. The message says
+    where (iteration, residual, the equations with a non-finite entry or the unknowns along the
+    near-null direction, by ``names`` or position) and why.
+    """
+    where = f"at iteration {it} (residual {np.linalg.norm(r):.3g})"
+    for what, bad in (("Jacobian", ~np.all(np.isfinite(J), axis=1)), ("residual", ~np.isfinite(r))):
+        if bad.any():
+            rows = ", ".join(map(str, np.nonzero(bad)[0][:5]))
+            return f"non-finite {what} {where} in equation(s) {rows}: the model is not defined there; try a closer guess"
+    try:
+        _, s, Vt = _dense.svd(A)
+    except np.linalg.LinAlgError:
+        return f"singular Jacobian {where}: its SVD did not converge"
+    with np.errstate(divide="ignore"):
+        cond = s[0] / s[-1]
+    if cond <= SINGULAR_CONDITION:
+        return None
+    v = np.abs(Vt[-1])
+    big = [int(i) for i in np.argsort(-v, kind="stable") if v[i] >= 0.1 * v.max()][:4]
+    along = ", ".join(names[i] if i < len(names) else f"unknown {i}" for i in big)
+    return (f"singular Jacobian at iteration {it} (residual {np.linalg.norm(r):.3g}, condition number {cond:.2g} of "
+            f"the scaled Jacobian; null direction along {along}): {_NOT_FIXED}")
+
+
 def newton_square(fun: Callable[[np.ndarray], np.ndarray], jac: Callable[[np.ndarray], np.ndarray], u0: np.ndarray, *,
                   tol: float = 1e-10, residual_tol: float = 1e-10, max_iter: int = 50,
-                  scale: np.ndarray | None = None) -> tuple[np.ndarray, int]:
+                  scale: np.ndarray | None = None, names: Sequence[str] = ()) -> tuple[np.ndarray, int]:
     """Damped Newton for a square system ``fun(u) = 0``.
 
     The full Newton step is tried first and halved while it does not reduce the residual
@@ -75,11 +113,21 @@ def newton_square(fun: Callable[[np.ndarray], np.ndarray], jac: Callable[[np.nda
     (:func:`step_noise`: an ill-conditioned system, e.g. a very stiff joint compliance,
     whose steps stall there).
 
+    The condition number of that equilibrated Jacobian is estimated from its LU factors
+    (LAPACK's ``dgecon``, a few solves); only when the estimate comes within
+    :data:`_ESTIMATE_MARGIN` ``n`` times of :data:`SINGULAR_CONDITION` is the exact 2-norm
+    condition number computed (an SVD), and the Jacobian refused above it.
+    ``names`` (of the unknowns, optional) serve the error message.
+
     Returns ``(u, iterations)``. Raises :class:`ConvergenceError` (with ``partial`` = the
-    last iterate) if the Jacobian is singular or ``max_iter`` is reached.
+    last iterate) if the Jacobian is singular or not finite (the message says at which
+    iteration, and along which unknowns), or ``max_iter`` is reached.
     """
     u = np.array(u0, dtype=float)
     scale = np.ones_like(u) if scale is None else scale
+    n = len(u)
+    # trip the exact test where kappa_2 <= n kappa_1 could exceed the limit, allowing for the estimate's shortfall
+    trip = n * _ESTIMATE_MARGIN / SINGULAR_CONDITION
     r = fun(u)
     step = np.inf
     for it in range(1, max_iter + 1):
@@ -89,14 +137,20 @@ def newton_square(fun: Callable[[np.ndarray], np.ndarray], jac: Callable[[np.nda
         row = np.abs(J * scale).max(axis=1)
         row[~(row > 0)] = 1.0
         norm = np.linalg.norm(r / row)
-        try:
-            du = np.linalg.solve(J, -r)
-        except np.linalg.LinAlgError:
-            du = None
-        if du is None or not np.all(np.isfinite(du)) or np.linalg.cond(J * scale / row[:, None]) > 1e14:
-            raise ConvergenceError(
-                f"singular Jacobian at iteration {it} (residual {np.linalg.norm(r):.3g}): the held/freed choice does "
-                "not fix the configuration here; hold a different state or free a different parameter", partial=u)
+        A = J * scale / row[:, None]
+        du = why = None
+        if np.isfinite(np.add.reduce(A, None)) and np.isfinite(norm):
+            lu, piv, info = _GETRF(A)
+            if info == 0:
+                rcond, _ = _GECON(lu, np.abs(A).sum(axis=0).max())
+                if rcond < trip:  # possibly singular: the SVD decides (the estimate passing needs none)
+                    why = _singular(A, J, r, it, names)
+                if why is None:  # the step itself from J, as it always was: the iterates do not move
+                    du = _dense.solve(J, -r)
+        if du is None:
+            why = why or _singular(A, J, r, it, names) or (
+                f"singular Jacobian at iteration {it} (a zero pivot or a non-finite step): {_NOT_FIXED}")
+            raise ConvergenceError(why, partial=u)
         lam = 1.0
         while True:
             trial = u + lam * du
@@ -182,7 +236,7 @@ def find_equilibrium(system: EquationSystem, values: Mapping[str, float] | None 
 
     try:
         u, _ = newton_square(fun, jac, x[idx], tol=tol, residual_tol=residual_tol, max_iter=max_iter,
-                             scale=system.scales()[idx])
+                             scale=system.scales()[idx], names=unknowns)
     except ConvergenceError as exc:
         partial = x.copy()
         if exc.partial is not None:

@@ -89,14 +89,14 @@ class ColumnView:
 
 #: LLVM optimisation level of the compiled second derivatives (the residual and Jacobian use 3).
 SECOND_DERIVATIVES_OPT_LEVEL = 0
-#: Most second-derivative entries compiled as one function; more are compiled as several
-#: (:func:`~mechcont.equations._chunks.compile_chunked`). SymEngine's CSE and LLVM cost more than
-#: linearly in a function's length: the dual-sidestay gear's 19,871 entries compile in 19-21 s CPU as four
-#: functions against 29-39 s as one. The price is per call: each chunk computes again the sub-expressions
-#: it shares with the others (500-680 against 340-420 us, same process, loaded machine). Chunks of 2,500
-#: compiled a little faster (15-18 s) but cost 580-920 us per call; this size halves the compile for a
-#: smaller per-call price. Every model below it (four-bar, shimmy, nose gear) keeps one function, its
-#: compiled code unchanged.
+#: Most second-derivative entries compiled as one function; more are compiled as several, each distinct
+#: expression once (:func:`~mechcont.equations._chunks.compile_chunked`). SymEngine's CSE and LLVM cost more
+#: than linearly in a function's length: the dual-sidestay gear's 19,871 entries (8,537 distinct) compile in
+#: 21 s CPU as two functions of distinct entries against 34 s as one (23-25 s as four chunks of every entry,
+#: as before). Per call (same process, alternated, loaded machine) 371-425 us against 365-387 us as one; the
+#: four chunks of every entry cost 487-514 us, as each computed again the entries it shared with the others.
+#: Chunks of 2,500 (of every entry) compiled a little faster (15-18 s) but cost 580-920 us per call. Every model below it
+#: (four-bar, shimmy, nose gear) keeps one function, its compiled code unchanged.
 SECOND_DERIVATIVES_CHUNK = 5000
 
 

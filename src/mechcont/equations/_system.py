@@ -247,8 +247,9 @@ class EquationSystem:
         sym = self._engine_form()
         if "texts" not in sym:
             sym["texts"] = [expr_text(e) for e in sym["eqs"]]
-        # the chunking decides the compiled functions (their values' last bits): another limit's entry is not this
-        chunk = [f"chunk={_compiled.SECOND_DERIVATIVES_CHUNK}"] if part == "second_derivatives" else []
+        # the chunking (of distinct expressions) decides the compiled functions (their values' last bits): another
+        # limit's entry, or an entry of the earlier chunks of every expression, is not this
+        chunk = [f"chunk={_compiled.SECOND_DERIVATIVES_CHUNK},distinct"] if part == "second_derivatives" else []
         return ["system", part, str(len(sym["syms"])), *chunk, *sym["texts"]]
 
     def limit_values(self, x: np.ndarray) -> np.ndarray:
