@@ -213,12 +213,14 @@ def _one_way(system: Model, start: np.ndarray, vary: str, direction: int, hold: 
                 back = _continuing_sets(system, x, vary, -sign, st, active, undecided, hold, free)
                 came = arriving if arriving is not None else (back[0] if back else None)
                 through = [a for a in back if a != came]
-                stable = came is not None and _stable_on(system, x, came)
+                n_came = None if came is None else _n_unstable_on(system, x, came)
+                n_through = _n_unstable_on(system, x, through[0]) if through else None
+                stable = n_came == 0
                 # a stable piece leaving the fold reaches it too when pushed in sign: its mechanism jumps, backwards
-                behind = not stable and arriving is not None and bool(through) and _stable_on(system, x, through[0])
-                folds[len(run.switches) - 1] = NonSmoothFold(", ".join(sorted(undecided)), vary,
-                                                             float(x[system.index(vary)]), sign, stable or behind,
-                                                             behind=behind)
+                behind = not stable and arriving is not None and n_through == 0
+                folds[len(run.switches) - 1] = NonSmoothFold(
+                    ", ".join(sorted(undecided)), vary, float(x[system.index(vary)]), sign, stable or behind,
+                    behind=behind, sides=tuple(sorted(n for n in (n_came, n_through) if n is not None)))
                 if run.switches:
                     lab, name, i = run.switches[-1]
                     run.switches[-1] = ("NSF", name, i)
@@ -261,9 +263,10 @@ def _one_way(system: Model, start: np.ndarray, vary: str, direction: int, hold: 
     return run, row_piece
 
 
-def _stable_on(system: Model, x: np.ndarray, contact: Iterable[str]) -> bool:
-    """Whether the equilibrium ``x`` is stable with the stops ``contact`` in contact (holding their conditions)."""
-    return stability_on_stops(system, x, sorted(contact)).n_unstable == 0
+def _n_unstable_on(system: Model, x: np.ndarray, contact: Iterable[str]) -> int:
+    """The number of unstable directions of the equilibrium ``x`` with the stops ``contact`` in contact (holding
+    their conditions); 0 when it is stable."""
+    return stability_on_stops(system, x, sorted(contact)).n_unstable
 
 
 def _check_start_contacts(system: Model, x: np.ndarray, stops: Sequence[StopLimit], active: set[str],
@@ -408,12 +411,14 @@ def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun, folds: M
                 run.switches[k_switch] = (label, name, idx)
                 fold = folds.get(k_switch)
                 labels[idx] = label
+                if fold is not None and fold.sides:
+                    stab[idx] = _fold_row_stability(fold)
                 k_switch += 1
             special.append(replace(sp_, label=label, index=idx, x=sp_.x.copy(), extra=dict(sp_.extra),
                                    nonsmooth=fold, stop=sp_.stop if fold is None else fold.stop))
         offset = s[-1] if s else 0.0
     if -1 in folds and rows:   # the start belongs to the set the mechanism rests on, not to the one through the fold
-        labels[0], stab[0] = "NSF", 0 if folds[-1].jump else 1
+        labels[0], stab[0] = "NSF", _fold_row_stability(folds[-1])
         run.switches.insert(0, ("NSF", folds[-1].stop, 0))
     elif start is not None and rows:
         labels[0] = "SR"
@@ -423,6 +428,13 @@ def _join(system: Model, pieces: list[Branch], vary: str, run: StopRun, folds: M
     branch = Branch(system.names, np.array(rows), s, stab, labels, special, vary, unknowns, status, run.message,
                     system.name, units={v.name: v.unit for v in system.variables})
     return branch, row_piece
+
+
+def _fold_row_stability(fold: NonSmoothFold) -> int:
+    """The ``n_unstable`` of a non-smooth fold's row: that of the more stable of the pieces meeting there (the
+    one a mechanism can rest on up to the fold), whichever the run walked first; 0 exactly when a stable
+    mechanism reaches it (``fold.jump``)."""
+    return fold.sides[0] if fold.sides else (0 if fold.jump else 1)
 
 
 def _land(system: Model, run: StopRun, row_piece: list[int], vary: str, hold: list[str], free: list[str],
@@ -486,6 +498,9 @@ def _both_ways(system: Model, down_run: tuple[StopRun, list[int]],
                 if p.index > 0 or p.label not in at_start]
     if bu.labels[0] and (not labels[n - 1] or bu.labels[0] == "NSF"):
         labels[n - 1] = bu.labels[0]
+    fold = next((p.nonsmooth for p in special if p.index == n - 1 and p.label == "NSF" and p.nonsmooth), None)
+    if fold is not None:   # the start's row is the fold's, whichever run found it
+        stab[n - 1] = _fold_row_stability(fold)
     message = "; ".join(r.message for r in (down, up) if r.message)   # each says its direction
     status = Status.first_failure([bd.status, bu.status])
     branch = Branch(system.names, rows, s, stab, labels, special, bu.vary, bu.unknowns, status, message,

@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     import numpy.typing as npt
 
     from ..continuation import Branch
-    from ..dynamics import SweepResult
+    from ..dynamics import JumpGap, SweepResult
     from ..equations import Model
 
 
@@ -83,19 +83,22 @@ def _start_on_stops(system: Model, x0: npt.NDArray[np.float64]) -> npt.NDArray[n
     return x
 
 
-def _gaps(result: SweepResult, branch: Branch | None) -> list[str]:
-    """Per jump: "; 4.8 N past LP2 (F = -75.58 N)", the gap to the fold it follows (empty without a branch)."""
+def _gaps(result: SweepResult, branch: Branch | None) -> tuple[list[str], str]:
+    """Per jump: "; 4.8 N past LP2 (F = -75.58 N)", the gap to the fold it follows, and the same for the runaway
+    ("" when there is none); empty without a branch."""
     if branch is None:
-        return []
-    from ..dynamics import branch_jump_gaps
+        return [], ""
+    from ..dynamics import branch_jump_gaps, branch_runaway_gap
 
     name = result.ramps[0].name
     unit = branch.units.get(name, "")
-    out = []
-    for fold, g in branch_jump_gaps(result, branch):
+
+    def text(fold: str, g: JumpGap) -> str:
         where = "past" if g.past else "BEFORE (not a fold of this sweep?)"
-        out.append(f"; {abs(g.gap):.4g} {unit} {where} {fold} ({name} = {g.fold_value:.6g} {unit})".replace("  ", " "))
-    return out
+        return f"; {abs(g.gap):.4g} {unit} {where} {fold} ({name} = {g.fold_value:.6g} {unit})".replace("  ", " ")
+
+    run = branch_runaway_gap(result, branch)
+    return [text(fold, g) for fold, g in branch_jump_gaps(result, branch)], "" if run is None else text(*run)
 
 
 def _print_stop_loads(system: Model, result: SweepResult) -> None:
@@ -132,7 +135,7 @@ def _print_stop_loads(system: Model, result: SweepResult) -> None:
 @click.option("--plot", default=None, metavar="FILE.png", help="Plot WATCH against the ramped parameter.")
 @click.option("--branch", "branch_csv", default=None, metavar="BRANCH.csv",
               help="A continuation branch in the ramped parameter (mechcont continue --out): drawn under the sweep, "
-                   "and each jump is paired with the fold it follows (the gap printed).")
+                   "and each jump (and a runaway) is paired with the fold it follows (the gap printed).")
 @click.option("--stops", "use_stops", is_flag=True,
               help="Simulate the description's stops (impacts, contact with its reaction, release) and print the "
                    "ramped load at each contact and release.")
@@ -148,8 +151,9 @@ def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...]
     --ramp F=-65:-90:0.5 --ramp F=-90:110:2 --watch theta1
 
     With --branch (the same model continued in the ramped parameter) the plot shows the
-    branch under the sweep, stable solid and unstable dashed, and each jump is printed
-    with its gap to the fold it follows: the time simulation's delay past the fold.
+    branch under the sweep, stable solid and unstable dashed, and each jump (and a runaway,
+    where the mechanism ran away past its last fold and had not settled when the sweep ended)
+    is printed with its gap to the fold it follows: the time simulation's delay past the fold.
     """
     from ._run import mechanism_only
 
@@ -197,7 +201,7 @@ def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...]
         click.echo(f"# warning: {sim.message}")
     if not result.jumps and result.runaway is None:
         click.echo(f"no jump of {watch} detected")
-    gaps = _gaps(result, branch)
+    gaps, runaway_gap = _gaps(result, branch)
     if use_stops:
         _print_stop_loads(system, result)
     for i, j in enumerate(result.jumps, 1):
@@ -211,10 +215,12 @@ def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...]
         click.echo(f"runaway: {watch} left the equilibrium at {run.parameter} = {run.value:.6g} "
                    f"{system.variable(run.parameter).unit} ({'increasing' if run.direction > 0 else 'decreasing'}, "
                    f"segment {run.segment + 1}) at t = {run.time:.4g} s and had not settled when the sweep ended; "
-                   f"{watch} {a[0]:.6g} -> {b[0]:.6g} {a[1]}".rstrip())
+                   f"{watch} {a[0]:.6g} -> {b[0]:.6g} {a[1]}".rstrip() + runaway_gap)
     if branch is not None and not branch.special("LP"):
         click.echo(f"the branch has no fold in {segs[0].name}: no jump is expected" + (
-            "" if not result.jumps else f", yet {len(result.jumps)} were found (check --set against the branch)"))
+            "" if not result.jumps and result.runaway is None else
+            f", yet {len(result.jumps)} jump(s){' and a runaway' if result.runaway is not None else ''} were found "
+            "(check --set against the branch)"))
     if out_path is not None:
         result.to_csv(out_path)
         click.echo(f"wrote {out_path}")

@@ -235,13 +235,18 @@ class Branch:
 
     # -- export ----------------------------------------------------------------------
     def stability_labels(self) -> list[str]:
-        """``"stable"``/``"unstable"`` per point, ``"fold"`` at a fold (``LP``) and ``""`` where not evaluated.
+        """``"stable"``/``"unstable"`` per point, ``"fold"`` at a fold (``LP`` or ``NSF``) and ``""`` where not
+        evaluated.
 
         A fold is neutral: one direction has zero stiffness there, so the count of unstable
         directions computed at it (``n_unstable``) is that of whichever side rounding puts
-        it on. Its row says ``fold`` instead of either word.
+        it on. Its row says ``fold`` instead of either word. A non-smooth fold (``NSF``, made by a stop) is
+        where two pieces with different contact sets meet, each with its own stability: its row says ``fold``
+        too, and its ``n_unstable`` is that of the more stable piece (0 exactly when a stable mechanism reaches
+        it and jumps), whichever the run walked first; both are in its
+        :attr:`~mechcont.continuation.NonSmoothFold.sides`.
         """
-        return ["fold" if lab == "LP" else "" if n < 0 else ("stable" if n == 0 else "unstable")
+        return ["fold" if lab in ("LP", "NSF") else "" if n < 0 else ("stable" if n == 0 else "unstable")
                 for n, lab in zip(self.n_unstable, self.labels)]
 
     @property
@@ -295,7 +300,7 @@ class Branch:
     def to_csv(self, path: str | os.PathLike[str]) -> Path:
         """Write the table as CSV: one column per variable with its unit in the header
         (``F [N]``, ``theta1 [rad]``: values in SI units or the description's, angles in radians), then ``s``
-        (scaled arclength, dimensionless), ``stability`` (``stable``/``unstable``/``fold``),
+        (scaled arclength, dimensionless), ``stability`` (``stable``/``unstable``/``fold``, at an ``LP`` or ``NSF``),
         ``n_unstable``, ``label`` (``LP``, ``LP?``...; numbered by row order: the second
         ``LP`` row is ``LP2``) and ``vary`` (the continuation parameter's name, repeated so
         every row is self-describing). :func:`read_csv_header` maps the headers back."""

@@ -52,7 +52,10 @@ class NonSmoothFold:
     side of ``value``, so which one the run walked first does not change the physics); ``behind`` True
     when the stable piece is the one the run leaves on, so the mechanism jumps back along the run (its
     landing is searched before the fold's row, not after it); ``landing`` where it lands (None when
-    it does not jump, or no equilibrium was found along the branch at ``value``).
+    it does not jump, or no equilibrium was found along the branch at ``value``); ``sides`` the number of
+    unstable directions at the fold on each of the two pieces that meet there (their contact sets), fewest
+    first, whichever the run walked first: ``(0, 1)`` a stable piece meets an unstable one (``jump``), ``(1, 2)``
+    two unstable ones; one number when only one piece was found, ``()`` when not computed.
     """
 
     stop: str
@@ -62,6 +65,7 @@ class NonSmoothFold:
     jump: bool
     landing: Landing | None = None
     behind: bool = False
+    sides: tuple[int, ...] = ()
 
     def fields(self) -> dict[str, Any]:
         """The fold as the flat keys of before (:attr:`SpecialPoint.info`, the JSON): ``{vary: value}``,

@@ -10,18 +10,19 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
-from ._sweep import SweepResult, sweep
+from ._sweep import Jump, SweepResult, sweep
 
 if TYPE_CHECKING:
     from ..continuation import Branch
     from ..equations import Model
 
-__all__ = ["JumpGap", "jump_gaps", "branch_jump_gaps", "branch_differences", "RateGap", "gap_versus_rate"]
+__all__ = ["JumpGap", "jump_gaps", "runaway_gap", "branch_jump_gaps", "branch_runaway_gap", "branch_differences", "RateGap",
+           "gap_versus_rate"]
 
 
 @dataclass(frozen=True)
 class JumpGap:
-    """A jump paired with the fold it follows.
+    """A jump (or a sweep's runaway) paired with the fold it follows.
 
     ``gap = jump load - fold load`` (units of the parameter); ``past`` is True when the jump
     happened after the ramp passed the fold (``direction * gap > 0``), as it must.
@@ -41,17 +42,40 @@ def jump_gaps(result: SweepResult, fold_values: Sequence[float]) -> list[JumpGap
     or ``symmetric_folds``); the fold chosen for a jump is the nearest one on the side the
     ramp came from (the nearest overall if none lies there).
     """
+    folds = _fold_array(fold_values)
+    return [_pair(j, folds) for j in result.jumps]
+
+
+def runaway_gap(result: SweepResult, fold_values: Sequence[float]) -> JumpGap | None:
+    """The runaway of ``result`` (:attr:`SweepResult.runaway`) paired with the fold it follows, as a jump is
+    (:func:`jump_gaps`): ``jump_value`` the load where the runaway started, ``gap`` its delay past the fold
+    (units of the parameter). None when the sweep ended at rest."""
+    folds = _fold_array(fold_values)
+    return None if result.runaway is None else _pair(result.runaway, folds)
+
+
+def _fold_array(fold_values: Sequence[float]) -> np.ndarray:
+    """The fold loads as an array; :class:`InputError` when there is none."""
     folds = np.asarray(list(fold_values), float)
     if folds.size == 0:
         raise InputError("fold_values", "give at least one fold load")
-    out = []
-    for j in result.jumps:
-        behind = folds[(folds - j.value) * j.direction <= 0]
-        pool = behind if behind.size else folds
-        f = float(pool[np.argmin(np.abs(pool - j.value))])
-        gap = j.value - f
-        out.append(JumpGap(j.value, f, gap, j.direction, bool(j.direction * gap > 0)))
-    return out
+    return folds
+
+
+def _pair(j: Jump, folds: np.ndarray) -> JumpGap:
+    """The jump (or runaway) ``j`` and the nearest fold of ``folds`` on the side its ramp came from (the nearest
+    overall if none lies there)."""
+    behind = folds[(folds - j.value) * j.direction <= 0]
+    pool = behind if behind.size else folds
+    f = float(pool[np.argmin(np.abs(pool - j.value))])
+    gap = j.value - f
+    return JumpGap(j.value, f, gap, j.direction, bool(j.direction * gap > 0))
+
+
+def _branch_folds(result: SweepResult, branch: Branch) -> list[tuple[str, float]]:
+    """The folds (``LP``) of ``branch`` as (name as the branch numbers it, load of the ramped parameter)."""
+    name = result.ramps[0].name
+    return [(n, p[name]) for n, p in zip(branch.point_names(), branch.special_points) if p.label == "LP"]
 
 
 def branch_jump_gaps(result: SweepResult, branch: Branch) -> list[tuple[str, JumpGap]]:
@@ -60,11 +84,18 @@ def branch_jump_gaps(result: SweepResult, branch: Branch) -> list[tuple[str, Jum
 
     ``[]`` when there is no jump or the branch has no fold (see :func:`jump_gaps`).
     """
-    if not branch.special("LP") or not result.jumps:
+    folds = _branch_folds(result, branch)
+    if not folds or not result.jumps:
         return []
-    name = result.ramps[0].name
-    folds = [(n, p[name]) for n, p in zip(branch.point_names(), branch.special_points) if p.label == "LP"]
     return [(next(n for n, v in folds if v == g.fold_value), g) for g in jump_gaps(result, [v for _, v in folds])]
+
+
+def branch_runaway_gap(result: SweepResult, branch: Branch) -> tuple[str, JumpGap] | None:
+    """The runaway of ``result`` paired with the fold (``LP``) of ``branch`` it follows, as
+    :func:`branch_jump_gaps` pairs a jump: ``(fold name, e.g. "LP1", gap)``; None without a runaway or a fold."""
+    folds = _branch_folds(result, branch)
+    g = runaway_gap(result, [v for _, v in folds]) if folds and result.runaway is not None else None
+    return None if g is None else (next(n for n, v in folds if v == g.fold_value), g)
 
 
 def branch_differences(system: Model, branch: Branch, ignore: Sequence[str] = ()) -> list[tuple[str, float, float]]:

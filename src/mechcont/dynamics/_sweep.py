@@ -75,7 +75,8 @@ class SweepResult:
     :meth:`curve` gives one segment as (parameter, watched) arrays for plotting over a branch.
     ``runaway`` is the fast motion of ``watch`` that had not settled when the sweep ended (a crank
     spinning away past its last fold; :func:`._jumps.find_runaway`): ``value`` is the load where it
-    started, ``after`` the coordinates at the end; None when the sweep ended at rest.
+    started, ``after`` the coordinates at the end; None when the sweep ended at rest. It follows a fold as a
+    jump does (:func:`~mechcont.dynamics.runaway_gap`, :func:`~mechcont.dynamics.branch_runaway_gap`).
     """
 
     simulation: SimulationResult

@@ -373,7 +373,7 @@ def _note(system: EquationSystem, x: np.ndarray, annotate: Sequence[str], stable
                 line += f" (+ {_direction(d / np.linalg.norm(d))})"
             lines.append(line)
     status = unknown if stable is None else ("stable" if stable else "unstable")
-    if label.rstrip("0123456789?") == "LP":
+    if label.rstrip("0123456789?") in ("LP", "NSF"):
         status = "fold"  # neutral: neither stable nor unstable (see Branch.stability_labels)
     tail = " ".join(s for s in (status, label) if s)
     if tail:

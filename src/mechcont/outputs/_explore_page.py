@@ -299,7 +299,7 @@ function drawView(V,pose){var svg=V.svg,hs=V.hs;svg.innerHTML="";var g=el("g",{}
    "stroke-width":1.6,"data-kind":"moment","data-name":it[0],"data-xy":xy(it[1])},g);arrow(g,p[p.length-4],p[p.length-1],
  "#d62728",{});});}
 // ---------------------------------------------------------------- values and loads
-function word(br,r){var n=br.n_unstable[r];if(br.labels[r]==="LP")return "fold";
+function word(br,r){var n=br.n_unstable[r];if(br.labels[r]==="LP"||br.labels[r]==="NSF")return "fold";
  return n<0?"":(n===0?"stable":"unstable ("+n+")");}
 function drawTables(b,r){var br=B[b],t=q(".values");t.innerHTML="";
  var hd=h("tr",{},t);h("th",{},hd,"variable");h("th",{},hd,"value");h("th",{},hd,"unit");

@@ -25,6 +25,10 @@ def plot_sweep(result: SweepResult, ax: Axes | None = None, *, color: str = "k",
     Intended over continuation branches (grey) as in the paper's Figures 3 and 4. Axes are
     labelled with their units; an angle (unit ``rad``) is shown in degrees, as
     :func:`mechcont.outputs.plotting.plot_branch` shows it (``degrees`` forces either way).
+
+    A runaway (:attr:`~mechcont.dynamics.SweepResult.runaway`: the mechanism ran away past its last fold and had
+    not settled when the sweep ended) is drawn like a jump, dashed, from where it started to where the sweep
+    ended, its start marked by an open circle with the legend entry ``runaway`` (with ``arrows``).
     Returns the matplotlib axes.
     """
     if ax is None:
@@ -42,6 +46,11 @@ def plot_sweep(result: SweepResult, ax: Axes | None = None, *, color: str = "k",
             b, a = j.before[result.watch], j.after[result.watch]
             ax.annotate("", xy=(j.value, k * a), xytext=(j.value, k * b),
                         arrowprops=dict(arrowstyle="->", color=color, lw=0.8))
+        if (run := result.runaway) is not None:
+            b, a = run.before[result.watch], run.after[result.watch]
+            ax.annotate("", xy=(run.value, k * a), xytext=(run.value, k * b), gid="runaway",
+                        arrowprops=dict(arrowstyle="->", color=color, lw=0.8, linestyle="--"))
+            ax.plot([run.value], [k * b], marker="o", mfc="none", mec=color, ls="none", label="runaway")
     name = result.ramps[0].name
     xunit = sim.unit(name) if hasattr(sim, "unit") else ""
     ax.set_xlabel(f"{name} ({xunit})" if xunit else name)  # drawn as stored (SI)
@@ -53,8 +62,8 @@ def sweep_figure(result: SweepResult, *, title: str, branch: Branch | None = Non
     """A sweep (:class:`~mechcont.dynamics.SweepResult`) as a figure, over ``branch`` when given.
 
     The continuation branch is drawn wide and grey (stable solid, unstable dashed, with a
-    legend entry for each), the time simulation in black with its jumps as arrows
-    (:func:`plot_sweep`); angles in degrees. Returns the figure.
+    legend entry for each), the time simulation in black with its jumps as arrows and its runaway (if
+    any) as a dashed arrow from a circle (:func:`plot_sweep`); angles in degrees. Returns the figure.
     """
     fig, ax = new_figure(figsize=(6.4, 4.8))
     if branch is not None:

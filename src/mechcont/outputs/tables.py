@@ -20,7 +20,7 @@ if TYPE_CHECKING:
     from ..dynamics import SimulationResult
 
 __all__ = ["BRANCH_SUFFIXES", "RECORD_SUFFIXES", "write_branch_table", "markdown_table", "write_records", "branch_value",
-           "hopf_lines", "hopf_curve_lines", "heading", "special_table", "approximate_warnings", "jump_lines",
+           "hopf_lines", "hopf_curve_lines", "heading", "special_table", "approximate_warnings", "jump_lines", "fold_sides",
            "event_labels", "write_rows", "summary_rows", "write_text", "cycle_lines"]
 
 #: A branch is written as CSV or JSON (by suffix).
@@ -103,7 +103,8 @@ def special_table(branch: Branch, cols: Sequence[str] | None = None) -> str:
 
     Points are named as everywhere else (:meth:`Branch.point_names`, numbered along the
     branch; ``LP2?`` when only approximate); angles are shown in degrees, every heading
-    carries its unit, and a fold's stability is ``fold``.
+    carries its unit, and a fold's stability is ``fold``, a non-smooth fold's (``NSF``) too (the stability
+    on either side of it is in :func:`jump_lines`).
     """
     cols = list(dict.fromkeys(cols or [branch.vary, *branch.unknowns[:3]]))
     width = max(16, *(len(heading(branch, c)) + 2 for c in cols))
@@ -161,13 +162,16 @@ def approximate_warnings(branch: Branch) -> list[str]:
 
 
 def jump_lines(branch: Branch, vary: str, y: str) -> list[str]:
-    """One line per non-smooth fold (``NSF``) of a branch with stops: the load, and where the mechanism lands."""
+    """One line per non-smooth fold (``NSF``) of a branch with stops: the load, the stability of the two pieces
+    that meet there (:func:`fold_sides`), and where the mechanism lands."""
     out = []
     names = dict(zip((id(p) for p in branch.special_points), branch.point_names()))
     for p in branch.special("NSF"):
         at_fold = branch_value(branch, vary, p[vary])
-        head = f"{names[id(p)]}: non-smooth fold at {heading(branch, vary)} = {at_fold:.10g} (stop {p.stop})"
         fold = p.nonsmooth
+        sides = "" if fold is None else fold_sides(fold.sides)
+        head = (f"{names[id(p)]}: non-smooth fold at {heading(branch, vary)} = {at_fold:.10g} (stop {p.stop}"
+                + (f"; {sides}" if sides else "") + ")")
         land = None if fold is None else fold.landing
         if land is not None:
             at = dict(zip(branch.names, land.x))
@@ -182,6 +186,21 @@ def jump_lines(branch: Branch, vary: str, y: str) -> list[str]:
         else:
             out.append(f"{head}: reached along an unstable branch (nothing jumps there)")
     return out
+
+
+def fold_sides(sides: Sequence[int]) -> str:
+    """The stability of the pieces meeting at a non-smooth fold from their unstable counts
+    (:attr:`~mechcont.continuation.NonSmoothFold.sides`), whichever was walked first:
+    ``"stable on one side, unstable (1 direction) on the other"``; ``""`` when not computed."""
+    def word(n: int) -> str:
+        return "stable" if n == 0 else f"unstable ({n} direction{'s' if n > 1 else ''})"
+
+    if len(sides) == 1:
+        return f"{word(sides[0])} on the side found (no other piece)"
+    if len(sides) == 2:
+        return f"{word(sides[0])} on both sides" if sides[0] == sides[1] else (
+            f"{word(sides[0])} on one side, {word(sides[1])} on the other")
+    return ""
 
 
 def event_labels(result: SimulationResult, units: Mapping[str, str]) -> list[str]:
