@@ -78,3 +78,20 @@ def test_start_outside_the_bounds_is_refused():
     with pytest.raises(InputError, match=r"period: start value 6.28319 lies outside its bounds 10:100"):
         cycles_from_hopf(m, m.vector({"A": 1.0, "B": 2.0, "u": 1.0, "v": 2.0}), "B",
                          options=ContinuationOptions(bounds={"period": (10.0, 100.0)}))
+
+
+def test_printed_name_of_a_detected_but_unlocated_orbit_says_so(tmp_path):
+    # before: the printed table named such an orbit LPC1 while the CSV wrote LPC? (and continue prints LP1?)
+    from dataclasses import replace
+
+    from mechcont.outputs.tables import cycle_lines
+
+    m = load_model(str(DATA / "brusselator.toml"))
+    fam = cycles_from_hopf(m, m.vector({"A": 1.0, "B": 2.0, "u": 1.0, "v": 2.0}), "B",
+                           options=ContinuationOptions(bounds={"B": (1.0, 2.2)}), at=[2.1])
+    i = fam.row("UZ1")
+    detected = replace(fam, approximate=frozenset({i}))
+    assert detected.row_labels()[i] == "UZ?"
+    printed = [line.split()[0] for line in cycle_lines(detected)[1:-1]]
+    assert printed == ["HB1", "UZ1?", "EP1"], printed
+    assert [line.split()[0] for line in cycle_lines(fam)[1:-1]] == ["HB1", "UZ1", "EP1"]

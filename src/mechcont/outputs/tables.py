@@ -197,11 +197,12 @@ def event_labels(result: SimulationResult, units: Mapping[str, str]) -> list[str
 
 def cycle_lines(family: CycleBranch) -> list[str]:
     """The orbits of a family of cycles as ``mechcont cycles`` prints them: a heading, one line per named orbit (its
-    point name, the parameter, the period in s, the largest non-trivial Floquet multiplier's modulus, stability) and
-    the count, with why the family ends."""
+    point name, ``LPC1?`` when only detected, the parameter, the period in s, the largest non-trivial Floquet
+    multiplier's modulus, stability) and the count, with why the family ends."""
     out = [f"{'point':>6}  {family.vary:>12}  {'period [s]':>12}  {'floquet_max':>12}  stability"]
     stab, fmax = family.stability(), family.floquet_max
     for name, i in family.point_names():
+        name += "?" if i in family.approximate else ""  # detected, not located: as the table writes it (LPC?)
         out.append(f"{name:>6}  {family.p[i]:12.6g}  {family.period[i]:12.6g}  {fmax[i]:12.6g}  {stab[i]}")
     out.append(f"{len(family)} orbits" + (f"; ends: {family.message}" if family.message else ""))
     return out
