@@ -23,8 +23,8 @@ depend on where a body's frame sits, and energy would not be conserved.
 ``(A M^-1/2)^+`` is the Moore–Penrose inverse, which makes the equation valid for
 redundant constraints too. When ``B = A M^-1/2`` has full row rank, ``B^+ = B^T (B B^T)^-1``
 and the equation is the same as the augmented (KKT) system ``M qddot + A^T lambda = Q,
-A qddot = b``: we use a Cholesky factorisation of ``B B^T`` on that path (a few
-microseconds) and fall back to the SVD pseudo-inverse when ``B B^T`` is (nearly) singular.
+A qddot = b``: we use a Cholesky factorisation of ``B B^T = A M^-1 A^T`` on that path (a few
+microseconds) and fall back to the SVD pseudo-inverse when it is (nearly) singular.
 
 Redundant rows (a spatial ``redundant = "drop"`` closure keeps every rigid row in its mechanics) are
 dependent only up to the drift, so no cut-off decides their rank well: the number of redundant rows is
@@ -32,11 +32,16 @@ the model's (``Model.dropped_constraints``) and that many are left out of each s
 QR and chosen again where the kept rows lose rank (:mod:`._redundant`); the solve stays on the Cholesky
 path, and the pseudo-inverse is left for a genuinely singular configuration.
 
-``M^-1/2`` is the symmetric inverse square root from the eigen-decomposition of ``M``;
-it is computed once when ``M`` does not depend on the coordinates (bars described by
-centre-of-gravity coordinates, as in the paper). Otherwise (spatial bodies in Euler parameters)
-``M`` is block diagonal, one block per body, and ``M^-1/2`` is computed block by block
-(:class:`MassBlocks`): nine 7 x 7 eigen-decompositions in one batched call instead of one 63 x 63.
+On the Cholesky path the equation is solved through ``M^-1``: ``M^-1/2 (A M^-1/2)^+ r =
+M^-1 A^T (A M^-1 A^T)^-1 r``. ``M^-1`` is formed once when ``M`` does not depend on the coordinates
+(bars described by centre-of-gravity coordinates, as in the paper: a diagonal ``M``, kept as a vector).
+Otherwise (spatial bodies in Euler parameters) ``M`` is block diagonal, one block per body, and
+``M^-1`` is formed block by block at each evaluation (:class:`MassBlocks`: nine 7 x 7 inverses in one
+batched call instead of one 63 x 63). Each acceleration evaluates the mechanics (``Phi_q``, ``gamma``,
+``Phi``, the forces, ``M``) from one argument vector
+(:meth:`~mechcont.equations.MechanicalModel.acceleration_terms`). ``M^-1/2``, the symmetric inverse
+square root from the eigen-decomposition of ``M`` (block by block likewise), serves the pseudo-inverse
+path and the projections.
 """
 
 from __future__ import annotations
