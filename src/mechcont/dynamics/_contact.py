@@ -152,6 +152,7 @@ class StopConstraints:
         self.reaction = np.array([system.index(s.reaction) for s in self.stops])
         self.side = np.array([float(s.side) for s in self.stops])
         self.limit = np.array([float(s.limit) for s in self.stops])
+        self._residual = system.columns(())  # the residual alone: no Jacobian columns to form
         self.e = np.array([_restitution(system, s.name) for s in self.stops])
         self.names = [s.name for s in self.stops]
         if np.any(dyn.x[self.reaction] != 0):
@@ -174,7 +175,7 @@ class StopConstraints:
         """Gap of every stop, ``side (c - limit)`` (condition units; >= 0 allowed)."""
         xc = np.array(x, float)
         xc[self.cond] = 0.0
-        c = self.system.residual(xc)[self.row]  # the row is c(q) - NAME
+        c = self._residual.residual_and_jacobian(xc)[0][self.row]  # the row is c(q) - NAME
         return self.side * (c - self.limit)
 
     def _with_reaction(self, x: np.ndarray, k: int) -> np.ndarray:
@@ -190,10 +191,11 @@ class StopConstraints:
 
     def curvatures(self, x: np.ndarray, qd: np.ndarray, which: Iterable[int]) -> np.ndarray:
         """``qdot' Hess(g) qdot`` per stop in ``which`` (condition units per s^2)."""
+        # Hess g = dQ/dq(R = 1) - dQ/dq(R = 0): the tangent stiffness at zero multipliers is -dQ/dq, so the
+        # applied forces' Jacobian alone gives it, without the constraints' curvature term (zero there)
         mech = self.dyn.mech
-        zero = np.zeros(mech.n_constraints)
-        k0 = mech.tangent_stiffness(x, zero)
-        return np.array([-(qd @ ((mech.tangent_stiffness(self._with_reaction(x, k), zero) - k0) @ qd)) for k in which])
+        d0 = mech.force_jacobian(x)
+        return np.array([qd @ ((mech.force_jacobian(self._with_reaction(x, k)) - d0) @ qd) for k in which])
 
     def penalized(self, x: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """``x`` (whose stop reactions are 0) with the compliant stops' penalty reactions set."""

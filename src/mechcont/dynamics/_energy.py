@@ -98,7 +98,7 @@ class EnergyLedger:
         x = dyn.full(t, q)
         tol = self.atol + self.rtol * np.abs(y)
         known = dyn.recall(t, q, qd)  # the step's last evaluation, at its end
-        M = dyn.mech.mass(x)
+        M = dyn.mass_matrix(x)
         if known is None:
             qdd = dyn.acceleration(t, q, qd)
             known = dyn.recall(t, q, qd)
@@ -115,7 +115,7 @@ class EnergyLedger:
         Q0 = mech.applied_forces(x)
         p_diss = -float(qd @ (mech.applied_forces(x, qd) - Q0))
         if dyn.damping:
-            p_diss += dyn.damping * float(qd @ (mech.mass(x) @ qd))
+            p_diss += dyn.damping * float(qd @ (dyn.mass_matrix(x) @ qd))
         p_stop = 0.0
         contacts = dyn.contacts
         if contacts is not None and contacts.law:
@@ -136,7 +136,7 @@ class EnergyLedger:
         if (dyn.contacts is not None and dyn.contacts.law) or dyn.damping:
             P = np.array([self.powers(t, y) for t, y in zip(ts, Y)])
         else:  # the usual case, batched: Q(x, qdot) and Q(x, 0) at every point
-            X = np.array([dyn.full(t, y[:nq]) for t, y in zip(ts, Y)])
+            X = dyn.fulls(ts, Y[:, :nq])
             qd = Y[:, nq:]
             Q = mech.applied_forces_batch(np.vstack([X, X]), np.vstack([qd, np.zeros_like(qd)]))
             Qv, Q0 = Q[:len(ts)], Q[len(ts):]

@@ -54,14 +54,17 @@ class MassBlocks:
             by_size.setdefault(len(b), []).append(b)
         self.n = n
         self.groups = [np.array(g) for g in by_size.values()]  # each (blocks, size)
+        # each group's entries as flat positions in M (blocks, size, size): one take gathers them
+        self._flat = [g[:, :, None] * n + g[:, None, :] for g in self.groups]
 
     def inverse(self, M: np.ndarray) -> np.ndarray:
-        """``M^-1`` of a matrix with this structure, block by block."""
-        out = np.zeros((self.n, self.n))
-        for g in self.groups:
-            rows, cols = g[:, :, None], g[:, None, :]
-            out[rows, cols] = np.linalg.inv(M[rows, cols])
-        return out
+        """``M^-1`` of a matrix with this structure, block by block (each group's blocks gathered and scattered
+        by their flat positions: one ``take``, one batched inverse and one assignment per block size)."""
+        flat = np.ascontiguousarray(M, dtype=float).reshape(-1)
+        out = np.zeros(self.n * self.n)
+        for pos in self._flat:
+            out[pos] = np.linalg.inv(flat.take(pos))
+        return out.reshape(self.n, self.n)
 
     def inverse_sqrt(self, M: np.ndarray) -> np.ndarray:
         """``M^-1/2`` of a matrix with this structure (the same as :func:`inverse_sqrt`, block by block)."""

@@ -69,12 +69,13 @@ def fill_reactions(system: Model, dyn: ConstrainedDynamics, t: np.ndarray, y: np
         if contacts is not None and modes[i]:
             values[i, contacts.reaction[list(modes[i])]] = z[nc:]
     if elastic:  # the compliant rows at zero reaction are their deflections Phi_k: lambda_k = -Phi_k / slope
-        cols = [j for j, _, _ in elastic]
+        cols, rows = [j for j, _, _ in elastic], [row for _, row, _ in elastic]
         X = values.copy()
         X[:, cols] = 0.0
-        G = system.residual_batch(X)
-        for j, row, slope in elastic:
-            values[:, j] = -G[:, row] / slope
+        residual = system.columns(()).residual_and_jacobian  # the residual alone: a batch would form every Jacobian
+        G = np.array([residual(x)[0][rows] for x in X]).reshape(len(X), len(rows))
+        for k, (j, _, slope) in enumerate(elastic):
+            values[:, j] = -G[:, k] / slope
     if contacts is not None and contacts.law:
         idx = contacts.reaction[contacts.law.index]
         for i, (ti, yi) in enumerate(zip(t, y)):
@@ -89,6 +90,7 @@ def fill_conditions(system: Model, values: np.ndarray) -> None:
     if not rows:
         return
     k, j = (np.array(v) for v in zip(*rows))
+    residual = system.columns(()).residual_and_jacobian  # the residual alone, without the Jacobian
     for x in values:
         x[j] = 0.0
-        x[j] = system.residual(x)[k]
+        x[j] = residual(x)[0][k]

@@ -35,7 +35,7 @@ def _collapse(t: np.ndarray) -> tuple[float, float, float] | None:
     if h.size < 4 * _WINDOW:
         return None
     first = float(np.median(h[:_WINDOW]))
-    run = np.array([np.median(h[k:k + _WINDOW]) for k in range(h.size - _WINDOW + 1)])
+    run = np.median(np.lib.stride_tricks.sliding_window_view(h, _WINDOW), axis=1)  # every window in one call
     low = np.flatnonzero(run < _COLLAPSE * first)
     if low.size == 0 or np.median(h[low[0]:]) >= 10 * _COLLAPSE * first:
         return None

@@ -23,8 +23,8 @@ depend on where a body's frame sits, and energy would not be conserved.
 ``(A M^-1/2)^+`` is the Moore–Penrose inverse, which makes the equation valid for
 redundant constraints too. When ``B = A M^-1/2`` has full row rank, ``B^+ = B^T (B B^T)^-1``
 and the equation is the same as the augmented (KKT) system ``M qddot + A^T lambda = Q,
-A qddot = b``: we use a Cholesky factorisation of ``B B^T`` on that path (a few
-microseconds) and fall back to the SVD pseudo-inverse when ``B B^T`` is (nearly) singular.
+A qddot = b``: we use a Cholesky factorisation of ``B B^T = A M^-1 A^T`` on that path (a few
+microseconds) and fall back to the SVD pseudo-inverse when it is (nearly) singular.
 
 Redundant rows (a spatial ``redundant = "drop"`` closure keeps every rigid row in its mechanics) are
 dependent only up to the drift, so no cut-off decides their rank well: the number of redundant rows is
@@ -32,11 +32,16 @@ the model's (``Model.dropped_constraints``) and that many are left out of each s
 QR and chosen again where the kept rows lose rank (:mod:`._redundant`); the solve stays on the Cholesky
 path, and the pseudo-inverse is left for a genuinely singular configuration.
 
-``M^-1/2`` is the symmetric inverse square root from the eigen-decomposition of ``M``;
-it is computed once when ``M`` does not depend on the coordinates (bars described by
-centre-of-gravity coordinates, as in the paper). Otherwise (spatial bodies in Euler parameters)
-``M`` is block diagonal, one block per body, and ``M^-1/2`` is computed block by block
-(:class:`MassBlocks`): nine 7 x 7 eigen-decompositions in one batched call instead of one 63 x 63.
+On the Cholesky path the equation is solved through ``M^-1``: ``M^-1/2 (A M^-1/2)^+ r =
+M^-1 A^T (A M^-1 A^T)^-1 r``. ``M^-1`` is formed once when ``M`` does not depend on the coordinates
+(bars described by centre-of-gravity coordinates, as in the paper: a diagonal ``M``, kept as a vector).
+Otherwise (spatial bodies in Euler parameters) ``M`` is block diagonal, one block per body, and
+``M^-1`` is formed block by block at each evaluation (:class:`MassBlocks`: nine 7 x 7 inverses in one
+batched call instead of one 63 x 63). Each acceleration evaluates the mechanics (``Phi_q``, ``gamma``,
+``Phi``, the forces, ``M``) from one argument vector
+(:meth:`~mechcont.equations.MechanicalModel.acceleration_terms`). ``M^-1/2``, the symmetric inverse
+square root from the eigen-decomposition of ``M`` (block by block likewise), serves the pseudo-inverse
+path and the projections.
 """
 
 from __future__ import annotations
@@ -79,7 +84,7 @@ def _cholesky_solve(G: np.ndarray, r: np.ndarray, spread: list[float] | None = N
         if spread is not None:
             spread.append(0.0)
         return None
-    d = np.abs(c.diagonal())
+    d = c.diagonal()  # positive: dpotrf succeeded
     lo, hi = d.min(), d.max()
     if spread is not None:
         spread.append(float(lo / hi))
@@ -163,6 +168,9 @@ class ConstrainedDynamics:
         constraints is taken up by the joint reactions, so it does no work against them.
     """
 
+    #: ``M^-1`` when the mass matrix is constant (its diagonal when diagonal), else None (:meth:`_inverse_times`).
+    _minv: np.ndarray | None = None
+
     def __init__(self, system: Model, x: np.ndarray, loads: Mapping[str, Callable[[float], float]] | None = None,
                  baumgarte: tuple[float, float] | None = (10.0, 10.0), damping: float = 0.0) -> None:
         mech = system.mechanics
@@ -201,6 +209,9 @@ class ConstrainedDynamics:
         M, moved = _mass_samples(mech, self.x, self.q_index)
         self._mass_constant = all(np.array_equal(M, Mk) for Mk in moved)
         self._Mis = inverse_sqrt(M) if self._mass_constant else None
+        self._M = M if self._mass_constant else None
+        if self._mass_constant:  # each solve applies M^-1: formed once (a diagonal one as a vector)
+            self._minv = 1.0 / np.diag(M) if not np.count_nonzero(M - np.diag(np.diag(M))) else np.linalg.inv(M)
         pattern = np.argwhere(sum((np.abs(Mk) for Mk in moved), np.abs(M)) > 0)
         self._blocks = None if self._mass_constant else MassBlocks(self.nq, pattern.tolist())
         self.nfev = 0
@@ -230,6 +241,16 @@ class ConstrainedDynamics:
             x[i] = fn(t)
         return x
 
+    def fulls(self, ts: np.ndarray, q: np.ndarray) -> np.ndarray:
+        """:meth:`full` at each time of ``ts`` with the coordinates of each row of ``q`` (rows x n_q): array
+        (rows, n_variables), the same values."""
+        X = np.empty((len(ts), len(self.x)))
+        X[:] = self.x
+        X[:, self.q_index] = q
+        for i, fn in self._loads:
+            X[:, i] = [fn(float(t)) for t in ts]
+        return X
+
     def split(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(q, qdot, s)`` of a state ``y``."""
         nq = self.nq
@@ -246,6 +267,19 @@ class ConstrainedDynamics:
         assert self._blocks is not None
         return self._blocks.inverse_sqrt(self.mech.mass(x))
 
+    def mass_matrix(self, x: np.ndarray) -> np.ndarray:
+        """``M`` at ``x`` (kg, kg m^2; the one of the start when it is constant)."""
+        return self._M if self._M is not None else self.mech.mass(x)
+
+    def _inverse_times(self, x: np.ndarray, R: np.ndarray, M: np.ndarray | None = None) -> np.ndarray:
+        """``M^-1 R`` for ``R`` of shape (n, k): by the constant inverse, or block by block from ``M`` (default
+        ``M`` at ``x``)."""
+        minv = self._minv
+        if minv is not None:
+            return minv[:, None] * R if minv.ndim == 1 else minv @ R
+        assert self._blocks is not None
+        return self._blocks.inverse(self.mech.mass(x) if M is None else M) @ R
+
     def forces(self, x: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Generalised forces of the equations of motion ``M qddot = forces + Phi_q^T lambda`` (N, N m):
         the applied forces, the velocity-product inertial forces (when ``M`` depends on ``q``), the
@@ -256,8 +290,22 @@ class ConstrainedDynamics:
         if not self._mass_constant:  # centrifugal, Coriolis and gyroscopic forces: M depends on q
             Q = Q + self.mech.inertial_forces(x, qd)
         if self.damping:
-            Q = Q - self.damping * (self.mech.mass(x) @ qd)
+            Q = Q - self.damping * (self.mass_matrix(x) @ qd)
         return Q
+
+    def _terms(self, x: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+        """``(A, b, forces, M)``: :meth:`joint_rows` and :meth:`forces` at ``x`` from one evaluation of the mechanics
+        (:meth:`~mechcont.equations.MechanicalModel.acceleration_terms`), the same values; ``M`` None when constant."""
+        stabilised = bool(self.alpha or self.beta)
+        A, b, phi, Q, M = self.mech.acceleration_terms(x, qd, drift=stabilised, varying_mass=not self._mass_constant)
+        if stabilised:
+            assert phi is not None
+            b = b - 2.0 * self.alpha * (A @ qd) - self.beta**2 * phi
+        if self.contacts is not None and self.contacts.law:  # the compliant stops' reactions enter the forces
+            Q = self.forces(x, qd)
+        elif self.damping:
+            Q = Q - self.damping * ((self._M if M is None else M) @ qd)
+        return A, b, Q, M
 
     def joint_rows(self, x: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(A, b)``: the joints' acceleration-level constraints ``A qddot = b``, Baumgarte-stabilised."""
@@ -299,30 +347,33 @@ class ConstrainedDynamics:
         # five times per evaluation of the rates)
         if not (np.isfinite(x).all() and np.isfinite(qd).all()):
             return np.full(self.nq, np.nan)
-        A_joints, b_joints = self.joint_rows(x, qd)
+        A_joints, b_joints, Q, M = self._terms(x, qd)
         A, b = self._solved_rows(x, qd, A_joints, b_joints)
-        Q = self.forces(x, qd)
         if not (np.isfinite(Q).all() and np.isfinite(A).all() and np.isfinite(b).all()):
             return np.full(self.nq, np.nan)
-        qdd, z = self._solve(x, Q, A, b)
+        qdd, z = self._solve(x, Q, A, b, M)
         # the kept rows' conditioning, read off the solve's own Cholesky factor: where they lose rank along
         # the motion they are chosen again (QR with column pivoting) and the solve repeated with them
         if self.kept is not None and self.kept.stale(t, A_joints, self._spread):
             A, b = self._solved_rows(x, qd, A_joints, b_joints)
-            qdd, z = self._solve(x, Q, A, b)
+            qdd, z = self._solve(x, Q, A, b, M)
             self.kept.rechosen(self._spread)
         self._last = (t, np.array(q), np.array(qd), self._mode(), qdd, None if z is None else self._full_multipliers(z), Q,
                       None if s is None else np.array(s))
         return qdd
 
-    def _solve(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+    def _solve(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray,
+               M: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None]:
         """``(qddot, z)`` of the fundamental equation with the rows ``A``, ``b`` (``z`` None on the pseudo-inverse
-        path); the Cholesky factor's diagonal spread left in ``self._spread``."""
+        path), through ``M^-1`` (``M``: the mass matrix at ``x`` when known); the Cholesky factor's diagonal
+        spread left in ``self._spread``."""
         self._spread: list[float] = []
-        if self._blocks is not None and A.shape[0]:
-            solved = self._by_inverse(x, Q, A, b, with_multipliers=True, spread=self._spread)
+        if A.shape[0]:
+            solved = self._by_inverse(x, Q, A, b, with_multipliers=True, spread=self._spread, M=M)
             if solved is not None:
                 return solved[0], solved[1]
+        elif self._minv is not None:  # no rows: M qddot = Q
+            return self._inverse_times(x, Q[:, None])[:, 0], np.zeros(0)
         return fundamental_equation(self.mass_inv_sqrt(x), Q, A, b, self._spread), None
 
     def _mode(self) -> tuple[int, ...]:
@@ -343,16 +394,19 @@ class ConstrainedDynamics:
         return last[4], last[5], last[6]
 
     def _by_inverse(self, x: np.ndarray, Q: np.ndarray, A: np.ndarray, b: np.ndarray, with_multipliers: bool = False,
-                    spread: list[float] | None = None) -> np.ndarray | tuple[np.ndarray, np.ndarray] | None:
-        """The fundamental equation through ``M^-1`` (block by block) when ``A`` has full row rank:
-        ``M^-1/2 (A M^-1/2)^+ r = M^-1 A^T (A M^-1 A^T)^-1 r``, the same matrix ``A M^-1 A^T`` and rank test
-        as :func:`fundamental_equation`'s Cholesky path, without the eigen-decomposition of ``M``. None
-        when that matrix is (nearly) singular: the caller takes the pseudo-inverse path. With
-        ``with_multipliers``: ``(qddot, z)``, ``z = (A M^-1 A^T)^-1 r`` the multipliers (``M qddot = Q + A^T z``)."""
-        assert self._blocks is not None
-        Minv = self._blocks.inverse(self.mech.mass(x))
-        a = Minv @ Q
-        MA = Minv @ A.T
+                    spread: list[float] | None = None,
+                    M: np.ndarray | None = None) -> np.ndarray | tuple[np.ndarray, np.ndarray] | None:
+        """The fundamental equation through ``M^-1`` (constant, or block by block from ``M``, default the mass
+        matrix at ``x``) when ``A`` has full row rank: ``M^-1/2 (A M^-1/2)^+ r = M^-1 A^T (A M^-1 A^T)^-1 r``,
+        the same matrix ``A M^-1 A^T`` and rank test as :func:`fundamental_equation`'s Cholesky path, without
+        the eigen-decomposition of ``M``. None when that matrix is (nearly) singular: the caller takes the
+        pseudo-inverse path. With ``with_multipliers``: ``(qddot, z)``, ``z = (A M^-1 A^T)^-1 r`` the
+        multipliers (``M qddot = Q + A^T z``)."""
+        R = np.empty((len(Q), A.shape[0] + 1))  # M^-1 applied to Q and A^T at once
+        R[:, 0] = Q
+        R[:, 1:] = A.T
+        C = self._inverse_times(x, R, M)
+        a, MA = C[:, 0], C[:, 1:]
         z = _cholesky_solve(A @ MA, b - A @ a, spread)
         if z is None:
             return None
@@ -377,10 +431,10 @@ class ConstrainedDynamics:
         if known is not None and known[1] is not None:
             return known[0], known[1], determinate
         x = self.full(t, q, s)
-        A, b = self._solved_rows(x, qd, *self.joint_rows(x, qd))
-        Q = self.forces(x, qd)
-        if A.shape[0] and self._blocks is not None:  # the accelerations' own path: Cholesky of A M^-1 A^T
-            solved = self._by_inverse(x, Q, A, b, with_multipliers=True)
+        A_joints, b_joints, Q, M = self._terms(x, qd)
+        A, b = self._solved_rows(x, qd, A_joints, b_joints)
+        if A.shape[0]:  # the accelerations' own path: Cholesky of A M^-1 A^T
+            solved = self._by_inverse(x, Q, A, b, with_multipliers=True, M=M)
             if solved is not None:
                 return solved[0], self._full_multipliers(solved[1]), determinate
         Mis = self.mass_inv_sqrt(x)

@@ -393,6 +393,21 @@ class MechanicalModel:
         r = self._rates.batch(a).reshape(m, -1) if self.element_states else np.zeros((m, 0))
         return self._M.batch(a), self._Q.batch(a) + self._inertial.batch(a), self._gamma.batch(a), r
 
+    def acceleration_terms(self, x: np.ndarray, qdot: np.ndarray, drift: bool = True,
+                           varying_mass: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray,
+                                                               np.ndarray | None]:
+        """What one constrained acceleration needs at ``x`` with the velocities ``qdot``, from one argument vector:
+        ``(phi_q, gamma, phi, forces, mass)`` as :meth:`phi_q`, :meth:`gamma`, :meth:`phi` (None without ``drift``),
+        :meth:`applied_forces` plus, with ``varying_mass``, :meth:`inertial_forces`, and :meth:`mass` (None without
+        ``varying_mass``: a constant mass matrix is known and its inertial forces are zero). The same values as
+        those methods, one argument vector instead of one per call."""
+        a = self._args(x, qdot)
+        forces = self._Q(a)
+        if varying_mass:  # through the method, as everything that asks for them
+            forces = forces + self.inertial_forces(x, qdot)
+        return (self._phi_q(a), self._gamma(a), self._phi(a) if drift else None, forces,
+                self._M(a) if varying_mass else None)
+
     def damping_matrix(self, x: np.ndarray, qdot: np.ndarray | None = None) -> np.ndarray:
         """-dQ/dqdot, shape (n_q, n_q) (N s/m)."""
         return -self._dQdqd(self._args(x, qdot))
@@ -450,6 +465,11 @@ class MechanicalModel:
             return np.zeros(0)
         Q = self.applied_forces(x)
         return U[:, :r] @ ((Vt[:r] @ Q) / sv[:r])
+
+    def force_jacobian(self, x: np.ndarray) -> np.ndarray:
+        """dQ/dq at rest, shape (n_q, n_q) (N/m, N m/rad): :meth:`tangent_stiffness` with zero multipliers is its
+        negative, without forming the constraints' curvature term."""
+        return self._dQdq(self._args(x))
 
     def tangent_stiffness(self, x: np.ndarray, multipliers: np.ndarray | None = None) -> np.ndarray:
         """K = -dQ/dq + sum_k lambda_k Hess(Phi_k) at rest, shape (n_q, n_q)."""

@@ -88,11 +88,19 @@ class Mechanics(Protocol):
     def inertial_forces(self, x: np.ndarray, qdot: np.ndarray) -> np.ndarray:
         """Velocity-product (centrifugal, Coriolis, gyroscopic) generalised forces (N, N m); zero at rest."""
 
+    def acceleration_terms(self, x: np.ndarray, qdot: np.ndarray, drift: bool = True,
+                           varying_mass: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray,
+                                                               np.ndarray | None]:
+        """``(phi_q, gamma, phi or None, applied (+ inertial) forces, mass or None)`` from one argument vector."""
+
     def element_state_rates(self, x: np.ndarray, qdot: np.ndarray | None = None) -> np.ndarray:
         """The element states' rates (each state's unit per second), in :attr:`element_states`' order."""
 
     def multipliers(self, x: np.ndarray) -> np.ndarray:
         """Constraint reactions ``lambda`` with ``Phi_q^T lambda = Q`` (least squares)."""
+
+    def force_jacobian(self, x: np.ndarray) -> np.ndarray:
+        """``dQ/dq`` at rest, shape (n_q, n_q)."""
 
     def tangent_stiffness(self, x: np.ndarray, multipliers: np.ndarray | None = None) -> np.ndarray:
         """Tangent stiffness at rest, shape (n_q, n_q)."""
