@@ -32,3 +32,20 @@ def test_feasible_optimum_violates_nothing() -> None:
     res = optimize(system, "unlock_force", {"P": (200.0, 350.0)}, constraints=[Constraint.parse("downlock_force >= 100")])
     assert res.violated == [] and "VIOLATED" not in res.summary()
     assert res.quantities["downlock_force"] >= 100 * (1 - 1e-9)
+
+
+def test_cli_writes_the_infeasible_design_then_fails_in_one_line(tmp_path) -> None:
+    # a design that meets no constraint is no optimum: printed and written (--out) as computed, then one line
+    # on stderr and exit status 2, as a solver that fails does (before: exit 0, a warning)
+    import json
+
+    from cli_helpers import make_runner, one_line_error
+
+    out = tmp_path / "opt.json"
+    result = make_runner()("optimize", FILE, "--minimize", "unlock_force", "--design", "P=200:350", "--set", "k=2000",
+                           "--constraint", "downlock_force >= 1e6", "--out", out)
+    one_line_error(result, "downlock_force >= 1e+06", "does not meet")
+    assert "VIOLATED" in result.stdout
+    written = json.loads(out.read_text())
+    assert written["violated"] and written["violated"][0].startswith("downlock_force >= 1e+06")
+    assert written["quantities"]["downlock_force"] == pytest.approx(_F(0.0, 2000.0, written["design"]["P"]), rel=1e-8)

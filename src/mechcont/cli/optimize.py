@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from ..errors import InputError
+from ..errors import ConvergenceError, InputError
 from ._app import cli
 from ._parse import assignments, bounds, branch_row, named_as, named_item
 
@@ -116,10 +116,13 @@ def optimize_command(model: str, minimize_: str | None, maximize_: str | None, d
     if plot_path is not None:
         _plot(system, result, "maximum" if maximize_ is not None else "minimum", design, parsed, values, random,
               plot_path)
+    if result.violated:
+        # not an optimum but the design the search ended at: written and printed as computed, then a failure
+        why = "" if result.success else f"; the optimiser: {result.message}"
+        raise ConvergenceError(f"the design printed does not meet {'; '.join(result.violated)}: no design within "
+                               f"the bounds may (widen them or relax the constraint){why}")
     if not result.success:
         click.echo(f"warning: the optimiser did not converge: {result.message}", err=True)
-    for c in result.violated:
-        click.echo(f"warning: the design printed does not meet {c}: no design within the bounds may", err=True)
 
 
 def _plot(system: Model, result: OptimumResult, sense: str, design: Mapping[str, tuple[float, float]],
