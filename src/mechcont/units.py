@@ -16,7 +16,7 @@ from typing import TypeVar
 import numpy as np
 
 __all__ = ["display", "display_unit", "display_scale", "shown", "derivative_unit", "dimension", "typical_scale",
-           "UnitSystem", "SI", "LENGTH_UNITS", "MASS_UNITS", "units_of", "undeclared_label"]
+           "UnitSystem", "SI", "LENGTH_UNITS", "MASS_UNITS", "undeclared_label"]
 
 V = TypeVar("V", float, np.ndarray)
 
@@ -243,10 +243,3 @@ def undeclared_label(label: str, units: UnitSystem) -> str | None:
             return name
     return None
 
-
-def units_of(model: object) -> UnitSystem:
-    """The units of the description ``model`` (a :class:`~mechcont.equations.Model`) was generated from
-    (its ``mechanism.units``); SI for a built-in or hand-formulated model."""
-    from .equations import Model  # the equations import this module
-
-    return model.mechanism.units if isinstance(model, Model) and model.mechanism is not None else SI

@@ -20,7 +20,8 @@ from ..continuation import find_equilibrium
 from ..equations import Model, StabilityResult, StopLimit
 from ..errors import ConvergenceError, InputError
 
-__all__ = ["GAP_TOL", "equilibrium_on_stops", "stops_in_contact", "check_stop_lens", "stability_on_stops",
+__all__ = ["GAP_TOL", "n_unstable_on", "check_start_contacts", "at_switch",
+           "equilibrium_on_stops", "stops_in_contact", "check_stop_lens", "stability_on_stops",
            "named_stops", "contact_lens", "with_contacts"]
 
 #: A stop counts as touching when its condition is within this of the limit (condition units: a
@@ -236,3 +237,33 @@ def stability_on_stops(system: Model, x: np.ndarray, contact: Iterable[str]) -> 
     cols = [system.index(q) for q in mech.coordinates]
     rows = [system.equation_names.index(f"cond_{s.condition}") for s in touching]
     return mech.stability(x, held=system.jacobian(x)[np.ix_(rows, cols)])
+
+
+def n_unstable_on(system: Model, x: np.ndarray, contact: Iterable[str]) -> int:
+    """The number of unstable directions of the equilibrium ``x`` with the stops ``contact`` in contact (holding
+    their conditions); 0 when it is stable."""
+    return stability_on_stops(system, x, sorted(contact)).n_unstable
+
+
+def check_start_contacts(system: Model, x: np.ndarray, stops: Sequence[StopLimit], active: set[str],
+                          undecided: set[str]) -> None:
+    """:class:`InputError` unless every stop not ``undecided`` is consistently in (``active``) or out of
+    contact at ``x``: in contact, its condition at the limit and a reaction >= 0; free, a zero reaction
+    and its condition on the allowed side."""
+    for s in stops:
+        R, gap = x[system.index(s.reaction)], s.gap(x[system.index(s.condition)])
+        if s.name in undecided:
+            continue
+        if (s.name in active and (R < 0 or abs(gap) > GAP_TOL)) or (s.name not in active and (R != 0 or gap < -GAP_TOL)):
+            raise InputError("start", f"stop {s.name} is not consistently in or out of contact there (reaction "
+                                      f"{s.reaction} = {R:.6g}, {s.condition} {gap:+.3g} from its limit): a stop in "
+                                      "contact has its condition at the limit and a reaction >= 0, a free one a zero "
+                                      "reaction and its condition on the allowed side; find the start with "
+                                      "equilibrium_on_stops")
+
+
+def at_switch(system: Model, x: np.ndarray, stops: Sequence[StopLimit]) -> set[str]:
+    """The stops at their limit with a zero reaction at ``x``: in or out of contact is for the tangents to say."""
+    sc = system.scales()
+    return {s.name for s in stops if abs(s.gap(x[system.index(s.condition)])) <= GAP_TOL
+            and abs(x[system.index(s.reaction)]) <= GAP_TOL * sc[system.index(s.reaction)]}

@@ -23,9 +23,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..continuation import Branch, ContinuationOptions, SpecialPoint, continuation, continue_folds
-from ..equations import Model
+from ..equations import Model, units_of
 from ..errors import ConvergenceError, InputError
-from ..units import derivative_unit, units_of
+from ..units import derivative_unit
 from ._runs import early_stops
 from .downlock import downlock, downlock_condition, downlock_point, downlocked_pose
 

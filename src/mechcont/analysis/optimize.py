@@ -33,9 +33,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._lazy import lazy_exports
-from ..equations import Model
+from ..equations import Model, units_of
 from ..errors import ConvergenceError, InputError
-from ..units import units_of
 from ._slsqp import Inequality, better, multipliers, start_points
 from ._stop_quantities import stop_reactions
 from .sensitivity import Sensitivity, downlock_sensitivity, fold_sensitivity, write_json

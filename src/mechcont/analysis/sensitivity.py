@@ -25,9 +25,9 @@ from ..continuation import (
     polish_fold,
     write_json,
 )
-from ..equations import Model
+from ..equations import Model, units_of
 from ..errors import InputError
-from ..units import derivative_unit, units_of
+from ..units import derivative_unit
 from ._downlock_point import DownlockResult, downlock_condition, downlock_point
 from .unlock import B
 

@@ -27,7 +27,7 @@ by adding the most violated stop or releasing the most negative reaction until n
 active-set method), and when that cycles or a solve diverges, by trying every other contact set in turn.
 """
 
-# Why one module of about 480 lines: the continuation with its switches and the joining of its pieces
+# Why one module of about 490 lines: the continuation with its switches and the joining of its pieces
 # are one algorithm over the same state (the pieces, the switches, the folds); the equilibrium on the
 # stops, their lens and the stability on a contact set are in _stop_search.py, its events in _stop_events.py.
 
@@ -56,9 +56,12 @@ from ..errors import ConvergenceError, InputError
 from ._stop_events import FirstFold, StopEvent
 from ._stop_search import (
     GAP_TOL,
+    at_switch,
+    check_start_contacts,
     check_stop_lens,
     contact_lens,
     equilibrium_on_stops,
+    n_unstable_on,
     named_stops,
     stability_on_stops,
     stops_in_contact,
@@ -189,9 +192,9 @@ def _one_way(system: Model, start: np.ndarray, vary: str, direction: int, hold: 
     if stop_at_fold:
         options = replace(options, detect_folds=False)
     x = np.array(start, dtype=float)
-    undecided = _at_switch(system, x, st)
+    undecided = at_switch(system, x, st)
     active = set(stops_in_contact(system, x, st) if contact is None else contact) - undecided
-    _check_start_contacts(system, x, st, active, undecided)
+    check_start_contacts(system, x, st, active, undecided)
     run = StopRun(branch=None)  # type: ignore[arg-type]
     sign = direction
     arriving: set[str] | None = None   # the set of the piece that ended at x (None at the start)
@@ -213,8 +216,8 @@ def _one_way(system: Model, start: np.ndarray, vary: str, direction: int, hold: 
                 back = _continuing_sets(system, x, vary, -sign, st, active, undecided, hold, free)
                 came = arriving if arriving is not None else (back[0] if back else None)
                 through = [a for a in back if a != came]
-                n_came = None if came is None else _n_unstable_on(system, x, came)
-                n_through = _n_unstable_on(system, x, through[0]) if through else None
+                n_came = None if came is None else n_unstable_on(system, x, came)
+                n_through = n_unstable_on(system, x, through[0]) if through else None
                 stable = n_came == 0
                 # a stable piece leaving the fold reaches it too when pushed in sign: its mechanism jumps, backwards
                 behind = not stable and arriving is not None and n_through == 0
@@ -255,42 +258,12 @@ def _one_way(system: Model, start: np.ndarray, vary: str, direction: int, hold: 
         arriving = set(active)
         sign = _travel(piece, vary, sign)
         x = piece.values[last]
-        undecided = _at_switch(system, x, st) | {end.stop}
+        undecided = at_switch(system, x, st) | {end.stop}
     else:
         run.message = (f"stopped after {max_switches} contact changes at {vary} = {x[system.index(vary)]:.6g} "
                        "(the contact keeps switching there)")
     run.branch, row_piece = _join(system, run.pieces, vary, run, folds, _start_release(system, run, vary, released))
     return run, row_piece
-
-
-def _n_unstable_on(system: Model, x: np.ndarray, contact: Iterable[str]) -> int:
-    """The number of unstable directions of the equilibrium ``x`` with the stops ``contact`` in contact (holding
-    their conditions); 0 when it is stable."""
-    return stability_on_stops(system, x, sorted(contact)).n_unstable
-
-
-def _check_start_contacts(system: Model, x: np.ndarray, stops: Sequence[StopLimit], active: set[str],
-                          undecided: set[str]) -> None:
-    """:class:`InputError` unless every stop not ``undecided`` is consistently in (``active``) or out of
-    contact at ``x``: in contact, its condition at the limit and a reaction >= 0; free, a zero reaction
-    and its condition on the allowed side."""
-    for s in stops:
-        R, gap = x[system.index(s.reaction)], s.gap(x[system.index(s.condition)])
-        if s.name in undecided:
-            continue
-        if (s.name in active and (R < 0 or abs(gap) > GAP_TOL)) or (s.name not in active and (R != 0 or gap < -GAP_TOL)):
-            raise InputError("start", f"stop {s.name} is not consistently in or out of contact there (reaction "
-                                      f"{s.reaction} = {R:.6g}, {s.condition} {gap:+.3g} from its limit): a stop in "
-                                      "contact has its condition at the limit and a reaction >= 0, a free one a zero "
-                                      "reaction and its condition on the allowed side; find the start with "
-                                      "equilibrium_on_stops")
-
-
-def _at_switch(system: Model, x: np.ndarray, stops: Sequence[StopLimit]) -> set[str]:
-    """The stops at their limit with a zero reaction at ``x``: in or out of contact is for the tangents to say."""
-    sc = system.scales()
-    return {s.name for s in stops if abs(s.gap(x[system.index(s.condition)])) <= GAP_TOL
-            and abs(x[system.index(s.reaction)]) <= GAP_TOL * sc[system.index(s.reaction)]}
 
 
 def _continuing_sets(system: Model, x: np.ndarray, vary: str, sign: int, stops: Sequence[StopLimit],

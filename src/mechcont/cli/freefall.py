@@ -8,8 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from ..equations import units_of
 from ..errors import InputError
-from ..units import units_of
 from ._app import cli
 from ._parse import (
     MAX_SCAN,

@@ -13,7 +13,7 @@ the same damped Newton iteration (full step, halved while the row-scaled residua
 not decrease, at most six halvings), the same stopping test (scaled step below ``tol`` and
 :func:`~mechcont.continuation._newton.residual_met`), applied row by row. What it does not
 do is stop at a singular Jacobian in mid-iteration (the single-point solve estimates the
-condition number at every iteration, an SVD per row): a row whose last Jacobian is that
+condition number at every iteration from its LU factors): a row whose last Jacobian is that
 ill-conditioned, or that does not converge, or meets a non-finite value, is reported as not
 converged, so that the caller hands it to the single-point path (the stragglers).
 """
@@ -26,13 +26,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..equations import EquationSystem
+from ._newton import SINGULAR_CONDITION
 
 __all__ = ["BatchSolution", "BatchFolds", "newton_batch", "fold_batch"]
-
-#: Condition number of the row-scaled Jacobian above which a converged row is not trusted
-#: (the single-point solve refuses such a Jacobian as singular).
-SINGULAR_CONDITION = 1e14
-
 
 @dataclass(frozen=True)
 class BatchSolution:

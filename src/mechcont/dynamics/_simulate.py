@@ -10,9 +10,8 @@ import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, DenseOutput, OdeSolver, Radau
 
 from .._status import Status
-from ..equations import velocity_coordinate
+from ..equations import units_of, velocity_coordinate
 from ..errors import InputError
-from ..units import units_of
 from ._assembly import assemble, initial_vector
 from ._budget import MAX_STEPS
 from ._contact import MAX_EVENTS_AT_ONCE

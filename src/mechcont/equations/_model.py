@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any, Protocol, TypedDict
 
 import numpy as np
 
+from ..units import SI, UnitSystem
 from . import _deferred
 from ._system import EquationSystem
 
@@ -30,7 +31,8 @@ if TYPE_CHECKING:
     from ._dynamics import OdeFacts
     from ._protocols import Description, DofFacts, Reselect
 
-__all__ = ["Model", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "FieldsAt", "at_values", "check_values_at"]
+__all__ = ["Model", "units_of", "StopLimit", "DamperFacts", "DownlockFacts", "ValueFields", "FieldsAt", "at_values",
+           "check_values_at"]
 
 
 class DownlockAssembly(Protocol):
@@ -360,3 +362,9 @@ def at_values(model: Model, values: Mapping[str, float] | None, field: str = "va
         return model
     check_values_at(model, values, field)
     return model.with_values({k: float(v) for k, v in values.items()})
+
+
+def units_of(system: EquationSystem) -> UnitSystem:
+    """The units the numbers of ``system`` are in: those its description declares (a :class:`Model`'s
+    ``mechanism.units``), SI for a built-in or hand-formulated model or a bare equation system."""
+    return system.mechanism.units if isinstance(system, Model) and system.mechanism is not None else SI

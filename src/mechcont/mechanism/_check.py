@@ -23,7 +23,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
@@ -33,6 +33,7 @@ import numpy as np
 from ..equations import Model, StabilityResult
 from ..errors import ConvergenceError, InputError, one_line
 from ..units import SI, UnitSystem, undeclared_label
+from ._check_text import aligned, short, shown
 from ._compliant import compliant_constraints
 from ._equilibrium import free_equilibrium
 from ._paths import find_description
@@ -178,19 +179,19 @@ class CheckReport:
             for row, joints in self.redundant:
                 out.append(f"  {row}: implied by joints {', '.join(joints[1:]) or '(none)'} "
                            f"(statically indeterminate: {', '.join(joints)})")
-            out.append(f"  dropped-row residual at the assembled configuration: {_g(self.dropped_residual)}")
+            out.append(f"  dropped-row residual at the assembled configuration: {short(self.dropped_residual)}")
         else:
             out.append("redundant constraints: none")
         if self.compliant:
             out.append(f"compliant joint rows (their stiffness makes the reactions determinate), deflection at the "
                        f"{'equilibrium' if self.x_equilibrium is not None else 'assembled configuration'}:")
-            out += _table([(q.name, f"{_g(q.value)} {q.unit}", q.description) for q in self.compliant])
+            out += aligned([(q.name, f"{short(q.value)} {q.unit}", q.description) for q in self.compliant])
         out.append("")
-        held = ", ".join(f"{q.name} = {_show(q.value, q.unit)}" for q in self.held) or "nothing"
+        held = ", ".join(f"{q.name} = {shown(q.value, q.unit)}" for q in self.held) or "nothing"
         out.append(f"loop closure at the assembled configuration (held: {held}), max |Phi| per joint:")
         width = max((len(q.name) for q in self.closure), default=0)
         for q in self.closure:
-            out.append(f"  {q.name:<{width}}  {_g(q.value)} {q.unit}")
+            out.append(f"  {q.name:<{width}}  {short(q.value)} {q.unit}")
         if self.eliminated_joints:
             out.append(f"  closed exactly by the reduced form: {', '.join(self.eliminated_joints)}")
         out.append("")
@@ -199,13 +200,13 @@ class CheckReport:
             out.append("equilibrium: the assembled configuration is one")
         else:
             out.append(f"equilibrium: the assembled configuration is not one at these parameter values "
-                       f"(largest imbalance {_g(imb.value)} {imb.unit} in {imb.name})")
+                       f"(largest imbalance {short(imb.value)} {imb.unit} in {imb.name})")
         out.append(f"  {self.equilibrium_note}")
         st = self.stability
         if st is None:
             out.append("stability: not assessed (no equilibrium)")
         else:
-            ev = ", ".join(_g(float(np.real(e))) if abs(np.imag(e)) == 0 else f"{complex(e):.4g}"
+            ev = ", ".join(short(float(np.real(e))) if abs(np.imag(e)) == 0 else f"{complex(e):.4g}"
                            for e in np.atleast_1d(st.eigenvalues))
             kind = "reduced tangent stiffness" if st.conservative else "omega^2 of the reduced system (1/s^2)"
             status = "stable" if st.stable else f"UNSTABLE in {st.n_unstable} direction(s)"
@@ -214,20 +215,20 @@ class CheckReport:
             out += ["", extra]
         out.append("")
         out.append("parameters:")
-        out += _table([(p.name, _show(p.value, p.unit), p.description) for p in self.parameters])
+        out += aligned([(p.name, shown(p.value, p.unit), p.description) for p in self.parameters])
         out.append("")
         eq = self.x_equilibrium is not None
         out.append("states:" + ("  assembled | equilibrium" if eq else "  assembled"))
         rows = []
         for s in self.states:
-            cells = [s.name, _show(s.assembled, s.unit)]
+            cells = [s.name, shown(s.assembled, s.unit)]
             if eq:
-                cells.append(_show(s.equilibrium, s.unit))
+                cells.append(shown(s.equilibrium, s.unit))
             rows.append((*cells, s.description))
-        out += _table(rows)
+        out += aligned(rows)
         out.append("")
         out.append("continuation scales (each in its variable's unit, as system.scales()):")
-        out += _table([(q.name, f"{_g(q.value)} {q.unit}".rstrip()) for q in self.scales])
+        out += aligned([(q.name, f"{short(q.value)} {q.unit}".rstrip()) for q in self.scales])
         out.append("")
         if self.warnings:
             out.append(f"warnings: {len(self.warnings)}")
@@ -238,29 +239,6 @@ class CheckReport:
         else:
             out.append("findings: none")
         return "\n".join(out)
-
-
-def _g(v: float | None) -> str:
-    return "-" if v is None else f"{v:.4g}"
-
-
-def _show(v: float | None, unit: str) -> str:
-    """A value for display: radians as degrees, others with their unit."""
-    if v is None:
-        return "-"
-    if unit == "rad":
-        return f"{round(math.degrees(v), 4) + 0.0:.4f} deg"   # no "-0.0000"
-    return f"{v:.6g} {unit}".rstrip()
-
-
-def _table(entries: Iterable[Sequence[object]]) -> list[str]:
-    """The ``entries`` as indented lines, their columns but the last aligned."""
-    rows = [tuple(str(c) for c in r) for r in entries]
-    if not rows:
-        return ["  (none)"]
-    n = max(len(r) for r in rows)
-    widths = [max(len(r[i]) for r in rows if i < len(r)) for i in range(n - 1)]
-    return ["  " + "  ".join([*(c.ljust(w) for c, w in zip(r[:-1], widths)), r[-1]]).rstrip() for r in rows]
 
 
 # -- gathering ---------------------------------------------------------------------------------
@@ -457,7 +435,7 @@ def check_report(mech_or_path: Mechanism | str | Path, *, reduced: bool = False,
             i = max(model.q_index, key=lambda k: abs(move[k]) / scale[k])
             v = system.variables[i]
             note = (f"an equilibrium at these parameter values, found by {how} from the assembled configuration "
-                    f"with every coordinate free (largest move: {v.name} by {_show(float(move[i]), v.unit)})")
+                    f"with every coordinate free (largest move: {v.name} by {shown(float(move[i]), v.unit)})")
         except (ConvergenceError, InputError) as exc:
             note = f"no equilibrium found from the assembled configuration with every coordinate free: {exc}"
             if not system.stops:  # with stops, the equilibrium may be one with a stop in contact

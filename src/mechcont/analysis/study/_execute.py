@@ -34,8 +34,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ...equations import units_of
 from ...errors import InputError
-from ...units import units_of
 from ._dask import STUDY_EXTRA_HINT
 from ._estimate import MAX_SECONDS, PILOT_SAMPLES, Estimate, check_cost, estimate_study
 from ._kernels import COLUMNS, check_spec, result_columns, run_chunk
