@@ -60,9 +60,6 @@ def test_branch_against_an_independent_model():
     assert np.max(np.abs(F - truth) / np.maximum(np.abs(truth), 1.0)) < 1e-7
 
 
-@pytest.mark.xfail(strict=True, reason="the generators' first assembly takes unweighted minimum-norm steps in the "
-                                       "file's units (mechanism/_generate.py, weighted=False): in mm the lengths "
-                                       "outweigh the angles and the assembled pose differs (reported, not fixed)")
 def test_assembled_pose_does_not_depend_on_the_units():
     si, mm = load_model(str(DATA / "strut.toml")), load_model(str(DATA / "strut_mm_g.toml"))
     a, b = si.defaults(), mm.defaults()
