@@ -9,10 +9,12 @@ its answers are the SI ones in those units.
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_helpers import make_runner
 
 from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium
 from mechcont.models import load_model
@@ -66,3 +68,32 @@ def test_assembled_pose_does_not_depend_on_the_units():
     for n in ("theta_leg", "theta_up", "theta_lo"):
         assert b[mm.index(n)] == pytest.approx(a[si.index(n)], abs=1e-9), n
     assert b[mm.index("x_leg")] == pytest.approx(1000 * a[si.index("x_leg")], abs=1e-6)
+
+
+def test_a_simulation_starts_from_the_same_pose_in_any_units():
+    """``simulate --start theta_leg=-2.0`` starts from the pose assembled with the angle held: the same knee
+    branch in mm and g as in SI, so the start energy is the SI one in g mm^2/s^2 (x 1e9; printed to 6 digits).
+    Before, the mm/g file assembled to its other knee branch: 1112.7 J against -152.9 J. Truth also: the
+    start pose (dynamics.assemble) of each to 1e-9 of the leg's length."""
+    from mechcont.dynamics import assemble
+    from mechcont.models import load_model
+
+    run = make_runner()
+
+    def start_energy(name, unit):
+        r = run("simulate", DATA / name, "--start", "theta_leg=-2.0", "--until", "0.01")
+        assert r.exit_code == 0, r.output
+        m = re.search(rf"# energy \[{re.escape(unit)}\]: start (\S+),", r.output)
+        assert m, r.output
+        return float(m.group(1))
+
+    si, mm = start_energy("strut.toml", "J"), start_energy("strut_mm_g.toml", "g mm^2/s^2")
+    assert mm / 1e9 == pytest.approx(si, rel=1e-5)
+    a = load_model(str(DATA / "strut.toml"))
+    b = load_model(str(DATA / "strut_mm_g.toml"))
+    xa = assemble(a, {"theta_leg": -2.0}, hold=["theta_leg"])
+    xb = assemble(b, {"theta_leg": -2.0}, hold=["theta_leg"])
+    for n in ("theta_up", "theta_lo"):
+        assert xb[b.index(n)] == pytest.approx(xa[a.index(n)], abs=1e-9), n
+    for n in ("x_up", "y_up", "x_lo", "y_lo"):
+        assert xb[b.index(n)] / 1e3 == pytest.approx(xa[a.index(n)], abs=1e-9 * L_LEG), n
