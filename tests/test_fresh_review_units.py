@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_helpers import make_runner
+from cli_helpers import make_runner, one_line_error
 
 from mechcont.continuation import ContinuationOptions, continuation, find_equilibrium
 from mechcont.models import load_model
@@ -97,3 +97,21 @@ def test_a_simulation_starts_from_the_same_pose_in_any_units():
         assert xb[b.index(n)] == pytest.approx(xa[a.index(n)], abs=1e-9), n
     for n in ("x_up", "y_up", "x_lo", "y_lo"):
         assert xb[b.index(n)] / 1e3 == pytest.approx(xa[a.index(n)], abs=1e-9 * L_LEG), n
+
+
+@pytest.mark.parametrize("command", ["simulate", "freefall"])
+@pytest.mark.parametrize(("name", "unit", "per_metre"), [("strut.toml", "m", 1.0), ("strut_mm_g.toml", "mm", 1e3)])
+def test_a_start_where_the_brace_cannot_reach_says_by_how_much(command, name, unit, per_metre):
+    """At theta_leg = -1.5 the lug is further from the brace's top pin U than the two links reach: no pose
+    exists. The one-line error names the loop and its miss in the file's length unit. Truth: the miss
+    |lug - U| - (L_up + L_lo) = 0.013120 m (the least-squares closure lines the links up and spreads the gap
+    over the joints, whose gaps add up to it), printed to 4 digits."""
+    r = make_runner()(command, DATA / name, "--start", "theta_leg=-1.5", "--until", "0.01",
+                      *(["--lock", "downlock"] if command == "freefall" else []))
+    one_line_error(r, "--start", "the loop", "cannot close", "theta_leg = -1.5")
+    m = re.search(rf"misses by (\S+) {unit} at best", r.stderr)
+    assert m, r.stderr
+    phi = -1.5
+    lug = L_LEG / 2 * np.array([math.cos(phi), math.sin(phi)]) + _rot(phi) @ np.array([-0.4, 0.0])
+    truth = float(np.hypot(*(lug - U))) - (L_UP + L_LO)
+    assert float(m.group(1)) / per_metre == pytest.approx(truth, rel=5e-4)
