@@ -101,7 +101,15 @@ def assemble(system: Model, values: np.ndarray | Mapping[str, float] | Sequence[
     cond_rows = [rows.index(f"cond_{h}") for h in conditions]
     if conditions:
         x = _hold_conditions(system, dyn, x, cond_rows, ~mask)
-    q, _ = dyn.project(0.0, x[dyn.q_index], np.zeros(dyn.nq), hold=mask)
+    try:
+        q, _ = dyn.project(0.0, x[dyn.q_index], np.zeros(dyn.nq), hold=mask)
+    except InputError as exc:  # say why when no pose exists: the loop that cannot close at the held values
+        from ..mechanism import held_loop_error
+
+        why = held_loop_error(system, x, [h for h in hold if h in coords])
+        if why is None:
+            raise
+        raise InputError(exc.field, str(why).split(": ", 1)[-1]) from None
     x[dyn.q_index] = q
     if kinematic:
         return x

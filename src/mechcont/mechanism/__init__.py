@@ -34,6 +34,7 @@ _LAZY = {
     **dict.fromkeys(["builtin_descriptions", "find_description", "read_description_bytes", "is_system_file"], "_paths"),
     # for the layers above: a compliant row's law, a parameter expression's value, the spatial row-switch test
     **dict.fromkeys(["compliant_constraints"], "_compliant"),
+    **dict.fromkeys(["held_loop_error"], "_diagnose"),
     **dict.fromkeys(["evaluate"], "_expr"),
     **dict.fromkeys(["SWITCH_RATIO", "unit_rows"], "_dropped_rows"),
 }
@@ -45,7 +46,7 @@ __all__ = [
     "Gravity", "PointForce", "Moment", "Drag", "CustomLoad", "Actuator", "Condition", "DownlockSpec",
     "coordinate_names",
     "assemble", "dof_report", "DofReport", "close_constraints", "check_report", "CheckReport",
-    "read_description_bytes", "compliant_constraints", "evaluate", "SWITCH_RATIO", "unit_rows",
+    "read_description_bytes", "compliant_constraints", "held_loop_error", "evaluate", "SWITCH_RATIO", "unit_rows",
 ]
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
@@ -72,6 +73,7 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
         Weld,
         coordinate_names,
     )
+    from ._diagnose import held_loop_error
     from ._dropped_rows import SWITCH_RATIO, unit_rows
     from ._expr import evaluate
     from ._file import load_description, parse_description

@@ -26,7 +26,9 @@ __all__ = ["close_constraints", "dof_report", "DofReport", "assemble"]
 def close_constraints(phi: Callable[[np.ndarray], np.ndarray], phi_q: Callable[[np.ndarray], np.ndarray],
                       x: np.ndarray, q_index: np.ndarray, free: np.ndarray, *,
                       tol: float = 1e-12, max_iter: int = 60,
-                      scale: np.ndarray | None = None, weighted: bool = True) -> tuple[np.ndarray, bool]:
+                      scale: np.ndarray | None = None,
+                      step_scale: np.ndarray | None = None,
+                      row_scale: np.ndarray | None = None) -> tuple[np.ndarray, bool]:
     """Minimise ``|Phi|`` over the coordinates ``free`` (positions in ``q_index``) from ``x``.
 
     Parameters
@@ -46,9 +48,16 @@ def close_constraints(phi: Callable[[np.ndarray], np.ndarray], phi_q: Callable[[
         Typical magnitude of each coordinate (the mechanism's length for a position, 1 for an angle):
         the steps are least-squares in these units and the target relative to them, so the closure is
         the same whatever units the description is written in. None: unit weights, ``tol`` absolute.
-    weighted:
-        False keeps unit weights in the steps (``scale`` then sets only the target): the generators' first
-        assembly, whose minimum-norm steps choose the default pose of every shipped description.
+    step_scale:
+        The size of each coordinate the minimum-norm steps are measured in, when not ``scale`` (which then
+        sets only the target): the generators' first assembly passes one SI unit of each coordinate in the
+        description's units (1000 for a length in mm, 1 for an angle, all 1 in SI), so its steps, which choose
+        the default pose of every shipped description, are those of the SI file in any units.
+    row_scale:
+        With ``step_scale``: one SI unit of each row's residual in the description's units (1000 for a
+        position row in mm, 1 for a normalisation or an angle row). The least-squares steps and the descent
+        test weigh the rows in SI, so a redundant closure (rows the linearisation cannot all meet) takes the
+        SI file's steps too. None: the rows as they are.
 
     Returns
     -------
@@ -60,7 +69,8 @@ def close_constraints(phi: Callable[[np.ndarray], np.ndarray], phi_q: Callable[[
     cols = np.flatnonzero(free)
     idx = q_index[cols]
     size = np.ones(len(q_index)) if scale is None else np.asarray(scale, dtype=float)
-    weight = size if weighted else np.ones(len(q_index))
+    weight = size if step_scale is None else np.asarray(step_scale, dtype=float)
+    per_row = 1.0 if row_scale is None else 1.0 / np.asarray(row_scale, dtype=float)
 
     # tol per row: absolute, or relative to the row's size in the coordinates' units
     def target(y: np.ndarray) -> float | np.ndarray:
@@ -71,14 +81,14 @@ def close_constraints(phi: Callable[[np.ndarray], np.ndarray], phi_q: Callable[[
         if r.size == 0 or np.all(np.abs(r) <= target(x)):
             return x, True
         A = phi_q(x)[:, cols]
-        step, *_ = np.linalg.lstsq(A * weight[cols], -r, rcond=1e-12)
+        step, *_ = np.linalg.lstsq(A * weight[cols] * np.reshape(per_row, (-1, 1)), -r * per_row, rcond=1e-12)
         step *= weight[cols]
-        norm0, t = np.linalg.norm(r), 1.0
+        norm0, t = np.linalg.norm(r * per_row), 1.0
         while t > 1e-6:
             trial = x.copy()
             trial[idx] += t * step
             r_new = phi(trial)
-            if np.all(np.isfinite(r_new)) and np.linalg.norm(r_new) < norm0:
+            if np.all(np.isfinite(r_new)) and np.linalg.norm(r_new * per_row) < norm0:
                 break
             t *= 0.5
         else:

@@ -35,7 +35,7 @@ from ..equations import (
     velocity_symbol,
 )
 from ..errors import InputError
-from ..units import typical_scale
+from ..units import UnitSystem, typical_scale
 from ._assembly import close_constraints, dof_report
 from ._compiled import CoordinatesOf, DroppedResidual
 from ._conditions import condition_description, condition_rows, condition_scale
@@ -254,8 +254,11 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
     x = np.array([guess.get(n, 0.0) for n in coords] + [0.0] * (len(rows) + len(cnames))
                  + [s.initial for s in st.states] + [values[p.name] for p in mech.parameters])
     free_q = np.array([c not in mech.hold for c in coords])
+    metre = mech.units.from_si("m")  # the minimum-norm steps of the SI twin: the same pose in any units
     x, ok = close_constraints(model.phi, model.phi_q, x, model.q_index, free_q,
-                              scale=np.array([1.0 if c.startswith("theta") else Lc for c in coords]), weighted=False)
+                              scale=np.array([1.0 if c.startswith("theta") else Lc for c in coords]),
+                              step_scale=np.array([1.0 if c.startswith("theta") else metre for c in coords]),
+                              row_scale=row_units(mech.units, rows))
     if not ok:
         raise loop_error(mech, rows, model.phi(least_squares_closure(model, x, free_q)))
     report = dof_report(model.phi_q(x), [r.joint for r in rows])
@@ -349,6 +352,13 @@ def condition_and_parameter_variables(mech: Mechanism, conditions: Sequence[tupl
         val = values[p.name]
         out.append(Variable(p.name, "parameter", val, p.unit, _parameter_scale(p, val, Lc, Fc), p.description))
     return out
+
+
+def row_units(units: UnitSystem, rows: Sequence[ConstraintRow]) -> np.ndarray:
+    """One SI unit of each constraint row's residual in ``units`` (the row times its reaction is work:
+    1000 for a position row, whose reaction is a force, in mm; 1 for an angle or a normalisation row, whose
+    reaction is a moment; all 1 in SI)."""
+    return np.array([units.from_si(f"J/({r.unit})") for r in rows])
 
 
 def _coordinate_unit_text(coord: str, Lc: float = 1.0) -> tuple[str, float, str]:

@@ -45,6 +45,7 @@ from .._generate import (
     element_forces,
     fields_at_values,
     load_forces,
+    row_units,
 )
 from .._kinematics import place_along_joints
 from .._stops import stop_forces
@@ -361,15 +362,21 @@ def generate(mech: SpatialMechanism, overrides: dict, reduced: bool) -> Model:
     free_q = np.array([c not in mech.hold for c in coords])
     rigid = np.array([r.stiffness is None for r in rows])
     # closed relative to each row's size (a position weighs Lc, an Euler parameter 1), in any units
-    weight = np.array([Lc if c[:2] in ("x_", "y_", "z_") else 1.0 for c in coords])
-    x_all, ok = close_constraints(closure.phi, closure.phi_q, x, closure.q_index, free_q, scale=weight, weighted=False)
+    positions = {n for b in mech.bodies for n in mech._coordinate_names(b.name)[:3]}  # x1 of body 1 as x_leg
+    weight = np.array([Lc if c in positions else 1.0 for c in coords])
+    # ... with the minimum-norm steps of the SI twin, so the pose found is the same in any units
+    si = np.array([mech.units.from_si("m") if c in positions else 1.0 for c in coords])
+    per_row = row_units(mech.units, rows)
+    x_all, ok = close_constraints(closure.phi, closure.phi_q, x, closure.q_index, free_q, scale=weight, step_scale=si,
+                                  row_scale=per_row)
     if ok:
         x = x_all
     elif rigid.all():
         raise _misfit_error(mech, rows, closure.phi(x_all))
     else:  # the compliant joints take up the misfit of the rigid rows
         x, ok = close_constraints(lambda y: closure.phi(y)[rigid], lambda y: closure.phi_q(y)[rigid], x,
-                                  closure.q_index, free_q, scale=weight, weighted=False)
+                                  closure.q_index, free_q, scale=weight, step_scale=si,
+                                  row_scale=per_row[rigid])
         if not ok:
             raise _misfit_error(mech, [r for r in rows if r.stiffness is None], closure.phi(x)[rigid])
     report = dof_report(closure.phi_q(x), [r.joint for r in rows])
