@@ -109,6 +109,9 @@ class OptimumResult:
         SLSQP's iterations and the points where the quantities were solved.
     success, message:
         Whether SLSQP converged, and its message.
+    violated:
+        Each constraint the returned design does not meet (``"downlock_force >= 1e+09"``), beyond 1e-6 of its
+        scale: an infeasible problem (no design within the bounds meets it), or one SLSQP did not solve.
     """
 
     design: dict[str, float]
@@ -121,12 +124,14 @@ class OptimumResult:
     success: bool
     message: str
     units: dict[str, str] = field(default_factory=dict)
+    violated: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, object]:
         """JSON-ready: design, objective, value, quantities, active (with multipliers), iterations, units."""
         return {"design": self.design, "objective": self.objective, "value": self.value, "quantities": self.quantities,
                 "active": [{"constraint": c, "multiplier": m} for c, m in self.active], "iterations": self.iterations,
-                "evaluations": self.evaluations, "success": self.success, "message": self.message, "units": self.units}
+                "evaluations": self.evaluations, "success": self.success, "message": self.message, "units": self.units,
+                "violated": self.violated}
 
     def to_json(self, path: str | os.PathLike[str]) -> None:
         """Write :meth:`to_dict` as JSON, atomically."""
@@ -142,6 +147,8 @@ class OptimumResult:
         lines += [f"  {n} = {v:.10g} {u.get(n, '')}".rstrip() for n, v in self.quantities.items()
                   if n != self.objective and n not in self.design]
         lines.append("active: " + ("; ".join(f"{c} (multiplier {m:.6g})" for c, m in self.active) or "none"))
+        if self.violated:
+            lines.append("VIOLATED (not a feasible design): " + "; ".join(self.violated))
         return "\n".join(lines)
 
 
@@ -436,8 +443,11 @@ def optimize(system: Model, objective: str, bounds: Mapping[str, tuple[float, fl
         from scipy.stats import norm
 
         quantities[NOT_LOCKING] = float(norm.cdf(-quantities[BETA]))
+    violated = [f"{c} ({c.quantity} = {quantities[c.quantity]:.6g})" for i, c in enumerate(constraints)
+                if (1.0 if c.sense == ">=" else -1.0) * (quantities[c.quantity] - c.bound) < -1e-6 * g_scale[i]]
     return OptimumResult({n: float(v) for n, v in zip(design, z)}, objective, float(at[objective][0]),
-                         quantities, active, int(res.nit), q.evaluations, bool(res.success), str(res.message), units)
+                         quantities, active, int(res.nit), q.evaluations, bool(res.success), str(res.message), units,
+                         violated)
 
 
 def _stop_constraints(system: Model, constraints: Sequence[Constraint]) -> list[Constraint]:

@@ -90,9 +90,14 @@ def stop_unlock(system: Model, x: np.ndarray, force: str, *, max_steps: int = 40
         if p is None:
             if side == "increasing" or both:
                 end = F0 + (span if side == "increasing" else -span) * sc
-                notes.append(f"no fold {side} {force} within the release run ({force} moved by {span:g} of its "
-                             f"scales, to {end:.6g} {system.variable(force).unit}; a larger span searches further)"
-                             .replace(" ;", ";"))
+                forces = b.values[:, b.names.index(force)]
+                reached = float(forces.max() if side == "increasing" else forces.min())
+                if abs(reached - end) <= 1e-6 * span * sc:
+                    notes.append(f"no fold {side} {force} within the release run ({force} moved by {span:g} of its "
+                                 f"scales, to {end:.6g} {unit}; a larger span searches further)".replace(" ;", ";"))
+                else:  # the run ended short of its span (max_steps, a failed step): say where, not where it aimed
+                    notes.append(f"no fold {side} {force} within the release run, which ended early at {force} = "
+                                 f"{reached:.6g} {unit} (its span reaches {end:.6g} {unit})".replace(" )", ")"))
             continue
         releases = [q for q in b.special("SR") if min(F0, p[force]) <= q[force] <= max(F0, p[force])]
         rel = "; ".join(f"stop {q.stop} releases at {force} = {q[force]:.6g} {unit} (SR)" for q in releases)

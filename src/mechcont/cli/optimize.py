@@ -118,6 +118,8 @@ def optimize_command(model: str, minimize_: str | None, maximize_: str | None, d
               plot_path)
     if not result.success:
         click.echo(f"warning: the optimiser did not converge: {result.message}", err=True)
+    for c in result.violated:
+        click.echo(f"warning: the design printed does not meet {c}: no design within the bounds may", err=True)
 
 
 def _plot(system: Model, result: OptimumResult, sense: str, design: Mapping[str, tuple[float, float]],

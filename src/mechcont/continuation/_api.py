@@ -226,8 +226,25 @@ def continuation(system: Model, start: Start, vary: str, *, hold: Iterable[str] 
     if system.reselect is not None:  # a choice of dropped rows made again along the branch
         from ._variants import across_variants
 
-        return across_variants(piece, system, x0, vary, options, direction, events, unknowns)
-    return piece(system, x0, vary, options, direction, events)
+        return _start_at_user_point(across_variants(piece, system, x0, vary, options, direction, events, unknowns),
+                                    at)
+    return _start_at_user_point(piece(system, x0, vary, options, direction, events), at)
+
+
+def _start_at_user_point(branch: Branch, at: Iterable[float]) -> Branch:
+    """``branch`` with its start row labelled ``UZ`` when ``vary`` starts at one of the ``at`` values (a step's
+    test function changes sign only strictly inside it, so a start on the value is never found by stepping)."""
+    starts = np.flatnonzero(branch.s == 0.0)
+    if not starts.size or branch.labels[starts[0]]:
+        return branch
+    i = int(starts[0])
+    v0 = float(branch.values[i, branch.names.index(branch.vary)])
+    if not any(abs(float(v) - v0) <= 4 * np.finfo(float).eps * max(1.0, abs(v0)) for v in at):
+        return branch
+    labels = list(branch.labels)
+    labels[i] = "UZ"
+    point = SpecialPoint("UZ", i, branch.values[i].copy(), branch.names, status=Status.LOCATED)
+    return branch.replace(labels=labels, special_points=[*branch.special_points, point])
 
 
 def _user_points(vary: str, at: Iterable[float]) -> list[Event]:

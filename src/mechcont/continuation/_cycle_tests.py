@@ -99,13 +99,29 @@ def _fold_confirmed(pt: _Point) -> bool:
     return bool(np.min(np.abs(pt.mu - 1.0)) <= tol)
 
 
+def _deviation(pt: _Point, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The orbit part of ``X`` (an orbit or a tangent on ``pt``'s mesh) at the Gauss points minus its mean, and the
+    quadrature weights of the mesh's inner product (Mesh.gram_row) broadcast over it."""
+    me, n = pt.system.mesh, pt.system.n
+    V = me.gauss_values(X[:-2].reshape(-1, n))
+    q = me.quadrature()[:, :, None]
+    return V - np.add.reduce(q * V, axis=(0, 1)), q
+
+
 def _amplitude(pt: _Point) -> float:
     """The orbit's weighted L2 distance from its mean (0 for an equilibrium); computed once per point."""
     if pt.amplitude is None:
-        me, n = pt.system.mesh, pt.system.n
-        # the Gauss quadrature of the mesh's inner product (Mesh.gram_row) at the Gauss points' values
-        V = me.gauss_values(pt.X[:-2].reshape(-1, n))
-        q = me.quadrature()[:, :, None]
-        dev = V - np.add.reduce(q * V, axis=(0, 1))
+        dev, q = _deviation(pt, pt.X)
         pt.amplitude = math.sqrt(max(float(np.add.reduce(q * dev * dev, axis=(0, 1)) @ pt.system.weights), 0.0))
     return pt.amplitude
+
+
+def _amplitude_slope(pt: _Point) -> float:
+    """d(amplitude^2)/ds along ``pt``'s tangent (the way the family goes): negative while the orbits shrink.
+
+    Through a Hopf point the orbit's deviation from the equilibrium changes sign (``u = u0 + eps phi``, ``eps``
+    crossing 0), so its amplitude ``|eps| |phi|`` shrinks to 0 and grows again: the slope turns from negative to
+    positive within the step, where at a fold of cycles it keeps its sign."""
+    dev, q = _deviation(pt, pt.X)
+    dt, _ = _deviation(pt, pt.t)
+    return 2.0 * float(np.add.reduce(q * dev * dt, axis=(0, 1)) @ pt.system.weights)

@@ -40,6 +40,7 @@ from ._cycle_tests import (
     UNSTABLE,
     VERTICAL_STEPS,
     _amplitude,
+    _amplitude_slope,
     _fold_confirmed,
     _ns,
     _pd,
@@ -269,6 +270,10 @@ class _Run:
                 # Hopf point (where its amplitude changes sign), whatever the multipliers say (a planar cycle's one
                 # non-trivial multiplier also tends to 1 there)
                 through = small and _amplitude(pt) < HOPF_AMPLITUDE * max(_amplitude(cur), _amplitude(new))
+                # where the fold could not be located on the step (Newton fails on the nearly-point orbits around a
+                # Hopf point, and pt is then ``new``), the orbits shrinking into the step and growing out of it say so
+                through = through or (_amplitude_slope(cur) < 0.0 < _amplitude_slope(new)
+                                      and min(_amplitude(cur), _amplitude(new)) < HOPF_AMPLITUDE * self.max_amplitude)
                 if not through and not _fold_confirmed(pt):
                     if not small:
                         continue  # the parameter's tangent changed sign without a fold (noise where D barely moves)
@@ -290,6 +295,10 @@ def continue_cycles(model: Model, system: CycleSystem, start: CycleStart, vary: 
     """
     run = _Run(system, options, at, adapt)
     X0 = start.X
+    for name, (lo, hi) in options.bounds.items():  # as continuation's start: a family begun outside would never stop
+        v = float(X0[-1] if name == vary else X0[-2])
+        if not lo <= v <= hi:
+            raise InputError(name, f"start value {v:.6g} lies outside its bounds {lo:g}:{hi:g}")
     if start.tangent is None:  # the null vector with the parameter held: its tangent points along the family
         closing = np.zeros(system.size)
         closing[-1] = 1.0

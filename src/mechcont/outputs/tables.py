@@ -216,13 +216,14 @@ def event_labels(result: SimulationResult, units: Mapping[str, str]) -> list[str
 
 def cycle_lines(family: CycleBranch) -> list[str]:
     """The orbits of a family of cycles as ``mechcont cycles`` prints them: a heading, one line per named orbit (its
-    point name, the parameter in its unit (an angle in degrees), the period in s, the largest non-trivial Floquet
-    multiplier's modulus, stability) and the count, with why the family ends."""
+    point name, ``LPC1?`` when only detected, the parameter in its unit (an angle in degrees), the period in s,
+    the largest non-trivial Floquet multiplier's modulus, stability) and the count, with why the family ends."""
     unit = display_unit(family.vary_unit)
     vary = f"{family.vary} [{unit}]" if unit else family.vary
     out = [f"{'point':>6}  {vary:>12}  {'period [s]':>12}  {'floquet_max':>12}  stability"]
     stab, fmax = family.stability(), family.floquet_max
     for name, i in family.point_names():
+        name += "?" if i in family.approximate else ""  # detected, not located: as the table writes it (LPC?)
         p = display(float(family.p[i]), family.vary_unit)[0]
         out.append(f"{name:>6}  {p:{max(12, len(vary))}.6g}  {family.period[i]:12.6g}  {fmax[i]:12.6g}  {stab[i]}")
     out.append(f"{len(family)} orbits" + (f"; ends: {family.message}" if family.message else ""))
