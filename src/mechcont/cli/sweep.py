@@ -101,6 +101,28 @@ def _gaps(result: SweepResult, branch: Branch | None) -> tuple[list[str], str]:
     return [text(fold, g) for fold, g in branch_jump_gaps(result, branch)], "" if run is None else text(*run)
 
 
+def _no_fold_note(system: Model, result: SweepResult, branch: Branch) -> str:
+    """The line said when the --branch has no fold in the ramped parameter: no jump is expected, and when some were
+    found, their plausible causes (the sweep beyond the branch's range of the parameter named first)."""
+    name = result.ramps[0].name
+    text = f"the branch has no fold in {name}: no jump is expected"
+    moves = result.jumps + ([result.runaway] if result.runaway is not None else [])
+    if not moves:
+        return text
+    text += (f", yet {len(result.jumps)} jump(s){' and a runaway' if result.runaway is not None else ''} were found: ")
+    values = branch.column(name)
+    lo, hi = float(values.min()), float(values.max())
+    beyond = [j.value for j in moves if not lo <= j.value <= hi]
+    if beyond:
+        unit = f" {system.variable(name).unit}".rstrip()
+        return text + (f"the branch covers {name} = {lo:.6g} to {hi:.6g}{unit} only and the sweep jumped at "
+                       f"{', '.join(f'{v:.6g}' for v in beyond)}{unit}: continue the branch over the sweep's range "
+                       "(--bounds) to see its fold")
+    return text + ("plausible causes: the sweep runs on another branch than this one (continued from another "
+                   "--start), a stop moved it (an impact or a release, with --stops), or the ramp is too fast to "
+                   "follow the branch (a lower rate)")
+
+
 def _print_stop_loads(system: Model, result: SweepResult) -> None:
     """One line per stop event of a sweep with stops: time, kind, stop and the ramped load there."""
     name = result.ramps[0].name
@@ -217,10 +239,7 @@ def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...]
                    f"segment {run.segment + 1}) at t = {run.time:.4g} s and had not settled when the sweep ended; "
                    f"{watch} {a[0]:.6g} -> {b[0]:.6g} {a[1]}".rstrip() + runaway_gap)
     if branch is not None and not branch.special("LP"):
-        click.echo(f"the branch has no fold in {segs[0].name}: no jump is expected" + (
-            "" if not result.jumps and result.runaway is None else
-            f", yet {len(result.jumps)} jump(s){' and a runaway' if result.runaway is not None else ''} were found "
-            "(check --set against the branch)"))
+        click.echo(_no_fold_note(system, result, branch))
     if out_path is not None:
         result.to_csv(out_path)
         click.echo(f"wrote {out_path}")
