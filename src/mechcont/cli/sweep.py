@@ -11,6 +11,7 @@ from ..errors import InputError
 from ..units import display
 from ._app import cli
 from ._parse import assignments, check_integration, integrator, integrator_options, named_item, number
+from ._run import QUIET_HELP, quiet_stdout
 
 if TYPE_CHECKING:
     import numpy as np
@@ -162,11 +163,11 @@ def _print_stop_loads(system: Model, result: SweepResult) -> None:
               help="Simulate the description's stops (impacts, contact with its reaction, release) and print the "
                    "ramped load at each contact and release.")
 @click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
-@click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
+@click.option("--quiet", is_flag=True, help=QUIET_HELP)
 def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...], ramps: tuple[str, ...], watch: str,
                   damping: float, settle: float, equilibrium: bool, through: float | None, method: str, rtol: float,
                   atol: float, out: str | None, plot: str | None, branch_csv: str | None, use_stops: bool,
-                  no_progress: bool, old_quiet: bool) -> None:
+                  no_progress: bool, quiet: bool) -> None:
     """Ramp loads of MODEL slowly in a time simulation and report where WATCH jumps.
 
     Example: mechcont sweep overcentre --set LU=0.4 --set c=50 --start theta1=1.2
@@ -177,6 +178,7 @@ def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...]
     where the mechanism ran away past its last fold and had not settled when the sweep ended)
     is printed with its gap to the fold it follows: the time simulation's delay past the fold.
     """
+    click.get_current_context().with_resource(quiet_stdout(quiet))
     from ._run import mechanism_only
 
     mechanism_only(model, "sweep")
@@ -202,7 +204,7 @@ def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...]
     from .._progress import Progress
 
     try:
-        with Progress("sweep", total=total, unit="s simulated", quiet=no_progress or old_quiet) as bar:
+        with Progress("sweep", total=total, unit="s simulated", quiet=no_progress or quiet) as bar:
             result = sweep(system, x0, segs, watch=watch, damping=damping, settle=settle, through=through, **solver,
                            progress=bar.set if bar.enabled else None, stops=use_stops)
     except InputError as exc:  # the start is the --start pose (with --stops, its equilibrium on the stops)
