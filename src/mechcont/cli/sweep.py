@@ -45,8 +45,10 @@ def _shown(system: Model, name: str, value: float) -> tuple[float, str]:
 def _read_branch(path: str, system: Model, parameter: str) -> Branch:
     """The --branch table: a branch of this model continued in the ramped ``parameter``."""
     from ..continuation import Branch
+    from ..continuation.branch_rows import refuse_cycles_table
 
     branch = Branch.read_csv(path, model=system.name)
+    refuse_cycles_table(branch.names, path, "--branch")
     missing = [n for n in system.names if n not in branch.names]
     if missing:
         raise InputError("--branch", f"'{path}' lacks the column(s) {', '.join(missing[:5])} of model '{system.name}'")
