@@ -152,7 +152,7 @@ def test_draw_huge_label_indices(tmp_path, run, branch_csv, spec, words):
 
 
 SWEEP = ("sweep", "overcentre", "--set", "LU=0.4", "--set", "c=50", "--start", "theta1=1.2", "--watch", "theta1",
-         "--quiet")
+         "--no-progress")
 
 
 @pytest.mark.parametrize("extra, words", [
@@ -346,7 +346,7 @@ def _wait_for(predicate, proc, timeout):
 
 @pytest.mark.parametrize("sig, status, word", [(signal.SIGTERM, 143, "terminated"), (signal.SIGINT, 130, "interrupted")])
 def test_signal_during_writing_leaves_no_temporary_file(tmp_path, branch_csv, sig, status, word):
-    proc = _mechcont("animate", "overcentre", "--branch", branch_csv, "--out", tmp_path / "a.gif", "--quiet",
+    proc = _mechcont("animate", "overcentre", "--branch", branch_csv, "--out", tmp_path / "a.gif", "--no-progress",
                      cwd=tmp_path)
     try:
         # the temporary file beside the output exists while the frames are rendered into it

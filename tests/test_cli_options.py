@@ -6,8 +6,9 @@ held at a value to find where a command starts (the first solution, the drawn eq
 freefall starts from at rest), ``--hold`` a state held during the analysis, ``--vary`` the continuation parameter (of
 the run, or of the branch read), ``--set`` a parameter's value, ``--point`` a row of a branch table, ``--branch`` a
 branch table, in every command that has them; the spellings they replaced (``folds --free P2`` and ``--solve-for``,
-``design --x/--y``, ``paper``/``study --out DIR``, ``simulate``/``sweep``/``animate --quiet``, ``freefall --from``,
-``study --analysis freefall --hold``) still work, hidden from the help.
+``design --x/--y``, ``paper``/``study --out DIR``, ``freefall --from``, ``study --analysis freefall --hold``) still
+work, hidden from the help. (``simulate``/``sweep``/``animate --quiet``, once a hidden ``--no-progress``, now print
+nothing but errors as everywhere: tests/test_quiet_option.py.)
 """
 
 import re

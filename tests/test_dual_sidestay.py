@@ -164,7 +164,7 @@ def test_cli_continue_draw_animate_the_spatial_gear(tmp_path):
     with Image.open(tmp_path / "d.png") as im:
         assert im.size[0] >= 800
     r = run("animate", "dual_sidestay_kinematics", "--branch", branch, "--every", 20, "--out", tmp_path / "a.gif",
-            "--quiet")
+            "--no-progress")
     assert r.exit_code == 0, r.output
     one_line_error(run("draw", "dual_sidestay_kinematics", "--set", "bogus=1", "--out", tmp_path / "e.png"),
                    "bogus")

@@ -19,7 +19,7 @@ def test_sweep_reports_jumps_and_writes_outputs(runner, tmp_path):
     out, fig = tmp_path / "sweep.csv", tmp_path / "sweep.png"
     res = runner.invoke(cli, ["sweep", "overcentre", "--set", "LU=0.4", "--set", "c=50", "--start", "theta1=1.2",
                               "--ramp", "F=-65:-90:1", "--ramp", "F=-90:110:4", "--watch", "theta1",
-                              "--out", str(out), "--plot", str(fig), "--quiet"])
+                              "--out", str(out), "--plot", str(fig), "--no-progress"])
     assert res.exit_code == 0, res.output
     lines = [ln for ln in res.output.splitlines() if ln.startswith("jump")]
     assert len(lines) == 2
@@ -58,8 +58,8 @@ def test_sweep_reports_jumps_and_writes_outputs(runner, tmp_path):
     (["--ramp", "F=1:2:1", "--watch", "theta1", "--damping", "-1"], "damping"),
 ])
 def test_bad_input_is_one_line_and_exit_2(runner, tmp_path, args, message):
-    res = runner.invoke(cli, ["sweep", "overcentre", *args, "--quiet", "--out", str(tmp_path / "s.csv")]
-                        if "--out" not in args else ["sweep", "overcentre", *args, "--quiet"])
+    res = runner.invoke(cli, ["sweep", "overcentre", *args, "--no-progress", "--out", str(tmp_path / "s.csv")]
+                        if "--out" not in args else ["sweep", "overcentre", *args, "--no-progress"])
     assert res.exit_code == 2
     err = res.output.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"error: {message}")
@@ -77,7 +77,7 @@ def test_sweep_over_a_continuation_branch(tmp_path):
     assert r.exit_code == 0, r.output
     fig = tmp_path / "s.png"
     r = run("sweep", "overcentre", "--set", "LU=0.4", "--set", "c=50", "--start", "theta1=1.2", "--ramp", "F=-65:-90:1",
-            "--watch", "theta1", "--branch", b, "--plot", fig, "--quiet")
+            "--watch", "theta1", "--branch", b, "--plot", fig, "--no-progress")
     assert r.exit_code == 0, r.output
     # the branch has c = 0, the sweep c = 50: damping is not in the equilibrium equations, so no warning
     assert "warning" not in r.stderr, r.stderr

@@ -24,7 +24,7 @@ FOLDS = ("folds", "overcentre", "--set", "LU=0.4", "--start", "theta1=0.3", "--v
 DOWNLOCK = ("downlock", "nose_gear", "--vary", "l_sp1", "--bounds", "l_sp1=-0.175:0.175")
 RETRACTION = ("continue", "dual_sidestay_kinematics", "--vary", "theta", "--bounds", "theta=0:1.5")
 SWEEP = ("sweep", "overcentre", "--set", "LU=0.4", "--set", "c=50", "--start", "theta1=1.2", "--ramp", "F=-65:-90:1",
-         "--ramp", "F=-90:110:4", "--watch", "theta1", "--quiet")
+         "--ramp", "F=-90:110:4", "--watch", "theta1", "--no-progress")
 
 
 @pytest.fixture(scope="module")

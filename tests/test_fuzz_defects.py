@@ -197,7 +197,7 @@ def test_dual_sidestay_kinematics_refuses_a_zero_plane_normal(tmp_path):
 
 
 SWEEP = ("sweep", "overcentre", "--set", "LU=0.4", "--set", "c=50", "--start", "theta1=1.2", "--watch", "theta1",
-         "--quiet", "--ramp", "F=-65:-90:0.5")
+         "--no-progress", "--ramp", "F=-65:-90:0.5")
 
 
 @pytest.mark.parametrize("rtol", ["1e300", "1", "0.5", "1e-20"])
@@ -364,7 +364,7 @@ def test_a_scheduler_that_accepts_and_never_answers(tmp_path, monkeypatch):
 def test_sweep_ramp_to_1e308_is_refused_at_once(tmp_path):
     t0 = time.perf_counter()
     r = run("sweep", "overcentre", "--set", "LU=0.4", "--set", "c=50", "--start", "theta1=1.2", "--watch", "theta1",
-            "--quiet", "--ramp", "F=0:1e308:1e308", "--out", tmp_path / "s.csv")
+            "--no-progress", "--ramp", "F=0:1e308:1e308", "--out", tmp_path / "s.csv")
     clean_failure(r, "ramp", "F: 0 -> 1e+308", "times its scale")
     assert time.perf_counter() - t0 < 20 and list(tmp_path.iterdir()) == []
 
@@ -415,7 +415,7 @@ def test_text_from_a_description_cannot_forge_lines_or_drive_the_terminal(tmp_pa
 ])
 def test_animate_refuses_a_bad_branch_cell(tmp_path, overcentre_branch, column, value, words):
     csv_path = _edited_csv(overcentre_branch, tmp_path, 1, column, value)
-    clean_failure(run("animate", "overcentre", "--branch", csv_path, "--out", tmp_path / "a.gif", "--quiet"),
+    clean_failure(run("animate", "overcentre", "--branch", csv_path, "--out", tmp_path / "a.gif", "--no-progress"),
                   "branch", "line 3", *words)
     assert not (tmp_path / "a.gif").exists()
 
@@ -425,7 +425,7 @@ def test_animate_refuses_duplicated_columns(tmp_path, overcentre_branch):
     lines = [ln + "," + ln.split(",")[2] for ln in lines]  # theta1 [rad] once more, other values or not
     path = tmp_path / "d.csv"
     path.write_text("\n".join(lines) + "\n")
-    clean_failure(run("animate", "overcentre", "--branch", path, "--out", tmp_path / "a.gif", "--quiet"),
+    clean_failure(run("animate", "overcentre", "--branch", path, "--out", tmp_path / "a.gif", "--no-progress"),
                   "branch", "more than once", "theta1 [rad]")
     assert not (tmp_path / "a.gif").exists()
 

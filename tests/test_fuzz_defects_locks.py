@@ -213,7 +213,7 @@ def test_a_signal_while_an_animation_is_written_leaves_no_temporary_file(tmp_pat
     """The GIF's temporary file exists (empty) while the frames are drawn; SIGHUP left it there."""
     out = tmp_path / "out"
     out.mkdir()
-    p = _mechcont("animate", "overcentre", "--branch", branch_csv, "--out", out / "a.gif", "--quiet", cwd=tmp_path)
+    p = _mechcont("animate", "overcentre", "--branch", branch_csv, "--out", out / "a.gif", "--no-progress", cwd=tmp_path)
     try:
         _when_a_temporary_appears(out, p, "a")
         p.send_signal(sig)
@@ -231,7 +231,7 @@ def test_a_temporary_file_of_a_killed_writer_is_removed_by_the_next_write(tmp_pa
 
     out = tmp_path / "out"
     out.mkdir()
-    p = _mechcont("animate", "overcentre", "--branch", branch_csv, "--out", out / "a.gif", "--quiet", cwd=tmp_path)
+    p = _mechcont("animate", "overcentre", "--branch", branch_csv, "--out", out / "a.gif", "--no-progress", cwd=tmp_path)
     try:
         _when_a_temporary_appears(out, p, "a")
         p.kill()

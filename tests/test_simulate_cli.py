@@ -17,7 +17,7 @@ def run():
 def test_simulate_writes_history_with_units_and_a_row_at_each_stop_event(run, tmp_path):
     out, fig = tmp_path / "h.csv", tmp_path / "h.png"
     res = run("simulate", BAR, "--start", "theta_bar=0", "--until", 2.5, "--stops", "--rtol", 1e-9,
-              "--out", out, "--plot", fig, "--quiet")
+              "--out", out, "--plot", fig, "--no-progress")
     assert res.exit_code == 0, res.output
     printed = [ln for ln in res.output.splitlines() if ln.startswith("t = ")]
     kinds = [ln.split()[4] for ln in printed]
@@ -44,7 +44,7 @@ def test_simulate_writes_history_with_units_and_a_row_at_each_stop_event(run, tm
 
 
 def test_simulate_without_stops_warns_that_they_are_ignored(run, tmp_path):
-    res = run("simulate", BAR, "--start", "theta_bar=0", "--until", 0.5, "--quiet")
+    res = run("simulate", BAR, "--start", "theta_bar=0", "--until", 0.5, "--no-progress")
     assert res.exit_code == 0, res.output
     assert "ignored" in res.stderr and "--stops" in res.stderr
 
@@ -64,7 +64,7 @@ def test_simulate_without_stops_warns_that_they_are_ignored(run, tmp_path):
 ])
 def test_bad_input_is_one_line_exit_2_and_no_file(run, tmp_path, args, words):
     out = tmp_path / "h.csv"
-    argv = ["simulate", BAR, *args, "--out", out, "--quiet"]
+    argv = ["simulate", BAR, *args, "--out", out, "--no-progress"]
     if "--until" not in args:
         argv += ["--until", 0.2]
     res = run(*argv)
@@ -74,7 +74,7 @@ def test_bad_input_is_one_line_exit_2_and_no_file(run, tmp_path, args, words):
 
 def test_start_may_hold_a_condition(run, tmp_path):
     out = tmp_path / "h.csv"
-    res = run("simulate", BAR, "--start", "angle=-0.3", "--until", 0.1, "--stops", "--out", out, "--quiet")
+    res = run("simulate", BAR, "--start", "angle=-0.3", "--until", 0.1, "--stops", "--out", out, "--no-progress")
     assert res.exit_code == 0, res.output
     with open(out) as fh:
         rows = list(csv.reader(fh))

@@ -20,7 +20,7 @@ def run():
 
 def test_sweep_with_stops_prints_the_release_load(run):
     res = run("sweep", STOP, "--start", "theta_bar=-1.2", "--no-equilibrium", "--ramp", "T=3:4:1", "--watch",
-              "theta_bar", "--stops", "--rtol", 1e-9, "--quiet")
+              "theta_bar", "--stops", "--rtol", 1e-9, "--no-progress")
     assert res.exit_code == 0, res.output
     lines = res.output.splitlines()
     events = [ln for ln in lines if ln.startswith("t = ")]
@@ -32,7 +32,7 @@ def test_sweep_with_stops_prints_the_release_load(run):
 
 def test_sweep_without_stops_ignores_them(run):
     res = run("sweep", STOP, "--start", "theta_bar=-1.2", "--no-equilibrium", "--ramp", "T=3:4:1", "--watch",
-              "theta_bar", "--quiet")
+              "theta_bar", "--no-progress")
     assert res.exit_code == 0, res.output
     assert "release" not in res.output
 
@@ -40,6 +40,6 @@ def test_sweep_without_stops_ignores_them(run):
 def test_sweep_stops_on_a_model_without_stops_is_one_line_and_writes_nothing(run, tmp_path):
     out = tmp_path / "s.csv"
     res = run("sweep", "tests/data/damped_pendulum.toml", "--start", "theta_bar=-1.2", "--ramp", "c=3:4:1",
-              "--watch", "theta_bar", "--stops", "--quiet", "--out", out)
+              "--watch", "theta_bar", "--stops", "--no-progress", "--out", out)
     one_line_error(res, "--stops", "declares no stops")
     assert not out.exists()

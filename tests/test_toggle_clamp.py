@@ -66,12 +66,12 @@ def test_sweep_warns_of_an_unstable_start_and_of_a_branch_at_other_values(tmp_pa
     assert r.exit_code == 0, r.output
     # l0 = 0.5 m: from theta_handle = 0.3 Newton lands on the straight toggle, pushed by a compressed spring
     r = run("sweep", CLAMP, "--set", "l0=0.5", "--start", "theta_handle=0.3", "--ramp", "F=0:50:500",
-            "--watch", "theta_handle", "--branch", branch, "--quiet")
+            "--watch", "theta_handle", "--branch", branch, "--no-progress")
     assert r.exit_code == 0, r.output
     warnings = [ln for ln in r.stderr.splitlines() if ln.startswith("warning: ")]
     assert any("continued at other parameter values: l0 = 0.6 m (sweep 0.5 m)" in w for w in warnings), r.stderr
     assert any("starts at an unstable equilibrium (theta_handle = " in w for w in warnings), r.stderr
     # the same values: no warning about the branch
     r = run("sweep", CLAMP, "--start", "theta_handle=0.3", "--ramp", "F=0:50:500", "--watch", "theta_handle",
-            "--branch", branch, "--quiet")
+            "--branch", branch, "--no-progress")
     assert r.exit_code == 0 and "other parameter values" not in r.stderr

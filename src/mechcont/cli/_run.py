@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from typing import TYPE_CHECKING, TypeVar
 
 import click
@@ -23,7 +24,25 @@ R = TypeVar("R")
 F = TypeVar("F", bound=Callable[..., object])
 
 __all__ = ["continuation_options", "solve_start", "write_branch", "common_options", "check_outputs", "run_continuation",
-           "mechanism_only"]
+           "mechanism_only", "QUIET_HELP", "quiet_stdout"]
+
+#: The help of every command's ``--quiet`` (tests/test_cli_options.py: one meaning per option name).
+QUIET_HELP = "Print nothing but errors and warnings (on stderr); no progress bar. Files are still written."
+
+
+@contextmanager
+def quiet_stdout(quiet: bool) -> Iterator[None]:
+    """With ``quiet``, drop what a command prints on stdout while the block runs (its report; errors and
+    warnings go to stderr, files are still written); without, nothing changes. A command enters it for its
+    whole run with ``click.get_current_context().with_resource(quiet_stdout(quiet))``."""
+    if not quiet:
+        yield
+        return
+    import io
+    from contextlib import redirect_stdout
+
+    with redirect_stdout(io.StringIO()):
+        yield
 
 
 def mechanism_only(model: str, what: str) -> None:

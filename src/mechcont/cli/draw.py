@@ -8,7 +8,7 @@ from .._io import check_output_path
 from ..errors import InputError
 from ._app import cli
 from ._parse import assignments, branch_row, freed_parameters, names
-from ._run import load_at
+from ._run import QUIET_HELP, load_at, quiet_stdout
 
 
 @cli.command("draw")
@@ -93,10 +93,10 @@ def draw_command(model: str, sets: tuple[str, ...], starts: tuple[str, ...], fre
                    "[the continuation parameter and the first annotated state]; 'none' for no panel.")
 @click.option("--no-forces", is_flag=True, help="Do not draw the applied forces and moments.")
 @click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
-@click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
+@click.option("--quiet", is_flag=True, help=QUIET_HELP)
 def animate_command(model: str, branch_csv: str, out: str, fps: float | None, every: int, pause: float,
                     old_hold: float | None, annotate: str | None, vary: str | None, diagram: str | None,
-                    no_forces: bool, no_progress: bool, old_quiet: bool) -> None:
+                    no_forces: bool, no_progress: bool, quiet: bool) -> None:
     """Animate MODEL along a branch CSV (columns: variables, s, stability, label).
 
     Each frame prints the continuation parameter (--vary), the --annotate variables (angles
@@ -104,6 +104,7 @@ def animate_command(model: str, branch_csv: str, out: str, fps: float | None, ev
     frame and is held --pause seconds. Beside the mechanism the branch is drawn with the
     current point marked.
     """
+    click.get_current_context().with_resource(quiet_stdout(quiet))
     from ._run import mechanism_only
 
     mechanism_only(model, "animate")
@@ -136,7 +137,7 @@ def animate_command(model: str, branch_csv: str, out: str, fps: float | None, ev
     total = len(frame_rows(frames, every))
     if old_hold is not None:  # said once the input is known good, so that an error stays one line
         click.echo("note: animate --hold SECONDS is now --pause SECONDS (--hold will be removed)", err=True)
-    with Progress("animation", total=total, unit="frames", quiet=no_progress or old_quiet) as bar:
+    with Progress("animation", total=total, unit="frames", quiet=no_progress or quiet) as bar:
         n = animate(system, frames, path, fps=fps, every=every, annotate=shown, vary=vary, diagram=pair,
                     show_forces=not no_forces, hold=pause, on_frame=bar.update if bar.enabled else None)
     click.echo(f"{path} ({n} frames)")

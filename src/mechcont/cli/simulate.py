@@ -11,6 +11,7 @@ from ..equations import velocity_coordinate
 from ..errors import InputError
 from ._app import cli
 from ._parse import Integrator, assignments, check_integration, integrator, integrator_options, named_as
+from ._run import QUIET_HELP, quiet_stdout
 
 if TYPE_CHECKING:
     import numpy as np
@@ -79,10 +80,10 @@ def _holdable(system: Model, coords: tuple[str, ...]) -> list[str]:
 @click.option("--out", default=None, metavar="FILE.csv", help="Write the time history as CSV (a row at each event).")
 @click.option("--plot", default=None, metavar="FILE.png", help="Plot WATCH against time, stop events marked.")
 @click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
-@click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
+@click.option("--quiet", is_flag=True, help=QUIET_HELP)
 def simulate_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...], until: float, use_stops: bool,
                      watch: str | None, damping: float, method: str, rtol: float, atol: float, step_budget: int,
-                     out: str | None, plot: str | None, no_progress: bool, old_quiet: bool) -> None:
+                     out: str | None, plot: str | None, no_progress: bool, quiet: bool) -> None:
     """Simulate MODEL in time from rest in the pose assembled with the --start values held.
 
     Example: mechcont simulate tests/data/bar_drop.toml --start theta_bar=0 --until 3 --stops
@@ -95,6 +96,7 @@ def simulate_command(model: str, settings: tuple[str, ...], starts: tuple[str, .
     An ODE file ([system] table, docs/ode-format.md) is integrated from its initial states, the
     --start values replacing them; its CSV has t, the states and the parameters.
     """
+    click.get_current_context().with_resource(quiet_stdout(quiet))
     from .._io import check_output_path
     from ..dynamics import check_duration, check_simulable
     from ..models import model_at
@@ -107,7 +109,7 @@ def simulate_command(model: str, settings: tuple[str, ...], starts: tuple[str, .
     system = model_at(model, assignments(settings, "set"))
     if system.ode is not None:
         return _simulate_ode(system, model, starts, until, watch, solver, step_budget, out_path, plot_path,
-                             use_stops=use_stops, damping=damping, quiet=no_progress or old_quiet)
+                             use_stops=use_stops, damping=damping, quiet=no_progress or quiet)
     coords = check_simulable(system, model).coordinates
     x0, start = _start(system, starts, coords)
     if watch is None:
@@ -124,7 +126,7 @@ def simulate_command(model: str, settings: tuple[str, ...], starts: tuple[str, .
 
     try:
         # overflow on the way to a stiff run's stop is reported by that stop's one line, not numpy's warnings
-        with Progress("simulate", total=until, unit="s simulated", quiet=no_progress or old_quiet) as bar, \
+        with Progress("simulate", total=until, unit="s simulated", quiet=no_progress or quiet) as bar, \
                 np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             result = simulate(system, x0, (0.0, until), damping=damping, stops=use_stops, **solver,
                               progress=bar.set if bar.enabled else None, max_steps=step_budget)

@@ -11,6 +11,7 @@ from ..errors import InputError
 from ..units import display
 from ._app import cli
 from ._parse import assignments, check_integration, integrator, integrator_options, named_item, number
+from ._run import QUIET_HELP, quiet_stdout
 
 if TYPE_CHECKING:
     import numpy as np
@@ -44,8 +45,10 @@ def _shown(system: Model, name: str, value: float) -> tuple[float, str]:
 def _read_branch(path: str, system: Model, parameter: str) -> Branch:
     """The --branch table: a branch of this model continued in the ramped ``parameter``."""
     from ..continuation import Branch
+    from ..continuation.branch_rows import refuse_cycles_table
 
     branch = Branch.read_csv(path, model=system.name)
+    refuse_cycles_table(branch.names, path, "--branch")
     missing = [n for n in system.names if n not in branch.names]
     if missing:
         raise InputError("--branch", f"'{path}' lacks the column(s) {', '.join(missing[:5])} of model '{system.name}'")
@@ -101,6 +104,28 @@ def _gaps(result: SweepResult, branch: Branch | None) -> tuple[list[str], str]:
     return [text(fold, g) for fold, g in branch_jump_gaps(result, branch)], "" if run is None else text(*run)
 
 
+def _no_fold_note(system: Model, result: SweepResult, branch: Branch) -> str:
+    """The line said when the --branch has no fold in the ramped parameter: no jump is expected, and when some were
+    found, their plausible causes (the sweep beyond the branch's range of the parameter named first)."""
+    name = result.ramps[0].name
+    text = f"the branch has no fold in {name}: no jump is expected"
+    moves = result.jumps + ([result.runaway] if result.runaway is not None else [])
+    if not moves:
+        return text
+    text += (f", yet {len(result.jumps)} jump(s){' and a runaway' if result.runaway is not None else ''} were found: ")
+    values = branch.column(name)
+    lo, hi = float(values.min()), float(values.max())
+    beyond = [j.value for j in moves if not lo <= j.value <= hi]
+    if beyond:
+        unit = f" {system.variable(name).unit}".rstrip()
+        return text + (f"the branch covers {name} = {lo:.6g} to {hi:.6g}{unit} only and the sweep jumped at "
+                       f"{', '.join(f'{v:.6g}' for v in beyond)}{unit}: continue the branch over the sweep's range "
+                       "(--bounds) to see its fold")
+    return text + ("plausible causes: the sweep runs on another branch than this one (continued from another "
+                   "--start), a stop moved it (an impact or a release, with --stops), or the ramp is too fast to "
+                   "follow the branch (a lower rate)")
+
+
 def _print_stop_loads(system: Model, result: SweepResult) -> None:
     """One line per stop event of a sweep with stops: time, kind, stop and the ramped load there."""
     name = result.ramps[0].name
@@ -140,11 +165,11 @@ def _print_stop_loads(system: Model, result: SweepResult) -> None:
               help="Simulate the description's stops (impacts, contact with its reaction, release) and print the "
                    "ramped load at each contact and release.")
 @click.option("--no-progress", is_flag=True, help="No progress bar (the results are printed).")
-@click.option("--quiet", "old_quiet", is_flag=True, hidden=True)  # its old spelling: --quiet prints only errors elsewhere
+@click.option("--quiet", is_flag=True, help=QUIET_HELP)
 def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...], ramps: tuple[str, ...], watch: str,
                   damping: float, settle: float, equilibrium: bool, through: float | None, method: str, rtol: float,
                   atol: float, out: str | None, plot: str | None, branch_csv: str | None, use_stops: bool,
-                  no_progress: bool, old_quiet: bool) -> None:
+                  no_progress: bool, quiet: bool) -> None:
     """Ramp loads of MODEL slowly in a time simulation and report where WATCH jumps.
 
     Example: mechcont sweep overcentre --set LU=0.4 --set c=50 --start theta1=1.2
@@ -155,6 +180,7 @@ def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...]
     where the mechanism ran away past its last fold and had not settled when the sweep ended)
     is printed with its gap to the fold it follows: the time simulation's delay past the fold.
     """
+    click.get_current_context().with_resource(quiet_stdout(quiet))
     from ._run import mechanism_only
 
     mechanism_only(model, "sweep")
@@ -180,7 +206,7 @@ def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...]
     from .._progress import Progress
 
     try:
-        with Progress("sweep", total=total, unit="s simulated", quiet=no_progress or old_quiet) as bar:
+        with Progress("sweep", total=total, unit="s simulated", quiet=no_progress or quiet) as bar:
             result = sweep(system, x0, segs, watch=watch, damping=damping, settle=settle, through=through, **solver,
                            progress=bar.set if bar.enabled else None, stops=use_stops)
     except InputError as exc:  # the start is the --start pose (with --stops, its equilibrium on the stops)
@@ -217,10 +243,7 @@ def sweep_command(model: str, settings: tuple[str, ...], starts: tuple[str, ...]
                    f"segment {run.segment + 1}) at t = {run.time:.4g} s and had not settled when the sweep ended; "
                    f"{watch} {a[0]:.6g} -> {b[0]:.6g} {a[1]}".rstrip() + runaway_gap)
     if branch is not None and not branch.special("LP"):
-        click.echo(f"the branch has no fold in {segs[0].name}: no jump is expected" + (
-            "" if not result.jumps and result.runaway is None else
-            f", yet {len(result.jumps)} jump(s){' and a runaway' if result.runaway is not None else ''} were found "
-            "(check --set against the branch)"))
+        click.echo(_no_fold_note(system, result, branch))
     if out_path is not None:
         result.to_csv(out_path)
         click.echo(f"wrote {out_path}")

@@ -16,7 +16,7 @@ from ._move import check_point
 from ._problem import choose_unknowns
 from ._special_point import SpecialPoint
 
-__all__ = ["BranchRow", "read_branch_row", "HOPF_ROW_TOL"]
+__all__ = ["BranchRow", "read_branch_row", "HOPF_ROW_TOL", "is_cycles_table", "refuse_cycles_table"]
 
 #: Largest change of any variable (relative to its scale or value) from a table's ``HB`` row to the Hopf point
 #: polished from it for the row to be that point (:meth:`BranchRow.hopf`): a row written to 10 digits moves ~1e-10.
@@ -60,14 +60,32 @@ class BranchRow:
         return hb
 
 
+def is_cycles_table(names: Iterable[str]) -> bool:
+    """True when the column names (without their units) are a table of periodic orbits (``mechcont cycles --out``,
+    :meth:`CycleBranch.columns`): a ``period`` column and a ``min_X``/``max_X`` pair."""
+    given = set(names)
+    return "period" in given and any(n.startswith("max_") and "min_" + n[4:] in given for n in given)
+
+
+def refuse_cycles_table(names: Iterable[str], path: str | os.PathLike[str], field: str = "branch") -> None:
+    """:class:`InputError` (``field``) in one line when the table at ``path``, of columns ``names`` (without units),
+    is a table of periodic orbits where a branch of equilibria is wanted: its rows hold each orbit's period and
+    amplitudes, not a pose; the error says so and how to see an orbit (docs/reference.md, explore)."""
+    if is_cycles_table(names):
+        raise InputError(field, f"'{path}' is a table of periodic orbits (mechcont cycles --out), not a branch of "
+                                "equilibria: its rows are no poses; to see an orbit, give it to mechcont explore "
+                                f"MODEL --branch {path} --orbits ORBITS.csv (the orbits written by cycles --orbits)")
+
+
 def read_branch_row(system: Model, path: str | os.PathLike[str], row: str, *, hold: Iterable[str] = (),
                     free: Iterable[str] = ()) -> BranchRow:
     """The row ``row`` of the branch table at ``path``: the table checked against ``system``
     (:func:`~mechcont.continuation.check_branch_table`: its columns, units and values), its ``vary`` column naming a
     variable of ``system``, the unknowns chosen as the run chose them (``hold`` states held, ``free`` parameters
-    solved for). Raises :class:`InputError` (field ``point`` for the vary column, ``branch`` for the table; the
-    row's own errors from :meth:`Branch.point`)."""
+    solved for). Raises :class:`InputError` (field ``point`` for the vary column, ``branch`` for the table, a table
+    of periodic orbits among them (:func:`refuse_cycles_table`); the row's own errors from :meth:`Branch.point`)."""
     branch = Branch.read_csv(path, model=system.name)
+    refuse_cycles_table(branch.names, path)
     check_branch_table(branch, system, path)
     if not branch.vary:
         raise InputError("point", f"'{path}' has no vary column naming its continuation parameter")

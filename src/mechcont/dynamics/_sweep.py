@@ -199,7 +199,8 @@ def sweep(system: Model, x0: np.ndarray | Mapping[str, float] | Sequence[float],
         Time jumps where ``watch`` passes through this value instead of by rate alone.
     rate_threshold:
         Rate of ``watch`` (units/s) above which motion counts as a jump; default 10 times
-        ``span / segment duration`` (see :mod:`._jumps`).
+        ``span / moving time``: the segment's duration less the time ``watch`` rests, e.g. on a stop
+        (see :mod:`._jumps`).
     stop_on_jump:
         Stop the simulation the first time ``watch`` passes ``through`` (requires it).
     method, rtol, atol, baumgarte:

@@ -123,11 +123,13 @@ def _columns(path: Path, header: list[str], system: Model) -> dict[str, tuple[st
 def _read_csv(system: Model, path: Path) -> BranchFrames:
     """The rows of the branch table at ``path`` (units read from its headers, see :func:`_columns`)."""
     from ..continuation import read_table
+    from ..continuation.branch_rows import refuse_cycles_table
 
     header, raw = read_table(path)  # strict: a regular file, bounded, each column once, full rows
     rows = [dict(zip(header, r)) for r in raw]
     if not rows:
         raise InputError("branch", f"'{path}' has no rows")
+    refuse_cycles_table([read_csv_header(h or "")[0] for h in header], path)
     cols = _columns(path, header, system)
     missing = [n for n in system.names if n not in cols]
     if missing:

@@ -51,8 +51,9 @@ class CycleTable:
 def is_cycles(branch: Branch) -> bool:
     """True when ``branch`` (a :class:`Branch` read from a CSV) is a cycles table: a ``period`` column and a
     ``min_X``/``max_X`` pair."""
-    names = set(branch.names)
-    return "period" in names and any(n.startswith("max_") and "min_" + n[4:] in names for n in names)
+    from ..continuation.branch_rows import is_cycles_table
+
+    return is_cycles_table(branch.names)
 
 
 def has_orbits(source: object) -> bool:
