@@ -137,6 +137,10 @@ class Model(EquationSystem):
     mechanism:
         The description (:class:`~mechcont.mechanism.Mechanism`) the model was generated
         from; None for a hand-formulated model.
+    unit_system:
+        The :class:`~mechcont.units.UnitSystem` its numbers are in: the description's declared units
+        (``[mechanism] units``), SI by default. Kept beside ``mechanism`` so that reading it needs no
+        description (one loaded from the disk cache is unpickled, with SymPy, only when used).
     dof:
         The :class:`~mechcont.mechanism.DofReport` of the assembled configuration.
     reaction_names:
@@ -188,6 +192,7 @@ class Model(EquationSystem):
     fields_at: FieldsAt | None = field(default=None, repr=False)
     reselect: Reselect | None = field(default=None, repr=False)
     ode: OdeFacts | None = None
+    unit_system: UnitSystem = SI
 
     def with_values(self, values: Mapping[str, float]) -> Model:
         """:meth:`EquationSystem.with_values`, with the fields that depend on the parameter values
@@ -367,4 +372,4 @@ def at_values(model: Model, values: Mapping[str, float] | None, field: str = "va
 def units_of(system: EquationSystem) -> UnitSystem:
     """The units the numbers of ``system`` are in: those its description declares (a :class:`Model`'s
     ``mechanism.units``), SI for a built-in or hand-formulated model or a bare equation system."""
-    return system.mechanism.units if isinstance(system, Model) and system.mechanism is not None else SI
+    return system.unit_system if isinstance(system, Model) else SI

@@ -34,7 +34,7 @@ _LAZY = {
     **dict.fromkeys(["builtin_descriptions", "find_description", "read_description_bytes", "is_system_file"], "_paths"),
     # for the layers above: a compliant row's law, a parameter expression's value, the spatial row-switch test
     **dict.fromkeys(["compliant_constraints"], "_compliant"),
-    **dict.fromkeys(["held_loop_error"], "_diagnose"),
+    **dict.fromkeys(["held_loop_error"], "_held_loop"),
     **dict.fromkeys(["evaluate"], "_expr"),
     **dict.fromkeys(["SWITCH_RATIO", "unit_rows"], "_dropped_rows"),
 }
@@ -73,10 +73,10 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and IDEs
         Weld,
         coordinate_names,
     )
-    from ._diagnose import held_loop_error
     from ._dropped_rows import SWITCH_RATIO, unit_rows
     from ._expr import evaluate
     from ._file import load_description, parse_description
+    from ._held_loop import held_loop_error
     from ._ode_file import OdeSystem, load_file, parse_file
     from ._paths import builtin_descriptions, find_description, is_system_file, read_description_bytes
     from .elements import Actuator

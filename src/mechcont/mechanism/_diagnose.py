@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -17,11 +17,10 @@ from ._expr import float_value, symbol
 from ._kinematics import ConstraintRow, PlanarKinematics
 
 if TYPE_CHECKING:
-    from ..equations import Model
     from ._assembly import DofReport
     from ._description import Mechanism
 
-__all__ = ["least_squares_closure", "loop_error", "held_loop_error", "redundancy_error", "check_assembled"]
+__all__ = ["least_squares_closure", "loop_error", "redundancy_error", "check_assembled"]
 
 
 def least_squares_closure(model: MechanicalModel, x: np.ndarray, free_q: np.ndarray) -> np.ndarray:
@@ -92,31 +91,6 @@ def loop_error(mech: Mechanism, rows: list[ConstraintRow], phi: np.ndarray,
     return InputError(f"joints.{worst}",
                       f"the loop {loop} (joints {', '.join(joints)}) cannot close with the given "
                       f"lengths{held}: it misses by {gap:.4g} {mech.unit('m')} at best")
-
-
-def held_loop_error(system: Model, x: np.ndarray, hold: Sequence[str]) -> InputError | None:
-    """Why the planar description's model ``system`` cannot be assembled with the coordinates ``hold`` at
-    their values in ``x`` (its variable vector, the description's units): the loop that cannot close and
-    by how much at best (:func:`loop_error`). None when the loops do close near ``x`` (least squares) or
-    ``system`` is no planar description's full model (its rows are not the kinematics' own)."""
-    mech, model = getattr(system, "mechanism", None), getattr(system, "mechanics", None)
-    if mech is None or mech.normalisation_rows() or model is None:
-        return None
-    rows = PlanarKinematics(mech).constraints()
-    by_name = {r.equation: r for r in rows}
-    if model.constraint_names is not None:  # rows named: those kept (a redundant one dropped)
-        if not all(n in by_name for n in model.constraint_names):
-            return None
-        rows = [by_name[n] for n in model.constraint_names]
-    if len(rows) != np.size(model.phi(np.asarray(x, dtype=float))):
-        return None
-    free = np.array([c not in hold for c in model.coordinates])
-    phi = model.phi(least_squares_closure(model, np.asarray(x, dtype=float), free))
-    lengths = [s for c, s in zip(model.coordinates, system.scales()[model.q_index]) if not c.startswith("theta")]
-    if phi.size == 0 or np.max(np.abs(phi)) <= 1e-9 * max(lengths, default=1.0):
-        return None
-    names = list(system.names)
-    return loop_error(mech, rows, phi, {h: f"{x[names.index(h)]:.6g}" for h in hold})
 
 
 def check_assembled(mech: Mechanism, kin: PlanarKinematics, model: MechanicalModel, x: np.ndarray, subs: dict,

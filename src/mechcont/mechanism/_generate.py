@@ -312,6 +312,7 @@ def generate(mech: Mechanism, overrides: dict, reduced: bool) -> Model:
         system,
         potential_energy=st.V,
         mechanism=mech,
+        unit_system=mech.units,
         dof=report,
         reaction_names=tuple(r.reaction for r in rows),
         coordinates_of=_coordinates_of(kin, system, st.subs),

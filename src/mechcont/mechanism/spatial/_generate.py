@@ -297,6 +297,7 @@ def _variant_model(mech: SpatialMechanism, st: _Structure, var: _Variant, variab
             system,
             potential_energy=st.V + st.elastic,
             mechanism=mech,
+            unit_system=mech.units,
             reaction_names=tuple(r.reaction for r in st.rows),
             coordinates_of=_coordinates_of(st.kin, system, {}),
             dropped_constraints=tuple(r.equation for r in dropped),
