@@ -86,7 +86,7 @@ def _fastest_rate(dyn: ConstrainedDynamics, t: float, y: np.ndarray) -> float:
 
 def stiffest(system: Model, dyn: ConstrainedDynamics, t: float, y: np.ndarray) -> str:
     """What sets the fastest time scale at ``(t, y)``: ``"the damping option (D 1/s)"`` when its rate dominates,
-    else the parameters (up to three) whose change by a factor 1e3 either way lowers the fastest rate most (a
+    else the parameters (up to four) whose change by a factor 1e3 either way lowers the fastest rate most (a
     damper's ``c`` made smaller, a mass made larger: ``"c = 1e+12 N s/m, m = 10 kg"``), with the rate. Returns a
     phrase for a message."""
     from ._udwadia_kalaba import ConstrainedDynamics
@@ -117,7 +117,8 @@ def stiffest(system: Model, dyn: ConstrainedDynamics, t: float, y: np.ndarray) -
             changes.append((max(drops), f"{v.name} = {x[i]:g} {v.unit}".rstrip()))
     changes.sort(reverse=True)
     # the parameters that set it (rate ~ c / m: a damper and the mass it moves share the blame; a mass under an
-    # airload, rate ~ U / sqrt(m) plus the load's own mass-free part, has a little under half the speed's share)
-    best = ", ".join(name for c, name in changes[:3] if c >= 0.4 * changes[0][0]) if changes else ""
+    # airload, rate ~ U / sqrt(m) plus the load's own mass-free part, has a little under half the speed's share,
+    # about as much as the air's density and the load's size: four names, else which three is decided by rounding)
+    best = ", ".join(name for c, name in changes[:4] if c >= 0.4 * changes[0][0]) if changes else ""
     rate_text = f"fastest rate {rate:.3g} 1/s" if math.isfinite(rate) else "rates beyond the floats"
     return f"{best} ({rate_text})" if best else rate_text
