@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 
     from .optimize import Constraint
 
-__all__ = ["Inequality", "start_points", "better", "multipliers"]
+__all__ = ["Inequality", "start_points", "better", "multipliers", "unmet"]
 
 
 class Inequality(TypedDict):
@@ -38,11 +38,17 @@ def start_points(z0: np.ndarray, lo: np.ndarray, hi: np.ndarray, n: int) -> Iter
             yield np.array(t)
 
 
+def unmet(constraints: Sequence[Inequality], t: np.ndarray, tol: float = 1e-6) -> list[int]:
+    """The positions of the scaled ``constraints`` that the design ``t`` (scaled to 0..1) misses by more than
+    ``tol``."""
+    return [i for i, c in enumerate(constraints) if c["fun"](t) < -tol]
+
+
 def better(r: OptimizeResult, best: OptimizeResult, constraints: Sequence[Inequality], tol: float = 1e-6) -> bool:
     """Is SLSQP result ``r`` better than ``best``: feasible (to ``tol`` of the scaled
-    constraints) first, then lower."""
+    constraints, :func:`unmet`) first, then lower."""
     def feasible(res: OptimizeResult) -> bool:
-        return bool(res.success) and all(c["fun"](np.clip(res.x, 0.0, 1.0)) >= -tol for c in constraints)
+        return bool(res.success) and not unmet(constraints, np.clip(res.x, 0.0, 1.0), tol)
 
     fr, fb = feasible(r), feasible(best)
     return fr and (not fb or float(r.fun) < float(best.fun) - 1e-12 * max(1.0, abs(float(best.fun))))

@@ -35,7 +35,7 @@ import numpy as np
 from .._lazy import lazy_exports
 from ..equations import Model, units_of
 from ..errors import ConvergenceError, InputError
-from ._slsqp import Inequality, better, multipliers, start_points
+from ._slsqp import Inequality, better, multipliers, start_points, unmet
 from ._stop_quantities import stop_reactions
 from .sensitivity import Sensitivity, downlock_sensitivity, fold_sensitivity, write_json
 from .study._spec import Distribution
@@ -442,8 +442,8 @@ def optimize(system: Model, objective: str, bounds: Mapping[str, tuple[float, fl
         from scipy.stats import norm
 
         quantities[NOT_LOCKING] = float(norm.cdf(-quantities[BETA]))
-    violated = [f"{c} ({c.quantity} = {quantities[c.quantity]:.6g})" for i, c in enumerate(constraints)
-                if (1.0 if c.sense == ">=" else -1.0) * (quantities[c.quantity] - c.bound) < -1e-6 * g_scale[i]]
+    violated = [f"{constraints[i]} ({constraints[i].quantity} = {quantities[constraints[i].quantity]:.6g})"
+                for i in unmet(slsqp, t)]
     return OptimumResult({n: float(v) for n, v in zip(design, z)}, objective, float(at[objective][0]),
                          quantities, active, int(res.nit), q.evaluations, bool(res.success), str(res.message), units,
                          violated)
