@@ -13,10 +13,10 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from scipy.linalg.lapack import dgesdd as _dgesdd
 from scipy.linalg.lapack import dgesv as _dgesv
 from scipy.linalg.lapack import dsyevd as _dsyevd
 
+from .. import _dense
 from ..errors import ConvergenceError
 from ._stability import constraint_rank
 
@@ -63,15 +63,6 @@ def stacked_ranks(P: np.ndarray, sv: np.ndarray, kept: int) -> np.ndarray:
     return np.minimum(r, kept)
 
 
-def _svd(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(U, sv, V^T)`` of the matrix ``A``, full matrices, by LAPACK's ``dgesdd`` (what ``np.linalg.svd`` calls,
-    without its stacked-call overhead, which is most of the cost at these sizes)."""
-    U, sv, Vt, info = _dgesdd(A, compute_uv=1, full_matrices=1)
-    if info:
-        raise np.linalg.LinAlgError("SVD did not converge")
-    return U, sv, Vt
-
-
 def motions_and_reactions(P: np.ndarray, Q: np.ndarray, kept: int, project: bool) -> tuple[np.ndarray, np.ndarray]:
     """``(N, lam)`` of every row of the stacked constraint Jacobians ``P`` (m, n_c, n_q) with the forces ``Q``
     (m, n_q): a basis ``N`` (m, n_q, d) of each row's allowed motions (the null space of its ``Phi_q``) and the
@@ -94,7 +85,7 @@ def motions_and_reactions(P: np.ndarray, Q: np.ndarray, kept: int, project: bool
     m, nc, nq = P.shape
     if nc == 0 or m == 0:  # no constraints: every motion allowed, no reactions
         return np.repeat(np.eye(nq)[None], m, axis=0), np.zeros((m, nc))
-    U0, s0, Vt0 = _svd(P[0])
+    U0, s0, Vt0 = _dense.svd(P[0])
     # full row rank (the usual case: constraint_rank's test, without its call) or the rank decided again
     r = nc if nc <= min(nq, kept) and s0[-1] > 1e-10 * max(s0[0], 1e-300) else min(constraint_rank(P[0], s0), kept)
     if m == 1:
