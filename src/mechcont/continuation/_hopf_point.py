@@ -155,12 +155,7 @@ class HopfTest:
     def pair(self, x: np.ndarray) -> CriticalPair:
         """The :class:`CriticalPair` at ``x``."""
         lin = self.dynamics.linearise(x)
-        return self._pair_of(np.asarray(lin.A, float), None if lin.E is None else np.asarray(lin.E, float))
-
-    @staticmethod
-    def _pair_of(A: np.ndarray, E: np.ndarray | None) -> CriticalPair:
-        """The :class:`CriticalPair` of the pencil ``(A, E)`` (``E`` None: the identity)."""
-        return critical_pair(A, E)
+        return critical_pair(np.asarray(lin.A, float), None if lin.E is None else np.asarray(lin.E, float))
 
     def gradient(self, x: np.ndarray, columns: Sequence[int] | np.ndarray, pair: CriticalPair) -> np.ndarray:
         """``dg/dx`` over the full-vector columns ``columns`` (``g = lambda_1 + lambda_2``), as a real row.
@@ -278,7 +273,7 @@ class HopfTest:
         h, moving, X = self._stencil(x, cols, directions)
         A, E = near(x, np.vstack([np.asarray(x, float)[None, :], X]), None)
         A, E = np.asarray(A, float), None if E is None else np.asarray(E, float)
-        pair = self._pair_of(A[0], None if E is None else E[0])
+        pair = critical_pair(A[0], None if E is None else E[0])
         with _dense.quiet():
             return pair, self._contract(pair, A[1:], None if E is None else E[1:], h, moving, len(directions))
 
