@@ -78,7 +78,7 @@ def common_options(f: F) -> F:
         click.option("--ds", type=float, default=None, help="Initial step (scaled arclength)."),
         click.option("--dsmax", type=float, default=None, help="Largest step (scaled arclength)."),
         click.option("--max-steps", type=int, default=None, help="Most steps in each direction."),
-        click.option("--quiet", is_flag=True, help="Print nothing but errors."),
+        click.option("--quiet", is_flag=True, help=QUIET_HELP),
     ]
     for o in reversed(opts):
         f = o(f)
