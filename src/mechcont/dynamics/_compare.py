@@ -78,6 +78,11 @@ def _branch_folds(result: SweepResult, branch: Branch) -> list[tuple[str, float]
     return [(n, p[name]) for n, p in zip(branch.point_names(), branch.special_points) if p.label == "LP"]
 
 
+def _named(folds: Sequence[tuple[str, float]], gap: JumpGap) -> tuple[str, JumpGap]:
+    """``(name of the fold in folds that gap pairs with, gap)``."""
+    return next(n for n, v in folds if v == gap.fold_value), gap
+
+
 def branch_jump_gaps(result: SweepResult, branch: Branch) -> list[tuple[str, JumpGap]]:
     """Each jump of ``result`` paired with the fold (``LP``) of a continuation ``branch`` in the ramped
     parameter that it follows: ``(fold name as the branch numbers it, e.g. "LP2", gap)``, one per jump.
@@ -87,7 +92,7 @@ def branch_jump_gaps(result: SweepResult, branch: Branch) -> list[tuple[str, Jum
     folds = _branch_folds(result, branch)
     if not folds or not result.jumps:
         return []
-    return [(next(n for n, v in folds if v == g.fold_value), g) for g in jump_gaps(result, [v for _, v in folds])]
+    return [_named(folds, g) for g in jump_gaps(result, [v for _, v in folds])]
 
 
 def branch_runaway_gap(result: SweepResult, branch: Branch) -> tuple[str, JumpGap] | None:
@@ -95,7 +100,7 @@ def branch_runaway_gap(result: SweepResult, branch: Branch) -> tuple[str, JumpGa
     :func:`branch_jump_gaps` pairs a jump: ``(fold name, e.g. "LP1", gap)``; None without a runaway or a fold."""
     folds = _branch_folds(result, branch)
     g = runaway_gap(result, [v for _, v in folds]) if folds and result.runaway is not None else None
-    return None if g is None else (next(n for n, v in folds if v == g.fold_value), g)
+    return None if g is None else _named(folds, g)
 
 
 def branch_differences(system: Model, branch: Branch, ignore: Sequence[str] = ()) -> list[tuple[str, float, float]]:
