@@ -371,5 +371,5 @@ def at_values(model: Model, values: Mapping[str, float] | None, field: str = "va
 
 def units_of(system: EquationSystem) -> UnitSystem:
     """The units the numbers of ``system`` are in: those its description declares (a :class:`Model`'s
-    ``mechanism.units``), SI for a built-in or hand-formulated model or a bare equation system."""
+    ``unit_system``), SI for a built-in or hand-formulated model or a bare equation system."""
     return system.unit_system if isinstance(system, Model) else SI

@@ -8,7 +8,6 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-from ..units import UnitSystem
 from ._scene import Scene
 
 if TYPE_CHECKING:
@@ -161,9 +160,5 @@ class Description(Protocol):
     def name(self) -> str:
         """The mechanism's name."""
 
-    @property
-    def units(self) -> UnitSystem:
-        """The units the description's numbers are in (:data:`mechcont.units.SI` unless it declares others)."""
-
     def build(self, **overrides: float) -> Model:
-        """The model at the parameter values ``overrides`` (in :attr:`units`; the others at their defaults)."""
+        """The model at the parameter values ``overrides`` (in the description's units; the others at their defaults)."""

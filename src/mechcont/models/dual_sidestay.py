@@ -30,7 +30,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..equations import EquationSystem, Limit, Model, Scene, Variable, branch_rates
-from ..units import SI, UnitSystem
 from .dual_sidestay_geometry import DEFAULT_GEOMETRY, GearGeometry, rotation, trunnion_axis
 
 if TYPE_CHECKING:
@@ -123,7 +122,6 @@ class GearDescription:
 
     geometry: GearGeometry
     name: str = "dual_sidestay_kinematics"
-    units: UnitSystem = SI
 
     def build(self, **overrides: float) -> Model:
         """The retraction kinematics of this gear at the parameter values ``overrides`` (SI; the others at its
