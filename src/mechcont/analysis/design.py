@@ -319,11 +319,11 @@ def design_region(system: Model, x_name: str, y_name: str, *,
     grid = np.linspace(lo, hi, n_x)
     force_map = np.full((len(y_levels), n_x), np.nan)
     rows, warnings = [], []
+    big = 1e6 * units_of(system).from_si(system.variable(f).unit)  # 1e6 N (N m) in the file's units
     for i, yv in enumerate(y_levels):
         vals = {**values, y_name: float(yv), x_name: x0}
         # the model at this level: a hold target (or a stop's limit) written in the level's parameter follows it
         level = system.with_values({y_name: float(yv)})
-        big = 1e6 * units_of(system).from_si(system.variable(f).unit)  # 1e6 N (N m) in the file's units
         hl = h if hold else downlock_condition(level, None, force, condition=condition)[0]
         run = downlock(level, x_name, {x_name: (lo, hi)}, values=vals, hold=hl, force=f, unlock=False,
                        max_steps=max_steps)

@@ -90,7 +90,7 @@ def stop_unlock(system: Model, x: np.ndarray, force: str, *, max_steps: int = 40
         if p is None:
             if side == "increasing" or both:
                 end = F0 + (span if side == "increasing" else -span) * sc
-                forces = b.values[:, b.names.index(force)]
+                forces = b.column(force)
                 reached = float(forces.max() if side == "increasing" else forces.min())
                 if abs(reached - end) <= 1e-6 * span * sc:
                     notes.append(f"no fold {side} {force} within the release run ({force} moved by {span:g} of its "
